@@ -1,0 +1,238 @@
+#include "bezierize/classify.hpp"
+
+#include "bezierize/extract.hpp"
+#include "bezierize/lambda.hpp"
+
+namespace cmr {
+
+const char* to_string(Curvature c) {
+  switch (c) {
+    case Curvature::increasing: return "increasing";
+    case Curvature::decreasing: return "decreasing";
+    case Curvature::non_monotone: return "non-monotone";
+    case Curvature::undecided: return "undecided";
+    case Curvature::constant: return "constant";
+  }
+  return "?";
+}
+
+const char* to_string(Inflection i) {
+  switch (i) {
+    case Inflection::none: return "none";
+    case Inflection::present: return "present";
+    case Inflection::undecided: return "undecided";
+  }
+  return "?";
+}
+
+namespace {
+
+// Three-valued truth for conditions on coefficients whose sign may be unknown.
+enum class Truth { no, yes, unknown };
+
+struct SignCounts {
+  int pos = 0, neg = 0, zero = 0, unknown = 0;
+  int first = 0, last = 0;  // signs of c_0 and c_n (kSignUnknown if unknown)
+};
+
+template <class T>
+SignCounts count_signs(const T* c, int n1) {
+  SignCounts s;
+  for (int i = 0; i < n1; ++i) {
+    const int g = Scalar<T>::sign(c[i]);
+    if (i == 0) s.first = g;
+    if (i == n1 - 1) s.last = g;
+    if (g == kSignUnknown) ++s.unknown;
+    else if (g > 0) ++s.pos;
+    else if (g < 0) ++s.neg;
+    else ++s.zero;
+  }
+  return s;
+}
+
+// One piece's outcome in a depth-first traversal.
+enum class Piece { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
+
+// Depth-first traversal shared by both algorithms, with an explicit stack of at
+// most max_depth + 1 pending pieces. `decide(c, n1)` judges one piece; `visit`
+// folds its outcome in and returns true to stop early.
+template <class T, class Decide, class Visit>
+bool traverse(const Bernstein<T>& c, int max_depth, Decide decide, Visit visit) {
+  const int n1 = static_cast<int>(c.size());
+  std::vector<T> stack(static_cast<std::size_t>(max_depth + 2) * n1);
+  std::vector<int> levels(max_depth + 2);
+  std::vector<T> left(n1), right(n1), work(n1);
+  std::copy(c.begin(), c.end(), stack.begin());
+  levels[0] = 0;
+  int sp = 1;
+  while (sp > 0) {
+    --sp;
+    T* cur = &stack[static_cast<std::size_t>(sp) * n1];
+    const int level = levels[sp];
+    const Piece p = decide(cur, n1);
+    if (p == Piece::uncertain) return false;
+    if (p == Piece::split && level < max_depth) {
+      bernstein_halve(cur, n1, left.data(), right.data(), work.data());
+      std::copy(right.begin(), right.end(), cur);
+      std::copy(left.begin(), left.end(), cur + n1);
+      levels[sp] = levels[sp + 1] = level + 1;
+      sp += 2;  // left on top: pieces are visited in parameter order
+      continue;
+    }
+    if (visit(p, level)) break;  // p == split here means: undecided at level D
+  }
+  return true;
+}
+
+template <class T>
+Piece monotonicity_piece(const T* c, int n1) {
+  const SignCounts s = count_signs(c, n1);
+  const Truth ge = s.neg > 0 ? Truth::no : (s.unknown > 0 ? Truth::unknown : Truth::yes);
+  const Truth le = s.pos > 0 ? Truth::no : (s.unknown > 0 ? Truth::unknown : Truth::yes);
+  Truth ends;  // condition (3): xi_0 * xi_last < 0
+  if (s.first == kSignUnknown || s.last == kSignUnknown) {
+    ends = (s.first == 0 || s.last == 0) ? Truth::no : Truth::unknown;
+  } else {
+    ends = (s.first * s.last < 0) ? Truth::yes : Truth::no;
+  }
+  if (ends == Truth::yes) return Piece::non_monotone;
+  if (ge == Truth::yes && le == Truth::yes) return Piece::zero;
+  if (ge == Truth::yes) return Piece::increasing;
+  if (le == Truth::yes) return Piece::decreasing;
+  if (ge == Truth::unknown || le == Truth::unknown || ends == Truth::unknown) return Piece::uncertain;
+  return Piece::split;
+}
+
+template <class T>
+Piece inflection_piece(const T* c, int n1) {
+  const SignCounts s = count_signs(c, n1);
+  Truth touches;  // condition (1): nu_0 * nu_last <= 0
+  if (s.first == 0 || s.last == 0) touches = Truth::yes;
+  else if (s.first == kSignUnknown || s.last == kSignUnknown) touches = Truth::unknown;
+  else touches = (s.first * s.last < 0) ? Truth::yes : Truth::no;
+  if (touches == Truth::yes) return Piece::inflection;
+  if (touches == Truth::unknown) return Piece::uncertain;
+  if (s.pos == n1 || s.neg == n1) return Piece::no_inflection;  // condition (2)
+  const bool not_all_pos = s.neg + s.zero > 0, not_all_neg = s.pos + s.zero > 0;
+  if (not_all_pos && not_all_neg) return Piece::split;
+  return Piece::uncertain;
+}
+
+}  // namespace
+
+template <class T>
+std::optional<MonotonicityResult> algorithm1(const Bernstein<T>& xi, int max_depth) {
+  CMR_CHECK(!xi.empty() && max_depth >= 0);
+  bool inc = false, dec = false, undecided = false;
+  MonotonicityResult r;
+  int deepest = 0;
+  const bool certain = traverse(xi, max_depth, monotonicity_piece<T>, [&](Piece p, int level) {
+    switch (p) {
+      case Piece::zero:  // lambda == 0 on a piece means lambda == 0: seen at level 0
+        r = {Curvature::constant, level};
+        return true;
+      case Piece::non_monotone:
+        r = {Curvature::non_monotone, level};
+        return true;
+      case Piece::increasing: inc = true; break;
+      case Piece::decreasing: dec = true; break;
+      default: undecided = true; break;  // unsplit at level D
+    }
+    deepest = std::max(deepest, level);
+    if (inc && dec) {
+      r = {Curvature::non_monotone, level};
+      return true;
+    }
+    return false;
+  });
+  if (!certain) return std::nullopt;
+  if (r.curvature == Curvature::constant || r.curvature == Curvature::non_monotone) return r;
+  if (undecided) return MonotonicityResult{Curvature::undecided, max_depth};
+  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+}
+
+template <class T>
+std::optional<InflectionResult> algorithm2(const Bernstein<T>& nu, int max_depth) {
+  CMR_CHECK(!nu.empty() && max_depth >= 0);
+  InflectionResult r{Inflection::none, 0, 0};
+  bool undecided = false, found = false;
+  int deepest = 0;
+  const bool certain = traverse(nu, max_depth, inflection_piece<T>, [&](Piece p, int level) {
+    if (p == Piece::inflection) {
+      r = {Inflection::present, level, 0};
+      found = true;
+      return true;
+    }
+    if (p != Piece::no_inflection) undecided = true;
+    deepest = std::max(deepest, level);
+    return false;
+  });
+  if (!certain) return std::nullopt;
+  if (found) return r;
+  if (undecided) return InflectionResult{Inflection::undecided, max_depth, 0};
+  return InflectionResult{Inflection::none, deepest, Scalar<T>::sign(nu.front())};
+}
+
+template std::optional<MonotonicityResult> algorithm1(const Bernstein<double>&, int);
+template std::optional<MonotonicityResult> algorithm1(const Bernstein<Bounded>&, int);
+template std::optional<MonotonicityResult> algorithm1(const Bernstein<Rational>&, int);
+template std::optional<InflectionResult> algorithm2(const Bernstein<double>&, int);
+template std::optional<InflectionResult> algorithm2(const Bernstein<Bounded>&, int);
+template std::optional<InflectionResult> algorithm2(const Bernstein<Rational>&, int);
+
+namespace {
+
+// Runs both algorithms on Bezier points of scalar type T; fields left empty
+// (nullopt) where a decision was uncertain.
+template <class T>
+void classify_points(const std::vector<Point<T>>& P, const ClassifyOptions& o,
+                     std::optional<MonotonicityResult>& mono, std::optional<InflectionResult>& infl) {
+  if (!mono) mono = algorithm1(lambda_bernstein<T>(P), o.max_depth);
+  if (o.inflection && !infl) infl = algorithm2(eta_bernstein<T>(P), o.max_depth);
+}
+
+SegmentClass finish(std::optional<MonotonicityResult> mono, std::optional<InflectionResult> infl, bool exact) {
+  SegmentClass out;
+  out.monotonicity = *mono;
+  if (infl) out.inflection = *infl;
+  out.exact_used = exact;
+  return out;
+}
+
+template <class T>
+std::vector<Point<T>> convert(const std::vector<Vec2>& P) {
+  std::vector<Point<T>> out;
+  out.reserve(P.size());
+  for (const Vec2& p : P) out.push_back(to_point<T>(p));
+  return out;
+}
+
+}  // namespace
+
+SegmentClass classify_bezier(const std::vector<Vec2>& points, const ClassifyOptions& options) {
+  std::optional<MonotonicityResult> mono;
+  std::optional<InflectionResult> infl;
+  classify_points<Bounded>(convert<Bounded>(points), options, mono, infl);
+  if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
+  classify_points<Rational>(convert<Rational>(points), options, mono, infl);
+  return finish(mono, infl, true);
+}
+
+SegmentClass classify_segment(const BSpline& spline, const Segment& s, const ClassifyOptions& options) {
+  std::optional<MonotonicityResult> mono;
+  std::optional<InflectionResult> infl;
+  {
+    const std::vector<Bounded> knots(spline.knots().begin(), spline.knots().end());
+    const auto P = bezier_points(knots, convert<Bounded>(spline.points()), spline.degree(), s.span,
+                                 Bounded(s.a), Bounded(s.b));
+    classify_points<Bounded>(P, options, mono, infl);
+  }
+  if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
+  const std::vector<Rational> knots(spline.knots().begin(), spline.knots().end());
+  const auto P = bezier_points(knots, convert<Rational>(spline.points()), spline.degree(), s.span,
+                               Rational(s.a), Rational(s.b));
+  classify_points<Rational>(P, options, mono, infl);
+  return finish(mono, infl, true);
+}
+
+}  // namespace cmr

@@ -1,0 +1,77 @@
+#pragma once
+// The classifier: Algorithms 1 and 2 of Yoshida et al., CAD&A 21(1) 2024, §3,
+// the reference every backend (CPU regions, the Vulkan shader) must match.
+//
+// Algorithm 1 (curvature monotonicity) on the Bernstein coefficients xi of
+// lambda (bezierize/lambda.hpp), per (sub)segment:
+//   (1) all xi >= 0          -> increasing
+//   (2) all xi <= 0          -> decreasing      (both: lambda == 0, constant)
+//   (3) xi_0 * xi_last < 0   -> not monotone
+//   else split at t = 1/2 and decide both halves, depth first with an explicit
+//   stack; level 0 is the whole segment, pieces at level D are not split.
+//   Halves in different directions -> not monotone; a piece undecided at
+//   level D -> undecided (the paper counts it as not monotone; cmr keeps it
+//   apart), unless another piece proves non-monotonicity.
+// Algorithm 2 (inflection) on the coefficients nu of eta = det(P', P''):
+//   (1) nu_0 * nu_last <= 0  -> inflection present
+//   (2) all nu > 0 or all < 0 -> no inflection in this piece
+//   else split as above; level D exhausted -> undecided.
+//
+// Exactness. Sign tests are exact comparisons with zero by design. The
+// coefficients are first computed in double with a certified error bound
+// (bezierize/bounded.hpp); when a sign that matters is not certain, the span is
+// recomputed in exact rational arithmetic from the double inputs (GMP), so the
+// result is always the one Algorithms 1 and 2 give on exact coefficients.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bezierize/bernstein.hpp"
+#include "spline/bspline.hpp"
+
+namespace cmr {
+
+enum class Curvature : std::uint8_t { increasing, decreasing, non_monotone, undecided, constant };
+enum class Inflection : std::uint8_t { none, present, undecided };
+
+const char* to_string(Curvature c);
+const char* to_string(Inflection i);
+
+struct ClassifyOptions {
+  int max_depth = 12;      ///< D: deepest subdivision level (level 0 = whole segment)
+  bool inflection = true;  ///< also run Algorithm 2
+};
+
+struct MonotonicityResult {
+  Curvature curvature = Curvature::undecided;
+  int depth = 0;  ///< level at which it was decided (D when undecided)
+};
+struct InflectionResult {
+  Inflection inflection = Inflection::undecided;
+  int depth = 0;
+  int kappa_sign = 0;  ///< sign of the curvature when inflection == none, else 0
+};
+
+/// Algorithm 1 on xi. nullopt when T carries error bounds and a sign that
+/// decides the outcome is uncertain (then rerun exactly).
+template <class T>
+std::optional<MonotonicityResult> algorithm1(const Bernstein<T>& xi, int max_depth);
+/// Algorithm 2 on nu, with the same convention.
+template <class T>
+std::optional<InflectionResult> algorithm2(const Bernstein<T>& nu, int max_depth);
+
+struct SegmentClass {
+  MonotonicityResult monotonicity;
+  InflectionResult inflection;  ///< undecided at depth 0 when not requested
+  bool exact_used = false;      ///< the exact fallback ran for this segment
+};
+
+/// Classifies a Bezier segment given by its control points (exact doubles).
+SegmentClass classify_bezier(const std::vector<Vec2>& points, const ClassifyOptions& options = {});
+/// Classifies segment s of a B-spline; exactness is relative to the spline's
+/// double knots and control points (the Bezier points are rounded, so the
+/// exact path re-extracts them from the knots exactly).
+SegmentClass classify_segment(const BSpline& spline, const Segment& s, const ClassifyOptions& options = {});
+
+}  // namespace cmr

@@ -1,0 +1,60 @@
+#pragma once
+// Bezier form of B-spline segments, by blossoming (the primary route) and by
+// repeated Boehm knot insertion (an independent route the tests compare with),
+// and the affine influence of a control point on those Bezier points.
+#include <vector>
+
+#include "spline/blossom.hpp"
+#include "spline/bspline.hpp"
+
+namespace cmr {
+
+struct BezierSegment {
+  Segment segment;
+  std::vector<Vec2> points;  ///< d+1 Bezier points of the segment, on [a, b] -> [0, 1]
+};
+
+/// Bezier points of span j = [a, b]: B_k = f(a^{d-k}, b^k), k = 0..d.
+/// Generic so that the classifier can run it with error bounds or exactly.
+template <class S, class P>
+std::vector<P> bezier_points(const std::vector<S>& knots, const std::vector<P>& points, int degree, int span,
+                             const S& a, const S& b) {
+  std::vector<P> out;
+  out.reserve(degree + 1);
+  std::vector<S> args(degree);
+  for (int k = 0; k <= degree; ++k) {
+    for (int i = 0; i < degree; ++i) args[i] = i < degree - k ? a : b;
+    out.push_back(blossom_span(knots, points, degree, span, args.data()));
+  }
+  return out;
+}
+
+/// Every non-empty span in Bezier form, by blossoming.
+std::vector<BezierSegment> bezier_segments(const BSpline& spline);
+BezierSegment bezier_segment(const BSpline& spline, const Segment& s);
+
+/// Boehm's algorithm: the same curve with knot u inserted once. u must lie in
+/// the domain and its multiplicity stay <= degree (InputError otherwise).
+/// In polar form, with u in the non-empty span j, the new points are
+/// P_i (i <= j-d+1), (1-a_i) P_{i-1} + a_i P_i with a_i = (u - u_{i-1})/(u_{i+d-1} - u_{i-1})
+/// (j-d+2 <= i <= j+1), and P_{i-1} (i >= j+2).
+[[nodiscard]] BSpline insert_knot(const BSpline& spline, double u);
+
+/// Every non-empty span in Bezier form, by inserting each interior knot and
+/// the domain ends until their multiplicity is d (independent of the blossom
+/// extraction; used to cross-check it).
+std::vector<BezierSegment> bezier_segments_by_insertion(const BSpline& spline);
+
+/// How a control point (or a group moving rigidly with it) drives the Bezier
+/// points of the segments it touches: B_i = B_i^0 + w_i (p - P_k) when the
+/// group is translated by p - P_k. w is the blossom of the scalar data that is
+/// 1 on the group and 0 elsewhere.
+struct SegmentInfluence {
+  int segment = 0;           ///< index among the non-empty spans
+  std::vector<double> w;     ///< d+1 weights, in [0, 1]
+};
+/// Segments touched by `group` (control point indices, validated by the caller)
+/// and their weights. Segments with all weights 0 are left out.
+std::vector<SegmentInfluence> influence(const BSpline& spline, const std::vector<int>& group);
+
+}  // namespace cmr

@@ -1,0 +1,130 @@
+#include "spline/bspline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "spline/blossom.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+void check_finite_point(const Vec2& p, int i) {
+  if (!std::isfinite(p.x)) throw InputError("points[" + std::to_string(i) + "][0] is not a finite number");
+  if (!std::isfinite(p.y)) throw InputError("points[" + std::to_string(i) + "][1] is not a finite number");
+}
+
+}  // namespace
+
+BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name) {
+  if (degree < 2) throw InputError("degree: must be at least 2 (got " + std::to_string(degree) + ")");
+  if (degree > 30) throw InputError("degree: at most 30 is supported (got " + std::to_string(degree) + ")");
+  const int m = static_cast<int>(points.size());
+  if (m < degree + 1)
+    throw InputError("points: a degree-" + std::to_string(degree) + " spline needs at least " +
+                     std::to_string(degree + 1) + " control points (got " + std::to_string(m) + ")");
+  const std::size_t want = static_cast<std::size_t>(m + degree - 1);
+  if (knots.size() != want)
+    throw InputError("knots: polar form needs points + degree - 1 = " + std::to_string(want) + " knots (got " +
+                     std::to_string(knots.size()) + ")");
+  for (int i = 0; i < m; ++i) check_finite_point(points[i], i);
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    if (!std::isfinite(knots[i])) throw InputError("knots[" + std::to_string(i) + "] is not a finite number");
+    if (i > 0 && knots[i] < knots[i - 1])
+      throw InputError("knots[" + std::to_string(i) + "] (" + num(knots[i]) + ") is smaller than knots[" +
+                       std::to_string(i - 1) + "] (" + num(knots[i - 1]) + ")");
+  }
+  for (std::size_t i = 0, run = 1; i < knots.size(); ++i, ++run) {
+    if (i > 0 && knots[i] != knots[i - 1]) run = 1;
+    if (static_cast<int>(run) > degree)
+      throw InputError("knots[" + std::to_string(i) + "] (" + num(knots[i]) + ") has multiplicity above the degree " +
+                       std::to_string(degree));
+  }
+  BSpline s;
+  s.degree_ = degree;
+  s.knots_ = std::move(knots);
+  s.points_ = std::move(points);
+  s.name_ = std::move(name);
+  for (int j = degree - 1; j <= m - 2; ++j) {
+    if (s.knots_[j] < s.knots_[j + 1])
+      s.segments_.push_back({static_cast<int>(s.segments_.size()), j, s.knots_[j], s.knots_[j + 1]});
+  }
+  if (s.segments_.empty())
+    throw InputError("knots: every span [knots[" + std::to_string(degree - 1) + "], knots[" + std::to_string(m - 1) +
+                     "]] is empty; the curve has no segment");
+  return s;
+}
+
+BSpline BSpline::bezier(std::vector<Vec2> points, std::string name) {
+  const int n = static_cast<int>(points.size()) - 1;
+  if (n < 2) throw InputError("points: a Bezier curve needs at least 3 control points (got " +
+                              std::to_string(points.size()) + ")");
+  std::vector<double> knots(2 * n, 0.0);
+  std::fill(knots.begin() + n, knots.end(), 1.0);
+  return make(n, std::move(knots), std::move(points), std::move(name));
+}
+
+const Segment& BSpline::segment_at(double t) const {
+  auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
+                             [](double v, const Segment& s) { return v < s.a; });
+  if (it == segments_.begin()) return segments_.front();
+  return *(it - 1);
+}
+
+int BSpline::multiplicity(double u) const {
+  return static_cast<int>(std::count(knots_.begin(), knots_.end(), u));
+}
+
+BSpline BSpline::with_point(int k, Vec2 p) const {
+  if (k < 0 || k >= point_count())
+    throw InputError("point index " + std::to_string(k) + " is out of range 0.." + std::to_string(point_count() - 1));
+  check_finite_point(p, k);
+  BSpline s = *this;
+  s.points_[k] = p;
+  return s;
+}
+
+BSpline BSpline::reversed() const {
+  std::vector<double> knots(knots_.rbegin(), knots_.rend());
+  for (double& u : knots) u = -u;
+  std::vector<Vec2> points(points_.rbegin(), points_.rend());
+  return make(degree_, std::move(knots), std::move(points), name_);
+}
+
+Vec2 blossom(const BSpline& spline, const Segment& s, const double* args) {
+  return blossom_span(spline.knots(), spline.points(), spline.degree(), s.span, args);
+}
+
+Vec2 evaluate(const BSpline& spline, double t) {
+  const std::vector<double> args(spline.degree(), t);
+  return blossom(spline, spline.segment_at(t), args.data());
+}
+
+Vec2 derivative(const BSpline& spline, double t, int r) {
+  const int d = spline.degree();
+  CMR_CHECK(r >= 0 && r <= d);
+  const Segment& s = spline.segment_at(t);
+  std::vector<double> args(d, t);
+  Vec2 sum(0.0);
+  double binom = 1.0;  // C(r, i)
+  for (int i = 0; i <= r; ++i) {
+    // args = t^{d-r}, a^{r-i}, b^i
+    for (int q = 0; q < r; ++q) args[d - r + q] = q < r - i ? s.a : s.b;
+    const double sign = ((r - i) % 2 == 0) ? 1.0 : -1.0;
+    sum += sign * binom * blossom(spline, s, args.data());
+    binom = binom * (r - i) / (i + 1);
+  }
+  double scale = 1.0;
+  for (int q = 0; q < r; ++q) scale *= static_cast<double>(d - q) / (s.b - s.a);
+  return scale * sum;
+}
+
+}  // namespace cmr

@@ -1,0 +1,116 @@
+#include "spline/spline_json.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "spline/errors.hpp"
+
+namespace cmr {
+namespace {
+
+using nlohmann::json;
+
+double number(const json& v, const std::string& where) {
+  if (!v.is_number()) throw InputError(where + " is not a number");
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw InputError(where + " is not a finite number");
+  return x;
+}
+
+}  // namespace
+
+BSpline spline_from_json(const json& doc) {
+  if (!doc.is_object()) throw InputError("the document is not a JSON object with \"points\"");
+  for (const auto& [key, value] : doc.items()) {
+    (void)value;
+    if (key != "degree" && key != "knots" && key != "points" && key != "name")
+      throw InputError("unknown field \"" + key + "\" (expected degree, knots, points, name)");
+  }
+  if (!doc.contains("points")) throw InputError("points: missing");
+  const json& pts = doc["points"];
+  if (!pts.is_array()) throw InputError("points: not an array of [x, y] pairs");
+  std::vector<Vec2> points;
+  points.reserve(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const std::string where = "points[" + std::to_string(i) + "]";
+    if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
+    points.emplace_back(number(pts[i][0], where + "[0]"), number(pts[i][1], where + "[1]"));
+  }
+  std::string name;
+  if (doc.contains("name")) {
+    if (!doc["name"].is_string()) throw InputError("name: not a string");
+    name = doc["name"].get<std::string>();
+  }
+  int degree = -1;
+  if (doc.contains("degree")) {
+    const json& d = doc["degree"];
+    if (!d.is_number_integer()) throw InputError("degree: not an integer");
+    const auto v = d.get<long long>();
+    if (v < 2 || v > 30) throw InputError("degree: must be between 2 and 30 (got " + std::to_string(v) + ")");
+    degree = static_cast<int>(v);
+  }
+  if (!doc.contains("knots")) {
+    const int n = static_cast<int>(points.size()) - 1;
+    if (degree >= 0 && degree != n)
+      throw InputError("degree: a Bezier curve (no \"knots\") with " + std::to_string(points.size()) +
+                       " points has degree " + std::to_string(n) + ", not " + std::to_string(degree));
+    return BSpline::bezier(std::move(points), std::move(name));
+  }
+  if (degree < 0) throw InputError("degree: missing (required when \"knots\" is given)");
+  const json& ks = doc["knots"];
+  if (!ks.is_array()) throw InputError("knots: not an array of numbers");
+  std::vector<double> knots;
+  knots.reserve(ks.size());
+  for (std::size_t i = 0; i < ks.size(); ++i) knots.push_back(number(ks[i], "knots[" + std::to_string(i) + "]"));
+  return BSpline::make(degree, std::move(knots), std::move(points), std::move(name));
+}
+
+BSpline read_spline_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::exception& e) {
+    // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ..."
+    // (or out_of_range.406 "number overflow parsing '1e999'").
+    std::string what = e.what();
+    const auto pos = what.find("] ");
+    if (pos != std::string::npos) what = what.substr(pos + 2);
+    throw InputError(path.string() + ": malformed JSON: " + what);
+  }
+  try {
+    return spline_from_json(doc);
+  } catch (const InputError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
+}
+
+json spline_to_json(const BSpline& spline) {
+  json doc;
+  if (!spline.name().empty()) doc["name"] = spline.name();
+  doc["degree"] = spline.degree();
+  doc["knots"] = spline.knots();
+  json pts = json::array();
+  for (const Vec2& p : spline.points()) pts.push_back({p.x, p.y});
+  doc["points"] = pts;
+  return doc;
+}
+
+void write_spline_file(const std::filesystem::path& path, const BSpline& spline) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw InputError(path.string() + ": cannot write the file");
+    out << spline_to_json(spline).dump(2) << '\n';
+    if (!out) throw InputError(path.string() + ": write failed");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace cmr

@@ -1,0 +1,172 @@
+#include "spline/bspline.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "spline/errors.hpp"
+#include "tests/test_util.hpp"
+
+namespace cmr {
+namespace {
+
+const std::vector<Vec2> kSix = {{0, 0}, {1, 2}, {3, 3}, {5, 2.5}, {6.5, 1}, {7, -1}};
+
+TEST(BSpline, PaperUniformKnotsHaveSpans23_34_45) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, kSix);
+  ASSERT_EQ(s.segment_count(), 3);
+  EXPECT_EQ(s.segments()[0].a, 2);
+  EXPECT_EQ(s.segments()[0].b, 3);
+  EXPECT_EQ(s.segments()[2].a, 4);
+  EXPECT_EQ(s.segments()[2].b, 5);
+}
+
+TEST(BSpline, PaperClampedKnotsHaveSpans01_12_23AndInterpolateEnds) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3}, kSix);
+  ASSERT_EQ(s.segment_count(), 3);
+  EXPECT_EQ(s.segments()[0].a, 0);
+  EXPECT_EQ(s.segments()[2].b, 3);
+  const Vec2 a = evaluate(s, 0.0), b = evaluate(s, 3.0);
+  EXPECT_NEAR(a.x, 0, 1e-15);
+  EXPECT_NEAR(a.y, 0, 1e-15);
+  EXPECT_NEAR(b.x, 7, 1e-14);
+  EXPECT_NEAR(b.y, -1, 1e-14);
+}
+
+TEST(BSpline, EmptySpansAreSkipped) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 1, 3, 3, 3}, kSix);
+  ASSERT_EQ(s.segment_count(), 2);
+  EXPECT_EQ(s.segments()[1].a, 1);
+  EXPECT_EQ(s.segments()[1].b, 3);
+  EXPECT_EQ(s.segments()[1].index, 1);
+}
+
+struct BadCase {
+  const char* name;
+  int degree;
+  std::vector<double> knots;
+  std::vector<Vec2> points;
+  const char* message_part;
+};
+
+class BSplineRejects : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BSplineRejects, WithAMessageNamingTheProblem) {
+  const BadCase& c = GetParam();
+  try {
+    (void)BSpline::make(c.degree, c.knots, c.points);
+    FAIL() << c.name << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(c.message_part), std::string::npos) << e.what();
+  }
+}
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, BSplineRejects,
+    ::testing::Values(BadCase{"degree1", 1, {0, 1}, {{0, 0}, {1, 0}}, "degree"},
+                      BadCase{"too_few_points", 3, {0, 0, 1, 1}, {{0, 0}, {1, 0}, {2, 1}}, "at least 4"},
+                      BadCase{"wrong_knot_count", 3, {0, 1, 2, 3, 4, 5, 6}, kSix, "8 knots (got 7)"},
+                      BadCase{"decreasing", 3, {0, 1, 2, 3, 2.5, 5, 6, 7}, kSix, "knots[4] (2.5) is smaller"},
+                      BadCase{"nan_knot", 3, {0, 1, 2, kNaN, 4, 5, 6, 7}, kSix, "knots[3] is not a finite"},
+                      BadCase{"inf_knot", 3, {0, 1, 2, 3, 4, 5, 6, kInf}, kSix, "knots[7]"},
+                      BadCase{"nan_point", 3, {0, 1, 2, 3, 4, 5, 6, 7},
+                              {{0, 0}, {1, 2}, {3, kNaN}, {5, 2.5}, {6.5, 1}, {7, -1}}, "points[2][1]"},
+                      BadCase{"multiplicity", 3, {0, 0, 0, 1, 1, 1, 1, 3}, kSix, "multiplicity"},
+                      BadCase{"all_empty", 3, {0, 1, 2, 2, 3, 4}, {{0, 0}, {1, 1}, {2, 0}, {3, 1}}, "empty"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+TEST(BSpline, EvaluationMatchesCoxDeBoorOnKnotFamilies) {
+  std::mt19937_64 rng(7);
+  const std::vector<std::pair<int, std::vector<double>>> families = {
+      {3, {0, 1, 2, 3, 4, 5, 6, 7}},                // uniform
+      {3, {0, 0, 0, 1, 2, 3, 3, 3}},                // clamped
+      {3, {0, 0.1, 0.5, 1.7, 1.8, 4.0, 6, 9.5}},    // non-uniform
+      {3, {-7, -5, -4.5, -1, -0.25, 0, 2, 3}},      // negative
+      {3, {0, 1, 2, 2, 4, 4, 6, 7}},                // repeated (C1 joints)
+      {2, {0, 1, 2, 2, 3, 4, 5}},                   // quadratic, repeated
+      {5, {0, 1, 2, 3, 4, 5, 5, 7, 8, 9, 10, 11}},  // quintic, repeated
+  };
+  for (const auto& [d, knots] : families) {
+    const int m = static_cast<int>(knots.size()) - d + 1;
+    const BSpline s = BSpline::make(d, knots, test::random_points(rng, m));
+    for (int i = 0; i <= 200; ++i) {
+      const double t = s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / 200.0;
+      const Vec2 a = evaluate(s, t), b = test::cox_de_boor(s, t);
+      ASSERT_NEAR(a.x, b.x, 1e-13) << "degree " << d << " knots[0]=" << knots[0] << " t=" << t;
+      ASSERT_NEAR(a.y, b.y, 1e-13) << "degree " << d << " knots[0]=" << knots[0] << " t=" << t;
+    }
+  }
+}
+
+TEST(BSpline, HundredThousandPointsEvaluateLikeCoxDeBoor) {
+  std::mt19937_64 rng(11);
+  const int m = 100000, d = 3;
+  std::vector<double> knots(m + d - 1);
+  for (std::size_t i = 0; i < knots.size(); ++i) knots[i] = static_cast<double>(i);
+  const BSpline s = BSpline::make(d, knots, test::random_points(rng, m));
+  EXPECT_EQ(s.segment_count(), m - d);
+  std::uniform_real_distribution<double> u(s.domain_begin(), s.domain_end());
+  for (int i = 0; i < 2000; ++i) {
+    const double t = u(rng);
+    const Vec2 a = evaluate(s, t), b = test::cox_de_boor(s, t);
+    ASSERT_NEAR(a.x, b.x, 1e-12) << "t=" << t;
+    ASSERT_NEAR(a.y, b.y, 1e-12) << "t=" << t;
+  }
+}
+
+TEST(BSpline, DerivativesMatchFiniteDifferences) {
+  std::mt19937_64 rng(3);
+  const BSpline s = BSpline::make(4, {0, 0, 0.5, 1.5, 2, 3.5, 4, 4, 5}, test::random_points(rng, 6));
+  const double h = 1e-5 * (s.domain_end() - s.domain_begin());
+  for (const Segment& seg : s.segments()) {
+    for (double f : {0.2, 0.5, 0.8}) {
+      const double t = seg.a + f * (seg.b - seg.a);
+      for (int r = 1; r <= 3; ++r) {
+        const Vec2 fd = (derivative(s, t + h, r - 1) - derivative(s, t - h, r - 1)) / (2 * h);
+        const Vec2 d = derivative(s, t, r);
+        const double tol = 1e-6 * (1 + std::abs(d.x) + std::abs(d.y));
+        EXPECT_NEAR(d.x, fd.x, tol) << "r=" << r << " t=" << t;
+        EXPECT_NEAR(d.y, fd.y, tol) << "r=" << r << " t=" << t;
+      }
+    }
+  }
+}
+
+TEST(BSpline, BezierIsTheBSplineWithKnots0n1n) {
+  const std::vector<Vec2> P = {{0, 0}, {1, 3}, {4, 3}, {5, 0}};
+  const BSpline s = BSpline::bezier(P);
+  EXPECT_EQ(s.knots(), (std::vector<double>{0, 0, 0, 1, 1, 1}));
+  for (double t : {0.0, 0.25, 0.5, 0.9, 1.0}) {
+    const double s0 = 1 - t;
+    const Vec2 ref = s0 * s0 * s0 * P[0] + 3 * s0 * s0 * t * P[1] + 3 * s0 * t * t * P[2] + t * t * t * P[3];
+    const Vec2 v = evaluate(s, t);
+    EXPECT_NEAR(v.x, ref.x, 1e-14) << "t=" << t;
+    EXPECT_NEAR(v.y, ref.y, 1e-14) << "t=" << t;
+  }
+}
+
+TEST(BSpline, ReversedTracesTheSameCurveBackwards) {
+  std::mt19937_64 rng(5);
+  const BSpline s = BSpline::make(3, {0, 0.5, 1, 3, 4, 4, 6, 7}, test::random_points(rng, 6));
+  const BSpline r = s.reversed();
+  for (int i = 0; i <= 50; ++i) {
+    const double t = s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / 50.0;
+    const Vec2 a = evaluate(s, t), b = evaluate(r, -t);
+    EXPECT_NEAR(a.x, b.x, 1e-13) << "t=" << t;
+    EXPECT_NEAR(a.y, b.y, 1e-13) << "t=" << t;
+  }
+}
+
+TEST(BSpline, WithPointRejectsOutOfRangeIndex) {
+  const BSpline s = BSpline::bezier({{0, 0}, {1, 1}, {2, 0}});
+  EXPECT_THROW((void)s.with_point(3, {0, 0}), InputError);
+  EXPECT_THROW((void)s.with_point(-1, {0, 0}), InputError);
+  EXPECT_EQ(s.with_point(1, {5, 5}).points()[1], Vec2(5, 5));
+}
+
+}  // namespace
+}  // namespace cmr

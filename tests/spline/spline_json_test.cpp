@@ -1,0 +1,68 @@
+#include "spline/spline_json.hpp"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "spline/errors.hpp"
+
+namespace cmr {
+namespace {
+
+using nlohmann::json;
+
+TEST(SplineJson, ReadsBSplineAndRoundTrips) {
+  const json doc = json::parse(R"({"name":"u","degree":3,"knots":[0,1,2,3,4,5,6,7],
+      "points":[[0,0],[1,2],[3,3],[5,2.5],[6.5,1],[7,-1]]})");
+  const BSpline s = spline_from_json(doc);
+  EXPECT_EQ(s.name(), "u");
+  EXPECT_EQ(s.degree(), 3);
+  EXPECT_EQ(s.points()[3], Vec2(5, 2.5));
+  const BSpline t = spline_from_json(spline_to_json(s));
+  EXPECT_EQ(t.knots(), s.knots());
+  EXPECT_EQ(t.points(), s.points());
+}
+
+TEST(SplineJson, WithoutKnotsTheFileIsOneBezierCurve) {
+  const BSpline s = spline_from_json(json::parse(R"({"points":[[0,0],[1,1],[2,0],[3,1]]})"));
+  EXPECT_EQ(s.degree(), 3);
+  EXPECT_EQ(s.knots(), (std::vector<double>{0, 0, 0, 1, 1, 1}));
+}
+
+struct BadDoc {
+  const char* name;
+  const char* text;
+  const char* message_part;
+};
+
+class SplineJsonRejects : public ::testing::TestWithParam<BadDoc> {};
+
+TEST_P(SplineJsonRejects, NamingFieldAndIndex) {
+  try {
+    (void)spline_from_json(json::parse(GetParam().text));
+    FAIL() << "accepted " << GetParam().text;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(GetParam().message_part), std::string::npos) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, SplineJsonRejects,
+    ::testing::Values(BadDoc{"not_object", "[1,2]", "not a JSON object"},
+                      BadDoc{"no_points", R"({"degree":3})", "points: missing"},
+                      BadDoc{"point_not_pair", R"({"points":[[0,0],[1],[2,0]]})", "points[1] is not an [x, y]"},
+                      BadDoc{"point_string", R"({"points":[[0,0],[1,"a"],[2,0]]})", "points[1][1] is not a number"},
+                      BadDoc{"degree_float", R"({"degree":2.5,"knots":[0,1],"points":[[0,0],[1,1],[2,0]]})",
+                             "degree: not an integer"},
+                      BadDoc{"degree_mismatch", R"({"degree":2,"points":[[0,0],[1,1],[2,0],[3,3]]})",
+                             "has degree 3, not 2"},
+                      BadDoc{"knots_no_degree", R"({"knots":[0,0,1,1],"points":[[0,0],[1,1],[2,0]]})",
+                             "degree: missing"},
+                      BadDoc{"knot_string", R"({"degree":2,"knots":[0,"x",1,1],"points":[[0,0],[1,1],[2,0]]})",
+                             "knots[1] is not a number"},
+                      BadDoc{"unknown_field", R"({"pts":[],"points":[[0,0],[1,1],[2,0]]})", "unknown field \"pts\""},
+                      BadDoc{"name_number", R"({"name":3,"points":[[0,0],[1,1],[2,0]]})", "name: not a string"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+}  // namespace
+}  // namespace cmr

@@ -1,0 +1,100 @@
+// End-to-end tests of the cmr command: exit codes, one-line errors, outputs.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/tools/cli_util.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+using cmr::test::Outcome;
+using cmr::test::run;
+using cmr::test::write;
+
+const std::string kSixPoints = R"("points":[[0,0],[1,2],[3,3],[5,2.5],[6.5,1],[7,-1]])";
+
+struct BadInput {
+  const char* name;
+  std::string args;        // may contain FILE, replaced by the written file
+  std::string file_text;   // empty: no file written
+  const char* message_part;
+};
+
+class CliRejects : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(CliRejects, WithExit2AndOneLineNamingTheProblem) {
+  const BadInput& c = GetParam();
+  std::string args = c.args;
+  if (!c.file_text.empty()) {
+    const std::string path = write(std::string(c.name) + ".json", c.file_text);
+    args.replace(args.find("FILE"), 4, path);
+  }
+  const Outcome r = run(args);
+  EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
+  EXPECT_TRUE(r.out.empty()) << c.name << " printed to stdout: " << r.out;
+  ASSERT_FALSE(r.err.empty()) << c.name;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << c.name << ": not one line: " << r.err;
+  EXPECT_NE(r.err.find(c.message_part), std::string::npos) << c.name << ": " << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, CliRejects,
+    ::testing::Values(
+        BadInput{"malformed_json", "analyze FILE", "{\"points\": [[0,0],", "malformed JSON"},
+        BadInput{"empty_file", "analyze FILE", " ", "malformed JSON"},
+        BadInput{"missing_file", "analyze /nonexistent/spline.json", "", "cannot open"},
+        BadInput{"wrong_knot_count", "analyze FILE", "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6]," + kSixPoints + "}",
+                 "8 knots (got 7)"},
+        BadInput{"decreasing_knots", "segments FILE",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,2.5,5,6,7]," + kSixPoints + "}", "knots[4] (2.5) is smaller"},
+        BadInput{"overflowing_number", "analyze FILE", "{\"points\":[[0,0],[1,1e999],[2,0]]}", "overflow"},
+        BadInput{"nan_literal", "analyze FILE", "{\"points\":[[0,0],[1,NaN],[2,0]]}", "malformed JSON"},
+        BadInput{"point_string", "analyze FILE", "{\"points\":[[0,0],[1,\"y\"],[2,0]]}", "points[1][1]"},
+        BadInput{"degree_one", "analyze FILE", "{\"degree\":1,\"knots\":[0]," + kSixPoints + "}", "degree"},
+        BadInput{"multiplicity", "analyze FILE", "{\"degree\":3,\"knots\":[0,1,1,1,1,5,6,7]," + kSixPoints + "}",
+                 "multiplicity"},
+        BadInput{"unknown_field", "analyze FILE", "{\"colour\":1," + kSixPoints + "}", "unknown field"},
+        BadInput{"knots_without_degree", "analyze FILE", "{\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}",
+                 "degree: missing"},
+        BadInput{"split_zero", "analyze FILE --split 0", "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}",
+                 "split 0 is outside 1..2"},
+        BadInput{"split_too_big", "analyze FILE --split 3",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "split 3 is outside"},
+        BadInput{"depth_out_of_range", "analyze FILE --depth 99", "{" + kSixPoints + "}", "--depth"},
+        BadInput{"mode_unknown", "analyze FILE --mode bogus", "{" + kSixPoints + "}", "--mode"},
+        BadInput{"unknown_command", "frobnicate", "", "unknown command 'frobnicate'"},
+        BadInput{"no_file_argument", "analyze", "", "FILE"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+TEST(Cli, SegmentsOnThePaperKnotVectors) {
+  const Outcome u = run("segments " + std::string(CMR_SOURCE_DIR) + "/examples/uniform.json");
+  ASSERT_EQ(u.code, 0) << u.err;
+  const auto doc = nlohmann::json::parse(u.out);
+  ASSERT_EQ(doc["segments"].size(), 3u);
+  EXPECT_EQ(doc["segments"][0]["interval"], nlohmann::json::parse("[2.0, 3.0]"));
+  EXPECT_EQ(doc["segments"][2]["interval"], nlohmann::json::parse("[4.0, 5.0]"));
+  EXPECT_EQ(doc["segments"][1]["points"].size(), 4u);
+  const Outcome c = run("segments " + std::string(CMR_SOURCE_DIR) + "/examples/clamped.json");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const auto cd = nlohmann::json::parse(c.out);
+  EXPECT_EQ(cd["segments"][0]["interval"], nlohmann::json::parse("[0.0, 1.0]"));
+  EXPECT_EQ(cd["segments"][0]["points"][0], nlohmann::json::parse("[0.0, 0.0]"));  // clamped: interpolates P0
+}
+
+TEST(Cli, AnalyzePrintsSegmentsAndVerdicts) {
+  const Outcome r = run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/clamped.json --split 2 --depth 8");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["segments"].size(), 3u);
+  for (const auto& s : doc["segments"]) {
+    EXPECT_TRUE(s.contains("curvature") && s.contains("inflection") && s.contains("depth"));
+    EXPECT_LE(s["depth"].get<int>(), 8);
+  }
+  EXPECT_TRUE(doc["spline"].contains("cmrwi"));
+  EXPECT_TRUE(doc["spline"].contains("cmr"));
+  EXPECT_TRUE(doc["spline"].contains("split"));
+}
+
+}  // namespace

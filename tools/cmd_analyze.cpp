@@ -1,0 +1,71 @@
+// cmr analyze FILE [--depth D] [--split S] [--mode cmrwi|cmr]: exact per-span
+// classification and spline-level verdicts.
+#include "bezierize/analyze.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+
+namespace cmr::cli {
+
+namespace {
+
+struct AnalyzeArgs {
+  std::string file;
+  int depth = 12;
+  std::optional<int> split;
+  std::string mode = "cmrwi";
+};
+
+nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a) {
+  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    const Segment& s = spline.segments()[i];
+    const SegmentClass& c = a.segments[i];
+    segs.push_back({{"index", s.index},
+                    {"interval", {s.a, s.b}},
+                    {"curvature", to_string(c.monotonicity.curvature)},
+                    {"inflection", to_string(c.inflection.inflection)},
+                    {"depth", c.monotonicity.depth},
+                    {"inflection_depth", c.inflection.depth},
+                    {"exact", c.exact_used}});
+  }
+  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
+  for (const Joint& j : a.joints) {
+    joints.push_back({{"index", j.index},
+                      {"knot", j.knot},
+                      {"multiplicity", j.multiplicity},
+                      {"continuity", "C" + std::to_string(j.continuity)},
+                      {"kappa_left", j.kappa_left},
+                      {"kappa_right", j.kappa_right},
+                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
+  }
+  nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)}, {"cmr", to_string(a.cmr)}};
+  if (a.split) verdict["split"] = to_string(*a.split);
+  if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
+  return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
+}
+
+}  // namespace
+
+void add_analyze_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<AnalyzeArgs>();
+  auto* cmd = app.add_subcommand("analyze", "Classify every span (Algorithms 1 and 2, exact) and the whole spline");
+  cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
+  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
+      ->check(CLI::Range(0, 30))
+      ->capture_default_str();
+  cmd->add_option("--split", args->split, "joint S: spans 0..S-1 against S..N-1");
+  cmd->add_option("--mode", args->mode, "verdict used for --split")
+      ->check(CLI::IsMember({"cmrwi", "cmr"}))
+      ->capture_default_str();
+  cmd->callback([args, &exit_code] {
+    const BSpline spline = read_spline_file(args->file);
+    AnalyzeOptions o;
+    o.classify.max_depth = args->depth;
+    o.split = args->split;
+    o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+    print_json(analysis_json(spline, analyze(spline, o)));
+    exit_code = kOk;
+  });
+}
+
+}  // namespace cmr::cli

@@ -1,0 +1,59 @@
+// The cmr command. Exit codes: 0 success, 1 a --require gate failed,
+// 2 invalid input or usage (one line on stderr), 3 environment failure.
+#include <iostream>
+
+#include "spline/errors.hpp"
+#include "tools/cli_common.hpp"
+
+int main(int argc, char** argv) {
+  using namespace cmr::cli;
+  CLI::App app{"cmr: curvature monotonicity regions of B-spline curves"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cmr 0.1.0");
+  int exit_code = kOk;
+  add_segments_command(app, exit_code);
+  add_analyze_command(app, exit_code);
+  if (argc >= 2 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "cmr: unknown command '" << argv[1] << "' (commands: " << names << ")\n";
+      return kInvalid;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kOk;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return kOk;
+  } catch (const CLI::CallForVersion&) {
+    std::cout << app.version() << '\n';
+    return kOk;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "cmr: " << e.what() << " (see cmr --help)\n";
+    return kInvalid;
+  } catch (const cmr::InputError& e) {
+    std::cerr << "cmr: " << e.what() << '\n';
+    return kInvalid;
+  } catch (const EnvironmentError& e) {
+    std::cerr << "cmr: " << e.what() << '\n';
+    return kEnvironment;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "cmr: out of memory\n";
+    return kEnvironment;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "cmr: " << e.what() << '\n';
+    return kEnvironment;
+  } catch (const std::exception& e) {
+    std::cerr << "cmr: unexpected error: " << e.what() << '\n';
+    return kEnvironment;
+  }
+  return exit_code;
+}

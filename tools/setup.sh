@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every Debian package cmr needs to build, test and run.
+# Idempotent: packages already installed are skipped, and apt is not touched
+# at all when nothing is missing. Run as root on Debian 12 (or with sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config python3
+  libglm-dev nlohmann-json3-dev libcli11-dev libgmp-dev
+  libcairo2-dev libpng-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libvulkan-dev mesa-vulkan-drivers glslang-tools
+  chromium fonts-dejavu-core
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+sudo=()
+if ((EUID != 0)); then sudo=(sudo); fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: done"

@@ -1,0 +1,368 @@
+#include "vk/context.hpp"
+
+#include "vk/internal.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <string_view>
+#include <utility>
+
+namespace cmr::vk {
+namespace detail {
+
+DeviceState::~DeviceState() {
+  if (device != VK_NULL_HANDLE) {
+    // Objects made from the Context are gone by now (they hold this state),
+    // but the queue may still be executing their last submission.
+    vkDeviceWaitIdle(device);
+    vkDestroyDevice(device, nullptr);
+  }
+  if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
+}
+
+std::string vk_result_name(VkResult result) {
+  switch (result) {
+#define CMR_VK_RESULT_CASE(name) \
+  case name: return #name;
+    CMR_VK_RESULT_CASE(VK_SUCCESS)
+    CMR_VK_RESULT_CASE(VK_NOT_READY)
+    CMR_VK_RESULT_CASE(VK_TIMEOUT)
+    CMR_VK_RESULT_CASE(VK_INCOMPLETE)
+    CMR_VK_RESULT_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+    CMR_VK_RESULT_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    CMR_VK_RESULT_CASE(VK_ERROR_INITIALIZATION_FAILED)
+    CMR_VK_RESULT_CASE(VK_ERROR_DEVICE_LOST)
+    CMR_VK_RESULT_CASE(VK_ERROR_MEMORY_MAP_FAILED)
+    CMR_VK_RESULT_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+    CMR_VK_RESULT_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+    CMR_VK_RESULT_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+    CMR_VK_RESULT_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+    CMR_VK_RESULT_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+    CMR_VK_RESULT_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    CMR_VK_RESULT_CASE(VK_ERROR_FRAGMENTED_POOL)
+    CMR_VK_RESULT_CASE(VK_ERROR_UNKNOWN)
+    CMR_VK_RESULT_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+    CMR_VK_RESULT_CASE(VK_ERROR_INVALID_EXTERNAL_HANDLE)
+    CMR_VK_RESULT_CASE(VK_ERROR_FRAGMENTATION)
+    CMR_VK_RESULT_CASE(VK_ERROR_INVALID_SHADER_NV)
+#undef CMR_VK_RESULT_CASE
+    default: return "VkResult(" + std::to_string(static_cast<int>(result)) + ")";
+  }
+}
+
+Errc errc_from(VkResult result) {
+  switch (result) {
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+    case VK_ERROR_OUT_OF_POOL_MEMORY:
+    case VK_ERROR_FRAGMENTED_POOL:
+    case VK_ERROR_FRAGMENTATION:
+    case VK_ERROR_MEMORY_MAP_FAILED: return Errc::out_of_memory;
+    case VK_ERROR_DEVICE_LOST: return Errc::device_lost;
+    case VK_ERROR_INCOMPATIBLE_DRIVER: return Errc::no_device;
+    case VK_ERROR_LAYER_NOT_PRESENT:
+    case VK_ERROR_EXTENSION_NOT_PRESENT:
+    case VK_ERROR_FEATURE_NOT_PRESENT:
+    case VK_ERROR_FORMAT_NOT_SUPPORTED: return Errc::missing_feature;
+    case VK_ERROR_INVALID_SHADER_NV: return Errc::shader_invalid;
+    default: return Errc::other;
+  }
+}
+
+Error vk_error(VkResult result, std::string_view what) {
+  const Errc code = errc_from(result);
+  std::string message = std::string(what) + " failed: " + vk_result_name(result);
+  switch (code) {
+    case Errc::out_of_memory: message += "; free GPU memory or render a smaller image"; break;
+    case Errc::device_lost:
+      message += "; the GPU was reset (driver watchdog?), render in smaller bands or a smaller image";
+      break;
+    case Errc::no_device: message += "; install or update the Vulkan driver"; break;
+    default: break;
+  }
+  return Error{code, result, std::move(message)};
+}
+
+std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties& memory,
+                                         uint32_t type_bits, VkMemoryPropertyFlags required,
+                                         VkMemoryPropertyFlags preferred) {
+  for (const VkMemoryPropertyFlags wanted : {required | preferred, required}) {
+    for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+      const bool allowed = (type_bits & (1u << i)) != 0;
+      if (allowed && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) return i;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::vk_error;
+
+#if defined(__aarch64__)
+constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.aarch64.json";
+#else
+constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+#endif
+
+// One actionable line for "the loader found nothing". Mentions the loader's
+// driver-selection variables when set, since a stale path is the usual cause.
+Error no_device_error(VkResult result) {
+  std::string message = "no Vulkan device found";
+  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"}) {
+    if (const char* value = std::getenv(var); value != nullptr && *value != '\0') {
+      message += std::string(" (") + var + "='" + value + "'; check that the file exists)";
+    }
+  }
+  message += "; install mesa-vulkan-drivers or select lavapipe with VK_DRIVER_FILES=";
+  message += kLavapipeIcd;
+  return Error{Errc::no_device, result, std::move(message)};
+}
+
+// Owns a VkInstance until released into a DeviceState.
+class InstanceHandle {
+ public:
+  explicit InstanceHandle(VkInstance instance) : instance_(instance) {}
+  InstanceHandle(InstanceHandle&& other) noexcept : instance_(std::exchange(other.instance_, VK_NULL_HANDLE)) {}
+  InstanceHandle& operator=(InstanceHandle&&) = delete;
+  InstanceHandle(const InstanceHandle&) = delete;
+  InstanceHandle& operator=(const InstanceHandle&) = delete;
+  ~InstanceHandle() {
+    if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
+  }
+  VkInstance get() const { return instance_; }
+  VkInstance release() { return std::exchange(instance_, VK_NULL_HANDLE); }
+
+ private:
+  VkInstance instance_;
+};
+
+// Vulkan 1.1 gives SPIR-V 1.3, which cmr_add_shader() targets.
+constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;
+
+Result<InstanceHandle> create_instance() {
+  // libvulkan is linked directly, so a missing library stops the program
+  // before main(); what can still happen is a broken or 1.0-only loader.
+  if (vkGetInstanceProcAddr(VK_NULL_HANDLE, "vkCreateInstance") == nullptr) {
+    return Error{Errc::loader_missing, VK_SUCCESS,
+                 "the Vulkan loader does not provide vkCreateInstance; reinstall libvulkan1"};
+  }
+  const auto enumerate_version = reinterpret_cast<PFN_vkEnumerateInstanceVersion>(
+      vkGetInstanceProcAddr(VK_NULL_HANDLE, "vkEnumerateInstanceVersion"));
+  if (enumerate_version == nullptr) {
+    return Error{Errc::loader_missing, VK_SUCCESS,
+                 "the Vulkan loader only supports Vulkan 1.0; install libvulkan1 >= 1.1"};
+  }
+  uint32_t loader_version = 0;
+  if (VkResult r = enumerate_version(&loader_version); r != VK_SUCCESS) {
+    return vk_error(r, "vkEnumerateInstanceVersion");
+  }
+  if (loader_version < kApiVersion) {
+    return Error{Errc::loader_missing, VK_SUCCESS,
+                 "the Vulkan loader only supports Vulkan 1.0; install libvulkan1 >= 1.1"};
+  }
+
+  VkApplicationInfo app{};
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.pApplicationName = "cmr";
+  app.applicationVersion = 1;
+  app.pEngineName = "cmr::vk";
+  app.engineVersion = 1;
+  app.apiVersion = kApiVersion;
+
+  // Headless: no layers, no extensions (in particular no surface extensions).
+  VkInstanceCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  info.pApplicationInfo = &app;
+
+  VkInstance instance = VK_NULL_HANDLE;
+  const VkResult r = vkCreateInstance(&info, nullptr, &instance);
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) {
+    // The loader reports "no usable ICD" with these two codes.
+    return no_device_error(r);
+  }
+  if (r != VK_SUCCESS) return vk_error(r, "vkCreateInstance");
+  return InstanceHandle(instance);
+}
+
+struct Candidate {
+  VkPhysicalDevice handle = VK_NULL_HANDLE;
+  DeviceInfo info;
+  uint32_t api_version = 0;
+  std::optional<uint32_t> graphics_family;
+};
+
+// All physical devices with what device selection needs to know about them.
+// Zero devices is an error (no_device).
+Result<std::vector<Candidate>> list_devices(VkInstance instance) {
+  std::vector<VkPhysicalDevice> handles;
+  VkResult r = VK_INCOMPLETE;
+  while (r == VK_INCOMPLETE) {  // the count may change between the two calls
+    uint32_t count = 0;
+    r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
+    if (r != VK_SUCCESS) break;
+    handles.resize(count);
+    r = vkEnumeratePhysicalDevices(instance, &count, handles.data());
+    handles.resize(count);
+  }
+  if (r == VK_ERROR_INITIALIZATION_FAILED) return no_device_error(r);
+  if (r != VK_SUCCESS) return vk_error(r, "vkEnumeratePhysicalDevices");
+  if (handles.empty()) return no_device_error(VK_SUCCESS);
+
+  std::vector<Candidate> devices;
+  devices.reserve(handles.size());
+  for (VkPhysicalDevice handle : handles) {
+    VkPhysicalDeviceProperties props{};
+    vkGetPhysicalDeviceProperties(handle, &props);
+    VkPhysicalDeviceFeatures features{};
+    vkGetPhysicalDeviceFeatures(handle, &features);
+
+    uint32_t family_count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(handle, &family_count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(family_count);
+    vkGetPhysicalDeviceQueueFamilyProperties(handle, &family_count, families.data());
+
+    Candidate c;
+    c.handle = handle;
+    c.info.name = props.deviceName;
+    c.info.type = props.deviceType;
+    c.info.float64 = features.shaderFloat64 == VK_TRUE;
+    c.info.max_image_dimension_2d = props.limits.maxImageDimension2D;
+    c.api_version = props.apiVersion;
+    for (uint32_t i = 0; i < family_count; ++i) {
+      if ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0 && families[i].queueCount > 0) {
+        c.graphics_family = i;
+        break;
+      }
+    }
+    devices.push_back(std::move(c));
+  }
+  return devices;
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return out;
+}
+
+// Empty when the device is usable, otherwise why not ("device 'x' lacks ...").
+std::string unusable_reason(const Candidate& c, const ContextOptions& options) {
+  const std::string who = "device '" + c.info.name + "'";
+  if (c.api_version < kApiVersion) return who + " supports only Vulkan 1.0 (1.1 is required)";
+  if (!c.graphics_family) return who + " has no graphics queue";
+  if (options.require_float64 && !c.info.float64) return who + " lacks shaderFloat64";
+  return {};
+}
+
+}  // namespace
+
+Result<std::vector<DeviceInfo>> enumerate_devices() {
+  auto instance = create_instance();
+  if (!instance) return instance.error();
+  auto devices = list_devices(instance.value().get());
+  if (!devices) return devices.error();
+  std::vector<DeviceInfo> infos;
+  infos.reserve(devices.value().size());
+  for (const Candidate& c : devices.value()) infos.push_back(c.info);
+  return infos;
+}
+
+Result<Context> Context::create(const ContextOptions& options) {
+  auto instance = create_instance();
+  if (!instance) return instance.error();
+  auto state = std::make_shared<detail::DeviceState>();
+  state->instance = instance.value().release();
+
+  auto listed = list_devices(state->instance);
+  if (!listed) return listed.error();
+  const std::vector<Candidate>& devices = listed.value();
+
+  // Name filter first: a name that matches nothing must not fall back to
+  // some other device.
+  std::vector<const Candidate*> matching;
+  const std::string wanted = lower(options.device_name);
+  for (const Candidate& c : devices) {
+    if (wanted.empty() || lower(c.info.name).find(wanted) != std::string::npos) matching.push_back(&c);
+  }
+  if (matching.empty()) {
+    std::string available;
+    for (const Candidate& c : devices) {
+      available += (available.empty() ? "'" : ", '") + c.info.name + "'";
+    }
+    return Error{Errc::device_not_found, VK_SUCCESS,
+                 "no Vulkan device named '" + options.device_name + "' (available: " + available + ")"};
+  }
+
+  const Candidate* chosen = nullptr;
+  std::vector<std::string> reasons;
+  for (const Candidate* c : matching) {
+    std::string reason = unusable_reason(*c, options);
+    if (reason.empty()) {
+      chosen = c;
+      break;
+    }
+    reasons.push_back(std::move(reason));
+  }
+  if (chosen == nullptr) {
+    std::string message = reasons.size() == 1 ? reasons.front() : "no usable Vulkan device: ";
+    if (reasons.size() > 1) {
+      for (std::size_t i = 0; i < reasons.size(); ++i) message += (i ? "; " : "") + reasons[i];
+    }
+    const bool fp64_problem = std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) {
+      return r.find("shaderFloat64") != std::string::npos;
+    });
+    if (fp64_problem) message += "; use --precision fp32";
+    return Error{Errc::missing_feature, VK_SUCCESS, std::move(message)};
+  }
+
+  state->physical_device = chosen->handle;
+  state->queue_family_index = *chosen->graphics_family;
+  state->info = chosen->info;
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(chosen->handle, &props);
+  state->limits = props.limits;
+  vkGetPhysicalDeviceMemoryProperties(chosen->handle, &state->memory);
+
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{};
+  queue_info.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+  queue_info.queueFamilyIndex = state->queue_family_index;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+
+  VkPhysicalDeviceFeatures features{};
+  features.shaderFloat64 = chosen->info.float64 ? VK_TRUE : VK_FALSE;
+
+  VkDeviceCreateInfo device_info{};
+  device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  device_info.pEnabledFeatures = &features;
+
+  if (VkResult r = vkCreateDevice(state->physical_device, &device_info, nullptr, &state->device);
+      r != VK_SUCCESS) {
+    state->device = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateDevice on '" + chosen->info.name + "'");
+  }
+  vkGetDeviceQueue(state->device, state->queue_family_index, 0, &state->queue);
+  return Context(std::move(state));
+}
+
+Context::Context(std::shared_ptr<detail::DeviceState> state) : state_(std::move(state)) {}
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+Context::~Context() = default;
+
+const DeviceInfo& Context::device() const { return state_->info; }
+VkInstance Context::instance() const { return state_->instance; }
+VkPhysicalDevice Context::physical_device() const { return state_->physical_device; }
+VkDevice Context::device_handle() const { return state_->device; }
+VkQueue Context::queue() const { return state_->queue; }
+uint32_t Context::queue_family_index() const { return state_->queue_family_index; }
+
+}  // namespace cmr::vk

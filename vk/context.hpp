@@ -1,0 +1,86 @@
+// Headless Vulkan context: instance, one physical device, one logical device
+// and a graphics queue. No window-system extensions are used, so it works on
+// a display-less server (Mesa lavapipe) as well as on a real GPU.
+//
+// Thread safety: a Context and everything created from it must be used from
+// one thread at a time (they share one VkQueue). Distinct Contexts are
+// independent.
+#pragma once
+
+#include "vk/error.hpp"
+
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace cmr::vk {
+
+struct DeviceInfo {
+  std::string name;                                           // VkPhysicalDeviceProperties::deviceName
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;  // CPU for lavapipe, DISCRETE_GPU, ...
+  bool float64 = false;                                       // shaderFloat64 supported
+  uint32_t max_image_dimension_2d = 0;                        // largest width/height of a 2D image
+};
+
+// Lists the physical devices the Vulkan loader exposes, in loader order.
+// Honours the loader's environment (VK_DRIVER_FILES, VK_ICD_FILENAMES, ...).
+// Errors: loader_missing, no_device (no driver or zero devices),
+//         out_of_memory, other.
+Result<std::vector<DeviceInfo>> enumerate_devices();
+
+struct ContextOptions {
+  // Empty: the first device (loader order) that has the needed features.
+  // Otherwise a case-insensitive substring of the device name ("llvmpipe",
+  // "nvidia"); the first matching device with the needed features is used.
+  // A name that matches nothing is an error, never a silent fallback.
+  std::string device_name;
+  // Whether a device without shaderFloat64 is rejected. shaderFloat64 is
+  // enabled whenever the device supports it, independent of this flag, so
+  // device().float64 tells whether fp64 shaders may be used.
+  bool require_float64 = true;
+};
+
+namespace detail {
+struct DeviceState;  // Vulkan handles; shared with objects made from a Context
+}
+
+class Context {
+ public:
+  // Creates the instance (Vulkan 1.1) and a device with one graphics queue.
+  // Errors: loader_missing; no_device (no driver / no physical device);
+  //   device_not_found (options.device_name matches nothing; the message
+  //   lists the available devices); missing_feature (matching devices lack
+  //   shaderFloat64 while required, Vulkan 1.1 or a graphics queue);
+  //   out_of_memory; device_lost; other.
+  static Result<Context> create(const ContextOptions& options = {});
+
+  Context(Context&&) noexcept;
+  Context& operator=(Context&&) noexcept;
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+  // Objects created from this Context (FragmentPipeline) keep the device
+  // alive, so they may outlive it.
+  ~Context();
+
+  // The chosen device. Must not be called on a moved-from Context.
+  const DeviceInfo& device() const;
+
+  // Raw handles, for code that records its own Vulkan work on this device.
+  VkInstance instance() const;
+  VkPhysicalDevice physical_device() const;
+  VkDevice device_handle() const;
+  VkQueue queue() const;
+  uint32_t queue_family_index() const;
+
+  // Internal: shared ownership of the Vulkan handles.
+  const std::shared_ptr<detail::DeviceState>& state() const { return state_; }
+
+ private:
+  explicit Context(std::shared_ptr<detail::DeviceState> state);
+  std::shared_ptr<detail::DeviceState> state_;
+};
+
+}  // namespace cmr::vk

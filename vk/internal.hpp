@@ -1,0 +1,50 @@
+// Private to cmr_vk: shared device state and VkResult -> Error mapping.
+// Not part of the public API; do not include from outside vk/.
+#pragma once
+
+#include "vk/context.hpp"
+#include "vk/error.hpp"
+
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace cmr::vk::detail {
+
+// Owns the instance and device. Held through shared_ptr by Context and by
+// every object created from it, so the device is destroyed last.
+struct DeviceState {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queue_family_index = 0;
+  DeviceInfo info{};
+  VkPhysicalDeviceLimits limits{};
+  VkPhysicalDeviceMemoryProperties memory{};
+
+  DeviceState() = default;
+  DeviceState(const DeviceState&) = delete;
+  DeviceState& operator=(const DeviceState&) = delete;
+  ~DeviceState();
+};
+
+// "VK_ERROR_DEVICE_LOST", or "VkResult(-1000)" for codes it does not know.
+std::string vk_result_name(VkResult result);
+
+// Classifies a failed VkResult.
+Errc errc_from(VkResult result);
+
+// Error for a failed call: "<what> failed: VK_ERROR_...; <hint>".
+Error vk_error(VkResult result, std::string_view what);
+
+// Index of a memory type allowed by type_bits that has all `required` flags,
+// preferring one that also has all `preferred` flags.
+std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties& memory,
+                                         uint32_t type_bits, VkMemoryPropertyFlags required,
+                                         VkMemoryPropertyFlags preferred);
+
+}  // namespace cmr::vk::detail
