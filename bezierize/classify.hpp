@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "bezierize/bernstein.hpp"
+#include "spline/vec2.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr {
@@ -66,6 +67,13 @@ struct SegmentClass {
   InflectionResult inflection;  ///< undecided at depth 0 when not requested
   bool exact_used = false;      ///< the exact fallback ran for this segment
 };
+
+/// The certified floating-point path alone: Bezier points with error bounds.
+/// nullopt when a deciding sign is uncertain (then classify exactly).
+std::optional<SegmentClass> classify_bounded(const std::vector<Point<Bounded>>& points,
+                                             const ClassifyOptions& options = {});
+/// The exact path alone, on exact Bezier points.
+SegmentClass classify_exact(const std::vector<Point<Rational>>& points, const ClassifyOptions& options = {});
 
 /// Classifies a Bezier segment given by its control points (exact doubles).
 SegmentClass classify_bezier(const std::vector<Vec2>& points, const ClassifyOptions& options = {});

@@ -23,5 +23,8 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& byt
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);
 void add_analyze_command(CLI::App& app, int& exit_code);
+void add_region_command(CLI::App& app, int& exit_code);
+void add_figures_command(CLI::App& app, int& exit_code);
+void add_report_command(CLI::App& app, int& exit_code);
 
 }  // namespace cmr::cli

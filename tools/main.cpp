@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
   int exit_code = kOk;
   add_segments_command(app, exit_code);
   add_analyze_command(app, exit_code);
+  add_region_command(app, exit_code);
+  add_figures_command(app, exit_code);
+  add_report_command(app, exit_code);
   if (argc >= 2 && argv[1][0] != '-') {
     bool known = false;
     std::string names;

@@ -138,10 +138,11 @@ struct FragmentPipeline::Impl {
   void destroy_buffer(Buffer& buffer);
   Result<void> create_image();
   Result<void> create_render_pass_and_framebuffer();
-  Result<void> create_pipeline(std::span<const uint32_t> fragment_spirv);
+  Result<void> create_pipeline(std::span<const uint32_t> fragment_spirv, std::span<const uint32_t> specialization);
   Result<void> create_commands();
   Result<void> ensure_storage(VkDeviceSize bytes);
   Result<void> record_band(uint32_t first_row, uint32_t rows, bool upload, VkDeviceSize upload_bytes,
+                           std::span<const VkRect2D> areas,
                            std::span<const std::byte> push_constants);
   Result<void> submit_and_wait(uint32_t first_row, uint32_t rows);
 };
@@ -336,7 +337,8 @@ Result<void> FragmentPipeline::Impl::create_render_pass_and_framebuffer() {
   return {};
 }
 
-Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> fragment_spirv) {
+Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> fragment_spirv,
+                                                     std::span<const uint32_t> specialization) {
   VkDescriptorSetLayoutBinding binding{};
   binding.binding = 0;
   binding.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -418,6 +420,14 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
   stages[1].module = fragment.handle;
   stages[1].pName = "main";
+  std::vector<VkSpecializationMapEntry> entries(specialization.size());
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
+  VkSpecializationInfo spec{};
+  spec.mapEntryCount = static_cast<uint32_t>(entries.size());
+  spec.pMapEntries = entries.data();
+  spec.dataSize = specialization.size_bytes();
+  spec.pData = specialization.data();
+  if (!specialization.empty()) stages[1].pSpecializationInfo = &spec;
 
   VkPipelineVertexInputStateCreateInfo vertex_input{};  // no vertex buffers
   vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
@@ -538,7 +548,7 @@ Result<void> FragmentPipeline::Impl::ensure_storage(VkDeviceSize bytes) {
 }
 
 Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t rows, bool upload,
-                                                 VkDeviceSize upload_bytes,
+                                                 VkDeviceSize upload_bytes, std::span<const VkRect2D> areas,
                                                  std::span<const std::byte> push_constants) {
   // The previous band's fence has been waited on, so the pool is idle.
   if (VkResult r = vkResetCommandPool(device, command_pool, 0); r != VK_SUCCESS) {
@@ -596,7 +606,21 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
     vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_FRAGMENT_BIT, 0, push_constant_bytes,
                        push_constants.data());
   }
-  vkCmdDraw(cmd, 3, 1, 0, 0);
+  if (areas.empty()) {
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+  } else {
+    // Only the given areas run the shader: one scissored draw per area that
+    // meets this band; the rest keeps the clear value 0.
+    const int32_t band_end = static_cast<int32_t>(first_row + rows);
+    for (const VkRect2D& a : areas) {
+      const int32_t y0 = std::max(a.offset.y, static_cast<int32_t>(first_row));
+      const int32_t y1 = std::min(a.offset.y + static_cast<int32_t>(a.extent.height), band_end);
+      if (y1 <= y0) continue;
+      const VkRect2D clip{{a.offset.x, y0}, {a.extent.width, static_cast<uint32_t>(y1 - y0)}};
+      vkCmdSetScissor(cmd, 0, 1, &clip);
+      vkCmdDraw(cmd, 3, 1, 0, 0);
+    }
+  }
   vkCmdEndRenderPass(cmd);
 
   VkBufferImageCopy copy{};
@@ -657,7 +681,8 @@ Result<void> FragmentPipeline::Impl::submit_and_wait(uint32_t first_row, uint32_
 
 Result<FragmentPipeline> FragmentPipeline::create(Context& context, std::span<const uint32_t> fragment_spirv,
                                                   uint32_t width, uint32_t height,
-                                                  uint32_t push_constant_bytes, uint32_t band_rows) {
+                                                  uint32_t push_constant_bytes, uint32_t band_rows,
+                                                  std::span<const uint32_t> specialization) {
   const std::shared_ptr<detail::DeviceState>& state = context.state();
   const DeviceInfo& info = state->info;
   const VkPhysicalDeviceLimits& limits = state->limits;
@@ -700,7 +725,7 @@ Result<FragmentPipeline> FragmentPipeline::create(Context& context, std::span<co
 
   if (auto r = impl->create_image(); !r) return r.error();
   if (auto r = impl->create_render_pass_and_framebuffer(); !r) return r.error();
-  if (auto r = impl->create_pipeline(fragment_spirv); !r) return r.error();
+  if (auto r = impl->create_pipeline(fragment_spirv, specialization); !r) return r.error();
   if (auto r = impl->create_commands(); !r) return r.error();
   // Cached memory makes the host reads fast; it may be non-coherent, which
   // run() handles by invalidating.
@@ -714,8 +739,15 @@ Result<FragmentPipeline> FragmentPipeline::create(Context& context, std::span<co
 }
 
 Result<std::vector<uint32_t>> FragmentPipeline::run(std::span<const std::byte> storage_buffer,
-                                                    std::span<const std::byte> push_constants) {
+                                                    std::span<const std::byte> push_constants,
+                                                    std::span<const VkRect2D> areas) {
   Impl& p = *impl_;
+  for (const VkRect2D& a : areas) {
+    if (a.offset.x < 0 || a.offset.y < 0 || a.offset.x + a.extent.width > p.width ||
+        a.offset.y + a.extent.height > p.height)
+      return size_error("an area to render lies outside the " + std::to_string(p.width) + "x" +
+                        std::to_string(p.height) + " image");
+  }
   if (p.lost) {
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST,
                  "an earlier run lost the device; create a new Context and pipeline"};
@@ -766,7 +798,7 @@ Result<std::vector<uint32_t>> FragmentPipeline::run(std::span<const std::byte> s
 
   for (uint32_t first_row = 0; first_row < p.height; first_row += p.band_rows) {
     const uint32_t rows = std::min(p.band_rows, p.height - first_row);
-    if (auto r = p.record_band(first_row, rows, first_row == 0, bytes, push); !r) return r.error();
+    if (auto r = p.record_band(first_row, rows, first_row == 0, bytes, areas, push); !r) return r.error();
     if (auto r = p.submit_and_wait(first_row, rows); !r) return r.error();
   }
 

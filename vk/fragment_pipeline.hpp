@@ -39,6 +39,8 @@ class FragmentPipeline {
   // push_constant_bytes: size of the shader's push-constant block, a
   //   multiple of 4, at most 128; 0 if it has none.
   // band_rows: rows per submission, >= 1 (clamped to height).
+  // specialization: 32-bit values of the fragment shader's specialization
+  //   constants, value i for constant_id i (array sizes such as the degree).
   //
   // Errors: size_unsupported (width/height 0 or above the device's 2D image
   //   limit, bad push_constant_bytes, band_rows 0); shader_invalid (not
@@ -47,7 +49,8 @@ class FragmentPipeline {
   static Result<FragmentPipeline> create(Context& context, std::span<const uint32_t> fragment_spirv,
                                          uint32_t width, uint32_t height,
                                          uint32_t push_constant_bytes = 0,
-                                         uint32_t band_rows = kDefaultBandRows);
+                                         uint32_t band_rows = kDefaultBandRows,
+                                         std::span<const uint32_t> specialization = {});
 
   FragmentPipeline(FragmentPipeline&&) noexcept;
   FragmentPipeline& operator=(FragmentPipeline&&) noexcept;
@@ -69,8 +72,11 @@ class FragmentPipeline {
   //   wrong push-constant size); out_of_memory; device_lost (also when a
   //   band does not finish within two minutes; the pipeline is then
   //   unusable and every later run() fails with device_lost); other.
+  // areas: when not empty, only these pixel rectangles run the shader (one
+  //   scissored draw each); every other pixel reads 0, the clear value.
   Result<std::vector<uint32_t>> run(std::span<const std::byte> storage_buffer,
-                                    std::span<const std::byte> push_constants = {});
+                                    std::span<const std::byte> push_constants = {},
+                                    std::span<const VkRect2D> areas = {});
 
   uint32_t width() const;
   uint32_t height() const;

@@ -1,0 +1,670 @@
+#include "bezierize/region.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+#include "bezierize/lambda.hpp"
+#include "bezierize/poly3.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr {
+
+View default_view(const BSpline& spline, int width, int height) {
+  double x0 = spline.points()[0].x, x1 = x0, y0 = spline.points()[0].y, y1 = y0;
+  for (const Vec2& p : spline.points()) {
+    x0 = std::min(x0, p.x);
+    x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y);
+    y1 = std::max(y1, p.y);
+  }
+  double w = x1 - x0, h = y1 - y0;
+  const double extent = std::max({w, h, 1e-300});
+  w = std::max(w, 1e-3 * extent);
+  h = std::max(h, 1e-3 * extent);
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  w *= 1.5;
+  h *= 1.5;
+  // Square pixels: widen the direction that is short for the image's aspect.
+  const double aspect = static_cast<double>(width) / height;
+  if (w / h < aspect) w = h * aspect;
+  else h = w / aspect;
+  return {cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h};
+}
+
+void validate_region_options(const BSpline& spline, const RegionOptions& o) {
+  const int m = spline.point_count();
+  auto check_point = [&](int k, const char* what) {
+    if (k < 0 || k >= m)
+      throw InputError(std::string(what) + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
+  };
+  check_point(o.point, "point");
+  for (int g : o.with) {
+    check_point(g, "--with point");
+    if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
+  }
+  for (int v : {o.width, o.height})
+    if (v < 1 || v > kMaxImageSize)
+      throw InputError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                       " is outside 1.." + std::to_string(kMaxImageSize));
+  const int N = spline.segment_count();
+  if (o.split && (*o.split < 1 || *o.split > N - 1))
+    throw InputError("split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1) +
+                     (N == 1 ? " (the curve has one segment, so no joint)" : ""));
+  if (o.max_depth < 0 || o.max_depth > 30)
+    throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0..30");
+  if (o.view) {
+    const View& v = *o.view;
+    for (double x : {v.x0, v.y0, v.x1, v.y1})
+      if (!std::isfinite(x)) throw InputError("view: coordinates must be finite");
+    if (!(v.x1 > v.x0) || !(v.y1 > v.y0)) throw InputError("view: need X0 < X1 and Y0 < Y1");
+  }
+}
+
+uint8_t label_of(Direction d) {
+  switch (d) {
+    case Direction::increasing: return 1;
+    case Direction::decreasing: return 2;
+    case Direction::undecided: return 3;
+    case Direction::none: return 0;
+  }
+  return 0;
+}
+
+uint8_t label_of(Split s) {
+  switch (s) {
+    case Split::inc_inc: return 1;
+    case Split::inc_dec: return 2;
+    case Split::dec_inc: return 3;
+    case Split::dec_dec: return 4;
+    case Split::undecided: return 5;
+    case Split::none: return 0;
+  }
+  return 0;
+}
+
+namespace {
+
+template <class T>
+std::vector<Point<T>> spline_points(const BSpline& spline) {
+  std::vector<Point<T>> pts;
+  for (const Vec2& p : spline.points()) pts.push_back(to_point<T>(p));
+  return pts;
+}
+
+double rounded(const Rational& q) { return q.get_d(); }
+
+// Bernstein coefficients of every subdivision piece down to `levels`, in heap
+// order (piece 2^L - 1 + j is [j, j+1] / 2^L), exactly.
+std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, int levels) {
+  std::vector<Bernstein<Poly3>> pieces{root};
+  const std::size_t n1 = root.size();
+  const Poly3 half(Rational(1, 2));
+  for (std::size_t p = 0; pieces.size() < (std::size_t{2} << levels) - 1; ++p) {
+    Bernstein<Poly3> w = pieces[p], left(n1), right(n1);
+    left[0] = w[0];
+    right[n1 - 1] = w[n1 - 1];
+    for (std::size_t r = 1; r < n1; ++r) {
+      for (std::size_t i = 0; i + r < n1; ++i) w[i] = half * (w[i] + w[i + 1]);
+      left[r] = w[0];
+      right[n1 - 1 - r] = w[n1 - 1 - r];
+    }
+    pieces.push_back(std::move(left));
+    pieces.push_back(std::move(right));
+  }
+  return pieces;
+}
+
+}  // namespace
+
+RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) {
+  validate_region_options(spline, options);
+  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, std::min(options.max_depth, kPieceLevels)};
+  if (!s.options.view) s.options.view = default_view(spline, options.width, options.height);
+  s.group.push_back(options.point);
+  for (int g : options.with)
+    if (std::find(s.group.begin(), s.group.end(), g) == s.group.end()) s.group.push_back(g);
+  s.anchor = spline.points()[options.point];
+
+  AnalyzeOptions ao;
+  ao.classify.max_depth = options.max_depth;
+  const SplineAnalysis a = analyze(spline, ao);
+  s.fixed = a.segments;
+  s.joints = a.joints;
+
+  const int d = spline.degree(), N = spline.segment_count();
+  const int split = options.split.value_or(0);
+  std::vector<bool> touched(N, false), needed(N, false);
+  for (const SegmentInfluence& si : influence(spline, s.group)) touched[si.segment] = needed[si.segment] = true;
+  std::vector<int> varying_joints;
+  for (std::size_t j = 0; j < s.joints.size(); ++j) {
+    const int idx = s.joints[j].index;
+    if (idx == split || s.joints[j].continuity >= 2) continue;  // split joint: jump is free; C2: no jump
+    if (!touched[idx - 1] && !touched[idx]) continue;
+    varying_joints.push_back(static_cast<int>(j));
+    needed[idx - 1] = needed[idx] = true;
+  }
+  for (int seg = 0; seg < N; ++seg) {
+    if (touched[seg]) continue;
+    const SegmentClass& c = s.fixed[seg];
+    if ((c.monotonicity.curvature == Curvature::non_monotone && c.monotonicity.depth == 0) ||
+        (options.mode == Mode::cmr && c.inflection.inflection == Inflection::present && c.inflection.depth == 0))
+      s.fixed_level0_none = true;
+  }
+
+  const std::vector<Rational> qknots(spline.knots().begin(), spline.knots().end());
+  const std::vector<Point<Rational>> qpts = spline_points<Rational>(spline);
+  std::vector<Rational> indicator(spline.point_count(), Rational(0));
+  for (int g : s.group) indicator[g] = 1;
+  std::vector<int> entry_of(N, -1);
+  for (int seg = 0; seg < N; ++seg) {
+    if (!needed[seg]) continue;
+    const Segment& g = spline.segments()[seg];
+    RegionEntry e;
+    e.segment = seg;
+    e.part = split > 0 && seg >= split ? 1 : 0;
+    e.classify = touched[seg];
+    e.base_exact = bezier_points(qknots, qpts, d, g.span, Rational(g.a), Rational(g.b));
+    e.weight_exact = bezier_points(qknots, indicator, d, g.span, Rational(g.a), Rational(g.b));
+    for (int i = 0; i <= d; ++i) {
+      // Rounding to nearest: error at most half an ulp, bounded by u |v|.
+      const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);
+      const double w = rounded(e.weight_exact[i]);
+      e.base.push_back({Bounded(bx, Bounded::kRound * std::fabs(bx) + Bounded::kTiny),
+                        Bounded(by, Bounded::kRound * std::fabs(by) + Bounded::kTiny)});
+      e.weight.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
+    }
+    e.n_xi = 4 * d - 6;
+    e.n_nu = 2 * d - 3;
+    if (e.classify) {
+      std::vector<Point<Poly3>> P;
+      for (int i = 0; i <= d; ++i)
+        P.push_back({Poly3(e.base_exact[i].x) + Poly3(e.weight_exact[i]) * Poly3::x(),
+                     Poly3(e.base_exact[i].y) + Poly3(e.weight_exact[i]) * Poly3::y()});
+      for (const Bernstein<Poly3>& piece : piece_polynomials(lambda_bernstein<Poly3>(P), s.piece_levels))
+        for (const Poly3& c : piece) {
+          std::array<double, 10> r{};
+          for (int m = 0; m < kPoly3Terms; ++m) r[m] = rounded(c.c[m]);
+          e.xi.push_back(r);
+        }
+      for (const Bernstein<Poly3>& piece : piece_polynomials(eta_bernstein<Poly3>(P), s.piece_levels))
+        for (const Poly3& c : piece) {
+          for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
+          e.nu.push_back({rounded(c.c[0]), rounded(c.c[1]), rounded(c.c[2])});
+        }
+    }
+    entry_of[seg] = static_cast<int>(s.entries.size());
+    s.entries.push_back(std::move(e));
+  }
+  for (int j : varying_joints) {
+    const int idx = s.joints[j].index;
+    s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], split > 0 && idx >= split ? 1 : 0});
+  }
+  return s;
+}
+
+namespace {
+
+// Exact sign of kappa_right - kappa_left from the end legs of the two
+// segments' Bezier points (the factor (d-1)/d of kappa cancels). T = Bounded
+// may answer kSignUnknown; T = Rational answers exactly (0 for a degenerate leg,
+// where curvature is undefined, as curvature_jump_sign does).
+template <class T>
+int jump_sign(const std::vector<Point<T>>& L, const std::vector<Point<T>>& R) {
+  const int d = static_cast<int>(L.size()) - 1;
+  const Point<T> la = L[d - 1] - L[d], lb = L[d - 2] - L[d - 1];
+  const Point<T> ra = R[1] - R[0], rb = R[2] - R[1];
+  const T AL = T(0) - det(la, lb), GL = dot(la, la), AR = det(ra, rb), GR = dot(ra, ra);
+  const int gl = Scalar<T>::sign(GL), gr = Scalar<T>::sign(GR);
+  if (gl == kSignUnknown || gr == kSignUnknown) return kSignUnknown;
+  if (gl == 0 || gr == 0) return 0;
+  const int sx = Scalar<T>::sign(AR), sy = Scalar<T>::sign(AL);
+  if (sx == kSignUnknown || sy == kSignUnknown) return kSignUnknown;
+  if (sx != sy) return sx > sy ? 1 : -1;
+  if (sx == 0) return 0;
+  const T diff = AR * AR * GL * GL * GL - AL * AL * GR * GR * GR;
+  const int c = Scalar<T>::sign(diff);
+  if (c == kSignUnknown) return kSignUnknown;
+  return sx > 0 ? c : -c;
+}
+
+PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
+                    bool exact) {
+  const int N = static_cast<int>(classes.size());
+  PixelResult r;
+  r.exact = exact;
+  const RegionOptions& o = s.options;
+  if (o.split) {
+    r.label = label_of(combine_split(part_verdict(classes, joints, 0, *o.split, o.mode),
+                                     part_verdict(classes, joints, *o.split, N, o.mode)));
+  } else {
+    r.label = label_of(part_verdict(classes, joints, 0, N, o.mode));
+  }
+  int depth = 0;
+  for (const SegmentClass& c : classes) {
+    depth = std::max(depth, c.monotonicity.depth);
+    if (o.mode == Mode::cmr) depth = std::max(depth, c.inflection.depth);
+  }
+  r.depth = static_cast<uint8_t>(depth);
+  return r;
+}
+
+// Polynomial in (dx, dy) with its certified error bound.
+// A closed interval of reals.
+struct Interval {
+  double lo, hi;
+  friend Interval operator*(Interval a, Interval b) {
+    const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+    return {std::min({p[0], p[1], p[2], p[3]}), std::max({p[0], p[1], p[2], p[3]})};
+  }
+  Interval square() const {
+    const double a = lo * lo, b = hi * hi;
+    if (lo <= 0 && hi >= 0) return {0, std::max(a, b)};
+    return {std::min(a, b), std::max(a, b)};
+  }
+  double mag() const { return std::max(std::fabs(lo), std::fabs(hi)); }
+};
+
+// The monomials of poly3.hpp over the displacements of one pixel (a point)
+// or of a block of pixels (a box), as midpoint v, radius r and magnitude a.
+// A polynomial's value anywhere in the box is within
+//     sum |c_m| r_m + kPolyErrorUnits u sum |c_m| a_m
+// of sum c_m v_m computed in floating point (see region.hpp for the count;
+// the radii carry a slack of 4u a_m for the rounding of the interval ends).
+struct Monomials {
+  double v[kPoly3Terms];
+  double r[kPoly3Terms];
+  double a[kPoly3Terms];
+  bool point = true;
+  Monomials(double dx, double dy) {
+    const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
+    const double m[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
+    for (int i = 0; i < kPoly3Terms; ++i) {
+      v[i] = m[i];
+      r[i] = 0;
+      a[i] = std::fabs(m[i]);
+    }
+  }
+  Monomials(Interval x, Interval y) : point(false) {
+    const Interval x2 = x.square(), xy = x * y, y2 = y.square();
+    const Interval m[kPoly3Terms] = {{1, 1}, x, y, x2, xy, y2, x2 * x, x2 * y, y2 * x, y2 * y};
+    for (int i = 0; i < kPoly3Terms; ++i) {
+      a[i] = m[i].mag();
+      v[i] = 0.5 * m[i].lo + 0.5 * m[i].hi;
+      r[i] = 0.5 * m[i].hi - 0.5 * m[i].lo + 4 * Bounded::kRound * a[i] + Bounded::kTiny;
+    }
+  }
+};
+
+template <std::size_t K>
+Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
+  double val = 0, mag = 0, spread = 0;
+  for (std::size_t i = 0; i < K; ++i) {
+    val += c[i] * m.v[i];
+    mag += std::fabs(c[i]) * m.a[i];
+    if (!m.point) spread += std::fabs(c[i]) * m.r[i];
+  }
+  return {val, spread + kPolyErrorUnits * 0.5 * Bounded::kRound * mag + 16 * Bounded::kTiny};
+}
+
+// Depth-first Algorithms 1 and 2 on the piece polynomials of one entry:
+// the same pieces in the same order as algorithm1/algorithm2, and the same
+// decisions (each certified), but a piece's coefficients are evaluated only
+// as far as its decision needs: the two ends, then the rest until both signs
+// have appeared. Pieces below piece_levels are halved from their ancestor.
+enum class Piece { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
+
+class LazyPieces {
+ public:
+  LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
+      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {}
+  int size() const { return n1_; }
+
+  // Prepares piece (level, j); coefficients then come from coeff(k).
+  void select(int level, int j) {
+    level_ = level;
+    if (level <= levels_) {
+      piece_ = (1 << level) - 1 + j;
+      return;
+    }
+    // Halve from the ancestor at the deepest precomputed level.
+    const int up = level - levels_;
+    piece_ = (1 << levels_) - 1 + (j >> up);
+    cur_.resize(n1_);
+    for (int k = 0; k < n1_; ++k) cur_[k] = from_poly(k);
+    for (int b = up - 1; b >= 0; --b) {
+      if ((j >> b) & 1) {
+        for (int r = 1; r < n1_; ++r)
+          for (int i = 0; i + r < n1_; ++i) cur_[i] = (cur_[i] + cur_[i + 1]).half();
+      } else {
+        for (int r = 1; r < n1_; ++r)
+          for (int i = n1_ - 1; i >= r; --i) cur_[i] = (cur_[i - 1] + cur_[i]).half();
+      }
+    }
+  }
+  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur_[k]; }
+
+ private:
+  Bounded from_poly(int k) const {
+    const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
+    return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
+  }
+  const RegionEntry& e_;
+  const Monomials& m_;
+  int levels_;
+  bool eta_;
+  int n1_;
+  int level_ = 0, piece_ = 0;
+  std::vector<Bounded> cur_;
+};
+
+struct SignScan {
+  int pos = 0, neg = 0, unknown = 0, first = 0, last = 0;
+  void add(int g) {
+    if (g == kSignUnknown) ++unknown;
+    else if (g > 0) ++pos;
+    else if (g < 0) ++neg;
+  }
+};
+
+// Ends first, then the inner coefficients until both signs are seen.
+SignScan scan(const LazyPieces& src) {
+  const int n1 = src.size();
+  SignScan s;
+  s.first = certain_sign(src.coeff(0));
+  s.last = n1 > 1 ? certain_sign(src.coeff(n1 - 1)) : s.first;
+  s.add(s.first);
+  if (n1 > 1) s.add(s.last);
+  for (int k = 1; k + 1 < n1 && !(s.pos > 0 && s.neg > 0); ++k) s.add(certain_sign(src.coeff(k)));
+  return s;
+}
+
+// As monotonicity_piece in classify.cpp (no certain zeros with bounds).
+Piece monotonicity_piece(const LazyPieces& src) {
+  const SignScan s = scan(src);
+  const bool ends_known = s.first != kSignUnknown && s.last != kSignUnknown;
+  if (ends_known && s.first * s.last < 0) return Piece::non_monotone;
+  if (s.pos > 0 && s.neg > 0) return ends_known ? Piece::split : Piece::uncertain;
+  const bool ge = s.neg == 0 && s.unknown == 0, le = s.pos == 0 && s.unknown == 0;
+  if (ge && le) return Piece::zero;
+  if (ge) return Piece::increasing;
+  if (le) return Piece::decreasing;
+  return Piece::uncertain;
+}
+
+// As inflection_piece in classify.cpp.
+Piece inflection_piece(const LazyPieces& src) {
+  const SignScan s = scan(src);
+  if (s.first == kSignUnknown || s.last == kSignUnknown) return Piece::uncertain;
+  if (s.first * s.last < 0) return Piece::inflection;
+  if (s.pos == src.size() || s.neg == src.size()) return Piece::no_inflection;
+  if (s.pos > 0 && s.neg > 0) return Piece::split;
+  return Piece::uncertain;
+}
+
+// Visits pieces depth first; `visit(piece, level)` folds an outcome and
+// returns true to stop. Returns false when a decision was uncertain.
+template <class Decide, class Visit>
+bool traverse_pieces(LazyPieces& src, int max_depth, Decide decide, Visit visit) {
+  std::vector<std::pair<int, int>> stack{{0, 0}};
+  while (!stack.empty()) {
+    const auto [level, j] = stack.back();
+    stack.pop_back();
+    src.select(level, j);
+    const Piece p = decide(src);
+    if (p == Piece::uncertain) return false;
+    if (p == Piece::split && level < max_depth) {
+      stack.push_back({level + 1, 2 * j + 1});
+      stack.push_back({level + 1, 2 * j});
+      continue;
+    }
+    if (visit(p, level)) break;
+  }
+  return true;
+}
+
+std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
+  LazyPieces src(e, m, levels, false);
+  bool inc = false, dec = false, undecided = false;
+  int deepest = 0;
+  std::optional<MonotonicityResult> stop;
+  const bool certain = traverse_pieces(src, D, monotonicity_piece, [&](Piece p, int level) {
+    if (p == Piece::zero) stop = MonotonicityResult{Curvature::constant, level};
+    if (p == Piece::non_monotone) stop = MonotonicityResult{Curvature::non_monotone, level};
+    if (stop) return true;
+    if (p == Piece::increasing) inc = true;
+    else if (p == Piece::decreasing) dec = true;
+    else undecided = true;
+    deepest = std::max(deepest, level);
+    if (inc && dec) stop = MonotonicityResult{Curvature::non_monotone, level};
+    return stop.has_value();
+  });
+  if (!certain) return std::nullopt;
+  if (stop) return stop;
+  if (undecided) return MonotonicityResult{Curvature::undecided, D};
+  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+}
+
+std::optional<InflectionResult> lazy_algorithm2(const RegionEntry& e, const Monomials& m, int levels, int D) {
+  LazyPieces src(e, m, levels, true);
+  bool undecided = false;
+  int deepest = 0;
+  std::optional<InflectionResult> stop;
+  src.select(0, 0);
+  const int kappa_sign = certain_sign(src.coeff(0));
+  const bool certain = traverse_pieces(src, D, inflection_piece, [&](Piece p, int level) {
+    if (p == Piece::inflection) {
+      stop = InflectionResult{Inflection::present, level, 0};
+      return true;
+    }
+    if (p != Piece::no_inflection) undecided = true;
+    deepest = std::max(deepest, level);
+    return false;
+  });
+  if (!certain) return std::nullopt;
+  if (stop) return stop;
+  if (undecided) return InflectionResult{Inflection::undecided, D, 0};
+  return InflectionResult{Inflection::none, deepest, kappa_sign};
+}
+
+}  // namespace
+
+PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
+  if (s.fixed_level0_none) return {0, 0, false};
+  const Rational dx = Rational(p.x) - Rational(s.anchor.x), dy = Rational(p.y) - Rational(s.anchor.y);
+  const RegionOptions& o = s.options;
+  std::vector<std::vector<Point<Rational>>> B(s.entries.size());
+  std::vector<Bernstein<Rational>> xi(s.entries.size()), nu(s.entries.size());
+  for (std::size_t e = 0; e < s.entries.size(); ++e) {
+    const RegionEntry& en = s.entries[e];
+    for (std::size_t i = 0; i < en.base_exact.size(); ++i)
+      B[e].push_back({en.base_exact[i].x + en.weight_exact[i] * dx, en.base_exact[i].y + en.weight_exact[i] * dy});
+    if (!en.classify) continue;
+    xi[e] = lambda_bernstein<Rational>(B[e]);
+    if (sgn(xi[e].front()) * sgn(xi[e].back()) < 0) return {0, 0, true};
+    if (o.mode == Mode::cmr) {
+      nu[e] = eta_bernstein<Rational>(B[e]);
+      if (sgn(nu[e].front()) * sgn(nu[e].back()) <= 0) return {0, 0, true};
+    }
+  }
+  std::vector<SegmentClass> classes = s.fixed;
+  for (std::size_t e = 0; e < s.entries.size(); ++e) {
+    if (!s.entries[e].classify) continue;
+    SegmentClass c;
+    c.monotonicity = *algorithm1(xi[e], o.max_depth);
+    if (o.mode == Mode::cmr) c.inflection = *algorithm2(nu[e], o.max_depth);
+    c.exact_used = true;
+    classes[s.entries[e].segment] = c;
+  }
+  std::vector<Joint> joints = s.joints;
+  for (const RegionJoint& j : s.varying) joints[j.joint].jump = jump_sign<Rational>(B[j.left], B[j.right]);
+  return verdict(s, classes, joints, true);
+}
+
+namespace {
+
+// The certified fast path for a point or a box of displacements: the result
+// holds for every displacement in the box, or nullopt when some deciding sign
+// is not certain there (then split the box, or for a point go exact).
+// bx, by enclose the displacements for the joint computations.
+std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
+  if (s.fixed_level0_none) return PixelResult{0, 0, false};
+  const RegionOptions& o = s.options;
+  // Level 0 first: any segment whose end coefficients prove non-monotonicity
+  // (or, for CMR, an inflection) decides the pixel.
+  bool uncertain = false;
+  for (const RegionEntry& e : s.entries) {
+    if (!e.classify) continue;
+    const int a = certain_sign(eval_poly(e.xi[0], mono)), b = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
+    if (a != kSignUnknown && b != kSignUnknown && a * b < 0) return PixelResult{0, 0, false};
+    uncertain = uncertain || a == kSignUnknown || b == kSignUnknown;
+    if (o.mode == Mode::cmr) {
+      const int c = certain_sign(eval_poly(e.nu[0], mono)), f = certain_sign(eval_poly(e.nu[e.n_nu - 1], mono));
+      if (c != kSignUnknown && f != kSignUnknown && c * f < 0) return PixelResult{0, 0, false};
+      uncertain = uncertain || c == kSignUnknown || f == kSignUnknown;
+    }
+  }
+  if (uncertain) return std::nullopt;
+  std::vector<SegmentClass> classes = s.fixed;
+  for (const RegionEntry& e : s.entries) {
+    if (!e.classify) continue;
+    const auto m = lazy_algorithm1(e, mono, s.piece_levels, o.max_depth);
+    if (!m) return std::nullopt;
+    SegmentClass c;
+    c.monotonicity = *m;
+    if (o.mode == Mode::cmr) {
+      const auto i = lazy_algorithm2(e, mono, s.piece_levels, o.max_depth);
+      if (!i) return std::nullopt;
+      c.inflection = *i;
+    }
+    classes[e.segment] = c;
+  }
+  std::vector<Joint> joints = s.joints;
+  if (!s.varying.empty()) {
+    // Bezier points B = B0 + w d with d enclosing the exact displacements.
+    std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
+    for (std::size_t e = 0; e < s.entries.size(); ++e)
+      for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
+        B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
+                        s.entries[e].base[i].y + s.entries[e].weight[i] * by});
+    for (const RegionJoint& j : s.varying) {
+      const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
+      if (sign == kSignUnknown) return std::nullopt;
+      joints[j.joint].jump = sign;
+    }
+  }
+  return verdict(s, classes, joints, false);
+}
+
+// The displacements of pixel columns i0..i1 (inclusive), enclosing the exact
+// values: the ends are rounded once, so widen them by a relative u.
+Interval displacement_range(double first, double last, double anchor) {
+  const double lo = first - anchor, hi = last - anchor;
+  return {lo - 0.5 * Bounded::kRound * std::fabs(lo), hi + 0.5 * Bounded::kRound * std::fabs(hi)};
+}
+
+}  // namespace
+
+PixelResult classify_position(const RegionSetup& s, Vec2 p) {
+  // dx = fl(p - P_k): one rounding, relative to |dx|, covered by kPolyErrorUnits.
+  const double dx = p.x - s.anchor.x, dy = p.y - s.anchor.y;
+  const Bounded bx(dx, 0.5 * Bounded::kRound * std::fabs(dx)), by(dy, 0.5 * Bounded::kRound * std::fabs(dy));
+  if (const auto r = classify_fast(s, Monomials(dx, dy), bx, by)) return *r;
+  return classify_position_exact(s, p);
+}
+
+std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, int i1, int j1) {
+  const RegionOptions& o = s.options;
+  const View& v = *o.view;
+  // Columns run left to right (x grows with i), rows top to bottom (y falls with j).
+  const Interval x = displacement_range(pixel_center(v, o.width, o.height, i0, 0).x,
+                                        pixel_center(v, o.width, o.height, i1, 0).x, s.anchor.x);
+  const Interval y = displacement_range(pixel_center(v, o.width, o.height, 0, j1).y,
+                                        pixel_center(v, o.width, o.height, 0, j0).y, s.anchor.y);
+  const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
+  const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
+  return classify_fast(s, Monomials(x, y), bx, by);
+}
+
+RegionImage blank_image(const RegionSetup& s) {
+  const RegionOptions& o = s.options;
+  RegionImage img;
+  img.width = o.width;
+  img.height = o.height;
+  img.view = *o.view;
+  img.labels.assign(static_cast<std::size_t>(o.width) * o.height, 0);
+  img.depth.assign(img.labels.size(), 0);
+  return img;
+}
+
+std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& img, int min_block, int threads) {
+  const RegionOptions& o = s.options;
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  // Blocks of kRegionBlock pixels are decided whole when the certified path
+  // holds over all their displacements, else quartered; blocks no larger than
+  // min_block are listed for the caller (single pixels with min_block == 1
+  // are decided here through classify_position).
+  const int bw = (o.width + kRegionBlock - 1) / kRegionBlock, bh = (o.height + kRegionBlock - 1) / kRegionBlock;
+  std::atomic<int> next{0};
+  std::atomic<std::uint64_t> exact{0};
+  std::vector<std::vector<std::array<int, 2>>> listed(bw * bh);
+  auto fill = [&](int i0, int j0, int i1, int j1, const PixelResult& r) {
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
+        img.labels[at] = r.label;
+        img.depth[at] = r.depth;
+      }
+  };
+  auto work = [&] {
+    std::uint64_t local_exact = 0;
+    std::vector<std::array<int, 4>> todo;
+    for (int b = next++; b < bw * bh; b = next++) {
+      const int bi = b % bw, bj = b / bw;
+      todo.push_back({bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
+                      std::min(o.height, (bj + 1) * kRegionBlock) - 1});
+      while (!todo.empty()) {
+        const auto [i0, j0, i1, j1] = todo.back();
+        todo.pop_back();
+        if (i0 == i1 && j0 == j1 && min_block <= 1) {
+          const PixelResult r = classify_position(s, pixel_center(img.view, o.width, o.height, i0, j0));
+          fill(i0, j0, i0, j0, r);
+          local_exact += r.exact;
+          continue;
+        }
+        if (const auto r = classify_block(s, i0, j0, i1, j1)) {
+          fill(i0, j0, i1, j1, *r);
+          continue;
+        }
+        if (i1 - i0 < min_block && j1 - j0 < min_block) {
+          for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) listed[b].push_back({i, j});
+          continue;
+        }
+        const int im = (i0 + i1) / 2, jm = (j0 + j1) / 2;
+        todo.push_back({i0, j0, im, jm});
+        if (im < i1) todo.push_back({im + 1, j0, i1, jm});
+        if (jm < j1) todo.push_back({i0, jm + 1, im, j1});
+        if (im < i1 && jm < j1) todo.push_back({im + 1, jm + 1, i1, j1});
+      }
+    }
+    exact += local_exact;
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  img.exact_pixels += exact;
+  std::vector<std::array<int, 2>> out;
+  for (const auto& l : listed) out.insert(out.end(), l.begin(), l.end());
+  return out;
+}
+
+RegionImage region_cpu(const RegionSetup& s, int threads) {
+  RegionImage img = blank_image(s);
+  region_cull(s, img, 1, threads);
+  return img;
+}
+
+}  // namespace cmr

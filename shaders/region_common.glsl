@@ -1,0 +1,322 @@
+// Curvature monotonicity region, one pixel per invocation: the GPU mirror of
+// cmr::classify_position (bezierize/region.cpp), with the same certified
+// arithmetic as cmr::Bounded (bezierize/bounded.hpp). Every quantity is a
+// pair (value, bound on |exact - value|); a sign is certain when
+// |value| > bound. A pixel whose deciding signs are not all certain is
+// flagged, and the host recomputes it exactly, so labels never depend on how
+// this device rounds.
+//
+// Included by region_fp64.frag / region_fp32.frag, which define REAL, REAL2,
+// K_ROUND (twice the unit roundoff) and K_TINY (absolute slack for
+// underflow, also covering flush-to-zero).
+//
+// Buffer layout: see vk/region_vk.cpp (pack_region), which writes it.
+
+layout(constant_id = 0) const int DEG = 3;    // degree n of every segment
+layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
+const int NXI = 4 * DEG - 6;                  // coefficients of lambda
+const int NNU = 2 * DEG - 3;                  // coefficients of eta
+
+layout(std430, set = 0, binding = 0) readonly buffer RegionData {
+  uint hdr[32];
+  REAL2 data[];
+};
+
+layout(location = 0) out uint result;
+
+const int SIGN_UNKNOWN = 2;
+const uint FLAG_INC = 1u, FLAG_DEC = 2u, FLAG_NONE = 4u, FLAG_UNDECIDED = 8u;
+const uint FLAG_UP = 16u, FLAG_DOWN = 32u, FLAG_KPOS = 64u, FLAG_KNEG = 128u;
+
+REAL2 b_add(REAL2 a, REAL2 b) {
+  precise REAL r = a.x + b.x;
+  precise REAL e = a.y + b.y + K_ROUND * abs(r);
+  return REAL2(r, e);
+}
+REAL2 b_sub(REAL2 a, REAL2 b) {
+  precise REAL r = a.x - b.x;
+  precise REAL e = a.y + b.y + K_ROUND * abs(r);
+  return REAL2(r, e);
+}
+REAL2 b_mul(REAL2 a, REAL2 b) {
+  precise REAL r = a.x * b.x;
+  precise REAL e = abs(a.x) * b.y + abs(b.x) * a.y + a.y * b.y + K_ROUND * abs(r) + K_TINY;
+  return REAL2(r, e);
+}
+REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
+int b_sign(REAL2 a) {
+  if (abs(a.x) > a.y) return a.x > REAL(0) ? 1 : -1;  // false for NaN: unknown
+  return SIGN_UNKNOWN;
+}
+REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
+
+// ---------------------------------------------------------------------------
+// Per pixel. Each touched segment's xi_k and nu_k are polynomials in the
+// displacement (dx, dy) = p - P_k with coefficients the host computed exactly
+// and rounded (cmr::RegionEntry); evaluating one costs ten products, and its
+// error bound is K_POLY units of roundoff times sum |c_m| |mu_m| (see
+// bezierize/region.hpp for the count).
+
+const REAL K_POLY = REAL(24) * REAL(0.5) * K_ROUND;
+
+REAL mono[10];
+REAL amono[10];
+
+void set_monomials(REAL dx, REAL dy) {
+  REAL x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
+  mono[0] = REAL(1); mono[1] = dx; mono[2] = dy; mono[3] = x2; mono[4] = xy; mono[5] = y2;
+  mono[6] = x2 * dx; mono[7] = x2 * dy; mono[8] = y2 * dx; mono[9] = y2 * dy;
+  for (int m = 0; m < 10; ++m) amono[m] = abs(mono[m]);
+}
+
+uint pieces() { return (2u << hdr[15]) - 1u; }
+uint entry_at(uint e) { return hdr[9] + e * (uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI + 2 * NNU)); }
+
+// Coefficient k of piece p (heap order) of xi for entry e at this pixel, with its error bound.
+REAL2 xi_at(uint e, int p, int k) {
+  uint at = entry_at(e) + uint(1 + 3 * (DEG + 1)) + uint(5 * (p * NXI + k));
+  REAL v = REAL(0), mag = REAL(0);
+  for (int h = 0; h < 5; ++h) {
+    REAL2 c = data[at + uint(h)];
+    v += c.x * mono[2 * h] + c.y * mono[2 * h + 1];
+    mag += abs(c.x) * amono[2 * h] + abs(c.y) * amono[2 * h + 1];
+  }
+  return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
+}
+
+REAL2 nu_at(uint e, int p, int k) {
+  uint at = entry_at(e) + uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI) + uint(2 * (p * NNU + k));
+  REAL2 c01 = data[at], c2 = data[at + 1u];
+  REAL v = c01.x + c01.y * mono[1] + c2.x * mono[2];
+  REAL mag = abs(c01.x) + abs(c01.y) * amono[1] + abs(c2.x) * amono[2];
+  return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
+}
+
+// Depth-first Algorithms 1 and 2 on the piece polynomials (bezierize/region.cpp,
+// lazy_algorithm1/2): ends first, inner coefficients until both signs appear.
+// Pieces below the precomputed levels are left to the host (DEEP), so no
+// coefficient arrays live in the shader.
+const int P_INC = 0, P_DEC = 1, P_ZERO = 2, P_NONMONO = 3, P_INFL = 4, P_NOINFL = 5, P_SPLIT = 6, P_UNCERTAIN = 7;
+const int P_DEEP = 8;
+
+REAL2 coeff_at(uint e, bool eta, int p, int k) { return eta ? nu_at(e, p, k) : xi_at(e, p, k); }
+
+int decide_piece(uint e, bool eta, int p) {
+  int n1 = eta ? NNU : NXI;
+  int first = b_sign(coeff_at(e, eta, p, 0));
+  int last = n1 > 1 ? b_sign(coeff_at(e, eta, p, n1 - 1)) : first;
+  int pos = 0, neg = 0, unk = 0;
+  for (int t = 0; t < (n1 > 1 ? 2 : 1); ++t) {
+    int g = t == 0 ? first : last;
+    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else ++neg;
+  }
+  for (int k = 1; k + 1 < n1 && !(pos > 0 && neg > 0); ++k) {
+    int g = b_sign(coeff_at(e, eta, p, k));
+    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else ++neg;
+  }
+  bool ends_known = first != SIGN_UNKNOWN && last != SIGN_UNKNOWN;
+  if (!eta) {
+    if (ends_known && first * last < 0) return P_NONMONO;
+    if (pos > 0 && neg > 0) return ends_known ? P_SPLIT : P_UNCERTAIN;
+    bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
+    if (ge && le) return P_ZERO;
+    if (ge) return P_INC;
+    if (le) return P_DEC;
+    return P_UNCERTAIN;
+  }
+  if (!ends_known) return P_UNCERTAIN;
+  if (first * last < 0) return P_INFL;
+  if (pos == n1 || neg == n1) return P_NOINFL;
+  if (pos > 0 && neg > 0) return P_SPLIT;
+  return P_UNCERTAIN;
+}
+
+// Returns P_UNCERTAIN or P_DEEP when the host must decide; otherwise 0 and
+// the outcome (curvature: 0 inc, 1 dec, 2 non-monotone, 3 undecided,
+// 4 constant; inflection: 0 none, 1 present, 2 undecided).
+int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int kappa_sign) {
+  // Stackless depth-first order: after a leaf, climb while on a right child,
+  // then step to the right sibling (no arrays: private arrays are costly on
+  // SIMD executors even where unused).
+  int levels = int(hdr[15]);
+  kappa_sign = b_sign(coeff_at(e, eta, 0, 0));
+  int level = 0, j = 0;
+  bool inc = false, dec = false, undecided = false;
+  int deepest = 0;
+  outcome = -1;
+  depth = 0;
+  for (;;) {
+    if (level > levels) return P_DEEP;
+    int p = decide_piece(e, eta, (1 << level) - 1 + j);
+    if (p == P_UNCERTAIN) return P_UNCERTAIN;
+    if (p == P_SPLIT && level < maxd) {
+      ++level;
+      j *= 2;
+      continue;
+    }
+    if (p == P_ZERO) { outcome = 4; depth = level; break; }
+    if (p == P_NONMONO) { outcome = 2; depth = level; break; }
+    if (p == P_INFL) { outcome = 1; depth = level; break; }
+    if (p == P_INC) inc = true;
+    else if (p == P_DEC) dec = true;
+    else if (p != P_NOINFL) undecided = true;
+    deepest = max(deepest, level);
+    if (inc && dec) { outcome = 2; depth = level; break; }
+    while (level > 0 && (j & 1) == 1) { --level; j >>= 1; }
+    if (level == 0) break;
+    ++j;
+  }
+  if (outcome < 0) {
+    if (undecided) { outcome = eta ? 2 : 3; depth = maxd; }
+    else { outcome = eta ? 0 : (inc ? 0 : 1); depth = deepest; }
+  }
+  return 0;
+}
+
+// Bezier point i of entry e moved by (dx, dy), with bounds.
+void moved_point(uint e, int i, REAL2 dx, REAL2 dy, out REAL2 x, out REAL2 y) {
+  uint at = entry_at(e) + 1u + uint(3 * i);
+  REAL2 w = data[at + 2u];
+  x = b_add(data[at], b_mul(w, dx));
+  y = b_add(data[at + 1u], b_mul(w, dy));
+}
+
+REAL2 det2(REAL2 ax_, REAL2 ay_, REAL2 bx_, REAL2 by_) { return b_sub(b_mul(ax_, by_), b_mul(ay_, bx_)); }
+REAL2 dot2(REAL2 ax_, REAL2 ay_, REAL2 bx_, REAL2 by_) { return b_add(b_mul(ax_, bx_), b_mul(ay_, by_)); }
+
+// Sign of kappa_right - kappa_left at a joint from the end legs of its two
+// segments (cmr::jump_sign); SIGN_UNKNOWN when not certain. Scalars only.
+int jump_sign(uint le, uint re, REAL2 bdx, REAL2 bdy) {
+  REAL2 l0x, l0y, l1x, l1y, l2x, l2y, r0x, r0y, r1x, r1y, r2x, r2y;
+  moved_point(le, DEG, bdx, bdy, l0x, l0y);  // the left segment read from its end
+  moved_point(le, DEG - 1, bdx, bdy, l1x, l1y);
+  moved_point(le, DEG - 2, bdx, bdy, l2x, l2y);
+  moved_point(re, 0, bdx, bdy, r0x, r0y);
+  moved_point(re, 1, bdx, bdy, r1x, r1y);
+  moved_point(re, 2, bdx, bdy, r2x, r2y);
+  REAL2 lax = b_sub(l1x, l0x), lay = b_sub(l1y, l0y);
+  REAL2 lbx = b_sub(l2x, l1x), lby = b_sub(l2y, l1y);
+  REAL2 rax = b_sub(r1x, r0x), ray = b_sub(r1y, r0y);
+  REAL2 rbx = b_sub(r2x, r1x), rby = b_sub(r2y, r1y);
+  REAL2 AL = b_sub(b_int(0), det2(lax, lay, lbx, lby));
+  REAL2 GL = dot2(lax, lay, lax, lay);
+  REAL2 AR = det2(rax, ray, rbx, rby);
+  REAL2 GR = dot2(rax, ray, rax, ray);
+  if (b_sign(GL) == SIGN_UNKNOWN || b_sign(GR) == SIGN_UNKNOWN) return SIGN_UNKNOWN;
+  int sx = b_sign(AR), sy = b_sign(AL);
+  if (sx == SIGN_UNKNOWN || sy == SIGN_UNKNOWN) return SIGN_UNKNOWN;
+  if (sx != sy) return sx > sy ? 1 : -1;
+  REAL2 x2 = b_mul(b_mul(b_mul(b_mul(AR, AR), GL), GL), GL);
+  REAL2 y2 = b_mul(b_mul(b_mul(b_mul(AL, AL), GR), GR), GR);
+  int c = b_sign(b_sub(x2, y2));
+  if (c == SIGN_UNKNOWN) return SIGN_UNKNOWN;
+  return sx > 0 ? c : -c;
+}
+
+int direction_of(uint f, bool cmr) {  // 0 inc, 1 dec, 2 none, 3 undecided (cmr::part_verdict)
+  bool none = (f & FLAG_NONE) != 0u || ((f & FLAG_INC) != 0u && (f & FLAG_DEC) != 0u) ||
+              (cmr && (f & FLAG_KPOS) != 0u && (f & FLAG_KNEG) != 0u);
+  if (none) return 2;
+  if (((f & FLAG_UP) != 0u && (f & FLAG_DEC) != 0u) || ((f & FLAG_DOWN) != 0u && (f & FLAG_INC) != 0u)) return 2;
+  if ((f & FLAG_UP) != 0u && (f & FLAG_DOWN) != 0u) return 2;
+  if ((f & FLAG_UNDECIDED) != 0u) return 3;
+  if ((f & FLAG_DEC) != 0u || (f & FLAG_DOWN) != 0u) return 1;
+  return 0;
+}
+
+const uint UNCERTAIN = 65536u;
+const uint UNDECIDED_YET = 0xffffffffu;
+
+// Level 0 (cmr::classify_position): a segment whose end coefficients prove
+// non-monotonicity (or, for CMR, an inflection) decides the pixel.
+uint level0(bool cmr) {
+  uint E = hdr[5];
+  bool uncertain = false;
+  for (uint e = 0u; e < E; ++e) {
+    if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
+    int a = b_sign(xi_at(e, 0, 0)), b = b_sign(xi_at(e, 0, NXI - 1));
+    if (a != SIGN_UNKNOWN && b != SIGN_UNKNOWN && a * b < 0) return 0u;
+    uncertain = uncertain || a == SIGN_UNKNOWN || b == SIGN_UNKNOWN;
+    if (cmr) {
+      int c = b_sign(nu_at(e, 0, 0)), f = b_sign(nu_at(e, 0, NNU - 1));
+      if (c != SIGN_UNKNOWN && f != SIGN_UNKNOWN && c * f < 0) return 0u;
+      uncertain = uncertain || c == SIGN_UNKNOWN || f == SIGN_UNKNOWN;
+    }
+  }
+  return uncertain ? UNCERTAIN : UNDECIDED_YET;
+}
+
+// Every touched segment through Algorithms 1 (and 2), the varying joints,
+// and the verdict (cmr::part_verdict).
+uint full(bool cmr, REAL dx, REAL dy) {
+  uint split = hdr[3];
+  int maxd = int(hdr[4]);
+  uint E = hdr[5];
+  uint flags0 = hdr[11], flags1 = hdr[12];
+  int depth = int(hdr[13]);
+  for (uint e = 0u; e < E; ++e) {
+    REAL2 head = data[entry_at(e)];
+    if (head.y == REAL(0)) continue;
+    uint f = 0u;
+    int outcome, d, ks;
+    if (traverse(e, false, maxd, outcome, d, ks) != 0) return UNCERTAIN;
+    depth = max(depth, d);
+    if (outcome == 0) f |= FLAG_INC;
+    else if (outcome == 1) f |= FLAG_DEC;
+    else if (outcome == 2) f |= FLAG_NONE;
+    else if (outcome == 3) f |= FLAG_UNDECIDED;
+    if (cmr) {
+      if (traverse(e, true, maxd, outcome, d, ks) != 0) return UNCERTAIN;
+      depth = max(depth, d);
+      if (outcome == 1) f |= FLAG_NONE;
+      else if (outcome == 2) f |= FLAG_UNDECIDED;
+      else f |= ks > 0 ? FLAG_KPOS : FLAG_KNEG;
+    }
+    if (head.x == REAL(0)) flags0 |= f; else flags1 |= f;
+  }
+  uint J = hdr[6];
+  REAL2 bdx = REAL2(dx, K_ROUND * abs(dx)), bdy = REAL2(dy, K_ROUND * abs(dy));
+  for (uint j = 0u; j < J; ++j) {
+    REAL2 ends = data[hdr[10] + 2u * j];
+    int s = jump_sign(uint(ends.x), uint(ends.y), bdx, bdy);
+    if (s == SIGN_UNKNOWN) return UNCERTAIN;
+    uint f = s > 0 ? FLAG_UP : (s < 0 ? FLAG_DOWN : 0u);
+    if (data[hdr[10] + 2u * j + 1u].x == REAL(0)) flags0 |= f; else flags1 |= f;
+  }
+  uint label;
+  if (split == 0u) {
+    int d0 = direction_of(flags0, cmr);
+    label = d0 == 0 ? 1u : (d0 == 1 ? 2u : (d0 == 3 ? 3u : 0u));
+  } else {
+    int a = direction_of(flags0, cmr), b = direction_of(flags1, cmr);
+    if (a == 2 || b == 2) label = 0u;
+    else if (a == 3 || b == 3) label = 5u;
+    else label = 1u + uint(a) * 2u + uint(b);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
+  }
+  return label | (uint(depth) << 8);
+}
+
+void main() {
+  bool cmr = hdr[2] == 1u;
+  // This fragment classifies listed pixel number `at` (the host lists the
+  // pixels it could not decide by whole blocks); the image is a work area.
+  // Consecutive list entries fill 4x4 tiles, the unit a SIMD executor such as
+  // llvmpipe shades together, so that neighbouring (similar) pixels share lanes.
+  uint fx = uint(gl_FragCoord.x), fy = uint(gl_FragCoord.y);
+  uint at = (((fy >> 2) * (hdr[17] >> 2) + (fx >> 2)) << 4) + ((fy & 3u) << 2) + (fx & 3u);
+  if (at >= hdr[16]) discard;
+  REAL2 ij = data[hdr[18] + at];
+  int pi = int(ij.x), pj = int(ij.y);
+  // dx = fl(p - P_k), computed by the host with cmr::pixel_center.
+  REAL dx = data[hdr[7] + uint(pi)].x, dy = data[hdr[8] + uint(pj)].x;
+  set_monomials(dx, dy);
+  // Pixels decided at level 0 as not monotone keep the attachment's clear
+  // value, 0 (label 0, depth 0): discarding them lets a SIMD executor such as
+  // llvmpipe, which runs both sides of every branch under a mask, leave the
+  // shader early once all its lanes are discarded.
+  if (hdr[14] != 0u) discard;  // an untouched segment fails at level 0
+  uint r = level0(cmr);
+  if (r == 0u) discard;
+  if (r == UNDECIDED_YET) r = full(cmr, dx, dy);
+  result = r;
+}

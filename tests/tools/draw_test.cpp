@@ -1,0 +1,153 @@
+// tools/draw: region pictures written as PNGs, colours by label, atomic writes.
+#include <cairo.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <filesystem>
+#include <memory>
+
+#include "spline/errors.hpp"
+#include "tools/draw.hpp"
+
+namespace cmr::draw {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch() {
+  const fs::path dir = fs::temp_directory_path() / ("cmr_draw_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// A W x H image whose left half is label `left` and right half `right`.
+RegionImage halves(const BSpline& s, int W, int H, uint8_t left, uint8_t right) {
+  RegionImage r;
+  r.width = W;
+  r.height = H;
+  r.view = default_view(s, W, H);
+  r.labels.resize(static_cast<std::size_t>(W) * H);
+  r.depth.assign(r.labels.size(), 0);
+  for (int j = 0; j < H; ++j)
+    for (int i = 0; i < W; ++i) r.labels[static_cast<std::size_t>(j) * W + i] = i < W / 2 ? left : right;
+  return r;
+}
+
+struct Png {
+  int width = 0, height = 0;
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface{nullptr, &cairo_surface_destroy};
+  /// (r, g, b) in 0..255 of pixel (i, j).
+  std::array<int, 3> at(int i, int j) const {
+    const unsigned char* data = cairo_image_surface_get_data(surface.get());
+    const int stride = cairo_image_surface_get_stride(surface.get());
+    const uint32_t v = reinterpret_cast<const uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride)[i];
+    return {static_cast<int>(v >> 16 & 0xff), static_cast<int>(v >> 8 & 0xff), static_cast<int>(v & 0xff)};
+  }
+};
+
+Png read_png(const fs::path& p) {
+  Png png;
+  png.surface.reset(cairo_image_surface_create_from_png(p.c_str()));
+  EXPECT_EQ(cairo_surface_status(png.surface.get()), CAIRO_STATUS_SUCCESS) << p;
+  png.width = cairo_image_surface_get_width(png.surface.get());
+  png.height = cairo_image_surface_get_height(png.surface.get());
+  return png;
+}
+
+const BSpline kCubic = BSpline::bezier({{0, 0}, {1, 1}, {2, 1}, {3, 0}});
+
+TEST(WriteRegionPng, SizeAndColoursFollowTheLabels) {
+  const RegionImage r = halves(kCubic, 120, 90, 1, 0);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  const fs::path path = scratch() / "halves.png";
+  write_region_png(path, p);
+  const Png png = read_png(path);
+  ASSERT_EQ(png.width, 120);
+  ASSERT_EQ(png.height, 90);
+  // Corners: inside the 25% margin of the default view, so nothing is drawn over them.
+  const auto red = png.at(3, 3), white = png.at(116, 86);
+  EXPECT_GT(red[0], 200) << "label 1 pixel (3,3)";
+  EXPECT_LT(red[1], 150) << "label 1 pixel (3,3)";
+  EXPECT_LT(red[2], 150) << "label 1 pixel (3,3)";
+  for (int c : white) EXPECT_GE(c, 250) << "label 0 pixel (116,86)";
+  EXPECT_FALSE(fs::exists(fs::path(path).concat(".tmp")));
+}
+
+TEST(WriteRegionPng, MissingFolderThrowsAndLeavesNothing) {
+  const RegionImage r = halves(kCubic, 32, 32, 1, 2);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  const fs::path dir = scratch() / "does_not_exist";
+  EXPECT_THROW(write_region_png(dir / "x.png", p), InputError);
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+  EXPECT_FALSE(fs::exists(dir / "x.png.tmp"));
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(PixelColour, OverlapsAreDarkerThanOneRegion) {
+  const RegionImage a = halves(kCubic, 4, 1, 1, 0), b = halves(kCubic, 4, 1, 1, 1);
+  RegionPicture one, two;
+  one.layers = {&a};
+  two.layers = {&a, &b};
+  const Rgb single = pixel_colour(one, 0), both = pixel_colour(two, 0), none = pixel_colour(one, 3);
+  EXPECT_EQ(single.r, 1.0);
+  EXPECT_LT(both.g, single.g);
+  EXPECT_LT(both.b, single.b);
+  EXPECT_EQ(none.r + none.g + none.b, 3.0) << "label 0 is white";
+}
+
+TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
+  RegionImage r = halves(kCubic, 6, 1, 0, 0);
+  r.labels = {1, 2, 3, 4, 5, 0};  // inc-inc, inc-dec, dec-inc, dec-dec, undecided, none
+  RegionPicture p;
+  p.layers = {&r};
+  p.split = true;
+  const Rgb inc_inc = pixel_colour(p, 0), inc_dec = pixel_colour(p, 1), dec_inc = pixel_colour(p, 2),
+            dec_dec = pixel_colour(p, 3), undecided = pixel_colour(p, 4);
+  EXPECT_GT(inc_inc.r, inc_inc.b);  // second part increasing: red
+  EXPECT_GT(dec_inc.r, dec_inc.b);
+  EXPECT_GT(dec_dec.b, dec_dec.r);  // second part decreasing: blue
+  EXPECT_GT(inc_dec.b, inc_dec.r);
+  EXPECT_LT(dec_inc.r, inc_inc.r) << "an extremum at the joint is the darker shade";
+  EXPECT_LT(inc_dec.b, dec_dec.b) << "an extremum at the joint is the darker shade";
+  EXPECT_EQ(undecided.r + undecided.g + undecided.b, 3.0);
+}
+
+TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
+  RegionImage r = halves(kCubic, 4, 1, 0, 0);
+  r.labels = {1, 1, 0, 0};
+  r.depth = {0, 6, 0, 6};
+  RegionPicture p;
+  p.layers = {&r};
+  p.depth_shading = true;
+  EXPECT_LT(pixel_colour(p, 1).r, pixel_colour(p, 0).r) << "red at level 6 vs 0";
+  EXPECT_LT(pixel_colour(p, 3).g, pixel_colour(p, 2).g) << "grey at level 6 vs 0";
+  EXPECT_LT(pixel_colour(p, 2).g, 1.0) << "not monotone is grey, not white";
+}
+
+TEST(WriteFigurePng, CompositeIsAValidPng) {
+  const RegionImage r = halves(kCubic, 100, 100, 2, 0);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  p.moved = std::make_pair(Vec2(0, 0), Vec2(0.5, 0.2));
+  const SplineAnalysis a = analyze(kCubic);
+  Figure f;
+  f.title = "test figure";
+  f.rows = {{{p, "(a) region"}, {CurvaturePlot{&kCubic, &a}, "(b) plot"}}};
+  f.legend = legend_for(p);
+  f.caption = "a caption long enough to wrap over more than one line of the page, so that wrapping is exercised";
+  f.panel_size = 100;
+  const fs::path path = scratch() / "figure.png";
+  write_figure_png(path, f);
+  const Png png = read_png(path);
+  EXPECT_GE(png.width, 200);
+  EXPECT_GE(png.height, 100);
+}
+
+}  // namespace
+}  // namespace cmr::draw

@@ -1,0 +1,424 @@
+// cmr report: certified extrema and inflections against exact values derived
+// independently (symmetry, exact de Casteljau halving, closed forms), the
+// curve-level events against dense sampling, the batch and gate behaviour of
+// the command, and the HTML page as headless Chromium renders it.
+#include "tools/report.hpp"
+
+#include <cairo.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "bezierize/lambda.hpp"
+#include "spline/curvature.hpp"
+#include "spline/spline_json.hpp"
+#include "tests/test_util.hpp"
+#include "tests/tools/cli_util.hpp"
+
+namespace cmr::report {
+namespace {
+
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// A curve symmetric about the y axis: kappa(t) = kappa(1-t), so lambda is odd
+// about t = 1/2 and vanishes there exactly.
+std::vector<Vec2> arch(double a) { return {{-1, 0}, {-a, 1}, {a, 1}, {1, 0}}; }
+
+ReportOptions no_regions() {
+  ReportOptions o;
+  o.regions = false;
+  return o;
+}
+
+bool contains(const SpanRoot& r, const Rational& x) { return Rational(r.t_lo) <= x && x <= Rational(r.t_hi); }
+
+const char* kind_of(const SpanRoot& r) {
+  return r.sign_before == r.sign_after ? "touch" : (r.sign_before > 0 ? "maximum" : "minimum");
+}
+
+TEST(ReportRoots, SymmetricArchHasItsExtremumExactlyAtOneHalf) {
+  const SplineReport r = report_spline(BSpline::bezier(arch(0.5)), no_regions());
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  const SpanRoot& x = r.spans[0].extrema[0];
+  EXPECT_TRUE(x.exact);
+  EXPECT_EQ(x.t, 0.5);
+  EXPECT_EQ(x.at, SpanRoot::At::interior);
+  // Clockwise arch: kappa < 0, most negative in the middle (sampled independently).
+  EXPECT_LT(curvature(*r.spline, 0.5), curvature(*r.spline, 0.45));
+  EXPECT_LT(curvature(*r.spline, 0.5), curvature(*r.spline, 0.55));
+  EXPECT_STREQ(kind_of(x), "minimum");
+  ASSERT_EQ(r.extrema.size(), 1u);
+  EXPECT_EQ(r.extrema[0].t, 0.5);
+  EXPECT_EQ(r.extrema[0].kind, -1);
+  EXPECT_EQ(r.extrema[0].segment, 0);
+  EXPECT_EQ(r.monotone_pieces, 2);
+  EXPECT_EQ(r.kappa_min, x.kappa);
+  EXPECT_TRUE(r.inflections.empty());
+}
+
+TEST(ReportRoots, LeftHalfOfTheArchHasItsStationaryPointExactlyAtTheEnd) {
+  // Exact de Casteljau at 1/2 (every value is a short dyadic): the left half
+  // ends where the arch has its extremum.
+  const std::vector<Vec2> P = arch(0.5);
+  const Vec2 p01 = 0.5 * (P[0] + P[1]), p12 = 0.5 * (P[1] + P[2]), p23 = 0.5 * (P[2] + P[3]);
+  const Vec2 p012 = 0.5 * (p01 + p12), p123 = 0.5 * (p12 + p23);
+  const SplineReport r = report_spline(BSpline::bezier({P[0], p01, p012, 0.5 * (p012 + p123)}), no_regions());
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  const SpanRoot& x = r.spans[0].extrema[0];
+  EXPECT_TRUE(x.exact);
+  EXPECT_EQ(x.t, 1.0);
+  EXPECT_EQ(x.at, SpanRoot::At::end);
+  EXPECT_STREQ(kind_of(x), "minimum");  // of the segment's polynomial, which goes on past the end
+  // On the curve itself the curvature only falls: one monotone piece, no extremum.
+  EXPECT_TRUE(r.extrema.empty());
+  EXPECT_EQ(r.monotone_pieces, 1);
+}
+
+TEST(ReportRoots, ExtremumOnAJointIsReportedThere) {
+  // The arch as a B-spline whose joint t = 1 is the arch's middle (dyadic
+  // blossom arguments: the spline is exactly the arch).
+  const BSpline s = test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), {0, 0, 0, 1, 2, 2, 2});
+  const SplineReport r = report_spline(s, no_regions());
+  ASSERT_EQ(r.spans.size(), 2u);
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  ASSERT_EQ(r.spans[1].extrema.size(), 1u);
+  EXPECT_EQ(r.spans[0].extrema[0].at, SpanRoot::At::end);
+  EXPECT_EQ(r.spans[1].extrema[0].at, SpanRoot::At::start);
+  ASSERT_EQ(r.extrema.size(), 1u);
+  EXPECT_EQ(r.extrema[0].t, 1.0);
+  EXPECT_EQ(r.extrema[0].joint, 1);
+  EXPECT_EQ(r.extrema[0].segment, -1);
+  EXPECT_EQ(r.extrema[0].kind, -1);
+  ASSERT_EQ(r.joints.size(), 1u);
+  EXPECT_EQ(r.joints[0].continuity, "C2");
+}
+
+TEST(ReportRoots, QuadraticExtremumAtTheVertexOneFifth) {
+  // P(t) = (0,0), (1,1), (3,0): |P'|^2 is least at t = a.(a-b)/|a-b|^2 = 1/5
+  // (a = P1-P0, b = P2-P1), where a parabola's |kappa| peaks.
+  const SplineReport r = report_spline(BSpline::bezier({{0, 0}, {1, 1}, {3, 0}}), no_regions());
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  const SpanRoot& x = r.spans[0].extrema[0];
+  EXPECT_FALSE(x.exact);
+  EXPECT_TRUE(contains(x, Rational(1, 5))) << x.t_lo << " " << x.t_hi;
+  EXPECT_LE(x.t_hi - x.t_lo, 1e-12);
+  EXPECT_NEAR(x.t, 0.2, 1e-12);
+  EXPECT_STREQ(kind_of(x), "minimum");  // clockwise: kappa < 0
+}
+
+TEST(ReportRoots, InflectionAtFourThirdsInASplineParameter) {
+  // (3t, 3t^3 - 3t^2): eta = 3 * (18t - 6), zero at t = 1/3. Written over the
+  // knots 0,0,0,1,2,4,4,4 (dyadic blossom arguments, so exactly the same
+  // curve), t = 1/3 of the domain [0, 4] is 4/3, inside segment 1 = [1, 2].
+  const BSpline cubic = BSpline::bezier({{0, 0}, {1, 0}, {2, -1}, {3, 0}});
+  const SplineReport r = report_spline(test::polynomial_as_bspline(cubic, {0, 0, 0, 1, 2, 4, 4, 4}), no_regions());
+  ASSERT_EQ(r.spans.size(), 3u);
+  EXPECT_TRUE(r.spans[0].inflections.empty());
+  EXPECT_TRUE(r.spans[2].inflections.empty());
+  ASSERT_EQ(r.spans[1].inflections.size(), 1u);
+  const SpanRoot& x = r.spans[1].inflections[0];
+  EXPECT_TRUE(contains(x, Rational(4, 3)));
+  EXPECT_LE(x.t_hi - x.t_lo, 1e-12 * 1.0 + 4e-16);  // tolerance times the segment length, plus outward rounding
+  EXPECT_NE(x.sign_before, x.sign_after);
+  ASSERT_EQ(r.inflections.size(), 1u);
+  EXPECT_EQ(r.inflections[0].segment, 1);
+  EXPECT_EQ(r.inflections[0].kind, 1);  // concave down, then up
+}
+
+// The symmetric arch family changes, near a = 0.64, from one extremum at
+// t = 1/2 to three (lambda'(1/2) crosses zero). Just past that point the
+// outer two lie 2x apart with x ~ 3e-7.
+TEST(ReportRoots, ExtremaCloserThanOneMillionthAreAllFound) {
+  auto slope = [](double a) {  // lambda'(1/2), in double: only to aim
+    return bernstein_eval(bernstein_derivative(lambda_bernstein<double>(arch(a))), 0.5);
+  };
+  double lo = 0.6, hi = 0.7;
+  ASSERT_GT(slope(lo), 0);
+  ASSERT_LT(slope(hi), 0);
+  for (int i = 0; i < 100; ++i) (slope(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+  const double a0 = lo;
+  // lambda(1/2 + y) ~ c1 y + c3 y^3 with c1 ~ slope'(a0) (a - a0): roots at y = +-x when c1 = -c3 x^2.
+  const double c3 = bernstein_eval(
+                        bernstein_derivative(bernstein_derivative(bernstein_derivative(lambda_bernstein<double>(arch(a0))))),
+                        0.5) / 6;
+  const double dslope = (slope(a0 + 1e-6) - slope(a0 - 1e-6)) / 2e-6;
+  const double x = 3e-7;
+  const double a = a0 - c3 * x * x / dslope;
+
+  // Independent proof that lambda has three sign changes within 1/2 +- 2x:
+  // exact evaluation of its Bernstein form at four rational points.
+  std::vector<Point<Rational>> P;
+  for (const Vec2& p : arch(a)) P.push_back(to_point<Rational>(p));
+  const Bernstein<Rational> xi = lambda_bernstein<Rational>(P);
+  const int s = c3 > 0 ? 1 : -1;
+  const double ys[] = {-2 * x, -0.5 * x, 0.5 * x, 2 * x};
+  const int expected[] = {-s, s, -s, s};
+  for (int i = 0; i < 4; ++i)
+    ASSERT_EQ(sgn(bernstein_eval(xi, Rational(Rational(0.5) + Rational(ys[i])))), expected[i]) << "y = " << ys[i];
+
+  const SplineReport r = report_spline(BSpline::bezier(arch(a)), no_regions());
+  std::vector<SpanRoot> close;
+  for (const SpanRoot& e : r.spans[0].extrema)
+    if (std::fabs(e.t - 0.5) < 1e-6) close.push_back(e);
+  ASSERT_EQ(close.size(), 3u);
+  EXPECT_LT(close[2].t - close[0].t, 1e-6);
+  EXPECT_TRUE(close[1].exact);
+  EXPECT_EQ(close[1].t, 0.5);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(close[i].sign_before != close[i].sign_after) << "root " << i;
+  EXPECT_EQ(r.extrema.size(), 3u);
+  EXPECT_EQ(r.monotone_pieces, 4);
+}
+
+// Curve-level events against dense sampling of the curvature (an evaluator
+// independent of the Bernstein machinery): between consecutive extrema the
+// sampled curvature moves in the direction the events say, and at each
+// inflection it changes sign. Seeded random splines with joints of every
+// multiplicity, so that jumps and corners occur.
+TEST(ReportEvents, AgreeWithSampledCurvature) {
+  std::mt19937_64 rng(7);
+  const std::vector<std::vector<double>> knot_sets = {
+      {0, 1, 2, 3, 4, 5, 6, 7, 8}, {0, 0, 0, 1, 1, 2, 3, 3, 3}, {0, 0, 0, 1, 1, 1, 2, 2, 2}, {0, 0.5, 1, 1, 3, 4, 4.5, 6, 7}};
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::vector<double>& knots = knot_sets[trial % knot_sets.size()];
+    const BSpline s = BSpline::make(3, knots, test::random_points(rng, static_cast<int>(knots.size()) - 2));
+    const SplineReport r = report_spline(s, no_regions());
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    ASSERT_EQ(r.monotone_pieces, static_cast<int>(r.extrema.size()) + 1);
+    // Boundaries of the monotone pieces, with the direction on each.
+    std::vector<double> cuts{s.domain_begin()};
+    for (const CurveEvent& e : r.extrema) cuts.push_back(e.t);
+    cuts.push_back(s.domain_end());
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double a = cuts[k], b = cuts[k + 1];
+      if (b - a < 1e-3) continue;  // too short to sample
+      const int dir = k < r.extrema.size() ? r.extrema[k].kind : -r.extrema.back().kind;
+      double prev = std::numeric_limits<double>::quiet_NaN();
+      for (int i = 1; i < 200; ++i) {
+        const double t = a + (b - a) * i / 200;
+        if (s.multiplicity(t) > 0) continue;  // a knot: curvature may jump, and the jump is an event itself
+        const double kappa = curvature(s, t);
+        if (std::isfinite(prev) && std::isfinite(kappa)) {
+          const double slack = 1e-9 * (std::fabs(kappa) + std::fabs(prev));
+          EXPECT_GE(dir * (kappa - prev), -slack) << "piece " << k << " [" << a << ", " << b << "] t = " << t;
+        }
+        prev = kappa;
+      }
+    }
+    for (const CurveEvent& e : r.inflections) {
+      const double h = 1e-7;
+      if (e.joint >= 0) continue;  // at a joint the sign test needs the one-sided curvatures
+      if (e.t - h <= s.domain_begin() || e.t + h >= s.domain_end()) continue;
+      EXPECT_LE(curvature(s, e.t - h) * e.kind, 0) << "inflection at " << e.t;
+      EXPECT_GE(curvature(s, e.t + h) * e.kind, 0) << "inflection at " << e.t;
+    }
+  }
+}
+
+TEST(ReportJoints, ContinuityFromKnotsAndTangents) {
+  // Knot 1 has multiplicity 3: C0 by the knots. P3 = f(1,1,1) is the joint,
+  // P2 = f(0,1,1) and P4 = f(1,1,2) give the end tangents there.
+  const std::vector<double> knots{0, 0, 0, 1, 1, 1, 2, 2, 2};
+  const std::vector<Vec2> straight{{0, 0}, {1, 1}, {2, 1}, {3, 1}, {4, 1}, {5, 0}, {6, 1}};
+  const SplineReport g1 = report_spline(BSpline::make(3, knots, straight), no_regions());
+  ASSERT_EQ(g1.joints.size(), 1u);
+  EXPECT_EQ(g1.joints[0].continuity, "G1");
+  EXPECT_FALSE(g1.joints[0].corner);
+  std::vector<Vec2> bent = straight;
+  bent[4] = {4, 2};
+  const SplineReport c0 = report_spline(BSpline::make(3, knots, bent), no_regions());
+  EXPECT_EQ(c0.joints[0].continuity, "C0");
+  EXPECT_TRUE(c0.joints[0].corner);
+  const SplineReport c1 = report_spline(BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 1}}),
+                                        no_regions());
+  EXPECT_EQ(c1.joints[0].continuity, "C1");
+}
+
+TEST(ReportRequirement, ParsesTheThreeForms) {
+  EXPECT_EQ(parse_requirement("cmrwi").mode, Mode::cmrwi);
+  EXPECT_EQ(parse_requirement("cmr").mode, Mode::cmr);
+  EXPECT_EQ(parse_requirement("split:2").split, 2);
+  EXPECT_THROW(parse_requirement("split:"), InputError);
+  EXPECT_THROW(parse_requirement("split:x"), InputError);
+  EXPECT_THROW(parse_requirement("monotone"), InputError);
+}
+
+// A monotone class A cubic with P2 pulled off: moving P2 back fixes it, so
+// its region is not empty (about 1.6% of the default view).
+BSpline spiral() { return test::class_a_bezier(3, -0.5, 1.5); }
+BSpline pulled_spiral() {
+  const BSpline s = spiral();
+  return s.with_point(2, s.points()[2] + Vec2(0.0, 0.3));
+}
+
+TEST(ReportFixes, FindTheMovedPointAndVerifyTheExample) {
+  ASSERT_TRUE(report_spline(spiral(), no_regions()).pass);
+  ReportOptions o;
+  o.backend.backend = cli::Backend::cpu;
+  o.region_size = 64;
+  SplineReport r = report_spline(pulled_spiral(), o);
+  ASSERT_FALSE(r.pass);
+  find_fixes(r, o);
+  ASSERT_TRUE(r.fixes);
+  ASSERT_EQ(r.fixes->size(), 4u);
+  const Fix& f = (*r.fixes)[2];
+  EXPECT_GT(f.pixels, 0u);
+  ASSERT_TRUE(f.example);
+  EXPECT_TRUE(f.verified);
+  EXPECT_FALSE(f.thumbnail_png.empty());
+  const Direction moved = analyze(r.spline->with_point(2, *f.example)).cmr;
+  EXPECT_TRUE(moved == Direction::increasing || moved == Direction::decreasing) << to_string(moved);
+  for (const Fix& g : *r.fixes) EXPECT_EQ(g.example.has_value(), g.pixels > 0) << "P" << g.point;
+}
+
+// ------------------------------------------------------------ the command --
+
+std::string spline_file(const std::string& name, const BSpline& s) {
+  const fs::path p = test::scratch() / name;
+  write_spline_file(p, s);
+  return p.string();
+}
+
+Json read_json(const fs::path& p) { return Json::parse(test::slurp(p)); }
+
+TEST(ReportCommand, BadFilesAreReportedAndTheRestGoOn) {
+  const std::string good = spline_file("good.json", spiral());
+  const std::string bad = test::write("broken.json", "{\"points\": [[0,0],");
+  const fs::path out = test::scratch() / "batch";
+  fs::remove_all(out);
+  const test::Outcome r = test::run("report " + good + " " + bad + " /nonexistent/x.json " + good +
+                                    " --out " + out.string() + " --no-thumbnails --require cmr");
+  EXPECT_EQ(r.code, 2) << r.err;
+  const Json doc = read_json(out / "report.json");
+  EXPECT_EQ(doc["schema"], "cmr-report/1");
+  ASSERT_EQ(doc["splines"].size(), 4u);
+  EXPECT_EQ(doc["splines"][0]["status"], "pass");
+  EXPECT_EQ(doc["splines"][1]["status"], "invalid");
+  EXPECT_NE(doc["splines"][1]["error"].get<std::string>().find("malformed JSON"), std::string::npos);
+  EXPECT_EQ(doc["splines"][2]["status"], "invalid");
+  EXPECT_EQ(doc["splines"][3]["status"], "pass");
+  EXPECT_FALSE(doc["splines"][3]["segments"].empty());
+  EXPECT_EQ(doc["summary"]["invalid"], 2);
+  EXPECT_EQ(doc["summary"]["exit_code"], 2);
+  const std::string html = test::slurp(out / "index.html");
+  EXPECT_NE(html.find("broken.json"), std::string::npos);
+  EXPECT_NE(html.find("id=\"s3\""), std::string::npos);
+  EXPECT_NE(html.find("INVALID"), std::string::npos);
+  // One line on stderr per bad file, naming it.
+  EXPECT_NE(r.err.find("broken.json"), std::string::npos);
+  EXPECT_NE(r.err.find("/nonexistent/x.json"), std::string::npos);
+}
+
+struct GateCase {
+  const char* name;
+  const char* require;  // empty: no gate
+  bool pulled;          // the failing spline instead of the passing one
+  int code;
+};
+
+void PrintTo(const GateCase& c, std::ostream* os) { *os << c.name; }
+
+class ReportGate : public ::testing::TestWithParam<GateCase> {};
+
+TEST_P(ReportGate, ExitCode) {
+  const GateCase& c = GetParam();
+  const std::string file = spline_file(std::string(c.name) + ".json", c.pulled ? pulled_spiral() : spiral());
+  const fs::path out = test::scratch() / (std::string("gate_") + c.name);
+  const std::string gate = *c.require ? std::string(" --require ") + c.require : "";
+  const test::Outcome r = test::run("report " + file + " --out " + out.string() + " --no-thumbnails" + gate);
+  EXPECT_EQ(r.code, c.code) << r.err;
+  EXPECT_TRUE(fs::exists(out / "report.json"));
+  EXPECT_TRUE(fs::exists(out / "index.html"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, ReportGate,
+                         ::testing::Values(GateCase{"pass_cmr", "cmr", false, 0}, GateCase{"pass_cmrwi", "cmrwi", false, 0},
+                                           GateCase{"fail_cmr", "cmr", true, 1}, GateCase{"fail_cmrwi", "cmrwi", true, 1},
+                                           GateCase{"fail_ungated", "", true, 0}),
+                         [](const auto& p) { return std::string(p.param.name); });
+
+TEST(ReportCommand, SplitGatePassesAnExtremumAtTheJoint) {
+  const BSpline s = test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), {0, 0, 0, 1, 2, 2, 2});
+  const std::string file = spline_file("arch_split.json", s);
+  const fs::path out = test::scratch() / "split";
+  EXPECT_EQ(test::run("report " + file + " --out " + out.string() + " --no-thumbnails --require split:1").code, 0);
+  EXPECT_EQ(read_json(out / "report.json")["splines"][0]["verdict"]["split"], "dec-inc");
+  EXPECT_EQ(test::run("report " + file + " --out " + out.string() + " --no-thumbnails --require cmrwi").code, 1);
+  const test::Outcome bad = test::run("report " + file + " --out " + out.string() + " --require split:5");
+  EXPECT_EQ(bad.code, 2);  // the spline has no joint 5: that input is invalid
+  EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("split 5"), std::string::npos);
+}
+
+TEST(ReportCommand, RejectsAnUnknownRequirementWithOneLine) {
+  const test::Outcome r = test::run("report " + spline_file("any.json", spiral()) + " --out " +
+                                    (test::scratch() / "unknown").string() + " --require monotone");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  EXPECT_NE(r.err.find("--require"), std::string::npos) << r.err;
+}
+
+TEST(ReportCommand, FixesCarryThumbnails) {
+  const fs::path out = test::scratch() / "fixes";
+  const test::Outcome r = test::run("report " + spline_file("pulled.json", pulled_spiral()) + " --out " +
+                                    out.string() + " --backend cpu --region-size 48 --require cmr");
+  EXPECT_EQ(r.code, 1) << r.err;
+  const Json doc = read_json(out / "report.json");
+  const Json& fix = doc["splines"][0]["fixes"][2];
+  EXPECT_GT(fix["region_pixels"].get<int>(), 0);
+  EXPECT_TRUE(fix["verified"].get<bool>());
+  EXPECT_NE(test::slurp(out / "index.html").find("data:image/png;base64,"), std::string::npos);
+}
+
+TEST(ReportCommand, ExamplesRun) {
+  const std::string dir = std::string(CMR_SOURCE_DIR) + "/examples/report/";
+  const fs::path out = test::scratch() / "examples";
+  const test::Outcome r = test::run("report " + dir + "spiral.json " + dir + "wavy.json " + dir + "arch.json " + dir +
+                                    "pulled.json --out " + out.string() + " --backend cpu --region-size 48");
+  EXPECT_EQ(r.code, 0) << r.err;
+  const Json doc = read_json(out / "report.json");
+  ASSERT_EQ(doc["splines"].size(), 4u);
+  EXPECT_EQ(doc["splines"][0]["status"], "pass");
+  EXPECT_EQ(doc["splines"][3]["status"], "fail");
+}
+
+// The page as a browser shows it: headless Chromium renders it to a PNG that
+// is not blank and shows the red maxima and blue minima of the figures.
+TEST(ReportHtml, HeadlessChromiumShowsTheFigures) {
+  const fs::path chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) GTEST_SKIP() << "no " << chromium;
+  const fs::path out = test::scratch() / "shot";
+  const BSpline wavy = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, {{0, 0}, {1, 2}, {3, 3}, {5, 2.5}, {6.5, 1}, {7, -1}});
+  ASSERT_EQ(test::run("report " + spline_file("wavy.json", wavy) + " --out " + out.string() + " --no-thumbnails").code, 0);
+  const fs::path png = out / "shot.png";
+  const std::string cmd = "timeout 120 " + chromium.string() +
+                          " --headless --no-sandbox --disable-gpu --disable-background-networking"
+                          " --disable-component-update --disable-sync --no-first-run --user-data-dir=" +
+                          (out / "profile").string() + " --screenshot=" + png.string() +
+                          " --window-size=1000,1200 file://" + fs::absolute(out / "index.html").string() +
+                          " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  cairo_surface_t* image = cairo_image_surface_create_from_png(png.c_str());
+  ASSERT_EQ(cairo_surface_status(image), CAIRO_STATUS_SUCCESS) << png;
+  const int w = cairo_image_surface_get_width(image), h = cairo_image_surface_get_height(image);
+  const int stride = cairo_image_surface_get_stride(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  long ink = 0, red = 0, blue = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint32_t px;
+      std::memcpy(&px, data + y * stride + 4 * x, 4);
+      const int r = (px >> 16) & 255, g = (px >> 8) & 255, b = px & 255;
+      ink += (r + g + b) < 600;
+      red += r > 170 && g < 50 && b < 50;
+      blue += b > 170 && r < 50 && g < 100;
+    }
+  cairo_surface_destroy(image);
+  EXPECT_GT(ink, w * h / 100) << "blank page";
+  EXPECT_GT(red, 40) << "no red (maxima, FAIL badge)";
+  EXPECT_GT(blue, 40) << "no blue (minima, comb)";
+}
+
+}  // namespace
+}  // namespace cmr::report

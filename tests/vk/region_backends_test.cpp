@@ -1,0 +1,135 @@
+// The Vulkan and CPU region backends give identical label maps (both are
+// certified: every pixel the device cannot certify is recomputed exactly on
+// the host), and the CPU labels are what `analyze` says of the moved spline.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/region.hpp"
+#include "tests/test_util.hpp"
+#include "tools/region_backend.hpp"
+
+namespace cmr {
+namespace {
+
+struct Scene {
+  const char* name;
+  BSpline spline;
+  RegionOptions options;
+};
+
+BSpline random_spline(std::mt19937_64& rng, int degree, std::vector<double> knots) {
+  const int m = static_cast<int>(knots.size()) - degree + 1;
+  return BSpline::make(degree, std::move(knots), test::random_points(rng, m, 2.0));
+}
+
+RegionOptions opts(int point, Mode mode = Mode::cmrwi, std::optional<int> split = {}, std::vector<int> with = {}) {
+  RegionOptions o;
+  o.point = point;
+  o.mode = mode;
+  o.split = split;
+  o.with = std::move(with);
+  o.width = 48;
+  o.height = 40;
+  return o;
+}
+
+std::vector<Scene> scenes() {
+  std::mt19937_64 rng(71);
+  const BSpline spiral = test::polynomial_as_bspline(test::class_a_bezier(3, -0.35, 1.25), {0, 1, 2, 3, 4, 5, 6, 7});
+  const BSpline clamped = test::polynomial_as_bspline(test::class_a_bezier(3, -0.35, 1.25), {0, 0, 0, 1, 2, 3, 3, 3});
+  std::vector<Scene> s = {
+      {"uniform_cubic_P2", spiral, opts(2)},
+      {"uniform_cubic_P3_cmr", spiral, opts(3, Mode::cmr)},
+      {"clamped_cubic_P0", clamped, opts(0)},
+      {"clamped_cubic_split2_P5", clamped, opts(5, Mode::cmr, 2)},
+      {"clamped_rigid_P2_with_P3", clamped, opts(2, Mode::cmrwi, {}, {3})},
+      {"bezier_quadratic", BSpline::bezier({{0, 0}, {1, 1}, {2, 0.2}}), opts(1)},
+      {"bezier_quartic_cmr", test::class_a_bezier(4, -0.3, 1.2), opts(2, Mode::cmr)},
+      {"bezier_degree9", test::class_a_bezier(9, -0.15, 1.08), opts(4)},
+      {"nonuniform_quintic", random_spline(rng, 5, {0, 0.5, 1, 2.5, 3, 4, 4, 6, 7, 9}), opts(3)},
+      {"quadratic_C1_joints", random_spline(rng, 2, {0, 1, 2, 3, 4, 5}), opts(2)},
+      {"double_knot_cubic", random_spline(rng, 3, {0, 0, 0, 1.5, 1.5, 3, 3, 3}), opts(3)},
+  };
+  return s;
+}
+
+TEST(RegionBackends, VulkanAndCpuLabelMapsAreIdentical) {
+  for (const Scene& sc : scenes()) {
+    const RegionSetup setup = prepare_region(sc.spline, sc.options);
+    const RegionImage cpu = cli::render_region(setup, {cli::Backend::cpu});
+    for (cli::Precision prec : {cli::Precision::fp64, cli::Precision::fp32}) {
+      cli::BackendOptions bo;
+      bo.precision = prec;
+      bo.cull = false;  // the device shades every pixel, so the shader is what is compared
+      const RegionImage gpu = cli::render_region(setup, bo);
+      ASSERT_EQ(gpu.labels.size(), cpu.labels.size()) << sc.name;
+      for (std::size_t at = 0; at < cpu.labels.size(); ++at) {
+        ASSERT_EQ(int(gpu.labels[at]), int(cpu.labels[at]))
+            << sc.name << (prec == cli::Precision::fp32 ? " fp32" : " fp64") << " pixel (" << at % sc.options.width
+            << ", " << at / sc.options.width << ")";
+        ASSERT_EQ(int(gpu.depth[at]), int(cpu.depth[at])) << sc.name << " depth at pixel " << at;
+      }
+    }
+  }
+}
+
+TEST(RegionBackends, BlockCullingGivesThePixelwiseLabels) {
+  // The CPU backend decides blocks over intervals of displacements; every
+  // pixel must still get what classify_position gives it alone.
+  for (const Scene& sc : scenes()) {
+    RegionOptions o = sc.options;
+    o.width = 96;
+    o.height = 80;
+    const RegionSetup setup = prepare_region(sc.spline, o);
+    const RegionImage img = region_cpu(setup);
+    const RegionImage gpu = cli::render_region(setup, {});
+    for (int j = 0; j < o.height; ++j)
+      for (int i = 0; i < o.width; ++i) {
+        const PixelResult r = classify_position(setup, pixel_center(img.view, o.width, o.height, i, j));
+        ASSERT_EQ(int(img.labels[j * o.width + i]), int(r.label)) << sc.name << " pixel (" << i << ", " << j << ")";
+        ASSERT_EQ(int(img.depth[j * o.width + i]), int(r.depth)) << sc.name << " pixel (" << i << ", " << j << ")";
+        ASSERT_EQ(int(gpu.labels[j * o.width + i]), int(r.label)) << sc.name << " vulkan pixel (" << i << ", " << j << ")";
+      }
+  }
+}
+
+TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
+  std::mt19937_64 rng(72);
+  for (const Scene& sc : scenes()) {
+    const RegionSetup setup = prepare_region(sc.spline, sc.options);
+    const RegionImage img = region_cpu(setup);
+    std::uniform_int_distribution<int> ui(0, sc.options.width - 1), uj(0, sc.options.height - 1);
+    for (int sample = 0; sample < 25; ++sample) {
+      const int i = ui(rng), j = uj(rng);
+      const Vec2 p = pixel_center(img.view, img.width, img.height, i, j);
+      std::vector<Vec2> pts = sc.spline.points();
+      const Vec2 delta = p - pts[sc.options.point];
+      for (int g : sc.options.with) pts[g] += delta;
+      pts[sc.options.point] = p;
+      AnalyzeOptions ao;
+      ao.split = sc.options.split;
+      ao.split_mode = sc.options.mode;
+      const SplineAnalysis a = analyze(BSpline::make(sc.spline.degree(), sc.spline.knots(), pts), ao);
+      const uint8_t want = sc.options.split ? label_of(*a.split)
+                                            : label_of(sc.options.mode == Mode::cmr ? a.cmr : a.cmrwi);
+      EXPECT_EQ(int(img.labels[j * img.width + i]), int(want)) << sc.name << " pixel (" << i << ", " << j << ")";
+    }
+  }
+}
+
+TEST(RegionBackends, ScenesHaveBothLabelsSomewhere) {
+  // Guards the equality tests against trivial all-zero scenes.
+  int scenes_with_regions = 0;
+  for (const Scene& sc : scenes()) {
+    const RegionImage img = region_cpu(prepare_region(sc.spline, sc.options));
+    bool some = false;
+    for (uint8_t l : img.labels) some = some || (l != 0);
+    scenes_with_regions += some;
+  }
+  EXPECT_GE(scenes_with_regions, 6);
+}
+
+}  // namespace
+}  // namespace cmr

@@ -1,0 +1,197 @@
+// cmr region FILE --point K|all ...: the curvature monotonicity region of a
+// control point as label maps, depth maps and a picture.
+#include <chrono>
+#include <sstream>
+
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+#include "tools/draw.hpp"
+#include "tools/region_backend.hpp"
+
+namespace cmr::cli {
+namespace {
+
+struct RegionArgs {
+  std::string file;
+  std::string point = "0";
+  std::vector<int> with;
+  std::string mode = "cmrwi";
+  std::optional<int> split;
+  int depth = 12;
+  std::string size = "512x512";
+  std::string view;
+  std::string backend = "vulkan";
+  std::string precision = "fp64";
+  std::string device;
+  std::string png, labels, depth_map;
+  bool stats = false;
+};
+
+std::pair<int, int> parse_size(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
+    throw InputError("--size: expected WxH, e.g. 512x512 (got '" + text + "')");
+  return {w, h};
+}
+
+View parse_view(const std::string& text) {
+  std::vector<double> v;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError("--view: '" + item + "' is not a number (expected X0,Y0,X1,Y1)");
+    }
+  }
+  if (v.size() != 4) throw InputError("--view: expected four numbers X0,Y0,X1,Y1 (got '" + text + "')");
+  return {v[0], v[1], v[2], v[3]};
+}
+
+std::string pgm(const RegionImage& img, const std::vector<uint8_t>& values) {
+  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
+  out.append(reinterpret_cast<const char*>(values.data()), values.size());
+  return out;
+}
+
+std::string with_point_suffix(const std::string& path, int k) {
+  const auto dot = path.rfind('.');
+  const std::string stem = dot == std::string::npos ? path : path.substr(0, dot);
+  const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+  return stem + ".P" + std::to_string(k) + ext;
+}
+
+}  // namespace
+
+void add_region_command(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<RegionArgs>();
+  auto* cmd = app.add_subcommand("region", "Where may a control point go so that curvature stays monotone?");
+  cmd->add_option("FILE", a->file, "spline file (JSON)")->required();
+  cmd->add_option("--point", a->point, "control point K placed at every pixel, or 'all' (one map per point)")
+      ->capture_default_str();
+  cmd->add_option("--with", a->with, "points moving rigidly with K (comma separated)")->delimiter(',');
+  cmd->add_option("--mode", a->mode, "cmrwi: monotone; cmr: monotone without inflection")
+      ->check(CLI::IsMember({"cmrwi", "cmr"}))
+      ->capture_default_str();
+  cmd->add_option("--split", a->split, "joint S: spans 0..S-1 against S..N-1 (extremum at the joint)");
+  cmd->add_option("--depth", a->depth, "maximum subdivision depth D")->capture_default_str();
+  cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
+  cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");
+  cmd->add_option("--backend", a->backend, "vulkan (default; lavapipe without a GPU) or cpu")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--precision", a->precision, "shader arithmetic; labels are certified either way")
+      ->check(CLI::IsMember({"fp64", "fp32"}))
+      ->capture_default_str();
+  cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
+  cmd->add_option("--png", a->png, "picture: regions, curve, control polygon");
+  cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
+  cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
+  cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
+  cmd->callback([a, &exit_code] {
+    const BSpline spline = read_spline_file(a->file);
+    RegionOptions o;
+    const auto [w, h] = parse_size(a->size);
+    o.width = w;
+    o.height = h;
+    o.mode = a->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+    o.split = a->split;
+    o.max_depth = a->depth;
+    o.with = a->with;
+    if (!a->view.empty()) o.view = parse_view(a->view);
+    std::vector<int> points;
+    if (a->point == "all") {
+      if (!a->with.empty()) throw InputError("--with cannot be combined with --point all");
+      for (int k = 0; k < spline.point_count(); ++k) points.push_back(k);
+    } else {
+      try {
+        std::size_t used = 0;
+        points.push_back(std::stoi(a->point, &used));
+        if (used != a->point.size()) throw std::invalid_argument(a->point);
+      } catch (const std::exception&) {
+        throw InputError("--point: expected an index or 'all' (got '" + a->point + "')");
+      }
+    }
+    BackendOptions bo;
+    bo.backend = a->backend == "cpu" ? Backend::cpu : Backend::vulkan;
+    bo.precision = a->precision == "fp32" ? Precision::fp32 : Precision::fp64;
+    bo.device = a->device;
+
+    // Validate every point before rendering anything, so a bad index leaves no files.
+    std::vector<RegionSetup> setups;
+    for (int k : points) {
+      RegionOptions ok = o;
+      ok.point = k;
+      validate_region_options(spline, ok);
+      setups.push_back(prepare_region(spline, ok));
+    }
+    std::vector<RegionImage> images;
+    nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
+    const auto t0 = std::chrono::steady_clock::now();
+    double setup_seconds = 0;
+    for (const RegionSetup& s : setups) {
+      const auto t1 = std::chrono::steady_clock::now();
+      images.push_back(render_region(s, bo));
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      setup_seconds += last_setup_seconds();
+      const RegionImage& img = images.back();
+      std::vector<std::uint64_t> counts(6, 0);
+      for (uint8_t l : img.labels) ++counts[std::min<int>(l, 5)];
+      nlohmann::ordered_json c;
+      const int labels = o.split ? 6 : 4;
+      for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
+      nlohmann::ordered_json entry = {{"point", s.options.point}, {"counts", c}};
+      if (a->stats) {
+        entry["seconds"] = sec;
+        entry["exact_pixels"] = img.exact_pixels;
+        entry["exact_share"] = static_cast<double>(img.exact_pixels) / static_cast<double>(img.labels.size());
+      }
+      per_point.push_back(entry);
+    }
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!a->labels.empty()) {
+      for (const RegionImage& img : images) {
+        const int k = setups[&img - images.data()].options.point;
+        write_file_atomic(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.labels));
+      }
+    }
+    if (!a->depth_map.empty()) {
+      for (const RegionImage& img : images) {
+        const int k = setups[&img - images.data()].options.point;
+        write_file_atomic(points.size() > 1 ? with_point_suffix(a->depth_map, k) : a->depth_map,
+                          pgm(img, img.depth));
+      }
+    }
+    if (!a->png.empty()) {
+      draw::RegionPicture pic;
+      pic.spline = &spline;
+      for (const RegionImage& img : images) pic.layers.push_back(&img);
+      pic.split = o.split.has_value();
+      pic.max_depth = o.max_depth;
+      draw::write_region_png(a->png, pic);
+    }
+    const View& v = images.front().view;
+    nlohmann::ordered_json doc = {{"width", o.width},
+                                  {"height", o.height},
+                                  {"view", {v.x0, v.y0, v.x1, v.y1}},
+                                  {"mode", a->mode},
+                                  {"backend", a->backend},
+                                  {"points", per_point}};
+    if (o.split) doc["split"] = *o.split;
+    if (a->stats) {
+      doc["seconds"] = total;
+      doc["setup_seconds"] = setup_seconds;
+      doc["mpixel_per_second"] = static_cast<double>(o.width) * o.height * images.size() / total / 1e6;
+    }
+    print_json(doc);
+    exit_code = kOk;
+  });
+}
+
+}  // namespace cmr::cli

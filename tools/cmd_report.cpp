@@ -1,0 +1,86 @@
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S] [--depth D]
+// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]:
+// QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
+#include <unistd.h>
+
+#include <iostream>
+
+#include "tools/cli_common.hpp"
+#include "tools/report.hpp"
+
+namespace cmr::cli {
+
+namespace {
+
+struct ReportArgs {
+  std::vector<std::string> files;
+  std::string out;
+  std::string require;
+  int depth = 12;
+  bool no_thumbnails = false;
+  std::string backend = "vulkan";
+  std::string device;
+  int region_size = 96;
+};
+
+// "[#####-----] 12/40 name" rewritten in place; only on a terminal.
+void show_progress(int done, int total, const std::string& name) {
+  constexpr int kWidth = 30;
+  const int filled = total > 0 ? done * kWidth / total : kWidth;
+  std::cerr << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '-') << "] " << done << '/' << total
+            << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<ReportArgs>();
+  auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
+  cmd->add_option("FILES", args->files, "spline files (JSON)")->required();
+  cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
+  cmd->add_option("--require", args->require,
+                  "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
+  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
+      ->check(CLI::Range(0, 30))
+      ->capture_default_str();
+  cmd->add_flag("--no-thumbnails", args->no_thumbnails, "skip the regions (fix search and thumbnails)");
+  cmd->add_option("--backend", args->backend, "region backend")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
+      ->capture_default_str();
+  cmd->add_option("--device", args->device, "Vulkan device name (substring)");
+  cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side")
+      ->check(CLI::Range(8, 1024))
+      ->capture_default_str();
+  cmd->callback([args, &exit_code] {
+    report::ReportOptions o;
+    if (!args->require.empty()) o.require = report::parse_requirement(args->require);
+    o.max_depth = args->depth;
+    o.regions = !args->no_thumbnails;
+    o.region_size = args->region_size;
+    o.backend.backend = args->backend == "cpu" ? Backend::cpu : Backend::vulkan;
+    o.backend.device = args->device;
+
+    std::vector<report::ReportInput> inputs;
+    for (const std::string& f : args->files) inputs.push_back(report::read_input(f));
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
+    if (terminal) std::cerr << "\r\033[K" << std::flush;
+    report::write_report(args->out, reports, o);
+
+    int pass = 0, fail = 0, invalid = 0;
+    for (const report::SplineReport& r : reports) {
+      if (!r.error.empty()) {
+        ++invalid;
+        std::cerr << "cmr: " << r.error << '\n';  // read_spline_file names the file
+      } else {
+        ++(r.pass ? pass : fail);
+      }
+    }
+    std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail << " fail, " << invalid
+              << " invalid; wrote " << (std::filesystem::path(args->out) / "index.html").string() << " and "
+              << (std::filesystem::path(args->out) / "report.json").string() << '\n';
+    exit_code = report::exit_code(reports, o);
+  });
+}
+
+}  // namespace cmr::cli

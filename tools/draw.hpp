@@ -1,0 +1,88 @@
+#pragma once
+// Pictures of regions and curves, drawn with Cairo (antialiased).
+//
+// Region colours (the legend; every layer subtracts its colour from white, so
+// overlapping regions of several points come out darker, as in CAD&A 2024
+// Fig. 3):
+//   plain labels   1 increasing: red, 2 decreasing: blue, 0 not monotone and
+//                  3 undecided (the paper counts it as not monotone): white;
+//   split labels   1 inc-inc: red, 4 dec-dec: blue (monotone across the
+//                  joint); 3 dec-inc: dark red, 2 inc-dec: dark blue (an
+//                  extremum at the joint: the second part's direction gives the
+//                  hue, the darker shade says the first part goes the other
+//                  way); 0 none and 5 undecided: white;
+//   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
+//                  condition of the paper's reference [16]) to dark at level
+//                  D; not monotone and undecided grey, darker with the level.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/region.hpp"
+
+namespace cmr::draw {
+
+struct Rgb {
+  double r = 1, g = 1, b = 1;
+};
+
+/// A region image (one layer per moved point) with the curve, the control
+/// polygon and the point numbers drawn over it.
+struct RegionPicture {
+  const BSpline* spline = nullptr;
+  std::vector<const RegionImage*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
+  bool split = false;                      ///< labels are split labels (0..5)
+  bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
+  int max_depth = 12;
+  std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place
+};
+
+/// Writes the picture as a PNG of the layers' size, atomically (temporary
+/// file, then rename). Throws InputError when the file cannot be written.
+void write_region_png(const std::filesystem::path& path, const RegionPicture& picture);
+
+/// The colour of pixel `index` (row-major) of the picture's layers, by the
+/// legend above.
+Rgb pixel_colour(const RegionPicture& picture, std::size_t index);
+
+/// Curvature against the parameter: each segment drawn from its own
+/// polynomial (so jumps at joints show), red where kappa increases and blue
+/// where it decreases (sampled sign of lambda), knots as ticks and dashed
+/// joint lines, and under the axis a band with each segment's certified class
+/// from `analysis` (red increasing, blue decreasing, grey otherwise).
+struct CurvaturePlot {
+  const BSpline* spline = nullptr;
+  const SplineAnalysis* analysis = nullptr;  ///< optional: no band without it
+};
+
+/// One cell of a figure: a picture or a plot, and its sub-caption.
+struct Panel {
+  std::variant<RegionPicture, CurvaturePlot> content;
+  std::string label;
+};
+
+struct LegendEntry {
+  Rgb colour;
+  std::string text;
+};
+
+/// A composite figure: title, rows of square panels, legend, caption.
+struct Figure {
+  std::string title;
+  std::vector<std::vector<Panel>> rows;
+  std::vector<LegendEntry> legend;
+  std::string caption;
+  int panel_size = 400;  ///< side of every panel in pixels; region pictures are scaled to it
+};
+
+/// The legend entries that apply to a picture's colouring mode.
+std::vector<LegendEntry> legend_for(const RegionPicture& picture);
+
+/// Writes a composite figure as a PNG, atomically; InputError as above.
+void write_figure_png(const std::filesystem::path& path, const Figure& figure);
+
+}  // namespace cmr::draw

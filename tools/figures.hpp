@@ -1,0 +1,57 @@
+#pragma once
+// The paper's figures (CAD&A 2024 §4: Figs. 2, 3, 5, 6, 7 for Bezier curves,
+// 8, 9, 10 for B-splines), recomputed and drawn, with every statement the
+// paper makes about them checked as a claim on the region label maps and on
+// analyze(). The paper gives no coordinates; the curves are chosen in
+// figures.cpp (one line each on why) and kept in examples/figures/.
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "spline/bspline.hpp"
+#include "tools/region_backend.hpp"
+
+namespace cmr::fig {
+
+struct FiguresOptions {
+  std::filesystem::path out = "out/figures";  ///< created if missing
+  cli::BackendOptions backend;                ///< Vulkan (lavapipe without a GPU) by default
+  int size = 400;                             ///< side of every region image, pixels
+  int depth = 12;                             ///< D of Algorithms 1 and 2
+  std::ostream* progress = nullptr;           ///< one line per step when set
+};
+
+/// One checked statement. `detail` gives the measured values, so that a
+/// failure says what was found.
+struct Claim {
+  std::string figure;  ///< "Fig. 8a"
+  std::string text;
+  bool pass = false;
+  std::string detail;
+};
+
+struct FigureFile {
+  std::string id;       ///< "fig8" (the PNG is id + ".png")
+  std::string title;
+  std::string caption;  ///< with the one-line reasons for the chosen curves
+};
+
+struct FiguresResult {
+  std::vector<FigureFile> figures;
+  std::vector<Claim> claims;
+  std::vector<std::filesystem::path> written;  ///< PNGs, spline files, index.html
+  bool all_pass() const;
+};
+
+/// Every curve the figures show (base curves and their edited states), named
+/// as their files in examples/figures/ ("fig8b" -> fig8b.json).
+std::vector<BSpline> figure_splines();
+
+/// Computes the regions on options.backend, checks the claims, writes one PNG
+/// per figure, the spline files and index.html into options.out. Throws
+/// InputError for bad options or an unwritable folder, cli::EnvironmentError
+/// from the backend.
+FiguresResult make_figures(const FiguresOptions& options);
+
+}  // namespace cmr::fig

@@ -1,0 +1,925 @@
+#include "tools/report.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <cmath>
+#include <exception>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <glm/common.hpp>
+
+#include "bezierize/extract.hpp"
+#include "bezierize/lambda.hpp"
+#include "bezierize/region.hpp"
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+#include "tools/draw.hpp"
+
+namespace cmr::report {
+
+Requirement parse_requirement(const std::string& text) {
+  if (text == "cmrwi") return {Mode::cmrwi, std::nullopt};
+  if (text == "cmr") return {Mode::cmr, std::nullopt};
+  if (text.rfind("split:", 0) == 0) {
+    const std::string s = text.substr(6);
+    int joint = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), joint);
+    if (ec == std::errc() && end == s.data() + s.size() && !s.empty()) return {Mode::cmrwi, joint};
+  }
+  throw InputError("--require: '" + text + "' is not cmrwi, cmr or split:S (S a joint index)");
+}
+
+std::string to_string(const Requirement& r) {
+  if (r.split) return "split:" + std::to_string(*r.split);
+  return r.mode == Mode::cmr ? "cmr" : "cmrwi";
+}
+
+Requirement check_of(const ReportOptions& options) { return options.require.value_or(Requirement{}); }
+
+namespace {
+
+bool monotone(Direction d) { return d == Direction::increasing || d == Direction::decreasing; }
+
+bool passes(const SplineAnalysis& a, const Requirement& check) {
+  if (check.split) return a.split && *a.split != Split::none && *a.split != Split::undecided;
+  return monotone(check.mode == Mode::cmr ? a.cmr : a.cmrwi);
+}
+
+AnalyzeOptions analyze_options(const ReportOptions& options) {
+  AnalyzeOptions ao;
+  ao.classify.max_depth = options.max_depth;
+  ao.split = check_of(options).split;
+  ao.split_mode = Mode::cmrwi;
+  return ao;
+}
+
+// Point, tangent and curvature of a Bezier segment at u (de Casteljau down to
+// three points, whose differences give the first two derivatives).
+struct Frame {
+  Vec2 point{0.0}, tangent{0.0};
+  double kappa = 0;
+};
+
+Frame frame_at(const std::vector<Vec2>& B, double u) {
+  const int n = static_cast<int>(B.size()) - 1;
+  std::vector<Vec2> w = B;
+  for (int r = 1; r <= n - 2; ++r)
+    for (int i = 0; i + r <= n; ++i) w[i] = (1 - u) * w[i] + u * w[i + 1];
+  const Vec2 a = w[1] - w[0], b = w[2] - w[1];
+  const Vec2 d1 = double(n) * ((1 - u) * a + u * b);
+  const Vec2 d2 = double(n) * (n - 1) * (b - a);
+  const Vec2 l = (1 - u) * w[0] + u * w[1], r = (1 - u) * w[1] + u * w[2];
+  const double speed = std::sqrt(dot(d1, d1));
+  return {(1 - u) * l + u * r, d1, det(d1, d2) / (speed * speed * speed)};
+}
+
+// The sign of p on all of [0, 1] when every coefficient, with its error
+// bound, is certainly of that sign: then the exact coefficients are too and p
+// has no root there. 0 when that is not certain.
+int strict_sign(const Bernstein<Bounded>& p) {
+  const int s = certain_sign(p.front());
+  if (s != 1 && s != -1) return 0;
+  for (const Bounded& c : p)
+    if (certain_sign(c) != s) return 0;
+  return s;
+}
+
+std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s, const std::vector<Vec2>& B,
+                                 const RootOptions& options) {
+  const Rational a(s.a), len = Rational(s.b) - Rational(s.a);
+  std::vector<SpanRoot> out;
+  for (const RootInterval& r : isolate_roots(p, options)) {
+    SpanRoot sr;
+    const Rational mid = (r.lo + r.hi) / 2;
+    sr.t = nearest_double(a + mid * len);
+    sr.t_lo = double_below(a + r.lo * len);
+    sr.t_hi = double_above(a + r.hi * len);
+    sr.exact = r.exact();
+    sr.multiplicity = r.multiplicity;
+    sr.sign_before = r.sign_before;
+    sr.sign_after = r.sign_after;
+    if (r.exact() && sgn(r.lo) == 0) sr.at = SpanRoot::At::start;
+    else if (r.exact() && r.lo == 1) sr.at = SpanRoot::At::end;
+    sr.kappa = frame_at(B, nearest_double(mid)).kappa;
+    out.push_back(sr);
+  }
+  return out;
+}
+
+// At a C0 knot: G1 when the end tangents (Bezier legs) point the same way, exactly.
+bool tangents_agree(const std::vector<Point<Rational>>& left, const std::vector<Point<Rational>>& right) {
+  const std::size_t d = left.size() - 1;
+  const Point<Rational> l = left[d] - left[d - 1], r = right[1] - right[0];
+  return sgn(det(l, r)) == 0 && sgn(dot(l, r)) > 0;
+}
+
+// The curve as a sequence of stretches on which a sign (of dkappa/ds, or of
+// kappa) is constant, each with the place where it ends; the events are the
+// places where the sign changes.
+struct Place {
+  double t = 0;
+  int segment = -1, joint = -1;  // inside a segment, on a joint, or (both -1) the domain end
+  double kappa = 0;
+};
+struct Stretch {
+  int sign = 0;
+  Place end;
+};
+
+void add_span_stretches(std::vector<Stretch>& out, int start_sign, const std::vector<SpanRoot>& roots, int segment,
+                        const Place& end) {
+  int sign = start_sign;
+  for (const SpanRoot& r : roots) {
+    if (r.at != SpanRoot::At::interior) continue;  // roots at the ends leave the sign inside the span alone
+    out.push_back({r.sign_before, {r.t, segment, -1, r.kappa}});
+    sign = r.sign_after;
+  }
+  out.push_back({sign, end});
+}
+
+struct SignChange {
+  Place at;
+  int before = 0, after = 0;
+};
+
+std::vector<SignChange> sign_changes(const std::vector<Stretch>& stretches) {
+  std::vector<SignChange> out;
+  int current = 0;
+  Place at;
+  for (const Stretch& s : stretches) {
+    if (current != 0 && s.sign != current) out.push_back({at, current, s.sign});
+    current = s.sign;
+    at = s.end;
+  }
+  return out;
+}
+
+}  // namespace
+
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
+  SplineReport r;
+  r.spline = spline;
+  r.name = spline.name();
+  r.analysis = analyze(spline, analyze_options(options));
+  r.pass = passes(r.analysis, check_of(options));
+
+  const int d = spline.degree(), N = spline.segment_count();
+  const std::vector<Bounded> knots_b(spline.knots().begin(), spline.knots().end());
+  const std::vector<Rational> knots_q(spline.knots().begin(), spline.knots().end());
+  std::vector<Point<Bounded>> points_b;
+  std::vector<Point<Rational>> points_q;
+  for (const Vec2& p : spline.points()) {
+    points_b.push_back(to_point<Bounded>(p));
+    points_q.push_back(to_point<Rational>(p));
+  }
+  // Exact Bezier points, where needed: lambda and eta are then exact
+  // polynomials of the spline's double data, so their roots are certain.
+  std::vector<std::optional<std::vector<Point<Rational>>>> exact(N);
+  auto exact_points = [&](int i) -> const std::vector<Point<Rational>>& {
+    const Segment& s = spline.segments()[i];
+    if (!exact[i]) exact[i] = bezier_points(knots_q, points_q, d, s.span, Rational(s.a), Rational(s.b));
+    return *exact[i];
+  };
+
+  std::vector<int> lambda_start(N), eta_start(N);  // signs just right of each segment's start
+  std::vector<std::vector<Vec2>> bezier(N);
+  for (int i = 0; i < N; ++i) {
+    const Segment& s = spline.segments()[i];
+    // Most segments' lambda or eta has coefficients of one certain sign, so no
+    // root; the error-bounded points show that without rational arithmetic.
+    const auto B = bezier_points(knots_b, points_b, d, s.span, Bounded(s.a), Bounded(s.b));
+    for (const Point<Bounded>& p : B) bezier[i].push_back({p.x.v, p.y.v});
+    SpanReport span{s, r.analysis.segments[i], false, false, {}, {}};
+    lambda_start[i] = strict_sign(lambda_bernstein<Bounded>(B));
+    if (lambda_start[i] == 0) {
+      const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact_points(i));
+      span.lambda_zero = is_zero(lambda);
+      lambda_start[i] = sign_at_start(lambda);
+      span.extrema = span_roots(lambda, s, bezier[i], options.roots);
+    }
+    eta_start[i] = strict_sign(eta_bernstein<Bounded>(B));
+    if (eta_start[i] == 0) {
+      const Bernstein<Rational> eta = eta_bernstein<Rational>(exact_points(i));
+      span.eta_zero = is_zero(eta);
+      eta_start[i] = sign_at_start(eta);
+      span.inflections = span_roots(eta, s, bezier[i], options.roots);
+    }
+    r.spans.push_back(std::move(span));
+  }
+  for (const Joint& j : r.analysis.joints) {
+    JointReport jr{j, "C" + std::to_string(j.continuity), false};
+    if (j.continuity < 1) {
+      const bool g1 = tangents_agree(exact_points(j.index - 1), exact_points(j.index));
+      jr.continuity = g1 ? "G1" : "C0";
+      jr.corner = !g1;
+    }
+    r.joints.push_back(jr);
+  }
+
+  // dkappa/ds along the whole curve: lambda's signs inside the segments and
+  // the curvature jumps at joints that are not C2 (a jump is a stretch of
+  // zero length in its own direction). Straight segments (lambda == 0) keep
+  // the curvature constant and add nothing.
+  auto span_end = [&](int i) {
+    const Place p{spline.segments()[i].b, -1, i + 1 < N ? i + 1 : -1, 0};
+    return p;
+  };
+  std::vector<Stretch> slope, sign;
+  for (int i = 0; i < N; ++i) {
+    if (i > 0 && r.analysis.joints[i - 1].jump != 0)
+      slope.push_back({r.analysis.joints[i - 1].jump, {spline.segments()[i].a, -1, i, 0}});
+    if (!r.spans[i].lambda_zero) add_span_stretches(slope, lambda_start[i], r.spans[i].extrema, i, span_end(i));
+    if (!r.spans[i].eta_zero) add_span_stretches(sign, eta_start[i], r.spans[i].inflections, i, span_end(i));
+  }
+  for (const SignChange& c : sign_changes(slope)) {
+    CurveEvent e{c.at.t, c.before > 0 ? 1 : -1, c.at.kappa, c.at.segment, c.at.joint};
+    if (c.at.joint >= 0) {
+      const Joint& j = r.analysis.joints[c.at.joint - 1];
+      e.kappa = e.kind > 0 ? std::max(j.kappa_left, j.kappa_right) : std::min(j.kappa_left, j.kappa_right);
+    }
+    r.extrema.push_back(e);
+  }
+  for (const SignChange& c : sign_changes(sign)) r.inflections.push_back({c.at.t, c.after, 0, c.at.segment, c.at.joint});
+  r.monotone_pieces = static_cast<int>(r.extrema.size()) + 1;
+
+  // Curvature range: its extremes are at segment ends or stationary points.
+  r.kappa_min = std::numeric_limits<double>::infinity();
+  r.kappa_max = -r.kappa_min;
+  auto consider = [&](double t, double k) {
+    if (!std::isfinite(k)) return;  // a cusp (zero speed): no curvature there
+    if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
+    if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
+  };
+  for (int i = 0; i < N; ++i) {
+    consider(spline.segments()[i].a, frame_at(bezier[i], 0).kappa);
+    consider(spline.segments()[i].b, frame_at(bezier[i], 1).kappa);
+    for (const SpanRoot& x : r.spans[i].extrema) consider(x.t, x.kappa);
+  }
+  return r;
+}
+
+namespace {
+
+bool passing_label(std::uint8_t label, bool split) {
+  // region.hpp: 1 increasing, 2 decreasing; with a split 1..4 are the four
+  // monotone combinations.
+  return split ? (label >= 1 && label <= 4) : (label == 1 || label == 2);
+}
+
+std::string read_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string thumbnail(const BSpline& spline, const RegionImage& image, bool split, int max_depth, Vec2 from,
+                      Vec2 to) {
+  draw::RegionPicture picture;
+  picture.spline = &spline;
+  picture.layers = {&image};
+  picture.split = split;
+  picture.max_depth = max_depth;
+  picture.moved = std::make_pair(from, to);
+  static std::atomic<int> counter{0};
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("cmr-report-" + std::to_string(::getpid()) + "-" +
+                                      std::to_string(counter++) + ".png");
+  draw::write_region_png(path, picture);
+  std::string bytes = read_bytes(path);
+  std::filesystem::remove(path);
+  return bytes;
+}
+
+}  // namespace
+
+void find_fixes(SplineReport& report, const ReportOptions& options) {
+  const BSpline& spline = *report.spline;
+  const Requirement check = check_of(options);
+  std::vector<Fix> fixes;
+  for (int k = 0; k < spline.point_count(); ++k) {
+    RegionOptions ro;
+    ro.point = k;
+    ro.mode = check.mode;
+    ro.split = check.split;
+    ro.max_depth = options.max_depth;
+    ro.width = ro.height = options.region_size;
+    const RegionSetup setup = prepare_region(spline, ro);
+    const RegionImage image = cli::render_region(setup, options.backend);
+    Fix fix;
+    fix.point = k;
+    const Vec2 current = spline.points()[k];
+    double best = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < image.height; ++j)
+      for (int i = 0; i < image.width; ++i) {
+        if (!passing_label(image.labels[static_cast<std::size_t>(j) * image.width + i], check.split.has_value()))
+          continue;
+        ++fix.pixels;
+        const Vec2 c = pixel_center(image.view, image.width, image.height, i, j);
+        const double dist = dot(c - current, c - current);
+        if (dist < best) best = dist, fix.example = c;
+      }
+    if (fix.example) {
+      fix.verified = passes(analyze(spline.with_point(k, *fix.example), analyze_options(options)), check);
+      fix.thumbnail_png =
+          thumbnail(spline, image, check.split.has_value(), options.max_depth, current, *fix.example);
+    }
+    fixes.push_back(std::move(fix));
+  }
+  report.fixes = std::move(fixes);
+}
+
+ReportInput read_input(const std::string& file) {
+  ReportInput in;
+  in.file = file;
+  try {
+    in.spline = read_spline_file(file);
+  } catch (const InputError& e) {
+    in.error = e.what();
+  }
+  return in;
+}
+
+std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
+                                       const Progress& progress) {
+  const int total = static_cast<int>(inputs.size());
+  std::vector<SplineReport> out(total);
+  std::atomic<int> next{0};
+  int done = 0;
+  std::mutex mutex;
+  std::exception_ptr failure;
+  auto work = [&] {
+    for (int i = next++; i < total; i = next++) {
+      SplineReport& r = out[i];
+      try {
+        if (inputs[i].spline) r = report_spline(*inputs[i].spline, options);
+        else r.error = inputs[i].error;
+      } catch (const InputError& e) {
+        r = SplineReport{};
+        r.error = e.what();
+      } catch (...) {
+        const std::lock_guard lock(mutex);
+        if (!failure) failure = std::current_exception();
+        return;
+      }
+      r.file = inputs[i].file;
+      if (r.name.empty()) r.name = std::filesystem::path(r.file).stem().string();
+      const std::lock_guard lock(mutex);
+      ++done;
+      if (progress) progress(done, total, r.name);
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const int threads = std::min(total, options.threads > 0 ? options.threads : static_cast<int>(hw));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+
+  if (!options.regions) return out;
+  // Regions one spline at a time: each render already uses every core (or the GPU).
+  std::vector<SplineReport*> failing;
+  for (SplineReport& r : out)
+    if (r.error.empty() && !r.pass) failing.push_back(&r);
+  for (std::size_t i = 0; i < failing.size(); ++i) {
+    find_fixes(*failing[i], options);
+    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(failing.size()), "regions: " + failing[i]->name);
+  }
+  return out;
+}
+
+int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options) {
+  bool invalid = false, fail = false;
+  for (const SplineReport& r : reports) {
+    invalid = invalid || !r.error.empty();
+    fail = fail || (r.error.empty() && !r.pass);
+  }
+  if (invalid) return cli::kInvalid;
+  if (fail && options.require) return cli::kFail;
+  return cli::kOk;
+}
+
+// ---------------------------------------------------------------- JSON
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+const char* status_of(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
+
+const char* extremum_kind(int sign_before, int sign_after) {
+  if (sign_before == sign_after) return "touch";
+  return sign_before > 0 ? "maximum" : "minimum";  // lambda + to -: kappa rises, then falls
+}
+
+const char* at_name(SpanRoot::At at) {
+  switch (at) {
+    case SpanRoot::At::interior: return "interior";
+    case SpanRoot::At::start: return "start";
+    case SpanRoot::At::end: return "end";
+  }
+  return "?";
+}
+
+Json root_json(const SpanRoot& r, bool extremum) {
+  Json j{{"t", r.t}, {"enclosure", {r.t_lo, r.t_hi}}, {"exact", r.exact}, {"multiplicity", r.multiplicity}};
+  if (extremum) {
+    j["kind"] = extremum_kind(r.sign_before, r.sign_after);
+    j["kappa"] = r.kappa;
+  } else {
+    j["kind"] = r.sign_before == r.sign_after ? "touch" : "sign change";
+  }
+  j["at"] = at_name(r.at);
+  return j;
+}
+
+Json place_json(Json j, const CurveEvent& e) {
+  j["on_joint"] = e.joint >= 0;
+  j["segment"] = e.segment >= 0 ? Json(e.segment) : Json(nullptr);
+  j["joint"] = e.joint >= 0 ? Json(e.joint) : Json(nullptr);
+  return j;
+}
+
+Json spline_json(const SplineReport& r, int index) {
+  Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_of(r)}};
+  if (!r.error.empty()) {
+    j["error"] = r.error;
+    return j;
+  }
+  const BSpline& s = *r.spline;
+  j["degree"] = s.degree();
+  j["control_points"] = s.point_count();
+  j["domain"] = {s.domain_begin(), s.domain_end()};
+  Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)}, {"cmr", to_string(r.analysis.cmr)}};
+  if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
+  verdict["joint_conflicts"] = r.analysis.joint_conflicts;
+  j["verdict"] = verdict;
+
+  Json extrema = Json::array(), inflections = Json::array();
+  for (const CurveEvent& e : r.extrema)
+    extrema.push_back(place_json({{"t", e.t}, {"kind", e.kind > 0 ? "maximum" : "minimum"}, {"kappa", e.kappa}}, e));
+  for (const CurveEvent& e : r.inflections)
+    inflections.push_back(place_json({{"t", e.t}, {"kappa_sign_after", e.kind}}, e));
+  j["curvature"] = {{"min", {{"kappa", r.kappa_min}, {"t", r.t_min}}},
+                    {"max", {{"kappa", r.kappa_max}, {"t", r.t_max}}},
+                    {"monotone_pieces", r.monotone_pieces},
+                    {"extrema", extrema},
+                    {"inflections", inflections}};
+
+  Json segments = Json::array();
+  for (const SpanReport& sp : r.spans) {
+    Json e = Json::array(), i = Json::array();
+    for (const SpanRoot& x : sp.extrema) e.push_back(root_json(x, true));
+    for (const SpanRoot& x : sp.inflections) i.push_back(root_json(x, false));
+    segments.push_back({{"index", sp.segment.index},
+                        {"interval", {sp.segment.a, sp.segment.b}},
+                        {"curvature", to_string(sp.classification.monotonicity.curvature)},
+                        {"inflection", to_string(sp.classification.inflection.inflection)},
+                        {"depth", sp.classification.monotonicity.depth},
+                        {"inflection_depth", sp.classification.inflection.depth},
+                        {"exact", sp.classification.exact_used},
+                        {"lambda_zero", sp.lambda_zero},
+                        {"eta_zero", sp.eta_zero},
+                        {"extrema", e},
+                        {"inflections", i}});
+  }
+  j["segments"] = segments;
+
+  Json joints = Json::array();
+  for (const JointReport& jr : r.joints) {
+    const Joint& jt = jr.joint;
+    joints.push_back({{"index", jt.index},
+                      {"knot", jt.knot},
+                      {"multiplicity", jt.multiplicity},
+                      {"continuity", jr.continuity},
+                      {"corner", jr.corner},
+                      {"kappa_left", jt.kappa_left},
+                      {"kappa_right", jt.kappa_right},
+                      {"jump", jt.jump > 0 ? "up" : (jt.jump < 0 ? "down" : "none")}});
+  }
+  j["joints"] = joints;
+
+  if (r.fixes) {
+    Json fixes = Json::array();
+    for (const Fix& f : *r.fixes) {
+      Json fj{{"point", f.point}, {"region_pixels", f.pixels}};
+      fj["example"] = f.example ? Json{f.example->x, f.example->y} : Json(nullptr);
+      fj["verified"] = f.verified;
+      fixes.push_back(fj);
+    }
+    j["fixes"] = fixes;
+  } else {
+    j["fixes"] = nullptr;
+  }
+  return j;
+}
+
+}  // namespace
+
+nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options) {
+  int pass = 0, fail = 0, invalid = 0;
+  Json splines = Json::array();
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const SplineReport& r = reports[i];
+    (!r.error.empty() ? invalid : (r.pass ? pass : fail))++;
+    splines.push_back(spline_json(r, static_cast<int>(i)));
+  }
+  Json regions = nullptr;
+  if (options.regions)
+    regions = {{"size", options.region_size},
+               {"backend", options.backend.backend == cli::Backend::cpu ? "cpu" : "vulkan"}};
+  return {{"schema", kSchema},
+          {"settings",
+           {{"check", to_string(check_of(options))},
+            {"gate", options.require.has_value()},
+            {"depth", options.max_depth},
+            {"root_tolerance", options.roots.tolerance},
+            {"regions", regions}}},
+          {"summary",
+           {{"splines", reports.size()},
+            {"pass", pass},
+            {"fail", fail},
+            {"invalid", invalid},
+            {"exit_code", exit_code(reports, options)}}},
+          {"splines", splines}};
+}
+
+// ---------------------------------------------------------------- HTML
+
+namespace {
+
+// Colours shared by the pictures and the page (maxima red, minima blue, as
+// the paper paints increasing and decreasing regions).
+constexpr const char* kRed = "#d00000";
+constexpr const char* kBlue = "#0040d0";
+constexpr const char* kGreen = "#108010";
+
+void fixed(std::string& out, double v, int decimals = 1) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  out.append(buf, r.ptr);
+}
+
+std::string num(double v) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "undefined" : (v > 0 ? "∞" : "−∞");
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6);
+  return std::string(buf, r.ptr);
+}
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+// Maps world coordinates into an SVG box with a 10 px margin, y up; `left`
+// and `bottom` centre content that does not fill the box.
+struct Canvas {
+  double x0, y0, scale_x, scale_y, height;
+  double left = 10, bottom = 10;
+  double x(double wx) const { return (wx - x0) * scale_x + left; }
+  double y(double wy) const { return height - bottom - (wy - y0) * scale_y; }
+};
+
+void point_xy(std::string& out, const Canvas& c, Vec2 p) {
+  fixed(out, c.x(p.x));
+  out += ',';
+  fixed(out, c.y(p.y));
+}
+
+void marker(std::string& out, double x, double y, const char* colour, double radius = 4) {
+  out += "<circle cx=\"";
+  fixed(out, x);
+  out += "\" cy=\"";
+  fixed(out, y);
+  out += "\" r=\"";
+  fixed(out, radius);
+  out += "\" fill=\"";
+  out += colour;
+  out += "\"/>";
+}
+
+constexpr int kSamples = 24;  // per segment, for the curve, the comb and the plot
+
+// The curve, its control polygon and its curvature comb (teeth along the
+// normal, away from the centre of curvature, the longest 18% of the extent).
+void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
+  const BSpline& s = *r.spline;
+  const double W = 440, H = 330;
+  Vec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  double kmax = 0;
+  auto grow = [&](Vec2 p) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) return;
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  };
+  for (const Vec2& p : s.points()) grow(p);
+  for (const auto& fs : frames)
+    for (const Frame& f : fs) {
+      grow(f.point);
+      if (std::isfinite(f.kappa)) kmax = std::max(kmax, std::fabs(f.kappa));
+    }
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 1e-300});
+  const double comb = kmax > 0 ? 0.18 * extent / kmax : 0;
+  auto tip = [&](const Frame& f) {
+    const double len = std::sqrt(dot(f.tangent, f.tangent));
+    const Vec2 normal = len > 0 ? Vec2(-f.tangent.y, f.tangent.x) / len : Vec2(0.0);
+    return f.point - comb * (std::isfinite(f.kappa) ? f.kappa : 0.0) * normal;
+  };
+  for (const auto& fs : frames)
+    for (const Frame& f : fs) grow(tip(f));
+  const double scale = std::min((W - 20) / std::max(hi.x - lo.x, 1e-300), (H - 20) / std::max(hi.y - lo.y, 1e-300));
+  const Canvas c{lo.x, lo.y, scale, scale, H, 0.5 * (W - (hi.x - lo.x) * scale), 0.5 * (H - (hi.y - lo.y) * scale)};
+
+  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"330\" class=\"curve\">";
+  out += "<path fill=\"none\" stroke=\"#8fb0e8\" stroke-width=\"1\" d=\"";
+  for (const auto& fs : frames)
+    for (const Frame& f : fs) {
+      out += 'M';
+      point_xy(out, c, f.point);
+      out += 'L';
+      point_xy(out, c, tip(f));
+    }
+  out += "\"/><path fill=\"none\" stroke=\"";
+  out += kBlue;
+  out += "\" stroke-width=\"1.2\" d=\"";
+  for (const auto& fs : frames) {
+    out += 'M';
+    for (const Frame& f : fs) {
+      point_xy(out, c, tip(f));
+      out += ' ';
+    }
+  }
+  out += "\"/><polyline fill=\"none\" stroke=\"#999\" stroke-dasharray=\"4 3\" points=\"";
+  for (const Vec2& p : s.points()) {
+    point_xy(out, c, p);
+    out += ' ';
+  }
+  out += "\"/><path fill=\"none\" stroke=\"#111\" stroke-width=\"2\" d=\"";
+  for (const auto& fs : frames) {
+    out += 'M';
+    for (const Frame& f : fs) {
+      point_xy(out, c, f.point);
+      out += ' ';
+    }
+  }
+  out += "\"/>";
+  for (int k = 0; k < s.point_count(); ++k) {
+    const Vec2 p = s.points()[k];
+    marker(out, c.x(p.x), c.y(p.y), "#666", 2.5);
+    out += "<text font-size=\"10\" fill=\"#444\" x=\"";
+    fixed(out, c.x(p.x) + 4);
+    out += "\" y=\"";
+    fixed(out, c.y(p.y) - 4);
+    out += "\">P" + std::to_string(k) + "</text>";
+  }
+  for (const CurveEvent& e : r.extrema) {
+    const Vec2 p = evaluate(s, e.t);
+    marker(out, c.x(p.x), c.y(p.y), e.kind > 0 ? kRed : kBlue, 4.5);
+  }
+  for (const CurveEvent& e : r.inflections) {
+    const Vec2 p = evaluate(s, e.t);
+    marker(out, c.x(p.x), c.y(p.y), kGreen, 3.5);
+  }
+  out += "</svg>";
+}
+
+// Signed curvature against the parameter: knots dashed, maxima red, minima
+// blue, inflections green.
+void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
+  const BSpline& s = *r.spline;
+  const double W = 440, H = 240;
+  double klo = std::isfinite(r.kappa_min) ? std::min(r.kappa_min, 0.0) : 0.0;
+  double khi = std::isfinite(r.kappa_max) ? std::max(r.kappa_max, 0.0) : 0.0;
+  if (!(khi > klo)) khi = klo + 1;
+  const double pad = 0.06 * (khi - klo);
+  klo -= pad;
+  khi += pad;
+  const double t0 = s.domain_begin(), t1 = s.domain_end();
+  const Canvas c{t0, klo, (W - 20) / (t1 - t0), (H - 20) / (khi - klo), H};
+  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"240\" class=\"plot\">";
+  out += "<rect x=\"10\" y=\"10\" width=\"420\" height=\"220\" fill=\"#fafafa\" stroke=\"#ccc\"/>";
+  out += "<line stroke=\"#aaa\" x1=\"10\" x2=\"430\" y1=\"";
+  fixed(out, c.y(0));
+  out += "\" y2=\"";
+  fixed(out, c.y(0));
+  out += "\"/><path stroke=\"#bbb\" stroke-dasharray=\"3 3\" d=\"";
+  for (const Segment& seg : s.segments()) {
+    out += 'M';
+    fixed(out, c.x(seg.a));
+    out += ",10V230";
+  }
+  out += "\"/><path fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" d=\"";
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const Segment& seg = s.segments()[i];
+    out += 'M';
+    for (int k = 0; k <= kSamples; ++k) {
+      const double kappa = std::clamp(frames[i][k].kappa, klo, khi);  // a cusp's infinity stays on the plot
+      fixed(out, c.x(seg.a + (seg.b - seg.a) * k / kSamples));
+      out += ',';
+      fixed(out, c.y(std::isnan(kappa) ? 0.0 : kappa));
+      out += ' ';
+    }
+  }
+  out += "\"/>";
+  for (const CurveEvent& e : r.extrema)
+    marker(out, c.x(e.t), c.y(std::clamp(e.kappa, klo, khi)), e.kind > 0 ? kRed : kBlue, 4.5);
+  for (const CurveEvent& e : r.inflections) marker(out, c.x(e.t), c.y(0), kGreen, 3.5);
+  out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + escape(num(khi)) + "</text>";
+  out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + escape(num(klo)) + "</text>";
+  out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + escape(num(t1)) + "</text>";
+  out += "</svg>";
+}
+
+std::string badge(const SplineReport& r) {
+  const std::string st = status_of(r);
+  std::string label = st;
+  std::transform(label.begin(), label.end(), label.begin(), [](unsigned char ch) { return std::toupper(ch); });
+  return "<span class=\"badge " + st + "\">" + label + "</span>";
+}
+
+std::string roots_cell(const std::vector<SpanRoot>& roots, bool extremum) {
+  std::string out;
+  for (const SpanRoot& x : roots) {
+    if (!out.empty()) out += "<br>";
+    const std::string kind =
+        extremum ? extremum_kind(x.sign_before, x.sign_after) : (x.sign_before != x.sign_after ? "sign change" : "touch");
+    out += num(x.t) + (x.exact ? " (exact) " : " ") + kind;
+    if (x.multiplicity > 1) out += " ×" + std::to_string(x.multiplicity);
+  }
+  return out.empty() ? "—" : out;
+}
+
+std::string place_text(const CurveEvent& e) {
+  return e.joint >= 0 ? "on joint " + std::to_string(e.joint) : "inside segment " + std::to_string(e.segment);
+}
+
+void section_html(std::string& out, const SplineReport& r, int index, const ReportOptions& options) {
+  out += "<section id=\"s" + std::to_string(index) + "\"><h2>" + escape(r.name) + " " + badge(r) + "</h2>";
+  out += "<p class=\"file\">" + escape(r.file) + "</p>";
+  if (!r.error.empty()) {
+    out += "<p class=\"error\">" + escape(r.error) + "</p></section>";
+    return;
+  }
+  const BSpline& s = *r.spline;
+  std::vector<std::vector<Frame>> frames(r.spans.size());
+  for (std::size_t i = 0; i < r.spans.size(); ++i) {
+    const std::vector<Vec2> B = bezier_segment(s, r.spans[i].segment).points;
+    for (int k = 0; k <= kSamples; ++k) frames[i].push_back(frame_at(B, static_cast<double>(k) / kSamples));
+  }
+  out += "<p>check <b>" + escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
+         ", CMR " + to_string(r.analysis.cmr);
+  if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
+  out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) + (s.segment_count() == 1 ? " segment, " : " segments, ") +
+         std::to_string(r.monotone_pieces) + " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") +
+         "; κ from " + num(r.kappa_min) + " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) + " (t = " +
+         num(r.t_max) + ").</p>";
+  out += "<div class=\"figs\"><figure>";
+  curve_svg(out, r, frames);
+  out += "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
+         "green</figcaption></figure><figure>";
+  plot_svg(out, r, frames);
+  out += "<figcaption>Signed curvature κ(t); knots dashed</figcaption></figure></div>";
+
+  out += "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>inflection</th><th>depth</th>"
+         "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
+  for (const SpanReport& sp : r.spans) {
+    out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " +
+           num(sp.segment.b) + "]</td><td>" + to_string(sp.classification.monotonicity.curvature) + "</td><td>" +
+           to_string(sp.classification.inflection.inflection) + "</td><td>" +
+           std::to_string(sp.classification.monotonicity.depth) + " / " +
+           std::to_string(sp.classification.inflection.depth) + "</td><td>" + roots_cell(sp.extrema, true) +
+           "</td><td>" + roots_cell(sp.inflections, false) + "</td></tr>";
+  }
+  out += "</table>";
+  if (!r.joints.empty()) {
+    out += "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>κ left</th>"
+           "<th>κ right</th><th>jump</th></tr>";
+    for (const JointReport& j : r.joints)
+      out += "<tr><td>" + std::to_string(j.joint.index) + "</td><td>" + num(j.joint.knot) + "</td><td>" +
+             std::to_string(j.joint.multiplicity) + "</td><td>" + j.continuity + (j.corner ? " (corner)" : "") +
+             "</td><td>" + num(j.joint.kappa_left) + "</td><td>" + num(j.joint.kappa_right) + "</td><td>" +
+             (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
+    out += "</table>";
+  }
+  out += "<p>Curvature extrema: ";
+  if (r.extrema.empty()) out += "none";
+  for (std::size_t i = 0; i < r.extrema.size(); ++i) {
+    const CurveEvent& e = r.extrema[i];
+    out += (i ? "; " : "") + std::string(e.kind > 0 ? "<span class=\"max\">maximum</span>" : "<span class=\"min\">minimum</span>") +
+           " κ = " + num(e.kappa) + " at t = " + num(e.t) + " (" + place_text(e) + ")";
+  }
+  out += ". Inflections: ";
+  if (r.inflections.empty()) out += "none";
+  for (std::size_t i = 0; i < r.inflections.size(); ++i)
+    out += (i ? "; " : "") + std::string("t = ") + num(r.inflections[i].t) + " (" + place_text(r.inflections[i]) + ")";
+  out += ".</p>";
+
+  if (r.fixes) {
+    out += "<div class=\"fixes\"><h3>Single control points that can fix it</h3>";
+    bool any = false;
+    for (const Fix& f : *r.fixes) {
+      if (!f.example) continue;
+      any = true;
+      out += "<figure>";
+      if (!f.thumbnail_png.empty())
+        out += "<img alt=\"region of P" + std::to_string(f.point) + "\" width=\"" +
+               std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," +
+               base64(f.thumbnail_png) + "\">";
+      out += "<figcaption>move P" + std::to_string(f.point) + " into its region, e.g. to (" + num(f.example->x) +
+             ", " + num(f.example->y) + ")" + (f.verified ? " ✓" : " (not confirmed by analyze)") +
+             "</figcaption></figure>";
+    }
+    if (!any) out += "<p>No single control point has a region in the default view.</p>";
+    out += "</div>";
+  }
+  out += "</section>";
+}
+
+constexpr const char* kStyle =
+    "body{font:14px/1.4 sans-serif;margin:24px;color:#222}"
+    "table{border-collapse:collapse;margin:8px 0}td,th{border:1px solid #ccc;padding:2px 8px;text-align:left;"
+    "vertical-align:top}th{background:#f0f0f0}"
+    ".badge{color:#fff;padding:1px 8px;border-radius:3px;font-size:13px}"
+    ".pass{background:#1a7f1a}.fail{background:#d00000}.invalid{background:#666}"
+    ".max{color:#d00000}.min{color:#0040d0}.error{color:#a00000;font-family:monospace}"
+    ".file{color:#666;font-family:monospace;margin:0}"
+    ".figs,.fixes{display:flex;flex-wrap:wrap;gap:12px}.fixes h3{width:100%;margin:4px 0}"
+    "figure{margin:0}figcaption{font-size:12px;color:#555;max-width:260px}img{border:1px solid #ccc}"
+    "section{border-top:2px solid #ddd;margin-top:24px}";
+
+}  // namespace
+
+std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options) {
+  int pass = 0, fail = 0, invalid = 0;
+  for (const SplineReport& r : reports) (!r.error.empty() ? invalid : (r.pass ? pass : fail))++;
+  const std::string counts = std::to_string(reports.size()) + (reports.size() == 1 ? " spline: " : " splines: ") + std::to_string(pass) + " pass, " +
+                             std::to_string(fail) + " fail, " + std::to_string(invalid) + " invalid";
+  std::string out;
+  out.reserve(reports.size() * 24000);
+  out += "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " + counts +
+         "</title><style>";
+  out += kStyle;
+  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" +
+         escape(to_string(check_of(options))) + "</b>" + (options.require ? " (required)" : " (not required)") +
+         ", depth " + std::to_string(options.max_depth) + ", schema " + kSchema + ".</p>";
+  out += "<table class=\"index\"><tr><th>#</th><th>spline</th><th>file</th><th>status</th><th>CMRWI</th><th>CMR</th>"
+         "<th>monotone pieces</th></tr>";
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const SplineReport& r = reports[i];
+    const std::string id = "s" + std::to_string(i);
+    out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + escape(r.name) + "</a></td><td>" +
+           escape(r.file) + "</td><td>" + badge(r) + "</td>";
+    if (r.error.empty())
+      out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) +
+             "</td><td>" + std::to_string(r.monotone_pieces) + "</td></tr>";
+    else
+      out += "<td colspan=\"3\">invalid input</td></tr>";
+  }
+  out += "</table>";
+  for (std::size_t i = 0; i < reports.size(); ++i) section_html(out, reports[i], static_cast<int>(i), options);
+  out += "</body></html>\n";
+  return out;
+}
+
+void write_report(const std::filesystem::path& dir, const std::vector<SplineReport>& reports,
+                  const ReportOptions& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
+  cli::write_file_atomic(dir / "report.json", report_json(reports, options).dump(2) + "\n");
+  cli::write_file_atomic(dir / "index.html", report_html(reports, options));
+}
+
+}  // namespace cmr::report

@@ -1,0 +1,144 @@
+#pragma once
+// Spline QA reports (`cmr report`): per spline, every span's classification
+// (Algorithms 1 and 2, CAD&A 2024 §3), the certified parameters of its
+// curvature extrema and inflections (bezierize/roots.hpp), the joints, the
+// monotone pieces of the whole curve, and for a spline that fails the check,
+// which single control points have a region that fixes it (§4). Rendered as a
+// versioned JSON document (docs/report-schema.md) and one self-contained HTML
+// page; the exit code gates a batch.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/roots.hpp"
+#include "tools/region_backend.hpp"
+
+namespace cmr::report {
+
+inline constexpr const char* kSchema = "cmr-report/1";
+
+/// What a spline must satisfy to pass: its CMRWI or CMR verdict is increasing
+/// or decreasing, or (split:S) segments 0..S-1 and S..N-1 are each monotone in
+/// CMRWI mode, any directions.
+struct Requirement {
+  Mode mode = Mode::cmr;
+  std::optional<int> split;
+};
+/// Parses "cmrwi", "cmr" or "split:S" (InputError otherwise).
+Requirement parse_requirement(const std::string& text);
+std::string to_string(const Requirement& r);
+
+struct ReportOptions {
+  std::optional<Requirement> require;  ///< the gate; when empty splines are judged by CMR but cannot fail the run
+  int max_depth = 12;                  ///< D of Algorithms 1 and 2
+  bool regions = true;                 ///< search single-point fixes (region images) and draw their thumbnails
+  int region_size = 96;                ///< fix-search images are region_size x region_size over the default view
+  cli::BackendOptions backend;         ///< where region images are rendered
+  int threads = 0;                     ///< threads for the per-spline analysis; 0: all cores
+  RootOptions roots;                   ///< enclosure width of extrema and inflections
+};
+
+/// The check a spline is judged by: the requirement, or CMR without one.
+Requirement check_of(const ReportOptions& options);
+
+/// A root of lambda (a stationary point of the curvature) or of eta (a zero of
+/// the curvature) in one segment, mapped to the spline's parameter.
+struct SpanRoot {
+  double t = 0;              ///< nearest double to the root (to its enclosure's midpoint if not exact)
+  double t_lo = 0, t_hi = 0; ///< enclosure, rounded outwards
+  bool exact = false;        ///< the root is t exactly (before rounding to double)
+  int multiplicity = 1;
+  int sign_before = 0, sign_after = 0;  ///< of lambda (or eta) as this segment's polynomial
+  enum class At : std::uint8_t { interior, start, end } at = At::interior;
+  double kappa = 0;          ///< curvature there
+};
+
+struct SpanReport {
+  Segment segment;
+  SegmentClass classification;
+  bool lambda_zero = false;          ///< lambda == 0: constant curvature (a straight segment)
+  bool eta_zero = false;             ///< eta == 0: zero curvature
+  std::vector<SpanRoot> extrema;     ///< roots of lambda
+  std::vector<SpanRoot> inflections; ///< roots of eta
+};
+
+struct JointReport {
+  Joint joint;
+  std::string continuity;  ///< "C<k>" from the knots (k >= 1), else "G1" (tangent directions agree) or "C0"
+  bool corner = false;     ///< C0 and not G1
+};
+
+/// A curvature extremum or inflection of the whole curve: a change in the sign
+/// of dkappa/ds (or of kappa) along the parameter, jumps at joints included.
+struct CurveEvent {
+  double t = 0;
+  int kind = 0;       ///< extremum: +1 maximum, -1 minimum; inflection: sign of kappa after it
+  double kappa = 0;   ///< extremum: the extreme value (the larger / smaller side of a jump)
+  int segment = -1;   ///< inside this segment, or
+  int joint = -1;     ///< on this joint (index i: between segments i-1 and i)
+};
+
+struct Fix {
+  int point = 0;
+  std::uint64_t pixels = 0;    ///< pixels of the region that pass the check
+  std::optional<Vec2> example; ///< the passing pixel centre nearest the current point
+  bool verified = false;       ///< analyze on the spline with the point moved there passes
+  std::string thumbnail_png;   ///< region picture (PNG bytes); empty when not drawn
+};
+
+struct SplineReport {
+  std::string file;   ///< as given on the command line (or a label)
+  std::string name;   ///< the spline's name, else the file's stem
+  std::string error;  ///< invalid input: the message; nothing below is filled
+  std::optional<BSpline> spline;
+  SplineAnalysis analysis;
+  bool pass = false;
+  std::vector<SpanReport> spans;
+  std::vector<JointReport> joints;
+  std::vector<CurveEvent> extrema;      ///< in parameter order
+  std::vector<CurveEvent> inflections;  ///< in parameter order
+  int monotone_pieces = 1;              ///< extrema.size() + 1
+  double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;
+  std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
+};
+
+/// One item of a batch: a spline, or why it could not be read.
+struct ReportInput {
+  std::string file;
+  std::optional<BSpline> spline;
+  std::string error;
+};
+ReportInput read_input(const std::string& file);
+
+/// Everything but the regions for one spline (thread-safe). Throws InputError
+/// when the options do not fit the spline (a split joint it does not have).
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options);
+/// Fills report.fixes for a failing spline (renders one region per control point).
+void find_fixes(SplineReport& report, const ReportOptions& options);
+
+/// Called after each spline is analysed, then after each failing one has its
+/// regions: (done, total, name; "regions: name" in the second pass).
+using Progress = std::function<void(int, int, const std::string&)>;
+/// Reports a batch: the analysis on options.threads threads, then the regions.
+/// An input error of one item becomes that item's error; the others go on.
+std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
+                                       const Progress& progress = {});
+
+/// 0 when every spline passes (or there is no requirement), 1 when one fails,
+/// 2 when an input is invalid (cli::Exit codes).
+int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options);
+
+nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
+/// One self-contained page: no network, pictures inline (SVG, data: URIs).
+std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options);
+/// Writes dir/report.json and dir/index.html atomically, creating dir.
+void write_report(const std::filesystem::path& dir, const std::vector<SplineReport>& reports,
+                  const ReportOptions& options);
+
+}  // namespace cmr::report
