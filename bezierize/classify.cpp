@@ -1,6 +1,9 @@
 #include "bezierize/classify.hpp"
 
 #include "bezierize/extract.hpp"
+#include "bezierize/fast_lambda.hpp"
+
+#include <cmath>
 #include "bezierize/lambda.hpp"
 
 namespace cmr {
@@ -199,6 +202,134 @@ SegmentClass finish(std::optional<MonotonicityResult> mono, std::optional<Inflec
   return out;
 }
 
+// Algorithms 1 and 2 on (value, bound) arrays without allocating: the same
+// traversal and the same bound propagation as algorithm1<Bounded>, for
+// degrees up to kFastMaxDegree and depths up to 30.
+constexpr int kFastCoefficients = 4 * kFastMaxDegree - 6;
+
+template <bool Inflection>
+int fast_piece(const double* v, const double* e, int n1) {
+  int pos = 0, neg = 0, unk = 0, first = 0, last = 0;
+  for (int i = 0; i < n1; ++i) {
+    const int g = std::fabs(v[i]) > e[i] ? (v[i] > 0 ? 1 : -1) : kSignUnknown;
+    if (i == 0) first = g;
+    if (i == n1 - 1) last = g;
+    if (g == kSignUnknown) ++unk;
+    else if (g > 0) ++pos;
+    else ++neg;
+  }
+  const bool ends_known = first != kSignUnknown && last != kSignUnknown;
+  if (Inflection) {
+    if (!ends_known) return static_cast<int>(Piece::uncertain);
+    if (first * last < 0) return static_cast<int>(Piece::inflection);
+    if (pos == n1 || neg == n1) return static_cast<int>(Piece::no_inflection);
+    if (pos > 0 && neg > 0) return static_cast<int>(Piece::split);
+    return static_cast<int>(Piece::uncertain);
+  }
+  if (ends_known && first * last < 0) return static_cast<int>(Piece::non_monotone);
+  const bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
+  if (ge) return static_cast<int>(Piece::increasing);
+  if (le) return static_cast<int>(Piece::decreasing);
+  if (neg == 0 || pos == 0 || !ends_known) return static_cast<int>(Piece::uncertain);
+  return static_cast<int>(Piece::split);
+}
+
+// Visits pieces as traverse() does; visit(piece, level) returns true to stop.
+template <bool Inflection, class Visit>
+bool fast_traverse(const double* v0, const double* e0, int n1, int max_depth, Visit visit) {
+  double sv[32 * kFastCoefficients], se[32 * kFastCoefficients];
+  int levels[32];
+  double wv[kFastCoefficients], we[kFastCoefficients];
+  std::copy(v0, v0 + n1, sv);
+  std::copy(e0, e0 + n1, se);
+  levels[0] = 0;
+  int sp = 1;
+  while (sp > 0) {
+    --sp;
+    double* cv = sv + sp * n1;
+    double* ce = se + sp * n1;
+    const int level = levels[sp];
+    const Piece p = static_cast<Piece>(fast_piece<Inflection>(cv, ce, n1));
+    if (p == Piece::uncertain) return false;
+    if (p == Piece::split && level < max_depth) {
+      // Halve as bernstein_halve<Bounded>: right half stays at sp, left above.
+      double* lv = cv + n1;
+      double* le = ce + n1;
+      std::copy(cv, cv + n1, wv);
+      std::copy(ce, ce + n1, we);
+      lv[0] = wv[0];
+      le[0] = we[0];
+      cv[n1 - 1] = wv[n1 - 1];
+      ce[n1 - 1] = we[n1 - 1];
+      for (int r = 1; r < n1; ++r) {
+        for (int i = 0; i + r < n1; ++i) {
+          const Bounded h = (Bounded(wv[i], we[i]) + Bounded(wv[i + 1], we[i + 1])).half();
+          wv[i] = h.v;
+          we[i] = h.e;
+        }
+        lv[r] = wv[0];
+        le[r] = we[0];
+        cv[n1 - 1 - r] = wv[n1 - 1 - r];
+        ce[n1 - 1 - r] = we[n1 - 1 - r];
+      }
+      levels[sp] = levels[sp + 1] = level + 1;
+      sp += 2;
+      continue;
+    }
+    if (visit(p, level)) break;
+  }
+  return true;
+}
+
+std::optional<MonotonicityResult> fast_algorithm1(const double* v, const double* e, int n1, int max_depth) {
+  // Most segments are decided by the whole segment (level 0): no stack.
+  switch (static_cast<Piece>(fast_piece<false>(v, e, n1))) {
+    case Piece::non_monotone: return MonotonicityResult{Curvature::non_monotone, 0};
+    case Piece::increasing: return MonotonicityResult{Curvature::increasing, 0};
+    case Piece::decreasing: return MonotonicityResult{Curvature::decreasing, 0};
+    case Piece::uncertain: return std::nullopt;
+    default: break;
+  }
+  bool inc = false, dec = false, undecided = false;
+  int deepest = 0;
+  std::optional<MonotonicityResult> stop;
+  const bool certain = fast_traverse<false>(v, e, n1, max_depth, [&](Piece p, int level) {
+    if (p == Piece::non_monotone) {
+      stop = MonotonicityResult{Curvature::non_monotone, level};
+      return true;
+    }
+    if (p == Piece::increasing) inc = true;
+    else if (p == Piece::decreasing) dec = true;
+    else undecided = true;
+    deepest = std::max(deepest, level);
+    if (inc && dec) stop = MonotonicityResult{Curvature::non_monotone, level};
+    return stop.has_value();
+  });
+  if (!certain) return std::nullopt;
+  if (stop) return stop;
+  if (undecided) return MonotonicityResult{Curvature::undecided, max_depth};
+  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+}
+
+std::optional<InflectionResult> fast_algorithm2(const double* v, const double* e, int n1, int max_depth) {
+  bool undecided = false;
+  int deepest = 0;
+  std::optional<InflectionResult> stop;
+  const bool certain = fast_traverse<true>(v, e, n1, max_depth, [&](Piece p, int level) {
+    if (p == Piece::inflection) {
+      stop = InflectionResult{Inflection::present, level, 0};
+      return true;
+    }
+    if (p != Piece::no_inflection) undecided = true;
+    deepest = std::max(deepest, level);
+    return false;
+  });
+  if (!certain) return std::nullopt;
+  if (stop) return stop;
+  if (undecided) return InflectionResult{Inflection::undecided, max_depth, 0};
+  return InflectionResult{Inflection::none, deepest, v[0] > 0 ? 1 : -1};
+}
+
 template <class T>
 std::vector<Point<T>> convert(const std::vector<Vec2>& P) {
   std::vector<Point<T>> out;
@@ -225,12 +356,24 @@ SegmentClass classify_exact(const std::vector<Point<Rational>>& points, const Cl
   return finish(mono, infl, true);
 }
 
-SegmentClass classify_bezier(const std::vector<Vec2>& points, const ClassifyOptions& options) {
+SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options) {
   std::optional<MonotonicityResult> mono;
   std::optional<InflectionResult> infl;
-  classify_points<Bounded>(convert<Bounded>(points), options, mono, infl);
+  const int n = static_cast<int>(points.size()) - 1;
+  if (n <= kFastMaxDegree) {
+    // Plain double with a-priori bounds; most segments are decided at level 0.
+    FastCoefficients f;
+    fast_lambda_eta(points.data(), n, f);
+    if (options.max_depth <= 30) {
+      mono = fast_algorithm1(f.xi.data(), f.xi_err.data(), f.n_xi, options.max_depth);
+      if (options.inflection) infl = fast_algorithm2(f.nu.data(), f.nu_err.data(), f.n_nu, options.max_depth);
+    }
+    if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
+  }
+  const std::vector<Vec2> pts(points.begin(), points.end());
+  if (!mono || (options.inflection && !infl)) classify_points<Bounded>(convert<Bounded>(pts), options, mono, infl);
   if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
-  classify_points<Rational>(convert<Rational>(points), options, mono, infl);
+  classify_points<Rational>(convert<Rational>(pts), options, mono, infl);
   return finish(mono, infl, true);
 }
 

@@ -24,6 +24,7 @@
 // result is always the one Algorithms 1 and 2 give on exact coefficients.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -76,7 +77,7 @@ std::optional<SegmentClass> classify_bounded(const std::vector<Point<Bounded>>& 
 SegmentClass classify_exact(const std::vector<Point<Rational>>& points, const ClassifyOptions& options = {});
 
 /// Classifies a Bezier segment given by its control points (exact doubles).
-SegmentClass classify_bezier(const std::vector<Vec2>& points, const ClassifyOptions& options = {});
+SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options = {});
 /// Classifies segment s of a B-spline; exactness is relative to the spline's
 /// double knots and control points (the Bezier points are rounded, so the
 /// exact path re-extracts them from the knots exactly).

@@ -133,7 +133,8 @@ Rational upper(const Found& f) { return f.exact ? to_rational(f.at) : to_rationa
 // Order of the first derivative of p that does not vanish at r (p(r) == 0).
 int multiplicity_at(const Bernstein<Rational>& p, const Rational& r) {
   int m = 1;
-  for (Bernstein<Rational> d = bernstein_derivative(p); sgn(bernstein_eval(d, r)) == 0; d = bernstein_derivative(d)) ++m;
+  for (Bernstein<Rational> d = bernstein_derivative(p); sgn(bernstein_eval(d, r)) == 0; d = bernstein_derivative(d))
+    ++m;
   return m;
 }
 
@@ -208,8 +209,10 @@ Poly power_from_bernstein(const Bernstein<Rational>& c) {
     Rational s = 0;
     for (int i = 0; i <= j; ++i) {
       const Rational term = Rational(to_mpz(binomial(j, i))) * c[i];
-      if ((j - i) % 2 == 0) s += term;
-      else s -= term;
+      if ((j - i) % 2 == 0)
+        s += term;
+      else
+        s -= term;
     }
     a[j] = Rational(to_mpz(binomial(n, j))) * s;
   }

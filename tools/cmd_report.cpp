@@ -76,8 +76,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
         ++(r.pass ? pass : fail);
       }
     }
-    std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail << " fail, " << invalid
-              << " invalid; wrote " << (std::filesystem::path(args->out) / "index.html").string() << " and "
+    std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail
+              << " fail, " << invalid << " invalid; wrote "
+              << (std::filesystem::path(args->out) / "index.html").string() << " and "
               << (std::filesystem::path(args->out) / "report.json").string() << '\n';
     exit_code = report::exit_code(reports, o);
   });

@@ -78,7 +78,7 @@ Context make_context(cairo_surface_t* surface) {
   return cr;
 }
 
-void set_colour(cairo_t* cr, Rgb c, double alpha = 1) { cairo_set_source_rgba(cr, c.r, c.g, c.b, alpha); }
+void set_colour(cairo_t* cr, Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
 
 void write_png_atomic(cairo_surface_t* surface, const std::filesystem::path& path) {
   cairo_surface_flush(surface);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <iomanip>
 #include <map>
 #include <sstream>
 #include <system_error>
@@ -165,7 +166,7 @@ class Builder {
     line << "  " << s.name() << ": P" << k << ' ' << (mode == Mode::cmr ? "CMR" : "CMRWI");
     if (split) line << " split " << *split;
     if (depth) line << " depth " << *depth;
-    line << " (" << ro.width << 'x' << ro.height << ", " << dt << " s)";
+    line << " (" << ro.width << 'x' << ro.height << ", " << std::fixed << std::setprecision(3) << dt << " s)";
     log(line.str());
     return regions_.emplace(key.str(), std::move(image)).first->second;
   }

@@ -106,8 +106,10 @@ std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
     sr.multiplicity = r.multiplicity;
     sr.sign_before = r.sign_before;
     sr.sign_after = r.sign_after;
-    if (r.exact() && sgn(r.lo) == 0) sr.at = SpanRoot::At::start;
-    else if (r.exact() && r.lo == 1) sr.at = SpanRoot::At::end;
+    if (r.exact() && sgn(r.lo) == 0)
+      sr.at = SpanRoot::At::start;
+    else if (r.exact() && r.lo == 1)
+      sr.at = SpanRoot::At::end;
     sr.kappa = frame_at(B, nearest_double(mid)).kappa;
     out.push_back(sr);
   }
@@ -190,27 +192,26 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   };
 
   std::vector<int> lambda_start(N), eta_start(N);  // signs just right of each segment's start
-  std::vector<std::vector<Vec2>> bezier(N);
   for (int i = 0; i < N; ++i) {
     const Segment& s = spline.segments()[i];
     // Most segments' lambda or eta has coefficients of one certain sign, so no
     // root; the error-bounded points show that without rational arithmetic.
     const auto B = bezier_points(knots_b, points_b, d, s.span, Bounded(s.a), Bounded(s.b));
-    for (const Point<Bounded>& p : B) bezier[i].push_back({p.x.v, p.y.v});
-    SpanReport span{s, r.analysis.segments[i], false, false, {}, {}};
+    SpanReport span{s, {}, r.analysis.segments[i], false, false, {}, {}};
+    for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
     lambda_start[i] = strict_sign(lambda_bernstein<Bounded>(B));
     if (lambda_start[i] == 0) {
       const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact_points(i));
       span.lambda_zero = is_zero(lambda);
       lambda_start[i] = sign_at_start(lambda);
-      span.extrema = span_roots(lambda, s, bezier[i], options.roots);
+      span.extrema = span_roots(lambda, s, span.bezier, options.roots);
     }
     eta_start[i] = strict_sign(eta_bernstein<Bounded>(B));
     if (eta_start[i] == 0) {
       const Bernstein<Rational> eta = eta_bernstein<Rational>(exact_points(i));
       span.eta_zero = is_zero(eta);
       eta_start[i] = sign_at_start(eta);
-      span.inflections = span_roots(eta, s, bezier[i], options.roots);
+      span.inflections = span_roots(eta, s, span.bezier, options.roots);
     }
     r.spans.push_back(std::move(span));
   }
@@ -247,7 +248,8 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
     }
     r.extrema.push_back(e);
   }
-  for (const SignChange& c : sign_changes(sign)) r.inflections.push_back({c.at.t, c.after, 0, c.at.segment, c.at.joint});
+  for (const SignChange& c : sign_changes(sign))
+    r.inflections.push_back({c.at.t, c.after, 0, c.at.segment, c.at.joint});
   r.monotone_pieces = static_cast<int>(r.extrema.size()) + 1;
 
   // Curvature range: its extremes are at segment ends or stationary points.
@@ -259,8 +261,8 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
     if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
   };
   for (int i = 0; i < N; ++i) {
-    consider(spline.segments()[i].a, frame_at(bezier[i], 0).kappa);
-    consider(spline.segments()[i].b, frame_at(bezier[i], 1).kappa);
+    consider(spline.segments()[i].a, frame_at(r.spans[i].bezier, 0).kappa);
+    consider(spline.segments()[i].b, frame_at(r.spans[i].bezier, 1).kappa);
     for (const SpanRoot& x : r.spans[i].extrema) consider(x.t, x.kappa);
   }
   return r;
@@ -281,8 +283,7 @@ std::string read_bytes(const std::filesystem::path& path) {
   return s.str();
 }
 
-std::string thumbnail(const BSpline& spline, const RegionImage& image, bool split, int max_depth, Vec2 from,
-                      Vec2 to) {
+std::string thumbnail(const BSpline& spline, const RegionImage& image, bool split, int max_depth, Vec2 from, Vec2 to) {
   draw::RegionPicture picture;
   picture.spline = &spline;
   picture.layers = {&image};
@@ -290,9 +291,9 @@ std::string thumbnail(const BSpline& spline, const RegionImage& image, bool spli
   picture.max_depth = max_depth;
   picture.moved = std::make_pair(from, to);
   static std::atomic<int> counter{0};
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("cmr-report-" + std::to_string(::getpid()) + "-" +
-                                      std::to_string(counter++) + ".png");
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("cmr-report-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".png");
   draw::write_region_png(path, picture);
   std::string bytes = read_bytes(path);
   std::filesystem::remove(path);
@@ -329,8 +330,7 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
       }
     if (fix.example) {
       fix.verified = passes(analyze(spline.with_point(k, *fix.example), analyze_options(options)), check);
-      fix.thumbnail_png =
-          thumbnail(spline, image, check.split.has_value(), options.max_depth, current, *fix.example);
+      fix.thumbnail_png = thumbnail(spline, image, check.split.has_value(), options.max_depth, current, *fix.example);
     }
     fixes.push_back(std::move(fix));
   }
@@ -360,8 +360,10 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
     for (int i = next++; i < total; i = next++) {
       SplineReport& r = out[i];
       try {
-        if (inputs[i].spline) r = report_spline(*inputs[i].spline, options);
-        else r.error = inputs[i].error;
+        if (inputs[i].spline)
+          r = report_spline(*inputs[i].spline, options);
+        else
+          r.error = inputs[i].error;
       } catch (const InputError& e) {
         r = SplineReport{};
         r.error = e.what();
@@ -773,8 +775,8 @@ std::string roots_cell(const std::vector<SpanRoot>& roots, bool extremum) {
   std::string out;
   for (const SpanRoot& x : roots) {
     if (!out.empty()) out += "<br>";
-    const std::string kind =
-        extremum ? extremum_kind(x.sign_before, x.sign_after) : (x.sign_before != x.sign_after ? "sign change" : "touch");
+    const std::string kind = extremum ? extremum_kind(x.sign_before, x.sign_after)
+                                      : (x.sign_before != x.sign_after ? "sign change" : "touch");
     out += num(x.t) + (x.exact ? " (exact) " : " ") + kind;
     if (x.multiplicity > 1) out += " ×" + std::to_string(x.multiplicity);
   }
@@ -794,29 +796,30 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   }
   const BSpline& s = *r.spline;
   std::vector<std::vector<Frame>> frames(r.spans.size());
-  for (std::size_t i = 0; i < r.spans.size(); ++i) {
-    const std::vector<Vec2> B = bezier_segment(s, r.spans[i].segment).points;
-    for (int k = 0; k <= kSamples; ++k) frames[i].push_back(frame_at(B, static_cast<double>(k) / kSamples));
-  }
+  for (std::size_t i = 0; i < r.spans.size(); ++i)
+    for (int k = 0; k <= kSamples; ++k)
+      frames[i].push_back(frame_at(r.spans[i].bezier, static_cast<double>(k) / kSamples));
   out += "<p>check <b>" + escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
          ", CMR " + to_string(r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
-  out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) + (s.segment_count() == 1 ? " segment, " : " segments, ") +
-         std::to_string(r.monotone_pieces) + " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") +
-         "; κ from " + num(r.kappa_min) + " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) + " (t = " +
-         num(r.t_max) + ").</p>";
+  out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) +
+         (s.segment_count() == 1 ? " segment, " : " segments, ") + std::to_string(r.monotone_pieces) +
+         " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") + "; κ from " + num(r.kappa_min) +
+         " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) + " (t = " + num(r.t_max) + ").</p>";
   out += "<div class=\"figs\"><figure>";
   curve_svg(out, r, frames);
-  out += "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
-         "green</figcaption></figure><figure>";
+  out +=
+      "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
+      "green</figcaption></figure><figure>";
   plot_svg(out, r, frames);
   out += "<figcaption>Signed curvature κ(t); knots dashed</figcaption></figure></div>";
 
-  out += "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>inflection</th><th>depth</th>"
-         "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
+  out +=
+      "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>inflection</th><th>depth</th>"
+      "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
   for (const SpanReport& sp : r.spans) {
-    out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " +
-           num(sp.segment.b) + "]</td><td>" + to_string(sp.classification.monotonicity.curvature) + "</td><td>" +
+    out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " + num(sp.segment.b) +
+           "]</td><td>" + to_string(sp.classification.monotonicity.curvature) + "</td><td>" +
            to_string(sp.classification.inflection.inflection) + "</td><td>" +
            std::to_string(sp.classification.monotonicity.depth) + " / " +
            std::to_string(sp.classification.inflection.depth) + "</td><td>" + roots_cell(sp.extrema, true) +
@@ -824,8 +827,9 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   }
   out += "</table>";
   if (!r.joints.empty()) {
-    out += "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>κ left</th>"
-           "<th>κ right</th><th>jump</th></tr>";
+    out +=
+        "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>κ left</th>"
+        "<th>κ right</th><th>jump</th></tr>";
     for (const JointReport& j : r.joints)
       out += "<tr><td>" + std::to_string(j.joint.index) + "</td><td>" + num(j.joint.knot) + "</td><td>" +
              std::to_string(j.joint.multiplicity) + "</td><td>" + j.continuity + (j.corner ? " (corner)" : "") +
@@ -837,7 +841,8 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   if (r.extrema.empty()) out += "none";
   for (std::size_t i = 0; i < r.extrema.size(); ++i) {
     const CurveEvent& e = r.extrema[i];
-    out += (i ? "; " : "") + std::string(e.kind > 0 ? "<span class=\"max\">maximum</span>" : "<span class=\"min\">minimum</span>") +
+    out += (i ? "; " : "") +
+           std::string(e.kind > 0 ? "<span class=\"max\">maximum</span>" : "<span class=\"min\">minimum</span>") +
            " κ = " + num(e.kappa) + " at t = " + num(e.t) + " (" + place_text(e) + ")";
   }
   out += ". Inflections: ";
@@ -855,11 +860,10 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
       out += "<figure>";
       if (!f.thumbnail_png.empty())
         out += "<img alt=\"region of P" + std::to_string(f.point) + "\" width=\"" +
-               std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," +
-               base64(f.thumbnail_png) + "\">";
-      out += "<figcaption>move P" + std::to_string(f.point) + " into its region, e.g. to (" + num(f.example->x) +
-             ", " + num(f.example->y) + ")" + (f.verified ? " ✓" : " (not confirmed by analyze)") +
-             "</figcaption></figure>";
+               std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," + base64(f.thumbnail_png) +
+               "\">";
+      out += "<figcaption>move P" + std::to_string(f.point) + " into its region, e.g. to (" + num(f.example->x) + ", " +
+             num(f.example->y) + ")" + (f.verified ? " ✓" : " (not confirmed by analyze)") + "</figcaption></figure>";
     }
     if (!any) out += "<p>No single control point has a region in the default view.</p>";
     out += "</div>";
@@ -884,26 +888,28 @@ constexpr const char* kStyle =
 std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options) {
   int pass = 0, fail = 0, invalid = 0;
   for (const SplineReport& r : reports) (!r.error.empty() ? invalid : (r.pass ? pass : fail))++;
-  const std::string counts = std::to_string(reports.size()) + (reports.size() == 1 ? " spline: " : " splines: ") + std::to_string(pass) + " pass, " +
-                             std::to_string(fail) + " fail, " + std::to_string(invalid) + " invalid";
+  const std::string counts = std::to_string(reports.size()) + (reports.size() == 1 ? " spline: " : " splines: ") +
+                             std::to_string(pass) + " pass, " + std::to_string(fail) + " fail, " +
+                             std::to_string(invalid) + " invalid";
   std::string out;
   out.reserve(reports.size() * 24000);
   out += "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " + counts +
          "</title><style>";
   out += kStyle;
-  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" +
-         escape(to_string(check_of(options))) + "</b>" + (options.require ? " (required)" : " (not required)") +
-         ", depth " + std::to_string(options.max_depth) + ", schema " + kSchema + ".</p>";
-  out += "<table class=\"index\"><tr><th>#</th><th>spline</th><th>file</th><th>status</th><th>CMRWI</th><th>CMR</th>"
-         "<th>monotone pieces</th></tr>";
+  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" + escape(to_string(check_of(options))) +
+         "</b>" + (options.require ? " (required)" : " (not required)") + ", depth " +
+         std::to_string(options.max_depth) + ", schema " + kSchema + ".</p>";
+  out +=
+      "<table class=\"index\"><tr><th>#</th><th>spline</th><th>file</th><th>status</th><th>CMRWI</th><th>CMR</th>"
+      "<th>monotone pieces</th></tr>";
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const SplineReport& r = reports[i];
     const std::string id = "s" + std::to_string(i);
     out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + escape(r.name) + "</a></td><td>" +
            escape(r.file) + "</td><td>" + badge(r) + "</td>";
     if (r.error.empty())
-      out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) +
-             "</td><td>" + std::to_string(r.monotone_pieces) + "</td></tr>";
+      out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) + "</td><td>" +
+             std::to_string(r.monotone_pieces) + "</td></tr>";
     else
       out += "<td colspan=\"3\">invalid input</td></tr>";
   }

@@ -50,22 +50,23 @@ Requirement check_of(const ReportOptions& options);
 /// A root of lambda (a stationary point of the curvature) or of eta (a zero of
 /// the curvature) in one segment, mapped to the spline's parameter.
 struct SpanRoot {
-  double t = 0;              ///< nearest double to the root (to its enclosure's midpoint if not exact)
-  double t_lo = 0, t_hi = 0; ///< enclosure, rounded outwards
-  bool exact = false;        ///< the root is t exactly (before rounding to double)
+  double t = 0;               ///< nearest double to the root (to its enclosure's midpoint if not exact)
+  double t_lo = 0, t_hi = 0;  ///< enclosure, rounded outwards
+  bool exact = false;         ///< the root is t exactly (before rounding to double)
   int multiplicity = 1;
   int sign_before = 0, sign_after = 0;  ///< of lambda (or eta) as this segment's polynomial
   enum class At : std::uint8_t { interior, start, end } at = At::interior;
-  double kappa = 0;          ///< curvature there
+  double kappa = 0;  ///< curvature there
 };
 
 struct SpanReport {
   Segment segment;
+  std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
   SegmentClass classification;
-  bool lambda_zero = false;          ///< lambda == 0: constant curvature (a straight segment)
-  bool eta_zero = false;             ///< eta == 0: zero curvature
-  std::vector<SpanRoot> extrema;     ///< roots of lambda
-  std::vector<SpanRoot> inflections; ///< roots of eta
+  bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)
+  bool eta_zero = false;              ///< eta == 0: zero curvature
+  std::vector<SpanRoot> extrema;      ///< roots of lambda
+  std::vector<SpanRoot> inflections;  ///< roots of eta
 };
 
 struct JointReport {
@@ -78,18 +79,18 @@ struct JointReport {
 /// of dkappa/ds (or of kappa) along the parameter, jumps at joints included.
 struct CurveEvent {
   double t = 0;
-  int kind = 0;       ///< extremum: +1 maximum, -1 minimum; inflection: sign of kappa after it
-  double kappa = 0;   ///< extremum: the extreme value (the larger / smaller side of a jump)
-  int segment = -1;   ///< inside this segment, or
-  int joint = -1;     ///< on this joint (index i: between segments i-1 and i)
+  int kind = 0;      ///< extremum: +1 maximum, -1 minimum; inflection: sign of kappa after it
+  double kappa = 0;  ///< extremum: the extreme value (the larger / smaller side of a jump)
+  int segment = -1;  ///< inside this segment, or
+  int joint = -1;    ///< on this joint (index i: between segments i-1 and i)
 };
 
 struct Fix {
   int point = 0;
-  std::uint64_t pixels = 0;    ///< pixels of the region that pass the check
-  std::optional<Vec2> example; ///< the passing pixel centre nearest the current point
-  bool verified = false;       ///< analyze on the spline with the point moved there passes
-  std::string thumbnail_png;   ///< region picture (PNG bytes); empty when not drawn
+  std::uint64_t pixels = 0;     ///< pixels of the region that pass the check
+  std::optional<Vec2> example;  ///< the passing pixel centre nearest the current point
+  bool verified = false;        ///< analyze on the spline with the point moved there passes
+  std::string thumbnail_png;    ///< region picture (PNG bytes); empty when not drawn
 };
 
 struct SplineReport {

@@ -75,8 +75,9 @@ TEST(Analyze, CurvatureJumpAtAC1JointMustFollowTheDirection) {
     const Joint& j = a.joints[0];
     EXPECT_EQ(j.continuity, 1);
     const double diff = j.kappa_right - j.kappa_left;
-    if (std::abs(diff) > 1e-9 * (std::abs(j.kappa_left) + std::abs(j.kappa_right)))
+    if (std::abs(diff) > 1e-9 * (std::abs(j.kappa_left) + std::abs(j.kappa_right))) {
       EXPECT_EQ(j.jump, diff > 0 ? 1 : -1) << "trial " << trial;
+    }
     if (a.cmrwi == Direction::increasing) {
       EXPECT_GE(j.jump, 0) << "trial " << trial;
     }

@@ -116,7 +116,8 @@ TEST(Classifier, RootExactlyAtAnEndIsMonotone) {
 }
 
 TEST(Classifier, StraightSegmentIsConstantAndHasAnInflectionByAlgorithm2) {
-  const SegmentClass c = classify_bezier({{0, 0}, {1, 1}, {2.5, 2.5}, {3, 3}});
+  const std::vector<Vec2> line = {{0, 0}, {1, 1}, {2.5, 2.5}, {3, 3}};
+  const SegmentClass c = classify_bezier(line);
   EXPECT_EQ(c.monotonicity.curvature, Curvature::constant);
   EXPECT_EQ(c.inflection.inflection, Inflection::present);
 }
@@ -168,8 +169,9 @@ TEST(Classifier, DegreeElevatedCubicClassifiesAsTheCubic) {
       ++compared;
     }
     if (rounded.monotonicity.curvature != Curvature::undecided && cubic.curvature != Curvature::undecided &&
-        cubic.depth < 8)
+        cubic.depth < 8) {
       EXPECT_EQ(rounded.monotonicity.curvature, cubic.curvature) << "trial " << trial;
+    }
   }
   EXPECT_GT(compared, 450);
 }

@@ -141,9 +141,10 @@ TEST(ReportRoots, ExtremaCloserThanOneMillionthAreAllFound) {
   for (int i = 0; i < 100; ++i) (slope(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
   const double a0 = lo;
   // lambda(1/2 + y) ~ c1 y + c3 y^3 with c1 ~ slope'(a0) (a - a0): roots at y = +-x when c1 = -c3 x^2.
-  const double c3 = bernstein_eval(
-                        bernstein_derivative(bernstein_derivative(bernstein_derivative(lambda_bernstein<double>(arch(a0))))),
-                        0.5) / 6;
+  const double c3 =
+      bernstein_eval(
+          bernstein_derivative(bernstein_derivative(bernstein_derivative(lambda_bernstein<double>(arch(a0))))), 0.5) /
+      6;
   const double dslope = (slope(a0 + 1e-6) - slope(a0 - 1e-6)) / 2e-6;
   const double x = 3e-7;
   const double a = a0 - c3 * x * x / dslope;
@@ -179,8 +180,10 @@ TEST(ReportRoots, ExtremaCloserThanOneMillionthAreAllFound) {
 // multiplicity, so that jumps and corners occur.
 TEST(ReportEvents, AgreeWithSampledCurvature) {
   std::mt19937_64 rng(7);
-  const std::vector<std::vector<double>> knot_sets = {
-      {0, 1, 2, 3, 4, 5, 6, 7, 8}, {0, 0, 0, 1, 1, 2, 3, 3, 3}, {0, 0, 0, 1, 1, 1, 2, 2, 2}, {0, 0.5, 1, 1, 3, 4, 4.5, 6, 7}};
+  const std::vector<std::vector<double>> knot_sets = {{0, 1, 2, 3, 4, 5, 6, 7, 8},
+                                                      {0, 0, 0, 1, 1, 2, 3, 3, 3},
+                                                      {0, 0, 0, 1, 1, 1, 2, 2, 2},
+                                                      {0, 0.5, 1, 1, 3, 4, 4.5, 6, 7}};
   for (int trial = 0; trial < 40; ++trial) {
     const std::vector<double>& knots = knot_sets[trial % knot_sets.size()];
     const BSpline s = BSpline::make(3, knots, test::random_points(rng, static_cast<int>(knots.size()) - 2));
@@ -231,8 +234,8 @@ TEST(ReportJoints, ContinuityFromKnotsAndTangents) {
   const SplineReport c0 = report_spline(BSpline::make(3, knots, bent), no_regions());
   EXPECT_EQ(c0.joints[0].continuity, "C0");
   EXPECT_TRUE(c0.joints[0].corner);
-  const SplineReport c1 = report_spline(BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 1}}),
-                                        no_regions());
+  const SplineReport c1 = report_spline(
+      BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 1}}), no_regions());
   EXPECT_EQ(c1.joints[0].continuity, "C1");
 }
 
@@ -288,8 +291,8 @@ TEST(ReportCommand, BadFilesAreReportedAndTheRestGoOn) {
   const std::string bad = test::write("broken.json", "{\"points\": [[0,0],");
   const fs::path out = test::scratch() / "batch";
   fs::remove_all(out);
-  const test::Outcome r = test::run("report " + good + " " + bad + " /nonexistent/x.json " + good +
-                                    " --out " + out.string() + " --no-thumbnails --require cmr");
+  const test::Outcome r = test::run("report " + good + " " + bad + " /nonexistent/x.json " + good + " --out " +
+                                    out.string() + " --no-thumbnails --require cmr");
   EXPECT_EQ(r.code, 2) << r.err;
   const Json doc = read_json(out / "report.json");
   EXPECT_EQ(doc["schema"], "cmr-report/1");
@@ -334,8 +337,10 @@ TEST_P(ReportGate, ExitCode) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, ReportGate,
-                         ::testing::Values(GateCase{"pass_cmr", "cmr", false, 0}, GateCase{"pass_cmrwi", "cmrwi", false, 0},
-                                           GateCase{"fail_cmr", "cmr", true, 1}, GateCase{"fail_cmrwi", "cmrwi", true, 1},
+                         ::testing::Values(GateCase{"pass_cmr", "cmr", false, 0},
+                                           GateCase{"pass_cmrwi", "cmrwi", false, 0},
+                                           GateCase{"fail_cmr", "cmr", true, 1},
+                                           GateCase{"fail_cmrwi", "cmrwi", true, 1},
                                            GateCase{"fail_ungated", "", true, 0}),
                          [](const auto& p) { return std::string(p.param.name); });
 
@@ -348,7 +353,8 @@ TEST(ReportCommand, SplitGatePassesAnExtremumAtTheJoint) {
   EXPECT_EQ(test::run("report " + file + " --out " + out.string() + " --no-thumbnails --require cmrwi").code, 1);
   const test::Outcome bad = test::run("report " + file + " --out " + out.string() + " --require split:5");
   EXPECT_EQ(bad.code, 2);  // the spline has no joint 5: that input is invalid
-  EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("split 5"), std::string::npos);
+  EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("split 5"),
+            std::string::npos);
 }
 
 TEST(ReportCommand, RejectsAnUnknownRequirementWithOneLine) {
@@ -361,8 +367,8 @@ TEST(ReportCommand, RejectsAnUnknownRequirementWithOneLine) {
 
 TEST(ReportCommand, FixesCarryThumbnails) {
   const fs::path out = test::scratch() / "fixes";
-  const test::Outcome r = test::run("report " + spline_file("pulled.json", pulled_spiral()) + " --out " +
-                                    out.string() + " --backend cpu --region-size 48 --require cmr");
+  const test::Outcome r = test::run("report " + spline_file("pulled.json", pulled_spiral()) + " --out " + out.string() +
+                                    " --backend cpu --region-size 48 --require cmr");
   EXPECT_EQ(r.code, 1) << r.err;
   const Json doc = read_json(out / "report.json");
   const Json& fix = doc["splines"][0]["fixes"][2];
@@ -389,8 +395,10 @@ TEST(ReportHtml, HeadlessChromiumShowsTheFigures) {
   const fs::path chromium = "/usr/bin/chromium";
   if (!fs::exists(chromium)) GTEST_SKIP() << "no " << chromium;
   const fs::path out = test::scratch() / "shot";
-  const BSpline wavy = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, {{0, 0}, {1, 2}, {3, 3}, {5, 2.5}, {6.5, 1}, {7, -1}});
-  ASSERT_EQ(test::run("report " + spline_file("wavy.json", wavy) + " --out " + out.string() + " --no-thumbnails").code, 0);
+  const BSpline wavy =
+      BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, {{0, 0}, {1, 2}, {3, 3}, {5, 2.5}, {6.5, 1}, {7, -1}});
+  ASSERT_EQ(test::run("report " + spline_file("wavy.json", wavy) + " --out " + out.string() + " --no-thumbnails").code,
+            0);
   const fs::path png = out / "shot.png";
   const std::string cmd = "timeout 120 " + chromium.string() +
                           " --headless --no-sandbox --disable-gpu --disable-background-networking"
