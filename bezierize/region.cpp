@@ -254,58 +254,79 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
 // A closed interval of reals.
 struct Interval {
   double lo, hi;
-  friend Interval operator*(Interval a, Interval b) {
-    const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-    return {std::min({p[0], p[1], p[2], p[3]}), std::max({p[0], p[1], p[2], p[3]})};
-  }
-  Interval square() const {
-    const double a = lo * lo, b = hi * hi;
-    if (lo <= 0 && hi >= 0) return {0, std::max(a, b)};
-    return {std::min(a, b), std::max(a, b)};
-  }
   double mag() const { return std::max(std::fabs(lo), std::fabs(hi)); }
 };
 
-// The monomials of poly3.hpp over the displacements of one pixel (a point)
-// or of a block of pixels (a box), as midpoint v, radius r and magnitude a.
-// A polynomial's value anywhere in the box is within
-//     sum |c_m| r_m + kPolyErrorUnits u sum |c_m| a_m
-// of sum c_m v_m computed in floating point (see region.hpp for the count;
-// the radii carry a slack of 4u a_m for the rounding of the interval ends).
+// The monomials of poly3.hpp at the displacement of one pixel (a point), or
+// over the displacements of a block of pixels (a box c + [-r, r]).
+//
+// Point: P = sum c_m mu_m is evaluated directly; its error is at most
+// kPolyErrorUnits u sum |c_m| |mu_m| (see region.hpp for the count).
+// Box: P is expanded around the centre, P(c + h) = sum_st D_st h_x^s h_y^t
+// with Taylor coefficients D_st = sum_m c_m T[st][m],
+// T[st][m] = C(a_m, s) C(b_m, t) c_x^(a_m - s) c_y^(b_m - t); then over the box
+//     |P - D_00| <= sum_{st != 00} |D_st| r_x^s r_y^t,
+// and each D_st carries its rounding, kPolyErrorUnits u sum |c_m| |T[st][m]|.
+// Expanding at the centre avoids the cancellation that makes a term-by-term
+// interval bound useless away from the moved point.
 struct Monomials {
-  double v[kPoly3Terms];
-  double r[kPoly3Terms];
-  double a[kPoly3Terms];
   bool point = true;
+  double v[kPoly3Terms];                // point: mu_m
+  double a[kPoly3Terms];                // point: |mu_m|
+  double T[kPoly3Terms][kPoly3Terms];   // box: T[st][m]
+  double rpow[kPoly3Terms];             // box: r_x^s r_y^t, rounded up
   Monomials(double dx, double dy) {
     const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
     const double m[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
     for (int i = 0; i < kPoly3Terms; ++i) {
       v[i] = m[i];
-      r[i] = 0;
       a[i] = std::fabs(m[i]);
     }
   }
-  Monomials(Interval x, Interval y) : point(false) {
-    const Interval x2 = x.square(), xy = x * y, y2 = y.square();
-    const Interval m[kPoly3Terms] = {{1, 1}, x, y, x2, xy, y2, x2 * x, x2 * y, y2 * x, y2 * y};
-    for (int i = 0; i < kPoly3Terms; ++i) {
-      a[i] = m[i].mag();
-      v[i] = 0.5 * m[i].lo + 0.5 * m[i].hi;
-      r[i] = 0.5 * m[i].hi - 0.5 * m[i].lo + 4 * Bounded::kRound * a[i] + Bounded::kTiny;
+  Monomials(double cx, double cy, double rx, double ry) : point(false) {
+    const double px[4] = {1, cx, cx * cx, cx * cx * cx}, py[4] = {1, cy, cy * cy, cy * cy * cy};
+    const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    for (int st = 0; st < kPoly3Terms; ++st) {
+      const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
+      for (int m = 0; m < kPoly3Terms; ++m) {
+        const int am = kPoly3ExpX[m], bm = kPoly3ExpY[m];
+        T[st][m] = (s <= am && t <= bm) ? binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t] : 0.0;
+      }
+      const double up = 1 + 8 * Bounded::kRound;
+      double r = 1;
+      for (int k = 0; k < s; ++k) r *= rx * up;
+      for (int k = 0; k < t; ++k) r *= ry * up;
+      rpow[st] = r;
     }
   }
 };
 
 template <std::size_t K>
 Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
-  double val = 0, mag = 0, spread = 0;
-  for (std::size_t i = 0; i < K; ++i) {
-    val += c[i] * m.v[i];
-    mag += std::fabs(c[i]) * m.a[i];
-    if (!m.point) spread += std::fabs(c[i]) * m.r[i];
+  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
+  if (m.point) {
+    double val = 0, mag = 0;
+    for (std::size_t i = 0; i < K; ++i) {
+      val += c[i] * m.v[i];
+      mag += std::fabs(c[i]) * m.a[i];
+    }
+    return {val, units * mag + 16 * Bounded::kTiny};
   }
-  return {val, spread + kPolyErrorUnits * 0.5 * Bounded::kRound * mag + 16 * Bounded::kTiny};
+  double value = 0, err = 16 * Bounded::kTiny;
+  for (std::size_t st = 0; st < K; ++st) {
+    double d = 0, mag = 0;
+    for (std::size_t i = 0; i < K; ++i) {
+      d += c[i] * m.T[st][i];
+      mag += std::fabs(c[i]) * std::fabs(m.T[st][i]);
+    }
+    if (st == 0) {
+      value = d;
+      err += units * mag;
+    } else {
+      err += (std::fabs(d) + units * mag) * m.rpow[st] * (1 + 4 * Bounded::kRound);
+    }
+  }
+  return {value, err};
 }
 
 // Depth-first Algorithms 1 and 2 on the piece polynomials of one entry:
@@ -557,6 +578,103 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
   return verdict(s, classes, joints, false);
 }
 
+// Labels for a whole box of displacements without following each pixel's
+// traversal (used only when no depth map is wanted, since decision levels
+// may differ between the pixels). Per touched segment, a depth-first search
+// over pieces (levels <= D) where a piece whose coefficients are certainly
+// all >= 0 (or <= 0) over the box is a leaf in that direction, one whose end
+// coefficients certainly differ in sign proves "not monotone", and any other
+// piece is split even when some pixels would decide it: the sub-pieces of a
+// piece that is monotone for a pixel are monotone the same way. For every
+// pixel of the box Algorithm 1 then gives the same direction, or "not
+// monotone": no ancestor of a piece with opposite end signs can be decided
+// increasing or decreasing, and undecided pieces do not stop the traversal.
+// Algorithm 2 likewise (all coefficients strictly one sign: no inflection;
+// opposite end signs: an inflection). nullopt when a piece at level D stays
+// unresolved over the box.
+enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
+
+BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa) {
+  LazyPieces src(e, mono, levels, eta);
+  bool inc = false, dec = false;
+  int level = 0, j = 0;
+  for (;;) {
+    src.select(level, j);
+    const int n1 = src.size();
+    const int first = certain_sign(src.coeff(0)), last = certain_sign(src.coeff(n1 - 1));
+    if (first != kSignUnknown && last != kSignUnknown && first * last < 0) return BoxOutcome::not_monotone;
+    int pos = 0, neg = 0, unknown = 0;
+    for (int k = 0; k < n1 && unknown == 0 && !(pos && neg); ++k) {
+      const int g = certain_sign(src.coeff(k));
+      if (g == kSignUnknown) ++unknown;
+      else (g > 0 ? pos : neg)++;
+    }
+    const bool leaf_up = pos == n1, leaf_down = neg == n1;  // all strictly one sign (no certain zeros here)
+    if (!leaf_up && !leaf_down) {
+      if (level >= D) return BoxOutcome::unresolved;
+      ++level;
+      j *= 2;
+      continue;
+    }
+    inc = inc || leaf_up;
+    dec = dec || leaf_down;
+    if (inc && dec) return BoxOutcome::not_monotone;
+    while (level > 0 && (j & 1) == 1) {
+      --level;
+      j >>= 1;
+    }
+    if (level == 0) break;
+    ++j;
+  }
+  if (kappa) *kappa = inc ? 1 : -1;
+  return inc ? BoxOutcome::increasing : BoxOutcome::decreasing;
+}
+
+std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
+  if (s.fixed_level0_none) return PixelResult{0, 0, false};
+  const RegionOptions& o = s.options;
+  const int D = o.max_depth;
+  std::vector<SegmentClass> classes = s.fixed;
+  bool unresolved = false;
+  for (const RegionEntry& e : s.entries) {
+    if (!e.classify) continue;
+    SegmentClass c;
+    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr)) {
+      case BoxOutcome::not_monotone: return PixelResult{0, 0, false};
+      case BoxOutcome::unresolved: unresolved = true; break;
+      case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
+      case BoxOutcome::decreasing: c.monotonicity = {Curvature::decreasing, 0}; break;
+    }
+    if (o.mode == Mode::cmr) {
+      // For eta, "increasing" means all pieces positive: no inflection, kappa > 0.
+      int kappa = 0;
+      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa)) {
+        case BoxOutcome::not_monotone: return PixelResult{0, 0, false};  // an inflection
+        case BoxOutcome::unresolved: unresolved = true; break;
+        default: c.inflection = {Inflection::none, 0, kappa}; break;
+      }
+    }
+    classes[e.segment] = c;
+  }
+  if (unresolved) return std::nullopt;
+  std::vector<Joint> joints = s.joints;
+  if (!s.varying.empty()) {
+    std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
+    for (std::size_t e = 0; e < s.entries.size(); ++e)
+      for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
+        B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
+                        s.entries[e].base[i].y + s.entries[e].weight[i] * by});
+    for (const RegionJoint& j : s.varying) {
+      const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
+      if (sign == kSignUnknown) return std::nullopt;
+      joints[j.joint].jump = sign;
+    }
+  }
+  PixelResult r = verdict(s, classes, joints, false);
+  r.depth = 0;
+  return r;
+}
+
 // The displacements of pixel columns i0..i1 (inclusive), enclosing the exact
 // values: the ends are rounded once, so widen them by a relative u.
 Interval displacement_range(double first, double last, double anchor) {
@@ -582,9 +700,15 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
                                         pixel_center(v, o.width, o.height, i1, 0).x, s.anchor.x);
   const Interval y = displacement_range(pixel_center(v, o.width, o.height, 0, j1).y,
                                         pixel_center(v, o.width, o.height, 0, j0).y, s.anchor.y);
+  // Centre and half-width enclosing [lo, hi] despite their rounding.
   const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
-  return classify_fast(s, Monomials(x, y), bx, by);
+  const Monomials mono(bx.v, by.v, bx.e, by.e);
+  // The depth-exact path first (cheap where it holds); labels alone may hold
+  // more widely.
+  if (auto r = classify_fast(s, mono, bx, by)) return r;
+  if (!o.depth) return classify_box_labels(s, mono, bx, by);
+  return std::nullopt;
 }
 
 RegionImage blank_image(const RegionSetup& s) {
@@ -656,6 +780,7 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
   work();
   for (std::thread& t : pool) t.join();
   img.exact_pixels += exact;
+  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
   std::vector<std::array<int, 2>> out;
   for (const auto& l : listed) out.insert(out.end(), l.begin(), l.end());
   return out;

@@ -14,7 +14,8 @@
 // proves non-monotonicity at level 0 (xi_0 xi_last < 0; in CMR mode also
 // nu_0 nu_last <= 0, an inflection); otherwise the deepest level any segment
 // needed. The level-0 test runs first, so most pixels cost two polynomial
-// evaluations per touched segment.
+// evaluations per touched segment. Without a depth map (RegionOptions::depth
+// false) only labels are produced, and every depth reads 0.
 //
 // Fast path: B_i = B0_i + w_i (dx, dy) is affine in the displacement, so each
 // xi_k is a cubic and each nu_k an affine polynomial in (dx, dy) (poly3.hpp),
@@ -71,6 +72,10 @@ struct RegionOptions {
   int max_depth = 12;            ///< D of Algorithms 1 and 2
   int width = 512, height = 512;
   std::optional<View> view;      ///< default_view() when empty
+  /// Compute each pixel's decision level (the depth map). Without it, blocks
+  /// can be labelled "not monotone" by a proof that skips each pixel's own
+  /// traversal (faster), and RegionImage::depth is all zero.
+  bool depth = true;
 };
 
 /// Throws InputError for a point out of range, a size of 0 or above

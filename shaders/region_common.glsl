@@ -14,6 +14,10 @@
 
 layout(constant_id = 0) const int DEG = 3;    // degree n of every segment
 layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
+// Specialised away when unused: a SIMD executor such as llvmpipe runs every
+// branch under a mask, so code that cannot run must not be in the shader.
+layout(constant_id = 2) const bool CMR_MODE = false;  // also run Algorithm 2 (CMR)
+layout(constant_id = 3) const bool JOINTS = false;    // some joint's curvature jump varies
 const int NXI = 4 * DEG - 6;                  // coefficients of lambda
 const int NNU = 2 * DEG - 3;                  // coefficients of eta
 
@@ -274,7 +278,7 @@ uint full(bool cmr, REAL dx, REAL dy) {
     }
     if (head.x == REAL(0)) flags0 |= f; else flags1 |= f;
   }
-  uint J = hdr[6];
+  uint J = JOINTS ? hdr[6] : 0u;
   REAL2 bdx = REAL2(dx, K_ROUND * abs(dx)), bdy = REAL2(dy, K_ROUND * abs(dy));
   for (uint j = 0u; j < J; ++j) {
     REAL2 ends = data[hdr[10] + 2u * j];
@@ -297,7 +301,7 @@ uint full(bool cmr, REAL dx, REAL dy) {
 }
 
 void main() {
-  bool cmr = hdr[2] == 1u;
+  const bool cmr = CMR_MODE;
   // This fragment classifies listed pixel number `at` (the host lists the
   // pixels it could not decide by whole blocks); the image is a work area.
   // Consecutive list entries fill 4x4 tiles, the unit a SIMD executor such as

@@ -105,6 +105,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
     o.max_depth = a->depth;
     o.with = a->with;
     if (!a->view.empty()) o.view = parse_view(a->view);
+    o.depth = !a->depth_map.empty();
     std::vector<int> points;
     if (a->point == "all") {
       if (!a->with.empty()) throw InputError("--with cannot be combined with --point all");

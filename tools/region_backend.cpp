@@ -84,6 +84,7 @@ RegionImage render_region(const RegionSetup& setup, const BackendOptions& option
       img.depth[at] = static_cast<uint8_t>((w >> 8) & 0xff);
     }
   }
+  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
   return img;
 #else
   throw EnvironmentError("this cmr was built without Vulkan; use --backend cpu");

@@ -188,13 +188,14 @@ Result<std::vector<uint32_t>> RegionRenderer::run(const RegionSetup& s, RegionPr
   if (precision == RegionPrecision::fp64 && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use --precision fp32"};
-  const Key key{s.spline.degree(), s.options.max_depth, precision};
+  const Key key{s.spline.degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
   FragmentPipeline* pipeline = nullptr;
   for (auto& [k, pl] : pipelines_)
     if (k == key) pipeline = &pl;
   if (!pipeline) {
     const auto t0 = std::chrono::steady_clock::now();
-    const uint32_t spec[2] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth)};
+    const uint32_t spec[4] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
+                              key.joints ? 1u : 0u};
     std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_frag_spv)
                                                                          : std::span<const uint32_t>(cmr_region_fp32_frag_spv);
     auto created = FragmentPipeline::create(context_, spirv, kWorkAreaWidth, kWorkAreaHeight, 0,

@@ -30,7 +30,8 @@ inline constexpr uint32_t kWorkAreaWidth = 256, kWorkAreaHeight = 256;
 std::vector<std::byte> pack_region(const RegionSetup& setup, RegionPrecision precision,
                                    std::span<const std::array<int, 2>> pixels, uint32_t area_width);
 
-/// A Context plus pipelines cached by (degree, depth, precision), so repeated
+/// A Context plus pipelines cached by (degree, depth, precision, mode,
+/// varying joints: the shader's specialisation constants), so repeated
 /// renders (every point of a spline, interactive use) compile once.
 class RegionRenderer {
  public:
@@ -48,6 +49,7 @@ class RegionRenderer {
   struct Key {
     int degree, depth;
     RegionPrecision precision;
+    bool cmr, joints;
     bool operator==(const Key&) const = default;
   };
   Context context_;
