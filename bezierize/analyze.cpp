@@ -126,8 +126,8 @@ Split combine_split(Direction before, Direction after) {
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   const int N = spline.segment_count();
   if (options.split && (*options.split < 1 || *options.split > N - 1))
-    throw InputError("split " + std::to_string(*options.split) + " is outside 1.." + std::to_string(N - 1) +
-                     (N == 1 ? " (the curve has one segment, so no joint)" : ""));
+    throw InputError(N == 1 ? "split " + std::to_string(*options.split) + ": the curve has one segment, so no joint to split at"
+                            : "split " + std::to_string(*options.split) + " is outside 1.." + std::to_string(N - 1));
   if (options.classify.max_depth < 0 || options.classify.max_depth > 30)
     throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0..30");
   SplineAnalysis out;

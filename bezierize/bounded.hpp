@@ -10,7 +10,8 @@
 //   a +- b : e = ea + eb + U|v|
 //   a * b  : e = |a|eb + |b|ea + ea eb + U|v| + tiny     (tiny covers underflow)
 //   a / b  : e = (ea + |v| eb) / (|b| - eb) + U|v| + tiny, infinite if |b| <= eb
-// A sign is certain when |v| > e; otherwise the caller falls back to exact
+// A sign is certain when |v| > e, and a value with bound 0 is exact (so an
+// exact zero is known to be zero); otherwise the caller falls back to exact
 // rational arithmetic. NaN and infinity make the bound non-finite and every
 // sign uncertain, which sends the computation to the exact path.
 #include <cmath>
@@ -54,7 +55,10 @@ struct Bounded {
   Bounded& operator*=(Bounded b) { return *this = *this * b; }
 
   /// Exactly halving is exact in binary (barring underflow, covered by kTiny).
-  Bounded half() const { return {0.5 * v, 0.5 * e + kTiny}; }
+  Bounded half() const {
+    if (v == 0 && e == 0) return *this;  // an exact zero stays exact
+    return {0.5 * v, 0.5 * e + kTiny};
+  }
 };
 
 /// -1, 0, +1, or kSignUnknown when the bound straddles zero.
@@ -62,6 +66,7 @@ inline constexpr int kSignUnknown = 2;
 inline int certain_sign(const Bounded& x) {
   // The comparison is exact; e already includes every rounding (see above).
   if (std::fabs(x.v) > x.e) return x.v > 0 ? 1 : -1;  // false for NaN: unknown
+  if (x.e == 0 && x.v == 0) return 0;                  // an exact zero (a bound of 0 means exact)
   return kSignUnknown;
 }
 

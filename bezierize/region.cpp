@@ -50,8 +50,8 @@ void validate_region_options(const BSpline& spline, const RegionOptions& o) {
                        " is outside 1.." + std::to_string(kMaxImageSize));
   const int N = spline.segment_count();
   if (o.split && (*o.split < 1 || *o.split > N - 1))
-    throw InputError("split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1) +
-                     (N == 1 ? " (the curve has one segment, so no joint)" : ""));
+    throw InputError(N == 1 ? "split " + std::to_string(*o.split) + ": the curve has one segment, so no joint to split at"
+                            : "split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1));
   if (o.max_depth < 0 || o.max_depth > 30)
     throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0..30");
   if (o.view) {
@@ -95,6 +95,23 @@ std::vector<Point<T>> spline_points(const BSpline& spline) {
 
 double rounded(const Rational& q) { return q.get_d(); }
 
+// The first K coefficients rounded to double. All zeros exactly when the
+// polynomial is zero: a non-zero one whose coefficients all underflow gets a
+// NaN, which makes every sign uncertain (and the pixel exact) instead of
+// passing for a structural zero.
+template <std::size_t K>
+std::array<double, K> rounded_poly(const Poly3& p) {
+  std::array<double, K> r{};
+  bool exact_zero = true, all_rounded_zero = true;
+  for (std::size_t m = 0; m < K; ++m) {
+    r[m] = rounded(p.c[m]);
+    exact_zero = exact_zero && sgn(p.c[m]) == 0;
+    all_rounded_zero = all_rounded_zero && r[m] == 0;
+  }
+  if (all_rounded_zero && !exact_zero) r[0] = std::numeric_limits<double>::quiet_NaN();
+  return r;
+}
+
 // Bernstein coefficients of every subdivision piece down to `levels`, in heap
 // order (piece 2^L - 1 + j is [j, j+1] / 2^L), exactly.
 std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, int levels) {
@@ -120,7 +137,7 @@ std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, in
 
 RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) {
   validate_region_options(spline, options);
-  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, std::min(options.max_depth, kPieceLevels)};
+  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
   if (!s.options.view) s.options.view = default_view(spline, options.width, options.height);
   s.group.push_back(options.point);
   for (int g : options.with)
@@ -148,9 +165,11 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
   for (int seg = 0; seg < N; ++seg) {
     if (touched[seg]) continue;
     const SegmentClass& c = s.fixed[seg];
-    if ((c.monotonicity.curvature == Curvature::non_monotone && c.monotonicity.depth == 0) ||
-        (options.mode == Mode::cmr && c.inflection.inflection == Inflection::present && c.inflection.depth == 0))
-      s.fixed_level0_none = true;
+    const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||
+                       (options.mode == Mode::cmr && c.inflection.inflection == Inflection::present);
+    const int level = c.monotonicity.curvature == Curvature::non_monotone ? c.monotonicity.depth : c.inflection.depth;
+    s.fixed_none = s.fixed_none || fails;
+    s.fixed_level0_none = s.fixed_level0_none || (fails && level == 0);
   }
 
   const std::vector<Rational> qknots(spline.knots().begin(), spline.knots().end());
@@ -183,15 +202,11 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
         P.push_back({Poly3(e.base_exact[i].x) + Poly3(e.weight_exact[i]) * Poly3::x(),
                      Poly3(e.base_exact[i].y) + Poly3(e.weight_exact[i]) * Poly3::y()});
       for (const Bernstein<Poly3>& piece : piece_polynomials(lambda_bernstein<Poly3>(P), s.piece_levels))
-        for (const Poly3& c : piece) {
-          std::array<double, 10> r{};
-          for (int m = 0; m < kPoly3Terms; ++m) r[m] = rounded(c.c[m]);
-          e.xi.push_back(r);
-        }
+        for (const Poly3& c : piece) e.xi.push_back(rounded_poly<10>(c));
       for (const Bernstein<Poly3>& piece : piece_polynomials(eta_bernstein<Poly3>(P), s.piece_levels))
         for (const Poly3& c : piece) {
           for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
-          e.nu.push_back({rounded(c.c[0]), rounded(c.c[1]), rounded(c.c[2])});
+          e.nu.push_back(rounded_poly<3>(c));
         }
     }
     entry_of[seg] = static_cast<int>(s.entries.size());
@@ -303,6 +318,11 @@ struct Monomials {
 
 template <std::size_t K>
 Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
+  // prepare_region guarantees that only an exactly zero polynomial rounds to
+  // all zeros: structural zeros (the same for every position) stay exact.
+  bool zero = true;
+  for (std::size_t i = 0; i < K; ++i) zero = zero && c[i] == 0;
+  if (zero) return {0.0, 0.0};
   const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
   if (m.point) {
     double val = 0, mag = 0;
@@ -381,11 +401,12 @@ class LazyPieces {
 };
 
 struct SignScan {
-  int pos = 0, neg = 0, unknown = 0, first = 0, last = 0;
+  int pos = 0, neg = 0, zero = 0, unknown = 0, first = 0, last = 0;
   void add(int g) {
     if (g == kSignUnknown) ++unknown;
     else if (g > 0) ++pos;
     else if (g < 0) ++neg;
+    else ++zero;
   }
 };
 
@@ -418,9 +439,9 @@ Piece monotonicity_piece(const LazyPieces& src) {
 Piece inflection_piece(const LazyPieces& src) {
   const SignScan s = scan(src);
   if (s.first == kSignUnknown || s.last == kSignUnknown) return Piece::uncertain;
-  if (s.first * s.last < 0) return Piece::inflection;
+  if (s.first * s.last <= 0) return Piece::inflection;  // rule (1): nu_0 nu_last <= 0
   if (s.pos == src.size() || s.neg == src.size()) return Piece::no_inflection;
-  if (s.pos > 0 && s.neg > 0) return Piece::split;
+  if (s.neg + s.zero > 0 && s.pos + s.zero > 0) return Piece::split;
   return Piece::uncertain;
 }
 
@@ -542,7 +563,7 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     uncertain = uncertain || a == kSignUnknown || b == kSignUnknown;
     if (o.mode == Mode::cmr) {
       const int c = certain_sign(eval_poly(e.nu[0], mono)), f = certain_sign(eval_poly(e.nu[e.n_nu - 1], mono));
-      if (c != kSignUnknown && f != kSignUnknown && c * f < 0) return PixelResult{0, 0, false};
+      if (c != kSignUnknown && f != kSignUnknown && c * f <= 0) return PixelResult{0, 0, false};
       uncertain = uncertain || c == kSignUnknown || f == kSignUnknown;
     }
   }
@@ -602,14 +623,22 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
     src.select(level, j);
     const int n1 = src.size();
     const int first = certain_sign(src.coeff(0)), last = certain_sign(src.coeff(n1 - 1));
-    if (first != kSignUnknown && last != kSignUnknown && first * last < 0) return BoxOutcome::not_monotone;
-    int pos = 0, neg = 0, unknown = 0;
+    // Opposite ends prove non-monotonicity; for eta a zero end is already an
+    // inflection (rule (1) of Algorithm 2).
+    if (first != kSignUnknown && last != kSignUnknown && (eta ? first * last <= 0 : first * last < 0))
+      return BoxOutcome::not_monotone;
+    int pos = 0, neg = 0, zero = 0, unknown = 0;
     for (int k = 0; k < n1 && unknown == 0 && !(pos && neg); ++k) {
       const int g = certain_sign(src.coeff(k));
       if (g == kSignUnknown) ++unknown;
+      else if (g == 0) ++zero;
       else (g > 0 ? pos : neg)++;
     }
-    const bool leaf_up = pos == n1, leaf_down = neg == n1;  // all strictly one sign (no certain zeros here)
+    if (zero == n1) return BoxOutcome::unresolved;  // lambda == 0 (a straight segment): leave it to the pixels
+    // A leaf: for lambda every coefficient >= 0 (or <= 0), rules (1)/(2) of
+    // Algorithm 1; for eta every coefficient strictly one sign.
+    const bool leaf_up = unknown == 0 && neg == 0 && (!eta || zero == 0);
+    const bool leaf_down = unknown == 0 && pos == 0 && (!eta || zero == 0);
     if (!leaf_up && !leaf_down) {
       if (level >= D) return BoxOutcome::unresolved;
       ++level;
@@ -631,7 +660,7 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
 }
 
 std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
-  if (s.fixed_level0_none) return PixelResult{0, 0, false};
+  if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
   const RegionOptions& o = s.options;
   const int D = o.max_depth;
   std::vector<SegmentClass> classes = s.fixed;
@@ -725,6 +754,7 @@ RegionImage blank_image(const RegionSetup& s) {
 std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& img, int min_block, int threads) {
   const RegionOptions& o = s.options;
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!o.depth && s.fixed_none) return {};  // every label is 0 (img is all zero)
   // Blocks of kRegionBlock pixels are decided whole when the certified path
   // holds over all their displacements, else quartered; blocks no larger than
   // min_block are listed for the caller (single pixels with min_block == 1

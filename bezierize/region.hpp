@@ -133,6 +133,7 @@ struct RegionSetup {
   std::vector<SegmentClass> fixed;       ///< every segment's class before the move
   std::vector<Joint> joints;             ///< before the move
   bool fixed_level0_none = false;        ///< an untouched segment fails at level 0: every pixel is 0
+  bool fixed_none = false;               ///< an untouched segment fails at some level: every label is 0
   int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
 };
 

@@ -50,6 +50,7 @@ REAL2 b_mul(REAL2 a, REAL2 b) {
 REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
 int b_sign(REAL2 a) {
   if (abs(a.x) > a.y) return a.x > REAL(0) ? 1 : -1;  // false for NaN: unknown
+  if (a.y == REAL(0) && a.x == REAL(0)) return 0;     // an exact (structural) zero
   return SIGN_UNKNOWN;
 }
 REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
@@ -77,14 +78,19 @@ uint pieces() { return (2u << hdr[15]) - 1u; }
 uint entry_at(uint e) { return hdr[9] + e * (uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI + 2 * NNU)); }
 
 // Coefficient k of piece p (heap order) of xi for entry e at this pixel, with its error bound.
+// A polynomial whose coefficients are all zero is exactly zero (the host
+// guarantees it), so its sign is certain.
 REAL2 xi_at(uint e, int p, int k) {
   uint at = entry_at(e) + uint(1 + 3 * (DEG + 1)) + uint(5 * (p * NXI + k));
   REAL v = REAL(0), mag = REAL(0);
+  bool zero = true;
   for (int h = 0; h < 5; ++h) {
     REAL2 c = data[at + uint(h)];
     v += c.x * mono[2 * h] + c.y * mono[2 * h + 1];
     mag += abs(c.x) * amono[2 * h] + abs(c.y) * amono[2 * h + 1];
+    zero = zero && c.x == REAL(0) && c.y == REAL(0);
   }
+  if (zero) return REAL2(0);
   return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
 }
 
@@ -93,6 +99,7 @@ REAL2 nu_at(uint e, int p, int k) {
   REAL2 c01 = data[at], c2 = data[at + 1u];
   REAL v = c01.x + c01.y * mono[1] + c2.x * mono[2];
   REAL mag = abs(c01.x) + abs(c01.y) * amono[1] + abs(c2.x) * amono[2];
+  if (c01.x == REAL(0) && c01.y == REAL(0) && c2.x == REAL(0)) return REAL2(0);
   return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
 }
 
@@ -109,14 +116,14 @@ int decide_piece(uint e, bool eta, int p) {
   int n1 = eta ? NNU : NXI;
   int first = b_sign(coeff_at(e, eta, p, 0));
   int last = n1 > 1 ? b_sign(coeff_at(e, eta, p, n1 - 1)) : first;
-  int pos = 0, neg = 0, unk = 0;
+  int pos = 0, neg = 0, zero = 0, unk = 0;
   for (int t = 0; t < (n1 > 1 ? 2 : 1); ++t) {
     int g = t == 0 ? first : last;
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else ++neg;
+    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
   for (int k = 1; k + 1 < n1 && !(pos > 0 && neg > 0); ++k) {
     int g = b_sign(coeff_at(e, eta, p, k));
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else ++neg;
+    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
   bool ends_known = first != SIGN_UNKNOWN && last != SIGN_UNKNOWN;
   if (!eta) {
@@ -129,9 +136,9 @@ int decide_piece(uint e, bool eta, int p) {
     return P_UNCERTAIN;
   }
   if (!ends_known) return P_UNCERTAIN;
-  if (first * last < 0) return P_INFL;
+  if (first * last <= 0) return P_INFL;  // rule (1): nu_0 nu_last <= 0
   if (pos == n1 || neg == n1) return P_NOINFL;
-  if (pos > 0 && neg > 0) return P_SPLIT;
+  if (neg + zero > 0 && pos + zero > 0) return P_SPLIT;
   return P_UNCERTAIN;
 }
 
@@ -243,7 +250,7 @@ uint level0(bool cmr) {
     uncertain = uncertain || a == SIGN_UNKNOWN || b == SIGN_UNKNOWN;
     if (cmr) {
       int c = b_sign(nu_at(e, 0, 0)), f = b_sign(nu_at(e, 0, NNU - 1));
-      if (c != SIGN_UNKNOWN && f != SIGN_UNKNOWN && c * f < 0) return 0u;
+      if (c != SIGN_UNKNOWN && f != SIGN_UNKNOWN && c * f <= 0) return 0u;
       uncertain = uncertain || c == SIGN_UNKNOWN || f == SIGN_UNKNOWN;
     }
   }

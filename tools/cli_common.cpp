@@ -26,4 +26,23 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& byt
   std::filesystem::rename(tmp, path);
 }
 
+void check_output_path(const std::filesystem::path& path, const std::string& option) {
+  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError(option + " " + path.string() + ": the folder " + folder.string() + " does not exist");
+}
+
+OutputFiles::~OutputFiles() {
+  for (const auto& p : written_) {
+    std::error_code ec;
+    std::filesystem::remove(p, ec);
+  }
+}
+
+void OutputFiles::write(const std::filesystem::path& path, const std::string& bytes) {
+  write_file_atomic(path, bytes);
+  written_.push_back(path);
+}
+
 }  // namespace cmr::cli

@@ -124,7 +124,11 @@ void add_region_command(CLI::App& app, int& exit_code) {
     bo.precision = a->precision == "fp32" ? Precision::fp32 : Precision::fp64;
     bo.device = a->device;
 
-    // Validate every point before rendering anything, so a bad index leaves no files.
+    // Validate every point and output path before rendering anything, so bad
+    // input leaves no files.
+    if (!a->png.empty()) check_output_path(a->png, "--png");
+    if (!a->labels.empty()) check_output_path(a->labels, "--labels");
+    if (!a->depth_map.empty()) check_output_path(a->depth_map, "--depth-map");
     std::vector<RegionSetup> setups;
     for (int k : points) {
       RegionOptions ok = o;
@@ -156,17 +160,17 @@ void add_region_command(CLI::App& app, int& exit_code) {
       per_point.push_back(entry);
     }
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    OutputFiles out;
     if (!a->labels.empty()) {
       for (const RegionImage& img : images) {
         const int k = setups[&img - images.data()].options.point;
-        write_file_atomic(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.labels));
+        out.write(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.labels));
       }
     }
     if (!a->depth_map.empty()) {
       for (const RegionImage& img : images) {
         const int k = setups[&img - images.data()].options.point;
-        write_file_atomic(points.size() > 1 ? with_point_suffix(a->depth_map, k) : a->depth_map,
-                          pgm(img, img.depth));
+        out.write(points.size() > 1 ? with_point_suffix(a->depth_map, k) : a->depth_map, pgm(img, img.depth));
       }
     }
     if (!a->png.empty()) {
@@ -175,8 +179,9 @@ void add_region_command(CLI::App& app, int& exit_code) {
       for (const RegionImage& img : images) pic.layers.push_back(&img);
       pic.split = o.split.has_value();
       pic.max_depth = o.max_depth;
-      draw::write_region_png(a->png, pic);
+      out.write_with(a->png, [&](const std::filesystem::path& p) { draw::write_region_png(p, pic); });
     }
+    out.keep();
     const View& v = images.front().view;
     nlohmann::ordered_json doc = {{"width", o.width},
                                   {"height", o.height},

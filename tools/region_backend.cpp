@@ -29,9 +29,11 @@ vk::RegionRenderer& renderer_for(const std::string& device) {
   co.require_float64 = false;  // fp64 is checked per render, so fp32 works on any device
   auto ctx = vk::Context::create(co);
   if (!ctx) {
-    throw EnvironmentError(ctx.error().message +
-                           " (lavapipe: install mesa-vulkan-drivers, or export "
-                           "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json; or use --backend cpu)");
+    std::string message = ctx.error().message;
+    if (message.find("VK_DRIVER_FILES") == std::string::npos)
+      message += " (for lavapipe: install mesa-vulkan-drivers or export "
+                 "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json)";
+    throw EnvironmentError(message + "; or use --backend cpu");
   }
   auto r = std::make_unique<vk::RegionRenderer>(ctx.take());
   return *renderers.emplace(device, std::move(r)).first->second;
@@ -49,6 +51,8 @@ RegionImage render_region(const RegionSetup& setup, const BackendOptions& option
   // The host decides whole blocks where the certified path holds over them
   // (most of a typical image); the device classifies the pixels of the
   // blocks left undecided at the device block size.
+  // The device is opened first, so a missing one is reported whatever the scene.
+  vk::RegionRenderer& r = renderer_for(options.device);
   RegionImage img = blank_image(setup);
   std::vector<std::array<int, 2>> pixels;
   if (options.cull) {
@@ -58,7 +62,6 @@ RegionImage render_region(const RegionSetup& setup, const BackendOptions& option
       for (int i = 0; i < img.width; ++i) pixels.push_back({i, j});
   }
   if (pixels.empty()) return img;
-  vk::RegionRenderer& r = renderer_for(options.device);
   const double before = r.pipeline_seconds();
   auto words = r.run(setup, options.precision == Precision::fp32 ? vk::RegionPrecision::fp32
                                                                   : vk::RegionPrecision::fp64, pixels);
@@ -78,7 +81,7 @@ RegionImage render_region(const RegionSetup& setup, const BackendOptions& option
       const PixelResult pr = classify_position(setup, pixel_center(img.view, o.width, o.height, i, j));
       img.labels[at] = pr.label;
       img.depth[at] = pr.depth;
-      ++img.exact_pixels;
+      img.exact_pixels += pr.exact;
     } else {
       img.labels[at] = static_cast<uint8_t>(w & 0xff);
       img.depth[at] = static_cast<uint8_t>((w >> 8) & 0xff);

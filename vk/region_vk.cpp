@@ -95,6 +95,23 @@ class Packer {
   std::vector<Pair> pairs_;
 };
 
+// Polynomial coefficients as the device will see them. All zeros must mean an
+// exact zero (the shader then trusts the sign), and rounding to float must
+// keep a relative error: a coefficient that would be subnormal or zero in
+// float, or overflow, turns the polynomial into NaN, whose signs are never
+// certain (those pixels go to the host).
+template <std::size_t K>
+std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision precision) {
+  if (precision == RegionPrecision::fp64) return c;
+  bool bad = false;
+  for (double v : c)
+    bad = bad || (v != 0 && (std::fabs(v) < std::numeric_limits<float>::min() ||
+                             std::fabs(v) > std::numeric_limits<float>::max()));
+  std::array<double, K> out = c;
+  if (bad) out[0] = std::numeric_limits<double>::quiet_NaN();
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
@@ -132,19 +149,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
       p.bounded(e.base[i].y);
       p.bounded(e.weight[i]);
     }
-    for (int k = 0; k < pieces * e.n_xi; ++k)
-      for (int m = 0; m < 10; m += 2) {
-        if (e.classify) p.values(e.xi[k][m], e.xi[k][m + 1]);
-        else p.values(0, 0);
-      }
+    for (int k = 0; k < pieces * e.n_xi; ++k) {
+      const std::array<double, 10> c = e.classify ? for_device(e.xi[k], precision) : std::array<double, 10>{};
+      for (int m = 0; m < 10; m += 2) p.values(c[m], c[m + 1]);
+    }
     for (int k = 0; k < pieces * e.n_nu; ++k) {
-      if (e.classify) {
-        p.values(e.nu[k][0], e.nu[k][1]);
-        p.values(e.nu[k][2], 0);
-      } else {
-        p.values(0, 0);
-        p.values(0, 0);
-      }
+      const std::array<double, 3> c = e.classify ? for_device(e.nu[k], precision) : std::array<double, 3>{};
+      p.values(c[0], c[1]);
+      p.values(c[2], 0);
     }
   }
   // Untouched segments and joints whose jump does not vary fold into the

@@ -1,0 +1,404 @@
+// End-to-end tests of `cmr region`: bad inputs (exit 2, one line, no output
+// files), a missing Vulkan device (exit 3), and the outputs themselves (label
+// and depth PGMs, the PNG, the JSON counts, CPU and Vulkan giving the same
+// bytes).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/cli_util.hpp"
+
+namespace {
+
+using cmr::test::Outcome;
+using cmr::test::run;
+using cmr::test::scratch;
+using cmr::test::write;
+namespace fs = std::filesystem;
+
+const std::string kSource = CMR_SOURCE_DIR;
+const std::string kUniform = kSource + "/examples/uniform.json";  // 6 points, 3 segments
+const std::string kClamped = kSource + "/examples/clamped.json";  // 6 points, 3 segments
+// Examples whose default views hold more than one label (the two above are
+// label 0 everywhere), so that the backend comparison cannot pass vacuously.
+const std::string kFig2 = kSource + "/examples/figures/fig2.json";   // cubic Bezier, 4 points
+const std::string kFig8b = kSource + "/examples/figures/fig8b.json"; // uniform cubic, 6 points
+
+// A fresh, empty folder for one test's output files.
+fs::path out_dir(const std::string& name) {
+  const fs::path dir = scratch() / ("region_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> files_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  return names;
+}
+
+std::string binary(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Sets an environment variable for the lifetime of the guard (std::system
+// hands the test's environment to the cmr process).
+class EnvGuard {
+ public:
+  EnvGuard(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    ::setenv(name, value, 1);
+  }
+  ~EnvGuard() {
+    if (old_) ::setenv(name_, old_->c_str(), 1);
+    else ::unsetenv(name_);
+  }
+  EnvGuard(const EnvGuard&) = delete;
+  EnvGuard& operator=(const EnvGuard&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+struct Pgm {
+  int width = 0, height = 0, maxval = 0;
+  std::vector<std::uint8_t> pixels;
+};
+
+// Parses a binary PGM as cmr writes it ("P5\nW H\n255\n" then W*H bytes);
+// nullopt for anything else, with the reason in *why.
+std::optional<Pgm> read_pgm(const fs::path& p, std::string* why) {
+  const std::string bytes = binary(p);
+  std::istringstream in(bytes);
+  std::string magic;
+  Pgm g;
+  if (!(in >> magic >> g.width >> g.height >> g.maxval) || magic != "P5") {
+    *why = "bad header";
+    return std::nullopt;
+  }
+  if (in.get() != '\n') {
+    *why = "no single newline after the header";
+    return std::nullopt;
+  }
+  const std::size_t at = static_cast<std::size_t>(in.tellg());
+  const std::size_t n = static_cast<std::size_t>(g.width) * g.height;
+  if (bytes.size() != at + n) {
+    *why = "expected " + std::to_string(n) + " pixel bytes, got " + std::to_string(bytes.size() - at);
+    return std::nullopt;
+  }
+  g.pixels.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.end());
+  return g;
+}
+
+// Asserts a PGM label map of the given size whose histogram is the JSON
+// "counts" object of one point.
+void expect_labels_match_counts(const fs::path& pgm, int width, int height, const nlohmann::json& counts,
+                                int labels, const std::string& what) {
+  std::string why;
+  const auto g = read_pgm(pgm, &why);
+  ASSERT_TRUE(g) << what << ": " << pgm << ": " << why;
+  EXPECT_EQ(g->width, width) << what;
+  EXPECT_EQ(g->height, height) << what;
+  EXPECT_EQ(g->maxval, 255) << what;
+  std::vector<std::uint64_t> hist(256, 0);
+  for (std::uint8_t v : g->pixels) ++hist[v];
+  for (int v = labels; v < 256; ++v) EXPECT_EQ(hist[v], 0u) << what << ": label " << v << " is not a label";
+  ASSERT_EQ(counts.size(), static_cast<std::size_t>(labels)) << what << ": " << counts.dump();
+  for (int v = 0; v < labels; ++v)
+    EXPECT_EQ(hist[v], counts[std::to_string(v)].get<std::uint64_t>()) << what << ": count of label " << v;
+}
+
+// ---------------------------------------------------------------- bad inputs
+
+struct BadRegion {
+  const char* name;
+  std::string args;       // FILE is replaced by the spline, OUT by the output folder
+  std::string spline;     // a path, or the text of a file to write when it starts with '{'
+  const char* message_part;
+};
+
+void PrintTo(const BadRegion& c, std::ostream* os) { *os << c.name; }
+
+class RegionRejects : public ::testing::TestWithParam<BadRegion> {};
+
+TEST_P(RegionRejects, WithExit2OneLineAndNoOutputFiles) {
+  const BadRegion& c = GetParam();
+  const fs::path dir = out_dir(c.name);
+  std::string file = c.spline;
+  if (!file.empty() && file[0] == '{') file = write(std::string(c.name) + ".json", c.spline);
+  std::string args = "region " + c.args;
+  for (std::size_t at; (at = args.find("FILE")) != std::string::npos;) args.replace(at, 4, file);
+  for (std::size_t at; (at = args.find("OUT")) != std::string::npos;) args.replace(at, 3, dir.string());
+  // Every output kind is asked for (in the folder, unless the case names its
+  // own), so that none of them may appear.
+  for (const auto& [flag, value] : std::vector<std::array<std::string, 2>>{{"--size", "24x16"},
+                                                                           {"--png", (dir / "r.png").string()},
+                                                                           {"--labels", (dir / "r.pgm").string()},
+                                                                           {"--depth-map", (dir / "d.pgm").string()}})
+    if (c.args.find(flag + " ") == std::string::npos) args += " " + flag + " " + value;
+  const Outcome r = run(args);
+  EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
+  EXPECT_TRUE(r.out.empty()) << c.name << " printed to stdout: " << r.out;
+  ASSERT_FALSE(r.err.empty()) << c.name;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << c.name << ": not one line: " << r.err;
+  EXPECT_NE(r.err.find(c.message_part), std::string::npos)
+      << c.name << ": expected '" << c.message_part << "' in: " << r.err;
+  const std::vector<std::string> left = files_in(dir);
+  EXPECT_TRUE(left.empty()) << c.name << " left " << left.size() << " file(s) behind, first: "
+                            << (left.empty() ? "" : left[0]);
+}
+
+const std::string kBezier = R"({"points":[[0,0],[1,1],[2,0.5],[3,0]]})";
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, RegionRejects,
+    ::testing::Values(
+        BadRegion{"point_minus_1", "FILE --point -1", kUniform, "point -1 is out of range 0..5"},
+        BadRegion{"point_6_of_6", "FILE --point 6", kUniform, "point 6 is out of range 0..5"},
+        BadRegion{"point_foo", "FILE --point foo", kUniform, "--point"},
+        BadRegion{"with_out_of_range", "FILE --point 2 --with 9", kUniform, "--with point 9 is out of range 0..5"},
+        BadRegion{"with_negative", "FILE --point 2 --with 3,-1", kUniform, "--with point -1 is out of range"},
+        BadRegion{"with_equal_to_point", "FILE --point 2 --with 2", kUniform, "--with point 2 is the moved point"},
+        BadRegion{"with_and_point_all", "FILE --point all --with 2", kUniform, "--with"},
+        BadRegion{"size_0x100", "FILE --point 2 --size 0x100", kUniform, "0x100"},
+        BadRegion{"size_16385x10", "FILE --point 2 --size 16385x10", kUniform, "16385x10"},
+        BadRegion{"size_10", "FILE --point 2 --size 10", kUniform, "--size"},
+        BadRegion{"size_axb", "FILE --point 2 --size axb", kUniform, "--size"},
+        BadRegion{"split_0", "FILE --point 2 --split 0", kUniform, "split 0 is outside 1..2"},
+        BadRegion{"split_3", "FILE --point 2 --split 3", kUniform, "split 3 is outside 1..2"},
+        BadRegion{"split_on_bezier", "FILE --point 1 --split 1", kBezier, "one segment"},
+        BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "depth 31 is outside 0..30"},
+        BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "depth -1 is outside 0..30"},
+        BadRegion{"view_3_numbers", "FILE --point 2 --view 0,0,1", kUniform, "four numbers"},
+        BadRegion{"view_x0_above_x1", "FILE --point 2 --view 2,0,1,1", kUniform, "X0 < X1"},
+        BadRegion{"view_x0_equal_x1", "FILE --point 2 --view 1,0,1,1", kUniform, "X0 < X1"},
+        BadRegion{"view_y0_above_y1", "FILE --point 2 --view 0,2,1,1", kUniform, "Y0 < Y1"},
+        BadRegion{"view_nan", "FILE --point 2 --view nan,0,1,1", kUniform, "finite"},
+        BadRegion{"view_word", "FILE --point 2 --view 0,0,1,one", kUniform, "'one' is not a number"},
+        BadRegion{"mode_foo", "FILE --point 2 --mode foo", kUniform, "--mode"},
+        BadRegion{"backend_foo", "FILE --point 2 --backend foo", kUniform, "--backend"},
+        BadRegion{"precision_foo", "FILE --point 2 --precision fp16", kUniform, "--precision"},
+        BadRegion{"malformed_json", "FILE --point 1", "{\"points\": [[0,0],", "malformed JSON"},
+        BadRegion{"missing_file", "FILE --point 1", "/nonexistent/spline.json", "cannot open"},
+        // An output that cannot be written must not leave the others behind
+        // (the labels are written before the PNG and the depth map).
+        BadRegion{"png_folder_missing", "FILE --point 1 --png /nonexistent/cmr/r.png", kFig2, "/nonexistent/cmr/r.png"},
+        BadRegion{"depth_map_folder_missing", "FILE --point 1 --depth-map /nonexistent/cmr/d.pgm", kFig2,
+                  "/nonexistent/cmr/d.pgm"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+// --------------------------------------------------------------- environment
+
+TEST(RegionEnvironment, NoVulkanDeviceExits3AndSaysHowToSelectLavapipe) {
+  const fs::path dir = out_dir("no_device");
+  const EnvGuard env("VK_DRIVER_FILES", "/nonexistent.json");
+  // Point 2 of the uniform example touches every segment, so the host cannot
+  // decide every pixel alone and the device is needed.
+  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --png " + (dir / "r.png").string() +
+                        " --labels " + (dir / "r.pgm").string());
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
+  EXPECT_NE(r.err.find("lavapipe"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "r.png")) << "a PNG was written without a device";
+  EXPECT_TRUE(files_in(dir).empty()) << "files left behind: " << files_in(dir).size();
+}
+
+TEST(RegionEnvironment, CpuBackendNeedsNoDevice) {
+  const fs::path dir = out_dir("cpu_no_device");
+  const EnvGuard env("VK_DRIVER_FILES", "/nonexistent.json");
+  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --backend cpu --labels " +
+                        (dir / "r.pgm").string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "r.pgm"));
+}
+
+// ------------------------------------------------------------------- outputs
+
+nlohmann::json parse_or_fail(const Outcome& r, const std::string& what) {
+  EXPECT_EQ(r.code, 0) << what << ": " << r.err;
+  try {
+    return nlohmann::json::parse(r.out);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << what << ": stdout is not JSON (" << e.what() << "): " << r.out;
+    return {};
+  }
+}
+
+TEST(RegionOutputs, LabelsPgmHasTheRequestedSizeAndTheJsonCounts) {
+  struct Case {
+    std::string file, args;
+    int width, height, labels;
+  };
+  const std::vector<Case> cases = {{kUniform, "--point 2", 40, 24, 4},
+                                   {kFig2, "--point 1", 37, 29, 4},
+                                   {kFig2, "--point 3 --mode cmr", 30, 30, 4},
+                                   {kFig8b, "--point 4 --split 2", 33, 21, 6}};
+  for (const Case& c : cases) {
+    const fs::path dir = out_dir("labels_pgm");
+    const std::string what = c.file + " " + c.args;
+    const fs::path pgm = dir / "out.pgm";
+    const Outcome r = run("region " + c.file + " " + c.args + " --size " + std::to_string(c.width) + "x" +
+                          std::to_string(c.height) + " --labels " + pgm.string());
+    const nlohmann::json doc = parse_or_fail(r, what);
+    ASSERT_TRUE(doc.contains("points")) << what;
+    ASSERT_EQ(doc["points"].size(), 1u) << what;
+    EXPECT_EQ(doc["width"], c.width) << what;
+    EXPECT_EQ(doc["height"], c.height) << what;
+    EXPECT_FALSE(doc["points"][0].contains("exact_share")) << what << ": exact_share without --stats";
+    expect_labels_match_counts(pgm, c.width, c.height, doc["points"][0]["counts"], c.labels, what);
+    EXPECT_EQ(files_in(dir).size(), 1u) << what << ": temporary files left behind";
+  }
+}
+
+TEST(RegionOutputs, PointAllWritesOneLabelMapPerPoint) {
+  const fs::path dir = out_dir("point_all");
+  const Outcome r = run("region " + kFig8b + " --point all --size 32x24 --labels " + (dir / "OUT.pgm").string());
+  const nlohmann::json doc = parse_or_fail(r, "--point all");
+  ASSERT_EQ(doc["points"].size(), 6u) << r.out;
+  for (int k = 0; k < 6; ++k) {
+    const fs::path p = dir / ("OUT.P" + std::to_string(k) + ".pgm");
+    ASSERT_TRUE(fs::exists(p)) << p;
+    EXPECT_EQ(doc["points"][k]["point"], k);
+    expect_labels_match_counts(p, 32, 24, doc["points"][k]["counts"], 4, "point " + std::to_string(k));
+  }
+  EXPECT_FALSE(fs::exists(dir / "OUT.pgm")) << "--point all also wrote the unsuffixed name";
+  EXPECT_EQ(files_in(dir).size(), 6u);
+}
+
+TEST(RegionOutputs, DepthMapValuesAreAtMostTheDepth) {
+  for (const int depth : {0, 3, 7}) {
+    const fs::path dir = out_dir("depth_map");
+    const fs::path p = dir / "d.pgm";
+    const Outcome r = run("region " + kFig2 + " --point 3 --size 40x30 --depth " + std::to_string(depth) +
+                          " --depth-map " + p.string());
+    ASSERT_EQ(r.code, 0) << "depth " << depth << ": " << r.err;
+    std::string why;
+    const auto g = read_pgm(p, &why);
+    ASSERT_TRUE(g) << "depth " << depth << ": " << why;
+    EXPECT_EQ(g->width, 40);
+    EXPECT_EQ(g->height, 30);
+    int most = 0;
+    for (std::size_t at = 0; at < g->pixels.size(); ++at) {
+      ASSERT_LE(int(g->pixels[at]), depth) << "depth " << depth << " pixel (" << at % 40 << ", " << at / 40 << ")";
+      most = std::max(most, int(g->pixels[at]));
+    }
+    // Fig. 2's regions have pixels decided below level 0 (so the map is not all zero).
+    if (depth > 0) {
+      EXPECT_GT(most, 0) << "depth " << depth << ": every pixel decided at level 0";
+    }
+  }
+}
+
+TEST(RegionOutputs, PngHasTheRequestedSize) {
+  const fs::path dir = out_dir("png");
+  const fs::path p = dir / "r.png";
+  const Outcome r = run("region " + kFig2 + " --point 2 --size 70x45 --png " + p.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string b = binary(p);
+  ASSERT_GE(b.size(), 24u);
+  const std::string signature = "\x89PNG\r\n\x1a\n";
+  EXPECT_EQ(b.substr(0, 8), signature);
+  EXPECT_EQ(b.substr(12, 4), "IHDR");
+  auto be32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(b[at + k]);
+    return v;
+  };
+  EXPECT_EQ(be32(16), 70u) << "IHDR width";
+  EXPECT_EQ(be32(20), 45u) << "IHDR height";
+  EXPECT_EQ(files_in(dir).size(), 1u) << "temporary files left behind";
+}
+
+TEST(RegionOutputs, StatsAddsTheExactShare) {
+  const Outcome r = run("region " + kFig2 + " --point 1 --size 32x32 --stats");
+  const nlohmann::json doc = parse_or_fail(r, "--stats");
+  ASSERT_EQ(doc["points"].size(), 1u);
+  const auto& p = doc["points"][0];
+  ASSERT_TRUE(p.contains("exact_share")) << r.out;
+  ASSERT_TRUE(p.contains("exact_pixels")) << r.out;
+  const double share = p["exact_share"].get<double>();
+  EXPECT_GE(share, 0.0);
+  EXPECT_LE(share, 1.0);
+  EXPECT_DOUBLE_EQ(share, p["exact_pixels"].get<double>() / (32.0 * 32.0));
+}
+
+// CPU and Vulkan (fp64 and fp32) give byte-identical label maps.
+struct Same {
+  const char* name;
+  std::string file, args;
+};
+
+void PrintTo(const Same& c, std::ostream* os) { *os << c.name; }
+
+class RegionBackendsAgree : public ::testing::TestWithParam<Same> {};
+
+TEST_P(RegionBackendsAgree, ByteIdenticalLabelMaps) {
+  const Same& c = GetParam();
+  const fs::path dir = out_dir(c.name);
+  const std::string base = "region " + c.file + " " + c.args + " --size 48x40 --labels ";
+  const Outcome cpu = run(base + (dir / "cpu.pgm").string() + " --backend cpu");
+  ASSERT_EQ(cpu.code, 0) << c.name << " cpu: " << cpu.err;
+  const std::string want = binary(dir / "cpu.pgm");
+  ASSERT_FALSE(want.empty()) << c.name;
+  for (const char* precision : {"fp64", "fp32"}) {
+    const fs::path p = dir / (std::string("vk_") + precision + ".pgm");
+    const Outcome vk = run(base + p.string() + " --precision " + precision);
+    ASSERT_EQ(vk.code, 0) << c.name << " " << precision << ": " << vk.err;
+    const std::string got = binary(p);
+    ASSERT_EQ(got.size(), want.size()) << c.name << " " << precision;
+    for (std::size_t at = 0; at < got.size(); ++at)
+      ASSERT_EQ(int(static_cast<unsigned char>(got[at])), int(static_cast<unsigned char>(want[at])))
+          << c.name << " " << precision << ": byte " << at << " of the PGM";
+    // The JSON counts agree too.
+    EXPECT_EQ(nlohmann::json::parse(vk.out)["points"], nlohmann::json::parse(cpu.out)["points"])
+        << c.name << " " << precision;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Examples, RegionBackendsAgree,
+    ::testing::Values(Same{"uniform_P0", kUniform, "--point 0"}, Same{"uniform_P2", kUniform, "--point 2"},
+                      Same{"uniform_P3_cmr", kUniform, "--point 3 --mode cmr"},
+                      Same{"uniform_P5", kUniform, "--point 5"},
+                      Same{"uniform_split2_cmr_P2", kUniform, "--point 2 --split 2 --mode cmr"},
+                      Same{"clamped_P0", kClamped, "--point 0"}, Same{"clamped_P2", kClamped, "--point 2"},
+                      Same{"clamped_P4", kClamped, "--point 4"},
+                      Same{"clamped_split2_cmr_P3", kClamped, "--point 3 --split 2 --mode cmr"},
+                      Same{"clamped_P2_with_P3", kClamped, "--point 2 --with 3"},
+                      // Examples with regions (uniform.json and clamped.json are label 0 everywhere in
+                      // their default views):
+                      Same{"fig2_P0", kFig2, "--point 0"}, Same{"fig2_P3_cmr", kFig2, "--point 3 --mode cmr"},
+                      Same{"fig8b_P5", kFig8b, "--point 5"},
+                      Same{"fig8b_split2_cmr_P4", kFig8b, "--point 4 --split 2 --mode cmr"}),
+    [](const auto& p) { return std::string(p.param.name); });
+
+TEST(RegionBackendsAgree, SomeComparedMapHasSeveralLabels) {
+  // Guards RegionBackendsAgree against comparing only all-zero maps.
+  for (const auto& [file, args] : std::vector<std::array<std::string, 2>>{{kFig2, "--point 0"},
+                                                                          {kFig8b, "--point 5"}}) {
+    const Outcome r = run("region " + file + " " + args + " --size 48x40 --backend cpu");
+    const nlohmann::json doc = parse_or_fail(r, file);
+    int present = 0;
+    for (const auto& [label, count] : doc["points"][0]["counts"].items()) present += count.get<int>() > 0;
+    EXPECT_GE(present, 2) << file << " " << args << ": " << r.out;
+  }
+}
+
+}  // namespace
