@@ -285,10 +285,13 @@ struct Interval {
 // Expanding at the centre avoids the cancellation that makes a term-by-term
 // interval bound useless away from the moved point.
 struct Monomials {
+  // T[st][m] is non-zero only for s <= a_m and t <= b_m: 35 pairs, listed by m.
+  static constexpr int kPairs = 35;
   bool point = true;
   double v[kPoly3Terms];                // point: mu_m
   double a[kPoly3Terms];                // point: |mu_m|
-  double T[kPoly3Terms][kPoly3Terms];   // box: T[st][m]
+  double tv[kPairs], at[kPairs];        // box: T[st][m] and |T[st][m]| of the non-zero pairs
+  uint8_t pair_st[kPairs], pair_m[kPairs];
   double rpow[kPoly3Terms];             // box: r_x^s r_y^t, rounded up
   Monomials(double dx, double dy) {
     const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
@@ -301,12 +304,21 @@ struct Monomials {
   Monomials(double cx, double cy, double rx, double ry) : point(false) {
     const double px[4] = {1, cx, cx * cx, cx * cx * cx}, py[4] = {1, cy, cy * cy, cy * cy * cy};
     const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    int n = 0;
+    for (int m = 0; m < kPoly3Terms; ++m) {
+      const int am = kPoly3ExpX[m], bm = kPoly3ExpY[m];
+      for (int st = 0; st < kPoly3Terms; ++st) {
+        const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
+        if (s > am || t > bm) continue;
+        tv[n] = binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t];
+        at[n] = std::fabs(tv[n]);
+        pair_st[n] = static_cast<uint8_t>(st);
+        pair_m[n] = static_cast<uint8_t>(m);
+        ++n;
+      }
+    }
     for (int st = 0; st < kPoly3Terms; ++st) {
       const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
-      for (int m = 0; m < kPoly3Terms; ++m) {
-        const int am = kPoly3ExpX[m], bm = kPoly3ExpY[m];
-        T[st][m] = (s <= am && t <= bm) ? binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t] : 0.0;
-      }
       const double up = 1 + 8 * Bounded::kRound;
       double r = 1;
       for (int k = 0; k < s; ++k) r *= rx * up;
@@ -332,21 +344,18 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
     }
     return {val, units * mag + 16 * Bounded::kTiny};
   }
-  double value = 0, err = 16 * Bounded::kTiny;
-  for (std::size_t st = 0; st < K; ++st) {
-    double d = 0, mag = 0;
-    for (std::size_t i = 0; i < K; ++i) {
-      d += c[i] * m.T[st][i];
-      mag += std::fabs(c[i]) * std::fabs(m.T[st][i]);
-    }
-    if (st == 0) {
-      value = d;
-      err += units * mag;
-    } else {
-      err += (std::fabs(d) + units * mag) * m.rpow[st] * (1 + 4 * Bounded::kRound);
-    }
+  double d[kPoly3Terms] = {}, mag[kPoly3Terms] = {};
+  // Pairs are listed by m, and only m < K carry coefficients (K = 3: 5 pairs).
+  constexpr int pairs = K == kPoly3Terms ? Monomials::kPairs : 5;
+  static_assert(K == kPoly3Terms || K == 3, "polynomials of degree 3 or 1");
+  for (int k = 0; k < pairs; ++k) {
+    const double cm = c[m.pair_m[k]];
+    d[m.pair_st[k]] += cm * m.tv[k];
+    mag[m.pair_st[k]] += std::fabs(cm) * m.at[k];
   }
-  return {value, err};
+  double err = units * mag[0] + 16 * Bounded::kTiny;
+  for (std::size_t st = 1; st < K; ++st) err += (std::fabs(d[st]) + units * mag[st]) * m.rpow[st] * (1 + 4 * Bounded::kRound);
+  return {d[0], err};
 }
 
 // Depth-first Algorithms 1 and 2 on the piece polynomials of one entry:
@@ -614,12 +623,15 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 // opposite end signs: an inflection). nullopt when a piece at level D stays
 // unresolved over the box.
 enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
+constexpr int kBoxPieceBudget = 6;
 
 BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa) {
   LazyPieces src(e, mono, levels, eta);
   bool inc = false, dec = false;
   int level = 0, j = 0;
-  for (;;) {
+  // A box that needs many pieces is cheaper to quarter than to resolve.
+  for (int visited = 0;; ++visited) {
+    if (visited == kBoxPieceBudget) return BoxOutcome::unresolved;
     src.select(level, j);
     const int n1 = src.size();
     const int first = certain_sign(src.coeff(0)), last = certain_sign(src.coeff(n1 - 1));
@@ -663,14 +675,19 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
   const RegionOptions& o = s.options;
   const int D = o.max_depth;
+  // The cheapest proof first: a whole segment with opposite end signs.
+  for (const RegionEntry& e : s.entries) {
+    if (!e.classify) continue;
+    const int a = certain_sign(eval_poly(e.xi[0], mono)), b = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
+    if (a != kSignUnknown && b != kSignUnknown && a * b < 0) return PixelResult{0, 0, false};
+  }
   std::vector<SegmentClass> classes = s.fixed;
-  bool unresolved = false;
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     SegmentClass c;
     switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr)) {
       case BoxOutcome::not_monotone: return PixelResult{0, 0, false};
-      case BoxOutcome::unresolved: unresolved = true; break;
+      case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
       case BoxOutcome::decreasing: c.monotonicity = {Curvature::decreasing, 0}; break;
     }
@@ -679,13 +696,12 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       int kappa = 0;
       switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa)) {
         case BoxOutcome::not_monotone: return PixelResult{0, 0, false};  // an inflection
-        case BoxOutcome::unresolved: unresolved = true; break;
+        case BoxOutcome::unresolved: return std::nullopt;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
       }
     }
     classes[e.segment] = c;
   }
-  if (unresolved) return std::nullopt;
   std::vector<Joint> joints = s.joints;
   if (!s.varying.empty()) {
     std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
@@ -733,11 +749,8 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
   const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
   const Monomials mono(bx.v, by.v, bx.e, by.e);
-  // The depth-exact path first (cheap where it holds); labels alone may hold
-  // more widely.
-  if (auto r = classify_fast(s, mono, bx, by)) return r;
   if (!o.depth) return classify_box_labels(s, mono, bx, by);
-  return std::nullopt;
+  return classify_fast(s, mono, bx, by);
 }
 
 RegionImage blank_image(const RegionSetup& s) {
@@ -750,6 +763,8 @@ RegionImage blank_image(const RegionSetup& s) {
   img.depth.assign(img.labels.size(), 0);
   return img;
 }
+
+constexpr int kPixelsPerSmallBlock = 4;
 
 std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& img, int min_block, int threads) {
   const RegionOptions& o = s.options;
@@ -781,10 +796,14 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
       while (!todo.empty()) {
         const auto [i0, j0, i1, j1] = todo.back();
         todo.pop_back();
-        if (i0 == i1 && j0 == j1 && min_block <= 1) {
-          const PixelResult r = classify_position(s, pixel_center(img.view, o.width, o.height, i0, j0));
-          fill(i0, j0, i0, j0, r);
-          local_exact += r.exact;
+        // Blocks of a few pixels: evaluating the pixels is cheaper than a box.
+        if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock && min_block <= 1) {
+          for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+              const PixelResult r = classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+              fill(i, j, i, j, r);
+              local_exact += r.exact;
+            }
           continue;
         }
         if (const auto r = classify_block(s, i0, j0, i1, j1)) {

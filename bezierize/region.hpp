@@ -161,7 +161,7 @@ struct RegionImage {
 std::optional<PixelResult> classify_block(const RegionSetup& setup, int i0, int j0, int i1, int j1);
 
 /// Block size of the CPU backend's (and the Vulkan backend's host) culling.
-inline constexpr int kRegionBlock = 16;
+inline constexpr int kRegionBlock = 64;
 
 /// An all-zero image of the setup's size and view.
 RegionImage blank_image(const RegionSetup& setup);
