@@ -3,6 +3,7 @@
 #include "bezierize/extract.hpp"
 #include "bezierize/fast_lambda.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include "bezierize/lambda.hpp"
 
@@ -202,22 +203,27 @@ SegmentClass finish(std::optional<MonotonicityResult> mono, std::optional<Inflec
   return out;
 }
 
-// Algorithms 1 and 2 on (value, bound) arrays without allocating: the same
-// traversal and the same bound propagation as algorithm1<Bounded>, for
-// degrees up to kFastMaxDegree and depths up to 30.
+// Algorithms 1 and 2 on double coefficients with one error bound per piece,
+// without allocating: the same traversal and decisions as algorithm1<T>.
+// A piece's bound E covers every coefficient; halving averages neighbours, so
+// a child's coefficients are within E plus the rounding of n averaging steps,
+// each at most u max|c| (convex combinations do not grow max|c|): the child
+// gets E + n u max|c| (1 + 2^-20) + tiny. Degrees up to kFastMaxDegree,
+// depths up to 30.
 constexpr int kFastCoefficients = 4 * kFastMaxDegree - 6;
 
-template <bool Inflection>
-int fast_piece(const double* v, const double* e, int n1) {
-  int pos = 0, neg = 0, unk = 0, first = 0, last = 0;
+template <bool Inflection, int N1>
+int fast_piece(const double* v, double e, int runtime_n1) {
+  const int n1 = N1 > 0 ? N1 : runtime_n1;
+  int pos = 0, neg = 0, unk = 0;
   for (int i = 0; i < n1; ++i) {
-    const int g = std::fabs(v[i]) > e[i] ? (v[i] > 0 ? 1 : -1) : kSignUnknown;
-    if (i == 0) first = g;
-    if (i == n1 - 1) last = g;
-    if (g == kSignUnknown) ++unk;
-    else if (g > 0) ++pos;
-    else ++neg;
+    const bool certain = std::fabs(v[i]) > e;
+    unk += !certain;
+    pos += certain && v[i] > 0;
+    neg += certain && v[i] < 0;
   }
+  const auto sign_of = [&](double x) { return std::fabs(x) > e ? (x > 0 ? 1 : -1) : kSignUnknown; };
+  const int first = sign_of(v[0]), last = sign_of(v[n1 - 1]);
   const bool ends_known = first != kSignUnknown && last != kSignUnknown;
   if (Inflection) {
     if (!ends_known) return static_cast<int>(Piece::uncertain);
@@ -235,43 +241,39 @@ int fast_piece(const double* v, const double* e, int n1) {
 }
 
 // Visits pieces as traverse() does; visit(piece, level) returns true to stop.
-template <bool Inflection, class Visit>
-bool fast_traverse(const double* v0, const double* e0, int n1, int max_depth, Visit visit) {
-  double sv[32 * kFastCoefficients], se[32 * kFastCoefficients];
+template <bool Inflection, int N1, class Visit>
+bool fast_traverse(const double* v0, double e0, int runtime_n1, int max_depth, Visit visit) {
+  const int n1 = N1 > 0 ? N1 : runtime_n1;
+  double sv[32 * kFastCoefficients], se[32];
   int levels[32];
-  double wv[kFastCoefficients], we[kFastCoefficients];
   std::copy(v0, v0 + n1, sv);
-  std::copy(e0, e0 + n1, se);
+  se[0] = e0;
   levels[0] = 0;
   int sp = 1;
   while (sp > 0) {
     --sp;
     double* cv = sv + sp * n1;
-    double* ce = se + sp * n1;
+    const double e = se[sp];
     const int level = levels[sp];
-    const Piece p = static_cast<Piece>(fast_piece<Inflection>(cv, ce, n1));
+    const Piece p = static_cast<Piece>(fast_piece<Inflection, N1>(cv, e, n1));
     if (p == Piece::uncertain) return false;
     if (p == Piece::split && level < max_depth) {
-      // Halve as bernstein_halve<Bounded>: right half stays at sp, left above.
-      double* lv = cv + n1;
-      double* le = ce + n1;
-      std::copy(cv, cv + n1, wv);
-      std::copy(ce, ce + n1, we);
-      lv[0] = wv[0];
-      le[0] = we[0];
-      cv[n1 - 1] = wv[n1 - 1];
-      ce[n1 - 1] = we[n1 - 1];
-      for (int r = 1; r < n1; ++r) {
-        for (int i = 0; i + r < n1; ++i) {
-          const Bounded h = (Bounded(wv[i], we[i]) + Bounded(wv[i + 1], we[i + 1])).half();
-          wv[i] = h.v;
-          we[i] = h.e;
-        }
-        lv[r] = wv[0];
-        le[r] = we[0];
-        cv[n1 - 1 - r] = wv[n1 - 1 - r];
-        ce[n1 - 1 - r] = we[n1 - 1 - r];
+      // de Casteljau at 1/2: right half stays at sp, left half above it.
+      double w[kFastCoefficients];
+      double m = 0;
+      for (int i = 0; i < n1; ++i) {
+        w[i] = cv[i];
+        m = std::max(m, std::fabs(cv[i]));
       }
+      double* lv = cv + n1;
+      lv[0] = w[0];
+      cv[n1 - 1] = w[n1 - 1];
+      for (int r = 1; r < n1; ++r) {
+        for (int i = 0; i + r < n1; ++i) w[i] = 0.5 * (w[i] + w[i + 1]);
+        lv[r] = w[0];
+        cv[n1 - 1 - r] = w[n1 - 1 - r];
+      }
+      se[sp] = se[sp + 1] = e + n1 * (0.5 * Bounded::kRound) * m * (1 + 0x1p-20) + Bounded::kTiny;
       levels[sp] = levels[sp + 1] = level + 1;
       sp += 2;
       continue;
@@ -281,9 +283,10 @@ bool fast_traverse(const double* v0, const double* e0, int n1, int max_depth, Vi
   return true;
 }
 
-std::optional<MonotonicityResult> fast_algorithm1(const double* v, const double* e, int n1, int max_depth) {
+template <int N1>
+std::optional<MonotonicityResult> fast_algorithm1_n(const double* v, double e, int n1, int max_depth) {
   // Most segments are decided by the whole segment (level 0): no stack.
-  switch (static_cast<Piece>(fast_piece<false>(v, e, n1))) {
+  switch (static_cast<Piece>(fast_piece<false, N1>(v, e, n1))) {
     case Piece::non_monotone: return MonotonicityResult{Curvature::non_monotone, 0};
     case Piece::increasing: return MonotonicityResult{Curvature::increasing, 0};
     case Piece::decreasing: return MonotonicityResult{Curvature::decreasing, 0};
@@ -293,7 +296,7 @@ std::optional<MonotonicityResult> fast_algorithm1(const double* v, const double*
   bool inc = false, dec = false, undecided = false;
   int deepest = 0;
   std::optional<MonotonicityResult> stop;
-  const bool certain = fast_traverse<false>(v, e, n1, max_depth, [&](Piece p, int level) {
+  const bool certain = fast_traverse<false, N1>(v, e, n1, max_depth, [&](Piece p, int level) {
     if (p == Piece::non_monotone) {
       stop = MonotonicityResult{Curvature::non_monotone, level};
       return true;
@@ -311,11 +314,12 @@ std::optional<MonotonicityResult> fast_algorithm1(const double* v, const double*
   return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
 }
 
-std::optional<InflectionResult> fast_algorithm2(const double* v, const double* e, int n1, int max_depth) {
+template <int N1>
+std::optional<InflectionResult> fast_algorithm2_n(const double* v, double e, int n1, int max_depth) {
   bool undecided = false;
   int deepest = 0;
   std::optional<InflectionResult> stop;
-  const bool certain = fast_traverse<true>(v, e, n1, max_depth, [&](Piece p, int level) {
+  const bool certain = fast_traverse<true, N1>(v, e, n1, max_depth, [&](Piece p, int level) {
     if (p == Piece::inflection) {
       stop = InflectionResult{Inflection::present, level, 0};
       return true;
@@ -328,6 +332,14 @@ std::optional<InflectionResult> fast_algorithm2(const double* v, const double* e
   if (stop) return stop;
   if (undecided) return InflectionResult{Inflection::undecided, max_depth, 0};
   return InflectionResult{Inflection::none, deepest, v[0] > 0 ? 1 : -1};
+}
+
+// Cubic segments (the common case) get loops of fixed length.
+std::optional<MonotonicityResult> fast_algorithm1(const double* v, double e, int n1, int max_depth) {
+  return n1 == 6 ? fast_algorithm1_n<6>(v, e, n1, max_depth) : fast_algorithm1_n<0>(v, e, n1, max_depth);
+}
+std::optional<InflectionResult> fast_algorithm2(const double* v, double e, int n1, int max_depth) {
+  return n1 == 3 ? fast_algorithm2_n<3>(v, e, n1, max_depth) : fast_algorithm2_n<0>(v, e, n1, max_depth);
 }
 
 template <class T>
@@ -365,8 +377,10 @@ SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions
     FastCoefficients f;
     fast_lambda_eta(points.data(), n, f);
     if (options.max_depth <= 30) {
-      mono = fast_algorithm1(f.xi.data(), f.xi_err.data(), f.n_xi, options.max_depth);
-      if (options.inflection) infl = fast_algorithm2(f.nu.data(), f.nu_err.data(), f.n_nu, options.max_depth);
+      const double xi_err = *std::max_element(f.xi_err.begin(), f.xi_err.begin() + f.n_xi);
+      const double nu_err = *std::max_element(f.nu_err.begin(), f.nu_err.begin() + f.n_nu);
+      mono = fast_algorithm1(f.xi.data(), xi_err, f.n_xi, options.max_depth);
+      if (options.inflection) infl = fast_algorithm2(f.nu.data(), nu_err, f.n_nu, options.max_depth);
     }
     if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
   }

@@ -796,10 +796,15 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
       while (!todo.empty()) {
         const auto [i0, j0, i1, j1] = todo.back();
         todo.pop_back();
-        // Blocks of a few pixels: evaluating the pixels is cheaper than a box.
-        if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock && min_block <= 1) {
+        // Blocks of a few pixels: evaluating the pixels (here, or on the
+        // device when min_block > 1) is cheaper than a box.
+        if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
           for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) {
+              if (min_block > 1) {
+                listed[b].push_back({i, j});
+                continue;
+              }
               const PixelResult r = classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
               fill(i, j, i, j, r);
               local_exact += r.exact;
