@@ -29,6 +29,45 @@ const char* to_string(Inflection i) {
   return "?";
 }
 
+bool MonotonicityFold::visit(Piece p, int level) {
+  switch (p) {
+    case Piece::zero:  // lambda == 0 on a piece means lambda == 0: seen at level 0
+      stop_ = MonotonicityResult{Curvature::constant, level};
+      return true;
+    case Piece::non_monotone:
+      stop_ = MonotonicityResult{Curvature::non_monotone, level};
+      return true;
+    case Piece::increasing: inc_ = true; break;
+    case Piece::decreasing: dec_ = true; break;
+    default: undecided_ = true; break;  // still split at level D
+  }
+  deepest_ = std::max(deepest_, level);
+  if (inc_ && dec_) stop_ = MonotonicityResult{Curvature::non_monotone, level};
+  return stop_.has_value();
+}
+
+MonotonicityResult MonotonicityFold::result(int max_depth) const {
+  if (stop_) return *stop_;
+  if (undecided_) return {Curvature::undecided, max_depth};
+  return {inc_ ? Curvature::increasing : Curvature::decreasing, deepest_};
+}
+
+bool InflectionFold::visit(Piece p, int level) {
+  if (p == Piece::inflection) {
+    stop_ = InflectionResult{Inflection::present, level, 0};
+    return true;
+  }
+  if (p != Piece::no_inflection) undecided_ = true;
+  deepest_ = std::max(deepest_, level);
+  return false;
+}
+
+InflectionResult InflectionFold::result(int max_depth, int kappa_sign) const {
+  if (stop_) return *stop_;
+  if (undecided_) return {Inflection::undecided, max_depth, 0};
+  return {Inflection::none, deepest_, kappa_sign};
+}
+
 namespace {
 
 // Three-valued truth for conditions on coefficients whose sign may be unknown.
@@ -54,8 +93,6 @@ SignCounts count_signs(const T* c, int n1) {
   return s;
 }
 
-// One piece's outcome in a depth-first traversal.
-enum class Piece { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
 
 // Depth-first traversal shared by both algorithms, with an explicit stack of at
 // most max_depth + 1 pending pieces. `decide(c, n1)` judges one piece; `visit`
@@ -127,54 +164,19 @@ Piece inflection_piece(const T* c, int n1) {
 template <class T>
 std::optional<MonotonicityResult> algorithm1(const Bernstein<T>& xi, int max_depth) {
   CMR_CHECK(!xi.empty() && max_depth >= 0);
-  bool inc = false, dec = false, undecided = false;
-  MonotonicityResult r;
-  int deepest = 0;
-  const bool certain = traverse(xi, max_depth, monotonicity_piece<T>, [&](Piece p, int level) {
-    switch (p) {
-      case Piece::zero:  // lambda == 0 on a piece means lambda == 0: seen at level 0
-        r = {Curvature::constant, level};
-        return true;
-      case Piece::non_monotone:
-        r = {Curvature::non_monotone, level};
-        return true;
-      case Piece::increasing: inc = true; break;
-      case Piece::decreasing: dec = true; break;
-      default: undecided = true; break;  // unsplit at level D
-    }
-    deepest = std::max(deepest, level);
-    if (inc && dec) {
-      r = {Curvature::non_monotone, level};
-      return true;
-    }
-    return false;
-  });
-  if (!certain) return std::nullopt;
-  if (r.curvature == Curvature::constant || r.curvature == Curvature::non_monotone) return r;
-  if (undecided) return MonotonicityResult{Curvature::undecided, max_depth};
-  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+  MonotonicityFold fold;
+  if (!traverse(xi, max_depth, monotonicity_piece<T>, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(max_depth);
 }
 
 template <class T>
 std::optional<InflectionResult> algorithm2(const Bernstein<T>& nu, int max_depth) {
   CMR_CHECK(!nu.empty() && max_depth >= 0);
-  InflectionResult r{Inflection::none, 0, 0};
-  bool undecided = false, found = false;
-  int deepest = 0;
-  const bool certain = traverse(nu, max_depth, inflection_piece<T>, [&](Piece p, int level) {
-    if (p == Piece::inflection) {
-      r = {Inflection::present, level, 0};
-      found = true;
-      return true;
-    }
-    if (p != Piece::no_inflection) undecided = true;
-    deepest = std::max(deepest, level);
-    return false;
-  });
-  if (!certain) return std::nullopt;
-  if (found) return r;
-  if (undecided) return InflectionResult{Inflection::undecided, max_depth, 0};
-  return InflectionResult{Inflection::none, deepest, Scalar<T>::sign(nu.front())};
+  InflectionFold fold;
+  if (!traverse(nu, max_depth, inflection_piece<T>, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(max_depth, Scalar<T>::sign(nu.front()));
 }
 
 template std::optional<MonotonicityResult> algorithm1(const Bernstein<double>&, int);
@@ -293,45 +295,18 @@ std::optional<MonotonicityResult> fast_algorithm1_n(const double* v, double e, i
     case Piece::uncertain: return std::nullopt;
     default: break;
   }
-  bool inc = false, dec = false, undecided = false;
-  int deepest = 0;
-  std::optional<MonotonicityResult> stop;
-  const bool certain = fast_traverse<false, N1>(v, e, n1, max_depth, [&](Piece p, int level) {
-    if (p == Piece::non_monotone) {
-      stop = MonotonicityResult{Curvature::non_monotone, level};
-      return true;
-    }
-    if (p == Piece::increasing) inc = true;
-    else if (p == Piece::decreasing) dec = true;
-    else undecided = true;
-    deepest = std::max(deepest, level);
-    if (inc && dec) stop = MonotonicityResult{Curvature::non_monotone, level};
-    return stop.has_value();
-  });
-  if (!certain) return std::nullopt;
-  if (stop) return stop;
-  if (undecided) return MonotonicityResult{Curvature::undecided, max_depth};
-  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+  MonotonicityFold fold;
+  if (!fast_traverse<false, N1>(v, e, n1, max_depth, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(max_depth);
 }
 
 template <int N1>
 std::optional<InflectionResult> fast_algorithm2_n(const double* v, double e, int n1, int max_depth) {
-  bool undecided = false;
-  int deepest = 0;
-  std::optional<InflectionResult> stop;
-  const bool certain = fast_traverse<true, N1>(v, e, n1, max_depth, [&](Piece p, int level) {
-    if (p == Piece::inflection) {
-      stop = InflectionResult{Inflection::present, level, 0};
-      return true;
-    }
-    if (p != Piece::no_inflection) undecided = true;
-    deepest = std::max(deepest, level);
-    return false;
-  });
-  if (!certain) return std::nullopt;
-  if (stop) return stop;
-  if (undecided) return InflectionResult{Inflection::undecided, max_depth, 0};
-  return InflectionResult{Inflection::none, deepest, v[0] > 0 ? 1 : -1};
+  InflectionFold fold;
+  if (!fast_traverse<true, N1>(v, e, n1, max_depth, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(max_depth, v[0] > 0 ? 1 : -1);
 }
 
 // Cubic segments (the common case) get loops of fixed length.

@@ -55,6 +55,42 @@ struct InflectionResult {
   int kappa_sign = 0;  ///< sign of the curvature when inflection == none, else 0
 };
 
+/// What one (sub)segment's coefficients say under Algorithms 1 and 2; every
+/// implementation of the traversal (generic, fast, regions, the shader)
+/// decides pieces into these outcomes and folds them the same way.
+enum class Piece : std::uint8_t { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
+
+/// Folds Algorithm 1's pieces in depth-first order: a zero piece (lambda == 0)
+/// or a non-monotone one stops with that answer; increasing and decreasing
+/// pieces together mean not monotone; a piece still split at level D makes the
+/// answer undecided unless a later piece proves non-monotonicity.
+class MonotonicityFold {
+ public:
+  /// Returns true when the traversal can stop.
+  bool visit(Piece p, int level);
+  MonotonicityResult result(int max_depth) const;
+
+ private:
+  bool inc_ = false, dec_ = false, undecided_ = false;
+  int deepest_ = 0;
+  std::optional<MonotonicityResult> stop_;
+};
+
+/// Folds Algorithm 2's pieces: an inflection stops; pieces without one set
+/// the depth; anything else (split at level D) makes the answer undecided.
+class InflectionFold {
+ public:
+  bool visit(Piece p, int level);
+  /// kappa_sign: the sign of eta at the start (the curvature's sign when
+  /// there is no inflection).
+  InflectionResult result(int max_depth, int kappa_sign) const;
+
+ private:
+  bool undecided_ = false;
+  int deepest_ = 0;
+  std::optional<InflectionResult> stop_;
+};
+
 /// Algorithm 1 on xi. nullopt when T carries error bounds and a sign that
 /// decides the outcome is uncertain (then rerun exactly).
 template <class T>

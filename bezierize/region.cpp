@@ -363,7 +363,6 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
 // decisions (each certified), but a piece's coefficients are evaluated only
 // as far as its decision needs: the two ends, then the rest until both signs
 // have appeared. Pieces below piece_levels are halved from their ancestor.
-enum class Piece { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
 
 class LazyPieces {
  public:
@@ -477,46 +476,20 @@ bool traverse_pieces(LazyPieces& src, int max_depth, Decide decide, Visit visit)
 
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
   LazyPieces src(e, m, levels, false);
-  bool inc = false, dec = false, undecided = false;
-  int deepest = 0;
-  std::optional<MonotonicityResult> stop;
-  const bool certain = traverse_pieces(src, D, monotonicity_piece, [&](Piece p, int level) {
-    if (p == Piece::zero) stop = MonotonicityResult{Curvature::constant, level};
-    if (p == Piece::non_monotone) stop = MonotonicityResult{Curvature::non_monotone, level};
-    if (stop) return true;
-    if (p == Piece::increasing) inc = true;
-    else if (p == Piece::decreasing) dec = true;
-    else undecided = true;
-    deepest = std::max(deepest, level);
-    if (inc && dec) stop = MonotonicityResult{Curvature::non_monotone, level};
-    return stop.has_value();
-  });
-  if (!certain) return std::nullopt;
-  if (stop) return stop;
-  if (undecided) return MonotonicityResult{Curvature::undecided, D};
-  return MonotonicityResult{inc ? Curvature::increasing : Curvature::decreasing, deepest};
+  MonotonicityFold fold;
+  if (!traverse_pieces(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(D);
 }
 
 std::optional<InflectionResult> lazy_algorithm2(const RegionEntry& e, const Monomials& m, int levels, int D) {
   LazyPieces src(e, m, levels, true);
-  bool undecided = false;
-  int deepest = 0;
-  std::optional<InflectionResult> stop;
   src.select(0, 0);
   const int kappa_sign = certain_sign(src.coeff(0));
-  const bool certain = traverse_pieces(src, D, inflection_piece, [&](Piece p, int level) {
-    if (p == Piece::inflection) {
-      stop = InflectionResult{Inflection::present, level, 0};
-      return true;
-    }
-    if (p != Piece::no_inflection) undecided = true;
-    deepest = std::max(deepest, level);
-    return false;
-  });
-  if (!certain) return std::nullopt;
-  if (stop) return stop;
-  if (undecided) return InflectionResult{Inflection::undecided, D, 0};
-  return InflectionResult{Inflection::none, deepest, kappa_sign};
+  InflectionFold fold;
+  if (!traverse_pieces(src, D, inflection_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(D, kappa_sign);
 }
 
 }  // namespace
@@ -555,6 +528,24 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
 
 namespace {
 
+// The curvature jumps of the joints whose jump depends on the position, for
+// displacements enclosed by (bx, by): B = B0 + w d. False when a sign is not
+// certain there.
+bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joint>& joints) {
+  if (s.varying.empty()) return true;
+  std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
+  for (std::size_t e = 0; e < s.entries.size(); ++e)
+    for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
+      B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
+                      s.entries[e].base[i].y + s.entries[e].weight[i] * by});
+  for (const RegionJoint& j : s.varying) {
+    const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
+    if (sign == kSignUnknown) return false;
+    joints[j.joint].jump = sign;
+  }
+  return true;
+}
+
 // The certified fast path for a point or a box of displacements: the result
 // holds for every displacement in the box, or nullopt when some deciding sign
 // is not certain there (then split the box, or for a point go exact).
@@ -592,19 +583,7 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     classes[e.segment] = c;
   }
   std::vector<Joint> joints = s.joints;
-  if (!s.varying.empty()) {
-    // Bezier points B = B0 + w d with d enclosing the exact displacements.
-    std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
-    for (std::size_t e = 0; e < s.entries.size(); ++e)
-      for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
-        B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
-                        s.entries[e].base[i].y + s.entries[e].weight[i] * by});
-    for (const RegionJoint& j : s.varying) {
-      const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
-      if (sign == kSignUnknown) return std::nullopt;
-      joints[j.joint].jump = sign;
-    }
-  }
+  if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   return verdict(s, classes, joints, false);
 }
 
@@ -703,18 +682,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     classes[e.segment] = c;
   }
   std::vector<Joint> joints = s.joints;
-  if (!s.varying.empty()) {
-    std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
-    for (std::size_t e = 0; e < s.entries.size(); ++e)
-      for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
-        B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
-                        s.entries[e].base[i].y + s.entries[e].weight[i] * by});
-    for (const RegionJoint& j : s.varying) {
-      const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
-      if (sign == kSignUnknown) return std::nullopt;
-      joints[j.joint].jump = sign;
-    }
-  }
+  if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   PixelResult r = verdict(s, classes, joints, false);
   r.depth = 0;
   return r;
