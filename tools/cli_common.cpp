@@ -7,6 +7,21 @@
 
 namespace cmr::cli {
 
+std::string html_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 void print_json(const nlohmann::ordered_json& doc) { std::cout << doc.dump(2) << '\n'; }
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& bytes) {

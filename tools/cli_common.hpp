@@ -16,6 +16,9 @@ struct EnvironmentError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Text made safe for HTML element content and attribute values.
+std::string html_escape(const std::string& text);
+
 /// Prints JSON to stdout (2-space indent, one trailing newline).
 void print_json(const nlohmann::ordered_json& doc);
 /// Writes a file atomically: a temporary name in the same folder, then rename.

@@ -123,20 +123,6 @@ std::string point_text(Vec2 p) {
 
 std::string label_text(uint8_t l) { return l == 255 ? "outside the view" : "label " + std::to_string(l); }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
 // ----------------------------------------------------------------- builder --
 
 /// Computes and caches regions and analyses, records claims, writes files.
@@ -536,13 +522,13 @@ void write_index(Builder& b) {
     << " failed. Regions " << b.options().size << "x" << b.options().size << " px, depth "
     << b.options().depth << ". The curves are the spline files next to this page.</p>\n";
   for (const FigureFile& f : r.figures) {
-    h << "<h2>" << html_escape(f.title) << "</h2>\n<img src=\"" << f.id << ".png\" alt=\"" << html_escape(f.title)
-      << "\">\n<p>" << html_escape(f.caption)
+    h << "<h2>" << cli::html_escape(f.title) << "</h2>\n<img src=\"" << f.id << ".png\" alt=\"" << cli::html_escape(f.title)
+      << "\">\n<p>" << cli::html_escape(f.caption)
       << "</p>\n<table><tr><th>claim</th><th>result</th><th>measured</th></tr>\n";
     for (const Claim& c : r.claims) {
       if (figure_id(c) != f.id) continue;
-      h << "<tr><td>" << html_escape(c.figure + ": " + c.text) << "</td><td class=\"" << (c.pass ? "PASS" : "FAIL")
-        << "\">" << (c.pass ? "PASS" : "FAIL") << "</td><td>" << html_escape(c.detail) << "</td></tr>\n";
+      h << "<tr><td>" << cli::html_escape(c.figure + ": " + c.text) << "</td><td class=\"" << (c.pass ? "PASS" : "FAIL")
+        << "\">" << (c.pass ? "PASS" : "FAIL") << "</td><td>" << cli::html_escape(c.detail) << "</td></tr>\n";
     }
     h << "</table>\n";
   }

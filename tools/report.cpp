@@ -578,20 +578,6 @@ std::string num(double v) {
   return std::string(buf, r.ptr);
 }
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
 std::string base64(const std::string& bytes) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
@@ -758,9 +744,9 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   for (const CurveEvent& e : r.extrema)
     marker(out, c.x(e.t), c.y(std::clamp(e.kappa, klo, khi)), e.kind > 0 ? kRed : kBlue, 4.5);
   for (const CurveEvent& e : r.inflections) marker(out, c.x(e.t), c.y(0), kGreen, 3.5);
-  out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + escape(num(khi)) + "</text>";
-  out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + escape(num(klo)) + "</text>";
-  out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + escape(num(t1)) + "</text>";
+  out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + cli::html_escape(num(khi)) + "</text>";
+  out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + cli::html_escape(num(klo)) + "</text>";
+  out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + cli::html_escape(num(t1)) + "</text>";
   out += "</svg>";
 }
 
@@ -788,10 +774,10 @@ std::string place_text(const CurveEvent& e) {
 }
 
 void section_html(std::string& out, const SplineReport& r, int index, const ReportOptions& options) {
-  out += "<section id=\"s" + std::to_string(index) + "\"><h2>" + escape(r.name) + " " + badge(r) + "</h2>";
-  out += "<p class=\"file\">" + escape(r.file) + "</p>";
+  out += "<section id=\"s" + std::to_string(index) + "\"><h2>" + cli::html_escape(r.name) + " " + badge(r) + "</h2>";
+  out += "<p class=\"file\">" + cli::html_escape(r.file) + "</p>";
   if (!r.error.empty()) {
-    out += "<p class=\"error\">" + escape(r.error) + "</p></section>";
+    out += "<p class=\"error\">" + cli::html_escape(r.error) + "</p></section>";
     return;
   }
   const BSpline& s = *r.spline;
@@ -799,7 +785,7 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   for (std::size_t i = 0; i < r.spans.size(); ++i)
     for (int k = 0; k <= kSamples; ++k)
       frames[i].push_back(frame_at(r.spans[i].bezier, static_cast<double>(k) / kSamples));
-  out += "<p>check <b>" + escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
+  out += "<p>check <b>" + cli::html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
          ", CMR " + to_string(r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
   out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) +
@@ -896,7 +882,7 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
   out += "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " + counts +
          "</title><style>";
   out += kStyle;
-  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" + escape(to_string(check_of(options))) +
+  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" + cli::html_escape(to_string(check_of(options))) +
          "</b>" + (options.require ? " (required)" : " (not required)") + ", depth " +
          std::to_string(options.max_depth) + ", schema " + kSchema + ".</p>";
   out +=
@@ -905,8 +891,8 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const SplineReport& r = reports[i];
     const std::string id = "s" + std::to_string(i);
-    out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + escape(r.name) + "</a></td><td>" +
-           escape(r.file) + "</td><td>" + badge(r) + "</td>";
+    out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + cli::html_escape(r.name) + "</a></td><td>" +
+           cli::html_escape(r.file) + "</td><td>" + badge(r) + "</td>";
     if (r.error.empty())
       out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) + "</td><td>" +
              std::to_string(r.monotone_pieces) + "</td></tr>";
