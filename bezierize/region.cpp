@@ -59,6 +59,9 @@ void validate_region_options(const BSpline& spline, const RegionOptions& o) {
     for (double x : {v.x0, v.y0, v.x1, v.y1})
       if (!std::isfinite(x)) throw InputError("view: coordinates must be finite");
     if (!(v.x1 > v.x0) || !(v.y1 > v.y0)) throw InputError("view: need X0 < X1 and Y0 < Y1");
+    // Pixel centres are computed as documented (pixel_center): every step must stay finite.
+    if (!std::isfinite((v.x1 - v.x0) * o.width) || !std::isfinite((v.y1 - v.y0) * o.height))
+      throw InputError("view: too large for double arithmetic (its extent times the image size overflows)");
   }
 }
 
@@ -138,7 +141,10 @@ std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, in
 RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) {
   validate_region_options(spline, options);
   RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
-  if (!s.options.view) s.options.view = default_view(spline, options.width, options.height);
+  if (!s.options.view) {
+    s.options.view = default_view(spline, options.width, options.height);
+    validate_region_options(spline, s.options);  // a default view of huge coordinates can overflow
+  }
   s.group.push_back(options.point);
   for (int g : options.with)
     if (std::find(s.group.begin(), s.group.end(), g) == s.group.end()) s.group.push_back(g);

@@ -1,6 +1,7 @@
 // cmr region FILE --point K|all ...: the curvature monotonicity region of a
 // control point as label maps, depth maps and a picture.
 #include <chrono>
+#include <cstdlib>
 #include <sstream>
 
 #include "spline/errors.hpp"
@@ -42,13 +43,12 @@ View parse_view(const std::string& text) {
   std::istringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
+    // strtod, not stod: subnormal numbers are numbers (stod reports them as out of range).
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size())
       throw InputError("--view: '" + item + "' is not a number (expected X0,Y0,X1,Y1)");
-    }
+    v.push_back(x);
   }
   if (v.size() != 4) throw InputError("--view: expected four numbers X0,Y0,X1,Y1 (got '" + text + "')");
   return {v[0], v[1], v[2], v[3]};

@@ -189,6 +189,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadRegion{"view_y0_above_y1", "FILE --point 2 --view 0,2,1,1", kUniform, "Y0 < Y1"},
         BadRegion{"view_nan", "FILE --point 2 --view nan,0,1,1", kUniform, "finite"},
         BadRegion{"view_word", "FILE --point 2 --view 0,0,1,one", kUniform, "'one' is not a number"},
+        BadRegion{"view_overflows", "FILE --point 2 --view -1e308,-1e308,1e308,1e308", kUniform, "overflows"},
         BadRegion{"mode_foo", "FILE --point 2 --mode foo", kUniform, "--mode"},
         BadRegion{"backend_foo", "FILE --point 2 --backend foo", kUniform, "--backend"},
         BadRegion{"precision_foo", "FILE --point 2 --precision fp16", kUniform, "--precision"},
@@ -227,6 +228,19 @@ TEST(RegionEnvironment, CpuBackendNeedsNoDevice) {
                         (dir / "r.pgm").string());
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "r.pgm"));
+}
+
+TEST(RegionInputs, SubnormalViewIsANumberAndHugeCoordinatesDoNotCrash) {
+  // Subnormal coordinates are valid doubles; a curve near the overflow limit
+  // is still judged (exactly, where double arithmetic overflows).
+  const Outcome tiny = run("region " + kUniform + " --point 2 --size 8x8 --backend cpu --view 0,0,1e-310,1e-310");
+  EXPECT_EQ(tiny.code, 0) << tiny.err;
+  const std::string huge = cmr::test::write("huge.json", "{\"points\":[[-1e300,0],[0,1e300],[1e300,0]]}");
+  const Outcome r = run("region " + huge + " --point 1 --size 8x8 --backend cpu");
+  EXPECT_EQ(r.code, 0) << r.err;
+  const Outcome a = run("analyze " + huge);
+  EXPECT_EQ(a.code, 0) << a.err;
+  EXPECT_NE(a.out.find("non-monotone"), std::string::npos) << a.out;  // a symmetric parabola: maximum at the middle
 }
 
 // ------------------------------------------------------------------- outputs
