@@ -40,16 +40,14 @@ struct EndCurvature {
 
 EndCurvature end_curvature_exact(const BSpline& spline, const Segment& s, int side) {
   const int d = spline.degree();
-  const std::vector<Rational> knots(spline.knots().begin(), spline.knots().end());
-  std::vector<Point<Rational>> pts;
-  for (const Vec2& p : spline.points()) pts.push_back(to_point<Rational>(p));
+  const SegmentWindow<Rational> w = segment_window<Rational>(spline, s);
   const Rational e = side == 0 ? Rational(s.a) : Rational(s.b);
   const Rational o = side == 0 ? Rational(s.b) : Rational(s.a);
   std::vector<Rational> args(d, e);
   Point<Rational> q[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
-    q[k] = blossom_span(knots, pts, d, s.span, args.data());
+    q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
   }
   const Point<Rational> a = q[1] - q[0], b = q[2] - q[1];
   Rational A = det(a, b);

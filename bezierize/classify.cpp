@@ -369,17 +369,10 @@ SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions
 SegmentClass classify_segment(const BSpline& spline, const Segment& s, const ClassifyOptions& options) {
   std::optional<MonotonicityResult> mono;
   std::optional<InflectionResult> infl;
-  {
-    const std::vector<Bounded> knots(spline.knots().begin(), spline.knots().end());
-    const auto P = bezier_points(knots, convert<Bounded>(spline.points()), spline.degree(), s.span,
-                                 Bounded(s.a), Bounded(s.b));
-    classify_points<Bounded>(P, options, mono, infl);
-  }
+  classify_points<Bounded>(segment_bezier_points<Bounded>(spline, s), options, mono, infl);
   if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
-  const std::vector<Rational> knots(spline.knots().begin(), spline.knots().end());
-  const auto P = bezier_points(knots, convert<Rational>(spline.points()), spline.degree(), s.span,
-                               Rational(s.a), Rational(s.b));
-  classify_points<Rational>(P, options, mono, infl);
+  // The Bezier points are rounded; the exact path re-extracts them exactly.
+  classify_points<Rational>(segment_bezier_points<Rational>(spline, s), options, mono, infl);
   return finish(mono, infl, true);
 }
 

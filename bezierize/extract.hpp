@@ -29,6 +29,33 @@ std::vector<P> bezier_points(const std::vector<S>& knots, const std::vector<P>& 
   return out;
 }
 
+/// What segment s depends on, in scalar type T: knots u_{j-d+1}..u_{j+d} and
+/// control points P_{j-d+1}..P_{j+1} (j = s.span); in this window the segment is
+/// span d-1. Per-segment work stays O(d) however long the spline is.
+template <class T>
+struct SegmentWindow {
+  std::vector<T> knots;
+  std::vector<Point<T>> points;
+  int span = 0;
+};
+
+template <class T>
+SegmentWindow<T> segment_window(const BSpline& spline, const Segment& s) {
+  const int d = spline.degree(), first = s.span - d + 1;
+  SegmentWindow<T> w;
+  w.knots.assign(spline.knots().begin() + first, spline.knots().begin() + s.span + d + 1);
+  for (int i = 0; i <= d; ++i) w.points.push_back(to_point<T>(spline.points()[first + i]));
+  w.span = d - 1;
+  return w;
+}
+
+/// Bezier points of segment s in scalar type T (exactly for T = Rational).
+template <class T>
+std::vector<Point<T>> segment_bezier_points(const BSpline& spline, const Segment& s) {
+  const SegmentWindow<T> w = segment_window<T>(spline, s);
+  return bezier_points(w.knots, w.points, spline.degree(), w.span, T(s.a), T(s.b));
+}
+
 /// Every non-empty span in Bezier form, by blossoming.
 std::vector<BezierSegment> bezier_segments(const BSpline& spline);
 BezierSegment bezier_segment(const BSpline& spline, const Segment& s);

@@ -89,13 +89,6 @@ uint8_t label_of(Split s) {
 
 namespace {
 
-template <class T>
-std::vector<Point<T>> spline_points(const BSpline& spline) {
-  std::vector<Point<T>> pts;
-  for (const Vec2& p : spline.points()) pts.push_back(to_point<T>(p));
-  return pts;
-}
-
 double rounded(const Rational& q) { return q.get_d(); }
 
 // The first K coefficients rounded to double. All zeros exactly when the
@@ -178,10 +171,6 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
     s.fixed_level0_none = s.fixed_level0_none || (fails && level == 0);
   }
 
-  const std::vector<Rational> qknots(spline.knots().begin(), spline.knots().end());
-  const std::vector<Point<Rational>> qpts = spline_points<Rational>(spline);
-  std::vector<Rational> indicator(spline.point_count(), Rational(0));
-  for (int g : s.group) indicator[g] = 1;
   std::vector<int> entry_of(N, -1);
   for (int seg = 0; seg < N; ++seg) {
     if (!needed[seg]) continue;
@@ -190,8 +179,14 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
     e.segment = seg;
     e.part = split > 0 && seg >= split ? 1 : 0;
     e.classify = touched[seg];
-    e.base_exact = bezier_points(qknots, qpts, d, g.span, Rational(g.a), Rational(g.b));
-    e.weight_exact = bezier_points(qknots, indicator, d, g.span, Rational(g.a), Rational(g.b));
+    const SegmentWindow<Rational> window = segment_window<Rational>(spline, g);
+    e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+    // w: the blossom of the data that is 1 on the group (within the window) and 0 elsewhere.
+    const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
+    std::vector<Rational> indicator(d + 1, Rational(0));
+    for (int k : s.group)
+      if (k >= first && k <= first + d) indicator[k - first] = 1;
+    e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
     for (int i = 0; i <= d; ++i) {
       // Rounding to nearest: error at most half an ulp, bounded by u |v|.
       const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);

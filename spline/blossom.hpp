@@ -4,8 +4,8 @@
 // Polar-form knots (Ramshaw 1989): a degree-d B-spline with m control points has
 // knots u_0..u_{m+d-2} and P_i = f(u_i, ..., u_{i+d-1}), where f is the
 // symmetric multi-affine blossom of the curve's piece on the span at hand.
-// Span j is [u_j, u_{j+1}] for j = d-1 .. m-2; it is influenced by
-// P_{j-d+1} .. P_j.
+// Span j is [u_j, u_{j+1}] for j = d-1 .. m-2; it is influenced by the d+1
+// points P_{j-d+1} .. P_{j+1}.
 //
 // Everything else is the blossom evaluated at particular arguments:
 //   evaluation          C(t)            = f(t, ..., t)
