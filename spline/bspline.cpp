@@ -80,7 +80,8 @@ const Segment& BSpline::segment_at(double t) const {
 }
 
 int BSpline::multiplicity(double u) const {
-  return static_cast<int>(std::count(knots_.begin(), knots_.end(), u));
+  const auto [lo, hi] = std::equal_range(knots_.begin(), knots_.end(), u);  // knots are sorted
+  return static_cast<int>(hi - lo);
 }
 
 BSpline BSpline::with_point(int k, Vec2 p) const {
