@@ -396,12 +396,33 @@ INSTANTIATE_TEST_SUITE_P(
                       Same{"clamped_P4", kClamped, "--point 4"},
                       Same{"clamped_split2_cmr_P3", kClamped, "--point 3 --split 2 --mode cmr"},
                       Same{"clamped_P2_with_P3", kClamped, "--point 2 --with 3"},
-                      // Examples with regions (uniform.json and clamped.json are label 0 everywhere in
-                      // their default views):
+                      // More examples with regions:
                       Same{"fig2_P0", kFig2, "--point 0"}, Same{"fig2_P3_cmr", kFig2, "--point 3 --mode cmr"},
                       Same{"fig8b_P5", kFig8b, "--point 5"},
                       Same{"fig8b_split2_cmr_P4", kFig8b, "--point 4 --split 2 --mode cmr"}),
     [](const auto& p) { return std::string(p.param.name); });
+
+TEST(RegionBackendsAgree, EveryPointOverlappedGivesTheSameMapsAndPicture) {
+  // --point all: one label map per point, and the overlapped picture, from both backends.
+  const fs::path dir = out_dir("point_all_agree");
+  for (const char* backend : {"cpu", "vulkan"}) {
+    const Outcome r = run("region " + kUniform + " --point all --size 48x40 --backend " + backend + " --labels " +
+                          (dir / (std::string(backend) + ".pgm")).string() + " --png " +
+                          (dir / (std::string(backend) + ".png")).string());
+    ASSERT_EQ(r.code, 0) << backend << ": " << r.err;
+  }
+  int with_region = 0;
+  for (int k = 0; k < 6; ++k) {
+    const std::string suffix = ".P" + std::to_string(k) + ".pgm";
+    const std::string cpu = binary(dir / ("cpu" + suffix)), vk = binary(dir / ("vulkan" + suffix));
+    ASSERT_FALSE(cpu.empty()) << "P" << k;
+    EXPECT_EQ(cpu, vk) << "P" << k << " label maps differ";
+    with_region += cpu.find_first_of(std::string("\x01\x02", 2), cpu.find('\n', cpu.find('\n', 3) + 1) + 1) !=
+                   std::string::npos;
+  }
+  EXPECT_EQ(binary(dir / "cpu.png"), binary(dir / "vulkan.png")) << "the overlapped pictures differ";
+  EXPECT_GE(with_region, 3) << "the uniform example has regions for P1, P2, P3";
+}
 
 TEST(RegionBackendsAgree, SomeComparedMapHasSeveralLabels) {
   // Guards RegionBackendsAgree against comparing only all-zero maps.
