@@ -366,6 +366,22 @@ TEST_P(Certify, EveryBackendLabelIsTheExactLabel) {
     EXPECT_EQ(wrong_depth, 0) << c.name << " (" << describe(shown) << ") on " << b.name << ": " << wrong_depth
                               << " pixel(s) have another decision level than the exact path" << first_depth.str();
   }
+  // Label maps without a depth map (what `cmr region` computes unless asked
+  // for --depth-map) may decide blocks by a label-only proof: same labels.
+  RegionOptions labels_only = scene.options;
+  labels_only.depth = false;
+  const RegionSetup label_setup = prepare_region(scene.spline, labels_only);
+  for (const BackendUnderTest& b : backends()) {
+    const RegionImage img = cli::render_region(label_setup, b.options);
+    int wrong = 0;
+    std::ostringstream first;
+    for (std::size_t at = 0; at < exact.size(); ++at)
+      if (img.labels[at] != exact[at] && wrong++ < 5)
+        first << "\n  pixel (" << at % o.width << ", " << at / o.width << "): " << b.name << " says "
+              << int(img.labels[at]) << ", exact " << int(exact[at]);
+    EXPECT_EQ(wrong, 0) << c.name << " (" << describe(shown) << ") labels only, on " << b.name << ": " << wrong
+                        << " pixel(s) differ from the exact path" << first.str();
+  }
 }
 
 // The structural zero is really there: some coefficient of the unsubdivided
