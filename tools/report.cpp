@@ -173,21 +173,13 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   r.analysis = analyze(spline, analyze_options(options));
   r.pass = passes(r.analysis, check_of(options));
 
-  const int d = spline.degree(), N = spline.segment_count();
-  const std::vector<Bounded> knots_b(spline.knots().begin(), spline.knots().end());
-  const std::vector<Rational> knots_q(spline.knots().begin(), spline.knots().end());
-  std::vector<Point<Bounded>> points_b;
-  std::vector<Point<Rational>> points_q;
-  for (const Vec2& p : spline.points()) {
-    points_b.push_back(to_point<Bounded>(p));
-    points_q.push_back(to_point<Rational>(p));
-  }
+  const int N = spline.segment_count();
   // Exact Bezier points, where needed: lambda and eta are then exact
   // polynomials of the spline's double data, so their roots are certain.
   std::vector<std::optional<std::vector<Point<Rational>>>> exact(N);
   auto exact_points = [&](int i) -> const std::vector<Point<Rational>>& {
     const Segment& s = spline.segments()[i];
-    if (!exact[i]) exact[i] = bezier_points(knots_q, points_q, d, s.span, Rational(s.a), Rational(s.b));
+    if (!exact[i]) exact[i] = segment_bezier_points<Rational>(spline, s);
     return *exact[i];
   };
 
@@ -196,7 +188,7 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
     const Segment& s = spline.segments()[i];
     // Most segments' lambda or eta has coefficients of one certain sign, so no
     // root; the error-bounded points show that without rational arithmetic.
-    const auto B = bezier_points(knots_b, points_b, d, s.span, Bounded(s.a), Bounded(s.b));
+    const auto B = segment_bezier_points<Bounded>(spline, s);
     SpanReport span{s, {}, r.analysis.segments[i], false, false, {}, {}};
     for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
     lambda_start[i] = strict_sign(lambda_bernstein<Bounded>(B));
