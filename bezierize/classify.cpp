@@ -327,22 +327,6 @@ std::vector<Point<T>> convert(const std::vector<Vec2>& P) {
 
 }  // namespace
 
-std::optional<SegmentClass> classify_bounded(const std::vector<Point<Bounded>>& points,
-                                             const ClassifyOptions& options) {
-  std::optional<MonotonicityResult> mono;
-  std::optional<InflectionResult> infl;
-  classify_points<Bounded>(points, options, mono, infl);
-  if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
-  return std::nullopt;
-}
-
-SegmentClass classify_exact(const std::vector<Point<Rational>>& points, const ClassifyOptions& options) {
-  std::optional<MonotonicityResult> mono;
-  std::optional<InflectionResult> infl;
-  classify_points<Rational>(points, options, mono, infl);
-  return finish(mono, infl, true);
-}
-
 SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options) {
   std::optional<MonotonicityResult> mono;
   std::optional<InflectionResult> infl;

@@ -105,13 +105,6 @@ struct SegmentClass {
   bool exact_used = false;      ///< the exact fallback ran for this segment
 };
 
-/// The certified floating-point path alone: Bezier points with error bounds.
-/// nullopt when a deciding sign is uncertain (then classify exactly).
-std::optional<SegmentClass> classify_bounded(const std::vector<Point<Bounded>>& points,
-                                             const ClassifyOptions& options = {});
-/// The exact path alone, on exact Bezier points.
-SegmentClass classify_exact(const std::vector<Point<Rational>>& points, const ClassifyOptions& options = {});
-
 /// Classifies a Bezier segment given by its control points (exact doubles).
 SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options = {});
 /// Classifies segment s of a B-spline; exactness is relative to the spline's

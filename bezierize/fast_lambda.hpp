@@ -13,6 +13,9 @@
 // its rounding, m for the sum over pairs, 2 for a derivative, 1 + 1 + 1 for a
 // product term, 2m + 1 for the product sum, 2 for the final combination),
 // and we charge (3m + 20) u, which also covers the rounding of E_abs itself.
+// E_abs is monotone in |q|, so it is bounded once per segment by its value
+// with every |q| replaced by M, the largest coordinate of the abs-hodograph:
+// S_k M^4 for xi, S_k M^2 for nu (S_k computed at compile time).
 #include <array>
 #include <cmath>
 
