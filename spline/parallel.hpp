@@ -1,0 +1,49 @@
+#pragma once
+/// One thread pool primitive for the whole project: run independent jobs on
+/// several threads and carry the first exception back to the caller (a worker
+/// that throws must not end in std::terminate).
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace cmr {
+
+/// The number of worker threads to use for `threads` (0: every hardware thread).
+inline int thread_count(int threads) {
+  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+/// Calls job(i) for every i in [0, count), on up to thread_count(threads)
+/// threads including the caller's; jobs are handed out in increasing order.
+/// When a job throws, no further jobs start, the running ones finish, and the
+/// first exception is rethrown here once every worker has stopped.
+template <class Job>
+void parallel_for(std::size_t count, int threads, Job&& job) {
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count(threads)), count);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr first_error;
+  std::mutex error_mutex;
+  auto work = [&] {
+    for (std::size_t i = next++; i < count && !failed; i = next++) {
+      try {
+        job(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!first_error) first_error = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+}  // namespace cmr
