@@ -1,9 +1,11 @@
 #include "bezierize/analyze.hpp"
 
+#include "bezierize/decide.hpp"
 #include "bezierize/exact.hpp"
 #include "bezierize/extract.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr {
 
@@ -60,16 +62,7 @@ EndCurvature end_curvature_exact(const BSpline& spline, const Segment& s, int si
 int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right) {
   const EndCurvature L = end_curvature_exact(spline, left, 1);
   const EndCurvature R = end_curvature_exact(spline, right, 0);
-  if (sgn(L.G) == 0 || sgn(R.G) == 0) return 0;  // degenerate leg: curvature undefined
-  // sign(A_R / G_R^{3/2} - A_L / G_L^{3/2}) = sign(X - Y), X = A_R G_L^{3/2}, Y = A_L G_R^{3/2}.
-  const int sx = sgn(R.A), sy = sgn(L.A);
-  if (sx != sy) return sx > sy ? 1 : -1;
-  if (sx == 0) return 0;
-  const Rational X2 = R.A * R.A * L.G * L.G * L.G;
-  const Rational Y2 = L.A * L.A * R.G * R.G * R.G;
-  const int c = cmp(X2, Y2);
-  const int s = (c > 0) - (c < 0);
-  return sx > 0 ? s : -s;
+  return jump_sign<Rational>(L.A, L.G, R.A, R.G);
 }
 
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,
@@ -126,8 +119,9 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   if (options.split && (*options.split < 1 || *options.split > N - 1))
     throw InputError(N == 1 ? "split " + std::to_string(*options.split) + ": the curve has one segment, so no joint to split at"
                             : "split " + std::to_string(*options.split) + " is outside 1.." + std::to_string(N - 1));
-  if (options.classify.max_depth < 0 || options.classify.max_depth > 30)
-    throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0..30");
+  if (options.classify.max_depth < 0 || options.classify.max_depth > kMaxDepth)
+    throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0.." +
+                     std::to_string(kMaxDepth));
   SplineAnalysis out;
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2

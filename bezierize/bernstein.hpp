@@ -78,16 +78,27 @@ void bernstein_subdivide(const Bernstein<T>& c, const T& t, Bernstein<T>& left, 
   }
 }
 
-/// Subdivision at t = 1/2, the step of Algorithms 1 and 2: every new
-/// coefficient is a mean of two, exact in binary up to one rounding per level
-/// (Scalar<T>::half is exact; the sum rounds once).
-template <class T>
-void bernstein_halve(const T* c, std::size_t n1, T* left, T* right, T* work) {
+/// The mean used when halving: Scalar<T>::half(a + b), exact in binary up to
+/// the one rounding of the sum (Scalar<T>::half is exact).
+struct HalfMean {
+  template <class T>
+  T operator()(const T& a, const T& b) const {
+    return Scalar<T>::half(a + b);
+  }
+};
+
+/// Subdivision at t = 1/2, the step of Algorithms 1 and 2, and the one
+/// halving routine of the project (every traversal and the region piece
+/// polynomials use it): de Casteljau with every new coefficient mid(c_i,
+/// c_{i+1}) of two. left covers [0, 1/2], right [1/2, 1]; c is copied to
+/// work first, so left or right may be c itself.
+template <class T, class Mid = HalfMean>
+void bernstein_halve(const T* c, std::size_t n1, T* left, T* right, T* work, Mid mid = {}) {
   for (std::size_t i = 0; i < n1; ++i) work[i] = c[i];
   left[0] = work[0];
   right[n1 - 1] = work[n1 - 1];
   for (std::size_t r = 1; r < n1; ++r) {
-    for (std::size_t i = 0; i + r < n1; ++i) work[i] = Scalar<T>::half(work[i] + work[i + 1]);
+    for (std::size_t i = 0; i + r < n1; ++i) work[i] = mid(work[i], work[i + 1]);
     left[r] = work[0];
     right[n1 - 1 - r] = work[n1 - 1 - r];
   }

@@ -29,8 +29,10 @@
 #include <vector>
 
 #include "bezierize/bernstein.hpp"
+#include "bezierize/decide.hpp"
 #include "spline/vec2.hpp"
 #include "spline/bspline.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr {
 
@@ -41,7 +43,7 @@ const char* to_string(Curvature c);
 const char* to_string(Inflection i);
 
 struct ClassifyOptions {
-  int max_depth = 12;      ///< D: deepest subdivision level (level 0 = whole segment)
+  int max_depth = kDefaultDepth;  ///< D: deepest subdivision level (level 0 = whole segment)
   bool inflection = true;  ///< also run Algorithm 2
 };
 
@@ -54,11 +56,6 @@ struct InflectionResult {
   int depth = 0;
   int kappa_sign = 0;  ///< sign of the curvature when inflection == none, else 0
 };
-
-/// What one (sub)segment's coefficients say under Algorithms 1 and 2; every
-/// implementation of the traversal (generic, fast, regions, the shader)
-/// decides pieces into these outcomes and folds them the same way.
-enum class Piece : std::uint8_t { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
 
 /// Folds Algorithm 1's pieces in depth-first order: a zero piece (lambda == 0)
 /// or a non-monotone one stops with that answer; increasing and decreasing

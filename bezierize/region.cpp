@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <thread>
 
 #include "bezierize/lambda.hpp"
 #include "bezierize/poly3.hpp"
 #include "spline/errors.hpp"
+#include "spline/parallel.hpp"
 
 namespace cmr {
 
@@ -114,19 +114,89 @@ std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, in
   std::vector<Bernstein<Poly3>> pieces{root};
   const std::size_t n1 = root.size();
   const Poly3 half(Rational(1, 2));
+  const auto mid = [&](const Poly3& a, const Poly3& b) { return half * (a + b); };
   for (std::size_t p = 0; pieces.size() < (std::size_t{2} << levels) - 1; ++p) {
-    Bernstein<Poly3> w = pieces[p], left(n1), right(n1);
-    left[0] = w[0];
-    right[n1 - 1] = w[n1 - 1];
-    for (std::size_t r = 1; r < n1; ++r) {
-      for (std::size_t i = 0; i + r < n1; ++i) w[i] = half * (w[i] + w[i + 1]);
-      left[r] = w[0];
-      right[n1 - 1 - r] = w[n1 - 1 - r];
-    }
+    Bernstein<Poly3> left(n1), right(n1), work(n1);
+    bernstein_halve(pieces[p].data(), n1, left.data(), right.data(), work.data(), mid);
     pieces.push_back(std::move(left));
     pieces.push_back(std::move(right));
   }
   return pieces;
+}
+
+// The point group: k first, then the rigid members without repeats.
+std::vector<int> point_group(const RegionOptions& o) {
+  std::vector<int> group{o.point};
+  for (int g : o.with)
+    if (std::find(group.begin(), group.end(), g) == group.end()) group.push_back(g);
+  return group;
+}
+
+// Segments the move changes (touched) and those the setup needs (touched,
+// or next to a joint whose curvature jump varies: non-C2, not the split
+// joint, next to a touched segment); the varying joints go to `varying`.
+void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<bool>& needed,
+                 std::vector<int>& varying) {
+  const int N = s.spline.segment_count(), split = s.options.split.value_or(0);
+  touched.assign(N, false);
+  needed.assign(N, false);
+  for (const SegmentInfluence& si : influence(s.spline, s.group)) touched[si.segment] = needed[si.segment] = true;
+  for (std::size_t j = 0; j < s.joints.size(); ++j) {
+    const int idx = s.joints[j].index;
+    if (idx == split || s.joints[j].continuity >= 2) continue;  // split joint: jump is free; C2: no jump
+    if (!touched[idx - 1] && !touched[idx]) continue;
+    varying.push_back(static_cast<int>(j));
+    needed[idx - 1] = needed[idx] = true;
+  }
+}
+
+// fixed_none / fixed_level0_none: an untouched segment fails for every position.
+void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
+  for (std::size_t seg = 0; seg < touched.size(); ++seg) {
+    if (touched[seg]) continue;
+    const SegmentClass& c = s.fixed[seg];
+    const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||
+                       (s.options.mode == Mode::cmr && c.inflection.inflection == Inflection::present);
+    const int level = c.monotonicity.curvature == Curvature::non_monotone ? c.monotonicity.depth : c.inflection.depth;
+    s.fixed_none = s.fixed_none || fails;
+    s.fixed_level0_none = s.fixed_level0_none || (fails && level == 0);
+  }
+}
+
+// B0 and w of segment g exactly (w: the blossom of the data that is 1 on the
+// group within the window and 0 elsewhere), and both rounded with bounds.
+void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
+  const int d = s.spline.degree();
+  const SegmentWindow<Rational> window = segment_window<Rational>(s.spline, g);
+  e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+  const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
+  std::vector<Rational> indicator(d + 1, Rational(0));
+  for (int k : s.group)
+    if (k >= first && k <= first + d) indicator[k - first] = 1;
+  e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
+  for (int i = 0; i <= d; ++i) {
+    // Rounding to nearest: error at most half an ulp, bounded by u |v|.
+    const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);
+    const double w = rounded(e.weight_exact[i]);
+    e.base.push_back({Bounded(bx, Bounded::kRound * std::fabs(bx) + Bounded::kTiny),
+                      Bounded(by, Bounded::kRound * std::fabs(by) + Bounded::kTiny)});
+    e.weight.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
+  }
+}
+
+// The rounded piece polynomials xi_k(dx, dy) and nu_k(dx, dy) of a touched entry.
+void set_piece_polynomials(RegionEntry& e, int piece_levels) {
+  std::vector<Point<Poly3>> P;
+  for (std::size_t i = 0; i < e.base_exact.size(); ++i)
+    P.push_back({Poly3(e.base_exact[i].x) + Poly3(e.weight_exact[i]) * Poly3::x(),
+                 Poly3(e.base_exact[i].y) + Poly3(e.weight_exact[i]) * Poly3::y()});
+  for (const Bernstein<Poly3>& piece : piece_polynomials(lambda_bernstein<Poly3>(P), piece_levels))
+    for (const Poly3& c : piece) e.xi.push_back(rounded_poly<10>(c));
+  for (const Bernstein<Poly3>& piece : piece_polynomials(eta_bernstein<Poly3>(P), piece_levels))
+    for (const Poly3& c : piece) {
+      for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
+      e.nu.push_back(rounded_poly<3>(c));
+    }
 }
 
 }  // namespace
@@ -138,78 +208,30 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
     s.options.view = default_view(spline, options.width, options.height);
     validate_region_options(spline, s.options);  // a default view of huge coordinates can overflow
   }
-  s.group.push_back(options.point);
-  for (int g : options.with)
-    if (std::find(s.group.begin(), s.group.end(), g) == s.group.end()) s.group.push_back(g);
+  s.group = point_group(options);
   s.anchor = spline.points()[options.point];
-
   AnalyzeOptions ao;
   ao.classify.max_depth = options.max_depth;
   const SplineAnalysis a = analyze(spline, ao);
   s.fixed = a.segments;
   s.joints = a.joints;
 
-  const int d = spline.degree(), N = spline.segment_count();
-  const int split = options.split.value_or(0);
-  std::vector<bool> touched(N, false), needed(N, false);
-  for (const SegmentInfluence& si : influence(spline, s.group)) touched[si.segment] = needed[si.segment] = true;
+  const int d = spline.degree(), N = spline.segment_count(), split = options.split.value_or(0);
+  std::vector<bool> touched, needed;
   std::vector<int> varying_joints;
-  for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const int idx = s.joints[j].index;
-    if (idx == split || s.joints[j].continuity >= 2) continue;  // split joint: jump is free; C2: no jump
-    if (!touched[idx - 1] && !touched[idx]) continue;
-    varying_joints.push_back(static_cast<int>(j));
-    needed[idx - 1] = needed[idx] = true;
-  }
-  for (int seg = 0; seg < N; ++seg) {
-    if (touched[seg]) continue;
-    const SegmentClass& c = s.fixed[seg];
-    const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||
-                       (options.mode == Mode::cmr && c.inflection.inflection == Inflection::present);
-    const int level = c.monotonicity.curvature == Curvature::non_monotone ? c.monotonicity.depth : c.inflection.depth;
-    s.fixed_none = s.fixed_none || fails;
-    s.fixed_level0_none = s.fixed_level0_none || (fails && level == 0);
-  }
-
+  find_needed(s, touched, needed, varying_joints);
+  mark_fixed_failures(s, touched);
   std::vector<int> entry_of(N, -1);
   for (int seg = 0; seg < N; ++seg) {
     if (!needed[seg]) continue;
-    const Segment& g = spline.segments()[seg];
     RegionEntry e;
     e.segment = seg;
     e.part = split > 0 && seg >= split ? 1 : 0;
     e.classify = touched[seg];
-    const SegmentWindow<Rational> window = segment_window<Rational>(spline, g);
-    e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
-    // w: the blossom of the data that is 1 on the group (within the window) and 0 elsewhere.
-    const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
-    std::vector<Rational> indicator(d + 1, Rational(0));
-    for (int k : s.group)
-      if (k >= first && k <= first + d) indicator[k - first] = 1;
-    e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
-    for (int i = 0; i <= d; ++i) {
-      // Rounding to nearest: error at most half an ulp, bounded by u |v|.
-      const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);
-      const double w = rounded(e.weight_exact[i]);
-      e.base.push_back({Bounded(bx, Bounded::kRound * std::fabs(bx) + Bounded::kTiny),
-                        Bounded(by, Bounded::kRound * std::fabs(by) + Bounded::kTiny)});
-      e.weight.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
-    }
+    set_moved_points(s, spline.segments()[seg], e);
     e.n_xi = 4 * d - 6;
     e.n_nu = 2 * d - 3;
-    if (e.classify) {
-      std::vector<Point<Poly3>> P;
-      for (int i = 0; i <= d; ++i)
-        P.push_back({Poly3(e.base_exact[i].x) + Poly3(e.weight_exact[i]) * Poly3::x(),
-                     Poly3(e.base_exact[i].y) + Poly3(e.weight_exact[i]) * Poly3::y()});
-      for (const Bernstein<Poly3>& piece : piece_polynomials(lambda_bernstein<Poly3>(P), s.piece_levels))
-        for (const Poly3& c : piece) e.xi.push_back(rounded_poly<10>(c));
-      for (const Bernstein<Poly3>& piece : piece_polynomials(eta_bernstein<Poly3>(P), s.piece_levels))
-        for (const Poly3& c : piece) {
-          for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
-          e.nu.push_back(rounded_poly<3>(c));
-        }
-    }
+    if (e.classify) set_piece_polynomials(e, s.piece_levels);
     entry_of[seg] = static_cast<int>(s.entries.size());
     s.entries.push_back(std::move(e));
   }
@@ -221,29 +243,6 @@ RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) 
 }
 
 namespace {
-
-// Exact sign of kappa_right - kappa_left from the end legs of the two
-// segments' Bezier points (the factor (d-1)/d of kappa cancels). T = Bounded
-// may answer kSignUnknown; T = Rational answers exactly (0 for a degenerate leg,
-// where curvature is undefined, as curvature_jump_sign does).
-template <class T>
-int jump_sign(const std::vector<Point<T>>& L, const std::vector<Point<T>>& R) {
-  const int d = static_cast<int>(L.size()) - 1;
-  const Point<T> la = L[d - 1] - L[d], lb = L[d - 2] - L[d - 1];
-  const Point<T> ra = R[1] - R[0], rb = R[2] - R[1];
-  const T AL = T(0) - det(la, lb), GL = dot(la, la), AR = det(ra, rb), GR = dot(ra, ra);
-  const int gl = Scalar<T>::sign(GL), gr = Scalar<T>::sign(GR);
-  if (gl == kSignUnknown || gr == kSignUnknown) return kSignUnknown;
-  if (gl == 0 || gr == 0) return 0;
-  const int sx = Scalar<T>::sign(AR), sy = Scalar<T>::sign(AL);
-  if (sx == kSignUnknown || sy == kSignUnknown) return kSignUnknown;
-  if (sx != sy) return sx > sy ? 1 : -1;
-  if (sx == 0) return 0;
-  const T diff = AR * AR * GL * GL * GL - AL * AL * GR * GR * GR;
-  const int c = Scalar<T>::sign(diff);
-  if (c == kSignUnknown) return kSignUnknown;
-  return sx > 0 ? c : -c;
-}
 
 PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
                     bool exact) {
@@ -359,18 +358,22 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
   return {d[0], err};
 }
 
-// Depth-first Algorithms 1 and 2 on the piece polynomials of one entry:
-// the same pieces in the same order as algorithm1/algorithm2, and the same
-// decisions (each certified), but a piece's coefficients are evaluated only
-// as far as its decision needs: the two ends, then the rest until both signs
-// have appeared. Pieces below piece_levels are halved from their ancestor.
-
+// The region pixel (and block) source of the one traversal (decide.hpp):
+// the pieces of one entry's xi (or nu) at one displacement (or over a box of
+// them), each coefficient evaluated only when the traversal reads its sign.
+// Pieces down to the precomputed levels come from their polynomials; deeper
+// ones are halved (bernstein_halve) from their ancestor at the deepest
+// precomputed level.
 class LazyPieces {
  public:
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
       : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {}
   int size() const { return n1_; }
+  int sign(int k) const { return certain_sign(coeff(k)); }
+  void split(int level, int j) { select(level, j); }
+  void next(int level, int j) { select(level, j); }
 
+ private:
   // Prepares piece (level, j); coefficients then come from coeff(k).
   void select(int level, int j) {
     level_ = level;
@@ -378,24 +381,19 @@ class LazyPieces {
       piece_ = (1 << level) - 1 + j;
       return;
     }
-    // Halve from the ancestor at the deepest precomputed level.
     const int up = level - levels_;
     piece_ = (1 << levels_) - 1 + (j >> up);
     cur_.resize(n1_);
+    other_.resize(n1_);
+    work_.resize(n1_);
     for (int k = 0; k < n1_; ++k) cur_[k] = from_poly(k);
     for (int b = up - 1; b >= 0; --b) {
-      if ((j >> b) & 1) {
-        for (int r = 1; r < n1_; ++r)
-          for (int i = 0; i + r < n1_; ++i) cur_[i] = (cur_[i] + cur_[i + 1]).half();
-      } else {
-        for (int r = 1; r < n1_; ++r)
-          for (int i = n1_ - 1; i >= r; --i) cur_[i] = (cur_[i - 1] + cur_[i]).half();
-      }
+      const bool right = (j >> b) & 1;
+      bernstein_halve(cur_.data(), n1_, right ? other_.data() : cur_.data(), right ? cur_.data() : other_.data(),
+                      work_.data());
     }
   }
   Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur_[k]; }
-
- private:
   Bounded from_poly(int k) const {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
@@ -406,91 +404,36 @@ class LazyPieces {
   bool eta_;
   int n1_;
   int level_ = 0, piece_ = 0;
-  std::vector<Bounded> cur_;
+  std::vector<Bounded> cur_, other_, work_;
 };
-
-struct SignScan {
-  int pos = 0, neg = 0, zero = 0, unknown = 0, first = 0, last = 0;
-  void add(int g) {
-    if (g == kSignUnknown) ++unknown;
-    else if (g > 0) ++pos;
-    else if (g < 0) ++neg;
-    else ++zero;
-  }
-};
-
-// Ends first, then the inner coefficients until both signs are seen.
-SignScan scan(const LazyPieces& src) {
-  const int n1 = src.size();
-  SignScan s;
-  s.first = certain_sign(src.coeff(0));
-  s.last = n1 > 1 ? certain_sign(src.coeff(n1 - 1)) : s.first;
-  s.add(s.first);
-  if (n1 > 1) s.add(s.last);
-  for (int k = 1; k + 1 < n1 && !(s.pos > 0 && s.neg > 0); ++k) s.add(certain_sign(src.coeff(k)));
-  return s;
-}
-
-// As monotonicity_piece in classify.cpp (no certain zeros with bounds).
-Piece monotonicity_piece(const LazyPieces& src) {
-  const SignScan s = scan(src);
-  const bool ends_known = s.first != kSignUnknown && s.last != kSignUnknown;
-  if (ends_known && s.first * s.last < 0) return Piece::non_monotone;
-  if (s.pos > 0 && s.neg > 0) return ends_known ? Piece::split : Piece::uncertain;
-  const bool ge = s.neg == 0 && s.unknown == 0, le = s.pos == 0 && s.unknown == 0;
-  if (ge && le) return Piece::zero;
-  if (ge) return Piece::increasing;
-  if (le) return Piece::decreasing;
-  return Piece::uncertain;
-}
-
-// As inflection_piece in classify.cpp.
-Piece inflection_piece(const LazyPieces& src) {
-  const SignScan s = scan(src);
-  if (s.first == kSignUnknown || s.last == kSignUnknown) return Piece::uncertain;
-  if (s.first * s.last <= 0) return Piece::inflection;  // rule (1): nu_0 nu_last <= 0
-  if (s.pos == src.size() || s.neg == src.size()) return Piece::no_inflection;
-  if (s.neg + s.zero > 0 && s.pos + s.zero > 0) return Piece::split;
-  return Piece::uncertain;
-}
-
-// Visits pieces depth first; `visit(piece, level)` folds an outcome and
-// returns true to stop. Returns false when a decision was uncertain.
-template <class Decide, class Visit>
-bool traverse_pieces(LazyPieces& src, int max_depth, Decide decide, Visit visit) {
-  std::vector<std::pair<int, int>> stack{{0, 0}};
-  while (!stack.empty()) {
-    const auto [level, j] = stack.back();
-    stack.pop_back();
-    src.select(level, j);
-    const Piece p = decide(src);
-    if (p == Piece::uncertain) return false;
-    if (p == Piece::split && level < max_depth) {
-      stack.push_back({level + 1, 2 * j + 1});
-      stack.push_back({level + 1, 2 * j});
-      continue;
-    }
-    if (visit(p, level)) break;
-  }
-  return true;
-}
 
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
   LazyPieces src(e, m, levels, false);
   MonotonicityFold fold;
-  if (!traverse_pieces(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+  if (!traverse(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
     return std::nullopt;
   return fold.result(D);
 }
 
 std::optional<InflectionResult> lazy_algorithm2(const RegionEntry& e, const Monomials& m, int levels, int D) {
   LazyPieces src(e, m, levels, true);
-  src.select(0, 0);
-  const int kappa_sign = certain_sign(src.coeff(0));
+  const int kappa_sign = src.sign(0);
   InflectionFold fold;
-  if (!traverse_pieces(src, D, inflection_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+  if (!traverse(src, D, inflection_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
     return std::nullopt;
   return fold.result(D, kappa_sign);
+}
+
+// Level 0 of one touched entry: whether its whole-segment end coefficients
+// prove non-monotonicity (rule 3 of Algorithm 1) or, in CMR mode, an
+// inflection (rule 1 of Algorithm 2), as a three-valued truth.
+Truth level0_fails(const RegionEntry& e, const Monomials& mono, bool cmr) {
+  const Truth mono_fails = ends_opposite(certain_sign(eval_poly(e.xi[0], mono)),
+                                         certain_sign(eval_poly(e.xi[e.n_xi - 1], mono)));
+  if (mono_fails == Truth::yes || !cmr) return mono_fails;
+  const Truth infl = ends_touch(certain_sign(eval_poly(e.nu[0], mono)), certain_sign(eval_poly(e.nu[e.n_nu - 1], mono)));
+  if (infl == Truth::yes) return Truth::yes;
+  return mono_fails == Truth::unknown || infl == Truth::unknown ? Truth::unknown : Truth::no;
 }
 
 }  // namespace
@@ -507,10 +450,10 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
       B[e].push_back({en.base_exact[i].x + en.weight_exact[i] * dx, en.base_exact[i].y + en.weight_exact[i] * dy});
     if (!en.classify) continue;
     xi[e] = lambda_bernstein<Rational>(B[e]);
-    if (sgn(xi[e].front()) * sgn(xi[e].back()) < 0) return {0, 0, true};
+    if (ends_opposite(sgn(xi[e].front()), sgn(xi[e].back())) == Truth::yes) return {0, 0, true};
     if (o.mode == Mode::cmr) {
       nu[e] = eta_bernstein<Rational>(B[e]);
-      if (sgn(nu[e].front()) * sgn(nu[e].back()) <= 0) return {0, 0, true};
+      if (ends_touch(sgn(nu[e].front()), sgn(nu[e].back())) == Truth::yes) return {0, 0, true};
     }
   }
   std::vector<SegmentClass> classes = s.fixed;
@@ -559,14 +502,9 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
   bool uncertain = false;
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
-    const int a = certain_sign(eval_poly(e.xi[0], mono)), b = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
-    if (a != kSignUnknown && b != kSignUnknown && a * b < 0) return PixelResult{0, 0, false};
-    uncertain = uncertain || a == kSignUnknown || b == kSignUnknown;
-    if (o.mode == Mode::cmr) {
-      const int c = certain_sign(eval_poly(e.nu[0], mono)), f = certain_sign(eval_poly(e.nu[e.n_nu - 1], mono));
-      if (c != kSignUnknown && f != kSignUnknown && c * f <= 0) return PixelResult{0, 0, false};
-      uncertain = uncertain || c == kSignUnknown || f == kSignUnknown;
-    }
+    const Truth fails = level0_fails(e, mono, o.mode == Mode::cmr);
+    if (fails == Truth::yes) return PixelResult{0, 0, false};
+    uncertain = uncertain || fails == Truth::unknown;
   }
   if (uncertain) return std::nullopt;
   std::vector<SegmentClass> classes = s.fixed;
@@ -605,50 +543,40 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
 constexpr int kBoxPieceBudget = 6;
 
+// The block policy of the one traversal: block_piece's rules (decide.hpp),
+// folded into one outcome for the whole box.
+class BoxFold {
+ public:
+  bool visit(Piece p) {
+    if (p == Piece::non_monotone || p == Piece::inflection) return stop(BoxOutcome::not_monotone);
+    if (p == Piece::increasing) inc_ = true;
+    else if (p == Piece::decreasing) dec_ = true;
+    else return stop(BoxOutcome::unresolved);  // split at level D
+    return inc_ && dec_ ? stop(BoxOutcome::not_monotone) : false;
+  }
+  BoxOutcome result() const { return stop_ ? *stop_ : (inc_ ? BoxOutcome::increasing : BoxOutcome::decreasing); }
+
+ private:
+  bool stop(BoxOutcome o) {
+    stop_ = o;
+    return true;
+  }
+  bool inc_ = false, dec_ = false;
+  std::optional<BoxOutcome> stop_;
+};
+
 BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa) {
   LazyPieces src(e, mono, levels, eta);
-  bool inc = false, dec = false;
-  int level = 0, j = 0;
+  BoxFold fold;
+  int visited = 0;
   // A box that needs many pieces is cheaper to quarter than to resolve.
-  for (int visited = 0;; ++visited) {
-    if (visited == kBoxPieceBudget) return BoxOutcome::unresolved;
-    src.select(level, j);
-    const int n1 = src.size();
-    const int first = certain_sign(src.coeff(0)), last = certain_sign(src.coeff(n1 - 1));
-    // Opposite ends prove non-monotonicity; for eta a zero end is already an
-    // inflection (rule (1) of Algorithm 2).
-    if (first != kSignUnknown && last != kSignUnknown && (eta ? first * last <= 0 : first * last < 0))
-      return BoxOutcome::not_monotone;
-    int pos = 0, neg = 0, zero = 0, unknown = 0;
-    for (int k = 0; k < n1 && unknown == 0 && !(pos && neg); ++k) {
-      const int g = certain_sign(src.coeff(k));
-      if (g == kSignUnknown) ++unknown;
-      else if (g == 0) ++zero;
-      else (g > 0 ? pos : neg)++;
-    }
-    if (zero == n1) return BoxOutcome::unresolved;  // lambda == 0 (a straight segment): leave it to the pixels
-    // A leaf: for lambda every coefficient >= 0 (or <= 0), rules (1)/(2) of
-    // Algorithm 1; for eta every coefficient strictly one sign.
-    const bool leaf_up = unknown == 0 && neg == 0 && (!eta || zero == 0);
-    const bool leaf_down = unknown == 0 && pos == 0 && (!eta || zero == 0);
-    if (!leaf_up && !leaf_down) {
-      if (level >= D) return BoxOutcome::unresolved;
-      ++level;
-      j *= 2;
-      continue;
-    }
-    inc = inc || leaf_up;
-    dec = dec || leaf_down;
-    if (inc && dec) return BoxOutcome::not_monotone;
-    while (level > 0 && (j & 1) == 1) {
-      --level;
-      j >>= 1;
-    }
-    if (level == 0) break;
-    ++j;
-  }
-  if (kappa) *kappa = inc ? 1 : -1;
-  return inc ? BoxOutcome::increasing : BoxOutcome::decreasing;
+  const auto rule = [&](const SignSummary& s) {
+    return ++visited > kBoxPieceBudget ? Piece::uncertain : block_piece(s, eta);
+  };
+  if (!traverse(src, D, rule, [&](Piece p, int) { return fold.visit(p); }, true)) return BoxOutcome::unresolved;
+  const BoxOutcome r = fold.result();
+  if (kappa) *kappa = r == BoxOutcome::increasing ? 1 : -1;
+  return r;
 }
 
 std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
@@ -658,8 +586,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   // The cheapest proof first: a whole segment with opposite end signs.
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
-    const int a = certain_sign(eval_poly(e.xi[0], mono)), b = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
-    if (a != kSignUnknown && b != kSignUnknown && a * b < 0) return PixelResult{0, 0, false};
+    if (level0_fails(e, mono, false) == Truth::yes) return PixelResult{0, 0, false};
   }
   std::vector<SegmentClass> classes = s.fixed;
   for (const RegionEntry& e : s.entries) {
@@ -733,76 +660,86 @@ RegionImage blank_image(const RegionSetup& s) {
   return img;
 }
 
+namespace {
+
 constexpr int kPixelsPerSmallBlock = 4;
+
+// Columns i0..i1 and rows j0..j1 of an image, inclusive.
+using PixelBlock = std::array<int, 4>;
+
+void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
+  for (int j = b[1]; j <= b[3]; ++j)
+    for (int i = b[0]; i <= b[2]; ++i) {
+      const std::size_t at = static_cast<std::size_t>(j) * img.width + i;
+      img.labels[at] = r.label;
+      img.depth[at] = r.depth;
+    }
+}
+
+// A block of a few pixels: evaluating the pixels (here, or on the device when
+// min_block > 1) is cheaper than a box. Returns the pixels the exact path decided.
+std::uint64_t small_block(const RegionSetup& s, RegionImage& img, const PixelBlock& b, int min_block,
+                          std::vector<std::array<int, 2>>& listed) {
+  std::uint64_t exact = 0;
+  for (int j = b[1]; j <= b[3]; ++j)
+    for (int i = b[0]; i <= b[2]; ++i) {
+      if (min_block > 1) {
+        listed.push_back({i, j});
+        continue;
+      }
+      const PixelResult r = classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
+      fill(img, {i, j, i, j}, r);
+      exact += r.exact;
+    }
+  return exact;
+}
+
+// Decides one top-level block into img: whole where classify_block holds,
+// else quartered; blocks no larger than min_block are listed (single pixels
+// with min_block == 1 go through classify_position). Returns the pixels the
+// exact path decided.
+std::uint64_t cull_block(const RegionSetup& s, RegionImage& img, const PixelBlock& top, int min_block,
+                         std::vector<std::array<int, 2>>& listed) {
+  std::uint64_t exact = 0;
+  std::vector<PixelBlock> todo{top};
+  while (!todo.empty()) {
+    const PixelBlock b = todo.back();
+    const auto [i0, j0, i1, j1] = b;
+    todo.pop_back();
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
+      exact += small_block(s, img, b, min_block, listed);
+    } else if (const auto r = classify_block(s, i0, j0, i1, j1)) {
+      fill(img, b, *r);
+    } else if (i1 - i0 < min_block && j1 - j0 < min_block) {
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) listed.push_back({i, j});
+    } else {
+      const int im = (i0 + i1) / 2, jm = (j0 + j1) / 2;
+      todo.push_back({i0, j0, im, jm});
+      if (im < i1) todo.push_back({im + 1, j0, i1, jm});
+      if (jm < j1) todo.push_back({i0, jm + 1, im, j1});
+      if (im < i1 && jm < j1) todo.push_back({im + 1, jm + 1, i1, j1});
+    }
+  }
+  return exact;
+}
+
+}  // namespace
 
 std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& img, int min_block, int threads) {
   const RegionOptions& o = s.options;
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (!o.depth && s.fixed_none) return {};  // every label is 0 (img is all zero)
-  // Blocks of kRegionBlock pixels are decided whole when the certified path
-  // holds over all their displacements, else quartered; blocks no larger than
-  // min_block are listed for the caller (single pixels with min_block == 1
-  // are decided here through classify_position).
+  // Blocks of kRegionBlock pixels, one job each; blocks write disjoint pixels.
   const int bw = (o.width + kRegionBlock - 1) / kRegionBlock, bh = (o.height + kRegionBlock - 1) / kRegionBlock;
-  std::atomic<int> next{0};
-  std::atomic<std::uint64_t> exact{0};
-  std::vector<std::vector<std::array<int, 2>>> listed(bw * bh);
-  auto fill = [&](int i0, int j0, int i1, int j1, const PixelResult& r) {
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
-        const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
-        img.labels[at] = r.label;
-        img.depth[at] = r.depth;
-      }
-  };
-  auto work = [&] {
-    std::uint64_t local_exact = 0;
-    std::vector<std::array<int, 4>> todo;
-    for (int b = next++; b < bw * bh; b = next++) {
-      const int bi = b % bw, bj = b / bw;
-      todo.push_back({bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
-                      std::min(o.height, (bj + 1) * kRegionBlock) - 1});
-      while (!todo.empty()) {
-        const auto [i0, j0, i1, j1] = todo.back();
-        todo.pop_back();
-        // Blocks of a few pixels: evaluating the pixels (here, or on the
-        // device when min_block > 1) is cheaper than a box.
-        if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
-          for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) {
-              if (min_block > 1) {
-                listed[b].push_back({i, j});
-                continue;
-              }
-              const PixelResult r = classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
-              fill(i, j, i, j, r);
-              local_exact += r.exact;
-            }
-          continue;
-        }
-        if (const auto r = classify_block(s, i0, j0, i1, j1)) {
-          fill(i0, j0, i1, j1, *r);
-          continue;
-        }
-        if (i1 - i0 < min_block && j1 - j0 < min_block) {
-          for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) listed[b].push_back({i, j});
-          continue;
-        }
-        const int im = (i0 + i1) / 2, jm = (j0 + j1) / 2;
-        todo.push_back({i0, j0, im, jm});
-        if (im < i1) todo.push_back({im + 1, j0, i1, jm});
-        if (jm < j1) todo.push_back({i0, jm + 1, im, j1});
-        if (im < i1 && jm < j1) todo.push_back({im + 1, jm + 1, i1, j1});
-      }
-    }
-    exact += local_exact;
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  img.exact_pixels += exact;
+  std::vector<std::vector<std::array<int, 2>>> listed(static_cast<std::size_t>(bw) * bh);
+  std::vector<std::uint64_t> exact(listed.size(), 0);
+  parallel_for(listed.size(), threads, [&](std::size_t b) {
+    const int bi = static_cast<int>(b) % bw, bj = static_cast<int>(b) / bw;
+    const PixelBlock top{bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
+                         std::min(o.height, (bj + 1) * kRegionBlock) - 1};
+    exact[b] = cull_block(s, img, top, min_block, listed[b]);
+  });
+  for (const std::uint64_t e : exact) img.exact_pixels += e;
   if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
   std::vector<std::array<int, 2>> out;
   for (const auto& l : listed) out.insert(out.end(), l.begin(), l.end());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "spline/limits.hpp"
 #include "spline/blossom.hpp"
 #include "spline/errors.hpp"
 
@@ -26,7 +27,8 @@ void check_finite_point(const Vec2& p, int i) {
 
 BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name) {
   if (degree < 2) throw InputError("degree: must be at least 2 (got " + std::to_string(degree) + ")");
-  if (degree > 30) throw InputError("degree: at most 30 is supported (got " + std::to_string(degree) + ")");
+  if (degree > kMaxDegree)
+    throw InputError("degree: at most " + std::to_string(kMaxDegree) + " is supported (got " + std::to_string(degree) + ")");
   const int m = static_cast<int>(points.size());
   if (m < degree + 1)
     throw InputError("points: a degree-" + std::to_string(degree) + " spline needs at least " +

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr {
 namespace {
@@ -49,7 +50,8 @@ BSpline spline_from_json(const json& doc) {
     const json& d = doc["degree"];
     if (!d.is_number_integer()) throw InputError("degree: not an integer");
     const auto v = d.get<long long>();
-    if (v < 2 || v > 30) throw InputError("degree: must be between 2 and 30 (got " + std::to_string(v) + ")");
+    if (v < 2 || v > kMaxDegree)
+      throw InputError("degree: must be between 2 and " + std::to_string(kMaxDegree) + " (got " + std::to_string(v) + ")");
     degree = static_cast<int>(v);
   }
   if (!doc.contains("knots")) {
