@@ -112,6 +112,40 @@ const int P_DEEP = 8;
 
 REAL2 coeff_at(uint e, bool eta, int p, int k) { return eta ? nu_at(e, p, k) : xi_at(e, p, k); }
 
+// The piece rules of bezierize/decide.hpp, line by line (ends_opposite,
+// ends_touch, monotonicity_piece, inflection_piece): a certain zero end makes
+// "c_0 c_n < 0" certainly false and "c_0 c_n <= 0" certainly true, whatever
+// the other end.
+const int T_NO = 0, T_YES = 1, T_UNKNOWN = 2;
+int ends_opposite(int first, int last) {
+  if (first == 0 || last == 0) return T_NO;
+  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
+  return first != last ? T_YES : T_NO;
+}
+int ends_touch(int first, int last) {
+  if (first == 0 || last == 0) return T_YES;
+  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
+  return first != last ? T_YES : T_NO;
+}
+int monotonicity_rule(int first, int last, int pos, int neg, int zero, int unk) {
+  int ends = ends_opposite(first, last);
+  if (ends == T_YES) return P_NONMONO;
+  bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
+  if (ge && le) return P_ZERO;
+  if (ge) return P_INC;
+  if (le) return P_DEC;
+  if (pos > 0 && neg > 0 && ends == T_NO) return P_SPLIT;
+  return P_UNCERTAIN;
+}
+int inflection_rule(int n1, int first, int last, int pos, int neg, int zero, int unk) {
+  int ends = ends_touch(first, last);
+  if (ends == T_YES) return P_INFL;
+  if (ends == T_UNKNOWN) return P_UNCERTAIN;
+  if (pos == n1 || neg == n1) return P_NOINFL;
+  if (neg + zero > 0 && pos + zero > 0) return P_SPLIT;
+  return P_UNCERTAIN;
+}
+
 int decide_piece(uint e, bool eta, int p) {
   int n1 = eta ? NNU : NXI;
   int first = b_sign(coeff_at(e, eta, p, 0));
@@ -125,21 +159,8 @@ int decide_piece(uint e, bool eta, int p) {
     int g = b_sign(coeff_at(e, eta, p, k));
     if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
-  bool ends_known = first != SIGN_UNKNOWN && last != SIGN_UNKNOWN;
-  if (!eta) {
-    if (ends_known && first * last < 0) return P_NONMONO;
-    if (pos > 0 && neg > 0) return ends_known ? P_SPLIT : P_UNCERTAIN;
-    bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
-    if (ge && le) return P_ZERO;
-    if (ge) return P_INC;
-    if (le) return P_DEC;
-    return P_UNCERTAIN;
-  }
-  if (!ends_known) return P_UNCERTAIN;
-  if (first * last <= 0) return P_INFL;  // rule (1): nu_0 nu_last <= 0
-  if (pos == n1 || neg == n1) return P_NOINFL;
-  if (neg + zero > 0 && pos + zero > 0) return P_SPLIT;
-  return P_UNCERTAIN;
+  return eta ? inflection_rule(n1, first, last, pos, neg, zero, unk)
+             : monotonicity_rule(first, last, pos, neg, zero, unk);
 }
 
 // Returns P_UNCERTAIN or P_DEEP when the host must decide; otherwise 0 and
@@ -245,13 +266,14 @@ uint level0(bool cmr) {
   bool uncertain = false;
   for (uint e = 0u; e < E; ++e) {
     if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
-    int a = b_sign(xi_at(e, 0, 0)), b = b_sign(xi_at(e, 0, NXI - 1));
-    if (a != SIGN_UNKNOWN && b != SIGN_UNKNOWN && a * b < 0) return 0u;
-    uncertain = uncertain || a == SIGN_UNKNOWN || b == SIGN_UNKNOWN;
+    // cmr::level0_fails: certain failures decide; unknown ones wait for the host.
+    int m = ends_opposite(b_sign(xi_at(e, 0, 0)), b_sign(xi_at(e, 0, NXI - 1)));
+    if (m == T_YES) return 0u;
+    uncertain = uncertain || m == T_UNKNOWN;
     if (cmr) {
-      int c = b_sign(nu_at(e, 0, 0)), f = b_sign(nu_at(e, 0, NNU - 1));
-      if (c != SIGN_UNKNOWN && f != SIGN_UNKNOWN && c * f <= 0) return 0u;
-      uncertain = uncertain || c == SIGN_UNKNOWN || f == SIGN_UNKNOWN;
+      int t = ends_touch(b_sign(nu_at(e, 0, 0)), b_sign(nu_at(e, 0, NNU - 1)));
+      if (t == T_YES) return 0u;
+      uncertain = uncertain || t == T_UNKNOWN;
     }
   }
   return uncertain ? UNCERTAIN : UNDECIDED_YET;
