@@ -28,7 +28,8 @@ layout(std430, set = 0, binding = 0) readonly buffer RegionData {
 
 layout(location = 0) out uint result;
 
-const int SIGN_UNKNOWN = 2;
+#include "piece_rules.glsl"
+
 const uint FLAG_INC = 1u, FLAG_DEC = 2u, FLAG_NONE = 4u, FLAG_UNDECIDED = 8u;
 const uint FLAG_UP = 16u, FLAG_DOWN = 32u, FLAG_KPOS = 64u, FLAG_KNEG = 128u;
 
@@ -48,11 +49,6 @@ REAL2 b_mul(REAL2 a, REAL2 b) {
   return REAL2(r, e);
 }
 REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
-int b_sign(REAL2 a) {
-  if (abs(a.x) > a.y) return a.x > REAL(0) ? 1 : -1;  // false for NaN: unknown
-  if (a.y == REAL(0) && a.x == REAL(0)) return 0;     // an exact (structural) zero
-  return SIGN_UNKNOWN;
-}
 REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
 
 // ---------------------------------------------------------------------------
@@ -107,61 +103,9 @@ REAL2 nu_at(uint e, int p, int k) {
 // lazy_algorithm1/2): ends first, inner coefficients until both signs appear.
 // Pieces below the precomputed levels are left to the host (DEEP), so no
 // coefficient arrays live in the shader.
-const int P_INC = 0, P_DEC = 1, P_ZERO = 2, P_NONMONO = 3, P_INFL = 4, P_NOINFL = 5, P_SPLIT = 6, P_UNCERTAIN = 7;
 const int P_DEEP = 8;
 
 REAL2 coeff_at(uint e, bool eta, int p, int k) { return eta ? nu_at(e, p, k) : xi_at(e, p, k); }
-
-// The piece rules of bezierize/decide.hpp, line by line (ends_opposite,
-// ends_touch, monotonicity_piece, inflection_piece): a certain zero end makes
-// "c_0 c_n < 0" certainly false and "c_0 c_n <= 0" certainly true, whatever
-// the other end.
-const int T_NO = 0, T_YES = 1, T_UNKNOWN = 2;
-int ends_opposite(int first, int last) {
-  if (first == 0 || last == 0) return T_NO;
-  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
-  return first != last ? T_YES : T_NO;
-}
-int ends_touch(int first, int last) {
-  if (first == 0 || last == 0) return T_YES;
-  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
-  return first != last ? T_YES : T_NO;
-}
-int monotonicity_rule(int first, int last, int pos, int neg, int zero, int unk) {
-  int ends = ends_opposite(first, last);
-  if (ends == T_YES) return P_NONMONO;
-  bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
-  if (ge && le) return P_ZERO;
-  if (ge) return P_INC;
-  if (le) return P_DEC;
-  if (pos > 0 && neg > 0 && ends == T_NO) return P_SPLIT;
-  return P_UNCERTAIN;
-}
-int inflection_rule(int n1, int first, int last, int pos, int neg, int zero, int unk) {
-  int ends = ends_touch(first, last);
-  if (ends == T_YES) return P_INFL;
-  if (ends == T_UNKNOWN) return P_UNCERTAIN;
-  if (pos == n1 || neg == n1) return P_NOINFL;
-  if (neg + zero > 0 && pos + zero > 0) return P_SPLIT;
-  return P_UNCERTAIN;
-}
-
-int decide_piece(uint e, bool eta, int p) {
-  int n1 = eta ? NNU : NXI;
-  int first = b_sign(coeff_at(e, eta, p, 0));
-  int last = n1 > 1 ? b_sign(coeff_at(e, eta, p, n1 - 1)) : first;
-  int pos = 0, neg = 0, zero = 0, unk = 0;
-  for (int t = 0; t < (n1 > 1 ? 2 : 1); ++t) {
-    int g = t == 0 ? first : last;
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
-  }
-  for (int k = 1; k + 1 < n1 && !(pos > 0 && neg > 0); ++k) {
-    int g = b_sign(coeff_at(e, eta, p, k));
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
-  }
-  return eta ? inflection_rule(n1, first, last, pos, neg, zero, unk)
-             : monotonicity_rule(first, last, pos, neg, zero, unk);
-}
 
 // Returns P_UNCERTAIN or P_DEEP when the host must decide; otherwise 0 and
 // the outcome (curvature: 0 inc, 1 dec, 2 non-monotone, 3 undecided,
@@ -179,7 +123,7 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
   depth = 0;
   for (;;) {
     if (level > levels) return P_DEEP;
-    int p = decide_piece(e, eta, (1 << level) - 1 + j);
+    int p = decide_piece(e, eta, (1 << level) - 1 + j, eta ? NNU : NXI);
     if (p == P_UNCERTAIN) return P_UNCERTAIN;
     if (p == P_SPLIT && level < maxd) {
       ++level;
