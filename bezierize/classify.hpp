@@ -7,8 +7,10 @@
 //   (1) all xi >= 0          -> increasing
 //   (2) all xi <= 0          -> decreasing      (both: lambda == 0, constant)
 //   (3) xi_0 * xi_last < 0   -> not monotone
-//   else split at t = 1/2 and decide both halves, depth first with an explicit
-//   stack; level 0 is the whole segment, pieces at level D are not split.
+//   else split at t = 1/2 and decide both halves, depth first; level 0 is
+//   the whole segment, pieces at level D are not split. (3) is checked
+//   first. The rules, their certified form with uncertain signs, and the one
+//   traversal every path uses are in bezierize/decide.hpp.
 //   Halves in different directions -> not monotone; a piece undecided at
 //   level D -> undecided (the paper counts it as not monotone; cmr keeps it
 //   apart), unless another piece proves non-monotonicity.
