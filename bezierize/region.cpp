@@ -1,4 +1,4 @@
-#include "bezierize/region.hpp"
+#include "bezierize/region_setup.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -9,83 +9,7 @@
 #include "bezierize/poly3.hpp"
 #include "spline/errors.hpp"
 
-namespace cmr {
-
-View default_view(const BSpline& spline, int width, int height) {
-  double x0 = spline.points()[0].x, x1 = x0, y0 = spline.points()[0].y, y1 = y0;
-  for (const Vec2& p : spline.points()) {
-    x0 = std::min(x0, p.x);
-    x1 = std::max(x1, p.x);
-    y0 = std::min(y0, p.y);
-    y1 = std::max(y1, p.y);
-  }
-  double w = x1 - x0, h = y1 - y0;
-  const double extent = std::max({w, h, 1e-300});
-  w = std::max(w, 1e-3 * extent);
-  h = std::max(h, 1e-3 * extent);
-  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-  w *= 1.5;
-  h *= 1.5;
-  // Square pixels: widen the direction that is short for the image's aspect.
-  const double aspect = static_cast<double>(width) / height;
-  if (w / h < aspect) w = h * aspect;
-  else h = w / aspect;
-  return {cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h};
-}
-
-void validate_region_options(const BSpline& spline, const RegionOptions& o) {
-  const int m = spline.point_count();
-  auto check_point = [&](int k, const char* what) {
-    if (k < 0 || k >= m)
-      throw InputError(std::string(what) + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
-  };
-  check_point(o.point, "point");
-  for (int g : o.with) {
-    check_point(g, "--with point");
-    if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
-  }
-  for (int v : {o.width, o.height})
-    if (v < 1 || v > kMaxImageSize)
-      throw InputError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                       " is outside 1.." + std::to_string(kMaxImageSize));
-  const int N = spline.segment_count();
-  if (o.split && (*o.split < 1 || *o.split > N - 1))
-    throw InputError(N == 1 ? "split " + std::to_string(*o.split) + ": the curve has one segment, so no joint to split at"
-                            : "split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1));
-  if (o.max_depth < 0 || o.max_depth > 30)
-    throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0..30");
-  if (o.view) {
-    const View& v = *o.view;
-    for (double x : {v.x0, v.y0, v.x1, v.y1})
-      if (!std::isfinite(x)) throw InputError("view: coordinates must be finite");
-    if (!(v.x1 > v.x0) || !(v.y1 > v.y0)) throw InputError("view: need X0 < X1 and Y0 < Y1");
-    // Pixel centres are computed as documented (pixel_center): every step must stay finite.
-    if (!std::isfinite((v.x1 - v.x0) * o.width) || !std::isfinite((v.y1 - v.y0) * o.height))
-      throw InputError("view: too large for double arithmetic (its extent times the image size overflows)");
-  }
-}
-
-uint8_t label_of(Direction d) {
-  switch (d) {
-    case Direction::increasing: return 1;
-    case Direction::decreasing: return 2;
-    case Direction::undecided: return 3;
-    case Direction::none: return 0;
-  }
-  return 0;
-}
-
-uint8_t label_of(Split s) {
-  switch (s) {
-    case Split::inc_inc: return 1;
-    case Split::inc_dec: return 2;
-    case Split::dec_inc: return 3;
-    case Split::dec_dec: return 4;
-    case Split::undecided: return 5;
-    case Split::none: return 0;
-  }
-  return 0;
-}
+namespace cmr::detail {
 
 namespace {
 
@@ -815,4 +739,4 @@ RegionImage region_cpu(const RegionSetup& s, int threads) {
   return img;
 }
 
-}  // namespace cmr
+}  // namespace cmr::detail
