@@ -374,10 +374,9 @@ TEST_P(Certify, EveryBackendLabelIsTheExactLabel) {
   // for --depth-map) may decide blocks by a label-only proof: same labels.
   RegionOptions labels_only = scene.options;
   labels_only.depth = false;
-  const RegionProblem label_setup_problem = RegionProblem::make(scene.spline, labels_only);
-  const RegionSetup& label_setup = label_setup_problem.setup();
+  const RegionProblem label_problem = RegionProblem::make(scene.spline, labels_only);
   for (const BackendUnderTest& b : backends()) {
-    const RegionImage img = test::render(label_setup_problem, b.options);
+    const RegionImage img = test::render(label_problem, b.options);
     int wrong = 0;
     std::ostringstream first;
     for (std::size_t at = 0; at < exact.size(); ++at)
