@@ -1,4 +1,4 @@
-#include "bezierize/region.hpp"
+#include "bezierize/region_setup.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -9,83 +9,7 @@
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
-namespace cmr {
-
-View default_view(const BSpline& spline, int width, int height) {
-  double x0 = spline.points()[0].x, x1 = x0, y0 = spline.points()[0].y, y1 = y0;
-  for (const Vec2& p : spline.points()) {
-    x0 = std::min(x0, p.x);
-    x1 = std::max(x1, p.x);
-    y0 = std::min(y0, p.y);
-    y1 = std::max(y1, p.y);
-  }
-  double w = x1 - x0, h = y1 - y0;
-  const double extent = std::max({w, h, 1e-300});
-  w = std::max(w, 1e-3 * extent);
-  h = std::max(h, 1e-3 * extent);
-  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-  w *= 1.5;
-  h *= 1.5;
-  // Square pixels: widen the direction that is short for the image's aspect.
-  const double aspect = static_cast<double>(width) / height;
-  if (w / h < aspect) w = h * aspect;
-  else h = w / aspect;
-  return {cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h};
-}
-
-void validate_region_options(const BSpline& spline, const RegionOptions& o) {
-  const int m = spline.point_count();
-  auto check_point = [&](int k, const char* what) {
-    if (k < 0 || k >= m)
-      throw InputError(std::string(what) + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
-  };
-  check_point(o.point, "point");
-  for (int g : o.with) {
-    check_point(g, "--with point");
-    if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
-  }
-  for (int v : {o.width, o.height})
-    if (v < 1 || v > kMaxImageSize)
-      throw InputError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                       " is outside 1.." + std::to_string(kMaxImageSize));
-  const int N = spline.segment_count();
-  if (o.split && (*o.split < 1 || *o.split > N - 1))
-    throw InputError(N == 1 ? "split " + std::to_string(*o.split) + ": the curve has one segment, so no joint to split at"
-                            : "split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1));
-  if (o.max_depth < 0 || o.max_depth > 30)
-    throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0..30");
-  if (o.view) {
-    const View& v = *o.view;
-    for (double x : {v.x0, v.y0, v.x1, v.y1})
-      if (!std::isfinite(x)) throw InputError("view: coordinates must be finite");
-    if (!(v.x1 > v.x0) || !(v.y1 > v.y0)) throw InputError("view: need X0 < X1 and Y0 < Y1");
-    // Pixel centres are computed as documented (pixel_center): every step must stay finite.
-    if (!std::isfinite((v.x1 - v.x0) * o.width) || !std::isfinite((v.y1 - v.y0) * o.height))
-      throw InputError("view: too large for double arithmetic (its extent times the image size overflows)");
-  }
-}
-
-uint8_t label_of(Direction d) {
-  switch (d) {
-    case Direction::increasing: return 1;
-    case Direction::decreasing: return 2;
-    case Direction::undecided: return 3;
-    case Direction::none: return 0;
-  }
-  return 0;
-}
-
-uint8_t label_of(Split s) {
-  switch (s) {
-    case Split::inc_inc: return 1;
-    case Split::inc_dec: return 2;
-    case Split::dec_inc: return 3;
-    case Split::dec_dec: return 4;
-    case Split::undecided: return 5;
-    case Split::none: return 0;
-  }
-  return 0;
-}
+namespace cmr::detail {
 
 namespace {
 
@@ -125,7 +49,7 @@ std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, in
 }
 
 // The point group: k first, then the rigid members without repeats.
-std::vector<int> point_group(const RegionOptions& o) {
+std::vector<int> point_group(const RegionRequest& o) {
   std::vector<int> group{o.point};
   for (int g : o.with)
     if (std::find(group.begin(), group.end(), g) == group.end()) group.push_back(g);
@@ -201,7 +125,7 @@ void set_piece_polynomials(RegionEntry& e, int piece_levels) {
 
 }  // namespace
 
-RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options) {
+RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) {
   validate_region_options(spline, options);
   RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
   if (!s.options.view) {
@@ -249,7 +173,7 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
   const int N = static_cast<int>(classes.size());
   PixelResult r;
   r.exact = exact;
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   if (o.split) {
     r.label = label_of(combine_split(part_verdict(classes, joints, 0, *o.split, o.mode),
                                      part_verdict(classes, joints, *o.split, N, o.mode)));
@@ -441,7 +365,7 @@ Truth level0_fails(const RegionEntry& e, const Monomials& mono, bool cmr) {
 PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
   if (s.fixed_level0_none) return {0, 0, false};
   const Rational dx = Rational(p.x) - Rational(s.anchor.x), dy = Rational(p.y) - Rational(s.anchor.y);
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   std::vector<std::vector<Point<Rational>>> B(s.entries.size());
   std::vector<Bernstein<Rational>> xi(s.entries.size()), nu(s.entries.size());
   for (std::size_t e = 0; e < s.entries.size(); ++e) {
@@ -496,7 +420,7 @@ bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joi
 // bx, by enclose the displacements for the joint computations.
 std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
   if (s.fixed_level0_none) return PixelResult{0, 0, false};
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   // Level 0 first: any segment whose end coefficients prove non-monotonicity
   // (or, for CMR, an inflection) decides the pixel.
   bool uncertain = false;
@@ -581,7 +505,7 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
 
 std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
   if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   const int D = o.max_depth;
   // The cheapest proof first: a whole segment with opposite end signs.
   for (const RegionEntry& e : s.entries) {
@@ -634,7 +558,7 @@ PixelResult classify_position(const RegionSetup& s, Vec2 p) {
 }
 
 std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, int i1, int j1) {
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   const View& v = *o.view;
   // Columns run left to right (x grows with i), rows top to bottom (y falls with j).
   const Interval x = displacement_range(pixel_center(v, o.width, o.height, i0, 0).x,
@@ -650,7 +574,7 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
 }
 
 RegionImage blank_image(const RegionSetup& s) {
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   RegionImage img;
   img.width = o.width;
   img.height = o.height;
@@ -727,7 +651,7 @@ std::uint64_t cull_block(const RegionSetup& s, RegionImage& img, const PixelBloc
 }  // namespace
 
 std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& img, int min_block, int threads) {
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   if (!o.depth && s.fixed_none) return {};  // every label is 0 (img is all zero)
   // Blocks of kRegionBlock pixels, one job each; blocks write disjoint pixels.
   const int bw = (o.width + kRegionBlock - 1) / kRegionBlock, bh = (o.height + kRegionBlock - 1) / kRegionBlock;
@@ -752,4 +676,4 @@ RegionImage region_cpu(const RegionSetup& s, int threads) {
   return img;
 }
 
-}  // namespace cmr
+}  // namespace cmr::detail

@@ -1,48 +1,64 @@
 #pragma once
-// Curvature monotonicity regions (CAD&A 2024 §3-4): for every pixel, put a
-// control point there and decide whether the curvature of the whole spline is
-// monotone. This header holds what every backend shares: the one mapping from
-// pixels to world coordinates, the host preparation, the per-position
-// classification (the reference), and the CPU backend.
+// Curvature monotonicity regions (CAD&A 2024 §3-4), the public API: for every
+// pixel, put a control point there and decide whether the curvature of the
+// whole spline is monotone.
+//
+//   RegionRequest  what to compute (an aggregate with defaults);
+//   RegionProblem  the request validated (once) and prepared; reusable for
+//                  many renders and for single positions (classify);
+//   RegionBackend  renders a problem into a RegionResult: CpuRegionBackend
+//                  here, cmr::vk::VulkanRegionBackend in vk/region_vk.hpp.
 //
 // Semantics of one position p: control point k moves to p and every point of
 // its rigid group moves by the same translation p - P_k (exactly, in rational
 // arithmetic); the label is the spline-level verdict (analyze.hpp) of the
-// spline so changed, with every sign decision exact.
+// spline so changed, with every sign decision exact. Every backend gives
+// every pixel exactly that label (certified floating point, exact rational
+// arithmetic where the bounds do not decide), so backends and precisions
+// agree pixel by pixel.
 //
 // Decision level of a pixel (the depth map, Fig. 7): 0 when some segment
 // proves non-monotonicity at level 0 (xi_0 xi_last < 0; in CMR mode also
 // nu_0 nu_last <= 0, an inflection); otherwise the deepest level any segment
-// needed. The level-0 test runs first, so most pixels cost two polynomial
-// evaluations per touched segment. Without a depth map (RegionOptions::depth
-// false) only labels are produced, and every depth reads 0.
+// needed. Without a depth map (RegionRequest::depth false) only labels are
+// produced, and every depth reads 0.
 //
-// Fast path: B_i = B0_i + w_i (dx, dy) is affine in the displacement, so each
-// xi_k is a cubic and each nu_k an affine polynomial in (dx, dy) (poly3.hpp),
-// and so are the Bernstein coefficients of every subdivision piece.
-// Their coefficients are computed exactly on the host once (down to level
-// kPieceLevels) and rounded; per pixel Algorithms 1 and 2 visit the pieces in
-// the same depth-first order, evaluating only the coefficients a decision
-// needs, each with a rigorous error bound
-//     |fl(P) - P| <= kPolyErrorUnits * u * sum_m |C_m| |mu_m| + tiny
-// (dx carries one rounding, the monomials two, the coefficient one, the
-// product one, the sum nine: 16 units; 24 leaves slack for the bound's own
-// rounding). Uncertain signs send the pixel to the exact path.
-//
-// Labels (8-bit): without split 0 not monotone, 1 increasing, 2 decreasing,
-// 3 undecided at the depth limit. With split: 0 none, 1 inc-inc, 2 inc-dec
-// (maximum at the joint), 3 dec-inc (minimum), 4 dec-dec, 5 undecided.
+// How the fast path is certified: bezierize/region_setup.hpp.
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/bounded.hpp"
-#include "bezierize/exact.hpp"
-#include "bezierize/extract.hpp"
-#include <array>
+#include "spline/bspline.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr {
+
+namespace detail {
+struct RegionSetup;
+}
+
+/// A pixel's label without --split: the spline's curvature is monotone (which
+/// way) or not.
+enum class RegionLabel : std::uint8_t { not_monotone = 0, increasing = 1, decreasing = 2, undecided = 3 };
+/// A pixel's label with --split S: the directions of parts 0..S-1 and S..N-1.
+/// inc_dec is a curvature maximum at joint S, dec_inc a minimum.
+enum class SplitLabel : std::uint8_t { none = 0, inc_inc = 1, inc_dec = 2, dec_inc = 3, dec_dec = 4, undecided = 5 };
+
+/// "not-monotone", "increasing", "decreasing", "undecided".
+const char* to_string(RegionLabel label);
+/// "none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided".
+const char* to_string(SplitLabel label);
+
+/// The 8-bit code of a label where bytes leave the program (PGM label maps,
+/// the shader's result word): the enumerators' values as documented in the
+/// README (0 not monotone, 1 increasing, ...; with split 0 none, 1 inc-inc, ...).
+constexpr std::uint8_t code(RegionLabel label) { return static_cast<std::uint8_t>(label); }
+constexpr std::uint8_t code(SplitLabel label) { return static_cast<std::uint8_t>(label); }
+inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6;
 
 /// World rectangle shown by an image: x0 left, x1 right, y0 bottom, y1 top.
 struct View {
@@ -64,117 +80,106 @@ inline Vec2 pixel_center(const View& v, int width, int height, int i, int j) {
 /// direction so that pixels are square.
 View default_view(const BSpline& spline, int width, int height);
 
-struct RegionOptions {
+/// What to compute. Validated by RegionProblem::make.
+struct RegionRequest {
   int point = 0;                 ///< k: the control point placed at each pixel
   std::vector<int> with;         ///< other points moving rigidly with k
   Mode mode = Mode::cmrwi;       ///< cmrwi: monotone; cmr: monotone, no inflection
-  std::optional<int> split;      ///< joint s: segments 0..s-1 against s..N-1
-  int max_depth = 12;            ///< D of Algorithms 1 and 2
-  int width = 512, height = 512;
+  std::optional<int> split;      ///< joint s: segments 0..s-1 against s..N-1 (SplitLabel results)
+  int max_depth = kDefaultDepth; ///< D of Algorithms 1 and 2, 0..kMaxDepth
+  int width = 512, height = 512; ///< image size, 1..kMaxImageSize each
   std::optional<View> view;      ///< default_view() when empty
   /// Compute each pixel's decision level (the depth map). Without it, blocks
   /// can be labelled "not monotone" by a proof that skips each pixel's own
-  /// traversal (faster), and RegionImage::depth is all zero.
+  /// traversal (faster), and RegionResult::depth is all zero.
   bool depth = true;
 };
 
-/// Throws InputError for a point out of range, a size of 0 or above
-/// kMaxImageSize, a split outside 1..N-1, a depth outside 0..30, a view
-/// with zero or non-finite extent.
-void validate_region_options(const BSpline& spline, const RegionOptions& options);
-
-uint8_t label_of(Direction d);
-uint8_t label_of(Split s);
-
-/// What one position gets.
-struct PixelResult {
-  uint8_t label = 0;
-  uint8_t depth = 0;    ///< deepest level any segment needed
-  bool exact = false;   ///< the exact path ran
+/// What one position gets. Exactly one of label / split_label is meaningful:
+/// split_label when the request has a split, label otherwise (the other
+/// keeps its default).
+struct RegionPixel {
+  RegionLabel label = RegionLabel::not_monotone;
+  SplitLabel split_label = SplitLabel::none;
+  std::uint8_t depth = 0;  ///< deepest level any segment needed
+  bool exact = false;      ///< the exact rational path ran
 };
 
-inline constexpr double kPolyErrorUnits = 24;
+/// A validated, prepared region problem: the exact piece polynomials of the
+/// moved segments and the fixed segments' classes, computed once. Cheap to
+/// copy (shared immutable state); reusable for many renders and for single
+/// positions (contours, editors, sweeps).
+class RegionProblem {
+ public:
+  /// Validates (the only place) and prepares. Throws InputError for a point
+  /// out of range, a --with point equal to the moved one or out of range, a
+  /// size outside 1..kMaxImageSize, a split outside 1..N-1, a depth outside
+  /// 0..kMaxDepth, a view with zero, non-finite or overflowing extent.
+  static RegionProblem make(const BSpline& spline, const RegionRequest& request);
 
-/// A segment whose Bezier points the move changes (or, with classify ==
-/// false, an untouched neighbour of a joint whose curvature jump varies).
-struct RegionEntry {
-  int segment = 0;
-  int part = 0;                                ///< 1 for segments at or after the split joint
-  bool classify = true;                        ///< touched by the group
-  std::vector<Point<Rational>> base_exact;     ///< B0: Bezier points before the move
-  std::vector<Rational> weight_exact;          ///< w: B = B0 + w (dx, dy)
-  std::vector<Point<Bounded>> base;            ///< B0 rounded, with bounds
-  std::vector<Bounded> weight;                 ///< w rounded, with bounds
-  /// xi_k(dx, dy) of every subdivision piece down to RegionSetup::piece_levels,
-  /// rounded coefficients in poly3.hpp order: piece p (heap order: level L,
-  /// index j at p = 2^L - 1 + j) has coefficient k at xi[p * (4n-6) + k].
-  std::vector<std::array<double, 10>> xi;
-  /// nu_k(dx, dy) = c0 + c1 dx + c2 dy per piece, at nu[p * (2n-3) + k].
-  std::vector<std::array<double, 3>> nu;
-  int n_xi = 0, n_nu = 0;  ///< coefficients per piece: 4n-6 and 2n-3
+  const BSpline& spline() const;
+  /// The request as validated, its view resolved (never empty).
+  const RegionRequest& request() const;
+  const View& view() const { return *request().view; }
+  /// The certified label of one position of the moved point (any p, not only
+  /// pixel centres): what every backend gives the pixel centred at p.
+  RegionPixel classify(Vec2 position) const;
+  /// The prepared state, for backends (bezierize/region_setup.hpp).
+  const detail::RegionSetup& setup() const { return *setup_; }
+
+ private:
+  explicit RegionProblem(std::shared_ptr<const detail::RegionSetup> setup) : setup_(std::move(setup)) {}
+  std::shared_ptr<const detail::RegionSetup> setup_;
 };
 
-/// A joint whose curvature jump depends on the position (knot multiplicity
-/// >= d-1 next to a touched segment), strictly inside a part.
-struct RegionJoint {
-  int joint = 0;         ///< index into RegionSetup::joints
-  int left = 0, right = 0;  ///< entry indices of its two segments
-  int part = 0;
-};
-
-/// Host preparation shared by the backends.
-struct RegionSetup {
-  BSpline spline;
-  RegionOptions options;                 ///< validated, view resolved
-  std::vector<int> group;                ///< k first, then the rigid members
-  Vec2 anchor{0.0};                      ///< P_k
-  std::vector<RegionEntry> entries;      ///< ascending segment order
-  std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
-  std::vector<SegmentClass> fixed;       ///< every segment's class before the move
-  std::vector<Joint> joints;             ///< before the move
-  bool fixed_level0_none = false;        ///< an untouched segment fails at level 0: every pixel is 0
-  bool fixed_none = false;               ///< an untouched segment fails at some level: every label is 0
-  int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
-};
-
-/// Levels of precomputed piece polynomials: deeper pieces are halved per pixel.
-inline constexpr int kPieceLevels = 3;
-
-RegionSetup prepare_region(const BSpline& spline, const RegionOptions& options);
-
-/// The reference for one position: certified floating point, exact fallback.
-PixelResult classify_position(const RegionSetup& setup, Vec2 p);
-/// The exact path alone (what classify_position falls back to).
-PixelResult classify_position_exact(const RegionSetup& setup, Vec2 p);
-
-struct RegionImage {
+/// A rendered region: row-major, row 0 at the top.
+struct RegionResult {
   int width = 0, height = 0;
   View view;
-  std::vector<uint8_t> labels;   ///< row-major, row 0 at the top
-  std::vector<uint8_t> depth;    ///< decision level per pixel
-  std::uint64_t exact_pixels = 0;
+  bool split = false;                    ///< which of the label vectors is filled
+  std::vector<RegionLabel> labels;       ///< without split, width * height; else empty
+  std::vector<SplitLabel> split_labels;  ///< with split, width * height; else empty
+  std::vector<std::uint8_t> depth;       ///< decision level per pixel (all 0 without RegionRequest::depth)
+  std::uint64_t exact_pixels = 0;        ///< pixels the exact rational path decided
+  double seconds = 0;                    ///< wall time of the render
+  double setup_seconds = 0;              ///< of which creating device state (shader compilation)
+
+  std::size_t size() const { return depth.size(); }
+  /// The label code of pixel `index` (code() of whichever label it has).
+  std::uint8_t code_at(std::size_t index) const { return split ? code(split_labels[index]) : code(labels[index]); }
+  /// Every pixel's label code, as written to PGM label maps.
+  std::vector<std::uint8_t> codes() const;
 };
 
-/// The certified fast path over a block of pixels (columns i0..i1, rows
-/// j0..j1, inclusive): the result every pixel of the block gets, or nullopt
-/// when the block is not uniform or a sign is not certain over it.
-std::optional<PixelResult> classify_block(const RegionSetup& setup, int i0, int j0, int i1, int j1);
+/// Where regions are rendered. Every backend gives every pixel the label of
+/// RegionProblem::classify at its centre.
+class RegionBackend {
+ public:
+  virtual ~RegionBackend() = default;
+  /// Throws BackendError when the backend's environment fails (a device
+  /// lost, out of device memory); never for a valid problem otherwise.
+  virtual RegionResult render(const RegionProblem& problem) = 0;
+  /// "cpu", "vulkan".
+  virtual std::string name() const = 0;
+};
 
-/// Block size of the CPU backend's (and the Vulkan backend's host) culling.
-inline constexpr int kRegionBlock = 64;
+/// An environment failure of a backend (the CLI's exit code 3).
+class BackendError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
-/// An all-zero image of the setup's size and view.
-RegionImage blank_image(const RegionSetup& setup);
+/// All on the host: blocks of pixels decided whole where the certified path
+/// holds over the block, quartered down to single pixels elsewhere.
+class CpuRegionBackend final : public RegionBackend {
+ public:
+  /// threads: 0 uses every core.
+  explicit CpuRegionBackend(int threads = 0) : threads_(threads) {}
+  RegionResult render(const RegionProblem& problem) override;
+  std::string name() const override { return "cpu"; }
 
-/// Decides what the host can by blocks (quartering undecided blocks) into
-/// img, and returns the pixels of undecided blocks whose sides are at most
-/// min_block, for a device to classify; with min_block == 1 every pixel is
-/// decided here and nothing is returned.
-std::vector<std::array<int, 2>> region_cull(const RegionSetup& setup, RegionImage& img, int min_block, int threads);
-
-/// CPU backend, on `threads` threads (0: all cores): blocks of pixels decided
-/// whole where classify_block holds, quartered down to single pixels through
-/// classify_position elsewhere. Every pixel gets exactly classify_position's label.
-RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
+ private:
+  int threads_;
+};
 
 }  // namespace cmr

@@ -10,7 +10,9 @@
 // K_ROUND (twice the unit roundoff) and K_TINY (absolute slack for
 // underflow, also covering flush-to-zero).
 //
-// Buffer layout: see vk/region_vk.cpp (pack_region), which writes it.
+// Buffer layout and result word: shaders/region_layout.h (shared with the
+// C++ side, vk/region_vk.cpp, which packs the buffer).
+#include "region_layout.h"
 
 layout(constant_id = 0) const int DEG = 3;    // degree n of every segment
 layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
@@ -22,16 +24,13 @@ const int NXI = 4 * DEG - 6;                  // coefficients of lambda
 const int NNU = 2 * DEG - 3;                  // coefficients of eta
 
 layout(std430, set = 0, binding = 0) readonly buffer RegionData {
-  uint hdr[32];
+  uint hdr[HDR_WORDS];
   REAL2 data[];
 };
 
 layout(location = 0) out uint result;
 
 #include "piece_rules.glsl"
-
-const uint FLAG_INC = 1u, FLAG_DEC = 2u, FLAG_NONE = 4u, FLAG_UNDECIDED = 8u;
-const uint FLAG_UP = 16u, FLAG_DOWN = 32u, FLAG_KPOS = 64u, FLAG_KNEG = 128u;
 
 REAL2 b_add(REAL2 a, REAL2 b) {
   precise REAL r = a.x + b.x;
@@ -70,8 +69,8 @@ void set_monomials(REAL dx, REAL dy) {
   for (int m = 0; m < 10; ++m) amono[m] = abs(mono[m]);
 }
 
-uint pieces() { return (2u << hdr[15]) - 1u; }
-uint entry_at(uint e) { return hdr[9] + e * (uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI + 2 * NNU)); }
+uint pieces() { return (2u << hdr[HDR_PIECE_LEVELS]) - 1u; }
+uint entry_at(uint e) { return hdr[HDR_ENTRY_OFFSET] + e * (uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI + 2 * NNU)); }
 
 // Coefficient k of piece p (heap order) of xi for entry e at this pixel, with its error bound.
 // A polynomial whose coefficients are all zero is exactly zero (the host
@@ -114,7 +113,7 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
   // Stackless depth-first order: after a leaf, climb while on a right child,
   // then step to the right sibling (no arrays: private arrays are costly on
   // SIMD executors even where unused).
-  int levels = int(hdr[15]);
+  int levels = int(hdr[HDR_PIECE_LEVELS]);
   kappa_sign = b_sign(coeff_at(e, eta, 0, 0));
   int level = 0, j = 0;
   bool inc = false, dec = false, undecided = false;
@@ -200,13 +199,13 @@ int direction_of(uint f, bool cmr) {  // 0 inc, 1 dec, 2 none, 3 undecided (cmr:
   return 0;
 }
 
-const uint UNCERTAIN = 65536u;
+const uint UNCERTAIN = RESULT_UNCERTAIN;
 const uint UNDECIDED_YET = 0xffffffffu;
 
 // Level 0 (cmr::classify_position): a segment whose end coefficients prove
 // non-monotonicity (or, for CMR, an inflection) decides the pixel.
 uint level0(bool cmr) {
-  uint E = hdr[5];
+  uint E = hdr[HDR_ENTRIES];
   bool uncertain = false;
   for (uint e = 0u; e < E; ++e) {
     if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
@@ -226,11 +225,11 @@ uint level0(bool cmr) {
 // Every touched segment through Algorithms 1 (and 2), the varying joints,
 // and the verdict (cmr::part_verdict).
 uint full(bool cmr, REAL dx, REAL dy) {
-  uint split = hdr[3];
-  int maxd = int(hdr[4]);
-  uint E = hdr[5];
-  uint flags0 = hdr[11], flags1 = hdr[12];
-  int depth = int(hdr[13]);
+  uint split = hdr[HDR_SPLIT];
+  int maxd = int(hdr[HDR_DEPTH]);
+  uint E = hdr[HDR_ENTRIES];
+  uint flags0 = hdr[HDR_FLAGS_PART0], flags1 = hdr[HDR_FLAGS_PART1];
+  int depth = int(hdr[HDR_FIXED_DEPTH]);
   for (uint e = 0u; e < E; ++e) {
     REAL2 head = data[entry_at(e)];
     if (head.y == REAL(0)) continue;
@@ -251,14 +250,14 @@ uint full(bool cmr, REAL dx, REAL dy) {
     }
     if (head.x == REAL(0)) flags0 |= f; else flags1 |= f;
   }
-  uint J = JOINTS ? hdr[6] : 0u;
+  uint J = JOINTS ? hdr[HDR_JOINTS] : 0u;
   REAL2 bdx = REAL2(dx, K_ROUND * abs(dx)), bdy = REAL2(dy, K_ROUND * abs(dy));
   for (uint j = 0u; j < J; ++j) {
-    REAL2 ends = data[hdr[10] + 2u * j];
+    REAL2 ends = data[hdr[HDR_JOINT_OFFSET] + 2u * j];
     int s = jump_sign(uint(ends.x), uint(ends.y), bdx, bdy);
     if (s == SIGN_UNKNOWN) return UNCERTAIN;
     uint f = s > 0 ? FLAG_UP : (s < 0 ? FLAG_DOWN : 0u);
-    if (data[hdr[10] + 2u * j + 1u].x == REAL(0)) flags0 |= f; else flags1 |= f;
+    if (data[hdr[HDR_JOINT_OFFSET] + 2u * j + 1u].x == REAL(0)) flags0 |= f; else flags1 |= f;
   }
   uint label;
   if (split == 0u) {
@@ -270,7 +269,7 @@ uint full(bool cmr, REAL dx, REAL dy) {
     else if (a == 3 || b == 3) label = 5u;
     else label = 1u + uint(a) * 2u + uint(b);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
   }
-  return label | (uint(depth) << 8);
+  return label | (uint(depth) << RESULT_DEPTH_SHIFT);
 }
 
 void main() {
@@ -280,18 +279,18 @@ void main() {
   // Consecutive list entries fill 4x4 tiles, the unit a SIMD executor such as
   // llvmpipe shades together, so that neighbouring (similar) pixels share lanes.
   uint fx = uint(gl_FragCoord.x), fy = uint(gl_FragCoord.y);
-  uint at = (((fy >> 2) * (hdr[17] >> 2) + (fx >> 2)) << 4) + ((fy & 3u) << 2) + (fx & 3u);
-  if (at >= hdr[16]) discard;
-  REAL2 ij = data[hdr[18] + at];
+  uint at = (((fy >> 2) * (hdr[HDR_AREA_WIDTH] >> 2) + (fx >> 2)) << 4) + ((fy & 3u) << 2) + (fx & 3u);
+  if (at >= hdr[HDR_LISTED]) discard;
+  REAL2 ij = data[hdr[HDR_LIST_OFFSET] + at];
   int pi = int(ij.x), pj = int(ij.y);
   // dx = fl(p - P_k), computed by the host with cmr::pixel_center.
-  REAL dx = data[hdr[7] + uint(pi)].x, dy = data[hdr[8] + uint(pj)].x;
+  REAL dx = data[hdr[HDR_DX_OFFSET] + uint(pi)].x, dy = data[hdr[HDR_DY_OFFSET] + uint(pj)].x;
   set_monomials(dx, dy);
   // Pixels decided at level 0 as not monotone keep the attachment's clear
   // value, 0 (label 0, depth 0): discarding them lets a SIMD executor such as
   // llvmpipe, which runs both sides of every branch under a mask, leave the
   // shader early once all its lanes are discarded.
-  if (hdr[14] != 0u) discard;  // an untouched segment fails at level 0
+  if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) discard;  // an untouched segment fails at level 0
   uint r = level0(cmr);
   if (r == 0u) discard;
   if (r == UNDECIDED_YET) r = full(cmr, dx, dy);

@@ -2,10 +2,71 @@
 
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "spline/errors.hpp"
+#ifdef CMR_WITH_VULKAN
+#include "vk/region_vk.hpp"
+#endif
 
 namespace cmr::cli {
+namespace {
+
+/// The Vulkan backend, opened at its first render; its failures become
+/// EnvironmentError (exit 3) with what to do about them.
+class DeferredVulkanBackend final : public RegionBackend {
+ public:
+#ifdef CMR_WITH_VULKAN
+  explicit DeferredVulkanBackend(vk::VulkanRegionOptions options) : options_(std::move(options)) {}
+  RegionResult render(const RegionProblem& problem) override {
+    if (!backend_) open();
+    try {
+      return backend_->render(problem);
+    } catch (const vk::RegionFailure& e) {
+      throw EnvironmentError(e.what());
+    }
+  }
+#else
+  RegionResult render(const RegionProblem&) override {
+    throw EnvironmentError("this cmr was built without Vulkan; use --backend cpu");
+  }
+#endif
+  std::string name() const override { return "vulkan"; }
+
+#ifdef CMR_WITH_VULKAN
+ private:
+  void open() {
+    auto created = vk::VulkanRegionBackend::create(options_);
+    if (!created) {
+      std::string message = created.error().message;
+      if (message.find("VK_DRIVER_FILES") == std::string::npos)
+        message += " (for lavapipe: install mesa-vulkan-drivers or export "
+                   "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json)";
+      throw EnvironmentError(message + "; or use --backend cpu");
+    }
+    backend_.emplace(created.take());
+  }
+  vk::VulkanRegionOptions options_;
+  std::optional<vk::VulkanRegionBackend> backend_;
+#endif
+};
+
+}  // namespace
+
+std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
+                                                   const std::string& device) {
+  if (backend == "cpu") return std::make_shared<CpuRegionBackend>();
+  CMR_CHECK(backend == "vulkan" && (precision == "fp64" || precision == "fp32"));  // CLI11 checked the choices
+#ifdef CMR_WITH_VULKAN
+  vk::VulkanRegionOptions o;
+  o.device = device;
+  o.precision = precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
+  return std::make_shared<DeferredVulkanBackend>(std::move(o));
+#else
+  (void)device;
+  return std::make_shared<DeferredVulkanBackend>();
+#endif
+}
 
 std::string html_escape(const std::string& text) {
   std::string out;

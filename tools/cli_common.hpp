@@ -1,11 +1,14 @@
 #pragma once
 // Shared pieces of the cmr command: exit codes, output helpers.
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+
+#include "bezierize/region.hpp"
 
 namespace cmr::cli {
 
@@ -15,6 +18,15 @@ enum Exit : int { kOk = 0, kFail = 1, kInvalid = 2, kEnvironment = 3 };
 struct EnvironmentError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+/// The region backend of --backend (vulkan|cpu), --precision (fp64|fp32)
+/// and --device NAME: one per command run, so Vulkan contexts and compiled
+/// pipelines are reused by every render. The Vulkan device is opened at the
+/// first render (a run that renders nothing needs none); when it is missing
+/// or fails, render throws EnvironmentError with a line that says how to
+/// select lavapipe, or to use --backend cpu.
+std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
+                                                   const std::string& device = "");
 
 /// Text made safe for HTML element content and attribute values.
 std::string html_escape(const std::string& text);

@@ -49,8 +49,7 @@ void add_figures_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     fig::FiguresOptions o;
     o.out = args->out;
-    o.backend.backend = args->backend == "cpu" ? Backend::cpu : Backend::vulkan;
-    o.backend.device = args->device;
+    o.backend = make_region_backend(args->backend, "fp64", args->device);
     o.size = args->size;
     o.progress = &std::cout;
     std::cout << "cmr figures: " << args->size << "x" << args->size << " px regions on the " << args->backend

@@ -8,7 +8,6 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
-#include "tools/region_backend.hpp"
 
 namespace cmr::cli {
 namespace {
@@ -19,7 +18,7 @@ struct RegionArgs {
   std::vector<int> with;
   std::string mode = "cmrwi";
   std::optional<int> split;
-  int depth = 12;
+  int depth = kDefaultDepth;
   std::string size = "512x512";
   std::string view;
   std::string backend = "vulkan";
@@ -54,7 +53,7 @@ View parse_view(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
-std::string pgm(const RegionImage& img, const std::vector<uint8_t>& values) {
+std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values) {
   std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
   out.append(reinterpret_cast<const char*>(values.data()), values.size());
   return out;
@@ -96,7 +95,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   cmd->callback([a, &exit_code] {
     const BSpline spline = read_spline_file(a->file);
-    RegionOptions o;
+    RegionRequest o;
     const auto [w, h] = parse_size(a->size);
     o.width = w;
     o.height = h;
@@ -119,64 +118,60 @@ void add_region_command(CLI::App& app, int& exit_code) {
         throw InputError("--point: expected an index or 'all' (got '" + a->point + "')");
       }
     }
-    BackendOptions bo;
-    bo.backend = a->backend == "cpu" ? Backend::cpu : Backend::vulkan;
-    bo.precision = a->precision == "fp32" ? Precision::fp32 : Precision::fp64;
-    bo.device = a->device;
+    const std::shared_ptr<RegionBackend> backend = make_region_backend(a->backend, a->precision, a->device);
 
     // Validate every point and output path before rendering anything, so bad
     // input leaves no files.
     if (!a->png.empty()) check_output_path(a->png, "--png");
     if (!a->labels.empty()) check_output_path(a->labels, "--labels");
     if (!a->depth_map.empty()) check_output_path(a->depth_map, "--depth-map");
-    std::vector<RegionSetup> setups;
+    std::vector<RegionProblem> problems;
     for (int k : points) {
-      RegionOptions ok = o;
+      RegionRequest ok = o;
       ok.point = k;
-      validate_region_options(spline, ok);
-      setups.push_back(prepare_region(spline, ok));
+      problems.push_back(RegionProblem::make(spline, ok));
     }
-    std::vector<RegionImage> images;
+    std::vector<RegionResult> images;
     nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
     const auto t0 = std::chrono::steady_clock::now();
     double setup_seconds = 0;
-    for (const RegionSetup& s : setups) {
+    for (const RegionProblem& problem : problems) {
       const auto t1 = std::chrono::steady_clock::now();
-      images.push_back(render_region(s, bo));
+      images.push_back(backend->render(problem));
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-      setup_seconds += last_setup_seconds();
-      const RegionImage& img = images.back();
-      std::vector<std::uint64_t> counts(6, 0);
-      for (uint8_t l : img.labels) ++counts[std::min<int>(l, 5)];
+      const RegionResult& img = images.back();
+      setup_seconds += img.setup_seconds;
+      std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
+      for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
       nlohmann::ordered_json c;
-      const int labels = o.split ? 6 : 4;
+      const int labels = o.split ? kSplitLabelCodes : kRegionLabelCodes;
       for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
-      nlohmann::ordered_json entry = {{"point", s.options.point}, {"counts", c}};
+      nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
       if (a->stats) {
         entry["seconds"] = sec;
         entry["exact_pixels"] = img.exact_pixels;
-        entry["exact_share"] = static_cast<double>(img.exact_pixels) / static_cast<double>(img.labels.size());
+        entry["exact_share"] = static_cast<double>(img.exact_pixels) / static_cast<double>(img.size());
       }
       per_point.push_back(entry);
     }
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     OutputFiles out;
     if (!a->labels.empty()) {
-      for (const RegionImage& img : images) {
-        const int k = setups[&img - images.data()].options.point;
-        out.write(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.labels));
+      for (const RegionResult& img : images) {
+        const int k = problems[&img - images.data()].request().point;
+        out.write(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.codes()));
       }
     }
     if (!a->depth_map.empty()) {
-      for (const RegionImage& img : images) {
-        const int k = setups[&img - images.data()].options.point;
+      for (const RegionResult& img : images) {
+        const int k = problems[&img - images.data()].request().point;
         out.write(points.size() > 1 ? with_point_suffix(a->depth_map, k) : a->depth_map, pgm(img, img.depth));
       }
     }
     if (!a->png.empty()) {
       draw::RegionPicture pic;
       pic.spline = &spline;
-      for (const RegionImage& img : images) pic.layers.push_back(&img);
+      for (const RegionResult& img : images) pic.layers.push_back(&img);
       pic.split = o.split.has_value();
       pic.max_depth = o.max_depth;
       out.write_with(a->png, [&](const std::filesystem::path& p) { draw::write_region_png(p, pic); });

@@ -57,8 +57,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
-    o.backend.backend = args->backend == "cpu" ? Backend::cpu : Backend::vulkan;
-    o.backend.device = args->device;
+    o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     std::vector<report::ReportInput> inputs;
     for (const std::string& f : args->files) inputs.push_back(report::read_input(f));

@@ -168,11 +168,12 @@ struct WorldMap {
 void check_picture(const RegionPicture& p) {
   CMR_CHECK(p.spline != nullptr);
   CMR_CHECK(!p.layers.empty());
-  for (const RegionImage* l : p.layers) {
+  for (const RegionResult* l : p.layers) {
     CMR_CHECK(l != nullptr);
+    CMR_CHECK(l->split == p.split);
     CMR_CHECK(l->width == p.layers[0]->width && l->height == p.layers[0]->height);
-    CMR_CHECK(l->labels.size() == static_cast<std::size_t>(l->width) * l->height);
-    CMR_CHECK(l->depth.size() == l->labels.size());
+    CMR_CHECK((l->split ? l->split_labels.size() : l->labels.size()) == static_cast<std::size_t>(l->width) * l->height);
+    CMR_CHECK(l->depth.size() == static_cast<std::size_t>(l->width) * l->height);
   }
 }
 
@@ -415,8 +416,8 @@ void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, doub
 
 Rgb pixel_colour(const RegionPicture& p, std::size_t index) {
   Absorb sum = kNone;
-  for (const RegionImage* layer : p.layers) {
-    const uint8_t label = layer->labels[index];
+  for (const RegionResult* layer : p.layers) {
+    const uint8_t label = layer->code_at(index);
     const Absorb a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
                                      : (p.split ? split_absorb(label) : plain_absorb(label));
     sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};

@@ -34,8 +34,8 @@ struct Rgb {
 /// polygon and the point numbers drawn over it.
 struct RegionPicture {
   const BSpline* spline = nullptr;
-  std::vector<const RegionImage*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
-  bool split = false;                      ///< labels are split labels (0..5)
+  std::vector<const RegionResult*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
+  bool split = false;                      ///< the layers hold split labels
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
   int max_depth = 12;
   std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place

@@ -79,22 +79,28 @@ View square_view(double cx, double cy, double half) { return {cx - half, cy - ha
 
 // ----------------------------------------------------------------- helpers --
 
-long count(const RegionImage& r, uint8_t label) { return std::count(r.labels.begin(), r.labels.end(), label); }
+/// Pixels whose label code (cmr::code) is `label`: the claims below name
+/// labels by their codes, as the README documents them.
+long count(const RegionResult& r, uint8_t label) {
+  long n = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) n += r.code_at(i) == label;
+  return n;
+}
 
-/// The label of the pixel containing p; 255 outside the image.
-uint8_t label_at(const RegionImage& r, Vec2 p) {
+/// The label code of the pixel containing p; 255 outside the image.
+uint8_t label_at(const RegionResult& r, Vec2 p) {
   const View& v = r.view;
   const double fi = (p.x - v.x0) / (v.x1 - v.x0) * r.width, fj = (v.y1 - p.y) / (v.y1 - v.y0) * r.height;
   if (!(fi >= 0 && fi < r.width && fj >= 0 && fj < r.height)) return 255;
-  return r.labels[static_cast<std::size_t>(fj) * r.width + static_cast<std::size_t>(fi)];
+  return r.code_at(static_cast<std::size_t>(fj) * r.width + static_cast<std::size_t>(fi));
 }
 
-std::string counts(const RegionImage& r) {
+std::string counts(const RegionResult& r) {
   return "red " + std::to_string(count(r, 1)) + ", blue " + std::to_string(count(r, 2)) + ", undecided " +
-         std::to_string(count(r, 3)) + " of " + std::to_string(r.labels.size()) + " px";
+         std::to_string(count(r, 3)) + " of " + std::to_string(r.size()) + " px";
 }
 
-std::string split_counts(const RegionImage& r) {
+std::string split_counts(const RegionResult& r) {
   static const char* names[] = {"none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided"};
   std::string s;
   for (uint8_t l = 0; l <= 5; ++l) s += (l ? ", " : "") + std::string(names[l]) + " " + std::to_string(count(r, l));
@@ -102,10 +108,11 @@ std::string split_counts(const RegionImage& r) {
 }
 
 /// Pixels of `inner` that are coloured but not the same colour in `outer`.
-long outside(const RegionImage& inner, const RegionImage& outer) {
+long outside(const RegionResult& inner, const RegionResult& outer) {
   long n = 0;
   for (std::size_t i = 0; i < inner.labels.size(); ++i)
-    n += (inner.labels[i] == 1 || inner.labels[i] == 2) && inner.labels[i] != outer.labels[i];
+    n += (inner.labels[i] == RegionLabel::increasing || inner.labels[i] == RegionLabel::decreasing) &&
+         inner.labels[i] != outer.labels[i];
   return n;
 }
 
@@ -132,9 +139,9 @@ class Builder {
 
   /// The region of point k of s; cached by (name, k, mode, split, depth),
   /// so figures that show the same map share it.
-  const RegionImage& region(const BSpline& s, int k, Mode mode, const View& view, std::optional<int> split = {},
+  const RegionResult& region(const BSpline& s, int k, Mode mode, const View& view, std::optional<int> split = {},
                             std::optional<int> depth = {}) {
-    RegionOptions ro;
+    RegionRequest ro;
     ro.point = k;
     ro.mode = mode;
     ro.split = split;
@@ -146,7 +153,8 @@ class Builder {
     auto it = regions_.find(key.str());
     if (it != regions_.end()) return it->second;
     const auto t0 = std::chrono::steady_clock::now();
-    RegionImage image = cli::render_region(prepare_region(s, ro), options_.backend);
+    CMR_CHECK(options_.backend != nullptr);
+    RegionResult image = options_.backend->render(RegionProblem::make(s, ro));
     const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::ostringstream line;
     line << "  " << s.name() << ": P" << k << ' ' << (mode == Mode::cmr ? "CMR" : "CMRWI");
@@ -190,12 +198,12 @@ class Builder {
 
  private:
   const FiguresOptions& options_;
-  std::map<std::string, RegionImage> regions_;  // node-based: references stay valid
+  std::map<std::string, RegionResult> regions_;  // node-based: references stay valid
   std::map<std::string, SplineAnalysis> analyses_;
   FiguresResult result_;
 };
 
-draw::RegionPicture picture(const BSpline& s, std::vector<const RegionImage*> layers, int max_depth) {
+draw::RegionPicture picture(const BSpline& s, std::vector<const RegionResult*> layers, int max_depth) {
   draw::RegionPicture p;
   p.spline = &s;
   p.layers = std::move(layers);
@@ -203,15 +211,15 @@ draw::RegionPicture picture(const BSpline& s, std::vector<const RegionImage*> la
   return p;
 }
 
-draw::RegionPicture moved_picture(const BSpline& s, const RegionImage& layer, Vec2 from, int k, int max_depth) {
+draw::RegionPicture moved_picture(const BSpline& s, const RegionResult& layer, Vec2 from, int k, int max_depth) {
   draw::RegionPicture p = picture(s, {&layer}, max_depth);
   p.moved = std::make_pair(from, s.points()[k]);
   return p;
 }
 
 /// The CMRWIs (or CMRs) of every point of s, one layer each.
-std::vector<const RegionImage*> all_points(Builder& b, const BSpline& s, Mode mode, const View& v) {
-  std::vector<const RegionImage*> layers;
+std::vector<const RegionResult*> all_points(Builder& b, const BSpline& s, Mode mode, const View& v) {
+  std::vector<const RegionResult*> layers;
   for (int k = 0; k < s.point_count(); ++k) layers.push_back(&b.region(s, k, mode, v));
   return layers;
 }
@@ -220,7 +228,7 @@ std::vector<const RegionImage*> all_points(Builder& b, const BSpline& s, Mode mo
 
 void figure2(Builder& b, const Curves& c) {
   const View v = square_view(0.9, -0.8, 2.8);
-  const RegionImage& r = b.region(c.fig2, 0, Mode::cmrwi, v);
+  const RegionResult& r = b.region(c.fig2, 0, Mode::cmrwi, v);
   b.claim("Fig. 2", "P0's CMRWI has a blue and a red part", count(r, 1) > 0 && count(r, 2) > 0, counts(r));
   struct Case {
     const char* id;
@@ -301,7 +309,7 @@ void figure5(Builder& b, const Curves& c) {
   const View v = square_view(1.0, 0.6, 2.6);
   const auto base = all_points(b, c.fig5, Mode::cmr, v);
   long any = 0;
-  for (const RegionImage* r : base) any += count(*r, 1) + count(*r, 2);
+  for (const RegionResult* r : base) any += count(*r, 1) + count(*r, 2);
   const SplineAnalysis& a = b.analysis(c.fig5);
   b.claim("Fig. 5a", "the curve is not monotone and no control point has a CMR in the view",
           any == 0 && a.cmr == Direction::none,
@@ -373,16 +381,19 @@ void figure7(Builder& b, const Curves& c) {
   f.rows.emplace_back();
   long undecided = 0, deep_monotone = 0, deep_not = 0, mismatch = 0;
   for (int k = 0; k < 4; ++k) {
-    const RegionImage& r = b.region(c.fig2, k, Mode::cmrwi, v);
-    const RegionImage& r0 = b.region(c.fig2, k, Mode::cmrwi, v, {}, 0);
+    const RegionResult& r = b.region(c.fig2, k, Mode::cmrwi, v);
+    const RegionResult& r0 = b.region(c.fig2, k, Mode::cmrwi, v, {}, 0);
     undecided += count(r, 3);
+    auto monotone_at = [](const RegionResult& m, std::size_t i) {
+      return m.labels[i] == RegionLabel::increasing || m.labels[i] == RegionLabel::decreasing;
+    };
     for (std::size_t i = 0; i < r.labels.size(); ++i) {
-      const bool monotone = r.labels[i] == 1 || r.labels[i] == 2;
+      const bool monotone = monotone_at(r, i);
       deep_monotone += monotone && r.depth[i] > 0;
-      deep_not += r.labels[i] == 0 && r.depth[i] > 0;
+      deep_not += r.labels[i] == RegionLabel::not_monotone && r.depth[i] > 0;
       // Level 0 of a depth-D run must be what a depth-0 run decides as monotone.
       const bool level0 = monotone && r.depth[i] == 0;
-      mismatch += level0 != (r0.labels[i] == 1 || r0.labels[i] == 2) || (level0 && r0.labels[i] != r.labels[i]);
+      mismatch += level0 != monotone_at(r0, i) || (level0 && r0.labels[i] != r.labels[i]);
     }
     draw::RegionPicture p = picture(c.fig2, {&r}, depth);
     p.depth_shading = true;
@@ -466,7 +477,7 @@ void figure9_10(Builder& b, const Curves& c) {
   b.write({"fig9", f.title, f.caption}, std::move(f));
 
   // Fig. 10: P5's split map at joint 2 (spans 0-1 against span 2, CMR mode).
-  const RegionImage& sp = b.region(c.fig9b, 5, Mode::cmr, v, 2);
+  const RegionResult& sp = b.region(c.fig9b, 5, Mode::cmr, v, 2);
   b.claim("Fig. 10", "P5's split map at the joint u = 2 has inc-dec and inc-inc positions",
           count(sp, 2) > 0 && count(sp, 1) > 0, split_counts(sp));
   const SplineAnalysis& xa = b.analysis(c.fig10a, 2);

@@ -5,18 +5,19 @@
 // analyze(). The paper gives no coordinates; the curves are chosen in
 // figures.cpp (one line each on why) and kept in examples/figures/.
 #include <filesystem>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "spline/bspline.hpp"
-#include "tools/region_backend.hpp"
+#include "bezierize/region.hpp"
 
 namespace cmr::fig {
 
 struct FiguresOptions {
   std::filesystem::path out = "out/figures";  ///< created if missing
-  cli::BackendOptions backend;                ///< Vulkan (lavapipe without a GPU) by default
+  std::shared_ptr<RegionBackend> backend;     ///< where regions are rendered (required)
   int size = 400;                             ///< side of every region image, pixels
   int depth = 12;                             ///< D of Algorithms 1 and 2
   std::ostream* progress = nullptr;           ///< one line per step when set
@@ -50,8 +51,8 @@ std::vector<BSpline> figure_splines();
 
 /// Computes the regions on options.backend, checks the claims, writes one PNG
 /// per figure, the spline files and index.html into options.out. Throws
-/// InputError for bad options or an unwritable folder, cli::EnvironmentError
-/// from the backend.
+/// InputError for bad options or an unwritable folder; what the backend
+/// throws (BackendError) propagates.
 FiguresResult make_figures(const FiguresOptions& options);
 
 }  // namespace cmr::fig

@@ -262,10 +262,15 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
 
 namespace {
 
-bool passing_label(std::uint8_t label, bool split) {
-  // region.hpp: 1 increasing, 2 decreasing; with a split 1..4 are the four
-  // monotone combinations.
-  return split ? (label >= 1 && label <= 4) : (label == 1 || label == 2);
+/// Whether pixel `index` is monotone: increasing or decreasing, or with a
+/// split any of the four monotone combinations.
+bool passing_label(const RegionResult& image, std::size_t index) {
+  if (image.split) {
+    const SplitLabel l = image.split_labels[index];
+    return l != SplitLabel::none && l != SplitLabel::undecided;
+  }
+  const RegionLabel l = image.labels[index];
+  return l == RegionLabel::increasing || l == RegionLabel::decreasing;
 }
 
 std::string read_bytes(const std::filesystem::path& path) {
@@ -275,7 +280,7 @@ std::string read_bytes(const std::filesystem::path& path) {
   return s.str();
 }
 
-std::string thumbnail(const BSpline& spline, const RegionImage& image, bool split, int max_depth, Vec2 from, Vec2 to) {
+std::string thumbnail(const BSpline& spline, const RegionResult& image, bool split, int max_depth, Vec2 from, Vec2 to) {
   draw::RegionPicture picture;
   picture.spline = &spline;
   picture.layers = {&image};
@@ -299,21 +304,21 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
   const Requirement check = check_of(options);
   std::vector<Fix> fixes;
   for (int k = 0; k < spline.point_count(); ++k) {
-    RegionOptions ro;
+    RegionRequest ro;
     ro.point = k;
     ro.mode = check.mode;
     ro.split = check.split;
     ro.max_depth = options.max_depth;
     ro.width = ro.height = options.region_size;
-    const RegionSetup setup = prepare_region(spline, ro);
-    const RegionImage image = cli::render_region(setup, options.backend);
+    CMR_CHECK(options.backend != nullptr);
+    const RegionResult image = options.backend->render(RegionProblem::make(spline, ro));
     Fix fix;
     fix.point = k;
     const Vec2 current = spline.points()[k];
     double best = std::numeric_limits<double>::infinity();
     for (int j = 0; j < image.height; ++j)
       for (int i = 0; i < image.width; ++i) {
-        if (!passing_label(image.labels[static_cast<std::size_t>(j) * image.width + i], check.split.has_value()))
+        if (!passing_label(image, static_cast<std::size_t>(j) * image.width + i))
           continue;
         ++fix.pixels;
         const Vec2 c = pixel_center(image.view, image.width, image.height, i, j);
@@ -530,7 +535,7 @@ nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, con
   Json regions = nullptr;
   if (options.regions)
     regions = {{"size", options.region_size},
-               {"backend", options.backend.backend == cli::Backend::cpu ? "cpu" : "vulkan"}};
+               {"backend", options.backend ? options.backend->name() : "none"}};
   return {{"schema", kSchema},
           {"settings",
            {{"check", to_string(check_of(options))},

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/roots.hpp"
-#include "tools/region_backend.hpp"
+#include "bezierize/region.hpp"
 
 namespace cmr::report {
 
@@ -39,7 +40,7 @@ struct ReportOptions {
   int max_depth = 12;                  ///< D of Algorithms 1 and 2
   bool regions = true;                 ///< search single-point fixes (region images) and draw their thumbnails
   int region_size = 96;                ///< fix-search images are region_size x region_size over the default view
-  cli::BackendOptions backend;         ///< where region images are rendered
+  std::shared_ptr<RegionBackend> backend;  ///< where region images are rendered (required with regions)
   int threads = 0;                     ///< threads for the per-spline analysis; 0: all cores
   RootOptions roots;                   ///< enclosure width of extrema and inflections
 };

@@ -1,9 +1,15 @@
 #include "vk/region_vk.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <span>
+
+#include "bezierize/region_setup.hpp"
+#include "shaders/region_layout.h"
+#include "spline/errors.hpp"
 
 #include "region_fp32_frag.h"
 #include "region_fp64_frag.h"
@@ -11,38 +17,30 @@
 namespace cmr::vk {
 namespace {
 
-// Buffer layout (shaders/region_common.glsl):
-//   uint hdr[32]:
-//     0 W, 1 H, 2 mode (1 = cmr), 3 split joint (0 = none), 4 depth D,
-//     5 entries E, 6 varying joints J, 7 offset of dx per column (W pairs),
-//     8 offset of dy per row (H pairs), 9 entries, 10 joints,
-//     11/12 flags of the fixed part of parts 0/1, 13 deepest level of the
-//     fixed segments, 14 an untouched segment fails at level 0, 15 levels of
-//     precomputed pieces L0 (pieces P = 2^(L0+1) - 1), 16 listed pixels in
-//     this run, 17 work-area width, 18 offset of the list ((i, j) pairs).
-//   REAL2 data[]: pairs; offsets above count pairs. Bounded quantities are
-//   (value, error bound); coefficient lists are plain values, two per pair.
-//   An entry (cmr::RegionEntry) is (part, classify?), then d+1 triples
-//   (B0.x, B0.y, w) with bounds, then for each piece (heap order) and each
-//   xi_k 5 pairs (ten coefficients, poly3.hpp order), then for each piece and
-//   each nu_k 2 pairs (c0, c1), (c2, 0).
-//   A joint is (left entry, right entry), (part, 0).
-enum Flag : uint32_t { kInc = 1, kDec = 2, kNone = 4, kUndecided = 8, kUp = 16, kDown = 32, kKpos = 64, kKneg = 128 };
+using namespace layout;
+using cmr::detail::RegionEntry;
+using cmr::detail::RegionJoint;
+using cmr::detail::RegionSetup;
+
+/// The work area the listed pixels are shaded in.
+constexpr uint32_t kWorkAreaWidth = 256, kWorkAreaHeight = 256;
+// Blocks the host leaves undecided at this side length go to the device.
+constexpr int kDeviceBlock = 4;
 
 uint32_t flags_of(const SegmentClass& c, Mode mode) {
   uint32_t f = 0;
   switch (c.monotonicity.curvature) {
-    case Curvature::increasing: f |= kInc; break;
-    case Curvature::decreasing: f |= kDec; break;
-    case Curvature::non_monotone: f |= kNone; break;
-    case Curvature::undecided: f |= kUndecided; break;
+    case Curvature::increasing: f |= FLAG_INC; break;
+    case Curvature::decreasing: f |= FLAG_DEC; break;
+    case Curvature::non_monotone: f |= FLAG_NONE; break;
+    case Curvature::undecided: f |= FLAG_UNDECIDED; break;
     case Curvature::constant: break;
   }
   if (mode == Mode::cmr) {
     switch (c.inflection.inflection) {
-      case Inflection::present: f |= kNone; break;
-      case Inflection::undecided: f |= kUndecided; break;
-      case Inflection::none: f |= c.inflection.kappa_sign > 0 ? kKpos : kKneg; break;
+      case Inflection::present: f |= FLAG_NONE; break;
+      case Inflection::undecided: f |= FLAG_UNDECIDED; break;
+      case Inflection::none: f |= c.inflection.kappa_sign > 0 ? FLAG_KPOS : FLAG_KNEG; break;
     }
   }
   return f;
@@ -51,7 +49,7 @@ uint32_t flags_of(const SegmentClass& c, Mode mode) {
 class Packer {
  public:
   explicit Packer(RegionPrecision p) : fp32_(p == RegionPrecision::fp32) {}
-  uint32_t hdr[32] = {};
+  uint32_t hdr[HDR_WORDS] = {};
   uint32_t size() const { return static_cast<uint32_t>(pairs_.size()); }
   /// A value with an error bound (an exact double when e = 0).
   void bounded(double v, double e = 0) { pairs_.push_back({v, e, false}); }
@@ -112,34 +110,34 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
   return out;
 }
 
-}  // namespace
-
+/// The storage buffer for the shader (shaders/region_layout.h): `pixels`
+/// are (column, row) of the image, at most the work area's size.
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
                                    std::span<const std::array<int, 2>> pixels, uint32_t area_width) {
-  const RegionOptions& o = s.options;
+  const RegionRequest& o = s.options;
   const int N = s.spline.segment_count();
   const int split = o.split.value_or(0);
   auto part_of = [&](int seg) { return split > 0 && seg >= split ? 1 : 0; };
 
   Packer p(precision);
-  p.hdr[0] = static_cast<uint32_t>(o.width);
-  p.hdr[1] = static_cast<uint32_t>(o.height);
-  p.hdr[2] = o.mode == Mode::cmr ? 1 : 0;
-  p.hdr[3] = static_cast<uint32_t>(split);
-  p.hdr[4] = static_cast<uint32_t>(o.max_depth);
-  p.hdr[14] = s.fixed_level0_none ? 1 : 0;
-  p.hdr[15] = static_cast<uint32_t>(s.piece_levels);
+  p.hdr[HDR_WIDTH] = static_cast<uint32_t>(o.width);
+  p.hdr[HDR_HEIGHT] = static_cast<uint32_t>(o.height);
+  p.hdr[HDR_MODE] = o.mode == Mode::cmr ? 1 : 0;
+  p.hdr[HDR_SPLIT] = static_cast<uint32_t>(split);
+  p.hdr[HDR_DEPTH] = static_cast<uint32_t>(o.max_depth);
+  p.hdr[HDR_FIXED_LEVEL0_NONE] = s.fixed_level0_none ? 1 : 0;
+  p.hdr[HDR_PIECE_LEVELS] = static_cast<uint32_t>(s.piece_levels);
   const int pieces = (2 << s.piece_levels) - 1;
 
   // dx, dy of every column and row, exactly as cmr::classify_position forms them.
-  p.hdr[7] = p.size();
+  p.hdr[HDR_DX_OFFSET] = p.size();
   for (int i = 0; i < o.width; ++i) p.values(pixel_center(*o.view, o.width, o.height, i, 0).x - s.anchor.x, 0);
-  p.hdr[8] = p.size();
+  p.hdr[HDR_DY_OFFSET] = p.size();
   for (int j = 0; j < o.height; ++j) p.values(pixel_center(*o.view, o.width, o.height, 0, j).y - s.anchor.y, 0);
 
   std::vector<bool> in_entry(N, false), touched(N, false);
-  p.hdr[5] = static_cast<uint32_t>(s.entries.size());
-  p.hdr[9] = p.size();
+  p.hdr[HDR_ENTRIES] = static_cast<uint32_t>(s.entries.size());
+  p.hdr[HDR_ENTRY_OFFSET] = p.size();
   for (const RegionEntry& e : s.entries) {
     in_entry[e.segment] = true;
     touched[e.segment] = e.classify;
@@ -174,60 +172,97 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   for (std::size_t j = 0; j < s.joints.size(); ++j) {
     const Joint& jt = s.joints[j];
     if (jt.index == split || varies[j]) continue;  // the split joint's jump is free
-    if (jt.jump > 0) flags[part_of(jt.index)] |= kUp;
-    if (jt.jump < 0) flags[part_of(jt.index)] |= kDown;
+    if (jt.jump > 0) flags[part_of(jt.index)] |= FLAG_UP;
+    if (jt.jump < 0) flags[part_of(jt.index)] |= FLAG_DOWN;
   }
-  p.hdr[10] = p.size();
+  p.hdr[HDR_JOINT_OFFSET] = p.size();
   for (const RegionJoint& j : s.varying) {
     p.values(j.left, j.right);
     p.values(j.part, 0);
   }
-  p.hdr[6] = static_cast<uint32_t>(s.varying.size());
-  p.hdr[16] = static_cast<uint32_t>(pixels.size());
-  p.hdr[17] = area_width;
-  p.hdr[18] = p.size();
+  p.hdr[HDR_JOINTS] = static_cast<uint32_t>(s.varying.size());
+  p.hdr[HDR_LISTED] = static_cast<uint32_t>(pixels.size());
+  p.hdr[HDR_AREA_WIDTH] = area_width;
+  p.hdr[HDR_LIST_OFFSET] = p.size();
   for (const auto& [i, j] : pixels) p.values(i, j);
-  p.hdr[11] = flags[0];
-  p.hdr[12] = flags[1];
-  p.hdr[13] = static_cast<uint32_t>(fixed_depth);
+  p.hdr[HDR_FLAGS_PART0] = flags[0];
+  p.hdr[HDR_FLAGS_PART1] = flags[1];
+  p.hdr[HDR_FIXED_DEPTH] = static_cast<uint32_t>(fixed_depth);
   return p.bytes();
 }
 
-RegionRenderer::RegionRenderer(Context context) : context_(std::move(context)) {}
 
-Result<std::vector<uint32_t>> RegionRenderer::run(const RegionSetup& s, RegionPrecision precision,
-                                                  std::span<const std::array<int, 2>> pixels) {
-  if (precision == RegionPrecision::fp64 && !context_.device().float64)
+// The image decoded from the device's words; uncertain pixels are decided on
+// the host (certified, then exactly).
+void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
+                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
+  const RegionRequest& o = s.options;
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto [i, j] = pixels[k];
+    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
+    const uint32_t w = words[k];
+    if (w & RESULT_UNCERTAIN) {
+      // Not certified on the device (or deeper than its precomputed pieces).
+      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+      img.labels[at] = pr.label;
+      img.depth[at] = pr.depth;
+      img.exact_pixels += pr.exact;
+    } else {
+      img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
+      img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
+    }
+  }
+  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
+}
+
+}  // namespace
+
+Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOptions& options) {
+  ContextOptions co;
+  co.device_name = options.device;
+  co.require_float64 = false;  // fp64 is checked per render, so fp32 works on any device
+  auto context = Context::create(co);
+  if (!context) return context.error();
+  return VulkanRegionBackend(context.take(), options);
+}
+
+Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
+  const RegionPrecision precision = options_.precision;
+  const Key key{s.spline.degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
+  for (auto& [k, pl] : pipelines_)
+    if (k == key) return &pl;
+  const auto t0 = std::chrono::steady_clock::now();
+  const uint32_t spec[4] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
+                            key.joints ? 1u : 0u};
+  std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_frag_spv)
+                                                                       : std::span<const uint32_t>(cmr_region_fp32_frag_spv);
+  auto created = FragmentPipeline::create(context_, spirv, kWorkAreaWidth, kWorkAreaHeight, 0,
+                                          FragmentPipeline::kDefaultBandRows, spec);
+  if (!created) return created.error();
+  pipelines_.emplace_back(key, created.take());
+  pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return &pipelines_.back().second;
+}
+
+Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
+                                                         const std::vector<std::array<int, 2>>& pixels) {
+  if (options_.precision == RegionPrecision::fp64 && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use --precision fp32"};
-  const Key key{s.spline.degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
-  FragmentPipeline* pipeline = nullptr;
-  for (auto& [k, pl] : pipelines_)
-    if (k == key) pipeline = &pl;
-  if (!pipeline) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const uint32_t spec[4] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
-                              key.joints ? 1u : 0u};
-    std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_frag_spv)
-                                                                         : std::span<const uint32_t>(cmr_region_fp32_frag_spv);
-    auto created = FragmentPipeline::create(context_, spirv, kWorkAreaWidth, kWorkAreaHeight, 0,
-                                            FragmentPipeline::kDefaultBandRows, spec);
-    if (!created) return created.error();
-    pipelines_.emplace_back(key, created.take());
-    pipeline = &pipelines_.back().second;
-    pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
+  auto pipeline = pipeline_for(s);
+  if (!pipeline) return pipeline.error();
   std::vector<uint32_t> out;
   out.reserve(pixels.size());
   const std::size_t per_run = std::size_t{kWorkAreaWidth} * kWorkAreaHeight;
+  const std::span<const std::array<int, 2>> all(pixels);
   for (std::size_t first = 0; first < pixels.size(); first += per_run) {
-    const auto chunk = pixels.subspan(first, std::min(per_run, pixels.size() - first));
-    const std::vector<std::byte> buffer = pack_region(s, precision, chunk, kWorkAreaWidth);
+    const auto chunk = all.subspan(first, std::min(per_run, pixels.size() - first));
+    const std::vector<std::byte> buffer = pack_region(s, options_.precision, chunk, kWorkAreaWidth);
     // Shade only the rows the chunk occupies (whole 4-row tiles, see the shader).
     const uint32_t rows = std::min<uint32_t>(
         kWorkAreaHeight, 4 * static_cast<uint32_t>((chunk.size() + 4 * kWorkAreaWidth - 1) / (4 * kWorkAreaWidth)));
     const VkRect2D area{{0, 0}, {kWorkAreaWidth, rows}};
-    auto words = pipeline->run(buffer, {}, std::span<const VkRect2D>(&area, 1));
+    auto words = pipeline.value()->run(buffer, {}, std::span<const VkRect2D>(&area, 1));
     if (!words) return words.error();
     // Entry k sits in 4x4 tile k / 16 of the area, at (k % 4, k / 4 % 4) inside it.
     for (std::size_t k = 0; k < chunk.size(); ++k) {
@@ -237,6 +272,38 @@ Result<std::vector<uint32_t>> RegionRenderer::run(const RegionSetup& s, RegionPr
     }
   }
   return out;
+}
+
+Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& problem) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double compiled_before = pipeline_seconds_;
+  const RegionSetup& s = problem.setup();
+  cmr::detail::RegionImage img = cmr::detail::blank_image(s);
+  std::vector<std::array<int, 2>> pixels;
+  if (options_.cull) {
+    pixels = cmr::detail::region_cull(s, img, kDeviceBlock, options_.threads);
+  } else {
+    for (int j = 0; j < img.height; ++j)
+      for (int i = 0; i < img.width; ++i) pixels.push_back({i, j});
+  }
+  if (!pixels.empty()) {
+    auto words = shade(s, pixels);
+    if (!words) return words.error();
+    apply_words(s, pixels, words.value(), img);
+  }
+  RegionResult r = cmr::detail::to_result(std::move(img), s.options.split.has_value());
+  r.setup_seconds = pipeline_seconds_ - compiled_before;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+RegionResult VulkanRegionBackend::render(const RegionProblem& problem) {
+  auto r = try_render(problem);
+  if (!r) {
+    if (r.error().code == Errc::size_unsupported) throw InputError(r.error().message);
+    throw RegionFailure(r.error());
+  }
+  return r.take();
 }
 
 }  // namespace cmr::vk

@@ -1,15 +1,14 @@
 #pragma once
-// The Vulkan region backend: packs a cmr::RegionSetup and a list of pixels
-// into the storage buffer the region shader reads (shaders/region_common.glsl),
-// classifies the listed pixels on the device, one fragment each in a fixed
-// work area, and returns their raw words: label | depth << 8, or kUncertain
-// when the shader could not certify the pixel (the caller recomputes those on
-// the host).
-#include <array>
-#include <cstddef>
-#include <span>
+// The Vulkan region backend. The host decides whole blocks of pixels where
+// the certified path holds over them (most of a typical image); the device
+// classifies the pixels of the blocks left undecided, one fragment each
+// (shaders/region_common.glsl, buffer layout in shaders/region_layout.h), and
+// flags what it cannot certify, which the host then decides (certified, then
+// exactly). So labels equal CpuRegionBackend's, fp64 and fp32 alike.
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "bezierize/region.hpp"
@@ -18,30 +17,47 @@
 
 namespace cmr::vk {
 
-inline constexpr uint32_t kUncertain = 1u << 16;
-
 enum class RegionPrecision { fp64, fp32 };
 
-/// The storage buffer for the shader (layout documented in region_vk.cpp).
-inline constexpr uint32_t kWorkAreaWidth = 256, kWorkAreaHeight = 256;
+/// How a VulkanRegionBackend is created.
+struct VulkanRegionOptions {
+  std::string device;                                 ///< device name (case-insensitive substring); empty: the first suitable
+  RegionPrecision precision = RegionPrecision::fp64;  ///< shader arithmetic; labels are certified either way
+  bool cull = true;                                   ///< host decides whole blocks first (off: the device shades every pixel)
+  int threads = 0;                                    ///< host threads (culling, uncertain pixels); 0: all cores
+};
 
-/// The storage buffer for the shader (layout documented in region_vk.cpp):
-/// `pixels` are (column, row) of the image, at most the work area's size.
-std::vector<std::byte> pack_region(const RegionSetup& setup, RegionPrecision precision,
-                                   std::span<const std::array<int, 2>> pixels, uint32_t area_width);
-
-/// A Context plus pipelines cached by (degree, depth, precision, mode,
-/// varying joints: the shader's specialisation constants), so repeated
-/// renders (every point of a spline, interactive use) compile once.
-class RegionRenderer {
+/// A Vulkan failure during a render (device lost, out of memory), carrying
+/// the vk::Error: thrown by VulkanRegionBackend::render.
+class RegionFailure : public BackendError {
  public:
-  explicit RegionRenderer(Context context);
-  /// Errors: as FragmentPipeline::create / run; missing_feature when fp64 is
-  /// asked of a device without shaderFloat64.
-  /// One word per listed pixel, in order.
-  Result<std::vector<uint32_t>> run(const RegionSetup& setup, RegionPrecision precision,
-                                    std::span<const std::array<int, 2>> pixels);
+  explicit RegionFailure(Error e) : BackendError(e.message), error_(std::move(e)) {}
+  const Error& error() const { return error_; }
+
+ private:
+  Error error_;
+};
+
+/// Owns its Context and its pipelines, cached by the shader's specialisation
+/// constants (degree, depth, precision, mode, varying joints), so repeated
+/// renders (every point of a spline, interactive use) compile once.
+class VulkanRegionBackend final : public RegionBackend {
+ public:
+  /// Opens the device. Errors: as Context::create (no_device,
+  /// device_not_found, loader_missing, ...). fp64 is checked per render, so
+  /// fp32 works on any device.
+  static Result<VulkanRegionBackend> create(const VulkanRegionOptions& options = {});
+
+  /// The render, or the Vulkan error: as FragmentPipeline::create / run;
+  /// missing_feature when fp64 is asked of a device without shaderFloat64.
+  Result<RegionResult> try_render(const RegionProblem& problem);
+  /// try_render's result; throws InputError for size_unsupported (the
+  /// request exceeds a device limit), RegionFailure for any other error.
+  RegionResult render(const RegionProblem& problem) override;
+  std::string name() const override { return "vulkan"; }
+
   const DeviceInfo& device() const { return context_.device(); }
+  const VulkanRegionOptions& options() const { return options_; }
   /// Seconds spent creating pipelines (shader compilation) so far.
   double pipeline_seconds() const { return pipeline_seconds_; }
 
@@ -52,7 +68,14 @@ class RegionRenderer {
     bool cmr, joints;
     bool operator==(const Key&) const = default;
   };
+  VulkanRegionBackend(Context context, VulkanRegionOptions options)
+      : context_(std::move(context)), options_(std::move(options)) {}
+  Result<FragmentPipeline*> pipeline_for(const cmr::detail::RegionSetup& setup);
+  /// One result word per listed pixel, in order (shaders/region_layout.h).
+  Result<std::vector<uint32_t>> shade(const cmr::detail::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels);
+
   Context context_;
+  VulkanRegionOptions options_;
   std::vector<std::pair<Key, FragmentPipeline>> pipelines_;
   double pipeline_seconds_ = 0;
 };

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
 #include "tests/test_util.hpp"
 
@@ -36,18 +37,18 @@ TEST(Region, DefaultViewContainsThePolygonWithSquarePixels) {
 TEST(Region, InvalidOptionsAreInputErrors) {
   const BSpline s = BSpline::bezier({{0, 0}, {1, 1}, {2, 0}, {3, 1}});
   auto bad = [&](auto tweak) {
-    RegionOptions o;
+    RegionRequest o;
     tweak(o);
-    EXPECT_THROW(validate_region_options(s, o), InputError);
+    EXPECT_THROW(RegionProblem::make(s, o), InputError);
   };
-  bad([](RegionOptions& o) { o.point = 4; });
-  bad([](RegionOptions& o) { o.point = -1; });
-  bad([](RegionOptions& o) { o.width = 0; });
-  bad([](RegionOptions& o) { o.height = kMaxImageSize + 1; });
-  bad([](RegionOptions& o) { o.split = 1; });  // one segment: no joint
-  bad([](RegionOptions& o) { o.max_depth = 31; });
-  bad([](RegionOptions& o) { o.with = {0}; });  // the moved point itself
-  bad([](RegionOptions& o) { o.view = View{1, 0, 0, 1}; });
+  bad([](RegionRequest& o) { o.point = 4; });
+  bad([](RegionRequest& o) { o.point = -1; });
+  bad([](RegionRequest& o) { o.width = 0; });
+  bad([](RegionRequest& o) { o.height = kMaxImageSize + 1; });
+  bad([](RegionRequest& o) { o.split = 1; });  // one segment: no joint
+  bad([](RegionRequest& o) { o.max_depth = 31; });
+  bad([](RegionRequest& o) { o.with = {0}; });  // the moved point itself
+  bad([](RegionRequest& o) { o.view = View{1, 0, 0, 1}; });
 }
 
 // The same curve at a higher degree has the same curvature, so for every
@@ -55,12 +56,11 @@ TEST(Region, InvalidOptionsAreInputErrors) {
 // Algorithm 1's subdivision sees different coefficients).
 TEST(Region, DegreeElevatedCurveKeepsItsRegion) {
   const BSpline cubic = test::class_a_bezier(3, -0.4, 1.3);
-  RegionOptions o;
+  RegionRequest o;
   o.point = 0;
   o.width = 40;
   o.height = 40;
-  const RegionSetup setup = prepare_region(cubic, o);
-  const RegionImage img = region_cpu(setup);
+  const RegionResult img = CpuRegionBackend().render(RegionProblem::make(cubic, o));
   int compared = 0, in_region = 0;
   for (int j = 0; j < o.height; j += 3)
     for (int i = 0; i < o.width; i += 3) {
@@ -74,7 +74,7 @@ TEST(Region, DegreeElevatedCurveKeepsItsRegion) {
       E[4] = P[3];
       for (int k = 1; k <= 3; ++k) E[k] = (k / 4.0) * P[k - 1] + (1 - k / 4.0) * P[k];
       const SplineAnalysis a = analyze(BSpline::bezier(E));
-      const int elevated = label_of(a.cmrwi), original = img.labels[j * o.width + i];
+      const int elevated = detail::label_of(a.cmrwi), original = code(img.labels[j * o.width + i]);
       if (elevated == 3 || original == 3) continue;
       EXPECT_EQ(elevated, original) << "pixel (" << i << ", " << j << ")";
       ++compared;

@@ -22,8 +22,8 @@ fs::path scratch() {
 }
 
 /// A W x H image whose left half is label `left` and right half `right`.
-RegionImage halves(const BSpline& s, int W, int H, uint8_t left, uint8_t right) {
-  RegionImage r;
+RegionResult halves(const BSpline& s, int W, int H, RegionLabel left, RegionLabel right) {
+  RegionResult r;
   r.width = W;
   r.height = H;
   r.view = default_view(s, W, H);
@@ -58,7 +58,7 @@ Png read_png(const fs::path& p) {
 const BSpline kCubic = BSpline::bezier({{0, 0}, {1, 1}, {2, 1}, {3, 0}});
 
 TEST(WriteRegionPng, SizeAndColoursFollowTheLabels) {
-  const RegionImage r = halves(kCubic, 120, 90, 1, 0);
+  const RegionResult r = halves(kCubic, 120, 90, RegionLabel::increasing, RegionLabel::not_monotone);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -77,7 +77,7 @@ TEST(WriteRegionPng, SizeAndColoursFollowTheLabels) {
 }
 
 TEST(WriteRegionPng, MissingFolderThrowsAndLeavesNothing) {
-  const RegionImage r = halves(kCubic, 32, 32, 1, 2);
+  const RegionResult r = halves(kCubic, 32, 32, RegionLabel::increasing, RegionLabel::decreasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -89,7 +89,7 @@ TEST(WriteRegionPng, MissingFolderThrowsAndLeavesNothing) {
 }
 
 TEST(PixelColour, OverlapsAreDarkerThanOneRegion) {
-  const RegionImage a = halves(kCubic, 4, 1, 1, 0), b = halves(kCubic, 4, 1, 1, 1);
+  const RegionResult a = halves(kCubic, 4, 1, RegionLabel::increasing, RegionLabel::not_monotone), b = halves(kCubic, 4, 1, RegionLabel::increasing, RegionLabel::increasing);
   RegionPicture one, two;
   one.layers = {&a};
   two.layers = {&a, &b};
@@ -101,8 +101,11 @@ TEST(PixelColour, OverlapsAreDarkerThanOneRegion) {
 }
 
 TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
-  RegionImage r = halves(kCubic, 6, 1, 0, 0);
-  r.labels = {1, 2, 3, 4, 5, 0};  // inc-inc, inc-dec, dec-inc, dec-dec, undecided, none
+  RegionResult r = halves(kCubic, 6, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  r.split = true;
+  r.labels.clear();
+  r.split_labels = {SplitLabel::inc_inc, SplitLabel::inc_dec, SplitLabel::dec_inc,
+                    SplitLabel::dec_dec, SplitLabel::undecided, SplitLabel::none};
   RegionPicture p;
   p.layers = {&r};
   p.split = true;
@@ -118,8 +121,8 @@ TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
 }
 
 TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
-  RegionImage r = halves(kCubic, 4, 1, 0, 0);
-  r.labels = {1, 1, 0, 0};
+  RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  r.labels = {RegionLabel::increasing, RegionLabel::increasing, RegionLabel::not_monotone, RegionLabel::not_monotone};
   r.depth = {0, 6, 0, 6};
   RegionPicture p;
   p.layers = {&r};
@@ -130,7 +133,7 @@ TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
 }
 
 TEST(WriteFigurePng, CompositeIsAValidPng) {
-  const RegionImage r = halves(kCubic, 100, 100, 2, 0);
+  const RegionResult r = halves(kCubic, 100, 100, RegionLabel::decreasing, RegionLabel::not_monotone);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};

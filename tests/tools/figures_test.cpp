@@ -36,7 +36,7 @@ const FiguresResult& run_once() {
   static const FiguresResult result = [] {
     FiguresOptions o;
     o.out = out_dir();
-    o.backend.backend = cli::Backend::cpu;
+    o.backend = std::make_shared<CpuRegionBackend>();
     return make_figures(o);
   }();
   return result;
@@ -100,7 +100,7 @@ TEST(Figures, ExampleFilesAreCurrent) {
 
 TEST(Figures, BadOptionsAreInputErrors) {
   FiguresOptions o;
-  o.backend.backend = cli::Backend::cpu;
+  o.backend = std::make_shared<CpuRegionBackend>();
   o.size = 10;
   o.out = scratch("small");
   EXPECT_THROW(make_figures(o), InputError);

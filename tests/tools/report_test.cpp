@@ -259,7 +259,7 @@ BSpline pulled_spiral() {
 TEST(ReportFixes, FindTheMovedPointAndVerifyTheExample) {
   ASSERT_TRUE(report_spline(spiral(), no_regions()).pass);
   ReportOptions o;
-  o.backend.backend = cli::Backend::cpu;
+  o.backend = std::make_shared<CpuRegionBackend>();
   o.region_size = 64;
   SplineReport r = report_spline(pulled_spiral(), o);
   ASSERT_FALSE(r.pass);

@@ -1,6 +1,6 @@
 // Certification of the region backends against the exact rational path.
 //
-// Every label of cli::render_region, on every backend (CPU; Vulkan fp64 and
+// Every label of every region backend, on every backend (CPU; Vulkan fp64 and
 // fp32 with host culling; Vulkan fp64 and fp32 shading every pixel), must be
 // what classify_position_exact gives the pixel's centre: the certified paths
 // may only answer where their signs are certain. The scenes are the hard ones
@@ -31,19 +31,21 @@
 
 #include "bezierize/region.hpp"
 #include "tests/test_util.hpp"
-#include "tools/region_backend.hpp"
+#include "tests/vk/render_util.hpp"
 
 namespace cmr {
 namespace {
 
+using namespace cmr::detail;
+
 struct Scene {
   BSpline spline;
-  RegionOptions options;
+  RegionRequest options;
 };
 
-RegionOptions opts(int point, Mode mode = Mode::cmrwi, int size = 48, std::optional<int> split = {},
+RegionRequest opts(int point, Mode mode = Mode::cmrwi, int size = 48, std::optional<int> split = {},
                    std::vector<int> with = {}) {
-  RegionOptions o;
+  RegionRequest o;
   o.point = point;
   o.mode = mode;
   o.split = split;
@@ -171,9 +173,10 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 Scene make_scene(const Case& c) {
   Scene s = c.base();
   if (c.zoom == Zoom::none) return s;
-  RegionOptions coarse = s.options;
+  RegionRequest coarse = s.options;
   coarse.width = coarse.height = 64;
-  const RegionSetup setup = prepare_region(s.spline, coarse);
+  const RegionProblem setup_problem = RegionProblem::make(s.spline, coarse);
+  const RegionSetup& setup = setup_problem.setup();
   const RegionImage img = region_cpu(setup);
   auto at = [&](int i, int j) { return img.labels[static_cast<std::size_t>(j) * img.width + i]; };
   auto centre = [&](int i, int j) { return pixel_center(img.view, img.width, img.height, i, j); };
@@ -211,9 +214,9 @@ Scene make_scene(const Case& c) {
 
 // ------------------------------------------------------------------- cases
 
-std::function<Scene()> design(BSpline (*spline)(), RegionOptions o, std::optional<View> view = {}) {
+std::function<Scene()> design(BSpline (*spline)(), RegionRequest o, std::optional<View> view = {}) {
   return [=] {
-    RegionOptions oo = o;
+    RegionRequest oo = o;
     oo.view = view;
     return Scene{spline(), oo};
   };
@@ -290,20 +293,20 @@ std::string case_name(const ::testing::TestParamInfo<Case>& p) {
 
 struct BackendUnderTest {
   const char* name;
-  cli::BackendOptions options;
+  test::BackendOptions options;
 };
 
 std::vector<BackendUnderTest> backends() {
   std::vector<BackendUnderTest> b;
-  cli::BackendOptions cpu;
-  cpu.backend = cli::Backend::cpu;
+  test::BackendOptions cpu;
+  cpu.backend = test::Backend::cpu;
   b.push_back({"cpu", cpu});
   for (const bool cull : {true, false})
-    for (const cli::Precision p : {cli::Precision::fp64, cli::Precision::fp32}) {
-      cli::BackendOptions o;
+    for (const vk::RegionPrecision p : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
+      test::BackendOptions o;
       o.precision = p;
       o.cull = cull;
-      const bool f64 = p == cli::Precision::fp64;
+      const bool f64 = p == vk::RegionPrecision::fp64;
       b.push_back({cull ? (f64 ? "vulkan_fp64" : "vulkan_fp32") : (f64 ? "vulkan_fp64_nocull" : "vulkan_fp32_nocull"),
                    o});
     }
@@ -324,8 +327,9 @@ class Certify : public ::testing::TestWithParam<Case> {};
 TEST_P(Certify, EveryBackendLabelIsTheExactLabel) {
   const Case& c = GetParam();
   const Scene scene = make_scene(c);
-  const RegionSetup setup = prepare_region(scene.spline, scene.options);
-  const RegionOptions& o = setup.options;
+  const RegionProblem setup_problem = RegionProblem::make(scene.spline, scene.options);
+  const RegionSetup& setup = setup_problem.setup();
+  const RegionRequest& o = setup.options;
   const Scene shown{scene.spline, o};
   std::vector<uint8_t> exact(static_cast<std::size_t>(o.width) * o.height), exact_depth(exact.size());
   std::map<int, int> histogram;
@@ -343,7 +347,7 @@ TEST_P(Certify, EveryBackendLabelIsTheExactLabel) {
                                     << "): the zoomed view has one label only:" << hist.str();
   }
   for (const BackendUnderTest& b : backends()) {
-    const RegionImage img = cli::render_region(setup, b.options);
+    const RegionImage img = test::render(setup_problem, b.options);
     ASSERT_EQ(img.labels.size(), exact.size()) << c.name << " " << b.name;
     int wrong = 0, wrong_depth = 0;
     std::ostringstream first, first_depth;
@@ -368,11 +372,11 @@ TEST_P(Certify, EveryBackendLabelIsTheExactLabel) {
   }
   // Label maps without a depth map (what `cmr region` computes unless asked
   // for --depth-map) may decide blocks by a label-only proof: same labels.
-  RegionOptions labels_only = scene.options;
+  RegionRequest labels_only = scene.options;
   labels_only.depth = false;
-  const RegionSetup label_setup = prepare_region(scene.spline, labels_only);
+  const RegionProblem label_problem = RegionProblem::make(scene.spline, labels_only);
   for (const BackendUnderTest& b : backends()) {
-    const RegionImage img = cli::render_region(label_setup, b.options);
+    const RegionImage img = test::render(label_problem, b.options);
     int wrong = 0;
     std::ostringstream first;
     for (std::size_t at = 0; at < exact.size(); ++at)
@@ -410,14 +414,15 @@ TEST_P(CertifyStructuralZeros, FewPixelsTakeTheExactPath) {
   constexpr double kMaxExactShare = 0.05;
   const Case& c = GetParam();
   const Scene scene = make_scene(c);
-  const RegionSetup setup = prepare_region(scene.spline, scene.options);
+  const RegionProblem setup_problem = RegionProblem::make(scene.spline, scene.options);
+  const RegionSetup& setup = setup_problem.setup();
   const std::vector<std::string> zeros = structural_zeros(setup);
   ASSERT_FALSE(zeros.empty()) << c.name << ": no coefficient is zero for every position";
   std::string list;
   for (const std::string& z : zeros) list += (list.empty() ? "" : ", ") + z;
-  cli::BackendOptions cpu;
-  cpu.backend = cli::Backend::cpu;
-  const RegionImage img = cli::render_region(setup, cpu);
+  test::BackendOptions cpu;
+  cpu.backend = test::Backend::cpu;
+  const RegionImage img = test::render(setup_problem, cpu);
   const double share = static_cast<double>(img.exact_pixels) / static_cast<double>(img.labels.size());
   EXPECT_LE(share, kMaxExactShare) << c.name << " (" << describe({scene.spline, setup.options}) << "): "
                                    << img.exact_pixels << " of " << img.labels.size()

@@ -8,15 +8,17 @@
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
 #include "tests/test_util.hpp"
-#include "tools/region_backend.hpp"
+#include "tests/vk/render_util.hpp"
 
 namespace cmr {
 namespace {
 
+using namespace cmr::detail;
+
 struct Scene {
   const char* name;
   BSpline spline;
-  RegionOptions options;
+  RegionRequest options;
 };
 
 BSpline random_spline(std::mt19937_64& rng, int degree, std::vector<double> knots) {
@@ -24,8 +26,8 @@ BSpline random_spline(std::mt19937_64& rng, int degree, std::vector<double> knot
   return BSpline::make(degree, std::move(knots), test::random_points(rng, m, 2.0));
 }
 
-RegionOptions opts(int point, Mode mode = Mode::cmrwi, std::optional<int> split = {}, std::vector<int> with = {}) {
-  RegionOptions o;
+RegionRequest opts(int point, Mode mode = Mode::cmrwi, std::optional<int> split = {}, std::vector<int> with = {}) {
+  RegionRequest o;
   o.point = point;
   o.mode = mode;
   o.split = split;
@@ -57,17 +59,18 @@ std::vector<Scene> scenes() {
 
 TEST(RegionBackends, VulkanAndCpuLabelMapsAreIdentical) {
   for (const Scene& sc : scenes()) {
-    const RegionSetup setup = prepare_region(sc.spline, sc.options);
-    const RegionImage cpu = cli::render_region(setup, {cli::Backend::cpu});
-    for (cli::Precision prec : {cli::Precision::fp64, cli::Precision::fp32}) {
-      cli::BackendOptions bo;
+    const RegionProblem setup_problem = RegionProblem::make(sc.spline, sc.options);
+  const RegionSetup& setup = setup_problem.setup();
+    const RegionImage cpu = test::render(setup_problem, {test::Backend::cpu});
+    for (vk::RegionPrecision prec : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
+      test::BackendOptions bo;
       bo.precision = prec;
       bo.cull = false;  // the device shades every pixel, so the shader is what is compared
-      const RegionImage gpu = cli::render_region(setup, bo);
+      const RegionImage gpu = test::render(setup_problem, bo);
       ASSERT_EQ(gpu.labels.size(), cpu.labels.size()) << sc.name;
       for (std::size_t at = 0; at < cpu.labels.size(); ++at) {
         ASSERT_EQ(int(gpu.labels[at]), int(cpu.labels[at]))
-            << sc.name << (prec == cli::Precision::fp32 ? " fp32" : " fp64") << " pixel (" << at % sc.options.width
+            << sc.name << (prec == vk::RegionPrecision::fp32 ? " fp32" : " fp64") << " pixel (" << at % sc.options.width
             << ", " << at / sc.options.width << ")";
         ASSERT_EQ(int(gpu.depth[at]), int(cpu.depth[at])) << sc.name << " depth at pixel " << at;
       }
@@ -82,13 +85,14 @@ TEST(RegionBackends, BlockCullingGivesThePixelwiseLabels) {
   // label-only proof, and every depth reads 0.
   for (const bool depth : {true, false}) {
     for (const Scene& sc : scenes()) {
-      RegionOptions o = sc.options;
+      RegionRequest o = sc.options;
       o.width = 96;
       o.height = 80;
       o.depth = depth;
-      const RegionSetup setup = prepare_region(sc.spline, o);
+      const RegionProblem setup_problem = RegionProblem::make(sc.spline, o);
+  const RegionSetup& setup = setup_problem.setup();
       const RegionImage img = region_cpu(setup);
-      const RegionImage gpu = cli::render_region(setup, {});
+      const RegionImage gpu = test::render(setup_problem, {});
       const std::string where = std::string(sc.name) + (depth ? " (depth map)" : " (labels only)");
       for (int j = 0; j < o.height; ++j)
         for (int i = 0; i < o.width; ++i) {
@@ -105,7 +109,8 @@ TEST(RegionBackends, BlockCullingGivesThePixelwiseLabels) {
 TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
   std::mt19937_64 rng(72);
   for (const Scene& sc : scenes()) {
-    const RegionSetup setup = prepare_region(sc.spline, sc.options);
+    const RegionProblem setup_problem = RegionProblem::make(sc.spline, sc.options);
+  const RegionSetup& setup = setup_problem.setup();
     const RegionImage img = region_cpu(setup);
     std::uniform_int_distribution<int> ui(0, sc.options.width - 1), uj(0, sc.options.height - 1);
     for (int sample = 0; sample < 25; ++sample) {

@@ -28,7 +28,8 @@
 #include "bezierize/extract.hpp"
 #include "bezierize/lambda.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/region_backend.hpp"
+#include "bezierize/region.hpp"
+#include "vk/region_vk.hpp"
 
 using namespace cmr;
 
@@ -58,7 +59,7 @@ double best_of(int reps, F f) {
 
 // The method as first published (CAD&A 2024 §3), on the CPU: every pixel
 // rebuilds the touched segments and decides them in plain double.
-std::vector<uint8_t> published_method(const BSpline& spline, const RegionOptions& o, int threads) {
+std::vector<uint8_t> published_method(const BSpline& spline, const RegionRequest& o, int threads) {
   const View v = *o.view;
   const auto infl = influence(spline, {o.point});
   const auto base = bezier_segments(spline);
@@ -105,41 +106,46 @@ int main(int argc, char** argv) {
 
   const BSpline uniform = read_spline_file("examples/figures/fig8.json");
   const BSpline bezier9 = read_spline_file("examples/bezier9.json");
-  RegionOptions o;
+  RegionRequest o;
   o.width = o.height = size;
   o.point = 3;
   o.depth = false;  // label maps, as `cmr region` without --depth-map
-  const RegionSetup one = prepare_region(uniform, o);
-  cli::BackendOptions vk, cpu;
-  cpu.backend = cli::Backend::cpu;
+  const RegionProblem one = RegionProblem::make(uniform, o);
+  CpuRegionBackend cpu;
 
   const double t_first0 = now();
-  const RegionImage first = cli::render_region(one, vk);
+  auto created = cmr::vk::VulkanRegionBackend::create();
+  if (!created) {
+    std::fprintf(stderr, "bench_region: %s\n", created.error().message.c_str());
+    return 3;
+  }
+  cmr::vk::VulkanRegionBackend vk = created.take();
+  const RegionResult first = vk.render(one);
   const double t_first = now() - t_first0;
-  const double compile = cli::last_setup_seconds();
+  const double compile = first.setup_seconds;
 
   std::printf("%-58s %12s %12s\n", "scene", "Vulkan", "CPU backend");
-  auto row = [&](const char* name, const RegionSetup& s) {
-    const double tv = best_of(reps, [&] { (void)cli::render_region(s, vk); });
-    const double tc = best_of(reps, [&] { (void)cli::render_region(s, cpu); });
+  auto row = [&](const char* name, const RegionProblem& s) {
+    const double tv = best_of(reps, [&] { (void)vk.render(s); });
+    const double tc = best_of(reps, [&] { (void)cpu.render(s); });
     std::printf("%-58s %7.1f Mp/s %7.1f Mp/s\n", name, mpix / tv, mpix / tc);
     return std::pair{tv, tc};
   };
   row("uniform cubic B-spline, 6 points, P3 (fig8.json)", one);
 
-  std::vector<RegionSetup> all;
+  std::vector<RegionProblem> all;
   for (int k = 0; k < uniform.point_count(); ++k) {
-    RegionOptions ok = o;
+    RegionRequest ok = o;
     ok.point = k;
-    all.push_back(prepare_region(uniform, ok));
+    all.push_back(RegionProblem::make(uniform, ok));
   }
-  const double fv = best_of(reps, [&] { for (auto& s : all) (void)cli::render_region(s, vk); });
-  const double fc = best_of(reps, [&] { for (auto& s : all) (void)cli::render_region(s, cpu); });
+  const double fv = best_of(reps, [&] { for (auto& s : all) (void)vk.render(s); });
+  const double fc = best_of(reps, [&] { for (auto& s : all) (void)cpu.render(s); });
   std::printf("%-58s %6.1f fps    %6.1f fps\n", "same spline, every point overlapped (--point all)", 1 / fv, 1 / fc);
 
-  RegionOptions o9 = o;
+  RegionRequest o9 = o;
   o9.point = 4;
-  const RegionSetup nine = prepare_region(bezier9, o9);
+  const RegionProblem nine = RegionProblem::make(bezier9, o9);
   row("degree-9 Bezier, P4 (bezier9.json)", nine);
 
   std::printf("\ntime to first image (Vulkan context, shader compile %.3f s, render): %.3f s\n", compile, t_first);
@@ -151,8 +157,8 @@ int main(int argc, char** argv) {
   std::printf("\nbefore/after (same machine, same run):\n");
   for (const auto& [name, spline, setup] :
        {std::tuple{"uniform cubic, P3", &uniform, &one}, std::tuple{"degree-9 Bezier, P4", &bezier9, &nine}}) {
-    const double tb = best_of(std::max(1, reps / 2), [&] { (void)published_method(*spline, setup->options, threads); });
-    const double ta = best_of(reps, [&] { (void)cli::render_region(*setup, vk); });
+    const double tb = best_of(std::max(1, reps / 2), [&] { (void)published_method(*spline, setup->request(), threads); });
+    const double ta = best_of(reps, [&] { (void)vk.render(*setup); });
     std::printf("  %-22s published method (CPU, %d threads): %7.2f Mp/s   cmr Vulkan: %7.1f Mp/s   ratio %.0fx\n", name,
                 threads, mpix / tb, mpix / ta, tb / ta);
   }

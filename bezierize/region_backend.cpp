@@ -1,0 +1,27 @@
+// RegionProblem (validation and preparation, once) and the CPU backend.
+#include <chrono>
+
+#include "bezierize/region_setup.hpp"
+
+namespace cmr {
+
+RegionProblem RegionProblem::make(const BSpline& spline, const RegionRequest& request) {
+  return RegionProblem(std::make_shared<const detail::RegionSetup>(detail::prepare_region(spline, request)));
+}
+
+const BSpline& RegionProblem::spline() const { return setup_->spline; }
+
+const RegionRequest& RegionProblem::request() const { return setup_->options; }
+
+RegionPixel RegionProblem::classify(Vec2 position) const {
+  return detail::to_pixel(detail::classify_position(*setup_, position), request().split.has_value());
+}
+
+RegionResult CpuRegionBackend::render(const RegionProblem& problem) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RegionResult r = detail::to_result(detail::region_cpu(problem.setup(), threads_), problem.request().split.has_value());
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace cmr

@@ -1,0 +1,157 @@
+// The request side of the region API: the pixel -> world map's default view,
+// validation, and the label types with their codes.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "bezierize/region_setup.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr {
+
+const char* to_string(RegionLabel label) {
+  switch (label) {
+    case RegionLabel::not_monotone: return "not-monotone";
+    case RegionLabel::increasing: return "increasing";
+    case RegionLabel::decreasing: return "decreasing";
+    case RegionLabel::undecided: return "undecided";
+  }
+  return "?";
+}
+
+const char* to_string(SplitLabel label) {
+  switch (label) {
+    case SplitLabel::none: return "none";
+    case SplitLabel::inc_inc: return "inc-inc";
+    case SplitLabel::inc_dec: return "inc-dec";
+    case SplitLabel::dec_inc: return "dec-inc";
+    case SplitLabel::dec_dec: return "dec-dec";
+    case SplitLabel::undecided: return "undecided";
+  }
+  return "?";
+}
+
+std::vector<std::uint8_t> RegionResult::codes() const {
+  std::vector<std::uint8_t> out(size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = code_at(i);
+  return out;
+}
+
+View default_view(const BSpline& spline, int width, int height) {
+  double x0 = spline.points()[0].x, x1 = x0, y0 = spline.points()[0].y, y1 = y0;
+  for (const Vec2& p : spline.points()) {
+    x0 = std::min(x0, p.x);
+    x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y);
+    y1 = std::max(y1, p.y);
+  }
+  double w = x1 - x0, h = y1 - y0;
+  const double extent = std::max({w, h, 1e-300});
+  w = std::max(w, 1e-3 * extent);
+  h = std::max(h, 1e-3 * extent);
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  w *= 1.5;
+  h *= 1.5;
+  // Square pixels: widen the direction that is short for the image's aspect.
+  const double aspect = static_cast<double>(width) / height;
+  if (w / h < aspect) w = h * aspect;
+  else h = w / aspect;
+  return {cx - 0.5 * w, cy - 0.5 * h, cx + 0.5 * w, cy + 0.5 * h};
+}
+
+}  // namespace cmr
+
+namespace cmr::detail {
+
+void validate_region_options(const BSpline& spline, const RegionRequest& o) {
+  const int m = spline.point_count();
+  auto check_point = [&](int k, const char* what) {
+    if (k < 0 || k >= m)
+      throw InputError(std::string(what) + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
+  };
+  check_point(o.point, "point");
+  for (int g : o.with) {
+    check_point(g, "--with point");
+    if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
+  }
+  for (int v : {o.width, o.height})
+    if (v < 1 || v > kMaxImageSize)
+      throw InputError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                       " is outside 1.." + std::to_string(kMaxImageSize));
+  const int N = spline.segment_count();
+  if (o.split && (*o.split < 1 || *o.split > N - 1))
+    throw InputError(N == 1 ? "split " + std::to_string(*o.split) + ": the curve has one segment, so no joint to split at"
+                            : "split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1));
+  if (o.max_depth < 0 || o.max_depth > kMaxDepth)
+    throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+  if (o.view) {
+    const View& v = *o.view;
+    for (double x : {v.x0, v.y0, v.x1, v.y1})
+      if (!std::isfinite(x)) throw InputError("view: coordinates must be finite");
+    if (!(v.x1 > v.x0) || !(v.y1 > v.y0)) throw InputError("view: need X0 < X1 and Y0 < Y1");
+    // Pixel centres are computed as documented (pixel_center): every step must stay finite.
+    if (!std::isfinite((v.x1 - v.x0) * o.width) || !std::isfinite((v.y1 - v.y0) * o.height))
+      throw InputError("view: too large for double arithmetic (its extent times the image size overflows)");
+  }
+}
+
+uint8_t label_of(Direction d) {
+  switch (d) {
+    case Direction::increasing: return code(RegionLabel::increasing);
+    case Direction::decreasing: return code(RegionLabel::decreasing);
+    case Direction::undecided: return code(RegionLabel::undecided);
+    case Direction::none: return code(RegionLabel::not_monotone);
+  }
+  return code(RegionLabel::not_monotone);
+}
+
+uint8_t label_of(Split s) {
+  switch (s) {
+    case Split::inc_inc: return code(SplitLabel::inc_inc);
+    case Split::inc_dec: return code(SplitLabel::inc_dec);
+    case Split::dec_inc: return code(SplitLabel::dec_inc);
+    case Split::dec_dec: return code(SplitLabel::dec_dec);
+    case Split::undecided: return code(SplitLabel::undecided);
+    case Split::none: return code(SplitLabel::none);
+  }
+  return code(SplitLabel::none);
+}
+
+RegionLabel region_label(uint8_t c) {
+  CMR_CHECK(c < kRegionLabelCodes);
+  return static_cast<RegionLabel>(c);
+}
+
+SplitLabel split_label(uint8_t c) {
+  CMR_CHECK(c < kSplitLabelCodes);
+  return static_cast<SplitLabel>(c);
+}
+
+RegionPixel to_pixel(const PixelResult& r, bool split) {
+  RegionPixel p;
+  if (split) p.split_label = split_label(r.label);
+  else p.label = region_label(r.label);
+  p.depth = r.depth;
+  p.exact = r.exact;
+  return p;
+}
+
+RegionResult to_result(RegionImage&& image, bool split) {
+  RegionResult r;
+  r.width = image.width;
+  r.height = image.height;
+  r.view = image.view;
+  r.split = split;
+  if (split) {
+    r.split_labels.reserve(image.labels.size());
+    for (uint8_t c : image.labels) r.split_labels.push_back(split_label(c));
+  } else {
+    r.labels.reserve(image.labels.size());
+    for (uint8_t c : image.labels) r.labels.push_back(region_label(c));
+  }
+  r.depth = std::move(image.depth);
+  r.exact_pixels = image.exact_pixels;
+  return r;
+}
+
+}  // namespace cmr::detail

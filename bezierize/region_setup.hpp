@@ -1,0 +1,148 @@
+#pragma once
+// Internal: the host preparation of a region problem and the per-position and
+// per-block classifiers that the backends (CpuRegionBackend here,
+// cmr::vk::VulkanRegionBackend) share. Not part of the public API
+// (bezierize/region.hpp); its layout may change with the backends.
+//
+// Fast path: B_i = B0_i + w_i (dx, dy) is affine in the displacement, so each
+// xi_k is a cubic and each nu_k an affine polynomial in (dx, dy) (poly3.hpp),
+// and so are the Bernstein coefficients of every subdivision piece.
+// Their coefficients are computed exactly on the host once (down to level
+// kPieceLevels) and rounded; per pixel Algorithms 1 and 2 visit the pieces in
+// the same depth-first order, evaluating only the coefficients a decision
+// needs, each with a rigorous error bound
+//     |fl(P) - P| <= kPolyErrorUnits * u * sum_m |C_m| |mu_m| + tiny
+// (dx carries one rounding, the monomials two, the coefficient one, the
+// product one, the sum nine: 16 units; 24 leaves slack for the bound's own
+// rounding). Uncertain signs send the pixel to the exact path. The level-0
+// test runs first, so most pixels cost two polynomial evaluations per touched
+// segment.
+//
+// Labels travel here as their 8-bit codes (code() in region.hpp): the same
+// word the shader returns; RegionResult decodes them into typed labels.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/bounded.hpp"
+#include "bezierize/exact.hpp"
+#include "bezierize/extract.hpp"
+#include "bezierize/region.hpp"
+
+namespace cmr::detail {
+
+/// The request under the name the preparation code uses.
+
+/// Throws InputError for an invalid request (see RegionProblem::make).
+/// Called by prepare_region, the one entry to a prepared problem.
+void validate_region_options(const BSpline& spline, const RegionRequest& options);
+
+/// The label codes of a part's direction and of a split verdict.
+uint8_t label_of(Direction d);
+uint8_t label_of(Split s);
+
+/// What one position gets, with the label as its code.
+struct PixelResult {
+  uint8_t label = 0;
+  uint8_t depth = 0;    ///< deepest level any segment needed
+  bool exact = false;   ///< the exact path ran
+};
+
+inline constexpr double kPolyErrorUnits = 24;
+
+/// A segment whose Bezier points the move changes (or, with classify ==
+/// false, an untouched neighbour of a joint whose curvature jump varies).
+struct RegionEntry {
+  int segment = 0;
+  int part = 0;                                ///< 1 for segments at or after the split joint
+  bool classify = true;                        ///< touched by the group
+  std::vector<Point<Rational>> base_exact;     ///< B0: Bezier points before the move
+  std::vector<Rational> weight_exact;          ///< w: B = B0 + w (dx, dy)
+  std::vector<Point<Bounded>> base;            ///< B0 rounded, with bounds
+  std::vector<Bounded> weight;                 ///< w rounded, with bounds
+  /// xi_k(dx, dy) of every subdivision piece down to RegionSetup::piece_levels,
+  /// rounded coefficients in poly3.hpp order: piece p (heap order: level L,
+  /// index j at p = 2^L - 1 + j) has coefficient k at xi[p * (4n-6) + k].
+  std::vector<std::array<double, 10>> xi;
+  /// nu_k(dx, dy) = c0 + c1 dx + c2 dy per piece, at nu[p * (2n-3) + k].
+  std::vector<std::array<double, 3>> nu;
+  int n_xi = 0, n_nu = 0;  ///< coefficients per piece: 4n-6 and 2n-3
+};
+
+/// A joint whose curvature jump depends on the position (knot multiplicity
+/// >= d-1 next to a touched segment), strictly inside a part.
+struct RegionJoint {
+  int joint = 0;         ///< index into RegionSetup::joints
+  int left = 0, right = 0;  ///< entry indices of its two segments
+  int part = 0;
+};
+
+/// Host preparation shared by the backends.
+struct RegionSetup {
+  BSpline spline;
+  RegionRequest options;                 ///< validated, view resolved
+  std::vector<int> group;                ///< k first, then the rigid members
+  Vec2 anchor{0.0};                      ///< P_k
+  std::vector<RegionEntry> entries;      ///< ascending segment order
+  std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
+  std::vector<SegmentClass> fixed;       ///< every segment's class before the move
+  std::vector<Joint> joints;             ///< before the move
+  bool fixed_level0_none = false;        ///< an untouched segment fails at level 0: every pixel is 0
+  bool fixed_none = false;               ///< an untouched segment fails at some level: every label is 0
+  int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
+};
+
+/// Levels of precomputed piece polynomials: deeper pieces are halved per pixel.
+inline constexpr int kPieceLevels = 3;
+
+/// Validates (validate_region_options) and prepares.
+RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options);
+
+/// The reference for one position: certified floating point, exact fallback.
+PixelResult classify_position(const RegionSetup& setup, Vec2 p);
+/// The exact path alone (what classify_position falls back to).
+PixelResult classify_position_exact(const RegionSetup& setup, Vec2 p);
+
+/// A backend's working image: label codes.
+struct RegionImage {
+  int width = 0, height = 0;
+  View view;
+  std::vector<uint8_t> labels;   ///< label codes, row-major, row 0 at the top
+  std::vector<uint8_t> depth;    ///< decision level per pixel
+  std::uint64_t exact_pixels = 0;
+};
+
+/// The certified fast path over a block of pixels (columns i0..i1, rows
+/// j0..j1, inclusive): the result every pixel of the block gets, or nullopt
+/// when the block is not uniform or a sign is not certain over it.
+std::optional<PixelResult> classify_block(const RegionSetup& setup, int i0, int j0, int i1, int j1);
+
+/// Block size of the CPU backend's (and the Vulkan backend's host) culling.
+inline constexpr int kRegionBlock = 64;
+
+/// An all-zero image of the setup's size and view.
+RegionImage blank_image(const RegionSetup& setup);
+
+/// Decides what the host can by blocks (quartering undecided blocks) into
+/// img, and returns the pixels of undecided blocks whose sides are at most
+/// min_block, for a device to classify; with min_block == 1 every pixel is
+/// decided here and nothing is returned.
+std::vector<std::array<int, 2>> region_cull(const RegionSetup& setup, RegionImage& img, int min_block, int threads);
+
+/// The CPU render, on `threads` threads (0: all cores): blocks of pixels
+/// decided whole where classify_block holds, quartered down to single pixels
+/// through classify_position elsewhere. Every pixel gets exactly
+/// classify_position's label.
+RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
+
+/// The typed label of a code; InputError-free: codes come from label_of.
+RegionLabel region_label(uint8_t code);
+SplitLabel split_label(uint8_t code);
+/// A pixel's public form.
+RegionPixel to_pixel(const PixelResult& r, bool split);
+/// An image's public form (labels decoded; seconds left 0).
+RegionResult to_result(RegionImage&& image, bool split);
+
+}  // namespace cmr::detail

@@ -1,0 +1,51 @@
+#pragma once
+// Backend choice for the region tests: renders a RegionProblem on the CPU
+// backend or on a VulkanRegionBackend (lavapipe), and returns the image as
+// label codes so that tests compare pixels with the exact path's codes.
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <tuple>
+
+#include "bezierize/region_setup.hpp"
+#include "vk/region_vk.hpp"
+
+namespace cmr::test {
+
+enum class Backend { vulkan, cpu };
+
+struct BackendOptions {
+  Backend backend = Backend::vulkan;
+  vk::RegionPrecision precision = vk::RegionPrecision::fp64;
+  bool cull = true;
+};
+
+/// The Vulkan backend for these options, created once per test program (its
+/// pipelines are reused, as the CLI reuses its one backend).
+inline vk::VulkanRegionBackend& vulkan_backend(const BackendOptions& o) {
+  static std::map<std::tuple<int, bool>, std::unique_ptr<vk::VulkanRegionBackend>> backends;
+  auto& b = backends[{static_cast<int>(o.precision), o.cull}];
+  if (!b) {
+    vk::VulkanRegionOptions vo;
+    vo.precision = o.precision;
+    vo.cull = o.cull;
+    auto created = vk::VulkanRegionBackend::create(vo);
+    if (!created) throw std::runtime_error("no Vulkan device: " + created.error().message);
+    b = std::make_unique<vk::VulkanRegionBackend>(created.take());
+  }
+  return *b;
+}
+
+inline detail::RegionImage render(const RegionProblem& problem, const BackendOptions& o) {
+  RegionResult r = o.backend == Backend::cpu ? CpuRegionBackend().render(problem) : vulkan_backend(o).render(problem);
+  detail::RegionImage img;
+  img.width = r.width;
+  img.height = r.height;
+  img.view = r.view;
+  img.labels = r.codes();
+  img.depth = r.depth;
+  img.exact_pixels = r.exact_pixels;
+  return img;
+}
+
+}  // namespace cmr::test
