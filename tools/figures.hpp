@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "spline/bspline.hpp"
+#include "spline/limits.hpp"
 #include "tools/region_backend.hpp"
 
 namespace cmr::fig {
@@ -18,7 +19,7 @@ struct FiguresOptions {
   std::filesystem::path out = "out/figures";  ///< created if missing
   cli::BackendOptions backend;                ///< Vulkan (lavapipe without a GPU) by default
   int size = 400;                             ///< side of every region image, pixels
-  int depth = 12;                             ///< D of Algorithms 1 and 2
+  int depth = kDefaultDepth;                  ///< D of Algorithms 1 and 2
   std::ostream* progress = nullptr;           ///< one line per step when set
 };
 
@@ -50,7 +51,7 @@ std::vector<BSpline> figure_splines();
 
 /// Computes the regions on options.backend, checks the claims, writes one PNG
 /// per figure, the spline files and index.html into options.out. Throws
-/// InputError for bad options or an unwritable folder, cli::EnvironmentError
+/// InputError for bad options or an unwritable folder, cmr::EnvironmentError
 /// from the backend.
 FiguresResult make_figures(const FiguresOptions& options);
 
