@@ -5,8 +5,9 @@
 /// monotone pieces of the whole curve, and for a spline that fails the check,
 /// which single control points have a region that fixes it (§4). Rendered as a
 /// versioned JSON document (docs/report-schema.md) and one self-contained HTML
-/// page; the exit code gates a batch. Library target cmr::report (no CLI,
-/// no files: the command writes what these functions return).
+/// page; the exit code gates a batch. Library target cmr::report: it links no
+/// command-line code and writes no files (the command writes what these
+/// functions return, with cmr::write_file_atomic).
 #include <cstdint>
 #include <functional>
 #include <optional>
