@@ -1,23 +1,29 @@
 #pragma once
-// Shared pieces of the cmr command: exit codes, output helpers.
+/// Shared pieces of the cmr command: exit codes, stdout and output files, and
+/// the registration of each subcommand. Only the command links CLI11; this
+/// header names CLI::App without including it.
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bezierize/region.hpp"
+#include "tools/io.hpp"
+
+namespace CLI {
+class App;
+}
 
 namespace cmr::cli {
 
+/// The command's exit codes.
 enum Exit : int { kOk = 0, kFail = 1, kInvalid = 2, kEnvironment = 3 };
 
-/// Thrown by commands for environment failures (no Vulkan device, ...): exit 3.
-struct EnvironmentError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+/// Environment failures (exit 3) are the libraries' error type.
+using EnvironmentError = cmr::EnvironmentError;
 
 /// The region backend of --backend (vulkan|cpu), --precision (fp64|fp32)
 /// and --device NAME: one per command run, so Vulkan contexts and compiled
@@ -28,21 +34,16 @@ struct EnvironmentError : std::runtime_error {
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
                                                    const std::string& device = "");
 
-/// Text made safe for HTML element content and attribute values.
-std::string html_escape(const std::string& text);
-
 /// Prints JSON to stdout (2-space indent, one trailing newline).
 void print_json(const nlohmann::ordered_json& doc);
-/// Writes a file atomically: a temporary name in the same folder, then rename.
-void write_file_atomic(const std::filesystem::path& path, const std::string& bytes);
 
 /// Throws InputError unless `path`'s folder exists (checked before any work,
 /// so that a bad output path fails fast and writes nothing).
 void check_output_path(const std::filesystem::path& path, const std::string& option);
 
-/// Files written by one command: all or none. Each file is written atomically;
-/// if a later one fails, the earlier ones are removed again before the error
-/// propagates.
+/// Files written by one command: all or none. Each file is written with
+/// cmr::write_file_atomic; if a later one fails, the earlier ones are removed
+/// again before the error propagates.
 class OutputFiles {
  public:
   OutputFiles() = default;
@@ -50,13 +51,7 @@ class OutputFiles {
   OutputFiles& operator=(const OutputFiles&) = delete;
   ~OutputFiles();
   /// Writes bytes to path (atomically) and remembers it.
-  void write(const std::filesystem::path& path, const std::string& bytes);
-  /// Runs writer(path) (which must write path atomically) and remembers it.
-  template <class Writer>
-  void write_with(const std::filesystem::path& path, Writer&& writer) {
-    writer(path);
-    written_.push_back(path);
-  }
+  void write(const std::filesystem::path& path, std::string_view bytes);
   /// Keeps the files: call after the last write.
   void keep() { written_.clear(); }
 
@@ -66,9 +61,13 @@ class OutputFiles {
 
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);
+/// `cmr analyze`: see README "Command line".
 void add_analyze_command(CLI::App& app, int& exit_code);
+/// `cmr region`: see README "Command line".
 void add_region_command(CLI::App& app, int& exit_code);
+/// `cmr figures`: see README "Command line".
 void add_figures_command(CLI::App& app, int& exit_code);
+/// `cmr report`: see README "Command line".
 void add_report_command(CLI::App& app, int& exit_code);
 
 }  // namespace cmr::cli

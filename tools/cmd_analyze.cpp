@@ -1,6 +1,9 @@
 // cmr analyze FILE [--depth D] [--split S] [--mode cmrwi|cmr]: exact per-span
 // classification and spline-level verdicts.
+#include <CLI/CLI.hpp>
+
 #include "bezierize/analyze.hpp"
+#include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 
@@ -10,7 +13,7 @@ namespace {
 
 struct AnalyzeArgs {
   std::string file;
-  int depth = 12;
+  int depth = kDefaultDepth;
   std::optional<int> split;
   std::string mode = "cmrwi";
 };
@@ -51,7 +54,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("analyze", "Classify every span (Algorithms 1 and 2, exact) and the whole spline");
   cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
   cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, 30))
+      ->check(CLI::Range(0, kMaxDepth))
       ->capture_default_str();
   cmd->add_option("--split", args->split, "joint S: spans 0..S-1 against S..N-1");
   cmd->add_option("--mode", args->mode, "verdict used for --split")

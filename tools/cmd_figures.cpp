@@ -6,6 +6,8 @@
 #include <iomanip>
 #include <iostream>
 
+#include <CLI/CLI.hpp>
+
 #include "tools/cli_common.hpp"
 #include "tools/figures.hpp"
 

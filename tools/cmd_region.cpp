@@ -4,7 +4,10 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
@@ -66,6 +69,143 @@ std::string with_point_suffix(const std::string& path, int k) {
   return stem + ".P" + std::to_string(k) + ext;
 }
 
+/// The region request the arguments describe (point and validation come later).
+RegionRequest region_options(const RegionArgs& a) {
+  RegionRequest o;
+  const auto [w, h] = parse_size(a.size);
+  o.width = w;
+  o.height = h;
+  o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+  o.split = a.split;
+  o.max_depth = a.depth;
+  o.with = a.with;
+  if (!a.view.empty()) o.view = parse_view(a.view);
+  o.depth = !a.depth_map.empty();
+  return o;
+}
+
+/// --point K or --point all.
+std::vector<int> chosen_points(const RegionArgs& a, const BSpline& spline) {
+  std::vector<int> points;
+  if (a.point == "all") {
+    if (!a.with.empty()) throw InputError("--with cannot be combined with --point all");
+    for (int k = 0; k < spline.point_count(); ++k) points.push_back(k);
+    return points;
+  }
+  try {
+    std::size_t used = 0;
+    points.push_back(std::stoi(a.point, &used));
+    if (used != a.point.size()) throw std::invalid_argument(a.point);
+  } catch (const std::exception&) {
+    throw InputError("--point: expected an index or 'all' (got '" + a.point + "')");
+  }
+  return points;
+}
+
+/// Every point and output path is validated before anything is rendered, so
+/// bad input leaves no files.
+std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline& spline, const RegionRequest& o) {
+  if (!a.png.empty()) check_output_path(a.png, "--png");
+  if (!a.labels.empty()) check_output_path(a.labels, "--labels");
+  if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
+  std::vector<RegionProblem> problems;
+  for (int k : chosen_points(a, spline)) {
+    RegionRequest ok = o;
+    ok.point = k;
+    problems.push_back(RegionProblem::make(spline, ok));
+  }
+  return problems;
+}
+
+/// The rendered images, one per point, with the JSON summary of each.
+struct Rendered {
+  std::vector<RegionResult> images;
+  nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
+  double seconds = 0, setup_seconds = 0;
+};
+
+/// Label counts of one image (and with --stats its timing and exact share).
+nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& problem, const RegionResult& img,
+                                     double sec) {
+  std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
+  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  nlohmann::ordered_json c;
+  const int labels = img.split ? kSplitLabelCodes : kRegionLabelCodes;
+  for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
+  nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
+  if (a.stats) {
+    entry["seconds"] = sec;
+    entry["exact_pixels"] = img.exact_pixels;
+    entry["exact_share"] = static_cast<double>(img.exact_pixels) / static_cast<double>(img.size());
+  }
+  return entry;
+}
+
+Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems) {
+  Rendered r;
+  const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const RegionProblem& problem : problems) {
+    const auto t1 = std::chrono::steady_clock::now();
+    r.images.push_back(backend->render(problem));
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    r.setup_seconds += r.images.back().setup_seconds;
+    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec));
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+/// The PGMs and the PNG, all or none (each through cmr::write_file_atomic).
+void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector<RegionProblem>& problems,
+                   const Rendered& r) {
+  OutputFiles out;
+  const bool several = problems.size() > 1;
+  for (std::size_t i = 0; i < r.images.size(); ++i) {
+    const int k = problems[i].request().point;
+    if (!a.labels.empty())
+      out.write(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
+    if (!a.depth_map.empty())
+      out.write(several ? with_point_suffix(a.depth_map, k) : a.depth_map, pgm(r.images[i], r.images[i].depth));
+  }
+  if (!a.png.empty()) {
+    draw::RegionPicture pic;
+    pic.spline = &spline;
+    for (const RegionResult& img : r.images) pic.layers.push_back(&img);
+    pic.split = problems.front().request().split.has_value();
+    pic.max_depth = problems.front().request().max_depth;
+    out.write(a.png, draw::region_png(pic));
+  }
+  out.keep();
+}
+
+/// The JSON printed on stdout.
+nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o, const Rendered& r) {
+  const View& v = r.images.front().view;
+  nlohmann::ordered_json doc = {{"width", o.width},
+                                {"height", o.height},
+                                {"view", {v.x0, v.y0, v.x1, v.y1}},
+                                {"mode", a.mode},
+                                {"backend", a.backend},
+                                {"points", r.per_point}};
+  if (o.split) doc["split"] = *o.split;
+  if (a.stats) {
+    doc["seconds"] = r.seconds;
+    doc["setup_seconds"] = r.setup_seconds;
+    doc["mpixel_per_second"] = static_cast<double>(o.width) * o.height * r.images.size() / r.seconds / 1e6;
+  }
+  return doc;
+}
+
+void run_region(const RegionArgs& a) {
+  const BSpline spline = read_spline_file(a.file);
+  const RegionRequest o = region_options(a);
+  const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
+  const Rendered r = render_all(a, problems);
+  write_outputs(a, spline, problems, r);
+  print_json(region_summary(a, o, r));
+}
+
 }  // namespace
 
 void add_region_command(CLI::App& app, int& exit_code) {
@@ -94,103 +234,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   cmd->callback([a, &exit_code] {
-    const BSpline spline = read_spline_file(a->file);
-    RegionRequest o;
-    const auto [w, h] = parse_size(a->size);
-    o.width = w;
-    o.height = h;
-    o.mode = a->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-    o.split = a->split;
-    o.max_depth = a->depth;
-    o.with = a->with;
-    if (!a->view.empty()) o.view = parse_view(a->view);
-    o.depth = !a->depth_map.empty();
-    std::vector<int> points;
-    if (a->point == "all") {
-      if (!a->with.empty()) throw InputError("--with cannot be combined with --point all");
-      for (int k = 0; k < spline.point_count(); ++k) points.push_back(k);
-    } else {
-      try {
-        std::size_t used = 0;
-        points.push_back(std::stoi(a->point, &used));
-        if (used != a->point.size()) throw std::invalid_argument(a->point);
-      } catch (const std::exception&) {
-        throw InputError("--point: expected an index or 'all' (got '" + a->point + "')");
-      }
-    }
-    const std::shared_ptr<RegionBackend> backend = make_region_backend(a->backend, a->precision, a->device);
-
-    // Validate every point and output path before rendering anything, so bad
-    // input leaves no files.
-    if (!a->png.empty()) check_output_path(a->png, "--png");
-    if (!a->labels.empty()) check_output_path(a->labels, "--labels");
-    if (!a->depth_map.empty()) check_output_path(a->depth_map, "--depth-map");
-    std::vector<RegionProblem> problems;
-    for (int k : points) {
-      RegionRequest ok = o;
-      ok.point = k;
-      problems.push_back(RegionProblem::make(spline, ok));
-    }
-    std::vector<RegionResult> images;
-    nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
-    const auto t0 = std::chrono::steady_clock::now();
-    double setup_seconds = 0;
-    for (const RegionProblem& problem : problems) {
-      const auto t1 = std::chrono::steady_clock::now();
-      images.push_back(backend->render(problem));
-      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-      const RegionResult& img = images.back();
-      setup_seconds += img.setup_seconds;
-      std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
-      for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
-      nlohmann::ordered_json c;
-      const int labels = o.split ? kSplitLabelCodes : kRegionLabelCodes;
-      for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
-      nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
-      if (a->stats) {
-        entry["seconds"] = sec;
-        entry["exact_pixels"] = img.exact_pixels;
-        entry["exact_share"] = static_cast<double>(img.exact_pixels) / static_cast<double>(img.size());
-      }
-      per_point.push_back(entry);
-    }
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    OutputFiles out;
-    if (!a->labels.empty()) {
-      for (const RegionResult& img : images) {
-        const int k = problems[&img - images.data()].request().point;
-        out.write(points.size() > 1 ? with_point_suffix(a->labels, k) : a->labels, pgm(img, img.codes()));
-      }
-    }
-    if (!a->depth_map.empty()) {
-      for (const RegionResult& img : images) {
-        const int k = problems[&img - images.data()].request().point;
-        out.write(points.size() > 1 ? with_point_suffix(a->depth_map, k) : a->depth_map, pgm(img, img.depth));
-      }
-    }
-    if (!a->png.empty()) {
-      draw::RegionPicture pic;
-      pic.spline = &spline;
-      for (const RegionResult& img : images) pic.layers.push_back(&img);
-      pic.split = o.split.has_value();
-      pic.max_depth = o.max_depth;
-      out.write_with(a->png, [&](const std::filesystem::path& p) { draw::write_region_png(p, pic); });
-    }
-    out.keep();
-    const View& v = images.front().view;
-    nlohmann::ordered_json doc = {{"width", o.width},
-                                  {"height", o.height},
-                                  {"view", {v.x0, v.y0, v.x1, v.y1}},
-                                  {"mode", a->mode},
-                                  {"backend", a->backend},
-                                  {"points", per_point}};
-    if (o.split) doc["split"] = *o.split;
-    if (a->stats) {
-      doc["seconds"] = total;
-      doc["setup_seconds"] = setup_seconds;
-      doc["mpixel_per_second"] = static_cast<double>(o.width) * o.height * images.size() / total / 1e6;
-    }
-    print_json(doc);
+    run_region(*a);
     exit_code = kOk;
   });
 }

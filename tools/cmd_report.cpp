@@ -5,6 +5,10 @@
 
 #include <iostream>
 
+#include <CLI/CLI.hpp>
+
+#include "spline/errors.hpp"
+#include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/report.hpp"
 
@@ -16,7 +20,7 @@ struct ReportArgs {
   std::vector<std::string> files;
   std::string out;
   std::string require;
-  int depth = 12;
+  int depth = kDefaultDepth;
   bool no_thumbnails = false;
   std::string backend = "vulkan";
   std::string device;
@@ -31,6 +35,20 @@ void show_progress(int done, int total, const std::string& name) {
             << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
 }
 
+/// Writes dir/report.json and dir/index.html (both or neither), creating dir.
+void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
+                  const report::ReportOptions& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
+  OutputFiles out;
+  out.write(dir / "report.json", report::report_json(reports, options).dump(2) + "\n");
+  out.write(dir / "index.html", report::report_html(reports, options));
+  out.keep();
+}
+
+static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
+
 }  // namespace
 
 void add_report_command(CLI::App& app, int& exit_code) {
@@ -41,7 +59,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--require", args->require,
                   "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
   cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, 30))
+      ->check(CLI::Range(0, kMaxDepth))
       ->capture_default_str();
   cmd->add_flag("--no-thumbnails", args->no_thumbnails, "skip the regions (fix search and thumbnails)");
   cmd->add_option("--backend", args->backend, "region backend")
@@ -64,7 +82,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
     if (terminal) std::cerr << "\r\033[K" << std::flush;
-    report::write_report(args->out, reports, o);
+    write_report(args->out, reports, o);
 
     int pass = 0, fail = 0, invalid = 0;
     for (const report::SplineReport& r : reports) {

@@ -1,4 +1,6 @@
 // cmr segments FILE: the non-empty spans in Bezier form.
+#include <CLI/CLI.hpp>
+
 #include "bezierize/extract.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"

@@ -6,10 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <system_error>
+#include <new>
 
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "tools/io.hpp"
 
 namespace cmr::draw {
 
@@ -80,16 +81,20 @@ Context make_context(cairo_surface_t* surface) {
 
 void set_colour(cairo_t* cr, Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
 
-void write_png_atomic(cairo_surface_t* surface, const std::filesystem::path& path) {
+/// Appends each chunk Cairo's PNG encoder hands over to a std::string.
+cairo_status_t append_png_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+/// The surface encoded as PNG bytes, in memory. Encoding can only fail for
+/// lack of memory.
+std::string encode_png(cairo_surface_t* surface) {
   cairo_surface_flush(surface);
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  if (cairo_surface_write_to_png(surface, tmp.c_str()) != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path.string() + ": cannot write (does the folder exist?)");
-  }
-  std::filesystem::rename(tmp, path);
+  std::string bytes;
+  if (cairo_surface_write_to_png_stream(surface, append_png_chunk, &bytes) != CAIRO_STATUS_SUCCESS)
+    throw std::bad_alloc();
+  return bytes;
 }
 
 void text_at(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
@@ -202,17 +207,8 @@ void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double
   cairo_restore(cr);
 }
 
-void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
-  check_picture(p);
-  const BSpline& s = *p.spline;
-  const WorldMap map{p.layers[0]->view, x, y, w, h};
-  cairo_save(cr);
-  cairo_rectangle(cr, x, y, w, h);
-  cairo_clip(cr);
-  draw_labels(cr, p, x, y, w, h);
-  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-
-  // Control polygon under the curve.
+/// The control polygon, then the curve over it as a dense polyline.
+void draw_polygon_and_curve(cairo_t* cr, const BSpline& s, const WorldMap& map) {
   set_colour(cr, {0.35, 0.35, 0.35});
   cairo_set_line_width(cr, 1.2);
   for (int i = 0; i < s.point_count(); ++i) {
@@ -220,8 +216,7 @@ void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, 
     i == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
   }
   cairo_stroke(cr);
-
-  // The curve: a dense polyline, enough samples per segment for a smooth look.
+  // Enough samples per segment for a smooth look.
   set_colour(cr, {0, 0, 0});
   cairo_set_line_width(cr, 2.2);
   const int per_segment = std::max(64, 600 / s.segment_count());
@@ -234,21 +229,24 @@ void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, 
     }
   }
   cairo_stroke(cr);
+}
 
-  if (p.moved) {
-    const auto [ox, oy] = map(p.moved->first);
-    const auto [nx, ny] = map(p.moved->second);
-    set_colour(cr, {0.1, 0.55, 0.1});
-    cairo_set_line_width(cr, 1.8);
-    cairo_arc(cr, ox, oy, 5.5, 0, 2 * M_PI);
-    cairo_stroke(cr);
-    const double len = std::hypot(nx - ox, ny - oy);
-    if (len > 12) arrow(cr, ox + (nx - ox) * 6 / len, oy + (ny - oy) * 6 / len, nx - (nx - ox) * 5 / len,
-                        ny - (ny - oy) * 5 / len);
-  }
+/// A moved point: a ring at its old place and an arrow to the new one.
+void draw_moved(cairo_t* cr, const std::pair<Vec2, Vec2>& moved, const WorldMap& map) {
+  const auto [ox, oy] = map(moved.first);
+  const auto [nx, ny] = map(moved.second);
+  set_colour(cr, {0.1, 0.55, 0.1});
+  cairo_set_line_width(cr, 1.8);
+  cairo_arc(cr, ox, oy, 5.5, 0, 2 * M_PI);
+  cairo_stroke(cr);
+  const double len = std::hypot(nx - ox, ny - oy);
+  if (len > 12)
+    arrow(cr, ox + (nx - ox) * 6 / len, oy + (ny - oy) * 6 / len, nx - (nx - ox) * 5 / len, ny - (ny - oy) * 5 / len);
+}
 
-  // Points and their names, pushed away from the polygon's centre so that
-  // they sit outside the curve where they can.
+/// Points and their names, pushed away from the polygon's centre so that
+/// they sit outside the curve where they can.
+void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map) {
   Vec2 centre(0.0);
   for (const Vec2& q : s.points()) centre += q;
   centre /= static_cast<double>(s.point_count());
@@ -267,6 +265,19 @@ void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, 
     cairo_set_font_size(cr, 13);
     text_at(cr, px + 11 * dx - 0.5 * text_width(cr, name), py + 11 * dy + 5, name, 13, true);
   }
+}
+
+void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
+  check_picture(p);
+  const WorldMap map{p.layers[0]->view, x, y, w, h};
+  cairo_save(cr);
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_clip(cr);
+  draw_labels(cr, p, x, y, w, h);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  draw_polygon_and_curve(cr, *p.spline, map);
+  if (p.moved) draw_moved(cr, *p.moved, map);
+  draw_point_names(cr, *p.spline, map);
   cairo_restore(cr);
   set_colour(cr, {0.5, 0.5, 0.5});
   cairo_set_line_width(cr, 1);
@@ -311,10 +322,16 @@ Rgb class_colour(Curvature c) {
   }
 }
 
-void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, double y, double w, double h) {
-  CMR_CHECK(plot.spline != nullptr);
-  const BSpline& s = *plot.spline;
-  const auto samples = sample_curvature(s, std::max(50, 800 / s.segment_count()));
+/// The plot's frame in device coordinates and its world ranges.
+struct PlotFrame {
+  double left, right, top, bottom;  ///< the plotting rectangle
+  double t0, t1, lo, hi;            ///< parameter and curvature ranges
+  double px(double t) const { return left + (t - t0) / (t1 - t0) * (right - left); }
+  double py(double k) const { return bottom - (k - lo) / (hi - lo) * (bottom - top); }
+};
+
+PlotFrame plot_frame(const BSpline& s, const std::vector<std::vector<PlotSample>>& samples, double x, double y,
+                     double w, double h) {
   double lo = samples[0][0].kappa, hi = lo;
   for (const auto& seg : samples)
     for (const PlotSample& p : seg) {
@@ -323,60 +340,52 @@ void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, doub
     }
   // A flat plot still needs a vertical extent; 5% padding keeps the line off the frame.
   const double pad = std::max(hi - lo, 1e-3 * std::max(std::abs(lo), std::abs(hi)) + 1e-12) * 0.05;
-  lo -= pad;
-  hi += pad;
-  const double left = x + 56, right = x + w - 12, top = y + 26, bottom = y + h - 52;
-  const double t0 = s.domain_begin(), t1 = s.domain_end();
-  auto px = [&](double t) { return left + (t - t0) / (t1 - t0) * (right - left); };
-  auto py = [&](double k) { return bottom - (k - lo) / (hi - lo) * (bottom - top); };
+  return {x + 56, x + w - 12, y + 26, y + h - 52, s.domain_begin(), s.domain_end(), lo - pad, hi + pad};
+}
 
-  set_colour(cr, {1, 1, 1});
-  cairo_rectangle(cr, x, y, w, h);
-  cairo_fill(cr);
-  set_colour(cr, {0, 0, 0});
-  text_at(cr, left, y + 17, "curvature \xCE\xBA against the parameter t", 13, true);
-
-  // Joints: dashed lines where a segment ends inside the domain.
+/// Joints as dashed lines, the kappa = 0 line (crossings are inflections),
+/// the frame, the y extremes, and knot ticks with their values.
+void draw_plot_axes(cairo_t* cr, const BSpline& s, const PlotFrame& f, double x) {
   const double dash[] = {4, 3};
   cairo_set_line_width(cr, 1);
   set_colour(cr, {0.6, 0.6, 0.6});
   cairo_set_dash(cr, dash, 2, 0);
   for (std::size_t i = 1; i < s.segments().size(); ++i) {
-    cairo_move_to(cr, px(s.segments()[i].a), top);
-    cairo_line_to(cr, px(s.segments()[i].a), bottom);
+    cairo_move_to(cr, f.px(s.segments()[i].a), f.top);
+    cairo_line_to(cr, f.px(s.segments()[i].a), f.bottom);
   }
   cairo_stroke(cr);
-  if (lo < 0 && hi > 0) {  // kappa = 0: crossings are inflections
+  if (f.lo < 0 && f.hi > 0) {
     set_colour(cr, {0.3, 0.3, 0.3});
-    cairo_move_to(cr, left, py(0));
-    cairo_line_to(cr, right, py(0));
+    cairo_move_to(cr, f.left, f.py(0));
+    cairo_line_to(cr, f.right, f.py(0));
     cairo_stroke(cr);
-    if (py(0) - top > 14 && bottom - py(0) > 14) text_at(cr, x + 4, py(0) + 4, "0", 11);
+    if (f.py(0) - f.top > 14 && f.bottom - f.py(0) > 14) text_at(cr, x + 4, f.py(0) + 4, "0", 11);
   }
   cairo_set_dash(cr, nullptr, 0, 0);
-
-  // Frame, y extremes, knot ticks with their values.
   set_colour(cr, {0, 0, 0});
-  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
   cairo_stroke(cr);
-  text_at(cr, x + 4, top + 10, short_number(hi), 11);
-  text_at(cr, x + 4, bottom, short_number(lo), 11);
+  text_at(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  text_at(cr, x + 4, f.bottom, short_number(f.lo), 11);
   double last_label = -1e9;
   for (double u : s.knots()) {
-    if (u < t0 || u > t1) continue;
-    cairo_move_to(cr, px(u), bottom);
-    cairo_line_to(cr, px(u), bottom + 6);
+    if (u < f.t0 || u > f.t1) continue;
+    cairo_move_to(cr, f.px(u), f.bottom);
+    cairo_line_to(cr, f.px(u), f.bottom + 6);
     cairo_stroke(cr);
     const std::string label = short_number(u);
-    if (px(u) - last_label < 24) continue;  // repeated knots share one label
+    if (f.px(u) - last_label < 24) continue;  // repeated knots share one label
     cairo_set_font_size(cr, 11);
-    text_at(cr, px(u) - 0.5 * text_width(cr, label), bottom + 18, label, 11);
-    last_label = px(u);
+    text_at(cr, f.px(u) - 0.5 * text_width(cr, label), f.bottom + 18, label, 11);
+    last_label = f.px(u);
   }
+}
 
-  // The curve, red where kappa increases, blue where it decreases.
+/// The curvature, red where kappa increases, blue where it decreases.
+void draw_plot_curve(cairo_t* cr, const std::vector<std::vector<PlotSample>>& samples, const PlotFrame& f) {
   cairo_save(cr);
-  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
   cairo_clip(cr);
   cairo_set_line_width(cr, 2.2);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
@@ -384,32 +393,142 @@ void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, doub
     for (std::size_t k = 1; k < seg.size(); ++k) {
       const double l = seg[k - 1].lambda;
       set_colour(cr, l > 0 ? Rgb{0.85, 0.1, 0.1} : (l < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.2, 0.2, 0.2}));
-      cairo_move_to(cr, px(seg[k - 1].t), py(seg[k - 1].kappa));
-      cairo_line_to(cr, px(seg[k].t), py(seg[k].kappa));
+      cairo_move_to(cr, f.px(seg[k - 1].t), f.py(seg[k - 1].kappa));
+      cairo_line_to(cr, f.px(seg[k].t), f.py(seg[k].kappa));
       cairo_stroke(cr);
     }
   }
   cairo_restore(cr);
+}
 
-  // Certified class of each segment (Algorithms 1 and 2, exact).
-  if (plot.analysis) {
-    const double band = bottom + 26;
-    for (std::size_t i = 0; i < s.segments().size() && i < plot.analysis->segments.size(); ++i) {
-      const Segment& seg = s.segments()[i];
-      const SegmentClass& c = plot.analysis->segments[i];
-      set_colour(cr, class_colour(c.monotonicity.curvature));
-      cairo_rectangle(cr, px(seg.a) + 1, band, px(seg.b) - px(seg.a) - 2, 8);
-      cairo_fill(cr);
-      std::string tag = to_string(c.monotonicity.curvature);
-      if (c.inflection.inflection == Inflection::present) tag += ", inflection";
-      set_colour(cr, {0.2, 0.2, 0.2});
-      cairo_set_font_size(cr, 10);
-      if (text_width(cr, tag) < px(seg.b) - px(seg.a)) text_at(cr, px(seg.a) + 2, band + 20, tag, 10);
-    }
+/// Certified class of each segment (Algorithms 1 and 2, exact) as a band under the axis.
+void draw_class_band(cairo_t* cr, const BSpline& s, const SplineAnalysis& analysis, const PlotFrame& f) {
+  const double band = f.bottom + 26;
+  for (std::size_t i = 0; i < s.segments().size() && i < analysis.segments.size(); ++i) {
+    const Segment& seg = s.segments()[i];
+    const SegmentClass& c = analysis.segments[i];
+    set_colour(cr, class_colour(c.monotonicity.curvature));
+    cairo_rectangle(cr, f.px(seg.a) + 1, band, f.px(seg.b) - f.px(seg.a) - 2, 8);
+    cairo_fill(cr);
+    std::string tag = to_string(c.monotonicity.curvature);
+    if (c.inflection.inflection == Inflection::present) tag += ", inflection";
+    set_colour(cr, {0.2, 0.2, 0.2});
+    cairo_set_font_size(cr, 10);
+    if (text_width(cr, tag) < f.px(seg.b) - f.px(seg.a)) text_at(cr, f.px(seg.a) + 2, band + 20, tag, 10);
   }
+}
+
+void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, double y, double w, double h) {
+  CMR_CHECK(plot.spline != nullptr);
+  const BSpline& s = *plot.spline;
+  const auto samples = sample_curvature(s, std::max(50, 800 / s.segment_count()));
+  const PlotFrame f = plot_frame(s, samples, x, y, w, h);
+  set_colour(cr, {1, 1, 1});
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_fill(cr);
+  set_colour(cr, {0, 0, 0});
+  text_at(cr, f.left, y + 17, "curvature \xCE\xBA against the parameter t", 13, true);
+  draw_plot_axes(cr, s, f, x);
+  draw_plot_curve(cr, samples, f);
+  if (plot.analysis) draw_class_band(cr, s, *plot.analysis, f);
   set_colour(cr, {0.5, 0.5, 0.5});
   cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
   cairo_stroke(cr);
+}
+
+// ----------------------------------------------------------- figure page --
+
+constexpr double kMargin = 16, kGap = 12, kLabelSize = 12.5, kCaptionSize = 13, kTitleSize = 18;
+
+/// Where everything of a figure goes; measured before drawing so that the
+/// page is as tall as it needs to be.
+struct FigureLayout {
+  double width = 0, height = 0, side = 0;
+  std::vector<std::vector<std::vector<std::string>>> labels;  ///< per row, per panel: wrapped lines
+  std::vector<double> row_label_height;
+  std::vector<std::string> title, caption;
+  std::vector<std::pair<double, double>> legend_at;  ///< offsets from the legend's top left
+  double legend_height = 0, title_height = 0;
+};
+
+/// Legend entries flow left to right and wrap like words.
+void layout_legend(cairo_t* pc, const Figure& f, double text_width_px, FigureLayout& l) {
+  double lx = 0, ly = 0;
+  cairo_select_font_face(pc, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(pc, 12);
+  for (const LegendEntry& e : f.legend) {
+    const double w = 22 + text_width(pc, e.text) + 18;
+    if (lx > 0 && lx + w > text_width_px) {
+      lx = 0;
+      ly += 22;
+    }
+    l.legend_at.emplace_back(lx, ly);
+    lx += w;
+  }
+  l.legend_height = f.legend.empty() ? 0 : ly + 24;
+}
+
+FigureLayout measure_figure(const Figure& f) {
+  FigureLayout l;
+  l.side = f.panel_size;
+  std::size_t columns = 1;
+  for (const auto& row : f.rows) columns = std::max(columns, row.size());
+  l.width = 2 * kMargin + columns * l.side + (columns - 1) * kGap;
+  const double text_width_px = l.width - 2 * kMargin;
+  Surface probe = make_surface(1, 1);
+  Context pc = make_context(probe.get());
+  for (const auto& row : f.rows) {
+    l.labels.emplace_back();
+    std::size_t most = 0;
+    for (const Panel& p : row) {
+      l.labels.back().push_back(wrap(pc.get(), p.label, l.side, kLabelSize));
+      most = std::max(most, l.labels.back().back().size());
+    }
+    l.row_label_height.push_back(most * (kLabelSize + 4) + 6);
+  }
+  l.title = wrap(pc.get(), f.title, text_width_px, kTitleSize, true);
+  l.caption = wrap(pc.get(), f.caption, text_width_px, kCaptionSize);
+  layout_legend(pc.get(), f, text_width_px, l);
+  l.title_height = l.title.size() * (kTitleSize + 6) + 6;
+  l.height = kMargin + l.title_height;
+  for (double lh : l.row_label_height) l.height += l.side + lh + kGap;
+  l.height += l.legend_height + l.caption.size() * (kCaptionSize + 5) + kMargin;
+  return l;
+}
+
+/// Draws the panels and their labels row by row from `y`; returns the y below them.
+double draw_figure_rows(cairo_t* c, const Figure& f, const FigureLayout& l, double y) {
+  for (std::size_t r = 0; r < f.rows.size(); ++r) {
+    for (std::size_t i = 0; i < f.rows[r].size(); ++i) {
+      const double x = kMargin + i * (l.side + kGap);
+      const Panel& p = f.rows[r][i];
+      if (const auto* pic = std::get_if<RegionPicture>(&p.content)) draw_region_panel(c, *pic, x, y, l.side, l.side);
+      else draw_curvature_panel(c, std::get<CurvaturePlot>(p.content), x, y, l.side, l.side);
+      set_colour(c, {0, 0, 0});
+      double ty = y + l.side + kLabelSize + 4;
+      for (const std::string& line : l.labels[r][i]) {
+        text_at(c, x, ty, line, kLabelSize);
+        ty += kLabelSize + 4;
+      }
+    }
+    y += l.side + l.row_label_height[r] + kGap;
+  }
+  return y;
+}
+
+void draw_legend(cairo_t* c, const Figure& f, const FigureLayout& l, double y) {
+  for (std::size_t i = 0; i < f.legend.size(); ++i) {
+    const LegendEntry& e = f.legend[i];
+    const double x = kMargin + l.legend_at[i].first, ly0 = y + l.legend_at[i].second;
+    set_colour(c, e.colour);
+    cairo_rectangle(c, x, ly0, 16, 16);
+    cairo_fill_preserve(c);
+    set_colour(c, {0.4, 0.4, 0.4});
+    cairo_set_line_width(c, 1);
+    cairo_stroke(c);
+    set_colour(c, {0, 0, 0});
+    text_at(c, x + 22, ly0 + 13, e.text, 12);
+  }
 }
 
 }  // namespace
@@ -448,101 +567,41 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
   return l;
 }
 
-void write_region_png(const std::filesystem::path& path, const RegionPicture& picture) {
+std::string region_png(const RegionPicture& picture) {
   check_picture(picture);
   const int W = picture.layers[0]->width, H = picture.layers[0]->height;
   Surface surface = make_surface(W, H);
   Context cr = make_context(surface.get());
   draw_region_panel(cr.get(), picture, 0, 0, W, H);
-  write_png_atomic(surface.get(), path);
+  return encode_png(surface.get());
 }
 
-void write_figure_png(const std::filesystem::path& path, const Figure& f) {
-  constexpr double kMargin = 16, kGap = 12, kLabelSize = 12.5, kCaptionSize = 13, kTitleSize = 18;
-  const double side = f.panel_size;
-  std::size_t columns = 1;
-  for (const auto& row : f.rows) columns = std::max(columns, row.size());
-  const double width = 2 * kMargin + columns * side + (columns - 1) * kGap;
-  const double text_width_px = width - 2 * kMargin;
+void write_region_png(const std::filesystem::path& path, const RegionPicture& picture) {
+  write_file_atomic(path, region_png(picture));
+}
 
-  // Measure the text first so that the page is as tall as it needs to be.
-  Surface probe = make_surface(1, 1);
-  Context pc = make_context(probe.get());
-  std::vector<std::vector<std::vector<std::string>>> labels;
-  std::vector<double> row_label_height;
-  for (const auto& row : f.rows) {
-    labels.emplace_back();
-    std::size_t most = 0;
-    for (const Panel& p : row) {
-      labels.back().push_back(wrap(pc.get(), p.label, side, kLabelSize));
-      most = std::max(most, labels.back().back().size());
-    }
-    row_label_height.push_back(most * (kLabelSize + 4) + 6);
-  }
-  const auto title = wrap(pc.get(), f.title, text_width_px, kTitleSize, true);
-  const auto caption = wrap(pc.get(), f.caption, text_width_px, kCaptionSize);
-  // Legend entries flow left to right and wrap like words.
-  std::vector<std::pair<double, double>> legend_at;  // offsets from the legend's top left
-  double lx = 0, ly = 0;
-  cairo_select_font_face(pc.get(), "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_font_size(pc.get(), 12);
-  for (const LegendEntry& e : f.legend) {
-    const double w = 22 + text_width(pc.get(), e.text) + 18;
-    if (lx > 0 && lx + w > text_width_px) {
-      lx = 0;
-      ly += 22;
-    }
-    legend_at.emplace_back(lx, ly);
-    lx += w;
-  }
-  const double legend_height = f.legend.empty() ? 0 : ly + 24;
-  const double title_height = title.size() * (kTitleSize + 6) + 6;
-  double height = kMargin + title_height;
-  for (double lh : row_label_height) height += side + lh + kGap;
-  height += legend_height + caption.size() * (kCaptionSize + 5) + kMargin;
-
-  Surface surface = make_surface(static_cast<int>(std::ceil(width)), static_cast<int>(std::ceil(height)));
+std::string figure_png(const Figure& f) {
+  const FigureLayout layout = measure_figure(f);
+  Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
   Context cr = make_context(surface.get());
   cairo_t* c = cr.get();
   set_colour(c, {1, 1, 1});
   cairo_paint(c);
   set_colour(c, {0, 0, 0});
-  for (std::size_t i = 0; i < title.size(); ++i)
-    text_at(c, kMargin, kMargin + kTitleSize + i * (kTitleSize + 6), title[i], kTitleSize, true);
-  double y = kMargin + title_height;
-  for (std::size_t r = 0; r < f.rows.size(); ++r) {
-    for (std::size_t i = 0; i < f.rows[r].size(); ++i) {
-      const double x = kMargin + i * (side + kGap);
-      const Panel& p = f.rows[r][i];
-      if (const auto* pic = std::get_if<RegionPicture>(&p.content)) draw_region_panel(c, *pic, x, y, side, side);
-      else draw_curvature_panel(c, std::get<CurvaturePlot>(p.content), x, y, side, side);
-      set_colour(c, {0, 0, 0});
-      double ty = y + side + kLabelSize + 4;
-      for (const std::string& line : labels[r][i]) {
-        text_at(c, x, ty, line, kLabelSize);
-        ty += kLabelSize + 4;
-      }
-    }
-    y += side + row_label_height[r] + kGap;
-  }
-  for (std::size_t i = 0; i < f.legend.size(); ++i) {
-    const LegendEntry& e = f.legend[i];
-    const double x = kMargin + legend_at[i].first, ly0 = y + legend_at[i].second;
-    set_colour(c, e.colour);
-    cairo_rectangle(c, x, ly0, 16, 16);
-    cairo_fill_preserve(c);
-    set_colour(c, {0.4, 0.4, 0.4});
-    cairo_set_line_width(c, 1);
-    cairo_stroke(c);
-    set_colour(c, {0, 0, 0});
-    text_at(c, x + 22, ly0 + 13, e.text, 12);
-  }
-  y += legend_height + kCaptionSize;
-  for (const std::string& line : caption) {
+  for (std::size_t i = 0; i < layout.title.size(); ++i)
+    text_at(c, kMargin, kMargin + kTitleSize + i * (kTitleSize + 6), layout.title[i], kTitleSize, true);
+  double y = draw_figure_rows(c, f, layout, kMargin + layout.title_height);
+  draw_legend(c, f, layout, y);
+  y += layout.legend_height + kCaptionSize;
+  for (const std::string& line : layout.caption) {
     text_at(c, kMargin, y, line, kCaptionSize);
     y += kCaptionSize + 5;
   }
-  write_png_atomic(surface.get(), path);
+  return encode_png(surface.get());
+}
+
+void write_figure_png(const std::filesystem::path& path, const Figure& figure) {
+  write_file_atomic(path, figure_png(figure));
 }
 
 }  // namespace cmr::draw

@@ -1,19 +1,20 @@
 #pragma once
-// Pictures of regions and curves, drawn with Cairo (antialiased).
-//
-// Region colours (the legend; every layer subtracts its colour from white, so
-// overlapping regions of several points come out darker, as in CAD&A 2024
-// Fig. 3):
-//   plain labels   1 increasing: red, 2 decreasing: blue, 0 not monotone and
-//                  3 undecided (the paper counts it as not monotone): white;
-//   split labels   1 inc-inc: red, 4 dec-dec: blue (monotone across the
-//                  joint); 3 dec-inc: dark red, 2 inc-dec: dark blue (an
-//                  extremum at the joint: the second part's direction gives the
-//                  hue, the darker shade says the first part goes the other
-//                  way); 0 none and 5 undecided: white;
-//   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
-//                  condition of the paper's reference [16]) to dark at level
-//                  D; not monotone and undecided grey, darker with the level.
+/// Pictures of regions and curves, drawn with Cairo (antialiased), as PNG
+/// bytes in memory or as files (library target cmr::draw; no CLI).
+///
+/// Region colours (the legend; every layer subtracts its colour from white, so
+/// overlapping regions of several points come out darker, as in CAD&A 2024
+/// Fig. 3):
+///   plain labels   1 increasing: red, 2 decreasing: blue, 0 not monotone and
+///                  3 undecided (the paper counts it as not monotone): white;
+///   split labels   1 inc-inc: red, 4 dec-dec: blue (monotone across the
+///                  joint); 3 dec-inc: dark red, 2 inc-dec: dark blue (an
+///                  extremum at the joint: the second part's direction gives the
+///                  hue, the darker shade says the first part goes the other
+///                  way); 0 none and 5 undecided: white;
+///   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
+///                  condition of the paper's reference [16]) to dark at level
+///                  D; not monotone and undecided grey, darker with the level.
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -23,9 +24,11 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr::draw {
 
+/// A colour, each channel in [0, 1].
 struct Rgb {
   double r = 1, g = 1, b = 1;
 };
@@ -37,12 +40,16 @@ struct RegionPicture {
   std::vector<const RegionResult*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
   bool split = false;                      ///< the layers hold split labels
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
-  int max_depth = 12;
+  int max_depth = kDefaultDepth;           ///< D of the render: the depth shading's darkest level
   std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place
 };
 
-/// Writes the picture as a PNG of the layers' size, atomically (temporary
-/// file, then rename). Throws InputError when the file cannot be written.
+/// The picture as PNG bytes, of the layers' size. Throws std::bad_alloc when
+/// memory runs out (nothing else can fail in memory).
+std::string region_png(const RegionPicture& picture);
+/// Writes region_png(picture) to `path` with cmr::write_file_atomic (and its
+/// errors: InputError for a missing folder or a directory, EnvironmentError
+/// for the rest).
 void write_region_png(const std::filesystem::path& path, const RegionPicture& picture);
 
 /// The colour of pixel `index` (row-major) of the picture's layers, by the
@@ -65,6 +72,7 @@ struct Panel {
   std::string label;
 };
 
+/// One coloured square and its text under a figure.
 struct LegendEntry {
   Rgb colour;
   std::string text;
@@ -82,7 +90,10 @@ struct Figure {
 /// The legend entries that apply to a picture's colouring mode.
 std::vector<LegendEntry> legend_for(const RegionPicture& picture);
 
-/// Writes a composite figure as a PNG, atomically; InputError as above.
+/// The composite figure as PNG bytes; std::bad_alloc as for region_png.
+std::string figure_png(const Figure& figure);
+/// Writes figure_png(figure) to `path` with cmr::write_file_atomic (errors as
+/// for write_region_png).
 void write_figure_png(const std::filesystem::path& path, const Figure& figure);
 
 }  // namespace cmr::draw

@@ -8,11 +8,13 @@
 #include <sstream>
 #include <system_error>
 
+#include <nlohmann/json.hpp>
+
 #include "bezierize/analyze.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
+#include "tools/io.hpp"
 
 namespace cmr::fig {
 
@@ -533,13 +535,13 @@ void write_index(Builder& b) {
     << " failed. Regions " << b.options().size << "x" << b.options().size << " px, depth "
     << b.options().depth << ". The curves are the spline files next to this page.</p>\n";
   for (const FigureFile& f : r.figures) {
-    h << "<h2>" << cli::html_escape(f.title) << "</h2>\n<img src=\"" << f.id << ".png\" alt=\"" << cli::html_escape(f.title)
-      << "\">\n<p>" << cli::html_escape(f.caption)
+    h << "<h2>" << html_escape(f.title) << "</h2>\n<img src=\"" << f.id << ".png\" alt=\"" << html_escape(f.title)
+      << "\">\n<p>" << html_escape(f.caption)
       << "</p>\n<table><tr><th>claim</th><th>result</th><th>measured</th></tr>\n";
     for (const Claim& c : r.claims) {
       if (figure_id(c) != f.id) continue;
-      h << "<tr><td>" << cli::html_escape(c.figure + ": " + c.text) << "</td><td class=\"" << (c.pass ? "PASS" : "FAIL")
-        << "\">" << (c.pass ? "PASS" : "FAIL") << "</td><td>" << cli::html_escape(c.detail) << "</td></tr>\n";
+      h << "<tr><td>" << html_escape(c.figure + ": " + c.text) << "</td><td class=\"" << (c.pass ? "PASS" : "FAIL")
+        << "\">" << (c.pass ? "PASS" : "FAIL") << "</td><td>" << html_escape(c.detail) << "</td></tr>\n";
     }
     h << "</table>\n";
   }
@@ -548,7 +550,7 @@ void write_index(Builder& b) {
     h << "<a href=\"" << s.name() << ".json\">" << s.name() << ".json</a> ";
   h << "</p>\n</body></html>\n";
   const std::filesystem::path path = b.options().out / "index.html";
-  cli::write_file_atomic(path, h.str());
+  write_file_atomic(path, h.str());
   b.result().written.push_back(path);
   b.log("wrote " + path.string());
 }
@@ -568,8 +570,8 @@ std::vector<BSpline> figure_splines() {
 FiguresResult make_figures(const FiguresOptions& options) {
   if (options.size < 64 || options.size > 4096)
     throw InputError("size " + std::to_string(options.size) + " is outside 64..4096");
-  if (options.depth < 0 || options.depth > 30)
-    throw InputError("depth " + std::to_string(options.depth) + " is outside 0..30");
+  if (options.depth < 0 || options.depth > kMaxDepth)
+    throw InputError("depth " + std::to_string(options.depth) + " is outside 0.." + std::to_string(kMaxDepth));
   std::error_code ec;
   std::filesystem::create_directories(options.out, ec);
   if (ec || !std::filesystem::is_directory(options.out))
@@ -579,7 +581,7 @@ FiguresResult make_figures(const FiguresOptions& options) {
   const Curves c;
   for (const BSpline& s : figure_splines()) {
     const std::filesystem::path path = options.out / (s.name() + ".json");
-    write_spline_file(path, s);
+    write_file_atomic(path, spline_to_json(s).dump(2) + "\n");
     b.result().written.push_back(path);
   }
   b.log("fig2..fig7: Bezier curves (section 4.1)");

@@ -11,15 +11,18 @@
 #include <vector>
 
 #include "spline/bspline.hpp"
+
 #include "bezierize/region.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr::fig {
 
+/// What make_figures computes and where it writes.
 struct FiguresOptions {
   std::filesystem::path out = "out/figures";  ///< created if missing
   std::shared_ptr<RegionBackend> backend;     ///< where regions are rendered (required)
   int size = 400;                             ///< side of every region image, pixels
-  int depth = 12;                             ///< D of Algorithms 1 and 2
+  int depth = kDefaultDepth;                  ///< D of Algorithms 1 and 2
   std::ostream* progress = nullptr;           ///< one line per step when set
 };
 
@@ -32,17 +35,19 @@ struct Claim {
   std::string detail;
 };
 
+/// One figure of the page: its PNG and its texts.
 struct FigureFile {
   std::string id;       ///< "fig8" (the PNG is id + ".png")
   std::string title;
   std::string caption;  ///< with the one-line reasons for the chosen curves
 };
 
+/// The figures, the checked claims and every file written.
 struct FiguresResult {
   std::vector<FigureFile> figures;
   std::vector<Claim> claims;
   std::vector<std::filesystem::path> written;  ///< PNGs, spline files, index.html
-  bool all_pass() const;
+  bool all_pass() const;  ///< every claim passes
 };
 
 /// Every curve the figures show (base curves and their edited states), named

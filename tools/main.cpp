@@ -2,6 +2,8 @@
 // 2 invalid input or usage (one line on stderr), 3 environment failure.
 #include <iostream>
 
+#include <CLI/CLI.hpp>
+
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
 

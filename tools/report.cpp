@@ -1,17 +1,10 @@
 #include "tools/report.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <charconv>
 #include <cmath>
-#include <exception>
-#include <fstream>
 #include <limits>
 #include <mutex>
-#include <sstream>
-#include <thread>
 
 #include <glm/common.hpp>
 
@@ -19,9 +12,10 @@
 #include "bezierize/lambda.hpp"
 #include "bezierize/region.hpp"
 #include "spline/errors.hpp"
+#include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
+#include "tools/io.hpp"
 
 namespace cmr::report {
 
@@ -164,73 +158,84 @@ std::vector<SignChange> sign_changes(const std::vector<Stretch>& stretches) {
   return out;
 }
 
-}  // namespace
-
-SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
-  SplineReport r;
-  r.spline = spline;
-  r.name = spline.name();
-  r.analysis = analyze(spline, analyze_options(options));
-  r.pass = passes(r.analysis, check_of(options));
-
-  const int N = spline.segment_count();
-  // Exact Bezier points, where needed: lambda and eta are then exact
-  // polynomials of the spline's double data, so their roots are certain.
-  std::vector<std::optional<std::vector<Point<Rational>>>> exact(N);
-  auto exact_points = [&](int i) -> const std::vector<Point<Rational>>& {
-    const Segment& s = spline.segments()[i];
-    if (!exact[i]) exact[i] = segment_bezier_points<Rational>(spline, s);
-    return *exact[i];
-  };
-
-  std::vector<int> lambda_start(N), eta_start(N);  // signs just right of each segment's start
-  for (int i = 0; i < N; ++i) {
-    const Segment& s = spline.segments()[i];
-    // Most segments' lambda or eta has coefficients of one certain sign, so no
-    // root; the error-bounded points show that without rational arithmetic.
-    const auto B = segment_bezier_points<Bounded>(spline, s);
-    SpanReport span{s, {}, r.analysis.segments[i], false, false, {}, {}};
-    for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
-    lambda_start[i] = strict_sign(lambda_bernstein<Bounded>(B));
-    if (lambda_start[i] == 0) {
-      const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact_points(i));
-      span.lambda_zero = is_zero(lambda);
-      lambda_start[i] = sign_at_start(lambda);
-      span.extrema = span_roots(lambda, s, span.bezier, options.roots);
-    }
-    eta_start[i] = strict_sign(eta_bernstein<Bounded>(B));
-    if (eta_start[i] == 0) {
-      const Bernstein<Rational> eta = eta_bernstein<Rational>(exact_points(i));
-      span.eta_zero = is_zero(eta);
-      eta_start[i] = sign_at_start(eta);
-      span.inflections = span_roots(eta, s, span.bezier, options.roots);
-    }
-    r.spans.push_back(std::move(span));
+/// Exact Bezier points of each segment, computed when first needed: lambda
+/// and eta formed from them are exact polynomials of the spline's double
+/// data, so their roots are certain.
+class ExactPoints {
+ public:
+  explicit ExactPoints(const BSpline& spline) : spline_(spline), points_(spline.segment_count()) {}
+  const std::vector<Point<Rational>>& operator()(int i) {
+    if (!points_[i]) points_[i] = segment_bezier_points<Rational>(spline_, spline_.segments()[i]);
+    return *points_[i];
   }
-  for (const Joint& j : r.analysis.joints) {
-    JointReport jr{j, "C" + std::to_string(j.continuity), false};
+
+ private:
+  const BSpline& spline_;
+  std::vector<std::optional<std::vector<Point<Rational>>>> points_;
+};
+
+/// Signs of lambda and eta just right of a segment's start.
+struct StartSigns {
+  int lambda = 0, eta = 0;
+};
+
+/// One segment's report: its Bezier points, class, and the roots of lambda
+/// and eta. Most segments' lambda or eta has coefficients of one certain
+/// sign, so no root; the error-bounded points show that without rational
+/// arithmetic, and only the others are formed exactly.
+SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const RootOptions& roots,
+                       ExactPoints& exact, StartSigns& start) {
+  const Segment& s = spline.segments()[i];
+  const auto B = segment_bezier_points<Bounded>(spline, s);
+  SpanReport span{s, {}, c, false, false, {}, {}};
+  for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
+  start.lambda = strict_sign(lambda_bernstein<Bounded>(B));
+  if (start.lambda == 0) {
+    const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact(i));
+    span.lambda_zero = is_zero(lambda);
+    start.lambda = sign_at_start(lambda);
+    span.extrema = span_roots(lambda, s, span.bezier, roots);
+  }
+  start.eta = strict_sign(eta_bernstein<Bounded>(B));
+  if (start.eta == 0) {
+    const Bernstein<Rational> eta = eta_bernstein<Rational>(exact(i));
+    span.eta_zero = is_zero(eta);
+    start.eta = sign_at_start(eta);
+    span.inflections = span_roots(eta, s, span.bezier, roots);
+  }
+  return span;
+}
+
+/// Continuity of every joint; at a C0 knot, G1 or a corner from the exact tangents.
+std::vector<JointReport> joint_reports(const SplineAnalysis& analysis, ExactPoints& exact) {
+  std::vector<JointReport> out;
+  for (const Joint& j : analysis.joints) {
+    JointReport jr{j, std::string(1, 'C') + std::to_string(j.continuity), false};
     if (j.continuity < 1) {
-      const bool g1 = tangents_agree(exact_points(j.index - 1), exact_points(j.index));
+      const bool g1 = tangents_agree(exact(j.index - 1), exact(j.index));
       jr.continuity = g1 ? "G1" : "C0";
       jr.corner = !g1;
     }
-    r.joints.push_back(jr);
+    out.push_back(jr);
   }
+  return out;
+}
 
-  // dkappa/ds along the whole curve: lambda's signs inside the segments and
-  // the curvature jumps at joints that are not C2 (a jump is a stretch of
-  // zero length in its own direction). Straight segments (lambda == 0) keep
-  // the curvature constant and add nothing.
-  auto span_end = [&](int i) {
-    const Place p{spline.segments()[i].b, -1, i + 1 < N ? i + 1 : -1, 0};
-    return p;
-  };
+/// The curvature extrema and inflections of the whole curve. dkappa/ds along
+/// the curve: lambda's signs inside the segments and the curvature jumps at
+/// joints that are not C2 (a jump is a stretch of zero length in its own
+/// direction). Straight segments (lambda == 0) keep the curvature constant
+/// and add nothing.
+void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
+  const BSpline& spline = *r.spline;
+  const int N = spline.segment_count();
+  auto span_end = [&](int i) { return Place{spline.segments()[i].b, -1, i + 1 < N ? i + 1 : -1, 0}; };
   std::vector<Stretch> slope, sign;
   for (int i = 0; i < N; ++i) {
     if (i > 0 && r.analysis.joints[i - 1].jump != 0)
       slope.push_back({r.analysis.joints[i - 1].jump, {spline.segments()[i].a, -1, i, 0}});
-    if (!r.spans[i].lambda_zero) add_span_stretches(slope, lambda_start[i], r.spans[i].extrema, i, span_end(i));
-    if (!r.spans[i].eta_zero) add_span_stretches(sign, eta_start[i], r.spans[i].inflections, i, span_end(i));
+    if (!r.spans[i].lambda_zero) add_span_stretches(slope, start[i].lambda, r.spans[i].extrema, i, span_end(i));
+    if (!r.spans[i].eta_zero) add_span_stretches(sign, start[i].eta, r.spans[i].inflections, i, span_end(i));
   }
   for (const SignChange& c : sign_changes(slope)) {
     CurveEvent e{c.at.t, c.before > 0 ? 1 : -1, c.at.kappa, c.at.segment, c.at.joint};
@@ -243,8 +248,10 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   for (const SignChange& c : sign_changes(sign))
     r.inflections.push_back({c.at.t, c.after, 0, c.at.segment, c.at.joint});
   r.monotone_pieces = static_cast<int>(r.extrema.size()) + 1;
+}
 
-  // Curvature range: its extremes are at segment ends or stationary points.
+/// Curvature range: its extremes are at segment ends or stationary points.
+void curvature_range(SplineReport& r) {
   r.kappa_min = std::numeric_limits<double>::infinity();
   r.kappa_max = -r.kappa_min;
   auto consider = [&](double t, double k) {
@@ -252,11 +259,28 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
     if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
     if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
   };
-  for (int i = 0; i < N; ++i) {
-    consider(spline.segments()[i].a, frame_at(r.spans[i].bezier, 0).kappa);
-    consider(spline.segments()[i].b, frame_at(r.spans[i].bezier, 1).kappa);
-    for (const SpanRoot& x : r.spans[i].extrema) consider(x.t, x.kappa);
+  for (const SpanReport& span : r.spans) {
+    consider(span.segment.a, frame_at(span.bezier, 0).kappa);
+    consider(span.segment.b, frame_at(span.bezier, 1).kappa);
+    for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
   }
+}
+
+}  // namespace
+
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
+  SplineReport r;
+  r.spline = spline;
+  r.name = spline.name();
+  r.analysis = analyze(spline, analyze_options(options));
+  r.pass = passes(r.analysis, check_of(options));
+  ExactPoints exact(spline);
+  std::vector<StartSigns> start(spline.segment_count());
+  for (int i = 0; i < spline.segment_count(); ++i)
+    r.spans.push_back(span_report(spline, i, r.analysis.segments[i], options.roots, exact, start[i]));
+  r.joints = joint_reports(r.analysis, exact);
+  find_events(r, start);
+  curvature_range(r);
   return r;
 }
 
@@ -273,13 +297,6 @@ bool passing_label(const RegionResult& image, std::size_t index) {
   return l == RegionLabel::increasing || l == RegionLabel::decreasing;
 }
 
-std::string read_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string thumbnail(const BSpline& spline, const RegionResult& image, bool split, int max_depth, Vec2 from, Vec2 to) {
   draw::RegionPicture picture;
   picture.spline = &spline;
@@ -287,14 +304,7 @@ std::string thumbnail(const BSpline& spline, const RegionResult& image, bool spl
   picture.split = split;
   picture.max_depth = max_depth;
   picture.moved = std::make_pair(from, to);
-  static std::atomic<int> counter{0};
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("cmr-report-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".png");
-  draw::write_region_png(path, picture);
-  std::string bytes = read_bytes(path);
-  std::filesystem::remove(path);
-  return bytes;
+  return draw::region_png(picture);
 }
 
 }  // namespace
@@ -345,45 +355,39 @@ ReportInput read_input(const std::string& file) {
   return in;
 }
 
+namespace {
+
+/// One item of a batch, analysed: its report, or its input error.
+SplineReport report_item(const ReportInput& input, const ReportOptions& options) {
+  SplineReport r;
+  try {
+    if (input.spline)
+      r = report_spline(*input.spline, options);
+    else
+      r.error = input.error;
+  } catch (const InputError& e) {
+    r = SplineReport{};
+    r.error = e.what();
+  }
+  r.file = input.file;
+  if (r.name.empty()) r.name = std::filesystem::path(r.file).stem().string();
+  return r;
+}
+
+}  // namespace
+
 std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
                                        const Progress& progress) {
   const int total = static_cast<int>(inputs.size());
   std::vector<SplineReport> out(total);
-  std::atomic<int> next{0};
   int done = 0;
   std::mutex mutex;
-  std::exception_ptr failure;
-  auto work = [&] {
-    for (int i = next++; i < total; i = next++) {
-      SplineReport& r = out[i];
-      try {
-        if (inputs[i].spline)
-          r = report_spline(*inputs[i].spline, options);
-        else
-          r.error = inputs[i].error;
-      } catch (const InputError& e) {
-        r = SplineReport{};
-        r.error = e.what();
-      } catch (...) {
-        const std::lock_guard lock(mutex);
-        if (!failure) failure = std::current_exception();
-        return;
-      }
-      r.file = inputs[i].file;
-      if (r.name.empty()) r.name = std::filesystem::path(r.file).stem().string();
-      const std::lock_guard lock(mutex);
-      ++done;
-      if (progress) progress(done, total, r.name);
-    }
-  };
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  const int threads = std::min(total, options.threads > 0 ? options.threads : static_cast<int>(hw));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-
+  parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
+    out[i] = report_item(inputs[i], options);
+    const std::lock_guard lock(mutex);
+    ++done;
+    if (progress) progress(done, total, out[i].name);
+  });
   if (!options.regions) return out;
   // Regions one spline at a time: each render already uses every core (or the GPU).
   std::vector<SplineReport*> failing;
@@ -402,9 +406,9 @@ int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& opt
     invalid = invalid || !r.error.empty();
     fail = fail || (r.error.empty() && !r.pass);
   }
-  if (invalid) return cli::kInvalid;
-  if (fail && options.require) return cli::kFail;
-  return cli::kOk;
+  if (invalid) return kExitInvalid;
+  if (fail && options.require) return kExitFail;
+  return kExitPass;
 }
 
 // ---------------------------------------------------------------- JSON
@@ -448,6 +452,56 @@ Json place_json(Json j, const CurveEvent& e) {
   return j;
 }
 
+Json segments_json(const SplineReport& r) {
+  Json segments = Json::array();
+  for (const SpanReport& sp : r.spans) {
+    Json e = Json::array(), i = Json::array();
+    for (const SpanRoot& x : sp.extrema) e.push_back(root_json(x, true));
+    for (const SpanRoot& x : sp.inflections) i.push_back(root_json(x, false));
+    segments.push_back({{"index", sp.segment.index},
+                        {"interval", {sp.segment.a, sp.segment.b}},
+                        {"curvature", to_string(sp.classification.monotonicity.curvature)},
+                        {"inflection", to_string(sp.classification.inflection.inflection)},
+                        {"depth", sp.classification.monotonicity.depth},
+                        {"inflection_depth", sp.classification.inflection.depth},
+                        {"exact", sp.classification.exact_used},
+                        {"lambda_zero", sp.lambda_zero},
+                        {"eta_zero", sp.eta_zero},
+                        {"extrema", e},
+                        {"inflections", i}});
+  }
+  return segments;
+}
+
+Json joints_json(const SplineReport& r) {
+  Json joints = Json::array();
+  for (const JointReport& jr : r.joints) {
+    const Joint& jt = jr.joint;
+    joints.push_back({{"index", jt.index},
+                      {"knot", jt.knot},
+                      {"multiplicity", jt.multiplicity},
+                      {"continuity", jr.continuity},
+                      {"corner", jr.corner},
+                      {"kappa_left", jt.kappa_left},
+                      {"kappa_right", jt.kappa_right},
+                      {"jump", jt.jump > 0 ? "up" : (jt.jump < 0 ? "down" : "none")}});
+  }
+  return joints;
+}
+
+/// The fixes, or null when none were searched (a passing spline, or regions off).
+Json fixes_json(const SplineReport& r) {
+  if (!r.fixes) return nullptr;
+  Json fixes = Json::array();
+  for (const Fix& f : *r.fixes) {
+    Json fj{{"point", f.point}, {"region_pixels", f.pixels}};
+    fj["example"] = f.example ? Json{f.example->x, f.example->y} : Json(nullptr);
+    fj["verified"] = f.verified;
+    fixes.push_back(fj);
+  }
+  return fixes;
+}
+
 Json spline_json(const SplineReport& r, int index) {
   Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_of(r)}};
   if (!r.error.empty()) {
@@ -474,51 +528,9 @@ Json spline_json(const SplineReport& r, int index) {
                     {"extrema", extrema},
                     {"inflections", inflections}};
 
-  Json segments = Json::array();
-  for (const SpanReport& sp : r.spans) {
-    Json e = Json::array(), i = Json::array();
-    for (const SpanRoot& x : sp.extrema) e.push_back(root_json(x, true));
-    for (const SpanRoot& x : sp.inflections) i.push_back(root_json(x, false));
-    segments.push_back({{"index", sp.segment.index},
-                        {"interval", {sp.segment.a, sp.segment.b}},
-                        {"curvature", to_string(sp.classification.monotonicity.curvature)},
-                        {"inflection", to_string(sp.classification.inflection.inflection)},
-                        {"depth", sp.classification.monotonicity.depth},
-                        {"inflection_depth", sp.classification.inflection.depth},
-                        {"exact", sp.classification.exact_used},
-                        {"lambda_zero", sp.lambda_zero},
-                        {"eta_zero", sp.eta_zero},
-                        {"extrema", e},
-                        {"inflections", i}});
-  }
-  j["segments"] = segments;
-
-  Json joints = Json::array();
-  for (const JointReport& jr : r.joints) {
-    const Joint& jt = jr.joint;
-    joints.push_back({{"index", jt.index},
-                      {"knot", jt.knot},
-                      {"multiplicity", jt.multiplicity},
-                      {"continuity", jr.continuity},
-                      {"corner", jr.corner},
-                      {"kappa_left", jt.kappa_left},
-                      {"kappa_right", jt.kappa_right},
-                      {"jump", jt.jump > 0 ? "up" : (jt.jump < 0 ? "down" : "none")}});
-  }
-  j["joints"] = joints;
-
-  if (r.fixes) {
-    Json fixes = Json::array();
-    for (const Fix& f : *r.fixes) {
-      Json fj{{"point", f.point}, {"region_pixels", f.pixels}};
-      fj["example"] = f.example ? Json{f.example->x, f.example->y} : Json(nullptr);
-      fj["verified"] = f.verified;
-      fixes.push_back(fj);
-    }
-    j["fixes"] = fixes;
-  } else {
-    j["fixes"] = nullptr;
-  }
+  j["segments"] = segments_json(r);
+  j["joints"] = joints_json(r);
+  j["fixes"] = fixes_json(r);
   return j;
 }
 
@@ -617,11 +629,20 @@ void marker(std::string& out, double x, double y, const char* colour, double rad
 
 constexpr int kSamples = 24;  // per segment, for the curve, the comb and the plot
 
-// The curve, its control polygon and its curvature comb (teeth along the
-// normal, away from the centre of curvature, the longest 18% of the extent).
-void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
-  const BSpline& s = *r.spline;
-  const double W = 440, H = 330;
+/// The curve picture's canvas and its curvature comb: teeth along the
+/// normal, away from the centre of curvature, the longest 18% of the extent.
+struct CombCanvas {
+  Canvas canvas{0, 0, 1, 1, 0};
+  double comb = 0;  ///< tooth length per unit of curvature
+  Vec2 tip(const Frame& f) const {
+    const double len = std::sqrt(dot(f.tangent, f.tangent));
+    const Vec2 normal = len > 0 ? Vec2(-f.tangent.y, f.tangent.x) / len : Vec2(0.0);
+    return f.point - comb * (std::isfinite(f.kappa) ? f.kappa : 0.0) * normal;
+  }
+};
+
+/// A canvas of W x H on which the control points, the curve and the comb all fit.
+CombCanvas comb_canvas(const BSpline& s, const std::vector<std::vector<Frame>>& frames, double W, double H) {
   Vec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
   double kmax = 0;
   auto grow = [&](Vec2 p) {
@@ -635,51 +656,31 @@ void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::v
       grow(f.point);
       if (std::isfinite(f.kappa)) kmax = std::max(kmax, std::fabs(f.kappa));
     }
+  CombCanvas cc;
   const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 1e-300});
-  const double comb = kmax > 0 ? 0.18 * extent / kmax : 0;
-  auto tip = [&](const Frame& f) {
-    const double len = std::sqrt(dot(f.tangent, f.tangent));
-    const Vec2 normal = len > 0 ? Vec2(-f.tangent.y, f.tangent.x) / len : Vec2(0.0);
-    return f.point - comb * (std::isfinite(f.kappa) ? f.kappa : 0.0) * normal;
-  };
+  cc.comb = kmax > 0 ? 0.18 * extent / kmax : 0;
   for (const auto& fs : frames)
-    for (const Frame& f : fs) grow(tip(f));
+    for (const Frame& f : fs) grow(cc.tip(f));
   const double scale = std::min((W - 20) / std::max(hi.x - lo.x, 1e-300), (H - 20) / std::max(hi.y - lo.y, 1e-300));
-  const Canvas c{lo.x, lo.y, scale, scale, H, 0.5 * (W - (hi.x - lo.x) * scale), 0.5 * (H - (hi.y - lo.y) * scale)};
+  cc.canvas = {lo.x, lo.y, scale, scale, H, 0.5 * (W - (hi.x - lo.x) * scale), 0.5 * (H - (hi.y - lo.y) * scale)};
+  return cc;
+}
 
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"330\" class=\"curve\">";
-  out += "<path fill=\"none\" stroke=\"#8fb0e8\" stroke-width=\"1\" d=\"";
-  for (const auto& fs : frames)
-    for (const Frame& f : fs) {
-      out += 'M';
-      point_xy(out, c, f.point);
-      out += 'L';
-      point_xy(out, c, tip(f));
-    }
-  out += "\"/><path fill=\"none\" stroke=\"";
-  out += kBlue;
-  out += "\" stroke-width=\"1.2\" d=\"";
+/// An SVG path of one polyline per segment through point(frame).
+template <class PointOf>
+void polylines(std::string& out, const Canvas& c, const std::vector<std::vector<Frame>>& frames, PointOf point) {
   for (const auto& fs : frames) {
     out += 'M';
     for (const Frame& f : fs) {
-      point_xy(out, c, tip(f));
+      point_xy(out, c, point(f));
       out += ' ';
     }
   }
-  out += "\"/><polyline fill=\"none\" stroke=\"#999\" stroke-dasharray=\"4 3\" points=\"";
-  for (const Vec2& p : s.points()) {
-    point_xy(out, c, p);
-    out += ' ';
-  }
-  out += "\"/><path fill=\"none\" stroke=\"#111\" stroke-width=\"2\" d=\"";
-  for (const auto& fs : frames) {
-    out += 'M';
-    for (const Frame& f : fs) {
-      point_xy(out, c, f.point);
-      out += ' ';
-    }
-  }
-  out += "\"/>";
+}
+
+/// Control point names, and markers at the extrema and inflections.
+void curve_marks_svg(std::string& out, const SplineReport& r, const Canvas& c) {
+  const BSpline& s = *r.spline;
   for (int k = 0; k < s.point_count(); ++k) {
     const Vec2 p = s.points()[k];
     marker(out, c.x(p.x), c.y(p.y), "#666", 2.5);
@@ -697,6 +698,34 @@ void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::v
     const Vec2 p = evaluate(s, e.t);
     marker(out, c.x(p.x), c.y(p.y), kGreen, 3.5);
   }
+}
+
+/// The curve, its control polygon and its curvature comb.
+void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
+  const CombCanvas cc = comb_canvas(*r.spline, frames, 440, 330);
+  const Canvas& c = cc.canvas;
+  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"330\" class=\"curve\">";
+  out += "<path fill=\"none\" stroke=\"#8fb0e8\" stroke-width=\"1\" d=\"";
+  for (const auto& fs : frames)
+    for (const Frame& f : fs) {
+      out += 'M';
+      point_xy(out, c, f.point);
+      out += 'L';
+      point_xy(out, c, cc.tip(f));
+    }
+  out += "\"/><path fill=\"none\" stroke=\"";
+  out += kBlue;
+  out += "\" stroke-width=\"1.2\" d=\"";
+  polylines(out, c, frames, [&](const Frame& f) { return cc.tip(f); });
+  out += "\"/><polyline fill=\"none\" stroke=\"#999\" stroke-dasharray=\"4 3\" points=\"";
+  for (const Vec2& p : r.spline->points()) {
+    point_xy(out, c, p);
+    out += ' ';
+  }
+  out += "\"/><path fill=\"none\" stroke=\"#111\" stroke-width=\"2\" d=\"";
+  polylines(out, c, frames, [](const Frame& f) { return f.point; });
+  out += "\"/>";
+  curve_marks_svg(out, r, c);
   out += "</svg>";
 }
 
@@ -741,9 +770,9 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   for (const CurveEvent& e : r.extrema)
     marker(out, c.x(e.t), c.y(std::clamp(e.kappa, klo, khi)), e.kind > 0 ? kRed : kBlue, 4.5);
   for (const CurveEvent& e : r.inflections) marker(out, c.x(e.t), c.y(0), kGreen, 3.5);
-  out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + cli::html_escape(num(khi)) + "</text>";
-  out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + cli::html_escape(num(klo)) + "</text>";
-  out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + cli::html_escape(num(t1)) + "</text>";
+  out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + html_escape(num(khi)) + "</text>";
+  out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + html_escape(num(klo)) + "</text>";
+  out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + html_escape(num(t1)) + "</text>";
   out += "</svg>";
 }
 
@@ -770,33 +799,20 @@ std::string place_text(const CurveEvent& e) {
   return e.joint >= 0 ? "on joint " + std::to_string(e.joint) : "inside segment " + std::to_string(e.segment);
 }
 
-void section_html(std::string& out, const SplineReport& r, int index, const ReportOptions& options) {
-  out += "<section id=\"s" + std::to_string(index) + "\"><h2>" + cli::html_escape(r.name) + " " + badge(r) + "</h2>";
-  out += "<p class=\"file\">" + cli::html_escape(r.file) + "</p>";
-  if (!r.error.empty()) {
-    out += "<p class=\"error\">" + cli::html_escape(r.error) + "</p></section>";
-    return;
-  }
+/// The verdicts, the size of the spline and its curvature range in one paragraph.
+void summary_html(std::string& out, const SplineReport& r, const ReportOptions& options) {
   const BSpline& s = *r.spline;
-  std::vector<std::vector<Frame>> frames(r.spans.size());
-  for (std::size_t i = 0; i < r.spans.size(); ++i)
-    for (int k = 0; k <= kSamples; ++k)
-      frames[i].push_back(frame_at(r.spans[i].bezier, static_cast<double>(k) / kSamples));
-  out += "<p>check <b>" + cli::html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
+  out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
          ", CMR " + to_string(r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
   out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) +
          (s.segment_count() == 1 ? " segment, " : " segments, ") + std::to_string(r.monotone_pieces) +
          " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") + "; κ from " + num(r.kappa_min) +
          " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) + " (t = " + num(r.t_max) + ").</p>";
-  out += "<div class=\"figs\"><figure>";
-  curve_svg(out, r, frames);
-  out +=
-      "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
-      "green</figcaption></figure><figure>";
-  plot_svg(out, r, frames);
-  out += "<figcaption>Signed curvature κ(t); knots dashed</figcaption></figure></div>";
+}
 
+/// One row per segment: its class, decision depths and roots.
+void spans_html(std::string& out, const SplineReport& r) {
   out +=
       "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>inflection</th><th>depth</th>"
       "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
@@ -809,6 +825,10 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
            "</td><td>" + roots_cell(sp.inflections, false) + "</td></tr>";
   }
   out += "</table>";
+}
+
+/// One row per joint (none for a single segment).
+void joints_html(std::string& out, const SplineReport& r) {
   if (!r.joints.empty()) {
     out +=
         "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>κ left</th>"
@@ -820,6 +840,10 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
              (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
     out += "</table>";
   }
+}
+
+/// The extrema and inflections of the whole curve, in parameter order.
+void events_html(std::string& out, const SplineReport& r) {
   out += "<p>Curvature extrema: ";
   if (r.extrema.empty()) out += "none";
   for (std::size_t i = 0; i < r.extrema.size(); ++i) {
@@ -833,24 +857,51 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   for (std::size_t i = 0; i < r.inflections.size(); ++i)
     out += (i ? "; " : "") + std::string("t = ") + num(r.inflections[i].t) + " (" + place_text(r.inflections[i]) + ")";
   out += ".</p>";
+}
 
-  if (r.fixes) {
-    out += "<div class=\"fixes\"><h3>Single control points that can fix it</h3>";
-    bool any = false;
-    for (const Fix& f : *r.fixes) {
-      if (!f.example) continue;
-      any = true;
-      out += "<figure>";
-      if (!f.thumbnail_png.empty())
-        out += "<img alt=\"region of P" + std::to_string(f.point) + "\" width=\"" +
-               std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," + base64(f.thumbnail_png) +
-               "\">";
-      out += "<figcaption>move P" + std::to_string(f.point) + " into its region, e.g. to (" + num(f.example->x) + ", " +
-             num(f.example->y) + ")" + (f.verified ? " ✓" : " (not confirmed by analyze)") + "</figcaption></figure>";
-    }
-    if (!any) out += "<p>No single control point has a region in the default view.</p>";
-    out += "</div>";
+/// Single control points that can fix a failing spline, with their thumbnails.
+void fixes_html(std::string& out, const std::vector<Fix>& fixes, const ReportOptions& options) {
+  out += "<div class=\"fixes\"><h3>Single control points that can fix it</h3>";
+  bool any = false;
+  for (const Fix& f : fixes) {
+    if (!f.example) continue;
+    any = true;
+    out += "<figure>";
+    if (!f.thumbnail_png.empty())
+      out += "<img alt=\"region of P" + std::to_string(f.point) + "\" width=\"" +
+             std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," + base64(f.thumbnail_png) +
+             "\">";
+    out += "<figcaption>move P" + std::to_string(f.point) + " into its region, e.g. to (" + num(f.example->x) + ", " +
+           num(f.example->y) + ")" + (f.verified ? " ✓" : " (not confirmed by analyze)") + "</figcaption></figure>";
   }
+  if (!any) out += "<p>No single control point has a region in the default view.</p>";
+  out += "</div>";
+}
+
+void section_html(std::string& out, const SplineReport& r, int index, const ReportOptions& options) {
+  out += "<section id=\"s" + std::to_string(index) + "\"><h2>" + html_escape(r.name) + " " + badge(r) + "</h2>";
+  out += "<p class=\"file\">" + html_escape(r.file) + "</p>";
+  if (!r.error.empty()) {
+    out += "<p class=\"error\">" + html_escape(r.error) + "</p></section>";
+    return;
+  }
+  std::vector<std::vector<Frame>> frames(r.spans.size());
+  for (std::size_t i = 0; i < r.spans.size(); ++i)
+    for (int k = 0; k <= kSamples; ++k)
+      frames[i].push_back(frame_at(r.spans[i].bezier, static_cast<double>(k) / kSamples));
+  summary_html(out, r, options);
+  out += "<div class=\"figs\"><figure>";
+  curve_svg(out, r, frames);
+  out +=
+      "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
+      "green</figcaption></figure><figure>";
+  plot_svg(out, r, frames);
+  out += "<figcaption>Signed curvature κ(t); knots dashed</figcaption></figure></div>";
+
+  spans_html(out, r);
+  joints_html(out, r);
+  events_html(out, r);
+  if (r.fixes) fixes_html(out, *r.fixes, options);
   out += "</section>";
 }
 
@@ -879,7 +930,7 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
   out += "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " + counts +
          "</title><style>";
   out += kStyle;
-  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" + cli::html_escape(to_string(check_of(options))) +
+  out += "</style></head><body><h1>cmr report</h1><p>" + counts + "; check <b>" + html_escape(to_string(check_of(options))) +
          "</b>" + (options.require ? " (required)" : " (not required)") + ", depth " +
          std::to_string(options.max_depth) + ", schema " + kSchema + ".</p>";
   out +=
@@ -888,8 +939,8 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const SplineReport& r = reports[i];
     const std::string id = "s" + std::to_string(i);
-    out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + cli::html_escape(r.name) + "</a></td><td>" +
-           cli::html_escape(r.file) + "</td><td>" + badge(r) + "</td>";
+    out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + html_escape(r.name) + "</a></td><td>" +
+           html_escape(r.file) + "</td><td>" + badge(r) + "</td>";
     if (r.error.empty())
       out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) + "</td><td>" +
              std::to_string(r.monotone_pieces) + "</td></tr>";
@@ -900,15 +951,6 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
   for (std::size_t i = 0; i < reports.size(); ++i) section_html(out, reports[i], static_cast<int>(i), options);
   out += "</body></html>\n";
   return out;
-}
-
-void write_report(const std::filesystem::path& dir, const std::vector<SplineReport>& reports,
-                  const ReportOptions& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
-  cli::write_file_atomic(dir / "report.json", report_json(reports, options).dump(2) + "\n");
-  cli::write_file_atomic(dir / "index.html", report_html(reports, options));
 }
 
 }  // namespace cmr::report

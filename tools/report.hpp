@@ -1,13 +1,14 @@
 #pragma once
-// Spline QA reports (`cmr report`): per spline, every span's classification
-// (Algorithms 1 and 2, CAD&A 2024 §3), the certified parameters of its
-// curvature extrema and inflections (bezierize/roots.hpp), the joints, the
-// monotone pieces of the whole curve, and for a spline that fails the check,
-// which single control points have a region that fixes it (§4). Rendered as a
-// versioned JSON document (docs/report-schema.md) and one self-contained HTML
-// page; the exit code gates a batch.
+/// Spline QA reports (`cmr report`): per spline, every span's classification
+/// (Algorithms 1 and 2, CAD&A 2024 §3), the certified parameters of its
+/// curvature extrema and inflections (bezierize/roots.hpp), the joints, the
+/// monotone pieces of the whole curve, and for a spline that fails the check,
+/// which single control points have a region that fixes it (§4). Rendered as a
+/// versioned JSON document (docs/report-schema.md) and one self-contained HTML
+/// page; the exit code gates a batch. Library target cmr::report: it links no
+/// command-line code and writes no files (the command writes what these
+/// functions return, with cmr::write_file_atomic).
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -18,11 +19,17 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/roots.hpp"
+
 #include "bezierize/region.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr::report {
 
+/// The version of report_json's document (docs/report-schema.md).
 inline constexpr const char* kSchema = "cmr-report/1";
+
+/// exit_code's values; the cmr command exits with them.
+inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
 
 /// What a spline must satisfy to pass: its CMRWI or CMR verdict is increasing
 /// or decreasing, or (split:S) segments 0..S-1 and S..N-1 are each monotone in
@@ -33,11 +40,13 @@ struct Requirement {
 };
 /// Parses "cmrwi", "cmr" or "split:S" (InputError otherwise).
 Requirement parse_requirement(const std::string& text);
+/// The text parse_requirement reads: "cmrwi", "cmr" or "split:S".
 std::string to_string(const Requirement& r);
 
+/// How a batch is reported; the defaults are the command's.
 struct ReportOptions {
   std::optional<Requirement> require;  ///< the gate; when empty splines are judged by CMR but cannot fail the run
-  int max_depth = 12;                  ///< D of Algorithms 1 and 2
+  int max_depth = kDefaultDepth;       ///< D of Algorithms 1 and 2
   bool regions = true;                 ///< search single-point fixes (region images) and draw their thumbnails
   int region_size = 96;                ///< fix-search images are region_size x region_size over the default view
   std::shared_ptr<RegionBackend> backend;  ///< where region images are rendered (required with regions)
@@ -60,18 +69,20 @@ struct SpanRoot {
   double kappa = 0;  ///< curvature there
 };
 
+/// One segment of a spline: its class and the roots of lambda and eta.
 struct SpanReport {
-  Segment segment;
+  Segment segment;          ///< the span and its index
   std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
-  SegmentClass classification;
+  SegmentClass classification;  ///< Algorithms 1 and 2
   bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)
   bool eta_zero = false;              ///< eta == 0: zero curvature
   std::vector<SpanRoot> extrema;      ///< roots of lambda
   std::vector<SpanRoot> inflections;  ///< roots of eta
 };
 
+/// One joint: its analysis and its geometric continuity.
 struct JointReport {
-  Joint joint;
+  Joint joint;  ///< knot, multiplicity, curvature on both sides
   std::string continuity;  ///< "C<k>" from the knots (k >= 1), else "G1" (tangent directions agree) or "C0"
   bool corner = false;     ///< C0 and not G1
 };
@@ -79,43 +90,46 @@ struct JointReport {
 /// A curvature extremum or inflection of the whole curve: a change in the sign
 /// of dkappa/ds (or of kappa) along the parameter, jumps at joints included.
 struct CurveEvent {
-  double t = 0;
+  double t = 0;      ///< the spline parameter
   int kind = 0;      ///< extremum: +1 maximum, -1 minimum; inflection: sign of kappa after it
   double kappa = 0;  ///< extremum: the extreme value (the larger / smaller side of a jump)
   int segment = -1;  ///< inside this segment, or
   int joint = -1;    ///< on this joint (index i: between segments i-1 and i)
 };
 
+/// What moving one control point alone can do for a failing spline (§4).
 struct Fix {
-  int point = 0;
+  int point = 0;                ///< the control point's index
   std::uint64_t pixels = 0;     ///< pixels of the region that pass the check
   std::optional<Vec2> example;  ///< the passing pixel centre nearest the current point
   bool verified = false;        ///< analyze on the spline with the point moved there passes
   std::string thumbnail_png;    ///< region picture (PNG bytes); empty when not drawn
 };
 
+/// Everything reported about one spline (or why it could not be read).
 struct SplineReport {
   std::string file;   ///< as given on the command line (or a label)
   std::string name;   ///< the spline's name, else the file's stem
   std::string error;  ///< invalid input: the message; nothing below is filled
   std::optional<BSpline> spline;
-  SplineAnalysis analysis;
-  bool pass = false;
-  std::vector<SpanReport> spans;
-  std::vector<JointReport> joints;
+  SplineAnalysis analysis;  ///< analyze() with the report's depth and split
+  bool pass = false;        ///< it satisfies check_of(options)
+  std::vector<SpanReport> spans;    ///< one per segment
+  std::vector<JointReport> joints;  ///< one per joint (segment i-1 | i)
   std::vector<CurveEvent> extrema;      ///< in parameter order
   std::vector<CurveEvent> inflections;  ///< in parameter order
   int monotone_pieces = 1;              ///< extrema.size() + 1
-  double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;
+  double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;  ///< curvature range and where it is reached
   std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
 };
 
 /// One item of a batch: a spline, or why it could not be read.
 struct ReportInput {
-  std::string file;
-  std::optional<BSpline> spline;
-  std::string error;
+  std::string file;               ///< path or label
+  std::optional<BSpline> spline;  ///< the spline, when it could be read
+  std::string error;              ///< else the InputError's message
 };
+/// Reads a spline file; an invalid one becomes an item with its error.
 ReportInput read_input(const std::string& file);
 
 /// Everything but the regions for one spline (thread-safe). Throws InputError
@@ -133,14 +147,12 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
                                        const Progress& progress = {});
 
 /// 0 when every spline passes (or there is no requirement), 1 when one fails,
-/// 2 when an input is invalid (cli::Exit codes).
+/// 2 when an input is invalid (kExitPass, kExitFail, kExitInvalid).
 int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options);
 
+/// The report as a cmr-report/1 document (docs/report-schema.md).
 nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
 /// One self-contained page: no network, pictures inline (SVG, data: URIs).
 std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options);
-/// Writes dir/report.json and dir/index.html atomically, creating dir.
-void write_report(const std::filesystem::path& dir, const std::vector<SplineReport>& reports,
-                  const ReportOptions& options);
 
 }  // namespace cmr::report

@@ -8,7 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config python3
   libglm-dev nlohmann-json3-dev libcli11-dev libgmp-dev
   libcairo2-dev libpng-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev
   libvulkan-dev mesa-vulkan-drivers glslang-tools
   chromium fonts-dejavu-core
 )

@@ -1,11 +1,15 @@
-// tools/draw: region pictures written as PNGs, colours by label, atomic writes.
+// tools/draw: region pictures as PNG bytes in memory and as files, colours by label, atomic writes.
 #include <cairo.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <array>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
+#include <string_view>
 
 #include "spline/errors.hpp"
 #include "tools/draw.hpp"
@@ -45,6 +49,13 @@ struct Png {
     return {static_cast<int>(v >> 16 & 0xff), static_cast<int>(v >> 8 & 0xff), static_cast<int>(v & 0xff)};
   }
 };
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
 
 Png read_png(const fs::path& p) {
   Png png;
@@ -150,6 +161,50 @@ TEST(WriteFigurePng, CompositeIsAValidPng) {
   const Png png = read_png(path);
   EXPECT_GE(png.width, 200);
   EXPECT_GE(png.height, 100);
+  EXPECT_EQ(figure_png(f), slurp(path)) << "the file holds exactly the bytes rendered in memory";
+}
+
+/// Reads PNG bytes from memory, chunk by chunk as Cairo asks for them.
+struct PngReader {
+  std::string_view bytes;
+  static cairo_status_t read(void* self, unsigned char* data, unsigned int length) {
+    auto* r = static_cast<PngReader*>(self);
+    if (r->bytes.size() < length) return CAIRO_STATUS_READ_ERROR;
+    std::memcpy(data, r->bytes.data(), length);
+    r->bytes.remove_prefix(length);
+    return CAIRO_STATUS_SUCCESS;
+  }
+};
+
+TEST(RegionPng, InMemoryBytesDecodeAndEqualTheFile) {
+  const RegionResult r = halves(kCubic, 64, 48, RegionLabel::decreasing, RegionLabel::increasing);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  const std::string bytes = region_png(p);
+  ASSERT_GE(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << "PNG signature";
+  PngReader reader{bytes};
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> decoded(
+      cairo_image_surface_create_from_png_stream(&PngReader::read, &reader), &cairo_surface_destroy);
+  ASSERT_EQ(cairo_surface_status(decoded.get()), CAIRO_STATUS_SUCCESS);
+  EXPECT_EQ(cairo_image_surface_get_width(decoded.get()), 64);
+  EXPECT_EQ(cairo_image_surface_get_height(decoded.get()), 48);
+  EXPECT_TRUE(reader.bytes.empty()) << reader.bytes.size() << " bytes after the PNG's end";
+  const fs::path path = scratch() / "memory.png";
+  write_region_png(path, p);
+  EXPECT_EQ(slurp(path), bytes);
+}
+
+TEST(WriteRegionPng, DirectoryAsOutputIsAnInputErrorAndStaysADirectory) {
+  const RegionResult r = halves(kCubic, 16, 16, RegionLabel::increasing, RegionLabel::decreasing);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  const fs::path dir = scratch() / "a_folder.png";
+  fs::create_directories(dir);
+  EXPECT_THROW(write_region_png(dir, p), InputError);
+  EXPECT_TRUE(fs::is_directory(dir));
 }
 
 }  // namespace

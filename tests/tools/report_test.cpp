@@ -276,6 +276,33 @@ TEST(ReportFixes, FindTheMovedPointAndVerifyTheExample) {
   for (const Fix& g : *r.fixes) EXPECT_EQ(g.example.has_value(), g.pixels > 0) << "P" << g.point;
 }
 
+TEST(ReportFixes, ThumbnailsAreDrawnInMemoryWithoutTemporaryFiles) {
+  // Earlier versions drew each thumbnail to a file in the temporary folder
+  // and read it back; now nothing may appear there.
+  const fs::path tmp = test::scratch() / "tmpdir";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const std::string saved = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "";
+  ::setenv("TMPDIR", tmp.c_str(), 1);
+  ReportOptions o;
+  o.backend = std::make_shared<CpuRegionBackend>();
+  o.region_size = 32;
+  std::vector<ReportInput> inputs(1);
+  inputs[0].file = "pulled";
+  inputs[0].spline = pulled_spiral();
+  const std::vector<SplineReport> reports = report_batch(std::move(inputs), o);
+  saved.empty() ? ::unsetenv("TMPDIR") : ::setenv("TMPDIR", saved.c_str(), 1);
+  ASSERT_TRUE(reports[0].fixes);
+  int thumbnails = 0;
+  for (const Fix& f : *reports[0].fixes) {
+    if (f.thumbnail_png.empty()) continue;
+    ++thumbnails;
+    EXPECT_EQ(f.thumbnail_png.substr(0, 4), "\x89PNG") << "P" << f.point;
+  }
+  EXPECT_GT(thumbnails, 0);
+  EXPECT_TRUE(fs::is_empty(tmp)) << "a temporary file was left in " << tmp;
+}
+
 // ------------------------------------------------------------ the command --
 
 std::string spline_file(const std::string& name, const BSpline& s) {
@@ -375,6 +402,19 @@ TEST(ReportCommand, FixesCarryThumbnails) {
   EXPECT_GT(fix["region_pixels"].get<int>(), 0);
   EXPECT_TRUE(fix["verified"].get<bool>());
   EXPECT_NE(test::slurp(out / "index.html").find("data:image/png;base64,"), std::string::npos);
+}
+
+TEST(ReportCommand, AFolderWhereAnOutputGoesIsAnInputErrorAndWritesNeitherFile) {
+  const fs::path out = test::scratch() / "blocked";
+  fs::remove_all(out);
+  fs::create_directories(out / "index.html");
+  const test::Outcome r =
+      test::run("report " + spline_file("blocked.json", spiral()) + " --out " + out.string() + " --no-thumbnails");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err, "cmr: " + (out / "index.html").string() + ": is a directory\n");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"index.html"}) << "report.json (or a temporary) was left behind";
 }
 
 TEST(ReportCommand, ExamplesRun) {
