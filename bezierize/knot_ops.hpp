@@ -229,7 +229,8 @@ struct KnotRemoval {
   /// curve by more than the tolerance (up to the rounding of the Bezier points).
   double distance = 0;
 };
-/// Removes one copy of the interior knot u (see "Removal"). InputError when
+/// Removes one copy of the interior knot u (see "Removal"). `tolerance` is
+/// absolute, in the units of the control points. InputError when
 /// u is not a knot, not strictly inside the domain, the tolerance is negative
 /// or NaN, or distance > tolerance: "removing knot 3 moves the curve by up to
 /// 0.25, more than the tolerance 1e-09".

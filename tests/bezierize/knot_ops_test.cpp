@@ -52,6 +52,10 @@ std::vector<Family> families() {
     out.push_back(clamped);
     out.push_back(nonuniform);
   }
+  // Empty spans at the ends of the domain (points 0 and m-1 do not influence
+  // the curve) and an interior knot of full multiplicity (a C0 joint).
+  out.push_back({"empty_end_spans_d3", 3, {0, 1, 1, 1, 2, 3, 3.5, 3.5, 3.5, 9}});
+  out.push_back({"c0_joint_d3", 3, {0, 0, 0, 1, 1, 1, 3, 3, 3}});
   return out;
 }
 
@@ -158,6 +162,7 @@ TEST(KnotOps, RemovingAnInsertedKnotGivesTheOriginalBack) {
     const BSpline s = make_spline(f, 103);
     const int mid = s.segment_count() / 2;
     for (double u : {inside(s, mid), s.segments()[mid].a}) {
+      if (s.multiplicity(u) == f.degree) continue;  // nothing to insert
       const std::string label = f.name + " u=" + std::to_string(u);
       const BSpline r = insert_knot(s, u, 1);
       const KnotRemoval back = remove_knot(r, u, kRemovalRelativeTolerance * extent(s));
