@@ -335,9 +335,11 @@ TEST(KnotOps, AnalyzeVerdictIsAPropertyOfTheCurve) {
     for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(CMR_SOURCE_DIR) / dir))
       if (entry.path().extension() == ".json") files.push_back(entry.path());
   ASSERT_GE(files.size(), 10u);
+  int monotone = 0, not_monotone = 0;  // the examples must hold both verdicts
   for (const auto& file : files) {
     const BSpline s = read_spline_file(file);
     const SplineAnalysis base = analyze(s);
+    ++(base.cmrwi == Direction::none ? not_monotone : monotone);
     const std::vector<std::pair<std::string, BSpline>> variants = {
         {"insert", insert_knot(s, inside(s, 0), 1)}, {"elevate", elevate_degree(s)}, {"refine", refine(s)}};
     for (const auto& [op, v] : variants) {
@@ -346,6 +348,8 @@ TEST(KnotOps, AnalyzeVerdictIsAPropertyOfTheCurve) {
       EXPECT_EQ(to_string(a.cmr), std::string(to_string(base.cmr))) << file.filename() << " after " << op;
     }
   }
+  EXPECT_GE(monotone, 3);
+  EXPECT_GE(not_monotone, 3);
 }
 
 }  // namespace
