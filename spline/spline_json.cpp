@@ -21,9 +21,26 @@ double number(const json& v, const std::string& where) {
   return x;
 }
 
+/// Drops the two end knots of a conventional knot vector (options.conventional),
+/// or refuses a conventional vector read as polar form, naming the counts.
+void apply_knot_convention(std::vector<double>& knots, std::size_t points, int degree, const ReadOptions& options) {
+  const std::size_t polar = points + static_cast<std::size_t>(degree) - 1, full = polar + 2;
+  const std::string counts = std::to_string(points) + " points of degree " + std::to_string(degree);
+  if (options.conventional) {
+    if (knots.size() != full)
+      throw InputError("knots: --conventional expects the full vector of points + degree + 1 = " +
+                       std::to_string(full) + " values for " + counts + " (got " + std::to_string(knots.size()) + ")");
+    knots.erase(knots.begin());
+    knots.pop_back();
+  } else if (knots.size() == full && points > 0) {
+    throw InputError("knots: " + std::to_string(knots.size()) + " values is the conventional (full) knot vector for " +
+                     counts + "; drop the first and the last knot (cmr uses polar form), or pass --conventional");
+  }
+}
+
 }  // namespace
 
-BSpline spline_from_json(const json& doc) {
+BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   if (!doc.is_object()) throw InputError("the document is not a JSON object with \"points\"");
   for (const auto& [key, value] : doc.items()) {
     (void)value;
@@ -67,10 +84,11 @@ BSpline spline_from_json(const json& doc) {
   std::vector<double> knots;
   knots.reserve(ks.size());
   for (std::size_t i = 0; i < ks.size(); ++i) knots.push_back(number(ks[i], "knots[" + std::to_string(i) + "]"));
+  apply_knot_convention(knots, points.size(), degree, options);
   return BSpline::make(degree, std::move(knots), std::move(points), std::move(name));
 }
 
-BSpline read_spline_file(const std::filesystem::path& path) {
+BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open the file");
   std::ostringstream text;
@@ -87,7 +105,7 @@ BSpline read_spline_file(const std::filesystem::path& path) {
     throw InputError(path.string() + ": malformed JSON: " + what);
   }
   try {
-    return spline_from_json(doc);
+    return spline_from_json(doc, options);
   } catch (const InputError& e) {
     throw InputError(path.string() + ": " + e.what());
   }

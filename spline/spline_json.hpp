@@ -4,6 +4,11 @@
 // if given, must agree). Knots are polar-form (points + degree - 1 of them).
 // Every error is an InputError whose message names the file, the field and
 // the index ("spline.json: points[2][1] is not a number").
+//
+// A conventional (full, non-polar) knot vector has points + degree + 1 knots:
+// its first and last knots do not influence the curve, and dropping them gives
+// the polar form. Such a file is recognised and refused with that advice
+// unless ReadOptions::conventional is set, in which case the two are dropped.
 #include <filesystem>
 #include <string>
 
@@ -13,9 +18,17 @@
 
 namespace cmr {
 
-BSpline spline_from_json(const nlohmann::json& doc);
+/// How spline files are read.
+struct ReadOptions {
+  /// The file's "knots" are the conventional (full) vector of points + degree
+  /// + 1 values; its first and last are dropped. Any other count is an error.
+  /// (A file without "knots", one Bezier curve, is read as usual.)
+  bool conventional = false;
+};
+
+BSpline spline_from_json(const nlohmann::json& doc, const ReadOptions& options = {});
 /// Reads and validates a spline file; messages are prefixed with the path.
-BSpline read_spline_file(const std::filesystem::path& path);
+BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options = {});
 nlohmann::json spline_to_json(const BSpline& spline);
 /// Writes atomically (temporary file, then rename).
 void write_spline_file(const std::filesystem::path& path, const BSpline& spline);

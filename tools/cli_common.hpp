@@ -69,5 +69,6 @@ void add_region_command(CLI::App& app, int& exit_code);
 void add_figures_command(CLI::App& app, int& exit_code);
 /// `cmr report`: see README "Command line".
 void add_report_command(CLI::App& app, int& exit_code);
+void add_knots_command(CLI::App& app, int& exit_code);
 
 }  // namespace cmr::cli

@@ -61,8 +61,32 @@ INSTANTIATE_TEST_SUITE_P(
                       BadDoc{"knot_string", R"({"degree":2,"knots":[0,"x",1,1],"points":[[0,0],[1,1],[2,0]]})",
                              "knots[1] is not a number"},
                       BadDoc{"unknown_field", R"({"pts":[],"points":[[0,0],[1,1],[2,0]]})", "unknown field \"pts\""},
-                      BadDoc{"name_number", R"({"name":3,"points":[[0,0],[1,1],[2,0]]})", "name: not a string"}),
+                      BadDoc{"name_number", R"({"name":3,"points":[[0,0],[1,1],[2,0]]})", "name: not a string"},
+                      BadDoc{"conventional_knots",
+                             R"({"degree":2,"knots":[0,0,0,1,1,1],"points":[[0,0],[1,1],[2,0]]})",
+                             "knots: 6 values is the conventional (full) knot vector for 3 points of degree 2; drop "
+                             "the first and the last knot (cmr uses polar form), or pass --conventional"}),
     [](const auto& p) { return std::string(p.param.name); });
+
+TEST(SplineJson, ConventionalKnotsDropTheirEndKnotsWhenAskedTo) {
+  const json doc = json::parse(R"({"degree":3,"knots":[-1,0,1,2,3,4,5,6,7,8],
+      "points":[[0,0],[1,2],[3,3],[5,2.5],[6.5,1],[7,-1]]})");
+  const BSpline s = spline_from_json(doc, {.conventional = true});
+  EXPECT_EQ(s.knots(), (std::vector<double>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(s.point_count(), 6);
+  // A Bezier file has no knots to drop and reads the same either way.
+  const json bezier = json::parse(R"({"points":[[0,0],[1,1],[2,0]]})");
+  EXPECT_EQ(spline_from_json(bezier, {.conventional = true}).knots(), spline_from_json(bezier).knots());
+  // With the option, a polar vector is the wrong count, and the message says which count is expected.
+  const json polar = json::parse(R"({"degree":3,"knots":[0,1,2,3,4,5,6,7],
+      "points":[[0,0],[1,2],[3,3],[5,2.5],[6.5,1],[7,-1]]})");
+  try {
+    (void)spline_from_json(polar, {.conventional = true});
+    FAIL() << "a polar vector was read as conventional";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("points + degree + 1 = 10 values"), std::string::npos) << e.what();
+  }
+}
 
 }  // namespace
 }  // namespace cmr
