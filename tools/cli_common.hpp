@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 namespace cmr::cli {
@@ -58,5 +59,15 @@ void add_analyze_command(CLI::App& app, int& exit_code);
 void add_region_command(CLI::App& app, int& exit_code);
 void add_figures_command(CLI::App& app, int& exit_code);
 void add_report_command(CLI::App& app, int& exit_code);
+void add_kcurve_command(CLI::App& app, int& exit_code);
+
+/// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
+/// optional). Errors name the file, field and index (InputError).
+struct KCurvePoints {
+  std::vector<glm::dvec2> points;
+  bool closed = false;
+};
+KCurvePoints kcurve_points_from_json(const nlohmann::json& doc);
+KCurvePoints read_kcurve_points_file(const std::filesystem::path& path);
 
 }  // namespace cmr::cli

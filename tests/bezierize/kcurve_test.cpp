@@ -86,7 +86,9 @@ void expect_quadratic_properties(const KCurve& k, const std::vector<Vec2>& pts, 
     const std::vector<double> roots = extrema({q.begin(), q.end()});
     ASSERT_LE(roots.size(), 1u) << "quadratic " << i << " has " << roots.size() << " curvature extrema";
     const std::vector<double> t = roots.empty() ? std::vector<double>{k.t_max[i]} : roots;
-    if (roots.empty()) EXPECT_TRUE(t[0] == 0 || t[0] == 1) << "quadratic " << i << ": t_max " << t[0];
+    if (roots.empty()) {
+      EXPECT_TRUE(t[0] == 0 || t[0] == 1) << "quadratic " << i << ": t_max " << t[0];
+    }
     const Vec2 at = bezier_at({q.begin(), q.end()}, t[0]);
     EXPECT_LE(glm::length(at - p[i]), kPointTolerance * e)
         << "quadratic " << i << ": maximum at t = " << t[0] << " is (" << at.x << "," << at.y << "), point ("
