@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,12 @@ namespace {
 constexpr double kPointTolerance = 1e-7;
 constexpr double kCurvatureTolerance = 1e-6;
 
-std::string str(const std::vector<Vec2>& pts) {
-  std::string s;
-  for (const Vec2& p : pts) s += "(" + std::to_string(p.x) + "," + std::to_string(p.y) + ")";
-  return s;
+/// "open (x,y)(x,y)..." for traces.
+std::string str(const std::vector<Vec2>& pts, bool closed = false) {
+  std::ostringstream s;
+  s << (closed ? "closed " : "open ");
+  for (const Vec2& p : pts) s << '(' << p.x << ',' << p.y << ')';
+  return s.str();
 }
 
 double extent(const std::vector<Vec2>& pts) {
@@ -139,7 +142,7 @@ void expect_cubic_chain_properties(const KCurve& k, const std::vector<Vec2>& pts
 /// (after checking that the result is finite) when it did not converge and
 /// `may_stall` allows that.
 bool expect_kcurve(const std::vector<Vec2>& pts, bool closed, bool may_stall = false) {
-  SCOPED_TRACE((closed ? "closed " : "open ") + str(pts));
+  SCOPED_TRACE(str(pts, closed));
   const KCurve k = kcurve(pts, {.closed = closed});
   EXPECT_TRUE(std::isfinite(k.residual));
   if (may_stall && !k.converged()) return false;
@@ -297,7 +300,7 @@ TEST(KCurve, DegenerateInputIsAClearErrorOrAFiniteCurve) {
            {{{0, 0}, {1, 0}, {3, 0}}, true},
            {{{0, 0}, {1, 2}, {0, 0}}, false},
            {{{0, 0}, {1, 2}, {2, 0}, {1, 2}, {0, 0}}, false}}) {
-    SCOPED_TRACE((closed ? "closed " : "open ") + str(pts));
+    SCOPED_TRACE(str(pts, closed));
     try {
       const KCurve k = kcurve(pts, {.closed = closed});
       EXPECT_TRUE(finite(k));
