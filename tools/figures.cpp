@@ -545,6 +545,25 @@ std::pair<double, bool> g1_defect(const BSpline& chain, bool closed) {
   return {worst, forward};
 }
 
+/// Fig. 13a: the iteration converged and each quadratic's curvature maximum
+/// (at most one, certified) is at its point, within 1e-7 of the extent.
+void claim_kcurve_maxima(Builder& b, const KCurve& kc, const std::vector<Vec2>& points) {
+  Vec2 lo = points[0], hi = points[0];
+  for (const Vec2& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double extent = glm::length(hi - lo);
+  int maxima_at_points = 0;
+  for (std::size_t i = 0; i < kc.quadratics.size(); ++i) {
+    const auto& q = kc.quadratics[i];
+    const double t = kc.t_max[i], u = 1 - t;
+    const bool at = glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - points[i]) <= 1e-7 * extent;
+    maxima_at_points += at && interior_extrema({q.begin(), q.end()}, 0) <= 1;
+  }
+  b.claim("Fig. 13a", "the kappa-curve converged and each quadratic's only curvature maximum is at its point",
+          kc.converged() && maxima_at_points == static_cast<int>(points.size()),
+          std::to_string(maxima_at_points) + " of " + std::to_string(points.size()) + " quadratics, " +
+              std::to_string(kc.iterations) + " iterations, residual " + std::to_string(kc.residual));
+}
+
 /// Fig. 13's panels: (a) the κ-curve, (b) its cubic chain, (c)/(d) the
 /// handles' regions with the moves, (e) the edited chain and its curvature.
 void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionImage& r_before,
@@ -593,18 +612,7 @@ void figure13(Builder& b) {
   const int k = kcurve_cubic_maxima(kc)[kEdited];
   CMR_CHECK(k >= 3);
   const auto& P = chain.points();
-  const double extent = glm::length(Vec2(6.5, 5.5));
-  int maxima_at_points = 0;
-  for (std::size_t i = 0; i < kc.quadratics.size(); ++i) {
-    const auto& q = kc.quadratics[i];
-    const double t = kc.t_max[i], u = 1 - t;
-    const bool at = glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - points[i]) <= 1e-7 * extent;
-    maxima_at_points += at && interior_extrema({q.begin(), q.end()}, 0) <= 1;
-  }
-  b.claim("Fig. 13a", "the kappa-curve converged and each quadratic's only curvature maximum is at its point",
-          kc.converged() && maxima_at_points == static_cast<int>(points.size()),
-          std::to_string(maxima_at_points) + " of " + std::to_string(points.size()) + " quadratics, " +
-              std::to_string(kc.iterations) + " iterations, residual " + std::to_string(kc.residual));
+  claim_kcurve_maxima(b, kc, points);
 
   // The two pieces at P_k, each as a Bezier curve, and their handles' regions.
   const BSpline before = BSpline::bezier({P[k - 3], P[k - 2], P[k - 1], P[k]}, "fig13-before");
