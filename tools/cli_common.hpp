@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bezierize/region.hpp"
@@ -70,5 +71,15 @@ void add_figures_command(CLI::App& app, int& exit_code);
 /// `cmr report`: see README "Command line".
 void add_report_command(CLI::App& app, int& exit_code);
 void add_knots_command(CLI::App& app, int& exit_code);
+void add_kcurve_command(CLI::App& app, int& exit_code);
+
+/// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
+/// optional). Errors name the file, field and index (InputError).
+struct KCurvePoints {
+  std::vector<glm::dvec2> points;
+  bool closed = false;
+};
+KCurvePoints kcurve_points_from_json(const nlohmann::json& doc);
+KCurvePoints read_kcurve_points_file(const std::filesystem::path& path);
 
 }  // namespace cmr::cli

@@ -15,6 +15,8 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 
+#include <CLI/CLI.hpp>
+
 namespace cmr::cli {
 
 namespace {
@@ -28,29 +30,6 @@ struct KnotsArgs {
   std::optional<double> tolerance;
   int index = 0;
 };
-
-/// Writes bytes to path through a unique temporary in the same folder and a
-/// rename, so that a failure leaves neither a half-written file nor a stray
-/// temporary. (Kept in one function so a shared helper can replace it.)
-void write_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-  std::string pattern = (folder / ("." + path.filename().string() + ".XXXXXX")).string();
-  const int fd = ::mkstemp(pattern.data());
-  if (fd < 0) throw InputError("--out " + path.string() + ": cannot create a file there (" + std::strerror(errno) + ")");
-  bool ok = ::fchmod(fd, 0644) == 0;
-  for (std::size_t done = 0; ok && done < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    ok = n > 0;
-    if (ok) done += static_cast<std::size_t>(n);
-  }
-  ok = ::close(fd) == 0 && ok;
-  std::error_code ec;
-  if (ok) std::filesystem::rename(pattern, path, ec);
-  if (!ok || ec) {
-    std::filesystem::remove(pattern, ec);
-    throw EnvironmentError("--out " + path.string() + ": write failed");
-  }
-}
 
 /// The operation named by the chosen sub-command, applied to `spline`.
 BSpline apply(const std::string& op, const KnotsArgs& a, const BSpline& spline) {
@@ -102,7 +81,7 @@ void add_knots_command(CLI::App& app, int& exit_code) {
     const BSpline result = apply(cmd->get_subcommands().front()->get_name(), *args, spline);
     const std::string text = spline_to_json(result).dump(2) + "\n";
     if (args->out.empty()) std::cout << text;
-    else write_atomically(args->out, text);
+    else write_file_atomic(args->out, text);
     exit_code = kOk;
   });
 }

@@ -5,12 +5,18 @@
 #include <chrono>
 #include <iomanip>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/kcurve.hpp"
+#include "bezierize/lambda.hpp"
+#include "bezierize/roots.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/draw.hpp"
@@ -197,11 +203,14 @@ class Builder {
 
   const FiguresOptions& options() const { return options_; }
   FiguresResult& result() { return result_; }
+  /// Keeps an image alive until the figures are written (pictures point to it).
+  void keep(std::shared_ptr<const RegionResult> image) { kept_.push_back(std::move(image)); }
 
  private:
   const FiguresOptions& options_;
   std::map<std::string, RegionResult> regions_;  // node-based: references stay valid
   std::map<std::string, SplineAnalysis> analyses_;
+  std::vector<std::shared_ptr<const RegionResult>> kept_;
   FiguresResult result_;
 };
 
@@ -512,6 +521,151 @@ void figure9_10(Builder& b, const Curves& c) {
   b.write({"fig10", g.title, g.caption}, std::move(g));
 }
 
+// ------------------------------------------------------------ Fig. 13 (§5.2) --
+//
+// A closed κ-curve, its cubic chain (each quadratic split at its curvature
+// maximum, Eq. 7, and degree-elevated) and a local modification: P_{k+1}
+// moved into its region, P_{k-1} moved onto the new tangent line into its
+// region. Each region is that of one cubic piece as a Bézier curve (the other
+// handle does not act on it), so both are computed on the unedited chain.
+
+/// Curvature extrema strictly inside a Bézier piece (sign changes of lambda,
+/// certified by exact root isolation), farther than `margin` from its ends.
+int interior_extrema(const std::vector<Vec2>& piece, double margin) {
+  std::vector<Point<Rational>> exact;
+  for (const Vec2& p : piece) exact.push_back(to_point<Rational>(p));
+  int n = 0;
+  for (const RootInterval& r : isolate_roots(lambda_bernstein<Rational>(exact)))
+    n += r.sign_change() && double_below(r.lo) > margin && double_above(r.hi) < 1 - margin;
+  return n;
+}
+
+/// Largest |sin| of the angle between the tangents either side of each joint
+/// (and the closing point of a closed chain), and whether every pair points
+/// the same way: G1 where the first is ~0 and the second holds.
+std::pair<double, bool> g1_defect(const BSpline& chain, bool closed) {
+  const auto& P = chain.points();
+  const int last = chain.point_count() - 1;
+  double worst = 0;
+  bool forward = true;
+  auto check = [&](Vec2 in, Vec2 out) {
+    worst = std::max(worst, std::abs(det(in, out)) / (glm::length(in) * glm::length(out)));
+    forward = forward && dot(in, out) > 0;
+  };
+  for (int j = 3; j < last; j += 3) check(P[j] - P[j - 1], P[j + 1] - P[j]);
+  if (closed) check(P[last] - P[last - 1], P[1] - P[0]);
+  return {worst, forward};
+}
+
+/// Fig. 13a: the iteration converged and each quadratic's curvature maximum
+/// (at most one, certified) is at its point, within 1e-7 of the extent.
+void claim_kcurve_maxima(Builder& b, const KCurve& kc, const std::vector<Vec2>& points) {
+  Vec2 lo = points[0], hi = points[0];
+  for (const Vec2& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double extent = glm::length(hi - lo);
+  int maxima_at_points = 0;
+  for (std::size_t i = 0; i < kc.quadratics.size(); ++i) {
+    const auto& q = kc.quadratics[i];
+    const double t = kc.t_max[i], u = 1 - t;
+    const bool at = glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - points[i]) <= 1e-7 * extent;
+    maxima_at_points += at && interior_extrema({q.begin(), q.end()}, 0) <= 1;
+  }
+  b.claim("Fig. 13a", "the kappa-curve converged and each quadratic's only curvature maximum is at its point",
+          kc.converged() && maxima_at_points == static_cast<int>(points.size()),
+          std::to_string(maxima_at_points) + " of " + std::to_string(points.size()) + " quadratics, " +
+              std::to_string(kc.iterations) + " iterations, residual " + std::to_string(kc.residual));
+}
+
+/// Fig. 13's panels: (a) the κ-curve, (b) its cubic chain, (c)/(d) the
+/// handles' regions with the moves, (e) the edited chain and its curvature.
+void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionResult& r_before,
+                   const RegionResult& r_after, int k) {
+  const BSpline &quad = s[0], &chain = s[1], &edited = s[2];
+  const int size = b.options().size, depth = b.options().depth;
+  auto blank = std::make_shared<RegionResult>();  // the whole curve, no region
+  blank->width = blank->height = size;
+  blank->view = default_view(chain, size, size);
+  blank->labels.assign(static_cast<std::size_t>(size) * size, RegionLabel::not_monotone);
+  blank->depth.assign(blank->labels.size(), 0);
+  b.keep(blank);
+  draw::Figure f;
+  f.title = "Fig. 13: a kappa-curve, its cubic chain and a local modification without a new curvature extremum";
+  draw::RegionPicture moved_next = picture(edited, {&r_after}, depth);
+  moved_next.moved = std::make_pair(chain.points()[k + 1], edited.points()[k + 1]);
+  draw::RegionPicture moved_prev = picture(edited, {&r_before}, depth);
+  moved_prev.moved = std::make_pair(chain.points()[k - 1], edited.points()[k - 1]);
+  f.rows.push_back({{picture(quad, {blank.get()}, depth), "(a) the kappa-curve (quadratic Bezier chain)"},
+                    {picture(chain, {blank.get()}, depth), "(b) split at the maxima, degree-elevated"},
+                    {draw::CurvaturePlot{&chain, &b.analysis(chain)}, "(b) curvature plot: maxima at the points"}});
+  f.rows.push_back({{moved_next, "(c) P" + std::to_string(k + 1) + " moved within its region"},
+                    {moved_prev, "(d) P" + std::to_string(k - 1) + " moved onto the new tangent, in its region"},
+                    {draw::CurvaturePlot{&edited, &b.analysis(edited)}, "(e) curvature plot after the move"}});
+  f.legend = draw::legend_for(moved_next);
+  f.caption = "The closed kappa-curve through (0,0), (3,-0.5), (5,1), (4,3.2), (1.5,3.5), (-0.5,2) (Yan et al. "
+              "2017; curvature maxima only at the points), split at each maximum (Eq. 7) and degree-elevated to "
+              "cubics (section 5.2). At the maximum P" + std::to_string(k) + " = (5,1), P" + std::to_string(k + 1) +
+              "'s region is that of the cubic after it (blue: decreasing curvature) and P" + std::to_string(k - 1) +
+              "'s that of the cubic before it (red: increasing); moving both within them on one line through P" +
+              std::to_string(k) + " keeps G1 and the maximum at P" + std::to_string(k) +
+              ". Grey bands in (b) are halves whose lambda vanishes at the split point only to rounding: the "
+              "maximum is at the joint within about 1e-14 of the parameter, which the exact classifier sees.";
+  b.write({"fig13", f.title, f.caption}, std::move(f));
+}
+
+void figure13(Builder& b) {
+  // A six-point closed blob, counter-clockwise (κ > 0: the maxima are
+  // increasing-then-decreasing). The edited maximum is point 2 = (5, 1), whose
+  // two pieces leave the handles regions wide enough to move in.
+  const std::vector<Vec2> points{{0, 0}, {3, -0.5}, {5, 1}, {4, 3.2}, {1.5, 3.5}, {-0.5, 2}};
+  constexpr int kEdited = 2;
+  const KCurve kc = kcurve(points, {.closed = true});
+  const BSpline quad = renamed(kcurve_quadratic_spline(kc), "fig13a");
+  const BSpline chain = renamed(kcurve_cubic_chain(kc), "fig13b");
+  const int k = kcurve_cubic_maxima(kc)[kEdited];
+  CMR_CHECK(k >= 3);
+  const auto& P = chain.points();
+  claim_kcurve_maxima(b, kc, points);
+
+  // The two pieces at P_k, each as a Bezier curve, and their handles' regions.
+  const BSpline before = BSpline::bezier({P[k - 3], P[k - 2], P[k - 1], P[k]}, "fig13-before");
+  const BSpline after = BSpline::bezier({P[k], P[k + 1], P[k + 2], P[k + 3]}, "fig13-after");
+  const double h = 2.5 * std::max(glm::length(P[k + 1] - P[k]), glm::length(P[k - 1] - P[k]));
+  const View v = square_view(P[k].x, P[k].y, h);
+  const RegionResult& r_after = b.region(after, 1, Mode::cmrwi, v);
+  const RegionResult& r_before = b.region(before, 2, Mode::cmrwi, v);
+  // The move: P_{k+1} turned by -0.05 rad about P_k and pulled in to 0.9 (rounded
+  // to 0.01), P_{k-1} onto the new line at 0.8 of its distance.
+  const Vec2 d = P[k + 1] - P[k];
+  const double c = std::cos(-0.05), sn = std::sin(-0.05);
+  const Vec2 next = glm::round((P[k] + 0.9 * Vec2(c * d.x - sn * d.y, sn * d.x + c * d.y)) * 100.0) / 100.0;
+  const Vec2 prev = P[k] - 0.8 * glm::length(P[k - 1] - P[k]) / glm::length(next - P[k]) * (next - P[k]);
+  const BSpline edited = renamed(chain.with_point(k + 1, next).with_point(k - 1, prev), "fig13c");
+  const uint8_t l_next = label_at(r_after, next), l_prev = label_at(r_before, prev);
+  const SplineAnalysis& a_after = b.analysis(after.with_point(1, next));
+  const SplineAnalysis& a_before = b.analysis(before.with_point(2, prev));
+  b.claim("Fig. 13c", "P_{k+1} moved into its blue region: the piece after P_k keeps decreasing curvature",
+          l_next == 2 && a_after.cmrwi == Direction::decreasing,
+          "P" + std::to_string(k + 1) + " at " + point_text(next) + ": " + label_text(l_next) + ", analyze " +
+              to_string(a_after.cmrwi));
+  b.claim("Fig. 13d", "P_{k-1} moved onto the new tangent into its red region: the piece before P_k keeps increasing",
+          l_prev == 1 && a_before.cmrwi == Direction::increasing,
+          "P" + std::to_string(k - 1) + " at " + point_text(prev) + ": " + label_text(l_prev) + ", analyze " +
+              to_string(a_before.cmrwi));
+  const BSpline local = BSpline::make(3, {0, 0, 0, 1, 1, 1, 2, 2, 2},
+                                      {P[k - 3], P[k - 2], prev, P[k], next, P[k + 2], P[k + 3]}, "fig13-local");
+  const SplineAnalysis& a_local = b.analysis(local, 1);
+  const int extra = interior_extrema({P[k - 3], P[k - 2], prev, P[k]}, 1e-9) +
+                    interior_extrema({P[k], next, P[k + 2], P[k + 3]}, 1e-9);
+  b.claim("Fig. 13e", "no new curvature extremum: the maximum stays at P_k, none inside the edited pieces",
+          a_local.split == Split::inc_dec && extra == 0,
+          std::string("split at P_k: ") + (a_local.split ? to_string(*a_local.split) : "-") + ", " +
+              std::to_string(extra) + " interior extrema");
+  const auto [g1, forward] = g1_defect(edited, true);
+  b.claim("Fig. 13e", "G1 kept at every joint of the edited chain", g1 <= 1e-12 && forward,
+          "largest |sin| between tangents " + std::to_string(g1));
+  draw_figure13(b, {quad, chain, edited}, r_before, r_after, k);
+}
+
 /// The figure a claim belongs to: "Fig. 10a" -> "fig10".
 std::string figure_id(const Claim& c) {
   std::string id = "fig";
@@ -593,6 +747,8 @@ FiguresResult make_figures(const FiguresOptions& options) {
   b.log("fig8..fig10: B-spline curves (section 4.2)");
   figure8(b, c);
   figure9_10(b, c);
+  b.log("fig13: a kappa-curve and a local modification (section 5.2)");
+  figure13(b);
   write_index(b);
   return std::move(b.result());
 }

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   add_figures_command(app, exit_code);
   add_report_command(app, exit_code);
   add_knots_command(app, exit_code);
+  add_kcurve_command(app, exit_code);
   if (argc >= 2 && argv[1][0] != '-') {
     bool known = false;
     std::string names;

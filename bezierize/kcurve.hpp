@@ -1,0 +1,124 @@
+#pragma once
+// κ-curves (Yan, Schiller, Wilensky, Carr, Schaefer, "κ-Curves: Interpolation
+// at Local Maximum Curvature", ACM TOG 36(4), 2017) and their subdivided,
+// degree-elevated cubic chain (CAD&A 2024 §5.2, Eq. 7), written from the
+// published method and derived here.
+//
+// Setting. Points p_0..p_{n-1}. Closed: N = n quadratics, one per point,
+// indices mod N. Open: the ends p_0, p_{n-1} are the curve's ends and the
+// N = n-2 interior points get one quadratic each. Quadratic i is
+//     c_i(t) = (1-t)^2 c_{i,0} + 2t(1-t) c_{i,1} + t^2 c_{i,2},
+// its joints are shared with the neighbours on the line of the middle points,
+//     c_{i,2} = c_{i+1,0} = (1-λ_i) c_{i,1} + λ_i c_{i+1,1},          (J)
+// and it must interpolate its point at its curvature maximum:
+// p_i = c_i(t_i) with |κ_i| largest at t_i. Open ends: c_{0,0} = p_first and
+// c_{N-1,2} = p_last, i.e. λ_{-1} = 0 with c_{-1,1} := p_first and
+// λ_{N-1} = 1 with c_{N,1} := p_last in (J).
+//
+// 1. t_i (the cubic). With A = c_{i,0} - p_i, B = c_{i,2} - p_i, s = 1-t and
+//    M = c_{i,1} - p_i, interpolation gives 2ts M = -(s^2 A + t^2 B). A
+//    quadratic's κ = det(c', c'')/|c'|^3 has a constant numerator, so |κ| is
+//    largest where |c'| is smallest: c'(t)·c'' = 0. Substituting M,
+//        2ts c'(t)/2 = t^2 B - s^2 A,   2ts c''/2 = 2(s A + t B),
+//    so t_i is a root of f(t) = (t^2 B - s^2 A)·(s A + t B)
+//        = t^3 |B|^2 - s^3 |A|^2 + ts(t - s) A·B,
+//    in Bernstein form on [0,1]: (-|A|^2, -A·B/3, A·B/3, |B|^2). Its monomial
+//    leading coefficient is |B - A|^2 = |c_{i,2} - c_{i,0}|^2, which vanishes
+//    when the quadratic's ends coincide; the Bernstein form does not care.
+//    f(0) = -|A|^2 <= 0 <= |B|^2 = f(1), so [0, 1] holds a root; Yan et al.
+//    prove it is the only one (the tests check that on random A, B with
+//    certified root isolation). It is found by bisection on the sign of f,
+//    which needs no leading coefficient.
+// 2. λ_i (G2). At the end of a quadratic (a, m, b), |κ(1)| = area(a,m,b)/|b-m|^3.
+//    With b on segment m n at λ (n = c_{i+1,1}), area(a,m,b) = λ area(a,m,n)
+//    and |b-m| = λ|n-m|; on the right side the same with 1-λ. Equal curvature
+//    magnitudes give λ^2/(1-λ)^2 = area(a,m,n)/area(m,n,e), so
+//        λ_i = sqrt(A1) / (sqrt(A1) + sqrt(A2)),
+//        A1 = area(c_{i,0}, c_{i,1}, c_{i+1,1}), A2 = area(c_{i,1}, c_{i+1,1}, c_{i+1,2}),
+//    with the areas of the current iterate; λ_i = 1/2 when both vanish
+//    (collinear points). Where the two triangles turn opposite ways (an
+//    inflection) only |κ| is matched: the joint is G1 with a curvature sign change.
+// 3. The middle points. Substituting (J) into p_i = c_i(t_i):
+//        (1-t)^2 (1-λ_{i-1}) c_{i-1,1}
+//      + [(1-t)^2 λ_{i-1} + 2t(1-t) + t^2 (1-λ_i)] c_{i,1}
+//      + t^2 λ_i c_{i+1,1} = p_i          (t = t_i),
+//    a tridiagonal system (cyclic when closed), solved with partial pivoting
+//    (Sherman-Morrison for the corners); its residual is checked.
+// Iteration (as Yan et al.): start from c_{i,1} = p_i, λ_i = 1/2; repeat
+// steps 2, (J), 1, 3. The plain iteration can cycle where the polygon turns
+// sharply, so the middle points move by a relaxation step towards the solved
+// ones, halved (down to 1/16) whenever the residual fails to fall; turns much
+// sharper than about 120 degrees may still not converge (converged() says). After each solve the joints are rebuilt with the λ just
+// used, so p_i = c_i(t_i) holds to rounding; what converges is t_i towards the
+// true maximum (Eq. 7 below) and λ_i towards the G2 ratio. The residual is
+// the larger of max_i |c_i(t*_i) - p_i| / extent (t*_i from Eq. 7) and
+// max_i |λ_i(new) - λ_i(used)|.
+//
+// Eq. 7 (CAD&A 2024): the maximum of a quadratic (P0, P1, P2) lies at
+//     t* = (P0 - P1)·(P0 - 2P1 + P2) / |P0 - 2P1 + P2|^2,
+// the minimum of |c'(t)|^2 (c'/2 = (P1-P0) + t (P0 - 2P1 + P2)).
+#include <array>
+#include <span>
+#include <vector>
+
+#include "spline/bspline.hpp"
+#include "spline/vec2.hpp"
+
+namespace cmr {
+
+struct KCurveOptions {
+  bool closed = false;        ///< one quadratic per point, the last joined back to the first
+  double tolerance = 1e-10;   ///< converged when the residual (see above) is at most this; must be in (0, 1)
+  int max_iterations = 10000;  ///< iterations before giving up (the result then has residual > tolerance)
+};
+
+struct KCurve {
+  std::vector<std::array<Vec2, 3>> quadratics;  ///< c_{i,0}, c_{i,1}, c_{i,2}; joints shared exactly
+  std::vector<double> t_max;  ///< Eq. 7 parameter of each quadratic's curvature maximum, in [0, 1]
+  bool closed = false;
+  int iterations = 0;         ///< iterations run
+  double residual = 0;        ///< at the last iteration (see the header comment)
+  double tolerance = 0;       ///< the options' tolerance
+  bool converged() const { return residual <= tolerance; }
+};
+
+/// Fewest points a κ-curve accepts, open or closed (an open curve of three
+/// points is one quadratic through the middle point at its curvature maximum).
+inline constexpr int kKCurveMinPoints = 3;
+
+/// The κ-curve through `points`. Throws InputError (one line) for fewer than
+/// kKCurveMinPoints points, a non-finite coordinate, consecutive points closer
+/// than 1e-9 of the points' extent (for closed curves the last and first count
+/// as consecutive), bad options, or a singular linear system. Collinear points
+/// give finite (straight, possibly folded) quadratics. A curve that has not
+/// converged after options.max_iterations is returned with converged() false.
+KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options = {});
+
+/// Step 1 of the iteration: the unique t in [0, 1] at which a quadratic from
+/// c0 to c2 through p at t has its curvature maximum (root of the cubic f).
+double kcurve_parameter(Vec2 c0, Vec2 p, Vec2 c2);
+
+/// Eq. 7: the parameter of the curvature maximum of the quadratic (P0, P1, P2),
+/// clamped to [0, 1]; 1/2 for a uniformly parametrised straight quadratic
+/// (P0 - 2P1 + P2 = 0, where κ is zero throughout).
+double quadratic_max_curvature_parameter(const std::array<Vec2, 3>& q);
+
+/// The κ-curve as a degree-2 spline: the quadratics as a Bézier chain in polar
+/// form, knots 0,0,1,1,...,N,N (multiplicity 2 at the joints). Closed curves
+/// end where they start.
+BSpline kcurve_quadratic_spline(const KCurve& curve);
+
+/// §5.2: each quadratic subdivided at its curvature maximum t_max (de
+/// Casteljau) and both halves degree-elevated to cubics, as a cubic Bézier
+/// chain in polar form, knots 0,0,0,1,1,1,...,M,M,M. Pieces start at c_{0,0}
+/// and alternate left half, right half; a half of zero length (t_max at 0
+/// or 1) is left out. Each maximum is a joint P_k with P_{k-1}, P_k, P_{k+1}
+/// collinear.
+BSpline kcurve_cubic_chain(const KCurve& curve);
+
+/// For each quadratic i, the index k of its maximum P_k among the control
+/// points of kcurve_cubic_chain(curve); -1 where t_max is 0 or 1 (then the
+/// maximum is a quadratic joint, not a handle pair).
+std::vector<int> kcurve_cubic_maxima(const KCurve& curve);
+
+}  // namespace cmr

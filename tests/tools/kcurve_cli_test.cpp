@@ -1,0 +1,73 @@
+// cmr kcurve: the spline files it writes are valid chains of the right shape,
+// the points-file format is checked, and bad input exits 2 with one line and
+// no output file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/cli_util.hpp"
+
+namespace cmr::test {
+namespace {
+
+const char* kPoints = R"({"points": [[0,0],[1,2],[3,2.5],[4,0.5],[6,1]]})";
+
+std::vector<double> knots_of(const nlohmann::json& doc) { return doc["knots"].get<std::vector<double>>(); }
+
+TEST(KCurveCli, OpenQuadraticChainToStdout) {
+  const Outcome r = run("kcurve " + write("k_open.json", kPoints));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["degree"], 2);
+  ASSERT_EQ(doc["points"].size(), 7u);  // 3 quadratics through the 3 interior points
+  EXPECT_EQ(knots_of(doc), (std::vector<double>{0, 0, 1, 1, 2, 2, 3, 3}));
+  EXPECT_EQ(doc["points"].front(), nlohmann::json::parse("[0.0, 0.0]"));
+  EXPECT_EQ(doc["points"].back(), nlohmann::json::parse("[6.0, 1.0]"));
+}
+
+TEST(KCurveCli, ClosedCubicChainToAFileThatAnalyzeReads) {
+  const fs::path out = scratch() / "k_cubic.json";
+  fs::remove(out);
+  const Outcome r = run("kcurve " + write("k_closed.json", kPoints) + " --closed --cubic --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(slurp(out));
+  EXPECT_EQ(doc["degree"], 3);
+  ASSERT_EQ(doc["points"].size(), 31u);  // 5 quadratics, each split in two cubics: 10 * 3 + 1
+  EXPECT_EQ(doc["points"].front(), doc["points"].back());
+  const std::vector<double> k = knots_of(doc);
+  ASSERT_EQ(k.size(), 33u);
+  for (std::size_t i = 0; i < k.size(); ++i) EXPECT_EQ(k[i], static_cast<double>(i / 3)) << "knot " << i;
+  const Outcome a = run("analyze " + out.string());
+  EXPECT_EQ(a.code, 0) << a.err;
+}
+
+TEST(KCurveCli, ClosedFromTheFile) {
+  const Outcome r = run("kcurve " + write("k_file_closed.json", R"({"points": [[0,0],[2,0],[1,1.5]], "closed": true})"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["points"].size(), 7u);  // 3 quadratics
+  EXPECT_EQ(doc["points"].front(), doc["points"].back());
+}
+
+TEST(KCurveCli, BadInputExits2WithOneLineAndNoFile) {
+  const fs::path out = scratch() / "k_never.json";
+  for (const std::string& text : {std::string(R"({"points": [[0,0],[1,1]]})"),
+                                  std::string(R"({"points": [[0,0],[1,1],[1,1],[2,0]]})"),
+                                  std::string(R"({"points": [[0,0],[1,"x"],[2,0]]})"),
+                                  std::string(R"({"points": [[0,0],[1,1],[2,0]], "closd": true})"),
+                                  std::string(R"({"points": [[0,0],[1,1],[2,0]], "closed": 1})"),
+                                  std::string(R"({"points": [[0,0],[1,1],[2,0]])"), std::string("[1, 2]")}) {
+    fs::remove(out);
+    const Outcome r = run("kcurve " + write("k_bad.json", text) + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << text;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << text << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << text;
+  }
+  const Outcome missing = run("kcurve /nonexistent/points.json");
+  EXPECT_EQ(missing.code, 2) << missing.err;
+}
+
+}  // namespace
+}  // namespace cmr::test

@@ -1,0 +1,108 @@
+// cmr kcurve POINTS.json [--closed] [--cubic] [--out SPLINE.json]: the κ-curve
+// (Yan et al. 2017) through the points as a quadratic Bézier chain, or with
+// --cubic the subdivided, degree-elevated chain of CAD&A 2024 §5.2.
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "bezierize/kcurve.hpp"
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+
+#include <CLI/CLI.hpp>
+
+namespace cmr::cli {
+
+namespace {
+
+struct KCurveArgs {
+  std::string file;
+  bool closed = false;
+  bool cubic = false;
+  std::string out;
+  KCurveOptions options;
+};
+
+double coordinate(const nlohmann::json& v, const std::string& where) {
+  if (!v.is_number()) throw InputError(where + " is not a number");
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) throw InputError(where + " is not a finite number");
+  return x;
+}
+
+}  // namespace
+
+KCurvePoints kcurve_points_from_json(const nlohmann::json& doc) {
+  if (!doc.is_object()) throw InputError("the document is not a JSON object with \"points\"");
+  for (const auto& [key, value] : doc.items())
+    if (key != "points" && key != "closed")
+      throw InputError("unknown field \"" + key + "\" (expected points, closed)");
+  if (!doc.contains("points")) throw InputError("points: missing");
+  const nlohmann::json& pts = doc["points"];
+  if (!pts.is_array()) throw InputError("points: not an array of [x, y] pairs");
+  KCurvePoints r;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const std::string where = "points[" + std::to_string(i) + "]";
+    if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
+    r.points.emplace_back(coordinate(pts[i][0], where + "[0]"), coordinate(pts[i][1], where + "[1]"));
+  }
+  if (doc.contains("closed")) {
+    if (!doc["closed"].is_boolean()) throw InputError("closed: not true or false");
+    r.closed = doc["closed"].get<bool>();
+  }
+  return r;
+}
+
+KCurvePoints read_kcurve_points_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string() + ": cannot open the file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    return kcurve_points_from_json(nlohmann::json::parse(text.str()));
+  } catch (const nlohmann::json::exception& e) {
+    std::string what = e.what();  // "[json.exception.parse_error.101] parse error at ..."
+    const auto pos = what.find("] ");
+    if (pos != std::string::npos) what = what.substr(pos + 2);
+    throw InputError(path.string() + ": malformed JSON: " + what);
+  } catch (const InputError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
+}
+
+void add_kcurve_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<KCurveArgs>();
+  auto* cmd = app.add_subcommand("kcurve", "Interpolate points with a kappa-curve (curvature maxima at the points)");
+  cmd->add_option("POINTS", args->file, "points file: {\"points\": [[x,y],...], \"closed\": false}")->required();
+  cmd->add_flag("--closed", args->closed, "close the curve (also when the file says \"closed\": true)");
+  cmd->add_flag("--cubic", args->cubic, "the cubic chain split at the curvature maxima (CAD&A 2024 section 5.2)");
+  cmd->add_option("--out", args->out, "spline file to write (default: stdout)");
+  cmd->add_option("--tolerance", args->options.tolerance, "convergence tolerance (relative)")->capture_default_str();
+  cmd->add_option("--max-iterations", args->options.max_iterations, "iteration cap")->capture_default_str();
+  cmd->callback([args, &exit_code] {
+    if (!args->out.empty()) check_output_path(args->out, "--out");
+    const KCurvePoints input = read_kcurve_points_file(args->file);
+    KCurveOptions options = args->options;
+    options.closed = args->closed || input.closed;
+    KCurve curve;
+    try {
+      curve = kcurve(input.points, options);
+    } catch (const InputError& e) {
+      throw InputError(args->file + ": " + e.what());
+    }
+    if (!curve.converged())
+      throw InputError(args->file + ": the kappa-curve did not converge in " + std::to_string(curve.iterations) +
+                       " iterations (residual " + std::to_string(curve.residual) +
+                       "); sharp turns converge slowly: try --max-iterations or spread the points");
+    const BSpline spline = args->cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
+    if (args->out.empty()) {
+      std::cout << spline_to_json(spline).dump(2) << '\n';
+    } else {
+      write_spline_file(args->out, spline);
+    }
+    exit_code = kOk;
+  });
+}
+
+}  // namespace cmr::cli
