@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -31,7 +32,7 @@ const std::string kSource = CMR_SOURCE_DIR;
 /// rounding and far below any wrong weight or index (an O(1) relative error).
 constexpr double kXiRelativeTolerance = 1e-11;
 
-TEST(PublishedMethod, LambdaEqualsCmrLambdaOnRandomCurves) {
+TEST(PublishedMethod, LambdaAndItsEndsEqualCmrLambdaOnRandomCurves) {
   std::mt19937_64 rng(20241123);
   std::uniform_real_distribution<double> coord(-4, 4);
   for (int n = cmr::bench::kPublishedMinDegree; n <= cmr::bench::kPublishedMaxDegree; ++n) {
@@ -39,12 +40,15 @@ TEST(PublishedMethod, LambdaEqualsCmrLambdaOnRandomCurves) {
       std::vector<Vec2> P(n + 1);
       for (Vec2& p : P) p = Vec2(coord(rng), coord(rng));
       const std::vector<double> ours = published_lambda(P);
+      const std::array<double, 2> ends = cmr::bench::published_lambda_ends(P);
       const cmr::Bernstein<double> ref = cmr::lambda_bernstein<double>(P);
       ASSERT_EQ(ours.size(), ref.size()) << "degree " << n;
       double scale = 0;
       for (double v : ref) scale = std::max(scale, std::fabs(v));
       for (std::size_t k = 0; k < ref.size(); ++k)
         ASSERT_NEAR(ours[k], ref[k], kXiRelativeTolerance * scale) << "degree " << n << ", trial " << trial << ", xi_" << k;
+      EXPECT_NEAR(ends[0], ref.front(), kXiRelativeTolerance * scale) << "degree " << n << ", trial " << trial << ", xi_0";
+      EXPECT_NEAR(ends[1], ref.back(), kXiRelativeTolerance * scale) << "degree " << n << ", trial " << trial << ", xi_last";
     }
   }
 }

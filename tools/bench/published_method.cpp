@@ -71,6 +71,24 @@ void lambda_fixed(const Vec2* P, double* xi) {
   for (int k = 0; k <= dl; ++k) xi[k] = (a[k] - 1.5 * b[k]) * inv_l[k];
 }
 
+/// ξ_0 = λ(0) alone, from the first four points (the same formulas at k = 0:
+/// ν_0 = m det(q_0,q_1), ν_1 = 2 C(m,2) det(q_0,q_2) / (2n-4), g_0 = q_0·q_0,
+/// g_1 = 2 m q_0·q_1 / (2n-2), ξ_0 = (2n-4)(ν_1-ν_0) g_0 - (3/2) ν_0 (2n-2)(g_1-g_0)).
+/// ξ_{4n-7} is the same of the reversed points (λ of the reversed curve is λ(1-t)).
+/// Lets a pixel fail condition (3) at level 0 before its full ξ is formed.
+template <int N>
+double lambda_start(Vec2 p0, Vec2 p1, Vec2 p2, Vec2 p3) {
+  constexpr int m = N - 1, dn = 2 * N - 4, dg = 2 * N - 2;
+  const Vec2 q0 = double(N) * (p1 - p0), q1 = double(N) * (p2 - p1), q2 = double(N) * (p3 - p2);
+  const double nu0 = m * (q0.x * q1.y - q0.y * q1.x);
+  const double nu1 = (m * (m - 1) / double(dn)) * (q0.x * q2.y - q0.y * q2.x);
+  const double g0 = q0.x * q0.x + q0.y * q0.y, g1 = (2.0 * m / dg) * (q0.x * q1.x + q0.y * q1.y);
+  return dn * (nu1 - nu0) * g0 - 1.5 * nu0 * dg * (g1 - g0);
+}
+
+/// Condition (3) at level 0: ends of opposite sign.
+inline bool ends_differ(double first, double last) { return (first < 0 && last > 0) || (first > 0 && last < 0); }
+
 /// What Algorithm 1 says about one segment.
 enum class Verdict : uint8_t { increasing, decreasing, none, undecided, constant };
 
@@ -92,7 +110,7 @@ Verdict algorithm1_fixed(const double* xi, int max_depth) {
     --sp;
     double* c = stack + sp * K;
     const int level = levels[sp];
-    if ((c[0] < 0 && c[K - 1] > 0) || (c[0] > 0 && c[K - 1] < 0)) return Verdict::none;
+    if (ends_differ(c[0], c[K - 1])) return Verdict::none;
     double lo = c[0], hi = c[0];
 #pragma GCC unroll 32
     for (int i = 1; i < K; ++i) {
@@ -180,14 +198,16 @@ class Kernel {
     const Vec2 d = p - anchor_;
     double xi[N + 1][K];
     const int count = static_cast<int>(moved_.size());
-    for (int s = 0; s < count; ++s) {  // every ξ and its level-0 test (3) first: the cheap rejection
-      Vec2 P[N + 1];
+    Vec2 P[N + 1][N + 1];
+    for (int s = 0; s < count; ++s) {  // the level-0 test (3) on ξ's ends first: the cheap rejection
       const MovedSegment<N>& m = moved_[s];
 #pragma GCC unroll 16
-      for (int i = 0; i <= N; ++i) P[i] = m.base[i] + m.w[i] * d;
-      lambda_fixed<N>(P, xi[s]);
-      if ((xi[s][0] < 0 && xi[s][K - 1] > 0) || (xi[s][0] > 0 && xi[s][K - 1] < 0)) return 0;
+      for (int i = 0; i <= N; ++i) P[s][i] = m.base[i] + m.w[i] * d;
+      const Vec2* b = P[s];
+      if (ends_differ(lambda_start<N>(b[0], b[1], b[2], b[3]), lambda_start<N>(b[N], b[N - 1], b[N - 2], b[N - 3])))
+        return 0;
     }
+    for (int s = 0; s < count; ++s) lambda_fixed<N>(P[s], xi[s]);
     Directions dir = fixed_;
     for (int s = 0; s < count; ++s) {
       dir.add(algorithm1_fixed<K>(xi[s], r_.max_depth));
@@ -263,6 +283,13 @@ std::vector<double> published_lambda(const std::vector<Vec2>& P) {
     std::vector<double> xi(4 * N - 6);
     lambda_fixed<N>(P.data(), xi.data());
     return xi;
+  });
+}
+
+std::array<double, 2> published_lambda_ends(const std::vector<Vec2>& P) {
+  return by_degree(static_cast<int>(P.size()) - 1, [&]<int N>() {
+    return std::array<double, 2>{lambda_start<N>(P[0], P[1], P[2], P[3]),
+                                 lambda_start<N>(P[N], P[N - 1], P[N - 2], P[N - 3])};
   });
 }
 

@@ -32,6 +32,10 @@
 ///     C(p+r,k) (f h)_k = Σ_{i+j=k} F_i H_j.
 /// Every binomial is a compile-time constant and every loop bound a
 /// compile-time constant, so the compiler emits straight-line code per degree.
+/// Per pixel, condition (3) at level 0 is tested first on ξ_0 and ξ_{4n-7}
+/// alone (each from four points), so most pixels outside a region never form
+/// the full ξ.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -62,5 +66,9 @@ std::vector<uint8_t> published_region(const BSpline& spline, const PublishedRegi
 /// baseline's fixed-degree code, for tests. Throws InputError for a degree
 /// outside kPublishedMinDegree..kPublishedMaxDegree.
 std::vector<double> published_lambda(const std::vector<Vec2>& P);
+
+/// ξ_0 and ξ_{4n-7} alone, as the baseline forms them for its level-0
+/// rejection before the full ξ (same degrees, same errors).
+std::array<double, 2> published_lambda_ends(const std::vector<Vec2>& P);
 
 }  // namespace cmr::bench
