@@ -58,5 +58,6 @@ void add_analyze_command(CLI::App& app, int& exit_code);
 void add_region_command(CLI::App& app, int& exit_code);
 void add_figures_command(CLI::App& app, int& exit_code);
 void add_report_command(CLI::App& app, int& exit_code);
+void add_edit_command(CLI::App& app, int& exit_code);  // tools/cmd_edit.cpp, built with the editor
 
 }  // namespace cmr::cli
