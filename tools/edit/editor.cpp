@@ -234,8 +234,8 @@ std::string pgm(const RegionImage& img) {
 }  // namespace
 
 void Editor::export_region(const std::filesystem::path& path) {
-  const std::vector<RegionImage>& layers = region();
-  const RegionQuery q = region_query();
+  const RegionQuery q = region_query(true);
+  const std::vector<RegionImage> layers = compute_regions(doc().spline, q);
   cli::OutputFiles out;
   for (std::size_t i = 0; i < layers.size(); ++i) {
     std::filesystem::path p = path;
@@ -268,7 +268,13 @@ void Editor::fit_view() {
   region_stale_ = rgba_stale_ = true;
 }
 
-RegionQuery Editor::region_query() const {
+std::pair<int, int> Editor::canvas() const {
+  const int w = viewport_.width, h = viewport_.height;
+  if (!show_ui) return {w, h};
+  return {std::max(1, w - kPanelWidth), std::max(1, h - kPlotHeight)};
+}
+
+RegionQuery Editor::region_query(bool whole_window) const {
   const Document& d = doc();
   RegionQuery q;
   if (d.all_points) {
@@ -288,12 +294,22 @@ RegionQuery Editor::region_query() const {
   q.view = viewport_.view;
   q.width = viewport_.width;
   q.height = viewport_.height;
+  const auto [cw, ch] = canvas();
+  if (!whole_window && (cw != q.width || ch != q.height)) {
+    const View& v = viewport_.view;
+    const double sx = (v.x1 - v.x0) / q.width, sy = (v.y1 - v.y0) / q.height;
+    q.view = {v.x0, v.y1 - sy * ch, v.x0 + sx * cw, v.y1};
+    q.width = cw;
+    q.height = ch;
+  }
   return q;
 }
 
 const std::vector<RegionImage>& Editor::region(bool* changed) {
+  if (canvas() != region_canvas_) region_stale_ = true;
   if (changed != nullptr) *changed = region_stale_;
   if (region_stale_) {
+    region_canvas_ = canvas();
     region_ = compute_regions(doc().spline, region_query());
     region_stale_ = false;
     rgba_stale_ = true;
@@ -302,10 +318,18 @@ const std::vector<RegionImage>& Editor::region(bool* changed) {
 }
 
 const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
-  region();
+  bool recomputed = false;
+  region(&recomputed);
+  if (recomputed) rgba_stale_ = true;
   if (changed != nullptr) *changed = rgba_stale_;
   if (rgba_stale_) {
-    rgba_ = edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
+    const std::vector<uint8_t> part =
+        edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
+    const std::size_t w = viewport_.width, h = viewport_.height;
+    const std::size_t cw = region_canvas_.first, ch = region_canvas_.second;
+    rgba_.assign(w * h * 4, 255);
+    for (std::size_t j = 0; j < ch && j < h; ++j)
+      std::copy_n(&part[j * cw * 4], std::min(cw, w) * 4, &rgba_[j * w * 4]);
     rgba_stale_ = false;
   }
   return rgba_;

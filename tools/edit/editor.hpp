@@ -71,12 +71,20 @@ class Editor {
   const Viewport& viewport() const { return viewport_; }
   const std::filesystem::path& path() const { return path_; }
   int dragging() const { return dragging_; }
-  /// The query the region view answers now.
-  RegionQuery region_query() const;
+  /// The part of the window the region is computed for: all of it without
+  /// the UI, else the top-left rectangle the opaque panels leave free (the
+  /// pixels under them are never seen).
+  std::pair<int, int> canvas() const;
+  /// The query the region view answers now: the canvas's pixels, with the
+  /// same pixel size and top-left corner as the window's view (the whole
+  /// window's view exactly when the canvas is the whole window, or with
+  /// whole_window).
+  RegionQuery region_query(bool whole_window = false) const;
   /// Region layers for the current state (recomputed when stale); `changed`
   /// is set when they were recomputed since the last call.
   const std::vector<RegionImage>& region(bool* changed = nullptr);
-  /// RGBA of region() in the legend's colours.
+  /// RGBA of the whole window: region() in the legend's colours on the
+  /// canvas, white elsewhere.
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
@@ -100,6 +108,7 @@ class Editor {
   int drag_serial_ = 0;
   bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
   std::vector<RegionImage> region_;
+  std::pair<int, int> region_canvas_{0, 0};
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
   CurvatureEvents events_;

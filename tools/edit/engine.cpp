@@ -41,11 +41,23 @@ std::vector<uint8_t> region_rgba(const std::vector<RegionImage>& layers, bool sp
   picture.max_depth = max_depth;
   const std::size_t count = layers.front().labels.size();
   std::vector<uint8_t> rgba(count * 4);
-  // Rows in parallel: the colour of a pixel depends on that pixel alone.
+  // Rows in parallel: the colour of a pixel depends on that pixel alone, so a
+  // pixel whose labels (and levels, when shaded) equal its left neighbour's
+  // takes that colour without recomputing it (regions are mostly runs).
   const int width = layers.front().width;
   const auto byte = [](double c) { return static_cast<uint8_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
+  const auto same_as_left = [&](std::size_t i) {
+    for (const RegionImage& l : layers) {
+      if (l.labels[i] != l.labels[i - 1] || (depth_shading && l.depth[i] != l.depth[i - 1])) return false;
+    }
+    return true;
+  };
   parallel_for(static_cast<std::size_t>(layers.front().height), 0, [&](std::size_t row) {
     for (std::size_t i = row * width; i < (row + 1) * width; ++i) {
+      if (i > row * width && same_as_left(i)) {
+        std::copy_n(&rgba[4 * (i - 1)], 4, &rgba[4 * i]);
+        continue;
+      }
       const draw::Rgb c = draw::pixel_colour(picture, i);
       rgba[4 * i] = byte(c.r);
       rgba[4 * i + 1] = byte(c.g);

@@ -238,9 +238,10 @@ void side_panel(Editor& e, const UiInfo& info) {
 void curvature_plot(Editor& e) {
   const ImGuiIO& io = ImGui::GetIO();
   const BSpline& s = e.doc().spline;
-  ImGui::SetNextWindowPos({0, io.DisplaySize.y - Editor::kPlotHeight}, ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize({std::max(200.0f, io.DisplaySize.x - kPanelWidth), Editor::kPlotHeight}, ImGuiCond_FirstUseEver);
-  ImGui::Begin("curvature");
+  // Fixed, opaque and not collapsible: the region is not computed beneath it.
+  ImGui::SetNextWindowPos({0, io.DisplaySize.y - Editor::kPlotHeight});
+  ImGui::SetNextWindowSize({std::max(200.0f, io.DisplaySize.x - kPanelWidth), Editor::kPlotHeight});
+  ImGui::Begin("curvature", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 o = ImGui::GetCursorScreenPos(), size = ImGui::GetContentRegionAvail();
   const double a = s.domain_begin(), b = s.domain_end();
