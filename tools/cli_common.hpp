@@ -81,5 +81,6 @@ struct KCurvePoints {
 };
 KCurvePoints kcurve_points_from_json(const nlohmann::json& doc);
 KCurvePoints read_kcurve_points_file(const std::filesystem::path& path);
+void add_edit_command(CLI::App& app, int& exit_code);  // tools/cmd_edit.cpp, built with the editor
 
 }  // namespace cmr::cli

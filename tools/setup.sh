@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev
   libvulkan-dev mesa-vulkan-drivers glslang-tools
   chromium fonts-dejavu-core
+  libglfw3-dev libimgui-dev xvfb xauth
 )
 
 missing=()

@@ -18,6 +18,7 @@ DeviceState::~DeviceState() {
     vkDeviceWaitIdle(device);
     vkDestroyDevice(device, nullptr);
   }
+  if (surface != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance, surface, nullptr);
   if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
 }
 
@@ -143,7 +144,7 @@ class InstanceHandle {
 // Vulkan 1.1 gives SPIR-V 1.3, which cmr_add_shader() targets.
 constexpr uint32_t kApiVersion = VK_API_VERSION_1_1;
 
-Result<InstanceHandle> create_instance() {
+Result<InstanceHandle> create_instance(const std::vector<std::string>& extensions) {
   // libvulkan is linked directly, so a missing library stops the program
   // before main(); what can still happen is a broken or 1.0-only loader.
   if (vkGetInstanceProcAddr(VK_NULL_HANDLE, "vkCreateInstance") == nullptr) {
@@ -173,16 +174,25 @@ Result<InstanceHandle> create_instance() {
   app.engineVersion = 1;
   app.apiVersion = kApiVersion;
 
-  // Headless: no layers, no extensions (in particular no surface extensions).
+  // No layers; extensions only as asked (none: headless, no surface).
+  std::vector<const char*> names;
+  for (const std::string& e : extensions) names.push_back(e.c_str());
   VkInstanceCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   info.pApplicationInfo = &app;
+  info.enabledExtensionCount = static_cast<uint32_t>(names.size());
+  info.ppEnabledExtensionNames = names.data();
 
   VkInstance instance = VK_NULL_HANDLE;
   const VkResult r = vkCreateInstance(&info, nullptr, &instance);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) {
     // The loader reports "no usable ICD" with these two codes.
     return no_device_error(r);
+  }
+  if (r == VK_ERROR_EXTENSION_NOT_PRESENT) {
+    std::string list;
+    for (const std::string& e : extensions) list += (list.empty() ? "" : ", ") + e;
+    return Error{Errc::missing_feature, r, "the Vulkan loader lacks an instance extension of " + list};
   }
   if (r != VK_SUCCESS) return vk_error(r, "vkCreateInstance");
   return InstanceHandle(instance);
@@ -193,6 +203,7 @@ struct Candidate {
   DeviceInfo info;
   uint32_t api_version = 0;
   std::optional<uint32_t> graphics_family;
+  bool presents = true;  // with a surface: graphics_family presents to it and VK_KHR_swapchain exists
 };
 
 // All physical devices with what device selection needs to know about them.
@@ -256,13 +267,42 @@ std::string unusable_reason(const Candidate& c, const ContextOptions& options) {
   if (c.api_version < kApiVersion) return who + " supports only Vulkan 1.0 (1.1 is required)";
   if (!c.graphics_family) return who + " has no graphics queue";
   if (options.require_float64 && !c.info.float64) return who + " lacks shaderFloat64";
+  if (!c.presents) return who + " cannot present to the window (no presenting graphics queue or VK_KHR_swapchain)";
   return {};
+}
+
+bool has_device_extension(VkPhysicalDevice device, std::string_view name) {
+  uint32_t count = 0;
+  if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkExtensionProperties> props(count);
+  if (vkEnumerateDeviceExtensionProperties(device, nullptr, &count, props.data()) != VK_SUCCESS) return false;
+  return std::any_of(props.begin(), props.end(), [&](const VkExtensionProperties& p) { return name == p.extensionName; });
+}
+
+// With a surface, the graphics family becomes the first one that also
+// presents to it; a device with none, or without VK_KHR_swapchain, is marked.
+void check_presentation(Candidate& c, VkSurfaceKHR surface) {
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(c.handle, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(c.handle, &family_count, families.data());
+  c.graphics_family.reset();
+  for (uint32_t i = 0; i < family_count; ++i) {
+    VkBool32 supported = VK_FALSE;
+    if ((families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) == 0 || families[i].queueCount == 0) continue;
+    if (vkGetPhysicalDeviceSurfaceSupportKHR(c.handle, i, surface, &supported) == VK_SUCCESS && supported) {
+      c.graphics_family = i;
+      break;
+    }
+  }
+  c.presents = c.graphics_family.has_value() && has_device_extension(c.handle, VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  if (!c.graphics_family) c.graphics_family = 0;  // reported through `presents`, not as "no graphics queue"
 }
 
 }  // namespace
 
 Result<std::vector<DeviceInfo>> enumerate_devices() {
-  auto instance = create_instance();
+  auto instance = create_instance({});
   if (!instance) return instance.error();
   auto devices = list_devices(instance.value().get());
   if (!devices) return devices.error();
@@ -273,14 +313,22 @@ Result<std::vector<DeviceInfo>> enumerate_devices() {
 }
 
 Result<Context> Context::create(const ContextOptions& options) {
-  auto instance = create_instance();
+  auto instance = create_instance(options.instance_extensions);
   if (!instance) return instance.error();
   auto state = std::make_shared<detail::DeviceState>();
   state->instance = instance.value().release();
+  if (options.make_surface) {
+    auto surface = options.make_surface(state->instance);
+    if (!surface) return surface.error();
+    state->surface = surface.value();
+  }
 
   auto listed = list_devices(state->instance);
   if (!listed) return listed.error();
-  const std::vector<Candidate>& devices = listed.value();
+  std::vector<Candidate>& devices = listed.value();
+  if (state->surface != VK_NULL_HANDLE) {
+    for (Candidate& c : devices) check_presentation(c, state->surface);
+  }
 
   // Name filter first: a name that matches nothing must not fall back to
   // some other device.
@@ -343,6 +391,11 @@ Result<Context> Context::create(const ContextOptions& options) {
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
   device_info.pEnabledFeatures = &features;
+  const char* swapchain_extension = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  if (state->surface != VK_NULL_HANDLE) {
+    device_info.enabledExtensionCount = 1;
+    device_info.ppEnabledExtensionNames = &swapchain_extension;
+  }
 
   if (VkResult r = vkCreateDevice(state->physical_device, &device_info, nullptr, &state->device);
       r != VK_SUCCESS) {
@@ -364,5 +417,6 @@ VkPhysicalDevice Context::physical_device() const { return state_->physical_devi
 VkDevice Context::device_handle() const { return state_->device; }
 VkQueue Context::queue() const { return state_->queue; }
 uint32_t Context::queue_family_index() const { return state_->queue_family_index; }
+VkSurfaceKHR Context::surface() const { return state_->surface; }
 
 }  // namespace cmr::vk

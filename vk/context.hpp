@@ -12,6 +12,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +42,14 @@ struct ContextOptions {
   // enabled whenever the device supports it, independent of this flag, so
   // device().float64 tells whether fp64 shaders may be used.
   bool require_float64 = true;
+  // Instance extensions to enable (e.g. what glfwGetRequiredInstanceExtensions
+  // lists for a window). Empty: a headless instance with no extensions.
+  std::vector<std::string> instance_extensions;
+  // For presentation: called once with the new instance, returns a surface
+  // the Context then owns (destroyed after the device, before the instance).
+  // A device qualifies only if one queue family has graphics and presents to
+  // this surface and it offers VK_KHR_swapchain, which is then enabled.
+  std::function<Result<VkSurfaceKHR>(VkInstance)> make_surface;
 };
 
 namespace detail {
@@ -53,7 +62,9 @@ class Context {
   // Errors: loader_missing; no_device (no driver / no physical device);
   //   device_not_found (options.device_name matches nothing; the message
   //   lists the available devices); missing_feature (matching devices lack
-  //   shaderFloat64 while required, Vulkan 1.1 or a graphics queue);
+  //   shaderFloat64 while required, Vulkan 1.1 or a graphics queue, or with
+  //   make_surface a presenting queue or VK_KHR_swapchain; also an instance
+  //   extension the loader lacks); errors of make_surface as it returns them;
   //   out_of_memory; device_lost; other.
   static Result<Context> create(const ContextOptions& options = {});
 
@@ -74,6 +85,8 @@ class Context {
   VkDevice device_handle() const;
   VkQueue queue() const;
   uint32_t queue_family_index() const;
+  // The surface made by ContextOptions::make_surface, else VK_NULL_HANDLE.
+  VkSurfaceKHR surface() const;
 
   // Internal: shared ownership of the Vulkan handles.
   const std::shared_ptr<detail::DeviceState>& state() const { return state_; }

@@ -20,6 +20,7 @@ struct DeviceState {
   VkInstance instance = VK_NULL_HANDLE;
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
+  VkSurfaceKHR surface = VK_NULL_HANDLE;  // presentation only; owned here
   VkQueue queue = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
   DeviceInfo info{};

@@ -1,0 +1,245 @@
+// cmr edit, driven for real: the window opens under Xvfb, a script moves
+// points, knots and toggles through the editor's input handlers, and the
+// presented swapchain image is read back. Region pixels are checked against
+// `cmr region` labels for the same state and view, saved files against the
+// edit.
+#include <gtest/gtest.h>
+
+#include <cairo.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "tests/tools/cli_util.hpp"
+
+namespace {
+
+using cmr::test::Outcome;
+using cmr::test::run;
+using cmr::test::scratch;
+using cmr::test::write;
+namespace fs = std::filesystem;
+
+const std::string kFig8 = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8.json";
+// A view with the same aspect as the window, around fig8's P3 (1.97, -3.83).
+constexpr int kW = 320, kH = 240;
+const std::string kView = "-1 -7 5 -2.5";
+const std::string kViewComma = "-1,-7,5,-2.5";
+
+bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+
+Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot) {
+  const std::string script = write("edit_script.txt", script_text);
+  const std::string cmd = "edit " + file + " --size " + std::to_string(kW) + "x" + std::to_string(kH) +
+                          " --script " + script + " --screenshot " + shot.string();
+  // xvfb-run wraps the binary: run() prefixes CMR_BINARY, so call the shell directly.
+  const fs::path dir = scratch();
+  const std::string line = "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(CMR_BINARY) + " " + cmd + " >" +
+                           (dir / "eout").string() + " 2>" + (dir / "eerr").string();
+  const int status = std::system(line.c_str());
+  Outcome r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = cmr::test::slurp(dir / "eout");
+  r.err = cmr::test::slurp(dir / "eerr");
+  return r;
+}
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::array<int, 3>> rgb;
+};
+
+Image read_png(const fs::path& p) {
+  cairo_surface_t* s = cairo_image_surface_create_from_png(p.c_str());
+  Image img;
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    img.width = cairo_image_surface_get_width(s);
+    img.height = cairo_image_surface_get_height(s);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    for (int j = 0; j < img.height; ++j) {
+      const auto* row = reinterpret_cast<const uint32_t*>(data + j * stride);
+      for (int i = 0; i < img.width; ++i)
+        img.rgb.push_back({static_cast<int>(row[i] >> 16 & 255), static_cast<int>(row[i] >> 8 & 255),
+                           static_cast<int>(row[i] & 255)});
+    }
+  }
+  cairo_surface_destroy(s);
+  return img;
+}
+
+std::vector<uint8_t> read_pgm(const fs::path& p, int& w, int& h) {
+  std::ifstream in(p, std::ios::binary);
+  std::string magic;
+  int maxval = 0;
+  in >> magic >> w >> h >> maxval;
+  in.get();
+  std::vector<uint8_t> v(static_cast<std::size_t>(w) * h);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size()));
+  return v;
+}
+
+/// The legend of cmr region --png (tools/draw.hpp), written out here: each
+/// layer takes (0, .6, .6) from white where increasing, (.6, .6, 0) where
+/// decreasing; nothing otherwise.
+std::array<int, 3> expected_colour(const std::vector<uint8_t>& labels_per_layer) {
+  double r = 0, g = 0, b = 0;
+  for (uint8_t l : labels_per_layer) {
+    if (l == 1) g += 0.6, b += 0.6;
+    if (l == 2) r += 0.6, g += 0.6;
+  }
+  const auto byte = [](double absorb) { return static_cast<int>(std::lround(255 * std::max(0.0, 1 - absorb))); };
+  return {byte(r), byte(g), byte(b)};
+}
+
+/// Compares every pixel of the screenshot with the colours of the label
+/// maps; returns the number of pixels per label seen (so callers can check
+/// the picture is not trivially uniform).
+std::array<int, 4> compare_with_labels(const Image& shot, const std::vector<fs::path>& label_files) {
+  std::vector<std::vector<uint8_t>> layers;
+  for (const fs::path& f : label_files) {
+    int w = 0, h = 0;
+    layers.push_back(read_pgm(f, w, h));
+    EXPECT_EQ(w, shot.width) << f;
+    EXPECT_EQ(h, shot.height) << f;
+  }
+  std::array<int, 4> seen{};
+  int wrong = 0;
+  for (std::size_t i = 0; i < shot.rgb.size() && !layers.empty() && i < layers[0].size(); ++i) {
+    std::vector<uint8_t> at;
+    for (const auto& l : layers) at.push_back(l[i]);
+    ++seen[std::min<int>(at[0], 3)];
+    const auto want = expected_colour(at);
+    if (shot.rgb[i] != want && ++wrong <= 5) {
+      ADD_FAILURE() << "pixel (" << i % shot.width << ", " << i / shot.width << "): screenshot " << shot.rgb[i][0]
+                    << "," << shot.rgb[i][1] << "," << shot.rgb[i][2] << " but label " << int(at[0]) << " wants "
+                    << want[0] << "," << want[1] << "," << want[2];
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+  return seen;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+class EditTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (tools/setup.sh installs it)";
+    dir_ = scratch() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  fs::path dir_;
+};
+
+TEST(EditNoDisplay, ExitsThreeWithOneLine) {
+  const fs::path dir = scratch();
+  const std::string line = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(CMR_BINARY) + " edit " + kFig8 + " >" +
+                           (dir / "nd_out").string() + " 2>" + (dir / "nd_err").string();
+  const int status = std::system(line.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 3);
+  const std::string err = cmr::test::slurp(dir / "nd_err");
+  EXPECT_NE(err.find("no display"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
+
+TEST_F(EditTest, DragSavesTheEditedSplineAndRegionPixelsMatchCmrRegion) {
+  const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
+  const Outcome r = run_edit(kFig8,
+                             "ui off\noverlay off\nview " + kView + "\ndrag 3 2.5 -4 6\nsave " + saved.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  // The saved spline is fig8 with P3 where the drag put it, nothing else changed.
+  const nlohmann::json before = read_json(kFig8), after = read_json(saved);
+  EXPECT_EQ(after["knots"], before["knots"]);
+  EXPECT_EQ(after["degree"], before["degree"]);
+  for (int i = 0; i < 6; ++i) {
+    if (i == 3) continue;
+    EXPECT_EQ(after["points"][i], before["points"][i]) << "point " << i;
+  }
+  EXPECT_NEAR(after["points"][3][0].get<double>(), 2.5, 1e-9);
+  EXPECT_NEAR(after["points"][3][1].get<double>(), -4.0, 1e-9);
+  // Every pixel is the colour of `cmr region`'s label for the saved state.
+  const fs::path labels = dir_ / "labels.pgm";
+  const Outcome region = run("region " + saved.string() + " --point 3 --view " + kViewComma + " --size " +
+                             std::to_string(kW) + "x" + std::to_string(kH) + " --backend cpu --labels " +
+                             labels.string());
+  ASSERT_EQ(region.code, 0) << region.err;
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, kW);
+  ASSERT_EQ(img.height, kH);
+  const auto seen = compare_with_labels(img, {labels});
+  EXPECT_GT(seen[0], 0) << "the view should show non-monotone pixels";
+  EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
+}
+
+TEST_F(EditTest, KnotMoveModeToggleAndAllPointsMatchCmrRegion) {
+  const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
+  const Outcome r = run_edit(kFig8,
+                             "ui off\noverlay off\nview " + kView + "\nknot 4 3.6\nmode cmr\nall on\nsave " +
+                                 saved.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json after = read_json(saved);
+  EXPECT_EQ(after["knots"][4].get<double>(), 3.6);
+  const fs::path labels = dir_ / "labels.pgm";
+  const Outcome region = run("region " + saved.string() + " --point all --mode cmr --view " + kViewComma +
+                             " --size " + std::to_string(kW) + "x" + std::to_string(kH) +
+                             " --backend cpu --labels " + labels.string());
+  ASSERT_EQ(region.code, 0) << region.err;
+  std::vector<fs::path> layers;
+  for (int k = 0; k < 6; ++k) layers.push_back(dir_ / ("labels.P" + std::to_string(k) + ".pgm"));
+  compare_with_labels(read_png(shot), layers);
+}
+
+TEST_F(EditTest, UndoRestoresAndRedoReapplies) {
+  const fs::path undone = dir_ / "undone.json", redone = dir_ / "redone.json", shot = dir_ / "shot.png";
+  const Outcome r = run_edit(kFig8,
+                             "view " + kView + "\ndrag 3 2.5 -4 4\nknot 4 3.5\nundo\nundo\nsave " + undone.string() +
+                                 "\nredo\nsave " + redone.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json before = read_json(kFig8);
+  EXPECT_EQ(read_json(undone)["points"], before["points"]);
+  EXPECT_EQ(read_json(undone)["knots"], before["knots"]);
+  const nlohmann::json re = read_json(redone);
+  EXPECT_NEAR(re["points"][3][0].get<double>(), 2.5, 1e-9);
+  EXPECT_EQ(re["knots"], before["knots"]) << "redo reapplies the drag only";
+}
+
+TEST_F(EditTest, DepthShadingChangesThePicture) {
+  const fs::path plain = dir_ / "plain.png", shaded = dir_ / "shaded.png";
+  const std::string base = "ui off\noverlay off\nview " + kView + "\n";
+  ASSERT_EQ(run_edit(kFig8, base, plain).code, 0);
+  ASSERT_EQ(run_edit(kFig8, base + "shading on\n", shaded).code, 0);
+  const Image a = read_png(plain), b = read_png(shaded);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  int white_a = 0, white_b = 0, differ = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    white_a += a.rgb[i] == std::array<int, 3>{255, 255, 255};
+    white_b += b.rgb[i] == std::array<int, 3>{255, 255, 255};
+    differ += a.rgb[i] != b.rgb[i];
+  }
+  EXPECT_GT(white_a, 0) << "plain: not monotone is white";
+  EXPECT_EQ(white_b, 0) << "Fig. 7 shading: not monotone is grey";
+  EXPECT_EQ(differ, static_cast<int>(a.rgb.size())) << "every pixel is shaded by its level";
+}
+
+TEST_F(EditTest, BadScriptIsAnInputError) {
+  const Outcome r = run_edit(kFig8, "jump 3\n", dir_ / "x.png");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("unknown command 'jump'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+}  // namespace

@@ -1,0 +1,73 @@
+// cmr edit [FILE]: the interactive designer (tools/edit/), its scripted mode
+// and its benchmark.
+#include <sstream>
+
+#include "spline/errors.hpp"
+#include "tools/cli_common.hpp"
+
+#include <CLI/CLI.hpp>
+#include "tools/edit/window.hpp"
+
+namespace cmr::cli {
+namespace {
+
+struct EditArgs {
+  std::string file, script, screenshot, device;
+  std::string size = "1024x768";
+  bool bench = false;
+  int frames = 200;
+  int point = 3;
+  bool no_vsync = false;
+};
+
+std::pair<int, int> parse_window_size(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
+    throw InputError("--size: expected WxH, e.g. 1024x768 (got '" + text + "')");
+  return {w, h};
+}
+
+}  // namespace
+
+void add_edit_command(CLI::App& app, int& exit_code) {
+  auto a = std::make_shared<EditArgs>();
+  auto* cmd = app.add_subcommand("edit", "Design interactively: drag points and see their regions live");
+  cmd->add_option("FILE", a->file, "spline file (JSON) to open; without it, a cubic Bezier curve");
+  cmd->add_option("--script", a->script, "run these input events (see README) in the real window, then exit");
+  cmd->add_option("--screenshot", a->screenshot, "PNG of the presented window after the script");
+  cmd->add_option("--size", a->size, "window size WxH")->capture_default_str();
+  cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
+  cmd->add_flag("--no-vsync", a->no_vsync, "do not wait for the display between frames");
+  cmd->add_flag("--bench", a->bench, "replay a scripted drag (FILE or the Fig. 8 spline) and print frame times");
+  cmd->add_option("--frames", a->frames, "--bench: frames per run")->capture_default_str();
+  cmd->add_option("--point", a->point, "--bench: the dragged point")->capture_default_str();
+  cmd->callback([a, &exit_code] {
+    const auto [w, h] = parse_window_size(a->size);
+    if (a->bench) {
+      edit::BenchOptions b;
+      b.file = a->file.empty() ? std::filesystem::path(CMR_SOURCE_DIR) / "examples/figures/fig8.json"
+                               : std::filesystem::path(a->file);
+      b.width = w;
+      b.height = h;
+      if (a->frames < 1) throw InputError("--frames must be at least 1");
+      b.frames = a->frames;
+      b.point = a->point;
+      b.device = a->device;
+      exit_code = edit::run_bench(b);
+      return;
+    }
+    edit::EditOptions o;
+    o.file = a->file;
+    o.script = a->script;
+    o.screenshot = a->screenshot;
+    o.width = w;
+    o.height = h;
+    o.device = a->device;
+    o.vsync = !a->no_vsync;
+    exit_code = edit::run_editor(o);
+  });
+}
+
+}  // namespace cmr::cli

@@ -1,0 +1,355 @@
+#include "tools/edit/editor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+
+namespace cmr::edit {
+
+Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height)
+    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false}),
+      path_(std::move(path)),
+      viewport_(Viewport::fit(history_.current().spline, width, height, width - kPanelWidth, height - kPlotHeight)) {}
+
+void Editor::changed_document() {
+  region_stale_ = rgba_stale_ = analysis_stale_ = events_stale_ = true;
+}
+
+int Editor::pick(double x, double y) const {
+  int best = -1;
+  double best_d = kPickRadius;
+  const std::vector<Vec2>& pts = doc().spline.points();
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    const Vec2 s = viewport_.to_screen(pts[i]);
+    const double d = std::hypot(s.x - x, s.y - y);
+    if (d <= best_d) best = i, best_d = d;
+  }
+  return best;
+}
+
+void Editor::mouse_move(double x, double y) {
+  const Vec2 before = mouse_;
+  mouse_ = {x, y};
+  if (panning_) {
+    viewport_ = viewport_.panned(x - before.x, y - before.y);
+    region_stale_ = rgba_stale_ = true;
+  }
+  if (dragging_ >= 0) {
+    Document next = doc();
+    next.spline = edit::move_point(doc(), dragging_, viewport_.to_world(x, y) + grab_offset_);
+    history_.commit(std::move(next), "drag" + std::to_string(drag_serial_));
+    changed_document();
+  }
+}
+
+void Editor::mouse_button(MouseButton button, bool down, bool shift) {
+  if (button != MouseButton::left) {
+    panning_ = down;
+    return;
+  }
+  if (!down) {
+    if (dragging_ >= 0) history_.seal();
+    dragging_ = -1;
+    return;
+  }
+  const int k = pick(mouse_.x, mouse_.y);
+  if (k < 0) return;
+  if (shift) {
+    std::vector<int> g = doc().group;
+    const auto it = std::find(g.begin(), g.end(), k);
+    if (it != g.end()) g.erase(it);
+    else if (k != doc().selected) g.push_back(k);
+    set_group(std::move(g));
+    return;
+  }
+  ++drag_serial_;
+  if (k != doc().selected) {  // picking the point is part of the drag's undo step
+    Document next = doc();
+    next.selected = k;
+    std::erase(next.group, k);
+    history_.commit(std::move(next), "drag" + std::to_string(drag_serial_));
+    changed_document();
+  }
+  dragging_ = k;
+  grab_offset_ = doc().spline.points()[k] - viewport_.to_world(mouse_.x, mouse_.y);
+}
+
+void Editor::scroll(double dy) {
+  viewport_ = viewport_.zoomed(std::pow(kZoomStep, dy), mouse_.x, mouse_.y);
+  region_stale_ = rgba_stale_ = true;
+}
+
+void Editor::key(const std::string& name, bool ctrl) {
+  if (ctrl && name == "z") undo();
+  else if (ctrl && name == "y") redo();
+  else if (name == "c") set_mode(doc().mode == Mode::cmr ? Mode::cmrwi : Mode::cmr);
+  else if (name == "d") set_depth_shading(!doc().depth_shading);
+  else if (name == "a") set_all_points(!doc().all_points);
+  else if (name == "g") set_chain(!doc().chain);
+  else if (name == "f") fit_view();
+}
+
+namespace {
+
+void check_point(const BSpline& s, int k) {
+  if (k < 0 || k >= s.point_count())
+    throw InputError("point " + std::to_string(k) + " is outside 0.." + std::to_string(s.point_count() - 1));
+}
+
+}  // namespace
+
+void Editor::select(int k) {
+  check_point(doc().spline, k);
+  Document next = doc();
+  next.selected = k;
+  std::erase(next.group, k);
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_group(std::vector<int> group) {
+  for (int k : group) check_point(doc().spline, k);
+  Document next = doc();
+  std::erase(group, next.selected);
+  std::sort(group.begin(), group.end());
+  group.erase(std::unique(group.begin(), group.end()), group.end());
+  next.group = std::move(group);
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_all_points(bool on) {
+  Document next = doc();
+  next.all_points = on;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_mode(Mode mode) {
+  Document next = doc();
+  next.mode = mode;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_depth(int depth) {
+  if (depth < 0 || depth > kMaxDepth)
+    throw InputError("depth " + std::to_string(depth) + " is outside 0.." + std::to_string(kMaxDepth));
+  Document next = doc();
+  next.max_depth = depth;
+  history_.commit(std::move(next), "depth");
+  changed_document();
+}
+
+void Editor::set_depth_shading(bool on) {
+  Document next = doc();
+  next.depth_shading = on;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_split(std::optional<int> joint) {
+  const int n = doc().spline.segment_count();
+  if (joint && (*joint < 1 || *joint > n - 1))
+    throw InputError("split " + std::to_string(*joint) + " is outside 1.." + std::to_string(n - 1) +
+                     (n < 2 ? " (the curve has one segment)" : ""));
+  Document next = doc();
+  next.split = joint;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_chain(bool on) {
+  Document next = doc();
+  next.chain = on;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::move_point(int k, Vec2 p) {
+  check_point(doc().spline, k);
+  Document next = doc();
+  next.spline = edit::move_point(doc(), k, p);
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::move_knot(int i, double u) {
+  const BSpline& s = doc().spline;
+  if (i < 0 || i >= static_cast<int>(s.knots().size()))
+    throw InputError("knot " + std::to_string(i) + " is outside 0.." + std::to_string(s.knots().size() - 1));
+  std::vector<double> knots = s.knots();
+  knots[i] = u;
+  replace_spline(BSpline::make(s.degree(), std::move(knots), s.points(), s.name()), "knot");
+}
+
+void Editor::knot_operation(const std::string& name, double a, double b) {
+  KnotResult r = edit::knot_operation(doc().spline, name, a, b);
+  replace_spline(std::move(r.spline), r.message);
+}
+
+void Editor::replace_spline(BSpline spline, const std::string& what) {
+  Document next = doc();
+  const bool same_points = spline.point_count() == next.spline.point_count();
+  next.spline = std::move(spline);
+  if (!same_points) {  // indices no longer mean the same points
+    next.selected = std::min(next.selected, next.spline.point_count() - 1);
+    next.group.clear();
+  }
+  if (next.split && *next.split > next.spline.segment_count() - 1) next.split.reset();
+  history_.commit(std::move(next));
+  message = what;
+  changed_document();
+}
+
+bool Editor::undo() {
+  const bool done = history_.undo();
+  if (done) changed_document();
+  return done;
+}
+
+bool Editor::redo() {
+  const bool done = history_.redo();
+  if (done) changed_document();
+  return done;
+}
+
+void Editor::save(const std::filesystem::path& path) {
+  write_spline_file(path, doc().spline);
+  path_ = path;
+  message = "saved " + path.string();
+}
+
+namespace {
+
+std::string pgm(const RegionResult& img) {
+  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
+  const std::vector<std::uint8_t> codes = img.codes();
+  out.append(reinterpret_cast<const char*>(codes.data()), codes.size());
+  return out;
+}
+
+}  // namespace
+
+void Editor::export_region(const std::filesystem::path& path) {
+  const RegionQuery q = region_query(true);
+  const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
+  cli::OutputFiles out;
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    std::filesystem::path p = path;
+    if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q.points[i]) + path.extension().string());
+    out.write(p, pgm(layers[i]));
+  }
+  out.keep();
+  message = "region written to " + path.string();
+}
+
+void Editor::resize(int width, int height) {
+  if (width == viewport_.width && height == viewport_.height) return;
+  if (width <= 0 || height <= 0) return;  // minimised: keep the view
+  viewport_ = viewport_.resized(width, height);
+  region_stale_ = rgba_stale_ = true;
+}
+
+void Editor::set_view(View view) {
+  if (!(view.x1 > view.x0) || !(view.y1 > view.y0) || !std::isfinite(view.x0) || !std::isfinite(view.x1) ||
+      !std::isfinite(view.y0) || !std::isfinite(view.y1))
+    throw InputError("view: expected finite X0 < X1 and Y0 < Y1");
+  viewport_.view = view;
+  region_stale_ = rgba_stale_ = true;
+}
+
+void Editor::fit_view() {
+  const int w = viewport_.width, h = viewport_.height;
+  viewport_ = show_ui ? Viewport::fit(doc().spline, w, h, w - kPanelWidth, h - kPlotHeight)
+                      : Viewport::fit(doc().spline, w, h, w, h);
+  region_stale_ = rgba_stale_ = true;
+}
+
+std::pair<int, int> Editor::canvas() const {
+  const int w = viewport_.width, h = viewport_.height;
+  if (!show_ui) return {w, h};
+  return {std::max(1, w - kPanelWidth), std::max(1, h - kPlotHeight)};
+}
+
+RegionQuery Editor::region_query(bool whole_window) const {
+  const Document& d = doc();
+  RegionQuery q;
+  if (d.all_points) {
+    for (int k = 0; k < d.spline.point_count(); ++k) q.points.push_back(k);
+  } else {
+    q.points = {d.selected};
+    q.with = d.group;
+    if (d.chain) {  // an anchor's handles move rigidly with it
+      for (int i : translation_group(d, d.selected))
+        if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
+    }
+  }
+  q.mode = d.mode;
+  q.split = d.split;
+  q.max_depth = d.max_depth;
+  q.depth_map = d.depth_shading;
+  q.view = viewport_.view;
+  q.width = viewport_.width;
+  q.height = viewport_.height;
+  const auto [cw, ch] = canvas();
+  if (!whole_window && (cw != q.width || ch != q.height)) {
+    const View& v = viewport_.view;
+    const double sx = (v.x1 - v.x0) / q.width, sy = (v.y1 - v.y0) / q.height;
+    q.view = {v.x0, v.y1 - sy * ch, v.x0 + sx * cw, v.y1};
+    q.width = cw;
+    q.height = ch;
+  }
+  return q;
+}
+
+const std::vector<RegionResult>& Editor::region(bool* changed) {
+  if (canvas() != region_canvas_) region_stale_ = true;
+  if (changed != nullptr) *changed = region_stale_;
+  if (region_stale_) {
+    region_canvas_ = canvas();
+    region_ = compute_regions(doc().spline, region_query());
+    region_stale_ = false;
+    rgba_stale_ = true;
+  }
+  return region_;
+}
+
+const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
+  bool recomputed = false;
+  region(&recomputed);
+  if (recomputed) rgba_stale_ = true;
+  if (changed != nullptr) *changed = rgba_stale_;
+  if (rgba_stale_) {
+    const std::vector<uint8_t> part =
+        edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
+    const std::size_t w = viewport_.width, h = viewport_.height;
+    const std::size_t cw = region_canvas_.first, ch = region_canvas_.second;
+    rgba_.assign(w * h * 4, 255);
+    for (std::size_t j = 0; j < ch && j < h; ++j)
+      std::copy_n(&part[j * cw * 4], std::min(cw, w) * 4, &rgba_[j * w * 4]);
+    rgba_stale_ = false;
+  }
+  return rgba_;
+}
+
+const SplineAnalysis& Editor::analysis() {
+  if (analysis_stale_ || !analysis_) {
+    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode);
+    analysis_stale_ = false;
+  }
+  return *analysis_;
+}
+
+const CurvatureEvents& Editor::events() {
+  if (events_stale_) {
+    events_ = curvature_events(doc().spline, doc().max_depth);
+    events_stale_ = false;
+  }
+  return events_;
+}
+
+}  // namespace cmr::edit

@@ -1,0 +1,117 @@
+#pragma once
+// The editor without a window: input handlers (window pixels), named actions
+// (what the UI's buttons and the script's commands call), and what the view
+// shows (region layers, verdicts, curvature events), recomputed lazily. The
+// window (window.cpp) feeds real GLFW input into the same handlers a script
+// (script.hpp) feeds its events into.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tools/edit/engine.hpp"
+#include "tools/edit/model.hpp"
+
+namespace cmr::edit {
+
+enum class MouseButton { left, right, middle };
+
+class Editor {
+ public:
+  /// Pick radius of a control point, in window pixels.
+  static constexpr double kPickRadius = 9;
+  /// Zoom factor of one scroll step.
+  static constexpr double kZoomStep = 1.25;
+  /// Window pixels the panels take at the right and the bottom (fit_view
+  /// leaves them out while the UI is shown).
+  static constexpr int kPanelWidth = 340, kPlotHeight = 190;
+
+  Editor(BSpline spline, std::filesystem::path path, int width, int height);
+
+  // ---- input, in window pixels (row 0 at the top) ----
+  void mouse_move(double x, double y);
+  /// Left: press on a point starts dragging it (shift: adds it to / removes
+  /// it from the rigid group instead); right or middle: pans.
+  void mouse_button(MouseButton button, bool down, bool shift);
+  /// Zooms about the cursor (dy > 0: closer).
+  void scroll(double dy);
+  /// Key by name ("z" with ctrl: undo, "y" with ctrl: redo, "c": CMR/CMRWI,
+  /// "d": depth shading, "a": all points, "g": chain mode, "f": fit view).
+  void key(const std::string& name, bool ctrl);
+
+  // ---- actions (UI and script); bad values throw InputError ----
+  void select(int k);
+  void set_group(std::vector<int> group);
+  void set_all_points(bool on);
+  void set_mode(Mode mode);
+  void set_depth(int depth);
+  void set_depth_shading(bool on);
+  void set_split(std::optional<int> joint);
+  void set_chain(bool on);
+  /// Point k to world position p as a drag would put it (group, chain rules).
+  void move_point(int k, Vec2 p);
+  /// Knot i to value u (polar index); the spline must stay valid.
+  void move_knot(int i, double u);
+  /// A knot operation by name (engine.hpp's knot_operation); one undo step.
+  void knot_operation(const std::string& name, double a, double b);
+  /// Replaces the spline (knot operations); one undo step.
+  void replace_spline(BSpline spline, const std::string& what);
+  bool undo();
+  bool redo();
+  void save(const std::filesystem::path& path);
+  /// The region labels of the current state as `cmr region --labels` writes
+  /// them (one PGM; with every point overlapped, PATH.P0.pgm, PATH.P1.pgm, ...).
+  void export_region(const std::filesystem::path& path);
+  void resize(int width, int height);
+  void set_view(View view);
+  void fit_view();
+
+  // ---- what is shown ----
+  const Document& doc() const { return history_.current(); }
+  const Viewport& viewport() const { return viewport_; }
+  const std::filesystem::path& path() const { return path_; }
+  int dragging() const { return dragging_; }
+  /// The part of the window the region is computed for: all of it without
+  /// the UI, else the top-left rectangle the opaque panels leave free (the
+  /// pixels under them are never seen).
+  std::pair<int, int> canvas() const;
+  /// The query the region view answers now: the canvas's pixels, with the
+  /// same pixel size and top-left corner as the window's view (the whole
+  /// window's view exactly when the canvas is the whole window, or with
+  /// whole_window).
+  RegionQuery region_query(bool whole_window = false) const;
+  /// Region layers for the current state (recomputed when stale); `changed`
+  /// is set when they were recomputed since the last call.
+  const std::vector<RegionResult>& region(bool* changed = nullptr);
+  /// RGBA of the whole window: region() in the legend's colours on the
+  /// canvas, white elsewhere.
+  const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
+  const SplineAnalysis& analysis();
+  const CurvatureEvents& events();
+  /// Status line: the last action's result or error.
+  std::string message;
+  bool show_ui = true;       ///< the panels
+  bool show_overlay = true;  ///< curve, polygon, points, comb
+  bool show_comb = true;
+  double comb_scale = 1.0;   ///< comb length = scale * kappa * (view width / 8)
+
+ private:
+  int pick(double x, double y) const;
+  void changed_document();
+  History history_;
+  std::filesystem::path path_;
+  Viewport viewport_;
+  Vec2 mouse_{0.0};
+  int dragging_ = -1;
+  Vec2 grab_offset_{0.0};  ///< point - cursor (world) at the press
+  bool panning_ = false;
+  int drag_serial_ = 0;
+  bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
+  std::vector<RegionResult> region_;
+  std::pair<int, int> region_canvas_{0, 0};
+  std::vector<uint8_t> rgba_;
+  std::optional<SplineAnalysis> analysis_;
+  CurvatureEvents events_;
+};
+
+}  // namespace cmr::edit

@@ -1,0 +1,35 @@
+#pragma once
+// How the region gets into the window, beneath the UI, in one interface with
+// one implementation per device kind (chosen by device type, announced in the
+// window and on stderr):
+//   * upload (VK_PHYSICAL_DEVICE_TYPE_CPU, i.e. lavapipe): the certified CPU
+//     engine on all cores computes the labels for the window's view, colours
+//     them, and the frame copies them into the swapchain image before the UI
+//     pass. On lavapipe this is far faster than shading every pixel (README,
+//     Performance).
+//   The label of every pixel is the one `cmr region` gives for the same view
+//   and size.
+#include <memory>
+#include <string>
+
+#include "tools/edit/editor.hpp"
+#include "vk/context.hpp"
+#include "vk/presenter.hpp"
+
+namespace cmr::edit {
+
+class RegionPainter {
+ public:
+  virtual ~RegionPainter() = default;
+  /// One line for the window and the log ("region: CPU engine, 2 threads, uploaded").
+  virtual std::string describe() const = 0;
+  /// Records, before the render pass, what puts the current region into the
+  /// frame's image, leaving the image in colour-attachment layout. The
+  /// editor's viewport must have the frame's size.
+  virtual vk::Result<void> record(Editor& editor, const vk::PresentFrame& frame) = 0;
+};
+
+/// The upload path.
+vk::Result<std::unique_ptr<RegionPainter>> make_upload_painter(vk::Context& context, vk::Presenter& presenter);
+
+}  // namespace cmr::edit

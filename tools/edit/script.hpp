@@ -1,0 +1,47 @@
+#pragma once
+// Scripts for `cmr edit --script FILE`: one command per line, words separated
+// by blanks, '#' starts a comment. Mouse positions are window pixels (row 0
+// at the top) unless a command says world coordinates. Every command runs
+// through the editor's real input handlers or named actions, between frames
+// of the real window.
+//
+//   mouse X Y                 move the cursor (drags and pans follow it)
+//   press left|right|middle [shift]   mouse button down at the cursor
+//   release left|right|middle          mouse button up
+//   scroll DY                 zoom about the cursor (DY > 0: closer)
+//   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f
+//   drag K X Y [STEPS]        press on point K, move to world (X, Y) in STEPS
+//                             frames (default 10), release
+//   select K | group K... | all on|off | mode cmr|cmrwi | depth D
+//   shading on|off | split S|none | chain on|off | comb on|off
+//   ui on|off | overlay on|off          panels / curve and points drawn
+//   view X0 Y0 X1 Y1 | fit              world rectangle of the window
+//   knot I U                  move knot I to U
+//   insert U [TIMES] | remove U [TOL] | elevate | clamp | uniform
+//   undo | redo
+//   save PATH | export-region PATH | screenshot PATH
+//   wait N                    render N frames
+//   quit
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace cmr::edit {
+
+struct ScriptCommand {
+  std::string name;
+  std::vector<std::string> args;
+  int line = 0;
+};
+
+/// Parses a script; throws InputError ("FILE:LINE: ...") for an unknown
+/// command or a wrong number of words.
+std::vector<ScriptCommand> parse_script(const std::string& text, const std::string& source);
+std::vector<ScriptCommand> read_script(const std::filesystem::path& path);
+
+/// Argument i as a number / integer / on|off; InputError naming the line.
+double number_arg(const ScriptCommand& c, std::size_t i);
+int int_arg(const ScriptCommand& c, std::size_t i);
+bool switch_arg(const ScriptCommand& c, std::size_t i);
+
+}  // namespace cmr::edit

@@ -1,0 +1,298 @@
+#include "tools/edit/ui.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "spline/curvature.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr::edit {
+namespace {
+
+constexpr int kCurveSamplesPerSegment = 48;
+constexpr int kCombTeethPerSegment = 24;
+constexpr int kPlotSamples = 400;
+constexpr float kPanelWidth = Editor::kPanelWidth;
+constexpr ImU32 kCurveColour = IM_COL32(20, 20, 20, 255);
+constexpr ImU32 kPolygonColour = IM_COL32(90, 90, 90, 255);
+constexpr ImU32 kCombColour = IM_COL32(60, 140, 60, 200);
+constexpr ImU32 kMaximumColour = IM_COL32(230, 120, 0, 255);
+constexpr ImU32 kMinimumColour = IM_COL32(0, 160, 200, 255);
+constexpr ImU32 kInflectionColour = IM_COL32(140, 0, 160, 255);
+constexpr ImU32 kIncreasingColour = IM_COL32(215, 30, 30, 255);
+constexpr ImU32 kDecreasingColour = IM_COL32(30, 50, 215, 255);
+
+ImVec2 screen(const Editor& e, Vec2 w) {
+  const Vec2 s = e.viewport().to_screen(w);
+  return {static_cast<float>(s.x), static_cast<float>(s.y)};
+}
+
+/// Runs an action from a widget; a bad value becomes the status line.
+template <class F>
+void act(Editor& e, F&& f) {
+  try {
+    f();
+  } catch (const InputError& err) {
+    e.message = err.what();
+  }
+}
+
+void draw_curve(Editor& e, ImDrawList* dl) {
+  const BSpline& s = e.doc().spline;
+  std::vector<ImVec2> line;
+  for (const Segment& seg : s.segments()) {
+    for (int i = 0; i <= kCurveSamplesPerSegment; ++i) {
+      line.push_back(screen(e, evaluate(s, seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment)));
+    }
+  }
+  dl->AddPolyline(line.data(), static_cast<int>(line.size()), kCurveColour, 0, 2.0f);
+}
+
+void draw_comb(Editor& e, ImDrawList* dl) {
+  const BSpline& s = e.doc().spline;
+  double kmax = 0;
+  std::vector<std::pair<Vec2, Vec2>> teeth;  // point, normal * kappa
+  for (const Segment& seg : s.segments()) {
+    for (int i = 0; i <= kCombTeethPerSegment; ++i) {
+      const double t = seg.a + (seg.b - seg.a) * i / kCombTeethPerSegment;
+      const CurvatureSample c = curvature_at(s, t);
+      const Vec2 d = derivative(s, t, 1);
+      const double len = std::hypot(d.x, d.y);
+      if (!(len > 0) || !std::isfinite(c.kappa)) continue;
+      teeth.push_back({c.point, Vec2{-d.y, d.x} * (c.kappa / len)});
+      kmax = std::max(kmax, std::abs(c.kappa));
+    }
+  }
+  if (!(kmax > 0)) return;
+  const View& v = e.viewport().view;
+  const double unit = e.comb_scale * (v.x1 - v.x0) / 8 / kmax;
+  ImVec2 prev{};
+  for (std::size_t i = 0; i < teeth.size(); ++i) {
+    // Teeth point away from the centre of curvature, as combs usually do.
+    const ImVec2 a = screen(e, teeth[i].first), b = screen(e, teeth[i].first - teeth[i].second * unit);
+    dl->AddLine(a, b, kCombColour);
+    if (i > 0) dl->AddLine(prev, b, kCombColour);
+    prev = b;
+  }
+  const CurvatureEvents& ev = e.events();
+  for (double t : ev.maxima) dl->AddCircleFilled(screen(e, evaluate(s, t)), 6, kMaximumColour);
+  for (double t : ev.minima) dl->AddCircleFilled(screen(e, evaluate(s, t)), 6, kMinimumColour);
+  for (double t : ev.inflections) {
+    const ImVec2 p = screen(e, evaluate(s, t));
+    dl->AddRectFilled({p.x - 5, p.y - 5}, {p.x + 5, p.y + 5}, kInflectionColour);
+  }
+}
+
+void draw_points(Editor& e, ImDrawList* dl) {
+  const Document& d = e.doc();
+  const std::vector<Vec2>& pts = d.spline.points();
+  for (std::size_t i = 1; i < pts.size(); ++i) dl->AddLine(screen(e, pts[i - 1]), screen(e, pts[i]), kPolygonColour);
+  for (int i = 0; i < d.spline.point_count(); ++i) {
+    const ImVec2 p = screen(e, pts[i]);
+    const bool grouped = std::find(d.group.begin(), d.group.end(), i) != d.group.end();
+    const ImU32 fill = i == d.selected ? IM_COL32(230, 30, 30, 255)
+                                       : (grouped ? IM_COL32(240, 150, 0, 255) : IM_COL32(255, 255, 255, 255));
+    dl->AddCircleFilled(p, 5.5f, fill);
+    dl->AddCircle(p, 5.5f, IM_COL32(0, 0, 0, 255), 0, 1.5f);
+    dl->AddText({p.x + 7, p.y - 18}, IM_COL32(0, 0, 0, 255), ("P" + std::to_string(i)).c_str());
+  }
+}
+
+void controls(Editor& e) {
+  const Document& d = e.doc();
+  int mode = d.mode == Mode::cmr ? 1 : 0;
+  if (ImGui::RadioButton("CMRWI", &mode, 0)) act(e, [&] { e.set_mode(Mode::cmrwi); });
+  ImGui::SameLine();
+  if (ImGui::RadioButton("CMR (no inflection)", &mode, 1)) act(e, [&] { e.set_mode(Mode::cmr); });
+  int depth = d.max_depth;
+  if (ImGui::SliderInt("depth D", &depth, 0, kMaxDepth)) act(e, [&] { e.set_depth(depth); });
+  bool shading = d.depth_shading, all = d.all_points, chain = d.chain;
+  if (ImGui::Checkbox("depth shading (Fig. 7)", &shading)) act(e, [&] { e.set_depth_shading(shading); });
+  if (ImGui::Checkbox("all points overlapped", &all)) act(e, [&] { e.set_all_points(all); });
+  if (ImGui::Checkbox("Bezier chain (G1 handles)", &chain)) act(e, [&] { e.set_chain(chain); });
+  const int joints = d.spline.segment_count() - 1;
+  const std::string current = d.split ? "joint " + std::to_string(*d.split) : "none";
+  if (ImGui::BeginCombo("split", current.c_str())) {
+    if (ImGui::Selectable("none", !d.split)) act(e, [&] { e.set_split(std::nullopt); });
+    for (int j = 1; j <= joints; ++j) {
+      const std::string label = "joint " + std::to_string(j) + " (extremum at u=" +
+                                std::to_string(d.spline.segments()[j].a).substr(0, 6) + ")";
+      if (ImGui::Selectable(label.c_str(), d.split == j)) act(e, [&] { e.set_split(j); });
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::Checkbox("curvature comb", &e.show_comb);
+  ImGui::SameLine();
+  float scale = static_cast<float>(e.comb_scale);
+  ImGui::SetNextItemWidth(110);
+  if (ImGui::SliderFloat("scale", &scale, 0.1f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) e.comb_scale = scale;
+  std::string group = "P" + std::to_string(d.selected);
+  for (int g : d.group) group += " + P" + std::to_string(g);
+  ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+}
+
+void knot_ruler(Editor& e) {
+  const BSpline& s = e.doc().spline;
+  const std::vector<double>& u = s.knots();
+  const double lo = u.front(), hi = u.back();
+  if (!(hi > lo)) return;
+  ImGui::TextUnformatted("knots (drag to move)");
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const float width = ImGui::GetContentRegionAvail().x - 12, height = 34;
+  const auto x_of = [&](double v) { return origin.x + 6 + static_cast<float>((v - lo) / (hi - lo)) * width; };
+  dl->AddLine({origin.x + 6, origin.y + 12}, {origin.x + 6 + width, origin.y + 12}, IM_COL32(200, 200, 200, 255), 2);
+  dl->AddRectFilled({x_of(s.domain_begin()), origin.y + 9}, {x_of(s.domain_end()), origin.y + 15},
+                    IM_COL32(120, 170, 255, 255));
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    int stack = 0;  // equal knots stack downwards
+    for (std::size_t j = 0; j < i; ++j) stack += u[j] == u[i] ? 1 : 0;
+    const float x = x_of(u[i]), y = origin.y + 18 + 5.0f * stack;
+    ImGui::SetCursorScreenPos({x - 5, y - 5});
+    ImGui::PushID(static_cast<int>(i));
+    ImGui::InvisibleButton("knot", {10, 10});
+    const bool active = ImGui::IsItemActive();
+    if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 0)) {
+      const double lo_i = i > 0 ? u[i - 1] : lo - (hi - lo), hi_i = i + 1 < u.size() ? u[i + 1] : hi + (hi - lo);
+      const double want = lo + (ImGui::GetIO().MousePos.x - origin.x - 6) / width * (hi - lo);
+      act(e, [&] { e.move_knot(static_cast<int>(i), std::clamp(want, lo_i, hi_i)); });
+    }
+    ImGui::PopID();
+    dl->AddTriangleFilled({x, y - 5}, {x - 5, y + 4}, {x + 5, y + 4},
+                          active ? IM_COL32(230, 30, 30, 255) : IM_COL32(40, 40, 40, 255));
+  }
+  ImGui::SetCursorScreenPos({origin.x, origin.y + height + 10});
+  std::string text;
+  for (double k : u) text += (text.empty() ? "" : " ") + std::to_string(k).substr(0, 5);
+  ImGui::TextWrapped("[%s]", text.c_str());
+}
+
+void verdicts_table(Editor& e) {
+  const SplineAnalysis& a = e.analysis();
+  ImGui::Text("CMRWI: %s   CMR: %s", to_string(a.cmrwi), to_string(a.cmr));
+  if (a.split) ImGui::Text("split at joint %d: %s", *e.doc().split, to_string(*a.split));
+  if (ImGui::BeginTable("segments", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
+    ImGui::TableSetupColumn("seg");
+    ImGui::TableSetupColumn("interval");
+    ImGui::TableSetupColumn("curvature");
+    ImGui::TableSetupColumn("inflection");
+    ImGui::TableHeadersRow();
+    for (std::size_t i = 0; i < a.segments.size(); ++i) {
+      const Segment& s = e.doc().spline.segments()[i];
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::Text("%zu", i);
+      ImGui::TableNextColumn();
+      ImGui::Text("[%.3g, %.3g]", s.a, s.b);
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(to_string(a.segments[i].monotonicity.curvature));
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(to_string(a.segments[i].inflection.inflection));
+    }
+    ImGui::EndTable();
+  }
+}
+
+void file_buttons(Editor& e, const UiInfo& info) {
+  if (ImGui::Button("undo")) e.undo();
+  ImGui::SameLine();
+  if (ImGui::Button("redo")) e.redo();
+  ImGui::SameLine();
+  if (ImGui::Button("save")) act(e, [&] { e.save(e.path()); });
+  ImGui::SameLine();
+  if (ImGui::Button("fit")) e.fit_view();
+  if (ImGui::Button("export PNG") && info.export_png != nullptr) *info.export_png = true;
+  ImGui::SameLine();
+  if (ImGui::Button("export region")) {
+    std::filesystem::path p = e.path();
+    p.replace_extension(".region.pgm");
+    act(e, [&] { e.export_region(p); });
+  }
+}
+
+void side_panel(Editor& e, const UiInfo& info) {
+  const ImGuiIO& io = ImGui::GetIO();
+  ImGui::SetNextWindowPos({io.DisplaySize.x - kPanelWidth, 0});
+  ImGui::SetNextWindowSize({kPanelWidth, io.DisplaySize.y});
+  ImGui::Begin("cmr edit", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::TextWrapped("%s", e.path().filename().string().c_str());
+  ImGui::TextWrapped("%s", info.region_path.c_str());
+  ImGui::Text("frame %.1f ms", info.frame_ms);
+  ImGui::Separator();
+  controls(e);
+  ImGui::Separator();
+  knot_ruler(e);
+  ImGui::Separator();
+  verdicts_table(e);
+  ImGui::Separator();
+  file_buttons(e, info);
+  if (!e.message.empty()) ImGui::TextWrapped("%s", e.message.c_str());
+  ImGui::End();
+}
+
+/// kappa against the parameter: the stretches between certified extrema
+/// coloured by direction (red increasing, blue decreasing), knots as ticks.
+void curvature_plot(Editor& e) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const BSpline& s = e.doc().spline;
+  // Fixed, opaque and not collapsible: the region is not computed beneath it.
+  ImGui::SetNextWindowPos({0, io.DisplaySize.y - Editor::kPlotHeight});
+  ImGui::SetNextWindowSize({std::max(200.0f, io.DisplaySize.x - kPanelWidth), Editor::kPlotHeight});
+  ImGui::Begin("curvature", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 o = ImGui::GetCursorScreenPos(), size = ImGui::GetContentRegionAvail();
+  const double a = s.domain_begin(), b = s.domain_end();
+  std::vector<double> t(kPlotSamples + 1), k(kPlotSamples + 1);
+  double kmin = 0, kmax = 0;
+  for (int i = 0; i <= kPlotSamples; ++i) {
+    t[i] = a + (b - a) * i / kPlotSamples;
+    k[i] = curvature(s, t[i]);
+    if (std::isfinite(k[i])) kmin = std::min(kmin, k[i]), kmax = std::max(kmax, k[i]);
+  }
+  if (!(kmax > kmin)) kmax = kmin + 1;
+  const auto px = [&](double tt, double kk) {
+    return ImVec2{o.x + static_cast<float>((tt - a) / (b - a)) * size.x,
+                  o.y + static_cast<float>((kmax - kk) / (kmax - kmin)) * (size.y - 4)};
+  };
+  dl->AddLine(px(a, 0), px(b, 0), IM_COL32(150, 150, 150, 255));
+  std::set<double> knots(s.knots().begin(), s.knots().end());
+  for (double u : knots) {
+    if (u < a || u > b) continue;
+    dl->AddLine({px(u, 0).x, o.y}, {px(u, 0).x, o.y + size.y}, IM_COL32(110, 110, 110, 255));
+  }
+  std::vector<double> cuts = e.events().maxima;
+  cuts.insert(cuts.end(), e.events().minima.begin(), e.events().minima.end());
+  std::sort(cuts.begin(), cuts.end());
+  for (int i = 1; i <= kPlotSamples; ++i) {
+    // A stretch between consecutive extrema is monotone: its direction is
+    // the sign of kappa's change across it.
+    const double mid = 0.5 * (t[i - 1] + t[i]);
+    const auto hi_it = std::upper_bound(cuts.begin(), cuts.end(), mid);
+    const double s0 = hi_it == cuts.begin() ? a : *(hi_it - 1), s1 = hi_it == cuts.end() ? b : *hi_it;
+    const bool increasing = curvature(s, s1 - 1e-9 * (b - a)) >= curvature(s, s0 + 1e-9 * (b - a));
+    if (!std::isfinite(k[i - 1]) || !std::isfinite(k[i])) continue;
+    dl->AddLine(px(t[i - 1], k[i - 1]), px(t[i], k[i]), increasing ? kIncreasingColour : kDecreasingColour, 2);
+  }
+  for (double u : e.events().maxima) dl->AddCircleFilled(px(u, curvature(s, u)), 4, kMaximumColour);
+  for (double u : e.events().minima) dl->AddCircleFilled(px(u, curvature(s, u)), 4, kMinimumColour);
+  ImGui::End();
+}
+
+}  // namespace
+
+void build_ui(Editor& e, const UiInfo& info) {
+  if (e.show_overlay) {
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    draw_curve(e, dl);
+    if (e.show_comb) draw_comb(e, dl);
+    draw_points(e, dl);
+  }
+  if (!e.show_ui) return;
+  side_panel(e, info);
+  curvature_plot(e);
+}
+
+}  // namespace cmr::edit

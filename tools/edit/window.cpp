@@ -1,0 +1,558 @@
+#include "tools/edit/window.hpp"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_vulkan.h>
+#include <cairo.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <numeric>
+#include <optional>
+
+#include "spline/errors.hpp"
+#include "spline/parallel.hpp"
+#include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
+#include "tools/edit/region_painter.hpp"
+#include "tools/edit/script.hpp"
+#include "tools/edit/ui.hpp"
+
+namespace cmr::edit {
+namespace {
+
+using cli::EnvironmentError;
+using Clock = std::chrono::steady_clock;
+
+std::string& glfw_error() {
+  static std::string message;
+  return message;
+}
+
+/// GLFW for the process: initialised once, terminated at the end.
+struct Glfw {
+  Glfw() {
+    glfwSetErrorCallback([](int, const char* text) { glfw_error() = text; });
+    const char* x11 = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if ((x11 == nullptr || *x11 == '\0') && (wayland == nullptr || *wayland == '\0'))
+      throw EnvironmentError("no display: cmr edit opens a window; set DISPLAY or run it under xvfb-run");
+    if (glfwInit() != GLFW_TRUE) throw EnvironmentError("cannot open the display: " + glfw_error());
+    if (glfwVulkanSupported() != GLFW_TRUE)
+      throw EnvironmentError("GLFW finds no Vulkan loader for windows: " + glfw_error());
+  }
+  ~Glfw() { glfwTerminate(); }
+  Glfw(const Glfw&) = delete;
+  Glfw& operator=(const Glfw&) = delete;
+};
+
+struct WindowHandle {
+  GLFWwindow* window = nullptr;
+  WindowHandle(int w, int h, const std::string& title) {
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    window = glfwCreateWindow(w, h, title.c_str(), nullptr, nullptr);
+    if (window == nullptr) throw EnvironmentError("cannot create a window: " + glfw_error());
+  }
+  ~WindowHandle() { glfwDestroyWindow(window); }
+  WindowHandle(const WindowHandle&) = delete;
+  WindowHandle& operator=(const WindowHandle&) = delete;
+};
+
+template <class T>
+T check(vk::Result<T> r) {
+  if (!r) throw EnvironmentError(r.error().message);
+  return r.take();
+}
+void check(vk::Result<void> r) {
+  if (!r) throw EnvironmentError(r.error().message);
+}
+
+vk::Context make_context(GLFWwindow* window, const std::string& device) {
+  vk::ContextOptions o;
+  o.device_name = device;
+  o.require_float64 = false;
+  uint32_t count = 0;
+  const char** names = glfwGetRequiredInstanceExtensions(&count);
+  if (names == nullptr) throw EnvironmentError("GLFW lists no Vulkan surface extensions: " + glfw_error());
+  for (uint32_t i = 0; i < count; ++i) o.instance_extensions.emplace_back(names[i]);
+  o.make_surface = [window](VkInstance instance) -> vk::Result<VkSurfaceKHR> {
+    VkSurfaceKHR surface = VK_NULL_HANDLE;
+    const VkResult r = glfwCreateWindowSurface(instance, window, nullptr, &surface);
+    if (r != VK_SUCCESS)
+      return vk::Error{vk::Errc::missing_feature, r, "cannot make a Vulkan surface for the window: " + glfw_error()};
+    return surface;
+  };
+  return check(vk::Context::create(o));
+}
+
+/// Writes RGBA pixels as a PNG, atomically.
+void write_png(const std::filesystem::path& path, const vk::Screenshot& shot) {
+  cairo_surface_t* img =
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(shot.width), static_cast<int>(shot.height));
+  cairo_surface_flush(img);
+  unsigned char* data = cairo_image_surface_get_data(img);
+  const int stride = cairo_image_surface_get_stride(img);
+  for (uint32_t j = 0; j < shot.height; ++j) {
+    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
+    for (uint32_t i = 0; i < shot.width; ++i) {
+      const uint8_t* p = &shot.rgba[4 * (static_cast<std::size_t>(j) * shot.width + i)];
+      row[i] = 0xff000000u | uint32_t{p[0]} << 16 | uint32_t{p[1]} << 8 | p[2];
+    }
+  }
+  cairo_surface_mark_dirty(img);
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  const cairo_status_t status = cairo_surface_write_to_png(img, tmp.c_str());
+  cairo_surface_destroy(img);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    std::filesystem::remove(tmp);
+    throw InputError(path.string() + ": cannot write the PNG (" + cairo_status_to_string(status) + ")");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+BSpline starting_spline() {
+  return BSpline::bezier({{0, 0}, {1, 2}, {3, 2.5}, {4, 0.5}}, "untitled");
+}
+
+}  // namespace
+
+/// The window, its Vulkan objects and the editor; one frame at a time.
+class App {
+ public:
+  App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync);
+  ~App();
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  Editor& editor() { return editor_; }
+  bool should_close() const { return glfwWindowShouldClose(window_.window) == GLFW_TRUE; }
+  void close() { glfwSetWindowShouldClose(window_.window, GLFW_TRUE); }
+  const std::string& region_path() const { return region_path_; }
+  std::string device_name() const { return context_->device().name; }
+  /// Polls input and renders one frame; with `shot`, reads the presented
+  /// image back. Returns false when the frame was skipped (zero size).
+  bool frame(vk::Screenshot* shot = nullptr);
+  void resize_window(int w, int h);
+
+ private:
+  static App& self(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
+  void install_callbacks();
+  void init_imgui();
+
+  Glfw glfw_;
+  WindowHandle window_;
+  std::optional<vk::Context> context_;
+  std::optional<vk::Presenter> presenter_;
+  std::unique_ptr<RegionPainter> painter_;
+  VkDescriptorPool imgui_pool_ = VK_NULL_HANDLE;
+  bool imgui_ready_ = false;
+  Editor editor_;
+  std::string region_path_;
+  double frame_ms_ = 0;
+  bool export_png_ = false;
+};
+
+App::App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device,
+         bool vsync)
+    : window_(width, height, "cmr edit"), editor_(std::move(spline), std::move(path), width, height) {
+  context_.emplace(make_context(window_.window, device));
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(window_.window, &fw, &fh);
+  vk::PresenterOptions po;
+  po.vsync = vsync;
+  presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
+  painter_ = check(make_upload_painter(*context_, *presenter_));
+  region_path_ = painter_->describe();
+  std::cerr << "cmr edit: " << region_path_ << '\n';
+  editor_.resize(fw, fh);
+  install_callbacks();
+  init_imgui();
+}
+
+App::~App() {
+  if (presenter_) presenter_->wait_idle();
+  if (imgui_ready_) {
+    ImGui_ImplVulkan_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+  painter_.reset();
+  if (imgui_pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(context_->device_handle(), imgui_pool_, nullptr);
+}
+
+void App::install_callbacks() {
+  glfwSetWindowUserPointer(window_.window, this);
+  // Installed before ImGui's, which chains to them; input the panels take is
+  // not passed on to the canvas.
+  glfwSetCursorPosCallback(window_.window, [](GLFWwindow* w, double x, double y) {
+    self(w).editor_.mouse_move(x, y);
+  });
+  glfwSetMouseButtonCallback(window_.window, [](GLFWwindow* w, int button, int action, int mods) {
+    App& app = self(w);
+    if (action == GLFW_PRESS && ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
+    const MouseButton b = button == GLFW_MOUSE_BUTTON_LEFT    ? MouseButton::left
+                          : button == GLFW_MOUSE_BUTTON_RIGHT ? MouseButton::right
+                                                              : MouseButton::middle;
+    try {
+      app.editor_.mouse_button(b, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0);
+    } catch (const InputError& e) {
+      app.editor_.message = e.what();
+    }
+  });
+  glfwSetScrollCallback(window_.window, [](GLFWwindow* w, double, double dy) {
+    if (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
+    self(w).editor_.scroll(dy);
+  });
+  glfwSetKeyCallback(window_.window, [](GLFWwindow* w, int key, int, int action, int mods) {
+    if (action != GLFW_PRESS || (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureKeyboard)) return;
+    if (key < GLFW_KEY_A || key > GLFW_KEY_Z) return;
+    const std::string name(1, static_cast<char>('a' + (key - GLFW_KEY_A)));
+    try {
+      self(w).editor_.key(name, (mods & GLFW_MOD_CONTROL) != 0);
+    } catch (const InputError& e) {
+      self(w).editor_.message = e.what();
+    }
+  });
+}
+
+void App::init_imgui() {
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
+  VkDescriptorPoolCreateInfo pool{};
+  pool.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+  pool.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+  pool.maxSets = 16;
+  pool.poolSizeCount = 1;
+  pool.pPoolSizes = sizes;
+  if (VkResult r = vkCreateDescriptorPool(context_->device_handle(), &pool, nullptr, &imgui_pool_); r != VK_SUCCESS)
+    throw EnvironmentError("vkCreateDescriptorPool failed for the UI");
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // the same layout every start: scripts and screenshots depend on it
+  ImGui::StyleColorsLight();
+  ImGui_ImplGlfw_InitForVulkan(window_.window, true);
+  ImGui_ImplVulkan_InitInfo info{};
+  info.Instance = context_->instance();
+  info.PhysicalDevice = context_->physical_device();
+  info.Device = context_->device_handle();
+  info.QueueFamily = context_->queue_family_index();
+  info.Queue = context_->queue();
+  info.DescriptorPool = imgui_pool_;
+  info.MinImageCount = std::max(2u, presenter_->min_image_count());
+  info.ImageCount = std::max(info.MinImageCount, presenter_->image_count());
+  info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+  ImGui_ImplVulkan_Init(&info, presenter_->render_pass());
+  imgui_ready_ = true;
+  check(presenter_->submit_once([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); }));
+  ImGui_ImplVulkan_DestroyFontUploadObjects();
+}
+
+void App::resize_window(int w, int h) {
+  glfwSetWindowSize(window_.window, w, h);
+  // The X server applies the size asynchronously: wait until it has.
+  for (int i = 0; i < 200; ++i) {
+    glfwPollEvents();
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(window_.window, &fw, &fh);
+    if (fw == w && fh == h) return;
+    glfwWaitEventsTimeout(0.01);
+  }
+}
+
+bool App::frame(vk::Screenshot* shot) {
+  const auto start = Clock::now();
+  glfwPollEvents();
+  int fw = 0, fh = 0;
+  glfwGetFramebufferSize(window_.window, &fw, &fh);
+  editor_.resize(fw, fh);
+  ImGui_ImplVulkan_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  UiInfo info{region_path_, frame_ms_, &export_png_};
+  build_ui(editor_, info);
+  ImGui::Render();
+  auto begun = check(presenter_->begin_frame(static_cast<uint32_t>(fw), static_cast<uint32_t>(fh)));
+  if (!begun) return false;
+  const vk::PresentFrame& f = *begun;
+  editor_.resize(static_cast<int>(f.extent.width), static_cast<int>(f.extent.height));
+  check(painter_->record(editor_, f));
+  presenter_->begin_pass(f);
+  ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), f.cmd);
+  vk::Screenshot own;
+  const bool exporting = export_png_ && shot == nullptr;
+  check(presenter_->end_frame(f, exporting ? &own : shot));
+  if (exporting) {
+    export_png_ = false;
+    std::filesystem::path p = editor_.path();
+    p.replace_extension(".view.png");
+    try {
+      write_png(p, own);
+      editor_.message = "view written to " + p.string();
+    } catch (const InputError& e) {
+      editor_.message = e.what();
+    }
+  }
+  frame_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return true;
+}
+
+namespace {
+
+/// Feeds a script to the app, one frame per mouse move and drag step.
+class ScriptRunner {
+ public:
+  ScriptRunner(App& app, std::vector<ScriptCommand> commands) : app_(app), commands_(std::move(commands)) {}
+  /// Runs commands up to the next one that needs a frame; false when done.
+  bool step();
+
+ private:
+  void run(const ScriptCommand& c);
+  bool ui_action(const ScriptCommand& c);
+  bool knot_action(const ScriptCommand& c);
+  App& app_;
+  std::vector<ScriptCommand> commands_;
+  std::size_t next_ = 0;
+  int wait_ = 0;
+  struct Drag {
+    Vec2 from, to;
+    int steps = 0, done = 0;
+  };
+  std::optional<Drag> drag_;
+  bool frame_needed_ = false;
+};
+
+MouseButton button_arg(const ScriptCommand& c) {
+  const std::string& b = c.args.at(0);
+  if (b == "left") return MouseButton::left;
+  if (b == "right") return MouseButton::right;
+  if (b == "middle") return MouseButton::middle;
+  throw InputError("script line " + std::to_string(c.line) + ": expected left, right or middle, got '" + b + "'");
+}
+
+bool ScriptRunner::step() {
+  Editor& e = app_.editor();
+  if (wait_ > 0) {
+    --wait_;
+    app_.frame();
+    return true;
+  }
+  if (drag_) {
+    Drag& d = *drag_;
+    ++d.done;
+    const Vec2 p = d.from + (d.to - d.from) * (static_cast<double>(d.done) / d.steps);
+    e.mouse_move(p.x, p.y);
+    if (d.done == d.steps) {
+      e.mouse_button(MouseButton::left, false, false);
+      drag_.reset();
+    }
+    app_.frame();
+    return true;
+  }
+  frame_needed_ = false;
+  while (next_ < commands_.size() && !frame_needed_ && wait_ == 0 && !drag_) run(commands_[next_++]);
+  if (frame_needed_ || wait_ > 0 || drag_) {
+    app_.frame();
+    return true;
+  }
+  return next_ < commands_.size();
+}
+
+void ScriptRunner::run(const ScriptCommand& c) {
+  Editor& e = app_.editor();
+  const std::string& n = c.name;
+  if (n == "mouse") {
+    e.mouse_move(number_arg(c, 0), number_arg(c, 1));
+    frame_needed_ = true;
+  } else if (n == "press") {
+    e.mouse_button(button_arg(c), true, c.args.size() > 1 && c.args[1] == "shift");
+  } else if (n == "release") {
+    e.mouse_button(button_arg(c), false, false);
+  } else if (n == "scroll") {
+    e.scroll(number_arg(c, 0));
+  } else if (n == "key") {
+    e.key(c.args[0], c.args.size() > 1 && c.args[1] == "ctrl");
+  } else if (n == "drag") {
+    const int k = int_arg(c, 0);
+    if (k < 0 || k >= e.doc().spline.point_count())
+      throw InputError("script line " + std::to_string(c.line) + ": no point " + std::to_string(k));
+    const Vec2 from = e.viewport().to_screen(e.doc().spline.points()[k]);
+    const Vec2 to = e.viewport().to_screen({number_arg(c, 1), number_arg(c, 2)});
+    const int steps = c.args.size() > 3 ? std::max(1, int_arg(c, 3)) : 10;
+    e.mouse_move(from.x, from.y);
+    e.mouse_button(MouseButton::left, true, false);
+    if (e.dragging() != k)
+      throw InputError("script line " + std::to_string(c.line) + ": point " + std::to_string(k) +
+                       " is not under the cursor (off screen or covered by another point)");
+    drag_ = Drag{from, to, steps, 0};
+  } else if (n == "wait") {
+    wait_ = std::max(0, int_arg(c, 0));
+  } else if (n == "screenshot") {
+    vk::Screenshot shot;
+    app_.frame(&shot);
+    write_png(c.args[0], shot);
+  } else if (n == "quit") {
+    next_ = commands_.size();
+  } else if (!ui_action(c) && !knot_action(c)) {
+    throw InputError("script line " + std::to_string(c.line) + ": '" + n + "' is not handled");
+  }
+}
+
+bool ScriptRunner::ui_action(const ScriptCommand& c) {
+  Editor& e = app_.editor();
+  const std::string& n = c.name;
+  if (n == "select") e.select(int_arg(c, 0));
+  else if (n == "group") {
+    std::vector<int> g;
+    for (std::size_t i = 0; i < c.args.size(); ++i) g.push_back(int_arg(c, i));
+    e.set_group(g);
+  } else if (n == "all") e.set_all_points(switch_arg(c, 0));
+  else if (n == "mode") {
+    if (c.args[0] != "cmr" && c.args[0] != "cmrwi")
+      throw InputError("script line " + std::to_string(c.line) + ": mode is cmr or cmrwi");
+    e.set_mode(c.args[0] == "cmr" ? Mode::cmr : Mode::cmrwi);
+  } else if (n == "depth") e.set_depth(int_arg(c, 0));
+  else if (n == "shading") e.set_depth_shading(switch_arg(c, 0));
+  else if (n == "split") e.set_split(c.args[0] == "none" ? std::nullopt : std::optional<int>(int_arg(c, 0)));
+  else if (n == "chain") e.set_chain(switch_arg(c, 0));
+  else if (n == "comb") e.show_comb = switch_arg(c, 0);
+  else if (n == "ui") e.show_ui = switch_arg(c, 0);
+  else if (n == "overlay") e.show_overlay = switch_arg(c, 0);
+  else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
+  else if (n == "fit") e.fit_view();
+  else if (n == "undo") e.undo();
+  else if (n == "redo") e.redo();
+  else if (n == "save") e.save(c.args[0]);
+  else if (n == "export-region") e.export_region(c.args[0]);
+  else return false;
+  return true;
+}
+
+bool ScriptRunner::knot_action(const ScriptCommand& c) {
+  Editor& e = app_.editor();
+  if (c.name == "knot") {
+    e.move_knot(int_arg(c, 0), number_arg(c, 1));
+    return true;
+  }
+  if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {
+    e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0),
+                     c.args.size() > 1 ? number_arg(c, 1) : 0);
+    return true;
+  }
+  return false;
+}
+
+BSpline open_spline(const std::filesystem::path& file) {
+  return file.empty() ? starting_spline() : read_spline_file(file);
+}
+
+}  // namespace
+
+int run_editor(const EditOptions& o) {
+  if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
+    throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
+  if (!o.screenshot.empty()) cli::check_output_path(o.screenshot, "--screenshot");
+  BSpline spline = open_spline(o.file);
+  std::vector<ScriptCommand> script;
+  if (!o.script.empty()) script = read_script(o.script);
+  const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
+  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync);
+  if (!o.script.empty() || !o.screenshot.empty()) {
+    ScriptRunner runner(app, std::move(script));
+    app.frame();
+    while (runner.step()) {
+    }
+    if (!o.screenshot.empty()) {
+      vk::Screenshot shot;
+      app.frame();  // the last change visible in both swapchain images
+      app.frame(&shot);
+      write_png(o.screenshot, shot);
+    }
+    return cli::kOk;
+  }
+  while (!app.should_close()) {
+    if (!app.frame()) glfwWaitEventsTimeout(0.05);
+  }
+  return cli::kOk;
+}
+
+namespace {
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(colon + 2);
+    }
+  }
+  return "unknown CPU";
+}
+
+struct FrameStats {
+  double mean = 0, p50 = 0, p95 = 0, fps = 0;
+};
+
+FrameStats stats_of(std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  FrameStats s;
+  s.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))]; };
+  s.p50 = at(0.5);
+  s.p95 = at(0.95);
+  s.fps = 1000.0 / s.mean;
+  return s;
+}
+
+/// Drags point k around a circle of the window (radius a tenth of the
+/// window's height about the point's place), one position per frame.
+std::vector<double> drag_frames(App& app, int k, int frames) {
+  Editor& e = app.editor();
+  const Vec2 centre = e.viewport().to_screen(e.doc().spline.points()[k]);
+  const double r = 0.1 * e.viewport().height;
+  e.mouse_move(centre.x, centre.y);
+  e.mouse_button(MouseButton::left, true, false);
+  std::vector<double> ms;
+  for (int i = 0; i < frames; ++i) {
+    const double a = 2 * M_PI * i / frames;
+    e.mouse_move(centre.x + r * std::sin(a), centre.y + r * (1 - std::cos(a)) * 0.5);
+    const auto t0 = Clock::now();
+    app.frame();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  e.mouse_button(MouseButton::left, false, false);
+  return ms;
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& o) {
+  BSpline spline = read_spline_file(o.file);
+  if (o.point < 0 || o.point >= spline.point_count())
+    throw InputError("--point: no point " + std::to_string(o.point));
+  App app(std::move(spline), o.file, o.width, o.height, o.device, false);
+  for (int i = 0; i < 3; ++i) app.frame();  // warm up: pipelines, first region
+  std::printf("cmr edit benchmark: %s, %d frames of a scripted drag of P%d, %dx%d window\n",
+              o.file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,
+              app.editor().viewport().height);
+  std::printf("machine: %s, %d hardware threads; Vulkan device: %s\n", cpu_model().c_str(), thread_count(0),
+              app.device_name().c_str());
+  std::printf("%s\n", app.region_path().c_str());
+  for (bool all : {false, true}) {
+    app.editor().set_all_points(all);
+    app.frame();
+    const FrameStats s = stats_of(drag_frames(app, o.point, o.frames));
+    std::printf("%-34s mean %6.2f ms  p50 %6.2f ms  p95 %6.2f ms  %6.1f fps (p95: %.1f fps)\n",
+                all ? "every point's region overlapped:" : "the dragged point's region:", s.mean, s.p50, s.p95,
+                s.fps, 1000.0 / s.p95);
+  }
+  return cli::kOk;
+}
+
+}  // namespace cmr::edit

@@ -1,0 +1,36 @@
+#pragma once
+// `cmr edit`: the desktop window (GLFW, Vulkan presentation, Dear ImGui), its
+// frame loop, scripted runs and the benchmark.
+#include <filesystem>
+#include <string>
+
+namespace cmr::edit {
+
+struct EditOptions {
+  std::filesystem::path file;        ///< spline to open; empty: a cubic Bezier to start from
+  std::filesystem::path script;      ///< empty: interactive
+  std::filesystem::path screenshot;  ///< PNG of the presented image after the script (or the first frames)
+  int width = 1024, height = 768;    ///< window size in pixels
+  std::string device;                ///< Vulkan device name (substring)
+  bool vsync = true;
+};
+
+/// Runs the editor until the window closes or the script ends. Returns the
+/// exit code. Throws InputError (bad file, script or option: exit 2) and
+/// cli::EnvironmentError (no display, no Vulkan device: exit 3).
+int run_editor(const EditOptions& options);
+
+struct BenchOptions {
+  std::filesystem::path file;  ///< the Fig. 8 spline by default
+  int width = 1024, height = 768;
+  int frames = 200;
+  int point = 3;               ///< the dragged point
+  std::string device;
+};
+
+/// Replays a scripted drag in a real window (vsync off), once showing the
+/// dragged point's region and once with every point overlapped, and prints
+/// frame times (mean, p50, p95, fps) with the CPU model and Vulkan device.
+int run_bench(const BenchOptions& options);
+
+}  // namespace cmr::edit
