@@ -30,8 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
-#include "bezierize/decide.hpp"
+#include "bezierize/piece.hpp"
 #include "spline/vec2.hpp"
 #include "spline/bspline.hpp"
 #include "spline/limits.hpp"
@@ -90,13 +89,6 @@ class InflectionFold {
   std::optional<InflectionResult> stop_;
 };
 
-/// Algorithm 1 on xi. nullopt when T carries error bounds and a sign that
-/// decides the outcome is uncertain (then rerun exactly).
-template <class T>
-std::optional<MonotonicityResult> algorithm1(const Bernstein<T>& xi, int max_depth);
-/// Algorithm 2 on nu, with the same convention.
-template <class T>
-std::optional<InflectionResult> algorithm2(const Bernstein<T>& nu, int max_depth);
 
 struct SegmentClass {
   MonotonicityResult monotonicity;

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "bezierize/bernstein.hpp"
+#include "bezierize/piece.hpp"
 #include "bezierize/bounded.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
@@ -48,12 +49,6 @@
 
 namespace cmr {
 
-/// What one (sub)segment's coefficients say under Algorithms 1 and 2; every
-/// implementation of the traversal (generic, fast, regions, the shader)
-/// decides pieces into these outcomes and folds them the same way.
-enum class Piece : std::uint8_t { increasing, decreasing, zero, non_monotone, inflection, no_inflection, split, uncertain };
-
-const char* to_string(Piece p);
 
 /// Three-valued truth of a condition on coefficients whose signs may be unknown.
 enum class Truth : std::uint8_t { no, yes, unknown };

@@ -1,5 +1,8 @@
 #include "bezierize/region_setup.hpp"
 
+#include "bezierize/algorithms.hpp"
+#include "bezierize/decide.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>

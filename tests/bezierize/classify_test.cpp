@@ -1,4 +1,6 @@
 #include "bezierize/classify.hpp"
+#include "bezierize/algorithms.hpp"
+#include "bezierize/decide.hpp"
 
 #include <gtest/gtest.h>
 
