@@ -227,12 +227,14 @@ TEST(ReportJoints, ContinuityFromKnotsAndTangents) {
   const std::vector<Vec2> straight{{0, 0}, {1, 1}, {2, 1}, {3, 1}, {4, 1}, {5, 0}, {6, 1}};
   const SplineReport g1 = report_spline(BSpline::make(3, knots, straight), no_regions());
   ASSERT_EQ(g1.joints.size(), 1u);
-  EXPECT_EQ(g1.joints[0].continuity, "G1");
+  EXPECT_EQ(g1.joints[0].continuity, "C0");  // from the knots; G1 is reported apart
+  EXPECT_TRUE(g1.joints[0].joint.g1);
   EXPECT_FALSE(g1.joints[0].corner);
   std::vector<Vec2> bent = straight;
   bent[4] = {4, 2};
   const SplineReport c0 = report_spline(BSpline::make(3, knots, bent), no_regions());
   EXPECT_EQ(c0.joints[0].continuity, "C0");
+  EXPECT_FALSE(c0.joints[0].joint.g1);
   EXPECT_TRUE(c0.joints[0].corner);
   const SplineReport c1 = report_spline(
       BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 1}}), no_regions());
