@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
 #include "bezierize/decide.hpp"
 #include "bezierize/lambda.hpp"
@@ -128,10 +129,15 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
 }
 
 void validate(const ContinuityTolerances& t) {
+  auto text = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
   if (!(t.angle_deg >= 0 && t.angle_deg < 180))
-    throw InputError("angle tolerance " + std::to_string(t.angle_deg) + " is outside [0, 180) degrees");
+    throw InputError("--angle-tol " + text(t.angle_deg) + " is outside [0, 180) degrees");
   if (!(t.curvature_rel >= 0 && t.curvature_rel <= 1))
-    throw InputError("curvature tolerance " + std::to_string(t.curvature_rel) + " is outside [0, 1]");
+    throw InputError("--curvature-tol " + text(t.curvature_rel) + " is outside [0, 1]");
 }
 
 double certified_end_curvature(const BSpline& spline, const Segment& s, int side) {
