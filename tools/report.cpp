@@ -854,7 +854,8 @@ void joints_html(std::string& out, const SplineReport& r) {
       out += "<tr><td>" + std::to_string(j.joint.index) + "</td><td>" + num(j.joint.knot) + "</td><td>" +
              std::to_string(j.joint.multiplicity) + "</td><td>" + j.continuity + (j.corner ? " (corner)" : "") +
              "</td><td>" + (j.joint.zero_tangent ? "no (zero tangent)" : (j.joint.g1 ? "yes" : "no")) +
-             "</td><td>" + (j.joint.g2 ? "yes" : "no") + "</td><td>" + num(j.joint.kappa_left) + "</td><td>" + num(j.joint.kappa_right) + "</td><td>" +
+             "</td><td>" + (j.joint.g2 ? "yes" : "no") + "</td><td>" + num(j.joint.kappa_left) + "</td><td>" +
+             num(j.joint.kappa_right) + "</td><td>" +
              (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
     out += "</table>";
   }

@@ -295,7 +295,8 @@ TEST(Semantics, JointCurvatureIsCertifiedForAQuadraticAtOneE8) {
       return std::pair<Rational, Rational>{Rational(Rational(P[i].x) - Rational(P[i - 1].x)),
                                            Rational(Rational(P[i].y) - Rational(P[i - 1].y))};
     };
-    auto det = [](const std::pair<Rational, Rational>& p, const std::pair<Rational, Rational>& q) { return Rational(p.first * q.second - p.second * q.first); };
+    using Pair = std::pair<Rational, Rational>;
+    auto det = [](const Pair& p, const Pair& q) { return Rational(p.first * q.second - p.second * q.first); };
     const auto D1 = d(1), D2 = d(2), D3 = d(3);
     const double g = Rational(D2.first * D2.first + D2.second * D2.second).get_d();
     const double left = det(D1, D2).get_d() / g / std::sqrt(g), right = det(D2, D3).get_d() / g / std::sqrt(g);

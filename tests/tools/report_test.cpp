@@ -312,7 +312,8 @@ TEST(ReportFixes, ThumbnailsAreDrawnInMemoryWithoutTemporaryFiles) {
 // Cubic Bezier pieces joined at C0 knots (multiplicity 3).
 BSpline bezier_chain(const std::vector<Vec2>& points) {
   std::vector<double> knots;
-  for (int k = 0; k <= (static_cast<int>(points.size()) - 1) / 3; ++k) knots.insert(knots.end(), {double(k), double(k), double(k)});
+  const int pieces = (static_cast<int>(points.size()) - 1) / 3;
+  for (int k = 0; k <= pieces; ++k) knots.insert(knots.end(), {double(k), double(k), double(k)});
   return BSpline::make(3, knots, points);
 }
 
@@ -358,9 +359,9 @@ TEST(ReportSemantics, LeavingAStraightWithZeroCurvatureIsNoInflection) {
 }
 
 TEST(ReportSemantics, ExtremumCurvatureIsCertified) {
-  // The symmetric arch's extremum is exactly t = 1/2; kappa there in closed
-  // form: P'(1/2) = (3/2)(1 + a, 0)... computed here by plain doubles from
-  // the derivatives, which are exact at t = 1/2 for these points.
+  // The symmetric arch's extremum is exactly t = 1/2. Independent value: the
+  // pointwise double formula (spline/curvature.hpp), whose derivatives at
+  // t = 1/2 are exact dyadic numbers for these points.
   const SplineReport r = report_spline(BSpline::bezier(arch(0.5)), no_regions());
   ASSERT_EQ(r.spans[0].extrema.size(), 1u);
   const double k = r.spans[0].extrema[0].kappa;
