@@ -568,5 +568,35 @@ TEST(ReportCommand, AnalyzeAndReportAgreeOnJointsWithAnAngleTolerance) {
   }
 }
 
+
+TEST(ReportCommand, AnalyzeAndReportAgreeOnSegmentSemantics) {
+  // A straight, a curve leaving it with zero curvature, and a cusp.
+  const std::string leaving =
+      spline_file("leaving.json", bezier_chain({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}, {5.5, 0.5}}));
+  const std::string cusp = spline_file("cusp.json", BSpline::bezier({{0, 0}, {2, 2}, {0, 2}, {2, 0}}));
+  const fs::path out = test::scratch() / "semantics_report";
+  fs::remove_all(out);
+  ASSERT_EQ(test::run("report " + leaving + " " + cusp + " --out " + out.string() + " --no-thumbnails").code, 0);
+  const Json doc = read_json(out / "report.json");
+  const std::vector<std::string> files{leaving, cusp};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const test::Outcome a = test::run("analyze " + files[i]);
+    ASSERT_EQ(a.code, 0) << a.err;
+    const Json aj = Json::parse(a.out);
+    const Json& rj = doc["splines"][i];
+    ASSERT_EQ(aj["segments"].size(), rj["segments"].size());
+    for (std::size_t k = 0; k < aj["segments"].size(); ++k)
+      for (const char* key : {"class", "curvature", "inflection", "zero_curvature_at", "algorithm2"})
+        EXPECT_EQ(aj["segments"][k][key], rj["segments"][k][key]) << files[i] << " segment " << k << " " << key;
+    for (const char* key : {"cmrwi", "cmr", "cmr_algorithm2"})
+      EXPECT_EQ(aj["spline"][key], rj["verdict"][key]) << files[i] << " " << key;
+    EXPECT_EQ(aj["spline"]["cusp"], rj["curvature"]["cusp"]) << files[i];
+  }
+  EXPECT_EQ(doc["splines"][0]["segments"][1]["zero_curvature_at"], "start");
+  EXPECT_EQ(doc["splines"][0]["verdict"]["cmr"], "increasing");
+  EXPECT_EQ(doc["splines"][1]["segments"][0]["class"], "cusp");
+  EXPECT_TRUE(doc["splines"][1]["curvature"]["min"]["kappa"].is_null());
+}
+
 }  // namespace
 }  // namespace cmr::report
