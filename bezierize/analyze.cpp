@@ -118,8 +118,11 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   out.cusp = strict_sign(g) == 0 && (is_zero(g) || !isolate_roots(g, isolate_only).empty());
   out.straight = is_zero(eta);
   if (out.straight) return out;
-  out.kappa_zero_start = sgn(eta.front()) == 0;
-  out.kappa_zero_end = sgn(eta.back()) == 0;
+  // eta = 0 at an end means zero curvature only where the tangent is not
+  // zero there (g(0) = |P'(0)|^2 is its first coefficient): at a zero
+  // tangent the curvature is unbounded instead (a cusp).
+  out.kappa_zero_start = sgn(eta.front()) == 0 && sgn(g.front()) != 0;
+  out.kappa_zero_end = sgn(eta.back()) == 0 && sgn(g.back()) != 0;
   out.kappa_sign = sign_at_start(eta);
   for (const RootInterval& r : isolate_roots(eta, isolate_only)) {
     const bool at_end = r.exact() && (sgn(r.lo) == 0 || r.lo == 1);

@@ -58,7 +58,7 @@ struct SegmentShape {
   bool straight = false;  ///< eta == 0: a straight segment (lambda == 0 too), curvature 0 where defined
   bool cusp = false;      ///< P'(t) = 0 for some t in the closed span: curvature unbounded or undefined there
   Inflection inflection = Inflection::none;  ///< present: eta changes sign at some t strictly inside (exact)
-  bool kappa_zero_start = false, kappa_zero_end = false;  ///< eta = 0 at that end (not straight)
+  bool kappa_zero_start = false, kappa_zero_end = false;  ///< zero curvature at that end: eta = 0, P' != 0 (not straight)
   int kappa_sign = 0;  ///< sign of eta just inside the start (the sign throughout when no inflection); 0 if straight
 };
 /// "cusp", "straight" or "regular" (cusp wins).

@@ -220,6 +220,12 @@ TEST(Semantics, ZeroTangentInsideIsACusp) {
   EXPECT_TRUE(a.shapes[0].cusp);
   EXPECT_STREQ(shape_class(a.shapes[0]), "cusp");
   EXPECT_TRUE(a.cusp);
+  // A retracted handle (P0 = P1): P'(0) = 0, kappa unbounded at the start,
+  // so eta(0) = 0 there is a cusp, not zero curvature.
+  const SplineAnalysis h = analyze(BSpline::bezier({{0, 0}, {0, 0}, {1, 1}, {3, 1}}));
+  EXPECT_TRUE(h.shapes[0].cusp);
+  EXPECT_FALSE(h.shapes[0].kappa_zero_start);
+  EXPECT_GT(std::fabs(curvature(BSpline::bezier({{0, 0}, {0, 0}, {1, 1}, {3, 1}}), 1e-6)), 1e4);
   // A regular curve close to it is not.
   const SplineAnalysis b = analyze(BSpline::bezier({{0, 0}, {2, 2}, {0, 2.001}, {2, 0}}));
   EXPECT_FALSE(b.shapes[0].cusp);
