@@ -25,8 +25,8 @@ namespace {
   switch (error) {
     case EISDIR: throw InputError(path.string() + ": is a directory");
     case ENOENT:
-    case ENOTDIR:
-    case ENAMETOOLONG: throw InputError(message + " (does the folder exist?)");
+    case ENOTDIR: throw InputError(message + " (does the folder exist?)");
+    case ENAMETOOLONG: throw InputError(message);
     default: throw EnvironmentError(message);
   }
 }
@@ -227,17 +227,53 @@ void write_spline_file(const std::filesystem::path& path, const BSpline& spline)
   write_file_atomic(path, spline_to_json(spline).dump(2) + "\n");
 }
 
+namespace {
+
+/// Length of the well-formed UTF-8 sequence at the start of `s` (RFC 3629:
+/// no overlong forms, no surrogates, at most U+10FFFF), or 0 when the first
+/// byte does not start one.
+std::size_t utf8_sequence(std::string_view s) {
+  const auto b = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
+  const auto cont = [&](std::size_t i) { return i < s.size() && (b(i) & 0xC0) == 0x80; };
+  const unsigned char c = b(0);
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) return cont(1) ? 2 : 0;
+  if (c >= 0xE0 && c <= 0xEF) {
+    if (!cont(1) || !cont(2)) return 0;
+    if (c == 0xE0 && b(1) < 0xA0) return 0;   // overlong
+    if (c == 0xED && b(1) >= 0xA0) return 0;  // surrogate
+    return 3;
+  }
+  if (c >= 0xF0 && c <= 0xF4) {
+    if (!cont(1) || !cont(2) || !cont(3)) return 0;
+    if (c == 0xF0 && b(1) < 0x90) return 0;   // overlong
+    if (c == 0xF4 && b(1) >= 0x90) return 0;  // above U+10FFFF
+    return 4;
+  }
+  return 0;
+}
+
+}  // namespace
+
 std::string html_escape(std::string_view text) {
   std::string out;
   out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
+  while (!text.empty()) {
+    const std::size_t n = utf8_sequence(text);
+    if (n == 0) {
+      out += "\xEF\xBF\xBD";  // U+FFFD for a byte that is not UTF-8 (a file name from another locale)
+      text.remove_prefix(1);
+      continue;
+    }
+    switch (text[0]) {
       case '&': out += "&amp;"; break;
       case '<': out += "&lt;"; break;
       case '>': out += "&gt;"; break;
       case '"': out += "&quot;"; break;
-      default: out += c;
+      case '\'': out += "&#39;"; break;
+      default: out.append(text.substr(0, n));
     }
+    text.remove_prefix(n);
   }
   return out;
 }

@@ -84,7 +84,10 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
 /// Writes a spline file (spline_to_json, indented) with write_file_atomic.
 void write_spline_file(const std::filesystem::path& path, const BSpline& spline);
 
-/// Text made safe for HTML element content and attribute values.
+/// Text made safe for HTML element content and attribute values, and valid
+/// UTF-8: & < > " ' become entities, and each byte that does not belong to a
+/// well-formed UTF-8 sequence (a file name in another encoding) becomes
+/// U+FFFD, so the page always decodes.
 std::string html_escape(std::string_view text);
 
 }  // namespace cmr
