@@ -136,7 +136,11 @@ std::filesystem::path temp_name_for(const std::filesystem::path& path, int attem
   const std::filesystem::path folder = path.parent_path();
   std::string name = ".";  // built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + string&&
   name += path.filename().string();
-  name += "." + std::to_string(::getpid()) + "-" + std::to_string(attempt) + ".tmp";
+  name += '.';
+  name += std::to_string(::getpid());
+  name += '-';
+  name += std::to_string(attempt);
+  name += ".tmp";
   return folder.empty() ? std::filesystem::path(name) : folder / name;
 }
 
@@ -206,7 +210,13 @@ void OutputSet::commit() {
   }
   for (std::size_t i = done < staged_.size() ? done : 0; i < kept.size(); ++i)
     if (!kept[i].link.empty()) ::unlink(kept[i].link.c_str());
-  if (done < staged_.size()) throw_errno(staged_[done].path, error);
+  if (done < staged_.size()) {
+    const std::filesystem::path failed = staged_[done].path;
+    for (std::size_t i = done; i < staged_.size(); ++i) ::unlink(staged_[i].temp.c_str());
+    staged_.clear();  // nothing of the set is left to remove but the folders it made
+    discard();
+    throw_errno(failed, error);
+  }
   committed_ = true;
   for (const Staged& s : staged_) sync_folder(folder_of(s.path));
 }

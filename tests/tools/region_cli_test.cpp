@@ -209,8 +209,8 @@ TEST(RegionEnvironment, NoVulkanDeviceExits3AndSaysHowToSelectLavapipe) {
   const EnvGuard env("VK_DRIVER_FILES", "/nonexistent.json");
   // Point 2 of the uniform example touches every segment, so the host cannot
   // decide every pixel alone and the device is needed.
-  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --png " + (dir / "r.png").string() +
-                        " --labels " + (dir / "r.pgm").string());
+  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --backend vulkan --png " +
+                        (dir / "r.png").string() + " --labels " + (dir / "r.pgm").string());
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   ASSERT_FALSE(r.err.empty());
@@ -373,7 +373,7 @@ TEST_P(RegionBackendsAgree, ByteIdenticalLabelMaps) {
   ASSERT_FALSE(want.empty()) << c.name;
   for (const char* precision : {"fp64", "fp32"}) {
     const fs::path p = dir / (std::string("vk_") + precision + ".pgm");
-    const Outcome vk = run(base + p.string() + " --precision " + precision);
+    const Outcome vk = run(base + p.string() + " --backend vulkan --precision " + precision);
     ASSERT_EQ(vk.code, 0) << c.name << " " << precision << ": " << vk.err;
     const std::string got = binary(p);
     ASSERT_EQ(got.size(), want.size()) << c.name << " " << precision;
