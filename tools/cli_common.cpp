@@ -57,14 +57,14 @@ class DeferredVulkanBackend final : public RegionBackend {
 };
 
 #ifdef CMR_WITH_VULKAN
-/// The name of the first real GPU the Vulkan loader lists (any device type
-/// but CPU); empty when there is none or no loader/driver at all.
+/// auto_backend_device on what the loader lists; empty when there is no
+/// loader, driver or device at all.
 std::string first_gpu() {
   auto devices = vk::enumerate_devices();
   if (!devices) return {};
-  for (const vk::DeviceInfo& d : devices.value())
-    if (d.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return d.name;
-  return {};
+  std::vector<ListedDevice> listed;
+  for (const vk::DeviceInfo& d : devices.value()) listed.push_back({d.name, d.type == VK_PHYSICAL_DEVICE_TYPE_CPU});
+  return auto_backend_device(listed);
 }
 #endif
 
@@ -101,6 +101,12 @@ std::string number_text(double x) {
 }
 
 }  // namespace
+
+std::string auto_backend_device(const std::vector<ListedDevice>& devices) {
+  for (const ListedDevice& d : devices)
+    if (!d.cpu) return d.name;
+  return {};
+}
 
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
                                                    const std::string& device) {

@@ -43,6 +43,15 @@ using EnvironmentError = cmr::EnvironmentError;
 ///    "cpu"), so commands report the backend that actually ran.
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
                                                    const std::string& device = "");
+/// --backend auto's rule on the devices the Vulkan loader lists (in loader
+/// order): the name of the first one that is not a CPU device
+/// (VK_PHYSICAL_DEVICE_TYPE_CPU: lavapipe/llvmpipe), which auto opens; ""
+/// when there is none, and auto takes the CPU backend.
+struct ListedDevice {
+  std::string name;
+  bool cpu = false;
+};
+std::string auto_backend_device(const std::vector<ListedDevice>& devices);
 /// The --backend choices, in help order.
 inline const std::vector<std::string> kBackendChoices = {"auto", "vulkan", "cpu"};
 

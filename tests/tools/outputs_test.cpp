@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tools/cli_common.hpp"
 #include "tools/io.hpp"
 
 namespace {
@@ -512,6 +513,18 @@ const std::vector<Case>& cases() {
     return t;
   }();
   return table;
+}
+
+// --backend auto's rule on device lists (the GPU branch cannot run on a
+// machine without a GPU; the CPU branch runs in the table above).
+TEST(BackendAuto, TakesTheFirstDeviceThatIsNotACpu) {
+  using cmr::cli::auto_backend_device;
+  EXPECT_EQ(auto_backend_device({}), "") << "no device: the CPU backend";
+  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}}), "") << "lavapipe only: the CPU backend";
+  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}, {"NVIDIA H100 80GB HBM3", false}}),
+            "NVIDIA H100 80GB HBM3")
+      << "a GPU after lavapipe in loader order";
+  EXPECT_EQ(auto_backend_device({{"AMD Radeon", false}, {"NVIDIA", false}}), "AMD Radeon");
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, Outputs, ::testing::ValuesIn(cases()),

@@ -110,8 +110,8 @@ void write_png(const std::filesystem::path& path, const vk::Screenshot& shot) {
   std::string png;  // encoded in memory, then written with cmr::write_file_atomic
   const cairo_status_t status = cairo_surface_write_to_png_stream(
       img,
-      [](void* closure, const unsigned char* data, unsigned int length) {
-        static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+      [](void* closure, const unsigned char* bytes, unsigned int length) {
+        static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(bytes), length);
         return CAIRO_STATUS_SUCCESS;
       },
       &png);
