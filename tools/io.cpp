@@ -71,7 +71,9 @@ void sync_folder(const std::filesystem::path& folder) {
 
 /// Exclusive flock(2)s on folders, released on destruction. One lock per
 /// folder (by device and inode): two descriptors of one folder would
-/// deadlock the process against itself.
+/// deadlock the process against itself. Best effort: where a folder cannot
+/// be opened or locked (a file system without flock), the commit goes on
+/// unlocked, each file still replaced atomically.
 class FolderLocks {
  public:
   FolderLocks() = default;
@@ -82,12 +84,11 @@ class FolderLocks {
   }
   void lock(const std::filesystem::path& folder) {
     const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) throw_errno(folder, errno);
+    if (fd < 0) return;
     struct stat st {};
     if (::fstat(fd, &st) != 0) {
-      const int error = errno;
       ::close(fd);
-      throw_errno(folder, error);
+      return;
     }
     for (const Held& h : held_) {
       if (h.dev == st.st_dev && h.ino == st.st_ino) {
@@ -95,10 +96,14 @@ class FolderLocks {
         return;
       }
     }
-    held_.push_back({fd, st.st_dev, st.st_ino});
-    while (::flock(fd, LOCK_EX) != 0) {
-      if (errno != EINTR) throw_errno(folder, errno);
+    int locked;
+    while ((locked = ::flock(fd, LOCK_EX)) != 0 && errno == EINTR) {
     }
+    if (locked != 0) {
+      ::close(fd);
+      return;
+    }
+    held_.push_back({fd, st.st_dev, st.st_ino});
   }
 
  private:

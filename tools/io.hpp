@@ -35,9 +35,9 @@ std::filesystem::path temp_name_for(const std::filesystem::path& path, int attem
 /// stage() writes each file's bytes to its own new temporary file beside it
 /// (see temp_name_for) and flushes it to disk (fsync); nothing a user sees
 /// changes. commit() then renames every temporary over its path, in staging
-/// order, while it holds an exclusive flock(2) on every folder involved, so
-/// that two runs committing into the same folder never interleave: the last
-/// commit wins with its whole set. Before the renames each existing output is
+/// order, while it holds an exclusive flock(2) on every folder involved
+/// (where the file system supports flock), so that two runs committing into
+/// the same folder never interleave: the last commit wins with its whole set. Before the renames each existing output is
 /// kept as a hard link under a temporary name; if a rename fails, the files
 /// already renamed get their old contents back and the error propagates. A
 /// set destroyed without commit() (an exception on the way) removes its

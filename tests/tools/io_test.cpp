@@ -2,17 +2,21 @@
 // typed errors) and HTML escaping.
 #include "tools/io.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "spline/errors.hpp"
@@ -203,6 +207,25 @@ TEST(OutputSet, AFailedRenameRestoresTheFilesAlreadyRenamed) {
   EXPECT_FALSE(fs::exists(dir / "n.pgm")) << "a new file of a failed set was left";
   EXPECT_EQ(read(dir / "c.pgm"), "old c");
   EXPECT_EQ(names_in(dir), (std::vector<std::string>{"a.pgm", "b.png", "c.pgm"})) << "temporaries or backups left";
+}
+
+TEST(OutputSet, CommitWaitsForTheFolderLockOfAnotherCommit) {
+  const fs::path dir = scratch("set_lock");
+  put(dir / "a.pgm", "old");
+  // Another commit holds the folder (flock locks belong to an open file
+  // description, so a second open in this process contends like a process).
+  const int held = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  ASSERT_GE(held, 0);
+  ASSERT_EQ(::flock(held, LOCK_EX), 0);
+  OutputSet set;
+  set.stage(dir / "a.pgm", "new");
+  std::thread committer([&] { set.commit(); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(read(dir / "a.pgm"), "old") << "the commit did not wait for the folder lock";
+  ::flock(held, LOCK_UN);
+  ::close(held);
+  committer.join();
+  EXPECT_EQ(read(dir / "a.pgm"), "new");
 }
 
 TEST(OutputSet, FoldersItCreatedAreRemovedWhenNotCommitted) {
