@@ -18,6 +18,7 @@ struct AnalyzeArgs {
   std::optional<int> split;
   std::string mode = "cmrwi";
   ContinuityTolerances continuity;
+  bool pretty = false;
 };
 
 nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a) {
@@ -66,8 +67,8 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<AnalyzeArgs>();
   auto* cmd = app.add_subcommand("analyze", "Classify every span (Algorithms 1 and 2, exact) and the whole spline");
   cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
-  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, kMaxDepth))
+  in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
+           kMaxDepth)
       ->capture_default_str();
   cmd->add_option("--split", args->split, "joint S: spans 0..S-1 against S..N-1");
   cmd->add_option("--mode", args->mode, "verdict used for --split")
@@ -79,6 +80,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
                   "G2 at a joint: G1 and curvatures equal within this relative tolerance")
       ->capture_default_str();
+  add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     const BSpline spline = read_spline_file(args->file);
     AnalyzeOptions o;
@@ -86,7 +88,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
     o.split = args->split;
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
     o.continuity = args->continuity;
-    print_json(analysis_json(spline, analyze(spline, o)));
+    print_json(analysis_json(spline, analyze(spline, o)), args->pretty);
     exit_code = kOk;
   });
 }

@@ -17,18 +17,19 @@ namespace {
 
 struct RegionArgs {
   std::string file;
-  std::string point = "0";
+  std::string point;
   std::vector<int> with;
   std::string mode = "cmrwi";
   std::optional<int> split;
   int depth = kDefaultDepth;
   std::string size = "512x512";
   std::string view;
-  std::string backend = "vulkan";
+  std::string backend = "auto";
   std::string precision = "fp64";
   std::string device;
   std::string png, labels, depth_map;
   bool stats = false;
+  bool pretty = false;
 };
 
 std::pair<int, int> parse_size(const std::string& text) {
@@ -122,6 +123,7 @@ struct Rendered {
   std::vector<RegionResult> images;
   nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
   double seconds = 0, setup_seconds = 0;
+  std::string backend;  ///< the backend that rendered ("auto" resolved)
 };
 
 /// Label counts of one image (and with --stats its timing and exact share).
@@ -153,20 +155,23 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
     r.per_point.push_back(point_summary(a, problem, r.images.back(), sec));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.backend = backend->name();
   return r;
 }
 
-/// The PGMs and the PNG, all or none (each through cmr::write_file_atomic).
+/// The PGMs and the PNG, all or none: everything is staged first, then
+/// committed as one cmr::OutputSet, so a failure (a full disk on the last
+/// file) leaves every pre-existing output as it was.
 void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector<RegionProblem>& problems,
                    const Rendered& r) {
-  OutputFiles out;
+  OutputSet out;
   const bool several = problems.size() > 1;
   for (std::size_t i = 0; i < r.images.size(); ++i) {
     const int k = problems[i].request().point;
     if (!a.labels.empty())
-      out.write(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
+      out.stage(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
     if (!a.depth_map.empty())
-      out.write(several ? with_point_suffix(a.depth_map, k) : a.depth_map, pgm(r.images[i], r.images[i].depth));
+      out.stage(several ? with_point_suffix(a.depth_map, k) : a.depth_map, pgm(r.images[i], r.images[i].depth));
   }
   if (!a.png.empty()) {
     draw::RegionPicture pic;
@@ -174,9 +179,9 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
     for (const RegionResult& img : r.images) pic.layers.push_back(&img);
     pic.split = problems.front().request().split.has_value();
     pic.max_depth = problems.front().request().max_depth;
-    out.write(a.png, draw::region_png(pic));
+    out.stage(a.png, draw::region_png(pic));
   }
-  out.keep();
+  out.commit();
 }
 
 /// The JSON printed on stdout.
@@ -186,7 +191,7 @@ nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& 
                                 {"height", o.height},
                                 {"view", {v.x0, v.y0, v.x1, v.y1}},
                                 {"mode", a.mode},
-                                {"backend", a.backend},
+                                {"backend", r.backend},
                                 {"points", r.per_point}};
   if (o.split) doc["split"] = *o.split;
   if (a.stats) {
@@ -203,7 +208,7 @@ void run_region(const RegionArgs& a) {
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
   const Rendered r = render_all(a, problems);
   write_outputs(a, spline, problems, r);
-  print_json(region_summary(a, o, r));
+  print_json(region_summary(a, o, r), a.pretty);
 }
 
 }  // namespace
@@ -213,17 +218,17 @@ void add_region_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("region", "Where may a control point go so that curvature stays monotone?");
   cmd->add_option("FILE", a->file, "spline file (JSON)")->required();
   cmd->add_option("--point", a->point, "control point K placed at every pixel, or 'all' (one map per point)")
-      ->capture_default_str();
+      ->required();
   cmd->add_option("--with", a->with, "points moving rigidly with K (comma separated)")->delimiter(',');
   cmd->add_option("--mode", a->mode, "cmrwi: monotone; cmr: monotone without inflection")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
   cmd->add_option("--split", a->split, "joint S: spans 0..S-1 against S..N-1 (extremum at the joint)");
-  cmd->add_option("--depth", a->depth, "maximum subdivision depth D")->capture_default_str();
+  in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
   cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");
-  cmd->add_option("--backend", a->backend, "vulkan (default; lavapipe without a GPU) or cpu")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
+  cmd->add_option("--backend", a->backend, "auto: Vulkan on a real GPU, else cpu; vulkan (lavapipe without a GPU); cpu")
+      ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd->add_option("--precision", a->precision, "shader arithmetic; labels are certified either way")
       ->check(CLI::IsMember({"fp64", "fp32"}))
@@ -233,6 +238,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
   cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
+  add_pretty_flag(*cmd, a->pretty);
   cmd->callback([a, &exit_code] {
     run_region(*a);
     exit_code = kOk;

@@ -24,9 +24,10 @@ struct ReportArgs {
   std::string require;
   int depth = kDefaultDepth;
   bool no_thumbnails = false;
-  std::string backend = "vulkan";
+  std::string backend = "auto";
   std::string device;
   int region_size = 96;
+  bool pretty = false;
 };
 
 // "[#####-----] 12/40 name" rewritten in place; only on a terminal.
@@ -37,16 +38,18 @@ void show_progress(int done, int total, const std::string& name) {
             << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
 }
 
-/// Writes dir/report.json and dir/index.html (both or neither), creating dir.
+/// Writes dir/index.html and dir/report.json as one cmr::OutputSet (both or
+/// neither; dir is created, and removed again on failure if it was new).
+/// report.json is renamed last: it is the report's commit marker, so a
+/// report.json is always accompanied by the index.html of the same run, and
+/// two runs into one folder (serialised by the set's folder lock) never mix.
 void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
-                  const report::ReportOptions& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
-  OutputFiles out;
-  out.write(dir / "report.json", report::report_json(reports, options).dump(2) + "\n");
-  out.write(dir / "index.html", report::report_html(reports, options));
-  out.keep();
+                  const report::ReportOptions& options, bool pretty) {
+  OutputSet out;
+  out.create_folder(dir);
+  out.stage(dir / "index.html", report::report_html(reports, options));
+  out.stage(dir / "report.json", json_text(report::report_json(reports, options), pretty));
+  out.commit();
 }
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -60,16 +63,15 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
                   "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
-  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, kMaxDepth))
+  in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
+           kMaxDepth)
       ->capture_default_str();
   cmd->add_flag("--no-thumbnails", args->no_thumbnails, "skip the regions (fix search and thumbnails)");
-  cmd->add_option("--backend", args->backend, "region backend")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
+  cmd->add_option("--backend", args->backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
+      ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd->add_option("--device", args->device, "Vulkan device name (substring)");
-  cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side")
-      ->check(CLI::Range(8, 1024))
+  in_range(cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side"), 8, 1024)
       ->capture_default_str();
   cmd->add_option("--angle-tol", args->continuity.angle_deg,
                   "G1 at a joint: end tangents within this angle (degrees)")
@@ -77,6 +79,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
                   "G2 at a joint: G1 and curvatures equal within this relative tolerance")
       ->capture_default_str();
+  add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
@@ -92,7 +95,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
     if (terminal) std::cerr << "\r\033[K" << std::flush;
-    write_report(args->out, reports, o);
+    write_report(args->out, reports, o, args->pretty);
 
     int pass = 0, fail = 0, invalid = 0;
     for (const report::SplineReport& r : reports) {

@@ -140,10 +140,11 @@ std::string label_text(uint8_t l) { return l == 255 ? "outside the view" : "labe
 
 // ----------------------------------------------------------------- builder --
 
-/// Computes and caches regions and analyses, records claims, writes files.
+/// Computes and caches regions and analyses, records claims, stages files
+/// (make_figures commits them together at the end).
 class Builder {
  public:
-  explicit Builder(const FiguresOptions& o) : options_(o) {}
+  Builder(const FiguresOptions& o, OutputSet& out) : options_(o), out_(out) {}
 
   /// The region of point k of s; cached by (name, k, mode, split, depth),
   /// so figures that show the same map share it.
@@ -191,9 +192,9 @@ class Builder {
   void write(FigureFile file, draw::Figure figure) {
     figure.panel_size = options_.size;
     const std::filesystem::path path = options_.out / (file.id + ".png");
-    draw::write_figure_png(path, figure);
+    out_.stage(path, draw::figure_png(figure));
     result_.written.push_back(path);
-    log("wrote " + path.string());
+    log("made " + path.string());
     result_.figures.push_back(std::move(file));
   }
 
@@ -202,12 +203,14 @@ class Builder {
   }
 
   const FiguresOptions& options() const { return options_; }
+  OutputSet& out() { return out_; }
   FiguresResult& result() { return result_; }
   /// Keeps an image alive until the figures are written (pictures point to it).
   void keep(std::shared_ptr<const RegionResult> image) { kept_.push_back(std::move(image)); }
 
  private:
   const FiguresOptions& options_;
+  OutputSet& out_;
   std::map<std::string, RegionResult> regions_;  // node-based: references stay valid
   std::map<std::string, SplineAnalysis> analyses_;
   std::vector<std::shared_ptr<const RegionResult>> kept_;
@@ -704,9 +707,8 @@ void write_index(Builder& b) {
     h << "<a href=\"" << s.name() << ".json\">" << s.name() << ".json</a> ";
   h << "</p>\n</body></html>\n";
   const std::filesystem::path path = b.options().out / "index.html";
-  write_file_atomic(path, h.str());
+  b.out().stage(path, h.str());
   b.result().written.push_back(path);
-  b.log("wrote " + path.string());
 }
 
 }  // namespace
@@ -726,16 +728,16 @@ FiguresResult make_figures(const FiguresOptions& options) {
     throw InputError("size " + std::to_string(options.size) + " is outside 64..4096");
   if (options.depth < 0 || options.depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.depth) + " is outside 0.." + std::to_string(kMaxDepth));
-  std::error_code ec;
-  std::filesystem::create_directories(options.out, ec);
-  if (ec || !std::filesystem::is_directory(options.out))
-    throw InputError(options.out.string() + ": cannot create the folder (" + ec.message() + ")");
-
-  Builder b(options);
+  // Every file is staged and committed at the end as one set: a run that
+  // fails (no Vulkan device, a full disk) leaves the folder as it was, and
+  // removes it again if it created it.
+  OutputSet out;
+  out.create_folder(options.out);
+  Builder b(options, out);
   const Curves c;
   for (const BSpline& s : figure_splines()) {
     const std::filesystem::path path = options.out / (s.name() + ".json");
-    write_file_atomic(path, spline_to_json(s).dump(2) + "\n");
+    out.stage(path, spline_to_json(s).dump(2) + "\n");
     b.result().written.push_back(path);
   }
   b.log("fig2..fig7: Bezier curves (section 4.1)");
@@ -750,6 +752,8 @@ FiguresResult make_figures(const FiguresOptions& options) {
   b.log("fig13: a kappa-curve and a local modification (section 5.2)");
   figure13(b);
   write_index(b);
+  out.commit();
+  b.log("wrote " + std::to_string(b.result().written.size()) + " files into " + options.out.string());
   return std::move(b.result());
 }
 

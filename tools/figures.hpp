@@ -55,9 +55,11 @@ struct FiguresResult {
 std::vector<BSpline> figure_splines();
 
 /// Computes the regions on options.backend, checks the claims, writes one PNG
-/// per figure, the spline files and index.html into options.out. Throws
-/// InputError for bad options or an unwritable folder; what the backend
-/// throws (BackendError) propagates.
+/// per figure, the spline files and index.html into options.out, all
+/// together at the end (one cmr::OutputSet): on any failure no file is
+/// written or replaced. Throws InputError for bad options or an unwritable
+/// folder; what the backend throws (EnvironmentError, BackendError)
+/// propagates.
 FiguresResult make_figures(const FiguresOptions& options);
 
 }  // namespace cmr::fig

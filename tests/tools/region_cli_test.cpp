@@ -181,8 +181,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadRegion{"split_0", "FILE --point 2 --split 0", kUniform, "split 0 is outside 1..2"},
         BadRegion{"split_3", "FILE --point 2 --split 3", kUniform, "split 3 is outside 1..2"},
         BadRegion{"split_on_bezier", "FILE --point 1 --split 1", kBezier, "one segment"},
-        BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "depth 31 is outside 0..30"},
-        BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "depth -1 is outside 0..30"},
+        BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "--depth: 31 is outside 0..30"},
+        BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "--depth: -1 is outside 0..30"},
         BadRegion{"view_3_numbers", "FILE --point 2 --view 0,0,1", kUniform, "four numbers"},
         BadRegion{"view_x0_above_x1", "FILE --point 2 --view 2,0,1,1", kUniform, "X0 < X1"},
         BadRegion{"view_x0_equal_x1", "FILE --point 2 --view 1,0,1,1", kUniform, "X0 < X1"},
@@ -209,8 +209,8 @@ TEST(RegionEnvironment, NoVulkanDeviceExits3AndSaysHowToSelectLavapipe) {
   const EnvGuard env("VK_DRIVER_FILES", "/nonexistent.json");
   // Point 2 of the uniform example touches every segment, so the host cannot
   // decide every pixel alone and the device is needed.
-  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --png " + (dir / "r.png").string() +
-                        " --labels " + (dir / "r.pgm").string());
+  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --backend vulkan --png " +
+                        (dir / "r.png").string() + " --labels " + (dir / "r.pgm").string());
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   ASSERT_FALSE(r.err.empty());
@@ -373,7 +373,7 @@ TEST_P(RegionBackendsAgree, ByteIdenticalLabelMaps) {
   ASSERT_FALSE(want.empty()) << c.name;
   for (const char* precision : {"fp64", "fp32"}) {
     const fs::path p = dir / (std::string("vk_") + precision + ".pgm");
-    const Outcome vk = run(base + p.string() + " --precision " + precision);
+    const Outcome vk = run(base + p.string() + " --backend vulkan --precision " + precision);
     ASSERT_EQ(vk.code, 0) << c.name << " " << precision << ": " << vk.err;
     const std::string got = binary(p);
     ASSERT_EQ(got.size(), want.size()) << c.name << " " << precision;

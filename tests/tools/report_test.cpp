@@ -14,6 +14,7 @@
 #include "bezierize/lambda.hpp"
 #include "spline/curvature.hpp"
 #include "spline/spline_json.hpp"
+#include "tools/io.hpp"
 #include "tests/test_util.hpp"
 #include "tests/tools/cli_util.hpp"
 

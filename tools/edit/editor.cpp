@@ -237,13 +237,13 @@ std::string pgm(const RegionResult& img) {
 void Editor::export_region(const std::filesystem::path& path) {
   const RegionQuery q = region_query(true);
   const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
-  cli::OutputFiles out;
+  OutputSet out;
   for (std::size_t i = 0; i < layers.size(); ++i) {
     std::filesystem::path p = path;
     if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q.points[i]) + path.extension().string());
-    out.write(p, pgm(layers[i]));
+    out.stage(p, pgm(layers[i]));
   }
-  out.keep();
+  out.commit();
   message = "region written to " + path.string();
 }
 

@@ -1,11 +1,11 @@
 #include "tools/edit/script.hpp"
 
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -59,11 +59,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
 }
 
 std::vector<ScriptCommand> read_script(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot read the script");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return parse_script(s.str(), path.string());
+  return parse_script(read_input_file(path), path.string());
 }
 
 double number_arg(const ScriptCommand& c, std::size_t i) {

@@ -107,15 +107,18 @@ void write_png(const std::filesystem::path& path, const vk::Screenshot& shot) {
     }
   }
   cairo_surface_mark_dirty(img);
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  const cairo_status_t status = cairo_surface_write_to_png(img, tmp.c_str());
+  std::string png;  // encoded in memory, then written with cmr::write_file_atomic
+  const cairo_status_t status = cairo_surface_write_to_png_stream(
+      img,
+      [](void* closure, const unsigned char* bytes, unsigned int length) {
+        static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(bytes), length);
+        return CAIRO_STATUS_SUCCESS;
+      },
+      &png);
   cairo_surface_destroy(img);
-  if (status != CAIRO_STATUS_SUCCESS) {
-    std::filesystem::remove(tmp);
-    throw InputError(path.string() + ": cannot write the PNG (" + cairo_status_to_string(status) + ")");
-  }
-  std::filesystem::rename(tmp, path);
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw InputError(path.string() + ": cannot encode the PNG (" + cairo_status_to_string(status) + ")");
+  write_file_atomic(path, png);
 }
 
 BSpline starting_spline() {
