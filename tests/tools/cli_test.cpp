@@ -73,6 +73,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "--segments: expected A..B"},
         BadInput{"split_outside_segments", "analyze FILE --segments 1..2 --split 1",
                  "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "split 1 is outside 2..2"},
+        // analyze has no --conventional: the advice names the command that has it.
+        BadInput{"conventional_knots", "analyze FILE",
+                 "{\"degree\":3,\"knots\":[0,0,0,0,1,2,3,3,3,3]," + kSixPoints + "}",
+                 "convert the file with `cmr knots FILE --conventional clamp`"},
         BadInput{"depth_out_of_range", "analyze FILE --depth 99", "{" + kSixPoints + "}", "--depth"},
         BadInput{"mode_unknown", "analyze FILE --mode bogus", "{" + kSixPoints + "}", "--mode"},
         BadInput{"unknown_command", "frobnicate", "", "unknown command 'frobnicate'"},
