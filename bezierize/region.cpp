@@ -72,9 +72,7 @@ void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<b
     if (si.segment >= s.range.first && si.segment <= s.range.last) touched[si.segment] = needed[si.segment] = true;
   for (std::size_t j = 0; j < s.joints.size(); ++j) {
     const int idx = s.joints[j].index;
-    if (idx <= s.range.first || idx > s.range.last) continue;  // not inside the judged range
-    const bool cut = std::find(s.cuts.begin(), s.cuts.end(), idx) != s.cuts.end();
-    if (cut || s.joints[j].continuity >= 2) continue;  // cut joint: jump is free; C2: no jump
+    if (!joint_counts(s.range, s.cuts, idx) || s.joints[j].continuity >= 2) continue;  // C2: no jump
     if (!touched[idx - 1] && !touched[idx]) continue;
     varying.push_back(static_cast<int>(j));
     needed[idx - 1] = needed[idx] = true;

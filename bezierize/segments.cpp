@@ -62,6 +62,10 @@ int group_of(const std::vector<int>& cuts, int seg) {
   return static_cast<int>(std::upper_bound(cuts.begin(), cuts.end(), seg) - cuts.begin());
 }
 
+bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint) {
+  return joint > range.first && joint <= range.last && !std::binary_search(cuts.begin(), cuts.end(), joint);
+}
+
 SegmentRange parse_segment_range(const std::string& text, const char* option) {
   const auto dots = text.find("..");
   const auto number = [&](std::string_view s, int& v) {

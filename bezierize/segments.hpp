@@ -56,6 +56,11 @@ std::vector<std::pair<int, int>> segment_groups(SegmentRange range, const std::v
 /// The group of segment `seg` (0 before s_1, 1 from s_1, ...); cuts sorted.
 int group_of(const std::vector<int>& cuts, int seg);
 
+/// Whether the curvature jump at joint `joint` (between segments joint-1 and
+/// joint) counts in a verdict: the joint lies strictly inside the range
+/// (both its segments judged) and is not a cut (a cut joint's jump is free).
+bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint);
+
 /// "A..B" (two non-negative integers; A <= B is checked by judged_range) or
 /// "A" (A..A); InputError naming `option` otherwise.
 SegmentRange parse_segment_range(const std::string& text, const char* option = "--segments");

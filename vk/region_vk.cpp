@@ -1,6 +1,5 @@
 #include "vk/region_vk.hpp"
 
-#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -175,9 +174,7 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   for (const RegionJoint& j : s.varying) varies[j.joint] = true;
   for (std::size_t j = 0; j < s.joints.size(); ++j) {
     const Joint& jt = s.joints[j];
-    if (jt.index <= s.range.first || jt.index > s.range.last) continue;  // not inside the judged range
-    const bool cut = std::find(s.cuts.begin(), s.cuts.end(), jt.index) != s.cuts.end();
-    if (cut || varies[j]) continue;  // a cut joint's jump is free
+    if (!cmr::joint_counts(s.range, s.cuts, jt.index) || varies[j]) continue;
     if (jt.jump > 0) flags[part_of(jt.index)] |= FLAG_UP;
     if (jt.jump < 0) flags[part_of(jt.index)] |= FLAG_DOWN;
   }

@@ -70,6 +70,12 @@ TEST(Segments, GroupsBetweenTheCuts) {
   EXPECT_EQ(group_of({2, 4}, 2), 1);
   EXPECT_EQ(group_of({2, 4}, 3), 1);
   EXPECT_EQ(group_of({2, 4}, 4), 2);
+  // Joint j joins segments j-1 and j: it counts strictly inside the range, except at a cut.
+  EXPECT_FALSE(joint_counts({1, 5}, {3}, 1));  // the range's start
+  EXPECT_TRUE(joint_counts({1, 5}, {3}, 2));
+  EXPECT_FALSE(joint_counts({1, 5}, {3}, 3));  // a cut: its jump is free
+  EXPECT_TRUE(joint_counts({1, 5}, {3}, 5));
+  EXPECT_FALSE(joint_counts({1, 5}, {3}, 6));  // past the range
 }
 
 TEST(Segments, AlternationVerdict) {
