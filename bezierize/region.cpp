@@ -59,27 +59,29 @@ std::vector<int> point_group(const RegionRequest& o) {
   return group;
 }
 
-// Segments the move changes (touched) and those the setup needs (touched,
-// or next to a joint whose curvature jump varies: non-C2, not the split
-// joint, next to a touched segment); the varying joints go to `varying`.
+// Judged segments the move changes (touched) and those the setup needs
+// (touched, or next to a joint whose curvature jump varies: non-C2, strictly
+// inside the judged range, not a cut joint, next to a touched segment); the
+// varying joints go to `varying`. Segments outside the range are ignored.
 void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<bool>& needed,
                  std::vector<int>& varying) {
-  const int N = s.spline.segment_count(), split = s.options.split.value_or(0);
+  const int N = s.spline.segment_count();
   touched.assign(N, false);
   needed.assign(N, false);
-  for (const SegmentInfluence& si : influence(s.spline, s.group)) touched[si.segment] = needed[si.segment] = true;
+  for (const SegmentInfluence& si : influence(s.spline, s.group))
+    if (si.segment >= s.range.first && si.segment <= s.range.last) touched[si.segment] = needed[si.segment] = true;
   for (std::size_t j = 0; j < s.joints.size(); ++j) {
     const int idx = s.joints[j].index;
-    if (idx == split || s.joints[j].continuity >= 2) continue;  // split joint: jump is free; C2: no jump
+    if (!joint_counts(s.range, s.cuts, idx) || s.joints[j].continuity >= 2) continue;  // C2: no jump
     if (!touched[idx - 1] && !touched[idx]) continue;
     varying.push_back(static_cast<int>(j));
     needed[idx - 1] = needed[idx] = true;
   }
 }
 
-// fixed_none / fixed_level0_none: an untouched segment fails for every position.
+// fixed_none / fixed_level0_none: an untouched judged segment fails for every position.
 void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
-  for (std::size_t seg = 0; seg < touched.size(); ++seg) {
+  for (int seg = s.range.first; seg <= s.range.last; ++seg) {
     if (touched[seg]) continue;
     const SegmentClass& c = s.fixed[seg];
     const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||
@@ -130,20 +132,23 @@ void set_piece_polynomials(RegionEntry& e, int piece_levels) {
 
 RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) {
   validate_region_options(spline, options);
-  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
+  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
   if (!s.options.view) {
     s.options.view = default_view(spline, options.width, options.height);
     validate_region_options(spline, s.options);  // a default view of huge coordinates can overflow
   }
   s.group = point_group(options);
   s.anchor = spline.points()[options.point];
+  s.range = judged_range(options.segments, spline.segment_count());
+  s.cuts = options.split ? std::vector<int>{*options.split} : options.splits;
   AnalyzeOptions ao;
   ao.classify.max_depth = options.max_depth;
+  ao.segments = s.range;  // ignored segments are not classified
   const SplineAnalysis a = analyze(spline, ao);
   s.fixed = a.segments;
   s.joints = a.joints;
 
-  const int d = spline.degree(), N = spline.segment_count(), split = options.split.value_or(0);
+  const int d = spline.degree(), N = spline.segment_count();
   std::vector<bool> touched, needed;
   std::vector<int> varying_joints;
   find_needed(s, touched, needed, varying_joints);
@@ -153,7 +158,7 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) 
     if (!needed[seg]) continue;
     RegionEntry e;
     e.segment = seg;
-    e.part = split > 0 && seg >= split ? 1 : 0;
+    e.part = group_of(s.cuts, seg);
     e.classify = touched[seg];
     set_moved_points(s, spline.segments()[seg], e);
     e.n_xi = 4 * d - 6;
@@ -164,7 +169,7 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) 
   }
   for (int j : varying_joints) {
     const int idx = s.joints[j].index;
-    s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], split > 0 && idx >= split ? 1 : 0});
+    s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], group_of(s.cuts, idx)});
   }
   return s;
 }
@@ -173,18 +178,19 @@ namespace {
 
 PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
                     bool exact) {
-  const int N = static_cast<int>(classes.size());
   PixelResult r;
   r.exact = exact;
   const RegionRequest& o = s.options;
-  if (o.split) {
-    r.label = label_of(combine_split(part_verdict(classes, joints, 0, *o.split, o.mode),
-                                     part_verdict(classes, joints, *o.split, N, o.mode)));
-  } else {
-    r.label = label_of(part_verdict(classes, joints, 0, N, o.mode));
+  std::vector<Direction> groups;
+  for (const auto& [a, b] : segment_groups(s.range, s.cuts)) groups.push_back(part_verdict(classes, joints, a, b, o.mode));
+  switch (labels_of(o)) {
+    case Labels::plain: r.label = label_of(groups[0]); break;
+    case Labels::split: r.label = label_of(combine_split(groups[0], groups[1])); break;
+    case Labels::alternating: r.label = label_of(alternation_verdict(groups)); break;
   }
   int depth = 0;
-  for (const SegmentClass& c : classes) {
+  for (int seg = s.range.first; seg <= s.range.last; ++seg) {
+    const SegmentClass& c = classes[seg];
     depth = std::max(depth, c.monotonicity.depth);
     if (o.mode == Mode::cmr) depth = std::max(depth, c.inflection.depth);
   }

@@ -14,12 +14,13 @@ const BSpline& RegionProblem::spline() const { return setup_->spline; }
 const RegionRequest& RegionProblem::request() const { return setup_->options; }
 
 RegionPixel RegionProblem::classify(Vec2 position) const {
-  return detail::to_pixel(detail::classify_position(*setup_, position), request().split.has_value());
+  return detail::to_pixel(detail::classify_position(*setup_, position), detail::labels_of(request()));
 }
 
 RegionResult CpuRegionBackend::render(const RegionProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
-  RegionResult r = detail::to_result(detail::region_cpu(problem.setup(), threads_), problem.request().split.has_value());
+  RegionResult r = detail::to_result(detail::region_cpu(problem.setup(), threads_),
+                                        detail::labels_of(problem.request()));
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

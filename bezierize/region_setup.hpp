@@ -39,9 +39,15 @@ namespace cmr::detail {
 /// Called by prepare_region, the one entry to a prepared problem.
 void validate_region_options(const BSpline& spline, const RegionRequest& options);
 
-/// The label codes of a part's direction and of a split verdict.
+/// The label codes of a part's direction, a split verdict and an alternation.
 uint8_t label_of(Direction d);
 uint8_t label_of(Split s);
+uint8_t label_of(Alternation a);
+
+/// Which labels a request's pixels get: RegionLabel, SplitLabel (split) or
+/// AlternatingLabel (splits).
+enum class Labels : uint8_t { plain, split, alternating };
+Labels labels_of(const RegionRequest& request);
 
 /// What one position gets, with the label as its code.
 struct PixelResult {
@@ -56,7 +62,7 @@ inline constexpr double kPolyErrorUnits = 24;
 /// false, an untouched neighbour of a joint whose curvature jump varies).
 struct RegionEntry {
   int segment = 0;
-  int part = 0;                                ///< 1 for segments at or after the split joint
+  int part = 0;                                ///< its group: group_of(RegionSetup::cuts, segment)
   bool classify = true;                        ///< touched by the group
   std::vector<Point<Rational>> base_exact;     ///< B0: Bezier points before the move
   std::vector<Rational> weight_exact;          ///< w: B = B0 + w (dx, dy)
@@ -72,11 +78,11 @@ struct RegionEntry {
 };
 
 /// A joint whose curvature jump depends on the position (knot multiplicity
-/// >= d-1 next to a touched segment), strictly inside a part.
+/// >= d-1 next to a touched segment), strictly inside a group.
 struct RegionJoint {
   int joint = 0;         ///< index into RegionSetup::joints
   int left = 0, right = 0;  ///< entry indices of its two segments
-  int part = 0;
+  int part = 0;             ///< its group
 };
 
 /// Host preparation shared by the backends.
@@ -85,12 +91,14 @@ struct RegionSetup {
   RegionRequest options;                 ///< validated, view resolved
   std::vector<int> group;                ///< k first, then the rigid members
   Vec2 anchor{0.0};                      ///< P_k
-  std::vector<RegionEntry> entries;      ///< ascending segment order
+  SegmentRange range;                    ///< the judged segments (options.segments, or all)
+  std::vector<int> cuts;                 ///< the joints between groups: options.split, or options.splits
+  std::vector<RegionEntry> entries;      ///< ascending segment order, judged segments only
   std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
-  std::vector<SegmentClass> fixed;       ///< every segment's class before the move
+  std::vector<SegmentClass> fixed;       ///< every judged segment's class before the move (others default)
   std::vector<Joint> joints;             ///< before the move
-  bool fixed_level0_none = false;        ///< an untouched segment fails at level 0: every pixel is 0
-  bool fixed_none = false;               ///< an untouched segment fails at some level: every label is 0
+  bool fixed_level0_none = false;        ///< an untouched judged segment fails at level 0: every pixel is 0
+  bool fixed_none = false;               ///< an untouched judged segment fails at some level: every label is 0
   int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
 };
 
@@ -140,9 +148,10 @@ RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
 /// The typed label of a code; InputError-free: codes come from label_of.
 RegionLabel region_label(uint8_t code);
 SplitLabel split_label(uint8_t code);
+AlternatingLabel alternating_label(uint8_t code);
 /// A pixel's public form.
-RegionPixel to_pixel(const PixelResult& r, bool split);
+RegionPixel to_pixel(const PixelResult& r, Labels kind);
 /// An image's public form (labels decoded; seconds left 0).
-RegionResult to_result(RegionImage&& image, bool split);
+RegionResult to_result(RegionImage&& image, Labels kind);
 
 }  // namespace cmr::detail

@@ -40,7 +40,8 @@ void apply_knot_convention(std::vector<double>& knots, std::size_t points, int d
     knots.pop_back();
   } else if (knots.size() == full && points > 0) {
     throw InputError("knots: " + std::to_string(knots.size()) + " values is the conventional (full) knot vector for " +
-                     counts + "; drop the first and the last knot (cmr uses polar form), or pass --conventional");
+                     counts + "; drop the first and the last knot (cmr uses polar form), or convert the file with "
+                     "`cmr knots FILE --conventional clamp` (any knots operation takes --conventional)");
   }
 }
 

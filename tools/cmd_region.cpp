@@ -20,7 +20,8 @@ struct RegionArgs {
   std::string point;
   std::vector<int> with;
   std::string mode = "cmrwi";
-  std::optional<int> split;
+  std::vector<int> split;
+  std::string segments;
   int depth = kDefaultDepth;
   std::string size = "512x512";
   std::string view;
@@ -77,7 +78,9 @@ RegionRequest region_options(const RegionArgs& a) {
   o.width = w;
   o.height = h;
   o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-  o.split = a.split;
+  if (a.split.size() == 1) o.split = a.split[0];
+  else o.splits = a.split;
+  if (!a.segments.empty()) o.segments = parse_segment_range(a.segments);
   o.max_depth = a.depth;
   o.with = a.with;
   if (!a.view.empty()) o.view = parse_view(a.view);
@@ -132,7 +135,7 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
   nlohmann::ordered_json c;
-  const int labels = img.split ? kSplitLabelCodes : kRegionLabelCodes;
+  const int labels = img.split ? kSplitLabelCodes : (img.alternating ? kAlternatingLabelCodes : kRegionLabelCodes);
   for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
@@ -178,6 +181,7 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
     pic.spline = &spline;
     for (const RegionResult& img : r.images) pic.layers.push_back(&img);
     pic.split = problems.front().request().split.has_value();
+    pic.alternating = !problems.front().request().splits.empty();
     pic.max_depth = problems.front().request().max_depth;
     out.stage(a.png, draw::region_png(pic));
   }
@@ -185,7 +189,8 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
 }
 
 /// The JSON printed on stdout.
-nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o, const Rendered& r) {
+nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o,
+                                      const std::vector<RegionProblem>& problems, const Rendered& r) {
   const View& v = r.images.front().view;
   nlohmann::ordered_json doc = {{"width", o.width},
                                 {"height", o.height},
@@ -194,6 +199,15 @@ nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& 
                                 {"backend", r.backend},
                                 {"points", r.per_point}};
   if (o.split) doc["split"] = *o.split;
+  if (!o.splits.empty()) doc["split"] = o.splits;
+  if (o.segments) {
+    // The judged segments, and the ignored ones by index (not silently dropped).
+    nlohmann::ordered_json ignored = nlohmann::ordered_json::array();
+    for (int seg = 0; seg < problems.front().spline().segment_count(); ++seg)
+      if (seg < o.segments->first || seg > o.segments->last) ignored.push_back(seg);
+    doc["segments"] = {o.segments->first, o.segments->last};
+    doc["ignored_segments"] = ignored;
+  }
   if (a.stats) {
     doc["seconds"] = r.seconds;
     doc["setup_seconds"] = r.setup_seconds;
@@ -208,7 +222,7 @@ void run_region(const RegionArgs& a) {
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
   const Rendered r = render_all(a, problems);
   write_outputs(a, spline, problems, r);
-  print_json(region_summary(a, o, r), a.pretty);
+  print_json(region_summary(a, o, problems, r), a.pretty);
 }
 
 }  // namespace
@@ -223,7 +237,11 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--mode", a->mode, "cmrwi: monotone; cmr: monotone without inflection")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
-  cmd->add_option("--split", a->split, "joint S: spans 0..S-1 against S..N-1 (extremum at the joint)");
+  cmd->add_option("--split", a->split,
+                  "joint S: spans 0..S-1 against S..N-1 (extremum at the joint); joints S1,S2,...: the groups "
+                  "between them alternate direction")
+      ->delimiter(',');
+  cmd->add_option("--segments", a->segments, "judge only spans A..B (inclusive); the others are ignored");
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
   cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");

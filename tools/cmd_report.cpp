@@ -1,5 +1,5 @@
-// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S] [--depth D]
-// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:max|:min]] [--segments A..B] [--depth D]
+// [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL]:
 // QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
 #include <unistd.h>
@@ -22,6 +22,7 @@ struct ReportArgs {
   ContinuityTolerances continuity;  // G1/G2 at joints, as cmr analyze
   std::string out;
   std::string require;
+  std::string segments;
   int depth = kDefaultDepth;
   bool no_thumbnails = false;
   std::string backend = "auto";
@@ -62,7 +63,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("FILES", args->files, "spline files (JSON)")->required();
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
-                  "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
+                  "gate: exit 1 when a spline fails cmrwi, cmr, or split:S (a curvature extremum at joint S: "
+                  "the parts before and after monotone in opposite directions), split:S:max, split:S:min");
+  cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
            kMaxDepth)
       ->capture_default_str();
@@ -85,6 +88,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     report::ReportOptions o;
     o.continuity = args->continuity;
     if (!args->require.empty()) o.require = report::parse_requirement(args->require);
+    if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;

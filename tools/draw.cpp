@@ -175,9 +175,10 @@ void check_picture(const RegionPicture& p) {
   CMR_CHECK(!p.layers.empty());
   for (const RegionResult* l : p.layers) {
     CMR_CHECK(l != nullptr);
-    CMR_CHECK(l->split == p.split);
+    CMR_CHECK(l->split == p.split && l->alternating == p.alternating);
     CMR_CHECK(l->width == p.layers[0]->width && l->height == p.layers[0]->height);
-    CMR_CHECK((l->split ? l->split_labels.size() : l->labels.size()) == static_cast<std::size_t>(l->width) * l->height);
+    CMR_CHECK((l->split ? l->split_labels.size() : l->alternating ? l->alternating_labels.size() : l->labels.size()) ==
+              static_cast<std::size_t>(l->width) * l->height);
     CMR_CHECK(l->depth.size() == static_cast<std::size_t>(l->width) * l->height);
   }
 }
@@ -553,6 +554,10 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
             {colour(depth_absorb(2, 8, p.max_depth)), "decreasing, deeper"},
             {colour(depth_absorb(0, 0, p.max_depth)), "not monotone, level 0"},
             {colour(depth_absorb(0, 8, p.max_depth)), "not monotone, deeper"}};
+  if (p.alternating)
+    return {{colour(kRed), "groups alternate, the first increasing (maximum at the first joint)"},
+            {colour(kBlue), "groups alternate, the first decreasing (minimum at the first joint)"},
+            {{1, 1, 1}, "no alternation, or undecided"}};
   if (p.split)
     return {{colour(kRed), "inc-inc"},
             {colour(kDarkRed), "dec-inc (minimum at the joint)"},

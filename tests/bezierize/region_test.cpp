@@ -49,6 +49,121 @@ TEST(Region, InvalidOptionsAreInputErrors) {
   bad([](RegionRequest& o) { o.max_depth = 31; });
   bad([](RegionRequest& o) { o.with = {0}; });  // the moved point itself
   bad([](RegionRequest& o) { o.view = View{1, 0, 0, 1}; });
+  bad([](RegionRequest& o) { o.segments = SegmentRange{0, 1}; });  // one segment: 0..0
+  bad([](RegionRequest& o) { o.splits = {1}; });
+}
+
+// Segment control (RegionRequest::segments / splits) on a wave whose
+// curvature increases on segments 0-1, decreases on 2, increases on 3
+// (tests/bezierize/segments_test.cpp checks it by sampling).
+BSpline wave() {
+  return BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7, 8},
+                       {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998}, {3.765, 0.132},
+                        {5.069, -0.719}, {6.078, 0.783}});
+}
+
+TEST(Region, SegmentRangesAndSplitsAreValidated) {
+  const BSpline s = wave();  // 4 segments
+  auto bad = [&](auto tweak, const char* why) {
+    RegionRequest o;
+    o.point = 3;
+    tweak(o);
+    EXPECT_THROW(RegionProblem::make(s, o), InputError) << why;
+  };
+  bad([](RegionRequest& o) { o.segments = SegmentRange{2, 1}; }, "reversed range");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{1, 4}; }, "past the last segment");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{1, 3}, o.split = 1; }, "split at the range's start");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{0, 2}, o.splits = {1, 3}; }, "split past the range");
+  bad([](RegionRequest& o) { o.splits = {3, 2}; }, "splits not increasing");
+  bad([](RegionRequest& o) { o.split = 2, o.splits = {3}; }, "split and splits together");
+  RegionRequest ok;
+  ok.point = 3;
+  ok.segments = SegmentRange{1, 3};
+  ok.splits = {2, 3};
+  EXPECT_NO_THROW(RegionProblem::make(s, ok));
+}
+
+TEST(Region, OnlyTheJudgedSegmentsArePrepared) {
+  const BSpline s = wave();
+  RegionRequest o;
+  o.point = 3;  // touches segments 0..3
+  o.segments = SegmentRange{1, 2};
+  const RegionProblem p = RegionProblem::make(s, o);
+  ASSERT_FALSE(p.setup().entries.empty());
+  for (const detail::RegionEntry& e : p.setup().entries) {
+    EXPECT_GE(e.segment, 1);
+    EXPECT_LE(e.segment, 2);
+  }
+  o.point = 0;  // touches segment 0 only: nothing to prepare
+  EXPECT_TRUE(RegionProblem::make(s, o).setup().entries.empty());
+}
+
+// Moving a point that only touches ignored segments changes no label: every
+// position gets analyze's verdict of the judged range.
+TEST(Region, IgnoredSegmentsDoNotChangeTheLabel) {
+  const BSpline s = wave();
+  for (const auto& [range, want] : {std::pair{SegmentRange{1, 2}, RegionLabel::not_monotone},
+                                    std::pair{SegmentRange{2, 2}, RegionLabel::decreasing},
+                                    std::pair{SegmentRange{3, 3}, RegionLabel::increasing}}) {
+    AnalyzeOptions ao;
+    ao.segments = range;
+    ASSERT_EQ(code(want), detail::label_of(analyze(s, ao).cmrwi));
+    RegionRequest o;
+    o.point = 0;
+    o.segments = range;
+    o.width = o.height = 24;
+    const RegionResult r = CpuRegionBackend(1).render(RegionProblem::make(s, o));
+    for (std::size_t i = 0; i < r.size(); ++i)
+      ASSERT_EQ(r.labels[i], want) << "segments " << range.first << ".." << range.last << " pixel " << i;
+  }
+}
+
+// The single-position classifier against analyze of the moved spline, for
+// ranges, one split in a range, and several joints.
+TEST(Region, SegmentControlMatchesAnalyzeOfTheMovedSpline) {
+  const BSpline s = wave();
+  std::mt19937_64 rng(1102);
+  std::uniform_real_distribution<double> off(-0.5, 0.5);
+  struct Case {
+    int point;
+    std::optional<SegmentRange> range;
+    std::optional<int> split;
+    std::vector<int> splits;
+    Mode mode;
+  };
+  const Case cases[] = {{3, SegmentRange{1, 3}, {}, {}, Mode::cmrwi},   {2, SegmentRange{0, 1}, {}, {}, Mode::cmr},
+                        {2, SegmentRange{1, 3}, 2, {}, Mode::cmrwi},     {3, {}, {}, {2, 3}, Mode::cmrwi},
+                        {4, SegmentRange{1, 3}, {}, {2, 3}, Mode::cmrwi}, {3, {}, {}, {2}, Mode::cmr}};
+  int passing = 0;
+  for (const Case& c : cases) {
+    RegionRequest o;
+    o.point = c.point;
+    o.segments = c.range;
+    o.split = c.split;
+    o.splits = c.splits;
+    o.mode = c.mode;
+    const RegionProblem problem = RegionProblem::make(s, o);
+    for (int sample = 0; sample < 60; ++sample) {
+      const Vec2 p = s.points()[c.point] + Vec2(off(rng), off(rng));
+      AnalyzeOptions ao;
+      ao.segments = c.range;
+      ao.split = c.split;
+      ao.splits = c.splits;
+      ao.split_mode = c.mode;
+      const SplineAnalysis a = analyze(s.with_point(c.point, p), ao);
+      const RegionPixel px = problem.classify(p);
+      const std::string where = "point " + std::to_string(c.point) + " sample " + std::to_string(sample);
+      if (!c.splits.empty()) {
+        EXPECT_EQ(code(px.alternating_label), detail::label_of(*a.alternation)) << where;
+        passing += px.alternating_label == AlternatingLabel::first_increasing;
+      } else if (c.split) {
+        EXPECT_EQ(code(px.split_label), detail::label_of(*a.split)) << where;
+      } else {
+        EXPECT_EQ(code(px.label), detail::label_of(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
+      }
+    }
+  }
+  EXPECT_GT(passing, 5) << "some sampled positions should keep the alternation";
 }
 
 // The same curve at a higher degree has the same curvature, so for every

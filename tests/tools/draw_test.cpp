@@ -131,6 +131,24 @@ TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
   EXPECT_EQ(undecided.r + undecided.g + undecided.b, 3.0);
 }
 
+TEST(PixelColour, AlternatingLabelsShowTheFirstGroupsDirection) {
+  RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  r.alternating = true;
+  r.labels.clear();
+  r.alternating_labels = {AlternatingLabel::first_increasing, AlternatingLabel::first_decreasing,
+                          AlternatingLabel::undecided, AlternatingLabel::fail};
+  RegionPicture p;
+  p.layers = {&r};
+  p.alternating = true;
+  const Rgb inc = pixel_colour(p, 0), dec = pixel_colour(p, 1), undecided = pixel_colour(p, 2), fail = pixel_colour(p, 3);
+  EXPECT_GT(inc.r, inc.b);  // group 0 increasing: red
+  EXPECT_GT(dec.b, dec.r);  // group 0 decreasing: blue
+  EXPECT_EQ(undecided.r + undecided.g + undecided.b, 3.0);
+  EXPECT_EQ(fail.r + fail.g + fail.b, 3.0);
+  p.spline = &kCubic;
+  EXPECT_FALSE(region_png(p).empty());  // the legend for alternating labels draws
+}
+
 TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
   RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
   r.labels = {RegionLabel::increasing, RegionLabel::increasing, RegionLabel::not_monotone, RegionLabel::not_monotone};

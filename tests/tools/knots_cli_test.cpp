@@ -101,7 +101,7 @@ TEST(KnotsCli, ConventionalKnotsAreRecognisedAndAcceptedOnRequest) {
   const Outcome refused = run("knots " + file + " refine");
   EXPECT_EQ(refused.code, 2);
   EXPECT_NE(refused.err.find("conventional (full) knot vector for 6 points of degree 3; drop the first and the last "
-                             "knot (cmr uses polar form), or pass --conventional"),
+                             "knot (cmr uses polar form), or convert the file with `cmr knots FILE --conventional clamp`"),
             std::string::npos)
       << refused.err;
   const Outcome accepted = run("knots " + file + " --conventional clamp");

@@ -181,6 +181,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadRegion{"split_0", "FILE --point 2 --split 0", kUniform, "split 0 is outside 1..2"},
         BadRegion{"split_3", "FILE --point 2 --split 3", kUniform, "split 3 is outside 1..2"},
         BadRegion{"split_on_bezier", "FILE --point 1 --split 1", kBezier, "one segment"},
+        BadRegion{"splits_not_increasing", "FILE --point 2 --split 2,1", kUniform, "split joints must increase"},
+        BadRegion{"splits_outside", "FILE --point 2 --split 1,3", kUniform, "split 3 is outside 1..2"},
+        BadRegion{"segments_past_the_end", "FILE --point 2 --segments 1..3", kUniform,
+                  "segments 1..3: the curve has segments 0..2"},
+        BadRegion{"segments_reversed", "FILE --point 2 --segments 2..1", kUniform, "the first segment is after the last"},
+        BadRegion{"segments_word", "FILE --point 2 --segments one..two", kUniform, "--segments: expected A..B"},
+        BadRegion{"split_outside_segments", "FILE --point 2 --segments 1..2 --split 1", kUniform,
+                  "split 1 is outside 2..2"},
         BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "--depth: 31 is outside 0..30"},
         BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "--depth: -1 is outside 0..30"},
         BadRegion{"view_3_numbers", "FILE --point 2 --view 0,0,1", kUniform, "four numbers"},
@@ -263,7 +271,10 @@ TEST(RegionOutputs, LabelsPgmHasTheRequestedSizeAndTheJsonCounts) {
   const std::vector<Case> cases = {{kUniform, "--point 2", 40, 24, 4},
                                    {kFig2, "--point 1", 37, 29, 4},
                                    {kFig2, "--point 3 --mode cmr", 30, 30, 4},
-                                   {kFig8b, "--point 4 --split 2", 33, 21, 6}};
+                                   {kFig8b, "--point 4 --split 2", 33, 21, 6},
+                                   {kFig8b, "--point 4 --split 1,2", 33, 21, 4},
+                                   {kFig8b, "--point 4 --segments 1..2 --split 2", 33, 21, 6},
+                                   {kUniform, "--point 2 --segments 1..2", 40, 24, 4}};
   for (const Case& c : cases) {
     const fs::path dir = out_dir("labels_pgm");
     const std::string what = c.file + " " + c.args;
@@ -279,6 +290,20 @@ TEST(RegionOutputs, LabelsPgmHasTheRequestedSizeAndTheJsonCounts) {
     expect_labels_match_counts(pgm, c.width, c.height, doc["points"][0]["counts"], c.labels, what);
     EXPECT_EQ(files_in(dir).size(), 1u) << what << ": temporary files left behind";
   }
+}
+
+// --segments names the judged and the ignored segments; --split with several
+// joints echoes them and uses the four alternating labels.
+TEST(RegionOutputs, SegmentsAndSplitsAreEchoed) {
+  const Outcome r = run("region " + kFig8b + " --point 4 --backend cpu --size 16x16 --segments 1..2");
+  const nlohmann::json doc = parse_or_fail(r, "segments");
+  EXPECT_EQ(doc["segments"], nlohmann::json::parse("[1, 2]"));
+  EXPECT_EQ(doc["ignored_segments"], nlohmann::json::parse("[0]"));
+  const Outcome s = run("region " + kFig8b + " --point 4 --backend cpu --size 16x16 --split 1,2");
+  const nlohmann::json sdoc = parse_or_fail(s, "splits");
+  EXPECT_EQ(sdoc["split"], nlohmann::json::parse("[1, 2]"));
+  EXPECT_EQ(sdoc["points"][0]["counts"].size(), 4u);
+  EXPECT_FALSE(sdoc.contains("ignored_segments"));
 }
 
 TEST(RegionOutputs, PointAllWritesOneLabelMapPerPoint) {
