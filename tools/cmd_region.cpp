@@ -108,13 +108,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
-  std::vector<RegionProblem> problems;
-  for (int k : chosen_points(a, spline)) {
-    RegionRequest ok = o;
-    ok.point = k;
-    problems.push_back(RegionProblem::make(spline, ok));
-  }
-  return problems;
+  return RegionProblem::make_each(spline, o, chosen_points(a, spline));
 }
 
 /// The rendered images, one per point, with the JSON summary of each.

@@ -188,9 +188,14 @@ class Builder {
     result_.claims.push_back({figure, text, pass, detail});
   }
 
-  void write(FigureFile file, draw::Figure figure) {
+  /// Writes the figure as id.png and records its title and caption for the
+  /// page. The texts are copied from `figure` here, in one place: the figure
+  /// is passed by value, so reading them in the caller's argument list (as
+  /// this once did) could see them already moved out.
+  void write(const std::string& id, draw::Figure figure) {
     figure.panel_size = options_.size;
-    const std::filesystem::path path = options_.out / (file.id + ".png");
+    FigureFile file{id, figure.title, figure.caption};
+    const std::filesystem::path path = options_.out / (id + ".png");
     draw::write_figure_png(path, figure);
     result_.written.push_back(path);
     log("wrote " + path.string());
@@ -279,7 +284,7 @@ void figure2(Builder& b, const Curves& c) {
               "cubic (0,0), (0.3,-0.5), (1.6,-0.3), (3,0); the hollow circle is P0's original place. A flat arch "
               "was chosen because its P0 has both a blue region beside it and a red one below, where the curve "
               "turns the other way first (an inflection).";
-  b.write({"fig2", f.title, f.caption}, std::move(f));
+  b.write("fig2", std::move(f));
 }
 
 void figure3(Builder& b, const Curves& c) {
@@ -313,7 +318,7 @@ void figure3(Builder& b, const Curves& c) {
   f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "Each point's region is computed with the other points fixed; where regions overlap their colours "
               "are subtracted from white once per region, so overlaps are darker. Same cubic as Fig. 2.";
-  b.write({"fig3", f.title, f.caption}, std::move(f));
+  b.write("fig3", std::move(f));
 }
 
 void figure5(Builder& b, const Curves& c) {
@@ -349,7 +354,7 @@ void figure5(Builder& b, const Curves& c) {
               "left of P1; no single point can smooth it out without an inflection or a second extremum. Moving P1 "
               "to (1.5,1) opens a small blue CMR for P2 near P3; P2 at (2.7,0.5) inside it gives decreasing "
               "curvature.";
-  b.write({"fig5", f.title, f.caption}, std::move(f));
+  b.write("fig5", std::move(f));
 }
 
 void figure6(Builder& b, const Curves& c) {
@@ -381,7 +386,7 @@ void figure6(Builder& b, const Curves& c) {
   f.caption = "A class A quintic (legs turning by 0.35 rad and growing by 1.15: decreasing curvature) with P5 "
               "pulled in to (3.6,4.3), which breaks monotonicity. Only P4 and P5 keep small regions, as the paper "
               "notes is typical of higher degrees; P5 at (4,5) restores decreasing curvature.";
-  b.write({"fig6", f.title, f.caption}, std::move(f));
+  b.write("fig6", std::move(f));
 }
 
 void figure7(Builder& b, const Curves& c) {
@@ -423,7 +428,7 @@ void figure7(Builder& b, const Curves& c) {
               "darker the deeper it went to refute it. The lightest red and blue are the positions where all "
               "coefficients of lambda already have one sign, the sufficient condition of the paper's ref. [16]. "
               "Same cubic as Figs. 2 and 3.";
-  b.write({"fig7", f.title, f.caption}, std::move(f));
+  b.write("fig7", std::move(f));
 }
 
 void figure8(Builder& b, const Curves& c) {
@@ -458,7 +463,7 @@ void figure8(Builder& b, const Curves& c) {
               "The polygon is a clockwise spiral hill-climbed so that the first two segments both fail: P0 acts on "
               "the first segment only and P4, P5 not on it at all, so only P1, P2, P3 can repair the curve. The "
               "regions are thin: the three segments leave one point little freedom.";
-  b.write({"fig8", f.title, f.caption}, std::move(f));
+  b.write("fig8", std::move(f));
 }
 
 void figure9_10(Builder& b, const Curves& c) {
@@ -485,7 +490,7 @@ void figure9_10(Builder& b, const Curves& c) {
   f.caption = "A clockwise class A cubic (legs turning by -0.5 rad and growing by 2.5, so |kappa| falls and kappa "
               "rises) written on the clamped knots, with P3 pulled in to (1.5,-1); only P3 can repair it. (b) puts "
               "P3 back where the polynomial had it, (3.46,-2.1).";
-  b.write({"fig9", f.title, f.caption}, std::move(f));
+  b.write("fig9", std::move(f));
 
   // Fig. 10: P5's split map at joint 2 (spans 0-1 against span 2, CMR mode).
   const RegionResult& sp = b.region(c.fig9b, 5, Mode::cmr, v, 2);
@@ -518,7 +523,7 @@ void figure9_10(Builder& b, const Curves& c) {
               "are judged apart (CMR mode). P5 acts on the last segment only; bent inwards to (5.4,-5.8) it makes "
               "that segment decreasing (a maximum at the joint), placed at (6.5,-6.3) it keeps the whole curve "
               "increasing.";
-  b.write({"fig10", g.title, g.caption}, std::move(g));
+  b.write("fig10", std::move(g));
 }
 
 // ------------------------------------------------------------ Fig. 13 (§5.2) --
@@ -609,7 +614,7 @@ void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionResu
               std::to_string(k) + " keeps G1 and the maximum at P" + std::to_string(k) +
               ". Grey bands in (b) are halves whose lambda vanishes at the split point only to rounding: the "
               "maximum is at the joint within about 1e-14 of the parameter, which the exact classifier sees.";
-  b.write({"fig13", f.title, f.caption}, std::move(f));
+  b.write("fig13", std::move(f));
 }
 
 void figure13(Builder& b) {
