@@ -630,6 +630,82 @@ void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, doub
   cairo_stroke(cr);
 }
 
+// ------------------------------------------------------------ lambda plot --
+
+double bernstein_at(std::vector<double> c, double t) {
+  for (std::size_t r = 1; r < c.size(); ++r)
+    for (std::size_t i = 0; i + r < c.size(); ++i) c[i] = (1 - t) * c[i] + t * c[i + 1];
+  return c[0];
+}
+
+void draw_lambda_panel(cairo_t* cr, const LambdaPlot& plot, double x, double y, double w, double h, Labels& labels) {
+  CMR_CHECK(plot.xi.size() >= 2);
+  const int n = static_cast<int>(plot.xi.size()) - 1;
+  std::vector<std::pair<double, double>> curve;
+  double lo = 0, hi = 0;  // the range always shows lambda = 0
+  for (int k = 0; k <= 200; ++k) {
+    const double t = k / 200.0, v = bernstein_at(plot.xi, t);
+    curve.push_back({t, v});
+    lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  for (double c : plot.xi) lo = std::min(lo, c), hi = std::max(hi, c);
+  const double pad = std::max(hi - lo, 1e-300) * 0.06;
+  const PlotFrame f{x + 56, x + w - 12, y + 26, y + h - 40, 0, 1, lo - pad, hi + pad};
+  set_colour(cr, {1, 1, 1});
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_fill(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, f.left, y + 17, "\xCE\xBB(t) and its Bernstein coefficients \xCE\xBE\xE1\xB5\xA2", 13, true);
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_stroke(cr);
+  set_colour(cr, {0.3, 0.3, 0.3});
+  cairo_move_to(cr, f.left, f.py(0));
+  cairo_line_to(cr, f.right, f.py(0));
+  cairo_stroke(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  labels.put(cr, x + 4, f.bottom, short_number(f.lo), 11);
+  labels.put(cr, x + 4, f.py(0) + 4, "0", 11);
+  labels.put(cr, f.left - 3, f.bottom + 16, "0", 11);
+  labels.put(cr, f.right - 6, f.bottom + 16, "1", 11);
+  labels.put(cr, 0.5 * (f.left + f.right) - 3, f.bottom + 16, "t", 11);
+  // The coefficients' control polygon, dashed.
+  const double dash[] = {4, 3};
+  cairo_set_dash(cr, dash, 2, 0);
+  set_colour(cr, {0.55, 0.55, 0.55});
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    i == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+  set_colour(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 2.2);
+  for (std::size_t k = 0; k < curve.size(); ++k) {
+    const double px = f.px(curve[k].first), py = f.py(curve[k].second);
+    k == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    set_colour(cr, plot.xi[i] > 0 ? Rgb{0.85, 0.1, 0.1} : (plot.xi[i] < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.3, 0.3, 0.3}));
+    cairo_arc(cr, px, py, 4.5, 0, 2 * M_PI);
+    cairo_fill(cr);
+    std::string name = "\xCE\xBE";  // xi
+    name += std::to_string(i);
+    set_colour(cr, {0.15, 0.15, 0.15});
+    // Above a dot on the upper side of zero, below one on the lower side; else the other side.
+    const double up = py - 8, down = py + 17;
+    const bool above = plot.xi[i] >= 0;
+    if (!labels.put(cr, px - 6, above ? up : down, name, 11)) labels.put(cr, px - 6, above ? down : up, name, 11);
+  }
+  set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
+  cairo_stroke(cr);
+}
+
 // ----------------------------------------------------------- figure page --
 
 constexpr double kMargin = 16, kGap = 12, kLabelSize = 12.5, kCaptionSize = 13, kTitleSize = 18;
@@ -701,8 +777,10 @@ double draw_figure_rows(cairo_t* c, const Figure& f, const FigureLayout& l, doub
       Labels labels;
       if (const auto* pic = std::get_if<RegionPicture>(&p.content))
         draw_region_panel(c, *pic, x, y, l.side, l.side, labels);
+      else if (const auto* plot = std::get_if<CurvaturePlot>(&p.content))
+        draw_curvature_panel(c, *plot, x, y, l.side, l.side, labels);
       else
-        draw_curvature_panel(c, std::get<CurvaturePlot>(p.content), x, y, l.side, l.side, labels);
+        draw_lambda_panel(c, std::get<LambdaPlot>(p.content), x, y, l.side, l.side, labels);
       if (boxes) boxes->push_back(std::move(labels.placed));
       set_colour(c, {0, 0, 0});
       double ty = y + l.side + kLabelSize + 4;
@@ -757,6 +835,14 @@ std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
     if (label >= 1 && label < n.size()) ++n[label];
   }
   return n;
+}
+
+/// What one region's colour means, for the legend.
+const char* colour_label_meaning(bool split, int label) {
+  static const char* plain[] = {"", "curvature increasing", "curvature decreasing"};
+  static const char* splits[] = {"", "inc-inc", "inc-dec (maximum at the joint)", "dec-inc (minimum at the joint)",
+                                 "dec-dec"};
+  return split ? splits[label] : plain[label];
 }
 
 const char* colour_label_name(bool split, int label) {
@@ -826,8 +912,9 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
          {colour(depth_absorb(2, 8, p.max_depth)), "decreasing, deeper"},
          {colour(depth_absorb(0, 0, p.max_depth)), "not monotone, level 0"},
          {colour(depth_absorb(0, 8, p.max_depth)), "not monotone, deeper"}};
-  } else if (p.layers.size() > 1) {
-    // The overlap colours that occur, each named by what overlaps there.
+  } else {
+    // The colours that occur (one per combination of labels overlapping at a
+    // pixel), each named by what overlaps there: the legend is what is drawn.
     check_picture(p);
     std::vector<std::vector<int>> keys;
     for (std::size_t i = 0; i < p.layers[0]->size(); ++i) {
@@ -847,20 +934,14 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
         const Absorb a = p.split ? split_absorb(static_cast<uint8_t>(label)) : plain_absorb(static_cast<uint8_t>(label));
         sum = {sum.r + k[label] * a.r, sum.g + k[label] * a.g, sum.b + k[label] * a.b};
         if (!text.empty()) text += " + ";
-        text += (k[label] > 1 ? std::to_string(k[label]) + " " : "") + colour_label_name(p.split, static_cast<int>(label));
+        if (k[label] > 1) text += std::to_string(k[label]) + " ";
+        text += colour_label_name(p.split, static_cast<int>(label));
       }
       const int total = std::accumulate(k.begin(), k.end(), 0);
-      l.push_back({colour(sum), total == 1 ? text + " (one region)" : text + " overlap"});
+      if (total == 1) text = colour_label_meaning(p.split, static_cast<int>(std::find(k.begin(), k.end(), 1) - k.begin()));
+      l.push_back({colour(sum), total == 1 ? text : text + " overlap"});
     }
     l.push_back({{1, 1, 1}, p.split ? "neither part monotone, or undecided" : "not monotone or undecided"});
-  } else if (p.split) {
-    l = {{colour(kRed), "inc-inc"},
-         {colour(kDarkRed), "dec-inc (minimum at the joint)"},
-         {colour(kBlue), "dec-dec"},
-         {colour(kDarkBlue), "inc-dec (maximum at the joint)"},
-         {{1, 1, 1}, "neither part monotone, or undecided"}};
-  } else {
-    l = {{colour(kRed), "curvature increasing"}, {colour(kBlue), "decreasing"}, {{1, 1, 1}, "not monotone or undecided"}};
   }
   if (p.points.size() == 1) l.push_back({{0.95, 0.55, 0.0}, point_name(p.points[0]) + ", the moved point", false, true});
   return l;
@@ -880,25 +961,17 @@ void write_region_png(const std::filesystem::path& path, const RegionPicture& pi
   write_file_atomic(path, region_png(picture));
 }
 
-std::string figure_png(const Figure& f) {
+std::string figure_png(const Figure& f, std::vector<std::vector<TextBox>>* labels) {
   const FigureLayout layout = measure_figure(f);
   Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
   Context cr = make_context(surface.get());
-  draw_figure(cr.get(), f, layout, nullptr);
+  if (labels) labels->clear();
+  draw_figure(cr.get(), f, layout, labels);
   return encode_png(surface.get());
 }
 
 void write_figure_png(const std::filesystem::path& path, const Figure& figure) {
   write_file_atomic(path, figure_png(figure));
-}
-
-std::vector<std::vector<TextBox>> figure_label_boxes(const Figure& f) {
-  const FigureLayout layout = measure_figure(f);
-  Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
-  Context cr = make_context(surface.get());
-  std::vector<std::vector<TextBox>> boxes;
-  draw_figure(cr.get(), f, layout, &boxes);
-  return boxes;
 }
 
 std::string figure_svg(const Figure& f) {

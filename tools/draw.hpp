@@ -81,9 +81,17 @@ struct CurvaturePlot {
   const SplineAnalysis* analysis = nullptr;  ///< optional: no band without it
 };
 
+/// lambda(t) of one Bezier curve in Bernstein form (CAD&A 2024 Eq. 4): the
+/// polynomial, and its coefficients xi_i as dots at t = i / (size - 1) joined
+/// by their dashed control polygon (red > 0, blue < 0): the signs Algorithm 1
+/// reads.
+struct LambdaPlot {
+  std::vector<double> xi;
+};
+
 /// One cell of a figure: a picture or a plot, and its sub-caption.
 struct Panel {
-  std::variant<RegionPicture, CurvaturePlot> content;
+  std::variant<RegionPicture, CurvaturePlot, LambdaPlot> content;
   std::string label;
 };
 
@@ -104,11 +112,12 @@ struct Figure {
   int panel_size = 400;  ///< side of every panel in pixels; region pictures are scaled to it
 };
 
-/// The legend of a picture: the colours that are drawn in it, each named.
-/// With one layer, every label of the colouring mode; with several, the
-/// overlap combinations that actually occur (n increasing and m decreasing
-/// regions at one pixel), so the legend matches the picture; with per-point
-/// colours, one entry per point plus filled/hatched.
+/// The legend of a picture: the colours that are drawn in it, each named,
+/// so that the legend matches the picture: the label combinations that occur
+/// at some pixel (one region's label, or n increasing and m decreasing
+/// regions overlapping), then white; with depth shading the shades of Fig. 7;
+/// with per-point colours one entry per point plus filled/hatched; a ring for
+/// the one marked point.
 std::vector<LegendEntry> legend_for(const RegionPicture& picture);
 
 /// A text's box in device pixels (x, y top left), and what it says.
@@ -118,11 +127,6 @@ struct TextBox {
   bool intersects(const TextBox& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
 };
 
-/// The labels drawn inside each panel of a figure (point names, axis and
-/// knot values, class tags), panel by panel in row order: what label
-/// placement must keep apart.
-std::vector<std::vector<TextBox>> figure_label_boxes(const Figure& figure);
-
 /// The composite figure as SVG (Cairo's SVG surface: vector text and lines,
 /// region images embedded as PNG), the same drawing as figure_png.
 std::string figure_svg(const Figure& figure);
@@ -130,7 +134,10 @@ std::string figure_svg(const Figure& figure);
 void write_figure_svg(const std::filesystem::path& path, const Figure& figure);
 
 /// The composite figure as PNG bytes; std::bad_alloc as for region_png.
-std::string figure_png(const Figure& figure);
+/// With `labels`, also the boxes of the labels drawn inside each panel
+/// (point names, axis and knot values, class tags), panel by panel in row
+/// order: what label placement keeps apart.
+std::string figure_png(const Figure& figure, std::vector<std::vector<TextBox>>* labels = nullptr);
 /// Writes figure_png(figure) to `path` with cmr::write_file_atomic (errors as
 /// for write_region_png).
 void write_figure_png(const std::filesystem::path& path, const Figure& figure);
