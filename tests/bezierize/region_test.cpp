@@ -175,7 +175,7 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
       int monotone = 0;
       for (int k = 0; k < s.point_count(); ++k) {
         RegionRequest o;
-        o.width = o.height = 12;
+        o.width = o.height = 8;
         o.mode = mode;
         o.split = split;
         const Vec2 c = s.points()[k];
