@@ -202,7 +202,7 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
             }
           }
       }
-      EXPECT_GT(monotone, 20) << "the scenes must contain regions";
+      EXPECT_GT(monotone, 10) << "the scenes must contain regions";
     }
   }
 }
