@@ -9,6 +9,7 @@
 #include <memory>
 #include <new>
 #include <numeric>
+#include <unordered_map>
 
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
@@ -214,6 +215,40 @@ void check_picture(const RegionPicture& p) {
   }
 }
 
+/// Per layer, what its point's colour takes from white (per-point colours;
+/// empty otherwise): computed once per picture, not per pixel.
+std::vector<Absorb> point_fills(const RegionPicture& p) {
+  std::vector<Absorb> fills;
+  if (p.per_point)
+    for (int k : p.points) fills.push_back(absorb_of(lerp({1, 1, 1}, point_colour(k), 0.6)));
+  return fills;
+}
+
+/// pixel_colour with the layers' fills precomputed (point_fills).
+Rgb colour_at(const RegionPicture& p, const std::vector<Absorb>& fills, std::size_t index) {
+  Absorb sum = kNone;
+  const int W = p.layers.empty() ? 1 : std::max(1, p.layers[0]->width);
+  const std::size_t i = index % W, j = index / W;
+  for (std::size_t l = 0; l < p.layers.size(); ++l) {
+    const RegionResult* layer = p.layers[l];
+    const uint8_t label = layer->code_at(index);
+    Absorb a;
+    if (p.per_point) {
+      // Filled where the (second part's) curvature increases, hatched where it decreases.
+      const bool inc = p.split ? (label == 1 || label == 3) : label == 1;
+      const bool dec = p.split ? (label == 2 || label == 4) : label == 2;
+      if (!inc && !dec) continue;
+      const double s = inc ? 1.0 : ((i + j) / 3 % 2 == 0 ? 1.0 : 0.25);
+      a = {fills[l].r * s, fills[l].g * s, fills[l].b * s};
+    } else {
+      a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
+                          : (p.split ? split_absorb(label) : plain_absorb(label));
+    }
+    sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
+  }
+  return colour_of(sum);
+}
+
 void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
   const int W = p.layers[0]->width, H = p.layers[0]->height;
   Surface img = make_surface(W, H);
@@ -221,10 +256,11 @@ void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double
   unsigned char* data = cairo_image_surface_get_data(img.get());
   const int stride = cairo_image_surface_get_stride(img.get());
   auto byte = [](double c) { return static_cast<uint32_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
+  const std::vector<Absorb> fills = point_fills(p);
   for (int j = 0; j < H; ++j) {
     auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
     for (int i = 0; i < W; ++i) {
-      const Rgb c = pixel_colour(p, static_cast<std::size_t>(j) * W + i);
+      const Rgb c = colour_at(p, fills, static_cast<std::size_t>(j) * W + i);
       row[i] = 0xff000000u | byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
     }
   }
@@ -283,6 +319,33 @@ std::string point_name(int k) {
   return s;
 }
 
+/// Device-space things bucketed in square cells, so that a label box looks
+/// only at its neighbourhood: placing the names of m points costs O(m), not
+/// O(m^2) (`cmr region --point all` on long splines).
+template <class T>
+class CellGrid {
+ public:
+  static constexpr double kCell = 24;
+  void add(double x0, double y0, double x1, double y1, const T& item) {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j) cells_[key(i, j)].push_back(item);
+  }
+  /// Calls f(item) for the items of every cell the box touches (an item may
+  /// come once per shared cell).
+  template <class F>
+  void near(double x0, double y0, double x1, double y1, F&& f) const {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j)
+        if (const auto it = cells_.find(key(i, j)); it != cells_.end())
+          for (const T& item : it->second) f(item);
+  }
+
+ private:
+  static std::int64_t cell(double v) { return static_cast<std::int64_t>(std::floor(std::clamp(v, -1e12, 1e12) / kCell)); }
+  static std::int64_t key(std::int64_t i, std::int64_t j) { return i * 2000003 + j; }
+  std::unordered_map<std::int64_t, std::vector<T>> cells_;
+};
+
 /// Points, and their names placed where they overlap no other name and as
 /// little as possible of the points, the curve and the polygon: each name
 /// tries eight directions (outward from the polygon's centre first) at three
@@ -293,19 +356,34 @@ void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels
   const int m = s.point_count();
   std::vector<std::pair<double, double>> at(m);
   for (int i = 0; i < m; ++i) at[i] = map(s.points()[i]);
-  // Obstacles sampled in device space: the curve and the polygon.
-  std::vector<std::pair<double, double>> curve, polygon;
+  // Obstacles sampled in device space, with what covering one costs: the
+  // points (200), the curve (12) and the polygon (4).
+  struct Obstacle {
+    double x, y, pad, cost;
+  };
+  CellGrid<Obstacle> obstacles;
+  const auto obstacle = [&](double x, double y, double pad, double cost) {
+    obstacles.add(x - pad, y - pad, x + pad, y + pad, {x, y, pad, cost});
+  };
+  for (const auto& [x, y] : at) obstacle(x, y, 3.5, 200);
   for (const Segment& seg : s.segments())
-    for (int k = 0; k <= 48; ++k) curve.push_back(map(evaluate(s, seg.a + (seg.b - seg.a) * k / 48)));
+    for (int k = 0; k <= 48; ++k) {
+      const auto [x, y] = map(evaluate(s, seg.a + (seg.b - seg.a) * k / 48));
+      obstacle(x, y, 1, 12);
+    }
   for (int i = 0; i + 1 < m; ++i)
     for (int k = 0; k <= 16; ++k)
-      polygon.push_back({at[i].first + (at[i + 1].first - at[i].first) * k / 16,
-                         at[i].second + (at[i + 1].second - at[i].second) * k / 16});
+      obstacle(at[i].first + (at[i + 1].first - at[i].first) * k / 16,
+               at[i].second + (at[i + 1].second - at[i].second) * k / 16, 0, 4);
+  CellGrid<std::size_t> placed;  // indices into labels.placed
+  for (std::size_t i = 0; i < labels.placed.size(); ++i) {
+    const TextBox& b = labels.placed[i];
+    placed.add(b.x0, b.y0, b.x1, b.y1, i);
+  }
+  CellGrid<int> points;
+  for (int i = 0; i < m; ++i) points.add(at[i].first, at[i].second, at[i].first, at[i].second, i);
   double cx = 0, cy = 0;
   for (const auto& [x, y] : at) cx += x / m, cy += y / m;
-  const auto inside = [](const TextBox& b, double x, double y, double pad) {
-    return x >= b.x0 - pad && x <= b.x1 + pad && y >= b.y0 - pad && y <= b.y1 + pad;
-  };
   std::vector<bool> named(m, false);
   for (int i = 0; i < m; ++i) {
     set_colour(cr, {0.1, 0.1, 0.1});
@@ -314,14 +392,20 @@ void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels
   }
   for (int i = 0; i < m; ++i) {
     if (named[i]) continue;
-    std::string name = point_name(i);
-    for (int j = i + 1; j < m; ++j)
-      if (std::hypot(at[j].first - at[i].first, at[j].second - at[i].second) < 1) {
-        name += ',';
-        name += std::to_string(j);
-        named[j] = true;
-      }
     const auto [px, py] = at[i];
+    std::vector<int> same;  // points within a pixel share the name
+    points.near(px - 1, py - 1, px + 1, py + 1, [&](int j) {
+      if (j > i && !named[j] && std::hypot(at[j].first - px, at[j].second - py) < 1 &&
+          std::find(same.begin(), same.end(), j) == same.end())
+        same.push_back(j);
+    });
+    std::sort(same.begin(), same.end());
+    std::string name = point_name(i);
+    for (int j : same) {
+      name += ',';
+      name += std::to_string(j);
+      named[j] = true;
+    }
     const TextBox probe = text_box(cr, 0, 0, name, 13, true);
     const double w = probe.x1 - probe.x0, h = probe.y1 - probe.y0;
     const double out = std::atan2(py - cy, px - cx);
@@ -334,12 +418,19 @@ void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels
         const double dx = std::cos(angle), dy = std::sin(angle);
         // The box's centre, so that its nearest edge is about r from the point.
         const double bx = px + dx * (r + 0.5 * w * std::fabs(dx)), by = py + dy * (r + 0.5 * h * std::fabs(dy));
-        TextBox b{bx - 0.5 * w, by - 0.5 * h, bx + 0.5 * w, by + 0.5 * h, name};
-        if (!labels.free(b)) continue;
+        const TextBox b{bx - 0.5 * w, by - 0.5 * h, bx + 0.5 * w, by + 0.5 * h, name};
+        bool free = true;
+        placed.near(b.x0, b.y0, b.x1, b.y1, [&](std::size_t k) { free = free && !labels.placed[k].intersects(b); });
+        if (!free) continue;
+        // Each obstacle counts once although it may sit in several cells the box touches.
+        std::vector<const Obstacle*> seen;
         double cost = r + 2.0 * ((a + 1) / 2);
-        for (int j = 0; j < m; ++j) cost += inside(b, at[j].first, at[j].second, 3.5) ? 200 : 0;
-        for (const auto& [x, y] : curve) cost += inside(b, x, y, 1) ? 12 : 0;
-        for (const auto& [x, y] : polygon) cost += inside(b, x, y, 0) ? 4 : 0;
+        obstacles.near(b.x0 - 4, b.y0 - 4, b.x1 + 4, b.y1 + 4, [&](const Obstacle& o) {
+          if (o.x < b.x0 - o.pad || o.x > b.x1 + o.pad || o.y < b.y0 - o.pad || o.y > b.y1 + o.pad) return;
+          if (std::find(seen.begin(), seen.end(), &o) != seen.end()) return;
+          seen.push_back(&o);
+          cost += o.cost;
+        });
         if (cost < best) best = cost, chosen = b;
       }
     if (best == 1e300) continue;  // no free place: leave the name out rather than overlap
@@ -354,6 +445,7 @@ void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels
     cairo_stroke(cr);  // a white halo keeps the name legible over regions and lines
     set_colour(cr, {0.1, 0.1, 0.1});
     text_at(cr, tx, ty, name, 13, true);
+    placed.add(chosen.x0, chosen.y0, chosen.x1, chosen.y1, labels.placed.size());
     labels.placed.push_back(chosen);
   }
 }
@@ -870,29 +962,7 @@ Rgb point_colour(int k) {
   }
 }
 
-Rgb pixel_colour(const RegionPicture& p, std::size_t index) {
-  Absorb sum = kNone;
-  const int W = p.layers.empty() ? 1 : std::max(1, p.layers[0]->width);
-  const std::size_t i = index % W, j = index / W;
-  for (std::size_t l = 0; l < p.layers.size(); ++l) {
-    const RegionResult* layer = p.layers[l];
-    const uint8_t label = layer->code_at(index);
-    Absorb a;
-    if (p.per_point) {
-      // Filled where the (second part's) curvature increases, hatched where it decreases.
-      const bool inc = p.split ? (label == 1 || label == 3) : label == 1;
-      const bool dec = p.split ? (label == 2 || label == 4) : label == 2;
-      const Absorb full = absorb_of(lerp({1, 1, 1}, point_colour(p.points[l]), 0.6));
-      const double s = inc ? 1.0 : (dec ? ((i + j) / 3 % 2 == 0 ? 1.0 : 0.25) : 0.0);
-      a = {full.r * s, full.g * s, full.b * s};
-    } else {
-      a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
-                          : (p.split ? split_absorb(label) : plain_absorb(label));
-    }
-    sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
-  }
-  return colour_of(sum);
-}
+Rgb pixel_colour(const RegionPicture& p, std::size_t index) { return colour_at(p, point_fills(p), index); }
 
 std::vector<LegendEntry> legend_for(const RegionPicture& p) {
   const auto colour = colour_of;
