@@ -137,6 +137,12 @@ class RegionProblem {
   /// together, a depth outside 0..kMaxDepth, a view with zero, non-finite or
   /// overflowing extent. Only the judged segments' pieces are prepared.
   static RegionProblem make(const BSpline& spline, const RegionRequest& request);
+  /// One problem per point of `points` (request.point is ignored), validated
+  /// like make. The spline is analysed once for all of them, and a position's
+  /// verdict costs O(degree) whatever the spline's length, so N points cost
+  /// O(N), not O(N^2) (`cmr region --point all`).
+  static std::vector<RegionProblem> make_each(const BSpline& spline, const RegionRequest& request,
+                                              const std::vector<int>& points);
 
   const BSpline& spline() const;
   /// The request as validated, its view resolved (never empty).

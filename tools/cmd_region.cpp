@@ -1,6 +1,9 @@
 // cmr region FILE --point K|all ...: the curvature monotonicity region of a
 // control point as label maps, depth maps and a picture.
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <iostream>
 #include <cstdlib>
 #include <sstream>
 
@@ -58,8 +61,11 @@ View parse_view(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
-std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values) {
-  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
+/// A binary PGM; `maxval` is the largest value a pixel can take (PGM viewers
+/// scale 0..maxval to black..white, so a depth map of levels 0..D is visible).
+std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values, int maxval = 255) {
+  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n" +
+                    std::to_string(maxval) + "\n";
   out.append(reinterpret_cast<const char*>(values.data()), values.size());
   return out;
 }
@@ -112,13 +118,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
-  std::vector<RegionProblem> problems;
-  for (int k : chosen_points(a, spline)) {
-    RegionRequest ok = o;
-    ok.point = k;
-    problems.push_back(RegionProblem::make(spline, ok));
-  }
-  return problems;
+  return RegionProblem::make_each(spline, o, chosen_points(a, spline));
 }
 
 /// The rendered images, one per point, with the JSON summary of each.
@@ -127,16 +127,28 @@ struct Rendered {
   nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
   double seconds = 0, setup_seconds = 0;
   std::string backend;  ///< the backend that rendered ("auto" resolved)
+  std::vector<std::string> notes;  ///< printed on stderr once the outputs are written
 };
 
-/// Label counts of one image (and with --stats its timing and exact share).
+/// Label counts of one image (and with --stats its timing and exact share);
+/// an empty region adds a note.
 nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& problem, const RegionResult& img,
-                                     double sec) {
+                                     double sec, std::vector<std::string>& notes) {
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  // Keyed by the labels' names, in code order.
   nlohmann::ordered_json c;
   const int labels = img.split ? kSplitLabelCodes : (img.alternating ? kAlternatingLabelCodes : kRegionLabelCodes);
-  for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
+  for (int l = 0; l < labels; ++l)
+    c[img.split         ? to_string(static_cast<SplitLabel>(l))
+      : img.alternating ? to_string(static_cast<AlternatingLabel>(l))
+                        : to_string(static_cast<RegionLabel>(l))] = counts[l];
+  // Monotone positions: increasing or decreasing (with a split: both parts monotone).
+  const std::uint64_t monotone = img.split ? counts[1] + counts[2] + counts[3] + counts[4] : counts[1] + counts[2];
+  if (monotone == 0)
+    notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
+                    (a.mode == "cmr" ? "CMR" : "CMRWI") + (img.split ? " with both parts monotone" : "") +
+                    " in this view (its region is empty here)");
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
     entry["seconds"] = sec;
@@ -155,11 +167,39 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
     r.images.push_back(backend->render(problem));
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     r.setup_seconds += r.images.back().setup_seconds;
-    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec));
+    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec, r.notes));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.backend = backend->name();
   return r;
+}
+
+/// The picture settings of a problem: curve, legend, labels of its mode.
+draw::RegionPicture picture(const BSpline& spline, const RegionProblem& problem) {
+  draw::RegionPicture pic;
+  pic.spline = &spline;
+  pic.split = problem.request().split.has_value();
+  pic.alternating = !problem.request().splits.empty();
+  pic.max_depth = problem.request().max_depth;
+  pic.legend = true;
+  return pic;
+}
+
+/// A depth map: OUT.png is the Fig. 7 picture (red/blue/grey, darker with the
+/// level, with its legend); any other name a PGM of the levels 0..D with
+/// maxval D, so that viewers stretch it to black..white.
+std::string depth_map(const RegionArgs& a, const BSpline& spline, const RegionProblem& problem,
+                      const RegionResult& img) {
+  const std::string& path = a.depth_map;
+  const bool png = path.size() >= 4 && std::equal(path.end() - 4, path.end(), ".png", [](char x, char y) {
+                     return std::tolower(static_cast<unsigned char>(x)) == y;
+                   });
+  if (!png) return pgm(img, img.depth, std::max(1, problem.request().max_depth));
+  draw::RegionPicture pic = picture(spline, problem);
+  pic.layers = {&img};
+  pic.points = {problem.request().point};
+  pic.depth_shading = true;
+  return draw::region_png(pic);
 }
 
 /// The PGMs and the PNG, all or none: everything is staged first, then
@@ -174,15 +214,15 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
     if (!a.labels.empty())
       out.stage(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
     if (!a.depth_map.empty())
-      out.stage(several ? with_point_suffix(a.depth_map, k) : a.depth_map, pgm(r.images[i], r.images[i].depth));
+      out.stage(several ? with_point_suffix(a.depth_map, k) : a.depth_map, depth_map(a, spline, problems[i], r.images[i]));
   }
   if (!a.png.empty()) {
-    draw::RegionPicture pic;
-    pic.spline = &spline;
-    for (const RegionResult& img : r.images) pic.layers.push_back(&img);
-    pic.split = problems.front().request().split.has_value();
-    pic.alternating = !problems.front().request().splits.empty();
-    pic.max_depth = problems.front().request().max_depth;
+    draw::RegionPicture pic = picture(spline, problems.front());
+    for (std::size_t i = 0; i < r.images.size(); ++i) {
+      pic.layers.push_back(&r.images[i]);
+      pic.points.push_back(problems[i].request().point);
+    }
+    pic.per_point = several;  // one composite picture, each point's region in its own colour
     out.stage(a.png, draw::region_png(pic));
   }
   out.commit();
@@ -222,6 +262,7 @@ void run_region(const RegionArgs& a) {
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
   const Rendered r = render_all(a, problems);
   write_outputs(a, spline, problems, r);
+  for (const std::string& note : r.notes) std::cerr << note << '\n';  // after the outputs: a failure prints one line
   print_json(region_summary(a, o, problems, r), a.pretty);
 }
 
@@ -252,9 +293,12 @@ void add_region_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"fp64", "fp32"}))
       ->capture_default_str();
   cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
-  cmd->add_option("--png", a->png, "picture: regions, curve, control polygon");
+  cmd->add_option("--png", a->png,
+                  "picture: regions, curve, control polygon, the moved point ringed, a legend (with --point all one "
+                  "picture, each point's region in its own colour)");
   cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
-  cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
+  cmd->add_option("--depth-map", a->depth_map,
+                  "decision level per pixel: 8-bit PGM (maxval D), or a shaded picture when the name ends in .png");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   add_pretty_flag(*cmd, a->pretty);
   cmd->callback([a, &exit_code] {

@@ -115,7 +115,7 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
                                    std::span<const std::array<int, 2>> pixels, uint32_t area_width) {
   const RegionRequest& o = s.options;
-  const int N = s.spline.segment_count();
+  const int N = s.spline().segment_count();
   auto part_of = [&](int seg) { return cmr::group_of(s.cuts, seg); };
   const cmr::detail::Labels kind = cmr::detail::labels_of(o);
 
@@ -166,14 +166,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   int fixed_depth = 0;
   for (int seg = s.range.first; seg <= s.range.last; ++seg) {
     if (touched[seg]) continue;
-    flags[part_of(seg)] |= flags_of(s.fixed[seg], o.mode);
-    fixed_depth = std::max(fixed_depth, s.fixed[seg].monotonicity.depth);
-    if (o.mode == Mode::cmr) fixed_depth = std::max(fixed_depth, s.fixed[seg].inflection.depth);
+    flags[part_of(seg)] |= flags_of(s.fixed()[seg], o.mode);
+    fixed_depth = std::max(fixed_depth, s.fixed()[seg].monotonicity.depth);
+    if (o.mode == Mode::cmr) fixed_depth = std::max(fixed_depth, s.fixed()[seg].inflection.depth);
   }
-  std::vector<bool> varies(s.joints.size(), false);
+  std::vector<bool> varies(s.joints().size(), false);
   for (const RegionJoint& j : s.varying) varies[j.joint] = true;
-  for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const Joint& jt = s.joints[j];
+  for (std::size_t j = 0; j < s.joints().size(); ++j) {
+    const Joint& jt = s.joints()[j];
     if (!cmr::joint_counts(s.range, s.cuts, jt.index) || varies[j]) continue;
     if (jt.jump > 0) flags[part_of(jt.index)] |= FLAG_UP;
     if (jt.jump < 0) flags[part_of(jt.index)] |= FLAG_DOWN;
@@ -232,7 +232,7 @@ Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOption
 
 Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
   const RegionPrecision precision = options_.precision;
-  const Key key{s.spline.degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
+  const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
   const auto t0 = std::chrono::steady_clock::now();

@@ -118,8 +118,16 @@ void expect_labels_match_counts(const fs::path& pgm, int width, int height, cons
   for (std::uint8_t v : g->pixels) ++hist[v];
   for (int v = labels; v < 256; ++v) EXPECT_EQ(hist[v], 0u) << what << ": label " << v << " is not a label";
   ASSERT_EQ(counts.size(), static_cast<std::size_t>(labels)) << what << ": " << counts.dump();
-  for (int v = 0; v < labels; ++v)
-    EXPECT_EQ(hist[v], counts[std::to_string(v)].get<std::uint64_t>()) << what << ": count of label " << v;
+  // The counts are keyed by the labels' names (README), in code order.
+  static const char* plain[] = {"not-monotone", "increasing", "decreasing", "undecided"};
+  static const char* split[] = {"none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided"};
+  static const char* alternating[] = {"fail", "inc-first", "dec-first", "undecided"};
+  const bool alternates = counts.contains("fail");  // several split joints (AlternatingLabel)
+  for (int v = 0; v < labels; ++v) {
+    const char* name = labels == 6 ? split[v] : (alternates ? alternating[v] : plain[v]);
+    ASSERT_TRUE(counts.contains(name)) << what << ": no count named " << name << " in " << counts.dump();
+    EXPECT_EQ(hist[v], counts[name].get<std::uint64_t>()) << what << ": count of label " << v << " (" << name << ")";
+  }
 }
 
 // ---------------------------------------------------------------- bad inputs
@@ -333,6 +341,7 @@ TEST(RegionOutputs, DepthMapValuesAreAtMostTheDepth) {
     ASSERT_TRUE(g) << "depth " << depth << ": " << why;
     EXPECT_EQ(g->width, 40);
     EXPECT_EQ(g->height, 30);
+    EXPECT_EQ(g->maxval, std::max(depth, 1)) << "maxval D, so that viewers stretch the levels to black..white";
     int most = 0;
     for (std::size_t at = 0; at < g->pixels.size(); ++at) {
       ASSERT_LE(int(g->pixels[at]), depth) << "depth " << depth << " pixel (" << at % 40 << ", " << at / 40 << ")";
@@ -343,6 +352,37 @@ TEST(RegionOutputs, DepthMapValuesAreAtMostTheDepth) {
       EXPECT_GT(most, 0) << "depth " << depth << ": every pixel decided at level 0";
     }
   }
+}
+
+TEST(RegionOutputs, DepthMapAsPngIsTheShadedPicture) {
+  const fs::path dir = out_dir("depth_png");
+  const fs::path p = dir / "d.png";
+  const Outcome r = run("region " + kFig2 + " --point 0 --size 64x48 --backend cpu --depth-map " + p.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string b = binary(p);
+  ASSERT_GE(b.size(), 24u);
+  EXPECT_EQ(b.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  // IHDR: width and height, big-endian, at bytes 16..23.
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(b[at]) << 24) | (static_cast<unsigned char>(b[at + 1]) << 16) |
+           (static_cast<unsigned char>(b[at + 2]) << 8) | static_cast<unsigned char>(b[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 64u);
+  EXPECT_EQ(be32(20), 48u);
+}
+
+TEST(RegionOutputs, AnEmptyRegionPrintsANoteAndSucceeds) {
+  // Fig. 8(a)'s P0 has no CMRWI in the default view (the figure's claim, for CMRs); P3 has one.
+  const std::string fig8 = kSource + "/examples/figures/fig8.json";
+  const Outcome empty = run("region " + fig8 + " --point 0 --size 48x48 --backend cpu");
+  EXPECT_EQ(empty.code, 0) << empty.err;
+  EXPECT_NE(empty.err.find("note: P0 has no CMRWI in this view"), std::string::npos) << empty.err;
+  const nlohmann::json doc = parse_or_fail(empty, "empty region");
+  EXPECT_EQ(doc["points"][0]["counts"]["increasing"], 0);
+  EXPECT_EQ(doc["points"][0]["counts"]["decreasing"], 0);
+  const Outcome full = run("region " + fig8 + " --point 3 --size 48x48 --backend cpu");
+  EXPECT_EQ(full.code, 0) << full.err;
+  EXPECT_EQ(full.err.find("note:"), std::string::npos) << full.err;
 }
 
 TEST(RegionOutputs, PngHasTheRequestedSize) {
