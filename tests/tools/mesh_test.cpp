@@ -1,6 +1,9 @@
 // OpenMesh's own readers (an independent parser) must be included before the
 // mesh type.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // in OpenMesh's headers (see tools/mesh.hpp)
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#pragma GCC diagnostic pop
 
 #include "tools/mesh.hpp"
 
