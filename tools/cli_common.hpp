@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -42,6 +43,11 @@ void print_json(const nlohmann::ordered_json& doc);
 /// so that a bad output path fails fast and writes nothing).
 void check_output_path(const std::filesystem::path& path, const std::string& option);
 
+/// --size WxH (InputError otherwise; the range is RegionProblem::make's).
+std::pair<int, int> parse_size(const std::string& text);
+/// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
+View parse_view(const std::string& text);
+
 /// Files written by one command: all or none. Each file is written with
 /// cmr::write_file_atomic; if a later one fails, the earlier ones are removed
 /// again before the error propagates.
@@ -72,6 +78,8 @@ void add_figures_command(CLI::App& app, int& exit_code);
 void add_report_command(CLI::App& app, int& exit_code);
 void add_knots_command(CLI::App& app, int& exit_code);
 void add_kcurve_command(CLI::App& app, int& exit_code);
+/// `cmr sweep`: see README "Command line".
+void add_sweep_command(CLI::App& app, int& exit_code);
 
 /// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
 /// optional). Errors name the file, field and index (InputError).

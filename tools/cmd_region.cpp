@@ -11,6 +11,7 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
+#include "tools/mesh.hpp"
 
 namespace cmr::cli {
 namespace {
@@ -28,33 +29,9 @@ struct RegionArgs {
   std::string precision = "fp64";
   std::string device;
   std::string png, labels, depth_map;
+  std::string contours;  // --contours OUT.svg|OUT.obj|OUT.ply
   bool stats = false;
 };
-
-std::pair<int, int> parse_size(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  std::istringstream in(text);
-  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
-    throw InputError("--size: expected WxH, e.g. 512x512 (got '" + text + "')");
-  return {w, h};
-}
-
-View parse_view(const std::string& text) {
-  std::vector<double> v;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    // strtod, not stod: subnormal numbers are numbers (stod reports them as out of range).
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    if (item.empty() || end != item.c_str() + item.size())
-      throw InputError("--view: '" + item + "' is not a number (expected X0,Y0,X1,Y1)");
-    v.push_back(x);
-  }
-  if (v.size() != 4) throw InputError("--view: expected four numbers X0,Y0,X1,Y1 (got '" + text + "')");
-  return {v[0], v[1], v[2], v[3]};
-}
 
 std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values) {
   std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
@@ -108,6 +85,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
+  if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
   std::vector<RegionProblem> problems;
   for (int k : chosen_points(a, spline)) {
     RegionRequest ok = o;
@@ -156,11 +134,28 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
   return r;
 }
 
-/// The PGMs and the PNG, all or none (each through cmr::write_file_atomic).
+/// --contours: every image's refined outlines (bezierize/contour.hpp), and
+/// each label's area in its summary ("areas": {"code": area}).
+std::vector<RegionContours> contours_of(const RegionArgs& a, const std::vector<RegionProblem>& problems, Rendered& r) {
+  std::vector<RegionContours> all;
+  if (a.contours.empty()) return all;
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    all.push_back(region_contours(problems[i], r.images[i]));
+    nlohmann::ordered_json areas = nlohmann::ordered_json::object();
+    for (const LabelContours& lc : all.back().labels) areas[std::to_string(lc.label)] = lc.area;
+    r.per_point[i]["areas"] = areas;
+  }
+  return all;
+}
+
+/// The PGMs, the PNG and the contour files, all or none (each through cmr::write_file_atomic).
 void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector<RegionProblem>& problems,
-                   const Rendered& r) {
+                   const Rendered& r, const std::vector<RegionContours>& contours) {
   OutputFiles out;
   const bool several = problems.size() > 1;
+  for (std::size_t i = 0; i < contours.size(); ++i)
+    out.write(several ? with_point_suffix(a.contours, problems[i].request().point) : a.contours,
+              mesh::contour_file(a.contours, contours[i]));
   for (std::size_t i = 0; i < r.images.size(); ++i) {
     const int k = problems[i].request().point;
     if (!a.labels.empty())
@@ -201,8 +196,9 @@ void run_region(const RegionArgs& a) {
   const BSpline spline = read_spline_file(a.file);
   const RegionRequest o = region_options(a);
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
-  const Rendered r = render_all(a, problems);
-  write_outputs(a, spline, problems, r);
+  Rendered r = render_all(a, problems);
+  const std::vector<RegionContours> contours = contours_of(a, problems, r);
+  write_outputs(a, spline, problems, r, contours);
   print_json(region_summary(a, o, r));
 }
 
@@ -232,6 +228,8 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--png", a->png, "picture: regions, curve, control polygon");
   cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
   cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
+  cmd->add_option("--contours", a->contours,
+                  "region outlines refined on the exact boundary: .svg, or triangulated .obj/.ply (areas in the summary)");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   cmd->callback([a, &exit_code] {
     run_region(*a);

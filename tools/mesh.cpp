@@ -1,7 +1,9 @@
 // Region meshes, region tubes and their files (contracts: mesh.hpp).
 #include "tools/mesh.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -252,6 +254,28 @@ std::string contours_svg(const RegionContours& rc) {
   }
   out += "</svg>\n";
   return out;
+}
+
+namespace {
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+}  // namespace
+
+void check_contour_file_name(const std::filesystem::path& path, const std::string& option) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".svg" && ext != ".obj" && ext != ".ply")
+    throw InputError(option + " " + path.string() + ": expected a file name ending in .svg, .obj or .ply");
+}
+
+std::string contour_file(const std::filesystem::path& path, const RegionContours& contours, const std::string& option) {
+  check_contour_file_name(path, option);
+  const std::string ext = lower_extension(path);
+  if (ext == ".svg") return contours_svg(contours);
+  const Mesh mesh = region_mesh(contours);
+  return ext == ".obj" ? obj_text(mesh) : ply_text(mesh);
 }
 
 }  // namespace cmr::mesh

@@ -24,6 +24,7 @@
 /// spans half a sample spacing each side of its centre, so the surface meets
 /// the view's edges and lies half a knot step beyond the first and last knot.
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -88,5 +89,13 @@ std::string ply_text(const Mesh& mesh);
 /// holes clockwise, nonzero fill), filled with the label's colour, in world
 /// coordinates (y up, 17 significant digits); a frame at the view's edge.
 std::string contours_svg(const RegionContours& contours);
+
+/// The contour file for `path`, by its extension (case-insensitive): .svg
+/// contours_svg, .obj obj_text(region_mesh), .ply ply_text(region_mesh).
+/// InputError naming `option` for any other extension.
+std::string contour_file(const std::filesystem::path& path, const RegionContours& contours,
+                         const std::string& option = "--contours");
+/// The InputError of contour_file for a bad extension, before any work.
+void check_contour_file_name(const std::filesystem::path& path, const std::string& option = "--contours");
 
 }  // namespace cmr::mesh
