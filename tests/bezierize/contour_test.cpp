@@ -115,6 +115,40 @@ TEST(Contour, CubicVerticesSeparateTheirLabelOnTheExactPath) {
   EXPECT_LE(total, (v.x1 - v.x0) * (v.y1 - v.y0) * (1 + 1e-12));
 }
 
+// With a split (Fig. 10(a)'s curve, P5, joint 2: three split labels meet),
+// the vertices separate their labels on the exact path in the same way.
+TEST(Contour, SplitLabelVerticesSeparateTheirLabelOnTheExactPath) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3},
+                                  {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {5.4, -5.8}});
+  RegionRequest rq;
+  rq.point = 5;
+  rq.split = 2;
+  rq.width = rq.height = 64;
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  const RegionContours rc = contours_of(problem);
+  ASSERT_TRUE(rc.split);
+  expect_consistent(rc);
+  const View& v = problem.view();
+  const double delta = kTol * std::min(v.x1 - v.x0, v.y1 - v.y0);
+  int checked = 0;
+  std::size_t monotone_labels = 0;
+  for (const LabelContours& lc : rc.labels) {
+    monotone_labels += lc.label >= 1 && lc.label <= 4;
+    for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
+      if (!lc.refined[i]) continue;
+      const Vec2 p = lc.vertices[i];
+      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
+      const Vec2 d = std::abs(cx - std::round(cx)) > 1e-6 ? Vec2{delta, 0} : Vec2{0, delta};
+      const std::uint8_t lo = code(problem.classify(p - d).split_label), hi = code(problem.classify(p + d).split_label);
+      EXPECT_NE(lo, hi) << "(" << p.x << ", " << p.y << ")";
+      EXPECT_TRUE(lo == lc.label || hi == lc.label) << "(" << p.x << ", " << p.y << ")";
+      ++checked;
+    }
+  }
+  EXPECT_EQ(monotone_labels, 2u);  // inc-inc and inc-dec
+  EXPECT_GT(checked, 20);
+}
+
 // A label map with holes: outlines of a ring come as one counter-clockwise
 // loop and one clockwise loop, and the area is the difference.
 TEST(Contour, HolesAreClockwiseLoops) {
