@@ -180,6 +180,11 @@ struct RegionResult {
   }
   /// Every pixel's label code, as written to PGM label maps.
   std::vector<std::uint8_t> codes() const;
+  /// How many label codes this result's kind has (kRegionLabelCodes, ...).
+  int label_codes() const;
+  /// The name of label `code` of this result's kind (to_string of its label):
+  /// the key of per-label counts and areas in the JSON.
+  const char* label_name(std::uint8_t code) const;
 };
 
 /// Where regions are rendered. Every backend gives every pixel the label of

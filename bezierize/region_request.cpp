@@ -47,6 +47,17 @@ std::vector<std::uint8_t> RegionResult::codes() const {
   return out;
 }
 
+int RegionResult::label_codes() const {
+  return alternating ? kAlternatingLabelCodes : split ? kSplitLabelCodes : kRegionLabelCodes;
+}
+
+const char* RegionResult::label_name(std::uint8_t c) const {
+  CMR_CHECK(c < label_codes());
+  return alternating ? to_string(static_cast<AlternatingLabel>(c))
+         : split     ? to_string(static_cast<SplitLabel>(c))
+                     : to_string(static_cast<RegionLabel>(c));
+}
+
 View default_view(const BSpline& spline, int width, int height) {
   double x0 = spline.points()[0].x, x1 = x0, y0 = spline.points()[0].y, y1 = y0;
   for (const Vec2& p : spline.points()) {

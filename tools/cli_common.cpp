@@ -160,4 +160,29 @@ void check_output_path(const std::filesystem::path& path, const std::string& opt
     throw InputError(option + " " + path.string() + ": is a directory");
 }
 
+std::pair<int, int> parse_size(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
+    throw InputError("--size: expected WxH, e.g. 512x512 (got '" + text + "')");
+  return {w, h};
+}
+
+View parse_view(const std::string& text) {
+  std::vector<double> v;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    // strtod, not stod: subnormal numbers are numbers (stod reports them as out of range).
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size())
+      throw InputError("--view: '" + item + "' is not a number (expected X0,Y0,X1,Y1)");
+    v.push_back(x);
+  }
+  if (v.size() != 4) throw InputError("--view: expected four numbers X0,Y0,X1,Y1 (got '" + text + "')");
+  return {v[0], v[1], v[2], v[3]};
+}
+
 }  // namespace cmr::cli

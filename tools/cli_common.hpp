@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -72,6 +73,11 @@ CLI::Option* in_range(CLI::Option* option, double lo, double hi);
 /// (checked before any work, so that a bad output path fails fast).
 void check_output_path(const std::filesystem::path& path, const std::string& option);
 
+/// --size WxH (InputError otherwise; the range is RegionProblem::make's).
+std::pair<int, int> parse_size(const std::string& text);
+/// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
+View parse_view(const std::string& text);
+
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);
 /// `cmr analyze`: see README "Command line".
@@ -84,6 +90,8 @@ void add_figures_command(CLI::App& app, int& exit_code);
 void add_report_command(CLI::App& app, int& exit_code);
 void add_knots_command(CLI::App& app, int& exit_code);
 void add_kcurve_command(CLI::App& app, int& exit_code);
+/// `cmr sweep`: see README "Command line".
+void add_sweep_command(CLI::App& app, int& exit_code);
 
 /// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
 /// optional). Errors name the file, field and index (InputError).

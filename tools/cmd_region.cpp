@@ -14,6 +14,7 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
+#include "tools/mesh.hpp"
 
 namespace cmr::cli {
 namespace {
@@ -32,34 +33,10 @@ struct RegionArgs {
   std::string precision = "fp64";
   std::string device;
   std::string png, labels, depth_map;
+  std::string contours;  // --contours OUT.svg|OUT.obj|OUT.ply
   bool stats = false;
   bool pretty = false;
 };
-
-std::pair<int, int> parse_size(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  std::istringstream in(text);
-  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
-    throw InputError("--size: expected WxH, e.g. 512x512 (got '" + text + "')");
-  return {w, h};
-}
-
-View parse_view(const std::string& text) {
-  std::vector<double> v;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    // strtod, not stod: subnormal numbers are numbers (stod reports them as out of range).
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    if (item.empty() || end != item.c_str() + item.size())
-      throw InputError("--view: '" + item + "' is not a number (expected X0,Y0,X1,Y1)");
-    v.push_back(x);
-  }
-  if (v.size() != 4) throw InputError("--view: expected four numbers X0,Y0,X1,Y1 (got '" + text + "')");
-  return {v[0], v[1], v[2], v[3]};
-}
 
 /// A binary PGM; `maxval` is the largest value a pixel can take (PGM viewers
 /// scale 0..maxval to black..white, so a depth map of levels 0..D is visible).
@@ -118,6 +95,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
+  if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
   return RegionProblem::make_each(spline, o, chosen_points(a, spline));
 }
 
@@ -138,11 +116,7 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
   // Keyed by the labels' names, in code order.
   nlohmann::ordered_json c;
-  const int labels = img.split ? kSplitLabelCodes : (img.alternating ? kAlternatingLabelCodes : kRegionLabelCodes);
-  for (int l = 0; l < labels; ++l)
-    c[img.split         ? to_string(static_cast<SplitLabel>(l))
-      : img.alternating ? to_string(static_cast<AlternatingLabel>(l))
-                        : to_string(static_cast<RegionLabel>(l))] = counts[l];
+  for (int l = 0; l < img.label_codes(); ++l) c[img.label_name(static_cast<std::uint8_t>(l))] = counts[l];
   // Monotone positions: increasing or decreasing (with a split: both parts monotone).
   const std::uint64_t monotone = img.split ? counts[1] + counts[2] + counts[3] + counts[4] : counts[1] + counts[2];
   if (monotone == 0)
@@ -174,6 +148,20 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
   return r;
 }
 
+/// --contours: every image's refined outlines (bezierize/contour.hpp), and
+/// each label's area in its summary ("areas": {"label name": area}).
+std::vector<RegionContours> contours_of(const RegionArgs& a, const std::vector<RegionProblem>& problems, Rendered& r) {
+  std::vector<RegionContours> all;
+  if (a.contours.empty()) return all;
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    all.push_back(region_contours(problems[i], r.images[i]));
+    nlohmann::ordered_json areas = nlohmann::ordered_json::object();
+    for (const LabelContours& lc : all.back().labels) areas[r.images[i].label_name(lc.label)] = lc.area;
+    r.per_point[i]["areas"] = areas;
+  }
+  return all;
+}
+
 /// The picture settings of a problem: curve, legend, labels of its mode.
 draw::RegionPicture picture(const BSpline& spline, const RegionProblem& problem) {
   draw::RegionPicture pic;
@@ -202,13 +190,16 @@ std::string depth_map(const RegionArgs& a, const BSpline& spline, const RegionPr
   return draw::region_png(pic);
 }
 
-/// The PGMs and the PNG, all or none: everything is staged first, then
+/// The PGMs, the PNG and the contour files, all or none: everything is staged first, then
 /// committed as one cmr::OutputSet, so a failure (a full disk on the last
 /// file) leaves every pre-existing output as it was.
 void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector<RegionProblem>& problems,
-                   const Rendered& r) {
+                   const Rendered& r, const std::vector<RegionContours>& contours) {
   OutputSet out;
   const bool several = problems.size() > 1;
+  for (std::size_t i = 0; i < contours.size(); ++i)
+    out.stage(several ? with_point_suffix(a.contours, problems[i].request().point) : a.contours,
+              mesh::contour_file(a.contours, contours[i]));
   for (std::size_t i = 0; i < r.images.size(); ++i) {
     const int k = problems[i].request().point;
     if (!a.labels.empty())
@@ -260,8 +251,9 @@ void run_region(const RegionArgs& a) {
   const BSpline spline = read_spline_file(a.file);
   const RegionRequest o = region_options(a);
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
-  const Rendered r = render_all(a, problems);
-  write_outputs(a, spline, problems, r);
+  Rendered r = render_all(a, problems);
+  const std::vector<RegionContours> contours = contours_of(a, problems, r);
+  write_outputs(a, spline, problems, r, contours);
   for (const std::string& note : r.notes) std::cerr << note << '\n';  // after the outputs: a failure prints one line
   print_json(region_summary(a, o, problems, r), a.pretty);
 }
@@ -299,6 +291,8 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
   cmd->add_option("--depth-map", a->depth_map,
                   "decision level per pixel: 8-bit PGM (maxval D), or a shaded picture when the name ends in .png");
+  cmd->add_option("--contours", a->contours,
+                  "region outlines refined on the exact boundary: .svg, or triangulated .obj/.ply (areas in the summary)");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   add_pretty_flag(*cmd, a->pretty);
   cmd->callback([a, &exit_code] {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <new>
+#include <numbers>
 #include <numeric>
 #include <unordered_map>
 
@@ -1062,6 +1063,75 @@ std::string figure_svg(const Figure& f) {
     if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
   }
   return bytes;
+}
+
+std::string line_plot_png(const LinePlot& plot) {
+  Surface surface = make_surface(plot.width, plot.height);
+  Context cr = make_context(surface.get());
+  cairo_t* c = cr.get();
+  set_colour(c, {1, 1, 1});
+  cairo_paint(c);
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  bool any = false;
+  for (const Series& s : plot.series)
+    for (const auto& [x, y] : s.points) {
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if (!any) x0 = x1 = x, y0 = y1 = y, any = true;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (y0 >= 0) y0 = 0;
+  if (!(x1 > x0)) x0 -= 0.5, x1 += 0.5;
+  if (!(y1 > y0)) y1 = y0 + 1;
+  y1 += 0.05 * (y1 - y0);
+  const double left = 80, right = plot.width - 20, top = 40, bottom = plot.height - 60;
+  auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * (right - left); };
+  auto py = [&](double y) { return bottom - (y - y0) / (y1 - y0) * (bottom - top); };
+  set_colour(c, {0, 0, 0});
+  text_at(c, left, 24, plot.title, 15, true);
+  cairo_set_line_width(c, 1);
+  cairo_rectangle(c, left, top, right - left, bottom - top);
+  cairo_stroke(c);
+  for (int k = 0; k <= 4; ++k) {
+    const double xv = x0 + (x1 - x0) * k / 4, yv = y0 + (y1 - y0) * k / 4;
+    set_colour(c, {0.85, 0.85, 0.85});
+    cairo_move_to(c, px(xv), top);
+    cairo_line_to(c, px(xv), bottom);
+    cairo_move_to(c, left, py(yv));
+    cairo_line_to(c, right, py(yv));
+    cairo_stroke(c);
+    set_colour(c, {0, 0, 0});
+    const std::string xs = short_number(xv), ys = short_number(yv);
+    text_at(c, px(xv) - text_width(c, xs) / 2, bottom + 16, xs, 11);
+    cairo_set_font_size(c, 11);
+    text_at(c, left - 6 - text_width(c, ys), py(yv) + 4, ys, 11);
+  }
+  text_at(c, (left + right) / 2 - 40, bottom + 36, plot.x_label, 12);
+  cairo_save(c);
+  cairo_move_to(c, 18, (top + bottom) / 2 + 40);
+  cairo_rotate(c, -std::numbers::pi / 2);
+  cairo_set_font_size(c, 12);
+  cairo_show_text(c, plot.y_label.c_str());
+  cairo_restore(c);
+  double ly = top + 16;
+  for (const Series& s : plot.series) {
+    set_colour(c, s.colour);
+    cairo_set_line_width(c, 2);
+    bool first = true;
+    for (const auto& [x, y] : s.points) {
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if (first) cairo_move_to(c, px(x), py(y));
+      else cairo_line_to(c, px(x), py(y));
+      first = false;
+    }
+    cairo_stroke(c);
+    cairo_move_to(c, right - 170, ly - 4);
+    cairo_line_to(c, right - 150, ly - 4);
+    cairo_stroke(c);
+    set_colour(c, {0, 0, 0});
+    text_at(c, right - 144, ly, s.name, 11);
+    ly += 16;
+  }
+  return encode_png(surface.get());
 }
 
 }  // namespace cmr::draw

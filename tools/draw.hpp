@@ -140,4 +140,23 @@ std::string figure_svg(const Figure& figure);
 /// order: what label placement keeps apart.
 std::string figure_png(const Figure& figure, std::vector<std::vector<TextBox>>* labels = nullptr);
 
+/// One curve of a line plot.
+struct Series {
+  std::string name;
+  Rgb colour{0, 0, 0};
+  std::vector<std::pair<double, double>> points;  ///< (x, y), in order of x
+};
+
+/// Lines against a common x axis (e.g. region area against a knot value):
+/// axes with the data's ranges (y from 0 when all y >= 0), four ticks each,
+/// the axis titles and a legend with one entry per series.
+struct LinePlot {
+  std::string title, x_label, y_label;
+  std::vector<Series> series;
+  int width = 720, height = 420;
+};
+
+/// The plot as PNG bytes; std::bad_alloc as for region_png.
+std::string line_plot_png(const LinePlot& plot);
+
 }  // namespace cmr::draw

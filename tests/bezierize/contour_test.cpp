@@ -1,0 +1,188 @@
+#include "bezierize/contour.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "spline/errors.hpp"
+
+namespace cmr {
+namespace {
+
+constexpr double kTol = 1e-9;
+
+RegionContours contours_of(const RegionProblem& problem) {
+  CpuRegionBackend cpu(2);
+  return region_contours(problem, cpu.render(problem));
+}
+
+// Every piece is a convex counter-clockwise polygon, the fans of the pieces
+// cover exactly the area the outlines enclose, and every outline vertex is an
+// edge vertex (refined or on the view's edge).
+void expect_consistent(const RegionContours& rc) {
+  for (const LabelContours& lc : rc.labels) {
+    double fans = 0;
+    for (const std::vector<int>& piece : lc.pieces) {
+      ASSERT_GE(piece.size(), 3u);
+      for (std::size_t k = 1; k + 1 < piece.size(); ++k) {
+        const double a = polygon_area(lc.vertices, {piece[0], piece[k], piece[k + 1]});
+        EXPECT_GE(a, 0) << "label " << int(lc.label);
+        fans += a;
+      }
+    }
+    EXPECT_NEAR(fans, lc.area, 1e-9 * std::abs(lc.area) + 1e-12) << "label " << int(lc.label);
+    for (const std::vector<int>& loop : lc.outlines) EXPECT_GE(loop.size(), 3u);
+  }
+}
+
+// A quadratic Bezier P0 = (0,0), P1 = p, P2 = (4,0): P' = 2((1-t)a + tb) with
+// a = p - P0, b = P2 - p, and P'' constant, so |kappa| has its one extremum
+// where P'.P'' = 0, at t* = a.(a-b) / |a-b|^2. The curvature is monotone iff
+// t* is not inside (0, 1): t* <= 0 iff (p - P0).(p - M) <= 0 (M = (P0+P2)/2),
+// the disk with diameter P0 M; t* >= 1 iff (p - P2).(p - M) <= 0, the disk
+// with diameter M P2. The region's boundary is the two unit circles around
+// (1, 0) and (3, 0), and the line y = 0 where the sign of the curvature (and
+// with it the direction) flips. Every refined vertex must lie within the
+// tolerance of one of them.
+TEST(Contour, QuadraticBoundaryVerticesLieOnTheCirclesInClosedForm) {
+  const BSpline s = BSpline::bezier({{0, 0}, {2, 1}, {4, 0}});
+  RegionRequest rq;
+  rq.point = 1;
+  rq.width = 97;
+  rq.height = 61;
+  rq.view = View{-0.53, -1.47, 4.61, 1.71};  // no pixel centre on y = 0
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  const RegionContours rc = contours_of(problem);
+  expect_consistent(rc);
+  const double w = std::min(rq.view->x1 - rq.view->x0, rq.view->y1 - rq.view->y0);
+  int refined = 0;
+  double monotone_area = 0;
+  for (const LabelContours& lc : rc.labels) {
+    if (lc.label == code(RegionLabel::increasing) || lc.label == code(RegionLabel::decreasing))
+      monotone_area += lc.area;
+    for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
+      if (!lc.refined[i]) continue;
+      ++refined;
+      const Vec2 p = lc.vertices[i];
+      const double d = std::min({std::abs(std::hypot(p.x - 1, p.y) - 1), std::abs(std::hypot(p.x - 3, p.y) - 1),
+                                 std::abs(p.y)});
+      EXPECT_LE(d, kTol * w) << "label " << int(lc.label) << " vertex (" << p.x << ", " << p.y << ")";
+    }
+  }
+  EXPECT_GT(refined, 200);
+  // Two unit disks; the pixel sampling misses at most a band of one pixel
+  // diagonal along the boundary (length 4 pi + the diameters on y = 0).
+  const double pixel = std::hypot((rq.view->x1 - rq.view->x0) / rq.width, (rq.view->y1 - rq.view->y0) / rq.height);
+  EXPECT_NEAR(monotone_area, 2 * std::numbers::pi, pixel * (4 * std::numbers::pi + 4));
+}
+
+// On a cubic B-spline (the paper's Fig. 8, P3), the certified classifier on
+// both sides of every refined vertex, 1e-9 of the view's side away along the
+// pixel edge the vertex lies on, gives the label on one side and another on
+// the other: the vertex is on the exact boundary to that accuracy.
+TEST(Contour, CubicVerticesSeparateTheirLabelOnTheExactPath) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  RegionRequest rq;
+  rq.point = 3;
+  rq.width = rq.height = 96;
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  const RegionContours rc = contours_of(problem);
+  expect_consistent(rc);
+  const View& v = problem.view();
+  const double delta = kTol * std::min(v.x1 - v.x0, v.y1 - v.y0);
+  int checked = 0;
+  for (const LabelContours& lc : rc.labels) {
+    for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
+      if (!lc.refined[i]) continue;
+      const Vec2 p = lc.vertices[i];
+      // The pixel edge is horizontal or vertical: the coordinate that is not a
+      // pixel centre's is the one that was bisected.
+      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
+      const bool on_row = std::abs(cx - std::round(cx)) > 1e-6;  // x was bisected
+      const Vec2 d = on_row ? Vec2{delta, 0} : Vec2{0, delta};
+      const std::uint8_t lo = code(problem.classify(p - d).label), hi = code(problem.classify(p + d).label);
+      EXPECT_NE(lo, hi) << "(" << p.x << ", " << p.y << ")";
+      EXPECT_TRUE(lo == lc.label || hi == lc.label) << "(" << p.x << ", " << p.y << ")";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 50);
+  // The region is not empty and lies inside the view.
+  double total = 0;
+  for (const LabelContours& lc : rc.labels) total += lc.area;
+  EXPECT_LE(total, (v.x1 - v.x0) * (v.y1 - v.y0) * (1 + 1e-12));
+}
+
+// With a split (Fig. 10(a)'s curve, P5, joint 2: three split labels meet),
+// the vertices separate their labels on the exact path in the same way.
+TEST(Contour, SplitLabelVerticesSeparateTheirLabelOnTheExactPath) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3},
+                                  {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {5.4, -5.8}});
+  RegionRequest rq;
+  rq.point = 5;
+  rq.split = 2;
+  rq.width = rq.height = 64;
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  const RegionContours rc = contours_of(problem);
+  ASSERT_TRUE(rc.split);
+  expect_consistent(rc);
+  const View& v = problem.view();
+  const double delta = kTol * std::min(v.x1 - v.x0, v.y1 - v.y0);
+  int checked = 0;
+  std::size_t monotone_labels = 0;
+  for (const LabelContours& lc : rc.labels) {
+    monotone_labels += lc.label >= 1 && lc.label <= 4;
+    for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
+      if (!lc.refined[i]) continue;
+      const Vec2 p = lc.vertices[i];
+      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
+      const Vec2 d = std::abs(cx - std::round(cx)) > 1e-6 ? Vec2{delta, 0} : Vec2{0, delta};
+      const std::uint8_t lo = code(problem.classify(p - d).split_label), hi = code(problem.classify(p + d).split_label);
+      EXPECT_NE(lo, hi) << "(" << p.x << ", " << p.y << ")";
+      EXPECT_TRUE(lo == lc.label || hi == lc.label) << "(" << p.x << ", " << p.y << ")";
+      ++checked;
+    }
+  }
+  EXPECT_EQ(monotone_labels, 2u);  // inc-inc and inc-dec
+  EXPECT_GT(checked, 20);
+}
+
+// A label map with holes: outlines of a ring come as one counter-clockwise
+// loop and one clockwise loop, and the area is the difference.
+TEST(Contour, HolesAreClockwiseLoops) {
+  const BSpline s = BSpline::bezier({{0, 0}, {2, 1}, {4, 0}});
+  RegionRequest rq;
+  rq.point = 1;
+  rq.width = rq.height = 40;
+  rq.view = View{-0.5, -2.3, 4.5, 2.7};
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  const RegionContours rc = contours_of(problem);
+  // Not monotone (label 0) is the view minus the two disks: one outer loop
+  // (the view's edge) and holes around the disks.
+  const LabelContours* none = nullptr;
+  for (const LabelContours& lc : rc.labels)
+    if (lc.label == 0) none = &lc;
+  ASSERT_NE(none, nullptr);
+  int ccw = 0, cw = 0;
+  for (const std::vector<int>& loop : none->outlines) (polygon_area(none->vertices, loop) > 0 ? ccw : cw)++;
+  EXPECT_EQ(ccw, 1);
+  EXPECT_GE(cw, 1);
+  EXPECT_NEAR(none->area, 25 - 2 * std::numbers::pi, 1.0);
+}
+
+TEST(Contour, MismatchedRegionIsAnInputError) {
+  const BSpline s = BSpline::bezier({{0, 0}, {2, 1}, {4, 0}});
+  RegionRequest rq;
+  rq.point = 1;
+  rq.width = rq.height = 8;
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  RegionRequest other = rq;
+  other.width = 9;
+  CpuRegionBackend cpu(1);
+  EXPECT_THROW(region_contours(problem, cpu.render(RegionProblem::make(s, other))), InputError);
+}
+
+}  // namespace
+}  // namespace cmr

@@ -1,0 +1,176 @@
+// cmr region --contours and cmr sweep, run as a user runs them; the files are
+// read back with OpenMesh's readers and compared with the library's own
+// computation in this process.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // in OpenMesh's headers (see tools/mesh.hpp)
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#pragma GCC diagnostic pop
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/knot_ops.hpp"
+#include "spline/spline_json.hpp"
+#include "tests/tools/cli_util.hpp"
+#include "tools/mesh.hpp"
+
+namespace cmr::test {
+namespace {
+
+const std::string kFig8 = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8.json";
+const std::string kView = "-0.1,-5.4,3.0,-2.3";
+
+mesh::Mesh read_mesh(const fs::path& p) {
+  mesh::Mesh m;
+  EXPECT_TRUE(OpenMesh::IO::read_mesh(m, p.string())) << p;
+  return m;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = scratch() / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// The OBJ and PLY of `cmr region --contours` hold the mesh the library builds
+// from the same region: same vertex and face counts, same area (to the float
+// precision of OpenMesh's readers), and the summary's areas are the contours'.
+TEST(RegionContoursCli, ObjPlySvgMatchTheLibrary) {
+  const fs::path d = fresh_dir("contours");
+  const std::string common = kFig8 + " --point 3 --backend cpu --size 48x40 --view " + kView;
+  const Outcome obj = run("region " + common + " --contours " + (d / "r.obj").string());
+  ASSERT_EQ(obj.code, 0) << obj.err;
+  ASSERT_EQ(run("region " + common + " --contours " + (d / "r.ply").string()).code, 0);
+  ASSERT_EQ(run("region " + common + " --contours " + (d / "r.svg").string()).code, 0);
+
+  RegionRequest rq;
+  rq.point = 3;
+  rq.width = 48;
+  rq.height = 40;
+  rq.view = View{-0.1, -5.4, 3.0, -2.3};
+  const RegionProblem problem = RegionProblem::make(read_spline_file(kFig8), rq);
+  CpuRegionBackend cpu(2);
+  const RegionResult img = cpu.render(problem);
+  const RegionContours rc = region_contours(problem, img);
+  const mesh::Mesh expected = mesh::region_mesh(rc);
+  ASSERT_GT(expected.n_vertices(), 100u);
+
+  const nlohmann::json summary = nlohmann::json::parse(obj.out);
+  const nlohmann::json& areas = summary["points"][0]["areas"];
+  ASSERT_EQ(areas.size(), rc.labels.size());
+  for (const LabelContours& lc : rc.labels) EXPECT_EQ(areas[img.label_name(lc.label)].get<double>(), lc.area);
+
+  for (const char* name : {"r.obj", "r.ply"}) {
+    const mesh::Mesh m = read_mesh(d / name);
+    EXPECT_EQ(m.n_vertices(), expected.n_vertices()) << name;
+    EXPECT_EQ(m.n_faces(), expected.n_faces()) << name;
+    EXPECT_NEAR(mesh::mesh_area(m), mesh::mesh_area(expected), 1e-5 * mesh::mesh_area(expected)) << name;
+  }
+  EXPECT_EQ(slurp(d / "r.svg"), mesh::contours_svg(rc));
+}
+
+TEST(RegionContoursCli, BadExtensionIsRefusedBeforeAnyFile) {
+  const fs::path d = fresh_dir("contours_bad");
+  const Outcome r = run("region " + kFig8 + " --point 3 --backend cpu --size 16x16 --png " + (d / "r.png").string() +
+                        " --contours " + (d / "r.stl").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(".svg, .obj or .ply"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
+// A small sweep of the paper's interior knot (fig8, knot 3 = 3 between 2.6
+// and 3.2): every output is there, the JSON lines carry the contours' areas,
+// and the tube read back from tube.obj / tube.ply is the closed mesh the
+// library builds from the same label maps, with the vertex count and area
+// the summary reports.
+TEST(SweepCli, InteriorKnotSweepWritesEverythingAndTheTubeChecksOut) {
+  const fs::path d = fresh_dir("sweep");
+  const Outcome r = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 3 --size 32x32 --view " +
+                        kView + " --out-dir " + d.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::vector<nlohmann::json> records;
+  for (std::string line; std::getline(lines, line);) records.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(records.size(), 5u);  // 4 steps and the summary
+  EXPECT_EQ(slurp(d / "steps.jsonl"), r.out.substr(0, r.out.rfind("{\"out_dir\"")));
+  for (int s = 0; s < 4; ++s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "step_%03d", s);
+    EXPECT_TRUE(fs::exists(d / "contours" / (std::string(name) + ".svg"))) << name;
+    EXPECT_TRUE(fs::exists(d / "frames" / (std::string(name) + ".png"))) << name;
+  }
+  for (const char* f : {"area.png", "index.html", "tube.obj", "tube.ply"}) EXPECT_TRUE(fs::exists(d / f)) << f;
+
+  // The same steps in this process.
+  const BSpline base = read_spline_file(kFig8);
+  RegionRequest rq;
+  rq.point = 3;
+  rq.width = rq.height = 32;
+  rq.view = View{-0.1, -5.4, 3.0, -2.3};
+  rq.depth = false;
+  mesh::VoxelStack stack{32, 32, *rq.view, {}, {}};
+  CpuRegionBackend cpu(2);
+  for (int s = 0; s < 4; ++s) {
+    const double u = s == 3 ? 3.2 : 2.6 + (3.2 - 2.6) * (s / 3.0);  // as cmd_sweep.cpp
+    EXPECT_EQ(records[s]["value"].get<double>(), u);
+    const RegionProblem problem = RegionProblem::make(set_knot(base, 3, u), rq);
+    const RegionResult img = cpu.render(problem);
+    const RegionContours rc = region_contours(problem, img);
+    double monotone = 0;
+    for (const LabelContours& lc : rc.labels) {
+      EXPECT_EQ(records[s]["areas"][img.label_name(lc.label)].get<double>(), lc.area);
+      if (lc.label == 1 || lc.label == 2) monotone += lc.area;
+    }
+    EXPECT_EQ(records[s]["monotone_area"].get<double>(), monotone);
+    stack.knots.push_back(u);
+    for (std::size_t i = 0; i < img.size(); ++i) stack.in.push_back(img.code_at(i) == 1 || img.code_at(i) == 2);
+  }
+  const mesh::Mesh tube = mesh::tube_mesh(stack);
+  ASSERT_GT(tube.n_vertices(), 100u);
+  EXPECT_TRUE(mesh::is_closed(tube));
+  const nlohmann::json& summary = records.back()["tube"];
+  EXPECT_EQ(summary["vertices"].get<std::size_t>(), tube.n_vertices());
+  EXPECT_EQ(summary["faces"].get<std::size_t>(), tube.n_faces());
+  EXPECT_EQ(summary["area"].get<double>(), mesh::mesh_area(tube));
+  EXPECT_TRUE(summary["closed"].get<bool>());
+  for (const char* name : {"tube.obj", "tube.ply"}) {
+    const mesh::Mesh m = read_mesh(d / name);
+    EXPECT_EQ(m.n_vertices(), tube.n_vertices()) << name;
+    EXPECT_EQ(m.n_faces(), tube.n_faces()) << name;
+    EXPECT_TRUE(mesh::is_closed(m)) << name;
+    EXPECT_NEAR(mesh::mesh_area(m), mesh::mesh_area(tube), 1e-5 * mesh::mesh_area(tube)) << name;
+  }
+}
+
+// Uniform to clamped (the paper's two knot vectors, Figs. 8 and 9) in one
+// sweep of the whole knot vector: the last step has the clamped knots.
+TEST(SweepCli, UniformToClampedEndsOnTheClampedKnots) {
+  const Outcome r = run("sweep " + std::string(CMR_SOURCE_DIR) +
+                        "/examples/sweep/fig9_uniform.json --point 3 --to-knots 0,0,0,1,2,3,3,3 --steps 2 --size 16x16");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line, last;
+  int n = 0;
+  while (std::getline(lines, line)) last = line, ++n;
+  EXPECT_EQ(n, 3);
+  EXPECT_EQ(nlohmann::json::parse(last)["knots"], nlohmann::json::parse("[0,0,0,1,2,3,3,3]"));
+}
+
+TEST(SweepCli, InvalidStepIsRefusedBeforeAnyOutput) {
+  const fs::path d = fresh_dir("sweep_bad");
+  // Knot 3 may not pass knot 4 (= 4).
+  const Outcome r = run("sweep " + kFig8 + " --point 3 --knot 3 --from 3 --to 5 --steps 4 --size 8x8 --out-dir " +
+                        d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("step 3"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_TRUE(fs::is_empty(d));
+  EXPECT_EQ(run("sweep " + kFig8 + " --knot 3 --from 3 --to 3.5 --steps 0").code, 2);
+  EXPECT_EQ(run("sweep " + kFig8 + " --knot 3 --steps 2").code, 2);
+  EXPECT_EQ(run("sweep " + kFig8 + " --to-knots 0,1 --steps 2").code, 2);
+}
+
+}  // namespace
+}  // namespace cmr::test
