@@ -42,17 +42,24 @@ struct EndCurvature {
 
 EndCurvature end_curvature_exact(const BSpline& spline, const Segment& s, int side) {
   const int d = spline.degree();
-  const SegmentWindow<Rational> w = segment_window<Rational>(spline, s);
+  const int first = s.span - d + 1;
+  const std::vector<Rational> knots(spline.knots().begin() + first, spline.knots().begin() + s.span + d + 1);
+  const std::vector<HPoint<Rational>> H = homogeneous_window_points<Rational>(spline, s);
   const Rational e = side == 0 ? Rational(s.a) : Rational(s.b);
   const Rational o = side == 0 ? Rational(s.b) : Rational(s.a);
   std::vector<Rational> args(d, e);
   Point<Rational> q[3];
+  Rational w[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
-    q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
+    const HPoint<Rational> h = blossom_span(knots, H, d, d - 1, args.data());
+    q[k] = {h.x / h.z, h.y / h.z};
+    w[k] = h.z;
   }
   const Point<Rational> a = q[1] - q[0], b = q[2] - q[1];
-  Rational A = det(a, b);
+  // A rational Bezier end's curvature has the extra factor w0 w2 / w1^2 > 0
+  // (1 for a polynomial curve).
+  Rational A = w[0] * w[2] / (w[1] * w[1]) * det(a, b);
   if (side == 1) A = -A;  // read backwards from the end: turning sense flips
   return {A, dot(a, a)};
 }
