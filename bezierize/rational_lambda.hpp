@@ -21,11 +21,13 @@
 // Algorithm 2 on D's (they play eta's role). For W = 1, D = eta, h = C' and
 // lambda is the polynomial lambda of lambda.hpp.
 //
-// Degrees. The 3x3 determinant has nominal degree 3n-2, but the leading
-// coefficients of H, H', H'' are parallel (n a, n(n-1) a, ...), which leaves
-// degree 3n-6 (a constant for conics, n = 2); h has nominal degree 2n-1 and
-// its leading terms cancel (a b n - n a b), leaving 2n-2. With leading terms
-// W ~ w t^n, D ~ c t^(3n-6), h ~ e t^(2n-2):
+// Degrees. D is the Wronskian of the three polynomials X, Y, W and h the
+// Wronskians of (W, X) and (W, Y); the Wronskian of k polynomials of degree
+// <= n has degree <= k (n - k + 1) (its top coefficients cancel: it is
+// invariant, up to the factor t^(k(n-k+1)), under t -> 1/t with the
+// polynomials reversed). So D, nominally of degree 3n-3, has degree 3n-6 (a
+// constant for conics, n = 2), and h, nominally 2n-1, has degree 2n-2. With
+// leading terms W ~ w t^n, D ~ c t^(3n-6), h ~ e t^(2n-2):
 //   (3 W' D + W D') (h.h) ~ (3n + 3n - 6) w c |e|^2 t^(8n-11)
 //   3 W D (h.h')          ~ 3 (2n - 2)    w c |e|^2 t^(8n-11),
 // equal, so lambda has degree 8n-12 (4 for conics, 12 for cubics).
