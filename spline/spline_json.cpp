@@ -62,10 +62,7 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
     const json& ws = doc["weights"];
     if (!ws.is_array()) throw InputError("weights: not an array of numbers");
     for (std::size_t i = 0; i < ws.size(); ++i) weights.push_back(number(ws[i], "weights[" + std::to_string(i) + "]"));
-    if (weights.size() != points.size())
-      throw InputError("weights: one weight per control point is needed: " + std::to_string(points.size()) +
-                       " points, " + std::to_string(weights.size()) + " weights");
-  }
+  }  // count and sign: BSpline::make
   std::string name;
   if (doc.contains("name")) {
     if (!doc["name"].is_string()) throw InputError("name: not a string");

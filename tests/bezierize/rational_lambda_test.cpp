@@ -16,6 +16,7 @@
 #include "bezierize/extract.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/curvature.hpp"
+#include "spline/errors.hpp"
 #include "tests/bezierize/rational_lambda_reference.hpp"
 
 namespace cmr {
@@ -273,6 +274,16 @@ TEST(RationalLambda, ElevationAndKnotInsertionKeepTheVerdicts) {
       EXPECT_EQ(after.cmrwi, before.cmrwi) << s.name() << " " << what << ": " << to_string(after.cmrwi);
       EXPECT_EQ(after.cmr, before.cmr) << s.name() << " " << what << ": " << to_string(after.cmr);
     }
+  }
+}
+
+TEST(RationalLambda, KnotRemovalIsRefusedForRationalCurves) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, {{0, 0}, {1, 2}, {3, 3}, {4, 1}, {5, 0}}, "", {1, 2, 1, 2, 1});
+  try {
+    (void)remove_knot(s, 1, 1e-9);
+    FAIL() << "removal accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not supported for rational curves"), std::string::npos) << e.what();
   }
 }
 
