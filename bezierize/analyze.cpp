@@ -7,6 +7,7 @@
 
 #include "bezierize/decide.hpp"
 #include "bezierize/lambda.hpp"
+#include "bezierize/rational_lambda.hpp"
 #include "bezierize/roots.hpp"
 #include "bezierize/exact.hpp"
 #include "bezierize/extract.hpp"
@@ -60,12 +61,24 @@ EndCurvature<T> end_curvature(const BSpline& spline, const Segment& s, int side)
   const T o = side == 0 ? T(s.b) : T(s.a);
   std::vector<T> args(d, e);
   Point<T> q[3];
+  T weight[3] = {T(1), T(1), T(1)};
+  // Rational: the blossom of the homogeneous points (w x, w y, w), projected.
+  const std::vector<HPoint<T>> H = spline.is_rational() ? homogeneous_window_points<T>(spline, s)
+                                                        : std::vector<HPoint<T>>{};
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
-    q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
+    if (H.empty()) {
+      q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
+    } else {
+      const HPoint<T> h = blossom_span(w.knots, H, d, w.span, args.data());
+      q[k] = {h.x / h.z, h.y / h.z};
+      weight[k] = h.z;
+    }
   }
   const Point<T> a = q[1] - q[0], b = q[2] - q[1];
   T A = det(a, b);
+  // A rational Bezier end's curvature has the extra factor w0 w2 / w1^2 > 0.
+  if (!H.empty()) A = weight[0] * weight[2] / (weight[1] * weight[1]) * A;
   if (side == 1) A = T(0) - A;
   return {A, dot(a, a), a};
 }
@@ -102,18 +115,37 @@ const char* kappa_zero_at(const SegmentShape& s) {
   return "none";
 }
 
+namespace {
+
+// The curvature's sign polynomial of a segment: eta = det(P', P''), or for a
+// rational segment D = det(H, H', H'') (kappa = W^3 D / |h|^3, W > 0); the
+// zero polynomial as zero coefficients.
+template <class T>
+Bernstein<T> curvature_sign_polynomial(const BSpline& spline, const Segment& s) {
+  if (!spline.is_rational()) return eta_bernstein<T>(segment_bezier_points<T>(spline, s));
+  const Bernstein<T> d = rational_d_bernstein<T>(segment_homogeneous_points<T>(spline, s));
+  return d.empty() ? Bernstein<T>(3 * spline.degree() - 5, T(0)) : d;
+}
+
+// A polynomial >= 0 that is zero exactly where the tangent is: |P'|^2, or h.h.
+Bernstein<Rational> speed_polynomial(const BSpline& spline, const Segment& s) {
+  if (!spline.is_rational()) return speed2_bernstein<Rational>(segment_bezier_points<Rational>(spline, s));
+  return rational_speed2_bernstein<Rational>(segment_homogeneous_points<Rational>(spline, s));
+}
+
+}  // namespace
+
 SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   SegmentShape out;
   // Most segments: eta certainly of one sign on [0, 1] (so no zero of eta,
   // hence no zero of P' either, as eta = det(P', P'')).
-  const int quick = strict_sign(eta_bernstein<Bounded>(segment_bezier_points<Bounded>(spline, s)));
+  const int quick = strict_sign(curvature_sign_polynomial<Bounded>(spline, s));
   if (quick != 0) {
     out.kappa_sign = quick;
     return out;
   }
-  const std::vector<Point<Rational>> P = segment_bezier_points<Rational>(spline, s);
-  const Bernstein<Rational> eta = eta_bernstein<Rational>(P);
-  const Bernstein<Rational> g = speed2_bernstein<Rational>(P);  // |P'|^2 >= 0: zero exactly where P' = 0
+  const Bernstein<Rational> eta = curvature_sign_polynomial<Rational>(spline, s);
+  const Bernstein<Rational> g = speed_polynomial(spline, s);  // >= 0: zero exactly where P' = 0
   const RootOptions isolate_only{1.0};
   out.cusp = strict_sign(g) == 0 && (is_zero(g) || !isolate_roots(g, isolate_only).empty());
   out.straight = is_zero(eta);

@@ -74,6 +74,31 @@ Bernstein<T> bernstein_elevate(const Bernstein<T>& c) {
   return e;
 }
 
+/// The same polynomial at degree n-1, for a c_0..c_n whose polynomial has
+/// degree < n (its leading power coefficient, sum_i (-1)^(n-i) C(n,i) c_i,
+/// is 0): the inverse of bernstein_elevate. From c_i = i/n b_{i-1} + (n-i)/n b_i,
+///   from the left:  b_0 = c_0,     b_i = (n c_i - i b_{i-1}) / (n-i),
+///   from the right: b_{n-1} = c_n, b_{i-1} = (n c_i - (n-i) b_i) / i.
+/// Both recurrences are exact when the degree really is below n; b_i is
+/// taken from the left for i < n/2 and from the right otherwise (each step
+/// then multiplies earlier errors by at most 1). In exact arithmetic
+/// (T = Rational) the two sweeps are checked to agree everywhere, which is
+/// the precondition. Degree 0 (one coefficient) is the caller's error.
+template <class T>
+Bernstein<T> bernstein_reduce(const Bernstein<T>& c) {
+  const int n = static_cast<int>(c.size()) - 1;
+  CMR_CHECK(n >= 1);
+  Bernstein<T> left(n), right(n);
+  left[0] = c[0];
+  for (int i = 1; i < n; ++i) left[i] = Scalar<T>::ratio(n, n - i) * c[i] - Scalar<T>::ratio(i, n - i) * left[i - 1];
+  right[n - 1] = c[n];
+  for (int i = n - 1; i >= 1; --i) right[i - 1] = Scalar<T>::ratio(n, i) * c[i] - Scalar<T>::ratio(n - i, i) * right[i];
+  if constexpr (Scalar<T>::exact) CMR_CHECK(left == right);
+  Bernstein<T> b(n);
+  for (int i = 0; i < n; ++i) b[i] = 2 * i < n ? left[i] : right[i];
+  return b;
+}
+
 /// de Casteljau subdivision at t: left covers [0, t], right [t, 1], both
 /// reparametrised to [0, 1].
 template <class T>

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include "bezierize/lambda.hpp"
+#include "bezierize/rational_lambda.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr {
@@ -121,6 +122,16 @@ void classify_points(const std::vector<Point<T>>& P, const ClassifyOptions& o,
                      std::optional<MonotonicityResult>& mono, std::optional<InflectionResult>& infl) {
   if (!mono) mono = algorithm1(lambda_bernstein<T>(P), o.max_depth);
   if (o.inflection && !infl) infl = algorithm2(eta_bernstein<T>(P), o.max_depth);
+}
+
+// The same on a rational segment's homogeneous Bezier points: Algorithm 1 on
+// lambda, Algorithm 2 on D (rational_lambda.hpp; sign(kappa) = sign(D)).
+template <class T>
+void classify_homogeneous(const std::vector<HPoint<T>>& H, const ClassifyOptions& o,
+                          std::optional<MonotonicityResult>& mono, std::optional<InflectionResult>& infl) {
+  const HomogeneousBezier<T> c = homogeneous_components<T>(H);
+  if (!mono) mono = algorithm1(rational_lambda_bernstein<T>(c), o.max_depth);
+  if (o.inflection && !infl) infl = algorithm2(rational_d_bernstein<T>(c), o.max_depth);
 }
 
 SegmentClass finish(std::optional<MonotonicityResult> mono, std::optional<InflectionResult> infl, bool exact) {
@@ -239,6 +250,13 @@ SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions
 SegmentClass classify_segment(const BSpline& spline, const Segment& s, const ClassifyOptions& options) {
   std::optional<MonotonicityResult> mono;
   std::optional<InflectionResult> infl;
+  if (spline.is_rational()) {
+    // Certified double first, then exact from the double points and weights.
+    classify_homogeneous<Bounded>(segment_homogeneous_points<Bounded>(spline, s), options, mono, infl);
+    if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
+    classify_homogeneous<Rational>(segment_homogeneous_points<Rational>(spline, s), options, mono, infl);
+    return finish(mono, infl, true);
+  }
   classify_points<Bounded>(segment_bezier_points<Bounded>(spline, s), options, mono, infl);
   if (mono && (infl || !options.inflection)) return finish(mono, infl, false);
   // The Bezier points are rounded; the exact path re-extracts them exactly.

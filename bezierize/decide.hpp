@@ -247,4 +247,22 @@ int jump_sign(const std::vector<Point<T>>& L, const std::vector<Point<T>>& R) {
   return jump_sign<T>(T(0) - det(la, lb), dot(la, la), det(ra, rb), dot(ra, ra));
 }
 
+/// jump_sign at the joint between two rational Bezier segments given by
+/// homogeneous points (W x, W y, W), W > 0: a rational end's curvature is
+/// (d-1)/d (w0 w2 / w1^2) det(a, b) / |a|^3 with a, b the first two legs of
+/// the projected points read from the joint, so A gains the factor
+/// w0 w2 / w1^2 (T's division carries its bound for Bounded).
+template <class T>
+int jump_sign_homogeneous(const std::vector<HPoint<T>>& L, const std::vector<HPoint<T>>& R) {
+  const int d = static_cast<int>(L.size()) - 1;
+  CMR_CHECK(d >= 2 && R.size() == L.size());
+  const auto proj = [](const HPoint<T>& h) { return Point<T>{h.x / h.z, h.y / h.z}; };
+  const Point<T> l0 = proj(L[d]), l1 = proj(L[d - 1]), l2 = proj(L[d - 2]);
+  const Point<T> r0 = proj(R[0]), r1 = proj(R[1]), r2 = proj(R[2]);
+  const Point<T> la = l1 - l0, lb = l2 - l1, ra = r1 - r0, rb = r2 - r1;
+  const T fl = L[d].z * L[d - 2].z / (L[d - 1].z * L[d - 1].z);
+  const T fr = R[0].z * R[2].z / (R[1].z * R[1].z);
+  return jump_sign<T>(T(0) - fl * det(la, lb), dot(la, la), fr * det(ra, rb), dot(ra, ra));
+}
+
 }  // namespace cmr

@@ -7,7 +7,13 @@
 namespace cmr {
 
 BezierSegment bezier_segment(const BSpline& spline, const Segment& s) {
-  return {s, bezier_points(spline.knots(), spline.points(), spline.degree(), s.span, s.a, s.b)};
+  if (!spline.is_rational()) return {s, bezier_points(spline.knots(), spline.points(), spline.degree(), s.span, s.a, s.b), {}};
+  BezierSegment out{s, {}, {}};
+  for (const glm::dvec3& h : bezier_points(spline.knots(), spline.homogeneous_points(), spline.degree(), s.span, s.a, s.b)) {
+    out.points.push_back(Vec2(h.x, h.y) / h.z);
+    out.weights.push_back(h.z);
+  }
+  return out;
 }
 
 std::vector<BezierSegment> bezier_segments(const BSpline& spline) {
@@ -20,6 +26,7 @@ std::vector<BezierSegment> bezier_segments(const BSpline& spline) {
 BSpline insert_knot(const BSpline& spline, double u) {
   if (!(u >= spline.domain_begin() && u <= spline.domain_end()))
     throw InputError("knot " + std::to_string(u) + " lies outside the domain");
+  if (spline.is_rational()) throw InputError("Boehm insertion (extract.hpp) is for polynomial splines");
   const int d = spline.degree();
   if (spline.multiplicity(u) >= d)
     throw InputError("knot " + std::to_string(u) + " already has multiplicity " + std::to_string(d));
@@ -65,7 +72,7 @@ std::vector<BezierSegment> bezier_segments_by_insertion(const BSpline& spline) {
     // Window of point i is V[i..i+d-1]; B_0 = f(a^d) is the point whose window is a^d.
     // lower_bound finds the first a; the a-run has length d, so i = first.
     std::vector<Vec2> pts(refined.points().begin() + first, refined.points().begin() + first + d + 1);
-    out.push_back({s, std::move(pts)});
+    out.push_back({s, std::move(pts), {}});
   }
   return out;
 }

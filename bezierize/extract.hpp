@@ -12,6 +12,9 @@ namespace cmr {
 struct BezierSegment {
   Segment segment;
   std::vector<Vec2> points;  ///< d+1 Bezier points of the segment, on [a, b] -> [0, 1]
+  /// A rational segment's Bezier weights (points are then the projected
+  /// homogeneous Bezier points); empty for a polynomial spline.
+  std::vector<double> weights;
 };
 
 /// Bezier points of span j = [a, b]: B_k = f(a^{d-k}, b^k), k = 0..d.
@@ -56,12 +59,35 @@ std::vector<Point<T>> segment_bezier_points(const BSpline& spline, const Segment
   return bezier_points(w.knots, w.points, spline.degree(), w.span, T(s.a), T(s.b));
 }
 
+/// The homogeneous control points (w x, w y, w) of segment s's window in
+/// scalar type T ((x, y, 1) for a polynomial spline), exact for T = Rational;
+/// the window's knots are those of segment_window.
+template <class T>
+std::vector<HPoint<T>> homogeneous_window_points(const BSpline& spline, const Segment& s) {
+  const int d = spline.degree(), first = s.span - d + 1;
+  std::vector<HPoint<T>> pts;
+  for (int i = 0; i <= d; ++i) pts.push_back(to_hpoint<T>(spline.points()[first + i], spline.weight(first + i)));
+  return pts;
+}
+
+/// Homogeneous Bezier points H_k = F(a^{d-k}, b^k) of segment s in scalar
+/// type T, F the blossom of (w x, w y, w): the rational segment is
+/// sum B_k^d (H_k.x, H_k.y) / sum B_k^d H_k.z.
+template <class T>
+std::vector<HPoint<T>> segment_homogeneous_points(const BSpline& spline, const Segment& s) {
+  const int d = spline.degree(), first = s.span - d + 1;
+  const std::vector<T> knots(spline.knots().begin() + first, spline.knots().begin() + s.span + d + 1);
+  return bezier_points(knots, homogeneous_window_points<T>(spline, s), d, d - 1, T(s.a), T(s.b));
+}
+
 /// Every non-empty span in Bezier form, by blossoming.
 std::vector<BezierSegment> bezier_segments(const BSpline& spline);
 BezierSegment bezier_segment(const BSpline& spline, const Segment& s);
 
 /// Boehm's algorithm: the same curve with knot u inserted once. u must lie in
 /// the domain and its multiplicity stay <= degree (InputError otherwise).
+/// Polynomial splines only (InputError for a rational one; knot_ops.hpp's
+/// insert_knot handles both).
 /// In polar form, with u in the non-empty span j, the new points are
 /// P_i (i <= j-d+1), (1-a_i) P_{i-1} + a_i P_i with a_i = (u - u_{i-1})/(u_{i+d-1} - u_{i-1})
 /// (j-d+2 <= i <= j+1), and P_{i-1} (i >= j+2).

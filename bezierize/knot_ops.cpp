@@ -32,7 +32,24 @@ BSpline to_bspline(PolarSpline<double> p, const BSpline& like) {
 }
 
 BSpline rewrite(const BSpline& s, std::vector<double> knots, int degree) {
-  return to_bspline(rewrite_on_knots(polar_spline<double>(s), std::move(knots), degree), s);
+  if (!s.is_rational()) return to_bspline(rewrite_on_knots(polar_spline<double>(s), std::move(knots), degree), s);
+  // A rational curve is rewritten in homogeneous coordinates: the same
+  // primitive on the points (w x, w y) and on the weights (carried as (w, 0)),
+  // then projected back. New weights are convex combinations (averages, for
+  // elevation) of positive weights, so they stay positive.
+  PolarSpline<double> xy{s.degree(), s.knots(), {}}, w{s.degree(), s.knots(), {}};
+  for (int i = 0; i < s.point_count(); ++i) {
+    xy.points.push_back(s.weight(i) * s.points()[i]);
+    w.points.push_back(Vec2(s.weight(i), 0.0));
+  }
+  PolarSpline<double> rxy = rewrite_on_knots(xy, knots, degree);
+  const PolarSpline<double> rw = rewrite_on_knots(w, std::move(knots), degree);
+  std::vector<double> weights;
+  for (std::size_t i = 0; i < rxy.points.size(); ++i) {
+    weights.push_back(rw.points[i].x);
+    rxy.points[i] /= rw.points[i].x;
+  }
+  return BSpline::make(degree, std::move(rxy.knots), std::move(rxy.points), s.name(), std::move(weights));
 }
 
 /// Upper bound of |old(t) - new(t)| over the domain (see KnotRemoval::distance).
@@ -66,6 +83,8 @@ BSpline insert_knot(const BSpline& spline, double u, int times) {
 
 KnotRemoval remove_knot(const BSpline& spline, double u, double tolerance) {
   check_finite_knot(u);
+  if (spline.is_rational())
+    throw InputError("remove: knot removal is not supported for rational curves (the file has weights)");
   if (!(tolerance >= 0)) throw InputError("remove: the tolerance must be zero or more (got " + num(tolerance) + ")");
   const std::vector<double>& V = spline.knots();
   const auto last = std::upper_bound(V.begin(), V.end(), u);
@@ -90,7 +109,7 @@ BSpline set_knot(const BSpline& spline, int index, double u) {
   std::vector<double> knots = spline.knots();
   knots[index] = u;
   try {
-    return BSpline::make(spline.degree(), std::move(knots), spline.points(), spline.name());
+    return BSpline::make(spline.degree(), std::move(knots), spline.points(), spline.name(), spline.weights());
   } catch (const InputError& e) {
     throw InputError("set knot " + std::to_string(index) + " to " + num(u) + ": " + e.what());
   }
@@ -105,7 +124,7 @@ BSpline clamp(const BSpline& spline) {
 BSpline make_uniform(const BSpline& spline) {
   std::vector<double> knots(spline.knots().size());
   std::iota(knots.begin(), knots.end(), 0.0);
-  return BSpline::make(spline.degree(), std::move(knots), spline.points(), spline.name());
+  return BSpline::make(spline.degree(), std::move(knots), spline.points(), spline.name(), spline.weights());
 }
 
 BSpline elevate_degree(const BSpline& spline) {

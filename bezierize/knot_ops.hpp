@@ -14,7 +14,9 @@
 // influences no non-empty span (possible only at the ends, next to empty
 // spans) does not change the curve; it gets the blossom of the nearest segment.
 // `rewrite_on_knots` is this primitive, generic over the scalar so that the
-// tests run it in exact rationals.
+// tests run it in exact rationals. A rational curve (weights) goes through it
+// in homogeneous coordinates (w x, w y, w) and is projected back; removal is
+// not offered for rational curves.
 //
 // Degree elevation. For a polynomial of degree d with blossom f,
 //   F(x_1, ..., x_{d+1}) = 1/(d+1) * sum_{i=1..d+1} f(x_1, ..., x_{i-1}, x_{i+1}, ..., x_{d+1})

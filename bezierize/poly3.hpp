@@ -64,6 +64,7 @@ struct Poly3 {
 
 template <>
 struct Scalar<Poly3> {
+  static constexpr bool exact = false;  // exact, but without ==: bernstein_reduce skips its check
   static Poly3 ratio(Int128 num, Int128 den) { return Poly3(Scalar<Rational>::ratio(num, den)); }
 };
 

@@ -9,6 +9,7 @@
 
 #include "bezierize/lambda.hpp"
 #include "bezierize/poly3.hpp"
+#include "bezierize/rational_lambda.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -98,12 +99,21 @@ void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
 void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   const int d = s.spline().degree();
   const SegmentWindow<Rational> window = segment_window<Rational>(s.spline(), g);
-  e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
   const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
   std::vector<Rational> indicator(d + 1, Rational(0));
   for (int k : s.group)
-    if (k >= first && k <= first + d) indicator[k - first] = 1;
+    if (k >= first && k <= first + d) indicator[k - first] = Rational(s.spline().weight(k));  // (w x) moves by w d
   e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
+  if (s.spline().is_rational()) {
+    for (const HPoint<Rational>& h : segment_homogeneous_points<Rational>(s.spline(), g)) {
+      e.base_exact.push_back({h.x, h.y});
+      e.hw_exact.push_back(h.z);
+      const double w = rounded(h.z);
+      e.hw.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
+    }
+  } else {
+    e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+  }
   for (int i = 0; i <= d; ++i) {
     // Rounding to nearest: error at most half an ulp, bounded by u |v|.
     const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);
@@ -117,12 +127,18 @@ void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
 // The rounded piece polynomials xi_k(dx, dy) and nu_k(dx, dy) of a touched entry.
 void set_piece_polynomials(RegionEntry& e, int piece_levels) {
   std::vector<Point<Poly3>> P;
-  for (std::size_t i = 0; i < e.base_exact.size(); ++i)
+  std::vector<HPoint<Poly3>> H;
+  for (std::size_t i = 0; i < e.base_exact.size(); ++i) {
     P.push_back({Poly3(e.base_exact[i].x) + Poly3(e.weight_exact[i]) * Poly3::x(),
                  Poly3(e.base_exact[i].y) + Poly3(e.weight_exact[i]) * Poly3::y()});
-  for (const Bernstein<Poly3>& piece : piece_polynomials(lambda_bernstein<Poly3>(P), piece_levels))
+    if (!e.hw_exact.empty()) H.push_back({P.back().x, P.back().y, Poly3(e.hw_exact[i])});
+  }
+  const bool rational = !e.hw_exact.empty();
+  for (const Bernstein<Poly3>& piece :
+       piece_polynomials(rational ? rational_lambda_bernstein<Poly3>(H) : lambda_bernstein<Poly3>(P), piece_levels))
     for (const Poly3& c : piece) e.xi.push_back(rounded_poly<10>(c));
-  for (const Bernstein<Poly3>& piece : piece_polynomials(eta_bernstein<Poly3>(P), piece_levels))
+  for (const Bernstein<Poly3>& piece :
+       piece_polynomials(rational ? rational_d_bernstein<Poly3>(H) : eta_bernstein<Poly3>(P), piece_levels))
     for (const Poly3& c : piece) {
       for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
       e.nu.push_back(rounded_poly<3>(c));
@@ -303,8 +319,8 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
     e.part = group_of(s.cuts, seg);
     e.classify = touched[seg];
     set_moved_points(s, spline.segments()[seg], e);
-    e.n_xi = 4 * d - 6;
-    e.n_nu = 2 * d - 3;
+    e.n_xi = spline.is_rational() ? 8 * d - 11 : 4 * d - 6;
+    e.n_nu = spline.is_rational() ? 3 * d - 5 : 2 * d - 3;
     if (e.classify) set_piece_polynomials(e, s.piece_levels);
     entry_of[seg] = static_cast<int>(s.entries.size());
     s.entries.push_back(std::move(e));
@@ -525,15 +541,17 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
   const RegionRequest& o = s.options;
   std::vector<std::vector<Point<Rational>>> B(s.entries.size());
   std::vector<Bernstein<Rational>> xi(s.entries.size()), nu(s.entries.size());
+  std::vector<std::vector<HPoint<Rational>>> H(s.entries.size());
   for (std::size_t e = 0; e < s.entries.size(); ++e) {
     const RegionEntry& en = s.entries[e];
     for (std::size_t i = 0; i < en.base_exact.size(); ++i)
       B[e].push_back({en.base_exact[i].x + en.weight_exact[i] * dx, en.base_exact[i].y + en.weight_exact[i] * dy});
+    for (std::size_t i = 0; i < en.hw_exact.size(); ++i) H[e].push_back({B[e][i].x, B[e][i].y, en.hw_exact[i]});
     if (!en.classify) continue;
-    xi[e] = lambda_bernstein<Rational>(B[e]);
+    xi[e] = H[e].empty() ? lambda_bernstein<Rational>(B[e]) : rational_lambda_bernstein<Rational>(H[e]);
     if (ends_opposite(sgn(xi[e].front()), sgn(xi[e].back())) == Truth::yes) return {0, 0, true};
     if (o.mode == Mode::cmr) {
-      nu[e] = eta_bernstein<Rational>(B[e]);
+      nu[e] = H[e].empty() ? eta_bernstein<Rational>(B[e]) : rational_d_bernstein<Rational>(H[e]);
       if (ends_touch(sgn(nu[e].front()), sgn(nu[e].back())) == Truth::yes) return {0, 0, true};
     }
   }
@@ -547,7 +565,9 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
     classes[s.verdict.slot[s.entries[e].segment]] = c;
   }
   std::vector<Joint> joints = s.verdict.joints;
-  for (const RegionJoint& j : s.varying) joints[verdict_joint(s, j)].jump = jump_sign<Rational>(B[j.left], B[j.right]);
+  for (const RegionJoint& j : s.varying)
+    joints[verdict_joint(s, j)].jump = H[j.left].empty() ? jump_sign<Rational>(B[j.left], B[j.right])
+                                                         : jump_sign_homogeneous<Rational>(H[j.left], H[j.right]);
   return verdict(s, classes, joints, true);
 }
 
@@ -563,8 +583,12 @@ bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joi
     for (std::size_t i = 0; i < s.entries[e].base.size(); ++i)
       B[e].push_back({s.entries[e].base[i].x + s.entries[e].weight[i] * bx,
                       s.entries[e].base[i].y + s.entries[e].weight[i] * by});
+  std::vector<std::vector<HPoint<Bounded>>> H(s.entries.size());
+  for (std::size_t e = 0; e < s.entries.size(); ++e)
+    for (std::size_t i = 0; i < s.entries[e].hw.size(); ++i) H[e].push_back({B[e][i].x, B[e][i].y, s.entries[e].hw[i]});
   for (const RegionJoint& j : s.varying) {
-    const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
+    const int sign = H[j.left].empty() ? jump_sign<Bounded>(B[j.left], B[j.right])
+                                       : jump_sign_homogeneous<Bounded>(H[j.left], H[j.right]);
     if (sign == kSignUnknown) return false;
     joints[verdict_joint(s, j)].jump = sign;
   }

@@ -69,13 +69,22 @@ struct RegionEntry {
   std::vector<Rational> weight_exact;          ///< w: B = B0 + w (dx, dy)
   std::vector<Point<Bounded>> base;            ///< B0 rounded, with bounds
   std::vector<Bounded> weight;                 ///< w rounded, with bounds
+  /// Rational splines: base_exact/base hold the homogeneous (W x, W y) of the
+  /// Bezier points, hw their weights W (fixed: the move keeps the weights),
+  /// weight the influence c_i on (W x, W y) = B0 + c (dx, dy), i.e. the
+  /// blossom of the data w_k on the group; xi and nu are then lambda (8n-11
+  /// coefficients) and D (3n-5) of rational_lambda.hpp, still a cubic and an
+  /// affine polynomial in (dx, dy) (D is multilinear in columns that move
+  /// along one direction). Empty for a polynomial spline.
+  std::vector<Rational> hw_exact;
+  std::vector<Bounded> hw;
   /// xi_k(dx, dy) of every subdivision piece down to RegionSetup::piece_levels,
   /// rounded coefficients in poly3.hpp order: piece p (heap order: level L,
   /// index j at p = 2^L - 1 + j) has coefficient k at xi[p * (4n-6) + k].
   std::vector<std::array<double, 10>> xi;
   /// nu_k(dx, dy) = c0 + c1 dx + c2 dy per piece, at nu[p * (2n-3) + k].
   std::vector<std::array<double, 3>> nu;
-  int n_xi = 0, n_nu = 0;  ///< coefficients per piece: 4n-6 and 2n-3
+  int n_xi = 0, n_nu = 0;  ///< coefficients per piece: 4n-6 and 2n-3 (rational: 8n-11 and 3n-5)
 };
 
 /// A joint whose curvature jump depends on the position (knot multiplicity

@@ -25,6 +25,7 @@ struct Scalar;
 
 template <>
 struct Scalar<double> {
+  static constexpr bool exact = false;
   static double ratio(Int128 num, Int128 den) {
     return static_cast<double>(num) / static_cast<double>(den);
   }
@@ -34,6 +35,7 @@ struct Scalar<double> {
 
 template <>
 struct Scalar<Bounded> {
+  static constexpr bool exact = false;
   // num and den are rounded once each to double, then divided: three
   // roundings, charged as 4 U |v|.
   static Bounded ratio(Int128 num, Int128 den) {
@@ -48,6 +50,7 @@ mpz_class to_mpz(Int128 v);
 
 template <>
 struct Scalar<Rational> {
+  static constexpr bool exact = true;
   static Rational ratio(Int128 num, Int128 den) {
     Rational r(to_mpz(num), to_mpz(den));
     r.canonicalize();

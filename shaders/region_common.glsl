@@ -20,8 +20,12 @@ layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
 // branch under a mask, so code that cannot run must not be in the shader.
 layout(constant_id = 2) const bool CMR_MODE = false;  // also run Algorithm 2 (CMR)
 layout(constant_id = 3) const bool JOINTS = false;    // some joint's curvature jump varies
-const int NXI = 4 * DEG - 6;                  // coefficients of lambda
-const int NNU = 2 * DEG - 3;                  // coefficients of eta
+// 1: a rational spline (bezierize/rational_lambda.hpp): xi holds lambda's
+// 8n-11 coefficients and nu D's 3n-5; the entries' points are homogeneous,
+// so joint jumps are left to the host (SIGN_UNKNOWN).
+layout(constant_id = 4) const int RATIONAL = 0;
+const int NXI = 4 * DEG - 6 + RATIONAL * (4 * DEG - 5);  // coefficients of lambda
+const int NNU = 2 * DEG - 3 + RATIONAL * (DEG - 2);      // coefficients of eta (D)
 
 layout(std430, set = 0, binding = 0) readonly buffer RegionData {
   uint hdr[HDR_WORDS];
@@ -162,6 +166,7 @@ REAL2 dot2(REAL2 ax_, REAL2 ay_, REAL2 bx_, REAL2 by_) { return b_add(b_mul(ax_,
 // Sign of kappa_right - kappa_left at a joint from the end legs of its two
 // segments (cmr::jump_sign); SIGN_UNKNOWN when not certain. Scalars only.
 int jump_sign(uint le, uint re, REAL2 bdx, REAL2 bdy) {
+  if (RATIONAL != 0) return SIGN_UNKNOWN;  // the host decides (cmr::jump_sign_homogeneous)
   REAL2 l0x, l0y, l1x, l1y, l2x, l2y, r0x, r0y, r1x, r1y, r2x, r2y;
   moved_point(le, DEG, bdx, bdy, l0x, l0y);  // the left segment read from its end
   moved_point(le, DEG - 1, bdx, bdy, l1x, l1y);

@@ -25,7 +25,8 @@ void check_finite_point(const Vec2& p, int i) {
 
 }  // namespace
 
-BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name) {
+BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name,
+                      std::vector<double> weights) {
   if (degree < 2) throw InputError("degree: must be at least 2 (got " + std::to_string(degree) + ")");
   if (degree > kMaxDegree)
     throw InputError("degree: at most " + std::to_string(kMaxDegree) + " is supported (got " + std::to_string(degree) + ")");
@@ -38,6 +39,20 @@ BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> p
     throw InputError("knots: polar form needs points + degree - 1 = " + std::to_string(want) + " knots (got " +
                      std::to_string(knots.size()) + ")");
   for (int i = 0; i < m; ++i) check_finite_point(points[i], i);
+  if (!weights.empty()) {
+    if (weights.size() != points.size())
+      throw InputError("weights: one weight per control point is needed: " + std::to_string(m) + " points, " +
+                       std::to_string(weights.size()) + " weights");
+    for (std::size_t i = 0; i < weights.size(); ++i) {
+      if (!std::isfinite(weights[i])) throw InputError("weights[" + std::to_string(i) + "] is not a finite number");
+      if (!(weights[i] > 0))
+        throw InputError("weights[" + std::to_string(i) + "] (" + num(weights[i]) +
+                         ") is not positive; cmr supports weights > 0 only (a weight <= 0 can make the curve pass "
+                         "through infinity)");
+    }
+    // Equal weights cancel: the same polynomial curve.
+    if (std::all_of(weights.begin(), weights.end(), [&](double w) { return w == weights.front(); })) weights.clear();
+  }
   for (std::size_t i = 0; i < knots.size(); ++i) {
     if (!std::isfinite(knots[i])) throw InputError("knots[" + std::to_string(i) + "] is not a finite number");
     if (i > 0 && knots[i] < knots[i - 1])
@@ -55,6 +70,9 @@ BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> p
   s.knots_ = std::move(knots);
   s.points_ = std::move(points);
   s.name_ = std::move(name);
+  s.weights_ = std::move(weights);
+  if (!s.weights_.empty())
+    for (int i = 0; i < m; ++i) s.hpoints_.push_back(to_hpoint<double>(s.points_[i], s.weights_[i]));
   for (int j = degree - 1; j <= m - 2; ++j) {
     if (s.knots_[j] < s.knots_[j + 1])
       s.segments_.push_back({static_cast<int>(s.segments_.size()), j, s.knots_[j], s.knots_[j + 1]});
@@ -65,13 +83,13 @@ BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> p
   return s;
 }
 
-BSpline BSpline::bezier(std::vector<Vec2> points, std::string name) {
+BSpline BSpline::bezier(std::vector<Vec2> points, std::string name, std::vector<double> weights) {
   const int n = static_cast<int>(points.size()) - 1;
   if (n < 2) throw InputError("points: a Bezier curve needs at least 3 control points (got " +
                               std::to_string(points.size()) + ")");
   std::vector<double> knots(2 * n, 0.0);
   std::fill(knots.begin() + n, knots.end(), 1.0);
-  return make(n, std::move(knots), std::move(points), std::move(name));
+  return make(n, std::move(knots), std::move(points), std::move(name), std::move(weights));
 }
 
 const Segment& BSpline::segment_at(double t) const {
@@ -92,6 +110,7 @@ BSpline BSpline::with_point(int k, Vec2 p) const {
   check_finite_point(p, k);
   BSpline s = *this;
   s.points_[k] = p;
+  if (s.is_rational()) s.hpoints_[k] = to_hpoint<double>(p, s.weights_[k]);
   return s;
 }
 
@@ -99,35 +118,80 @@ BSpline BSpline::reversed() const {
   std::vector<double> knots(knots_.rbegin(), knots_.rend());
   for (double& u : knots) u = -u;
   std::vector<Vec2> points(points_.rbegin(), points_.rend());
-  return make(degree_, std::move(knots), std::move(points), name_);
+  return make(degree_, std::move(knots), std::move(points), name_, {weights_.rbegin(), weights_.rend()});
 }
 
 Vec2 blossom(const BSpline& spline, const Segment& s, const double* args) {
+  if (spline.is_rational()) {
+    const glm::dvec3 h = homogeneous_blossom(spline, s, args);
+    return {h.x / h.z, h.y / h.z};
+  }
   return blossom_span(spline.knots(), spline.points(), spline.degree(), s.span, args);
 }
+
+glm::dvec3 homogeneous_blossom(const BSpline& spline, const Segment& s, const double* args) {
+  if (!spline.is_rational()) {
+    const Vec2 p = blossom_span(spline.knots(), spline.points(), spline.degree(), s.span, args);
+    return {p.x, p.y, 1.0};
+  }
+  return blossom_span(spline.knots(), spline.homogeneous_points(), spline.degree(), s.span, args);
+}
+
+namespace {
+
+/// The r-th derivative of the piece of segment s at t, from the blossom of
+/// the control values `points` (Cartesian or homogeneous).
+template <class P>
+P blossom_derivative(const BSpline& spline, const std::vector<P>& points, double t, int r) {
+  const int d = spline.degree();
+  CMR_CHECK(r >= 0 && r <= d);
+  const Segment& s = spline.segment_at(t);
+  std::vector<double> args(d, t);
+  P sum(0.0);
+  double binom = 1.0;  // C(r, i)
+  for (int i = 0; i <= r; ++i) {
+    // args = t^{d-r}, a^{r-i}, b^i
+    for (int q = 0; q < r; ++q) args[d - r + q] = q < r - i ? s.a : s.b;
+    const double sign = ((r - i) % 2 == 0) ? 1.0 : -1.0;
+    sum += sign * binom * blossom_span(spline.knots(), points, d, s.span, args.data());
+    binom = binom * (r - i) / (i + 1);
+  }
+  double scale = 1.0;
+  for (int q = 0; q < r; ++q) scale *= static_cast<double>(d - q) / (s.b - s.a);
+  return scale * sum;
+}
+
+}  // namespace
 
 Vec2 evaluate(const BSpline& spline, double t) {
   const std::vector<double> args(spline.degree(), t);
   return blossom(spline, spline.segment_at(t), args.data());
 }
 
-Vec2 derivative(const BSpline& spline, double t, int r) {
-  const int d = spline.degree();
-  CMR_CHECK(r >= 0 && r <= d);
-  const Segment& s = spline.segment_at(t);
-  std::vector<double> args(d, t);
-  Vec2 sum(0.0);
-  double binom = 1.0;  // C(r, i)
-  for (int i = 0; i <= r; ++i) {
-    // args = t^{d-r}, a^{r-i}, b^i
-    for (int q = 0; q < r; ++q) args[d - r + q] = q < r - i ? s.a : s.b;
-    const double sign = ((r - i) % 2 == 0) ? 1.0 : -1.0;
-    sum += sign * binom * blossom(spline, s, args.data());
-    binom = binom * (r - i) / (i + 1);
+glm::dvec3 homogeneous_derivative(const BSpline& spline, double t, int r) {
+  if (!spline.is_rational()) {
+    const Vec2 p = blossom_derivative(spline, spline.points(), t, r);
+    return {p.x, p.y, r == 0 ? 1.0 : 0.0};
   }
-  double scale = 1.0;
-  for (int q = 0; q < r; ++q) scale *= static_cast<double>(d - q) / (s.b - s.a);
-  return scale * sum;
+  return blossom_derivative(spline, spline.homogeneous_points(), t, r);
+}
+
+Vec2 derivative(const BSpline& spline, double t, int r) {
+  if (!spline.is_rational()) return blossom_derivative(spline, spline.points(), t, r);
+  // C^(k) = (X^(k) - sum_{i=1..k} C(k,i) W^(i) C^(k-i)) / W, k = 0..r.
+  std::vector<glm::dvec3> H;
+  for (int k = 0; k <= r; ++k) H.push_back(homogeneous_derivative(spline, t, k));
+  std::vector<Vec2> C;
+  for (int k = 0; k <= r; ++k) {
+    Vec2 x(H[k].x, H[k].y);
+    double binom = 1.0;  // C(k, i)
+    for (int i = 1; i <= k; ++i) {
+      binom = binom * (k - i + 1) / i;
+      x -= binom * H[i].z * C[k - i];
+    }
+    C.push_back(x / H[0].z);
+  }
+  return C[r];
 }
 
 }  // namespace cmr

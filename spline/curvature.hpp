@@ -10,6 +10,18 @@
 // (bezierize/lambda.hpp builds both in Bernstein form). These pointwise
 // versions are the reference the Bernstein forms are tested against; they
 // assume a regular curve (C' != 0), as the paper does.
+//
+// Rational curves C = X / W (weights > 0, see bspline.hpp), with the
+// homogeneous curve H = (X, Y, W):
+//   C' = h / W^2,  h = W X' - W' X           (a 2-vector)
+//   det(C', C'') = D / W^3,  D = det(H, H', H'')   (3x3)
+//   kappa       = W^3 D / |h|^3
+//   dkappa/dt   = W^2 lambda / |h|^5,
+//   lambda      = (3 W' D + W D') (h.h) - 3 W D (h.h'),  D' = det(H, H', H'''),
+//                 h' = W X'' - W'' X
+// so sign(dkappa/ds) = sign(lambda) and sign(kappa) = sign(D) (W > 0);
+// dkappa/ds = (dkappa/dt) / |C'| = W^4 lambda / |h|^6. For W = 1 these are
+// the polynomial formulas (D = eta, h = C', h.h' = g'/2).
 #include "spline/bspline.hpp"
 
 namespace cmr {
@@ -20,7 +32,7 @@ struct CurvatureSample {
   double kappa = 0;      ///< signed curvature
   double dkappa_ds = 0;  ///< derivative of kappa with respect to arc length
   double lambda = 0;     ///< numerator of dkappa/ds (sign of dkappa/ds)
-  double eta = 0;        ///< numerator of kappa (sign of kappa)
+  double eta = 0;        ///< numerator of kappa (sign of kappa): D for a rational curve
 };
 
 CurvatureSample curvature_at(const BSpline& spline, double t);

@@ -51,8 +51,8 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   if (!doc.is_object()) throw InputError("the document is not a JSON object with \"points\"");
   for (const auto& [key, value] : doc.items()) {
     (void)value;
-    if (key != "degree" && key != "knots" && key != "points" && key != "name")
-      throw InputError("unknown field \"" + key + "\" (expected degree, knots, points, name)");
+    if (key != "degree" && key != "knots" && key != "points" && key != "name" && key != "weights")
+      throw InputError("unknown field \"" + key + "\" (expected degree, knots, points, name, weights)");
   }
   if (!doc.contains("points")) throw InputError("points: missing");
   const json& pts = doc["points"];
@@ -64,6 +64,12 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
     if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
     points.emplace_back(number(pts[i][0], where + "[0]"), number(pts[i][1], where + "[1]"));
   }
+  std::vector<double> weights;
+  if (doc.contains("weights")) {
+    const json& ws = doc["weights"];
+    if (!ws.is_array()) throw InputError("weights: not an array of numbers");
+    for (std::size_t i = 0; i < ws.size(); ++i) weights.push_back(number(ws[i], "weights[" + std::to_string(i) + "]"));
+  }  // count and sign: BSpline::make
   std::string name;
   if (doc.contains("name")) {
     if (!doc["name"].is_string()) throw InputError("name: not a string");
@@ -83,7 +89,7 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
     if (degree >= 0 && degree != n)
       throw InputError("degree: a Bezier curve (no \"knots\") with " + std::to_string(points.size()) +
                        " points has degree " + std::to_string(n) + ", not " + std::to_string(degree));
-    return BSpline::bezier(std::move(points), std::move(name));
+    return BSpline::bezier(std::move(points), std::move(name), std::move(weights));
   }
   if (degree < 0) throw InputError("degree: missing (required when \"knots\" is given)");
   const json& ks = doc["knots"];
@@ -92,7 +98,7 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   knots.reserve(ks.size());
   for (std::size_t i = 0; i < ks.size(); ++i) knots.push_back(number(ks[i], "knots[" + std::to_string(i) + "]"));
   apply_knot_convention(knots, points.size(), degree, options);
-  return BSpline::make(degree, std::move(knots), std::move(points), std::move(name));
+  return BSpline::make(degree, std::move(knots), std::move(points), std::move(name), std::move(weights));
 }
 
 std::string read_input_file(const std::filesystem::path& path) {
@@ -162,6 +168,7 @@ json spline_to_json(const BSpline& spline) {
   json pts = json::array();
   for (const Vec2& p : spline.points()) pts.push_back({p.x, p.y});
   doc["points"] = pts;
+  if (spline.is_rational()) doc["weights"] = spline.weights();
   return doc;
 }
 

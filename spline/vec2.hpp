@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 namespace cmr {
 
@@ -38,6 +39,38 @@ using Point = typename PointOf<T>::type;
 template <class T>
 Point<T> to_point(const Vec2& p) {
   return Point<T>{T(p.x), T(p.y)};
+}
+
+/// A homogeneous point (w x, w y, w) of a rational curve (spline/bspline.hpp),
+/// for non-double scalars; HPoint<double> is glm::dvec3. The blossom and every
+/// Bernstein routine treat it like any other point type.
+template <class T>
+struct Vec3T {
+  T x{}, y{}, z{};
+  Vec3T() = default;
+  Vec3T(T x_, T y_, T z_) : x(std::move(x_)), y(std::move(y_)), z(std::move(z_)) {}
+  friend Vec3T operator+(const Vec3T& a, const Vec3T& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+  friend Vec3T operator-(const Vec3T& a, const Vec3T& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+  friend Vec3T operator*(const T& s, const Vec3T& a) { return {s * a.x, s * a.y, s * a.z}; }
+};
+
+template <class T>
+struct HPointOf {
+  using type = Vec3T<T>;
+};
+template <>
+struct HPointOf<double> {
+  using type = glm::dvec3;
+};
+template <class T>
+using HPoint = typename HPointOf<T>::type;
+
+/// (w x, w y, w) from the Cartesian point p and its weight w, in scalar T
+/// (exact for T = Rational; Bounded carries the two roundings).
+template <class T>
+HPoint<T> to_hpoint(const Vec2& p, double w) {
+  const T tw(w);
+  return HPoint<T>{T(p.x) * tw, T(p.y) * tw, tw};
 }
 
 /// det(a, b) = a.x*b.y - a.y*b.x, the signed area spanned by a and b.

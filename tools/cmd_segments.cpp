@@ -23,6 +23,7 @@ void add_segments_command(CLI::App& app, int& exit_code) {
       nlohmann::ordered_json pts = nlohmann::ordered_json::array();
       for (const Vec2& p : b.points) pts.push_back({p.x, p.y});
       segs.push_back({{"index", b.segment.index}, {"interval", {b.segment.a, b.segment.b}}, {"points", pts}});
+      if (!b.weights.empty()) segs.back()["weights"] = b.weights;
     }
     print_json({{"segments", segs}}, args->pretty);
     exit_code = kOk;

@@ -2,14 +2,17 @@
 
 #include <algorithm>
 #include <charconv>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <mutex>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "bezierize/extract.hpp"
 #include "bezierize/lambda.hpp"
+#include "bezierize/rational_lambda.hpp"
 #include "bezierize/region.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -81,6 +84,34 @@ struct Frame {
   double kappa = 0;
 };
 
+Frame frame_at(const std::vector<Vec2>& B, double u);
+
+/// A rational Bezier segment (points B, weights W): from the homogeneous
+/// curve H = (W x, W y, W) and its derivatives at u, C' = h / W^2 with
+/// h = W X' - W' X and kappa = W^3 det(H, H', H'') / |h|^3 (rational_lambda.hpp).
+Frame frame_at(const std::vector<Vec2>& B, const std::vector<double>& W, double u) {
+  if (W.empty()) return frame_at(B, u);
+  const int n = static_cast<int>(B.size()) - 1;
+  std::vector<glm::dvec3> H;
+  for (int i = 0; i <= n; ++i) H.push_back({W[i] * B[i].x, W[i] * B[i].y, W[i]});
+  glm::dvec3 d[3];  // H, H', H'' at u from the Bernstein derivatives
+  for (int r = 0; r < 3; ++r) {
+    std::vector<glm::dvec3> c = H;
+    for (int k = 0; k < r; ++k) {
+      for (std::size_t i = 0; i + 1 < c.size(); ++i) c[i] = double(c.size() - 1) * (c[i + 1] - c[i]);
+      c.pop_back();
+    }
+    for (std::size_t m = 1; m < c.size(); ++m)
+      for (std::size_t i = 0; i + m < c.size(); ++i) c[i] = (1 - u) * c[i] + u * c[i + 1];
+    d[r] = c[0];
+  }
+  const Vec2 X(d[0].x, d[0].y), X1(d[1].x, d[1].y);
+  const Vec2 h = d[0].z * X1 - d[1].z * X;
+  const double D = glm::dot(d[0], glm::cross(d[1], d[2]));
+  const double len = std::sqrt(dot(h, h)), w = d[0].z;
+  return {X / w, h / (w * w), w * w * w * D / (len * len * len)};
+}
+
 Frame frame_at(const std::vector<Vec2>& B, double u) {
   const int n = static_cast<int>(B.size()) - 1;
   std::vector<Vec2> w = B;
@@ -113,8 +144,26 @@ double exact_kappa(const std::vector<Point<Rational>>& B, const Rational& u) {
   return (n - 1.0) / n * A / g / std::sqrt(g);
 }
 
+// Curvature of a rational Bezier segment with exact homogeneous points at u:
+// kappa = W^3 D / |h|^3 (bezierize/rational_lambda.hpp) with W, D and h
+// evaluated exactly, rounded once each (sign exact, within kKappaRelError).
+// NaN where h(u) = 0 (a zero tangent).
+double exact_rational_kappa(const std::vector<HPoint<Rational>>& H, const Rational& u) {
+  const HomogeneousBezier<Rational> c = homogeneous_components<Rational>(H);
+  const Bernstein<Rational> D = rational_d_bernstein(c);
+  const auto h = rational_h_bernstein(c);
+  const auto at = [&](const Bernstein<Rational>& p) { return p.empty() ? Rational(0) : bernstein_eval(p, u); };
+  const Rational w = at(c.w), hx = at(h[0]), hy = at(h[1]);
+  const Rational hh = hx * hx + hy * hy;
+  if (sgn(hh) == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double num = Rational(w * w * w * at(D)).get_d(), g = hh.get_d();
+  return num / g / std::sqrt(g);
+}
+
+// Roots of p in segment s, each with the curvature at its enclosure's
+// midpoint (kappa_at: exact_kappa or exact_rational_kappa of the segment).
 std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
-                                 const std::vector<Point<Rational>>& B, const RootOptions& options) {
+                                 const std::function<double(const Rational&)>& kappa_at, const RootOptions& options) {
   const Rational a(s.a), len = Rational(s.b) - Rational(s.a);
   std::vector<SpanRoot> out;
   for (const RootInterval& r : isolate_roots(p, options)) {
@@ -131,7 +180,7 @@ std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
       sr.at = SpanRoot::At::start;
     else if (r.exact() && r.lo == 1)
       sr.at = SpanRoot::At::end;
-    sr.kappa = exact_kappa(B, mid);
+    sr.kappa = kappa_at(mid);
     out.push_back(sr);
   }
   return out;
@@ -184,9 +233,22 @@ std::vector<SignChange> sign_changes(const std::vector<Stretch>& stretches) {
 class ExactPoints {
  public:
   explicit ExactPoints(const BSpline& spline) : spline_(spline), points_(spline.segment_count()) {}
+  /// Cartesian Bezier points (projected exactly for a rational spline).
   const std::vector<Point<Rational>>& operator()(int i) {
-    if (!points_[i]) points_[i] = segment_bezier_points<Rational>(spline_, spline_.segments()[i]);
+    if (!points_[i]) {
+      if (spline_.is_rational()) {
+        std::vector<Point<Rational>> P;
+        for (const HPoint<Rational>& h : homogeneous(i)) P.push_back({h.x / h.z, h.y / h.z});
+        points_[i] = std::move(P);
+      } else {
+        points_[i] = segment_bezier_points<Rational>(spline_, spline_.segments()[i]);
+      }
+    }
     return *points_[i];
+  }
+  /// Homogeneous Bezier points of a rational spline's segment i.
+  std::vector<HPoint<Rational>> homogeneous(int i) const {
+    return segment_homogeneous_points<Rational>(spline_, spline_.segments()[i]);
   }
 
  private:
@@ -206,22 +268,44 @@ struct StartSigns {
 SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const RootOptions& roots,
                        ExactPoints& exact, StartSigns& start) {
   const Segment& s = spline.segments()[i];
-  const auto B = segment_bezier_points<Bounded>(spline, s);
-  SpanReport span{s, {}, c, {}, false, false, {}, {}};
-  for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
-  start.lambda = strict_sign(lambda_bernstein<Bounded>(B));
+  SpanReport span{s, {}, {}, c, false, false, {}, {}};
+  // lambda and eta (for a rational spline: lambda and D of rational_lambda.hpp).
+  Bernstein<Bounded> lambda_b, eta_b;
+  std::function<Bernstein<Rational>()> lambda_exact, eta_exact;
+  std::function<double(const Rational&)> kappa_at;
+  if (spline.is_rational()) {
+    const auto H = segment_homogeneous_points<Bounded>(spline, s);
+    for (const HPoint<Bounded>& h : H) {
+      span.bezier.push_back({h.x.v / h.z.v, h.y.v / h.z.v});
+      span.weights.push_back(h.z.v);
+    }
+    lambda_b = rational_lambda_bernstein<Bounded>(H);
+    eta_b = rational_d_bernstein<Bounded>(H);
+    lambda_exact = [&] { return rational_lambda_bernstein<Rational>(exact.homogeneous(i)); };
+    eta_exact = [&] { return rational_d_bernstein<Rational>(exact.homogeneous(i)); };
+    kappa_at = [&](const Rational& u) { return exact_rational_kappa(exact.homogeneous(i), u); };
+  } else {
+    const auto B = segment_bezier_points<Bounded>(spline, s);
+    for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
+    lambda_b = lambda_bernstein<Bounded>(B);
+    eta_b = eta_bernstein<Bounded>(B);
+    lambda_exact = [&] { return lambda_bernstein<Rational>(exact(i)); };
+    eta_exact = [&] { return eta_bernstein<Rational>(exact(i)); };
+    kappa_at = [&](const Rational& u) { return exact_kappa(exact(i), u); };
+  }
+  start.lambda = strict_sign(lambda_b);
   if (start.lambda == 0) {
-    const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact(i));
+    const Bernstein<Rational> lambda = lambda_exact();
     span.lambda_zero = is_zero(lambda);
     start.lambda = sign_at_start(lambda);
-    span.extrema = span_roots(lambda, s, exact(i), roots);
+    span.extrema = span_roots(lambda, s, kappa_at, roots);
   }
-  start.eta = strict_sign(eta_bernstein<Bounded>(B));
+  start.eta = strict_sign(eta_b);
   if (start.eta == 0) {
-    const Bernstein<Rational> eta = eta_bernstein<Rational>(exact(i));
+    const Bernstein<Rational> eta = eta_exact();
     span.eta_zero = is_zero(eta);
     start.eta = sign_at_start(eta);
-    span.inflections = span_roots(eta, s, exact(i), roots);
+    span.inflections = span_roots(eta, s, kappa_at, roots);
   }
   return span;
 }
@@ -948,7 +1032,7 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   std::vector<std::vector<Frame>> frames(r.spans.size());
   for (std::size_t i = 0; i < r.spans.size(); ++i)
     for (int k = 0; k <= kSamples; ++k)
-      frames[i].push_back(frame_at(r.spans[i].bezier, static_cast<double>(k) / kSamples));
+      frames[i].push_back(frame_at(r.spans[i].bezier, r.spans[i].weights, static_cast<double>(k) / kSamples));
   summary_html(out, r, options);
   out += "<div class=\"figs\"><figure>";
   curve_svg(out, r, frames);

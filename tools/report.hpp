@@ -88,6 +88,7 @@ struct SpanRoot {
 struct SpanReport {
   Segment segment;          ///< the span and its index
   std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
+  std::vector<double> weights;  ///< a rational segment's Bezier weights; empty when polynomial
   SegmentClass classification;  ///< Algorithms 1 and 2
   SegmentShape shape;           ///< exact straight / cusp / inflection facts (analyze)
   bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)

@@ -232,12 +232,13 @@ Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOption
 
 Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
   const RegionPrecision precision = options_.precision;
-  const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
+  const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty(),
+                s.spline().is_rational()};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
   const auto t0 = std::chrono::steady_clock::now();
-  const uint32_t spec[4] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
-                            key.joints ? 1u : 0u};
+  const uint32_t spec[5] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
+                            key.joints ? 1u : 0u, key.rational ? 1u : 0u};
   std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_frag_spv)
                                                                        : std::span<const uint32_t>(cmr_region_fp32_frag_spv);
   auto created = FragmentPipeline::create(context_, spirv, kWorkAreaWidth, kWorkAreaHeight, 0,

@@ -66,6 +66,7 @@ class VulkanRegionBackend final : public RegionBackend {
     int degree, depth;
     RegionPrecision precision;
     bool cmr, joints;
+    bool rational;
     bool operator==(const Key&) const = default;
   };
   VulkanRegionBackend(Context context, VulkanRegionOptions options)

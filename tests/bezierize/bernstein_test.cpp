@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace cmr {
@@ -75,6 +76,30 @@ TEST(Bernstein, BoundedArithmeticEnclosesTheExactValue) {
       const Rational diff = abs(Pe[k] - Rational(P[k].v));
       ASSERT_LE(diff, Rational(P[k].e)) << "trial " << trial << " coefficient " << k;
       ASSERT_GT(P[k].e, 0.0);
+    }
+  }
+}
+
+TEST(Bernstein, ReductionUndoesElevationExactlyAndEnclosesInBoundedArithmetic) {
+  std::mt19937_64 rng(5);
+  std::uniform_int_distribution<int> num(-1000, 1000);
+  for (int n = 1; n <= 12; ++n) {
+    Bernstein<Rational> c;
+    for (int i = 0; i <= n; ++i) {
+      c.push_back(Rational(num(rng), 64));
+      c.back().canonicalize();  // GMP compares canonical fractions only
+    }
+    const Bernstein<Rational> e = bernstein_elevate(c);
+    EXPECT_EQ(bernstein_reduce(e), c) << "n=" << n;  // bernstein_reduce also checks that both sweeps agree
+    // The elevated coefficients rounded to double, each with a bound on its
+    // rounding: the Bounded reduction must enclose the exact c.
+    Bernstein<Bounded> eb;
+    for (const Rational& x : e) eb.push_back(Bounded(x.get_d(), Bounded::kRound * std::abs(x.get_d())));
+    const Bernstein<Bounded> rb = bernstein_reduce(eb);
+    ASSERT_EQ(rb.size(), c.size());
+    for (int i = 0; i <= n; ++i) {
+      const Rational gap = abs(Rational(rb[i].v) - c[i]);
+      EXPECT_LE(gap, Rational(rb[i].e)) << "n=" << n << " i=" << i;
     }
   }
 }

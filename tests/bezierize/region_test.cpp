@@ -322,7 +322,7 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
                   << "P" << k << " pixel (" << i << ", " << j << ")";
               monotone += px.split_label != SplitLabel::none;
             } else {
-              const Direction want = mode == Mode::cmr ? a.cmr : a.cmrwi;
+              const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
               EXPECT_EQ(detail::label_of(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
               monotone += px.label != RegionLabel::not_monotone;
             }
@@ -332,5 +332,49 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
     }
   }
 }
+
+// Rational splines (fixed weights): the CPU backend's labels are, pixel by
+// pixel, those of an independent exact analysis of the moved spline (the
+// spline with point k at the pixel centre), in both modes and split.
+TEST(Region, RationalSplineLabelsEqualTheExactAnalysisOfTheMovedSpline) {
+  // Fig. 9's polygon (tools/figures.cpp) with weights, on its C2 knots and
+  // with a C1 joint (double knot) whose curvature jump varies with the position.
+  const std::vector<Vec2> P = {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {6.57, -6.46}};
+  const std::vector<double> w = {1, 1.03125, 1, 1, 0.96875, 1.0625};
+  for (const BSpline& s : {BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3}, P, "C2", w),
+                           BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, P, "C1", w)}) {
+  ASSERT_TRUE(s.is_rational());
+  int region_pixels = 0;
+  for (int mode = 0; mode < 2; ++mode)
+    for (const std::optional<int> split : {std::optional<int>(), std::optional<int>(1)}) {
+      RegionRequest o;
+      o.point = 3;
+      o.width = 24;
+      o.height = 24;
+      o.mode = mode ? Mode::cmr : Mode::cmrwi;
+      o.view = View{2.9, -2.6, 4.1, -1.4};  // around P3
+      o.split = split;
+      const RegionProblem problem = RegionProblem::make(s, o);
+      const RegionResult img = CpuRegionBackend().render(problem);
+      int in_region = 0;
+      for (int j = 0; j < o.height; ++j)
+        for (int i = 0; i < o.width; ++i) {
+          const Vec2 p = pixel_center(img.view, o.width, o.height, i, j);
+          AnalyzeOptions ao;
+          ao.split = split;
+          ao.split_mode = o.mode;
+          const SplineAnalysis a = analyze(s.with_point(o.point, p), ao);
+          const int want = split ? detail::label_of(*a.split) : detail::label_of(mode ? a.cmr_algorithm2 : a.cmrwi);
+          ASSERT_EQ(img.code_at(j * o.width + i), want)
+              << s.name() << " mode " << mode << " split " << split.has_value() << " pixel (" << i << ", " << j << ")";
+          in_region += want != 0;
+        }
+      EXPECT_LT(in_region, o.width * o.height) << s.name() << " mode " << mode << " split " << split.has_value();
+      region_pixels += in_region;
+    }
+  EXPECT_GT(region_pixels, 50) << s.name() << ": the scene must hold part of the regions";
+  }
+}
+
 }  // namespace
 }  // namespace cmr

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "spline/errors.hpp"
 #include "tests/test_util.hpp"
@@ -166,6 +167,65 @@ TEST(BSpline, WithPointRejectsOutOfRangeIndex) {
   EXPECT_THROW((void)s.with_point(3, {0, 0}), InputError);
   EXPECT_THROW((void)s.with_point(-1, {0, 0}), InputError);
   EXPECT_EQ(s.with_point(1, {5, 5}).points()[1], Vec2(5, 5));
+}
+
+TEST(BSpline, WeightsAreValidatedNamingTheIndex) {
+  const std::vector<Vec2> P = {{0, 0}, {1, 1}, {2, 0}};
+  const auto message = [&](std::vector<double> w) {
+    try {
+      (void)BSpline::bezier(P, "", std::move(w));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message({1, 2}), "weights: one weight per control point is needed: 3 points, 2 weights");
+  EXPECT_EQ(message({1, 0, 1}).rfind("weights[1] (0) is not positive", 0), 0u) << message({1, 0, 1});
+  EXPECT_EQ(message({1, 1, -2}).rfind("weights[2] (-2) is not positive", 0), 0u);
+  EXPECT_EQ(message({1, std::numeric_limits<double>::infinity(), 1}), "weights[1] is not a finite number");
+  EXPECT_EQ(message({1, 2, 1}), "accepted");
+  EXPECT_FALSE(BSpline::bezier(P, "", {3, 3, 3}).is_rational());  // equal weights cancel
+}
+
+TEST(BSpline, RationalEvaluationMatchesCoxDeBoorOfTheHomogeneousCurve) {
+  // Independent route: Cox-de Boor on (w x, w y) and on (w, 0), then divide.
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> weight(0.2, 5);
+  for (const auto& knots : {std::vector<double>{0, 1, 2, 3, 4, 5, 6, 7}, std::vector<double>{0, 0, 0, 1, 2, 3, 3, 3},
+                            std::vector<double>{0, 0, 0, 1, 1, 1, 2, 2}}) {
+    const auto P = test::random_points(rng, 6);
+    std::vector<double> w;
+    for (int i = 0; i < 6; ++i) w.push_back(weight(rng));
+    const BSpline s = BSpline::make(3, knots, P, "", w);
+    std::vector<Vec2> wp, ww;
+    for (int i = 0; i < 6; ++i) {
+      wp.push_back(w[i] * P[i]);
+      ww.push_back(Vec2(w[i], 0));
+    }
+    const BSpline X = BSpline::make(3, knots, wp), W = BSpline::make(3, knots, ww);
+    for (double t = s.domain_begin(); t <= s.domain_end(); t += 0.0625) {
+      const Vec2 want = test::cox_de_boor(X, t) / test::cox_de_boor(W, t).x;
+      const Vec2 got = evaluate(s, t);
+      EXPECT_NEAR(got.x, want.x, 1e-12 * (1 + std::abs(want.x))) << "t=" << t;
+      EXPECT_NEAR(got.y, want.y, 1e-12 * (1 + std::abs(want.y))) << "t=" << t;
+      // Derivatives (Leibniz on the homogeneous blossom) against central differences.
+      const double h = 1e-6;
+      const Vec2 fd = (evaluate(s, t + h) - evaluate(s, t - h)) / (2 * h);
+      if (t - h > s.domain_begin() && t + h < s.domain_end() && s.multiplicity(t) == 0) {
+        const Vec2 d1 = derivative(s, t, 1);
+        EXPECT_NEAR(d1.x, fd.x, 1e-6 * (1 + std::abs(fd.x))) << "t=" << t;
+        EXPECT_NEAR(d1.y, fd.y, 1e-6 * (1 + std::abs(fd.y))) << "t=" << t;
+      }
+    }
+    // Reversal and with_point keep the weights with their points.
+    const BSpline r = s.reversed();
+    for (double t = s.domain_begin(); t <= s.domain_end(); t += 0.25) {
+      const Vec2 a = evaluate(s, t), b = evaluate(r, -t);
+      EXPECT_NEAR(a.x, b.x, 1e-12 * (1 + std::abs(a.x)));
+      EXPECT_NEAR(a.y, b.y, 1e-12 * (1 + std::abs(a.y)));
+    }
+    EXPECT_EQ(s.with_point(2, Vec2(9, 9)).homogeneous_points()[2], glm::dvec3(9 * w[2], 9 * w[2], w[2]));
+  }
 }
 
 }  // namespace

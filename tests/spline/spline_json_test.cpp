@@ -147,5 +147,34 @@ TEST(ReadInputFile, FilesAboveTheLimitAreRefusedWithoutReadingThem) {
   std::filesystem::remove(p);
 }
 
+TEST(SplineJson, WeightsRoundTripAndAreValidated) {
+  const nlohmann::json doc = nlohmann::json::parse(
+      R"({"degree": 2, "knots": [0, 0, 1, 1], "points": [[1, 0], [1, 1], [0, 1]], "weights": [2, 1, 1]})");
+  const BSpline s = spline_from_json(doc);
+  ASSERT_TRUE(s.is_rational());
+  EXPECT_EQ(s.weights(), (std::vector<double>{2, 1, 1}));
+  EXPECT_EQ(spline_to_json(s)["weights"], doc["weights"]);
+  EXPECT_EQ(spline_from_json(spline_to_json(s)).weights(), s.weights());
+  // A Bezier file (no knots) takes weights too.
+  EXPECT_TRUE(spline_from_json(nlohmann::json::parse(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 0.5, 1]})"))
+                  .is_rational());
+  // A polynomial spline is written without weights.
+  EXPECT_FALSE(spline_to_json(BSpline::bezier({{0, 0}, {1, 1}, {2, 0}})).contains("weights"));
+  const auto message = [](const char* text) {
+    try {
+      (void)spline_from_json(nlohmann::json::parse(text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 1]})"),
+            "weights: one weight per control point is needed: 3 points, 2 weights");
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, "x", 1]})"), "weights[1] is not a number");
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": 2})"), "weights: not an array of numbers");
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, -1, 1]})").rfind("weights[1] (-1) is not positive", 0),
+            0u);
+}
+
 }  // namespace
 }  // namespace cmr

@@ -79,6 +79,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "convert the file with `cmr knots FILE --conventional clamp`"},
         BadInput{"depth_out_of_range", "analyze FILE --depth 99", "{" + kSixPoints + "}", "--depth"},
         BadInput{"mode_unknown", "analyze FILE --mode bogus", "{" + kSixPoints + "}", "--mode"},
+        BadInput{"weight_zero", "analyze FILE", "{\"weights\":[1,0,1,1,1,1]," + kSixPoints + "}",
+                 "weights[1] (0) is not positive"},
+        BadInput{"weights_count", "region FILE --point 0 --backend cpu", "{\"weights\":[1,2]," + kSixPoints + "}",
+                 "one weight per control point"},
         BadInput{"unknown_command", "frobnicate", "", "unknown command 'frobnicate'"},
         BadInput{"no_file_argument", "analyze", "", "FILE"}),
     [](const auto& p) { return std::string(p.param.name); });
@@ -98,6 +102,25 @@ TEST(Cli, SegmentsOnThePaperKnotVectors) {
   std::ifstream in(std::string(CMR_SOURCE_DIR) + "/examples/clamped.json");
   const auto file = nlohmann::json::parse(in);
   EXPECT_EQ(cd["segments"][0]["points"][0], file["points"][0]);  // clamped: interpolates P0
+}
+
+TEST(Cli, RationalCircleIsConstantAndItsSegmentsCarryWeights) {
+  const std::string circle = std::string(CMR_SOURCE_DIR) + "/examples/rational/circle.json";
+  const Outcome a = run("analyze " + circle);
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  ASSERT_EQ(doc["segments"].size(), 4u);
+  for (const auto& seg : doc["segments"]) EXPECT_EQ(seg["curvature"], "constant") << seg;
+  for (const auto& j : doc["joints"]) EXPECT_EQ(j["jump"], "none") << j;
+  const Outcome s = run("segments " + circle);
+  ASSERT_EQ(s.code, 0) << s.err;
+  const auto segs = nlohmann::json::parse(s.out)["segments"];
+  ASSERT_EQ(segs.size(), 4u);
+  EXPECT_EQ(segs[1]["weights"], nlohmann::json({1.0, 0.5, 0.5}));
+  // Knot operations keep a rational curve rational: its file has weights.
+  const Outcome e = run("knots " + circle + " elevate");
+  ASSERT_EQ(e.code, 0) << e.err;
+  EXPECT_EQ(nlohmann::json::parse(e.out)["weights"].size(), 13u);
 }
 
 TEST(Cli, AnalyzePrintsSegmentsAndVerdicts) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
 
 namespace {
@@ -75,6 +76,18 @@ TEST(EditModel, DragCommitsMergeIntoOneUndoStep) {
   EXPECT_FALSE(h.undo());
   EXPECT_TRUE(h.redo());
   EXPECT_DOUBLE_EQ(h.current().spline.points()[0].x, 0.3);
+}
+
+TEST(EditModel, KnotInsertionKeepsARationalCurve) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, {{0, 0}, {1, 2}, {3, 3}, {4, 1}, {5, 0}}, "", {1, 2, 0.5, 1.5, 1});
+  const KnotResult r = knot_operation(s, "insert", 0.5, 2);
+  ASSERT_TRUE(r.spline.is_rational());
+  EXPECT_EQ(r.spline.point_count(), 7);
+  for (double t = 0; t <= 2; t += 0.125) {
+    const Vec2 a = evaluate(s, t), b = evaluate(r.spline, t);
+    EXPECT_NEAR(a.x, b.x, 1e-12) << "t=" << t;
+    EXPECT_NEAR(a.y, b.y, 1e-12) << "t=" << t;
+  }
 }
 
 }  // namespace

@@ -183,6 +183,28 @@ TEST_F(EditTest, DragSavesTheEditedSplineAndRegionPixelsMatchCmrRegion) {
   EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
 }
 
+TEST_F(EditTest, RationalSplineKeepsItsWeightsAndRegionPixelsMatchCmrRegion) {
+  const std::string nurbs = std::string(CMR_SOURCE_DIR) + "/examples/rational/nurbs_cubic.json";
+  const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
+  const Outcome r = run_edit(nurbs,
+                             "ui off\noverlay off\nview 2.8 -2.6 4.4 -1.4\nknot 3 1.25\ndrag 3 3.5 -2 6\nsave " +
+                                 saved.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json before = read_json(nurbs), after = read_json(saved);
+  EXPECT_EQ(after["weights"], before["weights"]) << "moving a knot and a point keeps the weights";
+  EXPECT_EQ(after["knots"][3].get<double>(), 1.25);
+  EXPECT_NEAR(after["points"][3][0].get<double>(), 3.5, 1e-9);
+  const fs::path labels = dir_ / "labels.pgm";
+  const Outcome region = run("region " + saved.string() + " --point 3 --view 2.8,-2.6,4.4,-1.4 --size " +
+                             std::to_string(kW) + "x" + std::to_string(kH) + " --backend cpu --labels " +
+                             labels.string());
+  ASSERT_EQ(region.code, 0) << region.err;
+  const auto seen = compare_with_labels(read_png(shot), {labels});
+  EXPECT_GT(seen[0], 0) << "the view should show non-monotone pixels";
+  EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
+}
+
 TEST_F(EditTest, KnotMoveModeToggleAndAllPointsMatchCmrRegion) {
   const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
   const Outcome r = run_edit(kFig8,

@@ -34,6 +34,8 @@ const std::string kClamped = kSource + "/examples/clamped.json";  // 6 points, 3
 // label 0 everywhere), so that the backend comparison cannot pass vacuously.
 const std::string kFig2 = kSource + "/examples/figures/fig2.json";   // cubic Bezier, 4 points
 const std::string kFig8b = kSource + "/examples/figures/fig8b.json"; // uniform cubic, 6 points
+const std::string kNurbs = kSource + "/examples/rational/nurbs_cubic.json";  // rational cubic, 6 points
+const std::string kCircle = kSource + "/examples/rational/circle.json";      // 4 rational quadratic arcs
 
 // A fresh, empty folder for one test's output files.
 fs::path out_dir(const std::string& name) {
@@ -464,7 +466,11 @@ INSTANTIATE_TEST_SUITE_P(
                       // More examples with regions:
                       Same{"fig2_P0", kFig2, "--point 0"}, Same{"fig2_P3_cmr", kFig2, "--point 3 --mode cmr"},
                       Same{"fig8b_P5", kFig8b, "--point 5"},
-                      Same{"fig8b_split2_cmr_P4", kFig8b, "--point 4 --split 2 --mode cmr"}),
+                      Same{"fig8b_split2_cmr_P4", kFig8b, "--point 4 --split 2 --mode cmr"},
+                      // Rational curves:
+                      Same{"nurbs_P3", kNurbs, "--point 3 --view 2.9,-2.6,4.1,-1.4"},
+                      Same{"nurbs_P5_cmr", kNurbs, "--point 5 --mode cmr"},
+                      Same{"circle_P2", kCircle, "--point 2"}),
     [](const auto& p) { return std::string(p.param.name); });
 
 TEST(RegionBackendsAgree, EveryPointOverlappedGivesTheSameMapsAndPicture) {

@@ -60,6 +60,39 @@ TEST(ReportRoots, SymmetricArchHasItsExtremumExactlyAtOneHalf) {
   EXPECT_TRUE(r.inflections.empty());
 }
 
+// Rational conics against closed forms. Quarter ellipse x^2/9 + y^2/4 = 1
+// from (3, 0) to (0, 2): kappa falls from a/b^2 = 3/4 to b/a^2 = 2/9, with
+// lambda = 0 exactly at both vertices (the ends).
+TEST(ReportRoots, RationalQuarterEllipseHasItsVertexCurvaturesAtTheEnds) {
+  const SplineReport r = report_spline(BSpline::bezier({{3, 0}, {3, 2}, {0, 2}}, "ellipse", {2, 1, 1}), no_regions());
+  EXPECT_NEAR(r.kappa_max, 0.75, 1e-15);
+  EXPECT_EQ(r.t_max, 0.0);
+  EXPECT_NEAR(r.kappa_min, 2.0 / 9, 1e-15);
+  EXPECT_EQ(r.t_min, 1.0);
+  EXPECT_TRUE(r.extrema.empty());
+  EXPECT_EQ(r.monotone_pieces, 1);
+  ASSERT_EQ(r.spans[0].extrema.size(), 2u);  // the roots of lambda at the ends, exactly
+  EXPECT_EQ(r.spans[0].extrema[0].at, SpanRoot::At::start);
+  EXPECT_EQ(r.spans[0].extrema[1].at, SpanRoot::At::end);
+  EXPECT_EQ(r.spans[0].weights, (std::vector<double>{2, 1, 1}));
+}
+
+// The hyperbola x y = 25 between (2.5, 10) and (10, 2.5), symmetric about
+// y = x: its curvature 2xy / (x^2 + y^2)^(3/2) peaks at the vertex (5, 5),
+// t = 1/2 exactly, with kappa = 1/sqrt(50).
+TEST(ReportRoots, RationalHyperbolaPeaksExactlyAtItsVertex) {
+  const SplineReport r =
+      report_spline(BSpline::bezier({{2.5, 10}, {4, 4}, {10, 2.5}}, "hyperbola", {1, 1.25, 1}), no_regions());
+  ASSERT_EQ(r.extrema.size(), 1u);
+  EXPECT_EQ(r.extrema[0].t, 0.5);
+  EXPECT_EQ(r.extrema[0].kind, 1);
+  EXPECT_NEAR(r.extrema[0].kappa, 1 / std::sqrt(50.0), 1e-15);
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  EXPECT_TRUE(r.spans[0].extrema[0].exact);
+  EXPECT_NEAR(r.kappa_max, 1 / std::sqrt(50.0), 1e-15);
+  EXPECT_EQ(r.monotone_pieces, 2);
+}
+
 TEST(ReportRoots, LeftHalfOfTheArchHasItsStationaryPointExactlyAtTheEnd) {
   // Exact de Casteljau at 1/2 (every value is a short dyadic): the left half
   // ends where the arch has its extremum.

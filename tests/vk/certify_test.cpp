@@ -279,6 +279,21 @@ std::vector<Case> cases() {
       [] { return Scene{test::class_a_bezier(4, -0.3, 1.2), opts(2, Mode::cmr)}; }, false, Zoom::extreme, 1e-4);
   add("random_quintic_seed73_P3_zoom1e-4_seed10", [] { return Scene{random_quintic_spline(73), opts(3)}; }, false,
       Zoom::boundary, 1e-4, 10);
+  // A rational cubic B-spline (examples/rational/nurbs_cubic.json), zoomed onto
+  // boundaries of P3's region (cmrwi) and of P5's (cmr).
+  const auto nurbs = [](int k, Mode mode, std::optional<View> view) {
+    return [=] {
+      Scene s{BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3},
+                            {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {6.57, -6.46}}, "nurbs",
+                            {1, 1.03125, 1, 1, 0.96875, 1.0625}),
+              opts(k, mode)};
+      s.options.view = view;
+      return s;
+    };
+  };
+  add("nurbs_cubic_P3_zoom1e-4_seed12", nurbs(3, Mode::cmrwi, View{2.9, -2.6, 4.1, -1.4}), false, Zoom::boundary, 1e-4,
+      12);
+  add("nurbs_cubic_P5_cmr_zoom1e-4_seed13", nurbs(5, Mode::cmr, std::nullopt), false, Zoom::boundary, 1e-4, 13);
   return c;
 }
 

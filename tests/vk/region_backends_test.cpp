@@ -90,6 +90,22 @@ std::vector<Scene> scenes() {
       {"fig10_double_knot_splits_2_P3", fig10_double_knot(), seg_opts(fig10_double_knot(), 3, {}, {}, {2}, Mode::cmrwi, 1.0)},
       {"fig10_double_knot_segments_0_1_P4", fig10_double_knot(), seg_opts(fig10_double_knot(), 4, SegmentRange{0, 1}, {}, {})},
   };
+  // Rational splines (weights fixed while the point moves): Fig. 9's polygon
+  // with weights, seen around P3, on C2 knots and split at a C1 joint; and a
+  // quadratic with C1 joints whose jumps vary (decided on the host).
+  const std::vector<Vec2> fig9 = {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {6.57, -6.46}};
+  const std::vector<double> w9 = {1, 1.03125, 1, 1, 0.96875, 1.0625};
+  RegionRequest near_p3 = opts(3);
+  near_p3.view = View{2.9, -2.6, 4.1, -1.4};
+  RegionRequest near_p3_split = opts(3, Mode::cmr, 1);
+  near_p3_split.view = near_p3.view;
+  std::uniform_real_distribution<double> weight(0.5, 2);
+  std::vector<double> wq;
+  for (int i = 0; i < 5; ++i) wq.push_back(weight(rng));
+  s.push_back({"rational_cubic_P3", BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3}, fig9, "", w9), near_p3});
+  s.push_back({"rational_cubic_C1_split1_P3_cmr", BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, fig9, "", w9), near_p3_split});
+  s.push_back({"rational_quadratic_C1_joints",
+               BSpline::make(2, {0, 1, 2, 3, 4, 5}, random_spline(rng, 2, {0, 1, 2, 3, 4, 5}).points(), "", wq), opts(2)});
   return s;
 }
 
@@ -161,10 +177,10 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
       ao.splits = sc.options.splits;
       ao.segments = sc.options.segments;
       ao.split_mode = sc.options.mode;
-      const SplineAnalysis a = analyze(BSpline::make(sc.spline.degree(), sc.spline.knots(), pts), ao);
+      const SplineAnalysis a = analyze(BSpline::make(sc.spline.degree(), sc.spline.knots(), pts, "", sc.spline.weights()), ao);
       const uint8_t want = !sc.options.splits.empty() ? label_of(*a.alternation)
                            : sc.options.split        ? label_of(*a.split)
-                                                     : label_of(sc.options.mode == Mode::cmr ? a.cmr : a.cmrwi);
+                                                     : label_of(sc.options.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
       EXPECT_EQ(int(img.labels[j * img.width + i]), int(want)) << sc.name << " pixel (" << i << ", " << j << ")";
     }
   }

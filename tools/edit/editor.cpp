@@ -183,7 +183,7 @@ void Editor::move_knot(int i, double u) {
     throw InputError("knot " + std::to_string(i) + " is outside 0.." + std::to_string(s.knots().size() - 1));
   std::vector<double> knots = s.knots();
   knots[i] = u;
-  replace_spline(BSpline::make(s.degree(), std::move(knots), s.points(), s.name()), "knot");
+  replace_spline(BSpline::make(s.degree(), std::move(knots), s.points(), s.name(), s.weights()), "knot");
 }
 
 void Editor::knot_operation(const std::string& name, double a, double b) {

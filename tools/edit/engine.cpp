@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bezierize/extract.hpp"
+#include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "tools/draw.hpp"
@@ -93,8 +94,8 @@ KnotResult knot_operation(const BSpline& spline, const std::string& name, double
     if (!(a > spline.domain_begin() && a < spline.domain_end()))
       throw InputError("insert: knot " + std::to_string(a) + " is not inside the domain");
     const int times = b > 0 ? static_cast<int>(b) : 1;
-    BSpline s = spline;
-    for (int i = 0; i < times; ++i) s = insert_knot(s, a);
+    // knot_ops' blossom insertion: also for rational splines (homogeneous).
+    const BSpline s = insert_knot(spline, a, times);
     return {s, "inserted knot " + std::to_string(a) + " x" + std::to_string(times)};
   }
   throw InputError("knot operation '" + name + "' is not available in this build");
