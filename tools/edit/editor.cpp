@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
+#include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 
@@ -15,7 +17,9 @@ Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height
       viewport_(Viewport::fit(history_.current().spline, width, height, width - kPanelWidth, height - kPlotHeight)) {}
 
 void Editor::changed_document() {
-  region_stale_ = rgba_stale_ = analysis_stale_ = events_stale_ = true;
+  // The colours follow the layers alone: region() marks them stale when the
+  // layers' keys change.
+  region_stale_ = analysis_stale_ = events_stale_ = true;
 }
 
 int Editor::pick(double x, double y) const {
@@ -47,11 +51,15 @@ void Editor::mouse_move(double x, double y) {
 
 void Editor::mouse_button(MouseButton button, bool down, bool shift) {
   if (button != MouseButton::left) {
+    if (panning_ && !down) region_stale_ = true;  // full resolution again
     panning_ = down;
     return;
   }
   if (!down) {
-    if (dragging_ >= 0) history_.seal();
+    if (dragging_ >= 0) {
+      history_.seal();
+      region_stale_ = true;  // full resolution again
+    }
     dragging_ = -1;
     return;
   }
@@ -178,17 +186,18 @@ void Editor::move_point(int k, Vec2 p) {
 }
 
 void Editor::move_knot(int i, double u) {
-  const BSpline& s = doc().spline;
-  if (i < 0 || i >= static_cast<int>(s.knots().size()))
-    throw InputError("knot " + std::to_string(i) + " is outside 0.." + std::to_string(s.knots().size() - 1));
-  std::vector<double> knots = s.knots();
-  knots[i] = u;
-  replace_spline(BSpline::make(s.degree(), std::move(knots), s.points(), s.name()), "knot");
+  replace_spline(set_knot(doc().spline, i, u), "knot " + std::to_string(i) + " moved");
 }
 
-void Editor::knot_operation(const std::string& name, double a, double b) {
-  KnotResult r = edit::knot_operation(doc().spline, name, a, b);
-  replace_spline(std::move(r.spline), r.message);
+bool Editor::knot_operation(const std::string& name, double a, double b) {
+  try {
+    KnotResult r = edit::knot_operation(doc().spline, name, a, b);
+    replace_spline(std::move(r.spline), r.message);
+    return true;
+  } catch (const InputError& e) {
+    message = std::string("refused: ") + e.what();
+    return false;
+  }
 }
 
 void Editor::replace_spline(BSpline spline, const std::string& what) {
@@ -235,12 +244,12 @@ std::string pgm(const RegionResult& img) {
 }  // namespace
 
 void Editor::export_region(const std::filesystem::path& path) {
-  const RegionQuery q = region_query(true);
+  const std::vector<RegionRequest> q = region_requests(true);
   const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
   cli::OutputFiles out;
   for (std::size_t i = 0; i < layers.size(); ++i) {
     std::filesystem::path p = path;
-    if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q.points[i]) + path.extension().string());
+    if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
     out.write(p, pgm(layers[i]));
   }
   out.keep();
@@ -275,46 +284,73 @@ std::pair<int, int> Editor::canvas() const {
   return {std::max(1, w - kPanelWidth), std::max(1, h - kPlotHeight)};
 }
 
-RegionQuery Editor::region_query(bool whole_window) const {
+std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse) const {
   const Document& d = doc();
-  RegionQuery q;
-  if (d.all_points) {
-    for (int k = 0; k < d.spline.point_count(); ++k) q.points.push_back(k);
-  } else {
-    q.points = {d.selected};
-    q.with = d.group;
-    if (d.chain) {  // an anchor's handles move rigidly with it
-      for (int i : translation_group(d, d.selected))
-        if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
-    }
-  }
+  RegionRequest q;
   q.mode = d.mode;
   q.split = d.split;
   q.max_depth = d.max_depth;
-  q.depth_map = d.depth_shading;
+  q.depth = d.depth_shading;
   q.view = viewport_.view;
   q.width = viewport_.width;
   q.height = viewport_.height;
-  const auto [cw, ch] = canvas();
-  if (!whole_window && (cw != q.width || ch != q.height)) {
+  const auto [cw, ch] = whole_window ? std::pair{q.width, q.height} : canvas();
+  if (cw != q.width || ch != q.height || coarse > 1) {
     const View& v = viewport_.view;
-    const double sx = (v.x1 - v.x0) / q.width, sy = (v.y1 - v.y0) / q.height;
-    q.view = {v.x0, v.y1 - sy * ch, v.x0 + sx * cw, v.y1};
-    q.width = cw;
-    q.height = ch;
+    const double sx = (v.x1 - v.x0) / q.width * coarse, sy = (v.y1 - v.y0) / q.height * coarse;
+    q.width = (cw + coarse - 1) / coarse;
+    q.height = (ch + coarse - 1) / coarse;
+    q.view = View{v.x0, v.y1 - sy * q.height, v.x0 + sx * q.width, v.y1};
   }
-  return q;
+  std::vector<RegionRequest> layers;
+  if (d.all_points) {
+    for (int k = 0; k < d.spline.point_count(); ++k) {
+      q.point = k;
+      layers.push_back(q);
+    }
+    return layers;
+  }
+  q.point = d.selected;
+  q.with = d.group;
+  if (d.chain) {  // an anchor's handles move rigidly with it
+    for (int i : translation_group(d, d.selected))
+      if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
+  }
+  layers.push_back(q);
+  return layers;
 }
 
-const std::vector<RegionResult>& Editor::region(bool* changed) {
+const std::vector<const RegionResult*>& Editor::region(bool* changed) {
   if (canvas() != region_canvas_) region_stale_ = true;
-  if (changed != nullptr) *changed = region_stale_;
+  bool differs = false;
   if (region_stale_) {
+    const BSpline& s = doc().spline;
+    std::vector<RegionRequest> requests = region_requests(false, 1);
+    std::vector<std::vector<double>> keys;
+    for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
+    cache_.set_capacity(std::max<std::size_t>(16, 3 * requests.size()));
+    const bool interacting = dragging_ >= 0 || panning_;
+    const bool cached = std::all_of(keys.begin(), keys.end(), [&](const auto& k) { return cache_.find(k) != nullptr; });
+    int coarse = 1;
+    if (interacting && !cached) {
+      coarse = kDragCoarse;
+      requests = region_requests(false, coarse);
+      keys.clear();
+      for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
+    }
+    differs = keys != region_keys_;
+    if (differs) {
+      region_.clear();
+      for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r));
+      region_keys_ = std::move(keys);
+      region_coarse_ = coarse;
+      rgba_stale_ = true;
+    }
+    // Dragging: the full-resolution region is due when the drag ends.
+    region_stale_ = coarse != 1;
     region_canvas_ = canvas();
-    region_ = compute_regions(doc().spline, region_query());
-    region_stale_ = false;
-    rgba_stale_ = true;
   }
+  if (changed != nullptr) *changed = differs;
   return region_;
 }
 
@@ -327,10 +363,22 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
     const std::vector<uint8_t> part =
         edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
     const std::size_t w = viewport_.width, h = viewport_.height;
-    const std::size_t cw = region_canvas_.first, ch = region_canvas_.second;
-    rgba_.assign(w * h * 4, 255);
-    for (std::size_t j = 0; j < ch && j < h; ++j)
-      std::copy_n(&part[j * cw * 4], std::min(cw, w) * 4, &rgba_[j * w * 4]);
+    const std::size_t cw = std::min<std::size_t>(region_canvas_.first, w);
+    const std::size_t ch = std::min<std::size_t>(region_canvas_.second, h);
+    const std::size_t c = region_coarse_, pw = region_.empty() ? 0 : region_.front()->width;
+    rgba_.resize(w * h * 4);
+    // Window row j shows region row j / c; pixel i of it region pixel i / c.
+    parallel_for(h, 0, [&](std::size_t j) {
+      uint8_t* out = &rgba_[j * w * 4];
+      std::fill(out + (j < ch ? cw * 4 : 0), out + w * 4, uint8_t{255});
+      if (j >= ch || pw == 0) return;
+      const uint8_t* in = &part[(j / c) * pw * 4];
+      if (c == 1) {
+        std::copy_n(in, cw * 4, out);
+        return;
+      }
+      for (std::size_t i = 0; i < cw; ++i) std::copy_n(in + (i / c) * 4, 4, out + i * 4);
+    });
     rgba_stale_ = false;
   }
   return rgba_;

@@ -53,7 +53,10 @@ class Editor {
   /// Knot i to value u (polar index); the spline must stay valid.
   void move_knot(int i, double u);
   /// A knot operation by name (engine.hpp's knot_operation); one undo step.
-  void knot_operation(const std::string& name, double a, double b);
+  /// A refused operation (InputError: e.g. a removal beyond the tolerance)
+  /// changes nothing, puts "refused: <why>" in the status line and returns
+  /// false.
+  bool knot_operation(const std::string& name, double a, double b);
   /// Replaces the spline (knot operations); one undo step.
   void replace_spline(BSpline spline, const std::string& what);
   bool undo();
@@ -75,14 +78,27 @@ class Editor {
   /// the UI, else the top-left rectangle the opaque panels leave free (the
   /// pixels under them are never seen).
   std::pair<int, int> canvas() const;
-  /// The query the region view answers now: the canvas's pixels, with the
-  /// same pixel size and top-left corner as the window's view (the whole
-  /// window's view exactly when the canvas is the whole window, or with
-  /// whole_window).
-  RegionQuery region_query(bool whole_window = false) const;
-  /// Region layers for the current state (recomputed when stale); `changed`
-  /// is set when they were recomputed since the last call.
-  const std::vector<RegionResult>& region(bool* changed = nullptr);
+  /// The requests the region view answers now, one per layer (every point
+  /// alone when all are overlapped, else the selected point with its rigid
+  /// group and, in chain mode, an anchor's handles as `with`): the canvas's
+  /// pixels, with the same pixel size and top-left corner as the window's
+  /// view (the whole window's view exactly when the canvas is the whole
+  /// window, or with whole_window). With coarse = c > 1 the pixels are c
+  /// times larger each way (ceil(canvas / c) of them, the same top-left
+  /// corner): each coarse pixel's label is the certified label of its centre.
+  std::vector<RegionRequest> region_requests(bool whole_window = false, int coarse = 1) const;
+  /// Pixel size factor of the region while a point is dragged or the view
+  /// panned: a quarter of the pixels keeps dragging above 30 frames per
+  /// second on a 2-core lavapipe machine (README, `cmr edit --bench`). When
+  /// the drag ends the full-resolution region replaces it.
+  static constexpr int kDragCoarse = 2;
+  /// The factor of the region shown now (1, or kDragCoarse while dragging).
+  int region_coarse() const { return region_coarse_; }
+  /// Region layers for the current state (recomputed when stale, from the
+  /// cache when only the moved group changed); `changed` is set when they
+  /// differ from the last call's. While a point is dragged or the view
+  /// panned, layers the cache lacks are computed kDragCoarse times coarser.
+  const std::vector<const RegionResult*>& region(bool* changed = nullptr);
   /// RGBA of the whole window: region() in the legend's colours on the
   /// canvas, white elsewhere.
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
@@ -107,8 +123,11 @@ class Editor {
   bool panning_ = false;
   int drag_serial_ = 0;
   bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
-  std::vector<RegionResult> region_;
+  RegionCache cache_;
+  std::vector<const RegionResult*> region_;
+  std::vector<std::vector<double>> region_keys_;
   std::pair<int, int> region_canvas_{0, 0};
+  int region_coarse_ = 1;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
   CurvatureEvents events_;

@@ -18,6 +18,8 @@
 //   view X0 Y0 X1 Y1 | fit              world rectangle of the window
 //   knot I U                  move knot I to U
 //   insert U [TIMES] | remove U [TOL] | elevate | clamp | uniform
+//                             knot operations; a refused one (a removal
+//                             beyond TOL) is reported on stderr, nothing changes
 //   undo | redo
 //   save PATH | export-region PATH | screenshot PATH
 //   wait N                    render N frames

@@ -134,6 +134,27 @@ void controls(Editor& e) {
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
 }
 
+/// Buttons for the knot operations (engine.hpp's knot_operation): a refusal
+/// lands in the status line.
+void knot_operations(Editor& e) {
+  static double u = 0, tolerance = 0;  // what the fields hold between frames
+  const BSpline& s = e.doc().spline;
+  if (!(u > s.domain_begin() && u < s.domain_end())) u = 0.5 * (s.domain_begin() + s.domain_end());
+  ImGui::SetNextItemWidth(90);
+  ImGui::InputDouble("u", &u, 0, 0, "%.4g");
+  ImGui::SameLine();
+  if (ImGui::Button("insert")) e.knot_operation("insert", u, 1);
+  ImGui::SameLine();
+  if (ImGui::Button("remove")) e.knot_operation("remove", u, tolerance);
+  ImGui::SetNextItemWidth(90);
+  ImGui::InputDouble("tolerance (0: 1e-9 of the size)", &tolerance, 0, 0, "%.3g");
+  if (ImGui::Button("elevate degree")) e.knot_operation("elevate", 0, 0);
+  ImGui::SameLine();
+  if (ImGui::Button("clamp")) e.knot_operation("clamp", 0, 0);
+  ImGui::SameLine();
+  if (ImGui::Button("uniform")) e.knot_operation("uniform", 0, 0);
+}
+
 void knot_ruler(Editor& e) {
   const BSpline& s = e.doc().spline;
   const std::vector<double>& u = s.knots();
@@ -168,6 +189,7 @@ void knot_ruler(Editor& e) {
   std::string text;
   for (double k : u) text += (text.empty() ? "" : " ") + std::to_string(k).substr(0, 5);
   ImGui::TextWrapped("[%s]", text.c_str());
+  knot_operations(e);
 }
 
 void verdicts_table(Editor& e) {

@@ -441,8 +441,9 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
     return true;
   }
   if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {
-    e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0),
-                     c.args.size() > 1 ? number_arg(c, 1) : 0);
+    // A refusal is the editor's status line, as in the window; scripts see it on stderr.
+    if (!e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0), c.args.size() > 1 ? number_arg(c, 1) : 0))
+      std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     return true;
   }
   return false;
