@@ -15,6 +15,8 @@
 #include <sstream>
 #include <vector>
 
+#include "bezierize/knot_ops.hpp"
+#include "spline/spline_json.hpp"
 #include "tests/tools/cli_util.hpp"
 
 namespace {
@@ -33,9 +35,10 @@ const std::string kViewComma = "-1,-7,5,-2.5";
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
-Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot) {
+Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot,
+                 const std::string& size = std::to_string(kW) + "x" + std::to_string(kH)) {
   const std::string script = write("edit_script.txt", script_text);
-  const std::string cmd = "edit " + file + " --size " + std::to_string(kW) + "x" + std::to_string(kH) +
+  const std::string cmd = "edit " + file + " --size " + size +
                           " --script " + script + " --screenshot " + shot.string();
   // xvfb-run wraps the binary: run() prefixes CMR_BINARY, so call the shell directly.
   const fs::path dir = scratch();
@@ -233,6 +236,69 @@ TEST_F(EditTest, DepthShadingChangesThePicture) {
   EXPECT_GT(white_a, 0) << "plain: not monotone is white";
   EXPECT_EQ(white_b, 0) << "Fig. 7 shading: not monotone is grey";
   EXPECT_EQ(differ, static_cast<int>(a.rgb.size())) << "every pixel is shaded by its level";
+}
+
+TEST_F(EditTest, KnotOperationsAndRulerDragThroughTheWindow) {
+  const fs::path a = dir_ / "a.json", b = dir_ / "b.json", c = dir_ / "c.json", d = dir_ / "d.json";
+  const Outcome r = run_edit(kFig8,
+                             "insert 3.5\nremove 3\nsave " + a.string() + "\ndrag-knot 4 3.8 8\nsave " + b.string() +
+                                 "\nelevate\nclamp\nuniform\nsave " + c.string() + "\nundo\nundo\nsave " +
+                                 d.string() + "\n",
+                             dir_ / "shot.png", "1024x768");  // the panels need room
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Insertion keeps the curve: the knot_ops result, bit for bit.
+  const cmr::BSpline fig8 = cmr::read_spline_file(kFig8);
+  const cmr::BSpline inserted = cmr::insert_knot(fig8, 3.5, 1);
+  const cmr::BSpline sa = cmr::read_spline_file(a);
+  EXPECT_EQ(sa.knots(), inserted.knots());
+  EXPECT_EQ(sa.points(), inserted.points());
+  // Knot 3 of fig8 is not removable within the default tolerance: refused, said, nothing changed.
+  EXPECT_NE(r.err.find("refused: removing knot 3"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("more than the tolerance"), std::string::npos) << r.err;
+  // The pointer dragged knot 4 (3.5) along the ruler to about 3.8 (a pixel
+  // of the ruler is under (7 - 0) / 300 in knot units); nothing else moved.
+  const cmr::BSpline sb = cmr::read_spline_file(b);
+  EXPECT_NEAR(sb.knots()[4], 3.8, 0.03);
+  EXPECT_NE(sb.knots()[4], 3.5);
+  std::vector<double> others = sb.knots();
+  others[4] = 3.5;
+  EXPECT_EQ(others, inserted.knots());
+  EXPECT_EQ(sb.points(), inserted.points());
+  // Elevation, clamping, uniform knots: knot_ops' results; two undos go back to elevate.
+  const cmr::BSpline elevated = cmr::elevate_degree(sb);
+  const cmr::BSpline want = cmr::make_uniform(cmr::clamp(elevated));
+  const cmr::BSpline sc = cmr::read_spline_file(c);
+  EXPECT_EQ(sc.degree(), 4);
+  EXPECT_EQ(sc.knots(), want.knots());
+  EXPECT_EQ(sc.points(), want.points());
+  const cmr::BSpline sd = cmr::read_spline_file(d);
+  EXPECT_EQ(sd.knots(), elevated.knots());
+  EXPECT_EQ(sd.points(), elevated.points());
+}
+
+TEST_F(EditTest, ResizeRecreatesTheSwapchainAndExportsAreCmrRegions) {
+  const fs::path view_png = dir_ / "view.png", region_png = dir_ / "region.png", region_pgm = dir_ / "region.pgm",
+                 shot = dir_ / "shot.png";
+  constexpr int W = 400, H = 300;
+  const Outcome r = run_edit(kFig8,
+                             "ui off\noverlay off\nselect 3\nresize 400 300\nview " + kView + "\nexport-view " +
+                                 view_png.string() + "\nexport-region " + region_png.string() + "\nexport-region " +
+                                 region_pgm.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image s = read_png(shot), v = read_png(view_png);
+  ASSERT_EQ(s.width, W) << "the swapchain follows the window";
+  ASSERT_EQ(s.height, H);
+  EXPECT_TRUE(v.rgb == s.rgb) << "export-view writes the presented frame";
+  // The exports are what `cmr region` writes for the same state, view and size.
+  const std::string size = " --size " + std::to_string(W) + "x" + std::to_string(H);
+  const Outcome cli = run("region " + kFig8 + " --point 3 --view " + kViewComma + size + " --backend cpu --png " +
+                          (dir_ / "cli.png").string() + " --labels " + (dir_ / "cli.pgm").string());
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  EXPECT_EQ(cmr::test::slurp(region_pgm), cmr::test::slurp(dir_ / "cli.pgm"));
+  EXPECT_EQ(cmr::test::slurp(region_png), cmr::test::slurp(dir_ / "cli.png"));
+  const auto seen = compare_with_labels(s, {dir_ / "cli.pgm"});
+  EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
 }
 
 TEST_F(EditTest, BadScriptIsAnInputError) {

@@ -8,6 +8,7 @@
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/draw.hpp"
 
 namespace cmr::edit {
 
@@ -186,7 +187,7 @@ void Editor::move_point(int k, Vec2 p) {
 }
 
 void Editor::move_knot(int i, double u) {
-  replace_spline(set_knot(doc().spline, i, u), "knot " + std::to_string(i) + " moved");
+  replace_spline(set_knot(doc().spline, i, u), "knot " + std::to_string(i) + " moved", "knot" + std::to_string(i));
 }
 
 bool Editor::knot_operation(const std::string& name, double a, double b) {
@@ -200,7 +201,7 @@ bool Editor::knot_operation(const std::string& name, double a, double b) {
   }
 }
 
-void Editor::replace_spline(BSpline spline, const std::string& what) {
+void Editor::replace_spline(BSpline spline, const std::string& what, const std::string& merge_key) {
   Document next = doc();
   const bool same_points = spline.point_count() == next.spline.point_count();
   next.spline = std::move(spline);
@@ -209,7 +210,7 @@ void Editor::replace_spline(BSpline spline, const std::string& what) {
     next.group.clear();
   }
   if (next.split && *next.split > next.spline.segment_count() - 1) next.split.reset();
-  history_.commit(std::move(next));
+  history_.commit(std::move(next), merge_key);
   message = what;
   changed_document();
 }
@@ -247,10 +248,19 @@ void Editor::export_region(const std::filesystem::path& path) {
   const std::vector<RegionRequest> q = region_requests(true);
   const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
   cli::OutputFiles out;
-  for (std::size_t i = 0; i < layers.size(); ++i) {
-    std::filesystem::path p = path;
-    if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
-    out.write(p, pgm(layers[i]));
+  if (path.extension() == ".png") {
+    draw::RegionPicture picture;  // as cmr region --png draws it
+    picture.spline = &doc().spline;
+    for (const RegionResult& l : layers) picture.layers.push_back(&l);
+    picture.split = q.front().split.has_value();
+    picture.max_depth = q.front().max_depth;
+    out.write(path, draw::region_png(picture));
+  } else {
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      std::filesystem::path p = path;
+      if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
+      out.write(p, pgm(layers[i]));
+    }
   }
   out.keep();
   message = "region written to " + path.string();

@@ -50,20 +50,25 @@ class Editor {
   void set_chain(bool on);
   /// Point k to world position p as a drag would put it (group, chain rules).
   void move_point(int k, Vec2 p);
-  /// Knot i to value u (polar index); the spline must stay valid.
+  /// Knot i to value u (polar index; knot_ops' set_knot, whose InputError
+  /// says why a value is refused). Consecutive moves of one knot (a ruler
+  /// drag) are one undo step.
   void move_knot(int i, double u);
   /// A knot operation by name (engine.hpp's knot_operation); one undo step.
   /// A refused operation (InputError: e.g. a removal beyond the tolerance)
   /// changes nothing, puts "refused: <why>" in the status line and returns
   /// false.
   bool knot_operation(const std::string& name, double a, double b);
-  /// Replaces the spline (knot operations); one undo step.
-  void replace_spline(BSpline spline, const std::string& what);
+  /// Replaces the spline (knot operations); one undo step (merged with the
+  /// previous one when both have the same non-empty merge_key).
+  void replace_spline(BSpline spline, const std::string& what, const std::string& merge_key = {});
   bool undo();
   bool redo();
   void save(const std::filesystem::path& path);
-  /// The region labels of the current state as `cmr region --labels` writes
-  /// them (one PGM; with every point overlapped, PATH.P0.pgm, PATH.P1.pgm, ...).
+  /// The region of the current state for the whole window's view and size,
+  /// as `cmr region --view ... --size WxH` computes it: PATH ending in .png,
+  /// the picture of `--png`; otherwise the labels of `--labels` (one PGM;
+  /// with every point overlapped, PATH.P0.pgm, PATH.P1.pgm, ...).
   void export_region(const std::filesystem::path& path);
   void resize(int width, int height);
   void set_view(View view);

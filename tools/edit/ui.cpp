@@ -155,7 +155,7 @@ void knot_operations(Editor& e) {
   if (ImGui::Button("uniform")) e.knot_operation("uniform", 0, 0);
 }
 
-void knot_ruler(Editor& e) {
+void knot_ruler(Editor& e, KnotRulerGeometry* geometry) {
   const BSpline& s = e.doc().spline;
   const std::vector<double>& u = s.knots();
   const double lo = u.front(), hi = u.back();
@@ -165,6 +165,7 @@ void knot_ruler(Editor& e) {
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float width = ImGui::GetContentRegionAvail().x - 12, height = 34;
   const auto x_of = [&](double v) { return origin.x + 6 + static_cast<float>((v - lo) / (hi - lo)) * width; };
+  if (geometry != nullptr) *geometry = {origin.x + 6, width, lo, hi, {}, true};
   dl->AddLine({origin.x + 6, origin.y + 12}, {origin.x + 6 + width, origin.y + 12}, IM_COL32(200, 200, 200, 255), 2);
   dl->AddRectFilled({x_of(s.domain_begin()), origin.y + 9}, {x_of(s.domain_end()), origin.y + 15},
                     IM_COL32(120, 170, 255, 255));
@@ -172,6 +173,7 @@ void knot_ruler(Editor& e) {
     int stack = 0;  // equal knots stack downwards
     for (std::size_t j = 0; j < i; ++j) stack += u[j] == u[i] ? 1 : 0;
     const float x = x_of(u[i]), y = origin.y + 18 + 5.0f * stack;
+    if (geometry != nullptr) geometry->handles.push_back({x, y});
     ImGui::SetCursorScreenPos({x - 5, y - 5});
     ImGui::PushID(static_cast<int>(i));
     ImGui::InvisibleButton("knot", {10, 10});
@@ -246,7 +248,7 @@ void side_panel(Editor& e, const UiInfo& info) {
   ImGui::Separator();
   controls(e);
   ImGui::Separator();
-  knot_ruler(e);
+  knot_ruler(e, info.ruler);
   ImGui::Separator();
   verdicts_table(e);
   ImGui::Separator();
@@ -312,6 +314,7 @@ void build_ui(Editor& e, const UiInfo& info) {
     if (e.show_comb) draw_comb(e, dl);
     draw_points(e, dl);
   }
+  if (info.ruler != nullptr) info.ruler->shown = false;
   if (!e.show_ui) return;
   side_panel(e, info);
   curvature_plot(e);
