@@ -15,7 +15,9 @@
 #include <sstream>
 #include <vector>
 
+#include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
+#include "bezierize/region.hpp"
 #include "spline/spline_json.hpp"
 #include "tests/tools/cli_util.hpp"
 
@@ -32,6 +34,8 @@ const std::string kFig8 = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8.
 constexpr int kW = 320, kH = 240;
 const std::string kView = "-1 -7 5 -2.5";
 const std::string kViewComma = "-1,-7,5,-2.5";
+
+double norm(cmr::Vec2 a) { return std::hypot(a.x, a.y); }
 
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
@@ -299,6 +303,75 @@ TEST_F(EditTest, ResizeRecreatesTheSwapchainAndExportsAreCmrRegions) {
   EXPECT_EQ(cmr::test::slurp(region_png), cmr::test::slurp(dir_ / "cli.png"));
   const auto seen = compare_with_labels(s, {dir_ / "cli.pgm"});
   EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
+}
+
+TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
+  // Fig. 13's closed six-point blob, clicked at whole pixels of a known view.
+  const cmr::View v{-2, -1.5, 7, 5.25};  // 320x240: square pixels
+  const std::vector<std::array<int, 2>> clicks = {{71, 178}, {178, 196}, {249, 142}, {213, 64}, {124, 53}, {53, 107}};
+  std::string script = "ui off\nview -2 -1.5 7 5.25\nkcurve points\nclosed on\n";
+  std::vector<cmr::Vec2> points;
+  for (const auto& [px, py] : clicks) {
+    script += "mouse " + std::to_string(px) + " " + std::to_string(py) + "\npress left\nrelease left\n";
+    points.push_back({v.x0 + (v.x1 - v.x0) * px / kW, v.y1 - (v.y1 - v.y0) * py / kH});  // Viewport::to_world
+  }
+  const cmr::KCurve kc = cmr::kcurve(points, {.closed = true});
+  const cmr::BSpline chain = cmr::kcurve_cubic_chain(kc);
+  int k = -1;
+  for (int m : cmr::kcurve_cubic_maxima(kc))
+    if (m > 0 && k < 0) k = m;
+  ASSERT_GE(k, 3);
+  const auto& P = chain.points();
+  // Fig. 13c's move: P_{k+1} turned by -0.05 rad about P_k and pulled in to 0.9.
+  const cmr::Vec2 d = P[k + 1] - P[k];
+  const double c = std::cos(-0.05), sn = std::sin(-0.05);
+  const cmr::Vec2 target = P[k] + 0.9 * cmr::Vec2(c * d.x - sn * d.y, sn * d.x + c * d.y);
+  const fs::path quad = dir_ / "quad.json", start = dir_ / "chain.json", edited = dir_ / "edited.json",
+                 shot = dir_ / "shot.png";
+  script += "save " + quad.string() + "\nkcurve modify\nsave " + start.string() + "\nselect " +
+            std::to_string(k + 1) + "\noverlay off\ndrag " + std::to_string(k + 1) + " " +
+            std::to_string(target.x) + " " + std::to_string(target.y) + " 6\nsave " + edited.string() + "\n";
+  const Outcome r = run_edit(kFig8, script, shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  // The clicks made the κ-curve, and modify its cubic chain (knot_ops-free: kcurve.hpp's own results).
+  const cmr::BSpline q = cmr::read_spline_file(quad), s0 = cmr::read_spline_file(start);
+  EXPECT_EQ(q.points(), cmr::kcurve_quadratic_spline(kc).points());
+  EXPECT_EQ(s0.points(), chain.points());
+  EXPECT_EQ(s0.knots(), chain.knots());
+  // The drag moved the handle pair only, keeping it collinear through P_k (G1)
+  // and the opposite handle's length.
+  const cmr::BSpline s1 = cmr::read_spline_file(edited);
+  const auto& Q = s1.points();
+  for (int i = 0; i < s1.point_count(); ++i)
+    if (i != k - 1 && i != k + 1) EXPECT_EQ(Q[i], P[i]) << "point " << i;
+  EXPECT_LT(norm(Q[k + 1] - target), 0.05) << "the handle is where the drag left it";
+  const cmr::Vec2 in = Q[k] - Q[k - 1], out = Q[k + 1] - Q[k];
+  EXPECT_LT(std::abs(cmr::det(in, out)) / (norm(in) * norm(out)), 1e-12) << "G1 at P_k";
+  EXPECT_GT(cmr::dot(in, out), 0);
+  EXPECT_NEAR(norm(in), norm(P[k] - P[k - 1]), 1e-12);
+  // Every pixel is the colour of RegionProblem::classify for P_{k+1} in the
+  // piece after P_k (as a Bezier curve), for the edited state.
+  const cmr::BSpline piece = cmr::BSpline::bezier({Q[k], Q[k + 1], Q[k + 2], Q[k + 3]});
+  cmr::RegionRequest rq;
+  rq.point = 1;
+  rq.view = v;
+  rq.width = kW;
+  rq.height = kH;
+  const cmr::RegionProblem problem = cmr::RegionProblem::make(piece, rq);
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, kW);
+  int wrong = 0, monotone = 0;
+  for (int j = 0; j < kH; ++j)
+    for (int i = 0; i < kW; ++i) {
+      const cmr::RegionLabel l = problem.classify(cmr::pixel_center(v, kW, kH, i, j)).label;
+      monotone += l != cmr::RegionLabel::not_monotone;
+      const auto want = expected_colour({cmr::code(l)});
+      if (img.rgb[j * kW + i] != want && ++wrong <= 5) ADD_FAILURE() << "pixel " << i << "," << j;
+    }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(monotone, 0) << "the handle's region is in view";
+  // Where the handle went, its piece still has monotone curvature: no new extremum.
+  EXPECT_EQ(problem.classify(Q[k + 1]).label, cmr::RegionLabel::decreasing);
 }
 
 TEST_F(EditTest, BadScriptIsAnInputError) {

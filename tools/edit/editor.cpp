@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -62,6 +63,10 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
       region_stale_ = true;  // full resolution again
     }
     dragging_ = -1;
+    return;
+  }
+  if (doc().kcurve && !doc().kcurve->modifying) {  // clicking interpolation points
+    add_kcurve_point(viewport_.to_world(mouse_.x, mouse_.y));
     return;
   }
   const int k = pick(mouse_.x, mouse_.y);
@@ -178,6 +183,86 @@ void Editor::set_chain(bool on) {
   changed_document();
 }
 
+void Editor::set_kcurve(bool on) {
+  Document next = doc();
+  if (on) {
+    next.kcurve = KCurveDesign{};
+    next.all_points = false;
+    message = "kappa-curve: click the interpolation points";
+  } else {
+    next.kcurve.reset();
+    message = "kappa-curve mode off";
+  }
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+namespace {
+
+KCurve kcurve_of(const KCurveDesign& k) { return kcurve(k.points, {.closed = k.closed}); }
+
+/// The document's spline for a κ design: the quadratics while points are
+/// clicked (once there are enough), the cubic chain when modifying.
+void rebuild_kcurve(Document& d) {
+  const KCurveDesign& k = *d.kcurve;
+  if (static_cast<int>(k.points.size()) < kKCurveMinPoints) return;
+  const KCurve kc = kcurve_of(k);
+  d.spline = k.modifying ? kcurve_cubic_chain(kc) : kcurve_quadratic_spline(kc);
+  d.selected = std::min(d.selected, d.spline.point_count() - 1);
+  d.group.clear();
+  d.split.reset();
+}
+
+}  // namespace
+
+void Editor::set_kcurve_closed(bool closed) {
+  if (!doc().kcurve) throw InputError("closed: not in kappa-curve mode (kcurve points)");
+  if (doc().kcurve->modifying) throw InputError("closed: the curve is being modified; start again with kcurve points");
+  Document next = doc();
+  next.kcurve->closed = closed;
+  rebuild_kcurve(next);
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::add_kcurve_point(Vec2 p) {
+  if (!doc().kcurve || doc().kcurve->modifying) throw InputError("kappa-curve points are added in kcurve points mode");
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw InputError("kappa-curve point: not finite");
+  Document next = doc();
+  next.kcurve->points.push_back(p);
+  try {
+    rebuild_kcurve(next);
+  } catch (const InputError& e) {
+    message = std::string("point not added: ") + e.what();
+    return;
+  }
+  history_.commit(std::move(next));
+  message = "kappa-curve: " + std::to_string(doc().kcurve->points.size()) + " points";
+  changed_document();
+}
+
+void Editor::kcurve_modify() {
+  if (!doc().kcurve) throw InputError("modify: not in kappa-curve mode (kcurve points)");
+  const int n = static_cast<int>(doc().kcurve->points.size());
+  if (n < kKCurveMinPoints)
+    throw InputError("modify: a kappa-curve needs " + std::to_string(kKCurveMinPoints) + " points, there are " +
+                     std::to_string(n));
+  Document next = doc();
+  next.kcurve->modifying = true;
+  next.chain = true;
+  next.all_points = false;
+  rebuild_kcurve(next);
+  next.selected = 1;
+  for (int k : kcurve_cubic_maxima(kcurve_of(*next.kcurve)))
+    if (k > 0) {  // the handle after the first maximum with a handle pair
+      next.selected = k + 1;
+      break;
+    }
+  history_.commit(std::move(next));
+  message = "kappa-curve: modify the handles (pairs stay collinear)";
+  changed_document();
+}
+
 void Editor::move_point(int k, Vec2 p) {
   check_point(doc().spline, k);
   Document next = doc();
@@ -246,11 +331,13 @@ std::string pgm(const RegionResult& img) {
 
 void Editor::export_region(const std::filesystem::path& path) {
   const std::vector<RegionRequest> q = region_requests(true);
-  const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
+  if (q.empty()) throw InputError("export-region: no region is shown (select a handle)");
+  const BSpline spline = region_spline();
+  const std::vector<RegionResult> layers = compute_regions(spline, q);
   cli::OutputFiles out;
   if (path.extension() == ".png") {
     draw::RegionPicture picture;  // as cmr region --png draws it
-    picture.spline = &doc().spline;
+    picture.spline = &spline;
     for (const RegionResult& l : layers) picture.layers.push_back(&l);
     picture.split = q.front().split.has_value();
     picture.max_depth = q.front().max_depth;
@@ -313,6 +400,15 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
     q.view = View{v.x0, v.y1 - sy * q.height, v.x0 + sx * q.width, v.y1};
   }
   std::vector<RegionRequest> layers;
+  if (d.kcurve) {  // the selected handle in its own piece; nothing else
+    if (d.kcurve->modifying) {
+      if (const auto h = handle_piece(d.spline, d.selected)) {
+        q.point = h->local;
+        layers.push_back(q);
+      }
+    }
+    return layers;
+  }
   if (d.all_points) {
     for (int k = 0; k < d.spline.point_count(); ++k) {
       q.point = k;
@@ -330,11 +426,18 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
   return layers;
 }
 
+BSpline Editor::region_spline() const {
+  const Document& d = doc();
+  if (d.kcurve && d.kcurve->modifying)
+    if (auto h = handle_piece(d.spline, d.selected)) return std::move(h->piece);
+  return d.spline;
+}
+
 const std::vector<const RegionResult*>& Editor::region(bool* changed) {
   if (canvas() != region_canvas_) region_stale_ = true;
   bool differs = false;
   if (region_stale_) {
-    const BSpline& s = doc().spline;
+    const BSpline s = region_spline();
     std::vector<RegionRequest> requests = region_requests(false, 1);
     std::vector<std::vector<double>> keys;
     for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
@@ -380,8 +483,9 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
     // Window row j shows region row j / c; pixel i of it region pixel i / c.
     parallel_for(h, 0, [&](std::size_t j) {
       uint8_t* out = &rgba_[j * w * 4];
-      std::fill(out + (j < ch ? cw * 4 : 0), out + w * 4, uint8_t{255});
-      if (j >= ch || pw == 0) return;
+      const bool canvas_row = j < ch && pw > 0;
+      std::fill(out + (canvas_row ? cw * 4 : 0), out + w * 4, uint8_t{255});
+      if (!canvas_row) return;
       const uint8_t* in = &part[(j / c) * pw * 4];
       if (c == 1) {
         std::copy_n(in, cw * 4, out);

@@ -48,6 +48,18 @@ class Editor {
   void set_depth_shading(bool on);
   void set_split(std::optional<int> joint);
   void set_chain(bool on);
+  /// κ-curve mode (model.hpp's KCurveDesign): on starts an empty design (left
+  /// clicks on the canvas add interpolation points), off leaves the mode and
+  /// keeps the curve. One undo step each, as every point and the switch.
+  void set_kcurve(bool on);
+  void set_kcurve_closed(bool closed);
+  /// Adds an interpolation point (world); the curve is the κ-curve through
+  /// the points once there are kKCurveMinPoints. A point the κ-curve refuses
+  /// (too close to the previous one) is not added: the status line says why.
+  void add_kcurve_point(Vec2 p);
+  /// Switches to modification: the spline becomes the κ-curve's cubic chain
+  /// in chain mode, the handle after the first interior maximum selected.
+  void kcurve_modify();
   /// Point k to world position p as a drag would put it (group, chain rules).
   void move_point(int k, Vec2 p);
   /// Knot i to value u (polar index; knot_ops' set_knot, whose InputError
@@ -92,6 +104,10 @@ class Editor {
   /// times larger each way (ceil(canvas / c) of them, the same top-left
   /// corner): each coarse pixel's label is the certified label of its centre.
   std::vector<RegionRequest> region_requests(bool whole_window = false, int coarse = 1) const;
+  /// The spline the region requests are for: the document's, or, modifying a
+  /// κ-curve, the cubic piece the selected handle shapes (as a Bezier curve;
+  /// the requests then name the handle's index in it; none for an anchor).
+  BSpline region_spline() const;
   /// Pixel size factor of the region while a point is dragged or the view
   /// panned: a quarter of the pixels keeps dragging above 30 frames per
   /// second on a 2-core lavapipe machine (README, `cmr edit --bench`). When

@@ -23,6 +23,9 @@
 //   insert U [TIMES] | remove U [TOL] | elevate | clamp | uniform
 //                             knot operations; a refused one (a removal
 //                             beyond TOL) is reported on stderr, nothing changes
+//   kcurve points|modify|off  κ-curve mode: clicks (press left) add points;
+//                             modify: the cubic chain, handles in G1 pairs
+//   closed on|off             the κ-curve closed (points stage)
 //   undo | redo
 //   resize W H                the window to W x H (the swapchain is recreated)
 //   save PATH | screenshot PATH

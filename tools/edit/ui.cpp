@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "bezierize/kcurve.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 
@@ -101,6 +102,35 @@ void draw_points(Editor& e, ImDrawList* dl) {
   }
 }
 
+/// κ-curve mode: its interpolation points (squares) and, modifying, the
+/// piece whose region is shown.
+void draw_kcurve(Editor& e, ImDrawList* dl) {
+  const Document& d = e.doc();
+  if (!d.kcurve) return;
+  for (const Vec2& p : d.kcurve->points) {
+    const ImVec2 s = screen(e, p);
+    dl->AddRect({s.x - 6, s.y - 6}, {s.x + 6, s.y + 6}, IM_COL32(0, 120, 0, 255), 0, 0, 2);
+  }
+}
+
+void kcurve_controls(Editor& e) {
+  const Document& d = e.doc();
+  if (!d.kcurve) {
+    if (ImGui::Button("kappa-curve: click points")) act(e, [&] { e.set_kcurve(true); });
+    return;
+  }
+  if (!d.kcurve->modifying) {
+    bool closed = d.kcurve->closed;
+    if (ImGui::Checkbox("closed", &closed)) act(e, [&] { e.set_kcurve_closed(closed); });
+    ImGui::SameLine();
+    if (ImGui::Button("modify (G1 handle pairs)")) act(e, [&] { e.kcurve_modify(); });
+  } else {
+    ImGui::TextWrapped("region: the selected handle within its cubic piece (no new extremum there)");
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("leave kappa mode")) act(e, [&] { e.set_kcurve(false); });
+}
+
 void controls(Editor& e) {
   const Document& d = e.doc();
   int mode = d.mode == Mode::cmr ? 1 : 0;
@@ -132,6 +162,7 @@ void controls(Editor& e) {
   std::string group = "P" + std::to_string(d.selected);
   for (int g : d.group) group += " + P" + std::to_string(g);
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+  kcurve_controls(e);
 }
 
 /// Buttons for the knot operations (engine.hpp's knot_operation): a refusal
@@ -310,9 +341,14 @@ void curvature_plot(Editor& e) {
 void build_ui(Editor& e, const UiInfo& info) {
   if (e.show_overlay) {
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
-    draw_curve(e, dl);
-    if (e.show_comb) draw_comb(e, dl);
-    draw_points(e, dl);
+    const Document& d = e.doc();
+    // While too few κ points are clicked there is no curve yet to draw.
+    if (!d.kcurve || static_cast<int>(d.kcurve->points.size()) >= kKCurveMinPoints) {
+      draw_curve(e, dl);
+      if (e.show_comb) draw_comb(e, dl);
+      draw_points(e, dl);
+    }
+    draw_kcurve(e, dl);
   }
   if (info.ruler != nullptr) info.ruler->shown = false;
   if (!e.show_ui) return;

@@ -482,8 +482,20 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "shading") e.set_depth_shading(switch_arg(c, 0));
   else if (n == "split") e.set_split(c.args[0] == "none" ? std::nullopt : std::optional<int>(int_arg(c, 0)));
   else if (n == "chain") e.set_chain(switch_arg(c, 0));
+  else if (n == "kcurve") {
+    const std::string& w = c.args[0];
+    if (w == "points") e.set_kcurve(true);
+    else if (w == "modify") e.kcurve_modify();
+    else if (w == "off") e.set_kcurve(false);
+    else throw InputError("script line " + std::to_string(c.line) + ": kcurve takes points, modify or off");
+  } else if (n == "closed") e.set_kcurve_closed(switch_arg(c, 0));
   else if (n == "comb") e.show_comb = switch_arg(c, 0);
-  else if (n == "ui") e.show_ui = switch_arg(c, 0);
+  else if (n == "ui") {
+    e.show_ui = switch_arg(c, 0);
+    // A frame without (or with) the panels before the next input: ImGui
+    // decides what the pointer hovers from the previous frame's windows.
+    frame_needed_ = true;
+  }
   else if (n == "overlay") e.show_overlay = switch_arg(c, 0);
   else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
   else if (n == "fit") e.fit_view();
