@@ -554,12 +554,7 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
   if (VkResult r = vkResetCommandPool(device, command_pool, 0); r != VK_SUCCESS) {
     return vk_error(r, "vkResetCommandPool");
   }
-  VkCommandBufferBeginInfo begin{};
-  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  if (VkResult r = vkBeginCommandBuffer(command_buffer, &begin); r != VK_SUCCESS) {
-    return vk_error(r, "vkBeginCommandBuffer");
-  }
+  if (auto r = detail::begin_one_time(command_buffer); !r) return r.error();
   VkCommandBuffer cmd = command_buffer;
 
   if (upload) {
@@ -569,17 +564,9 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
                          0, nullptr, 0, nullptr, 0, nullptr);
     const VkBufferCopy region{0, 0, upload_bytes};
     vkCmdCopyBuffer(cmd, staging.buffer, storage.buffer, 1, &region);
-    VkBufferMemoryBarrier barrier{};
-    barrier.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
-    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.buffer = storage.buffer;
-    barrier.offset = 0;
-    barrier.size = upload_bytes;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
-                         0, nullptr, 1, &barrier, 0, nullptr);
+    detail::buffer_barrier(cmd, storage.buffer, 0, upload_bytes, VK_ACCESS_TRANSFER_WRITE_BIT,
+                           VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
   }
 
   const VkRect2D band{{0, static_cast<int32_t>(first_row)}, {width, rows}};
@@ -633,17 +620,8 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
   vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &copy);
 
   // Make the copied rows visible to host reads after the fence wait.
-  VkBufferMemoryBarrier to_host{};
-  to_host.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
-  to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_host.buffer = readback.buffer;
-  to_host.offset = copy.bufferOffset;
-  to_host.size = rows * row_pitch;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1,
-                       &to_host, 0, nullptr);
+  detail::buffer_barrier(cmd, readback.buffer, copy.bufferOffset, rows * row_pitch, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT);
 
   if (VkResult r = vkEndCommandBuffer(cmd); r != VK_SUCCESS) return vk_error(r, "vkEndCommandBuffer");
   return {};
@@ -656,12 +634,9 @@ Result<void> FragmentPipeline::Impl::submit_and_wait(uint32_t first_row, uint32_
     return e;
   };
   if (VkResult r = vkResetFences(device, 1, &fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
-  VkSubmitInfo submit{};
-  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &command_buffer;
-  if (VkResult r = vkQueueSubmit(state->queue, 1, &submit, fence); r != VK_SUCCESS) {
-    return fail(r, "vkQueueSubmit");
+  if (auto r = detail::submit(state->queue, command_buffer, fence); !r) {
+    if (r.error().code == Errc::device_lost) lost = true;
+    return r.error();
   }
   pending = true;
   const std::string band_name =

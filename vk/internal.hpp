@@ -48,4 +48,23 @@ std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties&
                                          uint32_t type_bits, VkMemoryPropertyFlags required,
                                          VkMemoryPropertyFlags preferred);
 
+// ---- Command recording and submission shared by Presenter, FragmentPipeline
+// and the region drawing: one place for the barrier and submit boilerplate.
+
+// A layout transition / dependency on the whole colour image.
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage);
+
+// A memory dependency on bytes [offset, offset + size) of a buffer.
+void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize size,
+                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                    VkPipelineStageFlags dst_stage);
+
+// vkBeginCommandBuffer for one submission.
+Result<void> begin_one_time(VkCommandBuffer cmd);
+
+// Submits one command buffer, signalling `fence`, without semaphores.
+Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence);
+
 }  // namespace cmr::vk::detail

@@ -570,6 +570,13 @@ std::string cpu_model() {
   return "unknown CPU";
 }
 
+/// The 1-minute load average (other processes compete for the cores).
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one;
+  return in >> one ? one : "unknown";
+}
+
 struct FrameStats {
   double mean = 0, p50 = 0, p95 = 0, fps = 0;
 };
@@ -616,8 +623,8 @@ int run_bench(const BenchOptions& o) {
   std::printf("cmr edit benchmark: %s, %d frames of a scripted drag of P%d, %dx%d window\n",
               o.file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,
               app.editor().viewport().height);
-  std::printf("machine: %s, %d hardware threads; Vulkan device: %s\n", cpu_model().c_str(), thread_count(0),
-              app.device_name().c_str());
+  std::printf("machine: %s, %d hardware threads, load average %s; Vulkan device: %s\n", cpu_model().c_str(),
+              thread_count(0), load_average().c_str(), app.device_name().c_str());
   std::printf("%s\n", app.region_path().c_str());
   for (bool all : {false, true}) {
     app.editor().set_all_points(all);
