@@ -289,6 +289,7 @@ Result<std::vector<Candidate>> list_devices(VkInstance instance) {
     c.info.name = props.deviceName;
     c.info.type = props.deviceType;
     c.info.float64 = features.shaderFloat64 == VK_TRUE;
+    c.info.fragment_stores = features.fragmentStoresAndAtomics == VK_TRUE;
     c.info.max_image_dimension_2d = props.limits.maxImageDimension2D;
     c.api_version = props.apiVersion;
     for (uint32_t i = 0; i < family_count; ++i) {
@@ -433,6 +434,7 @@ Result<Context> Context::create(const ContextOptions& options) {
 
   VkPhysicalDeviceFeatures features{};
   features.shaderFloat64 = chosen->info.float64 ? VK_TRUE : VK_FALSE;
+  features.fragmentStoresAndAtomics = chosen->info.fragment_stores ? VK_TRUE : VK_FALSE;
 
   VkDeviceCreateInfo device_info{};
   device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;

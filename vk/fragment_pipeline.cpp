@@ -385,6 +385,22 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
     return vk_error(r, "vkAllocateDescriptorSets");
   }
 
+  VkPipelineColorBlendAttachmentState no_blend{};  // integer format: no blending
+  no_blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                            VK_COLOR_COMPONENT_A_BIT;
+  auto created =
+      detail::create_fullscreen_pipeline(device, pipeline_layout, render_pass, fragment_spirv, specialization, no_blend);
+  if (!created) return created.error();
+  pipeline = created.value();
+  return {};
+}
+
+namespace detail {
+
+Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass render_pass,
+                                              std::span<const uint32_t> fragment_spirv,
+                                              std::span<const uint32_t> specialization,
+                                              const VkPipelineColorBlendAttachmentState& colour_blend) {
   // Shader modules are only needed until the pipeline exists.
   struct Module {
     VkDevice device;
@@ -408,8 +424,8 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   };
   Module vertex{device};
   Module fragment{device};
-  if (auto r = make_module(cmr_fullscreen_vert_spv, vertex, "built-in vertex shader"); !r) return r;
-  if (auto r = make_module(fragment_spirv, fragment, "fragment shader"); !r) return r;
+  if (auto r = make_module(cmr_fullscreen_vert_spv, vertex, "built-in vertex shader"); !r) return r.error();
+  if (auto r = make_module(fragment_spirv, fragment, "fragment shader"); !r) return r.error();
 
   std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
   stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -436,7 +452,7 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
 
-  // Viewport and scissor are dynamic: the scissor selects the band.
+  // Viewport and scissor are dynamic.
   VkPipelineViewportStateCreateInfo viewport{};
   viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
   viewport.viewportCount = 1;
@@ -453,9 +469,7 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
 
-  VkPipelineColorBlendAttachmentState blend_attachment{};  // integer format: no blending
-  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                    VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  const VkPipelineColorBlendAttachmentState blend_attachment = colour_blend;
   VkPipelineColorBlendStateCreateInfo blend{};
   blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
   blend.attachmentCount = 1;
@@ -478,24 +492,26 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   info.pMultisampleState = &multisample;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = pipeline_layout;
+  info.layout = layout;
   info.renderPass = render_pass;
   info.subpass = 0;
+  VkPipeline pipeline = VK_NULL_HANDLE;
   if (VkResult r = vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
       r != VK_SUCCESS) {
-    pipeline = VK_NULL_HANDLE;
     Error e = vk_error(r, "vkCreateGraphicsPipelines");
     // Anything but memory exhaustion here means the driver rejected the shader.
     if (e.code != Errc::out_of_memory && e.code != Errc::device_lost) {
       e.code = Errc::shader_invalid;
       e.message +=
           "; the fragment shader was rejected (check its interface: set 0 binding 0, "
-          "push constants, uint output at location 0)";
+          "push constants, its output at location 0)";
     }
     return e;
   }
-  return {};
+  return pipeline;
 }
+
+}  // namespace detail
 
 Result<void> FragmentPipeline::Impl::create_commands() {
   VkCommandPoolCreateInfo pool{};

@@ -10,6 +10,7 @@
 #include "bezierize/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "spline/errors.hpp"
+#include "vk/internal.hpp"
 
 #include "region_fp32_frag.h"
 #include "region_fp64_frag.h"
@@ -110,6 +111,33 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
   return out;
 }
 
+// The image decoded from the device's words; uncertain pixels are decided on
+// the host (certified, then exactly).
+void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
+                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
+  const RegionRequest& o = s.options;
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto [i, j] = pixels[k];
+    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
+    const uint32_t w = words[k];
+    if (w & RESULT_UNCERTAIN) {
+      // Not certified on the device (or deeper than its precomputed pieces).
+      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+      img.labels[at] = pr.label;
+      img.depth[at] = pr.depth;
+      img.exact_pixels += pr.exact;
+    } else {
+      img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
+      img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
+    }
+  }
+  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
+}
+
+}  // namespace
+
+namespace detail {
+
 /// The storage buffer for the shader (shaders/region_layout.h): `pixels`
 /// are (column, row) of the image, at most the work area's size.
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
@@ -191,31 +219,7 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   return p.bytes();
 }
 
-
-// The image decoded from the device's words; uncertain pixels are decided on
-// the host (certified, then exactly).
-void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
-                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
-  const RegionRequest& o = s.options;
-  for (std::size_t k = 0; k < pixels.size(); ++k) {
-    const auto [i, j] = pixels[k];
-    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
-    const uint32_t w = words[k];
-    if (w & RESULT_UNCERTAIN) {
-      // Not certified on the device (or deeper than its precomputed pieces).
-      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
-      img.labels[at] = pr.label;
-      img.depth[at] = pr.depth;
-      img.exact_pixels += pr.exact;
-    } else {
-      img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
-      img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
-    }
-  }
-  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
-}
-
-}  // namespace
+}  // namespace detail
 
 Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOptions& options) {
   ContextOptions co;
@@ -257,7 +261,7 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
   const std::span<const std::array<int, 2>> all(pixels);
   for (std::size_t first = 0; first < pixels.size(); first += per_run) {
     const auto chunk = all.subspan(first, std::min(per_run, pixels.size() - first));
-    const std::vector<std::byte> buffer = pack_region(s, options_.precision, chunk, kWorkAreaWidth);
+    const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, chunk, kWorkAreaWidth);
     // Shade only the rows the chunk occupies (whole 4-row tiles, see the shader).
     const uint32_t rows = std::min<uint32_t>(
         kWorkAreaHeight, 4 * static_cast<uint32_t>((chunk.size() + 4 * kWorkAreaWidth - 1) / (4 * kWorkAreaWidth)));

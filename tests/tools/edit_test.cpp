@@ -40,9 +40,10 @@ double norm(cmr::Vec2 a) { return std::hypot(a.x, a.y); }
 bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
 
 Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot,
-                 const std::string& size = std::to_string(kW) + "x" + std::to_string(kH)) {
+                 const std::string& size = std::to_string(kW) + "x" + std::to_string(kH),
+                 const std::string& options = "") {
   const std::string script = write("edit_script.txt", script_text);
-  const std::string cmd = "edit " + file + " --size " + size +
+  const std::string cmd = "edit " + file + " --size " + size + options +
                           " --script " + script + " --screenshot " + shot.string();
   // xvfb-run wraps the binary: run() prefixes CMR_BINARY, so call the shell directly.
   const fs::path dir = scratch();
@@ -372,6 +373,51 @@ TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   EXPECT_GT(monotone, 0) << "the handle's region is in view";
   // Where the handle went, its piece still has monotone curvature: no new extremum.
   EXPECT_EQ(problem.classify(Q[k + 1]).label, cmr::RegionLabel::decreasing);
+}
+
+TEST_F(EditTest, GpuPathDrawsTheCpuLabelsIntoTheWindow) {
+  // The region shader drawn straight into the swapchain image (forced on
+  // lavapipe): after a few frames (uncertain pixels decided on the host) every
+  // pixel is the colour of `cmr region`'s CPU labels.
+  const std::string size = std::to_string(kW) + "x" + std::to_string(kH);
+  const std::string base = "ui off\noverlay off\nview " + kView + "\n";
+  {
+    const fs::path shot = dir_ / "one.png", labels = dir_ / "one.pgm";
+    const Outcome r = run_edit(kFig8, base + "select 3\nwait 4\n", shot, size, " --region-path gpu");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("region shader drawn into the window"), std::string::npos) << r.err;
+    ASSERT_EQ(run("region " + kFig8 + " --point 3 --view " + kViewComma + " --size " + size +
+                  " --backend cpu --labels " + labels.string())
+                  .code,
+              0);
+    const auto seen = compare_with_labels(read_png(shot), {labels});
+    EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
+  }
+  {
+    const fs::path shot = dir_ / "all.png";
+    const Outcome r = run_edit(kFig8, base + "all on\nmode cmr\nwait 4\n", shot, size, " --region-path gpu");
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_EQ(run("region " + kFig8 + " --point all --mode cmr --view " + kViewComma + " --size " + size +
+                  " --backend cpu --labels " + (dir_ / "all.pgm").string())
+                  .code,
+              0);
+    std::vector<fs::path> layers;
+    for (int k = 0; k < 6; ++k) layers.push_back(dir_ / ("all.P" + std::to_string(k) + ".pgm"));
+    compare_with_labels(read_png(shot), layers);
+  }
+  {
+    // Split labels (their darker legend): the same bytes as the upload path.
+    const std::string script = base + "select 3\nsplit 2\nwait 4\n";
+    const fs::path gpu = dir_ / "split_gpu.png", upload = dir_ / "split_upload.png";
+    ASSERT_EQ(run_edit(kFig8, script, gpu, size, " --region-path gpu").code, 0);
+    ASSERT_EQ(run_edit(kFig8, script, upload, size, " --region-path upload").code, 0);
+    const Image a = read_png(gpu), b = read_png(upload);
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_TRUE(a.rgb == b.rgb);
+    int coloured = 0;
+    for (const auto& c : a.rgb) coloured += c != std::array<int, 3>{255, 255, 255};
+    EXPECT_GT(coloured, 0);
+  }
 }
 
 TEST_F(EditTest, BadScriptIsAnInputError) {

@@ -107,7 +107,8 @@ BSpline starting_spline() {
 /// The window, its Vulkan objects and the editor; one frame at a time.
 class App {
  public:
-  App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync);
+  App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync,
+      RegionPath region_path);
   ~App();
   App(const App&) = delete;
   App& operator=(const App&) = delete;
@@ -161,7 +162,7 @@ class App {
 };
 
 App::App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device,
-         bool vsync)
+         bool vsync, RegionPath region_path)
     : window_(width, height, "cmr edit"), editor_(std::move(spline), std::move(path), width, height) {
   context_.emplace(make_context(window_.window, device));
   int fw = 0, fh = 0;
@@ -169,7 +170,7 @@ App::App(BSpline spline, std::filesystem::path path, int width, int height, cons
   vk::PresenterOptions po;
   po.vsync = vsync;
   presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
-  painter_ = check(make_upload_painter(*context_, *presenter_));
+  painter_ = check(make_painter(*context_, *presenter_, region_path));
   region_path_ = painter_->describe();
   std::cerr << "cmr edit: " << region_path_ << '\n';
   editor_.resize(fw, fh);
@@ -296,6 +297,7 @@ bool App::frame(vk::Screenshot* shot) {
   editor_.resize(static_cast<int>(f.extent.width), static_cast<int>(f.extent.height));
   check(painter_->record(editor_, f));
   presenter_->begin_pass(f);
+  painter_->draw(f);
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), f.cmd);
   if (export_png_) {
     export_view_ = editor_.path();
@@ -536,7 +538,7 @@ int run_editor(const EditOptions& o) {
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
-  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync);
+  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path);
   if (!o.script.empty() || !o.screenshot.empty()) {
     app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));
@@ -618,7 +620,7 @@ int run_bench(const BenchOptions& o) {
   BSpline spline = read_spline_file(o.file);
   if (o.point < 0 || o.point >= spline.point_count())
     throw InputError("--point: no point " + std::to_string(o.point));
-  App app(std::move(spline), o.file, o.width, o.height, o.device, false);
+  App app(std::move(spline), o.file, o.width, o.height, o.device, false, o.region_path);
   for (int i = 0; i < 3; ++i) app.frame();  // warm up: pipelines, first region
   std::printf("cmr edit benchmark: %s, %d frames of a scripted drag of P%d, %dx%d window\n",
               o.file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,

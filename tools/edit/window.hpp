@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <string>
 
+#include "tools/edit/region_painter.hpp"
+
 namespace cmr::edit {
 
 struct EditOptions {
@@ -13,6 +15,7 @@ struct EditOptions {
   int width = 1024, height = 768;    ///< window size in pixels
   std::string device;                ///< Vulkan device name (substring)
   bool vsync = true;
+  RegionPath region_path = RegionPath::automatic;  ///< how the region reaches the window
 };
 
 /// Runs the editor until the window closes or the script ends. Returns the
@@ -26,6 +29,7 @@ struct BenchOptions {
   int frames = 200;
   int point = 3;               ///< the dragged point
   std::string device;
+  RegionPath region_path = RegionPath::automatic;
 };
 
 /// Replays a scripted drag in a real window (vsync off), once showing the
