@@ -192,6 +192,15 @@ TEST(EditEngine, KnotMoveIsSetKnot) {
   EXPECT_EQ(e.doc().spline.knots(), set_knot(spline6(), 4, 4.25).knots());
   EXPECT_THROW(e.move_knot(4, 2.5), InputError) << "knots stay in order";
   EXPECT_THROW(e.move_knot(99, 0.5), InputError);
+  // A ruler drag (consecutive moves of one knot) is one undo step.
+  e.move_knot(4, 4.5);
+  e.move_knot(4, 4.75);
+  ASSERT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.knots(), spline6().knots());
+  e.move_knot(4, 4.5);
+  e.move_knot(3, 3.25);  // another knot: a new step
+  ASSERT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.knots()[4], 4.5);
 }
 
 }  // namespace
