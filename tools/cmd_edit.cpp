@@ -19,6 +19,7 @@ struct EditArgs {
   int point = 3;
   bool no_vsync = false;
   std::string region_path = "auto";
+  std::string precision;
 };
 
 edit::RegionPath parse_region_path(const std::string& text) {
@@ -52,6 +53,9 @@ void add_edit_command(CLI::App& app, int& exit_code) {
                   "auto (gpu on a GPU, upload on a CPU device such as lavapipe), gpu (region shader drawn into "
                   "the window) or upload (CPU engine, uploaded)")
       ->capture_default_str();
+  cmd->add_option("--precision", a->precision, "gpu path: the region shader's arithmetic (default: fp64 where "
+                  "the device has it); labels are certified either way")
+      ->check(CLI::IsMember({"fp64", "fp32"}));
   cmd->add_flag("--bench", a->bench, "replay a scripted drag (FILE or the Fig. 8 spline) and print frame times");
   cmd->add_option("--frames", a->frames, "--bench: frames per run")->capture_default_str();
   cmd->add_option("--point", a->point, "--bench: the dragged point")->capture_default_str();
@@ -80,6 +84,8 @@ void add_edit_command(CLI::App& app, int& exit_code) {
     o.device = a->device;
     o.vsync = !a->no_vsync;
     o.region_path = parse_region_path(a->region_path);
+    if (!a->precision.empty())
+      o.precision = a->precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
     exit_code = edit::run_editor(o);
   });
 }

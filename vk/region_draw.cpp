@@ -205,7 +205,11 @@ struct RegionDrawer::Impl {
   }
 };
 
-Result<RegionDrawer> RegionDrawer::create(Context& context, VkRenderPass render_pass, uint32_t frames_in_flight) {
+Result<RegionDrawer> RegionDrawer::create(Context& context, VkRenderPass render_pass, uint32_t frames_in_flight,
+                                          std::optional<RegionPrecision> precision) {
+  if (precision == RegionPrecision::fp64 && !context.device().float64)
+    return Error{Errc::missing_feature, VK_SUCCESS,
+                 "device '" + context.device().name + "' lacks shaderFloat64; use fp32"};
   if (!context.device().fragment_stores)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context.device().name + "' lacks fragmentStoresAndAtomics (the region draw lists "
@@ -213,7 +217,7 @@ Result<RegionDrawer> RegionDrawer::create(Context& context, VkRenderPass render_
   auto impl = std::make_unique<Impl>();
   impl->state = context.state();
   impl->render_pass = render_pass;
-  impl->precision = context.device().float64 ? RegionPrecision::fp64 : RegionPrecision::fp32;
+  impl->precision = precision.value_or(context.device().float64 ? RegionPrecision::fp64 : RegionPrecision::fp32);
   impl->slots.resize(frames_in_flight);
   impl->drawn_layers.assign(frames_in_flight, 0);
   std::array<VkDescriptorSetLayoutBinding, 3> bindings{};

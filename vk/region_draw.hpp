@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -38,7 +39,10 @@ class RegionDrawer {
   /// Errors: missing_feature (no fragmentStoresAndAtomics), shader_invalid,
   /// out_of_memory, other. `render_pass` is the pass draw() is recorded in
   /// (one colour attachment, 8-bit UNORM).
-  static Result<RegionDrawer> create(Context& context, VkRenderPass render_pass, uint32_t frames_in_flight);
+  /// precision: the shader's arithmetic; empty: fp64 where the device has
+  /// shaderFloat64, fp32 otherwise (missing_feature for fp64 without it).
+  static Result<RegionDrawer> create(Context& context, VkRenderPass render_pass, uint32_t frames_in_flight,
+                                     std::optional<RegionPrecision> precision = std::nullopt);
 
   RegionDrawer(RegionDrawer&&) noexcept;
   RegionDrawer& operator=(RegionDrawer&&) noexcept;

@@ -7,6 +7,7 @@
 
 #include <cairo.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -404,6 +405,30 @@ TEST_F(EditTest, GpuPathDrawsTheCpuLabelsIntoTheWindow) {
     std::vector<fs::path> layers;
     for (int k = 0; k < 6; ++k) layers.push_back(dir_ / ("all.P" + std::to_string(k) + ".pgm"));
     compare_with_labels(read_png(shot), layers);
+  }
+  {
+    // fp32 arithmetic on a boundary zoomed 1000 times: the shader cannot
+    // certify some pixels; the host decides them and the window shows the
+    // CPU labels all the same.
+    const std::string zoom = "1.15225,-3.637375,1.16025,-3.631375";
+    std::string script = "ui off\noverlay off\nselect 3\nview " + zoom + "\nwait 4\n";
+    std::replace(script.begin(), script.end(), ',', ' ');
+    const fs::path shot = dir_ / "zoom.png", labels = dir_ / "zoom.pgm";
+    const Outcome r = run_edit(kFig8, script, shot, size, " --region-path gpu --precision fp32");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto at = r.err.rfind(" pixels decided on the host");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    const auto from = r.err.rfind(' ', at - 1) + 1;
+    const std::string count = r.err.substr(from, at - from);
+    ASSERT_FALSE(count.empty()) << r.err;
+    EXPECT_GT(std::atoi(count.c_str()), 0) << "the override path should be exercised: " << r.err;
+    ASSERT_EQ(run("region " + kFig8 + " --point 3 --view " + zoom + " --size " + size + " --backend cpu --labels " +
+                  labels.string())
+                  .code,
+              0);
+    const auto seen = compare_with_labels(read_png(shot), {labels});
+    EXPECT_GT(seen[0], 0);
+    EXPECT_GT(seen[1] + seen[2], 0) << "the zoomed view should hold the boundary";
   }
   {
     // Split labels (their darker legend): the same bytes as the upload path.

@@ -172,6 +172,10 @@ class GpuPainter final : public RegionPainter {
     if (drawing_) drawer_.draw(frame.cmd, frame.slot, frame.extent);
   }
 
+  std::string summary() const override {
+    return "region shader: " + std::to_string(drawer_.host_pixels()) + " pixels decided on the host";
+  }
+
  private:
   vk::Context& context_;
   vk::Presenter& presenter_;
@@ -184,12 +188,12 @@ class GpuPainter final : public RegionPainter {
 }  // namespace
 
 vk::Result<std::unique_ptr<RegionPainter>> make_painter(vk::Context& context, vk::Presenter& presenter,
-                                                        RegionPath path) {
+                                                        RegionPath path, std::optional<vk::RegionPrecision> precision) {
   const vk::DeviceInfo& d = context.device();
   const bool gpu = path == RegionPath::gpu ||
                    (path == RegionPath::automatic && d.type != VK_PHYSICAL_DEVICE_TYPE_CPU && d.fragment_stores);
   if (!gpu) return std::unique_ptr<RegionPainter>(std::make_unique<UploadPainter>(context, presenter));
-  auto drawer = vk::RegionDrawer::create(context, presenter.render_pass(), vk::Presenter::kFramesInFlight);
+  auto drawer = vk::RegionDrawer::create(context, presenter.render_pass(), vk::Presenter::kFramesInFlight, precision);
   if (!drawer) return drawer.error();
   return std::unique_ptr<RegionPainter>(std::make_unique<GpuPainter>(context, presenter, drawer.take()));
 }

@@ -15,11 +15,13 @@
 //   The label of every pixel is the one `cmr region` gives for the same view
 //   and size.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "tools/edit/editor.hpp"
 #include "vk/context.hpp"
 #include "vk/presenter.hpp"
+#include "vk/region_vk.hpp"
 
 namespace cmr::edit {
 
@@ -34,14 +36,19 @@ class RegionPainter {
   virtual vk::Result<void> record(Editor& editor, const vk::PresentFrame& frame) = 0;
   /// Inside the render pass, before the UI: draws what record() prepared.
   virtual void draw(const vk::PresentFrame& frame) { (void)frame; }
+  /// A line for the end of a scripted run (empty: nothing to say).
+  virtual std::string summary() const { return {}; }
 };
 
 enum class RegionPath { automatic, gpu, upload };
 
 /// The painter for `path`: automatic is gpu on a device whose type is not
-/// CPU (and that can list uncertain pixels), upload otherwise. Errors: gpu
-/// asked of a device without fragmentStoresAndAtomics, Vulkan failures.
+/// CPU (and that can list uncertain pixels), upload otherwise; `precision`
+/// is the gpu path's shader arithmetic (empty: fp64 where available). Errors:
+/// gpu asked of a device without fragmentStoresAndAtomics (or fp64 of one
+/// without shaderFloat64), Vulkan failures.
 vk::Result<std::unique_ptr<RegionPainter>> make_painter(vk::Context& context, vk::Presenter& presenter,
-                                                        RegionPath path);
+                                                        RegionPath path,
+                                                        std::optional<vk::RegionPrecision> precision = std::nullopt);
 
 }  // namespace cmr::edit

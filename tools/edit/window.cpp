@@ -108,7 +108,8 @@ BSpline starting_spline() {
 class App {
  public:
   App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync,
-      RegionPath region_path);
+      RegionPath region_path, std::optional<vk::RegionPrecision> precision = std::nullopt);
+  std::string painter_summary() const { return painter_->summary(); }
   ~App();
   App(const App&) = delete;
   App& operator=(const App&) = delete;
@@ -162,7 +163,7 @@ class App {
 };
 
 App::App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device,
-         bool vsync, RegionPath region_path)
+         bool vsync, RegionPath region_path, std::optional<vk::RegionPrecision> precision)
     : window_(width, height, "cmr edit"), editor_(std::move(spline), std::move(path), width, height) {
   context_.emplace(make_context(window_.window, device));
   int fw = 0, fh = 0;
@@ -170,7 +171,7 @@ App::App(BSpline spline, std::filesystem::path path, int width, int height, cons
   vk::PresenterOptions po;
   po.vsync = vsync;
   presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
-  painter_ = check(make_painter(*context_, *presenter_, region_path));
+  painter_ = check(make_painter(*context_, *presenter_, region_path, precision));
   region_path_ = painter_->describe();
   std::cerr << "cmr edit: " << region_path_ << '\n';
   editor_.resize(fw, fh);
@@ -538,7 +539,7 @@ int run_editor(const EditOptions& o) {
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
-  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path);
+  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
   if (!o.script.empty() || !o.screenshot.empty()) {
     app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));
@@ -551,6 +552,7 @@ int run_editor(const EditOptions& o) {
       app.frame(&shot);
       write_png(o.screenshot, shot);
     }
+    if (const std::string s = app.painter_summary(); !s.empty()) std::cerr << "cmr edit: " << s << '\n';
     return cli::kOk;
   }
   while (!app.should_close()) {

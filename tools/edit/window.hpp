@@ -2,6 +2,7 @@
 // `cmr edit`: the desktop window (GLFW, Vulkan presentation, Dear ImGui), its
 // frame loop, scripted runs and the benchmark.
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "tools/edit/region_painter.hpp"
@@ -16,6 +17,7 @@ struct EditOptions {
   std::string device;                ///< Vulkan device name (substring)
   bool vsync = true;
   RegionPath region_path = RegionPath::automatic;  ///< how the region reaches the window
+  std::optional<vk::RegionPrecision> precision;     ///< the gpu path's shader arithmetic
 };
 
 /// Runs the editor until the window closes or the script ends. Returns the
