@@ -1,6 +1,13 @@
 #include "bezierize/analyze.hpp"
 
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
 #include "bezierize/decide.hpp"
+#include "bezierize/lambda.hpp"
+#include "bezierize/roots.hpp"
 #include "bezierize/exact.hpp"
 #include "bezierize/extract.hpp"
 #include "spline/curvature.hpp"
@@ -33,36 +40,137 @@ const char* to_string(Split s) {
 
 namespace {
 
-// Numerator and squared first-leg length of the curvature at one end of a
-// segment, exactly: kappa = (d-1)/d * A / G^{3/2} (the factor is common to all
-// segments and dropped).
+// Numerator A, squared first-leg length G and first leg `a` (read from the
+// end inwards) of the curvature at one end of a segment: with the Bezier
+// points q0, q1, q2 from that end, a = q1 - q0, b = q2 - q1,
+//   kappa = (d-1)/d * A / G^{3/2},  A = +-det(a, b),  G = a.a
+// (the span length cancels; read backwards from the end the turning sense
+// flips, hence the sign). Exact for T = Rational.
+template <class T>
 struct EndCurvature {
-  Rational A, G;
+  T A, G;
+  Point<T> a;
 };
 
-EndCurvature end_curvature_exact(const BSpline& spline, const Segment& s, int side) {
+template <class T>
+EndCurvature<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
   const int d = spline.degree();
-  const SegmentWindow<Rational> w = segment_window<Rational>(spline, s);
-  const Rational e = side == 0 ? Rational(s.a) : Rational(s.b);
-  const Rational o = side == 0 ? Rational(s.b) : Rational(s.a);
-  std::vector<Rational> args(d, e);
-  Point<Rational> q[3];
+  const SegmentWindow<T> w = segment_window<T>(spline, s);
+  const T e = side == 0 ? T(s.a) : T(s.b);
+  const T o = side == 0 ? T(s.b) : T(s.a);
+  std::vector<T> args(d, e);
+  Point<T> q[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
     q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
   }
-  const Point<Rational> a = q[1] - q[0], b = q[2] - q[1];
-  Rational A = det(a, b);
-  if (side == 1) A = -A;  // read backwards from the end: turning sense flips
-  return {A, dot(a, a)};
+  const Point<T> a = q[1] - q[0], b = q[2] - q[1];
+  T A = det(a, b);
+  if (side == 1) A = T(0) - A;
+  return {A, dot(a, a), a};
+}
+
+// Relative error bound below which the error-bounded A and G are used as
+// they are: then kappa = c A / G / sqrt(G) in double is within
+// 2.5 * 2^-40 + 8u < kKappaRelError of the exact value.
+constexpr double kBoundedRel = 0x1p-40;
+
+bool tight(const Bounded& x) { return (x.v == 0 && x.e == 0) || x.e <= kBoundedRel * std::fabs(x.v); }
+
+double kappa_from(double c, double A, double G) { return c * A / G / std::sqrt(G); }
+
+double to_double(const Rational& x) { return x.get_d(); }  // truncation: relative error < 2^-52
+
+// Angle in degrees between the forward end tangent of the left segment (-aL)
+// and the start tangent of the right one (aR), exactly 0 when they are
+// parallel and point the same way (exact rationals: this runs at C0 knots).
+double tangent_angle_deg(const BSpline& spline, const Segment& L, const Segment& R) {
+  const Point<Rational> l = end_curvature<Rational>(spline, L, 1).a, r = end_curvature<Rational>(spline, R, 0).a;
+  const Rational dt = det(r, l), dp = Rational(0) - dot(l, r);  // det(-l, r) = det(r, l)
+  if (sgn(dt) == 0 && sgn(dp) > 0) return 0.0;
+  return std::atan2(std::fabs(to_double(dt)), to_double(dp)) * (180.0 / std::numbers::pi);
 }
 
 }  // namespace
 
+const char* shape_class(const SegmentShape& s) { return s.cusp ? "cusp" : (s.straight ? "straight" : "regular"); }
+
+const char* kappa_zero_at(const SegmentShape& s) {
+  if (s.kappa_zero_start && s.kappa_zero_end) return "both";
+  if (s.kappa_zero_start) return "start";
+  if (s.kappa_zero_end) return "end";
+  return "none";
+}
+
+SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
+  SegmentShape out;
+  // Most segments: eta certainly of one sign on [0, 1] (so no zero of eta,
+  // hence no zero of P' either, as eta = det(P', P'')).
+  const int quick = strict_sign(eta_bernstein<Bounded>(segment_bezier_points<Bounded>(spline, s)));
+  if (quick != 0) {
+    out.kappa_sign = quick;
+    return out;
+  }
+  const std::vector<Point<Rational>> P = segment_bezier_points<Rational>(spline, s);
+  const Bernstein<Rational> eta = eta_bernstein<Rational>(P);
+  const Bernstein<Rational> g = speed2_bernstein<Rational>(P);  // |P'|^2 >= 0: zero exactly where P' = 0
+  const RootOptions isolate_only{1.0};
+  out.cusp = strict_sign(g) == 0 && (is_zero(g) || !isolate_roots(g, isolate_only).empty());
+  out.straight = is_zero(eta);
+  if (out.straight) return out;
+  // eta = 0 at an end means zero curvature only where the tangent is not
+  // zero there (g(0) = |P'(0)|^2 is its first coefficient): at a zero
+  // tangent the curvature is unbounded instead (a cusp).
+  out.kappa_zero_start = sgn(eta.front()) == 0 && sgn(g.front()) != 0;
+  out.kappa_zero_end = sgn(eta.back()) == 0 && sgn(g.back()) != 0;
+  out.kappa_sign = sign_at_start(eta);
+  for (const RootInterval& r : isolate_roots(eta, isolate_only)) {
+    const bool at_end = r.exact() && (sgn(r.lo) == 0 || r.lo == 1);
+    if (r.sign_change() && !at_end) out.inflection = Inflection::present;
+  }
+  return out;
+}
+
+void validate(const ContinuityTolerances& t) {
+  auto text = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  if (!(t.angle_deg >= 0 && t.angle_deg < 180))
+    throw InputError("--angle-tol " + text(t.angle_deg) + " is outside [0, 180) degrees");
+  if (!(t.curvature_rel >= 0 && t.curvature_rel <= 1))
+    throw InputError("--curvature-tol " + text(t.curvature_rel) + " is outside [0, 1]");
+}
+
+double certified_end_curvature(const BSpline& spline, const Segment& s, int side) {
+  const double c = (spline.degree() - 1.0) / spline.degree();
+  const EndCurvature<Bounded> b = end_curvature<Bounded>(spline, s, side);
+  if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v, b.G.v);
+  const EndCurvature<Rational> x = end_curvature<Rational>(spline, s, side);
+  if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
+  return kappa_from(c, to_double(x.A), to_double(x.G));
+}
+
 int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right) {
-  const EndCurvature L = end_curvature_exact(spline, left, 1);
-  const EndCurvature R = end_curvature_exact(spline, right, 0);
+  const EndCurvature<Bounded> bl = end_curvature<Bounded>(spline, left, 1);
+  const EndCurvature<Bounded> br = end_curvature<Bounded>(spline, right, 0);
+  const int quick = jump_sign<Bounded>(bl.A, bl.G, br.A, br.G);
+  if (quick != kSignUnknown) return quick;
+  const EndCurvature<Rational> L = end_curvature<Rational>(spline, left, 1);
+  const EndCurvature<Rational> R = end_curvature<Rational>(spline, right, 0);
   return jump_sign<Rational>(L.A, L.G, R.A, R.G);
+}
+
+std::vector<SegmentClass> exact_inflection_classes(const std::vector<SegmentClass>& segments,
+                                                   const std::vector<SegmentShape>& shapes) {
+  CMR_CHECK(segments.size() == shapes.size());
+  std::vector<SegmentClass> out = segments;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const SegmentShape& sh = shapes[i];
+    out[i].inflection = {sh.inflection, 0, sh.inflection == Inflection::none ? sh.kappa_sign : 0};
+  }
+  return out;
 }
 
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,
@@ -83,7 +191,11 @@ Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vec
         case Inflection::present: none = true; break;
         case Inflection::undecided: undecided = true; break;
         case Inflection::none:
-          if (kappa_sign != 0 && c.inflection.kappa_sign != kappa_sign) none = true;  // inflection at a joint
+          // A sign change at a joint, or across straight segments (sign 0,
+          // skipped), is an inflection too. Algorithm 2's "none" always has a
+          // sign; the exact reading gives 0 to straight segments.
+          if (c.inflection.kappa_sign == 0) break;
+          if (kappa_sign != 0 && c.inflection.kappa_sign != kappa_sign) none = true;
           kappa_sign = c.inflection.kappa_sign;
           break;
       }
@@ -122,12 +234,15 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   if (options.classify.max_depth < 0 || options.classify.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0.." +
                      std::to_string(kMaxDepth));
+  validate(options.continuity);
   SplineAnalysis out;
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
   for (const Segment& s : spline.segments()) {
     out.segments.push_back(classify_segment(spline, s, co));
     out.exact_segments += out.segments.back().exact_used ? 1 : 0;
+    out.shapes.push_back(segment_shape(spline, s));
+    out.cusp = out.cusp || out.shapes.back().cusp;
   }
   const int d = spline.degree();
   for (int i = 1; i < N; ++i) {
@@ -138,17 +253,31 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
     j.knot = R.a;
     j.multiplicity = spline.multiplicity(R.a);
     j.continuity = d - j.multiplicity;
-    j.kappa_left = segment_end_curvature(spline, L, 1);
-    j.kappa_right = segment_end_curvature(spline, R, 0);
+    j.kappa_left = certified_end_curvature(spline, L, 1);
+    j.kappa_right = certified_end_curvature(spline, R, 0);
+    j.zero_tangent = std::isnan(j.kappa_left) || std::isnan(j.kappa_right);
     j.jump = j.continuity >= 2 ? 0 : curvature_jump_sign(spline, L, R);
+    if (j.zero_tangent) {
+      j.angle_deg = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      // C^1 by the knots: the end derivatives are equal vectors, angle 0.
+      j.angle_deg = j.continuity >= 1 ? 0.0 : tangent_angle_deg(spline, L, R);
+      j.g1 = j.angle_deg <= options.continuity.angle_deg;
+      // Equal curvature: exactly (C^2, or an exact jump of 0), or within the tolerance.
+      const double diff = std::fabs(j.kappa_right - j.kappa_left);
+      const double scale = std::max(std::fabs(j.kappa_left), std::fabs(j.kappa_right));
+      j.g2 = j.g1 && (j.continuity >= 2 || j.jump == 0 || diff <= options.continuity.curvature_rel * scale);
+    }
     out.joints.push_back(j);
   }
+  const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
   out.cmrwi = part_verdict(out.segments, out.joints, 0, N, Mode::cmrwi, &out.joint_conflicts);
-  out.cmr = part_verdict(out.segments, out.joints, 0, N, Mode::cmr);
+  out.cmr = part_verdict(reported, out.joints, 0, N, Mode::cmr);
+  out.cmr_algorithm2 = part_verdict(out.segments, out.joints, 0, N, Mode::cmr);
   if (options.split) {
     const int s = *options.split;
-    out.split = combine_split(part_verdict(out.segments, out.joints, 0, s, options.split_mode),
-                              part_verdict(out.segments, out.joints, s, N, options.split_mode));
+    out.split = combine_split(part_verdict(reported, out.joints, 0, s, options.split_mode),
+                              part_verdict(reported, out.joints, s, N, options.split_mode));
   }
   return out;
 }

@@ -6,9 +6,25 @@
 //    C^2 (knot multiplicity >= d-1, so curvature may jump) the jump must go the
 //    same way. If every segment is constant the verdict follows Algorithm 1's
 //    rule order (condition (1) first): increasing.
-//  * CMR: CMRWI and no inflection: Algorithm 2 finds none in any segment and
-//    the curvature has one sign throughout (a sign change at a joint is an
-//    inflection too).
+//  * CMR: CMRWI and no inflection. Two readings are kept (README, "Semantics"):
+//    - SplineAnalysis::cmr, what analyze and report state: no *exact*
+//      inflection. An inflection is a sign change of the curvature: of eta
+//      strictly inside a segment (certified root isolation), or across a
+//      joint or a run of straight segments (kappa = 0 there). A zero of eta
+//      at a segment's end (a curve leaving a straight with zero curvature)
+//      or a touching zero is not one.
+//    - SplineAnalysis::cmr_algorithm2, the paper's Algorithm 2 as stated
+//      (nu_0 nu_last <= 0 -> inflection, depth limit -> undecided): what the
+//      region engine draws for --mode cmr (bezierize/region.hpp, the shader).
+//      It is stricter: a pass under Algorithm 2 is a pass under the exact
+//      reading, never the reverse.
+//  * Straight segments (lambda == 0, equivalently eta == 0 for a polynomial
+//    piece) have constant curvature 0: class `constant`, no inflection, and
+//    they go with either direction (non-strict monotonicity). The paper's
+//    rule that conditions (1) and (2) holding together mean "not monotone" is
+//    not used: it would reject every curve that leaves a straight. A spline
+//    of straight segments only is reported `increasing` (Algorithm 1 checks
+//    condition (1) first).
 //  * Split at joint s (1 <= s <= N-1): segments 0..s-1 against s..N-1, each
 //    part judged as above (in CMRWI or CMR mode); the jump at joint s itself is
 //    free. inc-dec puts a curvature maximum at the joint, dec-inc a minimum.
@@ -30,28 +46,66 @@ enum class Mode : std::uint8_t { cmrwi, cmr };
 const char* to_string(Direction d);
 const char* to_string(Split s);
 
+/// Certified relative error of every curvature value cmr reports (joint
+/// kappa_left/right, the report's kappa): the sign is exact, the value is
+/// within this factor of the exact curvature of the double input data.
+inline constexpr double kKappaRelError = 1e-11;
+
+/// Exact facts about one segment's geometry, beside Algorithms 1 and 2.
+/// Decided with error-bounded arithmetic where that is certain, else with
+/// exact rationals from the spline's double data.
+struct SegmentShape {
+  bool straight = false;  ///< eta == 0: a straight segment (lambda == 0 too), curvature 0 where defined
+  bool cusp = false;      ///< P'(t) = 0 for some t in the closed span: curvature unbounded or undefined there
+  Inflection inflection = Inflection::none;  ///< present: eta changes sign at some t strictly inside (exact)
+  bool kappa_zero_start = false, kappa_zero_end = false;  ///< zero curvature at that end: eta = 0, P' != 0 (not straight)
+  int kappa_sign = 0;  ///< sign of eta just inside the start (the sign throughout when no inflection); 0 if straight
+};
+/// "cusp", "straight" or "regular" (cusp wins).
+const char* shape_class(const SegmentShape& s);
+/// "none", "start", "end" or "both": where eta is zero at the segment's ends.
+const char* kappa_zero_at(const SegmentShape& s);
+
+SegmentShape segment_shape(const BSpline& spline, const Segment& s);
+
+/// Tolerances of the geometric continuity tests at joints.
+struct ContinuityTolerances {
+  double angle_deg = 1e-3;      ///< G1: the end tangents' directions differ by at most this angle (degrees)
+  double curvature_rel = 1e-6;  ///< G2: |kappa_r - kappa_l| <= curvature_rel * max(|kappa_l|, |kappa_r|)
+};
+/// InputError unless 0 <= angle_deg < 180 and 0 <= curvature_rel <= 1 (finite).
+void validate(const ContinuityTolerances& t);
+
 /// A joint between segments i-1 and i (i = 1..N-1).
 struct Joint {
   int index = 0;          ///< i: the joint starts segment i
   double knot = 0;        ///< parameter value
   int multiplicity = 0;   ///< knot multiplicity
-  int continuity = 0;     ///< C^k with k = d - multiplicity
-  double kappa_left = 0;  ///< curvature at the end of segment i-1
+  int continuity = 0;     ///< C^k with k = d - multiplicity (from the knots alone)
+  double kappa_left = 0;  ///< curvature at the end of segment i-1 (certified, kKappaRelError; NaN at a zero tangent)
   double kappa_right = 0; ///< curvature at the start of segment i
-  int jump = 0;           ///< exact sign of kappa_right - kappa_left (0 where C^2)
+  int jump = 0;           ///< exact sign of kappa_right - kappa_left (0 where C^2 or at a zero tangent)
+  bool zero_tangent = false;  ///< an end tangent is exactly zero: G1 and G2 fail
+  double angle_deg = 0;   ///< angle between the end tangents (0 where C^1 by the knots); NaN at a zero tangent
+  bool g1 = false;        ///< tangent directions agree within ContinuityTolerances::angle_deg
+  bool g2 = false;        ///< G1 and curvature equal (exactly, or within curvature_rel)
 };
 
 struct AnalyzeOptions {
   ClassifyOptions classify;    ///< depth D and Algorithm 2 on/off
   std::optional<int> split;    ///< joint s for the split verdict
   Mode split_mode = Mode::cmrwi;
+  ContinuityTolerances continuity;  ///< G1/G2 tests at joints
 };
 
 struct SplineAnalysis {
-  std::vector<SegmentClass> segments;
+  std::vector<SegmentClass> segments;  ///< Algorithms 1 and 2 as the paper states them
+  std::vector<SegmentShape> shapes;    ///< exact straight / cusp / inflection facts, one per segment
   std::vector<Joint> joints;
   Direction cmrwi = Direction::undecided;
-  Direction cmr = Direction::undecided;
+  Direction cmr = Direction::undecided;             ///< exact inflections (see above)
+  Direction cmr_algorithm2 = Direction::undecided;  ///< the paper's Algorithm 2: what regions draw
+  bool cusp = false;                                ///< some segment has a cusp: no finite curvature range
   std::optional<Split> split;
   std::vector<int> joint_conflicts;  ///< joints whose curvature jump goes against the verdict
   int exact_segments = 0;            ///< segments that needed the exact path
@@ -69,5 +123,16 @@ Split combine_split(Direction before, Direction after);
 /// Exact sign of kappa_right - kappa_left at a joint, from the spline's double
 /// data (rational arithmetic).
 int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right);
+
+/// Curvature of segment s at its start (side 0) or end (side 1), certified:
+/// exact sign, relative error at most kKappaRelError (error-bounded double
+/// first, exact rationals where the bound is looser). NaN where the tangent
+/// there is exactly zero.
+double certified_end_curvature(const BSpline& spline, const Segment& s, int side);
+
+/// The segment classes with Algorithm 2's inflection replaced by the exact
+/// one of `shapes` (depth 0): what part_verdict judges for SplineAnalysis::cmr.
+std::vector<SegmentClass> exact_inflection_classes(const std::vector<SegmentClass>& segments,
+                                                   const std::vector<SegmentShape>& shapes);
 
 }  // namespace cmr

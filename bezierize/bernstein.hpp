@@ -32,6 +32,20 @@ Bernstein<T> bernstein_derivative(const Bernstein<T>& c) {
   return d;
 }
 
+/// The sign of p on all of [0, 1] when every coefficient is certainly of that
+/// one sign (+1 or -1): p is then a convex combination of values of that sign
+/// and has no root in [0, 1]. 0 when that is not certain (with T = Bounded, a
+/// coefficient whose bound straddles 0; with Rational, a zero or a change).
+template <class T>
+int strict_sign(const Bernstein<T>& p) {
+  if (p.empty()) return 0;
+  const int s = Scalar<T>::sign(p.front());
+  if (s != 1 && s != -1) return 0;
+  for (const T& c : p)
+    if (Scalar<T>::sign(c) != s) return 0;
+  return s;
+}
+
 /// (p q)(t) at degree m+n: c_k = sum_{i+j=k} C(m,i) C(n,j) / C(m+n,k) a_i b_j.
 /// An empty operand (zero polynomial) gives the empty polynomial.
 template <class T>

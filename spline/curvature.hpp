@@ -27,7 +27,10 @@ CurvatureSample curvature_at(const BSpline& spline, double t);
 double curvature(const BSpline& spline, double t);
 
 /// Curvature at the start (side = 0) or end (side = 1) of a segment, from that
-/// segment's own polynomial, so that jumps at joints are visible.
+/// segment's own polynomial, so that jumps at joints are visible. Plain
+/// double, for plots: its sign can be wrong where the end legs are tiny
+/// against the coordinates (a curve 1e-6 across at 1e8). Reported values
+/// (joints, ranges) use cmr::certified_end_curvature (bezierize/analyze.hpp).
 double segment_end_curvature(const BSpline& spline, const Segment& s, int side);
 
 }  // namespace cmr

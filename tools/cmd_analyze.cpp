@@ -1,5 +1,6 @@
-// cmr analyze FILE [--depth D] [--split S] [--mode cmrwi|cmr]: exact per-span
-// classification and spline-level verdicts.
+// cmr analyze FILE [--depth D] [--split S] [--mode cmrwi|cmr] [--angle-tol DEG]
+// [--curvature-tol REL]: exact per-span classification, joint continuity and
+// spline-level verdicts (README, "Semantics").
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
@@ -16,6 +17,7 @@ struct AnalyzeArgs {
   int depth = kDefaultDepth;
   std::optional<int> split;
   std::string mode = "cmrwi";
+  ContinuityTolerances continuity;
 };
 
 nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a) {
@@ -23,10 +25,14 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
   for (std::size_t i = 0; i < a.segments.size(); ++i) {
     const Segment& s = spline.segments()[i];
     const SegmentClass& c = a.segments[i];
+    const SegmentShape& sh = a.shapes[i];
     segs.push_back({{"index", s.index},
                     {"interval", {s.a, s.b}},
+                    {"class", shape_class(sh)},
                     {"curvature", to_string(c.monotonicity.curvature)},
-                    {"inflection", to_string(c.inflection.inflection)},
+                    {"inflection", to_string(sh.inflection)},
+                    {"zero_curvature_at", kappa_zero_at(sh)},
+                    {"algorithm2", to_string(c.inflection.inflection)},
                     {"depth", c.monotonicity.depth},
                     {"inflection_depth", c.inflection.depth},
                     {"exact", c.exact_used}});
@@ -37,11 +43,18 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                       {"knot", j.knot},
                       {"multiplicity", j.multiplicity},
                       {"continuity", "C" + std::to_string(j.continuity)},
+                      {"g1", j.g1},
+                      {"g2", j.g2},
+                      {"angle", j.angle_deg},  // NaN (a zero tangent) prints as null
+                      {"zero_tangent", j.zero_tangent},
                       {"kappa_left", j.kappa_left},
                       {"kappa_right", j.kappa_right},
                       {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
   }
-  nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)}, {"cmr", to_string(a.cmr)}};
+  nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
+                                    {"cmr", to_string(a.cmr)},
+                                    {"cmr_algorithm2", to_string(a.cmr_algorithm2)},
+                                    {"cusp", a.cusp}};
   if (a.split) verdict["split"] = to_string(*a.split);
   if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
   return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
@@ -60,12 +73,19 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--mode", args->mode, "verdict used for --split")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
+  cmd->add_option("--angle-tol", args->continuity.angle_deg,
+                  "G1 at a joint: end tangents within this angle (degrees)")
+      ->capture_default_str();
+  cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
+                  "G2 at a joint: G1 and curvatures equal within this relative tolerance")
+      ->capture_default_str();
   cmd->callback([args, &exit_code] {
     const BSpline spline = read_spline_file(args->file);
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;
     o.split = args->split;
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+    o.continuity = args->continuity;
     print_json(analysis_json(spline, analyze(spline, o)));
     exit_code = kOk;
   });

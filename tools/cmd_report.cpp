@@ -1,5 +1,6 @@
 // cmr report FILES... --out DIR [--require cmrwi|cmr|split:S] [--depth D]
-// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]:
+// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]
+// [--angle-tol DEG] [--curvature-tol REL]:
 // QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
 #include <unistd.h>
 
@@ -18,6 +19,7 @@ namespace {
 
 struct ReportArgs {
   std::vector<std::string> files;
+  ContinuityTolerances continuity;  // G1/G2 at joints, as cmr analyze
   std::string out;
   std::string require;
   int depth = kDefaultDepth;
@@ -69,8 +71,16 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side")
       ->check(CLI::Range(8, 1024))
       ->capture_default_str();
+  cmd->add_option("--angle-tol", args->continuity.angle_deg,
+                  "G1 at a joint: end tangents within this angle (degrees)")
+      ->capture_default_str();
+  cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
+                  "G2 at a joint: G1 and curvatures equal within this relative tolerance")
+      ->capture_default_str();
   cmd->callback([args, &exit_code] {
+    validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
+    o.continuity = args->continuity;
     if (!args->require.empty()) o.require = report::parse_requirement(args->require);
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;

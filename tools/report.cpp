@@ -52,6 +52,7 @@ AnalyzeOptions analyze_options(const ReportOptions& options) {
   ao.classify.max_depth = options.max_depth;
   ao.split = check_of(options).split;
   ao.split_mode = Mode::cmrwi;
+  ao.continuity = options.continuity;
   return ao;
 }
 
@@ -75,19 +76,27 @@ Frame frame_at(const std::vector<Vec2>& B, double u) {
   return {(1 - u) * l + u * r, d1, det(d1, d2) / (speed * speed * speed)};
 }
 
-// The sign of p on all of [0, 1] when every coefficient, with its error
-// bound, is certainly of that sign: then the exact coefficients are too and p
-// has no root there. 0 when that is not certain.
-int strict_sign(const Bernstein<Bounded>& p) {
-  const int s = certain_sign(p.front());
-  if (s != 1 && s != -1) return 0;
-  for (const Bounded& c : p)
-    if (certain_sign(c) != s) return 0;
-  return s;
+// Curvature of a Bezier segment with exact points at parameter u: exact
+// P'(u), P''(u) by de Casteljau, then det and |P'|^2 rounded once each, so
+// the sign is exact and the relative error a few units of rounding (within
+// kKappaRelError). NaN where P'(u) = 0.
+double exact_kappa(const std::vector<Point<Rational>>& B, const Rational& u) {
+  const int n = static_cast<int>(B.size()) - 1;
+  std::vector<Point<Rational>> w = B;
+  const Rational v = Rational(1) - u;
+  for (int r = 1; r <= n - 2; ++r)
+    for (int i = 0; i + r <= n; ++i) w[i] = v * w[i] + u * w[i + 1];
+  const Point<Rational> a = w[1] - w[0], b = w[2] - w[1];
+  const Point<Rational> d1 = v * a + u * b;  // P'/n
+  const Point<Rational> d2 = b - a;          // P''/(n(n-1))
+  const Rational G = dot(d1, d1);
+  if (sgn(G) == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double A = Rational(det(d1, d2)).get_d(), g = G.get_d();
+  return (n - 1.0) / n * A / g / std::sqrt(g);
 }
 
-std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s, const std::vector<Vec2>& B,
-                                 const RootOptions& options) {
+std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
+                                 const std::vector<Point<Rational>>& B, const RootOptions& options) {
   const Rational a(s.a), len = Rational(s.b) - Rational(s.a);
   std::vector<SpanRoot> out;
   for (const RootInterval& r : isolate_roots(p, options)) {
@@ -104,17 +113,10 @@ std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
       sr.at = SpanRoot::At::start;
     else if (r.exact() && r.lo == 1)
       sr.at = SpanRoot::At::end;
-    sr.kappa = frame_at(B, nearest_double(mid)).kappa;
+    sr.kappa = exact_kappa(B, mid);
     out.push_back(sr);
   }
   return out;
-}
-
-// At a C0 knot: G1 when the end tangents (Bezier legs) point the same way, exactly.
-bool tangents_agree(const std::vector<Point<Rational>>& left, const std::vector<Point<Rational>>& right) {
-  const std::size_t d = left.size() - 1;
-  const Point<Rational> l = left[d] - left[d - 1], r = right[1] - right[0];
-  return sgn(det(l, r)) == 0 && sgn(dot(l, r)) > 0;
 }
 
 // The curve as a sequence of stretches on which a sign (of dkappa/ds, or of
@@ -187,37 +189,30 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
                        ExactPoints& exact, StartSigns& start) {
   const Segment& s = spline.segments()[i];
   const auto B = segment_bezier_points<Bounded>(spline, s);
-  SpanReport span{s, {}, c, false, false, {}, {}};
+  SpanReport span{s, {}, c, {}, false, false, {}, {}};
   for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
   start.lambda = strict_sign(lambda_bernstein<Bounded>(B));
   if (start.lambda == 0) {
     const Bernstein<Rational> lambda = lambda_bernstein<Rational>(exact(i));
     span.lambda_zero = is_zero(lambda);
     start.lambda = sign_at_start(lambda);
-    span.extrema = span_roots(lambda, s, span.bezier, roots);
+    span.extrema = span_roots(lambda, s, exact(i), roots);
   }
   start.eta = strict_sign(eta_bernstein<Bounded>(B));
   if (start.eta == 0) {
     const Bernstein<Rational> eta = eta_bernstein<Rational>(exact(i));
     span.eta_zero = is_zero(eta);
     start.eta = sign_at_start(eta);
-    span.inflections = span_roots(eta, s, span.bezier, roots);
+    span.inflections = span_roots(eta, s, exact(i), roots);
   }
   return span;
 }
 
-/// Continuity of every joint; at a C0 knot, G1 or a corner from the exact tangents.
-std::vector<JointReport> joint_reports(const SplineAnalysis& analysis, ExactPoints& exact) {
+/// Continuity of every joint: C<k> from the knots; G1/G2 as analyze found them.
+std::vector<JointReport> joint_reports(const SplineAnalysis& analysis) {
   std::vector<JointReport> out;
-  for (const Joint& j : analysis.joints) {
-    JointReport jr{j, std::string(1, 'C') + std::to_string(j.continuity), false};
-    if (j.continuity < 1) {
-      const bool g1 = tangents_agree(exact(j.index - 1), exact(j.index));
-      jr.continuity = g1 ? "G1" : "C0";
-      jr.corner = !g1;
-    }
-    out.push_back(jr);
-  }
+  for (const Joint& j : analysis.joints)
+    out.push_back({j, std::string(1, 'C') + std::to_string(j.continuity), !j.g1});
   return out;
 }
 
@@ -250,18 +245,25 @@ void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
   r.monotone_pieces = static_cast<int>(r.extrema.size()) + 1;
 }
 
-/// Curvature range: its extremes are at segment ends or stationary points.
+/// Curvature range: its extremes are at segment ends or stationary points
+/// (certified values). With a cusp (P' = 0 somewhere) the curvature is
+/// unbounded or undefined there: no finite range (NaN, null in JSON).
 void curvature_range(SplineReport& r) {
+  r.cusp = r.analysis.cusp;
+  if (r.cusp) {
+    r.kappa_min = r.kappa_max = r.t_min = r.t_max = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
   r.kappa_min = std::numeric_limits<double>::infinity();
   r.kappa_max = -r.kappa_min;
   auto consider = [&](double t, double k) {
-    if (!std::isfinite(k)) return;  // a cusp (zero speed): no curvature there
     if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
     if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
   };
+  const BSpline& spline = *r.spline;
   for (const SpanReport& span : r.spans) {
-    consider(span.segment.a, frame_at(span.bezier, 0).kappa);
-    consider(span.segment.b, frame_at(span.bezier, 1).kappa);
+    consider(span.segment.a, certified_end_curvature(spline, span.segment, 0));
+    consider(span.segment.b, certified_end_curvature(spline, span.segment, 1));
     for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
   }
 }
@@ -276,9 +278,11 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   r.pass = passes(r.analysis, check_of(options));
   ExactPoints exact(spline);
   std::vector<StartSigns> start(spline.segment_count());
-  for (int i = 0; i < spline.segment_count(); ++i)
+  for (int i = 0; i < spline.segment_count(); ++i) {
     r.spans.push_back(span_report(spline, i, r.analysis.segments[i], options.roots, exact, start[i]));
-  r.joints = joint_reports(r.analysis, exact);
+    r.spans.back().shape = r.analysis.shapes[i];
+  }
+  r.joints = joint_reports(r.analysis);
   find_events(r, start);
   curvature_range(r);
   return r;
@@ -460,8 +464,11 @@ Json segments_json(const SplineReport& r) {
     for (const SpanRoot& x : sp.inflections) i.push_back(root_json(x, false));
     segments.push_back({{"index", sp.segment.index},
                         {"interval", {sp.segment.a, sp.segment.b}},
+                        {"class", shape_class(sp.shape)},
                         {"curvature", to_string(sp.classification.monotonicity.curvature)},
-                        {"inflection", to_string(sp.classification.inflection.inflection)},
+                        {"inflection", to_string(sp.shape.inflection)},
+                        {"zero_curvature_at", kappa_zero_at(sp.shape)},
+                        {"algorithm2", to_string(sp.classification.inflection.inflection)},
                         {"depth", sp.classification.monotonicity.depth},
                         {"inflection_depth", sp.classification.inflection.depth},
                         {"exact", sp.classification.exact_used},
@@ -481,6 +488,10 @@ Json joints_json(const SplineReport& r) {
                       {"knot", jt.knot},
                       {"multiplicity", jt.multiplicity},
                       {"continuity", jr.continuity},
+                      {"g1", jt.g1},
+                      {"g2", jt.g2},
+                      {"angle", jt.angle_deg},  // NaN (a zero tangent) prints as null
+                      {"zero_tangent", jt.zero_tangent},
                       {"corner", jr.corner},
                       {"kappa_left", jt.kappa_left},
                       {"kappa_right", jt.kappa_right},
@@ -512,7 +523,9 @@ Json spline_json(const SplineReport& r, int index) {
   j["degree"] = s.degree();
   j["control_points"] = s.point_count();
   j["domain"] = {s.domain_begin(), s.domain_end()};
-  Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)}, {"cmr", to_string(r.analysis.cmr)}};
+  Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)},
+               {"cmr", to_string(r.analysis.cmr)},
+               {"cmr_algorithm2", to_string(r.analysis.cmr_algorithm2)}};
   if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
   verdict["joint_conflicts"] = r.analysis.joint_conflicts;
   j["verdict"] = verdict;
@@ -522,7 +535,9 @@ Json spline_json(const SplineReport& r, int index) {
     extrema.push_back(place_json({{"t", e.t}, {"kind", e.kind > 0 ? "maximum" : "minimum"}, {"kappa", e.kappa}}, e));
   for (const CurveEvent& e : r.inflections)
     inflections.push_back(place_json({{"t", e.t}, {"kappa_sign_after", e.kind}}, e));
-  j["curvature"] = {{"min", {{"kappa", r.kappa_min}, {"t", r.t_min}}},
+  // With a cusp there is no finite range: NaN prints as null.
+  j["curvature"] = {{"cusp", r.cusp},
+                    {"min", {{"kappa", r.kappa_min}, {"t", r.t_min}}},
                     {"max", {{"kappa", r.kappa_max}, {"t", r.t_max}}},
                     {"monotone_pieces", r.monotone_pieces},
                     {"extrema", extrema},
@@ -807,8 +822,10 @@ void summary_html(std::string& out, const SplineReport& r, const ReportOptions& 
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
   out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) +
          (s.segment_count() == 1 ? " segment, " : " segments, ") + std::to_string(r.monotone_pieces) +
-         " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") + "; κ from " + num(r.kappa_min) +
-         " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) + " (t = " + num(r.t_max) + ").</p>";
+         " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") +
+         (r.cusp ? "; a cusp (zero tangent): κ is unbounded, no finite range.</p>"
+                 : "; κ from " + num(r.kappa_min) + " (t = " + num(r.t_min) + ") to " + num(r.kappa_max) +
+                       " (t = " + num(r.t_max) + ").</p>");
 }
 
 /// One row per segment: its class, decision depths and roots.
@@ -831,12 +848,14 @@ void spans_html(std::string& out, const SplineReport& r) {
 void joints_html(std::string& out, const SplineReport& r) {
   if (!r.joints.empty()) {
     out +=
-        "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>κ left</th>"
-        "<th>κ right</th><th>jump</th></tr>";
+        "<table><tr><th>joint</th><th>knot</th><th>multiplicity</th><th>continuity</th><th>G1</th><th>G2</th>"
+        "<th>κ left</th><th>κ right</th><th>jump</th></tr>";
     for (const JointReport& j : r.joints)
       out += "<tr><td>" + std::to_string(j.joint.index) + "</td><td>" + num(j.joint.knot) + "</td><td>" +
              std::to_string(j.joint.multiplicity) + "</td><td>" + j.continuity + (j.corner ? " (corner)" : "") +
-             "</td><td>" + num(j.joint.kappa_left) + "</td><td>" + num(j.joint.kappa_right) + "</td><td>" +
+             "</td><td>" + (j.joint.zero_tangent ? "no (zero tangent)" : (j.joint.g1 ? "yes" : "no")) +
+             "</td><td>" + (j.joint.g2 ? "yes" : "no") + "</td><td>" + num(j.joint.kappa_left) + "</td><td>" +
+             num(j.joint.kappa_right) + "</td><td>" +
              (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
     out += "</table>";
   }

@@ -52,6 +52,7 @@ struct ReportOptions {
   std::shared_ptr<RegionBackend> backend;  ///< where region images are rendered (required with regions)
   int threads = 0;                     ///< threads for the per-spline analysis; 0: all cores
   RootOptions roots;                   ///< enclosure width of extrema and inflections
+  ContinuityTolerances continuity;     ///< G1/G2 tests at joints (the same as cmr analyze's)
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.
@@ -66,7 +67,7 @@ struct SpanRoot {
   int multiplicity = 1;
   int sign_before = 0, sign_after = 0;  ///< of lambda (or eta) as this segment's polynomial
   enum class At : std::uint8_t { interior, start, end } at = At::interior;
-  double kappa = 0;  ///< curvature there
+  double kappa = 0;  ///< curvature at t (certified to kKappaRelError; NaN at a zero tangent)
 };
 
 /// One segment of a spline: its class and the roots of lambda and eta.
@@ -74,6 +75,7 @@ struct SpanReport {
   Segment segment;          ///< the span and its index
   std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
   SegmentClass classification;  ///< Algorithms 1 and 2
+  SegmentShape shape;           ///< exact straight / cusp / inflection facts (analyze)
   bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)
   bool eta_zero = false;              ///< eta == 0: zero curvature
   std::vector<SpanRoot> extrema;      ///< roots of lambda
@@ -81,10 +83,12 @@ struct SpanReport {
 };
 
 /// One joint: its analysis and its geometric continuity.
+/// G1 and G2 (with ReportOptions::continuity) are in `joint`, computed by
+/// analyze as for cmr analyze.
 struct JointReport {
-  Joint joint;  ///< knot, multiplicity, curvature on both sides
-  std::string continuity;  ///< "C<k>" from the knots (k >= 1), else "G1" (tangent directions agree) or "C0"
-  bool corner = false;     ///< C0 and not G1
+  Joint joint;  ///< knot, multiplicity, curvature on both sides, g1, g2
+  std::string continuity;  ///< "C<k>" from the knots alone (k = degree - multiplicity)
+  bool corner = false;     ///< not G1 (directions differ, or a zero tangent)
 };
 
 /// A curvature extremum or inflection of the whole curve: a change in the sign
@@ -120,6 +124,7 @@ struct SplineReport {
   std::vector<CurveEvent> inflections;  ///< in parameter order
   int monotone_pieces = 1;              ///< extrema.size() + 1
   double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;  ///< curvature range and where it is reached
+  bool cusp = false;  ///< some segment has a zero tangent: the range is unbounded (kappa_min/max are NaN)
   std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
 };
 

@@ -227,12 +227,14 @@ TEST(ReportJoints, ContinuityFromKnotsAndTangents) {
   const std::vector<Vec2> straight{{0, 0}, {1, 1}, {2, 1}, {3, 1}, {4, 1}, {5, 0}, {6, 1}};
   const SplineReport g1 = report_spline(BSpline::make(3, knots, straight), no_regions());
   ASSERT_EQ(g1.joints.size(), 1u);
-  EXPECT_EQ(g1.joints[0].continuity, "G1");
+  EXPECT_EQ(g1.joints[0].continuity, "C0");  // from the knots; G1 is reported apart
+  EXPECT_TRUE(g1.joints[0].joint.g1);
   EXPECT_FALSE(g1.joints[0].corner);
   std::vector<Vec2> bent = straight;
   bent[4] = {4, 2};
   const SplineReport c0 = report_spline(BSpline::make(3, knots, bent), no_regions());
   EXPECT_EQ(c0.joints[0].continuity, "C0");
+  EXPECT_FALSE(c0.joints[0].joint.g1);
   EXPECT_TRUE(c0.joints[0].corner);
   const SplineReport c1 = report_spline(
       BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 0}, {5, 1}}), no_regions());
@@ -301,6 +303,72 @@ TEST(ReportFixes, ThumbnailsAreDrawnInMemoryWithoutTemporaryFiles) {
   }
   EXPECT_GT(thumbnails, 0);
   EXPECT_TRUE(fs::is_empty(tmp)) << "a temporary file was left in " << tmp;
+}
+
+
+// ---------------------------------------------------------- semantics --
+// README, "Semantics": the report states what analyze states.
+
+// Cubic Bezier pieces joined at C0 knots (multiplicity 3).
+BSpline bezier_chain(const std::vector<Vec2>& points) {
+  std::vector<double> knots;
+  const int pieces = (static_cast<int>(points.size()) - 1) / 3;
+  for (int k = 0; k <= pieces; ++k) knots.insert(knots.end(), {double(k), double(k), double(k)});
+  return BSpline::make(3, knots, points);
+}
+
+TEST(ReportSemantics, CuspHasNoFiniteCurvatureRange) {
+  // P'(1/2) = 0 (x' = 6(1-2t)^2, y' = 6(1-2t)).
+  const SplineReport r = report_spline(BSpline::bezier({{0, 0}, {2, 2}, {0, 2}, {2, 0}}), no_regions());
+  EXPECT_TRUE(r.cusp);
+  EXPECT_TRUE(r.spans[0].shape.cusp);
+  EXPECT_TRUE(std::isnan(r.kappa_min));
+  EXPECT_TRUE(std::isnan(r.kappa_max));
+  const Json doc = Json::parse(report_json({r}, no_regions()).dump());
+  const Json& sj = doc["splines"][0];
+  EXPECT_EQ(sj["segments"][0]["class"], "cusp");
+  EXPECT_EQ(sj["curvature"]["cusp"], true);
+  EXPECT_TRUE(sj["curvature"]["min"]["kappa"].is_null());
+  EXPECT_TRUE(sj["curvature"]["max"]["kappa"].is_null());
+  EXPECT_NE(report_html({r}, no_regions()).find("no finite range"), std::string::npos);
+}
+
+TEST(ReportSemantics, LeavingAStraightWithZeroCurvatureIsNoInflection) {
+  // Straight, then a cubic whose first three points continue it: eta = 0 at
+  // the joint, > 0 inside. No inflection, CMR passes (the paper's Algorithm 2
+  // alone would say "present").
+  const SplineReport r =
+      report_spline(bezier_chain({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}, {5.5, 0.5}}), no_regions());
+  EXPECT_TRUE(r.inflections.empty());
+  EXPECT_TRUE(r.pass);  // judged by CMR
+  EXPECT_EQ(r.analysis.cmr_algorithm2, Direction::none);
+  const Json doc = Json::parse(report_json({r}, no_regions()).dump());
+  const Json& seg = doc["splines"][0]["segments"];
+  EXPECT_EQ(seg[0]["class"], "straight");
+  EXPECT_EQ(seg[0]["inflection"], "none");
+  EXPECT_EQ(seg[0]["algorithm2"], "present");
+  EXPECT_EQ(seg[1]["class"], "regular");
+  EXPECT_EQ(seg[1]["inflection"], "none");
+  EXPECT_EQ(seg[1]["zero_curvature_at"], "start");
+  EXPECT_EQ(seg[1]["algorithm2"], "present");
+  const Json& joint = doc["splines"][0]["joints"][0];
+  EXPECT_EQ(joint["continuity"], "C0");
+  EXPECT_EQ(joint["g1"], true);
+  EXPECT_EQ(joint["g2"], true);
+  EXPECT_EQ(doc["splines"][0]["verdict"]["cmr_algorithm2"], "none");
+}
+
+TEST(ReportSemantics, ExtremumCurvatureIsCertified) {
+  // The symmetric arch's extremum is exactly t = 1/2. Independent value: the
+  // pointwise double formula (spline/curvature.hpp), whose derivatives at
+  // t = 1/2 are exact dyadic numbers for these points.
+  const SplineReport r = report_spline(BSpline::bezier(arch(0.5)), no_regions());
+  ASSERT_EQ(r.spans[0].extrema.size(), 1u);
+  const double k = r.spans[0].extrema[0].kappa;
+  const double want = curvature(*r.spline, 0.5);
+  EXPECT_LE(std::fabs(k - want), 1e-14 * std::fabs(want));
+  // The range ends are the certified joint/end curvatures.
+  EXPECT_EQ(r.kappa_max, certified_end_curvature(*r.spline, r.spline->segments()[0], 0));
 }
 
 // ------------------------------------------------------------ the command --
@@ -466,6 +534,68 @@ TEST(ReportHtml, HeadlessChromiumShowsTheFigures) {
   EXPECT_GT(ink, w * h / 100) << "blank page";
   EXPECT_GT(red, 40) << "no red (maxima, FAIL badge)";
   EXPECT_GT(blue, 40) << "no blue (minima, comb)";
+}
+
+
+TEST(ReportCommand, AnalyzeAndReportAgreeOnJointsWithAnAngleTolerance) {
+  // Quadratic outline in integer font units, C0 at (171, 170) between
+  // (100, 100) and (241, 240): the tangents differ by 0.406 degrees.
+  const std::string file = spline_file(
+      "font.json", BSpline::make(2, {0, 0, 1, 1, 2, 2}, {{0, 0}, {100, 100}, {171, 170}, {241, 240}, {400, 250}}));
+  for (const std::string tol : {"", " --angle-tol 0.5"}) {
+    const fs::path out = test::scratch() / "font_report";
+    fs::remove_all(out);
+    const test::Outcome a = test::run("analyze " + file + tol);
+    ASSERT_EQ(a.code, 0) << a.err;
+    const test::Outcome r = test::run("report " + file + " --out " + out.string() + " --no-thumbnails" + tol);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Json aj = Json::parse(a.out)["joints"][0];
+    const Json rj = read_json(out / "report.json")["splines"][0]["joints"][0];
+    for (const char* key : {"continuity", "g1", "g2", "angle", "zero_tangent", "kappa_left", "kappa_right", "jump"})
+      EXPECT_EQ(aj[key], rj[key]) << key << " with '" << tol << "'";
+    EXPECT_EQ(aj["g1"], !tol.empty()) << tol;
+    EXPECT_EQ(rj["corner"], tol.empty()) << tol;
+  }
+  for (const std::string bad : {" --angle-tol -1", " --angle-tol 180", " --curvature-tol 2"}) {
+    const test::Outcome a = test::run("analyze " + file + bad);
+    EXPECT_EQ(a.code, 2) << bad;
+    const fs::path out = test::scratch() / "font_bad";
+    fs::remove_all(out);
+    const test::Outcome r = test::run("report " + file + " --out " + out.string() + " --no-thumbnails" + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_FALSE(fs::exists(out / "report.json")) << bad;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
+
+TEST(ReportCommand, AnalyzeAndReportAgreeOnSegmentSemantics) {
+  // A straight, a curve leaving it with zero curvature, and a cusp.
+  const std::string leaving =
+      spline_file("leaving.json", bezier_chain({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}, {5.5, 0.5}}));
+  const std::string cusp = spline_file("cusp.json", BSpline::bezier({{0, 0}, {2, 2}, {0, 2}, {2, 0}}));
+  const fs::path out = test::scratch() / "semantics_report";
+  fs::remove_all(out);
+  ASSERT_EQ(test::run("report " + leaving + " " + cusp + " --out " + out.string() + " --no-thumbnails").code, 0);
+  const Json doc = read_json(out / "report.json");
+  const std::vector<std::string> files{leaving, cusp};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const test::Outcome a = test::run("analyze " + files[i]);
+    ASSERT_EQ(a.code, 0) << a.err;
+    const Json aj = Json::parse(a.out);
+    const Json& rj = doc["splines"][i];
+    ASSERT_EQ(aj["segments"].size(), rj["segments"].size());
+    for (std::size_t k = 0; k < aj["segments"].size(); ++k)
+      for (const char* key : {"class", "curvature", "inflection", "zero_curvature_at", "algorithm2"})
+        EXPECT_EQ(aj["segments"][k][key], rj["segments"][k][key]) << files[i] << " segment " << k << " " << key;
+    for (const char* key : {"cmrwi", "cmr", "cmr_algorithm2"})
+      EXPECT_EQ(aj["spline"][key], rj["verdict"][key]) << files[i] << " " << key;
+    EXPECT_EQ(aj["spline"]["cusp"], rj["curvature"]["cusp"]) << files[i];
+  }
+  EXPECT_EQ(doc["splines"][0]["segments"][1]["zero_curvature_at"], "start");
+  EXPECT_EQ(doc["splines"][0]["verdict"]["cmr"], "increasing");
+  EXPECT_EQ(doc["splines"][1]["segments"][0]["class"], "cusp");
+  EXPECT_TRUE(doc["splines"][1]["curvature"]["min"]["kappa"].is_null());
 }
 
 }  // namespace
