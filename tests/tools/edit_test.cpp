@@ -344,8 +344,10 @@ TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   // and the opposite handle's length.
   const cmr::BSpline s1 = cmr::read_spline_file(edited);
   const auto& Q = s1.points();
-  for (int i = 0; i < s1.point_count(); ++i)
-    if (i != k - 1 && i != k + 1) EXPECT_EQ(Q[i], P[i]) << "point " << i;
+  for (int i = 0; i < s1.point_count(); ++i) {
+    if (i == k - 1 || i == k + 1) continue;
+    EXPECT_EQ(Q[i], P[i]) << "point " << i;
+  }
   EXPECT_LT(norm(Q[k + 1] - target), 0.05) << "the handle is where the drag left it";
   const cmr::Vec2 in = Q[k] - Q[k - 1], out = Q[k + 1] - Q[k];
   EXPECT_LT(std::abs(cmr::det(in, out)) / (norm(in) * norm(out)), 1e-12) << "G1 at P_k";

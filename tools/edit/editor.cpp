@@ -14,7 +14,7 @@
 namespace cmr::edit {
 
 Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height)
-    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false}),
+    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false, std::nullopt}),
       path_(std::move(path)),
       viewport_(Viewport::fit(history_.current().spline, width, height, width - kPanelWidth, height - kPlotHeight)) {}
 
