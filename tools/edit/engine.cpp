@@ -36,6 +36,11 @@ void push_difference(std::vector<double>& key, double a, double b) {
 
 }  // namespace
 
+// The key holds every field of RegionRequest; a new field must join it (the
+// size check makes a merge that adds one fail here rather than cache wrongly).
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 104,
+              "RegionRequest changed: add the new field to region_key, then update this size");
+
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   std::vector<double> key;
   const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
