@@ -111,29 +111,6 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
   return out;
 }
 
-// The image decoded from the device's words; uncertain pixels are decided on
-// the host (certified, then exactly).
-void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
-                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
-  const RegionRequest& o = s.options;
-  for (std::size_t k = 0; k < pixels.size(); ++k) {
-    const auto [i, j] = pixels[k];
-    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
-    const uint32_t w = words[k];
-    if (w & RESULT_UNCERTAIN) {
-      // Not certified on the device (or deeper than its precomputed pieces).
-      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
-      img.labels[at] = pr.label;
-      img.depth[at] = pr.depth;
-      img.exact_pixels += pr.exact;
-    } else {
-      img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
-      img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
-    }
-  }
-  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
-}
-
 }  // namespace
 
 namespace detail {
@@ -220,6 +197,33 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
 }
 
 }  // namespace detail
+
+namespace {
+
+// The image decoded from the device's words; uncertain pixels are decided on
+// the host (certified, then exactly).
+void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
+                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
+  const RegionRequest& o = s.options;
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto [i, j] = pixels[k];
+    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
+    const uint32_t w = words[k];
+    if (w & RESULT_UNCERTAIN) {
+      // Not certified on the device (or deeper than its precomputed pieces).
+      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+      img.labels[at] = pr.label;
+      img.depth[at] = pr.depth;
+      img.exact_pixels += pr.exact;
+    } else {
+      img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
+      img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
+    }
+  }
+  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
+}
+
+}  // namespace
 
 Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOptions& options) {
   ContextOptions co;
