@@ -394,6 +394,14 @@ Result<void> Presenter::end_frame(const PresentFrame& frame, Screenshot* screens
   Impl& m = *impl_;
   SlotSync& s = m.slots[frame.slot];
   vkCmdEndRenderPass(frame.cmd);
+  // What the frame's shaders wrote to buffers (a region drawer's list of
+  // uncertain pixels) is visible to the host once the slot's fence signals.
+  VkMemoryBarrier to_host{};
+  to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(frame.cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
+                       nullptr, 0, nullptr);
   const VkDeviceSize bytes = VkDeviceSize{frame.extent.width} * frame.extent.height * 4;
   if (screenshot != nullptr) {
     if (auto r = m.ensure_readback(bytes); !r) {
