@@ -12,6 +12,7 @@
 #include "bezierize/knot_ops.hpp"
 #include "spline/curvature.hpp"
 #include "tools/edit/editor.hpp"
+#include "vk/presenter.hpp"
 
 namespace {
 
@@ -201,6 +202,36 @@ TEST(EditEngine, KnotMoveIsSetKnot) {
   e.move_knot(3, 3.25);  // another knot: a new step
   ASSERT_TRUE(e.undo());
   EXPECT_EQ(e.doc().spline.knots()[4], 4.5);
+}
+
+}  // namespace
+
+namespace {
+
+// The window's swapchain choices (vk/presenter.hpp): no upper image limit is
+// written maxImageCount == 0; a currentExtent of 0xFFFFFFFF means the
+// swapchain decides the size.
+TEST(EditPresenter, ImageCountHonoursAMissingUpperLimit) {
+  VkSurfaceCapabilitiesKHR caps{};
+  caps.minImageCount = 2;
+  caps.maxImageCount = 0;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 3u);
+  caps.maxImageCount = 2;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 2u);
+  caps.maxImageCount = 8;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 3u);
+}
+
+TEST(EditPresenter, ExtentFollowsTheWindowOnlyWhenTheSurfaceLetsIt) {
+  VkSurfaceCapabilitiesKHR caps{};
+  caps.currentExtent = {640, 480};
+  caps.minImageExtent = {1, 1};
+  caps.maxImageExtent = {4096, 4096};
+  EXPECT_EQ(cmr::vk::choose_extent(caps, 800, 600).width, 640u);
+  caps.currentExtent = {0xFFFFFFFFu, 0xFFFFFFFFu};
+  const VkExtent2D e = cmr::vk::choose_extent(caps, 800, 9000);
+  EXPECT_EQ(e.width, 800u);
+  EXPECT_EQ(e.height, 4096u) << "clamped to the surface's limit";
 }
 
 }  // namespace
