@@ -432,18 +432,19 @@ TEST_F(EditTest, GpuPathDrawsTheCpuLabelsIntoTheWindow) {
     EXPECT_GT(seen[0], 0);
     EXPECT_GT(seen[1] + seen[2], 0) << "the zoomed view should hold the boundary";
   }
-  {
-    // Split labels (their darker legend): the same bytes as the upload path.
-    const std::string script = base + "select 3\nsplit 2\nwait 4\n";
-    const fs::path gpu = dir_ / "split_gpu.png", upload = dir_ / "split_upload.png";
+  // Split labels (their darker legend) and depth shading (drawn by the
+  // upload path inside the gpu painter): the same bytes as the upload path.
+  for (const std::string& extra : {std::string("select 3\nsplit 2\n"), std::string("select 3\nshading on\n")}) {
+    const std::string script = base + extra + "wait 4\n";
+    const fs::path gpu = dir_ / "same_gpu.png", upload = dir_ / "same_upload.png";
     ASSERT_EQ(run_edit(kFig8, script, gpu, size, " --region-path gpu").code, 0);
     ASSERT_EQ(run_edit(kFig8, script, upload, size, " --region-path upload").code, 0);
     const Image a = read_png(gpu), b = read_png(upload);
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    EXPECT_TRUE(a.rgb == b.rgb);
+    EXPECT_TRUE(a.rgb == b.rgb) << extra;
     int coloured = 0;
     for (const auto& c : a.rgb) coloured += c != std::array<int, 3>{255, 255, 255};
-    EXPECT_GT(coloured, 0);
+    EXPECT_GT(coloured, 0) << extra;
   }
 }
 
