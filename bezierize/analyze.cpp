@@ -226,20 +226,33 @@ Split combine_split(Direction before, Direction after) {
   return a ? (b ? Split::inc_inc : Split::inc_dec) : (b ? Split::dec_inc : Split::dec_dec);
 }
 
+Alternation alternation_verdict(const std::vector<Direction>& groups) {
+  bool undecided = false;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (groups[g] == Direction::none) return Alternation::fail;
+    undecided = undecided || groups[g] == Direction::undecided;
+    if (g > 0 && groups[g] == groups[g - 1] && groups[g] != Direction::undecided) return Alternation::fail;
+  }
+  if (undecided) return Alternation::undecided;
+  return groups.front() == Direction::increasing ? Alternation::first_increasing : Alternation::first_decreasing;
+}
+
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   const int N = spline.segment_count();
-  if (options.split && (*options.split < 1 || *options.split > N - 1))
-    throw InputError(N == 1 ? "split " + std::to_string(*options.split) + ": the curve has one segment, so no joint to split at"
-                            : "split " + std::to_string(*options.split) + " is outside 1.." + std::to_string(N - 1));
+  const SegmentRange range = judged_range(options.segments, N);
+  if (options.split) validate_cuts({*options.split}, range, N);
+  validate_cuts(options.splits, range, N);
+  if (options.split && !options.splits.empty()) throw InputError("give one split joint or a list of them, not both");
   if (options.classify.max_depth < 0 || options.classify.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0.." +
                      std::to_string(kMaxDepth));
   validate(options.continuity);
   SplineAnalysis out;
+  out.range = range;
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
   for (const Segment& s : spline.segments()) {
-    out.segments.push_back(classify_segment(spline, s, co));
+    out.segments.push_back(out.judged(s.index) ? classify_segment(spline, s, co) : SegmentClass{});
     out.exact_segments += out.segments.back().exact_used ? 1 : 0;
     out.shapes.push_back(segment_shape(spline, s));
     out.cusp = out.cusp || out.shapes.back().cusp;
@@ -271,13 +284,19 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
     out.joints.push_back(j);
   }
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
-  out.cmrwi = part_verdict(out.segments, out.joints, 0, N, Mode::cmrwi, &out.joint_conflicts);
-  out.cmr = part_verdict(reported, out.joints, 0, N, Mode::cmr);
-  out.cmr_algorithm2 = part_verdict(out.segments, out.joints, 0, N, Mode::cmr);
+  const int first = range.first, end = range.last + 1;
+  out.cmrwi = part_verdict(out.segments, out.joints, first, end, Mode::cmrwi, &out.joint_conflicts);
+  out.cmr = part_verdict(reported, out.joints, first, end, Mode::cmr);
+  out.cmr_algorithm2 = part_verdict(out.segments, out.joints, first, end, Mode::cmr);
   if (options.split) {
     const int s = *options.split;
-    out.split = combine_split(part_verdict(reported, out.joints, 0, s, options.split_mode),
-                              part_verdict(reported, out.joints, s, N, options.split_mode));
+    out.split = combine_split(part_verdict(reported, out.joints, first, s, options.split_mode),
+                              part_verdict(reported, out.joints, s, end, options.split_mode));
+  }
+  if (!options.splits.empty()) {
+    for (const auto& [a, b] : segment_groups(range, options.splits))
+      out.groups.push_back(part_verdict(reported, out.joints, a, b, options.split_mode));
+    out.alternation = alternation_verdict(out.groups);
   }
   return out;
 }

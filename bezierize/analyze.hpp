@@ -30,11 +30,16 @@
 //    free. inc-dec puts a curvature maximum at the joint, dec-inc a minimum.
 // Verdicts: a part that is not monotone makes "none"; otherwise one that is
 // undecided (depth limit) makes "undecided".
+//  * Segment control (bezierize/segments.hpp): with options.segments only
+//    those segments are classified and judged (the verdicts above, the split
+//    and the joint conflicts are of that range); with options.splits the
+//    range's groups between the joints get the alternation verdict.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bezierize/classify.hpp"
+#include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr {
@@ -94,8 +99,10 @@ struct Joint {
 struct AnalyzeOptions {
   ClassifyOptions classify;    ///< depth D and Algorithm 2 on/off
   std::optional<int> split;    ///< joint s for the split verdict
-  Mode split_mode = Mode::cmrwi;
+  Mode split_mode = Mode::cmrwi;  ///< also the mode of the alternation verdict
   ContinuityTolerances continuity;  ///< G1/G2 tests at joints
+  std::optional<SegmentRange> segments;  ///< judge only these segments (all when empty)
+  std::vector<int> splits;               ///< joints s_1 < ... < s_k for the alternation verdict
 };
 
 struct SplineAnalysis {
@@ -109,9 +116,14 @@ struct SplineAnalysis {
   std::optional<Split> split;
   std::vector<int> joint_conflicts;  ///< joints whose curvature jump goes against the verdict
   int exact_segments = 0;            ///< segments that needed the exact path
+  SegmentRange range;                ///< the segments judged; the others' classes are left default
+  std::optional<Alternation> alternation;  ///< with options.splits
+  std::vector<Direction> groups;           ///< with options.splits: each group's verdict
+  bool judged(int segment) const { return segment >= range.first && segment <= range.last; }
 };
 
-/// Validates options.split (InputError: "split 5 is outside 1..2").
+/// Validates options.split, .segments and .splits (InputError: "split 5 is
+/// outside 1..2"); split and splits together are an error.
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options = {});
 
 /// The verdict of segments [first, last) from their classes and the joints
@@ -119,6 +131,8 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options = {}
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,
                        int last, Mode mode, std::vector<int>* conflicts = nullptr);
 Split combine_split(Direction before, Direction after);
+/// The alternation verdict of consecutive groups' directions (segments.hpp).
+Alternation alternation_verdict(const std::vector<Direction>& groups);
 
 /// Exact sign of kappa_right - kappa_left at a joint, from the spline's double
 /// data (rational arithmetic).

@@ -59,29 +59,32 @@ std::vector<int> point_group(const RegionRequest& o) {
   return group;
 }
 
-// Segments the move changes (touched) and those the setup needs (touched,
-// or next to a joint whose curvature jump varies: non-C2, not the split
-// joint, next to a touched segment); the varying joints go to `varying`.
+// Judged segments the move changes (touched) and those the setup needs
+// (touched, or next to a joint whose curvature jump varies: non-C2, strictly
+// inside the judged range, not a cut joint, next to a touched segment); the
+// varying joints go to `varying`. Segments outside the range are ignored.
 void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<bool>& needed,
                  std::vector<int>& varying) {
-  const int N = s.spline.segment_count(), split = s.options.split.value_or(0);
+  const int N = s.spline().segment_count();
   touched.assign(N, false);
   needed.assign(N, false);
-  for (const SegmentInfluence& si : influence(s.spline, s.group)) touched[si.segment] = needed[si.segment] = true;
-  for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const int idx = s.joints[j].index;
-    if (idx == split || s.joints[j].continuity >= 2) continue;  // split joint: jump is free; C2: no jump
+  for (const SegmentInfluence& si : influence(s.spline(), s.group))
+    if (si.segment >= s.range.first && si.segment <= s.range.last) touched[si.segment] = needed[si.segment] = true;
+  const std::vector<Joint>& joints = s.joints();
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    const int idx = joints[j].index;
+    if (!joint_counts(s.range, s.cuts, idx) || joints[j].continuity >= 2) continue;  // cut joint: free; C2: no jump
     if (!touched[idx - 1] && !touched[idx]) continue;
     varying.push_back(static_cast<int>(j));
     needed[idx - 1] = needed[idx] = true;
   }
 }
 
-// fixed_none / fixed_level0_none: an untouched segment fails for every position.
+// fixed_none / fixed_level0_none: an untouched judged segment fails for every position.
 void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
-  for (std::size_t seg = 0; seg < touched.size(); ++seg) {
+  for (int seg = s.range.first; seg <= s.range.last; ++seg) {
     if (touched[seg]) continue;
-    const SegmentClass& c = s.fixed[seg];
+    const SegmentClass& c = s.fixed()[seg];
     const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||
                        (s.options.mode == Mode::cmr && c.inflection.inflection == Inflection::present);
     const int level = c.monotonicity.curvature == Curvature::non_monotone ? c.monotonicity.depth : c.inflection.depth;
@@ -93,8 +96,8 @@ void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
 // B0 and w of segment g exactly (w: the blossom of the data that is 1 on the
 // group within the window and 0 elsewhere), and both rounded with bounds.
 void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
-  const int d = s.spline.degree();
-  const SegmentWindow<Rational> window = segment_window<Rational>(s.spline, g);
+  const int d = s.spline().degree();
+  const SegmentWindow<Rational> window = segment_window<Rational>(s.spline(), g);
   e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
   const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
   std::vector<Rational> indicator(d + 1, Rational(0));
@@ -128,32 +131,176 @@ void set_piece_polynomials(RegionEntry& e, int piece_levels) {
 
 }  // namespace
 
-RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) {
+namespace {
+
+// What part_verdict reads of a run of segments [a, b): its flags, the first
+// and last curvature sign of the kappa chain (CMR), the jumps of the joints
+// inside it, and the deepest levels.
+struct RunSummary {
+  bool inc = false, dec = false, none = false, undecided = false, up = false, down = false, k_seen = false;
+  int k_first = 0, k_last = 0, mono_depth = 0, infl_depth = 0;
+};
+
+// Mirrors part_verdict (analyze.cpp) over one run, the chain starting afresh.
+RunSummary summarize_run(const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints, int a, int b,
+                         Mode mode) {
+  RunSummary r;
+  for (int i = a; i < b; ++i) {
+    const SegmentClass& c = classes[i];
+    r.mono_depth = std::max(r.mono_depth, c.monotonicity.depth);
+    r.infl_depth = std::max(r.infl_depth, c.inflection.depth);
+    switch (c.monotonicity.curvature) {
+      case Curvature::increasing: r.inc = true; break;
+      case Curvature::decreasing: r.dec = true; break;
+      case Curvature::non_monotone: r.none = true; break;
+      case Curvature::undecided: r.undecided = true; break;
+      case Curvature::constant: break;
+    }
+    if (mode != Mode::cmr) continue;
+    switch (c.inflection.inflection) {
+      case Inflection::present: r.none = true; break;
+      case Inflection::undecided: r.undecided = true; break;
+      case Inflection::none:
+        if (c.inflection.kappa_sign == 0) break;  // straight: skipped by the chain, as in part_verdict
+        if (!r.k_seen) r.k_first = c.inflection.kappa_sign;
+        else if (c.inflection.kappa_sign != r.k_last) r.none = true;
+        r.k_seen = true;
+        r.k_last = c.inflection.kappa_sign;
+        break;
+    }
+  }
+  for (int i = a + 1; i < b; ++i) {
+    r.up = r.up || joints[i - 1].jump > 0;
+    r.down = r.down || joints[i - 1].jump < 0;
+  }
+  return r;
+}
+
+SegmentClass stand_in(Curvature curvature, Inflection inflection, int kappa_sign) {
+  SegmentClass c;
+  c.monotonicity.curvature = curvature;
+  c.inflection.inflection = inflection;
+  c.inflection.kappa_sign = kappa_sign;
+  return c;
+}
+
+// The stand-ins of one run: one non-monotone class when the run alone makes
+// its part "none"; otherwise its direction (carrying the first curvature
+// sign), the last curvature sign when it differs (a chain 0..0 c..c), an
+// undecided class when the run has one, and a neutral class when a jump needs
+// a joint to sit on. Each keeps part_verdict's flags and chain unchanged.
+std::vector<SegmentClass> stand_ins(const RunSummary& r, int& jump) {
+  jump = 0;
+  std::vector<SegmentClass> out;
+  if (r.none || (r.inc && r.dec) || (r.up && r.down)) {
+    out.push_back(stand_in(Curvature::non_monotone, Inflection::undecided, 0));
+  } else {
+    // Without a chain value (CMR: the run's inflections were undecided or its
+    // segments straight) the stand-ins carry sign 0, which part_verdict skips;
+    // an undecided inflection is kept by the undecided stand-in below. In
+    // CMRWI the inflection is not read.
+    const auto tail = [&](Curvature c) { return stand_in(c, Inflection::none, r.k_seen ? r.k_last : 0); };
+    const Curvature dir = r.inc ? Curvature::increasing : (r.dec ? Curvature::decreasing : Curvature::constant);
+    out.push_back(stand_in(dir, Inflection::none, r.k_seen ? r.k_first : 0));
+    if (r.k_seen && r.k_last != r.k_first) out.push_back(tail(Curvature::constant));
+    if (r.undecided) out.push_back(tail(Curvature::undecided));
+    if ((r.up || r.down) && out.size() == 1) out.push_back(tail(Curvature::constant));
+    jump = r.up ? 1 : (r.down ? -1 : 0);
+  }
+  out.front().monotonicity.depth = r.mono_depth;
+  out.front().inflection.depth = r.infl_depth;
+  return out;
+}
+
+}  // namespace
+
+VerdictTemplate fold_fixed_runs(const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
+                                const std::vector<bool>& needed, SegmentRange range, const std::vector<int>& cuts,
+                                Mode mode) {
+  const int N = static_cast<int>(classes.size());
+  CMR_CHECK(static_cast<int>(needed.size()) == N && static_cast<int>(joints.size()) == N - 1);
+  CMR_CHECK(range.first >= 0 && range.first <= range.last && range.last < N);
+  const auto is_cut = [&](int seg) { return std::find(cuts.begin(), cuts.end(), seg) != cuts.end(); };
+  VerdictTemplate t;
+  t.slot.assign(N, -1);
+  t.starts.push_back(0);
+  // Appends the classes of segments [a, ...) after the real joint that precedes segment a.
+  const auto append = [&](int a, const std::vector<SegmentClass>& items, int inner_jump) {
+    if (!t.classes.empty()) t.joints.push_back(joints[a - 1]);
+    if (a != range.first && is_cut(a)) t.starts.push_back(static_cast<int>(t.classes.size()));
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (i > 0) {
+        Joint j;
+        j.jump = i == 1 ? inner_jump : 0;
+        t.joints.push_back(j);
+      }
+      t.classes.push_back(items[i]);
+    }
+  };
+  int run = -1;  // first segment of the open run
+  const auto flush = [&](int end) {
+    if (run < 0) return;
+    int jump = 0;
+    const std::vector<SegmentClass> items = stand_ins(summarize_run(classes, joints, run, end, mode), jump);
+    append(run, items, jump);
+    run = -1;
+  };
+  for (int seg = range.first; seg <= range.last; ++seg) {
+    if (needed[seg] || is_cut(seg)) flush(seg);
+    if (needed[seg]) {
+      t.slot[seg] = static_cast<int>(t.classes.size());
+      append(seg, {classes[seg]}, 0);
+    } else if (run < 0) {
+      run = seg;
+    }
+  }
+  flush(range.last + 1);
+  return t;
+}
+
+std::vector<Direction> group_verdicts(const VerdictTemplate& t, const std::vector<SegmentClass>& classes,
+                                      const std::vector<Joint>& joints, Mode mode) {
+  std::vector<Direction> out;
+  for (std::size_t g = 0; g < t.starts.size(); ++g) {
+    const int end = g + 1 < t.starts.size() ? t.starts[g + 1] : static_cast<int>(classes.size());
+    out.push_back(part_verdict(classes, joints, t.starts[g], end, mode));
+  }
+  return out;
+}
+
+std::shared_ptr<const RegionBase> region_base(const BSpline& spline, int max_depth) {
+  AnalyzeOptions ao;
+  ao.classify.max_depth = max_depth;
+  return std::make_shared<const RegionBase>(RegionBase{spline, analyze(spline, ao), max_depth});
+}
+
+RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
+                           std::shared_ptr<const RegionBase> base) {
   validate_region_options(spline, options);
-  RegionSetup s{spline, options, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
+  if (!base) base = region_base(spline, options.max_depth);
+  CMR_CHECK(base->max_depth == options.max_depth && base->spline.point_count() == spline.point_count());
+  RegionSetup s{std::move(base), options, {}, {}, {}, {}, {}, {}, {}, false, false, std::min(options.max_depth, kPieceLevels)};
   if (!s.options.view) {
     s.options.view = default_view(spline, options.width, options.height);
     validate_region_options(spline, s.options);  // a default view of huge coordinates can overflow
   }
   s.group = point_group(options);
   s.anchor = spline.points()[options.point];
-  AnalyzeOptions ao;
-  ao.classify.max_depth = options.max_depth;
-  const SplineAnalysis a = analyze(spline, ao);
-  s.fixed = a.segments;
-  s.joints = a.joints;
+  s.range = judged_range(options.segments, spline.segment_count());
+  s.cuts = options.split ? std::vector<int>{*options.split} : options.splits;
 
-  const int d = spline.degree(), N = spline.segment_count(), split = options.split.value_or(0);
+  const int d = spline.degree(), N = spline.segment_count();
   std::vector<bool> touched, needed;
   std::vector<int> varying_joints;
   find_needed(s, touched, needed, varying_joints);
   mark_fixed_failures(s, touched);
+  s.verdict = fold_fixed_runs(s.fixed(), s.joints(), needed, s.range, s.cuts, options.mode);
   std::vector<int> entry_of(N, -1);
   for (int seg = 0; seg < N; ++seg) {
     if (!needed[seg]) continue;
     RegionEntry e;
     e.segment = seg;
-    e.part = split > 0 && seg >= split ? 1 : 0;
+    e.part = group_of(s.cuts, seg);
     e.classify = touched[seg];
     set_moved_points(s, spline.segments()[seg], e);
     e.n_xi = 4 * d - 6;
@@ -163,27 +310,34 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options) 
     s.entries.push_back(std::move(e));
   }
   for (int j : varying_joints) {
-    const int idx = s.joints[j].index;
-    s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], split > 0 && idx >= split ? 1 : 0});
+    const int idx = s.joints()[j].index;
+    s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], group_of(s.cuts, idx)});
   }
   return s;
 }
 
 namespace {
 
+// A varying joint's index in the verdict template: it sits before its right
+// segment, which is an entry and so has a slot of its own.
+int verdict_joint(const RegionSetup& s, const RegionJoint& j) {
+  return s.verdict.slot[s.entries[j.right].segment] - 1;
+}
+
+// The label from the verdict template with the entries' classes and the
+// varying jumps filled in (VerdictTemplate: O(entries), not O(segments)).
 PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
                     bool exact) {
-  const int N = static_cast<int>(classes.size());
   PixelResult r;
   r.exact = exact;
   const RegionRequest& o = s.options;
-  if (o.split) {
-    r.label = label_of(combine_split(part_verdict(classes, joints, 0, *o.split, o.mode),
-                                     part_verdict(classes, joints, *o.split, N, o.mode)));
-  } else {
-    r.label = label_of(part_verdict(classes, joints, 0, N, o.mode));
+  const std::vector<Direction> groups = group_verdicts(s.verdict, classes, joints, o.mode);
+  switch (labels_of(o)) {
+    case Labels::plain: r.label = label_of(groups[0]); break;
+    case Labels::split: r.label = label_of(combine_split(groups[0], groups[1])); break;
+    case Labels::alternating: r.label = label_of(alternation_verdict(groups)); break;
   }
-  int depth = 0;
+  int depth = 0;  // the template holds the judged segments only; stand-ins carry their runs' depths
   for (const SegmentClass& c : classes) {
     depth = std::max(depth, c.monotonicity.depth);
     if (o.mode == Mode::cmr) depth = std::max(depth, c.inflection.depth);
@@ -383,17 +537,17 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
       if (ends_touch(sgn(nu[e].front()), sgn(nu[e].back())) == Truth::yes) return {0, 0, true};
     }
   }
-  std::vector<SegmentClass> classes = s.fixed;
+  std::vector<SegmentClass> classes = s.verdict.classes;
   for (std::size_t e = 0; e < s.entries.size(); ++e) {
     if (!s.entries[e].classify) continue;
     SegmentClass c;
     c.monotonicity = *algorithm1(xi[e], o.max_depth);
     if (o.mode == Mode::cmr) c.inflection = *algorithm2(nu[e], o.max_depth);
     c.exact_used = true;
-    classes[s.entries[e].segment] = c;
+    classes[s.verdict.slot[s.entries[e].segment]] = c;
   }
-  std::vector<Joint> joints = s.joints;
-  for (const RegionJoint& j : s.varying) joints[j.joint].jump = jump_sign<Rational>(B[j.left], B[j.right]);
+  std::vector<Joint> joints = s.verdict.joints;
+  for (const RegionJoint& j : s.varying) joints[verdict_joint(s, j)].jump = jump_sign<Rational>(B[j.left], B[j.right]);
   return verdict(s, classes, joints, true);
 }
 
@@ -412,7 +566,7 @@ bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joi
   for (const RegionJoint& j : s.varying) {
     const int sign = jump_sign<Bounded>(B[j.left], B[j.right]);
     if (sign == kSignUnknown) return false;
-    joints[j.joint].jump = sign;
+    joints[verdict_joint(s, j)].jump = sign;
   }
   return true;
 }
@@ -434,7 +588,7 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     uncertain = uncertain || fails == Truth::unknown;
   }
   if (uncertain) return std::nullopt;
-  std::vector<SegmentClass> classes = s.fixed;
+  std::vector<SegmentClass> classes = s.verdict.classes;
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     const auto m = lazy_algorithm1(e, mono, s.piece_levels, o.max_depth);
@@ -446,9 +600,9 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
       if (!i) return std::nullopt;
       c.inflection = *i;
     }
-    classes[e.segment] = c;
+    classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.joints;
+  std::vector<Joint> joints = s.verdict.joints;
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   return verdict(s, classes, joints, false);
 }
@@ -515,7 +669,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (!e.classify) continue;
     if (level0_fails(e, mono, false) == Truth::yes) return PixelResult{0, 0, false};
   }
-  std::vector<SegmentClass> classes = s.fixed;
+  std::vector<SegmentClass> classes = s.verdict.classes;
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     SegmentClass c;
@@ -534,9 +688,9 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
         default: c.inflection = {Inflection::none, 0, kappa}; break;
       }
     }
-    classes[e.segment] = c;
+    classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.joints;
+  std::vector<Joint> joints = s.verdict.joints;
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   PixelResult r = verdict(s, classes, joints, false);
   r.depth = 0;

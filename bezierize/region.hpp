@@ -48,17 +48,27 @@ enum class RegionLabel : std::uint8_t { not_monotone = 0, increasing = 1, decrea
 /// inc_dec is a curvature maximum at joint S, dec_inc a minimum.
 enum class SplitLabel : std::uint8_t { none = 0, inc_inc = 1, inc_dec = 2, dec_inc = 3, dec_dec = 4, undecided = 5 };
 
+/// A pixel's label with several joints (RegionRequest::splits, the
+/// alternation verdict of bezierize/segments.hpp): the groups between the
+/// joints are monotone in alternating directions, group 0 increasing (a
+/// maximum at the first joint) or decreasing (a minimum there); fail
+/// otherwise; undecided at the depth limit.
+enum class AlternatingLabel : std::uint8_t { fail = 0, first_increasing = 1, first_decreasing = 2, undecided = 3 };
+
 /// "not-monotone", "increasing", "decreasing", "undecided".
 const char* to_string(RegionLabel label);
 /// "none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided".
 const char* to_string(SplitLabel label);
+/// "fail", "inc-first", "dec-first", "undecided".
+const char* to_string(AlternatingLabel label);
 
 /// The 8-bit code of a label where bytes leave the program (PGM label maps,
 /// the shader's result word): the enumerators' values as documented in the
 /// README (0 not monotone, 1 increasing, ...; with split 0 none, 1 inc-inc, ...).
 constexpr std::uint8_t code(RegionLabel label) { return static_cast<std::uint8_t>(label); }
 constexpr std::uint8_t code(SplitLabel label) { return static_cast<std::uint8_t>(label); }
-inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6;
+constexpr std::uint8_t code(AlternatingLabel label) { return static_cast<std::uint8_t>(label); }
+inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6, kAlternatingLabelCodes = 4;
 
 /// World rectangle shown by an image: x0 left, x1 right, y0 bottom, y1 top.
 struct View {
@@ -86,6 +96,12 @@ struct RegionRequest {
   std::vector<int> with;         ///< other points moving rigidly with k
   Mode mode = Mode::cmrwi;       ///< cmrwi: monotone; cmr: monotone, no inflection
   std::optional<int> split;      ///< joint s: segments 0..s-1 against s..N-1 (SplitLabel results)
+  /// Only these segments are judged (prepared and classified); the others,
+  /// and the joints at the range's ends, play no part. All when empty.
+  std::optional<SegmentRange> segments;
+  /// Joints s_1 < ... < s_k inside the judged range: its groups between them
+  /// must alternate direction (AlternatingLabel results). Not with split.
+  std::vector<int> splits;
   int max_depth = kDefaultDepth; ///< D of Algorithms 1 and 2, 0..kMaxDepth
   int width = 512, height = 512; ///< image size, 1..kMaxImageSize each
   std::optional<View> view;      ///< default_view() when empty
@@ -95,12 +111,14 @@ struct RegionRequest {
   bool depth = true;
 };
 
-/// What one position gets. Exactly one of label / split_label is meaningful:
-/// split_label when the request has a split, label otherwise (the other
-/// keeps its default).
+/// What one position gets. Exactly one of label / split_label /
+/// alternating_label is meaningful: split_label when the request has a split,
+/// alternating_label when it has splits, label otherwise (the others keep
+/// their defaults).
 struct RegionPixel {
   RegionLabel label = RegionLabel::not_monotone;
   SplitLabel split_label = SplitLabel::none;
+  AlternatingLabel alternating_label = AlternatingLabel::fail;
   std::uint8_t depth = 0;  ///< deepest level any segment needed
   bool exact = false;      ///< the exact rational path ran
 };
@@ -113,9 +131,18 @@ class RegionProblem {
  public:
   /// Validates (the only place) and prepares. Throws InputError for a point
   /// out of range, a --with point equal to the moved one or out of range, a
-  /// size outside 1..kMaxImageSize, a split outside 1..N-1, a depth outside
-  /// 0..kMaxDepth, a view with zero, non-finite or overflowing extent.
+  /// size outside 1..kMaxImageSize, a segment range outside 0..N-1 or
+  /// reversed, a split (or one of splits) not strictly inside the judged
+  /// range (1..N-1 without one), splits not increasing, split and splits
+  /// together, a depth outside 0..kMaxDepth, a view with zero, non-finite or
+  /// overflowing extent. Only the judged segments' pieces are prepared.
   static RegionProblem make(const BSpline& spline, const RegionRequest& request);
+  /// One problem per point of `points` (request.point is ignored), validated
+  /// like make. The spline is analysed once for all of them, and a position's
+  /// verdict costs O(degree) whatever the spline's length, so N points cost
+  /// O(N), not O(N^2) (`cmr region --point all`).
+  static std::vector<RegionProblem> make_each(const BSpline& spline, const RegionRequest& request,
+                                              const std::vector<int>& points);
 
   const BSpline& spline() const;
   /// The request as validated, its view resolved (never empty).
@@ -137,8 +164,10 @@ struct RegionResult {
   int width = 0, height = 0;
   View view;
   bool split = false;                    ///< which of the label vectors is filled
-  std::vector<RegionLabel> labels;       ///< without split, width * height; else empty
+  bool alternating = false;              ///< (with splits: alternating_labels)
+  std::vector<RegionLabel> labels;       ///< without split(s), width * height; else empty
   std::vector<SplitLabel> split_labels;  ///< with split, width * height; else empty
+  std::vector<AlternatingLabel> alternating_labels;  ///< with splits, width * height; else empty
   std::vector<std::uint8_t> depth;       ///< decision level per pixel (all 0 without RegionRequest::depth)
   std::uint64_t exact_pixels = 0;        ///< pixels the exact rational path decided
   double seconds = 0;                    ///< wall time of the render
@@ -146,7 +175,9 @@ struct RegionResult {
 
   std::size_t size() const { return depth.size(); }
   /// The label code of pixel `index` (code() of whichever label it has).
-  std::uint8_t code_at(std::size_t index) const { return split ? code(split_labels[index]) : code(labels[index]); }
+  std::uint8_t code_at(std::size_t index) const {
+    return alternating ? code(alternating_labels[index]) : split ? code(split_labels[index]) : code(labels[index]);
+  }
   /// Every pixel's label code, as written to PGM label maps.
   std::vector<std::uint8_t> codes() const;
 };

@@ -31,6 +31,16 @@ const char* to_string(SplitLabel label) {
   return "?";
 }
 
+const char* to_string(AlternatingLabel label) {
+  switch (label) {
+    case AlternatingLabel::fail: return "fail";
+    case AlternatingLabel::first_increasing: return "inc-first";
+    case AlternatingLabel::first_decreasing: return "dec-first";
+    case AlternatingLabel::undecided: return "undecided";
+  }
+  return "?";
+}
+
 std::vector<std::uint8_t> RegionResult::codes() const {
   std::vector<std::uint8_t> out(size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = code_at(i);
@@ -79,9 +89,10 @@ void validate_region_options(const BSpline& spline, const RegionRequest& o) {
       throw InputError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                        " is outside 1.." + std::to_string(kMaxImageSize));
   const int N = spline.segment_count();
-  if (o.split && (*o.split < 1 || *o.split > N - 1))
-    throw InputError(N == 1 ? "split " + std::to_string(*o.split) + ": the curve has one segment, so no joint to split at"
-                            : "split " + std::to_string(*o.split) + " is outside 1.." + std::to_string(N - 1));
+  const SegmentRange range = judged_range(o.segments, N);
+  if (o.split) validate_cuts({*o.split}, range, N);
+  validate_cuts(o.splits, range, N);
+  if (o.split && !o.splits.empty()) throw InputError("give one split joint or a list of them, not both");
   if (o.max_depth < 0 || o.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
   if (o.view) {
@@ -117,6 +128,20 @@ uint8_t label_of(Split s) {
   return code(SplitLabel::none);
 }
 
+uint8_t label_of(Alternation a) {
+  switch (a) {
+    case Alternation::first_increasing: return code(AlternatingLabel::first_increasing);
+    case Alternation::first_decreasing: return code(AlternatingLabel::first_decreasing);
+    case Alternation::undecided: return code(AlternatingLabel::undecided);
+    case Alternation::fail: return code(AlternatingLabel::fail);
+  }
+  return code(AlternatingLabel::fail);
+}
+
+Labels labels_of(const RegionRequest& o) {
+  return !o.splits.empty() ? Labels::alternating : (o.split ? Labels::split : Labels::plain);
+}
+
 RegionLabel region_label(uint8_t c) {
   CMR_CHECK(c < kRegionLabelCodes);
   return static_cast<RegionLabel>(c);
@@ -127,22 +152,32 @@ SplitLabel split_label(uint8_t c) {
   return static_cast<SplitLabel>(c);
 }
 
-RegionPixel to_pixel(const PixelResult& r, bool split) {
+AlternatingLabel alternating_label(uint8_t c) {
+  CMR_CHECK(c < kAlternatingLabelCodes);
+  return static_cast<AlternatingLabel>(c);
+}
+
+RegionPixel to_pixel(const PixelResult& r, Labels kind) {
   RegionPixel p;
-  if (split) p.split_label = split_label(r.label);
+  if (kind == Labels::alternating) p.alternating_label = alternating_label(r.label);
+  else if (kind == Labels::split) p.split_label = split_label(r.label);
   else p.label = region_label(r.label);
   p.depth = r.depth;
   p.exact = r.exact;
   return p;
 }
 
-RegionResult to_result(RegionImage&& image, bool split) {
+RegionResult to_result(RegionImage&& image, Labels kind) {
   RegionResult r;
   r.width = image.width;
   r.height = image.height;
   r.view = image.view;
-  r.split = split;
-  if (split) {
+  r.split = kind == Labels::split;
+  r.alternating = kind == Labels::alternating;
+  if (r.alternating) {
+    r.alternating_labels.reserve(image.labels.size());
+    for (uint8_t c : image.labels) r.alternating_labels.push_back(alternating_label(c));
+  } else if (r.split) {
     r.split_labels.reserve(image.labels.size());
     for (uint8_t c : image.labels) r.split_labels.push_back(split_label(c));
   } else {

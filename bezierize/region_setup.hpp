@@ -22,6 +22,7 @@
 // word the shader returns; RegionResult decodes them into typed labels.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -39,9 +40,15 @@ namespace cmr::detail {
 /// Called by prepare_region, the one entry to a prepared problem.
 void validate_region_options(const BSpline& spline, const RegionRequest& options);
 
-/// The label codes of a part's direction and of a split verdict.
+/// The label codes of a part's direction, a split verdict and an alternation.
 uint8_t label_of(Direction d);
 uint8_t label_of(Split s);
+uint8_t label_of(Alternation a);
+
+/// Which labels a request's pixels get: RegionLabel, SplitLabel (split) or
+/// AlternatingLabel (splits).
+enum class Labels : uint8_t { plain, split, alternating };
+Labels labels_of(const RegionRequest& request);
 
 /// What one position gets, with the label as its code.
 struct PixelResult {
@@ -56,7 +63,7 @@ inline constexpr double kPolyErrorUnits = 24;
 /// false, an untouched neighbour of a joint whose curvature jump varies).
 struct RegionEntry {
   int segment = 0;
-  int part = 0;                                ///< 1 for segments at or after the split joint
+  int part = 0;                                ///< its group: group_of(RegionSetup::cuts, segment)
   bool classify = true;                        ///< touched by the group
   std::vector<Point<Rational>> base_exact;     ///< B0: Bezier points before the move
   std::vector<Rational> weight_exact;          ///< w: B = B0 + w (dx, dy)
@@ -72,33 +79,83 @@ struct RegionEntry {
 };
 
 /// A joint whose curvature jump depends on the position (knot multiplicity
-/// >= d-1 next to a touched segment), strictly inside a part.
+/// >= d-1 next to a touched segment), strictly inside a group.
 struct RegionJoint {
   int joint = 0;         ///< index into RegionSetup::joints
   int left = 0, right = 0;  ///< entry indices of its two segments
-  int part = 0;
+  int part = 0;             ///< its group
 };
 
+/// The input of one position's verdict (part_verdict) with the untouched
+/// segments folded: each run of consecutive segments that the move leaves
+/// alone (no entry, no varying joint, not across a group's cut joint) becomes at
+/// most three stand-in classes and two stand-in joints that part_verdict
+/// reads exactly as it reads the run (fold_fixed_runs). A position then
+/// costs O(entries) instead of O(segments), and the regions of all N points
+/// of a spline cost O(N) in all rather than O(N^2).
+struct VerdictTemplate {
+  std::vector<SegmentClass> classes;  ///< entries' slots hold placeholders, filled per position
+  std::vector<Joint> joints;          ///< joints[i-1] between classes i-1 and i (only `jump` is read)
+  std::vector<int> slot;              ///< per segment: its index in classes, -1 where folded into a run
+  std::vector<int> starts;            ///< index in classes where each group starts (starts[0] = 0)
+};
+
+/// Folds the judged segments (`range`) with needed[seg] == false (see
+/// VerdictTemplate); segments outside the range are left out. Joint j
+/// (joints[j], between segments j and j+1) stays a joint of its own when
+/// either neighbour is needed or segment j+1 starts a group (a cut). For any
+/// classes of the needed segments and any jumps of their joints,
+/// group_verdicts over the template equals part_verdict over each group of
+/// segment_groups(range, cuts) of the full lists, in `mode`, and the largest
+/// decision depth over the template is the one over the range.
+VerdictTemplate fold_fixed_runs(const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
+                                const std::vector<bool>& needed, SegmentRange range, const std::vector<int>& cuts,
+                                Mode mode);
+
+/// part_verdict of each group of a filled-in template, in group order.
+std::vector<Direction> group_verdicts(const VerdictTemplate& t, const std::vector<SegmentClass>& classes,
+                                      const std::vector<Joint>& joints, Mode mode);
+
 /// Host preparation shared by the backends.
-struct RegionSetup {
+/// The spline before the move and its analysis (every segment classified to
+/// max_depth, with inflections; the joints): shared by the problems of
+/// several points of one spline (RegionProblem::make_each).
+struct RegionBase {
   BSpline spline;
+  SplineAnalysis analysis;
+  int max_depth = 0;
+};
+
+struct RegionSetup {
+  std::shared_ptr<const RegionBase> base;
   RegionRequest options;                 ///< validated, view resolved
   std::vector<int> group;                ///< k first, then the rigid members
   Vec2 anchor{0.0};                      ///< P_k
-  std::vector<RegionEntry> entries;      ///< ascending segment order
+  SegmentRange range;                    ///< the judged segments (options.segments, or all)
+  std::vector<int> cuts;                 ///< the joints between groups: options.split, or options.splits
+  std::vector<RegionEntry> entries;      ///< ascending segment order, judged segments only
   std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
-  std::vector<SegmentClass> fixed;       ///< every segment's class before the move
-  std::vector<Joint> joints;             ///< before the move
-  bool fixed_level0_none = false;        ///< an untouched segment fails at level 0: every pixel is 0
-  bool fixed_none = false;               ///< an untouched segment fails at some level: every label is 0
+  VerdictTemplate verdict;               ///< per-position verdict input (entries' slots filled per position)
+  bool fixed_level0_none = false;        ///< an untouched judged segment fails at level 0: every pixel is 0
+  bool fixed_none = false;               ///< an untouched judged segment fails at some level: every label is 0
   int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
+
+  const BSpline& spline() const { return base->spline; }                          ///< before the move
+  const std::vector<SegmentClass>& fixed() const { return base->analysis.segments; }  ///< every segment's class before the move
+  const std::vector<Joint>& joints() const { return base->analysis.joints; }          ///< before the move
 };
 
 /// Levels of precomputed piece polynomials: deeper pieces are halved per pixel.
 inline constexpr int kPieceLevels = 3;
 
-/// Validates (validate_region_options) and prepares.
-RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options);
+/// The shared part of the problems of one spline at depth max_depth.
+std::shared_ptr<const RegionBase> region_base(const BSpline& spline, int max_depth);
+
+/// Validates (validate_region_options) and prepares. `base`, when given,
+/// must be region_base(spline, options.max_depth) (shared between the
+/// problems of several points); computed here otherwise.
+RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
+                           std::shared_ptr<const RegionBase> base = nullptr);
 
 /// The reference for one position: certified floating point, exact fallback.
 PixelResult classify_position(const RegionSetup& setup, Vec2 p);
@@ -140,9 +197,10 @@ RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
 /// The typed label of a code; InputError-free: codes come from label_of.
 RegionLabel region_label(uint8_t code);
 SplitLabel split_label(uint8_t code);
+AlternatingLabel alternating_label(uint8_t code);
 /// A pixel's public form.
-RegionPixel to_pixel(const PixelResult& r, bool split);
+RegionPixel to_pixel(const PixelResult& r, Labels kind);
 /// An image's public form (labels decoded; seconds left 0).
-RegionResult to_result(RegionImage&& image, bool split);
+RegionResult to_result(RegionImage&& image, Labels kind);
 
 }  // namespace cmr::detail

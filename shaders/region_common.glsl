@@ -225,51 +225,67 @@ uint level0(bool cmr) {
 }
 
 // Every touched segment through Algorithms 1 (and 2), the varying joints,
-// and the verdict (cmr::part_verdict).
+// and the verdict (cmr::detail::verdict in bezierize/region.cpp): each group
+// of judged segments (cmr::part_verdict), then the label of the groups
+// (one group: its direction; two with a split: cmr::combine_split; any
+// number: cmr::alternation_verdict). Entries and joints come in ascending
+// group order, so the groups are walked once with two cursors (no arrays).
 uint full(bool cmr, REAL dx, REAL dy) {
-  uint split = hdr[HDR_SPLIT];
+  uint kind = hdr[HDR_LABELS];
   int maxd = int(hdr[HDR_DEPTH]);
   uint E = hdr[HDR_ENTRIES];
-  uint flags0 = hdr[HDR_FLAGS_PART0], flags1 = hdr[HDR_FLAGS_PART1];
-  int depth = int(hdr[HDR_FIXED_DEPTH]);
-  for (uint e = 0u; e < E; ++e) {
-    REAL2 head = data[entry_at(e)];
-    if (head.y == REAL(0)) continue;
-    uint f = 0u;
-    int outcome, d, ks;
-    if (traverse(e, false, maxd, outcome, d, ks) != 0) return UNCERTAIN;
-    depth = max(depth, d);
-    if (outcome == 0) f |= FLAG_INC;
-    else if (outcome == 1) f |= FLAG_DEC;
-    else if (outcome == 2) f |= FLAG_NONE;
-    else if (outcome == 3) f |= FLAG_UNDECIDED;
-    if (cmr) {
-      if (traverse(e, true, maxd, outcome, d, ks) != 0) return UNCERTAIN;
-      depth = max(depth, d);
-      if (outcome == 1) f |= FLAG_NONE;
-      else if (outcome == 2) f |= FLAG_UNDECIDED;
-      else f |= ks > 0 ? FLAG_KPOS : FLAG_KNEG;
-    }
-    if (head.x == REAL(0)) flags0 |= f; else flags1 |= f;
-  }
   uint J = JOINTS ? hdr[HDR_JOINTS] : 0u;
+  uint P = hdr[HDR_PARTS];
+  int depth = int(hdr[HDR_FIXED_DEPTH]);
   REAL2 bdx = REAL2(dx, K_ROUND * abs(dx)), bdy = REAL2(dy, K_ROUND * abs(dy));
-  for (uint j = 0u; j < J; ++j) {
-    REAL2 ends = data[hdr[HDR_JOINT_OFFSET] + 2u * j];
-    int s = jump_sign(uint(ends.x), uint(ends.y), bdx, bdy);
-    if (s == SIGN_UNKNOWN) return UNCERTAIN;
-    uint f = s > 0 ? FLAG_UP : (s < 0 ? FLAG_DOWN : 0u);
-    if (data[hdr[HDR_JOINT_OFFSET] + 2u * j + 1u].x == REAL(0)) flags0 |= f; else flags1 |= f;
+  uint e = 0u, j = 0u;
+  int first = 0, second = 0, prev = 0;  // directions of groups 0, 1 and the one before
+  bool any_none = false, any_undecided = false, same_way = false;
+  for (uint part = 0u; part < P; ++part) {
+    uint flags = uint(data[hdr[HDR_PART_OFFSET] + part].x);
+    for (; e < E && uint(data[entry_at(e)].x) == part; ++e) {
+      if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
+      int outcome, d, ks;
+      if (traverse(e, false, maxd, outcome, d, ks) != 0) return UNCERTAIN;
+      depth = max(depth, d);
+      if (outcome == 0) flags |= FLAG_INC;
+      else if (outcome == 1) flags |= FLAG_DEC;
+      else if (outcome == 2) flags |= FLAG_NONE;
+      else if (outcome == 3) flags |= FLAG_UNDECIDED;
+      if (cmr) {
+        if (traverse(e, true, maxd, outcome, d, ks) != 0) return UNCERTAIN;
+        depth = max(depth, d);
+        if (outcome == 1) flags |= FLAG_NONE;
+        else if (outcome == 2) flags |= FLAG_UNDECIDED;
+        else flags |= ks > 0 ? FLAG_KPOS : FLAG_KNEG;
+      }
+    }
+    for (; j < J && uint(data[hdr[HDR_JOINT_OFFSET] + 2u * j + 1u].x) == part; ++j) {
+      REAL2 ends = data[hdr[HDR_JOINT_OFFSET] + 2u * j];
+      int s = jump_sign(uint(ends.x), uint(ends.y), bdx, bdy);
+      if (s == SIGN_UNKNOWN) return UNCERTAIN;
+      flags |= s > 0 ? FLAG_UP : (s < 0 ? FLAG_DOWN : 0u);
+    }
+    int dir = direction_of(flags, cmr);
+    if (part == 0u) first = dir;
+    if (part == 1u) second = dir;
+    any_none = any_none || dir == 2;
+    any_undecided = any_undecided || dir == 3;
+    same_way = same_way || (part > 0u && dir == prev && dir < 2);
+    prev = dir;
   }
   uint label;
-  if (split == 0u) {
-    int d0 = direction_of(flags0, cmr);
-    label = d0 == 0 ? 1u : (d0 == 1 ? 2u : (d0 == 3 ? 3u : 0u));
+  if (kind == LABELS_PLAIN) {
+    label = first == 0 ? 1u : (first == 1 ? 2u : (first == 3 ? 3u : 0u));
+  } else if (kind == LABELS_SPLIT) {
+    if (first == 2 || second == 2) label = 0u;
+    else if (first == 3 || second == 3) label = 5u;
+    else label = 1u + uint(first) * 2u + uint(second);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
   } else {
-    int a = direction_of(flags0, cmr), b = direction_of(flags1, cmr);
-    if (a == 2 || b == 2) label = 0u;
-    else if (a == 3 || b == 3) label = 5u;
-    else label = 1u + uint(a) * 2u + uint(b);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
+    // fail 0, inc-first 1, dec-first 2, undecided 3 (cmr::AlternatingLabel)
+    if (any_none || same_way) label = 0u;
+    else if (any_undecided) label = 3u;
+    else label = first == 0 ? 1u : 2u;
   }
   return label | (uint(depth) << RESULT_DEPTH_SHIFT);
 }

@@ -12,7 +12,11 @@
 //   then d+1 triples (B0.x, B0.y, w) with bounds, then for each piece (heap
 //   order) and each xi_k 5 pairs (ten coefficients, poly3.hpp order), then for
 //   each piece and each nu_k 2 pairs (c0, c1), (c2, 0).
+//   Entries and varying joints come in ascending order, so their groups
+//   ("part") never decrease.
 //   A varying joint (HDR_JOINT_OFFSET) is (left entry, right entry), (part, 0).
+//   The groups (HDR_PART_OFFSET, HDR_PARTS pairs) are (flags, 0): FLAG_* of
+//   the group's untouched judged segments and non-varying joints.
 //   The listed pixels (HDR_LIST_OFFSET) are (column, row) pairs.
 //
 // Result word of a pixel: label code | depth << RESULT_DEPTH_SHIFT, or
@@ -32,7 +36,7 @@ namespace cmr::vk::layout {
 CMR_LAYOUT_CONST(HDR_WIDTH, 0u)               // image width W
 CMR_LAYOUT_CONST(HDR_HEIGHT, 1u)              // image height H
 CMR_LAYOUT_CONST(HDR_MODE, 2u)                // 1 = cmr, 0 = cmrwi
-CMR_LAYOUT_CONST(HDR_SPLIT, 3u)               // split joint, 0 = none
+CMR_LAYOUT_CONST(HDR_LABELS, 3u)              // LABELS_*: which labels the pixels get
 CMR_LAYOUT_CONST(HDR_DEPTH, 4u)               // maximum depth D
 CMR_LAYOUT_CONST(HDR_ENTRIES, 5u)             // number of entries E
 CMR_LAYOUT_CONST(HDR_JOINTS, 6u)              // number of varying joints J
@@ -40,8 +44,8 @@ CMR_LAYOUT_CONST(HDR_DX_OFFSET, 7u)           // dx per column
 CMR_LAYOUT_CONST(HDR_DY_OFFSET, 8u)           // dy per row
 CMR_LAYOUT_CONST(HDR_ENTRY_OFFSET, 9u)        // the entries
 CMR_LAYOUT_CONST(HDR_JOINT_OFFSET, 10u)       // the varying joints
-CMR_LAYOUT_CONST(HDR_FLAGS_PART0, 11u)        // FLAG_* of the fixed part of part 0
-CMR_LAYOUT_CONST(HDR_FLAGS_PART1, 12u)        // FLAG_* of the fixed part of part 1
+CMR_LAYOUT_CONST(HDR_PARTS, 11u)              // number of groups of judged segments (1 + cut joints)
+CMR_LAYOUT_CONST(HDR_PART_OFFSET, 12u)        // the groups' fixed flags
 CMR_LAYOUT_CONST(HDR_FIXED_DEPTH, 13u)        // deepest level of the fixed segments
 CMR_LAYOUT_CONST(HDR_FIXED_LEVEL0_NONE, 14u)  // 1: an untouched segment fails at level 0
 CMR_LAYOUT_CONST(HDR_PIECE_LEVELS, 15u)       // L0: precomputed pieces P = 2^(L0+1) - 1
@@ -49,6 +53,11 @@ CMR_LAYOUT_CONST(HDR_LISTED, 16u)             // listed pixels in this run
 CMR_LAYOUT_CONST(HDR_AREA_WIDTH, 17u)         // work-area width
 CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 18u)        // the listed pixels
 CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
+
+// Label kinds (cmr::detail::Labels).
+CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // RegionLabel: one group
+CMR_LAYOUT_CONST(LABELS_SPLIT, 1u)        // SplitLabel: two groups
+CMR_LAYOUT_CONST(LABELS_ALTERNATING, 2u)  // AlternatingLabel: any number of groups
 
 // Flags of a part (segments' verdicts and joints' jumps folded together).
 CMR_LAYOUT_CONST(FLAG_INC, 1u)        // some segment increasing

@@ -64,7 +64,7 @@ void main() {
     }
     label = r & RESULT_LABEL_MASK;
   }
-  vec3 a = absorb_of(label, hdr[HDR_SPLIT] != 0u);
+  vec3 a = absorb_of(label, hdr[HDR_LABELS] == LABELS_SPLIT);
   if (a == vec3(0.0)) discard;
   absorb = vec4(a, 0.0);
 }

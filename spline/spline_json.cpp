@@ -1,8 +1,14 @@
 #include "spline/spline_json.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <cstdint>
+#include <cstring>
 
 #include <nlohmann/json.hpp>
 
@@ -34,7 +40,8 @@ void apply_knot_convention(std::vector<double>& knots, std::size_t points, int d
     knots.pop_back();
   } else if (knots.size() == full && points > 0) {
     throw InputError("knots: " + std::to_string(knots.size()) + " values is the conventional (full) knot vector for " +
-                     counts + "; drop the first and the last knot (cmr uses polar form), or pass --conventional");
+                     counts + "; drop the first and the last knot (cmr uses polar form), or convert the file with "
+                     "`cmr knots FILE --conventional clamp` (any knots operation takes --conventional)");
   }
 }
 
@@ -88,14 +95,50 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   return BSpline::make(degree, std::move(knots), std::move(points), std::move(name));
 }
 
+std::string read_input_file(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw InputError(path.string() + ": cannot open the file (" + std::strerror(errno) + ")");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw InputError(path.string() + ": cannot read the file (" + std::strerror(errno) + ")");
+  if (!S_ISREG(st.st_mode)) {
+    const char* kind = S_ISDIR(st.st_mode)    ? "a folder"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a plain file";
+    throw InputError(path.string() + ": not a regular file (" + kind + ")");
+  }
+  const std::string too_large =
+      path.string() + ": larger than the " + std::to_string(kMaxInputBytes >> 20) + " MiB input limit";
+  if (static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) throw InputError(too_large);
+  std::string text(static_cast<std::size_t>(st.st_size), '\0');
+  std::size_t used = 0;
+  for (;;) {  // the file may have grown since fstat: read to its end, within the limit
+    if (used == text.size()) {
+      if (text.size() > kMaxInputBytes) throw InputError(too_large);
+      text.resize(std::min<std::size_t>(std::max<std::size_t>(2 * text.size(), 4096), kMaxInputBytes + 1));
+    }
+    const ssize_t n = ::read(fd, text.data() + used, text.size() - used);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw InputError(path.string() + ": cannot read the file (" + std::strerror(errno) + ")");
+    if (n == 0) break;
+    used += static_cast<std::size_t>(n);
+  }
+  if (used > kMaxInputBytes) throw InputError(too_large);
+  text.resize(used);
+  return text;
+}
+
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = read_input_file(path);
   json doc;
   try {
-    doc = json::parse(text.str());
+    doc = json::parse(text);
   } catch (const json::exception& e) {
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ..."
     // (or out_of_range.406 "number overflow parsing '1e999'").
@@ -120,17 +163,6 @@ json spline_to_json(const BSpline& spline) {
   for (const Vec2& p : spline.points()) pts.push_back({p.x, p.y});
   doc["points"] = pts;
   return doc;
-}
-
-void write_spline_file(const std::filesystem::path& path, const BSpline& spline) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw InputError(path.string() + ": cannot write the file");
-    out << spline_to_json(spline).dump(2) << '\n';
-    if (!out) throw InputError(path.string() + ": write failed");
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 }  // namespace cmr

@@ -27,10 +27,20 @@ struct ReadOptions {
 };
 
 BSpline spline_from_json(const nlohmann::json& doc, const ReadOptions& options = {});
-/// Reads and validates a spline file; messages are prefixed with the path.
+/// Reads and validates a spline file (through read_input_file); messages are
+/// prefixed with the path.
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options = {});
+/// The spline as a file's JSON. (Writing a file: cmr::write_spline_file in
+/// tools/io.hpp, atomically.)
 nlohmann::json spline_to_json(const BSpline& spline);
-/// Writes atomically (temporary file, then rename).
-void write_spline_file(const std::filesystem::path& path, const BSpline& spline);
+
+/// The whole content of an input file (spline, points, script), read safely:
+/// opened with O_NONBLOCK, so that a FIFO with no writer cannot hang the
+/// open; then fstat must show a regular file (a FIFO, a device such as
+/// /dev/zero, a folder or a socket is refused at once, before any read); and
+/// at most kMaxInputBytes are read (a larger or growing file is refused).
+/// Throws InputError "PATH: cannot open the file (<strerror>)", "PATH: not a
+/// regular file (a FIFO)", "PATH: larger than the 64 MiB input limit", ...
+std::string read_input_file(const std::filesystem::path& path);
 
 }  // namespace cmr

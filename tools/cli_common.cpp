@@ -1,10 +1,16 @@
 #include "tools/cli_common.hpp"
 
+#include <cstdlib>
+#include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
 
 #include "spline/errors.hpp"
 #ifdef CMR_WITH_VULKAN
+#include "vk/context.hpp"
 #include "vk/region_vk.hpp"
 #endif
 
@@ -50,12 +56,64 @@ class DeferredVulkanBackend final : public RegionBackend {
 #endif
 };
 
+#ifdef CMR_WITH_VULKAN
+/// auto_backend_device on what the loader lists; empty when there is no
+/// loader, driver or device at all.
+std::string first_gpu() {
+  auto devices = vk::enumerate_devices();
+  if (!devices) return {};
+  std::vector<ListedDevice> listed;
+  for (const vk::DeviceInfo& d : devices.value()) listed.push_back({d.name, d.type == VK_PHYSICAL_DEVICE_TYPE_CPU});
+  return auto_backend_device(listed);
+}
+#endif
+
+/// --backend auto: Vulkan on a real GPU, else the CPU backend (see
+/// make_region_backend). The choice is made once, when first needed.
+class AutoBackend final : public RegionBackend {
+ public:
+  AutoBackend(std::string precision, std::string device)
+      : precision_(std::move(precision)), device_(std::move(device)) {}
+  RegionResult render(const RegionProblem& problem) override { return chosen().render(problem); }
+  std::string name() const override { return chosen().name(); }
+
+ private:
+  RegionBackend& chosen() const {
+    if (!chosen_) {
+#ifdef CMR_WITH_VULKAN
+      const std::string gpu = device_.empty() ? first_gpu() : device_;
+      chosen_ = gpu.empty() ? make_region_backend("cpu") : make_region_backend("vulkan", precision_, gpu);
+#else
+      chosen_ = make_region_backend("cpu");
+#endif
+    }
+    return *chosen_;
+  }
+  std::string precision_, device_;
+  mutable std::shared_ptr<RegionBackend> chosen_;
+};
+
+/// A number as the range message shows it: integers without a fraction.
+std::string number_text(double x) {
+  std::ostringstream s;
+  s << std::setprecision(15) << x;
+  return s.str();
+}
+
 }  // namespace
+
+std::string auto_backend_device(const std::vector<ListedDevice>& devices) {
+  for (const ListedDevice& d : devices)
+    if (!d.cpu) return d.name;
+  return {};
+}
 
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
                                                    const std::string& device) {
   if (backend == "cpu") return std::make_shared<CpuRegionBackend>();
-  CMR_CHECK(backend == "vulkan" && (precision == "fp64" || precision == "fp32"));  // CLI11 checked the choices
+  CMR_CHECK(precision == "fp64" || precision == "fp32");  // CLI11 checked the choices
+  if (backend == "auto") return std::make_shared<AutoBackend>(precision, device);
+  CMR_CHECK(backend == "vulkan");
 #ifdef CMR_WITH_VULKAN
   vk::VulkanRegionOptions o;
   o.device = device;
@@ -67,26 +125,39 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
 #endif
 }
 
-void print_json(const nlohmann::ordered_json& doc) { std::cout << doc.dump(2) << '\n'; }
+std::string json_text(const nlohmann::ordered_json& doc, bool pretty) {
+  return doc.dump(pretty ? 2 : -1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+void print_json(const nlohmann::ordered_json& doc, bool pretty) { std::cout << json_text(doc, pretty); }
+
+void add_pretty_flag(CLI::App& cmd, bool& pretty) {
+  cmd.add_flag("--pretty", pretty, "indent the JSON (default: compact, one line)");
+}
+
+CLI::Option* in_range(CLI::Option* option, double lo, double hi) {
+  const std::string range = number_text(lo) + ".." + number_text(hi);
+  option->check(CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        std::string message = text;  // built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + string
+        if (text.empty() || end != text.c_str() + text.size()) message += " is not a number";
+        else if (!(x >= lo && x <= hi)) message += " is outside " + range;
+        else message.clear();
+        return message;
+      },
+      range));
+  return option;
+}
 
 void check_output_path(const std::filesystem::path& path, const std::string& option) {
   const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
     throw InputError(option + " " + path.string() + ": the folder " + folder.string() + " does not exist");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(option + " " + path.string() + ": is a directory");
-}
-
-OutputFiles::~OutputFiles() {
-  for (const auto& p : written_) {
-    std::error_code ec;
-    std::filesystem::remove(p, ec);
-  }
-}
-
-void OutputFiles::write(const std::filesystem::path& path, std::string_view bytes) {
-  write_file_atomic(path, bytes);
-  written_.push_back(path);
+  if (path.filename().empty() || std::filesystem::is_directory(path, ec))
+    throw InputError(option + " " + path.string() + ": is a directory");
 }
 
 }  // namespace cmr::cli

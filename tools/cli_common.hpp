@@ -16,6 +16,7 @@
 
 namespace CLI {
 class App;
+class Option;
 }
 
 namespace cmr::cli {
@@ -26,39 +27,50 @@ enum Exit : int { kOk = 0, kFail = 1, kInvalid = 2, kEnvironment = 3 };
 /// Environment failures (exit 3) are the libraries' error type.
 using EnvironmentError = cmr::EnvironmentError;
 
-/// The region backend of --backend (vulkan|cpu), --precision (fp64|fp32)
+/// The region backend of --backend (auto|vulkan|cpu), --precision (fp64|fp32)
 /// and --device NAME: one per command run, so Vulkan contexts and compiled
-/// pipelines are reused by every render. The Vulkan device is opened at the
-/// first render (a run that renders nothing needs none); when it is missing
-/// or fails, render throws EnvironmentError with a line that says how to
-/// select lavapipe, or to use --backend cpu.
+/// pipelines are reused by every render.
+///  - "cpu": the CPU backend.
+///  - "vulkan": the Vulkan device (the one --device names, else the first
+///    suitable), opened at the first render (a run that renders nothing needs
+///    none); when it is missing or fails, render throws EnvironmentError with
+///    a line that says how to select lavapipe, or to use --backend cpu.
+///  - "auto" (the default): Vulkan when the loader lists a real GPU (any
+///    device whose type is not VK_PHYSICAL_DEVICE_TYPE_CPU, i.e. not
+///    lavapipe/llvmpipe) or when --device names one; else the CPU backend,
+///    which is faster than a software rasterizer. Decided at the first render
+///    or name(), whichever comes first; name() says the choice ("vulkan" or
+///    "cpu"), so commands report the backend that actually ran.
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
                                                    const std::string& device = "");
-
-/// Prints JSON to stdout (2-space indent, one trailing newline).
-void print_json(const nlohmann::ordered_json& doc);
-
-/// Throws InputError unless `path`'s folder exists (checked before any work,
-/// so that a bad output path fails fast and writes nothing).
-void check_output_path(const std::filesystem::path& path, const std::string& option);
-
-/// Files written by one command: all or none. Each file is written with
-/// cmr::write_file_atomic; if a later one fails, the earlier ones are removed
-/// again before the error propagates.
-class OutputFiles {
- public:
-  OutputFiles() = default;
-  OutputFiles(const OutputFiles&) = delete;
-  OutputFiles& operator=(const OutputFiles&) = delete;
-  ~OutputFiles();
-  /// Writes bytes to path (atomically) and remembers it.
-  void write(const std::filesystem::path& path, std::string_view bytes);
-  /// Keeps the files: call after the last write.
-  void keep() { written_.clear(); }
-
- private:
-  std::vector<std::filesystem::path> written_;
+/// --backend auto's rule on the devices the Vulkan loader lists (in loader
+/// order): the name of the first one that is not a CPU device
+/// (VK_PHYSICAL_DEVICE_TYPE_CPU: lavapipe/llvmpipe), which auto opens; ""
+/// when there is none, and auto takes the CPU backend.
+struct ListedDevice {
+  std::string name;
+  bool cpu = false;
 };
+std::string auto_backend_device(const std::vector<ListedDevice>& devices);
+/// The --backend choices, in help order.
+inline const std::vector<std::string> kBackendChoices = {"auto", "vulkan", "cpu"};
+
+/// JSON text as cmr emits it: compact on one line, or with `pretty` indented
+/// by 2 spaces; one trailing newline either way. File names that are not
+/// UTF-8 (JSON cannot hold them) have each invalid byte replaced by U+FFFD.
+std::string json_text(const nlohmann::ordered_json& doc, bool pretty);
+/// Prints json_text(doc, pretty) to stdout.
+void print_json(const nlohmann::ordered_json& doc, bool pretty);
+/// Adds the --pretty flag (indented JSON) every JSON-printing command has.
+void add_pretty_flag(CLI::App& cmd, bool& pretty);
+
+/// Checks a numeric option against LO..HI with the one range message of the
+/// command: "--depth: 99 is outside 0..30". Returns `option`.
+CLI::Option* in_range(CLI::Option* option, double lo, double hi);
+
+/// Throws InputError unless `path`'s folder exists and `path` is no folder
+/// (checked before any work, so that a bad output path fails fast).
+void check_output_path(const std::filesystem::path& path, const std::string& option);
 
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);

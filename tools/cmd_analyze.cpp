@@ -1,6 +1,6 @@
-// cmr analyze FILE [--depth D] [--split S] [--mode cmrwi|cmr] [--angle-tol DEG]
-// [--curvature-tol REL]: exact per-span classification, joint continuity and
-// spline-level verdicts (README, "Semantics").
+// cmr analyze FILE [--depth D] [--split S[,S2,...]] [--mode cmrwi|cmr]
+// [--segments A..B] [--angle-tol DEG] [--curvature-tol REL]: exact per-span
+// classification, joint continuity and spline-level verdicts (README, "Semantics").
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
@@ -15,17 +15,23 @@ namespace {
 struct AnalyzeArgs {
   std::string file;
   int depth = kDefaultDepth;
-  std::optional<int> split;
+  std::vector<int> split;
   std::string mode = "cmrwi";
   ContinuityTolerances continuity;
+  bool pretty = false;
+  std::string segments;
 };
 
-nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a) {
+nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits) {
   nlohmann::ordered_json segs = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < a.segments.size(); ++i) {
     const Segment& s = spline.segments()[i];
     const SegmentClass& c = a.segments[i];
     const SegmentShape& sh = a.shapes[i];
+    if (!a.judged(s.index)) {  // --segments: reported, not judged
+      segs.push_back({{"index", s.index}, {"interval", {s.a, s.b}}, {"curvature", "ignored"}, {"inflection", "ignored"}});
+      continue;
+    }
     segs.push_back({{"index", s.index},
                     {"interval", {s.a, s.b}},
                     {"class", shape_class(sh)},
@@ -50,12 +56,24 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                       {"kappa_left", j.kappa_left},
                       {"kappa_right", j.kappa_right},
                       {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
+    if (j.index <= a.range.first || j.index > a.range.last) joints.back()["ignored"] = true;
   }
   nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
                                     {"cmr", to_string(a.cmr)},
                                     {"cmr_algorithm2", to_string(a.cmr_algorithm2)},
                                     {"cusp", a.cusp}};
   if (a.split) verdict["split"] = to_string(*a.split);
+  if (a.alternation) {
+    verdict["alternation"] = to_string(*a.alternation);
+    nlohmann::ordered_json groups = nlohmann::ordered_json::array();
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+      const auto [first, end] = segment_groups(a.range, splits)[g];
+      groups.push_back({{"segments", {first, end - 1}}, {"direction", to_string(a.groups[g])}});
+    }
+    verdict["groups"] = groups;
+  }
+  if (a.range != SegmentRange{0, static_cast<int>(a.segments.size()) - 1})
+    verdict["segments"] = {a.range.first, a.range.last};
   if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
   return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
 }
@@ -66,10 +84,14 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<AnalyzeArgs>();
   auto* cmd = app.add_subcommand("analyze", "Classify every span (Algorithms 1 and 2, exact) and the whole spline");
   cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
-  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, kMaxDepth))
+  in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
+           kMaxDepth)
       ->capture_default_str();
-  cmd->add_option("--split", args->split, "joint S: spans 0..S-1 against S..N-1");
+  cmd->add_option("--split", args->split,
+                  "joint S: spans 0..S-1 against S..N-1; joints S1,S2,...: the groups between them must "
+                  "alternate direction (an extremum at each joint and nowhere else)")
+      ->delimiter(',');
+  cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--mode", args->mode, "verdict used for --split")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
@@ -79,14 +101,17 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
                   "G2 at a joint: G1 and curvatures equal within this relative tolerance")
       ->capture_default_str();
+  add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     const BSpline spline = read_spline_file(args->file);
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;
-    o.split = args->split;
+    if (args->split.size() == 1) o.split = args->split[0];
+    else o.splits = args->split;
+    if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
     o.continuity = args->continuity;
-    print_json(analysis_json(spline, analyze(spline, o)));
+    print_json(analysis_json(spline, analyze(spline, o), o.splits), args->pretty);
     exit_code = kOk;
   });
 }

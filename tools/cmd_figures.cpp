@@ -17,7 +17,7 @@ namespace {
 
 struct FiguresArgs {
   std::string out = "out/figures";
-  std::string backend = "vulkan";
+  std::string backend = "auto";
   std::string device;
   int size = 400;
 };
@@ -41,12 +41,11 @@ void add_figures_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("figures", "Recompute the paper's figures 2-10, check their claims, write PNGs and "
                                             "index.html");
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
-  cmd->add_option("--backend", args->backend, "region backend")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
+  cmd->add_option("--backend", args->backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
+      ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd->add_option("--device", args->device, "Vulkan device name (substring); default: the first suitable");
-  cmd->add_option("--size", args->size, "side of each region image in pixels")
-      ->check(CLI::Range(64, 4096))
+  in_range(cmd->add_option("--size", args->size, "side of each region image in pixels"), 64, 4096)
       ->capture_default_str();
   cmd->callback([args, &exit_code] {
     fig::FiguresOptions o;
@@ -54,7 +53,7 @@ void add_figures_command(CLI::App& app, int& exit_code) {
     o.backend = make_region_backend(args->backend, "fp64", args->device);
     o.size = args->size;
     o.progress = &std::cout;
-    std::cout << "cmr figures: " << args->size << "x" << args->size << " px regions on the " << args->backend
+    std::cout << "cmr figures: " << args->size << "x" << args->size << " px regions on the " << o.backend->name()
               << " backend, into " << args->out << '\n';
     const auto t0 = std::chrono::steady_clock::now();
     const fig::FiguresResult r = fig::make_figures(o);

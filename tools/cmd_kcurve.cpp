@@ -2,8 +2,7 @@
 // (Yan et al. 2017) through the points as a quadratic Bézier chain, or with
 // --cubic the subdivided, degree-elevated chain of CAD&A 2024 §5.2.
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <iostream>
 
 #include "bezierize/kcurve.hpp"
 #include "spline/errors.hpp"
@@ -22,6 +21,7 @@ struct KCurveArgs {
   bool cubic = false;
   std::string out;
   KCurveOptions options;
+  bool pretty = false;
 };
 
 double coordinate(const nlohmann::json& v, const std::string& where) {
@@ -55,12 +55,9 @@ KCurvePoints kcurve_points_from_json(const nlohmann::json& doc) {
 }
 
 KCurvePoints read_kcurve_points_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = read_input_file(path);
   try {
-    return kcurve_points_from_json(nlohmann::json::parse(text.str()));
+    return kcurve_points_from_json(nlohmann::json::parse(text));
   } catch (const nlohmann::json::exception& e) {
     std::string what = e.what();  // "[json.exception.parse_error.101] parse error at ..."
     const auto pos = what.find("] ");
@@ -78,8 +75,11 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--closed", args->closed, "close the curve (also when the file says \"closed\": true)");
   cmd->add_flag("--cubic", args->cubic, "the cubic chain split at the curvature maxima (CAD&A 2024 section 5.2)");
   cmd->add_option("--out", args->out, "spline file to write (default: stdout)");
-  cmd->add_option("--tolerance", args->options.tolerance, "convergence tolerance (relative)")->capture_default_str();
-  cmd->add_option("--max-iterations", args->options.max_iterations, "iteration cap")->capture_default_str();
+  cmd->add_option("--tolerance", args->options.tolerance, "convergence tolerance (relative, in (0, 1))")
+      ->capture_default_str();
+  in_range(cmd->add_option("--max-iterations", args->options.max_iterations, "iteration cap"), 1, 1e6)
+      ->capture_default_str();
+  add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     if (!args->out.empty()) check_output_path(args->out, "--out");
     const KCurvePoints input = read_kcurve_points_file(args->file);
@@ -96,11 +96,9 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
                        " iterations (residual " + std::to_string(curve.residual) +
                        "); sharp turns converge slowly: try --max-iterations or spread the points");
     const BSpline spline = args->cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
-    if (args->out.empty()) {
-      std::cout << spline_to_json(spline).dump(2) << '\n';
-    } else {
-      write_spline_file(args->out, spline);
-    }
+    const std::string text = json_text(spline_to_json(spline), args->pretty);
+    if (args->out.empty()) std::cout << text;
+    else write_file_atomic(args->out, text);
     exit_code = kOk;
   });
 }

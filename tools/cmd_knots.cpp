@@ -12,6 +12,7 @@
 
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 
@@ -29,6 +30,7 @@ struct KnotsArgs {
   int times = 1;
   std::optional<double> tolerance;
   int index = 0;
+  bool pretty = false;
 };
 
 /// The operation named by the chosen sub-command, applied to `spline`.
@@ -47,7 +49,8 @@ BSpline apply(const std::string& op, const KnotsArgs& a, const BSpline& spline) 
 void add_operations(CLI::App& cmd, KnotsArgs& a) {
   auto* insert = cmd.add_subcommand("insert", "Insert knot U (same curve)");
   insert->add_option("U", a.u, "knot value in the domain")->required();
-  insert->add_option("--times", a.times, "how many copies (multiplicity stays <= degree)")->capture_default_str();
+  in_range(insert->add_option("--times", a.times, "how many copies (multiplicity stays <= degree)"), 1, kMaxDegree)
+      ->capture_default_str();
   auto* remove = cmd.add_subcommand("remove", "Remove one copy of the interior knot U if the curve moves by <= --tol");
   remove->add_option("U", a.u, "knot value strictly inside the domain")->required();
   remove->add_option("--tol", a.tolerance,
@@ -70,6 +73,7 @@ void add_knots_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", args->out, "write the spline here (atomically) instead of stdout");
   cmd->add_flag("--conventional", args->conventional,
                 "FILE's knots are the conventional (full) vector: drop its first and last knot");
+  add_pretty_flag(*cmd, args->pretty);
   cmd->require_subcommand(0, 1);  // none: the error below names the operations
   cmd->fallthrough();
   add_operations(*cmd, *args);
@@ -79,7 +83,7 @@ void add_knots_command(CLI::App& app, int& exit_code) {
     if (!args->out.empty()) check_output_path(args->out, "--out");
     const BSpline spline = read_spline_file(args->file, {.conventional = args->conventional});
     const BSpline result = apply(cmd->get_subcommands().front()->get_name(), *args, spline);
-    const std::string text = spline_to_json(result).dump(2) + "\n";
+    const std::string text = json_text(spline_to_json(result), args->pretty);
     if (args->out.empty()) std::cout << text;
     else write_file_atomic(args->out, text);
     exit_code = kOk;

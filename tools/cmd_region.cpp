@@ -1,6 +1,9 @@
 // cmr region FILE --point K|all ...: the curvature monotonicity region of a
 // control point as label maps, depth maps and a picture.
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <iostream>
 #include <cstdlib>
 #include <sstream>
 
@@ -17,18 +20,20 @@ namespace {
 
 struct RegionArgs {
   std::string file;
-  std::string point = "0";
+  std::string point;
   std::vector<int> with;
   std::string mode = "cmrwi";
-  std::optional<int> split;
+  std::vector<int> split;
+  std::string segments;
   int depth = kDefaultDepth;
   std::string size = "512x512";
   std::string view;
-  std::string backend = "vulkan";
+  std::string backend = "auto";
   std::string precision = "fp64";
   std::string device;
   std::string png, labels, depth_map;
   bool stats = false;
+  bool pretty = false;
 };
 
 std::pair<int, int> parse_size(const std::string& text) {
@@ -56,8 +61,11 @@ View parse_view(const std::string& text) {
   return {v[0], v[1], v[2], v[3]};
 }
 
-std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values) {
-  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
+/// A binary PGM; `maxval` is the largest value a pixel can take (PGM viewers
+/// scale 0..maxval to black..white, so a depth map of levels 0..D is visible).
+std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values, int maxval = 255) {
+  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n" +
+                    std::to_string(maxval) + "\n";
   out.append(reinterpret_cast<const char*>(values.data()), values.size());
   return out;
 }
@@ -76,7 +84,9 @@ RegionRequest region_options(const RegionArgs& a) {
   o.width = w;
   o.height = h;
   o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-  o.split = a.split;
+  if (a.split.size() == 1) o.split = a.split[0];
+  else o.splits = a.split;
+  if (!a.segments.empty()) o.segments = parse_segment_range(a.segments);
   o.max_depth = a.depth;
   o.with = a.with;
   if (!a.view.empty()) o.view = parse_view(a.view);
@@ -108,13 +118,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
-  std::vector<RegionProblem> problems;
-  for (int k : chosen_points(a, spline)) {
-    RegionRequest ok = o;
-    ok.point = k;
-    problems.push_back(RegionProblem::make(spline, ok));
-  }
-  return problems;
+  return RegionProblem::make_each(spline, o, chosen_points(a, spline));
 }
 
 /// The rendered images, one per point, with the JSON summary of each.
@@ -122,16 +126,29 @@ struct Rendered {
   std::vector<RegionResult> images;
   nlohmann::ordered_json per_point = nlohmann::ordered_json::array();
   double seconds = 0, setup_seconds = 0;
+  std::string backend;  ///< the backend that rendered ("auto" resolved)
+  std::vector<std::string> notes;  ///< printed on stderr once the outputs are written
 };
 
-/// Label counts of one image (and with --stats its timing and exact share).
+/// Label counts of one image (and with --stats its timing and exact share);
+/// an empty region adds a note.
 nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& problem, const RegionResult& img,
-                                     double sec) {
+                                     double sec, std::vector<std::string>& notes) {
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  // Keyed by the labels' names, in code order.
   nlohmann::ordered_json c;
-  const int labels = img.split ? kSplitLabelCodes : kRegionLabelCodes;
-  for (int l = 0; l < labels; ++l) c[std::to_string(l)] = counts[l];
+  const int labels = img.split ? kSplitLabelCodes : (img.alternating ? kAlternatingLabelCodes : kRegionLabelCodes);
+  for (int l = 0; l < labels; ++l)
+    c[img.split         ? to_string(static_cast<SplitLabel>(l))
+      : img.alternating ? to_string(static_cast<AlternatingLabel>(l))
+                        : to_string(static_cast<RegionLabel>(l))] = counts[l];
+  // Monotone positions: increasing or decreasing (with a split: both parts monotone).
+  const std::uint64_t monotone = img.split ? counts[1] + counts[2] + counts[3] + counts[4] : counts[1] + counts[2];
+  if (monotone == 0)
+    notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
+                    (a.mode == "cmr" ? "CMR" : "CMRWI") + (img.split ? " with both parts monotone" : "") +
+                    " in this view (its region is empty here)");
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
     entry["seconds"] = sec;
@@ -150,45 +167,87 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
     r.images.push_back(backend->render(problem));
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     r.setup_seconds += r.images.back().setup_seconds;
-    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec));
+    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec, r.notes));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.backend = backend->name();
   return r;
 }
 
-/// The PGMs and the PNG, all or none (each through cmr::write_file_atomic).
+/// The picture settings of a problem: curve, legend, labels of its mode.
+draw::RegionPicture picture(const BSpline& spline, const RegionProblem& problem) {
+  draw::RegionPicture pic;
+  pic.spline = &spline;
+  pic.split = problem.request().split.has_value();
+  pic.alternating = !problem.request().splits.empty();
+  pic.max_depth = problem.request().max_depth;
+  pic.legend = true;
+  return pic;
+}
+
+/// A depth map: OUT.png is the Fig. 7 picture (red/blue/grey, darker with the
+/// level, with its legend); any other name a PGM of the levels 0..D with
+/// maxval D, so that viewers stretch it to black..white.
+std::string depth_map(const RegionArgs& a, const BSpline& spline, const RegionProblem& problem,
+                      const RegionResult& img) {
+  const std::string& path = a.depth_map;
+  const bool png = path.size() >= 4 && std::equal(path.end() - 4, path.end(), ".png", [](char x, char y) {
+                     return std::tolower(static_cast<unsigned char>(x)) == y;
+                   });
+  if (!png) return pgm(img, img.depth, std::max(1, problem.request().max_depth));
+  draw::RegionPicture pic = picture(spline, problem);
+  pic.layers = {&img};
+  pic.points = {problem.request().point};
+  pic.depth_shading = true;
+  return draw::region_png(pic);
+}
+
+/// The PGMs and the PNG, all or none: everything is staged first, then
+/// committed as one cmr::OutputSet, so a failure (a full disk on the last
+/// file) leaves every pre-existing output as it was.
 void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector<RegionProblem>& problems,
                    const Rendered& r) {
-  OutputFiles out;
+  OutputSet out;
   const bool several = problems.size() > 1;
   for (std::size_t i = 0; i < r.images.size(); ++i) {
     const int k = problems[i].request().point;
     if (!a.labels.empty())
-      out.write(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
+      out.stage(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
     if (!a.depth_map.empty())
-      out.write(several ? with_point_suffix(a.depth_map, k) : a.depth_map, pgm(r.images[i], r.images[i].depth));
+      out.stage(several ? with_point_suffix(a.depth_map, k) : a.depth_map, depth_map(a, spline, problems[i], r.images[i]));
   }
   if (!a.png.empty()) {
-    draw::RegionPicture pic;
-    pic.spline = &spline;
-    for (const RegionResult& img : r.images) pic.layers.push_back(&img);
-    pic.split = problems.front().request().split.has_value();
-    pic.max_depth = problems.front().request().max_depth;
-    out.write(a.png, draw::region_png(pic));
+    draw::RegionPicture pic = picture(spline, problems.front());
+    for (std::size_t i = 0; i < r.images.size(); ++i) {
+      pic.layers.push_back(&r.images[i]);
+      pic.points.push_back(problems[i].request().point);
+    }
+    pic.per_point = several;  // one composite picture, each point's region in its own colour
+    out.stage(a.png, draw::region_png(pic));
   }
-  out.keep();
+  out.commit();
 }
 
 /// The JSON printed on stdout.
-nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o, const Rendered& r) {
+nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o,
+                                      const std::vector<RegionProblem>& problems, const Rendered& r) {
   const View& v = r.images.front().view;
   nlohmann::ordered_json doc = {{"width", o.width},
                                 {"height", o.height},
                                 {"view", {v.x0, v.y0, v.x1, v.y1}},
                                 {"mode", a.mode},
-                                {"backend", a.backend},
+                                {"backend", r.backend},
                                 {"points", r.per_point}};
   if (o.split) doc["split"] = *o.split;
+  if (!o.splits.empty()) doc["split"] = o.splits;
+  if (o.segments) {
+    // The judged segments, and the ignored ones by index (not silently dropped).
+    nlohmann::ordered_json ignored = nlohmann::ordered_json::array();
+    for (int seg = 0; seg < problems.front().spline().segment_count(); ++seg)
+      if (seg < o.segments->first || seg > o.segments->last) ignored.push_back(seg);
+    doc["segments"] = {o.segments->first, o.segments->last};
+    doc["ignored_segments"] = ignored;
+  }
   if (a.stats) {
     doc["seconds"] = r.seconds;
     doc["setup_seconds"] = r.setup_seconds;
@@ -203,7 +262,8 @@ void run_region(const RegionArgs& a) {
   const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
   const Rendered r = render_all(a, problems);
   write_outputs(a, spline, problems, r);
-  print_json(region_summary(a, o, r));
+  for (const std::string& note : r.notes) std::cerr << note << '\n';  // after the outputs: a failure prints one line
+  print_json(region_summary(a, o, problems, r), a.pretty);
 }
 
 }  // namespace
@@ -213,26 +273,34 @@ void add_region_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("region", "Where may a control point go so that curvature stays monotone?");
   cmd->add_option("FILE", a->file, "spline file (JSON)")->required();
   cmd->add_option("--point", a->point, "control point K placed at every pixel, or 'all' (one map per point)")
-      ->capture_default_str();
+      ->required();
   cmd->add_option("--with", a->with, "points moving rigidly with K (comma separated)")->delimiter(',');
   cmd->add_option("--mode", a->mode, "cmrwi: monotone; cmr: monotone without inflection")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
-  cmd->add_option("--split", a->split, "joint S: spans 0..S-1 against S..N-1 (extremum at the joint)");
-  cmd->add_option("--depth", a->depth, "maximum subdivision depth D")->capture_default_str();
+  cmd->add_option("--split", a->split,
+                  "joint S: spans 0..S-1 against S..N-1 (extremum at the joint); joints S1,S2,...: the groups "
+                  "between them alternate direction")
+      ->delimiter(',');
+  cmd->add_option("--segments", a->segments, "judge only spans A..B (inclusive); the others are ignored");
+  in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
   cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");
-  cmd->add_option("--backend", a->backend, "vulkan (default; lavapipe without a GPU) or cpu")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
+  cmd->add_option("--backend", a->backend, "auto: Vulkan on a real GPU, else cpu; vulkan (lavapipe without a GPU); cpu")
+      ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd->add_option("--precision", a->precision, "shader arithmetic; labels are certified either way")
       ->check(CLI::IsMember({"fp64", "fp32"}))
       ->capture_default_str();
   cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
-  cmd->add_option("--png", a->png, "picture: regions, curve, control polygon");
+  cmd->add_option("--png", a->png,
+                  "picture: regions, curve, control polygon, the moved point ringed, a legend (with --point all one "
+                  "picture, each point's region in its own colour)");
   cmd->add_option("--labels", a->labels, "label map, 8-bit PGM (with --point all: OUT.P0.pgm, OUT.P1.pgm, ...)");
-  cmd->add_option("--depth-map", a->depth_map, "decision level per pixel, 8-bit PGM");
+  cmd->add_option("--depth-map", a->depth_map,
+                  "decision level per pixel: 8-bit PGM (maxval D), or a shaded picture when the name ends in .png");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
+  add_pretty_flag(*cmd, a->pretty);
   cmd->callback([a, &exit_code] {
     run_region(*a);
     exit_code = kOk;

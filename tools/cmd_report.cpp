@@ -1,5 +1,5 @@
-// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S] [--depth D]
-// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:max|:min]] [--segments A..B] [--depth D]
+// [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL]:
 // QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
 #include <unistd.h>
@@ -22,11 +22,13 @@ struct ReportArgs {
   ContinuityTolerances continuity;  // G1/G2 at joints, as cmr analyze
   std::string out;
   std::string require;
+  std::string segments;
   int depth = kDefaultDepth;
   bool no_thumbnails = false;
-  std::string backend = "vulkan";
+  std::string backend = "auto";
   std::string device;
   int region_size = 96;
+  bool pretty = false;
 };
 
 // "[#####-----] 12/40 name" rewritten in place; only on a terminal.
@@ -37,16 +39,18 @@ void show_progress(int done, int total, const std::string& name) {
             << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
 }
 
-/// Writes dir/report.json and dir/index.html (both or neither), creating dir.
+/// Writes dir/index.html and dir/report.json as one cmr::OutputSet (both or
+/// neither; dir is created, and removed again on failure if it was new).
+/// report.json is renamed last: it is the report's commit marker, so a
+/// report.json is always accompanied by the index.html of the same run, and
+/// two runs into one folder (serialised by the set's folder lock) never mix.
 void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
-                  const report::ReportOptions& options) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
-  OutputFiles out;
-  out.write(dir / "report.json", report::report_json(reports, options).dump(2) + "\n");
-  out.write(dir / "index.html", report::report_html(reports, options));
-  out.keep();
+                  const report::ReportOptions& options, bool pretty) {
+  OutputSet out;
+  out.create_folder(dir);
+  out.stage(dir / "index.html", report::report_html(reports, options));
+  out.stage(dir / "report.json", json_text(report::report_json(reports, options), pretty));
+  out.commit();
 }
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -59,17 +63,18 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("FILES", args->files, "spline files (JSON)")->required();
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
-                  "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
-  cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
-      ->check(CLI::Range(0, kMaxDepth))
+                  "gate: exit 1 when a spline fails cmrwi, cmr, or split:S (a curvature extremum at joint S: "
+                  "the parts before and after monotone in opposite directions), split:S:max, split:S:min");
+  cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
+  in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
+           kMaxDepth)
       ->capture_default_str();
   cmd->add_flag("--no-thumbnails", args->no_thumbnails, "skip the regions (fix search and thumbnails)");
-  cmd->add_option("--backend", args->backend, "region backend")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
+  cmd->add_option("--backend", args->backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
+      ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd->add_option("--device", args->device, "Vulkan device name (substring)");
-  cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side")
-      ->check(CLI::Range(8, 1024))
+  in_range(cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side"), 8, 1024)
       ->capture_default_str();
   cmd->add_option("--angle-tol", args->continuity.angle_deg,
                   "G1 at a joint: end tangents within this angle (degrees)")
@@ -77,11 +82,13 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
                   "G2 at a joint: G1 and curvatures equal within this relative tolerance")
       ->capture_default_str();
+  add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;
     if (!args->require.empty()) o.require = report::parse_requirement(args->require);
+    if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
@@ -92,7 +99,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
     if (terminal) std::cerr << "\r\033[K" << std::flush;
-    write_report(args->out, reports, o);
+    write_report(args->out, reports, o, args->pretty);
 
     int pass = 0, fail = 0, invalid = 0;
     for (const report::SplineReport& r : reports) {

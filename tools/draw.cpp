@@ -1,5 +1,6 @@
 #include "tools/draw.hpp"
 
+#include <cairo-svg.h>
 #include <cairo.h>
 
 #include <algorithm>
@@ -7,6 +8,8 @@
 #include <cstdio>
 #include <memory>
 #include <new>
+#include <numeric>
+#include <unordered_map>
 
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
@@ -111,6 +114,34 @@ double text_width(cairo_t* cr, const std::string& s) {
   return e.x_advance;
 }
 
+/// The ink box of `s` drawn with its baseline starting at (x, y), padded by
+/// one pixel, in the current font.
+TextBox text_box(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, s.c_str(), &e);
+  return {x + e.x_bearing - 1, y + e.y_bearing - 1, x + e.x_bearing + e.width + 1, y + e.y_bearing + e.height + 1, s};
+}
+
+/// The labels of one panel, kept apart: a label is drawn only where its box
+/// meets none drawn before it.
+struct Labels {
+  std::vector<TextBox> placed;
+  bool free(const TextBox& b) const {
+    return std::none_of(placed.begin(), placed.end(), [&](const TextBox& o) { return o.intersects(b); });
+  }
+  /// Draws `s` at (x, y) if it overlaps nothing drawn; returns whether it did.
+  bool put(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
+    const TextBox b = text_box(cr, x, y, s, size, bold);
+    if (!free(b)) return false;
+    text_at(cr, x, y, s, size, bold);
+    placed.push_back(b);
+    return true;
+  }
+};
+
 /// Greedy word wrap at `width` pixels with the current font.
 std::vector<std::string> wrap(cairo_t* cr, const std::string& text, double width, double size, bool bold = false) {
   cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
@@ -173,13 +204,50 @@ struct WorldMap {
 void check_picture(const RegionPicture& p) {
   CMR_CHECK(p.spline != nullptr);
   CMR_CHECK(!p.layers.empty());
+  CMR_CHECK(p.points.empty() || p.points.size() == p.layers.size());
+  CMR_CHECK(!p.per_point || !p.points.empty());
   for (const RegionResult* l : p.layers) {
     CMR_CHECK(l != nullptr);
-    CMR_CHECK(l->split == p.split);
+    CMR_CHECK(l->split == p.split && l->alternating == p.alternating);
     CMR_CHECK(l->width == p.layers[0]->width && l->height == p.layers[0]->height);
-    CMR_CHECK((l->split ? l->split_labels.size() : l->labels.size()) == static_cast<std::size_t>(l->width) * l->height);
+    CMR_CHECK((l->split ? l->split_labels.size() : l->alternating ? l->alternating_labels.size() : l->labels.size()) ==
+              static_cast<std::size_t>(l->width) * l->height);
     CMR_CHECK(l->depth.size() == static_cast<std::size_t>(l->width) * l->height);
   }
+}
+
+/// Per layer, what its point's colour takes from white (per-point colours;
+/// empty otherwise): computed once per picture, not per pixel.
+std::vector<Absorb> point_fills(const RegionPicture& p) {
+  std::vector<Absorb> fills;
+  if (p.per_point)
+    for (int k : p.points) fills.push_back(absorb_of(lerp({1, 1, 1}, point_colour(k), 0.6)));
+  return fills;
+}
+
+/// pixel_colour with the layers' fills precomputed (point_fills).
+Rgb colour_at(const RegionPicture& p, const std::vector<Absorb>& fills, std::size_t index) {
+  Absorb sum = kNone;
+  const int W = p.layers.empty() ? 1 : std::max(1, p.layers[0]->width);
+  const std::size_t i = index % W, j = index / W;
+  for (std::size_t l = 0; l < p.layers.size(); ++l) {
+    const RegionResult* layer = p.layers[l];
+    const uint8_t label = layer->code_at(index);
+    Absorb a;
+    if (p.per_point) {
+      // Filled where the (second part's) curvature increases, hatched where it decreases.
+      const bool inc = p.split ? (label == 1 || label == 3) : label == 1;
+      const bool dec = p.split ? (label == 2 || label == 4) : label == 2;
+      if (!inc && !dec) continue;
+      const double s = inc ? 1.0 : ((i + j) / 3 % 2 == 0 ? 1.0 : 0.25);
+      a = {fills[l].r * s, fills[l].g * s, fills[l].b * s};
+    } else {
+      a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
+                          : (p.split ? split_absorb(label) : plain_absorb(label));
+    }
+    sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
+  }
+  return colour_of(sum);
 }
 
 void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
@@ -189,10 +257,11 @@ void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double
   unsigned char* data = cairo_image_surface_get_data(img.get());
   const int stride = cairo_image_surface_get_stride(img.get());
   auto byte = [](double c) { return static_cast<uint32_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
+  const std::vector<Absorb> fills = point_fills(p);
   for (int j = 0; j < H; ++j) {
     auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
     for (int i = 0; i < W; ++i) {
-      const Rgb c = pixel_colour(p, static_cast<std::size_t>(j) * W + i);
+      const Rgb c = colour_at(p, fills, static_cast<std::size_t>(j) * W + i);
       row[i] = 0xff000000u | byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
     }
   }
@@ -244,30 +313,243 @@ void draw_moved(cairo_t* cr, const std::pair<Vec2, Vec2>& moved, const WorldMap&
     arrow(cr, ox + (nx - ox) * 6 / len, oy + (ny - oy) * 6 / len, nx - (nx - ox) * 5 / len, ny - (ny - oy) * 5 / len);
 }
 
-/// Points and their names, pushed away from the polygon's centre so that
-/// they sit outside the curve where they can.
-void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map) {
-  Vec2 centre(0.0);
-  for (const Vec2& q : s.points()) centre += q;
-  centre /= static_cast<double>(s.point_count());
-  const auto [cx, cy] = map(centre);
-  for (int i = 0; i < s.point_count(); ++i) {
-    const auto [px, py] = map(s.points()[i]);
+/// "P" and the index (appended, not `"P" + ...`: GCC 12 warns falsely on that).
+std::string point_name(int k) {
+  std::string s = "P";
+  s += std::to_string(k);
+  return s;
+}
+
+/// Device-space things bucketed in square cells, so that a label box looks
+/// only at its neighbourhood: placing the names of m points costs O(m), not
+/// O(m^2) (`cmr region --point all` on long splines).
+template <class T>
+class CellGrid {
+ public:
+  static constexpr double kCell = 24;
+  void add(double x0, double y0, double x1, double y1, const T& item) {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j) cells_[key(i, j)].push_back(item);
+  }
+  /// Calls f(item) for the items of every cell the box touches (an item may
+  /// come once per shared cell).
+  template <class F>
+  void near(double x0, double y0, double x1, double y1, F&& f) const {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j)
+        if (const auto it = cells_.find(key(i, j)); it != cells_.end())
+          for (const T& item : it->second) f(item);
+  }
+
+ private:
+  static std::int64_t cell(double v) { return static_cast<std::int64_t>(std::floor(std::clamp(v, -1e12, 1e12) / kCell)); }
+  static std::int64_t key(std::int64_t i, std::int64_t j) { return i * 2000003 + j; }
+  std::unordered_map<std::int64_t, std::vector<T>> cells_;
+};
+
+/// Points, and their names placed where they overlap no other name and as
+/// little as possible of the points, the curve and the polygon: each name
+/// tries eight directions (outward from the polygon's centre first) at three
+/// distances and takes the least covered box; a name that would overlap one
+/// already drawn is left out. Points within a pixel of each other (a closed
+/// chain's ends) share one name, "P0,P12".
+void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels& labels) {
+  const int m = s.point_count();
+  std::vector<std::pair<double, double>> at(m);
+  for (int i = 0; i < m; ++i) at[i] = map(s.points()[i]);
+  // Obstacles sampled in device space, with what covering one costs: the
+  // points (200), the curve (12) and the polygon (4).
+  struct Obstacle {
+    double x, y, pad, cost;
+  };
+  CellGrid<Obstacle> obstacles;
+  const auto obstacle = [&](double x, double y, double pad, double cost) {
+    obstacles.add(x - pad, y - pad, x + pad, y + pad, {x, y, pad, cost});
+  };
+  for (const auto& [x, y] : at) obstacle(x, y, 3.5, 200);
+  for (const Segment& seg : s.segments())
+    for (int k = 0; k <= 48; ++k) {
+      const auto [x, y] = map(evaluate(s, seg.a + (seg.b - seg.a) * k / 48));
+      obstacle(x, y, 1, 12);
+    }
+  for (int i = 0; i + 1 < m; ++i)
+    for (int k = 0; k <= 16; ++k)
+      obstacle(at[i].first + (at[i + 1].first - at[i].first) * k / 16,
+               at[i].second + (at[i + 1].second - at[i].second) * k / 16, 0, 4);
+  CellGrid<std::size_t> placed;  // indices into labels.placed
+  for (std::size_t i = 0; i < labels.placed.size(); ++i) {
+    const TextBox& b = labels.placed[i];
+    placed.add(b.x0, b.y0, b.x1, b.y1, i);
+  }
+  CellGrid<int> points;
+  for (int i = 0; i < m; ++i) points.add(at[i].first, at[i].second, at[i].first, at[i].second, i);
+  double cx = 0, cy = 0;
+  for (const auto& [x, y] : at) cx += x / m, cy += y / m;
+  std::vector<bool> named(m, false);
+  for (int i = 0; i < m; ++i) {
     set_colour(cr, {0.1, 0.1, 0.1});
-    cairo_arc(cr, px, py, 3.5, 0, 2 * M_PI);
+    cairo_arc(cr, at[i].first, at[i].second, 3.5, 0, 2 * M_PI);
     cairo_fill(cr);
-    double dx = px - cx, dy = py - cy;
-    const double d = std::hypot(dx, dy);
-    dx = d > 1e-9 ? dx / d : 0.7;
-    dy = d > 1e-9 ? dy / d : -0.7;
-    std::string name = "P";
-    name += std::to_string(i);
+  }
+  for (int i = 0; i < m; ++i) {
+    if (named[i]) continue;
+    const auto [px, py] = at[i];
+    std::vector<int> same;  // points within a pixel share the name
+    points.near(px - 1, py - 1, px + 1, py + 1, [&](int j) {
+      if (j > i && !named[j] && std::hypot(at[j].first - px, at[j].second - py) < 1 &&
+          std::find(same.begin(), same.end(), j) == same.end())
+        same.push_back(j);
+    });
+    std::sort(same.begin(), same.end());
+    std::string name = point_name(i);
+    for (int j : same) {
+      name += ',';
+      name += std::to_string(j);
+      named[j] = true;
+    }
+    const TextBox probe = text_box(cr, 0, 0, name, 13, true);
+    const double w = probe.x1 - probe.x0, h = probe.y1 - probe.y0;
+    const double out = std::atan2(py - cy, px - cx);
+    double best = 1e300;
+    TextBox chosen;
+    for (const double r : {7.0, 13.0, 21.0})
+      for (int a = 0; a < 8; ++a) {
+        // Alternate around the outward direction: 0, +45, -45, +90, ...
+        const double angle = out + (a % 2 ? 1 : -1) * ((a + 1) / 2) * M_PI / 4;
+        const double dx = std::cos(angle), dy = std::sin(angle);
+        // The box's centre, so that its nearest edge is about r from the point.
+        const double bx = px + dx * (r + 0.5 * w * std::fabs(dx)), by = py + dy * (r + 0.5 * h * std::fabs(dy));
+        const TextBox b{bx - 0.5 * w, by - 0.5 * h, bx + 0.5 * w, by + 0.5 * h, name};
+        bool free = true;
+        placed.near(b.x0, b.y0, b.x1, b.y1, [&](std::size_t k) { free = free && !labels.placed[k].intersects(b); });
+        if (!free) continue;
+        // Each obstacle counts once although it may sit in several cells the box touches.
+        std::vector<const Obstacle*> seen;
+        double cost = r + 2.0 * ((a + 1) / 2);
+        obstacles.near(b.x0 - 4, b.y0 - 4, b.x1 + 4, b.y1 + 4, [&](const Obstacle& o) {
+          if (o.x < b.x0 - o.pad || o.x > b.x1 + o.pad || o.y < b.y0 - o.pad || o.y > b.y1 + o.pad) return;
+          if (std::find(seen.begin(), seen.end(), &o) != seen.end()) return;
+          seen.push_back(&o);
+          cost += o.cost;
+        });
+        if (cost < best) best = cost, chosen = b;
+      }
+    if (best == 1e300) continue;  // no free place: leave the name out rather than overlap
+    // Baseline start of the text whose ink box is `chosen`.
+    const double tx = chosen.x0 - probe.x0, ty = chosen.y0 - probe.y0;
+    set_colour(cr, {1, 1, 1});
+    cairo_set_line_width(cr, 3);
+    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
     cairo_set_font_size(cr, 13);
-    text_at(cr, px + 11 * dx - 0.5 * text_width(cr, name), py + 11 * dy + 5, name, 13, true);
+    cairo_move_to(cr, tx, ty);
+    cairo_text_path(cr, name.c_str());
+    cairo_stroke(cr);  // a white halo keeps the name legible over regions and lines
+    set_colour(cr, {0.1, 0.1, 0.1});
+    text_at(cr, tx, ty, name, 13, true);
+    placed.add(chosen.x0, chosen.y0, chosen.x1, chosen.y1, labels.placed.size());
+    labels.placed.push_back(chosen);
   }
 }
 
-void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
+/// The points whose regions are shown (`cmr region`): a ring in the layer's
+/// colour (per-point colours) or orange.
+void draw_marked(cairo_t* cr, const RegionPicture& p, const WorldMap& map) {
+  for (int k : p.points) {
+    if (k < 0 || k >= p.spline->point_count()) continue;
+    const auto [x, y] = map(p.spline->points()[k]);
+    const Rgb c = p.per_point ? point_colour(k) : Rgb{0.95, 0.55, 0.0};
+    set_colour(cr, {1, 1, 1});
+    cairo_set_line_width(cr, 4.5);
+    cairo_arc(cr, x, y, 7.5, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    set_colour(cr, c);
+    cairo_set_line_width(cr, 2.5);
+    cairo_arc(cr, x, y, 7.5, 0, 2 * M_PI);
+    cairo_stroke(cr);
+  }
+}
+
+/// A legend square (or ring) at (x, y), 16 px.
+void draw_swatch(cairo_t* cr, const LegendEntry& e, double x, double y) {
+  if (e.ring) {
+    set_colour(cr, e.colour);
+    cairo_set_line_width(cr, 2.5);
+    cairo_new_path(cr);
+    cairo_arc(cr, x + 8, y + 8, 6, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    return;
+  }
+  set_colour(cr, e.hatched ? Rgb{1, 1, 1} : e.colour);
+  cairo_rectangle(cr, x, y, 16, 16);
+  cairo_fill(cr);
+  if (e.hatched) {
+    cairo_save(cr);
+    cairo_rectangle(cr, x, y, 16, 16);
+    cairo_clip(cr);
+    set_colour(cr, e.colour);
+    cairo_set_line_width(cr, 2);
+    for (double d = -16; d < 16; d += 5) {
+      cairo_move_to(cr, x + d, y + 16);
+      cairo_line_to(cr, x + d + 16, y);
+    }
+    cairo_stroke(cr);
+    cairo_restore(cr);
+  }
+  set_colour(cr, {0.4, 0.4, 0.4});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x + 0.5, y + 0.5, 15, 15);
+  cairo_stroke(cr);
+}
+
+/// The legend inside a region picture: a white box in the corner that hides
+/// the fewest control points and curve samples, one entry per line, when the
+/// picture is large enough to keep most of it free.
+void draw_inner_legend(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
+  if (w < 240 || h < 160) return;
+  std::vector<LegendEntry> entries = legend_for(p);
+  const std::size_t most = std::max<std::size_t>(2, static_cast<std::size_t>((h * 0.45 - 8) / 18));
+  if (entries.size() > most) {
+    const std::size_t left = entries.size() - most + 1;
+    entries.resize(most - 1);
+    entries.push_back({{1, 1, 1}, "... and " + std::to_string(left) + " more"});
+  }
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 11);
+  double tw = 0;
+  for (const LegendEntry& e : entries) tw = std::max(tw, text_width(cr, e.text));
+  const double bw = std::min(w - 8, 30 + tw), bh = 8 + 18 * entries.size();
+  const WorldMap map{p.layers[0]->view, x, y, w, h};
+  std::vector<std::pair<double, double>> things;
+  for (const Vec2& q : p.spline->points()) for (int k = 0; k < 10; ++k) things.push_back(map(q));  // points weigh more
+  for (const Segment& seg : p.spline->segments())
+    for (int k = 0; k <= 32; ++k) things.push_back(map(evaluate(*p.spline, seg.a + (seg.b - seg.a) * k / 32)));
+  double bx = x + 4, by = y + h - 4 - bh;
+  long fewest = -1;
+  for (const auto& [cx, cy] : {std::pair{x + 4, y + h - 4 - bh}, std::pair{x + w - 4 - bw, y + h - 4 - bh},
+                               std::pair{x + 4, y + 4}, std::pair{x + w - 4 - bw, y + 4}}) {
+    long n = 0;
+    for (const auto& [tx, ty] : things) n += tx >= cx && tx <= cx + bw && ty >= cy && ty <= cy + bh;
+    if (fewest < 0 || n < fewest) fewest = n, bx = cx, by = cy;
+  }
+  cairo_save(cr);
+  cairo_rectangle(cr, bx, by, bw, bh);
+  cairo_set_source_rgba(cr, 1, 1, 1, 0.88);
+  cairo_fill_preserve(cr);
+  set_colour(cr, {0.6, 0.6, 0.6});
+  cairo_set_line_width(cr, 1);
+  cairo_stroke(cr);
+  cairo_rectangle(cr, bx, by, bw, bh);
+  cairo_clip(cr);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const double ey = by + 5 + 18 * i;
+    if (entries[i].text.rfind("... and", 0) != 0) draw_swatch(cr, entries[i], bx + 5, ey);
+    set_colour(cr, {0, 0, 0});
+    text_at(cr, bx + 26, ey + 12, entries[i].text, 11);
+  }
+  cairo_restore(cr);
+}
+
+void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h, Labels& labels) {
   check_picture(p);
   const WorldMap map{p.layers[0]->view, x, y, w, h};
   cairo_save(cr);
@@ -277,7 +559,9 @@ void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, 
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   draw_polygon_and_curve(cr, *p.spline, map);
   if (p.moved) draw_moved(cr, *p.moved, map);
-  draw_point_names(cr, *p.spline, map);
+  draw_marked(cr, p, map);
+  draw_point_names(cr, *p.spline, map, labels);
+  if (p.legend) draw_inner_legend(cr, p, x, y, w, h);
   cairo_restore(cr);
   set_colour(cr, {0.5, 0.5, 0.5});
   cairo_set_line_width(cr, 1);
@@ -345,7 +629,7 @@ PlotFrame plot_frame(const BSpline& s, const std::vector<std::vector<PlotSample>
 
 /// Joints as dashed lines, the kappa = 0 line (crossings are inflections),
 /// the frame, the y extremes, and knot ticks with their values.
-void draw_plot_axes(cairo_t* cr, const BSpline& s, const PlotFrame& f, double x) {
+void draw_plot_axes(cairo_t* cr, const BSpline& s, const PlotFrame& f, double x, Labels& labels) {
   const double dash[] = {4, 3};
   cairo_set_line_width(cr, 1);
   set_colour(cr, {0.6, 0.6, 0.6});
@@ -360,25 +644,26 @@ void draw_plot_axes(cairo_t* cr, const BSpline& s, const PlotFrame& f, double x)
     cairo_move_to(cr, f.left, f.py(0));
     cairo_line_to(cr, f.right, f.py(0));
     cairo_stroke(cr);
-    if (f.py(0) - f.top > 14 && f.bottom - f.py(0) > 14) text_at(cr, x + 4, f.py(0) + 4, "0", 11);
   }
   cairo_set_dash(cr, nullptr, 0, 0);
   set_colour(cr, {0, 0, 0});
   cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
   cairo_stroke(cr);
-  text_at(cr, x + 4, f.top + 10, short_number(f.hi), 11);
-  text_at(cr, x + 4, f.bottom, short_number(f.lo), 11);
-  double last_label = -1e9;
+  // The y range's ends first, then kappa = 0 where it fits between them.
+  labels.put(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  labels.put(cr, x + 4, f.bottom, short_number(f.lo), 11);
+  if (f.lo < 0 && f.hi > 0) labels.put(cr, x + 4, f.py(0) + 4, "0", 11);
+  double last_knot = -1e300;
   for (double u : s.knots()) {
     if (u < f.t0 || u > f.t1) continue;
     cairo_move_to(cr, f.px(u), f.bottom);
     cairo_line_to(cr, f.px(u), f.bottom + 6);
     cairo_stroke(cr);
+    if (u == last_knot) continue;  // repeated knots share one label
+    last_knot = u;
     const std::string label = short_number(u);
-    if (f.px(u) - last_label < 24) continue;  // repeated knots share one label
     cairo_set_font_size(cr, 11);
-    text_at(cr, f.px(u) - 0.5 * text_width(cr, label), f.bottom + 18, label, 11);
-    last_label = f.px(u);
+    labels.put(cr, f.px(u) - 0.5 * text_width(cr, label), f.bottom + 18, label, 11);  // left out where crowded
   }
 }
 
@@ -402,7 +687,8 @@ void draw_plot_curve(cairo_t* cr, const std::vector<std::vector<PlotSample>>& sa
 }
 
 /// Certified class of each segment (Algorithms 1 and 2, exact) as a band under the axis.
-void draw_class_band(cairo_t* cr, const BSpline& s, const SplineAnalysis& analysis, const PlotFrame& f) {
+void draw_class_band(cairo_t* cr, const BSpline& s, const SplineAnalysis& analysis, const PlotFrame& f,
+                     Labels& labels) {
   const double band = f.bottom + 26;
   for (std::size_t i = 0; i < s.segments().size() && i < analysis.segments.size(); ++i) {
     const Segment& seg = s.segments()[i];
@@ -414,11 +700,12 @@ void draw_class_band(cairo_t* cr, const BSpline& s, const SplineAnalysis& analys
     if (c.inflection.inflection == Inflection::present) tag += ", inflection";
     set_colour(cr, {0.2, 0.2, 0.2});
     cairo_set_font_size(cr, 10);
-    if (text_width(cr, tag) < f.px(seg.b) - f.px(seg.a)) text_at(cr, f.px(seg.a) + 2, band + 20, tag, 10);
+    if (text_width(cr, tag) < f.px(seg.b) - f.px(seg.a)) labels.put(cr, f.px(seg.a) + 2, band + 20, tag, 10);
   }
 }
 
-void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, double y, double w, double h) {
+void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, double y, double w, double h,
+                          Labels& labels) {
   CMR_CHECK(plot.spline != nullptr);
   const BSpline& s = *plot.spline;
   const auto samples = sample_curvature(s, std::max(50, 800 / s.segment_count()));
@@ -427,11 +714,87 @@ void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, doub
   cairo_rectangle(cr, x, y, w, h);
   cairo_fill(cr);
   set_colour(cr, {0, 0, 0});
-  text_at(cr, f.left, y + 17, "curvature \xCE\xBA against the parameter t", 13, true);
-  draw_plot_axes(cr, s, f, x);
+  labels.put(cr, f.left, y + 17, "curvature \xCE\xBA against the parameter t", 13, true);
+  draw_plot_axes(cr, s, f, x, labels);
   draw_plot_curve(cr, samples, f);
-  if (plot.analysis) draw_class_band(cr, s, *plot.analysis, f);
+  if (plot.analysis) draw_class_band(cr, s, *plot.analysis, f, labels);
   set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
+  cairo_stroke(cr);
+}
+
+// ------------------------------------------------------------ lambda plot --
+
+double bernstein_at(std::vector<double> c, double t) {
+  for (std::size_t r = 1; r < c.size(); ++r)
+    for (std::size_t i = 0; i + r < c.size(); ++i) c[i] = (1 - t) * c[i] + t * c[i + 1];
+  return c[0];
+}
+
+void draw_lambda_panel(cairo_t* cr, const LambdaPlot& plot, double x, double y, double w, double h, Labels& labels) {
+  CMR_CHECK(plot.xi.size() >= 2);
+  const int n = static_cast<int>(plot.xi.size()) - 1;
+  std::vector<std::pair<double, double>> curve;
+  double lo = 0, hi = 0;  // the range always shows lambda = 0
+  for (int k = 0; k <= 200; ++k) {
+    const double t = k / 200.0, v = bernstein_at(plot.xi, t);
+    curve.push_back({t, v});
+    lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  for (double c : plot.xi) lo = std::min(lo, c), hi = std::max(hi, c);
+  const double pad = std::max(hi - lo, 1e-300) * 0.06;
+  const PlotFrame f{x + 56, x + w - 12, y + 26, y + h - 40, 0, 1, lo - pad, hi + pad};
+  set_colour(cr, {1, 1, 1});
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_fill(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, f.left, y + 17, "\xCE\xBB(t) and its Bernstein coefficients \xCE\xBE\xE1\xB5\xA2", 13, true);
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_stroke(cr);
+  set_colour(cr, {0.3, 0.3, 0.3});
+  cairo_move_to(cr, f.left, f.py(0));
+  cairo_line_to(cr, f.right, f.py(0));
+  cairo_stroke(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  labels.put(cr, x + 4, f.bottom, short_number(f.lo), 11);
+  labels.put(cr, x + 4, f.py(0) + 4, "0", 11);
+  labels.put(cr, f.left - 3, f.bottom + 16, "0", 11);
+  labels.put(cr, f.right - 6, f.bottom + 16, "1", 11);
+  labels.put(cr, 0.5 * (f.left + f.right) - 3, f.bottom + 16, "t", 11);
+  // The coefficients' control polygon, dashed.
+  const double dash[] = {4, 3};
+  cairo_set_dash(cr, dash, 2, 0);
+  set_colour(cr, {0.55, 0.55, 0.55});
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    i == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+  set_colour(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 2.2);
+  for (std::size_t k = 0; k < curve.size(); ++k) {
+    const double px = f.px(curve[k].first), py = f.py(curve[k].second);
+    k == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    set_colour(cr, plot.xi[i] > 0 ? Rgb{0.85, 0.1, 0.1} : (plot.xi[i] < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.3, 0.3, 0.3}));
+    cairo_arc(cr, px, py, 4.5, 0, 2 * M_PI);
+    cairo_fill(cr);
+    std::string name = "\xCE\xBE";  // xi
+    name += std::to_string(i);
+    set_colour(cr, {0.15, 0.15, 0.15});
+    // Above a dot on the upper side of zero, below one on the lower side; else the other side.
+    const double up = py - 8, down = py + 17;
+    const bool above = plot.xi[i] >= 0;
+    if (!labels.put(cr, px - 6, above ? up : down, name, 11)) labels.put(cr, px - 6, above ? down : up, name, 11);
+  }
+  set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_set_line_width(cr, 1);
   cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
   cairo_stroke(cr);
 }
@@ -496,14 +859,22 @@ FigureLayout measure_figure(const Figure& f) {
   return l;
 }
 
-/// Draws the panels and their labels row by row from `y`; returns the y below them.
-double draw_figure_rows(cairo_t* c, const Figure& f, const FigureLayout& l, double y) {
+/// Draws the panels and their labels row by row from `y`; returns the y
+/// below them. Each panel's label boxes go to *boxes when given.
+double draw_figure_rows(cairo_t* c, const Figure& f, const FigureLayout& l, double y,
+                        std::vector<std::vector<TextBox>>* boxes) {
   for (std::size_t r = 0; r < f.rows.size(); ++r) {
     for (std::size_t i = 0; i < f.rows[r].size(); ++i) {
       const double x = kMargin + i * (l.side + kGap);
       const Panel& p = f.rows[r][i];
-      if (const auto* pic = std::get_if<RegionPicture>(&p.content)) draw_region_panel(c, *pic, x, y, l.side, l.side);
-      else draw_curvature_panel(c, std::get<CurvaturePlot>(p.content), x, y, l.side, l.side);
+      Labels labels;
+      if (const auto* pic = std::get_if<RegionPicture>(&p.content))
+        draw_region_panel(c, *pic, x, y, l.side, l.side, labels);
+      else if (const auto* plot = std::get_if<CurvaturePlot>(&p.content))
+        draw_curvature_panel(c, *plot, x, y, l.side, l.side, labels);
+      else
+        draw_lambda_panel(c, std::get<LambdaPlot>(p.content), x, y, l.side, l.side, labels);
+      if (boxes) boxes->push_back(std::move(labels.placed));
       set_colour(c, {0, 0, 0});
       double ty = y + l.side + kLabelSize + 4;
       for (const std::string& line : l.labels[r][i]) {
@@ -520,50 +891,137 @@ void draw_legend(cairo_t* c, const Figure& f, const FigureLayout& l, double y) {
   for (std::size_t i = 0; i < f.legend.size(); ++i) {
     const LegendEntry& e = f.legend[i];
     const double x = kMargin + l.legend_at[i].first, ly0 = y + l.legend_at[i].second;
-    set_colour(c, e.colour);
-    cairo_rectangle(c, x, ly0, 16, 16);
-    cairo_fill_preserve(c);
-    set_colour(c, {0.4, 0.4, 0.4});
-    cairo_set_line_width(c, 1);
-    cairo_stroke(c);
+    draw_swatch(c, e, x, ly0);
     set_colour(c, {0, 0, 0});
     text_at(c, x + 22, ly0 + 13, e.text, 12);
   }
 }
 
-}  // namespace
+/// The whole figure on `c` (of layout's size): title, panels, legend, caption.
+void draw_figure(cairo_t* c, const Figure& f, const FigureLayout& layout, std::vector<std::vector<TextBox>>* boxes) {
+  set_colour(c, {1, 1, 1});
+  cairo_paint(c);
+  set_colour(c, {0, 0, 0});
+  for (std::size_t i = 0; i < layout.title.size(); ++i)
+    text_at(c, kMargin, kMargin + kTitleSize + i * (kTitleSize + 6), layout.title[i], kTitleSize, true);
+  double y = draw_figure_rows(c, f, layout, kMargin + layout.title_height, boxes);
+  draw_legend(c, f, layout, y);
+  y += layout.legend_height + kCaptionSize;
+  for (const std::string& line : layout.caption) {
+    text_at(c, kMargin, y, line, kCaptionSize);
+    y += kCaptionSize + 5;
+  }
+}
 
-Rgb pixel_colour(const RegionPicture& p, std::size_t index) {
-  Absorb sum = kNone;
+/// Appends each chunk Cairo's SVG writer hands over to a std::string.
+cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+/// How many layers of each colouring label (1..4 with split, else 1..2) a
+/// pixel has: the key of one overlap colour.
+std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
+  std::vector<int> n(p.split ? 5 : 3, 0);
   for (const RegionResult* layer : p.layers) {
     const uint8_t label = layer->code_at(index);
-    const Absorb a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
-                                     : (p.split ? split_absorb(label) : plain_absorb(label));
-    sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
+    if (label >= 1 && label < n.size()) ++n[label];
   }
-  return colour_of(sum);
+  return n;
 }
+
+/// What one region's colour means, for the legend.
+const char* colour_label_meaning(bool split, bool alternating, int label) {
+  static const char* plain[] = {"", "curvature increasing", "curvature decreasing"};
+  static const char* alternate[] = {"", "groups alternate, the first increasing (maximum at the first joint)",
+                                    "groups alternate, the first decreasing (minimum at the first joint)"};
+  if (alternating) return alternate[label];
+  static const char* splits[] = {"", "inc-inc", "inc-dec (maximum at the joint)", "dec-inc (minimum at the joint)",
+                                 "dec-dec"};
+  return split ? splits[label] : plain[label];
+}
+
+const char* colour_label_name(bool split, bool alternating, int label) {
+  static const char* plain[] = {"", "increasing", "decreasing"};
+  static const char* alternate[] = {"", "inc-first", "dec-first"};
+  if (alternating) return alternate[label];
+  static const char* splits[] = {"", "inc-inc", "inc-dec", "dec-inc", "dec-dec"};
+  return split ? splits[label] : plain[label];
+}
+
+}  // namespace
+
+Rgb point_colour(int k) {
+  static const Rgb palette[] = {{0.12, 0.47, 0.71}, {1.0, 0.5, 0.05},   {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16},
+                                {0.58, 0.4, 0.74},  {0.55, 0.34, 0.29}, {0.89, 0.47, 0.76}, {0.09, 0.75, 0.81}};
+  if (k >= 0 && k < 8) return palette[k];
+  // Further hues by the golden angle, at one saturation and value.
+  const double h = std::fmod(0.61803398875 * k, 1.0) * 6, f = h - std::floor(h);
+  const double v = 0.8, lo = 0.2, up = lo + (v - lo) * f, down = v - (v - lo) * f;
+  switch (static_cast<int>(h)) {
+    case 0: return {v, up, lo};
+    case 1: return {down, v, lo};
+    case 2: return {lo, v, up};
+    case 3: return {lo, down, v};
+    case 4: return {up, lo, v};
+    default: return {v, lo, down};
+  }
+}
+
+Rgb pixel_colour(const RegionPicture& p, std::size_t index) { return colour_at(p, point_fills(p), index); }
 
 std::vector<LegendEntry> legend_for(const RegionPicture& p) {
   const auto colour = colour_of;
-  if (p.depth_shading)
-    return {{colour(depth_absorb(1, 0, p.max_depth)), "increasing, decided at level 0"},
-            {colour(depth_absorb(1, 8, p.max_depth)), "increasing, deeper"},
-            {colour(depth_absorb(2, 0, p.max_depth)), "decreasing, level 0"},
-            {colour(depth_absorb(2, 8, p.max_depth)), "decreasing, deeper"},
-            {colour(depth_absorb(0, 0, p.max_depth)), "not monotone, level 0"},
-            {colour(depth_absorb(0, 8, p.max_depth)), "not monotone, deeper"}};
-  if (p.split)
-    return {{colour(kRed), "inc-inc"},
-            {colour(kDarkRed), "dec-inc (minimum at the joint)"},
-            {colour(kBlue), "dec-dec"},
-            {colour(kDarkBlue), "inc-dec (maximum at the joint)"},
-            {{1, 1, 1}, "neither part monotone, or undecided"}};
-  std::vector<LegendEntry> l = {{colour(kRed), "curvature increasing"},
-                                {colour(kBlue), "decreasing"},
-                                {{1, 1, 1}, "not monotone or undecided"}};
-  if (p.layers.size() > 1)
-    l.push_back({colour({kRed.r + kRed.r, kRed.g + kRed.g, kRed.b + kRed.b}), "two increasing regions overlap"});
+  std::vector<LegendEntry> l;
+  if (p.per_point) {
+    for (int k : p.points) l.push_back({lerp({1, 1, 1}, point_colour(k), 0.6), point_name(k)});
+    const Rgb grey = lerp({1, 1, 1}, {0.3, 0.3, 0.3}, 0.6);
+    l.push_back({grey, p.split ? "filled: second part increasing" : "filled: curvature increasing"});
+    l.push_back({grey, p.split ? "hatched: second part decreasing" : "hatched: decreasing", true});
+    l.push_back({{1, 1, 1}, "not monotone or undecided"});
+    return l;
+  }
+  if (p.depth_shading) {
+    l = {{colour(depth_absorb(1, 0, p.max_depth)), "increasing, decided at level 0"},
+         {colour(depth_absorb(1, 8, p.max_depth)), "increasing, deeper"},
+         {colour(depth_absorb(2, 0, p.max_depth)), "decreasing, level 0"},
+         {colour(depth_absorb(2, 8, p.max_depth)), "decreasing, deeper"},
+         {colour(depth_absorb(0, 0, p.max_depth)), "not monotone, level 0"},
+         {colour(depth_absorb(0, 8, p.max_depth)), "not monotone, deeper"}};
+  } else {
+    // The colours that occur (one per combination of labels overlapping at a
+    // pixel), each named by what overlaps there: the legend is what is drawn.
+    check_picture(p);
+    std::vector<std::vector<int>> keys;
+    for (std::size_t i = 0; i < p.layers[0]->size(); ++i) {
+      std::vector<int> k = overlap_key(p, i);
+      if (std::all_of(k.begin(), k.end(), [](int n) { return n == 0; })) continue;
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(std::move(k));
+    }
+    std::sort(keys.begin(), keys.end(), [](const std::vector<int>& a, const std::vector<int>& b) {
+      const int na = std::accumulate(a.begin(), a.end(), 0), nb = std::accumulate(b.begin(), b.end(), 0);
+      return na != nb ? na < nb : std::lexicographical_compare(b.begin(), b.end(), a.begin(), a.end());
+    });
+    for (const std::vector<int>& k : keys) {
+      Absorb sum = kNone;
+      std::string text;
+      for (std::size_t label = 1; label < k.size(); ++label) {
+        if (k[label] == 0) continue;
+        const Absorb a = p.split ? split_absorb(static_cast<uint8_t>(label)) : plain_absorb(static_cast<uint8_t>(label));
+        sum = {sum.r + k[label] * a.r, sum.g + k[label] * a.g, sum.b + k[label] * a.b};
+        if (!text.empty()) text += " + ";
+        if (k[label] > 1) text += std::to_string(k[label]) + " ";
+        text += colour_label_name(p.split, p.alternating, static_cast<int>(label));
+      }
+      const int total = std::accumulate(k.begin(), k.end(), 0);
+      if (total == 1) text = colour_label_meaning(p.split, p.alternating, static_cast<int>(std::find(k.begin(), k.end(), 1) - k.begin()));
+      l.push_back({colour(sum), total == 1 ? text : text + " overlap"});
+    }
+    l.push_back({{1, 1, 1}, p.split         ? "neither part monotone, or undecided"
+                            : p.alternating ? "no alternation, or undecided"
+                                            : "not monotone or undecided"});
+  }
+  if (p.points.size() == 1) l.push_back({{0.95, 0.55, 0.0}, point_name(p.points[0]) + ", the moved point", false, true});
   return l;
 }
 
@@ -572,7 +1030,8 @@ std::string region_png(const RegionPicture& picture) {
   const int W = picture.layers[0]->width, H = picture.layers[0]->height;
   Surface surface = make_surface(W, H);
   Context cr = make_context(surface.get());
-  draw_region_panel(cr.get(), picture, 0, 0, W, H);
+  Labels labels;
+  draw_region_panel(cr.get(), picture, 0, 0, W, H, labels);
   return encode_png(surface.get());
 }
 
@@ -599,28 +1058,29 @@ void write_region_png(const std::filesystem::path& path, const RegionPicture& pi
   write_file_atomic(path, region_png(picture));
 }
 
-std::string figure_png(const Figure& f) {
+std::string figure_png(const Figure& f, std::vector<std::vector<TextBox>>* labels) {
   const FigureLayout layout = measure_figure(f);
   Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
   Context cr = make_context(surface.get());
-  cairo_t* c = cr.get();
-  set_colour(c, {1, 1, 1});
-  cairo_paint(c);
-  set_colour(c, {0, 0, 0});
-  for (std::size_t i = 0; i < layout.title.size(); ++i)
-    text_at(c, kMargin, kMargin + kTitleSize + i * (kTitleSize + 6), layout.title[i], kTitleSize, true);
-  double y = draw_figure_rows(c, f, layout, kMargin + layout.title_height);
-  draw_legend(c, f, layout, y);
-  y += layout.legend_height + kCaptionSize;
-  for (const std::string& line : layout.caption) {
-    text_at(c, kMargin, y, line, kCaptionSize);
-    y += kCaptionSize + 5;
-  }
+  if (labels) labels->clear();
+  draw_figure(cr.get(), f, layout, labels);
   return encode_png(surface.get());
 }
 
-void write_figure_png(const std::filesystem::path& path, const Figure& figure) {
-  write_file_atomic(path, figure_png(figure));
+std::string figure_svg(const Figure& f) {
+  const FigureLayout layout = measure_figure(f);
+  std::string bytes;
+  {
+    Surface surface(cairo_svg_surface_create_for_stream(append_chunk, &bytes, std::ceil(layout.width),
+                                                        std::ceil(layout.height)),
+                    &cairo_surface_destroy);
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+    Context cr = make_context(surface.get());
+    draw_figure(cr.get(), f, layout, nullptr);
+    cairo_surface_finish(surface.get());  // the document is complete only once the surface is finished
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+  }
+  return bytes;
 }
 
 }  // namespace cmr::draw

@@ -12,6 +12,8 @@
 ///                  extremum at the joint: the second part's direction gives the
 ///                  hue, the darker shade says the first part goes the other
 ///                  way); 0 none and 5 undecided: white;
+///   alternating labels (several joints) 1 group 0 increasing: red,
+///                  2 group 0 decreasing: blue; 0 fail and 3 undecided: white;
 ///   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
 ///                  condition of the paper's reference [16]) to dark at level
 ///                  D; not monotone and undecided grey, darker with the level.
@@ -40,10 +42,26 @@ struct RegionPicture {
   const BSpline* spline = nullptr;
   std::vector<const RegionResult*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
   bool split = false;                      ///< the layers hold split labels
+  bool alternating = false;                ///< the layers hold alternating labels (several joints)
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
   int max_depth = kDefaultDepth;           ///< D of the render: the depth shading's darkest level
   std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place
+  /// The control point whose region each layer is (same length as layers, or
+  /// empty): those points are marked with a ring (`cmr region`'s moved point).
+  std::vector<int> points;
+  /// Per-point colours (`cmr region --point all`): layer i is drawn in
+  /// point_colour(points[i]), filled where the curvature increases (split:
+  /// the second part increases) and hatched where it decreases; overlaps
+  /// subtract colour from white as above. Needs `points`.
+  bool per_point = false;
+  /// Draw legend_for(picture) inside the picture (bottom left, on a white
+  /// box) when the picture is large enough (at least 240 x 160 px).
+  bool legend = false;
 };
+
+/// The colour of control point k's regions with per-point colours: eight
+/// distinct hues, then further hues by the golden angle.
+Rgb point_colour(int k);
 
 /// The picture as PNG bytes, of the layers' size. Throws std::bad_alloc when
 /// memory runs out (nothing else can fail in memory).
@@ -72,9 +90,17 @@ struct CurvaturePlot {
   const SplineAnalysis* analysis = nullptr;  ///< optional: no band without it
 };
 
+/// lambda(t) of one Bezier curve in Bernstein form (CAD&A 2024 Eq. 4): the
+/// polynomial, and its coefficients xi_i as dots at t = i / (size - 1) joined
+/// by their dashed control polygon (red > 0, blue < 0): the signs Algorithm 1
+/// reads.
+struct LambdaPlot {
+  std::vector<double> xi;
+};
+
 /// One cell of a figure: a picture or a plot, and its sub-caption.
 struct Panel {
-  std::variant<RegionPicture, CurvaturePlot> content;
+  std::variant<RegionPicture, CurvaturePlot, LambdaPlot> content;
   std::string label;
 };
 
@@ -82,6 +108,8 @@ struct Panel {
 struct LegendEntry {
   Rgb colour;
   std::string text;
+  bool hatched = false;  ///< the square is hatched (per-point colours: decreasing)
+  bool ring = false;     ///< a ring, not a square (the marked points)
 };
 
 /// A composite figure: title, rows of square panels, legend, caption.
@@ -93,13 +121,29 @@ struct Figure {
   int panel_size = 400;  ///< side of every panel in pixels; region pictures are scaled to it
 };
 
-/// The legend entries that apply to a picture's colouring mode.
+/// The legend of a picture: the colours that are drawn in it, each named,
+/// so that the legend matches the picture: the label combinations that occur
+/// at some pixel (one region's label, or n increasing and m decreasing
+/// regions overlapping), then white; with depth shading the shades of Fig. 7;
+/// with per-point colours one entry per point plus filled/hatched; a ring for
+/// the one marked point.
 std::vector<LegendEntry> legend_for(const RegionPicture& picture);
 
+/// A text's box in device pixels (x, y top left), and what it says.
+struct TextBox {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  std::string text;
+  bool intersects(const TextBox& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+};
+
+/// The composite figure as SVG (Cairo's SVG surface: vector text and lines,
+/// region images embedded as PNG), the same drawing as figure_png.
+std::string figure_svg(const Figure& figure);
+
 /// The composite figure as PNG bytes; std::bad_alloc as for region_png.
-std::string figure_png(const Figure& figure);
-/// Writes figure_png(figure) to `path` with cmr::write_file_atomic (errors as
-/// for write_region_png).
-void write_figure_png(const std::filesystem::path& path, const Figure& figure);
+/// With `labels`, also the boxes of the labels drawn inside each panel
+/// (point names, axis and knot values, class tags), panel by panel in row
+/// order: what label placement keeps apart.
+std::string figure_png(const Figure& figure, std::vector<std::vector<TextBox>>* labels = nullptr);
 
 }  // namespace cmr::draw

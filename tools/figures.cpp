@@ -17,6 +17,7 @@
 #include "bezierize/kcurve.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/roots.hpp"
+#include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/draw.hpp"
@@ -39,6 +40,21 @@ BSpline renamed(const BSpline& s, const std::string& name) {
 BSpline moved(const BSpline& s, int k, Vec2 p, const std::string& name) { return renamed(s.with_point(k, p), name); }
 
 struct Curves {
+  // Fig. 1: (a) a class A cubic (legs turning by 0.35 rad and growing by
+  // 1.3, rounded to 0.01): every xi_i < 0, decreasing curvature decided at
+  // level 0; (b) is Fig. 2(b) below, whose end coefficients have opposite
+  // signs (not monotone, decided at level 0).
+  BSpline fig1a = BSpline::bezier({{0, 0}, {1, 0}, {2.22, 0.45}, {3.51, 1.53}}, "fig1a");
+
+  // Fig. 4: Fig. 1(a) with P3 bent up to (3.16, 2.24) (found by a seeded
+  // search over single-point moves): not monotone, and every point has a CMR
+  // in the default view. (b)-(e): each point moved to the centre of its CMR
+  // (the region pixel nearest the region's centroid, rounded to 0.01).
+  BSpline fig4 = BSpline::bezier({{0, 0}, {1, 0}, {2.22, 0.45}, {3.16, 2.24}}, "fig4");
+  Vec2 fig4_place[4] = {{0.48, 0.14}, {0.72, -0.19}, {2.22, 0.87}, {3.53, 1.45}};
+  BSpline fig4x[4] = {moved(fig4, 0, fig4_place[0], "fig4b"), moved(fig4, 1, fig4_place[1], "fig4c"),
+                      moved(fig4, 2, fig4_place[2], "fig4d"), moved(fig4, 3, fig4_place[3], "fig4e")};
+
   // Figs. 2, 3, 7: a flat cubic arch whose P0 has a blue CMRWI next to P0 and
   // a red one below it, where the curve gets an inflection.
   BSpline fig2 = BSpline::bezier({{0, 0}, {0.3, -0.5}, {1.6, -0.3}, {3, 0}}, "fig2");
@@ -136,14 +152,20 @@ std::string point_text(Vec2 p) {
   return s.str();
 }
 
+/// The label code a spline-level direction gives a pixel.
+uint8_t label_of_direction(Direction d) {
+  return d == Direction::increasing ? 1 : (d == Direction::decreasing ? 2 : (d == Direction::undecided ? 3 : 0));
+}
+
 std::string label_text(uint8_t l) { return l == 255 ? "outside the view" : "label " + std::to_string(l); }
 
 // ----------------------------------------------------------------- builder --
 
-/// Computes and caches regions and analyses, records claims, writes files.
+/// Computes and caches regions and analyses, records claims, stages files
+/// (make_figures commits them together at the end).
 class Builder {
  public:
-  explicit Builder(const FiguresOptions& o) : options_(o) {}
+  Builder(const FiguresOptions& o, OutputSet& out) : options_(o), out_(out) {}
 
   /// The region of point k of s; cached by (name, k, mode, split, depth),
   /// so figures that show the same map share it.
@@ -188,12 +210,32 @@ class Builder {
     result_.claims.push_back({figure, text, pass, detail});
   }
 
-  void write(FigureFile file, draw::Figure figure) {
+  /// Writes the figure as id.png and id.svg and records its title and
+  /// caption for the page. The texts are copied from `figure` here, in one
+  /// place: the figure is passed by value, so reading them in the caller's
+  /// argument list (as this once did) could see them already moved out. The
+  /// legend is that of every region panel (legend_for: the colours drawn).
+  void write(const std::string& id, draw::Figure figure) {
     figure.panel_size = options_.size;
-    const std::filesystem::path path = options_.out / (file.id + ".png");
-    draw::write_figure_png(path, figure);
-    result_.written.push_back(path);
-    log("wrote " + path.string());
+    figure.legend.clear();
+    for (const auto& row : figure.rows)
+      for (const draw::Panel& p : row)
+        if (const auto* pic = std::get_if<draw::RegionPicture>(&p.content))
+          for (const draw::LegendEntry& e : draw::legend_for(*pic))
+            if (std::none_of(figure.legend.begin(), figure.legend.end(),
+                             [&](const draw::LegendEntry& o) { return o.text == e.text; }))
+              figure.legend.push_back(e);
+    // White (not monotone) last, whichever panel listed it first.
+    std::stable_partition(figure.legend.begin(), figure.legend.end(), [](const draw::LegendEntry& e) {
+      return e.ring || e.colour.r < 1 || e.colour.g < 1 || e.colour.b < 1;
+    });
+    FigureFile file{id, figure.title, figure.caption, {}};
+    const std::filesystem::path png = options_.out / (id + ".png"), svg = options_.out / (id + ".svg");
+    out_.stage(png, draw::figure_png(figure, &file.labels));
+    out_.stage(svg, draw::figure_svg(figure));
+    result_.written.push_back(png);
+    result_.written.push_back(svg);
+    log("made " + png.string() + " and .svg");
     result_.figures.push_back(std::move(file));
   }
 
@@ -202,12 +244,14 @@ class Builder {
   }
 
   const FiguresOptions& options() const { return options_; }
+  OutputSet& out() { return out_; }
   FiguresResult& result() { return result_; }
   /// Keeps an image alive until the figures are written (pictures point to it).
   void keep(std::shared_ptr<const RegionResult> image) { kept_.push_back(std::move(image)); }
 
  private:
   const FiguresOptions& options_;
+  OutputSet& out_;
   std::map<std::string, RegionResult> regions_;  // node-based: references stay valid
   std::map<std::string, SplineAnalysis> analyses_;
   std::vector<std::shared_ptr<const RegionResult>> kept_;
@@ -236,6 +280,80 @@ std::vector<const RegionResult*> all_points(Builder& b, const BSpline& s, Mode m
 }
 
 // ----------------------------------------------------------------- figures --
+
+/// A region layer with no region: pictures of a curve alone (Figs. 1, 13).
+const RegionResult& blank_layer(Builder& b, const View& view) {
+  auto blank = std::make_shared<RegionResult>();
+  const int size = b.options().size;
+  blank->width = blank->height = size;
+  blank->view = view;
+  blank->labels.assign(static_cast<std::size_t>(size) * size, RegionLabel::not_monotone);
+  blank->depth.assign(blank->labels.size(), 0);
+  b.keep(blank);
+  return *blank;
+}
+
+/// lambda's Bernstein coefficients (Eq. 4) of a Bezier curve, in double.
+std::vector<double> xi_of(const BSpline& s) {
+  std::vector<Point<double>> P;
+  for (const Vec2& p : s.points()) P.push_back(to_point<double>(p));
+  return lambda_bernstein<double>(P);
+}
+
+/// Fig. 1 (section 3): lambda of a monotone and of a non-monotone cubic.
+void figure1(Builder& b, const Curves& c) {
+  const BSpline& mono = c.fig1a;
+  const BSpline& non = c.fig2x[1];
+  const int depth = b.options().depth;
+  draw::Figure f;
+  f.title = "Fig. 1: cubic Bezier curves and their lambda(t)";
+  for (const BSpline* s : {&mono, &non}) {
+    const bool first = s == &mono;
+    const std::vector<double> xi = xi_of(*s);
+    const SplineAnalysis& a = b.analysis(*s);
+    const SegmentClass& sc = a.segments[0];
+    // lambda sampled from the derivatives (curvature_at) must have the signs
+    // of the Bernstein form wherever it is clearly away from zero.
+    int sign_mismatch = 0;
+    double largest = 0;
+    for (double x : xi) largest = std::max(largest, std::abs(x));
+    for (int k = 0; k <= 100; ++k) {
+      const double t = k / 100.0;
+      std::vector<double> w = xi;
+      for (std::size_t r = 1; r < w.size(); ++r)
+        for (std::size_t i = 0; i + r < w.size(); ++i) w[i] = (1 - t) * w[i] + t * w[i + 1];
+      const double direct = curvature_at(*s, t).lambda;
+      if (std::abs(w[0]) > 1e-6 * largest && (direct > 0) != (w[0] > 0)) ++sign_mismatch;
+    }
+    std::ostringstream xs;
+    for (std::size_t i = 0; i < xi.size(); ++i) xs << (i ? ", " : "") << std::setprecision(3) << xi[i];
+    if (first) {
+      const bool all_negative = std::all_of(xi.begin(), xi.end(), [](double x) { return x < 0; });
+      b.claim("Fig. 1a", "every xi_i is negative: decreasing curvature, decided without subdivision",
+              all_negative && a.cmrwi == Direction::decreasing && sc.monotonicity.depth == 0,
+              "xi = (" + xs.str() + "), analyze " + to_string(a.cmrwi) + " at level " +
+                  std::to_string(sc.monotonicity.depth));
+    } else {
+      b.claim("Fig. 1b", "xi_0 xi_5 < 0: not monotone, decided without subdivision",
+              xi.front() * xi.back() < 0 && a.cmrwi == Direction::none && sc.monotonicity.depth == 0,
+              "xi = (" + xs.str() + "), analyze " + to_string(a.cmrwi) + " at level " +
+                  std::to_string(sc.monotonicity.depth));
+    }
+    b.claim(first ? "Fig. 1a" : "Fig. 1b", "lambda from the derivatives has the signs of its Bernstein form",
+            sign_mismatch == 0, std::to_string(sign_mismatch) + " of 101 samples differ in sign");
+    const View v = default_view(*s, b.options().size, b.options().size);
+    const std::string id = first ? "(a) " : "(b) ";
+    f.rows.push_back({{picture(*s, {&blank_layer(b, v)}, depth), id + (first ? "monotone (decreasing) curvature"
+                                                                                   : "non-monotone curvature")},
+                      {draw::LambdaPlot{xi}, id + "lambda(t); dots: xi_0..xi_5"},
+                      {draw::CurvaturePlot{s, &a}, id + "curvature plot"}});
+  }
+  f.caption = "lambda is the numerator of dkappa/ds (Eq. 3); its Bernstein coefficients xi_0..xi_5 (Eq. 4) bound it. "
+              "(a) The class A cubic (0,0), (1,0), (2.22,0.45), (3.51,1.53): all xi_i < 0, so the curvature "
+              "decreases (condition (2) of Algorithm 1 at level 0). (b) The cubic of Fig. 2(b): xi_0 > 0 > xi_5, so "
+              "lambda changes sign and the curvature is not monotone, decided at once.";
+  b.write("fig1", std::move(f));
+}
 
 void figure2(Builder& b, const Curves& c) {
   const View v = square_view(0.9, -0.8, 2.8);
@@ -274,12 +392,11 @@ void figure2(Builder& b, const Curves& c) {
         {moved_picture(s, r, c.fig2.points()[0], 0, depth), std::string("(") + k.id + ") " + k.text});
     f.rows.back().push_back({draw::CurvaturePlot{&s, &a}, std::string("(") + k.id + ") curvature plot"});
   }
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "The CMRWI of P0 (where P0 may go so that the curvature is monotone, inflections allowed) of the "
               "cubic (0,0), (0.3,-0.5), (1.6,-0.3), (3,0); the hollow circle is P0's original place. A flat arch "
               "was chosen because its P0 has both a blue region beside it and a red one below, where the curve "
               "turns the other way first (an inflection).";
-  b.write({"fig2", f.title, f.caption}, std::move(f));
+  b.write("fig2", std::move(f));
 }
 
 void figure3(Builder& b, const Curves& c) {
@@ -310,10 +427,58 @@ void figure3(Builder& b, const Curves& c) {
   f.rows.push_back({{picture(c.fig2, wi, depth), "(a) CMRWIs of P0..P3, overlapped"},
                     {picture(c.fig2, cmr, depth), "(b) CMRs of P0..P3, overlapped"},
                     {draw::CurvaturePlot{&c.fig2, &b.analysis(c.fig2)}, "(c) curvature plot"}});
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "Each point's region is computed with the other points fixed; where regions overlap their colours "
               "are subtracted from white once per region, so overlaps are darker. Same cubic as Fig. 2.";
-  b.write({"fig3", f.title, f.caption}, std::move(f));
+  b.write("fig3", std::move(f));
+}
+
+/// Fig. 4: CMRs of every point of a non-monotone cubic, and each point
+/// moved within its CMR to a curve with monotone curvature.
+void figure4(Builder& b, const Curves& c) {
+  const View v = default_view(c.fig4, b.options().size, b.options().size);
+  const auto cmr = all_points(b, c.fig4, Mode::cmr, v);
+  const SplineAnalysis& a = b.analysis(c.fig4);
+  std::string sizes;
+  bool every = true;
+  for (int k = 0; k < 4; ++k) {
+    every = every && count(*cmr[k], 1) + count(*cmr[k], 2) > 0;
+    sizes += (k ? "; P" : "P") + std::to_string(k) + " " + counts(*cmr[k]);
+  }
+  b.claim("Fig. 4a", "the curvature is not monotone and every control point has a CMR", a.cmr == Direction::none && every,
+          std::string("analyze cmr ") + to_string(a.cmr) + "; " + sizes);
+  long overlap = 0;
+  for (std::size_t i = 0; i < cmr[0]->size(); ++i) {
+    int n = 0;
+    for (const RegionResult* r : cmr) n += r->code_at(i) == 1 || r->code_at(i) == 2;
+    overlap += n > 1;
+  }
+  b.claim("Fig. 4a", "CMRs of different points overlap (darker where they do)", overlap > 0,
+          std::to_string(overlap) + " px in two or more CMRs");
+  const int depth = b.options().depth;
+  draw::Figure f;
+  f.title = "Fig. 4: CMRs of all control points, and each point moved within its CMR";
+  f.rows.push_back({{picture(c.fig4, cmr, depth), "(a) CMRs of P0..P3, overlapped: not monotone"},
+                    {draw::CurvaturePlot{&c.fig4, &a}, "(a) curvature plot"}});
+  for (int k = 0; k < 4; ++k) {
+    const BSpline& s = c.fig4x[k];
+    const SplineAnalysis& ak = b.analysis(s);
+    const uint8_t l = label_at(*cmr[k], c.fig4_place[k]);
+    const std::string id(1, static_cast<char>('b' + k));
+    b.claim("Fig. 4" + id, "P" + std::to_string(k) + " moved within its CMR: the curvature is monotone, no inflection",
+            (l == 1 || l == 2) && ak.cmr != Direction::none && ak.cmr != Direction::undecided &&
+                label_of_direction(ak.cmr) == l,
+            "P" + std::to_string(k) + " at " + point_text(c.fig4_place[k]) + ": " + label_text(l) + ", analyze cmr " +
+                to_string(ak.cmr));
+    if (k % 2 == 0) f.rows.emplace_back();
+    f.rows.back().push_back({moved_picture(s, *cmr[k], c.fig4.points()[k], k, depth),
+                             "(" + id + ") P" + std::to_string(k) + " moved within its CMR"});
+    f.rows.back().push_back({draw::CurvaturePlot{&s, &ak}, "(" + id + ") curvature plot: " + to_string(ak.cmr)});
+  }
+  f.caption = "The cubic (0,0), (1,0), (2.22,0.45), (3.16,2.24) (Fig. 1(a) with P3 bent up, which makes the "
+              "curvature non-monotone) and the CMR of each control point, the others fixed; overlapping CMRs are "
+              "darker. (b)-(e): each point in turn moved to the middle of its CMR (hollow circle: its old place) "
+              "gives monotonically varying curvature without an inflection.";
+  b.write("fig4", std::move(f));
 }
 
 void figure5(Builder& b, const Curves& c) {
@@ -344,12 +509,11 @@ void figure5(Builder& b, const Curves& c) {
                     {moved_picture(c.fig5d, *after[2], c.fig5c.points()[2], 2, depth),
                      "(d) P2 moved into its blue CMR"},
                     {draw::CurvaturePlot{&c.fig5d, &ad}, "(e) curvature plot of (d): decreasing"}});
-  f.legend = draw::legend_for(moved_p1);
   f.caption = "The cubic (0,0), (0.7,1.4), (-0.6,0.8), (3,0) has a sharp kink, nearly a cusp, because P2 lies "
               "left of P1; no single point can smooth it out without an inflection or a second extremum. Moving P1 "
               "to (1.5,1) opens a small blue CMR for P2 near P3; P2 at (2.7,0.5) inside it gives decreasing "
               "curvature.";
-  b.write({"fig5", f.title, f.caption}, std::move(f));
+  b.write("fig5", std::move(f));
 }
 
 void figure6(Builder& b, const Curves& c) {
@@ -377,11 +541,10 @@ void figure6(Builder& b, const Curves& c) {
                     {picture(c.fig6, cmr, depth), "(b) CMRs of P0..P5"}});
   f.rows.push_back({{moved_picture(c.fig6c, *cmr[5], c.fig6.points()[5], 5, depth), "(c) P5 moved within its CMR"},
                     {draw::CurvaturePlot{&c.fig6c, &ac}, "(d) curvature plot of (c): decreasing"}});
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "A class A quintic (legs turning by 0.35 rad and growing by 1.15: decreasing curvature) with P5 "
               "pulled in to (3.6,4.3), which breaks monotonicity. Only P4 and P5 keep small regions, as the paper "
               "notes is typical of higher degrees; P5 at (4,5) restores decreasing curvature.";
-  b.write({"fig6", f.title, f.caption}, std::move(f));
+  b.write("fig6", std::move(f));
 }
 
 void figure7(Builder& b, const Curves& c) {
@@ -418,12 +581,11 @@ void figure7(Builder& b, const Curves& c) {
               " not monotone px at level > 0");
   b.claim("Fig. 7", "the lightest shade is exactly the level-0 (sufficient condition) region", mismatch == 0,
           std::to_string(mismatch) + " px differ from a depth-0 run");
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "Red and blue are darker the deeper Algorithm 1 had to subdivide to confirm monotonicity; grey is "
               "darker the deeper it went to refute it. The lightest red and blue are the positions where all "
               "coefficients of lambda already have one sign, the sufficient condition of the paper's ref. [16]. "
               "Same cubic as Figs. 2 and 3.";
-  b.write({"fig7", f.title, f.caption}, std::move(f));
+  b.write("fig7", std::move(f));
 }
 
 void figure8(Builder& b, const Curves& c) {
@@ -453,12 +615,11 @@ void figure8(Builder& b, const Curves& c) {
                     {draw::CurvaturePlot{&c.fig8, &b.analysis(c.fig8)}, "(a) curvature plot"}});
   f.rows.push_back({{moved_picture(c.fig8b, *cmr[3], c.fig8.points()[3], 3, depth), "(b) P3 moved within its CMR"},
                     {draw::CurvaturePlot{&c.fig8b, &ab}, "(b) curvature plot: increasing"}});
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "Six points placed clockwise, so the curvature is negative and the regions are red (increasing). "
               "The polygon is a clockwise spiral hill-climbed so that the first two segments both fail: P0 acts on "
               "the first segment only and P4, P5 not on it at all, so only P1, P2, P3 can repair the curve. The "
               "regions are thin: the three segments leave one point little freedom.";
-  b.write({"fig8", f.title, f.caption}, std::move(f));
+  b.write("fig8", std::move(f));
 }
 
 void figure9_10(Builder& b, const Curves& c) {
@@ -481,11 +642,10 @@ void figure9_10(Builder& b, const Curves& c) {
                     {draw::CurvaturePlot{&c.fig9, &a}, "(a) curvature plot"}});
   f.rows.push_back({{moved_picture(c.fig9b, *cmr[3], c.fig9.points()[3], 3, depth), "(b) P3 moved within its CMR"},
                     {draw::CurvaturePlot{&c.fig9b, &ab}, "(b) curvature plot: increasing"}});
-  f.legend = draw::legend_for(std::get<draw::RegionPicture>(f.rows[0][0].content));
   f.caption = "A clockwise class A cubic (legs turning by -0.5 rad and growing by 2.5, so |kappa| falls and kappa "
               "rises) written on the clamped knots, with P3 pulled in to (1.5,-1); only P3 can repair it. (b) puts "
               "P3 back where the polynomial had it, (3.46,-2.1).";
-  b.write({"fig9", f.title, f.caption}, std::move(f));
+  b.write("fig9", std::move(f));
 
   // Fig. 10: P5's split map at joint 2 (spans 0-1 against span 2, CMR mode).
   const RegionResult& sp = b.region(c.fig9b, 5, Mode::cmr, v, 2);
@@ -513,12 +673,11 @@ void figure9_10(Builder& b, const Curves& c) {
                     {draw::CurvaturePlot{&c.fig10a, &b.analysis(c.fig10a)}, "(a) curvature plot: maximum at u = 2"}});
   g.rows.push_back({{pb_pic, "(b) P5 in the red (inc-inc) region"},
                     {draw::CurvaturePlot{&c.fig10b, &xb}, "(b) curvature plot: increasing"}});
-  g.legend = draw::legend_for(pa_pic);
   g.caption = "Starting from Fig. 9(b), the CMRs of P5 with the curve split at u = 2: segments 0-1 and segment 2 "
               "are judged apart (CMR mode). P5 acts on the last segment only; bent inwards to (5.4,-5.8) it makes "
               "that segment decreasing (a maximum at the joint), placed at (6.5,-6.3) it keeps the whole curve "
               "increasing.";
-  b.write({"fig10", g.title, g.caption}, std::move(g));
+  b.write("fig10", std::move(g));
 }
 
 // ------------------------------------------------------------ Fig. 13 (§5.2) --
@@ -582,25 +741,19 @@ void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionResu
                    const RegionResult& r_after, int k) {
   const BSpline &quad = s[0], &chain = s[1], &edited = s[2];
   const int size = b.options().size, depth = b.options().depth;
-  auto blank = std::make_shared<RegionResult>();  // the whole curve, no region
-  blank->width = blank->height = size;
-  blank->view = default_view(chain, size, size);
-  blank->labels.assign(static_cast<std::size_t>(size) * size, RegionLabel::not_monotone);
-  blank->depth.assign(blank->labels.size(), 0);
-  b.keep(blank);
+  const RegionResult* blank = &blank_layer(b, default_view(chain, size, size));  // the whole curve, no region
   draw::Figure f;
   f.title = "Fig. 13: a kappa-curve, its cubic chain and a local modification without a new curvature extremum";
   draw::RegionPicture moved_next = picture(edited, {&r_after}, depth);
   moved_next.moved = std::make_pair(chain.points()[k + 1], edited.points()[k + 1]);
   draw::RegionPicture moved_prev = picture(edited, {&r_before}, depth);
   moved_prev.moved = std::make_pair(chain.points()[k - 1], edited.points()[k - 1]);
-  f.rows.push_back({{picture(quad, {blank.get()}, depth), "(a) the kappa-curve (quadratic Bezier chain)"},
-                    {picture(chain, {blank.get()}, depth), "(b) split at the maxima, degree-elevated"},
+  f.rows.push_back({{picture(quad, {blank}, depth), "(a) the kappa-curve (quadratic Bezier chain)"},
+                    {picture(chain, {blank}, depth), "(b) split at the maxima, degree-elevated"},
                     {draw::CurvaturePlot{&chain, &b.analysis(chain)}, "(b) curvature plot: maxima at the points"}});
   f.rows.push_back({{moved_next, "(c) P" + std::to_string(k + 1) + " moved within its region"},
                     {moved_prev, "(d) P" + std::to_string(k - 1) + " moved onto the new tangent, in its region"},
                     {draw::CurvaturePlot{&edited, &b.analysis(edited)}, "(e) curvature plot after the move"}});
-  f.legend = draw::legend_for(moved_next);
   f.caption = "The closed kappa-curve through (0,0), (3,-0.5), (5,1), (4,3.2), (1.5,3.5), (-0.5,2) (Yan et al. "
               "2017; curvature maxima only at the points), split at each maximum (Eq. 7) and degree-elevated to "
               "cubics (section 5.2). At the maximum P" + std::to_string(k) + " = (5,1), P" + std::to_string(k + 1) +
@@ -609,7 +762,7 @@ void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionResu
               std::to_string(k) + " keeps G1 and the maximum at P" + std::to_string(k) +
               ". Grey bands in (b) are halves whose lambda vanishes at the split point only to rounding: the "
               "maximum is at the joint within about 1e-14 of the parameter, which the exact classifier sees.";
-  b.write({"fig13", f.title, f.caption}, std::move(f));
+  b.write("fig13", std::move(f));
 }
 
 void figure13(Builder& b) {
@@ -704,9 +857,8 @@ void write_index(Builder& b) {
     h << "<a href=\"" << s.name() << ".json\">" << s.name() << ".json</a> ";
   h << "</p>\n</body></html>\n";
   const std::filesystem::path path = b.options().out / "index.html";
-  write_file_atomic(path, h.str());
+  b.out().stage(path, h.str());
   b.result().written.push_back(path);
-  b.log("wrote " + path.string());
 }
 
 }  // namespace
@@ -717,8 +869,9 @@ bool FiguresResult::all_pass() const {
 
 std::vector<BSpline> figure_splines() {
   const Curves c;
-  return {c.fig2,   c.fig2x[0], c.fig2x[1], c.fig2x[2], c.fig2x[3], c.fig5,  c.fig5c, c.fig5d,  c.fig6,
-          c.fig6c,  c.fig8,     c.fig8b,    c.fig9,     c.fig9b,    c.fig10a, c.fig10b};
+  return {c.fig1a,  c.fig2,   c.fig2x[0], c.fig2x[1], c.fig2x[2], c.fig2x[3], c.fig4,   c.fig4x[0], c.fig4x[1],
+          c.fig4x[2], c.fig4x[3], c.fig5,   c.fig5c,  c.fig5d,    c.fig6,     c.fig6c,    c.fig8,   c.fig8b,
+          c.fig9,     c.fig9b,    c.fig10a, c.fig10b};
 }
 
 FiguresResult make_figures(const FiguresOptions& options) {
@@ -726,21 +879,24 @@ FiguresResult make_figures(const FiguresOptions& options) {
     throw InputError("size " + std::to_string(options.size) + " is outside 64..4096");
   if (options.depth < 0 || options.depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.depth) + " is outside 0.." + std::to_string(kMaxDepth));
-  std::error_code ec;
-  std::filesystem::create_directories(options.out, ec);
-  if (ec || !std::filesystem::is_directory(options.out))
-    throw InputError(options.out.string() + ": cannot create the folder (" + ec.message() + ")");
-
-  Builder b(options);
+  // Every file is staged and committed at the end as one set: a run that
+  // fails (no Vulkan device, a full disk) leaves the folder as it was, and
+  // removes it again if it created it.
+  OutputSet out;
+  out.create_folder(options.out);
+  Builder b(options, out);
   const Curves c;
   for (const BSpline& s : figure_splines()) {
     const std::filesystem::path path = options.out / (s.name() + ".json");
-    write_file_atomic(path, spline_to_json(s).dump(2) + "\n");
+    out.stage(path, spline_to_json(s).dump(2) + "\n");
     b.result().written.push_back(path);
   }
+  b.log("fig1: lambda of a monotone and a non-monotone cubic (section 3)");
+  figure1(b, c);
   b.log("fig2..fig7: Bezier curves (section 4.1)");
   figure2(b, c);
   figure3(b, c);
+  figure4(b, c);
   figure5(b, c);
   figure6(b, c);
   figure7(b, c);
@@ -750,6 +906,8 @@ FiguresResult make_figures(const FiguresOptions& options) {
   b.log("fig13: a kappa-curve and a local modification (section 5.2)");
   figure13(b);
   write_index(b);
+  out.commit();
+  b.log("wrote " + std::to_string(b.result().written.size()) + " files into " + options.out.string());
   return std::move(b.result());
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The paper's figures (CAD&A 2024 §4: Figs. 2, 3, 5, 6, 7 for Bezier curves,
-// 8, 9, 10 for B-splines), recomputed and drawn, with every statement the
+// The paper's figures (CAD&A 2024: Fig. 1 of §3; Figs. 2-7 for Bezier
+// curves and 8, 9, 10 for B-splines of §4; Fig. 13 of §5.2), recomputed and drawn, with every statement the
 // paper makes about them checked as a claim on the region label maps and on
 // analyze(). The paper gives no coordinates; the curves are chosen in
 // figures.cpp (one line each on why) and kept in examples/figures/.
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "spline/bspline.hpp"
+#include "tools/draw.hpp"
 
 #include "bezierize/region.hpp"
 #include "spline/limits.hpp"
@@ -35,11 +36,12 @@ struct Claim {
   std::string detail;
 };
 
-/// One figure of the page: its PNG and its texts.
+/// One figure of the page: its PNG and SVG and its texts.
 struct FigureFile {
-  std::string id;       ///< "fig8" (the PNG is id + ".png")
+  std::string id;       ///< "fig8" (the files are id + ".png" and id + ".svg")
   std::string title;
   std::string caption;  ///< with the one-line reasons for the chosen curves
+  std::vector<std::vector<draw::TextBox>> labels;  ///< the labels drawn in each panel (draw::figure_png)
 };
 
 /// The figures, the checked claims and every file written.
@@ -55,9 +57,11 @@ struct FiguresResult {
 std::vector<BSpline> figure_splines();
 
 /// Computes the regions on options.backend, checks the claims, writes one PNG
-/// per figure, the spline files and index.html into options.out. Throws
-/// InputError for bad options or an unwritable folder; what the backend
-/// throws (BackendError) propagates.
+/// per figure, the spline files and index.html into options.out, all
+/// together at the end (one cmr::OutputSet): on any failure no file is
+/// written or replaced. Throws InputError for bad options or an unwritable
+/// folder; what the backend throws (EnvironmentError, BackendError)
+/// propagates.
 FiguresResult make_figures(const FiguresOptions& options);
 
 }  // namespace cmr::fig

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
 #ifdef CMR_WITH_EDITOR
   add_edit_command(app, exit_code);
 #endif
+  std::string help = "cmr --help";  // where a usage error points to
   if (argc >= 2 && argv[1][0] != '-') {
     bool known = false;
     std::string names;
@@ -31,9 +32,10 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + sub->get_name();
     }
     if (!known) {
-      std::cerr << "cmr: unknown command '" << argv[1] << "' (commands: " << names << ")\n";
+      std::cerr << "cmr: unknown command '" << argv[1] << "' (commands: " << names << "; see cmr --help)\n";
       return kInvalid;
     }
+    help = std::string("cmr ") + argv[1] + " --help";
   }
   try {
     app.parse(argc, argv);
@@ -46,8 +48,15 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion&) {
     std::cout << app.version() << '\n';
     return kOk;
+  } catch (const CLI::ExtrasError& e) {
+    // CLI11: "The following argument(s) was/were not expected: --bogus x"
+    std::string what = e.what();
+    const auto colon = what.find(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    std::cerr << "cmr: unknown option or extra argument: " << what << " (see " << help << ")\n";
+    return kInvalid;
   } catch (const CLI::ParseError& e) {
-    std::cerr << "cmr: " << e.what() << " (see cmr --help)\n";
+    std::cerr << "cmr: " << e.what() << " (see " << help << ")\n";
     return kInvalid;
   } catch (const cmr::InputError& e) {
     std::cerr << "cmr: " << e.what() << '\n';

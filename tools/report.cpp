@@ -23,17 +23,34 @@ Requirement parse_requirement(const std::string& text) {
   if (text == "cmrwi") return {Mode::cmrwi, std::nullopt};
   if (text == "cmr") return {Mode::cmr, std::nullopt};
   if (text.rfind("split:", 0) == 0) {
-    const std::string s = text.substr(6);
+    std::string s = text.substr(6);
+    Extremum extremum = Extremum::any;
+    for (const auto& [suffix, e] : {std::pair{":max", Extremum::max}, std::pair{":min", Extremum::min}})
+      if (s.size() > 4 && s.compare(s.size() - 4, 4, suffix) == 0) {
+        extremum = e;
+        s.resize(s.size() - 4);
+      }
     int joint = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), joint);
-    if (ec == std::errc() && end == s.data() + s.size() && !s.empty()) return {Mode::cmrwi, joint};
+    if (ec == std::errc() && end == s.data() + s.size() && !s.empty()) return {Mode::cmrwi, joint, extremum};
   }
-  throw InputError("--require: '" + text + "' is not cmrwi, cmr or split:S (S a joint index)");
+  throw InputError("--require: '" + text + "' is not cmrwi, cmr, split:S, split:S:max or split:S:min (S a joint index)");
 }
 
 std::string to_string(const Requirement& r) {
-  if (r.split) return "split:" + std::to_string(*r.split);
+  if (r.split)
+    return "split:" + std::to_string(*r.split) +
+           (r.extremum == Extremum::max ? ":max" : r.extremum == Extremum::min ? ":min" : "");
   return r.mode == Mode::cmr ? "cmr" : "cmrwi";
+}
+
+bool split_passes(Split verdict, Extremum extremum) {
+  switch (extremum) {
+    case Extremum::max: return verdict == Split::inc_dec;
+    case Extremum::min: return verdict == Split::dec_inc;
+    case Extremum::any: return verdict == Split::inc_dec || verdict == Split::dec_inc;
+  }
+  return false;
 }
 
 Requirement check_of(const ReportOptions& options) { return options.require.value_or(Requirement{}); }
@@ -43,7 +60,7 @@ namespace {
 bool monotone(Direction d) { return d == Direction::increasing || d == Direction::decreasing; }
 
 bool passes(const SplineAnalysis& a, const Requirement& check) {
-  if (check.split) return a.split && *a.split != Split::none && *a.split != Split::undecided;
+  if (check.split) return a.split && split_passes(*a.split, check.extremum);
   return monotone(check.mode == Mode::cmr ? a.cmr : a.cmrwi);
 }
 
@@ -53,6 +70,7 @@ AnalyzeOptions analyze_options(const ReportOptions& options) {
   ao.split = check_of(options).split;
   ao.split_mode = Mode::cmrwi;
   ao.continuity = options.continuity;
+  ao.segments = options.segments;
   return ao;
 }
 
@@ -290,12 +308,13 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
 
 namespace {
 
-/// Whether pixel `index` is monotone: increasing or decreasing, or with a
-/// split any of the four monotone combinations.
-bool passing_label(const RegionResult& image, std::size_t index) {
+/// Whether pixel `index` passes the check: increasing or decreasing, or with
+/// a split the extremum the requirement asks for.
+bool passing_label(const RegionResult& image, std::size_t index, const Requirement& check) {
   if (image.split) {
     const SplitLabel l = image.split_labels[index];
-    return l != SplitLabel::none && l != SplitLabel::undecided;
+    return l == SplitLabel::inc_dec ? split_passes(Split::inc_dec, check.extremum)
+                                    : l == SplitLabel::dec_inc && split_passes(Split::dec_inc, check.extremum);
   }
   const RegionLabel l = image.labels[index];
   return l == RegionLabel::increasing || l == RegionLabel::decreasing;
@@ -322,6 +341,7 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
     ro.point = k;
     ro.mode = check.mode;
     ro.split = check.split;
+    ro.segments = options.segments;
     ro.max_depth = options.max_depth;
     ro.width = ro.height = options.region_size;
     CMR_CHECK(options.backend != nullptr);
@@ -332,7 +352,7 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
     double best = std::numeric_limits<double>::infinity();
     for (int j = 0; j < image.height; ++j)
       for (int i = 0; i < image.width; ++i) {
-        if (!passing_label(image, static_cast<std::size_t>(j) * image.width + i))
+        if (!passing_label(image, static_cast<std::size_t>(j) * image.width + i, check))
           continue;
         ++fix.pixels;
         const Vec2 c = pixel_center(image.view, image.width, image.height, i, j);
@@ -462,6 +482,18 @@ Json segments_json(const SplineReport& r) {
     Json e = Json::array(), i = Json::array();
     for (const SpanRoot& x : sp.extrema) e.push_back(root_json(x, true));
     for (const SpanRoot& x : sp.inflections) i.push_back(root_json(x, false));
+    if (!r.analysis.judged(sp.segment.index)) {  // --segments: not judged, its roots still listed
+      segments.push_back({{"index", sp.segment.index},
+                          {"interval", {sp.segment.a, sp.segment.b}},
+                          {"ignored", true},
+                          {"curvature", "ignored"},
+                          {"inflection", "ignored"},
+                          {"lambda_zero", sp.lambda_zero},
+                          {"eta_zero", sp.eta_zero},
+                          {"extrema", e},
+                          {"inflections", i}});
+      continue;
+    }
     segments.push_back({{"index", sp.segment.index},
                         {"interval", {sp.segment.a, sp.segment.b}},
                         {"class", shape_class(sp.shape)},
@@ -527,6 +559,8 @@ Json spline_json(const SplineReport& r, int index) {
                {"cmr", to_string(r.analysis.cmr)},
                {"cmr_algorithm2", to_string(r.analysis.cmr_algorithm2)}};
   if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
+  if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
+    verdict["segments"] = {r.analysis.range.first, r.analysis.range.last};
   verdict["joint_conflicts"] = r.analysis.joint_conflicts;
   j["verdict"] = verdict;
 
@@ -567,6 +601,7 @@ nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, con
           {"settings",
            {{"check", to_string(check_of(options))},
             {"gate", options.require.has_value()},
+            {"segments", options.segments ? Json{options.segments->first, options.segments->last} : Json(nullptr)},
             {"depth", options.max_depth},
             {"root_tolerance", options.roots.tolerance},
             {"regions", regions}}},
@@ -820,6 +855,9 @@ void summary_html(std::string& out, const SplineReport& r, const ReportOptions& 
   out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
          ", CMR " + to_string(r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
+  if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
+    out += " (segments " + std::to_string(r.analysis.range.first) + ".." + std::to_string(r.analysis.range.last) +
+           " judged, the others ignored)";
   out += ". Degree " + std::to_string(s.degree()) + ", " + std::to_string(s.segment_count()) +
          (s.segment_count() == 1 ? " segment, " : " segments, ") + std::to_string(r.monotone_pieces) +
          " monotone curvature piece" + (r.monotone_pieces == 1 ? "" : "s") +
@@ -834,11 +872,14 @@ void spans_html(std::string& out, const SplineReport& r) {
       "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>inflection</th><th>depth</th>"
       "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
   for (const SpanReport& sp : r.spans) {
+    const bool judged = r.analysis.judged(sp.segment.index);
     out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " + num(sp.segment.b) +
-           "]</td><td>" + to_string(sp.classification.monotonicity.curvature) + "</td><td>" +
-           to_string(sp.classification.inflection.inflection) + "</td><td>" +
-           std::to_string(sp.classification.monotonicity.depth) + " / " +
-           std::to_string(sp.classification.inflection.depth) + "</td><td>" + roots_cell(sp.extrema, true) +
+           "]</td><td>" + (judged ? to_string(sp.classification.monotonicity.curvature) : "ignored") + "</td><td>" +
+           (judged ? to_string(sp.classification.inflection.inflection) : "ignored") + "</td><td>" +
+           (judged ? std::to_string(sp.classification.monotonicity.depth) + " / " +
+                         std::to_string(sp.classification.inflection.depth)
+                   : "—") +
+           "</td><td>" + roots_cell(sp.extrema, true) +
            "</td><td>" + roots_cell(sp.inflections, false) + "</td></tr>";
   }
   out += "</table>";

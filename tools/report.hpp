@@ -31,17 +31,28 @@ inline constexpr const char* kSchema = "cmr-report/1";
 /// exit_code's values; the cmr command exits with them.
 inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
 
+/// Which curvature extremum a split requirement asks for at its joint.
+enum class Extremum : std::uint8_t { any, max, min };
+
 /// What a spline must satisfy to pass: its CMRWI or CMR verdict is increasing
-/// or decreasing, or (split:S) segments 0..S-1 and S..N-1 are each monotone in
-/// CMRWI mode, any directions.
+/// or decreasing, or (split:S) a curvature extremum at joint S and nowhere
+/// else: segments 0..S-1 and S..N-1 each monotone in CMRWI mode, in opposite
+/// directions (split verdict inc-dec or dec-inc). split:S:max asks for a
+/// maximum of the signed curvature there (increasing before, decreasing
+/// after: inc-dec), split:S:min for a minimum (dec-inc). With
+/// ReportOptions::segments, "0..S-1" and "S..N-1" are the judged range's.
 struct Requirement {
   Mode mode = Mode::cmr;
   std::optional<int> split;
+  Extremum extremum = Extremum::any;  ///< with split
 };
-/// Parses "cmrwi", "cmr" or "split:S" (InputError otherwise).
+/// Parses "cmrwi", "cmr", "split:S", "split:S:max" or "split:S:min"
+/// (InputError otherwise).
 Requirement parse_requirement(const std::string& text);
-/// The text parse_requirement reads: "cmrwi", "cmr" or "split:S".
+/// The text parse_requirement reads.
 std::string to_string(const Requirement& r);
+/// Whether a split verdict satisfies a split requirement's extremum.
+bool split_passes(Split verdict, Extremum extremum);
 
 /// How a batch is reported; the defaults are the command's.
 struct ReportOptions {
@@ -53,6 +64,9 @@ struct ReportOptions {
   int threads = 0;                     ///< threads for the per-spline analysis; 0: all cores
   RootOptions roots;                   ///< enclosure width of extrema and inflections
   ContinuityTolerances continuity;     ///< G1/G2 tests at joints (the same as cmr analyze's)
+  /// Judge only these segments (verdicts, gate, fixes); the others are
+  /// reported as ignored (their roots and the curve's events are still listed).
+  std::optional<SegmentRange> segments;
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.

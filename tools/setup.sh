@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config python3
   libglm-dev nlohmann-json3-dev libcli11-dev libgmp-dev
-  libcairo2-dev libpng-dev
+  libcairo2-dev libpng-dev libxml2-dev
   libgtest-dev libgmock-dev
   libvulkan-dev mesa-vulkan-drivers glslang-tools
   chromium fonts-dejavu-core

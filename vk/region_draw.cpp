@@ -159,7 +159,7 @@ struct RegionDrawer::Impl {
   }
 
   Result<VkPipeline> pipeline_for(const cmr::detail::RegionSetup& s) {
-    const PipelineKey key{s.spline.degree(), s.options.max_depth, s.options.mode == Mode::cmr, !s.varying.empty()};
+    const PipelineKey key{s.spline().degree(), s.options.max_depth, s.options.mode == Mode::cmr, !s.varying.empty()};
     for (const auto& [k, p] : pipelines)
       if (k == key) return p;
     const std::array<uint32_t, 4> spec{static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth),

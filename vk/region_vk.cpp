@@ -120,15 +120,17 @@ namespace detail {
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
                                    std::span<const std::array<int, 2>> pixels, uint32_t area_width) {
   const RegionRequest& o = s.options;
-  const int N = s.spline.segment_count();
-  const int split = o.split.value_or(0);
-  auto part_of = [&](int seg) { return split > 0 && seg >= split ? 1 : 0; };
+  const int N = s.spline().segment_count();
+  auto part_of = [&](int seg) { return cmr::group_of(s.cuts, seg); };
+  const cmr::detail::Labels kind = cmr::detail::labels_of(o);
 
   Packer p(precision);
   p.hdr[HDR_WIDTH] = static_cast<uint32_t>(o.width);
   p.hdr[HDR_HEIGHT] = static_cast<uint32_t>(o.height);
   p.hdr[HDR_MODE] = o.mode == Mode::cmr ? 1 : 0;
-  p.hdr[HDR_SPLIT] = static_cast<uint32_t>(split);
+  p.hdr[HDR_LABELS] = kind == cmr::detail::Labels::alternating ? LABELS_ALTERNATING
+                     : kind == cmr::detail::Labels::split     ? LABELS_SPLIT
+                                                              : LABELS_PLAIN;
   p.hdr[HDR_DEPTH] = static_cast<uint32_t>(o.max_depth);
   p.hdr[HDR_FIXED_LEVEL0_NONE] = s.fixed_level0_none ? 1 : 0;
   p.hdr[HDR_PIECE_LEVELS] = static_cast<uint32_t>(s.piece_levels);
@@ -162,21 +164,22 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
       p.values(c[2], 0);
     }
   }
-  // Untouched segments and joints whose jump does not vary fold into the
-  // parts' flags; varying joints go to the shader.
-  uint32_t flags[2] = {0, 0};
+  // Untouched judged segments and joints strictly inside the judged range
+  // whose jump does not vary fold into the groups' flags; varying joints go
+  // to the shader. Segments outside the range are ignored.
+  std::vector<uint32_t> flags(s.cuts.size() + 1, 0);
   int fixed_depth = 0;
-  for (int seg = 0; seg < N; ++seg) {
+  for (int seg = s.range.first; seg <= s.range.last; ++seg) {
     if (touched[seg]) continue;
-    flags[part_of(seg)] |= flags_of(s.fixed[seg], o.mode);
-    fixed_depth = std::max(fixed_depth, s.fixed[seg].monotonicity.depth);
-    if (o.mode == Mode::cmr) fixed_depth = std::max(fixed_depth, s.fixed[seg].inflection.depth);
+    flags[part_of(seg)] |= flags_of(s.fixed()[seg], o.mode);
+    fixed_depth = std::max(fixed_depth, s.fixed()[seg].monotonicity.depth);
+    if (o.mode == Mode::cmr) fixed_depth = std::max(fixed_depth, s.fixed()[seg].inflection.depth);
   }
-  std::vector<bool> varies(s.joints.size(), false);
+  std::vector<bool> varies(s.joints().size(), false);
   for (const RegionJoint& j : s.varying) varies[j.joint] = true;
-  for (std::size_t j = 0; j < s.joints.size(); ++j) {
-    const Joint& jt = s.joints[j];
-    if (jt.index == split || varies[j]) continue;  // the split joint's jump is free
+  for (std::size_t j = 0; j < s.joints().size(); ++j) {
+    const Joint& jt = s.joints()[j];
+    if (!cmr::joint_counts(s.range, s.cuts, jt.index) || varies[j]) continue;
     if (jt.jump > 0) flags[part_of(jt.index)] |= FLAG_UP;
     if (jt.jump < 0) flags[part_of(jt.index)] |= FLAG_DOWN;
   }
@@ -190,8 +193,9 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   p.hdr[HDR_AREA_WIDTH] = area_width;
   p.hdr[HDR_LIST_OFFSET] = p.size();
   for (const auto& [i, j] : pixels) p.values(i, j);
-  p.hdr[HDR_FLAGS_PART0] = flags[0];
-  p.hdr[HDR_FLAGS_PART1] = flags[1];
+  p.hdr[HDR_PARTS] = static_cast<uint32_t>(flags.size());
+  p.hdr[HDR_PART_OFFSET] = p.size();
+  for (uint32_t f : flags) p.values(f, 0);
   p.hdr[HDR_FIXED_DEPTH] = static_cast<uint32_t>(fixed_depth);
   return p.bytes();
 }
@@ -236,7 +240,7 @@ Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOption
 
 Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
   const RegionPrecision precision = options_.precision;
-  const Key key{s.spline.degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
+  const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty()};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
   const auto t0 = std::chrono::steady_clock::now();
@@ -299,7 +303,7 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
     if (!words) return words.error();
     apply_words(s, pixels, words.value(), img);
   }
-  RegionResult r = cmr::detail::to_result(std::move(img), s.options.split.has_value());
+  RegionResult r = cmr::detail::to_result(std::move(img), cmr::detail::labels_of(s.options));
   r.setup_seconds = pipeline_seconds_ - compiled_before;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

@@ -57,14 +57,14 @@ TEST(Analyze, SplitCombinesTheTwoParts) {
   EXPECT_EQ(combine_split(Direction::decreasing, Direction::increasing), Split::dec_inc);
   EXPECT_EQ(combine_split(Direction::undecided, Direction::none), Split::none);
   EXPECT_EQ(combine_split(Direction::undecided, Direction::increasing), Split::undecided);
-  const SplineAnalysis a = analyze(growing_spiral({0, 0, 0, 1, 2, 3, 3, 3}), {{}, 2, Mode::cmr, {}});
+  const SplineAnalysis a = analyze(growing_spiral({0, 0, 0, 1, 2, 3, 3, 3}), {{}, 2, Mode::cmr, {}, {}, {}});
   EXPECT_EQ(*a.split, Split::inc_inc);
 }
 
 TEST(Analyze, SplitOutsideTheJointsIsAnInputError) {
   const BSpline s = growing_spiral({0, 0, 0, 1, 2, 3, 3, 3});
-  EXPECT_THROW(analyze(s, {{}, 0, Mode::cmrwi, {}}), InputError);
-  EXPECT_THROW(analyze(s, {{}, 3, Mode::cmrwi, {}}), InputError);
+  EXPECT_THROW(analyze(s, {{}, 0, Mode::cmrwi, {}, {}, {}}), InputError);
+  EXPECT_THROW(analyze(s, {{}, 3, Mode::cmrwi, {}, {}, {}}), InputError);
 }
 
 TEST(Analyze, CurvatureJumpAtAC1JointMustFollowTheDirection) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <sstream>
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region_setup.hpp"
@@ -49,6 +50,121 @@ TEST(Region, InvalidOptionsAreInputErrors) {
   bad([](RegionRequest& o) { o.max_depth = 31; });
   bad([](RegionRequest& o) { o.with = {0}; });  // the moved point itself
   bad([](RegionRequest& o) { o.view = View{1, 0, 0, 1}; });
+  bad([](RegionRequest& o) { o.segments = SegmentRange{0, 1}; });  // one segment: 0..0
+  bad([](RegionRequest& o) { o.splits = {1}; });
+}
+
+// Segment control (RegionRequest::segments / splits) on a wave whose
+// curvature increases on segments 0-1, decreases on 2, increases on 3
+// (tests/bezierize/segments_test.cpp checks it by sampling).
+BSpline wave() {
+  return BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7, 8},
+                       {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998}, {3.765, 0.132},
+                        {5.069, -0.719}, {6.078, 0.783}});
+}
+
+TEST(Region, SegmentRangesAndSplitsAreValidated) {
+  const BSpline s = wave();  // 4 segments
+  auto bad = [&](auto tweak, const char* why) {
+    RegionRequest o;
+    o.point = 3;
+    tweak(o);
+    EXPECT_THROW(RegionProblem::make(s, o), InputError) << why;
+  };
+  bad([](RegionRequest& o) { o.segments = SegmentRange{2, 1}; }, "reversed range");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{1, 4}; }, "past the last segment");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{1, 3}, o.split = 1; }, "split at the range's start");
+  bad([](RegionRequest& o) { o.segments = SegmentRange{0, 2}, o.splits = {1, 3}; }, "split past the range");
+  bad([](RegionRequest& o) { o.splits = {3, 2}; }, "splits not increasing");
+  bad([](RegionRequest& o) { o.split = 2, o.splits = {3}; }, "split and splits together");
+  RegionRequest ok;
+  ok.point = 3;
+  ok.segments = SegmentRange{1, 3};
+  ok.splits = {2, 3};
+  EXPECT_NO_THROW(RegionProblem::make(s, ok));
+}
+
+TEST(Region, OnlyTheJudgedSegmentsArePrepared) {
+  const BSpline s = wave();
+  RegionRequest o;
+  o.point = 3;  // touches segments 0..3
+  o.segments = SegmentRange{1, 2};
+  const RegionProblem p = RegionProblem::make(s, o);
+  ASSERT_FALSE(p.setup().entries.empty());
+  for (const detail::RegionEntry& e : p.setup().entries) {
+    EXPECT_GE(e.segment, 1);
+    EXPECT_LE(e.segment, 2);
+  }
+  o.point = 0;  // touches segment 0 only: nothing to prepare
+  EXPECT_TRUE(RegionProblem::make(s, o).setup().entries.empty());
+}
+
+// Moving a point that only touches ignored segments changes no label: every
+// position gets analyze's verdict of the judged range.
+TEST(Region, IgnoredSegmentsDoNotChangeTheLabel) {
+  const BSpline s = wave();
+  for (const auto& [range, want] : {std::pair{SegmentRange{1, 2}, RegionLabel::not_monotone},
+                                    std::pair{SegmentRange{2, 2}, RegionLabel::decreasing},
+                                    std::pair{SegmentRange{3, 3}, RegionLabel::increasing}}) {
+    AnalyzeOptions ao;
+    ao.segments = range;
+    ASSERT_EQ(code(want), detail::label_of(analyze(s, ao).cmrwi));
+    RegionRequest o;
+    o.point = 0;
+    o.segments = range;
+    o.width = o.height = 24;
+    const RegionResult r = CpuRegionBackend(1).render(RegionProblem::make(s, o));
+    for (std::size_t i = 0; i < r.size(); ++i)
+      ASSERT_EQ(r.labels[i], want) << "segments " << range.first << ".." << range.last << " pixel " << i;
+  }
+}
+
+// The single-position classifier against analyze of the moved spline, for
+// ranges, one split in a range, and several joints.
+TEST(Region, SegmentControlMatchesAnalyzeOfTheMovedSpline) {
+  const BSpline s = wave();
+  std::mt19937_64 rng(1102);
+  std::uniform_real_distribution<double> off(-0.5, 0.5);
+  struct Case {
+    int point;
+    std::optional<SegmentRange> range;
+    std::optional<int> split;
+    std::vector<int> splits;
+    Mode mode;
+  };
+  const Case cases[] = {{3, SegmentRange{1, 3}, {}, {}, Mode::cmrwi},   {2, SegmentRange{0, 1}, {}, {}, Mode::cmr},
+                        {2, SegmentRange{1, 3}, 2, {}, Mode::cmrwi},     {3, {}, {}, {2, 3}, Mode::cmrwi},
+                        {4, SegmentRange{1, 3}, {}, {2, 3}, Mode::cmrwi}, {3, {}, {}, {2}, Mode::cmr}};
+  int passing = 0;
+  for (const Case& c : cases) {
+    RegionRequest o;
+    o.point = c.point;
+    o.segments = c.range;
+    o.split = c.split;
+    o.splits = c.splits;
+    o.mode = c.mode;
+    const RegionProblem problem = RegionProblem::make(s, o);
+    for (int sample = 0; sample < 60; ++sample) {
+      const Vec2 p = s.points()[c.point] + Vec2(off(rng), off(rng));
+      AnalyzeOptions ao;
+      ao.segments = c.range;
+      ao.split = c.split;
+      ao.splits = c.splits;
+      ao.split_mode = c.mode;
+      const SplineAnalysis a = analyze(s.with_point(c.point, p), ao);
+      const RegionPixel px = problem.classify(p);
+      const std::string where = "point " + std::to_string(c.point) + " sample " + std::to_string(sample);
+      if (!c.splits.empty()) {
+        EXPECT_EQ(code(px.alternating_label), detail::label_of(*a.alternation)) << where;
+        passing += px.alternating_label == AlternatingLabel::first_increasing;
+      } else if (c.split) {
+        EXPECT_EQ(code(px.split_label), detail::label_of(*a.split)) << where;
+      } else {
+        EXPECT_EQ(code(px.label), detail::label_of(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
+      }
+    }
+  }
+  EXPECT_GT(passing, 5) << "some sampled positions should keep the alternation";
 }
 
 // The same curve at a higher degree has the same curvature, so for every
@@ -84,5 +200,137 @@ TEST(Region, DegreeElevatedCurveKeepsItsRegion) {
   EXPECT_GT(in_region, 5) << "the scene must contain part of the region";
 }
 
+// fold_fixed_runs against part_verdict over the full lists: random classes,
+// jumps, needed masks, judged ranges and cuts (seeded); the needed segments and their
+// joints are then re-filled at random as a position would, and the template
+// must give the same verdict and the same deepest level in both modes.
+TEST(Region, FoldedVerdictEqualsTheFullOne) {
+  std::mt19937 rng(20241123);
+  auto pick = [&](int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng); };
+  const Curvature curvatures[] = {Curvature::increasing, Curvature::decreasing, Curvature::non_monotone,
+                                  Curvature::undecided, Curvature::constant};
+  const Inflection inflections[] = {Inflection::none, Inflection::none, Inflection::none, Inflection::present,
+                                    Inflection::undecided};
+  auto random_class = [&] {
+    SegmentClass c;
+    // Mostly monotone, so that most verdicts are not simply "none".
+    c.monotonicity.curvature = pick(3) ? curvatures[pick(2)] : curvatures[pick(5)];
+    c.monotonicity.depth = pick(6);
+    c.inflection.inflection = pick(3) ? Inflection::none : inflections[pick(5)];
+    c.inflection.depth = pick(6);
+    c.inflection.kappa_sign = c.inflection.inflection == Inflection::none ? (pick(6) ? 1 : pick(3) - 1) : 0;
+    return c;
+  };
+  auto random_jump = [&] { return pick(4) ? 0 : (pick(2) ? 1 : -1); };
+  auto depth_of = [](const std::vector<SegmentClass>& v, Mode mode) {
+    int d = 0;
+    for (const SegmentClass& c : v)
+      d = std::max({d, c.monotonicity.depth, mode == Mode::cmr ? c.inflection.depth : 0});
+    return d;
+  };
+  int cases = 0, not_none = 0, with_range = 0, with_cuts = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int N = 1 + pick(14);
+    const Mode mode = pick(2) ? Mode::cmr : Mode::cmrwi;
+    // A judged range (all segments half of the time) and 0..3 cuts strictly inside it.
+    SegmentRange range{0, N - 1};
+    if (pick(2)) {
+      range.first = pick(N);
+      range.last = range.first + pick(N - range.first);
+    }
+    std::vector<int> cuts;
+    for (int seg = range.first + 1; seg <= range.last; ++seg)
+      if (static_cast<int>(cuts.size()) < 3 && pick(4) == 0) cuts.push_back(seg);
+    with_range += range.first != 0 || range.last != N - 1;
+    with_cuts += !cuts.empty();
+    std::vector<SegmentClass> classes(N);
+    std::vector<Joint> joints(N - 1);
+    std::vector<bool> needed(N);
+    for (auto& c : classes) c = random_class();
+    for (int j = 0; j < N - 1; ++j) joints[j].index = j + 1, joints[j].jump = random_jump();
+    for (int i = range.first; i <= range.last; ++i) needed[i] = pick(4) == 0;
+    const detail::VerdictTemplate t = detail::fold_fixed_runs(classes, joints, needed, range, cuts, mode);
+    ASSERT_EQ(t.joints.size() + 1, t.classes.size());
+    ASSERT_EQ(t.starts.size(), cuts.size() + 1);
+    for (int fill = 0; fill < 8; ++fill) {
+      std::vector<SegmentClass> full = classes, folded = t.classes;
+      std::vector<Joint> full_joints = joints, folded_joints = t.joints;
+      for (int i = range.first; i <= range.last; ++i) {
+        if (!needed[i]) continue;
+        full[i] = folded[t.slot[i]] = random_class();
+        if (i > range.first && joint_counts(range, cuts, i))
+          full_joints[i - 1].jump = folded_joints[t.slot[i] - 1].jump = random_jump();
+      }
+      std::ostringstream what;
+      what << "trial " << trial << " fill " << fill << ": N " << N << ", range " << range.first << ".." << range.last
+           << ", cuts";
+      for (int c : cuts) what << ' ' << c;
+      what << ", mode " << (mode == Mode::cmr ? "cmr" : "cmrwi") << ", needed";
+      for (int i = 0; i < N; ++i) what << ' ' << needed[i];
+      std::vector<Direction> want;
+      for (const auto& [a, b] : segment_groups(range, cuts)) want.push_back(part_verdict(full, full_joints, a, b, mode));
+      const std::vector<Direction> got = detail::group_verdicts(t, folded, folded_joints, mode);
+      ASSERT_EQ(got.size(), want.size()) << what.str();
+      for (std::size_t g = 0; g < want.size(); ++g)
+        ASSERT_EQ(to_string(got[g]), std::string(to_string(want[g]))) << what.str() << ", group " << g;
+      not_none += std::none_of(want.begin(), want.end(), [](Direction d) { return d == Direction::none; });
+      const std::vector<SegmentClass> judged(full.begin() + range.first, full.begin() + range.last + 1);
+      ASSERT_EQ(depth_of(folded, mode), depth_of(judged, mode)) << what.str();
+      ++cases;
+    }
+  }
+  EXPECT_GT(with_range, 500) << "the random cases must exercise judged ranges";
+  EXPECT_GT(with_cuts, 500) << "the random cases must exercise cuts";
+  EXPECT_GT(not_none, cases / 10) << "the random cases must exercise monotone verdicts too";
+}
+
+// The problems of make_each (one analysis shared by all points, folded
+// verdicts) label every position as analyze() labels the moved spline. The
+// spline is Fig. 9(b) refined (`cmr knots examples/figures/fig9b.json
+// refine`): six segments, increasing curvature, so every point's
+// neighbourhood holds monotone positions; each view is a square around P_k.
+TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 0.5, 1, 1.5, 2, 2.5, 3, 3, 3},
+                                  {{0.0, 0.0}, {0.165, 0.0}, {0.565, -0.0675}, {1.3675000000000002, -0.44812499999999994},
+                                   {2.3649999999999998, -1.1849999999999996}, {3.559375, -2.3587499999999997},
+                                   {4.952499999999999, -4.050000000000001}, {6.01, -5.58}, {6.57, -6.46}});
+  std::vector<int> points(s.point_count());
+  for (int k = 0; k < s.point_count(); ++k) points[k] = k;
+  for (const std::optional<int> split : {std::optional<int>{}, std::optional<int>{3}}) {
+    for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
+      int monotone = 0;
+      for (int k = 0; k < s.point_count(); ++k) {
+        RegionRequest o;
+        o.width = o.height = 8;
+        o.mode = mode;
+        o.split = split;
+        const Vec2 c = s.points()[k];
+        o.view = View{c.x - 0.3, c.y - 0.3, c.x + 0.3, c.y + 0.3};
+        const std::vector<RegionProblem> problems = RegionProblem::make_each(s, o, points);
+        ASSERT_EQ(problems.size(), points.size());
+        EXPECT_EQ(problems[k].request().point, k);
+        for (int j = 0; j < o.height; ++j)
+          for (int i = 0; i < o.width; ++i) {
+            const Vec2 p = pixel_center(*o.view, o.width, o.height, i, j);
+            AnalyzeOptions ao;
+            ao.split = split;
+            ao.split_mode = mode;
+            const SplineAnalysis a = analyze(s.with_point(k, p), ao);
+            const RegionPixel px = problems[k].classify(p);
+            if (split) {
+              EXPECT_EQ(to_string(px.split_label), std::string(to_string(*a.split)))
+                  << "P" << k << " pixel (" << i << ", " << j << ")";
+              monotone += px.split_label != SplitLabel::none;
+            } else {
+              const Direction want = mode == Mode::cmr ? a.cmr : a.cmrwi;
+              EXPECT_EQ(detail::label_of(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
+              monotone += px.label != RegionLabel::not_monotone;
+            }
+          }
+      }
+      EXPECT_GT(monotone, 10) << "the scenes must contain regions";
+    }
+  }
+}
 }  // namespace
 }  // namespace cmr

@@ -1,10 +1,17 @@
 #include "spline/spline_json.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr {
 namespace {
@@ -65,7 +72,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadDoc{"conventional_knots",
                              R"({"degree":2,"knots":[0,0,0,1,1,1],"points":[[0,0],[1,1],[2,0]]})",
                              "knots: 6 values is the conventional (full) knot vector for 3 points of degree 2; drop "
-                             "the first and the last knot (cmr uses polar form), or pass --conventional"}),
+                             "the first and the last knot (cmr uses polar form), or convert the file with `cmr knots FILE "
+                             "--conventional clamp`"}),
     [](const auto& p) { return std::string(p.param.name); });
 
 TEST(SplineJson, ConventionalKnotsDropTheirEndKnotsWhenAskedTo) {
@@ -86,6 +94,57 @@ TEST(SplineJson, ConventionalKnotsDropTheirEndKnotsWhenAskedTo) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("points + degree + 1 = 10 values"), std::string::npos) << e.what();
   }
+}
+
+// read_input_file: regular files only, opened without blocking, size-limited.
+std::filesystem::path input_scratch(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cmr_spline_json_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto p = dir / name;
+  std::filesystem::remove(p);
+  return p;
+}
+
+std::string input_error(const std::filesystem::path& p) {
+  try {
+    (void)read_input_file(p);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ReadInputFile, ReadsARegularFileWhole) {
+  const auto p = input_scratch("plain.json");
+  const std::string text = std::string(100000, 'x') + "\0tail";  // larger than any first guess, with a NUL
+  std::ofstream(p, std::ios::binary) << text;
+  EXPECT_EQ(read_input_file(p), text);
+  std::ofstream(p, std::ios::binary | std::ios::trunc);
+  EXPECT_EQ(read_input_file(p), "");
+}
+
+TEST(ReadInputFile, AFifoWithoutWriterIsRefusedAtOnce) {
+  const auto p = input_scratch("fifo.json");
+  ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(input_error(p), p.string() + ": not a regular file (a FIFO)");
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+}
+
+TEST(ReadInputFile, DevicesFoldersAndMissingFilesAreInputErrors) {
+  EXPECT_EQ(input_error("/dev/zero"), "/dev/zero: not a regular file (a character device)");
+  EXPECT_EQ(input_error("/"), "/: not a regular file (a folder)");
+  EXPECT_EQ(input_error("/nonexistent/x.json"), "/nonexistent/x.json: cannot open the file (No such file or directory)");
+}
+
+TEST(ReadInputFile, FilesAboveTheLimitAreRefusedWithoutReadingThem) {
+  const auto p = input_scratch("huge.json");
+  std::ofstream(p) << "{}";
+  std::filesystem::resize_file(p, kMaxInputBytes + 1);  // sparse
+  EXPECT_EQ(input_error(p), p.string() + ": larger than the 64 MiB input limit");
+  std::filesystem::resize_file(p, kMaxInputBytes);  // exactly the limit is accepted
+  EXPECT_EQ(read_input_file(p).size(), kMaxInputBytes);
+  std::filesystem::remove(p);
 }
 
 }  // namespace

@@ -63,6 +63,20 @@ INSTANTIATE_TEST_SUITE_P(
                  "split 0 is outside 1..2"},
         BadInput{"split_too_big", "analyze FILE --split 3",
                  "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "split 3 is outside"},
+        BadInput{"splits_not_increasing", "analyze FILE --split 2,1",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "split joints must increase"},
+        BadInput{"segments_past_the_end", "analyze FILE --segments 0..3",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "the curve has segments 0..2"},
+        BadInput{"segments_reversed", "analyze FILE --segments 2..1",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "after the last"},
+        BadInput{"segments_malformed", "analyze FILE --segments 1-2",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "--segments: expected A..B"},
+        BadInput{"split_outside_segments", "analyze FILE --segments 1..2 --split 1",
+                 "{\"degree\":3,\"knots\":[0,1,2,3,4,5,6,7]," + kSixPoints + "}", "split 1 is outside 2..2"},
+        // analyze has no --conventional: the advice names the command that has it.
+        BadInput{"conventional_knots", "analyze FILE",
+                 "{\"degree\":3,\"knots\":[0,0,0,0,1,2,3,3,3,3]," + kSixPoints + "}",
+                 "convert the file with `cmr knots FILE --conventional clamp`"},
         BadInput{"depth_out_of_range", "analyze FILE --depth 99", "{" + kSixPoints + "}", "--depth"},
         BadInput{"mode_unknown", "analyze FILE --mode bogus", "{" + kSixPoints + "}", "--mode"},
         BadInput{"unknown_command", "frobnicate", "", "unknown command 'frobnicate'"},
@@ -98,6 +112,46 @@ TEST(Cli, AnalyzePrintsSegmentsAndVerdicts) {
   EXPECT_TRUE(doc["spline"].contains("cmrwi"));
   EXPECT_TRUE(doc["spline"].contains("cmr"));
   EXPECT_TRUE(doc["spline"].contains("split"));
+}
+
+TEST(Cli, AnalyzeSegmentsReportsTheOthersAsIgnored) {
+  const std::string file = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json";
+  const Outcome all = run("analyze " + file);
+  const Outcome r = run("analyze " + file + " --segments 1..2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto full = nlohmann::json::parse(all.out), doc = nlohmann::json::parse(r.out);
+  ASSERT_EQ(doc["segments"].size(), 3u);
+  EXPECT_EQ(doc["segments"][0]["curvature"], "ignored");
+  EXPECT_EQ(doc["segments"][0]["inflection"], "ignored");
+  EXPECT_FALSE(doc["segments"][0].contains("depth"));
+  EXPECT_EQ(doc["segments"][1], full["segments"][1]);  // judged segments: as without --segments
+  EXPECT_EQ(doc["segments"][2], full["segments"][2]);
+  EXPECT_EQ(doc["joints"][0]["ignored"], true);  // joint 1 is the range's start
+  EXPECT_FALSE(doc["joints"][1].contains("ignored"));
+  EXPECT_EQ(doc["spline"]["segments"], nlohmann::json::parse("[1, 2]"));
+  EXPECT_FALSE(full["spline"].contains("segments"));
+}
+
+TEST(Cli, AnalyzeSeveralJointsGivesTheAlternationAndTheGroups) {
+  const std::string file = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json";
+  const Outcome r = run("analyze " + file + " --split 1,2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(doc["spline"].contains("alternation"));
+  EXPECT_FALSE(doc["spline"].contains("split"));
+  const auto& groups = doc["spline"]["groups"];
+  ASSERT_EQ(groups.size(), 3u);
+  // One segment per group: each group's direction is its segment's curvature.
+  bool alternate = true;
+  for (int g = 0; g < 3; ++g) {
+    EXPECT_EQ(groups[g]["segments"], nlohmann::json::array({g, g}));
+    const std::string c = doc["segments"][g]["curvature"], d = groups[g]["direction"];
+    EXPECT_EQ(d, c == "non-monotone" ? "none" : c) << "group " << g;
+    alternate = alternate && (c == "increasing" || c == "decreasing") &&
+                (g == 0 || doc["segments"][g]["curvature"] != doc["segments"][g - 1]["curvature"]);
+  }
+  const std::string first = doc["segments"][0]["curvature"];
+  EXPECT_EQ(doc["spline"]["alternation"], alternate ? (first == "increasing" ? "inc-first" : "dec-first") : "fail");
 }
 
 }  // namespace

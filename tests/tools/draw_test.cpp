@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <set>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +16,7 @@
 
 #include "spline/errors.hpp"
 #include "tools/draw.hpp"
+#include "tools/io.hpp"
 
 namespace cmr::draw {
 namespace {
@@ -131,6 +135,24 @@ TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
   EXPECT_EQ(undecided.r + undecided.g + undecided.b, 3.0);
 }
 
+TEST(PixelColour, AlternatingLabelsShowTheFirstGroupsDirection) {
+  RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  r.alternating = true;
+  r.labels.clear();
+  r.alternating_labels = {AlternatingLabel::first_increasing, AlternatingLabel::first_decreasing,
+                          AlternatingLabel::undecided, AlternatingLabel::fail};
+  RegionPicture p;
+  p.layers = {&r};
+  p.alternating = true;
+  const Rgb inc = pixel_colour(p, 0), dec = pixel_colour(p, 1), undecided = pixel_colour(p, 2), fail = pixel_colour(p, 3);
+  EXPECT_GT(inc.r, inc.b);  // group 0 increasing: red
+  EXPECT_GT(dec.b, dec.r);  // group 0 decreasing: blue
+  EXPECT_EQ(undecided.r + undecided.g + undecided.b, 3.0);
+  EXPECT_EQ(fail.r + fail.g + fail.b, 3.0);
+  p.spline = &kCubic;
+  EXPECT_FALSE(region_png(p).empty());  // the legend for alternating labels draws
+}
+
 TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
   RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
   r.labels = {RegionLabel::increasing, RegionLabel::increasing, RegionLabel::not_monotone, RegionLabel::not_monotone};
@@ -157,11 +179,12 @@ TEST(WriteFigurePng, CompositeIsAValidPng) {
   f.caption = "a caption long enough to wrap over more than one line of the page, so that wrapping is exercised";
   f.panel_size = 100;
   const fs::path path = scratch() / "figure.png";
-  write_figure_png(path, f);
+  const std::string bytes = figure_png(f);
+  cmr::write_file_atomic(path, bytes);
   const Png png = read_png(path);
   EXPECT_GE(png.width, 200);
   EXPECT_GE(png.height, 100);
-  EXPECT_EQ(figure_png(f), slurp(path)) << "the file holds exactly the bytes rendered in memory";
+  EXPECT_EQ(figure_png(f), bytes) << "rendering is deterministic";
 }
 
 /// Reads PNG bytes from memory, chunk by chunk as Cairo asks for them.
@@ -205,6 +228,113 @@ TEST(WriteRegionPng, DirectoryAsOutputIsAnInputErrorAndStaysADirectory) {
   fs::create_directories(dir);
   EXPECT_THROW(write_region_png(dir, p), InputError);
   EXPECT_TRUE(fs::is_directory(dir));
+}
+
+// The legend lists exactly the colours drawn: every non-white label colour
+// of the layers appears in it, and each entry's colour occurs in the picture
+// (or is the white of "not monotone").
+TEST(LegendFor, ListsExactlyTheColoursDrawn) {
+  // Layer a: increasing left half; layer b: decreasing columns 0..1 and increasing 6..7.
+  RegionResult a = halves(kCubic, 8, 2, RegionLabel::increasing, RegionLabel::not_monotone);
+  RegionResult b = halves(kCubic, 8, 2, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  for (int j = 0; j < 2; ++j) {
+    b.labels[j * 8 + 0] = b.labels[j * 8 + 1] = RegionLabel::decreasing;
+    b.labels[j * 8 + 6] = b.labels[j * 8 + 7] = RegionLabel::increasing;
+  }
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&a, &b};
+  const std::vector<LegendEntry> legend = legend_for(p);
+  auto same = [](Rgb x, Rgb y) { return std::abs(x.r - y.r) + std::abs(x.g - y.g) + std::abs(x.b - y.b) < 1e-9; };
+  for (std::size_t i = 0; i < 16; ++i) {
+    const Rgb c = pixel_colour(p, i);
+    EXPECT_TRUE(std::any_of(legend.begin(), legend.end(), [&](const LegendEntry& e) { return same(e.colour, c); }))
+        << "pixel " << i << " colour missing from the legend";
+  }
+  for (const LegendEntry& e : legend) {
+    bool drawn = e.colour.r == 1 && e.colour.g == 1 && e.colour.b == 1;
+    for (std::size_t i = 0; i < 16; ++i) drawn = drawn || same(pixel_colour(p, i), e.colour);
+    EXPECT_TRUE(drawn) << "'" << e.text << "' is not drawn";
+  }
+  // Three colours (increasing + decreasing overlap, increasing alone, a second increasing alone is the same) and white.
+  EXPECT_EQ(legend.size(), 3u);
+  EXPECT_NE(std::find_if(legend.begin(), legend.end(),
+                         [](const LegendEntry& e) { return e.text == "increasing + decreasing overlap"; }),
+            legend.end());
+}
+
+// --point all: each point's region in its own colour, decreasing hatched.
+TEST(PixelColour, PerPointColoursFillIncreasingAndHatchDecreasing) {
+  const RegionResult a = halves(kCubic, 12, 12, RegionLabel::increasing, RegionLabel::decreasing);
+  const RegionResult b = halves(kCubic, 12, 12, RegionLabel::not_monotone, RegionLabel::increasing);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&a, &b};
+  p.points = {2, 5};
+  p.per_point = true;
+  const Rgb p2 = pixel_colour(p, 0);  // only point 2, increasing: filled in point 2's colour
+  const Rgb p2_colour = point_colour(2), p5_colour = point_colour(5);
+  EXPECT_NEAR(p2.r, 1 - 0.6 * (1 - p2_colour.r), 1e-12);
+  EXPECT_NEAR(p2.g, 1 - 0.6 * (1 - p2_colour.g), 1e-12);
+  EXPECT_NEAR(p2.b, 1 - 0.6 * (1 - p2_colour.b), 1e-12);
+  EXPECT_GT(std::abs(p2_colour.r - p5_colour.r) + std::abs(p2_colour.g - p5_colour.g) +
+                std::abs(p2_colour.b - p5_colour.b),
+            0.5)
+      << "points 2 and 5 must be told apart";
+  // Right half: point 2 decreasing (hatched: rows of stripes differ) under point 5 increasing.
+  std::set<std::array<long, 3>> right;
+  for (int j = 0; j < 12; ++j)
+    for (int i = 6; i < 12; ++i) {
+      const Rgb c = pixel_colour(p, static_cast<std::size_t>(j) * 12 + i);
+      right.insert({std::lround(c.r * 1e6), std::lround(c.g * 1e6), std::lround(c.b * 1e6)});
+    }
+  EXPECT_EQ(right.size(), 2u) << "hatching alternates two shades";
+  const std::vector<LegendEntry> legend = legend_for(p);
+  ASSERT_GE(legend.size(), 2u);
+  EXPECT_EQ(legend[0].text, "P2");
+  EXPECT_EQ(legend[1].text, "P5");
+  EXPECT_TRUE(std::any_of(legend.begin(), legend.end(), [](const LegendEntry& e) { return e.hatched; }));
+}
+
+// A region picture with a legend and a marked point: still the layers' size,
+// and the legend box covers a corner (its white shows where the region was red).
+TEST(RegionPng, LegendAndMarkedPointAreDrawnInside) {
+  const RegionResult r = halves(kCubic, 300, 200, RegionLabel::increasing, RegionLabel::increasing);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  p.points = {1};
+  const fs::path plain = scratch() / "plain.png", with = scratch() / "legend.png";
+  write_region_png(plain, p);
+  p.legend = true;
+  write_region_png(with, p);
+  const Png a = read_png(plain), b = read_png(with);
+  ASSERT_EQ(b.width, 300);
+  ASSERT_EQ(b.height, 200);
+  int whiter = 0;
+  for (const auto [i, j] : {std::pair{8, 8}, std::pair{291, 8}, std::pair{8, 191}, std::pair{291, 191}})
+    whiter += b.at(i, j)[1] > a.at(i, j)[1] + 60;  // red (g ~ 102) under white (g > 200)
+  EXPECT_EQ(whiter, 1) << "one corner holds the legend";
+  const std::vector<LegendEntry> legend = legend_for(p);
+  EXPECT_TRUE(std::any_of(legend.begin(), legend.end(), [](const LegendEntry& e) { return e.ring && e.text == "P1, the moved point"; }));
+}
+
+// figure_svg: a complete SVG document (the surface is finished).
+TEST(FigureSvg, IsACompleteSvgDocument) {
+  const RegionResult r = halves(kCubic, 60, 60, RegionLabel::decreasing, RegionLabel::not_monotone);
+  RegionPicture p;
+  p.spline = &kCubic;
+  p.layers = {&r};
+  Figure f;
+  f.title = "svg";
+  f.rows = {{{p, "(a)"}, {LambdaPlot{{1, -2, 0.5, 3}}, "(b)"}}};
+  f.panel_size = 120;
+  const std::string svg = figure_svg(f);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("<image"), std::string::npos);
+  const auto end = svg.find_last_not_of(" \n");
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_EQ(svg.substr(end - 5, 6), "</svg>");
 }
 
 }  // namespace

@@ -45,7 +45,8 @@ void expect_layer_is_classify(const BSpline& s, const RegionRequest& r, const Re
     for (int i = 0; i < r.width; ++i) {
       const RegionPixel want = p.classify(pixel_center(*r.view, r.width, r.height, i, j));
       const std::size_t at = static_cast<std::size_t>(j) * r.width + i;
-      if (layer.labels[at] != want.label && ++wrong <= 3) ADD_FAILURE() << "pixel " << i << "," << j;
+      const uint8_t code_wanted = r.split ? code(want.split_label) : code(want.label);
+      if (layer.code_at(at) != code_wanted && ++wrong <= 3) ADD_FAILURE() << "pixel " << i << "," << j;
     }
   EXPECT_EQ(wrong, 0);
 }
@@ -185,6 +186,28 @@ TEST(EditEngine, KnotOperationsKeepOrChangeTheCurveAsKnotOpsSays) {
   for (int i = 0; i < 5; ++i) EXPECT_TRUE(e.undo());
   EXPECT_EQ(e.doc().spline.points(), before.points());
   EXPECT_EQ(e.doc().spline.knots(), before.knots());
+}
+
+TEST(EditEngine, SegmentRangeReachesTheRequestsAndDropsAnOutsideSplit) {
+  Editor e = small_editor(spline6());
+  e.select(3);
+  e.set_split(1);
+  e.set_segments(SegmentRange{1, 2});
+  EXPECT_FALSE(e.doc().split.has_value()) << "joint 1 is not inside 1..2";
+  const RegionRequest r = e.region_requests().front();
+  ASSERT_TRUE(r.segments.has_value());
+  EXPECT_EQ(*r.segments, (SegmentRange{1, 2}));
+  EXPECT_NE(region_key(e.doc().spline, r), region_key(e.doc().spline, [&] {
+              RegionRequest all = r;
+              all.segments.reset();
+              return all;
+            }()));
+  EXPECT_THROW(e.set_split(1), InputError);
+  e.set_split(2);
+  EXPECT_THROW(e.set_segments(SegmentRange{0, 3}), InputError);
+  expect_layer_is_classify(e.doc().spline, e.region_requests().front(), *e.region().front());
+  e.set_segments(std::nullopt);
+  EXPECT_FALSE(e.region_requests().front().segments.has_value());
 }
 
 TEST(EditEngine, KnotMoveIsSetKnot) {

@@ -2,17 +2,21 @@
 // typed errors) and HTML escaping.
 #include "tools/io.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "spline/errors.hpp"
@@ -144,8 +148,109 @@ TEST(TempNameFor, IsAHiddenSiblingThatDiffersPerAttempt) {
 }
 
 TEST(HtmlEscape, EscapesTheFiveSpecialsOnly) {
-  EXPECT_EQ(html_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c'");
-  EXPECT_EQ(html_escape("κ plain"), "κ plain");
+  EXPECT_EQ(html_escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&#39;");
+  EXPECT_EQ(html_escape("κ plain €𝄞"), "κ plain €𝄞") << "well-formed UTF-8 passes unchanged";
+}
+
+TEST(HtmlEscape, BytesThatAreNotUtf8BecomeReplacementCharacters) {
+  const std::string fffd = "\xEF\xBF\xBD";
+  EXPECT_EQ(html_escape("caf\xe9.json"), "caf" + fffd + ".json") << "Latin-1 e-acute";
+  EXPECT_EQ(html_escape("\xC0\xAF"), fffd + fffd) << "overlong '/'";
+  EXPECT_EQ(html_escape("\xED\xA0\x80"), fffd + fffd + fffd) << "UTF-16 surrogate";
+  EXPECT_EQ(html_escape("\xF4\x90\x80\x80"), fffd + fffd + fffd + fffd) << "above U+10FFFF";
+  EXPECT_EQ(html_escape("a\xE2\x82"), "a" + fffd + fffd) << "truncated sequence at the end";
+  EXPECT_EQ(html_escape("\xff<"), fffd + "&lt;");
+}
+
+// OutputSet: staged files appear together at commit, or not at all.
+TEST(OutputSet, NothingChangesUntilCommitAndNothingIsLeftWithoutIt) {
+  const fs::path dir = scratch("set_abandoned");
+  put(dir / "a.pgm", "old a");
+  {
+    OutputSet set;
+    set.stage(dir / "a.pgm", "new a");
+    set.stage(dir / "b.png", "new b");
+    EXPECT_EQ(read(dir / "a.pgm"), "old a") << "staging replaced a file";
+    EXPECT_FALSE(fs::exists(dir / "b.png"));
+  }  // destroyed without commit: an exception on the way
+  EXPECT_EQ(read(dir / "a.pgm"), "old a");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"a.pgm"}) << "temporaries left";
+}
+
+TEST(OutputSet, CommitPutsEveryFileInPlaceAndLeavesNoTemporaryOrBackup) {
+  const fs::path dir = scratch("set_commit");
+  put(dir / "a.pgm", "old a");
+  OutputSet set;
+  set.stage(dir / "a.pgm", "new a");
+  set.stage(dir / "b.png", "new b");
+  set.commit();
+  EXPECT_EQ(read(dir / "a.pgm"), "new a");
+  EXPECT_EQ(read(dir / "b.png"), "new b");
+  EXPECT_EQ(names_in(dir), (std::vector<std::string>{"a.pgm", "b.png"}));
+  EXPECT_EQ(set.paths(), (std::vector<fs::path>{dir / "a.pgm", dir / "b.png"}));
+}
+
+TEST(OutputSet, AFailedRenameRestoresTheFilesAlreadyRenamed) {
+  const fs::path dir = scratch("set_undo");
+  put(dir / "a.pgm", "old a");
+  put(dir / "c.pgm", "old c");
+  OutputSet set;
+  set.stage(dir / "a.pgm", "new a");
+  set.stage(dir / "n.pgm", "new n");  // did not exist before
+  set.stage(dir / "b.png", "new b");
+  set.stage(dir / "c.pgm", "new c");
+  // After staging, b.png becomes a non-empty folder: its rename fails (EISDIR).
+  fs::create_directory(dir / "b.png");
+  put(dir / "b.png" / "inside", "x");
+  EXPECT_THROW(set.commit(), InputError);
+  EXPECT_EQ(read(dir / "a.pgm"), "old a") << "the first file was not restored";
+  EXPECT_FALSE(fs::exists(dir / "n.pgm")) << "a new file of a failed set was left";
+  EXPECT_EQ(read(dir / "c.pgm"), "old c");
+  EXPECT_EQ(names_in(dir), (std::vector<std::string>{"a.pgm", "b.png", "c.pgm"})) << "temporaries or backups left";
+}
+
+TEST(OutputSet, CommitWaitsForTheFolderLockOfAnotherCommit) {
+  const fs::path dir = scratch("set_lock");
+  put(dir / "a.pgm", "old");
+  // Another commit holds the folder (flock locks belong to an open file
+  // description, so a second open in this process contends like a process).
+  const int held = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  ASSERT_GE(held, 0);
+  ASSERT_EQ(::flock(held, LOCK_EX), 0);
+  OutputSet set;
+  set.stage(dir / "a.pgm", "new");
+  std::thread committer([&] { set.commit(); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(read(dir / "a.pgm"), "old") << "the commit did not wait for the folder lock";
+  ::flock(held, LOCK_UN);
+  ::close(held);
+  committer.join();
+  EXPECT_EQ(read(dir / "a.pgm"), "new");
+}
+
+TEST(OutputSet, FoldersItCreatedAreRemovedWhenNotCommitted) {
+  const fs::path dir = scratch("set_folders");
+  {
+    OutputSet set;
+    set.create_folder(dir / "x" / "y");
+    set.stage(dir / "x" / "y" / "index.html", "page");
+    EXPECT_TRUE(fs::is_directory(dir / "x" / "y"));
+  }
+  EXPECT_TRUE(fs::is_empty(dir)) << "a created folder was left";
+  OutputSet kept;
+  kept.create_folder(dir / "x" / "y");
+  kept.stage(dir / "x" / "y" / "index.html", "page");
+  kept.commit();
+  EXPECT_EQ(read(dir / "x" / "y" / "index.html"), "page");
+}
+
+TEST(OutputSet, APathStagedTwiceOrAFileAsFolderIsAnInputError) {
+  const fs::path dir = scratch("set_twice");
+  OutputSet set;
+  set.stage(dir / "a.pgm", "1");
+  EXPECT_THROW(set.stage(dir / "." / "a.pgm", "2"), InputError);
+  put(dir / "file", "x");
+  EXPECT_THROW(set.create_folder(dir / "file" / "sub"), InputError);
 }
 
 }  // namespace

@@ -101,7 +101,7 @@ TEST(KnotsCli, ConventionalKnotsAreRecognisedAndAcceptedOnRequest) {
   const Outcome refused = run("knots " + file + " refine");
   EXPECT_EQ(refused.code, 2);
   EXPECT_NE(refused.err.find("conventional (full) knot vector for 6 points of degree 3; drop the first and the last "
-                             "knot (cmr uses polar form), or pass --conventional"),
+                             "knot (cmr uses polar form), or convert the file with `cmr knots FILE --conventional clamp`"),
             std::string::npos)
       << refused.err;
   const Outcome accepted = run("knots " + file + " --conventional clamp");
@@ -172,7 +172,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadInput{"outside_domain", "knots FILE insert 5.5", "", "knot 5.5 lies outside the domain [2, 5]"},
         BadInput{"times_beyond_degree", "knots FILE insert 3 --times 3", "", "makes 4, above the degree 3"},
-        BadInput{"times_zero", "knots FILE insert 3.5 --times 0", "", "times must be at least 1"},
+        BadInput{"times_zero", "knots FILE insert 3.5 --times 0", "", "--times: 0 is outside 1..30"},
         BadInput{"not_a_number", "knots FILE insert abc", "", "U"},
         BadInput{"remove_essential", "knots FILE remove 3", "", "moves the curve by up to"},
         BadInput{"remove_tolerance_named", "knots FILE remove 3 --tol 0.001", "", "more than the tolerance 0.001"},

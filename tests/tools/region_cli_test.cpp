@@ -118,8 +118,16 @@ void expect_labels_match_counts(const fs::path& pgm, int width, int height, cons
   for (std::uint8_t v : g->pixels) ++hist[v];
   for (int v = labels; v < 256; ++v) EXPECT_EQ(hist[v], 0u) << what << ": label " << v << " is not a label";
   ASSERT_EQ(counts.size(), static_cast<std::size_t>(labels)) << what << ": " << counts.dump();
-  for (int v = 0; v < labels; ++v)
-    EXPECT_EQ(hist[v], counts[std::to_string(v)].get<std::uint64_t>()) << what << ": count of label " << v;
+  // The counts are keyed by the labels' names (README), in code order.
+  static const char* plain[] = {"not-monotone", "increasing", "decreasing", "undecided"};
+  static const char* split[] = {"none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided"};
+  static const char* alternating[] = {"fail", "inc-first", "dec-first", "undecided"};
+  const bool alternates = counts.contains("fail");  // several split joints (AlternatingLabel)
+  for (int v = 0; v < labels; ++v) {
+    const char* name = labels == 6 ? split[v] : (alternates ? alternating[v] : plain[v]);
+    ASSERT_TRUE(counts.contains(name)) << what << ": no count named " << name << " in " << counts.dump();
+    EXPECT_EQ(hist[v], counts[name].get<std::uint64_t>()) << what << ": count of label " << v << " (" << name << ")";
+  }
 }
 
 // ---------------------------------------------------------------- bad inputs
@@ -181,8 +189,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadRegion{"split_0", "FILE --point 2 --split 0", kUniform, "split 0 is outside 1..2"},
         BadRegion{"split_3", "FILE --point 2 --split 3", kUniform, "split 3 is outside 1..2"},
         BadRegion{"split_on_bezier", "FILE --point 1 --split 1", kBezier, "one segment"},
-        BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "depth 31 is outside 0..30"},
-        BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "depth -1 is outside 0..30"},
+        BadRegion{"splits_not_increasing", "FILE --point 2 --split 2,1", kUniform, "split joints must increase"},
+        BadRegion{"splits_outside", "FILE --point 2 --split 1,3", kUniform, "split 3 is outside 1..2"},
+        BadRegion{"segments_past_the_end", "FILE --point 2 --segments 1..3", kUniform,
+                  "segments 1..3: the curve has segments 0..2"},
+        BadRegion{"segments_reversed", "FILE --point 2 --segments 2..1", kUniform, "the first segment is after the last"},
+        BadRegion{"segments_word", "FILE --point 2 --segments one..two", kUniform, "--segments: expected A..B"},
+        BadRegion{"split_outside_segments", "FILE --point 2 --segments 1..2 --split 1", kUniform,
+                  "split 1 is outside 2..2"},
+        BadRegion{"depth_31", "FILE --point 2 --depth 31", kUniform, "--depth: 31 is outside 0..30"},
+        BadRegion{"depth_minus_1", "FILE --point 2 --depth -1", kUniform, "--depth: -1 is outside 0..30"},
         BadRegion{"view_3_numbers", "FILE --point 2 --view 0,0,1", kUniform, "four numbers"},
         BadRegion{"view_x0_above_x1", "FILE --point 2 --view 2,0,1,1", kUniform, "X0 < X1"},
         BadRegion{"view_x0_equal_x1", "FILE --point 2 --view 1,0,1,1", kUniform, "X0 < X1"},
@@ -209,8 +225,8 @@ TEST(RegionEnvironment, NoVulkanDeviceExits3AndSaysHowToSelectLavapipe) {
   const EnvGuard env("VK_DRIVER_FILES", "/nonexistent.json");
   // Point 2 of the uniform example touches every segment, so the host cannot
   // decide every pixel alone and the device is needed.
-  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --png " + (dir / "r.png").string() +
-                        " --labels " + (dir / "r.pgm").string());
+  const Outcome r = run("region " + kUniform + " --point 2 --size 32x32 --backend vulkan --png " +
+                        (dir / "r.png").string() + " --labels " + (dir / "r.pgm").string());
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   ASSERT_FALSE(r.err.empty());
@@ -263,7 +279,10 @@ TEST(RegionOutputs, LabelsPgmHasTheRequestedSizeAndTheJsonCounts) {
   const std::vector<Case> cases = {{kUniform, "--point 2", 40, 24, 4},
                                    {kFig2, "--point 1", 37, 29, 4},
                                    {kFig2, "--point 3 --mode cmr", 30, 30, 4},
-                                   {kFig8b, "--point 4 --split 2", 33, 21, 6}};
+                                   {kFig8b, "--point 4 --split 2", 33, 21, 6},
+                                   {kFig8b, "--point 4 --split 1,2", 33, 21, 4},
+                                   {kFig8b, "--point 4 --segments 1..2 --split 2", 33, 21, 6},
+                                   {kUniform, "--point 2 --segments 1..2", 40, 24, 4}};
   for (const Case& c : cases) {
     const fs::path dir = out_dir("labels_pgm");
     const std::string what = c.file + " " + c.args;
@@ -279,6 +298,20 @@ TEST(RegionOutputs, LabelsPgmHasTheRequestedSizeAndTheJsonCounts) {
     expect_labels_match_counts(pgm, c.width, c.height, doc["points"][0]["counts"], c.labels, what);
     EXPECT_EQ(files_in(dir).size(), 1u) << what << ": temporary files left behind";
   }
+}
+
+// --segments names the judged and the ignored segments; --split with several
+// joints echoes them and uses the four alternating labels.
+TEST(RegionOutputs, SegmentsAndSplitsAreEchoed) {
+  const Outcome r = run("region " + kFig8b + " --point 4 --backend cpu --size 16x16 --segments 1..2");
+  const nlohmann::json doc = parse_or_fail(r, "segments");
+  EXPECT_EQ(doc["segments"], nlohmann::json::parse("[1, 2]"));
+  EXPECT_EQ(doc["ignored_segments"], nlohmann::json::parse("[0]"));
+  const Outcome s = run("region " + kFig8b + " --point 4 --backend cpu --size 16x16 --split 1,2");
+  const nlohmann::json sdoc = parse_or_fail(s, "splits");
+  EXPECT_EQ(sdoc["split"], nlohmann::json::parse("[1, 2]"));
+  EXPECT_EQ(sdoc["points"][0]["counts"].size(), 4u);
+  EXPECT_FALSE(sdoc.contains("ignored_segments"));
 }
 
 TEST(RegionOutputs, PointAllWritesOneLabelMapPerPoint) {
@@ -308,6 +341,7 @@ TEST(RegionOutputs, DepthMapValuesAreAtMostTheDepth) {
     ASSERT_TRUE(g) << "depth " << depth << ": " << why;
     EXPECT_EQ(g->width, 40);
     EXPECT_EQ(g->height, 30);
+    EXPECT_EQ(g->maxval, std::max(depth, 1)) << "maxval D, so that viewers stretch the levels to black..white";
     int most = 0;
     for (std::size_t at = 0; at < g->pixels.size(); ++at) {
       ASSERT_LE(int(g->pixels[at]), depth) << "depth " << depth << " pixel (" << at % 40 << ", " << at / 40 << ")";
@@ -318,6 +352,37 @@ TEST(RegionOutputs, DepthMapValuesAreAtMostTheDepth) {
       EXPECT_GT(most, 0) << "depth " << depth << ": every pixel decided at level 0";
     }
   }
+}
+
+TEST(RegionOutputs, DepthMapAsPngIsTheShadedPicture) {
+  const fs::path dir = out_dir("depth_png");
+  const fs::path p = dir / "d.png";
+  const Outcome r = run("region " + kFig2 + " --point 0 --size 64x48 --backend cpu --depth-map " + p.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string b = binary(p);
+  ASSERT_GE(b.size(), 24u);
+  EXPECT_EQ(b.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  // IHDR: width and height, big-endian, at bytes 16..23.
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(b[at]) << 24) | (static_cast<unsigned char>(b[at + 1]) << 16) |
+           (static_cast<unsigned char>(b[at + 2]) << 8) | static_cast<unsigned char>(b[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 64u);
+  EXPECT_EQ(be32(20), 48u);
+}
+
+TEST(RegionOutputs, AnEmptyRegionPrintsANoteAndSucceeds) {
+  // Fig. 8(a)'s P0 has no CMRWI in the default view (the figure's claim, for CMRs); P3 has one.
+  const std::string fig8 = kSource + "/examples/figures/fig8.json";
+  const Outcome empty = run("region " + fig8 + " --point 0 --size 48x48 --backend cpu");
+  EXPECT_EQ(empty.code, 0) << empty.err;
+  EXPECT_NE(empty.err.find("note: P0 has no CMRWI in this view"), std::string::npos) << empty.err;
+  const nlohmann::json doc = parse_or_fail(empty, "empty region");
+  EXPECT_EQ(doc["points"][0]["counts"]["increasing"], 0);
+  EXPECT_EQ(doc["points"][0]["counts"]["decreasing"], 0);
+  const Outcome full = run("region " + fig8 + " --point 3 --size 48x48 --backend cpu");
+  EXPECT_EQ(full.code, 0) << full.err;
+  EXPECT_EQ(full.err.find("note:"), std::string::npos) << full.err;
 }
 
 TEST(RegionOutputs, PngHasTheRequestedSize) {
@@ -373,7 +438,7 @@ TEST_P(RegionBackendsAgree, ByteIdenticalLabelMaps) {
   ASSERT_FALSE(want.empty()) << c.name;
   for (const char* precision : {"fp64", "fp32"}) {
     const fs::path p = dir / (std::string("vk_") + precision + ".pgm");
-    const Outcome vk = run(base + p.string() + " --precision " + precision);
+    const Outcome vk = run(base + p.string() + " --backend vulkan --precision " + precision);
     ASSERT_EQ(vk.code, 0) << c.name << " " << precision << ": " << vk.err;
     const std::string got = binary(p);
     ASSERT_EQ(got.size(), want.size()) << c.name << " " << precision;

@@ -14,6 +14,7 @@
 #include "bezierize/lambda.hpp"
 #include "spline/curvature.hpp"
 #include "spline/spline_json.hpp"
+#include "tools/io.hpp"
 #include "tests/test_util.hpp"
 #include "tests/tools/cli_util.hpp"
 
@@ -258,6 +259,89 @@ BSpline pulled_spiral() {
   return s.with_point(2, s.points()[2] + Vec2(0.0, 0.3));
 }
 
+TEST(ReportRequirement, ParsesTheExtremumAtASplit) {
+  EXPECT_EQ(parse_requirement("split:2").extremum, Extremum::any);
+  EXPECT_EQ(parse_requirement("split:2:max").extremum, Extremum::max);
+  EXPECT_EQ(parse_requirement("split:3:min").extremum, Extremum::min);
+  EXPECT_EQ(parse_requirement("split:3:min").split, 3);
+  for (const char* t : {"split:2", "split:2:max", "split:2:min", "cmr", "cmrwi"})
+    EXPECT_EQ(to_string(parse_requirement(t)), t);
+  for (const char* bad : {"split:2:mid", "split::max", "split:max", "split:2:max:min", "split:2max"})
+    EXPECT_THROW(parse_requirement(bad), InputError) << bad;
+}
+
+// split:S means a curvature extremum at joint S: a curve monotone across S
+// fails it (it used to pass), a minimum passes split:S and split:S:min, a
+// maximum split:S and split:S:max. The curves are one cubic each written on
+// knots 0,0,0,1,2,2,2 (joint 1 at the middle): a spiral (monotone), the
+// clockwise arch (kappa < 0, most negative in the middle: a minimum) and the
+// mirrored arch (counter-clockwise: a maximum).
+TEST(ReportRequirement, SplitMeansAnExtremumAtTheJoint) {
+  const std::vector<double> knots{0, 0, 0, 1, 2, 2, 2};
+  std::vector<Vec2> up = arch(0.5);
+  for (Vec2& p : up) p.y = -p.y;
+  struct Case {
+    const char* name;
+    BSpline spline;
+    const char* require;
+    bool pass;
+  };
+  const Case cases[] = {
+      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1", false},
+      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:max", false},
+      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:min", false},
+      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1", true},
+      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:min", true},
+      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:max", false},
+      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1", true},
+      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:max", true},
+      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:min", false},
+  };
+  for (const Case& c : cases) {
+    ReportOptions o = no_regions();
+    o.require = parse_requirement(c.require);
+    const SplineReport r = report_spline(c.spline, o);
+    EXPECT_EQ(r.pass, c.pass) << c.name << " " << c.require << ": split verdict " << to_string(*r.analysis.split);
+    // The certified extrema of the report say the same: one extremum, on joint 1, of the named kind.
+    const bool extremum_on_joint = r.extrema.size() == 1 && r.extrema[0].joint == 1;
+    if (std::string(c.name) != "spiral") {
+      EXPECT_TRUE(extremum_on_joint) << c.name;
+      EXPECT_EQ(r.extrema[0].kind, std::string(c.name) == "maximum" ? 1 : -1) << c.name;
+    } else {
+      EXPECT_TRUE(r.extrema.empty()) << c.name;
+    }
+  }
+}
+
+// The fix search looks for the extremum the gate asks for: every example it
+// offers passes the gate when verified with analyze.
+TEST(ReportRequirement, FixesOfASplitGateHaveTheRequiredExtremum) {
+  const BSpline s = test::polynomial_as_bspline(spiral(), {0, 0, 0, 1, 2, 2, 2});
+  for (const char* gate : {"split:1:max", "split:1:min"}) {
+    ReportOptions o;
+    o.require = parse_requirement(gate);
+    o.region_size = 48;
+    o.backend = std::make_shared<CpuRegionBackend>(1);
+    SplineReport r = report_spline(s, o);
+    ASSERT_FALSE(r.pass) << gate;
+    find_fixes(r, o);
+    int found = 0;
+    for (const Fix& f : *r.fixes) {
+      if (!f.example) continue;
+      ++found;
+      EXPECT_TRUE(f.verified) << gate << " point " << f.point;
+      const SplineAnalysis a = analyze(s.with_point(f.point, *f.example), [&] {
+        AnalyzeOptions ao;
+        ao.split = 1;
+        return ao;
+      }());
+      EXPECT_EQ(*a.split, o.require->extremum == Extremum::max ? Split::inc_dec : Split::dec_inc)
+          << gate << " point " << f.point;
+    }
+    EXPECT_GT(found, 0) << gate;
+  }
+}
+
 TEST(ReportFixes, FindTheMovedPointAndVerifyTheExample) {
   ASSERT_TRUE(report_spline(spiral(), no_regions()).pass);
   ReportOptions o;
@@ -450,6 +534,37 @@ TEST(ReportCommand, SplitGatePassesAnExtremumAtTheJoint) {
   EXPECT_EQ(bad.code, 2);  // the spline has no joint 5: that input is invalid
   EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("split 5"),
             std::string::npos);
+}
+
+// --segments: only those spans judged (and gated); the others reported as ignored.
+TEST(ReportCommand, SegmentsJudgeOnlyTheirSpans) {
+  // Curvature increases on segments 0-1, decreases on 2, increases on 3.
+  const BSpline wave = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7, 8},
+                                     {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998},
+                                      {3.765, 0.132}, {5.069, -0.719}, {6.078, 0.783}});
+  const std::string file = spline_file("wave.json", wave);
+  const fs::path out = test::scratch() / "segments";
+  const std::string base = "report " + file + " --out " + out.string() + " --no-thumbnails";
+  EXPECT_EQ(test::run(base + " --require cmrwi").code, 1);
+  EXPECT_EQ(test::run(base + " --require cmrwi --segments 0..1").code, 0);
+  Json doc = read_json(out / "report.json");
+  EXPECT_EQ(doc["settings"]["segments"], Json({0, 1}));
+  const Json& sp = doc["splines"][0];
+  EXPECT_EQ(sp["verdict"]["cmrwi"], "increasing");
+  EXPECT_EQ(sp["verdict"]["segments"], Json({0, 1}));
+  ASSERT_EQ(sp["segments"].size(), 4u);
+  EXPECT_EQ(sp["segments"][1]["curvature"], "increasing");
+  EXPECT_EQ(sp["segments"][2]["curvature"], "ignored");
+  EXPECT_EQ(sp["segments"][3]["ignored"], true);
+  EXPECT_NE(test::slurp(out / "index.html").find("ignored"), std::string::npos);
+  EXPECT_EQ(test::run(base + " --require split:3:min --segments 2..3").code, 0);  // decreasing, then increasing
+  EXPECT_EQ(test::run(base + " --require split:3:max --segments 2..3").code, 1);
+  EXPECT_EQ(test::run(base + " --require split:2:max --segments 1..2").code, 0);
+  const test::Outcome bad = test::run(base + " --segments 2..9");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("segments 2..9"),
+            std::string::npos);
+  EXPECT_EQ(test::run(base + " --segments 2..x").code, 2);
 }
 
 TEST(ReportCommand, RejectsAnUnknownRequirementWithOneLine) {

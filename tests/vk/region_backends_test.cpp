@@ -37,6 +37,33 @@ RegionRequest opts(int point, Mode mode = Mode::cmrwi, std::optional<int> split 
   return o;
 }
 
+// Segment control: only `range` judged, and/or several cut joints; the view
+// centred on the moved point so that both labels appear.
+RegionRequest seg_opts(const BSpline& s, int point, std::optional<SegmentRange> range, std::optional<int> split,
+                       std::vector<int> splits, Mode mode = Mode::cmrwi, double half = 0.5) {
+  RegionRequest o = opts(point, mode, split);
+  o.segments = range;
+  o.splits = std::move(splits);
+  const Vec2 c = s.points()[point];
+  o.view = View{c.x - half, c.y - 0.8 * half, c.x + half, c.y + 0.8 * half};
+  return o;
+}
+
+// Curvature increases on segments 0-1, decreases on 2, increases on 3
+// (tests/bezierize/segments_test.cpp checks it by sampling).
+BSpline wave(std::vector<double> knots = {0, 1, 2, 3, 4, 5, 6, 7, 8}) {
+  return BSpline::make(3, std::move(knots),
+                       {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998}, {3.765, 0.132},
+                        {5.069, -0.719}, {6.078, 0.783}});
+}
+
+// Fig. 10's curve (examples/figures/fig10a.json) with knot 1 inserted once
+// more (cmr knots insert 1): a maximum at joint 2, a C1 joint 1.
+BSpline fig10_double_knot() {
+  return BSpline::make(3, {0, 0, 0, 1, 1, 2, 3, 3, 3},
+                       {{0, 0}, {0.33, 0}, {0.8, -0.135}, {2, -0.88}, {3.46, -2.1}, {5.45, -4.7}, {5.4, -5.8}});
+}
+
 std::vector<Scene> scenes() {
   std::mt19937_64 rng(71);
   const BSpline spiral = test::polynomial_as_bspline(test::class_a_bezier(3, -0.35, 1.25), {0, 1, 2, 3, 4, 5, 6, 7});
@@ -53,6 +80,15 @@ std::vector<Scene> scenes() {
       {"nonuniform_quintic", random_spline(rng, 5, {0, 0.5, 1, 2.5, 3, 4, 4, 6, 7, 9}), opts(3)},
       {"quadratic_C1_joints", random_spline(rng, 2, {0, 1, 2, 3, 4, 5}), opts(2)},
       {"double_knot_cubic", random_spline(rng, 3, {0, 0, 0, 1.5, 1.5, 3, 3, 3}), opts(3)},
+      {"wave_splits_2_3_P3", wave(), seg_opts(wave(), 3, {}, {}, {2, 3})},
+      {"wave_segments_1_3_splits_2_3_P4", wave(), seg_opts(wave(), 4, SegmentRange{1, 3}, {}, {2, 3})},
+      {"wave_segments_2_2_P3", wave(), seg_opts(wave(), 3, SegmentRange{2, 2}, {}, {})},
+      {"wave_segments_1_2_split2_P2", wave(), seg_opts(wave(), 2, SegmentRange{1, 2}, 2, {})},
+      {"wave_segments_1_1_P2_cmr", wave(), seg_opts(wave(), 2, SegmentRange{1, 1}, {}, {}, Mode::cmr)},
+      // Fig. 10's curve with a double knot: joint 1 is C1, its jump varies
+      // inside group 0 (and inside the range 0..1).
+      {"fig10_double_knot_splits_2_P3", fig10_double_knot(), seg_opts(fig10_double_knot(), 3, {}, {}, {2}, Mode::cmrwi, 1.0)},
+      {"fig10_double_knot_segments_0_1_P4", fig10_double_knot(), seg_opts(fig10_double_knot(), 4, SegmentRange{0, 1}, {}, {})},
   };
   return s;
 }
@@ -113,7 +149,7 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
   const RegionSetup& setup = setup_problem.setup();
     const RegionImage img = region_cpu(setup);
     std::uniform_int_distribution<int> ui(0, sc.options.width - 1), uj(0, sc.options.height - 1);
-    for (int sample = 0; sample < 25; ++sample) {
+    for (int sample = 0; sample < 40; ++sample) {
       const int i = ui(rng), j = uj(rng);
       const Vec2 p = pixel_center(img.view, img.width, img.height, i, j);
       std::vector<Vec2> pts = sc.spline.points();
@@ -122,10 +158,13 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
       pts[sc.options.point] = p;
       AnalyzeOptions ao;
       ao.split = sc.options.split;
+      ao.splits = sc.options.splits;
+      ao.segments = sc.options.segments;
       ao.split_mode = sc.options.mode;
       const SplineAnalysis a = analyze(BSpline::make(sc.spline.degree(), sc.spline.knots(), pts), ao);
-      const uint8_t want = sc.options.split ? label_of(*a.split)
-                                            : label_of(sc.options.mode == Mode::cmr ? a.cmr : a.cmrwi);
+      const uint8_t want = !sc.options.splits.empty() ? label_of(*a.alternation)
+                           : sc.options.split        ? label_of(*a.split)
+                                                     : label_of(sc.options.mode == Mode::cmr ? a.cmr : a.cmrwi);
       EXPECT_EQ(int(img.labels[j * img.width + i]), int(want)) << sc.name << " pixel (" << i << ", " << j << ")";
     }
   }
@@ -141,6 +180,28 @@ TEST(RegionBackends, ScenesHaveBothLabelsSomewhere) {
     scenes_with_regions += some;
   }
   EXPECT_GE(scenes_with_regions, 6);
+}
+
+TEST(RegionBackends, SegmentControlScenesHavePassingAndFailingPixels) {
+  // The segment-control scenes compare something: each has pixels that pass
+  // (a non-zero label that is not "undecided") and pixels that fail.
+  for (const Scene& sc : scenes()) {
+    if (!sc.options.segments && sc.options.splits.empty()) continue;
+    const RegionSetup setup = prepare_region(sc.spline, sc.options);
+    if (std::string(sc.name).find("double_knot") != std::string::npos)
+      EXPECT_FALSE(setup.varying.empty()) << sc.name << ": a joint whose jump varies is what this scene checks";
+    const RegionImage img = region_cpu(setup);
+    const uint8_t undecided = !sc.options.splits.empty() ? code(AlternatingLabel::undecided)
+                              : sc.options.split        ? code(SplitLabel::undecided)
+                                                        : code(RegionLabel::undecided);
+    int pass = 0, fail = 0;
+    for (uint8_t l : img.labels) {
+      pass += l != 0 && l != undecided;
+      fail += l == 0;
+    }
+    EXPECT_GT(pass, 0) << sc.name;
+    EXPECT_GT(fail, 0) << sc.name;
+  }
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 namespace cmr::edit {
 
 Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height)
-    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false, std::nullopt}),
+    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false, std::nullopt, std::nullopt}),
       path_(std::move(path)),
       viewport_(Viewport::fit(history_.current().spline, width, height, width - kPanelWidth, height - kPlotHeight)) {}
 
@@ -167,11 +167,23 @@ void Editor::set_depth_shading(bool on) {
 
 void Editor::set_split(std::optional<int> joint) {
   const int n = doc().spline.segment_count();
-  if (joint && (*joint < 1 || *joint > n - 1))
-    throw InputError("split " + std::to_string(*joint) + " is outside 1.." + std::to_string(n - 1) +
-                     (n < 2 ? " (the curve has one segment)" : ""));
+  if (joint) validate_cuts({*joint}, judged_range(doc().segments, n), n);
   Document next = doc();
   next.split = joint;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_segments(std::optional<SegmentRange> range) {
+  const int n = doc().spline.segment_count();
+  const SegmentRange r = judged_range(range, n);
+  Document next = doc();
+  next.segments = range;
+  message = range ? "judging segments " + std::to_string(r.first) + ".." + std::to_string(r.last) : "judging every segment";
+  if (next.split && (*next.split < r.first + 1 || *next.split > r.last)) {
+    next.split.reset();
+    message += " (split joint dropped: not inside the range)";
+  }
   history_.commit(std::move(next));
   changed_document();
 }
@@ -211,6 +223,7 @@ void rebuild_kcurve(Document& d) {
   d.selected = std::min(d.selected, d.spline.point_count() - 1);
   d.group.clear();
   d.split.reset();
+  d.segments.reset();
 }
 
 }  // namespace
@@ -294,6 +307,7 @@ void Editor::replace_spline(BSpline spline, const std::string& what, const std::
     next.selected = std::min(next.selected, next.spline.point_count() - 1);
     next.group.clear();
   }
+  if (next.segments && next.segments->last > next.spline.segment_count() - 1) next.segments.reset();
   if (next.split && *next.split > next.spline.segment_count() - 1) next.split.reset();
   history_.commit(std::move(next), merge_key);
   message = what;
@@ -334,22 +348,28 @@ void Editor::export_region(const std::filesystem::path& path) {
   if (q.empty()) throw InputError("export-region: no region is shown (select a handle)");
   const BSpline spline = region_spline();
   const std::vector<RegionResult> layers = compute_regions(spline, q);
-  cli::OutputFiles out;
+  OutputSet out;
   if (path.extension() == ".png") {
-    draw::RegionPicture picture;  // as cmr region --png draws it
+    draw::RegionPicture picture;  // as cmr region --png draws it (tools/cmd_region.cpp)
     picture.spline = &spline;
-    for (const RegionResult& l : layers) picture.layers.push_back(&l);
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      picture.layers.push_back(&layers[i]);
+      picture.points.push_back(q[i].point);
+    }
     picture.split = q.front().split.has_value();
+    picture.alternating = !q.front().splits.empty();
     picture.max_depth = q.front().max_depth;
-    out.write(path, draw::region_png(picture));
+    picture.legend = true;
+    picture.per_point = layers.size() > 1;
+    out.stage(path, draw::region_png(picture));
   } else {
     for (std::size_t i = 0; i < layers.size(); ++i) {
       std::filesystem::path p = path;
       if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
-      out.write(p, pgm(layers[i]));
+      out.stage(p, pgm(layers[i]));
     }
   }
-  out.keep();
+  out.commit();
   message = "region written to " + path.string();
 }
 
@@ -386,6 +406,7 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
   RegionRequest q;
   q.mode = d.mode;
   q.split = d.split;
+  if (!(d.kcurve && d.kcurve->modifying)) q.segments = d.segments;  // κ: the handle's own piece
   q.max_depth = d.max_depth;
   q.depth = d.depth_shading;
   q.view = viewport_.view;
@@ -500,7 +521,7 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
 
 const SplineAnalysis& Editor::analysis() {
   if (analysis_stale_ || !analysis_) {
-    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode);
+    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode, doc().segments);
     analysis_stale_ = false;
   }
   return *analysis_;

@@ -48,6 +48,11 @@ class Editor {
   void set_depth_shading(bool on);
   void set_split(std::optional<int> joint);
   void set_chain(bool on);
+  /// Which segments the region and the verdicts judge (RegionRequest::
+  /// segments): first..last, or all when empty. InputError for a range the
+  /// curve lacks (bezierize/segments.hpp's judged_range); a split joint not
+  /// inside the new range is dropped (the status line says so).
+  void set_segments(std::optional<SegmentRange> range);
   /// κ-curve mode (model.hpp's KCurveDesign): on starts an empty design (left
   /// clicks on the canvas add interpolation points), off leaves the mode and
   /// keeps the curve. One undo step each, as every point and the switch.

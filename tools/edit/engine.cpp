@@ -38,7 +38,7 @@ void push_difference(std::vector<double>& key, double a, double b) {
 
 // The key holds every field of RegionRequest; a new field must join it (the
 // size check makes a merge that adds one fail here rather than cache wrongly).
-static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 104,
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,
               "RegionRequest changed: add the new field to region_key, then update this size");
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
@@ -49,6 +49,10 @@ std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
                          static_cast<double>(r.height), static_cast<double>(r.point)});
   count(r.with.size());
   for (int w : r.with) key.push_back(w);
+  key.insert(key.end(), {r.segments ? 1.0 : 0.0, r.segments ? static_cast<double>(r.segments->first) : 0.0,
+                         r.segments ? static_cast<double>(r.segments->last) : 0.0});
+  count(r.splits.size());
+  for (int s : r.splits) key.push_back(s);
   key.push_back(spline.degree());
   count(spline.knots().size());
   key.insert(key.end(), spline.knots().begin(), spline.knots().end());
@@ -130,11 +134,13 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
   return rgba;
 }
 
-SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode) {
+SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
+                        std::optional<SegmentRange> segments) {
   AnalyzeOptions o;
   o.classify.max_depth = max_depth;
   o.split = split;
   o.split_mode = mode;
+  o.segments = segments;
   return analyze(spline, o);
 }
 

@@ -11,6 +11,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr::edit {
@@ -61,7 +62,8 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
 
 /// Verdicts of the spline as `cmr analyze` gives them (InputError for a split
 /// joint the spline lacks).
-SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode);
+SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
+                        std::optional<SegmentRange> segments = std::nullopt);
 
 /// Certified curvature extrema and inflections of the whole curve (as `cmr
 /// report` finds them), for marking the comb and the plot.

@@ -9,6 +9,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 #include "spline/limits.hpp"
 
@@ -38,6 +39,7 @@ struct Document {
   std::optional<int> split;    ///< extremum at joint S
   bool chain = false;          ///< Bezier-chain mode: G1 handles follow their anchor
   std::optional<KCurveDesign> kcurve;  ///< κ-curve mode
+  std::optional<SegmentRange> segments;  ///< only these segments are judged (RegionRequest::segments)
 };
 
 /// In a cubic Bezier chain (chain_anchors), the piece point k shapes as a

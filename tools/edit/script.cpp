@@ -1,11 +1,11 @@
 #include "tools/edit/script.hpp"
 
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -24,7 +24,8 @@ const std::map<std::string, Arity>& commands() {
       {"insert", {1, 2}},  {"remove", {1, 2}}, {"elevate", {0, 0}},  {"clamp", {0, 0}},
       {"uniform", {0, 0}}, {"undo", {0, 0}},   {"redo", {0, 0}},     {"save", {1, 1}},
       {"export-region", {1, 1}}, {"screenshot", {1, 1}}, {"wait", {1, 1}}, {"quit", {0, 0}},
-      {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
+      {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
+      {"segments", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
   };
   return table;
 }
@@ -60,11 +61,7 @@ std::vector<ScriptCommand> parse_script(const std::string& text, const std::stri
 }
 
 std::vector<ScriptCommand> read_script(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path.string() + ": cannot read the script");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return parse_script(s.str(), path.string());
+  return parse_script(read_input_file(path), path.string());
 }
 
 double number_arg(const ScriptCommand& c, std::size_t i) {

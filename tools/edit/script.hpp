@@ -15,6 +15,7 @@
 //                             frames (default 10), release
 //   select K | group K... | all on|off | mode cmr|cmrwi | depth D
 //   shading on|off | split S|none | chain on|off | comb on|off
+//   segments A..B|A|all       which segments the region and verdicts judge
 //   ui on|off | overlay on|off          panels / curve and points drawn
 //   view X0 Y0 X1 Y1 | fit              world rectangle of the window
 //   knot I U                  move knot I to U

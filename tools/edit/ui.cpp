@@ -131,6 +131,21 @@ void kcurve_controls(Editor& e) {
   if (ImGui::Button("leave kappa mode")) act(e, [&] { e.set_kcurve(false); });
 }
 
+/// Which segments the region judges: all, or first..last.
+void segment_range(Editor& e) {
+  const Document& d = e.doc();
+  const int n = d.spline.segment_count();
+  bool some = d.segments.has_value();
+  if (ImGui::Checkbox("judge segments", &some))
+    act(e, [&] { e.set_segments(some ? std::optional<SegmentRange>(SegmentRange{0, n - 1}) : std::nullopt); });
+  if (!d.segments) return;
+  int range[2] = {d.segments->first, d.segments->last};
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::DragInt2("first..last", range, 0.05f, 0, n - 1) && range[0] <= range[1])
+    act(e, [&] { e.set_segments(SegmentRange{range[0], range[1]}); });
+}
+
 void controls(Editor& e) {
   const Document& d = e.doc();
   int mode = d.mode == Mode::cmr ? 1 : 0;
@@ -154,6 +169,7 @@ void controls(Editor& e) {
     }
     ImGui::EndCombo();
   }
+  segment_range(e);
   ImGui::Checkbox("curvature comb", &e.show_comb);
   ImGui::SameLine();
   float scale = static_cast<float>(e.comb_scale);

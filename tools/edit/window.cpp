@@ -485,6 +485,9 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "shading") e.set_depth_shading(switch_arg(c, 0));
   else if (n == "split") e.set_split(c.args[0] == "none" ? std::nullopt : std::optional<int>(int_arg(c, 0)));
   else if (n == "chain") e.set_chain(switch_arg(c, 0));
+  else if (n == "segments")
+    e.set_segments(c.args[0] == "all" ? std::nullopt
+                                      : std::optional<SegmentRange>(parse_segment_range(c.args[0], "segments")));
   else if (n == "kcurve") {
     const std::string& w = c.args[0];
     if (w == "points") e.set_kcurve(true);

@@ -1,0 +1,84 @@
+#include "bezierize/segments.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <string>
+
+#include "spline/errors.hpp"
+
+namespace cmr {
+
+const char* to_string(Alternation a) {
+  switch (a) {
+    case Alternation::first_increasing: return "inc-first";
+    case Alternation::first_decreasing: return "dec-first";
+    case Alternation::fail: return "fail";
+    case Alternation::undecided: return "undecided";
+  }
+  return "?";
+}
+
+SegmentRange judged_range(const std::optional<SegmentRange>& range, int segment_count) {
+  const SegmentRange all{0, segment_count - 1};
+  if (!range) return all;
+  const std::string text =
+      "segments " + std::to_string(range->first) + ".." + std::to_string(range->last);
+  if (range->first > range->last) throw InputError(text + ": the first segment is after the last");
+  if (range->first < 0 || range->last > all.last)
+    throw InputError(text + ": the curve has segments 0.." + std::to_string(all.last));
+  return *range;
+}
+
+void validate_cuts(const std::vector<int>& cuts, SegmentRange range, int segment_count) {
+  for (std::size_t i = 0; i < cuts.size(); ++i) {
+    const int s = cuts[i];
+    if (s < range.first + 1 || s > range.last) {
+      if (segment_count == 1)
+        throw InputError("split " + std::to_string(s) + ": the curve has one segment, so no joint to split at");
+      if (range.first == range.last)
+        throw InputError("split " + std::to_string(s) + ": segments " + std::to_string(range.first) + ".." +
+                         std::to_string(range.last) + " are one segment, so no joint to split at");
+      throw InputError("split " + std::to_string(s) + " is outside " + std::to_string(range.first + 1) + ".." +
+                       std::to_string(range.last));
+    }
+    if (i > 0 && s <= cuts[i - 1])
+      throw InputError("split joints must increase (" + std::to_string(s) + " after " + std::to_string(cuts[i - 1]) +
+                       ")");
+  }
+}
+
+std::vector<std::pair<int, int>> segment_groups(SegmentRange range, const std::vector<int>& cuts) {
+  std::vector<std::pair<int, int>> out;
+  int begin = range.first;
+  for (int s : cuts) {
+    out.emplace_back(begin, s);
+    begin = s;
+  }
+  out.emplace_back(begin, range.last + 1);
+  return out;
+}
+
+int group_of(const std::vector<int>& cuts, int seg) {
+  return static_cast<int>(std::upper_bound(cuts.begin(), cuts.end(), seg) - cuts.begin());
+}
+
+bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint) {
+  return joint > range.first && joint <= range.last && !std::binary_search(cuts.begin(), cuts.end(), joint);
+}
+
+SegmentRange parse_segment_range(const std::string& text, const char* option) {
+  const auto dots = text.find("..");
+  const auto number = [&](std::string_view s, int& v) {
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    return !s.empty() && ec == std::errc() && end == s.data() + s.size() && v >= 0;
+  };
+  SegmentRange r;
+  const bool ok = dots == std::string::npos
+                      ? number(text, r.first) && (r.last = r.first, true)
+                      : number(std::string_view(text).substr(0, dots), r.first) &&
+                            number(std::string_view(text).substr(dots + 2), r.last);
+  if (!ok) throw InputError(std::string(option) + ": expected A..B or A, segment indices (got '" + text + "')");
+  return r;
+}
+
+}  // namespace cmr
