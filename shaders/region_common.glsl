@@ -32,7 +32,9 @@ layout(std430, set = 0, binding = 0) readonly buffer RegionData {
   REAL2 data[];
 };
 
+#ifndef CMR_REGION_PRESENT  // region_present.glsl has its own output and main
 layout(location = 0) out uint result;
+#endif
 
 #include "piece_rules.glsl"
 
@@ -293,6 +295,7 @@ uint full(bool cmr, REAL dx, REAL dy) {
   return label | (uint(depth) << RESULT_DEPTH_SHIFT);
 }
 
+#ifndef CMR_REGION_PRESENT
 void main() {
   const bool cmr = CMR_MODE;
   // This fragment classifies listed pixel number `at` (the host lists the
@@ -317,3 +320,4 @@ void main() {
   if (r == UNDECIDED_YET) r = full(cmr, dx, dy);
   result = r;
 }
+#endif  // CMR_REGION_PRESENT

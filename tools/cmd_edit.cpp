@@ -18,7 +18,16 @@ struct EditArgs {
   int frames = 200;
   int point = 3;
   bool no_vsync = false;
+  std::string region_path = "auto";
+  std::string precision;
 };
+
+edit::RegionPath parse_region_path(const std::string& text) {
+  if (text == "auto") return edit::RegionPath::automatic;
+  if (text == "gpu") return edit::RegionPath::gpu;
+  if (text == "upload") return edit::RegionPath::upload;
+  throw InputError("--region-path: expected auto, gpu or upload (got '" + text + "')");
+}
 
 std::pair<int, int> parse_window_size(const std::string& text) {
   int w = 0, h = 0;
@@ -40,6 +49,13 @@ void add_edit_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--size", a->size, "window size WxH")->capture_default_str();
   cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
   cmd->add_flag("--no-vsync", a->no_vsync, "do not wait for the display between frames");
+  cmd->add_option("--region-path", a->region_path,
+                  "auto (gpu on a GPU, upload on a CPU device such as lavapipe), gpu (region shader drawn into "
+                  "the window) or upload (CPU engine, uploaded)")
+      ->capture_default_str();
+  cmd->add_option("--precision", a->precision, "gpu path: the region shader's arithmetic (default: fp64 where "
+                  "the device has it); labels are certified either way")
+      ->check(CLI::IsMember({"fp64", "fp32"}));
   cmd->add_flag("--bench", a->bench, "replay a scripted drag (FILE or the Fig. 8 spline) and print frame times");
   cmd->add_option("--frames", a->frames, "--bench: frames per run")->capture_default_str();
   cmd->add_option("--point", a->point, "--bench: the dragged point")->capture_default_str();
@@ -55,6 +71,7 @@ void add_edit_command(CLI::App& app, int& exit_code) {
       b.frames = a->frames;
       b.point = a->point;
       b.device = a->device;
+      b.region_path = parse_region_path(a->region_path);
       exit_code = edit::run_bench(b);
       return;
     }
@@ -66,6 +83,9 @@ void add_edit_command(CLI::App& app, int& exit_code) {
     o.height = h;
     o.device = a->device;
     o.vsync = !a->no_vsync;
+    o.region_path = parse_region_path(a->region_path);
+    if (!a->precision.empty())
+      o.precision = a->precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
     exit_code = edit::run_editor(o);
   });
 }

@@ -1036,6 +1036,25 @@ std::string region_png(const RegionPicture& picture) {
   return encode_png(surface.get());
 }
 
+std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgba) {
+  if (width < 1 || height < 1 || rgba.size() != std::size_t{4} * width * height)
+    throw InputError("rgba_png: " + std::to_string(rgba.size()) + " bytes are not " + std::to_string(width) + "x" +
+                     std::to_string(height) + " RGBA pixels");
+  Surface surface = make_surface(width, height);
+  cairo_surface_flush(surface.get());
+  unsigned char* data = cairo_image_surface_get_data(surface.get());
+  const int stride = cairo_image_surface_get_stride(surface.get());
+  for (int j = 0; j < height; ++j) {
+    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
+    for (int i = 0; i < width; ++i) {
+      const std::uint8_t* p = &rgba[4 * (static_cast<std::size_t>(j) * width + i)];
+      row[i] = 0xff000000u | uint32_t{p[0]} << 16 | uint32_t{p[1]} << 8 | p[2];  // opaque ARGB32
+    }
+  }
+  cairo_surface_mark_dirty(surface.get());
+  return encode_png(surface.get());
+}
+
 void write_region_png(const std::filesystem::path& path, const RegionPicture& picture) {
   write_file_atomic(path, region_png(picture));
 }

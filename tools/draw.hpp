@@ -17,6 +17,7 @@
 ///   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
 ///                  condition of the paper's reference [16]) to dark at level
 ///                  D; not monotone and undecided grey, darker with the level.
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -69,6 +70,11 @@ std::string region_png(const RegionPicture& picture);
 /// errors: InputError for a missing folder or a directory, EnvironmentError
 /// for the rest).
 void write_region_png(const std::filesystem::path& path, const RegionPicture& picture);
+
+/// RGBA bytes (row-major, row 0 at the top, width * height * 4; alpha
+/// ignored) as PNG bytes: window screenshots. InputError for a size that
+/// does not match the bytes.
+std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgba);
 
 /// The colour of pixel `index` (row-major) of the picture's layers, by the
 /// legend above.

@@ -97,6 +97,54 @@ std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties&
   return std::nullopt;
 }
 
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage) {
+  VkImageMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize size,
+                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                    VkPipelineStageFlags dst_stage) {
+  VkBufferMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.buffer = buffer;
+  b.offset = offset;
+  b.size = size;
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 1, &b, 0, nullptr);
+}
+
+Result<void> begin_one_time(VkCommandBuffer cmd) {
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  if (VkResult r = vkBeginCommandBuffer(cmd, &begin); r != VK_SUCCESS) return vk_error(r, "vkBeginCommandBuffer");
+  return {};
+}
+
+Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence) {
+  VkSubmitInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  info.commandBufferCount = 1;
+  info.pCommandBuffers = &cmd;
+  if (VkResult r = vkQueueSubmit(queue, 1, &info, fence); r != VK_SUCCESS) return vk_error(r, "vkQueueSubmit");
+  return {};
+}
+
 }  // namespace detail
 
 namespace {
@@ -241,6 +289,7 @@ Result<std::vector<Candidate>> list_devices(VkInstance instance) {
     c.info.name = props.deviceName;
     c.info.type = props.deviceType;
     c.info.float64 = features.shaderFloat64 == VK_TRUE;
+    c.info.fragment_stores = features.fragmentStoresAndAtomics == VK_TRUE;
     c.info.max_image_dimension_2d = props.limits.maxImageDimension2D;
     c.api_version = props.apiVersion;
     for (uint32_t i = 0; i < family_count; ++i) {
@@ -385,6 +434,7 @@ Result<Context> Context::create(const ContextOptions& options) {
 
   VkPhysicalDeviceFeatures features{};
   features.shaderFloat64 = chosen->info.float64 ? VK_TRUE : VK_FALSE;
+  features.fragmentStoresAndAtomics = chosen->info.fragment_stores ? VK_TRUE : VK_FALSE;
 
   VkDeviceCreateInfo device_info{};
   device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;

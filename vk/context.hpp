@@ -23,6 +23,7 @@ struct DeviceInfo {
   std::string name;                                           // VkPhysicalDeviceProperties::deviceName
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;  // CPU for lavapipe, DISCRETE_GPU, ...
   bool float64 = false;                                       // shaderFloat64 supported
+  bool fragment_stores = false;                               // fragmentStoresAndAtomics supported (enabled when so)
   uint32_t max_image_dimension_2d = 0;                        // largest width/height of a 2D image
 };
 

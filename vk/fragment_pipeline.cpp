@@ -385,6 +385,22 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
     return vk_error(r, "vkAllocateDescriptorSets");
   }
 
+  VkPipelineColorBlendAttachmentState no_blend{};  // integer format: no blending
+  no_blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                            VK_COLOR_COMPONENT_A_BIT;
+  auto created =
+      detail::create_fullscreen_pipeline(device, pipeline_layout, render_pass, fragment_spirv, specialization, no_blend);
+  if (!created) return created.error();
+  pipeline = created.value();
+  return {};
+}
+
+namespace detail {
+
+Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass render_pass,
+                                              std::span<const uint32_t> fragment_spirv,
+                                              std::span<const uint32_t> specialization,
+                                              const VkPipelineColorBlendAttachmentState& colour_blend) {
   // Shader modules are only needed until the pipeline exists.
   struct Module {
     VkDevice device;
@@ -408,8 +424,8 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   };
   Module vertex{device};
   Module fragment{device};
-  if (auto r = make_module(cmr_fullscreen_vert_spv, vertex, "built-in vertex shader"); !r) return r;
-  if (auto r = make_module(fragment_spirv, fragment, "fragment shader"); !r) return r;
+  if (auto r = make_module(cmr_fullscreen_vert_spv, vertex, "built-in vertex shader"); !r) return r.error();
+  if (auto r = make_module(fragment_spirv, fragment, "fragment shader"); !r) return r.error();
 
   std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
   stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -436,7 +452,7 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
 
-  // Viewport and scissor are dynamic: the scissor selects the band.
+  // Viewport and scissor are dynamic.
   VkPipelineViewportStateCreateInfo viewport{};
   viewport.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
   viewport.viewportCount = 1;
@@ -453,9 +469,7 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
 
-  VkPipelineColorBlendAttachmentState blend_attachment{};  // integer format: no blending
-  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                    VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  const VkPipelineColorBlendAttachmentState blend_attachment = colour_blend;
   VkPipelineColorBlendStateCreateInfo blend{};
   blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
   blend.attachmentCount = 1;
@@ -478,24 +492,26 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   info.pMultisampleState = &multisample;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = pipeline_layout;
+  info.layout = layout;
   info.renderPass = render_pass;
   info.subpass = 0;
+  VkPipeline pipeline = VK_NULL_HANDLE;
   if (VkResult r = vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
       r != VK_SUCCESS) {
-    pipeline = VK_NULL_HANDLE;
     Error e = vk_error(r, "vkCreateGraphicsPipelines");
     // Anything but memory exhaustion here means the driver rejected the shader.
     if (e.code != Errc::out_of_memory && e.code != Errc::device_lost) {
       e.code = Errc::shader_invalid;
       e.message +=
           "; the fragment shader was rejected (check its interface: set 0 binding 0, "
-          "push constants, uint output at location 0)";
+          "push constants, its output at location 0)";
     }
     return e;
   }
-  return {};
+  return pipeline;
 }
+
+}  // namespace detail
 
 Result<void> FragmentPipeline::Impl::create_commands() {
   VkCommandPoolCreateInfo pool{};
@@ -554,12 +570,7 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
   if (VkResult r = vkResetCommandPool(device, command_pool, 0); r != VK_SUCCESS) {
     return vk_error(r, "vkResetCommandPool");
   }
-  VkCommandBufferBeginInfo begin{};
-  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  if (VkResult r = vkBeginCommandBuffer(command_buffer, &begin); r != VK_SUCCESS) {
-    return vk_error(r, "vkBeginCommandBuffer");
-  }
+  if (auto r = detail::begin_one_time(command_buffer); !r) return r.error();
   VkCommandBuffer cmd = command_buffer;
 
   if (upload) {
@@ -569,17 +580,9 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
                          0, nullptr, 0, nullptr, 0, nullptr);
     const VkBufferCopy region{0, 0, upload_bytes};
     vkCmdCopyBuffer(cmd, staging.buffer, storage.buffer, 1, &region);
-    VkBufferMemoryBarrier barrier{};
-    barrier.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
-    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.buffer = storage.buffer;
-    barrier.offset = 0;
-    barrier.size = upload_bytes;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, 0,
-                         0, nullptr, 1, &barrier, 0, nullptr);
+    detail::buffer_barrier(cmd, storage.buffer, 0, upload_bytes, VK_ACCESS_TRANSFER_WRITE_BIT,
+                           VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
   }
 
   const VkRect2D band{{0, static_cast<int32_t>(first_row)}, {width, rows}};
@@ -633,17 +636,8 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
   vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &copy);
 
   // Make the copied rows visible to host reads after the fence wait.
-  VkBufferMemoryBarrier to_host{};
-  to_host.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
-  to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_host.buffer = readback.buffer;
-  to_host.offset = copy.bufferOffset;
-  to_host.size = rows * row_pitch;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1,
-                       &to_host, 0, nullptr);
+  detail::buffer_barrier(cmd, readback.buffer, copy.bufferOffset, rows * row_pitch, VK_ACCESS_TRANSFER_WRITE_BIT,
+                         VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT);
 
   if (VkResult r = vkEndCommandBuffer(cmd); r != VK_SUCCESS) return vk_error(r, "vkEndCommandBuffer");
   return {};
@@ -656,12 +650,9 @@ Result<void> FragmentPipeline::Impl::submit_and_wait(uint32_t first_row, uint32_
     return e;
   };
   if (VkResult r = vkResetFences(device, 1, &fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
-  VkSubmitInfo submit{};
-  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &command_buffer;
-  if (VkResult r = vkQueueSubmit(state->queue, 1, &submit, fence); r != VK_SUCCESS) {
-    return fail(r, "vkQueueSubmit");
+  if (auto r = detail::submit(state->queue, command_buffer, fence); !r) {
+    if (r.error().code == Errc::device_lost) lost = true;
+    return r.error();
   }
   pending = true;
   const std::string band_name =

@@ -4,11 +4,16 @@
 
 #include "vk/context.hpp"
 #include "vk/error.hpp"
+#include "vk/region_vk.hpp"
 
 #include <vulkan/vulkan_core.h>
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -47,5 +52,41 @@ Error vk_error(VkResult result, std::string_view what);
 std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties& memory,
                                          uint32_t type_bits, VkMemoryPropertyFlags required,
                                          VkMemoryPropertyFlags preferred);
+
+// ---- Command recording and submission shared by Presenter, FragmentPipeline
+// and the region drawing: one place for the barrier and submit boilerplate.
+
+// A layout transition / dependency on the whole colour image.
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage);
+
+// A memory dependency on bytes [offset, offset + size) of a buffer.
+void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize size,
+                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                    VkPipelineStageFlags dst_stage);
+
+// vkBeginCommandBuffer for one submission.
+Result<void> begin_one_time(VkCommandBuffer cmd);
+
+// Submits one command buffer, signalling `fence`, without semaphores.
+Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence);
+
+// The region shader's storage buffer (shaders/region_layout.h) for a prepared
+// problem: `pixels` are the listed (column, row) pairs (none for the window
+// shader, shaders/region_present.glsl), area_width the work area's width.
+// Implemented in region_vk.cpp.
+std::vector<std::byte> pack_region(const cmr::detail::RegionSetup& setup, RegionPrecision precision,
+                                   std::span<const std::array<int, 2>> pixels, uint32_t area_width);
+
+// A graphics pipeline drawing one full-screen triangle (the built-in vertex
+// shader, no vertex input) with `fragment_spirv` (specialisation constant i =
+// specialization[i]), dynamic viewport and scissor, for subpass 0 of
+// render_pass. Errors: shader_invalid (module or pipeline rejected),
+// out_of_memory, device_lost. Implemented in fragment_pipeline.cpp.
+Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass render_pass,
+                                              std::span<const uint32_t> fragment_spirv,
+                                              std::span<const uint32_t> specialization,
+                                              const VkPipelineColorBlendAttachmentState& colour_blend);
 
 }  // namespace cmr::vk::detail

@@ -10,6 +10,8 @@
 
 namespace cmr::vk {
 
+using detail::buffer_barrier;
+using detail::image_barrier;
 using detail::vk_error;
 
 uint32_t choose_image_count(const VkSurfaceCapabilitiesKHR& caps) {
@@ -298,25 +300,6 @@ Result<void> Presenter::Impl::ensure_readback(VkDeviceSize size) {
   return {};
 }
 
-namespace {
-
-void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
-                   VkAccessFlags dst_access, VkPipelineStageFlags src_stage, VkPipelineStageFlags dst_stage) {
-  VkImageMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-  b.oldLayout = from;
-  b.newLayout = to;
-  b.srcAccessMask = src_access;
-  b.dstAccessMask = dst_access;
-  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
-}
-
-}  // namespace
-
 // After the render pass (image in PRESENT_SRC): copy it to the readback
 // buffer, tightly packed, and give it back to presentation.
 void Presenter::Impl::record_readback(const PresentFrame& frame) const {
@@ -329,16 +312,8 @@ void Presenter::Impl::record_readback(const PresentFrame& frame) const {
   vkCmdCopyImageToBuffer(frame.cmd, frame.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.buffer, 1, &region);
   image_barrier(frame.cmd, frame.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
                 VK_ACCESS_TRANSFER_READ_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
-  VkBufferMemoryBarrier host{};
-  host.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
-  host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  host.buffer = readback.buffer;
-  host.size = VK_WHOLE_SIZE;
-  vkCmdPipelineBarrier(frame.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &host,
-                       0, nullptr);
+  buffer_barrier(frame.cmd, readback.buffer, 0, VK_WHOLE_SIZE, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT,
+                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT);
 }
 
 Result<Presenter> Presenter::create(Context& context, uint32_t width, uint32_t height,
@@ -388,10 +363,7 @@ Result<std::optional<PresentFrame>> Presenter::begin_frame(uint32_t width, uint3
   else if (r != VK_SUCCESS) return vk_error(r, "vkAcquireNextImageKHR");
   if (VkResult rr = vkResetFences(m.dev(), 1, &s.fence); rr != VK_SUCCESS) return vk_error(rr, "vkResetFences");
   vkResetCommandBuffer(s.cmd, 0);
-  VkCommandBufferBeginInfo begin{};
-  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  if (VkResult rr = vkBeginCommandBuffer(s.cmd, &begin); rr != VK_SUCCESS) return vk_error(rr, "vkBeginCommandBuffer");
+  if (auto rr = detail::begin_one_time(s.cmd); !rr) return rr.error();
   return std::optional<PresentFrame>{PresentFrame{s.cmd, m.images[index], m.extent, index, m.slot}};
 }
 
@@ -422,6 +394,14 @@ Result<void> Presenter::end_frame(const PresentFrame& frame, Screenshot* screens
   Impl& m = *impl_;
   SlotSync& s = m.slots[frame.slot];
   vkCmdEndRenderPass(frame.cmd);
+  // What the frame's shaders wrote to buffers (a region drawer's list of
+  // uncertain pixels) is visible to the host once the slot's fence signals.
+  VkMemoryBarrier to_host{};
+  to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(frame.cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
+                       nullptr, 0, nullptr);
   const VkDeviceSize bytes = VkDeviceSize{frame.extent.width} * frame.extent.height * 4;
   if (screenshot != nullptr) {
     if (auto r = m.ensure_readback(bytes); !r) {
@@ -479,18 +459,10 @@ Result<void> Presenter::submit_once(const std::function<void(VkCommandBuffer)>& 
     return vk_error(r, "vkWaitForFences");
   vkResetFences(m.dev(), 1, &s.fence);
   vkResetCommandBuffer(s.cmd, 0);
-  VkCommandBufferBeginInfo begin{};
-  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  if (VkResult r = vkBeginCommandBuffer(s.cmd, &begin); r != VK_SUCCESS) return vk_error(r, "vkBeginCommandBuffer");
+  if (auto r = detail::begin_one_time(s.cmd); !r) return r.error();
   record(s.cmd);
   if (VkResult r = vkEndCommandBuffer(s.cmd); r != VK_SUCCESS) return vk_error(r, "vkEndCommandBuffer");
-  VkSubmitInfo submit{};
-  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &s.cmd;
-  if (VkResult r = vkQueueSubmit(m.state->queue, 1, &submit, s.fence); r != VK_SUCCESS)
-    return vk_error(r, "vkQueueSubmit");
+  if (auto r = detail::submit(m.state->queue, s.cmd, s.fence); !r) return r.error();
   if (VkResult r = vkWaitForFences(m.dev(), 1, &s.fence, VK_TRUE, kFenceTimeoutNs); r != VK_SUCCESS)
     return vk_error(r, "vkWaitForFences");
   return {};

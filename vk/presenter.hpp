@@ -11,8 +11,9 @@
 //                      or to_attachment() alone (then draw everything)
 //   begin_pass()       the render pass (load: keeps what is there)
 //   (caller)           draws (region pipeline, ImGui)
-//   end_frame()        end the pass, optionally copy the image to host memory,
-//                      submit, present
+//   end_frame()        end the pass, make shader buffer writes visible to the
+//                      host (after the slot's fence), optionally copy the
+//                      image to host memory, submit, present
 //
 // The swapchain format is 8-bit UNORM (B8G8R8A8 or R8G8B8A8), never sRGB, so
 // the bytes written are the bytes presented and read back. Usage includes

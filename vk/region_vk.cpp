@@ -10,6 +10,7 @@
 #include "bezierize/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "spline/errors.hpp"
+#include "vk/internal.hpp"
 
 #include "region_fp32_frag.h"
 #include "region_fp64_frag.h"
@@ -110,6 +111,10 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
   return out;
 }
 
+}  // namespace
+
+namespace detail {
+
 /// The storage buffer for the shader (shaders/region_layout.h): `pixels`
 /// are (column, row) of the image, at most the work area's size.
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
@@ -195,6 +200,9 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   return p.bytes();
 }
 
+}  // namespace detail
+
+namespace {
 
 // The image decoded from the device's words; uncertain pixels are decided on
 // the host (certified, then exactly).
@@ -262,7 +270,7 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
   const std::span<const std::array<int, 2>> all(pixels);
   for (std::size_t first = 0; first < pixels.size(); first += per_run) {
     const auto chunk = all.subspan(first, std::min(per_run, pixels.size() - first));
-    const std::vector<std::byte> buffer = pack_region(s, options_.precision, chunk, kWorkAreaWidth);
+    const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, chunk, kWorkAreaWidth);
     // Shade only the rows the chunk occupies (whole 4-row tiles, see the shader).
     const uint32_t rows = std::min<uint32_t>(
         kWorkAreaHeight, 4 * static_cast<uint32_t>((chunk.size() + 4 * kWorkAreaWidth - 1) / (4 * kWorkAreaWidth)));

@@ -19,7 +19,7 @@ BSpline chain_spline() {
 }
 
 Document doc_of(BSpline s, bool chain) {
-  return Document{std::move(s), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, chain};
+  return Document{std::move(s), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, chain, std::nullopt, std::nullopt};
 }
 
 TEST(EditModel, ChainAnchorsAreTheJointPoints) {

@@ -3,19 +3,25 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bezierize/kcurve.hpp"
+#include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
+#include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/draw.hpp"
 
 namespace cmr::edit {
 
 Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height)
-    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false}),
+    : history_(Document{std::move(spline), 0, {}, false, Mode::cmrwi, kDefaultDepth, false, std::nullopt, false, std::nullopt, std::nullopt}),
       path_(std::move(path)),
       viewport_(Viewport::fit(history_.current().spline, width, height, width - kPanelWidth, height - kPlotHeight)) {}
 
 void Editor::changed_document() {
-  region_stale_ = rgba_stale_ = analysis_stale_ = events_stale_ = true;
+  // The colours follow the layers alone: region() marks them stale when the
+  // layers' keys change.
+  region_stale_ = analysis_stale_ = events_stale_ = true;
 }
 
 int Editor::pick(double x, double y) const {
@@ -47,12 +53,20 @@ void Editor::mouse_move(double x, double y) {
 
 void Editor::mouse_button(MouseButton button, bool down, bool shift) {
   if (button != MouseButton::left) {
+    if (panning_ && !down) region_stale_ = true;  // full resolution again
     panning_ = down;
     return;
   }
   if (!down) {
-    if (dragging_ >= 0) history_.seal();
+    if (dragging_ >= 0) {
+      history_.seal();
+      region_stale_ = true;  // full resolution again
+    }
     dragging_ = -1;
+    return;
+  }
+  if (doc().kcurve && !doc().kcurve->modifying) {  // clicking interpolation points
+    add_kcurve_point(viewport_.to_world(mouse_.x, mouse_.y));
     return;
   }
   const int k = pick(mouse_.x, mouse_.y);
@@ -153,11 +167,23 @@ void Editor::set_depth_shading(bool on) {
 
 void Editor::set_split(std::optional<int> joint) {
   const int n = doc().spline.segment_count();
-  if (joint && (*joint < 1 || *joint > n - 1))
-    throw InputError("split " + std::to_string(*joint) + " is outside 1.." + std::to_string(n - 1) +
-                     (n < 2 ? " (the curve has one segment)" : ""));
+  if (joint) validate_cuts({*joint}, judged_range(doc().segments, n), n);
   Document next = doc();
   next.split = joint;
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_segments(std::optional<SegmentRange> range) {
+  const int n = doc().spline.segment_count();
+  const SegmentRange r = judged_range(range, n);
+  Document next = doc();
+  next.segments = range;
+  message = range ? "judging segments " + std::to_string(r.first) + ".." + std::to_string(r.last) : "judging every segment";
+  if (next.split && (*next.split < r.first + 1 || *next.split > r.last)) {
+    next.split.reset();
+    message += " (split joint dropped: not inside the range)";
+  }
   history_.commit(std::move(next));
   changed_document();
 }
@@ -166,6 +192,87 @@ void Editor::set_chain(bool on) {
   Document next = doc();
   next.chain = on;
   history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::set_kcurve(bool on) {
+  Document next = doc();
+  if (on) {
+    next.kcurve = KCurveDesign{};
+    next.all_points = false;
+    message = "kappa-curve: click the interpolation points";
+  } else {
+    next.kcurve.reset();
+    message = "kappa-curve mode off";
+  }
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+namespace {
+
+KCurve kcurve_of(const KCurveDesign& k) { return kcurve(k.points, {.closed = k.closed}); }
+
+/// The document's spline for a κ design: the quadratics while points are
+/// clicked (once there are enough), the cubic chain when modifying.
+void rebuild_kcurve(Document& d) {
+  const KCurveDesign& k = *d.kcurve;
+  if (static_cast<int>(k.points.size()) < kKCurveMinPoints) return;
+  const KCurve kc = kcurve_of(k);
+  d.spline = k.modifying ? kcurve_cubic_chain(kc) : kcurve_quadratic_spline(kc);
+  d.selected = std::min(d.selected, d.spline.point_count() - 1);
+  d.group.clear();
+  d.split.reset();
+  d.segments.reset();
+}
+
+}  // namespace
+
+void Editor::set_kcurve_closed(bool closed) {
+  if (!doc().kcurve) throw InputError("closed: not in kappa-curve mode (kcurve points)");
+  if (doc().kcurve->modifying) throw InputError("closed: the curve is being modified; start again with kcurve points");
+  Document next = doc();
+  next.kcurve->closed = closed;
+  rebuild_kcurve(next);
+  history_.commit(std::move(next));
+  changed_document();
+}
+
+void Editor::add_kcurve_point(Vec2 p) {
+  if (!doc().kcurve || doc().kcurve->modifying) throw InputError("kappa-curve points are added in kcurve points mode");
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw InputError("kappa-curve point: not finite");
+  Document next = doc();
+  next.kcurve->points.push_back(p);
+  try {
+    rebuild_kcurve(next);
+  } catch (const InputError& e) {
+    message = std::string("point not added: ") + e.what();
+    return;
+  }
+  history_.commit(std::move(next));
+  message = "kappa-curve: " + std::to_string(doc().kcurve->points.size()) + " points";
+  changed_document();
+}
+
+void Editor::kcurve_modify() {
+  if (!doc().kcurve) throw InputError("modify: not in kappa-curve mode (kcurve points)");
+  const int n = static_cast<int>(doc().kcurve->points.size());
+  if (n < kKCurveMinPoints)
+    throw InputError("modify: a kappa-curve needs " + std::to_string(kKCurveMinPoints) + " points, there are " +
+                     std::to_string(n));
+  Document next = doc();
+  next.kcurve->modifying = true;
+  next.chain = true;
+  next.all_points = false;
+  rebuild_kcurve(next);
+  next.selected = 1;
+  for (int k : kcurve_cubic_maxima(kcurve_of(*next.kcurve)))
+    if (k > 0) {  // the handle after the first maximum with a handle pair
+      next.selected = k + 1;
+      break;
+    }
+  history_.commit(std::move(next));
+  message = "kappa-curve: modify the handles (pairs stay collinear)";
   changed_document();
 }
 
@@ -178,20 +285,21 @@ void Editor::move_point(int k, Vec2 p) {
 }
 
 void Editor::move_knot(int i, double u) {
-  const BSpline& s = doc().spline;
-  if (i < 0 || i >= static_cast<int>(s.knots().size()))
-    throw InputError("knot " + std::to_string(i) + " is outside 0.." + std::to_string(s.knots().size() - 1));
-  std::vector<double> knots = s.knots();
-  knots[i] = u;
-  replace_spline(BSpline::make(s.degree(), std::move(knots), s.points(), s.name(), s.weights()), "knot");
+  replace_spline(set_knot(doc().spline, i, u), "knot " + std::to_string(i) + " moved", "knot" + std::to_string(i));
 }
 
-void Editor::knot_operation(const std::string& name, double a, double b) {
-  KnotResult r = edit::knot_operation(doc().spline, name, a, b);
-  replace_spline(std::move(r.spline), r.message);
+bool Editor::knot_operation(const std::string& name, double a, double b) {
+  try {
+    KnotResult r = edit::knot_operation(doc().spline, name, a, b);
+    replace_spline(std::move(r.spline), r.message);
+    return true;
+  } catch (const InputError& e) {
+    message = std::string("refused: ") + e.what();
+    return false;
+  }
 }
 
-void Editor::replace_spline(BSpline spline, const std::string& what) {
+void Editor::replace_spline(BSpline spline, const std::string& what, const std::string& merge_key) {
   Document next = doc();
   const bool same_points = spline.point_count() == next.spline.point_count();
   next.spline = std::move(spline);
@@ -199,8 +307,9 @@ void Editor::replace_spline(BSpline spline, const std::string& what) {
     next.selected = std::min(next.selected, next.spline.point_count() - 1);
     next.group.clear();
   }
+  if (next.segments && next.segments->last > next.spline.segment_count() - 1) next.segments.reset();
   if (next.split && *next.split > next.spline.segment_count() - 1) next.split.reset();
-  history_.commit(std::move(next));
+  history_.commit(std::move(next), merge_key);
   message = what;
   changed_document();
 }
@@ -235,13 +344,30 @@ std::string pgm(const RegionResult& img) {
 }  // namespace
 
 void Editor::export_region(const std::filesystem::path& path) {
-  const RegionQuery q = region_query(true);
-  const std::vector<RegionResult> layers = compute_regions(doc().spline, q);
+  const std::vector<RegionRequest> q = region_requests(true);
+  if (q.empty()) throw InputError("export-region: no region is shown (select a handle)");
+  const BSpline spline = region_spline();
+  const std::vector<RegionResult> layers = compute_regions(spline, q);
   OutputSet out;
-  for (std::size_t i = 0; i < layers.size(); ++i) {
-    std::filesystem::path p = path;
-    if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q.points[i]) + path.extension().string());
-    out.stage(p, pgm(layers[i]));
+  if (path.extension() == ".png") {
+    draw::RegionPicture picture;  // as cmr region --png draws it (tools/cmd_region.cpp)
+    picture.spline = &spline;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      picture.layers.push_back(&layers[i]);
+      picture.points.push_back(q[i].point);
+    }
+    picture.split = q.front().split.has_value();
+    picture.alternating = !q.front().splits.empty();
+    picture.max_depth = q.front().max_depth;
+    picture.legend = true;
+    picture.per_point = layers.size() > 1;
+    out.stage(path, draw::region_png(picture));
+  } else {
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      std::filesystem::path p = path;
+      if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
+      out.stage(p, pgm(layers[i]));
+    }
   }
   out.commit();
   message = "region written to " + path.string();
@@ -275,46 +401,90 @@ std::pair<int, int> Editor::canvas() const {
   return {std::max(1, w - kPanelWidth), std::max(1, h - kPlotHeight)};
 }
 
-RegionQuery Editor::region_query(bool whole_window) const {
+std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse) const {
   const Document& d = doc();
-  RegionQuery q;
-  if (d.all_points) {
-    for (int k = 0; k < d.spline.point_count(); ++k) q.points.push_back(k);
-  } else {
-    q.points = {d.selected};
-    q.with = d.group;
-    if (d.chain) {  // an anchor's handles move rigidly with it
-      for (int i : translation_group(d, d.selected))
-        if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
-    }
-  }
+  RegionRequest q;
   q.mode = d.mode;
   q.split = d.split;
+  if (!(d.kcurve && d.kcurve->modifying)) q.segments = d.segments;  // κ: the handle's own piece
   q.max_depth = d.max_depth;
-  q.depth_map = d.depth_shading;
+  q.depth = d.depth_shading;
   q.view = viewport_.view;
   q.width = viewport_.width;
   q.height = viewport_.height;
-  const auto [cw, ch] = canvas();
-  if (!whole_window && (cw != q.width || ch != q.height)) {
+  const auto [cw, ch] = whole_window ? std::pair{q.width, q.height} : canvas();
+  if (cw != q.width || ch != q.height || coarse > 1) {
     const View& v = viewport_.view;
-    const double sx = (v.x1 - v.x0) / q.width, sy = (v.y1 - v.y0) / q.height;
-    q.view = {v.x0, v.y1 - sy * ch, v.x0 + sx * cw, v.y1};
-    q.width = cw;
-    q.height = ch;
+    const double sx = (v.x1 - v.x0) / q.width * coarse, sy = (v.y1 - v.y0) / q.height * coarse;
+    q.width = (cw + coarse - 1) / coarse;
+    q.height = (ch + coarse - 1) / coarse;
+    q.view = View{v.x0, v.y1 - sy * q.height, v.x0 + sx * q.width, v.y1};
   }
-  return q;
+  std::vector<RegionRequest> layers;
+  if (d.kcurve) {  // the selected handle in its own piece; nothing else
+    if (d.kcurve->modifying) {
+      if (const auto h = handle_piece(d.spline, d.selected)) {
+        q.point = h->local;
+        layers.push_back(q);
+      }
+    }
+    return layers;
+  }
+  if (d.all_points) {
+    for (int k = 0; k < d.spline.point_count(); ++k) {
+      q.point = k;
+      layers.push_back(q);
+    }
+    return layers;
+  }
+  q.point = d.selected;
+  q.with = d.group;
+  if (d.chain) {  // an anchor's handles move rigidly with it
+    for (int i : translation_group(d, d.selected))
+      if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
+  }
+  layers.push_back(q);
+  return layers;
 }
 
-const std::vector<RegionResult>& Editor::region(bool* changed) {
+BSpline Editor::region_spline() const {
+  const Document& d = doc();
+  if (d.kcurve && d.kcurve->modifying)
+    if (auto h = handle_piece(d.spline, d.selected)) return std::move(h->piece);
+  return d.spline;
+}
+
+const std::vector<const RegionResult*>& Editor::region(bool* changed) {
   if (canvas() != region_canvas_) region_stale_ = true;
-  if (changed != nullptr) *changed = region_stale_;
+  bool differs = false;
   if (region_stale_) {
+    const BSpline s = region_spline();
+    std::vector<RegionRequest> requests = region_requests(false, 1);
+    std::vector<std::vector<double>> keys;
+    for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
+    cache_.set_capacity(std::max<std::size_t>(16, 3 * requests.size()));
+    const bool interacting = dragging_ >= 0 || panning_;
+    const bool cached = std::all_of(keys.begin(), keys.end(), [&](const auto& k) { return cache_.find(k) != nullptr; });
+    int coarse = 1;
+    if (interacting && !cached) {
+      coarse = kDragCoarse;
+      requests = region_requests(false, coarse);
+      keys.clear();
+      for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
+    }
+    differs = keys != region_keys_;
+    if (differs) {
+      region_.clear();
+      for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r));
+      region_keys_ = std::move(keys);
+      region_coarse_ = coarse;
+      rgba_stale_ = true;
+    }
+    // Dragging: the full-resolution region is due when the drag ends.
+    region_stale_ = coarse != 1;
     region_canvas_ = canvas();
-    region_ = compute_regions(doc().spline, region_query());
-    region_stale_ = false;
-    rgba_stale_ = true;
   }
+  if (changed != nullptr) *changed = differs;
   return region_;
 }
 
@@ -327,10 +497,23 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
     const std::vector<uint8_t> part =
         edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
     const std::size_t w = viewport_.width, h = viewport_.height;
-    const std::size_t cw = region_canvas_.first, ch = region_canvas_.second;
-    rgba_.assign(w * h * 4, 255);
-    for (std::size_t j = 0; j < ch && j < h; ++j)
-      std::copy_n(&part[j * cw * 4], std::min(cw, w) * 4, &rgba_[j * w * 4]);
+    const std::size_t cw = std::min<std::size_t>(region_canvas_.first, w);
+    const std::size_t ch = std::min<std::size_t>(region_canvas_.second, h);
+    const std::size_t c = region_coarse_, pw = region_.empty() ? 0 : region_.front()->width;
+    rgba_.resize(w * h * 4);
+    // Window row j shows region row j / c; pixel i of it region pixel i / c.
+    parallel_for(h, 0, [&](std::size_t j) {
+      uint8_t* out = &rgba_[j * w * 4];
+      const bool canvas_row = j < ch && pw > 0;
+      std::fill(out + (canvas_row ? cw * 4 : 0), out + w * 4, uint8_t{255});
+      if (!canvas_row) return;
+      const uint8_t* in = &part[(j / c) * pw * 4];
+      if (c == 1) {
+        std::copy_n(in, cw * 4, out);
+        return;
+      }
+      for (std::size_t i = 0; i < cw; ++i) std::copy_n(in + (i / c) * 4, 4, out + i * 4);
+    });
     rgba_stale_ = false;
   }
   return rgba_;
@@ -338,7 +521,7 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
 
 const SplineAnalysis& Editor::analysis() {
   if (analysis_stale_ || !analysis_) {
-    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode);
+    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode, doc().segments);
     analysis_stale_ = false;
   }
   return *analysis_;

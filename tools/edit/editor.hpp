@@ -48,19 +48,44 @@ class Editor {
   void set_depth_shading(bool on);
   void set_split(std::optional<int> joint);
   void set_chain(bool on);
+  /// Which segments the region and the verdicts judge (RegionRequest::
+  /// segments): first..last, or all when empty. InputError for a range the
+  /// curve lacks (bezierize/segments.hpp's judged_range); a split joint not
+  /// inside the new range is dropped (the status line says so).
+  void set_segments(std::optional<SegmentRange> range);
+  /// κ-curve mode (model.hpp's KCurveDesign): on starts an empty design (left
+  /// clicks on the canvas add interpolation points), off leaves the mode and
+  /// keeps the curve. One undo step each, as every point and the switch.
+  void set_kcurve(bool on);
+  void set_kcurve_closed(bool closed);
+  /// Adds an interpolation point (world); the curve is the κ-curve through
+  /// the points once there are kKCurveMinPoints. A point the κ-curve refuses
+  /// (too close to the previous one) is not added: the status line says why.
+  void add_kcurve_point(Vec2 p);
+  /// Switches to modification: the spline becomes the κ-curve's cubic chain
+  /// in chain mode, the handle after the first interior maximum selected.
+  void kcurve_modify();
   /// Point k to world position p as a drag would put it (group, chain rules).
   void move_point(int k, Vec2 p);
-  /// Knot i to value u (polar index); the spline must stay valid.
+  /// Knot i to value u (polar index; knot_ops' set_knot, whose InputError
+  /// says why a value is refused). Consecutive moves of one knot (a ruler
+  /// drag) are one undo step.
   void move_knot(int i, double u);
   /// A knot operation by name (engine.hpp's knot_operation); one undo step.
-  void knot_operation(const std::string& name, double a, double b);
-  /// Replaces the spline (knot operations); one undo step.
-  void replace_spline(BSpline spline, const std::string& what);
+  /// A refused operation (InputError: e.g. a removal beyond the tolerance)
+  /// changes nothing, puts "refused: <why>" in the status line and returns
+  /// false.
+  bool knot_operation(const std::string& name, double a, double b);
+  /// Replaces the spline (knot operations); one undo step (merged with the
+  /// previous one when both have the same non-empty merge_key).
+  void replace_spline(BSpline spline, const std::string& what, const std::string& merge_key = {});
   bool undo();
   bool redo();
   void save(const std::filesystem::path& path);
-  /// The region labels of the current state as `cmr region --labels` writes
-  /// them (one PGM; with every point overlapped, PATH.P0.pgm, PATH.P1.pgm, ...).
+  /// The region of the current state for the whole window's view and size,
+  /// as `cmr region --view ... --size WxH` computes it: PATH ending in .png,
+  /// the picture of `--png`; otherwise the labels of `--labels` (one PGM;
+  /// with every point overlapped, PATH.P0.pgm, PATH.P1.pgm, ...).
   void export_region(const std::filesystem::path& path);
   void resize(int width, int height);
   void set_view(View view);
@@ -75,14 +100,31 @@ class Editor {
   /// the UI, else the top-left rectangle the opaque panels leave free (the
   /// pixels under them are never seen).
   std::pair<int, int> canvas() const;
-  /// The query the region view answers now: the canvas's pixels, with the
-  /// same pixel size and top-left corner as the window's view (the whole
-  /// window's view exactly when the canvas is the whole window, or with
-  /// whole_window).
-  RegionQuery region_query(bool whole_window = false) const;
-  /// Region layers for the current state (recomputed when stale); `changed`
-  /// is set when they were recomputed since the last call.
-  const std::vector<RegionResult>& region(bool* changed = nullptr);
+  /// The requests the region view answers now, one per layer (every point
+  /// alone when all are overlapped, else the selected point with its rigid
+  /// group and, in chain mode, an anchor's handles as `with`): the canvas's
+  /// pixels, with the same pixel size and top-left corner as the window's
+  /// view (the whole window's view exactly when the canvas is the whole
+  /// window, or with whole_window). With coarse = c > 1 the pixels are c
+  /// times larger each way (ceil(canvas / c) of them, the same top-left
+  /// corner): each coarse pixel's label is the certified label of its centre.
+  std::vector<RegionRequest> region_requests(bool whole_window = false, int coarse = 1) const;
+  /// The spline the region requests are for: the document's, or, modifying a
+  /// κ-curve, the cubic piece the selected handle shapes (as a Bezier curve;
+  /// the requests then name the handle's index in it; none for an anchor).
+  BSpline region_spline() const;
+  /// Pixel size factor of the region while a point is dragged or the view
+  /// panned: a quarter of the pixels keeps dragging above 30 frames per
+  /// second on a 2-core lavapipe machine (README, `cmr edit --bench`). When
+  /// the drag ends the full-resolution region replaces it.
+  static constexpr int kDragCoarse = 2;
+  /// The factor of the region shown now (1, or kDragCoarse while dragging).
+  int region_coarse() const { return region_coarse_; }
+  /// Region layers for the current state (recomputed when stale, from the
+  /// cache when only the moved group changed); `changed` is set when they
+  /// differ from the last call's. While a point is dragged or the view
+  /// panned, layers the cache lacks are computed kDragCoarse times coarser.
+  const std::vector<const RegionResult*>& region(bool* changed = nullptr);
   /// RGBA of the whole window: region() in the legend's colours on the
   /// canvas, white elsewhere.
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
@@ -107,8 +149,11 @@ class Editor {
   bool panning_ = false;
   int drag_serial_ = 0;
   bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
-  std::vector<RegionResult> region_;
+  RegionCache cache_;
+  std::vector<const RegionResult*> region_;
+  std::vector<std::vector<double>> region_keys_;
   std::pair<int, int> region_canvas_{0, 0};
+  int region_coarse_ = 1;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
   CurvatureEvents events_;

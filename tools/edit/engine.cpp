@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <sstream>
+
 #include "bezierize/extract.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
@@ -12,48 +14,111 @@
 
 namespace cmr::edit {
 
-std::vector<RegionResult> compute_regions(const BSpline& spline, const RegionQuery& query) {
-  std::vector<RegionResult> layers;
-  layers.reserve(query.points.size());
+std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers) {
+  std::vector<RegionResult> out;
+  out.reserve(layers.size());
   CpuRegionBackend backend;  // all cores
-  for (int k : query.points) {
-    RegionRequest o;
-    o.point = k;
-    if (query.points.size() == 1) o.with = query.with;
-    o.mode = query.mode;
-    o.split = query.split;
-    o.max_depth = query.max_depth;
-    o.width = query.width;
-    o.height = query.height;
-    o.view = query.view;
-    o.depth = query.depth_map;
-    layers.push_back(backend.render(RegionProblem::make(spline, o)));
-  }
-  return layers;
+  for (const RegionRequest& r : layers) out.push_back(backend.render(RegionProblem::make(spline, r)));
+  return out;
 }
 
-std::vector<uint8_t> region_rgba(const std::vector<RegionResult>& layers, bool split, bool depth_shading,
+namespace {
+
+/// a - b as (rounded difference, rounding error): s + e == a - b exactly
+/// (Knuth's TwoSum), so the pair is a function of the exact difference.
+void push_difference(std::vector<double>& key, double a, double b) {
+  const double s = a - b;
+  const double bb = s - a;
+  const double e = (a - (s - bb)) + (-b - bb);
+  key.push_back(s);
+  key.push_back(e);
+}
+
+}  // namespace
+
+// The key holds every field of RegionRequest; a new field must join it (the
+// size check makes a merge that adds one fail here rather than cache wrongly).
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,
+              "RegionRequest changed: add the new field to region_key, then update this size");
+
+std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
+  std::vector<double> key;
+  const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
+  key.insert(key.end(), {static_cast<double>(r.mode), r.split ? static_cast<double>(*r.split) : -1.0,
+                         static_cast<double>(r.max_depth), r.depth ? 1.0 : 0.0, static_cast<double>(r.width),
+                         static_cast<double>(r.height), static_cast<double>(r.point)});
+  count(r.with.size());
+  for (int w : r.with) key.push_back(w);
+  key.insert(key.end(), {r.segments ? 1.0 : 0.0, r.segments ? static_cast<double>(r.segments->first) : 0.0,
+                         r.segments ? static_cast<double>(r.segments->last) : 0.0});
+  count(r.splits.size());
+  for (int s : r.splits) key.push_back(s);
+  key.push_back(spline.degree());
+  count(spline.knots().size());
+  key.insert(key.end(), spline.knots().begin(), spline.knots().end());
+  const std::vector<Vec2>& pts = spline.points();
+  count(pts.size());
+  const bool k_valid = r.point >= 0 && r.point < spline.point_count();
+  // Without a view the default one follows the control polygon, P_k included.
+  const bool relative = k_valid && r.view.has_value();
+  if (r.view) key.insert(key.end(), {r.view->x0, r.view->y0, r.view->x1, r.view->y1});
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    const bool moved = relative && (i == r.point || std::find(r.with.begin(), r.with.end(), i) != r.with.end());
+    if (i == r.point && relative) continue;
+    if (moved) {
+      push_difference(key, pts[i].x, pts[r.point].x);
+      push_difference(key, pts[i].y, pts[r.point].y);
+    } else {
+      key.push_back(pts[i].x);
+      key.push_back(pts[i].y);
+    }
+  }
+  return key;
+}
+
+const RegionResult* RegionCache::find(const std::vector<double>& key) {
+  const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
+  if (it == entries_.end()) return nullptr;
+  std::rotate(entries_.begin(), it, it + 1);
+  return entries_.front().result.get();
+}
+
+const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request) {
+  std::vector<double> key = region_key(spline, request);
+  if (const RegionResult* hit = find(key)) return *hit;
+  auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}).front()));
+  entries_.insert(entries_.begin(), Entry{std::move(key), std::move(result)});
+  if (entries_.size() > capacity_) entries_.resize(capacity_);
+  return *entries_.front().result;
+}
+
+void RegionCache::set_capacity(std::size_t capacity) {
+  capacity_ = std::max<std::size_t>(1, capacity);
+  if (entries_.size() > capacity_) entries_.resize(capacity_);
+}
+
+std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading,
                                  int max_depth) {
   if (layers.empty()) return {};
   draw::RegionPicture picture;
-  for (const RegionResult& l : layers) picture.layers.push_back(&l);
+  picture.layers = layers;
   picture.split = split;
   picture.depth_shading = depth_shading;
   picture.max_depth = max_depth;
-  const std::size_t count = layers.front().size();
+  const std::size_t count = layers.front()->size();
   std::vector<uint8_t> rgba(count * 4);
   // Rows in parallel: the colour of a pixel depends on that pixel alone, so a
   // pixel whose labels (and levels, when shaded) equal its left neighbour's
   // takes that colour without recomputing it (regions are mostly runs).
-  const int width = layers.front().width;
+  const int width = layers.front()->width;
   const auto byte = [](double c) { return static_cast<uint8_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
   const auto same_as_left = [&](std::size_t i) {
-    for (const RegionResult& l : layers) {
-      if (l.code_at(i) != l.code_at(i - 1) || (depth_shading && l.depth[i] != l.depth[i - 1])) return false;
+    for (const RegionResult* l : layers) {
+      if (l->code_at(i) != l->code_at(i - 1) || (depth_shading && l->depth[i] != l->depth[i - 1])) return false;
     }
     return true;
   };
-  parallel_for(static_cast<std::size_t>(layers.front().height), 0, [&](std::size_t row) {
+  parallel_for(static_cast<std::size_t>(layers.front()->height), 0, [&](std::size_t row) {
     for (std::size_t i = row * width; i < (row + 1) * width; ++i) {
       if (i > row * width && same_as_left(i)) {
         std::copy_n(&rgba[4 * (i - 1)], 4, &rgba[4 * i]);
@@ -69,11 +134,13 @@ std::vector<uint8_t> region_rgba(const std::vector<RegionResult>& layers, bool s
   return rgba;
 }
 
-SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode) {
+SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
+                        std::optional<SegmentRange> segments) {
   AnalyzeOptions o;
   o.classify.max_depth = max_depth;
   o.split = split;
   o.split_mode = mode;
+  o.segments = segments;
   return analyze(spline, o);
 }
 
@@ -89,16 +156,30 @@ CurvatureEvents curvature_events(const BSpline& spline, int max_depth) {
   return e;
 }
 
+namespace {
+
+std::string number(double x) {
+  std::ostringstream o;
+  o << x;
+  return o.str();
+}
+
+}  // namespace
+
 KnotResult knot_operation(const BSpline& spline, const std::string& name, double a, double b) {
   if (name == "insert") {
-    if (!(a > spline.domain_begin() && a < spline.domain_end()))
-      throw InputError("insert: knot " + std::to_string(a) + " is not inside the domain");
     const int times = b > 0 ? static_cast<int>(b) : 1;
-    // knot_ops' blossom insertion: also for rational splines (homogeneous).
-    const BSpline s = insert_knot(spline, a, times);
-    return {s, "inserted knot " + std::to_string(a) + " x" + std::to_string(times)};
+    return {insert_knot(spline, a, times), "inserted knot " + number(a) + (times > 1 ? " x" + std::to_string(times) : "")};
   }
-  throw InputError("knot operation '" + name + "' is not available in this build");
+  if (name == "remove") {
+    const double tolerance = b > 0 ? b : kRemovalRelativeTolerance * extent(spline);
+    KnotRemoval r = remove_knot(spline, a, tolerance);
+    return {std::move(r.spline), "removed knot " + number(a) + " (the curve moved by up to " + number(r.distance) + ")"};
+  }
+  if (name == "elevate") return {elevate_degree(spline), "degree elevated to " + std::to_string(spline.degree() + 1)};
+  if (name == "clamp") return {clamp(spline), "clamped: the ends have multiplicity " + std::to_string(spline.degree())};
+  if (name == "uniform") return {make_uniform(spline), "uniform knots 0, 1, 2, ..."};
+  throw InputError("unknown knot operation '" + name + "' (insert, remove, elevate, clamp, uniform)");
 }
 
 }  // namespace cmr::edit

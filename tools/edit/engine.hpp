@@ -4,43 +4,66 @@
 // report's root finding made by `cmr edit` is in engine.cpp, so an API change
 // there is ported in one file.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr::edit {
 
-/// What the region view shows: one layer per entry of `points` (each point
-/// with its rigid companions `with` when there is one layer, alone when every
-/// point is overlapped), judged as `cmr region` judges it.
-struct RegionQuery {
-  std::vector<int> points;  ///< one layer per point
-  std::vector<int> with;    ///< rigid companions of points[0] (single layer only)
-  Mode mode = Mode::cmrwi;
-  std::optional<int> split;
-  int max_depth = 12;
-  bool depth_map = false;   ///< compute decision levels (Fig. 7 shading)
-  View view;
-  int width = 0, height = 0;
-};
+/// The label maps of one request per layer (RegionRequest, one moved point
+/// each), computed on the CPU (all cores), certified: each equals `cmr region
+/// FILE --point K --view ... --size WxH` for the same state.
+std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers);
 
-/// The label maps of a query, computed on the CPU (all cores), certified: each
-/// equals `cmr region FILE --point K --view ... --size WxH` for the same state.
-std::vector<RegionResult> compute_regions(const BSpline& spline, const RegionQuery& query);
+/// What a region depends on, exactly: the request (view, size, mode, split,
+/// depth, the moved point k and its rigid companions), the degree and knots,
+/// the points that stay where they are, and the companions' offsets from P_k.
+/// Not P_k itself: the region puts P_k (and its companions, by the same
+/// vector) at every pixel centre, so wherever k's group stands the labels are
+/// the same. The offsets are kept exactly (each difference of two doubles as
+/// its rounded value and rounding error, an error-free transformation), so
+/// equal keys mean equal exact problems and equal certified labels.
+std::vector<double> region_key(const BSpline& spline, const RegionRequest& request);
+
+/// Region layers remembered by key (most recently used first): dragging a
+/// point moves only its own group, so its region is found here instead of
+/// being recomputed every frame.
+class RegionCache {
+ public:
+  explicit RegionCache(std::size_t capacity = 16) : capacity_(capacity) {}
+  /// The layer for a request, or nullptr when it is not remembered.
+  const RegionResult* find(const std::vector<double>& key);
+  /// The layer for a request: remembered, else computed (compute_regions) and
+  /// remembered, evicting the least recently used beyond the capacity.
+  const RegionResult& get(const BSpline& spline, const RegionRequest& request);
+  void set_capacity(std::size_t capacity);
+  std::size_t size() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    std::vector<double> key;
+    std::shared_ptr<const RegionResult> result;
+  };
+  std::vector<Entry> entries_;
+  std::size_t capacity_;
+};
 
 /// RGBA bytes (row-major, row 0 at the top) of the layers, in the colours of
 /// `cmr region --png` (tools/draw.hpp's legend: red increasing, blue
 /// decreasing, overlaps darker, optional depth shading).
-std::vector<uint8_t> region_rgba(const std::vector<RegionResult>& layers, bool split, bool depth_shading,
+std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading,
                                  int max_depth);
 
 /// Verdicts of the spline as `cmr analyze` gives them (InputError for a split
 /// joint the spline lacks).
-SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode);
+SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
+                        std::optional<SegmentRange> segments = std::nullopt);
 
 /// Certified curvature extrema and inflections of the whole curve (as `cmr
 /// report` finds them), for marking the comb and the plot.
@@ -49,11 +72,13 @@ struct CurvatureEvents {
 };
 CurvatureEvents curvature_events(const BSpline& spline, int max_depth);
 
-/// A knot operation by name on a copy of the spline: "insert" (a = u, b =
-/// times, default 1), "remove" (a = u, b = tolerance), "elevate", "clamp",
-/// "uniform". Returns the new spline and a status line; throws InputError when
-/// the operation does not apply (a removal the shape does not allow within the
-/// tolerance, a knot outside the domain, an operation this build lacks).
+/// A knot operation by name on a copy of the spline (bezierize/knot_ops.hpp):
+/// "insert" (knot a, b times, default 1), "remove" (one copy of knot a; b is
+/// the absolute tolerance, default kRemovalRelativeTolerance times the
+/// spline's extent), "elevate", "clamp", "uniform". Returns the new spline and
+/// a status line; throws InputError when the operation does not apply (a
+/// removal that would move the curve by more than the tolerance, a knot
+/// outside the domain, a degree above kMaxDegree): knot_ops' message.
 struct KnotResult {
   BSpline spline;
   std::string message;

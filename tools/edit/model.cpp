@@ -24,6 +24,20 @@ std::vector<int> chain_anchors(const BSpline& spline) {
   return anchors;
 }
 
+std::optional<HandlePiece> handle_piece(const BSpline& chain, int k) {
+  const int d = chain.degree();
+  if (k < 0 || k >= chain.point_count() || k % d == 0) return std::nullopt;
+  // A Bezier chain of degree d: knots u_0 = ... = u_{d-1}, then each joint d
+  // times; piece j is points dj .. dj+d, so handle k lies in piece k / d only.
+  const std::vector<double>& u = chain.knots();
+  if ((chain.point_count() - 1) % d != 0) return std::nullopt;
+  for (std::size_t i = 0; i < u.size(); ++i)
+    if (u[i] != u[i / d * d]) return std::nullopt;  // runs of d equal knots
+  const int first = k / d * d;
+  std::vector<Vec2> pts(chain.points().begin() + first, chain.points().begin() + first + d + 1);
+  return HandlePiece{BSpline::bezier(std::move(pts), chain.name()), k - first};
+}
+
 namespace {
 
 bool contains(const std::vector<int>& v, int x) { return std::find(v.begin(), v.end(), x) != v.end(); }

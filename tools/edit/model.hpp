@@ -9,10 +9,23 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr::edit {
+
+/// κ-curve design (CAD&A 2024 §5.2, Application 2): first the interpolation
+/// points are clicked and the κ-curve through them is shown (as quadratics);
+/// then, modifying, the curve is its cubic chain (each quadratic split at its
+/// curvature maximum and degree-elevated) in chain mode, and the region shown
+/// is the selected handle's within the one cubic piece it shapes: where the
+/// handle may go without a new curvature extremum in that piece (Fig. 13).
+struct KCurveDesign {
+  std::vector<Vec2> points;  ///< interpolation points, in click order
+  bool closed = false;
+  bool modifying = false;    ///< the cubic chain is being modified
+};
 
 /// What is designed and how it is judged: the part of the state undo restores.
 struct Document {
@@ -25,7 +38,19 @@ struct Document {
   bool depth_shading = false;  ///< Fig. 7
   std::optional<int> split;    ///< extremum at joint S
   bool chain = false;          ///< Bezier-chain mode: G1 handles follow their anchor
+  std::optional<KCurveDesign> kcurve;  ///< κ-curve mode
+  std::optional<SegmentRange> segments;  ///< only these segments are judged (RegionRequest::segments)
 };
+
+/// In a cubic Bezier chain (chain_anchors), the piece point k shapes as a
+/// Bezier curve of its own and k's index in it: {piece, local}; nullopt for
+/// an anchor or end point (shared by two pieces, or not a handle) or a spline
+/// that is not a cubic chain.
+struct HandlePiece {
+  BSpline piece;
+  int local = 0;
+};
+std::optional<HandlePiece> handle_piece(const BSpline& chain, int k);
 
 /// In a Bezier chain (every interior knot of multiplicity d, so the joints are
 /// control points), the anchor point of each interior joint, in order.

@@ -1,9 +1,11 @@
 #include "tools/edit/region_painter.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 
 #include "spline/parallel.hpp"
+#include "vk/region_draw.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -128,10 +130,72 @@ class UploadPainter final : public RegionPainter {
   uint64_t version_ = 1;
 };
 
+/// The gpu path: every canvas pixel shaded into the swapchain image.
+class GpuPainter final : public RegionPainter {
+ public:
+  GpuPainter(vk::Context& context, vk::Presenter& presenter, vk::RegionDrawer drawer)
+      : context_(context), presenter_(presenter), drawer_(std::move(drawer)), upload_(context, presenter) {}
+  ~GpuPainter() override { presenter_.wait_idle(); }
+
+  std::string describe() const override {
+    return std::string("region: certified ") + (drawer_.precision() == vk::RegionPrecision::fp64 ? "fp64" : "fp32") +
+           " region shader drawn into the window on '" + context_.device().name +
+           "' (uncertain pixels decided on the host)";
+  }
+
+  vk::Result<void> record(Editor& editor, const vk::PresentFrame& frame) override {
+    drawing_ = !editor.doc().depth_shading;
+    if (!drawing_) return upload_.record(editor, frame);  // Fig. 7 shading: the CPU colours
+    // Problems by exact key: an unchanged layer keeps its prepared state
+    // (and the labels the host decided for it).
+    const BSpline spline = editor.region_spline();
+    std::vector<RegionProblem> layers;
+    std::vector<std::pair<std::vector<double>, RegionProblem>> kept;
+    for (const RegionRequest& r : editor.region_requests()) {
+      std::vector<double> key = region_key(spline, r);
+      const auto it = std::find_if(problems_.begin(), problems_.end(), [&](const auto& p) { return p.first == key; });
+      RegionProblem p = it != problems_.end() ? it->second : RegionProblem::make(spline, r);
+      layers.push_back(p);
+      kept.emplace_back(std::move(key), std::move(p));
+    }
+    problems_ = std::move(kept);
+    if (auto r = drawer_.prepare(frame.slot, layers); !r) return r.error();
+    presenter_.to_transfer_dst(frame);
+    const VkClearColorValue white{{1.0f, 1.0f, 1.0f, 1.0f}};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(frame.cmd, frame.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &white, 1, &all);
+    presenter_.to_attachment(frame, true);
+    return {};
+  }
+
+  void draw(const vk::PresentFrame& frame) override {
+    if (drawing_) drawer_.draw(frame.cmd, frame.slot, frame.extent);
+  }
+
+  std::string summary() const override {
+    return "region shader: " + std::to_string(drawer_.host_pixels()) + " pixels decided on the host";
+  }
+
+ private:
+  vk::Context& context_;
+  vk::Presenter& presenter_;
+  vk::RegionDrawer drawer_;
+  UploadPainter upload_;
+  std::vector<std::pair<std::vector<double>, RegionProblem>> problems_;
+  bool drawing_ = false;
+};
+
 }  // namespace
 
-vk::Result<std::unique_ptr<RegionPainter>> make_upload_painter(vk::Context& context, vk::Presenter& presenter) {
-  return std::unique_ptr<RegionPainter>(std::make_unique<UploadPainter>(context, presenter));
+vk::Result<std::unique_ptr<RegionPainter>> make_painter(vk::Context& context, vk::Presenter& presenter,
+                                                        RegionPath path, std::optional<vk::RegionPrecision> precision) {
+  const vk::DeviceInfo& d = context.device();
+  const bool gpu = path == RegionPath::gpu ||
+                   (path == RegionPath::automatic && d.type != VK_PHYSICAL_DEVICE_TYPE_CPU && d.fragment_stores);
+  if (!gpu) return std::unique_ptr<RegionPainter>(std::make_unique<UploadPainter>(context, presenter));
+  auto drawer = vk::RegionDrawer::create(context, presenter.render_pass(), vk::Presenter::kFramesInFlight, precision);
+  if (!drawer) return drawer.error();
+  return std::unique_ptr<RegionPainter>(std::make_unique<GpuPainter>(context, presenter, drawer.take()));
 }
 
 }  // namespace cmr::edit

@@ -24,6 +24,8 @@ const std::map<std::string, Arity>& commands() {
       {"insert", {1, 2}},  {"remove", {1, 2}}, {"elevate", {0, 0}},  {"clamp", {0, 0}},
       {"uniform", {0, 0}}, {"undo", {0, 0}},   {"redo", {0, 0}},     {"save", {1, 1}},
       {"export-region", {1, 1}}, {"screenshot", {1, 1}}, {"wait", {1, 1}}, {"quit", {0, 0}},
+      {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
+      {"segments", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
   };
   return table;
 }

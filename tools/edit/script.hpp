@@ -3,7 +3,8 @@
 // by blanks, '#' starts a comment. Mouse positions are window pixels (row 0
 // at the top) unless a command says world coordinates. Every command runs
 // through the editor's real input handlers or named actions, between frames
-// of the real window.
+// of the real window; the script's pointer is also the panels' mouse (a press
+// over a panel goes to its widgets, not to the canvas).
 //
 //   mouse X Y                 move the cursor (drags and pans follow it)
 //   press left|right|middle [shift]   mouse button down at the cursor
@@ -14,12 +15,25 @@
 //                             frames (default 10), release
 //   select K | group K... | all on|off | mode cmr|cmrwi | depth D
 //   shading on|off | split S|none | chain on|off | comb on|off
+//   segments A..B|A|all       which segments the region and verdicts judge
 //   ui on|off | overlay on|off          panels / curve and points drawn
 //   view X0 Y0 X1 Y1 | fit              world rectangle of the window
 //   knot I U                  move knot I to U
+//   drag-knot I U [STEPS]     the pointer drags knot I's handle on the ruler
+//                             to U in STEPS frames (default 10), as a user does
 //   insert U [TIMES] | remove U [TOL] | elevate | clamp | uniform
+//                             knot operations; a refused one (a removal
+//                             beyond TOL) is reported on stderr, nothing changes
+//   kcurve points|modify|off  κ-curve mode: clicks (press left) add points;
+//                             modify: the cubic chain, handles in G1 pairs
+//   closed on|off             the κ-curve closed (points stage)
 //   undo | redo
-//   save PATH | export-region PATH | screenshot PATH
+//   resize W H                the window to W x H (the swapchain is recreated)
+//   save PATH | screenshot PATH
+//   export-region PATH        the region as `cmr region` computes it for the
+//                             window's view and size (.png: --png, else --labels)
+//   export-view PATH          the next presented frame as a PNG (the panel's
+//                             "export PNG" button)
 //   wait N                    render N frames
 //   quit
 #include <filesystem>

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "bezierize/kcurve.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 
@@ -101,6 +102,50 @@ void draw_points(Editor& e, ImDrawList* dl) {
   }
 }
 
+/// κ-curve mode: its interpolation points (squares) and, modifying, the
+/// piece whose region is shown.
+void draw_kcurve(Editor& e, ImDrawList* dl) {
+  const Document& d = e.doc();
+  if (!d.kcurve) return;
+  for (const Vec2& p : d.kcurve->points) {
+    const ImVec2 s = screen(e, p);
+    dl->AddRect({s.x - 6, s.y - 6}, {s.x + 6, s.y + 6}, IM_COL32(0, 120, 0, 255), 0, 0, 2);
+  }
+}
+
+void kcurve_controls(Editor& e) {
+  const Document& d = e.doc();
+  if (!d.kcurve) {
+    if (ImGui::Button("kappa-curve: click points")) act(e, [&] { e.set_kcurve(true); });
+    return;
+  }
+  if (!d.kcurve->modifying) {
+    bool closed = d.kcurve->closed;
+    if (ImGui::Checkbox("closed", &closed)) act(e, [&] { e.set_kcurve_closed(closed); });
+    ImGui::SameLine();
+    if (ImGui::Button("modify (G1 handle pairs)")) act(e, [&] { e.kcurve_modify(); });
+  } else {
+    ImGui::TextWrapped("region: the selected handle within its cubic piece (no new extremum there)");
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("leave kappa mode")) act(e, [&] { e.set_kcurve(false); });
+}
+
+/// Which segments the region judges: all, or first..last.
+void segment_range(Editor& e) {
+  const Document& d = e.doc();
+  const int n = d.spline.segment_count();
+  bool some = d.segments.has_value();
+  if (ImGui::Checkbox("judge segments", &some))
+    act(e, [&] { e.set_segments(some ? std::optional<SegmentRange>(SegmentRange{0, n - 1}) : std::nullopt); });
+  if (!d.segments) return;
+  int range[2] = {d.segments->first, d.segments->last};
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::DragInt2("first..last", range, 0.05f, 0, n - 1) && range[0] <= range[1])
+    act(e, [&] { e.set_segments(SegmentRange{range[0], range[1]}); });
+}
+
 void controls(Editor& e) {
   const Document& d = e.doc();
   int mode = d.mode == Mode::cmr ? 1 : 0;
@@ -124,6 +169,7 @@ void controls(Editor& e) {
     }
     ImGui::EndCombo();
   }
+  segment_range(e);
   ImGui::Checkbox("curvature comb", &e.show_comb);
   ImGui::SameLine();
   float scale = static_cast<float>(e.comb_scale);
@@ -132,9 +178,31 @@ void controls(Editor& e) {
   std::string group = "P" + std::to_string(d.selected);
   for (int g : d.group) group += " + P" + std::to_string(g);
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+  kcurve_controls(e);
 }
 
-void knot_ruler(Editor& e) {
+/// Buttons for the knot operations (engine.hpp's knot_operation): a refusal
+/// lands in the status line.
+void knot_operations(Editor& e) {
+  static double u = 0, tolerance = 0;  // what the fields hold between frames
+  const BSpline& s = e.doc().spline;
+  if (!(u > s.domain_begin() && u < s.domain_end())) u = 0.5 * (s.domain_begin() + s.domain_end());
+  ImGui::SetNextItemWidth(90);
+  ImGui::InputDouble("u", &u, 0, 0, "%.4g");
+  ImGui::SameLine();
+  if (ImGui::Button("insert")) e.knot_operation("insert", u, 1);
+  ImGui::SameLine();
+  if (ImGui::Button("remove")) e.knot_operation("remove", u, tolerance);
+  ImGui::SetNextItemWidth(90);
+  ImGui::InputDouble("tolerance (0: 1e-9 of the size)", &tolerance, 0, 0, "%.3g");
+  if (ImGui::Button("elevate degree")) e.knot_operation("elevate", 0, 0);
+  ImGui::SameLine();
+  if (ImGui::Button("clamp")) e.knot_operation("clamp", 0, 0);
+  ImGui::SameLine();
+  if (ImGui::Button("uniform")) e.knot_operation("uniform", 0, 0);
+}
+
+void knot_ruler(Editor& e, KnotRulerGeometry* geometry) {
   const BSpline& s = e.doc().spline;
   const std::vector<double>& u = s.knots();
   const double lo = u.front(), hi = u.back();
@@ -144,6 +212,7 @@ void knot_ruler(Editor& e) {
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   const float width = ImGui::GetContentRegionAvail().x - 12, height = 34;
   const auto x_of = [&](double v) { return origin.x + 6 + static_cast<float>((v - lo) / (hi - lo)) * width; };
+  if (geometry != nullptr) *geometry = {origin.x + 6, width, lo, hi, {}, true};
   dl->AddLine({origin.x + 6, origin.y + 12}, {origin.x + 6 + width, origin.y + 12}, IM_COL32(200, 200, 200, 255), 2);
   dl->AddRectFilled({x_of(s.domain_begin()), origin.y + 9}, {x_of(s.domain_end()), origin.y + 15},
                     IM_COL32(120, 170, 255, 255));
@@ -151,6 +220,7 @@ void knot_ruler(Editor& e) {
     int stack = 0;  // equal knots stack downwards
     for (std::size_t j = 0; j < i; ++j) stack += u[j] == u[i] ? 1 : 0;
     const float x = x_of(u[i]), y = origin.y + 18 + 5.0f * stack;
+    if (geometry != nullptr) geometry->handles.push_back({x, y});
     ImGui::SetCursorScreenPos({x - 5, y - 5});
     ImGui::PushID(static_cast<int>(i));
     ImGui::InvisibleButton("knot", {10, 10});
@@ -168,6 +238,7 @@ void knot_ruler(Editor& e) {
   std::string text;
   for (double k : u) text += (text.empty() ? "" : " ") + std::to_string(k).substr(0, 5);
   ImGui::TextWrapped("[%s]", text.c_str());
+  knot_operations(e);
 }
 
 void verdicts_table(Editor& e) {
@@ -224,7 +295,7 @@ void side_panel(Editor& e, const UiInfo& info) {
   ImGui::Separator();
   controls(e);
   ImGui::Separator();
-  knot_ruler(e);
+  knot_ruler(e, info.ruler);
   ImGui::Separator();
   verdicts_table(e);
   ImGui::Separator();
@@ -286,10 +357,16 @@ void curvature_plot(Editor& e) {
 void build_ui(Editor& e, const UiInfo& info) {
   if (e.show_overlay) {
     ImDrawList* dl = ImGui::GetBackgroundDrawList();
-    draw_curve(e, dl);
-    if (e.show_comb) draw_comb(e, dl);
-    draw_points(e, dl);
+    const Document& d = e.doc();
+    // While too few κ points are clicked there is no curve yet to draw.
+    if (!d.kcurve || static_cast<int>(d.kcurve->points.size()) >= kKCurveMinPoints) {
+      draw_curve(e, dl);
+      if (e.show_comb) draw_comb(e, dl);
+      draw_points(e, dl);
+    }
+    draw_kcurve(e, dl);
   }
+  if (info.ruler != nullptr) info.ruler->shown = false;
   if (!e.show_ui) return;
   side_panel(e, info);
   curvature_plot(e);

@@ -4,7 +4,6 @@
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
-#include <cairo.h>
 #include <imgui.h>
 
 #include <algorithm>
@@ -21,6 +20,8 @@
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/draw.hpp"
+#include "tools/io.hpp"
 #include "tools/edit/region_painter.hpp"
 #include "tools/edit/script.hpp"
 #include "tools/edit/ui.hpp"
@@ -92,33 +93,9 @@ vk::Context make_context(GLFWwindow* window, const std::string& device) {
   return check(vk::Context::create(o));
 }
 
-/// Writes RGBA pixels as a PNG, atomically.
+/// Writes the presented pixels as a PNG (cmr::write_file_atomic).
 void write_png(const std::filesystem::path& path, const vk::Screenshot& shot) {
-  cairo_surface_t* img =
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(shot.width), static_cast<int>(shot.height));
-  cairo_surface_flush(img);
-  unsigned char* data = cairo_image_surface_get_data(img);
-  const int stride = cairo_image_surface_get_stride(img);
-  for (uint32_t j = 0; j < shot.height; ++j) {
-    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
-    for (uint32_t i = 0; i < shot.width; ++i) {
-      const uint8_t* p = &shot.rgba[4 * (static_cast<std::size_t>(j) * shot.width + i)];
-      row[i] = 0xff000000u | uint32_t{p[0]} << 16 | uint32_t{p[1]} << 8 | p[2];
-    }
-  }
-  cairo_surface_mark_dirty(img);
-  std::string png;  // encoded in memory, then written with cmr::write_file_atomic
-  const cairo_status_t status = cairo_surface_write_to_png_stream(
-      img,
-      [](void* closure, const unsigned char* bytes, unsigned int length) {
-        static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(bytes), length);
-        return CAIRO_STATUS_SUCCESS;
-      },
-      &png);
-  cairo_surface_destroy(img);
-  if (status != CAIRO_STATUS_SUCCESS)
-    throw InputError(path.string() + ": cannot encode the PNG (" + cairo_status_to_string(status) + ")");
-  write_file_atomic(path, png);
+  write_file_atomic(path, draw::rgba_png(static_cast<int>(shot.width), static_cast<int>(shot.height), shot.rgba));
 }
 
 BSpline starting_spline() {
@@ -130,7 +107,9 @@ BSpline starting_spline() {
 /// The window, its Vulkan objects and the editor; one frame at a time.
 class App {
  public:
-  App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync);
+  App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device, bool vsync,
+      RegionPath region_path, std::optional<vk::RegionPrecision> precision = std::nullopt);
+  std::string painter_summary() const { return painter_->summary(); }
   ~App();
   App(const App&) = delete;
   App& operator=(const App&) = delete;
@@ -144,6 +123,19 @@ class App {
   /// image back. Returns false when the frame was skipped (zero size).
   bool frame(vk::Screenshot* shot = nullptr);
   void resize_window(int w, int h);
+  int swapchain_generation() const { return presenter_->generation(); }
+  /// Pointer input, from GLFW or a script: a move always reaches the editor
+  /// (drags and pans follow it); a press over a panel goes to the panel only.
+  void pointer_move(double x, double y);
+  void pointer_button(MouseButton button, bool down, bool shift);
+  /// Scripted runs: the script's pointer is also the panels' (ImGui's) mouse,
+  /// so scripts press the same buttons and drag the same handles as a user.
+  void use_script_pointer() { script_pointer_.emplace(); }
+  /// Where the knot ruler was drawn in the last frame.
+  const KnotRulerGeometry& ruler() const { return ruler_; }
+  /// Writes the next presented frame to `path` as a PNG (the "export PNG"
+  /// button: the editor's file with .view.png).
+  void export_view(std::filesystem::path path) { export_view_ = std::move(path); }
 
  private:
   static App& self(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
@@ -161,10 +153,17 @@ class App {
   std::string region_path_;
   double frame_ms_ = 0;
   bool export_png_ = false;
+  std::filesystem::path export_view_;
+  KnotRulerGeometry ruler_;
+  struct ScriptPointer {
+    double x = -1, y = -1;
+    bool down[3] = {false, false, false};
+  };
+  std::optional<ScriptPointer> script_pointer_;
 };
 
 App::App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device,
-         bool vsync)
+         bool vsync, RegionPath region_path, std::optional<vk::RegionPrecision> precision)
     : window_(width, height, "cmr edit"), editor_(std::move(spline), std::move(path), width, height) {
   context_.emplace(make_context(window_.window, device));
   int fw = 0, fh = 0;
@@ -172,7 +171,7 @@ App::App(BSpline spline, std::filesystem::path path, int width, int height, cons
   vk::PresenterOptions po;
   po.vsync = vsync;
   presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
-  painter_ = check(make_upload_painter(*context_, *presenter_));
+  painter_ = check(make_painter(*context_, *presenter_, region_path, precision));
   region_path_ = painter_->describe();
   std::cerr << "cmr edit: " << region_path_ << '\n';
   editor_.resize(fw, fh);
@@ -195,20 +194,12 @@ void App::install_callbacks() {
   glfwSetWindowUserPointer(window_.window, this);
   // Installed before ImGui's, which chains to them; input the panels take is
   // not passed on to the canvas.
-  glfwSetCursorPosCallback(window_.window, [](GLFWwindow* w, double x, double y) {
-    self(w).editor_.mouse_move(x, y);
-  });
+  glfwSetCursorPosCallback(window_.window, [](GLFWwindow* w, double x, double y) { self(w).pointer_move(x, y); });
   glfwSetMouseButtonCallback(window_.window, [](GLFWwindow* w, int button, int action, int mods) {
-    App& app = self(w);
-    if (action == GLFW_PRESS && ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
     const MouseButton b = button == GLFW_MOUSE_BUTTON_LEFT    ? MouseButton::left
                           : button == GLFW_MOUSE_BUTTON_RIGHT ? MouseButton::right
                                                               : MouseButton::middle;
-    try {
-      app.editor_.mouse_button(b, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0);
-    } catch (const InputError& e) {
-      app.editor_.message = e.what();
-    }
+    self(w).pointer_button(b, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0);
   });
   glfwSetScrollCallback(window_.window, [](GLFWwindow* w, double, double dy) {
     if (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
@@ -257,6 +248,21 @@ void App::init_imgui() {
   ImGui_ImplVulkan_DestroyFontUploadObjects();
 }
 
+void App::pointer_move(double x, double y) {
+  if (script_pointer_) script_pointer_->x = x, script_pointer_->y = y;
+  editor_.mouse_move(x, y);
+}
+
+void App::pointer_button(MouseButton button, bool down, bool shift) {
+  if (script_pointer_) script_pointer_->down[static_cast<int>(button)] = down;
+  if (down && ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
+  try {
+    editor_.mouse_button(button, down, shift);
+  } catch (const InputError& e) {
+    editor_.message = e.what();
+  }
+}
+
 void App::resize_window(int w, int h) {
   glfwSetWindowSize(window_.window, w, h);
   // The X server applies the size asynchronously: wait until it has.
@@ -277,8 +283,13 @@ bool App::frame(vk::Screenshot* shot) {
   editor_.resize(fw, fh);
   ImGui_ImplVulkan_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  if (script_pointer_) {  // after the backend, which reads the real pointer
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = {static_cast<float>(script_pointer_->x), static_cast<float>(script_pointer_->y)};
+    for (int b = 0; b < 3; ++b) io.MouseDown[b] = script_pointer_->down[b];
+  }
   ImGui::NewFrame();
-  UiInfo info{region_path_, frame_ms_, &export_png_};
+  UiInfo info{region_path_, frame_ms_, &export_png_, &ruler_};
   build_ui(editor_, info);
   ImGui::Render();
   auto begun = check(presenter_->begin_frame(static_cast<uint32_t>(fw), static_cast<uint32_t>(fh)));
@@ -287,20 +298,24 @@ bool App::frame(vk::Screenshot* shot) {
   editor_.resize(static_cast<int>(f.extent.width), static_cast<int>(f.extent.height));
   check(painter_->record(editor_, f));
   presenter_->begin_pass(f);
+  painter_->draw(f);
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), f.cmd);
-  vk::Screenshot own;
-  const bool exporting = export_png_ && shot == nullptr;
-  check(presenter_->end_frame(f, exporting ? &own : shot));
-  if (exporting) {
+  if (export_png_) {
+    export_view_ = editor_.path();
+    export_view_.replace_extension(".view.png");
     export_png_ = false;
-    std::filesystem::path p = editor_.path();
-    p.replace_extension(".view.png");
+  }
+  vk::Screenshot own;
+  const bool exporting = !export_view_.empty() && shot == nullptr;
+  check(presenter_->end_frame(f, exporting ? &own : shot));
+  if (!export_view_.empty()) {
     try {
-      write_png(p, own);
-      editor_.message = "view written to " + p.string();
+      write_png(export_view_, exporting ? own : *shot);
+      editor_.message = "view written to " + export_view_.string();
     } catch (const InputError& e) {
       editor_.message = e.what();
     }
+    export_view_.clear();
   }
   frame_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return true;
@@ -319,6 +334,10 @@ class ScriptRunner {
   void run(const ScriptCommand& c);
   bool ui_action(const ScriptCommand& c);
   bool knot_action(const ScriptCommand& c);
+  /// drag-knot I U [STEPS]: the pointer presses knot I's handle on the ruler,
+  /// moves to U's place in STEPS frames and releases, a frame apart each, as
+  /// a user's hand would (run as generated mouse/press/release commands).
+  void drag_knot(const ScriptCommand& c);
   App& app_;
   std::vector<ScriptCommand> commands_;
   std::size_t next_ = 0;
@@ -340,7 +359,6 @@ MouseButton button_arg(const ScriptCommand& c) {
 }
 
 bool ScriptRunner::step() {
-  Editor& e = app_.editor();
   if (wait_ > 0) {
     --wait_;
     app_.frame();
@@ -350,9 +368,9 @@ bool ScriptRunner::step() {
     Drag& d = *drag_;
     ++d.done;
     const Vec2 p = d.from + (d.to - d.from) * (static_cast<double>(d.done) / d.steps);
-    e.mouse_move(p.x, p.y);
+    app_.pointer_move(p.x, p.y);
     if (d.done == d.steps) {
-      e.mouse_button(MouseButton::left, false, false);
+      app_.pointer_button(MouseButton::left, false, false);
       drag_.reset();
     }
     app_.frame();
@@ -371,12 +389,30 @@ void ScriptRunner::run(const ScriptCommand& c) {
   Editor& e = app_.editor();
   const std::string& n = c.name;
   if (n == "mouse") {
-    e.mouse_move(number_arg(c, 0), number_arg(c, 1));
+    app_.pointer_move(number_arg(c, 0), number_arg(c, 1));
     frame_needed_ = true;
   } else if (n == "press") {
-    e.mouse_button(button_arg(c), true, c.args.size() > 1 && c.args[1] == "shift");
+    app_.pointer_button(button_arg(c), true, c.args.size() > 1 && c.args[1] == "shift");
   } else if (n == "release") {
-    e.mouse_button(button_arg(c), false, false);
+    app_.pointer_button(button_arg(c), false, false);
+  } else if (n == "drag-knot") {  // a frame first, so the ruler shows the current knots
+    ScriptCommand now = c;
+    now.name = "drag-knot!";  // internal: no script can spell it (parse_script rejects it)
+    commands_.insert(commands_.begin() + static_cast<std::ptrdiff_t>(next_), now);
+    frame_needed_ = true;
+  } else if (n == "drag-knot!") {
+    drag_knot(c);
+  } else if (n == "resize") {
+    const int w = int_arg(c, 0), h = int_arg(c, 1);
+    if (w < 64 || h < 64 || w > kMaxImageSize || h > kMaxImageSize)
+      throw InputError("script line " + std::to_string(c.line) + ": resize: width and height must lie in 64.." +
+                       std::to_string(kMaxImageSize));
+    app_.resize_window(w, h);
+    frame_needed_ = true;
+  } else if (n == "export-view") {
+    cli::check_output_path(c.args[0], "export-view");
+    app_.export_view(c.args[0]);
+    frame_needed_ = true;
   } else if (n == "scroll") {
     e.scroll(number_arg(c, 0));
   } else if (n == "key") {
@@ -388,8 +424,8 @@ void ScriptRunner::run(const ScriptCommand& c) {
     const Vec2 from = e.viewport().to_screen(e.doc().spline.points()[k]);
     const Vec2 to = e.viewport().to_screen({number_arg(c, 1), number_arg(c, 2)});
     const int steps = c.args.size() > 3 ? std::max(1, int_arg(c, 3)) : 10;
-    e.mouse_move(from.x, from.y);
-    e.mouse_button(MouseButton::left, true, false);
+    app_.pointer_move(from.x, from.y);
+    app_.pointer_button(MouseButton::left, true, false);
     if (e.dragging() != k)
       throw InputError("script line " + std::to_string(c.line) + ": point " + std::to_string(k) +
                        " is not under the cursor (off screen or covered by another point)");
@@ -405,6 +441,31 @@ void ScriptRunner::run(const ScriptCommand& c) {
   } else if (!ui_action(c) && !knot_action(c)) {
     throw InputError("script line " + std::to_string(c.line) + ": '" + n + "' is not handled");
   }
+}
+
+void ScriptRunner::drag_knot(const ScriptCommand& c) {
+  const std::string where = "script line " + std::to_string(c.line) + ": drag-knot: ";
+  const KnotRulerGeometry& r = app_.ruler();
+  if (!r.shown) throw InputError(where + "the knot ruler is not shown (ui off?)");
+  const int i = int_arg(c, 0);
+  if (i < 0 || i >= static_cast<int>(r.handles.size()))
+    throw InputError(where + "no knot " + std::to_string(i));
+  const double u = number_arg(c, 1);
+  const int steps = c.args.size() > 2 ? std::max(1, int_arg(c, 2)) : 10;
+  const float x0 = r.handles[i][0], y = r.handles[i][1], x1 = r.x_of(u);
+  const Viewport& v = app_.editor().viewport();
+  if (!(x0 >= 0 && x0 < v.width && y >= 0 && y < v.height))
+    throw InputError(where + "knot " + std::to_string(i) + "'s handle is outside the window (make it larger)");
+  const auto command = [&](std::string name, std::vector<std::string> args) {
+    return ScriptCommand{std::move(name), std::move(args), c.line};
+  };
+  std::vector<ScriptCommand> plan = {command("mouse", {std::to_string(x0), std::to_string(y)}),
+                                     command("press", {"left"}), command("wait", {"1"})};
+  for (int s = 1; s <= steps; ++s)
+    plan.push_back(command("mouse", {std::to_string(x0 + (x1 - x0) * s / steps), std::to_string(y)}));
+  plan.push_back(command("release", {"left"}));
+  plan.push_back(command("wait", {"1"}));
+  commands_.insert(commands_.begin() + static_cast<std::ptrdiff_t>(next_), plan.begin(), plan.end());
 }
 
 bool ScriptRunner::ui_action(const ScriptCommand& c) {
@@ -424,8 +485,23 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "shading") e.set_depth_shading(switch_arg(c, 0));
   else if (n == "split") e.set_split(c.args[0] == "none" ? std::nullopt : std::optional<int>(int_arg(c, 0)));
   else if (n == "chain") e.set_chain(switch_arg(c, 0));
+  else if (n == "segments")
+    e.set_segments(c.args[0] == "all" ? std::nullopt
+                                      : std::optional<SegmentRange>(parse_segment_range(c.args[0], "segments")));
+  else if (n == "kcurve") {
+    const std::string& w = c.args[0];
+    if (w == "points") e.set_kcurve(true);
+    else if (w == "modify") e.kcurve_modify();
+    else if (w == "off") e.set_kcurve(false);
+    else throw InputError("script line " + std::to_string(c.line) + ": kcurve takes points, modify or off");
+  } else if (n == "closed") e.set_kcurve_closed(switch_arg(c, 0));
   else if (n == "comb") e.show_comb = switch_arg(c, 0);
-  else if (n == "ui") e.show_ui = switch_arg(c, 0);
+  else if (n == "ui") {
+    e.show_ui = switch_arg(c, 0);
+    // A frame without (or with) the panels before the next input: ImGui
+    // decides what the pointer hovers from the previous frame's windows.
+    frame_needed_ = true;
+  }
   else if (n == "overlay") e.show_overlay = switch_arg(c, 0);
   else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
   else if (n == "fit") e.fit_view();
@@ -444,8 +520,9 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
     return true;
   }
   if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {
-    e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0),
-                     c.args.size() > 1 ? number_arg(c, 1) : 0);
+    // A refusal is the editor's status line, as in the window; scripts see it on stderr.
+    if (!e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0), c.args.size() > 1 ? number_arg(c, 1) : 0))
+      std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     return true;
   }
   return false;
@@ -465,8 +542,9 @@ int run_editor(const EditOptions& o) {
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
-  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync);
+  App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
   if (!o.script.empty() || !o.screenshot.empty()) {
+    app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));
     app.frame();
     while (runner.step()) {
@@ -477,6 +555,7 @@ int run_editor(const EditOptions& o) {
       app.frame(&shot);
       write_png(o.screenshot, shot);
     }
+    if (const std::string s = app.painter_summary(); !s.empty()) std::cerr << "cmr edit: " << s << '\n';
     return cli::kOk;
   }
   while (!app.should_close()) {
@@ -496,6 +575,13 @@ std::string cpu_model() {
     }
   }
   return "unknown CPU";
+}
+
+/// The 1-minute load average (other processes compete for the cores).
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one;
+  return in >> one ? one : "unknown";
 }
 
 struct FrameStats {
@@ -539,13 +625,13 @@ int run_bench(const BenchOptions& o) {
   BSpline spline = read_spline_file(o.file);
   if (o.point < 0 || o.point >= spline.point_count())
     throw InputError("--point: no point " + std::to_string(o.point));
-  App app(std::move(spline), o.file, o.width, o.height, o.device, false);
+  App app(std::move(spline), o.file, o.width, o.height, o.device, false, o.region_path);
   for (int i = 0; i < 3; ++i) app.frame();  // warm up: pipelines, first region
   std::printf("cmr edit benchmark: %s, %d frames of a scripted drag of P%d, %dx%d window\n",
               o.file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,
               app.editor().viewport().height);
-  std::printf("machine: %s, %d hardware threads; Vulkan device: %s\n", cpu_model().c_str(), thread_count(0),
-              app.device_name().c_str());
+  std::printf("machine: %s, %d hardware threads, load average %s; Vulkan device: %s\n", cpu_model().c_str(),
+              thread_count(0), load_average().c_str(), app.device_name().c_str());
   std::printf("%s\n", app.region_path().c_str());
   for (bool all : {false, true}) {
     app.editor().set_all_points(all);

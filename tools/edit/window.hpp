@@ -2,7 +2,10 @@
 // `cmr edit`: the desktop window (GLFW, Vulkan presentation, Dear ImGui), its
 // frame loop, scripted runs and the benchmark.
 #include <filesystem>
+#include <optional>
 #include <string>
+
+#include "tools/edit/region_painter.hpp"
 
 namespace cmr::edit {
 
@@ -13,6 +16,8 @@ struct EditOptions {
   int width = 1024, height = 768;    ///< window size in pixels
   std::string device;                ///< Vulkan device name (substring)
   bool vsync = true;
+  RegionPath region_path = RegionPath::automatic;  ///< how the region reaches the window
+  std::optional<vk::RegionPrecision> precision;     ///< the gpu path's shader arithmetic
 };
 
 /// Runs the editor until the window closes or the script ends. Returns the
@@ -26,6 +31,7 @@ struct BenchOptions {
   int frames = 200;
   int point = 3;               ///< the dragged point
   std::string device;
+  RegionPath region_path = RegionPath::automatic;
 };
 
 /// Replays a scripted drag in a real window (vsync off), once showing the

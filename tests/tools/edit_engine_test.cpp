@@ -1,0 +1,260 @@
+// The editor's engine doorway without a window: the region cache (keys that
+// ignore exactly what a region does not depend on), the coarse region while
+// dragging and the full one after, knot operations and their refusals. Labels
+// are checked against RegionProblem::classify at pixel centres (the
+// engine's own single-position answer, independent of the block renderer
+// and of the cache).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "bezierize/knot_ops.hpp"
+#include "spline/curvature.hpp"
+#include "tools/edit/editor.hpp"
+#include "vk/presenter.hpp"
+
+namespace {
+
+using namespace cmr;
+using namespace cmr::edit;
+
+// The Fig. 8 spline (examples/figures/fig8.json): a cubic with three segments
+// whose points have monotone regions.
+BSpline spline6() {
+  return BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                       {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+}
+
+constexpr int kW = 96, kH = 72;
+
+Editor small_editor(BSpline s) {
+  Editor e(std::move(s), "t.json", kW, kH);
+  e.show_ui = false;  // the canvas is the whole window
+  e.fit_view();
+  return e;
+}
+
+/// Every pixel of a layer against classify at its centre.
+void expect_layer_is_classify(const BSpline& s, const RegionRequest& r, const RegionResult& layer) {
+  const RegionProblem p = RegionProblem::make(s, r);
+  ASSERT_EQ(layer.width, r.width);
+  ASSERT_EQ(layer.height, r.height);
+  int wrong = 0;
+  for (int j = 0; j < r.height; ++j)
+    for (int i = 0; i < r.width; ++i) {
+      const RegionPixel want = p.classify(pixel_center(*r.view, r.width, r.height, i, j));
+      const std::size_t at = static_cast<std::size_t>(j) * r.width + i;
+      const uint8_t code_wanted = r.split ? code(want.split_label) : code(want.label);
+      if (layer.code_at(at) != code_wanted && ++wrong <= 3) ADD_FAILURE() << "pixel " << i << "," << j;
+    }
+  EXPECT_EQ(wrong, 0);
+}
+
+int count_label(const RegionResult& r, RegionLabel l) { return static_cast<int>(std::count(r.labels.begin(), r.labels.end(), l)); }
+
+TEST(EditEngine, RegionKeyIgnoresOnlyWhereTheMovedGroupStands) {
+  const BSpline s = spline6();
+  RegionRequest r;
+  r.point = 2;
+  r.with = {3};
+  r.view = View{-1, -2, 6, 3};
+  const auto key = region_key(s, r);
+  // The group moved by one vector (2^-7 each way: every sum here is exact,
+  // so the offsets are unchanged): same key.
+  const Vec2 d{0.0078125, -0.0078125};
+  const BSpline moved = s.with_point(2, s.points()[2] + d).with_point(3, s.points()[3] + d);
+  EXPECT_EQ(region_key(moved, r), key);
+  // A companion moved alone, a fixed point moved, the request changed: other keys.
+  EXPECT_NE(region_key(s.with_point(3, s.points()[3] + d), r), key);
+  EXPECT_NE(region_key(s.with_point(0, {0, 1e-300}), r), key);
+  RegionRequest r2 = r;
+  r2.mode = Mode::cmr;
+  EXPECT_NE(region_key(s, r2), key);
+  r2 = r;
+  r2.with.clear();
+  EXPECT_NE(region_key(s, r2), key);
+  // Offsets kept exactly: 1e16 + 2 - 0.5 and 1e16 + 2 - 0.25 round to the
+  // same double, yet they are two problems.
+  const BSpline far = s.with_point(2, {0.5, 2}).with_point(3, {1e16 + 2, 1.5});
+  const BSpline far2 = s.with_point(2, {0.25, 2}).with_point(3, {1e16 + 2, 1.5});
+  ASSERT_EQ((1e16 + 2) - 0.5, (1e16 + 2) - 0.25);
+  EXPECT_NE(region_key(far, r), region_key(far2, r));
+}
+
+TEST(EditEngine, CachedRegionOfADraggedPointIsItsCertifiedRegion) {
+  // The layer the cache returns while P2 is dragged is what classify gives
+  // for the spline with P2 where the drag left it.
+  Editor e = small_editor(spline6());
+  e.select(2);
+  e.region();
+  const Vec2 from = e.viewport().to_screen(e.doc().spline.points()[2]);
+  e.mouse_move(from.x, from.y);
+  e.mouse_button(MouseButton::left, true, false);
+  ASSERT_EQ(e.dragging(), 2);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> step(-6, 6);
+  Vec2 at = from;
+  for (int i = 0; i < 5; ++i) {
+    at = at + Vec2{step(rng), step(rng)};
+    e.mouse_move(at.x, at.y);
+    bool changed = true;
+    const auto& layers = e.region(&changed);
+    EXPECT_FALSE(changed) << "P2's own region does not depend on where P2 is";
+    EXPECT_EQ(e.region_coarse(), 1) << "a remembered region is shown at full resolution";
+    ASSERT_EQ(layers.size(), 1u);
+    const RegionRequest r = e.region_requests().front();
+    expect_layer_is_classify(e.doc().spline, r, *layers.front());
+    EXPECT_GT(kW * kH - count_label(*layers.front(), RegionLabel::not_monotone), 0) << "region pixels in view";
+  }
+  e.mouse_button(MouseButton::left, false, false);
+}
+
+TEST(EditEngine, OverlappedRegionsAreCoarseWhileDraggingAndFullAfter) {
+  Editor e = small_editor(spline6());
+  e.set_all_points(true);
+  e.region();
+  const Vec2 from = e.viewport().to_screen(e.doc().spline.points()[3]);
+  e.mouse_move(from.x, from.y);
+  e.mouse_button(MouseButton::left, true, false);
+  e.mouse_move(from.x + 7, from.y - 5);
+  bool changed = false;
+  const auto& coarse = e.region(&changed);
+  EXPECT_TRUE(changed);
+  ASSERT_EQ(e.region_coarse(), Editor::kDragCoarse);
+  const std::vector<RegionRequest> rc = e.region_requests(false, Editor::kDragCoarse);
+  ASSERT_EQ(coarse.size(), rc.size());
+  EXPECT_EQ(rc.front().width, (kW + 1) / 2);
+  EXPECT_EQ(rc.front().height, (kH + 1) / 2);
+  // Coarse pixel (i, j) covers window pixels 2i, 2i+1: its centre is theirs.
+  const View& v = *rc.front().view;
+  const View full = e.viewport().view;
+  EXPECT_DOUBLE_EQ(v.x0, full.x0);
+  EXPECT_DOUBLE_EQ(v.y1, full.y1);
+  EXPECT_NEAR((v.x1 - v.x0) / rc.front().width, 2 * (full.x1 - full.x0) / kW, 1e-12);
+  for (std::size_t k = 0; k < rc.size(); ++k) expect_layer_is_classify(e.doc().spline, rc[k], *coarse[k]);
+  // The window's colours replicate each coarse pixel into its 2x2 block.
+  const std::vector<uint8_t>& rgba = e.region_rgba();
+  for (int j : {0, 1, 30, 31})
+    for (int i : {10, 11})
+      EXPECT_EQ(std::vector<uint8_t>(&rgba[4 * (j * kW + i)], &rgba[4 * (j * kW + i) + 4]),
+                std::vector<uint8_t>(&rgba[4 * ((j / 2 * 2) * kW + i / 2 * 2)],
+                                     &rgba[4 * ((j / 2 * 2) * kW + i / 2 * 2) + 4]));
+  e.mouse_button(MouseButton::left, false, false);
+  const auto& after = e.region(&changed);
+  EXPECT_TRUE(changed);
+  EXPECT_EQ(e.region_coarse(), 1);
+  const std::vector<RegionRequest> rf = e.region_requests();
+  ASSERT_EQ(after.size(), rf.size());
+  EXPECT_EQ(rf.front().width, kW);
+  int monotone = 0;
+  for (std::size_t k = 0; k < rf.size(); ++k) {
+    expect_layer_is_classify(e.doc().spline, rf[k], *after[k]);
+    monotone += kW * kH - count_label(*after[k], RegionLabel::not_monotone);
+  }
+  EXPECT_GT(monotone, 0) << "the test should see region pixels";
+}
+
+TEST(EditEngine, KnotOperationsKeepOrChangeTheCurveAsKnotOpsSays) {
+  Editor e = small_editor(spline6());
+  const BSpline before = e.doc().spline;
+  ASSERT_TRUE(e.knot_operation("insert", 3.5, 1));
+  EXPECT_EQ(e.doc().spline.point_count(), before.point_count() + 1);
+  for (double t : {2.3, 3.5, 4.7}) {
+    const Vec2 a = evaluate(before, t), b = evaluate(e.doc().spline, t);
+    EXPECT_NEAR(a.x, b.x, 1e-12);
+    EXPECT_NEAR(a.y, b.y, 1e-12);
+  }
+  ASSERT_TRUE(e.knot_operation("remove", 3.5, 0)) << e.message;  // removable: it was just inserted
+  EXPECT_EQ(e.doc().spline.point_count(), before.point_count());
+  // Knot 3 of the original is not removable within 1e-9 of the size: refused, nothing changes.
+  const BSpline kept = e.doc().spline;
+  EXPECT_FALSE(e.knot_operation("remove", 3, 0));
+  EXPECT_NE(e.message.find("refused"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("more than the tolerance"), std::string::npos) << e.message;
+  EXPECT_EQ(e.doc().spline.points(), kept.points());
+  ASSERT_TRUE(e.knot_operation("elevate", 0, 0));
+  EXPECT_EQ(e.doc().spline.degree(), 4);
+  EXPECT_EQ(e.doc().spline.points(), elevate_degree(kept).points());
+  ASSERT_TRUE(e.knot_operation("uniform", 0, 0));
+  EXPECT_EQ(e.doc().spline.knots(), make_uniform(elevate_degree(kept)).knots());
+  ASSERT_TRUE(e.knot_operation("clamp", 0, 0));
+  EXPECT_EQ(e.doc().spline.knots(), clamp(make_uniform(elevate_degree(kept))).knots());
+  EXPECT_FALSE(e.knot_operation("insert", 99, 1)) << "outside the domain";
+  EXPECT_FALSE(e.knot_operation("twist", 0, 0));
+  // Each operation was one undo step.
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.points(), before.points());
+  EXPECT_EQ(e.doc().spline.knots(), before.knots());
+}
+
+TEST(EditEngine, SegmentRangeReachesTheRequestsAndDropsAnOutsideSplit) {
+  Editor e = small_editor(spline6());
+  e.select(3);
+  e.set_split(1);
+  e.set_segments(SegmentRange{1, 2});
+  EXPECT_FALSE(e.doc().split.has_value()) << "joint 1 is not inside 1..2";
+  const RegionRequest r = e.region_requests().front();
+  ASSERT_TRUE(r.segments.has_value());
+  EXPECT_EQ(*r.segments, (SegmentRange{1, 2}));
+  EXPECT_NE(region_key(e.doc().spline, r), region_key(e.doc().spline, [&] {
+              RegionRequest all = r;
+              all.segments.reset();
+              return all;
+            }()));
+  EXPECT_THROW(e.set_split(1), InputError);
+  e.set_split(2);
+  EXPECT_THROW(e.set_segments(SegmentRange{0, 3}), InputError);
+  expect_layer_is_classify(e.doc().spline, e.region_requests().front(), *e.region().front());
+  e.set_segments(std::nullopt);
+  EXPECT_FALSE(e.region_requests().front().segments.has_value());
+}
+
+TEST(EditEngine, KnotMoveIsSetKnot) {
+  Editor e = small_editor(spline6());
+  e.move_knot(4, 4.25);
+  EXPECT_EQ(e.doc().spline.knots(), set_knot(spline6(), 4, 4.25).knots());
+  EXPECT_THROW(e.move_knot(4, 2.5), InputError) << "knots stay in order";
+  EXPECT_THROW(e.move_knot(99, 0.5), InputError);
+  // A ruler drag (consecutive moves of one knot) is one undo step.
+  e.move_knot(4, 4.5);
+  e.move_knot(4, 4.75);
+  ASSERT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.knots(), spline6().knots());
+  e.move_knot(4, 4.5);
+  e.move_knot(3, 3.25);  // another knot: a new step
+  ASSERT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.knots()[4], 4.5);
+}
+
+}  // namespace
+
+namespace {
+
+// The window's swapchain choices (vk/presenter.hpp): no upper image limit is
+// written maxImageCount == 0; a currentExtent of 0xFFFFFFFF means the
+// swapchain decides the size.
+TEST(EditPresenter, ImageCountHonoursAMissingUpperLimit) {
+  VkSurfaceCapabilitiesKHR caps{};
+  caps.minImageCount = 2;
+  caps.maxImageCount = 0;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 3u);
+  caps.maxImageCount = 2;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 2u);
+  caps.maxImageCount = 8;
+  EXPECT_EQ(cmr::vk::choose_image_count(caps), 3u);
+}
+
+TEST(EditPresenter, ExtentFollowsTheWindowOnlyWhenTheSurfaceLetsIt) {
+  VkSurfaceCapabilitiesKHR caps{};
+  caps.currentExtent = {640, 480};
+  caps.minImageExtent = {1, 1};
+  caps.maxImageExtent = {4096, 4096};
+  EXPECT_EQ(cmr::vk::choose_extent(caps, 800, 600).width, 640u);
+  caps.currentExtent = {0xFFFFFFFFu, 0xFFFFFFFFu};
+  const VkExtent2D e = cmr::vk::choose_extent(caps, 800, 9000);
+  EXPECT_EQ(e.width, 800u);
+  EXPECT_EQ(e.height, 4096u) << "clamped to the surface's limit";
+}
+
+}  // namespace
