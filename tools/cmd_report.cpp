@@ -1,6 +1,9 @@
-// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S] [--depth D]
-// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]:
-// QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S,GATES...] [--depth D]
+// [--no-thumbnails] [--backend vulkan|cpu] [--device NAME] [--region-size N]
+// [--glyphs A-Z,a-z]: QA reports (DIR/report.json, DIR/index.html) and a gate
+// on their verdicts. A font file among FILES is imported (tools/import/font.hpp):
+// each glyph contour is one closed spline, fixes are suggested on the font's
+// unit grid, and DIR/font.html holds the per-glyph overview.
 #include <unistd.h>
 
 #include <iostream>
@@ -10,6 +13,8 @@
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/font_report.hpp"
+#include "tools/import/font.hpp"
 #include "tools/report.hpp"
 
 namespace cmr::cli {
@@ -25,6 +30,7 @@ struct ReportArgs {
   std::string backend = "vulkan";
   std::string device;
   int region_size = 96;
+  std::string glyphs = "A-Z,a-z";
 };
 
 // "[#####-----] 12/40 name" rewritten in place; only on a terminal.
@@ -37,13 +43,14 @@ void show_progress(int done, int total, const std::string& name) {
 
 /// Writes dir/report.json and dir/index.html (both or neither), creating dir.
 void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
-                  const report::ReportOptions& options) {
+                  const report::ReportOptions& options, const std::vector<report::FontInfo>& fonts) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(dir.string() + ": cannot create the output folder (" + ec.message() + ")");
   OutputFiles out;
   out.write(dir / "report.json", report::report_json(reports, options).dump(2) + "\n");
   out.write(dir / "index.html", report::report_html(reports, options));
+  if (!fonts.empty()) out.write(dir / "font.html", report::font_report_html(fonts, reports, options));
   out.keep();
 }
 
@@ -54,10 +61,12 @@ static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::
 void add_report_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
-  cmd->add_option("FILES", args->files, "spline files (JSON)")->required();
+  cmd->add_option("FILES", args->files, "spline files (JSON) or fonts (.ttf, .otf, ...)")->required();
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
-                  "gate: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone)");
+                  "gates, comma separated: exit 1 when a spline fails cmrwi, cmr or split:S (both parts monotone), "
+                  "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol] or no-inflection");
+  cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9)")->capture_default_str();
   cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)")
       ->check(CLI::Range(0, kMaxDepth))
       ->capture_default_str();
@@ -71,18 +80,27 @@ void add_report_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->callback([args, &exit_code] {
     report::ReportOptions o;
-    if (!args->require.empty()) o.require = report::parse_requirement(args->require);
+    if (!args->require.empty()) report::parse_require_list(args->require, o);
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     std::vector<report::ReportInput> inputs;
-    for (const std::string& f : args->files) inputs.push_back(report::read_input(f));
+    std::vector<report::FontInfo> fonts;
+    const auto codepoints = import::parse_glyph_spec(args->glyphs);
+    for (const std::string& f : args->files) {
+      if (!import::is_font_path(f)) {
+        inputs.push_back(report::read_input(f));
+        continue;
+      }
+      fonts.push_back(report::font_inputs(import::read_font(f, codepoints), inputs));
+      o.grid = 1;  // the font's unit
+    }
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
     if (terminal) std::cerr << "\r\033[K" << std::flush;
-    write_report(args->out, reports, o);
+    write_report(args->out, reports, o, fonts);
 
     int pass = 0, fail = 0, invalid = 0;
     for (const report::SplineReport& r : reports) {
@@ -96,7 +114,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail
               << " fail, " << invalid << " invalid; wrote "
               << (std::filesystem::path(args->out) / "index.html").string() << " and "
-              << (std::filesystem::path(args->out) / "report.json").string() << '\n';
+              << (std::filesystem::path(args->out) / "report.json").string()
+              << (fonts.empty() ? "" : " and " + (std::filesystem::path(args->out) / "font.html").string()) << '\n';
     exit_code = report::exit_code(reports, o);
   });
 }

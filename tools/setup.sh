@@ -12,6 +12,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools
   chromium fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth
+  libfreetype-dev fonts-urw-base35
 )
 
 missing=()
