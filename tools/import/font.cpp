@@ -8,6 +8,7 @@
 #include <ft2build.h>
 #include FT_FREETYPE_H
 #include FT_OUTLINE_H
+#include FT_FONT_FORMATS_H
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -80,8 +81,9 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   }
   auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx - first); };
   std::vector<Item> items;
-  // Inner points of the straight piece from items.back() (a node) to q.
-  auto add_line = [&](const Item& from, const Item& to) {
+  // Inner points of the straight piece from a node to the next (by value:
+  // the pushes below may move `items`).
+  auto add_line = [&](const Item from, const Item to) {
     for (int k = 1; k < degree; ++k) {
       const double s = static_cast<double>(k) / degree;
       Item it;
@@ -123,10 +125,7 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
     if (items.back().p == items.front().p) {
       items.pop_back();
     }
-    if (items.size() > 1 && items.back().node) {
-      const Item from = items.back();
-      add_line(from, items.front());
-    }
+    if (items.size() > 1 && items.back().node) add_line(items.back(), items.front());
   }
   const bool any_inner = std::any_of(items.begin(), items.end(), [](const Item& i) { return !i.node; });
   if (items.size() < 2 || !any_inner) return {};
@@ -211,6 +210,11 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   font.family = face->family_name ? face->family_name : "";
   font.style = face->style_name ? face->style_name : "";
   font.units_per_em = face->units_per_EM;
+  // The format decides the degree, so that a glyph of straight lines only is
+  // a spline of the font's degree too.
+  const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
+  font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
+  const int font_degree = font.cubic ? 3 : 2;
   for (const std::uint32_t cp : codepoints) {
     const FT_UInt gid = FT_Get_Char_Index(face.get(), cp);
     if (gid == 0) {
@@ -233,10 +237,7 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
       g.name = buf;
     }
     const FT_Outline& o = face->glyph->outline;
-    int degree = 2;
-    for (int i = 0; i < o.n_points; ++i)
-      if (FT_CURVE_TAG(o.tags[i]) == FT_CURVE_TAG_CUBIC) degree = 3;
-    font.cubic = font.cubic || degree == 3;
+    const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
         if (std::optional<Contour> contour = make_contour(o, c, degree, g.name)) g.contours.push_back(std::move(*contour));

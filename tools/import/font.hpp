@@ -55,7 +55,7 @@ struct Font {
   std::string path;
   std::string family, style;
   int units_per_em = 0;
-  bool cubic = false;  ///< CFF outlines (degree 3); else TrueType (degree 2)
+  bool cubic = false;  ///< CFF or Type 1 outlines (degree 3); else TrueType (degree 2)
   std::vector<Glyph> glyphs;  ///< in the order asked for; characters the font lacks are left out
   std::vector<std::uint32_t> missing;
 };

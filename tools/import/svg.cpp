@@ -99,11 +99,13 @@ class Parser {
       skip();
       if (i_ >= d_.size()) break;
       if (std::isalpha(static_cast<unsigned char>(d_[i_]))) {
+        if (std::string("MmLlHhVvCcSsQqTtAaZz").find(d_[i_]) == std::string::npos)
+          fail("unknown command '" + std::string(1, d_[i_]) + "'");
+        if (cmd == 0 && d_[i_] != 'M' && d_[i_] != 'm') fail("path data must start with M or m");
         cmd = d_[i_];
-        if (std::string("MmLlHhVvCcSsQqTtAaZz").find(cmd) == std::string::npos) fail("unknown command '" + std::string(1, cmd) + "'");
         ++i_;
       } else if (cmd == 0) {
-        fail("path data must start with a command (M)");
+        fail("path data must start with M or m");
       } else if (cmd == 'Z' || cmd == 'z') {
         fail("numbers after Z");
       } else if (cmd == 'M') {
