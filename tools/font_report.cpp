@@ -88,8 +88,8 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         if (!(len > 0) || !std::isfinite(c.kappa)) continue;
         const Vec2 n(-d1.y / len, d1.x / len);
         const Vec2 tip = c.point - scale * c.kappa * n;  // outside a counter-clockwise bowl
-        teeth += "M" + xy(c.point) + "L" + xy(tip);
-        tips += (tips.empty() ? "M" : "L") + xy(tip);
+        teeth.append("M").append(xy(c.point)).append("L").append(xy(tip));
+        tips.append(tips.empty() ? "M" : "L").append(xy(tip));
       }
     }
     outline += "Z\"/>";

@@ -167,6 +167,23 @@ TEST(ImportFont, TrueTypeImpliedNodesAreSimpleKnots) {
   EXPECT_EQ(back.knots(), c.spline.knots());
 }
 
+// Straight pieces of a CFF glyph get two added inner points at 1/3 and 2/3,
+// named after the two on-curve points they join.
+TEST(ImportFont, AddedLinePointsAreNamedAfterTheirNodes) {
+  const Font font = read_font(kNimbus, {'I'});
+  const Contour& c = font.glyphs.at(0).contours.at(0);
+  int added = 0;
+  for (std::size_t k = 0; k < c.point_names.size(); ++k) {
+    if (c.font_point[k] >= 0) continue;
+    ++added;
+    const std::string& n = c.point_names[k];
+    EXPECT_EQ(n.rfind("I/c0/p", 0), 0u) << n;
+    EXPECT_TRUE(n.find("@1/3") != std::string::npos || n.find("@2/3") != std::string::npos) << n;
+    EXPECT_EQ(n.find("-"), std::string::npos) << n;
+  }
+  EXPECT_EQ(added, 2 * c.spline.segment_count());  // "I" is a rectangle: four lines
+}
+
 TEST(ImportFont, GlyphSpecAndErrors) {
   EXPECT_EQ(parse_glyph_spec("A-C,x"), (std::vector<std::uint32_t>{'A', 'B', 'C', 'x'}));
   EXPECT_EQ(parse_glyph_spec("U+00E9,\xC3\xA9,U+002C"), (std::vector<std::uint32_t>{0xE9, 0x2C}));

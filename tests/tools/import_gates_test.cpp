@@ -7,6 +7,8 @@
 #include <cmath>
 #include <fstream>
 
+#include "bezierize/region.hpp"
+#include "bezierize/region_setup.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tests/tools/cli_util.hpp"
@@ -162,6 +164,36 @@ TEST(Gates, TangentFixesAreOnTheGridAlongTheTangentAndVerified) {
       }
     }
   EXPECT_GT(checked, 0);
+}
+
+// A region for a point of a closed spline that the unrolled form repeats
+// moves both copies (the problem's rigid group holds the twin), and each
+// position's label is the verdict of the spline with the point moved there
+// (BSpline::with_point moves the twin). This closed curve is nowhere
+// monotone over its period, so the labels alone would not tell; the group does.
+TEST(Gates, RegionsOfClosedSplinesMoveTheRepeatedPoint) {
+  const BSpline s = BSpline::make_closed(3, {0, 1, 2, 3, 4, 5, 6}, {{2, 0}, {1, 1.5}, {-1, 1.5}, {-2, 0}, {-1, -1.5}, {1, -1.6}});
+  for (int k : {0, 2, 4}) {  // 0 and 2 have twins (6 and 8), 4 has none
+    RegionRequest rq;
+    rq.point = k;
+    rq.width = rq.height = 8;
+    rq.mode = Mode::cmrwi;
+    const RegionProblem problem = RegionProblem::make(s, rq);
+    std::vector<int> group = problem.setup().group;
+    std::sort(group.begin(), group.end());
+    const std::vector<int> want = k < 3 ? std::vector<int>{k, k + 6} : std::vector<int>{k};
+    EXPECT_EQ(group, want) << "point " << k;
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        const Vec2 p = pixel_center(problem.view(), 8, 8, i, j);
+        const SplineAnalysis a = analyze(s.with_point(k, p), {});
+        const RegionLabel want = a.cmrwi == Direction::increasing   ? RegionLabel::increasing
+                                 : a.cmrwi == Direction::decreasing ? RegionLabel::decreasing
+                                 : a.cmrwi == Direction::none       ? RegionLabel::not_monotone
+                                                                    : RegionLabel::undecided;
+        EXPECT_EQ(problem.classify(p).label, want) << "point " << k << " pixel " << i << "," << j;
+      }
+  }
 }
 
 TEST(Gates, RequireListParsing) {

@@ -88,8 +88,9 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
       const double s = static_cast<double>(k) / degree;
       Item it;
       it.p = from.p + s * (to.p - from.p);
-      it.name = from.name + "+p" + std::to_string(to.font_point - first) +
-                (degree > 2 ? "@" + std::to_string(k) + "/" + std::to_string(degree) : "");
+      it.name = from.name;
+      it.name.append("+p").append(std::to_string(to.font_point));  // font_point is already contour-relative
+      if (degree > 2) it.name.append("@").append(std::to_string(k)).append("/").append(std::to_string(degree));
       items.push_back(it);
     }
   };
