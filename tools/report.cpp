@@ -546,7 +546,7 @@ Json spline_json(const SplineReport& r, int index) {
   }
   const BSpline& s = *r.spline;
   j["degree"] = s.degree();
-  j["control_points"] = s.point_count();
+  j["control_points"] = s.unique_point_count();  // a closed spline's distinct points
   j["domain"] = {s.domain_begin(), s.domain_end()};
   Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)}, {"cmr", to_string(r.analysis.cmr)}};
   if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
