@@ -269,6 +269,32 @@ Alternation alternation_verdict(const std::vector<Direction>& groups) {
   return groups.front() == Direction::increasing ? Alternation::first_increasing : Alternation::first_decreasing;
 }
 
+Joint joint_between(const BSpline& spline, int left, int right, const ContinuityTolerances& tolerances) {
+  const Segment& L = spline.segments()[left];
+  const Segment& R = spline.segments()[right];
+  Joint j;
+  j.index = right == 0 ? spline.segment_count() : right;
+  j.knot = right == 0 ? L.b : R.a;
+  j.multiplicity = spline.multiplicity(R.a);
+  j.continuity = spline.degree() - j.multiplicity;
+  j.kappa_left = certified_end_curvature(spline, L, 1);
+  j.kappa_right = certified_end_curvature(spline, R, 0);
+  j.zero_tangent = std::isnan(j.kappa_left) || std::isnan(j.kappa_right);
+  j.jump = j.continuity >= 2 ? 0 : curvature_jump_sign(spline, L, R);
+  if (j.zero_tangent) {
+    j.angle_deg = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    // C^1 by the knots: the end derivatives are equal vectors, angle 0.
+    j.angle_deg = j.continuity >= 1 ? 0.0 : tangent_angle_deg(spline, L, R);
+    j.g1 = j.angle_deg <= tolerances.angle_deg;
+    // Equal curvature: exactly (C^2, or an exact jump of 0), or within the tolerance.
+    const double diff = std::fabs(j.kappa_right - j.kappa_left);
+    const double scale = std::max(std::fabs(j.kappa_left), std::fabs(j.kappa_right));
+    j.g2 = j.g1 && (j.continuity >= 2 || j.jump == 0 || diff <= tolerances.curvature_rel * scale);
+  }
+  return j;
+}
+
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   const int N = spline.segment_count();
   const SegmentRange range = judged_range(options.segments, N);
@@ -289,32 +315,7 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
     out.shapes.push_back(segment_shape(spline, s));
     out.cusp = out.cusp || out.shapes.back().cusp;
   }
-  const int d = spline.degree();
-  for (int i = 1; i < N; ++i) {
-    const Segment& L = spline.segments()[i - 1];
-    const Segment& R = spline.segments()[i];
-    Joint j;
-    j.index = i;
-    j.knot = R.a;
-    j.multiplicity = spline.multiplicity(R.a);
-    j.continuity = d - j.multiplicity;
-    j.kappa_left = certified_end_curvature(spline, L, 1);
-    j.kappa_right = certified_end_curvature(spline, R, 0);
-    j.zero_tangent = std::isnan(j.kappa_left) || std::isnan(j.kappa_right);
-    j.jump = j.continuity >= 2 ? 0 : curvature_jump_sign(spline, L, R);
-    if (j.zero_tangent) {
-      j.angle_deg = std::numeric_limits<double>::quiet_NaN();
-    } else {
-      // C^1 by the knots: the end derivatives are equal vectors, angle 0.
-      j.angle_deg = j.continuity >= 1 ? 0.0 : tangent_angle_deg(spline, L, R);
-      j.g1 = j.angle_deg <= options.continuity.angle_deg;
-      // Equal curvature: exactly (C^2, or an exact jump of 0), or within the tolerance.
-      const double diff = std::fabs(j.kappa_right - j.kappa_left);
-      const double scale = std::max(std::fabs(j.kappa_left), std::fabs(j.kappa_right));
-      j.g2 = j.g1 && (j.continuity >= 2 || j.jump == 0 || diff <= options.continuity.curvature_rel * scale);
-    }
-    out.joints.push_back(j);
-  }
+  for (int i = 1; i < N; ++i) out.joints.push_back(joint_between(spline, i - 1, i, options.continuity));
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
   const int first = range.first, end = range.last + 1;
   out.cmrwi = part_verdict(out.segments, out.joints, first, end, Mode::cmrwi, &out.joint_conflicts);

@@ -134,6 +134,12 @@ Split combine_split(Direction before, Direction after);
 /// The alternation verdict of consecutive groups' directions (segments.hpp).
 Alternation alternation_verdict(const std::vector<Direction>& groups);
 
+/// The joint between segments `left` and `right` (right = left + 1, or for a
+/// closed spline's seam left = N-1, right = 0: index N, knot at the end of the
+/// period): continuity from the knots, certified curvatures, the exact jump
+/// sign, and G1/G2 within `tolerances` (README, "Semantics").
+Joint joint_between(const BSpline& spline, int left, int right, const ContinuityTolerances& tolerances);
+
 /// Exact sign of kappa_right - kappa_left at a joint, from the spline's double
 /// data (rational arithmetic).
 int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right);

@@ -52,11 +52,16 @@ std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, in
   return pieces;
 }
 
-// The point group: k first, then the rigid members without repeats.
-std::vector<int> point_group(const RegionRequest& o) {
+// The point group: k first, then the rigid members without repeats. On a
+// closed spline every member brings its twin in the unrolled form (the same
+// control point), so the curve stays closed.
+std::vector<int> point_group(const BSpline& spline, const RegionRequest& o) {
   std::vector<int> group{o.point};
   for (int g : o.with)
     if (std::find(group.begin(), group.end(), g) == group.end()) group.push_back(g);
+  for (std::size_t i = 0, n = group.size(); i < n; ++i)
+    if (const int t = spline.twin(group[i]); t >= 0 && std::find(group.begin(), group.end(), t) == group.end())
+      group.push_back(t);
   return group;
 }
 
@@ -300,7 +305,7 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
     s.options.view = default_view(spline, options.width, options.height);
     validate_region_options(spline, s.options);  // a default view of huge coordinates can overflow
   }
-  s.group = point_group(options);
+  s.group = point_group(spline, options);
   s.anchor = spline.points()[options.point];
   s.range = judged_range(options.segments, spline.segment_count());
   s.cuts = options.split ? std::vector<int>{*options.split} : options.splits;

@@ -92,6 +92,67 @@ BSpline BSpline::bezier(std::vector<Vec2> points, std::string name, std::vector<
   return make(n, std::move(knots), std::move(points), std::move(name), std::move(weights));
 }
 
+BSpline BSpline::make_closed(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name,
+                             std::vector<double> weights) {
+  if (degree < 2) throw InputError("degree: must be at least 2 (got " + std::to_string(degree) + ")");
+  if (degree > kMaxDegree)
+    throw InputError("degree: at most " + std::to_string(kMaxDegree) + " is supported (got " + std::to_string(degree) + ")");
+  const int m = static_cast<int>(points.size());
+  if (m < 2) throw InputError("points: a closed spline needs at least 2 control points (got " + std::to_string(m) + ")");
+  if (knots.size() != static_cast<std::size_t>(m + 1))
+    throw InputError("knots: a closed spline needs points + 1 = " + std::to_string(m + 1) +
+                     " knots, one period u_0..u_m (got " + std::to_string(knots.size()) + ")");
+  for (int i = 0; i < m; ++i) check_finite_point(points[i], i);
+  for (std::size_t i = 0; i < knots.size(); ++i) {
+    if (!std::isfinite(knots[i])) throw InputError("knots[" + std::to_string(i) + "] is not a finite number");
+    if (i > 0 && knots[i] < knots[i - 1])
+      throw InputError("knots[" + std::to_string(i) + "] (" + num(knots[i]) + ") is smaller than knots[" +
+                       std::to_string(i - 1) + "] (" + num(knots[i - 1]) + ")");
+  }
+  const double T = knots[m] - knots[0];
+  if (!(T > 0)) throw InputError("knots: the period knots[" + std::to_string(m) + "] - knots[0] must be positive");
+  // Multiplicity counted cyclically: the run at u_m continues into the run at u_0.
+  int head = 1, tail = 1;
+  while (head < m && knots[head] == knots[0]) ++head;
+  while (tail < m && knots[m - tail] == knots[m]) ++tail;
+  if (head + tail - 1 > degree)
+    throw InputError("knots[0] and knots[" + std::to_string(m) + "] (the seam) have multiplicity " +
+                     std::to_string(head + tail - 1) + " together, above the degree " + std::to_string(degree));
+  // Periodic extension ũ_i for i = -(d-1)..m+d-1, and the unrolled points.
+  const int d = degree;
+  auto ext = [&](int i) {
+    const int q = (i >= 0 ? i / m : -((-i + m - 1) / m));
+    return knots[i - q * m] + q * T;
+  };
+  std::vector<double> unrolled;
+  for (int k = 0; k <= m + 2 * d - 2; ++k) unrolled.push_back(ext(k - d + 1));
+  if (!weights.empty() && weights.size() != static_cast<std::size_t>(m))
+    throw InputError("weights: one weight per control point is needed: " + std::to_string(m) + " points, " +
+                     std::to_string(weights.size()) + " weights");
+  std::vector<Vec2> q;
+  std::vector<double> qw;
+  for (int k = 0; k < m + d; ++k) {
+    q.push_back(points[k % m]);
+    if (!weights.empty()) qw.push_back(weights[k % m]);
+  }
+  BSpline s = make(degree, std::move(unrolled), std::move(q), std::move(name), std::move(qw));
+  s.closed_ = true;
+  s.period_points_ = m;
+  return s;
+}
+
+std::vector<double> BSpline::period_knots() const {
+  if (!closed_) return knots_;
+  return {knots_.begin() + (degree_ - 1), knots_.begin() + (degree_ + period_points_)};
+}
+
+int BSpline::twin(int k) const {
+  if (!closed_) return -1;
+  if (k < degree_) return k + period_points_;
+  if (k >= period_points_) return k - period_points_;
+  return -1;
+}
+
 const Segment& BSpline::segment_at(double t) const {
   auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
                              [](double v, const Segment& s) { return v < s.a; });
@@ -111,6 +172,10 @@ BSpline BSpline::with_point(int k, Vec2 p) const {
   BSpline s = *this;
   s.points_[k] = p;
   if (s.is_rational()) s.hpoints_[k] = to_hpoint<double>(p, s.weights_[k]);
+  if (const int t = twin(k); t >= 0) {
+    s.points_[t] = p;
+    if (s.is_rational()) s.hpoints_[t] = to_hpoint<double>(p, s.weights_[t]);
+  }
   return s;
 }
 
@@ -118,7 +183,11 @@ BSpline BSpline::reversed() const {
   std::vector<double> knots(knots_.rbegin(), knots_.rend());
   for (double& u : knots) u = -u;
   std::vector<Vec2> points(points_.rbegin(), points_.rend());
-  return make(degree_, std::move(knots), std::move(points), name_, {weights_.rbegin(), weights_.rend()});
+  // A closed spline's reversed unrolled form is again one: Q'_k = P_{(d-1-k) mod m}.
+  BSpline s = make(degree_, std::move(knots), std::move(points), name_, {weights_.rbegin(), weights_.rend()});
+  s.closed_ = closed_;
+  s.period_points_ = period_points_;
+  return s;
 }
 
 Vec2 blossom(const BSpline& spline, const Segment& s, const double* args) {

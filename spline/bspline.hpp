@@ -49,6 +49,22 @@ class BSpline {
                       std::string name = {}, std::vector<double> weights = {});
   /// The Bezier curve of degree points.size()-1 as a B-spline (knots 0^n 1^n).
   static BSpline bezier(std::vector<Vec2> points, std::string name = {}, std::vector<double> weights = {});
+  /// A closed (periodic) B-spline: m >= 2 control points P_0..P_{m-1} and the
+  /// m+1 knots u_0 <= ... <= u_m of one period T = u_m - u_0 > 0, span i being
+  /// [u_i, u_{i+1}]; each knot's multiplicity, counted cyclically (u_0 and u_m
+  /// are the same knot), is at most the degree. Stored unrolled, so that every
+  /// algorithm for open splines runs on it unchanged: the points are
+  /// Q_k = P_{k mod m}, k = 0..m+d-1, and the polar knots t_k = ũ_{k-d+1},
+  /// k = 0..m+2d-2, with ũ the periodic extension (ũ_{i+m} = ũ_i + T). The
+  /// unrolled spans d-1..m+d-2 are [u_0,u_1]..[u_{m-1},u_m]: the segments cover
+  /// one period exactly, segment i uses P_i..P_{i+d} (mod m), and the curve
+  /// ends where it starts with the continuity its knot gives there. The seam
+  /// (the joint at u_0 ≡ u_m, between the last segment and segment 0) is a
+  /// joint like every other one to code that asks closed() (the report's
+  /// joints and events, the type-design gates). InputError as make() does,
+  /// with the period's indices. `weights`: empty, or one per P_i (as make()).
+  static BSpline make_closed(int degree, std::vector<double> knots, std::vector<Vec2> points, std::string name = {},
+                             std::vector<double> weights = {});
 
   int degree() const { return degree_; }
   const std::vector<double>& knots() const { return knots_; }
@@ -77,8 +93,20 @@ class BSpline {
   /// Multiplicity of the knot value u (exact comparison).
   int multiplicity(double u) const;
 
+  /// Closed (make_closed): points() and knots() are the unrolled form.
+  bool closed() const { return closed_; }
+  /// m: the distinct control points (point_count() for an open spline; for a
+  /// closed one the first m of points(), the others repeat P_0..P_{d-1}).
+  int unique_point_count() const { return closed_ ? period_points_ : point_count(); }
+  /// Closed: u_0..u_m of one period (as given to make_closed); open: knots().
+  std::vector<double> period_knots() const;
+  /// The other index holding the same control point in the unrolled form
+  /// (k < d: k + m; k >= m: k - m), or -1 (open splines, and points without one).
+  int twin(int k) const;
+
   /// A copy with control point k replaced (no revalidation of knots needed;
-  /// the point must be finite: throws InputError otherwise).
+  /// the point must be finite: throws InputError otherwise). On a closed
+  /// spline its twin moves with it, so the copy stays closed.
   [[nodiscard]] BSpline with_point(int k, Vec2 p) const;
   /// The same curve traversed backwards: knots u -> -u reversed, points reversed.
   [[nodiscard]] BSpline reversed() const;
@@ -92,6 +120,8 @@ class BSpline {
   std::string name_;
   std::vector<double> weights_;
   std::vector<glm::dvec3> hpoints_;
+  bool closed_ = false;
+  int period_points_ = 0;  ///< m, closed splines only
 };
 
 /// f(args[0..d-1]) on segment s: the blossom of the piece of `spline` there.

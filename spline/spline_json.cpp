@@ -51,8 +51,9 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   if (!doc.is_object()) throw InputError("the document is not a JSON object with \"points\"");
   for (const auto& [key, value] : doc.items()) {
     (void)value;
-    if (key != "degree" && key != "knots" && key != "points" && key != "name" && key != "weights")
-      throw InputError("unknown field \"" + key + "\" (expected degree, knots, points, name, weights)");
+    if (key != "degree" && key != "knots" && key != "points" && key != "name" && key != "weights" && key != "closed" &&
+        key != "point_names")
+      throw InputError("unknown field \"" + key + "\" (expected degree, knots, points, name, weights, closed, point_names)");
   }
   if (!doc.contains("points")) throw InputError("points: missing");
   const json& pts = doc["points"];
@@ -75,6 +76,18 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
     if (!doc["name"].is_string()) throw InputError("name: not a string");
     name = doc["name"].get<std::string>();
   }
+  if (doc.contains("point_names")) {  // informational (importers' node names); checked, not kept
+    const json& names = doc["point_names"];
+    if (!names.is_array() || names.size() != pts.size())
+      throw InputError("point_names: not an array of one string per point");
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (!names[i].is_string()) throw InputError("point_names[" + std::to_string(i) + "] is not a string");
+  }
+  bool closed = false;
+  if (doc.contains("closed")) {
+    if (!doc["closed"].is_boolean()) throw InputError("closed: not true or false");
+    closed = doc["closed"].get<bool>();
+  }
   int degree = -1;
   if (doc.contains("degree")) {
     const json& d = doc["degree"];
@@ -83,6 +96,18 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
     if (v < 2 || v > kMaxDegree)
       throw InputError("degree: must be between 2 and " + std::to_string(kMaxDegree) + " (got " + std::to_string(v) + ")");
     degree = static_cast<int>(v);
+  }
+  if (closed) {
+    if (degree < 0) throw InputError("degree: missing (required for a closed spline)");
+    std::vector<double> knots;
+    if (doc.contains("knots")) {
+      const json& ks = doc["knots"];
+      if (!ks.is_array()) throw InputError("knots: not an array of numbers");
+      for (std::size_t i = 0; i < ks.size(); ++i) knots.push_back(number(ks[i], "knots[" + std::to_string(i) + "]"));
+    } else {
+      for (std::size_t i = 0; i <= points.size(); ++i) knots.push_back(static_cast<double>(i));  // uniform
+    }
+    return BSpline::make_closed(degree, std::move(knots), std::move(points), std::move(name), std::move(weights));
   }
   if (!doc.contains("knots")) {
     const int n = static_cast<int>(points.size()) - 1;
@@ -164,11 +189,13 @@ json spline_to_json(const BSpline& spline) {
   json doc;
   if (!spline.name().empty()) doc["name"] = spline.name();
   doc["degree"] = spline.degree();
-  doc["knots"] = spline.knots();
+  if (spline.closed()) doc["closed"] = true;
+  doc["knots"] = spline.period_knots();
   json pts = json::array();
-  for (const Vec2& p : spline.points()) pts.push_back({p.x, p.y});
+  for (int k = 0; k < spline.unique_point_count(); ++k) pts.push_back({spline.points()[k].x, spline.points()[k].y});
   doc["points"] = pts;
-  if (spline.is_rational()) doc["weights"] = spline.weights();
+  if (spline.is_rational())
+    doc["weights"] = std::vector<double>(spline.weights().begin(), spline.weights().begin() + spline.unique_point_count());
   return doc;
 }
 

@@ -6,6 +6,11 @@
 // Every error is an InputError whose message names the file, the field and
 // the index ("spline.json: points[2][1] is not a number").
 //
+// Closed splines (BSpline::make_closed): "closed": true, "degree" required,
+// "points" the m distinct control points and "knots" the m+1 knots of one
+// period (uniform 0..m when absent). "point_names" (optional, one string per
+// point: the importers' node names such as "A/c0/p3") is checked and not kept.
+//
 // A conventional (full, non-polar) knot vector has points + degree + 1 knots:
 // its first and last knots do not influence the curve, and dropping them gives
 // the polar form. Such a file is recognised and refused with that advice

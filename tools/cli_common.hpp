@@ -92,6 +92,8 @@ void add_knots_command(CLI::App& app, int& exit_code);
 void add_kcurve_command(CLI::App& app, int& exit_code);
 /// `cmr sweep`: see README "Command line".
 void add_sweep_command(CLI::App& app, int& exit_code);
+/// `cmr import`: fonts and SVG paths as spline files (tools/cmd_import.cpp).
+void add_import_command(CLI::App& app, int& exit_code);
 
 /// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
 /// optional). Errors name the file, field and index (InputError).

@@ -1,7 +1,9 @@
-// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:max|:min]] [--segments A..B] [--depth D]
-// [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
-// [--angle-tol DEG] [--curvature-tol REL]:
-// QA reports (DIR/report.json, DIR/index.html) and a gate on their verdicts.
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:max|:min],GATES...] [--segments A..B]
+// [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
+// [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z]: QA reports (DIR/report.json,
+// DIR/index.html) and a gate on their verdicts. A font file among FILES is imported
+// (tools/import/font.hpp): each glyph contour is one closed spline, fixes are suggested
+// on the font's unit grid, and DIR/font.html holds the per-glyph overview.
 #include <unistd.h>
 
 #include <iostream>
@@ -11,6 +13,8 @@
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/font_report.hpp"
+#include "tools/import/font.hpp"
 #include "tools/report.hpp"
 
 namespace cmr::cli {
@@ -29,6 +33,7 @@ struct ReportArgs {
   std::string device;
   int region_size = 96;
   bool pretty = false;
+  std::string glyphs = "A-Z,a-z";
 };
 
 // "[#####-----] 12/40 name" rewritten in place; only on a terminal.
@@ -39,16 +44,17 @@ void show_progress(int done, int total, const std::string& name) {
             << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
 }
 
-/// Writes dir/index.html and dir/report.json as one cmr::OutputSet (both or
+/// Writes dir/index.html (and font.html for fonts) and dir/report.json as one cmr::OutputSet (both or
 /// neither; dir is created, and removed again on failure if it was new).
 /// report.json is renamed last: it is the report's commit marker, so a
 /// report.json is always accompanied by the index.html of the same run, and
 /// two runs into one folder (serialised by the set's folder lock) never mix.
 void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
-                  const report::ReportOptions& options, bool pretty) {
+                  const report::ReportOptions& options, const std::vector<report::FontInfo>& fonts, bool pretty) {
   OutputSet out;
   out.create_folder(dir);
   out.stage(dir / "index.html", report::report_html(reports, options));
+  if (!fonts.empty()) out.stage(dir / "font.html", report::font_report_html(fonts, reports, options));
   out.stage(dir / "report.json", json_text(report::report_json(reports, options), pretty));
   out.commit();
 }
@@ -60,12 +66,14 @@ static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::
 void add_report_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
-  cmd->add_option("FILES", args->files, "spline files (JSON)")->required();
+  cmd->add_option("FILES", args->files, "spline files (JSON) or fonts (.ttf, .otf, ...)")->required();
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
-                  "gate: exit 1 when a spline fails cmrwi, cmr, or split:S (a curvature extremum at joint S: "
-                  "the parts before and after monotone in opposite directions), split:S:max, split:S:min");
+                  "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
+                  "joint S: the parts before and after monotone in opposite directions), split:S:max, split:S:min, "
+                  "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol] or no-inflection");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
+  cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9)")->capture_default_str();
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
            kMaxDepth)
       ->capture_default_str();
@@ -87,7 +95,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;
-    if (!args->require.empty()) o.require = report::parse_requirement(args->require);
+    if (!args->require.empty()) report::parse_require_list(args->require, o);
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
@@ -95,11 +103,20 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     std::vector<report::ReportInput> inputs;
-    for (const std::string& f : args->files) inputs.push_back(report::read_input(f));
+    std::vector<report::FontInfo> fonts;
+    const auto codepoints = import::parse_glyph_spec(args->glyphs);
+    for (const std::string& f : args->files) {
+      if (!import::is_font_path(f)) {
+        inputs.push_back(report::read_input(f));
+        continue;
+      }
+      fonts.push_back(report::font_inputs(import::read_font(f, codepoints), inputs));
+      o.grid = 1;  // the font's unit
+    }
     const bool terminal = ::isatty(STDERR_FILENO) == 1;
     const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
     if (terminal) std::cerr << "\r\033[K" << std::flush;
-    write_report(args->out, reports, o, args->pretty);
+    write_report(args->out, reports, o, fonts, args->pretty);
 
     int pass = 0, fail = 0, invalid = 0;
     for (const report::SplineReport& r : reports) {
@@ -113,7 +130,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail
               << " fail, " << invalid << " invalid; wrote "
               << (std::filesystem::path(args->out) / "index.html").string() << " and "
-              << (std::filesystem::path(args->out) / "report.json").string() << '\n';
+              << (std::filesystem::path(args->out) / "report.json").string()
+              << (fonts.empty() ? "" : " and " + (std::filesystem::path(args->out) / "font.html").string()) << '\n';
     exit_code = report::exit_code(reports, o);
   });
 }

@@ -310,11 +310,15 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
   return span;
 }
 
-/// Continuity of every joint: C<k> from the knots; G1/G2 as analyze found them.
-std::vector<JointReport> joint_reports(const SplineAnalysis& analysis) {
+/// Continuity of every joint: C<k> from the knots; G1/G2 as analyze finds
+/// them (joint_between). A closed spline's seam (the end of segment N-1
+/// against the start of segment 0) is joint N, judged like the others.
+std::vector<JointReport> joint_reports(const BSpline& spline, const SplineAnalysis& analysis,
+                                       const ContinuityTolerances& tolerances) {
+  std::vector<Joint> joints = analysis.joints;
+  if (spline.closed()) joints.push_back(joint_between(spline, spline.segment_count() - 1, 0, tolerances));
   std::vector<JointReport> out;
-  for (const Joint& j : analysis.joints)
-    out.push_back({j, std::string(1, 'C') + std::to_string(j.continuity), !j.g1});
+  for (const Joint& j : joints) out.push_back({j, std::string(1, 'C') + std::to_string(j.continuity), !j.g1});
   return out;
 }
 
@@ -326,18 +330,26 @@ std::vector<JointReport> joint_reports(const SplineAnalysis& analysis) {
 void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
   const BSpline& spline = *r.spline;
   const int N = spline.segment_count();
-  auto span_end = [&](int i) { return Place{spline.segments()[i].b, -1, i + 1 < N ? i + 1 : -1, 0}; };
+  // On a closed spline the last segment ends on the seam (joint N), whose
+  // jump follows it, and the curve goes on with its first stretch again.
+  const int last_joint = spline.closed() ? N : -1;
+  auto span_end = [&](int i) { return Place{spline.segments()[i].b, -1, i + 1 < N ? i + 1 : last_joint, 0}; };
   std::vector<Stretch> slope, sign;
   for (int i = 0; i < N; ++i) {
-    if (i > 0 && r.analysis.joints[i - 1].jump != 0)
-      slope.push_back({r.analysis.joints[i - 1].jump, {spline.segments()[i].a, -1, i, 0}});
+    if (i > 0 && r.joints[i - 1].joint.jump != 0)
+      slope.push_back({r.joints[i - 1].joint.jump, {spline.segments()[i].a, -1, i, 0}});
     if (!r.spans[i].lambda_zero) add_span_stretches(slope, start[i].lambda, r.spans[i].extrema, i, span_end(i));
     if (!r.spans[i].eta_zero) add_span_stretches(sign, start[i].eta, r.spans[i].inflections, i, span_end(i));
+  }
+  if (spline.closed()) {
+    if (r.joints[N - 1].joint.jump != 0) slope.push_back({r.joints[N - 1].joint.jump, {spline.domain_end(), -1, N, 0}});
+    if (!slope.empty()) slope.push_back(slope.front());
+    if (!sign.empty()) sign.push_back(sign.front());
   }
   for (const SignChange& c : sign_changes(slope)) {
     CurveEvent e{c.at.t, c.before > 0 ? 1 : -1, c.at.kappa, c.at.segment, c.at.joint};
     if (c.at.joint >= 0) {
-      const Joint& j = r.analysis.joints[c.at.joint - 1];
+      const Joint& j = r.joints[c.at.joint - 1].joint;
       e.kappa = e.kind > 0 ? std::max(j.kappa_left, j.kappa_right) : std::min(j.kappa_left, j.kappa_right);
     }
     r.extrema.push_back(e);
@@ -377,16 +389,22 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   r.spline = spline;
   r.name = spline.name();
   r.analysis = analyze(spline, analyze_options(options));
-  r.pass = passes(r.analysis, check_of(options));
+  r.requirement_pass = passes(r.analysis, check_of(options));
   ExactPoints exact(spline);
   std::vector<StartSigns> start(spline.segment_count());
   for (int i = 0; i < spline.segment_count(); ++i) {
     r.spans.push_back(span_report(spline, i, r.analysis.segments[i], options.roots, exact, start[i]));
     r.spans.back().shape = r.analysis.shapes[i];
   }
-  r.joints = joint_reports(r.analysis);
+  r.joints = joint_reports(spline, r.analysis, options.continuity);
   find_events(r, start);
   curvature_range(r);
+  r.gates = check_gates(r, options.gates);
+  // With gates alone the monotonicity check is informational (a closed
+  // contour is never monotone over its period).
+  const bool judged = options.require.has_value() || options.gates.empty();
+  r.pass = (!judged || r.requirement_pass) &&
+           std::all_of(r.gates.begin(), r.gates.end(), [](const GateResult& g) { return g.pass(); });
   return r;
 }
 
@@ -420,7 +438,7 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
   const BSpline& spline = *report.spline;
   const Requirement check = check_of(options);
   std::vector<Fix> fixes;
-  for (int k = 0; k < spline.point_count(); ++k) {
+  for (int k = 0; k < spline.unique_point_count(); ++k) {  // a closed spline's twins move with k
     RegionRequest ro;
     ro.point = k;
     ro.mode = check.mode;
@@ -492,6 +510,8 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
   std::mutex mutex;
   parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
     out[i] = report_item(inputs[i], options);
+    if (out[i].error.empty() && !out[i].pass && options.grid > 0 && options.regions)
+      out[i].tangent_fixes = suggest_tangent_fixes(out[i], options, options.grid);
     const std::lock_guard lock(mutex);
     ++done;
     if (progress) progress(done, total, out[i].name);
@@ -499,8 +519,10 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
   if (!options.regions) return out;
   // Regions one spline at a time: each render already uses every core (or the GPU).
   std::vector<SplineReport*> failing;
-  for (SplineReport& r : out)
-    if (r.error.empty() && !r.pass) failing.push_back(&r);
+  for (SplineReport& r : out) {
+    // Regions search fixes of the monotonicity requirement, not of the gates.
+    if (r.error.empty() && !r.requirement_pass && (options.require || options.gates.empty())) failing.push_back(&r);
+  }
   for (std::size_t i = 0; i < failing.size(); ++i) {
     find_fixes(*failing[i], options);
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(failing.size()), "regions: " + failing[i]->name);
@@ -515,7 +537,7 @@ int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& opt
     fail = fail || (r.error.empty() && !r.pass);
   }
   if (invalid) return kExitInvalid;
-  if (fail && options.require) return kExitFail;
+  if (fail && (options.require || !options.gates.empty())) return kExitFail;
   return kExitPass;
 }
 
@@ -637,7 +659,7 @@ Json spline_json(const SplineReport& r, int index) {
   }
   const BSpline& s = *r.spline;
   j["degree"] = s.degree();
-  j["control_points"] = s.point_count();
+  j["control_points"] = s.unique_point_count();  // a closed spline's distinct points
   j["domain"] = {s.domain_begin(), s.domain_end()};
   Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)},
                {"cmr", to_string(r.analysis.cmr)},
@@ -664,6 +686,26 @@ Json spline_json(const SplineReport& r, int index) {
   j["segments"] = segments_json(r);
   j["joints"] = joints_json(r);
   j["fixes"] = fixes_json(r);
+  if (s.closed()) j["closed"] = true;
+  if (!r.gates.empty()) {
+    Json gates = Json::array();
+    for (const GateResult& g : r.gates) {
+      Json where = Json::array();
+      for (const GateViolation& v : g.violations) {
+        Json w{{"t", v.t}, {"message", v.message}};
+        if (v.segment >= 0) w["segment"] = v.segment, w["local_t"] = v.local_t;
+        if (v.joint >= 0) w["joint"] = v.joint;
+        where.push_back(w);
+      }
+      gates.push_back({{"gate", to_string(g.gate)}, {"pass", g.pass()}, {"violations", where}});
+    }
+    j["gates"] = gates;
+    Json tf = Json::array();
+    for (const TangentFix& f : r.tangent_fixes)
+      tf.push_back({{"point", f.point}, {"from", {f.from.x, f.from.y}}, {"to", {f.to.x, f.to.y}},
+                    {"along", f.neighbour}, {"verified", f.verified}});
+    j["tangent_fixes"] = tf;
+  }
   return j;
 }
 
@@ -684,8 +726,13 @@ nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, con
   return {{"schema", kSchema},
           {"settings",
            {{"check", to_string(check_of(options))},
-            {"gate", options.require.has_value()},
+            {"gate", options.require.has_value() || !options.gates.empty()},
             {"segments", options.segments ? Json{options.segments->first, options.segments->last} : Json(nullptr)},
+            {"type_gates", [&] {
+               Json g = Json::array();
+               for (const Gate& x : options.gates) g.push_back(to_string(x));
+               return g;
+             }()},
             {"depth", options.max_depth},
             {"root_tolerance", options.roots.tolerance},
             {"regions", regions}}},

@@ -22,6 +22,7 @@
 
 #include "bezierize/region.hpp"
 #include "spline/limits.hpp"
+#include "tools/gates.hpp"
 
 namespace cmr::report {
 
@@ -67,6 +68,8 @@ struct ReportOptions {
   /// Judge only these segments (verdicts, gate, fixes); the others are
   /// reported as ignored (their roots and the curve's events are still listed).
   std::optional<SegmentRange> segments;
+  std::vector<Gate> gates;             ///< type-design gates (tools/gates.hpp); a spline must pass all
+  double grid = 0;                     ///< > 0 (with regions): suggest tangent fixes for failing gates on this grid
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.
@@ -132,9 +135,12 @@ struct SplineReport {
   std::string error;  ///< invalid input: the message; nothing below is filled
   std::optional<BSpline> spline;
   SplineAnalysis analysis;  ///< analyze() with the report's depth and split
-  bool pass = false;        ///< it satisfies check_of(options)
+  bool pass = false;        ///< it satisfies check_of(options) (unless only gates are asked for) and every gate
+  bool requirement_pass = false;     ///< it satisfies check_of(options)
+  std::vector<GateResult> gates;     ///< one per ReportOptions::gates
+  std::vector<TangentFix> tangent_fixes;  ///< for failing gates, with ReportOptions::grid
   std::vector<SpanReport> spans;    ///< one per segment
-  std::vector<JointReport> joints;  ///< one per joint (segment i-1 | i)
+  std::vector<JointReport> joints;  ///< one per joint (segment i-1 | i); a closed spline's seam last (index N)
   std::vector<CurveEvent> extrema;      ///< in parameter order
   std::vector<CurveEvent> inflections;  ///< in parameter order
   int monotone_pieces = 1;              ///< extrema.size() + 1

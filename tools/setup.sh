@@ -13,6 +13,7 @@ packages=(
   chromium fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth
   libopenmesh-dev
+  libfreetype-dev fonts-urw-base35
 )
 
 missing=()

@@ -1,0 +1,80 @@
+// cmr import FONT [--glyphs A-Z,a-z] [--out DIR] | cmr import FILE.svg [--out DIR]:
+// font glyph contours (tools/import/font.hpp) and SVG subpaths
+// (tools/import/svg.hpp) as spline files, one per contour or subpath, all
+// written or none (cmr::OutputSet; the output folder is created if missing).
+#include <iostream>
+#include <set>
+
+#include <CLI/CLI.hpp>
+
+#include "spline/errors.hpp"
+#include "tools/cli_common.hpp"
+#include "tools/import/font.hpp"
+#include "tools/import/svg.hpp"
+
+namespace cmr::cli {
+
+namespace {
+
+struct ImportArgs {
+  std::string input;
+  std::string glyphs = "A-Z,a-z";
+  std::string out = ".";
+};
+
+}  // namespace
+
+void add_import_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<ImportArgs>();
+  auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF) or SVG paths as spline files");
+  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...) or SVG file (.svg)")->required();
+  cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated)")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
+  cmd->callback([args, cmd, &exit_code] {
+    const std::filesystem::path input = args->input;
+    std::string ext = input.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    OutputSet files;
+    int written = 0, rational = 0;
+    if (ext == ".svg") {
+      if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
+      const auto paths = import::read_svg(input);
+      const std::filesystem::path dir = args->out;
+      files.create_folder(dir);
+      int index = 0;
+      for (const import::PathSpline& s : paths) {
+        files.stage(dir / (input.stem().string() + "_" + std::to_string(index++) + ".json"),
+                    import::path_json(s).dump(2) + "\n");
+        ++written;
+        rational += s.rational() ? 1 : 0;
+      }
+      files.commit();
+      std::cout << "imported " << written << (written == 1 ? " subpath" : " subpaths") << " (" << rational
+                << " rational) from " << args->input << " into " << dir.string() << '\n';
+    } else if (import::is_font_path(input)) {
+      const import::Font font = import::read_font(input, import::parse_glyph_spec(args->glyphs));
+      const std::filesystem::path dir = args->out;
+      files.create_folder(dir);
+      std::set<std::string> stems;
+      for (const import::Glyph& g : font.glyphs)
+        for (const import::Contour& c : g.contours) {
+          const std::string stem = import::file_stem(g.name) + "_c" + std::to_string(c.index);
+          if (!stems.insert(stem).second) continue;  // a glyph asked for twice (two code points, one glyph)
+          files.stage(dir / (stem + ".json"), import::contour_json(c).dump(2) + "\n");
+          ++written;
+        }
+      files.commit();
+      std::cout << "imported " << font.glyphs.size() << " glyphs, " << written << " contours ("
+                << (font.cubic ? "cubic" : "quadratic") << ", " << font.units_per_em << " units per em) from "
+                << args->input << " into " << dir.string();
+      if (!font.missing.empty()) std::cout << "; " << font.missing.size() << " characters not in the font";
+      std::cout << '\n';
+    } else {
+      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff) or .svg file");
+    }
+    exit_code = kOk;
+  });
+}
+
+}  // namespace cmr::cli

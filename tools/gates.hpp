@@ -1,0 +1,92 @@
+#pragma once
+/// Type-design gates (`cmr report --require`, comma separated, beside cmrwi,
+/// cmr and split:S), judged on a spline's certified report (report.hpp: the
+/// extrema and inflections come from the exact roots of lambda and eta,
+/// bezierize/roots.hpp, and the curvature jumps at joints; nothing is
+/// sampled). A "node" is a joint (on a closed spline the seam too): the
+/// on-curve points of a font contour.
+///
+///  * extrema-at-nodes: every curvature extremum lies on a node (the rule type
+///    designers use); one inside a segment is a violation, located by
+///    segment and parameter (spline t and the segment's local t in [0, 1]).
+///  * max-extrema-per-segment:N: at most N extrema strictly inside any one
+///    segment.
+///  * g2-at-smooth-nodes[:tol]: at every smooth node (C1 or better, or G1 by
+///    exact tangents; corners are exempt) the curvature on both sides agrees
+///    within tol relative to the larger: |kl - kr| <= tol * max(|kl|, |kr|).
+///    Default tol kDefaultG2Tolerance.
+///  * no-inflection: the curvature never changes sign.
+///
+/// Suggested fixes (suggest_tangent_fixes): for a violation inside a
+/// segment, one handle (a control point that is not a node) of that segment
+/// moved along the line to one of its neighbours (for a handle next to a
+/// node that line is the node's tangent, so a smooth node stays smooth; for
+/// TrueType's implied nodes it is the implied node's tangent), in steps of
+/// the grid, the moved point snapped to the grid, and the spline re-reported:
+/// a fix is kept only when, on the snapped spline, that gate has no violation
+/// in that segment any more, the spline has fewer violations in all, and no
+/// smooth joint became a corner.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "spline/bspline.hpp"
+
+namespace cmr::report {
+
+struct SplineReport;
+struct ReportOptions;
+
+/// Default relative tolerance of g2-at-smooth-nodes.
+inline constexpr double kDefaultG2Tolerance = 0.05;
+
+struct Gate {
+  enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection };
+  Kind kind = Kind::extrema_at_nodes;
+  int max_extrema = 1;                     ///< max-extrema-per-segment:N
+  double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
+};
+
+/// A gate's text, or nothing when `text` names no gate (InputError when it
+/// names one with a bad argument: "max-extrema-per-segment:x").
+std::optional<Gate> parse_gate(const std::string& text);
+/// "extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection".
+std::string to_string(const Gate& gate);
+
+/// Parses --require: comma-separated items, at most one of cmrwi / cmr /
+/// split:S (options.require) and any gates (options.gates). InputError names
+/// the item that is neither.
+void parse_require_list(const std::string& text, ReportOptions& options);
+
+/// Where a gate fails.
+struct GateViolation {
+  int segment = -1;      ///< inside this segment, or
+  int joint = -1;        ///< at this joint (index i starts segment i mod N; N is a closed spline's seam)
+  double t = 0;          ///< spline parameter
+  double local_t = 0;    ///< within the segment, 0..1 (segment violations)
+  std::string message;   ///< one line: "curvature maximum inside segment 3 at t = 0.42"
+};
+
+struct GateResult {
+  Gate gate;
+  std::vector<GateViolation> violations;
+  bool pass() const { return violations.empty(); }
+};
+
+/// Every gate on one report (its extrema, inflections and joints).
+std::vector<GateResult> check_gates(const SplineReport& report, const std::vector<Gate>& gates);
+
+/// A handle move that removes a violation (see the header comment).
+struct TangentFix {
+  int point = 0;      ///< control point index (among the distinct ones)
+  Vec2 from{0.0}, to{0.0};  ///< to is on the grid
+  int neighbour = 0;  ///< the point whose line the move follows
+  bool verified = false;  ///< re-reported after snapping: the violation is gone, fewer in all, no new corner
+};
+
+/// Fixes for a report whose gates fail: at most one per handle, the smallest
+/// move first. grid > 0 is the snapping unit (a font's unit); steps are 1, 2,
+/// 4, ..., 64 grid units in both directions.
+std::vector<TangentFix> suggest_tangent_fixes(const SplineReport& report, const ReportOptions& options, double grid);
+
+}  // namespace cmr::report

@@ -1,0 +1,65 @@
+#pragma once
+/// SVG path data as B-splines (SVG 1.1 §8.3, "paths"; arcs per Appendix F.6).
+///
+/// Every <path d="..."> of a file is read (other elements, styles and
+/// transforms are ignored). Commands M/L/H/V/C/S/Q/T/A/Z, absolute (upper
+/// case) and relative (lower case, each coordinate pair relative to the
+/// current point at the start of its own segment); repeated coordinate sets
+/// continue the command (after M/m as L/l); S/T reflect the previous C/S
+/// (Q/T) control point, else use the current point.
+///
+/// Each subpath becomes one spline: a chain of Bezier pieces, one unit-length
+/// span per piece, every node a knot of multiplicity d (C0; smoothness is the
+/// tangents'). All pieces are raised to the subpath's highest degree (lines
+/// 1, Q/T 2, C/S 3, arcs 2), at least 2: a line as a uniformly parametrised
+/// Bezier curve, a curve by degree elevation (in homogeneous coordinates
+/// when rational). "Z" closes the subpath (a line back to its start when the
+/// current point is elsewhere) and the spline is closed (BSpline::make_closed).
+/// An arc is converted to rational quadratic pieces of at most 90 degrees
+/// each: ends on the ellipse, middle point where the end tangents meet, with
+/// weight cos(half the sweep) (the other weights 1). A subpath with an arc is
+/// a rational spline: its file carries "weights", one per control point.
+/// Degenerate arcs follow F.6.2: equal ends draw nothing, a zero radius a line.
+///
+/// Errors: InputError naming the file, the path's number and the offset in
+/// its d attribute ("drawing.svg: path 2, d[14]: expected a number").
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "spline/bspline.hpp"
+
+namespace cmr::import {
+
+/// One subpath as a (possibly rational, possibly closed) B-spline.
+struct PathSpline {
+  std::string name;
+  int degree = 2;
+  bool closed = false;
+  std::vector<double> knots;   ///< polar knots (open), or the m+1 period knots (closed)
+  std::vector<Vec2> points;    ///< control points (closed: the m distinct ones)
+  std::vector<double> weights; ///< one per point when rational; empty when every weight is 1
+  bool rational() const { return !weights.empty(); }
+};
+
+/// The subpaths of one d attribute; names are "PREFIX/sK".
+std::vector<PathSpline> parse_path_data(const std::string& d, const std::string& prefix);
+
+/// Every path of an SVG file; names "STEM/pathN/sK" (or the path's id for pathN).
+std::vector<PathSpline> read_svg(const std::filesystem::path& path);
+
+/// The spline file: degree, knots, points, name, "closed" when closed and
+/// "weights" when rational.
+nlohmann::json path_json(const PathSpline& s);
+
+/// The spline itself (BSpline has no weights yet): nothing for a rational one.
+std::optional<BSpline> to_bspline(const PathSpline& s);
+
+/// Point at parameter t of a (rational) Bezier piece with homogeneous
+/// weights: sum w_i P_i B_i(t) / sum w_i B_i(t) (de Casteljau on (wP, w)).
+Vec2 rational_bezier_point(const std::vector<Vec2>& points, const std::vector<double>& weights, double t);
+
+}  // namespace cmr::import
