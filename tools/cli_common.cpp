@@ -135,6 +135,14 @@ void add_pretty_flag(CLI::App& cmd, bool& pretty) {
   cmd.add_flag("--pretty", pretty, "indent the JSON (default: compact, one line)");
 }
 
+void add_continuity_options(CLI::App& cmd, ContinuityTolerances& tolerances) {
+  cmd.add_option("--angle-tol", tolerances.angle_deg, "G1 at a joint: end tangents within this angle (degrees)")
+      ->capture_default_str();
+  cmd.add_option("--curvature-tol", tolerances.curvature_rel,
+                 "G2 at a joint: G1 and curvatures equal within this relative tolerance")
+      ->capture_default_str();
+}
+
 CLI::Option* in_range(CLI::Option* option, double lo, double hi) {
   const std::string range = number_text(lo) + ".." + number_text(hi);
   option->check(CLI::Validator(

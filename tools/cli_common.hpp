@@ -12,6 +12,7 @@
 #include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
 #include "tools/io.hpp"
 
@@ -64,6 +65,9 @@ std::string json_text(const nlohmann::ordered_json& doc, bool pretty);
 void print_json(const nlohmann::ordered_json& doc, bool pretty);
 /// Adds the --pretty flag (indented JSON) every JSON-printing command has.
 void add_pretty_flag(CLI::App& cmd, bool& pretty);
+/// Adds --angle-tol DEG and --curvature-tol REL (G1/G2 at joints), the same
+/// on analyze and report; validate(tolerances) checks them.
+void add_continuity_options(CLI::App& cmd, ContinuityTolerances& tolerances);
 
 /// Checks a numeric option against LO..HI with the one range message of the
 /// command: "--depth: 99 is outside 0..30". Returns `option`.

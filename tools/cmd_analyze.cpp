@@ -95,12 +95,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--mode", args->mode, "verdict used for --split")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
-  cmd->add_option("--angle-tol", args->continuity.angle_deg,
-                  "G1 at a joint: end tangents within this angle (degrees)")
-      ->capture_default_str();
-  cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
-                  "G2 at a joint: G1 and curvatures equal within this relative tolerance")
-      ->capture_default_str();
+  add_continuity_options(*cmd, args->continuity);
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     const BSpline spline = read_spline_file(args->file);

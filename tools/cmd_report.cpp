@@ -84,12 +84,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--device", args->device, "Vulkan device name (substring)");
   in_range(cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side"), 8, 1024)
       ->capture_default_str();
-  cmd->add_option("--angle-tol", args->continuity.angle_deg,
-                  "G1 at a joint: end tangents within this angle (degrees)")
-      ->capture_default_str();
-  cmd->add_option("--curvature-tol", args->continuity.curvature_rel,
-                  "G2 at a joint: G1 and curvatures equal within this relative tolerance")
-      ->capture_default_str();
+  add_continuity_options(*cmd, args->continuity);
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file

@@ -136,6 +136,62 @@ Result<void> begin_one_time(VkCommandBuffer cmd) {
   return {};
 }
 
+Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
+                           VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view what) {
+  const VkDevice device = state.device;
+  const std::string label = std::string(what) + " (" + std::to_string(size) + " bytes)";
+  // On failure nothing half-made is left behind in `out`.
+  const auto fail = [&](Error e) {
+    destroy_buffer(device, out);
+    return e;
+  };
+  VkBufferCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+  info.size = size;
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  if (VkResult r = vkCreateBuffer(device, &info, nullptr, &out.buffer); r != VK_SUCCESS) {
+    out.buffer = VK_NULL_HANDLE;
+    return fail(vk_error(r, "vkCreateBuffer for " + label));
+  }
+  out.size = size;
+
+  VkMemoryRequirements req{};
+  vkGetBufferMemoryRequirements(device, out.buffer, &req);
+  const auto type = find_memory_type(state.memory, req.memoryTypeBits, required, preferred);
+  if (!type) {
+    return fail(Error{Errc::out_of_memory, VK_SUCCESS, "no suitable memory type for " + label});
+  }
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = *type;
+  if (VkResult r = vkAllocateMemory(device, &alloc, nullptr, &out.memory); r != VK_SUCCESS) {
+    out.memory = VK_NULL_HANDLE;
+    return fail(vk_error(r, "vkAllocateMemory for " + label));
+  }
+  if (VkResult r = vkBindBufferMemory(device, out.buffer, out.memory, 0); r != VK_SUCCESS) {
+    return fail(vk_error(r, "vkBindBufferMemory for " + label));
+  }
+  const VkMemoryPropertyFlags flags = state.memory.memoryTypes[*type].propertyFlags;
+  out.coherent = (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0;
+  if ((required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0) {
+    void* mapped = nullptr;
+    if (VkResult r = vkMapMemory(device, out.memory, 0, VK_WHOLE_SIZE, 0, &mapped); r != VK_SUCCESS) {
+      return fail(vk_error(r, "vkMapMemory for " + label));
+    }
+    out.mapped = static_cast<std::byte*>(mapped);
+  }
+  return {};
+}
+
+void destroy_buffer(VkDevice device, Buffer& buffer) {
+  // Freeing memory implicitly unmaps it.
+  if (buffer.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, buffer.buffer, nullptr);
+  if (buffer.memory != VK_NULL_HANDLE) vkFreeMemory(device, buffer.memory, nullptr);
+  buffer = Buffer{};
+}
+
 Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence) {
   VkSubmitInfo info{};
   info.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;

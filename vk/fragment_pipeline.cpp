@@ -82,13 +82,7 @@ Result<void> check_fragment_spirv(std::span<const uint32_t> words) {
   return {};
 }
 
-struct Buffer {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  std::byte* mapped = nullptr;  // non-null for host-visible buffers
-  VkDeviceSize size = 0;
-  bool coherent = true;
-};
+using detail::Buffer;
 
 }  // namespace
 
@@ -134,8 +128,10 @@ struct FragmentPipeline::Impl {
 
   Result<void> create_buffer(Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
                              VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
-                             const char* what);
-  void destroy_buffer(Buffer& buffer);
+                             const char* what) {
+    return detail::create_buffer(*state, out, size, usage, required, preferred, what);
+  }
+  void destroy_buffer(Buffer& buffer) { detail::destroy_buffer(device, buffer); }
   Result<void> create_image();
   Result<void> create_render_pass_and_framebuffer();
   Result<void> create_pipeline(std::span<const uint32_t> fragment_spirv, std::span<const uint32_t> specialization);
@@ -164,64 +160,6 @@ FragmentPipeline::Impl::~Impl() {
   destroy_buffer(storage);
   destroy_buffer(staging);
   destroy_buffer(readback);
-}
-
-Result<void> FragmentPipeline::Impl::create_buffer(Buffer& out, VkDeviceSize size,
-                                                   VkBufferUsageFlags usage,
-                                                   VkMemoryPropertyFlags required,
-                                                   VkMemoryPropertyFlags preferred,
-                                                   const char* what) {
-  const std::string label = std::string(what) + " (" + std::to_string(size) + " bytes)";
-  // On failure nothing half-made is left behind in `out`.
-  const auto fail = [&](Error e) {
-    destroy_buffer(out);
-    return e;
-  };
-  VkBufferCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-  info.size = size;
-  info.usage = usage;
-  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  if (VkResult r = vkCreateBuffer(device, &info, nullptr, &out.buffer); r != VK_SUCCESS) {
-    out.buffer = VK_NULL_HANDLE;
-    return fail(vk_error(r, "vkCreateBuffer for " + label));
-  }
-  out.size = size;
-
-  VkMemoryRequirements req{};
-  vkGetBufferMemoryRequirements(device, out.buffer, &req);
-  const auto type = detail::find_memory_type(state->memory, req.memoryTypeBits, required, preferred);
-  if (!type) {
-    return fail(Error{Errc::out_of_memory, VK_SUCCESS, "no suitable memory type for " + label});
-  }
-  VkMemoryAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = *type;
-  if (VkResult r = vkAllocateMemory(device, &alloc, nullptr, &out.memory); r != VK_SUCCESS) {
-    out.memory = VK_NULL_HANDLE;
-    return fail(vk_error(r, "vkAllocateMemory for " + label));
-  }
-  if (VkResult r = vkBindBufferMemory(device, out.buffer, out.memory, 0); r != VK_SUCCESS) {
-    return fail(vk_error(r, "vkBindBufferMemory for " + label));
-  }
-  const VkMemoryPropertyFlags flags = state->memory.memoryTypes[*type].propertyFlags;
-  out.coherent = (flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT) != 0;
-  if ((required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0) {
-    void* mapped = nullptr;
-    if (VkResult r = vkMapMemory(device, out.memory, 0, VK_WHOLE_SIZE, 0, &mapped); r != VK_SUCCESS) {
-      return fail(vk_error(r, "vkMapMemory for " + label));
-    }
-    out.mapped = static_cast<std::byte*>(mapped);
-  }
-  return {};
-}
-
-void FragmentPipeline::Impl::destroy_buffer(Buffer& buffer) {
-  // Freeing memory implicitly unmaps it.
-  if (buffer.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, buffer.buffer, nullptr);
-  if (buffer.memory != VK_NULL_HANDLE) vkFreeMemory(device, buffer.memory, nullptr);
-  buffer = Buffer{};
 }
 
 Result<void> FragmentPipeline::Impl::create_image() {

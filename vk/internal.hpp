@@ -53,6 +53,26 @@ std::optional<uint32_t> find_memory_type(const VkPhysicalDeviceMemoryProperties&
                                          uint32_t type_bits, VkMemoryPropertyFlags required,
                                          VkMemoryPropertyFlags preferred);
 
+// A buffer with its own memory, bound; mapped when host-visible.
+struct Buffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  std::byte* mapped = nullptr;  // non-null for host-visible buffers
+  VkDeviceSize size = 0;
+  bool coherent = true;
+};
+
+// Creates `out` (which must be empty): `size` bytes of `usage` in memory with
+// the `required` flags (preferring `preferred`), bound, and mapped when
+// host-visible. On failure nothing half-made is left in `out`; `what` names
+// the buffer in the error. The one buffer primitive of FragmentPipeline,
+// Presenter and the region drawing.
+Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
+                           VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view what);
+
+// Destroys the buffer and frees its memory (which unmaps it); `buffer` becomes empty.
+void destroy_buffer(VkDevice device, Buffer& buffer);
+
 // ---- Command recording and submission shared by Presenter, FragmentPipeline
 // and the region drawing: one place for the barrier and submit boilerplate.
 

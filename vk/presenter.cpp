@@ -36,11 +36,7 @@ struct SlotSync {
   VkSemaphore acquired = VK_NULL_HANDLE;
 };
 
-struct Readback {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkDeviceSize size = 0;
-};
+using Readback = detail::Buffer;  // host-visible, coherent, mapped while it exists
 
 }  // namespace
 
@@ -91,9 +87,7 @@ struct Presenter::Impl {
   }
 
   void free_readback() {
-    if (readback.buffer != VK_NULL_HANDLE) vkDestroyBuffer(dev(), readback.buffer, nullptr);
-    if (readback.memory != VK_NULL_HANDLE) vkFreeMemory(dev(), readback.memory, nullptr);
-    readback = {};
+    detail::destroy_buffer(dev(), readback);
   }
 
   Result<void> choose_surface_format();
@@ -275,29 +269,9 @@ Result<void> Presenter::Impl::create_image_parts() {
 Result<void> Presenter::Impl::ensure_readback(VkDeviceSize size) {
   if (readback.size >= size) return {};
   free_readback();
-  VkBufferCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-  info.size = size;
-  info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  if (VkResult r = vkCreateBuffer(dev(), &info, nullptr, &readback.buffer); r != VK_SUCCESS)
-    return vk_error(r, "vkCreateBuffer (screenshot)");
-  VkMemoryRequirements req{};
-  vkGetBufferMemoryRequirements(dev(), readback.buffer, &req);
-  const auto type = detail::find_memory_type(state->memory, req.memoryTypeBits,
-                                             VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                             VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  if (!type) return Error{Errc::out_of_memory, VK_SUCCESS, "no host-visible memory for a screenshot"};
-  VkMemoryAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = *type;
-  if (VkResult r = vkAllocateMemory(dev(), &alloc, nullptr, &readback.memory); r != VK_SUCCESS)
-    return vk_error(r, "vkAllocateMemory (screenshot)");
-  if (VkResult r = vkBindBufferMemory(dev(), readback.buffer, readback.memory, 0); r != VK_SUCCESS)
-    return vk_error(r, "vkBindBufferMemory (screenshot)");
-  readback.size = size;
-  return {};
+  return detail::create_buffer(*state, readback, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                               VK_MEMORY_PROPERTY_HOST_CACHED_BIT, "the screenshot readback");
 }
 
 // After the render pass (image in PRESENT_SRC): copy it to the readback
@@ -438,14 +412,10 @@ Result<void> Presenter::end_frame(const PresentFrame& frame, Screenshot* screens
   if (screenshot == nullptr) return {};
   if (VkResult r = vkWaitForFences(m.dev(), 1, &s.fence, VK_TRUE, kFenceTimeoutNs); r != VK_SUCCESS)
     return vk_error(r, "vkWaitForFences (screenshot)");
-  void* mapped = nullptr;
-  if (VkResult r = vkMapMemory(m.dev(), m.readback.memory, 0, bytes, 0, &mapped); r != VK_SUCCESS)
-    return vk_error(r, "vkMapMemory (screenshot)");
   screenshot->width = frame.extent.width;
   screenshot->height = frame.extent.height;
   screenshot->rgba.resize(bytes);
-  std::memcpy(screenshot->rgba.data(), mapped, bytes);
-  vkUnmapMemory(m.dev(), m.readback.memory);
+  std::memcpy(screenshot->rgba.data(), m.readback.mapped, bytes);
   if (m.format.format == VK_FORMAT_B8G8R8A8_UNORM) {
     for (std::size_t i = 0; i < screenshot->rgba.size(); i += 4) std::swap(screenshot->rgba[i], screenshot->rgba[i + 2]);
   }

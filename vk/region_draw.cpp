@@ -20,12 +20,7 @@ using detail::vk_error;
 /// Uncertain pixels one frame can list; more are found again next time.
 constexpr uint32_t kUncertainCapacity = 1u << 16;
 
-struct Buffer {
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* mapped = nullptr;
-  VkDeviceSize size = 0;
-};
+using detail::Buffer;
 
 /// One layer's buffers and descriptor set for one frame slot.
 struct SlotLayer {
@@ -79,11 +74,7 @@ struct RegionDrawer::Impl {
     if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(dev(), set_layout, nullptr);
   }
 
-  void release(Buffer& b) {
-    if (b.memory != VK_NULL_HANDLE) vkFreeMemory(dev(), b.memory, nullptr);
-    if (b.buffer != VK_NULL_HANDLE) vkDestroyBuffer(dev(), b.buffer, nullptr);
-    b = {};
-  }
+  void release(Buffer& b) { detail::destroy_buffer(dev(), b); }
   void release(SlotLayer& l) {
     release(l.data);
     release(l.overrides);
@@ -97,30 +88,11 @@ struct RegionDrawer::Impl {
   Result<bool> ensure(Buffer& b, VkDeviceSize size) {
     if (b.size >= size) return false;
     release(b);
-    VkBufferCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    info.size = size;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    if (VkResult r = vkCreateBuffer(dev(), &info, nullptr, &b.buffer); r != VK_SUCCESS)
-      return vk_error(r, "vkCreateBuffer (region draw)");
-    VkMemoryRequirements req{};
-    vkGetBufferMemoryRequirements(dev(), b.buffer, &req);
-    const auto type = detail::find_memory_type(state->memory, req.memoryTypeBits,
-                                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                               VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (!type) return Error{Errc::out_of_memory, VK_SUCCESS, "no host-visible memory for the region draw"};
-    VkMemoryAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = *type;
-    if (VkResult r = vkAllocateMemory(dev(), &alloc, nullptr, &b.memory); r != VK_SUCCESS)
-      return vk_error(r, "vkAllocateMemory (region draw)");
-    if (VkResult r = vkBindBufferMemory(dev(), b.buffer, b.memory, 0); r != VK_SUCCESS)
-      return vk_error(r, "vkBindBufferMemory (region draw)");
-    if (VkResult r = vkMapMemory(dev(), b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped); r != VK_SUCCESS)
-      return vk_error(r, "vkMapMemory (region draw)");
-    b.size = size;
+    if (auto r = detail::create_buffer(*state, b, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                       VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, "the region draw buffer");
+        !r)
+      return r.error();
     return true;
   }
 
@@ -187,7 +159,7 @@ struct RegionDrawer::Impl {
   /// The pixels slot's last frame of layer i could not certify, decided here.
   void collect(SlotLayer& l, HostLayer& h) {
     if (l.drawn == 0 || l.drawn != h.serial || l.uncertain.mapped == nullptr) return;
-    const auto* words = static_cast<const uint32_t*>(l.uncertain.mapped);
+    const auto* words = reinterpret_cast<const uint32_t*>(l.uncertain.mapped);
     const uint32_t count = std::min(words[0], kUncertainCapacity);
     const RegionRequest& r = h.problem->request();
     bool changed = false;
@@ -276,7 +248,7 @@ Result<void> RegionDrawer::prepare(uint32_t slot, std::span<const RegionProblem>
     if (rebind) {
       if (auto w = m.write_set(l); !w) return w.error();
     }
-    auto* words = static_cast<uint32_t*>(l.uncertain.mapped);
+    auto* words = reinterpret_cast<uint32_t*>(l.uncertain.mapped);
     words[0] = 0;
     words[1] = kUncertainCapacity;
     auto pipeline = m.pipeline_for(p.setup());
