@@ -2,8 +2,10 @@
 // other joint (rotating a closed contour's start changes nothing), extrema
 // against dense sampling on real glyphs, suggested fixes re-checked here,
 // --require parsing, and the commands on imported files and fonts.
+#include <sys/stat.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 
@@ -127,10 +129,12 @@ TEST(Gates, ExtremaInsideSegmentsMatchDenseSampling) {
           for (double t : sampled)
             for (double x : certified) near += std::abs(t - x) < 3.0 / kSamples ? 1 : 0;
           EXPECT_EQ(near, sampled.size()) << c.spline.name() << " segment " << seg.index;
-          for (double x : certified)
-            if (x > 0.01 && x < 0.99)
+          for (double x : certified) {
+            if (x > 0.01 && x < 0.99) {
               EXPECT_TRUE(std::any_of(sampled.begin(), sampled.end(), [&](double t) { return std::abs(t - x) < 3.0 / kSamples; }))
                   << c.spline.name() << " segment " << seg.index << " local t " << x;
+            }
+          }
         }
       }
   }
@@ -181,8 +185,8 @@ TEST(Gates, RegionsOfClosedSplinesMoveTheRepeatedPoint) {
     const RegionProblem problem = RegionProblem::make(s, rq);
     std::vector<int> group = problem.setup().group;
     std::sort(group.begin(), group.end());
-    const std::vector<int> want = k < 3 ? std::vector<int>{k, k + 6} : std::vector<int>{k};
-    EXPECT_EQ(group, want) << "point " << k;
+    const std::vector<int> want_group = k < 3 ? std::vector<int>{k, k + 6} : std::vector<int>{k};
+    EXPECT_EQ(group, want_group) << "point " << k;
     for (int j = 0; j < 8; ++j)
       for (int i = 0; i < 8; ++i) {
         const Vec2 p = pixel_center(problem.view(), 8, 8, i, j);
@@ -246,6 +250,29 @@ TEST(Gates, CommandsTakeImportedFilesAndFonts) {
   ASSERT_EQ(svg.code, 0) << svg.err;
   EXPECT_NE(svg.out.find("2 subpaths (1 rational)"), std::string::npos) << svg.out;
   EXPECT_EQ(test::run("analyze " + (dir / "svg" / "p_1.json").string()).code, 0);
+  std::filesystem::remove_all(dir);
+}
+
+// Fonts and SVG files are read as every input is: a FIFO with no writer or a
+// device is refused at once (exit 2, one line), never waited on.
+TEST(Gates, FontAndSvgInputsThatAreNotRegularFilesAreRefusedAtOnce) {
+  const auto dir = test::scratch() / "fifo";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  for (const char* name : {"f.ttf", "f.svg"}) {
+    const auto fifo = dir / name;
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    for (const std::string& cmd : {"import " + fifo.string() + " --out " + (dir / "o").string(),
+                                   "report " + fifo.string() + " --no-thumbnails --out " + (dir / "r").string()}) {
+      if (cmd.rfind("report", 0) == 0 && std::string(name) == "f.svg") continue;  // report reads SVG as JSON
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto r = test::run(cmd);
+      EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10)) << cmd;
+      EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
+      EXPECT_NE(r.err.find("not a regular file (a FIFO)"), std::string::npos) << cmd << ": " << r.err;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "o"));
   std::filesystem::remove_all(dir);
 }
 

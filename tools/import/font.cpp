@@ -202,8 +202,13 @@ bool is_font_path(const std::filesystem::path& path) {
 
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints) {
   static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
+  // Read as every input is (regular files only, size-limited: a FIFO or a
+  // device is refused at once); the bytes outlive the face.
+  const std::string bytes = read_input_file(path);
   FT_Face raw = nullptr;
-  if (const FT_Error e = FT_New_Face(library.lib, path.c_str(), 0, &raw); e != 0)
+  if (const FT_Error e = FT_New_Memory_Face(library.lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
+                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
+      e != 0)
     throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
   const std::unique_ptr<FT_FaceRec_, FaceDeleter> face(raw);
   Font font;

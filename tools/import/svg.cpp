@@ -4,12 +4,11 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <regex>
-#include <sstream>
 
 #include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
 #include "tools/import/chain.hpp"
 
 namespace cmr::import {
@@ -295,11 +294,7 @@ std::vector<PathSpline> parse_path_data(const std::string& d, const std::string&
 }
 
 std::vector<PathSpline> read_svg(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string() + ": cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const std::string svg = text.str();
+  const std::string svg = read_input_file(path);  // regular files only, size-limited
   const std::regex element(R"(<path\b([^>]*)>)");
   const std::regex attribute(R"re(\s(d|id)\s*=\s*(?:"([^"]*)"|'([^']*)'))re");
   std::vector<PathSpline> out;
