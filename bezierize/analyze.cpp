@@ -205,6 +205,14 @@ std::vector<SegmentClass> exact_inflection_classes(const std::vector<SegmentClas
   return out;
 }
 
+SegmentClass neutral_class() {
+  SegmentClass c;
+  c.monotonicity.curvature = Curvature::constant;
+  c.inflection.inflection = Inflection::none;
+  c.inflection.kappa_sign = 0;
+  return c;
+}
+
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,
                        int last, Mode mode, std::vector<int>* conflicts) {
   bool inc = false, dec = false, undecided = false, none = false;
@@ -316,11 +324,23 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
     out.cusp = out.cusp || out.shapes.back().cusp;
   }
   for (int i = 1; i < N; ++i) out.joints.push_back(joint_between(spline, i - 1, i, options.continuity));
+  if (spline.closed()) out.seam = joint_between(spline, N - 1, 0, options.continuity);
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
   const int first = range.first, end = range.last + 1;
-  out.cmrwi = part_verdict(out.segments, out.joints, first, end, Mode::cmrwi, &out.joint_conflicts);
-  out.cmr = part_verdict(reported, out.joints, first, end, Mode::cmr);
-  out.cmr_algorithm2 = part_verdict(out.segments, out.joints, first, end, Mode::cmr);
+  // The whole period of a closed spline without split joints: the seam is a
+  // joint inside the part (a neutral class after the last segment).
+  const bool around = out.seam && first == 0 && end == N && !options.split && options.splits.empty();
+  const auto whole = [&](const std::vector<SegmentClass>& classes, Mode mode, std::vector<int>* conflicts) {
+    if (!around) return part_verdict(classes, out.joints, first, end, mode, conflicts);
+    std::vector<SegmentClass> c = classes;
+    c.push_back(neutral_class());
+    std::vector<Joint> j = out.joints;
+    j.push_back(*out.seam);
+    return part_verdict(c, j, 0, N + 1, mode, conflicts);
+  };
+  out.cmrwi = whole(out.segments, Mode::cmrwi, &out.joint_conflicts);
+  out.cmr = whole(reported, Mode::cmr, nullptr);
+  out.cmr_algorithm2 = whole(out.segments, Mode::cmr, nullptr);
   if (options.split) {
     const int s = *options.split;
     out.split = combine_split(part_verdict(reported, out.joints, first, s, options.split_mode),

@@ -109,6 +109,10 @@ struct SplineAnalysis {
   std::vector<SegmentClass> segments;  ///< Algorithms 1 and 2 as the paper states them
   std::vector<SegmentShape> shapes;    ///< exact straight / cusp / inflection facts, one per segment
   std::vector<Joint> joints;
+  /// A closed spline's seam (joint N: the end of segment N-1 against the
+  /// start of segment 0). With the whole period judged and no split joints,
+  /// it is judged like every other joint (README, "Semantics").
+  std::optional<Joint> seam;
   Direction cmrwi = Direction::undecided;
   Direction cmr = Direction::undecided;             ///< exact inflections (see above)
   Direction cmr_algorithm2 = Direction::undecided;  ///< the paper's Algorithm 2: what regions draw
@@ -131,6 +135,10 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options = {}
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,
                        int last, Mode mode, std::vector<int>* conflicts = nullptr);
 Split combine_split(Direction before, Direction after);
+/// A class part_verdict reads as nothing (constant, no inflection, curvature
+/// sign 0): appended after the last segment, it puts a closed spline's seam
+/// inside the part as the joint before it.
+SegmentClass neutral_class();
 /// The alternation verdict of consecutive groups' directions (segments.hpp).
 Alternation alternation_verdict(const std::vector<Direction>& groups);
 

@@ -84,6 +84,10 @@ void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<b
     varying.push_back(static_cast<int>(j));
     needed[idx - 1] = needed[idx] = true;
   }
+  if (s.around && s.seam().continuity < 2 && (touched[N - 1] || touched[0])) {
+    varying.push_back(static_cast<int>(joints.size()));  // the seam
+    needed[N - 1] = needed[0] = true;
+  }
 }
 
 // fixed_none / fixed_level0_none: an untouched judged segment fails for every position.
@@ -309,13 +313,25 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
   s.anchor = spline.points()[options.point];
   s.range = judged_range(options.segments, spline.segment_count());
   s.cuts = options.split ? std::vector<int>{*options.split} : options.splits;
-
   const int d = spline.degree(), N = spline.segment_count();
+  s.around = spline.closed() && s.range.first == 0 && s.range.last == N - 1 && s.cuts.empty();
+
   std::vector<bool> touched, needed;
   std::vector<int> varying_joints;
   find_needed(s, touched, needed, varying_joints);
   mark_fixed_failures(s, touched);
-  s.verdict = fold_fixed_runs(s.fixed(), s.joints(), needed, s.range, s.cuts, options.mode);
+  if (s.around) {
+    std::vector<SegmentClass> classes = s.fixed();
+    classes.push_back(neutral_class());
+    std::vector<Joint> joints = s.joints();
+    joints.push_back(s.seam());
+    std::vector<bool> with_neutral = needed;
+    with_neutral.push_back(false);
+    s.verdict = fold_fixed_runs(classes, joints, with_neutral, {0, N}, {}, options.mode);
+    s.verdict.slot.pop_back();
+  } else {
+    s.verdict = fold_fixed_runs(s.fixed(), s.joints(), needed, s.range, s.cuts, options.mode);
+  }
   std::vector<int> entry_of(N, -1);
   for (int seg = 0; seg < N; ++seg) {
     if (!needed[seg]) continue;
@@ -331,6 +347,10 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
     s.entries.push_back(std::move(e));
   }
   for (int j : varying_joints) {
+    if (j == static_cast<int>(s.joints().size())) {
+      s.varying.push_back({j, entry_of[N - 1], entry_of[0], 0, true});
+      continue;
+    }
     const int idx = s.joints()[j].index;
     s.varying.push_back({j, entry_of[idx - 1], entry_of[idx], group_of(s.cuts, idx)});
   }
@@ -342,6 +362,8 @@ namespace {
 // A varying joint's index in the verdict template: it sits before its right
 // segment, which is an entry and so has a slot of its own.
 int verdict_joint(const RegionSetup& s, const RegionJoint& j) {
+  // The seam follows segment N-1 (the template's neutral class comes after it).
+  if (j.seam) return s.verdict.slot[s.entries[j.left].segment];
   return s.verdict.slot[s.entries[j.right].segment] - 1;
 }
 

@@ -90,9 +90,10 @@ struct RegionEntry {
 /// A joint whose curvature jump depends on the position (knot multiplicity
 /// >= d-1 next to a touched segment), strictly inside a group.
 struct RegionJoint {
-  int joint = 0;         ///< index into RegionSetup::joints
+  int joint = 0;         ///< index into RegionSetup::joints (joints().size() for the seam)
   int left = 0, right = 0;  ///< entry indices of its two segments
   int part = 0;             ///< its group
+  bool seam = false;        ///< a closed spline's seam: the end of segment N-1 against the start of segment 0
 };
 
 /// The input of one position's verdict (part_verdict) with the untouched
@@ -148,10 +149,15 @@ struct RegionSetup {
   bool fixed_level0_none = false;        ///< an untouched judged segment fails at level 0: every pixel is 0
   bool fixed_none = false;               ///< an untouched judged segment fails at some level: every label is 0
   int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
+  /// A closed spline's whole period without cuts: the seam is judged like
+  /// every other joint (as analyze does): the verdict template ends with
+  /// neutral_class() after segment N-1, the seam being the joint before it.
+  bool around = false;
 
   const BSpline& spline() const { return base->spline; }                          ///< before the move
   const std::vector<SegmentClass>& fixed() const { return base->analysis.segments; }  ///< every segment's class before the move
   const std::vector<Joint>& joints() const { return base->analysis.joints; }          ///< before the move
+  const Joint& seam() const { return *base->analysis.seam; }                          ///< closed splines only
 };
 
 /// Levels of precomputed piece polynomials: deeper pieces are halved per pixel.

@@ -44,7 +44,9 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                     {"exact", c.exact_used}});
   }
   nlohmann::ordered_json joints = nlohmann::ordered_json::array();
-  for (const Joint& j : a.joints) {
+  std::vector<Joint> all = a.joints;
+  if (a.seam) all.push_back(*a.seam);  // a closed spline's seam: joint N
+  for (const Joint& j : all) {
     joints.push_back({{"index", j.index},
                       {"knot", j.knot},
                       {"multiplicity", j.multiplicity},
@@ -56,7 +58,11 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                       {"kappa_left", j.kappa_left},
                       {"kappa_right", j.kappa_right},
                       {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
-    if (j.index <= a.range.first || j.index > a.range.last) joints.back()["ignored"] = true;
+    if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
+    const bool inside = j.index > a.range.first && j.index <= a.range.last;
+    const bool seam_judged = a.seam && j.index == a.seam->index && a.range.first == 0 &&
+                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split;
+    if (!inside && !seam_judged) joints.back()["ignored"] = true;
   }
   nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
                                     {"cmr", to_string(a.cmr)},

@@ -268,7 +268,7 @@ struct StartSigns {
 SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const RootOptions& roots,
                        ExactPoints& exact, StartSigns& start) {
   const Segment& s = spline.segments()[i];
-  SpanReport span{s, {}, {}, c, false, false, {}, {}};
+  SpanReport span{s, {}, {}, c, {}, false, false, {}, {}};
   // lambda and eta (for a rational spline: lambda and D of rational_lambda.hpp).
   Bernstein<Bounded> lambda_b, eta_b;
   std::function<Bernstein<Rational>()> lambda_exact, eta_exact;
@@ -313,10 +313,9 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
 /// Continuity of every joint: C<k> from the knots; G1/G2 as analyze finds
 /// them (joint_between). A closed spline's seam (the end of segment N-1
 /// against the start of segment 0) is joint N, judged like the others.
-std::vector<JointReport> joint_reports(const BSpline& spline, const SplineAnalysis& analysis,
-                                       const ContinuityTolerances& tolerances) {
+std::vector<JointReport> joint_reports(const SplineAnalysis& analysis) {
   std::vector<Joint> joints = analysis.joints;
-  if (spline.closed()) joints.push_back(joint_between(spline, spline.segment_count() - 1, 0, tolerances));
+  if (analysis.seam) joints.push_back(*analysis.seam);
   std::vector<JointReport> out;
   for (const Joint& j : joints) out.push_back({j, std::string(1, 'C') + std::to_string(j.continuity), !j.g1});
   return out;
@@ -396,7 +395,7 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
     r.spans.push_back(span_report(spline, i, r.analysis.segments[i], options.roots, exact, start[i]));
     r.spans.back().shape = r.analysis.shapes[i];
   }
-  r.joints = joint_reports(spline, r.analysis, options.continuity);
+  r.joints = joint_reports(r.analysis);
   find_events(r, start);
   curvature_range(r);
   r.gates = check_gates(r, options.gates);

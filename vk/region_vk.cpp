@@ -175,8 +175,12 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
     fixed_depth = std::max(fixed_depth, s.fixed()[seg].monotonicity.depth);
     if (o.mode == Mode::cmr) fixed_depth = std::max(fixed_depth, s.fixed()[seg].inflection.depth);
   }
-  std::vector<bool> varies(s.joints().size(), false);
+  std::vector<bool> varies(s.joints().size() + 1, false);  // the last: a closed spline's seam
   for (const RegionJoint& j : s.varying) varies[j.joint] = true;
+  if (s.around && !varies.back()) {  // the seam's fixed jump (detail::RegionSetup::around)
+    if (s.seam().jump > 0) flags[0] |= FLAG_UP;
+    if (s.seam().jump < 0) flags[0] |= FLAG_DOWN;
+  }
   for (std::size_t j = 0; j < s.joints().size(); ++j) {
     const Joint& jt = s.joints()[j];
     if (!cmr::joint_counts(s.range, s.cuts, jt.index) || varies[j]) continue;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <sstream>
 
@@ -331,6 +332,56 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
       EXPECT_GT(monotone, 10) << "the scenes must contain regions";
     }
   }
+}
+
+// Closed splines: the seam (the end of segment N-1 against the start of
+// segment 0) is judged like every other joint, in the region engine as in
+// analyze (the verdict template ends with a neutral class after segment N-1,
+// the seam the joint before it). Snail-like closed quadratics (C1 joints, the
+// radius growing with the angle, seeded): every pixel equals analyze() of
+// the moved spline, whose joints include the seam. (No position can make the
+// period monotone with the seam alone failing: by Kneser's theorem the
+// osculating circles of an arc of monotone curvature are nested, so such an
+// arc cannot end where it starts.)
+TEST(Region, ClosedSplineSeamIsJudgedLikeEveryJoint) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.04, 0.04);
+  int compared = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const int m = 5 + trial % 3;
+    std::vector<Vec2> P;
+    for (int i = 0; i < m; ++i) {
+      const double t = 2 * M_PI * i / m, r = 1 + 0.6 * i / m + jitter(rng);
+      P.push_back({r * std::cos(t), r * std::sin(t)});
+    }
+    std::vector<double> knots(m + 1);
+    for (int i = 0; i <= m; ++i) knots[i] = i;
+    const BSpline s = BSpline::make_closed(2, knots, P);
+    for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
+      for (int k = 0; k < m; ++k) {
+        RegionRequest o;
+        o.point = k;
+        o.width = o.height = 10;
+        o.mode = mode;
+        o.view = View{P[k].x - 0.5, P[k].y - 0.5, P[k].x + 0.5, P[k].y + 0.5};
+        const RegionProblem problem = RegionProblem::make(s, o);
+        const RegionResult img = CpuRegionBackend(1).render(problem);
+        for (int j = 0; j < o.height; ++j)
+          for (int i = 0; i < o.width; ++i) {
+            const Vec2 p = pixel_center(img.view, o.width, o.height, i, j);
+            const SplineAnalysis a = analyze(s.with_point(k, p));
+            ASSERT_TRUE(a.seam.has_value());
+            ASSERT_EQ(a.seam->index, s.segment_count());
+            const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
+            ASSERT_EQ(int(img.code_at(j * o.width + i)), int(detail::label_of(want)))
+                << "trial " << trial << " P" << k << (mode == Mode::cmr ? " cmr" : " cmrwi") << " pixel (" << i
+                << ", " << j << ")";
+            ++compared;
+          }
+      }
+    }
+  }
+  EXPECT_GT(compared, 1000);
 }
 
 // Rational splines (fixed weights): the CPU backend's labels are, pixel by

@@ -106,6 +106,19 @@ std::vector<Scene> scenes() {
   s.push_back({"rational_cubic_C1_split1_P3_cmr", BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, fig9, "", w9), near_p3_split});
   s.push_back({"rational_quadratic_C1_joints",
                BSpline::make(2, {0, 1, 2, 3, 4, 5}, random_spline(rng, 2, {0, 1, 2, 3, 4, 5}).points(), "", wq), opts(2)});
+  // Closed splines: the moved point's repeated copy moves too, and the seam
+  // (segment N-1 against segment 0) is judged like every joint; P0 has a copy,
+  // and the quadratic's C1 seam jump varies with it; the cubic has a double knot.
+  const std::vector<Vec2> loop = {{1, 0}, {0.4, 0.9}, {-0.6, 0.8}, {-1.1, -0.1}, {-0.3, -1}, {0.7, -0.8}};
+  RegionRequest near_p0 = opts(0);
+  near_p0.view = View{0.4, -0.6, 1.6, 0.6};
+  s.push_back({"closed_quadratic_P0", BSpline::make_closed(2, {0, 1, 2, 3, 4, 5, 6}, loop), near_p0});
+  s.push_back({"closed_cubic_double_knot_P0_cmr", BSpline::make_closed(3, {0, 1, 2, 2, 3, 4, 5}, loop),
+               [&] {
+                 RegionRequest o = near_p0;
+                 o.mode = Mode::cmr;
+                 return o;
+               }()});
   return s;
 }
 
@@ -168,16 +181,17 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
     for (int sample = 0; sample < 40; ++sample) {
       const int i = ui(rng), j = uj(rng);
       const Vec2 p = pixel_center(img.view, img.width, img.height, i, j);
-      std::vector<Vec2> pts = sc.spline.points();
-      const Vec2 delta = p - pts[sc.options.point];
-      for (int g : sc.options.with) pts[g] += delta;
-      pts[sc.options.point] = p;
+      // The moved spline (with_point also moves a closed spline's repeated copies).
+      const Vec2 delta = p - sc.spline.points()[sc.options.point];
+      BSpline moved = sc.spline;
+      for (int g : sc.options.with) moved = moved.with_point(g, sc.spline.points()[g] + delta);
+      moved = moved.with_point(sc.options.point, p);
       AnalyzeOptions ao;
       ao.split = sc.options.split;
       ao.splits = sc.options.splits;
       ao.segments = sc.options.segments;
       ao.split_mode = sc.options.mode;
-      const SplineAnalysis a = analyze(BSpline::make(sc.spline.degree(), sc.spline.knots(), pts, "", sc.spline.weights()), ao);
+      const SplineAnalysis a = analyze(moved, ao);
       const uint8_t want = !sc.options.splits.empty() ? label_of(*a.alternation)
                            : sc.options.split        ? label_of(*a.split)
                                                      : label_of(sc.options.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
