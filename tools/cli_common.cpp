@@ -135,6 +135,17 @@ void add_pretty_flag(CLI::App& cmd, bool& pretty) {
   cmd.add_flag("--pretty", pretty, "indent the JSON (default: compact, one line)");
 }
 
+void add_backend_options(CLI::App& cmd, std::string& backend, std::string& device, std::string* precision) {
+  cmd.add_option("--backend", backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
+      ->check(CLI::IsMember(kBackendChoices))
+      ->capture_default_str();
+  cmd.add_option("--device", device, "Vulkan device name (case-insensitive substring); default: the first suitable");
+  if (precision)
+    cmd.add_option("--precision", *precision, "shader arithmetic; labels are certified either way")
+        ->check(CLI::IsMember({"fp64", "fp32"}))
+        ->capture_default_str();
+}
+
 void add_continuity_options(CLI::App& cmd, ContinuityTolerances& tolerances) {
   cmd.add_option("--angle-tol", tolerances.angle_deg, "G1 at a joint: end tangents within this angle (degrees)")
       ->capture_default_str();

@@ -65,6 +65,10 @@ std::string json_text(const nlohmann::ordered_json& doc, bool pretty);
 void print_json(const nlohmann::ordered_json& doc, bool pretty);
 /// Adds the --pretty flag (indented JSON) every JSON-printing command has.
 void add_pretty_flag(CLI::App& cmd, bool& pretty);
+/// Adds --backend auto|vulkan|cpu, --device NAME and, where `precision` is
+/// given, --precision fp64|fp32: the options of make_region_backend, the same
+/// on every command that renders regions.
+void add_backend_options(CLI::App& cmd, std::string& backend, std::string& device, std::string* precision = nullptr);
 /// Adds --angle-tol DEG and --curvature-tol REL (G1/G2 at joints), the same
 /// on analyze and report; validate(tolerances) checks them.
 void add_continuity_options(CLI::App& cmd, ContinuityTolerances& tolerances);

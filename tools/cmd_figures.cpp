@@ -41,10 +41,7 @@ void add_figures_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("figures", "Recompute the paper's figures 2-10, check their claims, write PNGs and "
                                             "index.html");
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
-  cmd->add_option("--backend", args->backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
-      ->check(CLI::IsMember(kBackendChoices))
-      ->capture_default_str();
-  cmd->add_option("--device", args->device, "Vulkan device name (substring); default: the first suitable");
+  add_backend_options(*cmd, args->backend, args->device);
   in_range(cmd->add_option("--size", args->size, "side of each region image in pixels"), 64, 4096)
       ->capture_default_str();
   cmd->callback([args, &exit_code] {

@@ -278,13 +278,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
   cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");
-  cmd->add_option("--backend", a->backend, "auto: Vulkan on a real GPU, else cpu; vulkan (lavapipe without a GPU); cpu")
-      ->check(CLI::IsMember(kBackendChoices))
-      ->capture_default_str();
-  cmd->add_option("--precision", a->precision, "shader arithmetic; labels are certified either way")
-      ->check(CLI::IsMember({"fp64", "fp32"}))
-      ->capture_default_str();
-  cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
+  add_backend_options(*cmd, a->backend, a->device, &a->precision);
   cmd->add_option("--png", a->png,
                   "picture: regions, curve, control polygon, the moved point ringed, a legend (with --point all one "
                   "picture, each point's region in its own colour)");

@@ -78,10 +78,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
            kMaxDepth)
       ->capture_default_str();
   cmd->add_flag("--no-thumbnails", args->no_thumbnails, "skip the regions (fix search and thumbnails)");
-  cmd->add_option("--backend", args->backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
-      ->check(CLI::IsMember(kBackendChoices))
-      ->capture_default_str();
-  cmd->add_option("--device", args->device, "Vulkan device name (substring)");
+  add_backend_options(*cmd, args->backend, args->device);
   in_range(cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side"), 8, 1024)
       ->capture_default_str();
   add_continuity_options(*cmd, args->continuity);

@@ -340,13 +340,7 @@ void add_sweep_command(CLI::App& app, int& exit_code) {
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH per step")->capture_default_str();
   cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: the control polygon with a margin)");
-  cmd->add_option("--backend", a->backend, "auto: Vulkan on a real GPU, else cpu; vulkan; cpu")
-      ->check(CLI::IsMember(kBackendChoices))
-      ->capture_default_str();
-  cmd->add_option("--precision", a->precision, "shader arithmetic (vulkan)")
-      ->check(CLI::IsMember({"fp64", "fp32"}))
-      ->capture_default_str();
-  cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");
+  add_backend_options(*cmd, a->backend, a->device, &a->precision);
   cmd->add_option("--out-dir", a->out_dir,
                   "folder for steps.jsonl, contours/, frames/, index.html, area.png, tube.obj, tube.ply");
   cmd->callback([a, &exit_code] {
