@@ -34,6 +34,7 @@ struct ReportArgs {
   int region_size = 96;
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
+  double constant_tolerance = report::kDefaultConstantTolerance;
 };
 
 // "[#####-----] 12/40 name" rewritten in place; only on a terminal.
@@ -82,11 +83,17 @@ void add_report_command(CLI::App& app, int& exit_code) {
   in_range(cmd->add_option("--region-size", args->region_size, "fix-search image size in pixels per side"), 8, 1024)
       ->capture_default_str();
   add_continuity_options(*cmd, args->continuity);
+  in_range(cmd->add_option("--constant-tol", args->constant_tolerance,
+                           "relative curvature spread below which a segment is an arc of constant curvature: the "
+                           "extremum gates skip its stationary points (rounded circle arcs); 0: exact constants only"),
+           0.0, 1.0)
+      ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;
+    o.constant_tolerance = args->constant_tolerance;
     if (!args->require.empty()) report::parse_require_list(args->require, o);
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.max_depth = args->depth;

@@ -39,6 +39,13 @@ GateViolation at_event(const SplineReport& r, const CurveEvent& e, const std::st
   return v;
 }
 
+/// An extremum inside a segment whose curvature varies by more than the
+/// report's constant tolerance: the extremum gates judge only those (a
+/// rounded circle arc's stationary point is no designed extremum).
+bool inside_varying(const SplineReport& r, const CurveEvent& e) {
+  return e.segment >= 0 && !r.spans[e.segment].near_constant;
+}
+
 }  // namespace
 
 std::optional<Gate> parse_gate(const std::string& text) {
@@ -111,12 +118,12 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
     switch (gate.kind) {
       case Gate::Kind::extrema_at_nodes:
         for (const CurveEvent& e : r.extrema)
-          if (e.segment >= 0) g.violations.push_back(at_event(r, e, e.kind > 0 ? "curvature maximum" : "curvature minimum"));
+          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, e.kind > 0 ? "curvature maximum" : "curvature minimum"));
         break;
       case Gate::Kind::max_extrema_per_segment: {
         std::map<int, std::vector<const CurveEvent*>> per;
         for (const CurveEvent& e : r.extrema)
-          if (e.segment >= 0) per[e.segment].push_back(&e);
+          if (inside_varying(r, e)) per[e.segment].push_back(&e);
         for (const auto& [segment, events] : per)
           if (static_cast<int>(events.size()) > gate.max_extrema) {
             GateViolation v = at_event(r, *events[gate.max_extrema], "curvature extremum");

@@ -11,6 +11,10 @@
 ///    segment and parameter (spline t and the segment's local t in [0, 1]).
 ///  * max-extrema-per-segment:N: at most N extrema strictly inside any one
 ///    segment.
+///    Both extremum gates skip segments of constant curvature up to
+///    ReportOptions::constant_tolerance (SpanReport::near_constant: an
+///    imported circle arc, rounded to doubles, is exactly an ellipse arc with
+///    a stationary point mid-way, at 1e-16 relative).
 ///  * g2-at-smooth-nodes[:tol]: at every smooth node (C1 or better, or G1 by
 ///    exact tangents; corners are exempt) the curvature on both sides agrees
 ///    within tol relative to the larger: |kl - kr| <= tol * max(|kl|, |kr|).

@@ -381,6 +381,26 @@ void curvature_range(SplineReport& r) {
   }
 }
 
+/// Each segment's relative curvature spread (SpanReport::kappa_spread) from
+/// the certified curvature at its ends and at the roots of lambda, where the
+/// extremes of kappa over the segment lie; near_constant against `tolerance`.
+void curvature_spreads(SplineReport& r, double tolerance) {
+  const BSpline& spline = *r.spline;
+  for (SpanReport& span : r.spans) {
+    if (span.shape.cusp) {
+      span.kappa_spread = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    double lo = certified_end_curvature(spline, span.segment, 0), hi = lo;
+    auto consider = [&](double k) { lo = std::min(lo, k), hi = std::max(hi, k); };
+    consider(certified_end_curvature(spline, span.segment, 1));
+    for (const SpanRoot& x : span.extrema) consider(x.kappa);
+    const double scale = std::max(std::abs(lo), std::abs(hi));
+    span.kappa_spread = scale > 0 ? (hi - lo) / scale : 0;
+    span.near_constant = span.kappa_spread <= tolerance;
+  }
+}
+
 }  // namespace
 
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
@@ -398,6 +418,7 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   r.joints = joint_reports(r.analysis);
   find_events(r, start);
   curvature_range(r);
+  curvature_spreads(r, options.constant_tolerance);
   r.gates = check_gates(r, options.gates);
   // With gates alone the monotonicity check is informational (a closed
   // contour is never monotone over its period).
@@ -611,6 +632,8 @@ Json segments_json(const SplineReport& r) {
                         {"exact", sp.classification.exact_used},
                         {"lambda_zero", sp.lambda_zero},
                         {"eta_zero", sp.eta_zero},
+                        {"kappa_spread", std::isfinite(sp.kappa_spread) ? Json(sp.kappa_spread) : Json(nullptr)},
+                        {"near_constant", sp.near_constant},
                         {"extrema", e},
                         {"inflections", i}});
   }
@@ -734,6 +757,7 @@ nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, con
              }()},
             {"depth", options.max_depth},
             {"root_tolerance", options.roots.tolerance},
+            {"constant_tolerance", options.constant_tolerance},
             {"regions", regions}}},
           {"summary",
            {{"splines", reports.size()},
@@ -1010,6 +1034,7 @@ void spans_html(std::string& out, const SplineReport& r) {
                          std::to_string(sp.classification.inflection.depth)
                    : "—") +
            "</td><td>" + roots_cell(sp.extrema, true) +
+           (sp.near_constant && !sp.lambda_zero ? " (κ constant within " + num(sp.kappa_spread) + ")" : "") +
            "</td><td>" + roots_cell(sp.inflections, false) + "</td></tr>";
   }
   out += "</table>";

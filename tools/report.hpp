@@ -31,6 +31,9 @@ inline constexpr const char* kSchema = "cmr-report/1";
 
 /// exit_code's values; the cmr command exits with them.
 inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
+/// Default ReportOptions::constant_tolerance: well above the certification
+/// error of kappa (kKappaRelError, 1e-11) and far below any designed change.
+inline constexpr double kDefaultConstantTolerance = 1e-9;
 
 /// Which curvature extremum a split requirement asks for at its joint.
 enum class Extremum : std::uint8_t { any, max, min };
@@ -70,6 +73,10 @@ struct ReportOptions {
   std::optional<SegmentRange> segments;
   std::vector<Gate> gates;             ///< type-design gates (tools/gates.hpp); a spline must pass all
   double grid = 0;                     ///< > 0 (with regions): suggest tangent fixes for failing gates on this grid
+  /// A segment whose certified curvature varies by at most this, relative to
+  /// its largest |kappa|, is read as an arc of constant curvature by the
+  /// extremum gates (SpanReport::near_constant); 0: only exact constants.
+  double constant_tolerance = kDefaultConstantTolerance;
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.
@@ -98,6 +105,15 @@ struct SpanReport {
   bool eta_zero = false;              ///< eta == 0: zero curvature
   std::vector<SpanRoot> extrema;      ///< roots of lambda
   std::vector<SpanRoot> inflections;  ///< roots of eta
+  /// (max kappa - min kappa) / max |kappa| over the segment, from the
+  /// certified curvature at its ends and stationary points (each within
+  /// kKappaRelError); 0 for a straight, NaN with a cusp.
+  double kappa_spread = 0;
+  /// kappa_spread <= ReportOptions::constant_tolerance: an arc of constant
+  /// curvature up to the rounding of its data (an SVG or CAD circle arc,
+  /// whose double weights and points make it an ellipse arc within 1e-16).
+  /// The verdicts stay exact; only the extremum gates exempt its extrema.
+  bool near_constant = false;
 };
 
 /// One joint: its analysis and its geometric continuity.

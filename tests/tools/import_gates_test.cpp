@@ -15,6 +15,7 @@
 #include "spline/errors.hpp"
 #include "tests/tools/cli_util.hpp"
 #include "tools/import/font.hpp"
+#include "tools/import/svg.hpp"
 #include "tools/report.hpp"
 
 namespace cmr::report {
@@ -62,6 +63,52 @@ TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   EXPECT_FALSE(r.pass);
   const SplineReport r0 = report_spline(s, gates("max-extrema-per-segment:0"));
   EXPECT_EQ(r0.gates[0].violations.size(), 4u);
+}
+
+// An SVG circle (two arcs) becomes rational quadratics whose weights and
+// points are rounded doubles: exactly, each piece is an ellipse arc with a
+// stationary curvature mid-way, so the verdicts are non-monotone (cmr stays
+// exact). Its certified curvature spread is at the level of rounding, far
+// below the constant tolerance, so the extremum gates read the pieces as
+// arcs of constant curvature; with tolerance 0 they are flagged. The square
+// quadratic's spread is checked against dense sampling of kappa and is far
+// above the tolerance.
+TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
+  const auto paths = import::parse_path_data("M 90 50 A 40 40 0 0 1 10 50 A 40 40 0 0 1 90 50 Z", "circle");
+  ASSERT_EQ(paths.size(), 1u);
+  const BSpline circle = import::to_bspline(paths[0]);
+  ASSERT_TRUE(circle.is_rational());
+  const SplineReport r = report_spline(circle, gates("extrema-at-nodes,max-extrema-per-segment:0"));
+  bool some_exact_extremum = false;
+  for (const SpanReport& sp : r.spans) {
+    EXPECT_TRUE(sp.near_constant) << "segment " << sp.segment.index;
+    EXPECT_LT(sp.kappa_spread, 1e-12) << "segment " << sp.segment.index;
+    EXPECT_GE(sp.kappa_spread, 0);
+    some_exact_extremum = some_exact_extremum || !sp.extrema.empty();
+  }
+  EXPECT_TRUE(some_exact_extremum);  // the data is not exactly a circle: the gates have something to skip
+  for (const GateResult& g : r.gates) EXPECT_TRUE(g.pass()) << to_string(g.gate);
+
+  ReportOptions strict = gates("extrema-at-nodes");
+  strict.constant_tolerance = 0;
+  const SplineReport r0 = report_spline(circle, strict);
+  EXPECT_FALSE(r0.gates[0].pass());
+  for (const SpanReport& sp : r0.spans) EXPECT_EQ(sp.near_constant, sp.kappa_spread == 0);
+
+  // A designed curvature change: the square quadratic's pieces, against
+  // sampled curvature (the spread's extremes are at the ends and mid-way).
+  const BSpline square = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
+  const SplineReport rs = report_spline(square, gates("extrema-at-nodes"));
+  for (const SpanReport& sp : rs.spans) {
+    double lo = segment_end_curvature(square, sp.segment, 0), hi = lo;
+    auto consider = [&](double k) { lo = std::min(lo, k), hi = std::max(hi, k); };
+    consider(segment_end_curvature(square, sp.segment, 1));
+    for (int q = 1; q < 1000; ++q) consider(curvature(square, sp.segment.a + (sp.segment.b - sp.segment.a) * q / 1000.0));
+    EXPECT_NEAR(sp.kappa_spread, (hi - lo) / std::max(std::abs(lo), std::abs(hi)), 1e-9);
+    EXPECT_GT(sp.kappa_spread, 0.1);
+    EXPECT_FALSE(sp.near_constant);
+  }
+  EXPECT_EQ(rs.gates[0].violations.size(), 4u);
 }
 
 // Every node of a closed contour is judged alike: starting the period at

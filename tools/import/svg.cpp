@@ -333,10 +333,9 @@ nlohmann::json path_json(const PathSpline& s) {
   return doc;
 }
 
-std::optional<BSpline> to_bspline(const PathSpline& s) {
-  if (s.rational()) return std::nullopt;
-  if (s.closed) return BSpline::make_closed(s.degree, s.knots, s.points, s.name);
-  return BSpline::make(s.degree, s.knots, s.points, s.name);
+BSpline to_bspline(const PathSpline& s) {
+  if (s.closed) return BSpline::make_closed(s.degree, s.knots, s.points, s.name, s.weights);
+  return BSpline::make(s.degree, s.knots, s.points, s.name, s.weights);
 }
 
 Vec2 rational_bezier_point(const std::vector<Vec2>& points, const std::vector<double>& weights, double t) {

@@ -55,8 +55,8 @@ std::vector<PathSpline> read_svg(const std::filesystem::path& path);
 /// "weights" when rational.
 nlohmann::json path_json(const PathSpline& s);
 
-/// The spline itself (BSpline has no weights yet): nothing for a rational one.
-std::optional<BSpline> to_bspline(const PathSpline& s);
+/// The spline itself (with its weights when rational, closed when closed).
+BSpline to_bspline(const PathSpline& s);
 
 /// Point at parameter t of a (rational) Bezier piece with homogeneous
 /// weights: sum w_i P_i B_i(t) / sum w_i B_i(t) (de Casteljau on (wP, w)).
