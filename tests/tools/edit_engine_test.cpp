@@ -12,6 +12,7 @@
 #include "bezierize/knot_ops.hpp"
 #include "spline/curvature.hpp"
 #include "tools/edit/editor.hpp"
+#include "tools/weight_region.hpp"
 #include "vk/presenter.hpp"
 
 namespace {
@@ -52,6 +53,22 @@ void expect_layer_is_classify(const BSpline& s, const RegionRequest& r, const Re
 }
 
 int count_label(const RegionResult& r, RegionLabel l) { return static_cast<int>(std::count(r.labels.begin(), r.labels.end(), l)); }
+
+// Weights shape every region of a rational spline: a weight change (the
+// moved point's own included) gives another key; the same weights the same key.
+TEST(EditEngine, RegionKeyHoldsTheWeights) {
+  const BSpline s = spline6();
+  RegionRequest r;
+  r.point = 2;
+  r.view = View{-1, -2, 6, 3};
+  const auto key = region_key(s, r);
+  const BSpline heavy = with_weight(s, 4, 1.5);
+  EXPECT_NE(region_key(heavy, r), key);
+  EXPECT_NE(region_key(with_weight(s, 2, 1.5), r), key) << "the moved point's weight counts";
+  EXPECT_EQ(region_key(with_weight(s, 4, 1.5), r), region_key(heavy, r));
+  EXPECT_NE(region_key(with_weight(heavy, 4, 1.25), r), region_key(heavy, r));
+  EXPECT_EQ(region_key(with_weight(heavy, 4, 1.0), r), key) << "weights all 1 are the polynomial spline";
+}
 
 TEST(EditEngine, RegionKeyIgnoresOnlyWhereTheMovedGroupStands) {
   const BSpline s = spline6();

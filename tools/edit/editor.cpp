@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
@@ -10,6 +11,7 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
+#include "tools/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -91,7 +93,14 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
   grab_offset_ = doc().spline.points()[k] - viewport_.to_world(mouse_.x, mouse_.y);
 }
 
-void Editor::scroll(double dy) {
+void Editor::scroll(double dy, bool shift) {
+  if (shift) {
+    const int k = pick(mouse_.x, mouse_.y);
+    if (k >= 0) {
+      set_weight(k, doc().spline.weight(k) * std::pow(kWeightStep, dy));
+      return;
+    }
+  }
   viewport_ = viewport_.zoomed(std::pow(kZoomStep, dy), mouse_.x, mouse_.y);
   region_stale_ = rgba_stale_ = true;
 }
@@ -282,6 +291,17 @@ void Editor::move_point(int k, Vec2 p) {
   next.spline = edit::move_point(doc(), k, p);
   history_.commit(std::move(next));
   changed_document();
+}
+
+void Editor::set_weight(int k, double w) {
+  check_point(doc().spline, k);
+  if (doc().kcurve) throw InputError("weight: not in kappa-curve mode (the curve is rebuilt from its points)");
+  if (std::isnan(w)) throw InputError("weight: not a number");
+  const double clamped = std::clamp(w, kMinWeight, kMaxWeight);
+  char what[160];
+  std::snprintf(what, sizeof what, "weight of P%d set to %.6g%s", k, clamped,
+                clamped != w ? " (clamped to 0.001..1000: weights must stay > 0)" : "");
+  replace_spline(with_weight(doc().spline, k, clamped), what, "weight" + std::to_string(k));
 }
 
 void Editor::move_knot(int i, double u) {

@@ -178,6 +178,17 @@ void controls(Editor& e) {
   std::string group = "P" + std::to_string(d.selected);
   for (int g : d.group) group += " + P" + std::to_string(g);
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+  // The selected point's weight (shift+wheel over a point scales it); a
+  // polynomial spline shows weights 1 and becomes rational when one changes.
+  if (!d.kcurve) {
+    double weight = d.spline.weight(d.selected);
+    const double lo = Editor::kMinWeight, hi = Editor::kMaxWeight;
+    const std::string label = "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::DragScalar(label.c_str(), ImGuiDataType_Double, &weight, 0.005f, &lo, &hi, "%.5g",
+                          ImGuiSliderFlags_Logarithmic))
+      act(e, [&] { e.set_weight(d.selected, weight); });
+  }
   kcurve_controls(e);
 }
 
