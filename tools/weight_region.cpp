@@ -228,33 +228,53 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   // The family of curves: a handful of weights, thin, in their label's colour.
   const double top = 32, strip_top = height - 150, strip_bottom = strip_top + 34;
   const double cx0 = 12, cx1 = width - 12, cy0 = top, cy1 = strip_top - 24;
-  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
-  for (const Vec2& p : spline.points())
-    bx0 = std::min(bx0, p.x), bx1 = std::max(bx1, p.x), by0 = std::min(by0, p.y), by1 = std::max(by1, p.y);
+  // The curves first (polylines), then the view: their bounding box with
+  // P_K, so that the part the weight bends fills the panel.
+  constexpr int kFamily = 7, kSteps = 400;
+  const auto polyline = [&](const BSpline& s) {
+    std::vector<Vec2> pts;
+    for (int i = 0; i <= kSteps; ++i)
+      pts.push_back(evaluate(s, i == kSteps ? s.domain_end()
+                                            : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps));
+    return pts;
+  };
+  // Equally spaced weights, and the middle of each interval (the first
+  // kFamily), so that every label shows in a curve.
+  std::vector<double> family_weights;
+  for (int i = 0; i < kFamily; ++i) family_weights.push_back(i == kFamily - 1 ? B : A + (B - A) * i / (kFamily - 1));
+  for (std::size_t i = 0; i < region.intervals.size() && i < static_cast<std::size_t>(kFamily); ++i)
+    family_weights.push_back((region.intervals[i].from + region.intervals[i].to) / 2);
+  std::vector<std::vector<Vec2>> family;
+  for (double x : family_weights) family.push_back(polyline(with_weight(spline, K, x)));
+  const std::vector<Vec2> own = polyline(spline);
+  double bx0 = spline.points()[K].x, bx1 = bx0, by0 = spline.points()[K].y, by1 = by0;
+  family.push_back(own);
+  for (const auto& line : family)
+    for (const Vec2& p : line) {
+      bx0 = std::min(bx0, p.x), bx1 = std::max(bx1, p.x);
+      by0 = std::min(by0, p.y), by1 = std::max(by1, p.y);
+    }
+  family.pop_back();
   const double ext = std::max({bx1 - bx0, by1 - by0, 1e-300});
   bx0 -= 0.05 * ext, bx1 += 0.05 * ext, by0 -= 0.05 * ext, by1 += 0.05 * ext;
   const double scale = std::min((cx1 - cx0) / (bx1 - bx0), (cy1 - cy0) / (by1 - by0));
   const double ox = (cx0 + cx1) / 2 - scale * (bx0 + bx1) / 2, oy = (cy0 + cy1) / 2 + scale * (by0 + by1) / 2;
   const auto screen = [&](Vec2 p) { return std::pair{ox + scale * p.x, oy - scale * p.y}; };
-  const auto stroke_curve = [&](const BSpline& s) {
-    const int steps = 400;
-    for (int i = 0; i <= steps; ++i) {
-      const double t = s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / steps;
-      const auto [x, y] = screen(evaluate(s, i == steps ? s.domain_end() : t));
+  const auto stroke_line = [&](const std::vector<Vec2>& pts) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const auto [x, y] = screen(pts[i]);
       if (i == 0) cairo_move_to(cr, x, y);
       else cairo_line_to(cr, x, y);
     }
     cairo_stroke(cr);
   };
-  constexpr int kFamily = 7;
-  cairo_set_line_width(cr, 1);
-  for (int i = 0; i < kFamily; ++i) {
-    const double wi = i == kFamily - 1 ? B : A + (B - A) * i / (kFamily - 1);
-    set(cr, curve_colour(colour_of_label(label_of_weight(wi))));
-    stroke_curve(with_weight(spline, K, wi));
-  }
-  // The control polygon (dashed), the spline's own curve, P_K ringed.
+  cairo_save(cr);
+  cairo_rectangle(cr, cx0, cy0 - 8, cx1 - cx0, cy1 - cy0 + 16);
+  cairo_clip(cr);
+  // The control polygon (dashed), the spline's own curve, the family over
+  // it, the points, P_K ringed.
   const double dash[] = {4, 3};
+  cairo_set_line_width(cr, 1);
   cairo_set_dash(cr, dash, 2, 0);
   set(cr, {0.5, 0.5, 0.5});
   for (int i = 0; i < spline.point_count(); ++i) {
@@ -265,8 +285,18 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0);
   set(cr, {0, 0, 0});
-  cairo_set_line_width(cr, 2);
-  stroke_curve(spline);
+  cairo_set_line_width(cr, 2.5);
+  stroke_line(own);
+  // Curves of white labels (grey) first and thin, the coloured ones over them.
+  for (const bool coloured : {false, true})
+    for (std::size_t i = 0; i < family.size(); ++i) {
+      const draw::Rgb c = curve_colour(colour_of_label(label_of_weight(family_weights[i])));
+      if ((c.r == c.g && c.g == c.b) == coloured) continue;
+      cairo_set_line_width(cr, coloured ? 1.8 : 1);
+      set(cr, c);
+      stroke_line(family[i]);
+    }
+  set(cr, {0, 0, 0});
   for (int i = 0; i < spline.unique_point_count(); ++i) {
     const auto [x, y] = screen(spline.points()[i]);
     cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
@@ -283,6 +313,8 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     const std::string name = indexed('P', K);
     cairo_show_text(cr, name.c_str());
   }
+
+  cairo_restore(cr);
 
   // The strip, one column per weight, and its frame.
   const auto x_of = [&](double x) { return sx0 + (x - A) / (B - A) * columns; };
@@ -366,7 +398,8 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
   cairo_move_to(cr, 12, ly);
   cairo_show_text(cr, ("thin curves: w" + std::to_string(K) + " at " + std::to_string(kFamily) +
-                       " equally spaced weights, in their label's colour; black: the spline as given")
+                       " equally spaced weights and in each interval's middle, in their label's colour; black: the "
+                       "spline as given")
                           .c_str());
 
   cairo_destroy(cr);

@@ -103,8 +103,8 @@ WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& req
 std::uint8_t weight_label(const BSpline& spline, const WeightRegionRequest& request, double w);
 
 /// The picture of a weight region: above, the curves of a handful of weights
-/// of [A, B] drawn thin (coloured by their label) with the spline's own curve
-/// and control polygon; below, a strip coloured by label (the colours and
+/// of [A, B] (equally spaced, and each interval's middle) drawn thin in their
+/// label's colour, with the spline's own curve and control polygon; below, a strip coloured by label (the colours and
 /// legend of region pictures, tools/draw.hpp) over a weight axis with ticks,
 /// the spline's current weight w_K marked. `svg`: SVG text, else PNG bytes.
 std::string weight_region_picture(const BSpline& spline, const WeightRegionRequest& request,
