@@ -368,7 +368,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
     if (a->weight) {
       run_weight_region(*a);
     } else {
-      if (a->point.empty()) throw InputError("give --point K|all (the region of a point) or --weight K");
+      if (a->point.empty()) throw InputError("--point is required (see cmr region --help), or --weight K for the region of a weight");
       refuse_options(*a, {"--from", "--to", "--samples", "--plot", "--output"}, "is for --weight K");
       run_region(*a);
     }

@@ -137,6 +137,18 @@ TEST(WeightRegion, WithWeightSetsOneWeight) {
   EXPECT_FALSE(with_weight(r, 2, 1.0).is_rational());
   EXPECT_THROW((void)with_weight(s, 2, 0.0), InputError);
   EXPECT_THROW((void)with_weight(s, 99, 1.0), InputError);
+  // A closed spline: an unrolled point and its twin are one point with one weight.
+  const BSpline c = BSpline::make_closed(2, {0, 1, 2, 3, 4, 5}, {{1, 0}, {0.3, 1}, {-0.8, 0.6}, {-0.8, -0.6}, {0.3, -1}});
+  const int m = c.unique_point_count();
+  ASSERT_EQ(c.twin(1), m + 1);
+  for (const int k : {1, m + 1}) {
+    const BSpline r2 = with_weight(c, k, 2.5);
+    EXPECT_TRUE(r2.closed());
+    EXPECT_EQ(r2.weight(1), 2.5) << k;
+    EXPECT_EQ(r2.weight(m + 1), 2.5) << k;
+    EXPECT_EQ(r2.weight(0), 1.0) << k;
+    EXPECT_EQ(r2.points(), c.points()) << k;
+  }
 }
 
 // The quarter circle with weights (1, w, 1): symmetric about its bisector for
@@ -294,7 +306,7 @@ TEST(WeightRegion, BadInputIsOneLineAndExitTwo) {
       {"--weight 2 --from 0.5 --to 2 --split 9", "split 9 is outside"},
       {"--weight 2 --from 0.5 --to 2 --plot " + (dir / "p.jpg").string(), "must end in .png or .svg"},
       {"--point 2 --from 0.5", "--from is for --weight"},
-      {"--from 0.5 --to 2", "give --point K|all"},
+      {"--from 0.5 --to 2", "--point is required (see cmr region --help), or --weight K"},
   };
   for (const auto& c : cases) {
     const std::string args = c.args.find("--plot") == std::string::npos ? c.args + " --plot " + plot : c.args;

@@ -11,7 +11,6 @@
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
-#include "tools/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -23,7 +22,7 @@ Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height
 void Editor::changed_document() {
   // The colours follow the layers alone: region() marks them stale when the
   // layers' keys change.
-  region_stale_ = analysis_stale_ = events_stale_ = true;
+  region_stale_ = analysis_stale_ = events_stale_ = weight_region_stale_ = true;
 }
 
 int Editor::pick(double x, double y) const {
@@ -545,6 +544,28 @@ const SplineAnalysis& Editor::analysis() {
     analysis_stale_ = false;
   }
   return *analysis_;
+}
+
+const WeightRegion* Editor::weight_region_view(WeightRegionRequest* request) {
+  if (!show_weight_region || doc().kcurve) return nullptr;
+  if ((weight_region_stale_ && dragging_ < 0) || !weight_region_) {
+    const Document& d = doc();
+    WeightRegionRequest q;
+    q.point = d.selected;
+    const double w = d.spline.weight(d.selected);
+    q.from = std::max(kMinWeight, w / 4);
+    q.to = std::min(kMaxWeight, w * 4);
+    q.samples = kWeightRegionSamples;
+    q.labels.mode = d.mode;
+    q.labels.split = d.split;
+    q.labels.segments = d.segments;
+    q.labels.max_depth = d.max_depth;
+    weight_region_ = weight_region(d.spline, q);
+    weight_request_ = q;
+    weight_region_stale_ = false;
+  }
+  if (request != nullptr) *request = weight_request_;
+  return &*weight_region_;
 }
 
 const CurvatureEvents& Editor::events() {

@@ -11,6 +11,7 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
+#include "tools/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -144,6 +145,16 @@ class Editor {
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
+  /// The region of the selected point's weight (tools/weight_region.hpp,
+  /// `cmr region --weight K`) over [w/4, 4w] of its weight w (within
+  /// kMinWeight..kMaxWeight), in the view's labels (mode, split, segments,
+  /// depth), kWeightRegionSamples samples: nullptr unless
+  /// show_weight_region, or in κ-curve mode. Recomputed when the document
+  /// changed, except while a point is dragged (the last one is kept);
+  /// `request`, when given, receives the request it answers.
+  const WeightRegion* weight_region_view(WeightRegionRequest* request = nullptr);
+  static constexpr int kWeightRegionSamples = 65;
+  bool show_weight_region = false;
   /// Status line: the last action's result or error.
   std::string message;
   bool show_ui = true;       ///< the panels
@@ -170,6 +181,9 @@ class Editor {
   int region_coarse_ = 1;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
+  bool weight_region_stale_ = true;
+  std::optional<WeightRegion> weight_region_;
+  WeightRegionRequest weight_request_;
   CurvatureEvents events_;
 };
 

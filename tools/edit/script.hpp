@@ -20,6 +20,7 @@
 //   ui on|off | overlay on|off          panels / curve and points drawn
 //   view X0 Y0 X1 Y1 | fit              world rectangle of the window
 //   weight K W                the weight of point K (clamped to 1e-3..1e3)
+//   weight-region on|off      the panel's strip of the selected weight's region
 //   knot I U                  move knot I to U
 //   drag-knot I U [STEPS]     the pointer drags knot I's handle on the ruler
 //                             to U in STEPS frames (default 10), as a user does

@@ -524,6 +524,10 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
     e.move_knot(int_arg(c, 0), number_arg(c, 1));
     return true;
   }
+  if (c.name == "weight-region") {
+    e.show_weight_region = switch_arg(c, 0);
+    return true;
+  }
   if (c.name == "weight") {
     e.set_weight(int_arg(c, 0), number_arg(c, 1));
     if (e.message.find("clamped") != std::string::npos) std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
