@@ -266,7 +266,10 @@ void refuse_options(const RegionArgs& a, const std::vector<std::string>& names, 
 
 /// cmr region FILE --weight K --from A --to B: the labels of the weights in [A, B].
 void run_weight_region(const RegionArgs& a) {
-  refuse_options(a, {"--with", "--size", "--view", "--png", "--labels", "--depth-map", "--contours", "--stats"},
+  // The weights' labels come from analyze() on the host: no backend runs.
+  refuse_options(a,
+                 {"--with", "--size", "--view", "--png", "--labels", "--depth-map", "--contours", "--stats",
+                  "--backend", "--device", "--precision"},
                  "is for --point (with --weight: --plot FILE.png|svg, -o FILE.json)");
   if (!a.from || !a.to) throw InputError("--weight needs --from A and --to B (the interval of weights)");
   const BSpline spline = read_spline_file(a.file);

@@ -303,6 +303,7 @@ TEST(WeightRegion, BadInputIsOneLineAndExitTwo) {
       {"--weight 2 --from 0.5 --to 2 --samples 1", "--samples: 1 is outside"},
       {"--weight 2 --from 0.5", "needs --from A and --to B"},
       {"--weight 2 --from 0.5 --to 2 --png x.png", "--png is for --point"},
+      {"--weight 2 --from 0.5 --to 2 --backend cpu", "--backend is for --point"},
       {"--weight 2 --from 0.5 --to 2 --split 9", "split 9 is outside"},
       {"--weight 2 --from 0.5 --to 2 --plot " + (dir / "p.jpg").string(), "must end in .png or .svg"},
       {"--point 2 --from 0.5", "--from is for --weight"},
