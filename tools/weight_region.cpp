@@ -220,9 +220,14 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   cairo_set_font_size(cr, 14);
   set(cr, {0, 0, 0});
   cairo_move_to(cr, 12, 20);
-  const std::string mode = r.labels.mode == Mode::cmr ? "CMR" : "CMRWI";
+  std::string mode = r.labels.mode == Mode::cmr ? "CMR" : "CMRWI";
+  if (r.labels.split) mode += " split at joint " + std::to_string(*r.labels.split);
+  for (std::size_t i = 0; i < r.labels.splits.size(); ++i)
+    mode += (i == 0 ? " joints " : ",") + std::to_string(r.labels.splits[i]);
+  if (r.labels.segments)
+    mode += " segments " + std::to_string(r.labels.segments->first) + ".." + std::to_string(r.labels.segments->last);
   const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" + tick_text(A, 1e-3) +
-                            ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, other weights and points fixed";
+                            ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
   cairo_show_text(cr, title.c_str());
 
   // The family of curves: a handful of weights, thin, in their label's colour.

@@ -227,6 +227,18 @@ TEST(WeightRegion, SplitAndCmrLabelsAgreeWithAnalyze) {
     doc["intervals"].push_back({{"from", v.from}, {"to", v.to}, {"label", cmr.label_name(v.label)}});
   check_against_analyze(s, doc, Mode::cmr, {}, 4);
   EXPECT_GT(cmr.evaluations, q.samples);
+  // Several joints (alternating labels, CMRWI) against analyze's alternation.
+  q.labels.mode = Mode::cmrwi;
+  q.labels.splits = {1, 2};
+  const WeightRegion alt = weight_region(s, q);
+  EXPECT_TRUE(alt.kind.alternating);
+  for (const WeightInterval& v : alt.intervals)
+    for (const double w : {v.from, (v.from + v.to) / 2, v.to}) {
+      AnalyzeOptions ao;
+      ao.splits = {1, 2};
+      const SplineAnalysis a = analyze(with_weight(s, q.point, w), ao);
+      EXPECT_EQ(detail::label_of(*a.alternation), v.label) << "w = " << w;
+    }
 }
 
 struct Rgb {
