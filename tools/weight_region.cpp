@@ -374,7 +374,12 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     cairo_fill(cr);
     cairo_text_extents_t e;
     cairo_text_extents(cr, now.c_str(), &e);
-    cairo_move_to(cr, std::clamp(x - e.width / 2, 4.0, width - e.width - 4), strip_top - 15);
+    const double tx = std::clamp(x - e.width / 2, 4.0, width - e.width - 4);
+    cairo_set_source_rgb(cr, 1, 1, 1);  // on white: the curves' panel may reach down here
+    cairo_rectangle(cr, tx - 2, strip_top - 15 - e.height - 1, e.width + 4, e.height + 4);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+    cairo_move_to(cr, tx, strip_top - 15);
   } else {
     cairo_move_to(cr, sx0, strip_top - 6);
   }
