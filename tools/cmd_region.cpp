@@ -371,7 +371,8 @@ void add_region_command(CLI::App& app, int& exit_code) {
     if (a->weight) {
       run_weight_region(*a);
     } else {
-      if (a->point.empty()) throw InputError("--point is required (see cmr region --help), or --weight K for the region of a weight");
+      if (a->point.empty())
+        throw InputError("--point is required (see cmr region --help), or --weight K for the region of a weight");
       refuse_options(*a, {"--from", "--to", "--samples", "--plot", "--output"}, "is for --weight K");
       run_region(*a);
     }

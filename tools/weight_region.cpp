@@ -226,8 +226,8 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     mode += (i == 0 ? " joints " : ",") + std::to_string(r.labels.splits[i]);
   if (r.labels.segments)
     mode += " segments " + std::to_string(r.labels.segments->first) + ".." + std::to_string(r.labels.segments->last);
-  const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" + tick_text(A, 1e-3) +
-                            ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
+  const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" +
+                            tick_text(A, 1e-3) + ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
   cairo_show_text(cr, title.c_str());
 
   // The family of curves: a handful of weights, thin, in their label's colour.

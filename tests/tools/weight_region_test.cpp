@@ -138,7 +138,8 @@ TEST(WeightRegion, WithWeightSetsOneWeight) {
   EXPECT_THROW((void)with_weight(s, 2, 0.0), InputError);
   EXPECT_THROW((void)with_weight(s, 99, 1.0), InputError);
   // A closed spline: an unrolled point and its twin are one point with one weight.
-  const BSpline c = BSpline::make_closed(2, {0, 1, 2, 3, 4, 5}, {{1, 0}, {0.3, 1}, {-0.8, 0.6}, {-0.8, -0.6}, {0.3, -1}});
+  const BSpline c =
+      BSpline::make_closed(2, {0, 1, 2, 3, 4, 5}, {{1, 0}, {0.3, 1}, {-0.8, 0.6}, {-0.8, -0.6}, {0.3, -1}});
   const int m = c.unique_point_count();
   ASSERT_EQ(c.twin(1), m + 1);
   for (const int k : {1, m + 1}) {

@@ -236,7 +236,8 @@ void controls(Editor& e) {
   if (!d.kcurve) {
     double weight = d.spline.weight(d.selected);
     const double lo = Editor::kMinWeight, hi = Editor::kMaxWeight;
-    const std::string label = "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
+    const std::string label =
+        "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
     ImGui::SetNextItemWidth(120);
     if (ImGui::DragScalar(label.c_str(), ImGuiDataType_Double, &weight, 0.005f, &lo, &hi, "%.5g",
                           ImGuiSliderFlags_Logarithmic))

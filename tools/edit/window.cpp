@@ -203,7 +203,8 @@ void App::install_callbacks() {
   });
   glfwSetScrollCallback(window_.window, [](GLFWwindow* w, double, double dy) {
     if (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
-    const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    const bool shift =
+        glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     try {
       self(w).editor_.scroll(dy, shift);
     } catch (const InputError& e) {
@@ -530,7 +531,8 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
   }
   if (c.name == "weight") {
     e.set_weight(int_arg(c, 0), number_arg(c, 1));
-    if (e.message.find("clamped") != std::string::npos) std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+    if (e.message.find("clamped") != std::string::npos)
+      std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     return true;
   }
   if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {
