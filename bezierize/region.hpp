@@ -159,6 +159,24 @@ class RegionProblem {
   std::shared_ptr<const detail::RegionSetup> setup_;
 };
 
+/// The region semantics stated through analyze(): a position's label is
+/// region_label_code(analyze(moved, region_analyze_options(request)), request)
+/// for the spline `moved` with the request's point (and group) there. These
+/// two are the one mapping from a spline-level analysis to a region label
+/// (used where a label is needed for a whole spline that no image holds:
+/// the region of weights, tools/weight_region.hpp; tests).
+/// The analysis options of a request: its depth, mode (split_mode), split or
+/// splits and judged segments.
+AnalyzeOptions region_analyze_options(const RegionRequest& request);
+/// The label code of `analysis` as the request's kind of label, read as the
+/// region engine reads it: without split(s) SplineAnalysis::cmrwi, or in CMR
+/// mode cmr_algorithm2 (the paper's Algorithm 2); with split or splits the
+/// groups' part_verdict over the Algorithm 1/2 classes (analysis.segments)
+/// combined by combine_split / alternation_verdict (for SplineAnalysis::split
+/// and ::alternation analyze reads inflections exactly, which in CMR mode can
+/// be less strict than Algorithm 2).
+std::uint8_t region_label_code(const SplineAnalysis& analysis, const RegionRequest& request);
+
 /// A rendered region: row-major, row 0 at the top.
 struct RegionResult {
   int width = 0, height = 0;

@@ -149,6 +149,35 @@ uint8_t label_of(Alternation a) {
   return code(AlternatingLabel::fail);
 }
 
+}  // namespace cmr::detail
+
+namespace cmr {
+
+AnalyzeOptions region_analyze_options(const RegionRequest& request) {
+  AnalyzeOptions ao;
+  ao.classify.max_depth = request.max_depth;
+  ao.split = request.split;
+  ao.splits = request.splits;
+  ao.split_mode = request.mode;
+  ao.segments = request.segments;
+  return ao;
+}
+
+std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& request) {
+  using detail::label_of;
+  if (!request.split && request.splits.empty()) return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
+  const std::vector<int> cuts = request.split ? std::vector<int>{*request.split} : request.splits;
+  std::vector<Direction> groups;
+  for (const auto& [first, end] : segment_groups(a.range, cuts))
+    groups.push_back(part_verdict(a.segments, a.joints, first, end, request.mode));
+  if (request.split) return label_of(combine_split(groups[0], groups[1]));
+  return label_of(alternation_verdict(groups));
+}
+
+}  // namespace cmr
+
+namespace cmr::detail {
+
 Labels labels_of(const RegionRequest& o) {
   return !o.splits.empty() ? Labels::alternating : (o.split ? Labels::split : Labels::plain);
 }

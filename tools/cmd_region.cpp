@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <iostream>
+#include <optional>
 #include <cstdlib>
 #include <sstream>
 
@@ -15,6 +16,7 @@
 #include "tools/cli_common.hpp"
 #include "tools/draw.hpp"
 #include "tools/mesh.hpp"
+#include "tools/weight_region.hpp"
 
 namespace cmr::cli {
 namespace {
@@ -36,6 +38,14 @@ struct RegionArgs {
   std::string contours;  // --contours OUT.svg|OUT.obj|OUT.ply
   bool stats = false;
   bool pretty = false;
+  // --weight K --from A --to B (tools/weight_region.hpp): the region of a weight.
+  std::optional<int> weight;
+  std::optional<double> from, to;
+  int samples = WeightRegionRequest{}.samples;
+  std::string plot, json_out;
+  /// Options given on the command line, by name (to refuse those of the
+  /// other mode with one line).
+  std::vector<std::pair<std::string, const CLI::Option*>> given;
 };
 
 /// A binary PGM; `maxval` is the largest value a pixel can take (PGM viewers
@@ -247,6 +257,62 @@ nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& 
   return doc;
 }
 
+/// Refuses an option of the other mode (--point's with --weight and back).
+void refuse_options(const RegionArgs& a, const std::vector<std::string>& names, const std::string& why) {
+  for (const auto& [name, option] : a.given)
+    if (option->count() > 0 && std::find(names.begin(), names.end(), name) != names.end())
+      throw InputError(name + " " + why);
+}
+
+/// cmr region FILE --weight K --from A --to B: the labels of the weights in [A, B].
+void run_weight_region(const RegionArgs& a) {
+  // The weights' labels come from analyze() on the host: no backend runs.
+  refuse_options(a,
+                 {"--with", "--size", "--view", "--png", "--labels", "--depth-map", "--contours", "--stats",
+                  "--backend", "--device", "--precision"},
+                 "is for --point (with --weight: --plot FILE.png|svg, -o FILE.json)");
+  if (!a.from || !a.to) throw InputError("--weight needs --from A and --to B (the interval of weights)");
+  const BSpline spline = read_spline_file(a.file);
+  WeightRegionRequest r;
+  r.point = *a.weight;
+  r.from = *a.from;
+  r.to = *a.to;
+  r.samples = a.samples;
+  r.labels = region_options(a);
+  if (!a.plot.empty()) check_output_path(a.plot, "--plot");
+  if (!a.json_out.empty()) check_output_path(a.json_out, "-o");
+  const auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  const std::string plot = lower(a.plot);
+  const bool svg = plot.size() >= 4 && plot.compare(plot.size() - 4, 4, ".svg") == 0;
+  if (!plot.empty() && !svg && !(plot.size() >= 4 && plot.compare(plot.size() - 4, 4, ".png") == 0))
+    throw InputError("--plot: the file name must end in .png or .svg (got '" + a.plot + "')");
+  const WeightRegion region = weight_region(spline, r);
+
+  nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
+  for (const WeightInterval& iv : region.intervals)
+    intervals.push_back({{"from", iv.from}, {"to", iv.to}, {"label", region.label_name(iv.label)}});
+  nlohmann::ordered_json doc = {{"weight", r.point},
+                                {"from", r.from},
+                                {"to", r.to},
+                                {"current", spline.weight(r.point)},
+                                {"mode", a.mode},
+                                {"samples", r.samples},
+                                {"tolerance", r.tolerance * (r.to - r.from)},
+                                {"evaluations", region.evaluations},
+                                {"intervals", intervals}};
+  if (r.labels.split) doc["split"] = *r.labels.split;
+  if (!r.labels.splits.empty()) doc["split"] = r.labels.splits;
+  if (r.labels.segments) doc["segments"] = {r.labels.segments->first, r.labels.segments->last};
+  OutputSet out;
+  if (!a.plot.empty()) out.stage(a.plot, weight_region_picture(spline, r, region, svg));
+  if (!a.json_out.empty()) out.stage(a.json_out, json_text(doc, a.pretty));
+  out.commit();
+  if (a.json_out.empty()) print_json(doc, a.pretty);
+}
+
 void run_region(const RegionArgs& a) {
   const BSpline spline = read_spline_file(a.file);
   const RegionRequest o = region_options(a);
@@ -264,8 +330,19 @@ void add_region_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<RegionArgs>();
   auto* cmd = app.add_subcommand("region", "Where may a control point go so that curvature stays monotone?");
   cmd->add_option("FILE", a->file, "spline file (JSON)")->required();
-  cmd->add_option("--point", a->point, "control point K placed at every pixel, or 'all' (one map per point)")
-      ->required();
+  auto* point = cmd->add_option("--point", a->point,
+                                "control point K placed at every pixel, or 'all' (one map per point)");
+  auto* weight = cmd->add_option("--weight", a->weight,
+                                 "the region of weight K: which weights in --from A .. --to B give which label");
+  point->excludes(weight);
+  weight->excludes(point);
+  cmd->add_option("--from", a->from, "--weight: the smallest weight A");
+  cmd->add_option("--to", a->to, "--weight: the largest weight B (A < B)");
+  cmd->add_option("--samples", a->samples,
+                  "--weight: equally spaced weights labelled before the changes are bisected")
+      ->capture_default_str();
+  cmd->add_option("--plot", a->plot, "--weight: the picture, FILE.png or FILE.svg");
+  cmd->add_option("-o,--output", a->json_out, "--weight: the JSON to FILE instead of stdout");
   cmd->add_option("--with", a->with, "points moving rigidly with K (comma separated)")->delimiter(',');
   cmd->add_option("--mode", a->mode, "cmrwi: monotone; cmr: monotone without inflection")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
@@ -289,8 +366,16 @@ void add_region_command(CLI::App& app, int& exit_code) {
                   "region outlines refined on the exact boundary: .svg, or triangulated .obj/.ply (areas in the summary)");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   add_pretty_flag(*cmd, a->pretty);
+  for (CLI::Option* o : cmd->get_options()) a->given.emplace_back(o->get_name(), o);
   cmd->callback([a, &exit_code] {
-    run_region(*a);
+    if (a->weight) {
+      run_weight_region(*a);
+    } else {
+      if (a->point.empty())
+        throw InputError("--point is required (see cmr region --help), or --weight K for the region of a weight");
+      refuse_options(*a, {"--from", "--to", "--samples", "--plot", "--output"}, "is for --weight K");
+      run_region(*a);
+    }
     exit_code = kOk;
   });
 }

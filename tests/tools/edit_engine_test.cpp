@@ -12,6 +12,7 @@
 #include "bezierize/knot_ops.hpp"
 #include "spline/curvature.hpp"
 #include "tools/edit/editor.hpp"
+#include "tools/weight_region.hpp"
 #include "vk/presenter.hpp"
 
 namespace {
@@ -52,6 +53,58 @@ void expect_layer_is_classify(const BSpline& s, const RegionRequest& r, const Re
 }
 
 int count_label(const RegionResult& r, RegionLabel l) { return static_cast<int>(std::count(r.labels.begin(), r.labels.end(), l)); }
+
+// Weights shape every region of a rational spline: a weight change (the
+// moved point's own included) gives another key; the same weights the same key.
+TEST(EditEngine, RegionKeyHoldsTheWeights) {
+  const BSpline s = spline6();
+  RegionRequest r;
+  r.point = 2;
+  r.view = View{-1, -2, 6, 3};
+  const auto key = region_key(s, r);
+  const BSpline heavy = with_weight(s, 4, 1.5);
+  EXPECT_NE(region_key(heavy, r), key);
+  EXPECT_NE(region_key(with_weight(s, 2, 1.5), r), key) << "the moved point's weight counts";
+  EXPECT_EQ(region_key(with_weight(s, 4, 1.5), r), region_key(heavy, r));
+  EXPECT_NE(region_key(with_weight(heavy, 4, 1.25), r), region_key(heavy, r));
+  EXPECT_EQ(region_key(with_weight(heavy, 4, 1.0), r), key) << "weights all 1 are the polynomial spline";
+}
+
+// The panel's region of the selected weight: off by default; on, it answers
+// [w/4, 4w] of the selected point's weight in the view's labels, every
+// interval's ends carry its label (the certified label of the spline with
+// that weight), and a weight or mode change recomputes it.
+TEST(EditEngine, WeightRegionViewFollowsTheSelectedWeight) {
+  Editor e = small_editor(spline6());
+  EXPECT_EQ(e.weight_region_view(), nullptr) << "off by default";
+  e.show_weight_region = true;
+  e.select(2);
+  const auto check = [&](const WeightRegion* r, const WeightRegionRequest& q) {
+    ASSERT_NE(r, nullptr);
+    EXPECT_EQ(q.point, 2);
+    EXPECT_EQ(q.labels.mode, e.doc().mode);
+    EXPECT_EQ(r->intervals.front().from, q.from);
+    EXPECT_EQ(r->intervals.back().to, q.to);
+    for (const WeightInterval& iv : r->intervals)
+      for (const double w : {iv.from, iv.to}) EXPECT_EQ(weight_label(e.doc().spline, q, w), iv.label) << "w = " << w;
+  };
+  WeightRegionRequest q;
+  const WeightRegion* r = e.weight_region_view(&q);
+  check(r, q);
+  EXPECT_EQ(q.from, 0.25);
+  EXPECT_EQ(q.to, 4.0);
+  bool increasing = false;  // Fig. 8's P2: increasing for w2 in about [1.134, 1.257]
+  for (const WeightInterval& iv : r->intervals)
+    increasing = increasing || (iv.label == code(RegionLabel::increasing) && iv.from < 1.2 && iv.to > 1.2);
+  EXPECT_TRUE(increasing);
+  e.set_weight(2, 1.2);
+  e.set_mode(Mode::cmr);
+  r = e.weight_region_view(&q);
+  check(r, q);
+  EXPECT_DOUBLE_EQ(q.from, 0.3);
+  EXPECT_DOUBLE_EQ(q.to, 4.8);
+  EXPECT_EQ(q.labels.mode, Mode::cmr);
+}
 
 TEST(EditEngine, RegionKeyIgnoresOnlyWhereTheMovedGroupStands) {
   const BSpline s = spline6();

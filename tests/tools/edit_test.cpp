@@ -219,6 +219,49 @@ TEST_F(EditTest, RationalSplineKeepsItsWeightsAndRegionPixelsMatchCmrRegion) {
   EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
 }
 
+// Weights in the editor: `weight K W` sets one (the polynomial fig8 becomes
+// rational), a weight <= 0 is clamped to 0.001 with a note, undo takes one
+// weight change back, shift+wheel over P3 scales its weight by 1.1; the saved
+// JSON carries the weights, and every pixel of the screenshot is `cmr region`
+// of the saved file. The region is drawn once before the weights change, so
+// a cache that ignored weights would show the old region (and the old region
+// differs: checked).
+TEST_F(EditTest, WeightEditsAreSavedUndoneAndRegionPixelsMatchCmrRegion) {
+  const fs::path clamped = dir_ / "clamped.json", saved = dir_ / "saved.json", shot = dir_ / "shot.png";
+  // P3 (1.97, -3.83) in window pixels of the view -1..5 x -7..-2.5 at 320x240.
+  const double px = (1.97 + 1) / 6 * kW, py = (-2.5 + 3.83) / 4.5 * kH;
+  const Outcome r = run_edit(kFig8,
+                             "ui off\noverlay off\nview " + kView + "\nselect 3\nwait 2\nweight 3 1.1\nweight 1 -2\n" +
+                                 "save " + clamped.string() + "\nundo\nmouse " + std::to_string(px) + " " +
+                                 std::to_string(py) + "\nscroll 1 shift\nsave " + saved.string() + "\n",
+                             shot);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("weight of P1 set to 0.001 (clamped"), std::string::npos) << r.err;
+  const nlohmann::json before = read_json(kFig8), c = read_json(clamped), after = read_json(saved);
+  EXPECT_FALSE(before.contains("weights"));
+  ASSERT_TRUE(c.contains("weights")) << c.dump();
+  EXPECT_EQ(c["weights"], nlohmann::json({1.0, 0.001, 1.0, 1.1, 1.0, 1.0}));
+  ASSERT_TRUE(after.contains("weights")) << after.dump();
+  EXPECT_EQ(after["weights"][1].get<double>(), 1.0) << "undo restores P1's weight";
+  EXPECT_NEAR(after["weights"][3].get<double>(), 1.1 * 1.1, 1e-12) << "shift+wheel scales P3's weight";
+  EXPECT_EQ(after["points"], before["points"]);
+  EXPECT_EQ(after["knots"], before["knots"]);
+  const std::string size = " --size " + std::to_string(kW) + "x" + std::to_string(kH);
+  const fs::path labels = dir_ / "labels.pgm", old_labels = dir_ / "old.pgm";
+  const Outcome region = run("region " + saved.string() + " --point 3 --view " + kViewComma + size +
+                             " --backend cpu --labels " + labels.string());
+  ASSERT_EQ(region.code, 0) << region.err;
+  const auto seen = compare_with_labels(read_png(shot), {labels});
+  EXPECT_GT(seen[0], 0) << "the view should show non-monotone pixels";
+  EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
+  const Outcome old = run("region " + kFig8 + " --point 3 --view " + kViewComma + size + " --backend cpu --labels " +
+                          old_labels.string());
+  ASSERT_EQ(old.code, 0) << old.err;
+  int w = 0, h = 0;
+  const std::vector<uint8_t> a = read_pgm(labels, w, h), b = read_pgm(old_labels, w, h);
+  EXPECT_NE(a, b) << "the weight must change P3's region, or the test proves nothing about the cache";
+}
+
 TEST_F(EditTest, KnotMoveModeToggleAndAllPointsMatchCmrRegion) {
   const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
   const Outcome r = run_edit(kFig8,

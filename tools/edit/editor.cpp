@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
@@ -21,7 +22,7 @@ Editor::Editor(BSpline spline, std::filesystem::path path, int width, int height
 void Editor::changed_document() {
   // The colours follow the layers alone: region() marks them stale when the
   // layers' keys change.
-  region_stale_ = analysis_stale_ = events_stale_ = true;
+  region_stale_ = analysis_stale_ = events_stale_ = weight_region_stale_ = true;
 }
 
 int Editor::pick(double x, double y) const {
@@ -91,7 +92,14 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
   grab_offset_ = doc().spline.points()[k] - viewport_.to_world(mouse_.x, mouse_.y);
 }
 
-void Editor::scroll(double dy) {
+void Editor::scroll(double dy, bool shift) {
+  if (shift) {
+    const int k = pick(mouse_.x, mouse_.y);
+    if (k >= 0) {
+      set_weight(k, doc().spline.weight(k) * std::pow(kWeightStep, dy));
+      return;
+    }
+  }
   viewport_ = viewport_.zoomed(std::pow(kZoomStep, dy), mouse_.x, mouse_.y);
   region_stale_ = rgba_stale_ = true;
 }
@@ -282,6 +290,17 @@ void Editor::move_point(int k, Vec2 p) {
   next.spline = edit::move_point(doc(), k, p);
   history_.commit(std::move(next));
   changed_document();
+}
+
+void Editor::set_weight(int k, double w) {
+  check_point(doc().spline, k);
+  if (doc().kcurve) throw InputError("weight: not in kappa-curve mode (the curve is rebuilt from its points)");
+  if (std::isnan(w)) throw InputError("weight: not a number");
+  const double clamped = std::clamp(w, kMinWeight, kMaxWeight);
+  char what[160];
+  std::snprintf(what, sizeof what, "weight of P%d set to %.6g%s", k, clamped,
+                clamped != w ? " (clamped to 0.001..1000: weights must stay > 0)" : "");
+  replace_spline(with_weight(doc().spline, k, clamped), what, "weight" + std::to_string(k));
 }
 
 void Editor::move_knot(int i, double u) {
@@ -525,6 +544,28 @@ const SplineAnalysis& Editor::analysis() {
     analysis_stale_ = false;
   }
   return *analysis_;
+}
+
+const WeightRegion* Editor::weight_region_view(WeightRegionRequest* request) {
+  if (!show_weight_region || doc().kcurve) return nullptr;
+  if ((weight_region_stale_ && dragging_ < 0) || !weight_region_) {
+    const Document& d = doc();
+    WeightRegionRequest q;
+    q.point = d.selected;
+    const double w = d.spline.weight(d.selected);
+    q.from = std::max(kMinWeight, w / 4);
+    q.to = std::min(kMaxWeight, w * 4);
+    q.samples = kWeightRegionSamples;
+    q.labels.mode = d.mode;
+    q.labels.split = d.split;
+    q.labels.segments = d.segments;
+    q.labels.max_depth = d.max_depth;
+    weight_region_ = weight_region(d.spline, q);
+    weight_request_ = q;
+    weight_region_stale_ = false;
+  }
+  if (request != nullptr) *request = weight_request_;
+  return &*weight_region_;
 }
 
 const CurvatureEvents& Editor::events() {

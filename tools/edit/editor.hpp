@@ -11,6 +11,7 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
+#include "tools/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -22,6 +23,11 @@ class Editor {
   static constexpr double kPickRadius = 9;
   /// Zoom factor of one scroll step.
   static constexpr double kZoomStep = 1.25;
+  /// Weight factor of one shift+scroll step over a point.
+  static constexpr double kWeightStep = 1.1;
+  /// The weights the editor allows: BSpline refuses w <= 0 (a pole), so
+  /// set_weight clamps to [kMinWeight, kMaxWeight] and says so.
+  static constexpr double kMinWeight = 1e-3, kMaxWeight = 1e3;
   /// Window pixels the panels take at the right and the bottom (fit_view
   /// leaves them out while the UI is shown).
   static constexpr int kPanelWidth = 340, kPlotHeight = 190;
@@ -33,8 +39,9 @@ class Editor {
   /// Left: press on a point starts dragging it (shift: adds it to / removes
   /// it from the rigid group instead); right or middle: pans.
   void mouse_button(MouseButton button, bool down, bool shift);
-  /// Zooms about the cursor (dy > 0: closer).
-  void scroll(double dy);
+  /// Zooms about the cursor (dy > 0: closer); with shift over a control
+  /// point, scales that point's weight by kWeightStep^dy instead.
+  void scroll(double dy, bool shift = false);
   /// Key by name ("z" with ctrl: undo, "y" with ctrl: redo, "c": CMR/CMRWI,
   /// "d": depth shading, "a": all points, "g": chain mode, "f": fit view).
   void key(const std::string& name, bool ctrl);
@@ -67,6 +74,14 @@ class Editor {
   void kcurve_modify();
   /// Point k to world position p as a drag would put it (group, chain rules).
   void move_point(int k, Vec2 p);
+  /// The weight of point k (a polynomial spline becomes rational, its other
+  /// weights 1; weights all 1 again make it polynomial): with_weight of
+  /// tools/weight_region.hpp. A weight outside [kMinWeight, kMaxWeight] is
+  /// clamped and the status line says so; InputError for a point out of
+  /// range, a weight that is not a number, and in κ-curve mode (the curve
+  /// is rebuilt from its points there). Consecutive changes of one point's
+  /// weight (a drag of the field) are one undo step.
+  void set_weight(int k, double w);
   /// Knot i to value u (polar index; knot_ops' set_knot, whose InputError
   /// says why a value is refused). Consecutive moves of one knot (a ruler
   /// drag) are one undo step.
@@ -130,6 +145,16 @@ class Editor {
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
+  /// The region of the selected point's weight (tools/weight_region.hpp,
+  /// `cmr region --weight K`) over [w/4, 4w] of its weight w (within
+  /// kMinWeight..kMaxWeight), in the view's labels (mode, split, segments,
+  /// depth), kWeightRegionSamples samples: nullptr unless
+  /// show_weight_region, or in κ-curve mode. Recomputed when the document
+  /// changed, except while a point is dragged (the last one is kept);
+  /// `request`, when given, receives the request it answers.
+  const WeightRegion* weight_region_view(WeightRegionRequest* request = nullptr);
+  static constexpr int kWeightRegionSamples = 65;
+  bool show_weight_region = false;
   /// Status line: the last action's result or error.
   std::string message;
   bool show_ui = true;       ///< the panels
@@ -156,6 +181,9 @@ class Editor {
   int region_coarse_ = 1;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
+  bool weight_region_stale_ = true;
+  std::optional<WeightRegion> weight_region_;
+  WeightRegionRequest weight_request_;
   CurvatureEvents events_;
 };
 

@@ -56,6 +56,10 @@ std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   key.push_back(spline.degree());
   count(spline.knots().size());
   key.insert(key.end(), spline.knots().begin(), spline.knots().end());
+  // The weights (none for a polynomial spline): every weight, the moved
+  // point's included, shapes the region of a rational spline.
+  count(spline.weights().size());
+  key.insert(key.end(), spline.weights().begin(), spline.weights().end());
   const std::vector<Vec2>& pts = spline.points();
   count(pts.size());
   const bool k_valid = r.point >= 0 && r.point < spline.point_count();

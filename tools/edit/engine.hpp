@@ -22,7 +22,8 @@ namespace cmr::edit {
 std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers);
 
 /// What a region depends on, exactly: the request (view, size, mode, split,
-/// depth, the moved point k and its rigid companions), the degree and knots,
+/// depth, the moved point k and its rigid companions), the degree, knots and
+/// weights,
 /// the points that stay where they are, and the companions' offsets from P_k.
 /// Not P_k itself: the region puts P_k (and its companions, by the same
 /// vector) at every pixel centre, so wherever k's group stands the labels are

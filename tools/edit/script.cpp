@@ -16,7 +16,7 @@ struct Arity {
 
 const std::map<std::string, Arity>& commands() {
   static const std::map<std::string, Arity> table = {
-      {"mouse", {2, 2}},   {"press", {1, 2}},  {"release", {1, 1}},  {"scroll", {1, 1}},
+      {"mouse", {2, 2}},   {"press", {1, 2}},  {"release", {1, 1}},  {"scroll", {1, 2}},
       {"key", {1, 2}},     {"drag", {3, 4}},   {"select", {1, 1}},   {"group", {0, 64}},
       {"all", {1, 1}},     {"mode", {1, 1}},   {"depth", {1, 1}},    {"shading", {1, 1}},
       {"split", {1, 1}},   {"chain", {1, 1}},  {"comb", {1, 1}},     {"ui", {1, 1}},
@@ -25,7 +25,7 @@ const std::map<std::string, Arity>& commands() {
       {"uniform", {0, 0}}, {"undo", {0, 0}},   {"redo", {0, 0}},     {"save", {1, 1}},
       {"export-region", {1, 1}}, {"screenshot", {1, 1}}, {"wait", {1, 1}}, {"quit", {0, 0}},
       {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
-      {"segments", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
+      {"segments", {1, 1}}, {"weight", {2, 2}}, {"weight-region", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
   };
   return table;
 }

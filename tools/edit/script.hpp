@@ -9,7 +9,8 @@
 //   mouse X Y                 move the cursor (drags and pans follow it)
 //   press left|right|middle [shift]   mouse button down at the cursor
 //   release left|right|middle          mouse button up
-//   scroll DY                 zoom about the cursor (DY > 0: closer)
+//   scroll DY [shift]         zoom about the cursor (DY > 0: closer); with
+//                             shift over a point: scale its weight by 1.1^DY
 //   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f
 //   drag K X Y [STEPS]        press on point K, move to world (X, Y) in STEPS
 //                             frames (default 10), release
@@ -18,6 +19,8 @@
 //   segments A..B|A|all       which segments the region and verdicts judge
 //   ui on|off | overlay on|off          panels / curve and points drawn
 //   view X0 Y0 X1 Y1 | fit              world rectangle of the window
+//   weight K W                the weight of point K (clamped to 1e-3..1e3)
+//   weight-region on|off      the panel's strip of the selected weight's region
 //   knot I U                  move knot I to U
 //   drag-knot I U [STEPS]     the pointer drags knot I's handle on the ruler
 //                             to U in STEPS frames (default 10), as a user does

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "bezierize/kcurve.hpp"
@@ -146,6 +147,58 @@ void segment_range(Editor& e) {
     act(e, [&] { e.set_segments(SegmentRange{range[0], range[1]}); });
 }
 
+/// The region of the selected point's weight (Editor::weight_region_view):
+/// a strip over [w/4, 4w] in the canvas's colours, the current weight
+/// marked, and the monotone stretches as text.
+void weight_strip(Editor& e) {
+  WeightRegionRequest q;
+  const WeightRegion* r = nullptr;
+  act(e, [&] { r = e.weight_region_view(&q); });
+  if (r == nullptr) return;
+  const ImVec2 o = ImGui::GetCursorScreenPos();
+  const float width = ImGui::GetContentRegionAvail().x, height = 14;
+  const int columns = std::max(1, static_cast<int>(width));
+  RegionResult strip = r->kind;
+  strip.width = columns;
+  strip.height = 1;
+  strip.depth.assign(columns, 0);
+  const auto label_at = [&](double w) {
+    for (const WeightInterval& iv : r->intervals)
+      if (w <= iv.to) return iv.label;
+    return r->intervals.back().label;
+  };
+  for (int i = 0; i < columns; ++i) {
+    const std::uint8_t l = label_at(q.from + (q.to - q.from) * (i + 0.5) / columns);
+    if (strip.split) strip.split_labels.push_back(static_cast<SplitLabel>(l));
+    else strip.labels.push_back(static_cast<RegionLabel>(l));
+  }
+  const std::vector<uint8_t> rgba = region_rgba({&strip}, strip.split, false, q.labels.max_depth);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  for (int i = 0; i < columns; ++i)
+    dl->AddRectFilled({o.x + i, o.y}, {o.x + i + 1, o.y + height},
+                      IM_COL32(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2], 255));
+  dl->AddRect(o, {o.x + width, o.y + height}, IM_COL32(0, 0, 0, 255));
+  const double w = e.doc().spline.weight(q.point);
+  const float x = o.x + static_cast<float>((w - q.from) / (q.to - q.from)) * width;
+  dl->AddLine({x, o.y - 2}, {x, o.y + height + 2}, kMaximumColour, 2.0f);
+  ImGui::Dummy({width, height});
+  const auto num = [](double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", x);
+    return std::string(buf);
+  };
+  std::string text = "w in [" + num(q.from) + ", " + num(q.to) + "]:";
+  bool any = false;
+  for (const WeightInterval& iv : r->intervals) {
+    const std::string name = r->label_name(iv.label);
+    if (iv.label == 0 || name == "undecided") continue;  // white in the strip
+    text += " " + name + " " + num(iv.from) + ".." + num(iv.to);
+    any = true;
+  }
+  if (!any) text += " none monotone";
+  ImGui::TextWrapped("%s", text.c_str());
+}
+
 void controls(Editor& e) {
   const Document& d = e.doc();
   int mode = d.mode == Mode::cmr ? 1 : 0;
@@ -178,6 +231,20 @@ void controls(Editor& e) {
   std::string group = "P" + std::to_string(d.selected);
   for (int g : d.group) group += " + P" + std::to_string(g);
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+  // The selected point's weight (shift+wheel over a point scales it); a
+  // polynomial spline shows weights 1 and becomes rational when one changes.
+  if (!d.kcurve) {
+    double weight = d.spline.weight(d.selected);
+    const double lo = Editor::kMinWeight, hi = Editor::kMaxWeight;
+    const std::string label =
+        "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::DragScalar(label.c_str(), ImGuiDataType_Double, &weight, 0.005f, &lo, &hi, "%.5g",
+                          ImGuiSliderFlags_Logarithmic))
+      act(e, [&] { e.set_weight(d.selected, weight); });
+    ImGui::Checkbox("region of this weight", &e.show_weight_region);
+    weight_strip(e);
+  }
   kcurve_controls(e);
 }
 

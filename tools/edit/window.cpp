@@ -203,7 +203,13 @@ void App::install_callbacks() {
   });
   glfwSetScrollCallback(window_.window, [](GLFWwindow* w, double, double dy) {
     if (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
-    self(w).editor_.scroll(dy);
+    const bool shift =
+        glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    try {
+      self(w).editor_.scroll(dy, shift);
+    } catch (const InputError& e) {
+      self(w).editor_.message = e.what();
+    }
   });
   glfwSetKeyCallback(window_.window, [](GLFWwindow* w, int key, int, int action, int mods) {
     if (action != GLFW_PRESS || (ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureKeyboard)) return;
@@ -414,7 +420,7 @@ void ScriptRunner::run(const ScriptCommand& c) {
     app_.export_view(c.args[0]);
     frame_needed_ = true;
   } else if (n == "scroll") {
-    e.scroll(number_arg(c, 0));
+    e.scroll(number_arg(c, 0), c.args.size() > 1 && c.args[1] == "shift");
   } else if (n == "key") {
     e.key(c.args[0], c.args.size() > 1 && c.args[1] == "ctrl");
   } else if (n == "drag") {
@@ -517,6 +523,16 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
   Editor& e = app_.editor();
   if (c.name == "knot") {
     e.move_knot(int_arg(c, 0), number_arg(c, 1));
+    return true;
+  }
+  if (c.name == "weight-region") {
+    e.show_weight_region = switch_arg(c, 0);
+    return true;
+  }
+  if (c.name == "weight") {
+    e.set_weight(int_arg(c, 0), number_arg(c, 1));
+    if (e.message.find("clamped") != std::string::npos)
+      std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     return true;
   }
   if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {

@@ -1,0 +1,428 @@
+#include "tools/weight_region.hpp"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "bezierize/analyze.hpp"
+#include "spline/errors.hpp"
+#include "spline/parallel.hpp"
+#include "tools/draw.hpp"
+
+namespace cmr {
+
+BSpline with_weight(const BSpline& spline, int k, double w) {
+  if (k < 0 || k >= spline.point_count())
+    throw InputError("point " + std::to_string(k) + " is outside 0.." + std::to_string(spline.point_count() - 1));
+  const int m = spline.unique_point_count();
+  if (spline.closed() && k >= m) k -= m;  // the twin of an unrolled point
+  std::vector<double> weights(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) weights[i] = spline.weight(i);
+  weights[k] = w;
+  if (spline.closed()) {
+    std::vector<Vec2> points(spline.points().begin(), spline.points().begin() + m);
+    return BSpline::make_closed(spline.degree(), spline.period_knots(), std::move(points), spline.name(),
+                                std::move(weights));
+  }
+  return BSpline::make(spline.degree(), spline.knots(), spline.points(), spline.name(), std::move(weights));
+}
+
+std::uint8_t weight_label(const BSpline& spline, const WeightRegionRequest& r, double w) {
+  return region_label_code(analyze(with_weight(spline, r.point, w), region_analyze_options(r.labels)), r.labels);
+}
+
+namespace {
+
+/// "P3", "w3": a letter and an index (appended, which GCC 12's
+/// -Wrestrict does not misread as an overlapping copy).
+std::string indexed(char letter, int k) {
+  std::string s(1, letter);
+  s += std::to_string(k);
+  return s;
+}
+
+std::string number(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+void validate(const BSpline& spline, const WeightRegionRequest& r) {
+  if (r.point < 0 || r.point >= spline.point_count())
+    throw InputError("--weight: point " + std::to_string(r.point) + " is outside 0.." +
+                     std::to_string(spline.point_count() - 1));
+  if (!std::isfinite(r.from) || !std::isfinite(r.to))
+    throw InputError("--from/--to: the weights must be finite numbers");
+  if (!(r.from < r.to)) throw InputError("--from " + number(r.from) + " must be smaller than --to " + number(r.to));
+  if (r.samples < 2 || r.samples > kMaxWeightSamples)
+    throw InputError("--samples: " + std::to_string(r.samples) + " is outside 2.." + std::to_string(kMaxWeightSamples));
+  if (!(r.tolerance > 0 && r.tolerance < 1)) throw InputError("weight region: the tolerance must lie in (0, 1)");
+  for (const auto& [w, option] : {std::pair{r.from, "--from"}, std::pair{r.to, "--to"}}) {
+    try {
+      (void)with_weight(spline, r.point, w);
+    } catch (const InputError& e) {
+      throw InputError(std::string(option) + " " + number(w) + ": " + e.what());
+    }
+  }
+  // The label options (split, segments, depth) are validated by analyze.
+  (void)analyze(spline, region_analyze_options(r.labels));
+}
+
+struct Boundary {
+  double left, right;
+  std::uint8_t left_label, right_label;
+};
+
+}  // namespace
+
+WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& r) {
+  validate(spline, r);
+  WeightRegion out;
+  out.kind.split = r.labels.split.has_value();
+  out.kind.alternating = !r.labels.splits.empty();
+  const int n = r.samples;
+  std::vector<double> w(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) w[i] = i == n - 1 ? r.to : r.from + (r.to - r.from) * i / (n - 1);
+  std::vector<std::uint8_t> label(w.size());
+  std::atomic<int> evaluations{0};
+  const auto label_at = [&](double x) {
+    ++evaluations;
+    return weight_label(spline, r, x);
+  };
+  parallel_for(w.size(), r.threads, [&](std::size_t i) { label[i] = label_at(w[i]); });
+
+  // Each step whose ends differ: bisect every half whose ends differ, so
+  // that a third label met inside is kept, down to the tolerance.
+  const double width = r.tolerance * (r.to - r.from);
+  std::vector<std::size_t> changes;
+  for (std::size_t i = 0; i + 1 < w.size(); ++i)
+    if (label[i] != label[i + 1]) changes.push_back(i);
+  std::vector<std::vector<Boundary>> found(changes.size());
+  parallel_for(changes.size(), r.threads, [&](std::size_t c) {
+    const std::size_t i = changes[c];
+    std::vector<Boundary>& list = found[c];
+    const auto resolve = [&](auto&& self, double a, std::uint8_t la, double b, std::uint8_t lb) -> void {
+      if (la == lb) return;
+      const double m = a + (b - a) / 2;
+      if (b - a <= width || !(m > a && m < b)) {
+        list.push_back({a, b, la, lb});
+        return;
+      }
+      const std::uint8_t lm = label_at(m);
+      self(self, a, la, m, lm);
+      self(self, m, lm, b, lb);
+    };
+    resolve(resolve, w[i], label[i], w[i + 1], label[i + 1]);
+  });
+
+  double start = r.from;
+  std::uint8_t current = label.front();
+  for (const std::vector<Boundary>& list : found)
+    for (const Boundary& b : list) {
+      CMR_CHECK(b.left_label == current);
+      out.intervals.push_back({start, b.left, current});
+      start = b.right;
+      current = b.right_label;
+    }
+  CMR_CHECK(current == label.back());
+  out.intervals.push_back({start, r.to, current});
+  out.evaluations = evaluations.load();
+  return out;
+}
+
+// ---- the picture ----
+
+namespace {
+
+cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+/// Axis tick step: 1, 2 or 5 times a power of ten, about six ticks.
+double tick_step(double range) {
+  const double raw = range / 6, p = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double f : {1.0, 2.0, 5.0})
+    if (f * p >= raw) return f * p;
+  return 10 * p;
+}
+
+std::string tick_text(double x, double step) {
+  char buf[32];
+  const int digits = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+void set(cairo_t* cr, draw::Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
+
+/// A curve's colour for a label: the region colour, darkened so that it shows
+/// on white (white labels: grey).
+draw::Rgb curve_colour(draw::Rgb region) {
+  if (region.r > 0.95 && region.g > 0.95 && region.b > 0.95) return {0.6, 0.6, 0.6};
+  return {region.r * 0.8, region.g * 0.8, region.b * 0.8};
+}
+
+}  // namespace
+
+std::string weight_region_picture(const BSpline& spline, const WeightRegionRequest& r, const WeightRegion& region,
+                                  bool svg, int width, int height) {
+  CMR_CHECK(!region.intervals.empty() && width >= 400 && height >= 300);
+  const double A = r.from, B = r.to;
+  // The strip: one column per pixel, each the label of its weight, as a
+  // one-row region image, so that colours and legend are draw's.
+  const double sx0 = 60, sx1 = width - 40;
+  const int columns = static_cast<int>(sx1 - sx0);
+  RegionResult strip = region.kind;
+  strip.width = columns;
+  strip.height = 1;
+  strip.depth.assign(columns, 0);
+  const auto label_of_weight = [&](double x) {
+    for (const WeightInterval& iv : region.intervals)
+      if (x <= iv.to) return iv.label;
+    return region.intervals.back().label;
+  };
+  for (int i = 0; i < columns; ++i) {
+    const std::uint8_t l = label_of_weight(A + (B - A) * (i + 0.5) / columns);
+    if (strip.alternating) strip.alternating_labels.push_back(static_cast<AlternatingLabel>(l));
+    else if (strip.split) strip.split_labels.push_back(static_cast<SplitLabel>(l));
+    else strip.labels.push_back(static_cast<RegionLabel>(l));
+  }
+  draw::RegionPicture pic;
+  pic.spline = &spline;
+  pic.layers = {&strip};
+  pic.split = strip.split;
+  pic.alternating = strip.alternating;
+  const auto colour_of_label = [&](std::uint8_t l) {
+    for (int i = 0; i < columns; ++i)
+      if (strip.code_at(i) == l) return draw::pixel_colour(pic, i);
+    return draw::Rgb{1, 1, 1};
+  };
+  std::vector<draw::LegendEntry> legend = draw::legend_for(pic);
+
+  std::string bytes;
+  cairo_surface_t* surface = svg ? cairo_svg_surface_create_for_stream(append_chunk, &bytes, width, height)
+                                 : cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
+  cairo_t* cr = cairo_create(surface);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+
+  // Title.
+  const int K = r.point;
+  const double current = spline.weight(K);
+  cairo_set_font_size(cr, 14);
+  set(cr, {0, 0, 0});
+  cairo_move_to(cr, 12, 20);
+  std::string mode = r.labels.mode == Mode::cmr ? "CMR" : "CMRWI";
+  if (r.labels.split) mode += " split at joint " + std::to_string(*r.labels.split);
+  for (std::size_t i = 0; i < r.labels.splits.size(); ++i)
+    mode += (i == 0 ? " joints " : ",") + std::to_string(r.labels.splits[i]);
+  if (r.labels.segments)
+    mode += " segments " + std::to_string(r.labels.segments->first) + ".." + std::to_string(r.labels.segments->last);
+  const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" +
+                            tick_text(A, 1e-3) + ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
+  cairo_show_text(cr, title.c_str());
+
+  // The family of curves: a handful of weights, thin, in their label's colour.
+  const double top = 32, strip_top = height - 150, strip_bottom = strip_top + 34;
+  const double cx0 = 12, cx1 = width - 12, cy0 = top, cy1 = strip_top - 24;
+  // The curves first (polylines), then the view: their bounding box with
+  // P_K, so that the part the weight bends fills the panel.
+  constexpr int kFamily = 7, kSteps = 400;
+  const auto polyline = [&](const BSpline& s) {
+    std::vector<Vec2> pts;
+    for (int i = 0; i <= kSteps; ++i)
+      pts.push_back(evaluate(s, i == kSteps ? s.domain_end()
+                                            : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps));
+    return pts;
+  };
+  // Equally spaced weights, and the middle of each interval (the first
+  // kFamily), so that every label shows in a curve.
+  std::vector<double> family_weights;
+  for (int i = 0; i < kFamily; ++i) family_weights.push_back(i == kFamily - 1 ? B : A + (B - A) * i / (kFamily - 1));
+  for (std::size_t i = 0; i < region.intervals.size() && i < static_cast<std::size_t>(kFamily); ++i)
+    family_weights.push_back((region.intervals[i].from + region.intervals[i].to) / 2);
+  std::vector<std::vector<Vec2>> family;
+  for (double x : family_weights) family.push_back(polyline(with_weight(spline, K, x)));
+  const std::vector<Vec2> own = polyline(spline);
+  double bx0 = spline.points()[K].x, bx1 = bx0, by0 = spline.points()[K].y, by1 = by0;
+  family.push_back(own);
+  for (const auto& line : family)
+    for (const Vec2& p : line) {
+      bx0 = std::min(bx0, p.x), bx1 = std::max(bx1, p.x);
+      by0 = std::min(by0, p.y), by1 = std::max(by1, p.y);
+    }
+  family.pop_back();
+  const double ext = std::max({bx1 - bx0, by1 - by0, 1e-300});
+  bx0 -= 0.05 * ext, bx1 += 0.05 * ext, by0 -= 0.05 * ext, by1 += 0.05 * ext;
+  const double scale = std::min((cx1 - cx0) / (bx1 - bx0), (cy1 - cy0) / (by1 - by0));
+  const double ox = (cx0 + cx1) / 2 - scale * (bx0 + bx1) / 2, oy = (cy0 + cy1) / 2 + scale * (by0 + by1) / 2;
+  const auto screen = [&](Vec2 p) { return std::pair{ox + scale * p.x, oy - scale * p.y}; };
+  const auto stroke_line = [&](const std::vector<Vec2>& pts) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const auto [x, y] = screen(pts[i]);
+      if (i == 0) cairo_move_to(cr, x, y);
+      else cairo_line_to(cr, x, y);
+    }
+    cairo_stroke(cr);
+  };
+  cairo_save(cr);
+  cairo_rectangle(cr, cx0, cy0 - 8, cx1 - cx0, cy1 - cy0 + 16);
+  cairo_clip(cr);
+  // The control polygon (dashed), the spline's own curve, the family over
+  // it, the points, P_K ringed.
+  const double dash[] = {4, 3};
+  cairo_set_line_width(cr, 1);
+  cairo_set_dash(cr, dash, 2, 0);
+  set(cr, {0.5, 0.5, 0.5});
+  for (int i = 0; i < spline.point_count(); ++i) {
+    const auto [x, y] = screen(spline.points()[i]);
+    if (i == 0) cairo_move_to(cr, x, y);
+    else cairo_line_to(cr, x, y);
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+  set(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 2.5);
+  stroke_line(own);
+  // Curves of white labels (grey) first and thin, the coloured ones over them.
+  for (const bool coloured : {false, true})
+    for (std::size_t i = 0; i < family.size(); ++i) {
+      const draw::Rgb c = curve_colour(colour_of_label(label_of_weight(family_weights[i])));
+      if ((c.r == c.g && c.g == c.b) == coloured) continue;
+      cairo_set_line_width(cr, coloured ? 1.8 : 1);
+      set(cr, c);
+      stroke_line(family[i]);
+    }
+  set(cr, {0, 0, 0});
+  for (int i = 0; i < spline.unique_point_count(); ++i) {
+    const auto [x, y] = screen(spline.points()[i]);
+    cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
+    cairo_fill(cr);
+  }
+  {
+    const auto [x, y] = screen(spline.points()[K]);
+    cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+    cairo_set_line_width(cr, 2);
+    cairo_arc(cr, x, y, 7, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    cairo_set_font_size(cr, 12);
+    cairo_move_to(cr, x + 9, y - 9);
+    const std::string name = indexed('P', K);
+    cairo_show_text(cr, name.c_str());
+  }
+
+  cairo_restore(cr);
+
+  // The strip, one column per weight, and its frame.
+  const auto x_of = [&](double x) { return sx0 + (x - A) / (B - A) * columns; };
+  for (int i = 0; i < columns; ++i) {
+    set(cr, draw::pixel_colour(pic, i));
+    cairo_rectangle(cr, sx0 + i, strip_top, 1, strip_bottom - strip_top);
+    cairo_fill(cr);
+  }
+  set(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, sx0, strip_top, columns, strip_bottom - strip_top);
+  cairo_stroke(cr);
+  // Boundaries as thin lines.
+  cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+  for (std::size_t i = 0; i + 1 < region.intervals.size(); ++i) {
+    const double x = x_of((region.intervals[i].to + region.intervals[i + 1].from) / 2);
+    cairo_move_to(cr, x, strip_top);
+    cairo_line_to(cr, x, strip_bottom);
+    cairo_stroke(cr);
+  }
+  // The weight axis.
+  const double step = tick_step(B - A);
+  cairo_set_font_size(cr, 11);
+  set(cr, {0, 0, 0});
+  for (double t = std::ceil(A / step) * step; t <= B + 1e-9 * step; t += step) {
+    const double x = x_of(t);
+    cairo_move_to(cr, x, strip_bottom);
+    cairo_line_to(cr, x, strip_bottom + 5);
+    cairo_stroke(cr);
+    const std::string text = tick_text(std::fabs(t) < 1e-12 * step ? 0.0 : t, step);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text.c_str(), &e);
+    cairo_move_to(cr, x - e.width / 2, strip_bottom + 17);
+    cairo_show_text(cr, text.c_str());
+  }
+  const std::string axis = indexed('w', K);
+  cairo_move_to(cr, 12, strip_bottom + 17);
+  cairo_show_text(cr, axis.c_str());
+  // The current weight: a marker over the strip (or a note when outside).
+  cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+  const std::string now = "current w" + std::to_string(K) + " = " + tick_text(current, 1e-4);
+  if (current >= A && current <= B) {
+    const double x = x_of(current);
+    cairo_set_line_width(cr, 2);
+    cairo_move_to(cr, x, strip_top - 2);
+    cairo_line_to(cr, x, strip_bottom + 2);
+    cairo_stroke(cr);
+    cairo_move_to(cr, x - 6, strip_top - 12);
+    cairo_line_to(cr, x + 6, strip_top - 12);
+    cairo_line_to(cr, x, strip_top - 3);
+    cairo_close_path(cr);
+    cairo_fill(cr);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, now.c_str(), &e);
+    const double tx = std::clamp(x - e.width / 2, 4.0, width - e.width - 4);
+    cairo_set_source_rgb(cr, 1, 1, 1);  // on white: the curves' panel may reach down here
+    cairo_rectangle(cr, tx - 2, strip_top - 15 - e.height - 1, e.width + 4, e.height + 4);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
+    cairo_move_to(cr, tx, strip_top - 15);
+  } else {
+    cairo_move_to(cr, sx0, strip_top - 6);
+  }
+  cairo_show_text(cr, (current >= A && current <= B ? now : now + " (outside the interval)").c_str());
+
+  // The legend: the colours drawn, named as in region pictures.
+  double lx = 12, ly = strip_bottom + 40;
+  cairo_set_font_size(cr, 12);
+  for (const draw::LegendEntry& e : legend) {
+    if (e.ring) continue;
+    cairo_text_extents_t ex;
+    cairo_text_extents(cr, e.text.c_str(), &ex);
+    if (lx + 22 + ex.x_advance > width - 12) lx = 12, ly += 22;
+    set(cr, e.colour);
+    cairo_rectangle(cr, lx, ly - 11, 14, 14);
+    cairo_fill_preserve(cr);
+    set(cr, {0, 0, 0});
+    cairo_set_line_width(cr, 1);
+    cairo_stroke(cr);
+    cairo_move_to(cr, lx + 20, ly);
+    cairo_show_text(cr, e.text.c_str());
+    lx += 20 + ex.x_advance + 24;
+  }
+  ly += 22;
+  cairo_set_font_size(cr, 11);
+  cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+  cairo_move_to(cr, 12, ly);
+  cairo_show_text(cr, ("thin curves: w" + std::to_string(K) + " at " + std::to_string(kFamily) +
+                       " equally spaced weights and in each interval's middle, in their label's colour; black: the "
+                       "spline as given")
+                          .c_str());
+
+  cairo_destroy(cr);
+  cairo_surface_flush(surface);
+  if (!svg && cairo_surface_write_to_png_stream(surface, append_chunk, &bytes) != CAIRO_STATUS_SUCCESS) {
+    cairo_surface_destroy(surface);
+    throw std::bad_alloc();
+  }
+  cairo_surface_finish(surface);
+  const cairo_status_t status = cairo_surface_status(surface);
+  cairo_surface_destroy(surface);
+  if (status == CAIRO_STATUS_NO_MEMORY) throw std::bad_alloc();
+  return bytes;
+}
+
+}  // namespace cmr
