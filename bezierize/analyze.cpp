@@ -127,10 +127,6 @@ SegmentClass pole_class() {
   return c;
 }
 
-namespace {
-
-// The sign of W on a segment without a pole (1 for a polynomial spline):
-// that of W at its start, exact.
 int weight_sign(const BSpline& spline, const Segment& s) {
   if (!spline.is_rational()) return 1;
   const Bounded w0 = segment_homogeneous_points<Bounded>(spline, s).front().z;
@@ -138,8 +134,6 @@ int weight_sign(const BSpline& spline, const Segment& s) {
   if (quick == 1 || quick == -1) return quick;
   return sgn(segment_homogeneous_points<Rational>(spline, s).front().z);
 }
-
-}  // namespace
 
 const char* kappa_zero_at(const SegmentShape& s) {
   if (s.kappa_zero_start && s.kappa_zero_end) return "both";

@@ -97,6 +97,11 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s);
 /// exact). W == 0 on the whole span gives {s.a, s.b}.
 std::vector<double> segment_poles(const BSpline& spline, const Segment& s);
 
+/// The sign of W at the start of segment s, exact (1 for a polynomial
+/// spline): W's sign on the whole segment when it has no pole. The curvature
+/// is W^3 D / |h|^3, so its sign is weight_sign * sign(D).
+int weight_sign(const BSpline& spline, const Segment& s);
+
 /// The classes of a segment with a pole: non-monotone and an inflection, at
 /// depth 0 (a curve through infinity has no monotone curvature).
 SegmentClass pole_class();
