@@ -166,7 +166,10 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   SegmentShape out;
   out.poles = segment_poles(spline, s);
   out.pole = !out.poles.empty();
-  if (out.pole) return out;
+  if (out.pole) {
+    out.inflection = Inflection::present;  // forced, as pole_class()
+    return out;
+  }
   // kappa = W^3 D / |h|^3: D's sign times W's (one sign on the span).
   const int w_sign = weight_sign(spline, s);
   // Most segments: eta certainly of one sign on [0, 1] (so no zero of eta,
@@ -232,8 +235,7 @@ std::vector<SegmentClass> exact_inflection_classes(const std::vector<SegmentClas
   std::vector<SegmentClass> out = segments;
   for (std::size_t i = 0; i < out.size(); ++i) {
     const SegmentShape& sh = shapes[i];
-    out[i].inflection = sh.pole ? pole_class().inflection
-                                : InflectionResult{sh.inflection, 0, sh.inflection == Inflection::none ? sh.kappa_sign : 0};
+    out[i].inflection = {sh.inflection, 0, sh.inflection == Inflection::none ? sh.kappa_sign : 0};
   }
   return out;
 }
@@ -318,8 +320,9 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
   j.knot = right == 0 ? L.b : R.a;
   j.multiplicity = spline.multiplicity(R.a);
   j.continuity = spline.degree() - j.multiplicity;
-  if (!segment_poles(spline, L).empty() || !segment_poles(spline, R).empty()) {
-    // A curve through infinity next to the joint: nothing to measure there.
+  if (const std::vector<double> at = segment_poles(spline, L); !at.empty() && at.back() == L.b) {
+    // W = 0 at the knot (a root at a span's end is found exactly): the curve
+    // passes through infinity at the joint, nothing to measure there.
     j.pole = true;
     j.kappa_left = j.kappa_right = j.angle_deg = std::numeric_limits<double>::quiet_NaN();
     return j;

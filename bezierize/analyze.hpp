@@ -61,9 +61,9 @@ inline constexpr double kKappaRelError = 1e-11;
 /// exact rationals from the spline's double data.
 struct SegmentShape {
   /// W = 0 somewhere in the closed span (rational splines; bspline.hpp): the
-  /// curve passes through infinity. Decided exactly (segment_poles); the other
-  /// fields are then left default and the segment's classes are forced to
-  /// non-monotone with an inflection (analyze).
+  /// curve passes through infinity. Decided exactly (segment_poles); then
+  /// inflection is forced to present, the other fields are left default, and
+  /// the segment's classes are forced to pole_class() (analyze).
   bool pole = false;
   std::vector<double> poles;  ///< the distinct parameters where W = 0 (segment_poles)
   bool straight = false;  ///< eta == 0: a straight segment (lambda == 0 too), curvature 0 where defined
@@ -124,7 +124,7 @@ struct Joint {
   double kappa_right = 0; ///< curvature at the start of segment i
   int jump = 0;           ///< exact sign of kappa_right - kappa_left (0 where C^2 or at a zero tangent)
   bool zero_tangent = false;  ///< an end tangent is exactly zero: G1 and G2 fail
-  bool pole = false;          ///< a segment on either side has a pole: kappas and angle NaN, jump 0, G1 and G2 fail
+  bool pole = false;          ///< W = 0 at the knot (both segments have a pole there): kappas and angle NaN, jump 0, G1 and G2 fail
   double angle_deg = 0;   ///< angle between the end tangents (0 where C^1 by the knots); NaN at a zero tangent
   bool g1 = false;        ///< tangent directions agree within ContinuityTolerances::angle_deg
   bool g2 = false;        ///< G1 and curvature equal (exactly, or within curvature_rel)

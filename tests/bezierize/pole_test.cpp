@@ -150,13 +150,20 @@ TEST(Pole, AnalyzeForcesThePoleSegmentsAndTheirJoints) {
   }
   EXPECT_FALSE(a.shapes[2].pole);
   ASSERT_EQ(a.joints.size(), 2u);
-  for (const Joint& j : a.joints) {  // segment 1 has the pole: both joints touch it
-    EXPECT_TRUE(j.pole);
-    EXPECT_TRUE(std::isnan(j.kappa_left) && std::isnan(j.kappa_right) && std::isnan(j.angle_deg));
-    EXPECT_FALSE(j.g1);
-    EXPECT_FALSE(j.g2);
-    EXPECT_EQ(j.jump, 0);
-  }
+  const Joint& j = a.joints[0];  // W(3) = 0: the joint is a pole
+  EXPECT_TRUE(j.pole);
+  EXPECT_TRUE(std::isnan(j.kappa_left) && std::isnan(j.kappa_right) && std::isnan(j.angle_deg));
+  EXPECT_FALSE(j.g1);
+  EXPECT_FALSE(j.g2);
+  EXPECT_EQ(j.jump, 0);
+  // W(4) = 3/4: joint 2 is measured as usual (C2: curvature continuous),
+  // against the pointwise formula just before it.
+  const Joint& k = a.joints[1];
+  EXPECT_FALSE(k.pole);
+  EXPECT_TRUE(k.g1 && k.g2);
+  EXPECT_NEAR(k.kappa_left, curvature_at(s, 4 - 1e-9).kappa, 1e-6 * std::fabs(k.kappa_left));
+  EXPECT_NEAR(k.kappa_right, k.kappa_left, 1e-9 * std::fabs(k.kappa_left));
+  EXPECT_EQ(a.shapes[0].inflection, Inflection::present);  // forced
   EXPECT_EQ(a.cmrwi, Direction::none);
   EXPECT_EQ(a.cmr, Direction::none);
   EXPECT_EQ(a.cmr_algorithm2, Direction::none);
