@@ -145,7 +145,8 @@ const char* kappa_zero_at(const SegmentShape& s) {
 namespace {
 
 // The curvature's sign polynomial of a segment: eta = det(P', P''), or for a
-// rational segment D = det(H, H', H'') (kappa = W^3 D / |h|^3, W > 0); the
+// rational segment D = det(H, H', H'') (kappa = W^3 D / |h|^3, W != 0 of one
+// sign: the caller multiplies by weight_sign); the
 // zero polynomial as zero coefficients.
 template <class T>
 Bernstein<T> curvature_sign_polynomial(const BSpline& spline, const Segment& s) {

@@ -49,8 +49,8 @@ double segment_end_curvature(const BSpline& spline, const Segment& s, int side);
 
 /// Points of the curve for pictures, safe near a pole (bspline.hpp: W = 0
 /// sends the rational curve to infinity). A point is drawn when it is finite
-/// and inside the box of the control points widened by the box's size on
-/// every side: a polynomial curve, and a rational one with weights > 0, lie
+/// and inside the box of the control points widened on every side by the
+/// box's larger side (at least 1e-9 of the largest coordinate): a polynomial curve, and a rational one with weights > 0, lie
 /// in the control points' convex hull, so for them every point is drawn and
 /// nothing changes; near a pole the curve leaves the box and is cut there.
 /// Two drawn samples are joined by a line only when W has the same sign at

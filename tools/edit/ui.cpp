@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "bezierize/kcurve.hpp"
@@ -43,26 +44,36 @@ void act(Editor& e, F&& f) {
 
 void draw_curve(Editor& e, ImDrawList* dl) {
   const BSpline& s = e.doc().spline;
+  const CurveSampler sampler(s);  // broken near a pole (spline/curvature.hpp)
   std::vector<ImVec2> line;
+  double last = 0;
+  const auto flush = [&] {
+    if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), kCurveColour, 0, 2.0f);
+    line.clear();
+  };
   for (const Segment& seg : s.segments()) {
     for (int i = 0; i <= kCurveSamplesPerSegment; ++i) {
-      line.push_back(screen(e, evaluate(s, seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment)));
+      const double t = seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment;
+      const std::optional<Vec2> p = sampler.at(t);
+      if (!p || (!line.empty() && !sampler.joins(last, t))) flush();
+      if (p) line.push_back(screen(e, *p)), last = t;
     }
   }
-  dl->AddPolyline(line.data(), static_cast<int>(line.size()), kCurveColour, 0, 2.0f);
+  flush();
 }
 
 void draw_comb(Editor& e, ImDrawList* dl) {
   const BSpline& s = e.doc().spline;
   double kmax = 0;
   std::vector<std::pair<Vec2, Vec2>> teeth;  // point, normal * kappa
+  const CurveSampler comb_sampler(s);          // none near a pole
   for (const Segment& seg : s.segments()) {
     for (int i = 0; i <= kCombTeethPerSegment; ++i) {
       const double t = seg.a + (seg.b - seg.a) * i / kCombTeethPerSegment;
       const CurvatureSample c = curvature_at(s, t);
       const Vec2 d = derivative(s, t, 1);
       const double len = std::hypot(d.x, d.y);
-      if (!(len > 0) || !std::isfinite(c.kappa)) continue;
+      if (!(len > 0) || !std::isfinite(c.kappa) || !comb_sampler.inside(c.point)) continue;
       teeth.push_back({c.point, Vec2{-d.y, d.x} * (c.kappa / len)});
       kmax = std::max(kmax, std::abs(c.kappa));
     }
