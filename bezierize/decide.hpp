@@ -245,11 +245,14 @@ int jump_sign(const T& AL, const T& GL, const T& AR, const T& GR) {
 ///  * Rational, homogeneous points H_k = (X_k, w_k) (X_k = w_k q_k), any
 ///    signs of w: with kappa = W^3 D / |h|^3 (rational_lambda.hpp) at t = 0,
 ///    h(0) = n (w0 X1 - w1 X0) and D(0) = n^2 (n-1) det3(H0, H1, H2), so
-///    a = g = w0 X1 - w1 X0, A = w0^3 det3(H0, H1, H2), G = g.g. For weights
-///    of one sign this is w0 w1 (q1 - q0) and A / G^{3/2} =
-///    sign(w0 w1) (w0 w2 / w1^2) det(a, b) / |a|^3, the classical formula.
-///    At a pole (w0 = 0) the curvature is undefined: callers exclude poles
-///    (analyze.hpp: segment_poles).
+///    a = g = w0 X1 - w1 X0, A = w0^3 det3(H0, H1, H2), G = g.g. With
+///    w0, w1, w2 certainly > 0 this is g = w0 w1 (q1 - q0) and A / G^{3/2} =
+///    (w0 w2 / w1^2) det(a, b) / |a|^3 with a = q1 - q0, b = q2 - q1, the
+///    classical formula: that case computes it (A = (w0 w2 / w1^2) det(a, b),
+///    G = a.a, a = q1 - q0), so positive weights keep their values bit for
+///    bit; other weights take the division-free form. At a pole (w0 = 0)
+///    the curvature is undefined: callers exclude poles (analyze.hpp:
+///    segment_poles).
 /// Read backwards (the end of a segment), the turning sense flips: the caller
 /// negates A.
 template <class T>
@@ -264,6 +267,12 @@ EndTerms<T> end_terms(const Point<T>& q0, const Point<T>& q1, const Point<T>& q2
 }
 template <class T>
 EndTerms<T> end_terms(const HPoint<T>& h0, const HPoint<T>& h1, const HPoint<T>& h2) {
+  if (Scalar<T>::sign(h0.z) == 1 && Scalar<T>::sign(h1.z) == 1 && Scalar<T>::sign(h2.z) == 1) {
+    const auto proj = [](const HPoint<T>& h) { return Point<T>{h.x / h.z, h.y / h.z}; };
+    EndTerms<T> e = end_terms<T>(proj(h0), proj(h1), proj(h2));
+    e.A = h0.z * h2.z / (h1.z * h1.z) * e.A;
+    return e;
+  }
   const Point<T> x0{h0.x, h0.y}, x1{h1.x, h1.y}, x2{h2.x, h2.y};
   const Point<T> g = h0.z * x1 - h1.z * x0;
   // det3 of the rows (X_k, w_k), expanded along the weight column.

@@ -76,6 +76,16 @@ double segment_end_curvature(const BSpline& spline, const Segment& s, int side) 
   // span length cancels), g = w0 X1 - w1 X0 and A = w0^3 det3(H0, H1, H2)
   // for homogeneous points H_k = (X_k, w_k), any signs of w (cmr::end_terms,
   // bezierize/decide.hpp); for w = 1: g = q1 - q0, A = det(q1 - q0, q2 - q1).
+  if (h[0].z > 0 && h[1].z > 0 && h[2].z > 0) {
+    // Positive weights: the classical form, (w0 w2 / w1^2) det(a, b) / |a|^3
+    // with a, b the legs of the projected points (1 for a polynomial).
+    const Vec2 q0 = Vec2(h[0].x, h[0].y) / h[0].z, q1 = Vec2(h[1].x, h[1].y) / h[1].z,
+               q2 = Vec2(h[2].x, h[2].y) / h[2].z;
+    const Vec2 a = q1 - q0, b = q2 - q1;
+    const double len = std::sqrt(dot(a, a));
+    const double k = (d - 1.0) / d * (h[0].z * h[2].z / (h[1].z * h[1].z)) * det(a, b) / (len * len * len);
+    return side == 0 ? k : -k;
+  }
   const Vec2 x0(h[0].x, h[0].y), x1(h[1].x, h[1].y);
   const Vec2 g = h[0].z * x1 - h[1].z * x0;
   const double len = std::sqrt(dot(g, g));
