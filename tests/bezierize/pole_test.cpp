@@ -201,6 +201,18 @@ TEST(Pole, MixedSignWeightsWithoutARootAreNoPole) {
   const double kappa = curvature_at(dip, 0.5).kappa;
   ASSERT_NE(kappa, 0.0);
   EXPECT_EQ(a.shapes[0].kappa_sign, kappa > 0 ? 1 : -1);
+  // A C1 quadratic whose first span has Bezier weights 0.4, -0.2, 0.4 (no
+  // pole): the joint's curvatures come from the division-free end_terms;
+  // against the pointwise formula on either side, and the jump's sign.
+  const BSpline c1 = BSpline::make(2, {0, 1, 2, 3, 4}, {{0, 0}, {1, 1}, {2, -0.5}, {3, 0.5}}, "", {1, -0.2, 1, 1});
+  const SplineAnalysis j = analyze(c1);
+  ASSERT_FALSE(j.pole);
+  ASSERT_EQ(j.joints.size(), 1u);
+  const double kl = curvature_at(c1, 2 - 1e-9).kappa, kr = curvature_at(c1, 2 + 1e-9).kappa;
+  EXPECT_NEAR(j.joints[0].kappa_left, kl, 1e-6 * std::fabs(kl));
+  EXPECT_NEAR(j.joints[0].kappa_right, kr, 1e-6 * std::fabs(kr));
+  ASSERT_GT(std::fabs(kr - kl), 1e-3 * std::fabs(kl));
+  EXPECT_EQ(j.joints[0].jump, kr > kl ? 1 : -1);
 }
 
 TEST(Pole, NegatedWeightsGiveTheSameVerdictsCurvaturesAndRegions) {
