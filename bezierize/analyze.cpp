@@ -41,46 +41,37 @@ const char* to_string(Split s) {
 
 namespace {
 
-// Numerator A, squared first-leg length G and first leg `a` (read from the
-// end inwards) of the curvature at one end of a segment: with the Bezier
-// points q0, q1, q2 from that end, a = q1 - q0, b = q2 - q1,
-//   kappa = (d-1)/d * A / G^{3/2},  A = +-det(a, b),  G = a.a
-// (the span length cancels; read backwards from the end the turning sense
-// flips, hence the sign). Exact for T = Rational.
+// The end curvature's terms of segment s at its start (side 0) or end
+// (side 1): end_terms (decide.hpp) of the first three Bezier points read from
+// that end, Cartesian or homogeneous (any weight signs; not at a pole), with
+// A negated at the end (read backwards the turning sense flips). Exact for
+// T = Rational.
 template <class T>
-struct EndCurvature {
-  T A, G;
-  Point<T> a;
-};
-
-template <class T>
-EndCurvature<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
+EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
   const int d = spline.degree();
   const SegmentWindow<T> w = segment_window<T>(spline, s);
   const T e = side == 0 ? T(s.a) : T(s.b);
   const T o = side == 0 ? T(s.b) : T(s.a);
-  std::vector<T> args(d, e);
-  Point<T> q[3];
-  T weight[3] = {T(1), T(1), T(1)};
-  // Rational: the blossom of the homogeneous points (w x, w y, w), projected.
-  const std::vector<HPoint<T>> H = spline.is_rational() ? homogeneous_window_points<T>(spline, s)
-                                                        : std::vector<HPoint<T>>{};
-  for (int k = 0; k < 3; ++k) {
-    for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
-    if (H.empty()) {
-      q[k] = blossom_span(w.knots, w.points, d, w.span, args.data());
-    } else {
-      const HPoint<T> h = blossom_span(w.knots, H, d, w.span, args.data());
-      q[k] = {h.x / h.z, h.y / h.z};
-      weight[k] = h.z;
-    }
+  // The k-th Bezier point from that end: the blossom at (e^{d-k}, o^k).
+  const auto args = [&](int k) {
+    std::vector<T> a(d, e);
+    for (int i = d - k; i < d; ++i) a[i] = o;
+    return a;
+  };
+  EndTerms<T> out;
+  if (spline.is_rational()) {
+    // The blossom of the homogeneous points (w x, w y, w).
+    const std::vector<HPoint<T>> H = homogeneous_window_points<T>(spline, s);
+    HPoint<T> h[3];
+    for (int k = 0; k < 3; ++k) h[k] = blossom_span(w.knots, H, d, w.span, args(k).data());
+    out = end_terms<T>(h[0], h[1], h[2]);
+  } else {
+    Point<T> q[3];
+    for (int k = 0; k < 3; ++k) q[k] = blossom_span(w.knots, w.points, d, w.span, args(k).data());
+    out = end_terms<T>(q[0], q[1], q[2]);
   }
-  const Point<T> a = q[1] - q[0], b = q[2] - q[1];
-  T A = det(a, b);
-  // A rational Bezier end's curvature has the extra factor w0 w2 / w1^2 > 0.
-  if (!H.empty()) A = weight[0] * weight[2] / (weight[1] * weight[1]) * A;
-  if (side == 1) A = T(0) - A;
-  return {A, dot(a, a), a};
+  if (side == 1) out.A = T(0) - out.A;
+  return out;
 }
 
 // Relative error bound below which the error-bounded A and G are used as
@@ -106,7 +97,43 @@ double tangent_angle_deg(const BSpline& spline, const Segment& L, const Segment&
 
 }  // namespace
 
-const char* shape_class(const SegmentShape& s) { return s.cusp ? "cusp" : (s.straight ? "straight" : "regular"); }
+const char* shape_class(const SegmentShape& s) {
+  if (s.pole) return "pole";
+  return s.cusp ? "cusp" : (s.straight ? "straight" : "regular");
+}
+
+std::vector<double> segment_poles(const BSpline& spline, const Segment& s) {
+  if (!spline.is_rational()) return {};
+  Bernstein<Bounded> wb;
+  for (const HPoint<Bounded>& h : segment_homogeneous_points<Bounded>(spline, s)) wb.push_back(h.z);
+  if (strict_sign(wb) != 0) return {};  // most spans: every coefficient certainly of one sign
+  Bernstein<Rational> w;
+  for (const HPoint<Rational>& h : segment_homogeneous_points<Rational>(spline, s)) w.push_back(h.z);
+  if (strict_sign(w) != 0) return {};
+  if (is_zero(w)) return {s.a, s.b};
+  std::vector<double> out;
+  const Rational a(s.a), len = Rational(s.b) - Rational(s.a);
+  for (const RootInterval& r : isolate_roots(w)) {
+    const Rational t = r.exact() ? r.lo : Scalar<Rational>::half(r.lo + r.hi);
+    out.push_back(nearest_double(Rational(a + len * t)));
+  }
+  return out;
+}
+
+SegmentClass pole_class() {
+  SegmentClass c;
+  c.monotonicity.curvature = Curvature::non_monotone;
+  c.inflection.inflection = Inflection::present;
+  return c;
+}
+
+int weight_sign(const BSpline& spline, const Segment& s) {
+  if (!spline.is_rational()) return 1;
+  const Bounded w0 = segment_homogeneous_points<Bounded>(spline, s).front().z;
+  const int quick = certain_sign(w0);
+  if (quick == 1 || quick == -1) return quick;
+  return sgn(segment_homogeneous_points<Rational>(spline, s).front().z);
+}
 
 const char* kappa_zero_at(const SegmentShape& s) {
   if (s.kappa_zero_start && s.kappa_zero_end) return "both";
@@ -118,7 +145,8 @@ const char* kappa_zero_at(const SegmentShape& s) {
 namespace {
 
 // The curvature's sign polynomial of a segment: eta = det(P', P''), or for a
-// rational segment D = det(H, H', H'') (kappa = W^3 D / |h|^3, W > 0); the
+// rational segment D = det(H, H', H'') (kappa = W^3 D / |h|^3, W != 0 of one
+// sign: the caller multiplies by weight_sign); the
 // zero polynomial as zero coefficients.
 template <class T>
 Bernstein<T> curvature_sign_polynomial(const BSpline& spline, const Segment& s) {
@@ -137,11 +165,19 @@ Bernstein<Rational> speed_polynomial(const BSpline& spline, const Segment& s) {
 
 SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   SegmentShape out;
+  out.poles = segment_poles(spline, s);
+  out.pole = !out.poles.empty();
+  if (out.pole) {
+    out.inflection = Inflection::present;  // forced, as pole_class()
+    return out;
+  }
+  // kappa = W^3 D / |h|^3: D's sign times W's (one sign on the span).
+  const int w_sign = weight_sign(spline, s);
   // Most segments: eta certainly of one sign on [0, 1] (so no zero of eta,
   // hence no zero of P' either, as eta = det(P', P'')).
   const int quick = strict_sign(curvature_sign_polynomial<Bounded>(spline, s));
   if (quick != 0) {
-    out.kappa_sign = quick;
+    out.kappa_sign = w_sign * quick;
     return out;
   }
   const Bernstein<Rational> eta = curvature_sign_polynomial<Rational>(spline, s);
@@ -155,7 +191,7 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   // tangent the curvature is unbounded instead (a cusp).
   out.kappa_zero_start = sgn(eta.front()) == 0 && sgn(g.front()) != 0;
   out.kappa_zero_end = sgn(eta.back()) == 0 && sgn(g.back()) != 0;
-  out.kappa_sign = sign_at_start(eta);
+  out.kappa_sign = w_sign * sign_at_start(eta);
   for (const RootInterval& r : isolate_roots(eta, isolate_only)) {
     const bool at_end = r.exact() && (sgn(r.lo) == 0 || r.lo == 1);
     if (r.sign_change() && !at_end) out.inflection = Inflection::present;
@@ -177,20 +213,20 @@ void validate(const ContinuityTolerances& t) {
 
 double certified_end_curvature(const BSpline& spline, const Segment& s, int side) {
   const double c = (spline.degree() - 1.0) / spline.degree();
-  const EndCurvature<Bounded> b = end_curvature<Bounded>(spline, s, side);
+  const EndTerms<Bounded> b = end_curvature<Bounded>(spline, s, side);
   if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v, b.G.v);
-  const EndCurvature<Rational> x = end_curvature<Rational>(spline, s, side);
+  const EndTerms<Rational> x = end_curvature<Rational>(spline, s, side);
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
   return kappa_from(c, to_double(x.A), to_double(x.G));
 }
 
 int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right) {
-  const EndCurvature<Bounded> bl = end_curvature<Bounded>(spline, left, 1);
-  const EndCurvature<Bounded> br = end_curvature<Bounded>(spline, right, 0);
+  const EndTerms<Bounded> bl = end_curvature<Bounded>(spline, left, 1);
+  const EndTerms<Bounded> br = end_curvature<Bounded>(spline, right, 0);
   const int quick = jump_sign<Bounded>(bl.A, bl.G, br.A, br.G);
   if (quick != kSignUnknown) return quick;
-  const EndCurvature<Rational> L = end_curvature<Rational>(spline, left, 1);
-  const EndCurvature<Rational> R = end_curvature<Rational>(spline, right, 0);
+  const EndTerms<Rational> L = end_curvature<Rational>(spline, left, 1);
+  const EndTerms<Rational> R = end_curvature<Rational>(spline, right, 0);
   return jump_sign<Rational>(L.A, L.G, R.A, R.G);
 }
 
@@ -285,6 +321,13 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
   j.knot = right == 0 ? L.b : R.a;
   j.multiplicity = spline.multiplicity(R.a);
   j.continuity = spline.degree() - j.multiplicity;
+  if (const std::vector<double> at = segment_poles(spline, L); !at.empty() && at.back() == L.b) {
+    // W = 0 at the knot (a root at a span's end is found exactly): the curve
+    // passes through infinity at the joint, nothing to measure there.
+    j.pole = true;
+    j.kappa_left = j.kappa_right = j.angle_deg = std::numeric_limits<double>::quiet_NaN();
+    return j;
+  }
   j.kappa_left = certified_end_curvature(spline, L, 1);
   j.kappa_right = certified_end_curvature(spline, R, 0);
   j.zero_tangent = std::isnan(j.kappa_left) || std::isnan(j.kappa_right);
@@ -318,10 +361,12 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
   for (const Segment& s : spline.segments()) {
-    out.segments.push_back(out.judged(s.index) ? classify_segment(spline, s, co) : SegmentClass{});
-    out.exact_segments += out.segments.back().exact_used ? 1 : 0;
     out.shapes.push_back(segment_shape(spline, s));
+    const bool judged = out.judged(s.index);
+    out.segments.push_back(!judged ? SegmentClass{} : out.shapes.back().pole ? pole_class() : classify_segment(spline, s, co));
+    out.exact_segments += out.segments.back().exact_used ? 1 : 0;
     out.cusp = out.cusp || out.shapes.back().cusp;
+    out.pole = out.pole || out.shapes.back().pole;
   }
   for (int i = 1; i < N; ++i) out.joints.push_back(joint_between(spline, i - 1, i, options.continuity));
   if (spline.closed()) out.seam = joint_between(spline, N - 1, 0, options.continuity);

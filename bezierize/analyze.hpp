@@ -60,18 +60,51 @@ inline constexpr double kKappaRelError = 1e-11;
 /// Decided with error-bounded arithmetic where that is certain, else with
 /// exact rationals from the spline's double data.
 struct SegmentShape {
+  /// W = 0 somewhere in the closed span (rational splines; bspline.hpp): the
+  /// curve passes through infinity. Decided exactly (segment_poles); then
+  /// inflection is forced to present, the other fields are left default, and
+  /// the segment's classes are forced to pole_class() (analyze).
+  bool pole = false;
+  std::vector<double> poles;  ///< the distinct parameters where W = 0 (segment_poles)
   bool straight = false;  ///< eta == 0: a straight segment (lambda == 0 too), curvature 0 where defined
   bool cusp = false;      ///< P'(t) = 0 for some t in the closed span: curvature unbounded or undefined there
   Inflection inflection = Inflection::none;  ///< present: eta changes sign at some t strictly inside (exact)
   bool kappa_zero_start = false, kappa_zero_end = false;  ///< zero curvature at that end: eta = 0, P' != 0 (not straight)
-  int kappa_sign = 0;  ///< sign of eta just inside the start (the sign throughout when no inflection); 0 if straight
+  /// Sign of the curvature just inside the start (the sign throughout when no
+  /// inflection); 0 if straight. Of eta, or for a rational span of W D (kappa
+  /// = W^3 D / |h|^3; W has one sign on a span without a pole). Algorithm 2's
+  /// InflectionResult::kappa_sign is that of D alone (what the region engine
+  /// and the shader compare): on a judged range without a pole W has one
+  /// sign (it is continuous), so comparisons between segments agree.
+  int kappa_sign = 0;
 };
-/// "cusp", "straight" or "regular" (cusp wins).
+/// "pole", "cusp", "straight" or "regular" (in that order of precedence).
 const char* shape_class(const SegmentShape& s);
 /// "none", "start", "end" or "both": where eta is zero at the segment's ends.
 const char* kappa_zero_at(const SegmentShape& s);
 
 SegmentShape segment_shape(const BSpline& spline, const Segment& s);
+
+/// Where the homogeneous weight W (bspline.hpp) vanishes on the closed span
+/// [s.a, s.b] of a rational spline: empty when W has no root there (always
+/// for a polynomial spline). Exact: W's Bernstein coefficients on the span
+/// (the weights of segment_homogeneous_points) are first tested with error
+/// bounds, then as exact rationals: all > 0 or all < 0 means no root;
+/// otherwise isolate_roots (roots.hpp: exact halving with Descartes' rule,
+/// square-free split for touching roots) decides, and each distinct root is
+/// returned as the double nearest to a point of its enclosure (at most
+/// 1e-12 of the span's length wide; a root at a knot or at a halving point is
+/// exact). W == 0 on the whole span gives {s.a, s.b}.
+std::vector<double> segment_poles(const BSpline& spline, const Segment& s);
+
+/// The sign of W at the start of segment s, exact (1 for a polynomial
+/// spline): W's sign on the whole segment when it has no pole. The curvature
+/// is W^3 D / |h|^3, so its sign is weight_sign * sign(D).
+int weight_sign(const BSpline& spline, const Segment& s);
+
+/// The classes of a segment with a pole: non-monotone and an inflection, at
+/// depth 0 (a curve through infinity has no monotone curvature).
+SegmentClass pole_class();
 
 /// Tolerances of the geometric continuity tests at joints.
 struct ContinuityTolerances {
@@ -91,6 +124,7 @@ struct Joint {
   double kappa_right = 0; ///< curvature at the start of segment i
   int jump = 0;           ///< exact sign of kappa_right - kappa_left (0 where C^2 or at a zero tangent)
   bool zero_tangent = false;  ///< an end tangent is exactly zero: G1 and G2 fail
+  bool pole = false;          ///< W = 0 at the knot (both segments have a pole there): kappas and angle NaN, jump 0, G1 and G2 fail
   double angle_deg = 0;   ///< angle between the end tangents (0 where C^1 by the knots); NaN at a zero tangent
   bool g1 = false;        ///< tangent directions agree within ContinuityTolerances::angle_deg
   bool g2 = false;        ///< G1 and curvature equal (exactly, or within curvature_rel)
@@ -117,6 +151,7 @@ struct SplineAnalysis {
   Direction cmr = Direction::undecided;             ///< exact inflections (see above)
   Direction cmr_algorithm2 = Direction::undecided;  ///< the paper's Algorithm 2: what regions draw
   bool cusp = false;                                ///< some segment has a cusp: no finite curvature range
+  bool pole = false;                                ///< some segment has a pole (SegmentShape::pole)
   std::optional<Split> split;
   std::vector<int> joint_conflicts;  ///< joints whose curvature jump goes against the verdict
   int exact_segments = 0;            ///< segments that needed the exact path

@@ -55,7 +55,10 @@ struct MonotonicityResult {
 struct InflectionResult {
   Inflection inflection = Inflection::undecided;
   int depth = 0;
-  int kappa_sign = 0;  ///< sign of the curvature when inflection == none, else 0
+  /// When inflection == none, the sign of eta (the curvature's sign); for a
+  /// rational segment the sign of D, which is the curvature's sign times W's
+  /// (SegmentShape::kappa_sign is the curvature's own); else 0.
+  int kappa_sign = 0;
 };
 
 /// Folds Algorithm 1's pieces in depth-first order: a zero piece (lambda == 0)

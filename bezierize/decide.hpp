@@ -236,33 +236,69 @@ int jump_sign(const T& AL, const T& GL, const T& AR, const T& GR) {
   return sx > 0 ? c : -c;
 }
 
+/// The terms of a segment end's curvature kappa = (d-1)/d A / G^{3/2} (d the
+/// degree; the span length cancels), from the first three Bezier points read
+/// from that end inwards, and the end tangent's direction `a` (read inwards).
+/// Exact for exact T; no division, so any T and any weights are safe.
+///  * Polynomial, points q0 (the end), q1, q2: a = q1 - q0, b = q2 - q1,
+///    A = det(a, b), G = a.a.
+///  * Rational, homogeneous points H_k = (X_k, w_k) (X_k = w_k q_k), any
+///    signs of w: with kappa = W^3 D / |h|^3 (rational_lambda.hpp) at t = 0,
+///    h(0) = n (w0 X1 - w1 X0) and D(0) = n^2 (n-1) det3(H0, H1, H2), so
+///    a = g = w0 X1 - w1 X0, A = w0^3 det3(H0, H1, H2), G = g.g. With
+///    w0, w1, w2 certainly > 0 this is g = w0 w1 (q1 - q0) and A / G^{3/2} =
+///    (w0 w2 / w1^2) det(a, b) / |a|^3 with a = q1 - q0, b = q2 - q1, the
+///    classical formula: that case computes it (A = (w0 w2 / w1^2) det(a, b),
+///    G = a.a, a = q1 - q0), so positive weights keep their values bit for
+///    bit; other weights take the division-free form. At a pole (w0 = 0)
+///    the curvature is undefined: callers exclude poles (analyze.hpp:
+///    segment_poles).
+/// Read backwards (the end of a segment), the turning sense flips: the caller
+/// negates A.
+template <class T>
+struct EndTerms {
+  T A, G;
+  Point<T> a;
+};
+template <class T>
+EndTerms<T> end_terms(const Point<T>& q0, const Point<T>& q1, const Point<T>& q2) {
+  const Point<T> a = q1 - q0, b = q2 - q1;
+  return {det(a, b), dot(a, a), a};
+}
+template <class T>
+EndTerms<T> end_terms(const HPoint<T>& h0, const HPoint<T>& h1, const HPoint<T>& h2) {
+  if (Scalar<T>::sign(h0.z) == 1 && Scalar<T>::sign(h1.z) == 1 && Scalar<T>::sign(h2.z) == 1) {
+    const auto proj = [](const HPoint<T>& h) { return Point<T>{h.x / h.z, h.y / h.z}; };
+    EndTerms<T> e = end_terms<T>(proj(h0), proj(h1), proj(h2));
+    e.A = h0.z * h2.z / (h1.z * h1.z) * e.A;
+    return e;
+  }
+  const Point<T> x0{h0.x, h0.y}, x1{h1.x, h1.y}, x2{h2.x, h2.y};
+  const Point<T> g = h0.z * x1 - h1.z * x0;
+  // det3 of the rows (X_k, w_k), expanded along the weight column.
+  const T d3 = h0.z * det(x1, x2) - h1.z * det(x0, x2) + h2.z * det(x0, x1);
+  return {h0.z * h0.z * h0.z * d3, dot(g, g), g};
+}
+
 /// jump_sign at the joint between two Bezier segments of degree >= 2 (L ends
-/// where R starts), from their end legs.
+/// where R starts), from their end legs (end_terms).
 template <class T>
 int jump_sign(const std::vector<Point<T>>& L, const std::vector<Point<T>>& R) {
   const int d = static_cast<int>(L.size()) - 1;
   CMR_CHECK(d >= 2 && R.size() == L.size());
-  const Point<T> la = L[d - 1] - L[d], lb = L[d - 2] - L[d - 1];
-  const Point<T> ra = R[1] - R[0], rb = R[2] - R[1];
-  return jump_sign<T>(T(0) - det(la, lb), dot(la, la), det(ra, rb), dot(ra, ra));
+  const EndTerms<T> l = end_terms<T>(L[d], L[d - 1], L[d - 2]), r = end_terms<T>(R[0], R[1], R[2]);
+  return jump_sign<T>(T(0) - l.A, l.G, r.A, r.G);
 }
 
 /// jump_sign at the joint between two rational Bezier segments given by
-/// homogeneous points (W x, W y, W), W > 0: a rational end's curvature is
-/// (d-1)/d (w0 w2 / w1^2) det(a, b) / |a|^3 with a, b the first two legs of
-/// the projected points read from the joint, so A gains the factor
-/// w0 w2 / w1^2 (T's division carries its bound for Bounded).
+/// homogeneous points (W x, W y, W), W != 0 at the joint (no pole there):
+/// end_terms of the homogeneous points, any signs of the weights.
 template <class T>
 int jump_sign_homogeneous(const std::vector<HPoint<T>>& L, const std::vector<HPoint<T>>& R) {
   const int d = static_cast<int>(L.size()) - 1;
   CMR_CHECK(d >= 2 && R.size() == L.size());
-  const auto proj = [](const HPoint<T>& h) { return Point<T>{h.x / h.z, h.y / h.z}; };
-  const Point<T> l0 = proj(L[d]), l1 = proj(L[d - 1]), l2 = proj(L[d - 2]);
-  const Point<T> r0 = proj(R[0]), r1 = proj(R[1]), r2 = proj(R[2]);
-  const Point<T> la = l1 - l0, lb = l2 - l1, ra = r1 - r0, rb = r2 - r1;
-  const T fl = L[d].z * L[d - 2].z / (L[d - 1].z * L[d - 1].z);
-  const T fr = R[0].z * R[2].z / (R[1].z * R[1].z);
-  return jump_sign<T>(T(0) - fl * det(la, lb), dot(la, la), fr * det(ra, rb), dot(ra, ra));
+  const EndTerms<T> l = end_terms<T>(L[d], L[d - 1], L[d - 2]), r = end_terms<T>(R[0], R[1], R[2]);
+  return jump_sign<T>(T(0) - l.A, l.G, r.A, r.G);
 }
 
 }  // namespace cmr

@@ -13,7 +13,8 @@ struct BezierSegment {
   Segment segment;
   std::vector<Vec2> points;  ///< d+1 Bezier points of the segment, on [a, b] -> [0, 1]
   /// A rational segment's Bezier weights (points are then the projected
-  /// homogeneous Bezier points); empty for a polynomial spline.
+  /// homogeneous Bezier points, not finite where a weight is 0, which a span
+  /// with a pole may have); empty for a polynomial spline.
   std::vector<double> weights;
 };
 

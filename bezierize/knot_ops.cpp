@@ -36,7 +36,11 @@ BSpline rewrite(const BSpline& s, std::vector<double> knots, int degree) {
   // A rational curve is rewritten in homogeneous coordinates: the same
   // primitive on the points (w x, w y) and on the weights (carried as (w, 0)),
   // then projected back. New weights are convex combinations (averages, for
-  // elevation) of positive weights, so they stay positive.
+  // elevation) of the old ones: positive weights stay positive; with weights
+  // of mixed sign (bspline.hpp) a new weight can be 0. Its homogeneous point
+  // (W x, W y, W) is then 0 when the curve allows it (any point, here the
+  // origin, gives that), or a point at infinity, which the (x, y, w) form
+  // cannot hold: an InputError naming it.
   PolarSpline<double> xy{s.degree(), s.knots(), {}}, w{s.degree(), s.knots(), {}};
   for (int i = 0; i < s.point_count(); ++i) {
     xy.points.push_back(s.weight(i) * s.points()[i]);
@@ -47,7 +51,13 @@ BSpline rewrite(const BSpline& s, std::vector<double> knots, int degree) {
   std::vector<double> weights;
   for (std::size_t i = 0; i < rxy.points.size(); ++i) {
     weights.push_back(rw.points[i].x);
-    rxy.points[i] /= rw.points[i].x;
+    if (rw.points[i].x != 0) {
+      rxy.points[i] /= rw.points[i].x;
+    } else if (rxy.points[i] != Vec2(0.0)) {
+      throw InputError("control point " + std::to_string(i) +
+                       " of the result would have weight 0 and lie at infinity (its homogeneous point is not 0); "
+                       "cmr's (x, y, w) points cannot hold it");
+    }
   }
   return BSpline::make(degree, std::move(rxy.knots), std::move(rxy.points), s.name(), std::move(weights));
 }

@@ -4,7 +4,10 @@
 //
 // A rational Bezier segment of degree n is C = X / W with the homogeneous
 // curve H(t) = (X, Y, W) = sum_i B_i^n(t) H_i, H_i = (w_i x_i, w_i y_i, w_i),
-// every w_i > 0 (bspline.hpp), so W > 0 on [0, 1].
+// any finite weights (bspline.hpp). The formulas below are polynomial (no
+// division), so they hold for every segment; they mean curvature where W != 0
+// on [0, 1], i.e. on a segment without a pole (analyze.hpp: segment_poles),
+// where W has one sign.
 //
 // Derivation. With X = (X, Y):
 //   C'  = (W X' - W' X) / W^2 = h / W^2,        h = W X' - W' X,
@@ -16,8 +19,10 @@
 //   dkappa/dt = [(3 W^2 W' D + W^3 D') |h|^2 - 3 W^3 D (h.h')] / |h|^5
 //             = W^2 lambda / |h|^5,
 //   lambda = (3 W' D + W D') (h.h) - 3 W D (h.h'),   D' = det(H, H', H''').
-// W^2 > 0 and |h| > 0 on a regular curve, so sign(dkappa/ds) = sign(lambda)
-// and sign(kappa) = sign(D): Algorithm 1 runs on lambda's coefficients xi,
+// W^2 > 0 and |h| > 0 on a regular curve without a pole, so
+// sign(dkappa/ds) = sign(lambda) and sign(kappa) = sign(W) sign(D), W's sign
+// being constant on the segment (H -> -H, the same curve, keeps lambda and
+// negates D). Algorithm 1 runs on lambda's coefficients xi,
 // Algorithm 2 on D's (they play eta's role). For W = 1, D = eta, h = C' and
 // lambda is the polynomial lambda of lambda.hpp.
 //
@@ -142,7 +147,7 @@ Bernstein<T> rational_lambda_bernstein(const HomogeneousBezier<T>& H) {
 }
 
 /// h.h at degree 4n-4: zero exactly where the rational curve's tangent is
-/// (p' = h / W^2 with W > 0). The zero polynomial as 4n-3 zero coefficients.
+/// (p' = h / W^2 with W != 0). The zero polynomial as 4n-3 zero coefficients.
 template <class T>
 Bernstein<T> rational_speed2_bernstein(const std::vector<HPoint<T>>& points) {
   using namespace rational_detail;

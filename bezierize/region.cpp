@@ -90,9 +90,13 @@ void find_needed(const RegionSetup& s, std::vector<bool>& touched, std::vector<b
   }
 }
 
-// fixed_none / fixed_level0_none: an untouched judged segment fails for every position.
+// fixed_none / fixed_level0_none: an untouched judged segment fails for every
+// position, and so does a judged segment with a pole (touched or not: the
+// move keeps the weights, so W and its roots do not depend on the position;
+// analyze gives such a segment pole_class()).
 void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
   for (int seg = s.range.first; seg <= s.range.last; ++seg) {
+    if (s.base->analysis.shapes[seg].pole) s.fixed_none = s.fixed_level0_none = true;
     if (touched[seg]) continue;
     const SegmentClass& c = s.fixed()[seg];
     const bool fails = c.monotonicity.curvature == Curvature::non_monotone ||

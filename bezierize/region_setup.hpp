@@ -146,8 +146,8 @@ struct RegionSetup {
   std::vector<RegionEntry> entries;      ///< ascending segment order, judged segments only
   std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
   VerdictTemplate verdict;               ///< per-position verdict input (entries' slots filled per position)
-  bool fixed_level0_none = false;        ///< an untouched judged segment fails at level 0: every pixel is 0
-  bool fixed_none = false;               ///< an untouched judged segment fails at some level: every label is 0
+  bool fixed_level0_none = false;        ///< an untouched judged segment fails at level 0, or a judged one has a pole: every pixel is 0
+  bool fixed_none = false;               ///< an untouched judged segment fails at some level, or a judged one has a pole: every label is 0
   int piece_levels = 0;                  ///< L0: pieces down to this level have precomputed polynomials
   /// A closed spline's whole period without cuts: the seam is judged like
   /// every other joint (as analyze does): the verdict template ends with

@@ -43,13 +43,13 @@ BSpline BSpline::make(int degree, std::vector<double> knots, std::vector<Vec2> p
     if (weights.size() != points.size())
       throw InputError("weights: one weight per control point is needed: " + std::to_string(m) + " points, " +
                        std::to_string(weights.size()) + " weights");
-    for (std::size_t i = 0; i < weights.size(); ++i) {
+    for (std::size_t i = 0; i < weights.size(); ++i)
       if (!std::isfinite(weights[i])) throw InputError("weights[" + std::to_string(i) + "] is not a finite number");
-      if (!(weights[i] > 0))
-        throw InputError("weights[" + std::to_string(i) + "] (" + num(weights[i]) +
-                         ") is not positive; cmr supports weights > 0 only (a weight <= 0 can make the curve pass "
-                         "through infinity)");
-    }
+    if (std::all_of(weights.begin(), weights.end(), [](double w) { return w == 0; }))
+      throw InputError("weights: every weight is 0; at least one must be non-zero");
+    // All negative: -w gives the same curve (X / W = (-X) / (-W)); store it positive.
+    if (std::all_of(weights.begin(), weights.end(), [](double w) { return w < 0; }))
+      for (double& w : weights) w = -w;
     // Equal weights cancel: the same polynomial curve.
     if (std::all_of(weights.begin(), weights.end(), [&](double w) { return w == weights.front(); })) weights.clear();
   }

@@ -19,12 +19,26 @@
 // the curve C(t) = X(t) / W(t) with the homogeneous B-spline
 // H(t) = (X, W) whose control points are (w_i x_i, w_i y_i, w_i): the blossom
 // (the one primitive) runs on (w x, w y, w) and the result is projected.
-// cmr allows finite weights > 0 only: then W(t), a convex combination of
-// positive weights on every span, is positive everywhere, so a rational curve
-// has no pole (no `pole` class is needed; a zero or negative weight is refused
-// at the edge with its index). Weights that are all equal describe the
-// polynomial curve with the same points, and are dropped (is_rational() is
-// false, the file is written without "weights").
+// Weights may be any finite numbers, not all 0 (InputError otherwise). Then
+// W(t) = sum_i w_i N_i(t), the homogeneous weight coordinate, is a continuous
+// piecewise polynomial that may be negative or vanish:
+//  * W != 0 on a span: the curve there is X / W, finite and smooth, whatever
+//    W's sign (x / w = (-x) / (-w)); the curvature is W^3 D / |h|^3
+//    (bezierize/rational_lambda.hpp), so its sign is sign(W) sign(D).
+//  * W = 0 somewhere in a closed span (a root inside, or at a knot, or W == 0
+//    on the span): the curve passes through infinity there, a *pole*
+//    (bezierize/analyze.hpp: segment_pole, SegmentShape::pole). Pole spans are
+//    reported, never divided by: no monotone curvature is claimed for them.
+//  * A weight of 0 makes the point's homogeneous point (0 x, 0 y, 0) = 0: the
+//    point has no influence on the curve (its x, y are kept in the file but do
+//    not enter H). Points at infinity given as directions are not supported.
+// W is continuous, so between a span where W > 0 and one where W < 0 there is
+// always a pole. If every weight is negative, all are negated at make(): the
+// same curve ((-X) / (-W) = X / W), stored with positive weights. Other
+// weight sets are kept as given (mixed signs are not normalised).
+// Weights that are all equal describe the polynomial curve with the same
+// points, and are dropped (is_rational() is false, the file is written
+// without "weights").
 #include <string>
 #include <vector>
 
@@ -43,8 +57,9 @@ class BSpline {
  public:
   /// Validates and builds. Throws InputError naming the field and index, e.g.
   /// "knots[4] (2.5) is smaller than knots[3] (3)".
-  /// `weights`: empty (a polynomial curve) or one finite weight > 0 per point
-  /// ("weights[2] (0) is not positive; ...").
+  /// `weights`: empty (a polynomial curve) or one finite weight per point,
+  /// not all 0 ("weights[2] is not a finite number"); all negative ones are
+  /// negated (the same curve, see above).
   static BSpline make(int degree, std::vector<double> knots, std::vector<Vec2> points,
                       std::string name = {}, std::vector<double> weights = {});
   /// The Bezier curve of degree points.size()-1 as a B-spline (knots 0^n 1^n).

@@ -1,6 +1,10 @@
 #include "spline/curvature.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <glm/common.hpp>
 
 #include "spline/blossom.hpp"
 
@@ -63,23 +67,60 @@ double segment_end_curvature(const BSpline& spline, const Segment& s, int side) 
   const double e = side == 0 ? s.a : s.b;
   const double o = side == 0 ? s.b : s.a;
   std::vector<double> args(d, e);
-  Vec2 q[3];
-  double w[3];
+  glm::dvec3 h[3];
   for (int k = 0; k < 3; ++k) {
     for (int i = 0; i < d; ++i) args[i] = i < d - k ? e : o;
-    const glm::dvec3 h = homogeneous_blossom(spline, s, args.data());
-    q[k] = Vec2(h.x, h.y) / h.z;
-    w[k] = h.z;
+    h[k] = homogeneous_blossom(spline, s, args.data());
   }
-  // kappa at a Bezier end: (d-1)/d * det(q1-q0, q2-q1) / |q1-q0|^3, scaled by
-  // the span length (which cancels in kappa, so work in the unit parameter);
-  // a rational Bezier end adds the factor w0 w2 / w1^2 (1 for a polynomial).
-  const Vec2 a = q[1] - q[0];
-  const Vec2 b = q[2] - q[1];
-  const double len = std::sqrt(dot(a, a));
-  const double k = (d - 1.0) / d * (w[0] * w[2] / (w[1] * w[1])) * det(a, b) / (len * len * len);
+  // kappa at a Bezier end: (d-1)/d * A / |g|^3 in the unit parameter (the
+  // span length cancels), g = w0 X1 - w1 X0 and A = w0^3 det3(H0, H1, H2)
+  // for homogeneous points H_k = (X_k, w_k), any signs of w (cmr::end_terms,
+  // bezierize/decide.hpp); for w = 1: g = q1 - q0, A = det(q1 - q0, q2 - q1).
+  if (h[0].z > 0 && h[1].z > 0 && h[2].z > 0) {
+    // Positive weights: the classical form, (w0 w2 / w1^2) det(a, b) / |a|^3
+    // with a, b the legs of the projected points (1 for a polynomial).
+    const Vec2 q0 = Vec2(h[0].x, h[0].y) / h[0].z, q1 = Vec2(h[1].x, h[1].y) / h[1].z,
+               q2 = Vec2(h[2].x, h[2].y) / h[2].z;
+    const Vec2 a = q1 - q0, b = q2 - q1;
+    const double len = std::sqrt(dot(a, a));
+    const double k = (d - 1.0) / d * (h[0].z * h[2].z / (h[1].z * h[1].z)) * det(a, b) / (len * len * len);
+    return side == 0 ? k : -k;
+  }
+  const Vec2 x0(h[0].x, h[0].y), x1(h[1].x, h[1].y);
+  const Vec2 g = h[0].z * x1 - h[1].z * x0;
+  const double len = std::sqrt(dot(g, g));
+  const double A = h[0].z * h[0].z * h[0].z * det3(h[0], h[1], h[2]);
+  const double k = (d - 1.0) / d * A / (len * len * len);
   // At the end the polygon is read backwards, which flips the turning sense.
   return side == 0 ? k : -k;
+}
+
+CurveSampler::CurveSampler(const BSpline& spline) : spline_(&spline) {
+  Vec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  for (const Vec2& p : spline.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  // Widened by the larger side (at least a relative 1e-9 of the coordinates,
+  // so that rounding never puts a straight curve's points outside).
+  const double big = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(hi.x), std::fabs(hi.y)});
+  double margin = std::max({hi.x - lo.x, hi.y - lo.y, 1e-9 * big});
+  if (!(margin > 0)) margin = 1;  // every point at the origin
+  lo_ = lo - Vec2(margin);
+  hi_ = hi + Vec2(margin);
+}
+
+bool CurveSampler::inside(Vec2 p) const {
+  return std::isfinite(p.x) && std::isfinite(p.y) && p.x >= lo_.x && p.x <= hi_.x && p.y >= lo_.y && p.y <= hi_.y;
+}
+
+std::optional<Vec2> CurveSampler::at(double t) const {
+  const Vec2 p = evaluate(*spline_, t);
+  if (!inside(p)) return std::nullopt;
+  return p;
+}
+
+bool CurveSampler::joins(double t0, double t1) const {
+  if (!spline_->is_rational()) return true;
+  const double w0 = homogeneous_derivative(*spline_, t0, 0).z, w1 = homogeneous_derivative(*spline_, t1, 0).z;
+  return (w0 > 0 && w1 > 0) || (w0 < 0 && w1 < 0);
 }
 
 }  // namespace cmr

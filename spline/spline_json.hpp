@@ -1,6 +1,6 @@
 #pragma once
 // Spline files: {"degree": d, "knots": [...], "points": [[x,y],...], "name": "optional",
-//                "weights": [w0, ...] (optional: a rational curve, one weight > 0 per point)}.
+//                "weights": [w0, ...] (optional: a rational curve, one finite weight per point, not all 0; bspline.hpp)}.
 // Without "knots" the file is one Bezier curve of degree points-1 ("degree",
 // if given, must agree). Knots are polar-form (points + degree - 1 of them).
 // Every error is an InputError whose message names the file, the field and

@@ -42,6 +42,7 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                     {"depth", c.monotonicity.depth},
                     {"inflection_depth", c.inflection.depth},
                     {"exact", c.exact_used}});
+    if (sh.pole) segs.back()["poles"] = sh.poles;  // W = 0 there: the curve passes through infinity
   }
   nlohmann::ordered_json joints = nlohmann::ordered_json::array();
   std::vector<Joint> all = a.joints;
@@ -58,6 +59,7 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                       {"kappa_left", j.kappa_left},
                       {"kappa_right", j.kappa_right},
                       {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
+    if (j.pole) joints.back()["pole"] = true;
     if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
     const bool inside = j.index > a.range.first && j.index <= a.range.last;
     const bool seam_judged = a.seam && j.index == a.seam->index && a.range.first == 0 &&
@@ -68,6 +70,7 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                                     {"cmr", to_string(a.cmr)},
                                     {"cmr_algorithm2", to_string(a.cmr_algorithm2)},
                                     {"cusp", a.cusp}};
+  if (a.pole) verdict["pole"] = true;
   if (a.split) verdict["split"] = to_string(*a.split);
   if (a.alternation) {
     verdict["alternation"] = to_string(*a.alternation);

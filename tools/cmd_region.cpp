@@ -293,7 +293,7 @@ void run_weight_region(const RegionArgs& a) {
 
   nlohmann::ordered_json intervals = nlohmann::ordered_json::array();
   for (const WeightInterval& iv : region.intervals)
-    intervals.push_back({{"from", iv.from}, {"to", iv.to}, {"label", region.label_name(iv.label)}});
+    intervals.push_back({{"from", iv.from}, {"to", iv.to}, {"label", region.label_name(iv.label)}, {"pole", iv.pole}});
   nlohmann::ordered_json doc = {{"weight", r.point},
                                 {"from", r.from},
                                 {"to", r.to},

@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <new>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "spline/curvature.hpp"
@@ -290,12 +292,20 @@ void draw_polygon_and_curve(cairo_t* cr, const BSpline& s, const WorldMap& map) 
   set_colour(cr, {0, 0, 0});
   cairo_set_line_width(cr, 2.2);
   const int per_segment = std::max(64, 600 / s.segment_count());
-  bool first = true;
+  // Broken where a pole sends the curve away (CurveSampler, curvature.hpp).
+  const CurveSampler sampler(s);
+  std::optional<double> pen;  // the last sample drawn, while the line goes on
   for (const Segment& seg : s.segments()) {
     for (int k = 0; k <= per_segment; ++k) {
-      const auto [px, py] = map(evaluate(s, seg.a + (seg.b - seg.a) * k / per_segment));
-      first ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
-      first = false;
+      const double t = seg.a + (seg.b - seg.a) * k / per_segment;
+      const std::optional<Vec2> p = sampler.at(t);
+      if (!p) {
+        pen.reset();
+        continue;
+      }
+      const auto [px, py] = map(*p);
+      pen && sampler.joins(*pen, t) ? cairo_line_to(cr, px, py) : cairo_move_to(cr, px, py);
+      pen = t;
     }
   }
   cairo_stroke(cr);
@@ -368,9 +378,12 @@ void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels
     obstacles.add(x - pad, y - pad, x + pad, y + pad, {x, y, pad, cost});
   };
   for (const auto& [x, y] : at) obstacle(x, y, 3.5, 200);
+  const CurveSampler sampler(s);
   for (const Segment& seg : s.segments())
     for (int k = 0; k <= 48; ++k) {
-      const auto [x, y] = map(evaluate(s, seg.a + (seg.b - seg.a) * k / 48));
+      const std::optional<Vec2> p = sampler.at(seg.a + (seg.b - seg.a) * k / 48);
+      if (!p) continue;
+      const auto [x, y] = map(*p);
       obstacle(x, y, 1, 12);
     }
   for (int i = 0; i + 1 < m; ++i)
@@ -522,8 +535,10 @@ void draw_inner_legend(cairo_t* cr, const RegionPicture& p, double x, double y, 
   const WorldMap map{p.layers[0]->view, x, y, w, h};
   std::vector<std::pair<double, double>> things;
   for (const Vec2& q : p.spline->points()) for (int k = 0; k < 10; ++k) things.push_back(map(q));  // points weigh more
+  const CurveSampler sampler(*p.spline);
   for (const Segment& seg : p.spline->segments())
-    for (int k = 0; k <= 32; ++k) things.push_back(map(evaluate(*p.spline, seg.a + (seg.b - seg.a) * k / 32)));
+    for (int k = 0; k <= 32; ++k)
+      if (const std::optional<Vec2> q = sampler.at(seg.a + (seg.b - seg.a) * k / 32)) things.push_back(map(*q));
   double bx = x + 4, by = y + h - 4 - bh;
   long fewest = -1;
   for (const auto& [cx, cy] : {std::pair{x + 4, y + h - 4 - bh}, std::pair{x + w - 4 - bw, y + h - 4 - bh},
@@ -578,15 +593,20 @@ struct PlotSample {
 
 /// Samples per segment from the segment's own polynomial; the last sample of
 /// each segment is its end value (curvature_at would take the next segment's).
+/// Where the curve is not drawn (near a pole: CurveSampler) kappa is NaN, and
+/// the plot leaves it out.
 std::vector<std::vector<PlotSample>> sample_curvature(const BSpline& s, int per_segment) {
   std::vector<std::vector<PlotSample>> out;
+  const CurveSampler sampler(s);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const Segment& seg : s.segments()) {
     std::vector<PlotSample> v;
     for (int k = 0; k < per_segment; ++k) {
       const CurvatureSample c = curvature_at(s, seg.a + (seg.b - seg.a) * k / per_segment);
-      v.push_back({c.t, c.kappa, c.lambda});
+      v.push_back({c.t, sampler.inside(c.point) ? c.kappa : nan, c.lambda});
     }
-    v.push_back({seg.b, segment_end_curvature(s, seg, 1), v.back().lambda});
+    const double end = sampler.inside(evaluate(s, seg.b)) ? segment_end_curvature(s, seg, 1) : nan;
+    v.push_back({seg.b, end, v.back().lambda});
     out.push_back(std::move(v));
   }
   return out;
@@ -617,12 +637,14 @@ struct PlotFrame {
 
 PlotFrame plot_frame(const BSpline& s, const std::vector<std::vector<PlotSample>>& samples, double x, double y,
                      double w, double h) {
-  double lo = samples[0][0].kappa, hi = lo;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& seg : samples)
     for (const PlotSample& p : seg) {
+      if (!std::isfinite(p.kappa)) continue;  // a cusp, or near a pole
       lo = std::min(lo, p.kappa);
       hi = std::max(hi, p.kappa);
     }
+  if (lo > hi) lo = hi = 0;  // nothing finite to plot
   // A flat plot still needs a vertical extent; 5% padding keeps the line off the frame.
   const double pad = std::max(hi - lo, 1e-3 * std::max(std::abs(lo), std::abs(hi)) + 1e-12) * 0.05;
   return {x + 56, x + w - 12, y + 26, y + h - 52, s.domain_begin(), s.domain_end(), lo - pad, hi + pad};
@@ -677,6 +699,7 @@ void draw_plot_curve(cairo_t* cr, const std::vector<std::vector<PlotSample>>& sa
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
   for (const auto& seg : samples) {
     for (std::size_t k = 1; k < seg.size(); ++k) {
+      if (!std::isfinite(seg[k - 1].kappa) || !std::isfinite(seg[k].kappa)) continue;
       const double l = seg[k - 1].lambda;
       set_colour(cr, l > 0 ? Rgb{0.85, 0.1, 0.1} : (l < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.2, 0.2, 0.2}));
       cairo_move_to(cr, f.px(seg[k - 1].t), f.py(seg[k - 1].kappa));

@@ -115,6 +115,16 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
   std::vector<GateResult> out;
   for (const Gate& gate : gates) {
     GateResult g{gate, {}};
+    // A curve through infinity fails every gate where it does so.
+    for (const SpanReport& span : r.spans)
+      if (span.shape.pole) {
+        GateViolation v;
+        v.segment = span.segment.index;
+        v.t = span.shape.poles.front();
+        v.local_t = (v.t - span.segment.a) / (span.segment.b - span.segment.a);
+        v.message = pole_message(span);
+        g.violations.push_back(v);
+      }
     switch (gate.kind) {
       case Gate::Kind::extrema_at_nodes:
         for (const CurveEvent& e : r.extrema)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <sstream>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -14,6 +15,7 @@
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "bezierize/region.hpp"
+#include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
@@ -82,18 +84,18 @@ AnalyzeOptions analyze_options(const ReportOptions& options) {
 struct Frame {
   Vec2 point{0.0}, tangent{0.0};
   double kappa = 0;
+  double weight = 1;  ///< W(u) of a rational segment (its sign tells the sides of a pole apart)
+  bool drawn = true;  ///< drawable (CurveSampler::inside): false near a pole, where the curve runs off
 };
 
 Frame frame_at(const std::vector<Vec2>& B, double u);
 
-/// A rational Bezier segment (points B, weights W): from the homogeneous
-/// curve H = (W x, W y, W) and its derivatives at u, C' = h / W^2 with
+/// A rational Bezier segment (homogeneous points H = (W x, W y, W)): from the
+/// homogeneous curve and its derivatives at u, C' = h / W^2 with
 /// h = W X' - W' X and kappa = W^3 det(H, H', H'') / |h|^3 (rational_lambda.hpp).
-Frame frame_at(const std::vector<Vec2>& B, const std::vector<double>& W, double u) {
-  if (W.empty()) return frame_at(B, u);
-  const int n = static_cast<int>(B.size()) - 1;
-  std::vector<glm::dvec3> H;
-  for (int i = 0; i <= n; ++i) H.push_back({W[i] * B[i].x, W[i] * B[i].y, W[i]});
+/// Where W(u) = 0 (a pole) the point is not finite: Frame::drawn is false.
+Frame frame_at(const std::vector<Vec2>& B, const std::vector<glm::dvec3>& H, double u) {
+  if (H.empty()) return frame_at(B, u);
   glm::dvec3 d[3];  // H, H', H'' at u from the Bernstein derivatives
   for (int r = 0; r < 3; ++r) {
     std::vector<glm::dvec3> c = H;
@@ -109,7 +111,7 @@ Frame frame_at(const std::vector<Vec2>& B, const std::vector<double>& W, double 
   const Vec2 h = d[0].z * X1 - d[1].z * X;
   const double D = glm::dot(d[0], glm::cross(d[1], d[2]));
   const double len = std::sqrt(dot(h, h)), w = d[0].z;
-  return {X / w, h / (w * w), w * w * w * D / (len * len * len)};
+  return {X / w, h / (w * w), w * w * w * D / (len * len * len), w};
 }
 
 Frame frame_at(const std::vector<Vec2>& B, double u) {
@@ -219,8 +221,9 @@ std::vector<SignChange> sign_changes(const std::vector<Stretch>& stretches) {
   std::vector<SignChange> out;
   int current = 0;
   Place at;
+  // A stretch of sign 0 (a pole) breaks the chain: no change across it.
   for (const Stretch& s : stretches) {
-    if (current != 0 && s.sign != current) out.push_back({at, current, s.sign});
+    if (current != 0 && s.sign != 0 && s.sign != current) out.push_back({at, current, s.sign});
     current = s.sign;
     at = s.end;
   }
@@ -233,17 +236,11 @@ std::vector<SignChange> sign_changes(const std::vector<Stretch>& stretches) {
 class ExactPoints {
  public:
   explicit ExactPoints(const BSpline& spline) : spline_(spline), points_(spline.segment_count()) {}
-  /// Cartesian Bezier points (projected exactly for a rational spline).
+  /// Cartesian Bezier points of a polynomial spline's segment i (a rational
+  /// one uses homogeneous(i): no division by a weight that may vanish).
   const std::vector<Point<Rational>>& operator()(int i) {
-    if (!points_[i]) {
-      if (spline_.is_rational()) {
-        std::vector<Point<Rational>> P;
-        for (const HPoint<Rational>& h : homogeneous(i)) P.push_back({h.x / h.z, h.y / h.z});
-        points_[i] = std::move(P);
-      } else {
-        points_[i] = segment_bezier_points<Rational>(spline_, spline_.segments()[i]);
-      }
-    }
+    CMR_CHECK(!spline_.is_rational());
+    if (!points_[i]) points_[i] = segment_bezier_points<Rational>(spline_, spline_.segments()[i]);
     return *points_[i];
   }
   /// Homogeneous Bezier points of a rational spline's segment i.
@@ -265,10 +262,10 @@ struct StartSigns {
 /// and eta. Most segments' lambda or eta has coefficients of one certain
 /// sign, so no root; the error-bounded points show that without rational
 /// arithmetic, and only the others are formed exactly.
-SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const RootOptions& roots,
-                       ExactPoints& exact, StartSigns& start) {
+SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const SegmentShape& shape,
+                       const RootOptions& roots, ExactPoints& exact, StartSigns& start) {
   const Segment& s = spline.segments()[i];
-  SpanReport span{s, {}, {}, c, {}, false, false, {}, {}};
+  SpanReport span{s, {}, {}, c, shape, false, false, {}, {}};
   // lambda and eta (for a rational spline: lambda and D of rational_lambda.hpp).
   Bernstein<Bounded> lambda_b, eta_b;
   std::function<Bernstein<Rational>()> lambda_exact, eta_exact;
@@ -276,9 +273,14 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
   if (spline.is_rational()) {
     const auto H = segment_homogeneous_points<Bounded>(spline, s);
     for (const HPoint<Bounded>& h : H) {
-      span.bezier.push_back({h.x.v / h.z.v, h.y.v / h.z.v});
-      span.weights.push_back(h.z.v);
+      // Bezier points; a zero weight (possible at a pole) leaves NaN, which
+      // nothing draws (Frame::drawn) and JSON writes as null.
+      span.bezier.push_back(h.z.v != 0 ? Vec2(h.x.v / h.z.v, h.y.v / h.z.v) : Vec2(std::numeric_limits<double>::quiet_NaN()));
+      span.homogeneous.push_back({h.x.v, h.y.v, h.z.v});
     }
+    // A pole: no extrema or inflections to speak of (start signs 0 break the
+    // chains of find_events there).
+    if (shape.pole) return span;
     lambda_b = rational_lambda_bernstein<Bounded>(H);
     eta_b = rational_d_bernstein<Bounded>(H);
     lambda_exact = [&] { return rational_lambda_bernstein<Rational>(exact.homogeneous(i)); };
@@ -306,6 +308,11 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
     span.eta_zero = is_zero(eta);
     start.eta = sign_at_start(eta);
     span.inflections = span_roots(eta, s, kappa_at, roots);
+  }
+  // The curvature's sign is W's times D's (kappa = W^3 D / |h|^3).
+  if (spline.is_rational() && weight_sign(spline, s) < 0) {
+    start.eta = -start.eta;
+    for (SpanRoot& x : span.inflections) x.sign_before = -x.sign_before, x.sign_after = -x.sign_after;
   }
   return span;
 }
@@ -337,6 +344,11 @@ void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
   for (int i = 0; i < N; ++i) {
     if (i > 0 && r.joints[i - 1].joint.jump != 0)
       slope.push_back({r.joints[i - 1].joint.jump, {spline.segments()[i].a, -1, i, 0}});
+    if (r.spans[i].shape.pole) {  // the curve passes through infinity: no event across it
+      slope.push_back({0, span_end(i)});
+      sign.push_back({0, span_end(i)});
+      continue;
+    }
     if (!r.spans[i].lambda_zero) add_span_stretches(slope, start[i].lambda, r.spans[i].extrema, i, span_end(i));
     if (!r.spans[i].eta_zero) add_span_stretches(sign, start[i].eta, r.spans[i].inflections, i, span_end(i));
   }
@@ -363,7 +375,7 @@ void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
 /// unbounded or undefined there: no finite range (NaN, null in JSON).
 void curvature_range(SplineReport& r) {
   r.cusp = r.analysis.cusp;
-  if (r.cusp) {
+  if (r.cusp || r.analysis.pole) {  // a pole: the curve goes through infinity
     r.kappa_min = r.kappa_max = r.t_min = r.t_max = std::numeric_limits<double>::quiet_NaN();
     return;
   }
@@ -403,6 +415,14 @@ void curvature_spreads(SplineReport& r, double tolerance) {
 
 }  // namespace
 
+std::string pole_message(const SpanReport& span) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "segment " << span.segment.index << " has a pole at t≈";
+  for (std::size_t k = 0; k < span.shape.poles.size(); ++k) out << (k ? ", " : "") << span.shape.poles[k];
+  return out.str();
+}
+
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
   SplineReport r;
   r.spline = spline;
@@ -412,8 +432,7 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   ExactPoints exact(spline);
   std::vector<StartSigns> start(spline.segment_count());
   for (int i = 0; i < spline.segment_count(); ++i) {
-    r.spans.push_back(span_report(spline, i, r.analysis.segments[i], options.roots, exact, start[i]));
-    r.spans.back().shape = r.analysis.shapes[i];
+    r.spans.push_back(span_report(spline, i, r.analysis.segments[i], r.analysis.shapes[i], options.roots, exact, start[i]));
   }
   r.joints = joint_reports(r.analysis);
   find_events(r, start);
@@ -636,6 +655,7 @@ Json segments_json(const SplineReport& r) {
                         {"near_constant", sp.near_constant},
                         {"extrema", e},
                         {"inflections", i}});
+    if (sp.shape.pole) segments.back()["poles"] = sp.shape.poles;
   }
   return segments;
 }
@@ -704,6 +724,7 @@ Json spline_json(const SplineReport& r, int index) {
                     {"monotone_pieces", r.monotone_pieces},
                     {"extrema", extrema},
                     {"inflections", inflections}};
+  if (r.analysis.pole) j["curvature"]["pole"] = true;  // no finite range either (null)
 
   j["segments"] = segments_json(r);
   j["joints"] = joints_json(r);
@@ -857,6 +878,7 @@ CombCanvas comb_canvas(const BSpline& s, const std::vector<std::vector<Frame>>& 
   for (const Vec2& p : s.points()) grow(p);
   for (const auto& fs : frames)
     for (const Frame& f : fs) {
+      if (!f.drawn) continue;
       grow(f.point);
       if (std::isfinite(f.kappa)) kmax = std::max(kmax, std::fabs(f.kappa));
     }
@@ -864,20 +886,28 @@ CombCanvas comb_canvas(const BSpline& s, const std::vector<std::vector<Frame>>& 
   const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 1e-300});
   cc.comb = kmax > 0 ? 0.18 * extent / kmax : 0;
   for (const auto& fs : frames)
-    for (const Frame& f : fs) grow(cc.tip(f));
+    for (const Frame& f : fs)
+      if (f.drawn) grow(cc.tip(f));
   const double scale = std::min((W - 20) / std::max(hi.x - lo.x, 1e-300), (H - 20) / std::max(hi.y - lo.y, 1e-300));
   cc.canvas = {lo.x, lo.y, scale, scale, H, 0.5 * (W - (hi.x - lo.x) * scale), 0.5 * (H - (hi.y - lo.y) * scale)};
   return cc;
 }
 
-/// An SVG path of one polyline per segment through point(frame).
+/// An SVG path of one polyline per segment through point(frame), broken
+/// where frames are not drawn and where W changes sign (across a pole).
 template <class PointOf>
 void polylines(std::string& out, const Canvas& c, const std::vector<std::vector<Frame>>& frames, PointOf point) {
   for (const auto& fs : frames) {
-    out += 'M';
+    const Frame* last = nullptr;  // the previous frame, while the line goes on
     for (const Frame& f : fs) {
+      if (!f.drawn) {
+        last = nullptr;
+        continue;
+      }
+      if (!last || (last->weight > 0) != (f.weight > 0)) out += 'M';
       point_xy(out, c, point(f));
       out += ' ';
+      last = &f;
     }
   }
 }
@@ -894,13 +924,14 @@ void curve_marks_svg(std::string& out, const SplineReport& r, const Canvas& c) {
     fixed(out, c.y(p.y) - 4);
     out += "\">P" + std::to_string(k) + "</text>";
   }
+  const CurveSampler sampler(s);
   for (const CurveEvent& e : r.extrema) {
     const Vec2 p = evaluate(s, e.t);
-    marker(out, c.x(p.x), c.y(p.y), e.kind > 0 ? kRed : kBlue, 4.5);
+    if (sampler.inside(p)) marker(out, c.x(p.x), c.y(p.y), e.kind > 0 ? kRed : kBlue, 4.5);
   }
   for (const CurveEvent& e : r.inflections) {
     const Vec2 p = evaluate(s, e.t);
-    marker(out, c.x(p.x), c.y(p.y), kGreen, 3.5);
+    if (sampler.inside(p)) marker(out, c.x(p.x), c.y(p.y), kGreen, 3.5);
   }
 }
 
@@ -912,6 +943,7 @@ void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::v
   out += "<path fill=\"none\" stroke=\"#8fb0e8\" stroke-width=\"1\" d=\"";
   for (const auto& fs : frames)
     for (const Frame& f : fs) {
+      if (!f.drawn) continue;
       out += 'M';
       point_xy(out, c, f.point);
       out += 'L';
@@ -961,8 +993,14 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   out += "\"/><path fill=\"none\" stroke=\"#111\" stroke-width=\"1.5\" d=\"";
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const Segment& seg = s.segments()[i];
-    out += 'M';
+    bool pen = false;
     for (int k = 0; k <= kSamples; ++k) {
+      if (!frames[i][k].drawn) {  // near a pole
+        pen = false;
+        continue;
+      }
+      if (!pen) out += 'M';
+      pen = true;
       const double kappa = std::clamp(frames[i][k].kappa, klo, khi);  // a cusp's infinity stays on the plot
       fixed(out, c.x(seg.a + (seg.b - seg.a) * k / kSamples));
       out += ',';
@@ -1027,6 +1065,12 @@ void spans_html(std::string& out, const SplineReport& r) {
       "<th>stationary points of κ</th><th>zeros of κ</th></tr>";
   for (const SpanReport& sp : r.spans) {
     const bool judged = r.analysis.judged(sp.segment.index);
+    if (sp.shape.pole) {  // the curve passes through infinity
+      out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " +
+             num(sp.segment.b) + "]</td><td colspan=\"5\" class=\"error\">" + html_escape(pole_message(sp)) +
+             "</td></tr>";
+      continue;
+    }
     out += "<tr><td>" + std::to_string(sp.segment.index) + "</td><td>[" + num(sp.segment.a) + ", " + num(sp.segment.b) +
            "]</td><td>" + (judged ? to_string(sp.classification.monotonicity.curvature) : "ignored") + "</td><td>" +
            (judged ? to_string(sp.classification.inflection.inflection) : "ignored") + "</td><td>" +
@@ -1103,7 +1147,11 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   std::vector<std::vector<Frame>> frames(r.spans.size());
   for (std::size_t i = 0; i < r.spans.size(); ++i)
     for (int k = 0; k <= kSamples; ++k)
-      frames[i].push_back(frame_at(r.spans[i].bezier, r.spans[i].weights, static_cast<double>(k) / kSamples));
+      frames[i].push_back(frame_at(r.spans[i].bezier, r.spans[i].homogeneous, static_cast<double>(k) / kSamples));
+  // Near a pole the curve runs off to infinity: those frames are not drawn.
+  const CurveSampler sampler(*r.spline);
+  for (auto& fs : frames)
+    for (Frame& f : fs) f.drawn = sampler.inside(f.point) && std::isfinite(f.tangent.x) && std::isfinite(f.tangent.y);
   summary_html(out, r, options);
   out += "<div class=\"figs\"><figure>";
   curve_svg(out, r, frames);

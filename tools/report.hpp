@@ -98,7 +98,10 @@ struct SpanRoot {
 struct SpanReport {
   Segment segment;          ///< the span and its index
   std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
-  std::vector<double> weights;  ///< a rational segment's Bezier weights; empty when polynomial
+  /// A rational segment's homogeneous Bezier points (w x, w y, w), to double
+  /// precision (bezier holds their projections, NaN where w = 0); empty when
+  /// polynomial.
+  std::vector<glm::dvec3> homogeneous;
   SegmentClass classification;  ///< Algorithms 1 and 2
   SegmentShape shape;           ///< exact straight / cusp / inflection facts (analyze)
   bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)
@@ -115,6 +118,10 @@ struct SpanReport {
   /// The verdicts stay exact; only the extremum gates exempt its extrema.
   bool near_constant = false;
 };
+
+/// "segment 3 has a pole at t≈0.5" (more parameters comma separated) for a
+/// span whose shape has a pole (the gates' violation, the HTML's cells).
+std::string pole_message(const SpanReport& span);
 
 /// One joint: its analysis and its geometric continuity.
 /// G1 and G2 (with ReportOptions::continuity) are in `joint`, computed by

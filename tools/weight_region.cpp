@@ -33,9 +33,15 @@ BSpline with_weight(const BSpline& spline, int k, double w) {
   return BSpline::make(spline.degree(), spline.knots(), spline.points(), spline.name(), std::move(weights));
 }
 
-std::uint8_t weight_label(const BSpline& spline, const WeightRegionRequest& r, double w) {
-  return region_label_code(analyze(with_weight(spline, r.point, w), region_analyze_options(r.labels)), r.labels);
+WeightState weight_state(const BSpline& spline, const WeightRegionRequest& r, double w) {
+  const SplineAnalysis a = analyze(with_weight(spline, r.point, w), region_analyze_options(r.labels));
+  bool pole = false;
+  for (int i = 0; i < static_cast<int>(a.shapes.size()); ++i) pole = pole || (a.judged(i) && a.shapes[i].pole);
+  return {region_label_code(a, r.labels), pole};
 }
+
+std::uint8_t weight_label(const BSpline& spline, const WeightRegionRequest& r, double w) {
+  return weight_state(spline, r, w).label;}
 
 namespace {
 
@@ -76,7 +82,7 @@ void validate(const BSpline& spline, const WeightRegionRequest& r) {
 
 struct Boundary {
   double left, right;
-  std::uint8_t left_label, right_label;
+  WeightState left_state, right_state;
 };
 
 }  // namespace
@@ -89,11 +95,11 @@ WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& r) 
   const int n = r.samples;
   std::vector<double> w(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) w[i] = i == n - 1 ? r.to : r.from + (r.to - r.from) * i / (n - 1);
-  std::vector<std::uint8_t> label(w.size());
+  std::vector<WeightState> label(w.size());
   std::atomic<int> evaluations{0};
   const auto label_at = [&](double x) {
     ++evaluations;
-    return weight_label(spline, r, x);
+    return weight_state(spline, r, x);
   };
   parallel_for(w.size(), r.threads, [&](std::size_t i) { label[i] = label_at(w[i]); });
 
@@ -107,14 +113,14 @@ WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& r) 
   parallel_for(changes.size(), r.threads, [&](std::size_t c) {
     const std::size_t i = changes[c];
     std::vector<Boundary>& list = found[c];
-    const auto resolve = [&](auto&& self, double a, std::uint8_t la, double b, std::uint8_t lb) -> void {
+    const auto resolve = [&](auto&& self, double a, WeightState la, double b, WeightState lb) -> void {
       if (la == lb) return;
       const double m = a + (b - a) / 2;
       if (b - a <= width || !(m > a && m < b)) {
         list.push_back({a, b, la, lb});
         return;
       }
-      const std::uint8_t lm = label_at(m);
+      const WeightState lm = label_at(m);
       self(self, a, la, m, lm);
       self(self, m, lm, b, lb);
     };
@@ -122,16 +128,16 @@ WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& r) 
   });
 
   double start = r.from;
-  std::uint8_t current = label.front();
+  WeightState current = label.front();
   for (const std::vector<Boundary>& list : found)
     for (const Boundary& b : list) {
-      CMR_CHECK(b.left_label == current);
-      out.intervals.push_back({start, b.left, current});
+      CMR_CHECK(b.left_state == current);
+      out.intervals.push_back({start, b.left, current.label, current.pole});
       start = b.right;
-      current = b.right_label;
+      current = b.right_state;
     }
   CMR_CHECK(current == label.back());
-  out.intervals.push_back({start, r.to, current});
+  out.intervals.push_back({start, r.to, current.label, current.pole});
   out.evaluations = evaluations.load();
   return out;
 }
@@ -328,6 +334,26 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     cairo_rectangle(cr, sx0 + i, strip_top, 1, strip_bottom - strip_top);
     cairo_fill(cr);
   }
+  // Weights whose spline has a pole in a judged span: hatched.
+  const auto hatch = [&](double x0, double y0, double x1, double y1) {
+    cairo_save(cr);
+    cairo_rectangle(cr, x0, y0, x1 - x0, y1 - y0);
+    cairo_clip(cr);
+    cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+    cairo_set_line_width(cr, 1);
+    for (double x = x0 - (y1 - y0); x < x1; x += 6) {
+      cairo_move_to(cr, x, y1);
+      cairo_line_to(cr, x + (y1 - y0), y0);
+    }
+    cairo_stroke(cr);
+    cairo_restore(cr);
+  };
+  bool any_pole = false;
+  for (const WeightInterval& iv : region.intervals)
+    if (iv.pole) {
+      any_pole = true;
+      hatch(std::max(x_of(iv.from), sx0) - 0.5, strip_top, std::min(x_of(iv.to), sx0 + columns) + 0.5, strip_bottom);
+    }
   set(cr, {0, 0, 0});
   cairo_set_line_width(cr, 1);
   cairo_rectangle(cr, sx0, strip_top, columns, strip_bottom - strip_top);
@@ -402,6 +428,18 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     cairo_move_to(cr, lx + 20, ly);
     cairo_show_text(cr, e.text.c_str());
     lx += 20 + ex.x_advance + 24;
+  }
+  if (any_pole) {
+    const char* text = "pole: W vanishes in a judged span (the curve passes through infinity)";
+    cairo_text_extents_t ex;
+    cairo_text_extents(cr, text, &ex);
+    if (lx + 22 + ex.x_advance > width - 12) lx = 12, ly += 22;
+    hatch(lx, ly - 11, lx + 14, ly + 3);
+    set(cr, {0, 0, 0});
+    cairo_rectangle(cr, lx, ly - 11, 14, 14);
+    cairo_stroke(cr);
+    cairo_move_to(cr, lx + 20, ly);
+    cairo_show_text(cr, text);
   }
   ly += 22;
   cairo_set_font_size(cr, 11);

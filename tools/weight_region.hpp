@@ -45,10 +45,13 @@
 /// both sides (e.g. a single weight where lambda vanishes identically), can
 /// be missed; more samples shrink the step.
 ///
-/// Weights must give a valid spline: BSpline::make refuses w <= 0 today, so
-/// an interval reaching 0 is refused with its message. Every label comes from
-/// analyze(), so when splines with poles are accepted, a weight whose spline
-/// has a pole span gets whatever label analyze gives it (not monotone).
+/// Any finite weights are allowed (bspline.hpp), so the interval may reach 0
+/// and below: a weight whose spline has a pole (W = 0 somewhere) in a judged
+/// span gets analyze's label, 0 (not monotone), and its interval is marked
+/// `pole`. Intervals are bisected on the pair (label, pole), so a pole
+/// interval's ends are certified like a label's. A single weight where W
+/// only touches zero is a stretch of width 0 and can be missed (see above).
+/// An interval is refused only where the spline itself is (every weight 0).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -61,7 +64,7 @@ namespace cmr {
 /// A copy of `spline` with the weight of control point k set to w (a
 /// polynomial spline gets weights 1 elsewhere; on a closed spline k and its
 /// twin are one point). InputError from BSpline::make for a weight it
-/// refuses (w <= 0 or not finite) and for k outside 0..point_count()-1.
+/// refuses (not finite, or every weight 0) and for k outside 0..point_count()-1.
 [[nodiscard]] BSpline with_weight(const BSpline& spline, int k, double w);
 
 /// The most samples a weight region takes (each one analyse()s the spline).
@@ -84,6 +87,14 @@ struct WeightRegionRequest {
 struct WeightInterval {
   double from = 0, to = 0;
   std::uint8_t label = 0;  ///< code() of the request's kind of label
+  bool pole = false;       ///< the spline has a pole in a judged span (then label is 0)
+};
+
+/// What one weight gives: its label and whether a judged span has a pole.
+struct WeightState {
+  std::uint8_t label = 0;
+  bool pole = false;
+  bool operator==(const WeightState&) const = default;
 };
 
 struct WeightRegion {
@@ -99,7 +110,9 @@ struct WeightRegion {
 /// range the spline lacks; a weight A or B the spline refuses) and computes.
 WeightRegion weight_region(const BSpline& spline, const WeightRegionRequest& request);
 
-/// The label code of the spline with w_K = w: what weight_region uses.
+/// The label and pole flag of the spline with w_K = w: what weight_region bisects.
+WeightState weight_state(const BSpline& spline, const WeightRegionRequest& request, double w);
+/// The label code of the spline with w_K = w.
 std::uint8_t weight_label(const BSpline& spline, const WeightRegionRequest& request, double w);
 
 /// The picture of a weight region: above, the curves of a handful of weights

@@ -172,8 +172,14 @@ TEST(SplineJson, WeightsRoundTripAndAreValidated) {
             "weights: one weight per control point is needed: 3 points, 2 weights");
   EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, "x", 1]})"), "weights[1] is not a number");
   EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": 2})"), "weights: not an array of numbers");
-  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, -1, 1]})").rfind("weights[1] (-1) is not positive", 0),
-            0u);
+  // Any finite weights, not all 0 (a zero or sign change of W is a pole, analyze.hpp).
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [1, -1, 1]})"), "accepted");
+  EXPECT_EQ(message(R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [0, 0, 0]})"),
+            "weights: every weight is 0; at least one must be non-zero");
+  // All negative: stored negated (the same curve), and written so.
+  EXPECT_EQ(spline_to_json(spline_from_json(nlohmann::json::parse(
+                R"({"points": [[1, 0], [1, 1], [0, 1]], "weights": [-2, -1, -1]})")))["weights"],
+            nlohmann::json::parse("[2, 1, 1]"));
 }
 
 }  // namespace

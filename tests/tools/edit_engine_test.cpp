@@ -9,8 +9,10 @@
 #include <cmath>
 #include <random>
 
+#include "bezierize/analyze.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/curvature.hpp"
+#include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
 #include "tools/weight_region.hpp"
 #include "vk/presenter.hpp"
@@ -104,6 +106,38 @@ TEST(EditEngine, WeightRegionViewFollowsTheSelectedWeight) {
   EXPECT_DOUBLE_EQ(q.from, 0.3);
   EXPECT_DOUBLE_EQ(q.to, 4.8);
   EXPECT_EQ(q.labels.mode, Mode::cmr);
+}
+
+// Weights of any sign: a negative weight that makes W vanish is a pole, the
+// status line says so exactly when analyze finds one, the region is all 0,
+// and the weight view spans [4w, w/4] (or [-1, 1] at w = 0) with its pole
+// stretch marked as analyze finds it; every weight 0 is refused.
+TEST(EditEngine, SignedWeightsAndPoles) {
+  Editor e = small_editor(spline6());
+  e.show_weight_region = true;
+  e.select(2);
+  for (const double w : {-2.0, -0.01, 0.0, 0.5}) {
+    e.set_weight(2, w);
+    EXPECT_EQ(e.doc().spline.weight(2), w);
+    const bool pole = analyze(e.doc().spline).pole;
+    EXPECT_EQ(e.message.find("pole") != std::string::npos, pole) << "w = " << w << ": " << e.message;
+    WeightRegionRequest q;
+    const WeightRegion* r = e.weight_region_view(&q);
+    ASSERT_NE(r, nullptr);
+    EXPECT_LT(q.from, q.to);
+    EXPECT_LE(q.from, w);
+    EXPECT_GE(q.to, w);
+    for (const WeightInterval& iv : r->intervals)
+      for (const double x : {iv.from, iv.to}) {
+        const SplineAnalysis a = analyze(with_weight(e.doc().spline, 2, x));
+        EXPECT_EQ(iv.pole, a.pole) << "w = " << x;
+        if (iv.pole) EXPECT_EQ(iv.label, 0);
+      }
+  }
+  EXPECT_TRUE(analyze(with_weight(e.doc().spline, 2, -2.0)).pole) << "the test should meet a pole";
+  const BSpline lone = BSpline::bezier({{0, 0}, {1, 1}, {2, 0}}, "", {0, 1, 0});
+  Editor f = small_editor(lone);
+  EXPECT_THROW(f.set_weight(1, 0.0), InputError);
 }
 
 TEST(EditEngine, RegionKeyIgnoresOnlyWhereTheMovedGroupStands) {

@@ -220,7 +220,8 @@ TEST_F(EditTest, RationalSplineKeepsItsWeightsAndRegionPixelsMatchCmrRegion) {
 }
 
 // Weights in the editor: `weight K W` sets one (the polynomial fig8 becomes
-// rational), a weight <= 0 is clamped to 0.001 with a note, undo takes one
+// rational), any sign is kept (-2 is saved as -2) and |w| > 1000 is clamped
+// with a note, undo takes one
 // weight change back, shift+wheel over P3 scales its weight by 1.1; the saved
 // JSON carries the weights, and every pixel of the screenshot is `cmr region`
 // of the saved file. The region is drawn once before the weights change, so
@@ -231,18 +232,19 @@ TEST_F(EditTest, WeightEditsAreSavedUndoneAndRegionPixelsMatchCmrRegion) {
   // P3 (1.97, -3.83) in window pixels of the view -1..5 x -7..-2.5 at 320x240.
   const double px = (1.97 + 1) / 6 * kW, py = (-2.5 + 3.83) / 4.5 * kH;
   const Outcome r = run_edit(kFig8,
-                             "ui off\noverlay off\nview " + kView + "\nselect 3\nwait 2\nweight 3 1.1\nweight 1 -2\n" +
-                                 "save " + clamped.string() + "\nundo\nmouse " + std::to_string(px) + " " +
+                             "ui off\noverlay off\nview " + kView + "\nselect 3\nwait 2\nweight 3 1.1\nweight 1 -2\nweight 4 5000\n" +
+                                 "save " + clamped.string() + "\nundo\nundo\nmouse " + std::to_string(px) + " " +
                                  std::to_string(py) + "\nscroll 1 shift\nsave " + saved.string() + "\n",
                              shot);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("weight of P1 set to 0.001 (clamped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("weight of P4 set to 1000 (clamped to -1000..1000)"), std::string::npos) << r.err;
   const nlohmann::json before = read_json(kFig8), c = read_json(clamped), after = read_json(saved);
   EXPECT_FALSE(before.contains("weights"));
   ASSERT_TRUE(c.contains("weights")) << c.dump();
-  EXPECT_EQ(c["weights"], nlohmann::json({1.0, 0.001, 1.0, 1.1, 1.0, 1.0}));
+  EXPECT_EQ(c["weights"], nlohmann::json({1.0, -2.0, 1.0, 1.1, 1000.0, 1.0}));
   ASSERT_TRUE(after.contains("weights")) << after.dump();
   EXPECT_EQ(after["weights"][1].get<double>(), 1.0) << "undo restores P1's weight";
+  EXPECT_EQ(after["weights"][4].get<double>(), 1.0) << "undo restores P4's weight";
   EXPECT_NEAR(after["weights"][3].get<double>(), 1.1 * 1.1, 1e-12) << "shift+wheel scales P3's weight";
   EXPECT_EQ(after["points"], before["points"]);
   EXPECT_EQ(after["knots"], before["knots"]);

@@ -74,7 +74,9 @@ TEST(ReportRoots, RationalQuarterEllipseHasItsVertexCurvaturesAtTheEnds) {
   ASSERT_EQ(r.spans[0].extrema.size(), 2u);  // the roots of lambda at the ends, exactly
   EXPECT_EQ(r.spans[0].extrema[0].at, SpanRoot::At::start);
   EXPECT_EQ(r.spans[0].extrema[1].at, SpanRoot::At::end);
-  EXPECT_EQ(r.spans[0].weights, (std::vector<double>{2, 1, 1}));
+  ASSERT_EQ(r.spans[0].homogeneous.size(), 3u);  // (w x, w y, w) of the Bezier points
+  EXPECT_EQ(r.spans[0].homogeneous[0], glm::dvec3(6, 0, 2));
+  EXPECT_EQ(r.spans[0].homogeneous[2], glm::dvec3(0, 2, 1));
 }
 
 // The hyperbola x y = 25 between (2.5, 10) and (10, 2.5), symmetric about

@@ -79,7 +79,7 @@ int check_against_analyze(const BSpline& s, const nlohmann::json& doc, Mode mode
       const double next = iv[i + 1]["from"];
       EXPECT_GT(next, hi) << "boundary " << i;
       EXPECT_LE(next - hi, 1e-9 * (B - A)) << "boundary " << i << " bracket [" << hi << ", " << next << "]";
-      EXPECT_NE(iv[i + 1]["label"], iv[i]["label"]) << "boundary " << i;
+      EXPECT_TRUE(iv[i + 1]["label"] != iv[i]["label"] || iv[i + 1]["pole"] != iv[i]["pole"]) << "boundary " << i;
     }
   }
   return static_cast<int>(iv.size()) - 1;
@@ -135,7 +135,9 @@ TEST(WeightRegion, WithWeightSetsOneWeight) {
   }
   EXPECT_EQ(r.knots(), s.knots());
   EXPECT_FALSE(with_weight(r, 2, 1.0).is_rational());
-  EXPECT_THROW((void)with_weight(s, 2, 0.0), InputError);
+  EXPECT_EQ(with_weight(s, 2, 0.0).weight(2), 0.0);  // a zero weight is allowed (it may make a pole)
+  EXPECT_THROW((void)with_weight(BSpline::bezier({{0, 0}, {1, 1}, {2, 0}}, "", {0, 1, 0}), 1, 0.0), InputError);
+  EXPECT_THROW((void)with_weight(s, 2, std::nan("")), InputError);
   EXPECT_THROW((void)with_weight(s, 99, 1.0), InputError);
   // A closed spline: an unrolled point and its twin are one point with one weight.
   const BSpline c =
@@ -176,6 +178,42 @@ TEST(WeightRegion, QuarterCircleWeightsAgreeWithAnalyze) {
   const Outcome end = run("region " + file + " --weight 0 --from 0.3 --to 3 --samples 65");
   ASSERT_EQ(end.code, 0) << end.err;
   check_against_analyze(s, parse(end.out), Mode::cmrwi);
+}
+
+// Weights through zero: the quarter circle's W(t) = (1-t)^2 + 2 w t (1-t) + t^2
+// has W(1/2) = (1 + w) / 2 and is positive on [0, 1] for w > -1, so the arc
+// has a pole exactly for w <= -1 (W = (1 - 2t)^2 touches 0 at w = -1). The
+// region of w in [-3, 2] is a pole interval ending at -1 within the
+// tolerance, then pole-free intervals; analyze agrees at weights throughout,
+// and SegmentShape::pole on both sides of the boundary.
+TEST(WeightRegion, PolesAreMarkedWhereWVanishes) {
+  const std::string file = write("quarter_circle.json", kQuarterCircle);
+  const BSpline s = read_spline_file(file);
+  const Outcome r = run("region " + file + " --weight 1 --from -3 --to 2 --samples 64");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json doc = parse(r.out);
+  check_against_analyze(s, doc, Mode::cmrwi, {}, 20);
+  const nlohmann::json& iv = doc["intervals"];
+  ASSERT_GE(iv.size(), 2u);
+  EXPECT_TRUE(iv[0]["pole"].get<bool>());
+  EXPECT_EQ(iv[0]["label"], "not-monotone");
+  const double left = iv[0]["to"].get<double>(), right = iv[1]["from"].get<double>();
+  EXPECT_LE(left, -1.0);
+  EXPECT_GT(right, -1.0);
+  EXPECT_LE(right - left, 1e-9 * 5 + 1e-15);
+  for (std::size_t i = 1; i < iv.size(); ++i) EXPECT_FALSE(iv[i]["pole"].get<bool>()) << i;
+  const auto has_pole = [&](double w) { return analyze(with_weight(s, 1, w)).shapes[0].pole; };
+  EXPECT_TRUE(has_pole(left));
+  EXPECT_TRUE(has_pole(-1.0));
+  EXPECT_FALSE(has_pole(right));
+  EXPECT_FALSE(has_pole(std::nextafter(-1.0, 0.0)));
+  // The plot marks the pole stretch (hatched) and is written.
+  const fs::path dir = fs::temp_directory_path() / ("cmr_weight_pole_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const Outcome p = run("region " + file + " --weight 1 --from -3 --to 2 --plot " + (dir / "w.png").string());
+  EXPECT_EQ(p.code, 0) << p.err;
+  EXPECT_GT(fs::file_size(dir / "w.png"), 1000u);
+  fs::remove_all(dir);
 }
 
 // A polynomial cubic (Fig. 9(b), all weights 1): the weight of P2 makes the
@@ -309,8 +347,7 @@ TEST(WeightRegion, BadInputIsOneLineAndExitTwo) {
       {"--weight 2 --from 3 --to 2", "must be smaller than --to"},
       {"--weight 2 --from nan --to 2", "finite"},
       {"--weight 2 --from 0.5 --to inf", "finite"},
-      {"--weight 2 --from 0 --to 2", "--from 0: weights[2] (0) is not positive"},
-      {"--weight 2 --from -1 --to 2", "--from -1"},
+      {"--weight 2 --from 0.5 --to inf", "must be finite"},
       {"--weight 2 --point 2 --from 0.5 --to 2", "excludes"},
       {"--weight 2 --from 0.5 --to 2 --samples 1000000", "--samples: 1000000 is outside 2..100000"},
       {"--weight 2 --from 0.5 --to 2 --samples 1", "--samples: 1 is outside"},

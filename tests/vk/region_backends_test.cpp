@@ -106,6 +106,21 @@ std::vector<Scene> scenes() {
   s.push_back({"rational_cubic_C1_split1_P3_cmr", BSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2}, fig9, "", w9), near_p3_split});
   s.push_back({"rational_quadratic_C1_joints",
                BSpline::make(2, {0, 1, 2, 3, 4, 5}, random_spline(rng, 2, {0, 1, 2, 3, 4, 5}).points(), "", wq), opts(2)});
+  // Poles (W = 0, spline/bspline.hpp): W(3) = 0 at the joint of segments 0
+  // and 1; judged, every pixel is 0; outside the judged segment 2 it does not
+  // matter. And W < 0 on every span (weights of mixed sign, no pole).
+  const std::vector<Vec2> wave6 = {{0, 0}, {1, 1.2}, {2.2, 1.4}, {3.1, 0.3}, {4.4, -0.6}, {5.5, 0.2}};
+  const BSpline knot_pole = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, wave6, "", {1, 1, -0.5, 1, 1, 1});
+  const BSpline negative_w = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, wave6, "", {1, -1, -1, -1.5, -1, -1.25});
+  s.push_back({"pole_judged_P3", knot_pole, opts(3)});
+  s.push_back({"pole_outside_segments_2_2_P4", knot_pole, seg_opts(knot_pole, 4, SegmentRange{2, 2}, {}, {}, Mode::cmrwi, 1.0)});
+  // Bezier weights 0.4, -0.2, 0.4 in the first span (W > 0, no pole) and a C1
+  // joint: end_terms' division-free form on the host. (That span is the
+  // complementary arc of a conic, never monotone: every label is 0 here, and
+  // the scene checks that the backends and analyze agree on it.)
+  const BSpline mixed = BSpline::make(2, {0, 1, 2, 3, 4}, {{0, 0}, {1, 1}, {2, -0.5}, {3, 0.5}}, "", {1, -0.2, 1, 1});
+  s.push_back({"mixed_weights_quadratic_C1_P2", mixed, opts(2)});
+  s.push_back({"negative_w_segments_1_1_P2_cmr", negative_w, seg_opts(negative_w, 2, SegmentRange{1, 1}, {}, {}, Mode::cmr, 1.0)});
   // Closed splines: the moved point's repeated copy moves too, and the seam
   // (segment N-1 against segment 0) is judged like every joint; P0 has a copy,
   // and the quadratic's C1 seam jump varies with it; the cubic has a double knot.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bezierize/analyze.hpp"
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
@@ -296,11 +297,15 @@ void Editor::set_weight(int k, double w) {
   check_point(doc().spline, k);
   if (doc().kcurve) throw InputError("weight: not in kappa-curve mode (the curve is rebuilt from its points)");
   if (std::isnan(w)) throw InputError("weight: not a number");
-  const double clamped = std::clamp(w, kMinWeight, kMaxWeight);
-  char what[160];
-  std::snprintf(what, sizeof what, "weight of P%d set to %.6g%s", k, clamped,
-                clamped != w ? " (clamped to 0.001..1000: weights must stay > 0)" : "");
-  replace_spline(with_weight(doc().spline, k, clamped), what, "weight" + std::to_string(k));
+  const double clamped = std::clamp(w, -kMaxWeight, kMaxWeight);
+  BSpline next = with_weight(doc().spline, k, clamped);
+  bool pole = false;
+  for (const Segment& seg : next.segments()) pole = pole || !segment_poles(next, seg).empty();
+  char what[200];
+  std::snprintf(what, sizeof what, "weight of P%d set to %.6g%s%s", k, clamped,
+                clamped != w ? " (clamped to -1000..1000)" : "",
+                pole ? "; the curve has a pole (W = 0): no region" : "");
+  replace_spline(std::move(next), what, "weight" + std::to_string(k));
 }
 
 void Editor::move_knot(int i, double u) {
@@ -553,8 +558,8 @@ const WeightRegion* Editor::weight_region_view(WeightRegionRequest* request) {
     WeightRegionRequest q;
     q.point = d.selected;
     const double w = d.spline.weight(d.selected);
-    q.from = std::max(kMinWeight, w / 4);
-    q.to = std::min(kMaxWeight, w * 4);
+    q.from = w == 0 ? -1 : std::min(w / 4, w * 4);
+    q.to = w == 0 ? 1 : std::max(w / 4, w * 4);
     q.samples = kWeightRegionSamples;
     q.labels.mode = d.mode;
     q.labels.split = d.split;

@@ -25,9 +25,10 @@ class Editor {
   static constexpr double kZoomStep = 1.25;
   /// Weight factor of one shift+scroll step over a point.
   static constexpr double kWeightStep = 1.1;
-  /// The weights the editor allows: BSpline refuses w <= 0 (a pole), so
-  /// set_weight clamps to [kMinWeight, kMaxWeight] and says so.
-  static constexpr double kMinWeight = 1e-3, kMaxWeight = 1e3;
+  /// The weights the editor allows: any in [-kMaxWeight, kMaxWeight] (a
+  /// weight <= 0 may make a pole: analyze reports it, the region is then
+  /// empty and the curve is drawn broken there); set_weight clamps and says so.
+  static constexpr double kMaxWeight = 1e3;
   /// Window pixels the panels take at the right and the bottom (fit_view
   /// leaves them out while the UI is shown).
   static constexpr int kPanelWidth = 340, kPlotHeight = 190;
@@ -76,9 +77,9 @@ class Editor {
   void move_point(int k, Vec2 p);
   /// The weight of point k (a polynomial spline becomes rational, its other
   /// weights 1; weights all 1 again make it polynomial): with_weight of
-  /// tools/weight_region.hpp. A weight outside [kMinWeight, kMaxWeight] is
+  /// tools/weight_region.hpp. A weight outside [-kMaxWeight, kMaxWeight] is
   /// clamped and the status line says so; InputError for a point out of
-  /// range, a weight that is not a number, and in κ-curve mode (the curve
+  /// range, a weight that is not a number, every weight 0, and in κ-curve mode (the curve
   /// is rebuilt from its points there). Consecutive changes of one point's
   /// weight (a drag of the field) are one undo step.
   void set_weight(int k, double w);
@@ -146,8 +147,8 @@ class Editor {
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
   /// The region of the selected point's weight (tools/weight_region.hpp,
-  /// `cmr region --weight K`) over [w/4, 4w] of its weight w (within
-  /// kMinWeight..kMaxWeight), in the view's labels (mode, split, segments,
+  /// `cmr region --weight K`) over [w/4, 4w] of its weight w (ends in
+  /// increasing order for w < 0; [-1, 1] for w = 0), in the view's labels (mode, split, segments,
   /// depth), kWeightRegionSamples samples: nullptr unless
   /// show_weight_region, or in κ-curve mode. Recomputed when the document
   /// changed, except while a point is dragged (the last one is kept);

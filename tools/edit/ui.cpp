@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "bezierize/kcurve.hpp"
@@ -44,26 +45,36 @@ void act(Editor& e, F&& f) {
 
 void draw_curve(Editor& e, ImDrawList* dl) {
   const BSpline& s = e.doc().spline;
+  const CurveSampler sampler(s);  // broken near a pole (spline/curvature.hpp)
   std::vector<ImVec2> line;
+  double last = 0;
+  const auto flush = [&] {
+    if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), kCurveColour, 0, 2.0f);
+    line.clear();
+  };
   for (const Segment& seg : s.segments()) {
     for (int i = 0; i <= kCurveSamplesPerSegment; ++i) {
-      line.push_back(screen(e, evaluate(s, seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment)));
+      const double t = seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment;
+      const std::optional<Vec2> p = sampler.at(t);
+      if (!p || (!line.empty() && !sampler.joins(last, t))) flush();
+      if (p) line.push_back(screen(e, *p)), last = t;
     }
   }
-  dl->AddPolyline(line.data(), static_cast<int>(line.size()), kCurveColour, 0, 2.0f);
+  flush();
 }
 
 void draw_comb(Editor& e, ImDrawList* dl) {
   const BSpline& s = e.doc().spline;
   double kmax = 0;
   std::vector<std::pair<Vec2, Vec2>> teeth;  // point, normal * kappa
+  const CurveSampler comb_sampler(s);          // none near a pole
   for (const Segment& seg : s.segments()) {
     for (int i = 0; i <= kCombTeethPerSegment; ++i) {
       const double t = seg.a + (seg.b - seg.a) * i / kCombTeethPerSegment;
       const CurvatureSample c = curvature_at(s, t);
       const Vec2 d = derivative(s, t, 1);
       const double len = std::hypot(d.x, d.y);
-      if (!(len > 0) || !std::isfinite(c.kappa)) continue;
+      if (!(len > 0) || !std::isfinite(c.kappa) || !comb_sampler.inside(c.point)) continue;
       teeth.push_back({c.point, Vec2{-d.y, d.x} * (c.kappa / len)});
       kmax = std::max(kmax, std::abs(c.kappa));
     }
@@ -177,6 +188,14 @@ void weight_strip(Editor& e) {
   for (int i = 0; i < columns; ++i)
     dl->AddRectFilled({o.x + i, o.y}, {o.x + i + 1, o.y + height},
                       IM_COL32(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2], 255));
+  for (const WeightInterval& iv : r->intervals)  // a pole: hatched
+    if (iv.pole) {
+      const float x0 = o.x + static_cast<float>((iv.from - q.from) / (q.to - q.from)) * width;
+      const float x1 = o.x + static_cast<float>((iv.to - q.from) / (q.to - q.from)) * width;
+      dl->PushClipRect({x0, o.y}, {x1 + 1, o.y + height}, true);
+      for (float x = x0 - height; x < x1; x += 5) dl->AddLine({x, o.y + height}, {x + height, o.y}, IM_COL32(60, 60, 60, 255));
+      dl->PopClipRect();
+    }
   dl->AddRect(o, {o.x + width, o.y + height}, IM_COL32(0, 0, 0, 255));
   const double w = e.doc().spline.weight(q.point);
   const float x = o.x + static_cast<float>((w - q.from) / (q.to - q.from)) * width;
@@ -191,6 +210,7 @@ void weight_strip(Editor& e) {
   bool any = false;
   for (const WeightInterval& iv : r->intervals) {
     const std::string name = r->label_name(iv.label);
+    if (iv.pole) text += " pole " + num(iv.from) + ".." + num(iv.to);
     if (iv.label == 0 || name == "undecided") continue;  // white in the strip
     text += " " + name + " " + num(iv.from) + ".." + num(iv.to);
     any = true;
@@ -235,12 +255,13 @@ void controls(Editor& e) {
   // polynomial spline shows weights 1 and becomes rational when one changes.
   if (!d.kcurve) {
     double weight = d.spline.weight(d.selected);
-    const double lo = Editor::kMinWeight, hi = Editor::kMaxWeight;
+    const double lo = -Editor::kMaxWeight, hi = Editor::kMaxWeight;
     const std::string label =
         "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
     ImGui::SetNextItemWidth(120);
-    if (ImGui::DragScalar(label.c_str(), ImGuiDataType_Double, &weight, 0.005f, &lo, &hi, "%.5g",
-                          ImGuiSliderFlags_Logarithmic))
+    // Any sign (ctrl+click types a value); the step follows the weight's size.
+    const float speed = static_cast<float>(0.005 * std::max(std::abs(weight), 0.01));
+    if (ImGui::DragScalar(label.c_str(), ImGuiDataType_Double, &weight, speed, &lo, &hi, "%.5g"))
       act(e, [&] { e.set_weight(d.selected, weight); });
     ImGui::Checkbox("region of this weight", &e.show_weight_region);
     weight_strip(e);
@@ -326,7 +347,7 @@ void verdicts_table(Editor& e) {
       ImGui::TableNextColumn();
       ImGui::Text("[%.3g, %.3g]", s.a, s.b);
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(to_string(a.segments[i].monotonicity.curvature));
+      ImGui::TextUnformatted(a.shapes[i].pole ? "pole (W = 0)" : to_string(a.segments[i].monotonicity.curvature));
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(to_string(a.segments[i].inflection.inflection));
     }
