@@ -399,7 +399,7 @@ void curvature_range(SplineReport& r) {
 void curvature_spreads(SplineReport& r, double tolerance) {
   const BSpline& spline = *r.spline;
   for (SpanReport& span : r.spans) {
-    if (span.shape.cusp) {
+    if (span.shape.cusp || span.shape.pole) {
       span.kappa_spread = std::numeric_limits<double>::quiet_NaN();
       continue;
     }

@@ -110,7 +110,7 @@ struct SpanReport {
   std::vector<SpanRoot> inflections;  ///< roots of eta
   /// (max kappa - min kappa) / max |kappa| over the segment, from the
   /// certified curvature at its ends and stationary points (each within
-  /// kKappaRelError); 0 for a straight, NaN with a cusp.
+  /// kKappaRelError); 0 for a straight, NaN with a cusp or a pole.
   double kappa_spread = 0;
   /// kappa_spread <= ReportOptions::constant_tolerance: an arc of constant
   /// curvature up to the rounding of its data (an SVG or CAD circle arc,
