@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bezierize/analyze.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
@@ -142,8 +143,25 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
   return entry;
 }
 
+/// A judged span with a pole (W = 0) makes every position fail: say where.
+void note_poles(const RegionProblem& problem, std::vector<std::string>& notes) {
+  const BSpline& s = problem.spline();
+  const std::optional<SegmentRange>& range = problem.request().segments;
+  const int first = range ? range->first : 0, last = range ? range->last : s.segment_count() - 1;
+  for (int i = first; i <= last; ++i)
+    if (const std::vector<double> poles = segment_poles(s, s.segments()[i]); !poles.empty()) {
+      std::ostringstream t;
+      t.precision(6);
+      t << poles.front();
+      notes.push_back("note: segment " + std::to_string(i) + " has a pole (W = 0 at t = " + t.str() +
+                      "): every position fails; the weights do not move with the point");
+      return;
+    }
+}
+
 Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems) {
   Rendered r;
+  if (!problems.empty()) note_poles(problems.front(), r.notes);
   const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
   const auto t0 = std::chrono::steady_clock::now();
   for (const RegionProblem& problem : problems) {
