@@ -15,6 +15,7 @@ namespace {
 using cmr::test::Outcome;
 using cmr::test::run;
 using cmr::test::scratch;
+using cmr::test::slurp;
 using cmr::test::write;
 namespace fs = std::filesystem;
 
@@ -30,8 +31,6 @@ nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
 }
-
-std::string slurp(const fs::path& p) { return cmr::test::slurp(p); }
 
 // Numbers in SVG attributes and JSON never read inf or nan.
 void expect_no_non_finite(const std::string& text, const std::string& what) {
