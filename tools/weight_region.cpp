@@ -8,9 +8,11 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "bezierize/analyze.hpp"
+#include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "tools/draw.hpp"
@@ -242,12 +244,30 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   // The curves first (polylines), then the view: their bounding box with
   // P_K, so that the part the weight bends fills the panel.
   constexpr int kFamily = 7, kSteps = 400;
+  // A curve as drawable pieces: broken where a pole sends it away
+  // (CurveSampler, spline/curvature.hpp).
+  using Pieces = std::vector<std::vector<Vec2>>;
   const auto polyline = [&](const BSpline& s) {
-    std::vector<Vec2> pts;
-    for (int i = 0; i <= kSteps; ++i)
-      pts.push_back(evaluate(s, i == kSteps ? s.domain_end()
-                                            : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps));
-    return pts;
+    const CurveSampler sampler(s);
+    Pieces pieces;
+    std::optional<double> pen;
+    for (int i = 0; i <= kSteps; ++i) {
+      const double t = i == kSteps ? s.domain_end() : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps;
+      const std::optional<Vec2> p = sampler.at(t);
+      if (!p) {
+        pen.reset();
+        continue;
+      }
+      if (!pen || !sampler.joins(*pen, t)) pieces.emplace_back();
+      pieces.back().push_back(*p);
+      pen = t;
+    }
+    return pieces;
+  };
+  const auto has_pole = [](const BSpline& s) {
+    for (const Segment& seg : s.segments())
+      if (!segment_poles(s, seg).empty()) return true;
+    return false;
   };
   // Equally spaced weights, and the middle of each interval (the first
   // kFamily), so that every label shows in a curve.
@@ -255,28 +275,42 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   for (int i = 0; i < kFamily; ++i) family_weights.push_back(i == kFamily - 1 ? B : A + (B - A) * i / (kFamily - 1));
   for (std::size_t i = 0; i < region.intervals.size() && i < static_cast<std::size_t>(kFamily); ++i)
     family_weights.push_back((region.intervals[i].from + region.intervals[i].to) / 2);
-  std::vector<std::vector<Vec2>> family;
-  for (double x : family_weights) family.push_back(polyline(with_weight(spline, K, x)));
-  const std::vector<Vec2> own = polyline(spline);
+  std::vector<Pieces> family;
+  std::vector<bool> through_infinity;
+  for (double x : family_weights) {
+    const BSpline member = with_weight(spline, K, x);
+    family.push_back(polyline(member));
+    through_infinity.push_back(has_pole(member));
+  }
+  const Pieces own = polyline(spline);
+  // The view: the curves that stay finite (a pole's curve is drawn clipped),
+  // the spline's own curve and P_K.
   double bx0 = spline.points()[K].x, bx1 = bx0, by0 = spline.points()[K].y, by1 = by0;
-  family.push_back(own);
-  for (const auto& line : family)
-    for (const Vec2& p : line) {
-      bx0 = std::min(bx0, p.x), bx1 = std::max(bx1, p.x);
-      by0 = std::min(by0, p.y), by1 = std::max(by1, p.y);
-    }
-  family.pop_back();
+  const auto extend = [&](const Pieces& curve) {
+    for (const auto& line : curve)
+      for (const Vec2& p : line) {
+        bx0 = std::min(bx0, p.x), bx1 = std::max(bx1, p.x);
+        by0 = std::min(by0, p.y), by1 = std::max(by1, p.y);
+      }
+  };
+  extend(own);
+  for (std::size_t i = 0; i < family.size(); ++i)
+    if (!through_infinity[i]) extend(family[i]);
+  if (has_pole(spline)) {  // the own curve is clipped too: frame its control points
+    for (const Vec2& p : spline.points()) extend({{p}});
+  }
   const double ext = std::max({bx1 - bx0, by1 - by0, 1e-300});
   bx0 -= 0.05 * ext, bx1 += 0.05 * ext, by0 -= 0.05 * ext, by1 += 0.05 * ext;
   const double scale = std::min((cx1 - cx0) / (bx1 - bx0), (cy1 - cy0) / (by1 - by0));
   const double ox = (cx0 + cx1) / 2 - scale * (bx0 + bx1) / 2, oy = (cy0 + cy1) / 2 + scale * (by0 + by1) / 2;
   const auto screen = [&](Vec2 p) { return std::pair{ox + scale * p.x, oy - scale * p.y}; };
-  const auto stroke_line = [&](const std::vector<Vec2>& pts) {
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const auto [x, y] = screen(pts[i]);
-      if (i == 0) cairo_move_to(cr, x, y);
-      else cairo_line_to(cr, x, y);
-    }
+  const auto stroke_line = [&](const Pieces& pieces) {
+    for (const std::vector<Vec2>& pts : pieces)
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const auto [x, y] = screen(pts[i]);
+        if (i == 0) cairo_move_to(cr, x, y);
+        else cairo_line_to(cr, x, y);
+      }
     cairo_stroke(cr);
   };
   cairo_save(cr);

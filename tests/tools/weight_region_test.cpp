@@ -213,6 +213,13 @@ TEST(WeightRegion, PolesAreMarkedWhereWVanishes) {
   const Outcome p = run("region " + file + " --weight 1 --from -3 --to 2 --plot " + (dir / "w.png").string());
   EXPECT_EQ(p.code, 0) << p.err;
   EXPECT_GT(fs::file_size(dir / "w.png"), 1000u);
+  // Curves through infinity are cut, never drawn with non-finite numbers.
+  const Outcome v = run("region " + file + " --weight 1 --from -3 --to 2 --plot " + (dir / "w.svg").string());
+  ASSERT_EQ(v.code, 0) << v.err;
+  std::ifstream in(dir / "w.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  EXPECT_EQ(svg.find("inf"), std::string::npos);
   fs::remove_all(dir);
 }
 
