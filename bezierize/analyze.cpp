@@ -120,6 +120,12 @@ std::vector<double> segment_poles(const BSpline& spline, const Segment& s) {
   return out;
 }
 
+bool has_pole(const BSpline& spline) {
+  for (const Segment& s : spline.segments())
+    if (!segment_poles(spline, s).empty()) return true;
+  return false;
+}
+
 SegmentClass pole_class() {
   SegmentClass c;
   c.monotonicity.curvature = Curvature::non_monotone;

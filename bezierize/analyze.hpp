@@ -96,6 +96,8 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s);
 /// 1e-12 of the span's length wide; a root at a knot or at a halving point is
 /// exact). W == 0 on the whole span gives {s.a, s.b}.
 std::vector<double> segment_poles(const BSpline& spline, const Segment& s);
+/// Some segment of the spline has a pole (segment_poles is not empty).
+bool has_pole(const BSpline& spline);
 
 /// The sign of W at the start of segment s, exact (1 for a polynomial
 /// spline): W's sign on the whole segment when it has no pole. The curvature

@@ -264,11 +264,6 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     }
     return pieces;
   };
-  const auto has_pole = [](const BSpline& s) {
-    for (const Segment& seg : s.segments())
-      if (!segment_poles(s, seg).empty()) return true;
-    return false;
-  };
   // Equally spaced weights, and the middle of each interval (the first
   // kFamily), so that every label shows in a curve.
   std::vector<double> family_weights;

@@ -136,6 +136,32 @@ Result<void> begin_one_time(VkCommandBuffer cmd) {
   return {};
 }
 
+Result<void> create_storage_set(VkDevice device, VkDescriptorSetLayout set_layout, uint32_t storage_buffers,
+                                VkDescriptorPool& pool, VkDescriptorSet& set, std::string_view what) {
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage_buffers};
+  VkDescriptorPoolCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+  info.maxSets = 1;
+  info.poolSizeCount = 1;
+  info.pPoolSizes = &size;
+  if (VkResult r = vkCreateDescriptorPool(device, &info, nullptr, &pool); r != VK_SUCCESS) {
+    pool = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateDescriptorPool (" + std::string(what) + ")");
+  }
+  VkDescriptorSetAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+  alloc.descriptorPool = pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &set_layout;
+  if (VkResult r = vkAllocateDescriptorSets(device, &alloc, &set); r != VK_SUCCESS) {
+    vkDestroyDescriptorPool(device, pool, nullptr);
+    pool = VK_NULL_HANDLE;
+    set = VK_NULL_HANDLE;
+    return vk_error(r, "vkAllocateDescriptorSets (" + std::string(what) + ")");
+  }
+  return {};
+}
+
 Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
                            VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view what) {
   const VkDevice device = state.device;

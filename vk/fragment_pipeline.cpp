@@ -303,25 +303,9 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
     return vk_error(r, "vkCreatePipelineLayout");
   }
 
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
-  VkDescriptorPoolCreateInfo pool_info{};
-  pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &pool_size;
-  if (VkResult r = vkCreateDescriptorPool(device, &pool_info, nullptr, &descriptor_pool); r != VK_SUCCESS) {
-    descriptor_pool = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateDescriptorPool");
-  }
-  VkDescriptorSetAllocateInfo set_alloc{};
-  set_alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  set_alloc.descriptorPool = descriptor_pool;
-  set_alloc.descriptorSetCount = 1;
-  set_alloc.pSetLayouts = &set_layout;
-  if (VkResult r = vkAllocateDescriptorSets(device, &set_alloc, &descriptor_set); r != VK_SUCCESS) {
-    descriptor_set = VK_NULL_HANDLE;
-    return vk_error(r, "vkAllocateDescriptorSets");
-  }
+  if (auto r = detail::create_storage_set(device, set_layout, 1, descriptor_pool, descriptor_set, "fragment pipeline");
+      !r)
+    return r.error();
 
   VkPipelineColorBlendAttachmentState no_blend{};  // integer format: no blending
   no_blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |

@@ -73,6 +73,12 @@ Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize s
 // Destroys the buffer and frees its memory (which unmaps it); `buffer` becomes empty.
 void destroy_buffer(VkDevice device, Buffer& buffer);
 
+// One descriptor set of `set_layout` from a new pool of `storage_buffers`
+// storage-buffer descriptors (FragmentPipeline and the region drawing). On
+// failure `pool` and `set` are left VK_NULL_HANDLE; `what` names the caller.
+Result<void> create_storage_set(VkDevice device, VkDescriptorSetLayout set_layout, uint32_t storage_buffers,
+                                VkDescriptorPool& pool, VkDescriptorSet& set, std::string_view what);
+
 // ---- Command recording and submission shared by Presenter, FragmentPipeline
 // and the region drawing: one place for the barrier and submit boilerplate.
 

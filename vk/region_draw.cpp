@@ -98,21 +98,8 @@ struct RegionDrawer::Impl {
 
   Result<void> write_set(SlotLayer& l) {
     if (l.pool == VK_NULL_HANDLE) {
-      VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
-      VkDescriptorPoolCreateInfo info{};
-      info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-      info.maxSets = 1;
-      info.poolSizeCount = 1;
-      info.pPoolSizes = &size;
-      if (VkResult r = vkCreateDescriptorPool(dev(), &info, nullptr, &l.pool); r != VK_SUCCESS)
-        return vk_error(r, "vkCreateDescriptorPool (region draw)");
-      VkDescriptorSetAllocateInfo alloc{};
-      alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-      alloc.descriptorPool = l.pool;
-      alloc.descriptorSetCount = 1;
-      alloc.pSetLayouts = &set_layout;
-      if (VkResult r = vkAllocateDescriptorSets(dev(), &alloc, &l.set); r != VK_SUCCESS)
-        return vk_error(r, "vkAllocateDescriptorSets (region draw)");
+      if (auto r = detail::create_storage_set(dev(), set_layout, 3, l.pool, l.set, "region draw"); !r)
+        return r.error();
     }
     std::array<VkDescriptorBufferInfo, 3> buffers{{{l.data.buffer, 0, l.data.size},
                                                    {l.overrides.buffer, 0, l.overrides.size},

@@ -299,8 +299,7 @@ void Editor::set_weight(int k, double w) {
   if (std::isnan(w)) throw InputError("weight: not a number");
   const double clamped = std::clamp(w, -kMaxWeight, kMaxWeight);
   BSpline next = with_weight(doc().spline, k, clamped);
-  bool pole = false;
-  for (const Segment& seg : next.segments()) pole = pole || !segment_poles(next, seg).empty();
+  const bool pole = has_pole(next);
   char what[200];
   std::snprintf(what, sizeof what, "weight of P%d set to %.6g%s%s", k, clamped,
                 clamped != w ? " (clamped to -1000..1000)" : "",
