@@ -372,41 +372,33 @@ void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
 
 /// Curvature range: its extremes are at segment ends or stationary points
 /// (certified values). With a cusp (P' = 0 somewhere) the curvature is
-/// unbounded or undefined there: no finite range (NaN, null in JSON).
-void curvature_range(SplineReport& r) {
+/// unbounded or undefined there, and a pole sends the curve through
+/// infinity: no finite range (NaN, null in JSON). In the same pass, each
+/// segment's relative spread (SpanReport::kappa_spread) from the same values
+/// (the extremes of kappa over a segment lie there too), near_constant
+/// against `tolerance`.
+void curvature_range(SplineReport& r, double tolerance) {
   r.cusp = r.analysis.cusp;
-  if (r.cusp || r.analysis.pole) {  // a pole: the curve goes through infinity
-    r.kappa_min = r.kappa_max = r.t_min = r.t_max = std::numeric_limits<double>::quiet_NaN();
-    return;
-  }
-  r.kappa_min = std::numeric_limits<double>::infinity();
+  const bool bounded = !(r.cusp || r.analysis.pole);
+  r.kappa_min = bounded ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
   r.kappa_max = -r.kappa_min;
-  auto consider = [&](double t, double k) {
-    if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
-    if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
-  };
-  const BSpline& spline = *r.spline;
-  for (const SpanReport& span : r.spans) {
-    consider(span.segment.a, certified_end_curvature(spline, span.segment, 0));
-    consider(span.segment.b, certified_end_curvature(spline, span.segment, 1));
-    for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
-  }
-}
-
-/// Each segment's relative curvature spread (SpanReport::kappa_spread) from
-/// the certified curvature at its ends and at the roots of lambda, where the
-/// extremes of kappa over the segment lie; near_constant against `tolerance`.
-void curvature_spreads(SplineReport& r, double tolerance) {
+  if (!bounded) r.kappa_max = r.t_min = r.t_max = r.kappa_min;
   const BSpline& spline = *r.spline;
   for (SpanReport& span : r.spans) {
     if (span.shape.cusp || span.shape.pole) {
       span.kappa_spread = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
-    double lo = certified_end_curvature(spline, span.segment, 0), hi = lo;
-    auto consider = [&](double k) { lo = std::min(lo, k), hi = std::max(hi, k); };
-    consider(certified_end_curvature(spline, span.segment, 1));
-    for (const SpanRoot& x : span.extrema) consider(x.kappa);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    auto consider = [&](double t, double k) {
+      lo = std::min(lo, k), hi = std::max(hi, k);
+      if (!bounded) return;
+      if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
+      if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
+    };
+    consider(span.segment.a, certified_end_curvature(spline, span.segment, 0));
+    consider(span.segment.b, certified_end_curvature(spline, span.segment, 1));
+    for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
     const double scale = std::max(std::abs(lo), std::abs(hi));
     span.kappa_spread = scale > 0 ? (hi - lo) / scale : 0;
     span.near_constant = span.kappa_spread <= tolerance;
@@ -436,8 +428,7 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   }
   r.joints = joint_reports(r.analysis);
   find_events(r, start);
-  curvature_range(r);
-  curvature_spreads(r, options.constant_tolerance);
+  curvature_range(r, options.constant_tolerance);
   r.gates = check_gates(r, options.gates);
   // With gates alone the monotonicity check is informational (a closed
   // contour is never monotone over its period).
