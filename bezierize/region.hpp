@@ -164,7 +164,7 @@ class RegionProblem {
 /// for the spline `moved` with the request's point (and group) there. These
 /// two are the one mapping from a spline-level analysis to a region label
 /// (used where a label is needed for a whole spline that no image holds:
-/// the region of weights, tools/weight_region.hpp; tests).
+/// the region of weights, bezierize/weight_region.hpp; tests).
 /// The analysis options of a request: its depth, mode (split_mode), split or
 /// splits and judged segments.
 AnalyzeOptions region_analyze_options(const RegionRequest& request);

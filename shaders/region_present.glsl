@@ -2,7 +2,7 @@
 // one fragment per pixel of the canvas (the window's top-left W x H pixels,
 // pixel (i, j) = gl_FragCoord), classified by region_common.glsl exactly as
 // the region shader classifies a listed pixel, and written as the legend's
-// absorption (tools/draw.cpp: plain_absorb, split_absorb) for a
+// absorption (draw/draw.cpp: plain_absorb, split_absorb) for a
 // reverse-subtract blend from white, so overlapping layers darken as in
 // `cmr region --png`. Certified like the region shader: a pixel the device
 // cannot certify is not guessed; its index is appended to the uncertain list
@@ -26,7 +26,7 @@ layout(std430, set = 0, binding = 2) buffer Uncertain {
 
 layout(location = 0) out vec4 absorb;
 
-// tools/draw.cpp's legend (kRed, kBlue, kDarkRed, kDarkBlue).
+// draw/draw.cpp's legend (kRed, kBlue, kDarkRed, kDarkBlue).
 vec3 absorb_of(uint label, bool split) {
   if (!split) {
     if (label == 1u) return vec3(0.0, 0.6, 0.6);

@@ -37,7 +37,7 @@ BSpline spline_from_json(const nlohmann::json& doc, const ReadOptions& options =
 /// prefixed with the path.
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options = {});
 /// The spline as a file's JSON. (Writing a file: cmr::write_spline_file in
-/// tools/io.hpp, atomically.)
+/// io/output.hpp, atomically.)
 nlohmann::json spline_to_json(const BSpline& spline);
 
 /// The whole content of an input file (spline, points, script), read safely:

@@ -14,7 +14,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
-#include "tools/io.hpp"
+#include "io/output.hpp"
 
 namespace CLI {
 class App;

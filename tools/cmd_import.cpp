@@ -1,6 +1,6 @@
 // cmr import FONT [--glyphs A-Z,a-z] [--out DIR] | cmr import FILE.svg [--out DIR]:
-// font glyph contours (tools/import/font.hpp) and SVG subpaths
-// (tools/import/svg.hpp) as spline files, one per contour or subpath, all
+// font glyph contours (io/font.hpp) and SVG subpaths
+// (io/svg.hpp) as spline files, one per contour or subpath, all
 // written or none (cmr::OutputSet; the output folder is created if missing).
 #include <iostream>
 #include <set>
@@ -9,8 +9,8 @@
 
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
-#include "tools/import/font.hpp"
-#include "tools/import/svg.hpp"
+#include "io/font.hpp"
+#include "io/svg.hpp"
 
 namespace cmr::cli {
 

@@ -15,9 +15,9 @@
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
-#include "tools/draw.hpp"
-#include "tools/mesh.hpp"
-#include "tools/weight_region.hpp"
+#include "draw/draw.hpp"
+#include "draw/mesh.hpp"
+#include "draw/weight_picture.hpp"
 
 namespace cmr::cli {
 namespace {
@@ -39,7 +39,7 @@ struct RegionArgs {
   std::string contours;  // --contours OUT.svg|OUT.obj|OUT.ply
   bool stats = false;
   bool pretty = false;
-  // --weight K --from A --to B (tools/weight_region.hpp): the region of a weight.
+  // --weight K --from A --to B (bezierize/weight_region.hpp): the region of a weight.
   std::optional<int> weight;
   std::optional<double> from, to;
   int samples = WeightRegionRequest{}.samples;

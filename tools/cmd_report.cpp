@@ -2,7 +2,7 @@
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z]: QA reports (DIR/report.json,
 // DIR/index.html) and a gate on their verdicts. A font file among FILES is imported
-// (tools/import/font.hpp): each glyph contour is one closed spline, fixes are suggested
+// (io/font.hpp): each glyph contour is one closed spline, fixes are suggested
 // on the font's unit grid, and DIR/font.html holds the per-glyph overview.
 #include <unistd.h>
 
@@ -13,9 +13,9 @@
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
-#include "tools/font_report.hpp"
-#include "tools/import/font.hpp"
-#include "tools/report.hpp"
+#include "report/font_report.hpp"
+#include "io/font.hpp"
+#include "report/report.hpp"
 
 namespace cmr::cli {
 

@@ -16,7 +16,7 @@
 // step_NNN.svg, frames/step_NNN.png, index.html (a slider over the frames),
 // area.png (area per label against the knot value) and tube.obj / tube.ply
 // (the monotone voxels of the stacked label maps, x, y and the knot value,
-// as a closed mesh: tools/mesh.hpp).
+// as a closed mesh: draw/mesh.hpp).
 #include <unistd.h>
 
 #include <cstdio>
@@ -31,8 +31,8 @@
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
-#include "tools/draw.hpp"
-#include "tools/mesh.hpp"
+#include "draw/draw.hpp"
+#include "draw/mesh.hpp"
 
 namespace cmr::cli {
 namespace {

@@ -20,8 +20,8 @@
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/draw.hpp"
-#include "tools/io.hpp"
+#include "draw/draw.hpp"
+#include "io/output.hpp"
 
 namespace cmr::fig {
 

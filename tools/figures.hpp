@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "spline/bspline.hpp"
-#include "tools/draw.hpp"
+#include "draw/draw.hpp"
 
 #include "bezierize/region.hpp"
 #include "spline/limits.hpp"

@@ -10,7 +10,7 @@
 #include "bezierize/analyze.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/report.hpp"
+#include "report/report.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

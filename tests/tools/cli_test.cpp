@@ -4,7 +4,7 @@
 #include <fstream>
 #include <string>
 
-#include "tests/tools/cli_util.hpp"
+#include "tests/cli_util.hpp"
 
 #include <nlohmann/json.hpp>
 

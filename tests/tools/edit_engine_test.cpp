@@ -14,7 +14,7 @@
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
-#include "tools/weight_region.hpp"
+#include "bezierize/weight_region.hpp"
 #include "vk/presenter.hpp"
 
 namespace {

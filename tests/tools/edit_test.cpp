@@ -20,7 +20,7 @@
 #include "bezierize/knot_ops.hpp"
 #include "bezierize/region.hpp"
 #include "spline/spline_json.hpp"
-#include "tests/tools/cli_util.hpp"
+#include "tests/cli_util.hpp"
 
 namespace {
 
@@ -98,7 +98,7 @@ std::vector<uint8_t> read_pgm(const fs::path& p, int& w, int& h) {
   return v;
 }
 
-/// The legend of cmr region --png (tools/draw.hpp), written out here: each
+/// The legend of cmr region --png (draw/draw.hpp), written out here: each
 /// layer takes (0, .6, .6) from white where increasing, (.6, .6, 0) where
 /// decreasing; nothing otherwise.
 std::array<int, 3> expected_colour(const std::vector<uint8_t>& labels_per_layer) {

@@ -11,7 +11,7 @@
 
 #include "bezierize/knot_ops.hpp"
 #include "spline/spline_json.hpp"
-#include "tests/tools/cli_util.hpp"
+#include "tests/cli_util.hpp"
 
 namespace {
 

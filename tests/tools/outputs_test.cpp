@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tools/cli_common.hpp"
-#include "tools/io.hpp"
+#include "io/output.hpp"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 
-#include "tests/tools/cli_util.hpp"
+#include "tests/cli_util.hpp"
 
 namespace {
 

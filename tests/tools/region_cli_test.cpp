@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tests/tools/cli_util.hpp"
+#include "tests/cli_util.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 // read back with OpenMesh's readers and compared with the library's own
 // computation in this process.
 #pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // in OpenMesh's headers (see tools/mesh.hpp)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // in OpenMesh's headers (see draw/mesh.hpp)
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #pragma GCC diagnostic pop
 
@@ -12,8 +12,8 @@
 
 #include "bezierize/knot_ops.hpp"
 #include "spline/spline_json.hpp"
-#include "tests/tools/cli_util.hpp"
-#include "tools/mesh.hpp"
+#include "tests/cli_util.hpp"
+#include "draw/mesh.hpp"
 
 namespace cmr::test {
 namespace {

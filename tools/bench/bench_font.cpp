@@ -16,9 +16,9 @@
 #include <thread>
 #include <algorithm>
 
-#include "tools/font_report.hpp"
-#include "tools/import/font.hpp"
-#include "tools/report.hpp"
+#include "report/font_report.hpp"
+#include "io/font.hpp"
+#include "report/report.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <random>
 
-#include "tools/report.hpp"
+#include "report/report.hpp"
 
 namespace {
 

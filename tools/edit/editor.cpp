@@ -11,7 +11,7 @@
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
-#include "tools/draw.hpp"
+#include "draw/draw.hpp"
 
 namespace cmr::edit {
 

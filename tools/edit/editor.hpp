@@ -11,7 +11,7 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
-#include "tools/weight_region.hpp"
+#include "bezierize/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -77,7 +77,7 @@ class Editor {
   void move_point(int k, Vec2 p);
   /// The weight of point k (a polynomial spline becomes rational, its other
   /// weights 1; weights all 1 again make it polynomial): with_weight of
-  /// tools/weight_region.hpp. A weight outside [-kMaxWeight, kMaxWeight] is
+  /// bezierize/weight_region.hpp. A weight outside [-kMaxWeight, kMaxWeight] is
   /// clamped and the status line says so; InputError for a point out of
   /// range, a weight that is not a number, every weight 0, and in κ-curve mode (the curve
   /// is rebuilt from its points there). Consecutive changes of one point's
@@ -146,7 +146,7 @@ class Editor {
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
-  /// The region of the selected point's weight (tools/weight_region.hpp,
+  /// The region of the selected point's weight (bezierize/weight_region.hpp,
   /// `cmr region --weight K`) over [w/4, 4w] of its weight w (ends in
   /// increasing order for w < 0; [-1, 1] for w = 0), in the view's labels (mode, split, segments,
   /// depth), kWeightRegionSamples samples: nullptr unless

@@ -9,8 +9,8 @@
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
-#include "tools/draw.hpp"
-#include "tools/report.hpp"
+#include "draw/draw.hpp"
+#include "report/report.hpp"
 
 namespace cmr::edit {
 

@@ -56,7 +56,7 @@ class RegionCache {
 };
 
 /// RGBA bytes (row-major, row 0 at the top) of the layers, in the colours of
-/// `cmr region --png` (tools/draw.hpp's legend: red increasing, blue
+/// `cmr region --png` (draw/draw.hpp's legend: red increasing, blue
 /// decreasing, overlaps darker, optional depth shading).
 std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading,
                                  int max_depth);

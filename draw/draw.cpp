@@ -1,0 +1,1179 @@
+#include "draw/draw.hpp"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <new>
+#include <numbers>
+#include <numeric>
+#include <optional>
+#include <unordered_map>
+
+#include "spline/curvature.hpp"
+#include "spline/errors.hpp"
+#include "io/output.hpp"
+
+namespace cmr::draw {
+
+namespace {
+
+// ---------------------------------------------------------------- colours --
+
+// What one layer takes away from white; layers add up (Fig. 3's rule).
+using Absorb = Rgb;
+
+constexpr Absorb kNone{0, 0, 0};
+constexpr Absorb kRed{0, 0.6, 0.6};          // white - this = (1, .4, .4)
+constexpr Absorb kBlue{0.6, 0.6, 0};         // (.4, .4, 1)
+constexpr Absorb kDarkRed{0.35, 0.85, 0.85};  // (.65, .15, .15)
+constexpr Absorb kDarkBlue{0.85, 0.85, 0.35}; // (.15, .15, .65)
+
+Rgb lerp(Rgb a, Rgb b, double s) { return {a.r + s * (b.r - a.r), a.g + s * (b.g - a.g), a.b + s * (b.b - a.b)}; }
+Absorb absorb_of(Rgb c) { return {1 - c.r, 1 - c.g, 1 - c.b}; }
+Rgb colour_of(Absorb a) { return {std::max(0.0, 1 - a.r), std::max(0.0, 1 - a.g), std::max(0.0, 1 - a.b)}; }
+
+Absorb plain_absorb(uint8_t label) {
+  switch (label) {
+    case 1: return kRed;
+    case 2: return kBlue;
+    default: return kNone;  // 0 not monotone, 3 undecided
+  }
+}
+
+Absorb split_absorb(uint8_t label) {
+  switch (label) {
+    case 1: return kRed;       // inc-inc
+    case 2: return kDarkBlue;  // inc-dec: maximum at the joint
+    case 3: return kDarkRed;   // dec-inc: minimum at the joint
+    case 4: return kBlue;      // dec-dec
+    default: return kNone;     // 0 none, 5 undecided
+  }
+}
+
+// Fig. 7. Most pixels are decided within a few levels, so the shade saturates
+// (d / (d + 2)) instead of growing linearly up to D, which would leave every
+// shade but the lightest unused.
+Absorb depth_absorb(uint8_t label, uint8_t depth, int max_depth) {
+  const double d = std::min<double>(depth, std::max(max_depth, 0));
+  const double s = d / (d + 2.0);
+  switch (label) {
+    case 1: return absorb_of(lerp({1, 0.72, 0.72}, {0.45, 0, 0}, s));
+    case 2: return absorb_of(lerp({0.72, 0.72, 1}, {0, 0, 0.45}, s));
+    default: return absorb_of(lerp({0.92, 0.92, 0.92}, {0.25, 0.25, 0.25}, s));  // not monotone, undecided
+  }
+}
+
+// ------------------------------------------------------------ cairo helpers --
+
+using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
+
+Surface make_surface(int width, int height) {
+  Surface s(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height), &cairo_surface_destroy);
+  if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+  return s;
+}
+
+Context make_context(cairo_surface_t* surface) {
+  Context cr(cairo_create(surface), &cairo_destroy);
+  if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+  return cr;
+}
+
+void set_colour(cairo_t* cr, Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
+
+/// Appends each chunk Cairo's PNG encoder hands over to a std::string.
+cairo_status_t append_png_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+/// The surface encoded as PNG bytes, in memory. Encoding can only fail for
+/// lack of memory.
+std::string encode_png(cairo_surface_t* surface) {
+  cairo_surface_flush(surface);
+  std::string bytes;
+  if (cairo_surface_write_to_png_stream(surface, append_png_chunk, &bytes) != CAIRO_STATUS_SUCCESS)
+    throw std::bad_alloc();
+  return bytes;
+}
+
+void text_at(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_move_to(cr, x, y);
+  cairo_show_text(cr, s.c_str());
+}
+
+double text_width(cairo_t* cr, const std::string& s) {
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, s.c_str(), &e);
+  return e.x_advance;
+}
+
+/// The ink box of `s` drawn with its baseline starting at (x, y), padded by
+/// one pixel, in the current font.
+TextBox text_box(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, s.c_str(), &e);
+  return {x + e.x_bearing - 1, y + e.y_bearing - 1, x + e.x_bearing + e.width + 1, y + e.y_bearing + e.height + 1, s};
+}
+
+/// The labels of one panel, kept apart: a label is drawn only where its box
+/// meets none drawn before it.
+struct Labels {
+  std::vector<TextBox> placed;
+  bool free(const TextBox& b) const {
+    return std::none_of(placed.begin(), placed.end(), [&](const TextBox& o) { return o.intersects(b); });
+  }
+  /// Draws `s` at (x, y) if it overlaps nothing drawn; returns whether it did.
+  bool put(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
+    const TextBox b = text_box(cr, x, y, s, size, bold);
+    if (!free(b)) return false;
+    text_at(cr, x, y, s, size, bold);
+    placed.push_back(b);
+    return true;
+  }
+};
+
+/// Greedy word wrap at `width` pixels with the current font.
+std::vector<std::string> wrap(cairo_t* cr, const std::string& text, double width, double size, bool bold = false) {
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, size);
+  std::vector<std::string> lines;
+  std::string line, word;
+  auto flush_word = [&] {
+    if (word.empty()) return;
+    const std::string candidate = line.empty() ? word : line + " " + word;
+    if (!line.empty() && text_width(cr, candidate) > width) {
+      lines.push_back(line);
+      line = word;
+    } else {
+      line = candidate;
+    }
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == '\n') {
+      flush_word();
+      if (c == '\n') {
+        lines.push_back(line);
+        line.clear();
+      }
+    } else {
+      word += c;
+    }
+  }
+  flush_word();
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+void arrow(cairo_t* cr, double x0, double y0, double x1, double y1) {
+  const double len = std::hypot(x1 - x0, y1 - y0);
+  if (len < 1) return;
+  const double ux = (x1 - x0) / len, uy = (y1 - y0) / len, head = std::min(10.0, 0.5 * len);
+  cairo_move_to(cr, x0, y0);
+  cairo_line_to(cr, x1 - ux * head * 0.8, y1 - uy * head * 0.8);
+  cairo_stroke(cr);
+  cairo_move_to(cr, x1, y1);
+  cairo_line_to(cr, x1 - ux * head - uy * head * 0.45, y1 - uy * head + ux * head * 0.45);
+  cairo_line_to(cr, x1 - ux * head + uy * head * 0.45, y1 - uy * head - ux * head * 0.45);
+  cairo_close_path(cr);
+  cairo_fill(cr);
+}
+
+// ----------------------------------------------------------- region panel --
+
+/// Device coordinates of a world point inside the panel rectangle.
+struct WorldMap {
+  View v;
+  double x, y, w, h;
+  std::pair<double, double> operator()(Vec2 p) const {
+    return {x + (p.x - v.x0) / (v.x1 - v.x0) * w, y + (v.y1 - p.y) / (v.y1 - v.y0) * h};
+  }
+};
+
+void check_picture(const RegionPicture& p) {
+  CMR_CHECK(p.spline != nullptr);
+  CMR_CHECK(!p.layers.empty());
+  CMR_CHECK(p.points.empty() || p.points.size() == p.layers.size());
+  CMR_CHECK(!p.per_point || !p.points.empty());
+  for (const RegionResult* l : p.layers) {
+    CMR_CHECK(l != nullptr);
+    CMR_CHECK(l->split == p.split && l->alternating == p.alternating);
+    CMR_CHECK(l->width == p.layers[0]->width && l->height == p.layers[0]->height);
+    CMR_CHECK((l->split ? l->split_labels.size() : l->alternating ? l->alternating_labels.size() : l->labels.size()) ==
+              static_cast<std::size_t>(l->width) * l->height);
+    CMR_CHECK(l->depth.size() == static_cast<std::size_t>(l->width) * l->height);
+  }
+}
+
+/// Per layer, what its point's colour takes from white (per-point colours;
+/// empty otherwise): computed once per picture, not per pixel.
+std::vector<Absorb> point_fills(const RegionPicture& p) {
+  std::vector<Absorb> fills;
+  if (p.per_point)
+    for (int k : p.points) fills.push_back(absorb_of(lerp({1, 1, 1}, point_colour(k), 0.6)));
+  return fills;
+}
+
+/// pixel_colour with the layers' fills precomputed (point_fills).
+Rgb colour_at(const RegionPicture& p, const std::vector<Absorb>& fills, std::size_t index) {
+  Absorb sum = kNone;
+  const int W = p.layers.empty() ? 1 : std::max(1, p.layers[0]->width);
+  const std::size_t i = index % W, j = index / W;
+  for (std::size_t l = 0; l < p.layers.size(); ++l) {
+    const RegionResult* layer = p.layers[l];
+    const uint8_t label = layer->code_at(index);
+    Absorb a;
+    if (p.per_point) {
+      // Filled where the (second part's) curvature increases, hatched where it decreases.
+      const bool inc = p.split ? (label == 1 || label == 3) : label == 1;
+      const bool dec = p.split ? (label == 2 || label == 4) : label == 2;
+      if (!inc && !dec) continue;
+      const double s = inc ? 1.0 : ((i + j) / 3 % 2 == 0 ? 1.0 : 0.25);
+      a = {fills[l].r * s, fills[l].g * s, fills[l].b * s};
+    } else {
+      a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
+                          : (p.split ? split_absorb(label) : plain_absorb(label));
+    }
+    sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
+  }
+  return colour_of(sum);
+}
+
+void draw_labels(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
+  const int W = p.layers[0]->width, H = p.layers[0]->height;
+  Surface img = make_surface(W, H);
+  cairo_surface_flush(img.get());
+  unsigned char* data = cairo_image_surface_get_data(img.get());
+  const int stride = cairo_image_surface_get_stride(img.get());
+  auto byte = [](double c) { return static_cast<uint32_t>(std::lround(255 * std::clamp(c, 0.0, 1.0))); };
+  const std::vector<Absorb> fills = point_fills(p);
+  for (int j = 0; j < H; ++j) {
+    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
+    for (int i = 0; i < W; ++i) {
+      const Rgb c = colour_at(p, fills, static_cast<std::size_t>(j) * W + i);
+      row[i] = 0xff000000u | byte(c.r) << 16 | byte(c.g) << 8 | byte(c.b);
+    }
+  }
+  cairo_surface_mark_dirty(img.get());
+  cairo_save(cr);
+  cairo_translate(cr, x, y);
+  cairo_scale(cr, w / W, h / H);
+  cairo_set_source_surface(cr, img.get(), 0, 0);
+  // Labels are exact per pixel: no smoothing between them.
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+  cairo_paint(cr);
+  cairo_restore(cr);
+}
+
+/// The control polygon, then the curve over it as a dense polyline.
+void draw_polygon_and_curve(cairo_t* cr, const BSpline& s, const WorldMap& map) {
+  set_colour(cr, {0.35, 0.35, 0.35});
+  cairo_set_line_width(cr, 1.2);
+  for (int i = 0; i < s.point_count(); ++i) {
+    const auto [px, py] = map(s.points()[i]);
+    i == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  // Enough samples per segment for a smooth look.
+  set_colour(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 2.2);
+  const int per_segment = std::max(64, 600 / s.segment_count());
+  // Broken where a pole sends the curve away (CurveSampler, curvature.hpp).
+  const CurveSampler sampler(s);
+  std::optional<double> pen;  // the last sample drawn, while the line goes on
+  for (const Segment& seg : s.segments()) {
+    for (int k = 0; k <= per_segment; ++k) {
+      const double t = seg.a + (seg.b - seg.a) * k / per_segment;
+      const std::optional<Vec2> p = sampler.at(t);
+      if (!p) {
+        pen.reset();
+        continue;
+      }
+      const auto [px, py] = map(*p);
+      pen && sampler.joins(*pen, t) ? cairo_line_to(cr, px, py) : cairo_move_to(cr, px, py);
+      pen = t;
+    }
+  }
+  cairo_stroke(cr);
+}
+
+/// A moved point: a ring at its old place and an arrow to the new one.
+void draw_moved(cairo_t* cr, const std::pair<Vec2, Vec2>& moved, const WorldMap& map) {
+  const auto [ox, oy] = map(moved.first);
+  const auto [nx, ny] = map(moved.second);
+  set_colour(cr, {0.1, 0.55, 0.1});
+  cairo_set_line_width(cr, 1.8);
+  cairo_arc(cr, ox, oy, 5.5, 0, 2 * M_PI);
+  cairo_stroke(cr);
+  const double len = std::hypot(nx - ox, ny - oy);
+  if (len > 12)
+    arrow(cr, ox + (nx - ox) * 6 / len, oy + (ny - oy) * 6 / len, nx - (nx - ox) * 5 / len, ny - (ny - oy) * 5 / len);
+}
+
+/// "P" and the index (appended, not `"P" + ...`: GCC 12 warns falsely on that).
+std::string point_name(int k) {
+  std::string s = "P";
+  s += std::to_string(k);
+  return s;
+}
+
+/// Device-space things bucketed in square cells, so that a label box looks
+/// only at its neighbourhood: placing the names of m points costs O(m), not
+/// O(m^2) (`cmr region --point all` on long splines).
+template <class T>
+class CellGrid {
+ public:
+  static constexpr double kCell = 24;
+  void add(double x0, double y0, double x1, double y1, const T& item) {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j) cells_[key(i, j)].push_back(item);
+  }
+  /// Calls f(item) for the items of every cell the box touches (an item may
+  /// come once per shared cell).
+  template <class F>
+  void near(double x0, double y0, double x1, double y1, F&& f) const {
+    for (std::int64_t i = cell(x0); i <= cell(x1); ++i)
+      for (std::int64_t j = cell(y0); j <= cell(y1); ++j)
+        if (const auto it = cells_.find(key(i, j)); it != cells_.end())
+          for (const T& item : it->second) f(item);
+  }
+
+ private:
+  static std::int64_t cell(double v) { return static_cast<std::int64_t>(std::floor(std::clamp(v, -1e12, 1e12) / kCell)); }
+  static std::int64_t key(std::int64_t i, std::int64_t j) { return i * 2000003 + j; }
+  std::unordered_map<std::int64_t, std::vector<T>> cells_;
+};
+
+/// Points, and their names placed where they overlap no other name and as
+/// little as possible of the points, the curve and the polygon: each name
+/// tries eight directions (outward from the polygon's centre first) at three
+/// distances and takes the least covered box; a name that would overlap one
+/// already drawn is left out. Points within a pixel of each other (a closed
+/// chain's ends) share one name, "P0,P12".
+void draw_point_names(cairo_t* cr, const BSpline& s, const WorldMap& map, Labels& labels) {
+  const int m = s.point_count();
+  std::vector<std::pair<double, double>> at(m);
+  for (int i = 0; i < m; ++i) at[i] = map(s.points()[i]);
+  // Obstacles sampled in device space, with what covering one costs: the
+  // points (200), the curve (12) and the polygon (4).
+  struct Obstacle {
+    double x, y, pad, cost;
+  };
+  CellGrid<Obstacle> obstacles;
+  const auto obstacle = [&](double x, double y, double pad, double cost) {
+    obstacles.add(x - pad, y - pad, x + pad, y + pad, {x, y, pad, cost});
+  };
+  for (const auto& [x, y] : at) obstacle(x, y, 3.5, 200);
+  const CurveSampler sampler(s);
+  for (const Segment& seg : s.segments())
+    for (int k = 0; k <= 48; ++k) {
+      const std::optional<Vec2> p = sampler.at(seg.a + (seg.b - seg.a) * k / 48);
+      if (!p) continue;
+      const auto [x, y] = map(*p);
+      obstacle(x, y, 1, 12);
+    }
+  for (int i = 0; i + 1 < m; ++i)
+    for (int k = 0; k <= 16; ++k)
+      obstacle(at[i].first + (at[i + 1].first - at[i].first) * k / 16,
+               at[i].second + (at[i + 1].second - at[i].second) * k / 16, 0, 4);
+  CellGrid<std::size_t> placed;  // indices into labels.placed
+  for (std::size_t i = 0; i < labels.placed.size(); ++i) {
+    const TextBox& b = labels.placed[i];
+    placed.add(b.x0, b.y0, b.x1, b.y1, i);
+  }
+  CellGrid<int> points;
+  for (int i = 0; i < m; ++i) points.add(at[i].first, at[i].second, at[i].first, at[i].second, i);
+  double cx = 0, cy = 0;
+  for (const auto& [x, y] : at) cx += x / m, cy += y / m;
+  std::vector<bool> named(m, false);
+  for (int i = 0; i < m; ++i) {
+    set_colour(cr, {0.1, 0.1, 0.1});
+    cairo_arc(cr, at[i].first, at[i].second, 3.5, 0, 2 * M_PI);
+    cairo_fill(cr);
+  }
+  for (int i = 0; i < m; ++i) {
+    if (named[i]) continue;
+    const auto [px, py] = at[i];
+    std::vector<int> same;  // points within a pixel share the name
+    points.near(px - 1, py - 1, px + 1, py + 1, [&](int j) {
+      if (j > i && !named[j] && std::hypot(at[j].first - px, at[j].second - py) < 1 &&
+          std::find(same.begin(), same.end(), j) == same.end())
+        same.push_back(j);
+    });
+    std::sort(same.begin(), same.end());
+    std::string name = point_name(i);
+    for (int j : same) {
+      name += ',';
+      name += std::to_string(j);
+      named[j] = true;
+    }
+    const TextBox probe = text_box(cr, 0, 0, name, 13, true);
+    const double w = probe.x1 - probe.x0, h = probe.y1 - probe.y0;
+    const double out = std::atan2(py - cy, px - cx);
+    double best = 1e300;
+    TextBox chosen;
+    for (const double r : {7.0, 13.0, 21.0})
+      for (int a = 0; a < 8; ++a) {
+        // Alternate around the outward direction: 0, +45, -45, +90, ...
+        const double angle = out + (a % 2 ? 1 : -1) * ((a + 1) / 2) * M_PI / 4;
+        const double dx = std::cos(angle), dy = std::sin(angle);
+        // The box's centre, so that its nearest edge is about r from the point.
+        const double bx = px + dx * (r + 0.5 * w * std::fabs(dx)), by = py + dy * (r + 0.5 * h * std::fabs(dy));
+        const TextBox b{bx - 0.5 * w, by - 0.5 * h, bx + 0.5 * w, by + 0.5 * h, name};
+        bool free = true;
+        placed.near(b.x0, b.y0, b.x1, b.y1, [&](std::size_t k) { free = free && !labels.placed[k].intersects(b); });
+        if (!free) continue;
+        // Each obstacle counts once although it may sit in several cells the box touches.
+        std::vector<const Obstacle*> seen;
+        double cost = r + 2.0 * ((a + 1) / 2);
+        obstacles.near(b.x0 - 4, b.y0 - 4, b.x1 + 4, b.y1 + 4, [&](const Obstacle& o) {
+          if (o.x < b.x0 - o.pad || o.x > b.x1 + o.pad || o.y < b.y0 - o.pad || o.y > b.y1 + o.pad) return;
+          if (std::find(seen.begin(), seen.end(), &o) != seen.end()) return;
+          seen.push_back(&o);
+          cost += o.cost;
+        });
+        if (cost < best) best = cost, chosen = b;
+      }
+    if (best == 1e300) continue;  // no free place: leave the name out rather than overlap
+    // Baseline start of the text whose ink box is `chosen`.
+    const double tx = chosen.x0 - probe.x0, ty = chosen.y0 - probe.y0;
+    set_colour(cr, {1, 1, 1});
+    cairo_set_line_width(cr, 3);
+    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+    cairo_set_font_size(cr, 13);
+    cairo_move_to(cr, tx, ty);
+    cairo_text_path(cr, name.c_str());
+    cairo_stroke(cr);  // a white halo keeps the name legible over regions and lines
+    set_colour(cr, {0.1, 0.1, 0.1});
+    text_at(cr, tx, ty, name, 13, true);
+    placed.add(chosen.x0, chosen.y0, chosen.x1, chosen.y1, labels.placed.size());
+    labels.placed.push_back(chosen);
+  }
+}
+
+/// The points whose regions are shown (`cmr region`): a ring in the layer's
+/// colour (per-point colours) or orange.
+void draw_marked(cairo_t* cr, const RegionPicture& p, const WorldMap& map) {
+  for (int k : p.points) {
+    if (k < 0 || k >= p.spline->point_count()) continue;
+    const auto [x, y] = map(p.spline->points()[k]);
+    const Rgb c = p.per_point ? point_colour(k) : Rgb{0.95, 0.55, 0.0};
+    set_colour(cr, {1, 1, 1});
+    cairo_set_line_width(cr, 4.5);
+    cairo_arc(cr, x, y, 7.5, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    set_colour(cr, c);
+    cairo_set_line_width(cr, 2.5);
+    cairo_arc(cr, x, y, 7.5, 0, 2 * M_PI);
+    cairo_stroke(cr);
+  }
+}
+
+/// A legend square (or ring) at (x, y), 16 px.
+void draw_swatch(cairo_t* cr, const LegendEntry& e, double x, double y) {
+  if (e.ring) {
+    set_colour(cr, e.colour);
+    cairo_set_line_width(cr, 2.5);
+    cairo_new_path(cr);
+    cairo_arc(cr, x + 8, y + 8, 6, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    return;
+  }
+  set_colour(cr, e.hatched ? Rgb{1, 1, 1} : e.colour);
+  cairo_rectangle(cr, x, y, 16, 16);
+  cairo_fill(cr);
+  if (e.hatched) {
+    cairo_save(cr);
+    cairo_rectangle(cr, x, y, 16, 16);
+    cairo_clip(cr);
+    set_colour(cr, e.colour);
+    cairo_set_line_width(cr, 2);
+    for (double d = -16; d < 16; d += 5) {
+      cairo_move_to(cr, x + d, y + 16);
+      cairo_line_to(cr, x + d + 16, y);
+    }
+    cairo_stroke(cr);
+    cairo_restore(cr);
+  }
+  set_colour(cr, {0.4, 0.4, 0.4});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x + 0.5, y + 0.5, 15, 15);
+  cairo_stroke(cr);
+}
+
+/// The legend inside a region picture: a white box in the corner that hides
+/// the fewest control points and curve samples, one entry per line, when the
+/// picture is large enough to keep most of it free.
+void draw_inner_legend(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h) {
+  if (w < 240 || h < 160) return;
+  std::vector<LegendEntry> entries = legend_for(p);
+  const std::size_t most = std::max<std::size_t>(2, static_cast<std::size_t>((h * 0.45 - 8) / 18));
+  if (entries.size() > most) {
+    const std::size_t left = entries.size() - most + 1;
+    entries.resize(most - 1);
+    entries.push_back({{1, 1, 1}, "... and " + std::to_string(left) + " more"});
+  }
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 11);
+  double tw = 0;
+  for (const LegendEntry& e : entries) tw = std::max(tw, text_width(cr, e.text));
+  const double bw = std::min(w - 8, 30 + tw), bh = 8 + 18 * entries.size();
+  const WorldMap map{p.layers[0]->view, x, y, w, h};
+  std::vector<std::pair<double, double>> things;
+  for (const Vec2& q : p.spline->points()) for (int k = 0; k < 10; ++k) things.push_back(map(q));  // points weigh more
+  const CurveSampler sampler(*p.spline);
+  for (const Segment& seg : p.spline->segments())
+    for (int k = 0; k <= 32; ++k)
+      if (const std::optional<Vec2> q = sampler.at(seg.a + (seg.b - seg.a) * k / 32)) things.push_back(map(*q));
+  double bx = x + 4, by = y + h - 4 - bh;
+  long fewest = -1;
+  for (const auto& [cx, cy] : {std::pair{x + 4, y + h - 4 - bh}, std::pair{x + w - 4 - bw, y + h - 4 - bh},
+                               std::pair{x + 4, y + 4}, std::pair{x + w - 4 - bw, y + 4}}) {
+    long n = 0;
+    for (const auto& [tx, ty] : things) n += tx >= cx && tx <= cx + bw && ty >= cy && ty <= cy + bh;
+    if (fewest < 0 || n < fewest) fewest = n, bx = cx, by = cy;
+  }
+  cairo_save(cr);
+  cairo_rectangle(cr, bx, by, bw, bh);
+  cairo_set_source_rgba(cr, 1, 1, 1, 0.88);
+  cairo_fill_preserve(cr);
+  set_colour(cr, {0.6, 0.6, 0.6});
+  cairo_set_line_width(cr, 1);
+  cairo_stroke(cr);
+  cairo_rectangle(cr, bx, by, bw, bh);
+  cairo_clip(cr);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const double ey = by + 5 + 18 * i;
+    if (entries[i].text.rfind("... and", 0) != 0) draw_swatch(cr, entries[i], bx + 5, ey);
+    set_colour(cr, {0, 0, 0});
+    text_at(cr, bx + 26, ey + 12, entries[i].text, 11);
+  }
+  cairo_restore(cr);
+}
+
+void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h, Labels& labels) {
+  check_picture(p);
+  const WorldMap map{p.layers[0]->view, x, y, w, h};
+  cairo_save(cr);
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_clip(cr);
+  draw_labels(cr, p, x, y, w, h);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  draw_polygon_and_curve(cr, *p.spline, map);
+  if (p.moved) draw_moved(cr, *p.moved, map);
+  draw_marked(cr, p, map);
+  draw_point_names(cr, *p.spline, map, labels);
+  if (p.legend) draw_inner_legend(cr, p, x, y, w, h);
+  cairo_restore(cr);
+  set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
+  cairo_stroke(cr);
+}
+
+// --------------------------------------------------------- curvature plot --
+
+struct PlotSample {
+  double t, kappa, lambda;
+};
+
+/// Samples per segment from the segment's own polynomial; the last sample of
+/// each segment is its end value (curvature_at would take the next segment's).
+/// Where the curve is not drawn (near a pole: CurveSampler) kappa is NaN, and
+/// the plot leaves it out.
+std::vector<std::vector<PlotSample>> sample_curvature(const BSpline& s, int per_segment) {
+  std::vector<std::vector<PlotSample>> out;
+  const CurveSampler sampler(s);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Segment& seg : s.segments()) {
+    std::vector<PlotSample> v;
+    for (int k = 0; k < per_segment; ++k) {
+      const CurvatureSample c = curvature_at(s, seg.a + (seg.b - seg.a) * k / per_segment);
+      v.push_back({c.t, sampler.inside(c.point) ? c.kappa : nan, c.lambda});
+    }
+    const double end = sampler.inside(evaluate(s, seg.b)) ? segment_end_curvature(s, seg, 1) : nan;
+    v.push_back({seg.b, end, v.back().lambda});
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+Rgb class_colour(Curvature c) {
+  switch (c) {
+    case Curvature::increasing: return {0.85, 0.1, 0.1};
+    case Curvature::decreasing: return {0.1, 0.2, 0.85};
+    case Curvature::constant: return {0.2, 0.2, 0.2};
+    default: return {0.75, 0.75, 0.75};  // non-monotone, undecided
+  }
+}
+
+/// The plot's frame in device coordinates and its world ranges.
+struct PlotFrame {
+  double left, right, top, bottom;  ///< the plotting rectangle
+  double t0, t1, lo, hi;            ///< parameter and curvature ranges
+  double px(double t) const { return left + (t - t0) / (t1 - t0) * (right - left); }
+  double py(double k) const { return bottom - (k - lo) / (hi - lo) * (bottom - top); }
+};
+
+PlotFrame plot_frame(const BSpline& s, const std::vector<std::vector<PlotSample>>& samples, double x, double y,
+                     double w, double h) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& seg : samples)
+    for (const PlotSample& p : seg) {
+      if (!std::isfinite(p.kappa)) continue;  // a cusp, or near a pole
+      lo = std::min(lo, p.kappa);
+      hi = std::max(hi, p.kappa);
+    }
+  if (lo > hi) lo = hi = 0;  // nothing finite to plot
+  // A flat plot still needs a vertical extent; 5% padding keeps the line off the frame.
+  const double pad = std::max(hi - lo, 1e-3 * std::max(std::abs(lo), std::abs(hi)) + 1e-12) * 0.05;
+  return {x + 56, x + w - 12, y + 26, y + h - 52, s.domain_begin(), s.domain_end(), lo - pad, hi + pad};
+}
+
+/// Joints as dashed lines, the kappa = 0 line (crossings are inflections),
+/// the frame, the y extremes, and knot ticks with their values.
+void draw_plot_axes(cairo_t* cr, const BSpline& s, const PlotFrame& f, double x, Labels& labels) {
+  const double dash[] = {4, 3};
+  cairo_set_line_width(cr, 1);
+  set_colour(cr, {0.6, 0.6, 0.6});
+  cairo_set_dash(cr, dash, 2, 0);
+  for (std::size_t i = 1; i < s.segments().size(); ++i) {
+    cairo_move_to(cr, f.px(s.segments()[i].a), f.top);
+    cairo_line_to(cr, f.px(s.segments()[i].a), f.bottom);
+  }
+  cairo_stroke(cr);
+  if (f.lo < 0 && f.hi > 0) {
+    set_colour(cr, {0.3, 0.3, 0.3});
+    cairo_move_to(cr, f.left, f.py(0));
+    cairo_line_to(cr, f.right, f.py(0));
+    cairo_stroke(cr);
+  }
+  cairo_set_dash(cr, nullptr, 0, 0);
+  set_colour(cr, {0, 0, 0});
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_stroke(cr);
+  // The y range's ends first, then kappa = 0 where it fits between them.
+  labels.put(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  labels.put(cr, x + 4, f.bottom, short_number(f.lo), 11);
+  if (f.lo < 0 && f.hi > 0) labels.put(cr, x + 4, f.py(0) + 4, "0", 11);
+  double last_knot = -1e300;
+  for (double u : s.knots()) {
+    if (u < f.t0 || u > f.t1) continue;
+    cairo_move_to(cr, f.px(u), f.bottom);
+    cairo_line_to(cr, f.px(u), f.bottom + 6);
+    cairo_stroke(cr);
+    if (u == last_knot) continue;  // repeated knots share one label
+    last_knot = u;
+    const std::string label = short_number(u);
+    cairo_set_font_size(cr, 11);
+    labels.put(cr, f.px(u) - 0.5 * text_width(cr, label), f.bottom + 18, label, 11);  // left out where crowded
+  }
+}
+
+/// The curvature, red where kappa increases, blue where it decreases.
+void draw_plot_curve(cairo_t* cr, const std::vector<std::vector<PlotSample>>& samples, const PlotFrame& f) {
+  cairo_save(cr);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_clip(cr);
+  cairo_set_line_width(cr, 2.2);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  for (const auto& seg : samples) {
+    for (std::size_t k = 1; k < seg.size(); ++k) {
+      if (!std::isfinite(seg[k - 1].kappa) || !std::isfinite(seg[k].kappa)) continue;
+      const double l = seg[k - 1].lambda;
+      set_colour(cr, l > 0 ? Rgb{0.85, 0.1, 0.1} : (l < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.2, 0.2, 0.2}));
+      cairo_move_to(cr, f.px(seg[k - 1].t), f.py(seg[k - 1].kappa));
+      cairo_line_to(cr, f.px(seg[k].t), f.py(seg[k].kappa));
+      cairo_stroke(cr);
+    }
+  }
+  cairo_restore(cr);
+}
+
+/// Certified class of each segment (Algorithms 1 and 2, exact) as a band under the axis.
+void draw_class_band(cairo_t* cr, const BSpline& s, const SplineAnalysis& analysis, const PlotFrame& f,
+                     Labels& labels) {
+  const double band = f.bottom + 26;
+  for (std::size_t i = 0; i < s.segments().size() && i < analysis.segments.size(); ++i) {
+    const Segment& seg = s.segments()[i];
+    const SegmentClass& c = analysis.segments[i];
+    set_colour(cr, class_colour(c.monotonicity.curvature));
+    cairo_rectangle(cr, f.px(seg.a) + 1, band, f.px(seg.b) - f.px(seg.a) - 2, 8);
+    cairo_fill(cr);
+    std::string tag = to_string(c.monotonicity.curvature);
+    if (c.inflection.inflection == Inflection::present) tag += ", inflection";
+    set_colour(cr, {0.2, 0.2, 0.2});
+    cairo_set_font_size(cr, 10);
+    if (text_width(cr, tag) < f.px(seg.b) - f.px(seg.a)) labels.put(cr, f.px(seg.a) + 2, band + 20, tag, 10);
+  }
+}
+
+void draw_curvature_panel(cairo_t* cr, const CurvaturePlot& plot, double x, double y, double w, double h,
+                          Labels& labels) {
+  CMR_CHECK(plot.spline != nullptr);
+  const BSpline& s = *plot.spline;
+  const auto samples = sample_curvature(s, std::max(50, 800 / s.segment_count()));
+  const PlotFrame f = plot_frame(s, samples, x, y, w, h);
+  set_colour(cr, {1, 1, 1});
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_fill(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, f.left, y + 17, "curvature \xCE\xBA against the parameter t", 13, true);
+  draw_plot_axes(cr, s, f, x, labels);
+  draw_plot_curve(cr, samples, f);
+  if (plot.analysis) draw_class_band(cr, s, *plot.analysis, f, labels);
+  set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
+  cairo_stroke(cr);
+}
+
+// ------------------------------------------------------------ lambda plot --
+
+double bernstein_at(std::vector<double> c, double t) {
+  for (std::size_t r = 1; r < c.size(); ++r)
+    for (std::size_t i = 0; i + r < c.size(); ++i) c[i] = (1 - t) * c[i] + t * c[i + 1];
+  return c[0];
+}
+
+void draw_lambda_panel(cairo_t* cr, const LambdaPlot& plot, double x, double y, double w, double h, Labels& labels) {
+  CMR_CHECK(plot.xi.size() >= 2);
+  const int n = static_cast<int>(plot.xi.size()) - 1;
+  std::vector<std::pair<double, double>> curve;
+  double lo = 0, hi = 0;  // the range always shows lambda = 0
+  for (int k = 0; k <= 200; ++k) {
+    const double t = k / 200.0, v = bernstein_at(plot.xi, t);
+    curve.push_back({t, v});
+    lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  for (double c : plot.xi) lo = std::min(lo, c), hi = std::max(hi, c);
+  const double pad = std::max(hi - lo, 1e-300) * 0.06;
+  const PlotFrame f{x + 56, x + w - 12, y + 26, y + h - 40, 0, 1, lo - pad, hi + pad};
+  set_colour(cr, {1, 1, 1});
+  cairo_rectangle(cr, x, y, w, h);
+  cairo_fill(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, f.left, y + 17, "\xCE\xBB(t) and its Bernstein coefficients \xCE\xBE\xE1\xB5\xA2", 13, true);
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, f.left, f.top, f.right - f.left, f.bottom - f.top);
+  cairo_stroke(cr);
+  set_colour(cr, {0.3, 0.3, 0.3});
+  cairo_move_to(cr, f.left, f.py(0));
+  cairo_line_to(cr, f.right, f.py(0));
+  cairo_stroke(cr);
+  set_colour(cr, {0, 0, 0});
+  labels.put(cr, x + 4, f.top + 10, short_number(f.hi), 11);
+  labels.put(cr, x + 4, f.bottom, short_number(f.lo), 11);
+  labels.put(cr, x + 4, f.py(0) + 4, "0", 11);
+  labels.put(cr, f.left - 3, f.bottom + 16, "0", 11);
+  labels.put(cr, f.right - 6, f.bottom + 16, "1", 11);
+  labels.put(cr, 0.5 * (f.left + f.right) - 3, f.bottom + 16, "t", 11);
+  // The coefficients' control polygon, dashed.
+  const double dash[] = {4, 3};
+  cairo_set_dash(cr, dash, 2, 0);
+  set_colour(cr, {0.55, 0.55, 0.55});
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    i == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  cairo_set_dash(cr, nullptr, 0, 0);
+  set_colour(cr, {0, 0, 0});
+  cairo_set_line_width(cr, 2.2);
+  for (std::size_t k = 0; k < curve.size(); ++k) {
+    const double px = f.px(curve[k].first), py = f.py(curve[k].second);
+    k == 0 ? cairo_move_to(cr, px, py) : cairo_line_to(cr, px, py);
+  }
+  cairo_stroke(cr);
+  for (int i = 0; i <= n; ++i) {
+    const double px = f.px(static_cast<double>(i) / n), py = f.py(plot.xi[i]);
+    set_colour(cr, plot.xi[i] > 0 ? Rgb{0.85, 0.1, 0.1} : (plot.xi[i] < 0 ? Rgb{0.1, 0.2, 0.85} : Rgb{0.3, 0.3, 0.3}));
+    cairo_arc(cr, px, py, 4.5, 0, 2 * M_PI);
+    cairo_fill(cr);
+    std::string name = "\xCE\xBE";  // xi
+    name += std::to_string(i);
+    set_colour(cr, {0.15, 0.15, 0.15});
+    // Above a dot on the upper side of zero, below one on the lower side; else the other side.
+    const double up = py - 8, down = py + 17;
+    const bool above = plot.xi[i] >= 0;
+    if (!labels.put(cr, px - 6, above ? up : down, name, 11)) labels.put(cr, px - 6, above ? down : up, name, 11);
+  }
+  set_colour(cr, {0.5, 0.5, 0.5});
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x + 0.5, y + 0.5, w - 1, h - 1);
+  cairo_stroke(cr);
+}
+
+// ----------------------------------------------------------- figure page --
+
+constexpr double kMargin = 16, kGap = 12, kLabelSize = 12.5, kCaptionSize = 13, kTitleSize = 18;
+
+/// Where everything of a figure goes; measured before drawing so that the
+/// page is as tall as it needs to be.
+struct FigureLayout {
+  double width = 0, height = 0, side = 0;
+  std::vector<std::vector<std::vector<std::string>>> labels;  ///< per row, per panel: wrapped lines
+  std::vector<double> row_label_height;
+  std::vector<std::string> title, caption;
+  std::vector<std::pair<double, double>> legend_at;  ///< offsets from the legend's top left
+  double legend_height = 0, title_height = 0;
+};
+
+/// Legend entries flow left to right and wrap like words.
+void layout_legend(cairo_t* pc, const Figure& f, double text_width_px, FigureLayout& l) {
+  double lx = 0, ly = 0;
+  cairo_select_font_face(pc, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(pc, 12);
+  for (const LegendEntry& e : f.legend) {
+    const double w = 22 + text_width(pc, e.text) + 18;
+    if (lx > 0 && lx + w > text_width_px) {
+      lx = 0;
+      ly += 22;
+    }
+    l.legend_at.emplace_back(lx, ly);
+    lx += w;
+  }
+  l.legend_height = f.legend.empty() ? 0 : ly + 24;
+}
+
+FigureLayout measure_figure(const Figure& f) {
+  FigureLayout l;
+  l.side = f.panel_size;
+  std::size_t columns = 1;
+  for (const auto& row : f.rows) columns = std::max(columns, row.size());
+  l.width = 2 * kMargin + columns * l.side + (columns - 1) * kGap;
+  const double text_width_px = l.width - 2 * kMargin;
+  Surface probe = make_surface(1, 1);
+  Context pc = make_context(probe.get());
+  for (const auto& row : f.rows) {
+    l.labels.emplace_back();
+    std::size_t most = 0;
+    for (const Panel& p : row) {
+      l.labels.back().push_back(wrap(pc.get(), p.label, l.side, kLabelSize));
+      most = std::max(most, l.labels.back().back().size());
+    }
+    l.row_label_height.push_back(most * (kLabelSize + 4) + 6);
+  }
+  l.title = wrap(pc.get(), f.title, text_width_px, kTitleSize, true);
+  l.caption = wrap(pc.get(), f.caption, text_width_px, kCaptionSize);
+  layout_legend(pc.get(), f, text_width_px, l);
+  l.title_height = l.title.size() * (kTitleSize + 6) + 6;
+  l.height = kMargin + l.title_height;
+  for (double lh : l.row_label_height) l.height += l.side + lh + kGap;
+  l.height += l.legend_height + l.caption.size() * (kCaptionSize + 5) + kMargin;
+  return l;
+}
+
+/// Draws the panels and their labels row by row from `y`; returns the y
+/// below them. Each panel's label boxes go to *boxes when given.
+double draw_figure_rows(cairo_t* c, const Figure& f, const FigureLayout& l, double y,
+                        std::vector<std::vector<TextBox>>* boxes) {
+  for (std::size_t r = 0; r < f.rows.size(); ++r) {
+    for (std::size_t i = 0; i < f.rows[r].size(); ++i) {
+      const double x = kMargin + i * (l.side + kGap);
+      const Panel& p = f.rows[r][i];
+      Labels labels;
+      if (const auto* pic = std::get_if<RegionPicture>(&p.content))
+        draw_region_panel(c, *pic, x, y, l.side, l.side, labels);
+      else if (const auto* plot = std::get_if<CurvaturePlot>(&p.content))
+        draw_curvature_panel(c, *plot, x, y, l.side, l.side, labels);
+      else
+        draw_lambda_panel(c, std::get<LambdaPlot>(p.content), x, y, l.side, l.side, labels);
+      if (boxes) boxes->push_back(std::move(labels.placed));
+      set_colour(c, {0, 0, 0});
+      double ty = y + l.side + kLabelSize + 4;
+      for (const std::string& line : l.labels[r][i]) {
+        text_at(c, x, ty, line, kLabelSize);
+        ty += kLabelSize + 4;
+      }
+    }
+    y += l.side + l.row_label_height[r] + kGap;
+  }
+  return y;
+}
+
+void draw_legend(cairo_t* c, const Figure& f, const FigureLayout& l, double y) {
+  for (std::size_t i = 0; i < f.legend.size(); ++i) {
+    const LegendEntry& e = f.legend[i];
+    const double x = kMargin + l.legend_at[i].first, ly0 = y + l.legend_at[i].second;
+    draw_swatch(c, e, x, ly0);
+    set_colour(c, {0, 0, 0});
+    text_at(c, x + 22, ly0 + 13, e.text, 12);
+  }
+}
+
+/// The whole figure on `c` (of layout's size): title, panels, legend, caption.
+void draw_figure(cairo_t* c, const Figure& f, const FigureLayout& layout, std::vector<std::vector<TextBox>>* boxes) {
+  set_colour(c, {1, 1, 1});
+  cairo_paint(c);
+  set_colour(c, {0, 0, 0});
+  for (std::size_t i = 0; i < layout.title.size(); ++i)
+    text_at(c, kMargin, kMargin + kTitleSize + i * (kTitleSize + 6), layout.title[i], kTitleSize, true);
+  double y = draw_figure_rows(c, f, layout, kMargin + layout.title_height, boxes);
+  draw_legend(c, f, layout, y);
+  y += layout.legend_height + kCaptionSize;
+  for (const std::string& line : layout.caption) {
+    text_at(c, kMargin, y, line, kCaptionSize);
+    y += kCaptionSize + 5;
+  }
+}
+
+/// Appends each chunk Cairo's SVG writer hands over to a std::string.
+cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+/// How many layers of each colouring label (1..4 with split, else 1..2) a
+/// pixel has: the key of one overlap colour.
+std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
+  std::vector<int> n(p.split ? 5 : 3, 0);
+  for (const RegionResult* layer : p.layers) {
+    const uint8_t label = layer->code_at(index);
+    if (label >= 1 && label < n.size()) ++n[label];
+  }
+  return n;
+}
+
+/// What one region's colour means, for the legend.
+const char* colour_label_meaning(bool split, bool alternating, int label) {
+  static const char* plain[] = {"", "curvature increasing", "curvature decreasing"};
+  static const char* alternate[] = {"", "groups alternate, the first increasing (maximum at the first joint)",
+                                    "groups alternate, the first decreasing (minimum at the first joint)"};
+  if (alternating) return alternate[label];
+  static const char* splits[] = {"", "inc-inc", "inc-dec (maximum at the joint)", "dec-inc (minimum at the joint)",
+                                 "dec-dec"};
+  return split ? splits[label] : plain[label];
+}
+
+const char* colour_label_name(bool split, bool alternating, int label) {
+  static const char* plain[] = {"", "increasing", "decreasing"};
+  static const char* alternate[] = {"", "inc-first", "dec-first"};
+  if (alternating) return alternate[label];
+  static const char* splits[] = {"", "inc-inc", "inc-dec", "dec-inc", "dec-dec"};
+  return split ? splits[label] : plain[label];
+}
+
+}  // namespace
+
+Rgb point_colour(int k) {
+  static const Rgb palette[] = {{0.12, 0.47, 0.71}, {1.0, 0.5, 0.05},   {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16},
+                                {0.58, 0.4, 0.74},  {0.55, 0.34, 0.29}, {0.89, 0.47, 0.76}, {0.09, 0.75, 0.81}};
+  if (k >= 0 && k < 8) return palette[k];
+  // Further hues by the golden angle, at one saturation and value.
+  const double h = std::fmod(0.61803398875 * k, 1.0) * 6, f = h - std::floor(h);
+  const double v = 0.8, lo = 0.2, up = lo + (v - lo) * f, down = v - (v - lo) * f;
+  switch (static_cast<int>(h)) {
+    case 0: return {v, up, lo};
+    case 1: return {down, v, lo};
+    case 2: return {lo, v, up};
+    case 3: return {lo, down, v};
+    case 4: return {up, lo, v};
+    default: return {v, lo, down};
+  }
+}
+
+Rgb pixel_colour(const RegionPicture& p, std::size_t index) { return colour_at(p, point_fills(p), index); }
+
+std::vector<LegendEntry> legend_for(const RegionPicture& p) {
+  const auto colour = colour_of;
+  std::vector<LegendEntry> l;
+  if (p.per_point) {
+    for (int k : p.points) l.push_back({lerp({1, 1, 1}, point_colour(k), 0.6), point_name(k)});
+    const Rgb grey = lerp({1, 1, 1}, {0.3, 0.3, 0.3}, 0.6);
+    l.push_back({grey, p.split ? "filled: second part increasing" : "filled: curvature increasing"});
+    l.push_back({grey, p.split ? "hatched: second part decreasing" : "hatched: decreasing", true});
+    l.push_back({{1, 1, 1}, "not monotone or undecided"});
+    return l;
+  }
+  if (p.depth_shading) {
+    l = {{colour(depth_absorb(1, 0, p.max_depth)), "increasing, decided at level 0"},
+         {colour(depth_absorb(1, 8, p.max_depth)), "increasing, deeper"},
+         {colour(depth_absorb(2, 0, p.max_depth)), "decreasing, level 0"},
+         {colour(depth_absorb(2, 8, p.max_depth)), "decreasing, deeper"},
+         {colour(depth_absorb(0, 0, p.max_depth)), "not monotone, level 0"},
+         {colour(depth_absorb(0, 8, p.max_depth)), "not monotone, deeper"}};
+  } else {
+    // The colours that occur (one per combination of labels overlapping at a
+    // pixel), each named by what overlaps there: the legend is what is drawn.
+    check_picture(p);
+    std::vector<std::vector<int>> keys;
+    for (std::size_t i = 0; i < p.layers[0]->size(); ++i) {
+      std::vector<int> k = overlap_key(p, i);
+      if (std::all_of(k.begin(), k.end(), [](int n) { return n == 0; })) continue;
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(std::move(k));
+    }
+    std::sort(keys.begin(), keys.end(), [](const std::vector<int>& a, const std::vector<int>& b) {
+      const int na = std::accumulate(a.begin(), a.end(), 0), nb = std::accumulate(b.begin(), b.end(), 0);
+      return na != nb ? na < nb : std::lexicographical_compare(b.begin(), b.end(), a.begin(), a.end());
+    });
+    for (const std::vector<int>& k : keys) {
+      Absorb sum = kNone;
+      std::string text;
+      for (std::size_t label = 1; label < k.size(); ++label) {
+        if (k[label] == 0) continue;
+        const Absorb a = p.split ? split_absorb(static_cast<uint8_t>(label)) : plain_absorb(static_cast<uint8_t>(label));
+        sum = {sum.r + k[label] * a.r, sum.g + k[label] * a.g, sum.b + k[label] * a.b};
+        if (!text.empty()) text += " + ";
+        if (k[label] > 1) text += std::to_string(k[label]) + " ";
+        text += colour_label_name(p.split, p.alternating, static_cast<int>(label));
+      }
+      const int total = std::accumulate(k.begin(), k.end(), 0);
+      if (total == 1) text = colour_label_meaning(p.split, p.alternating, static_cast<int>(std::find(k.begin(), k.end(), 1) - k.begin()));
+      l.push_back({colour(sum), total == 1 ? text : text + " overlap"});
+    }
+    l.push_back({{1, 1, 1}, p.split         ? "neither part monotone, or undecided"
+                            : p.alternating ? "no alternation, or undecided"
+                                            : "not monotone or undecided"});
+  }
+  if (p.points.size() == 1) l.push_back({{0.95, 0.55, 0.0}, point_name(p.points[0]) + ", the moved point", false, true});
+  return l;
+}
+
+std::string region_png(const RegionPicture& picture) {
+  check_picture(picture);
+  const int W = picture.layers[0]->width, H = picture.layers[0]->height;
+  Surface surface = make_surface(W, H);
+  Context cr = make_context(surface.get());
+  Labels labels;
+  draw_region_panel(cr.get(), picture, 0, 0, W, H, labels);
+  return encode_png(surface.get());
+}
+
+std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgba) {
+  if (width < 1 || height < 1 || rgba.size() != std::size_t{4} * width * height)
+    throw InputError("rgba_png: " + std::to_string(rgba.size()) + " bytes are not " + std::to_string(width) + "x" +
+                     std::to_string(height) + " RGBA pixels");
+  Surface surface = make_surface(width, height);
+  cairo_surface_flush(surface.get());
+  unsigned char* data = cairo_image_surface_get_data(surface.get());
+  const int stride = cairo_image_surface_get_stride(surface.get());
+  for (int j = 0; j < height; ++j) {
+    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<std::ptrdiff_t>(j) * stride);
+    for (int i = 0; i < width; ++i) {
+      const std::uint8_t* p = &rgba[4 * (static_cast<std::size_t>(j) * width + i)];
+      row[i] = 0xff000000u | uint32_t{p[0]} << 16 | uint32_t{p[1]} << 8 | p[2];  // opaque ARGB32
+    }
+  }
+  cairo_surface_mark_dirty(surface.get());
+  return encode_png(surface.get());
+}
+
+void write_region_png(const std::filesystem::path& path, const RegionPicture& picture) {
+  write_file_atomic(path, region_png(picture));
+}
+
+std::string figure_png(const Figure& f, std::vector<std::vector<TextBox>>* labels) {
+  const FigureLayout layout = measure_figure(f);
+  Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
+  Context cr = make_context(surface.get());
+  if (labels) labels->clear();
+  draw_figure(cr.get(), f, layout, labels);
+  return encode_png(surface.get());
+}
+
+std::string figure_svg(const Figure& f) {
+  const FigureLayout layout = measure_figure(f);
+  std::string bytes;
+  {
+    Surface surface(cairo_svg_surface_create_for_stream(append_chunk, &bytes, std::ceil(layout.width),
+                                                        std::ceil(layout.height)),
+                    &cairo_surface_destroy);
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+    Context cr = make_context(surface.get());
+    draw_figure(cr.get(), f, layout, nullptr);
+    cairo_surface_finish(surface.get());  // the document is complete only once the surface is finished
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
+  }
+  return bytes;
+}
+
+std::string line_plot_png(const LinePlot& plot) {
+  Surface surface = make_surface(plot.width, plot.height);
+  Context cr = make_context(surface.get());
+  cairo_t* c = cr.get();
+  set_colour(c, {1, 1, 1});
+  cairo_paint(c);
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  bool any = false;
+  for (const Series& s : plot.series)
+    for (const auto& [x, y] : s.points) {
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if (!any) x0 = x1 = x, y0 = y1 = y, any = true;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (y0 >= 0) y0 = 0;
+  if (!(x1 > x0)) x0 -= 0.5, x1 += 0.5;
+  if (!(y1 > y0)) y1 = y0 + 1;
+  y1 += 0.05 * (y1 - y0);
+  const double left = 80, right = plot.width - 20, top = 40, bottom = plot.height - 60;
+  auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * (right - left); };
+  auto py = [&](double y) { return bottom - (y - y0) / (y1 - y0) * (bottom - top); };
+  set_colour(c, {0, 0, 0});
+  text_at(c, left, 24, plot.title, 15, true);
+  cairo_set_line_width(c, 1);
+  cairo_rectangle(c, left, top, right - left, bottom - top);
+  cairo_stroke(c);
+  for (int k = 0; k <= 4; ++k) {
+    const double xv = x0 + (x1 - x0) * k / 4, yv = y0 + (y1 - y0) * k / 4;
+    set_colour(c, {0.85, 0.85, 0.85});
+    cairo_move_to(c, px(xv), top);
+    cairo_line_to(c, px(xv), bottom);
+    cairo_move_to(c, left, py(yv));
+    cairo_line_to(c, right, py(yv));
+    cairo_stroke(c);
+    set_colour(c, {0, 0, 0});
+    const std::string xs = short_number(xv), ys = short_number(yv);
+    text_at(c, px(xv) - text_width(c, xs) / 2, bottom + 16, xs, 11);
+    cairo_set_font_size(c, 11);
+    text_at(c, left - 6 - text_width(c, ys), py(yv) + 4, ys, 11);
+  }
+  text_at(c, (left + right) / 2 - 40, bottom + 36, plot.x_label, 12);
+  cairo_save(c);
+  cairo_move_to(c, 18, (top + bottom) / 2 + 40);
+  cairo_rotate(c, -std::numbers::pi / 2);
+  cairo_set_font_size(c, 12);
+  cairo_show_text(c, plot.y_label.c_str());
+  cairo_restore(c);
+  double ly = top + 16;
+  for (const Series& s : plot.series) {
+    set_colour(c, s.colour);
+    cairo_set_line_width(c, 2);
+    bool first = true;
+    for (const auto& [x, y] : s.points) {
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      if (first) cairo_move_to(c, px(x), py(y));
+      else cairo_line_to(c, px(x), py(y));
+      first = false;
+    }
+    cairo_stroke(c);
+    cairo_move_to(c, right - 170, ly - 4);
+    cairo_line_to(c, right - 150, ly - 4);
+    cairo_stroke(c);
+    set_colour(c, {0, 0, 0});
+    text_at(c, right - 144, ly, s.name, 11);
+    ly += 16;
+  }
+  return encode_png(surface.get());
+}
+
+}  // namespace cmr::draw

@@ -1,0 +1,279 @@
+#include "io/font.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include <ft2build.h>
+#include FT_FREETYPE_H
+#include FT_OUTLINE_H
+#include FT_FONT_FORMATS_H
+
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "io/chain.hpp"
+#include "io/output.hpp"
+
+namespace cmr::import {
+namespace {
+
+/// Decodes one UTF-8 character at text[i] (advancing i); InputError if malformed.
+std::uint32_t utf8_at(const std::string& text, std::size_t& i) {
+  const auto b = static_cast<unsigned char>(text[i]);
+  int extra = b < 0x80 ? 0 : (b >> 5) == 6 ? 1 : (b >> 4) == 14 ? 2 : (b >> 3) == 30 ? 3 : -1;
+  if (extra < 0 || i + extra >= text.size() + (extra == 0 ? 1 : 0))
+    throw InputError("--glyphs: '" + text + "' is not valid UTF-8");
+  std::uint32_t c = extra == 0 ? b : (b & (0x3F >> extra));
+  ++i;
+  for (int k = 0; k < extra; ++k, ++i) {
+    if (i >= text.size() || (static_cast<unsigned char>(text[i]) >> 6) != 2)
+      throw InputError("--glyphs: '" + text + "' is not valid UTF-8");
+    c = (c << 6) | (static_cast<unsigned char>(text[i]) & 0x3F);
+  }
+  return c;
+}
+
+/// One character of a spec item: "U+hex" or a single UTF-8 character.
+std::uint32_t spec_char(const std::string& item, std::size_t& i) {
+  if (item.compare(i, 2, "U+") == 0 && i + 2 < item.size()) {
+    std::size_t j = i + 2;
+    std::uint32_t c = 0;
+    while (j < item.size() && std::isxdigit(static_cast<unsigned char>(item[j])) && j - i < 8)
+      c = c * 16 + static_cast<std::uint32_t>(std::stoi(item.substr(j++, 1), nullptr, 16));
+    if (j == i + 2 || c > 0x10FFFF) throw InputError("--glyphs: '" + item + "' has a bad U+ code point");
+    i = j;
+    return c;
+  }
+  return utf8_at(item, i);
+}
+
+struct FreeTypeLibrary {
+  FT_Library lib = nullptr;
+  FreeTypeLibrary() {
+    if (FT_Init_FreeType(&lib) != 0) throw EnvironmentError("FreeType: cannot initialise the library");
+  }
+  ~FreeTypeLibrary() { FT_Done_FreeType(lib); }
+};
+
+struct FaceDeleter {
+  void operator()(FT_Face f) const { FT_Done_Face(f); }
+};
+
+/// A control point of the chain being built.
+struct Item {
+  Vec2 p;
+  std::string name;
+  int font_point = -1;
+  bool node = false;  // explicit on-curve point
+};
+
+/// The chain of one contour (points first..last of the outline), or empty
+/// when the contour has no piece (a lone point).
+std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
+  const int n = last - first + 1;
+  int start = 0;
+  while (start < n && FT_CURVE_TAG(o.tags[first + start]) != FT_CURVE_TAG_ON) ++start;
+  const bool has_node = start < n;
+  if (!has_node) {
+    if (degree == 3) throw InputError(prefix + ": a cubic contour without an on-curve point");
+    start = 0;
+  }
+  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx - first); };
+  std::vector<Item> items;
+  // Inner points of the straight piece from a node to the next (by value:
+  // the pushes below may move `items`).
+  auto add_line = [&](const Item from, const Item to) {
+    for (int k = 1; k < degree; ++k) {
+      const double s = static_cast<double>(k) / degree;
+      Item it;
+      it.p = from.p + s * (to.p - from.p);
+      it.name = from.name;
+      it.name.append("+p").append(std::to_string(to.font_point));  // font_point is already contour-relative
+      if (degree > 2) it.name.append("@").append(std::to_string(k)).append("/").append(std::to_string(degree));
+      items.push_back(it);
+    }
+  };
+  int inner_run = 0;  // inner points since the last node (cubic: must be 0 or 2)
+  for (int j = 0; j < n; ++j) {
+    const int idx = first + (start + j) % n;
+    const int tag = FT_CURVE_TAG(o.tags[idx]);
+    Item it;
+    it.p = {static_cast<double>(o.points[idx].x), static_cast<double>(o.points[idx].y)};
+    it.name = name(idx);
+    it.font_point = idx - first;
+    it.node = tag == FT_CURVE_TAG_ON;
+    if ((tag == FT_CURVE_TAG_CUBIC) != (degree == 3) && !it.node)
+      throw InputError(prefix + ": point " + std::to_string(idx - first) + " mixes conic and cubic control points");
+    if (it.node) {
+      if (degree == 3 && inner_run != 0 && inner_run != 2)
+        throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points before point " +
+                         std::to_string(idx - first) + " (expected 2)");
+      inner_run = 0;
+      if (!items.empty() && items.back().node) {
+        if (items.back().p == it.p) continue;  // zero-length line: dropped
+        add_line(items.back(), it);
+      }
+    } else {
+      ++inner_run;
+    }
+    items.push_back(it);
+  }
+  if (degree == 3 && inner_run != 0 && inner_run != 2)
+    throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points close the contour (expected 2)");
+  // Closing: the last node back to the first.
+  if (has_node && items.size() > 1 && items.back().node) {
+    if (items.back().p == items.front().p) {
+      items.pop_back();
+    }
+    if (items.size() > 1 && items.back().node) add_line(items.back(), items.front());
+  }
+  const bool any_inner = std::any_of(items.begin(), items.end(), [](const Item& i) { return !i.node; });
+  if (items.size() < 2 || !any_inner) return {};
+  return items;
+}
+
+/// The contour's spline and names, or nothing for a contour without a piece.
+std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, const std::string& glyph) {
+  const int first = c == 0 ? 0 : o.contours[c - 1] + 1, last = o.contours[c];
+  const std::string prefix = glyph + "/c" + std::to_string(c);
+  const std::vector<Item> items = contour_items(o, first, last, degree, prefix);
+  if (items.empty()) return std::nullopt;
+  const std::size_t m = items.size();
+  // A piece starts at each inner point whose predecessor is a node; in degree
+  // 2 at every inner point (two in a row meet at the implied midpoint).
+  std::vector<bool> inc(m);
+  for (std::size_t k = 0; k < m; ++k)
+    inc[k] = !items[k].node && (degree == 2 || items[(k + m - 1) % m].node);
+  std::vector<Vec2> pts;
+  std::vector<std::string> point_names, joint_names;
+  std::vector<int> font_point;
+  std::vector<bool> node;
+  for (const Item& it : items) {
+    pts.push_back(it.p);
+    point_names.push_back(it.name);
+    font_point.push_back(it.font_point);
+    node.push_back(it.node);
+  }
+  // Segments in order of their first inner point k = 1..m (item m is item 0).
+  for (std::size_t k = 1; k <= m; ++k) {
+    if (!inc[k % m]) continue;
+    const Item& prev = items[k - 1];
+    joint_names.push_back(prev.node ? prev.name : prev.name + "+p" + std::to_string(items[k % m].font_point));
+  }
+  return Contour{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
+                 std::move(font_point), std::move(node), std::move(joint_names)};
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec) {
+  std::vector<std::uint32_t> out;
+  std::size_t pos = 0;
+  while (pos <= spec.size()) {
+    const std::size_t comma = spec.find(',', pos);
+    const std::string item = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? spec.size() + 1 : comma + 1;
+    if (item.empty()) throw InputError("--glyphs: empty item in '" + spec + "'");
+    std::size_t i = 0;
+    const std::uint32_t a = spec_char(item, i);
+    std::uint32_t b = a;
+    if (i < item.size()) {
+      if (item[i] != '-' || i + 1 >= item.size())
+        throw InputError("--glyphs: '" + item + "' is not a character or a range A-Z");
+      ++i;
+      b = spec_char(item, i);
+      if (i != item.size()) throw InputError("--glyphs: '" + item + "' is not a character or a range A-Z");
+      if (b < a) throw InputError("--glyphs: the range '" + item + "' runs backwards");
+    }
+    for (std::uint32_t c = a; c <= b; ++c)
+      if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  }
+  return out;
+}
+
+bool is_font_path(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  for (const char* e : {".ttf", ".otf", ".ttc", ".otc", ".cff", ".pfb", ".pfa", ".t1", ".woff"})
+    if (ext == e) return true;
+  return false;
+}
+
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints) {
+  static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
+  // Read as every input is (regular files only, size-limited: a FIFO or a
+  // device is refused at once); the bytes outlive the face.
+  const std::string bytes = read_input_file(path);
+  FT_Face raw = nullptr;
+  if (const FT_Error e = FT_New_Memory_Face(library.lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
+                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
+      e != 0)
+    throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
+  const std::unique_ptr<FT_FaceRec_, FaceDeleter> face(raw);
+  Font font;
+  font.path = path.string();
+  font.family = face->family_name ? face->family_name : "";
+  font.style = face->style_name ? face->style_name : "";
+  font.units_per_em = face->units_per_EM;
+  // The format decides the degree, so that a glyph of straight lines only is
+  // a spline of the font's degree too.
+  const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
+  font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
+  const int font_degree = font.cubic ? 3 : 2;
+  for (const std::uint32_t cp : codepoints) {
+    const FT_UInt gid = FT_Get_Char_Index(face.get(), cp);
+    if (gid == 0) {
+      font.missing.push_back(cp);
+      continue;
+    }
+    if (const FT_Error e = FT_Load_Glyph(face.get(), gid, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP);
+        e != 0)
+      throw InputError(path.string() + ": glyph " + std::to_string(gid) + " cannot be loaded (error " +
+                       std::to_string(e) + ")");
+    if (face->glyph->format != FT_GLYPH_FORMAT_OUTLINE)
+      throw InputError(path.string() + ": glyph " + std::to_string(gid) + " is not an outline");
+    Glyph g;
+    g.codepoint = cp;
+    char buf[128] = {0};
+    if (FT_HAS_GLYPH_NAMES(face.get()) && FT_Get_Glyph_Name(face.get(), gid, buf, sizeof buf) == 0 && buf[0] != 0) {
+      g.name = buf;
+    } else {
+      std::snprintf(buf, sizeof buf, "uni%04X", static_cast<unsigned>(cp));
+      g.name = buf;
+    }
+    const FT_Outline& o = face->glyph->outline;
+    const int degree = font_degree;
+    try {
+      for (int c = 0; c < o.n_contours; ++c) {
+        if (std::optional<Contour> contour = make_contour(o, c, degree, g.name)) g.contours.push_back(std::move(*contour));
+      }
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ": " + e.what());
+    }
+    font.glyphs.push_back(std::move(g));
+  }
+  return font;
+}
+
+nlohmann::json contour_json(const Contour& contour) {
+  nlohmann::json doc = spline_to_json(contour.spline);
+  doc["point_names"] = contour.point_names;
+  return doc;
+}
+
+std::string file_stem(const std::string& glyph_name) {
+  std::string out;
+  for (const unsigned char ch : glyph_name) {
+    if (std::isalnum(ch) || ch == '.' || ch == '-') {  // '_' is the escape
+      out += static_cast<char>(ch);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "_%02X", ch);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+}  // namespace cmr::import

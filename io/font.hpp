@@ -1,0 +1,80 @@
+#pragma once
+/// Font outlines as closed B-splines (FreeType; Debian libfreetype-dev).
+///
+/// Each glyph is loaded unscaled (FT_LOAD_NO_SCALE: font units, the font's
+/// own grid) and each contour of its outline becomes one closed spline
+/// (BSpline::make_closed, io/chain.hpp):
+///  * TrueType (quadratic, conic tags): degree 2. The off-curve points are
+///    the control points and two off-curve points in a row meet at their
+///    implied on-curve midpoint (a simple knot of a uniform quadratic
+///    B-spline, C1). An explicit on-curve point is a control point with a
+///    double knot, so the curve passes through it whatever its position.
+///  * CFF / OpenType-CFF (cubic tags): degree 3, a chain of cubic Bezier
+///    pieces, every on-curve point a triple knot.
+///  * Two on-curve points in a row are a straight piece, made exact by inner
+///    points at 1/d..(d-1)/d of the way (a uniformly parametrised line).
+///    An on-curve point equal to the previous one (a zero-length line) is
+///    dropped.
+/// Every piece is one unit-length span: segment i of the spline is the i-th
+/// piece of the contour, starting at the contour's first on-curve point (or,
+/// when it has none, at its first off-curve point's leading implied node).
+/// Node names are kept: "GLYPH/cC" for the spline, "GLYPH/cC/pP" for the
+/// font's point P, and for the points the importer adds "GLYPH/cC/pP+pQ".
+///
+/// Errors: InputError for a file FreeType cannot open as a font ("FILE: not a
+/// font FreeType can read (error 2)"), a glyph spec that does not parse, or an
+/// outline that is not a chain of pieces (a lone cubic control point).
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "spline/bspline.hpp"
+
+namespace cmr::import {
+
+/// One contour of a glyph as a closed spline.
+struct Contour {
+  int index = 0;                         ///< contour number in the glyph
+  BSpline spline;                        ///< closed; named "GLYPH/cC"
+  std::vector<std::string> point_names;  ///< one per distinct control point
+  std::vector<int> font_point;           ///< the font's point index per control point; -1 where added
+  std::vector<bool> node;                ///< the control point is an explicit on-curve point
+  std::vector<std::string> joint_names;  ///< per segment i: the node that starts it ("A/c0/p3", implied "A/c0/p2+p3")
+};
+
+struct Glyph {
+  std::string name;         ///< the font's glyph name (else "uniXXXX")
+  std::uint32_t codepoint = 0;
+  std::vector<Contour> contours;
+};
+
+struct Font {
+  std::string path;
+  std::string family, style;
+  int units_per_em = 0;
+  bool cubic = false;  ///< CFF or Type 1 outlines (degree 3); else TrueType (degree 2)
+  std::vector<Glyph> glyphs;  ///< in the order asked for; characters the font lacks are left out
+  std::vector<std::uint32_t> missing;
+};
+
+/// Parses "A-Z,a-z,0-9,U+00E9,x": characters and inclusive ranges of them,
+/// comma separated (UTF-8; "U+hex" for any code point; "," itself as "U+002C").
+std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec);
+
+/// Whether a path names a font file the importer reads (.ttf, .otf, .ttc,
+/// .otc, .cff, .pfb, .pfa, .t1, .woff), by its extension.
+bool is_font_path(const std::filesystem::path& path);
+
+/// Loads the glyphs of `codepoints` (unscaled, unhinted).
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints);
+
+/// The contour as a spline file (spline_to_json plus "point_names").
+nlohmann::json contour_json(const Contour& contour);
+
+/// A file name for a glyph name: [A-Za-z0-9._-] kept, others as _XX hex.
+std::string file_stem(const std::string& glyph_name);
+
+}  // namespace cmr::import

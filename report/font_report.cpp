@@ -1,0 +1,272 @@
+#include "report/font_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "spline/curvature.hpp"
+#include "io/output.hpp"
+
+namespace cmr::report {
+namespace {
+
+std::string fmt(double v, int decimals = 1) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string utf8(std::uint32_t c) {
+  std::string s;
+  if (c < 0x80) {
+    s += static_cast<char>(c);
+  } else if (c < 0x800) {
+    s += static_cast<char>(0xC0 | (c >> 6));
+    s += static_cast<char>(0x80 | (c & 0x3F));
+  } else if (c < 0x10000) {
+    s += static_cast<char>(0xE0 | (c >> 12));
+    s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    s += static_cast<char>(0x80 | (c & 0x3F));
+  } else {
+    s += static_cast<char>(0xF0 | (c >> 18));
+    s += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+    s += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    s += static_cast<char>(0x80 | (c & 0x3F));
+  }
+  return s;
+}
+
+std::string code_label(std::uint32_t c) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "U+%04X", static_cast<unsigned>(c));
+  return buf;
+}
+
+/// A glyph's contours in font units (y up) as SVG elements in a y-down
+/// frame: outlines from the segments' own Bezier points (exact for degrees 2
+/// and 3), the curvature comb (teeth along the normal, kappa scaled so that
+/// the longest tooth is kCombLength of the em), gate violations in red and
+/// suggested moves in blue.
+struct GlyphPicture {
+  std::string body;
+  double x0 = 0, y0 = 0, x1 = 1, y1 = 1;  // bounding box in font units
+};
+
+constexpr double kCombLength = 0.12;
+constexpr int kCombSamples = 12;
+
+GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
+  GlyphPicture g;
+  g.x0 = g.y0 = 1e300;
+  g.x1 = g.y1 = -1e300;
+  auto grow = [&](Vec2 p) {
+    g.x0 = std::min(g.x0, p.x), g.x1 = std::max(g.x1, p.x);
+    g.y0 = std::min(g.y0, p.y), g.y1 = std::max(g.y1, p.y);
+  };
+  auto xy = [](Vec2 p) { return fmt(p.x) + "," + fmt(-p.y); };
+  double kmax = 0;
+  for (const SplineReport* r : contours) kmax = std::max({kmax, std::abs(r->kappa_min), std::abs(r->kappa_max)});
+  const double scale = kmax > 0 ? kCombLength * units_per_em / kmax : 0;
+  std::string outline, comb, marks;
+  for (const SplineReport* r : contours) {
+    const BSpline& s = *r->spline;
+    outline += "<path d=\"M" + xy(r->spans.front().bezier.front());
+    std::string teeth, tips;
+    for (const SpanReport& span : r->spans) {
+      const auto& B = span.bezier;
+      for (const Vec2& p : B) grow(p);
+      if (B.size() == 3) outline += " Q" + xy(B[1]) + " " + xy(B[2]);
+      else if (B.size() == 4) outline += " C" + xy(B[1]) + " " + xy(B[2]) + " " + xy(B[3]);
+      else
+        for (int k = 1; k <= kCombSamples; ++k)
+          outline += " L" + xy(evaluate(s, span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples));
+      for (int k = 0; k < kCombSamples; ++k) {
+        const double t = span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples;
+        const CurvatureSample c = curvature_at(s, t);
+        const Vec2 d1 = derivative(s, t, 1);
+        const double len = std::sqrt(dot(d1, d1));
+        if (!(len > 0) || !std::isfinite(c.kappa)) continue;
+        const Vec2 n(-d1.y / len, d1.x / len);
+        const Vec2 tip = c.point - scale * c.kappa * n;  // outside a counter-clockwise bowl
+        teeth.append("M").append(xy(c.point)).append("L").append(xy(tip));
+        tips.append(tips.empty() ? "M" : "L").append(xy(tip));
+      }
+    }
+    outline += "Z\"/>";
+    comb += "<path class=\"t\" d=\"" + teeth + "\"/><path class=\"k\" d=\"" + tips + "\"/>";
+    for (const GateResult& gr : r->gates)
+      for (const GateViolation& v : gr.violations)
+        marks += "<circle class=\"v\" cx=\"" + fmt(evaluate(s, v.t).x) + "\" cy=\"" + fmt(-evaluate(s, v.t).y) +
+                 "\" r=\"" + fmt(0.02 * units_per_em) + "\"/>";
+    for (const TangentFix& f : r->tangent_fixes)
+      marks += "<path class=\"f\" d=\"M" + xy(f.from) + "L" + xy(f.to) + "\"/>";
+  }
+  const double pad = 0.05 * units_per_em;
+  g.x0 -= pad, g.y0 -= pad, g.x1 += pad, g.y1 += pad;
+  g.body = "<g>" + outline + "</g>" + comb + marks;
+  return g;
+}
+
+std::string svg(const GlyphPicture& g, int height) {
+  const double w = g.x1 - g.x0, h = g.y1 - g.y0;
+  return "<svg xmlns=\"http://www.w3.org/2000/svg\" height=\"" + std::to_string(height) + "\" width=\"" +
+         std::to_string(static_cast<int>(std::ceil(height * w / h))) + "\" viewBox=\"" + fmt(g.x0) + " " + fmt(-g.y1) +
+         " " + fmt(w) + " " + fmt(h) + "\">" + g.body + "</svg>";
+}
+
+/// "segment 3 (from A/c0/p5 to A/c0/p7)" or "node A/c0/p5".
+std::string where(const GateViolation& v, const std::vector<std::string>& joints) {
+  const int N = static_cast<int>(joints.size());
+  if (v.segment >= 0 && N > 0)
+    return "segment " + std::to_string(v.segment) + " (" + joints[v.segment] + " to " + joints[(v.segment + 1) % N] +
+           "), t = " + fmt(v.local_t, 3);
+  if (v.joint >= 0 && N > 0) return "node " + joints[v.joint % N];
+  return "t = " + fmt(v.t, 4);
+}
+
+constexpr const char* kStyle =
+    "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse}"
+    "th,td{border:1px solid #ccc;padding:3px 6px;text-align:left;vertical-align:middle}"
+    "th{background:#eee;cursor:pointer;user-select:none}td.pass{color:#1a7f1a}td.fail{color:#d00000;font-weight:bold}"
+    "svg path{fill:none}svg g path{stroke:#000;stroke-width:1.2;vector-effect:non-scaling-stroke}"
+    "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
+    "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
+    "svg .v{fill:none;stroke:#d00000;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "section{margin-top:1.5em;border-top:1px solid #ccc}.ch{font-size:1.4em}";
+
+// Sorting (click a header: text or the cell's data-v number) and filtering
+// (name substring, status) of the overview table.
+constexpr const char* kScript = R"(<script>
+const t=document.getElementById('glyphs'),q=document.getElementById('q'),st=document.getElementById('st');
+function filter(){const s=q.value.toLowerCase(),w=st.value;for(const r of t.tBodies[0].rows){
+r.style.display=(r.dataset.name.toLowerCase().includes(s)&&(!w||r.dataset.status===w))?'':'none';}}
+q.oninput=filter;st.onchange=filter;
+t.tHead.querySelectorAll('th').forEach((h,i)=>{h.onclick=()=>{const up=h.dataset.dir!=='asc';h.dataset.dir=up?'asc':'desc';
+const rows=[...t.tBodies[0].rows];const key=r=>{const c=r.cells[i];return c.dataset.v!==undefined?Number(c.dataset.v):c.textContent;};
+rows.sort((a,b)=>{const x=key(a),y=key(b);return (x<y?-1:x>y?1:0)*(up?1:-1);});rows.forEach(r=>t.tBodies[0].appendChild(r));};});
+</script>)";
+
+}  // namespace
+
+FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs) {
+  FontInfo info{font.path, font.family, font.style, font.units_per_em, font.cubic, {}, font.missing};
+  for (const import::Glyph& g : font.glyphs) {
+    FontInfo::GlyphEntry e{g.name, g.codepoint, {}, {}, {}};
+    for (const import::Contour& c : g.contours) {
+      e.items.push_back(inputs.size());
+      e.joint_names.push_back(c.joint_names);
+      e.point_names.push_back(c.point_names);
+      inputs.push_back({font.path + ":" + c.spline.name(), c.spline, {}});
+    }
+    info.glyphs.push_back(std::move(e));
+  }
+  return info;
+}
+
+std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vector<SplineReport>& reports,
+                             const ReportOptions& options) {
+  std::string out = "<!doctype html><html><head><meta charset=\"utf-8\"><title>cmr font report</title><style>";
+  out += kStyle;
+  out += "</style></head><body>";
+  std::string gate_names;
+  for (const Gate& g : options.gates) gate_names += (gate_names.empty() ? "" : ", ") + to_string(g);
+  if (options.require) gate_names += (gate_names.empty() ? "" : ", ") + to_string(*options.require);
+  for (std::size_t fi = 0; fi < fonts.size(); ++fi) {
+    const FontInfo& font = fonts[fi];
+    int pass = 0, fail = 0;
+    std::vector<bool> glyph_pass;
+    for (const auto& g : font.glyphs) {
+      bool ok = true;
+      for (std::size_t i : g.items) ok = ok && reports[i].error.empty() && reports[i].pass;
+      glyph_pass.push_back(ok);
+      ++(ok ? pass : fail);
+    }
+    out += "<h1>" + html_escape(font.family + " " + font.style) + "</h1><p>" + html_escape(font.path) + ": " +
+           std::to_string(font.units_per_em) + " units per em, " + (font.cubic ? "cubic (CFF)" : "quadratic (TrueType)") +
+           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs: <b>" + std::to_string(pass) +
+           " pass</b>, <b>" + std::to_string(fail) + " fail</b>. Gates: " +
+           html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
+           ". Fixes move one handle along a tangent, snapped to the unit grid, and are re-verified there: the "
+           "violation is gone, no other appeared in its place, no smooth node became a corner.";
+    if (!font.missing.empty()) out += " " + std::to_string(font.missing.size()) + " characters are not in the font.";
+    out += "</p>";
+    const std::string table_id = fi == 0 ? "glyphs" : "glyphs" + std::to_string(fi);
+    if (fi == 0)
+      out += "<p>Filter: <input id=\"q\" placeholder=\"glyph name\"> <select id=\"st\"><option value=\"\">all</option>"
+             "<option>pass</option><option>fail</option></select> (click a column to sort)</p>";
+    out += "<table id=\"" + table_id + "\"><thead><tr><th>char</th><th>glyph</th><th>contours</th>";
+    if (options.regions) out += "<th>outline and comb</th>";
+    for (const Gate& g : options.gates) out += "<th>" + html_escape(to_string(g)) + "</th>";
+    out += "<th>fixes</th><th>status</th></tr></thead><tbody>";
+    std::string details;
+    for (std::size_t gi = 0; gi < font.glyphs.size(); ++gi) {
+      const auto& g = font.glyphs[gi];
+      const std::string anchor = "g" + std::to_string(fi) + "-" + import::file_stem(g.name);
+      std::vector<const SplineReport*> contours;
+      for (std::size_t i : g.items)
+        if (reports[i].error.empty()) contours.push_back(&reports[i]);
+      const char* status = glyph_pass[gi] ? "pass" : "fail";
+      out += "<tr data-name=\"" + html_escape(g.name) + "\" data-status=\"" + status + "\"><td class=\"ch\">" +
+             html_escape(utf8(g.codepoint)) + "</td><td><a href=\"#" + anchor + "\">" + html_escape(g.name) +
+             "</a></td><td data-v=\"" + std::to_string(g.items.size()) + "\">" + std::to_string(g.items.size()) + "</td>";
+      std::string picture;
+      if (options.regions && !contours.empty()) {
+        const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
+        out += "<td>" + svg(gp, 64) + "</td>";
+        picture = svg(gp, 320);
+      } else if (options.regions) {
+        out += "<td></td>";
+      }
+      std::size_t fixes = 0;
+      for (const SplineReport* r : contours) fixes += r->tangent_fixes.size();
+      for (std::size_t k = 0; k < options.gates.size(); ++k) {
+        std::size_t n = 0;
+        for (const SplineReport* r : contours) n += r->gates[k].violations.size();
+        out += "<td class=\"" + std::string(n == 0 ? "pass" : "fail") + "\" data-v=\"" + std::to_string(n) + "\">" +
+               (n == 0 ? "pass" : std::to_string(n) + " fail") + "</td>";
+      }
+      out += "<td data-v=\"" + std::to_string(fixes) + "\">" + std::to_string(fixes) + "</td><td class=\"" + status +
+             "\">" + status + "</td></tr>";
+
+      details += "<section id=\"" + anchor + "\"><h2>" + html_escape(g.name) + " <span class=\"ch\">" +
+                 html_escape(utf8(g.codepoint)) + "</span> " + code_label(g.codepoint) + ": " + status + "</h2>" +
+                 picture;
+      for (std::size_t c = 0; c < g.items.size(); ++c) {
+        const SplineReport& r = reports[g.items[c]];
+        details += "<h3>" + html_escape(r.name) + ": " + (r.error.empty() ? (r.pass ? "pass" : "fail") : "invalid") +
+                   "</h3>";
+        if (!r.error.empty()) {
+          details += "<p>" + html_escape(r.error) + "</p>";
+          continue;
+        }
+        details += "<p>" + std::to_string(r.spline->segment_count()) + " segments, " +
+                   std::to_string(r.extrema.size()) + " curvature extrema, " + std::to_string(r.inflections.size()) +
+                   " inflections.</p><ul>";
+        for (const GateResult& gr : r.gates)
+          for (const GateViolation& v : gr.violations)
+            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
+                       html_escape(where(v, g.joint_names[c])) + "</li>";
+        details += "</ul>";
+        if (!r.tangent_fixes.empty()) {
+          details += "<table><tr><th>move</th><th>from</th><th>to</th><th>along the line to</th><th>re-verified</th></tr>";
+          for (const TangentFix& f : r.tangent_fixes)
+            details += "<tr><td>" + html_escape(g.point_names[c][f.point]) + "</td><td>" + fmt(f.from.x, 0) + ", " +
+                       fmt(f.from.y, 0) + "</td><td>" + fmt(f.to.x, 0) + ", " + fmt(f.to.y, 0) + "</td><td>" +
+                       html_escape(g.point_names[c][f.neighbour]) + "</td><td>" +
+                       (f.verified ? "yes" : "no") + "</td></tr>";
+          details += "</table>";
+        } else if (!r.pass && options.grid > 0) {
+          details += "<p>No single handle move along a tangent (up to 64 units) removes a violation.</p>";
+        }
+      }
+      details += "</section>";
+    }
+    out += "</tbody></table>" + details;
+  }
+  out += kScript;
+  out += "</body></html>\n";
+  return out;
+}
+
+}  // namespace cmr::report

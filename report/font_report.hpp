@@ -1,0 +1,44 @@
+#pragma once
+/// The report of a font (`cmr report FONT`): its glyph contours as report
+/// items (one closed spline each, io/font.hpp) and one page a type
+/// designer works from: an overview table with one row per glyph (thumbnail
+/// with curvature comb, pass/fail per gate, sortable by any column and
+/// filterable by name and status), then per glyph and contour the gate
+/// violations located by node names and the suggested handle moves
+/// (report/gates.hpp: along the tangent, on the font's unit grid, re-verified).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/font.hpp"
+#include "report/report.hpp"
+
+namespace cmr::report {
+
+/// A font's glyphs and which report items are their contours.
+struct FontInfo {
+  std::string path, family, style;
+  int units_per_em = 0;
+  bool cubic = false;
+  struct GlyphEntry {
+    std::string name;
+    std::uint32_t codepoint = 0;
+    std::vector<std::size_t> items;                     ///< indices of its contours among the report items
+    std::vector<std::vector<std::string>> joint_names;  ///< per contour: node name starting each segment
+    std::vector<std::vector<std::string>> point_names;  ///< per contour: name of each distinct control point
+  };
+  std::vector<GlyphEntry> glyphs;
+  std::vector<std::uint32_t> missing;
+};
+
+/// Appends one report item per contour of `font` to `inputs` (file
+/// "FONT:GLYPH/cC") and returns where they went.
+FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs);
+
+/// One self-contained page (no network) for the fonts' glyphs. Thumbnails
+/// (inline SVG, curvature comb) are drawn when options.regions is on (they
+/// are what --no-thumbnails leaves out).
+std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vector<SplineReport>& reports,
+                             const ReportOptions& options);
+
+}  // namespace cmr::report

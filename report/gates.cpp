@@ -1,0 +1,255 @@
+#include "report/gates.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "spline/errors.hpp"
+#include "report/report.hpp"
+
+namespace cmr::report {
+namespace {
+
+std::string num(double v, int precision = 6) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+const char* kGateNames = "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection";
+
+/// Where a curve event lies, for a violation.
+GateViolation at_event(const SplineReport& r, const CurveEvent& e, const std::string& what) {
+  GateViolation v;
+  v.segment = e.segment;
+  v.joint = e.joint;
+  v.t = e.t;
+  if (e.segment >= 0) {
+    const Segment& s = r.spline->segments()[e.segment];
+    v.local_t = (e.t - s.a) / (s.b - s.a);
+    v.message = what + " inside segment " + std::to_string(e.segment) + " at t = " + num(e.t) + " (" +
+                num(v.local_t, 3) + " of the segment)";
+  } else {
+    v.message = what + " at joint " + std::to_string(e.joint) + " (t = " + num(e.t) + ")";
+  }
+  return v;
+}
+
+/// An extremum inside a segment whose curvature varies by more than the
+/// report's constant tolerance: the extremum gates judge only those (a
+/// rounded circle arc's stationary point is no designed extremum).
+bool inside_varying(const SplineReport& r, const CurveEvent& e) {
+  return e.segment >= 0 && !r.spans[e.segment].near_constant;
+}
+
+}  // namespace
+
+std::optional<Gate> parse_gate(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  const std::string head = text.substr(0, colon);
+  const std::string arg = colon == std::string::npos ? "" : text.substr(colon + 1);
+  Gate g;
+  if (head == "extrema-at-nodes" || head == "no-inflection") {
+    if (colon != std::string::npos) throw InputError("--require: '" + text + "' takes no argument");
+    g.kind = head == "no-inflection" ? Gate::Kind::no_inflection : Gate::Kind::extrema_at_nodes;
+    return g;
+  }
+  if (head == "max-extrema-per-segment") {
+    g.kind = Gate::Kind::max_extrema_per_segment;
+    const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.max_extrema);
+    if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || g.max_extrema < 0)
+      throw InputError("--require: '" + text + "' needs a count N >= 0 (max-extrema-per-segment:N)");
+    return g;
+  }
+  if (head == "g2-at-smooth-nodes") {
+    g.kind = Gate::Kind::g2_at_smooth_nodes;
+    if (colon != std::string::npos) {
+      const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.tolerance);
+      if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.tolerance) ||
+          g.tolerance < 0)
+        throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
+    }
+    return g;
+  }
+  return std::nullopt;
+}
+
+std::string to_string(const Gate& gate) {
+  switch (gate.kind) {
+    case Gate::Kind::extrema_at_nodes: return "extrema-at-nodes";
+    case Gate::Kind::max_extrema_per_segment: return "max-extrema-per-segment:" + std::to_string(gate.max_extrema);
+    case Gate::Kind::g2_at_smooth_nodes: return "g2-at-smooth-nodes:" + num(gate.tolerance);
+    case Gate::Kind::no_inflection: return "no-inflection";
+  }
+  return {};
+}
+
+void parse_require_list(const std::string& text, ReportOptions& options) {
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    if (std::optional<Gate> g = parse_gate(item)) {
+      options.gates.push_back(*g);
+      continue;
+    }
+    Requirement r;
+    try {
+      r = parse_requirement(item);
+    } catch (const InputError&) {
+      throw InputError("--require: '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames + ")");
+    }
+    if (options.require)
+      throw InputError("--require: '" + item + "' and '" + to_string(*options.require) +
+                       "': at most one of cmrwi, cmr, split:S");
+    options.require = r;
+  }
+}
+
+std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gate>& gates) {
+  std::vector<GateResult> out;
+  for (const Gate& gate : gates) {
+    GateResult g{gate, {}};
+    // A curve through infinity fails every gate where it does so.
+    for (const SpanReport& span : r.spans)
+      if (span.shape.pole) {
+        GateViolation v;
+        v.segment = span.segment.index;
+        v.t = span.shape.poles.front();
+        v.local_t = (v.t - span.segment.a) / (span.segment.b - span.segment.a);
+        v.message = pole_message(span);
+        g.violations.push_back(v);
+      }
+    switch (gate.kind) {
+      case Gate::Kind::extrema_at_nodes:
+        for (const CurveEvent& e : r.extrema)
+          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, e.kind > 0 ? "curvature maximum" : "curvature minimum"));
+        break;
+      case Gate::Kind::max_extrema_per_segment: {
+        std::map<int, std::vector<const CurveEvent*>> per;
+        for (const CurveEvent& e : r.extrema)
+          if (inside_varying(r, e)) per[e.segment].push_back(&e);
+        for (const auto& [segment, events] : per)
+          if (static_cast<int>(events.size()) > gate.max_extrema) {
+            GateViolation v = at_event(r, *events[gate.max_extrema], "curvature extremum");
+            v.message = std::to_string(events.size()) + " curvature extrema inside segment " + std::to_string(segment) +
+                        " (at most " + std::to_string(gate.max_extrema) + "); the first extra at t = " + num(v.t);
+            g.violations.push_back(v);
+          }
+        break;
+      }
+      case Gate::Kind::g2_at_smooth_nodes:
+        for (const JointReport& jr : r.joints) {
+          if (jr.corner) continue;
+          const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
+          if (!std::isfinite(kl) || !std::isfinite(kr)) continue;  // a cusp: no curvature to compare
+          const double scale = std::max(std::abs(kl), std::abs(kr));
+          if (std::abs(kl - kr) > gate.tolerance * scale) {
+            GateViolation v;
+            v.joint = jr.joint.index;
+            v.t = jr.joint.knot;
+            v.message = "curvature " + num(kl) + " | " + num(kr) + " at smooth joint " + std::to_string(v.joint) +
+                        " (t = " + num(v.t) + "): differs by " + num(100 * std::abs(kl - kr) / scale, 3) + "%";
+            g.violations.push_back(v);
+          }
+        }
+        break;
+      case Gate::Kind::no_inflection:
+        for (const CurveEvent& e : r.inflections) g.violations.push_back(at_event(r, e, "inflection"));
+        break;
+    }
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+namespace {
+
+/// Control point k (unrolled index) is a node: its polar label t_k..t_{k+d-1}
+/// is one knot repeated, so the curve passes through it.
+bool is_node(const BSpline& s, int k) {
+  const int d = s.degree();
+  if (k + d - 1 >= static_cast<int>(s.knots().size())) return false;
+  return s.knots()[k] == s.knots()[k + d - 1];
+}
+
+}  // namespace
+
+std::vector<TangentFix> suggest_tangent_fixes(const SplineReport& report, const ReportOptions& options, double grid) {
+  std::vector<TangentFix> out;
+  if (!report.spline || grid <= 0) return out;
+  const BSpline& spline = *report.spline;
+  const int d = spline.degree(), m = spline.unique_point_count();
+  // The violations a handle of their own segment can remove.
+  std::set<std::pair<int, int>> targets;  // (gate index, segment)
+  for (std::size_t g = 0; g < report.gates.size(); ++g)
+    for (const GateViolation& v : report.gates[g].violations)
+      if (v.segment >= 0) targets.insert({static_cast<int>(g), v.segment});
+  auto count = [](const SplineReport& r) {
+    std::size_t n = 0;
+    for (const GateResult& g : r.gates) n += g.violations.size();
+    return n;
+  };
+  const std::size_t before = count(report);
+  ReportOptions verify = options;
+  verify.regions = false;
+  verify.grid = 0;
+  static constexpr int kSteps[] = {1, 2, 4, 8, 16, 32, 64};
+  std::set<int> tried;
+  for (const auto& [gate, segment] : targets) {
+    const int span = spline.segments()[segment].span;
+    for (int k = span - d + 1; k <= span + 1; ++k) {
+      if (is_node(spline, k)) continue;
+      const int h = spline.closed() ? k % m : k;
+      if (!tried.insert(h).second) continue;
+      std::optional<TangentFix> best;
+      for (const int nb : {h - 1, h + 1}) {
+        const int j = spline.closed() ? (nb + m) % m : nb;
+        if (j < 0 || j >= m || j == h) continue;
+        const Vec2 P = spline.points()[h], dir = P - spline.points()[j];
+        const double len = std::sqrt(dot(dir, dir));
+        if (!(len > 0)) continue;
+        bool found = false;
+        for (const int step : kSteps) {
+          for (const double sign : {1.0, -1.0}) {
+            Vec2 q = P + (sign * step * grid / len) * dir;
+            q = Vec2(std::round(q.x / grid) * grid, std::round(q.y / grid) * grid);  // on the grid
+            if (q == P || (best && dot(q - P, q - P) >= dot(best->to - P, best->to - P))) continue;
+            const BSpline moved = spline.with_point(h, q);
+            // Screen on the segment alone (Algorithms 1 and 2): no extremum,
+            // or no inflection, left inside it; then the whole spline again.
+            const SegmentClass c = classify_segment(moved, moved.segments()[segment], {options.max_depth, true});
+            const bool extremum_gate = report.gates[gate].gate.kind != Gate::Kind::no_inflection;
+            if (extremum_gate ? !(c.monotonicity.curvature == Curvature::increasing ||
+                                  c.monotonicity.curvature == Curvature::decreasing ||
+                                  c.monotonicity.curvature == Curvature::constant)
+                              : c.inflection.inflection != Inflection::none)
+              continue;
+            const SplineReport r = report_spline(moved, verify);  // re-verified after snapping
+            bool ok = count(r) < before;
+            for (const GateViolation& v : r.gates[gate].violations) ok = ok && v.segment != segment;
+            for (std::size_t i = 0; ok && i < r.joints.size(); ++i) ok = report.joints[i].corner || !r.joints[i].corner;
+            if (ok) {
+              best = TangentFix{h, P, q, j, true};
+              found = true;
+              break;
+            }
+          }
+          if (found) break;
+        }
+      }
+      if (best) out.push_back(*best);
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const TangentFix& a, const TangentFix& b) {
+    return dot(a.to - a.from, a.to - a.from) < dot(b.to - b.from, b.to - b.from);
+  });
+  return out;
+}
+
+}  // namespace cmr::report

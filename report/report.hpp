@@ -1,0 +1,207 @@
+#pragma once
+/// Spline QA reports (`cmr report`): per spline, every span's classification
+/// (Algorithms 1 and 2, CAD&A 2024 §3), the certified parameters of its
+/// curvature extrema and inflections (bezierize/roots.hpp), the joints, the
+/// monotone pieces of the whole curve, and for a spline that fails the check,
+/// which single control points have a region that fixes it (§4). Rendered as a
+/// versioned JSON document (docs/report-schema.md) and one self-contained HTML
+/// page; the exit code gates a batch. Library target cmr::report: it links no
+/// command-line code and writes no files (the command writes what these
+/// functions return, with cmr::write_file_atomic).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/roots.hpp"
+
+#include "bezierize/region.hpp"
+#include "spline/limits.hpp"
+#include "report/gates.hpp"
+
+namespace cmr::report {
+
+/// The version of report_json's document (docs/report-schema.md).
+inline constexpr const char* kSchema = "cmr-report/1";
+
+/// exit_code's values; the cmr command exits with them.
+inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
+/// Default ReportOptions::constant_tolerance: well above the certification
+/// error of kappa (kKappaRelError, 1e-11) and far below any designed change.
+inline constexpr double kDefaultConstantTolerance = 1e-9;
+
+/// Which curvature extremum a split requirement asks for at its joint.
+enum class Extremum : std::uint8_t { any, max, min };
+
+/// What a spline must satisfy to pass: its CMRWI or CMR verdict is increasing
+/// or decreasing, or (split:S) a curvature extremum at joint S and nowhere
+/// else: segments 0..S-1 and S..N-1 each monotone in CMRWI mode, in opposite
+/// directions (split verdict inc-dec or dec-inc). split:S:max asks for a
+/// maximum of the signed curvature there (increasing before, decreasing
+/// after: inc-dec), split:S:min for a minimum (dec-inc). With
+/// ReportOptions::segments, "0..S-1" and "S..N-1" are the judged range's.
+struct Requirement {
+  Mode mode = Mode::cmr;
+  std::optional<int> split;
+  Extremum extremum = Extremum::any;  ///< with split
+};
+/// Parses "cmrwi", "cmr", "split:S", "split:S:max" or "split:S:min"
+/// (InputError otherwise).
+Requirement parse_requirement(const std::string& text);
+/// The text parse_requirement reads.
+std::string to_string(const Requirement& r);
+/// Whether a split verdict satisfies a split requirement's extremum.
+bool split_passes(Split verdict, Extremum extremum);
+
+/// How a batch is reported; the defaults are the command's.
+struct ReportOptions {
+  std::optional<Requirement> require;  ///< the gate; when empty splines are judged by CMR but cannot fail the run
+  int max_depth = kDefaultDepth;       ///< D of Algorithms 1 and 2
+  bool regions = true;                 ///< search single-point fixes (region images) and draw their thumbnails
+  int region_size = 96;                ///< fix-search images are region_size x region_size over the default view
+  std::shared_ptr<RegionBackend> backend;  ///< where region images are rendered (required with regions)
+  int threads = 0;                     ///< threads for the per-spline analysis; 0: all cores
+  RootOptions roots;                   ///< enclosure width of extrema and inflections
+  ContinuityTolerances continuity;     ///< G1/G2 tests at joints (the same as cmr analyze's)
+  /// Judge only these segments (verdicts, gate, fixes); the others are
+  /// reported as ignored (their roots and the curve's events are still listed).
+  std::optional<SegmentRange> segments;
+  std::vector<Gate> gates;             ///< type-design gates (report/gates.hpp); a spline must pass all
+  double grid = 0;                     ///< > 0 (with regions): suggest tangent fixes for failing gates on this grid
+  /// A segment whose certified curvature varies by at most this, relative to
+  /// its largest |kappa|, is read as an arc of constant curvature by the
+  /// extremum gates (SpanReport::near_constant); 0: only exact constants.
+  double constant_tolerance = kDefaultConstantTolerance;
+};
+
+/// The check a spline is judged by: the requirement, or CMR without one.
+Requirement check_of(const ReportOptions& options);
+
+/// A root of lambda (a stationary point of the curvature) or of eta (a zero of
+/// the curvature) in one segment, mapped to the spline's parameter.
+struct SpanRoot {
+  double t = 0;               ///< nearest double to the root (to its enclosure's midpoint if not exact)
+  double t_lo = 0, t_hi = 0;  ///< enclosure, rounded outwards
+  bool exact = false;         ///< the root is t exactly (before rounding to double)
+  int multiplicity = 1;
+  int sign_before = 0, sign_after = 0;  ///< of lambda (or eta) as this segment's polynomial
+  enum class At : std::uint8_t { interior, start, end } at = At::interior;
+  double kappa = 0;  ///< curvature at t (certified to kKappaRelError; NaN at a zero tangent)
+};
+
+/// One segment of a spline: its class and the roots of lambda and eta.
+struct SpanReport {
+  Segment segment;          ///< the span and its index
+  std::vector<Vec2> bezier;  ///< the segment's Bezier points (to double precision)
+  /// A rational segment's homogeneous Bezier points (w x, w y, w), to double
+  /// precision (bezier holds their projections, NaN where w = 0); empty when
+  /// polynomial.
+  std::vector<glm::dvec3> homogeneous;
+  SegmentClass classification;  ///< Algorithms 1 and 2
+  SegmentShape shape;           ///< exact straight / cusp / inflection facts (analyze)
+  bool lambda_zero = false;           ///< lambda == 0: constant curvature (a straight segment)
+  bool eta_zero = false;              ///< eta == 0: zero curvature
+  std::vector<SpanRoot> extrema;      ///< roots of lambda
+  std::vector<SpanRoot> inflections;  ///< roots of eta
+  /// (max kappa - min kappa) / max |kappa| over the segment, from the
+  /// certified curvature at its ends and stationary points (each within
+  /// kKappaRelError); 0 for a straight, NaN with a cusp or a pole.
+  double kappa_spread = 0;
+  /// kappa_spread <= ReportOptions::constant_tolerance: an arc of constant
+  /// curvature up to the rounding of its data (an SVG or CAD circle arc,
+  /// whose double weights and points make it an ellipse arc within 1e-16).
+  /// The verdicts stay exact; only the extremum gates exempt its extrema.
+  bool near_constant = false;
+};
+
+/// "segment 3 has a pole at t≈0.5" (more parameters comma separated) for a
+/// span whose shape has a pole (the gates' violation, the HTML's cells).
+std::string pole_message(const SpanReport& span);
+
+/// One joint: its analysis and its geometric continuity.
+/// G1 and G2 (with ReportOptions::continuity) are in `joint`, computed by
+/// analyze as for cmr analyze.
+struct JointReport {
+  Joint joint;  ///< knot, multiplicity, curvature on both sides, g1, g2
+  std::string continuity;  ///< "C<k>" from the knots alone (k = degree - multiplicity)
+  bool corner = false;     ///< not G1 (directions differ, or a zero tangent)
+};
+
+/// A curvature extremum or inflection of the whole curve: a change in the sign
+/// of dkappa/ds (or of kappa) along the parameter, jumps at joints included.
+struct CurveEvent {
+  double t = 0;      ///< the spline parameter
+  int kind = 0;      ///< extremum: +1 maximum, -1 minimum; inflection: sign of kappa after it
+  double kappa = 0;  ///< extremum: the extreme value (the larger / smaller side of a jump)
+  int segment = -1;  ///< inside this segment, or
+  int joint = -1;    ///< on this joint (index i: between segments i-1 and i)
+};
+
+/// What moving one control point alone can do for a failing spline (§4).
+struct Fix {
+  int point = 0;                ///< the control point's index
+  std::uint64_t pixels = 0;     ///< pixels of the region that pass the check
+  std::optional<Vec2> example;  ///< the passing pixel centre nearest the current point
+  bool verified = false;        ///< analyze on the spline with the point moved there passes
+  std::string thumbnail_png;    ///< region picture (PNG bytes); empty when not drawn
+};
+
+/// Everything reported about one spline (or why it could not be read).
+struct SplineReport {
+  std::string file;   ///< as given on the command line (or a label)
+  std::string name;   ///< the spline's name, else the file's stem
+  std::string error;  ///< invalid input: the message; nothing below is filled
+  std::optional<BSpline> spline;
+  SplineAnalysis analysis;  ///< analyze() with the report's depth and split
+  bool pass = false;        ///< it satisfies check_of(options) (unless only gates are asked for) and every gate
+  bool requirement_pass = false;     ///< it satisfies check_of(options)
+  std::vector<GateResult> gates;     ///< one per ReportOptions::gates
+  std::vector<TangentFix> tangent_fixes;  ///< for failing gates, with ReportOptions::grid
+  std::vector<SpanReport> spans;    ///< one per segment
+  std::vector<JointReport> joints;  ///< one per joint (segment i-1 | i); a closed spline's seam last (index N)
+  std::vector<CurveEvent> extrema;      ///< in parameter order
+  std::vector<CurveEvent> inflections;  ///< in parameter order
+  int monotone_pieces = 1;              ///< extrema.size() + 1
+  double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;  ///< curvature range and where it is reached
+  bool cusp = false;  ///< some segment has a zero tangent: the range is unbounded (kappa_min/max are NaN)
+  std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
+};
+
+/// One item of a batch: a spline, or why it could not be read.
+struct ReportInput {
+  std::string file;               ///< path or label
+  std::optional<BSpline> spline;  ///< the spline, when it could be read
+  std::string error;              ///< else the InputError's message
+};
+/// Reads a spline file; an invalid one becomes an item with its error.
+ReportInput read_input(const std::string& file);
+
+/// Everything but the regions for one spline (thread-safe). Throws InputError
+/// when the options do not fit the spline (a split joint it does not have).
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options);
+/// Fills report.fixes for a failing spline (renders one region per control point).
+void find_fixes(SplineReport& report, const ReportOptions& options);
+
+/// Called after each spline is analysed, then after each failing one has its
+/// regions: (done, total, name; "regions: name" in the second pass).
+using Progress = std::function<void(int, int, const std::string&)>;
+/// Reports a batch: the analysis on options.threads threads, then the regions.
+/// An input error of one item becomes that item's error; the others go on.
+std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
+                                       const Progress& progress = {});
+
+/// 0 when every spline passes (or there is no requirement), 1 when one fails,
+/// 2 when an input is invalid (kExitPass, kExitFail, kExitInvalid).
+int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options);
+
+/// The report as a cmr-report/1 document (docs/report-schema.md).
+nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
+/// One self-contained page: no network, pictures inline (SVG, data: URIs).
+std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options);
+
+}  // namespace cmr::report

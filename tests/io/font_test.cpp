@@ -1,0 +1,203 @@
+// Font import: every glyph A-Z a-z of DejaVu Sans (TrueType, quadratic) and
+// Nimbus Sans (CFF, cubic) against FreeType's own FT_Outline_Decompose: the
+// spline's segments and FreeType's pieces are the same curves, point by
+// point along the parameter. Also the glyph spec and node names.
+#include <gtest/gtest.h>
+
+#include <ft2build.h>
+#include FT_FREETYPE_H
+#include FT_OUTLINE_H
+
+#include <filesystem>
+#include <memory>
+
+#include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
+#include "io/font.hpp"
+
+namespace cmr::import {
+namespace {
+
+const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+
+using Contours = std::vector<std::vector<std::vector<Vec2>>>;  // contour -> piece -> Bezier points
+
+// FT_Outline_Decompose with shift = 1: coordinates doubled before FreeType
+// takes the implied midpoints in integer arithmetic (v_control + vec) / 2, so
+// the midpoints are exact; halved again here.
+struct Collector {
+  Contours contours;
+  Vec2 cur{0.0};
+  static Vec2 v(const FT_Vector* p) { return {p->x / 2.0, p->y / 2.0}; }
+  void piece(std::vector<Vec2> p) {
+    const bool degenerate = std::all_of(p.begin(), p.end(), [&](Vec2 q) { return q == p[0]; });
+    if (!degenerate) contours.back().push_back(std::move(p));
+    cur = contours.back().empty() ? cur : contours.back().back().back();
+  }
+};
+
+int move_to(const FT_Vector* to, void* user) {
+  auto* c = static_cast<Collector*>(user);
+  c->contours.emplace_back();
+  c->cur = Collector::v(to);
+  return 0;
+}
+int line_to(const FT_Vector* to, void* user) {
+  auto* c = static_cast<Collector*>(user);
+  const Vec2 from = c->cur;
+  c->piece({from, Collector::v(to)});
+  c->cur = Collector::v(to);
+  return 0;
+}
+int conic_to(const FT_Vector* a, const FT_Vector* to, void* user) {
+  auto* c = static_cast<Collector*>(user);
+  const Vec2 from = c->cur;
+  c->piece({from, Collector::v(a), Collector::v(to)});
+  c->cur = Collector::v(to);
+  return 0;
+}
+int cubic_to(const FT_Vector* a, const FT_Vector* b, const FT_Vector* to, void* user) {
+  auto* c = static_cast<Collector*>(user);
+  const Vec2 from = c->cur;
+  c->piece({from, Collector::v(a), Collector::v(b), Collector::v(to)});
+  c->cur = Collector::v(to);
+  return 0;
+}
+
+/// FreeType's decomposition of every glyph of `codepoints` (glyphs in order).
+std::vector<Contours> freetype_pieces(const char* path, const std::vector<std::uint32_t>& codepoints) {
+  FT_Library lib;
+  EXPECT_EQ(FT_Init_FreeType(&lib), 0);
+  FT_Face face;
+  EXPECT_EQ(FT_New_Face(lib, path, 0, &face), 0);
+  std::vector<Contours> out;
+  const FT_Outline_Funcs funcs{move_to, line_to, conic_to, cubic_to, 1, 0};
+  for (std::uint32_t cp : codepoints) {
+    const FT_UInt gid = FT_Get_Char_Index(face, cp);
+    EXPECT_NE(gid, 0u);
+    EXPECT_EQ(FT_Load_Glyph(face, gid, FT_LOAD_NO_SCALE | FT_LOAD_NO_HINTING | FT_LOAD_NO_BITMAP), 0);
+    Collector c;
+    EXPECT_EQ(FT_Outline_Decompose(&face->glyph->outline, &funcs, &c), 0);
+    Contours kept;
+    for (auto& contour : c.contours)
+      if (!contour.empty()) kept.push_back(std::move(contour));
+    out.push_back(std::move(kept));
+  }
+  FT_Done_Face(face);
+  FT_Done_FreeType(lib);
+  return out;
+}
+
+Vec2 bezier_at(std::vector<Vec2> p, double t) {
+  for (std::size_t r = 1; r < p.size(); ++r)
+    for (std::size_t i = 0; i + r < p.size(); ++i) p[i] = (1 - t) * p[i] + t * p[i + 1];
+  return p[0];
+}
+
+/// The largest distance between FreeType's piece k and the spline's segment
+/// (k + offset) mod N, at 9 parameters each, minimised over offsets.
+double round_trip_error(const BSpline& s, const std::vector<std::vector<Vec2>>& pieces) {
+  const int N = s.segment_count();
+  if (static_cast<int>(pieces.size()) != N) return 1e300;
+  double best = 1e300;
+  for (int offset = 0; offset < N; ++offset) {
+    double worst = 0;
+    for (int k = 0; k < N && worst < best; ++k) {
+      const Segment& seg = s.segments()[(k + offset) % N];
+      for (int q = 0; q <= 8; ++q) {
+        const double t = q / 8.0;
+        // The segment's own end: just inside it (a knot belongs to the next segment).
+        const double u = q == 8 ? std::nextafter(seg.b, seg.a) : seg.a + t * (seg.b - seg.a);
+        const Vec2 d = evaluate(s, u) - bezier_at(pieces[k], t);
+        const double e = std::sqrt(dot(d, d));
+        worst = std::isfinite(e) ? std::max(worst, e) : 1e300;
+      }
+    }
+    best = std::min(best, worst);
+  }
+  return best;
+}
+
+void check_font(const char* path, int degree) {
+  const auto codepoints = parse_glyph_spec("A-Z,a-z");
+  ASSERT_EQ(codepoints.size(), 52u);
+  const Font font = read_font(path, codepoints);
+  const auto reference = freetype_pieces(path, codepoints);
+  ASSERT_EQ(font.glyphs.size(), reference.size());
+  int contours = 0;
+  for (std::size_t g = 0; g < font.glyphs.size(); ++g) {
+    const Glyph& glyph = font.glyphs[g];
+    ASSERT_EQ(glyph.contours.size(), reference[g].size()) << glyph.name;
+    for (std::size_t c = 0; c < glyph.contours.size(); ++c) {
+      const BSpline& s = glyph.contours[c].spline;
+      EXPECT_TRUE(s.closed());
+      EXPECT_EQ(s.degree(), degree);
+      EXPECT_EQ(s.segment_count(), static_cast<int>(reference[g][c].size())) << glyph.name << " contour " << c;
+      // Font units: 1e-9 of a unit is rounding only.
+      EXPECT_LT(round_trip_error(s, reference[g][c]), 1e-9) << glyph.name << " contour " << c;
+      EXPECT_EQ(glyph.contours[c].point_names.size(), static_cast<std::size_t>(s.unique_point_count()));
+      EXPECT_EQ(glyph.contours[c].joint_names.size(), static_cast<std::size_t>(s.segment_count()));
+      ++contours;
+    }
+  }
+  EXPECT_GT(contours, 52);
+}
+
+TEST(ImportFont, DejaVuSansTrueTypeMatchesFreeTypeDecomposition) { check_font(kDejaVu, 2); }
+TEST(ImportFont, NimbusSansCffMatchesFreeTypeDecomposition) { check_font(kNimbus, 3); }
+
+// In TrueType two off-curve points in a row meet at their midpoint: a simple
+// knot (C1), as a uniform quadratic B-spline has. DejaVu's "O" has such nodes.
+TEST(ImportFont, TrueTypeImpliedNodesAreSimpleKnots) {
+  const Font font = read_font(kDejaVu, {'O'});
+  const Contour& c = font.glyphs.at(0).contours.at(0);
+  int simple = 0;
+  for (const Segment& seg : c.spline.segments()) simple += c.spline.multiplicity(seg.a) == 1 ? 1 : 0;
+  EXPECT_GT(simple, 0);
+  for (std::size_t k = 0; k < c.point_names.size(); ++k)
+    EXPECT_EQ(c.point_names[k], "O/c0/p" + std::to_string(c.font_point[k])) << k;
+  // An implied node is named after both off-curve points.
+  bool implied = false;
+  for (const std::string& n : c.joint_names) implied = implied || n.find('+') != std::string::npos;
+  EXPECT_TRUE(implied);
+  // The file form is readable back as the same closed spline.
+  const BSpline back = spline_from_json(contour_json(c));
+  EXPECT_EQ(back.points(), c.spline.points());
+  EXPECT_EQ(back.knots(), c.spline.knots());
+}
+
+// Straight pieces of a CFF glyph get two added inner points at 1/3 and 2/3,
+// named after the two on-curve points they join.
+TEST(ImportFont, AddedLinePointsAreNamedAfterTheirNodes) {
+  const Font font = read_font(kNimbus, {'I'});
+  const Contour& c = font.glyphs.at(0).contours.at(0);
+  int added = 0;
+  for (std::size_t k = 0; k < c.point_names.size(); ++k) {
+    if (c.font_point[k] >= 0) continue;
+    ++added;
+    const std::string& n = c.point_names[k];
+    EXPECT_EQ(n.rfind("I/c0/p", 0), 0u) << n;
+    EXPECT_TRUE(n.find("@1/3") != std::string::npos || n.find("@2/3") != std::string::npos) << n;
+    EXPECT_EQ(n.find("-"), std::string::npos) << n;
+  }
+  EXPECT_EQ(added, 2 * c.spline.segment_count());  // "I" is a rectangle: four lines
+}
+
+TEST(ImportFont, GlyphSpecAndErrors) {
+  EXPECT_EQ(parse_glyph_spec("A-C,x"), (std::vector<std::uint32_t>{'A', 'B', 'C', 'x'}));
+  EXPECT_EQ(parse_glyph_spec("U+00E9,\xC3\xA9,U+002C"), (std::vector<std::uint32_t>{0xE9, 0x2C}));
+  EXPECT_THROW(parse_glyph_spec("Z-A"), InputError);
+  EXPECT_THROW(parse_glyph_spec("A,,B"), InputError);
+  EXPECT_THROW(parse_glyph_spec("AB"), InputError);
+  EXPECT_THROW(read_font("/nonexistent.ttf", {'A'}), InputError);
+  EXPECT_THROW(read_font(__FILE__, {'A'}), InputError);
+  const Font f = read_font(kDejaVu, {'A', 0x10FFFD});
+  EXPECT_EQ(f.glyphs.size(), 1u);
+  EXPECT_EQ(f.missing, std::vector<std::uint32_t>{0x10FFFD});
+  EXPECT_TRUE(is_font_path("x/Y.OTF"));
+  EXPECT_FALSE(is_font_path("x/y.json"));
+}
+
+}  // namespace
+}  // namespace cmr::import

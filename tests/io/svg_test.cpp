@@ -1,0 +1,218 @@
+// SVG path data: each command in absolute and relative form against the
+// curve it must draw (evaluated independently from the command's own
+// numbers), reflection for S and T, closing, arcs on their ellipse (rational
+// quadratics evaluated here), the number grammar and errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include "spline/errors.hpp"
+#include "io/svg.hpp"
+
+namespace cmr::import {
+namespace {
+
+double dist(Vec2 a, Vec2 b) { return std::sqrt(dot(a - b, a - b)); }
+
+Vec2 bezier_at(std::vector<Vec2> p, double t) {
+  for (std::size_t r = 1; r < p.size(); ++r)
+    for (std::size_t i = 0; i + r < p.size(); ++i) p[i] = (1 - t) * p[i] + t * p[i + 1];
+  return p[0];
+}
+
+/// The spline's piece k (a chain: unit spans) at t in [0, 1].
+Vec2 piece_at(const PathSpline& s, int k, double t) {
+  const BSpline b = to_bspline(s);
+  const Segment& seg = b.segments().at(k);
+  return evaluate(b, t == 1 ? std::nextafter(seg.b, seg.a) : seg.a + t * (seg.b - seg.a));
+}
+
+/// Expects piece k of the one subpath of d to be the Bezier curve `want`.
+void expect_piece(const std::string& d, int k, const std::vector<Vec2>& want) {
+  const auto paths = parse_path_data(d, "t");
+  ASSERT_EQ(paths.size(), 1u) << d;
+  for (int q = 0; q <= 10; ++q)
+    EXPECT_LT(dist(piece_at(paths[0], k, q / 10.0), bezier_at(want, q / 10.0)), 1e-12) << d << " piece " << k
+                                                                                      << " t " << q / 10.0;
+}
+
+TEST(ImportSvg, LinesAbsoluteAndRelative) {
+  for (const char* d : {"M1 2 L4 6", "m1 2 l3 4", "M1,2 4,6", "m1,2 3,4"}) expect_piece(d, 0, {{1, 2}, {4, 6}});
+  for (const char* d : {"M1 2 H5 V7", "M1 2 h4 v5"}) {
+    expect_piece(d, 0, {{1, 2}, {5, 2}});
+    expect_piece(d, 1, {{5, 2}, {5, 7}});
+  }
+}
+
+TEST(ImportSvg, CubicsAndSmoothReflection) {
+  const std::vector<Vec2> c0{{0, 0}, {1, 2}, {3, 2}, {4, 0}};
+  for (const char* d : {"M0 0 C1 2 3 2 4 0", "M0 0 c1 2 3 2 4 0"}) expect_piece(d, 0, c0);
+  // S reflects the previous second control point (3,2) about (4,0): (5,-2).
+  for (const char* d : {"M0 0 C1 2 3 2 4 0 S7 -2 8 0", "M0 0 c1 2 3 2 4 0 s3 -2 4 0"})
+    expect_piece(d, 1, {{4, 0}, {5, -2}, {7, -2}, {8, 0}});
+  // S after a non-cubic: the first control point is the current point.
+  expect_piece("M0 0 L1 0 S2 1 3 0", 1, {{1, 0}, {1, 0}, {2, 1}, {3, 0}});
+}
+
+TEST(ImportSvg, QuadraticsAndSmoothReflection) {
+  for (const char* d : {"M0 0 Q1 2 2 0", "M0 0 q1 2 2 0"}) expect_piece(d, 0, {{0, 0}, {1, 2}, {2, 0}});
+  // T reflects (1,2) about (2,0): (3,-2).
+  for (const char* d : {"M0 0 Q1 2 2 0 T4 0", "M0 0 q1 2 2 0 t2 0"}) expect_piece(d, 1, {{2, 0}, {3, -2}, {4, 0}});
+  expect_piece("M0 0 L1 0 T3 0", 1, {{1, 0}, {1, 0}, {3, 0}});
+}
+
+TEST(ImportSvg, MixedDegreesAreElevatedExactly) {
+  // A quadratic and a line in a cubic subpath: same curves at degree 3.
+  const auto paths = parse_path_data("M0 0 Q1 2 2 0 L3 1 C4 1 5 0 6 0", "t");
+  ASSERT_EQ(paths.size(), 1u);
+  EXPECT_EQ(paths[0].degree, 3);
+  EXPECT_FALSE(paths[0].rational());
+  for (int q = 0; q <= 10; ++q) {
+    EXPECT_LT(dist(piece_at(paths[0], 0, q / 10.0), bezier_at({{0, 0}, {1, 2}, {2, 0}}, q / 10.0)), 1e-12);
+    EXPECT_LT(dist(piece_at(paths[0], 1, q / 10.0), bezier_at({{2, 0}, {3, 1}}, q / 10.0)), 1e-12);
+  }
+}
+
+TEST(ImportSvg, ClosePathMakesAClosedSpline) {
+  for (const char* d : {"M0 0 L4 0 L4 3 Z", "m0 0 l4 0 l0 3 z"}) {
+    const auto paths = parse_path_data(d, "t");
+    ASSERT_EQ(paths.size(), 1u);
+    EXPECT_TRUE(paths[0].closed);
+    const auto b = to_bspline(paths[0]);
+    ASSERT_TRUE(b.closed());
+    EXPECT_EQ(b.segment_count(), 3);  // the closing line back to (0,0) included
+    EXPECT_LT(dist(piece_at(paths[0], 2, 0.5), {2, 1.5}), 1e-12);
+  }
+  // After Z the current point is the subpath's start; a relative move is from there.
+  const auto two = parse_path_data("M1 1 l2 0 l0 2 z m1 0 l1 1", "t");
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_FALSE(two[1].closed);
+  EXPECT_LT(dist(two[1].points.front(), {2, 1}), 1e-15);
+  EXPECT_EQ(two[1].name, "t/s1");
+}
+
+// A point of a rational quadratic arc piece (Piece weights) lies on the ellipse
+// when rotating back by phi and scaling by the radii gives the unit circle.
+TEST(ImportSvg, ArcsAreRationalQuadraticsOnTheEllipse) {
+  const Vec2 c(10, 5);
+  const double rx = 4, ry = 2, phi = 30 * std::numbers::pi / 180;
+  auto E = [&](double th) {
+    const double x = rx * std::cos(th), y = ry * std::sin(th);
+    return c + Vec2(std::cos(phi) * x - std::sin(phi) * y, std::sin(phi) * x + std::cos(phi) * y);
+  };
+  auto on_ellipse = [&](Vec2 p) {
+    const Vec2 q = p - c;
+    const double x = std::cos(phi) * q.x + std::sin(phi) * q.y, y = -std::sin(phi) * q.x + std::cos(phi) * q.y;
+    return x * x / (rx * rx) + y * y / (ry * ry) - 1;
+  };
+  const double a0 = 10 * std::numbers::pi / 180, a1 = 250 * std::numbers::pi / 180;  // 240 degrees, positive
+  const Vec2 p0 = E(a0), p1 = E(a1);
+  char abs_d[256], rel_d[256];
+  std::snprintf(abs_d, sizeof abs_d, "M%.17g %.17g A4 2 30 1 1 %.17g %.17g", p0.x, p0.y, p1.x, p1.y);
+  std::snprintf(rel_d, sizeof rel_d, "M%.17g %.17g a4 2 30 1 1 %.17g %.17g", p0.x, p0.y, p1.x - p0.x, p1.y - p0.y);
+  for (const char* d : {abs_d, rel_d}) {
+    const auto paths = parse_path_data(d, "t");
+    ASSERT_EQ(paths.size(), 1u);
+    const PathSpline& s = paths[0];
+    ASSERT_TRUE(s.rational());
+    ASSERT_EQ(s.degree, 2);
+    const BSpline b = to_bspline(s);
+    ASSERT_TRUE(b.is_rational());
+    for (const Segment& seg : b.segments())  // the spline evaluates on the ellipse too
+      EXPECT_LT(std::abs(on_ellipse(evaluate(b, 0.5 * (seg.a + seg.b)))), 1e-12);
+    const int pieces = (static_cast<int>(s.points.size()) - 1) / 2;
+    EXPECT_EQ(pieces, 3);  // 240 degrees in pieces of at most 90
+    double worst = 0, last_angle = a0;
+    for (int k = 0; k < pieces; ++k) {
+      const std::vector<Vec2> P(s.points.begin() + 2 * k, s.points.begin() + 2 * k + 3);
+      const std::vector<double> W(s.weights.begin() + 2 * k, s.weights.begin() + 2 * k + 3);
+      for (int q = 0; q <= 20; ++q) {
+        const Vec2 p = rational_bezier_point(P, W, q / 20.0);
+        worst = std::max(worst, std::abs(on_ellipse(p)));
+        // The eccentric angle moves forward (sweep flag 1: increasing angle).
+        const Vec2 r = p - c;
+        const double x = std::cos(phi) * r.x + std::sin(phi) * r.y, y = -std::sin(phi) * r.x + std::cos(phi) * r.y;
+        double ang = std::atan2(y / ry, x / rx);
+        while (ang < last_angle - 1e-9) ang += 2 * std::numbers::pi;
+        EXPECT_LE(ang, last_angle + std::numbers::pi / 2) << "piece " << k << " t " << q / 20.0;
+        last_angle = ang;
+      }
+    }
+    EXPECT_LT(worst, 1e-12) << d;
+    EXPECT_NEAR(last_angle, a1, 1e-9);
+    EXPECT_LT(dist(s.points.back(), p1), 1e-12);
+    const nlohmann::json j = path_json(s);
+    EXPECT_EQ(j["weights"].size(), s.points.size());
+  }
+  // Large-arc 0 with the same ends: the other way, the short 120-degree arc.
+  char small[256];
+  std::snprintf(small, sizeof small, "M%.17g %.17g A4 2 30 0 0 %.17g %.17g", p0.x, p0.y, p1.x, p1.y);
+  const auto s = parse_path_data(small, "t").at(0);
+  EXPECT_EQ((s.points.size() - 1) / 2, 2u);
+  EXPECT_LT(std::abs(on_ellipse(rational_bezier_point({s.points[0], s.points[1], s.points[2]},
+                                                     {s.weights[0], s.weights[1], s.weights[2]}, 0.5))),
+            1e-12);
+}
+
+TEST(ImportSvg, DegenerateArcsFollowTheSpec) {
+  // Zero radius: a straight line; equal ends: nothing (no subpath left).
+  expect_piece("M0 0 A0 3 0 0 1 4 0", 0, {{0, 0}, {4, 0}});
+  EXPECT_TRUE(parse_path_data("M1 1 A3 3 0 0 1 1 1", "t").empty());
+  // Radii too small are scaled up (F.6.6): a half circle through both ends.
+  const auto s = parse_path_data("M0 0 A1 1 0 0 1 4 0", "t").at(0);
+  for (std::size_t k = 0; k + 2 < s.points.size(); k += 2) {
+    const Vec2 p = rational_bezier_point({s.points[k], s.points[k + 1], s.points[k + 2]},
+                                         {s.weights[k], s.weights[k + 1], s.weights[k + 2]}, 0.3);
+    EXPECT_NEAR(dist(p, {2, 0}), 2.0, 1e-12);
+  }
+}
+
+TEST(ImportSvg, NumberGrammarAndErrors) {
+  // Signs and dots separate numbers; exponents; arc flags without separators.
+  expect_piece("M.5.5L-1-2", 0, {{0.5, 0.5}, {-1, -2}});
+  expect_piece("M1e1,+2E-1 l1e0-1", 0, {{10, 0.2}, {11, -0.8}});
+  EXPECT_EQ(parse_path_data("M0 0a1 1 0 104 0", "t").size(), 1u);
+  auto message = [](const std::string& d) {
+    try {
+      (void)parse_path_data(d, "t");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("L1 2"), "d[0]: path data must start with M or m");
+  EXPECT_EQ(message("1 2"), "d[0]: path data must start with M or m");
+  EXPECT_EQ(message("M1 2 L3"), "d[7]: expected a number");
+  EXPECT_EQ(message("M1 2 X3 4"), "d[5]: unknown command 'X'");
+  EXPECT_EQ(message("M0 0 A1 1 0 2 0 3 3"), "d[12]: expected an arc flag 0 or 1");
+  EXPECT_EQ(message("M0 0 L1 1 Z 3"), "d[12]: numbers after Z");
+}
+
+TEST(ImportSvg, ReadsEveryPathOfAFile) {
+  const auto path = std::filesystem::temp_directory_path() / ("cmr_import_svg_" + std::to_string(::getpid()) + ".svg");
+  {
+    std::ofstream out(path);
+    out << "<svg xmlns='http://www.w3.org/2000/svg'><path id=\"bowl\" d=\"M0 0 Q5 5 10 0 Z\"/>"
+           "<rect/><path fill='none' d='M0 0 C1 1 2 1 3 0 M5 5 L6 6'/></svg>";
+  }
+  const auto paths = read_svg(path);
+  ASSERT_EQ(paths.size(), 3u);
+  const std::string stem = path.stem().string();
+  EXPECT_EQ(paths[0].name, stem + "/bowl/s0");
+  EXPECT_TRUE(paths[0].closed);
+  EXPECT_EQ(paths[1].name, stem + "/path1/s0");
+  EXPECT_EQ(paths[2].name, stem + "/path1/s1");
+  std::ofstream(path) << "<svg><path d='M0 0 L'/></svg>";
+  try {
+    (void)read_svg(path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(": path 0, d[6]: expected a number"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace cmr::import
