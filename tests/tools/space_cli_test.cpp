@@ -84,5 +84,23 @@ TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
   EXPECT_EQ(std::count(pgm.begin() + 13, pgm.end(), '\x02'), dec);
 }
 
+TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {
+  const std::string dir = (test::scratch() / "obj_import").string();
+  const test::Outcome r = run("import " + std::string(CMR_SOURCE_DIR) + "/examples/space/curves.obj --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("imported 2 space curves"), std::string::npos) << r.out;
+  const test::Outcome a = run("analyze " + dir + "/curves_0_lifted.json");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  // The same curve as examples/space/fig8b_lifted.json (its knots shifted by -1).
+  EXPECT_EQ(doc["spline"]["curvature"], "decreasing");
+  EXPECT_EQ(doc["segments"].size(), 3u);
+  const test::Outcome b = run("analyze " + dir + "/curves_1_sweep.json");
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(nlohmann::json::parse(b.out)["segments"].size(), 2u);
+  expect_one_line_error(run("import " + write("none.obj", "v 0 0 0\nf 1 1 1\n") + " --out " + dir),
+                        "none.obj: no curves (cstype/curv or l elements)");
+}
+
 }  // namespace
 }  // namespace cmr
