@@ -4,9 +4,11 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
+#include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
 
 namespace cmr::cli {
 
@@ -20,6 +22,7 @@ struct AnalyzeArgs {
   ContinuityTolerances continuity;
   bool pretty = false;
   std::string segments;
+  bool torsion = false;  // space curves (tools/cmd_space.hpp)
 };
 
 nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits) {
@@ -105,8 +108,17 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
   add_continuity_options(*cmd, args->continuity);
+  cmd->add_flag("--torsion", args->torsion, "space curves: also judge torsion monotonicity (docs/space.md)");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
+    if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
+      if (!args->split.empty() || !args->segments.empty() || args->mode != "cmrwi")
+        throw InputError(args->file + ": a space curve; --split, --segments and --mode are for planar splines");
+      run_space_analyze(args->file, args->depth, args->torsion, args->continuity, args->pretty);
+      exit_code = kOk;
+      return;
+    }
+    if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
     const BSpline spline = read_spline_file(args->file);
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;

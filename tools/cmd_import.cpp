@@ -11,6 +11,7 @@
 #include "tools/cli_common.hpp"
 #include "io/font.hpp"
 #include "io/svg.hpp"
+#include "io/obj.hpp"
 
 namespace cmr::cli {
 
@@ -26,8 +27,8 @@ struct ImportArgs {
 
 void add_import_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ImportArgs>();
-  auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF) or SVG paths as spline files");
-  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...) or SVG file (.svg)")->required();
+  auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF), SVG paths or OBJ curves as spline files");
+  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...), SVG file (.svg) or Wavefront OBJ curves (.obj)")->required();
   cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
@@ -52,6 +53,20 @@ void add_import_command(CLI::App& app, int& exit_code) {
       files.commit();
       std::cout << "imported " << written << (written == 1 ? " subpath" : " subpaths") << " (" << rational
                 << " rational) from " << args->input << " into " << dir.string() << '\n';
+    } else if (ext == ".obj") {  // space curves (io/obj.hpp, docs/space.md)
+      if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
+      const auto curves = import::read_obj_curves(input);
+      const std::filesystem::path dir = args->out;
+      files.create_folder(dir);
+      for (const import::ObjCurve& c : curves) {
+        files.stage(dir / (input.stem().string() + "_" + std::to_string(written) + "_" + import::file_stem(c.spline.name()) +
+                           ".json"),
+                    space_spline_to_json(c.spline).dump(2) + "\n");
+        ++written;
+      }
+      files.commit();
+      std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " from "
+                << args->input << " into " << dir.string() << '\n';
     } else if (import::is_font_path(input)) {
       const import::Font font = import::read_font(input, import::parse_glyph_spec(args->glyphs));
       const std::filesystem::path dir = args->out;
@@ -71,7 +86,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       if (!font.missing.empty()) std::cout << "; " << font.missing.size() << " characters not in the font";
       std::cout << '\n';
     } else {
-      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff) or .svg file");
+      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff), .svg or .obj file");
     }
     exit_code = kOk;
   });

@@ -15,6 +15,7 @@
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
 #include "draw/draw.hpp"
 #include "draw/mesh.hpp"
 #include "draw/weight_picture.hpp"
@@ -44,6 +45,7 @@ struct RegionArgs {
   std::optional<double> from, to;
   int samples = WeightRegionRequest{}.samples;
   std::string plot, json_out;
+  std::string plane;  // space curves: --plane (tools/cmd_space.hpp)
   /// Options given on the command line, by name (to refuse those of the
   /// other mode with one line).
   std::vector<std::pair<std::string, const CLI::Option*>> given;
@@ -383,9 +385,20 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--contours", a->contours,
                   "region outlines refined on the exact boundary: .svg, or triangulated .obj/.ply (areas in the summary)");
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
+  cmd->add_option("--plane", a->plane, "space curves: the plane K moves in, xy|yz|zx through K or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ "
+                                       "(default: through K, spanned by its neighbours; docs/space.md)");
   add_pretty_flag(*cmd, a->pretty);
   for (CLI::Option* o : cmd->get_options()) a->given.emplace_back(o->get_name(), o);
   cmd->callback([a, &exit_code] {
+    if (spline_file_dimension(a->file) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
+      refuse_options(*a, {"--weight", "--with", "--split", "--segments", "--mode", "--contours", "--device", "--precision"},
+                     "is for planar splines (" + a->file + " is a space curve)");
+      run_space_region({a->file, a->point, a->plane, a->size, a->view, a->backend, a->depth, a->png, a->labels,
+                        a->depth_map, a->stats, a->pretty});
+      exit_code = kOk;
+      return;
+    }
+    refuse_options(*a, {"--plane"}, "is for space curves (" + a->file + " is planar)");
     if (a->weight) {
       run_weight_region(*a);
     } else {

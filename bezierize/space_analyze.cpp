@@ -1,0 +1,206 @@
+#include "bezierize/space_analyze.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "bezierize/roots.hpp"
+#include "bezierize/space_classify.hpp"
+
+namespace cmr {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Where p (exact, >= 0 on [0, 1] by construction: |c|^2 or |P'|^2) is 0 on
+/// the segment [a, b]: nearest doubles of points of the exact enclosures.
+std::vector<double> zeros_on(const Bernstein<Rational>& p, double a, double b) {
+  std::vector<double> out;
+  for (const RootInterval& r : isolate_roots(p)) {
+    const Rational t = r.exact() ? r.lo : Rational((r.lo + r.hi) / 2);
+    const Rational u = Rational(a) + t * (Rational(b) - Rational(a));
+    const double v = nearest_double(u);
+    if (out.empty() || out.back() != v) out.push_back(v);
+  }
+  return out;
+}
+
+double angle_deg(const Point3<Rational>& u, const Point3<Rational>& v) {
+  const Point3<Rational> x = cross3(u, v);
+  const Rational dp = dot3(u, v);
+  if (sgn(x.x) == 0 && sgn(x.y) == 0 && sgn(x.z) == 0 && sgn(dp) > 0) return 0.0;
+  return std::atan2(std::sqrt(dot3(x, x).get_d()), dp.get_d()) * (180.0 / std::numbers::pi);
+}
+
+/// The terms of one end: legs a, b, c read from the end inwards.
+struct SpaceEnd {
+  Point3<Rational> a, b;
+  Rational G;   ///< a.a
+  Rational A2;  ///< |a x b|^2
+  Rational D;   ///< det(a, b, c) (0 for degree 2)
+  Point3<Rational> n;  ///< normal of the osculating plane in forward order
+};
+
+SpaceEnd space_end(const std::vector<Point3<Rational>>& B, bool at_end) {
+  const int d = static_cast<int>(B.size()) - 1;
+  const auto q = [&](int k) -> const Point3<Rational>& { return at_end ? B[d - k] : B[k]; };
+  SpaceEnd e;
+  e.a = q(1) - q(0);
+  e.b = q(2) - q(1);
+  e.G = dot3(e.a, e.a);
+  const Point3<Rational> x = cross3(e.a, e.b);
+  e.A2 = dot3(x, x);
+  e.D = d >= 3 ? dot3(x, Point3<Rational>(q(3) - q(2))) : Rational(0);
+  // Forward order: (b x a) read backwards at a segment's end, (a x b) at its start.
+  e.n = at_end ? cross3(e.b, e.a) : x;
+  return e;
+}
+
+/// kappa = (d-1)/d |a x b| / |a|^3: kappa^2 exact, one rounding and a square root.
+double end_kappa(const SpaceEnd& e, int d) {
+  if (sgn(e.G) == 0) return kNaN;
+  const Rational f = Scalar<Rational>::ratio(d - 1, d);
+  const Rational k2 = f * f * e.A2 / (e.G * e.G * e.G);
+  return std::sqrt(k2.get_d());
+}
+
+/// tau = (d-2)/d det(a, b, c) / |a x b|^2 (invariant under reversal).
+double end_tau(const SpaceEnd& e, int d) {
+  if (sgn(e.A2) == 0) return kNaN;
+  return Rational(Scalar<Rational>::ratio(d - 2, d) * e.D / e.A2).get_d();
+}
+
+std::vector<Point3<Rational>> exact_bezier(const SpaceSpline& spline, const Segment& s) {
+  const SpaceWindow w = space_window(spline, s);
+  return space_window_bezier<Rational>(w, space_window_points<Rational>(spline, w));
+}
+
+}  // namespace
+
+SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options) {
+  const SpaceWindow w = space_window(spline, s);
+  const auto make_b = [&] { return space_window_points<Bounded>(spline, w); };
+  const auto make_r = [&] { return space_window_points<Rational>(spline, w); };
+  SpaceSegmentResult r;
+  const SpaceDecision c = space_decide(w, SpaceQuantity::curvature, options.max_depth, make_b, make_r);
+  r.curvature = c.result;
+  r.exact_used = c.exact_used;
+  const std::vector<Point3<Bounded>> Bb = space_window_bezier<Bounded>(w, make_b());
+  const SpacePolynomials<Bounded> pb = space_polynomials<Bounded>(Bb);
+  std::optional<std::vector<Point3<Rational>>> Br;
+  const auto exact = [&]() -> const std::vector<Point3<Rational>>& {
+    if (!Br) Br = space_window_bezier<Rational>(w, make_r());
+    return *Br;
+  };
+  if (strict_sign(pb.c2) != 1) {
+    const SpacePolynomials<Rational> pr = space_polynomials<Rational>(exact());
+    if (is_zero(pr.c2)) r.straight = true;
+    else r.zero_curvature = zeros_on(pr.c2, s.a, s.b);
+  }
+  if (strict_sign(pb.g) != 1) {
+    const Bernstein<Rational> g = space_speed2_bernstein<Rational>(exact());
+    r.cusp = is_zero(g) || !isolate_roots(g).empty();
+  }
+  if (options.torsion) {
+    const SpaceDecision t = space_decide(w, SpaceQuantity::torsion, options.max_depth, make_b, make_r);
+    r.torsion = t.result;
+    r.exact_used = r.exact_used || t.exact_used;
+    const Bernstein<Bounded> nb = torsion_numerator_bernstein<Bounded>(Bb);
+    r.torsion_sign = strict_sign(nb);
+    if (r.torsion_sign == 0 && !nb.empty()) r.torsion_sign = strict_sign(torsion_numerator_bernstein<Rational>(exact()));
+  }
+  return r;
+}
+
+SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const ContinuityTolerances& tolerances) {
+  const Segment& L = spline.segments()[static_cast<std::size_t>(left)];
+  const Segment& R = spline.segments()[static_cast<std::size_t>(right)];
+  const int d = spline.degree();
+  SpaceJoint j;
+  j.index = right == 0 ? spline.segment_count() : right;
+  j.knot = right == 0 ? L.b : R.a;
+  j.multiplicity = spline.multiplicity(R.a);
+  j.continuity = d - j.multiplicity;
+  const SpaceEnd l = space_end(exact_bezier(spline, L), true), r = space_end(exact_bezier(spline, R), false);
+  j.kappa_left = end_kappa(l, d);
+  j.kappa_right = end_kappa(r, d);
+  j.tau_left = end_tau(l, d);
+  j.tau_right = end_tau(r, d);
+  j.zero_tangent = sgn(l.G) == 0 || sgn(r.G) == 0;
+  if (j.zero_tangent) {
+    j.angle_deg = j.normal_angle_deg = kNaN;
+    return j;
+  }
+  // sign(kappa_R - kappa_L) = sign(kappa_R^2 - kappa_L^2) = sign(A2_R G_L^3 - A2_L G_R^3).
+  if (j.continuity < 2) j.jump = sgn(Rational(r.A2 * l.G * l.G * l.G - l.A2 * r.G * r.G * r.G));
+  // sign(tau_R - tau_L) = sign(D_R A2_L - D_L A2_R) where both kappa > 0.
+  if (j.continuity < 3 && sgn(l.A2) > 0 && sgn(r.A2) > 0) j.torsion_jump = sgn(Rational(r.D * l.A2 - l.D * r.A2));
+  j.angle_deg = j.continuity >= 1 ? 0.0 : angle_deg(Point3<Rational>(Rational(0) - l.a.x, Rational(0) - l.a.y,
+                                                                    Rational(0) - l.a.z),
+                                                    r.a);
+  j.normal_angle_deg = sgn(l.A2) == 0 || sgn(r.A2) == 0 ? kNaN : (j.continuity >= 2 ? 0.0 : angle_deg(l.n, r.n));
+  j.g1 = j.angle_deg <= tolerances.angle_deg;
+  const double diff = std::fabs(j.kappa_right - j.kappa_left);
+  const double scale = std::max(j.kappa_left, j.kappa_right);
+  const bool same_kappa = j.continuity >= 2 || (j.continuity >= 1 && j.jump == 0) || diff <= tolerances.curvature_rel * scale;
+  const bool same_plane = std::isnan(j.normal_angle_deg) || j.normal_angle_deg <= tolerances.angle_deg;
+  j.g2 = j.g1 && same_kappa && same_plane;
+  return j;
+}
+
+namespace {
+
+Joint as_joint(const SpaceJoint& s, bool torsion) {
+  Joint j;
+  j.index = s.index;
+  j.jump = torsion ? s.torsion_jump : s.jump;
+  return j;
+}
+
+SegmentClass as_class(const SpaceSegmentResult& s, bool torsion) {
+  SegmentClass c = neutral_class();
+  c.monotonicity = torsion ? s.torsion.value_or(MonotonicityResult{}) : s.curvature;
+  return c;
+}
+
+}  // namespace
+
+Direction space_verdict(const SpaceSpline& spline, const std::vector<SpaceSegmentResult>& segments,
+                        const std::vector<SpaceJoint>& joints, const std::optional<SpaceJoint>& seam, bool torsion,
+                        std::vector<int>* conflicts) {
+  (void)spline;
+  std::vector<SegmentClass> classes;
+  std::vector<Joint> js;
+  for (const SpaceSegmentResult& s : segments) classes.push_back(as_class(s, torsion));
+  for (const SpaceJoint& j : joints) js.push_back(as_joint(j, torsion));
+  int last = static_cast<int>(classes.size());
+  if (seam) {  // the seam as the joint before a neutral class appended at the end (analyze.hpp)
+    classes.push_back(neutral_class());
+    js.push_back(as_joint(*seam, torsion));
+    ++last;
+  }
+  return part_verdict(classes, js, 0, last, Mode::cmrwi, conflicts);
+}
+
+SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions& options) {
+  if (options.max_depth < 0 || options.max_depth > kMaxDepth)
+    throw InputError("--depth " + std::to_string(options.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+  validate(options.continuity);
+  SpaceAnalysis a;
+  const int N = spline.segment_count();
+  for (const Segment& s : spline.segments()) {
+    a.segments.push_back(space_segment(spline, s, options));
+    const SpaceSegmentResult& r = a.segments.back();
+    a.exact_segments += r.exact_used ? 1 : 0;
+    a.cusp = a.cusp || r.cusp;
+    a.zero_curvature = a.zero_curvature || !r.zero_curvature.empty();
+  }
+  for (int i = 1; i < N; ++i) a.joints.push_back(space_joint(spline, i - 1, i, options.continuity));
+  if (spline.closed()) a.seam = space_joint(spline, N - 1, 0, options.continuity);
+  a.curvature = space_verdict(spline, a.segments, a.joints, a.seam, false, &a.joint_conflicts);
+  if (options.torsion) a.torsion = space_verdict(spline, a.segments, a.joints, a.seam, true);
+  return a;
+}
+
+}  // namespace cmr

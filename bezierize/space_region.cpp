@@ -1,0 +1,276 @@
+#include "bezierize/space_region.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "bezierize/space_classify.hpp"
+#include "spline/errors.hpp"
+#include "spline/parallel.hpp"
+
+namespace cmr {
+
+namespace {
+
+bool finite3(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+/// U x V == 0 exactly (parallel or zero directions).
+bool degenerate(const Vec3& u, const Vec3& v) {
+  const Point3<Rational> a{Rational(u.x), Rational(u.y), Rational(u.z)}, b{Rational(v.x), Rational(v.y), Rational(v.z)};
+  const Point3<Rational> c = cross3(a, b);
+  return sgn(c.x) == 0 && sgn(c.y) == 0 && sgn(c.z) == 0;
+}
+
+void check_plane(const SpacePlane& p, const std::string& what) {
+  if (!finite3(p.origin) || !finite3(p.u) || !finite3(p.v)) throw InputError(what + ": not finite");
+  if (degenerate(p.u, p.v)) throw InputError(what + ": U and V are parallel (the plane is degenerate)");
+}
+
+}  // namespace
+
+SpacePlane parse_space_plane(const std::string& text, Vec3 through) {
+  if (text == "xy") return {through, {1, 0, 0}, {0, 1, 0}};
+  if (text == "yz") return {through, {0, 1, 0}, {0, 0, 1}};
+  if (text == "zx") return {through, {0, 0, 1}, {1, 0, 0}};
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size())
+      throw InputError("--plane: '" + item + "' is not a number (expected xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ)");
+    v.push_back(x);
+  }
+  if (v.size() != 9)
+    throw InputError("--plane: " + std::to_string(v.size()) +
+                     " numbers given, expected 9 (OX,OY,OZ,UX,UY,UZ,VX,VY,VZ), or xy, yz, zx");
+  SpacePlane p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
+  check_plane(p, "--plane");
+  return p;
+}
+
+SpacePlane default_space_plane(const SpaceSpline& spline, int k) {
+  const int m = spline.unique_point_count();
+  if (k < 0 || k >= m) throw InputError("--point " + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
+  const auto P = [&](int i) { return spline.points()[static_cast<std::size_t>(i)]; };
+  int i1 = k + 1, i2 = k - 1;
+  if (spline.closed()) {
+    i1 = (k + 1) % m;
+    i2 = (k + m - 1) % m;
+  } else if (k == 0) {
+    i2 = 2;
+  } else if (k == m - 1) {
+    i1 = m - 3;
+  }
+  if (i1 < 0 || i2 < 0 || i1 >= m || i2 >= m)
+    throw InputError("point " + std::to_string(k) + " has too few neighbours for a default plane; give --plane");
+  SpacePlane p{P(k), P(i1) - P(k), P(i2) - P(k)};
+  if (degenerate(p.u, p.v))
+    throw InputError("the default plane of point " + std::to_string(k) +
+                     " is degenerate (its neighbours are collinear with it); give --plane");
+  return p;
+}
+
+BSpline project_to_plane(const SpaceSpline& spline, const SpacePlane& plane) {
+  const double uu = glm::dot(plane.u, plane.u), uv = glm::dot(plane.u, plane.v), vv = glm::dot(plane.v, plane.v);
+  const double det = uu * vv - uv * uv;
+  std::vector<Vec2> pts;
+  for (int k = 0; k < spline.unique_point_count(); ++k) {
+    const Vec3 x = spline.points()[static_cast<std::size_t>(k)] - plane.origin;
+    const double bu = glm::dot(plane.u, x), bv = glm::dot(plane.v, x);
+    pts.emplace_back((vv * bu - uv * bv) / det, (uu * bv - uv * bu) / det);
+  }
+  if (spline.closed()) return BSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name());
+  return BSpline::make(spline.degree(), spline.knots(), pts, spline.name());
+}
+
+struct SpaceRegionProblem::State {
+  SpaceSpline spline;
+  SpaceRegionRequest request;
+  std::vector<SpaceSegmentResult> segments;
+  std::vector<SpaceJoint> joints;
+  std::optional<SpaceJoint> seam;
+  std::vector<int> moved_segments;  ///< segments whose window holds the point (or its twin)
+  std::vector<int> moved_joints;    ///< joint indices 1..N (N: the seam) next to a moved segment, not C^2
+};
+
+namespace {
+
+template <class T>
+std::vector<Point3<T>> moved_window(const SpaceSpline& spline, const SpaceWindow& w, int k, int twin,
+                                    const Point3<T>& q) {
+  std::vector<Point3<T>> pts = space_window_points<T>(spline, w);
+  for (int i = 0; i <= w.degree; ++i)
+    if (w.first + i == k || w.first + i == twin) pts[static_cast<std::size_t>(i)] = q;
+  return pts;
+}
+
+/// sign(kappa_R - kappa_L) from the Bezier points of the two sides
+/// (space_analyze.cpp's rule): kSignUnknown when T's bounds do not decide.
+template <class T>
+int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R) {
+  const int d = static_cast<int>(L.size()) - 1;
+  const Point3<T> al = L[d - 1] - L[d], bl = L[d - 2] - L[d - 1], ar = R[1] - R[0], br = R[2] - R[1];
+  const T gl = dot3(al, al), gr = dot3(ar, ar);
+  const int sl = Scalar<T>::sign(gl), sr = Scalar<T>::sign(gr);
+  if (sl == kSignUnknown || sr == kSignUnknown) return kSignUnknown;
+  if (sl == 0 || sr == 0) return 0;
+  const Point3<T> xl = cross3(al, bl), xr = cross3(ar, br);
+  const T a2l = dot3(xl, xl), a2r = dot3(xr, xr);
+  return Scalar<T>::sign(T(a2r * gl * gl * gl) - T(a2l * gr * gr * gr));
+}
+
+RegionLabel label_of(Direction d) {
+  switch (d) {
+    case Direction::increasing: return RegionLabel::increasing;
+    case Direction::decreasing: return RegionLabel::decreasing;
+    case Direction::none: return RegionLabel::not_monotone;
+    case Direction::undecided: return RegionLabel::undecided;
+  }
+  return RegionLabel::undecided;
+}
+
+}  // namespace
+
+SpaceRegionProblem SpaceRegionProblem::make(const SpaceSpline& spline, const SpaceRegionRequest& request) {
+  auto s = std::make_shared<State>(State{spline, request, {}, {}, {}, {}, {}});
+  SpaceRegionRequest& r = s->request;
+  const int m = spline.unique_point_count();
+  if (r.point < 0 || r.point >= m)
+    throw InputError("--point " + std::to_string(r.point) + " is outside 0.." + std::to_string(m - 1));
+  if (r.max_depth < 0 || r.max_depth > kMaxDepth)
+    throw InputError("--depth " + std::to_string(r.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+  if (r.width < 1 || r.width > kMaxImageSize || r.height < 1 || r.height > kMaxImageSize)
+    throw InputError("--size " + std::to_string(r.width) + "x" + std::to_string(r.height) + " is outside 1.." +
+                     std::to_string(kMaxImageSize) + " per side");
+  if (!r.plane) r.plane = default_space_plane(spline, r.point);
+  check_plane(*r.plane, "--plane");
+  if (!r.view) r.view = default_view(project_to_plane(spline, *r.plane), r.width, r.height);
+  const View& v = *r.view;
+  if (!std::isfinite(v.x0) || !std::isfinite(v.x1) || !std::isfinite(v.y0) || !std::isfinite(v.y1) ||
+      !(v.x1 > v.x0) || !(v.y1 > v.y0) || !std::isfinite(v.x1 - v.x0) || !std::isfinite(v.y1 - v.y0))
+    throw InputError("--view: needs finite X0 < X1 and Y0 < Y1");
+  SpaceAnalyzeOptions o;
+  o.max_depth = r.max_depth;
+  for (const Segment& seg : spline.segments()) s->segments.push_back(space_segment(spline, seg, o));
+  const int N = spline.segment_count(), d = spline.degree();
+  for (int i = 1; i < N; ++i) s->joints.push_back(space_joint(spline, i - 1, i, o.continuity));
+  if (spline.closed()) s->seam = space_joint(spline, N - 1, 0, o.continuity);
+  const int twin = spline.twin(r.point);
+  std::vector<bool> moved(static_cast<std::size_t>(N), false);
+  for (const Segment& seg : spline.segments()) {
+    const int first = seg.span - d + 1;
+    for (int i = first; i <= first + d; ++i) moved[seg.index] = moved[seg.index] || i == r.point || i == twin;
+    if (moved[seg.index]) s->moved_segments.push_back(seg.index);
+  }
+  for (int i = 1; i <= N; ++i) {
+    if (i == N && !spline.closed()) break;
+    const int left = i - 1, right = i % N;
+    const SpaceJoint& j = i == N ? *s->seam : s->joints[i - 1];
+    if ((moved[left] || moved[right]) && j.continuity < 2) s->moved_joints.push_back(i);
+  }
+  return SpaceRegionProblem(std::move(s));
+}
+
+const SpaceRegionRequest& SpaceRegionProblem::request() const { return state_->request; }
+const SpaceSpline& SpaceRegionProblem::spline() const { return state_->spline; }
+
+RegionPixel SpaceRegionProblem::classify(double a, double b) const {
+  const State& s = *state_;
+  const SpacePlane& pl = *s.request.plane;
+  const int k = s.request.point, twin = s.spline.twin(k);
+  const auto coord_b = [&](double o, double u, double v) { return Bounded(o) + Bounded(a) * Bounded(u) + Bounded(b) * Bounded(v); };
+  const auto coord_r = [&](double o, double u, double v) {
+    return Rational(Rational(o) + Rational(a) * Rational(u) + Rational(b) * Rational(v));
+  };
+  const Point3<Bounded> qb{coord_b(pl.origin.x, pl.u.x, pl.v.x), coord_b(pl.origin.y, pl.u.y, pl.v.y),
+                           coord_b(pl.origin.z, pl.u.z, pl.v.z)};
+  std::optional<Point3<Rational>> qr;
+  const auto exact_q = [&]() -> const Point3<Rational>& {
+    if (!qr) qr = Point3<Rational>{coord_r(pl.origin.x, pl.u.x, pl.v.x), coord_r(pl.origin.y, pl.u.y, pl.v.y),
+                                   coord_r(pl.origin.z, pl.u.z, pl.v.z)};
+    return *qr;
+  };
+  RegionPixel px;
+  std::vector<SpaceSegmentResult> segs = s.segments;
+  for (const int i : s.moved_segments) {
+    const SpaceWindow w = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(i)]);
+    const auto make_b = [&] { return moved_window<Bounded>(s.spline, w, k, twin, qb); };
+    const auto make_r = [&] { return moved_window<Rational>(s.spline, w, k, twin, exact_q()); };
+    SpaceDecision dec;
+    if (s.request.exact_only) {
+      const auto r = algorithm1(lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, make_r())), s.request.max_depth);
+      CMR_CHECK(r.has_value());
+      dec.result = *r;
+      dec.exact_used = true;
+    } else {
+      dec = space_decide(w, SpaceQuantity::curvature, s.request.max_depth, make_b, make_r);
+    }
+    segs[static_cast<std::size_t>(i)].curvature = dec.result;
+    px.exact = px.exact || dec.exact_used;
+  }
+  std::vector<SpaceJoint> joints = s.joints;
+  std::optional<SpaceJoint> seam = s.seam;
+  const int N = s.spline.segment_count();
+  for (const int i : s.moved_joints) {
+    const Segment& L = s.spline.segments()[static_cast<std::size_t>(i - 1)];
+    const Segment& R = s.spline.segments()[static_cast<std::size_t>(i % N)];
+    const SpaceWindow wl = space_window(s.spline, L), wr = space_window(s.spline, R);
+    int sign = kSignUnknown;
+    if (!s.request.exact_only)
+      sign = jump_sign3<Bounded>(space_window_bezier<Bounded>(wl, moved_window<Bounded>(s.spline, wl, k, twin, qb)),
+                                 space_window_bezier<Bounded>(wr, moved_window<Bounded>(s.spline, wr, k, twin, qb)));
+    if (sign == kSignUnknown) {
+      sign = jump_sign3<Rational>(
+          space_window_bezier<Rational>(wl, moved_window<Rational>(s.spline, wl, k, twin, exact_q())),
+          space_window_bezier<Rational>(wr, moved_window<Rational>(s.spline, wr, k, twin, exact_q())));
+      px.exact = true;
+    }
+    (i == N ? *seam : joints[static_cast<std::size_t>(i - 1)]).jump = sign;
+  }
+  px.label = label_of(space_verdict(s.spline, segs, joints, seam, false));
+  int depth = 0;
+  bool level0 = false;
+  for (const SpaceSegmentResult& r : segs) {
+    depth = std::max(depth, r.curvature.depth);
+    level0 = level0 || (r.curvature.curvature == Curvature::non_monotone && r.curvature.depth == 0);
+  }
+  px.depth = static_cast<std::uint8_t>(level0 ? 0 : depth);
+  return px;
+}
+
+RegionResult SpaceRegionProblem::render(int threads) const {
+  const auto start = std::chrono::steady_clock::now();
+  const SpaceRegionRequest& r = state_->request;
+  RegionResult out;
+  out.width = r.width;
+  out.height = r.height;
+  out.view = *r.view;
+  const std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  out.labels.assign(n, RegionLabel::not_monotone);
+  out.depth.assign(n, 0);
+  std::vector<std::uint8_t> exact(n, 0);
+  parallel_for(static_cast<std::size_t>(r.height), threads, [&](std::size_t j) {
+    for (int i = 0; i < r.width; ++i) {
+      const Vec2 c = pixel_center(out.view, r.width, r.height, i, static_cast<int>(j));
+      const RegionPixel p = classify(c.x, c.y);
+      const std::size_t idx = j * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(i);
+      out.labels[idx] = p.label;
+      out.depth[idx] = p.depth;
+      exact[idx] = p.exact ? 1 : 0;
+    }
+  });
+  for (const std::uint8_t e : exact) out.exact_pixels += e;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace cmr

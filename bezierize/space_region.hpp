@@ -1,0 +1,78 @@
+#pragma once
+// Regions of a point of a space curve moving in a plane (issue 25):
+// control point K placed at Q(a, b) = O + a U + b V for every pixel (a, b) of
+// a view of the plane's coordinates, labelled with the spline-level curvature
+// verdict of analyze_space (bezierize/space_analyze.hpp) for the spline so
+// changed.
+//
+// Semantics of one position (a, b): Q is the exact point O + a U + b V
+// (exact rationals from the doubles O, U, V, a, b; it need not be a double),
+// and the label is the verdict exact arithmetic gives for the spline with
+// point K (and its twin on a closed spline) at Q: increasing / decreasing
+// (|kappa| monotone over the whole spline), not-monotone, or undecided at the
+// depth limit. Pixel centres are those of the plane (region.hpp:
+// pixel_center). Certification: each affected segment's lambda3 is computed
+// with error bounds from Q's error-bounded coordinates, and exactly (GMP)
+// where a sign that matters is uncertain; joints whose jump matters (not C^2
+// by the knots) likewise. Segments and joints that K does not touch are
+// classified once. Every Bernstein coefficient of lambda3 is a bivariate
+// quartic in (a, b) (c is affine in Q); this backend evaluates it per pixel
+// rather than as a prepared polynomial (the plane's RegionSetup), so it is
+// slower than the planar engine, and only the CPU backend exists.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bezierize/region.hpp"
+#include "bezierize/space_analyze.hpp"
+
+namespace cmr {
+
+struct SpacePlane {
+  Vec3 origin{0.0}, u{1, 0, 0}, v{0, 1, 0};
+};
+
+/// A plane from its text: "xy", "yz" or "zx" (the coordinate plane through
+/// `through`, axes in that order), or nine numbers "ox,oy,oz,ux,uy,uz,vx,vy,vz".
+/// InputError for anything else, a non-finite number, or U, V parallel or zero
+/// ("--plane: U and V are parallel (the plane is degenerate)").
+SpacePlane parse_space_plane(const std::string& text, Vec3 through);
+/// The default plane of point k: through P_k, spanned by the directions to its
+/// neighbours (P_{k+1} - P_k and P_{k-1} - P_k; at an end, the next two
+/// points). InputError when they are parallel.
+SpacePlane default_space_plane(const SpaceSpline& spline, int k);
+
+struct SpaceRegionRequest {
+  int point = 0;
+  std::optional<SpacePlane> plane;  ///< default_space_plane when empty
+  int max_depth = kDefaultDepth;
+  int width = 256, height = 256;
+  std::optional<View> view;  ///< in plane coordinates (a, b); default: the projected polygon with a margin
+  bool exact_only = false;   ///< skip the error-bounded path (tests: the exact reference)
+};
+
+/// The planar spline of the control points' plane coordinates (least
+/// squares, exact for points in the plane): the curve as seen in the plane,
+/// for pictures and the default view.
+BSpline project_to_plane(const SpaceSpline& spline, const SpacePlane& plane);
+
+class SpaceRegionProblem {
+ public:
+  /// Validates: point in range, plane finite and not degenerate, size
+  /// 1..kMaxImageSize, depth 0..kMaxDepth, view finite with positive extent.
+  static SpaceRegionProblem make(const SpaceSpline& spline, const SpaceRegionRequest& request);
+  const SpaceRegionRequest& request() const;  ///< plane and view resolved
+  const SpaceSpline& spline() const;
+  /// The certified label of position (a, b).
+  RegionPixel classify(double a, double b) const;
+  /// Every pixel (threads: 0 = all cores); labels are RegionLabel.
+  RegionResult render(int threads = 0) const;
+
+ private:
+  struct State;
+  explicit SpaceRegionProblem(std::shared_ptr<const State> s) : state_(std::move(s)) {}
+  std::shared_ptr<const State> state_;
+};
+
+}  // namespace cmr

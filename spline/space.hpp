@@ -1,0 +1,103 @@
+#pragma once
+// Space curves (issue 25): polynomial B-splines in R^3, beside the planar
+// BSpline, which stays untouched.
+//
+// A SpaceSpline is a planar BSpline of the points' (x, y) (its "shadow":
+// knots, degree, segments, closed form and every validation are the plane's,
+// once, by BSpline::make / make_closed) plus the z coordinates. The blossom
+// (spline/blossom.hpp) is generic over the point type, so evaluation,
+// derivatives and Bezier extraction run on glm::dvec3 with the same code.
+//
+// Rational space curves (weights) are not supported yet: InputError.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
+
+#include "spline/bspline.hpp"
+#include "spline/spline_json.hpp"
+
+namespace cmr {
+
+using Vec3 = glm::dvec3;
+
+class SpaceSpline {
+ public:
+  /// As BSpline::make (same knot rules and messages), with 3D points; a
+  /// non-finite coordinate is an InputError naming it ("points[2][2] is not a
+  /// finite number").
+  static SpaceSpline make(int degree, std::vector<double> knots, std::vector<Vec3> points, std::string name = {});
+  /// The Bezier curve of degree points.size()-1.
+  static SpaceSpline bezier(std::vector<Vec3> points, std::string name = {});
+  /// As BSpline::make_closed: m distinct points, the m+1 knots of one period.
+  static SpaceSpline make_closed(int degree, std::vector<double> knots, std::vector<Vec3> points,
+                                 std::string name = {});
+  /// A planar polynomial spline placed in the plane z = 0 (InputError for a
+  /// rational one).
+  static SpaceSpline embed(const BSpline& planar);
+
+  int degree() const { return shadow_.degree(); }
+  const std::vector<double>& knots() const { return shadow_.knots(); }
+  /// The control points (unrolled for a closed spline, as BSpline::points()).
+  const std::vector<Vec3>& points() const { return points_; }
+  const std::string& name() const { return shadow_.name(); }
+  int point_count() const { return static_cast<int>(points_.size()); }
+  int unique_point_count() const { return shadow_.unique_point_count(); }
+  const std::vector<Segment>& segments() const { return shadow_.segments(); }
+  int segment_count() const { return shadow_.segment_count(); }
+  double domain_begin() const { return shadow_.domain_begin(); }
+  double domain_end() const { return shadow_.domain_end(); }
+  const Segment& segment_at(double t) const { return shadow_.segment_at(t); }
+  int multiplicity(double u) const { return shadow_.multiplicity(u); }
+  bool closed() const { return shadow_.closed(); }
+  std::vector<double> period_knots() const { return shadow_.period_knots(); }
+  int twin(int k) const { return shadow_.twin(k); }
+  /// The planar spline of the points' (x, y): the knot structure.
+  const BSpline& shadow() const { return shadow_; }
+
+  /// A copy with control point k (and its twin on a closed spline) replaced;
+  /// InputError for a non-finite point.
+  [[nodiscard]] SpaceSpline with_point(int k, Vec3 p) const;
+
+ private:
+  SpaceSpline(BSpline shadow, std::vector<Vec3> points) : shadow_(std::move(shadow)), points_(std::move(points)) {}
+  static SpaceSpline from_shadow(BSpline shadow, const std::vector<double>& z);
+  friend SpaceSpline space_spline_from_json(const nlohmann::json& doc, const ReadOptions& options);
+  BSpline shadow_;
+  std::vector<Vec3> points_;
+};
+
+/// f(args[0..d-1]) on segment s.
+Vec3 blossom(const SpaceSpline& spline, const Segment& s, const double* args);
+/// C(t).
+Vec3 evaluate(const SpaceSpline& spline, double t);
+/// C^(r)(t), 0 <= r <= d.
+Vec3 derivative(const SpaceSpline& spline, double t, int r);
+/// The d+1 Bezier points of segment s (double; the exact ones: space_analyze.hpp).
+std::vector<Vec3> bezier_points(const SpaceSpline& spline, const Segment& s);
+/// Curvature |C' x C''| / |C'|^3 and torsion det(C', C'', C''') / |C' x C''|^2
+/// at t, in double (for plots and tests; certified decisions never use them).
+double space_curvature(const SpaceSpline& spline, double t);
+double space_torsion(const SpaceSpline& spline, double t);
+
+/// 2 when every point of the file's "points" is [x, y] (or there are none or
+/// they are malformed: the planar reader then reports it), 3 when every one
+/// is [x, y, z]. Mixed counts are an InputError naming both points:
+/// "points[1] has 3 coordinates but points[0] has 2 (all points must be
+/// [x, y], or all [x, y, z])".
+int spline_dimension(const nlohmann::json& doc);
+/// The dimension of a spline file (spline_dimension of its JSON, prefixed
+/// with the path on error). A file that is not a JSON object counts as 2
+/// (the planar reader then reports it).
+int spline_file_dimension(const std::filesystem::path& path);
+
+/// A spline file with [x, y, z] points: the planar file format (spline_json.hpp)
+/// otherwise, every field and message the same. "weights" is refused (rational
+/// space curves are not supported yet).
+SpaceSpline space_spline_from_json(const nlohmann::json& doc, const ReadOptions& options = {});
+SpaceSpline read_space_spline_file(const std::filesystem::path& path, const ReadOptions& options = {});
+nlohmann::json space_spline_to_json(const SpaceSpline& spline);
+
+}  // namespace cmr

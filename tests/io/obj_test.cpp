@@ -1,0 +1,97 @@
+// Space curves from Wavefront OBJ (io/obj.hpp, issue 25).
+#include "io/obj.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "spline/errors.hpp"
+
+namespace cmr::import {
+namespace {
+
+const std::string kVertices = R"(# a helix-like polygon
+v 1 0 0
+v 1 1 0.25
+v 0 1.5 0.5
+v -1 1 0.75
+v -1.5 0 1
+v -1 -1 1.25
+)";
+
+TEST(ObjCurves, FreeFormBSplineReadsKnotsAndPoints) {
+  const auto curves = parse_obj_curves(kVertices + R"(o helix
+cstype bspline
+deg 3
+curv 0 3 1 2 3 4 5 6
+parm u 0 0 0 0 1 2 3 3 3 3
+end
+)",
+                                       "t.obj");
+  ASSERT_EQ(curves.size(), 1u);
+  const SpaceSpline& s = curves[0].spline;
+  EXPECT_EQ(curves[0].kind, "curv");
+  EXPECT_EQ(curves[0].line, 11);
+  EXPECT_EQ(s.name(), "helix");
+  EXPECT_EQ(s.degree(), 3);
+  EXPECT_EQ(s.knots(), (std::vector<double>{0, 0, 0, 1, 2, 3, 3, 3}));
+  EXPECT_EQ(s.points()[2], Vec3(0, 1.5, 0.5));
+  EXPECT_EQ(s.segment_count(), 3);
+  EXPECT_LT(glm::length(evaluate(s, 0) - Vec3(1, 0, 0)), 1e-15);  // clamped: starts at the first point
+}
+
+TEST(ObjCurves, RationalWithEqualWeightsBezierPiecesNegativeIndicesAndPolylines) {
+  const auto curves = parse_obj_curves(kVertices + R"(v 2 2 2 1
+cstype rat bspline
+deg 2
+curv 0 2 -4 -3 -2 -1
+parm u 0 0 0 1 2 2 2
+end
+cstype bezier
+deg 2
+curv 0 2 1 2 3 4 5
+parm u 0 1 2
+end
+l 1 2 3 4/1 5
+)",
+                                       "t.obj");
+  ASSERT_EQ(curves.size(), 3u);
+  EXPECT_EQ(curves[0].spline.points()[3], Vec3(2, 2, 2));  // -1: the last vertex so far
+  EXPECT_EQ(curves[1].spline.knots(), (std::vector<double>{0, 0, 1, 1, 2, 2}));
+  EXPECT_EQ(curves[1].spline.segment_count(), 2);
+  EXPECT_EQ(curves[2].kind, "l");
+  EXPECT_EQ(curves[2].spline.degree(), 3);
+  EXPECT_EQ(curves[2].spline.point_count(), 5);
+}
+
+void expect_error(const std::string& body, const std::string& want) {
+  try {
+    parse_obj_curves(kVertices + body, "t.obj");
+    ADD_FAILURE() << "no error for " << body;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), want) << body;
+  }
+}
+
+TEST(ObjCurves, BadInputNamesFileAndLine) {
+  expect_error("", "t.obj: no curves (cstype/curv or l elements)");
+  expect_error("cstype bspline\ndeg 3\ncurv 0 3 1 2 3 4 5 9\nparm u 0 0 0 0 1 2 3 3 3 3\nend\n",
+               "t.obj:10: curv: vertex 9 is outside 1..6 (or -1..-6)");
+  expect_error("cstype bspline\ndeg 3\ncurv 0 3 1 2 3 4 5 6\nparm u 0 0 0 1 2 3 3 3\nend\n",
+               "t.obj:10: parm u: 8 knots for 6 control points of degree 3 (expected points + degree + 1 = 10)");
+  expect_error("cstype bspline\ndeg 3\ncurv 0 2 1 2 3 4 5 6\nparm u 0 0 0 0 1 2 3 3 3 3\nend\n",
+               "t.obj:10: curv: the range [0, 2] is not the curve's domain [0, 3] (trimmed curves are not supported)");
+  expect_error("cstype rat bspline\ndeg 2\ncurv 0 1 1 2 7\nparm u 0 0 0 1 1 1\nend\nv 0 0 0\n",
+               "t.obj:10: curv: vertex 7 is outside 1..6 (or -1..-6)");
+  expect_error("v 3 3 3 2\ncstype rat bspline\ndeg 2\ncurv 0 1 1 2 7\nparm u 0 0 0 1 1 1\nend\n",
+               "t.obj:11: rational curves with unequal weights are not supported (3D splines are polynomial)");
+  expect_error("cstype taylor\n", "t.obj:8: cstype taylor: only bspline and bezier curves are read (not taylor)");
+  expect_error("l 1 2\n", "t.obj:8: l: a polyline needs at least 3 vertices to be a control polygon (got 2)");
+  expect_error("v 1 x 2\n", "t.obj:8: v: 'x' is not a finite number");
+  expect_error("cstype bspline\ndeg 3\ncurv 0 3 1 2 3 4 5 6\n", "t.obj:10: curv: no 'end' statement");
+}
+
+}  // namespace
+}  // namespace cmr::import

@@ -1,0 +1,106 @@
+// `cmr analyze`, `cmr region` and `cmr report` on space curves (issue 25,
+// tools/cmd_space.cpp): outputs and one-line errors with exit code 2.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/cli_util.hpp"
+
+namespace cmr {
+namespace {
+
+using test::run;
+using test::write;
+
+const std::string kExample = std::string(CMR_SOURCE_DIR) + "/examples/space/fig8b_lifted.json";
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+void expect_one_line_error(const test::Outcome& r, const std::string& want) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(want), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(SpaceCli, AnalyzeReportsCurvatureTorsionAndJoints) {
+  const test::Outcome r = run("analyze " + kExample + " --torsion");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["spline"]["dimension"], 3);
+  EXPECT_EQ(doc["spline"]["curvature"], "decreasing");
+  EXPECT_EQ(doc["spline"]["torsion"], "none");
+  ASSERT_EQ(doc["segments"].size(), 3u);
+  EXPECT_EQ(doc["segments"][1]["torsion"], "increasing");
+  ASSERT_EQ(doc["joints"].size(), 2u);
+  EXPECT_EQ(doc["joints"][0]["continuity"], "C2");
+  EXPECT_EQ(doc["joints"][0]["g2"], true);
+}
+
+TEST(SpaceCli, PlanarFilesAreUnchanged) {
+  const test::Outcome r = run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(doc["spline"].contains("dimension"));
+  EXPECT_EQ(doc["spline"]["cmrwi"], "increasing");
+}
+
+TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
+  expect_one_line_error(run("analyze " + write("mixed.json", R"({"points":[[0,0,0],[1,1],[2,0,1]]})")),
+                        "points[1] has 2 coordinates but points[0] has 3 (all points must be [x, y], or all [x, y, z])");
+  expect_one_line_error(run("analyze " + write("w3.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,2,1]})")),
+                        "weights: rational space curves are not supported");
+  expect_one_line_error(run("analyze " + kExample + " --split 1"), "--split, --segments and --mode are for planar splines");
+  expect_one_line_error(run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --torsion"),
+                        "--torsion is for space curves");
+  expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0,1,0,0,2,0,0"),
+                        "--plane: U and V are parallel (the plane is degenerate)");
+  expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0"), "--plane: 3 numbers given, expected 9");
+  expect_one_line_error(run("region " + kExample + " --point 3 --backend vulkan"),
+                        "--backend vulkan: regions of space curves run on the CPU backend only");
+  expect_one_line_error(run("region " + kExample + " --point 3 --split 1"), "--split is for planar splines");
+  expect_one_line_error(run("region " + kExample + " --point 9"), "--point 9 is outside 0..5");
+  expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
+  expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --point 3 --plane xy"),
+                        "--plane is for space curves");
+}
+
+TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
+  const std::string labels = (test::scratch() / "space_labels.pgm").string();
+  const test::Outcome r =
+      run("region " + kExample + " --point 3 --plane xy --view -1.2,-1.2,0.8,0.8 --size 40x40 --labels " + labels);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["dimension"], 3);
+  EXPECT_EQ(doc["backend"], "cpu");
+  EXPECT_EQ(doc["plane"]["origin"], nlohmann::json::parse("[1.2,-4.03,1.5]"));
+  const int dec = doc["counts"]["decreasing"], none = doc["counts"]["not-monotone"];
+  EXPECT_GT(dec, 100);
+  EXPECT_GT(none, 100);
+  const std::string pgm = test::slurp(labels);
+  ASSERT_EQ(pgm.substr(0, 13), "P5\n40 40\n255\n");
+  EXPECT_EQ(std::count(pgm.begin() + 13, pgm.end(), '\x02'), dec);
+}
+
+TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {
+  const std::string dir = (test::scratch() / "obj_import").string();
+  const test::Outcome r = run("import " + std::string(CMR_SOURCE_DIR) + "/examples/space/curves.obj --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("imported 2 space curves"), std::string::npos) << r.out;
+  const test::Outcome a = run("analyze " + dir + "/curves_0_lifted.json");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  // The same curve as examples/space/fig8b_lifted.json (its knots shifted by -1).
+  EXPECT_EQ(doc["spline"]["curvature"], "decreasing");
+  EXPECT_EQ(doc["segments"].size(), 3u);
+  const test::Outcome b = run("analyze " + dir + "/curves_1_sweep.json");
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(nlohmann::json::parse(b.out)["segments"].size(), 2u);
+  expect_one_line_error(run("import " + write("none.obj", "v 0 0 0\nf 1 1 1\n") + " --out " + dir),
+                        "none.obj: no curves (cstype/curv or l elements)");
+}
+
+}  // namespace
+}  // namespace cmr

@@ -1,0 +1,38 @@
+#pragma once
+/// Space curves on the command line (issue 25): what `cmr analyze`, `cmr
+/// region` and `cmr report` do when FILE has [x, y, z] points
+/// (spline_file_dimension == 3). The planar commands call these; nothing
+/// here links CLI11.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/space_analyze.hpp"
+
+namespace cmr::cli {
+
+/// The JSON of `cmr analyze` for a space curve.
+nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& analysis);
+/// `cmr analyze FILE [--torsion]` on a space curve: prints the JSON.
+void run_space_analyze(const std::string& file, int depth, bool torsion, const ContinuityTolerances& continuity,
+                       bool pretty);
+
+struct SpaceRegionArgs {
+  std::string file, point, plane, size = "256x256", view, backend = "auto";
+  int depth = kDefaultDepth;
+  std::string png, labels, depth_map;
+  bool stats = false, pretty = false;
+};
+/// `cmr region FILE --point K [--plane xy|yz|zx|O,U,V]` on a space curve:
+/// writes the outputs (all or none) and prints the JSON summary. The CPU
+/// backend only: --backend vulkan is an InputError.
+void run_space_region(const SpaceRegionArgs& args);
+
+/// `cmr report FILES --out DIR` when every FILE is a space curve: DIR/report.json
+/// and DIR/index.html (report/space_report.hpp). Returns the exit code (1 when
+/// `require_monotone` and some curve's curvature is not monotone).
+int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty);
+
+}  // namespace cmr::cli
