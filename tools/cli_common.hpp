@@ -102,6 +102,8 @@ void add_kcurve_command(CLI::App& app, int& exit_code);
 void add_sweep_command(CLI::App& app, int& exit_code);
 /// `cmr import`: fonts and SVG paths as spline files (tools/cmd_import.cpp).
 void add_import_command(CLI::App& app, int& exit_code);
+/// `cmr fix`: the nearest certified repair (tools/cmd_fix.cpp, docs/fix.md).
+void add_fix_command(CLI::App& app, int& exit_code);
 
 /// A κ-curve points file: {"points": [[x,y],...], "closed": false} ("closed"
 /// optional). Errors name the file, field and index (InputError).

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   add_kcurve_command(app, exit_code);
   add_sweep_command(app, exit_code);
   add_import_command(app, exit_code);
+  add_fix_command(app, exit_code);
 #ifdef CMR_WITH_EDITOR
   add_edit_command(app, exit_code);
 #endif

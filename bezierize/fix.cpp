@@ -1,0 +1,745 @@
+#include "bezierize/fix.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <set>
+
+#include "bezierize/extract.hpp"
+#include "bezierize/region.hpp"
+#include "spline/errors.hpp"
+#include "spline/parallel.hpp"
+
+namespace cmr {
+
+// ---------------------------------------------------------------- requirements
+
+FixRequirement parse_fix_requirement(const std::string& text) {
+  FixRequirement r;
+  if (text == "cmrwi") return r.kind = FixRequirement::Kind::cmrwi, r;
+  if (text == "cmr") return r.kind = FixRequirement::Kind::cmr, r;
+  if (text == "extrema-at-nodes") return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
+  if (text.rfind("split:", 0) == 0) {
+    std::string s = text.substr(6);
+    r.kind = FixRequirement::Kind::split;
+    const std::size_t colon = s.find(':');
+    if (colon != std::string::npos) {
+      const std::string e = s.substr(colon + 1);
+      if (e == "max" || e == "sharpest")
+        r.extremum = FixRequirement::Extremum::max;
+      else if (e == "min" || e == "flattest")
+        r.extremum = FixRequirement::Extremum::min;
+      else
+        s = "x";  // not a joint: the message below
+      if (s != "x") s.resize(colon);
+    }
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), r.split);
+    if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
+  }
+  throw InputError("--require: '" + text +
+                   "' is not cmrwi, cmr, split:S, split:S:max|min (sharpest|flattest) or extrema-at-nodes");
+}
+
+std::string to_string(const FixRequirement& r) {
+  switch (r.kind) {
+    case FixRequirement::Kind::cmrwi: return "cmrwi";
+    case FixRequirement::Kind::cmr: return "cmr";
+    case FixRequirement::Kind::extrema_at_nodes: return "extrema-at-nodes";
+    case FixRequirement::Kind::split:
+      return "split:" + std::to_string(r.split) +
+             (r.extremum == FixRequirement::Extremum::max   ? ":max"
+              : r.extremum == FixRequirement::Extremum::min ? ":min"
+                                                            : "");
+  }
+  return {};
+}
+
+const char* to_string(Keep keep) {
+  switch (keep) {
+    case Keep::none: return "none";
+    case Keep::g1: return "g1";
+    case Keep::g2: return "g2";
+  }
+  return "";
+}
+
+AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_depth) {
+  AnalyzeOptions ao;
+  ao.classify.max_depth = max_depth;
+  if (requirement.kind == FixRequirement::Kind::split) ao.split = requirement.split;
+  ao.split_mode = Mode::cmrwi;
+  return ao;
+}
+
+namespace {
+
+double norm(Vec2 v) { return std::sqrt(dot(v, v)); }
+
+bool monotone(Direction d) { return d == Direction::increasing || d == Direction::decreasing; }
+
+bool monotone_class(const SegmentClass& c) {
+  const Curvature k = c.monotonicity.curvature;
+  return k == Curvature::increasing || k == Curvature::decreasing || k == Curvature::constant;
+}
+
+bool split_ok(Split verdict, FixRequirement::Extremum e) {
+  switch (e) {
+    case FixRequirement::Extremum::max: return verdict == Split::inc_dec;
+    case FixRequirement::Extremum::min: return verdict == Split::dec_inc;
+    case FixRequirement::Extremum::any: return verdict == Split::inc_dec || verdict == Split::dec_inc;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
+  switch (r.kind) {
+    case FixRequirement::Kind::cmrwi: return monotone(a.cmrwi);
+    case FixRequirement::Kind::cmr: return monotone(a.cmr);
+    case FixRequirement::Kind::split: return a.split && split_ok(*a.split, r.extremum);
+    case FixRequirement::Kind::extrema_at_nodes:
+      for (int i = a.range.first; i <= a.range.last; ++i)
+        if (a.shapes[i].pole || !monotone_class(a.segments[i])) return false;
+      return true;
+  }
+  return false;
+}
+
+bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth) {
+  return requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement);
+}
+
+// ------------------------------------------------------------ segment helpers
+
+std::vector<int> segment_points(const BSpline& spline, const Segment& s) {
+  const int d = spline.degree(), m = spline.unique_point_count();
+  std::vector<int> out;
+  for (int k = s.span - d + 1; k <= s.span + 1; ++k) {
+    const int u = spline.closed() ? k % m : k;
+    if (std::find(out.begin(), out.end(), u) == out.end()) out.push_back(u);
+  }
+  return out;
+}
+
+namespace {
+
+/// A segment that fails the requirement on its own: not certified monotone
+/// (or a pole), or for cmr an exact inflection.
+bool segment_alone_bad(const SplineAnalysis& a, int i, const FixRequirement& r) {
+  if (a.shapes[i].pole || !monotone_class(a.segments[i])) return true;
+  return r.kind == FixRequirement::Kind::cmr && a.shapes[i].inflection != Inflection::none;
+}
+
+}  // namespace
+
+std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a, const FixRequirement& r) {
+  (void)spline;
+  std::vector<int> out;
+  for (int i = a.range.first; i <= a.range.last; ++i)
+    if (segment_alone_bad(a, i, r)) out.push_back(i);
+  if (out.empty() && !requirement_holds(a, r))
+    for (int i = a.range.first; i <= a.range.last; ++i) out.push_back(i);
+  return out;
+}
+
+namespace {
+
+// ------------------------------------------------------------------- units
+
+/// Diagonal of the control points' bounding box: the length every tolerance
+/// of the fix scales with.
+double curve_size(const BSpline& s) {
+  Vec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (int k = 0; k < s.unique_point_count(); ++k) lo = Vec2(std::min(lo.x, s.points()[k].x), std::min(lo.y, s.points()[k].y)), hi = Vec2(std::max(hi.x, s.points()[k].x), std::max(hi.y, s.points()[k].y));
+  const double d = norm(hi - lo);
+  return d > 0 ? d : 1.0;
+}
+
+/// A unit of motion: every point translates by the same 2-D vector, or (slide)
+/// the one point moves along `dir`.
+struct Unit {
+  std::vector<int> points;  // leader first
+  bool slide = false;
+  Vec2 dir{0.0};
+  int dims() const { return slide ? 1 : 2; }
+};
+
+/// The node of joint i (its knot has multiplicity d): the point whose polar
+/// label is that knot repeated (unique index), or -1.
+int node_of(const BSpline& s, double knot) {
+  const int d = s.degree(), m = s.unique_point_count();
+  const std::vector<double>& t = s.knots();
+  for (int k = 0; k + d - 1 < static_cast<int>(t.size()); ++k)
+    if (t[k] == knot && t[k + d - 1] == knot) return s.closed() ? k % m : k;
+  return -1;
+}
+
+/// Unique points whose moving changes a derivative of order <= order at the
+/// end of segment `left` or the start of segment `right` (the Bezier points
+/// that carry that jet depend on them; found by moving each point).
+std::vector<int> jet_points(const BSpline& s, int left, int right, int order) {
+  const Segment& L = s.segments()[left];
+  const Segment& R = s.segments()[right];
+  const BezierSegment bl = bezier_segment(s, L), br = bezier_segment(s, R);
+  const int d = s.degree();
+  std::vector<int> out;
+  std::set<int> candidates;
+  for (int k : segment_points(s, L)) candidates.insert(k);
+  for (int k : segment_points(s, R)) candidates.insert(k);
+  for (const int k : candidates) {
+    const BSpline moved = s.with_point(k, s.points()[k] + Vec2(1.0, 1.0));
+    const BezierSegment ml = bezier_segment(moved, L), mr = bezier_segment(moved, R);
+    bool depends = false;
+    for (int j = 0; j <= std::min(order, d); ++j)
+      depends = depends || ml.points[d - j] != bl.points[d - j] || mr.points[j] != br.points[j];
+    if (depends) out.push_back(k);
+  }
+  return out;
+}
+
+/// Union-find over point indices (groups that translate together).
+struct Groups {
+  std::vector<int> parent;
+  explicit Groups(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) { return parent[a] == a ? a : parent[a] = find(parent[a]); }
+  void join(int a, int b) { parent[find(a)] = find(b); }
+};
+
+struct Ties {
+  std::vector<int> joints;            // joint indices (N: a closed spline's seam) kept
+  std::vector<Unit> units;
+  std::vector<bool> moves;            // per unique point: some unit moves it
+};
+
+/// The joints of an analysis, the seam last.
+std::vector<Joint> all_joints(const SplineAnalysis& a) {
+  std::vector<Joint> js = a.joints;
+  if (a.seam) js.push_back(*a.seam);
+  return js;
+}
+
+Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<int>& allowed, Keep keep,
+                 const std::set<int>& acting) {
+  const int m = s.unique_point_count(), N = s.segment_count();
+  std::vector<bool> is_allowed(m, false);
+  for (int k : allowed) is_allowed[k] = true;
+  Groups groups(m);
+  std::vector<bool> grouped(m, false), frozen(m, false);
+  std::vector<std::vector<Vec2>> slides(m);  // tangent directions a handle must keep
+  std::vector<bool> node_at_tie(m, false);
+  Ties t;
+  for (const Joint& j : all_joints(a)) {
+    const int left = (j.index - 1 + N) % N, right = j.index % N;
+    if (keep == Keep::none || j.pole || j.zero_tangent) continue;
+    const bool g1_tie = j.g1 && j.continuity < 1;
+    const bool g2_tie = keep == Keep::g2 && j.g2 && j.continuity < 2;
+    if (!g1_tie && !g2_tie) continue;
+    t.joints.push_back(j.index);
+    const int n = node_of(s, j.knot);
+    if (g2_tie) {
+      const std::vector<int> jet = jet_points(s, left, right, 2);
+      const bool leader = n >= 0 ? is_allowed[n] : std::all_of(jet.begin(), jet.end(), [&](int k) { return is_allowed[k]; });
+      for (int k : jet) {
+        if (leader) {
+          grouped[k] = true;
+          groups.join(k, jet.front());
+        } else {
+          frozen[k] = true;
+        }
+      }
+      continue;
+    }
+    if (n < 0) continue;  // G1 at a C0 joint always has a node; be safe
+    const int hm = (n - 1 + m) % m, hp = (n + 1) % m;
+    if (!s.closed() && (n == 0 || n == m - 1)) continue;
+    node_at_tie[n] = true;
+    if (is_allowed[n]) {
+      for (int k : {hm, n, hp}) grouped[k] = true, groups.join(k, n);
+    }
+    for (int h : {hm, hp}) {
+      const Vec2 dir = s.points()[h] - s.points()[n];
+      const double len = norm(dir);
+      if (len > 0) slides[h].push_back(dir / len); else frozen[h] = true;
+    }
+  }
+  // Translation groups (led by their smallest allowed point).
+  std::vector<std::vector<int>> members(m);
+  for (int k = 0; k < m; ++k)
+    if (grouped[k]) members[groups.find(k)].push_back(k);
+  for (int r = 0; r < m; ++r) {
+    if (members[r].empty()) continue;
+    std::vector<int> pts = members[r];
+    bool any_acting = false;
+    for (int k : pts) any_acting = any_acting || acting.count(k);
+    if (!any_acting) continue;
+    // Leader: an allowed member (the node when there is one).
+    auto lead = std::find_if(pts.begin(), pts.end(), [&](int k) { return is_allowed[k] && node_at_tie[k]; });
+    if (lead == pts.end()) lead = std::find_if(pts.begin(), pts.end(), [&](int k) { return is_allowed[k]; });
+    if (lead == pts.end()) continue;
+    std::iter_swap(pts.begin(), lead);
+    t.units.push_back(Unit{pts, false, Vec2(0.0)});
+  }
+  // Single points: free, sliding, or held.
+  for (int k : allowed) {
+    if (!acting.count(k) || frozen[k] || node_at_tie[k]) continue;
+    if (keep == Keep::g2 && grouped[k]) continue;  // G2 jets move only with their group
+    if (slides[k].empty()) {
+      if (!grouped[k]) t.units.push_back(Unit{{k}, false, Vec2(0.0)});
+    } else if (slides[k].size() == 1) {
+      t.units.push_back(Unit{{k}, true, slides[k][0]});
+    }  // between two ties: held
+  }
+  t.moves.assign(m, false);
+  for (const Unit& u : t.units)
+    for (int k : u.points) t.moves[k] = true;
+  return t;
+}
+
+// ---------------------------------------------------------------- the search
+
+using Clock = std::chrono::steady_clock;
+
+/// A state of the search: one displacement per unique point.
+struct Search {
+  const BSpline& base;
+  const FixRequest& request;
+  const SplineAnalysis& base_analysis;
+  double size = 1, tol = 0, max_move = 0;
+  std::atomic<long> evaluations{0};
+
+  Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a) : base(b), request(r), base_analysis(a) {}
+
+  BSpline moved(const std::vector<Vec2>& delta) const {
+    BSpline s = base;
+    for (std::size_t k = 0; k < delta.size(); ++k)
+      if (delta[k] != Vec2(0.0)) s = s.with_point(static_cast<int>(k), base.points()[k] + delta[k]);
+    return s;
+  }
+
+  /// The requirement on a moved spline: extrema-at-nodes re-classifies only
+  /// the segments a moved point acts on; the others analyze the whole spline.
+  bool holds(const std::vector<Vec2>& delta) {
+    ++evaluations;
+    for (const Vec2& d : delta)
+      if (norm(d) > max_move) return false;
+    const BSpline s = moved(delta);
+    if (request.requirement.kind != FixRequirement::Kind::extrema_at_nodes)
+      return requirement_holds(s, request.requirement, request.max_depth);
+    for (int i = base_analysis.range.first; i <= base_analysis.range.last; ++i) {
+      const Segment& seg = s.segments()[i];
+      bool touched = false;
+      for (int k : segment_points(s, seg)) touched = touched || delta[k] != Vec2(0.0);
+      if (!touched) {
+        if (base_analysis.shapes[i].pole || !monotone_class(base_analysis.segments[i])) return false;
+        continue;
+      }
+      if (!segment_poles(s, seg).empty()) return false;
+      if (!monotone_class(classify_segment(s, seg, {request.max_depth, false}))) return false;
+    }
+    return true;
+  }
+
+  /// How far a moved spline is from the requirement (0: it holds): 4 per
+  /// segment that fails alone, 1 per segment against the majority direction
+  /// (of its part, with a split) and per joint whose jump goes against the
+  /// verdict; at least 1 while the requirement fails. Each greedy step must
+  /// lower it.
+  int badness(const std::vector<Vec2>& delta) {
+    ++evaluations;
+    for (const Vec2& d : delta)
+      if (norm(d) > max_move) return std::numeric_limits<int>::max();
+    const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
+    if (requirement_holds(a, request.requirement)) return 0;
+    int score = 0;
+    for (int i = a.range.first; i <= a.range.last; ++i) score += 4 * segment_alone_bad(a, i, request.requirement);
+    if (request.requirement.kind != FixRequirement::Kind::extrema_at_nodes) {
+      const bool split = request.requirement.kind == FixRequirement::Kind::split;
+      std::vector<std::pair<int, int>> parts;
+      if (split)
+        parts = {{a.range.first, request.requirement.split}, {request.requirement.split, a.range.last + 1}};
+      else
+        parts = {{a.range.first, a.range.last + 1}};
+      for (const auto& [first, end] : parts) {
+        int inc = 0, dec = 0;
+        for (int i = first; i < end; ++i) {
+          inc += a.segments[i].monotonicity.curvature == Curvature::increasing;
+          dec += a.segments[i].monotonicity.curvature == Curvature::decreasing;
+        }
+        score += std::min(inc, dec);
+      }
+      score += static_cast<int>(a.joint_conflicts.size());
+    }
+    return std::max(score, 1);
+  }
+};
+
+/// The passing position nearest to 0 of pass(x), x = t * dir (dims 1) or x in
+/// the plane (dims 2): see the header comment, step 1.
+struct Nearest {
+  bool found = false;
+  Vec2 x{0.0};
+  double dist = std::numeric_limits<double>::infinity();
+};
+
+Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, double size, double max_move, double tol,
+                int grid, int threads, std::size_t max_seeds = 6) {
+  // Cell (i, j) of an n x n grid of half-width w centred on c (in the unit's
+  // coordinates: dims 1 uses c.x as the parameter t along dir).
+  auto at = [&](Vec2 c, double w, int n, int i, int j) {
+    const double u = c.x + w * (2.0 * (i + 0.5) / n - 1.0);
+    const double v = c.y + w * (2.0 * (j + 0.5) / n - 1.0);
+    return dims == 1 ? Vec2(u * dir.x, u * dir.y) : Vec2(u, v);
+  };
+  // The passing cell centres of a grid, nearest to 0 first.
+  auto scan = [&](Vec2 c, double w, int n) {
+    const int rows = dims == 1 ? 1 : n;
+    std::vector<char> ok(static_cast<std::size_t>(n) * rows, 0);
+    parallel_for(ok.size(), threads, [&](std::size_t idx) {
+      const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
+      if (norm(x) <= max_move) ok[idx] = pass(x);
+    });
+    std::vector<Nearest> found;
+    for (std::size_t idx = 0; idx < ok.size(); ++idx)
+      if (ok[idx]) {
+        const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
+        found.push_back(Nearest{true, x, norm(x)});
+      }
+    std::sort(found.begin(), found.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
+    return found;
+  };
+  // 1. Grow a grid around the point until something passes.
+  double w = std::min(size / 16, max_move);
+  const int n1 = dims == 1 ? grid * 4 : grid;
+  std::vector<Nearest> cells;
+  for (;;) {
+    cells = scan(Vec2(0.0), w, n1);
+    if (!cells.empty()) break;
+    if (w >= max_move) return Nearest{};
+    w = std::min(2 * w, max_move);
+  }
+  // 2. A finer grid over the disc of the distance found.
+  if (cells.front().dist < w * 0.9) {
+    const double w2 = cells.front().dist * (1 + 2.0 / n1);
+    std::vector<Nearest> finer = scan(Vec2(0.0), w2, n1);
+    if (!finer.empty() && finer.front().dist <= cells.front().dist) cells = std::move(finer), w = w2;
+  }
+  const double cell = 2 * w / n1;
+  // Seeds: the passing cells that may hold the nearest point (within two cell
+  // diagonals of the best), at least three cells apart, at most six.
+  std::vector<Nearest> seeds;
+  for (const Nearest& c : cells) {
+    if (c.dist > cells.front().dist + 2 * std::sqrt(2.0) * cell || seeds.size() >= max_seeds) break;
+    bool apart = true;
+    for (const Nearest& sd : seeds) apart = apart && norm(sd.x - c.x) >= 3 * cell;
+    if (apart) seeds.push_back(c);
+  }
+  // The nearest passing point on the ray at angle theta, bracketed below
+  // r_hi (infinity when r_hi itself fails): bisection to the tolerance.
+  auto ray = [&](Vec2 u, double r_hi) {
+    if (r_hi > max_move || !pass(r_hi * u)) return std::numeric_limits<double>::infinity();
+    double lo = std::max(0.0, r_hi - 8 * cell), hi = r_hi;
+    if (lo > 0 && pass(lo * u)) lo = 0;  // 0 always fails (the point does)
+    while (hi - lo > tol / 8 && hi - lo > 1e-16 * hi) {
+      const double mid = 0.5 * (lo + hi);
+      if (pass(mid * u)) hi = mid; else lo = mid;
+    }
+    return hi;
+  };
+  Nearest best;
+  for (const Nearest& seed : seeds) {
+    Nearest local = seed;
+    if (dims == 1) {
+      // 3. The boundary between the seed and the cell before it (which fails).
+      const double t = dot(seed.x, dir), s = t > 0 ? 1.0 : -1.0;
+      const double r = ray(s * dir, std::abs(t));
+      if (r < local.dist) local = Nearest{true, r * s * dir, r};
+    } else {
+      // 3. Golden-section search over the angle of the ray, each ray's
+      // distance found by bisection: the boundary point nearest the point.
+      const double theta0 = std::atan2(seed.x.y, seed.x.x);
+      const double span = std::min(3.14159265358979, 3 * cell / std::max(seed.dist, 1e-300));
+      const double r_hi = seed.dist + 2 * cell;
+      auto f = [&](double th) { return ray(Vec2(std::cos(th), std::sin(th)), r_hi); };
+      const double g = (std::sqrt(5.0) - 1) / 2;
+      double a = theta0 - span, b = theta0 + span;
+      double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
+      while ((b - a) * r_hi > tol / 4) {
+        if (fc <= fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
+        else a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
+      }
+      for (const auto& [th, r] : {std::pair{c, fc}, std::pair{d, fd}, std::pair{theta0, f(theta0)}})
+        if (r < local.dist) local = Nearest{true, r * Vec2(std::cos(th), std::sin(th)), r};
+    }
+    if (local.dist < best.dist) best = local;
+  }
+  return best;
+}
+
+/// The labels of a region request that pass the requirement.
+bool passing_pixel(const RegionPixel& p, const FixRequirement& r) {
+  if (r.kind == FixRequirement::Kind::split)
+    return p.split_label == SplitLabel::inc_dec ? split_ok(Split::inc_dec, r.extremum)
+                                                : p.split_label == SplitLabel::dec_inc && split_ok(Split::dec_inc, r.extremum);
+  return p.label == RegionLabel::increasing || p.label == RegionLabel::decreasing;
+}
+
+double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>(u.points.size()); }
+
+}  // namespace
+
+FixResult fix(const BSpline& spline, const FixRequest& request) {
+  const auto start = Clock::now();
+  const int m = spline.unique_point_count();
+  if (!(request.tolerance > 0 && request.tolerance < 1))
+    throw InputError("--tolerance: " + std::to_string(request.tolerance) + " is outside (0, 1)");
+  if (!(request.max_move >= 0) || !std::isfinite(request.max_move))
+    throw InputError("--max-move: " + std::to_string(request.max_move) + " is not a distance >= 0");
+  if (request.grid < 8 || request.grid > 512) throw InputError("grid " + std::to_string(request.grid) + " is outside 8..512");
+  if (request.max_depth < 0 || request.max_depth > kMaxDepth)
+    throw InputError("--depth: " + std::to_string(request.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+  if (request.requirement.kind == FixRequirement::Kind::split &&
+      (request.requirement.split < 1 || request.requirement.split > spline.segment_count() - 1))
+    throw InputError("--require: split " + std::to_string(request.requirement.split) + " is outside 1.." +
+                     std::to_string(spline.segment_count() - 1) + " (the joints of a " +
+                     std::to_string(spline.segment_count()) + "-segment spline)");
+  std::set<int> given;
+  for (int k : request.points) {
+    if (k < 0 || k >= m) throw InputError("--points: P" + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
+    if (!given.insert(k).second) throw InputError("--points: P" + std::to_string(k) + " is named twice");
+  }
+
+  FixResult out;
+  out.size = curve_size(spline);
+  const AnalyzeOptions ao = fix_analyze_options(request.requirement, request.max_depth);
+  const SplineAnalysis a0 = analyze(spline, ao);
+  auto finish = [&](FixResult& r) {
+    r.certificate = analyze(*r.spline, ao);
+    r.certificate_holds = requirement_holds(r.certificate, request.requirement);
+    // Every tie joint is still G1, and with keep g2 still G2 where it was.
+    const std::vector<Joint> before = all_joints(a0), after = all_joints(r.certificate);
+    r.ties_hold = true;
+    for (int ji : r.tie_joints)
+      for (std::size_t i = 0; i < after.size(); ++i)
+        if (after[i].index == ji)
+          r.ties_hold = r.ties_hold && after[i].g1 && (request.keep != Keep::g2 || !before[i].g2 || after[i].g2);
+    r.fixed = r.certificate_holds && r.ties_hold;
+    if (!r.fixed && r.reason.empty())
+      r.reason = !r.certificate_holds ? "the certificate does not hold" : "a tie at a joint broke";
+    r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  if (requirement_holds(a0, request.requirement)) {
+    out.already = true;
+    out.spline = spline;
+    finish(out);
+    return out;
+  }
+  out.failing_segments = failing_segments(spline, a0, request.requirement);
+  std::set<int> acting;
+  for (int i : out.failing_segments)
+    for (int k : segment_points(spline, spline.segments()[i])) acting.insert(k);
+  std::vector<int> allowed = request.points;
+  if (allowed.empty()) {
+    for (int k = 0; k < m; ++k)
+      if (spline.closed() || (k != 0 && k != m - 1)) allowed.push_back(k);
+  } else {
+    for (int k : allowed)
+      if (!acting.count(k)) {
+        std::string segs;
+        for (int i : out.failing_segments) segs += (segs.empty() ? "" : ", ") + std::to_string(i);
+        throw InputError("--points: P" + std::to_string(k) + " does not act on a failing segment (failing: " + segs + ")");
+      }
+  }
+  // Units of every allowed point: those acting on a failing segment are
+  // tried alone; the others join the several-unit search (a segment that
+  // fails only by its direction may need its neighbours moved).
+  std::set<int> all_points;
+  for (int k = 0; k < m; ++k) all_points.insert(k);
+  const Ties ties = build_units(spline, a0, allowed, request.keep, all_points);
+  auto unit_acts = [&](const Unit& u) {
+    return std::any_of(u.points.begin(), u.points.end(), [&](int k) { return acting.count(k) > 0; });
+  };
+  out.tie_joints = ties.joints;
+  out.spline = spline;
+  if (std::none_of(ties.units.begin(), ties.units.end(), unit_acts)) {
+    out.reason = "no point may move: every point acting on a failing segment is fixed or held by a tie";
+    finish(out);
+    return out;
+  }
+
+  Search search(spline, request, a0);
+  search.size = out.size;
+  search.tol = request.tolerance * out.size;
+  search.max_move = request.max_move > 0 ? request.max_move : out.size;
+  const bool region_kind = request.requirement.kind != FixRequirement::Kind::extrema_at_nodes;
+
+  auto unit_delta = [&](const Unit& u, Vec2 x) {
+    std::vector<Vec2> delta(m, Vec2(0.0));
+    for (int k : u.points) delta[k] = x;
+    return delta;
+  };
+
+  // 1. Each unit alone.
+  std::optional<std::size_t> best_unit;
+  std::vector<Nearest> alone(ties.units.size());
+  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
+    const Unit& u = ties.units[ui];
+    if (!unit_acts(u)) continue;
+    std::function<bool(Vec2)> pass;
+    std::optional<RegionProblem> problem;
+    if (region_kind) {
+      RegionRequest rr;
+      rr.point = u.points[0];
+      rr.with.assign(u.points.begin() + 1, u.points.end());
+      rr.mode = request.requirement.kind == FixRequirement::Kind::cmr ? Mode::cmr : Mode::cmrwi;
+      if (request.requirement.kind == FixRequirement::Kind::split) rr.split = request.requirement.split;
+      rr.max_depth = request.max_depth;
+      rr.depth = false;
+      problem = RegionProblem::make(spline, rr);
+      const Vec2 p0 = spline.points()[u.points[0]];
+      pass = [&, p0](Vec2 x) {
+        ++search.evaluations;
+        return passing_pixel(problem->classify(p0 + x), request.requirement);
+      };
+    } else {
+      pass = [&](Vec2 x) { return search.holds(unit_delta(u, x)); };
+    }
+    alone[ui] = nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid, request.threads);
+    UnitFix uf;
+    uf.points = u.points;
+    uf.slide = u.slide;
+    uf.found = alone[ui].found;
+    uf.displacement = alone[ui].x;
+    uf.distance = alone[ui].dist;
+    out.units.push_back(uf);
+    if (alone[ui].found &&
+        (!best_unit || unit_cost(u, alone[ui].x) < unit_cost(ties.units[*best_unit], alone[*best_unit].x)))
+      best_unit = ui;
+  }
+
+  // The state of the several-unit search: one coordinate block per unit.
+  std::vector<std::size_t> offset(ties.units.size() + 1, 0);
+  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) offset[ui + 1] = offset[ui] + ties.units[ui].dims();
+  auto delta_of = [&](const std::vector<double>& z) {
+    std::vector<Vec2> delta(m, Vec2(0.0));
+    for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
+      const Unit& u = ties.units[ui];
+      const Vec2 x = u.slide ? z[offset[ui]] * u.dir : Vec2(z[offset[ui]], z[offset[ui] + 1]);
+      for (int k : u.points) delta[k] += x;
+    }
+    return delta;
+  };
+  auto cost_of = [&](const std::vector<double>& z) {
+    double c = 0;
+    for (const Vec2& d : delta_of(z)) c += dot(d, d);
+    return c;
+  };
+  auto set_unit = [&](std::vector<double>& z, std::size_t ui, Vec2 x) {
+    if (ties.units[ui].slide)
+      z[offset[ui]] = dot(x, ties.units[ui].dir);
+    else
+      z[offset[ui]] = x.x, z[offset[ui] + 1] = x.y;
+  };
+  std::vector<double> z(offset.back(), 0.0);
+  bool feasible = false;
+  if (best_unit) {
+    set_unit(z, *best_unit, alone[*best_unit].x);
+    feasible = true;
+  }
+  if (!feasible) {
+    // 2a. Greedy: each step moves one unit to the nearest position that
+    // lowers the badness (Search::badness) of the curve.
+    for (int step = 0; step < static_cast<int>(ties.units.size()) && !feasible; ++step) {
+      std::optional<std::pair<std::size_t, Vec2>> pick;
+      double pick_cost = std::numeric_limits<double>::infinity();
+      const std::vector<Vec2> now = delta_of(z);
+      const int before = search.badness(now);
+      for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
+        const Unit& u = ties.units[ui];
+        auto pass = [&](Vec2 x) {
+          std::vector<Vec2> d = now;
+          for (int k : u.points) d[k] += x;
+          return search.badness(d) < before;
+        };
+        // Coarse (half the grid, 1e-3 of the size, one seed): the compass search refines.
+        const Nearest nr = nearest(pass, u.dims(), u.dir, out.size, search.max_move, std::max(search.tol, 1e-3 * out.size),
+                                   std::max(8, request.grid / 2), request.threads, 1);
+        if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
+      }
+      if (!pick) break;
+      const Unit& u = ties.units[pick->first];
+      const Vec2 x0 = u.slide ? z[offset[pick->first]] * u.dir
+                              : Vec2(z[offset[pick->first]], z[offset[pick->first] + 1]);
+      set_unit(z, pick->first, x0 + pick->second);
+      feasible = search.holds(delta_of(z));
+    }
+  }
+  if (feasible && (request.together || !best_unit)) {
+    // 2b. Compass search on the total squared displacement; each trial is
+    // pulled back towards no move by bisection while it still passes.
+    auto ok = [&](const std::vector<double>& v) { return search.holds(delta_of(v)); };
+    const double stop = std::max(search.tol, 1e-3 * out.size);
+    auto project = [&](std::vector<double> v, double precision) {
+      double lo = 0, hi = 1;
+      double len = std::sqrt(cost_of(v));
+      while ((hi - lo) * len > precision) {
+        const double mid = 0.5 * (lo + hi);
+        std::vector<double> t = v;
+        for (double& c : t) c *= mid;
+        if (ok(t)) hi = mid; else lo = mid;
+      }
+      for (double& c : v) c *= hi;
+      return v;
+    };
+    std::vector<bool> moved_coordinate(z.size(), false);
+    for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+      for (std::size_t i = offset[ui]; i < offset[ui + 1]; ++i)
+        for (std::size_t c = offset[ui]; c < offset[ui + 1]; ++c) moved_coordinate[i] = moved_coordinate[i] || z[c] != 0;
+    z = project(z, stop / 4);
+    double h = std::max(std::sqrt(cost_of(z)) / 2, stop);
+    for (int round = 0; round < 200 && h >= stop; ++round) {
+      bool improved = false;
+      for (std::size_t i = 0; i < z.size() && !improved; ++i)
+        for (const double sgn : {-1.0, 1.0}) {
+          if (!request.together && !moved_coordinate[i]) continue;  // only the units the greedy steps moved
+          std::vector<double> t = z;
+          t[i] += sgn * h;
+          if (!ok(t)) continue;
+          t = project(t, stop / 4);
+          if (cost_of(t) < cost_of(z) * (1 - 1e-9)) {
+            z = t;
+            improved = true;
+            break;
+          }
+        }
+      if (!improved) h /= 2;
+    }
+    z = project(z, search.tol / 8);  // the last pull to the tolerance
+  }
+  if (!feasible) {
+    out.reason = "no certified fix within --max-move " + std::to_string(search.max_move) + " (" +
+                 std::to_string(ties.units.size()) + " unit(s) of motion tried)";
+    out.evaluations = search.evaluations;
+    finish(out);
+    return out;
+  }
+  const std::vector<Vec2> delta = delta_of(z);
+  out.spline = search.moved(delta);
+  for (int k = 0; k < m; ++k) {
+    if (delta[k] == Vec2(0.0)) continue;
+    PointMove pm{k, spline.points()[k], out.spline->points()[k], norm(out.spline->points()[k] - spline.points()[k])};
+    out.total_squared += pm.distance * pm.distance;
+    out.max_distance = std::max(out.max_distance, pm.distance);
+    out.moves.push_back(pm);
+  }
+  out.evaluations = search.evaluations;
+  finish(out);
+  return out;
+}
+
+}  // namespace cmr

@@ -1,0 +1,168 @@
+#pragma once
+// The nearest certified repair (`cmr fix`): move the fewest control points
+// the least distance so that the curve meets a requirement, and prove it.
+//
+//   fix(spline, request) -> FixResult
+//
+// Every answer carries a certificate: the fixed spline re-judged by analyze()
+// (the verdict code of `cmr analyze` and `cmr report`), so a "fixed" answer is
+// never contradicted by exact arithmetic. The search itself only ever keeps
+// positions that the certified classifiers accept (RegionProblem::classify,
+// i.e. the label every region backend draws; or analyze on the moved spline).
+//
+// Units of motion. A control point moves freely (2 degrees of freedom) unless
+// a tie holds it (FixRequest::keep):
+//  * keep g1: at a joint that is G1 but not C1 by its knots (a Bezier node with
+//    a corner-capable knot, e.g. a font's smooth on-curve point) the node moves
+//    only as the paper's rigid group (node and both handles translated
+//    together, RegionRequest::with), and each handle only slides along the
+//    tangent line through the node (1 degree of freedom), so the handles stay
+//    collinear with the node exactly as the tangent direction is unchanged.
+//    A handle between two such nodes cannot move.
+//  * keep g2: also, at a joint that is G2 but not C2 by its knots, the points
+//    that determine either side's curvature there (the 2-jet, found by the
+//    Bezier extraction's dependence) move only as one translation (which
+//    keeps both curvatures), led by the joint's node; they are frozen when
+//    the node may not move.
+//  * joints that are C1 (C2) by their knots are G1 (G2) whatever moves.
+//
+// Search (bezierize/fix.cpp):
+//  1. One unit, nearest: for a 2-D unit, certified labels on a square grid
+//     centred on the point, its half-width doubling from 1/16 of the curve
+//     size up to max_move until a passing position is found; a finer grid
+//     over the disc of that distance; then local grids around the best
+//     position, each a quarter the size of the last, down to the tolerance;
+//     then bisection on the segment from the point to it. 1-D units do the
+//     same on their line. Where the region is not thinner than one cell of
+//     the first grid that finds it, the answer is within `tolerance` of the
+//     nearest passing position (tested against a dense brute-force label map,
+//     tests/bezierize/fix_test.cpp).
+//  2. Several units: when no single unit fixes the curve (or with
+//     FixRequest::together), units are moved one after the other, each to the
+//     nearest position that lowers the count of violations; then a compass
+//     search over all moved degrees of freedom lowers the total squared
+//     displacement, each trial projected radially onto the passing side by
+//     bisection and kept only when the classifier accepts it. A local
+//     minimum, not a global one.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bezierize/analyze.hpp"
+#include "spline/bspline.hpp"
+#include "spline/limits.hpp"
+
+namespace cmr {
+
+/// What the fixed curve must satisfy (the requirement of `cmr report
+/// --require`, and the extrema-at-nodes gate).
+struct FixRequirement {
+  enum class Kind : std::uint8_t { cmrwi, cmr, split, extrema_at_nodes };
+  /// Which extremum split:S asks for at joint S: max (sharpest) is a maximum
+  /// of the signed curvature (inc-dec), min (flattest) a minimum (dec-inc).
+  enum class Extremum : std::uint8_t { any, max, min };
+  Kind kind = Kind::cmr;
+  int split = 0;                      ///< joint S (Kind::split)
+  Extremum extremum = Extremum::any;  ///< (Kind::split)
+};
+
+/// Parses "cmrwi", "cmr", "split:S", "split:S:max|min" (also
+/// "split:S:sharpest|flattest", read as max|min) and "extrema-at-nodes".
+/// InputError names the text otherwise.
+FixRequirement parse_fix_requirement(const std::string& text);
+/// The text parse_fix_requirement reads (max/min spelled as such).
+std::string to_string(const FixRequirement& requirement);
+
+/// The analysis a requirement is judged on: depth, split joint (split mode
+/// CMRWI, as `cmr report`).
+AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_depth = kDefaultDepth);
+/// Whether an analysis (made with fix_analyze_options) meets the requirement:
+///  cmrwi / cmr: that verdict is increasing or decreasing (cmr with exact
+///    inflections, SplineAnalysis::cmr, as report);
+///  split:S: the split verdict is inc-dec or dec-inc (max: inc-dec, min: dec-inc);
+///  extrema-at-nodes: every segment's curvature is certified monotone
+///    (Algorithm 1: increasing, decreasing or constant), so no extremum lies
+///    inside a segment. This is the gate's sufficient condition: a touching
+///    zero of lambda that the gate would not count, or the depth limit, fails it.
+bool requirement_holds(const SplineAnalysis& analysis, const FixRequirement& requirement);
+/// requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement).
+bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth = kDefaultDepth);
+
+/// How ties at joints are kept (see the header comment).
+enum class Keep : std::uint8_t { none, g1, g2 };
+/// "none", "g1", "g2".
+const char* to_string(Keep keep);
+
+/// What to fix and how. The CLI fills one; tests fill another.
+struct FixRequest {
+  FixRequirement requirement;  ///< default: cmr
+  /// The points that may move (distinct indices 0..unique_point_count()-1).
+  /// Empty: every point but an open spline's first and last. Each must act on
+  /// a failing segment (InputError otherwise).
+  std::vector<int> points;
+  Keep keep = Keep::g1;  ///< ties kept at joints that have them
+  /// Largest displacement of any one point; 0: the curve size (the diagonal
+  /// of the control points' bounding box).
+  double max_move = 0;
+  /// Distance tolerance of the nearest position, relative to the curve size.
+  double tolerance = 1e-6;
+  int max_depth = kDefaultDepth;  ///< D of Algorithms 1 and 2
+  int grid = 48;                  ///< cells per side of the search grids (8..512)
+  /// Move the allowed points together to the least total squared
+  /// displacement (a compass search from the best single fix) instead of
+  /// reporting the best single-unit fix.
+  bool together = false;
+  int threads = 0;  ///< for the grids; 0: every core
+};
+
+/// One moved control point.
+struct PointMove {
+  int point = 0;
+  Vec2 from{0.0}, to{0.0};
+  double distance = 0;  ///< |to - from|
+};
+
+/// What one unit of motion alone reaches (the candidates of "each point in turn").
+struct UnitFix {
+  std::vector<int> points;  ///< the unit's points (leader first)
+  bool slide = false;       ///< moves along a tangent line only
+  bool found = false;
+  Vec2 displacement{0.0};  ///< of the leader
+  double distance = 0;     ///< |displacement|
+};
+
+struct FixResult {
+  bool already = false;  ///< the input meets the requirement: nothing moved
+  bool fixed = false;    ///< the certificate holds (requirement and ties)
+  std::string reason;    ///< why not fixed (one line)
+  std::optional<BSpline> spline;  ///< the moved spline (the input when not fixed)
+  std::vector<PointMove> moves;   ///< every point that moved
+  double total_squared = 0;       ///< sum of squared displacements
+  double max_distance = 0;        ///< largest displacement
+  double size = 0;                ///< the curve size the tolerances scale with
+  std::vector<int> failing_segments;  ///< of the input
+  std::vector<int> tie_joints;        ///< joints whose G1 (G2) was kept
+  std::vector<UnitFix> units;         ///< each unit's own nearest fix
+  SplineAnalysis certificate;         ///< analyze(*spline, fix_analyze_options(...))
+  bool certificate_holds = false;     ///< requirement_holds(certificate)
+  bool ties_hold = false;             ///< every tie joint still G1 (G2) in the certificate
+  long evaluations = 0;               ///< classifier calls
+  double seconds = 0;
+};
+
+/// Finds the fix. Throws InputError for a point out of range or repeated, a
+/// point that acts on no failing segment, a requirement that does not fit
+/// the spline (a split joint it lacks), a bad max_move, tolerance, grid or
+/// depth. A search that finds nothing within max_move is not an error: the
+/// result says fixed = false and why.
+FixResult fix(const BSpline& spline, const FixRequest& request);
+
+/// The points of segment s (unique indices): moving any of them changes it.
+std::vector<int> segment_points(const BSpline& spline, const Segment& s);
+/// The judged segments that fail the requirement on their own (not monotone,
+/// undecided, or for cmr an exact inflection); when every one passes alone but
+/// the curve fails (directions or jumps disagree), every judged segment.
+std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& analysis,
+                                  const FixRequirement& requirement);
+
+}  // namespace cmr

@@ -1,0 +1,245 @@
+// The nearest certified repair (bezierize/fix.hpp): requirements, the
+// one-point nearest position against a brute-force label map, ties at joints.
+#include "bezierize/fix.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "bezierize/region.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr {
+namespace {
+
+double norm(Vec2 v) { return std::sqrt(dot(v, v)); }
+
+TEST(FixRequirement, ParsesEveryFormAndTheSynonyms) {
+  EXPECT_EQ(parse_fix_requirement("cmr").kind, FixRequirement::Kind::cmr);
+  EXPECT_EQ(parse_fix_requirement("cmrwi").kind, FixRequirement::Kind::cmrwi);
+  EXPECT_EQ(parse_fix_requirement("extrema-at-nodes").kind, FixRequirement::Kind::extrema_at_nodes);
+  const FixRequirement s = parse_fix_requirement("split:3");
+  EXPECT_EQ(s.kind, FixRequirement::Kind::split);
+  EXPECT_EQ(s.split, 3);
+  EXPECT_EQ(s.extremum, FixRequirement::Extremum::any);
+  EXPECT_EQ(parse_fix_requirement("split:2:max").extremum, FixRequirement::Extremum::max);
+  EXPECT_EQ(parse_fix_requirement("split:2:sharpest").extremum, FixRequirement::Extremum::max);
+  EXPECT_EQ(parse_fix_requirement("split:2:min").extremum, FixRequirement::Extremum::min);
+  EXPECT_EQ(parse_fix_requirement("split:2:flattest").extremum, FixRequirement::Extremum::min);
+  EXPECT_EQ(to_string(parse_fix_requirement("split:2:sharpest")), "split:2:max");
+  for (const char* bad : {"", "cmx", "split:", "split:x", "split:2:top", "split:2:max:1"})
+    EXPECT_THROW(parse_fix_requirement(bad), InputError) << bad;
+}
+
+TEST(Fix, AlreadyPassingMovesNothing) {
+  const BSpline arc = BSpline::bezier({{0, 0}, {2, 0}, {3, 0.5}, {3.3, 1.2}});
+  ASSERT_TRUE(requirement_holds(arc, parse_fix_requirement("cmr")));
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmr");
+  const FixResult f = fix(arc, r);
+  EXPECT_TRUE(f.already);
+  EXPECT_TRUE(f.fixed);
+  EXPECT_TRUE(f.moves.empty());
+}
+
+/// Seeded cubic Beziers that fail CMRWI: the nearest position of one point
+/// against the nearest passing pixel of a dense certified label map
+/// (CpuRegionBackend) around it.
+TEST(Fix, OnePointNearestMatchesBruteForce) {
+  std::mt19937 rng(20261125);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  int cases = 0;
+  for (int trial = 0; trial < 200 && cases < 12; ++trial) {
+    const std::vector<Vec2> pts = {{0, 0}, {1 + 0.5 * U(rng), 0.8 * U(rng)}, {2 + 0.5 * U(rng), 0.8 * U(rng)},
+                                   {3, 0.6 * U(rng)}};
+    const BSpline s = BSpline::bezier(pts);
+    const FixRequirement req = parse_fix_requirement("cmrwi");
+    if (requirement_holds(s, req)) continue;
+    const int k = 1 + trial % 2;
+    FixRequest r;
+    r.requirement = req;
+    r.points = {k};
+    r.keep = Keep::none;
+    r.threads = 2;
+    const FixResult f = fix(s, r);
+    if (!f.fixed) continue;  // nothing within max_move: the brute force below would need a larger view
+    ++cases;
+    ASSERT_EQ(f.moves.size(), 1u) << "trial " << trial;
+    EXPECT_EQ(f.moves[0].point, k);
+    const double d_fix = f.moves[0].distance;
+    // Brute force: every pixel centre of a 384x384 map of the square of
+    // half-width 1.05 d_fix around P_k (the nearest passing point lies inside).
+    RegionRequest rr;
+    rr.point = k;
+    rr.mode = Mode::cmrwi;
+    rr.width = rr.height = 384;
+    rr.depth = false;
+    const double w = 1.05 * d_fix;
+    rr.view = View{pts[k].x - w, pts[k].y - w, pts[k].x + w, pts[k].y + w};
+    const RegionResult map = CpuRegionBackend(2).render(RegionProblem::make(s, rr));
+    double d_bf = std::numeric_limits<double>::infinity();
+    Vec2 at_bf(0.0);
+    for (int j = 0; j < map.height; ++j)
+      for (int i = 0; i < map.width; ++i) {
+        const RegionLabel l = map.labels[static_cast<std::size_t>(j) * map.width + i];
+        const Vec2 c = pixel_center(*rr.view, 384, 384, i, j);
+        if ((l == RegionLabel::increasing || l == RegionLabel::decreasing) && norm(c - pts[k]) < d_bf)
+          d_bf = norm(c - pts[k]), at_bf = c - pts[k];
+      }
+    const Vec2 at_fix = f.moves[0].to - f.moves[0].from;
+    const double diag = std::sqrt(2.0) * 2 * w / 384, tol = r.tolerance * f.size;
+    ASSERT_TRUE(std::isfinite(d_bf)) << "trial " << trial << ": the brute-force map has no passing pixel";
+    EXPECT_LE(d_fix, d_bf + tol) << "trial " << trial << " point " << k << ": the brute force is nearer, at displacement (" << at_bf.x
+        << ", " << at_bf.y << "), the fix at (" << at_fix.x << ", " << at_fix.y << ")";
+    EXPECT_LE(d_bf, d_fix + tol + diag) << "trial " << trial << " point " << k;
+    // The answer is certified: the region classifier accepts it and analyze agrees.
+    EXPECT_TRUE(f.certificate_holds);
+    EXPECT_TRUE(requirement_holds(*f.spline, req)) << "trial " << trial;
+  }
+  EXPECT_GE(cases, 8) << "too few seeded failing cases were fixable";
+}
+
+/// Fig. 8's B-spline fails CMR; the best single point fixes it and the fix is
+/// certified by analyze (the certificate), whatever point is reported.
+TEST(Fix, Fig8IsFixedByOnePoint) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmrwi");
+  const FixResult f = fix(s, r);
+  ASSERT_TRUE(f.fixed) << f.reason;
+  EXPECT_EQ(f.moves.size(), 1u);
+  EXPECT_TRUE(requirement_holds(analyze(*f.spline, fix_analyze_options(r.requirement)), r.requirement));
+  // The end points stay where they are by default.
+  EXPECT_EQ(f.spline->points().front(), s.points().front());
+  EXPECT_EQ(f.spline->points().back(), s.points().back());
+}
+
+/// The CMR Bezier (0,0) (2,0) (3,0.5) (3.3,1.2) split at t = 1/2 (a knot of
+/// multiplicity 3, so the joint is G1 and G2 by geometry), then one point of
+/// the right half moved: P5 (breaks G2, keeps G1) or the end point P6 (keeps
+/// both); either way segment 1 fails CMR.
+BSpline split_bezier(int moved) {
+  std::vector<Vec2> p = {{0, 0}, {1, 0}, {1.75, 0.125}, {2.2875, 0.3375}, {2.825, 0.55}, {3.15, 0.85}, {3.3, 1.2}};
+  if (moved == 5) p[5] += Vec2(0.2, -0.2);
+  if (moved == 6) p[6] += Vec2(0.3, -0.3);
+  return BSpline::make(3, {0, 0, 0, 1, 1, 1, 2, 2, 2}, p);
+}
+BSpline g1_pair() { return split_bezier(5); }
+
+double collinearity(const BSpline& s, int node) {
+  const Vec2 a = s.points()[node] - s.points()[node - 1], b = s.points()[node + 1] - s.points()[node];
+  return std::abs(det(a, b)) / (norm(a) * norm(b));
+}
+
+TEST(Fix, G1TieHoldsAfterAMultiPointFix) {
+  const BSpline s = g1_pair();
+  const SplineAnalysis a = analyze(s);
+  ASSERT_TRUE(a.joints.at(0).g1);
+  ASSERT_LT(collinearity(s, 3), 1e-12);
+  for (const char* text : {"cmr", "cmrwi"}) {
+    FixRequest r;
+    r.requirement = parse_fix_requirement(text);
+    ASSERT_FALSE(requirement_holds(s, r.requirement)) << text;
+    r.keep = Keep::g1;
+    r.together = true;
+    r.points = {3, 4, 5};
+    const FixResult f = fix(s, r);
+    ASSERT_TRUE(f.fixed) << text << ": " << f.reason;
+    EXPECT_EQ(f.tie_joints, std::vector<int>{1}) << text;
+    EXPECT_TRUE(f.certificate.joints.at(0).g1) << text;
+    EXPECT_LT(collinearity(*f.spline, 3), 1e-9) << text;
+    // The handles stay on the same side of the node (a tangent, not a cusp).
+    const Vec2 in = f.spline->points()[3] - f.spline->points()[2], out = f.spline->points()[4] - f.spline->points()[3];
+    EXPECT_GT(dot(in, out), 0) << text;
+  }
+}
+
+TEST(Fix, WithoutTiesTheJointMayBreakButTheFixIsCertified) {
+  const BSpline s = g1_pair();
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmr");
+  r.keep = Keep::none;
+  r.together = true;
+  r.points = {3, 4, 5};
+  const FixResult f = fix(s, r);
+  ASSERT_TRUE(f.fixed) << f.reason;
+  EXPECT_TRUE(f.tie_joints.empty());
+  EXPECT_GT(collinearity(*f.spline, 3), 1e-6) << "the free move kept the joint G1: the sample no longer tests ties";
+  // Several points together move less (in total squared) than the best one alone.
+  r.points = {};
+  r.together = false;
+  const FixResult one = fix(s, r);
+  ASSERT_TRUE(one.fixed) << one.reason;
+  EXPECT_EQ(one.moves.size(), 1u);
+  EXPECT_LT(f.total_squared, one.total_squared);
+}
+
+/// The split Bezier with its end point moved: the joint is G2 at a knot of
+/// multiplicity 3; keep g2 moves the points that carry its curvature as one
+/// translation, and the joint stays G2.
+TEST(Fix, G2TieHoldsAfterAFix) {
+  const BSpline s = split_bezier(6);
+  const SplineAnalysis a = analyze(s);
+  ASSERT_TRUE(a.joints.at(0).g2);
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmr");
+  ASSERT_FALSE(requirement_holds(s, r.requirement));
+  r.keep = Keep::g2;
+  const FixResult f = fix(s, r);
+  ASSERT_TRUE(f.fixed) << f.reason;
+  EXPECT_EQ(f.tie_joints, std::vector<int>{1});
+  EXPECT_TRUE(f.certificate.joints.at(0).g1);
+  EXPECT_TRUE(f.certificate.joints.at(0).g2);
+  EXPECT_TRUE(f.ties_hold);
+  // Every moved point moved by the same vector (one translation).
+  ASSERT_GE(f.moves.size(), 3u);
+  for (const PointMove& m : f.moves) EXPECT_LT(norm((m.to - m.from) - (f.moves[0].to - f.moves[0].from)), 1e-12) << m.point;
+}
+
+TEST(Fix, BadRequestsAreInputErrors) {
+  const BSpline s = g1_pair();
+  FixRequest r;
+  r.points = {9};
+  EXPECT_THROW(fix(s, r), InputError);
+  r.points = {2, 2};
+  EXPECT_THROW(fix(s, r), InputError);
+  r.points = {};
+  r.requirement = parse_fix_requirement("split:5");
+  EXPECT_THROW(fix(s, r), InputError);
+  r.requirement = {};
+  r.tolerance = 0;
+  EXPECT_THROW(fix(s, r), InputError);
+}
+
+TEST(Fix, APointOffTheFailingSegmentIsRefused) {
+  // Only segment 1 fails; P1 acts on segment 0 alone.
+  const BSpline s = g1_pair();
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmr");
+  ASSERT_EQ(failing_segments(s, analyze(s, fix_analyze_options(r.requirement)), r.requirement), std::vector<int>{1});
+  r.points = {1};
+  try {
+    (void)fix(s, r);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("P1 does not act on a failing segment (failing: 1)"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Fix, NothingWithinMaxMoveSaysSo) {
+  const BSpline s = g1_pair();
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmr");
+  r.max_move = 1e-6;
+  const FixResult f = fix(s, r);
+  EXPECT_FALSE(f.fixed);
+  EXPECT_NE(f.reason.find("no certified fix within"), std::string::npos) << f.reason;
+  EXPECT_TRUE(f.moves.empty());
+}
+
+}  // namespace
+}  // namespace cmr
