@@ -5,7 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
-#include <regex>
+#include <utility>
+
+#include <pugixml.hpp>
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -48,10 +50,14 @@ Piece elevate(const Piece& a) {
   return b;
 }
 
+bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
 /// SVG arc (endpoint parametrisation, F.6.5) as rational quadratic pieces of
 /// at most 90 degrees. Empty when the ends coincide (F.6.2: nothing drawn);
-/// one line piece when a radius is zero.
-std::vector<Piece> arc_pieces(Vec2 p1, double rx, double ry, double phi_deg, bool large, bool sweep, Vec2 p2) {
+/// one line piece when a radius is zero. `ok` is false (and nothing is
+/// returned) when the centre parametrisation overflows.
+std::vector<Piece> arc_pieces(Vec2 p1, double rx, double ry, double phi_deg, bool large, bool sweep, Vec2 p2, bool& ok) {
+  ok = true;
   if (p1 == p2) return {};
   rx = std::abs(rx), ry = std::abs(ry);
   if (rx == 0 || ry == 0) return {polynomial({p1, p2})};
@@ -70,6 +76,10 @@ std::vector<Piece> arc_pieces(Vec2 p1, double rx, double ry, double phi_deg, boo
   double delta = angle((x1 - cx1) / rx, (y1 - cy1) / ry, (-x1 - cx1) / rx, (-y1 - cy1) / ry);
   if (!sweep && delta > 0) delta -= 2 * std::numbers::pi;
   if (sweep && delta < 0) delta += 2 * std::numbers::pi;
+  if (!finite(centre) || !std::isfinite(rx) || !std::isfinite(ry) || !std::isfinite(theta1) || !std::isfinite(delta)) {
+    ok = false;  // e.g. rx*rx overflows: no arc to draw, and no NaN cast to int below
+    return {};
+  }
   const int n = std::max(1, static_cast<int>(std::ceil(std::abs(delta) / (std::numbers::pi / 2) - 1e-12)));
   const double h = delta / n;
   auto on_ellipse = [&](double t, double scale) {
@@ -97,6 +107,7 @@ class Parser {
     while (true) {
       skip();
       if (i_ >= d_.size()) break;
+      start_of_command_ = i_;
       if (std::isalpha(static_cast<unsigned char>(d_[i_]))) {
         if (std::string("MmLlHhVvCcSsQqTtAaZz").find(d_[i_]) == std::string::npos)
           fail("unknown command '" + std::string(1, d_[i_]) + "'");
@@ -160,10 +171,19 @@ class Parser {
   }
   Vec2 point(bool relative) {
     const double x = number(), y = number();
-    return relative ? cur_ + Vec2(x, y) : Vec2(x, y);
+    const Vec2 p = relative ? cur_ + Vec2(x, y) : Vec2(x, y);
+    if (!finite(p)) not_finite();
+    return p;
+  }
+  /// A sum of relative moves, an arc's centre or a reflected control point
+  /// overflowed: named at the start of the command's numbers.
+  [[noreturn]] void not_finite() const {
+    throw InputError("d[" + std::to_string(start_of_command_) + "]: the command's coordinates are not finite (they overflow)");
   }
 
   void add(Piece p) {
+    for (std::size_t k = 0; k < p.p.size(); ++k)
+      if (!finite(p.p[k]) || !std::isfinite(p.w[k])) not_finite();
     if (!open_) {  // a command after Z without M starts at the last subpath's start
       open_ = true;
       start_ = cur_;
@@ -199,6 +219,7 @@ class Parser {
         const double v = number();
         Vec2 p = cur_;
         (up == 'H' ? p.x : p.y) = rel ? (up == 'H' ? cur_.x : cur_.y) + v : v;
+        if (!finite(p)) not_finite();
         add(polynomial({cur_, p}));
         cur_ = p;
         return;
@@ -231,7 +252,10 @@ class Parser {
         const double rx = number(), ry = number(), phi = number();
         const bool large = flag(), sweep = flag();
         const Vec2 p = point(rel);
-        for (Piece& piece : arc_pieces(cur_, rx, ry, phi, large, sweep, p)) add(std::move(piece));
+        bool ok = true;
+        std::vector<Piece> pieces = arc_pieces(cur_, rx, ry, phi, large, sweep, p, ok);
+        if (!ok) not_finite();
+        for (Piece& piece : pieces) add(std::move(piece));
         cur_ = p;
         return;
       }
@@ -279,7 +303,7 @@ class Parser {
 
   const std::string& d_;
   std::string prefix_;
-  std::size_t i_ = 0;
+  std::size_t i_ = 0, start_of_command_ = 0;
   Vec2 cur_{0.0}, start_{0.0}, ctrl_{0.0};
   char last_ = 0;
   bool open_ = false;
@@ -293,31 +317,181 @@ std::vector<PathSpline> parse_path_data(const std::string& d, const std::string&
   return Parser(d, prefix).run();
 }
 
-std::vector<PathSpline> read_svg(const std::filesystem::path& path) {
-  const std::string svg = read_input_file(path);  // regular files only, size-limited
-  const std::regex element(R"(<path\b([^>]*)>)");
-  const std::regex attribute(R"re(\s(d|id)\s*=\s*(?:"([^"]*)"|'([^']*)'))re");
+Affine operator*(const Affine& o, const Affine& i) {
+  return {o.a * i.a + o.c * i.b, o.b * i.a + o.d * i.b, o.a * i.c + o.c * i.d,
+          o.b * i.c + o.d * i.d, o.a * i.e + o.c * i.f + o.e, o.b * i.e + o.d * i.f + o.f};
+}
+
+Affine parse_transform(const std::string& t) {
+  std::size_t i = 0;
+  auto fail = [&](const std::string& what) -> void {
+    throw InputError("transform[" + std::to_string(i) + "]: " + what);
+  };
+  auto space = [&](bool comma) {
+    while (i < t.size() && (std::isspace(static_cast<unsigned char>(t[i])) || (comma && t[i] == ','))) ++i;
+  };
+  auto number = [&]() {
+    space(false);
+    std::size_t j = i;
+    if (j < t.size() && (t[j] == '+' || t[j] == '-')) ++j;
+    const std::size_t digits = j;
+    while (j < t.size() && (std::isdigit(static_cast<unsigned char>(t[j])) || t[j] == '.')) ++j;
+    if (j == digits) fail("expected a number");
+    if (j < t.size() && (t[j] == 'e' || t[j] == 'E')) {
+      std::size_t k = j + 1;
+      if (k < t.size() && (t[k] == '+' || t[k] == '-')) ++k;
+      if (k < t.size() && std::isdigit(static_cast<unsigned char>(t[k]))) {
+        while (k < t.size() && std::isdigit(static_cast<unsigned char>(t[k]))) ++k;
+        j = k;
+      }
+    }
+    const std::size_t from = t[i] == '+' ? i + 1 : i;
+    double v = 0;
+    const auto [end, ec] = std::from_chars(t.data() + from, t.data() + j, v);
+    if (ec != std::errc() || end != t.data() + j || !std::isfinite(v)) fail("'" + t.substr(i, j - i) + "' is not a finite number");
+    i = j;
+    return v;
+  };
+  Affine m;
+  space(true);
+  while (i < t.size()) {
+    const std::size_t name_at = i;
+    while (i < t.size() && std::isalpha(static_cast<unsigned char>(t[i]))) ++i;
+    const std::string name = t.substr(name_at, i - name_at);
+    const std::size_t args_at = i;
+    std::size_t arity[2] = {0, 0};  // allowed argument counts
+    if (name == "matrix") arity[0] = arity[1] = 6;
+    else if (name == "translate" || name == "scale") arity[0] = 1, arity[1] = 2;
+    else if (name == "rotate") arity[0] = 1, arity[1] = 3;
+    else if (name == "skewX" || name == "skewY") arity[0] = arity[1] = 1;
+    else {
+      i = name_at;
+      fail(name.empty() ? "expected a transform (matrix, translate, scale, rotate, skewX, skewY)"
+                        : "unknown transform '" + name + "'");
+    }
+    space(false);
+    if (i >= t.size() || t[i] != '(') fail("expected '(' after " + name);
+    ++i;
+    std::vector<double> v;
+    space(false);
+    while (i < t.size() && t[i] != ')') {
+      if (v.size() == 6) fail("too many numbers for " + name);
+      v.push_back(number());
+      space(true);
+    }
+    if (i >= t.size()) fail("expected ')' after " + name + "'s numbers");
+    ++i;
+    if (v.size() < arity[0] || v.size() > arity[1] || (name == "rotate" && v.size() == 2)) {
+      i = args_at;
+      fail(name + " takes " + (name == "rotate" ? std::string("1 or 3") : arity[0] == arity[1] ? std::to_string(arity[0])
+                                                                          : "1 or 2") +
+           " numbers, not " + std::to_string(v.size()));
+    }
+    const double deg = std::numbers::pi / 180;
+    Affine step;
+    if (name == "matrix") step = {v[0], v[1], v[2], v[3], v[4], v[5]};
+    else if (name == "translate") step = {1, 0, 0, 1, v[0], v.size() > 1 ? v[1] : 0.0};
+    else if (name == "scale") step = {v[0], 0, 0, v.size() > 1 ? v[1] : v[0], 0, 0};
+    else if (name == "skewX") step = {1, 0, std::tan(v[0] * deg), 1, 0, 0};
+    else if (name == "skewY") step = {1, std::tan(v[0] * deg), 0, 1, 0, 0};
+    else {  // rotate(a [cx cy]) = translate(cx cy) rotate(a) translate(-cx -cy)
+      const double c = std::cos(v[0] * deg), s = std::sin(v[0] * deg);
+      step = {c, s, -s, c, 0, 0};
+      if (v.size() == 3) step = Affine{1, 0, 0, 1, v[1], v[2]} * step * Affine{1, 0, 0, 1, -v[1], -v[2]};
+    }
+    m = m * step;
+    space(true);
+  }
+  return m;
+}
+
+namespace {
+
+/// The element name without a namespace prefix ("svg:path" -> "path").
+std::string_view local_name(const char* name) {
+  std::string_view n(name);
+  const auto colon = n.rfind(':');
+  return colon == std::string_view::npos ? n : n.substr(colon + 1);
+}
+
+}  // namespace
+
+std::vector<PathSpline> read_svg_text(const std::string& text, const std::string& name, const std::string& stem,
+                                      const SvgOptions& options) {
+  pugi::xml_document doc;
+  // parse_default: elements, attributes (whitespace normalised), CDATA as
+  // text, the predefined entities and character references expanded. No
+  // comments, processing instructions or DOCTYPE nodes; pugixml never
+  // expands an entity a DOCTYPE declares and never fetches anything.
+  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
+  if (!parsed)
+    throw InputError(name + ": not well-formed XML at byte " + std::to_string(parsed.offset) + ": " +
+                     parsed.description());
+  const Affine flip = options.flip_y ? Affine{1, 0, 0, -1, 0, 0} : Affine{};
   std::vector<PathSpline> out;
   int index = 0;
-  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), element); it != std::sregex_iterator(); ++it, ++index) {
-    const std::string attrs = (*it)[1].str();
-    std::string d, id;
-    bool has_d = false;
-    for (auto a = std::sregex_iterator(attrs.begin(), attrs.end(), attribute); a != std::sregex_iterator(); ++a) {
-      const std::string value = (*a)[2].matched ? (*a)[2].str() : (*a)[3].str();
-      if ((*a)[1] == "d") d = value, has_d = true;
-      else id = value;
+  std::vector<std::pair<pugi::xml_node, Affine>> stack;  // explicit: deep nesting cannot overflow the call stack
+  for (pugi::xml_node top = doc.last_child(); top; top = top.previous_sibling())
+    if (top.type() == pugi::node_element) stack.emplace_back(top, flip);
+  while (!stack.empty()) {
+    auto [node, outer] = stack.back();
+    stack.pop_back();
+    Affine m = outer;
+    const pugi::xml_attribute transform = node.attribute("transform");
+    const bool is_path = local_name(node.name()) == "path";
+    std::string where = "path " + std::to_string(index);
+    if (!is_path) {  // built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + string&&
+      where = "<";
+      where += node.name();
+      where += '>';
     }
-    if (!has_d) continue;
-    const std::string label = id.empty() ? "path" + std::to_string(index) : id;
-    try {
-      for (PathSpline& s : parse_path_data(d, path.stem().string() + "/" + label)) out.push_back(std::move(s));
-    } catch (const InputError& e) {
-      throw InputError(path.string() + ": path " + std::to_string(index) + ", " + e.what());
+    if (transform) {
+      try {
+        m = outer * parse_transform(transform.value());
+      } catch (const InputError& e) {
+        throw InputError(name + ": " + where + " (byte " + std::to_string(node.offset_debug()) + "), " + e.what());
+      }
     }
+    if (is_path) {
+      const int this_index = index++;
+      const pugi::xml_attribute d = node.attribute("d");
+      if (d) {
+        const std::string id = node.attribute("id").value();
+        const std::string label = id.empty() ? "path" + std::to_string(this_index) : id;
+        std::vector<PathSpline> subpaths;
+        try {
+          subpaths = parse_path_data(d.value(), stem + "/" + label);
+        } catch (const InputError& e) {
+          throw InputError(name + ": " + where + ", " + e.what());
+        }
+        for (PathSpline& s : subpaths) {
+          for (Vec2& p : s.points) {
+            p = m(p);
+            if (!finite(p))
+              throw InputError(name + ": " + where + ": a coordinate is not finite after the transform");
+          }
+          out.push_back(std::move(s));
+        }
+      }
+    }
+    std::size_t first = stack.size();
+    for (pugi::xml_node child = node.first_child(); child; child = child.next_sibling())
+      if (child.type() == pugi::node_element) stack.emplace_back(child, m);
+    std::reverse(stack.begin() + static_cast<std::ptrdiff_t>(first), stack.end());  // document order
   }
-  if (out.empty()) throw InputError(path.string() + ": no <path> with curve data");
+  if (out.empty()) throw InputError(name + ": no <path> with curve data");
   return out;
+}
+
+std::vector<PathSpline> read_svg(const std::filesystem::path& path, const SvgOptions& options) {
+  const std::string svg = read_input_file(path);  // regular files only, size-limited
+  return read_svg_text(svg, path.string(), path.stem().string(), options);
+}
+
+bool is_svg_path(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".svg";
 }
 
 nlohmann::json path_json(const PathSpline& s) {

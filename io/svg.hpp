@@ -1,8 +1,20 @@
 #pragma once
 /// SVG path data as B-splines (SVG 1.1 §8.3, "paths"; arcs per Appendix F.6).
 ///
-/// Every <path d="..."> of a file is read (other elements, styles and
-/// transforms are ignored). Commands M/L/H/V/C/S/Q/T/A/Z, absolute (upper
+/// The document is read by an XML parser (pugixml): comments, CDATA,
+/// processing instructions and the DOCTYPE are not elements, so a <path> in
+/// a comment is not imported; attribute values are normalised and the five
+/// predefined entities and character references expanded as XML says;
+/// entities a DOCTYPE declares are never expanded (no internal or external
+/// entity expansion, nothing is fetched). Every <path d="..."> element is
+/// read (any namespace prefix; other elements and styles are ignored), with
+/// the `transform` of the path and of every enclosing element applied
+/// (SVG 1.1 §7.6: translate, scale, rotate with or without a centre, skewX,
+/// skewY, matrix). By default the result is flipped to cmr's y-up frame
+/// (x, y) -> (x, -y), so a drawing keeps its look in cmr's pictures;
+/// SvgOptions::flip_y = false keeps SVG's y-down coordinates. Nothing here
+/// recurses on the input: the element tree is walked with an explicit
+/// stack and path data by a linear scanner. Commands M/L/H/V/C/S/Q/T/A/Z, absolute (upper
 /// case) and relative (lower case, each coordinate pair relative to the
 /// current point at the start of its own segment); repeated coordinate sets
 /// continue the command (after M/m as L/l); S/T reflect the previous C/S
@@ -21,8 +33,14 @@
 /// a rational spline: its file carries "weights", one per control point.
 /// Degenerate arcs follow F.6.2: equal ends draw nothing, a zero radius a line.
 ///
+/// Every computed coordinate and weight is checked finite (an arc or a sum
+/// of relative moves can overflow although each number is finite).
+///
 /// Errors: InputError naming the file, the path's number and the offset in
-/// its d attribute ("drawing.svg: path 2, d[14]: expected a number").
+/// its d attribute ("drawing.svg: path 2, d[14]: expected a number",
+/// "drawing.svg: path 0, d[5]: the arc's coordinates are not finite"), or
+/// the byte offset of a malformed document or transform
+/// ("drawing.svg: not well-formed XML at byte 40: ...").
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -45,11 +63,37 @@ struct PathSpline {
   bool rational() const { return !weights.empty(); }
 };
 
-/// The subpaths of one d attribute; names are "PREFIX/sK".
+/// How read_svg places the drawing.
+struct SvgOptions {
+  bool flip_y = true;  ///< (x, y) -> (x, -y): cmr's y-up frame; false keeps SVG's y-down coordinates
+};
+
+/// The 2x3 affine map x' = a x + c y + e, y' = b x + d y + f (SVG's matrix(a b c d e f)).
+struct Affine {
+  double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;
+  Vec2 operator()(Vec2 p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
+};
+/// `outer` after `inner`: (outer * inner)(p) = outer(inner(p)).
+Affine operator*(const Affine& outer, const Affine& inner);
+
+/// A transform attribute (SVG 1.1 §7.6) as one affine map; the list's first
+/// transform is the outermost. InputError "transform[K]: ..." at offset K.
+Affine parse_transform(const std::string& text);
+
+/// The subpaths of one d attribute; names are "PREFIX/sK". Coordinates as
+/// written (no transform, no flip).
 std::vector<PathSpline> parse_path_data(const std::string& d, const std::string& prefix);
 
+/// Every path of an SVG document held in `text`; `name` is the file name used
+/// in messages and `stem` the prefix of the spline names.
+std::vector<PathSpline> read_svg_text(const std::string& text, const std::string& name, const std::string& stem,
+                                      const SvgOptions& options = {});
+
 /// Every path of an SVG file; names "STEM/pathN/sK" (or the path's id for pathN).
-std::vector<PathSpline> read_svg(const std::filesystem::path& path);
+std::vector<PathSpline> read_svg(const std::filesystem::path& path, const SvgOptions& options = {});
+
+/// Whether `path` names an SVG file (extension .svg, any case).
+bool is_svg_path(const std::filesystem::path& path);
 
 /// The spline file: degree, knots, points, name, "closed" when closed and
 /// "weights" when rational.

@@ -165,12 +165,35 @@ std::string read_input_file(const std::filesystem::path& path) {
   return text;
 }
 
+namespace {
+
+/// What a file that is not JSON looks like, when cmr import reads that kind:
+/// an XML/SVG document (first non-blank byte '<') or a font (its magic bytes).
+const char* foreign_kind(std::string_view text) {
+  std::string_view t = text;
+  if (t.substr(0, 3) == "\xEF\xBB\xBF") t.remove_prefix(3);  // UTF-8 byte order mark
+  while (!t.empty() && (t[0] == ' ' || t[0] == '\t' || t[0] == '\n' || t[0] == '\r')) t.remove_prefix(1);
+  if (!t.empty() && t[0] == '<') return "an SVG/XML document";
+  const std::string_view head = text.substr(0, 4);
+  using namespace std::string_view_literals;
+  const bool sfnt = head == "\0\1\0\0"sv || head == "OTTO" || head == "true" || head == "ttcf";
+  if ((sfnt && text.size() >= 12 && text[4] == '\0') || head == "wOFF" || head == "wOF2" ||
+      text.substr(0, 14) == "%!PS-AdobeFont" || text.substr(0, 11) == "%!FontType1" || text.substr(0, 2) == "\x80\x01")
+    return "a font file";
+  return nullptr;
+}
+
+}  // namespace
+
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options) {
   const std::string text = read_input_file(path);
   json doc;
   try {
     doc = json::parse(text);
   } catch (const json::exception& e) {
+    if (const char* kind = foreign_kind(text))  // an SVG or font given where a spline file belongs
+      throw InputError(path.string() + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
+                       " --out DIR` to convert it to spline files)");
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ..."
     // (or out_of_range.406 "number overflow parsing '1e999'").
     std::string what = e.what();

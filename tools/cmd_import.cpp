@@ -21,6 +21,7 @@ struct ImportArgs {
   std::string input;
   std::string glyphs = "A-Z,a-z";
   std::string out = ".";
+  bool y_down = false;
 };
 
 }  // namespace
@@ -32,15 +33,18 @@ void add_import_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
+  cmd->add_flag("--y-down", args->y_down,
+                "SVG: keep SVG's y-down coordinates (default: flipped to cmr's y-up frame, (x, y) -> (x, -y))");
   cmd->callback([args, cmd, &exit_code] {
     const std::filesystem::path input = args->input;
     std::string ext = input.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     OutputSet files;
     int written = 0, rational = 0;
+    if (ext != ".svg" && args->y_down) throw InputError("--y-down: only for SVG files, not for " + args->input);
     if (ext == ".svg") {
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
-      const auto paths = import::read_svg(input);
+      const auto paths = import::read_svg(input, {.flip_y = !args->y_down});
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       int index = 0;

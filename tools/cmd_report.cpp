@@ -3,7 +3,9 @@
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z]: QA reports (DIR/report.json,
 // DIR/index.html) and a gate on their verdicts. A font file among FILES is imported
 // (io/font.hpp): each glyph contour is one closed spline, fixes are suggested
-// on the font's unit grid, and DIR/font.html holds the per-glyph overview.
+// on the font's unit grid, and DIR/font.html holds the per-glyph overview. An
+// SVG file (.svg) is read as cmr import reads it (io/svg.hpp, y-up): each
+// subpath is one spline.
 #include <unistd.h>
 
 #include <iostream>
@@ -15,6 +17,7 @@
 #include "tools/cli_common.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
+#include "io/svg.hpp"
 #include "report/report.hpp"
 
 namespace cmr::cli {
@@ -67,7 +70,7 @@ static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::
 void add_report_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
-  cmd->add_option("FILES", args->files, "spline files (JSON) or fonts (.ttf, .otf, ...)")->required();
+  cmd->add_option("FILES", args->files, "spline files (JSON), fonts (.ttf, .otf, ...) or SVG files (.svg)")->required();
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
@@ -105,6 +108,18 @@ void add_report_command(CLI::App& app, int& exit_code) {
     std::vector<report::FontInfo> fonts;
     const auto codepoints = import::parse_glyph_spec(args->glyphs);
     for (const std::string& f : args->files) {
+      if (import::is_svg_path(f)) {  // each subpath one item, as cmr import would write it
+        for (const import::PathSpline& s : import::read_svg(f)) {
+          report::ReportInput in{f + ":" + s.name, {}, {}};
+          try {
+            in.spline = import::to_bspline(s);
+          } catch (const InputError& e) {
+            in.error = in.file + ": " + e.what();
+          }
+          inputs.push_back(std::move(in));
+        }
+        continue;
+      }
       if (!import::is_font_path(f)) {
         inputs.push_back(report::read_input(f));
         continue;

@@ -216,3 +216,139 @@ TEST(ImportSvg, ReadsEveryPathOfAFile) {
 
 }  // namespace
 }  // namespace cmr::import
+
+namespace cmr::import {
+namespace {
+
+std::string svg_error(const std::string& text, const SvgOptions& o = {}) {
+  try {
+    (void)read_svg_text(text, "t.svg", "t", o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// Issue 26 D1: each number finite, the computed coordinates not.
+TEST(ImportSvgDocument, NonFiniteCoordinatesNameThePathAndOffset) {
+  EXPECT_EQ(svg_error("<svg><path d='M0 0'/><path d=\"M0 0 A 5 50 0 1 1 10 -1e308\"/></svg>"),
+            "t.svg: path 1, d[5]: the command's coordinates are not finite (they overflow)");
+  EXPECT_EQ(svg_error("<svg><path d='M 1e308 0 l 1e308 0 l 0 1'/></svg>"),
+            "t.svg: path 0, d[10]: the command's coordinates are not finite (they overflow)");
+  EXPECT_EQ(svg_error("<svg><path d='M 1e308 0 h 1e308'/></svg>"),
+            "t.svg: path 0, d[10]: the command's coordinates are not finite (they overflow)");
+  // A reflected control point (2 P - C) overflows.
+  EXPECT_EQ(svg_error("<svg><path d='M 0 0 C 1e308 0 0 0 -1e308 0 S 0 0 0 0'/></svg>"),
+            "t.svg: path 0, d[29]: the command's coordinates are not finite (they overflow)");
+  // A transform that overflows finite path data.
+  EXPECT_EQ(svg_error("<svg><g transform='scale(1e300)'><path d='M 1e300 0 L 0 1'/></g></svg>"),
+            "t.svg: path 0: a coordinate is not finite after the transform");
+}
+
+// Issue 26 D4: a long path (was std::regex recursion, SIGSEGV) and deep nesting.
+TEST(ImportSvgDocument, LongPathsAndDeepNestingAreLinear) {
+  std::string d = "M0 0";
+  for (int k = 0; k < 20000; ++k) d += " L" + std::to_string(k % 7) + " " + std::to_string(k % 5);
+  const auto paths = read_svg_text("<svg><path d='" + d + "'/></svg>", "t.svg", "t");
+  ASSERT_EQ(paths.size(), 1u);
+  EXPECT_EQ(paths[0].points.size(), 2u * 20000 + 1);
+  std::string deep;
+  for (int k = 0; k < 100000; ++k) deep += "<g transform='translate(1)'>";
+  deep += "<path d='M0 0 L1 1'/>";
+  for (int k = 0; k < 100000; ++k) deep += "</g>";
+  const auto nested = read_svg_text("<svg>" + deep + "</svg>", "t.svg", "t");
+  ASSERT_EQ(nested.size(), 1u);
+  EXPECT_EQ(nested[0].points[0], Vec2(100000, 0));
+}
+
+// XML as XML defines it: comments, CDATA, processing instructions and the
+// DOCTYPE are no elements; entities and attribute normalisation.
+TEST(ImportSvgDocument, CommentsCdataEntitiesAndAttributes) {
+  const auto paths = read_svg_text(
+      "<?xml version='1.0'?><!DOCTYPE svg><svg xmlns:svg='http://www.w3.org/2000/svg'>"
+      "<!-- <path id='commented' d='M0 0 L1 1'/> -->"
+      "<text><![CDATA[<path id='cdata' d='M0 0 L1 1'/>]]></text>"
+      "<?pi <path d='M0 0 L1 1'/>?>"
+      "<path id='a&amp;b' d='M0&#x20;0&#10;L&#x33; 4'/><svg:path id='ns' d='M0 0 L5 0'/></svg>",
+      "t.svg", "t", {.flip_y = false});
+  ASSERT_EQ(paths.size(), 2u);
+  EXPECT_EQ(paths[0].name, "t/a&b/s0");
+  EXPECT_EQ(paths[0].points.back(), Vec2(3, 4));
+  EXPECT_EQ(paths[1].name, "t/ns/s0");
+  // Entities a DOCTYPE declares are not expanded, internal or external.
+  EXPECT_EQ(svg_error("<!DOCTYPE svg [<!ENTITY e 'L1 1'>]><svg><path d='M0 0 &e;'/></svg>"),
+            "t.svg: path 0, d[5]: expected a number");
+  EXPECT_EQ(svg_error("<!DOCTYPE svg [<!ENTITY x SYSTEM 'file:///etc/passwd'>]><svg><path d='&x;'/></svg>"),
+            "t.svg: path 0, d[0]: path data must start with M or m");
+  EXPECT_EQ(svg_error("<svg><!-- <path d='M0 0 L1 1'/> --></svg>"), "t.svg: no <path> with curve data");
+  EXPECT_EQ(svg_error("<svg><path d='M0 0 L1 1'></svg>").substr(0, 35), "t.svg: not well-formed XML at byte ");
+}
+
+// Issue 20.6: y-up by default, SVG coordinates on request.
+TEST(ImportSvgDocument, FlippedToYUpByDefault) {
+  const std::string doc = "<svg><path d='M1 2 Q3 4 5 6 A1 1 0 0 1 7 6'/></svg>";
+  const auto up = read_svg_text(doc, "t.svg", "t");
+  const auto down = read_svg_text(doc, "t.svg", "t", {.flip_y = false});
+  ASSERT_EQ(up.size(), 1u);
+  ASSERT_EQ(up[0].points.size(), down[0].points.size());
+  EXPECT_EQ(down[0].points[0], Vec2(1, 2));
+  for (std::size_t k = 0; k < up[0].points.size(); ++k)
+    EXPECT_EQ(up[0].points[k], Vec2(down[0].points[k].x, -down[0].points[k].y)) << "point " << k;
+  EXPECT_EQ(up[0].weights, down[0].weights);
+}
+
+// Issue 20.6: transforms on paths and nested groups, each kind against its
+// SVG 1.1 §7.6 matrix; the list's first transform is the outermost.
+TEST(ImportSvgDocument, TransformsOnPathsAndNestedGroups) {
+  auto first_points = [](const std::string& body) {
+    const auto p = read_svg_text("<svg>" + body + "</svg>", "t.svg", "t", {.flip_y = false});
+    return std::pair(p.at(0).points.front(), p.at(0).points.back());
+  };
+  auto near = [](Vec2 a, Vec2 b) { return std::abs(a.x - b.x) < 1e-12 && std::abs(a.y - b.y) < 1e-12; };
+  const std::string line = "d='M1 2 L3 5'";
+  EXPECT_EQ(first_points("<g transform='translate(10,5)'><path " + line + "/></g>"), std::pair(Vec2(11, 7), Vec2(13, 10)));
+  EXPECT_EQ(first_points("<g transform='translate(10)'><path " + line + "/></g>").first, Vec2(11, 2));
+  EXPECT_EQ(first_points("<g transform='scale(2)'><g transform='scale(1 3)'><path " + line + "/></g></g>").second,
+            Vec2(6, 30));
+  EXPECT_EQ(first_points("<g transform='translate(1,1) scale(2)'><path " + line + "/></g>").first, Vec2(3, 5));
+  EXPECT_EQ(first_points("<g transform='scale(2)'><path transform='translate(1,1)' " + line + "/></g>").first,
+            Vec2(4, 6));
+  EXPECT_TRUE(near(first_points("<path transform='rotate(90)' " + line + "/>").first, Vec2(-2, 1)));
+  EXPECT_TRUE(near(first_points("<path transform='rotate(90 1 2)' " + line + "/>").second, Vec2(-2, 4)));
+  EXPECT_TRUE(near(first_points("<path transform='skewX(45)' " + line + "/>").first, Vec2(3, 2)));
+  EXPECT_TRUE(near(first_points("<path transform='skewY(45)' " + line + "/>").first, Vec2(1, 3)));
+  EXPECT_EQ(first_points("<path transform='matrix(1 2 3 4 5 6)' " + line + "/>").first, Vec2(12, 16));
+  // Siblings do not inherit each other's transforms.
+  const auto two = read_svg_text("<svg><g transform='translate(5 0)'><path d='M0 0 L1 0'/></g><path d='M0 0 L1 0'/></svg>",
+                                 "t.svg", "t", {.flip_y = false});
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].points[0], Vec2(5, 0));
+  EXPECT_EQ(two[1].points[0], Vec2(0, 0));
+  // Flip after the transforms: a translated drawing flipped as a whole.
+  EXPECT_EQ(read_svg_text("<svg><g transform='translate(0 10)'><path " + line + "/></g></svg>", "t.svg", "t")[0].points[0],
+            Vec2(1, -12));
+}
+
+TEST(ImportSvgDocument, TransformErrors) {
+  auto message = [](const std::string& t) {
+    try {
+      (void)parse_transform(t);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("translate(1,2) scale(2)"), "no error");
+  EXPECT_EQ(message("  "), "no error");
+  EXPECT_EQ(message("shear(1)"), "transform[0]: unknown transform 'shear'");
+  EXPECT_EQ(message("rotate(1 2)"), "transform[6]: rotate takes 1 or 3 numbers, not 2");
+  EXPECT_EQ(message("matrix(1 2 3)"), "transform[6]: matrix takes 6 numbers, not 3");
+  EXPECT_EQ(message("scale 2"), "transform[6]: expected '(' after scale");
+  EXPECT_EQ(message("scale(2"), "transform[7]: expected ')' after scale's numbers");
+  EXPECT_EQ(message("scale(1e999)"), "transform[6]: '1e999' is not a finite number");
+  EXPECT_EQ(svg_error("<svg><g transform='scale(x)'><path d='M0 0 L1 1'/></g></svg>"),
+            "t.svg: <g> (byte 6), transform[6]: expected a number");
+}
+
+}  // namespace
+}  // namespace cmr::import
