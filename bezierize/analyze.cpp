@@ -319,6 +319,15 @@ Alternation alternation_verdict(const std::vector<Direction>& groups) {
   return groups.front() == Direction::increasing ? Alternation::first_increasing : Alternation::first_decreasing;
 }
 
+EachPiece each_piece_verdict(const std::vector<Direction>& groups) {
+  bool undecided = false;
+  for (Direction g : groups) {
+    if (g == Direction::none) return EachPiece::fail;
+    undecided = undecided || g == Direction::undecided;
+  }
+  return undecided ? EachPiece::undecided : EachPiece::monotone;
+}
+
 Joint joint_between(const BSpline& spline, int left, int right, const ContinuityTolerances& tolerances) {
   const Segment& L = spline.segments()[left];
   const Segment& R = spline.segments()[right];
@@ -358,6 +367,8 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   if (options.split) validate_cuts({*options.split}, range, N);
   validate_cuts(options.splits, range, N);
   if (options.split && !options.splits.empty()) throw InputError("give one split joint or a list of them, not both");
+  if (options.split && options.each_piece)
+    throw InputError("--split and --each-piece exclude each other: give the joints to --each-piece");
   if (options.classify.max_depth < 0 || options.classify.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0.." +
                      std::to_string(kMaxDepth));
@@ -380,7 +391,8 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   const int first = range.first, end = range.last + 1;
   // The whole period of a closed spline without split joints: the seam is a
   // joint inside the part (a neutral class after the last segment).
-  const bool around = out.seam && first == 0 && end == N && !options.split && options.splits.empty();
+  const bool around =
+      out.seam && first == 0 && end == N && !options.split && options.splits.empty() && !options.each_piece;
   const auto whole = [&](const std::vector<SegmentClass>& classes, Mode mode, std::vector<int>* conflicts) {
     if (!around) return part_verdict(classes, out.joints, first, end, mode, conflicts);
     std::vector<SegmentClass> c = classes;
@@ -397,10 +409,12 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
     out.split = combine_split(part_verdict(reported, out.joints, first, s, options.split_mode),
                               part_verdict(reported, out.joints, s, end, options.split_mode));
   }
-  if (!options.splits.empty()) {
-    for (const auto& [a, b] : segment_groups(range, options.splits))
+  if (options.each_piece || !options.splits.empty()) {
+    out.cuts = options.each_piece ? each_piece_cuts(range, options.splits) : options.splits;
+    for (const auto& [a, b] : segment_groups(range, out.cuts))
       out.groups.push_back(part_verdict(reported, out.joints, a, b, options.split_mode));
-    out.alternation = alternation_verdict(out.groups);
+    if (options.each_piece) out.each_piece = each_piece_verdict(out.groups);
+    else out.alternation = alternation_verdict(out.groups);
   }
   return out;
 }

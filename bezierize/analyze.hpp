@@ -139,6 +139,9 @@ struct AnalyzeOptions {
   ContinuityTolerances continuity;  ///< G1/G2 tests at joints
   std::optional<SegmentRange> segments;  ///< judge only these segments (all when empty)
   std::vector<int> splits;               ///< joints s_1 < ... < s_k for the alternation verdict
+  /// The each-piece verdict instead of the alternation: the groups between
+  /// `splits` (every joint of the range when empty) each monotone on its own.
+  bool each_piece = false;
 };
 
 struct SplineAnalysis {
@@ -159,7 +162,9 @@ struct SplineAnalysis {
   int exact_segments = 0;            ///< segments that needed the exact path
   SegmentRange range;                ///< the segments judged; the others' classes are left default
   std::optional<Alternation> alternation;  ///< with options.splits
-  std::vector<Direction> groups;           ///< with options.splits: each group's verdict
+  std::optional<EachPiece> each_piece;     ///< with options.each_piece
+  std::vector<int> cuts;                   ///< the groups' cut joints (options.splits, or each_piece_cuts)
+  std::vector<Direction> groups;           ///< with options.splits or each_piece: each group's verdict
   bool judged(int segment) const { return segment >= range.first && segment <= range.last; }
 };
 
@@ -178,6 +183,8 @@ Split combine_split(Direction before, Direction after);
 SegmentClass neutral_class();
 /// The alternation verdict of consecutive groups' directions (segments.hpp).
 Alternation alternation_verdict(const std::vector<Direction>& groups);
+/// The each-piece verdict of the groups' directions (segments.hpp).
+EachPiece each_piece_verdict(const std::vector<Direction>& groups);
 
 /// The joint between segments `left` and `right` (right = left + 1, or for a
 /// closed spline's seam left = N-1, right = 0: index N, knot at the end of the

@@ -316,9 +316,11 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
   s.group = point_group(spline, options);
   s.anchor = spline.points()[options.point];
   s.range = judged_range(options.segments, spline.segment_count());
-  s.cuts = options.split ? std::vector<int>{*options.split} : options.splits;
+  s.cuts = options.split        ? std::vector<int>{*options.split}
+           : options.each_piece ? each_piece_cuts(s.range, options.splits)
+                                : options.splits;
   const int d = spline.degree(), N = spline.segment_count();
-  s.around = spline.closed() && s.range.first == 0 && s.range.last == N - 1 && s.cuts.empty();
+  s.around = spline.closed() && s.range.first == 0 && s.range.last == N - 1 && s.cuts.empty() && !options.each_piece;
 
   std::vector<bool> touched, needed;
   std::vector<int> varying_joints;
@@ -383,6 +385,7 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
     case Labels::plain: r.label = label_of(groups[0]); break;
     case Labels::split: r.label = label_of(combine_split(groups[0], groups[1])); break;
     case Labels::alternating: r.label = label_of(alternation_verdict(groups)); break;
+    case Labels::each_piece: r.label = label_of(each_piece_verdict(groups)); break;
   }
   int depth = 0;  // the template holds the judged segments only; stand-ins carry their runs' depths
   for (const SegmentClass& c : classes) {

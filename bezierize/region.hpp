@@ -55,12 +55,19 @@ enum class SplitLabel : std::uint8_t { none = 0, inc_inc = 1, inc_dec = 2, dec_i
 /// otherwise; undecided at the depth limit.
 enum class AlternatingLabel : std::uint8_t { fail = 0, first_increasing = 1, first_decreasing = 2, undecided = 3 };
 
+/// A pixel's label in the each-piece mode (RegionRequest::each_piece): every
+/// group between the cut joints (each piece by default) monotone in either
+/// direction on its own, or not; undecided at the depth limit.
+enum class PieceLabel : std::uint8_t { fail = 0, each_monotone = 1, undecided = 2 };
+
 /// "not-monotone", "increasing", "decreasing", "undecided".
 const char* to_string(RegionLabel label);
 /// "none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided".
 const char* to_string(SplitLabel label);
 /// "fail", "inc-first", "dec-first", "undecided".
 const char* to_string(AlternatingLabel label);
+/// "fail", "each-monotone", "undecided".
+const char* to_string(PieceLabel label);
 
 /// The 8-bit code of a label where bytes leave the program (PGM label maps,
 /// the shader's result word): the enumerators' values as documented in the
@@ -68,7 +75,9 @@ const char* to_string(AlternatingLabel label);
 constexpr std::uint8_t code(RegionLabel label) { return static_cast<std::uint8_t>(label); }
 constexpr std::uint8_t code(SplitLabel label) { return static_cast<std::uint8_t>(label); }
 constexpr std::uint8_t code(AlternatingLabel label) { return static_cast<std::uint8_t>(label); }
-inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6, kAlternatingLabelCodes = 4;
+constexpr std::uint8_t code(PieceLabel label) { return static_cast<std::uint8_t>(label); }
+inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6, kAlternatingLabelCodes = 4,
+                              kPieceLabelCodes = 3;
 
 /// World rectangle shown by an image: x0 left, x1 right, y0 bottom, y1 top.
 struct View {
@@ -102,6 +111,10 @@ struct RegionRequest {
   /// Joints s_1 < ... < s_k inside the judged range: its groups between them
   /// must alternate direction (AlternatingLabel results). Not with split.
   std::vector<int> splits;
+  /// Each piece on its own (PieceLabel results): the groups between `splits`
+  /// (every joint of the judged range when empty) must each be monotone, in
+  /// either direction, independently. Not with split.
+  bool each_piece = false;
   int max_depth = kDefaultDepth; ///< D of Algorithms 1 and 2, 0..kMaxDepth
   int width = 512, height = 512; ///< image size, 1..kMaxImageSize each
   std::optional<View> view;      ///< default_view() when empty
@@ -119,6 +132,7 @@ struct RegionPixel {
   RegionLabel label = RegionLabel::not_monotone;
   SplitLabel split_label = SplitLabel::none;
   AlternatingLabel alternating_label = AlternatingLabel::fail;
+  PieceLabel piece_label = PieceLabel::fail;  ///< with each_piece
   std::uint8_t depth = 0;  ///< deepest level any segment needed
   bool exact = false;      ///< the exact rational path ran
 };
@@ -183,9 +197,11 @@ struct RegionResult {
   View view;
   bool split = false;                    ///< which of the label vectors is filled
   bool alternating = false;              ///< (with splits: alternating_labels)
+  bool each_piece = false;               ///< (with each_piece: piece_labels)
   std::vector<RegionLabel> labels;       ///< without split(s), width * height; else empty
   std::vector<SplitLabel> split_labels;  ///< with split, width * height; else empty
   std::vector<AlternatingLabel> alternating_labels;  ///< with splits, width * height; else empty
+  std::vector<PieceLabel> piece_labels;  ///< with each_piece, width * height; else empty
   std::vector<std::uint8_t> depth;       ///< decision level per pixel (all 0 without RegionRequest::depth)
   std::uint64_t exact_pixels = 0;        ///< pixels the exact rational path decided
   double seconds = 0;                    ///< wall time of the render
@@ -194,7 +210,10 @@ struct RegionResult {
   std::size_t size() const { return depth.size(); }
   /// The label code of pixel `index` (code() of whichever label it has).
   std::uint8_t code_at(std::size_t index) const {
-    return alternating ? code(alternating_labels[index]) : split ? code(split_labels[index]) : code(labels[index]);
+    return each_piece    ? code(piece_labels[index])
+           : alternating ? code(alternating_labels[index])
+           : split       ? code(split_labels[index])
+                         : code(labels[index]);
   }
   /// Every pixel's label code, as written to PGM label maps.
   std::vector<std::uint8_t> codes() const;

@@ -41,6 +41,15 @@ const char* to_string(AlternatingLabel label) {
   return "?";
 }
 
+const char* to_string(PieceLabel label) {
+  switch (label) {
+    case PieceLabel::fail: return "fail";
+    case PieceLabel::each_monotone: return "each-monotone";
+    case PieceLabel::undecided: return "undecided";
+  }
+  return "?";
+}
+
 std::vector<std::uint8_t> RegionResult::codes() const {
   std::vector<std::uint8_t> out(size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = code_at(i);
@@ -48,12 +57,13 @@ std::vector<std::uint8_t> RegionResult::codes() const {
 }
 
 int RegionResult::label_codes() const {
-  return alternating ? kAlternatingLabelCodes : split ? kSplitLabelCodes : kRegionLabelCodes;
+  return each_piece ? kPieceLabelCodes : alternating ? kAlternatingLabelCodes : split ? kSplitLabelCodes : kRegionLabelCodes;
 }
 
 const char* RegionResult::label_name(std::uint8_t c) const {
   CMR_CHECK(c < label_codes());
-  return alternating ? to_string(static_cast<AlternatingLabel>(c))
+  return each_piece  ? to_string(static_cast<PieceLabel>(c))
+         : alternating ? to_string(static_cast<AlternatingLabel>(c))
          : split     ? to_string(static_cast<SplitLabel>(c))
                      : to_string(static_cast<RegionLabel>(c));
 }
@@ -104,6 +114,8 @@ void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   if (o.split) validate_cuts({*o.split}, range, N);
   validate_cuts(o.splits, range, N);
   if (o.split && !o.splits.empty()) throw InputError("give one split joint or a list of them, not both");
+  if (o.split && o.each_piece)
+    throw InputError("--split and --each-piece exclude each other: give the joints to --each-piece");
   if (o.max_depth < 0 || o.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
   if (o.view) {
@@ -139,6 +151,15 @@ uint8_t label_of(Split s) {
   return code(SplitLabel::none);
 }
 
+uint8_t label_of(EachPiece e) {
+  switch (e) {
+    case EachPiece::monotone: return code(PieceLabel::each_monotone);
+    case EachPiece::undecided: return code(PieceLabel::undecided);
+    case EachPiece::fail: return code(PieceLabel::fail);
+  }
+  return code(PieceLabel::fail);
+}
+
 uint8_t label_of(Alternation a) {
   switch (a) {
     case Alternation::first_increasing: return code(AlternatingLabel::first_increasing);
@@ -158,6 +179,7 @@ AnalyzeOptions region_analyze_options(const RegionRequest& request) {
   ao.classify.max_depth = request.max_depth;
   ao.split = request.split;
   ao.splits = request.splits;
+  ao.each_piece = request.each_piece;
   ao.split_mode = request.mode;
   ao.segments = request.segments;
   return ao;
@@ -165,12 +187,16 @@ AnalyzeOptions region_analyze_options(const RegionRequest& request) {
 
 std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& request) {
   using detail::label_of;
-  if (!request.split && request.splits.empty()) return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
-  const std::vector<int> cuts = request.split ? std::vector<int>{*request.split} : request.splits;
+  if (!request.split && request.splits.empty() && !request.each_piece)
+    return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
+  const std::vector<int> cuts = request.split        ? std::vector<int>{*request.split}
+                                : request.each_piece ? each_piece_cuts(a.range, request.splits)
+                                                     : request.splits;
   std::vector<Direction> groups;
   for (const auto& [first, end] : segment_groups(a.range, cuts))
     groups.push_back(part_verdict(a.segments, a.joints, first, end, request.mode));
   if (request.split) return label_of(combine_split(groups[0], groups[1]));
+  if (request.each_piece) return label_of(each_piece_verdict(groups));
   return label_of(alternation_verdict(groups));
 }
 
@@ -179,6 +205,7 @@ std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& req
 namespace cmr::detail {
 
 Labels labels_of(const RegionRequest& o) {
+  if (o.each_piece) return Labels::each_piece;
   return !o.splits.empty() ? Labels::alternating : (o.split ? Labels::split : Labels::plain);
 }
 
@@ -197,9 +224,15 @@ AlternatingLabel alternating_label(uint8_t c) {
   return static_cast<AlternatingLabel>(c);
 }
 
+PieceLabel piece_label(uint8_t c) {
+  CMR_CHECK(c < kPieceLabelCodes);
+  return static_cast<PieceLabel>(c);
+}
+
 RegionPixel to_pixel(const PixelResult& r, Labels kind) {
   RegionPixel p;
-  if (kind == Labels::alternating) p.alternating_label = alternating_label(r.label);
+  if (kind == Labels::each_piece) p.piece_label = piece_label(r.label);
+  else if (kind == Labels::alternating) p.alternating_label = alternating_label(r.label);
   else if (kind == Labels::split) p.split_label = split_label(r.label);
   else p.label = region_label(r.label);
   p.depth = r.depth;
@@ -214,7 +247,11 @@ RegionResult to_result(RegionImage&& image, Labels kind) {
   r.view = image.view;
   r.split = kind == Labels::split;
   r.alternating = kind == Labels::alternating;
-  if (r.alternating) {
+  r.each_piece = kind == Labels::each_piece;
+  if (r.each_piece) {
+    r.piece_labels.reserve(image.labels.size());
+    for (uint8_t c : image.labels) r.piece_labels.push_back(piece_label(c));
+  } else if (r.alternating) {
     r.alternating_labels.reserve(image.labels.size());
     for (uint8_t c : image.labels) r.alternating_labels.push_back(alternating_label(c));
   } else if (r.split) {

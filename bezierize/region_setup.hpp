@@ -44,10 +44,11 @@ void validate_region_options(const BSpline& spline, const RegionRequest& options
 uint8_t label_of(Direction d);
 uint8_t label_of(Split s);
 uint8_t label_of(Alternation a);
+uint8_t label_of(EachPiece e);
 
 /// Which labels a request's pixels get: RegionLabel, SplitLabel (split) or
 /// AlternatingLabel (splits).
-enum class Labels : uint8_t { plain, split, alternating };
+enum class Labels : uint8_t { plain, split, alternating, each_piece };
 Labels labels_of(const RegionRequest& request);
 
 /// What one position gets, with the label as its code.
@@ -142,7 +143,7 @@ struct RegionSetup {
   std::vector<int> group;                ///< k first, then the rigid members
   Vec2 anchor{0.0};                      ///< P_k
   SegmentRange range;                    ///< the judged segments (options.segments, or all)
-  std::vector<int> cuts;                 ///< the joints between groups: options.split, or options.splits
+  std::vector<int> cuts;                 ///< the joints between groups: options.split, or options.splits (each_piece_cuts)
   std::vector<RegionEntry> entries;      ///< ascending segment order, judged segments only
   std::vector<RegionJoint> varying;      ///< joints whose jump depends on p
   VerdictTemplate verdict;               ///< per-position verdict input (entries' slots filled per position)
@@ -213,6 +214,7 @@ RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
 RegionLabel region_label(uint8_t code);
 SplitLabel split_label(uint8_t code);
 AlternatingLabel alternating_label(uint8_t code);
+PieceLabel piece_label(uint8_t code);
 /// A pixel's public form.
 RegionPixel to_pixel(const PixelResult& r, Labels kind);
 /// An image's public form (labels decoded; seconds left 0).

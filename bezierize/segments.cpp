@@ -18,6 +18,22 @@ const char* to_string(Alternation a) {
   return "?";
 }
 
+const char* to_string(EachPiece e) {
+  switch (e) {
+    case EachPiece::monotone: return "each-monotone";
+    case EachPiece::fail: return "fail";
+    case EachPiece::undecided: return "undecided";
+  }
+  return "?";
+}
+
+std::vector<int> each_piece_cuts(SegmentRange range, const std::vector<int>& cuts) {
+  if (!cuts.empty()) return cuts;
+  std::vector<int> out;
+  for (int j = range.first + 1; j <= range.last; ++j) out.push_back(j);
+  return out;
+}
+
 SegmentRange judged_range(const std::optional<SegmentRange>& range, int segment_count) {
   const SegmentRange all{0, segment_count - 1};
   if (!range) return all;
@@ -79,6 +95,26 @@ SegmentRange parse_segment_range(const std::string& text, const char* option) {
                             number(std::string_view(text).substr(dots + 2), r.last);
   if (!ok) throw InputError(std::string(option) + ": expected A..B or A, segment indices (got '" + text + "')");
   return r;
+}
+
+std::vector<int> parse_joint_list(const std::string& text, const char* option) {
+  std::vector<int> out;
+  if (text.empty()) return out;
+  const auto bad = [&] {
+    return InputError(std::string(option) + ": expected joints S1,S2,... (got '" + text + "')");
+  };
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', at);
+    const std::string item = text.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+    int v = 0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (item.empty() || ec != std::errc{} || end != item.data() + item.size() || v < 0) throw bad();
+    out.push_back(v);
+    if (comma == std::string::npos) break;
+    at = comma + 1;
+  }
+  return out;
 }
 
 }  // namespace cmr

@@ -39,6 +39,20 @@ enum class Alternation : std::uint8_t { first_increasing, first_decreasing, fail
 /// "inc-first", "dec-first", "fail", "undecided".
 const char* to_string(Alternation a);
 
+/// The each-piece verdict (docs/semantics.md, "Each piece on its own"): every
+/// group between the cut joints is monotone, each in either direction,
+/// independently of its neighbours (no alternation, the jumps at the cut
+/// joints free). A group that is not monotone makes "fail"; otherwise an
+/// undecided one makes "undecided".
+enum class EachPiece : std::uint8_t { monotone, fail, undecided };
+
+/// "each-monotone", "fail", "undecided".
+const char* to_string(EachPiece e);
+
+/// The cut joints of the each-piece mode: `cuts` when given, else every joint
+/// strictly inside the range (each piece its own group).
+std::vector<int> each_piece_cuts(SegmentRange range, const std::vector<int>& cuts);
+
 /// The range a request judges: `range` validated against a spline of
 /// `segment_count` segments, or all of them when empty. InputError for
 /// first > last or an index outside 0..N-1 ("segments 2..7: the curve has
@@ -64,5 +78,10 @@ bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint);
 /// "A..B" (two non-negative integers; A <= B is checked by judged_range) or
 /// "A" (A..A); InputError naming `option` otherwise.
 SegmentRange parse_segment_range(const std::string& text, const char* option = "--segments");
+
+/// "S1,S2,..." (non-negative integers) or "" (no joints: every joint, for
+/// --each-piece); InputError naming `option` otherwise ("--each-piece: expected
+/// joints S1,S2,... (got 'x')"). The joints are validated later (validate_cuts).
+std::vector<int> parse_joint_list(const std::string& text, const char* option = "--each-piece");
 
 }  // namespace cmr

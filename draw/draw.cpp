@@ -32,6 +32,7 @@ constexpr Absorb kRed{0, 0.6, 0.6};          // white - this = (1, .4, .4)
 constexpr Absorb kBlue{0.6, 0.6, 0};         // (.4, .4, 1)
 constexpr Absorb kDarkRed{0.35, 0.85, 0.85};  // (.65, .15, .15)
 constexpr Absorb kDarkBlue{0.85, 0.85, 0.35}; // (.15, .15, .65)
+constexpr Absorb kGreen{0.6, 0.25, 0.6};      // (.4, .75, .4): each piece monotone
 
 Rgb lerp(Rgb a, Rgb b, double s) { return {a.r + s * (b.r - a.r), a.g + s * (b.g - a.g), a.b + s * (b.b - a.b)}; }
 Absorb absorb_of(Rgb c) { return {1 - c.r, 1 - c.g, 1 - c.b}; }
@@ -53,6 +54,13 @@ Absorb split_absorb(uint8_t label) {
     case 4: return kBlue;      // dec-dec
     default: return kNone;     // 0 none, 5 undecided
   }
+}
+
+Absorb piece_absorb(uint8_t label) { return label == 1 ? kGreen : kNone; }  // 0 fail, 2 undecided
+
+/// The legend colour of a label of the picture's kind.
+Absorb label_absorb(const RegionPicture& p, uint8_t label) {
+  return p.each_piece ? piece_absorb(label) : p.split ? split_absorb(label) : plain_absorb(label);
 }
 
 // Fig. 7. Most pixels are decided within a few levels, so the shade saturates
@@ -211,10 +219,12 @@ void check_picture(const RegionPicture& p) {
   CMR_CHECK(!p.per_point || !p.points.empty());
   for (const RegionResult* l : p.layers) {
     CMR_CHECK(l != nullptr);
-    CMR_CHECK(l->split == p.split && l->alternating == p.alternating);
+    CMR_CHECK(l->split == p.split && l->alternating == p.alternating && l->each_piece == p.each_piece);
     CMR_CHECK(l->width == p.layers[0]->width && l->height == p.layers[0]->height);
-    CMR_CHECK((l->split ? l->split_labels.size() : l->alternating ? l->alternating_labels.size() : l->labels.size()) ==
-              static_cast<std::size_t>(l->width) * l->height);
+    CMR_CHECK((l->each_piece    ? l->piece_labels.size()
+               : l->split       ? l->split_labels.size()
+               : l->alternating ? l->alternating_labels.size()
+                                : l->labels.size()) == static_cast<std::size_t>(l->width) * l->height);
     CMR_CHECK(l->depth.size() == static_cast<std::size_t>(l->width) * l->height);
   }
 }
@@ -240,13 +250,13 @@ Rgb colour_at(const RegionPicture& p, const std::vector<Absorb>& fills, std::siz
     if (p.per_point) {
       // Filled where the (second part's) curvature increases, hatched where it decreases.
       const bool inc = p.split ? (label == 1 || label == 3) : label == 1;
-      const bool dec = p.split ? (label == 2 || label == 4) : label == 2;
+      const bool dec = p.each_piece ? false : p.split ? (label == 2 || label == 4) : label == 2;
       if (!inc && !dec) continue;
       const double s = inc ? 1.0 : ((i + j) / 3 % 2 == 0 ? 1.0 : 0.25);
       a = {fills[l].r * s, fills[l].g * s, fills[l].b * s};
     } else {
-      a = p.depth_shading ? depth_absorb(label, layer->depth[index], p.max_depth)
-                          : (p.split ? split_absorb(label) : plain_absorb(label));
+      a = p.depth_shading ? depth_absorb(p.each_piece && label == 2 ? 0 : label, layer->depth[index], p.max_depth)
+                          : label_absorb(p, label);
     }
     sum = {sum.r + a.r, sum.g + a.g, sum.b + a.b};
   }
@@ -946,7 +956,7 @@ cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned i
 /// How many layers of each colouring label (1..4 with split, else 1..2) a
 /// pixel has: the key of one overlap colour.
 std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
-  std::vector<int> n(p.split ? 5 : 3, 0);
+  std::vector<int> n(p.split ? 5 : p.each_piece ? 2 : 3, 0);
   for (const RegionResult* layer : p.layers) {
     const uint8_t label = layer->code_at(index);
     if (label >= 1 && label < n.size()) ++n[label];
@@ -955,7 +965,8 @@ std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
 }
 
 /// What one region's colour means, for the legend.
-const char* colour_label_meaning(bool split, bool alternating, int label) {
+const char* colour_label_meaning(bool split, bool alternating, int label, bool each_piece = false) {
+  if (each_piece) return "each piece monotone on its own (either direction)";
   static const char* plain[] = {"", "curvature increasing", "curvature decreasing"};
   static const char* alternate[] = {"", "groups alternate, the first increasing (maximum at the first joint)",
                                     "groups alternate, the first decreasing (minimum at the first joint)"};
@@ -965,7 +976,8 @@ const char* colour_label_meaning(bool split, bool alternating, int label) {
   return split ? splits[label] : plain[label];
 }
 
-const char* colour_label_name(bool split, bool alternating, int label) {
+const char* colour_label_name(bool split, bool alternating, int label, bool each_piece = false) {
+  if (each_piece) return "each-monotone";
   static const char* plain[] = {"", "increasing", "decreasing"};
   static const char* alternate[] = {"", "inc-first", "dec-first"};
   if (alternating) return alternate[label];
@@ -1031,17 +1043,20 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
       std::string text;
       for (std::size_t label = 1; label < k.size(); ++label) {
         if (k[label] == 0) continue;
-        const Absorb a = p.split ? split_absorb(static_cast<uint8_t>(label)) : plain_absorb(static_cast<uint8_t>(label));
+        const Absorb a = label_absorb(p, static_cast<uint8_t>(label));
         sum = {sum.r + k[label] * a.r, sum.g + k[label] * a.g, sum.b + k[label] * a.b};
         if (!text.empty()) text += " + ";
         if (k[label] > 1) text += std::to_string(k[label]) + " ";
-        text += colour_label_name(p.split, p.alternating, static_cast<int>(label));
+        text += colour_label_name(p.split, p.alternating, static_cast<int>(label), p.each_piece);
       }
       const int total = std::accumulate(k.begin(), k.end(), 0);
-      if (total == 1) text = colour_label_meaning(p.split, p.alternating, static_cast<int>(std::find(k.begin(), k.end(), 1) - k.begin()));
+      if (total == 1)
+        text = colour_label_meaning(p.split, p.alternating, static_cast<int>(std::find(k.begin(), k.end(), 1) - k.begin()),
+                                    p.each_piece);
       l.push_back({colour(sum), total == 1 ? text : text + " overlap"});
     }
-    l.push_back({{1, 1, 1}, p.split         ? "neither part monotone, or undecided"
+    l.push_back({{1, 1, 1}, p.each_piece    ? "some piece not monotone, or undecided"
+                            : p.split       ? "neither part monotone, or undecided"
                             : p.alternating ? "no alternation, or undecided"
                                             : "not monotone or undecided"});
   }

@@ -14,6 +14,8 @@
 ///                  way); 0 none and 5 undecided: white;
 ///   alternating labels (several joints) 1 group 0 increasing: red,
 ///                  2 group 0 decreasing: blue; 0 fail and 3 undecided: white;
+///   each-piece labels 1 every piece (group) monotone on its own: green;
+///                  0 fail and 2 undecided: white;
 ///   depth shading  (Fig. 7) red / blue from light at level 0 (the sufficient
 ///                  condition of the paper's reference [16]) to dark at level
 ///                  D; not monotone and undecided grey, darker with the level.
@@ -43,6 +45,7 @@ struct RegionPicture {
   std::vector<const RegionResult*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
   bool split = false;                      ///< the layers hold split labels
   bool alternating = false;                ///< the layers hold alternating labels (several joints)
+  bool each_piece = false;                 ///< the layers hold each-piece labels (PieceLabel)
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
   int max_depth = kDefaultDepth;           ///< D of the render: the depth shading's darkest level
   std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place

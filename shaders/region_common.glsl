@@ -233,7 +233,8 @@ uint level0(bool cmr) {
 // and the verdict (cmr::detail::verdict in bezierize/region.cpp): each group
 // of judged segments (cmr::part_verdict), then the label of the groups
 // (one group: its direction; two with a split: cmr::combine_split; any
-// number: cmr::alternation_verdict). Entries and joints come in ascending
+// number: cmr::alternation_verdict, or each on its own:
+// cmr::each_piece_verdict). Entries and joints come in ascending
 // group order, so the groups are walked once with two cursors (no arrays).
 uint full(bool cmr, REAL dx, REAL dy) {
   uint kind = hdr[HDR_LABELS];
@@ -286,6 +287,9 @@ uint full(bool cmr, REAL dx, REAL dy) {
     if (first == 2 || second == 2) label = 0u;
     else if (first == 3 || second == 3) label = 5u;
     else label = 1u + uint(first) * 2u + uint(second);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
+  } else if (kind == LABELS_EACH_PIECE) {
+    // fail 0, each-monotone 1, undecided 2 (cmr::PieceLabel)
+    label = any_none ? 0u : (any_undecided ? 2u : 1u);
   } else {
     // fail 0, inc-first 1, dec-first 2, undecided 3 (cmr::AlternatingLabel)
     if (any_none || same_way) label = 0u;

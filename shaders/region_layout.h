@@ -58,6 +58,7 @@ CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
 CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // RegionLabel: one group
 CMR_LAYOUT_CONST(LABELS_SPLIT, 1u)        // SplitLabel: two groups
 CMR_LAYOUT_CONST(LABELS_ALTERNATING, 2u)  // AlternatingLabel: any number of groups
+CMR_LAYOUT_CONST(LABELS_EACH_PIECE, 3u)   // PieceLabel: any number of groups, each on its own
 
 // Flags of a part (segments' verdicts and joints' jumps folded together).
 CMR_LAYOUT_CONST(FLAG_INC, 1u)        // some segment increasing

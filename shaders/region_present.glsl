@@ -26,9 +26,10 @@ layout(std430, set = 0, binding = 2) buffer Uncertain {
 
 layout(location = 0) out vec4 absorb;
 
-// draw/draw.cpp's legend (kRed, kBlue, kDarkRed, kDarkBlue).
-vec3 absorb_of(uint label, bool split) {
-  if (!split) {
+// draw/draw.cpp's legend (kRed, kBlue, kDarkRed, kDarkBlue, kGreen).
+vec3 absorb_of(uint label, uint kind) {
+  if (kind == LABELS_EACH_PIECE) return label == 1u ? vec3(0.6, 0.25, 0.6) : vec3(0.0);  // kGreen
+  if (kind != LABELS_SPLIT) {
     if (label == 1u) return vec3(0.0, 0.6, 0.6);
     if (label == 2u) return vec3(0.6, 0.6, 0.0);
     return vec3(0.0);
@@ -64,7 +65,7 @@ void main() {
     }
     label = r & RESULT_LABEL_MASK;
   }
-  vec3 a = absorb_of(label, hdr[HDR_LABELS] == LABELS_SPLIT);
+  vec3 a = absorb_of(label, hdr[HDR_LABELS]);
   if (a == vec3(0.0)) discard;
   absorb = vec4(a, 0.0);
 }

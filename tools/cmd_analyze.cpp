@@ -23,6 +23,8 @@ struct AnalyzeArgs {
   bool pretty = false;
   std::string segments;
   bool torsion = false;  // space curves (tools/cmd_space.hpp)
+  std::string each_piece;  // --each-piece [S1,S2,...]
+  const CLI::Option* each_piece_option = nullptr;
 };
 
 nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits) {
@@ -66,7 +68,8 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
     if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
     const bool inside = j.index > a.range.first && j.index <= a.range.last;
     const bool seam_judged = a.seam && j.index == a.seam->index && a.range.first == 0 &&
-                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split;
+                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split &&
+                             !a.each_piece;
     if (!inside && !seam_judged) joints.back()["ignored"] = true;
   }
   nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
@@ -80,6 +83,16 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
     nlohmann::ordered_json groups = nlohmann::ordered_json::array();
     for (std::size_t g = 0; g < a.groups.size(); ++g) {
       const auto [first, end] = segment_groups(a.range, splits)[g];
+      groups.push_back({{"segments", {first, end - 1}}, {"direction", to_string(a.groups[g])}});
+    }
+    verdict["groups"] = groups;
+  }
+  if (a.each_piece) {
+    // Each group on its own (--each-piece): monotone in either direction.
+    verdict["each_piece"] = to_string(*a.each_piece);
+    nlohmann::ordered_json groups = nlohmann::ordered_json::array();
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+      const auto [first, end] = segment_groups(a.range, a.cuts)[g];
       groups.push_back({{"segments", {first, end - 1}}, {"direction", to_string(a.groups[g])}});
     }
     verdict["groups"] = groups;
@@ -107,13 +120,20 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--mode", args->mode, "verdict used for --split")
       ->check(CLI::IsMember({"cmrwi", "cmr"}))
       ->capture_default_str();
+  args->each_piece_option =
+      cmd->add_option("--each-piece", args->each_piece,
+                      "each piece monotone on its own, in either direction (no alternation); with joints "
+                      "S1,S2,... the groups between them (docs/semantics.md)")
+          ->expected(0, 1);
   add_continuity_options(*cmd, args->continuity);
   cmd->add_flag("--torsion", args->torsion, "space curves: also judge torsion monotonicity (docs/space.md)");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
-      if (!args->split.empty() || !args->segments.empty() || args->mode != "cmrwi")
-        throw InputError(args->file + ": a space curve; --split, --segments and --mode are for planar splines");
+      if (!args->split.empty() || !args->segments.empty() || args->mode != "cmrwi" ||
+          args->each_piece_option->count() > 0)
+        throw InputError(args->file +
+                         ": a space curve; --split, --segments, --each-piece and --mode are for planar splines");
       run_space_analyze(args->file, args->depth, args->torsion, args->continuity, args->pretty);
       exit_code = kOk;
       return;
@@ -124,6 +144,11 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
     o.classify.max_depth = args->depth;
     if (args->split.size() == 1) o.split = args->split[0];
     else o.splits = args->split;
+    if (args->each_piece_option->count() > 0) {
+      if (!args->split.empty()) throw InputError("--each-piece takes the joints itself (--each-piece S1,S2,...): drop --split");
+      o.each_piece = true;
+      o.splits = parse_joint_list(args->each_piece);
+    }
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
     o.continuity = args->continuity;

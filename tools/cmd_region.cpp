@@ -30,6 +30,8 @@ struct RegionArgs {
   std::string mode = "cmrwi";
   std::vector<int> split;
   std::string segments;
+  std::string each_piece;  // --each-piece [S1,S2,...]
+  const CLI::Option* each_piece_option = nullptr;
   int depth = kDefaultDepth;
   std::string size = "512x512";
   std::string view;
@@ -76,6 +78,11 @@ RegionRequest region_options(const RegionArgs& a) {
   o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
   if (a.split.size() == 1) o.split = a.split[0];
   else o.splits = a.split;
+  if (a.each_piece_option && a.each_piece_option->count() > 0) {
+    if (!a.split.empty()) throw InputError("--each-piece takes the joints itself (--each-piece S1,S2,...): drop --split");
+    o.each_piece = true;
+    o.splits = parse_joint_list(a.each_piece);
+  }
   if (!a.segments.empty()) o.segments = parse_segment_range(a.segments);
   o.max_depth = a.depth;
   o.with = a.with;
@@ -131,10 +138,12 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
   nlohmann::ordered_json c;
   for (int l = 0; l < img.label_codes(); ++l) c[img.label_name(static_cast<std::uint8_t>(l))] = counts[l];
   // Monotone positions: increasing or decreasing (with a split: both parts monotone).
-  const std::uint64_t monotone = img.split ? counts[1] + counts[2] + counts[3] + counts[4] : counts[1] + counts[2];
+  const std::uint64_t monotone = img.each_piece ? counts[1]
+                                 : img.split    ? counts[1] + counts[2] + counts[3] + counts[4]
+                                                : counts[1] + counts[2];
   if (monotone == 0)
     notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
-                    (a.mode == "cmr" ? "CMR" : "CMRWI") + (img.split ? " with both parts monotone" : "") +
+                    (a.mode == "cmr" ? "CMR" : "CMRWI") + (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
                     " in this view (its region is empty here)");
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
@@ -197,7 +206,8 @@ draw::RegionPicture picture(const BSpline& spline, const RegionProblem& problem)
   draw::RegionPicture pic;
   pic.spline = &spline;
   pic.split = problem.request().split.has_value();
-  pic.alternating = !problem.request().splits.empty();
+  pic.each_piece = problem.request().each_piece;
+  pic.alternating = !problem.request().splits.empty() && !pic.each_piece;
   pic.max_depth = problem.request().max_depth;
   pic.legend = true;
   return pic;
@@ -260,7 +270,10 @@ nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& 
                                 {"backend", r.backend},
                                 {"points", r.per_point}};
   if (o.split) doc["split"] = *o.split;
-  if (!o.splits.empty()) doc["split"] = o.splits;
+  if (!o.splits.empty() && !o.each_piece) doc["split"] = o.splits;
+  if (o.each_piece)  // the cut joints (every joint of the judged range by default)
+    doc["each_piece"] =
+        each_piece_cuts(judged_range(o.segments, problems.front().spline().segment_count()), o.splits);
   if (o.segments) {
     // The judged segments, and the ignored ones by index (not silently dropped).
     nlohmann::ordered_json ignored = nlohmann::ordered_json::array();
@@ -371,6 +384,11 @@ void add_region_command(CLI::App& app, int& exit_code) {
                   "joint S: spans 0..S-1 against S..N-1 (extremum at the joint); joints S1,S2,...: the groups "
                   "between them alternate direction")
       ->delimiter(',');
+  a->each_piece_option =
+      cmd->add_option("--each-piece", a->each_piece,
+                      "each piece monotone on its own, in either direction (no alternation); with joints "
+                      "S1,S2,... the groups between them (docs/semantics.md)")
+          ->expected(0, 1);
   cmd->add_option("--segments", a->segments, "judge only spans A..B (inclusive); the others are ignored");
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();

@@ -128,7 +128,8 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   p.hdr[HDR_WIDTH] = static_cast<uint32_t>(o.width);
   p.hdr[HDR_HEIGHT] = static_cast<uint32_t>(o.height);
   p.hdr[HDR_MODE] = o.mode == Mode::cmr ? 1 : 0;
-  p.hdr[HDR_LABELS] = kind == cmr::detail::Labels::alternating ? LABELS_ALTERNATING
+  p.hdr[HDR_LABELS] = kind == cmr::detail::Labels::each_piece    ? LABELS_EACH_PIECE
+                     : kind == cmr::detail::Labels::alternating ? LABELS_ALTERNATING
                      : kind == cmr::detail::Labels::split     ? LABELS_SPLIT
                                                               : LABELS_PLAIN;
   p.hdr[HDR_DEPTH] = static_cast<uint32_t>(o.max_depth);
