@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "bezierize/classify.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr {
@@ -23,6 +24,22 @@ constexpr double kSolveResidualRelative = 1e-6;
 /// Smallest relaxation step: the plain iteration can cycle on sharp turns;
 /// halving the step whenever the residual fails to fall damps the cycle.
 constexpr double kMinRelaxation = 1.0 / 16;
+/// Plain iterations before Newton steps start (the first ones move the
+/// middle points from the input points into the basin of the fixed point).
+constexpr int kPlainIterations = 8;
+/// Newton steps up to this many interpolated points (its dense Jacobian
+/// costs O(N^3) per step); more points use the damped plain iteration only.
+constexpr int kNewtonMaxPoints = 64;
+/// Forward-difference step of the Jacobian, relative to the unknowns' scale
+/// (the extent for middle points, 1 for λ).
+constexpr double kNewtonStep = 1e-7;
+/// Plain iterations after a Newton step that did not lower |F|.
+constexpr int kNewtonRetry = 4;
+/// Newton pins t_i to 0 (1) where the plain step gives less than this (more
+/// than 1 minus this): the point is then a joint (see kcurve()).
+constexpr double kPinParameter = 1e-2;
+/// The Newton step is halved at most this often before the plain step is taken.
+constexpr int kLineSearchHalvings = 10;
 
 double area(Vec2 a, Vec2 b, Vec2 c) { return std::abs(det(b - a, c - a)) / 2; }
 
@@ -142,6 +159,29 @@ void check_spacing(std::span<const Vec2> points, bool closed, double extent) {
   }
 }
 
+/// Collinear points (each within kCoincidentRelative of the extent from the
+/// line through the first point and the one farthest from it): a closed
+/// curve through them, or an open one through points out of order along the
+/// line, would double back on itself, which is an InputError; open points in
+/// order give the straight curve.
+void check_collinear(std::span<const Vec2> points, bool closed, double extent) {
+  const Vec2 origin = points[0];
+  Vec2 far = origin;
+  for (const Vec2& p : points)
+    if (glm::length(p - origin) > glm::length(far - origin)) far = p;
+  const Vec2 direction = glm::normalize(far - origin);  // the points are not all coincident (check_spacing)
+  for (const Vec2& p : points)
+    if (std::abs(det(direction, p - origin)) > kCoincidentRelative * extent) return;
+  if (closed)
+    throw InputError("the points are collinear: a closed kappa-curve through them would double back on itself");
+  const int n = static_cast<int>(points.size());
+  const double sense = dot(direction, points[1] - points[0]);
+  for (int i = 0; i + 1 < n; ++i)
+    if (dot(direction, points[i + 1] - points[i]) * sense <= 0)
+      throw InputError("the points are collinear but points[" + std::to_string(i + 1) +
+                       "] turns back along their line: the kappa-curve would double back on itself");
+}
+
 /// The iteration's state. Open curves keep the fixed ends as c_{-1,1} = first
 /// point with λ_{-1} = 0 and c_{N,1} = last point with λ_{N-1} = 1.
 struct State {
@@ -149,6 +189,9 @@ struct State {
   std::vector<Vec2> mid;  ///< c_{i,1}
   std::vector<double> lambda;  ///< λ_i: joint of quadratics i and i+1 (open: the last one is 1)
   std::vector<double> t;
+  /// Newton's active set: -1 pins t_i to 0, +1 to 1 (the point is a joint),
+  /// 0 leaves it to step 1.
+  std::vector<int> pin;
   Vec2 first{0}, last{0};  ///< open ends
   bool closed = false;
   int n() const { return static_cast<int>(p.size()); }
@@ -200,12 +243,12 @@ Tridiagonal middle_point_system(const State& s) {
   return m;
 }
 
-/// max_i |c_i(t*_i) - p_i| with t*_i from Eq. 7.
+/// max_i |c_i(t_i) - p_i| with t_i from step 1 on the quadratic as it is.
 double interpolation_error(const State& s) {
   double worst = 0;
   for (int i = 0; i < s.n(); ++i) {
     const std::array<Vec2, 3> q = s.quadratic(i);
-    const double t = quadratic_max_curvature_parameter(q), u = 1 - t;
+    const double t = kcurve_parameter(q[0], s.p[i], q[2]), u = 1 - t;
     worst = std::max(worst, glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - s.p[i]));
   }
   return worst;
@@ -240,10 +283,132 @@ double quadratic_max_curvature_parameter(const std::array<Vec2, 3>& q) {
   return std::clamp(dot(q[0] - q[1], d2) / denominator, 0.0, 1.0);
 }
 
+namespace {
+
+/// One plain iteration (steps 2, (J), 1, 3) from s: the next iterate. False
+/// when the linear system is singular (InputError is the caller's).
+bool plain_step(const State& s, double extent, State& next) {
+  next = s;
+  update_lambda(next);
+  for (int i = 0; i < next.n(); ++i)
+    next.t[i] = next.pin[i] ? (next.pin[i] < 0 ? 0.0 : 1.0) : kcurve_parameter(next.start(i), next.p[i], next.end(i));
+  const Tridiagonal system = middle_point_system(next);
+  std::vector<Vec2> x;
+  if (!solve(system, x) || !(solve_residual(system, x) <= kSolveResidualRelative * extent)) return false;
+  next.mid = std::move(x);
+  return true;
+}
+
+/// The unknowns of the iteration as one vector: the middle points, then the
+/// free λ (open curves: λ_{N-1} = 1 is fixed).
+int unknowns(const State& s) { return 2 * s.n() + (s.closed ? s.n() : s.n() - 1); }
+std::vector<double> pack(const State& s) {
+  std::vector<double> v;
+  for (const Vec2& m : s.mid) v.push_back(m.x), v.push_back(m.y);
+  for (int i = 0; i < (s.closed ? s.n() : s.n() - 1); ++i) v.push_back(s.lambda[i]);
+  return v;
+}
+void unpack(const std::vector<double>& v, State& s) {
+  for (int i = 0; i < s.n(); ++i) s.mid[i] = {v[2 * i], v[2 * i + 1]};
+  for (int i = 0; i < (s.closed ? s.n() : s.n() - 1); ++i) s.lambda[i] = v[2 * s.n() + i];
+}
+
+/// F(x) = step(x) - x with the middle points scaled by 1/extent, so that
+/// both kinds of unknown are of order 1; false on a singular system.
+bool fixed_point_defect(const State& s, double extent, std::vector<double>& f) {
+  State next;
+  if (!plain_step(s, extent, next)) return false;
+  const std::vector<double> a = pack(s), b = pack(next);
+  f.resize(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) f[k] = (b[k] - a[k]) / (k < 2 * s.mid.size() ? extent : 1.0);
+  return true;
+}
+
+double norm(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x * x;
+  return std::sqrt(sum);
+}
+
+/// Dense Gaussian elimination with partial pivoting; false when singular.
+bool solve_dense(std::vector<double> a, std::vector<double> b, int n, std::vector<double>& x) {
+  for (int c = 0; c < n; ++c) {
+    int p = c;
+    for (int r = c + 1; r < n; ++r)
+      if (std::abs(a[r * n + c]) > std::abs(a[p * n + c])) p = r;
+    if (!(std::abs(a[p * n + c]) > 0)) return false;
+    if (p != c) {
+      for (int k = 0; k < n; ++k) std::swap(a[c * n + k], a[p * n + k]);
+      std::swap(b[c], b[p]);
+    }
+    for (int r = c + 1; r < n; ++r) {
+      const double f = a[r * n + c] / a[c * n + c];
+      if (f == 0) continue;
+      for (int k = c; k < n; ++k) a[r * n + k] -= f * a[c * n + k];
+      b[r] -= f * b[c];
+    }
+  }
+  x.assign(n, 0);
+  for (int r = n - 1; r >= 0; --r) {
+    double v = b[r];
+    for (int k = r + 1; k < n; ++k) v -= a[r * n + k] * x[k];
+    x[r] = v / a[r * n + r];
+  }
+  return std::isfinite(norm(x));
+}
+
+/// One Newton step on F(x) = 0 with a backtracking line search on |F|:
+/// the Jacobian by forward differences (kNewtonStep, scaled like F), the
+/// step halved up to kLineSearchHalvings times until |F| falls. False (s
+/// unchanged) when no trial lowers |F|.
+bool newton_step(State& s, double extent, const std::vector<double>& f0) {
+  const int m = unknowns(s);
+  const std::vector<double> x0 = pack(s);
+  auto scale = [&](int k) { return k < 2 * s.n() ? extent : 1.0; };
+  std::vector<double> jac(static_cast<std::size_t>(m) * m), f;
+  State trial = s;
+  for (int k = 0; k < m; ++k) {
+    std::vector<double> x = x0;
+    const double h = kNewtonStep * scale(k);
+    x[k] += h;
+    unpack(x, trial);
+    if (!fixed_point_defect(trial, extent, f)) return false;
+    for (int r = 0; r < m; ++r) jac[r * m + k] = (f[r] - f0[r]) / (h / scale(k));
+  }
+  std::vector<double> minus_f(m), d;
+  for (int r = 0; r < m; ++r) minus_f[r] = -f0[r];
+  if (!solve_dense(jac, minus_f, m, d)) return false;
+  const double f0_norm = norm(f0);
+  double alpha = 1;
+  for (int k = 0; k <= kLineSearchHalvings; ++k, alpha /= 2) {
+    std::vector<double> x = x0;
+    for (int j = 0; j < m; ++j) x[j] += alpha * d[j] * scale(j);
+    bool valid = true;
+    for (int i = 0; i < (s.closed ? s.n() : s.n() - 1); ++i) valid = valid && x[2 * s.n() + i] > 0 && x[2 * s.n() + i] < 1;
+    if (!valid) continue;
+    unpack(x, trial);
+    if (fixed_point_defect(trial, extent, f) && norm(f) < (1 - 1e-4 * alpha) * f0_norm) {
+      s = trial;
+      return true;
+    }
+  }
+  return false;
+}
+
+/// The residual of the header comment for state s: the interpolation error
+/// at Eq. 7's maxima over the extent, and the change λ would make.
+double residual_of(const State& s, double extent) {
+  State next = s;
+  return std::max(interpolation_error(s) / extent, update_lambda(next));
+}
+
+}  // namespace
+
 KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   validate(points, options);
   const double extent = extent_of(points);
   check_spacing(points, options.closed, extent);
+  check_collinear(points, options.closed, extent);
   State s;
   s.closed = options.closed;
   if (s.closed) {
@@ -258,24 +423,49 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   s.lambda.assign(n, 0.5);
   if (!s.closed) s.lambda[n - 1] = 1;
   s.t.assign(n, 0.5);
+  s.pin.assign(n, 0);
   KCurve out;
   out.closed = s.closed;
   out.tolerance = options.tolerance;
-  double relaxation = 1;  // the step towards the solved middle points
+  const bool newton = n <= kNewtonMaxPoints;
+  int next_newton = 0;  // after a failed Newton step, plain steps until this iteration
+  double relaxation = 1;  // the plain iteration's step towards the solved middle points
   for (int it = 1; it <= options.max_iterations; ++it) {
-    const double lambda_change = update_lambda(s);
-    for (int i = 0; i < n; ++i) s.t[i] = kcurve_parameter(s.start(i), s.p[i], s.end(i));
-    const Tridiagonal system = middle_point_system(s);
-    std::vector<Vec2> x;
-    if (!solve(system, x) || !(solve_residual(system, x) <= kSolveResidualRelative * extent))
+    out.iterations = it;
+    std::vector<double> f;
+    if (newton && it > kPlainIterations) {
+      // Points whose parameter is near an end are pinned there for the
+      // Newton step: the iterate's t_i(A) has a kink at A = 0 (the point
+      // on a joint), where Newton would stall.
+      State probe;
+      std::fill(s.pin.begin(), s.pin.end(), 0);
+      if (plain_step(s, extent, probe))
+        for (int i = 0; i < n; ++i)
+          s.pin[i] = probe.t[i] < kPinParameter ? -1 : probe.t[i] > 1 - kPinParameter ? 1 : 0;
+    }
+    if (!fixed_point_defect(s, extent, f))
       throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
                        "); move the points further apart");
-    for (int i = 0; i < n; ++i) s.mid[i] += relaxation * (x[i] - s.mid[i]);
-    out.iterations = it;
-    const double previous = out.residual;
-    out.residual = std::max(interpolation_error(s) / extent, it > 1 ? lambda_change : 1.0);
+    // Newton on the fixed point once the plain iteration has had its first
+    // steps; the damped plain step where Newton does not lower |F|.
+    const bool try_newton = newton && it > kPlainIterations && it >= next_newton;
+    if (try_newton && newton_step(s, extent, f)) {
+      next_newton = it;
+    } else {
+      if (try_newton) next_newton = it + kNewtonRetry;
+      std::fill(s.pin.begin(), s.pin.end(), 0);
+      State next;
+      if (!plain_step(s, extent, next))
+        throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
+                         "); move the points further apart");
+      const double before = residual_of(s, extent);
+      for (int i = 0; i < n; ++i) s.mid[i] += relaxation * (next.mid[i] - s.mid[i]);
+      s.lambda = next.lambda;
+      if (residual_of(s, extent) >= before) relaxation = std::max(relaxation / 2, kMinRelaxation);
+      else relaxation = std::min(1.0, 2 * relaxation);
+    }
+    out.residual = residual_of(s, extent);
     if (out.residual <= options.tolerance) break;
-    if (it > 1 && out.residual >= previous) relaxation = std::max(relaxation / 2, kMinRelaxation);
   }
   for (int i = 0; i < n; ++i) {
     out.quadratics.push_back(s.quadratic(i));
@@ -304,10 +494,49 @@ namespace {
 struct Chain {
   std::vector<std::array<Vec2, 4>> pieces;
   std::vector<int> maxima;
+  std::vector<int> uncertified;  ///< pieces certify_piece could not make monotone
 };
+
+/// Relative handle nudges tried by certify_piece: 2^-48 (a few hundred
+/// units in the last place of the handle) up to 2^-20 (about 1e-6).
+constexpr double kMinNudge = 0x1p-48;
+constexpr double kMaxNudge = 0x1p-20;
 
 std::array<Vec2, 4> elevate(Vec2 a, Vec2 m, Vec2 b) {
   return {a, (a + 2.0 * m) / 3.0, (2.0 * m + b) / 3.0, b};
+}
+
+/// The piece's curvature is certified monotone (or constant): Algorithm 1
+/// with the exact fallback at analyze's default depth, i.e. what `cmr
+/// analyze` reports for it.
+bool certified_monotone(const std::array<Vec2, 4>& piece) {
+  ClassifyOptions options;
+  options.inflection = false;
+  const Curvature c = classify_bezier(piece, options).monotonicity.curvature;
+  return c == Curvature::increasing || c == Curvature::decreasing || c == Curvature::constant;
+}
+
+/// Makes a piece whose curvature extremum should lie at its end `at` (0 or
+/// 3) certified monotone. In exact arithmetic the extremum is at the end;
+/// rounding the split and the elevation to doubles leaves it within about
+/// 1e-14 of the end, inside or outside. Inside, the handle at the other end
+/// is lengthened or shortened by a relative 2^-48, 2^-46, ... (at most
+/// kMaxNudge): that moves the extremum across the end while the tangent
+/// directions stay those of the rounded data and the curvature at the ends
+/// changes by about the same relative amount. The first nudge the exact
+/// classifier certifies is kept. False when none is (the piece is left as it was).
+bool certify_piece(std::array<Vec2, 4>& piece, int at) {
+  if (certified_monotone(piece)) return true;
+  const int end = at == 3 ? 0 : 3, handle = at == 3 ? 1 : 2;
+  const std::array<Vec2, 4> original = piece;
+  for (double delta = kMinNudge; delta <= kMaxNudge; delta *= 4)
+    for (double sign : {1.0, -1.0}) {
+      piece = original;
+      piece[handle] = original[end] + (1 + sign * delta) * (original[handle] - original[end]);
+      if (certified_monotone(piece)) return true;
+    }
+  piece = original;
+  return false;
 }
 
 Chain cubic_chain(const KCurve& curve) {
@@ -317,9 +546,17 @@ Chain cubic_chain(const KCurve& curve) {
     const auto& q = curve.quadratics[i];
     const double t = curve.t_max[i];
     const Vec2 l1 = glm::mix(q[0], q[1], t), r1 = glm::mix(q[1], q[2], t), mid = glm::mix(l1, r1, t);
-    if (t > 0) c.pieces.push_back(elevate(q[0], l1, mid));
+    if (t > 0) {
+      c.pieces.push_back(elevate(q[0], l1, mid));
+      // The left half ends at the maximum; a whole quadratic (t = 1) has it
+      // at or beyond its end.
+      if (!certify_piece(c.pieces.back(), 3)) c.uncertified.push_back(static_cast<int>(c.pieces.size()) - 1);
+    }
     c.maxima.push_back(t > 0 && t < 1 ? 3 * static_cast<int>(c.pieces.size()) : -1);
-    if (t < 1) c.pieces.push_back(elevate(mid, r1, q[2]));
+    if (t < 1) {
+      c.pieces.push_back(elevate(mid, r1, q[2]));
+      if (!certify_piece(c.pieces.back(), 0)) c.uncertified.push_back(static_cast<int>(c.pieces.size()) - 1);
+    }
   }
   return c;
 }
@@ -339,5 +576,7 @@ BSpline kcurve_cubic_chain(const KCurve& curve) {
 }
 
 std::vector<int> kcurve_cubic_maxima(const KCurve& curve) { return cubic_chain(curve).maxima; }
+
+std::vector<int> kcurve_cubic_uncertified(const KCurve& curve) { return cubic_chain(curve).uncertified; }
 
 }  // namespace cmr

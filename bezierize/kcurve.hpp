@@ -116,6 +116,16 @@ BSpline kcurve_quadratic_spline(const KCurve& curve);
 /// collinear.
 BSpline kcurve_cubic_chain(const KCurve& curve);
 
+/// The pieces of kcurve_cubic_chain(curve) that are not certified monotone.
+/// Each piece is checked with the exact classifier (what `cmr analyze`
+/// reports at its default depth); where rounding the split point and the
+/// degree elevation to doubles leaves the maximum a hair inside a piece
+/// rather than on its end, the handle at the piece's other end is scaled by
+/// 1 +- 2^-48 ... 2^-20 along its own direction until the piece is
+/// certified monotone (docs/kcurve.md). Empty when every piece is; the CLI
+/// refuses to write a chain otherwise.
+std::vector<int> kcurve_cubic_uncertified(const KCurve& curve);
+
 /// For each quadratic i, the index k of its maximum P_k among the control
 /// points of kcurve_cubic_chain(curve); -1 where t_max is 0 or 1 (then the
 /// maximum is a quadratic joint, not a handle pair).

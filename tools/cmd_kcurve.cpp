@@ -3,6 +3,7 @@
 // --cubic the subdivided, degree-elevated chain of CAD&A 2024 §5.2.
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "bezierize/kcurve.hpp"
 #include "spline/errors.hpp"
@@ -91,10 +92,19 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
     } catch (const InputError& e) {
       throw InputError(args->file + ": " + e.what());
     }
-    if (!curve.converged())
-      throw InputError(args->file + ": the kappa-curve did not converge in " + std::to_string(curve.iterations) +
-                       " iterations (residual " + std::to_string(curve.residual) +
-                       "); sharp turns converge slowly: try --max-iterations or spread the points");
+    if (!curve.converged()) {
+      std::ostringstream why;
+      why << args->file << ": the kappa-curve did not converge in " << curve.iterations << " iterations (residual "
+          << curve.residual << " > tolerance " << curve.tolerance
+          << "); very sharp turns and nearly collinear points converge slowly: spread the points or raise --tolerance";
+      throw InputError(why.str());
+    }
+    if (args->cubic) {
+      const std::vector<int> uncertified = kcurve_cubic_uncertified(curve);
+      if (!uncertified.empty())
+        throw InputError(args->file + ": piece " + std::to_string(uncertified.front()) +
+                         " of the cubic chain could not be certified monotone (its curvature maximum is not on a joint)");
+    }
     const BSpline spline = args->cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
     const std::string text = json_text(spline_to_json(spline), args->pretty);
     if (args->out.empty()) std::cout << text;
