@@ -15,7 +15,7 @@
 #include "tools/cli_common.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
-#include "report/report.hpp"
+#include "report/batch.hpp"
 
 namespace cmr::cli {
 
