@@ -82,7 +82,7 @@ View default_view(const BSpline& spline, int width, int height) {
 
 }  // namespace cmr
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   const int m = spline.point_count();
@@ -149,7 +149,7 @@ uint8_t label_of(Alternation a) {
   return code(AlternatingLabel::fail);
 }
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend
 
 namespace cmr {
 
@@ -164,7 +164,7 @@ AnalyzeOptions region_analyze_options(const RegionRequest& request) {
 }
 
 std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& request) {
-  using detail::label_of;
+  using backend::label_of;
   if (!request.split && request.splits.empty()) return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
   const std::vector<int> cuts = request.split ? std::vector<int>{*request.split} : request.splits;
   std::vector<Direction> groups;
@@ -176,7 +176,7 @@ std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& req
 
 }  // namespace cmr
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 Labels labels_of(const RegionRequest& o) {
   return !o.splits.empty() ? Labels::alternating : (o.split ? Labels::split : Labels::plain);
@@ -229,4 +229,4 @@ RegionResult to_result(RegionImage&& image, Labels kind) {
   return r;
 }
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend
