@@ -44,6 +44,10 @@
 
 namespace cmr {
 
+/// The verdicts of a spline (or a part of it): Direction for monotonicity,
+/// Split for a split at a joint. RegionLabel / SplitLabel (region.hpp) name
+/// the same verdicts as stored label codes, numbered differently on purpose
+/// (0 = fail there); region.hpp says why they stay separate types.
 enum class Direction : std::uint8_t { increasing, decreasing, none, undecided };
 enum class Split : std::uint8_t { inc_inc, inc_dec, dec_inc, dec_dec, none, undecided };
 enum class Mode : std::uint8_t { cmrwi, cmr };

@@ -13,7 +13,7 @@
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 namespace {
 
@@ -891,4 +891,4 @@ RegionImage region_cpu(const RegionSetup& s, int threads) {
   return img;
 }
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend

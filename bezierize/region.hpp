@@ -33,16 +33,26 @@
 
 #include "bezierize/analyze.hpp"
 #include "spline/bspline.hpp"
+#include "spline/errors.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr {
 
-namespace detail {
+namespace backend {
 struct RegionSetup;
 }
 
 /// A pixel's label without --split: the spline's curvature is monotone (which
 /// way) or not.
+///
+/// Why not Direction / Split (analyze.hpp), which name the same verdicts:
+/// labels are stored codes, not verdicts. code() of a label is the byte of a
+/// PGM label map and the word the region shader returns
+/// (shaders/region_layout.h), and 0 must be the failing label (an all-zero
+/// image is "nothing passes", blank_image starts there); Direction and Split
+/// put the passing verdicts first and have no fixed numbering. Their texts
+/// differ too ("not-monotone" in region JSON, "none" in analyze JSON). The one
+/// mapping from verdict to code is backend::label_of (region_setup.hpp).
 enum class RegionLabel : std::uint8_t { not_monotone = 0, increasing = 1, decreasing = 2, undecided = 3 };
 /// A pixel's label with --split S: the directions of parts 0..S-1 and S..N-1.
 /// inc_dec is a curvature maximum at joint S, dec_inc a minimum.
@@ -165,12 +175,13 @@ class RegionProblem {
   /// The certified label of one position of the moved point (any p, not only
   /// pixel centres): what every backend gives the pixel centred at p.
   RegionPixel classify(Vec2 position) const;
-  /// The prepared state, for backends (bezierize/region_setup.hpp).
-  const detail::RegionSetup& setup() const { return *setup_; }
+  /// The prepared state, for backends (the backend interface,
+  /// bezierize/region_setup.hpp).
+  const backend::RegionSetup& setup() const { return *setup_; }
 
  private:
-  explicit RegionProblem(std::shared_ptr<const detail::RegionSetup> setup) : setup_(std::move(setup)) {}
-  std::shared_ptr<const detail::RegionSetup> setup_;
+  explicit RegionProblem(std::shared_ptr<const backend::RegionSetup> setup) : setup_(std::move(setup)) {}
+  std::shared_ptr<const backend::RegionSetup> setup_;
 };
 
 /// The region semantics stated through analyze(): a position's label is
@@ -236,10 +247,11 @@ class RegionBackend {
   virtual std::string name() const = 0;
 };
 
-/// An environment failure of a backend (the CLI's exit code 3).
-class BackendError : public std::runtime_error {
+/// An environment failure of a backend (the CLI's exit code 3): an
+/// EnvironmentError (spline/errors.hpp), so callers catch one type.
+class BackendError : public EnvironmentError {
  public:
-  using std::runtime_error::runtime_error;
+  using EnvironmentError::EnvironmentError;
 };
 
 /// All on the host: blocks of pixels decided whole where the certified path

@@ -92,7 +92,7 @@ View default_view(const BSpline& spline, int width, int height) {
 
 }  // namespace cmr
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   const int m = spline.point_count();
@@ -170,7 +170,7 @@ uint8_t label_of(Alternation a) {
   return code(AlternatingLabel::fail);
 }
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend
 
 namespace cmr {
 
@@ -186,7 +186,7 @@ AnalyzeOptions region_analyze_options(const RegionRequest& request) {
 }
 
 std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& request) {
-  using detail::label_of;
+  using backend::label_of;
   if (!request.split && request.splits.empty() && !request.each_piece)
     return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
   const std::vector<int> cuts = request.split        ? std::vector<int>{*request.split}
@@ -202,7 +202,7 @@ std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& req
 
 }  // namespace cmr
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 Labels labels_of(const RegionRequest& o) {
   if (o.each_piece) return Labels::each_piece;
@@ -266,4 +266,4 @@ RegionResult to_result(RegionImage&& image, Labels kind) {
   return r;
 }
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend

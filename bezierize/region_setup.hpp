@@ -1,8 +1,11 @@
 #pragma once
-// Internal: the host preparation of a region problem and the per-position and
-// per-block classifiers that the backends (CpuRegionBackend here,
-// cmr::vk::VulkanRegionBackend) share. Not part of the public API
-// (bezierize/region.hpp); its layout may change with the backends.
+// The backend interface (namespace cmr::backend): the host preparation of a
+// region problem (RegionSetup, reached through RegionProblem::setup()) and the
+// per-position and per-block classifiers that every RegionBackend shares
+// (CpuRegionBackend here, cmr::vk::VulkanRegionBackend in vk/). Users who only
+// render regions need bezierize/region.hpp alone; this header is for those who
+// write a backend. The layout of RegionSetup follows the GPU buffer layout
+// (shaders/region_layout.h) and changes with it.
 //
 // Fast path: B_i = B0_i + w_i (dx, dy) is affine in the displacement, so each
 // xi_k is a cubic and each nu_k an affine polynomial in (dx, dy) (poly3.hpp),
@@ -32,7 +35,7 @@
 #include "bezierize/extract.hpp"
 #include "bezierize/region.hpp"
 
-namespace cmr::detail {
+namespace cmr::backend {
 
 /// The request under the name the preparation code uses.
 
@@ -220,4 +223,4 @@ RegionPixel to_pixel(const PixelResult& r, Labels kind);
 /// An image's public form (labels decoded; seconds left 0).
 RegionResult to_result(RegionImage&& image, Labels kind);
 
-}  // namespace cmr::detail
+}  // namespace cmr::backend

@@ -1006,6 +1006,19 @@ Rgb point_colour(int k) {
 
 Rgb pixel_colour(const RegionPicture& p, std::size_t index) { return colour_at(p, point_fills(p), index); }
 
+Rgb label_colour(std::uint8_t label, bool split) {
+  RegionResult one;
+  one.width = one.height = 1;
+  one.split = split;
+  one.depth = {0};
+  if (split) one.split_labels = {static_cast<SplitLabel>(label)};
+  else one.labels = {static_cast<RegionLabel>(label)};
+  RegionPicture pic;
+  pic.layers = {&one};
+  pic.split = split;
+  return pixel_colour(pic, 0);
+}
+
 std::vector<LegendEntry> legend_for(const RegionPicture& p) {
   const auto colour = colour_of;
   std::vector<LegendEntry> l;

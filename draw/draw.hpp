@@ -82,6 +82,10 @@ std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgb
 /// The colour of pixel `index` (row-major) of the picture's layers, by the
 /// legend above.
 Rgb pixel_colour(const RegionPicture& picture, std::size_t index);
+/// The legend colour of one label code (a RegionLabel code, or with `split`
+/// a SplitLabel code) on a single layer: pixel_colour of a one-pixel map.
+/// Meshes colour their faces with it and sweep plots their series.
+Rgb label_colour(std::uint8_t label, bool split);
 
 /// Curvature against the parameter: each segment drawn from its own
 /// polynomial (so jumps at joints show), red where kappa increases and blue

@@ -11,6 +11,7 @@
 
 #include "spline/errors.hpp"
 #include "draw/draw.hpp"
+#include "draw/svg_text.hpp"
 
 namespace cmr::mesh {
 namespace {
@@ -20,20 +21,6 @@ std::string num(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
-}
-
-/// The legend colour of one label code (draw::pixel_colour of a one-pixel map).
-draw::Rgb label_colour(std::uint8_t label, bool split) {
-  RegionResult one;
-  one.width = one.height = 1;
-  one.split = split;
-  one.depth = {0};
-  if (split) one.split_labels = {static_cast<SplitLabel>(label)};
-  else one.labels = {static_cast<RegionLabel>(label)};
-  draw::RegionPicture pic;
-  pic.layers = {&one};
-  pic.split = split;
-  return draw::pixel_colour(pic, 0);
 }
 
 OpenMesh::VPropHandleT<std::uint8_t> label_property(const Mesh& mesh) {
@@ -57,7 +44,7 @@ Mesh region_mesh(const RegionContours& contours) {
   OpenMesh::VPropHandleT<std::uint8_t> label;
   mesh.add_property(label, kLabelProperty);
   for (const LabelContours& lc : contours.labels) {
-    const draw::Rgb c = label_colour(lc.label, contours.split);
+    const draw::Rgb c = draw::label_colour(lc.label, contours.split);
     const Mesh::Color colour(byte(c.r), byte(c.g), byte(c.b));
     std::vector<Mesh::VertexHandle> handles;
     handles.reserve(lc.vertices.size());
@@ -228,16 +215,16 @@ std::string contours_svg(const RegionContours& rc) {
   const View& v = rc.view;
   const double w = v.x1 - v.x0, h = v.y1 - v.y0;
   // World y up: the SVG's y is -y, so the viewBox starts at -y1.
-  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(std::max(1.0, 800 * std::min(1.0, w / h))) +
-                    "\" height=\"" + num(std::max(1.0, 800 * std::min(1.0, h / w))) + "\" viewBox=\"" + num(v.x0) + " " +
-                    num(-v.y1) + " " + num(w) + " " + num(h) + "\">\n";
+  std::string out = draw::svg_open({{"width", num(std::max(1.0, 800 * std::min(1.0, w / h)))},
+                                    {"height", num(std::max(1.0, 800 * std::min(1.0, h / w)))},
+                                    {"viewBox", num(v.x0) + " " + num(-v.y1) + " " + num(w) + " " + num(h)}}) +
+                    "\n";
   const double stroke = std::min(w, h) / 800;
   out += "<rect x=\"" + num(v.x0) + "\" y=\"" + num(-v.y1) + "\" width=\"" + num(w) + "\" height=\"" + num(h) +
          "\" fill=\"white\"/>\n";
   for (const LabelContours& lc : rc.labels) {
-    const draw::Rgb c = label_colour(lc.label, rc.split);
-    char fill[16];
-    std::snprintf(fill, sizeof fill, "#%02x%02x%02x", byte(c.r), byte(c.g), byte(c.b));
+    const draw::Rgb c = draw::label_colour(lc.label, rc.split);
+    const std::string fill = draw::svg_colour(c);
     const std::string name =
         rc.split ? to_string(static_cast<SplitLabel>(lc.label)) : to_string(static_cast<RegionLabel>(lc.label));
     out += "<path data-label=\"" + std::to_string(lc.label) + "\" data-name=\"" + name + "\" data-area=\"" +
@@ -252,7 +239,7 @@ std::string contours_svg(const RegionContours& rc) {
     }
     out += "\"/>\n";
   }
-  out += "</svg>\n";
+  out.append(draw::kSvgClose).append("\n");
   return out;
 }
 

@@ -96,7 +96,9 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   cairo_surface_t* surface = svg ? cairo_svg_surface_create_for_stream(append_chunk, &bytes, width, height)
                                  : cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
   cairo_t* cr = cairo_create(surface);
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  // The font of every cmr picture (draw.cpp), installed by the setup script
+  // (fonts-dejavu-core): "sans-serif" would follow the machine's fontconfig.
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
 

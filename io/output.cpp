@@ -15,6 +15,15 @@
 
 namespace cmr {
 
+void check_output_path(const std::filesystem::path& path, const std::string& option) {
+  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError(option + " " + path.string() + ": the folder " + folder.string() + " does not exist");
+  if (path.filename().empty() || std::filesystem::is_directory(path, ec))
+    throw InputError(option + " " + path.string() + ": is a directory");
+}
+
 namespace {
 
 /// The error for a failed system call on `path`: the caller's fault for the

@@ -1,6 +1,7 @@
 #pragma once
-/// Output helpers shared by the cmr libraries and the command: the
-/// environment error type, the one atomic file writer, and HTML escaping.
+/// Output helpers shared by the cmr libraries and the command: the output
+/// path check, the one atomic file writer, and HTML escaping (the error
+/// types are in spline/errors.hpp).
 /// Nothing here depends on the command line (CLI11).
 #include <filesystem>
 #include <stdexcept>
@@ -9,16 +10,14 @@
 #include <vector>
 
 #include "spline/bspline.hpp"
+#include "spline/errors.hpp"
 
 namespace cmr {
 
-/// An environment failure: no Vulkan device, a full disk, an I/O error, a
-/// permission the process lacks. The command maps it to exit code 3 (bad
-/// user data is cmr::InputError, exit code 2).
-class EnvironmentError : public std::runtime_error {
- public:
-  explicit EnvironmentError(const std::string& message) : std::runtime_error(message) {}
-};
+/// Throws InputError unless `path`'s folder exists and `path` is no folder
+/// (checked before any work, so that a bad output path fails fast):
+/// "OPTION PATH: the folder F does not exist", "OPTION PATH: is a directory".
+void check_output_path(const std::filesystem::path& path, const std::string& option);
 
 /// How many temporary names write_file_atomic tries before it gives up.
 inline constexpr int kTempNameAttempts = 100;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "spline/curvature.hpp"
+#include "draw/svg_text.hpp"
 #include "io/output.hpp"
 
 namespace cmr::report {
@@ -109,9 +110,10 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
 
 std::string svg(const GlyphPicture& g, int height) {
   const double w = g.x1 - g.x0, h = g.y1 - g.y0;
-  return "<svg xmlns=\"http://www.w3.org/2000/svg\" height=\"" + std::to_string(height) + "\" width=\"" +
-         std::to_string(static_cast<int>(std::ceil(height * w / h))) + "\" viewBox=\"" + fmt(g.x0) + " " + fmt(-g.y1) +
-         " " + fmt(w) + " " + fmt(h) + "\">" + g.body + "</svg>";
+  return draw::svg_open({{"height", std::to_string(height)},
+                         {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
+                         {"viewBox", fmt(g.x0) + " " + fmt(-g.y1) + " " + fmt(w) + " " + fmt(h)}}) +
+         g.body + std::string(draw::kSvgClose);
 }
 
 /// "segment 3 (from A/c0/p5 to A/c0/p7)" or "node A/c0/p5".

@@ -21,7 +21,7 @@
 ///    Default tol kDefaultG2Tolerance.
 ///  * no-inflection: the curvature never changes sign.
 ///
-/// Suggested fixes (suggest_tangent_fixes): for a violation inside a
+/// Suggested fixes (suggest_tangent_fixes, report/batch.hpp): for a violation inside a
 /// segment, one handle (a control point that is not a node) of that segment
 /// moved along the line to one of its neighbours (for a handle next to a
 /// node that line is the node's tangent, so a smooth node stays smooth; for
@@ -88,9 +88,6 @@ struct TangentFix {
   bool verified = false;  ///< re-reported after snapping: the violation is gone, fewer in all, no new corner
 };
 
-/// Fixes for a report whose gates fail: at most one per handle, the smallest
-/// move first. grid > 0 is the snapping unit (a font's unit); steps are 1, 2,
-/// 4, ..., 64 grid units in both directions.
-std::vector<TangentFix> suggest_tangent_fixes(const SplineReport& report, const ReportOptions& options, double grid);
+/// The fixes themselves: suggest_tangent_fixes in report/batch.hpp.
 
 }  // namespace cmr::report

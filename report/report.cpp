@@ -11,7 +11,9 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "bezierize/bernstein.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/joint_json.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "bezierize/region.hpp"
@@ -20,6 +22,7 @@
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "draw/draw.hpp"
+#include "draw/svg_text.hpp"
 #include "io/output.hpp"
 
 namespace cmr::report {
@@ -128,18 +131,19 @@ Frame frame_at(const std::vector<Vec2>& B, double u) {
 }
 
 // Curvature of a Bezier segment with exact points at parameter u: exact
-// P'(u), P''(u) by de Casteljau, then det and |P'|^2 rounded once each, so
-// the sign is exact and the relative error a few units of rounding (within
+// P'(u), P''(u) from the Bernstein derivatives of the coordinates
+// (bezierize/bernstein.hpp), then det and |P'|^2 rounded once each, so the
+// sign is exact and the relative error a few units of rounding (within
 // kKappaRelError). NaN where P'(u) = 0.
 double exact_kappa(const std::vector<Point<Rational>>& B, const Rational& u) {
   const int n = static_cast<int>(B.size()) - 1;
-  std::vector<Point<Rational>> w = B;
-  const Rational v = Rational(1) - u;
-  for (int r = 1; r <= n - 2; ++r)
-    for (int i = 0; i + r <= n; ++i) w[i] = v * w[i] + u * w[i + 1];
-  const Point<Rational> a = w[1] - w[0], b = w[2] - w[1];
-  const Point<Rational> d1 = v * a + u * b;  // P'/n
-  const Point<Rational> d2 = b - a;          // P''/(n(n-1))
+  Bernstein<Rational> x, y;
+  for (const Point<Rational>& p : B) x.push_back(p.x), y.push_back(p.y);
+  const Bernstein<Rational> x1 = bernstein_derivative(x), y1 = bernstein_derivative(y);
+  const Rational n1(n), n2(n * (n - 1));
+  const Point<Rational> d1(bernstein_eval(x1, u) / n1, bernstein_eval(y1, u) / n1);  // P'/n
+  const Point<Rational> d2(bernstein_eval(bernstein_derivative(x1), u) / n2,
+                           bernstein_eval(bernstein_derivative(y1), u) / n2);  // P''/(n(n-1))
   const Rational G = dot(d1, d1);
   if (sgn(G) == 0) return std::numeric_limits<double>::quiet_NaN();
   const double A = Rational(det(d1, d2)).get_d(), g = G.get_d();
@@ -429,12 +433,11 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
   r.joints = joint_reports(r.analysis);
   find_events(r, start);
   curvature_range(r, options.constant_tolerance);
-  r.gates = check_gates(r, options.gates);
   // With gates alone the monotonicity check is informational (a closed
-  // contour is never monotone over its period).
+  // contour is never monotone over its period). The gates are judged on this
+  // report afterwards (report/batch.hpp: judge_gates).
   const bool judged = options.require.has_value() || options.gates.empty();
-  r.pass = (!judged || r.requirement_pass) &&
-           std::all_of(r.gates.begin(), r.gates.end(), [](const GateResult& g) { return g.pass(); });
+  r.pass = !judged || r.requirement_pass;
   return r;
 }
 
@@ -509,55 +512,6 @@ ReportInput read_input(const std::string& file) {
     in.error = e.what();
   }
   return in;
-}
-
-namespace {
-
-/// One item of a batch, analysed: its report, or its input error.
-SplineReport report_item(const ReportInput& input, const ReportOptions& options) {
-  SplineReport r;
-  try {
-    if (input.spline)
-      r = report_spline(*input.spline, options);
-    else
-      r.error = input.error;
-  } catch (const InputError& e) {
-    r = SplineReport{};
-    r.error = e.what();
-  }
-  r.file = input.file;
-  if (r.name.empty()) r.name = std::filesystem::path(r.file).stem().string();
-  return r;
-}
-
-}  // namespace
-
-std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
-                                       const Progress& progress) {
-  const int total = static_cast<int>(inputs.size());
-  std::vector<SplineReport> out(total);
-  int done = 0;
-  std::mutex mutex;
-  parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
-    out[i] = report_item(inputs[i], options);
-    if (out[i].error.empty() && !out[i].pass && options.grid > 0 && options.regions)
-      out[i].tangent_fixes = suggest_tangent_fixes(out[i], options, options.grid);
-    const std::lock_guard lock(mutex);
-    ++done;
-    if (progress) progress(done, total, out[i].name);
-  });
-  if (!options.regions) return out;
-  // Regions one spline at a time: each render already uses every core (or the GPU).
-  std::vector<SplineReport*> failing;
-  for (SplineReport& r : out) {
-    // Regions search fixes of the monotonicity requirement, not of the gates.
-    if (r.error.empty() && !r.requirement_pass && (options.require || options.gates.empty())) failing.push_back(&r);
-  }
-  for (std::size_t i = 0; i < failing.size(); ++i) {
-    find_fixes(*failing[i], options);
-    if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(failing.size()), "regions: " + failing[i]->name);
-  }
-  return out;
 }
 
 int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options) {
@@ -654,19 +608,7 @@ Json segments_json(const SplineReport& r) {
 Json joints_json(const SplineReport& r) {
   Json joints = Json::array();
   for (const JointReport& jr : r.joints) {
-    const Joint& jt = jr.joint;
-    joints.push_back({{"index", jt.index},
-                      {"knot", jt.knot},
-                      {"multiplicity", jt.multiplicity},
-                      {"continuity", jr.continuity},
-                      {"g1", jt.g1},
-                      {"g2", jt.g2},
-                      {"angle", jt.angle_deg},  // NaN (a zero tangent) prints as null
-                      {"zero_tangent", jt.zero_tangent},
-                      {"corner", jr.corner},
-                      {"kappa_left", jt.kappa_left},
-                      {"kappa_right", jt.kappa_right},
-                      {"jump", jt.jump > 0 ? "up" : (jt.jump < 0 ? "down" : "none")}});
+    joints.push_back(joint_json(jr.joint, {jr.corner, false, false}));
   }
   return joints;
 }
@@ -930,7 +872,7 @@ void curve_marks_svg(std::string& out, const SplineReport& r, const Canvas& c) {
 void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
   const CombCanvas cc = comb_canvas(*r.spline, frames, 440, 330);
   const Canvas& c = cc.canvas;
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"330\" class=\"curve\">";
+  out += draw::svg_open({{"width", "440"}, {"height", "330"}, {"class", "curve"}});
   out += "<path fill=\"none\" stroke=\"#8fb0e8\" stroke-width=\"1\" d=\"";
   for (const auto& fs : frames)
     for (const Frame& f : fs) {
@@ -953,7 +895,7 @@ void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::v
   polylines(out, c, frames, [](const Frame& f) { return f.point; });
   out += "\"/>";
   curve_marks_svg(out, r, c);
-  out += "</svg>";
+  out += draw::kSvgClose;
 }
 
 // Signed curvature against the parameter: knots dashed, maxima red, minima
@@ -969,7 +911,7 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   khi += pad;
   const double t0 = s.domain_begin(), t1 = s.domain_end();
   const Canvas c{t0, klo, (W - 20) / (t1 - t0), (H - 20) / (khi - klo), H};
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"440\" height=\"240\" class=\"plot\">";
+  out += draw::svg_open({{"width", "440"}, {"height", "240"}, {"class", "plot"}});
   out += "<rect x=\"10\" y=\"10\" width=\"420\" height=\"220\" fill=\"#fafafa\" stroke=\"#ccc\"/>";
   out += "<line stroke=\"#aaa\" x1=\"10\" x2=\"430\" y1=\"";
   fixed(out, c.y(0));
@@ -1006,7 +948,7 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + html_escape(num(khi)) + "</text>";
   out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + html_escape(num(klo)) + "</text>";
   out += "<text font-size=\"10\" x=\"380\" y=\"226\">t " + html_escape(num(t1)) + "</text>";
-  out += "</svg>";
+  out += draw::kSvgClose;
 }
 
 std::string badge(const SplineReport& r) {

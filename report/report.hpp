@@ -181,19 +181,14 @@ struct ReportInput {
 /// Reads a spline file; an invalid one becomes an item with its error.
 ReportInput read_input(const std::string& file);
 
-/// Everything but the regions for one spline (thread-safe). Throws InputError
-/// when the options do not fit the spline (a split joint it does not have).
+/// The report model of one spline: everything but the gates and the fixes
+/// (thread-safe). `pass` is the requirement's verdict only; the gates are
+/// judged on the model by report/batch.hpp (judge_gates, judged_report,
+/// report_batch: report -> gates -> fixes). Throws InputError when the
+/// options do not fit the spline (a split joint it does not have).
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options);
 /// Fills report.fixes for a failing spline (renders one region per control point).
 void find_fixes(SplineReport& report, const ReportOptions& options);
-
-/// Called after each spline is analysed, then after each failing one has its
-/// regions: (done, total, name; "regions: name" in the second pass).
-using Progress = std::function<void(int, int, const std::string&)>;
-/// Reports a batch: the analysis on options.threads threads, then the regions.
-/// An input error of one item becomes that item's error; the others go on.
-std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
-                                       const Progress& progress = {});
 
 /// 0 when every spline passes (or there is no requirement), 1 when one fails,
 /// 2 when an input is invalid (kExitPass, kExitFail, kExitInvalid).

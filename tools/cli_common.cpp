@@ -10,88 +10,22 @@
 
 #include "spline/errors.hpp"
 #ifdef CMR_WITH_VULKAN
-#include "vk/context.hpp"
-#include "vk/region_vk.hpp"
+#include "vk/backend_choice.hpp"
 #endif
 
 namespace cmr::cli {
 namespace {
 
-/// The Vulkan backend, opened at its first render; its failures become
-/// EnvironmentError (exit 3) with what to do about them.
-class DeferredVulkanBackend final : public RegionBackend {
+#ifndef CMR_WITH_VULKAN
+/// --backend vulkan in a build without Vulkan.
+class NoVulkanBackend final : public RegionBackend {
  public:
-#ifdef CMR_WITH_VULKAN
-  explicit DeferredVulkanBackend(vk::VulkanRegionOptions options) : options_(std::move(options)) {}
-  RegionResult render(const RegionProblem& problem) override {
-    if (!backend_) open();
-    try {
-      return backend_->render(problem);
-    } catch (const vk::RegionFailure& e) {
-      throw EnvironmentError(e.what());
-    }
-  }
-#else
   RegionResult render(const RegionProblem&) override {
     throw EnvironmentError("this cmr was built without Vulkan; use --backend cpu");
   }
-#endif
   std::string name() const override { return "vulkan"; }
-
-#ifdef CMR_WITH_VULKAN
- private:
-  void open() {
-    auto created = vk::VulkanRegionBackend::create(options_);
-    if (!created) {
-      std::string message = created.error().message;
-      if (message.find("VK_DRIVER_FILES") == std::string::npos)
-        message += " (for lavapipe: install mesa-vulkan-drivers or export "
-                   "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json)";
-      throw EnvironmentError(message + "; or use --backend cpu");
-    }
-    backend_.emplace(created.take());
-  }
-  vk::VulkanRegionOptions options_;
-  std::optional<vk::VulkanRegionBackend> backend_;
-#endif
 };
-
-#ifdef CMR_WITH_VULKAN
-/// auto_backend_device on what the loader lists; empty when there is no
-/// loader, driver or device at all.
-std::string first_gpu() {
-  auto devices = vk::enumerate_devices();
-  if (!devices) return {};
-  std::vector<ListedDevice> listed;
-  for (const vk::DeviceInfo& d : devices.value()) listed.push_back({d.name, d.type == VK_PHYSICAL_DEVICE_TYPE_CPU});
-  return auto_backend_device(listed);
-}
 #endif
-
-/// --backend auto: Vulkan on a real GPU, else the CPU backend (see
-/// make_region_backend). The choice is made once, when first needed.
-class AutoBackend final : public RegionBackend {
- public:
-  AutoBackend(std::string precision, std::string device)
-      : precision_(std::move(precision)), device_(std::move(device)) {}
-  RegionResult render(const RegionProblem& problem) override { return chosen().render(problem); }
-  std::string name() const override { return chosen().name(); }
-
- private:
-  RegionBackend& chosen() const {
-    if (!chosen_) {
-#ifdef CMR_WITH_VULKAN
-      const std::string gpu = device_.empty() ? first_gpu() : device_;
-      chosen_ = gpu.empty() ? make_region_backend("cpu") : make_region_backend("vulkan", precision_, gpu);
-#else
-      chosen_ = make_region_backend("cpu");
-#endif
-    }
-    return *chosen_;
-  }
-  std::string precision_, device_;
-  mutable std::shared_ptr<RegionBackend> chosen_;
-};
 
 /// A number as the range message shows it: integers without a fraction.
 std::string number_text(double x) {
@@ -102,26 +36,22 @@ std::string number_text(double x) {
 
 }  // namespace
 
-std::string auto_backend_device(const std::vector<ListedDevice>& devices) {
-  for (const ListedDevice& d : devices)
-    if (!d.cpu) return d.name;
-  return {};
-}
-
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
                                                    const std::string& device) {
-  if (backend == "cpu") return std::make_shared<CpuRegionBackend>();
   CMR_CHECK(precision == "fp64" || precision == "fp32");  // CLI11 checked the choices
-  if (backend == "auto") return std::make_shared<AutoBackend>(precision, device);
-  CMR_CHECK(backend == "vulkan");
+  CMR_CHECK(backend == "cpu" || backend == "auto" || backend == "vulkan");
 #ifdef CMR_WITH_VULKAN
-  vk::VulkanRegionOptions o;
-  o.device = device;
-  o.precision = precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
-  return std::make_shared<DeferredVulkanBackend>(std::move(o));
+  vk::BackendChoice choice;
+  choice.kind = backend == "cpu" ? vk::BackendKind::cpu
+                : backend == "auto" ? vk::BackendKind::automatic
+                                    : vk::BackendKind::vulkan;
+  choice.precision = precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
+  choice.device = device;
+  return vk::make_region_backend(choice, [](const std::string& note) { std::cerr << "note: " << note << '\n'; });
 #else
   (void)device;
-  return std::make_shared<DeferredVulkanBackend>();
+  if (backend != "vulkan") return std::make_shared<CpuRegionBackend>();
+  return std::make_shared<NoVulkanBackend>();
 #endif
 }
 
@@ -168,15 +98,6 @@ CLI::Option* in_range(CLI::Option* option, double lo, double hi) {
       },
       range));
   return option;
-}
-
-void check_output_path(const std::filesystem::path& path, const std::string& option) {
-  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-  std::error_code ec;
-  if (!std::filesystem::is_directory(folder, ec))
-    throw InputError(option + " " + path.string() + ": the folder " + folder.string() + " does not exist");
-  if (path.filename().empty() || std::filesystem::is_directory(path, ec))
-    throw InputError(option + " " + path.string() + ": is a directory");
 }
 
 std::pair<int, int> parse_size(const std::string& text) {

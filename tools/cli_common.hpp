@@ -26,34 +26,19 @@ namespace cmr::cli {
 /// The command's exit codes.
 enum Exit : int { kOk = 0, kFail = 1, kInvalid = 2, kEnvironment = 3 };
 
-/// Environment failures (exit 3) are the libraries' error type.
-using EnvironmentError = cmr::EnvironmentError;
+/// Environment failures (exit 3) are the libraries' error type (spline/errors.hpp).
+using cmr::EnvironmentError;
 
 /// The region backend of --backend (auto|vulkan|cpu), --precision (fp64|fp32)
 /// and --device NAME: one per command run, so Vulkan contexts and compiled
-/// pipelines are reused by every render.
-///  - "cpu": the CPU backend.
-///  - "vulkan": the Vulkan device (the one --device names, else the first
-///    suitable), opened at the first render (a run that renders nothing needs
-///    none); when it is missing or fails, render throws EnvironmentError with
-///    a line that says how to select lavapipe, or to use --backend cpu.
-///  - "auto" (the default): Vulkan when the loader lists a real GPU (any
-///    device whose type is not VK_PHYSICAL_DEVICE_TYPE_CPU, i.e. not
-///    lavapipe/llvmpipe) or when --device names one; else the CPU backend,
-///    which is faster than a software rasterizer. Decided at the first render
-///    or name(), whichever comes first; name() says the choice ("vulkan" or
-///    "cpu"), so commands report the backend that actually ran.
+/// pipelines are reused by every render. The choice is the library's
+/// (vk::make_region_backend, vk/backend_choice.hpp: "auto" is Vulkan on a
+/// real GPU, else the CPU backend); this maps the option strings onto its
+/// aggregate and prints its fallback note on stderr ("note: ..."). A build
+/// without Vulkan renders "auto" and "cpu" on the CPU; "vulkan" throws
+/// EnvironmentError at the first render.
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
                                                    const std::string& device = "");
-/// --backend auto's rule on the devices the Vulkan loader lists (in loader
-/// order): the name of the first one that is not a CPU device
-/// (VK_PHYSICAL_DEVICE_TYPE_CPU: lavapipe/llvmpipe), which auto opens; ""
-/// when there is none, and auto takes the CPU backend.
-struct ListedDevice {
-  std::string name;
-  bool cpu = false;
-};
-std::string auto_backend_device(const std::vector<ListedDevice>& devices);
 /// The --backend choices, in help order.
 inline const std::vector<std::string> kBackendChoices = {"auto", "vulkan", "cpu"};
 
@@ -77,9 +62,8 @@ void add_continuity_options(CLI::App& cmd, ContinuityTolerances& tolerances);
 /// command: "--depth: 99 is outside 0..30". Returns `option`.
 CLI::Option* in_range(CLI::Option* option, double lo, double hi);
 
-/// Throws InputError unless `path`'s folder exists and `path` is no folder
-/// (checked before any work, so that a bad output path fails fast).
-void check_output_path(const std::filesystem::path& path, const std::string& option);
+/// The output path check of every command (io/output.hpp).
+using cmr::check_output_path;
 
 /// --size WxH (InputError otherwise; the range is RegionProblem::make's).
 std::pair<int, int> parse_size(const std::string& text);

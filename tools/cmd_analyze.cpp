@@ -5,6 +5,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "spline/errors.hpp"
+#include "bezierize/joint_json.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -53,19 +54,7 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
   std::vector<Joint> all = a.joints;
   if (a.seam) all.push_back(*a.seam);  // a closed spline's seam: joint N
   for (const Joint& j : all) {
-    joints.push_back({{"index", j.index},
-                      {"knot", j.knot},
-                      {"multiplicity", j.multiplicity},
-                      {"continuity", "C" + std::to_string(j.continuity)},
-                      {"g1", j.g1},
-                      {"g2", j.g2},
-                      {"angle", j.angle_deg},  // NaN (a zero tangent) prints as null
-                      {"zero_tangent", j.zero_tangent},
-                      {"kappa_left", j.kappa_left},
-                      {"kappa_right", j.kappa_right},
-                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
-    if (j.pole) joints.back()["pole"] = true;
-    if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
+    joints.push_back(joint_json(j, {std::nullopt, true, a.seam && j.index == a.seam->index}));  // pole and seam marks
     const bool inside = j.index > a.range.first && j.index <= a.range.last;
     const bool seam_judged = a.seam && j.index == a.seam->index && a.range.first == 0 &&
                              a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split &&

@@ -38,8 +38,8 @@ void print_claims(const std::vector<fig::Claim>& claims) {
 
 void add_figures_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<FiguresArgs>();
-  auto* cmd = app.add_subcommand("figures", "Recompute the paper's figures 2-10, check their claims, write PNGs and "
-                                            "index.html");
+  auto* cmd = app.add_subcommand("figures", "Recompute the paper's Figs. 1-10 and 13, check their claims, write PNGs, "
+                                            "SVGs and index.html");
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
   add_backend_options(*cmd, args->backend, args->device);
   in_range(cmd->add_option("--size", args->size, "side of each region image in pixels"), 64, 4096)

@@ -18,6 +18,7 @@
 #include "tools/cmd_space.hpp"
 #include "draw/draw.hpp"
 #include "draw/mesh.hpp"
+#include "draw/region_export.hpp"
 #include "draw/weight_picture.hpp"
 
 namespace cmr::cli {
@@ -52,22 +53,6 @@ struct RegionArgs {
   /// other mode with one line).
   std::vector<std::pair<std::string, const CLI::Option*>> given;
 };
-
-/// A binary PGM; `maxval` is the largest value a pixel can take (PGM viewers
-/// scale 0..maxval to black..white, so a depth map of levels 0..D is visible).
-std::string pgm(const RegionResult& img, const std::vector<uint8_t>& values, int maxval = 255) {
-  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n" +
-                    std::to_string(maxval) + "\n";
-  out.append(reinterpret_cast<const char*>(values.data()), values.size());
-  return out;
-}
-
-std::string with_point_suffix(const std::string& path, int k) {
-  const auto dot = path.rfind('.');
-  const std::string stem = dot == std::string::npos ? path : path.substr(0, dot);
-  const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
-  return stem + ".P" + std::to_string(k) + ext;
-}
 
 /// The region request the arguments describe (point and validation come later).
 RegionRequest region_options(const RegionArgs& a) {
@@ -201,6 +186,13 @@ std::vector<RegionContours> contours_of(const RegionArgs& a, const std::vector<R
   return all;
 }
 
+/// Each problem's request, in order.
+std::vector<RegionRequest> requests_of(const std::vector<RegionProblem>& problems) {
+  std::vector<RegionRequest> out;
+  for (const RegionProblem& p : problems) out.push_back(p.request());
+  return out;
+}
+
 /// The picture settings of a problem: curve, legend, labels of its mode.
 draw::RegionPicture picture(const BSpline& spline, const RegionProblem& problem) {
   draw::RegionPicture pic;
@@ -222,7 +214,7 @@ std::string depth_map(const RegionArgs& a, const BSpline& spline, const RegionPr
   const bool png = path.size() >= 4 && std::equal(path.end() - 4, path.end(), ".png", [](char x, char y) {
                      return std::tolower(static_cast<unsigned char>(x)) == y;
                    });
-  if (!png) return pgm(img, img.depth, std::max(1, problem.request().max_depth));
+  if (!png) return draw::pgm(img.width, img.height, img.depth, std::max(1, problem.request().max_depth));
   draw::RegionPicture pic = picture(spline, problem);
   pic.layers = {&img};
   pic.points = {problem.request().point};
@@ -238,24 +230,17 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
   OutputSet out;
   const bool several = problems.size() > 1;
   for (std::size_t i = 0; i < contours.size(); ++i)
-    out.stage(several ? with_point_suffix(a.contours, problems[i].request().point) : a.contours,
+    out.stage(several ? draw::with_point_suffix(a.contours, problems[i].request().point) : std::filesystem::path(a.contours),
               mesh::contour_file(a.contours, contours[i]));
   for (std::size_t i = 0; i < r.images.size(); ++i) {
     const int k = problems[i].request().point;
     if (!a.labels.empty())
-      out.stage(several ? with_point_suffix(a.labels, k) : a.labels, pgm(r.images[i], r.images[i].codes()));
+      out.stage(several ? draw::with_point_suffix(a.labels, k) : std::filesystem::path(a.labels), draw::label_pgm(r.images[i]));
     if (!a.depth_map.empty())
-      out.stage(several ? with_point_suffix(a.depth_map, k) : a.depth_map, depth_map(a, spline, problems[i], r.images[i]));
+      out.stage(several ? draw::with_point_suffix(a.depth_map, k) : std::filesystem::path(a.depth_map),
+                depth_map(a, spline, problems[i], r.images[i]));
   }
-  if (!a.png.empty()) {
-    draw::RegionPicture pic = picture(spline, problems.front());
-    for (std::size_t i = 0; i < r.images.size(); ++i) {
-      pic.layers.push_back(&r.images[i]);
-      pic.points.push_back(problems[i].request().point);
-    }
-    pic.per_point = several;  // one composite picture, each point's region in its own colour
-    out.stage(a.png, draw::region_png(pic));
-  }
+  if (!a.png.empty()) out.stage(a.png, draw::region_png(draw::layers_picture(spline, r.images, requests_of(problems))));
   out.commit();
 }
 

@@ -19,6 +19,7 @@
 #include "io/font.hpp"
 #include "io/svg.hpp"
 #include "report/report.hpp"
+#include "report/batch.hpp"
 
 namespace cmr::cli {
 

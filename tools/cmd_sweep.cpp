@@ -192,16 +192,7 @@ std::string area_plot(const SweepArgs& a, const std::vector<Step>& steps,
     draw::Series s;
     s.name = split ? to_string(static_cast<SplitLabel>(L)) : to_string(static_cast<RegionLabel>(L));
     // The legend's colour, made a little darker so thin lines show.
-    RegionResult one;
-    one.width = one.height = 1;
-    one.split = split;
-    one.depth = {0};
-    if (split) one.split_labels = {static_cast<SplitLabel>(L)};
-    else one.labels = {static_cast<RegionLabel>(L)};
-    draw::RegionPicture pic;
-    pic.layers = {&one};
-    pic.split = split;
-    const draw::Rgb c = draw::pixel_colour(pic, 0);
+    const draw::Rgb c = draw::label_colour(static_cast<std::uint8_t>(L), split);
     s.colour = {c.r * 0.8, c.g * 0.8, c.b * 0.8};
     for (std::size_t k = 0; k < steps.size(); ++k) {
       double area = 0;

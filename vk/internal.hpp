@@ -102,7 +102,7 @@ Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence);
 // problem: `pixels` are the listed (column, row) pairs (none for the window
 // shader, shaders/region_present.glsl), area_width the work area's width.
 // Implemented in region_vk.cpp.
-std::vector<std::byte> pack_region(const cmr::detail::RegionSetup& setup, RegionPrecision precision,
+std::vector<std::byte> pack_region(const cmr::backend::RegionSetup& setup, RegionPrecision precision,
                                    std::span<const std::array<int, 2>> pixels, uint32_t area_width);
 
 // A graphics pipeline drawing one full-screen triangle (the built-in vertex

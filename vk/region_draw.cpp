@@ -117,7 +117,7 @@ struct RegionDrawer::Impl {
     return {};
   }
 
-  Result<VkPipeline> pipeline_for(const cmr::detail::RegionSetup& s) {
+  Result<VkPipeline> pipeline_for(const cmr::backend::RegionSetup& s) {
     const PipelineKey key{s.spline().degree(), s.options.max_depth, s.options.mode == Mode::cmr, !s.varying.empty()};
     for (const auto& [k, p] : pipelines)
       if (k == key) return p;
@@ -154,8 +154,8 @@ struct RegionDrawer::Impl {
       const uint32_t at = words[2 + n];
       if (at >= h.overrides.size() || h.overrides[at] != 0) continue;
       const int i = static_cast<int>(at % r.width), j = static_cast<int>(at / r.width);
-      const cmr::detail::PixelResult p =
-          cmr::detail::classify_position(h.problem->setup(), pixel_center(*r.view, r.width, r.height, i, j));
+      const cmr::backend::PixelResult p =
+          cmr::backend::classify_position(h.problem->setup(), pixel_center(*r.view, r.width, r.height, i, j));
       h.overrides[at] = p.label + 1u;
       ++host_pixels;
       changed = true;

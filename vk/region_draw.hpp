@@ -11,7 +11,7 @@
 // with the region shader's certified arithmetic (region_common.glsl); a
 // pixel it cannot certify is left white and listed in a small per-frame
 // buffer. The next time that frame slot comes round, prepare() decides the
-// listed pixels on the host (cmr::detail::classify_position: certified, then
+// listed pixels on the host (cmr::backend::classify_position: certified, then
 // exact) and from then on the shader takes their labels from an override
 // buffer: after two frames of an unchanged problem every pixel carries the
 // label CpuRegionBackend gives it. Depth shading is not drawn here.

@@ -19,9 +19,9 @@ namespace cmr::vk {
 namespace {
 
 using namespace layout;
-using cmr::detail::RegionEntry;
-using cmr::detail::RegionJoint;
-using cmr::detail::RegionSetup;
+using cmr::backend::RegionEntry;
+using cmr::backend::RegionJoint;
+using cmr::backend::RegionSetup;
 
 /// The work area the listed pixels are shaded in.
 constexpr uint32_t kWorkAreaWidth = 256, kWorkAreaHeight = 256;
@@ -122,15 +122,15 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   const RegionRequest& o = s.options;
   const int N = s.spline().segment_count();
   auto part_of = [&](int seg) { return cmr::group_of(s.cuts, seg); };
-  const cmr::detail::Labels kind = cmr::detail::labels_of(o);
+  const cmr::backend::Labels kind = cmr::backend::labels_of(o);
 
   Packer p(precision);
   p.hdr[HDR_WIDTH] = static_cast<uint32_t>(o.width);
   p.hdr[HDR_HEIGHT] = static_cast<uint32_t>(o.height);
   p.hdr[HDR_MODE] = o.mode == Mode::cmr ? 1 : 0;
-  p.hdr[HDR_LABELS] = kind == cmr::detail::Labels::each_piece    ? LABELS_EACH_PIECE
-                     : kind == cmr::detail::Labels::alternating ? LABELS_ALTERNATING
-                     : kind == cmr::detail::Labels::split     ? LABELS_SPLIT
+  p.hdr[HDR_LABELS] = kind == cmr::backend::Labels::each_piece    ? LABELS_EACH_PIECE
+                     : kind == cmr::backend::Labels::alternating ? LABELS_ALTERNATING
+                     : kind == cmr::backend::Labels::split     ? LABELS_SPLIT
                                                               : LABELS_PLAIN;
   p.hdr[HDR_DEPTH] = static_cast<uint32_t>(o.max_depth);
   p.hdr[HDR_FIXED_LEVEL0_NONE] = s.fixed_level0_none ? 1 : 0;
@@ -212,7 +212,7 @@ namespace {
 // The image decoded from the device's words; uncertain pixels are decided on
 // the host (certified, then exactly).
 void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
-                 const std::vector<uint32_t>& words, cmr::detail::RegionImage& img) {
+                 const std::vector<uint32_t>& words, cmr::backend::RegionImage& img) {
   const RegionRequest& o = s.options;
   for (std::size_t k = 0; k < pixels.size(); ++k) {
     const auto [i, j] = pixels[k];
@@ -220,7 +220,7 @@ void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pi
     const uint32_t w = words[k];
     if (w & RESULT_UNCERTAIN) {
       // Not certified on the device (or deeper than its precomputed pieces).
-      const cmr::detail::PixelResult pr = cmr::detail::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+      const cmr::backend::PixelResult pr = cmr::backend::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
       img.labels[at] = pr.label;
       img.depth[at] = pr.depth;
       img.exact_pixels += pr.exact;
@@ -296,10 +296,10 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
   const auto t0 = std::chrono::steady_clock::now();
   const double compiled_before = pipeline_seconds_;
   const RegionSetup& s = problem.setup();
-  cmr::detail::RegionImage img = cmr::detail::blank_image(s);
+  cmr::backend::RegionImage img = cmr::backend::blank_image(s);
   std::vector<std::array<int, 2>> pixels;
   if (options_.cull) {
-    pixels = cmr::detail::region_cull(s, img, kDeviceBlock, options_.threads);
+    pixels = cmr::backend::region_cull(s, img, kDeviceBlock, options_.threads);
   } else {
     for (int j = 0; j < img.height; ++j)
       for (int i = 0; i < img.width; ++i) pixels.push_back({i, j});
@@ -309,7 +309,7 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
     if (!words) return words.error();
     apply_words(s, pixels, words.value(), img);
   }
-  RegionResult r = cmr::detail::to_result(std::move(img), cmr::detail::labels_of(s.options));
+  RegionResult r = cmr::backend::to_result(std::move(img), cmr::backend::labels_of(s.options));
   r.setup_seconds = pipeline_seconds_ - compiled_before;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

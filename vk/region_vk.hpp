@@ -28,7 +28,8 @@ struct VulkanRegionOptions {
 };
 
 /// A Vulkan failure during a render (device lost, out of memory), carrying
-/// the vk::Error: thrown by VulkanRegionBackend::render.
+/// the vk::Error: thrown by VulkanRegionBackend::render. A BackendError, so
+/// an EnvironmentError (spline/errors.hpp): callers need not re-wrap it.
 class RegionFailure : public BackendError {
  public:
   explicit RegionFailure(Error e) : BackendError(e.message), error_(std::move(e)) {}
@@ -71,9 +72,9 @@ class VulkanRegionBackend final : public RegionBackend {
   };
   VulkanRegionBackend(Context context, VulkanRegionOptions options)
       : context_(std::move(context)), options_(std::move(options)) {}
-  Result<FragmentPipeline*> pipeline_for(const cmr::detail::RegionSetup& setup);
+  Result<FragmentPipeline*> pipeline_for(const cmr::backend::RegionSetup& setup);
   /// One result word per listed pixel, in order (shaders/region_layout.h).
-  Result<std::vector<uint32_t>> shade(const cmr::detail::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels);
+  Result<std::vector<uint32_t>> shade(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels);
 
   Context context_;
   VulkanRegionOptions options_;

@@ -52,8 +52,9 @@ TEST(Pole, QuadraticBezierPolesMatchTheClosedForm) {
         for (double t : at) {
           EXPECT_GE(t, 0.0);
           EXPECT_LE(t, 1.0);
-          if (!(a == 0 && b == 0) && !(b == 0 && c == 0))  // W == 0 on the span is reported {0, 1}
+          if (!(a == 0 && b == 0) && !(b == 0 && c == 0)) {  // W == 0 on the span is reported {0, 1}
             EXPECT_LE(std::fabs(weight_at(s, t)), 1e-10) << a << " " << b << " " << c << " t " << t;
+          }
         }
         poles += !at.empty();
         ++cases;
@@ -124,7 +125,9 @@ TEST(Pole, RandomSplinesAgreeWithDenseSamplingOfW) {
         zero = zero || cur == 0;
         prev = cur;
       }
-      if (at.empty()) EXPECT_FALSE(change || zero) << "trial " << trial << " segment " << seg.index;
+      if (at.empty()) {
+        EXPECT_FALSE(change || zero) << "trial " << trial << " segment " << seg.index;
+      }
       for (double p : at) {
         EXPECT_GE(p, seg.a);
         EXPECT_LE(p, seg.b);
@@ -278,7 +281,7 @@ TEST(Pole, NegatedWeightsGiveTheSameVerdictsCurvaturesAndRegions) {
         AnalyzeOptions ao;
         ao.segments = o.segments;
         const SplineAnalysis m = analyze(s.with_point(point, pixel_center(ra.view, o.width, o.height, p % o.width, p / o.width)), ao);
-        ASSERT_EQ(int(ra.code_at(p)), int(detail::label_of(mode == Mode::cmr ? m.cmr_algorithm2 : m.cmrwi)))
+        ASSERT_EQ(int(ra.code_at(p)), int(backend::label_of(mode == Mode::cmr ? m.cmr_algorithm2 : m.cmrwi)))
             << "point " << point << " pixel " << p;
       }
     }
@@ -307,10 +310,12 @@ TEST(Pole, RegionPixelsEqualAnalyzeOfTheMovedSpline) {
         const Vec2 p = pixel_center(img.view, o.width, o.height, i, j);
         AnalyzeOptions ao;
         ao.segments = c.segments;
-        const int want = detail::label_of(analyze(s.with_point(c.point, p), ao).cmrwi);
+        const int want = backend::label_of(analyze(s.with_point(c.point, p), ao).cmrwi);
         ASSERT_EQ(img.code_at(j * o.width + i), want) << "point " << c.point << " pixel (" << i << ", " << j << ")";
         ASSERT_EQ(int(code(problem.classify(p).label)), want);
-        if (!c.segments) ASSERT_EQ(want, 0);
+        if (!c.segments) {
+          ASSERT_EQ(want, 0);
+        }
         nonzero += want != 0;
       }
   }

@@ -92,7 +92,7 @@ TEST(Region, OnlyTheJudgedSegmentsArePrepared) {
   o.segments = SegmentRange{1, 2};
   const RegionProblem p = RegionProblem::make(s, o);
   ASSERT_FALSE(p.setup().entries.empty());
-  for (const detail::RegionEntry& e : p.setup().entries) {
+  for (const backend::RegionEntry& e : p.setup().entries) {
     EXPECT_GE(e.segment, 1);
     EXPECT_LE(e.segment, 2);
   }
@@ -109,7 +109,7 @@ TEST(Region, IgnoredSegmentsDoNotChangeTheLabel) {
                                     std::pair{SegmentRange{3, 3}, RegionLabel::increasing}}) {
     AnalyzeOptions ao;
     ao.segments = range;
-    ASSERT_EQ(code(want), detail::label_of(analyze(s, ao).cmrwi));
+    ASSERT_EQ(code(want), backend::label_of(analyze(s, ao).cmrwi));
     RegionRequest o;
     o.point = 0;
     o.segments = range;
@@ -156,12 +156,12 @@ TEST(Region, SegmentControlMatchesAnalyzeOfTheMovedSpline) {
       const RegionPixel px = problem.classify(p);
       const std::string where = "point " + std::to_string(c.point) + " sample " + std::to_string(sample);
       if (!c.splits.empty()) {
-        EXPECT_EQ(code(px.alternating_label), detail::label_of(*a.alternation)) << where;
+        EXPECT_EQ(code(px.alternating_label), backend::label_of(*a.alternation)) << where;
         passing += px.alternating_label == AlternatingLabel::first_increasing;
       } else if (c.split) {
-        EXPECT_EQ(code(px.split_label), detail::label_of(*a.split)) << where;
+        EXPECT_EQ(code(px.split_label), backend::label_of(*a.split)) << where;
       } else {
-        EXPECT_EQ(code(px.label), detail::label_of(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
+        EXPECT_EQ(code(px.label), backend::label_of(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
       }
     }
   }
@@ -191,7 +191,7 @@ TEST(Region, DegreeElevatedCurveKeepsItsRegion) {
       E[4] = P[3];
       for (int k = 1; k <= 3; ++k) E[k] = (k / 4.0) * P[k - 1] + (1 - k / 4.0) * P[k];
       const SplineAnalysis a = analyze(BSpline::bezier(E));
-      const int elevated = detail::label_of(a.cmrwi), original = code(img.labels[j * o.width + i]);
+      const int elevated = backend::label_of(a.cmrwi), original = code(img.labels[j * o.width + i]);
       if (elevated == 3 || original == 3) continue;
       EXPECT_EQ(elevated, original) << "pixel (" << i << ", " << j << ")";
       ++compared;
@@ -250,7 +250,7 @@ TEST(Region, FoldedVerdictEqualsTheFullOne) {
     for (auto& c : classes) c = random_class();
     for (int j = 0; j < N - 1; ++j) joints[j].index = j + 1, joints[j].jump = random_jump();
     for (int i = range.first; i <= range.last; ++i) needed[i] = pick(4) == 0;
-    const detail::VerdictTemplate t = detail::fold_fixed_runs(classes, joints, needed, range, cuts, mode);
+    const backend::VerdictTemplate t = backend::fold_fixed_runs(classes, joints, needed, range, cuts, mode);
     ASSERT_EQ(t.joints.size() + 1, t.classes.size());
     ASSERT_EQ(t.starts.size(), cuts.size() + 1);
     for (int fill = 0; fill < 8; ++fill) {
@@ -270,7 +270,7 @@ TEST(Region, FoldedVerdictEqualsTheFullOne) {
       for (int i = 0; i < N; ++i) what << ' ' << needed[i];
       std::vector<Direction> want;
       for (const auto& [a, b] : segment_groups(range, cuts)) want.push_back(part_verdict(full, full_joints, a, b, mode));
-      const std::vector<Direction> got = detail::group_verdicts(t, folded, folded_joints, mode);
+      const std::vector<Direction> got = backend::group_verdicts(t, folded, folded_joints, mode);
       ASSERT_EQ(got.size(), want.size()) << what.str();
       for (std::size_t g = 0; g < want.size(); ++g)
         ASSERT_EQ(to_string(got[g]), std::string(to_string(want[g]))) << what.str() << ", group " << g;
@@ -324,7 +324,7 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
               monotone += px.split_label != SplitLabel::none;
             } else {
               const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
-              EXPECT_EQ(detail::label_of(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
+              EXPECT_EQ(backend::label_of(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
               monotone += px.label != RegionLabel::not_monotone;
             }
           }
@@ -373,7 +373,7 @@ TEST(Region, ClosedSplineSeamIsJudgedLikeEveryJoint) {
             ASSERT_TRUE(a.seam.has_value());
             ASSERT_EQ(a.seam->index, s.segment_count());
             const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
-            ASSERT_EQ(int(img.code_at(j * o.width + i)), int(detail::label_of(want)))
+            ASSERT_EQ(int(img.code_at(j * o.width + i)), int(backend::label_of(want)))
                 << "trial " << trial << " P" << k << (mode == Mode::cmr ? " cmr" : " cmrwi") << " pixel (" << i
                 << ", " << j << ")";
             ++compared;
@@ -415,7 +415,7 @@ TEST(Region, RationalSplineLabelsEqualTheExactAnalysisOfTheMovedSpline) {
           ao.split = split;
           ao.split_mode = o.mode;
           const SplineAnalysis a = analyze(s.with_point(o.point, p), ao);
-          const int want = split ? detail::label_of(*a.split) : detail::label_of(mode ? a.cmr_algorithm2 : a.cmrwi);
+          const int want = split ? backend::label_of(*a.split) : backend::label_of(mode ? a.cmr_algorithm2 : a.cmrwi);
           ASSERT_EQ(img.code_at(j * o.width + i), want)
               << s.name() << " mode " << mode << " split " << split.has_value() << " pixel (" << i << ", " << j << ")";
           in_region += want != 0;

@@ -47,8 +47,8 @@ std::string analyze_label(const BSpline& s, int k, double w, Mode mode, std::opt
   ao.split = split;
   ao.split_mode = mode;
   const SplineAnalysis a = analyze(with_weight(s, k, w), ao);
-  if (split) return to_string(static_cast<SplitLabel>(detail::label_of(*a.split)));
-  return to_string(static_cast<RegionLabel>(detail::label_of(mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi)));
+  if (split) return to_string(static_cast<SplitLabel>(backend::label_of(*a.split)));
+  return to_string(static_cast<RegionLabel>(backend::label_of(mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi)));
 }
 
 nlohmann::json parse(const std::string& text) { return nlohmann::json::parse(text); }
@@ -283,7 +283,7 @@ TEST(WeightRegion, SplitAndCmrLabelsAgreeWithAnalyze) {
       AnalyzeOptions ao;
       ao.splits = {1, 2};
       const SplineAnalysis a = analyze(with_weight(s, q.point, w), ao);
-      EXPECT_EQ(detail::label_of(*a.alternation), v.label) << "w = " << w;
+      EXPECT_EQ(backend::label_of(*a.alternation), v.label) << "w = " << w;
     }
 }
 

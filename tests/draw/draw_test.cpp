@@ -312,7 +312,7 @@ TEST(RegionPng, LegendAndMarkedPointAreDrawnInside) {
   ASSERT_EQ(b.width, 300);
   ASSERT_EQ(b.height, 200);
   int whiter = 0;
-  for (const auto [i, j] : {std::pair{8, 8}, std::pair{291, 8}, std::pair{8, 191}, std::pair{291, 191}})
+  for (const auto& [i, j] : {std::pair{8, 8}, std::pair{291, 8}, std::pair{8, 191}, std::pair{291, 191}})
     whiter += b.at(i, j)[1] > a.at(i, j)[1] + 60;  // red (g ~ 102) under white (g > 200)
   EXPECT_EQ(whiter, 1) << "one corner holds the legend";
   const std::vector<LegendEntry> legend = legend_for(p);

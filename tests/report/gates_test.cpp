@@ -16,6 +16,7 @@
 #include "tests/cli_util.hpp"
 #include "io/font.hpp"
 #include "io/svg.hpp"
+#include "report/batch.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
@@ -44,7 +45,7 @@ const GateResult& result(const SplineReport& r, Gate::Kind kind) {
 TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   const BSpline s = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
   const SplineReport r =
-      report_spline(s, gates("extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection"));
+      judged_report(s, gates("extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection"));
   ASSERT_EQ(r.joints.size(), 4u);  // three inside and the seam
   EXPECT_EQ(r.joints.back().joint.index, 4);
   const GateResult& at_nodes = result(r, Gate::Kind::extrema_at_nodes);
@@ -61,8 +62,34 @@ TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   EXPECT_TRUE(result(r, Gate::Kind::g2_at_smooth_nodes).pass());
   EXPECT_TRUE(result(r, Gate::Kind::no_inflection).pass());
   EXPECT_FALSE(r.pass);
-  const SplineReport r0 = report_spline(s, gates("max-extrema-per-segment:0"));
+  const SplineReport r0 = judged_report(s, gates("max-extrema-per-segment:0"));
   EXPECT_EQ(r0.gates[0].violations.size(), 4u);
+}
+
+// The model knows no gates: report_spline leaves them to the batch step
+// (report -> gates -> fixes), whose judge_gates fills them and folds them
+// into pass. With gates alone the requirement is informational.
+TEST(Gates, ReportModelLeavesGatesToTheBatchStep) {
+  const BSpline s = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
+  const ReportOptions o = gates("extrema-at-nodes");
+  SplineReport r = report_spline(s, o);
+  EXPECT_TRUE(r.gates.empty());
+  EXPECT_TRUE(r.pass);  // nothing judged yet
+  judge_gates(r, o);
+  ASSERT_EQ(r.gates.size(), 1u);
+  EXPECT_EQ(r.gates[0].violations.size(), 4u);
+  EXPECT_FALSE(r.pass);
+  const SplineReport j = judged_report(s, o);
+  EXPECT_EQ(j.gates.size(), 1u);
+  EXPECT_EQ(j.pass, r.pass);
+  std::vector<ReportInput> inputs(1);
+  inputs[0].file = "square";
+  inputs[0].spline = s;
+  const std::vector<SplineReport> batch = report_batch(std::move(inputs), o);
+  ASSERT_EQ(batch.size(), 1u);
+  ASSERT_EQ(batch[0].gates.size(), 1u);
+  EXPECT_EQ(batch[0].gates[0].violations.size(), 4u);
+  EXPECT_FALSE(batch[0].pass);
 }
 
 // An SVG circle (two arcs) becomes rational quadratics whose weights and
@@ -78,7 +105,7 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
   ASSERT_EQ(paths.size(), 1u);
   const BSpline circle = import::to_bspline(paths[0]);
   ASSERT_TRUE(circle.is_rational());
-  const SplineReport r = report_spline(circle, gates("extrema-at-nodes,max-extrema-per-segment:0"));
+  const SplineReport r = judged_report(circle, gates("extrema-at-nodes,max-extrema-per-segment:0"));
   bool some_exact_extremum = false;
   for (const SpanReport& sp : r.spans) {
     EXPECT_TRUE(sp.near_constant) << "segment " << sp.segment.index;
@@ -91,14 +118,14 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
 
   ReportOptions strict = gates("extrema-at-nodes");
   strict.constant_tolerance = 0;
-  const SplineReport r0 = report_spline(circle, strict);
+  const SplineReport r0 = judged_report(circle, strict);
   EXPECT_FALSE(r0.gates[0].pass());
   for (const SpanReport& sp : r0.spans) EXPECT_EQ(sp.near_constant, sp.kappa_spread == 0);
 
   // A designed curvature change: the square quadratic's pieces, against
   // sampled curvature (the spread's extremes are at the ends and mid-way).
   const BSpline square = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
-  const SplineReport rs = report_spline(square, gates("extrema-at-nodes"));
+  const SplineReport rs = judged_report(square, gates("extrema-at-nodes"));
   for (const SpanReport& sp : rs.spans) {
     double lo = segment_end_curvature(square, sp.segment, 0), hi = lo;
     auto consider = [&](double k) { lo = std::min(lo, k), hi = std::max(hi, k); };
@@ -123,13 +150,13 @@ TEST(Gates, SeamIsJudgedLikeEveryJoint) {
         const int m = s.unique_point_count();
         const std::vector<double> u = s.period_knots();
         const double T = u[m] - u[0];
-        const SplineReport base = report_spline(s, opts);
+        const SplineReport base = judged_report(s, opts);
         for (int shift : {1, 2, m / 2}) {
           std::vector<Vec2> P;
           std::vector<double> v;
           for (int k = 0; k < m; ++k) P.push_back(s.points()[(k + shift) % m]);
           for (int k = 0; k <= m; ++k) v.push_back(k + shift <= m ? u[k + shift] : u[k + shift - m] + T);
-          const SplineReport r = report_spline(BSpline::make_closed(s.degree(), v, P), opts);
+          const SplineReport r = judged_report(BSpline::make_closed(s.degree(), v, P), opts);
           const std::string what = s.name() + " shifted by " + std::to_string(shift);
           EXPECT_EQ(r.extrema.size(), base.extrema.size()) << what;
           EXPECT_EQ(r.inflections.size(), base.inflections.size()) << what;
@@ -150,7 +177,7 @@ TEST(Gates, ExtremaInsideSegmentsMatchDenseSampling) {
     const import::Font font = import::read_font(path, import::parse_glyph_spec("B,O,S,e,s"));
     for (const import::Glyph& g : font.glyphs)
       for (const import::Contour& c : g.contours) {
-        const SplineReport r = report_spline(c.spline, opts);
+        const SplineReport r = judged_report(c.spline, opts);
         for (const Segment& seg : c.spline.segments()) {
           if (r.spans[seg.index].lambda_zero) continue;  // straight: constant curvature
           constexpr int kSamples = 4000;
@@ -198,7 +225,7 @@ TEST(Gates, TangentFixesAreOnTheGridAlongTheTangentAndVerified) {
   int checked = 0;
   for (const import::Glyph& g : font.glyphs)
     for (const import::Contour& c : g.contours) {
-      const SplineReport r = report_spline(c.spline, o);
+      const SplineReport r = judged_report(c.spline, o);
       if (r.pass) continue;
       const auto fixes = suggest_tangent_fixes(r, o, 1.0);
       for (const TangentFix& f : fixes) {
@@ -206,7 +233,7 @@ TEST(Gates, TangentFixesAreOnTheGridAlongTheTangentAndVerified) {
         EXPECT_EQ(f.to.y, std::round(f.to.y));
         const Vec2 n = c.spline.points()[f.neighbour], a = f.from - n, b = f.to - n;
         EXPECT_LE(std::abs(a.x * b.y - a.y * b.x) / std::sqrt(dot(a, a)), std::sqrt(0.5) + 1e-9) << c.spline.name();
-        const SplineReport moved = report_spline(c.spline.with_point(f.point, f.to), o);
+        const SplineReport moved = judged_report(c.spline.with_point(f.point, f.to), o);
         std::size_t before = 0, after = 0;
         for (const GateResult& x : r.gates) before += x.violations.size();
         for (const GateResult& x : moved.gates) after += x.violations.size();

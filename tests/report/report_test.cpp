@@ -16,6 +16,7 @@
 #include "spline/spline_json.hpp"
 #include "io/output.hpp"
 #include "tests/test_util.hpp"
+#include "report/batch.hpp"
 #include "tests/cli_util.hpp"
 
 namespace cmr::report {

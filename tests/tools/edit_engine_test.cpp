@@ -131,7 +131,9 @@ TEST(EditEngine, SignedWeightsAndPoles) {
       for (const double x : {iv.from, iv.to}) {
         const SplineAnalysis a = analyze(with_weight(e.doc().spline, 2, x));
         EXPECT_EQ(iv.pole, a.pole) << "w = " << x;
-        if (iv.pole) EXPECT_EQ(iv.label, 0);
+        if (iv.pole) {
+          EXPECT_EQ(iv.label, 0);
+        }
       }
   }
   EXPECT_TRUE(analyze(with_weight(e.doc().spline, 2, -2.0)).pole) << "the test should meet a pole";

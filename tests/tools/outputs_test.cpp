@@ -423,6 +423,9 @@ const std::vector<Case>& cases() {
              "env VK_DRIVER_FILES=" + kLavapipe + " CMR region " + kUniform + " --point 2 --size 16x16 --stats"};
       c.check = [](const fs::path&, const Outcome& r) {
         EXPECT_EQ(nlohmann::json::parse(r.out).at("backend"), "cpu") << "lavapipe is a CPU device: " << r.out;
+        EXPECT_EQ(r.err, "note: no GPU found, so the CPU backend renders (--backend vulkan uses a CPU Vulkan device "
+                         "such as lavapipe)\n")
+            << "the fallback is announced once";
       };
       t.push_back(c);
     }
@@ -437,6 +440,7 @@ const std::vector<Case>& cases() {
              "env VK_DRIVER_FILES=" + kLavapipe + " CMR region " + kUniform + " --point 2 --size 16x16 --backend vulkan"};
       c.check = [](const fs::path&, const Outcome& r) {
         EXPECT_EQ(nlohmann::json::parse(r.out).at("backend"), "vulkan");
+        EXPECT_EQ(r.err, "") << "an explicit backend is no fallback";
       };
       t.push_back(c);
     }
@@ -453,6 +457,14 @@ const std::vector<Case>& cases() {
       Case c{"unknown_option_is_named", "CMR analyze " + kUniform + " --bogus"};
       c.code = 2;
       c.err_part = "unknown option or extra argument: --bogus (see cmr analyze --help)";
+      t.push_back(c);
+    }
+    {
+      Case c{"figures_help_names_the_figures_it_makes", "CMR figures --help"};
+      c.check = [](const fs::path&, const Outcome& r) {
+        EXPECT_NE(r.out.find("Figs. 1-10 and 13"), std::string::npos) << r.out;
+        EXPECT_EQ(r.out.find("figures 2-10"), std::string::npos) << r.out;
+      };
       t.push_back(c);
     }
     {
@@ -516,18 +528,6 @@ const std::vector<Case>& cases() {
     return t;
   }();
   return table;
-}
-
-// --backend auto's rule on device lists (the GPU branch cannot run on a
-// machine without a GPU; the CPU branch runs in the table above).
-TEST(BackendAuto, TakesTheFirstDeviceThatIsNotACpu) {
-  using cmr::cli::auto_backend_device;
-  EXPECT_EQ(auto_backend_device({}), "") << "no device: the CPU backend";
-  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}}), "") << "lavapipe only: the CPU backend";
-  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}, {"NVIDIA H100 80GB HBM3", false}}),
-            "NVIDIA H100 80GB HBM3")
-      << "a GPU after lavapipe in loader order";
-  EXPECT_EQ(auto_backend_device({{"AMD Radeon", false}, {"NVIDIA", false}}), "AMD Radeon");
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, Outputs, ::testing::ValuesIn(cases()),

@@ -36,7 +36,7 @@
 namespace cmr {
 namespace {
 
-using namespace cmr::detail;
+using namespace cmr::backend;
 
 struct Scene {
   BSpline spline;

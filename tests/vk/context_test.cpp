@@ -10,6 +10,15 @@
 namespace cmr::vk {
 namespace {
 
+/// Context options naming a device (designated initializers would leave the
+/// other members to -Wmissing-field-initializers).
+ContextOptions test_options(const std::string& device, bool require_float64 = true) {
+  ContextOptions o;
+  o.device_name = device;
+  o.require_float64 = require_float64;
+  return o;
+}
+
 bool is_lavapipe(const DeviceInfo& d) { return d.name.find("llvmpipe") != std::string::npos; }
 
 TEST(EnumerateDevices, FindsLavapipeWithFloat64) {
@@ -36,20 +45,20 @@ TEST(Context, DefaultPicksADeviceWithFloat64) {
 }
 
 TEST(Context, NameMatchIsCaseInsensitiveSubstring) {
-  auto context = Context::create({.device_name = "LLVMPipe"});
+  auto context = Context::create(test_options("LLVMPipe"));
   ASSERT_TRUE(context) << context.error().message;
   EXPECT_TRUE(is_lavapipe(context.value().device())) << context.value().device().name;
 }
 
 TEST(Context, WorksWithoutRequiringFloat64) {
-  auto context = Context::create({.device_name = "llvmpipe", .require_float64 = false});
+  auto context = Context::create(test_options("llvmpipe", false));
   ASSERT_TRUE(context) << context.error().message;
   // fp64 is enabled whenever supported, required or not.
   EXPECT_TRUE(context.value().device().float64);
 }
 
 TEST(Context, UnknownNameIsDeviceNotFoundAndListsDevices) {
-  auto context = Context::create({.device_name = "no-such-gpu-xyz"});
+  auto context = Context::create(test_options("no-such-gpu-xyz"));
   ASSERT_FALSE(context) << "picked '" << context.value().device().name << "' for an unknown name";
   const Error& e = context.error();
   EXPECT_EQ(e.code, Errc::device_not_found) << to_string(e.code) << ": " << e.message;

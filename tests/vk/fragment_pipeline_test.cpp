@@ -20,6 +20,15 @@
 namespace cmr::vk {
 namespace {
 
+/// Context options naming a device (designated initializers would leave the
+/// other members to -Wmissing-field-initializers).
+ContextOptions test_options(const std::string& device, bool require_float64 = true) {
+  ContextOptions o;
+  o.device_name = device;
+  o.require_float64 = require_float64;
+  return o;
+}
+
 constexpr uint32_t kPushBytes = 4;  // test_pattern.frag: uint salt
 
 // Storage-buffer contents: n doubles whose low bits lie far below fp32
@@ -81,7 +90,7 @@ std::span<const std::byte> bytes_of(const uint32_t& v) { return std::as_bytes(st
 }
 
 Context make_context() {
-  auto context = Context::create({.device_name = "llvmpipe"});
+  auto context = Context::create(test_options("llvmpipe"));
   if (!context) ADD_FAILURE() << context.error().message;
   return context.take();
 }
@@ -89,7 +98,7 @@ Context make_context() {
 class FragmentPipelineTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto context = Context::create({.device_name = "llvmpipe"});
+    auto context = Context::create(test_options("llvmpipe"));
     ASSERT_TRUE(context) << context.error().message;
     context_.emplace(context.take());
   }

@@ -3,6 +3,8 @@
 // actionable line, not crash or pick something else.
 #include "vk/context.hpp"
 
+#include "vk/backend_choice.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -41,7 +43,9 @@ TEST_F(NoDevice, ContextCreateReportsNoDevice) {
 }
 
 TEST_F(NoDevice, NamedDeviceAlsoReportsNoDevice) {
-  auto context = Context::create({.device_name = "llvmpipe"});
+  ContextOptions options;
+  options.device_name = "llvmpipe";
+  auto context = Context::create(options);
   ASSERT_FALSE(context);
   expect_no_device(context.error());
 }
@@ -50,6 +54,64 @@ TEST_F(NoDevice, EnumerateReportsNoDevice) {
   auto devices = enumerate_devices();
   ASSERT_FALSE(devices) << devices.value().size() << " device(s) listed";
   expect_no_device(devices.error());
+}
+
+
+// make_region_backend without a device: automatic falls back to the CPU
+// backend and says so once through the note; vulkan throws the environment
+// error itself (no caller re-wraps it), with what to do about it.
+RegionProblem small_problem() {
+  RegionRequest r;
+  r.point = 1;
+  r.width = r.height = 8;
+  return RegionProblem::make(BSpline::bezier({{0, 0}, {1, 1}, {2, 0.2}}), r);
+}
+
+TEST_F(NoDevice, AutomaticBackendFallsBackToCpuAndAnnouncesIt) {
+  std::vector<std::string> notes;
+  auto backend = make_region_backend({BackendKind::automatic, RegionPrecision::fp64, ""},
+                                     [&](const std::string& n) { notes.push_back(n); });
+  EXPECT_TRUE(notes.empty()) << "the choice is made at the first render or name()";
+  const RegionResult r = backend->render(small_problem());
+  EXPECT_EQ(backend->name(), "cpu");
+  EXPECT_EQ(r.size(), 64u);
+  ASSERT_EQ(notes.size(), 1u) << "announced exactly once";
+  EXPECT_EQ(notes[0], kCpuFallbackNote);
+  backend->render(small_problem());
+  EXPECT_EQ(notes.size(), 1u);
+}
+
+TEST_F(NoDevice, CpuBackendIsNoFallback) {
+  int notes = 0;
+  auto backend = make_region_backend({BackendKind::cpu, RegionPrecision::fp64, ""}, [&](const std::string&) { ++notes; });
+  backend->render(small_problem());
+  EXPECT_EQ(backend->name(), "cpu");
+  EXPECT_EQ(notes, 0);
+}
+
+TEST_F(NoDevice, VulkanBackendThrowsEnvironmentErrorAtFirstRender) {
+  auto backend = make_region_backend({BackendKind::vulkan, RegionPrecision::fp32, ""});
+  EXPECT_EQ(backend->name(), "vulkan");
+  try {
+    backend->render(small_problem());
+    FAIL() << "rendered without a device";
+  } catch (const EnvironmentError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no Vulkan device"), std::string::npos) << what;
+    EXPECT_NE(what.find("or use --backend cpu"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+  }
+}
+
+// automatic's rule on device lists (the GPU branch cannot run on a machine
+// without a GPU; the CPU branch runs above).
+TEST(BackendAuto, TakesTheFirstDeviceThatIsNotACpu) {
+  EXPECT_EQ(auto_backend_device({}), "") << "no device: the CPU backend";
+  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}}), "") << "lavapipe only: the CPU backend";
+  EXPECT_EQ(auto_backend_device({{"llvmpipe (LLVM 15.0.6, 256 bits)", true}, {"NVIDIA H100 80GB HBM3", false}}),
+            "NVIDIA H100 80GB HBM3")
+      << "a GPU after lavapipe in loader order";
+  EXPECT_EQ(auto_backend_device({{"AMD Radeon", false}, {"NVIDIA", false}}), "AMD Radeon");
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <cstddef>
 #include <cstdint>
 #include <random>
@@ -20,6 +22,15 @@
 
 namespace cmr {
 namespace {
+
+/// Context options naming a device (designated initializers would leave the
+/// other members to -Wmissing-field-initializers).
+vk::ContextOptions test_options(const std::string& device, bool require_float64 = true) {
+  vk::ContextOptions o;
+  o.device_name = device;
+  o.require_float64 = require_float64;
+  return o;
+}
 
 constexpr int kMaxN1 = 10;
 constexpr int kStride = 1 + kMaxN1;  // CASE_STRIDE of the test shader
@@ -105,7 +116,7 @@ std::string describe(const Case& k) {
 }
 
 void compare(std::span<const uint32_t> spirv, bool fp64) {
-  auto context = vk::Context::create({.device_name = "llvmpipe"});
+  auto context = vk::Context::create(test_options("llvmpipe"));
   ASSERT_TRUE(context) << context.error().message;
   std::vector<Case> cases = table();
   const auto rows = static_cast<uint32_t>((cases.size() + kColumns - 1) / kColumns);

@@ -13,7 +13,7 @@
 namespace cmr {
 namespace {
 
-using namespace cmr::detail;
+using namespace cmr::backend;
 
 struct Scene {
   const char* name;

@@ -36,9 +36,9 @@ inline vk::VulkanRegionBackend& vulkan_backend(const BackendOptions& o) {
   return *b;
 }
 
-inline detail::RegionImage render(const RegionProblem& problem, const BackendOptions& o) {
+inline backend::RegionImage render(const RegionProblem& problem, const BackendOptions& o) {
   RegionResult r = o.backend == Backend::cpu ? CpuRegionBackend().render(problem) : vulkan_backend(o).render(problem);
-  detail::RegionImage img;
+  backend::RegionImage img;
   img.width = r.width;
   img.height = r.height;
   img.view = r.view;

@@ -18,7 +18,7 @@
 
 #include "report/font_report.hpp"
 #include "io/font.hpp"
-#include "report/report.hpp"
+#include "report/batch.hpp"
 
 namespace {
 

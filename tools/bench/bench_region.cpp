@@ -30,7 +30,7 @@
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"
 #include "bezierize/region.hpp"
-#include "tools/cli_common.hpp"
+#include "vk/backend_choice.hpp"
 
 using namespace cmr;
 
@@ -57,7 +57,7 @@ double g_shader_setup_seconds = 0;
 /// backend of each kind for the whole run, as `cmr region` keeps one.
 RegionResult render(const RegionProblem& s, bool vulkan) {
   static CpuRegionBackend cpu;
-  static std::shared_ptr<RegionBackend> device = cli::make_region_backend("vulkan");
+  static std::shared_ptr<RegionBackend> device = vk::make_region_backend({vk::BackendKind::vulkan, {}, {}});
   RegionResult r = (vulkan ? *device : static_cast<RegionBackend&>(cpu)).render(s);
   if (vulkan) g_shader_setup_seconds += r.setup_seconds;
   return r;

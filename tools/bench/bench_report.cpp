@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <random>
 
-#include "report/report.hpp"
+#include "report/batch.hpp"
 
 namespace {
 

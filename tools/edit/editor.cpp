@@ -10,8 +10,9 @@
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/cli_common.hpp"
+#include "io/output.hpp"
 #include "draw/draw.hpp"
+#include "draw/region_export.hpp"
 
 namespace cmr::edit {
 
@@ -355,43 +356,14 @@ void Editor::save(const std::filesystem::path& path) {
   message = "saved " + path.string();
 }
 
-namespace {
-
-std::string pgm(const RegionResult& img) {
-  std::string out = "P5\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n255\n";
-  const std::vector<std::uint8_t> codes = img.codes();
-  out.append(reinterpret_cast<const char*>(codes.data()), codes.size());
-  return out;
-}
-
-}  // namespace
-
 void Editor::export_region(const std::filesystem::path& path) {
   const std::vector<RegionRequest> q = region_requests(true);
   if (q.empty()) throw InputError("export-region: no region is shown (select a handle)");
   const BSpline spline = region_spline();
   const std::vector<RegionResult> layers = compute_regions(spline, q);
-  OutputSet out;
-  if (path.extension() == ".png") {
-    draw::RegionPicture picture;  // as cmr region --png draws it (tools/cmd_region.cpp)
-    picture.spline = &spline;
-    for (std::size_t i = 0; i < layers.size(); ++i) {
-      picture.layers.push_back(&layers[i]);
-      picture.points.push_back(q[i].point);
-    }
-    picture.split = q.front().split.has_value();
-    picture.alternating = !q.front().splits.empty();
-    picture.max_depth = q.front().max_depth;
-    picture.legend = true;
-    picture.per_point = layers.size() > 1;
-    out.stage(path, draw::region_png(picture));
-  } else {
-    for (std::size_t i = 0; i < layers.size(); ++i) {
-      std::filesystem::path p = path;
-      if (layers.size() > 1) p.replace_extension(".P" + std::to_string(q[i].point) + path.extension().string());
-      out.stage(p, pgm(layers[i]));
-    }
-  }
+  OutputSet out;  // the files of cmr region --png / --labels (draw/region_export.hpp)
+  if (path.extension() == ".png") out.stage(path, draw::region_png(draw::layers_picture(spline, layers, q)));
+  else draw::stage_label_pgms(out, path, layers, q);
   out.commit();
   message = "region written to " + path.string();
 }

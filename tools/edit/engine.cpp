@@ -44,9 +44,12 @@ static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   std::vector<double> key;
   const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
-  key.insert(key.end(), {static_cast<double>(r.mode), r.split ? static_cast<double>(*r.split) : -1.0,
+  // Pushed one by one: insert of an initializer list into the empty vector
+  // makes GCC 12 warn falsely (-Wstringop-overflow).
+  for (const double v : {static_cast<double>(r.mode), r.split ? static_cast<double>(*r.split) : -1.0,
                          static_cast<double>(r.max_depth), r.depth ? 1.0 : 0.0, static_cast<double>(r.width),
-                         static_cast<double>(r.height), static_cast<double>(r.point)});
+                         static_cast<double>(r.height), static_cast<double>(r.point)})
+    key.push_back(v);
   count(r.with.size());
   for (int w : r.with) key.push_back(w);
   key.insert(key.end(), {r.segments ? 1.0 : 0.0, r.segments ? static_cast<double>(r.segments->first) : 0.0,

@@ -110,7 +110,9 @@ void draw_points(Editor& e, ImDrawList* dl) {
                                        : (grouped ? IM_COL32(240, 150, 0, 255) : IM_COL32(255, 255, 255, 255));
     dl->AddCircleFilled(p, 5.5f, fill);
     dl->AddCircle(p, 5.5f, IM_COL32(0, 0, 0, 255), 0, 1.5f);
-    dl->AddText({p.x + 7, p.y - 18}, IM_COL32(0, 0, 0, 255), ("P" + std::to_string(i)).c_str());
+    std::string name = "P";  // built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + string
+    name += std::to_string(i);
+    dl->AddText({p.x + 7, p.y - 18}, IM_COL32(0, 0, 0, 255), name.c_str());
   }
 }
 
@@ -201,9 +203,9 @@ void weight_strip(Editor& e) {
   const float x = o.x + static_cast<float>((w - q.from) / (q.to - q.from)) * width;
   dl->AddLine({x, o.y - 2}, {x, o.y + height + 2}, kMaximumColour, 2.0f);
   ImGui::Dummy({width, height});
-  const auto num = [](double x) {
+  const auto num = [](double value) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", x);
+    std::snprintf(buf, sizeof buf, "%.4g", value);
     return std::string(buf);
   };
   std::string text = "w in [" + num(q.from) + ", " + num(q.to) + "]:";
@@ -324,7 +326,10 @@ void knot_ruler(Editor& e, KnotRulerGeometry* geometry) {
   }
   ImGui::SetCursorScreenPos({origin.x, origin.y + height + 10});
   std::string text;
-  for (double k : u) text += (text.empty() ? "" : " ") + std::to_string(k).substr(0, 5);
+  for (double k : u) {
+    if (!text.empty()) text += ' ';  // no "literal" + string: GCC 12 warns falsely (-Wrestrict)
+    text += std::to_string(k).substr(0, 5);
+  }
   ImGui::TextWrapped("[%s]", text.c_str());
   knot_operations(e);
 }

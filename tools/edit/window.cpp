@@ -19,9 +19,9 @@
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
-#include "tools/cli_common.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "tools/edit/examples.hpp"
 #include "tools/edit/region_painter.hpp"
 #include "tools/edit/script.hpp"
 #include "tools/edit/ui.hpp"
@@ -29,7 +29,7 @@
 namespace cmr::edit {
 namespace {
 
-using cli::EnvironmentError;
+using cmr::EnvironmentError;
 using Clock = std::chrono::steady_clock;
 
 std::string& glfw_error() {
@@ -416,7 +416,7 @@ void ScriptRunner::run(const ScriptCommand& c) {
     app_.resize_window(w, h);
     frame_needed_ = true;
   } else if (n == "export-view") {
-    cli::check_output_path(c.args[0], "export-view");
+    check_output_path(c.args[0], "export-view");
     app_.export_view(c.args[0]);
     frame_needed_ = true;
   } else if (n == "scroll") {
@@ -553,7 +553,7 @@ BSpline open_spline(const std::filesystem::path& file) {
 int run_editor(const EditOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
-  if (!o.screenshot.empty()) cli::check_output_path(o.screenshot, "--screenshot");
+  if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
   BSpline spline = open_spline(o.file);
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
@@ -572,12 +572,12 @@ int run_editor(const EditOptions& o) {
       write_png(o.screenshot, shot);
     }
     if (const std::string s = app.painter_summary(); !s.empty()) std::cerr << "cmr edit: " << s << '\n';
-    return cli::kOk;
+    return kEditOk;
   }
   while (!app.should_close()) {
     if (!app.frame()) glfwWaitEventsTimeout(0.05);
   }
-  return cli::kOk;
+  return kEditOk;
 }
 
 namespace {
@@ -638,13 +638,14 @@ std::vector<double> drag_frames(App& app, int k, int frames) {
 }  // namespace
 
 int run_bench(const BenchOptions& o) {
-  BSpline spline = read_spline_file(o.file);
+  BSpline spline = o.file.empty() ? fig8_spline() : read_spline_file(o.file);
   if (o.point < 0 || o.point >= spline.point_count())
     throw InputError("--point: no point " + std::to_string(o.point));
-  App app(std::move(spline), o.file, o.width, o.height, o.device, false, o.region_path);
+  const std::filesystem::path file = o.file.empty() ? std::filesystem::path("fig8.json") : o.file;
+  App app(std::move(spline), file, o.width, o.height, o.device, false, o.region_path);
   for (int i = 0; i < 3; ++i) app.frame();  // warm up: pipelines, first region
   std::printf("cmr edit benchmark: %s, %d frames of a scripted drag of P%d, %dx%d window\n",
-              o.file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,
+              file.filename().c_str(), o.frames, o.point, app.editor().viewport().width,
               app.editor().viewport().height);
   std::printf("machine: %s, %d hardware threads, load average %s; Vulkan device: %s\n", cpu_model().c_str(),
               thread_count(0), load_average().c_str(), app.device_name().c_str());
@@ -657,7 +658,7 @@ int run_bench(const BenchOptions& o) {
                 all ? "every point's region overlapped:" : "the dragged point's region:", s.mean, s.p50, s.p95,
                 s.fps, 1000.0 / s.p95);
   }
-  return cli::kOk;
+  return kEditOk;
 }
 
 }  // namespace cmr::edit

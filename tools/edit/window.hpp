@@ -22,11 +22,14 @@ struct EditOptions {
 
 /// Runs the editor until the window closes or the script ends. Returns the
 /// exit code. Throws InputError (bad file, script or option: exit 2) and
-/// cli::EnvironmentError (no display, no Vulkan device: exit 3).
+/// EnvironmentError (spline/errors.hpp: no display, no Vulkan device: exit 3).
+/// The exit code of a run that ends normally (the window closed, the script
+/// ran, the benchmark finished).
+inline constexpr int kEditOk = 0;
 int run_editor(const EditOptions& options);
 
 struct BenchOptions {
-  std::filesystem::path file;  ///< the Fig. 8 spline by default
+  std::filesystem::path file;  ///< empty: the Fig. 8 spline (fig8_spline, embedded)
   int width = 1024, height = 768;
   int frames = 200;
   int point = 3;               ///< the dragged point
