@@ -113,6 +113,18 @@ SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, co
   return r;
 }
 
+std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s) {
+  const Bernstein<Rational> l = lambda3_bernstein<Rational>(exact_bezier(spline, s));
+  std::vector<SpaceExtremum> out;
+  if (is_zero(l)) return out;
+  for (const RootInterval& r : isolate_roots(l)) {
+    if (!r.sign_change() || (r.exact() && (sgn(r.lo) == 0 || r.lo == 1))) continue;  // inside only
+    const Rational t = r.exact() ? r.lo : Rational((r.lo + r.hi) / 2);
+    out.push_back({nearest_double(Rational(Rational(s.a) + t * (Rational(s.b) - Rational(s.a)))), r.sign_before > 0});
+  }
+  return out;
+}
+
 SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const ContinuityTolerances& tolerances) {
   const Segment& L = spline.segments()[static_cast<std::size_t>(left)];
   const Segment& R = spline.segments()[static_cast<std::size_t>(right)];

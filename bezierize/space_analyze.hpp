@@ -93,6 +93,17 @@ SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions
 SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options);
 /// The joint between segments left and right (right = left + 1, or 0 for the seam).
 SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const ContinuityTolerances& tolerances);
+/// A curvature extremum inside a segment: a root of lambda3 where it changes
+/// sign (exact root isolation, roots.hpp), at parameter t (the double nearest
+/// to a point of an enclosure at most 1e-12 of the span wide, exact at
+/// halving points).
+struct SpaceExtremum {
+  double t = 0;
+  bool maximum = false;  ///< lambda3 goes + to -: |kappa| has a maximum
+};
+/// The curvature extrema strictly inside segment s (none for a straight one).
+std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s);
+
 /// The spline verdict of given segment results and joints (the rules above):
 /// curvature, or torsion when `torsion` is set.
 Direction space_verdict(const SpaceSpline& spline, const std::vector<SpaceSegmentResult>& segments,

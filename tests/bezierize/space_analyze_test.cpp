@@ -268,6 +268,28 @@ TEST(SpaceAnalyze, ClosedSplineJudgesTheSeam) {
   EXPECT_EQ(a.curvature, Direction::none);  // a closed smooth loop cannot have monotone curvature unless constant
 }
 
+TEST(SpaceAnalyze, CurvatureExtremaAreWhereSampledKappaTurns) {
+  std::mt19937_64 rng(31);
+  int found = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const SpaceSpline s = SpaceSpline::bezier(random_points3(rng, 4));
+    const Segment& seg = s.segments()[0];
+    for (const SpaceExtremum& e : space_curvature_extrema(s, seg)) {
+      const double h = 1e-4, k = space_curvature(s, e.t), l = space_curvature(s, e.t - h), r = space_curvature(s, e.t + h);
+      if (e.maximum) {
+        EXPECT_GE(k, std::max(l, r)) << "trial " << trial << " t " << e.t;
+      } else {
+        EXPECT_LE(k, std::min(l, r)) << "trial " << trial << " t " << e.t;
+      }
+      ++found;
+    }
+    if (analyze_space(s).segments[0].curvature.curvature == Curvature::increasing) {
+      EXPECT_TRUE(space_curvature_extrema(s, seg).empty()) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(found, 10);
+}
+
 TEST(SpaceAnalyze, BadOptionsAreInputErrors) {
   SpaceAnalyzeOptions o;
   o.max_depth = 99;
