@@ -108,7 +108,16 @@ SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, co
     r.exact_used = r.exact_used || t.exact_used;
     const Bernstein<Bounded> nb = torsion_numerator_bernstein<Bounded>(Bb);
     r.torsion_sign = strict_sign(nb);
-    if (r.torsion_sign == 0 && !nb.empty()) r.torsion_sign = strict_sign(torsion_numerator_bernstein<Rational>(exact()));
+    if (r.torsion_sign == 0 && !nb.empty()) {
+      const Bernstein<Rational> N = torsion_numerator_bernstein<Rational>(exact());
+      r.torsion_sign = strict_sign(N);
+      if (r.torsion_sign == 0 && !is_zero(N))
+        for (const RootInterval& root : isolate_roots(N)) {
+          if (!root.sign_change() || (root.exact() && (sgn(root.lo) == 0 || root.lo == 1))) continue;
+          const Rational u = root.exact() ? root.lo : Rational((root.lo + root.hi) / 2);
+          r.torsion_sign_changes.push_back(nearest_double(Rational(Rational(s.a) + u * (Rational(s.b) - Rational(s.a)))));
+        }
+    }
   }
   return r;
 }

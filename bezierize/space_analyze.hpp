@@ -57,6 +57,9 @@ struct SpaceSegmentResult {
   std::vector<double> zero_curvature;
   std::optional<MonotonicityResult> torsion;  ///< Algorithm 1 on T (with options.torsion)
   int torsion_sign = 0;                       ///< sign of N when certainly constant on the segment
+  /// With options.torsion: parameters strictly inside where N = det(P', P'', P''')
+  /// changes sign (tau changes sign there; exact root isolation, as zero_curvature).
+  std::vector<double> torsion_sign_changes;
 };
 
 struct SpaceJoint {

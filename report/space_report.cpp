@@ -40,6 +40,7 @@ nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const Spac
       j["torsion"] = to_string(r.torsion->curvature);
       j["torsion_depth"] = r.torsion->depth;
       j["torsion_sign"] = sign_word(r.torsion_sign);
+      j["torsion_sign_changes"] = r.torsion_sign_changes;
     }
     segs.push_back(j);
   }
