@@ -1,6 +1,7 @@
 // Space curves on the command line (tools/cmd_space.hpp, docs/space.md).
 #include "tools/cmd_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -86,7 +87,8 @@ void run_space_region(const SpaceRegionArgs& a) {
       out.stage(a.depth_map, draw::region_png(pic));
     }
   }
-  if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png")) out.stage(a.depth_map, pgm(img, img.depth, r.max_depth));
+  if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png"))
+    out.stage(a.depth_map, pgm(img, img.depth, std::max(1, r.max_depth)));
   out.commit();
   std::uint64_t counts[kRegionLabelCodes] = {};
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
