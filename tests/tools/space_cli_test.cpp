@@ -65,6 +65,8 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
   expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --point 3 --plane xy"),
                         "--plane is for space curves");
+  expect_one_line_error(run("analyze missing.json --torsion"), "missing.json: cannot open the file");
+  expect_one_line_error(run("region missing.json --point 1 --plane xy"), "missing.json: cannot open the file");
 }
 
 TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
