@@ -108,9 +108,30 @@ SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, co
     r.exact_used = r.exact_used || t.exact_used;
     const Bernstein<Bounded> nb = torsion_numerator_bernstein<Bounded>(Bb);
     r.torsion_sign = strict_sign(nb);
-    if (r.torsion_sign == 0 && !nb.empty()) r.torsion_sign = strict_sign(torsion_numerator_bernstein<Rational>(exact()));
+    if (r.torsion_sign == 0 && !nb.empty()) {
+      const Bernstein<Rational> N = torsion_numerator_bernstein<Rational>(exact());
+      r.torsion_sign = strict_sign(N);
+      if (r.torsion_sign == 0 && !is_zero(N))
+        for (const RootInterval& root : isolate_roots(N)) {
+          if (!root.sign_change() || (root.exact() && (sgn(root.lo) == 0 || root.lo == 1))) continue;
+          const Rational u = root.exact() ? root.lo : Rational((root.lo + root.hi) / 2);
+          r.torsion_sign_changes.push_back(nearest_double(Rational(Rational(s.a) + u * (Rational(s.b) - Rational(s.a)))));
+        }
+    }
   }
   return r;
+}
+
+std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s) {
+  const Bernstein<Rational> l = lambda3_bernstein<Rational>(exact_bezier(spline, s));
+  std::vector<SpaceExtremum> out;
+  if (is_zero(l)) return out;
+  for (const RootInterval& r : isolate_roots(l)) {
+    if (!r.sign_change() || (r.exact() && (sgn(r.lo) == 0 || r.lo == 1))) continue;  // inside only
+    const Rational t = r.exact() ? r.lo : Rational((r.lo + r.hi) / 2);
+    out.push_back({nearest_double(Rational(Rational(s.a) + t * (Rational(s.b) - Rational(s.a)))), r.sign_before > 0});
+  }
+  return out;
 }
 
 SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const ContinuityTolerances& tolerances) {

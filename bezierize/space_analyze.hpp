@@ -57,6 +57,9 @@ struct SpaceSegmentResult {
   std::vector<double> zero_curvature;
   std::optional<MonotonicityResult> torsion;  ///< Algorithm 1 on T (with options.torsion)
   int torsion_sign = 0;                       ///< sign of N when certainly constant on the segment
+  /// With options.torsion: parameters strictly inside where N = det(P', P'', P''')
+  /// changes sign (tau changes sign there; exact root isolation, as zero_curvature).
+  std::vector<double> torsion_sign_changes;
 };
 
 struct SpaceJoint {
@@ -93,6 +96,17 @@ SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions
 SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options);
 /// The joint between segments left and right (right = left + 1, or 0 for the seam).
 SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const ContinuityTolerances& tolerances);
+/// A curvature extremum inside a segment: a root of lambda3 where it changes
+/// sign (exact root isolation, roots.hpp), at parameter t (the double nearest
+/// to a point of an enclosure at most 1e-12 of the span wide, exact at
+/// halving points).
+struct SpaceExtremum {
+  double t = 0;
+  bool maximum = false;  ///< lambda3 goes + to -: |kappa| has a maximum
+};
+/// The curvature extrema strictly inside segment s (none for a straight one).
+std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s);
+
 /// The spline verdict of given segment results and joints (the rules above):
 /// curvature, or torsion when `torsion` is set.
 Direction space_verdict(const SpaceSpline& spline, const std::vector<SpaceSegmentResult>& segments,

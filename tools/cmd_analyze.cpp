@@ -127,8 +127,8 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
       exit_code = kOk;
       return;
     }
-    if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
     const BSpline spline = read_spline_file(args->file);
+    if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;
     if (args->split.size() == 1) o.split = args->split[0];

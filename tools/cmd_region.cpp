@@ -401,7 +401,10 @@ void add_region_command(CLI::App& app, int& exit_code) {
       exit_code = kOk;
       return;
     }
-    refuse_options(*a, {"--plane"}, "is for space curves (" + a->file + " is planar)");
+    if (!a->plane.empty()) {
+      (void)read_spline_file(a->file);  // an unreadable file says so first
+      refuse_options(*a, {"--plane"}, "is for space curves (" + a->file + " is planar)");
+    }
     if (a->weight) {
       run_weight_region(*a);
     } else {

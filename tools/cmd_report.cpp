@@ -15,6 +15,7 @@
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
 #include "io/svg.hpp"
@@ -94,6 +95,20 @@ void add_report_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
+    // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
+    std::string space, planar;
+    for (const std::string& f : args->files)
+      if (import::is_font_path(f) || std::filesystem::is_regular_file(f))  // unreadable: that report names it
+        (!import::is_font_path(f) && spline_file_dimension(f) == 3 ? space : planar) = f;
+    if (!space.empty() && !planar.empty())
+      throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
+    if (!space.empty()) {
+      if (!args->segments.empty() || (!args->require.empty() && args->require != "cmrwi"))
+        throw InputError(space + ": a space curve; its report takes --require cmrwi only, and no --segments");
+      exit_code = run_space_report(args->files, args->out, args->depth, true, args->continuity,
+                                   args->require == "cmrwi", args->pretty);
+      return;
+    }
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;

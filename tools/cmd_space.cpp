@@ -1,12 +1,14 @@
 // Space curves on the command line (tools/cmd_space.hpp, docs/space.md).
 #include "tools/cmd_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
 #include "bezierize/space_region.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "report/space_report.hpp"
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
 
@@ -16,60 +18,7 @@ namespace {
 
 nlohmann::ordered_json vec3(const Vec3& p) { return {p.x, p.y, p.z}; }
 
-const char* sign_word(int s) { return s > 0 ? "positive" : (s < 0 ? "negative" : "changes-or-zero"); }
-
 }  // namespace
-
-nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& a) {
-  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    const Segment& s = spline.segments()[i];
-    const SpaceSegmentResult& r = a.segments[i];
-    nlohmann::ordered_json j = {{"index", s.index},
-                                {"interval", {s.a, s.b}},
-                                {"class", r.cusp ? "cusp" : (r.straight ? "straight" : "regular")},
-                                {"curvature", to_string(r.curvature.curvature)},
-                                {"zero_curvature", r.zero_curvature},
-                                {"depth", r.curvature.depth},
-                                {"exact", r.exact_used}};
-    if (r.torsion) {
-      j["torsion"] = to_string(r.torsion->curvature);
-      j["torsion_depth"] = r.torsion->depth;
-      j["torsion_sign"] = sign_word(r.torsion_sign);
-    }
-    segs.push_back(j);
-  }
-  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
-  std::vector<SpaceJoint> all = a.joints;
-  if (a.seam) all.push_back(*a.seam);
-  for (const SpaceJoint& j : all) {
-    std::string continuity = std::to_string(j.continuity);
-    continuity.insert(continuity.begin(), 'C');
-    joints.push_back({{"index", j.index},
-                      {"knot", j.knot},
-                      {"multiplicity", j.multiplicity},
-                      {"continuity", continuity},
-                      {"g1", j.g1},
-                      {"g2", j.g2},
-                      {"angle", j.angle_deg},
-                      {"normal_angle", j.normal_angle_deg},
-                      {"zero_tangent", j.zero_tangent},
-                      {"kappa_left", j.kappa_left},
-                      {"kappa_right", j.kappa_right},
-                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")},
-                      {"tau_left", j.tau_left},
-                      {"tau_right", j.tau_right},
-                      {"torsion_jump", j.torsion_jump > 0 ? "up" : (j.torsion_jump < 0 ? "down" : "none")}});
-    if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
-  }
-  nlohmann::ordered_json verdict = {{"dimension", 3},
-                                    {"curvature", to_string(a.curvature)},
-                                    {"zero_curvature", a.zero_curvature},
-                                    {"cusp", a.cusp}};
-  if (a.torsion) verdict["torsion"] = to_string(*a.torsion);
-  if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
-  return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
-}
 
 void run_space_analyze(const std::string& file, int depth, bool torsion, const ContinuityTolerances& continuity,
                        bool pretty) {
@@ -78,7 +27,7 @@ void run_space_analyze(const std::string& file, int depth, bool torsion, const C
   o.max_depth = depth;
   o.torsion = torsion;
   o.continuity = continuity;
-  print_json(space_analysis_json(spline, analyze_space(spline, o)), pretty);
+  print_json(report::space_analysis_json(spline, analyze_space(spline, o)), pretty);
 }
 
 namespace {
@@ -138,7 +87,8 @@ void run_space_region(const SpaceRegionArgs& a) {
       out.stage(a.depth_map, draw::region_png(pic));
     }
   }
-  if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png")) out.stage(a.depth_map, pgm(img, img.depth, r.max_depth));
+  if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png"))
+    out.stage(a.depth_map, pgm(img, img.depth, std::max(1, r.max_depth)));
   out.commit();
   std::uint64_t counts[kRegionLabelCodes] = {};
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
@@ -157,6 +107,38 @@ void run_space_region(const SpaceRegionArgs& a) {
     doc["exact_pixels"] = img.exact_pixels;
   }
   print_json(doc, a.pretty);
+}
+
+int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty) {
+  validate(continuity);
+  report::SpaceReportOptions o;
+  o.max_depth = depth;
+  o.torsion = torsion;
+  o.continuity = continuity;
+  o.require_monotone = require_monotone;
+  std::vector<report::SpaceReport> reports;
+  for (const std::string& f : files) reports.push_back(report::space_report(f, o));
+  const std::filesystem::path dir = out;
+  OutputSet set;
+  set.create_folder(dir);
+  set.stage(dir / "index.html", report::space_report_html(reports, o));
+  set.stage(dir / "report.json", json_text(report::space_report_json(reports, o), pretty));  // last: the commit marker
+  set.commit();
+  int pass = 0, fail = 0, invalid = 0;
+  for (const report::SpaceReport& r : reports) {
+    if (!r.error.empty()) {
+      ++invalid;
+      std::cerr << "cmr: " << r.error << '\n';
+    } else {
+      ++(r.pass ? pass : fail);
+    }
+  }
+  std::cout << reports.size() << (reports.size() == 1 ? " space curve: " : " space curves: ") << pass << " pass, "
+            << fail << " fail, " << invalid << " invalid; wrote " << (dir / "index.html").string() << " and "
+            << (dir / "report.json").string() << '\n';
+  if (invalid > 0) return kInvalid;
+  return require_monotone && fail > 0 ? kFail : kOk;
 }
 
 }  // namespace cmr::cli

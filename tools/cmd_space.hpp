@@ -12,8 +12,6 @@
 
 namespace cmr::cli {
 
-/// The JSON of `cmr analyze` for a space curve.
-nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& analysis);
 /// `cmr analyze FILE [--torsion]` on a space curve: prints the JSON.
 void run_space_analyze(const std::string& file, int depth, bool torsion, const ContinuityTolerances& continuity,
                        bool pretty);

@@ -4,6 +4,8 @@
 #include "bezierize/analyze.hpp"
 #include "bezierize/classify.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/space_analyze.hpp"
+#include "bezierize/space_region.hpp"
 
 #include <gtest/gtest.h>
 

@@ -268,6 +268,56 @@ TEST(SpaceAnalyze, ClosedSplineJudgesTheSeam) {
   EXPECT_EQ(a.curvature, Direction::none);  // a closed smooth loop cannot have monotone curvature unless constant
 }
 
+TEST(SpaceAnalyze, CurvatureExtremaAreWhereSampledKappaTurns) {
+  std::mt19937_64 rng(31);
+  int found = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const SpaceSpline s = SpaceSpline::bezier(random_points3(rng, 4));
+    const Segment& seg = s.segments()[0];
+    for (const SpaceExtremum& e : space_curvature_extrema(s, seg)) {
+      const double h = 1e-4, k = space_curvature(s, e.t), l = space_curvature(s, e.t - h), r = space_curvature(s, e.t + h);
+      if (e.maximum) {
+        EXPECT_GE(k, std::max(l, r)) << "trial " << trial << " t " << e.t;
+      } else {
+        EXPECT_LE(k, std::min(l, r)) << "trial " << trial << " t " << e.t;
+      }
+      ++found;
+    }
+    if (analyze_space(s).segments[0].curvature.curvature == Curvature::increasing) {
+      EXPECT_TRUE(space_curvature_extrema(s, seg).empty()) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(found, 10);
+}
+
+TEST(SpaceAnalyze, TorsionSignChangesAreWhereSampledTorsionChangesSign) {
+  std::mt19937_64 rng(57);
+  SpaceAnalyzeOptions o;
+  o.torsion = true;
+  int changes = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const SpaceSpline s = SpaceSpline::bezier(random_points3(rng, 5));  // quartic: N of degree 3
+    const SpaceSegmentResult r = analyze_space(s, o).segments[0];
+    if (!r.zero_curvature.empty()) continue;
+    int sampled = 0;
+    double prev = space_torsion(s, 1e-6);
+    for (int i = 1; i <= 2000; ++i) {
+      const double v = space_torsion(s, std::min(1.0 - 1e-6, i / 2000.0));
+      sampled += (v > 0) != (prev > 0);
+      prev = v;
+    }
+    EXPECT_EQ(static_cast<int>(r.torsion_sign_changes.size()), sampled) << "trial " << trial;
+    if (r.torsion_sign != 0) {
+      EXPECT_TRUE(r.torsion_sign_changes.empty()) << "trial " << trial;
+    }
+    for (double t : r.torsion_sign_changes) {
+      EXPECT_LT(space_torsion(s, t - 1e-5) * space_torsion(s, t + 1e-5), 0) << "trial " << trial << " t " << t;
+    }
+    changes += static_cast<int>(r.torsion_sign_changes.size());
+  }
+  EXPECT_GT(changes, 5);
+}
+
 TEST(SpaceAnalyze, BadOptionsAreInputErrors) {
   SpaceAnalyzeOptions o;
   o.max_depth = 99;

@@ -115,6 +115,27 @@ TEST(SpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) {
   EXPECT_LT(monotone, 256);
 }
 
+TEST(SpaceRegion, ClosedSplineMovesThePointAndItsTwin) {
+  const SpaceSpline s = SpaceSpline::make_closed(3, {0, 1, 2, 3, 4, 5},
+                                                 {{2, 0, 0}, {0.5, 1.5, 0.5}, {-1.5, 1, 1}, {-1.5, -1, 0.5}, {0.5, -1.5, 0}});
+  SpaceRegionRequest r;
+  r.point = 0;  // its twin in the unrolled form moves with it
+  r.plane = SpacePlane{{2, 0, 0}, {1, 0, 0.5}, {0, 1, 0.25}};
+  r.width = r.height = 8;
+  r.view = View{-1, -1, 1, 1};
+  const RegionResult img = SpaceRegionProblem::make(s, r).render(1);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      const Vec2 c = pixel_center(*r.view, 8, 8, i, j);
+      const SpaceAnalysis a = analyze_space(s.with_point(0, r.plane->origin + c.x * r.plane->u + c.y * r.plane->v));
+      const RegionLabel want = a.curvature == Direction::none        ? RegionLabel::not_monotone
+                               : a.curvature == Direction::undecided ? RegionLabel::undecided
+                               : a.curvature == Direction::increasing ? RegionLabel::increasing
+                                                                      : RegionLabel::decreasing;
+      EXPECT_EQ(img.labels[static_cast<std::size_t>(j) * 8 + i], want) << "pixel " << i << "," << j;
+    }
+}
+
 // A planar spline in its own plane: the plane's region labels, read for |kappa|.
 TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
   const BSpline plane = BSpline::make(3, kFig8Knots, kFig8);

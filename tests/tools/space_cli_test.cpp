@@ -65,6 +65,8 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
   expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --point 3 --plane xy"),
                         "--plane is for space curves");
+  expect_one_line_error(run("analyze missing.json --torsion"), "missing.json: cannot open the file");
+  expect_one_line_error(run("region missing.json --point 1 --plane xy"), "missing.json: cannot open the file");
 }
 
 TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
@@ -100,6 +102,31 @@ TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {
   EXPECT_EQ(nlohmann::json::parse(b.out)["segments"].size(), 2u);
   expect_one_line_error(run("import " + write("none.obj", "v 0 0 0\nf 1 1 1\n") + " --out " + dir),
                         "none.obj: no curves (cstype/curv or l elements)");
+}
+
+TEST(SpaceCli, ReportWritesJsonAndHtmlAndGatesOnCurvature) {
+  const std::string dir = (test::scratch() / "space_report").string();
+  const test::Outcome r = run("report " + kExample + " --out " + dir + " --require cmrwi");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("1 space curve: 1 pass, 0 fail, 0 invalid"), std::string::npos) << r.out;
+  const auto doc = nlohmann::json::parse(test::slurp(dir + "/report.json"));
+  EXPECT_EQ(doc["dimension"], 3);
+  EXPECT_EQ(doc["splines"][0]["analysis"]["spline"]["curvature"], "decreasing");
+  EXPECT_EQ(doc["splines"][0]["analysis"]["spline"]["torsion"], "none");
+  EXPECT_TRUE(doc["splines"][0]["curvature_extrema"].empty());  // monotone: no extremum inside a segment
+  const std::string html = test::slurp(dir + "/index.html");
+  int svgs = 0;
+  for (std::size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at + 1)) ++svgs;
+  EXPECT_EQ(svgs, 3);  // projections, curvature plot, torsion plot
+  // A curve that is not monotone fails the gate: exit 1, with its extrema located.
+  const std::string bent = write("bent.json", R"({"points":[[0,0,0],[1,1,0.5],[2,-1,1],[3,0,0]]})");
+  const test::Outcome f = run("report " + bent + " --out " + dir + " --require cmrwi");
+  EXPECT_EQ(f.code, 1) << f.err;
+  EXPECT_FALSE(nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"][0]["curvature_extrema"].empty());
+  expect_one_line_error(run("report " + kExample + " " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --out " + dir),
+                        "is planar: report them separately");
+  expect_one_line_error(run("report " + kExample + " --out " + dir + " --require cmr"),
+                        "its report takes --require cmrwi only");
 }
 
 }  // namespace

@@ -1,0 +1,297 @@
+#include "report/space_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "io/output.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr::report {
+
+namespace {
+
+const char* sign_word(int s) { return s > 0 ? "positive" : (s < 0 ? "negative" : "changes-or-zero"); }
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& a) {
+  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    const Segment& s = spline.segments()[i];
+    const SpaceSegmentResult& r = a.segments[i];
+    nlohmann::ordered_json j = {{"index", s.index},
+                                {"interval", {s.a, s.b}},
+                                {"class", r.cusp ? "cusp" : (r.straight ? "straight" : "regular")},
+                                {"curvature", to_string(r.curvature.curvature)},
+                                {"zero_curvature", r.zero_curvature},
+                                {"depth", r.curvature.depth},
+                                {"exact", r.exact_used}};
+    if (r.torsion) {
+      j["torsion"] = to_string(r.torsion->curvature);
+      j["torsion_depth"] = r.torsion->depth;
+      j["torsion_sign"] = sign_word(r.torsion_sign);
+      j["torsion_sign_changes"] = r.torsion_sign_changes;
+    }
+    segs.push_back(j);
+  }
+  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
+  std::vector<SpaceJoint> all = a.joints;
+  if (a.seam) all.push_back(*a.seam);
+  for (const SpaceJoint& j : all) {
+    std::string continuity = std::to_string(j.continuity);
+    continuity.insert(continuity.begin(), 'C');
+    joints.push_back({{"index", j.index},
+                      {"knot", j.knot},
+                      {"multiplicity", j.multiplicity},
+                      {"continuity", continuity},
+                      {"g1", j.g1},
+                      {"g2", j.g2},
+                      {"angle", j.angle_deg},
+                      {"normal_angle", j.normal_angle_deg},
+                      {"zero_tangent", j.zero_tangent},
+                      {"kappa_left", j.kappa_left},
+                      {"kappa_right", j.kappa_right},
+                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")},
+                      {"tau_left", j.tau_left},
+                      {"tau_right", j.tau_right},
+                      {"torsion_jump", j.torsion_jump > 0 ? "up" : (j.torsion_jump < 0 ? "down" : "none")}});
+    if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
+  }
+  nlohmann::ordered_json verdict = {{"dimension", 3},
+                                    {"curvature", to_string(a.curvature)},
+                                    {"zero_curvature", a.zero_curvature},
+                                    {"cusp", a.cusp}};
+  if (a.torsion) verdict["torsion"] = to_string(*a.torsion);
+  if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
+  return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
+}
+
+SpaceReport space_report(const std::string& file, const SpaceReportOptions& options) {
+  SpaceReport r;
+  r.file = file;
+  try {
+    r.spline = read_space_spline_file(file);
+  } catch (const InputError& e) {
+    r.error = e.what();
+    return r;
+  }
+  SpaceAnalyzeOptions o;
+  o.max_depth = options.max_depth;
+  o.torsion = options.torsion;
+  o.continuity = options.continuity;
+  r.analysis = analyze_space(*r.spline, o);
+  r.kappa_min = std::numeric_limits<double>::infinity();
+  r.kappa_max = 0;
+  for (const Segment& s : r.spline->segments()) {
+    r.extrema.push_back(space_curvature_extrema(*r.spline, s));
+    for (int i = 0; i <= 64; ++i) {
+      const double k = space_curvature(*r.spline, s.a + (s.b - s.a) * i / 64.0);
+      if (!std::isfinite(k)) continue;
+      r.kappa_min = std::min(r.kappa_min, k);
+      r.kappa_max = std::max(r.kappa_max, k);
+    }
+  }
+  if (!std::isfinite(r.kappa_min)) r.kappa_min = 0;
+  r.pass = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
+  return r;
+}
+
+nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  int pass = 0, fail = 0, invalid = 0;
+  for (const SpaceReport& r : reports) {
+    nlohmann::ordered_json j = {{"file", r.file}};
+    if (!r.error.empty()) {
+      j["error"] = r.error;
+      ++invalid;
+      list.push_back(j);
+      continue;
+    }
+    j["name"] = r.spline->name();
+    j["pass"] = r.pass;
+    j["analysis"] = space_analysis_json(*r.spline, r.analysis);
+    nlohmann::ordered_json ex = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < r.extrema.size(); ++i)
+      for (const SpaceExtremum& e : r.extrema[i])
+        ex.push_back({{"segment", i}, {"t", e.t}, {"kind", e.maximum ? "max" : "min"},
+                      {"kappa", space_curvature(*r.spline, e.t)}});
+    j["curvature_extrema"] = ex;
+    j["kappa_range"] = {r.kappa_min, r.kappa_max};
+    ++(r.pass ? pass : fail);
+    list.push_back(j);
+  }
+  nlohmann::ordered_json doc = {{"tool", "cmr report"}, {"dimension", 3}, {"depth", options.max_depth}};
+  if (options.require_monotone) doc["require"] = "cmrwi";
+  doc["splines"] = list;
+  doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}};
+  return doc;
+}
+
+namespace {
+
+/// One orthographic view: the two coordinates shown (0 x, 1 y, 2 z).
+struct Projection {
+  int h, v;
+  const char* name;
+};
+
+std::string projections_svg(const SpaceSpline& s, double comb_scale) {
+  const Projection views[3] = {{0, 1, "top (x, y)"}, {0, 2, "front (x, z)"}, {1, 2, "side (y, z)"}};
+  // Sample the curve and its comb (principal normal N = c x P' normalised, length kappa * comb_scale).
+  std::vector<Vec3> curve, comb;
+  for (const Segment& seg : s.segments())
+    for (int i = 0; i <= 48; ++i) {
+      const double t = seg.a + (seg.b - seg.a) * i / 48.0;
+      const Vec3 p = evaluate(s, t), d1 = derivative(s, t, 1), d2 = derivative(s, t, 2);
+      const Vec3 n = glm::cross(glm::cross(d1, d2), d1);
+      const double len = glm::length(n);
+      curve.push_back(p);
+      comb.push_back(len > 0 ? p + (space_curvature(s, t) * comb_scale / len) * n : p);
+    }
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"780\" height=\"270\" viewBox=\"0 0 780 270\">";
+  for (int k = 0; k < 3; ++k) {
+    const Projection& pr = views[k];
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    const auto grow = [&](const Vec3& p) {
+      lo[0] = std::min(lo[0], p[pr.h]);
+      hi[0] = std::max(hi[0], p[pr.h]);
+      lo[1] = std::min(lo[1], p[pr.v]);
+      hi[1] = std::max(hi[1], p[pr.v]);
+    };
+    for (const Vec3& p : curve) grow(p);
+    for (const Vec3& p : comb) grow(p);
+    for (const Vec3& p : s.points()) grow(p);
+    const double ext = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-12});
+    const double scale = 230 / ext, ox = 260.0 * k + 15, oy = 250;
+    const auto X = [&](const Vec3& p) { return num(ox + (p[pr.h] - lo[0]) * scale); };
+    const auto Y = [&](const Vec3& p) { return num(oy - (p[pr.v] - lo[1]) * scale); };
+    out += "<g><text x=\"" + num(ox) + "\" y=\"14\" font-size=\"11\">" + pr.name + "</text>";
+    for (std::size_t i = 0; i < curve.size(); i += 2)
+      out += "<line x1=\"" + X(curve[i]) + "\" y1=\"" + Y(curve[i]) + "\" x2=\"" + X(comb[i]) + "\" y2=\"" + Y(comb[i]) +
+             "\" stroke=\"#7aa7d9\" stroke-width=\"0.7\"/>";
+    std::string poly, path, tips;
+    for (int i = 0; i < s.unique_point_count(); ++i) poly += X(s.points()[i]) + "," + Y(s.points()[i]) + " ";
+    if (s.closed()) poly += X(s.points()[0]) + "," + Y(s.points()[0]);
+    for (const Vec3& p : curve) path += X(p) + "," + Y(p) + " ";
+    for (const Vec3& p : comb) tips += X(p) + "," + Y(p) + " ";
+    out += "<polyline points=\"" + poly + "\" fill=\"none\" stroke=\"#999\" stroke-dasharray=\"3,2\"/>";
+    out += "<polyline points=\"" + tips + "\" fill=\"none\" stroke=\"#2b6cb0\" stroke-width=\"0.8\"/>";
+    out += "<polyline points=\"" + path + "\" fill=\"none\" stroke=\"#000\" stroke-width=\"1.6\"/></g>";
+  }
+  return out + "</svg>";
+}
+
+std::string plot_svg(const SpaceSpline& s, const std::vector<std::vector<SpaceExtremum>>& extrema, bool torsion) {
+  std::vector<std::pair<double, double>> pts;
+  for (const Segment& seg : s.segments())
+    for (int i = 0; i <= 64; ++i) {
+      const double t = seg.a + (seg.b - seg.a) * i / 64.0;
+      const double v = torsion ? space_torsion(s, t) : space_curvature(s, t);
+      if (std::isfinite(v)) pts.emplace_back(t, v);
+    }
+  double lo = 0, hi = 0;
+  for (const auto& p : pts) {
+    lo = std::min(lo, p.second);
+    hi = std::max(hi, p.second);
+  }
+  if (hi - lo <= 0) hi = lo + 1;
+  const double t0 = s.domain_begin(), t1 = s.domain_end();
+  const auto X = [&](double t) { return num(40 + (t - t0) / (t1 - t0) * 330); };
+  const auto Y = [&](double v) { return num(180 - (v - lo) / (hi - lo) * 160); };
+  std::string out = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"390\" height=\"200\" viewBox=\"0 0 390 200\">";
+  out += "<text x=\"4\" y=\"14\" font-size=\"11\">" + std::string(torsion ? "torsion τ(t)" : "curvature κ(t)") +
+         "</text><text x=\"4\" y=\"30\" font-size=\"10\">" + html_escape(num(hi)) + "</text><text x=\"4\" y=\"182\" font-size=\"10\">" +
+         html_escape(num(lo)) + "</text>";
+  for (const Segment& seg : s.segments())
+    out += "<line x1=\"" + X(seg.a) + "\" y1=\"20\" x2=\"" + X(seg.a) + "\" y2=\"180\" stroke=\"#ddd\"/>";
+  out += "<line x1=\"40\" y1=\"" + Y(0) + "\" x2=\"370\" y2=\"" + Y(0) + "\" stroke=\"#bbb\"/>";
+  std::string path;
+  for (const auto& p : pts) path += X(p.first) + "," + Y(p.second) + " ";
+  out += "<polyline points=\"" + path + "\" fill=\"none\" stroke=\"" + (torsion ? "#8a4baf" : "#c53030") +
+         "\" stroke-width=\"1.5\"/>";
+  if (!torsion)
+    for (const auto& seg : extrema)
+      for (const SpaceExtremum& e : seg)
+        out += "<circle cx=\"" + X(e.t) + "\" cy=\"" + Y(space_curvature(s, e.t)) + "\" r=\"3\" fill=\"" +
+               (e.maximum ? "#c53030" : "#2b6cb0") + "\"/>";
+  return out + "</svg>";
+}
+
+}  // namespace
+
+std::string space_report_html(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options) {
+  std::string out =
+      "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>cmr report: space curves</title><style>"
+      "body{font-family:sans-serif;margin:20px;max-width:1100px}table{border-collapse:collapse;margin:6px 0}"
+      "td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}.pass{color:#276749}.fail{color:#c53030}"
+      "section{border-top:1px solid #999;margin-top:18px;padding-top:8px}</style></head><body>"
+      "<h1>cmr report: space curves</h1><p>Curvature monotonicity of |κ| certified per segment (Algorithm 1 on "
+      "λ₃ = (|c|²)′|P′|² − 3|c|²(|P′|²)′, c = P′ × P″; exact where error bounds do not decide), depth " +
+      std::to_string(options.max_depth) + ". See docs/space.md.</p>";
+  for (const SpaceReport& r : reports) {
+    out += "<section><h2>" + html_escape(r.spline ? (r.spline->name().empty() ? r.file : r.spline->name()) : r.file) +
+           "</h2><p>" + html_escape(r.file) + "</p>";
+    if (!r.error.empty()) {
+      out += "<p class=\"fail\">invalid: " + html_escape(r.error) + "</p></section>";
+      continue;
+    }
+    const SpaceAnalysis& a = r.analysis;
+    out += std::string("<p>curvature: <b class=\"") + (r.pass ? "pass" : "fail") + "\">" + to_string(a.curvature) +
+           "</b>";
+    if (a.torsion) out += " · torsion: <b>" + std::string(to_string(*a.torsion)) + "</b>";
+    out += std::string(" · zero curvature: ") + (a.zero_curvature ? "yes" : "no") + " · cusp: " + (a.cusp ? "yes" : "no") +
+           " · κ in [" + html_escape(num(r.kappa_min)) + ", " + html_escape(num(r.kappa_max)) + "]</p>";
+    const double extent = [&] {
+      Vec3 lo = r.spline->points()[0], hi = lo;
+      for (const Vec3& p : r.spline->points()) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      return glm::length(hi - lo);
+    }();
+    out += projections_svg(*r.spline, r.kappa_max > 0 ? 0.25 * extent / r.kappa_max : 0.0);
+    out += "<div>" + plot_svg(*r.spline, r.extrema, false) + (a.torsion ? plot_svg(*r.spline, r.extrema, true) : "") +
+           "</div>";
+    out += "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>depth</th><th>κ = 0 at</th>"
+           "<th>extrema</th><th>torsion</th><th>exact</th></tr>";
+    for (std::size_t i = 0; i < a.segments.size(); ++i) {
+      const SpaceSegmentResult& s = a.segments[i];
+      const Segment& seg = r.spline->segments()[i];
+      std::string zeros, ex;
+      for (double t : s.zero_curvature) zeros += num(t) + " ";
+      for (const SpaceExtremum& e : r.extrema[i]) ex += std::string(e.maximum ? "max " : "min ") + num(e.t) + " ";
+      out += "<tr><td>" + std::to_string(i) + "</td><td>[" + num(seg.a) + ", " + num(seg.b) + "]</td><td>" +
+             to_string(s.curvature.curvature) + "</td><td>" + std::to_string(s.curvature.depth) + "</td><td>" + zeros +
+             "</td><td>" + ex + "</td><td>" + (s.torsion ? to_string(s.torsion->curvature) : "") + "</td><td>" +
+             (s.exact_used ? "yes" : "no") + "</td></tr>";
+    }
+    out += "</table>";
+    std::vector<SpaceJoint> joints = a.joints;
+    if (a.seam) joints.push_back(*a.seam);
+    if (!joints.empty()) {
+      out += "<table><tr><th>joint</th><th>knot</th><th>C</th><th>G1</th><th>G2</th><th>κ left</th><th>κ right</th>"
+             "<th>jump</th><th>τ left</th><th>τ right</th></tr>";
+      for (const SpaceJoint& j : joints)
+        out += "<tr><td>" + std::to_string(j.index) + "</td><td>" + num(j.knot) + "</td><td>C" +
+               std::to_string(j.continuity) + "</td><td>" + (j.g1 ? "yes" : "no") + "</td><td>" + (j.g2 ? "yes" : "no") +
+               "</td><td>" + num(j.kappa_left) + "</td><td>" + num(j.kappa_right) + "</td><td>" +
+               (j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")) + "</td><td>" + num(j.tau_left) + "</td><td>" +
+               num(j.tau_right) + "</td></tr>";
+      out += "</table>";
+    }
+    out += "</section>";
+  }
+  return out + "</body></html>\n";
+}
+
+}  // namespace cmr::report

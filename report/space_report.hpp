@@ -1,0 +1,43 @@
+#pragma once
+/// QA reports of space curves (issue 25, docs/space.md): `cmr report` when
+/// every input is a space curve. The model, its JSON and a self-contained
+/// HTML page (three orthographic projections with the curvature comb, the
+/// curvature and torsion plots, the segments and joints), in memory.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/space_analyze.hpp"
+
+namespace cmr::report {
+
+struct SpaceReportOptions {
+  int max_depth = kDefaultDepth;
+  bool torsion = true;  ///< judge torsion monotonicity too (reported; the gate is curvature's)
+  ContinuityTolerances continuity;
+  bool require_monotone = false;  ///< the gate: |kappa| monotone over the whole spline
+};
+
+struct SpaceReport {
+  std::string file;
+  std::string error;  ///< the input's one-line error (then nothing else is filled)
+  std::optional<SpaceSpline> spline;
+  SpaceAnalysis analysis;
+  std::vector<std::vector<SpaceExtremum>> extrema;  ///< per segment, certified locations
+  double kappa_min = 0, kappa_max = 0;              ///< sampled (the plot's range)
+  bool pass = false;  ///< the curvature verdict is increasing or decreasing
+};
+
+/// Reads and analyses one file; an InputError becomes `error`.
+SpaceReport space_report(const std::string& file, const SpaceReportOptions& options);
+
+/// The JSON of `cmr analyze` for a space curve.
+nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& analysis);
+/// report.json: {"dimension": 3, "splines": [...], "summary": {...}}.
+nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
+/// index.html, self-contained (inline SVG).
+std::string space_report_html(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
+
+}  // namespace cmr::report
