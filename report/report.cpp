@@ -666,7 +666,8 @@ Json joints_json(const SplineReport& r) {
                       {"corner", jr.corner},
                       {"kappa_left", jt.kappa_left},
                       {"kappa_right", jt.kappa_right},
-                      {"jump", jt.jump > 0 ? "up" : (jt.jump < 0 ? "down" : "none")}});
+                      {"jump", jump_name(shown_jump(jt))},
+                      {"exact_jump", jump_name(jt.jump)}});
   }
   return joints;
 }
@@ -1087,7 +1088,7 @@ void joints_html(std::string& out, const SplineReport& r) {
              "</td><td>" + (j.joint.zero_tangent ? "no (zero tangent)" : (j.joint.g1 ? "yes" : "no")) +
              "</td><td>" + (j.joint.g2 ? "yes" : "no") + "</td><td>" + num(j.joint.kappa_left) + "</td><td>" +
              num(j.joint.kappa_right) + "</td><td>" +
-             (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
+             jump_name(shown_jump(j.joint)) + "</td></tr>";
     out += "</table>";
   }
 }

@@ -58,7 +58,8 @@ nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis
                       {"zero_tangent", j.zero_tangent},
                       {"kappa_left", j.kappa_left},
                       {"kappa_right", j.kappa_right},
-                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")}});
+                      {"jump", jump_name(shown_jump(j))},
+                      {"exact_jump", jump_name(j.jump)}});
     if (j.pole) joints.back()["pole"] = true;
     if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
     const bool inside = j.index > a.range.first && j.index <= a.range.last;
