@@ -253,7 +253,10 @@ Tridiagonal middle_point_system(const State& s) {
 /// at that end whatever the quadratic's maximum).
 double point_error(const State& s, int i, bool strict) {
   const std::array<Vec2, 3> q = s.quadratic(i);
-  const double t = strict ? quadratic_max_curvature_parameter(q) : kcurve_parameter(q[0], s.p[i], q[2]), u = 1 - t;
+  // A straight quadratic (κ = 0 throughout, exactly) has no maximum to be at.
+  const bool straight = det(q[1] - q[0], q[2] - q[0]) == 0;
+  const double t = strict && !straight ? quadratic_max_curvature_parameter(q) : kcurve_parameter(q[0], s.p[i], q[2]);
+  const double u = 1 - t;
   return glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - s.p[i]);
 }
 

@@ -85,6 +85,7 @@ TEST(KCurveCollinear, InOrderOpenPointsGiveAStraightCurve) {
            {{0, 0}, {1, 0}, {2, 0}, {3, 0}}, {{0, 0}, {1, 1}, {3, 3}}, {{0, 0}, {0.1, 0.2}, {0.2, 0.4}, {0.7, 1.4}}}) {
     const KCurve k = kcurve(pts);
     ASSERT_TRUE(k.converged()) << pts.size();
+    EXPECT_TRUE(k.off_point_maxima.empty()) << pts.size() << " points: a straight curve has no maximum to miss";
     for (const SegmentClass& c : analyze(kcurve_cubic_chain(k)).segments)
       EXPECT_EQ(c.monotonicity.curvature, Curvature::constant) << pts.size() << " points";
   }
