@@ -136,6 +136,14 @@ struct Joint {
   bool g2 = false;        ///< G1 and curvature equal (exactly, or within curvature_rel)
 };
 
+/// "up", "down" or "none" for a jump sign.
+inline const char* jump_name(int jump) { return jump > 0 ? "up" : jump < 0 ? "down" : "none"; }
+/// The jump the JSON's `jump` and the pages show: none at a G2 joint (equal
+/// curvature within ContinuityTolerances::curvature_rel, the same tolerance
+/// that makes it G2), else the exact sign. The verdicts use the exact sign
+/// (Joint::jump, `exact_jump` in the JSON); docs/semantics.md.
+inline int shown_jump(const Joint& j) { return j.g2 ? 0 : j.jump; }
+
 struct AnalyzeOptions {
   ClassifyOptions classify;    ///< depth D and Algorithm 2 on/off
   std::optional<int> split;    ///< joint s for the split verdict

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 
 #include "spline/errors.hpp"
@@ -191,6 +192,90 @@ class LabelBuilder {
   std::unordered_map<int, int> next_;
 };
 
+/// The undecided band (contour.hpp): in every cell with an undecided gap on
+/// one of its edges, the part of the cell that no label's piece covers: the
+/// polygon of the cell's edge vertices in counter-clockwise order (each
+/// label's piece is cut off by the chord between its own vertices). Its
+/// outlines are the piece edges not shared by two pieces.
+LabelContours undecided_band(const Grid& g, const std::unordered_map<std::int64_t, Vec2>& refined_at,
+                             const std::unordered_map<std::int64_t, bool>& undecided_gap) {
+  LabelContours band;
+  band.label = kUndecidedBandLabel;
+  if (undecided_gap.empty()) return band;
+  std::map<std::pair<double, double>, int> index;  // one vertex per point
+  auto vertex = [&](Vec2 p, bool refined) {
+    auto [it, fresh] = index.try_emplace({p.x, p.y}, 0);
+    if (fresh) {
+      it->second = static_cast<int>(band.vertices.size());
+      band.vertices.push_back(p);
+      band.refined.push_back(refined);
+    }
+    return it->second;
+  };
+  std::map<std::pair<int, int>, int> directed;  // piece edges, counted
+  for (int cj = 0; cj + 1 < g.SH; ++cj)
+    for (int ci = 0; ci + 1 < g.SW; ++ci) {
+      const std::array<std::array<int, 2>, 4> c = {{{ci, cj + 1}, {ci + 1, cj + 1}, {ci + 1, cj}, {ci, cj}}};
+      bool gap = false;
+      std::vector<int> piece;
+      for (int k = 0; k < 4; ++k) {
+        const auto& p = c[k];
+        const auto& q = c[(k + 1) % 4];
+        const std::uint8_t lp = g.label(p[0], p[1]), lq = g.label(q[0], q[1]);
+        if (lp == lq) continue;
+        if (lp == kPad || lq == kPad) {  // the view's edge: one vertex, as LabelBuilder puts it
+          const int ri = lp == kPad ? q[0] : p[0], rj = lp == kPad ? q[1] : p[1];
+          const int ai = lp == kPad ? p[0] : q[0], aj = lp == kPad ? p[1] : q[1];
+          Vec2 at = g.centre(ri, rj);
+          if (ai == 0) at.x = g.view.x0;
+          if (ai == g.W + 1) at.x = g.view.x1;
+          if (aj == 0) at.y = g.view.y1;
+          if (aj == g.H + 1) at.y = g.view.y0;
+          piece.push_back(vertex(at, false));
+          continue;
+        }
+        Edge e;
+        if (p[1] == q[1]) e = {std::min(p[0], q[0]), p[1], false};
+        else e = {p[0], std::min(p[1], q[1]), true};
+        const std::int64_t id = e.id(g);
+        gap = gap || undecided_gap.count(id);
+        // From p's side to q's: the vertex of p's label first.
+        const bool p_first = p[0] == e.si && p[1] == e.sj;
+        const int a = vertex(refined_at.at(2 * id + (p_first ? 0 : 1)), true);
+        const int b = vertex(refined_at.at(2 * id + (p_first ? 1 : 0)), true);
+        if (piece.empty() || piece.back() != a) piece.push_back(a);
+        if (b != a) piece.push_back(b);
+      }
+      if (!gap) continue;
+      if (piece.size() > 1 && piece.front() == piece.back()) piece.pop_back();
+      if (piece.size() < 3) continue;
+      for (std::size_t k = 0; k < piece.size(); ++k) ++directed[{piece[k], piece[(k + 1) % piece.size()]}];
+      band.pieces.push_back(std::move(piece));
+    }
+  // Outline edges: those whose reverse is not a piece edge too.
+  std::unordered_map<int, std::vector<int>> next;
+  for (const auto& [edge, count] : directed)
+    if (!directed.count({edge.second, edge.first}))
+      for (int k = 0; k < count; ++k) next[edge.first].push_back(edge.second);
+  for (auto& [start, targets] : next)
+    while (!targets.empty()) {
+      std::vector<int> loop{start};
+      int v = targets.back();
+      targets.pop_back();
+      while (v != start) {
+        loop.push_back(v);
+        auto& out = next[v];
+        if (out.empty()) break;  // not closed (cannot happen for pieces tiling a set); keep what there is
+        const int w = out.back();
+        out.pop_back();
+        v = w;
+      }
+      band.area += polygon_area(band.vertices, loop);
+      band.outlines.push_back(std::move(loop));
+    }
+  return band;
+}
+
 }  // namespace
 
 double polygon_area(const std::vector<Vec2>& v, const std::vector<int>& loop) {
@@ -265,6 +350,14 @@ RegionContours region_contours(const RegionProblem& problem, const RegionResult&
     if (r.bracket.hi_label == g.label(r.edge.bi(), r.edge.bj())) refined_at[2 * r.edge.id(g) + 1] = p;
   }
   for (const Refined& r : second) refined_at[2 * r.edge.id(g) + 1] = vertex_of(r);
+  // Edges whose first bracket ended at the undecided label (between two
+  // decided labels): the stretch between their two vertices is undecided.
+  const std::uint8_t undecided = split ? code(SplitLabel::undecided) : code(RegionLabel::undecided);
+  std::unordered_map<std::int64_t, bool> undecided_gap;
+  for (const Refined& r : jobs)
+    if (r.bracket.hi_label == undecided && r.label != undecided &&
+        g.label(r.edge.bi(), r.edge.bj()) != undecided)
+      undecided_gap[r.edge.id(g)] = true;
 
   RegionContours out;
   out.view = v;
@@ -274,6 +367,7 @@ RegionContours region_contours(const RegionProblem& problem, const RegionResult&
   for (std::uint8_t c : g.codes) present[c] = true;
   for (int L = 0; L < 256; ++L)
     if (present[L]) out.labels.push_back(LabelBuilder(g, static_cast<std::uint8_t>(L), refined_at).build());
+  out.band = undecided_band(g, refined_at, undecided_gap);
   return out;
 }
 

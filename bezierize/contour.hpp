@@ -35,6 +35,16 @@
 // L and M is bisected once when its bracket ends at M (then it serves both
 // labels), twice otherwise.
 //
+// The undecided band. Where the bisection from label L towards M meets the
+// undecided label (Algorithm 1 at the depth limit) before M, the vertex of L
+// lies on the boundary of L's certified label and a second bisection from M
+// puts M's vertex on the boundary of M's: the stretch between them is
+// undecided, and the exact boundary of L (at unlimited depth) lies somewhere
+// in it. Those stretches make the band (RegionContours::band, name
+// "undecided-band"): in each cell with such a stretch on an edge, the part of
+// the cell no label's piece covers (the polygon of the cell's edge vertices,
+// counter-clockwise). Undecided pixels keep their own label as before.
+//
 // Area. The shoelace formula on the loops (signed: holes negative) gives each
 // label's area; the convex pieces triangulate the same set (fans), so the sum
 // of their triangles' areas equals it up to rounding (tests check both).
@@ -71,11 +81,21 @@ struct LabelContours {
   double area = 0;  ///< shoelace sum over the outlines (world units squared)
 };
 
+/// LabelContours::label of the undecided band (no label code of a map).
+inline constexpr std::uint8_t kUndecidedBandLabel = 254;
+/// Its name in `areas` and the SVG.
+inline constexpr const char* kUndecidedBandName = "undecided-band";
+
 /// All labels present in the map, in increasing code order.
 struct RegionContours {
   View view;
   bool split = false;  ///< label codes are SplitLabel codes
   std::vector<LabelContours> labels;
+  /// The band undecided at the depth limit between two decided labels,
+  /// narrower than a pixel (so no pixel centre is in it): label
+  /// kUndecidedBandLabel, pieces and outlines as above, area the shoelace
+  /// sum; empty when no bisection met the undecided label.
+  LabelContours band;
   std::uint64_t bisections = 0;  ///< refined edges (classify runs ~log2(1/tolerance) times each)
 };
 

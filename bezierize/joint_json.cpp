@@ -18,7 +18,8 @@ nlohmann::ordered_json joint_json(const Joint& j, const JointJsonFields& fields)
   if (fields.corner) out["corner"] = *fields.corner;
   out["kappa_left"] = j.kappa_left;
   out["kappa_right"] = j.kappa_right;
-  out["jump"] = j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none");
+  out["jump"] = jump_name(shown_jump(j));  // "none" at a G2 joint (docs/semantics.md)
+  out["exact_jump"] = jump_name(j.jump);   // the exact sign of the jump
   if (fields.marks && j.pole) out["pole"] = true;
   if (fields.marks && fields.seam) out["seam"] = true;
   return out;

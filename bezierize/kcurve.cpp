@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/common.hpp>
@@ -33,6 +34,9 @@ constexpr int kNewtonMaxPoints = 64;
 /// Forward-difference step of the Jacobian, relative to the unknowns' scale
 /// (the extent for middle points, 1 for λ).
 constexpr double kNewtonStep = 1e-7;
+/// Iterations spent on the κ-curve proper before the published fixed point
+/// is accepted (kcurve()).
+constexpr int kStrictIterations = 300;
 /// Plain iterations after a Newton step that did not lower |F|.
 constexpr int kNewtonRetry = 4;
 /// Newton pins t_i to 0 (1) where the plain step gives less than this (more
@@ -243,14 +247,22 @@ Tridiagonal middle_point_system(const State& s) {
   return m;
 }
 
-/// max_i |c_i(t_i) - p_i| with t_i from step 1 on the quadratic as it is.
-double interpolation_error(const State& s) {
+/// |c_i(t) - p_i| with t from Eq. 7 (`strict`: the point is the quadratic's
+/// curvature maximum) or from step 1 on the quadratic as it is (the
+/// published fixed point: with p_i on a joint, step 1's cubic has its root
+/// at that end whatever the quadratic's maximum).
+double point_error(const State& s, int i, bool strict) {
+  const std::array<Vec2, 3> q = s.quadratic(i);
+  // A straight quadratic (κ = 0 throughout, exactly) has no maximum to be at.
+  const bool straight = det(q[1] - q[0], q[2] - q[0]) == 0;
+  const double t = strict && !straight ? quadratic_max_curvature_parameter(q) : kcurve_parameter(q[0], s.p[i], q[2]);
+  const double u = 1 - t;
+  return glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - s.p[i]);
+}
+
+double interpolation_error(const State& s, bool strict) {
   double worst = 0;
-  for (int i = 0; i < s.n(); ++i) {
-    const std::array<Vec2, 3> q = s.quadratic(i);
-    const double t = kcurve_parameter(q[0], s.p[i], q[2]), u = 1 - t;
-    worst = std::max(worst, glm::length(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - s.p[i]));
-  }
+  for (int i = 0; i < s.n(); ++i) worst = std::max(worst, point_error(s, i, strict));
   return worst;
 }
 
@@ -397,9 +409,71 @@ bool newton_step(State& s, double extent, const std::vector<double>& f0) {
 
 /// The residual of the header comment for state s: the interpolation error
 /// at Eq. 7's maxima over the extent, and the change λ would make.
-double residual_of(const State& s, double extent) {
+double residual_of(const State& s, double extent, bool strict) {
   State next = s;
-  return std::max(interpolation_error(s) / extent, update_lambda(next));
+  return std::max(interpolation_error(s, strict) / extent, update_lambda(next));
+}
+
+}  // namespace
+
+namespace {
+
+/// Runs the iteration on s for at most max_iterations (added to
+/// `iterations`) until residual_of(s, extent, strict) <= tolerance; returns
+/// that residual. Throws InputError on a singular system.
+double iterate(State& s, double extent, double tolerance, int max_iterations, bool strict, int& iterations) {
+  const int n = s.n();
+  double residual = std::numeric_limits<double>::infinity();
+  const bool newton = n <= kNewtonMaxPoints;
+  std::vector<bool> unpinnable(n, false);
+  int next_newton = 0;  // after a failed Newton step, plain steps until this iteration
+  double relaxation = 1;  // the plain iteration's step towards the solved middle points
+  for (int it = 1; it <= max_iterations; ++it) {
+    ++iterations;
+    std::vector<double> f;
+    if (newton && it > kPlainIterations) {
+      // Points whose parameter is near an end are pinned there for the
+      // Newton step: the iterate's t_i(A) has a kink at A = 0 (the point
+      // on a joint), where Newton would stall.
+      // A pin is wrong where Eq. 7's maximum is not at the pinned end (a
+      // point on a joint whose quadratic peaks elsewhere is a fixed point of
+      // the iteration but no κ-curve): then the point is not pinned again.
+      for (int i = 0; i < n && strict; ++i)
+        if (s.pin[i]) {
+          const double t_max = quadratic_max_curvature_parameter(s.quadratic(i));
+          if (s.pin[i] < 0 ? t_max > kPinParameter : t_max < 1 - kPinParameter) unpinnable[i] = true;
+        }
+      State probe;
+      std::fill(s.pin.begin(), s.pin.end(), 0);
+      if (plain_step(s, extent, probe))
+        for (int i = 0; i < n; ++i)
+          if (!unpinnable[i]) s.pin[i] = probe.t[i] < kPinParameter ? -1 : probe.t[i] > 1 - kPinParameter ? 1 : 0;
+    }
+    if (!fixed_point_defect(s, extent, f))
+      throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
+                       "); move the points further apart");
+    // Newton on the fixed point once the plain iteration has had its first
+    // steps; the damped plain step where Newton does not lower |F|.
+    const bool try_newton = newton && it > kPlainIterations && it >= next_newton;
+    if (try_newton && newton_step(s, extent, f)) {
+      next_newton = it;
+    } else {
+      if (try_newton) next_newton = it + kNewtonRetry;
+      std::fill(s.pin.begin(), s.pin.end(), 0);
+      State next;
+      if (!plain_step(s, extent, next))
+        throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
+                         "); move the points further apart");
+      const double before = residual_of(s, extent, strict);
+      for (int i = 0; i < n; ++i) s.mid[i] += relaxation * (next.mid[i] - s.mid[i]);
+      s.lambda = next.lambda;
+      if (residual_of(s, extent, strict) >= before) relaxation = std::max(relaxation / 2, kMinRelaxation);
+      else relaxation = std::min(1.0, 2 * relaxation);
+    }
+    residual = residual_of(s, extent, strict);
+    if (residual <= tolerance) break;
+  }
+  return residual;
 }
 
 }  // namespace
@@ -427,46 +501,19 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   KCurve out;
   out.closed = s.closed;
   out.tolerance = options.tolerance;
-  const bool newton = n <= kNewtonMaxPoints;
-  int next_newton = 0;  // after a failed Newton step, plain steps until this iteration
-  double relaxation = 1;  // the plain iteration's step towards the solved middle points
-  for (int it = 1; it <= options.max_iterations; ++it) {
-    out.iterations = it;
-    std::vector<double> f;
-    if (newton && it > kPlainIterations) {
-      // Points whose parameter is near an end are pinned there for the
-      // Newton step: the iterate's t_i(A) has a kink at A = 0 (the point
-      // on a joint), where Newton would stall.
-      State probe;
-      std::fill(s.pin.begin(), s.pin.end(), 0);
-      if (plain_step(s, extent, probe))
-        for (int i = 0; i < n; ++i)
-          s.pin[i] = probe.t[i] < kPinParameter ? -1 : probe.t[i] > 1 - kPinParameter ? 1 : 0;
-    }
-    if (!fixed_point_defect(s, extent, f))
-      throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
-                       "); move the points further apart");
-    // Newton on the fixed point once the plain iteration has had its first
-    // steps; the damped plain step where Newton does not lower |F|.
-    const bool try_newton = newton && it > kPlainIterations && it >= next_newton;
-    if (try_newton && newton_step(s, extent, f)) {
-      next_newton = it;
-    } else {
-      if (try_newton) next_newton = it + kNewtonRetry;
-      std::fill(s.pin.begin(), s.pin.end(), 0);
-      State next;
-      if (!plain_step(s, extent, next))
-        throw InputError("the kappa-curve system is singular (iteration " + std::to_string(it) +
-                         "); move the points further apart");
-      const double before = residual_of(s, extent);
-      for (int i = 0; i < n; ++i) s.mid[i] += relaxation * (next.mid[i] - s.mid[i]);
-      s.lambda = next.lambda;
-      if (residual_of(s, extent) >= before) relaxation = std::max(relaxation / 2, kMinRelaxation);
-      else relaxation = std::min(1.0, 2 * relaxation);
-    }
-    out.residual = residual_of(s, extent);
-    if (out.residual <= options.tolerance) break;
+  // First the κ-curve proper (each point its quadratic's maximum); where
+  // that does not converge soon, the published fixed point, which may leave
+  // a point on a joint while its quadratic peaks elsewhere (flagged).
+  const State start = s;
+  out.residual = iterate(s, extent, options.tolerance, std::min(options.max_iterations, kStrictIterations), true,
+                         out.iterations);
+  if (out.residual > options.tolerance && options.max_iterations > kStrictIterations) {
+    s = start;
+    out.residual = iterate(s, extent, options.tolerance, options.max_iterations - kStrictIterations, false,
+                           out.iterations);
   }
+  for (int i = 0; i < n; ++i)
+    if (point_error(s, i, true) > options.tolerance * extent) out.off_point_maxima.push_back(i);
   for (int i = 0; i < n; ++i) {
     out.quadratics.push_back(s.quadratic(i));
     out.t_max.push_back(quadratic_max_curvature_parameter(out.quadratics.back()));

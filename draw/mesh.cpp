@@ -239,6 +239,19 @@ std::string contours_svg(const RegionContours& rc) {
     }
     out += "\"/>\n";
   }
+  if (!rc.band.outlines.empty()) {  // undecided at the depth limit, narrower than a pixel
+    out += "<path data-label=\"" + std::to_string(rc.band.label) + "\" data-name=\"" + kUndecidedBandName +
+           "\" data-area=\"" + num(rc.band.area) + "\" fill=\"#a0a0a0\" fill-rule=\"nonzero\" stroke=\"black\" stroke-width=\"" +
+           num(stroke) + "\" d=\"";
+    for (const std::vector<int>& loop : rc.band.outlines) {
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        const Vec2 p = rc.band.vertices[loop[k]];
+        out.append(k == 0 ? "M" : "L").append(num(p.x)).append(" ").append(num(-p.y)).append(" ");
+      }
+      out += "Z ";
+    }
+    out += "\"/>\n";
+  }
   out.append(draw::kSvgClose).append("\n");
   return out;
 }

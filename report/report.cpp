@@ -1029,7 +1029,7 @@ void joints_html(std::string& out, const SplineReport& r) {
              "</td><td>" + (j.joint.zero_tangent ? "no (zero tangent)" : (j.joint.g1 ? "yes" : "no")) +
              "</td><td>" + (j.joint.g2 ? "yes" : "no") + "</td><td>" + num(j.joint.kappa_left) + "</td><td>" +
              num(j.joint.kappa_right) + "</td><td>" +
-             (j.joint.jump > 0 ? "up" : (j.joint.jump < 0 ? "down" : "none")) + "</td></tr>";
+             jump_name(shown_jump(j.joint)) + "</td></tr>";
     out += "</table>";
   }
 }

@@ -181,6 +181,7 @@ std::vector<RegionContours> contours_of(const RegionArgs& a, const std::vector<R
     all.push_back(region_contours(problems[i], r.images[i]));
     nlohmann::ordered_json areas = nlohmann::ordered_json::object();
     for (const LabelContours& lc : all.back().labels) areas[r.images[i].label_name(lc.label)] = lc.area;
+    areas[kUndecidedBandName] = all.back().band.area;  // undecided, narrower than a pixel (contour.hpp)
     r.per_point[i]["areas"] = areas;
   }
   return all;

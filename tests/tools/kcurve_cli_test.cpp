@@ -69,5 +69,42 @@ TEST(KCurveCli, BadInputExits2WithOneLineAndNoFile) {
   EXPECT_EQ(missing.code, 2) << missing.err;
 }
 
+// The issue's reproducer: every piece of the cubic chain is monotone, and
+// report --require extrema-at-nodes passes.
+TEST(KCurveCli, CubicChainPassesAnalyzeAndExtremaAtNodes) {
+  const fs::path out = scratch() / "k_p1c.json";
+  const Outcome r = run("kcurve " + write("k_p1.json", kPoints) + " --cubic --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Outcome a = run("analyze " + out.string());
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  ASSERT_EQ(doc["segments"].size(), 6u);
+  for (const auto& s : doc["segments"])
+    EXPECT_TRUE(s["curvature"] == "increasing" || s["curvature"] == "decreasing") << s;
+  for (const auto& j : doc["joints"]) {
+    if (j["g2"] == true) {
+      EXPECT_EQ(j["jump"], "none") << j;
+    }
+  }
+  const fs::path dir = scratch() / "k_p1c_report";
+  fs::remove_all(dir);
+  const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require extrema-at-nodes");
+  EXPECT_EQ(rep.code, 0) << rep.out << rep.err;
+}
+
+TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
+  const Outcome straight = run("kcurve " + write("k_line.json", R"({"points": [[0,0],[1,0],[2,0],[3,0]]})") + " --cubic");
+  ASSERT_EQ(straight.code, 0) << straight.err;
+  for (const auto& p : nlohmann::json::parse(straight.out)["points"]) EXPECT_EQ(p[1], 0.0) << p;
+  for (const std::string& args : {std::string(" --closed"), std::string("")}) {
+    const std::string text = args.empty() ? R"({"points": [[0,0],[2,0],[1,0],[3,0]]})" : R"({"points": [[0,0],[1,0],[2,0]]})";
+    const Outcome r = run("kcurve " + write("k_line_bad.json", text) + args);
+    EXPECT_EQ(r.code, 2) << text << args << ": " << r.out;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("double back"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
 }  // namespace
 }  // namespace cmr::test

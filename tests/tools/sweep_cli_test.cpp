@@ -59,8 +59,9 @@ TEST(RegionContoursCli, ObjPlySvgMatchTheLibrary) {
 
   const nlohmann::json summary = nlohmann::json::parse(obj.out);
   const nlohmann::json& areas = summary["points"][0]["areas"];
-  ASSERT_EQ(areas.size(), rc.labels.size());
+  ASSERT_EQ(areas.size(), rc.labels.size() + 1);  // and the undecided band
   for (const LabelContours& lc : rc.labels) EXPECT_EQ(areas[img.label_name(lc.label)].get<double>(), lc.area);
+  EXPECT_EQ(areas[kUndecidedBandName].get<double>(), rc.band.area);
 
   for (const char* name : {"r.obj", "r.ply"}) {
     const mesh::Mesh m = read_mesh(d / name);
@@ -69,6 +70,21 @@ TEST(RegionContoursCli, ObjPlySvgMatchTheLibrary) {
     EXPECT_NEAR(mesh::mesh_area(m), mesh::mesh_area(expected), 1e-5 * mesh::mesh_area(expected)) << name;
   }
   EXPECT_EQ(slurp(d / "r.svg"), mesh::contours_svg(rc));
+}
+
+// The reproducer: at 40x40 no pixel centre is undecided, yet a band
+// undecided at depth 12 separates increasing from not monotone; it is an
+// outline of its own in the SVG and an `areas` entry of its own.
+TEST(RegionContoursCli, UndecidedBandIsAnOutlineAndAnArea) {
+  const fs::path d = fresh_dir("contours_band");
+  const Outcome r = run("region " + kFig8 + " --point 3 --backend cpu --size 40x40 --view " + kView + " --contours " +
+                        (d / "c.svg").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json p = nlohmann::json::parse(r.out)["points"][0];
+  EXPECT_EQ(p["counts"]["undecided"], 0) << p;
+  ASSERT_TRUE(p["areas"].contains(kUndecidedBandName)) << p;
+  EXPECT_GT(p["areas"][kUndecidedBandName].get<double>(), 0) << p;
+  EXPECT_NE(slurp(d / "c.svg").find("data-name=\"undecided-band\""), std::string::npos);
 }
 
 TEST(RegionContoursCli, BadExtensionIsRefusedBeforeAnyFile) {
