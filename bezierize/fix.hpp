@@ -107,12 +107,15 @@ struct FixRequest {
   /// Distance tolerance of the nearest position, relative to the curve size.
   double tolerance = 1e-6;
   int max_depth = kDefaultDepth;  ///< D of Algorithms 1 and 2
-  int grid = 48;                  ///< cells per side of the search grids (8..512)
+  int grid = 32;                  ///< cells per side of the search grids (8..512)
   /// Move the allowed points together to the least total squared
   /// displacement (a compass search from the best single fix) instead of
   /// reporting the best single-unit fix.
   bool together = false;
   int threads = 0;  ///< for the grids; 0: every core
+  /// Wall-clock limit of the search in seconds (0: none); when it runs out,
+  /// the best certified fix found so far is returned, or none.
+  double max_seconds = 30;
 };
 
 /// One moved control point.
