@@ -542,6 +542,7 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
     out[i] = report_item(inputs[i], options);
     if (out[i].error.empty() && !out[i].pass && options.grid > 0 && options.regions)
       out[i].tangent_fixes = suggest_tangent_fixes(out[i], options, options.grid);
+    if (out[i].error.empty() && !out[i].pass && options.regions) out[i].certified_fixes = certified_fixes(out[i], options);
     const std::lock_guard lock(mutex);
     ++done;
     if (progress) progress(done, total, out[i].name);
@@ -720,6 +721,10 @@ Json spline_json(const SplineReport& r, int index) {
   j["segments"] = segments_json(r);
   j["joints"] = joints_json(r);
   j["fixes"] = fixes_json(r);
+  if (!r.certified_fixes.empty()) {
+    j["certified_fixes"] = Json::array();
+    for (const CertifiedFix& f : r.certified_fixes) j["certified_fixes"].push_back(certified_fix_json(f));
+  }
   if (s.closed()) j["closed"] = true;
   if (!r.gates.empty()) {
     Json gates = Json::array();
@@ -1156,6 +1161,7 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   joints_html(out, r);
   events_html(out, r);
   if (r.fixes) fixes_html(out, *r.fixes, options);
+  for (const CertifiedFix& f : r.certified_fixes) out += certified_fix_html(f);
   out += "</section>";
 }
 
