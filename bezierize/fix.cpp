@@ -780,7 +780,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         for (std::size_t c = offset[ui]; c < offset[ui + 1]; ++c) moved_coordinate[i] = moved_coordinate[i] || z[c] != 0;
     z = project(z, stop / 4);
     double h = std::max(std::sqrt(cost_of(z)) / 2, stop);
-    for (int round = 0; round < 200 && h >= stop; ++round) {
+    const int rounds = request.together ? 200 : 20;  // after greedy steps: a short polish
+    for (int round = 0; round < rounds && h >= stop; ++round) {
       bool improved = false;
       for (std::size_t i = 0; i < z.size() && !improved; ++i)
         for (const double sgn : {-1.0, 1.0}) {

@@ -16,7 +16,7 @@
 // Per set and method: share fixed, share of single-violation cases fixed by
 // one point, median and worst displacement relative to the curve size, median
 // and worst time per case.
-//   build/tools/bench/bench_fix [FONT] [CASES]
+//   build/tools/bench/bench_fix [FONT] [CASES] [SET]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -217,6 +217,7 @@ void bench(const char* set, const std::vector<BSpline>& cases, double grid_units
 int main(int argc, char** argv) {
   const char* font = argc > 1 ? argv[1] : "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   const int n = argc > 2 ? std::atoi(argv[2]) : 40;
+  const std::string only = argc > 3 ? argv[3] : "";  // one set: cubic, fig8 or glyphs
   std::printf("bench_fix: %s, %u hardware threads, fix on 2 threads\n\n", processor().c_str(),
               std::thread::hardware_concurrency());
   std::printf("| set | method | cases | fixed | single fixed by one point | median move | worst move | median ms | worst ms |\n");
@@ -238,7 +239,7 @@ int main(int argc, char** argv) {
       }
     }
   }
-  bench("cubic", cubics, 0);
+  if (only.empty() || only == "cubic") bench("cubic", cubics, 0);
   std::vector<BSpline> fig8;
   const std::vector<Vec2> f8 = {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}};
   while (static_cast<int>(fig8.size()) < n) {
@@ -247,12 +248,12 @@ int main(int argc, char** argv) {
     const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, p);
     if (!passes(s)) fig8.push_back(s);
   }
-  bench("fig8", fig8, 0);
+  if (only.empty() || only == "fig8") bench("fig8", fig8, 0);
   std::vector<BSpline> glyphs;
   const import::Font f = import::read_font(font, import::parse_glyph_spec("A-Z,a-z,0-9"));
   for (const import::Glyph& g : f.glyphs)
     for (const import::Contour& c : g.contours)
       if (!passes(c.spline) && static_cast<int>(glyphs.size()) < n) glyphs.push_back(c.spline);
-  bench("glyphs", glyphs, 1);
+  if (only.empty() || only == "glyphs") bench("glyphs", glyphs, 1);
   return 0;
 }
