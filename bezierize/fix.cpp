@@ -326,24 +326,39 @@ struct Search {
   /// the segments a moved point acts on; the others analyze the whole spline.
   bool holds(const std::vector<Vec2>& delta) {
     ++evaluations;
+    if (expired()) return false;
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
+    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, true) == 0;
+    return requirement_holds(moved(delta), request.requirement, request.max_depth);
+  }
+
+  /// extrema-at-nodes: how many judged segments are not certified monotone
+  /// after the move (only the segments a moved point acts on are classified
+  /// again); with `first`, stops at the first.
+  int bad_segments(const std::vector<Vec2>& delta, bool first) {
     const BSpline s = moved(delta);
-    if (request.requirement.kind != FixRequirement::Kind::extrema_at_nodes)
-      return requirement_holds(s, request.requirement, request.max_depth);
-    for (int i = base_analysis.range.first; i <= base_analysis.range.last; ++i) {
+    int bad = 0;
+    for (int i = base_analysis.range.first; i <= base_analysis.range.last && !(first && bad); ++i) {
       const Segment& seg = s.segments()[i];
       bool touched = false;
       for (int k : segment_points(s, seg)) touched = touched || delta[k] != Vec2(0.0);
-      if (!touched) {
-        if (base_analysis.shapes[i].pole || !monotone_class(base_analysis.segments[i])) return false;
-        continue;
-      }
-      if (!segment_poles(s, seg).empty()) return false;
-      if (!monotone_class(classify_segment(s, seg, {request.max_depth, false}))) return false;
+      if (!touched)
+        bad += base_analysis.shapes[i].pole || !monotone_class(base_analysis.segments[i]);
+      else
+        bad += !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {request.max_depth, false}));
     }
-    return true;
+    return bad;
   }
+
+  /// The search's time is up (FixRequest::max_seconds): every predicate
+  /// answers "fails" from now on, so every loop ends.
+  bool expired() {
+    if (!timed_out && request.max_seconds > 0 && Clock::now() > deadline) timed_out = true;
+    return timed_out;
+  }
+  Clock::time_point deadline;
+  std::atomic<bool> timed_out{false};
 
   /// How far a moved spline is from the requirement (0: it holds): 4 per
   /// segment that fails alone, 1 per segment against the majority direction
@@ -352,8 +367,10 @@ struct Search {
   /// lower it.
   int badness(const std::vector<Vec2>& delta) {
     ++evaluations;
+    if (expired()) return std::numeric_limits<int>::max();
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
+    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, false);
     const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
     if (requirement_holds(a, request.requirement)) return 0;
     int score = 0;
@@ -500,6 +517,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     throw InputError("--tolerance: " + std::to_string(request.tolerance) + " is outside (0, 1)");
   if (!(request.max_move >= 0) || !std::isfinite(request.max_move))
     throw InputError("--max-move: " + std::to_string(request.max_move) + " is not a distance >= 0");
+  if (!(request.max_seconds >= 0) || !std::isfinite(request.max_seconds))
+    throw InputError("--max-seconds: " + std::to_string(request.max_seconds) + " is not a time >= 0");
   if (request.grid < 8 || request.grid > 512) throw InputError("grid " + std::to_string(request.grid) + " is outside 8..512");
   if (request.max_depth < 0 || request.max_depth > kMaxDepth)
     throw InputError("--depth: " + std::to_string(request.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
@@ -576,12 +595,34 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   search.size = out.size;
   search.tol = request.tolerance * out.size;
   search.max_move = request.max_move > 0 ? request.max_move : out.size;
+  search.deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.max_seconds));
   const bool region_kind = request.requirement.kind != FixRequirement::Kind::extrema_at_nodes;
 
-  auto unit_delta = [&](const Unit& u, Vec2 x) {
-    std::vector<Vec2> delta(m, Vec2(0.0));
-    for (int k : u.points) delta[k] = x;
-    return delta;
+
+  // The region problems of the judged segments a unit acts on, each judged
+  // alone (extrema-at-nodes: every segment monotone on its own); *hopeless
+  // when a judged segment the unit does not act on fails in `current`.
+  auto segment_problems = [&](const BSpline& current, const Unit& u, bool* hopeless) {
+    std::vector<RegionProblem> out_problems;
+    const SplineAnalysis ca = &current == &spline ? a0 : analyze(current, ao);
+    for (int i = a0.range.first; i <= a0.range.last; ++i) {
+      const std::vector<int> pts = segment_points(current, current.segments()[i]);
+      const bool touched = std::any_of(u.points.begin(), u.points.end(),
+                                       [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+      if (!touched) {
+        if (hopeless && (ca.shapes[i].pole || !monotone_class(ca.segments[i]))) *hopeless = true;
+        continue;
+      }
+      RegionRequest rr;
+      rr.point = u.points[0];
+      rr.with.assign(u.points.begin() + 1, u.points.end());
+      rr.mode = Mode::cmrwi;
+      rr.segments = SegmentRange{i, i};
+      rr.max_depth = request.max_depth;
+      rr.depth = false;
+      out_problems.push_back(RegionProblem::make(current, rr));
+    }
+    return out_problems;
   };
 
   // 1. Each unit alone.
@@ -592,6 +633,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     if (!unit_acts(u)) continue;
     std::function<bool(Vec2)> pass;
     std::optional<RegionProblem> problem;
+    std::vector<RegionProblem> pieces;
+    const Vec2 p0 = spline.points()[u.points[0]];
     if (region_kind) {
       RegionRequest rr;
       rr.point = u.points[0];
@@ -601,13 +644,28 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       rr.max_depth = request.max_depth;
       rr.depth = false;
       problem = RegionProblem::make(spline, rr);
-      const Vec2 p0 = spline.points()[u.points[0]];
       pass = [&, p0](Vec2 x) {
         ++search.evaluations;
+        if (search.expired()) return false;
         return passing_pixel(problem->classify(p0 + x), request.requirement);
       };
     } else {
-      pass = [&](Vec2 x) { return search.holds(unit_delta(u, x)); };
+      // extrema-at-nodes: the unit must make every segment it acts on
+      // monotone on its own (the region of each such segment judged alone);
+      // a failing segment it does not act on rules it out.
+      bool hopeless = false;
+      pieces = segment_problems(spline, u, &hopeless);
+      if (hopeless) {
+        out.units.push_back(UnitFix{u.points, u.slide, false, Vec2(0.0), 0});
+        continue;
+      }
+      pass = [&, p0](Vec2 x) {
+        ++search.evaluations;
+        if (search.expired()) return false;
+        for (const RegionProblem& pr : pieces)
+          if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
+        return true;
+      };
     }
     alone[ui] = nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid, request.threads);
     UnitFix uf;
@@ -659,13 +717,33 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       double pick_cost = std::numeric_limits<double>::infinity();
       const std::vector<Vec2> now = delta_of(z);
       const int before = search.badness(now);
+      const BSpline current = search.moved(now);
       for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
         const Unit& u = ties.units[ui];
-        auto pass = [&](Vec2 x) {
+        std::function<bool(Vec2)> pass = [&](Vec2 x) {
           std::vector<Vec2> d = now;
           for (int k : u.points) d[k] += x;
           return search.badness(d) < before;
         };
+        // extrema-at-nodes: fewer of the unit's own segments fail, judged by
+        // their regions on the current spline.
+        std::vector<RegionProblem> pieces;
+        int bad_now = 0;
+        const Vec2 p0 = current.points()[u.points[0]];
+        if (!region_kind) {
+          pieces = segment_problems(current, u, nullptr);
+          for (const RegionProblem& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
+          if (bad_now == 0) continue;
+          pass = [&, p0, bad_now](Vec2 x) {
+            ++search.evaluations;
+            if (search.expired()) return false;
+            for (int k : u.points)
+              if (norm(now[k] + x) > search.max_move) return false;
+            int bad = 0;
+            for (const RegionProblem& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
+            return bad < bad_now;
+          };
+        }
         // Coarse (half the grid, 1e-3 of the size, one seed): the compass search refines.
         const Nearest nr = nearest(pass, u.dims(), u.dir, out.size, search.max_move, std::max(search.tol, 1e-3 * out.size),
                                    std::max(8, request.grid / 2), request.threads, 1);
@@ -702,7 +780,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         for (std::size_t c = offset[ui]; c < offset[ui + 1]; ++c) moved_coordinate[i] = moved_coordinate[i] || z[c] != 0;
     z = project(z, stop / 4);
     double h = std::max(std::sqrt(cost_of(z)) / 2, stop);
-    for (int round = 0; round < 200 && h >= stop; ++round) {
+    const int rounds = request.together ? 200 : 20;  // after greedy steps: a short polish
+    for (int round = 0; round < rounds && h >= stop; ++round) {
       bool improved = false;
       for (std::size_t i = 0; i < z.size() && !improved; ++i)
         for (const double sgn : {-1.0, 1.0}) {
@@ -722,8 +801,9 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     z = project(z, search.tol / 8);  // the last pull to the tolerance
   }
   if (!feasible) {
-    out.reason = "no certified fix within --max-move " + std::to_string(search.max_move) + " (" +
-                 std::to_string(ties.units.size()) + " unit(s) of motion tried)";
+    out.reason = search.timed_out ? "no certified fix found in the time limit (" + std::to_string(request.max_seconds) + " s)"
+                                  : "no certified fix within --max-move " + std::to_string(search.max_move) + " (" +
+                                        std::to_string(ties.units.size()) + " unit(s) of motion tried)";
     out.evaluations = search.evaluations;
     finish(out);
     return out;

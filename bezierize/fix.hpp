@@ -30,12 +30,14 @@
 //  1. One unit, nearest: for a 2-D unit, certified labels on a square grid
 //     centred on the point, its half-width doubling from 1/16 of the curve
 //     size up to max_move until a passing position is found; a finer grid
-//     over the disc of that distance; then local grids around the best
-//     position, each a quarter the size of the last, down to the tolerance;
-//     then bisection on the segment from the point to it. 1-D units do the
-//     same on their line. Where the region is not thinner than one cell of
-//     the first grid that finds it, the answer is within `tolerance` of the
-//     nearest passing position (tested against a dense brute-force label map,
+//     over the disc of that distance; up to six passing cells within two cell
+//     diagonals of the best become seeds, and from each a golden-section
+//     search over the angle of a ray from the point, each ray's passing
+//     distance found by bisection to the tolerance. A 1-D unit bisects
+//     between its line's nearest passing cell and the cell before it. Where
+//     the region is not thinner than one cell of the first grid that reaches
+//     it, the answer is within `tolerance` of the nearest passing position
+//     (tested against a dense brute-force label map,
 //     tests/bezierize/fix_test.cpp).
 //  2. Several units: when no single unit fixes the curve (or with
 //     FixRequest::together), units are moved one after the other, each to the
@@ -107,12 +109,15 @@ struct FixRequest {
   /// Distance tolerance of the nearest position, relative to the curve size.
   double tolerance = 1e-6;
   int max_depth = kDefaultDepth;  ///< D of Algorithms 1 and 2
-  int grid = 48;                  ///< cells per side of the search grids (8..512)
+  int grid = 32;                  ///< cells per side of the search grids (8..512)
   /// Move the allowed points together to the least total squared
   /// displacement (a compass search from the best single fix) instead of
   /// reporting the best single-unit fix.
   bool together = false;
   int threads = 0;  ///< for the grids; 0: every core
+  /// Wall-clock limit of the search in seconds (0: none); when it runs out,
+  /// the best certified fix found so far is returned, or none.
+  double max_seconds = 30;
 };
 
 /// One moved control point.

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "bezierize/classify.hpp"
+#include "report/certified_fix.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -140,6 +141,7 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
     if (out[i].error.empty()) judge_gates(out[i], options);
     if (out[i].error.empty() && !out[i].pass && options.grid > 0 && options.regions)
       out[i].tangent_fixes = suggest_tangent_fixes(out[i], options, options.grid);
+    if (out[i].error.empty() && !out[i].pass && options.regions) out[i].certified_fixes = certified_fixes(out[i], options);
     const std::lock_guard lock(mutex);
     ++done;
     if (progress) progress(done, total, out[i].name);

@@ -662,6 +662,10 @@ Json spline_json(const SplineReport& r, int index) {
   j["segments"] = segments_json(r);
   j["joints"] = joints_json(r);
   j["fixes"] = fixes_json(r);
+  if (!r.certified_fixes.empty()) {
+    j["certified_fixes"] = Json::array();
+    for (const CertifiedFix& f : r.certified_fixes) j["certified_fixes"].push_back(certified_fix_json(f));
+  }
   if (s.closed()) j["closed"] = true;
   if (!r.gates.empty()) {
     Json gates = Json::array();
@@ -1098,6 +1102,7 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   joints_html(out, r);
   events_html(out, r);
   if (r.fixes) fixes_html(out, *r.fixes, options);
+  for (const CertifiedFix& f : r.certified_fixes) out += certified_fix_html(f);
   out += "</section>";
 }
 

@@ -22,6 +22,7 @@
 
 #include "bezierize/region.hpp"
 #include "spline/limits.hpp"
+#include "report/certified_fix.hpp"
 #include "report/gates.hpp"
 
 namespace cmr::report {
@@ -170,6 +171,8 @@ struct SplineReport {
   double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;  ///< curvature range and where it is reached
   bool cusp = false;  ///< some segment has a zero tangent: the range is unbounded (kappa_min/max are NaN)
   std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
+  /// The smallest certified fix of each failing check (report/certified_fix.hpp); with regions on.
+  std::vector<CertifiedFix> certified_fixes;
 };
 
 /// One item of a batch: a spline, or why it could not be read.

@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/fix.hpp"
+#include "bezierize/region.hpp"
+#include "draw/draw.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -55,13 +57,50 @@ std::vector<int> parse_points(const std::string& text) {
   return out;
 }
 
+/// Before and after: the first moved point's region (its unit's group
+/// moving with it, the requirement's labels) on the original curve with the
+/// move drawn, the fixed curve, and both curvature plots.
+std::string before_after_png(const BSpline& before, const FixResult& f, const FixRequest& request) {
+  const bool split = request.requirement.kind == FixRequirement::Kind::split;
+  RegionRequest rr;
+  rr.point = f.moves.empty() ? 0 : f.moves.front().point;
+  rr.mode = request.requirement.kind == FixRequirement::Kind::cmr ? Mode::cmr : Mode::cmrwi;
+  if (split) rr.split = request.requirement.split;
+  rr.max_depth = request.max_depth;
+  rr.width = rr.height = 400;
+  rr.depth = false;
+  for (const PointMove& m : f.moves)
+    if (m.point != rr.point && m.to - m.from == f.moves.front().to - f.moves.front().from) rr.with.push_back(m.point);
+  const RegionResult image_before = CpuRegionBackend().render(RegionProblem::make(before, rr));
+  rr.view = image_before.view;
+  const RegionResult image_after = CpuRegionBackend().render(RegionProblem::make(*f.spline, rr));
+  draw::RegionPicture pb, pa;
+  pb.spline = &before, pb.layers = {&image_before}, pb.split = split, pb.points = {rr.point};
+  pa.spline = &*f.spline, pa.layers = {&image_after}, pa.split = split, pa.points = {rr.point};
+  if (!f.moves.empty()) pb.moved = std::make_pair(f.moves.front().from, f.moves.front().to);
+  const SplineAnalysis ab = analyze(before, fix_analyze_options(request.requirement, request.max_depth));
+  draw::Figure fig;
+  fig.title = "cmr fix --require " + to_string(request.requirement);
+  fig.rows = {{draw::Panel{pb, "before: P" + std::to_string(rr.point) + "'s region and the move"},
+               draw::Panel{pa, "after (certified)"}},
+              {draw::Panel{draw::CurvaturePlot{&before, &ab}, "curvature before"},
+               draw::Panel{draw::CurvaturePlot{&*f.spline, &f.certificate}, "curvature after"}}};
+  fig.legend = draw::legend_for(pb);
+  std::string moved;
+  for (const PointMove& m : f.moves) moved += (moved.empty() ? "" : ", ") + std::string("P") + std::to_string(m.point);
+  fig.caption = f.moves.empty() ? "nothing to move: the curve meets the requirement"
+                                : "moved " + moved + "; largest move " + std::to_string(f.max_distance / f.size * 100) +
+                                      "% of the curve size";
+  return draw::figure_png(fig);
+}
+
 }  // namespace
 
 void add_fix_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "fix", "Move the fewest control points the least distance so that the curve meets a requirement (certified)");
   struct Args {
-    std::string file, require = "cmr", points, keep = "g1", out;
+    std::string file, require = "cmr", points, keep = "g1", out, png;
     double max_move = 0, tolerance = 1e-6;
     int depth = kDefaultDepth;
     bool pretty = false;
@@ -79,9 +118,11 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--tolerance", args->tolerance, "distance tolerance relative to the curve size (default 1e-6)");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth"), 0, kMaxDepth);
   cmd->add_option("--out", args->out, "write the fixed spline here (JSON, atomically)");
+  cmd->add_option("--png", args->png, "a before/after picture: the moved point's region, both curves and curvature plots");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     if (!args->out.empty()) check_output_path(args->out, "--out");
+    if (!args->png.empty()) check_output_path(args->png, "--png");
     if (!(args->max_move >= 0) || !std::isfinite(args->max_move))
       throw InputError("--max-move: " + std::to_string(args->max_move) + " is not a distance >= 0");
     FixRequest request;
@@ -125,10 +166,17 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                 {"certificate", certificate_json(f, request.requirement)},
                 {"evaluations", f.evaluations},
                 {"seconds", f.seconds}};
+    // All outputs or none (io/output.hpp).
+    OutputSet outputs;
     if (!args->out.empty()) {
-      write_spline_file(args->out, *f.spline);
+      outputs.stage(args->out, spline_to_json(*f.spline).dump(2) + "\n");
       doc["out"] = args->out;
     }
+    if (!args->png.empty()) {
+      outputs.stage(args->png, before_after_png(spline, f, request));
+      doc["png"] = args->png;
+    }
+    outputs.commit();
     print_json(doc, args->pretty);
     exit_code = kOk;
   });

@@ -50,6 +50,18 @@ TEST(FixCli, Fig8FixedByOnePointAndWrittenOut) {
   EXPECT_EQ(fixed["points"][k], m["to"]);
 }
 
+TEST(FixCli, BeforeAfterPicture) {
+  const fs::path png = scratch() / "fix.png", out = scratch() / "fix_out.json";
+  fs::remove(png), fs::remove(out);
+  const Outcome r = run("fix " + kFig8 + " --require cmrwi --png " + png.string() + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string bytes = slurp(png);
+  ASSERT_GT(bytes.size(), 8u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_EQ(nlohmann::json::parse(r.out)["png"], png.string());
+}
+
 TEST(FixCli, SeveralPointsKeepG1) {
   const Outcome r = run("fix " + write("split.json", kSplit) + " --points 3,4,5 --keep g1");
   ASSERT_EQ(r.code, 0) << r.err;
