@@ -52,7 +52,8 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
                         "points[1] has 2 coordinates but points[0] has 3 (all points must be [x, y], or all [x, y, z])");
   expect_one_line_error(run("analyze " + write("w3.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,2,1]})")),
                         "weights: rational space curves are not supported");
-  expect_one_line_error(run("analyze " + kExample + " --split 1"), "--split, --segments, --each-piece and --mode are for planar splines");
+  expect_one_line_error(run("analyze " + kExample + " --split 1"),
+                        "--split, --segments, --each-piece and --mode are for planar splines");
   expect_one_line_error(run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --torsion"),
                         "--torsion is for space curves");
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0,1,0,0,2,0,0"),
