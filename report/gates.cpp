@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "spline/errors.hpp"
+#include "report/extremum.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
@@ -101,7 +102,8 @@ void parse_require_list(const std::string& text, ReportOptions& options) {
     Requirement r;
     try {
       r = parse_requirement(item);
-    } catch (const InputError&) {
+    } catch (const InputError& e) {
+      if (std::string(e.what()).find("signed curvature") != std::string::npos) throw;  // split:S:max|min: the hint
       throw InputError("--require: '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames + ")");
     }
     if (options.require)
@@ -128,7 +130,7 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
     switch (gate.kind) {
       case Gate::Kind::extrema_at_nodes:
         for (const CurveEvent& e : r.extrema)
-          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, e.kind > 0 ? "curvature maximum" : "curvature minimum"));
+          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, event_noun(event_kind(r, e))));
         break;
       case Gate::Kind::max_extrema_per_segment: {
         std::map<int, std::vector<const CurveEvent*>> per;

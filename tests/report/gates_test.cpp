@@ -51,7 +51,8 @@ TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   ASSERT_EQ(at_nodes.violations.size(), 4u);
   for (const GateViolation& v : at_nodes.violations) {
     EXPECT_EQ(v.local_t, 0.5) << v.message;
-    EXPECT_NE(v.message.find("curvature maximum inside segment"), std::string::npos);
+    // Counter-clockwise (kappa > 0): the maximum of kappa is the sharpest point.
+    EXPECT_NE(v.message.find("sharpest point inside segment"), std::string::npos) << v.message;
   }
   // The four minima are on the nodes, the seam's among them.
   int on_joints = 0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/region_reason.hpp"
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
@@ -380,8 +381,10 @@ void Editor::export_region(const std::filesystem::path& path) {
       picture.points.push_back(q[i].point);
     }
     picture.split = q.front().split.has_value();
-    picture.alternating = !q.front().splits.empty();
+    picture.each_piece = q.front().each_piece;
+    picture.alternating = !q.front().splits.empty() && !picture.each_piece;
     picture.max_depth = q.front().max_depth;
+    if (layers.size() == 1) picture.note = region_reason(RegionProblem::make(spline, q.front()), layers[0]).value_or("");
     picture.legend = true;
     picture.per_point = layers.size() > 1;
     out.stage(path, draw::region_png(picture));
@@ -465,6 +468,7 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
   if (d.chain) {  // an anchor's handles move rigidly with it
     for (int i : translation_group(d, d.selected))
       if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
+    q.each_piece = !q.split;  // each Bezier piece monotone on its own (docs/edit.md)
   }
   layers.push_back(q);
   return layers;
@@ -502,6 +506,13 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       region_keys_ = std::move(keys);
       region_coarse_ = coarse;
       rgba_stale_ = true;
+      // Why a single region is empty or full (bezierize/region_reason.hpp), in the status line.
+      if (coarse == 1 && requests.size() == 1) {
+        try {
+          if (const auto why = region_reason(RegionProblem::make(s, requests[0]), *region_.front())) message = *why;
+        } catch (const InputError&) {
+        }
+      }
     }
     // Dragging: the full-resolution region is due when the drag ends.
     region_stale_ = coarse != 1;

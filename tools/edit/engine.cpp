@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bezierize/extract.hpp"
+#include "report/extremum.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -107,6 +108,8 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
   draw::RegionPicture picture;
   picture.layers = layers;
   picture.split = split;
+  picture.alternating = layers.front()->alternating;
+  picture.each_piece = layers.front()->each_piece;
   picture.depth_shading = depth_shading;
   picture.max_depth = max_depth;
   const std::size_t count = layers.front()->size();
@@ -155,7 +158,10 @@ CurvatureEvents curvature_events(const BSpline& spline, int max_depth) {
   o.threads = 1;
   const report::SplineReport r = report::report_spline(spline, o);
   CurvatureEvents e;
-  for (const report::CurveEvent& x : r.extrema) (x.kind > 0 ? e.maxima : e.minima).push_back(x.t);
+  for (const report::CurveEvent& x : r.extrema) {  // by |kappa| (docs/semantics.md)
+    const ExtremumKind k = report::event_kind(r, x);
+    (k == ExtremumKind::sharpest ? e.maxima : k == ExtremumKind::flattest ? e.minima : e.inflections).push_back(x.t);
+  }
   for (const report::CurveEvent& x : r.inflections) e.inflections.push_back(x.t);
   return e;
 }
