@@ -39,21 +39,24 @@ void push_difference(std::vector<double>& key, double a, double b) {
 
 // The key holds every field of RegionRequest; a new field must join it (the
 // size check makes a merge that adds one fail here rather than cache wrongly).
-static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,  // each_piece fits the padding
               "RegionRequest changed: add the new field to region_key, then update this size");
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   std::vector<double> key;
   const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
-  key.insert(key.end(), {static_cast<double>(r.mode), r.split ? static_cast<double>(*r.split) : -1.0,
-                         static_cast<double>(r.max_depth), r.depth ? 1.0 : 0.0, static_cast<double>(r.width),
-                         static_cast<double>(r.height), static_cast<double>(r.point)});
+  // (push_back, not insert of a list: GCC 12 warns falsely on the latter here)
+  for (double v : {static_cast<double>(r.mode), r.split ? static_cast<double>(*r.split) : -1.0,
+                   static_cast<double>(r.max_depth), r.depth ? 1.0 : 0.0, static_cast<double>(r.width),
+                   static_cast<double>(r.height), static_cast<double>(r.point)})
+    key.push_back(v);
   count(r.with.size());
   for (int w : r.with) key.push_back(w);
   key.insert(key.end(), {r.segments ? 1.0 : 0.0, r.segments ? static_cast<double>(r.segments->first) : 0.0,
                          r.segments ? static_cast<double>(r.segments->last) : 0.0});
   count(r.splits.size());
   for (int s : r.splits) key.push_back(s);
+  key.push_back(r.each_piece ? 1.0 : 0.0);
   key.push_back(spline.degree());
   count(spline.knots().size());
   key.insert(key.end(), spline.knots().begin(), spline.knots().end());
