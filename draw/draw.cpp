@@ -968,10 +968,15 @@ std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
 const char* colour_label_meaning(bool split, bool alternating, int label, bool each_piece = false) {
   if (each_piece) return "each piece monotone on its own (either direction)";
   static const char* plain[] = {"", "curvature increasing", "curvature decreasing"};
-  static const char* alternate[] = {"", "groups alternate, the first increasing (maximum at the first joint)",
-                                    "groups alternate, the first decreasing (minimum at the first joint)"};
+  static const char* alternate[] = {"", "groups alternate, the first increasing (signed peak at the first joint)",
+                                    "groups alternate, the first decreasing (signed dip at the first joint)"};
   if (alternating) return alternate[label];
-  static const char* splits[] = {"", "inc-inc", "inc-dec (maximum at the joint)", "dec-inc (minimum at the joint)",
+  // By |curvature| (bezierize/extremum_terms.hpp): the signed peak is the
+  // sharpest point where the curve turns left (kappa > 0), the flattest where
+  // it turns right.
+  static const char* splits[] = {"", "inc-inc",
+                                 "inc-dec: signed peak at the joint (sharpest if turning left, flattest if right)",
+                                 "dec-inc: signed dip at the joint (flattest if turning left, sharpest if right)",
                                  "dec-dec"};
   return split ? splits[label] : plain[label];
 }
@@ -1074,6 +1079,7 @@ std::vector<LegendEntry> legend_for(const RegionPicture& p) {
                                             : "not monotone or undecided"});
   }
   if (p.points.size() == 1) l.push_back({{0.95, 0.55, 0.0}, point_name(p.points[0]) + ", the moved point", false, true});
+  if (!p.note.empty()) l.push_back({{1, 1, 1}, p.note});
   return l;
 }
 

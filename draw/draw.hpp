@@ -46,6 +46,9 @@ struct RegionPicture {
   bool split = false;                      ///< the layers hold split labels
   bool alternating = false;                ///< the layers hold alternating labels (several joints)
   bool each_piece = false;                 ///< the layers hold each-piece labels (PieceLabel)
+  /// One line the legend ends with (why a region is empty or full:
+  /// bezierize/region_reason.hpp); nothing when empty.
+  std::string note;
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
   int max_depth = kDefaultDepth;           ///< D of the render: the depth shading's darkest level
   std::optional<std::pair<Vec2, Vec2>> moved;  ///< a moved point's old and new place

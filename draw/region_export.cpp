@@ -29,7 +29,8 @@ RegionPicture layers_picture(const BSpline& spline, const std::vector<RegionResu
     picture.points.push_back(requests[i].point);
   }
   picture.split = requests.front().split.has_value();
-  picture.alternating = !requests.front().splits.empty();
+  picture.each_piece = requests.front().each_piece;
+  picture.alternating = !requests.front().splits.empty() && !picture.each_piece;
   picture.max_depth = requests.front().max_depth;
   picture.legend = true;
   picture.per_point = layers.size() > 1;  // one composite picture, each point's region in its own colour

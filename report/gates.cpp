@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "spline/errors.hpp"
+#include "report/extremum.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
@@ -20,7 +21,8 @@ std::string num(double v, int precision = 6) {
   return s.str();
 }
 
-const char* kGateNames = "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection";
+const char* kGateNames =
+    "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, each-piece";
 
 /// Where a curve event lies, for a violation.
 GateViolation at_event(const SplineReport& r, const CurveEvent& e, const std::string& what) {
@@ -53,9 +55,11 @@ std::optional<Gate> parse_gate(const std::string& text) {
   const std::string head = text.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : text.substr(colon + 1);
   Gate g;
-  if (head == "extrema-at-nodes" || head == "no-inflection") {
+  if (head == "extrema-at-nodes" || head == "no-inflection" || head == "each-piece") {
     if (colon != std::string::npos) throw InputError("--require: '" + text + "' takes no argument");
-    g.kind = head == "no-inflection" ? Gate::Kind::no_inflection : Gate::Kind::extrema_at_nodes;
+    g.kind = head == "no-inflection" ? Gate::Kind::no_inflection
+             : head == "each-piece"  ? Gate::Kind::each_piece
+                                     : Gate::Kind::extrema_at_nodes;
     return g;
   }
   if (head == "max-extrema-per-segment") {
@@ -84,6 +88,7 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::max_extrema_per_segment: return "max-extrema-per-segment:" + std::to_string(gate.max_extrema);
     case Gate::Kind::g2_at_smooth_nodes: return "g2-at-smooth-nodes:" + num(gate.tolerance);
     case Gate::Kind::no_inflection: return "no-inflection";
+    case Gate::Kind::each_piece: return "each-piece";
   }
   return {};
 }
@@ -101,7 +106,8 @@ void parse_require_list(const std::string& text, ReportOptions& options) {
     Requirement r;
     try {
       r = parse_requirement(item);
-    } catch (const InputError&) {
+    } catch (const InputError& e) {
+      if (std::string(e.what()).find("signed curvature") != std::string::npos) throw;  // split:S:max|min: the hint
       throw InputError("--require: '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames + ")");
     }
     if (options.require)
@@ -128,7 +134,20 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
     switch (gate.kind) {
       case Gate::Kind::extrema_at_nodes:
         for (const CurveEvent& e : r.extrema)
-          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, e.kind > 0 ? "curvature maximum" : "curvature minimum"));
+          if (inside_varying(r, e)) g.violations.push_back(at_event(r, e, event_noun(event_kind(r, e))));
+        break;
+      case Gate::Kind::each_piece:
+        // Each judged piece on its own (a one-segment group: no joint inside).
+        for (int i = r.analysis.range.first; i <= r.analysis.range.last && !r.analysis.segments.empty(); ++i) {
+          const Direction d = part_verdict(r.analysis.segments, r.analysis.joints, i, i + 1, Mode::cmrwi);
+          if (d == Direction::increasing || d == Direction::decreasing) continue;
+          GateViolation v;
+          v.segment = i;
+          v.t = r.spline->segments()[i].a;
+          v.message = "segment " + std::to_string(i) +
+                      (d == Direction::none ? " is not monotone on its own" : " is undecided at the depth limit");
+          g.violations.push_back(v);
+        }
         break;
       case Gate::Kind::max_extrema_per_segment: {
         std::map<int, std::vector<const CurveEvent*>> per;

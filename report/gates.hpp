@@ -20,6 +20,9 @@
 ///    within tol relative to the larger: |kl - kr| <= tol * max(|kl|, |kr|).
 ///    Default tol kDefaultG2Tolerance.
 ///  * no-inflection: the curvature never changes sign.
+///  * each-piece: every judged segment (piece) is monotone on its own, in
+///    either direction (docs/semantics.md, "Each piece on its own"); a piece
+///    that is not, or is undecided at the depth limit, is a violation.
 ///
 /// Suggested fixes (suggest_tangent_fixes, report/batch.hpp): for a violation inside a
 /// segment, one handle (a control point that is not a node) of that segment
@@ -45,7 +48,7 @@ struct ReportOptions;
 inline constexpr double kDefaultG2Tolerance = 0.05;
 
 struct Gate {
-  enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection };
+  enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece };
   Kind kind = Kind::extrema_at_nodes;
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
@@ -54,7 +57,7 @@ struct Gate {
 /// A gate's text, or nothing when `text` names no gate (InputError when it
 /// names one with a bad argument: "max-extrema-per-segment:x").
 std::optional<Gate> parse_gate(const std::string& text);
-/// "extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection".
+/// "extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection", "each-piece".
 std::string to_string(const Gate& gate);
 
 /// Parses --require: comma-separated items, at most one of cmrwi / cmr /

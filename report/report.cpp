@@ -24,6 +24,7 @@
 #include "draw/draw.hpp"
 #include "draw/svg_text.hpp"
 #include "io/output.hpp"
+#include "report/extremum.hpp"
 
 namespace cmr::report {
 
@@ -33,29 +34,36 @@ Requirement parse_requirement(const std::string& text) {
   if (text.rfind("split:", 0) == 0) {
     std::string s = text.substr(6);
     Extremum extremum = Extremum::any;
-    for (const auto& [suffix, e] : {std::pair{":max", Extremum::max}, std::pair{":min", Extremum::min}})
-      if (s.size() > 4 && s.compare(s.size() - 4, 4, suffix) == 0) {
+    for (const auto& [suffix, e] : {std::pair{std::string(":sharpest"), Extremum::sharpest},
+                                    std::pair{std::string(":flattest"), Extremum::flattest}})
+      if (s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0) {
         extremum = e;
-        s.resize(s.size() - 4);
+        s.resize(s.size() - suffix.size());
       }
+    for (const char* old : {":max", ":min"})
+      if (s.size() > 4 && s.compare(s.size() - 4, 4, old) == 0)
+        throw InputError("--require: '" + text + "' read signed curvature, which flips with the direction of travel: " +
+                         "use split:" + s.substr(0, s.size() - 4) + ":sharpest or :flattest (by |curvature|)");
     int joint = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), joint);
     if (ec == std::errc() && end == s.data() + s.size() && !s.empty()) return {Mode::cmrwi, joint, extremum};
   }
-  throw InputError("--require: '" + text + "' is not cmrwi, cmr, split:S, split:S:max or split:S:min (S a joint index)");
+  throw InputError("--require: '" + text +
+                   "' is not cmrwi, cmr, split:S, split:S:sharpest or split:S:flattest (S a joint index)");
 }
 
 std::string to_string(const Requirement& r) {
   if (r.split)
     return "split:" + std::to_string(*r.split) +
-           (r.extremum == Extremum::max ? ":max" : r.extremum == Extremum::min ? ":min" : "");
+           (r.extremum == Extremum::sharpest ? ":sharpest" : r.extremum == Extremum::flattest ? ":flattest" : "");
   return r.mode == Mode::cmr ? "cmr" : "cmrwi";
 }
 
-bool split_passes(Split verdict, Extremum extremum) {
+bool split_passes(Split verdict, Extremum extremum, const Joint& joint) {
+  const std::optional<ExtremumKind> kind = split_extremum_kind(verdict, joint);
   switch (extremum) {
-    case Extremum::max: return verdict == Split::inc_dec;
-    case Extremum::min: return verdict == Split::dec_inc;
+    case Extremum::sharpest: return kind == ExtremumKind::sharpest;
+    case Extremum::flattest: return kind == ExtremumKind::flattest;
     case Extremum::any: return verdict == Split::inc_dec || verdict == Split::dec_inc;
   }
   return false;
@@ -68,7 +76,7 @@ namespace {
 bool monotone(Direction d) { return d == Direction::increasing || d == Direction::decreasing; }
 
 bool passes(const SplineAnalysis& a, const Requirement& check) {
-  if (check.split) return a.split && split_passes(*a.split, check.extremum);
+  if (check.split) return a.split && split_passes(*a.split, check.extremum, a.joints[*check.split - 1]);
   return monotone(check.mode == Mode::cmr ? a.cmr : a.cmrwi);
 }
 
@@ -443,13 +451,13 @@ SplineReport report_spline(const BSpline& spline, const ReportOptions& options) 
 
 namespace {
 
-/// Whether pixel `index` passes the check: increasing or decreasing, or with
-/// a split the extremum the requirement asks for.
-bool passing_label(const RegionResult& image, std::size_t index, const Requirement& check) {
+/// Whether pixel `index` may pass the check: increasing or decreasing, or
+/// with a split an extremum at the joint (sharpest or flattest depends on the
+/// sign of kappa there, which find_fixes verifies with analyze).
+bool passing_label(const RegionResult& image, std::size_t index, const Requirement&) {
   if (image.split) {
     const SplitLabel l = image.split_labels[index];
-    return l == SplitLabel::inc_dec ? split_passes(Split::inc_dec, check.extremum)
-                                    : l == SplitLabel::dec_inc && split_passes(Split::dec_inc, check.extremum);
+    return l == SplitLabel::inc_dec || l == SplitLabel::dec_inc;
   }
   const RegionLabel l = image.labels[index];
   return l == RegionLabel::increasing || l == RegionLabel::decreasing;
@@ -484,18 +492,25 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
     Fix fix;
     fix.point = k;
     const Vec2 current = spline.points()[k];
-    double best = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, Vec2>> candidates;
     for (int j = 0; j < image.height; ++j)
       for (int i = 0; i < image.width; ++i) {
         if (!passing_label(image, static_cast<std::size_t>(j) * image.width + i, check))
           continue;
-        ++fix.pixels;
         const Vec2 c = pixel_center(image.view, image.width, image.height, i, j);
-        const double dist = dot(c - current, c - current);
-        if (dist < best) best = dist, fix.example = c;
+        candidates.emplace_back(dot(c - current, c - current), c);
       }
-    if (fix.example) {
+    std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    fix.pixels = candidates.size();
+    // With a sharpest/flattest split the kind depends on the sign of kappa at
+    // the joint: the nearest candidates are verified until one passes.
+    const std::size_t tries = check.split && check.extremum != Extremum::any ? 64 : 1;
+    for (std::size_t c = 0; c < candidates.size() && c < tries && !fix.verified; ++c) {
+      fix.example = candidates[c].second;
       fix.verified = passes(analyze(spline.with_point(k, *fix.example), analyze_options(options)), check);
+    }
+    if (!fix.verified && tries > 1) fix.example.reset();  // no candidate has the kind asked for
+    if (fix.example) {
       fix.thumbnail_png = thumbnail(spline, image, check.split.has_value(), options.max_depth, current, *fix.example);
     }
     fixes.push_back(std::move(fix));
@@ -647,7 +662,11 @@ Json spline_json(const SplineReport& r, int index) {
 
   Json extrema = Json::array(), inflections = Json::array();
   for (const CurveEvent& e : r.extrema)
-    extrema.push_back(place_json({{"t", e.t}, {"kind", e.kind > 0 ? "maximum" : "minimum"}, {"kappa", e.kappa}}, e));
+    extrema.push_back(place_json({{"t", e.t},
+                                  {"kind", to_string(event_kind(r, e))},              // by |kappa|
+                                  {"direction", e.kind > 0 ? "maximum" : "minimum"},  // of signed kappa
+                                  {"kappa", e.kappa}},
+                                 e));
   for (const CurveEvent& e : r.inflections)
     inflections.push_back(place_json({{"t", e.t}, {"kappa_sign_after", e.kind}}, e));
   // With a cusp there is no finite range: NaN prints as null.
@@ -1045,7 +1064,9 @@ void events_html(std::string& out, const SplineReport& r) {
   for (std::size_t i = 0; i < r.extrema.size(); ++i) {
     const CurveEvent& e = r.extrema[i];
     out += (i ? "; " : "") +
-           std::string(e.kind > 0 ? "<span class=\"max\">maximum</span>" : "<span class=\"min\">minimum</span>") +
+           std::string(event_kind(r, e) == ExtremumKind::sharpest   ? "<span class=\"max\">sharpest</span>"
+                       : event_kind(r, e) == ExtremumKind::flattest ? "<span class=\"min\">flattest</span>"
+                                                                    : "<span class=\"min\">inflection</span>") +
            " κ = " + num(e.kappa) + " at t = " + num(e.t) + " (" + place_text(e) + ")";
   }
   out += ". Inflections: ";

@@ -36,28 +36,32 @@ inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
 /// error of kappa (kKappaRelError, 1e-11) and far below any designed change.
 inline constexpr double kDefaultConstantTolerance = 1e-9;
 
-/// Which curvature extremum a split requirement asks for at its joint.
-enum class Extremum : std::uint8_t { any, max, min };
+/// Which curvature extremum a split requirement asks for at its joint, by
+/// |kappa| (bezierize/extremum_terms.hpp): the sharpest or the flattest point.
+enum class Extremum : std::uint8_t { any, sharpest, flattest };
 
 /// What a spline must satisfy to pass: its CMRWI or CMR verdict is increasing
 /// or decreasing, or (split:S) a curvature extremum at joint S and nowhere
 /// else: segments 0..S-1 and S..N-1 each monotone in CMRWI mode, in opposite
-/// directions (split verdict inc-dec or dec-inc). split:S:max asks for a
-/// maximum of the signed curvature there (increasing before, decreasing
-/// after: inc-dec), split:S:min for a minimum (dec-inc). With
+/// directions (split verdict inc-dec or dec-inc). split:S:sharpest asks for
+/// a maximum of |kappa| there, split:S:flattest for a minimum (the same
+/// answer whichever way the curve runs or is mirrored); split:S:max and
+/// split:S:min (signed kappa, which flips with the direction) are refused
+/// with a one-line hint. With
 /// ReportOptions::segments, "0..S-1" and "S..N-1" are the judged range's.
 struct Requirement {
   Mode mode = Mode::cmr;
   std::optional<int> split;
   Extremum extremum = Extremum::any;  ///< with split
 };
-/// Parses "cmrwi", "cmr", "split:S", "split:S:max" or "split:S:min"
+/// Parses "cmrwi", "cmr", "split:S", "split:S:sharpest" or "split:S:flattest"
 /// (InputError otherwise).
 Requirement parse_requirement(const std::string& text);
 /// The text parse_requirement reads.
 std::string to_string(const Requirement& r);
-/// Whether a split verdict satisfies a split requirement's extremum.
-bool split_passes(Split verdict, Extremum extremum);
+/// Whether a split verdict at `joint` (its certified curvatures give the
+/// |kappa| reading) satisfies a split requirement's extremum.
+bool split_passes(Split verdict, Extremum extremum, const Joint& joint);
 
 /// How a batch is reported; the defaults are the command's.
 struct ReportOptions {

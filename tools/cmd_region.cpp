@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/region_reason.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
@@ -96,12 +97,24 @@ std::vector<int> chosen_points(const RegionArgs& a, const BSpline& spline) {
 
 /// Every point and output path is validated before anything is rendered, so
 /// bad input leaves no files.
-std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline& spline, const RegionRequest& o) {
+std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline& spline, RegionRequest o,
+                                             std::vector<std::string>& notes) {
+  // A closed curve is never monotone over its period: without --segments (and
+  // without joints) one point's region judges the spans it acts on.
+  const std::vector<int> points = chosen_points(a, spline);
+  if (spline.closed() && !o.segments && !o.split && o.splits.empty() && !o.each_piece && points.size() == 1) {
+    if (const auto r = closed_support_range(spline, points[0], o.with)) {
+      o.segments = r;
+      notes.push_back("note: closed curve: P" + std::to_string(points[0]) + "'s region judges the spans it acts on, " +
+                      "segments " + std::to_string(r->first) + ".." + std::to_string(r->last) +
+                      " (give --segments to choose others)");
+    }
+  }
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
   if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
-  return RegionProblem::make_each(spline, o, chosen_points(a, spline));
+  return RegionProblem::make_each(spline, o, points);
 }
 
 /// The rendered images, one per point, with the JSON summary of each.
@@ -126,10 +139,14 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
   const std::uint64_t monotone = img.each_piece ? counts[1]
                                  : img.split    ? counts[1] + counts[2] + counts[3] + counts[4]
                                                 : counts[1] + counts[2];
+  const std::optional<std::string> why = region_reason(problem, img);  // empty or full: say why
   if (monotone == 0)
     notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
-                    (a.mode == "cmr" ? "CMR" : "CMRWI") + (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
-                    " in this view (its region is empty here)");
+                    (a.mode == "cmr" ? "CMR" : "CMRWI") +
+                    (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
+                    " in this view (its region is empty here): " + why.value_or("see --view"));
+  else if (why)
+    notes.push_back("note: " + *why);
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
     entry["seconds"] = sec;
@@ -155,8 +172,9 @@ void note_poles(const RegionProblem& problem, std::vector<std::string>& notes) {
     }
 }
 
-Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems) {
+Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems, std::vector<std::string> notes) {
   Rendered r;
+  r.notes = std::move(notes);
   if (!problems.empty()) note_poles(problems.front(), r.notes);
   const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
   const auto t0 = std::chrono::steady_clock::now();
@@ -241,7 +259,11 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
       out.stage(several ? draw::with_point_suffix(a.depth_map, k) : std::filesystem::path(a.depth_map),
                 depth_map(a, spline, problems[i], r.images[i]));
   }
-  if (!a.png.empty()) out.stage(a.png, draw::region_png(draw::layers_picture(spline, r.images, requests_of(problems))));
+  if (!a.png.empty()) {
+    draw::RegionPicture pic = draw::layers_picture(spline, r.images, requests_of(problems));
+    if (!several) pic.note = region_reason(problems.front(), r.images.front()).value_or("");
+    out.stage(a.png, draw::region_png(pic));
+  }
   out.commit();
 }
 
@@ -334,9 +356,10 @@ void run_weight_region(const RegionArgs& a) {
 
 void run_region(const RegionArgs& a) {
   const BSpline spline = read_spline_file(a.file);
-  const RegionRequest o = region_options(a);
-  const std::vector<RegionProblem> problems = validated_problems(a, spline, o);
-  Rendered r = render_all(a, problems);
+  std::vector<std::string> notes;
+  const std::vector<RegionProblem> problems = validated_problems(a, spline, region_options(a), notes);
+  const RegionRequest& o = problems.front().request();
+  Rendered r = render_all(a, problems, std::move(notes));
   const std::vector<RegionContours> contours = contours_of(a, problems, r);
   write_outputs(a, spline, problems, r, contours);
   for (const std::string& note : r.notes) std::cerr << note << '\n';  // after the outputs: a failure prints one line

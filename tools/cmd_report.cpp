@@ -1,4 +1,4 @@
-// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:max|:min],GATES...] [--segments A..B]
+// cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:sharpest|:flattest],GATES...] [--segments A..B]
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z]: QA reports (DIR/report.json,
 // DIR/index.html) and a gate on their verdicts. A font file among FILES is imported
@@ -76,7 +76,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
-                  "joint S: the parts before and after monotone in opposite directions), split:S:max, split:S:min, "
+                  "joint S: the parts before and after monotone in opposite directions), split:S:sharpest, split:S:flattest (by |curvature|), "
                   "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol] or no-inflection");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9)")->capture_default_str();

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/extremum_terms.hpp"
 #include "bezierize/kcurve.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/roots.hpp"
@@ -97,6 +98,14 @@ struct Curves {
   // along the spiral it stays increasing.
   BSpline fig10a = moved(fig9b, 5, {5.4, -5.8}, "fig10a");
   BSpline fig10b = moved(fig9b, 5, {6.5, -6.3}, "fig10b");
+
+  // Fig. 11: two cubic Bezier pieces Q1..Q4 and Q4..Q7 (indices 0..6, knots
+  // of multiplicity 3 at the joint) with G1 at Q4 (Q3, Q4, Q5 on one line).
+  // Chosen by hand so that each piece is monotone, then Q3, Q4, Q5 moved
+  // together by (-0.5, 0.5) (rigidly: G1 stays exact), which makes both
+  // pieces non-monotone; Q4's each-piece region holds the way back.
+  BSpline fig11 = BSpline::make(3, {0, 0, 0, 1, 1, 1, 2, 2, 2},
+                                {{0, 0}, {1, 0}, {1.5, 0.9}, {2.5, 1.7}, {3.3, 2.34}, {4.2, 2.9}, {4.2, 4}}, "fig11");
 };
 
 View square_view(double cx, double cy, double half) { return {cx - half, cy - half, cx + half, cy + half}; }
@@ -658,6 +667,13 @@ void figure9_10(Builder& b, const Curves& c) {
           la == 2 && xa.split == Split::inc_dec,
           "P5 at " + point_text(pa) + ": " + label_text(la) + ", analyze split " +
               (xa.split ? to_string(*xa.split) : "-"));
+  // The paper's maximum is of signed kappa; the curve runs clockwise (kappa <
+  // 0), so by |kappa| the joint is the flattest point (docs/semantics.md).
+  const std::optional<ExtremumKind> kind = xa.split ? split_extremum_kind(*xa.split, xa.joints[1]) : std::nullopt;
+  b.claim("Fig. 10a", "read by |kappa|: the clockwise curve's signed maximum at u = 2 is its flattest point",
+          kind == ExtremumKind::flattest,
+          std::string("kappa at the joint ") + std::to_string(xa.joints[1].kappa_left) + " | " +
+              std::to_string(xa.joints[1].kappa_right) + ": " + (kind ? to_string(*kind) : "no extremum"));
   const SplineAnalysis& xb = b.analysis(c.fig10b);
   const Vec2 pb = c.fig10b.points()[5];
   const uint8_t lb = label_at(sp, pb);
@@ -819,6 +835,252 @@ void figure13(Builder& b) {
   draw_figure13(b, {quad, chain, edited}, r_before, r_after, k);
 }
 
+// ------------------------------------------------------ Figs. 11, 12 (§5.1) --
+//
+// Each piece on its own (RegionRequest::each_piece): a joint point moved with
+// its two handles (a rigid group: G1 stays exact) keeps both pieces at it
+// monotone, each in either direction.
+
+/// Renders a request on the figures' backend and keeps the image alive.
+const RegionResult& render(Builder& b, const BSpline& s, const RegionRequest& request, const std::string& what) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto image = std::make_shared<RegionResult>(b.options().backend->render(RegionProblem::make(s, request)));
+  std::ostringstream line;
+  line << "  " << s.name() << ": " << what << " (" << request.width << 'x' << request.height << ", " << std::fixed
+       << std::setprecision(3) << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()
+       << " s)";
+  b.log(line.str());
+  b.keep(image);
+  return *image;
+}
+
+/// The region request of point k moving with `with`, judged on `range` or
+/// each piece on its own.
+RegionRequest piece_request(Builder& b, int k, std::vector<int> with, const View& v, std::optional<SegmentRange> range,
+                            bool each_piece) {
+  RegionRequest o;
+  o.point = k;
+  o.with = std::move(with);
+  o.segments = range;
+  o.each_piece = each_piece;
+  o.max_depth = b.options().depth;
+  o.width = o.height = b.options().size;
+  o.view = v;
+  o.depth = false;
+  return o;
+}
+
+/// The centre of the pixel labelled `label` nearest to p (nullopt if none).
+std::optional<Vec2> nearest_pixel(const RegionResult& r, uint8_t label, Vec2 p) {
+  std::optional<Vec2> best;
+  double d = 0;
+  for (int j = 0; j < r.height; ++j)
+    for (int i = 0; i < r.width; ++i)
+      if (r.code_at(static_cast<std::size_t>(j) * r.width + i) == label) {
+        const Vec2 c = pixel_center(r.view, r.width, r.height, i, j);
+        const double e = glm::length(c - p);
+        if (!best || e < d) best = c, d = e;
+      }
+  return best;
+}
+
+/// The spline with point k and its group moved by p - P_k (as the region engine moves them).
+BSpline moved_group(const BSpline& s, int k, const std::vector<int>& with, Vec2 p, const std::string& name) {
+  const Vec2 d = p - s.points()[k];
+  BSpline out = s.with_point(k, p);
+  for (int g : with) out = out.with_point(g, s.points()[g] + d);
+  return renamed(out, name);
+}
+
+bool all_g1(const SplineAnalysis& a) {
+  return std::all_of(a.joints.begin(), a.joints.end(), [](const Joint& j) { return j.g1; }) &&
+         (!a.seam || a.seam->g1);
+}
+
+SplineAnalysis each_piece_analysis(const BSpline& s, int depth) {
+  AnalyzeOptions o;
+  o.classify.max_depth = depth;
+  o.each_piece = true;
+  return analyze(s, o);
+}
+
+std::string groups_text(const SplineAnalysis& a) {
+  std::string t;
+  for (Direction d : a.groups) t += (t.empty() ? "" : ", ") + std::string(to_string(d));
+  return t;
+}
+
+void figure11(Builder& b, const Curves& c) {
+  const BSpline& s = c.fig11;
+  const int depth = b.options().depth;
+  const View v = square_view(2.1, 2.0, 2.6);
+  const SplineAnalysis before = each_piece_analysis(s, depth);
+  b.claim("Fig. 11", "the two G1 pieces are not each monotone before the move",
+          before.each_piece == EachPiece::fail && all_g1(before), "pieces: " + groups_text(before));
+  // Q3 (point 2) for the first piece, Q5 (point 4) for the second: each alone.
+  const RegionResult& q3 = render(b, s, piece_request(b, 2, {}, v, SegmentRange{0, 0}, false), "Q3, piece 0");
+  const RegionResult& q5 = render(b, s, piece_request(b, 4, {}, v, SegmentRange{1, 1}, false), "Q5, piece 1");
+  b.claim("Fig. 11", "Q3 has a region for the first piece and Q5 one for the second",
+          count(q3, 1) + count(q3, 2) > 0 && count(q5, 1) + count(q5, 2) > 0,
+          "Q3 " + counts(q3) + "; Q5 " + counts(q5));
+  // Q4 (point 3) with Q3 and Q5 moving with it: each piece on its own.
+  const RegionResult& q4 = render(b, s, piece_request(b, 3, {2, 4}, v, {}, true), "Q4 with Q3, Q5, each piece");
+  const RegionResult& q4a = render(b, s, piece_request(b, 3, {2, 4}, v, SegmentRange{0, 0}, false), "Q4 group, piece 0");
+  const RegionResult& q4b = render(b, s, piece_request(b, 3, {2, 4}, v, SegmentRange{1, 1}, false), "Q4 group, piece 1");
+  long mismatch = 0;
+  const auto monotone = [](uint8_t l) { return l == 1 || l == 2; };
+  for (std::size_t i = 0; i < q4.size(); ++i)
+    mismatch += (q4.code_at(i) == code(PieceLabel::each_monotone)) != (monotone(q4a.code_at(i)) && monotone(q4b.code_at(i)));
+  b.claim("Fig. 11", "Q4's region (Q3, Q5 moving with it) is exactly where both pieces are monotone",
+          count(q4, 1) > 0 && mismatch == 0,
+          std::to_string(count(q4, 1)) + " px each-monotone, " + std::to_string(mismatch) +
+              " px differ from the intersection of the two pieces' regions");
+  const std::optional<Vec2> place = nearest_pixel(q4, code(PieceLabel::each_monotone), s.points()[3]);
+  const BSpline after = place ? moved_group(s, 3, {2, 4}, *place, "fig11b") : s;
+  const SplineAnalysis a = each_piece_analysis(after, depth);
+  b.claim("Fig. 11", "Q4 moved into its region with Q3, Q5: both pieces monotone, G1 kept",
+          place && label_at(q4, *place) == 1 && a.each_piece == EachPiece::monotone && all_g1(a),
+          (place ? "Q4 at " + point_text(*place) : std::string("no region")) + ": pieces " + groups_text(a) +
+              (all_g1(a) ? ", G1" : ", not G1"));
+  draw::Figure f;
+  f.title = "Fig. 11: two G1 Bezier pieces; the region of the shared point Q4 keeping both monotone";
+  draw::RegionPicture handles = picture(s, {&q3, &q5}, depth);
+  draw::RegionPicture joint = picture(s, {&q4}, depth);
+  joint.each_piece = true;
+  joint.points = {3};
+  draw::RegionPicture moved_pic = picture(after, {&q4}, depth);
+  moved_pic.each_piece = true;
+  moved_pic.moved = std::make_pair(s.points()[3], after.points()[3]);
+  f.rows.push_back({{handles, "(a) Q3's region for piece 1, Q5's for piece 2"},
+                    {joint, "(b) Q4 with Q3, Q5: each piece monotone"}});
+  f.rows.push_back({{moved_pic, "(c) Q4 moved into its region"},
+                    {draw::CurvaturePlot{&after, &b.analysis(after)}, "(c) curvature plot: each piece monotone"}});
+  f.caption = "Q1..Q7 are P0..P6. (a) Q3 acts on the first piece only and Q5 on the second; each region is that "
+              "piece judged alone. (b) Q4 moves with Q3 and Q5 (a rigid group, so G1 at Q4 stays exact); green is "
+              "where both pieces are monotone, each in either direction on its own (the paper's purple). (c) Q4 "
+              "placed at the region's pixel nearest to it.";
+  b.write("fig11", std::move(f));
+}
+
+/// Fig. 12's start: an apple outline of 8 cubic pieces, G1 at every on-curve
+/// point (handles on the tangent of the neighbours' chord, Catmull-Rom), the
+/// handle lengths a third of the chord scaled by a seeded factor in
+/// 0.5..1.6 so that some pieces have an interior curvature extremum (not
+/// rounded: rounding each handle would break the collinearity). An open
+/// chain that ends where it starts (J0 and its handles never move, so the
+/// closing point stays G1).
+BSpline apple_chain() {
+  const std::vector<Vec2> J{{0, 3.2}, {-1.6, 3.9}, {-3.2, 2.6}, {-3.0, 0.2}, {-1.3, -1.9},
+                            {1.3, -1.9},  {3.0, 0.2},   {3.2, 2.6}};
+  const int n = static_cast<int>(J.size());
+  std::vector<double> f{1.45, 0.62, 1.3, 0.55, 1.5, 0.7, 1.35, 0.58, 1.2, 0.66, 1.55, 0.6, 1.4, 0.75, 1.25, 0.5};
+  std::vector<Vec2> P;
+  std::vector<double> knots;
+  for (int i = 0; i <= n; ++i) {
+    const Vec2 q = J[i % n];
+    if (i > 0) {
+      const Vec2 t = glm::normalize(J[(i + 1) % n] - J[(i - 1 + n) % n]);
+      P.push_back(q - f[2 * (i - 1) + 1] * glm::length(J[i % n] - J[i - 1]) / 3.0 * t);
+    }
+    P.push_back(q);
+    if (i < n) {
+      const Vec2 t = glm::normalize(J[(i + 1) % n] - J[(i - 1 + n) % n]);
+      P.push_back(q + f[2 * i] * glm::length(J[(i + 1) % n] - q) / 3.0 * t);
+    }
+  }
+  for (int i = 0; i <= n; ++i)
+    for (int r = 0; r < 3; ++r) knots.push_back(i);
+  return BSpline::make(3, knots, P, "fig12a");
+}
+
+/// Fig. 12: the apple's pieces made monotone one joint at a time. A failing
+/// piece's inner joint (with its two handles, a rigid group) is moved to the
+/// nearest pixel of its each-piece region judged on the two pieces at it
+/// (segments j-1..j): the pieces elsewhere are not touched, so each step
+/// keeps what the earlier ones repaired.
+void figure12(Builder& b) {
+  const int depth = b.options().depth;
+  BSpline s = apple_chain();
+  const BSpline start = s;
+  const SplineAnalysis a0 = each_piece_analysis(s, depth);
+  const int N = s.segment_count();
+  const auto failing = [](const SplineAnalysis& a) {
+    int n = 0;
+    for (Direction d : a.groups) n += d != Direction::increasing && d != Direction::decreasing;
+    return n;
+  };
+  b.claim("Fig. 12a", "the apple: 8 G1 cubic pieces, some of them not monotone",
+          N == 8 && failing(a0) > 0 && all_g1(a0), std::to_string(failing(a0)) + " of " + std::to_string(N) +
+                                                          " pieces not monotone: " + groups_text(a0));
+  std::vector<std::string> steps;
+  bool steps_ok = true;
+  std::vector<const RegionResult*> shown;
+  std::vector<BSpline> states;
+  for (int round = 0; round < 3 && failing(each_piece_analysis(s, depth)) > 0; ++round) {
+    for (int piece = 0; piece < N; ++piece) {
+      const SplineAnalysis a = each_piece_analysis(s, depth);
+      if (a.groups[piece] == Direction::increasing || a.groups[piece] == Direction::decreasing) continue;
+      for (int j : {piece + 1, piece}) {  // the joint after the piece, then the one before
+        if (j < 1 || j > N - 1) continue;
+        const int k = 3 * j;
+        const Vec2 q = s.points()[k];
+        const double half = 0.6 * std::max(glm::length(s.points()[k + 3] - q), glm::length(s.points()[k - 3] - q));
+        const RegionResult& r = render(b, s, piece_request(b, k, {k - 1, k + 1}, square_view(q.x, q.y, half),
+                                                           SegmentRange{j - 1, j}, true),
+                                       "J" + std::to_string(j) + " with its handles, pieces " +
+                                           std::to_string(j - 1) + ".." + std::to_string(j));
+        const std::optional<Vec2> place = nearest_pixel(r, code(PieceLabel::each_monotone), q);
+        if (!place) continue;
+        const BSpline next = moved_group(s, k, {k - 1, k + 1}, *place, "fig12");
+        const SplineAnalysis an = each_piece_analysis(next, depth);
+        const bool ok = an.groups[j - 1] != Direction::none && an.groups[j] != Direction::none &&
+                        an.groups[j - 1] != Direction::undecided && an.groups[j] != Direction::undecided;
+        steps_ok = steps_ok && ok && label_at(r, *place) == 1;
+        steps.push_back("J" + std::to_string(j) + " to " + point_text(*place));
+        s = next;
+        shown.push_back(&r);
+        states.push_back(s);
+        break;
+      }
+    }
+  }
+  const BSpline final_chain = renamed(s, "fig12g");
+  const SplineAnalysis af = each_piece_analysis(final_chain, depth);
+  const bool closed = glm::length(final_chain.points().back() - final_chain.points().front()) == 0;
+  b.claim("Fig. 12b-f", "each move puts a joint (with its handles) into its region: both pieces at it monotone",
+          steps_ok && !steps.empty(), std::to_string(steps.size()) + " moves: " + [&] {
+            std::string t;
+            for (const std::string& x : steps) t += (t.empty() ? "" : "; ") + x;
+            return t;
+          }());
+  b.claim("Fig. 12g", "the final apple: every piece monotone on its own, G1 at every joint, closed",
+          af.each_piece == EachPiece::monotone && all_g1(af) && closed && g1_defect(final_chain, true).first <= 1e-12,
+          "pieces: " + groups_text(af));
+  draw::Figure f;
+  f.title = "Fig. 12: an apple of 8 G1 Bezier pieces made monotone piece by piece through the regions";
+  const RegionResult* blank = &blank_layer(b, default_view(start, b.options().size, b.options().size));
+  std::vector<draw::Panel> row1{{picture(start, {blank}, depth), "(a) the apple as drawn"},
+                                {draw::CurvaturePlot{&start, &b.analysis(start)}, "(a) curvature plot"}};
+  f.rows.push_back(row1);
+  for (std::size_t i = 0; i < shown.size() && i < 4; i += 2) {
+    std::vector<draw::Panel> row;
+    for (std::size_t m = i; m < shown.size() && m < i + 2; ++m) {
+      draw::RegionPicture p = picture(states[m], {shown[m]}, depth);
+      p.each_piece = true;
+      row.push_back({p, "(" + std::string(1, static_cast<char>('b' + m)) + ") " + steps[m]});
+    }
+    f.rows.push_back(row);
+  }
+  f.rows.push_back({{picture(final_chain, {blank}, depth), "(g) the final apple"},
+                    {draw::CurvaturePlot{&final_chain, &b.analysis(final_chain)}, "(g) curvature plot"}});
+  f.caption = "The apple's outline (core and leaf left out): 8 cubic pieces with G1 at the on-curve points "
+              "(handles on the Catmull-Rom tangents, their lengths scaled by fixed factors so that some pieces "
+              "have a curvature extremum inside). Each step moves one on-curve point with its two handles (G1 "
+              "stays exact) to the nearest position of its region where both pieces at it are monotone, each "
+              "in either direction; the other pieces are untouched. Green: that region.";
+  b.write("fig12", std::move(f));
+}
+
 /// The figure a claim belongs to: "Fig. 10a" -> "fig10".
 std::string figure_id(const Claim& c) {
   std::string id = "fig";
@@ -871,7 +1133,7 @@ std::vector<BSpline> figure_splines() {
   const Curves c;
   return {c.fig1a,  c.fig2,   c.fig2x[0], c.fig2x[1], c.fig2x[2], c.fig2x[3], c.fig4,   c.fig4x[0], c.fig4x[1],
           c.fig4x[2], c.fig4x[3], c.fig5,   c.fig5c,  c.fig5d,    c.fig6,     c.fig6c,    c.fig8,   c.fig8b,
-          c.fig9,     c.fig9b,    c.fig10a, c.fig10b};
+          c.fig9,     c.fig9b,    c.fig10a, c.fig10b, c.fig11};
 }
 
 FiguresResult make_figures(const FiguresOptions& options) {
@@ -903,6 +1165,10 @@ FiguresResult make_figures(const FiguresOptions& options) {
   b.log("fig8..fig10: B-spline curves (section 4.2)");
   figure8(b, c);
   figure9_10(b, c);
+  b.log("fig11: the region of a shared joint point keeping both pieces monotone (section 5.1)");
+  figure11(b, c);
+  b.log("fig12: an apple of 8 G1 pieces made monotone through the regions (section 5.1)");
+  figure12(b);
   b.log("fig13: a kappa-curve and a local modification (section 5.2)");
   figure13(b);
   write_index(b);

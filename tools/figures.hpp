@@ -1,6 +1,6 @@
 #pragma once
 // The paper's figures (CAD&A 2024: Fig. 1 of §3; Figs. 2-7 for Bezier
-// curves and 8, 9, 10 for B-splines of §4; Fig. 13 of §5.2), recomputed and drawn, with every statement the
+// curves and 8, 9, 10 for B-splines of §4; Figs. 11, 12 of §5.1, each piece on its own; Fig. 13 of §5.2), recomputed and drawn, with every statement the
 // paper makes about them checked as a claim on the region label maps and on
 // analyze(). The paper gives no coordinates; the curves are chosen in
 // figures.cpp (one line each on why) and kept in examples/figures/.

@@ -187,3 +187,87 @@ TEST(Segments, AlternationAgreesWithSampledCurvature) {
 
 }  // namespace
 }  // namespace cmr
+
+namespace cmr {
+namespace {
+
+TEST(EachPiece, VerdictIgnoresDirections) {
+  using D = Direction;
+  // Unlike the alternation, neighbours may go the same way.
+  EXPECT_EQ(each_piece_verdict({D::increasing, D::increasing, D::decreasing}), EachPiece::monotone);
+  EXPECT_EQ(each_piece_verdict({D::increasing, D::none, D::undecided}), EachPiece::fail);
+  EXPECT_EQ(each_piece_verdict({D::undecided, D::decreasing}), EachPiece::undecided);
+  EXPECT_STREQ(to_string(EachPiece::monotone), "each-monotone");
+}
+
+TEST(EachPiece, CutsDefaultToEveryJointOfTheRange) {
+  EXPECT_EQ(each_piece_cuts({0, 3}, {}), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(each_piece_cuts({1, 3}, {}), (std::vector<int>{2, 3}));
+  EXPECT_EQ(each_piece_cuts({2, 2}, {}), (std::vector<int>{}));
+  EXPECT_EQ(each_piece_cuts({0, 3}, {2}), (std::vector<int>{2}));
+  EXPECT_EQ(parse_joint_list(""), (std::vector<int>{}));
+  EXPECT_EQ(parse_joint_list("1,3"), (std::vector<int>{1, 3}));
+  for (const char* bad : {"x", "1,", ",1", "1,,2", "-1", "1.5"}) EXPECT_THROW(parse_joint_list(bad), InputError) << bad;
+}
+
+// The each-piece verdict of a spline is the conjunction of the verdicts of
+// its groups analysed alone (the sub-splines of those segments): no joint
+// between groups counts, and no group's direction depends on another's.
+TEST(EachPiece, AnalyzeIsEachGroupAnalysedAlone) {
+  std::mt19937_64 rng(2011);
+  std::uniform_real_distribution<double> step(0.5, 1.5);
+  int pass = 0, fail = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int d = 2 + trial % 3, m = d + 4;
+    std::vector<double> knots{0};
+    while (static_cast<int>(knots.size()) < m + d - 1) knots.push_back(knots.back() + step(rng));
+    // A bent, noisy polygon: some pieces monotone, some not.
+    std::vector<Vec2> pts = test::random_points(rng, m, 0.3);
+    for (int i = 0; i < m; ++i) pts[i] += Vec2(i, 0.15 * i * i);
+    const BSpline s = BSpline::make(d, knots, pts);
+    const int N = s.segment_count();
+    for (const std::vector<int>& cuts : {std::vector<int>{}, std::vector<int>{2}}) {
+      AnalyzeOptions o;
+      o.each_piece = true;
+      o.splits = cuts;
+      const SplineAnalysis got = analyze(s, o);
+      ASSERT_TRUE(got.each_piece.has_value());
+      bool all = true, none = false;
+      const auto groups = segment_groups({0, N - 1}, each_piece_cuts({0, N - 1}, cuts));
+      ASSERT_EQ(got.groups.size(), groups.size());
+      for (std::size_t g = 0; g < groups.size(); ++g) {
+        const auto [a, end] = groups[g];
+        const std::vector<double> sub_knots(s.knots().begin() + a, s.knots().begin() + end - 1 + 2 * d);
+        const std::vector<Vec2> sub_points(s.points().begin() + a, s.points().begin() + end + d);
+        const Direction mine = analyze(BSpline::make(d, sub_knots, sub_points)).cmrwi;
+        EXPECT_EQ(got.groups[g], mine) << "trial " << trial << " group " << g;
+        all = all && (mine == Direction::increasing || mine == Direction::decreasing);
+        none = none || mine == Direction::none;
+      }
+      EXPECT_EQ(*got.each_piece, none ? EachPiece::fail : all ? EachPiece::monotone : EachPiece::undecided)
+          << "trial " << trial;
+      pass += *got.each_piece == EachPiece::monotone;
+      fail += *got.each_piece == EachPiece::fail;
+    }
+  }
+  EXPECT_GT(pass, 2);
+  EXPECT_GT(fail, 5);
+}
+
+TEST(EachPiece, WaveIsEachMonotoneButDoesNotAlternateEverywhere) {
+  AnalyzeOptions o;
+  o.each_piece = true;
+  const SplineAnalysis a = analyze(wave(), o);
+  EXPECT_EQ(*a.each_piece, EachPiece::monotone);
+  EXPECT_EQ(a.cuts, (std::vector<int>{1, 2, 3}));
+  o.each_piece = false;
+  o.splits = {1, 2, 3};  // segments 0 and 1 both increase: no alternation
+  EXPECT_EQ(*analyze(wave(), o).alternation, Alternation::fail);
+  o.split = 2;
+  o.splits.clear();
+  o.each_piece = true;
+  EXPECT_THROW(analyze(wave(), o), InputError);  // --split and --each-piece exclude each other
+}
+
+}  // namespace
+}  // namespace cmr

@@ -52,7 +52,8 @@ TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   ASSERT_EQ(at_nodes.violations.size(), 4u);
   for (const GateViolation& v : at_nodes.violations) {
     EXPECT_EQ(v.local_t, 0.5) << v.message;
-    EXPECT_NE(v.message.find("curvature maximum inside segment"), std::string::npos);
+    // Counter-clockwise (kappa > 0): the maximum of kappa is the sharpest point.
+    EXPECT_NE(v.message.find("sharpest point inside segment"), std::string::npos) << v.message;
   }
   // The four minima are on the nodes, the seam's among them.
   int on_joints = 0;
@@ -347,6 +348,36 @@ TEST(Gates, FontAndSvgInputsThatAreNotRegularFilesAreRefusedAtOnce) {
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "o"));
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace cmr::report
+
+namespace cmr::report {
+namespace {
+
+// each-piece (issue 20, item 3): every piece monotone on its own, either way.
+TEST(Gates, EachPieceJudgesEveryPieceOnItsOwn) {
+  // The square's four parabolas each have their maximum mid-way: none is monotone.
+  const BSpline square = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
+  ReportOptions o;
+  o.regions = false;
+  parse_require_list("each-piece", o);
+  ASSERT_EQ(o.gates.size(), 1u);
+  EXPECT_EQ(to_string(o.gates[0]), "each-piece");
+  const SplineReport r = report_spline(square, o);
+  ASSERT_EQ(r.gates[0].violations.size(), 4u);
+  EXPECT_EQ(r.gates[0].violations[2].message, "segment 2 is not monotone on its own");
+  EXPECT_FALSE(r.pass);
+  // The wave: increasing, increasing, decreasing, increasing: each piece
+  // monotone, though the whole is not and no two neighbours need alternate.
+  const BSpline wave = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7, 8},
+                                     {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998},
+                                      {3.765, 0.132}, {5.069, -0.719}, {6.078, 0.783}});
+  const SplineReport w = report_spline(wave, o);
+  EXPECT_TRUE(w.gates[0].pass());
+  EXPECT_TRUE(w.pass);
+  EXPECT_THROW(parse_require_list("each-piece:2", o), InputError);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // curve-level events against dense sampling, the batch and gate behaviour of
 // the command, and the HTML page as headless Chromium renders it.
 #include "report/report.hpp"
+#include "report/extremum.hpp"
 
 #include <cairo.h>
 #include <gtest/gtest.h>
@@ -297,13 +298,21 @@ BSpline pulled_spiral() {
 
 TEST(ReportRequirement, ParsesTheExtremumAtASplit) {
   EXPECT_EQ(parse_requirement("split:2").extremum, Extremum::any);
-  EXPECT_EQ(parse_requirement("split:2:max").extremum, Extremum::max);
-  EXPECT_EQ(parse_requirement("split:3:min").extremum, Extremum::min);
-  EXPECT_EQ(parse_requirement("split:3:min").split, 3);
-  for (const char* t : {"split:2", "split:2:max", "split:2:min", "cmr", "cmrwi"})
+  EXPECT_EQ(parse_requirement("split:2:sharpest").extremum, Extremum::sharpest);
+  EXPECT_EQ(parse_requirement("split:3:flattest").extremum, Extremum::flattest);
+  EXPECT_EQ(parse_requirement("split:3:flattest").split, 3);
+  for (const char* t : {"split:2", "split:2:sharpest", "split:2:flattest", "cmr", "cmrwi"})
     EXPECT_EQ(to_string(parse_requirement(t)), t);
-  for (const char* bad : {"split:2:mid", "split::max", "split:max", "split:2:max:min", "split:2max"})
+  for (const char* bad : {"split:2:mid", "split::sharpest", "split:sharpest", "split:2:sharpest:flattest", "split:2sharpest",
+                          "split:2:max", "split:2:min"})
     EXPECT_THROW(parse_requirement(bad), InputError) << bad;
+  // The signed names are refused with the hint to the |kappa| ones.
+  try {
+    parse_requirement("split:2:max");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("use split:2:sharpest or :flattest"), std::string::npos) << e.what();
+  }
 }
 
 // split:S means a curvature extremum at joint S: a curve monotone across S
@@ -324,14 +333,16 @@ TEST(ReportRequirement, SplitMeansAnExtremumAtTheJoint) {
   };
   const Case cases[] = {
       {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1", false},
-      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:max", false},
-      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:min", false},
+      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:sharpest", false},
+      {"spiral", test::polynomial_as_bspline(spiral(), knots), "split:1:flattest", false},
+      // Both arches are sharpest in the middle: mirroring flips the signed
+      // extremum, not the |kappa| one.
       {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1", true},
-      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:min", true},
-      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:max", false},
+      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:sharpest", true},
+      {"minimum", test::polynomial_as_bspline(BSpline::bezier(arch(0.5)), knots), "split:1:flattest", false},
       {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1", true},
-      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:max", true},
-      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:min", false},
+      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:sharpest", true},
+      {"maximum", test::polynomial_as_bspline(BSpline::bezier(up), knots), "split:1:flattest", false},
   };
   for (const Case& c : cases) {
     ReportOptions o = no_regions();
@@ -343,6 +354,7 @@ TEST(ReportRequirement, SplitMeansAnExtremumAtTheJoint) {
     if (std::string(c.name) != "spiral") {
       EXPECT_TRUE(extremum_on_joint) << c.name;
       EXPECT_EQ(r.extrema[0].kind, std::string(c.name) == "maximum" ? 1 : -1) << c.name;
+      EXPECT_EQ(event_kind(r, r.extrema[0]), ExtremumKind::sharpest) << c.name;
     } else {
       EXPECT_TRUE(r.extrema.empty()) << c.name;
     }
@@ -353,7 +365,7 @@ TEST(ReportRequirement, SplitMeansAnExtremumAtTheJoint) {
 // offers passes the gate when verified with analyze.
 TEST(ReportRequirement, FixesOfASplitGateHaveTheRequiredExtremum) {
   const BSpline s = test::polynomial_as_bspline(spiral(), {0, 0, 0, 1, 2, 2, 2});
-  for (const char* gate : {"split:1:max", "split:1:min"}) {
+  for (const char* gate : {"split:1:sharpest", "split:1:flattest"}) {
     ReportOptions o;
     o.require = parse_requirement(gate);
     o.region_size = 48;
@@ -371,8 +383,7 @@ TEST(ReportRequirement, FixesOfASplitGateHaveTheRequiredExtremum) {
         ao.split = 1;
         return ao;
       }());
-      EXPECT_EQ(*a.split, o.require->extremum == Extremum::max ? Split::inc_dec : Split::dec_inc)
-          << gate << " point " << f.point;
+      EXPECT_TRUE(split_passes(*a.split, o.require->extremum, a.joints[0])) << gate << " point " << f.point;
     }
     EXPECT_GT(found, 0) << gate;
   }
@@ -593,9 +604,13 @@ TEST(ReportCommand, SegmentsJudgeOnlyTheirSpans) {
   EXPECT_EQ(sp["segments"][2]["curvature"], "ignored");
   EXPECT_EQ(sp["segments"][3]["ignored"], true);
   EXPECT_NE(test::slurp(out / "index.html").find("ignored"), std::string::npos);
-  EXPECT_EQ(test::run(base + " --require split:3:min --segments 2..3").code, 0);  // decreasing, then increasing
-  EXPECT_EQ(test::run(base + " --require split:3:max --segments 2..3").code, 1);
-  EXPECT_EQ(test::run(base + " --require split:2:max --segments 1..2").code, 0);
+  // Decreasing, then increasing where kappa < 0: a signed minimum, the sharpest point.
+  EXPECT_EQ(test::run(base + " --require split:3:sharpest --segments 2..3").code, 0);
+  EXPECT_EQ(test::run(base + " --require split:3:flattest --segments 2..3").code, 1);
+  EXPECT_EQ(test::run(base + " --require split:2:sharpest --segments 1..2").code, 0);  // a signed maximum, kappa > 0
+  const test::Outcome old = test::run(base + " --require split:3:min --segments 2..3");
+  EXPECT_EQ(old.code, 2);
+  EXPECT_NE(old.err.find("use split:3:sharpest or :flattest"), std::string::npos) << old.err;
   const test::Outcome bad = test::run(base + " --segments 2..9");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(read_json(out / "report.json")["splines"][0]["error"].get<std::string>().find("segments 2..9"),

@@ -508,3 +508,63 @@ TEST(RegionBackendsAgree, SomeComparedMapHasSeveralLabels) {
 }
 
 }  // namespace
+
+// Issue 20, item 2: a reason for every empty or full region, naming the
+// segments responsible (bezierize/region_reason.hpp), on stderr and in the
+// PNG's legend.
+namespace {
+
+const std::string kFig8 = kSource + "/examples/figures/fig8.json";  // uniform cubic, 6 points, 3 segments
+
+TEST(RegionReason, PointOutsideTheJudgedSegmentsSaysAllOrNothing) {
+  const fs::path dir = out_dir("reason_support");
+  const Outcome o = run("region " + kFig8 + " --point 0 --segments 2 --backend cpu --size 40x40 --png " +
+                        (dir / "r.png").string());
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.err.find("P0 does not act on segment 2: every position gives the same answer"), std::string::npos)
+      << o.err;
+  EXPECT_TRUE(fs::exists(dir / "r.png"));
+}
+
+TEST(RegionReason, FailingSegmentThePointDoesNotActOnIsNamed) {
+  // fig8's first two segments are not monotone; P5 acts on segment 2 only.
+  const Outcome o = run("region " + kFig8 + " --point 5 --backend cpu --size 40x40");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.err.find("segments 0..1 are non-monotone whatever P5 does (P5 acts on segment 2)"), std::string::npos)
+      << o.err;
+  // One line per note.
+  EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+}
+
+TEST(RegionReason, ClosedCurveJudgesTheMovedPointsSupport) {
+  const std::string file = write("reason_loop.json",
+        R"({"degree": 2, "closed": true, "knots": [0, 1, 2, 3, 4, 5, 6],
+            "points": [[1, 0], [0.4, 0.9], [-0.6, 0.8], [-1.1, -0.1], [-0.3, -1], [0.7, -0.8]]})");
+  const Outcome o = run("region " + file + " --point 2 --backend cpu --size 40x40");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.err.find("closed curve: P2's region judges the spans it acts on, segments 0..2"), std::string::npos)
+      << o.err;
+  const nlohmann::json doc = nlohmann::json::parse(o.out);
+  EXPECT_EQ(doc["segments"], nlohmann::json({0, 2}));
+  EXPECT_EQ(doc["ignored_segments"], nlohmann::json({3, 4, 5}));
+}
+
+TEST(RegionReason, EachPieceOnTheCliAndItsBadInput) {
+  const Outcome o = run("region " + kFig8 + " --point 3 --each-piece --backend cpu --size 40x40");
+  ASSERT_EQ(o.code, 0) << o.err;
+  const nlohmann::json doc = nlohmann::json::parse(o.out);
+  EXPECT_EQ(doc["each_piece"], nlohmann::json({1, 2}));
+  EXPECT_TRUE(doc["points"][0]["counts"].contains("each-monotone"));
+  const Outcome bad = run("region " + kFig8 + " --point 3 --each-piece 1,x --backend cpu --size 8x8");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_EQ(bad.err.find('\n'), bad.err.size() - 1) << bad.err;
+  EXPECT_NE(bad.err.find("--each-piece: expected joints S1,S2,... (got '1,x')"), std::string::npos) << bad.err;
+  const Outcome both = run("region " + kFig8 + " --point 3 --each-piece 1 --split 2 --backend cpu --size 8x8");
+  EXPECT_EQ(both.code, 2);
+  EXPECT_NE(both.err.find("drop --split"), std::string::npos) << both.err;
+  const Outcome outside = run("analyze " + kFig8 + " --each-piece 3");
+  EXPECT_EQ(outside.code, 2);
+  EXPECT_NE(outside.err.find("split 3 is outside 1..2"), std::string::npos) << outside.err;
+}
+
+}  // namespace

@@ -90,6 +90,17 @@ std::vector<Scene> scenes() {
       {"fig10_double_knot_splits_2_P3", fig10_double_knot(), seg_opts(fig10_double_knot(), 3, {}, {}, {2}, Mode::cmrwi, 1.0)},
       {"fig10_double_knot_segments_0_1_P4", fig10_double_knot(), seg_opts(fig10_double_knot(), 4, SegmentRange{0, 1}, {}, {})},
   };
+  // Each piece on its own (RegionRequest::each_piece): every joint a cut, or
+  // chosen joints (a varying C1 jump inside group 0).
+  const auto each = [](RegionRequest o, std::vector<int> cuts = {}) {
+    o.each_piece = true;
+    o.splits = std::move(cuts);
+    return o;
+  };
+  s.push_back({"wave_each_piece_P3", wave(), each(seg_opts(wave(), 3, {}, {}, {}, Mode::cmrwi, 1.0))});
+  s.push_back({"wave_each_piece_P4_cmrwi_2_3", wave(), each(seg_opts(wave(), 4, {}, {}, {}, Mode::cmrwi, 1.0), {2, 3})});
+  s.push_back({"fig10_double_knot_each_piece_2_P3", fig10_double_knot(),
+               each(seg_opts(fig10_double_knot(), 3, {}, {}, {}, Mode::cmrwi, 1.0), {2})});
   // Rational splines (weights fixed while the point moves): Fig. 9's polygon
   // with weights, seen around P3, on C2 knots and split at a C1 joint; and a
   // quadratic with C1 joints whose jumps vary (decided on the host).
@@ -207,7 +218,8 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
       ao.segments = sc.options.segments;
       ao.split_mode = sc.options.mode;
       const SplineAnalysis a = analyze(moved, ao);
-      const uint8_t want = !sc.options.splits.empty() ? label_of(*a.alternation)
+      const uint8_t want = sc.options.each_piece ? region_label_code(analyze(moved, region_analyze_options(sc.options)), sc.options)
+                           : !sc.options.splits.empty() ? label_of(*a.alternation)
                            : sc.options.split        ? label_of(*a.split)
                                                      : label_of(sc.options.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
       EXPECT_EQ(int(img.labels[j * img.width + i]), int(want)) << sc.name << " pixel (" << i << ", " << j << ")";
@@ -231,12 +243,13 @@ TEST(RegionBackends, SegmentControlScenesHavePassingAndFailingPixels) {
   // The segment-control scenes compare something: each has pixels that pass
   // (a non-zero label that is not "undecided") and pixels that fail.
   for (const Scene& sc : scenes()) {
-    if (!sc.options.segments && sc.options.splits.empty()) continue;
+    if (!sc.options.segments && sc.options.splits.empty() && !sc.options.each_piece) continue;
     const RegionSetup setup = prepare_region(sc.spline, sc.options);
     if (std::string(sc.name).find("double_knot") != std::string::npos)
       EXPECT_FALSE(setup.varying.empty()) << sc.name << ": a joint whose jump varies is what this scene checks";
     const RegionImage img = region_cpu(setup);
-    const uint8_t undecided = !sc.options.splits.empty() ? code(AlternatingLabel::undecided)
+    const uint8_t undecided = sc.options.each_piece       ? code(PieceLabel::undecided)
+                              : !sc.options.splits.empty() ? code(AlternatingLabel::undecided)
                               : sc.options.split        ? code(SplitLabel::undecided)
                                                         : code(RegionLabel::undecided);
     int pass = 0, fail = 0;

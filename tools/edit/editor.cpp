@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/region_reason.hpp"
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
@@ -362,8 +363,13 @@ void Editor::export_region(const std::filesystem::path& path) {
   const BSpline spline = region_spline();
   const std::vector<RegionResult> layers = compute_regions(spline, q);
   OutputSet out;  // the files of cmr region --png / --labels (draw/region_export.hpp)
-  if (path.extension() == ".png") out.stage(path, draw::region_png(draw::layers_picture(spline, layers, q)));
-  else draw::stage_label_pgms(out, path, layers, q);
+  if (path.extension() == ".png") {
+    draw::RegionPicture picture = draw::layers_picture(spline, layers, q);
+    if (layers.size() == 1) picture.note = region_reason(RegionProblem::make(spline, q.front()), layers[0]).value_or("");
+    out.stage(path, draw::region_png(picture));
+  } else {
+    draw::stage_label_pgms(out, path, layers, q);
+  }
   out.commit();
   message = "region written to " + path.string();
 }
@@ -437,6 +443,7 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
   if (d.chain) {  // an anchor's handles move rigidly with it
     for (int i : translation_group(d, d.selected))
       if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
+    q.each_piece = !q.split;  // each Bezier piece monotone on its own (docs/edit.md)
   }
   layers.push_back(q);
   return layers;
@@ -474,6 +481,13 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       region_keys_ = std::move(keys);
       region_coarse_ = coarse;
       rgba_stale_ = true;
+      // Why a single region is empty or full (bezierize/region_reason.hpp), in the status line.
+      if (coarse == 1 && requests.size() == 1) {
+        try {
+          if (const auto why = region_reason(RegionProblem::make(s, requests[0]), *region_.front())) message = *why;
+        } catch (const InputError&) {
+        }
+      }
     }
     // Dragging: the full-resolution region is due when the drag ends.
     region_stale_ = coarse != 1;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bezierize/extract.hpp"
+#include "report/extremum.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -38,7 +39,7 @@ void push_difference(std::vector<double>& key, double a, double b) {
 
 // The key holds every field of RegionRequest; a new field must join it (the
 // size check makes a merge that adds one fail here rather than cache wrongly).
-static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,  // each_piece fits the padding
               "RegionRequest changed: add the new field to region_key, then update this size");
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
@@ -56,6 +57,7 @@ std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
                          r.segments ? static_cast<double>(r.segments->last) : 0.0});
   count(r.splits.size());
   for (int s : r.splits) key.push_back(s);
+  key.push_back(r.each_piece ? 1.0 : 0.0);
   key.push_back(spline.degree());
   count(spline.knots().size());
   key.insert(key.end(), spline.knots().begin(), spline.knots().end());
@@ -110,6 +112,8 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
   draw::RegionPicture picture;
   picture.layers = layers;
   picture.split = split;
+  picture.alternating = layers.front()->alternating;
+  picture.each_piece = layers.front()->each_piece;
   picture.depth_shading = depth_shading;
   picture.max_depth = max_depth;
   const std::size_t count = layers.front()->size();
@@ -158,7 +162,10 @@ CurvatureEvents curvature_events(const BSpline& spline, int max_depth) {
   o.threads = 1;
   const report::SplineReport r = report::report_spline(spline, o);
   CurvatureEvents e;
-  for (const report::CurveEvent& x : r.extrema) (x.kind > 0 ? e.maxima : e.minima).push_back(x.t);
+  for (const report::CurveEvent& x : r.extrema) {  // by |kappa| (docs/semantics.md)
+    const ExtremumKind k = report::event_kind(r, x);
+    (k == ExtremumKind::sharpest ? e.maxima : k == ExtremumKind::flattest ? e.minima : e.inflections).push_back(x.t);
+  }
   for (const report::CurveEvent& x : r.inflections) e.inflections.push_back(x.t);
   return e;
 }

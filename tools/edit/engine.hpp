@@ -69,7 +69,10 @@ SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int>
 /// Certified curvature extrema and inflections of the whole curve (as `cmr
 /// report` finds them), for marking the comb and the plot.
 struct CurvatureEvents {
-  std::vector<double> maxima, minima, inflections;  ///< parameters
+  /// Parameters: maxima the sharpest points (maxima of |kappa|), minima the
+  /// flattest, inflections the sign changes of kappa (and extrema at a joint
+  /// across one); the same whichever way the curve runs.
+  std::vector<double> maxima, minima, inflections;
 };
 CurvatureEvents curvature_events(const BSpline& spline, int max_depth);
 
