@@ -1,5 +1,7 @@
 #include "bezierize/fix.hpp"
 
+#include "bezierize/extremum_terms.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <charconv>
@@ -24,16 +26,21 @@ FixRequirement parse_fix_requirement(const std::string& text) {
   if (text == "cmrwi") return r.kind = FixRequirement::Kind::cmrwi, r;
   if (text == "cmr") return r.kind = FixRequirement::Kind::cmr, r;
   if (text == "extrema-at-nodes") return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
+  if (text == "each-piece") return r.kind = FixRequirement::Kind::each_piece, r;
   if (text.rfind("split:", 0) == 0) {
     std::string s = text.substr(6);
     r.kind = FixRequirement::Kind::split;
     const std::size_t colon = s.find(':');
     if (colon != std::string::npos) {
       const std::string e = s.substr(colon + 1);
-      if (e == "max" || e == "sharpest")
-        r.extremum = FixRequirement::Extremum::max;
-      else if (e == "min" || e == "flattest")
-        r.extremum = FixRequirement::Extremum::min;
+      if (e == "max" || e == "min")
+        throw InputError("--require: '" + text +
+                         "' reads signed curvature, which flips with the direction of travel: use split:S:sharpest "
+                         "or :flattest");
+      if (e == "sharpest")
+        r.extremum = FixRequirement::Extremum::sharpest;
+      else if (e == "flattest")
+        r.extremum = FixRequirement::Extremum::flattest;
       else
         s = "x";  // not a joint: the message below
       if (s != "x") s.resize(colon);
@@ -42,7 +49,7 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
   }
   throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:max|min (sharpest|flattest) or extrema-at-nodes");
+                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece or extrema-at-nodes");
 }
 
 std::string to_string(const FixRequirement& r) {
@@ -50,11 +57,12 @@ std::string to_string(const FixRequirement& r) {
     case FixRequirement::Kind::cmrwi: return "cmrwi";
     case FixRequirement::Kind::cmr: return "cmr";
     case FixRequirement::Kind::extrema_at_nodes: return "extrema-at-nodes";
+    case FixRequirement::Kind::each_piece: return "each-piece";
     case FixRequirement::Kind::split:
       return "split:" + std::to_string(r.split) +
-             (r.extremum == FixRequirement::Extremum::max   ? ":max"
-              : r.extremum == FixRequirement::Extremum::min ? ":min"
-                                                            : "");
+             (r.extremum == FixRequirement::Extremum::sharpest   ? ":sharpest"
+              : r.extremum == FixRequirement::Extremum::flattest ? ":flattest"
+                                                                 : "");
   }
   return {};
 }
@@ -72,6 +80,7 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
   AnalyzeOptions ao;
   ao.classify.max_depth = max_depth;
   if (requirement.kind == FixRequirement::Kind::split) ao.split = requirement.split;
+  ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece its own group
   ao.split_mode = Mode::cmrwi;
   return ao;
 }
@@ -87,11 +96,14 @@ bool monotone_class(const SegmentClass& c) {
   return k == Curvature::increasing || k == Curvature::decreasing || k == Curvature::constant;
 }
 
-bool split_ok(Split verdict, FixRequirement::Extremum e) {
-  switch (e) {
-    case FixRequirement::Extremum::max: return verdict == Split::inc_dec;
-    case FixRequirement::Extremum::min: return verdict == Split::dec_inc;
-    case FixRequirement::Extremum::any: return verdict == Split::inc_dec || verdict == Split::dec_inc;
+bool split_ok(const SplineAnalysis& a, const FixRequirement& r) {
+  if (!a.split || (*a.split != Split::inc_dec && *a.split != Split::dec_inc)) return false;
+  if (r.extremum == FixRequirement::Extremum::any) return true;
+  for (const Joint& j : a.joints) {
+    if (j.index != r.split) continue;
+    const std::optional<ExtremumKind> kind = split_extremum_kind(*a.split, j);
+    return kind && *kind == (r.extremum == FixRequirement::Extremum::sharpest ? ExtremumKind::sharpest
+                                                                              : ExtremumKind::flattest);
   }
   return false;
 }
@@ -102,7 +114,8 @@ bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
   switch (r.kind) {
     case FixRequirement::Kind::cmrwi: return monotone(a.cmrwi);
     case FixRequirement::Kind::cmr: return monotone(a.cmr);
-    case FixRequirement::Kind::split: return a.split && split_ok(*a.split, r.extremum);
+    case FixRequirement::Kind::split: return split_ok(a, r);
+    case FixRequirement::Kind::each_piece: return a.each_piece && *a.each_piece == EachPiece::monotone;
     case FixRequirement::Kind::extrema_at_nodes:
       for (int i = a.range.first; i <= a.range.last; ++i)
         if (a.shapes[i].pole || !monotone_class(a.segments[i])) return false;

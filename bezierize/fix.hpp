@@ -59,20 +59,22 @@ namespace cmr {
 /// What the fixed curve must satisfy (the requirement of `cmr report
 /// --require`, and the extrema-at-nodes gate).
 struct FixRequirement {
-  enum class Kind : std::uint8_t { cmrwi, cmr, split, extrema_at_nodes };
-  /// Which extremum split:S asks for at joint S: max (sharpest) is a maximum
-  /// of the signed curvature (inc-dec), min (flattest) a minimum (dec-inc).
-  enum class Extremum : std::uint8_t { any, max, min };
+  enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes };
+  /// Which extremum split:S asks for at joint S, read in |kappa| as the
+  /// report's gates read it (bezierize/extremum_terms.hpp): sharpest (largest
+  /// |kappa|) or flattest (smallest), whatever the direction of travel.
+  enum class Extremum : std::uint8_t { any, sharpest, flattest };
   Kind kind = Kind::cmr;
   int split = 0;                      ///< joint S (Kind::split)
   Extremum extremum = Extremum::any;  ///< (Kind::split)
 };
 
-/// Parses "cmrwi", "cmr", "split:S", "split:S:max|min" (also
-/// "split:S:sharpest|flattest", read as max|min) and "extrema-at-nodes".
-/// InputError names the text otherwise.
+/// Parses "cmrwi", "cmr", "split:S", "split:S:sharpest|flattest",
+/// "each-piece" and "extrema-at-nodes". "split:S:max|min" (signed curvature,
+/// which flips with the direction of travel) is refused with a hint, as in
+/// `cmr report`. InputError names the text otherwise.
 FixRequirement parse_fix_requirement(const std::string& text);
-/// The text parse_fix_requirement reads (max/min spelled as such).
+/// The text parse_fix_requirement reads.
 std::string to_string(const FixRequirement& requirement);
 
 /// The analysis a requirement is judged on: depth, split joint (split mode
@@ -81,7 +83,10 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
 /// Whether an analysis (made with fix_analyze_options) meets the requirement:
 ///  cmrwi / cmr: that verdict is increasing or decreasing (cmr with exact
 ///    inflections, SplineAnalysis::cmr, as report);
-///  split:S: the split verdict is inc-dec or dec-inc (max: inc-dec, min: dec-inc);
+///  split:S: the split verdict is inc-dec or dec-inc; with :sharpest or
+///    :flattest, the extremum at S has that |kappa| reading (split_extremum_kind);
+///  each-piece: every piece monotone on its own, in either direction
+///    (SplineAnalysis::each_piece is monotone);
 ///  extrema-at-nodes: every segment's curvature is certified monotone
 ///    (Algorithm 1: increasing, decreasing or constant), so no extremum lies
 ///    inside a segment. This is the gate's sufficient condition: a touching

@@ -49,9 +49,9 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
     req.kind = check.split ? FixRequirement::Kind::split
                            : check.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
     if (check.split) req.split = *check.split;
-    req.extremum = check.extremum == Extremum::max   ? FixRequirement::Extremum::max
-                   : check.extremum == Extremum::min ? FixRequirement::Extremum::min
-                                                     : FixRequirement::Extremum::any;
+    req.extremum = check.extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
+                   : check.extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
+                                                          : FixRequirement::Extremum::any;
     out.push_back(run_fix(*r.spline, req, options));
   }
   for (const GateResult& g : r.gates)

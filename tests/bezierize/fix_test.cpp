@@ -24,12 +24,13 @@ TEST(FixRequirement, ParsesEveryFormAndTheSynonyms) {
   EXPECT_EQ(s.kind, FixRequirement::Kind::split);
   EXPECT_EQ(s.split, 3);
   EXPECT_EQ(s.extremum, FixRequirement::Extremum::any);
-  EXPECT_EQ(parse_fix_requirement("split:2:max").extremum, FixRequirement::Extremum::max);
-  EXPECT_EQ(parse_fix_requirement("split:2:sharpest").extremum, FixRequirement::Extremum::max);
-  EXPECT_EQ(parse_fix_requirement("split:2:min").extremum, FixRequirement::Extremum::min);
-  EXPECT_EQ(parse_fix_requirement("split:2:flattest").extremum, FixRequirement::Extremum::min);
-  EXPECT_EQ(to_string(parse_fix_requirement("split:2:sharpest")), "split:2:max");
-  for (const char* bad : {"", "cmx", "split:", "split:x", "split:2:top", "split:2:max:1"})
+  EXPECT_EQ(parse_fix_requirement("split:2:sharpest").extremum, FixRequirement::Extremum::sharpest);
+  EXPECT_EQ(parse_fix_requirement("split:2:flattest").extremum, FixRequirement::Extremum::flattest);
+  EXPECT_EQ(to_string(parse_fix_requirement("split:2:sharpest")), "split:2:sharpest");
+  EXPECT_EQ(parse_fix_requirement("each-piece").kind, FixRequirement::Kind::each_piece);
+  EXPECT_EQ(to_string(parse_fix_requirement("each-piece")), "each-piece");
+  for (const char* bad : {"", "cmx", "split:", "split:x", "split:2:top", "split:2:max", "split:2:min",
+                          "split:2:sharpest:1"})
     EXPECT_THROW(parse_fix_requirement(bad), InputError) << bad;
 }
 
