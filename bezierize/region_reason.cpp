@@ -9,13 +9,13 @@ namespace cmr {
 
 std::vector<int> acted_segments(const RegionProblem& problem) {
   std::vector<int> out;
-  for (const detail::RegionEntry& e : problem.setup().entries)
+  for (const backend::RegionEntry& e : problem.setup().entries)
     if (e.classify) out.push_back(e.segment);
   return out;
 }
 
 std::vector<int> fixed_failing_segments(const RegionProblem& problem) {
-  const detail::RegionSetup& s = problem.setup();
+  const backend::RegionSetup& s = problem.setup();
   const std::vector<int> acted = acted_segments(problem);
   std::vector<int> out;
   for (int seg = s.range.first; seg <= s.range.last; ++seg) {
@@ -72,7 +72,7 @@ std::optional<std::string> region_reason(const RegionProblem& problem, const Reg
   for (std::size_t i = 0; i < result.size(); ++i) monotone += monotone_code(result, result.code_at(i));
   const bool empty = monotone == 0, full = monotone == result.size();
   if (!empty && !full) return std::nullopt;
-  const detail::RegionSetup& s = problem.setup();
+  const backend::RegionSetup& s = problem.setup();
   std::string P = "P";  // (built in two steps: GCC 12 warns falsely on "P" + std::to_string)
   P += std::to_string(problem.request().point);
   const std::vector<int> acted = acted_segments(problem);
