@@ -107,7 +107,9 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
   if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
-  return RegionProblem::make_each(spline, o, chosen_points(a, spline));
+  const std::vector<int> points = chosen_points(a, spline);
+  check_total_pixels(static_cast<long long>(points.size()), o.width, o.height, "points");
+  return RegionProblem::make_each(spline, o, points);
 }
 
 /// The rendered images, one per point, with the JSON summary of each.
