@@ -23,10 +23,12 @@ namespace {
 /// that a closed pipe is an EPIPE here, never a kill in the middle of an
 /// output set's commit.
 int finish_stdout(int exit_code) {
-  std::cout.flush();
+  errno = 0;
+  std::cout.flush();  // through stdio (sync_with_stdio): fflush(stdout), whose errno is the one to report
+  int error = errno;
   errno = 0;
   const bool flushed = std::fflush(stdout) == 0;
-  const int error = errno;
+  if (error == 0) error = errno;
   if (flushed && !std::ferror(stdout) && std::cout.good()) return exit_code;
   struct stat st {};
   const bool pipe = ::fstat(STDOUT_FILENO, &st) == 0 && S_ISFIFO(st.st_mode);
