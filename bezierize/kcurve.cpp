@@ -15,6 +15,8 @@ namespace cmr {
 
 namespace {
 
+/// Points whose largest coordinate is beyond 2^±this are solved at unit scale.
+constexpr int kUnitScaleExponent = 256;
 /// Consecutive points closer than this share of the extent are coincident.
 constexpr double kCoincidentRelative = 1e-9;
 /// Bisection steps for t_i: 2^-64 is below a double's resolution on [0, 1].
@@ -480,6 +482,19 @@ double iterate(State& s, double extent, double tolerance, int max_iterations, bo
 
 KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   validate(points, options);
+  // Far-scale points (1e154 or 1e-200): solved at unit scale, so that no
+  // square or sum of squares overflows or underflows, and scaled back. The
+  // scale is a power of 2, so both ways are exact (issue 26 D5).
+  double largest = 0;
+  for (const Vec2& p : points) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
+  if (const int e = largest > 0 ? std::ilogb(largest) : 0; e > kUnitScaleExponent || e < -kUnitScaleExponent) {
+    std::vector<Vec2> unit;
+    for (const Vec2& p : points) unit.emplace_back(std::ldexp(p.x, -e), std::ldexp(p.y, -e));
+    KCurve out = kcurve(unit, options);
+    for (auto& q : out.quadratics)
+      for (Vec2& c : q) c = Vec2(std::ldexp(c.x, e), std::ldexp(c.y, e));
+    return out;
+  }
   const double extent = extent_of(points);
   check_spacing(points, options.closed, extent);
   check_collinear(points, options.closed, extent);

@@ -95,6 +95,10 @@ struct View {
 };
 
 inline constexpr int kMaxImageSize = 16384;
+/// Most pixels one command renders in all (region: images x width x height;
+/// sweep: (steps + 1) x width x height): one largest image's worth, 2^28, so
+/// that work and memory stay bounded (~1 byte of labels per pixel kept).
+inline constexpr long long kMaxTotalPixels = 1LL << 28;
 
 /// Centre of pixel (i, j), row 0 at the top: x = x0 + ((x1-x0)(i+0.5))/W,
 /// y = y1 - ((y1-y0)(j+0.5))/H, in double, in that order. The one place that

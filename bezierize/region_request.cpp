@@ -104,6 +104,8 @@ void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   for (int g : o.with) {
     check_point(g, "--with point");
     if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
+    if (std::count(o.with.begin(), o.with.end(), g) > 1)  // it would move twice as far
+      throw InputError("--with point " + std::to_string(g) + " is named twice");
   }
   for (int v : {o.width, o.height})
     if (v < 1 || v > kMaxImageSize)

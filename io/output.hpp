@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 #include "spline/bspline.hpp"
@@ -22,26 +23,65 @@ void check_output_path(const std::filesystem::path& path, const std::string& opt
 /// How many temporary names write_file_atomic tries before it gives up.
 inline constexpr int kTempNameAttempts = 100;
 
+/// Every hidden file cmr leaves beside an output while it works starts with
+/// this prefix and carries the writer's process id:
+///   ".cmr-tmp.PID.ATTEMPT.NAME"  a staged temporary (renamed over NAME at commit)
+///   ".cmr-bak.PID.ATTEMPT.NAME"  the old NAME kept during a commit (the undo)
+/// (NAME cut to 150 bytes, so that the entry stays within NAME_MAX). A run
+/// that is killed leaves them behind; the next commit into that folder removes
+/// every temporary whose PID is no live process and puts every such backup
+/// back over its NAME (undoing the replacements of the killed commit).
+inline constexpr const char* kHiddenPrefix = ".cmr-";
+/// The manifest an owned output folder carries: the files cmr wrote there in
+/// its last commit (see OutputSet::own_folder).
+inline constexpr const char* kManifestName = ".cmr-manifest";
+
 /// The temporary name write_file_atomic tries on its `attempt`-th try for
-/// `path`: a hidden file beside it, ".NAME.PID-ATTEMPT.tmp", so that the
-/// rename stays inside one file system. The name is only a proposal: it is
-/// created with O_CREAT | O_EXCL | O_NOFOLLOW, so a file or a symbolic link
-/// already there (another process, an attacker) is skipped, never opened.
+/// `path`: a hidden file beside it (see kHiddenPrefix), so that the rename
+/// stays inside one file system. The name is only a proposal: it is created
+/// with O_CREAT | O_EXCL | O_NOFOLLOW, so a file or a symbolic link already
+/// there (another process, an attacker) is skipped, never opened.
 std::filesystem::path temp_name_for(const std::filesystem::path& path, int attempt);
+
+/// Removes the hidden temporaries of dead cmr processes in `folder` and puts
+/// their backups back (see kHiddenPrefix); entries of live processes and
+/// every other file are left alone. Returns how many entries it handled.
+/// Best effort: a folder it cannot read is skipped. OutputSet::commit calls
+/// it on every folder it writes into, under the folder lock.
+std::size_t clean_stale_hidden_files(const std::filesystem::path& folder);
 
 /// Output files committed together: all of them, or none.
 ///
+/// What an output path may be:
+///  - a regular file, or a name not yet taken: replaced atomically, as below;
+///  - a symbolic link to a regular file: followed; the file it points to is
+///    replaced atomically (the link stays a link). Two paths that reach one
+///    file (a link and its target) are "named twice". A dangling link is
+///    refused (InputError "PATH: a symbolic link to nothing");
+///  - "-", /dev/stdout, /dev/fd/1: standard output, written as a stream;
+///  - a character device or a FIFO (a pipe): written as a stream, never
+///    unlinked or renamed over (/dev/null swallows it, /dev/full fails with
+///    EnvironmentError "No space left on device"); a FIFO with no reader is
+///    InputError "PATH: a FIFO with no reader" (nothing blocks);
+///  - a block device or a socket: InputError ("PATH: is a block device,
+///    not a file cmr can write").
+/// Streams cannot be taken back: commit() writes them first, before any
+/// file is renamed, so a failed stream leaves every file as it was.
+///
 /// stage() writes each file's bytes to its own new temporary file beside it
-/// (see temp_name_for) and flushes it to disk (fsync); nothing a user sees
-/// changes. commit() then renames every temporary over its path, in staging
-/// order, while it holds an exclusive flock(2) on every folder involved
-/// (where the file system supports flock), so that two runs committing into
-/// the same folder never interleave: the last commit wins with its whole set. Before the renames each existing output is
-/// kept as a hard link under a temporary name; if a rename fails, the files
-/// already renamed get their old contents back and the error propagates. A
-/// set destroyed without commit() (an exception on the way) removes its
-/// temporaries and the folders create_folder() made (when still empty): a
-/// failed run leaves every pre-existing file as it was, and no new file.
+/// (see temp_name_for); nothing a user sees changes. commit() flushes every
+/// staged file to disk (one syncfs(2) per file system), then renames every
+/// temporary over its path, in staging order, while it holds an exclusive
+/// flock(2) on every folder involved (where the file system supports flock),
+/// so that two runs committing into the same folder never interleave: the
+/// last commit wins with its whole set. Before the renames each existing
+/// output is kept as a hard link under a backup name; if a rename fails, the
+/// files already renamed get their old contents back and the error
+/// propagates. A set destroyed without commit() (an exception on the way)
+/// removes its temporaries and the folders create_folder() made (when still
+/// empty): a failed run leaves every pre-existing file as it was, and no new
+/// file. Staging, committing and rolling back N files is O(N) (one hash
+/// lookup per path, one lock, sync and directory scan per folder).
 ///
 /// Errors (thrown by stage, create_folder and commit):
 ///  - InputError "PATH: is a directory" when PATH is a folder or ends in '/';
@@ -59,7 +99,16 @@ class OutputSet {
   /// Creates `folder` and its missing parents; those it creates are removed
   /// again (if empty) unless the set is committed.
   void create_folder(const std::filesystem::path& folder);
-  /// Writes `bytes` to a temporary file that commit() renames over `path`.
+  /// Makes this set the owner of `folder` (an output folder such as
+  /// `report --out` or `sweep --out-dir`): commit() also removes the files
+  /// that cmr's previous owning commit wrote there (listed in its manifest,
+  /// kManifestName) and that this set does not write, so that a reused
+  /// folder holds only this run's files, and writes the new manifest. A file
+  /// is removed only when it is still the very file cmr wrote (same inode and
+  /// size): a user's own files, and files changed since, are never removed.
+  void own_folder(const std::filesystem::path& folder);
+  /// Writes `bytes` to a temporary file that commit() renames over `path`
+  /// (or keeps them for a stream; see the class comment).
   void stage(const std::filesystem::path& path, std::string_view bytes);
   /// Puts every staged file in place (see the class comment). Call once.
   void commit();
@@ -68,11 +117,20 @@ class OutputSet {
 
  private:
   struct Staged {
-    std::filesystem::path path, temp;
+    std::filesystem::path path;    ///< as given
+    std::filesystem::path target;  ///< the file replaced (path, or the file a link points to)
+    std::filesystem::path temp;    ///< empty for a stream
+    int stream_fd = -1;            ///< a device, FIFO or stdout: written at commit
+    bool close_fd = false;
+    std::string bytes;             ///< a stream's bytes
+    bool manifest = false;         ///< an owned folder's manifest (not in paths())
   };
   void discard() noexcept;
+  void close_streams() noexcept;
   std::vector<Staged> staged_;
+  std::unordered_set<std::string> key_set_;  // what each staged path reaches (named-twice check)
   std::vector<std::filesystem::path> created_folders_;  // outermost first
+  std::vector<std::filesystem::path> owned_folders_;
   bool committed_ = false;
 };
 

@@ -407,6 +407,16 @@ Affine parse_transform(const std::string& t) {
 
 namespace {
 
+/// Whether `s` is UTF-8 that JSON can hold (a spline's name is written to JSON).
+bool valid_utf8(const std::string& s) {
+  try {
+    (void)nlohmann::json(s).dump();
+    return true;
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
 /// The element name without a namespace prefix ("svg:path" -> "path").
 std::string_view local_name(const char* name) {
   std::string_view n(name);
@@ -457,10 +467,12 @@ std::vector<PathSpline> read_svg_text(const std::string& text, const std::string
       const pugi::xml_attribute d = node.attribute("d");
       if (d) {
         const std::string id = node.attribute("id").value();
-        const std::string label = id.empty() ? "path" + std::to_string(this_index) : id;
+        std::string label = id.empty() ? "path" + std::to_string(this_index) : id;
+        if (!valid_utf8(stem + "/" + label)) label = "path" + std::to_string(this_index);  // found by fuzz_svg_document
+        const std::string prefix = valid_utf8(stem + "/" + label) ? stem + "/" + label : "svg/" + label;
         std::vector<PathSpline> subpaths;
         try {
-          subpaths = parse_path_data(d.value(), stem + "/" + label);
+          subpaths = parse_path_data(d.value(), prefix);
         } catch (const InputError& e) {
           throw InputError(name + ": " + where + ", " + e.what());
         }

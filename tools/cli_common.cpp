@@ -1,5 +1,6 @@
 #include "tools/cli_common.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -107,6 +108,14 @@ std::pair<int, int> parse_size(const std::string& text) {
   if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra))
     throw InputError("--size: expected WxH, e.g. 512x512 (got '" + text + "')");
   return {w, h};
+}
+
+void check_total_pixels(long long images, int width, int height, const std::string& what) {
+  const long long w = std::max(width, 0), h = std::max(height, 0);
+  if (images <= 0 || w * h <= kMaxTotalPixels / images) return;
+  throw InputError(std::to_string(images) + " " + what + " of " + std::to_string(w) + "x" + std::to_string(h) +
+                   " pixels: more than the limit of " + std::to_string(kMaxTotalPixels) +
+                   " pixels (2^28) per run (fewer " + what + " or a smaller --size)");
 }
 
 View parse_view(const std::string& text) {

@@ -67,6 +67,9 @@ using cmr::check_output_path;
 
 /// --size WxH (InputError otherwise; the range is RegionProblem::make's).
 std::pair<int, int> parse_size(const std::string& text);
+/// Refuses (InputError) `images` x `width` x `height` above kMaxTotalPixels:
+/// "10001 steps of 16384x16384 pixels: more than the limit of 268435456 pixels (2^28) per run ...".
+void check_total_pixels(long long images, int width, int height, const std::string& what);
 /// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
 View parse_view(const std::string& text);
 

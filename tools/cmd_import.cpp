@@ -47,6 +47,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       const auto paths = import::read_svg(input, {.flip_y = !args->y_down});
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
+      files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
       int index = 0;
       for (const import::PathSpline& s : paths) {
         files.stage(dir / (input.stem().string() + "_" + std::to_string(index++) + ".json"),
@@ -75,6 +76,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       const import::Font font = import::read_font(input, import::parse_glyph_spec(args->glyphs));
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
+      files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
       std::set<std::string> stems;
       for (const import::Glyph& g : font.glyphs)
         for (const import::Contour& c : g.contours) {

@@ -114,6 +114,7 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
   if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
+  check_total_pixels(static_cast<long long>(points.size()), o.width, o.height, "points");
   return RegionProblem::make_each(spline, o, points);
 }
 

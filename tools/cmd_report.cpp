@@ -59,6 +59,7 @@ void write_report(const std::filesystem::path& dir, const std::vector<report::Sp
                   const report::ReportOptions& options, const std::vector<report::FontInfo>& fonts, bool pretty) {
   OutputSet out;
   out.create_folder(dir);
+  out.own_folder(dir);  // a reused folder keeps only this run's files (font.html of an earlier font run goes)
   out.stage(dir / "index.html", report::report_html(reports, options));
   if (!fonts.empty()) out.stage(dir / "font.html", report::font_report_html(fonts, reports, options));
   out.stage(dir / "report.json", json_text(report::report_json(reports, options), pretty));

@@ -12,7 +12,8 @@
 // All steps share one view (FILE's default view: the control points do not
 // move). Per step: the region (any backend), its refined contours
 // (bezierize/contour.hpp) and the curve's own verdict (analyze), printed as
-// one JSON line. With --out-dir, all or none of: steps.jsonl, contours/
+// one JSON line. With --out-dir (created if missing; files an earlier sweep
+// wrote there and this one does not are removed), all or none of: steps.jsonl, contours/
 // step_NNN.svg, frames/step_NNN.png, index.html (a slider over the frames),
 // area.png (area per label against the knot value) and tube.obj / tube.ply
 // (the monotone voxels of the stacked label maps, x, y and the knot value,
@@ -107,6 +108,7 @@ std::vector<Step> prepare(const SweepArgs& a, const BSpline& base) {
   }
   RegionRequest rq;
   const auto [w, h] = parse_size(a.size);
+  check_total_pixels(a.steps + 1LL, w, h, "steps");
   rq.width = w;
   rq.height = h;
   rq.point = a.point;
@@ -215,11 +217,11 @@ std::string area_plot(const SweepArgs& a, const std::vector<Step>& steps,
 void run_sweep(const SweepArgs& a) {
   const BSpline base = read_spline_file(a.file);
   std::filesystem::path dir;
-  if (!a.out_dir.empty()) {
+  if (!a.out_dir.empty()) {  // created at the end if missing, as report --out and import --out
     dir = a.out_dir;
     std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec))
-      throw InputError("--out-dir " + a.out_dir + ": not a folder (create it first)");
+    if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+      throw InputError("--out-dir " + a.out_dir + ": not a folder");
   }
   const std::vector<Step> steps = prepare(a, base);
   const bool split = a.split.has_value();
@@ -282,8 +284,12 @@ void run_sweep(const SweepArgs& a) {
 
   // All or none (cmr::OutputSet): the sub-folders this run creates are
   // removed again when the set is not committed.
+  // The folder holds this run's set only: the files an earlier sweep wrote
+  // there and this one does not (the frames of a longer sweep) are removed.
   OutputSet out;
-  for (const char* sub : {"contours", "frames"}) out.create_folder(dir / sub);
+  out.create_folder(dir);
+  out.own_folder(dir);
+  for (const char* sub : {"contours", "frames"}) out.create_folder(dir / sub), out.own_folder(dir / sub);
   std::string lines;
   for (const auto& r : records) lines += r.dump() + "\n";
   out.stage(dir / "steps.jsonl", lines);

@@ -1,5 +1,12 @@
 // The cmr command. Exit codes: 0 success, 1 a --require gate failed,
 // 2 invalid input or usage (one line on stderr), 3 environment failure.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -7,7 +14,41 @@
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
 
+namespace {
+
+/// stdout is an output too: after the command, everything printed is flushed
+/// and checked. A write error (a full disk, /dev/full) is exit 3 with one
+/// line; a closed pipe (a consumer such as `head` stopped reading) ends
+/// quietly with the command's own exit code. SIGPIPE is ignored (main), so
+/// that a closed pipe is an EPIPE here, never a kill in the middle of an
+/// output set's commit.
+int finish_stdout(int exit_code) {
+  errno = 0;
+  std::cout.flush();  // through stdio (sync_with_stdio): fflush(stdout), whose errno is the one to report
+  int error = errno;
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  if (error == 0) error = errno;
+  if (flushed && !std::ferror(stdout) && std::cout.good()) return exit_code;
+  struct stat st {};
+  const bool pipe = ::fstat(STDOUT_FILENO, &st) == 0 && S_ISFIFO(st.st_mode);
+  if (error == EPIPE || (error == 0 && pipe)) return exit_code;  // the error was EPIPE, seen by an earlier write
+  std::cerr << "cmr: stdout: " << (error != 0 ? std::strerror(error) : "write error") << '\n';
+  return exit_code == cmr::cli::kOk || exit_code == cmr::cli::kFail ? cmr::cli::kEnvironment : exit_code;
+}
+
+int run(int argc, char** argv);
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);
+  return finish_stdout(run(argc, argv));
+}
+
+namespace {
+
+int run(int argc, char** argv) {
   using namespace cmr::cli;
   CLI::App app{"cmr: curvature monotonicity regions of B-spline curves"};
   app.require_subcommand(1);
@@ -79,3 +120,5 @@ int main(int argc, char** argv) {
   }
   return exit_code;
 }
+
+}  // namespace

@@ -281,6 +281,10 @@ TEST(ImportSvgDocument, CommentsCdataEntitiesAndAttributes) {
   EXPECT_EQ(svg_error("<!DOCTYPE svg [<!ENTITY x SYSTEM 'file:///etc/passwd'>]><svg><path d='&x;'/></svg>"),
             "t.svg: path 0, d[0]: path data must start with M or m");
   EXPECT_EQ(svg_error("<svg><!-- <path d='M0 0 L1 1'/> --></svg>"), "t.svg: no <path> with curve data");
+  // An id that is not UTF-8 (found by fuzz_svg_document: the JSON writer threw) names the path by number.
+  const auto bad_id = read_svg_text("<svg><path id='a\xff\xff' d='M0 0 L1 1'/></svg>", "t.svg", "t");
+  EXPECT_EQ(bad_id.at(0).name, "t/path0/s0");
+  EXPECT_NO_THROW((void)path_json(bad_id.at(0)).dump());
   EXPECT_EQ(svg_error("<svg><path d='M0 0 L1 1'></svg>").substr(0, 35), "t.svg: not well-formed XML at byte ");
 }
 

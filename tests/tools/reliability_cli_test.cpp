@@ -4,6 +4,9 @@
 // and folders, bounded work.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <algorithm>
 
 #include <nlohmann/json.hpp>
 
@@ -94,6 +97,173 @@ TEST(ReliabilitySvg, ReportReadsSvgAndRegionSaysToImport) {
     const auto r = run("region " + font + " --point 1 --backend cpu");
     EXPECT_EQ(r.code, 2);
     expect_one_line(r, "DejaVuSans.ttf: a font file, not a spline file (run `cmr import", "region FONT");
+  }
+}
+
+// ---- stdout and outputs that are not regular files (issue 26 items 2, 3) ----
+
+const std::string kUniform = std::string(CMR_SOURCE_DIR) + "/examples/uniform.json";
+const std::string kFig8 = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8.json";
+
+/// Runs a shell command line (CMR replaced by the binary); stdout and stderr captured.
+Outcome shell(std::string line) {
+  for (std::size_t at = line.find("CMR"); at != std::string::npos; at = line.find("CMR", at + 1))
+    line.replace(at, 3, CMR_BINARY);
+  const fs::path dir = scratch();
+  const fs::path script = dir / "cmd.sh";
+  std::ofstream(script) << line << "\n";
+  const std::string cmd = "bash " + script.string() + " >" + (dir / "sh_out").string() + " 2>" + (dir / "sh_err").string();
+  const int status = std::system(cmd.c_str());
+  Outcome r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.out = slurp(dir / "sh_out");
+  r.err = slurp(dir / "sh_err");
+  return r;
+}
+
+bool is_char_device(const char* p) {
+  struct stat st {};
+  return ::stat(p, &st) == 0 && S_ISCHR(st.st_mode);
+}
+
+// D2: a full stdout is exit 3 with one line, for a small and a large output.
+TEST(ReliabilityStdout, D2WriteErrorOnStdoutIsExit3) {
+  ASSERT_TRUE(is_char_device("/dev/full"));
+  for (const std::string cmd : {"CMR analyze " + kUniform + " > /dev/full",
+                                "CMR knots " + kUniform + " refine > /dev/full",
+                                "CMR segments " + kFig8 + " --pretty > /dev/full"}) {
+    const auto r = shell(cmd);
+    EXPECT_EQ(r.code, 3) << cmd;
+    expect_one_line(r, "cmr: stdout: No space left on device", cmd);
+  }
+  EXPECT_TRUE(is_char_device("/dev/full"));
+}
+
+TEST(ReliabilityStdout, BrokenPipeEndsQuietly) {
+  // An output far larger than a pipe's buffer, read only in part.
+  const fs::path d = fresh("pipe");
+  {
+    std::ofstream big(d / "big.json");
+    big << "{\"degree\": 3, \"knots\": [";
+    const int n = 20000;
+    for (int k = 0; k < n + 2; ++k) big << (k ? "," : "") << k;
+    big << "], \"points\": [";
+    for (int k = 0; k < n; ++k) big << (k ? "," : "") << "[" << k << "," << (k % 7) * 0.5 << "]";
+    big << "]}";
+  }
+  const auto r = shell("CMR knots " + (d / "big.json").string() +
+                       " refine | head -c 100 > /dev/null; echo ${PIPESTATUS[0]}");
+  EXPECT_EQ(r.out, "0\n") << "cmr's exit code";
+  EXPECT_EQ(r.err, "") << "a closed pipe is no error to report";
+}
+
+// D7: a device, FIFO or stdout as an output is a stream, never replaced.
+TEST(ReliabilityOutputs, D7DevicesAndFifosAreStreamsNeverReplaced) {
+  const fs::path d = fresh("devices");
+  const std::string region = "CMR region " + kUniform + " --point 1 --backend cpu --size 16x16";
+  const auto full = shell(region + " --labels /dev/full");
+  EXPECT_EQ(full.code, 3);
+  expect_one_line(full, "/dev/full: No space left on device", "--labels /dev/full");
+  EXPECT_TRUE(is_char_device("/dev/full")) << "/dev/full was replaced";
+  EXPECT_TRUE(is_char_device("/dev/null"));
+  const auto null = shell(region + " --png /dev/null --labels " + (d / "l.pgm").string());
+  EXPECT_EQ(null.code, 0) << null.err;
+  EXPECT_TRUE(is_char_device("/dev/null"));
+  EXPECT_TRUE(fs::exists(d / "l.pgm"));
+  for (const std::string out : {"-", "/dev/stdout"}) {
+    const auto png = shell(region + " --png " + out);
+    EXPECT_EQ(png.code, 0) << out << ": " << png.err;
+    EXPECT_EQ(png.out.substr(0, 4), "\x89PNG") << out;
+  }
+  const fs::path fifo = d / "fifo.pgm";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto none = shell(region + " --labels " + fifo.string());
+  EXPECT_EQ(none.code, 2);
+  expect_one_line(none, "fifo.pgm: a FIFO with no reader", "FIFO without a reader");
+  const auto read = shell("cat " + fifo.string() + " > " + (d / "got.pgm").string() + " & sleep 0.5; " + region +
+                          " --labels " + fifo.string() + "; wait");
+  EXPECT_EQ(read.code, 0) << read.err;
+  EXPECT_EQ(slurp(d / "got.pgm").substr(0, 2), "P5");
+  struct stat st {};
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO was replaced by a file";
+}
+
+// ---- folders (issue 20 item 7, issue 26 item 4) ----
+
+TEST(ReliabilityFolders, SweepCreatesItsFolderAndAReusedOneHoldsOnlyThisRun) {
+  const fs::path d = fresh("sweep_dir") / "new" / "sweep";
+  const std::string sweep = "sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --size 8x8 --backend cpu --out-dir " +
+                            d.string();
+  const auto longer = run(sweep + " --steps 4");
+  ASSERT_EQ(longer.code, 0) << longer.err;
+  EXPECT_TRUE(fs::exists(d / "frames" / "step_004.png"));
+  std::ofstream(d / "frames" / "mine.txt") << "a user's file";
+  const auto shorter = run(sweep + " --steps 2");
+  ASSERT_EQ(shorter.code, 0) << shorter.err;
+  std::vector<std::string> frames;
+  for (const auto& e : fs::directory_iterator(d / "frames")) frames.push_back(e.path().filename().string());
+  std::sort(frames.begin(), frames.end());
+  EXPECT_EQ(frames, (std::vector<std::string>{".cmr-manifest", "mine.txt", "step_000.png", "step_001.png",
+                                              "step_002.png"}));
+  EXPECT_FALSE(fs::exists(d / "contours" / "step_004.svg"));
+  std::ofstream(fresh("sweep_file") / "f") << "x";
+  const auto file = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8 --out-dir " +
+                        (scratch() / "rel_sweep_file" / "f").string());
+  EXPECT_EQ(file.code, 2);
+  expect_one_line(file, "--out-dir", "--out-dir on a file");
+}
+
+TEST(ReliabilityFolders, ImportIntoAReusedFolderKeepsOnlyThisImport) {
+  const fs::path d = fresh("import_dir");
+  std::ofstream(d / "a.svg") << "<svg><path d='M0 0 L1 1 M2 2 L3 3 M4 4 L5 5'/></svg>";
+  ASSERT_EQ(run("import " + (d / "a.svg").string() + " --out " + (d / "o").string()).code, 0);
+  EXPECT_TRUE(fs::exists(d / "o" / "a_2.json"));
+  std::ofstream(d / "a.svg") << "<svg><path d='M0 0 L1 1'/></svg>";
+  ASSERT_EQ(run("import " + (d / "a.svg").string() + " --out " + (d / "o").string()).code, 0);
+  EXPECT_TRUE(fs::exists(d / "o" / "a_0.json"));
+  EXPECT_FALSE(fs::exists(d / "o" / "a_1.json"));
+  EXPECT_FALSE(fs::exists(d / "o" / "a_2.json"));
+}
+
+TEST(ReliabilityFolders, WithNamingAPointTwiceIsRefused) {
+  const auto r = run("region " + kFig8 + " --point 3 --with 2,1,2 --backend cpu --size 8x8");
+  EXPECT_EQ(r.code, 2);
+  expect_one_line(r, "--with point 2 is named twice", "--with 2,1,2");
+  const auto s = run("sweep " + kFig8 + " --point 3 --with 2,1,2 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8");
+  EXPECT_EQ(s.code, 2);
+  expect_one_line(s, "--with point 2 is named twice", "sweep --with 2,1,2");
+}
+
+// ---- bounded work and far-scale points (issue 26 items 5, D5, D6) ----
+
+TEST(ReliabilityLimits, D6TotalPixelsAreBounded) {
+  const auto sweep = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 10000 --size 16384x16384");
+  EXPECT_EQ(sweep.code, 2);
+  expect_one_line(sweep, "10001 steps of 16384x16384 pixels: more than the limit of 268435456 pixels", "D6 sweep");
+  const auto region = run("region " + kFig8 + " --point all --size 16384x16384 --backend cpu");
+  EXPECT_EQ(region.code, 2);
+  expect_one_line(region, "points of 16384x16384 pixels: more than the limit", "region --point all");
+}
+
+TEST(ReliabilityLimits, D5FarScaleKCurvePointsAreNotCoincident) {
+  const fs::path d = fresh("kcurve");
+  std::ofstream(d / "u.json") << "{\"points\": [[0,0],[1,2],[3,0],[4,1]]}";
+  const auto unit = nlohmann::json::parse(run("kcurve " + (d / "u.json").string()).out);
+  for (const auto& [pts, scale] : {std::pair<std::string, double>{"[[0,0],[1e154,2e154],[3e154,0],[4e154,1e154]]", 1e154},
+                                   std::pair<std::string, double>{"[[0,0],[1e-200,2e-200],[3e-200,0],[4e-200,1e-200]]", 1e-200}}) {
+    std::ofstream(d / "p.json") << "{\"points\": " << pts << "}";
+    const auto r = run("kcurve " + (d / "p.json").string());
+    EXPECT_EQ(r.code, 0) << pts << ": " << r.err;
+    EXPECT_EQ(r.err.find("coincide"), std::string::npos) << r.err;
+    const auto doc = nlohmann::json::parse(r.out);
+    // The same curve as the unit-scale points, scaled by the same factor.
+    ASSERT_EQ(doc["points"].size(), unit["points"].size());
+    for (std::size_t k = 0; k < doc["points"].size(); ++k)
+      for (int c = 0; c < 2; ++c) {
+        const double want = unit["points"][k][c].get<double>() * scale, got = doc["points"][k][c].get<double>();
+        EXPECT_NEAR(got / scale, want / scale, 1e-9) << pts << " point " << k << " coordinate " << c;
+      }
   }
 }
 

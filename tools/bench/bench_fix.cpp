@@ -30,6 +30,7 @@
 
 #include "bezierize/fix.hpp"
 #include "io/font.hpp"
+#include "report/batch.hpp"
 #include "report/report.hpp"
 #include "spline/curvature.hpp"
 

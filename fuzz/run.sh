@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (clang, ASan + UBSan) in build-fuzz and runs
+# each for SECONDS (default 10), one at a time, at the lowest priority.
+#   fuzz/run.sh [SECONDS] [HARNESS...]      e.g. fuzz/run.sh 600 svg_document
+# A finding stops that harness with its crash file in build-fuzz/findings/
+# and makes the script exit 1. Seeds: fuzz/corpus/NAME (read only; new inputs
+# go to build-fuzz/corpus/NAME); dictionaries: fuzz/dict/NAME.dict.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-10}
+shift || true
+all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify)
+names=("$@")
+((${#names[@]})) || names=("${all[@]}")
+cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMR_FUZZ=ON -DCMR_BUILD_TESTS=OFF -DCMR_BUILD_BENCHMARKS=OFF -DCMR_WITH_VULKAN=OFF -DCMR_BUILD_EDITOR=OFF \
+  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+  >/dev/null
+ninja -C build-fuzz -j"${CMR_FUZZ_JOBS:-2}" "${names[@]/#/fuzz/fuzz_}"
+mkdir -p build-fuzz/findings
+status=0
+for n in "${names[@]}"; do
+  mkdir -p "build-fuzz/corpus/$n"
+  # The font seed is a real font from fonts-dejavu-core (tools/setup.sh), not committed.
+  [[ $n == font && -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]] &&
+    cp -n /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf build-fuzz/corpus/font/dejavu.ttf
+  dict=()
+  [[ -f fuzz/dict/$n.dict ]] && dict=(-dict="fuzz/dict/$n.dict")
+  start=$(date +%s)
+  if nice -n 19 "build-fuzz/fuzz/fuzz_$n" -max_total_time="$seconds" -max_len=65536 -timeout=20 -rss_limit_mb=2048 \
+      -artifact_prefix="build-fuzz/findings/$n-" "${dict[@]}" "build-fuzz/corpus/$n" "fuzz/corpus/$n" \
+      >"build-fuzz/findings/$n.log" 2>&1; then
+    echo "fuzz $n: $(( $(date +%s) - start )) s, no finding ($(grep -o 'stat::number_of_executed_units: [0-9]*' "build-fuzz/findings/$n.log" | grep -o '[0-9]*$' || echo '?') runs)"
+  else
+    echo "fuzz $n: FINDING after $(( $(date +%s) - start )) s; see build-fuzz/findings/$n.log"
+    status=1
+  fi
+done
+exit $status

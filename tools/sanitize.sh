@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer,
+# in build-asan (one command):
+#   tools/sanitize.sh [CTEST ARGS...]     e.g. tools/sanitize.sh -R 'ImportSvg|OutputSet'
+# Builds every target (or, with -R, still every target: ctest needs them)
+# and runs ctest; any sanitizer report fails the test that triggered it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+ninja -C build-asan -j"${CMR_JOBS:-2}" ${CMR_SANITIZE_TARGETS:-}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export VK_DRIVER_FILES=${VK_DRIVER_FILES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}
+ctest --test-dir build-asan --output-on-failure -j"${CMR_JOBS:-2}" "$@"
