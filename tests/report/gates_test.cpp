@@ -365,7 +365,8 @@ TEST(Gates, EachPieceJudgesEveryPieceOnItsOwn) {
   parse_require_list("each-piece", o);
   ASSERT_EQ(o.gates.size(), 1u);
   EXPECT_EQ(to_string(o.gates[0]), "each-piece");
-  const SplineReport r = report_spline(square, o);
+  const SplineReport r = judged_report(square, o);
+  ASSERT_EQ(r.gates.size(), 1u);
   ASSERT_EQ(r.gates[0].violations.size(), 4u);
   EXPECT_EQ(r.gates[0].violations[2].message, "segment 2 is not monotone on its own");
   EXPECT_FALSE(r.pass);
@@ -374,7 +375,8 @@ TEST(Gates, EachPieceJudgesEveryPieceOnItsOwn) {
   const BSpline wave = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7, 8},
                                      {{0.058, 0.128}, {1.274, 0.936}, {2.065, -0.298}, {3.236, -0.998},
                                       {3.765, 0.132}, {5.069, -0.719}, {6.078, 0.783}});
-  const SplineReport w = report_spline(wave, o);
+  const SplineReport w = judged_report(wave, o);
+  ASSERT_EQ(w.gates.size(), 1u);
   EXPECT_TRUE(w.gates[0].pass());
   EXPECT_TRUE(w.pass);
   EXPECT_THROW(parse_require_list("each-piece:2", o), InputError);

@@ -6,6 +6,7 @@
 
 #include "bezierize/kcurve.hpp"
 #include "report/gates.hpp"
+#include "report/batch.hpp"
 #include "report/report.hpp"
 #include "tests/bezierize/kcurve_sets.hpp"
 
@@ -24,7 +25,7 @@ TEST(KCurveGates, TwentySeededCubicChainsPassExtremaAtNodes) {
     const KCurve k = kcurve(s.points, o);
     ASSERT_TRUE(k.converged()) << s.str();
     ASSERT_TRUE(kcurve_cubic_uncertified(k).empty()) << s.str();
-    const SplineReport r = report_spline(kcurve_cubic_chain(k), options);
+    const SplineReport r = judged_report(kcurve_cubic_chain(k), options);
     for (const SpanReport& span : r.spans) {
       const Curvature c = span.classification.monotonicity.curvature;
       EXPECT_TRUE(c == Curvature::increasing || c == Curvature::decreasing)

@@ -13,6 +13,7 @@
 
 #include "bezierize/extremum_terms.hpp"
 #include "report/extremum.hpp"
+#include "report/batch.hpp"
 #include "report/report.hpp"
 #include "tests/test_util.hpp"
 
@@ -98,13 +99,13 @@ TEST(Orientation, ReversingMirroringAndContourDirectionGiveTheSameAnswers) {
     const BSpline s = closed ? BSpline::make_closed(d, knots, pts) : BSpline::make(d, knots, pts);
     const std::vector<std::pair<const char*, BSpline>> variants = {
         {"reversed", s.reversed()}, {"mirrored", mirrored(s)}, {"mirrored and reversed", mirrored(s).reversed()}};
-    const SplineReport base = report_spline(s, with(kGates));
+    const SplineReport base = judged_report(s, with(kGates));
     const Summary want = summary(base);
     extrema += static_cast<int>(base.extrema.size());
     sharpest += want.kinds.count("sharpest") ? want.kinds.at("sharpest") : 0;
     flattest += want.kinds.count("flattest") ? want.kinds.at("flattest") : 0;
     for (const auto& [name, v] : variants) {
-      const Summary got = summary(report_spline(v, with(kGates)));
+      const Summary got = summary(judged_report(v, with(kGates)));
       EXPECT_EQ(got, want) << "trial " << trial << " " << name << (closed ? " (closed)" : "") << ": " << text(got)
                            << " vs " << text(want);
     }
@@ -115,7 +116,7 @@ TEST(Orientation, ReversingMirroringAndContourDirectionGiveTheSameAnswers) {
     for (int S = 1; S < N; ++S)
       for (const char* kind : {"sharpest", "flattest"}) {
         const auto passes = [&](const BSpline& c, int joint) {
-          return report_spline(c, with("split:" + std::to_string(joint) + ":" + kind)).pass;
+          return judged_report(c, with("split:" + std::to_string(joint) + ":" + kind)).pass;
         };
         const bool p = passes(s, S);
         split_passes_seen += p;
@@ -141,7 +142,7 @@ TEST(Orientation, WaveSplitsReadTheSameWhicheverWayItRuns) {
   const auto passes = [](const BSpline& c, int joint, int first, const char* kind) {
     ReportOptions o = with("split:" + std::to_string(joint) + ":" + kind);
     o.segments = SegmentRange{first, first + 1};
-    return report_spline(c, o).pass;
+    return judged_report(c, o).pass;
   };
   for (const auto& [S, first, sharpest] : {std::tuple{3, 2, true}, std::tuple{2, 1, true}})
     for (const char* kind : {"sharpest", "flattest"}) {
