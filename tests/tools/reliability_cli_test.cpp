@@ -129,7 +129,7 @@ bool is_char_device(const char* p) {
 // D2: a full stdout is exit 3 with one line, for a small and a large output.
 TEST(ReliabilityStdout, D2WriteErrorOnStdoutIsExit3) {
   ASSERT_TRUE(is_char_device("/dev/full"));
-  for (const std::string cmd : {"CMR analyze " + kUniform + " > /dev/full",
+  for (const std::string& cmd : {"CMR analyze " + kUniform + " > /dev/full",
                                 "CMR knots " + kUniform + " refine > /dev/full",
                                 "CMR segments " + kFig8 + " --pretty > /dev/full"}) {
     const auto r = shell(cmd);
