@@ -175,8 +175,10 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
   for (std::size_t fi = 0; fi < fonts.size(); ++fi) {
     const FontInfo& font = fonts[fi];
     int pass = 0, fail = 0;
+    std::size_t contour_count = 0;
     std::vector<bool> glyph_pass;
     for (const auto& g : font.glyphs) {
+      contour_count += g.items.size();
       bool ok = true;
       for (std::size_t i : g.items) ok = ok && reports[i].error.empty() && reports[i].pass;
       glyph_pass.push_back(ok);
@@ -184,7 +186,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     }
     out += "<h1>" + html_escape(font.family + " " + font.style) + "</h1><p>" + html_escape(font.path) + ": " +
            std::to_string(font.units_per_em) + " units per em, " + (font.cubic ? "cubic (CFF)" : "quadratic (TrueType)") +
-           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs: <b>" + std::to_string(pass) +
+           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs (" + std::to_string(contour_count) + " contours): <b>" + std::to_string(pass) +
            " pass</b>, <b>" + std::to_string(fail) + " fail</b>. Gates: " +
            html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
            ". Fixes move one handle along a tangent, snapped to the unit grid, and are re-verified there: the "

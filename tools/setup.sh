@@ -14,6 +14,7 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth
   libopenmesh-dev
   libfreetype-dev fonts-urw-base35
+  fonts-noto-core fonts-texgyre
 )
 
 missing=()
