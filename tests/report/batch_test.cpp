@@ -368,6 +368,29 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A whole Latin font's pages (U+0021-U+017F of DejaVu Sans, thumbnails on)
+// stay under 2 MB: each glyph is drawn once, its overview thumbnail (96 px
+// high) a <use> of that drawing; index.html and font.html count glyphs and
+// contours alike.
+TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
+  const fs::path out = test::scratch() / "latin";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kDejaVu +
+                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs --backend cpu --out " + out.string());
+  ASSERT_LE(r.code, 1) << r.err;
+  std::uintmax_t pages = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    if (e.path().extension() == ".html") pages += e.file_size();
+  EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
+  const std::string font = test::slurp(out / "font.html");
+  EXPECT_NE(font.find("<use href=\"#g0-O-pic\"/>"), std::string::npos);
+  EXPECT_NE(font.find("<g id=\"g0-O-pic\">"), std::string::npos);
+  const Json doc = read_json(out / "report.json");
+  const std::string counts = std::to_string(doc["splines"].size()) + " contours";
+  EXPECT_NE(font.find(counts), std::string::npos) << counts;
+  EXPECT_NE(test::slurp(out / "index.html").find("<td>" + std::to_string(doc["splines"].size()) + "</td>"), std::string::npos);
+}
+
 // ------------------------------------------------------------ TrueType runs
 
 ReportOptions gate_options(const std::string& require) {

@@ -25,7 +25,8 @@ for r in log["runs"][0]["results"]:
     path = urllib.parse.unquote(uri[len("file://"):] if uri.startswith("file://") else uri)
     glyph = r.get("properties", {}).get("glyph")
     if path in fonts and glyph is not None:
-        fonts[path].setdefault(r["ruleId"], set()).add(glyph)
+        rule = r["ruleId"].split(":0")[0]  # g2-at-smooth-nodes:0.05 -> g2-at-smooth-nodes
+        fonts[path].setdefault(rule, set()).add(glyph)
 
 rows = []
 for path, d in sorted(fonts.items()):
