@@ -2,9 +2,9 @@
 // for quadratic (TrueType) outlines. A quadratic piece's curvature peaks
 // once, at the parabola's vertex, whatever the designer does; what the
 // designer places are the on-curve points (nodes) and the off-curve points
-// of each run between them. The gate asks that |kappa| along each run (split
-// at inflections) rises to at most one peak and falls, and reports every
-// dip: an interior minimum of |kappa|, between two peaks.
+// of each run between them, which set how high each piece's peak is. The
+// gate asks that along each run (split at inflections) the pieces' peaks
+// rise to one highest and fall, and reports each valley piece.
 #include <algorithm>
 #include <cmath>
 #include <set>
