@@ -186,7 +186,7 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
     switch (w.kind) {
       case FileKind::font:
         w.font = font_inputs(import::read_font(path, options.codepoints), inputs);
-        o.grid = 1;  // the font's unit
+        o.grid = options.fixes ? 1 : 0;  // the font's unit
         break;
       case FileKind::svg:
         for (const import::PathSpline& p : import::read_svg(path)) {

@@ -86,6 +86,9 @@ struct BatchOptions {
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json
   bool pretty = false;                  ///< indent report.json
+  /// Search re-verified handle moves for the failing glyphs of fonts (with
+  /// report.regions: the font's unit grid); off: thumbnails without moves.
+  bool fixes = true;
 };
 
 /// The run's counts (the one-line summary) and its exit code.

@@ -384,6 +384,16 @@ TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
   EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
   const std::string font = test::slurp(out / "font.html");
   EXPECT_NE(font.find("<use href=\"#g0-O-pic\"/>"), std::string::npos);
+  // --no-fixes: the same thumbnails, no handle moves searched.
+  const fs::path bare = test::scratch() / "latin_bare";
+  fs::remove_all(bare);
+  const test::Outcome nf = test::run(std::string("report ") + kNotoSans + " --glyphs k --require extrema-at-nodes:runs --no-fixes --backend cpu --out " + bare.string());
+  if (fs::exists(kNotoSans)) {
+    EXPECT_EQ(nf.code, 1) << nf.err;  // k's valley at p6
+    const Json k = read_json(bare / "report.json");
+    EXPECT_TRUE(k["splines"][0]["tangent_fixes"].empty()) << k["splines"][0]["tangent_fixes"].dump();
+    EXPECT_NE(test::slurp(bare / "font.html").find("<use href="), std::string::npos);
+  }
   EXPECT_NE(font.find("<g id=\"g0-O-pic\">"), std::string::npos);
   const Json doc = read_json(out / "report.json");
   const std::string counts = std::to_string(doc["splines"].size()) + " contours";

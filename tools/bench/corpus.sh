@@ -8,7 +8,8 @@
 #
 # Usage: tools/bench/corpus.sh [CMR] [OUT]   (CMR default build/tools/cmr, OUT /tmp/cmr-corpus)
 # Environment: SUBSET=N  only the first N fonts of each family (sorted), for a quick run;
-#              PAGES=0   skip the run with thumbnails.
+#              PAGES=0   skip the run with thumbnails (drawn, no handle-move search: --no-fixes);
+#              FIXES=1   also run with the move search (slow: each candidate re-reports its contour).
 set -euo pipefail
 cmr=${1:-build/tools/cmr}
 out=${2:-/tmp/cmr-corpus}
@@ -53,6 +54,7 @@ run() {  # NAME ARGS...
   echo "corpus: $name: wall $wall, peak memory $((rss / 1024)) MiB, pages $(du -sh --exclude=report.json "$out/$name" | cut -f1), report.json $(du -sh "$out/$name/report.json" | cut -f1)"
 }
 run nothumb --no-thumbnails
-if [[ ${PAGES:-1} != 0 ]]; then run pages; fi
+if [[ ${PAGES:-1} != 0 ]]; then run pages --no-fixes; fi
+if [[ ${FIXES:-0} != 0 ]]; then run fixes; fi
 python3 "$here/corpus_stats.py" "$out/nothumb.junit.xml" "$out/nothumb.sarif" "$out/stats.md" "$out/qa-corpus.svg"
 echo "corpus: per-font table $out/stats.md, plot $out/qa-corpus.svg"
