@@ -204,6 +204,47 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
   if (!ok) throw_errno(path, error);
 }
 
+StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
+  CMR_CHECK(!committed_);
+  struct stat st {};
+  if (path.filename().empty() || (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))) throw_errno(path, EISDIR);
+  const std::filesystem::path key = std::filesystem::absolute(path).lexically_normal();
+  for (const Staged& s : staged_)
+    if (std::filesystem::absolute(s.path).lexically_normal() == key) throw InputError(path.string() + ": named twice");
+  auto [temp, fd] = create_temp(path);
+  staged_.push_back({path, std::move(temp)});
+  return StagedStream(path, fd);
+}
+
+StagedStream& StagedStream::operator=(StagedStream&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(o.path_);
+    fd_ = o.fd_;
+    o.fd_ = -1;
+  }
+  return *this;
+}
+
+StagedStream::~StagedStream() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void StagedStream::write(std::string_view bytes) {
+  CMR_CHECK(fd_ >= 0);
+  if (!write_all(fd_, bytes)) throw_errno(path_, errno);
+}
+
+void StagedStream::close() {
+  CMR_CHECK(fd_ >= 0);
+  const bool ok = ::fsync(fd_) == 0;
+  const int error = errno;
+  const int rc = ::close(fd_);
+  fd_ = -1;
+  if (!ok) throw_errno(path_, error);
+  if (rc != 0) throw_errno(path_, errno);
+}
+
 void OutputSet::commit() {
   CMR_CHECK(!committed_);
   FolderLocks locks;

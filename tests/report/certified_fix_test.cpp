@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "report/batch.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
@@ -24,7 +25,7 @@ TEST(CertifiedFix, OnePerFailingCheckAndEachHolds) {
   ReportOptions o;
   parse_require_list("cmrwi,extrema-at-nodes,no-inflection", o);
   o.regions = false;
-  const SplineReport r = report_spline(fig8(), o);
+  const SplineReport r = judged_report(fig8(), o);
   ASSERT_FALSE(r.pass);
   const std::vector<CertifiedFix> fixes = certified_fixes(r, o);
   ASSERT_EQ(fixes.size(), 2u);  // the requirement and extrema-at-nodes; no-inflection has no fix requirement
@@ -35,7 +36,7 @@ TEST(CertifiedFix, OnePerFailingCheckAndEachHolds) {
     EXPECT_EQ(f.moves.size(), 1u) << f.check;
     EXPECT_TRUE(requirement_holds(moved(fig8(), f), parse_fix_requirement(f.check))) << f.check;
     // The report of the moved spline passes that check.
-    const SplineReport after = report_spline(moved(fig8(), f), o);
+    const SplineReport after = judged_report(moved(fig8(), f), o);
     if (f.check == "cmrwi") EXPECT_TRUE(after.requirement_pass);
     else EXPECT_TRUE(after.gates[0].pass()) << after.gates[0].violations.size();
     const auto j = certified_fix_json(f);
@@ -49,7 +50,7 @@ TEST(CertifiedFix, APassingSplineGetsNone) {
   ReportOptions o;
   parse_require_list("cmr", o);
   o.regions = false;
-  const SplineReport r = report_spline(BSpline::bezier({{0, 0}, {2, 0}, {3, 0.5}, {3.3, 1.2}}), o);
+  const SplineReport r = judged_report(BSpline::bezier({{0, 0}, {2, 0}, {3, 0.5}, {3.3, 1.2}}), o);
   ASSERT_TRUE(r.pass);
   EXPECT_TRUE(certified_fixes(r, o).empty());
 }
