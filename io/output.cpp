@@ -396,6 +396,61 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
   if (!ok) throw_errno(path, error);
 }
 
+StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
+  CMR_CHECK(!committed_);
+  if (path.filename().empty()) throw_errno(path, EISDIR);
+  Staged s;
+  s.path = path;
+  s.target = path;
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0) {
+    if (S_ISLNK(st.st_mode)) {  // a link to a regular file is followed, as by stage()
+      std::error_code ec;
+      s.target = std::filesystem::canonical(path, ec);
+      if (ec) throw_errno(path, ec.value());
+      if (::stat(s.target.c_str(), &st) != 0) throw_errno(path, errno);
+    }
+    if (S_ISDIR(st.st_mode)) throw_errno(path, EISDIR);
+    if (!S_ISREG(st.st_mode))
+      throw InputError(path.string() + ": is written in pieces, so it must be a regular file (not a device, FIFO or socket)");
+  }
+  const std::string key = folder_key(folder_of(s.target)) + "/" + s.target.filename().string();
+  if (!key_set_.insert(key).second) throw InputError(path.string() + ": named twice");
+  auto [temp, fd] = create_temp(s.target);
+  s.temp = std::move(temp);
+  staged_.push_back(std::move(s));
+  return StagedStream(path, fd);
+}
+
+StagedStream& StagedStream::operator=(StagedStream&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(o.path_);
+    fd_ = o.fd_;
+    o.fd_ = -1;
+  }
+  return *this;
+}
+
+StagedStream::~StagedStream() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void StagedStream::write(std::string_view bytes) {
+  CMR_CHECK(fd_ >= 0);
+  if (!write_all(fd_, bytes)) throw_errno(path_, errno);
+}
+
+void StagedStream::close() {
+  CMR_CHECK(fd_ >= 0);
+  const bool ok = ::fsync(fd_) == 0;
+  const int error = errno;
+  const int rc = ::close(fd_);
+  fd_ = -1;
+  if (!ok) throw_errno(path_, error);
+  if (rc != 0) throw_errno(path_, errno);
+}
+
 void OutputSet::commit() {
   CMR_CHECK(!committed_);
   // The folders written into, each once, in first-use order.

@@ -50,6 +50,31 @@ std::filesystem::path temp_name_for(const std::filesystem::path& path, int attem
 /// it on every folder it writes into, under the folder lock.
 std::size_t clean_stale_hidden_files(const std::filesystem::path& folder);
 
+class OutputSet;
+
+/// A file of an OutputSet written in pieces (a report too large to hold in
+/// memory): OutputSet::stage_stream opens its temporary; write() appends;
+/// close() flushes it to disk (fsync). Close every stream before commit().
+/// Errors as OutputSet::stage (EnvironmentError "PATH: <strerror>").
+class StagedStream {
+ public:
+  StagedStream() = default;
+  StagedStream(const StagedStream&) = delete;
+  StagedStream& operator=(const StagedStream&) = delete;
+  StagedStream(StagedStream&& o) noexcept : path_(std::move(o.path_)), fd_(o.fd_) { o.fd_ = -1; }
+  StagedStream& operator=(StagedStream&& o) noexcept;
+  ~StagedStream();
+  void write(std::string_view bytes);
+  void close();
+  bool is_open() const { return fd_ >= 0; }
+
+ private:
+  friend class OutputSet;
+  StagedStream(std::filesystem::path path, int fd) : path_(std::move(path)), fd_(fd) {}
+  std::filesystem::path path_;
+  int fd_ = -1;
+};
+
 /// Output files committed together: all of them, or none.
 ///
 /// What an output path may be:
@@ -110,6 +135,8 @@ class OutputSet {
   /// Writes `bytes` to a temporary file that commit() renames over `path`
   /// (or keeps them for a stream; see the class comment).
   void stage(const std::filesystem::path& path, std::string_view bytes);
+  /// As stage, for a file written in pieces through the returned stream.
+  StagedStream stage_stream(const std::filesystem::path& path);
   /// Puts every staged file in place (see the class comment). Call once.
   void commit();
   /// The paths staged so far, in staging order.

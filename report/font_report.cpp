@@ -54,7 +54,7 @@ struct GlyphPicture {
 };
 
 constexpr double kCombLength = 0.12;
-constexpr int kCombSamples = 12;
+constexpr int kCombSamples = 8;  // teeth per segment: a Latin font's page stays under 2 MB
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
   GlyphPicture g;
@@ -64,7 +64,9 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
     g.x0 = std::min(g.x0, p.x), g.x1 = std::max(g.x1, p.x);
     g.y0 = std::min(g.y0, p.y), g.y1 = std::max(g.y1, p.y);
   };
-  auto xy = [](Vec2 p) { return fmt(p.x) + "," + fmt(-p.y); };
+  // Whole font units: the font's own grid (an implied midpoint or a comb
+  // tip is off by at most half a unit, far below a pixel of any view).
+  auto xy = [](Vec2 p) { return fmt(p.x, 0) + "," + fmt(-p.y, 0); };
   double kmax = 0;
   for (const SplineReport* r : contours) kmax = std::max({kmax, std::abs(r->kappa_min), std::abs(r->kappa_max)});
   const double scale = kmax > 0 ? kCombLength * units_per_em / kmax : 0;
@@ -108,12 +110,15 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   return g;
 }
 
-std::string svg(const GlyphPicture& g, int height) {
+/// The picture drawn once (`<g id>` inside the glyph's large view) and the
+/// overview's thumbnail as a reference to it (`<use>`): one copy per page.
+std::string svg(const GlyphPicture& g, int height, const std::string& id, bool reference) {
   const double w = g.x1 - g.x0, h = g.y1 - g.y0;
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
-                         {"viewBox", fmt(g.x0) + " " + fmt(-g.y1) + " " + fmt(w) + " " + fmt(h)}}) +
-         g.body + std::string(draw::kSvgClose);
+                         {"viewBox", fmt(g.x0, 0) + " " + fmt(-g.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)}}) +
+         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\">" + g.body + "</g>") +
+         std::string(draw::kSvgClose);
 }
 
 /// "segment 3 (from A/c0/p5 to A/c0/p7)" or "node A/c0/p5".
@@ -177,8 +182,10 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
   for (std::size_t fi = 0; fi < fonts.size(); ++fi) {
     const FontInfo& font = fonts[fi];
     int pass = 0, fail = 0;
+    std::size_t contour_count = 0;
     std::vector<bool> glyph_pass;
     for (const auto& g : font.glyphs) {
+      contour_count += g.items.size();
       bool ok = true;
       for (std::size_t i : g.items) ok = ok && reports[i].error.empty() && reports[i].pass;
       glyph_pass.push_back(ok);
@@ -186,7 +193,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     }
     out += "<h1>" + html_escape(font.family + " " + font.style) + "</h1><p>" + html_escape(font.path) + ": " +
            std::to_string(font.units_per_em) + " units per em, " + (font.cubic ? "cubic (CFF)" : "quadratic (TrueType)") +
-           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs: <b>" + std::to_string(pass) +
+           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs (" + std::to_string(contour_count) + " contours): <b>" + std::to_string(pass) +
            " pass</b>, <b>" + std::to_string(fail) + " fail</b>. Gates: " +
            html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
            ". Fixes move one handle along a tangent, snapped to the unit grid, and are re-verified there: the "
@@ -215,8 +222,8 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
       std::string picture;
       if (options.regions && !contours.empty()) {
         const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
-        out += "<td>" + svg(gp, 64) + "</td>";
-        picture = svg(gp, 320);
+        out += "<td>" + svg(gp, 96, anchor + "-pic", true) + "</td>";
+        picture = svg(gp, 320, anchor + "-pic", false);
       } else if (options.regions) {
         out += "<td></td>";
       }

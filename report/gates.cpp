@@ -22,7 +22,8 @@ std::string num(double v, int precision = 6) {
 }
 
 const char* kGateNames =
-    "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, each-piece";
+    "extrema-at-nodes, extrema-at-nodes:runs, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, "
+    "each-piece";
 
 /// Where a curve event lies, for a violation.
 GateViolation at_event(const SplineReport& r, const CurveEvent& e, const std::string& what) {
@@ -55,6 +56,10 @@ std::optional<Gate> parse_gate(const std::string& text) {
   const std::string head = text.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : text.substr(colon + 1);
   Gate g;
+  if (text == "extrema-at-nodes:runs") {
+    g.kind = Gate::Kind::unimodal_runs;
+    return g;
+  }
   if (head == "extrema-at-nodes" || head == "no-inflection" || head == "each-piece") {
     if (colon != std::string::npos) throw InputError("--require: '" + text + "' takes no argument");
     g.kind = head == "no-inflection" ? Gate::Kind::no_inflection
@@ -89,6 +94,7 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::g2_at_smooth_nodes: return "g2-at-smooth-nodes:" + num(gate.tolerance);
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
+    case Gate::Kind::unimodal_runs: return "extrema-at-nodes:runs";
   }
   return {};
 }
@@ -180,6 +186,9 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
         break;
       case Gate::Kind::no_inflection:
         for (const CurveEvent& e : r.inflections) g.violations.push_back(at_event(r, e, "inflection"));
+        break;
+      case Gate::Kind::unimodal_runs:
+        for (GateViolation& v : unimodal_run_violations(r)) g.violations.push_back(std::move(v));
         break;
     }
     out.push_back(std::move(g));

@@ -23,6 +23,24 @@
 ///  * each-piece: every judged segment (piece) is monotone on its own, in
 ///    either direction (docs/semantics.md, "Each piece on its own"); a piece
 ///    that is not, or is undecided at the depth limit, is a violation.
+///  * extrema-at-nodes:runs: the reading for quadratic (TrueType) outlines,
+///    where every quadratic piece has its own curvature peak by construction
+///    (a parabola's curvature peaks once, at its vertex: what the format
+///    forces). A *node* is a joint whose knot multiplicity is at least the
+///    degree (the curve passes through a control point there: an on-curve
+///    point; implied on-curve midpoints are simple knots and no nodes). A
+///    *run* is the chain of pieces between two consecutive nodes (the whole
+///    contour, cyclically, when it has none), split at inflections. What the
+///    designer controls is the height of each piece's peak (the largest
+///    |kappa| over the piece: certified curvatures at its ends and at its
+///    stationary points): along a run the peaks must rise to one highest
+///    and fall. A piece whose peak is lower than the nearest different peak
+///    on both sides (peaks within kRunPeakTolerance are one plateau) is a
+///    valley: a violation located at its peak, whose `handles` are that
+///    piece's own off-curve points (what to move). A loop without nodes is
+///    allowed one valley. Runs of one or two pieces always pass (a cubic
+///    piece's interior wiggles are extrema-at-nodes' and
+///    max-extrema-per-segment's to judge). report/runs.cpp.
 ///
 /// Suggested fixes (suggest_tangent_fixes, report/batch.hpp): for a violation inside a
 /// segment, one handle (a control point that is not a node) of that segment
@@ -44,11 +62,15 @@ namespace cmr::report {
 struct SplineReport;
 struct ReportOptions;
 
+/// extrema-at-nodes:runs: peaks within this relative difference are one
+/// plateau (a font's integer grid moves a peak by about 1/size of the curve).
+inline constexpr double kRunPeakTolerance = 0.01;
 /// Default relative tolerance of g2-at-smooth-nodes.
 inline constexpr double kDefaultG2Tolerance = 0.05;
 
 struct Gate {
-  enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece };
+  enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece,
+                    unimodal_runs };
   Kind kind = Kind::extrema_at_nodes;
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
@@ -72,6 +94,7 @@ struct GateViolation {
   double t = 0;          ///< spline parameter
   double local_t = 0;    ///< within the segment, 0..1 (segment violations)
   std::string message;   ///< one line: "curvature maximum inside segment 3 at t = 0.42"
+  std::vector<int> handles;  ///< extrema-at-nodes:runs: the control points (distinct indices) to move
 };
 
 struct GateResult {
@@ -79,6 +102,9 @@ struct GateResult {
   std::vector<GateViolation> violations;
   bool pass() const { return violations.empty(); }
 };
+
+/// extrema-at-nodes:runs on one report (see the header comment).
+std::vector<GateViolation> unimodal_run_violations(const SplineReport& report);
 
 /// Every gate on one report (its extrema, inflections and joints).
 std::vector<GateResult> check_gates(const SplineReport& report, const std::vector<Gate>& gates);

@@ -1141,6 +1141,14 @@ constexpr const char* kStyle =
 
 }  // namespace
 
+std::string report_style() { return kStyle; }
+
+std::string report_sections_html(const std::vector<SplineReport>& reports, int first, const ReportOptions& options) {
+  std::string out;
+  for (std::size_t i = 0; i < reports.size(); ++i) section_html(out, reports[i], first + static_cast<int>(i), options);
+  return out;
+}
+
 std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options) {
   int pass = 0, fail = 0, invalid = 0;
   for (const SplineReport& r : reports) (!r.error.empty() ? invalid : (r.pass ? pass : fail))++;

@@ -205,5 +205,9 @@ int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& opt
 nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
 /// One self-contained page: no network, pictures inline (SVG, data: URIs).
 std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options);
+/// report_html's pieces, for a page written in pieces (report/corpus.hpp):
+/// its style sheet, and the sections of `reports` anchored s<first + i>.
+std::string report_style();
+std::string report_sections_html(const std::vector<SplineReport>& reports, int first, const ReportOptions& options);
 
 }  // namespace cmr::report

@@ -1,13 +1,16 @@
 // cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:sharpest|:flattest],GATES...] [--segments A..B]
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
-// [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z]: QA reports (DIR/report.json,
-// DIR/index.html) and a gate on their verdicts. A font file among FILES is imported
-// (io/font.hpp): each glyph contour is one closed spline, fixes are suggested
-// on the font's unit grid, and DIR/font.html holds the per-glyph overview. An
-// SVG file (.svg) is read as cmr import reads it (io/svg.hpp, y-up): each
-// subpath is one spline.
+// [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z] [--include GLOB] [--exclude GLOB]
+// [--junit FILE] [--sarif FILE] [--baseline OLD/report.json] [--quiet]: QA reports and a gate on
+// their verdicts. FILES are spline files, SVG files, fonts, folders or globs; the batch
+// (finding files, running them in parallel, writing every output) is report/corpus.hpp:
+// this file only parses.
+// A font file is imported (io/font.hpp): each glyph contour is one closed spline;
+// an SVG file (.svg) is read as cmr import reads it (io/svg.hpp, y-up): each
+// subpath is one spline. Space curves get their own report (tools/cmd_space.hpp).
 #include <unistd.h>
 
+#include <cstdlib>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
@@ -16,6 +19,7 @@
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/cmd_space.hpp"
+#include "report/corpus.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
 #include "io/svg.hpp"
@@ -39,32 +43,12 @@ struct ReportArgs {
   int region_size = 96;
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
+  report::FileFilter filter;  // folders: --include / --exclude
+  std::string junit, sarif, baseline;
+  bool quiet = false;
+  bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
 };
-
-// "[#####-----] 12/40 name" rewritten in place; only on a terminal.
-void show_progress(int done, int total, const std::string& name) {
-  constexpr int kWidth = 30;
-  const int filled = total > 0 ? done * kWidth / total : kWidth;
-  std::cerr << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '-') << "] " << done << '/' << total
-            << ' ' << name.substr(0, 40) << "\033[K" << std::flush;
-}
-
-/// Writes dir/index.html (and font.html for fonts) and dir/report.json as one cmr::OutputSet (both or
-/// neither; dir is created, and removed again on failure if it was new).
-/// report.json is renamed last: it is the report's commit marker, so a
-/// report.json is always accompanied by the index.html of the same run, and
-/// two runs into one folder (serialised by the set's folder lock) never mix.
-void write_report(const std::filesystem::path& dir, const std::vector<report::SplineReport>& reports,
-                  const report::ReportOptions& options, const std::vector<report::FontInfo>& fonts, bool pretty) {
-  OutputSet out;
-  out.create_folder(dir);
-  out.own_folder(dir);  // a reused folder keeps only this run's files (font.html of an earlier font run goes)
-  out.stage(dir / "index.html", report::report_html(reports, options));
-  if (!fonts.empty()) out.stage(dir / "font.html", report::font_report_html(fonts, reports, options));
-  out.stage(dir / "report.json", json_text(report::report_json(reports, options), pretty));
-  out.commit();
-}
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
 
@@ -73,7 +57,17 @@ static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::
 void add_report_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
-  cmd->add_option("FILES", args->files, "spline files (JSON), fonts (.ttf, .otf, ...) or SVG files (.svg)")->required();
+  cmd->add_option("FILES", args->files,
+                  "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), folders (walked recursively) or globs")
+      ->required();
+  cmd->add_option("--include", args->filter.include, "in folders, only files matching this glob (repeatable)");
+  cmd->add_option("--exclude", args->filter.exclude, "in folders, leave out files matching this glob (repeatable)");
+  cmd->add_option("--junit", args->junit, "also write a JUnit XML file (one test case per glyph or spline)");
+  cmd->add_option("--sarif", args->sarif, "also write a SARIF 2.1.0 file (one result per violation)");
+  cmd->add_option("--baseline", args->baseline,
+                  "an earlier report.json: fail only on findings that are new since it (new, fixed, unchanged counted)");
+  cmd->add_flag("--no-fixes", args->no_fixes, "fonts: draw the thumbnails but do not search handle moves");
+  cmd->add_flag("--quiet", args->quiet, "no progress bar (it is drawn only on a terminal, and never with CI set)");
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
@@ -121,49 +115,23 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.region_size = args->region_size;
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
-    std::vector<report::ReportInput> inputs;
-    std::vector<report::FontInfo> fonts;
-    const auto codepoints = import::parse_glyph_spec(args->glyphs);
-    for (const std::string& f : args->files) {
-      if (import::is_svg_path(f)) {  // each subpath one item, as cmr import would write it
-        for (const import::PathSpline& s : import::read_svg(f)) {
-          report::ReportInput in{f + ":" + s.name, {}, {}};
-          try {
-            in.spline = import::to_bspline(s);
-          } catch (const InputError& e) {
-            in.error = in.file + ": " + e.what();
-          }
-          inputs.push_back(std::move(in));
-        }
-        continue;
-      }
-      if (!import::is_font_path(f)) {
-        inputs.push_back(report::read_input(f));
-        continue;
-      }
-      fonts.push_back(report::font_inputs(import::read_font(f, codepoints), inputs));
-      o.grid = 1;  // the font's unit
-    }
-    const bool terminal = ::isatty(STDERR_FILENO) == 1;
-    const auto reports = report::report_batch(std::move(inputs), o, terminal ? show_progress : report::Progress{});
-    if (terminal) std::cerr << "\r\033[K" << std::flush;
-    write_report(args->out, reports, o, fonts, args->pretty);
-
-    int pass = 0, fail = 0, invalid = 0;
-    for (const report::SplineReport& r : reports) {
-      if (!r.error.empty()) {
-        ++invalid;
-        std::cerr << "cmr: " << r.error << '\n';  // read_spline_file names the file
-      } else {
-        ++(r.pass ? pass : fail);
-      }
-    }
-    std::cout << reports.size() << (reports.size() == 1 ? " spline: " : " splines: ") << pass << " pass, " << fail
-              << " fail, " << invalid << " invalid; wrote "
-              << (std::filesystem::path(args->out) / "index.html").string() << " and "
-              << (std::filesystem::path(args->out) / "report.json").string()
-              << (fonts.empty() ? "" : " and " + (std::filesystem::path(args->out) / "font.html").string()) << '\n';
-    exit_code = report::exit_code(reports, o);
+    report::BatchOptions b;
+    b.codepoints = import::parse_glyph_spec(args->glyphs);
+    b.out = args->out;
+    b.pretty = args->pretty;
+    b.fixes = !args->no_fixes;
+    if (!args->junit.empty()) b.junit = args->junit;
+    if (!args->sarif.empty()) b.sarif = args->sarif;
+    if (!args->baseline.empty()) b.baseline = args->baseline;
+    const auto files = report::collect_files(args->files, args->filter);
+    const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
+    b.report = std::move(o);
+    const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
+    if (bar) report::clear_progress(std::cerr);
+    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';  // read_spline_file names the file
+    for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
+    std::cout << report::summary_line(s) << "; wrote " << args->out << '\n';
+    exit_code = s.exit_code;
   });
 }
 

@@ -15,6 +15,7 @@ packages=(
   libopenmesh-dev
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
+  fonts-noto-core fonts-texgyre
 )
 
 missing=()

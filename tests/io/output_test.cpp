@@ -66,6 +66,30 @@ TEST(WriteFileAtomic, WritesAndReplacesLeavingNoTemporary) {
   EXPECT_EQ(names_in(dir), std::vector<std::string>{"a.json"});
 }
 
+// A file written in pieces (report/corpus.hpp streams report.json): nothing
+// shows until commit, the pieces arrive in order, an uncommitted set leaves
+// nothing, and a path staged twice is refused as for stage().
+TEST(OutputSet, StagedStreamWritesPiecesThatAppearOnlyAtCommit) {
+  const fs::path dir = scratch("stream");
+  {
+    OutputSet set;
+    StagedStream s = set.stage_stream(dir / "big.json");
+    s.write("[1,");
+    s.write("2]");
+    s.close();
+    EXPECT_FALSE(fs::exists(dir / "big.json"));
+    EXPECT_THROW(set.stage(dir / "big.json", "x"), InputError);
+    set.commit();
+  }
+  EXPECT_EQ(read(dir / "big.json"), "[1,2]");
+  {
+    OutputSet set;
+    StagedStream s = set.stage_stream(dir / "gone.json");
+    s.write("half");
+  }  // no commit: the temporary goes with the set
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"big.json"});
+}
+
 TEST(WriteFileAtomic, DirectoryAsOutputIsAnInputErrorSayingSo) {
   const fs::path dir = scratch("directory");
   const fs::path target = dir / "out";

@@ -1,0 +1,66 @@
+#include "report/baseline.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "spline/errors.hpp"
+
+namespace cmr::report {
+
+std::string Finding::key() const {
+  return file + "|" + glyph + "|c" + std::to_string(contour) + "|" + node + "|" + gate;
+}
+
+std::vector<std::string> read_baseline(const std::filesystem::path& path) {
+  const std::string name = "--baseline " + path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": not a file");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw InputError(name + ": cannot be read");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(name + ": not JSON (a report.json of cmr report is expected)");
+  }
+  if (!doc.is_object() || doc.value("schema", std::string()) != kSchema || !doc.contains("splines") ||
+      !doc["splines"].is_array())
+    throw InputError(name + ": not a " + std::string(kSchema) + " report");
+  std::vector<std::string> keys;
+  for (const auto& s : doc["splines"]) {
+    if (!s.is_object()) throw InputError(name + ": a spline entry is not an object");
+    if (s.value("status", std::string()) == "invalid") continue;
+    if (!s.contains("findings") || !s["findings"].is_array())
+      throw InputError(name + ": spline '" + s.value("name", std::string("?")) +
+                       "' has no findings (a report from before baselines: run cmr report again to make one)");
+    for (const auto& f : s["findings"]) {
+      if (!f.is_object() || !f.contains("key") || !f["key"].is_string())
+        throw InputError(name + ": a finding of spline '" + s.value("name", std::string("?")) + "' has no key");
+      keys.push_back(f["key"].get<std::string>());
+    }
+  }
+  return keys;
+}
+
+BaselineComparison::BaselineComparison(const std::vector<std::string>& keys) {
+  for (const std::string& k : keys) ++left_[k];
+}
+
+const char* BaselineComparison::judge(const Finding& f) {
+  const auto it = left_.find(f.key());
+  if (it == left_.end() || it->second == 0) return "new";
+  --it->second;
+  return "unchanged";
+}
+
+int BaselineComparison::fixed() const {
+  int n = 0;
+  for (const auto& [k, c] : left_) n += c;
+  return n;
+}
+
+}  // namespace cmr::report

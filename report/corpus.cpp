@@ -1,0 +1,667 @@
+#include "report/corpus.hpp"
+
+#include <fnmatch.h>
+#include <glob.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <ctime>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <ostream>
+
+#include "io/font.hpp"
+#include "io/output.hpp"
+#include "io/svg.hpp"
+#include "report/baseline.hpp"
+#include "report/junit.hpp"
+#include "report/sarif.hpp"
+#include "report/batch.hpp"
+#include "spline/errors.hpp"
+#include "spline/parallel.hpp"
+
+namespace cmr::report {
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// ------------------------------------------------------------ finding files
+
+namespace {
+
+bool has_glob(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
+
+bool match(const std::string& pattern, const std::string& rel, const std::string& name) {
+  std::string p;  // ** is * (which crosses '/' without FNM_PATHNAME)
+  for (const char c : pattern)
+    if (c != '*' || p.empty() || p.back() != '*') p.push_back(c);
+  return ::fnmatch(p.c_str(), rel.c_str(), 0) == 0 || ::fnmatch(p.c_str(), name.c_str(), 0) == 0;
+}
+
+bool wanted(const fs::path& file, const std::string& rel, const FileFilter& f) {
+  const std::string name = file.filename().string();
+  if (f.include.empty()) {
+    const FileKind k = file_kind(file.string());
+    const std::string ext = file.extension().string();
+    if (k == FileKind::spline && ext != ".json" && ext != ".JSON") return false;
+  } else if (std::none_of(f.include.begin(), f.include.end(), [&](const std::string& p) { return match(p, rel, name); })) {
+    return false;
+  }
+  return std::none_of(f.exclude.begin(), f.exclude.end(), [&](const std::string& p) { return match(p, rel, name); });
+}
+
+void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::string>& out) {
+  std::vector<std::string> found;
+  std::error_code ec;
+  fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
+  if (ec) throw InputError(folder.string() + ": " + ec.message());
+  for (; it != end; it.increment(ec)) {
+    if (ec) throw InputError(folder.string() + ": " + ec.message());
+    const std::string name = it->path().filename().string();
+    if (!name.empty() && name[0] == '.') {  // hidden: skipped, folders with all they hold
+      if (it->is_directory(ec)) it.disable_recursion_pending();
+      continue;
+    }
+    if (!it->is_regular_file(ec)) continue;
+    const std::string rel = it->path().lexically_relative(folder).generic_string();
+    if (wanted(it->path(), rel, filter)) found.push_back(it->path().string());
+  }
+  std::sort(found.begin(), found.end());
+  out.insert(out.end(), found.begin(), found.end());
+}
+
+}  // namespace
+
+FileKind file_kind(const std::string& path) {
+  if (import::is_font_path(path)) return FileKind::font;
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".svg" ? FileKind::svg : FileKind::spline;
+}
+
+std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter) {
+  std::vector<std::string> out;
+  for (const std::string& a : args) {
+    std::error_code ec;
+    const auto st = fs::status(a, ec);
+    if (fs::is_directory(st)) {
+      const std::size_t before = out.size();
+      walk(a, filter, out);
+      if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
+      continue;
+    }
+    if (fs::exists(st) || !has_glob(a)) {
+      out.push_back(a);  // a file, or a name that is not there: reported as an invalid input
+      continue;
+    }
+    glob_t g{};
+    const int rc = ::glob(a.c_str(), 0, nullptr, &g);
+    std::vector<std::string> matched;
+    if (rc == 0)
+      for (std::size_t i = 0; i < g.gl_pathc; ++i) matched.emplace_back(g.gl_pathv[i]);
+    ::globfree(&g);
+    const std::size_t before = out.size();
+    for (const std::string& m : matched) {
+      if (fs::is_directory(m, ec)) walk(m, filter, out);
+      else if (wanted(m, fs::path(m).filename().string(), filter)) out.push_back(m);
+    }
+    if (out.size() == before) throw InputError(a + ": matches no file");
+  }
+  return out;
+}
+
+// ------------------------------------------------------------ summaries
+
+std::string summary_line(const BatchSummary& s) {
+  std::string line = std::to_string(s.files) + (s.files == 1 ? " file" : " files");
+  if (s.fonts > 0)
+    line += " (" + std::to_string(s.fonts) + (s.fonts == 1 ? " font, " : " fonts, ") + std::to_string(s.glyphs) +
+            " glyphs, " + std::to_string(s.glyphs_fail) + " failing)";
+  line += ": " + std::to_string(s.items) + (s.fonts > 0 ? " contours and splines: " : (s.items == 1 ? " spline: " : " splines: ")) +
+          std::to_string(s.pass) + " pass, " + std::to_string(s.fail) + " fail, " + std::to_string(s.invalid) +
+          " invalid; " + std::to_string(s.findings) + (s.findings == 1 ? " finding" : " findings");
+  if (s.baseline)
+    line += " (baseline: " + std::to_string(s.new_findings) + " new, " + std::to_string(s.fixed) + " fixed, " +
+            std::to_string(s.unchanged) + " unchanged)";
+  char t[32];
+  std::snprintf(t, sizeof t, "; %.1f s", s.seconds);
+  return line + t;
+}
+
+namespace {
+
+std::string clock_text(double seconds) {
+  const long s = std::lround(std::max(0.0, seconds));
+  char buf[32];
+  if (s >= 3600) std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  else std::snprintf(buf, sizeof buf, "%ld:%02ld", s / 60, s % 60);
+  return buf;
+}
+
+}  // namespace
+
+BatchProgress terminal_progress(std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  return [&err, start](int done, int total, int items, const std::string& name) {
+    constexpr int kWidth = 24;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int filled = total > 0 ? done * kWidth / total : kWidth;
+    const double eta = done > 0 ? elapsed * (total - done) / done : 0;
+    char rate[48];
+    std::snprintf(rate, sizeof rate, "%.0f/s", elapsed > 0 ? items / elapsed : 0.0);
+    std::string shown = name.size() > 40 ? "..." + name.substr(name.size() - 37) : name;
+    err << "\r[" << std::string(filled, '#') << std::string(kWidth - filled, '-') << "] " << done << '/' << total
+        << " files, " << items << " splines, " << rate << ", ETA " << clock_text(eta) << ' ' << shown << "\033[K"
+        << std::flush;
+  };
+}
+
+void clear_progress(std::ostream& err) { err << "\r\033[K" << std::flush; }
+
+// ------------------------------------------------------------ one file
+
+namespace {
+
+/// A file's reports while they are written (then dropped).
+struct FileWork {
+  std::string path;
+  FileKind kind = FileKind::spline;
+  std::optional<FontInfo> font;
+  std::vector<SplineReport> reports;
+  double seconds = 0;
+};
+
+FileWork process_file(const std::string& path, const BatchOptions& options, int threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FileWork w;
+  w.path = path;
+  w.kind = file_kind(path);
+  ReportOptions o = options.report;
+  o.threads = threads;
+  o.grid = 0;
+  std::vector<ReportInput> inputs;
+  try {
+    switch (w.kind) {
+      case FileKind::font:
+        w.font = font_inputs(import::read_font(path, options.codepoints), inputs);
+        o.grid = options.fixes ? 1 : 0;  // the font's unit
+        break;
+      case FileKind::svg:
+        for (const import::PathSpline& p : import::read_svg(path)) {
+          ReportInput in;
+          in.file = path + ":" + p.name;
+          try {
+            in.spline = import::to_bspline(p);
+          } catch (const InputError& e) {
+            in.error = in.file + ": " + e.what();  // as the subpath is named
+          }
+          inputs.push_back(std::move(in));
+        }
+        break;
+      case FileKind::spline: inputs.push_back(read_input(path)); break;
+    }
+  } catch (const InputError& e) {  // the whole file is unreadable: one invalid item
+    inputs.clear();
+    w.font.reset();
+    ReportInput in;
+    in.file = path;
+    in.error = e.what();
+    inputs.push_back(std::move(in));
+  }
+  w.reports = report_batch(std::move(inputs), o);
+  w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return w;
+}
+
+/// "O/c0/p3" -> "p3".
+std::string node_of(const std::string& name) {
+  const std::size_t slash = name.rfind('/');
+  return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
+struct ItemNames {
+  std::string glyph;
+  int contour = 0;
+  const std::vector<std::string>* joints = nullptr;  ///< font: node starting each segment
+  const std::vector<std::string>* points = nullptr;  ///< font: each control point's name
+};
+
+std::vector<Finding> findings_of(const SplineReport& r, const std::string& file, const ItemNames& n,
+                                 const ReportOptions& options) {
+  std::vector<Finding> out;
+  if (!r.error.empty()) return out;
+  if (options.require && !r.requirement_pass) {
+    Finding f{file, n.glyph, n.contour, "", to_string(*options.require), ""};
+    f.message = n.glyph + ": fails the " + f.gate + " check";
+    if (!options.require->split)
+      f.message += std::string(" (verdict ") + to_string(options.require->mode == Mode::cmrwi ? r.analysis.cmrwi : r.analysis.cmr) + ")";
+    out.push_back(std::move(f));
+  }
+  const int N = r.spline ? r.spline->segment_count() : 0;
+  for (const GateResult& g : r.gates)
+    for (const GateViolation& v : g.violations) {
+      Finding f{file, n.glyph, n.contour, "", to_string(g.gate), ""};
+      std::string where;
+      if (n.joints && N > 0 && static_cast<int>(n.joints->size()) == N) {
+        if (v.segment >= 0) {
+          f.node = node_of((*n.joints)[v.segment]) + "-" + node_of((*n.joints)[(v.segment + 1) % N]);
+          where = "between nodes " + f.node;
+        } else if (v.joint >= 0) {
+          f.node = node_of((*n.joints)[v.joint % N]);
+          where = "at " + f.node;
+        }
+      } else if (v.segment >= 0) {
+        f.node = "segment " + std::to_string(v.segment);
+      } else if (v.joint >= 0) {
+        f.node = "joint " + std::to_string(v.joint);
+      }
+      const std::string prefix = n.points ? n.glyph + "/c" + std::to_string(n.contour) : n.glyph;
+      f.message = prefix + (where.empty() ? "" : " " + where) + ": " + v.message;
+      if (n.points && !v.handles.empty()) {
+        std::string names;
+        for (int h : v.handles)
+          if (h >= 0 && h < static_cast<int>(n.points->size()))
+            names += (names.empty() ? "" : ", ") + node_of((*n.points)[h]);
+        f.message += " (the font's " + names + ")";
+      }
+      out.push_back(std::move(f));
+    }
+  return out;
+}
+
+/// Per font, for the summary page.
+struct FontRow {
+  std::string title, path, page;
+  int glyphs = 0, contours = 0, glyphs_fail = 0, invalid = 0;
+  std::vector<int> gate_glyphs;  ///< glyphs failing each gate
+  std::vector<std::pair<int, std::string>> worst;  ///< (findings, glyph), at most kWorst
+  bool cubic = false;
+};
+constexpr std::size_t kWorst = 8;
+
+const char* status_class(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
+
+std::string badge_html(const char* status) {
+  std::string upper = status;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return std::string("<span class=\"badge ") + status + "\">" + upper + "</span>";
+}
+
+std::string now_iso8601() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  return buf;
+}
+
+std::string host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0) return "localhost";
+  return buf;
+}
+
+/// Writes a run's outputs as its files finish, in file order.
+class Writer {
+ public:
+  Writer(const BatchOptions& options, std::size_t files, std::size_t fonts)
+      : options_(options), single_font_(fonts == 1) {
+    out_.create_folder(options.out);
+    out_.own_folder(options.out);  // a reused folder keeps only this run's files
+    if (fonts > 1) out_.create_folder(options.out / "fonts");
+    if (options.junit) junit_ = out_.stage_stream(*options.junit);
+    if (options.sarif) sarif_ = out_.stage_stream(*options.sarif);
+    json_ = out_.stage_stream(options.out / "report.json");
+    sections_.reset(std::tmpfile());
+    if (!sections_) throw EnvironmentError("a temporary file for the page: cannot be created");
+    if (options.baseline) {
+      baseline_.emplace(read_baseline(*options.baseline));
+      summary_.baseline = true;
+    }
+    summary_.files = static_cast<int>(files);
+    Json settings = report_json({}, options.report)["settings"];
+    json_.write("{\"schema\":\"" + std::string(kSchema) + "\",\"settings\":" + dump(settings) + ",\"splines\":[");
+    if (junit_.is_open()) junit_.write(junit_header());
+    if (sarif_.is_open()) sarif_.write(sarif_header(options.report));
+    timestamp_ = now_iso8601();
+    host_ = host_name();
+  }
+
+  int items() const { return summary_.items; }
+
+  void consume(FileWork& w) {
+    FileRecord rec;
+    rec.path = w.path;
+    rec.kind = w.kind;
+    rec.seconds = w.seconds;
+    rec.title = w.font ? w.font->family + " " + w.font->style : w.path;
+    // The file's spline objects, ids numbered across the run.
+    Json splines = report_json(w.reports, options_.report)["splines"];
+    std::vector<ItemNames> names(w.reports.size());
+    if (w.font) {
+      for (const auto& g : w.font->glyphs)
+        for (std::size_t c = 0; c < g.items.size(); ++c)
+          names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c]};
+    }
+    std::vector<std::vector<Finding>> item_findings(w.reports.size());
+    for (std::size_t i = 0; i < w.reports.size(); ++i) {
+      const SplineReport& r = w.reports[i];
+      if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
+      if (w.font && names[i].glyph.empty()) names[i].glyph = r.name;  // an unreadable font: its one invalid item
+      item_findings[i] = findings_of(r, w.path, names[i], options_.report);
+      Json& j = splines[i];
+      j["id"] = "s" + std::to_string(first_ + static_cast<int>(i));
+      j["source"] = w.path;
+      j["glyph"] = names[i].glyph;
+      j["contour"] = names[i].contour;
+      if (r.error.empty()) {
+        Json fj = Json::array();
+        for (const Finding& f : item_findings[i])
+          fj.push_back({{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}});
+        j["findings"] = fj;
+      }
+      json_.write(std::string(first_ + i == 0 ? "" : ",") + (options_.pretty ? "\n" : "") + dump(j));
+      ++rec.items;
+      (!r.error.empty() ? rec.items_invalid : (r.pass ? rec.items_pass : rec.items_fail))++;
+      if (!r.error.empty()) summary_.invalid_messages.push_back(r.error);
+    }
+    // Cases: one per glyph of a font, else one per spline.
+    if (w.font) {
+      FontRow row;
+      row.title = rec.title;
+      row.path = w.path;
+      row.cubic = w.font->cubic;
+      row.gate_glyphs.assign(options_.report.gates.size(), 0);
+      for (const auto& g : w.font->glyphs) {
+        CaseRecord c;
+        c.name = g.name;
+        c.contours = static_cast<int>(g.items.size());
+        std::vector<bool> gate_fail(options_.report.gates.size(), false);
+        for (std::size_t i : g.items) {
+          const SplineReport& r = w.reports[i];
+          if (!r.error.empty()) c.error += (c.error.empty() ? "" : "; ") + r.error;
+          c.pass = c.pass && r.error.empty() && r.pass;
+          for (std::size_t k = 0; k < r.gates.size() && k < gate_fail.size(); ++k)
+            gate_fail[k] = gate_fail[k] || !r.gates[k].pass();
+          for (Finding& f : item_findings[i]) c.findings.push_back(std::move(f));
+        }
+        ++row.glyphs;
+        row.contours += c.contours;
+        row.glyphs_fail += c.pass ? 0 : 1;
+        row.invalid += c.error.empty() ? 0 : 1;
+        for (std::size_t k = 0; k < gate_fail.size(); ++k) row.gate_glyphs[k] += gate_fail[k];
+        if (!c.findings.empty()) row.worst.push_back({static_cast<int>(c.findings.size()), g.name});
+        rec.cases.push_back(std::move(c));
+      }
+      std::stable_sort(row.worst.begin(), row.worst.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      if (row.worst.size() > kWorst) row.worst.resize(kWorst);
+      if (w.font->glyphs.empty() && !w.reports.empty() && !w.reports[0].error.empty()) {
+        CaseRecord c;  // an unreadable font
+        c.name = fs::path(w.path).filename().string();
+        c.error = w.reports[0].error;
+        c.pass = false;
+        rec.cases.push_back(std::move(c));
+        row.invalid = 1;
+      }
+      row.page = single_font_ ? "font.html"
+                              : "fonts/" + std::to_string(summary_.fonts) + "-" + import::file_stem(fs::path(w.path).stem().string()) + ".html";
+      out_.stage(options_.out / row.page, font_report_html({*w.font}, w.reports, options_.report));
+      rec.page = row.page;
+      ++summary_.fonts;
+      summary_.glyphs += row.glyphs;
+      summary_.glyphs_fail += row.glyphs_fail;
+      fonts_.push_back(std::move(row));
+    } else {
+      for (std::size_t i = 0; i < w.reports.size(); ++i) {
+        const SplineReport& r = w.reports[i];
+        CaseRecord c;
+        c.name = r.name;
+        c.error = r.error;
+        c.pass = r.error.empty() && r.pass;
+        c.findings = std::move(item_findings[i]);
+        const int id = first_ + static_cast<int>(i);
+        std::string row = "<tr><td>" + std::to_string(id) + "</td><td><a href=\"#s" + std::to_string(id) + "\">" +
+                          html_escape(r.name) + "</a></td><td>" + html_escape(r.file) + "</td><td>" +
+                          badge_html(status_class(r)) + "</td>";
+        // A spline of straight segments only has constant (zero) curvature: "straight", not a direction.
+        const bool straight = std::all_of(r.spans.begin(), r.spans.end(), [](const SpanReport& sp) { return sp.eta_zero; });
+        if (r.error.empty() && straight)
+          row += "<td>straight</td><td>straight</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" +
+                 std::to_string(c.findings.size()) + "</td></tr>";
+        else if (r.error.empty())
+          row += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) +
+                 "</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" + std::to_string(c.findings.size()) +
+                 "</td></tr>";
+        else
+          row += "<td colspan=\"4\">invalid input</td></tr>";
+        spline_rows_.push_back(std::move(row));
+        rec.cases.push_back(std::move(c));
+      }
+      const std::string html = report_sections_html(w.reports, first_, options_.report);
+      if (std::fwrite(html.data(), 1, html.size(), sections_.get()) != html.size())
+        throw EnvironmentError("a temporary file for the page: cannot be written");
+    }
+    first_ += static_cast<int>(w.reports.size());
+    w.reports.clear();
+    w.reports.shrink_to_fit();
+
+    // Findings: counted, compared with the baseline, written to SARIF.
+    for (const CaseRecord& c : rec.cases) {
+      if (!c.error.empty() && sarif_.is_open()) {
+        sarif_.write(std::string(sarif_results_ ? "," : "") + sarif_invalid(rec.path, c.name, c.error, options_.report));
+        ++sarif_results_;
+      }
+      for (const Finding& f : c.findings) {
+        ++summary_.findings;
+        const char* state = nullptr;
+        if (baseline_) {
+          state = baseline_->judge(f);
+          if (std::string(state) == "new") {
+            ++summary_.new_findings;
+            summary_.new_list.push_back(f);
+          } else {
+            ++summary_.unchanged;
+          }
+        }
+        if (sarif_.is_open()) {
+          sarif_.write(std::string(sarif_results_ ? "," : "") + sarif_result(f, options_.report, state));
+          ++sarif_results_;
+        }
+      }
+    }
+    if (junit_.is_open()) junit_.write(junit_suite(rec, file_index_, timestamp_, host_));
+    ++file_index_;
+    summary_.items += rec.items;
+    summary_.pass += rec.items_pass;
+    summary_.fail += rec.items_fail;
+    summary_.invalid += rec.items_invalid;
+  }
+
+  BatchSummary finish(double seconds) {
+    summary_.seconds = seconds;
+    if (baseline_) summary_.fixed = baseline_->fixed();
+    const bool gated = options_.report.require.has_value() || !options_.report.gates.empty();
+    summary_.exit_code = summary_.invalid > 0 ? kExitInvalid
+                         : baseline_        ? (summary_.new_findings > 0 ? kExitFail : kExitPass)
+                         : (gated && summary_.fail > 0) ? kExitFail
+                                                        : kExitPass;
+    Json s = {{"splines", summary_.items}, {"pass", summary_.pass}, {"fail", summary_.fail},
+              {"invalid", summary_.invalid}, {"exit_code", summary_.exit_code}, {"files", summary_.files},
+              {"findings", summary_.findings}};
+    if (baseline_)
+      s["baseline"] = {{"file", options_.baseline->string()}, {"new", summary_.new_findings},
+                       {"fixed", summary_.fixed}, {"unchanged", summary_.unchanged}};
+    json_.write(std::string(options_.pretty ? "\n" : "") + "],\"summary\":" + dump(s) + "}\n");
+    json_.close();
+    if (junit_.is_open()) {
+      junit_.write(junit_footer());
+      junit_.close();
+    }
+    if (sarif_.is_open()) {
+      sarif_.write(sarif_footer());
+      sarif_.close();
+    }
+    write_index();
+    summary_.written = out_.paths();
+    out_.commit();
+    return summary_;
+  }
+
+ private:
+  std::string dump(const Json& j) const {
+    return j.dump(options_.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+
+  void write_index() {
+    StagedStream page = out_.stage_stream(options_.out / "index.html");
+    std::string head = "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " +
+                       html_escape(summary_line(summary_)) + "</title><style>" + report_style() +
+                       "</style></head><body><h1>cmr report</h1><p>" + html_escape(summary_line(summary_)) +
+                       ". Check <b>" + html_escape(to_string(check_of(options_.report))) + "</b>" +
+                       (options_.report.require ? " (required)" : " (not required)");
+    std::string gates;
+    for (const Gate& g : options_.report.gates) gates += (gates.empty() ? "" : ", ") + to_string(g);
+    if (!gates.empty()) head += "; gates <b>" + html_escape(gates) + "</b>";
+    head += ", depth " + std::to_string(options_.report.max_depth) + ", schema " + kSchema + ".</p>";
+    if (summary_.baseline) {
+      head += "<p>Baseline " + html_escape(options_.baseline->string()) + ": <b>" + std::to_string(summary_.new_findings) +
+              " new</b>, " + std::to_string(summary_.fixed) + " fixed, " + std::to_string(summary_.unchanged) +
+              " unchanged.</p>";
+      if (!summary_.new_list.empty()) {
+        head += "<ul>";
+        for (const Finding& f : summary_.new_list)
+          head += "<li>" + html_escape(f.file) + ": " + html_escape(f.gate) + ": " + html_escape(f.message) + "</li>";
+        head += "</ul>";
+      }
+    }
+    if (!fonts_.empty()) {
+      head += "<h2>Fonts</h2><table class=\"index\"><tr><th>font</th><th>file</th><th>outlines</th><th>glyphs</th>"
+              "<th>contours</th><th>glyphs failing</th>";
+      for (const Gate& g : options_.report.gates) head += "<th>glyphs failing " + html_escape(to_string(g)) + "</th>";
+      head += "<th>worst glyphs (findings)</th></tr>";
+      for (const FontRow& f : fonts_) {
+        head += "<tr><td><a href=\"" + html_escape(f.page) + "\">" + html_escape(f.title) + "</a></td><td>" +
+                html_escape(f.path) + "</td><td>" + (f.cubic ? "cubic (CFF)" : "quadratic (TrueType)") + "</td><td>" +
+                std::to_string(f.glyphs) + "</td><td>" + std::to_string(f.contours) + "</td><td>" +
+                std::to_string(f.glyphs_fail) + (f.invalid ? " (" + std::to_string(f.invalid) + " invalid)" : "") +
+                "</td>";
+        for (int n : f.gate_glyphs) head += "<td>" + std::to_string(n) + "</td>";
+        std::string worst;
+        for (const auto& [n, g] : f.worst)
+          worst += (worst.empty() ? "" : ", ") + html_escape(g) + " (" + std::to_string(n) + ")";
+        head += "<td>" + worst + "</td></tr>";
+      }
+      head += "</table>";
+    }
+    if (!spline_rows_.empty()) {
+      head += "<h2>Splines</h2><table class=\"index\"><tr><th>#</th><th>spline</th><th>file</th><th>status</th>"
+              "<th>CMRWI</th><th>CMR</th><th>monotone pieces</th><th>findings</th></tr>";
+      page.write(head);
+      head.clear();
+      for (const std::string& row : spline_rows_) page.write(row);
+      head += "</table>";
+    }
+    page.write(head);
+    std::rewind(sections_.get());
+    char buf[1 << 16];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, sections_.get())) > 0;) page.write({buf, n});
+    page.write("</body></html>\n");
+    page.close();
+  }
+
+  struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+
+  const BatchOptions& options_;
+  bool single_font_ = false;
+  OutputSet out_;
+  StagedStream json_, junit_, sarif_;
+  std::unique_ptr<std::FILE, FileCloser> sections_;
+  std::optional<BaselineComparison> baseline_;
+  BatchSummary summary_;
+  std::vector<FontRow> fonts_;
+  std::vector<std::string> spline_rows_;
+  std::string timestamp_, host_;
+  int first_ = 0, file_index_ = 0, sarif_results_ = 0;
+};
+
+}  // namespace
+
+// ------------------------------------------------------------ the run
+
+BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions& options, const BatchProgress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t fonts =
+      static_cast<std::size_t>(std::count_if(files.begin(), files.end(), [](const std::string& f) { return file_kind(f) == FileKind::font; }));
+  Writer writer(options, files.size(), fonts);
+  const int threads = thread_count(options.report.threads);
+  int done = 0;
+  auto written = [&](const FileWork& w) {
+    ++done;
+    if (progress) progress(done, static_cast<int>(files.size()), writer.items(), w.path);
+  };
+  // Regions (the fix search) render one spline at a time on the backend,
+  // which is not shared between threads: with them, files go one by one.
+  const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
+  if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
+    for (const std::string& f : files) {  // one file at a time, its splines in parallel
+      FileWork w = process_file(f, options, options.report.threads);
+      writer.consume(w);
+      written(w);
+    }
+  } else {
+    // Files in parallel, one thread each; finished files are written in
+    // order by one thread at a time. A file more than `window` ahead of the
+    // next to write waits, so memory holds at most ~window files' reports.
+    const std::size_t window = 2 * static_cast<std::size_t>(threads);
+    std::mutex m;
+    std::condition_variable cv;
+    std::map<std::size_t, FileWork> ready;
+    std::size_t next = 0;
+    bool abort = false, flushing = false;
+    parallel_for(files.size(), threads, [&](std::size_t i) {
+      FileWork w;
+      try {
+        w = process_file(files[i], options, 1);
+      } catch (...) {
+        const std::lock_guard lock(m);
+        abort = true;
+        cv.notify_all();
+        throw;
+      }
+      std::unique_lock lock(m);
+      cv.wait(lock, [&] { return abort || i < next + window; });
+      if (abort) return;
+      ready.emplace(i, std::move(w));
+      if (flushing) return;  // the writing thread takes it
+      flushing = true;
+      for (auto it = ready.find(next); it != ready.end(); it = ready.find(next)) {
+        FileWork item = std::move(it->second);
+        ready.erase(it);
+        lock.unlock();
+        try {
+          writer.consume(item);
+          written(item);
+        } catch (...) {
+          lock.lock();
+          abort = true;
+          flushing = false;
+          cv.notify_all();
+          throw;
+        }
+        lock.lock();
+        ++next;
+        cv.notify_all();
+      }
+      flushing = false;
+    });
+  }
+  return writer.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+}  // namespace cmr::report

@@ -1,0 +1,131 @@
+#pragma once
+/// Spline QA at corpus scale (`cmr report FOLDER|GLOB|FILE...`): the files
+/// of a run are found (folders walked recursively, globs expanded, include
+/// and exclude patterns), reported one file at a time (files in parallel on
+/// every core when there are enough of them, else one file's splines in
+/// parallel), and written as they finish: report.json, the pages, a JUnit
+/// XML and a SARIF 2.1.0 file, each streamed, so that memory holds the
+/// reports of the files in flight, never the corpus (what stays is one
+/// small record per file for the summary page, and the new findings).
+///
+/// A *finding* is one violation with a stable identity (file, glyph,
+/// contour, node, gate): the key a baseline (an earlier run's report.json)
+/// is compared by. docs/report.md describes the workflow.
+///
+/// Errors: InputError for an argument that names nothing, a pattern that
+/// matches no file, a baseline that is not a cmr report; EnvironmentError
+/// when an output cannot be written (nothing of the run is then left).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "report/font_report.hpp"
+#include "report/report.hpp"
+
+namespace cmr::report {
+
+/// Which files a folder contributes (a file named on the command line is
+/// always taken). Patterns are shell globs (fnmatch), matched against the
+/// path relative to the folder and against the file name; `**` is `*`.
+struct FileFilter {
+  std::vector<std::string> include;  ///< empty: every font, .svg and .json file
+  std::vector<std::string> exclude;  ///< a file matching one is left out
+};
+
+/// The files of `args`, in argument order (a folder's files sorted): a file
+/// as it is; a folder walked recursively (hidden entries skipped); an
+/// argument with * ? or [ that names no file, expanded as a glob (sorted; a
+/// folder it matches walked as a folder). InputError: "ARG: no such file or
+/// folder", "ARG: matches no file".
+std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter);
+
+enum class FileKind : std::uint8_t { spline, svg, font };
+/// By extension: fonts (io/font.hpp), .svg, else a spline file.
+FileKind file_kind(const std::string& path);
+
+/// One violation with its stable identity.
+struct Finding {
+  std::string file;     ///< the input file, as collected
+  std::string glyph;    ///< glyph name (fonts), else the spline's name
+  int contour = 0;      ///< contour of the glyph (0 for a spline)
+  std::string node;     ///< "p12" (a node), "p12-p15" (the segment between two nodes), "segment 3", "joint 2"; "" for the whole spline
+  std::string gate;     ///< the gate's text ("extrema-at-nodes"), or the check ("cmr") for a spline failing it
+  std::string message;  ///< one line a designer can act on (node names, what to move)
+  /// "file|glyph|cC|node|gate": what a baseline compares.
+  std::string key() const;
+};
+
+/// One test case of a run: a glyph (all its contours) or a spline.
+struct CaseRecord {
+  std::string name;       ///< glyph or spline name
+  std::string error;      ///< invalid input: why
+  int contours = 1;
+  bool pass = true;
+  std::vector<Finding> findings;
+};
+
+/// What the summary page and the CI files keep of one file.
+struct FileRecord {
+  std::string path;
+  FileKind kind = FileKind::spline;
+  std::string title;      ///< "DejaVu Sans Book" for a font, else the path
+  std::string page;       ///< its page, relative to the output folder ("" when none)
+  double seconds = 0;     ///< analysis time
+  int items = 0, items_pass = 0, items_fail = 0, items_invalid = 0;  ///< splines / contours
+  std::vector<CaseRecord> cases;  ///< glyphs or splines (dropped after the file is written, see FileSummary)
+};
+
+/// How a batch runs and what it writes.
+struct BatchOptions {
+  ReportOptions report;                 ///< per spline (report.hpp); report.threads: 0 = every core
+  std::vector<std::uint32_t> codepoints;  ///< the glyphs of the fonts
+  std::filesystem::path out;            ///< report.json, index.html, the pages
+  std::optional<std::filesystem::path> junit, sarif;  ///< CI files
+  std::optional<std::filesystem::path> baseline;      ///< an earlier report.json
+  bool pretty = false;                  ///< indent report.json
+  /// Search re-verified handle moves for the failing glyphs of fonts (with
+  /// report.regions: the font's unit grid); off: thumbnails without moves.
+  bool fixes = true;
+};
+
+/// The run's counts (the one-line summary) and its exit code.
+struct BatchSummary {
+  int files = 0, fonts = 0, glyphs = 0, glyphs_fail = 0;
+  int items = 0, pass = 0, fail = 0, invalid = 0;  ///< splines and contours
+  int findings = 0;
+  bool baseline = false;
+  int new_findings = 0, fixed = 0, unchanged = 0;  ///< with a baseline
+  std::vector<Finding> new_list;  ///< the new findings (with a baseline)
+  std::vector<std::string> invalid_messages;  ///< one per invalid item
+  double seconds = 0;
+  int exit_code = kExitPass;  ///< kExitInvalid, else kExitFail on a failure (on a new finding with a baseline), else kExitPass
+  std::vector<std::filesystem::path> written;
+};
+
+/// "3 files (1 font, 52 glyphs): 70 contours and splines: 25 pass, 45 fail, 0 invalid; 61 findings (new 1,
+/// fixed 0, unchanged 60); 2.1 s": the run's one line.
+std::string summary_line(const BatchSummary& s);
+
+/// Called after each file is written: (files done, files in all, splines
+/// done, the file).
+using BatchProgress = std::function<void(int, int, int, const std::string&)>;
+/// A progress bar with ETA drawn in place on `err` (a terminal's stderr):
+/// "[#####-----] 12/40 files, 3,210 splines, 1,870/s, ETA 0:12 name".
+BatchProgress terminal_progress(std::ostream& err);
+/// Clears the bar's line.
+void clear_progress(std::ostream& err);
+
+/// The findings of a baseline (report.json of an earlier run): key ->
+/// count. InputError when it cannot be read or is not a cmr-report/1 with
+/// findings.
+std::vector<std::string> read_baseline(const std::filesystem::path& path);
+
+/// Runs the batch and writes every output as one cmr::OutputSet (all or
+/// none). Invalid files become invalid items; they do not stop the run.
+BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions& options,
+                       const BatchProgress& progress = {});
+
+}  // namespace cmr::report

@@ -1,0 +1,145 @@
+#include "report/sarif.hpp"
+
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+namespace cmr::report {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// cmr has no web address: the URN names the page that documents the rules (docs/report.md).
+constexpr const char* kInformationUri = "urn:cmr:docs:report.md";
+constexpr const char* kInvalidRule = "invalid-input";
+
+struct RuleText {
+  std::string name, short_text, full_text, help;
+};
+
+RuleText rule_text(const std::string& id) {
+  if (id == "extrema-at-nodes")
+    return {"ExtremaAtNodes", "A curvature extremum lies between nodes.",
+            "Every curvature extremum (a certified root of lambda, or a jump of curvature at a joint) must lie on a "
+            "node (an on-curve point); one inside a segment is a violation.",
+            "Move the segment's handles along their tangents until the curvature along the segment is monotone, or "
+            "add a node at the extremum. The page lists handle moves on the font's grid that were re-verified."};
+  if (id == "extrema-at-nodes:runs")
+    return {"UnimodalRuns", "The curvature of a run between on-curve points is not unimodal.",
+            "TrueType reading of extrema-at-nodes: each quadratic piece peaks once by construction, so the gate judges "
+            "each run between explicit on-curve points (implied midpoints are not nodes): |curvature| must rise to at "
+            "most one peak and fall (split at inflections). Each dip between two peaks is a violation.",
+            "Move the named off-curve points (the handles of the segments meeting at the dip) so that the run's "
+            "curvature has a single peak, or put an on-curve point at the dip."};
+  if (id.rfind("max-extrema-per-segment", 0) == 0)
+    return {"MaxExtremaPerSegment", "Too many curvature extrema inside one segment.",
+            "At most N curvature extrema may lie strictly inside any one segment.",
+            "Move the segment's handles so that its curvature has fewer turning points, or split the segment."};
+  if (id.rfind("g2-at-smooth-nodes", 0) == 0)
+    return {"G2AtSmoothNodes", "Curvature jumps at a smooth node.",
+            "At every smooth node (C1, or G1 by exact tangents) the curvature on both sides must agree within the "
+            "relative tolerance.",
+            "Move the handles on both sides of the node along the tangent until the curvatures match."};
+  if (id == "no-inflection")
+    return {"NoInflection", "The curvature changes sign.", "The curve must not have an inflection.",
+            "Move the handles so that the curve turns one way only, or split the contour at the inflection."};
+  if (id == kInvalidRule)
+    return {"InvalidInput", "The input could not be read.", "A file or spline that cannot be read is reported here.",
+            "Fix the file named in the message; cmr reports every other file regardless."};
+  return {"CurvatureMonotone", "The curvature is not monotone (" + id + ").",
+          "The spline must pass the " + id +
+              " check of CAD&A 2024 (Algorithms 1 and 2): its curvature monotone over the judged segments.",
+          "The HTML report shows, per control point, the region where moving it alone makes the spline pass."};
+}
+
+Json logical(const Finding& f) {
+  std::string fq = f.glyph;
+  if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
+  return Json::array({Json{{"name", f.node.empty() ? f.glyph : f.node},
+                           {"fullyQualifiedName", fq},
+                           {"kind", "element"}}});
+}
+
+Json location(const std::string& file, Json logical_locations) {
+  return Json::array(
+      {Json{{"physicalLocation", {{"artifactLocation", {{"uri", path_uri(file)}}}}}, {"logicalLocations", logical_locations}}});
+}
+
+int rule_index(const std::string& id, const ReportOptions& options) {
+  const auto ids = sarif_rule_ids(options);
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (ids[i] == id) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace
+
+std::string path_uri(const std::string& path) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out = path.size() > 0 && path[0] == '/' ? "file://" : "";
+  for (const unsigned char c : path) {
+    if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '.' ||
+        c == '_' || c == '~' || c == '/')
+      out += static_cast<char>(c);
+    else
+      out += {'%', kHex[c >> 4], kHex[c & 15]};
+  }
+  return out;
+}
+
+std::vector<std::string> sarif_rule_ids(const ReportOptions& options) {
+  std::vector<std::string> ids;
+  if (options.require) ids.push_back(to_string(*options.require));
+  for (const Gate& g : options.gates) ids.push_back(to_string(g));
+  ids.push_back(kInvalidRule);
+  return ids;
+}
+
+std::string sarif_header(const ReportOptions& options) {
+  Json rules = Json::array();
+  for (const std::string& id : sarif_rule_ids(options)) {
+    const RuleText t = rule_text(id);
+    rules.push_back({{"id", id},
+                     {"name", t.name},
+                     {"shortDescription", {{"text", t.short_text}}},
+                     {"fullDescription", {{"text", t.full_text}}},
+                     {"help", {{"text", t.help}}},
+                     {"helpUri", kInformationUri},
+                     {"defaultConfiguration", {{"level", "error"}}}});
+  }
+  const Json driver = {{"name", "cmr"},
+                       {"informationUri", kInformationUri},
+                       {"semanticVersion", "1.0.0"},
+                       {"rules", rules}};
+  // The document up to "results": [ — written as text, closed by sarif_footer.
+  std::string head = "{\"$schema\":\"https://json.schemastore.org/sarif-2.1.0.json\",\"version\":\"2.1.0\",\"runs\":[{"
+                     "\"tool\":{\"driver\":" +
+                     driver.dump() + "},\"columnKind\":\"unicodeCodePoints\",\"results\":[";
+  return head;
+}
+
+std::string sarif_result(const Finding& f, const ReportOptions& options, const char* baseline_state) {
+  Json r = {{"ruleId", f.gate},
+            {"ruleIndex", rule_index(f.gate, options)},
+            {"level", "error"},
+            {"message", {{"text", f.message}}},
+            {"locations", location(f.file, logical(f))},
+            {"partialFingerprints", {{"cmrFinding/v1", f.key()}}},
+            {"properties", {{"glyph", f.glyph}, {"contour", f.contour}, {"node", f.node}}}};
+  if (baseline_state) r["baselineState"] = baseline_state;
+  return r.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string sarif_invalid(const std::string& file, const std::string& name, const std::string& error,
+                          const ReportOptions& options) {
+  Json r = {{"ruleId", kInvalidRule},
+            {"ruleIndex", rule_index(kInvalidRule, options)},
+            {"level", "error"},
+            {"message", {{"text", error}}},
+            {"locations", location(file, Json::array({Json{{"name", name}, {"kind", "element"}}}))}};
+  return r.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string sarif_footer() { return "]}]}\n"; }
+
+}  // namespace cmr::report
