@@ -337,7 +337,7 @@ TEST(BatchCommand, ABaselinePassesWhenNothingChangedAndNamesExactlyTheNewViolati
   EXPECT_NE(edited.out.find("(baseline: 1 new, 0 fixed, "), std::string::npos) << edited.out;
   // Exactly one line on stderr, naming the file, the spline, where and the gate.
   EXPECT_EQ(std::count(edited.err.begin(), edited.err.end(), '\n'), 1) << edited.err;
-  EXPECT_EQ(edited.err.rfind("cmr: new: " + (d / "splines" / "monotone.json").string() + ": extrema-at-nodes: monotone: curvature", 0), 0u)
+  EXPECT_EQ(edited.err.rfind("cmr: new: " + (d / "splines" / "monotone.json").string() + ": extrema-at-nodes: monotone: sharpest point inside segment", 0), 0u)
       << edited.err;
   const Json doc = read_json(three / "report.json");
   EXPECT_EQ(doc["summary"]["baseline"]["new"], 1);

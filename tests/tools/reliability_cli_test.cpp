@@ -81,7 +81,7 @@ TEST(ReliabilitySvg, ReportReadsSvgAndRegionSaysToImport) {
   std::ofstream(d / "logo.svg") << "<svg><path d='M0 0 C1 1 2 1 3 0'/><path d='M0 0 Q1 1 2 0'/></svg>";
   const auto rep = run("report " + (d / "logo.svg").string() + " --no-thumbnails --out " + (d / "r").string());
   ASSERT_EQ(rep.code, 0) << rep.err;
-  EXPECT_EQ(rep.out.rfind("2 splines: ", 0), 0u) << rep.out;
+  EXPECT_EQ(rep.out.rfind("1 file: 2 splines: ", 0), 0u) << rep.out;  // the corpus run's summary line
   EXPECT_NE(rep.out.find(" 0 invalid"), std::string::npos) << rep.out;
   const auto doc = nlohmann::json::parse(slurp(d / "r" / "report.json"));
   EXPECT_NE(doc.dump().find("logo.svg:logo/path0/s0"), std::string::npos);
