@@ -1,6 +1,6 @@
 #include "draw/draw.hpp"
+#include "draw/cairo_canvas.hpp"
 
-#include <cairo-svg.h>
 #include <cairo.h>
 
 #include <algorithm>
@@ -77,39 +77,6 @@ Absorb depth_absorb(uint8_t label, uint8_t depth, int max_depth) {
 }
 
 // ------------------------------------------------------------ cairo helpers --
-
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-Surface make_surface(int width, int height) {
-  Surface s(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height), &cairo_surface_destroy);
-  if (cairo_surface_status(s.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
-  return s;
-}
-
-Context make_context(cairo_surface_t* surface) {
-  Context cr(cairo_create(surface), &cairo_destroy);
-  if (cairo_status(cr.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
-  return cr;
-}
-
-void set_colour(cairo_t* cr, Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
-
-/// Appends each chunk Cairo's PNG encoder hands over to a std::string.
-cairo_status_t append_png_chunk(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
-/// The surface encoded as PNG bytes, in memory. Encoding can only fail for
-/// lack of memory.
-std::string encode_png(cairo_surface_t* surface) {
-  cairo_surface_flush(surface);
-  std::string bytes;
-  if (cairo_surface_write_to_png_stream(surface, append_png_chunk, &bytes) != CAIRO_STATUS_SUCCESS)
-    throw std::bad_alloc();
-  return bytes;
-}
 
 void text_at(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false) {
   cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
@@ -947,12 +914,6 @@ void draw_figure(cairo_t* c, const Figure& f, const FigureLayout& layout, std::v
   }
 }
 
-/// Appends each chunk Cairo's SVG writer hands over to a std::string.
-cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
 /// How many layers of each colouring label (1..4 with split, else 1..2) a
 /// pixel has: the key of one overlap colour.
 std::vector<int> overlap_key(const RegionPicture& p, std::size_t index) {
@@ -1016,8 +977,8 @@ Rgb label_colour(std::uint8_t label, bool split) {
   one.width = one.height = 1;
   one.split = split;
   one.depth = {0};
-  if (split) one.split_labels = {static_cast<SplitLabel>(label)};
-  else one.labels = {static_cast<RegionLabel>(label)};
+  if (split) one.split_labels = {static_cast<Split>(label)};
+  else one.labels = {static_cast<Direction>(label)};
   RegionPicture pic;
   pic.layers = {&one};
   pic.split = split;
@@ -1118,27 +1079,15 @@ void write_region_png(const std::filesystem::path& path, const RegionPicture& pi
 
 std::string figure_png(const Figure& f, std::vector<std::vector<TextBox>>* labels) {
   const FigureLayout layout = measure_figure(f);
-  Surface surface = make_surface(static_cast<int>(std::ceil(layout.width)), static_cast<int>(std::ceil(layout.height)));
-  Context cr = make_context(surface.get());
   if (labels) labels->clear();
-  draw_figure(cr.get(), f, layout, labels);
-  return encode_png(surface.get());
+  return render_picture(PictureFormat::png, layout.width, layout.height,
+                        [&](cairo_t* cr) { draw_figure(cr, f, layout, labels); });
 }
 
 std::string figure_svg(const Figure& f) {
   const FigureLayout layout = measure_figure(f);
-  std::string bytes;
-  {
-    Surface surface(cairo_svg_surface_create_for_stream(append_chunk, &bytes, std::ceil(layout.width),
-                                                        std::ceil(layout.height)),
-                    &cairo_surface_destroy);
-    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
-    Context cr = make_context(surface.get());
-    draw_figure(cr.get(), f, layout, nullptr);
-    cairo_surface_finish(surface.get());  // the document is complete only once the surface is finished
-    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw std::bad_alloc();
-  }
-  return bytes;
+  return render_picture(PictureFormat::svg, layout.width, layout.height,
+                        [&](cairo_t* cr) { draw_figure(cr, f, layout, nullptr); });
 }
 
 std::string line_plot_png(const LinePlot& plot) {

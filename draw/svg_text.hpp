@@ -2,8 +2,8 @@
 /// SVG text written by hand, in one place: the report's curve and curvature
 /// plots (report/report.cpp), the font page's glyphs (report/font_report.cpp)
 /// and region contours (draw/mesh.cpp) open and close their pictures here.
-/// (Pictures drawn with Cairo, figure_svg and the weight picture, are
-/// written by Cairo's SVG surface.)
+/// Pictures painted with Cairo (figure_svg, the weight picture) become SVG in
+/// one other place: render_picture (draw/cairo_canvas.hpp, private to draw).
 #include <string>
 #include <string_view>
 #include <utility>

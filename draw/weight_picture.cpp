@@ -1,6 +1,5 @@
 #include "draw/weight_picture.hpp"
 
-#include <cairo-svg.h>
 #include <cairo.h>
 
 #include <algorithm>
@@ -10,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "draw/cairo_canvas.hpp"
 #include "draw/draw.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
@@ -26,11 +26,6 @@ std::string indexed(char letter, int k) {
   return s;
 }
 
-cairo_status_t append_chunk(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
 /// Axis tick step: 1, 2 or 5 times a power of ten, about six ticks.
 double tick_step(double range) {
   const double raw = range / 6, p = std::pow(10.0, std::floor(std::log10(raw)));
@@ -45,8 +40,6 @@ std::string tick_text(double x, double step) {
   std::snprintf(buf, sizeof buf, "%.*f", digits, x);
   return buf;
 }
-
-void set(cairo_t* cr, draw::Rgb c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
 
 /// A curve's colour for a label: the region colour, darkened so that it shows
 /// on white (white labels: grey).
@@ -76,9 +69,9 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   };
   for (int i = 0; i < columns; ++i) {
     const std::uint8_t l = label_of_weight(A + (B - A) * (i + 0.5) / columns);
-    if (strip.alternating) strip.alternating_labels.push_back(static_cast<AlternatingLabel>(l));
-    else if (strip.split) strip.split_labels.push_back(static_cast<SplitLabel>(l));
-    else strip.labels.push_back(static_cast<RegionLabel>(l));
+    if (strip.alternating) strip.alternating_labels.push_back(static_cast<Alternation>(l));
+    else if (strip.split) strip.split_labels.push_back(static_cast<Split>(l));
+    else strip.labels.push_back(static_cast<Direction>(l));
   }
   draw::RegionPicture pic;
   pic.spline = &spline;
@@ -92,57 +85,54 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   };
   std::vector<draw::LegendEntry> legend = draw::legend_for(pic);
 
-  std::string bytes;
-  cairo_surface_t* surface = svg ? cairo_svg_surface_create_for_stream(append_chunk, &bytes, width, height)
-                                 : cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
-  cairo_t* cr = cairo_create(surface);
-  // The font of every cmr picture (draw.cpp), installed by the setup script
-  // (fonts-dejavu-core): "sans-serif" would follow the machine's fontconfig.
-  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
+  const auto paint = [&](cairo_t* cr) {
+    // The font of every cmr picture (draw.cpp), installed by the setup script
+    // (fonts-dejavu-core): "sans-serif" would follow the machine's fontconfig.
+    cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
 
-  // Title.
-  const int K = r.point;
-  const double current = spline.weight(K);
-  cairo_set_font_size(cr, 14);
-  set(cr, {0, 0, 0});
-  cairo_move_to(cr, 12, 20);
-  std::string mode = r.labels.mode == Mode::cmr ? "CMR" : "CMRWI";
-  if (r.labels.split) mode += " split at joint " + std::to_string(*r.labels.split);
-  for (std::size_t i = 0; i < r.labels.splits.size(); ++i)
-    mode += (i == 0 ? " joints " : ",") + std::to_string(r.labels.splits[i]);
-  if (r.labels.segments)
-    mode += " segments " + std::to_string(r.labels.segments->first) + ".." + std::to_string(r.labels.segments->last);
-  const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" +
-                            tick_text(A, 1e-3) + ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
-  cairo_show_text(cr, title.c_str());
+    // Title.
+    const int K = r.point;
+    const double current = spline.weight(K);
+    cairo_set_font_size(cr, 14);
+    draw::set_colour(cr, {0, 0, 0});
+    cairo_move_to(cr, 12, 20);
+    std::string mode = r.labels.mode == Mode::cmr ? "CMR" : "CMRWI";
+    if (r.labels.split) mode += " split at joint " + std::to_string(*r.labels.split);
+    for (std::size_t i = 0; i < r.labels.splits.size(); ++i)
+      mode += (i == 0 ? " joints " : ",") + std::to_string(r.labels.splits[i]);
+    if (r.labels.segments)
+      mode += " segments " + std::to_string(r.labels.segments->first) + ".." + std::to_string(r.labels.segments->last);
+    const std::string title = "weight w" + std::to_string(K) + " of P" + std::to_string(K) + " in [" +
+                              tick_text(A, 1e-3) + ", " + tick_text(B, 1e-3) + "]: " + mode + " labels, the rest fixed";
+    cairo_show_text(cr, title.c_str());
 
-  // The family of curves: a handful of weights, thin, in their label's colour.
-  const double top = 32, strip_top = height - 150, strip_bottom = strip_top + 34;
-  const double cx0 = 12, cx1 = width - 12, cy0 = top, cy1 = strip_top - 24;
-  // The curves first (polylines), then the view: their bounding box with
-  // P_K, so that the part the weight bends fills the panel.
-  constexpr int kFamily = 7, kSteps = 400;
-  // A curve as drawable pieces: broken where a pole sends it away
-  // (CurveSampler, spline/curvature.hpp).
-  using Pieces = std::vector<std::vector<Vec2>>;
-  const auto polyline = [&](const BSpline& s) {
-    const CurveSampler sampler(s);
-    Pieces pieces;
-    std::optional<double> pen;
-    for (int i = 0; i <= kSteps; ++i) {
-      const double t = i == kSteps ? s.domain_end() : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps;
-      const std::optional<Vec2> p = sampler.at(t);
-      if (!p) {
-        pen.reset();
-        continue;
+    // The family of curves: a handful of weights, thin, in their label's colour.
+    const double top = 32, strip_top = height - 150, strip_bottom = strip_top + 34;
+    const double cx0 = 12, cx1 = width - 12, cy0 = top, cy1 = strip_top - 24;
+    // The curves first (polylines), then the view: their bounding box with
+    // P_K, so that the part the weight bends fills the panel.
+    constexpr int kFamily = 7, kSteps = 400;
+    // A curve as drawable pieces: broken where a pole sends it away
+    // (CurveSampler, spline/curvature.hpp).
+    using Pieces = std::vector<std::vector<Vec2>>;
+    const auto polyline = [&](const BSpline& s) {
+      const CurveSampler sampler(s);
+      Pieces pieces;
+      std::optional<double> pen;
+      for (int i = 0; i <= kSteps; ++i) {
+        const double t = i == kSteps ? s.domain_end() : s.domain_begin() + (s.domain_end() - s.domain_begin()) * i / kSteps;
+        const std::optional<Vec2> p = sampler.at(t);
+        if (!p) {
+          pen.reset();
+          continue;
+        }
+        if (!pen || !sampler.joins(*pen, t)) pieces.emplace_back();
+        pieces.back().push_back(*p);
+        pen = t;
       }
-      if (!pen || !sampler.joins(*pen, t)) pieces.emplace_back();
-      pieces.back().push_back(*p);
-      pen = t;
-    }
-    return pieces;
+      return pieces;
   };
   // Equally spaced weights, and the middle of each interval (the first
   // kFamily), so that every label shows in a curve.
@@ -196,7 +186,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   const double dash[] = {4, 3};
   cairo_set_line_width(cr, 1);
   cairo_set_dash(cr, dash, 2, 0);
-  set(cr, {0.5, 0.5, 0.5});
+  draw::set_colour(cr, {0.5, 0.5, 0.5});
   for (int i = 0; i < spline.point_count(); ++i) {
     const auto [x, y] = screen(spline.points()[i]);
     if (i == 0) cairo_move_to(cr, x, y);
@@ -204,7 +194,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   }
   cairo_stroke(cr);
   cairo_set_dash(cr, nullptr, 0, 0);
-  set(cr, {0, 0, 0});
+  draw::set_colour(cr, {0, 0, 0});
   cairo_set_line_width(cr, 2.5);
   stroke_line(own);
   // Curves of white labels (grey) first and thin, the coloured ones over them.
@@ -213,10 +203,10 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
       const draw::Rgb c = curve_colour(colour_of_label(label_of_weight(family_weights[i])));
       if ((c.r == c.g && c.g == c.b) == coloured) continue;
       cairo_set_line_width(cr, coloured ? 1.8 : 1);
-      set(cr, c);
+      draw::set_colour(cr, c);
       stroke_line(family[i]);
     }
-  set(cr, {0, 0, 0});
+  draw::set_colour(cr, {0, 0, 0});
   for (int i = 0; i < spline.unique_point_count(); ++i) {
     const auto [x, y] = screen(spline.points()[i]);
     cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
@@ -239,7 +229,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   // The strip, one column per weight, and its frame.
   const auto x_of = [&](double x) { return sx0 + (x - A) / (B - A) * columns; };
   for (int i = 0; i < columns; ++i) {
-    set(cr, draw::pixel_colour(pic, i));
+    draw::set_colour(cr, draw::pixel_colour(pic, i));
     cairo_rectangle(cr, sx0 + i, strip_top, 1, strip_bottom - strip_top);
     cairo_fill(cr);
   }
@@ -263,7 +253,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
       any_pole = true;
       hatch(std::max(x_of(iv.from), sx0) - 0.5, strip_top, std::min(x_of(iv.to), sx0 + columns) + 0.5, strip_bottom);
     }
-  set(cr, {0, 0, 0});
+  draw::set_colour(cr, {0, 0, 0});
   cairo_set_line_width(cr, 1);
   cairo_rectangle(cr, sx0, strip_top, columns, strip_bottom - strip_top);
   cairo_stroke(cr);
@@ -278,7 +268,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
   // The weight axis.
   const double step = tick_step(B - A);
   cairo_set_font_size(cr, 11);
-  set(cr, {0, 0, 0});
+  draw::set_colour(cr, {0, 0, 0});
   for (double t = std::ceil(A / step) * step; t <= B + 1e-9 * step; t += step) {
     const double x = x_of(t);
     cairo_move_to(cr, x, strip_bottom);
@@ -328,10 +318,10 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     cairo_text_extents_t ex;
     cairo_text_extents(cr, e.text.c_str(), &ex);
     if (lx + 22 + ex.x_advance > width - 12) lx = 12, ly += 22;
-    set(cr, e.colour);
+    draw::set_colour(cr, e.colour);
     cairo_rectangle(cr, lx, ly - 11, 14, 14);
     cairo_fill_preserve(cr);
-    set(cr, {0, 0, 0});
+    draw::set_colour(cr, {0, 0, 0});
     cairo_set_line_width(cr, 1);
     cairo_stroke(cr);
     cairo_move_to(cr, lx + 20, ly);
@@ -344,7 +334,7 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
     cairo_text_extents(cr, text, &ex);
     if (lx + 22 + ex.x_advance > width - 12) lx = 12, ly += 22;
     hatch(lx, ly - 11, lx + 14, ly + 3);
-    set(cr, {0, 0, 0});
+    draw::set_colour(cr, {0, 0, 0});
     cairo_rectangle(cr, lx, ly - 11, 14, 14);
     cairo_stroke(cr);
     cairo_move_to(cr, lx + 20, ly);
@@ -359,17 +349,8 @@ std::string weight_region_picture(const BSpline& spline, const WeightRegionReque
                        "spline as given")
                           .c_str());
 
-  cairo_destroy(cr);
-  cairo_surface_flush(surface);
-  if (!svg && cairo_surface_write_to_png_stream(surface, append_chunk, &bytes) != CAIRO_STATUS_SUCCESS) {
-    cairo_surface_destroy(surface);
-    throw std::bad_alloc();
-  }
-  cairo_surface_finish(surface);
-  const cairo_status_t status = cairo_surface_status(surface);
-  cairo_surface_destroy(surface);
-  if (status == CAIRO_STATUS_NO_MEMORY) throw std::bad_alloc();
-  return bytes;
+  };
+  return draw::render_picture(svg ? draw::PictureFormat::svg : draw::PictureFormat::png, width, height, paint);
 }
 
 }  // namespace cmr
