@@ -45,11 +45,11 @@
 namespace cmr {
 
 /// The verdicts of a spline (or a part of it): Direction for monotonicity,
-/// Split for a split at a joint. RegionLabel / SplitLabel (region.hpp) name
-/// the same verdicts as stored label codes, numbered differently on purpose
-/// (0 = fail there); region.hpp says why they stay separate types.
-enum class Direction : std::uint8_t { increasing, decreasing, none, undecided };
-enum class Split : std::uint8_t { inc_inc, inc_dec, dec_inc, dec_dec, none, undecided };
+/// Split for a split at a joint. They are also the labels of region pixels
+/// (region.hpp): numbered so that code() is the label byte, 0 = fails.
+enum class Direction : std::uint8_t { none = 0, increasing = 1, decreasing = 2, undecided = 3 };
+/// inc_dec: signed curvature increases up to the joint and decreases after it.
+enum class Split : std::uint8_t { none = 0, inc_inc = 1, inc_dec = 2, dec_inc = 3, dec_dec = 4, undecided = 5 };
 enum class Mode : std::uint8_t { cmrwi, cmr };
 
 const char* to_string(Direction d);

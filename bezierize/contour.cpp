@@ -352,7 +352,7 @@ RegionContours region_contours(const RegionProblem& problem, const RegionResult&
   for (const Refined& r : second) refined_at[2 * r.edge.id(g) + 1] = vertex_of(r);
   // Edges whose first bracket ended at the undecided label (between two
   // decided labels): the stretch between their two vertices is undecided.
-  const std::uint8_t undecided = split ? code(SplitLabel::undecided) : code(RegionLabel::undecided);
+  const std::uint8_t undecided = split ? code(Split::undecided) : code(Direction::undecided);
   std::unordered_map<std::int64_t, bool> undecided_gap;
   for (const Refined& r : jobs)
     if (r.bracket.hi_label == undecided && r.label != undecided &&

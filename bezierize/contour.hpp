@@ -89,7 +89,7 @@ inline constexpr const char* kUndecidedBandName = "undecided-band";
 /// All labels present in the map, in increasing code order.
 struct RegionContours {
   View view;
-  bool split = false;  ///< label codes are SplitLabel codes
+  bool split = false;  ///< label codes are Split codes
   std::vector<LabelContours> labels;
   /// The band undecided at the depth limit between two decided labels,
   /// narrower than a pixel (so no pixel centre is in it): label

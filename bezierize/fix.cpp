@@ -518,8 +518,8 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
 /// decides for the position found.
 bool passing_pixel(const RegionPixel& p, const FixRequirement& r) {
   if (r.kind == FixRequirement::Kind::split)
-    return p.split_label == SplitLabel::inc_dec || p.split_label == SplitLabel::dec_inc;
-  return p.label == RegionLabel::increasing || p.label == RegionLabel::decreasing;
+    return p.split_label == Split::inc_dec || p.split_label == Split::dec_inc;
+  return p.label == Direction::increasing || p.label == Direction::decreasing;
 }
 
 double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>(u.points.size()); }

@@ -382,10 +382,10 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
   const RegionRequest& o = s.options;
   const std::vector<Direction> groups = group_verdicts(s.verdict, classes, joints, o.mode);
   switch (labels_of(o)) {
-    case Labels::plain: r.label = label_of(groups[0]); break;
-    case Labels::split: r.label = label_of(combine_split(groups[0], groups[1])); break;
-    case Labels::alternating: r.label = label_of(alternation_verdict(groups)); break;
-    case Labels::each_piece: r.label = label_of(each_piece_verdict(groups)); break;
+    case Labels::plain: r.label = code(groups[0]); break;
+    case Labels::split: r.label = code(combine_split(groups[0], groups[1])); break;
+    case Labels::alternating: r.label = code(alternation_verdict(groups)); break;
+    case Labels::each_piece: r.label = code(each_piece_verdict(groups)); break;
   }
   int depth = 0;  // the template holds the judged segments only; stand-ins carry their runs' depths
   for (const SegmentClass& c : classes) {

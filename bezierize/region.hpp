@@ -42,50 +42,21 @@ namespace backend {
 struct RegionSetup;
 }
 
-/// A pixel's label without --split: the spline's curvature is monotone (which
-/// way) or not.
-///
-/// Why not Direction / Split (analyze.hpp), which name the same verdicts:
-/// labels are stored codes, not verdicts. code() of a label is the byte of a
-/// PGM label map and the word the region shader returns
-/// (shaders/region_layout.h), and 0 must be the failing label (an all-zero
-/// image is "nothing passes", blank_image starts there); Direction and Split
-/// put the passing verdicts first and have no fixed numbering. Their texts
-/// differ too ("not-monotone" in region JSON, "none" in analyze JSON). The one
-/// mapping from verdict to code is backend::label_of (region_setup.hpp).
-enum class RegionLabel : std::uint8_t { not_monotone = 0, increasing = 1, decreasing = 2, undecided = 3 };
-/// A pixel's label with --split S: the directions of parts 0..S-1 and S..N-1.
-/// inc_dec is a curvature maximum at joint S, dec_inc a minimum.
-enum class SplitLabel : std::uint8_t { none = 0, inc_inc = 1, inc_dec = 2, dec_inc = 3, dec_dec = 4, undecided = 5 };
-
-/// A pixel's label with several joints (RegionRequest::splits, the
-/// alternation verdict of bezierize/segments.hpp): the groups between the
-/// joints are monotone in alternating directions, group 0 increasing (a
-/// maximum at the first joint) or decreasing (a minimum there); fail
-/// otherwise; undecided at the depth limit.
-enum class AlternatingLabel : std::uint8_t { fail = 0, first_increasing = 1, first_decreasing = 2, undecided = 3 };
-
-/// A pixel's label in the each-piece mode (RegionRequest::each_piece): every
-/// group between the cut joints (each piece by default) monotone in either
-/// direction on its own, or not; undecided at the depth limit.
-enum class PieceLabel : std::uint8_t { fail = 0, each_monotone = 1, undecided = 2 };
-
-/// "not-monotone", "increasing", "decreasing", "undecided".
-const char* to_string(RegionLabel label);
-/// "none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided".
-const char* to_string(SplitLabel label);
-/// "fail", "inc-first", "dec-first", "undecided".
-const char* to_string(AlternatingLabel label);
-/// "fail", "each-monotone", "undecided".
-const char* to_string(PieceLabel label);
-
+/// A pixel's label is the verdict itself: Direction (plain), Split (--split
+/// S: parts 0..S-1 and S..N-1; inc_dec is a signed-curvature maximum at joint
+/// S), Alternation (several joints) or EachPiece (each piece on its own); one
+/// vocabulary with analyze, the report and the gates, and one to_string each
+/// (analyze.hpp, segments.hpp). Their enumerators are numbered so that code()
+/// is the byte of a PGM label map and the word the region shader returns
+/// (shaders/region_layout.h), with 0 the failing verdict: an all-zero image is
+/// "nothing passes", and blank_image starts there.
 /// The 8-bit code of a label where bytes leave the program (PGM label maps,
-/// the shader's result word): the enumerators' values as documented in the
-/// README (0 not monotone, 1 increasing, ...; with split 0 none, 1 inc-inc, ...).
-constexpr std::uint8_t code(RegionLabel label) { return static_cast<std::uint8_t>(label); }
-constexpr std::uint8_t code(SplitLabel label) { return static_cast<std::uint8_t>(label); }
-constexpr std::uint8_t code(AlternatingLabel label) { return static_cast<std::uint8_t>(label); }
-constexpr std::uint8_t code(PieceLabel label) { return static_cast<std::uint8_t>(label); }
+/// the shader's result word): the enumerators' values as documented in
+/// docs/region.md (0 none, 1 increasing, ...; with split 0 none, 1 inc-inc, ...).
+constexpr std::uint8_t code(Direction label) { return static_cast<std::uint8_t>(label); }
+constexpr std::uint8_t code(Split label) { return static_cast<std::uint8_t>(label); }
+constexpr std::uint8_t code(Alternation label) { return static_cast<std::uint8_t>(label); }
+constexpr std::uint8_t code(EachPiece label) { return static_cast<std::uint8_t>(label); }
 inline constexpr std::uint8_t kRegionLabelCodes = 4, kSplitLabelCodes = 6, kAlternatingLabelCodes = 4,
                               kPieceLabelCodes = 3;
 
@@ -118,14 +89,14 @@ struct RegionRequest {
   int point = 0;                 ///< k: the control point placed at each pixel
   std::vector<int> with;         ///< other points moving rigidly with k
   Mode mode = Mode::cmrwi;       ///< cmrwi: monotone; cmr: monotone, no inflection
-  std::optional<int> split;      ///< joint s: segments 0..s-1 against s..N-1 (SplitLabel results)
+  std::optional<int> split;      ///< joint s: segments 0..s-1 against s..N-1 (Split results)
   /// Only these segments are judged (prepared and classified); the others,
   /// and the joints at the range's ends, play no part. All when empty.
   std::optional<SegmentRange> segments;
   /// Joints s_1 < ... < s_k inside the judged range: its groups between them
-  /// must alternate direction (AlternatingLabel results). Not with split.
+  /// must alternate direction (Alternation results). Not with split.
   std::vector<int> splits;
-  /// Each piece on its own (PieceLabel results): the groups between `splits`
+  /// Each piece on its own (EachPiece results): the groups between `splits`
   /// (every joint of the judged range when empty) must each be monotone, in
   /// either direction, independently. Not with split.
   bool each_piece = false;
@@ -143,10 +114,10 @@ struct RegionRequest {
 /// alternating_label when it has splits, label otherwise (the others keep
 /// their defaults).
 struct RegionPixel {
-  RegionLabel label = RegionLabel::not_monotone;
-  SplitLabel split_label = SplitLabel::none;
-  AlternatingLabel alternating_label = AlternatingLabel::fail;
-  PieceLabel piece_label = PieceLabel::fail;  ///< with each_piece
+  Direction label = Direction::none;
+  Split split_label = Split::none;
+  Alternation alternating_label = Alternation::fail;
+  EachPiece piece_label = EachPiece::fail;  ///< with each_piece
   std::uint8_t depth = 0;  ///< deepest level any segment needed
   bool exact = false;      ///< the exact rational path ran
 };
@@ -213,10 +184,10 @@ struct RegionResult {
   bool split = false;                    ///< which of the label vectors is filled
   bool alternating = false;              ///< (with splits: alternating_labels)
   bool each_piece = false;               ///< (with each_piece: piece_labels)
-  std::vector<RegionLabel> labels;       ///< without split(s), width * height; else empty
-  std::vector<SplitLabel> split_labels;  ///< with split, width * height; else empty
-  std::vector<AlternatingLabel> alternating_labels;  ///< with splits, width * height; else empty
-  std::vector<PieceLabel> piece_labels;  ///< with each_piece, width * height; else empty
+  std::vector<Direction> labels;       ///< without split(s), width * height; else empty
+  std::vector<Split> split_labels;  ///< with split, width * height; else empty
+  std::vector<Alternation> alternating_labels;  ///< with splits, width * height; else empty
+  std::vector<EachPiece> piece_labels;  ///< with each_piece, width * height; else empty
   std::vector<std::uint8_t> depth;       ///< decision level per pixel (all 0 without RegionRequest::depth)
   std::uint64_t exact_pixels = 0;        ///< pixels the exact rational path decided
   double seconds = 0;                    ///< wall time of the render

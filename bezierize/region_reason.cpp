@@ -43,10 +43,10 @@ std::string segment_list_text(const std::vector<int>& segments) {
 namespace {
 
 bool monotone_code(const RegionResult& r, std::uint8_t c) {
-  if (r.each_piece) return c == code(PieceLabel::each_monotone);
-  if (r.alternating) return c == code(AlternatingLabel::first_increasing) || c == code(AlternatingLabel::first_decreasing);
-  if (r.split) return c >= code(SplitLabel::inc_inc) && c <= code(SplitLabel::dec_dec);
-  return c == code(RegionLabel::increasing) || c == code(RegionLabel::decreasing);
+  if (r.each_piece) return c == code(EachPiece::monotone);
+  if (r.alternating) return c == code(Alternation::first_increasing) || c == code(Alternation::first_decreasing);
+  if (r.split) return c >= code(Split::inc_inc) && c <= code(Split::dec_dec);
+  return c == code(Direction::increasing) || c == code(Direction::decreasing);
 }
 
 }  // namespace

@@ -9,47 +9,6 @@
 
 namespace cmr {
 
-const char* to_string(RegionLabel label) {
-  switch (label) {
-    case RegionLabel::not_monotone: return "not-monotone";
-    case RegionLabel::increasing: return "increasing";
-    case RegionLabel::decreasing: return "decreasing";
-    case RegionLabel::undecided: return "undecided";
-  }
-  return "?";
-}
-
-const char* to_string(SplitLabel label) {
-  switch (label) {
-    case SplitLabel::none: return "none";
-    case SplitLabel::inc_inc: return "inc-inc";
-    case SplitLabel::inc_dec: return "inc-dec";
-    case SplitLabel::dec_inc: return "dec-inc";
-    case SplitLabel::dec_dec: return "dec-dec";
-    case SplitLabel::undecided: return "undecided";
-  }
-  return "?";
-}
-
-const char* to_string(AlternatingLabel label) {
-  switch (label) {
-    case AlternatingLabel::fail: return "fail";
-    case AlternatingLabel::first_increasing: return "inc-first";
-    case AlternatingLabel::first_decreasing: return "dec-first";
-    case AlternatingLabel::undecided: return "undecided";
-  }
-  return "?";
-}
-
-const char* to_string(PieceLabel label) {
-  switch (label) {
-    case PieceLabel::fail: return "fail";
-    case PieceLabel::each_monotone: return "each-monotone";
-    case PieceLabel::undecided: return "undecided";
-  }
-  return "?";
-}
-
 std::vector<std::uint8_t> RegionResult::codes() const {
   std::vector<std::uint8_t> out(size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = code_at(i);
@@ -62,10 +21,10 @@ int RegionResult::label_codes() const {
 
 const char* RegionResult::label_name(std::uint8_t c) const {
   CMR_CHECK(c < label_codes());
-  return each_piece  ? to_string(static_cast<PieceLabel>(c))
-         : alternating ? to_string(static_cast<AlternatingLabel>(c))
-         : split     ? to_string(static_cast<SplitLabel>(c))
-                     : to_string(static_cast<RegionLabel>(c));
+  return each_piece  ? to_string(static_cast<EachPiece>(c))
+         : alternating ? to_string(static_cast<Alternation>(c))
+         : split     ? to_string(static_cast<Split>(c))
+                     : to_string(static_cast<Direction>(c));
 }
 
 View default_view(const BSpline& spline, int width, int height) {
@@ -131,47 +90,6 @@ void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   }
 }
 
-uint8_t label_of(Direction d) {
-  switch (d) {
-    case Direction::increasing: return code(RegionLabel::increasing);
-    case Direction::decreasing: return code(RegionLabel::decreasing);
-    case Direction::undecided: return code(RegionLabel::undecided);
-    case Direction::none: return code(RegionLabel::not_monotone);
-  }
-  return code(RegionLabel::not_monotone);
-}
-
-uint8_t label_of(Split s) {
-  switch (s) {
-    case Split::inc_inc: return code(SplitLabel::inc_inc);
-    case Split::inc_dec: return code(SplitLabel::inc_dec);
-    case Split::dec_inc: return code(SplitLabel::dec_inc);
-    case Split::dec_dec: return code(SplitLabel::dec_dec);
-    case Split::undecided: return code(SplitLabel::undecided);
-    case Split::none: return code(SplitLabel::none);
-  }
-  return code(SplitLabel::none);
-}
-
-uint8_t label_of(EachPiece e) {
-  switch (e) {
-    case EachPiece::monotone: return code(PieceLabel::each_monotone);
-    case EachPiece::undecided: return code(PieceLabel::undecided);
-    case EachPiece::fail: return code(PieceLabel::fail);
-  }
-  return code(PieceLabel::fail);
-}
-
-uint8_t label_of(Alternation a) {
-  switch (a) {
-    case Alternation::first_increasing: return code(AlternatingLabel::first_increasing);
-    case Alternation::first_decreasing: return code(AlternatingLabel::first_decreasing);
-    case Alternation::undecided: return code(AlternatingLabel::undecided);
-    case Alternation::fail: return code(AlternatingLabel::fail);
-  }
-  return code(AlternatingLabel::fail);
-}
-
 }  // namespace cmr::backend
 
 namespace cmr {
@@ -188,18 +106,17 @@ AnalyzeOptions region_analyze_options(const RegionRequest& request) {
 }
 
 std::uint8_t region_label_code(const SplineAnalysis& a, const RegionRequest& request) {
-  using backend::label_of;
   if (!request.split && request.splits.empty() && !request.each_piece)
-    return label_of(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
+    return code(request.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
   const std::vector<int> cuts = request.split        ? std::vector<int>{*request.split}
                                 : request.each_piece ? each_piece_cuts(a.range, request.splits)
                                                      : request.splits;
   std::vector<Direction> groups;
   for (const auto& [first, end] : segment_groups(a.range, cuts))
     groups.push_back(part_verdict(a.segments, a.joints, first, end, request.mode));
-  if (request.split) return label_of(combine_split(groups[0], groups[1]));
-  if (request.each_piece) return label_of(each_piece_verdict(groups));
-  return label_of(alternation_verdict(groups));
+  if (request.split) return code(combine_split(groups[0], groups[1]));
+  if (request.each_piece) return code(each_piece_verdict(groups));
+  return code(alternation_verdict(groups));
 }
 
 }  // namespace cmr
@@ -211,24 +128,24 @@ Labels labels_of(const RegionRequest& o) {
   return !o.splits.empty() ? Labels::alternating : (o.split ? Labels::split : Labels::plain);
 }
 
-RegionLabel region_label(uint8_t c) {
+Direction region_label(uint8_t c) {
   CMR_CHECK(c < kRegionLabelCodes);
-  return static_cast<RegionLabel>(c);
+  return static_cast<Direction>(c);
 }
 
-SplitLabel split_label(uint8_t c) {
+Split split_label(uint8_t c) {
   CMR_CHECK(c < kSplitLabelCodes);
-  return static_cast<SplitLabel>(c);
+  return static_cast<Split>(c);
 }
 
-AlternatingLabel alternating_label(uint8_t c) {
+Alternation alternating_label(uint8_t c) {
   CMR_CHECK(c < kAlternatingLabelCodes);
-  return static_cast<AlternatingLabel>(c);
+  return static_cast<Alternation>(c);
 }
 
-PieceLabel piece_label(uint8_t c) {
+EachPiece piece_label(uint8_t c) {
   CMR_CHECK(c < kPieceLabelCodes);
-  return static_cast<PieceLabel>(c);
+  return static_cast<EachPiece>(c);
 }
 
 RegionPixel to_pixel(const PixelResult& r, Labels kind) {

@@ -43,14 +43,8 @@ namespace cmr::backend {
 /// Called by prepare_region, the one entry to a prepared problem.
 void validate_region_options(const BSpline& spline, const RegionRequest& options);
 
-/// The label codes of a part's direction, a split verdict and an alternation.
-uint8_t label_of(Direction d);
-uint8_t label_of(Split s);
-uint8_t label_of(Alternation a);
-uint8_t label_of(EachPiece e);
-
-/// Which labels a request's pixels get: RegionLabel, SplitLabel (split) or
-/// AlternatingLabel (splits).
+/// Which labels a request's pixels get: Direction, Split (split) or
+/// Alternation (splits).
 enum class Labels : uint8_t { plain, split, alternating, each_piece };
 Labels labels_of(const RegionRequest& request);
 
@@ -213,11 +207,11 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& setup, RegionImag
 /// classify_position's label.
 RegionImage region_cpu(const RegionSetup& setup, int threads = 0);
 
-/// The typed label of a code; InputError-free: codes come from label_of.
-RegionLabel region_label(uint8_t code);
-SplitLabel split_label(uint8_t code);
-AlternatingLabel alternating_label(uint8_t code);
-PieceLabel piece_label(uint8_t code);
+/// The typed label of a code; InputError-free: codes come from code().
+Direction region_label(uint8_t code);
+Split split_label(uint8_t code);
+Alternation alternating_label(uint8_t code);
+EachPiece piece_label(uint8_t code);
 /// A pixel's public form.
 RegionPixel to_pixel(const PixelResult& r, Labels kind);
 /// An image's public form (labels decoded; seconds left 0).

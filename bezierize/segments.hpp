@@ -34,7 +34,8 @@ struct SegmentRange {
 };
 
 /// The verdict of several joints at once (see above).
-enum class Alternation : std::uint8_t { first_increasing, first_decreasing, fail, undecided };
+/// Numbered as a region label (region.hpp: code(), 0 = fails).
+enum class Alternation : std::uint8_t { fail = 0, first_increasing = 1, first_decreasing = 2, undecided = 3 };
 
 /// "inc-first", "dec-first", "fail", "undecided".
 const char* to_string(Alternation a);
@@ -44,7 +45,8 @@ const char* to_string(Alternation a);
 /// independently of its neighbours (no alternation, the jumps at the cut
 /// joints free). A group that is not monotone makes "fail"; otherwise an
 /// undecided one makes "undecided".
-enum class EachPiece : std::uint8_t { monotone, fail, undecided };
+/// Numbered as a region label (region.hpp: code(), 0 = fails).
+enum class EachPiece : std::uint8_t { fail = 0, monotone = 1, undecided = 2 };
 
 /// "each-monotone", "fail", "undecided".
 const char* to_string(EachPiece e);

@@ -128,16 +128,6 @@ int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R)
   return Scalar<T>::sign(T(a2r * gl * gl * gl) - T(a2l * gr * gr * gr));
 }
 
-RegionLabel label_of(Direction d) {
-  switch (d) {
-    case Direction::increasing: return RegionLabel::increasing;
-    case Direction::decreasing: return RegionLabel::decreasing;
-    case Direction::none: return RegionLabel::not_monotone;
-    case Direction::undecided: return RegionLabel::undecided;
-  }
-  return RegionLabel::undecided;
-}
-
 }  // namespace
 
 SpaceRegionProblem SpaceRegionProblem::make(const SpaceSpline& spline, const SpaceRegionRequest& request) {
@@ -236,7 +226,7 @@ RegionPixel SpaceRegionProblem::classify(double a, double b) const {
     }
     (i == N ? *seam : joints[static_cast<std::size_t>(i - 1)]).jump = sign;
   }
-  px.label = label_of(space_verdict(s.spline, segs, joints, seam, false));
+  px.label = space_verdict(s.spline, segs, joints, seam, false);
   int depth = 0;
   bool level0 = false;
   for (const SpaceSegmentResult& r : segs) {
@@ -255,7 +245,7 @@ RegionResult SpaceRegionProblem::render(int threads) const {
   out.height = r.height;
   out.view = *r.view;
   const std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
-  out.labels.assign(n, RegionLabel::not_monotone);
+  out.labels.assign(n, Direction::none);
   out.depth.assign(n, 0);
   std::vector<std::uint8_t> exact(n, 0);
   parallel_for(static_cast<std::size_t>(r.height), threads, [&](std::size_t j) {

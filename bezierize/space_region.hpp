@@ -9,7 +9,7 @@
 // (exact rationals from the doubles O, U, V, a, b; it need not be a double),
 // and the label is the verdict exact arithmetic gives for the spline with
 // point K (and its twin on a closed spline) at Q: increasing / decreasing
-// (|kappa| monotone over the whole spline), not-monotone, or undecided at the
+// (|kappa| monotone over the whole spline), none (not monotone), or undecided at the
 // depth limit. Pixel centres are those of the plane (region.hpp:
 // pixel_center). Certification: each affected segment's lambda3 is computed
 // with error bounds from Q's error-bounded coordinates, and exactly (GMP)
@@ -66,7 +66,7 @@ class SpaceRegionProblem {
   const SpaceSpline& spline() const;
   /// The certified label of position (a, b).
   RegionPixel classify(double a, double b) const;
-  /// Every pixel (threads: 0 = all cores); labels are RegionLabel.
+  /// Every pixel (threads: 0 = all cores); labels are Direction.
   RegionResult render(int threads = 0) const;
 
  private:

@@ -45,7 +45,7 @@ struct RegionPicture {
   std::vector<const RegionResult*> layers;  ///< one per point; overlaps subtract colour from white (Fig. 3)
   bool split = false;                      ///< the layers hold split labels
   bool alternating = false;                ///< the layers hold alternating labels (several joints)
-  bool each_piece = false;                 ///< the layers hold each-piece labels (PieceLabel)
+  bool each_piece = false;                 ///< the layers hold each-piece labels (EachPiece)
   /// One line the legend ends with (why a region is empty or full:
   /// bezierize/region_reason.hpp); nothing when empty.
   std::string note;
@@ -85,8 +85,8 @@ std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgb
 /// The colour of pixel `index` (row-major) of the picture's layers, by the
 /// legend above.
 Rgb pixel_colour(const RegionPicture& picture, std::size_t index);
-/// The legend colour of one label code (a RegionLabel code, or with `split`
-/// a SplitLabel code) on a single layer: pixel_colour of a one-pixel map.
+/// The legend colour of one label code (a Direction code, or with `split`
+/// a Split code) on a single layer: pixel_colour of a one-pixel map.
 /// Meshes colour their faces with it and sweep plots their series.
 Rgb label_colour(std::uint8_t label, bool split);
 

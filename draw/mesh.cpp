@@ -226,7 +226,7 @@ std::string contours_svg(const RegionContours& rc) {
     const draw::Rgb c = draw::label_colour(lc.label, rc.split);
     const std::string fill = draw::svg_colour(c);
     const std::string name =
-        rc.split ? to_string(static_cast<SplitLabel>(lc.label)) : to_string(static_cast<RegionLabel>(lc.label));
+        rc.split ? to_string(static_cast<Split>(lc.label)) : to_string(static_cast<Direction>(lc.label));
     out += "<path data-label=\"" + std::to_string(lc.label) + "\" data-name=\"" + name + "\" data-area=\"" +
            num(lc.area) + "\" fill=\"" + fill + "\" fill-rule=\"nonzero\" stroke=\"black\" stroke-width=\"" +
            num(stroke) + "\" d=\"";

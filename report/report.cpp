@@ -456,11 +456,11 @@ namespace {
 /// sign of kappa there, which find_fixes verifies with analyze).
 bool passing_label(const RegionResult& image, std::size_t index, const Requirement&) {
   if (image.split) {
-    const SplitLabel l = image.split_labels[index];
-    return l == SplitLabel::inc_dec || l == SplitLabel::dec_inc;
+    const Split l = image.split_labels[index];
+    return l == Split::inc_dec || l == Split::dec_inc;
   }
-  const RegionLabel l = image.labels[index];
-  return l == RegionLabel::increasing || l == RegionLabel::decreasing;
+  const Direction l = image.labels[index];
+  return l == Direction::increasing || l == Direction::decreasing;
 }
 
 std::string thumbnail(const BSpline& spline, const RegionResult& image, bool split, int max_depth, Vec2 from, Vec2 to) {

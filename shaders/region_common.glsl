@@ -288,10 +288,10 @@ uint full(bool cmr, REAL dx, REAL dy) {
     else if (first == 3 || second == 3) label = 5u;
     else label = 1u + uint(first) * 2u + uint(second);  // inc-inc 1, inc-dec 2, dec-inc 3, dec-dec 4
   } else if (kind == LABELS_EACH_PIECE) {
-    // fail 0, each-monotone 1, undecided 2 (cmr::PieceLabel)
+    // fail 0, each-monotone 1, undecided 2 (cmr::EachPiece)
     label = any_none ? 0u : (any_undecided ? 2u : 1u);
   } else {
-    // fail 0, inc-first 1, dec-first 2, undecided 3 (cmr::AlternatingLabel)
+    // fail 0, inc-first 1, dec-first 2, undecided 3 (cmr::Alternation)
     if (any_none || same_way) label = 0u;
     else if (any_undecided) label = 3u;
     else label = first == 0 ? 1u : 2u;

@@ -54,11 +54,11 @@ CMR_LAYOUT_CONST(HDR_AREA_WIDTH, 17u)         // work-area width
 CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 18u)        // the listed pixels
 CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
 
-// Label kinds (cmr::detail::Labels).
-CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // RegionLabel: one group
-CMR_LAYOUT_CONST(LABELS_SPLIT, 1u)        // SplitLabel: two groups
-CMR_LAYOUT_CONST(LABELS_ALTERNATING, 2u)  // AlternatingLabel: any number of groups
-CMR_LAYOUT_CONST(LABELS_EACH_PIECE, 3u)   // PieceLabel: any number of groups, each on its own
+// Label kinds (cmr::backend::Labels).
+CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // Direction: one group
+CMR_LAYOUT_CONST(LABELS_SPLIT, 1u)        // Split: two groups
+CMR_LAYOUT_CONST(LABELS_ALTERNATING, 2u)  // Alternation: any number of groups
+CMR_LAYOUT_CONST(LABELS_EACH_PIECE, 3u)   // EachPiece: any number of groups, each on its own
 
 // Flags of a part (segments' verdicts and joints' jumps folded together).
 CMR_LAYOUT_CONST(FLAG_INC, 1u)        // some segment increasing

@@ -192,7 +192,7 @@ std::string area_plot(const SweepArgs& a, const std::vector<Step>& steps,
   for (int L = 1; L < labels; ++L) {
     if (!monotone(static_cast<std::uint8_t>(L), split)) continue;
     draw::Series s;
-    s.name = split ? to_string(static_cast<SplitLabel>(L)) : to_string(static_cast<RegionLabel>(L));
+    s.name = split ? to_string(static_cast<Split>(L)) : to_string(static_cast<Direction>(L));
     // The legend's colour, made a little darker so thin lines show.
     const draw::Rgb c = draw::label_colour(static_cast<std::uint8_t>(L), split);
     s.colour = {c.r * 0.8, c.g * 0.8, c.b * 0.8};

@@ -144,7 +144,7 @@ std::string split_counts(const RegionResult& r) {
 long outside(const RegionResult& inner, const RegionResult& outer) {
   long n = 0;
   for (std::size_t i = 0; i < inner.labels.size(); ++i)
-    n += (inner.labels[i] == RegionLabel::increasing || inner.labels[i] == RegionLabel::decreasing) &&
+    n += (inner.labels[i] == Direction::increasing || inner.labels[i] == Direction::decreasing) &&
          inner.labels[i] != outer.labels[i];
   return n;
 }
@@ -159,11 +159,6 @@ std::string point_text(Vec2 p) {
   std::ostringstream s;
   s << '(' << p.x << ", " << p.y << ')';
   return s.str();
-}
-
-/// The label code a spline-level direction gives a pixel.
-uint8_t label_of_direction(Direction d) {
-  return d == Direction::increasing ? 1 : (d == Direction::decreasing ? 2 : (d == Direction::undecided ? 3 : 0));
 }
 
 std::string label_text(uint8_t l) { return l == 255 ? "outside the view" : "label " + std::to_string(l); }
@@ -296,7 +291,7 @@ const RegionResult& blank_layer(Builder& b, const View& view) {
   const int size = b.options().size;
   blank->width = blank->height = size;
   blank->view = view;
-  blank->labels.assign(static_cast<std::size_t>(size) * size, RegionLabel::not_monotone);
+  blank->labels.assign(static_cast<std::size_t>(size) * size, Direction::none);
   blank->depth.assign(blank->labels.size(), 0);
   b.keep(blank);
   return *blank;
@@ -475,7 +470,7 @@ void figure4(Builder& b, const Curves& c) {
     const std::string id(1, static_cast<char>('b' + k));
     b.claim("Fig. 4" + id, "P" + std::to_string(k) + " moved within its CMR: the curvature is monotone, no inflection",
             (l == 1 || l == 2) && ak.cmr != Direction::none && ak.cmr != Direction::undecided &&
-                label_of_direction(ak.cmr) == l,
+                code(ak.cmr) == l,
             "P" + std::to_string(k) + " at " + point_text(c.fig4_place[k]) + ": " + label_text(l) + ", analyze cmr " +
                 to_string(ak.cmr));
     if (k % 2 == 0) f.rows.emplace_back();
@@ -568,12 +563,12 @@ void figure7(Builder& b, const Curves& c) {
     const RegionResult& r0 = b.region(c.fig2, k, Mode::cmrwi, v, {}, 0);
     undecided += count(r, 3);
     auto monotone_at = [](const RegionResult& m, std::size_t i) {
-      return m.labels[i] == RegionLabel::increasing || m.labels[i] == RegionLabel::decreasing;
+      return m.labels[i] == Direction::increasing || m.labels[i] == Direction::decreasing;
     };
     for (std::size_t i = 0; i < r.labels.size(); ++i) {
       const bool monotone = monotone_at(r, i);
       deep_monotone += monotone && r.depth[i] > 0;
-      deep_not += r.labels[i] == RegionLabel::not_monotone && r.depth[i] > 0;
+      deep_not += r.labels[i] == Direction::none && r.depth[i] > 0;
       // Level 0 of a depth-D run must be what a depth-0 run decides as monotone.
       const bool level0 = monotone && r.depth[i] == 0;
       mismatch += level0 != monotone_at(r0, i) || (level0 && r0.labels[i] != r.labels[i]);
@@ -930,12 +925,12 @@ void figure11(Builder& b, const Curves& c) {
   long mismatch = 0;
   const auto monotone = [](uint8_t l) { return l == 1 || l == 2; };
   for (std::size_t i = 0; i < q4.size(); ++i)
-    mismatch += (q4.code_at(i) == code(PieceLabel::each_monotone)) != (monotone(q4a.code_at(i)) && monotone(q4b.code_at(i)));
+    mismatch += (q4.code_at(i) == code(EachPiece::monotone)) != (monotone(q4a.code_at(i)) && monotone(q4b.code_at(i)));
   b.claim("Fig. 11", "Q4's region (Q3, Q5 moving with it) is exactly where both pieces are monotone",
           count(q4, 1) > 0 && mismatch == 0,
           std::to_string(count(q4, 1)) + " px each-monotone, " + std::to_string(mismatch) +
               " px differ from the intersection of the two pieces' regions");
-  const std::optional<Vec2> place = nearest_pixel(q4, code(PieceLabel::each_monotone), s.points()[3]);
+  const std::optional<Vec2> place = nearest_pixel(q4, code(EachPiece::monotone), s.points()[3]);
   const BSpline after = place ? moved_group(s, 3, {2, 4}, *place, "fig11b") : s;
   const SplineAnalysis a = each_piece_analysis(after, depth);
   b.claim("Fig. 11", "Q4 moved into its region with Q3, Q5: both pieces monotone, G1 kept",
@@ -1029,7 +1024,7 @@ void figure12(Builder& b) {
                                                            SegmentRange{j - 1, j}, true),
                                        "J" + std::to_string(j) + " with its handles, pieces " +
                                            std::to_string(j - 1) + ".." + std::to_string(j));
-        const std::optional<Vec2> place = nearest_pixel(r, code(PieceLabel::each_monotone), q);
+        const std::optional<Vec2> place = nearest_pixel(r, code(EachPiece::monotone), q);
         if (!place) continue;
         const BSpline next = moved_group(s, k, {k - 1, k + 1}, *place, "fig12");
         const SplineAnalysis an = each_piece_analysis(next, depth);

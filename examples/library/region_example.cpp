@@ -16,8 +16,8 @@ int main() {
   cmr::CpuRegionBackend cpu;
   const cmr::RegionResult region = cpu.render(problem);
   long monotone = 0;
-  for (cmr::RegionLabel l : region.labels)
-    monotone += l == cmr::RegionLabel::increasing || l == cmr::RegionLabel::decreasing;
+  for (cmr::Direction l : region.labels)
+    monotone += l == cmr::Direction::increasing || l == cmr::Direction::decreasing;
   std::printf("cpu: %ld of %zu pixels monotone; P1 where it is: %s\n", monotone, region.labels.size(),
               cmr::to_string(problem.classify(curve.points()[1]).label));
 

@@ -60,7 +60,7 @@ TEST(Contour, QuadraticBoundaryVerticesLieOnTheCirclesInClosedForm) {
   int refined = 0;
   double monotone_area = 0;
   for (const LabelContours& lc : rc.labels) {
-    if (lc.label == code(RegionLabel::increasing) || lc.label == code(RegionLabel::decreasing))
+    if (lc.label == code(Direction::increasing) || lc.label == code(Direction::decreasing))
       monotone_area += lc.area;
     for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
       if (!lc.refined[i]) continue;
@@ -195,7 +195,7 @@ TEST(Contour, Fig8VerticesKeepThePromisedDistanceAndTheBandIsItsOwnOutline) {
   // the bracket's ends are at most that far, up to the rounding of along().
   const double promised = ContourOptions{}.tolerance / 2 * std::min(v.x1 - v.x0, v.y1 - v.y0);
   const double delta = promised * (1 + 1e-6);
-  const std::uint8_t undecided = code(RegionLabel::undecided);
+  const std::uint8_t undecided = code(Direction::undecided);
   int checked = 0;
   std::vector<const LabelContours*> all;
   for (const LabelContours& lc : rc.labels) all.push_back(&lc);

@@ -84,9 +84,9 @@ TEST(Fix, OnePointNearestMatchesBruteForce) {
     Vec2 at_bf(0.0);
     for (int j = 0; j < map.height; ++j)
       for (int i = 0; i < map.width; ++i) {
-        const RegionLabel l = map.labels[static_cast<std::size_t>(j) * map.width + i];
+        const Direction l = map.labels[static_cast<std::size_t>(j) * map.width + i];
         const Vec2 c = pixel_center(*rr.view, 384, 384, i, j);
-        if ((l == RegionLabel::increasing || l == RegionLabel::decreasing) && norm(c - pts[k]) < d_bf)
+        if ((l == Direction::increasing || l == Direction::decreasing) && norm(c - pts[k]) < d_bf)
           d_bf = norm(c - pts[k]), at_bf = c - pts[k];
       }
     const Vec2 at_fix = f.moves[0].to - f.moves[0].from;

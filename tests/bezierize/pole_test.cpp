@@ -281,7 +281,7 @@ TEST(Pole, NegatedWeightsGiveTheSameVerdictsCurvaturesAndRegions) {
         AnalyzeOptions ao;
         ao.segments = o.segments;
         const SplineAnalysis m = analyze(s.with_point(point, pixel_center(ra.view, o.width, o.height, p % o.width, p / o.width)), ao);
-        ASSERT_EQ(int(ra.code_at(p)), int(backend::label_of(mode == Mode::cmr ? m.cmr_algorithm2 : m.cmrwi)))
+        ASSERT_EQ(int(ra.code_at(p)), int(code(mode == Mode::cmr ? m.cmr_algorithm2 : m.cmrwi)))
             << "point " << point << " pixel " << p;
       }
     }
@@ -310,7 +310,7 @@ TEST(Pole, RegionPixelsEqualAnalyzeOfTheMovedSpline) {
         const Vec2 p = pixel_center(img.view, o.width, o.height, i, j);
         AnalyzeOptions ao;
         ao.segments = c.segments;
-        const int want = backend::label_of(analyze(s.with_point(c.point, p), ao).cmrwi);
+        const int want = code(analyze(s.with_point(c.point, p), ao).cmrwi);
         ASSERT_EQ(img.code_at(j * o.width + i), want) << "point " << c.point << " pixel (" << i << ", " << j << ")";
         ASSERT_EQ(int(code(problem.classify(p).label)), want);
         if (!c.segments) {

@@ -104,12 +104,12 @@ TEST(Region, OnlyTheJudgedSegmentsArePrepared) {
 // position gets analyze's verdict of the judged range.
 TEST(Region, IgnoredSegmentsDoNotChangeTheLabel) {
   const BSpline s = wave();
-  for (const auto& [range, want] : {std::pair{SegmentRange{1, 2}, RegionLabel::not_monotone},
-                                    std::pair{SegmentRange{2, 2}, RegionLabel::decreasing},
-                                    std::pair{SegmentRange{3, 3}, RegionLabel::increasing}}) {
+  for (const auto& [range, want] : {std::pair{SegmentRange{1, 2}, Direction::none},
+                                    std::pair{SegmentRange{2, 2}, Direction::decreasing},
+                                    std::pair{SegmentRange{3, 3}, Direction::increasing}}) {
     AnalyzeOptions ao;
     ao.segments = range;
-    ASSERT_EQ(code(want), backend::label_of(analyze(s, ao).cmrwi));
+    ASSERT_EQ(code(want), code(analyze(s, ao).cmrwi));
     RegionRequest o;
     o.point = 0;
     o.segments = range;
@@ -156,12 +156,12 @@ TEST(Region, SegmentControlMatchesAnalyzeOfTheMovedSpline) {
       const RegionPixel px = problem.classify(p);
       const std::string where = "point " + std::to_string(c.point) + " sample " + std::to_string(sample);
       if (!c.splits.empty()) {
-        EXPECT_EQ(code(px.alternating_label), backend::label_of(*a.alternation)) << where;
-        passing += px.alternating_label == AlternatingLabel::first_increasing;
+        EXPECT_EQ(code(px.alternating_label), code(*a.alternation)) << where;
+        passing += px.alternating_label == Alternation::first_increasing;
       } else if (c.split) {
-        EXPECT_EQ(code(px.split_label), backend::label_of(*a.split)) << where;
+        EXPECT_EQ(code(px.split_label), code(*a.split)) << where;
       } else {
-        EXPECT_EQ(code(px.label), backend::label_of(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
+        EXPECT_EQ(code(px.label), code(c.mode == Mode::cmr ? a.cmr : a.cmrwi)) << where;
       }
     }
   }
@@ -191,7 +191,7 @@ TEST(Region, DegreeElevatedCurveKeepsItsRegion) {
       E[4] = P[3];
       for (int k = 1; k <= 3; ++k) E[k] = (k / 4.0) * P[k - 1] + (1 - k / 4.0) * P[k];
       const SplineAnalysis a = analyze(BSpline::bezier(E));
-      const int elevated = backend::label_of(a.cmrwi), original = code(img.labels[j * o.width + i]);
+      const int elevated = code(a.cmrwi), original = code(img.labels[j * o.width + i]);
       if (elevated == 3 || original == 3) continue;
       EXPECT_EQ(elevated, original) << "pixel (" << i << ", " << j << ")";
       ++compared;
@@ -321,11 +321,11 @@ TEST(Region, MakeEachAgreesWithAnalyzeOfTheMovedSpline) {
             if (split) {
               EXPECT_EQ(to_string(px.split_label), std::string(to_string(*a.split)))
                   << "P" << k << " pixel (" << i << ", " << j << ")";
-              monotone += px.split_label != SplitLabel::none;
+              monotone += px.split_label != Split::none;
             } else {
               const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
-              EXPECT_EQ(backend::label_of(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
-              monotone += px.label != RegionLabel::not_monotone;
+              EXPECT_EQ(code(want), code(px.label)) << "P" << k << " pixel (" << i << ", " << j << ")";
+              monotone += px.label != Direction::none;
             }
           }
       }
@@ -373,7 +373,7 @@ TEST(Region, ClosedSplineSeamIsJudgedLikeEveryJoint) {
             ASSERT_TRUE(a.seam.has_value());
             ASSERT_EQ(a.seam->index, s.segment_count());
             const Direction want = mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi;
-            ASSERT_EQ(int(img.code_at(j * o.width + i)), int(backend::label_of(want)))
+            ASSERT_EQ(int(img.code_at(j * o.width + i)), int(code(want)))
                 << "trial " << trial << " P" << k << (mode == Mode::cmr ? " cmr" : " cmrwi") << " pixel (" << i
                 << ", " << j << ")";
             ++compared;
@@ -415,7 +415,7 @@ TEST(Region, RationalSplineLabelsEqualTheExactAnalysisOfTheMovedSpline) {
           ao.split = split;
           ao.split_mode = o.mode;
           const SplineAnalysis a = analyze(s.with_point(o.point, p), ao);
-          const int want = split ? backend::label_of(*a.split) : backend::label_of(mode ? a.cmr_algorithm2 : a.cmrwi);
+          const int want = split ? code(*a.split) : code(mode ? a.cmr_algorithm2 : a.cmrwi);
           ASSERT_EQ(img.code_at(j * o.width + i), want)
               << s.name() << " mode " << mode << " split " << split.has_value() << " pixel (" << i << ", " << j << ")";
           in_region += want != 0;

@@ -39,7 +39,7 @@ std::optional<View> boundary_zoom(const SpaceRegionProblem& problem, const Regio
       if (img.labels[k] == img.labels[k + 1]) continue;
       Vec2 p = pixel_center(img.view, img.width, img.height, i, j);
       Vec2 q = pixel_center(img.view, img.width, img.height, i + 1, j);
-      const RegionLabel lp = img.labels[k];
+      const Direction lp = img.labels[k];
       for (int it = 0; it < 60; ++it) {
         const Vec2 m = 0.5 * (p + q);
         (problem.classify(m.x, m.y).label == lp ? p : q) = m;
@@ -69,7 +69,7 @@ TEST(SpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZoo
     e.exact_only = true;
     expect_same_labels(fast, SpaceRegionProblem::make(s, e).render(1), "trial " + std::to_string(trial));
     bool several = false;
-    for (RegionLabel l : fast.labels) several = several || l != fast.labels[0];
+    for (Direction l : fast.labels) several = several || l != fast.labels[0];
     mixed += several;
     if (const auto zoom = boundary_zoom(SpaceRegionProblem::make(s, r), fast, 1e-12)) {
       r.view = e.view = zoom;
@@ -77,7 +77,7 @@ TEST(SpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZoo
       const RegionResult zf = SpaceRegionProblem::make(s, r).render(1);
       expect_same_labels(zf, SpaceRegionProblem::make(s, e).render(1), "zoom of trial " + std::to_string(trial));
       bool two = false;
-      for (RegionLabel l : zf.labels) two = two || l != zf.labels[0];
+      for (Direction l : zf.labels) two = two || l != zf.labels[0];
       zooms += two;
       exact += zf.exact_pixels;
     }
@@ -104,12 +104,12 @@ TEST(SpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) {
       const Vec2 c = pixel_center(*r.view, 16, 16, i, j);
       const Vec3 q = r.plane->origin + c.x * r.plane->u + c.y * r.plane->v;
       const SpaceAnalysis a = analyze_space(s.with_point(3, q));
-      RegionLabel want = RegionLabel::undecided;
-      if (a.curvature == Direction::increasing) want = RegionLabel::increasing;
-      if (a.curvature == Direction::decreasing) want = RegionLabel::decreasing;
-      if (a.curvature == Direction::none) want = RegionLabel::not_monotone;
+      Direction want = Direction::undecided;
+      if (a.curvature == Direction::increasing) want = Direction::increasing;
+      if (a.curvature == Direction::decreasing) want = Direction::decreasing;
+      if (a.curvature == Direction::none) want = Direction::none;
       EXPECT_EQ(img.labels[static_cast<std::size_t>(j) * 16 + i], want) << "pixel " << i << "," << j;
-      monotone += want == RegionLabel::increasing || want == RegionLabel::decreasing;
+      monotone += want == Direction::increasing || want == Direction::decreasing;
     }
   EXPECT_GT(monotone, 5);
   EXPECT_LT(monotone, 256);
@@ -128,10 +128,10 @@ TEST(SpaceRegion, ClosedSplineMovesThePointAndItsTwin) {
     for (int i = 0; i < 8; ++i) {
       const Vec2 c = pixel_center(*r.view, 8, 8, i, j);
       const SpaceAnalysis a = analyze_space(s.with_point(0, r.plane->origin + c.x * r.plane->u + c.y * r.plane->v));
-      const RegionLabel want = a.curvature == Direction::none        ? RegionLabel::not_monotone
-                               : a.curvature == Direction::undecided ? RegionLabel::undecided
-                               : a.curvature == Direction::increasing ? RegionLabel::increasing
-                                                                      : RegionLabel::decreasing;
+      const Direction want = a.curvature == Direction::none        ? Direction::none
+                               : a.curvature == Direction::undecided ? Direction::undecided
+                               : a.curvature == Direction::increasing ? Direction::increasing
+                                                                      : Direction::decreasing;
       EXPECT_EQ(img.labels[static_cast<std::size_t>(j) * 8 + i], want) << "pixel " << i << "," << j;
     }
 }
@@ -161,21 +161,21 @@ TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
   for (int j = 0; j < W; ++j)
     for (int i = 0; i < W; ++i) {
       const std::size_t k = static_cast<std::size_t>(j) * W + i;
-      const RegionLabel got = img.labels[k];
-      if (got == RegionLabel::undecided || cmrwi.labels[k] == RegionLabel::undecided ||
-          cmr.labels[k] == RegionLabel::undecided)
+      const Direction got = img.labels[k];
+      if (got == Direction::undecided || cmrwi.labels[k] == Direction::undecided ||
+          cmr.labels[k] == Direction::undecided)
         continue;
       ++compared;
-      if (cmrwi.labels[k] == RegionLabel::not_monotone) {
-        EXPECT_EQ(got, RegionLabel::not_monotone) << "pixel " << i << "," << j;
-      } else if (cmr.labels[k] == RegionLabel::not_monotone) {
-        EXPECT_EQ(got, RegionLabel::not_monotone) << "pixel " << i << "," << j << " (an inflection: |kappa| has a minimum)";
+      if (cmrwi.labels[k] == Direction::none) {
+        EXPECT_EQ(got, Direction::none) << "pixel " << i << "," << j;
+      } else if (cmr.labels[k] == Direction::none) {
+        EXPECT_EQ(got, Direction::none) << "pixel " << i << "," << j << " (an inflection: |kappa| has a minimum)";
       } else {
         const Vec2 c = pixel_center(img.view, W, W, i, j);
         const SplineAnalysis a = analyze(plane.with_point(3, c));
         const int sign = a.shapes[0].kappa_sign;
-        RegionLabel want = cmr.labels[k];
-        if (sign < 0) want = want == RegionLabel::increasing ? RegionLabel::decreasing : RegionLabel::increasing;
+        Direction want = cmr.labels[k];
+        if (sign < 0) want = want == Direction::increasing ? Direction::decreasing : Direction::increasing;
         EXPECT_EQ(got, want) << "pixel " << i << "," << j;
         ++monotone;
       }

@@ -47,8 +47,8 @@ std::string analyze_label(const BSpline& s, int k, double w, Mode mode, std::opt
   ao.split = split;
   ao.split_mode = mode;
   const SplineAnalysis a = analyze(with_weight(s, k, w), ao);
-  if (split) return to_string(static_cast<SplitLabel>(backend::label_of(*a.split)));
-  return to_string(static_cast<RegionLabel>(backend::label_of(mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi)));
+  if (split) return to_string(static_cast<Split>(code(*a.split)));
+  return to_string(static_cast<Direction>(code(mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi)));
 }
 
 nlohmann::json parse(const std::string& text) { return nlohmann::json::parse(text); }
@@ -171,7 +171,7 @@ TEST(WeightRegion, QuarterCircleWeightsAgreeWithAnalyze) {
     EXPECT_EQ(doc["current"].get<double>(), 0.7071067811865476);
     check_against_analyze(s, doc, mode == "cmr" ? Mode::cmr : Mode::cmrwi, {}, 40);
     ASSERT_EQ(doc["intervals"].size(), 1u);
-    EXPECT_EQ(doc["intervals"][0]["label"], "not-monotone");
+    EXPECT_EQ(doc["intervals"][0]["label"], "none");
   }
   // The end weight 1 is not symmetric: the end weight changes the picture, and
   // the intervals still agree with analyze.
@@ -196,7 +196,7 @@ TEST(WeightRegion, PolesAreMarkedWhereWVanishes) {
   const nlohmann::json& iv = doc["intervals"];
   ASSERT_GE(iv.size(), 2u);
   EXPECT_TRUE(iv[0]["pole"].get<bool>());
-  EXPECT_EQ(iv[0]["label"], "not-monotone");
+  EXPECT_EQ(iv[0]["label"], "none");
   const double left = iv[0]["to"].get<double>(), right = iv[1]["from"].get<double>();
   EXPECT_LE(left, -1.0);
   EXPECT_GT(right, -1.0);
@@ -283,7 +283,7 @@ TEST(WeightRegion, SplitAndCmrLabelsAgreeWithAnalyze) {
       AnalyzeOptions ao;
       ao.splits = {1, 2};
       const SplineAnalysis a = analyze(with_weight(s, q.point, w), ao);
-      EXPECT_EQ(backend::label_of(*a.alternation), v.label) << "w = " << w;
+      EXPECT_EQ(code(*a.alternation), v.label) << "w = " << w;
     }
 }
 

@@ -30,7 +30,7 @@ fs::path scratch() {
 }
 
 /// A W x H image whose left half is label `left` and right half `right`.
-RegionResult halves(const BSpline& s, int W, int H, RegionLabel left, RegionLabel right) {
+RegionResult halves(const BSpline& s, int W, int H, Direction left, Direction right) {
   RegionResult r;
   r.width = W;
   r.height = H;
@@ -73,7 +73,7 @@ Png read_png(const fs::path& p) {
 const BSpline kCubic = BSpline::bezier({{0, 0}, {1, 1}, {2, 1}, {3, 0}});
 
 TEST(WriteRegionPng, SizeAndColoursFollowTheLabels) {
-  const RegionResult r = halves(kCubic, 120, 90, RegionLabel::increasing, RegionLabel::not_monotone);
+  const RegionResult r = halves(kCubic, 120, 90, Direction::increasing, Direction::none);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -97,7 +97,7 @@ TEST(WriteRegionPng, SizeAndColoursFollowTheLabels) {
 }
 
 TEST(WriteRegionPng, MissingFolderThrowsAndLeavesNothing) {
-  const RegionResult r = halves(kCubic, 32, 32, RegionLabel::increasing, RegionLabel::decreasing);
+  const RegionResult r = halves(kCubic, 32, 32, Direction::increasing, Direction::decreasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -108,7 +108,7 @@ TEST(WriteRegionPng, MissingFolderThrowsAndLeavesNothing) {
 }
 
 TEST(PixelColour, OverlapsAreDarkerThanOneRegion) {
-  const RegionResult a = halves(kCubic, 4, 1, RegionLabel::increasing, RegionLabel::not_monotone), b = halves(kCubic, 4, 1, RegionLabel::increasing, RegionLabel::increasing);
+  const RegionResult a = halves(kCubic, 4, 1, Direction::increasing, Direction::none), b = halves(kCubic, 4, 1, Direction::increasing, Direction::increasing);
   RegionPicture one, two;
   one.layers = {&a};
   two.layers = {&a, &b};
@@ -120,11 +120,11 @@ TEST(PixelColour, OverlapsAreDarkerThanOneRegion) {
 }
 
 TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
-  RegionResult r = halves(kCubic, 6, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  RegionResult r = halves(kCubic, 6, 1, Direction::none, Direction::none);
   r.split = true;
   r.labels.clear();
-  r.split_labels = {SplitLabel::inc_inc, SplitLabel::inc_dec, SplitLabel::dec_inc,
-                    SplitLabel::dec_dec, SplitLabel::undecided, SplitLabel::none};
+  r.split_labels = {Split::inc_inc, Split::inc_dec, Split::dec_inc,
+                    Split::dec_dec, Split::undecided, Split::none};
   RegionPicture p;
   p.layers = {&r};
   p.split = true;
@@ -140,11 +140,11 @@ TEST(PixelColour, SplitLabelsShowTheSecondPartsDirectionAndTheJoint) {
 }
 
 TEST(PixelColour, AlternatingLabelsShowTheFirstGroupsDirection) {
-  RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  RegionResult r = halves(kCubic, 4, 1, Direction::none, Direction::none);
   r.alternating = true;
   r.labels.clear();
-  r.alternating_labels = {AlternatingLabel::first_increasing, AlternatingLabel::first_decreasing,
-                          AlternatingLabel::undecided, AlternatingLabel::fail};
+  r.alternating_labels = {Alternation::first_increasing, Alternation::first_decreasing,
+                          Alternation::undecided, Alternation::fail};
   RegionPicture p;
   p.layers = {&r};
   p.alternating = true;
@@ -158,8 +158,8 @@ TEST(PixelColour, AlternatingLabelsShowTheFirstGroupsDirection) {
 }
 
 TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
-  RegionResult r = halves(kCubic, 4, 1, RegionLabel::not_monotone, RegionLabel::not_monotone);
-  r.labels = {RegionLabel::increasing, RegionLabel::increasing, RegionLabel::not_monotone, RegionLabel::not_monotone};
+  RegionResult r = halves(kCubic, 4, 1, Direction::none, Direction::none);
+  r.labels = {Direction::increasing, Direction::increasing, Direction::none, Direction::none};
   r.depth = {0, 6, 0, 6};
   RegionPicture p;
   p.layers = {&r};
@@ -170,7 +170,7 @@ TEST(PixelColour, DepthShadingDarkensWithTheLevel) {
 }
 
 TEST(WriteFigurePng, CompositeIsAValidPng) {
-  const RegionResult r = halves(kCubic, 100, 100, RegionLabel::decreasing, RegionLabel::not_monotone);
+  const RegionResult r = halves(kCubic, 100, 100, Direction::decreasing, Direction::none);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -204,7 +204,7 @@ struct PngReader {
 };
 
 TEST(RegionPng, InMemoryBytesDecodeAndEqualTheFile) {
-  const RegionResult r = halves(kCubic, 64, 48, RegionLabel::decreasing, RegionLabel::increasing);
+  const RegionResult r = halves(kCubic, 64, 48, Direction::decreasing, Direction::increasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -224,7 +224,7 @@ TEST(RegionPng, InMemoryBytesDecodeAndEqualTheFile) {
 }
 
 TEST(WriteRegionPng, DirectoryAsOutputIsAnInputErrorAndStaysADirectory) {
-  const RegionResult r = halves(kCubic, 16, 16, RegionLabel::increasing, RegionLabel::decreasing);
+  const RegionResult r = halves(kCubic, 16, 16, Direction::increasing, Direction::decreasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -239,11 +239,11 @@ TEST(WriteRegionPng, DirectoryAsOutputIsAnInputErrorAndStaysADirectory) {
 // (or is the white of "not monotone").
 TEST(LegendFor, ListsExactlyTheColoursDrawn) {
   // Layer a: increasing left half; layer b: decreasing columns 0..1 and increasing 6..7.
-  RegionResult a = halves(kCubic, 8, 2, RegionLabel::increasing, RegionLabel::not_monotone);
-  RegionResult b = halves(kCubic, 8, 2, RegionLabel::not_monotone, RegionLabel::not_monotone);
+  RegionResult a = halves(kCubic, 8, 2, Direction::increasing, Direction::none);
+  RegionResult b = halves(kCubic, 8, 2, Direction::none, Direction::none);
   for (int j = 0; j < 2; ++j) {
-    b.labels[j * 8 + 0] = b.labels[j * 8 + 1] = RegionLabel::decreasing;
-    b.labels[j * 8 + 6] = b.labels[j * 8 + 7] = RegionLabel::increasing;
+    b.labels[j * 8 + 0] = b.labels[j * 8 + 1] = Direction::decreasing;
+    b.labels[j * 8 + 6] = b.labels[j * 8 + 7] = Direction::increasing;
   }
   RegionPicture p;
   p.spline = &kCubic;
@@ -269,8 +269,8 @@ TEST(LegendFor, ListsExactlyTheColoursDrawn) {
 
 // --point all: each point's region in its own colour, decreasing hatched.
 TEST(PixelColour, PerPointColoursFillIncreasingAndHatchDecreasing) {
-  const RegionResult a = halves(kCubic, 12, 12, RegionLabel::increasing, RegionLabel::decreasing);
-  const RegionResult b = halves(kCubic, 12, 12, RegionLabel::not_monotone, RegionLabel::increasing);
+  const RegionResult a = halves(kCubic, 12, 12, Direction::increasing, Direction::decreasing);
+  const RegionResult b = halves(kCubic, 12, 12, Direction::none, Direction::increasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&a, &b};
@@ -303,7 +303,7 @@ TEST(PixelColour, PerPointColoursFillIncreasingAndHatchDecreasing) {
 // A region picture with a legend and a marked point: still the layers' size,
 // and the legend box covers a corner (its white shows where the region was red).
 TEST(RegionPng, LegendAndMarkedPointAreDrawnInside) {
-  const RegionResult r = halves(kCubic, 300, 200, RegionLabel::increasing, RegionLabel::increasing);
+  const RegionResult r = halves(kCubic, 300, 200, Direction::increasing, Direction::increasing);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};
@@ -325,7 +325,7 @@ TEST(RegionPng, LegendAndMarkedPointAreDrawnInside) {
 
 // figure_svg: a complete SVG document (the surface is finished).
 TEST(FigureSvg, IsACompleteSvgDocument) {
-  const RegionResult r = halves(kCubic, 60, 60, RegionLabel::decreasing, RegionLabel::not_monotone);
+  const RegionResult r = halves(kCubic, 60, 60, Direction::decreasing, Direction::none);
   RegionPicture p;
   p.spline = &kCubic;
   p.layers = {&r};

@@ -28,7 +28,7 @@ TEST(RegionExport, PgmHeaderAndBytes) {
   RegionResult r;
   r.width = 3;
   r.height = 1;
-  r.labels = {RegionLabel::not_monotone, RegionLabel::increasing, RegionLabel::decreasing};
+  r.labels = {Direction::none, Direction::increasing, Direction::decreasing};
   r.depth = {0, 0, 0};
   EXPECT_EQ(label_pgm(r), std::string("P5\n3 1\n255\n") + '\0' + '\1' + '\2');
 }
@@ -84,8 +84,8 @@ TEST(LabelColour, IsTheLegendColourOfAOnePixelMap) {
       one.width = one.height = 1;
       one.split = split;
       one.depth = {0};
-      if (split) one.split_labels = {static_cast<SplitLabel>(code)};
-      else one.labels = {static_cast<RegionLabel>(code)};
+      if (split) one.split_labels = {static_cast<Split>(code)};
+      else one.labels = {static_cast<Direction>(code)};
       RegionPicture pic;
       pic.layers = {&one};
       pic.split = split;

@@ -266,10 +266,10 @@ TEST(Gates, RegionsOfClosedSplinesMoveTheRepeatedPoint) {
       for (int i = 0; i < 8; ++i) {
         const Vec2 p = pixel_center(problem.view(), 8, 8, i, j);
         const SplineAnalysis a = analyze(s.with_point(k, p), {});
-        const RegionLabel want = a.cmrwi == Direction::increasing   ? RegionLabel::increasing
-                                 : a.cmrwi == Direction::decreasing ? RegionLabel::decreasing
-                                 : a.cmrwi == Direction::none       ? RegionLabel::not_monotone
-                                                                    : RegionLabel::undecided;
+        const Direction want = a.cmrwi == Direction::increasing   ? Direction::increasing
+                                 : a.cmrwi == Direction::decreasing ? Direction::decreasing
+                                 : a.cmrwi == Direction::none       ? Direction::none
+                                                                    : Direction::undecided;
         EXPECT_EQ(problem.classify(p).label, want) << "point " << k << " pixel " << i << "," << j;
       }
   }

@@ -54,7 +54,7 @@ void expect_layer_is_classify(const BSpline& s, const RegionRequest& r, const Re
   EXPECT_EQ(wrong, 0);
 }
 
-int count_label(const RegionResult& r, RegionLabel l) { return static_cast<int>(std::count(r.labels.begin(), r.labels.end(), l)); }
+int count_label(const RegionResult& r, Direction l) { return static_cast<int>(std::count(r.labels.begin(), r.labels.end(), l)); }
 
 // Weights shape every region of a rational spline: a weight change (the
 // moved point's own included) gives another key; the same weights the same key.
@@ -97,7 +97,7 @@ TEST(EditEngine, WeightRegionViewFollowsTheSelectedWeight) {
   EXPECT_EQ(q.to, 4.0);
   bool increasing = false;  // Fig. 8's P2: increasing for w2 in about [1.134, 1.257]
   for (const WeightInterval& iv : r->intervals)
-    increasing = increasing || (iv.label == code(RegionLabel::increasing) && iv.from < 1.2 && iv.to > 1.2);
+    increasing = increasing || (iv.label == code(Direction::increasing) && iv.from < 1.2 && iv.to > 1.2);
   EXPECT_TRUE(increasing);
   e.set_weight(2, 1.2);
   e.set_mode(Mode::cmr);
@@ -194,7 +194,7 @@ TEST(EditEngine, CachedRegionOfADraggedPointIsItsCertifiedRegion) {
     ASSERT_EQ(layers.size(), 1u);
     const RegionRequest r = e.region_requests().front();
     expect_layer_is_classify(e.doc().spline, r, *layers.front());
-    EXPECT_GT(kW * kH - count_label(*layers.front(), RegionLabel::not_monotone), 0) << "region pixels in view";
+    EXPECT_GT(kW * kH - count_label(*layers.front(), Direction::none), 0) << "region pixels in view";
   }
   e.mouse_button(MouseButton::left, false, false);
 }
@@ -239,7 +239,7 @@ TEST(EditEngine, OverlappedRegionsAreCoarseWhileDraggingAndFullAfter) {
   int monotone = 0;
   for (std::size_t k = 0; k < rf.size(); ++k) {
     expect_layer_is_classify(e.doc().spline, rf[k], *after[k]);
-    monotone += kW * kH - count_label(*after[k], RegionLabel::not_monotone);
+    monotone += kW * kH - count_label(*after[k], Direction::none);
   }
   EXPECT_GT(monotone, 0) << "the test should see region pixels";
 }

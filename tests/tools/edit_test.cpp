@@ -439,15 +439,15 @@ TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   int wrong = 0, monotone = 0;
   for (int j = 0; j < kH; ++j)
     for (int i = 0; i < kW; ++i) {
-      const cmr::RegionLabel l = problem.classify(cmr::pixel_center(v, kW, kH, i, j)).label;
-      monotone += l != cmr::RegionLabel::not_monotone;
+      const cmr::Direction l = problem.classify(cmr::pixel_center(v, kW, kH, i, j)).label;
+      monotone += l != cmr::Direction::none;
       const auto want = expected_colour({cmr::code(l)});
       if (img.rgb[j * kW + i] != want && ++wrong <= 5) ADD_FAILURE() << "pixel " << i << "," << j;
     }
   EXPECT_EQ(wrong, 0);
   EXPECT_GT(monotone, 0) << "the handle's region is in view";
   // Where the handle went, its piece still has monotone curvature: no new extremum.
-  EXPECT_EQ(problem.classify(Q[k + 1]).label, cmr::RegionLabel::decreasing);
+  EXPECT_EQ(problem.classify(Q[k + 1]).label, cmr::Direction::decreasing);
 }
 
 TEST_F(EditTest, GpuPathDrawsTheCpuLabelsIntoTheWindow) {

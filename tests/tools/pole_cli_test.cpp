@@ -108,13 +108,13 @@ TEST(PoleCli, RegionAndKnotOperationsDoNotCrash) {
   const Outcome all = run("region " + file + " --point 3 --size 48x48 --backend cpu --png " + png.string());
   ASSERT_EQ(all.code, 0) << all.err;
   const auto doc = nlohmann::json::parse(all.out);
-  EXPECT_EQ(doc["points"][0]["counts"]["not-monotone"], 48 * 48);  // a judged pole: every pixel fails
+  EXPECT_EQ(doc["points"][0]["counts"]["none"], 48 * 48);  // a judged pole: every pixel fails
   EXPECT_GT(fs::file_size(png), 0u);
   EXPECT_NE(all.err.find("has a pole (W = 0 at t = "), std::string::npos) << all.err;  // said why
   const Outcome part = run("region " + file + " --point 4 --segments 2..2 --size 48x48 --backend cpu");
   ASSERT_EQ(part.code, 0) << part.err;
   EXPECT_EQ(part.err.find("has a pole"), std::string::npos) << part.err;  // the pole is outside the judged span
-  EXPECT_LT(nlohmann::json::parse(part.out)["points"][0]["counts"]["not-monotone"], 48 * 48);
+  EXPECT_LT(nlohmann::json::parse(part.out)["points"][0]["counts"]["none"], 48 * 48);
   // Inserting t = 0.5 into (1, -1, 1) makes a new weight 0 with a point at
   // infinity, which (x, y, w) files cannot hold: one line, exit 2.
   const Outcome k = run("knots " + write("touch.json", R"({"points": [[0, 0], [1, 2], [2, 0]], "weights": [1, -1, 1]})") +

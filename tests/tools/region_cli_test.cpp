@@ -121,10 +121,10 @@ void expect_labels_match_counts(const fs::path& pgm, int width, int height, cons
   for (int v = labels; v < 256; ++v) EXPECT_EQ(hist[v], 0u) << what << ": label " << v << " is not a label";
   ASSERT_EQ(counts.size(), static_cast<std::size_t>(labels)) << what << ": " << counts.dump();
   // The counts are keyed by the labels' names (README), in code order.
-  static const char* plain[] = {"not-monotone", "increasing", "decreasing", "undecided"};
+  static const char* plain[] = {"none", "increasing", "decreasing", "undecided"};
   static const char* split[] = {"none", "inc-inc", "inc-dec", "dec-inc", "dec-dec", "undecided"};
   static const char* alternating[] = {"fail", "inc-first", "dec-first", "undecided"};
-  const bool alternates = counts.contains("fail");  // several split joints (AlternatingLabel)
+  const bool alternates = counts.contains("fail");  // several split joints (Alternation)
   for (int v = 0; v < labels; ++v) {
     const char* name = labels == 6 ? split[v] : (alternates ? alternating[v] : plain[v]);
     ASSERT_TRUE(counts.contains(name)) << what << ": no count named " << name << " in " << counts.dump();

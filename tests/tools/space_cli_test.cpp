@@ -79,7 +79,7 @@ TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
   EXPECT_EQ(doc["dimension"], 3);
   EXPECT_EQ(doc["backend"], "cpu");
   EXPECT_EQ(doc["plane"]["origin"], nlohmann::json::parse("[1.2,-4.03,1.5]"));
-  const int dec = doc["counts"]["decreasing"], none = doc["counts"]["not-monotone"];
+  const int dec = doc["counts"]["decreasing"], none = doc["counts"]["none"];
   EXPECT_GT(dec, 100);
   EXPECT_GT(none, 100);
   const std::string pgm = test::slurp(labels);

@@ -219,9 +219,9 @@ TEST(RegionBackends, CpuLabelsMatchAnalyzeOfTheMovedSpline) {
       ao.split_mode = sc.options.mode;
       const SplineAnalysis a = analyze(moved, ao);
       const uint8_t want = sc.options.each_piece ? region_label_code(analyze(moved, region_analyze_options(sc.options)), sc.options)
-                           : !sc.options.splits.empty() ? label_of(*a.alternation)
-                           : sc.options.split        ? label_of(*a.split)
-                                                     : label_of(sc.options.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
+                           : !sc.options.splits.empty() ? code(*a.alternation)
+                           : sc.options.split        ? code(*a.split)
+                                                     : code(sc.options.mode == Mode::cmr ? a.cmr_algorithm2 : a.cmrwi);
       EXPECT_EQ(int(img.labels[j * img.width + i]), int(want)) << sc.name << " pixel (" << i << ", " << j << ")";
     }
   }
@@ -248,10 +248,10 @@ TEST(RegionBackends, SegmentControlScenesHavePassingAndFailingPixels) {
     if (std::string(sc.name).find("double_knot") != std::string::npos)
       EXPECT_FALSE(setup.varying.empty()) << sc.name << ": a joint whose jump varies is what this scene checks";
     const RegionImage img = region_cpu(setup);
-    const uint8_t undecided = sc.options.each_piece       ? code(PieceLabel::undecided)
-                              : !sc.options.splits.empty() ? code(AlternatingLabel::undecided)
-                              : sc.options.split        ? code(SplitLabel::undecided)
-                                                        : code(RegionLabel::undecided);
+    const uint8_t undecided = sc.options.each_piece       ? code(EachPiece::undecided)
+                              : !sc.options.splits.empty() ? code(Alternation::undecided)
+                              : sc.options.split        ? code(Split::undecided)
+                                                        : code(Direction::undecided);
     int pass = 0, fail = 0;
     for (uint8_t l : img.labels) {
       pass += l != 0 && l != undecided;

@@ -182,8 +182,8 @@ void weight_strip(Editor& e) {
   };
   for (int i = 0; i < columns; ++i) {
     const std::uint8_t l = label_at(q.from + (q.to - q.from) * (i + 0.5) / columns);
-    if (strip.split) strip.split_labels.push_back(static_cast<SplitLabel>(l));
-    else strip.labels.push_back(static_cast<RegionLabel>(l));
+    if (strip.split) strip.split_labels.push_back(static_cast<Split>(l));
+    else strip.labels.push_back(static_cast<Direction>(l));
   }
   const std::vector<uint8_t> rgba = region_rgba({&strip}, strip.split, false, q.labels.max_depth);
   ImDrawList* dl = ImGui::GetWindowDrawList();
