@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "bezierize/extremum_terms.hpp"
+#include "io/font.hpp"
 #include "report/extremum.hpp"
 #include "report/batch.hpp"
 #include "report/report.hpp"
@@ -151,6 +152,37 @@ TEST(Orientation, WaveSplitsReadTheSameWhicheverWayItRuns) {
       EXPECT_EQ(passes(wave.reversed(), 4 - S, 2 - first, kind), want) << S << " " << kind << " reversed";
       EXPECT_EQ(passes(mirrored(wave), S, first, kind), want) << S << " " << kind << " mirrored";
     }
+}
+
+// Real outlines: glyph contours of a TrueType font (quadratic; outer contours
+// clockwise) and of a CFF font (cubic; outer contours counter-clockwise),
+// each also mirrored, reversed (the other format's orientation) and both:
+// the |kappa| kinds of the extrema and the type-design gates agree exactly.
+TEST(Orientation, GlyphContoursReadTheSameMirroredAndReversed) {
+  const std::vector<std::pair<std::string, bool>> fonts = {
+      {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", false},                   // fonts-dejavu-core
+      {"/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyreheros-regular.otf", true}};  // fonts-texgyre
+  int contours = 0;
+  for (const auto& [path, cubic] : fonts) {
+    const import::Font font = import::read_font(path, import::parse_glyph_spec("O,a,g,S,e,3"));
+    ASSERT_EQ(font.cubic, cubic) << path;
+    ASSERT_EQ(font.glyphs.size(), 6u) << path;
+    for (const import::Glyph& g : font.glyphs)
+      for (const import::Contour& c : g.contours) {
+        const BSpline& s = c.spline;
+        ASSERT_TRUE(s.closed());
+        const Summary want = summary(judged_report(s, with(kGates)));
+        ++contours;
+        const std::vector<std::pair<const char*, BSpline>> variants = {
+            {"reversed", s.reversed()}, {"mirrored", mirrored(s)}, {"mirrored and reversed", mirrored(s).reversed()}};
+        for (const auto& [name, v] : variants) {
+          const Summary got = summary(judged_report(v, with(kGates)));
+          EXPECT_EQ(got, want) << path << " " << g.name << " contour " << c.index << " " << name << ": " << text(got)
+                               << " vs " << text(want);
+        }
+      }
+  }
+  EXPECT_GE(contours, 16);
 }
 
 }  // namespace
