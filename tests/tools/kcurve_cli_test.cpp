@@ -106,5 +106,49 @@ TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
   }
 }
 
+// Two of the seeded designer sets (tests/bezierize/kcurve_sets.hpp, seed
+// 2017, sets 203 and 293) where no κ-curve proper was found: one line per
+// point on stderr naming it, exit 0, and the cubic chain still passes
+// extrema-at-nodes (docs/kcurve.md, "What a point off its maximum means").
+TEST(KCurveCli, OffPointNoteNamesThePoint) {
+  struct Case {
+    const char* name;
+    const char* points;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"k_stray.json",
+       R"({"points": [[-0.29450326573030405,0.94009080699406211],[-0.70964923025031512,0.3726400278381703],)"
+       R"([-1.0724223799559303,-0.37341813831120152],[-0.85622042444090218,-0.6389247923383351],)"
+       R"([0.091043138524705094,-1.0913128454047942],[0.13425868240787378,-0.99538949212511474],)"
+       R"([0.43795701226483735,-0.57783310762235895]], "closed": true})",
+       "quadratic 5 peaks at t = 0.0453, at none of the points, and points[5] lies on the joint of quadratics 4 and 5"},
+      {"k_flat.json",
+       R"({"points": [[1.1213385453057323,0.56573490967928086],[-0.53955637051617988,0.95003952959866211],)"
+       R"([-0.87979160496349618,0.6058383992495846],[-0.98643901128720091,0.38273972645581095],)"
+       R"([-1.0484119909811511,-0.038936300068902127],[-1.0016965693101718,-0.35552816623587741],)"
+       R"([-0.77628779144961191,-0.84335880658918594],[0.50349195469742825,-0.82447145873970984]], "closed": true})",
+       "points[2] is not a curvature maximum: it lies on the joint of quadratics 1 and 2, where |kappa| has a minimum; "
+       "every maximum of |kappa| is at a point"},
+  };
+  for (const Case& c : cases) {
+    const std::string in = write(c.name, c.points);
+    const fs::path out = scratch() / (std::string(c.name) + ".cubic.json");
+    const Outcome r = run("kcurve " + in + " --cubic --out " + out.string());
+    ASSERT_EQ(r.code, 0) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("note: " + in + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    const fs::path dir = scratch() / (std::string(c.name) + "_report");
+    fs::remove_all(dir);
+    const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require extrema-at-nodes");
+    EXPECT_EQ(rep.code, 0) << c.name << ": " << rep.out << rep.err;
+  }
+  // A κ-curve proper says nothing.
+  const Outcome quiet = run("kcurve " + write("k_quiet.json", kPoints));
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
 }  // namespace
 }  // namespace cmr::test
