@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -142,6 +143,8 @@ double solve_residual(const Tridiagonal& s, const std::vector<Vec2>& x) {
 void validate(std::span<const Vec2> points, const KCurveOptions& options) {
   if (!(options.tolerance > 0 && options.tolerance < 1))
     throw InputError("kcurve tolerance " + std::to_string(options.tolerance) + " is outside (0, 1)");
+  if (options.restarts < 0)
+    throw InputError("kcurve restarts " + std::to_string(options.restarts) + " is below 0");
   if (options.max_iterations < 1)
     throw InputError("kcurve max_iterations " + std::to_string(options.max_iterations) + " is below 1");
   const int n = static_cast<int>(points.size());
@@ -661,11 +664,15 @@ std::vector<int> stray_maxima_of(const State& s, const std::vector<Vec2>& points
 namespace {
 
 /// Starts tried after the published one (λ = 1/2, c_{i,1} = p_i), in turn
-/// (kcurve()): λ, and c_{i,1} = p_i + push (p_i - (p_{i-1} + p_{i+1}) / 2).
+/// (kcurve(), KCurveOptions::restarts): λ, and
+/// c_{i,1} = p_i + push (p_i - (p_{i-1} + p_{i+1}) / 2).
 struct AlternativeStart {
   double lambda, push;
 };
-constexpr AlternativeStart kAlternativeStarts[] = {{0.3, 0}, {0.7, 0}, {0.5, 0.5}, {0.2, 0}, {0.8, 0}, {0.5, -0.3}};
+constexpr AlternativeStart kAlternativeStarts[] = {{0.3, 0},    {0.7, 0},    {0.5, 0.5},  {0.2, 0},   {0.8, 0},
+                                                   {0.5, -0.3}, {0.1, 0},    {0.9, 0},    {0.5, 1.0}, {0.3, 0.5},
+                                                   {0.7, 0.5},  {0.3, -0.3}, {0.7, -0.3}, {0.5, 0.25}};
+static_assert(std::size(kAlternativeStarts) == kKCurveRestarts);
 
 /// The iteration from s (kcurve.hpp): first the κ-curve proper (each point
 /// its quadratic's maximum) for kStrictIterations; where that does not
@@ -755,8 +762,9 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   const State start = s;
   solve_from(s, extent, options, all, out);
   auto rank = [](const KCurve& k) { return !k.converged() ? 3 : k.off_point_maxima.empty() ? 0 : k.stray_maxima.empty() ? 1 : 2; };
-  for (const AlternativeStart& alternative : kAlternativeStarts) {
+  for (int r = 0; r < std::min(options.restarts, kKCurveRestarts); ++r) {
     if (rank(out) == 0 || !out.converged()) break;
+    const AlternativeStart& alternative = kAlternativeStarts[r];
     State other = start;
     std::fill(other.lambda.begin(), other.lambda.end() - (other.closed ? 0 : 1), alternative.lambda);
     for (int i = 0; i < n; ++i)

@@ -68,15 +68,15 @@
 // proper where step 1's kink stalled the fixed point; a solution counts only
 // with every t_i in [0, 1] and λ_i in (0, 1). Starts: the fixed point, where
 // the strict iteration stopped, and the initial state. Where that still is
-// no κ-curve proper, the whole run is repeated from other starts
-// (λ = 0.3, 0.7, 0.2, 0.8; c_{i,1} pushed out or in from p_i) and the best
+// no κ-curve proper, the whole run is repeated from up to 14 other starts
+// (λ from 0.1 to 0.9, c_{i,1} pushed out or in from p_i) and the best
 // answer kept: a κ-curve proper, else one whose maxima of |κ| are all at
 // points (KCurve::stray_maxima empty), else the first. Quadratics whose
 // maximum is not at their point are listed in KCurve::off_point_maxima and
 // the CLI says so, one line per point. On 400 seeded designer-like sets
 // (tests/bezierize/kcurve_designer_test.cpp prints the counts) all converge;
-// 394 are κ-curves proper, 2 more have every maximum of |κ| at a point with
-// a point on a joint where |κ| is smallest, and 4 have a maximum at no point.
+// 396 are κ-curves proper, 1 more has every maximum of |κ| at a point with
+// a point on a joint where |κ| is smallest, and 3 have a maximum at no point.
 // The residual is the larger of max_i |c_i(t_i) - p_i| / extent (t_i from
 // Eq. 7, or from step 1 for the published fixed point) and
 // max_i |λ_i(new) - λ_i(used)|.
@@ -97,7 +97,14 @@ struct KCurveOptions {
   bool closed = false;        ///< one quadratic per point, the last joined back to the first
   double tolerance = 1e-10;   ///< converged when the residual (see above) is at most this; must be in (0, 1)
   int max_iterations = 10000;  ///< iterations before giving up (the result then has residual > tolerance)
+  /// Other starts tried, in turn, where the first answer is no κ-curve
+  /// proper (0: the published start only; at most kKCurveRestarts). Each
+  /// costs up to a whole run, so an interactive caller may want fewer.
+  int restarts = 14;
 };
+
+/// The number of other starts kcurve() knows (KCurveOptions::restarts).
+inline constexpr int kKCurveRestarts = 14;
 
 struct KCurve {
   std::vector<std::array<Vec2, 3>> quadratics;  ///< c_{i,0}, c_{i,1}, c_{i,2}; joints shared exactly
