@@ -186,6 +186,29 @@ TEST(KCurveDesigner, StrayMaximaAgreeWithExactExtremaAndEachHasOneNote) {
   EXPECT_GE(strays, 1) << "no set exercised the stray-maximum oracle";
 }
 
+TEST(KCurveDesigner, RestartsReachTheKappaCurveProperWhereThePublishedStartDoesNot) {
+  // Set 293 of seed 2017: the published start (and the first six other
+  // starts) leave points[2] on a joint; a later start finds the κ-curve proper.
+  const test::PointSet s = test::designer_sets(2017, 400)[293];
+  KCurveOptions o;
+  o.closed = s.closed;
+  o.restarts = 0;
+  const KCurve first = kcurve(s.points, o);
+  ASSERT_TRUE(first.converged()) << s.str();
+  EXPECT_EQ(first.off_point_maxima, std::vector<int>{2}) << s.str();
+  o.restarts = kKCurveRestarts;
+  const KCurve best = kcurve(s.points, o);
+  ASSERT_TRUE(best.converged()) << s.str();
+  EXPECT_TRUE(best.off_point_maxima.empty()) << s.str();
+  o.restarts = -1;
+  try {
+    (void)kcurve(s.points, o);
+    ADD_FAILURE() << "restarts -1 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("restarts -1 is below 0"), std::string::npos) << e.what();
+  }
+}
+
 TEST(KCurveDesigner, EveryCubicPieceIsCertifiedMonotone) {
   int chains = 0;
   for (const test::PointSet& s : test::designer_sets(20240, 40)) {
