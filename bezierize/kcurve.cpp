@@ -933,8 +933,14 @@ std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<c
                         short_number(curve.unconstrained_t[worst]) + " of quadratic " + std::to_string(worst) +
                         ", outside it";
     if (std::count(curve.stray_maxima.begin(), curve.stray_maxima.end(), i) > 0) {
-      out.push_back("quadratic " + std::to_string(i) + " peaks at t = " + short_number(curve.t_max[i]) +
-                    ", at none of the points, and " + name + " lies on " + joint + " (" + why + "; docs/kcurve.md)");
+      // How far the peak is from the point, for the designer's eye.
+      const double t = curve.t_max[i], v = 1 - t;
+      const Vec2 peak = v * v * q[0] + 2 * t * v * q[1] + t * t * q[2];
+      const double share = glm::length(peak - p) / extent_of(points);
+      out.push_back("quadratic " + std::to_string(i) + " peaks at t = " + short_number(t) +
+                    ", at none of the points, and " + name + " lies on " + joint + ", " +
+                    short_number(100 * share) + "% of the points' extent from that peak (" + why +
+                    "; docs/kcurve.md)");
       continue;
     }
     // |κ| falls into the joint along the left quadratic and rises out of it

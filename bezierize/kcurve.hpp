@@ -188,7 +188,7 @@ std::vector<int> kcurve_cubic_uncertified(const KCurve& curve);
 /// it lies on the joint of quadratics I and J, where |kappa| has a minimum;
 /// every maximum of |kappa| is at a point (WHY)" or, for stray_maxima,
 /// "quadratic I peaks at t = T, at none of the points, and points[K] lies on
-/// the joint ... (WHY)"; WHY names the point unconstrained_t puts farthest
+/// the joint ..., D% of the points' extent from that peak (WHY)"; WHY names the point unconstrained_t puts farthest
 /// outside its quadratic, or says that no κ-curve was found.
 std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<const Vec2> points);
 
