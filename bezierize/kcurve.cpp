@@ -761,7 +761,10 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   // proper, else one whose maxima of |κ| are all at points, else the first.
   const State start = s;
   solve_from(s, extent, options, all, out);
-  auto rank = [](const KCurve& k) { return !k.converged() ? 3 : k.off_point_maxima.empty() ? 0 : k.stray_maxima.empty() ? 1 : 2; };
+  auto rank = [](const KCurve& k) {
+    if (!k.converged()) return 3;
+    return k.off_point_maxima.empty() ? 0 : k.stray_maxima.empty() ? 1 : 2;
+  };
   for (int r = 0; r < std::min(options.restarts, kKCurveRestarts); ++r) {
     if (rank(out) == 0 || !out.converged()) break;
     const AlternativeStart& alternative = kAlternativeStarts[r];

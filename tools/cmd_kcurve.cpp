@@ -106,7 +106,8 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
                          " of the cubic chain could not be certified monotone (its curvature maximum is not on a joint)");
     }
     // One line per point whose quadratic does not peak on it (docs/kcurve.md).
-    for (const std::string& line : kcurve_off_point_notes(curve, input.points)) std::cerr << "note: " << args->file << ": " << line << "\n";
+    for (const std::string& line : kcurve_off_point_notes(curve, input.points))
+      std::cerr << "note: " << args->file << ": " << line << "\n";
     const BSpline spline = args->cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
     const std::string text = json_text(spline_to_json(spline), args->pretty);
     if (args->out.empty()) std::cout << text;

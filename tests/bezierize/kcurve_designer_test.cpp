@@ -148,7 +148,8 @@ std::vector<int> exact_stray_maxima(const KCurve& k, const std::vector<Vec2>& po
     const std::vector<double> e = exact_extrema(q);
     bool stray = false;
     for (double t : e)
-      if (t > 0 && t < 1 && abs_kappa(q, t) >= std::max(abs_kappa(q, 0), abs_kappa(q, 1)) && !at_point(quadratic_at(q, t)))
+      if (t > 0 && t < 1 && abs_kappa(q, t) >= std::max(abs_kappa(q, 0), abs_kappa(q, 1)) &&
+          !at_point(quadratic_at(q, t)))
         stray = true;
     if (e.empty() && (k.closed || i + 1 < n) && abs_kappa(q, 1) > abs_kappa(q, 0)) {
       const auto& r = k.quadratics[(i + 1) % n];
