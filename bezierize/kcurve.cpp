@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include <glm/common.hpp>
@@ -46,6 +48,13 @@ constexpr int kNewtonRetry = 4;
 constexpr double kPinParameter = 1e-2;
 /// The Newton step is halved at most this often before the plain step is taken.
 constexpr int kLineSearchHalvings = 10;
+/// The strict polish (polish_strict): steps per start, the defect it stops
+/// at, and the Levenberg-Marquardt damping increases tried per step.
+constexpr int kStrictPolishSteps = 300;
+constexpr double kStrictPolishDefect = 1e-14;
+constexpr int kLevenbergTries = 20;
+/// The smooth system counts as solved (KCurve::unconstrained_t) below this defect.
+constexpr double kUnconstrainedDefect = 1e-11;
 
 double area(Vec2 a, Vec2 b, Vec2 c) { return std::abs(det(b - a, c - a)) / 2; }
 
@@ -134,6 +143,8 @@ double solve_residual(const Tridiagonal& s, const std::vector<Vec2>& x) {
 void validate(std::span<const Vec2> points, const KCurveOptions& options) {
   if (!(options.tolerance > 0 && options.tolerance < 1))
     throw InputError("kcurve tolerance " + std::to_string(options.tolerance) + " is outside (0, 1)");
+  if (options.restarts < 0)
+    throw InputError("kcurve restarts " + std::to_string(options.restarts) + " is below 0");
   if (options.max_iterations < 1)
     throw InputError("kcurve max_iterations " + std::to_string(options.max_iterations) + " is below 1");
   const int n = static_cast<int>(points.size());
@@ -478,6 +489,234 @@ double iterate(State& s, double extent, double tolerance, int max_iterations, bo
   return residual;
 }
 
+/// The κ-curve proper as one smooth system (kcurve.hpp, "Polish"): the
+/// unknowns are the middle points, the free λ and t_i; the equations are
+/// c_i(t_i) = p_i (over the extent), λ_i = step 2's λ, and the vertex
+/// condition c_i'(t_i)·c_i'' = 0 (over the extent squared). Unlike the fixed
+/// point map, which takes t_i from step 1's cubic and so has a kink where a
+/// point reaches a joint, this system is smooth there.
+int strict_unknowns(const State& s) { return unknowns(s) + s.n(); }
+std::vector<double> strict_pack(const State& s) {
+  std::vector<double> v = pack(s);
+  v.insert(v.end(), s.t.begin(), s.t.end());
+  return v;
+}
+void strict_unpack(const std::vector<double>& v, State& s) {
+  unpack(v, s);
+  for (int i = 0; i < s.n(); ++i) s.t[i] = v[unknowns(s) + i];
+}
+double strict_scale(const State& s, int k, double extent) { return k < 2 * s.n() ? extent : 1.0; }
+std::vector<double> strict_defect(const State& s, double extent) {
+  std::vector<double> f;
+  for (int i = 0; i < s.n(); ++i) {
+    const std::array<Vec2, 3> q = s.quadratic(i);
+    const double t = s.t[i], u = 1 - t;
+    const Vec2 e = (u * u * q[0] + 2 * t * u * q[1] + t * t * q[2] - s.p[i]) / extent;
+    f.push_back(e.x);
+    f.push_back(e.y);
+  }
+  State next = s;
+  update_lambda(next);
+  for (int i = 0; i < (s.closed ? s.n() : s.n() - 1); ++i) f.push_back(s.lambda[i] - next.lambda[i]);
+  for (int i = 0; i < s.n(); ++i) {
+    const std::array<Vec2, 3> q = s.quadratic(i);
+    const Vec2 d = q[0] - 2.0 * q[1] + q[2];
+    f.push_back(dot(q[1] - q[0] + s.t[i] * d, d) / (extent * extent));
+  }
+  return f;
+}
+
+/// Central-difference Jacobian of strict_defect at s (columns scaled like
+/// the unknowns: a column is d f / d(x_k / scale_k)).
+std::vector<double> strict_jacobian(const State& s, double extent) {
+  const int m = strict_unknowns(s);
+  const std::vector<double> x0 = strict_pack(s);
+  std::vector<double> jac(static_cast<std::size_t>(m) * m);
+  State trial = s;
+  for (int k = 0; k < m; ++k) {
+    const double h = kNewtonStep * strict_scale(s, k, extent);
+    std::vector<double> x = x0;
+    x[k] = x0[k] + h;
+    strict_unpack(x, trial);
+    const std::vector<double> plus = strict_defect(trial, extent);
+    x[k] = x0[k] - h;
+    strict_unpack(x, trial);
+    const std::vector<double> minus = strict_defect(trial, extent);
+    for (int r = 0; r < m; ++r) jac[r * m + k] = (plus[r] - minus[r]) / (2 * kNewtonStep);
+  }
+  return jac;
+}
+
+/// λ strictly inside (0, 1) (a joint strictly between its middle points).
+bool lambda_valid(const State& s) {
+  for (int i = 0; i < (s.closed ? s.n() : s.n() - 1); ++i)
+    if (!(s.lambda[i] > 0 && s.lambda[i] < 1)) return false;
+  return true;
+}
+
+/// Solves strict_defect = 0 from s: Newton steps with a backtracking line
+/// search, then, where a step does not lower |f|, Levenberg-Marquardt steps
+/// (damped normal equations). Returns |f| at the end; s is the best iterate.
+double strict_solve(State& s, double extent, int max_steps) {
+  const int m = strict_unknowns(s);
+  std::vector<double> f = strict_defect(s, extent);
+  double fn = norm(f), mu = 1e-3;
+  for (int step = 0; step < max_steps && fn > kStrictPolishDefect; ++step) {
+    const std::vector<double> jac = strict_jacobian(s, extent), x0 = strict_pack(s);
+    auto try_step = [&](const std::vector<double>& d, double alpha) {
+      std::vector<double> x = x0;
+      for (int k = 0; k < m; ++k) x[k] += alpha * d[k] * strict_scale(s, k, extent);
+      State trial = s;
+      strict_unpack(x, trial);
+      if (!lambda_valid(trial)) return false;
+      std::vector<double> ft = strict_defect(trial, extent);
+      const double ftn = norm(ft);
+      if (!(ftn < (1 - 1e-4 * alpha) * fn)) return false;
+      s = std::move(trial), f = std::move(ft), fn = ftn;
+      return true;
+    };
+    std::vector<double> minus_f(m), d;
+    for (int r = 0; r < m; ++r) minus_f[r] = -f[r];
+    bool moved = false;
+    if (solve_dense(jac, minus_f, m, d)) {
+      double alpha = 1;
+      for (int k = 0; k <= kLineSearchHalvings && !moved; ++k, alpha /= 2) moved = try_step(d, alpha);
+    }
+    if (moved) continue;
+    // Levenberg-Marquardt: (J^T J + mu (1 + diag J^T J)) d = -J^T f.
+    std::vector<double> normal(static_cast<std::size_t>(m) * m, 0.0), gradient(m, 0.0);
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < m; ++j) {
+        double sum = 0;
+        for (int r = 0; r < m; ++r) sum += jac[r * m + i] * jac[r * m + j];
+        normal[i * m + j] = sum;
+      }
+      double sum = 0;
+      for (int r = 0; r < m; ++r) sum += jac[r * m + i] * f[r];
+      gradient[i] = -sum;
+    }
+    for (int tries = 0; tries < kLevenbergTries && !moved; ++tries, mu *= 4) {
+      std::vector<double> damped = normal;
+      for (int i = 0; i < m; ++i) damped[i * m + i] += mu * (1 + normal[i * m + i]);
+      if (solve_dense(damped, gradient, m, d)) moved = try_step(d, 1);
+    }
+    if (!moved) break;
+    mu = std::max(mu / 16, 1e-12);
+  }
+  return fn;
+}
+
+/// Polishes s to the κ-curve proper (every point at its quadratic's
+/// maximum) where the iteration stopped at the published fixed point:
+/// strict_solve from each of `starts` (t_i from step 1) in turn; the first
+/// solution with every t_i in [0, 1], λ_i in (0, 1) and the strict residual
+/// at most `tolerance` replaces s. False (s unchanged) when none is. Each
+/// start's t is where its strict_solve starts.
+bool polish_strict(State& s, const std::vector<State>& starts, double extent, double tolerance) {
+  if (s.n() > kNewtonMaxPoints) return false;
+  for (State trial : starts) {
+    std::fill(trial.pin.begin(), trial.pin.end(), 0);
+    strict_solve(trial, extent, kStrictPolishSteps);
+    bool inside = lambda_valid(trial);
+    for (double t : trial.t) inside = inside && t >= 0 && t <= 1;
+    if (inside && residual_of(trial, extent, true) <= tolerance) {
+      s = std::move(trial);
+      return true;
+    }
+  }
+  return false;
+}
+
+/// The curve's |κ| along quadratic i rises from its start (false: falls or
+/// is flat) where Eq. 7's maximum is past the start.
+bool rises_from_start(const State& s, int i) { return quadratic_max_curvature_parameter(s.quadratic(i)) > 0; }
+
+/// The quadratics with a local maximum of the curve's |κ| at none of the
+/// points: inside the quadratic (Eq. 7's t strictly inside (0, 1)) or on a
+/// joint where |κ| rises on both sides, away from the points (within
+/// `distance`). |κ| is continuous at every joint (step 2), so these are all
+/// its local maxima but those at the points and the open curve's ends.
+std::vector<int> stray_maxima_of(const State& s, const std::vector<Vec2>& points, double distance) {
+  auto at_point = [&](Vec2 v) {
+    for (const Vec2& p : points)
+      if (glm::length(v - p) <= distance) return true;
+    return false;
+  };
+  std::vector<int> out;
+  const int n = s.n();
+  for (int i = 0; i < n; ++i) {
+    const std::array<Vec2, 3> q = s.quadratic(i);
+    const double t = quadratic_max_curvature_parameter(q);
+    bool stray = false;
+    if (t > 0 && t < 1) {
+      const double u = 1 - t;
+      stray = !at_point(u * u * q[0] + 2 * t * u * q[1] + t * t * q[2]);
+    } else if (t >= 1 && (s.closed || i + 1 < n)) {  // |κ| rises to the end: a maximum if it falls after
+      stray = !rises_from_start(s, (i + 1) % n) && !at_point(q[2]);
+    }
+    if (stray) out.push_back(i);
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+/// Starts tried after the published one (λ = 1/2, c_{i,1} = p_i), in turn
+/// (kcurve(), KCurveOptions::restarts): λ, and
+/// c_{i,1} = p_i + push (p_i - (p_{i-1} + p_{i+1}) / 2).
+struct AlternativeStart {
+  double lambda, push;
+};
+constexpr AlternativeStart kAlternativeStarts[] = {{0.3, 0},    {0.7, 0},    {0.5, 0.5},  {0.2, 0},   {0.8, 0},
+                                                   {0.5, -0.3}, {0.1, 0},    {0.9, 0},    {0.5, 1.0}, {0.3, 0.5},
+                                                   {0.7, 0.5},  {0.3, -0.3}, {0.7, -0.3}, {0.5, 0.25}};
+static_assert(std::size(kAlternativeStarts) == kKCurveRestarts);
+
+/// The iteration from s (kcurve.hpp): first the κ-curve proper (each point
+/// its quadratic's maximum) for kStrictIterations; where that does not
+/// converge, the published fixed point, which may leave a point on a joint
+/// while its quadratic peaks elsewhere, then polished towards the κ-curve
+/// proper (polish_strict) from it, from where the strict iteration stopped,
+/// and from the start. Fills out's residual, off_point_maxima and
+/// stray_maxima and adds to out.iterations; s is the result. True when it converged.
+bool solve_from(State& s, double extent, const KCurveOptions& options, const std::vector<Vec2>& points, KCurve& out) {
+  const int n = s.n();
+  const State start = s;
+  out.residual = iterate(s, extent, options.tolerance, std::min(options.max_iterations, kStrictIterations), true,
+                         out.iterations);
+  if (out.residual > options.tolerance && options.max_iterations > kStrictIterations) {
+    const State strict_attempt = s;
+    s = start;
+    out.residual = iterate(s, extent, options.tolerance, options.max_iterations - kStrictIterations, false,
+                           out.iterations);
+    bool off = false;
+    for (int i = 0; i < n; ++i) off = off || point_error(s, i, true) > options.tolerance * extent;
+    if (off) {
+      std::vector<State> starts{s, strict_attempt, start};
+      for (State& from : starts)
+        for (int i = 0; i < n; ++i) from.t[i] = kcurve_parameter(from.start(i), from.p[i], from.end(i));
+      starts.push_back(start);  // t_i = 1/2
+      if (polish_strict(s, starts, extent, options.tolerance)) out.residual = residual_of(s, extent, true);
+    }
+  }
+  out.off_point_maxima.clear();
+  out.stray_maxima.clear();
+  out.unconstrained_t.clear();
+  for (int i = 0; i < n; ++i)
+    if (point_error(s, i, true) > options.tolerance * extent) out.off_point_maxima.push_back(i);
+  if (!out.off_point_maxima.empty()) {
+    out.stray_maxima = stray_maxima_of(s, points, options.tolerance * extent);
+    // Why: the smooth system solved from this answer with t free.
+    State free = s;
+    for (int i = 0; i < n; ++i) free.t[i] = kcurve_parameter(free.start(i), free.p[i], free.end(i));
+    const bool solved = n <= kNewtonMaxPoints && strict_solve(free, extent, kStrictPolishSteps) <= kUnconstrainedDefect;
+    if (solved) out.unconstrained_t = free.t;
+  }
+  return out.converged();
+}
+
 }  // namespace
 
 KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
@@ -516,19 +755,35 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   KCurve out;
   out.closed = s.closed;
   out.tolerance = options.tolerance;
-  // First the κ-curve proper (each point its quadratic's maximum); where
-  // that does not converge soon, the published fixed point, which may leave
-  // a point on a joint while its quadratic peaks elsewhere (flagged).
+  const std::vector<Vec2> all(points.begin(), points.end());
+  // From the published start (λ = 1/2); where that is no κ-curve proper,
+  // from the other starting λ in turn, keeping the best answer: a κ-curve
+  // proper, else one whose maxima of |κ| are all at points, else the first.
   const State start = s;
-  out.residual = iterate(s, extent, options.tolerance, std::min(options.max_iterations, kStrictIterations), true,
-                         out.iterations);
-  if (out.residual > options.tolerance && options.max_iterations > kStrictIterations) {
-    s = start;
-    out.residual = iterate(s, extent, options.tolerance, options.max_iterations - kStrictIterations, false,
-                           out.iterations);
+  solve_from(s, extent, options, all, out);
+  auto rank = [](const KCurve& k) {
+    if (!k.converged()) return 3;
+    return k.off_point_maxima.empty() ? 0 : k.stray_maxima.empty() ? 1 : 2;
+  };
+  for (int r = 0; r < std::min(options.restarts, kKCurveRestarts); ++r) {
+    if (rank(out) == 0 || !out.converged()) break;
+    const AlternativeStart& alternative = kAlternativeStarts[r];
+    State other = start;
+    std::fill(other.lambda.begin(), other.lambda.end() - (other.closed ? 0 : 1), alternative.lambda);
+    for (int i = 0; i < n; ++i)
+      other.mid[i] = start.p[i] + alternative.push * (start.p[i] - (start.mid_at(i - 1) + start.mid_at(i + 1)) / 2.0);
+    KCurve again = out;  // iterations add up
+    try {
+      solve_from(other, extent, options, all, again);
+    } catch (const InputError&) {  // a singular system from this start: the answer so far stands
+      continue;
+    }
+    if (rank(again) < rank(out)) {
+      s = std::move(other), out = std::move(again);
+    } else {
+      out.iterations = again.iterations;
+    }
   }
-  for (int i = 0; i < n; ++i)
-    if (point_error(s, i, true) > options.tolerance * extent) out.off_point_maxima.push_back(i);
   for (int i = 0; i < n; ++i) {
     out.quadratics.push_back(s.quadratic(i));
     out.t_max.push_back(quadratic_max_curvature_parameter(out.quadratics.back()));
@@ -640,5 +895,65 @@ BSpline kcurve_cubic_chain(const KCurve& curve) {
 std::vector<int> kcurve_cubic_maxima(const KCurve& curve) { return cubic_chain(curve).maxima; }
 
 std::vector<int> kcurve_cubic_uncertified(const KCurve& curve) { return cubic_chain(curve).uncertified; }
+
+namespace {
+
+std::string short_number(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<const Vec2> points) {
+  std::vector<std::string> out;
+  const int n = static_cast<int>(curve.quadratics.size());
+  for (std::size_t k = 0; k < curve.off_point_maxima.size(); ++k) {
+    const int i = curve.off_point_maxima[k];
+    const int point = curve.closed ? i : i + 1;
+    CMR_CHECK(point < static_cast<int>(points.size()));
+    const Vec2 p = points[point];
+    const auto& q = curve.quadratics[i];
+    // The joint the point lies on: the start or the end of quadratic i.
+    const bool at_start = glm::length(p - q[0]) <= glm::length(p - q[2]);
+    const int other = at_start ? (i + n - 1) % n : (i + 1) % n;
+    const int left = at_start ? other : i, right = at_start ? i : other;
+    const std::string name = "points[" + std::to_string(point) + "]";
+    const std::string joint = "the joint of quadratics " + std::to_string(left) + " and " + std::to_string(right);
+    // Why: the point of the smooth solution farthest outside its quadratic.
+    int worst = -1;
+    double excess = 0;
+    for (int j = 0; j < static_cast<int>(curve.unconstrained_t.size()); ++j) {
+      const double u = curve.unconstrained_t[j], e = std::max(-u, u - 1);
+      if (e > excess) worst = j, excess = e;
+    }
+    const std::string why =
+        worst < 0 ? "no kappa-curve with a maximum at " + name + " was found"
+                  : "the kappa-curve equations' solution near this answer needs points[" +
+                        std::to_string(curve.closed ? worst : worst + 1) + "] at t = " +
+                        short_number(curve.unconstrained_t[worst]) + " of quadratic " + std::to_string(worst) +
+                        ", outside it";
+    if (std::count(curve.stray_maxima.begin(), curve.stray_maxima.end(), i) > 0) {
+      // How far the peak is from the point, for the designer's eye.
+      const double t = curve.t_max[i], v = 1 - t;
+      const Vec2 peak = v * v * q[0] + 2 * t * v * q[1] + t * t * q[2];
+      const double share = glm::length(peak - p) / extent_of(points);
+      out.push_back("quadratic " + std::to_string(i) + " peaks at t = " + short_number(t) +
+                    ", at none of the points, and " + name + " lies on " + joint + ", " +
+                    short_number(100 * share) + "% of the points' extent from that peak (" + why +
+                    "; docs/kcurve.md)");
+      continue;
+    }
+    // |κ| falls into the joint along the left quadratic and rises out of it
+    // along the right one: a minimum.
+    const bool minimum = curve.t_max[left] < 1 && curve.t_max[right] > 0;
+    out.push_back(name + " is not a curvature maximum: it lies on " + joint +
+                  (minimum ? ", where |kappa| has a minimum" : "") +
+                  "; every maximum of |kappa| is at a point (" + why + "; docs/kcurve.md)");
+  }
+  return out;
+}
 
 }  // namespace cmr

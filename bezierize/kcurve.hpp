@@ -52,24 +52,40 @@
 // points; a backtracking line search on |F|) and falls back to the damped
 // plain step (relaxation halved when the residual grows, doubled when it
 // falls) where Newton does not lower |F|, retrying Newton a few iterations
-// later. A point whose t_i is within 1e-3 of an end is pinned there for the
+// later. A point whose t_i is within 1e-2 of an end is pinned there for the
 // Newton step: step 1's t_i has a kink where the point reaches a joint, where
 // Newton would stall. Two residuals: the κ-curve proper (each point at its
 // quadratic's Eq. 7 maximum) is sought first, for 300 iterations, with pins
 // that prove wrong (Eq. 7's maximum not at the pinned end) released for good;
-// if it does not converge, the published fixed point is accepted, where a
+// if it does not converge, the published fixed point is sought, where a
 // point may sit on a joint while its quadratic peaks elsewhere (step 1's
-// cubic then has its root at that end whatever the quadratic does); such
-// quadratics are listed in KCurve::off_point_maxima and the CLI says so. On
-// 400 seeded designer-like sets (tests/bezierize/kcurve_designer_test.cpp)
-// all converge, 92% as κ-curves proper. The residual is the larger of
-// max_i |c_i(t_i) - p_i| / extent (t_i from Eq. 7, or from step 1 for the
-// published fixed point) and max_i |λ_i(new) - λ_i(used)|.
+// cubic then has its root at that end whatever the quadratic does).
+// Polish. Such a fixed point is then polished on the κ-curve equations as
+// one smooth system: unknowns c_{i,1}, the free λ_i and t_i; equations
+// c_i(t_i) = p_i, λ_i = step 2's λ, and the vertex condition
+// c_i'(t_i)·c_i'' = 0 (Eq. 7 at t_i). It has no kink at the joints, so
+// Newton (line search) and Levenberg-Marquardt steps reach the κ-curve
+// proper where step 1's kink stalled the fixed point; a solution counts only
+// with every t_i in [0, 1] and λ_i in (0, 1). Starts: the fixed point, where
+// the strict iteration stopped, and the initial state. Where that still is
+// no κ-curve proper, the whole run is repeated from up to 14 other starts
+// (λ from 0.1 to 0.9, c_{i,1} pushed out or in from p_i) and the best
+// answer kept: a κ-curve proper, else one whose maxima of |κ| are all at
+// points (KCurve::stray_maxima empty), else the first. Quadratics whose
+// maximum is not at their point are listed in KCurve::off_point_maxima and
+// the CLI says so, one line per point. On 400 seeded designer-like sets
+// (tests/bezierize/kcurve_designer_test.cpp prints the counts) all converge;
+// 396 are κ-curves proper, 1 more has every maximum of |κ| at a point with
+// a point on a joint where |κ| is smallest, and 3 have a maximum at no point.
+// The residual is the larger of max_i |c_i(t_i) - p_i| / extent (t_i from
+// Eq. 7, or from step 1 for the published fixed point) and
+// max_i |λ_i(new) - λ_i(used)|.
 // Eq. 7 (CAD&A 2024): the maximum of a quadratic (P0, P1, P2) lies at
 //     t* = (P0 - P1)·(P0 - 2P1 + P2) / |P0 - 2P1 + P2|^2,
 // the minimum of |c'(t)|^2 (c'/2 = (P1-P0) + t (P0 - 2P1 + P2)).
 #include <array>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "spline/bspline.hpp"
@@ -81,7 +97,14 @@ struct KCurveOptions {
   bool closed = false;        ///< one quadratic per point, the last joined back to the first
   double tolerance = 1e-10;   ///< converged when the residual (see above) is at most this; must be in (0, 1)
   int max_iterations = 10000;  ///< iterations before giving up (the result then has residual > tolerance)
+  /// Other starts tried, in turn, where the first answer is no κ-curve
+  /// proper (0: the published start only; at most kKCurveRestarts). Each
+  /// costs up to a whole run, so an interactive caller may want fewer.
+  int restarts = 14;
 };
+
+/// The number of other starts kcurve() knows (KCurveOptions::restarts).
+inline constexpr int kKCurveRestarts = 14;
 
 struct KCurve {
   std::vector<std::array<Vec2, 3>> quadratics;  ///< c_{i,0}, c_{i,1}, c_{i,2}; joints shared exactly
@@ -95,6 +118,21 @@ struct KCurve {
   /// peaks elsewhere (the cubic of step 1 then has its root at that end
   /// whatever the quadratic does). Empty for a κ-curve proper.
   std::vector<int> off_point_maxima;
+  /// Of off_point_maxima, the quadratics that give the curve a local
+  /// maximum of |κ| at none of the points (inside the quadratic, or on a
+  /// joint where |κ| rises on both sides). Where this is empty but
+  /// off_point_maxima is not, every maximum of |κ| is still at a point
+  /// (Yan et al.'s guarantee) and each listed point lies on a joint where
+  /// |κ| has a minimum: the flattest place between its sharper neighbours.
+  std::vector<int> stray_maxima;
+  /// Where off_point_maxima is not empty: the parameters t_i at which the
+  /// κ-curve equations (each point at its quadratic's maximum, λ from step 2)
+  /// put the points when solved from this answer without holding t_i to
+  /// [0, 1] (Newton / Levenberg-Marquardt on the smooth system, "Polish"
+  /// above), one per quadratic; a t_i outside [0, 1] says that this nearby
+  /// solution needs point i beyond its quadratic's joint. Empty where that
+  /// solve found no solution (and for a κ-curve proper).
+  std::vector<double> unconstrained_t;
   bool converged() const { return residual <= tolerance; }
 };
 
@@ -143,6 +181,16 @@ BSpline kcurve_cubic_chain(const KCurve& curve);
 /// certified monotone (docs/kcurve.md). Empty when every piece is; the CLI
 /// refuses to write a chain otherwise.
 std::vector<int> kcurve_cubic_uncertified(const KCurve& curve);
+
+/// One line per quadratic of curve.off_point_maxima, for the CLI and the
+/// editor, naming the point (its index in `points`, the input of kcurve())
+/// and the joint it lies on: either "points[K] is not a curvature maximum:
+/// it lies on the joint of quadratics I and J, where |kappa| has a minimum;
+/// every maximum of |kappa| is at a point (WHY)" or, for stray_maxima,
+/// "quadratic I peaks at t = T, at none of the points, and points[K] lies on
+/// the joint ..., D% of the points' extent from that peak (WHY)"; WHY names the point unconstrained_t puts farthest
+/// outside its quadratic, or says that no κ-curve was found.
+std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<const Vec2> points);
 
 /// For each quadratic i, the index k of its maximum P_k among the control
 /// points of kcurve_cubic_chain(curve); -1 where t_max is 0 or 1 (then the

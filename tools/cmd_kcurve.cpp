@@ -105,13 +105,9 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
         throw InputError(args->file + ": piece " + std::to_string(uncertified.front()) +
                          " of the cubic chain could not be certified monotone (its curvature maximum is not on a joint)");
     }
-    if (!curve.off_point_maxima.empty()) {
-      std::string list;
-      for (int i : curve.off_point_maxima) list += (list.empty() ? "" : ", ") + std::to_string(i);
-      std::cerr << "note: " << args->file << ": quadratic(s) " << list
-                << " peak away from their point, which lies on a joint (the published method's fixed point; "
-                   "docs/kcurve.md)\n";
-    }
+    // One line per point whose quadratic does not peak on it (docs/kcurve.md).
+    for (const std::string& line : kcurve_off_point_notes(curve, input.points))
+      std::cerr << "note: " << args->file << ": " << line << "\n";
     const BSpline spline = args->cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
     const std::string text = json_text(spline_to_json(spline), args->pretty);
     if (args->out.empty()) std::cout << text;

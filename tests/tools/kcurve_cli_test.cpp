@@ -106,5 +106,51 @@ TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
   }
 }
 
+// Two of the seeded designer sets (tests/bezierize/kcurve_sets.hpp, seed
+// 2017, sets 203 and 93) where no κ-curve proper was found: one line per
+// point on stderr naming it, exit 0, and the cubic chain still passes
+// extrema-at-nodes (docs/kcurve.md, "What a point off its maximum means").
+TEST(KCurveCli, OffPointNoteNamesThePoint) {
+  struct Case {
+    const char* name;
+    const char* points;
+    const char* says;
+  };
+  const Case cases[] = {
+      {"k_stray.json",
+       R"({"points": [[-0.29450326573030405,0.94009080699406211],[-0.70964923025031512,0.3726400278381703],)"
+       R"([-1.0724223799559303,-0.37341813831120152],[-0.85622042444090218,-0.6389247923383351],)"
+       R"([0.091043138524705094,-1.0913128454047942],[0.13425868240787378,-0.99538949212511474],)"
+       R"([0.43795701226483735,-0.57783310762235895]], "closed": true})",
+       "quadratic 5 peaks at t = 0.0453, at none of the points, and points[5] lies on the joint of quadratics 4 and 5"},
+      {"k_flat.json",
+       R"({"points": [[0.98629691046236956,0.17802175487151781],[0.70450024506417952,0.24926084825858788],)"
+       R"([0.72961589989335007,0.89190659932328242],[0.12394220330765222,0.91604728627508247],)"
+       R"([-0.62551025402319005,0.47707184880042985],[-0.76538771840884734,0.14657274289738109],)"
+       R"([-1.0207423414839383,-0.64268780618236765],[0.37237353220775121,-1.1439253486322576],)"
+       R"([0.63774305591078639,-1.1157078343945743],[0.6117813913241309,-0.93357349123767885],)"
+       R"([1.0842619859687632,-0.33725544352478576]], "closed": true})",
+       "points[3] is not a curvature maximum: it lies on the joint of quadratics 2 and 3, where |kappa| has a minimum; "
+       "every maximum of |kappa| is at a point"},
+  };
+  for (const Case& c : cases) {
+    const std::string in = write(c.name, c.points);
+    const fs::path out = scratch() / (std::string(c.name) + ".cubic.json");
+    const Outcome r = run("kcurve " + in + " --cubic --out " + out.string());
+    ASSERT_EQ(r.code, 0) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("note: " + in + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
+    const fs::path dir = scratch() / (std::string(c.name) + "_report");
+    fs::remove_all(dir);
+    const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require extrema-at-nodes");
+    EXPECT_EQ(rep.code, 0) << c.name << ": " << rep.out << rep.err;
+  }
+  // A κ-curve proper says nothing.
+  const Outcome quiet = run("kcurve " + write("k_quiet.json", kPoints));
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
 }  // namespace
 }  // namespace cmr::test
