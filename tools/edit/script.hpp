@@ -37,6 +37,12 @@
 //                             window's view and size (.png: --png, else --labels)
 //   export-view PATH          the next presented frame as a PNG (the panel's
 //                             "export PNG" button)
+//   fix                       bezierize/fix's nearest certified fix of the
+//                             view's requirement (Editor::fix_curve), animated;
+//                             the status line (what moved, or why no fix) on stderr
+//   snap                      the selected point to the nearest certified
+//                             position of its region (Editor::snap_selected)
+//   status                    the selected point and the status line, on stderr
 //   wait N                    render N frames
 //   quit
 #include <filesystem>
