@@ -18,6 +18,12 @@ namespace cmr::edit {
 
 enum class MouseButton { left, right, middle };
 
+/// The pixel factor of the opening search's grid for a canvas: about
+/// Editor::kOpeningGrid pixels across its longer side. (A coarser grid for
+/// curves with many points missed thin regions, and the cost per point is
+/// mostly the region's setup, not the pixels.)
+int opening_coarse(std::pair<int, int> canvas);
+
 class Editor {
  public:
   /// Pick radius of a control point, in window pixels.
@@ -113,10 +119,11 @@ class Editor {
   /// The opening selection (docs/edit.md): the first point, in index order,
   /// whose region (the current mode, split, judged segments; a closed curve's
   /// default: the spans the point acts on) has a certified monotone pixel on
-  /// a grid of about kOpeningGrid pixels across the canvas's view (the CPU
-  /// engine, RegionProblem's labels). When none has, P0 stays selected and
-  /// the status line says so with P0's reason (bezierize/region_reason.hpp:
-  /// the segment responsible). Not an undo step. Returns the point chosen,
+  /// a grid of about kOpeningGrid pixels across the canvas's view
+  /// (opening_coarse; the CPU engine, RegionProblem's labels). When none has, P0 stays selected and the status line says so
+  /// with the first reason (bezierize/region_reason.hpp) that names the
+  /// segments responsible (P0's unless its support wraps a closed curve's
+  /// seam). Not an undo step. Returns the point chosen,
   /// or nothing. With `named` (`cmr edit --point K`) that point is opened
   /// instead (InputError when the curve has no point K).
   std::optional<int> open_on_region_point(std::optional<int> named = std::nullopt);

@@ -25,6 +25,9 @@ bool has_monotone(const RegionResult& r) {
   return false;
 }
 
+/// region_reason's words for a closed curve judged over its whole period.
+constexpr const char* kPeriodReason = "never monotone over its whole period";
+
 std::string point_name(int k) {
   std::string p = "P";  // (two steps: GCC 12 warns falsely on "P" + std::to_string)
   p += std::to_string(k);
@@ -32,6 +35,10 @@ std::string point_name(int k) {
 }
 
 }  // namespace
+
+int opening_coarse(std::pair<int, int> canvas) {
+  return std::max(1, std::max(canvas.first, canvas.second) / Editor::kOpeningGrid);
+}
 
 std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
   const Document start = doc();
@@ -51,10 +58,10 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
     return named;
   }
   if (start.kcurve || start.all_points) return std::nullopt;
-  const auto [cw, ch] = canvas();
-  const int coarse = std::max(1, std::max(cw, ch) / kOpeningGrid);
-  std::optional<std::string> first_reason;
-  for (int k = 0; k < start.spline.unique_point_count(); ++k) {
+  const int m = start.spline.unique_point_count();
+  const int coarse = opening_coarse(canvas());
+  std::optional<std::string> first_reason;  // the first that names a segment, else P0's
+  for (int k = 0; k < m; ++k) {
     Document d = start;
     d.selected = k;
     d.group.clear();
@@ -69,9 +76,13 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
         message = "opened on " + point_name(k) + ": the first point whose region shows in this view";
         return k;
       }
-      if (k == 0) first_reason = region_reason(RegionProblem::make(start.spline, q.front()), r.front());
+      // The reason of the first point whose region is judged on segments it
+      // does not wrap (a closed curve's whole period says nothing about one).
+      if (!first_reason || first_reason->find(kPeriodReason) != std::string::npos)
+        if (auto why = region_reason(RegionProblem::make(start.spline, q.front()), r.front()))
+          if (!first_reason || why->find(kPeriodReason) == std::string::npos) first_reason = std::move(why);
     } catch (const InputError& e) {
-      if (k == 0) first_reason = e.what();
+      if (!first_reason) first_reason = e.what();
     }
   }
   region();  // P0's region now, so that its bare reason does not replace this line
