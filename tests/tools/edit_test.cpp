@@ -566,6 +566,31 @@ TEST_F(EditTest, OpensOnAPointWithARegionOrTheNamedOne) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("--point: the curve has points 0..5 (got 6)"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(dir_ / "c.png"));
+  // Fig. 10, a closed contour (its points' supports judged), and a quadratic
+  // zigzag where no point has a region: the status line of the opened window.
+  std::vector<cmr::Vec2> ellipse, zig;
+  std::vector<double> knots;
+  for (int i = 0; i < 20; ++i) {
+    const double a = 2 * M_PI * i / 20;
+    ellipse.push_back({2 * std::cos(a), std::sin(a)});
+    knots.push_back(i);
+  }
+  knots.push_back(20);
+  for (int i = 0; i < 8; ++i) zig.push_back({static_cast<double>(i), i % 2 ? 1.0 : -1.0});
+  const fs::path closed = dir_ / "closed.json", zigzag = dir_ / "zigzag.json";
+  std::ofstream(closed) << cmr::spline_to_json(cmr::BSpline::make_closed(3, knots, ellipse)).dump();
+  std::ofstream(zigzag) << cmr::spline_to_json(cmr::BSpline::make(2, {0, 1, 2, 3, 4, 5, 6, 7, 8}, zig)).dump();
+  for (const std::string& f : {std::string(CMR_SOURCE_DIR) + "/examples/figures/fig10a.json", closed.string()}) {
+    const Outcome o = run_edit(f, "status\n", dir_ / "d.png", "1024x768");
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_NE(o.err.find(": the first point whose region shows in this view"), std::string::npos) << f << o.err;
+  }
+  const Outcome none = run_edit(zigzag.string(), "status\n", dir_ / "e.png", "1024x768");
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_NE(none.err.find("selected P0; no point has a region in this view: segments 1..5 are non-monotone whatever "
+                          "P0 does (P0 acts on segment 0)"),
+            std::string::npos)
+      << none.err;
 }
 
 // fix and snap as scripted commands and keys in the real window: the fixed

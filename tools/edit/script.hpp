@@ -11,7 +11,8 @@
 //   release left|right|middle          mouse button up
 //   scroll DY [shift]         zoom about the cursor (DY > 0: closer); with
 //                             shift over a point: scale its weight by 1.1^DY
-//   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f
+//   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f,
+//                             x (fix), s (snap)
 //   drag K X Y [STEPS]        press on point K, move to world (X, Y) in STEPS
 //                             frames (default 10), release
 //   select K | group K... | all on|off | mode cmr|cmrwi | depth D
