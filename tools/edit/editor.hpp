@@ -221,6 +221,7 @@ class Editor {
     double t = 0;  ///< 0..1
     std::string key;
     long changes = -1;  ///< History::changes() after its last frame
+    bool first = true;  ///< the next frame's time includes the search: one frame's step at most
   };
   std::optional<Animation> animation_;
   int fix_serial_ = 0;

@@ -182,6 +182,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
   animation_ = Animation{d.spline, *r.spline, 0, "fix" + std::to_string(++fix_serial_)};
   history_.seal();     // the fix is an undo step of its own
   advance_animation(0);  // its first frame holds the state before it for undo
+  animation_->first = true;
   return true;
 }
 
@@ -192,7 +193,11 @@ void Editor::advance_animation(double seconds) {
     a.t = 1;  // another change came between the frames: the fix lands at once
     a.key.clear();
   } else {
-    a.t = std::min(1.0, a.t + std::max(0.0, seconds) / kFixAnimationSeconds);
+    // The first frame after the fix began also waited for its search: one
+    // frame at 30 per second instead, so the move is seen from its start.
+    const double dt = a.first ? std::min(std::max(0.0, seconds), 1.0 / 30) : std::max(0.0, seconds);
+    a.first = false;
+    a.t = std::min(1.0, a.t + dt / kFixAnimationSeconds);
   }
   Document next = doc();
   if (a.t >= 1) {
