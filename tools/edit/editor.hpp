@@ -118,16 +118,18 @@ class Editor {
   // ---- opening and repair (tools/edit/repair.cpp) ----
   /// The opening selection (docs/edit.md): the first point, in index order,
   /// whose region (the current mode, split, judged segments; a closed curve's
-  /// default: the spans the point acts on) has a certified monotone pixel on
-  /// a grid of about kOpeningGrid pixels across the canvas's view
-  /// (opening_coarse; the CPU engine, RegionProblem's labels). When none has, P0 stays selected and the status line says so
+  /// default: the spans the point acts on) has at least kOpeningCells
+  /// certified monotone pixels on a grid of about kOpeningGrid pixels across
+  /// the canvas's view (opening_coarse; the CPU engine, RegionProblem's
+  /// labels); when none has that many, the point with the most (the first of
+  /// equals), if any. When none has one, P0 stays selected and the status line says so
   /// with the first reason (bezierize/region_reason.hpp) that names the
   /// segments responsible (P0's unless its support wraps a closed curve's
   /// seam). Not an undo step. Returns the point chosen,
   /// or nothing. With `named` (`cmr edit --point K`) that point is opened
   /// instead (InputError when the curve has no point K).
   std::optional<int> open_on_region_point(std::optional<int> named = std::nullopt);
-  static constexpr int kOpeningGrid = 64;
+  static constexpr int kOpeningGrid = 64, kOpeningCells = 4;
   /// A closed curve judged over every segment (no split, not each-piece):
   /// the region of one point judges the spans it acts on, as `cmr region`
   /// does; this is that range for the selected point (nothing otherwise).

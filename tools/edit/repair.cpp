@@ -10,19 +10,19 @@
 namespace cmr::edit {
 namespace {
 
-/// A certified monotone label somewhere in the layer (the region is not
-/// empty), as region_reason counts them.
-bool has_monotone(const RegionResult& r) {
+/// The certified monotone labels of the layer (the region's pixels), as
+/// region_reason counts them.
+int monotone_count(const RegionResult& r) {
+  int n = 0;
   for (std::size_t i = 0; i < r.size(); ++i) {
     const std::uint8_t c = r.code_at(i);
-    if (r.each_piece ? c == code(PieceLabel::each_monotone)
-        : r.alternating
-            ? c == code(AlternatingLabel::first_increasing) || c == code(AlternatingLabel::first_decreasing)
-        : r.split ? c >= code(SplitLabel::inc_inc) && c <= code(SplitLabel::dec_dec)
-                  : c == code(RegionLabel::increasing) || c == code(RegionLabel::decreasing))
-      return true;
+    n += r.each_piece ? c == code(PieceLabel::each_monotone)
+         : r.alternating
+             ? c == code(AlternatingLabel::first_increasing) || c == code(AlternatingLabel::first_decreasing)
+         : r.split ? c >= code(SplitLabel::inc_inc) && c <= code(SplitLabel::dec_dec)
+                   : c == code(RegionLabel::increasing) || c == code(RegionLabel::decreasing);
   }
-  return false;
+  return n;
 }
 
 /// region_reason's words for a closed curve judged over its whole period.
@@ -61,6 +61,17 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
   const int m = start.spline.unique_point_count();
   const int coarse = opening_coarse(canvas());
   std::optional<std::string> first_reason;  // the first that names a segment, else P0's
+  const auto open = [&](int k, const std::string& why) {
+    Document d = start;
+    d.selected = k;
+    d.group.clear();
+    if (history_.can_undo()) history_.commit(std::move(d));
+    else history_ = History(std::move(d));  // opening: not an undo step
+    changed_document();
+    message = "opened on " + point_name(k) + ": " + why;
+    return std::optional<int>(k);
+  };
+  int most = 0, most_at = -1;  // the largest region below kOpeningCells, if none reaches it
   for (int k = 0; k < m; ++k) {
     Document d = start;
     d.selected = k;
@@ -69,13 +80,10 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
     if (q.size() != 1) continue;
     try {
       const std::vector<RegionResult> r = compute_regions(start.spline, q);
-      if (has_monotone(r.front())) {
-        if (history_.can_undo()) history_.commit(std::move(d));
-        else history_ = History(std::move(d));  // opening: not an undo step
-        changed_document();
-        message = "opened on " + point_name(k) + ": the first point whose region shows in this view";
-        return k;
-      }
+      const int cells = monotone_count(r.front());
+      if (cells >= kOpeningCells) return open(k, "the first point whose region shows in this view");
+      if (cells > most) most = cells, most_at = k;
+      if (cells > 0) continue;
       // The reason of the first point whose region is judged on segments it
       // does not wrap (a closed curve's whole period says nothing about one).
       if (!first_reason || first_reason->find(kPeriodReason) != std::string::npos)
@@ -85,6 +93,7 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
       if (!first_reason) first_reason = e.what();
     }
   }
+  if (most_at >= 0) return open(most_at, "the largest region in this view, and a small one");
   region();  // P0's region now, so that its bare reason does not replace this line
   message = "no point has a region in this view: " + first_reason.value_or("(no reason found)");
   return std::nullopt;
