@@ -58,8 +58,10 @@ void add_edit_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"fp64", "fp32"}));
   cmd->add_flag("--bench", a->bench, "replay a scripted drag (FILE or the Fig. 8 spline) and print frame times");
   cmd->add_option("--frames", a->frames, "--bench: frames per run")->capture_default_str();
-  cmd->add_option("--point", a->point, "--bench: the dragged point")->capture_default_str();
-  cmd->callback([a, &exit_code] {
+  cmd->add_option("--point", a->point,
+                  "the point selected when the editor opens (default: the first point whose region shows in the "
+                  "view); --bench: the dragged point (default 3)");
+  cmd->callback([a, cmd, &exit_code] {
     const auto [w, h] = parse_window_size(a->size);
     if (a->bench) {
       edit::BenchOptions b;
@@ -83,6 +85,7 @@ void add_edit_command(CLI::App& app, int& exit_code) {
     o.device = a->device;
     o.vsync = !a->no_vsync;
     o.region_path = parse_region_path(a->region_path);
+    if (cmd->count("--point") > 0) o.point = a->point;
     if (!a->precision.empty())
       o.precision = a->precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
     exit_code = edit::run_editor(o);

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <vector>
 
+#include "bezierize/fix.hpp"
 #include "bezierize/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "bezierize/region.hpp"
@@ -542,6 +543,104 @@ TEST_F(EditTest, BadScriptIsAnInputError) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("unknown command 'jump'"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+// The opening selection (Editor::open_on_region_point, tested in detail in
+// edit_repair_test.cpp) through `cmr edit`: the first point whose region
+// shows, or --point's; a point the curve lacks is a bad option (exit 2).
+TEST_F(EditTest, OpensOnAPointWithARegionOrTheNamedOne) {
+  const Outcome r = run_edit(kFig8, "status\n", dir_ / "a.png", "1024x768");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto at = r.err.find("script line 1: selected P");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const std::string k = r.err.substr(at + 25, 1);
+  EXPECT_NE(k, "0") << "fig8's P0 has no region: " << r.err;
+  EXPECT_NE(r.err.find("opened on P" + k + ": the first point whose region shows in this view"), std::string::npos)
+      << r.err;
+  const Outcome named = run_edit(kFig8, "status\n", dir_ / "b.png", "1024x768", " --point 0");
+  ASSERT_EQ(named.code, 0) << named.err;
+  EXPECT_NE(named.err.find("selected P0; opened on P0 (--point); segment 1 is non-monotone whatever P0 does"),
+            std::string::npos)
+      << named.err;
+  const Outcome bad = run_edit(kFig8, "status\n", dir_ / "c.png", "1024x768", " --point 6");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--point: the curve has points 0..5 (got 6)"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "c.png"));
+  // Fig. 10, a closed contour (its points' supports judged), and a quadratic
+  // zigzag where no point has a region: the status line of the opened window.
+  std::vector<cmr::Vec2> ellipse, zig;
+  std::vector<double> knots;
+  for (int i = 0; i < 20; ++i) {
+    const double a = 2 * M_PI * i / 20;
+    ellipse.push_back({2 * std::cos(a), std::sin(a)});
+    knots.push_back(i);
+  }
+  knots.push_back(20);
+  for (int i = 0; i < 8; ++i) zig.push_back({static_cast<double>(i), i % 2 ? 1.0 : -1.0});
+  const fs::path closed = dir_ / "closed.json", zigzag = dir_ / "zigzag.json";
+  std::ofstream(closed) << cmr::spline_to_json(cmr::BSpline::make_closed(3, knots, ellipse)).dump();
+  std::ofstream(zigzag) << cmr::spline_to_json(cmr::BSpline::make(2, {0, 1, 2, 3, 4, 5, 6, 7, 8}, zig)).dump();
+  for (const std::string& f : {std::string(CMR_SOURCE_DIR) + "/examples/figures/fig10a.json", closed.string()}) {
+    const Outcome o = run_edit(f, "status\n", dir_ / "d.png", "1024x768");
+    ASSERT_EQ(o.code, 0) << o.err;
+    const bool first = o.err.find(": the first point whose region shows in this view") != std::string::npos;
+    const bool largest = o.err.find(": the largest region in this view, and a small one") != std::string::npos;
+    EXPECT_TRUE(first || largest) << f << o.err;
+  }
+  const Outcome none = run_edit(zigzag.string(), "status\n", dir_ / "e.png", "1024x768");
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_NE(none.err.find("selected P0; no point has a region in this view: segments 1..5 are non-monotone whatever "
+                          "P0 does (P0 acts on segment 0)"),
+            std::string::npos)
+      << none.err;
+}
+
+// fix and snap as scripted commands and keys in the real window: the fixed
+// curve passes analyze for the view's requirement, snap puts the selected
+// point in its region by bezierize/fix's distance, undo restores the exact
+// coordinates. The screenshots before and after are kept for a look.
+TEST_F(EditTest, FixAndSnapThroughTheWindowAreCertifiedAndUndone) {
+  const fs::path fixed = dir_ / "fixed.json", undone = dir_ / "undone.json", snapped = dir_ / "snapped.json",
+                 split = dir_ / "split.json", back = dir_ / "back.json";
+  const Outcome r = run_edit(kFig8,
+                             "select 2\nscreenshot " + (dir_ / "before.png").string() + "\nfix\nscreenshot " +
+                                 (dir_ / "after.png").string() + "\nsave " + fixed.string() + "\nundo\nsave " +
+                                 undone.string() + "\nkey s\nsave " + snapped.string() + "\nundo\nsplit 2\nkey x\nsave " +
+                                 split.string() + "\nundo\nsave " + back.string() + "\n",
+                             dir_ / "shot.png", "1024x768");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("script line 3: fix (cmrwi): moved P"), std::string::npos) << r.err;
+  const cmr::BSpline fig8 = cmr::read_spline_file(kFig8);
+  const cmr::FixRequirement cmrwi = cmr::parse_fix_requirement("cmrwi");
+  const cmr::BSpline f = cmr::read_spline_file(fixed);
+  EXPECT_TRUE(cmr::requirement_holds(f, cmrwi)) << "the fixed curve, re-judged by analyze";
+  EXPECT_NE(f.points(), fig8.points());
+  EXPECT_EQ(read_json(undone)["points"], read_json(kFig8)["points"]) << "undo restores the exact coordinates";
+  // snap (key s): P2 alone, by the distance bezierize/fix finds, into its region.
+  cmr::FixRequest q;
+  q.requirement = cmrwi;
+  q.points = {2};
+  q.keep = cmr::Keep::none;
+  const cmr::FixResult want = cmr::fix(fig8, q);
+  ASSERT_TRUE(want.fixed) << want.reason;
+  const cmr::BSpline s = cmr::read_spline_file(snapped);
+  for (int i = 0; i < 6; ++i)
+    if (i != 2) {
+      EXPECT_EQ(s.points()[i], fig8.points()[i]) << "P" << i;
+    }
+  EXPECT_DOUBLE_EQ(norm(s.points()[2] - fig8.points()[2]), want.moves.at(0).distance);
+  cmr::RegionRequest rq;
+  rq.point = 2;
+  const cmr::RegionLabel l = cmr::RegionProblem::make(fig8, rq).classify(s.points()[2]).label;
+  EXPECT_TRUE(l == cmr::RegionLabel::increasing || l == cmr::RegionLabel::decreasing) << "P2 is in its region";
+  // split 2 then key x: the fix of split:2.
+  EXPECT_NE(r.err.find("fix (split:2): moved P"), std::string::npos) << r.err;
+  EXPECT_TRUE(cmr::requirement_holds(cmr::read_spline_file(split), cmr::parse_fix_requirement("split:2")));
+  EXPECT_EQ(read_json(back)["points"], read_json(kFig8)["points"]);
+  // The picture changed where the curve moved.
+  const Image a = read_png(dir_ / "before.png"), b = read_png(dir_ / "after.png");
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  EXPECT_NE(a.rgb, b.rgb);
 }
 
 }  // namespace

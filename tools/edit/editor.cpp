@@ -61,6 +61,7 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
     panning_ = down;
     return;
   }
+  if (down) finish_animation();
   if (!down) {
     if (dragging_ >= 0) {
       history_.seal();
@@ -115,6 +116,8 @@ void Editor::key(const std::string& name, bool ctrl) {
   else if (name == "a") set_all_points(!doc().all_points);
   else if (name == "g") set_chain(!doc().chain);
   else if (name == "f") fit_view();
+  else if (!ctrl && name == "x") fix_curve();
+  else if (!ctrl && name == "s") snap_selected();
 }
 
 namespace {
@@ -340,12 +343,14 @@ void Editor::replace_spline(BSpline spline, const std::string& what, const std::
 }
 
 bool Editor::undo() {
+  finish_animation();
   const bool done = history_.undo();
   if (done) changed_document();
   return done;
 }
 
 bool Editor::redo() {
+  finish_animation();
   const bool done = history_.redo();
   if (done) changed_document();
   return done;
@@ -403,7 +408,10 @@ std::pair<int, int> Editor::canvas() const {
 }
 
 std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse) const {
-  const Document& d = doc();
+  return requests_of(doc(), whole_window, coarse);
+}
+
+std::vector<RegionRequest> Editor::requests_of(const Document& d, bool whole_window, int coarse) const {
   RegionRequest q;
   q.mode = d.mode;
   q.split = d.split;
@@ -445,6 +453,10 @@ std::vector<RegionRequest> Editor::region_requests(bool whole_window, int coarse
       if (i != d.selected && std::find(q.with.begin(), q.with.end(), i) == q.with.end()) q.with.push_back(i);
     q.each_piece = !q.split;  // each Bezier piece monotone on its own (docs/edit.md)
   }
+  // A closed curve is never monotone over its period: as `cmr region`, one
+  // point's region judges the spans it acts on unless segments are chosen.
+  if (d.spline.closed() && !q.segments && !q.split && !q.each_piece)
+    q.segments = closed_support_range(d.spline, q.point, q.with);
   layers.push_back(q);
   return layers;
 }
@@ -465,7 +477,7 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
     std::vector<std::vector<double>> keys;
     for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
     cache_.set_capacity(std::max<std::size_t>(16, 3 * requests.size()));
-    const bool interacting = dragging_ >= 0 || panning_;
+    const bool interacting = dragging_ >= 0 || panning_ || animation_.has_value();
     const bool cached = std::all_of(keys.begin(), keys.end(), [&](const auto& k) { return cache_.find(k) != nullptr; });
     int coarse = 1;
     if (interacting && !cached) {

@@ -11,11 +11,18 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
+#include "bezierize/fix.hpp"
 #include "bezierize/weight_region.hpp"
 
 namespace cmr::edit {
 
 enum class MouseButton { left, right, middle };
+
+/// The pixel factor of the opening search's grid for a canvas: about
+/// Editor::kOpeningGrid pixels across its longer side. (A coarser grid for
+/// curves with many points missed thin regions, and the cost per point is
+/// mostly the region's setup, not the pixels.)
+int opening_coarse(std::pair<int, int> canvas);
 
 class Editor {
  public:
@@ -44,7 +51,8 @@ class Editor {
   /// point, scales that point's weight by kWeightStep^dy instead.
   void scroll(double dy, bool shift = false);
   /// Key by name ("z" with ctrl: undo, "y" with ctrl: redo, "c": CMR/CMRWI,
-  /// "d": depth shading, "a": all points, "g": chain mode, "f": fit view).
+  /// "d": depth shading, "a": all points, "g": chain mode, "f": fit view,
+  /// "x": fix, "s": snap the selected point into its region).
   void key(const std::string& name, bool ctrl);
 
   // ---- actions (UI and script); bad values throw InputError ----
@@ -107,6 +115,49 @@ class Editor {
   void set_view(View view);
   void fit_view();
 
+  // ---- opening and repair (tools/edit/repair.cpp) ----
+  /// The opening selection (docs/edit.md): the first point, in index order,
+  /// whose region (the current mode, split, judged segments; a closed curve's
+  /// default: the spans the point acts on) has at least kOpeningCells
+  /// certified monotone pixels on a grid of about kOpeningGrid pixels across
+  /// the canvas's view (opening_coarse; the CPU engine, RegionProblem's
+  /// labels); when none has that many, the point with the most (the first of
+  /// equals), if any. When none has one, P0 stays selected and the status line says so
+  /// with the first reason (bezierize/region_reason.hpp) that names the
+  /// segments responsible (P0's unless its support wraps a closed curve's
+  /// seam). Not an undo step. Returns the point chosen,
+  /// or nothing. With `named` (`cmr edit --point K`) that point is opened
+  /// instead (InputError when the curve has no point K).
+  std::optional<int> open_on_region_point(std::optional<int> named = std::nullopt);
+  static constexpr int kOpeningGrid = 64, kOpeningCells = 4;
+  /// A closed curve judged over every segment (no split, not each-piece):
+  /// the region of one point judges the spans it acts on, as `cmr region`
+  /// does; this is that range for the selected point (nothing otherwise).
+  std::optional<SegmentRange> closed_support() const;
+  /// The requirement the view implies (what `fix` and `snap` reach): split:S
+  /// with a split joint, each-piece in Bezier-chain mode, else the mode
+  /// (cmrwi or cmr), over every segment (as `cmr fix --require`).
+  FixRequirement fix_requirement() const;
+  /// "fix": bezierize/fix's nearest certified fix of fix_requirement(), the
+  /// points it chooses moving (cmr fix's default request: G1 kept at G1
+  /// joints, the end points of an open curve fixed), at most kFixSeconds of
+  /// search. The move is animated over kFixAnimationSeconds of frames
+  /// (advance_animation) and is one undo step. No fix: nothing moves, the
+  /// status line says why in one line and the result is false.
+  bool fix_curve();
+  /// "snap into region": the selected point alone (its own region, no rigid
+  /// group) to the nearest certified position of fix_requirement() found by
+  /// bezierize/fix (FixRequest::points = {selected}; in chain mode G1 kept),
+  /// animated and undoable as fix_curve.
+  bool snap_selected();
+  bool animating() const { return animation_.has_value(); }
+  /// Moves an animated fix on by `seconds` (the window calls it every frame).
+  void advance_animation(double seconds);
+  /// Puts an animated fix at its end at once (a new action interrupts it).
+  void finish_animation();
+  static constexpr double kFixAnimationSeconds = 0.4;
+  static constexpr double kFixSeconds = 5;
+
   // ---- what is shown ----
   const Document& doc() const { return history_.current(); }
   const Viewport& viewport() const { return viewport_; }
@@ -164,6 +215,18 @@ class Editor {
   double comb_scale = 1.0;   ///< comb length = scale * kappa * (view width / 8)
 
  private:
+  /// region_requests for a document (the opening search tries each point).
+  std::vector<RegionRequest> requests_of(const Document& d, bool whole_window, int coarse) const;
+  bool apply_fix(const FixRequest& request, const std::string& what);
+  struct Animation {
+    BSpline from, to;
+    double t = 0;  ///< 0..1
+    std::string key;
+    long changes = -1;  ///< History::changes() after its last frame
+    bool first = true;  ///< the next frame's time includes the search: one frame's step at most
+  };
+  std::optional<Animation> animation_;
+  int fix_serial_ = 0;
   int pick(double x, double y) const;
   void changed_document();
   History history_;

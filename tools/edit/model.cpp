@@ -121,6 +121,7 @@ void History::commit(Document next, const std::string& merge_key) {
   current_ = std::move(next);
   redo_.clear();
   merge_key_ = merge_key;
+  ++changes_;
 }
 
 bool History::undo() {
@@ -129,6 +130,7 @@ bool History::undo() {
   current_ = std::move(undo_.back());
   undo_.pop_back();
   merge_key_.clear();
+  ++changes_;
   return true;
 }
 
@@ -138,6 +140,7 @@ bool History::redo() {
   current_ = std::move(redo_.back());
   redo_.pop_back();
   merge_key_.clear();
+  ++changes_;
   return true;
 }
 

@@ -104,12 +104,16 @@ class History {
   bool undo();
   bool redo();
   bool can_undo() const { return !undo_.empty(); }
+  /// Counts every commit, undo and redo (an animated fix notices that
+  /// another change came between its frames).
+  long changes() const { return changes_; }
   bool can_redo() const { return !redo_.empty(); }
 
  private:
   Document current_;
   std::vector<Document> undo_, redo_;
   std::string merge_key_;
+  long changes_ = 0;
 };
 
 }  // namespace cmr::edit

@@ -46,5 +46,11 @@ wait 2
 SCRIPT
 run edit --size 1024x768 --script "$tmp/kappa.txt" --screenshot "$src/docs/img/edit_kcurve.png"
 
-# 3. The benchmark (prints the machine and the load average).
+# 3. fix: P2 selected outside its region, then the nearest certified fix
+#    (bezierize/fix) moved it onto the region's edge; the status line says so.
+printf 'select 2\nfix\nwait 2\n' >"$tmp/fix.txt"
+run edit "$src/examples/figures/fig8.json" --size 1024x768 --script "$tmp/fix.txt" \
+  --screenshot "$src/docs/img/edit_fix.png"
+
+# 4. The benchmark (prints the machine and the load average).
 [ "${2:-}" = --no-bench ] || run edit --bench

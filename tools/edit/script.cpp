@@ -26,6 +26,7 @@ const std::map<std::string, Arity>& commands() {
       {"export-region", {1, 1}}, {"screenshot", {1, 1}}, {"wait", {1, 1}}, {"quit", {0, 0}},
       {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
       {"segments", {1, 1}}, {"weight", {2, 2}}, {"weight-region", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
+      {"fix", {0, 0}}, {"snap", {0, 0}}, {"status", {0, 0}},
   };
   return table;
 }

@@ -11,7 +11,8 @@
 //   release left|right|middle          mouse button up
 //   scroll DY [shift]         zoom about the cursor (DY > 0: closer); with
 //                             shift over a point: scale its weight by 1.1^DY
-//   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f
+//   key NAME [ctrl]           a key: z/y with ctrl undo/redo, c, d, a, g, f,
+//                             x (fix), s (snap)
 //   drag K X Y [STEPS]        press on point K, move to world (X, Y) in STEPS
 //                             frames (default 10), release
 //   select K | group K... | all on|off | mode cmr|cmrwi | depth D
@@ -37,6 +38,12 @@
 //                             window's view and size (.png: --png, else --labels)
 //   export-view PATH          the next presented frame as a PNG (the panel's
 //                             "export PNG" button)
+//   fix                       bezierize/fix's nearest certified fix of the
+//                             view's requirement (Editor::fix_curve), animated;
+//                             the status line (what moved, or why no fix) on stderr
+//   snap                      the selected point to the nearest certified
+//                             position of its region (Editor::snap_selected)
+//   status                    the selected point and the status line, on stderr
 //   wait N                    render N frames
 //   quit
 #include <filesystem>

@@ -152,6 +152,9 @@ void segment_range(Editor& e) {
   bool some = d.segments.has_value();
   if (ImGui::Checkbox("judge segments", &some))
     act(e, [&] { e.set_segments(some ? std::optional<SegmentRange>(SegmentRange{0, n - 1}) : std::nullopt); });
+  if (const auto support = e.closed_support())  // a closed curve's default (Editor::closed_support)
+    ImGui::TextWrapped("closed curve: P%d's region judges segments %d..%d, the spans it acts on", d.selected,
+                       support->first, support->last);
   if (!d.segments) return;
   int range[2] = {d.segments->first, d.segments->last};
   ImGui::SameLine();
@@ -368,6 +371,14 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::Button("save")) act(e, [&] { e.save(e.path()); });
   ImGui::SameLine();
   if (ImGui::Button("fit")) e.fit_view();
+  // bezierize/fix: the nearest certified fix of the view's requirement (x),
+  // the selected point into its region (s); animated, one undo step each.
+  // (In the rows that were there: the panel keeps its height.)
+  ImGui::SameLine();
+  if (ImGui::Button("fix (x)")) e.fix_curve();
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("the nearest certified fix of %s (the points cmr fix chooses)",
+                      to_string(e.fix_requirement()).c_str());
   if (ImGui::Button("export PNG") && info.export_png != nullptr) *info.export_png = true;
   ImGui::SameLine();
   if (ImGui::Button("export region")) {
@@ -375,6 +386,9 @@ void file_buttons(Editor& e, const UiInfo& info) {
     p.replace_extension(".region.pgm");
     act(e, [&] { e.export_region(p); });
   }
+  ImGui::SameLine();
+  if (ImGui::Button("snap (s)")) e.snap_selected();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("snap P%d into its region: the nearest certified position", e.doc().selected);
 }
 
 void side_panel(Editor& e, const UiInfo& info) {

@@ -152,6 +152,7 @@ class App {
   Editor editor_;
   std::string region_path_;
   double frame_ms_ = 0;
+  std::optional<Clock::time_point> last_frame_;  ///< when the last frame began (an animated fix moves on)
   bool export_png_ = false;
   std::filesystem::path export_view_;
   KnotRulerGeometry ruler_;
@@ -283,6 +284,9 @@ void App::resize_window(int w, int h) {
 
 bool App::frame(vk::Screenshot* shot) {
   const auto start = Clock::now();
+  if (editor_.animating())
+    editor_.advance_animation(last_frame_ ? std::chrono::duration<double>(start - *last_frame_).count() : 0.0);
+  last_frame_ = start;
   glfwPollEvents();
   int fw = 0, fh = 0;
   glfwGetFramebufferSize(window_.window, &fw, &fh);
@@ -365,6 +369,10 @@ MouseButton button_arg(const ScriptCommand& c) {
 }
 
 bool ScriptRunner::step() {
+  if (app_.editor().animating()) {  // a fix or snap moves on over its frames first
+    app_.frame();
+    return true;
+  }
   if (wait_ > 0) {
     --wait_;
     app_.frame();
@@ -383,8 +391,10 @@ bool ScriptRunner::step() {
     return true;
   }
   frame_needed_ = false;
-  while (next_ < commands_.size() && !frame_needed_ && wait_ == 0 && !drag_) run(commands_[next_++]);
-  if (frame_needed_ || wait_ > 0 || drag_) {
+  Editor& e = app_.editor();
+  while (next_ < commands_.size() && !frame_needed_ && wait_ == 0 && !drag_ && !e.animating())
+    run(commands_[next_++]);
+  if (frame_needed_ || wait_ > 0 || drag_ || e.animating()) {
     app_.frame();
     return true;
   }
@@ -423,6 +433,8 @@ void ScriptRunner::run(const ScriptCommand& c) {
     e.scroll(number_arg(c, 0), c.args.size() > 1 && c.args[1] == "shift");
   } else if (n == "key") {
     e.key(c.args[0], c.args.size() > 1 && c.args[1] == "ctrl");
+    if (c.args[0] == "x" || c.args[0] == "s")  // fix, snap: their status line, as the commands
+      std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
   } else if (n == "drag") {
     const int k = int_arg(c, 0);
     if (k < 0 || k >= e.doc().spline.point_count())
@@ -535,6 +547,19 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
       std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     return true;
   }
+  if (c.name == "status") {  // what the panel shows: the selected point and the status line
+    std::cerr << "cmr edit: script line " << c.line << ": selected P" << e.doc().selected << "; " << e.message
+              << '\n';
+    return true;
+  }
+  if (c.name == "fix" || c.name == "snap") {
+    // The status line (what moved, or why nothing could) on stderr, as in the window's panel.
+    if (c.name == "fix") e.fix_curve();
+    else e.snap_selected();
+    std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+    frame_needed_ = true;
+    return true;
+  }
   if (c.name == "insert" || c.name == "remove" || c.name == "elevate" || c.name == "clamp" || c.name == "uniform") {
     // A refusal is the editor's status line, as in the window; scripts see it on stderr.
     if (!e.knot_operation(c.name, c.args.empty() ? 0 : number_arg(c, 0), c.args.size() > 1 ? number_arg(c, 1) : 0))
@@ -559,6 +584,7 @@ int run_editor(const EditOptions& o) {
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
   App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
+  app.editor().open_on_region_point(o.point);
   if (!o.script.empty() || !o.screenshot.empty()) {
     app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));

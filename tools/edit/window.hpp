@@ -18,6 +18,9 @@ struct EditOptions {
   bool vsync = true;
   RegionPath region_path = RegionPath::automatic;  ///< how the region reaches the window
   std::optional<vk::RegionPrecision> precision;     ///< the gpu path's shader arithmetic
+  /// The point selected when the editor opens; nothing: the first point whose
+  /// region shows (Editor::open_on_region_point).
+  std::optional<int> point;
 };
 
 /// Runs the editor until the window closes or the script ends. Returns the

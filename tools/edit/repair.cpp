@@ -1,0 +1,238 @@
+// The editor's opening selection and its repairs: "fix" and "snap into
+// region" (bezierize/fix.hpp), animated and undoable (docs/edit.md).
+#include <algorithm>
+#include <cstdio>
+
+#include "bezierize/region_reason.hpp"
+#include "spline/errors.hpp"
+#include "tools/edit/editor.hpp"
+
+namespace cmr::edit {
+namespace {
+
+/// The certified monotone labels of the layer (the region's pixels), as
+/// region_reason counts them.
+int monotone_count(const RegionResult& r) {
+  int n = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const std::uint8_t c = r.code_at(i);
+    n += r.each_piece ? c == code(PieceLabel::each_monotone)
+         : r.alternating
+             ? c == code(AlternatingLabel::first_increasing) || c == code(AlternatingLabel::first_decreasing)
+         : r.split ? c >= code(SplitLabel::inc_inc) && c <= code(SplitLabel::dec_dec)
+                   : c == code(RegionLabel::increasing) || c == code(RegionLabel::decreasing);
+  }
+  return n;
+}
+
+/// region_reason's words for a closed curve judged over its whole period.
+constexpr const char* kPeriodReason = "never monotone over its whole period";
+
+std::string point_name(int k) {
+  std::string p = "P";  // (two steps: GCC 12 warns falsely on "P" + std::to_string)
+  p += std::to_string(k);
+  return p;
+}
+
+}  // namespace
+
+int opening_coarse(std::pair<int, int> canvas) {
+  return std::max(1, std::max(canvas.first, canvas.second) / Editor::kOpeningGrid);
+}
+
+std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
+  const Document start = doc();
+  if (named) {
+    const int m = start.spline.unique_point_count();
+    if (*named < 0 || *named >= m)
+      throw InputError("--point: the curve has points 0.." + std::to_string(m - 1) + " (got " +
+                       std::to_string(*named) + ")");
+    Document d = start;
+    d.selected = *named;
+    std::erase(d.group, *named);
+    history_ = History(std::move(d));
+    changed_document();
+    message.clear();
+    region();  // its region now: when it is empty or full, the reason joins this line
+    message = "opened on " + point_name(*named) + " (--point)" + (message.empty() ? "" : "; " + message);
+    return named;
+  }
+  if (start.kcurve || start.all_points) return std::nullopt;
+  const int m = start.spline.unique_point_count();
+  const int coarse = opening_coarse(canvas());
+  std::optional<std::string> first_reason;  // the first that names a segment, else P0's
+  const auto open = [&](int k, const std::string& why) {
+    Document d = start;
+    d.selected = k;
+    d.group.clear();
+    if (history_.can_undo()) history_.commit(std::move(d));
+    else history_ = History(std::move(d));  // opening: not an undo step
+    changed_document();
+    message = "opened on " + point_name(k) + ": " + why;
+    return std::optional<int>(k);
+  };
+  int most = 0, most_at = -1;  // the largest region below kOpeningCells, if none reaches it
+  for (int k = 0; k < m; ++k) {
+    Document d = start;
+    d.selected = k;
+    d.group.clear();
+    const std::vector<RegionRequest> q = requests_of(d, false, coarse);
+    if (q.size() != 1) continue;
+    try {
+      const std::vector<RegionResult> r = compute_regions(start.spline, q);
+      const int cells = monotone_count(r.front());
+      if (cells >= kOpeningCells) return open(k, "the first point whose region shows in this view");
+      if (cells > most) most = cells, most_at = k;
+      if (cells > 0) continue;
+      // The reason of the first point whose region is judged on segments it
+      // does not wrap (a closed curve's whole period says nothing about one).
+      if (!first_reason || first_reason->find(kPeriodReason) != std::string::npos)
+        if (auto why = region_reason(RegionProblem::make(start.spline, q.front()), r.front()))
+          if (!first_reason || why->find(kPeriodReason) == std::string::npos) first_reason = std::move(why);
+    } catch (const InputError& e) {
+      if (!first_reason) first_reason = e.what();
+    }
+  }
+  if (most_at >= 0) return open(most_at, "the largest region in this view, and a small one");
+  region();  // P0's region now, so that its bare reason does not replace this line
+  message = "no point has a region in this view: " + first_reason.value_or("(no reason found)");
+  return std::nullopt;
+}
+
+std::optional<SegmentRange> Editor::closed_support() const {
+  const Document& d = doc();
+  if (!d.spline.closed() || d.segments || d.split || d.chain || d.all_points || d.kcurve) return std::nullopt;
+  const std::vector<RegionRequest> q = region_requests();
+  if (q.size() != 1) return std::nullopt;
+  return q.front().segments;
+}
+
+FixRequirement Editor::fix_requirement() const {
+  const Document& d = doc();
+  FixRequirement r;
+  if (d.split) {
+    r.kind = FixRequirement::Kind::split;
+    r.split = *d.split;
+  } else if (d.chain) {
+    r.kind = FixRequirement::Kind::each_piece;
+  } else {
+    r.kind = d.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
+  }
+  return r;
+}
+
+bool Editor::fix_curve() {
+  FixRequest q;
+  q.requirement = fix_requirement();
+  q.keep = Keep::g1;
+  q.max_seconds = kFixSeconds;
+  return apply_fix(q, "fix");
+}
+
+bool Editor::snap_selected() {
+  finish_animation();
+  const Document& d = doc();
+  const std::string what = "snap " + point_name(d.selected);
+  if (!d.group.empty()) {
+    message = what + ": it has a rigid group, and snap moves the point alone (clear the group, or use fix)";
+    return false;
+  }
+  FixRequest q;
+  q.requirement = fix_requirement();
+  q.points = {d.selected};
+  q.keep = d.chain ? Keep::g1 : Keep::none;
+  q.max_seconds = kFixSeconds;
+  return apply_fix(q, what);
+}
+
+bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
+  finish_animation();
+  const Document& d = doc();
+  const std::string req = to_string(request.requirement);
+  if (d.kcurve && !d.kcurve->modifying) {
+    message = what + ": the kappa-curve is still being clicked (kcurve modify first)";
+    return false;
+  }
+  if (d.spline.closed() && (request.requirement.kind == FixRequirement::Kind::cmr ||
+                            request.requirement.kind == FixRequirement::Kind::cmrwi)) {
+    message = what + ": a closed curve's curvature is never monotone over its whole period, and " + req +
+              " judges every segment (use a split joint, or chain mode's each-piece)";
+    return false;
+  }
+  FixResult r;
+  try {
+    r = fix(d.spline, request);
+  } catch (const InputError& e) {
+    message = what + ": " + e.what();
+    return false;
+  }
+  if (r.already) {
+    message = what + ": the curve already meets " + req + " (nothing moved)";
+    return true;
+  }
+  if (!r.fixed || !r.spline) {
+    message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : r.reason);
+    return false;
+  }
+  std::string moves;
+  for (std::size_t i = 0; i < r.moves.size(); ++i) {
+    if (i == 3) {
+      moves += " and " + std::to_string(r.moves.size() - 3) + " more";
+      break;
+    }
+    char one[160];
+    std::snprintf(one, sizeof one, "%s%s by %.4g (%.2g%% of the curve size)", i ? ", " : "",
+                  point_name(r.moves[i].point).c_str(), r.moves[i].distance,
+                  r.size > 0 ? 100 * r.moves[i].distance / r.size : 0.0);
+    moves += one;
+  }
+  message = what + " (" + req + "): moved " + moves + "; certified by analyze" +
+            (d.segments ? " (every segment judged, as cmr fix)" : "");
+  animation_ = Animation{d.spline, *r.spline, 0, "fix" + std::to_string(++fix_serial_)};
+  history_.seal();     // the fix is an undo step of its own
+  advance_animation(0);  // its first frame holds the state before it for undo
+  animation_->first = true;
+  return true;
+}
+
+void Editor::advance_animation(double seconds) {
+  if (!animation_) return;
+  Animation& a = *animation_;
+  if (a.changes >= 0 && history_.changes() != a.changes) {
+    a.t = 1;  // another change came between the frames: the fix lands at once
+    a.key.clear();
+  } else {
+    // The first frame after the fix began also waited for its search: one
+    // frame at 30 per second instead, so the move is seen from its start.
+    const double dt = a.first ? std::min(std::max(0.0, seconds), 1.0 / 30) : std::max(0.0, seconds);
+    a.first = false;
+    a.t = std::min(1.0, a.t + dt / kFixAnimationSeconds);
+  }
+  Document next = doc();
+  if (a.t >= 1) {
+    next.spline = a.to;  // exactly the certified spline
+  } else {
+    const double e = a.t * a.t * (3 - 2 * a.t);  // smoothstep
+    BSpline s = a.from;
+    for (int k = 0; k < s.unique_point_count(); ++k) {
+      const Vec2 p = a.from.points()[k], q = a.to.points()[k];
+      if (p != q) s = s.with_point(k, p + (q - p) * e);
+    }
+    next.spline = std::move(s);
+  }
+  history_.commit(std::move(next), a.key);
+  changed_document();
+  if (a.t >= 1) {
+    history_.seal();
+    animation_.reset();
+    region_stale_ = true;  // full resolution again
+  } else {
+    a.changes = history_.changes();
+  }
+}
+
+void Editor::finish_animation() {
+  if (animation_) advance_animation(kFixAnimationSeconds);
+}
+
+}  // namespace cmr::edit
