@@ -203,6 +203,10 @@ struct RegionResult {
   }
   /// Every pixel's label code, as written to PGM label maps.
   std::vector<std::uint8_t> codes() const;
+  /// Pixel `index` is in the region: its label is a certified pass
+  /// (increasing or decreasing; a split's four directions; inc-first or
+  /// dec-first; each-monotone), not a fail and not undecided.
+  bool in_region(std::size_t index) const;
   /// How many label codes this result's kind has (kRegionLabelCodes, ...).
   int label_codes() const;
   /// The name of label `code` of this result's kind (to_string of its label):

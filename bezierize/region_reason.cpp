@@ -40,17 +40,6 @@ std::string segment_list_text(const std::vector<int>& segments) {
   return t;
 }
 
-namespace {
-
-bool monotone_code(const RegionResult& r, std::uint8_t c) {
-  if (r.each_piece) return c == code(EachPiece::monotone);
-  if (r.alternating) return c == code(Alternation::first_increasing) || c == code(Alternation::first_decreasing);
-  if (r.split) return c >= code(Split::inc_inc) && c <= code(Split::dec_dec);
-  return c == code(Direction::increasing) || c == code(Direction::decreasing);
-}
-
-}  // namespace
-
 std::optional<SegmentRange> closed_support_range(const BSpline& spline, int point, const std::vector<int>& with) {
   if (!spline.closed()) return std::nullopt;
   std::vector<int> group{point};
@@ -69,7 +58,7 @@ std::optional<SegmentRange> closed_support_range(const BSpline& spline, int poin
 
 std::optional<std::string> region_reason(const RegionProblem& problem, const RegionResult& result) {
   std::uint64_t monotone = 0;
-  for (std::size_t i = 0; i < result.size(); ++i) monotone += monotone_code(result, result.code_at(i));
+  for (std::size_t i = 0; i < result.size(); ++i) monotone += result.in_region(i);
   const bool empty = monotone == 0, full = monotone == result.size();
   if (!empty && !full) return std::nullopt;
   const backend::RegionSetup& s = problem.setup();

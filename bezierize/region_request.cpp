@@ -15,6 +15,14 @@ std::vector<std::uint8_t> RegionResult::codes() const {
   return out;
 }
 
+bool RegionResult::in_region(std::size_t index) const {
+  const std::uint8_t c = code_at(index);
+  if (each_piece) return c == code(EachPiece::monotone);
+  if (alternating) return c == code(Alternation::first_increasing) || c == code(Alternation::first_decreasing);
+  if (split) return c >= code(Split::inc_inc) && c <= code(Split::dec_dec);
+  return c == code(Direction::increasing) || c == code(Direction::decreasing);
+}
+
 int RegionResult::label_codes() const {
   return each_piece ? kPieceLabelCodes : alternating ? kAlternatingLabelCodes : split ? kSplitLabelCodes : kRegionLabelCodes;
 }

@@ -36,8 +36,8 @@ int region_cells(const Editor& e, int k) {
   int n = 0;
   for (int j = 0; j < q.height; ++j)
     for (int i = 0; i < q.width; ++i) {
-      const RegionLabel l = p.classify(pixel_center(*q.view, q.width, q.height, i, j)).label;
-      n += l == RegionLabel::increasing || l == RegionLabel::decreasing;
+      const Direction l = p.classify(pixel_center(*q.view, q.width, q.height, i, j)).label;
+      n += l == Direction::increasing || l == Direction::decreasing;
     }
   return n;
 }
@@ -218,8 +218,8 @@ TEST(EditRepair, SnapMovesTheSelectedPointTheDistanceFixReportsIntoItsRegion) {
     RegionRequest rq;
     rq.point = k;
     const RegionProblem before = RegionProblem::make(fig8, rq);
-    const RegionLabel at = before.classify(fig8.points()[k]).label;
-    if (at == RegionLabel::increasing || at == RegionLabel::decreasing) {
+    const Direction at = before.classify(fig8.points()[k]).label;
+    if (at == Direction::increasing || at == Direction::decreasing) {
       ASSERT_TRUE(e.snap_selected());
       EXPECT_NE(e.message.find("already"), std::string::npos) << e.message;
       continue;
@@ -236,8 +236,8 @@ TEST(EditRepair, SnapMovesTheSelectedPointTheDistanceFixReportsIntoItsRegion) {
     ASSERT_EQ(want.moves.size(), 1u);
     const Vec2 d = s.points()[k] - fig8.points()[k];
     EXPECT_DOUBLE_EQ(std::hypot(d.x, d.y), want.moves[0].distance) << "P" << k;
-    const RegionLabel l = before.classify(s.points()[k]).label;
-    EXPECT_TRUE(l == RegionLabel::increasing || l == RegionLabel::decreasing) << "P" << k << " is not in its region";
+    const Direction l = before.classify(s.points()[k]).label;
+    EXPECT_TRUE(l == Direction::increasing || l == Direction::decreasing) << "P" << k << " is not in its region";
     EXPECT_TRUE(requirement_holds(s, e.fix_requirement()));
     ASSERT_TRUE(e.undo());
     EXPECT_EQ(e.doc().spline.points(), fig8.points()) << "P" << k << ": undo";

@@ -631,8 +631,8 @@ TEST_F(EditTest, FixAndSnapThroughTheWindowAreCertifiedAndUndone) {
   EXPECT_DOUBLE_EQ(norm(s.points()[2] - fig8.points()[2]), want.moves.at(0).distance);
   cmr::RegionRequest rq;
   rq.point = 2;
-  const cmr::RegionLabel l = cmr::RegionProblem::make(fig8, rq).classify(s.points()[2]).label;
-  EXPECT_TRUE(l == cmr::RegionLabel::increasing || l == cmr::RegionLabel::decreasing) << "P2 is in its region";
+  const cmr::Direction l = cmr::RegionProblem::make(fig8, rq).classify(s.points()[2]).label;
+  EXPECT_TRUE(l == cmr::Direction::increasing || l == cmr::Direction::decreasing) << "P2 is in its region";
   // split 2 then key x: the fix of split:2.
   EXPECT_NE(r.err.find("fix (split:2): moved P"), std::string::npos) << r.err;
   EXPECT_TRUE(cmr::requirement_holds(cmr::read_spline_file(split), cmr::parse_fix_requirement("split:2")));

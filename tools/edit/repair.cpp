@@ -14,14 +14,7 @@ namespace {
 /// region_reason counts them.
 int monotone_count(const RegionResult& r) {
   int n = 0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const std::uint8_t c = r.code_at(i);
-    n += r.each_piece ? c == code(PieceLabel::each_monotone)
-         : r.alternating
-             ? c == code(AlternatingLabel::first_increasing) || c == code(AlternatingLabel::first_decreasing)
-         : r.split ? c >= code(SplitLabel::inc_inc) && c <= code(SplitLabel::dec_dec)
-                   : c == code(RegionLabel::increasing) || c == code(RegionLabel::decreasing);
-  }
+  for (std::size_t i = 0; i < r.size(); ++i) n += r.in_region(i);
   return n;
 }
 
