@@ -14,6 +14,7 @@
 
 #include "bezierize/extract.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -522,6 +523,28 @@ bool passing_pixel(const RegionPixel& p, const FixRequirement& r) {
   return p.label == Direction::increasing || p.label == Direction::decreasing;
 }
 
+/// A prepared region problem (what RegionProblem wraps), classified the way
+/// RegionProblem::classify does: prepare_many shares one analysis of the
+/// spline (backend::region_base) between several requests, which
+/// RegionProblem::make repeats for each.
+struct Prepared {
+  std::shared_ptr<const backend::RegionSetup> setup;
+  backend::Labels labels = backend::Labels::plain;
+  RegionPixel classify(Vec2 p) const { return backend::to_pixel(backend::classify_position(*setup, p), labels); }
+};
+
+std::vector<Prepared> prepare_many(const BSpline& spline, const std::vector<RegionRequest>& requests) {
+  std::vector<Prepared> out;
+  std::shared_ptr<const backend::RegionBase> base;
+  for (const RegionRequest& r : requests) {
+    if (base && base->max_depth != r.max_depth) base.reset();  // a base is one depth's
+    if (!base) base = backend::region_base(spline, r.max_depth);
+    out.push_back(Prepared{std::make_shared<const backend::RegionSetup>(backend::prepare_region(spline, r, base)),
+                           backend::labels_of(r)});
+  }
+  return out;
+}
+
 double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>(u.points.size()); }
 
 }  // namespace
@@ -615,20 +638,15 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   const bool region_kind = request.requirement.kind != FixRequirement::Kind::extrema_at_nodes;
 
 
-  // The region problems of the judged segments a unit acts on, each judged
-  // alone (extrema-at-nodes: every segment monotone on its own); *hopeless
-  // when a judged segment the unit does not act on fails in `current`.
-  auto segment_problems = [&](const BSpline& current, const Unit& u, bool* hopeless) {
-    std::vector<RegionProblem> out_problems;
-    const SplineAnalysis ca = &current == &spline ? a0 : analyze(current, ao);
+  // The region requests of the judged segments a unit acts on, each judged
+  // alone (extrema-at-nodes: every segment monotone on its own).
+  auto segment_requests = [&](const BSpline& current, const Unit& u) {
+    std::vector<RegionRequest> rs;
     for (int i = a0.range.first; i <= a0.range.last; ++i) {
       const std::vector<int> pts = segment_points(current, current.segments()[i]);
       const bool touched = std::any_of(u.points.begin(), u.points.end(),
                                        [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-      if (!touched) {
-        if (hopeless && (ca.shapes[i].pole || !monotone_class(ca.segments[i]))) *hopeless = true;
-        continue;
-      }
+      if (!touched) continue;
       RegionRequest rr;
       rr.point = u.points[0];
       rr.with.assign(u.points.begin() + 1, u.points.end());
@@ -636,21 +654,43 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       rr.segments = SegmentRange{i, i};
       rr.max_depth = request.max_depth;
       rr.depth = false;
-      out_problems.push_back(RegionProblem::make(current, rr));
+      rs.push_back(std::move(rr));
     }
+    return rs;
+  };
+  // A judged segment the unit does not act on fails in the input: moving the
+  // unit alone cannot meet extrema-at-nodes.
+  auto hopeless_alone = [&](const Unit& u) {
+    for (int i = a0.range.first; i <= a0.range.last; ++i) {
+      const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+      const bool touched = std::any_of(u.points.begin(), u.points.end(),
+                                       [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+      if (!touched && (a0.shapes[i].pole || !monotone_class(a0.segments[i]))) return true;
+    }
+    return false;
+  };
+  // The problems of several units' requests on one spline, which is analysed
+  // once for all of them (prepare_many; that analysis is most of a
+  // problem's set-up on a long contour).
+  auto problems_of = [&](const BSpline& current, const std::vector<std::vector<RegionRequest>>& per_unit) {
+    std::vector<RegionRequest> all;
+    for (const auto& rs : per_unit) all.insert(all.end(), rs.begin(), rs.end());
+    const std::vector<Prepared> made = prepare_many(current, all);
+    std::vector<std::vector<Prepared>> out_problems(per_unit.size());
+    std::size_t next = 0;
+    for (std::size_t ui = 0; ui < per_unit.size(); ++ui)
+      for (std::size_t r = 0; r < per_unit[ui].size(); ++r) out_problems[ui].push_back(made[next++]);
     return out_problems;
   };
 
   // 1. Each unit alone.
   std::optional<std::size_t> best_unit;
   std::vector<Nearest> alone(ties.units.size());
+  std::vector<char> hopeless(ties.units.size(), 0);
+  std::vector<std::vector<RegionRequest>> alone_requests(ties.units.size());
   for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
     const Unit& u = ties.units[ui];
     if (!unit_acts(u)) continue;
-    std::function<bool(Vec2)> pass;
-    std::optional<RegionProblem> problem;
-    std::vector<RegionProblem> pieces;
-    const Vec2 p0 = spline.points()[u.points[0]];
     if (region_kind) {
       RegionRequest rr;
       rr.point = u.points[0];
@@ -659,30 +699,31 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       if (request.requirement.kind == FixRequirement::Kind::split) rr.split = request.requirement.split;
       rr.max_depth = request.max_depth;
       rr.depth = false;
-      problem = RegionProblem::make(spline, rr);
-      pass = [&, p0](Vec2 x) {
-        ++search.evaluations;
-        if (search.expired()) return false;
-        return passing_pixel(problem->classify(p0 + x), request.requirement);
-      };
-    } else {
-      // extrema-at-nodes: the unit must make every segment it acts on
-      // monotone on its own (the region of each such segment judged alone);
-      // a failing segment it does not act on rules it out.
-      bool hopeless = false;
-      pieces = segment_problems(spline, u, &hopeless);
-      if (hopeless) {
-        out.units.push_back(UnitFix{u.points, u.slide, false, Vec2(0.0), 0});
-        continue;
-      }
-      pass = [&, p0](Vec2 x) {
-        ++search.evaluations;
-        if (search.expired()) return false;
-        for (const RegionProblem& pr : pieces)
-          if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
-        return true;
-      };
+      alone_requests[ui].push_back(std::move(rr));
+    } else if (!(hopeless[ui] = hopeless_alone(u))) {
+      alone_requests[ui] = segment_requests(spline, u);
     }
+  }
+  const std::vector<std::vector<Prepared>> alone_problems = problems_of(spline, alone_requests);
+  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
+    const Unit& u = ties.units[ui];
+    if (!unit_acts(u)) continue;
+    if (hopeless[ui]) {
+      // extrema-at-nodes: a failing segment the unit does not act on rules it out.
+      out.units.push_back(UnitFix{u.points, u.slide, false, Vec2(0.0), 0});
+      continue;
+    }
+    // The unit must make its region problem pass (extrema-at-nodes: every
+    // segment it acts on monotone on its own, the region of each judged alone).
+    const std::vector<Prepared>& pieces = alone_problems[ui];
+    const Vec2 p0 = spline.points()[u.points[0]];
+    const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
+      ++search.evaluations;
+      if (search.expired()) return false;
+      for (const Prepared& pr : pieces)
+        if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
+      return true;
+    };
     alone[ui] = nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid, request.threads);
     UnitFix uf;
     uf.points = u.points;
@@ -728,14 +769,42 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   if (!feasible) {
     // 2a. Greedy: each step moves one unit to the nearest position that
     // lowers the badness (Search::badness) of the curve.
+    // extrema-at-nodes judges each unit on its own segments only, so a
+    // unit's step (cached) stays valid until a point of those segments moves.
+    std::vector<std::optional<Nearest>> cached(ties.units.size());
+    std::vector<std::vector<int>> watch(ties.units.size());  // points of the segments a unit acts on
+    if (!region_kind)
+      for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
+        std::set<int> w(ties.units[ui].points.begin(), ties.units[ui].points.end());
+        for (int i = a0.range.first; i <= a0.range.last; ++i) {
+          const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+          const bool touched = std::any_of(ties.units[ui].points.begin(), ties.units[ui].points.end(), [&](int k) {
+            return std::find(pts.begin(), pts.end(), k) != pts.end();
+          });
+          if (touched) w.insert(pts.begin(), pts.end());
+        }
+        watch[ui].assign(w.begin(), w.end());
+      }
     for (int step = 0; step < static_cast<int>(ties.units.size()) && !feasible; ++step) {
       std::optional<std::pair<std::size_t, Vec2>> pick;
       double pick_cost = std::numeric_limits<double>::infinity();
       const std::vector<Vec2> now = delta_of(z);
       const int before = search.badness(now);
       const BSpline current = search.moved(now);
+      // extrema-at-nodes: the region problems of every unit without a cached
+      // step, on the current spline (analysed once for all of them).
+      std::vector<std::vector<RegionRequest>> step_requests(ties.units.size());
+      if (!region_kind)
+        for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+          if (!cached[ui]) step_requests[ui] = segment_requests(current, ties.units[ui]);
+      const std::vector<std::vector<Prepared>> step_problems = problems_of(current, step_requests);
       for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
         const Unit& u = ties.units[ui];
+        if (cached[ui]) {
+          const Nearest& nr = *cached[ui];
+          if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
+          continue;
+        }
         std::function<bool(Vec2)> pass = [&](Vec2 x) {
           std::vector<Vec2> d = now;
           for (int k : u.points) d[k] += x;
@@ -743,26 +812,29 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         };
         // extrema-at-nodes: fewer of the unit's own segments fail, judged by
         // their regions on the current spline.
-        std::vector<RegionProblem> pieces;
+        const std::vector<Prepared>& pieces = step_problems[ui];
         int bad_now = 0;
         const Vec2 p0 = current.points()[u.points[0]];
         if (!region_kind) {
-          pieces = segment_problems(current, u, nullptr);
-          for (const RegionProblem& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
-          if (bad_now == 0) continue;
+          for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
+          if (bad_now == 0) {
+            cached[ui] = Nearest{};
+            continue;
+          }
           pass = [&, p0, bad_now](Vec2 x) {
             ++search.evaluations;
             if (search.expired()) return false;
             for (int k : u.points)
               if (norm(now[k] + x) > search.max_move) return false;
             int bad = 0;
-            for (const RegionProblem& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
+            for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
             return bad < bad_now;
           };
         }
         // Coarse (half the grid, 1e-3 of the size, one seed): the compass search refines.
         const Nearest nr = nearest(pass, u.dims(), u.dir, out.size, search.max_move, std::max(search.tol, 1e-3 * out.size),
                                    std::max(8, request.grid / 2), request.threads, 1);
+        if (!region_kind && !search.timed_out) cached[ui] = nr;
         if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
       }
       if (!pick) break;
@@ -770,6 +842,9 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       const Vec2 x0 = u.slide ? z[offset[pick->first]] * u.dir
                               : Vec2(z[offset[pick->first]], z[offset[pick->first] + 1]);
       set_unit(z, pick->first, x0 + pick->second);
+      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+        for (int k : u.points)
+          if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
       feasible = search.holds(delta_of(z));
     }
   }

@@ -1,6 +1,6 @@
 #pragma once
 /// The one JSON writer of a Joint (analyze.hpp), behind the "joints" arrays
-/// of `cmr analyze` and of the report (cmr-report/1, docs/report-schema.md).
+/// of `cmr analyze` and of the report (cmr-report/2, docs/report-schema.md).
 /// The two documents share every field of a joint; each adds marks of its
 /// own, so both stay as they were:
 ///   index, knot, multiplicity, continuity ("C<k>"), g1, g2, angle (degrees;

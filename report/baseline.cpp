@@ -27,7 +27,8 @@ std::vector<std::string> read_baseline(const std::filesystem::path& path) {
   } catch (const nlohmann::json::exception&) {
     throw InputError(name + ": not JSON (a report.json of cmr report is expected)");
   }
-  if (!doc.is_object() || doc.value("schema", std::string()) != kSchema || !doc.contains("splines") ||
+  const std::string schema = doc.is_object() ? doc.value("schema", std::string()) : std::string();
+  if (!doc.is_object() || (schema != kSchema && schema != kSchemaPrevious) || !doc.contains("splines") ||
       !doc["splines"].is_array())
     throw InputError(name + ": not a " + std::string(kSchema) + " report");
   std::vector<std::string> keys;

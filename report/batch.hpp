@@ -3,9 +3,10 @@
 ///
 /// report.hpp builds the model of a spline (report_spline: classification,
 /// roots, joints, events); gates.hpp judges a model (check_gates); this
-/// step runs them in that order and adds the fixes: the tangent fixes of
-/// failing gates (suggest_tangent_fixes, which re-reports moved splines) and
-/// the region fixes of a failing requirement (find_fixes). Nothing runs back
+/// step runs them in that order and adds the fixes: the smallest certified
+/// fix of each failing check (certified_fixes, report/certified_fix.hpp: the
+/// moved spline re-judged by analyze) and the region fixes of a failing
+/// requirement (find_fixes). Nothing runs back
 /// up: the model knows neither gates nor fixes, the gates do not re-report.
 #include <functional>
 #include <string>
@@ -24,18 +25,12 @@ void judge_gates(SplineReport& report, const ReportOptions& options);
 /// fixes). Throws InputError as report_spline.
 SplineReport judged_report(const BSpline& spline, const ReportOptions& options);
 
-/// Fixes for a report whose gates fail (gates.hpp, "Suggested fixes"): at
-/// most one per handle, the smallest move first. grid > 0 is the snapping
-/// unit (a font's unit); steps are 1, 2, 4, ..., 64 grid units in both
-/// directions. Each candidate is re-verified with judged_report.
-std::vector<TangentFix> suggest_tangent_fixes(const SplineReport& report, const ReportOptions& options, double grid);
-
 /// Called after each spline is analysed, then after each failing one has its
 /// regions: (done, total, name; "regions: name" in the second pass).
 using Progress = std::function<void(int, int, const std::string&)>;
 /// Reports a batch: per item on options.threads threads the model, its gates
-/// and (with options.grid > 0 and regions on) the tangent fixes of failing
-/// gates; then, one spline at a time, the region fixes of each spline that
+/// and (with regions and options.certified_fixes on) the certified fixes of
+/// each failing check; then, one spline at a time, the region fixes of each spline that
 /// fails the requirement. An input error of one item becomes that item's
 /// error; the others go on.
 std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,

@@ -1,10 +1,14 @@
 #include "report/certified_fix.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
+#include "draw/svg_text.hpp"
 #include "io/output.hpp"
 #include "report/report.hpp"
+#include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -17,6 +21,17 @@ std::string num(double v) {
   return s.str();
 }
 
+std::string fixed1(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+std::string point_name(int k, const std::vector<std::string>* names) {
+  if (names && k >= 0 && k < static_cast<int>(names->size())) return (*names)[k];
+  return "P" + std::to_string(k);
+}
+
 CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, const ReportOptions& options) {
   CertifiedFix out;
   out.check = to_string(requirement);
@@ -27,14 +42,30 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
   request.max_seconds = kReportFixSeconds;
   request.threads = 1;  // the report already runs one spline per core
   try {
-    const FixResult f = fix(spline, request);
+    FixResult f = fix(spline, request);
     out.size = f.size;
+    out.seconds = f.seconds;
+    out.failing_segments = f.failing_segments;
     out.found = f.fixed && !f.already;
     out.moves = f.moves;
-    if (!out.found) out.reason = f.already ? "the check holds" : f.reason;
+    if (out.found) {
+      out.fixed = std::move(f.spline);
+      out.certificate = std::move(f.certificate);
+    } else {
+      out.reason = f.already ? "the check holds" : f.reason;
+    }
   } catch (const InputError& e) {
     out.reason = e.what();
   }
+  return out;
+}
+
+/// A failing gate without a fix requirement: said so, not searched.
+CertifiedFix no_requirement(const Gate& gate) {
+  CertifiedFix out;
+  out.check = to_string(gate);
+  out.reason = "no certified fix: " + out.check +
+               " has no fix requirement (fixes exist for cmrwi, cmr, split:S, extrema-at-nodes and each-piece)";
   return out;
 }
 
@@ -54,38 +85,141 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
                                                           : FixRequirement::Extremum::any;
     out.push_back(run_fix(*r.spline, req, options));
   }
-  for (const GateResult& g : r.gates)
-    if (!g.pass() && g.gate.kind == Gate::Kind::extrema_at_nodes) {
-      FixRequirement req;
+  for (const GateResult& g : r.gates) {
+    if (g.pass()) continue;
+    FixRequirement req;
+    if (g.gate.kind == Gate::Kind::extrema_at_nodes)
       req.kind = FixRequirement::Kind::extrema_at_nodes;
-      out.push_back(run_fix(*r.spline, req, options));
+    else if (g.gate.kind == Gate::Kind::each_piece)
+      req.kind = FixRequirement::Kind::each_piece;
+    else {
+      out.push_back(no_requirement(g.gate));
+      continue;
     }
+    out.push_back(run_fix(*r.spline, req, options));
+  }
   return out;
 }
 
-nlohmann::ordered_json certified_fix_json(const CertifiedFix& f) {
+double largest_relative_move(const CertifiedFix& f) {
+  double worst = 0;
+  for (const PointMove& m : f.moves) worst = std::max(worst, m.distance);
+  return f.size > 0 ? worst / f.size : 0.0;
+}
+
+nlohmann::ordered_json certified_fix_json(const CertifiedFix& f, const std::vector<std::string>* names) {
   nlohmann::ordered_json moves = nlohmann::ordered_json::array();
   for (const PointMove& m : f.moves)
     moves.push_back({{"point", m.point},
+                     {"name", point_name(m.point, names)},
                      {"from", {m.from.x, m.from.y}},
                      {"to", {m.to.x, m.to.y}},
+                     {"displacement", {m.to.x - m.from.x, m.to.y - m.from.y}},
                      {"distance", m.distance},
                      {"relative", f.size > 0 ? m.distance / f.size : 0.0}});
   nlohmann::ordered_json j = {{"check", f.check}, {"found", f.found}, {"moves", moves}};
-  if (!f.found) j["reason"] = f.reason;
+  j["max_relative"] = largest_relative_move(f);
+  j["seconds"] = f.seconds;
+  j["failing_segments"] = f.failing_segments;
+  if (f.found) {
+    nlohmann::ordered_json c = {{"cmrwi", to_string(f.certificate.cmrwi)}, {"cmr", to_string(f.certificate.cmr)}};
+    if (f.certificate.split) c["split"] = to_string(*f.certificate.split);
+    j["certificate"] = c;
+  } else {
+    j["reason"] = f.reason;
+  }
   return j;
 }
 
-std::string certified_fix_html(const CertifiedFix& f) {
-  std::string out = "<p class=\"cfix\">Smallest certified fix (" + html_escape(f.check) + "): ";
-  if (!f.found) return out + html_escape(f.reason) + ".</p>";
+namespace {
+
+/// Signed curvature samples of one spline, per segment (NaN near a pole).
+std::vector<std::vector<double>> kappa_samples(const BSpline& s, int per_segment) {
+  std::vector<std::vector<double>> out;
+  for (const Segment& seg : s.segments()) {
+    std::vector<double> k(per_segment + 1);
+    for (int i = 0; i <= per_segment; ++i) {
+      // Just inside the ends: a segment's own one-sided curvature at a joint.
+      const double u = std::clamp(static_cast<double>(i) / per_segment, 1e-9, 1 - 1e-9);
+      const double kappa = curvature_at(s, seg.a + (seg.b - seg.a) * u).kappa;
+      k[i] = std::isfinite(kappa) ? kappa : NAN;
+    }
+    out.push_back(std::move(k));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing) {
+  // About 400 samples a panel whatever the segment count: a font page stays small.
+  const int per = std::clamp(400 / std::max(1, before.segment_count()), 8, 64);
+  const auto kb = kappa_samples(before, per), ka = kappa_samples(after, per);
+  double lo = 0, hi = 0;
+  for (const auto* set : {&kb, &ka})
+    for (const auto& seg : *set)
+      for (double k : seg)
+        if (std::isfinite(k)) lo = std::min(lo, k), hi = std::max(hi, k);
+  if (!(hi > lo)) hi = lo + 1;
+  const double pad = 0.06 * (hi - lo);
+  lo -= pad, hi += pad;
+  const double W = 300, H = 150, t0 = before.domain_begin(), t1 = before.domain_end();
+  auto X = [&](int panel, double t) { return panel * (W + 10) + 5 + (W - 10) * (t - t0) / (t1 - t0); };
+  auto Y = [&](double k) { return 20 + (H - 30) * (hi - k) / (hi - lo); };
+  std::string out = draw::svg_open({{"width", fixed1(2 * W + 10)}, {"height", fixed1(H)}, {"class", "kplot"}});
+  for (int panel = 0; panel < 2; ++panel) {
+    const BSpline& s = panel == 0 ? before : after;
+    const auto& ks = panel == 0 ? kb : ka;
+    const double x0 = panel * (W + 10);
+    out += "<rect x=\"" + fixed1(x0) + "\" y=\"15\" width=\"" + fixed1(W) + "\" height=\"" + fixed1(H - 20) +
+           "\" fill=\"#fafafa\" stroke=\"#ccc\"/>";
+    if (panel == 0)
+      for (int i : failing)
+        if (i >= 0 && i < s.segment_count())
+          out += "<rect x=\"" + fixed1(X(0, s.segments()[i].a)) + "\" y=\"15\" width=\"" +
+                 fixed1(X(0, s.segments()[i].b) - X(0, s.segments()[i].a)) + "\" height=\"" + fixed1(H - 20) +
+                 "\" fill=\"#fde0e0\"/>";
+    out += "<line stroke=\"#aaa\" x1=\"" + fixed1(x0 + 5) + "\" x2=\"" + fixed1(x0 + W - 5) + "\" y1=\"" + fixed1(Y(0)) +
+           "\" y2=\"" + fixed1(Y(0)) + "\"/><path stroke=\"#bbb\" stroke-dasharray=\"3 3\" d=\"";
+    for (const Segment& seg : s.segments()) out.append("M").append(fixed1(X(panel, seg.a))).append(",15V").append(fixed1(H - 5));
+    out += "\"/><path fill=\"none\" stroke=\"" + std::string(panel == 0 ? "#c00000" : "#1a7f1a") +
+           "\" stroke-width=\"1.4\" d=\"";
+    for (std::size_t i = 0; i < ks.size(); ++i) {
+      const Segment& seg = s.segments()[i];
+      bool pen = false;
+      for (int k = 0; k <= per; ++k) {
+        if (std::isnan(ks[i][k])) {
+          pen = false;
+          continue;
+        }
+        out.append(pen ? " " : "M")
+            .append(fixed1(X(panel, seg.a + (seg.b - seg.a) * k / per)))
+            .append(",")
+            .append(fixed1(Y(ks[i][k])));
+        pen = true;
+      }
+    }
+    out += "\"/><text font-size=\"11\" x=\"" + fixed1(x0 + 5) + "\" y=\"11\">" +
+           (panel == 0 ? "κ before" : "κ after (certified)") + "</text>";
+  }
+  out += "<text font-size=\"9\" x=\"" + fixed1(2 * W - 90) + "\" y=\"11\">κ " + html_escape(num(lo)) + " … " +
+         html_escape(num(hi)) + "</text>";
+  out += draw::kSvgClose;
+  return out;
+}
+
+std::string certified_fix_html(const CertifiedFix& f, const BSpline& original, const std::vector<std::string>* names) {
+  std::string out = "<div class=\"cfix\"><p>Smallest certified fix (" + html_escape(f.check) + "): ";
+  if (!f.found) return out + html_escape(f.reason) + ".</p></div>";
   for (std::size_t i = 0; i < f.moves.size(); ++i) {
     const PointMove& m = f.moves[i];
-    out += std::string(i ? "; " : "") + "move P" + std::to_string(m.point) + " by (" + num(m.to.x - m.from.x) + ", " +
-           num(m.to.y - m.from.y) + ") to (" + num(m.to.x) + ", " + num(m.to.y) + "), " + num(m.distance) + " (" +
-           num(100 * m.distance / f.size) + "% of the curve size)";
+    out += std::string(i ? "; " : "") + "move " + html_escape(point_name(m.point, names)) + " by (" +
+           num(m.to.x - m.from.x) + ", " + num(m.to.y - m.from.y) + ") to (" + num(m.to.x) + ", " + num(m.to.y) +
+           "), " + num(m.distance) + " (" + num(100 * m.distance / f.size) + "% of the curve size)";
   }
-  return out + " ✓ certified by analyze.</p>";
+  out += " ✓ certified by analyze (" + num(f.seconds) + " s).</p>";
+  if (f.fixed) out += kappa_before_after_svg(original, *f.fixed, f.failing_segments);
+  return out + "</div>";
 }
 
 }  // namespace cmr::report

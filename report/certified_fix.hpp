@@ -1,11 +1,15 @@
 #pragma once
 /// The smallest certified fix of each failing check of a report
-/// (bezierize/fix.hpp): the requirement (cmrwi, cmr, split:S[:max|min]) and
-/// the extrema-at-nodes gate. Each is fix() with the report's depth, the
-/// spline's G1 joints kept, the end points of an open spline fixed, and a
-/// time limit; its certificate is analyze on the moved spline. The other
-/// gates (max-extrema-per-segment, g2-at-smooth-nodes, no-inflection) have
-/// no fix requirement and get none.
+/// (bezierize/fix.hpp): the requirement (cmrwi, cmr, split:S[:sharpest|
+/// flattest]) and the gates that have a fix requirement (extrema-at-nodes,
+/// each-piece). Each is fix() with the report's depth, the spline's G1
+/// joints kept, the end points of an open spline fixed, and a time limit;
+/// its certificate is analyze on the moved spline. This replaces the old
+/// tangent line search (one handle along a tangent, on a grid): the fix looks
+/// in every direction, moves several points where one cannot, and is proved.
+/// The other gates (max-extrema-per-segment, g2-at-smooth-nodes,
+/// no-inflection, extrema-at-nodes:runs) have no fix requirement: each gets
+/// an entry that says so (found = false, with the reason).
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,22 +25,42 @@ struct ReportOptions;
 
 /// One check's fix: which points move where, and the certificate.
 struct CertifiedFix {
-  std::string check;              ///< "cmr", "split:2:max", "extrema-at-nodes"
+  std::string check;              ///< "cmr", "split:2:sharpest", "extrema-at-nodes", "no-inflection"
   bool found = false;             ///< a fix the certificate holds for
   std::vector<PointMove> moves;   ///< empty when none
   double size = 0;                ///< the curve size displacements are relative to
+  double seconds = 0;             ///< time of the search
   std::string reason;             ///< why none (one line)
+  std::vector<int> failing_segments;  ///< of the input, for this check
+  std::optional<BSpline> fixed;   ///< the moved spline (found)
+  SplineAnalysis certificate;     ///< analyze(*fixed) (found)
 };
 
 /// Time limit of each fix in a report (seconds).
 inline constexpr double kReportFixSeconds = 2;
 
-/// The fixes of a failing spline's requirement and extrema-at-nodes gate.
+/// The fixes of a failing spline: one per failing check (the requirement,
+/// then each failing gate in order).
 std::vector<CertifiedFix> certified_fixes(const SplineReport& report, const ReportOptions& options);
 
-/// {"check", "found", "moves": [{"point", "from", "to", "distance", "relative"}], "reason"?}
-nlohmann::ordered_json certified_fix_json(const CertifiedFix& fix);
-/// One HTML paragraph: "Smallest certified fix (cmr): move P3 by (dx, dy) …".
-std::string certified_fix_html(const CertifiedFix& fix);
+/// The largest displacement over the curve size (0 without moves).
+double largest_relative_move(const CertifiedFix& fix);
+
+/// {"check", "found", "moves": [{"point", "name", "from", "to", "displacement",
+/// "distance", "relative"}], "max_relative", "seconds", "failing_segments",
+/// "certificate": {"cmrwi", "cmr", "split"?}} with "reason" when none was
+/// found. `names`: one name per distinct control point (a font's), else "P<k>".
+nlohmann::ordered_json certified_fix_json(const CertifiedFix& fix, const std::vector<std::string>* names = nullptr);
+
+/// Signed curvature against the parameter, before (the input) and after (the
+/// fixed spline), as two panels of one inline SVG on one kappa scale; the
+/// segments the check failed on are shaded in the "before" panel.
+std::string kappa_before_after_svg(const BSpline& before, const BSpline& after,
+                                   const std::vector<int>& failing_segments);
+
+/// One HTML block: "Smallest certified fix (cmr): move P3 by (dx, dy) …" and,
+/// when found, the before/after curvature plots of `original`.
+std::string certified_fix_html(const CertifiedFix& fix, const BSpline& original,
+                               const std::vector<std::string>* names = nullptr);
 
 }  // namespace cmr::report

@@ -181,13 +181,12 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
   w.kind = file_kind(path);
   ReportOptions o = options.report;
   o.threads = threads;
-  o.grid = 0;
   std::vector<ReportInput> inputs;
   try {
     switch (w.kind) {
       case FileKind::font:
         w.font = font_inputs(import::read_font(path, options.codepoints), inputs);
-        o.grid = options.fixes ? 1 : 0;  // the font's unit
+        o.certified_fixes = options.fixes;
         break;
       case FileKind::svg:
         for (const import::PathSpline& p : import::read_svg(path)) {
@@ -358,6 +357,10 @@ class Writer {
       j["source"] = w.path;
       j["glyph"] = names[i].glyph;
       j["contour"] = names[i].contour;
+      if (names[i].points && j.contains("certified_fixes")) {  // the font's point names
+        j["certified_fixes"] = Json::array();
+        for (const CertifiedFix& f : r.certified_fixes) j["certified_fixes"].push_back(certified_fix_json(f, names[i].points));
+      }
       if (r.error.empty()) {
         Json fj = Json::array();
         for (const Finding& f : item_findings[i])

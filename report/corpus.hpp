@@ -86,8 +86,8 @@ struct BatchOptions {
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json
   bool pretty = false;                  ///< indent report.json
-  /// Search re-verified handle moves for the failing glyphs of fonts (with
-  /// report.regions: the font's unit grid); off: thumbnails without moves.
+  /// Search the certified fixes of the failing contours of fonts (with
+  /// report.regions, report/certified_fix.hpp); off: thumbnails without fixes.
   bool fixes = true;
 };
 
@@ -119,7 +119,7 @@ BatchProgress terminal_progress(std::ostream& err);
 void clear_progress(std::ostream& err);
 
 /// The findings of a baseline (report.json of an earlier run): key ->
-/// count. InputError when it cannot be read or is not a cmr-report/1 with
+/// count. InputError when it cannot be read or is not a cmr-report/2 with
 /// findings.
 std::vector<std::string> read_baseline(const std::filesystem::path& path);
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bezierize/extract.hpp"
 #include "spline/curvature.hpp"
 #include "draw/svg_text.hpp"
 #include "io/output.hpp"
@@ -47,13 +48,48 @@ std::string code_label(std::uint32_t c) {
 /// frame: outlines from the segments' own Bezier points (exact for degrees 2
 /// and 3), the curvature comb (teeth along the normal, kappa scaled so that
 /// the longest tooth is kCombLength of the em), gate violations in red and
-/// suggested moves in blue.
+/// the moves of the certified fix (first_fix) in blue.
 struct GlyphPicture {
   std::string body;
   double x0 = 0, y0 = 0, x1 = 1, y1 = 1;  // bounding box in font units
 };
 
 constexpr double kCombLength = 0.12;
+
+/// The certified fix a contour's outline shows: the first one found (the
+/// requirement's, else the first failing gate's), or none.
+const CertifiedFix* first_fix(const SplineReport& r) {
+  for (const CertifiedFix& f : r.certified_fixes)
+    if (f.found && f.fixed) return &f;
+  return nullptr;
+}
+
+std::string xy0(Vec2 p) { return fmt(p.x, 0) + "," + fmt(-p.y, 0); }
+
+/// A closed outline as an SVG path: Q / C from each segment's Bezier points
+/// (exact for degrees 2 and 3), a polyline otherwise.
+std::string outline_d(const BSpline& s) {
+  std::string d;
+  for (const Segment& seg : s.segments()) {
+    const std::vector<Vec2> B = bezier_segment(s, seg).points;
+    if (d.empty()) d = "M" + xy0(B.front());
+    if (B.size() == 3) d += " Q" + xy0(B[1]) + " " + xy0(B[2]);
+    else if (B.size() == 4) d += " C" + xy0(B[1]) + " " + xy0(B[2]) + " " + xy0(B[3]);
+    else
+      for (int k = 1; k <= 8; ++k) d += " L" + xy0(evaluate(s, seg.a + (seg.b - seg.a) * k / 8));
+  }
+  return d + "Z";
+}
+
+/// The moves of a fix as arrows: a line from the old to the new position and
+/// a dot on the new one.
+std::string move_marks(const CertifiedFix& f, int units_per_em) {
+  std::string out;
+  for (const PointMove& m : f.moves)
+    out += "<path class=\"f\" d=\"M" + xy0(m.from) + "L" + xy0(m.to) + "\"/><circle class=\"fp\" cx=\"" +
+           fmt(m.to.x) + "\" cy=\"" + fmt(-m.to.y) + "\" r=\"" + fmt(0.012 * units_per_em) + "\"/>";
+  return out;
+}
 constexpr int kCombSamples = 8;  // teeth per segment: a Latin font's page stays under 2 MB
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
@@ -101,13 +137,34 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
       for (const GateViolation& v : gr.violations)
         marks += "<circle class=\"v\" cx=\"" + fmt(evaluate(s, v.t).x) + "\" cy=\"" + fmt(-evaluate(s, v.t).y) +
                  "\" r=\"" + fmt(0.02 * units_per_em) + "\"/>";
-    for (const TangentFix& f : r->tangent_fixes)
-      marks += "<path class=\"f\" d=\"M" + xy(f.from) + "L" + xy(f.to) + "\"/>";
+    if (const CertifiedFix* f = first_fix(*r)) marks += move_marks(*f, units_per_em);
   }
   const double pad = 0.05 * units_per_em;
   g.x0 -= pad, g.y0 -= pad, g.x1 += pad, g.y1 += pad;
   g.body = "<g>" + outline + "</g>" + comb + marks;
   return g;
+}
+
+/// The fixed glyph beside the original, in the same frame: every contour's
+/// original outline dashed, the fixed ones (first_fix) in green over it,
+/// and each move as an arrow. Empty when no contour has a fix.
+std::string fixed_glyph_svg(const std::vector<const SplineReport*>& contours, const GlyphPicture& frame, int height,
+                            int units_per_em) {
+  std::string original, fixed, marks;
+  for (const SplineReport* r : contours) {
+    const CertifiedFix* f = first_fix(*r);
+    original += outline_d(*r->spline);
+    fixed += outline_d(f ? *f->fixed : *r->spline);
+    if (f) marks += move_marks(*f, units_per_em);
+  }
+  if (marks.empty()) return {};
+  const double w = frame.x1 - frame.x0, h = frame.y1 - frame.y0;
+  return draw::svg_open({{"height", std::to_string(height)},
+                         {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
+                         {"viewBox", fmt(frame.x0, 0) + " " + fmt(-frame.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)},
+                         {"class", "fixed"}}) +
+         "<path class=\"o\" d=\"" + original + "\"/><path class=\"x\" d=\"" + fixed + "\"/>" + marks +
+         std::string(draw::kSvgClose);
 }
 
 /// The picture drawn once (`<g id>` inside the glyph's large view) and the
@@ -139,7 +196,10 @@ constexpr const char* kStyle =
     "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
     "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
     "svg .v{fill:none;stroke:#d00000;stroke-width:2;vector-effect:non-scaling-stroke}"
-    "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}svg .fp{fill:#0070f0}"
+    "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
+    "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
+    ".pics figure{margin:0}.pics figcaption{font-size:12px;color:#555}"
     "section{margin-top:1.5em;border-top:1px solid #ccc}.ch{font-size:1.4em}";
 
 // Sorting (click a header: text or the cell's data-v number) and filtering
@@ -196,8 +256,9 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
            " outlines; " + std::to_string(font.glyphs.size()) + " glyphs (" + std::to_string(contour_count) + " contours): <b>" + std::to_string(pass) +
            " pass</b>, <b>" + std::to_string(fail) + " fail</b>. Gates: " +
            html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
-           ". Fixes move one handle along a tangent, snapped to the unit grid, and are re-verified there: the "
-           "violation is gone, no other appeared in its place, no smooth node became a corner.";
+           ". Fixes are the smallest certified fix of each failing check (cmr fix: the fewest points moved the "
+           "least, smooth nodes kept smooth, the fixed contour re-judged by the exact engine); each failing "
+           "glyph shows its fixed outline (green) over the original (dashed).";
     if (!font.missing.empty()) out += " " + std::to_string(font.missing.size()) + " characters are not in the font.";
     out += "</p>";
     const std::string table_id = fi == 0 ? "glyphs" : "glyphs" + std::to_string(fi);
@@ -224,11 +285,15 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
         out += "<td>" + svg(gp, 96, anchor + "-pic", true) + "</td>";
         picture = svg(gp, 320, anchor + "-pic", false);
+        const std::string fixed = fixed_glyph_svg(contours, gp, 320, font.units_per_em);
+        if (!fixed.empty())
+          picture = "<div class=\"pics\"><figure>" + picture + "<figcaption>original</figcaption></figure><figure>" +
+                    fixed + "<figcaption>fixed (green) over the original (dashed)</figcaption></figure></div>";
       } else if (options.regions) {
         out += "<td></td>";
       }
       std::size_t fixes = 0;
-      for (const SplineReport* r : contours) fixes += r->tangent_fixes.size();
+      for (const SplineReport* r : contours) fixes += first_fix(*r) ? 1 : 0;
       for (std::size_t k = 0; k < options.gates.size(); ++k) {
         std::size_t n = 0;
         for (const SplineReport* r : contours) n += r->gates[k].violations.size();
@@ -257,16 +322,26 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
             details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
                        html_escape(where(v, g.joint_names[c])) + "</li>";
         details += "</ul>";
-        if (!r.tangent_fixes.empty()) {
-          details += "<table><tr><th>move</th><th>from</th><th>to</th><th>along the line to</th><th>re-verified</th></tr>";
-          for (const TangentFix& f : r.tangent_fixes)
-            details += "<tr><td>" + html_escape(g.point_names[c][f.point]) + "</td><td>" + fmt(f.from.x, 0) + ", " +
-                       fmt(f.from.y, 0) + "</td><td>" + fmt(f.to.x, 0) + ", " + fmt(f.to.y, 0) + "</td><td>" +
-                       html_escape(g.point_names[c][f.neighbour]) + "</td><td>" +
-                       (f.verified ? "yes" : "no") + "</td></tr>";
-          details += "</table>";
-        } else if (!r.pass && options.grid > 0) {
-          details += "<p>No single handle move along a tangent (up to 64 units) removes a violation.</p>";
+        for (const CertifiedFix& f : r.certified_fixes) {
+          details += "<p>Smallest certified fix (" + html_escape(f.check) + "): ";
+          if (!f.found) {
+            details += html_escape(f.reason) + ".</p>";
+            continue;
+          }
+          details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
+                     ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
+                     fmt(f.seconds, 2) + " s; certified by analyze.</p><table><tr><th>move</th><th>from</th><th>to</th>"
+                     "<th>by</th><th>distance</th></tr>";
+          for (const PointMove& m : f.moves) {
+            std::string name = "P";
+            if (m.point < static_cast<int>(g.point_names[c].size())) name = g.point_names[c][m.point];
+            else name.append(std::to_string(m.point));
+            details += "<tr><td>" + html_escape(name) +
+                       "</td><td>" + fmt(m.from.x) + ", " + fmt(m.from.y) + "</td><td>" + fmt(m.to.x) + ", " +
+                       fmt(m.to.y) + "</td><td>" + fmt(m.to.x - m.from.x) + ", " + fmt(m.to.y - m.from.y) + "</td><td>" +
+                       fmt(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)</td></tr>";
+          }
+          details += "</table>" + kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments);
         }
       }
       details += "</section>";

@@ -4,8 +4,10 @@
 /// designer works from: an overview table with one row per glyph (thumbnail
 /// with curvature comb, pass/fail per gate, sortable by any column and
 /// filterable by name and status), then per glyph and contour the gate
-/// violations located by node names and the suggested handle moves
-/// (report/gates.hpp: along the tangent, on the font's unit grid, re-verified).
+/// violations located by node names and the smallest certified fix of each
+/// failing check (report/certified_fix.hpp): the points to move by name,
+/// their displacement, the curvature before and after, and the fixed outline
+/// beside the original.
 #include <cstdint>
 #include <string>
 #include <vector>

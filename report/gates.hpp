@@ -42,15 +42,8 @@
 ///    piece's interior wiggles are extrema-at-nodes' and
 ///    max-extrema-per-segment's to judge). report/runs.cpp.
 ///
-/// Suggested fixes (suggest_tangent_fixes, report/batch.hpp): for a violation inside a
-/// segment, one handle (a control point that is not a node) of that segment
-/// moved along the line to one of its neighbours (for a handle next to a
-/// node that line is the node's tangent, so a smooth node stays smooth; for
-/// TrueType's implied nodes it is the implied node's tangent), in steps of
-/// the grid, the moved point snapped to the grid, and the spline re-reported:
-/// a fix is kept only when, on the snapped spline, that gate has no violation
-/// in that segment any more, the spline has fewer violations in all, and no
-/// smooth joint became a corner.
+/// Fixes: the smallest certified fix of each failing gate that has a fix
+/// requirement (extrema-at-nodes, each-piece), report/certified_fix.hpp.
 #include <optional>
 #include <string>
 #include <vector>
@@ -108,15 +101,5 @@ std::vector<GateViolation> unimodal_run_violations(const SplineReport& report);
 
 /// Every gate on one report (its extrema, inflections and joints).
 std::vector<GateResult> check_gates(const SplineReport& report, const std::vector<Gate>& gates);
-
-/// A handle move that removes a violation (see the header comment).
-struct TangentFix {
-  int point = 0;      ///< control point index (among the distinct ones)
-  Vec2 from{0.0}, to{0.0};  ///< to is on the grid
-  int neighbour = 0;  ///< the point whose line the move follows
-  bool verified = false;  ///< re-reported after snapping: the violation is gone, fewer in all, no new corner
-};
-
-/// The fixes themselves: suggest_tangent_fixes in report/batch.hpp.
 
 }  // namespace cmr::report

@@ -699,11 +699,6 @@ Json spline_json(const SplineReport& r, int index) {
       gates.push_back({{"gate", to_string(g.gate)}, {"pass", g.pass()}, {"violations", where}});
     }
     j["gates"] = gates;
-    Json tf = Json::array();
-    for (const TangentFix& f : r.tangent_fixes)
-      tf.push_back({{"point", f.point}, {"from", {f.from.x, f.from.y}}, {"to", {f.to.x, f.to.y}},
-                    {"along", f.neighbour}, {"verified", f.verified}});
-    j["tangent_fixes"] = tf;
   }
   return j;
 }
@@ -1123,7 +1118,7 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   joints_html(out, r);
   events_html(out, r);
   if (r.fixes) fixes_html(out, *r.fixes, options);
-  for (const CertifiedFix& f : r.certified_fixes) out += certified_fix_html(f);
+  for (const CertifiedFix& f : r.certified_fixes) out += certified_fix_html(f, *r.spline);
   out += "</section>";
 }
 

@@ -28,7 +28,10 @@
 namespace cmr::report {
 
 /// The version of report_json's document (docs/report-schema.md).
-inline constexpr const char* kSchema = "cmr-report/1";
+inline constexpr const char* kSchema = "cmr-report/2";
+/// The earlier version a baseline may still be (its findings are the same):
+/// cmr-report/2 removed `tangent_fixes` (issue 22: certified fixes instead).
+inline constexpr const char* kSchemaPrevious = "cmr-report/1";
 
 /// exit_code's values; the cmr command exits with them.
 inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
@@ -77,7 +80,7 @@ struct ReportOptions {
   /// reported as ignored (their roots and the curve's events are still listed).
   std::optional<SegmentRange> segments;
   std::vector<Gate> gates;             ///< type-design gates (report/gates.hpp); a spline must pass all
-  double grid = 0;                     ///< > 0 (with regions): suggest tangent fixes for failing gates on this grid
+  bool certified_fixes = true;         ///< with regions: the smallest certified fix of each failing check (report/certified_fix.hpp)
   /// A segment whose certified curvature varies by at most this, relative to
   /// its largest |kappa|, is read as an arc of constant curvature by the
   /// extremum gates (SpanReport::near_constant); 0: only exact constants.
@@ -166,7 +169,6 @@ struct SplineReport {
   bool pass = false;        ///< it satisfies check_of(options) (unless only gates are asked for) and every gate
   bool requirement_pass = false;     ///< it satisfies check_of(options)
   std::vector<GateResult> gates;     ///< one per ReportOptions::gates
-  std::vector<TangentFix> tangent_fixes;  ///< for failing gates, with ReportOptions::grid
   std::vector<SpanReport> spans;    ///< one per segment
   std::vector<JointReport> joints;  ///< one per joint (segment i-1 | i); a closed spline's seam last (index N)
   std::vector<CurveEvent> extrema;      ///< in parameter order
@@ -175,7 +177,7 @@ struct SplineReport {
   double kappa_min = 0, t_min = 0, kappa_max = 0, t_max = 0;  ///< curvature range and where it is reached
   bool cusp = false;  ///< some segment has a zero tangent: the range is unbounded (kappa_min/max are NaN)
   std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
-  /// The smallest certified fix of each failing check (report/certified_fix.hpp); with regions on.
+  /// The smallest certified fix of each failing check (report/certified_fix.hpp); with regions and certified_fixes on.
   std::vector<CertifiedFix> certified_fixes;
 };
 
@@ -201,7 +203,7 @@ void find_fixes(SplineReport& report, const ReportOptions& options);
 /// 2 when an input is invalid (kExitPass, kExitFail, kExitInvalid).
 int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options);
 
-/// The report as a cmr-report/1 document (docs/report-schema.md).
+/// The report as a cmr-report/2 document (docs/report-schema.md).
 nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
 /// One self-contained page: no network, pictures inline (SVG, data: URIs).
 std::string report_html(const std::vector<SplineReport>& reports, const ReportOptions& options);

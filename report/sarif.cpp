@@ -22,8 +22,9 @@ RuleText rule_text(const std::string& id) {
     return {"ExtremaAtNodes", "A curvature extremum lies between nodes.",
             "Every curvature extremum (a certified root of lambda, or a jump of curvature at a joint) must lie on a "
             "node (an on-curve point); one inside a segment is a violation.",
-            "Move the segment's handles along their tangents until the curvature along the segment is monotone, or "
-            "add a node at the extremum. The page lists handle moves on the font's grid that were re-verified."};
+            "Move the segment's points until the curvature along the segment is monotone, or add a node at the "
+            "extremum. The page shows the smallest certified fix (cmr fix): the points to move, by how much, and the "
+            "fixed outline."};
   if (id == "extrema-at-nodes:runs")
     return {"UnimodalRuns", "The curvature of a run between on-curve points is not unimodal.",
             "TrueType reading of extrema-at-nodes: each quadratic piece peaks once by construction, so the gate judges "

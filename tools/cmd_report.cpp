@@ -66,7 +66,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--sarif", args->sarif, "also write a SARIF 2.1.0 file (one result per violation)");
   cmd->add_option("--baseline", args->baseline,
                   "an earlier report.json: fail only on findings that are new since it (new, fixed, unchanged counted)");
-  cmd->add_flag("--no-fixes", args->no_fixes, "fonts: draw the thumbnails but do not search handle moves");
+  cmd->add_flag("--no-fixes", args->no_fixes, "fonts: draw the thumbnails but do not search certified fixes");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is drawn only on a terminal, and never with CI set)");
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
     const cmr::SplineAnalysis analysis = cmr::analyze(spline);
     std::cout << "CMRWI " << cmr::to_string(analysis.cmrwi) << ", CMR " << cmr::to_string(analysis.cmr) << '\n';
 
-    // Report: extrema, inflections, joints; JSON (cmr-report/1) and HTML as strings.
+    // Report: extrema, inflections, joints; JSON (cmr-report/2) and HTML as strings.
     cmr::report::ReportOptions options;  // judged by CMR, depth kDefaultDepth
     const std::vector<cmr::report::SplineReport> reports = {cmr::report::report_spline(spline, options)};
     const std::string json = cmr::report::report_json(reports, options).dump(2);

@@ -306,7 +306,7 @@ TEST(BatchCommand, AFolderRunWritesJunitAndSarifWithTheStructureTheSpecification
   // The SVG file's name is percent-encoded in its URI.
   EXPECT_NE(test::slurp(out.string() + ".sarif").find("drawing%20%26%20co.svg"), std::string::npos);
   // report.json: every spline and contour, numbered across files; the summary page links the font page.
-  EXPECT_EQ(doc["schema"], "cmr-report/1");
+  EXPECT_EQ(doc["schema"], "cmr-report/2");
   EXPECT_EQ(doc["summary"]["files"], 4);
   for (std::size_t i = 0; i < doc["splines"].size(); ++i) EXPECT_EQ(doc["splines"][i]["id"], "s" + std::to_string(i));
   const std::string index = test::slurp(out / "index.html");
@@ -362,7 +362,7 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
   write_spline_file(good, monotone());
   r = test::run("report " + good + " --out " + out.string() + " --baseline " + junk);
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err, "cmr: --baseline " + junk + ": not a cmr-report/1 report\n");
+  EXPECT_EQ(r.err, "cmr: --baseline " + junk + ": not a cmr-report/2 report\n");
   r = test::run("report " + good + " --out " + out.string() + " --baseline /nonexistent/report.json");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "cmr: --baseline /nonexistent/report.json: not a file\n");
@@ -385,14 +385,14 @@ TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
   EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
   const std::string font = test::slurp(out / "font.html");
   EXPECT_NE(font.find("<use href=\"#g0-O-pic\"/>"), std::string::npos);
-  // --no-fixes: the same thumbnails, no handle moves searched.
+  // --no-fixes: the same thumbnails, no certified fixes searched.
   const fs::path bare = test::scratch() / "latin_bare";
   fs::remove_all(bare);
   const test::Outcome nf = test::run(std::string("report ") + kNotoSans + " --glyphs k --require extrema-at-nodes:runs --no-fixes --backend cpu --out " + bare.string());
   if (fs::exists(kNotoSans)) {
     EXPECT_EQ(nf.code, 1) << nf.err;  // k's valley at p6
     const Json k = read_json(bare / "report.json");
-    EXPECT_TRUE(k["splines"][0]["tangent_fixes"].empty()) << k["splines"][0]["tangent_fixes"].dump();
+    EXPECT_FALSE(k["splines"][0].contains("certified_fixes")) << k["splines"][0]["certified_fixes"].dump();
     EXPECT_NE(test::slurp(bare / "font.html").find("<use href="), std::string::npos);
   }
   EXPECT_NE(font.find("<g id=\"g0-O-pic\">"), std::string::npos);

@@ -23,27 +23,91 @@ BSpline moved(const BSpline& s, const CertifiedFix& f) {
 
 TEST(CertifiedFix, OnePerFailingCheckAndEachHolds) {
   ReportOptions o;
-  parse_require_list("cmrwi,extrema-at-nodes,no-inflection", o);
+  parse_require_list("cmrwi,extrema-at-nodes,no-inflection,max-extrema-per-segment:0", o);
   o.regions = false;
   const SplineReport r = judged_report(fig8(), o);
   ASSERT_FALSE(r.pass);
+  ASSERT_TRUE(r.gates[1].pass());   // fig8 has no inflection: no entry
+  ASSERT_FALSE(r.gates[2].pass());  // an extremum inside a segment
   const std::vector<CertifiedFix> fixes = certified_fixes(r, o);
-  ASSERT_EQ(fixes.size(), 2u);  // the requirement and extrema-at-nodes; no-inflection has no fix requirement
+  ASSERT_EQ(fixes.size(), 3u);  // the requirement, extrema-at-nodes, max-extrema-per-segment (no fix requirement)
   EXPECT_EQ(fixes[0].check, "cmrwi");
   EXPECT_EQ(fixes[1].check, "extrema-at-nodes");
-  for (const CertifiedFix& f : fixes) {
+  EXPECT_EQ(fixes[2].check, "max-extrema-per-segment:0");
+  EXPECT_FALSE(fixes[2].found);
+  EXPECT_NE(fixes[2].reason.find("no fix requirement"), std::string::npos) << fixes[2].reason;
+  EXPECT_EQ(certified_fix_json(fixes[2])["reason"], fixes[2].reason);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const CertifiedFix& f = fixes[i];
     ASSERT_TRUE(f.found) << f.check << ": " << f.reason;
     EXPECT_EQ(f.moves.size(), 1u) << f.check;
+    ASSERT_TRUE(f.fixed.has_value()) << f.check;
     EXPECT_TRUE(requirement_holds(moved(fig8(), f), parse_fix_requirement(f.check))) << f.check;
+    EXPECT_TRUE(requirement_holds(*f.fixed, parse_fix_requirement(f.check))) << f.check;
+    EXPECT_FALSE(f.failing_segments.empty()) << f.check;
     // The report of the moved spline passes that check.
     const SplineReport after = judged_report(moved(fig8(), f), o);
     if (f.check == "cmrwi") EXPECT_TRUE(after.requirement_pass);
     else EXPECT_TRUE(after.gates[0].pass()) << after.gates[0].violations.size();
+    // JSON: point name, displacement, relative distance, certificate.
     const auto j = certified_fix_json(f);
     EXPECT_EQ(j["check"], f.check);
-    EXPECT_EQ(j["moves"].size(), 1u);
-    EXPECT_NE(certified_fix_html(f).find("move P"), std::string::npos);
+    ASSERT_EQ(j["moves"].size(), 1u);
+    const PointMove& m = f.moves[0];
+    const std::string pk = std::string("P").append(std::to_string(m.point));
+    EXPECT_EQ(j["moves"][0]["name"], pk);
+    EXPECT_DOUBLE_EQ(j["moves"][0]["displacement"][0].get<double>(), m.to.x - m.from.x);
+    EXPECT_DOUBLE_EQ(j["moves"][0]["displacement"][1].get<double>(), m.to.y - m.from.y);
+    EXPECT_DOUBLE_EQ(j["moves"][0]["relative"].get<double>(), m.distance / f.size);
+    EXPECT_DOUBLE_EQ(j["max_relative"].get<double>(), largest_relative_move(f));
+    EXPECT_TRUE(j.contains("certificate")) << j.dump();
+    EXPECT_FALSE(j.contains("reason")) << j.dump();
+    // Names given (a font's): they replace P<k>.
+    std::vector<std::string> names(fig8().unique_point_count());
+    for (std::size_t k = 0; k < names.size(); ++k) names[k] = "c0/p" + std::to_string(k);
+    EXPECT_EQ(certified_fix_json(f, &names)["moves"][0]["name"], names[m.point]);
+    // HTML: the move by name, and the before/after curvature plots.
+    const std::string html = certified_fix_html(f, fig8());
+    EXPECT_NE(html.find("move " + pk), std::string::npos) << html;
+    EXPECT_NE(html.find("κ before"), std::string::npos) << f.check;
+    EXPECT_NE(html.find("κ after"), std::string::npos) << f.check;
+    EXPECT_NE(certified_fix_html(f, fig8(), &names).find("move " + names[m.point]), std::string::npos);
   }
+}
+
+// The curvature plot: two panels on one scale, the failing segments shaded in
+// "before", one sample path per panel that follows kappa(t).
+TEST(CertifiedFix, KappaPlotShadesTheFailingSegmentsAndDrawsBothCurves) {
+  const BSpline before = fig8();
+  const BSpline after = before.with_point(2, before.points()[2] + Vec2(0.05, 0.05));
+  const std::string svg = kappa_before_after_svg(before, after, {1, 2});
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 40);
+  std::size_t shaded = 0;
+  for (std::size_t at = svg.find("#fde0e0"); at != std::string::npos; at = svg.find("#fde0e0", at + 1)) ++shaded;
+  EXPECT_EQ(shaded, 2u);
+  EXPECT_NE(svg.find("#c00000"), std::string::npos);  // before
+  EXPECT_NE(svg.find("#1a7f1a"), std::string::npos);  // after
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+}
+
+// The tangent line search is gone from the report: no "tangent_fixes" in the
+// JSON, the fixes are the certified ones.
+TEST(CertifiedFix, ReportJsonCarriesCertifiedFixesAndNoTangentFixes) {
+  ReportOptions o;
+  parse_require_list("cmrwi,extrema-at-nodes", o);
+  o.regions = true;
+  o.region_size = 16;
+  o.backend = std::make_shared<CpuRegionBackend>(1);
+  const std::vector<SplineReport> rs = report_batch({ReportInput{"fig8.json", fig8(), {}}}, o);
+  const auto j = report_json(rs, o);
+  const auto& s = j["splines"][0];
+  EXPECT_FALSE(s.contains("tangent_fixes")) << s.dump();
+  ASSERT_TRUE(s.contains("certified_fixes"));
+  ASSERT_EQ(s["certified_fixes"].size(), 2u);
+  for (const auto& f : s["certified_fixes"]) EXPECT_TRUE(f["found"].get<bool>()) << f.dump();
+  o.certified_fixes = false;  // off: none searched
+  const std::vector<SplineReport> off = report_batch({ReportInput{"fig8.json", fig8(), {}}}, o);
+  EXPECT_TRUE(off[0].certified_fixes.empty());
 }
 
 TEST(CertifiedFix, APassingSplineGetsNone) {

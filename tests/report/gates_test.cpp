@@ -1,6 +1,6 @@
 // Type-design gates: exact cases from symmetry, the seam judged like every
 // other joint (rotating a closed contour's start changes nothing), extrema
-// against dense sampling on real glyphs, suggested fixes re-checked here,
+// against dense sampling on real glyphs,
 // --require parsing, and the commands on imported files and fonts.
 #include <sys/stat.h>
 #include <gtest/gtest.h>
@@ -213,36 +213,6 @@ TEST(Gates, ExtremaInsideSegmentsMatchDenseSampling) {
         }
       }
   }
-}
-
-// Suggested fixes, checked here: the new point is on the grid, close to the
-// line through the handle and its neighbour, and the moved spline no longer
-// has the violation in that segment.
-TEST(Gates, TangentFixesAreOnTheGridAlongTheTangentAndVerified) {
-  ReportOptions o = gates("extrema-at-nodes");
-  o.regions = true;
-  o.grid = 1;
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("S,a,e"));
-  int checked = 0;
-  for (const import::Glyph& g : font.glyphs)
-    for (const import::Contour& c : g.contours) {
-      const SplineReport r = judged_report(c.spline, o);
-      if (r.pass) continue;
-      const auto fixes = suggest_tangent_fixes(r, o, 1.0);
-      for (const TangentFix& f : fixes) {
-        EXPECT_EQ(f.to.x, std::round(f.to.x));
-        EXPECT_EQ(f.to.y, std::round(f.to.y));
-        const Vec2 n = c.spline.points()[f.neighbour], a = f.from - n, b = f.to - n;
-        EXPECT_LE(std::abs(a.x * b.y - a.y * b.x) / std::sqrt(dot(a, a)), std::sqrt(0.5) + 1e-9) << c.spline.name();
-        const SplineReport moved = judged_report(c.spline.with_point(f.point, f.to), o);
-        std::size_t before = 0, after = 0;
-        for (const GateResult& x : r.gates) before += x.violations.size();
-        for (const GateResult& x : moved.gates) after += x.violations.size();
-        EXPECT_LT(after, before) << c.spline.name() << " point " << f.point;
-        ++checked;
-      }
-    }
-  EXPECT_GT(checked, 0);
 }
 
 // A region for a point of a closed spline that the unrolled form repeats

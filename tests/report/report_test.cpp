@@ -521,7 +521,7 @@ TEST(ReportCommand, BadFilesAreReportedAndTheRestGoOn) {
                                     out.string() + " --no-thumbnails --require cmr");
   EXPECT_EQ(r.code, 2) << r.err;
   const Json doc = read_json(out / "report.json");
-  EXPECT_EQ(doc["schema"], "cmr-report/1");
+  EXPECT_EQ(doc["schema"], "cmr-report/2");
   ASSERT_EQ(doc["splines"].size(), 4u);
   EXPECT_EQ(doc["splines"][0]["status"], "pass");
   EXPECT_EQ(doc["splines"][1]["status"], "invalid");

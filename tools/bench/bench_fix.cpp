@@ -3,20 +3,26 @@
 //   cubic   random cubic Beziers with monotone curvature, one inner point
 //           nudged (at most 3% of the size) until it is not (seeded);
 //   fig8    the Fig. 8 B-spline with its points jittered (seeded);
-//   glyphs  DejaVu Sans A-Z a-z 0-9 contours that fail extrema-at-nodes.
+//   glyphs  DejaVu Sans A-Z a-z 0-9 contours that fail extrema-at-nodes
+//           (TrueType: quadratic B-spline contours);
+//   nimbus  the same for Nimbus Sans (CFF: cubic Bezier contours).
 // Each case is judged by the requirement extrema-at-nodes (every segment's
 // curvature monotone: a curvature extremum only at a node); three methods:
 //   certified  fix(): the best single unit (keep g1), several when needed;
-//   tangent    report's suggest_tangent_fixes (one handle along a tangent in
-//              steps of 1..64 grid units; grid = 1 font unit, or size/256);
-//              the smallest suggestion that makes the gate pass;
+//   tangent    the tangent line search `cmr report` offered before the
+//              certified fix (bench_fix_tangent.hpp: one handle along a
+//              tangent in steps of 1..64 grid units; grid = 1 font unit, or
+//              size/256); the smallest suggestion that makes the gate pass;
 //   fairing    minimise a discretised integral of (dkappa/ds)^2 by moving the
 //              points the certified fix moved (a compass search, no
 //              certification), then judged by analyze.
 // Per set and method: share fixed, share of single-violation cases fixed by
-// one point, median and worst displacement relative to the curve size, median
-// and worst time per case.
-//   build/tools/bench/bench_fix [FONT] [CASES] [SET]
+// one point, median and worst displacement relative to the curve size, median,
+// 90th percentile and worst time per case, and how many cases took over 1 s.
+//   build/tools/bench/bench_fix [FONT] [CASES] [SET] [CFF_FONT] [METHODS]
+// SET: cubic, fig8, glyphs or nimbus (default, or "all": all four);
+// METHODS: comma-separated certified, tangent, fairing (default: all three;
+// fairing moves the points the certified fix moved, so it needs certified).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +39,7 @@
 #include "report/batch.hpp"
 #include "report/report.hpp"
 #include "spline/curvature.hpp"
+#include "tools/bench/bench_fix_tangent.hpp"
 
 namespace {
 
@@ -100,9 +107,10 @@ Outcome tangent(const BSpline& s, double grid) {
   report::ReportOptions opt;
   report::parse_require_list("extrema-at-nodes", opt);
   opt.regions = false;
+  opt.certified_fixes = false;
   opt.threads = 1;
-  const report::SplineReport rep = report::report_spline(s, opt);
-  for (const report::TangentFix& f : report::suggest_tangent_fixes(rep, opt, grid)) {
+  const report::SplineReport rep = report::judged_report(s, opt);
+  for (const bench::TangentMove& f : bench::tangent_line_search(rep, opt, grid)) {
     const BSpline m = s.with_point(f.point, f.to);
     if (passes(m)) {
       o.fixed = true;
@@ -188,29 +196,36 @@ void print(const char* set, const char* method, const Row& r) {
     rel.push_back(o.relative);
   }
   const double worst_rel = rel.empty() ? NAN : *std::max_element(rel.begin(), rel.end());
+  std::vector<double> sorted = secs;
+  std::sort(sorted.begin(), sorted.end());
+  const double p90 = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(std::ceil(0.9 * sorted.size())) - 1)];
+  const long over = std::count_if(secs.begin(), secs.end(), [](double t) { return t > 1.0; });
   std::fflush(stdout);
-  std::printf("| %s | %s | %zu | %.1f%% | %d/%d | %.4f | %.4f | %.1f | %.1f |\n", set, method, r.all.size(),
+  std::printf("| %s | %s | %zu | %.1f%% | %d/%d | %.4f | %.4f | %.1f | %.1f | %.1f | %ld |\n", set, method, r.all.size(),
               100.0 * fixed / std::max<std::size_t>(1, r.all.size()), single_one, singles, median(rel), worst_rel,
-              1e3 * median(secs), 1e3 * *std::max_element(secs.begin(), secs.end()));
+              1e3 * median(secs), 1e3 * p90, 1e3 * sorted.back(), over);
   std::fflush(stdout);
 }
 
-void bench(const char* set, const std::vector<BSpline>& cases, double grid_units) {
+std::string methods = "certified,tangent,fairing";
+bool method_on(const char* m) { return methods.find(m) != std::string::npos; }
+
+void run_set(const char* set, const std::vector<BSpline>& cases, double grid_units) {
   Row cert, tang, fair;
   for (const BSpline& s : cases) {
     const bool single = violations(s) == 1;
     std::vector<int> moved;
-    cert.all.push_back(certified(s, &moved));
-    tang.all.push_back(tangent(s, grid_units > 0 ? grid_units : size_of(s) / 256));
-    fair.all.push_back(fairing(s, moved));
+    cert.all.push_back(method_on("certified") ? certified(s, &moved) : Outcome{});
+    tang.all.push_back(method_on("tangent") ? tangent(s, grid_units > 0 ? grid_units : size_of(s) / 256) : Outcome{});
+    fair.all.push_back(method_on("fairing") ? fairing(s, moved) : Outcome{});
     cert.single.push_back(single), tang.single.push_back(single), fair.single.push_back(single);
     std::fprintf(stderr, "%s %zu: certified %s %.0f ms, tangent %s %.0f ms, fairing %s %.0f ms\n", set, cert.all.size(),
                  cert.all.back().fixed ? "fixed" : "-", 1e3 * cert.all.back().seconds, tang.all.back().fixed ? "fixed" : "-",
                  1e3 * tang.all.back().seconds, fair.all.back().fixed ? "fixed" : "-", 1e3 * fair.all.back().seconds);
   }
-  print(set, "certified", cert);
-  print(set, "tangent", tang);
-  print(set, "fairing", fair);
+  if (method_on("certified")) print(set, "certified", cert);
+  if (method_on("tangent")) print(set, "tangent", tang);
+  if (method_on("fairing")) print(set, "fairing", fair);
 }
 
 }  // namespace
@@ -218,11 +233,14 @@ void bench(const char* set, const std::vector<BSpline>& cases, double grid_units
 int main(int argc, char** argv) {
   const char* font = argc > 1 ? argv[1] : "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   const int n = argc > 2 ? std::atoi(argv[2]) : 40;
-  const std::string only = argc > 3 ? argv[3] : "";  // one set: cubic, fig8 or glyphs
+  std::string only = argc > 3 ? argv[3] : "";  // one set: cubic, fig8, glyphs or nimbus
+  if (only == "all") only.clear();
+  const char* cff = argc > 4 ? argv[4] : "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+  if (argc > 5) methods = argv[5];
   std::printf("bench_fix: %s, %u hardware threads, fix on 2 threads\n\n", processor().c_str(),
               std::thread::hardware_concurrency());
-  std::printf("| set | method | cases | fixed | single fixed by one point | median move | worst move | median ms | worst ms |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| set | method | cases | fixed | single fixed by one point | median move | worst move | median ms | p90 ms | worst ms | over 1 s |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::mt19937 rng(22);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   std::vector<BSpline> cubics;
@@ -240,7 +258,7 @@ int main(int argc, char** argv) {
       }
     }
   }
-  if (only.empty() || only == "cubic") bench("cubic", cubics, 0);
+  if (only.empty() || only == "cubic") run_set("cubic", cubics, 0);
   std::vector<BSpline> fig8;
   const std::vector<Vec2> f8 = {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}};
   while (static_cast<int>(fig8.size()) < n) {
@@ -249,12 +267,17 @@ int main(int argc, char** argv) {
     const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, p);
     if (!passes(s)) fig8.push_back(s);
   }
-  if (only.empty() || only == "fig8") bench("fig8", fig8, 0);
-  std::vector<BSpline> glyphs;
-  const import::Font f = import::read_font(font, import::parse_glyph_spec("A-Z,a-z,0-9"));
-  for (const import::Glyph& g : f.glyphs)
-    for (const import::Contour& c : g.contours)
-      if (!passes(c.spline) && static_cast<int>(glyphs.size()) < n) glyphs.push_back(c.spline);
-  if (only.empty() || only == "glyphs") bench("glyphs", glyphs, 1);
+  if (only.empty() || only == "fig8") run_set("fig8", fig8, 0);
+  // The first n failing contours of a font's A-Z a-z 0-9.
+  auto failing_contours = [&](const char* path) {
+    std::vector<BSpline> out;
+    const import::Font f = import::read_font(path, import::parse_glyph_spec("A-Z,a-z,0-9"));
+    for (const import::Glyph& g : f.glyphs)
+      for (const import::Contour& c : g.contours)
+        if (static_cast<int>(out.size()) < n && !passes(c.spline)) out.push_back(c.spline);
+    return out;
+  };
+  if (only.empty() || only == "glyphs") run_set("glyphs", failing_contours(font), 1);
+  if (only.empty() || only == "nimbus") run_set("nimbus", failing_contours(cff), 1);
   return 0;
 }

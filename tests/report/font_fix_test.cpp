@@ -1,0 +1,89 @@
+// The font page and report.json of `cmr report FONT` show, for each failing
+// contour, the smallest certified fix (report/certified_fix.hpp) in place of
+// the old tangent line search: the points to move by the font's names, their
+// displacement, the curvature before and after, and the fixed outline beside
+// the original. Each fix is re-judged here from the JSON alone.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/fix.hpp"
+#include "io/font.hpp"
+#include "tests/cli_util.hpp"
+
+namespace cmr {
+namespace {
+
+namespace fs = std::filesystem;
+const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const fs::path out = test::scratch() / "font_fix";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kNimbus +
+                                    " --glyphs S,e --require extrema-at-nodes --backend cpu --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;  // S and e fail extrema-at-nodes
+  const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
+  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("S,e"));
+  FixRequirement gate;
+  gate.kind = FixRequirement::Kind::extrema_at_nodes;
+  int found = 0;
+  for (const auto& s : doc["splines"]) {
+    EXPECT_FALSE(s.contains("tangent_fixes")) << s["name"];
+    if (s["status"] != "fail") continue;
+    ASSERT_TRUE(s.contains("certified_fixes")) << s["name"];
+    // The contour this entry is.
+    const import::Contour* contour = nullptr;
+    for (const import::Glyph& g : font.glyphs)
+      if (g.name == s["glyph"].get<std::string>()) contour = &g.contours.at(s["contour"].get<int>());
+    ASSERT_NE(contour, nullptr) << s["name"];
+    for (const auto& f : s["certified_fixes"]) {
+      EXPECT_EQ(f["check"], "extrema-at-nodes");
+      if (!f["found"].get<bool>()) continue;
+      ++found;
+      BSpline moved = contour->spline;
+      for (const auto& m : f["moves"]) {
+        const int k = m["point"].get<int>();
+        EXPECT_EQ(m["name"], contour->point_names.at(k)) << s["name"];  // the font's name, e.g. S/c0/p12
+        EXPECT_EQ(moved.points()[k].x, m["from"][0].get<double>());
+        EXPECT_EQ(moved.points()[k].y, m["from"][1].get<double>());
+        moved = moved.with_point(k, Vec2(m["to"][0].get<double>(), m["to"][1].get<double>()));
+      }
+      // Re-judged from the JSON's numbers alone.
+      EXPECT_FALSE(requirement_holds(contour->spline, gate)) << s["name"];
+      EXPECT_TRUE(requirement_holds(moved, gate)) << s["name"];
+    }
+  }
+  EXPECT_GE(found, 2);
+  const std::string page = test::slurp(out / "font.html");
+  EXPECT_EQ(page.find("along the line to"), std::string::npos);  // the tangent table is gone
+  // Per failing glyph: the fixed outline beside the original, and per fix the
+  // curvature before and after.
+  EXPECT_GE(count(page, "class=\"fixed\""), 2u);
+  EXPECT_GE(count(page, "fixed (green) over the original (dashed)"), 2u);
+  EXPECT_EQ(count(page, "κ before"), static_cast<std::size_t>(found));
+  EXPECT_NE(page.find("S/c0/p"), std::string::npos);
+}
+
+// --no-fixes: thumbnails, no fix searched.
+TEST(FontFix, NoFixesSearchesNone) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed";
+  const fs::path out = test::scratch() / "font_nofix";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kNimbus +
+                                    " --glyphs S --require extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
+  for (const auto& s : doc["splines"]) EXPECT_FALSE(s.contains("certified_fixes")) << s["name"];
+  EXPECT_EQ(test::slurp(out / "font.html").find("class=\"fixed\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cmr
