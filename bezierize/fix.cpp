@@ -520,6 +520,7 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
 bool passing_pixel(const RegionPixel& p, const FixRequirement& r) {
   if (r.kind == FixRequirement::Kind::split)
     return p.split_label == Split::inc_dec || p.split_label == Split::dec_inc;
+  if (r.kind == FixRequirement::Kind::each_piece) return p.piece_label == EachPiece::monotone;
   return p.label == Direction::increasing || p.label == Direction::decreasing;
 }
 
@@ -697,6 +698,9 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       rr.with.assign(u.points.begin() + 1, u.points.end());
       rr.mode = request.requirement.kind == FixRequirement::Kind::cmr ? Mode::cmr : Mode::cmrwi;
       if (request.requirement.kind == FixRequirement::Kind::split) rr.split = request.requirement.split;
+      // each-piece: the region where every piece is monotone on its own, not
+      // the (smaller) one where the whole curve is.
+      rr.each_piece = request.requirement.kind == FixRequirement::Kind::each_piece;
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));
