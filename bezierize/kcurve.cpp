@@ -12,6 +12,7 @@
 
 #include "bezierize/classify.hpp"
 #include "spline/errors.hpp"
+#include "spline/format.hpp"
 
 namespace cmr {
 
@@ -896,17 +897,6 @@ std::vector<int> kcurve_cubic_maxima(const KCurve& curve) { return cubic_chain(c
 
 std::vector<int> kcurve_cubic_uncertified(const KCurve& curve) { return cubic_chain(curve).uncertified; }
 
-namespace {
-
-std::string short_number(double v) {
-  std::ostringstream s;
-  s.precision(3);
-  s << v;
-  return s.str();
-}
-
-}  // namespace
-
 std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<const Vec2> points) {
   std::vector<std::string> out;
   const int n = static_cast<int>(curve.quadratics.size());
@@ -933,16 +923,16 @@ std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<c
         worst < 0 ? "no kappa-curve with a maximum at " + name + " was found"
                   : "the kappa-curve equations' solution near this answer needs points[" +
                         std::to_string(curve.closed ? worst : worst + 1) + "] at t = " +
-                        short_number(curve.unconstrained_t[worst]) + " of quadratic " + std::to_string(worst) +
+                        format_number(curve.unconstrained_t[worst], 3) + " of quadratic " + std::to_string(worst) +
                         ", outside it";
     if (std::count(curve.stray_maxima.begin(), curve.stray_maxima.end(), i) > 0) {
       // How far the peak is from the point, for the designer's eye.
       const double t = curve.t_max[i], v = 1 - t;
       const Vec2 peak = v * v * q[0] + 2 * t * v * q[1] + t * t * q[2];
       const double share = glm::length(peak - p) / extent_of(points);
-      out.push_back("quadratic " + std::to_string(i) + " peaks at t = " + short_number(t) +
+      out.push_back("quadratic " + std::to_string(i) + " peaks at t = " + format_number(t, 3) +
                     ", at none of the points, and " + name + " lies on " + joint + ", " +
-                    short_number(100 * share) + "% of the points' extent from that peak (" + why +
+                    format_number(100 * share, 3) + "% of the points' extent from that peak (" + why +
                     "; docs/kcurve.md)");
       continue;
     }

@@ -10,16 +10,12 @@
 #include "report/report.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v, 6); }
 
 std::string fixed1(double v) {
   char buf[32];

@@ -10,16 +10,12 @@
 #include "spline/errors.hpp"
 #include "report/extremum.hpp"
 #include "report/report.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report {
 namespace {
 
-std::string num(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
+std::string num(double v, int precision = 6) { return format_number(v, precision); }
 
 const char* kGateNames =
     "extrema-at-nodes, extrema-at-nodes:runs, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, "

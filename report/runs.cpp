@@ -15,16 +15,12 @@
 
 #include "report/gates.hpp"
 #include "report/report.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report {
 namespace {
 
-std::string num(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
+std::string num(double v, int precision = 6) { return format_number(v, precision); }
 
 /// Control point k (unrolled index) is a node: its polar label is one knot
 /// repeated d times, so the curve passes through it.

@@ -7,16 +7,12 @@
 #include "spline/limits.hpp"
 #include "spline/blossom.hpp"
 #include "spline/errors.hpp"
+#include "spline/format.hpp"
 
 namespace cmr {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return format_number(v, 17); }
 
 void check_finite_point(const Vec2& p, int i) {
   if (!std::isfinite(p.x)) throw InputError("points[" + std::to_string(i) + "][0] is not a finite number");
