@@ -1,5 +1,7 @@
 // RegionProblem (validation and preparation, once) and the CPU backend.
 #include <chrono>
+#include <cmath>
+#include <string>
 
 #include "bezierize/region_setup.hpp"
 
@@ -31,6 +33,11 @@ const BSpline& RegionProblem::spline() const { return setup_->spline(); }
 const RegionRequest& RegionProblem::request() const { return setup_->options; }
 
 RegionPixel RegionProblem::classify(Vec2 position) const {
+  // Exact classification converts the position to a GMP rational, which
+  // raises SIGFPE on NaN or infinity (found by fuzz_region_classify).
+  if (!std::isfinite(position.x) || !std::isfinite(position.y))
+    throw InputError("position (" + std::to_string(position.x) + ", " + std::to_string(position.y) +
+                     ") is not finite");
   return backend::to_pixel(backend::classify_position(*setup_, position), backend::labels_of(request()));
 }
 

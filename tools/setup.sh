@@ -2,6 +2,8 @@
 # Installs every Debian package cmr needs to build, test and run.
 # Idempotent: packages already installed are skipped, and apt is not touched
 # at all when nothing is missing. Run as root on Debian 12 (or with sudo).
+# clang + libclang-rt-14-dev (libFuzzer, ASan, UBSan runtimes; only a
+# Recommends of clang, so named here) are for fuzz/run.sh.
 set -euo pipefail
 
 packages=(
@@ -16,6 +18,7 @@ packages=(
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
   fonts-noto-core fonts-texgyre
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -254,3 +254,19 @@ TEST(Contour, MismatchedRegionIsAnInputError) {
 
 }  // namespace
 }  // namespace cmr
+
+// fuzz_region_classify found it: a NaN or infinite position reached GMP's
+// mpq_set_d, which raises SIGFPE. It is bad input, an InputError.
+namespace cmr {
+TEST(Contour, NonFinitePositionIsAnInputErrorNotACrash) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  RegionRequest rq;
+  rq.point = 2;
+  rq.width = rq.height = 4;
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  for (const Vec2 p : {Vec2(std::nan(""), 0.0), Vec2(0.0, INFINITY), Vec2(-INFINITY, std::nan(""))})
+    EXPECT_THROW((void)problem.classify(p), InputError) << p.x << ", " << p.y;
+  EXPECT_NO_THROW((void)problem.classify(s.points()[2]));
+}
+}  // namespace cmr
