@@ -18,6 +18,7 @@ packages=(
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
   fonts-noto-core fonts-texgyre
+  strace
   clang libclang-rt-14-dev
 )
 
