@@ -21,9 +21,17 @@ mkdir -p build-fuzz/findings
 status=0
 for n in "${names[@]}"; do
   mkdir -p "build-fuzz/corpus/$n"
-  # The font seed is a real font from fonts-dejavu-core (tools/setup.sh), not committed.
-  [[ $n == font && -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]] &&
-    cp -n /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf build-fuzz/corpus/font/dejavu.ttf
+  # The font seeds are small complete fonts from Debian packages (tools/setup.sh),
+  # not committed: a TrueType one (glyf, 4.5 KB; fuzz_font imports its Lycian
+  # letters) and a CFF one (21 KB; A-C and o are Greek capitals and omicron
+  # there), both well under -max_len, so the fuzzer mutates whole fonts.
+  if [[ $n == font ]]; then
+    for seed in /usr/share/fonts/truetype/noto/NotoSansLycian-Regular.ttf \
+                /usr/share/fonts/opentype/urw-base35/StandardSymbolsPS.otf; do
+      [[ -f $seed ]] && cp -n "$seed" build-fuzz/corpus/font/
+    done
+    rm -f build-fuzz/corpus/font/dejavu.ttf  # the old seed: cut to its first 64 KiB by -max_len
+  fi
   dict=()
   [[ -f fuzz/dict/$n.dict ]] && dict=(-dict="fuzz/dict/$n.dict")
   start=$(date +%s)

@@ -31,10 +31,11 @@ inline fs::path scratch() {
   return dir;
 }
 
-inline Outcome run(const std::string& args) {
+/// Runs a shell command with stdout and stderr captured (killed by a signal:
+/// code 128 + the signal, as a shell reports it).
+inline Outcome run_captured(const std::string& command) {
   const fs::path dir = scratch();
-  const std::string cmd = std::string(CMR_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string();
+  const std::string cmd = command + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
   const int status = std::system(cmd.c_str());
   Outcome r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -42,6 +43,9 @@ inline Outcome run(const std::string& args) {
   r.err = slurp(dir / "err");
   return r;
 }
+
+/// Runs cmr with `args` (a shell word list).
+inline Outcome run(const std::string& args) { return run_captured(std::string(CMR_BINARY) + " " + args); }
 
 inline std::string write(const std::string& name, const std::string& text) {
   const fs::path p = scratch() / name;

@@ -62,6 +62,54 @@ std::string json_text(const nlohmann::ordered_json& doc, bool pretty) {
 
 void print_json(const nlohmann::ordered_json& doc, bool pretty) { std::cout << json_text(doc, pretty); }
 
+JsonObjectStream::JsonObjectStream(std::ostream& out, bool pretty) : out_(out), pretty_(pretty) { out_ << '{'; }
+
+void JsonObjectStream::key(const std::string& name) {
+  out_ << (first_member_ ? "" : ",") << (pretty_ ? "\n  " : "");
+  first_member_ = false;
+  value(nlohmann::ordered_json(name), 0);
+  out_ << (pretty_ ? ": " : ":");
+}
+
+// v as dump() writes it nested `indent` spaces deep: every line after the
+// first shifted right by `indent`.
+void JsonObjectStream::value(const nlohmann::ordered_json& v, int indent) {
+  const std::string text = v.dump(pretty_ ? 2 : -1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  if (!pretty_ || indent == 0) {
+    out_ << text;
+    return;
+  }
+  const std::string pad(static_cast<std::size_t>(indent), ' ');
+  std::size_t start = 0;
+  for (std::size_t nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', start)) {
+    out_.write(text.data() + start, static_cast<std::streamsize>(nl + 1 - start));
+    out_ << pad;
+    start = nl + 1;
+  }
+  out_.write(text.data() + start, static_cast<std::streamsize>(text.size() - start));
+}
+
+void JsonObjectStream::member(const std::string& name, const nlohmann::ordered_json& v) {
+  key(name);
+  value(v, 2);
+}
+
+void JsonObjectStream::begin_array(const std::string& name) {
+  key(name);
+  out_ << '[';
+  first_element_ = true;
+}
+
+void JsonObjectStream::element(const nlohmann::ordered_json& v) {
+  out_ << (first_element_ ? "" : ",") << (pretty_ ? "\n    " : "");
+  first_element_ = false;
+  value(v, 4);
+}
+
+void JsonObjectStream::end_array() { out_ << (pretty_ && !first_element_ ? "\n  ]" : "]"); }
+
+void JsonObjectStream::finish() { out_ << (pretty_ && !first_member_ ? "\n}" : "}") << '\n'; }
+
 void add_pretty_flag(CLI::App& cmd, bool& pretty) {
   cmd.add_flag("--pretty", pretty, "indent the JSON (default: compact, one line)");
 }

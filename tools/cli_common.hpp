@@ -4,6 +4,7 @@
 /// header names CLI::App without including it.
 #include <filesystem>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -48,6 +49,28 @@ inline const std::vector<std::string> kBackendChoices = {"auto", "vulkan", "cpu"
 std::string json_text(const nlohmann::ordered_json& doc, bool pretty);
 /// Prints json_text(doc, pretty) to stdout.
 void print_json(const nlohmann::ordered_json& doc, bool pretty);
+/// One JSON object printed to stdout member by member, so that a long array
+/// (analyze's segments and joints) is never held as one tree: memory stays
+/// that of one element. The text is byte for byte json_text of the whole
+/// object (compact or indented by 2). Members and arrays are written in call
+/// order; finish() closes the object and ends the line.
+class JsonObjectStream {
+ public:
+  JsonObjectStream(std::ostream& out, bool pretty);
+  void member(const std::string& key, const nlohmann::ordered_json& value);
+  void begin_array(const std::string& key);
+  void element(const nlohmann::ordered_json& value);
+  void end_array();
+  void finish();
+
+ private:
+  void key(const std::string& name);
+  void value(const nlohmann::ordered_json& v, int indent);
+  std::ostream& out_;
+  bool pretty_;
+  bool first_member_ = true;
+  bool first_element_ = true;
+};
 /// Adds the --pretty flag (indented JSON) every JSON-printing command has.
 void add_pretty_flag(CLI::App& cmd, bool& pretty);
 /// Adds --backend auto|vulkan|cpu, --device NAME and, where `precision` is

@@ -1,6 +1,8 @@
 // cmr analyze FILE [--depth D] [--split S[,S2,...]] [--mode cmrwi|cmr]
 // [--segments A..B] [--angle-tol DEG] [--curvature-tol REL]: exact per-span
 // classification, joint continuity and spline-level verdicts (README, "Semantics").
+#include <iostream>
+
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
@@ -28,68 +30,73 @@ struct AnalyzeArgs {
   const CLI::Option* each_piece_option = nullptr;
 };
 
-nlohmann::ordered_json analysis_json(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits) {
-  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    const Segment& s = spline.segments()[i];
-    const SegmentClass& c = a.segments[i];
-    const SegmentShape& sh = a.shapes[i];
-    if (!a.judged(s.index)) {  // --segments: reported, not judged
-      segs.push_back({{"index", s.index}, {"interval", {s.a, s.b}}, {"curvature", "ignored"}, {"inflection", "ignored"}});
-      continue;
-    }
-    segs.push_back({{"index", s.index},
-                    {"interval", {s.a, s.b}},
-                    {"class", shape_class(sh)},
-                    {"curvature", to_string(c.monotonicity.curvature)},
-                    {"inflection", to_string(sh.inflection)},
-                    {"zero_curvature_at", kappa_zero_at(sh)},
-                    {"algorithm2", to_string(c.inflection.inflection)},
-                    {"depth", c.monotonicity.depth},
-                    {"inflection_depth", c.inflection.depth},
-                    {"exact", c.exact_used}});
-    if (sh.pole) segs.back()["poles"] = sh.poles;  // W = 0 there: the curve passes through infinity
-  }
-  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
-  std::vector<Joint> all = a.joints;
-  if (a.seam) all.push_back(*a.seam);  // a closed spline's seam: joint N
-  for (const Joint& j : all) {
-    joints.push_back(joint_json(j, {std::nullopt, true, a.seam && j.index == a.seam->index}));  // pole and seam marks
-    const bool inside = j.index > a.range.first && j.index <= a.range.last;
-    const bool seam_judged = a.seam && j.index == a.seam->index && a.range.first == 0 &&
-                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split &&
-                             !a.each_piece;
-    if (!inside && !seam_judged) joints.back()["ignored"] = true;
-  }
+nlohmann::ordered_json segment_json(const Segment& s, const SegmentClass& c, const SegmentShape& sh, bool judged) {
+  if (!judged)  // --segments: reported, not judged
+    return {{"index", s.index}, {"interval", {s.a, s.b}}, {"curvature", "ignored"}, {"inflection", "ignored"}};
+  nlohmann::ordered_json seg = {{"index", s.index},
+                                {"interval", {s.a, s.b}},
+                                {"class", shape_class(sh)},
+                                {"curvature", to_string(c.monotonicity.curvature)},
+                                {"inflection", to_string(sh.inflection)},
+                                {"zero_curvature_at", kappa_zero_at(sh)},
+                                {"algorithm2", to_string(c.inflection.inflection)},
+                                {"depth", c.monotonicity.depth},
+                                {"inflection_depth", c.inflection.depth},
+                                {"exact", c.exact_used}};
+  if (sh.pole) seg["poles"] = sh.poles;  // W = 0 there: the curve passes through infinity
+  return seg;
+}
+
+nlohmann::ordered_json verdict_json(const SplineAnalysis& a, const std::vector<int>& splits) {
   nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
                                     {"cmr", to_string(a.cmr)},
                                     {"cmr_algorithm2", to_string(a.cmr_algorithm2)},
                                     {"cusp", a.cusp}};
   if (a.pole) verdict["pole"] = true;
   if (a.split) verdict["split"] = to_string(*a.split);
-  if (a.alternation) {
-    verdict["alternation"] = to_string(*a.alternation);
+  if (a.alternation || a.each_piece) {
+    // --split S1,S2,... (alternation) or --each-piece (each group on its own:
+    // monotone in either direction): the groups between the cut joints.
+    if (a.alternation) verdict["alternation"] = to_string(*a.alternation);
+    else verdict["each_piece"] = to_string(*a.each_piece);
     nlohmann::ordered_json groups = nlohmann::ordered_json::array();
-    for (std::size_t g = 0; g < a.groups.size(); ++g) {
-      const auto [first, end] = segment_groups(a.range, splits)[g];
-      groups.push_back({{"segments", {first, end - 1}}, {"direction", to_string(a.groups[g])}});
-    }
-    verdict["groups"] = groups;
-  }
-  if (a.each_piece) {
-    // Each group on its own (--each-piece): monotone in either direction.
-    verdict["each_piece"] = to_string(*a.each_piece);
-    nlohmann::ordered_json groups = nlohmann::ordered_json::array();
-    for (std::size_t g = 0; g < a.groups.size(); ++g) {
-      const auto [first, end] = segment_groups(a.range, a.cuts)[g];
-      groups.push_back({{"segments", {first, end - 1}}, {"direction", to_string(a.groups[g])}});
-    }
+    const auto parts = segment_groups(a.range, a.alternation ? splits : a.cuts);
+    for (std::size_t g = 0; g < a.groups.size(); ++g)
+      groups.push_back({{"segments", {parts[g].first, parts[g].second - 1}}, {"direction", to_string(a.groups[g])}});
     verdict["groups"] = groups;
   }
   if (a.range != SegmentRange{0, static_cast<int>(a.segments.size()) - 1})
     verdict["segments"] = {a.range.first, a.range.last};
   if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
-  return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
+  return verdict;
+}
+
+// The analysis as JSON on stdout, one segment and one joint at a time (a
+// spline of 10^6 spans is never one JSON tree: docs/outputs.md, "Limits").
+void print_analysis(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits, bool pretty) {
+  JsonObjectStream out(std::cout, pretty);
+  out.begin_array("segments");
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    const Segment& s = spline.segments()[i];
+    out.element(segment_json(s, a.segments[i], a.shapes[i], a.judged(s.index)));
+  }
+  out.end_array();
+  out.begin_array("joints");
+  const auto joint = [&](const Joint& j) {
+    const bool is_seam = a.seam && j.index == a.seam->index;
+    nlohmann::ordered_json json = joint_json(j, {std::nullopt, true, is_seam});  // pole and seam marks
+    const bool inside = j.index > a.range.first && j.index <= a.range.last;
+    const bool seam_judged = is_seam && a.range.first == 0 &&
+                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split &&
+                             !a.each_piece;
+    if (!inside && !seam_judged) json["ignored"] = true;
+    out.element(json);
+  };
+  for (const Joint& j : a.joints) joint(j);
+  if (a.seam) joint(*a.seam);  // a closed spline's seam: joint N
+  out.end_array();
+  out.member("spline", verdict_json(a, splits));
+  out.finish();
 }
 
 }  // namespace
@@ -141,7 +148,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
     o.continuity = args->continuity;
-    print_json(analysis_json(spline, analyze(spline, o), o.splits), args->pretty);
+    print_analysis(spline, analyze(spline, o), o.splits, args->pretty);
     exit_code = kOk;
   });
 }

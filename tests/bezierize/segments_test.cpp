@@ -25,6 +25,24 @@ BSpline wave() {
                         {5.069, -0.719}, {6.078, 0.783}});
 }
 
+// Distinct knots with steps in [0.5, 1.5], as many as a degree-d spline on
+// `points` needs: span and segment indices agree.
+BSpline distinct_knot_spline(std::mt19937_64& rng, int d, const std::vector<Vec2>& points) {
+  std::uniform_real_distribution<double> step(0.5, 1.5);
+  std::vector<double> knots{0};
+  while (knots.size() < points.size() + d - 1) knots.push_back(knots.back() + step(rng));
+  return BSpline::make(d, knots, points);
+}
+
+// Segments first..last of s as a spline of their own: points
+// P_first..P_{last+d} on knots u_first..u_{last+2d-1}.
+BSpline sub_spline(const BSpline& s, int first, int last) {
+  const int d = s.degree();
+  const std::vector<double> knots(s.knots().begin() + first, s.knots().begin() + last + 2 * d);
+  const std::vector<Vec2> points(s.points().begin() + first, s.points().begin() + last + d + 1);
+  return BSpline::make(d, knots, points);
+}
+
 TEST(Segments, ParseRange) {
   EXPECT_EQ(parse_segment_range("1..3"), (SegmentRange{1, 3}));
   EXPECT_EQ(parse_segment_range("2"), (SegmentRange{2, 2}));
@@ -95,22 +113,17 @@ TEST(Segments, AlternationVerdict) {
 // knots, so span and segment indices agree).
 TEST(Segments, AnalyzeOfARangeIsAnalyzeOfTheSubSpline) {
   std::mt19937_64 rng(1101);
-  std::uniform_real_distribution<double> step(0.5, 1.5);
   int checked = 0, monotone = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const int d = 2 + trial % 3, m = d + 5;
-    std::vector<double> knots{0};
-    while (static_cast<int>(knots.size()) < m + d - 1) knots.push_back(knots.back() + step(rng));
-    const BSpline s = BSpline::make(d, knots, test::random_points(rng, m, 2.0));
+    const BSpline s = distinct_knot_spline(rng, d, test::random_points(rng, m, 2.0));
     const int N = s.segment_count();
     for (int a = 0; a < N; ++a)
       for (int b = a; b < N; ++b) {
         AnalyzeOptions o;
         o.segments = SegmentRange{a, b};
         const SplineAnalysis got = analyze(s, o);
-        const std::vector<double> sub_knots(s.knots().begin() + a, s.knots().begin() + b + 2 * d);
-        const std::vector<Vec2> sub_points(s.points().begin() + a, s.points().begin() + b + d + 1);
-        const SplineAnalysis want = analyze(BSpline::make(d, sub_knots, sub_points));
+        const SplineAnalysis want = analyze(sub_spline(s, a, b));
         const std::string where = "trial " + std::to_string(trial) + " segments " + std::to_string(a) + ".." +
                                   std::to_string(b);
         EXPECT_EQ(got.cmrwi, want.cmrwi) << where;
@@ -215,16 +228,13 @@ TEST(EachPiece, CutsDefaultToEveryJointOfTheRange) {
 // between groups counts, and no group's direction depends on another's.
 TEST(EachPiece, AnalyzeIsEachGroupAnalysedAlone) {
   std::mt19937_64 rng(2011);
-  std::uniform_real_distribution<double> step(0.5, 1.5);
   int pass = 0, fail = 0;
   for (int trial = 0; trial < 60; ++trial) {
     const int d = 2 + trial % 3, m = d + 4;
-    std::vector<double> knots{0};
-    while (static_cast<int>(knots.size()) < m + d - 1) knots.push_back(knots.back() + step(rng));
     // A bent, noisy polygon: some pieces monotone, some not.
     std::vector<Vec2> pts = test::random_points(rng, m, 0.3);
     for (int i = 0; i < m; ++i) pts[i] += Vec2(i, 0.15 * i * i);
-    const BSpline s = BSpline::make(d, knots, pts);
+    const BSpline s = distinct_knot_spline(rng, d, pts);
     const int N = s.segment_count();
     for (const std::vector<int>& cuts : {std::vector<int>{}, std::vector<int>{2}}) {
       AnalyzeOptions o;
@@ -237,9 +247,7 @@ TEST(EachPiece, AnalyzeIsEachGroupAnalysedAlone) {
       ASSERT_EQ(got.groups.size(), groups.size());
       for (std::size_t g = 0; g < groups.size(); ++g) {
         const auto [a, end] = groups[g];
-        const std::vector<double> sub_knots(s.knots().begin() + a, s.knots().begin() + end - 1 + 2 * d);
-        const std::vector<Vec2> sub_points(s.points().begin() + a, s.points().begin() + end + d);
-        const Direction mine = analyze(BSpline::make(d, sub_knots, sub_points)).cmrwi;
+        const Direction mine = analyze(sub_spline(s, a, end - 1)).cmrwi;
         EXPECT_EQ(got.groups[g], mine) << "trial " << trial << " group " << g;
         all = all && (mine == Direction::increasing || mine == Direction::decreasing);
         none = none || mine == Direction::none;

@@ -29,6 +29,13 @@ void expect_one_line(const Outcome& r, const std::string& part, const std::strin
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << what << ": " << r.err;
 }
 
+// cmr ARGS exits 2 with one stderr line holding `part`.
+void expect_refused(const std::string& args, const std::string& part) {
+  const Outcome r = run(args);
+  EXPECT_EQ(r.code, 2) << args;
+  expect_one_line(r, part, args);
+}
+
 // ---- SVG (issue 26 item 1, issue 20 item 6) ----
 
 TEST(ReliabilitySvg, D1NonFiniteCoordinatesExit2AndWriteNothing) {
@@ -71,9 +78,8 @@ TEST(ReliabilitySvg, CommentedPathIsNotImportedAndTransformsApplyYUp) {
   ASSERT_EQ(keep.code, 0) << keep.err;
   const auto down = nlohmann::json::parse(slurp(d / "k" / "c_0.json"));
   EXPECT_EQ(down["points"][4], nlohmann::json::parse("[13.0, 8.0]"));
-  const auto font_flag = run("import " + std::string(CMR_SOURCE_DIR) + "/examples/uniform.json --y-down");
-  EXPECT_EQ(font_flag.code, 2);
-  expect_one_line(font_flag, "--y-down: only for SVG files", "--y-down on JSON");
+  expect_refused("import " + std::string(CMR_SOURCE_DIR) + "/examples/uniform.json --y-down",
+                 "--y-down: only for SVG files");
 }
 
 TEST(ReliabilitySvg, ReportReadsSvgAndRegionSaysToImport) {
@@ -94,9 +100,8 @@ TEST(ReliabilitySvg, ReportReadsSvgAndRegionSaysToImport) {
   }
   const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   if (fs::exists(font)) {
-    const auto r = run("region " + font + " --point 1 --backend cpu");
-    EXPECT_EQ(r.code, 2);
-    expect_one_line(r, "DejaVuSans.ttf: a font file, not a spline file (run `cmr import", "region FONT");
+    expect_refused("region " + font + " --point 1 --backend cpu",
+                   "DejaVuSans.ttf: a font file, not a spline file (run `cmr import");
   }
 }
 
@@ -109,16 +114,9 @@ const std::string kFig8 = std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8.
 Outcome shell(std::string line) {
   for (std::size_t at = line.find("CMR"); at != std::string::npos; at = line.find("CMR", at + 1))
     line.replace(at, 3, CMR_BINARY);
-  const fs::path dir = scratch();
-  const fs::path script = dir / "cmd.sh";
+  const fs::path script = scratch() / "cmd.sh";
   std::ofstream(script) << line << "\n";
-  const std::string cmd = "bash " + script.string() + " >" + (dir / "sh_out").string() + " 2>" + (dir / "sh_err").string();
-  const int status = std::system(cmd.c_str());
-  Outcome r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(dir / "sh_out");
-  r.err = slurp(dir / "sh_err");
-  return r;
+  return run_captured("bash " + script.string());
 }
 
 bool is_char_device(const char* p) {
@@ -208,10 +206,9 @@ TEST(ReliabilityFolders, SweepCreatesItsFolderAndAReusedOneHoldsOnlyThisRun) {
                                               "step_002.png"}));
   EXPECT_FALSE(fs::exists(d / "contours" / "step_004.svg"));
   std::ofstream(fresh("sweep_file") / "f") << "x";
-  const auto file = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8 --out-dir " +
-                        (scratch() / "rel_sweep_file" / "f").string());
-  EXPECT_EQ(file.code, 2);
-  expect_one_line(file, "--out-dir", "--out-dir on a file");
+  expect_refused("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8 --out-dir " +
+                     (scratch() / "rel_sweep_file" / "f").string(),
+                 "--out-dir");
 }
 
 TEST(ReliabilityFolders, ImportIntoAReusedFolderKeepsOnlyThisImport) {
@@ -227,23 +224,18 @@ TEST(ReliabilityFolders, ImportIntoAReusedFolderKeepsOnlyThisImport) {
 }
 
 TEST(ReliabilityFolders, WithNamingAPointTwiceIsRefused) {
-  const auto r = run("region " + kFig8 + " --point 3 --with 2,1,2 --backend cpu --size 8x8");
-  EXPECT_EQ(r.code, 2);
-  expect_one_line(r, "--with point 2 is named twice", "--with 2,1,2");
-  const auto s = run("sweep " + kFig8 + " --point 3 --with 2,1,2 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8");
-  EXPECT_EQ(s.code, 2);
-  expect_one_line(s, "--with point 2 is named twice", "sweep --with 2,1,2");
+  expect_refused("region " + kFig8 + " --point 3 --with 2,1,2 --backend cpu --size 8x8", "--with point 2 is named twice");
+  expect_refused("sweep " + kFig8 + " --point 3 --with 2,1,2 --knot 3 --from 2.6 --to 3.2 --steps 1 --size 8x8",
+                 "--with point 2 is named twice");
 }
 
 // ---- bounded work and far-scale points (issue 26 items 5, D5, D6) ----
 
 TEST(ReliabilityLimits, D6TotalPixelsAreBounded) {
-  const auto sweep = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 10000 --size 16384x16384");
-  EXPECT_EQ(sweep.code, 2);
-  expect_one_line(sweep, "10001 steps of 16384x16384 pixels: more than the limit of 268435456 pixels", "D6 sweep");
-  const auto region = run("region " + kFig8 + " --point all --size 16384x16384 --backend cpu");
-  EXPECT_EQ(region.code, 2);
-  expect_one_line(region, "points of 16384x16384 pixels: more than the limit", "region --point all");
+  expect_refused("sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 10000 --size 16384x16384",
+                 "10001 steps of 16384x16384 pixels: more than the limit of 268435456 pixels");
+  expect_refused("region " + kFig8 + " --point all --size 16384x16384 --backend cpu",
+                 "points of 16384x16384 pixels: more than the limit");
 }
 
 TEST(ReliabilityLimits, D5FarScaleKCurvePointsAreNotCoincident) {
