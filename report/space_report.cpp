@@ -24,56 +24,64 @@ std::string num(double x) {
 
 }  // namespace
 
-nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& a) {
-  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    const Segment& s = spline.segments()[i];
-    const SpaceSegmentResult& r = a.segments[i];
-    nlohmann::ordered_json j = {{"index", s.index},
-                                {"interval", {s.a, s.b}},
-                                {"class", r.cusp ? "cusp" : (r.straight ? "straight" : "regular")},
-                                {"curvature", to_string(r.curvature.curvature)},
-                                {"zero_curvature", r.zero_curvature},
-                                {"depth", r.curvature.depth},
-                                {"exact", r.exact_used}};
-    if (r.torsion) {
-      j["torsion"] = to_string(r.torsion->curvature);
-      j["torsion_depth"] = r.torsion->depth;
-      j["torsion_sign"] = sign_word(r.torsion_sign);
-      j["torsion_sign_changes"] = r.torsion_sign_changes;
-    }
-    segs.push_back(j);
+nlohmann::ordered_json space_segment_json(const SpaceSpline& spline, const SpaceAnalysis& a, std::size_t i) {
+  const Segment& s = spline.segments()[i];
+  const SpaceSegmentResult& r = a.segments[i];
+  nlohmann::ordered_json j = {{"index", s.index},
+                              {"interval", {s.a, s.b}},
+                              {"class", r.cusp ? "cusp" : (r.straight ? "straight" : "regular")},
+                              {"curvature", to_string(r.curvature.curvature)},
+                              {"zero_curvature", r.zero_curvature},
+                              {"depth", r.curvature.depth},
+                              {"exact", r.exact_used}};
+  if (r.torsion) {
+    j["torsion"] = to_string(r.torsion->curvature);
+    j["torsion_depth"] = r.torsion->depth;
+    j["torsion_sign"] = sign_word(r.torsion_sign);
+    j["torsion_sign_changes"] = r.torsion_sign_changes;
   }
-  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
-  std::vector<SpaceJoint> all = a.joints;
-  if (a.seam) all.push_back(*a.seam);
-  for (const SpaceJoint& j : all) {
-    std::string continuity = std::to_string(j.continuity);
-    continuity.insert(continuity.begin(), 'C');
-    joints.push_back({{"index", j.index},
-                      {"knot", j.knot},
-                      {"multiplicity", j.multiplicity},
-                      {"continuity", continuity},
-                      {"g1", j.g1},
-                      {"g2", j.g2},
-                      {"angle", j.angle_deg},
-                      {"normal_angle", j.normal_angle_deg},
-                      {"zero_tangent", j.zero_tangent},
-                      {"kappa_left", j.kappa_left},
-                      {"kappa_right", j.kappa_right},
-                      {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")},
-                      {"tau_left", j.tau_left},
-                      {"tau_right", j.tau_right},
-                      {"torsion_jump", j.torsion_jump > 0 ? "up" : (j.torsion_jump < 0 ? "down" : "none")}});
-    if (a.seam && j.index == a.seam->index) joints.back()["seam"] = true;
-  }
+  return j;
+}
+
+nlohmann::ordered_json space_joint_json(const SpaceAnalysis& a, const SpaceJoint& j) {
+  std::string continuity = std::to_string(j.continuity);
+  continuity.insert(continuity.begin(), 'C');
+  nlohmann::ordered_json json = {{"index", j.index},
+                                 {"knot", j.knot},
+                                 {"multiplicity", j.multiplicity},
+                                 {"continuity", continuity},
+                                 {"g1", j.g1},
+                                 {"g2", j.g2},
+                                 {"angle", j.angle_deg},
+                                 {"normal_angle", j.normal_angle_deg},
+                                 {"zero_tangent", j.zero_tangent},
+                                 {"kappa_left", j.kappa_left},
+                                 {"kappa_right", j.kappa_right},
+                                 {"jump", j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")},
+                                 {"tau_left", j.tau_left},
+                                 {"tau_right", j.tau_right},
+                                 {"torsion_jump", j.torsion_jump > 0 ? "up" : (j.torsion_jump < 0 ? "down" : "none")}};
+  if (a.seam && j.index == a.seam->index) json["seam"] = true;
+  return json;
+}
+
+nlohmann::ordered_json space_verdict_json(const SpaceAnalysis& a) {
   nlohmann::ordered_json verdict = {{"dimension", 3},
                                     {"curvature", to_string(a.curvature)},
                                     {"zero_curvature", a.zero_curvature},
                                     {"cusp", a.cusp}};
   if (a.torsion) verdict["torsion"] = to_string(*a.torsion);
   if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
-  return {{"segments", segs}, {"joints", joints}, {"spline", verdict}};
+  return verdict;
+}
+
+nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& a) {
+  nlohmann::ordered_json segs = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < a.segments.size(); ++i) segs.push_back(space_segment_json(spline, a, i));
+  nlohmann::ordered_json joints = nlohmann::ordered_json::array();
+  for (const SpaceJoint& j : a.joints) joints.push_back(space_joint_json(a, j));
+  if (a.seam) joints.push_back(space_joint_json(a, *a.seam));
+  return {{"segments", segs}, {"joints", joints}, {"spline", space_verdict_json(a)}};
 }
 
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options) {

@@ -33,8 +33,13 @@ struct SpaceReport {
 /// Reads and analyses one file; an InputError becomes `error`.
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options);
 
-/// The JSON of `cmr analyze` for a space curve.
+/// The JSON of `cmr analyze` for a space curve: {"segments": [segment i ...],
+/// "joints": [joint ..., the seam], "spline": verdict}, built from the three
+/// parts below (the CLI prints them one at a time).
 nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const SpaceAnalysis& analysis);
+nlohmann::ordered_json space_segment_json(const SpaceSpline& spline, const SpaceAnalysis& analysis, std::size_t i);
+nlohmann::ordered_json space_joint_json(const SpaceAnalysis& analysis, const SpaceJoint& joint);
+nlohmann::ordered_json space_verdict_json(const SpaceAnalysis& analysis);
 /// report.json: {"dimension": 3, "splines": [...], "summary": {...}}.
 nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
 /// index.html, self-contained (inline SVG).

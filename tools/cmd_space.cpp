@@ -27,7 +27,18 @@ void run_space_analyze(const std::string& file, int depth, bool torsion, const C
   o.max_depth = depth;
   o.torsion = torsion;
   o.continuity = continuity;
-  print_json(report::space_analysis_json(spline, analyze_space(spline, o)), pretty);
+  const SpaceAnalysis a = analyze_space(spline, o);
+  // One segment and one joint at a time, as the planar analyze (docs/outputs.md, "Limits on work").
+  JsonObjectStream out(std::cout, pretty);
+  out.begin_array("segments");
+  for (std::size_t i = 0; i < a.segments.size(); ++i) out.element(report::space_segment_json(spline, a, i));
+  out.end_array();
+  out.begin_array("joints");
+  for (const SpaceJoint& j : a.joints) out.element(report::space_joint_json(a, j));
+  if (a.seam) out.element(report::space_joint_json(a, *a.seam));
+  out.end_array();
+  out.member("spline", report::space_verdict_json(a));
+  out.finish();
 }
 
 namespace {
