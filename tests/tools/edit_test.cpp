@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -641,6 +642,134 @@ TEST_F(EditTest, FixAndSnapThroughTheWindowAreCertifiedAndUndone) {
   const Image a = read_png(dir_ / "before.png"), b = read_png(dir_ / "after.png");
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
   EXPECT_NE(a.rgb, b.rgb);
+}
+
+
+// ---- issue 21: the designer's legend, numbers, comb (tools/edit/designer.hpp) ----
+
+/// The legend lines the script's `legend` command printed: kind, the colour's
+/// bytes (and a gradient's deep end), the words.
+struct LegendLine {
+  std::string kind;
+  std::array<int, 3> from{}, to{};
+  std::string text;
+};
+
+std::vector<LegendLine> legend_lines(const std::string& err) {
+  std::vector<LegendLine> out;
+  std::istringstream in(err);
+  for (std::string line; std::getline(in, line);) {
+    const std::string tag = "cmr edit: legend ";
+    if (line.rfind(tag, 0) != 0) continue;
+    std::istringstream w(line.substr(tag.size()));
+    LegendLine l;
+    std::string a, b;
+    w >> l.kind >> a >> b;
+    std::getline(w >> std::ws, l.text);
+    if (sscanf(a.c_str(), "%d,%d,%d", &l.from[0], &l.from[1], &l.from[2]) != 3) continue;
+    if (sscanf(b.c_str(), "%d,%d,%d", &l.to[0], &l.to[1], &l.to[2]) != 3) continue;
+    out.push_back(l);
+  }
+  return out;
+}
+
+TEST_F(EditTest, LegendNamesEveryColourShownInEachMode) {
+  // The canvas without panels or overlay: every pixel is a region colour,
+  // and each must be a swatch of the legend (depth shading: within one of
+  // its gradients).
+  const std::string base = "ui off\noverlay off\nview " + kView + "\nselect 3\n";
+  const std::vector<std::pair<std::string, std::string>> modes = {
+      {"cmrwi", ""},          {"cmr", "mode cmr\n"},         {"split 2", "split 2\n"},
+      {"each piece", "chain on\n"}, {"depth shading", "shading on\n"}, {"all points", "all on\n"},
+      {"all points but P3", "all on\nshow-point 3 off\n"}};
+  for (const auto& [name, script] : modes) {
+    const fs::path shot = dir_ / "legend.png";
+    const Outcome r = run_edit(kFig8, base + script + "legend\n", shot);
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+    const std::vector<LegendLine> legend = legend_lines(r.err);
+    ASSERT_FALSE(legend.empty()) << name << ": " << r.err;
+    EXPECT_NE(r.err.find("cmr edit: legend: "), std::string::npos) << "a title: " << r.err;
+    const Image img = read_png(shot);
+    ASSERT_EQ(img.width, kW);
+    std::set<std::array<int, 3>> shown(img.rgb.begin(), img.rgb.end());
+    EXPECT_GE(shown.size(), name == "all points but P3" ? 1u : 2u) << name;
+    for (const auto& c : shown) {
+      const bool named = std::any_of(legend.begin(), legend.end(), [&](const LegendLine& l) {
+        if (l.kind == "swatch") return l.from == c;
+        if (l.kind != "gradient") return false;
+        for (int k = 0; k < 3; ++k)
+          if (c[k] < std::min(l.from[k], l.to[k]) - 1 || c[k] > std::max(l.from[k], l.to[k]) + 1) return false;
+        return true;
+      });
+      EXPECT_TRUE(named) << name << ": colour " << c[0] << "," << c[1] << "," << c[2] << " is not in the legend\n"
+                         << r.err;
+    }
+    if (name.rfind("all points", 0) == 0)  // each shown point's outline hue, under its name
+      for (int k = 0; k < 6; ++k) {
+        std::string want = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+        want += std::to_string(k);
+        want += "'s region";
+        const bool listed = std::any_of(legend.begin(), legend.end(),
+                                        [&](const LegendLine& l) { return l.kind == "outline" && l.text == want; });
+        EXPECT_EQ(listed, !(name == "all points but P3" && k == 3)) << name << " P" << k;
+      }
+  }
+}
+
+TEST_F(EditTest, TypedCoordinatesMoveThePointExactly) {
+  // The pointer clicks into the panel's x, y and w fields and types, as a
+  // user does; the saved file holds exactly the doubles typed.
+  const fs::path saved = dir_ / "typed.json";
+  const std::string x = "2.123456789012345", y = "-4.4400000000000004", w = "1.75";
+  const Outcome r = run_edit(kFig8,
+                             "select 3\ntype x " + x + "\ntype y " + y + "\ntype w " + w + "\nsave " +
+                                 saved.string() + "\nscreenshot " + (dir_ / "typed.png").string() + "\n",
+                             dir_ / "shot.png", "1024x768");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json before = read_json(kFig8), after = read_json(saved);
+  EXPECT_EQ(after["points"][3][0].get<double>(), std::strtod(x.c_str(), nullptr)) << "bit for bit";
+  EXPECT_EQ(after["points"][3][1].get<double>(), std::strtod(y.c_str(), nullptr)) << "bit for bit";
+  for (int i = 0; i < 6; ++i)
+    if (i != 3) {
+      EXPECT_EQ(after["points"][i], before["points"][i]) << "point " << i;
+    }
+  ASSERT_TRUE(after.contains("weights")) << after.dump();
+  EXPECT_EQ(after["weights"][3].get<double>(), 1.75);
+  const Outcome bad = run_edit(kFig8, "ui off\ntype x 1\n", dir_ / "bad.png", "1024x768");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("type: no field 'x' is shown"), std::string::npos) << bad.err;
+}
+
+/// The comb's pixels (its dark greens) in a screenshot without panels: some,
+/// and none on the window's outer frame (a comb that runs off the canvas
+/// reaches the edge).
+void expect_comb_inside(const Image& img, const std::string& what) {
+  int comb = 0, edge = 0;
+  for (int j = 0; j < img.height; ++j)
+    for (int i = 0; i < img.width; ++i) {
+      const auto& c = img.rgb[j * img.width + i];
+      if (!(c[1] > c[0] + 35 && c[1] > c[2] + 35 && c[1] < 200)) continue;
+      ++comb;
+      if (i < 3 || j < 3 || i >= img.width - 3 || j >= img.height - 3) ++edge;
+    }
+  EXPECT_GT(comb, 200) << what << ": the comb is drawn";
+  EXPECT_EQ(edge, 0) << what << ": the comb reaches the window's edge";
+}
+
+TEST_F(EditTest, CombFitsTheViewOnFig8AndOnAGlyph) {
+  const fs::path fig8 = dir_ / "comb_fig8.png";
+  // fit (key f) frames the curve and its comb; the comb fits that view.
+  const Outcome r = run_edit(kFig8, "ui off\nfit\n", fig8, "640x480");
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_comb_inside(read_png(fig8), "fig8");
+  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (!fs::exists(font)) GTEST_SKIP() << font << " is missing (fonts-dejavu-core)";
+  const Outcome imp = run("import " + font + " --glyphs O --out " + (dir_ / "glyph").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const fs::path glyph = dir_ / "comb_glyph.png";
+  const Outcome g = run_edit((dir_ / "glyph" / "O_c0.json").string(), "ui off\nfit\n", glyph, "640x480");
+  ASSERT_EQ(g.code, 0) << g.err;
+  expect_comb_inside(read_png(glyph), "glyph O");
 }
 
 }  // namespace

@@ -394,13 +394,6 @@ void Editor::set_view(View view) {
   region_stale_ = rgba_stale_ = true;
 }
 
-void Editor::fit_view() {
-  const int w = viewport_.width, h = viewport_.height;
-  viewport_ = show_ui ? Viewport::fit(doc().spline, w, h, w - kPanelWidth, h - kPlotHeight)
-                      : Viewport::fit(doc().spline, w, h, w, h);
-  region_stale_ = rgba_stale_ = true;
-}
-
 std::pair<int, int> Editor::canvas() const {
   const int w = viewport_.width, h = viewport_.height;
   if (!show_ui) return {w, h};
@@ -441,6 +434,7 @@ std::vector<RegionRequest> Editor::requests_of(const Document& d, bool whole_win
   }
   if (d.all_points) {
     for (int k = 0; k < d.spline.point_count(); ++k) {
+      if (std::find(hidden_points.begin(), hidden_points.end(), k) != hidden_points.end()) continue;
       q.point = k;
       layers.push_back(q);
     }

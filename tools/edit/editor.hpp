@@ -113,7 +113,31 @@ class Editor {
   void export_region(const std::filesystem::path& path);
   void resize(int width, int height);
   void set_view(View view);
+  /// Frames the control polygon, the curvature comb (as drawn at scale 1 in
+  /// the polygon's view) and the selected point's region (within twice that
+  /// view): what the first view and "fit" show (tools/edit/designer.cpp).
   void fit_view();
+  /// "fit region": frames the selected point's region (its box on a grid of
+  /// 128 pixels over a view 4 times the canvas's) and the point; the status
+  /// line says so, or that the region is empty there.
+  void fit_region();
+  /// Frames the world box lo..hi in the canvas with `margin` of its size around.
+  void frame_box(Vec2 lo, Vec2 hi, double margin);
+
+  // ---- designer's read-outs (tools/edit/designer.cpp) ----
+  /// The file's point names (read_point_names), one per distinct point.
+  std::vector<std::string> point_names;
+  /// Point k's name: the file's point_names (a closed curve's repeated
+  /// points take their first's), else "P<k>".
+  std::string point_name(int k) const;
+  /// Every point overlapped: the points whose regions are not drawn.
+  std::vector<int> hidden_points;
+  void set_point_shown(int k, bool shown);
+  /// The point each region layer belongs to (region_requests' order).
+  std::vector<int> layer_points() const;
+  /// Typed coordinates: point k to exactly (x, y) (its group and chain rules
+  /// as a drag); one undo step.
+  void set_point_xy(int k, double x, double y);
 
   // ---- opening and repair (tools/edit/repair.cpp) ----
   /// The opening selection (docs/edit.md): the first point, in index order,
@@ -212,7 +236,13 @@ class Editor {
   bool show_ui = true;       ///< the panels
   bool show_overlay = true;  ///< curve, polygon, points, comb
   bool show_comb = true;
-  double comb_scale = 1.0;   ///< comb length = scale * kappa * (view width / 8)
+  /// Comb length relative to the fitted comb (designer.hpp's comb_geometry:
+  /// 1 fits the canvas's view).
+  double comb_scale = 1.0;
+  int comb_density = 24;     ///< comb teeth per segment
+  bool comb_outline = true;  ///< the line joining the teeth's tips
+  /// The curvature graph: 0 kappa, 1 |kappa|, 2 log10 |kappa|.
+  int graph_view = 0;
 
  private:
   /// region_requests for a document (the opening search tries each point).
