@@ -44,13 +44,14 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 
 Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot,
                  const std::string& size = std::to_string(kW) + "x" + std::to_string(kH),
-                 const std::string& options = "") {
+                 const std::string& options = "", const fs::path& cwd = {}) {
   const std::string script = write("edit_script.txt", script_text);
   const std::string cmd = "edit " + file + " --size " + size + options +
                           " --script " + script + " --screenshot " + shot.string();
   // xvfb-run wraps the binary: run() prefixes CMR_BINARY, so call the shell directly.
   const fs::path dir = scratch();
-  const std::string line = "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(CMR_BINARY) + " " + cmd + " >" +
+  const std::string line = (cwd.empty() ? std::string() : "cd '" + cwd.string() + "' && ") +
+                           "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(CMR_BINARY) + " " + cmd + " >" +
                            (dir / "eout").string() + " 2>" + (dir / "eerr").string();
   Outcome r;
   // xvfb-run's own exit 5 ("problem while cleaning up temporary directory",
@@ -770,6 +771,92 @@ TEST_F(EditTest, CombFitsTheViewOnFig8AndOnAGlyph) {
   const Outcome g = run_edit((dir_ / "glyph" / "O_c0.json").string(), "ui off\nfit\n", glyph, "640x480");
   ASSERT_EQ(g.code, 0) << g.err;
   expect_comb_inside(read_png(glyph), "glyph O");
+}
+
+
+// ---- issue 21, item 5: a font's glyph and an SVG's paths opened directly ----
+
+const std::string kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+/// The fields cmr import writes and the editor saves: they must agree.
+void expect_same_curve(const fs::path& saved, const fs::path& imported) {
+  const nlohmann::json a = read_json(saved), b = read_json(imported);
+  for (const char* k : {"degree", "knots", "points", "closed", "point_names", "weights"})
+    EXPECT_EQ(a.contains(k) ? a[k] : nlohmann::json(), b.contains(k) ? b[k] : nlohmann::json()) << saved << " " << k;
+}
+
+TEST_F(EditTest, GlyphFromAFontOpensAllContoursWithTheReportsNames) {
+  if (!fs::exists(kFont)) GTEST_SKIP() << kFont << " is missing (fonts-dejavu-core)";
+  const Outcome imp = run("import " + kFont + " --glyphs O --out " + (dir_ / "imported").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const cmr::BSpline c0 = cmr::read_spline_file(dir_ / "imported" / "O_c0.json");
+  const cmr::BSpline c1 = cmr::read_spline_file(dir_ / "imported" / "O_c1.json");
+  // ui off, a known view: the points of both contours are drawn (the active
+  // one's white or red markers, the other's light grey).
+  const cmr::View v{-100, -100, 1700, 1700};
+  const int W = 400, H = 400;
+  const fs::path shot = dir_ / "glyph.png";
+  const Outcome r = run_edit(kFont,
+                             "ui off\ncomb off\nview -100 -100 1700 1700\nstatus\nscreenshot " + shot.string() +
+                                 "\ncontour 1\nstatus\nsave-all\n",
+                             dir_ / "last.png", "400x400", " --glyph O", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cmr edit: glyph O of DejaVuSans.ttf: 2 contours (O/c0, O/c1)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(O/c0/p"), std::string::npos) << "the report's node names: " << r.err;
+  EXPECT_NE(r.err.find("selected P0 (O/c1/p0); editing O/c1 (2 of 2)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 2 spline JSON files: ./O_c0.json, ./O_c1.json"), std::string::npos) << r.err;
+  expect_same_curve(dir_ / "O_c0.json", dir_ / "imported" / "O_c0.json");
+  expect_same_curve(dir_ / "O_c1.json", dir_ / "imported" / "O_c1.json");
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, W);
+  const auto pixel = [&](cmr::Vec2 p) {
+    const int i = static_cast<int>((p.x - v.x0) / (v.x1 - v.x0) * W), j = static_cast<int>((v.y1 - p.y) / (v.y1 - v.y0) * H);
+    if (i < 0 || j < 0 || i >= W || j >= H) return std::array<int, 3>{-1, -1, -1};  // out of view: fails below
+    return img.rgb[j * W + i];
+  };
+  for (int k = 0; k < c0.unique_point_count(); ++k) {
+    const auto c = pixel(c0.points()[k]);
+    EXPECT_TRUE(c == (std::array<int, 3>{255, 255, 255}) || c == (std::array<int, 3>{230, 30, 30}))
+        << "O/c0/p" << k << " (active) drawn: " << c[0] << "," << c[1] << "," << c[2];
+  }
+  for (int k = 0; k < c1.unique_point_count(); ++k)
+    EXPECT_EQ(pixel(c1.points()[k]), (std::array<int, 3>{235, 235, 235})) << "O/c1/p" << k << " drawn beside it";
+  // Bad inputs: one line, exit 2.
+  const Outcome no_glyph = run_edit(kFont, "status\n", dir_ / "x.png", "400x400");
+  EXPECT_EQ(no_glyph.code, 2);
+  EXPECT_NE(no_glyph.err.find("a font; name the glyph to edit with --glyph X"), std::string::npos) << no_glyph.err;
+  const Outcome not_font = run_edit(kFig8, "status\n", dir_ / "x.png", "400x400", " --glyph O");
+  EXPECT_EQ(not_font.code, 2);
+  EXPECT_NE(not_font.err.find("--glyph: only for fonts"), std::string::npos) << not_font.err;
+  const Outcome missing = run_edit(kFont, "status\n", dir_ / "x.png", "400x400", " --glyph U+E000");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("DejaVuSans.ttf has no glyph for 'U+E000'"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(EditTest, SvgPathsOpenTogetherAndSaveAsSplineJson) {
+  const fs::path svg = dir_ / "two.svg";
+  std::ofstream(svg) << "<svg xmlns='http://www.w3.org/2000/svg'>"
+                        "<path d='M 0 0 C 30 -40 70 -40 100 0'/>"
+                        "<path d='M 0 60 Q 50 10 100 60 Q 150 110 200 60'/></svg>\n";
+  const Outcome imp = run("import " + svg.string() + " --out " + (dir_ / "imported").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const Outcome r = run_edit(svg.string(), "contour 1\ntype x 75.5\nsave-all\n", dir_ / "svg.png", "1024x768", "", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("two.svg: 2 paths"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 2 spline JSON files: ./two_0.json, ./two_1.json"), std::string::npos) << r.err;
+  expect_same_curve(dir_ / "two_0.json", dir_ / "imported" / "two_0.json");
+  const nlohmann::json edited = read_json(dir_ / "two_1.json"), before = read_json(dir_ / "imported" / "two_1.json");
+  EXPECT_EQ(edited["knots"], before["knots"]);
+  EXPECT_NE(edited["points"], before["points"]) << "the typed x moved the selected point of path 1";
+  int moved = 0;
+  for (std::size_t i = 0; i < before["points"].size(); ++i)
+    if (edited["points"][i] != before["points"][i]) {
+      ++moved;
+      EXPECT_EQ(edited["points"][i][0].get<double>(), 75.5);
+      EXPECT_EQ(edited["points"][i][1], before["points"][i][1]);
+    }
+  EXPECT_EQ(moved, 1);
 }
 
 }  // namespace

@@ -96,6 +96,8 @@ void Editor::fit_view() {
   const BSpline& s = doc().spline;
   std::pair<Vec2, Vec2> box{s.points()[0], s.points()[0]};
   for (const Vec2& p : s.points()) grow(box, p);
+  for (const OpenedCurve& c : curves)  // a glyph's other contours
+    for (const Vec2& p : c.spline.points()) grow(box, p);
   if (show_comb) {
     const Comb c = comb_geometry(s, canvas_view(*this), 1.0, comb_density);
     for (const Vec2& p : c.tips) grow(box, p);
@@ -294,17 +296,17 @@ Legend region_legend(Editor& e) {
   if (e.show_overlay) {
     const draw::Rgb orange{230 / 255.0, 120 / 255.0, 0}, cyan{0, 160 / 255.0, 200 / 255.0},
         purple{140 / 255.0, 0, 160 / 255.0};
-    l.lines.push_back({LegendLine::Kind::dot, orange, orange, "sharpest point: a maximum of |curvature| (certified)"});
-    l.lines.push_back({LegendLine::Kind::dot, cyan, cyan, "flattest point: a minimum of |curvature| (certified)"});
-    l.lines.push_back({LegendLine::Kind::square, purple, purple, "inflection: the curve changes its turning side"});
+    l.lines.push_back({LegendLine::Kind::dot, orange, orange, "sharpest point (max |curvature|, certified)"});
+    l.lines.push_back({LegendLine::Kind::dot, cyan, cyan, "flattest point (min |curvature|, certified)"});
+    l.lines.push_back({LegendLine::Kind::square, purple, purple, "inflection (the curve changes side)"});
     if (e.show_comb) {
       const draw::Rgb green{60 / 255.0, 140 / 255.0, 60 / 255.0};
-      l.lines.push_back({LegendLine::Kind::line, green, green, "curvature comb: teeth as long as |curvature|"});
+      l.lines.push_back({LegendLine::Kind::line, green, green, "comb: teeth as long as |curvature|"});
     }
     if (d.spline.segment_count() > 1) {
-      l.lines.push_back({LegendLine::Kind::diamond, {0.1, 0.65, 0.1}, {}, "joint G2: tangent and curvature agree"});
-      l.lines.push_back({LegendLine::Kind::diamond, {0.95, 0.75, 0.0}, {}, "joint G1: tangent agrees, curvature jumps"});
-      l.lines.push_back({LegendLine::Kind::diamond, {0.85, 0.1, 0.1}, {}, "joint G0: a corner"});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.1, 0.65, 0.1}, {}, "G2 joint (curvature continuous)"});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.95, 0.75, 0.0}, {}, "G1 joint (curvature jumps)"});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.85, 0.1, 0.1}, {}, "G0 joint (a corner)"});
     }
   }
   return l;

@@ -75,7 +75,10 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
     return;
   }
   const int k = pick(mouse_.x, mouse_.y);
-  if (k < 0) return;
+  if (k < 0) {
+    pick_other_curve(mouse_.x, mouse_.y);  // another contour's point: edit that contour
+    return;
+  }
   if (shift) {
     std::vector<int> g = doc().group;
     const auto it = std::find(g.begin(), g.end(), k);
@@ -357,9 +360,9 @@ bool Editor::redo() {
 }
 
 void Editor::save(const std::filesystem::path& path) {
-  write_spline_file(path, doc().spline);
+  write_curve_file(path, doc().spline, point_names);
   path_ = path;
-  message = "saved " + path.string();
+  message = "saved " + path.string() + " (spline JSON)";
 }
 
 void Editor::export_region(const std::filesystem::path& path) {

@@ -11,6 +11,7 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
+#include "tools/edit/sources.hpp"
 #include "bezierize/fix.hpp"
 #include "bezierize/weight_region.hpp"
 
@@ -135,6 +136,24 @@ class Editor {
   void set_point_shown(int k, bool shown);
   /// The point each region layer belongs to (region_requests' order).
   std::vector<int> layer_points() const;
+  // ---- several curves: a glyph's contours, an SVG's paths (tools/edit/sources.cpp) ----
+  /// The curves opened together (empty or one: a single spline file); the
+  /// document holds the active one's spline, the others are drawn beside it.
+  std::vector<OpenedCurve> curves;
+  int active_curve = 0;
+  std::filesystem::path font_path;  ///< a font: the glyph picker's source
+  /// Takes the curves of an opened source, the first one active.
+  void set_source(OpenedSource source);
+  /// Edits curve k instead (the active one keeps its edits); undo starts
+  /// again there. InputError for a curve the source lacks.
+  void switch_curve(int k);
+  /// The glyph picker: every contour of glyph `spec` of font_path.
+  void open_glyph(const std::string& spec);
+  /// Writes every curve (the active one as edited) to its spline JSON
+  /// (OpenedCurve::save_as, with its point names); the status line says where.
+  void save_all();
+  /// A press on another curve's point makes that curve active and selects it.
+  bool pick_other_curve(double x, double y);
   /// Typed coordinates: point k to exactly (x, y) (its group and chain rules
   /// as a drag); one undo step.
   void set_point_xy(int k, double x, double y);

@@ -141,6 +141,38 @@ void draw_outlines(Editor& e, ImDrawList* dl) {
   }
 }
 
+/// The curves opened beside the active one (a glyph's other contours, an
+/// SVG's other paths): grey, with their points; a click on one edits it.
+void draw_other_curves(Editor& e, ImDrawList* dl, std::vector<Vec2>& at, std::vector<Vec2>& sizes,
+                       std::vector<std::string>& names) {
+  for (int c = 0; c < static_cast<int>(e.curves.size()); ++c) {
+    if (c == e.active_curve) continue;
+    const OpenedCurve& oc = e.curves[c];
+    const BSpline& s = oc.spline;
+    const CurveSampler sampler(s);
+    std::vector<ImVec2> line;
+    for (const Segment& seg : s.segments())
+      for (int i = 0; i <= kCurveSamplesPerSegment; ++i)
+        if (const auto p = sampler.at(seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment)) line.push_back(screen(e, *p));
+    if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), IM_COL32(110, 110, 110, 255), 0, 1.5f);
+    const std::vector<Vec2>& pts = s.points();
+    for (std::size_t i = 1; i < pts.size(); ++i) dl->AddLine(screen(e, pts[i - 1]), screen(e, pts[i]), IM_COL32(170, 170, 170, 255));
+    const int n = s.closed() ? s.unique_point_count() : s.point_count();
+    for (int i = 0; i < n; ++i) {
+      const ImVec2 p = screen(e, pts[i]);
+      dl->AddCircleFilled(p, 4.0f, IM_COL32(235, 235, 235, 255));
+      dl->AddCircle(p, 4.0f, IM_COL32(110, 110, 110, 255), 0, 1.0f);
+      std::string name = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+      if (i < static_cast<int>(oc.point_names.size())) name = oc.point_names[i];
+      else name += std::to_string(i);
+      const ImVec2 size = ImGui::CalcTextSize(name.c_str());
+      at.push_back({p.x, p.y});
+      sizes.push_back({size.x, size.y});
+      names.push_back(std::move(name));
+    }
+  }
+}
+
 void draw_points(Editor& e, ImDrawList* dl) {
   const Document& d = e.doc();
   const std::vector<Vec2>& pts = d.spline.points();
@@ -161,10 +193,14 @@ void draw_points(Editor& e, ImDrawList* dl) {
     at.push_back({p.x, p.y});
     sizes.push_back({size.x, size.y});
   }
-  // Names that would overprint another name or a point are left out (hover shows them).
+  const std::size_t active = names.size();
+  draw_other_curves(e, dl, at, sizes, names);
+  // Names that would overprint another name or a point are left out (hover
+  // shows them); the active curve's are placed first.
   for (const PlacedLabel& l : place_labels(at, sizes, 6)) {
+    const bool mine = static_cast<std::size_t>(l.point) < active;
     dl->AddRectFilled({l.x - 1, l.y}, {l.x + l.w + 1, l.y + l.h}, IM_COL32(255, 255, 255, 170));
-    dl->AddText({l.x, l.y}, IM_COL32(0, 0, 0, 255), names[l.point].c_str());
+    dl->AddText({l.x, l.y}, mine ? IM_COL32(0, 0, 0, 255) : IM_COL32(110, 110, 110, 255), names[l.point].c_str());
   }
 }
 
@@ -506,12 +542,38 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("snap P%d into its region: the nearest certified position", e.doc().selected);
 }
 
+/// A glyph's contours or an SVG's paths: which one is edited; a font's
+/// other glyphs by character.
+void curve_picker(Editor& e) {
+  if (e.curves.size() > 1) {
+    const std::string current = e.curves[e.active_curve].name;
+    ImGui::SetNextItemWidth(180);
+    if (ImGui::BeginCombo("edited curve", current.c_str())) {
+      for (int k = 0; k < static_cast<int>(e.curves.size()); ++k)
+        if (ImGui::Selectable(e.curves[k].name.c_str(), k == e.active_curve)) act(e, [&] { e.switch_curve(k); });
+      ImGui::EndCombo();
+    }
+  }
+  if (!e.font_path.empty()) {
+    static char glyph[16] = "";
+    ImGui::SetNextItemWidth(60);
+    const bool enter = ImGui::InputText("##glyph", glyph, sizeof glyph, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("open glyph") || enter) && glyph[0] != 0) act(e, [&] { e.open_glyph(glyph); });
+  }
+  if (e.curves.size() > 1) {
+    ImGui::SameLine();
+    if (ImGui::Button("save all")) act(e, [&] { e.save_all(); });
+  }
+}
+
 void side_panel(Editor& e, const UiInfo& info) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos({io.DisplaySize.x - kPanelWidth, 0});
   ImGui::SetNextWindowSize({kPanelWidth, io.DisplaySize.y});
   ImGui::Begin("cmr edit", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImGui::TextWrapped("%s", e.path().filename().string().c_str());
+  curve_picker(e);
   ImGui::TextWrapped("%s", info.region_path.c_str());
   ImGui::Text("frame %.1f ms", info.frame_ms);
   ImGui::Separator();
@@ -662,7 +724,7 @@ void legend_window(Editor& e) {
   ImGui::Begin("legend", nullptr,
                ImGuiWindowFlags_NoMove | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse |
                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
-  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 330);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 290);
   ImGui::TextWrapped("%s", l.title.c_str());
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const float h = ImGui::GetTextLineHeight();

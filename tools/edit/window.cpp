@@ -570,6 +570,12 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "overlay") e.show_overlay = switch_arg(c, 0);
   else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
   else if (n == "fit") e.fit_view();
+  else if (n == "contour") e.switch_curve(int_arg(c, 0));
+  else if (n == "glyph") e.open_glyph(c.args[0]);
+  else if (n == "save-all") {
+    e.save_all();
+    std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+  }
   else if (n == "fit-region") {
     e.fit_region();
     std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
@@ -616,8 +622,12 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
     return true;
   }
   if (c.name == "status") {  // what the panel shows: the selected point and the status line
-    std::cerr << "cmr edit: script line " << c.line << ": selected P" << e.doc().selected << "; " << e.message
-              << '\n';
+    const std::string name = e.point_name(e.doc().selected);
+    std::string plain = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+    plain += std::to_string(e.doc().selected);
+    const bool named = name != plain;
+    std::cerr << "cmr edit: script line " << c.line << ": selected P" << e.doc().selected
+              << (named ? " (" + name + ")" : std::string()) << "; " << e.message << '\n';
     return true;
   }
   if (c.name == "fix" || c.name == "snap") {
@@ -647,14 +657,27 @@ int run_editor(const EditOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
   if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
-  BSpline spline = open_spline(o.file);
+  OpenedSource source = o.file.empty() ? OpenedSource{} : open_source(o.file, o.glyph);
+  BSpline spline = source.curves.empty() ? open_spline(o.file) : source.curves[0].spline;
+  if (source.curves.size() > 1 || !source.font.empty()) {
+    std::string names;
+    for (const OpenedCurve& c : source.curves) names += (names.empty() ? "" : ", ") + c.name;
+    std::cerr << "cmr edit: " << source.what << " (" << names << ")\n";
+  }
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
   App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
-  app.editor().point_names = read_point_names(o.file);
+  if (source.curves.size() > 1 || !source.font.empty()) app.editor().set_source(std::move(source));
+  else app.editor().point_names = read_point_names(o.file);
   app.editor().open_on_region_point(o.point);
-  app.editor().fit_view();  // the curve, its comb and the opened point's region
+  {  // the first view: the curve, its comb and the opened point's region
+    Editor& e = app.editor();
+    const std::string opened = e.message;  // the opening's status line stays
+    e.fit_view();
+    e.region();
+    e.message = opened;
+  }
   if (!o.script.empty() || !o.screenshot.empty()) {
     app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));
