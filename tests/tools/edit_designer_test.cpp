@@ -295,4 +295,50 @@ TEST(EditNumbers, CurveUnderTheCursorAndCertifiedExtrema) {
   for (const Joint& j : e.analysis().joints) EXPECT_EQ(joint_continuity(j), 2) << j.index;
 }
 
+TEST(EditConstrainedDrag, StopsAtTheRegionsBoundaryOnACertifiedPosition) {
+  Editor e = editor_of(read_spline_file(kFig8), 640, 480);
+  e.select(3);
+  e.set_view({-1, -7, 5, -2.5});
+  // P3 onto a pixel deep inside its region (all its neighbours inside too).
+  const RegionResult& layer = *e.region().front();
+  const RegionRequest rq = e.region_requests().front();
+  std::optional<Vec2> deep;
+  for (int j = 3; j < layer.height - 3 && !deep; ++j)
+    for (int i = 3; i < layer.width - 3 && !deep; ++i) {
+      bool all = true;
+      for (int dj = -3; dj <= 3; ++dj)
+        for (int di = -3; di <= 3; ++di) all = all && in_region(layer, static_cast<std::size_t>(j + dj) * layer.width + i + di);
+      if (all) deep = pixel_center(*rq.view, rq.width, rq.height, i, j);
+    }
+  ASSERT_TRUE(deep.has_value());
+  e.move_point(3, *deep);
+  const Vec2 start = e.doc().spline.points()[3];
+  ASSERT_TRUE(e.in_selected_region(start));
+  const Vec2 target = start + Vec2{4, 3};  // far out of the region
+  ASSERT_FALSE(e.in_selected_region(target));
+  const auto drag = [&](Vec2 to) {
+    const Vec2 a = e.viewport().to_screen(e.doc().spline.points()[3]), b = e.viewport().to_screen(to);
+    e.mouse_move(a.x, a.y);
+    e.mouse_button(MouseButton::left, true, false);
+    for (int i = 1; i <= 5; ++i) e.mouse_move(a.x + (b.x - a.x) * i / 5, a.y + (b.y - a.y) * i / 5);
+    e.mouse_button(MouseButton::left, false, false);
+  };
+  e.constrain_drag = true;
+  drag(target);
+  const Vec2 end = e.doc().spline.points()[3];
+  EXPECT_TRUE(e.in_selected_region(end)) << "certified inside: " << end.x << ", " << end.y;
+  EXPECT_GT(std::hypot(end.x - target.x, end.y - target.y), 0.1) << "it stopped short of the pointer";
+  // At the boundary: a hair further towards the pointer is outside.
+  const Vec2 dir = target - end;
+  const double len = std::hypot(dir.x, dir.y);
+  EXPECT_FALSE(e.in_selected_region(end + dir * (1e-6 / len))) << "it stopped at the boundary, not before";
+  // Every other point is where it was; unconstrained, the drag follows the pointer.
+  EXPECT_TRUE(e.undo());
+  e.constrain_drag = false;
+  drag(target);
+  const Vec2 free = e.doc().spline.points()[3];
+  EXPECT_NEAR(free.x, target.x, 1e-6);
+  EXPECT_NEAR(free.y, target.y, 1e-6);
+}
+
 }  // namespace

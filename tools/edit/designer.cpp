@@ -342,3 +342,51 @@ std::vector<PlacedLabel> place_labels(const std::vector<Vec2>& pts, const std::v
 }
 
 }  // namespace cmr::edit
+
+namespace cmr::edit {
+
+namespace {
+
+bool pixel_inside(const RegionPixel& px, const RegionRequest& r) {
+  if (r.each_piece) return px.piece_label == EachPiece::monotone;
+  if (!r.splits.empty()) return code(px.alternating_label) == 1 || code(px.alternating_label) == 2;
+  if (r.split) return code(px.split_label) >= 1 && code(px.split_label) <= 4;
+  return px.label == Direction::increasing || px.label == Direction::decreasing;
+}
+
+}  // namespace
+
+bool Editor::in_selected_region(Vec2 p) const {
+  const Document& d = doc();
+  if (d.all_points || d.kcurve) return false;
+  const std::vector<RegionRequest> q = region_requests();
+  if (q.size() != 1) return false;
+  RegionRequest r = q.front();
+  r.depth = false;
+  return pixel_inside(RegionProblem::make(region_spline(), r).classify(p), r);
+}
+
+Vec2 Editor::constrained_target(Vec2 from, Vec2 to) const {
+  const Document& d = doc();
+  if (d.all_points || d.kcurve) return to;
+  const std::vector<RegionRequest> q = region_requests();
+  if (q.size() != 1) return to;
+  RegionRequest r = q.front();
+  r.depth = false;
+  try {
+    // The region of P_k does not depend on where P_k stands: one problem.
+    const RegionProblem problem = RegionProblem::make(region_spline(), r);
+    const auto inside = [&](Vec2 p) { return pixel_inside(problem.classify(p), r); };
+    if (inside(to) || !inside(from)) return to;
+    double in = 0, out = 1;  // from + (to - from) * s: inside at `in`, outside at `out`
+    for (int i = 0; i < kConstrainSteps; ++i) {
+      const double mid = 0.5 * (in + out);
+      (inside(from + (to - from) * mid) ? in : out) = mid;
+    }
+    return from + (to - from) * in;  // certified inside (in == 0: where it stands)
+  } catch (const InputError&) {
+    return to;
+  }
+}
+
+}  // namespace cmr::edit

@@ -49,7 +49,9 @@ void Editor::mouse_move(double x, double y) {
   }
   if (dragging_ >= 0) {
     Document next = doc();
-    next.spline = edit::move_point(doc(), dragging_, viewport_.to_world(x, y) + grab_offset_);
+    Vec2 to = viewport_.to_world(x, y) + grab_offset_;
+    if (constrain_drag && dragging_ == doc().selected) to = constrained_target(doc().spline.points()[dragging_], to);
+    next.spline = edit::move_point(doc(), dragging_, to);
     history_.commit(std::move(next), "drag" + std::to_string(drag_serial_));
     changed_document();
   }

@@ -154,6 +154,20 @@ class Editor {
   void save_all();
   /// A press on another curve's point makes that curve active and selects it.
   bool pick_other_curve(double x, double y);
+  /// Constrained drag (issue 21, item 6): a dragged point that stands in its
+  /// region stays in it: where the pointer leaves the region the point stops
+  /// at the last position on the way there that RegionProblem::classify
+  /// certifies inside (bisection to kConstrainSteps halvings). A point
+  /// outside its region moves freely until it enters. The selected point
+  /// alone (not with every point overlapped or in kappa-curve mode).
+  bool constrain_drag = false;
+  static constexpr int kConstrainSteps = 40;
+  /// Where a constrained drag of the selected point from `from` towards `to`
+  /// ends (to itself when unconstrained or when `to` is inside).
+  Vec2 constrained_target(Vec2 from, Vec2 to) const;
+  /// Whether position p is certified inside the selected point's region
+  /// (its current request: mode, split, segments, group, chain).
+  bool in_selected_region(Vec2 p) const;
   /// Typed coordinates: point k to exactly (x, y) (its group and chain rules
   /// as a drag); one undo step.
   void set_point_xy(int k, double x, double y);

@@ -362,6 +362,10 @@ void controls(Editor& e, const UiInfo& info) {
     }
   }
   if (ImGui::Checkbox("Bezier chain (G1 handles)", &chain)) act(e, [&] { e.set_chain(chain); });
+  ImGui::SameLine();
+  ImGui::Checkbox("keep in region", &e.constrain_drag);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("a dragged point inside its region stops at its boundary (certified positions only)");
   const int joints = d.spline.segment_count() - 1;
   const std::string current = d.split ? "joint " + std::to_string(*d.split) : "none";
   if (ImGui::BeginCombo("split", current.c_str())) {

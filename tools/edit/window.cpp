@@ -571,6 +571,7 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
   else if (n == "fit") e.fit_view();
   else if (n == "contour") e.switch_curve(int_arg(c, 0));
+  else if (n == "constrain") e.constrain_drag = switch_arg(c, 0);
   else if (n == "glyph") e.open_glyph(c.args[0]);
   else if (n == "save-all") {
     e.save_all();
