@@ -107,7 +107,7 @@ TEST(EditLegend, NamesEveryColourShownInEachMode) {
     want += std::to_string(k);
     want += "'s region";
     EXPECT_TRUE(std::any_of(all.lines.begin(), all.lines.end(), [&](const LegendLine& x) {
-      return x.kind == LegendLine::Kind::outline && x.point == k && x.text == want &&
+      return x.kind == LegendLine::Kind::outline && x.point == k && x.text.rfind(want, 0) == 0 &&
              bytes_of(x.colour) == bytes_of(draw::point_colour(k));
     })) << "P" << k;
   }

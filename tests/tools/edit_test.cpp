@@ -711,7 +711,7 @@ TEST_F(EditTest, LegendNamesEveryColourShownInEachMode) {
         want += std::to_string(k);
         want += "'s region";
         const bool listed = std::any_of(legend.begin(), legend.end(),
-                                        [&](const LegendLine& l) { return l.kind == "outline" && l.text == want; });
+                                        [&](const LegendLine& l) { return l.kind == "outline" && l.text.rfind(want, 0) == 0; });
         EXPECT_EQ(listed, !(name == "all points but P3" && k == 3)) << name << " P" << k;
       }
   }

@@ -289,10 +289,16 @@ Legend region_legend(Editor& e) {
       l.lines.push_back({LegendLine::Kind::swatch, en.colour, en.colour, text});
     }
   }
-  if (d.all_points)
-    for (int k : e.layer_points())
+  if (d.all_points) {
+    const std::vector<int> points = e.layer_points();
+    for (std::size_t i = 0; i < points.size() && i < layers.size(); ++i) {
+      bool any = false;
+      for (std::size_t j = 0; j < layers[i]->size() && !any; ++j) any = in_region(*layers[i], j);
+      const int k = points[i];
       l.lines.push_back({LegendLine::Kind::outline, draw::point_colour(k), draw::point_colour(k),
-                         e.point_name(k) + "'s region", k});
+                         e.point_name(k) + "'s region" + (any ? "" : " (none in this view)"), k});
+    }
+  }
   if (e.show_overlay) {
     const draw::Rgb orange{230 / 255.0, 120 / 255.0, 0}, cyan{0, 160 / 255.0, 200 / 255.0},
         purple{140 / 255.0, 0, 160 / 255.0};

@@ -269,6 +269,7 @@ class Editor {
   bool show_ui = true;       ///< the panels
   bool show_overlay = true;  ///< curve, polygon, points, comb
   bool show_comb = true;
+  bool show_legend = true;   ///< the legend at the canvas's top left (designer.hpp's region_legend)
   /// Comb length relative to the fitted comb (designer.hpp's comb_geometry:
   /// 1 fits the canvas's view).
   double comb_scale = 1.0;

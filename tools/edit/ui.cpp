@@ -361,9 +361,11 @@ void controls(Editor& e, const UiInfo& info) {
       if (k % 4 != 3 && k + 1 < n) ImGui::SameLine();
     }
   }
-  if (ImGui::Checkbox("Bezier chain (G1 handles)", &chain)) act(e, [&] { e.set_chain(chain); });
+  if (ImGui::Checkbox("chain (G1)", &chain)) act(e, [&] { e.set_chain(chain); });
   ImGui::SameLine();
   ImGui::Checkbox("keep in region", &e.constrain_drag);
+  ImGui::SameLine();
+  ImGui::Checkbox("legend", &e.show_legend);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("a dragged point inside its region stops at its boundary (certified positions only)");
   const int joints = d.spline.segment_count() - 1;
@@ -578,8 +580,9 @@ void side_panel(Editor& e, const UiInfo& info) {
   ImGui::Begin("cmr edit", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
   ImGui::TextWrapped("%s", e.path().filename().string().c_str());
   curve_picker(e);
-  ImGui::TextWrapped("%s", info.region_path.c_str());
-  ImGui::Text("frame %.1f ms", info.frame_ms);
+  // How the region reaches the window, in full on hover (one line here).
+  ImGui::Text("frame %.1f ms; region path (hover)", info.frame_ms);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info.region_path.c_str());
   ImGui::Separator();
   controls(e, info);
   ImGui::Separator();
@@ -828,7 +831,7 @@ void build_ui(Editor& e, const UiInfo& info) {
   if (!e.show_ui) return;
   side_panel(e, info);
   curvature_plot(e);
-  legend_window(e);
+  if (e.show_legend) legend_window(e);
   canvas_readout(e);
 }
 
