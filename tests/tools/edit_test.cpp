@@ -798,13 +798,16 @@ TEST_F(EditTest, GlyphFromAFontOpensAllContoursWithTheReportsNames) {
   const fs::path shot = dir_ / "glyph.png";
   const Outcome r = run_edit(kFont,
                              "ui off\ncomb off\nview -100 -100 1700 1700\nstatus\nscreenshot " + shot.string() +
-                                 "\ncontour 1\nstatus\nsave-all\n",
+                                 "\ncontour 1\nstatus\nsave-all\nglyph C\nstatus\n",
                              dir_ / "last.png", "400x400", " --glyph O", dir_);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("cmr edit: glyph O of DejaVuSans.ttf: 2 contours (O/c0, O/c1)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("(O/c0/p"), std::string::npos) << "the report's node names: " << r.err;
   EXPECT_NE(r.err.find("selected P0 (O/c1/p0); editing O/c1 (2 of 2)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("saved 2 spline JSON files: ./O_c0.json, ./O_c1.json"), std::string::npos) << r.err;
+  // The glyph picker (the panel's glyph field; the script's glyph): C's one contour.
+  EXPECT_NE(r.err.find("selected P0 (C/c0/p0); opened glyph C of DejaVuSans.ttf: 1 contour"), std::string::npos)
+      << r.err;
   expect_same_curve(dir_ / "O_c0.json", dir_ / "imported" / "O_c0.json");
   expect_same_curve(dir_ / "O_c1.json", dir_ / "imported" / "O_c1.json");
   const Image img = read_png(shot);

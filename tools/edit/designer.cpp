@@ -261,17 +261,35 @@ Legend region_legend(Editor& e) {
   if (d.depth_shading) l.title += "; shading: the level at which each pixel was decided (Fig. 7)";
 
   const std::vector<const RegionResult*>& layers = e.region();
-  if (!layers.empty()) {
-    const BSpline shown = e.region_spline();
-    draw::RegionPicture p;
-    p.spline = &shown;
-    p.layers = layers;
-    p.split = d.split.has_value();
-    p.alternating = layers.front()->alternating;
-    p.each_piece = layers.front()->each_piece;
-    p.depth_shading = d.depth_shading;
-    p.max_depth = d.max_depth;
-    const std::vector<draw::LegendEntry> entries = draw::legend_for(p);
+  // What the layers give (every pixel scanned) is remembered until they change.
+  struct Cached {
+    long serial = -1;
+    std::vector<draw::LegendEntry> entries;
+    std::vector<bool> any;  ///< per layer: some pixel inside
+  };
+  static thread_local Cached cache;
+  if (cache.serial != e.region_serial()) {
+    cache = {e.region_serial(), {}, {}};
+    if (!layers.empty()) {
+      const BSpline shown = e.region_spline();
+      draw::RegionPicture p;
+      p.spline = &shown;
+      p.layers = layers;
+      p.split = d.split.has_value();
+      p.alternating = layers.front()->alternating;
+      p.each_piece = layers.front()->each_piece;
+      p.depth_shading = d.depth_shading;
+      p.max_depth = d.max_depth;
+      cache.entries = draw::legend_for(p);
+    }
+    for (const RegionResult* r : layers) {
+      bool any = false;
+      for (std::size_t j = 0; j < r->size() && !any; ++j) any = in_region(*r, j);
+      cache.any.push_back(any);
+    }
+  }
+  {
+    const std::vector<draw::LegendEntry>& entries = cache.entries;
     for (std::size_t i = 0; i < entries.size(); ++i) {
       const draw::LegendEntry& en = entries[i];
       std::string text = en.text;
@@ -291,12 +309,10 @@ Legend region_legend(Editor& e) {
   }
   if (d.all_points) {
     const std::vector<int> points = e.layer_points();
-    for (std::size_t i = 0; i < points.size() && i < layers.size(); ++i) {
-      bool any = false;
-      for (std::size_t j = 0; j < layers[i]->size() && !any; ++j) any = in_region(*layers[i], j);
+    for (std::size_t i = 0; i < points.size() && i < cache.any.size(); ++i) {
       const int k = points[i];
       l.lines.push_back({LegendLine::Kind::outline, draw::point_colour(k), draw::point_colour(k),
-                         e.point_name(k) + "'s region" + (any ? "" : " (none in this view)"), k});
+                         e.point_name(k) + "'s region" + (cache.any[i] ? "" : " (none in this view)"), k});
     }
   }
   if (e.show_overlay) {

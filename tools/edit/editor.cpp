@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
@@ -487,6 +488,8 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
     }
     differs = keys != region_keys_;
     if (differs) {
+      static std::atomic<long> serials{0};  // unique over every editor: caches keyed by it never mix two
+      region_serial_ = ++serials;
       region_.clear();
       for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r));
       region_keys_ = std::move(keys);

@@ -249,6 +249,9 @@ class Editor {
   /// differ from the last call's. While a point is dragged or the view
   /// panned, layers the cache lacks are computed kDragCoarse times coarser.
   const std::vector<const RegionResult*>& region(bool* changed = nullptr);
+  /// Counts the changes of region()'s layers (what is derived from them is
+  /// cached by it: the legend, the outlines).
+  long region_serial() const { return region_serial_; }
   /// RGBA of the whole window: region() in the legend's colours on the
   /// canvas, white elsewhere.
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
@@ -307,6 +310,7 @@ class Editor {
   std::vector<std::vector<double>> region_keys_;
   std::pair<int, int> region_canvas_{0, 0};
   int region_coarse_ = 1;
+  long region_serial_ = 0;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
   bool weight_region_stale_ = true;

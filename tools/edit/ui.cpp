@@ -104,41 +104,54 @@ void draw_marks(Editor& e, ImDrawList* dl) {
   }
 }
 
-/// Every point overlapped: each layer's region outlined in its point's hue.
+/// Every point overlapped: each layer's region outlined in its point's hue
+/// (the edges between inside and outside pixels, in runs; recomputed when
+/// the layers change).
 void draw_outlines(Editor& e, ImDrawList* dl) {
   if (!e.doc().all_points) return;
+  struct Edge {
+    ImVec2 a, b;
+    ImU32 colour;
+  };
+  static long serial = -1;
+  static std::vector<Edge> edges;
   const std::vector<const RegionResult*>& layers = e.region();
-  const std::vector<int> points = e.layer_points();
-  const float c = static_cast<float>(e.region_coarse());
-  for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
-    const RegionResult& r = *layers[l];
-    const ImU32 col = colour_u32(draw::point_colour(points[l]));
-    const auto in = [&](int i, int j) {
-      return i >= 0 && j >= 0 && i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i);
-    };
-    for (int j = 0; j <= r.height; ++j) {  // horizontal edges above row j, in runs
-      int run = -1;
-      for (int i = 0; i <= r.width; ++i) {
-        const bool edge = i < r.width && in(i, j) != in(i, j - 1);
-        if (edge && run < 0) run = i;
-        if (!edge && run >= 0) {
-          dl->AddLine({run * c, j * c}, {i * c, j * c}, col, 2.0f);
-          run = -1;
+  if (serial != e.region_serial()) {
+    serial = e.region_serial();
+    edges.clear();
+    const std::vector<int> points = e.layer_points();
+    const float c = static_cast<float>(e.region_coarse());
+    for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
+      const RegionResult& r = *layers[l];
+      const ImU32 col = colour_u32(draw::point_colour(points[l]));
+      const auto in = [&](int i, int j) {
+        return i >= 0 && j >= 0 && i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i);
+      };
+      for (int j = 0; j <= r.height; ++j) {  // horizontal edges above row j, in runs
+        int run = -1;
+        for (int i = 0; i <= r.width; ++i) {
+          const bool edge = i < r.width && in(i, j) != in(i, j - 1);
+          if (edge && run < 0) run = i;
+          if (!edge && run >= 0) {
+            edges.push_back({{run * c, j * c}, {i * c, j * c}, col});
+            run = -1;
+          }
         }
       }
-    }
-    for (int i = 0; i <= r.width; ++i) {  // vertical edges left of column i
-      int run = -1;
-      for (int j = 0; j <= r.height; ++j) {
-        const bool edge = j < r.height && in(i, j) != in(i - 1, j);
-        if (edge && run < 0) run = j;
-        if (!edge && run >= 0) {
-          dl->AddLine({i * c, run * c}, {i * c, j * c}, col, 2.0f);
-          run = -1;
+      for (int i = 0; i <= r.width; ++i) {  // vertical edges left of column i
+        int run = -1;
+        for (int j = 0; j <= r.height; ++j) {
+          const bool edge = j < r.height && in(i, j) != in(i - 1, j);
+          if (edge && run < 0) run = j;
+          if (!edge && run >= 0) {
+            edges.push_back({{i * c, run * c}, {i * c, j * c}, col});
+            run = -1;
+          }
         }
       }
     }
   }
+  for (const Edge& x : edges) dl->AddLine(x.a, x.b, x.colour, 2.0f);
 }
 
 /// The curves opened beside the active one (a glyph's other contours, an
@@ -577,7 +590,11 @@ void side_panel(Editor& e, const UiInfo& info) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos({io.DisplaySize.x - kPanelWidth, 0});
   ImGui::SetNextWindowSize({kPanelWidth, io.DisplaySize.y});
-  ImGui::Begin("cmr edit", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  // The scrollbar always there: the content's width (the knot ruler's scale)
+  // does not change when a long status line makes the panel overflow.
+  ImGui::Begin("cmr edit", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_AlwaysVerticalScrollbar);
   ImGui::TextWrapped("%s", e.path().filename().string().c_str());
   curve_picker(e);
   // How the region reaches the window, in full on hover (one line here).
