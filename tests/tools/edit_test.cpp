@@ -862,4 +862,45 @@ TEST_F(EditTest, SvgPathsOpenTogetherAndSaveAsSplineJson) {
   EXPECT_EQ(moved, 1);
 }
 
+TEST_F(EditTest, ConstrainedDragStopsInsideTheRegion) {
+  // P3 first onto a position deep inside its region (RegionProblem::classify
+  // on a grid), then dragged far out with "keep in region" on: it stops on
+  // a certified position inside, short of the pointer.
+  const cmr::BSpline fig8 = cmr::read_spline_file(kFig8);
+  cmr::RegionRequest rq;
+  rq.point = 3;
+  const cmr::RegionProblem problem = cmr::RegionProblem::make(fig8, rq);
+  const auto inside = [&](cmr::Vec2 p) {
+    const cmr::Direction l = problem.classify(p).label;
+    return l == cmr::Direction::increasing || l == cmr::Direction::decreasing;
+  };
+  std::optional<cmr::Vec2> deep;
+  for (double y = -6.5; y < -3 && !deep; y += 0.05)
+    for (double x = -0.5; x < 4.5 && !deep; x += 0.05) {
+      bool all = true;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) all = all && inside({x + 0.05 * dx, y + 0.05 * dy});
+      if (all) deep = cmr::Vec2{x, y};
+    }
+  ASSERT_TRUE(deep.has_value());
+  const cmr::Vec2 far = *deep + cmr::Vec2{2.5, 2.0};
+  ASSERT_FALSE(inside(far));
+  const fs::path saved = dir_ / "kept.json";
+  const auto num = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return std::string(b);
+  };
+  const Outcome r = run_edit(kFig8,
+                             "ui off\nview " + kView + "\nselect 3\ndrag 3 " + num(deep->x) + " " + num(deep->y) +
+                                 "\nconstrain on\ndrag 3 " + num(far.x) + " " + num(far.y) + " 8\nsave " +
+                                 saved.string() + "\n",
+                             dir_ / "shot.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const cmr::Vec2 p = cmr::read_spline_file(saved).points()[3];
+  EXPECT_TRUE(inside(p)) << "certified inside: " << p.x << ", " << p.y;
+  EXPECT_GT(norm(p - far), 0.1) << "stopped short of the pointer";
+  EXPECT_GT(norm(p - *deep), 1e-3) << "moved towards the pointer";
+}
+
 }  // namespace

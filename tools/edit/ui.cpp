@@ -413,7 +413,7 @@ void controls(Editor& e, const UiInfo& info) {
     double weight = d.spline.weight(d.selected);
     const double lo = -Editor::kMaxWeight, hi = Editor::kMaxWeight;
     const std::string label =
-        "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
+        "weight of " + e.point_name(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
     ImGui::SetNextItemWidth(120);
     // Any sign (ctrl+click types a value); the step follows the weight's size.
     const float speed = static_cast<float>(0.005 * std::max(std::abs(weight), 0.01));
