@@ -293,8 +293,8 @@ Legend region_legend(Editor& e) {
     for (std::size_t i = 0; i < entries.size(); ++i) {
       const draw::LegendEntry& en = entries[i];
       std::string text = en.text;
-      if (text == "curvature increasing") text = "curvature increasing from the curve's start to its end";
-      if (text == "curvature decreasing") text = "curvature decreasing from the curve's start to its end";
+      if (text == "curvature increasing") text = "curvature increasing along the curve";
+      if (text == "curvature decreasing") text = "curvature decreasing along the curve";
       // Depth shading comes in pairs (level 0, deeper): one gradient each.
       if (d.depth_shading && i + 1 < entries.size() && i % 2 == 0) {
         std::string name = text.substr(0, text.find(','));
@@ -318,17 +318,17 @@ Legend region_legend(Editor& e) {
   if (e.show_overlay) {
     const draw::Rgb orange{230 / 255.0, 120 / 255.0, 0}, cyan{0, 160 / 255.0, 200 / 255.0},
         purple{140 / 255.0, 0, 160 / 255.0};
-    l.lines.push_back({LegendLine::Kind::dot, orange, orange, "sharpest point (max |curvature|, certified)"});
-    l.lines.push_back({LegendLine::Kind::dot, cyan, cyan, "flattest point (min |curvature|, certified)"});
-    l.lines.push_back({LegendLine::Kind::square, purple, purple, "inflection (the curve changes side)"});
+    l.lines.push_back({LegendLine::Kind::dot, orange, orange, "sharpest (max |curvature|)"});
+    l.lines.push_back({LegendLine::Kind::dot, cyan, cyan, "flattest (min)", -1, true});
+    l.lines.push_back({LegendLine::Kind::square, purple, purple, "inflection"});
     if (e.show_comb) {
       const draw::Rgb green{60 / 255.0, 140 / 255.0, 60 / 255.0};
-      l.lines.push_back({LegendLine::Kind::line, green, green, "comb: teeth as long as |curvature|"});
+      l.lines.push_back({LegendLine::Kind::line, green, green, "comb (|curvature|)", -1, true});
     }
     if (d.spline.segment_count() > 1) {
-      l.lines.push_back({LegendLine::Kind::diamond, {0.1, 0.65, 0.1}, {}, "G2 joint (curvature continuous)"});
-      l.lines.push_back({LegendLine::Kind::diamond, {0.95, 0.75, 0.0}, {}, "G1 joint (curvature jumps)"});
-      l.lines.push_back({LegendLine::Kind::diamond, {0.85, 0.1, 0.1}, {}, "G0 joint (a corner)"});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.1, 0.65, 0.1}, {}, "joints: G2"});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.95, 0.75, 0.0}, {}, "G1 (curvature jumps)", -1, true});
+      l.lines.push_back({LegendLine::Kind::diamond, {0.85, 0.1, 0.1}, {}, "G0", -1, true});
     }
   }
   return l;

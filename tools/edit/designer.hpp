@@ -25,6 +25,7 @@ struct LegendLine {
   draw::Rgb colour_to;    ///< gradient: the deep end
   std::string text;
   int point = -1;         ///< outline: the point whose region it outlines
+  bool same_row = false;  ///< drawn after the previous line, on its row (the marks)
 };
 
 /// The legend of the current view: a title in the designer's words, the

@@ -753,6 +753,7 @@ void legend_window(Editor& e) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const float h = ImGui::GetTextLineHeight();
   for (const LegendLine& x : l.lines) {
+    if (x.same_row) ImGui::SameLine(0, 14);
     const ImVec2 p = ImGui::GetCursorScreenPos();
     const ImVec2 a{p.x, p.y + 1}, b{p.x + 18, p.y + h - 1};
     const ImVec2 mid{p.x + 9, p.y + h / 2};
@@ -777,7 +778,12 @@ void legend_window(Editor& e) {
     }
     ImGui::Dummy({22, h});
     ImGui::SameLine();
+    // The marks share rows: never wrapped (the region entries are).
+    const bool mark = x.kind != LegendLine::Kind::swatch && x.kind != LegendLine::Kind::gradient &&
+                      x.kind != LegendLine::Kind::outline;
+    if (mark) ImGui::PushTextWrapPos(-1.0f);
     ImGui::TextUnformatted(x.text.c_str());
+    if (mark) ImGui::PopTextWrapPos();
   }
   ImGui::PopTextWrapPos();
   ImGui::End();
