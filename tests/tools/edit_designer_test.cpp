@@ -240,6 +240,11 @@ TEST(EditNames, FromTheFileAndLabelsDoNotOverprint) {
   const int m = e.doc().spline.unique_point_count();
   for (int k = 0; k < e.doc().spline.point_count(); ++k) EXPECT_EQ(e.point_name(k), names[k % m]) << k;
   EXPECT_EQ(read_point_names(kFig8), std::vector<std::string>{});
+  // Every point overlapped on a closed contour: one layer per distinct point.
+  e.set_all_points(true);
+  std::vector<int> distinct(m);
+  for (int k = 0; k < m; ++k) distinct[k] = k;
+  EXPECT_EQ(e.layer_points(), distinct);
   Editor plain = editor_of(read_spline_file(kFig8));
   EXPECT_EQ(plain.point_name(4), "P4");
   // Crowded points: no two labels overlap, none covers a point marker.

@@ -439,7 +439,9 @@ std::vector<RegionRequest> Editor::requests_of(const Document& d, bool whole_win
     return layers;
   }
   if (d.all_points) {
-    for (int k = 0; k < d.spline.point_count(); ++k) {
+    // A closed curve's repeated points are its first ones (they move together):
+    // one layer each, not two overlapping copies.
+    for (int k = 0; k < d.spline.unique_point_count(); ++k) {
       if (std::find(hidden_points.begin(), hidden_points.end(), k) != hidden_points.end()) continue;
       q.point = k;
       layers.push_back(q);

@@ -362,7 +362,7 @@ void controls(Editor& e, const UiInfo& info) {
   if (ImGui::Checkbox("depth shading (Fig. 7)", &shading)) act(e, [&] { e.set_depth_shading(shading); });
   if (ImGui::Checkbox("all points overlapped", &all)) act(e, [&] { e.set_all_points(all); });
   if (d.all_points) {  // which points' regions are drawn (each outlined in its hue)
-    const int n = d.spline.point_count();
+    const int n = d.spline.unique_point_count();
     for (int k = 0; k < n; ++k) {
       bool shown = std::find(e.hidden_points.begin(), e.hidden_points.end(), k) == e.hidden_points.end();
       ImGui::PushID(k);
