@@ -12,7 +12,7 @@ namespace cmr::cli {
 namespace {
 
 struct EditArgs {
-  std::string file, script, screenshot, device;
+  std::string file, script, screenshot, device, glyph;
   std::string size = "1024x768";
   bool bench = false;
   int frames = 200;
@@ -43,7 +43,9 @@ std::pair<int, int> parse_window_size(const std::string& text) {
 void add_edit_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<EditArgs>();
   auto* cmd = app.add_subcommand("edit", "Design interactively: drag points and see their regions live");
-  cmd->add_option("FILE", a->file, "spline file (JSON) to open; without it, a cubic Bezier curve");
+  cmd->add_option("FILE", a->file,
+                  "spline file (JSON), font (with --glyph) or SVG file to open; without it, a cubic Bezier curve");
+  cmd->add_option("--glyph", a->glyph, "a font's glyph to edit, all its contours (one character or U+hex)");
   cmd->add_option("--script", a->script, "run these input events (see README) in the real window, then exit");
   cmd->add_option("--screenshot", a->screenshot, "PNG of the presented window after the script");
   cmd->add_option("--size", a->size, "window size WxH")->capture_default_str();
@@ -78,6 +80,7 @@ void add_edit_command(CLI::App& app, int& exit_code) {
     }
     edit::EditOptions o;
     o.file = a->file;
+    o.glyph = a->glyph;
     o.script = a->script;
     o.screenshot = a->screenshot;
     o.width = w;

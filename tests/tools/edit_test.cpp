@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -43,13 +44,14 @@ bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 
 
 Outcome run_edit(const std::string& file, const std::string& script_text, const fs::path& shot,
                  const std::string& size = std::to_string(kW) + "x" + std::to_string(kH),
-                 const std::string& options = "") {
+                 const std::string& options = "", const fs::path& cwd = {}) {
   const std::string script = write("edit_script.txt", script_text);
   const std::string cmd = "edit " + file + " --size " + size + options +
                           " --script " + script + " --screenshot " + shot.string();
   // xvfb-run wraps the binary: run() prefixes CMR_BINARY, so call the shell directly.
   const fs::path dir = scratch();
-  const std::string line = "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(CMR_BINARY) + " " + cmd + " >" +
+  const std::string line = (cwd.empty() ? std::string() : "cd '" + cwd.string() + "' && ") +
+                           "xvfb-run -a -s '-screen 0 800x600x24' " + std::string(CMR_BINARY) + " " + cmd + " >" +
                            (dir / "eout").string() + " 2>" + (dir / "eerr").string();
   Outcome r;
   // xvfb-run's own exit 5 ("problem while cleaning up temporary directory",
@@ -641,6 +643,264 @@ TEST_F(EditTest, FixAndSnapThroughTheWindowAreCertifiedAndUndone) {
   const Image a = read_png(dir_ / "before.png"), b = read_png(dir_ / "after.png");
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
   EXPECT_NE(a.rgb, b.rgb);
+}
+
+
+// ---- issue 21: the designer's legend, numbers, comb (tools/edit/designer.hpp) ----
+
+/// The legend lines the script's `legend` command printed: kind, the colour's
+/// bytes (and a gradient's deep end), the words.
+struct LegendLine {
+  std::string kind;
+  std::array<int, 3> from{}, to{};
+  std::string text;
+};
+
+std::vector<LegendLine> legend_lines(const std::string& err) {
+  std::vector<LegendLine> out;
+  std::istringstream in(err);
+  for (std::string line; std::getline(in, line);) {
+    const std::string tag = "cmr edit: legend ";
+    if (line.rfind(tag, 0) != 0) continue;
+    std::istringstream w(line.substr(tag.size()));
+    LegendLine l;
+    std::string a, b;
+    w >> l.kind >> a >> b;
+    std::getline(w >> std::ws, l.text);
+    if (sscanf(a.c_str(), "%d,%d,%d", &l.from[0], &l.from[1], &l.from[2]) != 3) continue;
+    if (sscanf(b.c_str(), "%d,%d,%d", &l.to[0], &l.to[1], &l.to[2]) != 3) continue;
+    out.push_back(l);
+  }
+  return out;
+}
+
+TEST_F(EditTest, LegendNamesEveryColourShownInEachMode) {
+  // The canvas without panels or overlay: every pixel is a region colour,
+  // and each must be a swatch of the legend (depth shading: within one of
+  // its gradients).
+  const std::string base = "ui off\noverlay off\nview " + kView + "\nselect 3\n";
+  const std::vector<std::pair<std::string, std::string>> modes = {
+      {"cmrwi", ""},          {"cmr", "mode cmr\n"},         {"split 2", "split 2\n"},
+      {"each piece", "chain on\n"}, {"depth shading", "shading on\n"}, {"all points", "all on\n"},
+      {"all points but P3", "all on\nshow-point 3 off\n"}};
+  for (const auto& [name, script] : modes) {
+    const fs::path shot = dir_ / "legend.png";
+    const Outcome r = run_edit(kFig8, base + script + "legend\n", shot);
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+    const std::vector<LegendLine> legend = legend_lines(r.err);
+    ASSERT_FALSE(legend.empty()) << name << ": " << r.err;
+    EXPECT_NE(r.err.find("cmr edit: legend: "), std::string::npos) << "a title: " << r.err;
+    const Image img = read_png(shot);
+    ASSERT_EQ(img.width, kW);
+    std::set<std::array<int, 3>> shown(img.rgb.begin(), img.rgb.end());
+    EXPECT_GE(shown.size(), name == "all points but P3" ? 1u : 2u) << name;
+    for (const auto& c : shown) {
+      const bool named = std::any_of(legend.begin(), legend.end(), [&](const LegendLine& l) {
+        if (l.kind == "swatch") return l.from == c;
+        if (l.kind != "gradient") return false;
+        for (int k = 0; k < 3; ++k)
+          if (c[k] < std::min(l.from[k], l.to[k]) - 1 || c[k] > std::max(l.from[k], l.to[k]) + 1) return false;
+        return true;
+      });
+      EXPECT_TRUE(named) << name << ": colour " << c[0] << "," << c[1] << "," << c[2] << " is not in the legend\n"
+                         << r.err;
+    }
+    if (name.rfind("all points", 0) == 0)  // each shown point's outline hue, under its name
+      for (int k = 0; k < 6; ++k) {
+        std::string want = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+        want += std::to_string(k);
+        want += "'s region";
+        const bool listed = std::any_of(legend.begin(), legend.end(),
+                                        [&](const LegendLine& l) { return l.kind == "outline" && l.text.rfind(want, 0) == 0; });
+        EXPECT_EQ(listed, !(name == "all points but P3" && k == 3)) << name << " P" << k;
+      }
+  }
+}
+
+TEST_F(EditTest, TypedCoordinatesMoveThePointExactly) {
+  // The pointer clicks into the panel's x, y and w fields and types, as a
+  // user does; the saved file holds exactly the doubles typed.
+  const fs::path saved = dir_ / "typed.json";
+  const std::string x = "2.123456789012345", y = "-4.4400000000000004", w = "1.75";
+  const Outcome r = run_edit(kFig8,
+                             "select 3\ntype x " + x + "\ntype y " + y + "\ntype w " + w + "\nsave " +
+                                 saved.string() + "\nscreenshot " + (dir_ / "typed.png").string() + "\n",
+                             dir_ / "shot.png", "1024x768");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json before = read_json(kFig8), after = read_json(saved);
+  EXPECT_EQ(after["points"][3][0].get<double>(), std::strtod(x.c_str(), nullptr)) << "bit for bit";
+  EXPECT_EQ(after["points"][3][1].get<double>(), std::strtod(y.c_str(), nullptr)) << "bit for bit";
+  for (int i = 0; i < 6; ++i)
+    if (i != 3) {
+      EXPECT_EQ(after["points"][i], before["points"][i]) << "point " << i;
+    }
+  ASSERT_TRUE(after.contains("weights")) << after.dump();
+  EXPECT_EQ(after["weights"][3].get<double>(), 1.75);
+  const Outcome bad = run_edit(kFig8, "ui off\ntype x 1\n", dir_ / "bad.png", "1024x768");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("type: no field 'x' is shown"), std::string::npos) << bad.err;
+}
+
+/// The comb's pixels (its dark greens) in a screenshot without panels: some,
+/// and none on the window's outer frame (a comb that runs off the canvas
+/// reaches the edge).
+void expect_comb_inside(const Image& img, const std::string& what) {
+  int comb = 0, edge = 0;
+  for (int j = 0; j < img.height; ++j)
+    for (int i = 0; i < img.width; ++i) {
+      const auto& c = img.rgb[j * img.width + i];
+      if (!(c[1] > c[0] + 35 && c[1] > c[2] + 35 && c[1] < 200)) continue;
+      ++comb;
+      if (i < 3 || j < 3 || i >= img.width - 3 || j >= img.height - 3) ++edge;
+    }
+  EXPECT_GT(comb, 200) << what << ": the comb is drawn";
+  EXPECT_EQ(edge, 0) << what << ": the comb reaches the window's edge";
+}
+
+TEST_F(EditTest, CombFitsTheViewOnFig8AndOnAGlyph) {
+  const fs::path fig8 = dir_ / "comb_fig8.png";
+  // fit (key f) frames the curve and its comb; the comb fits that view.
+  const Outcome r = run_edit(kFig8, "ui off\nfit\n", fig8, "640x480");
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_comb_inside(read_png(fig8), "fig8");
+  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (!fs::exists(font)) GTEST_SKIP() << font << " is missing (fonts-dejavu-core)";
+  const Outcome imp = run("import " + font + " --glyphs O --out " + (dir_ / "glyph").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const fs::path glyph = dir_ / "comb_glyph.png";
+  const Outcome g = run_edit((dir_ / "glyph" / "O_c0.json").string(), "ui off\nfit\n", glyph, "640x480");
+  ASSERT_EQ(g.code, 0) << g.err;
+  expect_comb_inside(read_png(glyph), "glyph O");
+}
+
+
+// ---- issue 21, item 5: a font's glyph and an SVG's paths opened directly ----
+
+const std::string kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+/// The fields cmr import writes and the editor saves: they must agree.
+void expect_same_curve(const fs::path& saved, const fs::path& imported) {
+  const nlohmann::json a = read_json(saved), b = read_json(imported);
+  for (const char* k : {"degree", "knots", "points", "closed", "point_names", "weights"})
+    EXPECT_EQ(a.contains(k) ? a[k] : nlohmann::json(), b.contains(k) ? b[k] : nlohmann::json()) << saved << " " << k;
+}
+
+TEST_F(EditTest, GlyphFromAFontOpensAllContoursWithTheReportsNames) {
+  if (!fs::exists(kFont)) GTEST_SKIP() << kFont << " is missing (fonts-dejavu-core)";
+  const Outcome imp = run("import " + kFont + " --glyphs O --out " + (dir_ / "imported").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const cmr::BSpline c0 = cmr::read_spline_file(dir_ / "imported" / "O_c0.json");
+  const cmr::BSpline c1 = cmr::read_spline_file(dir_ / "imported" / "O_c1.json");
+  // ui off, a known view: the points of both contours are drawn (the active
+  // one's white or red markers, the other's light grey).
+  const cmr::View v{-100, -100, 1700, 1700};
+  const int W = 400, H = 400;
+  const fs::path shot = dir_ / "glyph.png";
+  const Outcome r = run_edit(kFont,
+                             "ui off\ncomb off\nview -100 -100 1700 1700\nstatus\nscreenshot " + shot.string() +
+                                 "\ncontour 1\nstatus\nsave-all\nglyph C\nstatus\n",
+                             dir_ / "last.png", "400x400", " --glyph O", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cmr edit: glyph O of DejaVuSans.ttf: 2 contours (O/c0, O/c1)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(O/c0/p"), std::string::npos) << "the report's node names: " << r.err;
+  EXPECT_NE(r.err.find("selected P0 (O/c1/p0); editing O/c1 (2 of 2)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 2 spline JSON files: ./O_c0.json, ./O_c1.json"), std::string::npos) << r.err;
+  // The glyph picker (the panel's glyph field; the script's glyph): C's one contour.
+  EXPECT_NE(r.err.find("selected P0 (C/c0/p0); opened glyph C of DejaVuSans.ttf: 1 contour"), std::string::npos)
+      << r.err;
+  expect_same_curve(dir_ / "O_c0.json", dir_ / "imported" / "O_c0.json");
+  expect_same_curve(dir_ / "O_c1.json", dir_ / "imported" / "O_c1.json");
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, W);
+  const auto pixel = [&](cmr::Vec2 p) {
+    const int i = static_cast<int>((p.x - v.x0) / (v.x1 - v.x0) * W), j = static_cast<int>((v.y1 - p.y) / (v.y1 - v.y0) * H);
+    if (i < 0 || j < 0 || i >= W || j >= H) return std::array<int, 3>{-1, -1, -1};  // out of view: fails below
+    return img.rgb[j * W + i];
+  };
+  for (int k = 0; k < c0.unique_point_count(); ++k) {
+    const auto c = pixel(c0.points()[k]);
+    EXPECT_TRUE(c == (std::array<int, 3>{255, 255, 255}) || c == (std::array<int, 3>{230, 30, 30}))
+        << "O/c0/p" << k << " (active) drawn: " << c[0] << "," << c[1] << "," << c[2];
+  }
+  for (int k = 0; k < c1.unique_point_count(); ++k)
+    EXPECT_EQ(pixel(c1.points()[k]), (std::array<int, 3>{235, 235, 235})) << "O/c1/p" << k << " drawn beside it";
+  // Bad inputs: one line, exit 2.
+  const Outcome no_glyph = run_edit(kFont, "status\n", dir_ / "x.png", "400x400");
+  EXPECT_EQ(no_glyph.code, 2);
+  EXPECT_NE(no_glyph.err.find("a font; name the glyph to edit with --glyph X"), std::string::npos) << no_glyph.err;
+  const Outcome not_font = run_edit(kFig8, "status\n", dir_ / "x.png", "400x400", " --glyph O");
+  EXPECT_EQ(not_font.code, 2);
+  EXPECT_NE(not_font.err.find("--glyph: only for fonts"), std::string::npos) << not_font.err;
+  const Outcome missing = run_edit(kFont, "status\n", dir_ / "x.png", "400x400", " --glyph U+E000");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("DejaVuSans.ttf has no glyph for 'U+E000'"), std::string::npos) << missing.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(EditTest, SvgPathsOpenTogetherAndSaveAsSplineJson) {
+  const fs::path svg = dir_ / "two.svg";
+  std::ofstream(svg) << "<svg xmlns='http://www.w3.org/2000/svg'>"
+                        "<path d='M 0 0 C 30 -40 70 -40 100 0'/>"
+                        "<path d='M 0 60 Q 50 10 100 60 Q 150 110 200 60'/></svg>\n";
+  const Outcome imp = run("import " + svg.string() + " --out " + (dir_ / "imported").string());
+  ASSERT_EQ(imp.code, 0) << imp.err;
+  const Outcome r = run_edit(svg.string(), "contour 1\ntype x 75.5\nsave-all\n", dir_ / "svg.png", "1024x768", "", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("two.svg: 2 paths"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 2 spline JSON files: ./two_0.json, ./two_1.json"), std::string::npos) << r.err;
+  expect_same_curve(dir_ / "two_0.json", dir_ / "imported" / "two_0.json");
+  const nlohmann::json edited = read_json(dir_ / "two_1.json"), before = read_json(dir_ / "imported" / "two_1.json");
+  EXPECT_EQ(edited["knots"], before["knots"]);
+  EXPECT_NE(edited["points"], before["points"]) << "the typed x moved the selected point of path 1";
+  int moved = 0;
+  for (std::size_t i = 0; i < before["points"].size(); ++i)
+    if (edited["points"][i] != before["points"][i]) {
+      ++moved;
+      EXPECT_EQ(edited["points"][i][0].get<double>(), 75.5);
+      EXPECT_EQ(edited["points"][i][1], before["points"][i][1]);
+    }
+  EXPECT_EQ(moved, 1);
+}
+
+TEST_F(EditTest, ConstrainedDragStopsInsideTheRegion) {
+  // P3 first onto a position deep inside its region (RegionProblem::classify
+  // on a grid), then dragged far out with "keep in region" on: it stops on
+  // a certified position inside, short of the pointer.
+  const cmr::BSpline fig8 = cmr::read_spline_file(kFig8);
+  cmr::RegionRequest rq;
+  rq.point = 3;
+  const cmr::RegionProblem problem = cmr::RegionProblem::make(fig8, rq);
+  const auto inside = [&](cmr::Vec2 p) {
+    const cmr::Direction l = problem.classify(p).label;
+    return l == cmr::Direction::increasing || l == cmr::Direction::decreasing;
+  };
+  std::optional<cmr::Vec2> deep;
+  for (double y = -6.5; y < -3 && !deep; y += 0.05)
+    for (double x = -0.5; x < 4.5 && !deep; x += 0.05) {
+      bool all = true;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) all = all && inside({x + 0.05 * dx, y + 0.05 * dy});
+      if (all) deep = cmr::Vec2{x, y};
+    }
+  ASSERT_TRUE(deep.has_value());
+  const cmr::Vec2 far = *deep + cmr::Vec2{2.5, 2.0};
+  ASSERT_FALSE(inside(far));
+  const fs::path saved = dir_ / "kept.json";
+  const auto num = [](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return std::string(b);
+  };
+  const Outcome r = run_edit(kFig8,
+                             "ui off\nview " + kView + "\nselect 3\ndrag 3 " + num(deep->x) + " " + num(deep->y) +
+                                 "\nconstrain on\ndrag 3 " + num(far.x) + " " + num(far.y) + " 8\nsave " +
+                                 saved.string() + "\n",
+                             dir_ / "shot.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const cmr::Vec2 p = cmr::read_spline_file(saved).points()[3];
+  EXPECT_TRUE(inside(p)) << "certified inside: " << p.x << ", " << p.y;
+  EXPECT_GT(norm(p - far), 0.1) << "stopped short of the pointer";
+  EXPECT_GT(norm(p - *deep), 1e-3) << "moved towards the pointer";
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
@@ -49,7 +50,9 @@ void Editor::mouse_move(double x, double y) {
   }
   if (dragging_ >= 0) {
     Document next = doc();
-    next.spline = edit::move_point(doc(), dragging_, viewport_.to_world(x, y) + grab_offset_);
+    Vec2 to = viewport_.to_world(x, y) + grab_offset_;
+    if (constrain_drag && dragging_ == doc().selected) to = constrained_target(doc().spline.points()[dragging_], to);
+    next.spline = edit::move_point(doc(), dragging_, to);
     history_.commit(std::move(next), "drag" + std::to_string(drag_serial_));
     changed_document();
   }
@@ -75,7 +78,10 @@ void Editor::mouse_button(MouseButton button, bool down, bool shift) {
     return;
   }
   const int k = pick(mouse_.x, mouse_.y);
-  if (k < 0) return;
+  if (k < 0) {
+    pick_other_curve(mouse_.x, mouse_.y);  // another contour's point: edit that contour
+    return;
+  }
   if (shift) {
     std::vector<int> g = doc().group;
     const auto it = std::find(g.begin(), g.end(), k);
@@ -357,9 +363,9 @@ bool Editor::redo() {
 }
 
 void Editor::save(const std::filesystem::path& path) {
-  write_spline_file(path, doc().spline);
+  write_curve_file(path, doc().spline, point_names);
   path_ = path;
-  message = "saved " + path.string();
+  message = "saved " + path.string() + " (spline JSON)";
 }
 
 void Editor::export_region(const std::filesystem::path& path) {
@@ -391,13 +397,6 @@ void Editor::set_view(View view) {
       !std::isfinite(view.y0) || !std::isfinite(view.y1))
     throw InputError("view: expected finite X0 < X1 and Y0 < Y1");
   viewport_.view = view;
-  region_stale_ = rgba_stale_ = true;
-}
-
-void Editor::fit_view() {
-  const int w = viewport_.width, h = viewport_.height;
-  viewport_ = show_ui ? Viewport::fit(doc().spline, w, h, w - kPanelWidth, h - kPlotHeight)
-                      : Viewport::fit(doc().spline, w, h, w, h);
   region_stale_ = rgba_stale_ = true;
 }
 
@@ -440,7 +439,10 @@ std::vector<RegionRequest> Editor::requests_of(const Document& d, bool whole_win
     return layers;
   }
   if (d.all_points) {
-    for (int k = 0; k < d.spline.point_count(); ++k) {
+    // A closed curve's repeated points are its first ones (they move together):
+    // one layer each, not two overlapping copies.
+    for (int k = 0; k < d.spline.unique_point_count(); ++k) {
+      if (std::find(hidden_points.begin(), hidden_points.end(), k) != hidden_points.end()) continue;
       q.point = k;
       layers.push_back(q);
     }
@@ -488,6 +490,8 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
     }
     differs = keys != region_keys_;
     if (differs) {
+      static std::atomic<long> serials{0};  // unique over every editor: caches keyed by it never mix two
+      region_serial_ = ++serials;
       region_.clear();
       for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r));
       region_keys_ = std::move(keys);

@@ -11,6 +11,7 @@
 
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
+#include "tools/edit/sources.hpp"
 #include "bezierize/fix.hpp"
 #include "bezierize/weight_region.hpp"
 
@@ -113,7 +114,63 @@ class Editor {
   void export_region(const std::filesystem::path& path);
   void resize(int width, int height);
   void set_view(View view);
+  /// Frames the control polygon, the curvature comb (as drawn at scale 1 in
+  /// the polygon's view) and the selected point's region (within twice that
+  /// view): what the first view and "fit" show (tools/edit/designer.cpp).
   void fit_view();
+  /// "fit region": frames the selected point's region (its box on a grid of
+  /// 128 pixels over a view 4 times the canvas's) and the point; the status
+  /// line says so, or that the region is empty there.
+  void fit_region();
+  /// Frames the world box lo..hi in the canvas with `margin` of its size around.
+  void frame_box(Vec2 lo, Vec2 hi, double margin);
+
+  // ---- designer's read-outs (tools/edit/designer.cpp) ----
+  /// The file's point names (read_point_names), one per distinct point.
+  std::vector<std::string> point_names;
+  /// Point k's name: the file's point_names (a closed curve's repeated
+  /// points take their first's), else "P<k>".
+  std::string point_name(int k) const;
+  /// Every point overlapped: the points whose regions are not drawn.
+  std::vector<int> hidden_points;
+  void set_point_shown(int k, bool shown);
+  /// The point each region layer belongs to (region_requests' order).
+  std::vector<int> layer_points() const;
+  // ---- several curves: a glyph's contours, an SVG's paths (tools/edit/sources.cpp) ----
+  /// The curves opened together (empty or one: a single spline file); the
+  /// document holds the active one's spline, the others are drawn beside it.
+  std::vector<OpenedCurve> curves;
+  int active_curve = 0;
+  std::filesystem::path font_path;  ///< a font: the glyph picker's source
+  /// Takes the curves of an opened source, the first one active.
+  void set_source(OpenedSource source);
+  /// Edits curve k instead (the active one keeps its edits); undo starts
+  /// again there. InputError for a curve the source lacks.
+  void switch_curve(int k);
+  /// The glyph picker: every contour of glyph `spec` of font_path.
+  void open_glyph(const std::string& spec);
+  /// Writes every curve (the active one as edited) to its spline JSON
+  /// (OpenedCurve::save_as, with its point names); the status line says where.
+  void save_all();
+  /// A press on another curve's point makes that curve active and selects it.
+  bool pick_other_curve(double x, double y);
+  /// Constrained drag (issue 21, item 6): a dragged point that stands in its
+  /// region stays in it: where the pointer leaves the region the point stops
+  /// at the last position on the way there that RegionProblem::classify
+  /// certifies inside (bisection to kConstrainSteps halvings). A point
+  /// outside its region moves freely until it enters. The selected point
+  /// alone (not with every point overlapped or in kappa-curve mode).
+  bool constrain_drag = false;
+  static constexpr int kConstrainSteps = 40;
+  /// Where a constrained drag of the selected point from `from` towards `to`
+  /// ends (to itself when unconstrained or when `to` is inside).
+  Vec2 constrained_target(Vec2 from, Vec2 to) const;
+  /// Whether position p is certified inside the selected point's region
+  /// (its current request: mode, split, segments, group, chain).
+  bool in_selected_region(Vec2 p) const;
+  /// Typed coordinates: point k to exactly (x, y) (its group and chain rules
+  /// as a drag); one undo step.
+  void set_point_xy(int k, double x, double y);
 
   // ---- opening and repair (tools/edit/repair.cpp) ----
   /// The opening selection (docs/edit.md): the first point, in index order,
@@ -192,6 +249,9 @@ class Editor {
   /// differ from the last call's. While a point is dragged or the view
   /// panned, layers the cache lacks are computed kDragCoarse times coarser.
   const std::vector<const RegionResult*>& region(bool* changed = nullptr);
+  /// Counts the changes of region()'s layers (what is derived from them is
+  /// cached by it: the legend, the outlines).
+  long region_serial() const { return region_serial_; }
   /// RGBA of the whole window: region() in the legend's colours on the
   /// canvas, white elsewhere.
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
@@ -212,7 +272,14 @@ class Editor {
   bool show_ui = true;       ///< the panels
   bool show_overlay = true;  ///< curve, polygon, points, comb
   bool show_comb = true;
-  double comb_scale = 1.0;   ///< comb length = scale * kappa * (view width / 8)
+  bool show_legend = true;   ///< the legend at the canvas's top left (designer.hpp's region_legend)
+  /// Comb length relative to the fitted comb (designer.hpp's comb_geometry:
+  /// 1 fits the canvas's view).
+  double comb_scale = 1.0;
+  int comb_density = 24;     ///< comb teeth per segment
+  bool comb_outline = true;  ///< the line joining the teeth's tips
+  /// The curvature graph: 0 kappa, 1 |kappa|, 2 log10 |kappa|.
+  int graph_view = 0;
 
  private:
   /// region_requests for a document (the opening search tries each point).
@@ -243,6 +310,7 @@ class Editor {
   std::vector<std::vector<double>> region_keys_;
   std::pair<int, int> region_canvas_{0, 0};
   int region_coarse_ = 1;
+  long region_serial_ = 0;
   std::vector<uint8_t> rgba_;
   std::optional<SplineAnalysis> analysis_;
   bool weight_region_stale_ = true;

@@ -165,6 +165,7 @@ CurvatureEvents curvature_events(const BSpline& spline, int max_depth) {
   for (const report::CurveEvent& x : r.extrema) {  // by |kappa| (docs/semantics.md)
     const ExtremumKind k = report::event_kind(r, x);
     (k == ExtremumKind::sharpest ? e.maxima : k == ExtremumKind::flattest ? e.minima : e.inflections).push_back(x.t);
+    e.extrema.push_back({x.t, x.kappa, static_cast<int>(k), x.segment, x.joint});
   }
   for (const report::CurveEvent& x : r.inflections) e.inflections.push_back(x.t);
   return e;

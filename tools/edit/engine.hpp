@@ -73,6 +73,15 @@ struct CurvatureEvents {
   /// flattest, inflections the sign changes of kappa (and extrema at a joint
   /// across one); the same whichever way the curve runs.
   std::vector<double> maxima, minima, inflections;
+  /// Every certified extremum of kappa as the report lists it: parameter,
+  /// the extreme value of kappa, sharpest / flattest / at an inflection, and
+  /// the segment it lies inside or the joint it sits on (-1 otherwise).
+  struct Extremum {
+    double t = 0, kappa = 0;
+    int kind = 0;  ///< ExtremumKind: 0 sharpest, 1 flattest, 2 at an inflection
+    int segment = -1, joint = -1;
+  };
+  std::vector<Extremum> extrema;
 };
 CurvatureEvents curvature_events(const BSpline& spline, int max_depth);
 

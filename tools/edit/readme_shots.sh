@@ -4,7 +4,7 @@
 #   tools/edit/readme_shots.sh [BUILD_DIR [--no-bench]]     (default: build)
 set -eu
 build=${1:-build}
-cmr="$build/tools/cmr"
+cmr=$(cd "$build" && pwd)/tools/cmr
 src=$(cd "$(dirname "$0")/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -52,5 +52,26 @@ printf 'select 2\nfix\nwait 2\n' >"$tmp/fix.txt"
 run edit "$src/examples/figures/fig8.json" --size 1024x768 --script "$tmp/fix.txt" \
   --screenshot "$src/docs/img/edit_fix.png"
 
-# 4. The benchmark (prints the machine and the load average).
+# 4. The legend (issue 21): every point's region overlapped, each outlined in
+#    its point's hue, the pointer over a pixel naming the regions that hold it.
+printf 'all on\nmouse 480 300\nwait 3\n' >"$tmp/legend.txt"
+run edit "$src/examples/figures/fig8.json" --size 1024x768 --script "$tmp/legend.txt" \
+  --screenshot "$src/docs/img/edit_legend.png"
+
+# 5. The curvature graph with values: log10 |kappa| (Fig. 8's dip between its
+#    flattest and sharpest points), the pointer's read-out, the segment table.
+printf 'select 3\ngraph log\nmouse 320 700\nwait 3\n' >"$tmp/graph.txt"
+run edit "$src/examples/figures/fig8.json" --size 1024x768 --script "$tmp/graph.txt" \
+  --screenshot "$src/docs/img/edit_graph.png"
+
+# 6. A glyph being edited: both contours of DejaVu Sans's O with the node
+#    names of cmr import and the report, the outer one's comb fitted.
+font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf
+if [ -f "$font" ]; then
+  printf 'contour 1\nselect 3\nfit\nwait 2\n' >"$tmp/glyph.txt"
+  (cd "$tmp" && run edit "$font" --glyph O --size 1280x900 --script "$tmp/glyph.txt" \
+    --screenshot "$src/docs/img/edit_glyph.png")
+fi
+
+# 7. The benchmark (prints the machine and the load average).
 [ "${2:-}" = --no-bench ] || run edit --bench

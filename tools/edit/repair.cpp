@@ -21,12 +21,6 @@ int monotone_count(const RegionResult& r) {
 /// region_reason's words for a closed curve judged over its whole period.
 constexpr const char* kPeriodReason = "never monotone over its whole period";
 
-std::string point_name(int k) {
-  std::string p = "P";  // (two steps: GCC 12 warns falsely on "P" + std::to_string)
-  p += std::to_string(k);
-  return p;
-}
-
 }  // namespace
 
 int opening_coarse(std::pair<int, int> canvas) {

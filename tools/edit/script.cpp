@@ -27,6 +27,8 @@ const std::map<std::string, Arity>& commands() {
       {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
       {"segments", {1, 1}}, {"weight", {2, 2}}, {"weight-region", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
       {"fix", {0, 0}}, {"snap", {0, 0}}, {"status", {0, 0}},
+      {"type", {2, 2}}, {"legend", {0, 0}}, {"fit-region", {0, 0}}, {"show-point", {2, 2}}, {"comb-size", {1, 1}},
+      {"graph", {1, 1}}, {"contour", {1, 1}}, {"glyph", {1, 1}}, {"save-all", {0, 0}}, {"constrain", {1, 1}},
   };
   return table;
 }

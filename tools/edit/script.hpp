@@ -43,6 +43,12 @@
 //                             the status line (what moved, or why no fix) on stderr
 //   snap                      the selected point to the nearest certified
 //                             position of its region (Editor::snap_selected)
+//   type x|y|w TEXT           the pointer clicks into the panel's field, types
+//                             TEXT and presses Enter (typed coordinates)
+//   legend                    the legend's lines on stderr (kind, colour, words)
+//   fit-region | show-point K on|off | comb-size S | graph kappa|abs|log
+//   contour K | glyph X | save-all      several curves (sources.hpp)
+//   constrain on|off          keep a dragged point in its region
 //   status                    the selected point and the status line, on stderr
 //   wait N                    render N frames
 //   quit

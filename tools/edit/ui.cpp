@@ -9,6 +9,7 @@
 #include <set>
 
 #include "bezierize/kcurve.hpp"
+#include "tools/edit/designer.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 
@@ -63,33 +64,26 @@ void draw_curve(Editor& e, ImDrawList* dl) {
   flush();
 }
 
+ImU32 colour_u32(draw::Rgb c, int alpha = 255) {
+  const auto b = bytes_of(c);
+  return IM_COL32(b[0], b[1], b[2], alpha);
+}
+
+/// The comb fitted to the canvas's view (designer.hpp's comb_geometry), its
+/// outline, the certified extrema and inflections, and the joints by
+/// continuity.
 void draw_comb(Editor& e, ImDrawList* dl) {
   const BSpline& s = e.doc().spline;
-  double kmax = 0;
-  std::vector<std::pair<Vec2, Vec2>> teeth;  // point, normal * kappa
-  const CurveSampler comb_sampler(s);          // none near a pole
-  for (const Segment& seg : s.segments()) {
-    for (int i = 0; i <= kCombTeethPerSegment; ++i) {
-      const double t = seg.a + (seg.b - seg.a) * i / kCombTeethPerSegment;
-      const CurvatureSample c = curvature_at(s, t);
-      const Vec2 d = derivative(s, t, 1);
-      const double len = std::hypot(d.x, d.y);
-      if (!(len > 0) || !std::isfinite(c.kappa) || !comb_sampler.inside(c.point)) continue;
-      teeth.push_back({c.point, Vec2{-d.y, d.x} * (c.kappa / len)});
-      kmax = std::max(kmax, std::abs(c.kappa));
-    }
+  const Comb c = comb_geometry(s, canvas_view(e), e.comb_scale, e.comb_density);
+  for (std::size_t i = 0; i < c.feet.size(); ++i) {
+    dl->AddLine(screen(e, c.feet[i]), screen(e, c.tips[i]), kCombColour);
+    if (e.comb_outline && i > 0 && c.feet.size() > 1)
+      dl->AddLine(screen(e, c.tips[i - 1]), screen(e, c.tips[i]), IM_COL32(30, 100, 30, 255), 1.5f);
   }
-  if (!(kmax > 0)) return;
-  const View& v = e.viewport().view;
-  const double unit = e.comb_scale * (v.x1 - v.x0) / 8 / kmax;
-  ImVec2 prev{};
-  for (std::size_t i = 0; i < teeth.size(); ++i) {
-    // Teeth point away from the centre of curvature, as combs usually do.
-    const ImVec2 a = screen(e, teeth[i].first), b = screen(e, teeth[i].first - teeth[i].second * unit);
-    dl->AddLine(a, b, kCombColour);
-    if (i > 0) dl->AddLine(prev, b, kCombColour);
-    prev = b;
-  }
+}
+
+void draw_marks(Editor& e, ImDrawList* dl) {
+  const BSpline& s = e.doc().spline;
   const CurvatureEvents& ev = e.events();
   for (double t : ev.maxima) dl->AddCircleFilled(screen(e, evaluate(s, t)), 6, kMaximumColour);
   for (double t : ev.minima) dl->AddCircleFilled(screen(e, evaluate(s, t)), 6, kMinimumColour);
@@ -97,22 +91,129 @@ void draw_comb(Editor& e, ImDrawList* dl) {
     const ImVec2 p = screen(e, evaluate(s, t));
     dl->AddRectFilled({p.x - 5, p.y - 5}, {p.x + 5, p.y + 5}, kInflectionColour);
   }
+  // Joints by continuity (bezierize/analyze's joints): G2 green, G1 amber, G0 red.
+  const SplineAnalysis& a = e.analysis();
+  std::vector<Joint> joints = a.joints;
+  if (a.seam) joints.push_back(*a.seam);
+  static const ImU32 colours[3] = {IM_COL32(217, 26, 26, 255), IM_COL32(242, 191, 0, 255), IM_COL32(26, 166, 26, 255)};
+  for (const Joint& j : joints) {
+    const ImVec2 p = screen(e, evaluate(s, j.knot));
+    const float r = 6;
+    dl->AddQuadFilled({p.x, p.y - r}, {p.x + r, p.y}, {p.x, p.y + r}, {p.x - r, p.y}, colours[joint_continuity(j)]);
+    dl->AddQuad({p.x, p.y - r}, {p.x + r, p.y}, {p.x, p.y + r}, {p.x - r, p.y}, IM_COL32(0, 0, 0, 255));
+  }
+}
+
+/// Every point overlapped: each layer's region outlined in its point's hue
+/// (the edges between inside and outside pixels, in runs; recomputed when
+/// the layers change).
+void draw_outlines(Editor& e, ImDrawList* dl) {
+  if (!e.doc().all_points) return;
+  struct Edge {
+    ImVec2 a, b;
+    ImU32 colour;
+  };
+  static long serial = -1;
+  static std::vector<Edge> edges;
+  const std::vector<const RegionResult*>& layers = e.region();
+  if (serial != e.region_serial()) {
+    serial = e.region_serial();
+    edges.clear();
+    const std::vector<int> points = e.layer_points();
+    const float c = static_cast<float>(e.region_coarse());
+    for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
+      const RegionResult& r = *layers[l];
+      const ImU32 col = colour_u32(draw::point_colour(points[l]));
+      const auto in = [&](int i, int j) {
+        return i >= 0 && j >= 0 && i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i);
+      };
+      for (int j = 0; j <= r.height; ++j) {  // horizontal edges above row j, in runs
+        int run = -1;
+        for (int i = 0; i <= r.width; ++i) {
+          const bool edge = i < r.width && in(i, j) != in(i, j - 1);
+          if (edge && run < 0) run = i;
+          if (!edge && run >= 0) {
+            edges.push_back({{run * c, j * c}, {i * c, j * c}, col});
+            run = -1;
+          }
+        }
+      }
+      for (int i = 0; i <= r.width; ++i) {  // vertical edges left of column i
+        int run = -1;
+        for (int j = 0; j <= r.height; ++j) {
+          const bool edge = j < r.height && in(i, j) != in(i - 1, j);
+          if (edge && run < 0) run = j;
+          if (!edge && run >= 0) {
+            edges.push_back({{i * c, run * c}, {i * c, j * c}, col});
+            run = -1;
+          }
+        }
+      }
+    }
+  }
+  for (const Edge& x : edges) dl->AddLine(x.a, x.b, x.colour, 2.0f);
+}
+
+/// The curves opened beside the active one (a glyph's other contours, an
+/// SVG's other paths): grey, with their points; a click on one edits it.
+void draw_other_curves(Editor& e, ImDrawList* dl, std::vector<Vec2>& at, std::vector<Vec2>& sizes,
+                       std::vector<std::string>& names) {
+  for (int c = 0; c < static_cast<int>(e.curves.size()); ++c) {
+    if (c == e.active_curve) continue;
+    const OpenedCurve& oc = e.curves[c];
+    const BSpline& s = oc.spline;
+    const CurveSampler sampler(s);
+    std::vector<ImVec2> line;
+    for (const Segment& seg : s.segments())
+      for (int i = 0; i <= kCurveSamplesPerSegment; ++i)
+        if (const auto p = sampler.at(seg.a + (seg.b - seg.a) * i / kCurveSamplesPerSegment)) line.push_back(screen(e, *p));
+    if (line.size() > 1) dl->AddPolyline(line.data(), static_cast<int>(line.size()), IM_COL32(110, 110, 110, 255), 0, 1.5f);
+    const std::vector<Vec2>& pts = s.points();
+    for (std::size_t i = 1; i < pts.size(); ++i) dl->AddLine(screen(e, pts[i - 1]), screen(e, pts[i]), IM_COL32(170, 170, 170, 255));
+    const int n = s.closed() ? s.unique_point_count() : s.point_count();
+    for (int i = 0; i < n; ++i) {
+      const ImVec2 p = screen(e, pts[i]);
+      dl->AddCircleFilled(p, 4.0f, IM_COL32(235, 235, 235, 255));
+      dl->AddCircle(p, 4.0f, IM_COL32(110, 110, 110, 255), 0, 1.0f);
+      std::string name = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+      if (i < static_cast<int>(oc.point_names.size())) name = oc.point_names[i];
+      else name += std::to_string(i);
+      const ImVec2 size = ImGui::CalcTextSize(name.c_str());
+      at.push_back({p.x, p.y});
+      sizes.push_back({size.x, size.y});
+      names.push_back(std::move(name));
+    }
+  }
 }
 
 void draw_points(Editor& e, ImDrawList* dl) {
   const Document& d = e.doc();
   const std::vector<Vec2>& pts = d.spline.points();
   for (std::size_t i = 1; i < pts.size(); ++i) dl->AddLine(screen(e, pts[i - 1]), screen(e, pts[i]), kPolygonColour);
-  for (int i = 0; i < d.spline.point_count(); ++i) {
+  // A closed curve's repeated points are its first ones: drawn and named once.
+  const int n = d.spline.closed() ? d.spline.unique_point_count() : d.spline.point_count();
+  std::vector<Vec2> at, sizes;
+  std::vector<std::string> names;
+  for (int i = 0; i < n; ++i) {
     const ImVec2 p = screen(e, pts[i]);
     const bool grouped = std::find(d.group.begin(), d.group.end(), i) != d.group.end();
     const ImU32 fill = i == d.selected ? IM_COL32(230, 30, 30, 255)
                                        : (grouped ? IM_COL32(240, 150, 0, 255) : IM_COL32(255, 255, 255, 255));
     dl->AddCircleFilled(p, 5.5f, fill);
     dl->AddCircle(p, 5.5f, IM_COL32(0, 0, 0, 255), 0, 1.5f);
-    std::string name = "P";  // built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + string
-    name += std::to_string(i);
-    dl->AddText({p.x + 7, p.y - 18}, IM_COL32(0, 0, 0, 255), name.c_str());
+    names.push_back(e.point_name(i));
+    const ImVec2 size = ImGui::CalcTextSize(names.back().c_str());
+    at.push_back({p.x, p.y});
+    sizes.push_back({size.x, size.y});
+  }
+  const std::size_t active = names.size();
+  draw_other_curves(e, dl, at, sizes, names);
+  // Names that would overprint another name or a point are left out (hover
+  // shows them); the active curve's are placed first.
+  for (const PlacedLabel& l : place_labels(at, sizes, 6)) {
+    const bool mine = static_cast<std::size_t>(l.point) < active;
+    dl->AddRectFilled({l.x - 1, l.y}, {l.x + l.w + 1, l.y + l.h}, IM_COL32(255, 255, 255, 170));
+    dl->AddText({l.x, l.y}, mine ? IM_COL32(0, 0, 0, 255) : IM_COL32(110, 110, 110, 255), names[l.point].c_str());
   }
 }
 
@@ -224,7 +325,32 @@ void weight_strip(Editor& e) {
   ImGui::TextWrapped("%s", text.c_str());
 }
 
-void controls(Editor& e) {
+/// Typed coordinates (and weight) of the selected point: Enter applies the
+/// value exactly as typed (ImGui parses it with %lf: the nearest double).
+void typed_fields(Editor& e, const UiInfo& info) {
+  const Document& d = e.doc();
+  if (d.kcurve) return;
+  const Vec2 p = d.spline.points()[d.selected];
+  double x = p.x, y = p.y, w = d.spline.weight(d.selected);
+  const ImGuiInputTextFlags flags = ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_CharsScientific;
+  const auto remember = [&](const char* name) {
+    if (info.fields == nullptr) return;
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    (*info.fields)[name] = {a.x, a.y, b.x, b.y};
+  };
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::InputDouble("x", &x, 0, 0, "%.17g", flags)) act(e, [&] { e.set_point_xy(d.selected, x, p.y); });
+  remember("x");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::InputDouble("y", &y, 0, 0, "%.17g", flags)) act(e, [&] { e.set_point_xy(d.selected, p.x, y); });
+  remember("y");
+  ImGui::SetNextItemWidth(120);
+  if (ImGui::InputDouble("w (typed weight)", &w, 0, 0, "%.17g", flags)) act(e, [&] { e.set_weight(d.selected, w); });
+  remember("w");
+}
+
+void controls(Editor& e, const UiInfo& info) {
   const Document& d = e.doc();
   int mode = d.mode == Mode::cmr ? 1 : 0;
   if (ImGui::RadioButton("CMRWI", &mode, 0)) act(e, [&] { e.set_mode(Mode::cmrwi); });
@@ -235,7 +361,26 @@ void controls(Editor& e) {
   bool shading = d.depth_shading, all = d.all_points, chain = d.chain;
   if (ImGui::Checkbox("depth shading (Fig. 7)", &shading)) act(e, [&] { e.set_depth_shading(shading); });
   if (ImGui::Checkbox("all points overlapped", &all)) act(e, [&] { e.set_all_points(all); });
-  if (ImGui::Checkbox("Bezier chain (G1 handles)", &chain)) act(e, [&] { e.set_chain(chain); });
+  if (d.all_points) {  // which points' regions are drawn (each outlined in its hue)
+    const int n = d.spline.unique_point_count();
+    for (int k = 0; k < n; ++k) {
+      bool shown = std::find(e.hidden_points.begin(), e.hidden_points.end(), k) == e.hidden_points.end();
+      ImGui::PushID(k);
+      const auto b = bytes_of(draw::point_colour(k));
+      ImGui::PushStyleColor(ImGuiCol_CheckMark, IM_COL32(b[0], b[1], b[2], 255));
+      if (ImGui::Checkbox(e.point_name(k).c_str(), &shown)) act(e, [&] { e.set_point_shown(k, shown); });
+      ImGui::PopStyleColor();
+      ImGui::PopID();
+      if (k % 4 != 3 && k + 1 < n) ImGui::SameLine();
+    }
+  }
+  if (ImGui::Checkbox("chain (G1)", &chain)) act(e, [&] { e.set_chain(chain); });
+  ImGui::SameLine();
+  ImGui::Checkbox("keep in region", &e.constrain_drag);
+  ImGui::SameLine();
+  ImGui::Checkbox("legend", &e.show_legend);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("a dragged point inside its region stops at its boundary (certified positions only)");
   const int joints = d.spline.segment_count() - 1;
   const std::string current = d.split ? "joint " + std::to_string(*d.split) : "none";
   if (ImGui::BeginCombo("split", current.c_str())) {
@@ -248,21 +393,27 @@ void controls(Editor& e) {
     ImGui::EndCombo();
   }
   segment_range(e);
-  ImGui::Checkbox("curvature comb", &e.show_comb);
+  ImGui::Checkbox("comb", &e.show_comb);
   ImGui::SameLine();
   float scale = static_cast<float>(e.comb_scale);
-  ImGui::SetNextItemWidth(110);
-  if (ImGui::SliderFloat("scale", &scale, 0.1f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) e.comb_scale = scale;
-  std::string group = "P" + std::to_string(d.selected);
-  for (int g : d.group) group += " + P" + std::to_string(g);
+  ImGui::SetNextItemWidth(80);
+  // 1: the comb fits the view (designer.hpp's comb_geometry).
+  if (ImGui::SliderFloat("size (1 = fits)", &scale, 0.1f, 4.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) e.comb_scale = scale;
+  ImGui::SetNextItemWidth(80);
+  ImGui::SliderInt("teeth/segment", &e.comb_density, 4, 96);
+  ImGui::SameLine();
+  ImGui::Checkbox("outline", &e.comb_outline);
+  std::string group = e.point_name(d.selected);
+  for (int g : d.group) group += " + " + e.point_name(g);
   ImGui::Text("moving: %s  (shift-click: group)", group.c_str());
+  typed_fields(e, info);
   // The selected point's weight (shift+wheel over a point scales it); a
   // polynomial spline shows weights 1 and becomes rational when one changes.
   if (!d.kcurve) {
     double weight = d.spline.weight(d.selected);
     const double lo = -Editor::kMaxWeight, hi = Editor::kMaxWeight;
     const std::string label =
-        "weight of P" + std::to_string(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
+        "weight of " + e.point_name(d.selected) + (d.spline.is_rational() ? "" : " (polynomial: all 1)");
     ImGui::SetNextItemWidth(120);
     // Any sign (ctrl+click types a value); the step follows the weight's size.
     const float speed = static_cast<float>(0.005 * std::max(std::abs(weight), 0.01));
@@ -337,27 +488,44 @@ void knot_ruler(Editor& e, KnotRulerGeometry* geometry) {
   knot_operations(e);
 }
 
+/// Segment verdicts and each segment's certified curvature extrema (the
+/// report's, with their parameter and kappa; those on a joint listed with the
+/// segment the joint starts).
 void verdicts_table(Editor& e) {
   const SplineAnalysis& a = e.analysis();
+  const CurvatureEvents& ev = e.events();
   ImGui::Text("CMRWI: %s   CMR: %s", to_string(a.cmrwi), to_string(a.cmr));
   if (a.split) ImGui::Text("split at joint %d: %s", *e.doc().split, to_string(*a.split));
   if (ImGui::BeginTable("segments", 4, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
     ImGui::TableSetupColumn("seg");
-    ImGui::TableSetupColumn("interval");
+    ImGui::TableSetupColumn("u");
     ImGui::TableSetupColumn("curvature");
-    ImGui::TableSetupColumn("inflection");
+    ImGui::TableSetupColumn("extrema: kappa @ u");
     ImGui::TableHeadersRow();
+    static const char* kinds[] = {"sharp", "flat", "infl"};
     for (std::size_t i = 0; i < a.segments.size(); ++i) {
       const Segment& s = e.doc().spline.segments()[i];
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::Text("%zu", i);
       ImGui::TableNextColumn();
-      ImGui::Text("[%.3g, %.3g]", s.a, s.b);
+      ImGui::Text("%.3g..%.3g", s.a, s.b);
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(a.shapes[i].pole ? "pole (W = 0)" : to_string(a.segments[i].monotonicity.curvature));
+      if (a.segments[i].inflection.inflection != Inflection{}) {
+        ImGui::SameLine(0, 0);
+        ImGui::Text(", infl. %s", to_string(a.segments[i].inflection.inflection));
+      }
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(to_string(a.segments[i].inflection.inflection));
+      std::string text;
+      for (const CurvatureEvents::Extremum& x : ev.extrema) {
+        if (x.segment != static_cast<int>(i) && x.joint != static_cast<int>(i)) continue;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s%s %.3g @%.4g", text.empty() ? "" : "\n", kinds[std::clamp(x.kind, 0, 2)],
+                      x.kappa, x.t);
+        text += buf;
+      }
+      ImGui::TextUnformatted(text.empty() ? "none" : text.c_str());
     }
     ImGui::EndTable();
   }
@@ -371,6 +539,8 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::Button("save")) act(e, [&] { e.save(e.path()); });
   ImGui::SameLine();
   if (ImGui::Button("fit")) e.fit_view();
+  ImGui::SameLine();
+  if (ImGui::Button("fit region")) act(e, [&] { e.fit_region(); });
   // bezierize/fix: the nearest certified fix of the view's requirement (x),
   // the selected point into its region (s); animated, one undo step each.
   // (In the rows that were there: the panel keeps its height.)
@@ -391,16 +561,47 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("snap P%d into its region: the nearest certified position", e.doc().selected);
 }
 
+/// A glyph's contours or an SVG's paths: which one is edited; a font's
+/// other glyphs by character.
+void curve_picker(Editor& e) {
+  if (e.curves.size() > 1) {
+    const std::string current = e.curves[e.active_curve].name;
+    ImGui::SetNextItemWidth(180);
+    if (ImGui::BeginCombo("edited curve", current.c_str())) {
+      for (int k = 0; k < static_cast<int>(e.curves.size()); ++k)
+        if (ImGui::Selectable(e.curves[k].name.c_str(), k == e.active_curve)) act(e, [&] { e.switch_curve(k); });
+      ImGui::EndCombo();
+    }
+  }
+  if (!e.font_path.empty()) {
+    static char glyph[16] = "";
+    ImGui::SetNextItemWidth(60);
+    const bool enter = ImGui::InputText("##glyph", glyph, sizeof glyph, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("open glyph") || enter) && glyph[0] != 0) act(e, [&] { e.open_glyph(glyph); });
+  }
+  if (e.curves.size() > 1) {
+    ImGui::SameLine();
+    if (ImGui::Button("save all")) act(e, [&] { e.save_all(); });
+  }
+}
+
 void side_panel(Editor& e, const UiInfo& info) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos({io.DisplaySize.x - kPanelWidth, 0});
   ImGui::SetNextWindowSize({kPanelWidth, io.DisplaySize.y});
-  ImGui::Begin("cmr edit", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  // The scrollbar always there: the content's width (the knot ruler's scale)
+  // does not change when a long status line makes the panel overflow.
+  ImGui::Begin("cmr edit", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_AlwaysVerticalScrollbar);
   ImGui::TextWrapped("%s", e.path().filename().string().c_str());
-  ImGui::TextWrapped("%s", info.region_path.c_str());
-  ImGui::Text("frame %.1f ms", info.frame_ms);
+  curve_picker(e);
+  // How the region reaches the window, in full on hover (one line here).
+  ImGui::Text("frame %.1f ms; region path (hover)", info.frame_ms);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info.region_path.c_str());
   ImGui::Separator();
-  controls(e);
+  controls(e, info);
   ImGui::Separator();
   knot_ruler(e, info.ruler);
   ImGui::Separator();
@@ -411,8 +612,27 @@ void side_panel(Editor& e, const UiInfo& info) {
   ImGui::End();
 }
 
-/// kappa against the parameter: the stretches between certified extrema
-/// coloured by direction (red increasing, blue decreasing), knots as ticks.
+/// About n round tick values over [lo, hi] (1, 2, 5 times a power of ten).
+std::vector<double> nice_ticks(double lo, double hi, int n) {
+  std::vector<double> out;
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return out;
+  const double raw = (hi - lo) / n, mag = std::pow(10, std::floor(std::log10(raw)));
+  const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;
+  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step) out.push_back(std::abs(v) < 1e-12 * step ? 0 : v);
+  return out;
+}
+
+std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+/// kappa against the parameter (or |kappa|, or log10 |kappa|): labelled
+/// axes with values, the zero line, knots as ticks with their values, the
+/// stretches between certified extrema coloured by direction (red
+/// increasing, blue decreasing), the extrema marked, and a read-out of u,
+/// kappa and the radius under the pointer.
 void curvature_plot(Editor& e) {
   const ImGuiIO& io = ImGui::GetIO();
   const BSpline& s = e.doc().spline;
@@ -420,26 +640,73 @@ void curvature_plot(Editor& e) {
   ImGui::SetNextWindowPos({0, io.DisplaySize.y - Editor::kPlotHeight});
   ImGui::SetNextWindowSize({std::max(200.0f, io.DisplaySize.x - kPanelWidth), Editor::kPlotHeight});
   ImGui::Begin("curvature", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::RadioButton("kappa", &e.graph_view, 0);
+  ImGui::SameLine();
+  ImGui::RadioButton("|kappa|", &e.graph_view, 1);
+  ImGui::SameLine();
+  ImGui::RadioButton("log10 |kappa|", &e.graph_view, 2);
+  ImGui::SameLine();
+  ImGui::TextDisabled("   across: u, knots marked with their values; up: %s",
+                      e.graph_view == 0 ? "kappa" : e.graph_view == 1 ? "|kappa|" : "|kappa|, log scale");
   ImDrawList* dl = ImGui::GetWindowDrawList();
-  const ImVec2 o = ImGui::GetCursorScreenPos(), size = ImGui::GetContentRegionAvail();
+  const float left = 58, bottom = 24;  // room for the value labels
+  const ImVec2 c0 = ImGui::GetCursorScreenPos(), avail = ImGui::GetContentRegionAvail();
+  const ImVec2 o{c0.x + left, c0.y + 4};
+  const ImVec2 size{std::max(10.0f, avail.x - left - 8), std::max(10.0f, avail.y - bottom - 4)};
   const double a = s.domain_begin(), b = s.domain_end();
-  std::vector<double> t(kPlotSamples + 1), k(kPlotSamples + 1);
-  double kmin = 0, kmax = 0;
+  const int view = std::clamp(e.graph_view, 0, 2);
+  const auto value = [&](double k) {
+    if (view == 0) return k;
+    if (view == 1) return std::abs(k);
+    return std::abs(k) > 0 ? std::log10(std::abs(k)) : -INFINITY;
+  };
+  std::vector<double> t(kPlotSamples + 1), k(kPlotSamples + 1), y(kPlotSamples + 1);
+  double lo = INFINITY, hi = -INFINITY;
   for (int i = 0; i <= kPlotSamples; ++i) {
     t[i] = a + (b - a) * i / kPlotSamples;
     k[i] = curvature(s, t[i]);
-    if (std::isfinite(k[i])) kmin = std::min(kmin, k[i]), kmax = std::max(kmax, k[i]);
+    y[i] = value(k[i]);
+    if (std::isfinite(y[i])) lo = std::min(lo, y[i]), hi = std::max(hi, y[i]);
   }
-  if (!(kmax > kmin)) kmax = kmin + 1;
-  const auto px = [&](double tt, double kk) {
+  if (view != 2) lo = std::min(lo, 0.0), hi = std::max(hi, 0.0);  // the zero line is in view
+  if (view == 2 && hi - lo > 8) lo = hi - 8;                        // eight decades below the top
+  if (!std::isfinite(lo) || !std::isfinite(hi)) lo = 0, hi = 1;
+  if (!(hi > lo)) hi = lo + 1;
+  const auto px = [&](double tt, double vv) {
+    const double yy = std::clamp(vv, lo, hi);
     return ImVec2{o.x + static_cast<float>((tt - a) / (b - a)) * size.x,
-                  o.y + static_cast<float>((kmax - kk) / (kmax - kmin)) * (size.y - 4)};
+                  o.y + static_cast<float>((hi - yy) / (hi - lo)) * size.y};
   };
-  dl->AddLine(px(a, 0), px(b, 0), IM_COL32(150, 150, 150, 255));
+  const ImU32 axis = IM_COL32(60, 60, 60, 255), grid = IM_COL32(215, 215, 215, 255);
+  // y axis: values and grid lines.
+  for (double v : nice_ticks(lo, hi, 4)) {
+    const float yy = px(a, v).y;
+    dl->AddLine({o.x, yy}, {o.x + size.x, yy}, grid);
+    const std::string label = short_number(view == 2 ? std::pow(10.0, v) : v);
+    const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
+    dl->AddText({o.x - ts.x - 4, yy - ts.y / 2}, axis, label.c_str());
+  }
+  if (view != 2 && lo <= 0 && hi >= 0) {  // the zero line
+    const float yy = px(a, 0).y;
+    dl->AddLine({o.x, yy}, {o.x + size.x, yy}, IM_COL32(0, 0, 0, 255), 1.5f);
+  }
+  dl->AddLine({o.x, o.y}, {o.x, o.y + size.y}, axis);
+  dl->AddLine({o.x, o.y + size.y}, {o.x + size.x, o.y + size.y}, axis);
+  // Knots: ticks with their values under the axis (a value that would
+  // overprint the previous one is left out).
   std::set<double> knots(s.knots().begin(), s.knots().end());
+  float last_right = -1e9f;
   for (double u : knots) {
     if (u < a || u > b) continue;
-    dl->AddLine({px(u, 0).x, o.y}, {px(u, 0).x, o.y + size.y}, IM_COL32(110, 110, 110, 255));
+    const float x = px(u, lo).x;
+    dl->AddLine({x, o.y}, {x, o.y + size.y}, IM_COL32(170, 170, 170, 255));
+    dl->AddLine({x, o.y + size.y}, {x, o.y + size.y + 5}, axis, 1.5f);
+    const std::string label = short_number(u);
+    const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
+    if (x - ts.x / 2 > last_right + 4) {
+      dl->AddText({x - ts.x / 2, o.y + size.y + 6}, axis, label.c_str());
+      last_right = x + ts.x / 2;
+    }
   }
   std::vector<double> cuts = e.events().maxima;
   cuts.insert(cuts.end(), e.events().minima.begin(), e.events().minima.end());
@@ -451,12 +718,120 @@ void curvature_plot(Editor& e) {
     const auto hi_it = std::upper_bound(cuts.begin(), cuts.end(), mid);
     const double s0 = hi_it == cuts.begin() ? a : *(hi_it - 1), s1 = hi_it == cuts.end() ? b : *hi_it;
     const bool increasing = curvature(s, s1 - 1e-9 * (b - a)) >= curvature(s, s0 + 1e-9 * (b - a));
-    if (!std::isfinite(k[i - 1]) || !std::isfinite(k[i])) continue;
-    dl->AddLine(px(t[i - 1], k[i - 1]), px(t[i], k[i]), increasing ? kIncreasingColour : kDecreasingColour, 2);
+    if (!std::isfinite(y[i - 1]) || !std::isfinite(y[i])) continue;
+    dl->AddLine(px(t[i - 1], y[i - 1]), px(t[i], y[i]), increasing ? kIncreasingColour : kDecreasingColour, 2);
   }
-  for (double u : e.events().maxima) dl->AddCircleFilled(px(u, curvature(s, u)), 4, kMaximumColour);
-  for (double u : e.events().minima) dl->AddCircleFilled(px(u, curvature(s, u)), 4, kMinimumColour);
+  for (const CurvatureEvents::Extremum& x : e.events().extrema) {
+    const double v = value(x.kappa);
+    if (!std::isfinite(v)) continue;
+    dl->AddCircleFilled(px(x.t, v), 4, x.kind == 0 ? kMaximumColour : x.kind == 1 ? kMinimumColour : kInflectionColour);
+  }
+  // The pointer's read-out.
+  const ImVec2 m = io.MousePos;
+  if (m.x >= o.x && m.x <= o.x + size.x && m.y >= o.y && m.y <= o.y + size.y && ImGui::IsWindowHovered()) {
+    const double u = a + (m.x - o.x) / size.x * (b - a);
+    const double kk = curvature(s, u);
+    dl->AddLine({m.x, o.y}, {m.x, o.y + size.y}, IM_COL32(0, 0, 0, 120));
+    if (std::isfinite(value(kk))) dl->AddCircle(px(u, value(kk)), 4, IM_COL32(0, 0, 0, 255));
+    ImGui::SetTooltip("u = %.6g\nkappa = %.6g\nradius = %.6g", u, kk, kk != 0 ? 1 / std::abs(kk) : INFINITY);
+  }
   ImGui::End();
+}
+
+/// The legend of what the canvas shows (designer.hpp's region_legend), at
+/// its top left; with every point overlapped, a switch per point.
+void legend_window(Editor& e) {
+  const Legend l = region_legend(e);
+  ImGui::SetNextWindowPos({6, 6}, ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.88f);
+  // The pointer passes through it: points and regions beneath stay in reach.
+  ImGui::Begin("legend", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 290);
+  ImGui::TextWrapped("%s", l.title.c_str());
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const float h = ImGui::GetTextLineHeight();
+  for (const LegendLine& x : l.lines) {
+    if (x.same_row) ImGui::SameLine(0, 14);
+    const ImVec2 p = ImGui::GetCursorScreenPos();
+    const ImVec2 a{p.x, p.y + 1}, b{p.x + 18, p.y + h - 1};
+    const ImVec2 mid{p.x + 9, p.y + h / 2};
+    const ImU32 col = colour_u32(x.colour);
+    switch (x.kind) {
+      case LegendLine::Kind::swatch:
+        dl->AddRectFilled(a, b, col);
+        dl->AddRect(a, b, IM_COL32(0, 0, 0, 255));
+        break;
+      case LegendLine::Kind::gradient:
+        dl->AddRectFilledMultiColor(a, b, col, colour_u32(x.colour_to), colour_u32(x.colour_to), col);
+        dl->AddRect(a, b, IM_COL32(0, 0, 0, 255));
+        break;
+      case LegendLine::Kind::outline: dl->AddRect(a, b, col, 0, 0, 2.5f); break;
+      case LegendLine::Kind::dot: dl->AddCircleFilled(mid, 5, col); break;
+      case LegendLine::Kind::square: dl->AddRectFilled({mid.x - 5, mid.y - 5}, {mid.x + 5, mid.y + 5}, col); break;
+      case LegendLine::Kind::diamond:
+        dl->AddQuadFilled({mid.x, mid.y - 6}, {mid.x + 6, mid.y}, {mid.x, mid.y + 6}, {mid.x - 6, mid.y}, col);
+        break;
+      case LegendLine::Kind::line: dl->AddLine({a.x, mid.y}, {b.x, mid.y}, col, 2); break;
+      case LegendLine::Kind::text: break;
+    }
+    ImGui::Dummy({22, h});
+    ImGui::SameLine();
+    // The marks share rows: never wrapped (the region entries are).
+    const bool mark = x.kind != LegendLine::Kind::swatch && x.kind != LegendLine::Kind::gradient &&
+                      x.kind != LegendLine::Kind::outline;
+    if (mark) ImGui::PushTextWrapPos(-1.0f);
+    ImGui::TextUnformatted(x.text.c_str());
+    if (mark) ImGui::PopTextWrapPos();
+  }
+  ImGui::PopTextWrapPos();
+  ImGui::End();
+}
+
+/// Under the pointer on the canvas: the curve's parameter, curvature and
+/// radius; a point's name and coordinates; the points whose regions hold the
+/// pixel (every point overlapped).
+void canvas_readout(Editor& e) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantCaptureMouse || e.dragging() >= 0) return;
+  const ImVec2 m = io.MousePos;
+  const auto [cw, ch] = e.canvas();
+  if (!(m.x >= 0 && m.y >= 0 && m.x < cw && m.y < ch)) return;
+  const Document& d = e.doc();
+  std::string text;
+  const std::vector<Vec2>& pts = d.spline.points();
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    const Vec2 p = e.viewport().to_screen(pts[i]);
+    if (std::hypot(p.x - m.x, p.y - m.y) <= Editor::kPickRadius) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)", e.point_name(i).c_str(), pts[i].x, pts[i].y);
+      text = buf;
+      break;
+    }
+  }
+  if (text.empty())
+    if (const auto c = pick_curve(d.spline, e.viewport(), m.x, m.y, 8)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "u = %.6g\nkappa = %.6g\nradius = %.6g", c->t, c->kappa,
+                    c->kappa != 0 ? 1 / std::abs(c->kappa) : INFINITY);
+      text = buf;
+      ImGui::GetForegroundDrawList()->AddCircle(screen(e, c->point), 5, IM_COL32(0, 0, 0, 255), 0, 2);
+    }
+  if (d.all_points) {
+    const std::vector<const RegionResult*>& layers = e.region();
+    const std::vector<int> points = e.layer_points();
+    const int c = e.region_coarse();
+    std::string owners;
+    for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
+      const RegionResult& r = *layers[l];
+      const int i = static_cast<int>(m.x) / c, j = static_cast<int>(m.y) / c;
+      if (i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i))
+        owners += (owners.empty() ? "" : ", ") + e.point_name(points[l]);
+    }
+    if (!owners.empty()) text += (text.empty() ? "" : "\n") + ("in the region of " + owners);
+  }
+  if (!text.empty()) ImGui::SetTooltip("%s", text.c_str());
 }
 
 }  // namespace
@@ -467,8 +842,10 @@ void build_ui(Editor& e, const UiInfo& info) {
     const Document& d = e.doc();
     // While too few κ points are clicked there is no curve yet to draw.
     if (!d.kcurve || static_cast<int>(d.kcurve->points.size()) >= kKCurveMinPoints) {
+      draw_outlines(e, dl);
       draw_curve(e, dl);
       if (e.show_comb) draw_comb(e, dl);
+      draw_marks(e, dl);
       draw_points(e, dl);
     }
     draw_kcurve(e, dl);
@@ -477,6 +854,8 @@ void build_ui(Editor& e, const UiInfo& info) {
   if (!e.show_ui) return;
   side_panel(e, info);
   curvature_plot(e);
+  if (e.show_legend) legend_window(e);
+  canvas_readout(e);
 }
 
 }  // namespace cmr::edit

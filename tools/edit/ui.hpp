@@ -4,6 +4,7 @@
 // and the panels (controls, knot ruler, verdicts, curvature plot). Buttons
 // call the same Editor actions the script does.
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct UiInfo {
   double frame_ms = 0;      ///< last frame time
   bool* export_png = nullptr;  ///< set when the user asks for a PNG of the view
   KnotRulerGeometry* ruler = nullptr;  ///< filled with the knot ruler's place
+  /// Filled with the typed fields' rectangles (x0, y0, x1, y1; "x", "y",
+  /// "w"): scripts click into them and type, as a user does.
+  std::map<std::string, std::array<float, 4>>* fields = nullptr;
 };
 
 /// Builds this frame's ImGui content (between ImGui::NewFrame and Render).

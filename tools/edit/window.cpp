@@ -21,6 +21,7 @@
 #include "spline/spline_json.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "tools/edit/designer.hpp"
 #include "tools/edit/examples.hpp"
 #include "tools/edit/region_painter.hpp"
 #include "tools/edit/script.hpp"
@@ -133,6 +134,12 @@ class App {
   void use_script_pointer() { script_pointer_.emplace(); }
   /// Where the knot ruler was drawn in the last frame.
   const KnotRulerGeometry& ruler() const { return ruler_; }
+  /// The typed fields' rectangles of the last frame (UiInfo::fields).
+  const std::map<std::string, std::array<float, 4>>& fields() const { return fields_; }
+  /// Scripted keyboard: text for the focused widget at the next frame, and
+  /// the Enter key held down or not.
+  void type_text(std::string text) { pending_text_ += text; }
+  void hold_enter(bool down) { enter_down_ = down; }
   /// Writes the next presented frame to `path` as a PNG (the "export PNG"
   /// button: the editor's file with .view.png).
   void export_view(std::filesystem::path path) { export_view_ = std::move(path); }
@@ -156,6 +163,9 @@ class App {
   bool export_png_ = false;
   std::filesystem::path export_view_;
   KnotRulerGeometry ruler_;
+  std::map<std::string, std::array<float, 4>> fields_;
+  std::string pending_text_;
+  bool enter_down_ = false;
   struct ScriptPointer {
     double x = -1, y = -1;
     bool down[3] = {false, false, false};
@@ -297,9 +307,13 @@ bool App::frame(vk::Screenshot* shot) {
     ImGuiIO& io = ImGui::GetIO();
     io.MousePos = {static_cast<float>(script_pointer_->x), static_cast<float>(script_pointer_->y)};
     for (int b = 0; b < 3; ++b) io.MouseDown[b] = script_pointer_->down[b];
+    if (!pending_text_.empty()) io.AddInputCharactersUTF8(pending_text_.c_str());
+    pending_text_.clear();
+    if (io.KeyMap[ImGuiKey_Enter] >= 0) io.KeysDown[io.KeyMap[ImGuiKey_Enter]] = enter_down_;
   }
   ImGui::NewFrame();
-  UiInfo info{region_path_, frame_ms_, &export_png_, &ruler_};
+  fields_.clear();  // the fields this frame shows
+  UiInfo info{region_path_, frame_ms_, &export_png_, &ruler_, &fields_};
   build_ui(editor_, info);
   ImGui::Render();
   auto begun = check(presenter_->begin_frame(static_cast<uint32_t>(fw), static_cast<uint32_t>(fh)));
@@ -348,6 +362,9 @@ class ScriptRunner {
   /// moves to U's place in STEPS frames and releases, a frame apart each, as
   /// a user's hand would (run as generated mouse/press/release commands).
   void drag_knot(const ScriptCommand& c);
+  /// type x|y|w TEXT: the pointer clicks into the panel's field, types TEXT
+  /// and presses Enter, a frame apart each, as a user does.
+  void type_into(const ScriptCommand& c);
   App& app_;
   std::vector<ScriptCommand> commands_;
   std::size_t next_ = 0;
@@ -418,6 +435,19 @@ void ScriptRunner::run(const ScriptCommand& c) {
     frame_needed_ = true;
   } else if (n == "drag-knot!") {
     drag_knot(c);
+  } else if (n == "type") {  // a frame first, so the panel shows the fields
+    ScriptCommand now = c;
+    now.name = "type!";
+    commands_.insert(commands_.begin() + static_cast<std::ptrdiff_t>(next_), now);
+    frame_needed_ = true;
+  } else if (n == "type!") {
+    type_into(c);
+  } else if (n == "text!") {
+    app_.type_text(c.args[0]);
+    frame_needed_ = true;
+  } else if (n == "enter!") {
+    app_.hold_enter(c.args[0] == "down");
+    frame_needed_ = true;
   } else if (n == "resize") {
     const int w = int_arg(c, 0), h = int_arg(c, 1);
     if (w < 64 || h < 64 || w > kMaxImageSize || h > kMaxImageSize)
@@ -486,6 +516,23 @@ void ScriptRunner::drag_knot(const ScriptCommand& c) {
   commands_.insert(commands_.begin() + static_cast<std::ptrdiff_t>(next_), plan.begin(), plan.end());
 }
 
+void ScriptRunner::type_into(const ScriptCommand& c) {
+  const std::string where = "script line " + std::to_string(c.line) + ": type: ";
+  const auto it = app_.fields().find(c.args[0]);
+  if (it == app_.fields().end())
+    throw InputError(where + "no field '" + c.args[0] + "' is shown (x, y or w, with ui on and not in kappa-curve mode)");
+  const auto& r = it->second;
+  const float x = 0.5f * (r[0] + r[2]), y = 0.5f * (r[1] + r[3]);
+  const auto command = [&](std::string name, std::vector<std::string> args) {
+    return ScriptCommand{std::move(name), std::move(args), c.line};
+  };
+  const std::vector<ScriptCommand> plan = {
+      command("mouse", {std::to_string(x), std::to_string(y)}), command("press", {"left"}), command("wait", {"1"}),
+      command("release", {"left"}), command("wait", {"1"}), command("text!", {c.args[1]}), command("wait", {"1"}),
+      command("enter!", {"down"}), command("wait", {"1"}), command("enter!", {"up"}), command("wait", {"1"})};
+  commands_.insert(commands_.begin() + static_cast<std::ptrdiff_t>(next_), plan.begin(), plan.end());
+}
+
 bool ScriptRunner::ui_action(const ScriptCommand& c) {
   Editor& e = app_.editor();
   const std::string& n = c.name;
@@ -523,6 +570,34 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "overlay") e.show_overlay = switch_arg(c, 0);
   else if (n == "view") e.set_view({number_arg(c, 0), number_arg(c, 1), number_arg(c, 2), number_arg(c, 3)});
   else if (n == "fit") e.fit_view();
+  else if (n == "contour") e.switch_curve(int_arg(c, 0));
+  else if (n == "constrain") e.constrain_drag = switch_arg(c, 0);
+  else if (n == "glyph") e.open_glyph(c.args[0]);
+  else if (n == "save-all") {
+    e.save_all();
+    std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+  }
+  else if (n == "fit-region") {
+    e.fit_region();
+    std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+  } else if (n == "show-point") e.set_point_shown(int_arg(c, 0), switch_arg(c, 1));
+  else if (n == "comb-size") e.comb_scale = number_arg(c, 0);
+  else if (n == "graph") {
+    static const char* views[] = {"kappa", "abs", "log"};
+    const auto v = std::find(std::begin(views), std::end(views), c.args[0]);
+    if (v == std::end(views)) throw InputError("script line " + std::to_string(c.line) + ": graph is kappa, abs or log");
+    e.graph_view = static_cast<int>(v - std::begin(views));
+  } else if (n == "legend") {  // what the legend shows: colour (bytes) and words per line
+    const Legend l = region_legend(e);
+    std::cerr << "cmr edit: legend: " << l.title << '\n';
+    static const char* kinds[] = {"swatch", "gradient", "outline", "dot", "square", "diamond", "line", "text"};
+    for (const LegendLine& x : l.lines) {
+      const auto a = bytes_of(x.colour), b = bytes_of(x.colour_to);
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%d,%d,%d %d,%d,%d", a[0], a[1], a[2], b[0], b[1], b[2]);
+      std::cerr << "cmr edit: legend " << kinds[static_cast<int>(x.kind)] << ' ' << buf << ' ' << x.text << '\n';
+    }
+  }
   else if (n == "undo") e.undo();
   else if (n == "redo") e.redo();
   else if (n == "save") e.save(c.args[0]);
@@ -548,8 +623,12 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
     return true;
   }
   if (c.name == "status") {  // what the panel shows: the selected point and the status line
-    std::cerr << "cmr edit: script line " << c.line << ": selected P" << e.doc().selected << "; " << e.message
-              << '\n';
+    const std::string name = e.point_name(e.doc().selected);
+    std::string plain = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+    plain += std::to_string(e.doc().selected);
+    const bool named = name != plain;
+    std::cerr << "cmr edit: script line " << c.line << ": selected P" << e.doc().selected
+              << (named ? " (" + name + ")" : std::string()) << "; " << e.message << '\n';
     return true;
   }
   if (c.name == "fix" || c.name == "snap") {
@@ -579,12 +658,27 @@ int run_editor(const EditOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
   if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
-  BSpline spline = open_spline(o.file);
+  OpenedSource source = o.file.empty() ? OpenedSource{} : open_source(o.file, o.glyph);
+  BSpline spline = source.curves.empty() ? open_spline(o.file) : source.curves[0].spline;
+  if (source.curves.size() > 1 || !source.font.empty()) {
+    std::string names;
+    for (const OpenedCurve& c : source.curves) names += (names.empty() ? "" : ", ") + c.name;
+    std::cerr << "cmr edit: " << source.what << " (" << names << ")\n";
+  }
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
   App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
+  if (source.curves.size() > 1 || !source.font.empty()) app.editor().set_source(std::move(source));
+  else app.editor().point_names = read_point_names(o.file);
   app.editor().open_on_region_point(o.point);
+  {  // the first view: the curve, its comb and the opened point's region
+    Editor& e = app.editor();
+    const std::string opened = e.message;  // the opening's status line stays
+    e.fit_view();
+    e.region();
+    e.message = opened;
+  }
   if (!o.script.empty() || !o.screenshot.empty()) {
     app.use_script_pointer();
     ScriptRunner runner(app, std::move(script));

@@ -10,7 +10,8 @@
 namespace cmr::edit {
 
 struct EditOptions {
-  std::filesystem::path file;        ///< spline to open; empty: a cubic Bezier to start from
+  std::filesystem::path file;        ///< spline, font (with glyph) or SVG to open; empty: a cubic Bezier to start from
+  std::string glyph;                 ///< a font's glyph (every contour opened; sources.hpp)
   std::filesystem::path script;      ///< empty: interactive
   std::filesystem::path screenshot;  ///< PNG of the presented image after the script (or the first frames)
   int width = 1024, height = 768;    ///< window size in pixels
