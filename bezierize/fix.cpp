@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <random>
 #include <set>
 
 #include "bezierize/extract.hpp"
@@ -365,6 +366,18 @@ struct Search {
     return bad;
   }
 
+  /// extrema-at-nodes: how many of the judged segments `segments` are not
+  /// certified monotone after the move (each classified again).
+  int bad_in(const std::vector<Vec2>& delta, const std::vector<int>& segments) {
+    const BSpline s = moved(delta);
+    int bad = 0;
+    for (int i : segments) {
+      const Segment& seg = s.segments()[i];
+      bad += !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {request.max_depth, false}));
+    }
+    return bad;
+  }
+
   /// The search's time is up (FixRequest::max_seconds): every predicate
   /// answers "fails" from now on, so every loop ends.
   bool expired() {
@@ -509,6 +522,69 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
     }
     if (local.dist < best.dist) best = local;
   }
+  return best;
+}
+
+/// The passing position nearest to 0 of pass(c) for c in R^dims (dims 3 or 4:
+/// several units moved at once): rays from 0 in fixed directions (the axes,
+/// the diagonals and seeded random ones), each scanned outwards by factors
+/// of 1.5 from size/512 to max_move; the first passing radius of each ray is
+/// bisected to `tol` against the radius before it. Coarse: the compass search
+/// that follows polishes the total squared displacement.
+struct NearestN {
+  bool found = false;
+  std::vector<double> c;
+  double dist = std::numeric_limits<double>::infinity();
+};
+
+NearestN nearest_rays(const std::function<bool(const std::vector<double>&)>& pass, int dims, double size,
+                      double max_move, double tol, int threads) {
+  std::vector<std::vector<double>> dirs;
+  for (int i = 0; i < dims; ++i)
+    for (const double sg : {-1.0, 1.0}) {
+      std::vector<double> d(dims, 0.0);
+      d[i] = sg;
+      dirs.push_back(d);
+    }
+  for (int mask = 0; mask < (1 << dims); ++mask) {
+    std::vector<double> d(dims);
+    for (int i = 0; i < dims; ++i) d[i] = (mask >> i & 1 ? 1.0 : -1.0) / std::sqrt(static_cast<double>(dims));
+    dirs.push_back(d);
+  }
+  std::mt19937 rng(22);
+  std::normal_distribution<double> G(0.0, 1.0);
+  while (dirs.size() < 96) {
+    std::vector<double> d(dims);
+    double n2 = 0;
+    for (double& v : d) v = G(rng), n2 += v * v;
+    for (double& v : d) v /= std::sqrt(n2);
+    dirs.push_back(d);
+  }
+  auto at = [&](const std::vector<double>& d, double r) {
+    std::vector<double> c(d);
+    for (double& v : c) v *= r;
+    return c;
+  };
+  std::vector<double> radius(dirs.size(), std::numeric_limits<double>::infinity());
+  parallel_for(dirs.size(), threads, [&](std::size_t i) {
+    double prev = 0;
+    for (double r = std::min(size / 512, max_move);; r = std::min(1.5 * r, max_move)) {
+      if (pass(at(dirs[i], r))) {
+        double lo = prev, hi = r;
+        while (hi - lo > tol) {
+          const double mid = 0.5 * (lo + hi);
+          if (pass(at(dirs[i], mid))) hi = mid; else lo = mid;
+        }
+        radius[i] = hi;
+        return;
+      }
+      if (r >= max_move) return;
+      prev = r;
+    }
+  });
+  NearestN best;
+  for (std::size_t i = 0; i < dirs.size(); ++i)
+    if (radius[i] < best.dist) best = NearestN{true, at(dirs[i], radius[i]), radius[i]};
   return best;
 }
 
@@ -764,6 +840,87 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     else
       z[offset[ui]] = x.x, z[offset[ui] + 1] = x.y;
   };
+  // Two units moved at once, for a greedy step that no single unit can
+  // make: every pair of units acting on a common failing segment, each
+  // pair's nearest position (in coordinates scaled so that their squared
+  // length is the added squared displacement) that lowers the badness
+  // (extrema-at-nodes: fewer of the segments the pair acts on fail, each
+  // classified again exactly); the cheapest pair's moves.
+  auto two_at_once = [&](const std::vector<Vec2>& now, const BSpline& current, int before) {
+    std::vector<std::pair<std::size_t, Vec2>> best_moves;
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::vector<int> failing;
+    if (!region_kind) {
+      for (int i = a0.range.first; i <= a0.range.last; ++i)
+        if (search.bad_in(now, {i})) failing.push_back(i);
+    } else {
+      failing = failing_segments(current, analyze(current, ao), request.requirement);
+    }
+    auto touches = [&](const Unit& u, int i) {
+      const std::vector<int> pts = segment_points(current, current.segments()[i]);
+      return std::any_of(u.points.begin(), u.points.end(),
+                         [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+    };
+    std::set<std::pair<std::size_t, std::size_t>> pairs;
+    for (int i : failing) {
+      std::vector<std::size_t> on;
+      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+        if (touches(ties.units[ui], i)) on.push_back(ui);
+      for (std::size_t p = 0; p < on.size(); ++p)
+        for (std::size_t q = p + 1; q < on.size(); ++q) pairs.insert({on[p], on[q]});
+    }
+    for (const auto& [a, b] : pairs) {
+      if (search.expired()) break;
+      const Unit& ua = ties.units[a];
+      const Unit& ub = ties.units[b];
+      std::vector<int> segs;
+      int local_before = 0;
+      for (int i = a0.range.first; i <= a0.range.last; ++i)
+        if (touches(ua, i) || touches(ub, i)) {
+          segs.push_back(i);
+          local_before += std::binary_search(failing.begin(), failing.end(), i);
+        }
+      const int da = ua.dims(), dims = da + ub.dims();
+      const double wa = 1 / std::sqrt(static_cast<double>(ua.points.size()));
+      const double wb = 1 / std::sqrt(static_cast<double>(ub.points.size()));
+      auto moves_of = [&](const std::vector<double>& c) {
+        const Vec2 xa = wa * (ua.slide ? c[0] * ua.dir : Vec2(c[0], c[1]));
+        const Vec2 xb = wb * (ub.slide ? c[da] * ub.dir : Vec2(c[da], c[da + 1]));
+        return std::pair{xa, xb};
+      };
+      const std::function<bool(const std::vector<double>&)> pass_n = [&](const std::vector<double>& c) {
+        const auto [xa, xb] = moves_of(c);
+        std::vector<Vec2> d = now;
+        for (int k : ua.points) d[k] += xa;
+        for (int k : ub.points) d[k] += xb;
+        if (region_kind) return search.badness(d) < before;
+        ++search.evaluations;
+        if (search.expired()) return false;
+        for (const Vec2& dk : d)
+          if (norm(dk) > search.max_move) return false;
+        return search.bad_in(d, segs) < local_before;
+      };
+      const double coarse = std::max(search.tol, 1e-3 * out.size);
+      std::vector<double> c;
+      if (dims == 2) {
+        const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out.size, search.max_move,
+                                   coarse, std::max(8, request.grid / 2), request.threads, 1);
+        if (nr.found) c = {nr.x.x, nr.x.y};
+      } else {
+        const NearestN nr = nearest_rays(pass_n, dims, out.size, search.max_move, coarse, request.threads);
+        if (nr.found) c = nr.c;
+      }
+      if (c.empty()) continue;
+      double cost = 0;
+      for (double v : c) cost += v * v;
+      if (cost < best_cost) {
+        best_cost = cost;
+        const auto [xa, xb] = moves_of(c);
+        best_moves = {{a, xa}, {b, xb}};
+      }
+    }
+    return best_moves;
+  };
   std::vector<double> z(offset.back(), 0.0);
   bool feasible = false;
   if (best_unit) {
@@ -841,14 +998,23 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         if (!region_kind && !search.timed_out) cached[ui] = nr;
         if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
       }
-      if (!pick) break;
-      const Unit& u = ties.units[pick->first];
-      const Vec2 x0 = u.slide ? z[offset[pick->first]] * u.dir
-                              : Vec2(z[offset[pick->first]], z[offset[pick->first] + 1]);
-      set_unit(z, pick->first, x0 + pick->second);
-      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
-        for (int k : u.points)
-          if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
+      // No single unit lowers the badness (with G1 kept a segment whose two
+      // handles must both slide, or a node group that must move with a
+      // handle): two units at once.
+      std::vector<std::pair<std::size_t, Vec2>> step_moves;
+      if (pick)
+        step_moves.push_back(*pick);
+      else if (!search.expired())
+        step_moves = two_at_once(now, current, before);
+      if (step_moves.empty()) break;
+      for (const auto& [pu, x] : step_moves) {
+        const Unit& u = ties.units[pu];
+        const Vec2 x0 = u.slide ? z[offset[pu]] * u.dir : Vec2(z[offset[pu]], z[offset[pu] + 1]);
+        set_unit(z, pu, x0 + x);
+        for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+          for (int k : u.points)
+            if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
+      }
       feasible = search.holds(delta_of(z));
     }
   }
