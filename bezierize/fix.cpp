@@ -6,6 +6,7 @@
 #include <atomic>
 #include <charconv>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -29,6 +30,20 @@ FixRequirement parse_fix_requirement(const std::string& text) {
   if (text == "cmr") return r.kind = FixRequirement::Kind::cmr, r;
   if (text == "extrema-at-nodes") return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
   if (text == "each-piece") return r.kind = FixRequirement::Kind::each_piece, r;
+  if (text == "no-inflection") return r.kind = FixRequirement::Kind::no_inflection, r;
+  if (text == "each-run") return r.kind = FixRequirement::Kind::each_run, r;
+  if (text.rfind("g2-at-smooth-nodes", 0) == 0) {
+    r.kind = FixRequirement::Kind::g2;
+    if (text.size() == 18) return r;
+    if (text[18] == ':') {
+      const char* b = text.data() + 19;
+      const auto [end, ec] = std::from_chars(b, text.data() + text.size(), r.g2_tolerance);
+      if (end != b && ec == std::errc() && end == text.data() + text.size() && std::isfinite(r.g2_tolerance) &&
+          r.g2_tolerance >= 0)
+        return r;
+      throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
+    }
+  }
   if (text.rfind("split:", 0) == 0) {
     std::string s = text.substr(6);
     r.kind = FixRequirement::Kind::split;
@@ -51,7 +66,8 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
   }
   throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece or extrema-at-nodes");
+                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, "
+                   "no-inflection, g2-at-smooth-nodes[:tol] or each-run");
 }
 
 std::string to_string(const FixRequirement& r) {
@@ -60,6 +76,13 @@ std::string to_string(const FixRequirement& r) {
     case FixRequirement::Kind::cmr: return "cmr";
     case FixRequirement::Kind::extrema_at_nodes: return "extrema-at-nodes";
     case FixRequirement::Kind::each_piece: return "each-piece";
+    case FixRequirement::Kind::no_inflection: return "no-inflection";
+    case FixRequirement::Kind::each_run: return "each-run";
+    case FixRequirement::Kind::g2: {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "g2-at-smooth-nodes:%g", r.g2_tolerance);
+      return buf;
+    }
     case FixRequirement::Kind::split:
       return "split:" + std::to_string(r.split) +
              (r.extremum == FixRequirement::Extremum::sharpest   ? ":sharpest"
@@ -82,7 +105,8 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
   AnalyzeOptions ao;
   ao.classify.max_depth = max_depth;
   if (requirement.kind == FixRequirement::Kind::split) ao.split = requirement.split;
-  ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece its own group
+  ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece (or group) its own
+  if (ao.each_piece) ao.splits = requirement.cuts;
   ao.split_mode = Mode::cmrwi;
   return ao;
 }
@@ -112,12 +136,55 @@ bool split_ok(const SplineAnalysis& a, const FixRequirement& r) {
 
 }  // namespace
 
+FixRequirement resolve_requirement(const BSpline& spline, FixRequirement r) {
+  if (r.kind != FixRequirement::Kind::each_run) return r;
+  r.cuts.clear();
+  const std::vector<double>& t = spline.knots();
+  const int d = spline.degree();
+  for (const Segment& seg : spline.segments()) {
+    if (seg.index == 0) continue;  // the seam or the start: no joint inside the range
+    int mult = 0;
+    for (double u : t) mult += u == seg.a;
+    if (mult >= d) r.cuts.push_back(seg.index);
+  }
+  r.kind = r.cuts.empty() ? FixRequirement::Kind::cmrwi : FixRequirement::Kind::each_piece;
+  return r;
+}
+
+namespace {
+
+/// The curvature on both sides of a joint, as the analysis certifies them, agrees within tol.
+bool g2_ok(const Joint& j, double tol) {
+  if (!j.g1 || j.zero_tangent || j.pole || !std::isfinite(j.kappa_left) || !std::isfinite(j.kappa_right)) return true;
+  return std::abs(j.kappa_left - j.kappa_right) <= tol * std::max(std::abs(j.kappa_left), std::abs(j.kappa_right));
+}
+
+}  // namespace
+
 bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
   switch (r.kind) {
+    case FixRequirement::Kind::each_run:
+    case FixRequirement::Kind::each_piece: return a.each_piece && *a.each_piece == EachPiece::monotone;
+    case FixRequirement::Kind::no_inflection: {
+      int sign = 0;
+      for (int i = a.range.first; i <= a.range.last; ++i) {
+        const SegmentShape& sh = a.shapes[i];
+        if (sh.pole || sh.cusp || sh.inflection != Inflection::none) return false;
+        if (sh.straight || sh.kappa_sign == 0) continue;
+        if (sign != 0 && sh.kappa_sign != sign) return false;
+        sign = sh.kappa_sign;
+      }
+      for (const Joint& j : a.joints)
+        if (j.zero_tangent && a.judged(j.index - 1) && a.judged(j.index)) return false;
+      return !(a.seam && a.seam->zero_tangent);
+    }
+    case FixRequirement::Kind::g2:
+      for (const Joint& j : a.joints)
+        if (a.judged(j.index - 1) && a.judged(j.index) && !g2_ok(j, r.g2_tolerance)) return false;
+      return !a.seam || g2_ok(*a.seam, r.g2_tolerance);
     case FixRequirement::Kind::cmrwi: return monotone(a.cmrwi);
     case FixRequirement::Kind::cmr: return monotone(a.cmr);
     case FixRequirement::Kind::split: return split_ok(a, r);
-    case FixRequirement::Kind::each_piece: return a.each_piece && *a.each_piece == EachPiece::monotone;
     case FixRequirement::Kind::extrema_at_nodes:
       for (int i = a.range.first; i <= a.range.last; ++i)
         if (a.shapes[i].pole || !monotone_class(a.segments[i])) return false;
@@ -127,7 +194,8 @@ bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
 }
 
 bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth) {
-  return requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement);
+  const FixRequirement r = resolve_requirement(spline, requirement);
+  return requirement_holds(analyze(spline, fix_analyze_options(r, max_depth)), r);
 }
 
 // ------------------------------------------------------------ segment helpers
@@ -153,15 +221,6 @@ bool segment_alone_bad(const SplineAnalysis& a, int i, const FixRequirement& r) 
 
 }  // namespace
 
-std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a, const FixRequirement& r) {
-  (void)spline;
-  std::vector<int> out;
-  for (int i = a.range.first; i <= a.range.last; ++i)
-    if (segment_alone_bad(a, i, r)) out.push_back(i);
-  if (out.empty() && !requirement_holds(a, r))
-    for (int i = a.range.first; i <= a.range.last; ++i) out.push_back(i);
-  return out;
-}
 
 namespace {
 
@@ -316,6 +375,104 @@ Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<in
   return t;
 }
 
+// ---------------------------------------------------------------- local checks
+
+/// The kinds judged one check at a time (extrema-at-nodes, no-inflection,
+/// g2): check i is judged segment i (g2: the joint that starts segment i),
+/// decided on a moved spline from the points that act on it alone, so a move
+/// re-judges only the checks it touches.
+bool local_kind(FixRequirement::Kind k) {
+  return k == FixRequirement::Kind::extrema_at_nodes || k == FixRequirement::Kind::no_inflection ||
+         k == FixRequirement::Kind::g2;
+}
+
+/// The points that act on check i (unique indices).
+std::vector<int> check_points(const BSpline& s, FixRequirement::Kind kind, int i) {
+  std::vector<int> pts = segment_points(s, s.segments()[i]);
+  const int N = s.segment_count();
+  if (kind == FixRequirement::Kind::g2 && (s.closed() || i > 0))
+    for (int k : segment_points(s, s.segments()[(i - 1 + N) % N]))
+      if (std::find(pts.begin(), pts.end(), k) == pts.end()) pts.push_back(k);
+  return pts;
+}
+
+/// Whether check i fails on a spline (exact or certified, as the final
+/// analysis decides it).
+struct LocalJudge {
+  FixRequirement requirement;
+  int max_depth = kDefaultDepth;
+  int sign = 0;                    ///< no-inflection: the curvature sign every segment must keep (the input's majority)
+  std::vector<char> judged_joint;  ///< g2: the joint starting segment i is judged (smooth in the input)
+
+  bool bad(const BSpline& s, int i) const {
+    const Segment& seg = s.segments()[i];
+    switch (requirement.kind) {
+      case FixRequirement::Kind::no_inflection: {
+        const SegmentShape sh = segment_shape(s, seg);
+        if (sh.pole || sh.cusp || sh.inflection != Inflection::none) return true;
+        return !sh.straight && sh.kappa_sign != 0 && sign != 0 && sh.kappa_sign != sign;
+      }
+      case FixRequirement::Kind::g2: {
+        if (!judged_joint[i]) return false;
+        const int N = s.segment_count();
+        const double kl = certified_end_curvature(s, s.segments()[(i - 1 + N) % N], 1);
+        const double kr = certified_end_curvature(s, seg, 0);
+        if (!std::isfinite(kl) || !std::isfinite(kr)) return true;
+        return std::abs(kl - kr) > requirement.g2_tolerance * std::max(std::abs(kl), std::abs(kr));
+      }
+      default:
+        return !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {max_depth, false}));
+    }
+  }
+};
+
+/// The judge of a local kind for the input spline and its analysis.
+LocalJudge make_judge(const BSpline& s, const SplineAnalysis& a, const FixRequirement& r, int max_depth) {
+  LocalJudge j{r, max_depth, 0, {}};
+  const int N = s.segment_count();
+  if (r.kind == FixRequirement::Kind::no_inflection) {
+    int plus = 0, minus = 0;
+    for (int i = a.range.first; i <= a.range.last; ++i)
+      if (!a.shapes[i].straight) plus += a.shapes[i].kappa_sign > 0, minus += a.shapes[i].kappa_sign < 0;
+    j.sign = plus >= minus ? 1 : -1;
+  }
+  if (r.kind == FixRequirement::Kind::g2) {
+    j.judged_joint.assign(N, 0);
+    for (const Joint& jt : all_joints(a)) {
+      const int i = jt.index % N, left = (i - 1 + N) % N;
+      if (!a.judged(i) || !a.judged(left)) continue;
+      j.judged_joint[i] = jt.g1 && !jt.zero_tangent && !jt.pole && std::isfinite(jt.kappa_left) &&
+                          std::isfinite(jt.kappa_right);
+    }
+  }
+  return j;
+}
+
+}  // namespace
+
+std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a, const FixRequirement& r) {
+  std::vector<int> out;
+  if (r.kind == FixRequirement::Kind::no_inflection || r.kind == FixRequirement::Kind::g2) {
+    // The checks that fail; g2's joint i fails both its segments.
+    const LocalJudge judge = make_judge(spline, a, r, kDefaultDepth);
+    const int N = spline.segment_count();
+    std::set<int> segs;
+    for (int i = a.range.first; i <= a.range.last; ++i)
+      if (judge.bad(spline, i)) {
+        segs.insert(i);
+        if (r.kind == FixRequirement::Kind::g2) segs.insert((i - 1 + N) % N);
+      }
+    return {segs.begin(), segs.end()};
+  }
+  for (int i = a.range.first; i <= a.range.last; ++i)
+    if (segment_alone_bad(a, i, r)) out.push_back(i);
+  if (out.empty() && !requirement_holds(a, r))
+    for (int i = a.range.first; i <= a.range.last; ++i) out.push_back(i);
+  return out;
+}
+
+namespace {
+
 // ---------------------------------------------------------------- the search
 
 using Clock = std::chrono::steady_clock;
@@ -328,7 +485,15 @@ struct Search {
   double size = 1, tol = 0, max_move = 0;
   std::atomic<long> evaluations{0};
 
-  Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a) : base(b), request(r), base_analysis(a) {}
+  LocalJudge judge;
+  std::vector<char> base_bad;  ///< local kinds: check i fails on the input
+
+  Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a)
+      : base(b), request(r), base_analysis(a), judge(make_judge(b, a, r.requirement, r.max_depth)) {
+    if (!local_kind(r.requirement.kind)) return;
+    base_bad.assign(b.segment_count(), 0);
+    for (int i = a.range.first; i <= a.range.last; ++i) base_bad[i] = judge.bad(b, i);
+  }
 
   BSpline moved(const std::vector<Vec2>& delta) const {
     BSpline s = base;
@@ -344,7 +509,7 @@ struct Search {
     if (expired()) return false;
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
-    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, true) == 0;
+    if (local_kind(request.requirement.kind)) return bad_segments(delta, true) == 0;
     return requirement_holds(moved(delta), request.requirement, request.max_depth);
   }
 
@@ -355,13 +520,9 @@ struct Search {
     const BSpline s = moved(delta);
     int bad = 0;
     for (int i = base_analysis.range.first; i <= base_analysis.range.last && !(first && bad); ++i) {
-      const Segment& seg = s.segments()[i];
       bool touched = false;
-      for (int k : segment_points(s, seg)) touched = touched || delta[k] != Vec2(0.0);
-      if (!touched)
-        bad += base_analysis.shapes[i].pole || !monotone_class(base_analysis.segments[i]);
-      else
-        bad += !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {request.max_depth, false}));
+      for (int k : check_points(s, request.requirement.kind, i)) touched = touched || delta[k] != Vec2(0.0);
+      bad += touched ? judge.bad(s, i) : base_bad[i];
     }
     return bad;
   }
@@ -371,10 +532,7 @@ struct Search {
   int bad_in(const std::vector<Vec2>& delta, const std::vector<int>& segments) {
     const BSpline s = moved(delta);
     int bad = 0;
-    for (int i : segments) {
-      const Segment& seg = s.segments()[i];
-      bad += !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {request.max_depth, false}));
-    }
+    for (int i : segments) bad += judge.bad(s, i);
     return bad;
   }
 
@@ -397,7 +555,7 @@ struct Search {
     if (expired()) return std::numeric_limits<int>::max();
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
-    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, false);
+    if (local_kind(request.requirement.kind)) return bad_segments(delta, false);
     const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
     if (requirement_holds(a, request.requirement)) return 0;
     int score = 0;
@@ -626,8 +784,10 @@ double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>
 
 }  // namespace
 
-FixResult fix(const BSpline& spline, const FixRequest& request) {
+FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   const auto start = Clock::now();
+  FixRequest request = request_in;  // each-run: each-piece with the nodes as cuts
+  request.requirement = resolve_requirement(spline, request_in.requirement);
   const int m = spline.unique_point_count();
   if (!(request.tolerance > 0 && request.tolerance < 1))
     throw InputError("--tolerance: " + std::to_string(request.tolerance) + " is outside (0, 1)");
@@ -712,7 +872,21 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   search.tol = request.tolerance * out.size;
   search.max_move = request.max_move > 0 ? request.max_move : out.size;
   search.deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.max_seconds));
-  const bool region_kind = request.requirement.kind != FixRequirement::Kind::extrema_at_nodes;
+  const FixRequirement::Kind kind = request.requirement.kind;
+  const bool region_kind = !local_kind(kind);
+  // no-inflection, g2: no region problem; each check is judged exactly on the moved spline.
+  const bool exact_local = local_kind(kind) && kind != FixRequirement::Kind::extrema_at_nodes;
+  // The checks a unit acts on.
+  auto touched_checks = [&](const BSpline& current, const Unit& u) {
+    std::vector<int> out_checks;
+    for (int i = a0.range.first; i <= a0.range.last; ++i) {
+      const std::vector<int> pts = check_points(current, kind, i);
+      if (std::any_of(u.points.begin(), u.points.end(),
+                      [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); }))
+        out_checks.push_back(i);
+    }
+    return out_checks;
+  };
 
 
   // The region requests of the judged segments a unit acts on, each judged
@@ -739,10 +913,10 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   // unit alone cannot meet extrema-at-nodes.
   auto hopeless_alone = [&](const Unit& u) {
     for (int i = a0.range.first; i <= a0.range.last; ++i) {
-      const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+      const std::vector<int> pts = check_points(spline, kind, i);
       const bool touched = std::any_of(u.points.begin(), u.points.end(),
                                        [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-      if (!touched && (a0.shapes[i].pole || !monotone_class(a0.segments[i]))) return true;
+      if (!touched && search.base_bad[i]) return true;
     }
     return false;
   };
@@ -777,10 +951,11 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       // each-piece: the region where every piece is monotone on its own, not
       // the (smaller) one where the whole curve is.
       rr.each_piece = request.requirement.kind == FixRequirement::Kind::each_piece;
+      if (rr.each_piece) rr.splits = request.requirement.cuts;  // each-run: the groups between the nodes
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));
-    } else if (!(hopeless[ui] = hopeless_alone(u))) {
+    } else if (!(hopeless[ui] = hopeless_alone(u)) && !exact_local) {
       alone_requests[ui] = segment_requests(spline, u);
     }
   }
@@ -797,9 +972,15 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     // segment it acts on monotone on its own, the region of each judged alone).
     const std::vector<Prepared>& pieces = alone_problems[ui];
     const Vec2 p0 = spline.points()[u.points[0]];
+    const std::vector<int> checks = exact_local ? touched_checks(spline, u) : std::vector<int>{};
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
       ++search.evaluations;
       if (search.expired()) return false;
+      if (exact_local) {
+        std::vector<Vec2> d(m, Vec2(0.0));
+        for (int k : u.points) d[k] += x;
+        return search.bad_in(d, checks) == 0;
+      }
       for (const Prepared& pr : pieces)
         if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
       return true;
@@ -857,7 +1038,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       failing = failing_segments(current, analyze(current, ao), request.requirement);
     }
     auto touches = [&](const Unit& u, int i) {
-      const std::vector<int> pts = segment_points(current, current.segments()[i]);
+      const std::vector<int> pts = check_points(current, kind, i);
       return std::any_of(u.points.begin(), u.points.end(),
                          [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
     };
@@ -938,7 +1119,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
         std::set<int> w(ties.units[ui].points.begin(), ties.units[ui].points.end());
         for (int i = a0.range.first; i <= a0.range.last; ++i) {
-          const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+          const std::vector<int> pts = check_points(spline, kind, i);
           const bool touched = std::any_of(ties.units[ui].points.begin(), ties.units[ui].points.end(), [&](int k) {
             return std::find(pts.begin(), pts.end(), k) != pts.end();
           });
@@ -955,7 +1136,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       // extrema-at-nodes: the region problems of every unit without a cached
       // step, on the current spline (analysed once for all of them).
       std::vector<std::vector<RegionRequest>> step_requests(ties.units.size());
-      if (!region_kind)
+      if (!region_kind && !exact_local)
         for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
           if (!cached[ui]) step_requests[ui] = segment_requests(current, ties.units[ui]);
       const std::vector<std::vector<Prepared>> step_problems = problems_of(current, step_requests);
@@ -976,8 +1157,11 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         const std::vector<Prepared>& pieces = step_problems[ui];
         int bad_now = 0;
         const Vec2 p0 = current.points()[u.points[0]];
+        const std::vector<int> checks = exact_local ? touched_checks(current, u) : std::vector<int>{};
+        if (exact_local) bad_now = search.bad_in(now, checks);
         if (!region_kind) {
-          for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
+          if (!exact_local)
+            for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
           if (bad_now == 0) {
             cached[ui] = Nearest{};
             continue;
@@ -987,6 +1171,11 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
             if (search.expired()) return false;
             for (int k : u.points)
               if (norm(now[k] + x) > search.max_move) return false;
+            if (exact_local) {
+              std::vector<Vec2> d = now;
+              for (int k : u.points) d[k] += x;
+              return search.bad_in(d, checks) < bad_now;
+            }
             int bad = 0;
             for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
             return bad < bad_now;

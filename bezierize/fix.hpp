@@ -59,7 +59,7 @@ namespace cmr {
 /// What the fixed curve must satisfy (the requirement of `cmr report
 /// --require`, and the extrema-at-nodes gate).
 struct FixRequirement {
-  enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes };
+  enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes, no_inflection, g2, each_run };
   /// Which extremum split:S asks for at joint S, read in |kappa| as the
   /// report's gates read it (bezierize/extremum_terms.hpp): sharpest (largest
   /// |kappa|) or flattest (smallest), whatever the direction of travel.
@@ -67,10 +67,32 @@ struct FixRequirement {
   Kind kind = Kind::cmr;
   int split = 0;                      ///< joint S (Kind::split)
   Extremum extremum = Extremum::any;  ///< (Kind::split)
+  /// Kind::g2: |kappa_l - kappa_r| <= g2_tolerance * max(|kappa_l|, |kappa_r|)
+  /// at every smooth joint (the report's g2-at-smooth-nodes:tol).
+  double g2_tolerance = 0.05;
+  /// Kind::each_piece: the groups' cut joints (AnalyzeOptions::splits; empty:
+  /// every joint, each segment its own piece). Set by resolve_requirement
+  /// for each_run.
+  std::vector<int> cuts;
 };
 
+/// Kinds beyond the region requirements (docs/fix.md):
+///  no_inflection: the curvature never changes sign (eta of one sign on every
+///    judged segment, no inflection inside, the same sign on every segment
+///    that is not straight, no cusp);
+///  g2: every smooth joint (G1, finite curvatures) has curvatures within
+///    g2_tolerance (the gate g2-at-smooth-nodes, judged on the certified joint
+///    curvatures);
+///  each_run: every run between two nodes (joints whose knot multiplicity is
+///    at least the degree: a font's on-curve points) monotone on its own, in
+///    either direction; resolve_requirement makes it each_piece with the
+///    nodes as cuts (cmrwi when no joint inside the judged range is a node).
+/// The text forms: "no-inflection", "g2-at-smooth-nodes[:tol]", "each-run".
+FixRequirement resolve_requirement(const BSpline& spline, FixRequirement requirement);
+
 /// Parses "cmrwi", "cmr", "split:S", "split:S:sharpest|flattest",
-/// "each-piece" and "extrema-at-nodes". "split:S:max|min" (signed curvature,
+/// "each-piece", "extrema-at-nodes", "no-inflection",
+/// "g2-at-smooth-nodes[:tol]" and "each-run". "split:S:max|min" (signed curvature,
 /// which flips with the direction of travel) is refused with a hint, as in
 /// `cmr report`. InputError names the text otherwise.
 FixRequirement parse_fix_requirement(const std::string& text);
@@ -91,6 +113,8 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
 ///    (Algorithm 1: increasing, decreasing or constant), so no extremum lies
 ///    inside a segment. This is the gate's sufficient condition: a touching
 ///    zero of lambda that the gate would not count, or the depth limit, fails it.
+///  no-inflection, g2: see FixRequirement; each-run as each-piece (the
+///    analysis made with the resolved requirement's cuts).
 bool requirement_holds(const SplineAnalysis& analysis, const FixRequirement& requirement);
 /// requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement).
 bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth = kDefaultDepth);

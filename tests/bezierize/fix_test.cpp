@@ -29,8 +29,16 @@ TEST(FixRequirement, ParsesEveryFormAndTheSynonyms) {
   EXPECT_EQ(to_string(parse_fix_requirement("split:2:sharpest")), "split:2:sharpest");
   EXPECT_EQ(parse_fix_requirement("each-piece").kind, FixRequirement::Kind::each_piece);
   EXPECT_EQ(to_string(parse_fix_requirement("each-piece")), "each-piece");
+  EXPECT_EQ(parse_fix_requirement("no-inflection").kind, FixRequirement::Kind::no_inflection);
+  EXPECT_EQ(parse_fix_requirement("each-run").kind, FixRequirement::Kind::each_run);
+  const FixRequirement g2 = parse_fix_requirement("g2-at-smooth-nodes:0.02");
+  EXPECT_EQ(g2.kind, FixRequirement::Kind::g2);
+  EXPECT_EQ(g2.g2_tolerance, 0.02);
+  EXPECT_EQ(to_string(g2), "g2-at-smooth-nodes:0.02");
+  EXPECT_EQ(parse_fix_requirement("g2-at-smooth-nodes").g2_tolerance, 0.05);
   for (const char* bad : {"", "cmx", "split:", "split:x", "split:2:top", "split:2:max", "split:2:min",
-                          "split:2:sharpest:1"})
+                          "split:2:sharpest:1", "g2-at-smooth-nodes:", "g2-at-smooth-nodes:x",
+                          "g2-at-smooth-nodes:-1", "no-inflection:1"})
     EXPECT_THROW(parse_fix_requirement(bad), InputError) << bad;
 }
 
@@ -277,6 +285,38 @@ TEST(Fix, GlyphContourThatNoSingleMoveFixesGetsAMultiPointFixKeepingG1) {
   const FixResult free = fix(s, r);
   ASSERT_TRUE(free.fixed) << free.reason;
   EXPECT_LE(free.moves.size(), f.moves.size());
+}
+
+/// each-run: the runs between nodes (knots of multiplicity >= the degree)
+/// are the each-piece groups; with no node inside, the whole curve (cmrwi).
+TEST(Fix, EachRunResolvesToTheNodesAsCuts) {
+  const BSpline two_runs = BSpline::make(2, {0, 0, 1, 2, 2, 3, 4, 4}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 1}, {5, 2}, {6, 2}});
+  const FixRequirement r = resolve_requirement(two_runs, parse_fix_requirement("each-run"));
+  EXPECT_EQ(r.kind, FixRequirement::Kind::each_piece);
+  EXPECT_EQ(r.cuts, std::vector<int>{2});
+  const BSpline one_run = BSpline::make(2, {0, 0, 1, 2, 3, 3}, {{0, 0}, {1, 1}, {2, 1}, {3, 0}, {4, 1}});
+  EXPECT_EQ(resolve_requirement(one_run, parse_fix_requirement("each-run")).kind, FixRequirement::Kind::cmrwi);
+}
+
+/// g2 and no-inflection, the kinds judged check by check on the moved spline.
+TEST(Fix, G2AndNoInflectionAreFixedAndCertified) {
+  FixRequest r;
+  r.requirement = parse_fix_requirement("g2-at-smooth-nodes:0.01");
+  const BSpline s = g1_pair();
+  ASSERT_FALSE(requirement_holds(s, r.requirement));
+  const FixResult f = fix(s, r);
+  ASSERT_TRUE(f.fixed) << f.reason;
+  const Joint& j = f.certificate.joints.at(0);
+  EXPECT_LE(std::abs(j.kappa_left - j.kappa_right), 0.01 * std::max(std::abs(j.kappa_left), std::abs(j.kappa_right)));
+  EXPECT_TRUE(j.g1);
+  EXPECT_LT(collinearity(*f.spline, 3), 1e-9);
+  FixRequest q;
+  q.requirement = parse_fix_requirement("no-inflection");
+  const BSpline wave = BSpline::bezier({{0, 0}, {1, 1}, {2, -1}, {3, 0}});
+  ASSERT_FALSE(requirement_holds(wave, q.requirement));
+  const FixResult g = fix(wave, q);
+  ASSERT_TRUE(g.fixed) << g.reason;
+  EXPECT_EQ(g.certificate.shapes.at(0).inflection, Inflection::none);
 }
 
 TEST(Fix, BadRequestsAreInputErrors) {
