@@ -107,6 +107,7 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
   if (requirement.kind == FixRequirement::Kind::split) ao.split = requirement.split;
   ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece (or group) its own
   if (ao.each_piece) ao.splits = requirement.cuts;
+  ao.segments = requirement.segments;
   ao.split_mode = Mode::cmrwi;
   return ao;
 }
@@ -143,6 +144,7 @@ FixRequirement resolve_requirement(const BSpline& spline, FixRequirement r) {
   const int d = spline.degree();
   for (const Segment& seg : spline.segments()) {
     if (seg.index == 0) continue;  // the seam or the start: no joint inside the range
+    if (r.segments && (seg.index <= r.segments->first || seg.index > r.segments->last)) continue;
     int mult = 0;
     for (double u : t) mult += u == seg.a;
     if (mult >= d) r.cuts.push_back(seg.index);
@@ -952,6 +954,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       // the (smaller) one where the whole curve is.
       rr.each_piece = request.requirement.kind == FixRequirement::Kind::each_piece;
       if (rr.each_piece) rr.splits = request.requirement.cuts;  // each-run: the groups between the nodes
+      rr.segments = request.requirement.segments;                // the judged range only
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));

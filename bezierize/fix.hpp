@@ -74,6 +74,9 @@ struct FixRequirement {
   /// every joint, each segment its own piece). Set by resolve_requirement
   /// for each_run.
   std::vector<int> cuts;
+  /// The judged segments (AnalyzeOptions::segments; all when empty): only
+  /// they must meet the requirement, as `cmr analyze --segments` judges them.
+  std::optional<SegmentRange> segments;
 };
 
 /// Kinds beyond the region requirements (docs/fix.md):

@@ -319,6 +319,50 @@ TEST(Fix, G2AndNoInflectionAreFixedAndCertified) {
   EXPECT_EQ(g.certificate.shapes.at(0).inflection, Inflection::none);
 }
 
+/// A judged segment range (FixRequirement::segments, what the editor's snap
+/// passes): only those segments must meet the requirement. Fig. 8 fails
+/// CMRWI over its three segments; judged on one segment that passes alone
+/// nothing moves, and on one that fails the fix is certified on that range
+/// (the certificate's range) and moves no farther than the whole curve's.
+TEST(Fix, AJudgedRangeIsHonoured) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  FixRequest whole;
+  whole.requirement = parse_fix_requirement("cmrwi");
+  const FixResult all = fix(s, whole);
+  ASSERT_TRUE(all.fixed) << all.reason;
+  int passing = -1, failing = -1;
+  const SplineAnalysis a = analyze(s, fix_analyze_options(whole.requirement));
+  for (int i = 0; i < s.segment_count(); ++i) {
+    const Curvature c = a.segments[i].monotonicity.curvature;
+    (c == Curvature::increasing || c == Curvature::decreasing ? passing : failing) = i;
+  }
+  ASSERT_GE(passing, 0);
+  ASSERT_GE(failing, 0);
+  FixRequest part = whole;
+  part.requirement.segments = SegmentRange{passing, passing};
+  const FixResult none = fix(s, part);
+  EXPECT_TRUE(none.already) << "segment " << passing << " passes alone";
+  EXPECT_TRUE(none.moves.empty());
+  part.requirement.segments = SegmentRange{failing, failing};
+  const int k = segment_points(s, s.segments()[failing])[1];
+  part.points = {k};  // snap: one point
+  part.keep = Keep::none;
+  const FixResult snap = fix(s, part);
+  ASSERT_TRUE(snap.fixed) << snap.reason;
+  EXPECT_EQ(snap.certificate.range, (SegmentRange{failing, failing}));
+  EXPECT_EQ(snap.failing_segments, std::vector<int>{failing});
+  ASSERT_EQ(snap.moves.size(), 1u);
+  EXPECT_EQ(snap.moves[0].point, k);
+  FixRequest whole_snap = whole;
+  whole_snap.points = {k};
+  whole_snap.keep = Keep::none;
+  const FixResult over_all = fix(s, whole_snap);
+  if (over_all.fixed) {
+    EXPECT_LE(snap.max_distance, over_all.max_distance + 1e-6 * all.size);
+  }
+}
+
 TEST(Fix, BadRequestsAreInputErrors) {
   const BSpline s = g1_pair();
   FixRequest r;
