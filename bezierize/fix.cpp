@@ -291,6 +291,14 @@ struct Ties {
   std::vector<int> joints;            // joint indices (N: a closed spline's seam) kept
   std::vector<Unit> units;
   std::vector<bool> moves;            // per unique point: some unit moves it
+  /// Each handle of a G1 tie: (handle, node, unit direction from the node to
+  /// the handle). A handle that reaches or passes its node would turn the
+  /// tangent round: G1 broken (Search::flips).
+  struct Handle {
+    int handle, node;
+    Vec2 dir;
+  };
+  std::vector<Handle> handles;
 };
 
 /// The joints of an analysis, the seam last.
@@ -341,7 +349,7 @@ Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<in
     for (int h : {hm, hp}) {
       const Vec2 dir = s.points()[h] - s.points()[n];
       const double len = norm(dir);
-      if (len > 0) slides[h].push_back(dir / len); else frozen[h] = true;
+      if (len > 0) slides[h].push_back(dir / len), t.handles.push_back({h, n, dir / len}); else frozen[h] = true;
     }
   }
   // Translation groups (led by their smallest allowed point).
@@ -489,6 +497,17 @@ struct Search {
 
   LocalJudge judge;
   std::vector<char> base_bad;  ///< local kinds: check i fails on the input
+  std::vector<Ties::Handle> handles;  ///< of the G1 ties (set by fix())
+
+  /// Some tied handle reaches or passes its node (a slide of the handle, or
+  /// of the node's group against it): the tangent would turn round.
+  bool flips(const std::vector<Vec2>& delta) const {
+    for (const Ties::Handle& h : handles) {
+      const Vec2 off = base.points()[h.handle] + delta[h.handle] - base.points()[h.node] - delta[h.node];
+      if (!(dot(off, h.dir) > 0)) return true;
+    }
+    return false;
+  }
 
   Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a)
       : base(b), request(r), base_analysis(a), judge(make_judge(b, a, r.requirement, r.max_depth)) {
@@ -511,6 +530,7 @@ struct Search {
     if (expired()) return false;
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
+    if (flips(delta)) return false;
     if (local_kind(request.requirement.kind)) return bad_segments(delta, true) == 0;
     return requirement_holds(moved(delta), request.requirement, request.max_depth);
   }
@@ -532,6 +552,7 @@ struct Search {
   /// extrema-at-nodes: how many of the judged segments `segments` are not
   /// certified monotone after the move (each classified again).
   int bad_in(const std::vector<Vec2>& delta, const std::vector<int>& segments) {
+    if (flips(delta)) return std::numeric_limits<int>::max() / 2;
     const BSpline s = moved(delta);
     int bad = 0;
     for (int i : segments) bad += judge.bad(s, i);
@@ -557,6 +578,7 @@ struct Search {
     if (expired()) return std::numeric_limits<int>::max();
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
+    if (flips(delta)) return std::numeric_limits<int>::max();
     if (local_kind(request.requirement.kind)) return bad_segments(delta, false);
     const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
     if (requirement_holds(a, request.requirement)) return 0;
@@ -870,6 +892,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   }
 
   Search search(spline, request, a0);
+  search.handles = ties.handles;
   search.size = out.size;
   search.tol = request.tolerance * out.size;
   search.max_move = request.max_move > 0 ? request.max_move : out.size;
@@ -979,16 +1002,22 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
       ++search.evaluations;
       if (search.expired()) return false;
-      if (exact_local) {
+      if (exact_local || u.slide) {
         std::vector<Vec2> d(m, Vec2(0.0));
         for (int k : u.points) d[k] += x;
-        return search.bad_in(d, checks) == 0;
+        if (exact_local) return search.bad_in(d, checks) == 0;
+        if (search.flips(d)) return false;
       }
       for (const Prepared& pr : pieces)
         if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
       return true;
     };
-    alone[ui] = nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid, request.threads);
+    // The exactly judged kinds (no region problem: each position re-judges
+    // its checks in exact arithmetic) search half the grid from two seeds.
+    alone[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol,
+                                      std::max(8, request.grid / 2), request.threads, 2)
+                            : nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid,
+                                      request.threads);
     UnitFix uf;
     uf.points = u.points;
     uf.slide = u.slide;
@@ -1053,7 +1082,12 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       for (std::size_t p = 0; p < on.size(); ++p)
         for (std::size_t q = p + 1; q < on.size(); ++q) pairs.insert({on[p], on[q]});
     }
-    for (const auto& [a, b] : pairs) {
+    std::vector<std::pair<std::size_t, std::size_t>> order(pairs.begin(), pairs.end());
+    std::stable_sort(order.begin(), order.end(), [&](const auto& p, const auto& q) {
+      return ties.units[p.first].dims() + ties.units[p.second].dims() <
+             ties.units[q.first].dims() + ties.units[q.second].dims();
+    });  // the cheap 2-D pairs first: their distance bounds the others' search
+    for (const auto& [a, b] : order) {
       if (search.expired()) break;
       const Unit& ua = ties.units[a];
       const Unit& ub = ties.units[b];
@@ -1085,13 +1119,15 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
         return search.bad_in(d, segs) < local_before;
       };
       const double coarse = std::max(search.tol, 1e-3 * out.size);
+      // A pair farther than the best so far cannot win: search only inside it.
+      const double reach = std::min(search.max_move * std::sqrt(static_cast<double>(dims)), std::sqrt(best_cost));
       std::vector<double> c;
       if (dims == 2) {
-        const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out.size, search.max_move,
-                                   coarse, std::max(8, request.grid / 2), request.threads, 1);
+        const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out.size, reach, coarse,
+                                   std::max(8, request.grid / 2), request.threads, 1);
         if (nr.found) c = {nr.x.x, nr.x.y};
       } else {
-        const NearestN nr = nearest_rays(pass_n, dims, out.size, search.max_move, coarse, request.threads);
+        const NearestN nr = nearest_rays(pass_n, dims, out.size, reach, coarse, request.threads);
         if (nr.found) c = nr.c;
       }
       if (c.empty()) continue;
@@ -1174,10 +1210,11 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
             if (search.expired()) return false;
             for (int k : u.points)
               if (norm(now[k] + x) > search.max_move) return false;
-            if (exact_local) {
+            if (exact_local || u.slide) {
               std::vector<Vec2> d = now;
               for (int k : u.points) d[k] += x;
-              return search.bad_in(d, checks) < bad_now;
+              if (exact_local) return search.bad_in(d, checks) < bad_now;
+              if (search.flips(d)) return false;
             }
             int bad = 0;
             for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
