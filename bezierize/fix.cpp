@@ -14,7 +14,10 @@
 #include <random>
 #include <set>
 
+#include "bezierize/bernstein.hpp"
+#include "bezierize/bounded.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/lambda.hpp"
 #include "bezierize/region.hpp"
 #include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
@@ -406,6 +409,22 @@ std::vector<int> check_points(const BSpline& s, FixRequirement::Kind kind, int i
   return pts;
 }
 
+/// Signed curvature at the start (side 0) or end (side 1) of a polynomial
+/// segment from its Bezier points, in doubles: (d-1)/d cross(b, a) / |a|^3
+/// with a, b the end's first and second control-polygon legs. NaN for a
+/// rational segment or a zero end leg.
+double end_curvature(const BSpline& s, const Segment& seg, int side) {
+  if (s.is_rational() || s.degree() < 2) return std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Vec2> p = bezier_segment(s, seg).points;
+  const int d = s.degree();
+  const Vec2 a = side == 0 ? p[1] - p[0] : p[d] - p[d - 1];
+  const Vec2 b = side == 0 ? p[2] - p[1] : p[d - 1] - p[d - 2];
+  const double la = norm(a);
+  if (!(la > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double c = side == 0 ? det(a, b) : det(b, a);
+  return (d - 1.0) / d * c / (la * la * la);
+}
+
 /// Whether check i fails on a spline (exact or certified, as the final
 /// analysis decides it).
 struct LocalJudge {
@@ -418,6 +437,24 @@ struct LocalJudge {
     const Segment& seg = s.segments()[i];
     switch (requirement.kind) {
       case FixRequirement::Kind::no_inflection: {
+        if (!s.is_rational()) {
+          // Most positions: eta's Bernstein coefficients certainly of one
+          // sign (error-bounded doubles) mean no inflection and no cusp
+          // (eta != 0 needs P' != 0), kappa of that sign throughout.
+          Bernstein<Bounded> eta = eta_bernstein<Bounded>(segment_bezier_points<Bounded>(s, seg));
+          const int e = strict_sign(eta);
+          if (e != 0) return sign != 0 && e != sign;
+          // Certainly bad: eta certainly against the sign at an end or at
+          // the middle (de Casteljau in error-bounded doubles), or certainly
+          // of opposite signs at the two ends.
+          if (!eta.empty()) {
+            const int e0 = certain_sign(eta.front()), e1 = certain_sign(eta.back());
+            if (e0 * e1 < 0 || (sign != 0 && (e0 == -sign || e1 == -sign))) return true;
+            for (std::size_t r = eta.size(); r-- > 1;)
+              for (std::size_t k = 0; k < r; ++k) eta[k] = (eta[k] + eta[k + 1]).half();
+            if (sign != 0 && certain_sign(eta.front()) == -sign) return true;
+          }
+        }
         const SegmentShape sh = segment_shape(s, seg);
         if (sh.pole || sh.cusp || sh.inflection != Inflection::none) return true;
         return !sh.straight && sh.kappa_sign != 0 && sign != 0 && sh.kappa_sign != sign;
@@ -425,10 +462,18 @@ struct LocalJudge {
       case FixRequirement::Kind::g2: {
         if (!judged_joint[i]) return false;
         const int N = s.segment_count();
-        const double kl = certified_end_curvature(s, s.segments()[(i - 1 + N) % N], 1);
-        const double kr = certified_end_curvature(s, seg, 0);
+        const Segment& left = s.segments()[(i - 1 + N) % N];
+        // The end curvatures from the Bezier points in doubles, judged with a
+        // margin of 2% of the tolerance (the certificate's analyze decides
+        // with the certified curvatures, kKappaRelError); a rational or
+        // degenerate end: the certified values.
+        double kl = end_curvature(s, left, 1), kr = end_curvature(s, seg, 0), tol = 0.98 * requirement.g2_tolerance;
+        if (!std::isfinite(kl) || !std::isfinite(kr)) {
+          kl = certified_end_curvature(s, left, 1), kr = certified_end_curvature(s, seg, 0);
+          tol = requirement.g2_tolerance;
+        }
         if (!std::isfinite(kl) || !std::isfinite(kr)) return true;
-        return std::abs(kl - kr) > requirement.g2_tolerance * std::max(std::abs(kl), std::abs(kr));
+        return std::abs(kl - kr) > tol * std::max(std::abs(kl), std::abs(kr));
       }
       default:
         return !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {max_depth, false}));
