@@ -41,11 +41,21 @@
 //     tests/bezierize/fix_test.cpp).
 //  2. Several units: when no single unit fixes the curve (or with
 //     FixRequest::together), units are moved one after the other, each to the
-//     nearest position that lowers the count of violations; then a compass
-//     search over all moved degrees of freedom lowers the total squared
-//     displacement, each trial projected radially onto the passing side by
-//     bisection and kept only when the classifier accepts it. A local
-//     minimum, not a global one.
+//     nearest position that lowers the count of violations; when no single
+//     unit lowers it (with G1 kept, a segment whose two handles must both
+//     slide, or a node group that must move with a handle), two units at
+//     once: every pair acting on a common failing check, its nearest
+//     position in the pair's 2-4 coordinates (a grid and rays for two
+//     slides, rays in 96 fixed directions otherwise), the cheapest pair
+//     taken. A tied handle never reaches its node (the tangent would turn
+//     round). Then a compass search over all moved degrees of freedom
+//     lowers the total squared displacement, each trial projected radially
+//     onto the passing side by bisection and kept only when the classifier
+//     accepts it. A local minimum, not a global one.
+//  The kinds no-inflection and g2 have no region problem: each position
+//  re-judges the checks the move touches (eta's sign, error-bounded first
+//  and exact where undecided; the joint curvatures), and the certificate is
+//  analyze, as for every kind.
 #include <optional>
 #include <string>
 #include <vector>
