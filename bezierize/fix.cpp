@@ -576,6 +576,7 @@ struct Search {
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
     if (flips(delta)) return false;
+    if (request.judge) return request.judge(moved(delta)) == 0;
     if (local_kind(request.requirement.kind)) return bad_segments(delta, true) == 0;
     return requirement_holds(moved(delta), request.requirement, request.max_depth);
   }
@@ -624,6 +625,7 @@ struct Search {
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
     if (flips(delta)) return std::numeric_limits<int>::max();
+    if (request.judge) return request.judge(moved(delta));
     if (local_kind(request.requirement.kind)) return bad_segments(delta, false);
     const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
     if (requirement_holds(a, request.requirement)) return 0;
@@ -884,7 +886,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   const SplineAnalysis a0 = analyze(spline, ao);
   auto finish = [&](FixResult& r) {
     r.certificate = analyze(*r.spline, ao);
-    r.certificate_holds = requirement_holds(r.certificate, request.requirement);
+    r.certificate_holds = request.judge ? request.judge(*r.spline) == 0 : requirement_holds(r.certificate, request.requirement);
     // Every tie joint is still G1, and with keep g2 still G2 where it was.
     const std::vector<Joint> before = all_joints(a0), after = all_joints(r.certificate);
     r.ties_hold = true;
@@ -897,13 +899,17 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       r.reason = !r.certificate_holds ? "the certificate does not hold" : "a tie at a joint broke";
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   };
-  if (requirement_holds(a0, request.requirement)) {
+  if (request.judge ? request.judge(spline) == 0 : requirement_holds(a0, request.requirement)) {
     out.already = true;
     out.spline = spline;
     finish(out);
     return out;
   }
   out.failing_segments = failing_segments(spline, a0, request.requirement);
+  if (request.judge) {  // the caller's judge says whether, not where: every judged segment
+    out.failing_segments.clear();
+    for (int i = a0.range.first; i <= a0.range.last; ++i) out.failing_segments.push_back(i);
+  }
   std::set<int> acting;
   for (int i : out.failing_segments)
     for (int k : segment_points(spline, spline.segments()[i])) acting.insert(k);
@@ -1012,7 +1018,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
     const Unit& u = ties.units[ui];
     if (!unit_acts(u)) continue;
-    if (region_kind) {
+    if (region_kind && !request.judge) {
       RegionRequest rr;
       rr.point = u.points[0];
       rr.with.assign(u.points.begin() + 1, u.points.end());
@@ -1026,7 +1032,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));
-    } else if (!(hopeless[ui] = hopeless_alone(u)) && !exact_local) {
+    } else if (!region_kind && !(hopeless[ui] = hopeless_alone(u)) && !exact_local) {
       alone_requests[ui] = segment_requests(spline, u);
     }
   }
@@ -1047,11 +1053,12 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
       ++search.evaluations;
       if (search.expired()) return false;
-      if (exact_local || u.slide) {
+      if (exact_local || u.slide || request.judge) {
         std::vector<Vec2> d(m, Vec2(0.0));
         for (int k : u.points) d[k] += x;
         if (exact_local) return search.bad_in(d, checks) == 0;
         if (search.flips(d)) return false;
+        if (request.judge) return request.judge(search.moved(d)) == 0;
       }
       for (const Prepared& pr : pieces)
         if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
@@ -1112,7 +1119,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       for (int i = a0.range.first; i <= a0.range.last; ++i)
         if (search.bad_in(now, {i})) failing.push_back(i);
     } else {
-      failing = failing_segments(current, analyze(current, ao), request.requirement);
+      failing = request.judge ? out.failing_segments
+                              : failing_segments(current, analyze(current, ao), request.requirement);
     }
     auto touches = [&](const Unit& u, int i) {
       const std::vector<int> pts = check_points(current, kind, i);

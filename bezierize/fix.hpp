@@ -56,6 +56,7 @@
 //  re-judges the checks the move touches (eta's sign, error-bounded first
 //  and exact where undecided; the joint curvatures), and the certificate is
 //  analyze, as for every kind.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -160,6 +161,13 @@ struct FixRequest {
   /// Wall-clock limit of the search in seconds (0: none); when it runs out,
   /// the best certified fix found so far is returned, or none.
   double max_seconds = 30;
+  /// A caller's own judge instead of the requirement (the report's gates):
+  /// how many violations a spline has, 0 when it passes; called from the
+  /// search's threads (must be thread-safe). The search then evaluates it on
+  /// every moved spline (no region problem), a failing segment is any judged
+  /// one, and certificate_holds is judge(fixed) == 0 (the certificate's
+  /// analysis is still made with the requirement's options).
+  std::function<int(const BSpline&)> judge;
 };
 
 /// One moved control point.

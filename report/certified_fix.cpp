@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "draw/svg_text.hpp"
@@ -85,9 +87,55 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
   CertifiedFix out = run_fix(spline, requirement_of(gate), options);
   out.requirement = out.check;
   out.check = to_string(gate);
+  ReportOptions judge = options;
+  judge.gates = {gate};
+  judge.require.reset();
+  judge.regions = false;
+  judge.certified_fixes = false;
+  judge.threads = 1;
   if (!out.found && gate.kind == Gate::Kind::unimodal_runs && !failing.violations.empty()) {
     // each-run asks more than the gate (monotone runs, not rising-then-
-    // falling peaks): where it has no fix, say where the gate fails.
+    // falling peaks). Then the valleys' own handles, judged by the gate
+    // itself on every moved spline (its violation count must fall to 0).
+    FixRequest q;
+    q.requirement = requirement_of(gate);
+    q.max_depth = options.max_depth;
+    q.keep = Keep::g1;
+    q.max_seconds = kReportFixSeconds;
+    q.threads = 1;
+    q.grid = 16;
+    q.tolerance = 1e-4;
+    std::set<int> handles;
+    for (const GateViolation& v : failing.violations) handles.insert(v.handles.begin(), v.handles.end());
+    q.points.assign(handles.begin(), handles.end());
+    q.together = q.points.size() > 1;
+    q.judge = [judge](const BSpline& s) {
+      try {
+        const SplineReport r = judged_report(s, judge);
+        return r.gates.empty() ? 0 : static_cast<int>(r.gates[0].violations.size());
+      } catch (const InputError&) {
+        return std::numeric_limits<int>::max() / 2;
+      }
+    };
+    try {
+      if (!q.points.empty()) {
+        FixResult f = fix(spline, q);
+        out.seconds += f.seconds;
+        if (f.fixed && !f.already) {
+          out.found = true;
+          out.requirement = out.check + " (judged by the gate)";
+          out.moves = f.moves;
+          out.reason.clear();
+          out.fixed = std::move(f.spline);
+          out.certificate = std::move(f.certificate);
+        }
+      }
+    } catch (const InputError&) {
+      // no such search (a handle out of range): the reason below
+    }
+  }
+  if (!out.found && gate.kind == Gate::Kind::unimodal_runs && !failing.violations.empty()) {
+    // Neither: say where the gate fails.
     const GateViolation& v = failing.violations.front();
     std::string handles;
     for (int h : v.handles) handles += (handles.empty() ? "P" : ", P") + std::to_string(h);
@@ -95,11 +143,6 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
                   std::to_string(v.segment) + (handles.empty() ? "" : " (its handles " + handles + ")");
   }
   if (!out.found) return out;
-  ReportOptions judge = options;
-  judge.gates = {gate};
-  judge.require.reset();
-  judge.regions = false;
-  judge.certified_fixes = false;
   const SplineReport after = judged_report(*out.fixed, judge);
   if (!after.gates.empty() && !after.gates[0].pass()) {
     out.found = false;

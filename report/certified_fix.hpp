@@ -5,7 +5,8 @@
 /// implies it (extrema-at-nodes and max-extrema-per-segment:N: every segment
 /// monotone; each-piece; no-inflection; g2-at-smooth-nodes:tol: g2 at every
 /// smooth joint; extrema-at-nodes:runs: each-run, every run between on-curve
-/// nodes monotone). Each is fix() with the report's depth, the spline's G1
+/// nodes monotone, and where that has no fix the valleys' own handles
+/// searched with the gate itself as fix()'s judge, FixRequest::judge). Each is fix() with the report's depth, the spline's G1
 /// joints kept, the end points of an open spline fixed, and a time limit;
 /// its certificate is analyze on the moved spline, and a gate's fix is
 /// re-judged by the gate itself (found = false, with the violation, when
