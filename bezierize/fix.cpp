@@ -6,13 +6,18 @@
 #include <atomic>
 #include <charconv>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <random>
 #include <set>
 
+#include "bezierize/bernstein.hpp"
+#include "bezierize/bounded.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/lambda.hpp"
 #include "bezierize/region.hpp"
 #include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
@@ -28,6 +33,20 @@ FixRequirement parse_fix_requirement(const std::string& text) {
   if (text == "cmr") return r.kind = FixRequirement::Kind::cmr, r;
   if (text == "extrema-at-nodes") return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
   if (text == "each-piece") return r.kind = FixRequirement::Kind::each_piece, r;
+  if (text == "no-inflection") return r.kind = FixRequirement::Kind::no_inflection, r;
+  if (text == "each-run") return r.kind = FixRequirement::Kind::each_run, r;
+  if (text.rfind("g2-at-smooth-nodes", 0) == 0) {
+    r.kind = FixRequirement::Kind::g2;
+    if (text.size() == 18) return r;
+    if (text[18] == ':') {
+      const char* b = text.data() + 19;
+      const auto [end, ec] = std::from_chars(b, text.data() + text.size(), r.g2_tolerance);
+      if (end != b && ec == std::errc() && end == text.data() + text.size() && std::isfinite(r.g2_tolerance) &&
+          r.g2_tolerance >= 0)
+        return r;
+      throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
+    }
+  }
   if (text.rfind("split:", 0) == 0) {
     std::string s = text.substr(6);
     r.kind = FixRequirement::Kind::split;
@@ -50,7 +69,8 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
   }
   throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece or extrema-at-nodes");
+                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, "
+                   "no-inflection, g2-at-smooth-nodes[:tol] or each-run");
 }
 
 std::string to_string(const FixRequirement& r) {
@@ -59,6 +79,13 @@ std::string to_string(const FixRequirement& r) {
     case FixRequirement::Kind::cmr: return "cmr";
     case FixRequirement::Kind::extrema_at_nodes: return "extrema-at-nodes";
     case FixRequirement::Kind::each_piece: return "each-piece";
+    case FixRequirement::Kind::no_inflection: return "no-inflection";
+    case FixRequirement::Kind::each_run: return "each-run";
+    case FixRequirement::Kind::g2: {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "g2-at-smooth-nodes:%g", r.g2_tolerance);
+      return buf;
+    }
     case FixRequirement::Kind::split:
       return "split:" + std::to_string(r.split) +
              (r.extremum == FixRequirement::Extremum::sharpest   ? ":sharpest"
@@ -81,7 +108,9 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
   AnalyzeOptions ao;
   ao.classify.max_depth = max_depth;
   if (requirement.kind == FixRequirement::Kind::split) ao.split = requirement.split;
-  ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece its own group
+  ao.each_piece = requirement.kind == FixRequirement::Kind::each_piece;  // each piece (or group) its own
+  if (ao.each_piece) ao.splits = requirement.cuts;
+  ao.segments = requirement.segments;
   ao.split_mode = Mode::cmrwi;
   return ao;
 }
@@ -111,12 +140,56 @@ bool split_ok(const SplineAnalysis& a, const FixRequirement& r) {
 
 }  // namespace
 
+FixRequirement resolve_requirement(const BSpline& spline, FixRequirement r) {
+  if (r.kind != FixRequirement::Kind::each_run) return r;
+  r.cuts.clear();
+  const std::vector<double>& t = spline.knots();
+  const int d = spline.degree();
+  for (const Segment& seg : spline.segments()) {
+    if (seg.index == 0) continue;  // the seam or the start: no joint inside the range
+    if (r.segments && (seg.index <= r.segments->first || seg.index > r.segments->last)) continue;
+    int mult = 0;
+    for (double u : t) mult += u == seg.a;
+    if (mult >= d) r.cuts.push_back(seg.index);
+  }
+  r.kind = r.cuts.empty() ? FixRequirement::Kind::cmrwi : FixRequirement::Kind::each_piece;
+  return r;
+}
+
+namespace {
+
+/// The curvature on both sides of a joint, as the analysis certifies them, agrees within tol.
+bool g2_ok(const Joint& j, double tol) {
+  if (!j.g1 || j.zero_tangent || j.pole || !std::isfinite(j.kappa_left) || !std::isfinite(j.kappa_right)) return true;
+  return std::abs(j.kappa_left - j.kappa_right) <= tol * std::max(std::abs(j.kappa_left), std::abs(j.kappa_right));
+}
+
+}  // namespace
+
 bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
   switch (r.kind) {
+    case FixRequirement::Kind::each_run:
+    case FixRequirement::Kind::each_piece: return a.each_piece && *a.each_piece == EachPiece::monotone;
+    case FixRequirement::Kind::no_inflection: {
+      int sign = 0;
+      for (int i = a.range.first; i <= a.range.last; ++i) {
+        const SegmentShape& sh = a.shapes[i];
+        if (sh.pole || sh.cusp || sh.inflection != Inflection::none) return false;
+        if (sh.straight || sh.kappa_sign == 0) continue;
+        if (sign != 0 && sh.kappa_sign != sign) return false;
+        sign = sh.kappa_sign;
+      }
+      for (const Joint& j : a.joints)
+        if (j.zero_tangent && a.judged(j.index - 1) && a.judged(j.index)) return false;
+      return !(a.seam && a.seam->zero_tangent);
+    }
+    case FixRequirement::Kind::g2:
+      for (const Joint& j : a.joints)
+        if (a.judged(j.index - 1) && a.judged(j.index) && !g2_ok(j, r.g2_tolerance)) return false;
+      return !a.seam || g2_ok(*a.seam, r.g2_tolerance);
     case FixRequirement::Kind::cmrwi: return monotone(a.cmrwi);
     case FixRequirement::Kind::cmr: return monotone(a.cmr);
     case FixRequirement::Kind::split: return split_ok(a, r);
-    case FixRequirement::Kind::each_piece: return a.each_piece && *a.each_piece == EachPiece::monotone;
     case FixRequirement::Kind::extrema_at_nodes:
       for (int i = a.range.first; i <= a.range.last; ++i)
         if (a.shapes[i].pole || !monotone_class(a.segments[i])) return false;
@@ -126,7 +199,8 @@ bool requirement_holds(const SplineAnalysis& a, const FixRequirement& r) {
 }
 
 bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth) {
-  return requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement);
+  const FixRequirement r = resolve_requirement(spline, requirement);
+  return requirement_holds(analyze(spline, fix_analyze_options(r, max_depth)), r);
 }
 
 // ------------------------------------------------------------ segment helpers
@@ -152,15 +226,6 @@ bool segment_alone_bad(const SplineAnalysis& a, int i, const FixRequirement& r) 
 
 }  // namespace
 
-std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a, const FixRequirement& r) {
-  (void)spline;
-  std::vector<int> out;
-  for (int i = a.range.first; i <= a.range.last; ++i)
-    if (segment_alone_bad(a, i, r)) out.push_back(i);
-  if (out.empty() && !requirement_holds(a, r))
-    for (int i = a.range.first; i <= a.range.last; ++i) out.push_back(i);
-  return out;
-}
 
 namespace {
 
@@ -229,6 +294,14 @@ struct Ties {
   std::vector<int> joints;            // joint indices (N: a closed spline's seam) kept
   std::vector<Unit> units;
   std::vector<bool> moves;            // per unique point: some unit moves it
+  /// Each handle of a G1 tie: (handle, node, unit direction from the node to
+  /// the handle). A handle that reaches or passes its node would turn the
+  /// tangent round: G1 broken (Search::flips).
+  struct Handle {
+    int handle, node;
+    Vec2 dir;
+  };
+  std::vector<Handle> handles;
 };
 
 /// The joints of an analysis, the seam last.
@@ -279,7 +352,7 @@ Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<in
     for (int h : {hm, hp}) {
       const Vec2 dir = s.points()[h] - s.points()[n];
       const double len = norm(dir);
-      if (len > 0) slides[h].push_back(dir / len); else frozen[h] = true;
+      if (len > 0) slides[h].push_back(dir / len), t.handles.push_back({h, n, dir / len}); else frozen[h] = true;
     }
   }
   // Translation groups (led by their smallest allowed point).
@@ -315,6 +388,146 @@ Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<in
   return t;
 }
 
+// ---------------------------------------------------------------- local checks
+
+/// The kinds judged one check at a time (extrema-at-nodes, no-inflection,
+/// g2): check i is judged segment i (g2: the joint that starts segment i),
+/// decided on a moved spline from the points that act on it alone, so a move
+/// re-judges only the checks it touches.
+bool local_kind(FixRequirement::Kind k) {
+  return k == FixRequirement::Kind::extrema_at_nodes || k == FixRequirement::Kind::no_inflection ||
+         k == FixRequirement::Kind::g2;
+}
+
+/// The points that act on check i (unique indices).
+std::vector<int> check_points(const BSpline& s, FixRequirement::Kind kind, int i) {
+  std::vector<int> pts = segment_points(s, s.segments()[i]);
+  const int N = s.segment_count();
+  if (kind == FixRequirement::Kind::g2 && (s.closed() || i > 0))
+    for (int k : segment_points(s, s.segments()[(i - 1 + N) % N]))
+      if (std::find(pts.begin(), pts.end(), k) == pts.end()) pts.push_back(k);
+  return pts;
+}
+
+/// Signed curvature at the start (side 0) or end (side 1) of a polynomial
+/// segment from its Bezier points, in doubles: (d-1)/d cross(b, a) / |a|^3
+/// with a, b the end's first and second control-polygon legs. NaN for a
+/// rational segment or a zero end leg.
+double end_curvature(const BSpline& s, const Segment& seg, int side) {
+  if (s.is_rational() || s.degree() < 2) return std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Vec2> p = bezier_segment(s, seg).points;
+  const int d = s.degree();
+  const Vec2 a = side == 0 ? p[1] - p[0] : p[d] - p[d - 1];
+  const Vec2 b = side == 0 ? p[2] - p[1] : p[d - 1] - p[d - 2];
+  const double la = norm(a);
+  if (!(la > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const double c = side == 0 ? det(a, b) : det(b, a);
+  return (d - 1.0) / d * c / (la * la * la);
+}
+
+/// Whether check i fails on a spline (exact or certified, as the final
+/// analysis decides it).
+struct LocalJudge {
+  FixRequirement requirement;
+  int max_depth = kDefaultDepth;
+  int sign = 0;                    ///< no-inflection: the curvature sign every segment must keep (the input's majority)
+  std::vector<char> judged_joint;  ///< g2: the joint starting segment i is judged (smooth in the input)
+
+  bool bad(const BSpline& s, int i) const {
+    const Segment& seg = s.segments()[i];
+    switch (requirement.kind) {
+      case FixRequirement::Kind::no_inflection: {
+        if (!s.is_rational()) {
+          // Most positions: eta's Bernstein coefficients certainly of one
+          // sign (error-bounded doubles) mean no inflection and no cusp
+          // (eta != 0 needs P' != 0), kappa of that sign throughout.
+          Bernstein<Bounded> eta = eta_bernstein<Bounded>(segment_bezier_points<Bounded>(s, seg));
+          const int e = strict_sign(eta);
+          if (e != 0) return sign != 0 && e != sign;
+          // Certainly bad: eta certainly against the sign at an end or at
+          // the middle (de Casteljau in error-bounded doubles), or certainly
+          // of opposite signs at the two ends.
+          if (!eta.empty()) {
+            const int e0 = certain_sign(eta.front()), e1 = certain_sign(eta.back());
+            if (e0 * e1 < 0 || (sign != 0 && (e0 == -sign || e1 == -sign))) return true;
+            for (std::size_t r = eta.size(); r-- > 1;)
+              for (std::size_t k = 0; k < r; ++k) eta[k] = (eta[k] + eta[k + 1]).half();
+            if (sign != 0 && certain_sign(eta.front()) == -sign) return true;
+          }
+        }
+        const SegmentShape sh = segment_shape(s, seg);
+        if (sh.pole || sh.cusp || sh.inflection != Inflection::none) return true;
+        return !sh.straight && sh.kappa_sign != 0 && sign != 0 && sh.kappa_sign != sign;
+      }
+      case FixRequirement::Kind::g2: {
+        if (!judged_joint[i]) return false;
+        const int N = s.segment_count();
+        const Segment& left = s.segments()[(i - 1 + N) % N];
+        // The end curvatures from the Bezier points in doubles, judged with a
+        // margin of 2% of the tolerance (the certificate's analyze decides
+        // with the certified curvatures, kKappaRelError); a rational or
+        // degenerate end: the certified values.
+        double kl = end_curvature(s, left, 1), kr = end_curvature(s, seg, 0), tol = 0.98 * requirement.g2_tolerance;
+        if (!std::isfinite(kl) || !std::isfinite(kr)) {
+          kl = certified_end_curvature(s, left, 1), kr = certified_end_curvature(s, seg, 0);
+          tol = requirement.g2_tolerance;
+        }
+        if (!std::isfinite(kl) || !std::isfinite(kr)) return true;
+        return std::abs(kl - kr) > tol * std::max(std::abs(kl), std::abs(kr));
+      }
+      default:
+        return !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {max_depth, false}));
+    }
+  }
+};
+
+/// The judge of a local kind for the input spline and its analysis.
+LocalJudge make_judge(const BSpline& s, const SplineAnalysis& a, const FixRequirement& r, int max_depth) {
+  LocalJudge j{r, max_depth, 0, {}};
+  const int N = s.segment_count();
+  if (r.kind == FixRequirement::Kind::no_inflection) {
+    int plus = 0, minus = 0;
+    for (int i = a.range.first; i <= a.range.last; ++i)
+      if (!a.shapes[i].straight) plus += a.shapes[i].kappa_sign > 0, minus += a.shapes[i].kappa_sign < 0;
+    j.sign = plus >= minus ? 1 : -1;
+  }
+  if (r.kind == FixRequirement::Kind::g2) {
+    j.judged_joint.assign(N, 0);
+    for (const Joint& jt : all_joints(a)) {
+      const int i = jt.index % N, left = (i - 1 + N) % N;
+      if (!a.judged(i) || !a.judged(left)) continue;
+      j.judged_joint[i] = jt.g1 && !jt.zero_tangent && !jt.pole && std::isfinite(jt.kappa_left) &&
+                          std::isfinite(jt.kappa_right);
+    }
+  }
+  return j;
+}
+
+}  // namespace
+
+std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a, const FixRequirement& r) {
+  std::vector<int> out;
+  if (r.kind == FixRequirement::Kind::no_inflection || r.kind == FixRequirement::Kind::g2) {
+    // The checks that fail; g2's joint i fails both its segments.
+    const LocalJudge judge = make_judge(spline, a, r, kDefaultDepth);
+    const int N = spline.segment_count();
+    std::set<int> segs;
+    for (int i = a.range.first; i <= a.range.last; ++i)
+      if (judge.bad(spline, i)) {
+        segs.insert(i);
+        if (r.kind == FixRequirement::Kind::g2) segs.insert((i - 1 + N) % N);
+      }
+    return {segs.begin(), segs.end()};
+  }
+  for (int i = a.range.first; i <= a.range.last; ++i)
+    if (segment_alone_bad(a, i, r)) out.push_back(i);
+  if (out.empty() && !requirement_holds(a, r))
+    for (int i = a.range.first; i <= a.range.last; ++i) out.push_back(i);
+  return out;
+}
+
+namespace {
+
 // ---------------------------------------------------------------- the search
 
 using Clock = std::chrono::steady_clock;
@@ -327,7 +540,26 @@ struct Search {
   double size = 1, tol = 0, max_move = 0;
   std::atomic<long> evaluations{0};
 
-  Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a) : base(b), request(r), base_analysis(a) {}
+  LocalJudge judge;
+  std::vector<char> base_bad;  ///< local kinds: check i fails on the input
+  std::vector<Ties::Handle> handles;  ///< of the G1 ties (set by fix())
+
+  /// Some tied handle reaches or passes its node (a slide of the handle, or
+  /// of the node's group against it): the tangent would turn round.
+  bool flips(const std::vector<Vec2>& delta) const {
+    for (const Ties::Handle& h : handles) {
+      const Vec2 off = base.points()[h.handle] + delta[h.handle] - base.points()[h.node] - delta[h.node];
+      if (!(dot(off, h.dir) > 0)) return true;
+    }
+    return false;
+  }
+
+  Search(const BSpline& b, const FixRequest& r, const SplineAnalysis& a)
+      : base(b), request(r), base_analysis(a), judge(make_judge(b, a, r.requirement, r.max_depth)) {
+    if (!local_kind(r.requirement.kind)) return;
+    base_bad.assign(b.segment_count(), 0);
+    for (int i = a.range.first; i <= a.range.last; ++i) base_bad[i] = judge.bad(b, i);
+  }
 
   BSpline moved(const std::vector<Vec2>& delta) const {
     BSpline s = base;
@@ -343,7 +575,9 @@ struct Search {
     if (expired()) return false;
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
-    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, true) == 0;
+    if (flips(delta)) return false;
+    if (request.judge) return request.judge(moved(delta)) == 0;
+    if (local_kind(request.requirement.kind)) return bad_segments(delta, true) == 0;
     return requirement_holds(moved(delta), request.requirement, request.max_depth);
   }
 
@@ -354,14 +588,20 @@ struct Search {
     const BSpline s = moved(delta);
     int bad = 0;
     for (int i = base_analysis.range.first; i <= base_analysis.range.last && !(first && bad); ++i) {
-      const Segment& seg = s.segments()[i];
       bool touched = false;
-      for (int k : segment_points(s, seg)) touched = touched || delta[k] != Vec2(0.0);
-      if (!touched)
-        bad += base_analysis.shapes[i].pole || !monotone_class(base_analysis.segments[i]);
-      else
-        bad += !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {request.max_depth, false}));
+      for (int k : check_points(s, request.requirement.kind, i)) touched = touched || delta[k] != Vec2(0.0);
+      bad += touched ? judge.bad(s, i) : base_bad[i];
     }
+    return bad;
+  }
+
+  /// extrema-at-nodes: how many of the judged segments `segments` are not
+  /// certified monotone after the move (each classified again).
+  int bad_in(const std::vector<Vec2>& delta, const std::vector<int>& segments) {
+    if (flips(delta)) return std::numeric_limits<int>::max() / 2;
+    const BSpline s = moved(delta);
+    int bad = 0;
+    for (int i : segments) bad += judge.bad(s, i);
     return bad;
   }
 
@@ -384,7 +624,9 @@ struct Search {
     if (expired()) return std::numeric_limits<int>::max();
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
-    if (request.requirement.kind == FixRequirement::Kind::extrema_at_nodes) return bad_segments(delta, false);
+    if (flips(delta)) return std::numeric_limits<int>::max();
+    if (request.judge) return request.judge(moved(delta));
+    if (local_kind(request.requirement.kind)) return bad_segments(delta, false);
     const SplineAnalysis a = analyze(moved(delta), fix_analyze_options(request.requirement, request.max_depth));
     if (requirement_holds(a, request.requirement)) return 0;
     int score = 0;
@@ -512,6 +754,69 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
   return best;
 }
 
+/// The passing position nearest to 0 of pass(c) for c in R^dims (dims 3 or 4:
+/// several units moved at once): rays from 0 in fixed directions (the axes,
+/// the diagonals and seeded random ones), each scanned outwards by factors
+/// of 1.5 from size/512 to max_move; the first passing radius of each ray is
+/// bisected to `tol` against the radius before it. Coarse: the compass search
+/// that follows polishes the total squared displacement.
+struct NearestN {
+  bool found = false;
+  std::vector<double> c;
+  double dist = std::numeric_limits<double>::infinity();
+};
+
+NearestN nearest_rays(const std::function<bool(const std::vector<double>&)>& pass, int dims, double size,
+                      double max_move, double tol, int threads) {
+  std::vector<std::vector<double>> dirs;
+  for (int i = 0; i < dims; ++i)
+    for (const double sg : {-1.0, 1.0}) {
+      std::vector<double> d(dims, 0.0);
+      d[i] = sg;
+      dirs.push_back(d);
+    }
+  for (int mask = 0; mask < (1 << dims); ++mask) {
+    std::vector<double> d(dims);
+    for (int i = 0; i < dims; ++i) d[i] = (mask >> i & 1 ? 1.0 : -1.0) / std::sqrt(static_cast<double>(dims));
+    dirs.push_back(d);
+  }
+  std::mt19937 rng(22);
+  std::normal_distribution<double> G(0.0, 1.0);
+  while (dirs.size() < 96) {
+    std::vector<double> d(dims);
+    double n2 = 0;
+    for (double& v : d) v = G(rng), n2 += v * v;
+    for (double& v : d) v /= std::sqrt(n2);
+    dirs.push_back(d);
+  }
+  auto at = [&](const std::vector<double>& d, double r) {
+    std::vector<double> c(d);
+    for (double& v : c) v *= r;
+    return c;
+  };
+  std::vector<double> radius(dirs.size(), std::numeric_limits<double>::infinity());
+  parallel_for(dirs.size(), threads, [&](std::size_t i) {
+    double prev = 0;
+    for (double r = std::min(size / 512, max_move);; r = std::min(1.5 * r, max_move)) {
+      if (pass(at(dirs[i], r))) {
+        double lo = prev, hi = r;
+        while (hi - lo > tol) {
+          const double mid = 0.5 * (lo + hi);
+          if (pass(at(dirs[i], mid))) hi = mid; else lo = mid;
+        }
+        radius[i] = hi;
+        return;
+      }
+      if (r >= max_move) return;
+      prev = r;
+    }
+  });
+  NearestN best;
+  for (std::size_t i = 0; i < dirs.size(); ++i)
+    if (radius[i] < best.dist) best = NearestN{true, at(dirs[i], radius[i]), radius[i]};
+  return best;
+}
+
 /// The labels of a region request that may pass the requirement. A split
 /// pixel with an extremum at the joint is a candidate for :sharpest and
 /// :flattest alike: which one it is depends on the sign of kappa at the joint
@@ -550,8 +855,10 @@ double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>
 
 }  // namespace
 
-FixResult fix(const BSpline& spline, const FixRequest& request) {
+FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   const auto start = Clock::now();
+  FixRequest request = request_in;  // each-run: each-piece with the nodes as cuts
+  request.requirement = resolve_requirement(spline, request_in.requirement);
   const int m = spline.unique_point_count();
   if (!(request.tolerance > 0 && request.tolerance < 1))
     throw InputError("--tolerance: " + std::to_string(request.tolerance) + " is outside (0, 1)");
@@ -579,7 +886,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   const SplineAnalysis a0 = analyze(spline, ao);
   auto finish = [&](FixResult& r) {
     r.certificate = analyze(*r.spline, ao);
-    r.certificate_holds = requirement_holds(r.certificate, request.requirement);
+    r.certificate_holds = request.judge ? request.judge(*r.spline) == 0 : requirement_holds(r.certificate, request.requirement);
     // Every tie joint is still G1, and with keep g2 still G2 where it was.
     const std::vector<Joint> before = all_joints(a0), after = all_joints(r.certificate);
     r.ties_hold = true;
@@ -592,13 +899,17 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       r.reason = !r.certificate_holds ? "the certificate does not hold" : "a tie at a joint broke";
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   };
-  if (requirement_holds(a0, request.requirement)) {
+  if (request.judge ? request.judge(spline) == 0 : requirement_holds(a0, request.requirement)) {
     out.already = true;
     out.spline = spline;
     finish(out);
     return out;
   }
   out.failing_segments = failing_segments(spline, a0, request.requirement);
+  if (request.judge) {  // the caller's judge says whether, not where: every judged segment
+    out.failing_segments.clear();
+    for (int i = a0.range.first; i <= a0.range.last; ++i) out.failing_segments.push_back(i);
+  }
   std::set<int> acting;
   for (int i : out.failing_segments)
     for (int k : segment_points(spline, spline.segments()[i])) acting.insert(k);
@@ -632,11 +943,26 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   }
 
   Search search(spline, request, a0);
+  search.handles = ties.handles;
   search.size = out.size;
   search.tol = request.tolerance * out.size;
   search.max_move = request.max_move > 0 ? request.max_move : out.size;
   search.deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.max_seconds));
-  const bool region_kind = request.requirement.kind != FixRequirement::Kind::extrema_at_nodes;
+  const FixRequirement::Kind kind = request.requirement.kind;
+  const bool region_kind = !local_kind(kind);
+  // no-inflection, g2: no region problem; each check is judged exactly on the moved spline.
+  const bool exact_local = local_kind(kind) && kind != FixRequirement::Kind::extrema_at_nodes;
+  // The checks a unit acts on.
+  auto touched_checks = [&](const BSpline& current, const Unit& u) {
+    std::vector<int> out_checks;
+    for (int i = a0.range.first; i <= a0.range.last; ++i) {
+      const std::vector<int> pts = check_points(current, kind, i);
+      if (std::any_of(u.points.begin(), u.points.end(),
+                      [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); }))
+        out_checks.push_back(i);
+    }
+    return out_checks;
+  };
 
 
   // The region requests of the judged segments a unit acts on, each judged
@@ -663,10 +989,10 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   // unit alone cannot meet extrema-at-nodes.
   auto hopeless_alone = [&](const Unit& u) {
     for (int i = a0.range.first; i <= a0.range.last; ++i) {
-      const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+      const std::vector<int> pts = check_points(spline, kind, i);
       const bool touched = std::any_of(u.points.begin(), u.points.end(),
                                        [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-      if (!touched && (a0.shapes[i].pole || !monotone_class(a0.segments[i]))) return true;
+      if (!touched && search.base_bad[i]) return true;
     }
     return false;
   };
@@ -692,7 +1018,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
   for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
     const Unit& u = ties.units[ui];
     if (!unit_acts(u)) continue;
-    if (region_kind) {
+    if (region_kind && !request.judge) {
       RegionRequest rr;
       rr.point = u.points[0];
       rr.with.assign(u.points.begin() + 1, u.points.end());
@@ -701,10 +1027,12 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       // each-piece: the region where every piece is monotone on its own, not
       // the (smaller) one where the whole curve is.
       rr.each_piece = request.requirement.kind == FixRequirement::Kind::each_piece;
+      if (rr.each_piece) rr.splits = request.requirement.cuts;  // each-run: the groups between the nodes
+      rr.segments = request.requirement.segments;                // the judged range only
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));
-    } else if (!(hopeless[ui] = hopeless_alone(u))) {
+    } else if (!region_kind && !(hopeless[ui] = hopeless_alone(u)) && !exact_local) {
       alone_requests[ui] = segment_requests(spline, u);
     }
   }
@@ -721,14 +1049,27 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     // segment it acts on monotone on its own, the region of each judged alone).
     const std::vector<Prepared>& pieces = alone_problems[ui];
     const Vec2 p0 = spline.points()[u.points[0]];
+    const std::vector<int> checks = exact_local ? touched_checks(spline, u) : std::vector<int>{};
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
       ++search.evaluations;
       if (search.expired()) return false;
+      if (exact_local || u.slide || request.judge) {
+        std::vector<Vec2> d(m, Vec2(0.0));
+        for (int k : u.points) d[k] += x;
+        if (exact_local) return search.bad_in(d, checks) == 0;
+        if (search.flips(d)) return false;
+        if (request.judge) return request.judge(search.moved(d)) == 0;
+      }
       for (const Prepared& pr : pieces)
         if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
       return true;
     };
-    alone[ui] = nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid, request.threads);
+    // The exactly judged kinds (no region problem: each position re-judges
+    // its checks in exact arithmetic) search half the grid from two seeds.
+    alone[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol,
+                                      std::max(8, request.grid / 2), request.threads, 2)
+                            : nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid,
+                                      request.threads);
     UnitFix uf;
     uf.points = u.points;
     uf.slide = u.slide;
@@ -764,6 +1105,95 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
     else
       z[offset[ui]] = x.x, z[offset[ui] + 1] = x.y;
   };
+  // Two units moved at once, for a greedy step that no single unit can
+  // make: every pair of units acting on a common failing segment, each
+  // pair's nearest position (in coordinates scaled so that their squared
+  // length is the added squared displacement) that lowers the badness
+  // (extrema-at-nodes: fewer of the segments the pair acts on fail, each
+  // classified again exactly); the cheapest pair's moves.
+  auto two_at_once = [&](const std::vector<Vec2>& now, const BSpline& current, int before) {
+    std::vector<std::pair<std::size_t, Vec2>> best_moves;
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::vector<int> failing;
+    if (!region_kind) {
+      for (int i = a0.range.first; i <= a0.range.last; ++i)
+        if (search.bad_in(now, {i})) failing.push_back(i);
+    } else {
+      failing = request.judge ? out.failing_segments
+                              : failing_segments(current, analyze(current, ao), request.requirement);
+    }
+    auto touches = [&](const Unit& u, int i) {
+      const std::vector<int> pts = check_points(current, kind, i);
+      return std::any_of(u.points.begin(), u.points.end(),
+                         [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+    };
+    std::set<std::pair<std::size_t, std::size_t>> pairs;
+    for (int i : failing) {
+      std::vector<std::size_t> on;
+      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+        if (touches(ties.units[ui], i)) on.push_back(ui);
+      for (std::size_t p = 0; p < on.size(); ++p)
+        for (std::size_t q = p + 1; q < on.size(); ++q) pairs.insert({on[p], on[q]});
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> order(pairs.begin(), pairs.end());
+    std::stable_sort(order.begin(), order.end(), [&](const auto& p, const auto& q) {
+      return ties.units[p.first].dims() + ties.units[p.second].dims() <
+             ties.units[q.first].dims() + ties.units[q.second].dims();
+    });  // the cheap 2-D pairs first: their distance bounds the others' search
+    for (const auto& [a, b] : order) {
+      if (search.expired()) break;
+      const Unit& ua = ties.units[a];
+      const Unit& ub = ties.units[b];
+      std::vector<int> segs;
+      int local_before = 0;
+      for (int i = a0.range.first; i <= a0.range.last; ++i)
+        if (touches(ua, i) || touches(ub, i)) {
+          segs.push_back(i);
+          local_before += std::binary_search(failing.begin(), failing.end(), i);
+        }
+      const int da = ua.dims(), dims = da + ub.dims();
+      const double wa = 1 / std::sqrt(static_cast<double>(ua.points.size()));
+      const double wb = 1 / std::sqrt(static_cast<double>(ub.points.size()));
+      auto moves_of = [&](const std::vector<double>& c) {
+        const Vec2 xa = wa * (ua.slide ? c[0] * ua.dir : Vec2(c[0], c[1]));
+        const Vec2 xb = wb * (ub.slide ? c[da] * ub.dir : Vec2(c[da], c[da + 1]));
+        return std::pair{xa, xb};
+      };
+      const std::function<bool(const std::vector<double>&)> pass_n = [&](const std::vector<double>& c) {
+        const auto [xa, xb] = moves_of(c);
+        std::vector<Vec2> d = now;
+        for (int k : ua.points) d[k] += xa;
+        for (int k : ub.points) d[k] += xb;
+        if (region_kind) return search.badness(d) < before;
+        ++search.evaluations;
+        if (search.expired()) return false;
+        for (const Vec2& dk : d)
+          if (norm(dk) > search.max_move) return false;
+        return search.bad_in(d, segs) < local_before;
+      };
+      const double coarse = std::max(search.tol, 1e-3 * out.size);
+      // A pair farther than the best so far cannot win: search only inside it.
+      const double reach = std::min(search.max_move * std::sqrt(static_cast<double>(dims)), std::sqrt(best_cost));
+      std::vector<double> c;
+      if (dims == 2) {
+        const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out.size, reach, coarse,
+                                   std::max(8, request.grid / 2), request.threads, 1);
+        if (nr.found) c = {nr.x.x, nr.x.y};
+      } else {
+        const NearestN nr = nearest_rays(pass_n, dims, out.size, reach, coarse, request.threads);
+        if (nr.found) c = nr.c;
+      }
+      if (c.empty()) continue;
+      double cost = 0;
+      for (double v : c) cost += v * v;
+      if (cost < best_cost) {
+        best_cost = cost;
+        const auto [xa, xb] = moves_of(c);
+        best_moves = {{a, xa}, {b, xb}};
+      }
+    }
+    return best_moves;
+  };
   std::vector<double> z(offset.back(), 0.0);
   bool feasible = false;
   if (best_unit) {
@@ -781,7 +1211,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
         std::set<int> w(ties.units[ui].points.begin(), ties.units[ui].points.end());
         for (int i = a0.range.first; i <= a0.range.last; ++i) {
-          const std::vector<int> pts = segment_points(spline, spline.segments()[i]);
+          const std::vector<int> pts = check_points(spline, kind, i);
           const bool touched = std::any_of(ties.units[ui].points.begin(), ties.units[ui].points.end(), [&](int k) {
             return std::find(pts.begin(), pts.end(), k) != pts.end();
           });
@@ -798,7 +1228,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
       // extrema-at-nodes: the region problems of every unit without a cached
       // step, on the current spline (analysed once for all of them).
       std::vector<std::vector<RegionRequest>> step_requests(ties.units.size());
-      if (!region_kind)
+      if (!region_kind && !exact_local)
         for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
           if (!cached[ui]) step_requests[ui] = segment_requests(current, ties.units[ui]);
       const std::vector<std::vector<Prepared>> step_problems = problems_of(current, step_requests);
@@ -819,8 +1249,11 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         const std::vector<Prepared>& pieces = step_problems[ui];
         int bad_now = 0;
         const Vec2 p0 = current.points()[u.points[0]];
+        const std::vector<int> checks = exact_local ? touched_checks(current, u) : std::vector<int>{};
+        if (exact_local) bad_now = search.bad_in(now, checks);
         if (!region_kind) {
-          for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
+          if (!exact_local)
+            for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
           if (bad_now == 0) {
             cached[ui] = Nearest{};
             continue;
@@ -830,6 +1263,12 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
             if (search.expired()) return false;
             for (int k : u.points)
               if (norm(now[k] + x) > search.max_move) return false;
+            if (exact_local || u.slide) {
+              std::vector<Vec2> d = now;
+              for (int k : u.points) d[k] += x;
+              if (exact_local) return search.bad_in(d, checks) < bad_now;
+              if (search.flips(d)) return false;
+            }
             int bad = 0;
             for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
             return bad < bad_now;
@@ -841,14 +1280,23 @@ FixResult fix(const BSpline& spline, const FixRequest& request) {
         if (!region_kind && !search.timed_out) cached[ui] = nr;
         if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
       }
-      if (!pick) break;
-      const Unit& u = ties.units[pick->first];
-      const Vec2 x0 = u.slide ? z[offset[pick->first]] * u.dir
-                              : Vec2(z[offset[pick->first]], z[offset[pick->first] + 1]);
-      set_unit(z, pick->first, x0 + pick->second);
-      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
-        for (int k : u.points)
-          if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
+      // No single unit lowers the badness (with G1 kept a segment whose two
+      // handles must both slide, or a node group that must move with a
+      // handle): two units at once.
+      std::vector<std::pair<std::size_t, Vec2>> step_moves;
+      if (pick)
+        step_moves.push_back(*pick);
+      else if (!search.expired())
+        step_moves = two_at_once(now, current, before);
+      if (step_moves.empty()) break;
+      for (const auto& [pu, x] : step_moves) {
+        const Unit& u = ties.units[pu];
+        const Vec2 x0 = u.slide ? z[offset[pu]] * u.dir : Vec2(z[offset[pu]], z[offset[pu] + 1]);
+        set_unit(z, pu, x0 + x);
+        for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+          for (int k : u.points)
+            if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
+      }
       feasible = search.holds(delta_of(z));
     }
   }

@@ -41,11 +41,22 @@
 //     tests/bezierize/fix_test.cpp).
 //  2. Several units: when no single unit fixes the curve (or with
 //     FixRequest::together), units are moved one after the other, each to the
-//     nearest position that lowers the count of violations; then a compass
-//     search over all moved degrees of freedom lowers the total squared
-//     displacement, each trial projected radially onto the passing side by
-//     bisection and kept only when the classifier accepts it. A local
-//     minimum, not a global one.
+//     nearest position that lowers the count of violations; when no single
+//     unit lowers it (with G1 kept, a segment whose two handles must both
+//     slide, or a node group that must move with a handle), two units at
+//     once: every pair acting on a common failing check, its nearest
+//     position in the pair's 2-4 coordinates (a grid and rays for two
+//     slides, rays in 96 fixed directions otherwise), the cheapest pair
+//     taken. A tied handle never reaches its node (the tangent would turn
+//     round). Then a compass search over all moved degrees of freedom
+//     lowers the total squared displacement, each trial projected radially
+//     onto the passing side by bisection and kept only when the classifier
+//     accepts it. A local minimum, not a global one.
+//  The kinds no-inflection and g2 have no region problem: each position
+//  re-judges the checks the move touches (eta's sign, error-bounded first
+//  and exact where undecided; the joint curvatures), and the certificate is
+//  analyze, as for every kind.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,7 +70,7 @@ namespace cmr {
 /// What the fixed curve must satisfy (the requirement of `cmr report
 /// --require`, and the extrema-at-nodes gate).
 struct FixRequirement {
-  enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes };
+  enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes, no_inflection, g2, each_run };
   /// Which extremum split:S asks for at joint S, read in |kappa| as the
   /// report's gates read it (bezierize/extremum_terms.hpp): sharpest (largest
   /// |kappa|) or flattest (smallest), whatever the direction of travel.
@@ -67,10 +78,35 @@ struct FixRequirement {
   Kind kind = Kind::cmr;
   int split = 0;                      ///< joint S (Kind::split)
   Extremum extremum = Extremum::any;  ///< (Kind::split)
+  /// Kind::g2: |kappa_l - kappa_r| <= g2_tolerance * max(|kappa_l|, |kappa_r|)
+  /// at every smooth joint (the report's g2-at-smooth-nodes:tol).
+  double g2_tolerance = 0.05;
+  /// Kind::each_piece: the groups' cut joints (AnalyzeOptions::splits; empty:
+  /// every joint, each segment its own piece). Set by resolve_requirement
+  /// for each_run.
+  std::vector<int> cuts;
+  /// The judged segments (AnalyzeOptions::segments; all when empty): only
+  /// they must meet the requirement, as `cmr analyze --segments` judges them.
+  std::optional<SegmentRange> segments;
 };
 
+/// Kinds beyond the region requirements (docs/fix.md):
+///  no_inflection: the curvature never changes sign (eta of one sign on every
+///    judged segment, no inflection inside, the same sign on every segment
+///    that is not straight, no cusp);
+///  g2: every smooth joint (G1, finite curvatures) has curvatures within
+///    g2_tolerance (the gate g2-at-smooth-nodes, judged on the certified joint
+///    curvatures);
+///  each_run: every run between two nodes (joints whose knot multiplicity is
+///    at least the degree: a font's on-curve points) monotone on its own, in
+///    either direction; resolve_requirement makes it each_piece with the
+///    nodes as cuts (cmrwi when no joint inside the judged range is a node).
+/// The text forms: "no-inflection", "g2-at-smooth-nodes[:tol]", "each-run".
+FixRequirement resolve_requirement(const BSpline& spline, FixRequirement requirement);
+
 /// Parses "cmrwi", "cmr", "split:S", "split:S:sharpest|flattest",
-/// "each-piece" and "extrema-at-nodes". "split:S:max|min" (signed curvature,
+/// "each-piece", "extrema-at-nodes", "no-inflection",
+/// "g2-at-smooth-nodes[:tol]" and "each-run". "split:S:max|min" (signed curvature,
 /// which flips with the direction of travel) is refused with a hint, as in
 /// `cmr report`. InputError names the text otherwise.
 FixRequirement parse_fix_requirement(const std::string& text);
@@ -91,6 +127,8 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
 ///    (Algorithm 1: increasing, decreasing or constant), so no extremum lies
 ///    inside a segment. This is the gate's sufficient condition: a touching
 ///    zero of lambda that the gate would not count, or the depth limit, fails it.
+///  no-inflection, g2: see FixRequirement; each-run as each-piece (the
+///    analysis made with the resolved requirement's cuts).
 bool requirement_holds(const SplineAnalysis& analysis, const FixRequirement& requirement);
 /// requirement_holds(analyze(spline, fix_analyze_options(requirement, max_depth)), requirement).
 bool requirement_holds(const BSpline& spline, const FixRequirement& requirement, int max_depth = kDefaultDepth);
@@ -123,6 +161,13 @@ struct FixRequest {
   /// Wall-clock limit of the search in seconds (0: none); when it runs out,
   /// the best certified fix found so far is returned, or none.
   double max_seconds = 30;
+  /// A caller's own judge instead of the requirement (the report's gates):
+  /// how many violations a spline has, 0 when it passes; called from the
+  /// search's threads (must be thread-safe). The search then evaluates it on
+  /// every moved spline (no region problem), a failing segment is any judged
+  /// one, and certificate_holds is judge(fixed) == 0 (the certificate's
+  /// analysis is still made with the requirement's options).
+  std::function<int(const BSpline&)> judge;
 };
 
 /// One moved control point.

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "draw/svg_text.hpp"
 #include "io/output.hpp"
+#include "report/batch.hpp"
 #include "report/report.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
@@ -56,12 +59,97 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
   return out;
 }
 
-/// A failing gate without a fix requirement: said so, not searched.
-CertifiedFix no_requirement(const Gate& gate) {
-  CertifiedFix out;
+/// The fix requirement that implies a gate (docs/fix.md, "In the report"):
+/// every segment monotone has no extremum inside (max-extrema-per-segment:N
+/// for any N); each run between on-curve nodes monotone has rising, then
+/// falling peaks (extrema-at-nodes:runs); no-inflection and g2 are their own.
+FixRequirement requirement_of(const Gate& gate) {
+  FixRequirement req;
+  switch (gate.kind) {
+    case Gate::Kind::extrema_at_nodes:
+    case Gate::Kind::max_extrema_per_segment: req.kind = FixRequirement::Kind::extrema_at_nodes; break;
+    case Gate::Kind::each_piece: req.kind = FixRequirement::Kind::each_piece; break;
+    case Gate::Kind::no_inflection: req.kind = FixRequirement::Kind::no_inflection; break;
+    case Gate::Kind::g2_at_smooth_nodes:
+      req.kind = FixRequirement::Kind::g2;
+      req.g2_tolerance = gate.tolerance;
+      break;
+    case Gate::Kind::unimodal_runs: req.kind = FixRequirement::Kind::each_run; break;
+  }
+  return req;
+}
+
+/// A gate's fix: the implying requirement's, then the fixed spline re-judged
+/// by the gate itself (the report's model and check_gates); a fix the gate
+/// still fails is no fix, and the entry says where it fails.
+CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const ReportOptions& options) {
+  const Gate& gate = failing.gate;
+  CertifiedFix out = run_fix(spline, requirement_of(gate), options);
+  out.requirement = out.check;
   out.check = to_string(gate);
-  out.reason = "no certified fix: " + out.check +
-               " has no fix requirement (fixes exist for cmrwi, cmr, split:S, extrema-at-nodes and each-piece)";
+  ReportOptions judge = options;
+  judge.gates = {gate};
+  judge.require.reset();
+  judge.regions = false;
+  judge.certified_fixes = false;
+  judge.threads = 1;
+  if (!out.found && gate.kind == Gate::Kind::unimodal_runs && !failing.violations.empty()) {
+    // each-run asks more than the gate (monotone runs, not rising-then-
+    // falling peaks). Then the valleys' own handles, judged by the gate
+    // itself on every moved spline (its violation count must fall to 0).
+    FixRequest q;
+    q.requirement = requirement_of(gate);
+    q.max_depth = options.max_depth;
+    q.keep = Keep::g1;
+    q.max_seconds = kReportFixSeconds;
+    q.threads = 1;
+    q.grid = 16;
+    q.tolerance = 1e-4;
+    std::set<int> handles;
+    for (const GateViolation& v : failing.violations) handles.insert(v.handles.begin(), v.handles.end());
+    q.points.assign(handles.begin(), handles.end());
+    q.together = q.points.size() > 1;
+    q.judge = [judge](const BSpline& s) {
+      try {
+        const SplineReport r = judged_report(s, judge);
+        return r.gates.empty() ? 0 : static_cast<int>(r.gates[0].violations.size());
+      } catch (const InputError&) {
+        return std::numeric_limits<int>::max() / 2;
+      }
+    };
+    try {
+      if (!q.points.empty()) {
+        FixResult f = fix(spline, q);
+        out.seconds += f.seconds;
+        if (f.fixed && !f.already) {
+          out.found = true;
+          out.requirement = out.check + " (judged by the gate)";
+          out.moves = f.moves;
+          out.reason.clear();
+          out.fixed = std::move(f.spline);
+          out.certificate = std::move(f.certificate);
+        }
+      }
+    } catch (const InputError&) {
+      // no such search (a handle out of range): the reason below
+    }
+  }
+  if (!out.found && gate.kind == Gate::Kind::unimodal_runs && !failing.violations.empty()) {
+    // Neither: say where the gate fails.
+    const GateViolation& v = failing.violations.front();
+    std::string handles;
+    for (int h : v.handles) handles += (handles.empty() ? "P" : ", P") + std::to_string(h);
+    out.reason += "; each-run (every run between nodes monotone) is stronger than the gate, whose valley is segment " +
+                  std::to_string(v.segment) + (handles.empty() ? "" : " (its handles " + handles + ")");
+  }
+  if (!out.found) return out;
+  const SplineReport after = judged_report(*out.fixed, judge);
+  if (!after.gates.empty() && !after.gates[0].pass()) {
+    out.found = false;
+    out.reason = "the certified " + out.requirement + " fix still fails " + out.check + " when re-judged: " +
+                 after.gates[0].violations[0].message;
+    out.fixed.reset();
+  }
   return out;
 }
 
@@ -81,19 +169,8 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
                                                           : FixRequirement::Extremum::any;
     out.push_back(run_fix(*r.spline, req, options));
   }
-  for (const GateResult& g : r.gates) {
-    if (g.pass()) continue;
-    FixRequirement req;
-    if (g.gate.kind == Gate::Kind::extrema_at_nodes)
-      req.kind = FixRequirement::Kind::extrema_at_nodes;
-    else if (g.gate.kind == Gate::Kind::each_piece)
-      req.kind = FixRequirement::Kind::each_piece;
-    else {
-      out.push_back(no_requirement(g.gate));
-      continue;
-    }
-    out.push_back(run_fix(*r.spline, req, options));
-  }
+  for (const GateResult& g : r.gates)
+    if (!g.pass()) out.push_back(gate_fix(*r.spline, g, options));
   return out;
 }
 
@@ -114,6 +191,7 @@ nlohmann::ordered_json certified_fix_json(const CertifiedFix& f, const std::vect
                      {"distance", m.distance},
                      {"relative", f.size > 0 ? m.distance / f.size : 0.0}});
   nlohmann::ordered_json j = {{"check", f.check}, {"found", f.found}, {"moves", moves}};
+  if (!f.requirement.empty() && f.requirement != f.check) j["requirement"] = f.requirement;
   j["max_relative"] = largest_relative_move(f);
   j["seconds"] = f.seconds;
   j["failing_segments"] = f.failing_segments;

@@ -1,15 +1,18 @@
 #pragma once
 /// The smallest certified fix of each failing check of a report
 /// (bezierize/fix.hpp): the requirement (cmrwi, cmr, split:S[:sharpest|
-/// flattest]) and the gates that have a fix requirement (extrema-at-nodes,
-/// each-piece). Each is fix() with the report's depth, the spline's G1
+/// flattest]) and every failing gate, each through a fix requirement that
+/// implies it (extrema-at-nodes and max-extrema-per-segment:N: every segment
+/// monotone; each-piece; no-inflection; g2-at-smooth-nodes:tol: g2 at every
+/// smooth joint; extrema-at-nodes:runs: each-run, every run between on-curve
+/// nodes monotone, and where that has no fix the valleys' own handles
+/// searched with the gate itself as fix()'s judge, FixRequest::judge). Each is fix() with the report's depth, the spline's G1
 /// joints kept, the end points of an open spline fixed, and a time limit;
-/// its certificate is analyze on the moved spline. This replaces the old
-/// tangent line search (one handle along a tangent, on a grid): the fix looks
-/// in every direction, moves several points where one cannot, and is proved.
-/// The other gates (max-extrema-per-segment, g2-at-smooth-nodes,
-/// no-inflection, extrema-at-nodes:runs) have no fix requirement: each gets
-/// an entry that says so (found = false, with the reason).
+/// its certificate is analyze on the moved spline, and a gate's fix is
+/// re-judged by the gate itself (found = false, with the violation, when
+/// it still fails). This replaces the old tangent line search (one handle
+/// along a tangent, on a grid): the fix looks in every direction, moves
+/// several points where one cannot, and is proved.
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +29,10 @@ struct ReportOptions;
 /// One check's fix: which points move where, and the certificate.
 struct CertifiedFix {
   std::string check;              ///< "cmr", "split:2:sharpest", "extrema-at-nodes", "no-inflection"
+  /// The fix requirement searched when it differs from the check (a gate's:
+  /// "extrema-at-nodes" for max-extrema-per-segment:N, "each-run" for
+  /// extrema-at-nodes:runs); empty otherwise.
+  std::string requirement;
   bool found = false;             ///< a fix the certificate holds for
   std::vector<PointMove> moves;   ///< empty when none
   double size = 0;                ///< the curve size displacements are relative to

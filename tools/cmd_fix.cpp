@@ -1,9 +1,10 @@
-// cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|extrema-at-nodes
+// cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
 // [--points K,...] [--keep g1|g2|none] [--max-move D] [--out FIXED.json]:
 // the nearest certified repair (bezierize/fix.hpp, docs/fix.md).
 #include <CLI/CLI.hpp>
 
 #include "bezierize/fix.hpp"
+#include "bezierize/segments.hpp"
 #include "bezierize/region.hpp"
 #include "draw/draw.hpp"
 #include "spline/errors.hpp"
@@ -100,7 +101,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "fix", "Move the fewest control points the least distance so that the curve meets a requirement (certified)");
   struct Args {
-    std::string file, require = "cmr", points, keep = "g1", out, png;
+    std::string file, require = "cmr", points, keep = "g1", out, png, segments;
     double max_move = 0, tolerance = 1e-6;
     int depth = kDefaultDepth;
     bool pretty = false;
@@ -108,12 +109,15 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<Args>();
   cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
   cmd->add_option("--require", args->require,
-                  "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes");
+                  "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, no-inflection, "
+                  "g2-at-smooth-nodes[:tol], each-run");
   cmd->add_option("--points", args->points,
                   "points that may move (K,K2,...); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");
   cmd->add_option("--keep", args->keep, "ties kept at joints: g1 (default), g2, none")
       ->check(CLI::IsMember({"g1", "g2", "none"}));
+  cmd->add_option("--segments", args->segments,
+                  "judge only spans A..B (inclusive): only they must meet the requirement (as cmr analyze --segments)");
   cmd->add_option("--max-move", args->max_move, "largest displacement of any point (default: the curve size)");
   cmd->add_option("--tolerance", args->tolerance, "distance tolerance relative to the curve size (default 1e-6)");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth"), 0, kMaxDepth);
@@ -127,6 +131,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       throw InputError("--max-move: " + std::to_string(args->max_move) + " is not a distance >= 0");
     FixRequest request;
     request.requirement = parse_fix_requirement(args->require);
+    if (!args->segments.empty()) request.requirement.segments = parse_segment_range(args->segments);
     if (!args->points.empty()) request.points = parse_points(args->points);
     request.together = request.points.size() > 1;
     request.keep = args->keep == "g2" ? Keep::g2 : args->keep == "none" ? Keep::none : Keep::g1;
@@ -152,6 +157,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     }
     Json doc = {{"file", args->file},
                 {"require", to_string(request.requirement)},
+                {"segments", {f.certificate.range.first, f.certificate.range.last}},
                 {"keep", to_string(request.keep)},
                 {"already", f.already},
                 {"fixed", f.fixed},

@@ -207,6 +207,27 @@ TEST(EditRepair, FixIsTheCertifiedFixAnimatedAndUndoneExactly) {
   }
 }
 
+// "snap" with a judged segment range (set_segments) reaches the requirement
+// on that range only: the range is in fix_requirement(), and the snapped
+// curve passes there (re-judged by analyze on the range) while the whole
+// curve need not.
+TEST(EditRepair, SnapHonoursTheJudgedSegmentRange) {
+  const BSpline fig8 = read_spline_file(kFigures + "fig8.json");
+  Editor e(fig8, "t.json", 320, 240);
+  e.set_segments(SegmentRange{1, 1});
+  ASSERT_EQ(e.fix_requirement().segments, (std::optional<SegmentRange>(SegmentRange{1, 1})));
+  ASSERT_FALSE(requirement_holds(fig8, e.fix_requirement())) << "fig8's segment 1 should fail alone";
+  e.select(2);
+  ASSERT_TRUE(e.snap_selected()) << e.message;
+  settle(e);
+  const BSpline s = e.doc().spline;
+  EXPECT_TRUE(requirement_holds(s, e.fix_requirement())) << "segment 1 re-judged";
+  const FixResult want = fix(fig8, request_of(e.fix_requirement(), {2}, Keep::none));
+  ASSERT_TRUE(want.fixed) << want.reason;
+  EXPECT_EQ(s.points(), want.spline->points());
+  EXPECT_EQ(want.certificate.range, (SegmentRange{1, 1}));
+}
+
 // "snap": the selected point alone, to bezierize/fix's nearest certified
 // position; it lands inside its region (RegionProblem::classify) and moves
 // exactly the distance fix reports.

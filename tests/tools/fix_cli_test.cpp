@@ -88,6 +88,35 @@ TEST(FixCli, AlreadyPassingExits0WithNoMove) {
 }
 
 /// Each bad input: exit 2, one stderr line with the reason, no --out file.
+/// --segments: only the judged range must meet the requirement. The split
+/// Bezier fails CMR on segment 1 only: judged on segment 0 nothing moves; on
+/// segment 1 the fix is certified there (the JSON's segments).
+TEST(FixCli, SegmentsJudgeOnlyTheirRange) {
+  const std::string split = write("split_seg.json", kSplit);
+  const Outcome zero = run("fix " + split + " --segments 0..0");
+  ASSERT_EQ(zero.code, 0) << zero.err;
+  const auto z = nlohmann::json::parse(zero.out);
+  EXPECT_TRUE(z["already"].get<bool>());
+  EXPECT_EQ(z["segments"], nlohmann::json::array({0, 0}));
+  const Outcome one = run("fix " + split + " --segments 1..1");
+  ASSERT_EQ(one.code, 0) << one.err;
+  const auto o = nlohmann::json::parse(one.out);
+  EXPECT_TRUE(o["fixed"].get<bool>());
+  EXPECT_FALSE(o["moves"].empty());
+  EXPECT_EQ(o["segments"], nlohmann::json::array({1, 1}));
+}
+
+/// The gates' requirements from the command line: g2 at the smooth joint.
+TEST(FixCli, G2AtSmoothNodes) {
+  const std::string split = write("split_g2.json", kSplit);
+  const Outcome r = run("fix " + split + " --require g2-at-smooth-nodes:0.01");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["require"], "g2-at-smooth-nodes:0.01");
+  EXPECT_TRUE(doc["fixed"].get<bool>());
+  EXPECT_TRUE(doc["certificate"]["holds"].get<bool>());
+}
+
 TEST(FixCli, BadInputExits2WithOneLineAndNoFile) {
   const fs::path out = scratch() / "never.json";
   fs::remove(out);
@@ -102,6 +131,9 @@ TEST(FixCli, BadInputExits2WithOneLineAndNoFile) {
       {"fix " + split + " --require cmq", "--require: 'cmq' is not cmrwi, cmr"},
       {"fix " + split + " --require split:7", "split 7 is outside 1..1"},
       {"fix " + split + " --keep g3", "--keep"},
+      {"fix " + split + " --segments 0..5", "segments 0..5"},
+      {"fix " + split + " --segments x", "--segments"},
+      {"fix " + split + " --require g2-at-smooth-nodes:x", "needs a relative tolerance"},
       {"fix " + split + " --max-move -1", "--max-move: -1"},
       {"fix " + write("bad.json", R"({"degree":3,"knots":[0,0,0,1,1],"points":[[0,0],[1,0],[2,1],[3,3]]})"), "knots"},
       {"fix " + write("notjson.json", "{"), "notjson.json"},

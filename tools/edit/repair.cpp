@@ -105,6 +105,7 @@ FixRequirement Editor::fix_requirement() const {
   } else {
     r.kind = d.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
   }
+  r.segments = d.segments;  // the judged range only (fix and snap)
   return r;
 }
 
@@ -140,7 +141,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     message = what + ": the kappa-curve is still being clicked (kcurve modify first)";
     return false;
   }
-  if (d.spline.closed() && (request.requirement.kind == FixRequirement::Kind::cmr ||
+  if (d.spline.closed() && !request.requirement.segments && (request.requirement.kind == FixRequirement::Kind::cmr ||
                             request.requirement.kind == FixRequirement::Kind::cmrwi)) {
     message = what + ": a closed curve's curvature is never monotone over its whole period, and " + req +
               " judges every segment (use a split joint, or chain mode's each-piece)";
