@@ -431,12 +431,8 @@ class Writer {
                           html_escape(r.name) + "</a></td><td>" + html_escape(r.file) + "</td><td>" +
                           badge_html(status_class(r)) + "</td>";
         // A spline of straight segments only has constant (zero) curvature: "straight", not a direction.
-        const bool straight = std::all_of(r.spans.begin(), r.spans.end(), [](const SpanReport& sp) { return sp.eta_zero; });
-        if (r.error.empty() && straight)
-          row += "<td>straight</td><td>straight</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" +
-                 std::to_string(c.findings.size()) + "</td></tr>";
-        else if (r.error.empty())
-          row += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) +
+        if (r.error.empty())
+          row += "<td>" + verdict_label(r, r.analysis.cmrwi) + "</td><td>" + verdict_label(r, r.analysis.cmr) +
                  "</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" + std::to_string(c.findings.size()) +
                  "</td></tr>";
         else

@@ -300,8 +300,11 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         out += "<td class=\"" + std::string(n == 0 ? "pass" : "fail") + "\" data-v=\"" + std::to_string(n) + "\">" +
                (n == 0 ? "pass" : std::to_string(n) + " fail") + "</td>";
       }
+      // A glyph of straight pieces only (l, I, H, -): constant curvature, labelled so, not by a direction.
+      const bool straight = !contours.empty() && std::all_of(contours.begin(), contours.end(),
+                                                             [](const SplineReport* r) { return straight_only(*r); });
       out += "<td data-v=\"" + std::to_string(fixes) + "\">" + std::to_string(fixes) + "</td><td class=\"" + status +
-             "\">" + status + "</td></tr>";
+             "\">" + status + (straight ? " (straight)" : "") + "</td></tr>";
 
       details += "<section id=\"" + anchor + "\"><h2>" + html_escape(g.name) + " <span class=\"ch\">" +
                  html_escape(utf8(g.codepoint)) + "</span> " + code_label(g.codepoint) + ": " + status + "</h2>" +
@@ -309,7 +312,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
       for (std::size_t c = 0; c < g.items.size(); ++c) {
         const SplineReport& r = reports[g.items[c]];
         details += "<h3>" + html_escape(r.name) + ": " + (r.error.empty() ? (r.pass ? "pass" : "fail") : "invalid") +
-                   "</h3>";
+                   (straight_only(r) ? ", straight" : "") + "</h3>";
         if (!r.error.empty()) {
           details += "<p>" + html_escape(r.error) + "</p>";
           continue;

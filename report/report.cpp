@@ -641,6 +641,20 @@ Json fixes_json(const SplineReport& r) {
   return fixes;
 }
 
+}  // namespace
+
+bool straight_only(const SplineReport& r) {
+  if (!r.error.empty() || r.spans.empty()) return false;
+  const int last = std::min(r.analysis.range.last, static_cast<int>(r.spans.size()) - 1);
+  for (int i = std::max(0, r.analysis.range.first); i <= last; ++i)
+    if (!r.spans[static_cast<std::size_t>(i)].eta_zero) return false;
+  return true;
+}
+
+std::string verdict_label(const SplineReport& r, Direction d) { return straight_only(r) ? "straight" : to_string(d); }
+
+namespace {
+
 Json spline_json(const SplineReport& r, int index) {
   Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_of(r)}};
   if (!r.error.empty()) {
@@ -651,8 +665,8 @@ Json spline_json(const SplineReport& r, int index) {
   j["degree"] = s.degree();
   j["control_points"] = s.unique_point_count();  // a closed spline's distinct points
   j["domain"] = {s.domain_begin(), s.domain_end()};
-  Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)},
-               {"cmr", to_string(r.analysis.cmr)},
+  Json verdict{{"cmrwi", verdict_label(r, r.analysis.cmrwi)},
+               {"cmr", verdict_label(r, r.analysis.cmr)},
                {"cmr_algorithm2", to_string(r.analysis.cmr_algorithm2)}};
   if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
   if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
@@ -995,8 +1009,8 @@ std::string place_text(const CurveEvent& e) {
 /// The verdicts, the size of the spline and its curvature range in one paragraph.
 void summary_html(std::string& out, const SplineReport& r, const ReportOptions& options) {
   const BSpline& s = *r.spline;
-  out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
-         ", CMR " + to_string(r.analysis.cmr);
+  out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + verdict_label(r, r.analysis.cmrwi) +
+         ", CMR " + verdict_label(r, r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
   if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
     out += " (segments " + std::to_string(r.analysis.range.first) + ".." + std::to_string(r.analysis.range.last) +
@@ -1167,7 +1181,7 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
     out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + html_escape(r.name) + "</a></td><td>" +
            html_escape(r.file) + "</td><td>" + badge(r) + "</td>";
     if (r.error.empty())
-      out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) + "</td><td>" +
+      out += "<td>" + verdict_label(r, r.analysis.cmrwi) + "</td><td>" + verdict_label(r, r.analysis.cmr) + "</td><td>" +
              std::to_string(r.monotone_pieces) + "</td></tr>";
     else
       out += "<td colspan=\"3\">invalid input</td></tr>";
