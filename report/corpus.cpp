@@ -339,7 +339,8 @@ class Writer {
     rec.seconds = w.seconds;
     rec.title = w.font ? w.font->family + " " + w.font->style : w.path;
     // The file's spline objects, ids numbered across the run.
-    Json splines = report_json(w.reports, options_.report)["splines"];
+    Json doc = report_json(w.reports, options_.report);
+    Json splines = std::move(doc["splines"]);  // moved, not copied: a font's splines are large
     std::vector<ItemNames> names(w.reports.size());
     if (w.font) {
       for (const auto& g : w.font->glyphs)
