@@ -212,8 +212,15 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
     out.kappa_sign = w_sign * quick;
     return out;
   }
-  const Bernstein<Rational> eta = curvature_sign_polynomial<Rational>(spline, s);
-  const Bernstein<Rational> g = speed_polynomial(spline, s);  // >= 0: zero exactly where P' = 0
+  Bernstein<Rational> eta, g;  // g >= 0: zero exactly where P' = 0
+  if (!spline.is_rational()) {  // the exact Bezier points extracted once for both
+    const std::vector<Point<Rational>> P = segment_bezier_points<Rational>(spline, s);
+    eta = eta_bernstein<Rational>(P);
+    g = speed2_bernstein<Rational>(P);
+  } else {
+    eta = curvature_sign_polynomial<Rational>(spline, s);
+    g = speed_polynomial(spline, s);
+  }
   const RootOptions isolate_only{1.0};
   out.cusp = strict_sign(g) == 0 && (is_zero(g) || !isolate_roots(g, isolate_only).empty());
   out.straight = is_zero(eta);
