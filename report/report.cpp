@@ -408,8 +408,18 @@ void curvature_range(SplineReport& r, double tolerance) {
       if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
       if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
     };
-    consider(span.segment.a, certified_end_curvature(spline, span.segment, 0));
-    consider(span.segment.b, certified_end_curvature(spline, span.segment, 1));
+    // The end curvatures analyze certified at the joints (the same
+    // certified_end_curvature values), computed here only at an open
+    // spline's two ends and beside a pole.
+    const int i = span.segment.index, N = static_cast<int>(r.spans.size());
+    const bool joints = static_cast<int>(r.analysis.joints.size()) == N - 1;
+    const Joint* before = i > 0 ? &r.analysis.joints[static_cast<std::size_t>(i - 1)]
+                                : (r.analysis.seam ? &*r.analysis.seam : nullptr);
+    const Joint* after = i + 1 < N ? &r.analysis.joints[static_cast<std::size_t>(i)]
+                                   : (r.analysis.seam ? &*r.analysis.seam : nullptr);
+    if (!joints) before = after = nullptr;
+    consider(span.segment.a, before && !before->pole ? before->kappa_right : certified_end_curvature(spline, span.segment, 0));
+    consider(span.segment.b, after && !after->pole ? after->kappa_left : certified_end_curvature(spline, span.segment, 1));
     for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
     const double scale = std::max(std::abs(lo), std::abs(hi));
     span.kappa_spread = scale > 0 ? (hi - lo) / scale : 0;
