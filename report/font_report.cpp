@@ -90,7 +90,11 @@ std::string move_marks(const CertifiedFix& f, int units_per_em) {
            fmt(m.to.x) + "\" cy=\"" + fmt(-m.to.y) + "\" r=\"" + fmt(0.012 * units_per_em) + "\"/>";
   return out;
 }
-constexpr int kCombSamples = 8;  // teeth per segment: a Latin font's page stays under 2 MB
+constexpr int kCombSamples = 8;  // comb samples per segment at most (the outline's polyline of other degrees)
+/// Comb samples of the whole glyph at most: a glyph of many short segments
+/// (serifs) gets fewer per segment (at least 2), so that a Latin font's page
+/// stays under 2 MB; a glyph of up to 32 segments gets all 8.
+constexpr int kCombSamplesPerGlyph = 256;
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
   GlyphPicture g;
@@ -106,6 +110,10 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   double kmax = 0;
   for (const SplineReport* r : contours) kmax = std::max({kmax, std::abs(r->kappa_min), std::abs(r->kappa_max)});
   const double scale = kmax > 0 ? kCombLength * units_per_em / kmax : 0;
+  std::size_t segments = 0;
+  for (const SplineReport* r : contours) segments += r->spans.size();
+  const int samples =
+      std::clamp(kCombSamplesPerGlyph / static_cast<int>(std::max<std::size_t>(1, segments)) / 2 * 2, 2, kCombSamples);
   std::string outline, comb, marks;
   for (const SplineReport* r : contours) {
     const BSpline& s = *r->spline;
@@ -120,8 +128,8 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
       else
         for (int k = 1; k <= kCombSamples; ++k)
           outline += " L" + xy(evaluate(s, span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples));
-      for (int k = 0; k < kCombSamples; ++k) {
-        const double t = span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples;
+      for (int k = 0; k < samples; ++k) {
+        const double t = span.segment.a + (span.segment.b - span.segment.a) * k / samples;
         const CurvatureSample c = curvature_at(s, t);
         const Vec2 d1 = derivative(s, t, 1);
         const double len = std::sqrt(dot(d1, d1));
@@ -134,18 +142,25 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         // every gate's marks).
         const long px = std::lround(c.point.x), py = std::lround(-c.point.y);
         const long tx = std::lround(tip.x), ty = std::lround(-tip.y);
-        if (k % 2 == 0) teeth += "M" + std::to_string(px) + "," + std::to_string(py) + "l" + std::to_string(tx - px) + "," + std::to_string(ty - py);
-        if (tips.empty()) tips = "M" + std::to_string(tx) + "," + std::to_string(ty);
-        else tips += "l" + std::to_string(tx - last_tip_x) + "," + std::to_string(ty - last_tip_y);
+        if (k % 2 == 0)
+          teeth.append("M").append(std::to_string(px)).append(",").append(std::to_string(py))
+              .append("l").append(std::to_string(tx - px)).append(",").append(std::to_string(ty - py));
+        if (tips.empty()) tips.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty));
+        else tips.append("l").append(std::to_string(tx - last_tip_x)).append(",").append(std::to_string(ty - last_tip_y));
         last_tip_x = tx, last_tip_y = ty;
       }
     }
     outline += "Z\"/>";
     comb += "<path class=\"t\" d=\"" + teeth + "\"/><path class=\"k\" d=\"" + tips + "\"/>";
+    // Violations as round dots (zero-length strokes with round caps) in one
+    // path: a dozen bytes each, where a font has thousands.
+    std::string dots;
     for (const GateResult& gr : r->gates)
-      for (const GateViolation& v : gr.violations)
-        marks += "<circle class=\"v\" cx=\"" + fmt(evaluate(s, v.t).x, 0) + "\" cy=\"" + fmt(-evaluate(s, v.t).y, 0) +
-                 "\" r=\"" + fmt(0.02 * units_per_em, 0) + "\"/>";
+      for (const GateViolation& v : gr.violations) {
+        const Vec2 p = evaluate(s, v.t);
+        dots.append("M").append(std::to_string(std::lround(p.x))).append(",").append(std::to_string(std::lround(-p.y))).append("h0");
+      }
+    if (!dots.empty()) marks += "<path class=\"v\" d=\"" + dots + "\"/>";
     if (const CertifiedFix* f = first_fix(*r)) marks += move_marks(*f, units_per_em);
   }
   const double pad = 0.05 * units_per_em;
@@ -198,6 +213,9 @@ std::string where(const GateViolation& v, const std::vector<std::string>& joints
   return "t = " + fmt(v.t, 4);
 }
 
+/// Violations per gate and contour whose message a font page prints in full.
+constexpr std::size_t kFullMessages = 3;
+
 constexpr const char* kStyle =
     "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse}"
     "th,td{border:1px solid #ccc;padding:3px 6px;text-align:left;vertical-align:middle}"
@@ -205,7 +223,7 @@ constexpr const char* kStyle =
     "svg path{fill:none}svg g path{stroke:#000;stroke-width:1.2;vector-effect:non-scaling-stroke}"
     "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
     "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
-    "svg .v{fill:none;stroke:#d00000;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "svg .v{stroke:#d00000;stroke-opacity:.6;stroke-width:9;stroke-linecap:round;vector-effect:non-scaling-stroke}"
     "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}svg .fp{fill:#0070f0}"
     "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
     "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
@@ -341,10 +359,23 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         details += "<p>" + std::to_string(r.spline->segment_count()) + " segments, " +
                    std::to_string(r.extrema.size()) + " curvature extrema, " + std::to_string(r.inflections.size()) +
                    " inflections.</p><ul>";
-        for (const GateResult& gr : r.gates)
-          for (const GateViolation& v : gr.violations)
-            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
-                       html_escape(where(v, g.joint_names[c])) + "</li>";
+        // Each gate's first kFullMessages violations in full, then the
+        // places of the others in one item (every message is in report.json,
+        // JUnit and SARIF): a whole font's page stays small.
+        for (const GateResult& gr : r.gates) {
+          std::string more;
+          for (std::size_t k = 0; k < gr.violations.size(); ++k) {
+            const GateViolation& v = gr.violations[k];
+            if (k < kFullMessages)
+              details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
+                         html_escape(where(v, g.joint_names[c])) + "</li>";
+            else
+              more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c]));
+          }
+          if (!more.empty())
+            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>, " +
+                       std::to_string(gr.violations.size() - kFullMessages) + " more: " + more + "</li>";
+        }
         details += "</ul>";
         for (const CertifiedFix& f : r.certified_fixes) {
           details += "<p>Smallest certified fix (" + html_escape(f.check) + "): ";

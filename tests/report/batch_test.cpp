@@ -37,6 +37,7 @@ using Json = nlohmann::json;
 const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 // A TrueType font drawn with care for its curves (Debian fonts-noto-core, tools/setup.sh).
 const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
+const char* kNotoSerif = "/usr/share/fonts/truetype/noto/NotoSerif-Regular.ttf";
 // A CFF (cubic) font (Debian fonts-texgyre, tools/setup.sh).
 const char* kHeros = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyreheros-regular.otf";
 
@@ -374,7 +375,7 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
 
 // A whole Latin font's pages with every type gate, the old extrema-at-nodes
 // gate included (U+0021-U+017F of DejaVu Sans, thumbnails on, --no-fixes:
-// 2,852 findings, each marked), stay under 2 MB; the overview's thumbnails
+// 2,852 findings, each marked; Noto Serif, 8,964; TeX Gyre Heros), stay under 2 MB; the overview's thumbnails
 // link to the glyph's picture, which zooms to the window on a click; both
 // pages give one count of glyphs and contours, the same one.
 TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
@@ -411,6 +412,23 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
   EXPECT_NE(index.find(counts), std::string::npos) << counts;
   EXPECT_NE(font.find("<a href=\"#g0-O\"><svg"), std::string::npos) << "the thumbnail links to its glyph";
   EXPECT_NE(font.find("classList.toggle('zoom')"), std::string::npos);
+  // A serif font (many short segments, 8,964 findings) and a CFF font too.
+  for (const char* other : {kNotoSerif, kHeros}) {
+    if (!fs::exists(other)) {
+      ADD_FAILURE() << "no " << other << " (tools/setup.sh)";
+      continue;
+    }
+    fs::remove_all(out);
+    const test::Outcome o = test::run(std::string("report ") + other +
+                                      " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                      " --no-fixes --backend cpu --out " + out.string());
+    ASSERT_EQ(o.code, 1) << o.err;
+    std::uintmax_t bytes = 0;
+    for (const auto& e : fs::recursive_directory_iterator(out))
+      if (e.path().extension() == ".html") bytes += e.file_size();
+    std::cout << other << ": " << bytes << " bytes of pages\n";
+    EXPECT_LE(bytes, 2u * 1000 * 1000) << other << ": " << bytes << " bytes";
+  }
 }
 
 // A whole Latin font's pages (U+0021-U+017F of DejaVu Sans, thumbnails on)
