@@ -56,6 +56,12 @@ struct GlyphPicture {
 
 constexpr double kCombLength = 0.12;
 
+/// The glyph drawing's colours and widths are presentation attributes, not
+/// only the page's CSS: the overview's thumbnail is a <use> of the drawing,
+/// and the page's style sheet does not reach into a <use> clone (it would
+/// draw filled black shapes). Widths in screen pixels at every size.
+constexpr const char* kFixedWidth = " vector-effect=\"non-scaling-stroke\"";
+
 /// The certified fix a contour's outline shows: the first one found (the
 /// requirement's, else the first failing gate's), or none.
 const CertifiedFix* first_fix(const SplineReport& r) {
@@ -86,15 +92,16 @@ std::string outline_d(const BSpline& s) {
 std::string move_marks(const CertifiedFix& f, int units_per_em) {
   std::string out;
   for (const PointMove& m : f.moves)
-    out += "<path class=\"f\" d=\"M" + xy0(m.from) + "L" + xy0(m.to) + "\"/><circle class=\"fp\" cx=\"" +
+    out += "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"M" + xy0(m.from) +
+           "L" + xy0(m.to) + "\"/><circle class=\"fp\" fill=\"#0070f0\" cx=\"" +
            fmt(m.to.x) + "\" cy=\"" + fmt(-m.to.y) + "\" r=\"" + fmt(0.012 * units_per_em) + "\"/>";
   return out;
 }
 constexpr int kCombSamples = 8;  // comb samples per segment at most (the outline's polyline of other degrees)
 /// Comb samples of the whole glyph at most: a glyph of many short segments
 /// (serifs) gets fewer per segment (at least 2), so that a Latin font's page
-/// stays under 2 MB; a glyph of up to 32 segments gets all 8.
-constexpr int kCombSamplesPerGlyph = 256;
+/// stays under 2 MB; a glyph of up to 24 segments gets all 8.
+constexpr int kCombSamplesPerGlyph = 192;
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
   GlyphPicture g;
@@ -114,11 +121,13 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   for (const SplineReport* r : contours) segments += r->spans.size();
   const int samples =
       std::clamp(kCombSamplesPerGlyph / static_cast<int>(std::max<std::size_t>(1, segments)) / 2 * 2, 2, kCombSamples);
-  std::string outline, comb, marks;
+  // Every contour's outline, teeth, tip line and violation dots each in one
+  // path of the glyph (subpaths), so that the attributes come once.
+  std::string outline, teeth, tips, dots, marks;
   for (const SplineReport* r : contours) {
     const BSpline& s = *r->spline;
-    outline += "<path d=\"M" + xy(r->spans.front().bezier.front());
-    std::string teeth, tips;
+    outline += "M" + xy(r->spans.front().bezier.front());
+    bool first_tip = true;
     long last_tip_x = 0, last_tip_y = 0;
     for (const SpanReport& span : r->spans) {
       const auto& B = span.bezier;
@@ -145,27 +154,31 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         if (k % 2 == 0)
           teeth.append("M").append(std::to_string(px)).append(",").append(std::to_string(py))
               .append("l").append(std::to_string(tx - px)).append(",").append(std::to_string(ty - py));
-        if (tips.empty()) tips.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty));
+        if (first_tip) tips.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty));
         else tips.append("l").append(std::to_string(tx - last_tip_x)).append(",").append(std::to_string(ty - last_tip_y));
         last_tip_x = tx, last_tip_y = ty;
+        first_tip = false;
       }
     }
-    outline += "Z\"/>";
-    comb += "<path class=\"t\" d=\"" + teeth + "\"/><path class=\"k\" d=\"" + tips + "\"/>";
-    // Violations as round dots (zero-length strokes with round caps) in one
-    // path: a dozen bytes each, where a font has thousands.
-    std::string dots;
+    outline += "Z";
+    // Violations as round dots (zero-length strokes with round caps): a
+    // dozen bytes each, where a font has thousands.
     for (const GateResult& gr : r->gates)
       for (const GateViolation& v : gr.violations) {
         const Vec2 p = evaluate(s, v.t);
         dots.append("M").append(std::to_string(std::lround(p.x))).append(",").append(std::to_string(std::lround(-p.y))).append("h0");
       }
-    if (!dots.empty()) marks += "<path class=\"v\" d=\"" + dots + "\"/>";
     if (const CertifiedFix* f = first_fix(*r)) marks += move_marks(*f, units_per_em);
   }
+  const std::string fixed_width(kFixedWidth);
+  std::string comb = "<path class=\"t\" stroke=\"#7aa6d8\" stroke-width=\"0.6\"" + fixed_width + " d=\"" + teeth +
+                     "\"/><path class=\"k\" stroke=\"#2a62a8\" stroke-width=\"0.8\"" + fixed_width + " d=\"" + tips + "\"/>";
+  if (!dots.empty())
+    marks = "<path class=\"v\" stroke=\"#d00000\" stroke-opacity=\".6\" stroke-width=\"7\" stroke-linecap=\"round\"" +
+            fixed_width + " d=\"" + dots + "\"/>" + marks;
   const double pad = 0.05 * units_per_em;
   g.x0 -= pad, g.y0 -= pad, g.x1 += pad, g.y1 += pad;
-  g.body = "<g>" + outline + "</g>" + comb + marks;
+  g.body = "<g><path stroke=\"#000\" stroke-width=\"1.2\"" + fixed_width + " d=\"" + outline + "\"/></g>" + comb + marks;
   return g;
 }
 
@@ -198,7 +211,7 @@ std::string svg(const GlyphPicture& g, int height, const std::string& id, bool r
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
                          {"viewBox", fmt(g.x0, 0) + " " + fmt(-g.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)}}) +
-         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\">" + g.body + "</g>") +
+         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\" fill=\"none\">" + g.body + "</g>") +
          std::string(draw::kSvgClose);
 }
 
@@ -223,7 +236,7 @@ constexpr const char* kStyle =
     "svg path{fill:none}svg g path{stroke:#000;stroke-width:1.2;vector-effect:non-scaling-stroke}"
     "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
     "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
-    "svg .v{stroke:#d00000;stroke-opacity:.6;stroke-width:9;stroke-linecap:round;vector-effect:non-scaling-stroke}"
+    "svg .v{stroke:#d00000;stroke-opacity:.6;stroke-width:7;stroke-linecap:round;vector-effect:non-scaling-stroke}"
     "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}svg .fp{fill:#0070f0}"
     "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
     "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
