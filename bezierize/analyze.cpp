@@ -74,6 +74,31 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
   return out;
 }
 
+// The end terms of one segment end, each kind computed at most once: a
+// joint asks for the certified curvature, the jump sign and the tangent
+// angle of the same two ends (the exact ones are GMP rationals, the most
+// expensive part of a glyph's joints). The values are those of
+// end_curvature, so every result is unchanged.
+class EndCache {
+ public:
+  EndCache(const BSpline& spline, const Segment& s, int side) : spline_(spline), s_(s), side_(side) {}
+  const EndTerms<Bounded>& bounded() {
+    if (!bounded_) bounded_ = end_curvature<Bounded>(spline_, s_, side_);
+    return *bounded_;
+  }
+  const EndTerms<Rational>& exact() {
+    if (!exact_) exact_ = end_curvature<Rational>(spline_, s_, side_);
+    return *exact_;
+  }
+
+ private:
+  const BSpline& spline_;
+  const Segment& s_;
+  int side_;
+  std::optional<EndTerms<Bounded>> bounded_;
+  std::optional<EndTerms<Rational>> exact_;
+};
+
 // Relative error bound below which the error-bounded A and G are used as
 // they are: then kappa = c A / G / sqrt(G) in double is within
 // 2.5 * 2^-40 + 8u < kKappaRelError of the exact value.
@@ -88,8 +113,9 @@ double to_double(const Rational& x) { return x.get_d(); }  // truncation: relati
 // Angle in degrees between the forward end tangent of the left segment (-aL)
 // and the start tangent of the right one (aR), exactly 0 when they are
 // parallel and point the same way (exact rationals: this runs at C0 knots).
-double tangent_angle_deg(const BSpline& spline, const Segment& L, const Segment& R) {
-  const Point<Rational> l = end_curvature<Rational>(spline, L, 1).a, r = end_curvature<Rational>(spline, R, 0).a;
+double tangent_angle_deg(EndCache& left, EndCache& right) {
+  const Point<Rational>& l = left.exact().a;
+  const Point<Rational>& r = right.exact().a;
   const Rational dt = det(r, l), dp = Rational(0) - dot(l, r);  // det(-l, r) = det(r, l)
   if (sgn(dt) == 0 && sgn(dp) > 0) return 0.0;
   return std::atan2(std::fabs(to_double(dt)), to_double(dp)) * (180.0 / std::numbers::pi);
@@ -186,8 +212,15 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
     out.kappa_sign = w_sign * quick;
     return out;
   }
-  const Bernstein<Rational> eta = curvature_sign_polynomial<Rational>(spline, s);
-  const Bernstein<Rational> g = speed_polynomial(spline, s);  // >= 0: zero exactly where P' = 0
+  Bernstein<Rational> eta, g;  // g >= 0: zero exactly where P' = 0
+  if (!spline.is_rational()) {  // the exact Bezier points extracted once for both
+    const std::vector<Point<Rational>> P = segment_bezier_points<Rational>(spline, s);
+    eta = eta_bernstein<Rational>(P);
+    g = speed2_bernstein<Rational>(P);
+  } else {
+    eta = curvature_sign_polynomial<Rational>(spline, s);
+    g = speed_polynomial(spline, s);
+  }
   const RootOptions isolate_only{1.0};
   out.cusp = strict_sign(g) == 0 && (is_zero(g) || !isolate_roots(g, isolate_only).empty());
   out.straight = is_zero(eta);
@@ -217,23 +250,37 @@ void validate(const ContinuityTolerances& t) {
     throw InputError("--curvature-tol " + text(t.curvature_rel) + " is outside [0, 1]");
 }
 
-double certified_end_curvature(const BSpline& spline, const Segment& s, int side) {
+namespace {
+
+double certified_end_curvature(const BSpline& spline, EndCache& end) {
   const double c = (spline.degree() - 1.0) / spline.degree();
-  const EndTerms<Bounded> b = end_curvature<Bounded>(spline, s, side);
+  const EndTerms<Bounded>& b = end.bounded();
   if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v, b.G.v);
-  const EndTerms<Rational> x = end_curvature<Rational>(spline, s, side);
+  const EndTerms<Rational>& x = end.exact();
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
   return kappa_from(c, to_double(x.A), to_double(x.G));
 }
 
-int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right) {
-  const EndTerms<Bounded> bl = end_curvature<Bounded>(spline, left, 1);
-  const EndTerms<Bounded> br = end_curvature<Bounded>(spline, right, 0);
+int curvature_jump_sign(EndCache& left, EndCache& right) {
+  const EndTerms<Bounded>& bl = left.bounded();
+  const EndTerms<Bounded>& br = right.bounded();
   const int quick = jump_sign<Bounded>(bl.A, bl.G, br.A, br.G);
   if (quick != kSignUnknown) return quick;
-  const EndTerms<Rational> L = end_curvature<Rational>(spline, left, 1);
-  const EndTerms<Rational> R = end_curvature<Rational>(spline, right, 0);
+  const EndTerms<Rational>& L = left.exact();
+  const EndTerms<Rational>& R = right.exact();
   return jump_sign<Rational>(L.A, L.G, R.A, R.G);
+}
+
+}  // namespace
+
+double certified_end_curvature(const BSpline& spline, const Segment& s, int side) {
+  EndCache end(spline, s, side);
+  return certified_end_curvature(spline, end);
+}
+
+int curvature_jump_sign(const BSpline& spline, const Segment& left, const Segment& right) {
+  EndCache l(spline, left, 1), r(spline, right, 0);
+  return curvature_jump_sign(l, r);
 }
 
 std::vector<SegmentClass> exact_inflection_classes(const std::vector<SegmentClass>& segments,
@@ -343,15 +390,16 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
     j.kappa_left = j.kappa_right = j.angle_deg = std::numeric_limits<double>::quiet_NaN();
     return j;
   }
-  j.kappa_left = certified_end_curvature(spline, L, 1);
-  j.kappa_right = certified_end_curvature(spline, R, 0);
+  EndCache end_l(spline, L, 1), end_r(spline, R, 0);  // each end's terms computed once for all below
+  j.kappa_left = certified_end_curvature(spline, end_l);
+  j.kappa_right = certified_end_curvature(spline, end_r);
   j.zero_tangent = std::isnan(j.kappa_left) || std::isnan(j.kappa_right);
-  j.jump = j.continuity >= 2 ? 0 : curvature_jump_sign(spline, L, R);
+  j.jump = j.continuity >= 2 ? 0 : curvature_jump_sign(end_l, end_r);
   if (j.zero_tangent) {
     j.angle_deg = std::numeric_limits<double>::quiet_NaN();
   } else {
     // C^1 by the knots: the end derivatives are equal vectors, angle 0.
-    j.angle_deg = j.continuity >= 1 ? 0.0 : tangent_angle_deg(spline, L, R);
+    j.angle_deg = j.continuity >= 1 ? 0.0 : tangent_angle_deg(end_l, end_r);
     j.g1 = j.angle_deg <= tolerances.angle_deg;
     // Equal curvature: exactly (C^2, or an exact jump of 0), or within the tolerance.
     const double diff = std::fabs(j.kappa_right - j.kappa_left);

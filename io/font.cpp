@@ -68,6 +68,42 @@ struct Item {
   bool node = false;  // explicit on-curve point
 };
 
+/// Names of a cubic (CFF) contour's points, as a font editor shows a
+/// PostScript outline: the on-curve nodes numbered along the contour from
+/// its first one ("n0", "n1", ...); each handle after its node: "n3.out"
+/// leaves node n3, "n4.in" arrives at node n4 (the handles of the piece
+/// from n3 to n4); the inner points of a straight piece "n3+n4@1/3" and
+/// "n3+n4@2/3". The font's point indices (font_point) are kept beside.
+/// `items` starts at a node (a cubic contour always has one).
+void name_cubic_items(std::vector<Item>& items, const std::string& prefix) {
+  std::vector<int> number(items.size(), -1);
+  int nodes = 0;
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].node) number[k] = nodes++;
+  auto node_name = [&](int n) {
+    std::string name = "n";  // appended, not "n" + ...: GCC 12 warns (-Wrestrict) on that
+    return name.append(std::to_string(n % nodes));
+  };
+  int last = 0;  // the node before item k
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    Item& it = items[k];
+    if (it.node) {
+      last = number[k];
+      it.name = prefix + "/" + node_name(last);
+      continue;
+    }
+    const bool after_node = items[k - 1].node;  // items[0] is a node
+    if (it.font_point < 0) {  // a straight piece's inner point: k-th of degree-1
+      const int step = after_node ? 1 : 2;
+      it.name = prefix + "/" + node_name(last) + "+" + node_name(last + 1) + "@" + std::to_string(step) + "/3";
+    } else if (after_node) {
+      it.name = prefix + "/" + node_name(last) + ".out";
+    } else {
+      it.name = prefix + "/" + node_name(last + 1) + ".in";
+    }
+  }
+}
+
 /// The chain of one contour (points first..last of the outline), or empty
 /// when the contour has no piece (a lone point).
 std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
@@ -130,6 +166,7 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   }
   const bool any_inner = std::any_of(items.begin(), items.end(), [](const Item& i) { return !i.node; });
   if (items.size() < 2 || !any_inner) return {};
+  if (degree == 3) name_cubic_items(items, prefix);
   return items;
 }
 

@@ -18,8 +18,14 @@
 /// Every piece is one unit-length span: segment i of the spline is the i-th
 /// piece of the contour, starting at the contour's first on-curve point (or,
 /// when it has none, at its first off-curve point's leading implied node).
-/// Node names are kept: "GLYPH/cC" for the spline, "GLYPH/cC/pP" for the
-/// font's point P, and for the points the importer adds "GLYPH/cC/pP+pQ".
+/// Points are named as a font editor shows them: "GLYPH/cC" for the spline;
+/// TrueType: "GLYPH/cC/pP" for the font's point P (the numbers hinting and
+/// editors use) and "GLYPH/cC/pP+pQ" for the points the importer adds (an
+/// implied node, a straight piece's midpoint); CFF (cubic): the on-curve
+/// nodes numbered along the contour, "GLYPH/cC/n0", "n1", ..., each handle
+/// after its node ("n3.out" leaves n3, "n4.in" arrives at n4) and a straight
+/// piece's inner points "n3+n4@1/3", "n3+n4@2/3". font_point keeps the
+/// font's point index either way.
 ///
 /// Errors: InputError for a file FreeType cannot open as a font ("FILE: not a
 /// font FreeType can read (error 2)"), a glyph spec that does not parse, or an

@@ -181,6 +181,22 @@ bool is_stdout_alias(const std::filesystem::path& path) {
   return p == "-" || p == "/dev/stdout" || p == "/dev/fd/1" || p == "/proc/self/fd/1";
 }
 
+/// Copies the whole spool file `from` (a stream's pieces) to `to`; false
+/// with errno set when a read or a write fails.
+bool copy_spool(int from, int to) {
+  char buf[1 << 16];
+  for (off_t at = 0;;) {
+    const ssize_t n = ::pread(from, buf, sizeof buf, at);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    if (n == 0) return true;
+    if (!write_all(to, std::string_view(buf, static_cast<std::size_t>(n)))) return false;
+    at += n;
+  }
+}
+
 /// A manifest entry: a file cmr wrote into an owned folder.
 struct ManifestEntry {
   unsigned long long ino = 0, size = 0;
@@ -273,8 +289,12 @@ void OutputSet::close_streams() noexcept {
   for (Staged& s : staged_) {
     if (s.close_fd && s.stream_fd >= 0) ::close(s.stream_fd);
     s.stream_fd = -1;
+    if (s.spool_fd >= 0) ::close(s.spool_fd);
+    s.spool_fd = -1;
   }
 }
+
+bool is_stdout_path(const std::filesystem::path& path) { return is_stdout_alias(path); }
 
 void OutputSet::discard() noexcept {
   if (committed_) return;
@@ -399,27 +419,53 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
 StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
   CMR_CHECK(!committed_);
   if (path.filename().empty()) throw_errno(path, EISDIR);
+  struct stat st {};
+  if (is_stdout_alias(path) ||
+      (::stat(path.c_str(), &st) == 0 && (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))) {
+    // A stream: stage() checks and opens it (named twice, a FIFO without a
+    // reader); the pieces are spooled and written at commit.
+    std::FILE* f = std::tmpfile();
+    if (f == nullptr) throw EnvironmentError(path.string() + ": a spool file in the temporary folder: " + std::strerror(errno));
+    const int spool = ::fcntl(::fileno(f), F_DUPFD_CLOEXEC, 0);
+    const int error = errno;
+    std::fclose(f);  // the unlinked file lives on in `spool`
+    if (spool < 0) throw_errno(path, error);
+    try {
+      stage(path, {});
+    } catch (...) {
+      ::close(spool);
+      throw;
+    }
+    Staged& staged = staged_.back();
+    staged.spool_fd = spool;
+    const int writer = ::fcntl(spool, F_DUPFD_CLOEXEC, 0);
+    if (writer < 0) throw_errno(path, errno);
+    return StagedStream(path, writer, false);
+  }
   Staged s;
   s.path = path;
   s.target = path;
-  struct stat st {};
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) {  // a link to a regular file is followed, as by stage()
       std::error_code ec;
       s.target = std::filesystem::canonical(path, ec);
-      if (ec) throw_errno(path, ec.value());
+      if (ec) {
+        if (ec.value() == ENOENT) throw InputError(path.string() + ": a symbolic link to nothing (cmr follows links to files)");
+        throw_errno(path, ec.value());
+      }
       if (::stat(s.target.c_str(), &st) != 0) throw_errno(path, errno);
     }
     if (S_ISDIR(st.st_mode)) throw_errno(path, EISDIR);
-    if (!S_ISREG(st.st_mode))
-      throw InputError(path.string() + ": is written in pieces, so it must be a regular file (not a device, FIFO or socket)");
+    if (S_ISBLK(st.st_mode)) throw InputError(path.string() + ": is a block device, not a file cmr can write");
+    if (S_ISSOCK(st.st_mode)) throw InputError(path.string() + ": is a socket, not a file cmr can write");
+    if (!S_ISREG(st.st_mode)) throw InputError(path.string() + ": not a regular file, a device or a FIFO");
   }
   const std::string key = folder_key(folder_of(s.target)) + "/" + s.target.filename().string();
   if (!key_set_.insert(key).second) throw InputError(path.string() + ": named twice");
   auto [temp, fd] = create_temp(s.target);
   s.temp = std::move(temp);
   staged_.push_back(std::move(s));
-  return StagedStream(path, fd);
+  return StagedStream(path, fd, true);
 }
 
 StagedStream& StagedStream::operator=(StagedStream&& o) noexcept {
@@ -443,7 +489,7 @@ void StagedStream::write(std::string_view bytes) {
 
 void StagedStream::close() {
   CMR_CHECK(fd_ >= 0);
-  const bool ok = ::fsync(fd_) == 0;
+  const bool ok = !sync_ || ::fsync(fd_) == 0;
   const int error = errno;
   const int rc = ::close(fd_);
   fd_ = -1;
@@ -518,7 +564,7 @@ void OutputSet::commit() {
   std::fflush(stdout);
   for (Staged& s : staged_) {
     if (s.stream_fd < 0) continue;
-    if (!write_all(s.stream_fd, s.bytes)) {
+    if (!write_all(s.stream_fd, s.bytes) || (s.spool_fd >= 0 && !copy_spool(s.spool_fd, s.stream_fd))) {
       const int error = errno;
       const std::filesystem::path failed = s.path;
       discard();

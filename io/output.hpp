@@ -61,7 +61,7 @@ class StagedStream {
   StagedStream() = default;
   StagedStream(const StagedStream&) = delete;
   StagedStream& operator=(const StagedStream&) = delete;
-  StagedStream(StagedStream&& o) noexcept : path_(std::move(o.path_)), fd_(o.fd_) { o.fd_ = -1; }
+  StagedStream(StagedStream&& o) noexcept : path_(std::move(o.path_)), fd_(o.fd_), sync_(o.sync_) { o.fd_ = -1; }
   StagedStream& operator=(StagedStream&& o) noexcept;
   ~StagedStream();
   void write(std::string_view bytes);
@@ -70,9 +70,10 @@ class StagedStream {
 
  private:
   friend class OutputSet;
-  StagedStream(std::filesystem::path path, int fd) : path_(std::move(path)), fd_(fd) {}
+  StagedStream(std::filesystem::path path, int fd, bool sync) : path_(std::move(path)), fd_(fd), sync_(sync) {}
   std::filesystem::path path_;
   int fd_ = -1;
+  bool sync_ = true;  ///< fsync on close (a staged file; not a stream's spool)
 };
 
 /// Output files committed together: all of them, or none.
@@ -136,6 +137,11 @@ class OutputSet {
   /// (or keeps them for a stream; see the class comment).
   void stage(const std::filesystem::path& path, std::string_view bytes);
   /// As stage, for a file written in pieces through the returned stream.
+  /// Every output path stage() takes is taken: a file's pieces go to its
+  /// temporary; a stream's ("-", /dev/stdout, a character device, a FIFO)
+  /// to an unlinked spool file in the temporary folder (memory stays
+  /// bounded), copied to the stream at commit() before any file is renamed,
+  /// as stage()'s streams are.
   StagedStream stage_stream(const std::filesystem::path& path);
   /// Puts every staged file in place (see the class comment). Call once.
   void commit();
@@ -150,6 +156,7 @@ class OutputSet {
     int stream_fd = -1;            ///< a device, FIFO or stdout: written at commit
     bool close_fd = false;
     std::string bytes;             ///< a stream's bytes
+    int spool_fd = -1;             ///< a stream written in pieces: its bytes, after `bytes` (stage_stream)
     bool manifest = false;         ///< an owned folder's manifest (not in paths())
   };
   void discard() noexcept;
@@ -160,6 +167,10 @@ class OutputSet {
   std::vector<std::filesystem::path> owned_folders_;
   bool committed_ = false;
 };
+
+/// Whether `path` names standard output for an OutputSet ("-", /dev/stdout,
+/// /dev/fd/1): a command prints its own lines elsewhere then.
+bool is_stdout_path(const std::filesystem::path& path);
 
 /// Writes `bytes` to `path` so that readers see the old file or the whole new
 /// one, never a part: an OutputSet of one file. Errors as OutputSet.

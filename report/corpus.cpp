@@ -274,7 +274,7 @@ std::vector<Finding> findings_of(const SplineReport& r, const std::string& file,
 /// Per font, for the summary page.
 struct FontRow {
   std::string title, path, page;
-  int glyphs = 0, contours = 0, glyphs_fail = 0, invalid = 0;
+  int glyphs = 0, contours = 0, glyphs_fail = 0, contours_fail = 0, invalid = 0;
   std::vector<int> gate_glyphs;  ///< glyphs failing each gate
   std::vector<std::pair<int, std::string>> worst;  ///< (findings, glyph), at most kWorst
   bool cubic = false;
@@ -339,7 +339,8 @@ class Writer {
     rec.seconds = w.seconds;
     rec.title = w.font ? w.font->family + " " + w.font->style : w.path;
     // The file's spline objects, ids numbered across the run.
-    Json splines = report_json(w.reports, options_.report)["splines"];
+    Json doc = report_json(w.reports, options_.report);
+    Json splines = std::move(doc["splines"]);  // moved, not copied: a font's splines are large
     std::vector<ItemNames> names(w.reports.size());
     if (w.font) {
       for (const auto& g : w.font->glyphs)
@@ -394,6 +395,7 @@ class Writer {
         }
         ++row.glyphs;
         row.contours += c.contours;
+        for (std::size_t i : g.items) row.contours_fail += w.reports[i].error.empty() && w.reports[i].pass ? 0 : 1;
         row.glyphs_fail += c.pass ? 0 : 1;
         row.invalid += c.error.empty() ? 0 : 1;
         for (std::size_t k = 0; k < gate_fail.size(); ++k) row.gate_glyphs[k] += gate_fail[k];
@@ -431,12 +433,8 @@ class Writer {
                           html_escape(r.name) + "</a></td><td>" + html_escape(r.file) + "</td><td>" +
                           badge_html(status_class(r)) + "</td>";
         // A spline of straight segments only has constant (zero) curvature: "straight", not a direction.
-        const bool straight = std::all_of(r.spans.begin(), r.spans.end(), [](const SpanReport& sp) { return sp.eta_zero; });
-        if (r.error.empty() && straight)
-          row += "<td>straight</td><td>straight</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" +
-                 std::to_string(c.findings.size()) + "</td></tr>";
-        else if (r.error.empty())
-          row += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) +
+        if (r.error.empty())
+          row += "<td>" + verdict_label(r, r.analysis.cmrwi) + "</td><td>" + verdict_label(r, r.analysis.cmr) +
                  "</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" + std::to_string(c.findings.size()) +
                  "</td></tr>";
         else
@@ -547,7 +545,8 @@ class Writer {
       for (const Gate& g : options_.report.gates) head += "<th>glyphs failing " + html_escape(to_string(g)) + "</th>";
       head += "<th>worst glyphs (findings)</th></tr>";
       for (const FontRow& f : fonts_) {
-        head += "<tr><td><a href=\"" + html_escape(f.page) + "\">" + html_escape(f.title) + "</a></td><td>" +
+        head += "<tr><td><a href=\"" + html_escape(f.page) + "\">" + html_escape(f.title) + "</a><br>" +
+                glyph_count_text(f.glyphs, f.glyphs_fail, f.contours, f.contours_fail) + "</td><td>" +
                 html_escape(f.path) + "</td><td>" + (f.cubic ? "cubic (CFF)" : "quadratic (TrueType)") + "</td><td>" +
                 std::to_string(f.glyphs) + "</td><td>" + std::to_string(f.contours) + "</td><td>" +
                 std::to_string(f.glyphs_fail) + (f.invalid ? " (" + std::to_string(f.invalid) + " invalid)" : "") +

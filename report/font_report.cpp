@@ -56,6 +56,12 @@ struct GlyphPicture {
 
 constexpr double kCombLength = 0.12;
 
+/// The glyph drawing's colours and widths are presentation attributes, not
+/// only the page's CSS: the overview's thumbnail is a <use> of the drawing,
+/// and the page's style sheet does not reach into a <use> clone (it would
+/// draw filled black shapes). Widths in screen pixels at every size.
+constexpr const char* kFixedWidth = " vector-effect=\"non-scaling-stroke\"";
+
 /// The certified fix a contour's outline shows: the first one found (the
 /// requirement's, else the first failing gate's), or none.
 const CertifiedFix* first_fix(const SplineReport& r) {
@@ -86,11 +92,16 @@ std::string outline_d(const BSpline& s) {
 std::string move_marks(const CertifiedFix& f, int units_per_em) {
   std::string out;
   for (const PointMove& m : f.moves)
-    out += "<path class=\"f\" d=\"M" + xy0(m.from) + "L" + xy0(m.to) + "\"/><circle class=\"fp\" cx=\"" +
+    out += "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"M" + xy0(m.from) +
+           "L" + xy0(m.to) + "\"/><circle class=\"fp\" fill=\"#0070f0\" cx=\"" +
            fmt(m.to.x) + "\" cy=\"" + fmt(-m.to.y) + "\" r=\"" + fmt(0.012 * units_per_em) + "\"/>";
   return out;
 }
-constexpr int kCombSamples = 8;  // teeth per segment: a Latin font's page stays under 2 MB
+constexpr int kCombSamples = 8;  // comb samples per segment at most (the outline's polyline of other degrees)
+/// Comb samples of the whole glyph at most: a glyph of many short segments
+/// (serifs) gets fewer per segment (at least 2), so that a Latin font's page
+/// stays under 2 MB; a glyph of up to 24 segments gets all 8.
+constexpr int kCombSamplesPerGlyph = 192;
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
   GlyphPicture g;
@@ -106,11 +117,18 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   double kmax = 0;
   for (const SplineReport* r : contours) kmax = std::max({kmax, std::abs(r->kappa_min), std::abs(r->kappa_max)});
   const double scale = kmax > 0 ? kCombLength * units_per_em / kmax : 0;
-  std::string outline, comb, marks;
+  std::size_t segments = 0;
+  for (const SplineReport* r : contours) segments += r->spans.size();
+  const int samples =
+      std::clamp(kCombSamplesPerGlyph / static_cast<int>(std::max<std::size_t>(1, segments)) / 2 * 2, 2, kCombSamples);
+  // Every contour's outline, teeth, tip line and violation dots each in one
+  // path of the glyph (subpaths), so that the attributes come once.
+  std::string outline, teeth, tips, dots, marks;
   for (const SplineReport* r : contours) {
     const BSpline& s = *r->spline;
-    outline += "<path d=\"M" + xy(r->spans.front().bezier.front());
-    std::string teeth, tips;
+    outline += "M" + xy(r->spans.front().bezier.front());
+    bool first_tip = true;
+    long last_tip_x = 0, last_tip_y = 0;
     for (const SpanReport& span : r->spans) {
       const auto& B = span.bezier;
       for (const Vec2& p : B) grow(p);
@@ -119,29 +137,48 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
       else
         for (int k = 1; k <= kCombSamples; ++k)
           outline += " L" + xy(evaluate(s, span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples));
-      for (int k = 0; k < kCombSamples; ++k) {
-        const double t = span.segment.a + (span.segment.b - span.segment.a) * k / kCombSamples;
+      for (int k = 0; k < samples; ++k) {
+        const double t = span.segment.a + (span.segment.b - span.segment.a) * k / samples;
         const CurvatureSample c = curvature_at(s, t);
         const Vec2 d1 = derivative(s, t, 1);
         const double len = std::sqrt(dot(d1, d1));
         if (!(len > 0) || !std::isfinite(c.kappa)) continue;
         const Vec2 n(-d1.y / len, d1.x / len);
         const Vec2 tip = c.point - scale * c.kappa * n;  // outside a counter-clockwise bowl
-        teeth.append("M").append(xy(c.point)).append("L").append(xy(tip));
-        tips.append(tips.empty() ? "M" : "L").append(xy(tip));
+        // Whole units, relative moves ("l dx,dy"): the same pixels in about
+        // half the bytes. A tooth at every other sample, the tip line
+        // through every sample (a Latin font's page stays under 2 MB with
+        // every gate's marks).
+        const long px = std::lround(c.point.x), py = std::lround(-c.point.y);
+        const long tx = std::lround(tip.x), ty = std::lround(-tip.y);
+        if (k % 2 == 0)
+          teeth.append("M").append(std::to_string(px)).append(",").append(std::to_string(py))
+              .append("l").append(std::to_string(tx - px)).append(",").append(std::to_string(ty - py));
+        if (first_tip) tips.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty));
+        else tips.append("l").append(std::to_string(tx - last_tip_x)).append(",").append(std::to_string(ty - last_tip_y));
+        last_tip_x = tx, last_tip_y = ty;
+        first_tip = false;
       }
     }
-    outline += "Z\"/>";
-    comb += "<path class=\"t\" d=\"" + teeth + "\"/><path class=\"k\" d=\"" + tips + "\"/>";
+    outline += "Z";
+    // Violations as round dots (zero-length strokes with round caps): a
+    // dozen bytes each, where a font has thousands.
     for (const GateResult& gr : r->gates)
-      for (const GateViolation& v : gr.violations)
-        marks += "<circle class=\"v\" cx=\"" + fmt(evaluate(s, v.t).x) + "\" cy=\"" + fmt(-evaluate(s, v.t).y) +
-                 "\" r=\"" + fmt(0.02 * units_per_em) + "\"/>";
+      for (const GateViolation& v : gr.violations) {
+        const Vec2 p = evaluate(s, v.t);
+        dots.append("M").append(std::to_string(std::lround(p.x))).append(",").append(std::to_string(std::lround(-p.y))).append("h0");
+      }
     if (const CertifiedFix* f = first_fix(*r)) marks += move_marks(*f, units_per_em);
   }
+  const std::string fixed_width(kFixedWidth);
+  std::string comb = "<path class=\"t\" stroke=\"#7aa6d8\" stroke-width=\"0.6\"" + fixed_width + " d=\"" + teeth +
+                     "\"/><path class=\"k\" stroke=\"#2a62a8\" stroke-width=\"0.8\"" + fixed_width + " d=\"" + tips + "\"/>";
+  if (!dots.empty())
+    marks = "<path class=\"v\" stroke=\"#d00000\" stroke-opacity=\".6\" stroke-width=\"7\" stroke-linecap=\"round\"" +
+            fixed_width + " d=\"" + dots + "\"/>" + marks;
   const double pad = 0.05 * units_per_em;
   g.x0 -= pad, g.y0 -= pad, g.x1 += pad, g.y1 += pad;
-  g.body = "<g>" + outline + "</g>" + comb + marks;
+  g.body = "<g><path stroke=\"#000\" stroke-width=\"1.2\"" + fixed_width + " d=\"" + outline + "\"/></g>" + comb + marks;
   return g;
 }
 
@@ -174,19 +211,23 @@ std::string svg(const GlyphPicture& g, int height, const std::string& id, bool r
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
                          {"viewBox", fmt(g.x0, 0) + " " + fmt(-g.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)}}) +
-         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\">" + g.body + "</g>") +
+         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\" fill=\"none\">" + g.body + "</g>") +
          std::string(draw::kSvgClose);
 }
 
-/// "segment 3 (from A/c0/p5 to A/c0/p7)" or "node A/c0/p5".
+/// "p5 to p7" (the nodes at the ends of the violation's segment, in the
+/// contour named by the section's heading) or "node p5"; the message itself
+/// says which segment and where.
 std::string where(const GateViolation& v, const std::vector<std::string>& joints) {
   const int N = static_cast<int>(joints.size());
-  if (v.segment >= 0 && N > 0)
-    return "segment " + std::to_string(v.segment) + " (" + joints[v.segment] + " to " + joints[(v.segment + 1) % N] +
-           "), t = " + fmt(v.local_t, 3);
-  if (v.joint >= 0 && N > 0) return "node " + joints[v.joint % N];
+  auto local = [](const std::string& name) { return name.substr(name.rfind('/') + 1); };
+  if (v.segment >= 0 && N > 0) return local(joints[v.segment]) + " to " + local(joints[(v.segment + 1) % N]);
+  if (v.joint >= 0 && N > 0) return "node " + local(joints[v.joint % N]);
   return "t = " + fmt(v.t, 4);
 }
+
+/// Violations per gate and contour whose message a font page prints in full.
+constexpr std::size_t kFullMessages = 3;
 
 constexpr const char* kStyle =
     "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse}"
@@ -195,12 +236,13 @@ constexpr const char* kStyle =
     "svg path{fill:none}svg g path{stroke:#000;stroke-width:1.2;vector-effect:non-scaling-stroke}"
     "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
     "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
-    "svg .v{fill:none;stroke:#d00000;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "svg .v{stroke:#d00000;stroke-opacity:.6;stroke-width:7;stroke-linecap:round;vector-effect:non-scaling-stroke}"
     "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}svg .fp{fill:#0070f0}"
     "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
     "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
     ".pics figure{margin:0}.pics figcaption{font-size:12px;color:#555}"
-    "section{margin-top:1.5em;border-top:1px solid #ccc}.ch{font-size:1.4em}";
+    "section{margin-top:1.5em;border-top:1px solid #ccc}.ch{font-size:1.4em}"
+    "section svg{cursor:zoom-in}section svg.zoom{height:90vh;width:auto;cursor:zoom-out}";
 
 // Sorting (click a header: text or the cell's data-v number) and filtering
 // (name substring, status) of the overview table.
@@ -212,9 +254,16 @@ q.oninput=filter;st.onchange=filter;
 t.tHead.querySelectorAll('th').forEach((h,i)=>{h.onclick=()=>{const up=h.dataset.dir!=='asc';h.dataset.dir=up?'asc':'desc';
 const rows=[...t.tBodies[0].rows];const key=r=>{const c=r.cells[i];return c.dataset.v!==undefined?Number(c.dataset.v):c.textContent;};
 rows.sort((a,b)=>{const x=key(a),y=key(b);return (x<y?-1:x>y?1:0)*(up?1:-1);});rows.forEach(r=>t.tBodies[0].appendChild(r));};});
+document.querySelectorAll('section svg').forEach(s=>{s.onclick=()=>s.classList.toggle('zoom');});
 </script>)";
 
 }  // namespace
+
+std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int contours_fail) {
+  return std::to_string(glyphs) + " glyphs: " + std::to_string(glyphs - glyphs_fail) + " pass, " +
+         std::to_string(glyphs_fail) + " fail; " + std::to_string(contours) + " contours: " +
+         std::to_string(contours - contours_fail) + " pass, " + std::to_string(contours_fail) + " fail";
+}
 
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs) {
   FontInfo info{font.path, font.family, font.style, font.units_per_em, font.cubic, {}, font.missing};
@@ -242,10 +291,11 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
   for (std::size_t fi = 0; fi < fonts.size(); ++fi) {
     const FontInfo& font = fonts[fi];
     int pass = 0, fail = 0;
-    std::size_t contour_count = 0;
+    std::size_t contour_count = 0, contour_fail = 0;
     std::vector<bool> glyph_pass;
     for (const auto& g : font.glyphs) {
       contour_count += g.items.size();
+      for (std::size_t i : g.items) contour_fail += reports[i].error.empty() && reports[i].pass ? 0 : 1;
       bool ok = true;
       for (std::size_t i : g.items) ok = ok && reports[i].error.empty() && reports[i].pass;
       glyph_pass.push_back(ok);
@@ -253,8 +303,10 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     }
     out += "<h1>" + html_escape(font.family + " " + font.style) + "</h1><p>" + html_escape(font.path) + ": " +
            std::to_string(font.units_per_em) + " units per em, " + (font.cubic ? "cubic (CFF)" : "quadratic (TrueType)") +
-           " outlines; " + std::to_string(font.glyphs.size()) + " glyphs (" + std::to_string(contour_count) + " contours): <b>" + std::to_string(pass) +
-           " pass</b>, <b>" + std::to_string(fail) + " fail</b>. Gates: " +
+           " outlines; <b>" +
+           glyph_count_text(static_cast<int>(font.glyphs.size()), fail, static_cast<int>(contour_count),
+                            static_cast<int>(contour_fail)) +
+           "</b>. Gates: " +
            html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
            ". Fixes are the smallest certified fix of each failing check (cmr fix: the fewest points moved the "
            "least, smooth nodes kept smooth, the fixed contour re-judged by the exact engine); each failing "
@@ -264,7 +316,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     const std::string table_id = fi == 0 ? "glyphs" : "glyphs" + std::to_string(fi);
     if (fi == 0)
       out += "<p>Filter: <input id=\"q\" placeholder=\"glyph name\"> <select id=\"st\"><option value=\"\">all</option>"
-             "<option>pass</option><option>fail</option></select> (click a column to sort)</p>";
+             "<option>pass</option><option>fail</option></select> (click a column to sort, a thumbnail for its glyph, a glyph picture to zoom it to the window)</p>";
     out += "<table id=\"" + table_id + "\"><thead><tr><th>char</th><th>glyph</th><th>contours</th>";
     if (options.regions) out += "<th>outline and comb</th>";
     for (const Gate& g : options.gates) out += "<th>" + html_escape(to_string(g)) + "</th>";
@@ -283,7 +335,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
       std::string picture;
       if (options.regions && !contours.empty()) {
         const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
-        out += "<td>" + svg(gp, 96, anchor + "-pic", true) + "</td>";
+        out += "<td><a href=\"#" + anchor + "\">" + svg(gp, 96, anchor + "-pic", true) + "</a></td>";
         picture = svg(gp, 320, anchor + "-pic", false);
         const std::string fixed = fixed_glyph_svg(contours, gp, 320, font.units_per_em);
         if (!fixed.empty())
@@ -300,8 +352,11 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         out += "<td class=\"" + std::string(n == 0 ? "pass" : "fail") + "\" data-v=\"" + std::to_string(n) + "\">" +
                (n == 0 ? "pass" : std::to_string(n) + " fail") + "</td>";
       }
+      // A glyph of straight pieces only (l, I, H, -): constant curvature, labelled so, not by a direction.
+      const bool straight = !contours.empty() && std::all_of(contours.begin(), contours.end(),
+                                                             [](const SplineReport* r) { return straight_only(*r); });
       out += "<td data-v=\"" + std::to_string(fixes) + "\">" + std::to_string(fixes) + "</td><td class=\"" + status +
-             "\">" + status + "</td></tr>";
+             "\">" + status + (straight ? " (straight)" : "") + "</td></tr>";
 
       details += "<section id=\"" + anchor + "\"><h2>" + html_escape(g.name) + " <span class=\"ch\">" +
                  html_escape(utf8(g.codepoint)) + "</span> " + code_label(g.codepoint) + ": " + status + "</h2>" +
@@ -309,7 +364,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
       for (std::size_t c = 0; c < g.items.size(); ++c) {
         const SplineReport& r = reports[g.items[c]];
         details += "<h3>" + html_escape(r.name) + ": " + (r.error.empty() ? (r.pass ? "pass" : "fail") : "invalid") +
-                   "</h3>";
+                   (straight_only(r) ? ", straight" : "") + "</h3>";
         if (!r.error.empty()) {
           details += "<p>" + html_escape(r.error) + "</p>";
           continue;
@@ -317,10 +372,23 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         details += "<p>" + std::to_string(r.spline->segment_count()) + " segments, " +
                    std::to_string(r.extrema.size()) + " curvature extrema, " + std::to_string(r.inflections.size()) +
                    " inflections.</p><ul>";
-        for (const GateResult& gr : r.gates)
-          for (const GateViolation& v : gr.violations)
-            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
-                       html_escape(where(v, g.joint_names[c])) + "</li>";
+        // Each gate's first kFullMessages violations in full, then the
+        // places of the others in one item (every message is in report.json,
+        // JUnit and SARIF): a whole font's page stays small.
+        for (const GateResult& gr : r.gates) {
+          std::string more;
+          for (std::size_t k = 0; k < gr.violations.size(); ++k) {
+            const GateViolation& v = gr.violations[k];
+            if (k < kFullMessages)
+              details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
+                         html_escape(where(v, g.joint_names[c])) + "</li>";
+            else
+              more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c]));
+          }
+          if (!more.empty())
+            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>, " +
+                       std::to_string(gr.violations.size() - kFullMessages) + " more: " + more + "</li>";
+        }
         details += "</ul>";
         for (const CertifiedFix& f : r.certified_fixes) {
           details += "<p>Smallest certified fix (" + html_escape(f.check) + "): ";
@@ -341,7 +409,9 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
                        fmt(m.to.y) + "</td><td>" + fmt(m.to.x - m.from.x) + ", " + fmt(m.to.y - m.from.y) + "</td><td>" +
                        fmt(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)</td></tr>";
           }
-          details += "</table>" + kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments);
+          // κ before and after for the fix the outline shows (first_fix) only: a Latin font's page stays small.
+          details += "</table>";
+          if (&f == first_fix(r)) details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments);
         }
       }
       details += "</section>";

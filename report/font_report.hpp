@@ -33,6 +33,11 @@ struct FontInfo {
   std::vector<std::uint32_t> missing;
 };
 
+/// The one count of a font every page uses (font page, summary page):
+/// "318 glyphs: 120 pass, 198 fail; 643 contours: 319 pass, 324 fail" (a
+/// glyph passes when all its contours do; invalid contours fail).
+std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int contours_fail);
+
 /// Appends one report item per contour of `font` to `inputs` (file
 /// "FONT:GLYPH/cC") and returns where they went.
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs);

@@ -408,8 +408,18 @@ void curvature_range(SplineReport& r, double tolerance) {
       if (k < r.kappa_min) r.kappa_min = k, r.t_min = t;
       if (k > r.kappa_max) r.kappa_max = k, r.t_max = t;
     };
-    consider(span.segment.a, certified_end_curvature(spline, span.segment, 0));
-    consider(span.segment.b, certified_end_curvature(spline, span.segment, 1));
+    // The end curvatures analyze certified at the joints (the same
+    // certified_end_curvature values), computed here only at an open
+    // spline's two ends and beside a pole.
+    const int i = span.segment.index, N = static_cast<int>(r.spans.size());
+    const bool joints = static_cast<int>(r.analysis.joints.size()) == N - 1;
+    const Joint* before = i > 0 ? &r.analysis.joints[static_cast<std::size_t>(i - 1)]
+                                : (r.analysis.seam ? &*r.analysis.seam : nullptr);
+    const Joint* after = i + 1 < N ? &r.analysis.joints[static_cast<std::size_t>(i)]
+                                   : (r.analysis.seam ? &*r.analysis.seam : nullptr);
+    if (!joints) before = after = nullptr;
+    consider(span.segment.a, before && !before->pole ? before->kappa_right : certified_end_curvature(spline, span.segment, 0));
+    consider(span.segment.b, after && !after->pole ? after->kappa_left : certified_end_curvature(spline, span.segment, 1));
     for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
     const double scale = std::max(std::abs(lo), std::abs(hi));
     span.kappa_spread = scale > 0 ? (hi - lo) / scale : 0;
@@ -641,6 +651,20 @@ Json fixes_json(const SplineReport& r) {
   return fixes;
 }
 
+}  // namespace
+
+bool straight_only(const SplineReport& r) {
+  if (!r.error.empty() || r.spans.empty()) return false;
+  const int last = std::min(r.analysis.range.last, static_cast<int>(r.spans.size()) - 1);
+  for (int i = std::max(0, r.analysis.range.first); i <= last; ++i)
+    if (!r.spans[static_cast<std::size_t>(i)].eta_zero) return false;
+  return true;
+}
+
+std::string verdict_label(const SplineReport& r, Direction d) { return straight_only(r) ? "straight" : to_string(d); }
+
+namespace {
+
 Json spline_json(const SplineReport& r, int index) {
   Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_of(r)}};
   if (!r.error.empty()) {
@@ -651,8 +675,8 @@ Json spline_json(const SplineReport& r, int index) {
   j["degree"] = s.degree();
   j["control_points"] = s.unique_point_count();  // a closed spline's distinct points
   j["domain"] = {s.domain_begin(), s.domain_end()};
-  Json verdict{{"cmrwi", to_string(r.analysis.cmrwi)},
-               {"cmr", to_string(r.analysis.cmr)},
+  Json verdict{{"cmrwi", verdict_label(r, r.analysis.cmrwi)},
+               {"cmr", verdict_label(r, r.analysis.cmr)},
                {"cmr_algorithm2", to_string(r.analysis.cmr_algorithm2)}};
   if (r.analysis.split) verdict["split"] = to_string(*r.analysis.split);
   if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
@@ -995,8 +1019,8 @@ std::string place_text(const CurveEvent& e) {
 /// The verdicts, the size of the spline and its curvature range in one paragraph.
 void summary_html(std::string& out, const SplineReport& r, const ReportOptions& options) {
   const BSpline& s = *r.spline;
-  out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + to_string(r.analysis.cmrwi) +
-         ", CMR " + to_string(r.analysis.cmr);
+  out += "<p>check <b>" + html_escape(to_string(check_of(options))) + "</b>: CMRWI " + verdict_label(r, r.analysis.cmrwi) +
+         ", CMR " + verdict_label(r, r.analysis.cmr);
   if (r.analysis.split) out += ", split " + std::string(to_string(*r.analysis.split));
   if (r.analysis.range != SegmentRange{0, s.segment_count() - 1})
     out += " (segments " + std::to_string(r.analysis.range.first) + ".." + std::to_string(r.analysis.range.last) +
@@ -1167,7 +1191,7 @@ std::string report_html(const std::vector<SplineReport>& reports, const ReportOp
     out += "<tr><td>" + std::to_string(i) + "</td><td><a href=\"#" + id + "\">" + html_escape(r.name) + "</a></td><td>" +
            html_escape(r.file) + "</td><td>" + badge(r) + "</td>";
     if (r.error.empty())
-      out += "<td>" + std::string(to_string(r.analysis.cmrwi)) + "</td><td>" + to_string(r.analysis.cmr) + "</td><td>" +
+      out += "<td>" + verdict_label(r, r.analysis.cmrwi) + "</td><td>" + verdict_label(r, r.analysis.cmr) + "</td><td>" +
              std::to_string(r.monotone_pieces) + "</td></tr>";
     else
       out += "<td colspan=\"3\">invalid input</td></tr>";

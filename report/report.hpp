@@ -181,6 +181,15 @@ struct SplineReport {
   std::vector<CertifiedFix> certified_fixes;
 };
 
+/// Every judged segment is straight (eta == 0: zero curvature throughout; a
+/// glyph's l, I, H, -): its curvature is constant, so the pages and
+/// report.json label it "straight" rather than by a direction (analyze's
+/// Algorithm 1 says "increasing" there, docs/semantics.md).
+bool straight_only(const SplineReport& r);
+/// The label of a verdict of `r`: "straight" when straight_only(r), else
+/// to_string(d).
+std::string verdict_label(const SplineReport& r, Direction d);
+
 /// One item of a batch: a spline, or why it could not be read.
 struct ReportInput {
   std::string file;               ///< path or label

@@ -22,6 +22,7 @@
 #include "report/corpus.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
+#include "io/output.hpp"
 #include "io/svg.hpp"
 #include "report/report.hpp"
 #include "report/batch.hpp"
@@ -130,7 +131,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (bar) report::clear_progress(std::cerr);
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
-    std::cout << report::summary_line(s) << "; wrote " << args->out << '\n';
+    // The one line goes to stderr when a CI file is written to standard output.
+    const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif));
+    (piped ? std::cerr : std::cout) << report::summary_line(s) << "; wrote " << args->out << '\n';
     exit_code = s.exit_code;
   });
 }

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -177,11 +178,63 @@ TEST(ImportFont, AddedLinePointsAreNamedAfterTheirNodes) {
     if (c.font_point[k] >= 0) continue;
     ++added;
     const std::string& n = c.point_names[k];
-    EXPECT_EQ(n.rfind("I/c0/p", 0), 0u) << n;
+    EXPECT_EQ(n.rfind("I/c0/n", 0), 0u) << n;
     EXPECT_TRUE(n.find("@1/3") != std::string::npos || n.find("@2/3") != std::string::npos) << n;
     EXPECT_EQ(n.find("-"), std::string::npos) << n;
   }
   EXPECT_EQ(added, 2 * c.spline.segment_count());  // "I" is a rectangle: four lines
+  EXPECT_EQ(c.joint_names, (std::vector<std::string>{"I/c0/n0", "I/c0/n1", "I/c0/n2", "I/c0/n3"}));
+  EXPECT_EQ(c.point_names.at(1), "I/c0/n0+n1@1/3");
+  EXPECT_EQ(c.point_names.at(2), "I/c0/n0+n1@2/3");
+  EXPECT_EQ(c.point_names.back(), "I/c0/n3+n0@2/3");  // the closing line back to the first node
+}
+
+// CFF outlines (TeX Gyre Heros, Debian fonts-texgyre): the on-curve nodes
+// numbered along each contour from its first one, each handle named after
+// the node it leaves (".out") or arrives at (".in"), so "n2.out" and
+// "n3.in" are the handles of the piece n2-n3; the font's point index kept
+// in font_point. Every name of a contour is distinct, has no '-' (the
+// separator of a segment "n2-n3") and no '|' (the key separator).
+TEST(ImportFont, CffNodesAreNumberedAlongTheContourAndHandlesNamedAfterTheirNodes) {
+  const char* heros = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyreheros-regular.otf";
+  if (!std::filesystem::exists(heros)) GTEST_SKIP() << "no " << heros << " (tools/setup.sh installs fonts-texgyre)";
+  const Font font = read_font(heros, parse_glyph_spec("O,e,l,H,-"));
+  ASSERT_TRUE(font.cubic);
+  ASSERT_EQ(font.glyphs.size(), 5u);
+  for (const Glyph& g : font.glyphs)
+    for (const Contour& c : g.contours) {
+      const std::string prefix = g.name + "/c" + std::to_string(c.index) + "/";
+      std::set<std::string> seen;
+      int nodes = 0;
+      for (std::size_t k = 0; k < c.point_names.size(); ++k) {
+        const std::string& n = c.point_names[k];
+        ASSERT_EQ(n.rfind(prefix, 0), 0u) << n;
+        const std::string local = n.substr(prefix.size());
+        EXPECT_TRUE(seen.insert(local).second) << n << " twice";
+        EXPECT_EQ(local.find_first_of("-| "), std::string::npos) << n;
+        EXPECT_EQ(local.substr(0, local.find('@')).find('/'), std::string::npos) << n;  // '/' only in "@1/3"
+        if (c.node[k]) {
+          EXPECT_EQ(local, "n" + std::to_string(nodes++)) << g.name << " point " << k;
+        } else if (c.font_point[k] >= 0) {  // a handle: after the node before it, or before the node after it
+          const bool out = c.node[k - 1];
+          const int next = (nodes) % std::max(1, static_cast<int>(std::count(c.node.begin(), c.node.end(), true)));
+          EXPECT_EQ(local, out ? "n" + std::to_string(nodes - 1) + ".out" : "n" + std::to_string(next) + ".in") << n;
+        }
+      }
+      // Every segment starts at a node of a cubic contour.
+      ASSERT_EQ(c.joint_names.size(), static_cast<std::size_t>(c.spline.segment_count()));
+      for (std::size_t i = 0; i < c.joint_names.size(); ++i)
+        EXPECT_EQ(c.joint_names[i], prefix + "n" + std::to_string(i));
+    }
+  // O's outer contour: four curved pieces between four nodes.
+  const Contour& o = font.glyphs.at(0).contours.at(0);
+  EXPECT_EQ(o.point_names, (std::vector<std::string>{"O/c0/n0", "O/c0/n0.out", "O/c0/n1.in", "O/c0/n1", "O/c0/n1.out",
+                                                     "O/c0/n2.in", "O/c0/n2", "O/c0/n2.out", "O/c0/n3.in", "O/c0/n3",
+                                                     "O/c0/n3.out", "O/c0/n0.in"}))
+      << o.point_names.size();
+  // TrueType keeps the font's point numbers (what its hinting and editors use).
+  const Font tt = read_font(kDejaVu, {'l'});
+  EXPECT_EQ(tt.glyphs.at(0).contours.at(0).point_names.at(0), "l/c0/p0");
 }
 
 TEST(ImportFont, GlyphSpecAndErrors) {

@@ -351,6 +351,82 @@ TEST(OutputSetStreams, FifoWithAReaderGetsTheBytesWithoutOneIsRefused) {
   EXPECT_EQ(names_in(dir), std::vector<std::string>{"pipe"});
 }
 
+// A file written in pieces follows the same rule (report --junit, --sarif,
+// report.json): a device or FIFO is a stream, written at commit before any
+// file is renamed and never replaced; /dev/full fails with ENOSPC and leaves
+// the files of the set as they were; a FIFO gets every piece in order.
+TEST(OutputSetStreams, StagedStreamToADeviceOrFifoIsWrittenAsAStreamAtCommit) {
+  const fs::path dir = scratch("piece_stream");
+  put(dir / "a.txt", "old");
+  try {
+    OutputSet set;
+    set.stage(dir / "a.txt", "new");
+    StagedStream s = set.stage_stream("/dev/full");
+    s.write("<?xml");
+    s.write(std::string(1 << 17, 'x'));  // more than one copy buffer
+    s.close();
+    set.commit();
+    FAIL() << "no error writing /dev/full";
+  } catch (const EnvironmentError& e) {
+    EXPECT_EQ(std::string(e.what()), std::string("/dev/full: ") + std::strerror(ENOSPC));
+  }
+  EXPECT_TRUE(is_char_device("/dev/full")) << "/dev/full was replaced";
+  EXPECT_EQ(read(dir / "a.txt"), "old");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"a.txt"});
+  {
+    OutputSet set;
+    StagedStream s = set.stage_stream("/dev/null");
+    s.write("swallowed");
+    s.close();
+    set.commit();
+  }
+  EXPECT_TRUE(is_char_device("/dev/null"));
+  const fs::path fifo = dir / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  {
+    OutputSet set;
+    try {
+      (void)set.stage_stream(fifo);
+      FAIL() << "no error for a FIFO with no reader";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), fifo.string() + ": a FIFO with no reader");
+    }
+  }
+  std::string got;
+  std::thread reader([&] {
+    std::ifstream in(fifo, std::ios::binary);
+    std::ostringstream o;
+    o << in.rdbuf();
+    got = o.str();
+  });
+  bool written = false;
+  const std::string big(200000, 'b');
+  for (int k = 0; k < 500 && !written; ++k) {
+    try {
+      OutputSet set;
+      StagedStream s = set.stage_stream(fifo);
+      s.write("first,");
+      s.write(big);
+      s.write(",last");
+      s.close();
+      set.commit();
+      written = true;
+    } catch (const InputError&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  reader.join();
+  EXPECT_TRUE(written);
+  EXPECT_EQ(got, "first," + big + ",last");
+  struct stat st {};
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO was replaced";
+  // A stream and the same stream again, or a block device, are refused as by stage().
+  OutputSet set;
+  (void)set.stage_stream("/dev/null");
+  EXPECT_THROW((void)set.stage_stream("/dev/null"), InputError);
+}
+
 TEST(OutputSetStreams, SocketIsRefused) {
   const fs::path dir = scratch("socket");
   // A socket node: bind a Unix socket there.

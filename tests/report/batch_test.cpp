@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <libxml/parser.h>
 #include <libxml/tree.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,6 +37,9 @@ using Json = nlohmann::json;
 const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 // A TrueType font drawn with care for its curves (Debian fonts-noto-core, tools/setup.sh).
 const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
+const char* kNotoSerif = "/usr/share/fonts/truetype/noto/NotoSerif-Regular.ttf";
+// A CFF (cubic) font (Debian fonts-texgyre, tools/setup.sh).
+const char* kHeros = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyreheros-regular.otf";
 
 // A cubic that passes extrema-at-nodes (one segment, curvature monotone:
 // a class A spiral) and one that fails it (an S with a curvature maximum
@@ -369,6 +373,67 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A whole Latin font's pages with every type gate, the old extrema-at-nodes
+// gate included (U+0021-U+017F of DejaVu Sans, thumbnails on, --no-fixes:
+// 2,852 findings, each marked; Noto Serif, 8,964; TeX Gyre Heros), stay under 2 MB; the overview's thumbnails
+// link to the glyph's picture, which zooms to the window on a click; both
+// pages give one count of glyphs and contours, the same one.
+TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
+  const fs::path out = test::scratch() / "latin_gates";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kDejaVu +
+                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                    " --no-fixes --backend cpu --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  std::uintmax_t pages = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    if (e.path().extension() == ".html") pages += e.file_size();
+  std::cout << "DejaVu Sans U+0021-U+017F, three gates, --no-fixes: " << pages << " bytes of pages\n";
+  EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
+  const Json doc = read_json(out / "report.json");
+  EXPECT_GT(doc["summary"]["findings"].get<int>(), 2000);
+  int contours = 0, contours_fail = 0;
+  std::map<std::string, bool> glyph_pass;
+  for (const Json& sp : doc["splines"]) {
+    ++contours;
+    const bool pass = sp["status"] == "pass";
+    contours_fail += pass ? 0 : 1;
+    auto [it, fresh_glyph] = glyph_pass.emplace(sp["glyph"].get<std::string>(), pass);
+    if (!fresh_glyph) it->second = it->second && pass;
+  }
+  int glyphs_fail = 0;
+  for (const auto& [g, pass] : glyph_pass) glyphs_fail += pass ? 0 : 1;
+  // 318 characters, one of them without a contour (U+00A0, a space): it passes.
+  EXPECT_NE(r.out.find("(1 font, 318 glyphs, " + std::to_string(glyphs_fail) + " failing)"), std::string::npos) << r.out;
+  const std::string counts = glyph_count_text(318, glyphs_fail, contours, contours_fail);
+  EXPECT_EQ(counts.rfind("318 glyphs: ", 0), 0u) << counts;
+  const std::string font = test::slurp(out / "font.html"), index = test::slurp(out / "index.html");
+  EXPECT_NE(font.find(counts), std::string::npos) << counts;
+  EXPECT_NE(index.find(counts), std::string::npos) << counts;
+  EXPECT_NE(font.find("<a href=\"#g0-O\"><svg"), std::string::npos) << "the thumbnail links to its glyph";
+  EXPECT_NE(font.find("classList.toggle('zoom')"), std::string::npos);
+  // The thumbnail is a <use> clone, which the page's CSS does not reach: the
+  // drawing carries its own colours (no fill: an outline, not a black blob).
+  EXPECT_NE(font.find("<g id=\"g0-O-pic\" fill=\"none\"><g><path stroke=\"#000\""), std::string::npos);
+  // A serif font (many short segments, 8,964 findings) and a CFF font too.
+  for (const char* other : {kNotoSerif, kHeros}) {
+    if (!fs::exists(other)) {
+      ADD_FAILURE() << "no " << other << " (tools/setup.sh)";
+      continue;
+    }
+    fs::remove_all(out);
+    const test::Outcome o = test::run(std::string("report ") + other +
+                                      " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                      " --no-fixes --backend cpu --out " + out.string());
+    ASSERT_EQ(o.code, 1) << o.err;
+    std::uintmax_t bytes = 0;
+    for (const auto& e : fs::recursive_directory_iterator(out))
+      if (e.path().extension() == ".html") bytes += e.file_size();
+    std::cout << other << ": " << bytes << " bytes of pages\n";
+    EXPECT_LE(bytes, 2u * 1000 * 1000) << other << ": " << bytes << " bytes";
+  }
+}
+
 // A whole Latin font's pages (U+0021-U+017F of DejaVu Sans, thumbnails on)
 // stay under 2 MB: each glyph is drawn once, its overview thumbnail (96 px
 // high) a <use> of that drawing; index.html and font.html count glyphs and
@@ -395,11 +460,165 @@ TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
     EXPECT_FALSE(k["splines"][0].contains("certified_fixes")) << k["splines"][0]["certified_fixes"].dump();
     EXPECT_NE(test::slurp(bare / "font.html").find("<use href="), std::string::npos);
   }
-  EXPECT_NE(font.find("<g id=\"g0-O-pic\">"), std::string::npos);
+  EXPECT_NE(font.find("<g id=\"g0-O-pic\" fill=\"none\">"), std::string::npos);
   const Json doc = read_json(out / "report.json");
   const std::string counts = std::to_string(doc["splines"].size()) + " contours";
   EXPECT_NE(font.find(counts), std::string::npos) << counts;
   EXPECT_NE(test::slurp(out / "index.html").find("<td>" + std::to_string(doc["splines"].size()) + "</td>"), std::string::npos);
+}
+
+// CFF (cubic) findings are named by the nodes a font editor shows: on-curve
+// nodes numbered along the contour (n0, n1, ...), a segment by the nodes at
+// its ends (n0-n1), in report.json's findings and keys, the JUnit failures,
+// SARIF's logical locations and the font page; a baseline of the same run
+// matches every finding by these names.
+TEST(BatchCommand, CffFindingsAreNamedByTheirNodesEverywhere) {
+  if (!fs::exists(kHeros)) GTEST_SKIP() << "no " << kHeros << " (tools/setup.sh installs fonts-texgyre)";
+  const fs::path d = fresh("cff");
+  fs::copy_file(kHeros, d / "heros.otf");
+  const fs::path out = test::scratch() / "cff_out", again = test::scratch() / "cff_again";
+  for (const fs::path& p : {out, again}) fs::remove_all(p);
+  const std::string args = " --glyphs O,e,l --require extrema-at-nodes,g2-at-smooth-nodes --no-thumbnails --out ";
+  const test::Outcome r = test::run("report " + d.string() + args + out.string() + " --junit " + out.string() +
+                                    ".xml --sarif " + out.string() + ".sarif");
+  ASSERT_EQ(r.code, 1) << r.err;
+  const Json doc = read_json(out / "report.json");
+  std::set<std::string> nodes;
+  for (const Json& sp : doc["splines"])
+    for (const Json& f : sp["findings"]) {
+      const std::string node = f["node"];
+      nodes.insert(node);
+      // "n3" (at a node) or "n3-n4" (between two); never a font point index.
+      bool ok = !node.empty() && node[0] == 'n';
+      for (const char c : node) ok = ok && (std::isdigit(static_cast<unsigned char>(c)) || c == 'n' || c == '-');
+      EXPECT_TRUE(ok) << node;
+      EXPECT_NE(f["message"].get<std::string>().find(node), std::string::npos) << f["message"];
+      EXPECT_NE(f["key"].get<std::string>().find("|" + node + "|"), std::string::npos) << f["key"];
+    }
+  EXPECT_TRUE(nodes.count("n0-n1")) << "O's first curved piece";
+  const std::string key = (d / "heros.otf").string() + "|O|c0|n0-n1|extrema-at-nodes";
+  bool keyed = false;
+  for (const Json& f : doc["splines"][0]["findings"]) keyed = keyed || f["key"] == key;
+  EXPECT_TRUE(keyed) << doc["splines"][0]["findings"].dump();
+  const auto failures = check_junit(out.string() + ".xml", nullptr);
+  ASSERT_TRUE(failures.count("O"));
+  EXPECT_NE(failures.at("O").find("O/c0 between nodes n0-n1: "), std::string::npos) << failures.at("O");
+  EXPECT_FALSE(failures.count("l"));
+  bool located = false;
+  for (const Json& res : check_sarif(out.string() + ".sarif"))
+    located = located || res["locations"][0]["logicalLocations"][0]["fullyQualifiedName"] == "O/c0/n0-n1";
+  EXPECT_TRUE(located);
+  EXPECT_NE(test::slurp(out / "font.html").find("&mdash; n0 to n1</li>"), std::string::npos);
+  // The same run against its own report: every finding unchanged.
+  const test::Outcome b = test::run("report " + d.string() + args + again.string() + " --baseline " + (out / "report.json").string());
+  EXPECT_EQ(b.code, 0) << b.err;
+  EXPECT_NE(b.out.find("(baseline: 0 new, 0 fixed, " + std::to_string(doc["summary"]["findings"].get<int>()) + " unchanged)"),
+            std::string::npos)
+      << b.out;
+}
+
+// Glyphs of straight pieces only (l, I, H, hyphen) have zero curvature
+// throughout: labelled "straight" in report.json's verdict and on every
+// page, never "increasing", in a TrueType and a CFF font; a round glyph keeps
+// its verdict. A spline file of straights is labelled so on index.html.
+TEST(BatchCommand, StraightOnlyGlyphsAreLabelledStraightOnEveryPageAndInJson) {
+  for (const char* font : {kDejaVu, kHeros}) {
+    if (!fs::exists(font)) {
+      ADD_FAILURE() << "no " << font << " (tools/setup.sh)";
+      continue;
+    }
+    const fs::path out = test::scratch() / "straight";
+    fs::remove_all(out);
+    const test::Outcome r = test::run(std::string("report ") + font +
+                                      " --glyphs l,I,H,-,O --require extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
+    ASSERT_EQ(r.code, 1) << font << ": " << r.err;  // O fails
+    const Json doc = read_json(out / "report.json");
+    std::set<std::string> straight;
+    for (const Json& sp : doc["splines"]) {
+      const std::string g = sp["glyph"];
+      if (g == "O") {
+        EXPECT_NE(sp["verdict"]["cmrwi"], "straight") << font;
+        continue;
+      }
+      EXPECT_EQ(sp["verdict"]["cmrwi"], "straight") << font << " " << g;
+      EXPECT_EQ(sp["verdict"]["cmr"], "straight") << font << " " << g;
+      EXPECT_EQ(sp["status"], "pass") << font << " " << g;
+      straight.insert(g);
+    }
+    EXPECT_EQ(straight, (std::set<std::string>{"l", "I", "H", "hyphen"})) << font;
+    for (const char* page : {"font.html", "index.html"}) {
+      const std::string html = test::slurp(out / page);
+      EXPECT_EQ(html.find("increasing"), std::string::npos) << font << " " << page;
+    }
+    const std::string fp = test::slurp(out / "font.html");
+    EXPECT_NE(fp.find("<h3>l/c0: pass, straight</h3>"), std::string::npos) << font;
+    EXPECT_NE(fp.find(">pass (straight)</td>"), std::string::npos) << font;
+    EXPECT_EQ(fp.find("<h3>O/c0: fail, straight"), std::string::npos) << font;
+  }
+  const fs::path line = test::scratch() / "polyline.json";
+  write_spline_file(line, BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}}, "polyline"));
+  const fs::path out = test::scratch() / "straight_spline";
+  fs::remove_all(out);
+  ASSERT_EQ(test::run("report " + line.string() + " --require cmrwi --no-thumbnails --out " + out.string()).code, 0);
+  const std::string index = test::slurp(out / "index.html");
+  EXPECT_NE(index.find("<td>straight</td><td>straight</td>"), std::string::npos);
+  EXPECT_NE(index.find("CMRWI straight, CMR straight"), std::string::npos);
+  EXPECT_EQ(index.find("increasing"), std::string::npos);
+}
+
+// The CI files and report.json follow docs/outputs.md's rule: "-" and
+// /dev/stdout are standard output (the summary line then goes to stderr, so
+// that stdout is the file alone), a character device or a FIFO is a stream
+// never replaced (/dev/full: exit 3 with one line, and still a device;
+// nothing of the run is left), a regular file is replaced atomically.
+TEST(BatchCommand, CiFilesAreWrittenToStandardOutputDevicesAndFifosAsStreams) {
+  const fs::path wavy_file = test::scratch() / "stream_wavy.json";
+  write_spline_file(wavy_file, wavy());
+  const fs::path out = test::scratch() / "stream_out";
+  fs::remove_all(out);
+  const std::string base = "report " + wavy_file.string() + " --require extrema-at-nodes --no-thumbnails --out " + out.string();
+  const test::Outcome full = test::run(base + " --sarif /dev/full");
+  EXPECT_EQ(full.code, 3);
+  EXPECT_EQ(full.err, "cmr: /dev/full: No space left on device\n");
+  struct stat st {};
+  ASSERT_EQ(::lstat("/dev/full", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode)) << "/dev/full was replaced";
+  EXPECT_FALSE(fs::exists(out)) << "a failed stream leaves nothing of the run";
+  // --junit -: stdout is the JUnit file, well-formed, and only it.
+  const test::Outcome piped = test::run(base + " --junit -");
+  EXPECT_EQ(piped.code, 1) << piped.err;
+  EXPECT_EQ(piped.out.rfind("<?xml", 0), 0u) << piped.out.substr(0, 200);
+  const fs::path junit = test::scratch() / "stream.junit.xml";
+  { std::ofstream(junit) << piped.out; }
+  int cases = 0;
+  const auto failures = check_junit(junit, &cases);
+  EXPECT_EQ(cases, 1);
+  EXPECT_TRUE(failures.count("stream_wavy")) << piped.out;
+  EXPECT_EQ(std::count(piped.err.begin(), piped.err.end(), '\n'), 1) << piped.err;
+  EXPECT_NE(piped.err.find("1 file: 1 spline: 0 pass, 1 fail"), std::string::npos) << piped.err;
+  // /dev/stdout alike; /dev/null swallows the SARIF file and stays a device.
+  const test::Outcome dev = test::run(base + " --sarif /dev/stdout --junit /dev/null");
+  EXPECT_EQ(dev.code, 1) << dev.err;
+  EXPECT_EQ(Json::parse(dev.out)["version"], "2.1.0");
+  ASSERT_EQ(::lstat("/dev/null", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+  // Standard output named twice, a FIFO without a reader: exit 2, one line.
+  const test::Outcome twice = test::run(base + " --sarif - --junit /dev/stdout");
+  EXPECT_EQ(twice.code, 2);
+  EXPECT_EQ(std::count(twice.err.begin(), twice.err.end(), '\n'), 1) << twice.err;
+  const fs::path fifo = test::scratch() / "stream.fifo";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const test::Outcome no_reader = test::run(base + " --sarif " + fifo.string());
+  EXPECT_EQ(no_reader.code, 2);
+  EXPECT_EQ(no_reader.err, "cmr: " + fifo.string() + ": a FIFO with no reader\n");
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));  // (a FIFO with a reader: tests/io OutputSetStreams)
+  // A regular file: replaced atomically, as before.
+  const fs::path file = test::scratch() / "stream.sarif";
+  { std::ofstream(file) << "old"; }
+  EXPECT_EQ(test::run(base + " --sarif " + file.string()).code, 1);
+  EXPECT_EQ(read_json(file)["version"], "2.1.0");
 }
 
 // ------------------------------------------------------------ TrueType runs

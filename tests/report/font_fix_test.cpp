@@ -51,7 +51,7 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
       BSpline moved = contour->spline;
       for (const auto& m : f["moves"]) {
         const int k = m["point"].get<int>();
-        EXPECT_EQ(m["name"], contour->point_names.at(k)) << s["name"];  // the font's name, e.g. S/c0/p12
+        EXPECT_EQ(m["name"], contour->point_names.at(k)) << s["name"];  // the font's name, e.g. S/c0/n3.out
         EXPECT_EQ(moved.points()[k].x, m["from"][0].get<double>());
         EXPECT_EQ(moved.points()[k].y, m["from"][1].get<double>());
         moved = moved.with_point(k, Vec2(m["to"][0].get<double>(), m["to"][1].get<double>()));
@@ -69,7 +69,7 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   EXPECT_GE(count(page, "class=\"fixed\""), 2u);
   EXPECT_GE(count(page, "fixed (green) over the original (dashed)"), 2u);
   EXPECT_EQ(count(page, "κ before"), static_cast<std::size_t>(found));
-  EXPECT_NE(page.find("S/c0/p"), std::string::npos);
+  EXPECT_NE(page.find("S/c0/n"), std::string::npos);  // CFF: points named after their nodes (n3, n3.out)
 }
 
 // --no-fixes: thumbnails, no fix searched.
