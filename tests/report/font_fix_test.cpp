@@ -5,6 +5,9 @@
 // the original. Each fix is re-judged here from the JSON alone.
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include "bezierize/fix.hpp"
@@ -35,6 +38,10 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   FixRequirement gate;
   gate.kind = FixRequirement::Kind::extrema_at_nodes;
   int found = 0;
+  // Glyphs with at least one fix found (each search stops after
+  // kReportFixSeconds of wall time, so on a slow machine or under the
+  // sanitizers one glyph may have none).
+  std::set<std::string> fixed_glyphs;
   for (const auto& s : doc["splines"]) {
     EXPECT_FALSE(s.contains("tangent_fixes")) << s["name"];
     if (s["status"] != "fail") continue;
@@ -48,6 +55,7 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
       EXPECT_EQ(f["check"], "extrema-at-nodes");
       if (!f["found"].get<bool>()) continue;
       ++found;
+      fixed_glyphs.insert(s["glyph"].get<std::string>());
       BSpline moved = contour->spline;
       for (const auto& m : f["moves"]) {
         const int k = m["point"].get<int>();
@@ -66,8 +74,9 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   EXPECT_EQ(page.find("along the line to"), std::string::npos);  // the tangent table is gone
   // Per failing glyph: the fixed outline beside the original, and per fix the
   // curvature before and after.
-  EXPECT_GE(count(page, "class=\"fixed\""), 2u);
-  EXPECT_GE(count(page, "fixed (green) over the original (dashed)"), 2u);
+  EXPECT_GE(fixed_glyphs.size(), 1u);
+  EXPECT_GE(count(page, "class=\"fixed\""), fixed_glyphs.size());
+  EXPECT_GE(count(page, "fixed (green) over the original (dashed)"), fixed_glyphs.size());
   EXPECT_EQ(count(page, "κ before"), static_cast<std::size_t>(found));
   EXPECT_NE(page.find("S/c0/n"), std::string::npos);  // CFF: points named after their nodes (n3, n3.out)
 }

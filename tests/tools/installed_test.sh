@@ -65,11 +65,27 @@ step edit;     xvfb-run -a "\$cmr" edit "$data/fig8.json" --script "$data/edit.t
 step done
 EOF
 
+# A sanitizer build's runtime settings (tools/sanitize.sh) pass through; its
+# suppression file lives in the source tree, which is hidden: a copy.
+sanitizer_env=()
+for v in ASAN_OPTIONS UBSAN_OPTIONS LD_PRELOAD; do
+  [[ -n ${!v:-} ]] && sanitizer_env+=("$v=${!v}")
+done
+if [[ -n ${LSAN_OPTIONS:-} ]]; then
+  supp=$(sed -n 's/.*suppressions=\([^:]*\).*/\1/p' <<<"$LSAN_OPTIONS")
+  if [[ -n $supp && -f $supp ]]; then
+    cp "$supp" "$tmp/lsan.supp"
+    sanitizer_env+=("LSAN_OPTIONS=${LSAN_OPTIONS//"$supp"/$tmp/lsan.supp}")
+  else
+    sanitizer_env+=("LSAN_OPTIONS=$LSAN_OPTIONS")
+  fi
+fi
+
 # A bare environment: no source path, no build path; Vulkan's driver file
 # (lavapipe, a system file) for the editor.
 run_bare() {
   env -i PATH=/usr/bin:/bin HOME="$tmp/empty" \
-    VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json "$@"
+    VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json "${sanitizer_env[@]}" "$@"
 }
 if unshare -m true 2>/dev/null; then
   how="with $source hidden under an empty tmpfs"

@@ -95,7 +95,8 @@ TEST(KCurveCli, CubicChainPassesAnalyzeAndExtremaAtNodes) {
 TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
   const Outcome straight = run("kcurve " + write("k_line.json", R"({"points": [[0,0],[1,0],[2,0],[3,0]]})") + " --cubic");
   ASSERT_EQ(straight.code, 0) << straight.err;
-  for (const auto& p : nlohmann::json::parse(straight.out)["points"]) EXPECT_EQ(p[1], 0.0) << p;
+  const nlohmann::json line = nlohmann::json::parse(straight.out);  // kept: the loop below reads into it
+  for (const auto& p : line["points"]) EXPECT_EQ(p[1], 0.0) << p;
   for (const std::string& args : {std::string(" --closed"), std::string("")}) {
     const std::string text = args.empty() ? R"({"points": [[0,0],[2,0],[1,0],[3,0]]})" : R"({"points": [[0,0],[1,0],[2,0]]})";
     const Outcome r = run("kcurve " + write("k_line_bad.json", text) + args);
