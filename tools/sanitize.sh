@@ -12,17 +12,11 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMR_SANITI
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
 ninja -C build-asan -j"${CMR_JOBS:-2}" ${CMR_SANITIZE_TARGETS:-}
-# verify_asan_link_order=0: the Vulkan driver is preloaded (below).
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:verify_asan_link_order=0}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 # Third-party caches that live as long as the process (tools/lsan.supp says
 # which); print_suppressions=0 keeps the "Suppressions used" table off stderr,
 # where the tests hold cmr to one line.
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tools/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export VK_DRIVER_FILES=${VK_DRIVER_FILES:-/usr/share/vulkan/icd.d/lvp_icd.x86_64.json}
-# The Vulkan loader unloads the driver when the instance goes, so its
-# process-lifetime allocations would be reported from "<unknown module>";
-# preloaded, it stays mapped and tools/lsan.supp can name it.
-driver=$(sed -n 's/.*"library_path": *"\([^"]*\)".*/\1/p' "$VK_DRIVER_FILES" 2>/dev/null || true)
-[[ -n $driver && -f $driver ]] && export LD_PRELOAD=$driver
 ctest --test-dir build-asan --output-on-failure -j"${CMR_JOBS:-2}" "$@"

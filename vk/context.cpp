@@ -2,6 +2,11 @@
 
 #include "vk/internal.hpp"
 
+#if defined(CMR_SANITIZER_BUILD)
+#include <dlfcn.h>
+#include <link.h>
+#endif
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -336,6 +341,25 @@ struct Candidate {
   bool presents = true;  // with a surface: graphics_family presents to it and VK_KHR_swapchain exists
 };
 
+#if defined(CMR_SANITIZER_BUILD)
+// Sanitizer builds (tools/sanitize.sh): every library loaded so far, the
+// Vulkan driver among them, stays mapped until exit. The loader unloads the
+// driver with the instance, and LeakSanitizer would then report the driver's
+// process-lifetime caches from "<unknown module>", which no suppression can
+// name; mapped, they are named and suppressed (tools/lsan.supp).
+void keep_loaded_libraries() {
+  std::vector<std::string> names;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* out) {
+        if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0')
+          static_cast<std::vector<std::string>*>(out)->emplace_back(info->dlpi_name);
+        return 0;
+      },
+      &names);
+  for (const std::string& name : names) ::dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+}
+#endif
+
 // All physical devices with what device selection needs to know about them.
 // Zero devices is an error (no_device).
 Result<std::vector<Candidate>> list_devices(VkInstance instance) {
@@ -352,6 +376,9 @@ Result<std::vector<Candidate>> list_devices(VkInstance instance) {
   if (r == VK_ERROR_INITIALIZATION_FAILED) return no_device_error(r);
   if (r != VK_SUCCESS) return vk_error(r, "vkEnumeratePhysicalDevices");
   if (handles.empty()) return no_device_error(VK_SUCCESS);
+#if defined(CMR_SANITIZER_BUILD)
+  keep_loaded_libraries();
+#endif
 
   std::vector<Candidate> devices;
   devices.reserve(handles.size());

@@ -68,7 +68,7 @@ EOF
 # A sanitizer build's runtime settings (tools/sanitize.sh) pass through; its
 # suppression file lives in the source tree, which is hidden: a copy.
 sanitizer_env=()
-for v in ASAN_OPTIONS UBSAN_OPTIONS LD_PRELOAD; do
+for v in ASAN_OPTIONS UBSAN_OPTIONS; do
   [[ -n ${!v:-} ]] && sanitizer_env+=("$v=${!v}")
 done
 if [[ -n ${LSAN_OPTIONS:-} ]]; then
