@@ -315,6 +315,16 @@ TEST(OutputSetStreams, CharacterDeviceIsWrittenAsAStreamNeverReplaced) {
     EXPECT_NE(e.path().filename().string().rfind(ours, 0), 0u) << "a temporary beside a device: " << e.path();
 }
 
+// A reader of `fifo` on its own thread: everything written, into `got`.
+std::thread read_in_thread(const fs::path& fifo, std::string& got) {
+  return std::thread([&got, fifo] {
+    std::ifstream in(fifo, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    got = text.str();
+  });
+}
+
 TEST(OutputSetStreams, FifoWithAReaderGetsTheBytesWithoutOneIsRefused) {
   const fs::path dir = scratch("fifo");
   const fs::path fifo = dir / "pipe";
@@ -326,12 +336,7 @@ TEST(OutputSetStreams, FifoWithAReaderGetsTheBytesWithoutOneIsRefused) {
     EXPECT_EQ(std::string(e.what()), fifo.string() + ": a FIFO with no reader");
   }
   std::string got;
-  std::thread reader([&] {
-    std::ifstream in(fifo, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    got = s.str();
-  });
+  std::thread reader = read_in_thread(fifo, got);
   // The reader opens the FIFO; retry until it has (open for writing then succeeds).
   bool written = false;
   for (int k = 0; k < 500 && !written; ++k) {
@@ -393,12 +398,7 @@ TEST(OutputSetStreams, StagedStreamToADeviceOrFifoIsWrittenAsAStreamAtCommit) {
     }
   }
   std::string got;
-  std::thread reader([&] {
-    std::ifstream in(fifo, std::ios::binary);
-    std::ostringstream o;
-    o << in.rdbuf();
-    got = o.str();
-  });
+  std::thread reader = read_in_thread(fifo, got);
   bool written = false;
   const std::string big(200000, 'b');
   for (int k = 0; k < 500 && !written; ++k) {

@@ -62,6 +62,23 @@ void write_curve_file(const std::filesystem::path& path, const BSpline& spline, 
   out.commit();
 }
 
+namespace {
+
+// The view settings of `current` around another curve: P0 selected, no
+// group, split, segment range or kappa-curve of the curve left behind.
+Document fresh_document(const Document& current, const BSpline& spline) {
+  Document next = current;
+  next.spline = spline;
+  next.selected = 0;
+  next.group.clear();
+  next.split.reset();
+  next.segments.reset();
+  next.kcurve.reset();
+  return next;
+}
+
+}  // namespace
+
 void Editor::set_source(OpenedSource source) {
   curves = std::move(source.curves);
   font_path = std::move(source.font);
@@ -77,14 +94,7 @@ void Editor::switch_curve(int k) {
   if (k == active_curve) return;
   finish_animation();
   curves[active_curve].spline = doc().spline;
-  Document next = doc();
-  next.spline = curves[k].spline;
-  next.selected = 0;
-  next.group.clear();
-  next.split.reset();
-  next.segments.reset();
-  next.kcurve.reset();
-  history_ = History(std::move(next));
+  history_ = History(fresh_document(doc(), curves[k].spline));
   active_curve = k;
   point_names = curves[k].point_names;
   path_ = curves[k].save_as;
@@ -99,14 +109,7 @@ void Editor::open_glyph(const std::string& spec) {
   if (font_path.empty()) throw InputError("glyph: no font is open (cmr edit FONT --glyph X)");
   OpenedSource s = open_source(font_path, spec, curves.empty() ? "." : curves[0].save_as.parent_path());
   const std::string what = s.what;
-  Document next = doc();
-  next.spline = s.curves[0].spline;
-  next.selected = 0;
-  next.group.clear();
-  next.split.reset();
-  next.segments.reset();
-  next.kcurve.reset();
-  history_ = History(std::move(next));
+  history_ = History(fresh_document(doc(), s.curves[0].spline));
   set_source(std::move(s));
   hidden_points.clear();
   changed_document();
