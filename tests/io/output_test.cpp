@@ -315,6 +315,17 @@ TEST(OutputSetStreams, CharacterDeviceIsWrittenAsAStreamNeverReplaced) {
     EXPECT_NE(e.path().filename().string().rfind(ours, 0), 0u) << "a temporary beside a device: " << e.path();
 }
 
+// `write` to `fifo` while nobody reads it is refused with one message.
+template <class Write>
+void expect_no_reader_refused(const fs::path& fifo, Write write) {
+  try {
+    write();
+    ADD_FAILURE() << "no error for a FIFO with no reader";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), fifo.string() + ": a FIFO with no reader");
+  }
+}
+
 // A reader of `fifo` on its own thread: everything written, into `got`.
 std::thread read_in_thread(const fs::path& fifo, std::string& got) {
   return std::thread([&got, fifo] {
@@ -329,12 +340,7 @@ TEST(OutputSetStreams, FifoWithAReaderGetsTheBytesWithoutOneIsRefused) {
   const fs::path dir = scratch("fifo");
   const fs::path fifo = dir / "pipe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  try {
-    write_file_atomic(fifo, "x");
-    FAIL() << "no error for a FIFO with no reader";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), fifo.string() + ": a FIFO with no reader");
-  }
+  expect_no_reader_refused(fifo, [&] { write_file_atomic(fifo, "x"); });
   std::string got;
   std::thread reader = read_in_thread(fifo, got);
   // The reader opens the FIFO; retry until it has (open for writing then succeeds).
@@ -388,15 +394,10 @@ TEST(OutputSetStreams, StagedStreamToADeviceOrFifoIsWrittenAsAStreamAtCommit) {
   EXPECT_TRUE(is_char_device("/dev/null"));
   const fs::path fifo = dir / "pipe";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  {
+  expect_no_reader_refused(fifo, [&] {
     OutputSet set;
-    try {
-      (void)set.stage_stream(fifo);
-      FAIL() << "no error for a FIFO with no reader";
-    } catch (const InputError& e) {
-      EXPECT_EQ(std::string(e.what()), fifo.string() + ": a FIFO with no reader");
-    }
-  }
+    (void)set.stage_stream(fifo);
+  });
   std::string got;
   std::thread reader = read_in_thread(fifo, got);
   bool written = false;
