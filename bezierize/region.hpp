@@ -122,6 +122,10 @@ struct RegionPixel {
   bool exact = false;      ///< the exact rational path ran
 };
 
+/// `pixel` (classified for `request`) is in the region: its label of the
+/// request's kind is a certified pass, as RegionResult::in_region reads it.
+bool in_region(const RegionPixel& pixel, const RegionRequest& request);
+
 /// A validated, prepared region problem: the exact piece polynomials of the
 /// moved segments and the fixed segments' classes, computed once. Cheap to
 /// copy (shared immutable state); reusable for many renders and for single

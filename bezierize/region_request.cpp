@@ -15,12 +15,30 @@ std::vector<std::uint8_t> RegionResult::codes() const {
   return out;
 }
 
-bool RegionResult::in_region(std::size_t index) const {
-  const std::uint8_t c = code_at(index);
+namespace {
+
+// The one rule of "in the region" over label codes: a certified pass of the
+// request's kind of label (not a fail, not undecided).
+bool passes(std::uint8_t c, bool each_piece, bool alternating, bool split) {
   if (each_piece) return c == code(EachPiece::monotone);
   if (alternating) return c == code(Alternation::first_increasing) || c == code(Alternation::first_decreasing);
   if (split) return c >= code(Split::inc_inc) && c <= code(Split::dec_dec);
   return c == code(Direction::increasing) || c == code(Direction::decreasing);
+}
+
+}  // namespace
+
+bool RegionResult::in_region(std::size_t index) const {
+  return passes(code_at(index), each_piece, alternating, split);
+}
+
+bool in_region(const RegionPixel& pixel, const RegionRequest& request) {
+  const bool alternating = !request.splits.empty();
+  const std::uint8_t c = request.each_piece ? code(pixel.piece_label)
+                         : alternating      ? code(pixel.alternating_label)
+                         : request.split.has_value() ? code(pixel.split_label)
+                                            : code(pixel.label);
+  return passes(c, request.each_piece, alternating, request.split.has_value());
 }
 
 int RegionResult::label_codes() const {

@@ -120,6 +120,41 @@ TEST(Region, IgnoredSegmentsDoNotChangeTheLabel) {
   }
 }
 
+// "In the region" read from one classified position is what the rendered
+// image says of the pixel centred there, for every kind of label (plain,
+// a split, alternating splits, each piece), on Fig. 10's spline with P4
+// moving, where each kind has positions in and out of the region.
+TEST(Region, InRegionOfAPixelEqualsTheRenderedImage) {
+  const BSpline fig10 = BSpline::make(3, {0, 0, 0, 1, 2, 3, 3, 3},
+                                      {{0, 0}, {0.33, 0}, {1.27, -0.27}, {3.46, -2.1}, {5.45, -4.7}, {5.4, -5.8}});
+  struct Case {
+    std::optional<int> split;
+    std::vector<int> splits;
+    bool each_piece;
+  };
+  const Case cases[] = {{{}, {}, false}, {2, {}, false}, {{}, {2}, false}, {{}, {2}, true}};
+  for (const Case& c : cases) {
+    RegionRequest o;
+    o.point = 4;
+    o.split = c.split;
+    o.splits = c.splits;
+    o.each_piece = c.each_piece;
+    o.width = o.height = 48;
+    const RegionProblem problem = RegionProblem::make(fig10, o);
+    const RegionResult img = CpuRegionBackend(1).render(problem);
+    int inside = 0;
+    for (int j = 0; j < img.height; ++j)
+      for (int i = 0; i < img.width; ++i) {
+        const std::size_t k = static_cast<std::size_t>(j) * img.width + i;
+        const bool here = in_region(problem.classify(pixel_center(img.view, img.width, img.height, i, j)), o);
+        ASSERT_EQ(here, img.in_region(k)) << "case " << (&c - cases) << " pixel " << i << "," << j;
+        inside += here;
+      }
+    EXPECT_GT(inside, 0) << "case " << (&c - cases) << ": no position in the region";
+    EXPECT_LT(inside, img.width * img.height) << "case " << (&c - cases) << ": every position in the region";
+  }
+}
+
 // The single-position classifier against analyze of the moved spline, for
 // ranges, one split in a range, and several joints.
 TEST(Region, SegmentControlMatchesAnalyzeOfTheMovedSpline) {

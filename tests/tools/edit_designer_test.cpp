@@ -215,7 +215,7 @@ TEST(EditViews, FitFramesCurveCombAndRegionAndFitRegionZoomsOntoIt) {
   const std::vector<const RegionResult*>& layers = e.region();
   ASSERT_EQ(layers.size(), 1u);
   std::size_t inside = 0;
-  for (std::size_t i = 0; i < layers[0]->size(); ++i) inside += in_region(*layers[0], i);
+  for (std::size_t i = 0; i < layers[0]->size(); ++i) inside += layers[0]->in_region(i);
   EXPECT_GT(inside, layers[0]->size() / 50) << "the region shows large after fit region";
   // Far from the curve nothing of P0's region shows: said, and the view kept.
   e.select(0);
@@ -312,7 +312,7 @@ TEST(EditConstrainedDrag, StopsAtTheRegionsBoundaryOnACertifiedPosition) {
     for (int i = 3; i < layer.width - 3 && !deep; ++i) {
       bool all = true;
       for (int dj = -3; dj <= 3; ++dj)
-        for (int di = -3; di <= 3; ++di) all = all && in_region(layer, static_cast<std::size_t>(j + dj) * layer.width + i + di);
+        for (int di = -3; di <= 3; ++di) all = all && layer.in_region(static_cast<std::size_t>(j + dj) * layer.width + i + di);
       if (all) deep = pixel_center(*rq.view, rq.width, rq.height, i, j);
     }
   ASSERT_TRUE(deep.has_value());

@@ -128,14 +128,6 @@ std::array<int, 3> bytes_of(draw::Rgb c) {
   return {byte(c.r), byte(c.g), byte(c.b)};
 }
 
-bool in_region(const RegionResult& r, std::size_t i) {
-  const std::uint8_t c = r.code_at(i);
-  if (r.each_piece) return c == code(EachPiece::monotone);
-  if (r.alternating) return c == 1 || c == 2;
-  if (r.split) return c >= 1 && c <= 4;
-  return c == 1 || c == 2;
-}
-
 View canvas_view(const Editor& e) {
   const Viewport& v = e.viewport();
   const auto [cw, ch] = e.canvas();
@@ -231,7 +223,7 @@ std::optional<std::pair<Vec2, Vec2>> region_box(const Editor& e, double zoom, in
   const double px = 2 * hw / r.width, py = 2 * hh / r.height;
   for (int j = 0; j < res.height; ++j)
     for (int i = 0; i < res.width; ++i) {
-      if (!in_region(res, static_cast<std::size_t>(j) * res.width + i)) continue;
+      if (!res.in_region(static_cast<std::size_t>(j) * res.width + i)) continue;
       const Vec2 lo{r.view->x0 + i * px, r.view->y1 - (j + 1) * py}, hi{lo.x + px, lo.y + py};
       if (!box) box = std::pair{lo, hi};
       else grow(*box, lo), grow(*box, hi);
@@ -284,7 +276,7 @@ Legend region_legend(Editor& e) {
     }
     for (const RegionResult* r : layers) {
       bool any = false;
-      for (std::size_t j = 0; j < r->size() && !any; ++j) any = in_region(*r, j);
+      for (std::size_t j = 0; j < r->size() && !any; ++j) any = r->in_region(j);
       cache.any.push_back(any);
     }
   }
@@ -367,17 +359,6 @@ std::vector<PlacedLabel> place_labels(const std::vector<Vec2>& pts, const std::v
 
 namespace cmr::edit {
 
-namespace {
-
-bool pixel_inside(const RegionPixel& px, const RegionRequest& r) {
-  if (r.each_piece) return px.piece_label == EachPiece::monotone;
-  if (!r.splits.empty()) return code(px.alternating_label) == 1 || code(px.alternating_label) == 2;
-  if (r.split) return code(px.split_label) >= 1 && code(px.split_label) <= 4;
-  return px.label == Direction::increasing || px.label == Direction::decreasing;
-}
-
-}  // namespace
-
 bool Editor::in_selected_region(Vec2 p) const {
   const Document& d = doc();
   if (d.all_points || d.kcurve) return false;
@@ -385,7 +366,7 @@ bool Editor::in_selected_region(Vec2 p) const {
   if (q.size() != 1) return false;
   RegionRequest r = q.front();
   r.depth = false;
-  return pixel_inside(RegionProblem::make(region_spline(), r).classify(p), r);
+  return in_region(RegionProblem::make(region_spline(), r).classify(p), r);
 }
 
 Vec2 Editor::constrained_target(Vec2 from, Vec2 to) const {
@@ -398,7 +379,7 @@ Vec2 Editor::constrained_target(Vec2 from, Vec2 to) const {
   try {
     // The region of P_k does not depend on where P_k stands: one problem.
     const RegionProblem problem = RegionProblem::make(region_spline(), r);
-    const auto inside = [&](Vec2 p) { return pixel_inside(problem.classify(p), r); };
+    const auto inside = [&](Vec2 p) { return in_region(problem.classify(p), r); };
     if (inside(to) || !inside(from)) return to;
     double in = 0, out = 1;  // from + (to - from) * s: inside at `in`, outside at `out`
     for (int i = 0; i < kConstrainSteps; ++i) {

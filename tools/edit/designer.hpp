@@ -43,11 +43,6 @@ Legend region_legend(Editor& e);
 /// A colour as the window shows it (the bytes region_rgba writes).
 std::array<int, 3> bytes_of(draw::Rgb c);
 
-/// Whether region pixel i of a layer is inside the region (monotone in the
-/// layer's sense: increasing or decreasing, any split label but none, each
-/// piece monotone, an alternation); undecided and failing pixels are not.
-bool in_region(const RegionResult& r, std::size_t i);
-
 /// The world rectangle the canvas shows (the part of the view the panels
 /// leave free; the whole view without the UI).
 View canvas_view(const Editor& e);

@@ -125,7 +125,7 @@ void draw_outlines(Editor& e, ImDrawList* dl) {
       const RegionResult& r = *layers[l];
       const ImU32 col = colour_u32(draw::point_colour(points[l]));
       const auto in = [&](int i, int j) {
-        return i >= 0 && j >= 0 && i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i);
+        return i >= 0 && j >= 0 && i < r.width && j < r.height && r.in_region(static_cast<std::size_t>(j) * r.width + i);
       };
       for (int j = 0; j <= r.height; ++j) {  // horizontal edges above row j, in runs
         int run = -1;
@@ -826,7 +826,7 @@ void canvas_readout(Editor& e) {
     for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
       const RegionResult& r = *layers[l];
       const int i = static_cast<int>(m.x) / c, j = static_cast<int>(m.y) / c;
-      if (i < r.width && j < r.height && in_region(r, static_cast<std::size_t>(j) * r.width + i))
+      if (i < r.width && j < r.height && r.in_region(static_cast<std::size_t>(j) * r.width + i))
         owners += (owners.empty() ? "" : ", ") + e.point_name(points[l]);
     }
     if (!owners.empty()) text += (text.empty() ? "" : "\n") + ("in the region of " + owners);
