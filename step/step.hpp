@@ -18,10 +18,11 @@
 /// Conversion (OCCT knots + multiplicities -> cmr's polar-form knots):
 ///  - open curves: OCCT's flat knot sequence (KnotSequence, points + degree +
 ///    1 values) without its first and last value: m points, m + d - 1 knots;
-///  - periodic curves: "closed": true with the m distinct poles and the m + 1
-///    knots of one period (docs/spline-files.md) when that curve evaluates as
-///    OCCT's does; otherwise the curve is unperiodised (SetNotPeriodic, the
-///    same curve as an open B-spline);
+///  - periodic curves: "closed": true with the m distinct poles (rotated so
+///    that cmr's first span uses the poles OCCT's does) and the m + 1 knots of
+///    one period, each knot as often as its multiplicity (docs/spline-files.md),
+///    when that curve evaluates as OCCT's does; otherwise the curve is
+///    unperiodised (SetNotPeriodic, the same curve as an open B-spline);
 ///  - rational curves: "weights" (one per point); a rational curve whose
 ///    weights are all equal is the polynomial curve and gets none.
 /// Every converted curve is evaluated against OCCT's at sample parameters

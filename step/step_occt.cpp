@@ -160,9 +160,24 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
       if (g->IsPeriodic()) {
         fill_closed(c, g);
         bool ok = false;
-        try {
-          ok = conversion_error(c, g) <= kTolerance;
-        } catch (const InputError&) {
+        const std::vector<Vec3> poles = c.points;
+        const std::vector<double> weights = c.weights;
+        const std::size_t m = poles.size();
+        // OCCT's first span [k1, k2] uses poles 1..d+1; cmr's first non-empty
+        // span is u_{r-1} (r: k1's multiplicity) and uses P_{r-1}..: so P_i is
+        // pole i - (r - 1), cyclically. The other rotations are tried too
+        // (each checked by evaluation) before the curve is unperiodised.
+        const std::size_t predicted = (m - static_cast<std::size_t>(g->Multiplicity(1) - 1) % m) % m;
+        for (std::size_t k = 0; k < m && !ok; ++k) {
+          const std::size_t shift = (predicted + k) % m;
+          for (std::size_t i = 0; i < m; ++i) {
+            c.points[i] = poles[(i + shift) % m];
+            if (!weights.empty()) c.weights[i] = weights[(i + shift) % m];
+          }
+          try {
+            ok = conversion_error(c, g) <= kTolerance;
+          } catch (const InputError&) {
+          }
         }
         if (!ok) {
           g->SetNotPeriodic();
