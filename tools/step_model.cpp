@@ -1,4 +1,4 @@
-// cmr_step_model OUT.step: writes the small CAD model of the STEP QA example
+// cmr_step_model OUT.step [COPIES]: writes the small CAD model of the STEP QA example
 // and tests (docs/space.md, "QA of a CAD model") with OpenCASCADE, so that no
 // model is downloaded or committed as a binary:
 //  - a 40 x 30 x 20 box with its 12 edges filleted (radius 4): lines,
@@ -10,14 +10,18 @@
 //    (GeomAPI_Interpolate, non-uniform knots), a rational B-spline edge (a
 //    circle arc converted, GeomConvert), a Bezier edge of degree 5, and a
 //    clamped quartic B-spline with an interior triple knot.
-// Deterministic: the same file on every run (the writer's time stamp aside).
+// COPIES (default 1) places that many copies side by side, 200 apart in y
+// (the benchmark's larger model). Deterministic: the same file on every run
+// (the writer's time stamp aside).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -43,6 +47,7 @@
 #include <TopoDS_Compound.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Circ.hxx>
+#include <gp_Trsf.hxx>
 
 namespace {
 
@@ -85,8 +90,9 @@ TopoDS_Shape loft() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: cmr_step_model OUT.step\n");
+  const int copies = argc == 3 ? std::atoi(argv[2]) : 1;
+  if ((argc != 2 && argc != 3) || copies < 1 || copies > 10000) {
+    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000]\n");
     return 2;
   }
   Message::DefaultMessenger()->ChangePrinters().Clear();  // OCCT's progress lines
@@ -115,9 +121,16 @@ int main(int argc, char** argv) {
     knots.SetValue(1, 0), knots.SetValue(2, 1.5), knots.SetValue(3, 4);
     mults.SetValue(1, 5), mults.SetValue(2, 3), mults.SetValue(3, 5);  // 5 + 3 + 5 = 8 + 4 + 1
     b.Add(model, BRepBuilderAPI_MakeEdge(Handle(Geom_BSplineCurve)(new Geom_BSplineCurve(poles, knots, mults, 4))));
+    TopoDS_Compound all;
+    b.MakeCompound(all);
+    for (int k = 0; k < copies; ++k) {
+      gp_Trsf shift;
+      shift.SetTranslation(gp_Vec(0, 200.0 * k, 0));
+      b.Add(all, k == 0 ? TopoDS_Shape(model) : BRepBuilderAPI_Transform(model, shift, true).Shape());
+    }
     STEPControl_Writer writer;
     Interface_Static::SetCVal("write.step.schema", "AP214CD");
-    if (writer.Transfer(model, STEPControl_AsIs) != IFSelect_RetDone) {
+    if (writer.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone) {
       std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
       return 3;
     }
