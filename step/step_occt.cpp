@@ -154,8 +154,14 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
       if (first > last) std::swap(first, last);
       if (first > g->FirstParameter() + eps || last < g->LastParameter() - eps ||
           (g->IsPeriodic() && (std::abs(first - g->FirstParameter()) > eps || std::abs(last - g->LastParameter()) > eps))) {
+        const double period = g->IsPeriodic() ? g->Period() : 0;
         g->Segment(first, last);
         c.trimmed = true;
+        // Part of a periodic curve is an open curve (a whole period, shifted, stays closed).
+        if (g->IsPeriodic() && last - first < period - eps) {
+          g->SetNotPeriodic();
+          c.unperiodised = true;
+        }
       }
       if (g->IsPeriodic()) {
         fill_closed(c, g);

@@ -141,6 +141,22 @@ TEST(StepConvert, TrimmedEdgeKeepsOnlyItsRange) {
   expect_same_curve(c, g, a, b);
 }
 
+TEST(StepConvert, PartOfAPeriodicCurveIsOpen) {
+  const Handle(Geom_BSplineCurve) g = interpolate(8, true, 11);
+  const double p0 = g->FirstParameter(), span = g->LastParameter() - p0;
+  for (const auto& [a, b] : {std::pair{p0 + 0.1 * span, p0 + 0.6 * span}, std::pair{p0 + 0.5 * span, p0 + 1.3 * span}}) {
+    const StepCurves r = curves_of(BRepBuilderAPI_MakeEdge(Handle(Geom_Curve)(g), a, b).Edge());
+    ASSERT_EQ(r.curves.size(), 1u);
+    const StepCurve& c = r.curves[0];
+    EXPECT_FALSE(c.closed) << a << " " << b;
+    EXPECT_TRUE(c.trimmed);
+    const SpaceSpline s = SpaceSpline::make(c.degree, c.knots, c.points);
+    EXPECT_NEAR(s.domain_begin(), a, 1e-9);
+    EXPECT_NEAR(s.domain_end(), b, 1e-9);
+    expect_same_curve(c, g, a, b);  // OCCT's periodic curve beyond its first period too
+  }
+}
+
 TEST(StepConvert, RationalCurvesGetWeights) {
   const Handle(Geom_TrimmedCurve) arc =
       GC_MakeArcOfCircle(gp_Circ(gp_Ax2(gp_Pnt(1, 2, 3), gp_Dir(1, 1, 1)), 5), 0.2, 2.0, true);
