@@ -12,6 +12,7 @@
 #include "io/font.hpp"
 #include "io/svg.hpp"
 #include "io/obj.hpp"
+#include "step/step.hpp"
 
 namespace cmr::cli {
 
@@ -28,8 +29,8 @@ struct ImportArgs {
 
 void add_import_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ImportArgs>();
-  auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF), SVG paths or OBJ curves as spline files");
-  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...), SVG file (.svg) or Wavefront OBJ curves (.obj)")->required();
+  auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF), SVG paths, OBJ or STEP curves as spline files");
+  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...), SVG file (.svg), Wavefront OBJ curves (.obj) or STEP model (.step, .stp)")->required();
   cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated)")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
@@ -72,6 +73,23 @@ void add_import_command(CLI::App& app, int& exit_code) {
       files.commit();
       std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " from "
                 << args->input << " into " << dir.string() << '\n';
+    } else if (ext == ".step" || ext == ".stp") {  // B-spline curves and edges through OpenCASCADE (step/step.hpp)
+      if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
+      const import::StepCurves curves = import::read_step_curves(input);
+      const std::filesystem::path dir = args->out;
+      files.create_folder(dir);
+      files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
+      for (const import::StepCurve& c : curves.curves) {
+        files.stage(dir / (input.stem().string() + "_e" + std::to_string(c.edge) + ".json"),
+                    import::step_curve_json(c).dump(2) + "\n");
+        ++written;
+        rational += c.weights.empty() ? 0 : 1;
+      }
+      files.commit();
+      const std::string skipped = import::skipped_summary(curves);
+      std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " (" << rational
+                << " rational) of " << curves.edges << " edges from " << args->input << " into " << dir.string()
+                << (skipped.empty() ? "" : "; skipped " + skipped) << '\n';
     } else if (import::is_font_path(input)) {
       const import::Font font = import::read_font(input, import::parse_glyph_spec(args->glyphs));
       const std::filesystem::path dir = args->out;
@@ -92,7 +110,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       if (!font.missing.empty()) std::cout << "; " << font.missing.size() << " characters not in the font";
       std::cout << '\n';
     } else {
-      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff), .svg or .obj file");
+      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff), .svg, .obj or .step/.stp file");
     }
     exit_code = kOk;
   });

@@ -50,6 +50,8 @@ struct RegionArgs {
   int samples = WeightRegionRequest{}.samples;
   std::string plot, json_out;
   std::string plane;  // space curves: --plane (tools/cmd_space.hpp)
+  std::string mesh;   // space curves: --mesh OUT.obj|OUT.ply, the tube and the patch (draw/space_mesh.hpp)
+  double tube_radius = 0;
   /// Options given on the command line, by name (to refuse those of the
   /// other mode with one line).
   std::vector<std::pair<std::string, const CLI::Option*>> given;
@@ -415,6 +417,9 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--stats", a->stats, "report timings and the share of pixels that needed the exact path");
   cmd->add_option("--plane", a->plane, "space curves: the plane K moves in, xy|yz|zx through K or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ "
                                        "(default: through K, spanned by its neighbours; docs/space.md)");
+  cmd->add_option("--mesh", a->mesh, "space curves: the curve as a tube and the region as a patch in its plane, .obj or .ply");
+  cmd->add_option("--tube-radius", a->tube_radius, "space curves: the --mesh tube's radius (default: 0.4% of the "
+                                                   "control points' bounding box diagonal)");
   add_pretty_flag(*cmd, a->pretty);
   for (CLI::Option* o : cmd->get_options()) a->given.emplace_back(o->get_name(), o);
   cmd->callback([a, &exit_code] {
@@ -422,7 +427,7 @@ void add_region_command(CLI::App& app, int& exit_code) {
       refuse_options(*a, {"--weight", "--with", "--split", "--segments", "--mode", "--contours", "--device", "--precision"},
                      "is for planar splines (" + a->file + " is a space curve)");
       run_space_region({a->file, a->point, a->plane, a->size, a->view, a->backend, a->depth, a->png, a->labels,
-                        a->depth_map, a->stats, a->pretty});
+                        a->depth_map, a->stats, a->pretty, a->mesh, a->tube_radius});
       exit_code = kOk;
       return;
     }
@@ -430,6 +435,8 @@ void add_region_command(CLI::App& app, int& exit_code) {
       (void)read_spline_file(a->file);  // an unreadable file says so first
       refuse_options(*a, {"--plane"}, "is for space curves (" + a->file + " is planar)");
     }
+    refuse_options(*a, {"--mesh", "--tube-radius"}, "is for space curves (" + a->file + " is planar; --contours FILE.obj|ply "
+                                                     "meshes a planar region)");
     if (a->weight) {
       run_weight_region(*a);
     } else {

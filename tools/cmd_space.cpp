@@ -7,6 +7,7 @@
 
 #include "bezierize/space_region.hpp"
 #include "draw/draw.hpp"
+#include "draw/space_mesh.hpp"
 #include "io/output.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
@@ -80,6 +81,11 @@ void run_space_region(const SpaceRegionArgs& a) {
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
+  if (!a.mesh.empty()) check_output_path(a.mesh, "--mesh"), mesh::check_mesh_file_name(a.mesh);
+  mesh::TubeOptions tube;
+  tube.radius = a.tube_radius == 0 ? mesh::default_tube_radius(spline) : a.tube_radius;
+  if (!(tube.radius > 0) || !std::isfinite(tube.radius))
+    throw InputError("--tube-radius: must be a positive number (got " + std::to_string(a.tube_radius) + ")");
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
   const RegionResult img = problem.render();
   const SpacePlane& plane = *problem.request().plane;
@@ -100,6 +106,13 @@ void run_space_region(const SpaceRegionArgs& a) {
   }
   if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png"))
     out.stage(a.depth_map, pgm(img, img.depth, std::max(1, r.max_depth)));
+  std::size_t mesh_faces = 0;
+  if (!a.mesh.empty()) {  // the curve as a tube and the region as a patch in its plane
+    mesh::Mesh m = mesh::plane_patch(img, plane);
+    mesh::append(m, mesh::curve_tube(spline, tube));
+    mesh_faces = m.n_faces();
+    out.stage(a.mesh, mesh::mesh_file(a.mesh, m));
+  }
   out.commit();
   std::uint64_t counts[kRegionLabelCodes] = {};
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
@@ -113,6 +126,7 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"backend", "cpu"},
                                 {"point", r.point},
                                 {"counts", c}};
+  if (!a.mesh.empty()) doc["mesh"] = {{"faces", mesh_faces}, {"tube_radius", tube.radius}};
   if (a.stats) {
     doc["seconds"] = img.seconds;
     doc["exact_pixels"] = img.exact_pixels;

@@ -21,6 +21,8 @@ struct SpaceRegionArgs {
   int depth = kDefaultDepth;
   std::string png, labels, depth_map;
   bool stats = false, pretty = false;
+  std::string mesh;        ///< --mesh OUT.obj|OUT.ply: the tube and the plane patch (draw/space_mesh.hpp)
+  double tube_radius = 0;  ///< --tube-radius (0: mesh::default_tube_radius)
 };
 /// `cmr region FILE --point K [--plane xy|yz|zx|O,U,V]` on a space curve:
 /// writes the outputs (all or none) and prints the JSON summary. The CPU

@@ -4,6 +4,9 @@
 # at all when nothing is missing. Run as root on Debian 12 (or with sudo).
 # clang + libclang-rt-14-dev (libFuzzer, ASan, UBSan runtimes; only a
 # Recommends of clang, so named here) are for fuzz/run.sh.
+# libocct-data-exchange-dev (OpenCASCADE's STEP reader; it pulls in the other
+# libocct-*-dev packages) and libtbb-dev (a library OCCT's CMake targets name)
+# are for the STEP importer (step/); without them cmr builds without it.
 set -euo pipefail
 
 packages=(
@@ -15,6 +18,7 @@ packages=(
   chromium fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth
   libopenmesh-dev
+  libocct-data-exchange-dev libtbb-dev
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
   fonts-noto-core fonts-texgyre

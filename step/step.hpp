@@ -1,0 +1,78 @@
+#pragma once
+/// Space curves from STEP files (issue 25) through OpenCASCADE (OCCT, Debian's
+/// libocct-*-dev packages): the B-spline and Bezier curves of a STEP model,
+/// the edges of its B-rep shapes included, as cmr space spline files.
+///
+/// What is read: every root the STEP reader transfers (STEPControl_Reader:
+/// solids, shells, faces, wires, edges, geometric curve sets), then every
+/// distinct edge of the resulting shape (TopExp::MapShapes: an edge shared by
+/// two faces counts once), in the order OCCT numbers them. An edge's 3D curve
+/// (BRep_Tool::Curve, its location applied; a Geom_TrimmedCurve's basis
+/// curve) is kept when it is a Geom_BSplineCurve or a Geom_BezierCurve (a
+/// Bezier curve becomes a one-span B-spline); the part of it the edge uses
+/// (its parameter range) is what is converted (Geom_BSplineCurve::Segment). Every other curve type (lines,
+/// circles, ellipses, offset curves, ...) and degenerated edges (no 3D curve)
+/// are skipped and counted by type (StepCurves::skipped), and so are
+/// B-splines of degree 1 (polylines: cmr's splines have degree >= 2).
+///
+/// Conversion (OCCT knots + multiplicities -> cmr's polar-form knots):
+///  - open curves: OCCT's flat knot sequence (KnotSequence, points + degree +
+///    1 values) without its first and last value: m points, m + d - 1 knots;
+///  - periodic curves: "closed": true with the m distinct poles (rotated so
+///    that cmr's first span uses the poles OCCT's does) and the m + 1 knots of
+///    one period, each knot as often as its multiplicity (docs/spline-files.md),
+///    when that curve evaluates as OCCT's does; otherwise the curve is
+///    unperiodised (SetNotPeriodic, the same curve as an open B-spline);
+///  - rational curves: "weights" (one per point); a rational curve whose
+///    weights are all equal is the polynomial curve and gets none.
+/// Every converted curve is evaluated against OCCT's at sample parameters
+/// (error <= 1e-9 of its bounding box), so a conversion slip cannot pass
+/// silently (InputError naming the edge).
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+namespace cmr::import {
+
+struct StepCurve {
+  std::string name;          ///< "edge N" (N: OCCT's 1-based edge index)
+  int edge = 0;              ///< that index
+  std::string type;          ///< "Geom_BSplineCurve" or "Geom_BezierCurve"
+  int degree = 0;
+  std::vector<double> knots;  ///< cmr's polar-form knots (one period when closed)
+  std::vector<glm::dvec3> points;
+  std::vector<double> weights;  ///< empty: polynomial
+  bool closed = false;
+  bool unperiodised = false;  ///< OCCT's curve was periodic and is written open
+  bool trimmed = false;       ///< the edge uses part of the curve's domain
+};
+
+struct StepCurves {
+  std::vector<StepCurve> curves;
+  int edges = 0;                         ///< distinct edges in the model
+  std::map<std::string, int> skipped;    ///< curve type (or "degenerated edge") -> count
+};
+
+/// Whether this cmr was built with the STEP importer (OCCT found at configure time).
+bool step_supported();
+
+/// The curves of a STEP file. InputError "FILE: ..." (one line) when the file
+/// cannot be read, is not STEP, or holds no B-spline or Bezier curve ("FILE:
+/// no B-spline or Bezier curves (12 edges: 12 Geom_Line skipped)");
+/// InputError "FILE: cmr was built without STEP support (OpenCASCADE was not
+/// found when it was configured; tools/setup.sh installs it)" in a build
+/// without OCCT.
+StepCurves read_step_curves(const std::filesystem::path& path);
+
+/// The spline file of a curve: {"name", "degree", "knots", "points" ([x, y, z]),
+/// "weights" (rational only), "closed" (closed only)}.
+nlohmann::ordered_json step_curve_json(const StepCurve& curve);
+
+/// "12 Geom_Line, 2 Geom_Circle" (empty when nothing was skipped).
+std::string skipped_summary(const StepCurves& curves);
+
+}  // namespace cmr::import

@@ -1,0 +1,237 @@
+// The STEP importer through OpenCASCADE (step/step.hpp).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <BRep_Tool.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_TrimmedCurve.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <Precision.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Shape.hxx>
+
+#include "spline/errors.hpp"
+#include "spline/space.hpp"
+#include "spline/spline_json.hpp"
+#include "step/step.hpp"
+#include "step/step_occt.hpp"
+
+namespace cmr::import {
+
+namespace {
+
+// OCCT's reader reports through Message::DefaultMessenger (to standard
+// output): cmr's standard output is its JSON, so the printers go, once.
+void silence_occt() {
+  static const bool done = [] {
+    Message::DefaultMessenger()->ChangePrinters().Clear();
+    return true;
+  }();
+  (void)done;
+}
+
+// cmr's spline of the homogeneous coordinates (w x, w y, w z) and of w (as
+// (w, 0, 0)), to evaluate the converted rational curve with cmr's own code.
+double conversion_error(const StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
+  std::vector<Vec3> num, den;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const double w = c.weights.empty() ? 1.0 : c.weights[i];
+    num.push_back(c.points[i] * w);
+    den.push_back({w, 0, 0});
+  }
+  const auto make = [&](std::vector<Vec3> p) {
+    return c.closed ? SpaceSpline::make_closed(c.degree, c.knots, std::move(p))
+                    : SpaceSpline::make(c.degree, c.knots, std::move(p));
+  };
+  const SpaceSpline n = make(num), d = make(den);
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (const Vec3& p : c.points)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+  double err = 0;
+  const int samples = 8 * n.segment_count() + 1;
+  for (int i = 0; i <= samples; ++i) {
+    const double t = n.domain_begin() + (n.domain_end() - n.domain_begin()) * i / samples;
+    const Vec3 p = evaluate(n, t) / evaluate(d, t).x;
+    const gp_Pnt q = g->Value(t);
+    err = std::max({err, std::abs(p.x - q.X()), std::abs(p.y - q.Y()), std::abs(p.z - q.Z())});
+  }
+  return err / size;
+}
+
+void fill_common(StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
+  c.degree = g->Degree();
+  c.points.clear();
+  c.weights.clear();
+  for (int i = 1; i <= g->NbPoles(); ++i) {
+    const gp_Pnt p = g->Pole(i);
+    c.points.push_back({p.X(), p.Y(), p.Z()});
+  }
+  if (g->IsRational()) {
+    bool equal = true;
+    for (int i = 1; i <= g->NbPoles(); ++i) {
+      c.weights.push_back(g->Weight(i));
+      equal = equal && g->Weight(i) == g->Weight(1);
+    }
+    if (equal) c.weights.clear();
+  }
+}
+
+// The open form: the flat knots without the first and last one.
+void fill_open(StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
+  fill_common(c, g);
+  const TColStd_Array1OfReal& flat = g->KnotSequence();
+  c.knots.assign(flat.begin() + 1, flat.end() - 1);
+  c.closed = false;
+}
+
+// The closed form: the knots of one period, each as often as its
+// multiplicity, the last (the seam again) once.
+void fill_closed(StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
+  fill_common(c, g);
+  c.knots.clear();
+  for (int i = 1; i < g->NbKnots(); ++i)
+    for (int k = 0; k < g->Multiplicity(i); ++k) c.knots.push_back(g->Knot(i));
+  c.knots.push_back(g->Knot(g->NbKnots()));
+  c.closed = true;
+}
+
+constexpr double kTolerance = 1e-9;
+
+}  // namespace
+
+bool step_supported() { return true; }
+
+StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
+  StepCurves out;
+  try {
+    TopTools_IndexedMapOfShape edges;
+    if (!shape.IsNull()) TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+    out.edges = edges.Extent();
+    for (int e = 1; e <= edges.Extent(); ++e) {
+      const TopoDS_Edge& edge = TopoDS::Edge(edges(e));
+      double first = 0, last = 0;
+      Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+      if (curve.IsNull()) {
+        ++out.skipped["degenerated edge"];
+        continue;
+      }
+      if (curve->IsKind(STANDARD_TYPE(Geom_TrimmedCurve)))
+        curve = Handle(Geom_TrimmedCurve)::DownCast(curve)->BasisCurve();
+      StepCurve c;
+      c.edge = e;
+      c.name = "edge " + std::to_string(e);
+      Handle(Geom_BSplineCurve) g;
+      if (curve->IsKind(STANDARD_TYPE(Geom_BSplineCurve))) {
+        c.type = "Geom_BSplineCurve";
+        g = Handle(Geom_BSplineCurve)::DownCast(curve->Copy());
+      } else if (curve->IsKind(STANDARD_TYPE(Geom_BezierCurve))) {
+        c.type = "Geom_BezierCurve";
+        g = GeomConvert::CurveToBSplineCurve(curve);
+      } else {
+        ++out.skipped[curve->DynamicType()->Name()];
+        continue;
+      }
+      if (g->Degree() < 2) {  // a polyline: no curvature to judge (cmr's splines have degree >= 2)
+        ++out.skipped[c.type + " of degree 1"];
+        continue;
+      }
+      const double eps = Precision::PConfusion();
+      if (first > last) std::swap(first, last);
+      if (first > g->FirstParameter() + eps || last < g->LastParameter() - eps ||
+          (g->IsPeriodic() && (std::abs(first - g->FirstParameter()) > eps || std::abs(last - g->LastParameter()) > eps))) {
+        const double period = g->IsPeriodic() ? g->Period() : 0;
+        g->Segment(first, last);
+        c.trimmed = true;
+        // Part of a periodic curve is an open curve (a whole period, shifted, stays closed).
+        if (g->IsPeriodic() && last - first < period - eps) {
+          g->SetNotPeriodic();
+          c.unperiodised = true;
+        }
+      }
+      if (g->IsPeriodic()) {
+        fill_closed(c, g);
+        bool ok = false;
+        const std::vector<Vec3> poles = c.points;
+        const std::vector<double> weights = c.weights;
+        const std::size_t m = poles.size();
+        // OCCT's first span [k1, k2] uses poles 1..d+1; cmr's first non-empty
+        // span is u_{r-1} (r: k1's multiplicity) and uses P_{r-1}..: so P_i is
+        // pole i - (r - 1), cyclically. The other rotations are tried too
+        // (each checked by evaluation) before the curve is unperiodised.
+        const std::size_t predicted = (m - static_cast<std::size_t>(g->Multiplicity(1) - 1) % m) % m;
+        for (std::size_t k = 0; k < m && !ok; ++k) {
+          const std::size_t shift = (predicted + k) % m;
+          for (std::size_t i = 0; i < m; ++i) {
+            c.points[i] = poles[(i + shift) % m];
+            if (!weights.empty()) c.weights[i] = weights[(i + shift) % m];
+          }
+          try {
+            ok = conversion_error(c, g) <= kTolerance;
+          } catch (const InputError&) {
+          }
+        }
+        if (!ok) {
+          g->SetNotPeriodic();
+          c.unperiodised = true;
+        }
+      }
+      if (!g->IsPeriodic()) fill_open(c, g);
+      double err = 0;
+      try {
+        err = conversion_error(c, g);
+      } catch (const InputError& bad) {
+        throw InputError(where + ": " + c.name + ": " + bad.what());
+      }
+      if (!(err <= kTolerance))
+        throw InputError(where + ": " + c.name + ": the converted B-spline does not reproduce OpenCASCADE's curve (error " +
+                         std::to_string(err) + " of its size)");
+      out.curves.push_back(std::move(c));
+    }
+  } catch (const Standard_Failure& f) {
+    throw InputError(where + ": OpenCASCADE failed reading it (" + f.DynamicType()->Name() + ": " +
+                     f.GetMessageString() + ")");
+  }
+  return out;
+}
+
+StepCurves read_step_curves(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  const std::string text = read_input_file(path);  // the project's checks (exists, a file, size)
+  silence_occt();
+  TopoDS_Shape shape;
+  try {
+    STEPControl_Reader reader;
+    std::istringstream in(text);
+    if (reader.ReadStream(where.c_str(), in) != IFSelect_RetDone)
+      throw InputError(where + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } catch (const Standard_Failure& f) {
+    throw InputError(where + ": OpenCASCADE failed reading it (" + f.DynamicType()->Name() + ": " +
+                     f.GetMessageString() + ")");
+  }
+  StepCurves out = shape_curves(shape, where);
+  if (out.curves.empty()) {
+    if (out.edges == 0) throw InputError(where + ": no curves (the STEP model has no edges)");
+    throw InputError(where + ": no B-spline or Bezier curves (" + std::to_string(out.edges) + " edges: " +
+                     skipped_summary(out) + " skipped)");
+  }
+  return out;
+}
+
+}  // namespace cmr::import

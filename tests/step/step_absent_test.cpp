@@ -1,0 +1,31 @@
+// A cmr built without OpenCASCADE (step/step_absent.cpp): STEP input is an
+// InputError (exit 2) that names the file and says why, in one line.
+#include <gtest/gtest.h>
+
+#include "spline/errors.hpp"
+#include "step/step.hpp"
+
+TEST(StepAbsent, ReadingSaysBuiltWithoutStepSupport) {
+  EXPECT_FALSE(cmr::import::step_supported());
+  try {
+    cmr::import::read_step_curves("part.step");
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("part.step: cmr was built without STEP support", 0), 0u) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+}
+
+TEST(StepAbsent, CurveJsonHasWeightsOnlyWhenRational) {
+  cmr::import::StepCurve c;
+  c.name = "edge 1";
+  c.degree = 2;
+  c.knots = {0, 0, 1, 1};
+  c.points = {{0, 0, 0}, {1, 1, 0}, {2, 0, 1}};
+  EXPECT_FALSE(cmr::import::step_curve_json(c).contains("weights"));
+  EXPECT_FALSE(cmr::import::step_curve_json(c).contains("closed"));
+  c.weights = {1, 0.5, 1};
+  EXPECT_EQ(cmr::import::step_curve_json(c)["weights"], nlohmann::ordered_json({1, 0.5, 1}));
+  EXPECT_EQ(cmr::import::step_curve_json(c)["points"][2], nlohmann::ordered_json({2, 0, 1}));
+}

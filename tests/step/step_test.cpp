@@ -1,0 +1,280 @@
+// The STEP importer through OpenCASCADE (step/step.hpp): OCCT's knots and
+// multiplicities become cmr's polar-form knots and the converted spline
+// evaluates as OCCT's curve (checked here with cmr's own evaluation, apart
+// from the importer's self-check); periodic, trimmed, rational and Bezier
+// edges; skipped types counted; `cmr import FILE.step` end to end on the QA
+// model (cmr_step_model) and on bad files (exit 2, one line).
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <GeomAPI_Interpolate.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "spline/space.hpp"
+#include "step/step.hpp"
+#include "step/step_occt.hpp"
+#include "tests/cli_util.hpp"
+
+namespace {
+
+using namespace cmr;
+using import::StepCurve;
+using import::StepCurves;
+
+StepCurves curves_of(const TopoDS_Shape& s) { return import::shape_curves(s, "test"); }
+
+TopoDS_Shape edge(const Handle(Geom_Curve) & c) { return BRepBuilderAPI_MakeEdge(c).Edge(); }
+
+// The converted curve at t, with cmr's evaluation (rational: numerator / weight).
+Vec3 cmr_value(const StepCurve& c, double t) {
+  std::vector<Vec3> num, den;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const double w = c.weights.empty() ? 1.0 : c.weights[i];
+    num.push_back(c.points[i] * w);
+    den.push_back({w, 0, 0});
+  }
+  const auto mk = [&](std::vector<Vec3> p) {
+    return c.closed ? SpaceSpline::make_closed(c.degree, c.knots, std::move(p))
+                    : SpaceSpline::make(c.degree, c.knots, std::move(p));
+  };
+  return evaluate(mk(num), t) / evaluate(mk(den), t).x;
+}
+
+// cmr's curve equals OCCT's at 200 parameters of [t0, t1].
+void expect_same_curve(const StepCurve& c, const Handle(Geom_Curve) & g, double t0, double t1) {
+  for (int i = 0; i <= 200; ++i) {
+    const double t = t0 + (t1 - t0) * i / 200;
+    const Vec3 p = cmr_value(c, t);
+    const gp_Pnt q = g->Value(t);
+    ASSERT_NEAR(p.x, q.X(), 1e-9) << c.name << " t=" << t;
+    ASSERT_NEAR(p.y, q.Y(), 1e-9) << c.name << " t=" << t;
+    ASSERT_NEAR(p.z, q.Z(), 1e-9) << c.name << " t=" << t;
+  }
+}
+
+Handle(Geom_BSplineCurve) interpolate(int n, bool periodic, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-5, 5);
+  Handle(TColgp_HArray1OfPnt) a = new TColgp_HArray1OfPnt(1, n);
+  for (int i = 1; i <= n; ++i) {
+    const double s = 2 * M_PI * i / n;
+    a->SetValue(i, gp_Pnt(10 * std::cos(s) + u(rng) * 0.3, 10 * std::sin(s) + u(rng) * 0.3, u(rng)));
+  }
+  GeomAPI_Interpolate in(a, periodic, 1e-7);
+  in.Perform();
+  return in.Curve();
+}
+
+TEST(StepConvert, OpenBSplineKnotsAreTheFlatKnotsWithoutTheEnds) {
+  TColgp_Array1OfPnt poles(1, 8);
+  for (int i = 0; i < 8; ++i) poles.SetValue(i + 1, gp_Pnt(i, std::sin(i), 0.3 * i * i));
+  TColStd_Array1OfReal knots(1, 4);
+  TColStd_Array1OfInteger mults(1, 4);
+  knots.SetValue(1, 0), knots.SetValue(2, 1), knots.SetValue(3, 2.5), knots.SetValue(4, 3);
+  mults.SetValue(1, 4), mults.SetValue(2, 2), mults.SetValue(3, 2), mults.SetValue(4, 4);  // 12 = 8 + 3 + 1
+  Handle(Geom_BSplineCurve) g = new Geom_BSplineCurve(poles, knots, mults, 3);
+  const StepCurves r = curves_of(edge(g));
+  ASSERT_EQ(r.curves.size(), 1u);
+  const StepCurve& c = r.curves[0];
+  EXPECT_EQ(c.type, "Geom_BSplineCurve");
+  EXPECT_EQ(c.degree, 3);
+  EXPECT_EQ(c.points.size(), 8u);
+  EXPECT_EQ(c.knots, (std::vector<double>{0, 0, 0, 1, 1, 2.5, 2.5, 3, 3, 3}));  // m + d - 1 = 10
+  EXPECT_FALSE(c.closed);
+  EXPECT_TRUE(c.weights.empty());
+  expect_same_curve(c, g, 0, 3);
+  // The JSON is a valid space spline file with these numbers.
+  const SpaceSpline s = space_spline_from_json(nlohmann::json::parse(import::step_curve_json(c).dump()));
+  EXPECT_EQ(s.knots(), c.knots);
+  EXPECT_EQ(s.points()[5], c.points[5]);
+}
+
+TEST(StepConvert, PeriodicCurvesAreClosedSplinesOfOnePeriod) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const Handle(Geom_BSplineCurve) g = interpolate(5 + static_cast<int>(seed), true, seed);
+    ASSERT_TRUE(g->IsPeriodic());
+    const StepCurves r = curves_of(edge(g));
+    ASSERT_EQ(r.curves.size(), 1u) << seed;
+    const StepCurve& c = r.curves[0];
+    EXPECT_TRUE(c.closed) << seed;
+    EXPECT_FALSE(c.unperiodised) << seed;
+    EXPECT_EQ(static_cast<int>(c.points.size()), g->NbPoles()) << seed;
+    EXPECT_EQ(c.knots.size(), c.points.size() + 1) << seed;
+    expect_same_curve(c, g, g->FirstParameter(), g->LastParameter());
+    const nlohmann::json doc = nlohmann::json::parse(import::step_curve_json(c).dump());
+    EXPECT_EQ(doc["closed"], true);
+    EXPECT_TRUE(space_spline_from_json(doc).closed());
+  }
+}
+
+TEST(StepConvert, TrimmedEdgeKeepsOnlyItsRange) {
+  const Handle(Geom_BSplineCurve) g = interpolate(9, false, 7);
+  const double a = g->FirstParameter() + 0.2 * (g->LastParameter() - g->FirstParameter());
+  const double b = g->FirstParameter() + 0.7 * (g->LastParameter() - g->FirstParameter());
+  const StepCurves r = curves_of(BRepBuilderAPI_MakeEdge(Handle(Geom_Curve)(g), a, b).Edge());
+  ASSERT_EQ(r.curves.size(), 1u);
+  const StepCurve& c = r.curves[0];
+  EXPECT_TRUE(c.trimmed);
+  const SpaceSpline s = SpaceSpline::make(c.degree, c.knots, c.points);
+  EXPECT_NEAR(s.domain_begin(), a, 1e-12);
+  EXPECT_NEAR(s.domain_end(), b, 1e-12);
+  expect_same_curve(c, g, a, b);
+}
+
+TEST(StepConvert, PartOfAPeriodicCurveIsOpen) {
+  const Handle(Geom_BSplineCurve) g = interpolate(8, true, 11);
+  const double p0 = g->FirstParameter(), span = g->LastParameter() - p0;
+  for (const auto& [a, b] : {std::pair{p0 + 0.1 * span, p0 + 0.6 * span}, std::pair{p0 + 0.5 * span, p0 + 1.3 * span}}) {
+    const StepCurves r = curves_of(BRepBuilderAPI_MakeEdge(Handle(Geom_Curve)(g), a, b).Edge());
+    ASSERT_EQ(r.curves.size(), 1u);
+    const StepCurve& c = r.curves[0];
+    EXPECT_FALSE(c.closed) << a << " " << b;
+    EXPECT_TRUE(c.trimmed);
+    const SpaceSpline s = SpaceSpline::make(c.degree, c.knots, c.points);
+    EXPECT_NEAR(s.domain_begin(), a, 1e-9);
+    EXPECT_NEAR(s.domain_end(), b, 1e-9);
+    expect_same_curve(c, g, a, b);  // OCCT's periodic curve beyond its first period too
+  }
+}
+
+TEST(StepConvert, RationalCurvesGetWeights) {
+  const Handle(Geom_TrimmedCurve) arc =
+      GC_MakeArcOfCircle(gp_Circ(gp_Ax2(gp_Pnt(1, 2, 3), gp_Dir(1, 1, 1)), 5), 0.2, 2.0, true);
+  const Handle(Geom_BSplineCurve) g = GeomConvert::CurveToBSplineCurve(arc);
+  ASSERT_TRUE(g->IsRational());
+  const StepCurves r = curves_of(edge(g));
+  ASSERT_EQ(r.curves.size(), 1u);
+  const StepCurve& c = r.curves[0];
+  ASSERT_EQ(c.weights.size(), c.points.size());
+  expect_same_curve(c, g, g->FirstParameter(), g->LastParameter());
+  const auto doc = import::step_curve_json(c);
+  ASSERT_TRUE(doc.contains("weights"));
+  EXPECT_EQ(doc["weights"].size(), doc["points"].size());
+  // Equal weights: the polynomial curve, no "weights".
+  TColgp_Array1OfPnt poles(1, 4);
+  TColStd_Array1OfReal w(1, 4);
+  for (int i = 1; i <= 4; ++i) poles.SetValue(i, gp_Pnt(i, i * i, 1 - i)), w.SetValue(i, 2.5);
+  const StepCurves p = curves_of(edge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(poles, w))));
+  ASSERT_EQ(p.curves.size(), 1u);
+  EXPECT_TRUE(p.curves[0].weights.empty());
+}
+
+TEST(StepConvert, BezierIsOneSpan) {
+  TColgp_Array1OfPnt poles(1, 6);
+  for (int i = 1; i <= 6; ++i) poles.SetValue(i, gp_Pnt(i, std::cos(i), std::sin(2 * i)));
+  const Handle(Geom_BezierCurve) g = new Geom_BezierCurve(poles);
+  const StepCurves r = curves_of(edge(g));
+  ASSERT_EQ(r.curves.size(), 1u);
+  EXPECT_EQ(r.curves[0].type, "Geom_BezierCurve");
+  EXPECT_EQ(r.curves[0].knots, (std::vector<double>{0, 0, 0, 0, 0, 1, 1, 1, 1, 1}));
+  expect_same_curve(r.curves[0], g, 0, 1);
+}
+
+TEST(StepConvert, OtherCurveTypesAndPolylinesAreSkippedAndCounted) {
+  BRep_Builder b;
+  TopoDS_Compound comp;
+  b.MakeCompound(comp);
+  b.Add(comp, BRepPrimAPI_MakeBox(1, 2, 3).Shape());  // 12 lines
+  TColgp_Array1OfPnt poles(1, 3);
+  for (int i = 1; i <= 3; ++i) poles.SetValue(i, gp_Pnt(i, 2 * i * i, 0));
+  b.Add(comp, edge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(poles))));
+  TColgp_Array1OfPnt two(1, 3);
+  for (int i = 1; i <= 3; ++i) two.SetValue(i, gp_Pnt(i, -i * i, 1));
+  TColStd_Array1OfReal k(1, 3);
+  TColStd_Array1OfInteger m(1, 3);
+  k.SetValue(1, 0), k.SetValue(2, 1), k.SetValue(3, 2), m.SetValue(1, 2), m.SetValue(2, 1), m.SetValue(3, 2);
+  b.Add(comp, edge(Handle(Geom_BSplineCurve)(new Geom_BSplineCurve(two, k, m, 1))));
+  const StepCurves r = curves_of(comp);
+  EXPECT_EQ(r.edges, 14);
+  EXPECT_EQ(r.curves.size(), 1u);
+  EXPECT_EQ(r.skipped.at("Geom_Line"), 12);
+  EXPECT_EQ(r.skipped.at("Geom_BSplineCurve of degree 1"), 1);
+  EXPECT_EQ(import::skipped_summary(r), "1 Geom_BSplineCurve of degree 1, 12 Geom_Line");
+}
+
+// --- cmr import FILE.step end to end ---
+
+std::string write_step(const TopoDS_Shape& s, const std::string& name) {
+  Message::DefaultMessenger()->ChangePrinters().Clear();
+  const std::string path = (test::scratch() / name).string();
+  STEPControl_Writer w;
+  EXPECT_EQ(w.Transfer(s, STEPControl_AsIs), IFSelect_RetDone);
+  EXPECT_EQ(w.Write(path.c_str()), IFSelect_RetDone);
+  return path;
+}
+
+TEST(StepCli, QaModelImportsEveryBSplineEdgeAndTheyAnalyze) {
+  const std::string model = (test::scratch() / "model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string out = (test::scratch() / "model_curves").string();
+  const test::Outcome r = test::run("import " + model + " --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("imported 10 space curves (1 rational) of 66 edges"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("skipped 24 Geom_Circle, 24 Geom_Line, 8 degenerated edge"), std::string::npos) << r.out;
+  int files = 0, rational = 0;
+  for (const auto& f : std::filesystem::directory_iterator(out)) {
+    if (f.path().extension() != ".json") continue;
+    ++files;
+    const nlohmann::json doc = nlohmann::json::parse(test::slurp(f.path()));
+    ASSERT_EQ(doc["points"][0].size(), 3u) << f.path();
+    if (doc.contains("weights")) {  // rational space curves: the JSON only (analyze support is another branch's)
+      ++rational;
+      EXPECT_EQ(doc["weights"].size(), doc["points"].size());
+      continue;
+    }
+    const test::Outcome a = test::run("analyze " + f.path().string());
+    EXPECT_EQ(a.code, 0) << f.path() << ": " << a.err;
+    EXPECT_EQ(nlohmann::json::parse(a.out)["spline"]["dimension"], 3) << f.path();
+  }
+  EXPECT_EQ(files, 10);
+  EXPECT_EQ(rational, 1);
+}
+
+void expect_one_line_exit2(const test::Outcome& r, const std::string& start) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("cmr: " + start, 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(StepCli, GarbageFileExits2NamingIt) {
+  const std::string p = test::write("garbage.step", "this is not ISO-10303-21\n\x01\x02 at all;\n");
+  expect_one_line_exit2(test::run("import " + p + " --out " + (test::scratch() / "g").string()), p + ": ");
+  EXPECT_FALSE(std::filesystem::exists(test::scratch() / "g"));
+  const std::string empty = test::write("empty.stp", "");
+  expect_one_line_exit2(test::run("import " + empty + " --out " + (test::scratch() / "g").string()), empty + ": ");
+  const std::string missing = (test::scratch() / "missing.step").string();
+  expect_one_line_exit2(test::run("import " + missing), missing + ": ");
+}
+
+TEST(StepCli, ModelWithoutCurvesExits2) {
+  const std::string box = write_step(BRepPrimAPI_MakeBox(1, 2, 3).Shape(), "box.step");
+  const test::Outcome r = test::run("import " + box + " --out " + (test::scratch() / "b").string());
+  expect_one_line_exit2(r, box + ": no B-spline or Bezier curves (12 edges: 12 Geom_Line skipped)");
+  const std::string point = write_step(BRepBuilderAPI_MakeVertex(gp_Pnt(1, 2, 3)).Vertex(), "point.step");
+  expect_one_line_exit2(test::run("import " + point + " --out " + (test::scratch() / "b").string()),
+                        point + ": no curves (the STEP model has no edges)");
+  EXPECT_FALSE(std::filesystem::exists(test::scratch() / "b"));
+}
+
+}  // namespace

@@ -1,0 +1,146 @@
+// cmr_step_model OUT.step [COPIES]: writes the small CAD model of the STEP QA example
+// and tests (docs/space.md, "QA of a CAD model") with OpenCASCADE, so that no
+// model is downloaded or committed as a binary:
+//  - a 40 x 30 x 20 box with its 12 edges filleted (radius 4): lines,
+//    circles and the B-spline edges OCCT builds where three fillets meet;
+//  - a smooth loft (BRepOffsetAPI_ThruSections) through a circle and two
+//    closed interpolated B-spline sections above it: B-spline edges (the
+//    sections and the seam);
+//  - an interpolated cubic B-spline edge through points of a helix
+//    (GeomAPI_Interpolate, non-uniform knots), a rational B-spline edge (a
+//    circle arc converted, GeomConvert), a Bezier edge of degree 5, and a
+//    clamped quartic B-spline with an interior triple knot.
+// COPIES (default 1) places that many copies side by side, 200 apart in y
+// (the benchmark's larger model). Deterministic: the same file on every run
+// (the writer's time stamp aside).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRepOffsetAPI_ThruSections.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRep_Builder.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <GC_MakeCircle.hxx>
+#include <GeomAPI_Interpolate.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_Circle.hxx>
+#include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <STEPControl_Writer.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Trsf.hxx>
+
+namespace {
+
+TopoDS_Shape filleted_box() {
+  BRepPrimAPI_MakeBox box(40, 30, 20);
+  BRepFilletAPI_MakeFillet fillet(box.Shape());
+  for (TopExp_Explorer e(box.Shape(), TopAbs_EDGE); e.More(); e.Next()) fillet.Add(4, TopoDS::Edge(e.Current()));
+  return fillet.Shape();
+}
+
+Handle(Geom_BSplineCurve) interpolate(const std::vector<gp_Pnt>& pts, bool periodic) {
+  Handle(TColgp_HArray1OfPnt) a = new TColgp_HArray1OfPnt(1, static_cast<int>(pts.size()));
+  for (std::size_t i = 0; i < pts.size(); ++i) a->SetValue(static_cast<int>(i) + 1, pts[i]);
+  GeomAPI_Interpolate in(a, periodic, 1e-7);
+  in.Perform();
+  return in.Curve();
+}
+
+TopoDS_Shape loft() {
+  BRepOffsetAPI_ThruSections thru(Standard_True, Standard_False);
+  const gp_Circ circle(gp_Ax2(gp_Pnt(80, 0, 0), gp_Dir(0, 0, 1)), 10);
+  thru.AddWire(BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle)));
+  std::vector<gp_Pnt> ring;
+  for (int i = 0; i < 7; ++i) {
+    const double a = 2 * M_PI * i / 7;
+    const double r = 12 + 3 * std::cos(3 * a);
+    ring.emplace_back(80 + r * std::cos(a), r * std::sin(a), 30 + 2 * std::sin(2 * a));
+  }
+  thru.AddWire(BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(interpolate(ring, true))));
+  std::vector<gp_Pnt> top;
+  for (int i = 0; i < 9; ++i) {
+    const double a = 2 * M_PI * i / 9;
+    top.emplace_back(84 + 6 * std::cos(a), 4 * std::sin(a), 50 + std::cos(a));
+  }
+  thru.AddWire(BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(interpolate(top, true))));
+  thru.Build();
+  return thru.Shape();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int copies = argc == 3 ? std::atoi(argv[2]) : 1;
+  if ((argc != 2 && argc != 3) || copies < 1 || copies > 10000) {
+    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000]\n");
+    return 2;
+  }
+  Message::DefaultMessenger()->ChangePrinters().Clear();  // OCCT's progress lines
+  try {
+    BRep_Builder b;
+    TopoDS_Compound model;
+    b.MakeCompound(model);
+    b.Add(model, filleted_box());
+    b.Add(model, loft());
+    std::vector<gp_Pnt> helix;
+    for (int i = 0; i <= 12; ++i) {
+      const double a = 0.5 * i + 0.02 * i * i;  // unequal steps: non-uniform knots
+      helix.emplace_back(-40 + 15 * std::cos(a), 15 * std::sin(a), 2.5 * a);
+    }
+    b.Add(model, BRepBuilderAPI_MakeEdge(interpolate(helix, false)));
+    const Handle(Geom_TrimmedCurve) arc = GC_MakeArcOfCircle(gp_Circ(gp_Ax2(gp_Pnt(0, -50, 10), gp_Dir(1, 1, 1)), 12), 0.3, 2.6, true);
+    b.Add(model, BRepBuilderAPI_MakeEdge(GeomConvert::CurveToBSplineCurve(arc)));
+    TColgp_Array1OfPnt bez(1, 6);
+    const double bp[6][3] = {{0, -80, 0}, {10, -75, 5}, {20, -82, 12}, {30, -70, 14}, {40, -78, 9}, {50, -74, 0}};
+    for (int i = 0; i < 6; ++i) bez.SetValue(i + 1, gp_Pnt(bp[i][0], bp[i][1], bp[i][2]));
+    b.Add(model, BRepBuilderAPI_MakeEdge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(bez))));
+    TColgp_Array1OfPnt poles(1, 8);
+    for (int i = 0; i < 8; ++i) poles.SetValue(i + 1, gp_Pnt(70 + 6 * i, -60 + 4 * std::sin(i), 3 * std::cos(0.7 * i)));
+    TColStd_Array1OfReal knots(1, 3);
+    TColStd_Array1OfInteger mults(1, 3);
+    knots.SetValue(1, 0), knots.SetValue(2, 1.5), knots.SetValue(3, 4);
+    mults.SetValue(1, 5), mults.SetValue(2, 3), mults.SetValue(3, 5);  // 5 + 3 + 5 = 8 + 4 + 1
+    b.Add(model, BRepBuilderAPI_MakeEdge(Handle(Geom_BSplineCurve)(new Geom_BSplineCurve(poles, knots, mults, 4))));
+    TopoDS_Compound all;
+    b.MakeCompound(all);
+    for (int k = 0; k < copies; ++k) {
+      gp_Trsf shift;
+      shift.SetTranslation(gp_Vec(0, 200.0 * k, 0));
+      b.Add(all, k == 0 ? TopoDS_Shape(model) : BRepBuilderAPI_Transform(model, shift, true).Shape());
+    }
+    STEPControl_Writer writer;
+    Interface_Static::SetCVal("write.step.schema", "AP214CD");
+    if (writer.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone) {
+      std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
+      return 3;
+    }
+    if (writer.Write(argv[1]) != IFSelect_RetDone) {
+      std::fprintf(stderr, "cmr_step_model: %s: cannot write the STEP file\n", argv[1]);
+      return 3;
+    }
+  } catch (const Standard_Failure& f) {
+    std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
+    return 3;
+  }
+  return 0;
+}
