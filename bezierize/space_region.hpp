@@ -72,6 +72,8 @@ class SpaceRegionProblem {
  private:
   struct State;
   explicit SpaceRegionProblem(std::shared_ptr<const State> s) : state_(std::move(s)) {}
+  template <bool kRational>
+  RegionPixel classify_as(double a, double b) const;
   std::shared_ptr<const State> state_;
 };
 
