@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
 #include <glm/geometric.hpp>
 
+#include "bezierize/roots.hpp"
 #include "bezierize/space_classify.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -163,6 +165,21 @@ int jump_sign3(const std::vector<HPoint3<T>>& HL, const std::vector<HPoint3<T>>&
   return jump_sign3<T>(L, wl, R, wr);
 }
 
+/// The label and depth of a pixel from its segments' classes and joints.
+RegionPixel fold_pixel(const SpaceSpline& spline, const std::vector<SpaceSegmentResult>& segs,
+                       const std::vector<SpaceJoint>& joints, const std::optional<SpaceJoint>& seam) {
+  RegionPixel px;
+  px.label = space_verdict(spline, segs, joints, seam, false);
+  int depth = 0;
+  bool level0 = false;
+  for (const SpaceSegmentResult& r : segs) {
+    depth = std::max(depth, r.curvature.depth);
+    level0 = level0 || (r.curvature.curvature == Curvature::non_monotone && r.curvature.depth == 0);
+  }
+  px.depth = static_cast<std::uint8_t>(level0 ? 0 : depth);
+  return px;
+}
+
 }  // namespace
 
 SpaceRegionProblem SpaceRegionProblem::make(const SpaceSpline& spline, const SpaceRegionRequest& request) {
@@ -273,15 +290,61 @@ RegionPixel SpaceRegionProblem::classify_as(double a, double b) const {
     }
     (i == N ? *seam : joints[static_cast<std::size_t>(i - 1)]).jump = sign;
   }
-  px.label = space_verdict(s.spline, segs, joints, seam, false);
-  int depth = 0;
-  bool level0 = false;
-  for (const SpaceSegmentResult& r : segs) {
-    depth = std::max(depth, r.curvature.depth);
-    level0 = level0 || (r.curvature.curvature == Curvature::non_monotone && r.curvature.depth == 0);
-  }
-  px.depth = static_cast<std::uint8_t>(level0 ? 0 : depth);
+  const RegionPixel folded = fold_pixel(s.spline, segs, joints, seam);
+  px.label = folded.label;
+  px.depth = folded.depth;
   return px;
+}
+
+const std::vector<int>& SpaceRegionProblem::moved_segments() const { return state_->moved_segments; }
+const std::vector<int>& SpaceRegionProblem::moved_joints() const { return state_->moved_joints; }
+
+RegionPixel SpaceRegionProblem::compose(const std::vector<MonotonicityResult>& moved, const std::vector<int>& jumps) const {
+  const State& s = *state_;
+  CMR_CHECK(moved.size() == s.moved_segments.size() && jumps.size() == s.moved_joints.size());
+  std::vector<SpaceSegmentResult> segs = s.segments;
+  for (std::size_t i = 0; i < moved.size(); ++i) segs[static_cast<std::size_t>(s.moved_segments[i])].curvature = moved[i];
+  std::vector<SpaceJoint> joints = s.joints;
+  std::optional<SpaceJoint> seam = s.seam;
+  const int N = s.spline.segment_count();
+  for (std::size_t i = 0; i < jumps.size(); ++i) {
+    const int j = s.moved_joints[i];
+    (j == N ? *seam : joints[static_cast<std::size_t>(j - 1)]).jump = jumps[i];
+  }
+  return fold_pixel(s.spline, segs, joints, seam);
+}
+
+std::vector<std::array<double, 2>> SpaceRegionProblem::affine_bezier(int segment) const {
+  const State& s = *state_;
+  CMR_CHECK(!s.spline.is_rational());
+  const SpaceWindow w = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(segment)]);
+  const int k = s.request.point, twin = s.spline.twin(k);
+  // F: the window with the moved point at 0; m: the blossom of the scalar
+  // data that is 1 at the moved point (and its twin), 0 elsewhere.
+  std::vector<Point3<Rational>> pts = space_window_points<Rational>(s.spline, w);
+  std::vector<Rational> unit(static_cast<std::size_t>(w.degree + 1), Rational(0));
+  for (int i = 0; i <= w.degree; ++i)
+    if (w.first + i == k || w.first + i == twin) {
+      pts[static_cast<std::size_t>(i)] = Point3<Rational>{Rational(0), Rational(0), Rational(0)};
+      unit[static_cast<std::size_t>(i)] = 1;
+    }
+  const std::vector<Point3<Rational>> F = space_window_bezier<Rational>(w, pts);
+  const std::vector<Rational> m = space_window_bezier_of<Rational>(w, unit);
+  const auto rounded = [](const Rational& r) -> std::array<double, 2> {
+    const double v = nearest_double(r);
+    const Rational e = abs(Rational(r - Rational(v)));
+    const double eb = e.get_d();
+    return {v, sgn(e) == 0 ? 0.0 : std::nextafter(eb, std::numeric_limits<double>::infinity()) * (1 + 0x1p-50)};
+  };
+  std::vector<std::array<double, 2>> out;
+  for (int i = 0; i <= w.degree; ++i) {
+    const auto ii = static_cast<std::size_t>(i);
+    out.push_back(rounded(F[ii].x));
+    out.push_back(rounded(F[ii].y));
+    out.push_back(rounded(F[ii].z));
+    out.push_back(rounded(m[ii]));
+  }
+  return out;
 }
 
 RegionResult SpaceRegionProblem::render(int threads) const {
