@@ -67,8 +67,9 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0,1,0,0,2,0,0"),
                         "--plane: U and V are parallel (the plane is degenerate)");
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0"), "--plane: 3 numbers given, expected 9");
-  expect_one_line_error(run("region " + kExample + " --point 3 --backend vulkan"),
-                        "--backend vulkan: regions of space curves run on the CPU backend only");
+  expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) +
+                            "/examples/space/fig8b_lifted_rational.json --point 3 --plane xy --backend vulkan"),
+                        "--backend vulkan: regions of rational space curves run on the CPU backend only");
   expect_one_line_error(run("region " + kExample + " --point 3 --split 1"), "--split is for planar splines");
   expect_one_line_error(run("region " + kExample + " --point 9"), "--point 9 is outside 0..5");
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
@@ -119,6 +120,20 @@ TEST(SpaceCli, RationalSpaceCurveAnalyzesReportsAndHasRegions) {
   const auto rep = nlohmann::json::parse(test::slurp(dir + "/report.json"));
   EXPECT_EQ(rep["splines"][0]["pass"], true);
   EXPECT_EQ(rep["splines"][0]["analysis"]["spline"]["curvature"], "decreasing");
+}
+
+// --backend vulkan (lavapipe): the same labels file as --backend cpu.
+TEST(SpaceCli, RegionOnVulkanWritesTheCpuLabels) {
+  const std::string cpu = (test::scratch() / "space_cpu.pgm").string(), gpu = (test::scratch() / "space_vk.pgm").string();
+  const std::string args = "region " + kExample + " --point 3 --plane xy --view -1.2,-1.2,0.8,0.8 --size 32x32 --labels ";
+  const test::Outcome c = run(args + cpu + " --backend cpu");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const test::Outcome g = run(args + gpu + " --backend vulkan --stats");
+  ASSERT_EQ(g.code, 0) << g.err;
+  const auto doc = nlohmann::json::parse(g.out);
+  EXPECT_EQ(doc["backend"], "vulkan");
+  EXPECT_LT(doc["host_pixels"].get<int>(), 32 * 32 / 2);
+  EXPECT_EQ(test::slurp(gpu), test::slurp(cpu));
 }
 
 TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {
