@@ -33,18 +33,28 @@ double angle_deg(const Point3<Rational>& u, const Point3<Rational>& v) {
   return std::atan2(std::sqrt(dot3(x, x).get_d()), dp.get_d()) * (180.0 / std::numbers::pi);
 }
 
-/// The terms of one end: legs a, b, c read from the end inwards.
+/// The terms of one end: legs a, b, c read from the end inwards, and the
+/// weights w0..w3 from the end inwards (1 for a polynomial segment).
 struct SpaceEnd {
   Point3<Rational> a, b;
   Rational G;   ///< a.a
   Rational A2;  ///< |a x b|^2
   Rational D;   ///< det(a, b, c) (0 for degree 2)
   Point3<Rational> n;  ///< normal of the osculating plane in forward order
+  Rational k2;   ///< kappa^2 (0 where G == 0)
+  Rational tau;  ///< tau (0 where A2 == 0)
 };
 
-SpaceEnd space_end(const std::vector<Point3<Rational>>& B, bool at_end) {
+/// The end values of a (rational) Bezier segment of degree d (Farin, Curves
+/// and Surfaces for CAGD, rational Bezier curves; w == 1 gives the
+/// polynomial ones):
+///   kappa = (d-1)/d w0 w2 / w1^2 |a x b| / |a|^3,
+///   tau   = (d-2)/d w0 w3 / (w1 w2) det(a, b, c) / |a x b|^2
+/// (both invariant under reversal of the segment).
+SpaceEnd space_end(const std::vector<Point3<Rational>>& B, const std::vector<Rational>& wts, bool at_end) {
   const int d = static_cast<int>(B.size()) - 1;
   const auto q = [&](int k) -> const Point3<Rational>& { return at_end ? B[d - k] : B[k]; };
+  const auto w = [&](int k) -> Rational { return wts.empty() ? Rational(1) : wts[at_end ? d - k : k]; };
   SpaceEnd e;
   e.a = q(1) - q(0);
   e.b = q(2) - q(1);
@@ -54,42 +64,60 @@ SpaceEnd space_end(const std::vector<Point3<Rational>>& B, bool at_end) {
   e.D = d >= 3 ? dot3(x, Point3<Rational>(q(3) - q(2))) : Rational(0);
   // Forward order: (b x a) read backwards at a segment's end, (a x b) at its start.
   e.n = at_end ? cross3(e.b, e.a) : x;
+  if (sgn(e.G) != 0) {
+    const Rational f = Scalar<Rational>::ratio(d - 1, d);
+    const Rational om = w(0) * w(2) / (w(1) * w(1));
+    e.k2 = f * f * om * om * e.A2 / (e.G * e.G * e.G);
+  }
+  if (sgn(e.A2) != 0 && d >= 3) e.tau = Scalar<Rational>::ratio(d - 2, d) * w(0) * w(3) / (w(1) * w(2)) * e.D / e.A2;
   return e;
 }
 
-/// kappa = (d-1)/d |a x b| / |a|^3: kappa^2 exact, one rounding and a square root.
-double end_kappa(const SpaceEnd& e, int d) {
-  if (sgn(e.G) == 0) return kNaN;
-  const Rational f = Scalar<Rational>::ratio(d - 1, d);
-  const Rational k2 = f * f * e.A2 / (e.G * e.G * e.G);
-  return std::sqrt(k2.get_d());
-}
+/// kappa: kappa^2 exact, one rounding and a square root.
+double end_kappa(const SpaceEnd& e) { return sgn(e.G) == 0 ? kNaN : std::sqrt(e.k2.get_d()); }
 
-/// tau = (d-2)/d det(a, b, c) / |a x b|^2 (invariant under reversal).
-double end_tau(const SpaceEnd& e, int d) {
-  if (sgn(e.A2) == 0) return kNaN;
-  return Rational(Scalar<Rational>::ratio(d - 2, d) * e.D / e.A2).get_d();
-}
+double end_tau(const SpaceEnd& e) { return sgn(e.A2) == 0 ? kNaN : e.tau.get_d(); }
 
-std::vector<Point3<Rational>> exact_bezier(const SpaceSpline& spline, const Segment& s) {
+/// The exact Bezier points of segment s (Cartesian) and, for a rational
+/// spline, their weights (empty otherwise).
+struct ExactBezier {
+  std::vector<Point3<Rational>> points;
+  std::vector<Rational> weights;
+};
+
+ExactBezier exact_bezier(const SpaceSpline& spline, const Segment& s) {
   const SpaceWindow w = space_window(spline, s);
-  return space_window_bezier<Rational>(w, space_window_points<Rational>(spline, w));
+  ExactBezier b;
+  if (spline.is_rational())
+    split_homogeneous<Rational>(space_window_bezier<Rational>(w, space_window_hpoints<Rational>(spline, w)), b.points,
+                                b.weights);
+  else
+    b.points = space_window_bezier<Rational>(w, space_window_points<Rational>(spline, w));
+  return b;
 }
 
-}  // namespace
-
-SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options) {
+/// lambda3 of segment s in exact arithmetic (rational or not).
+Bernstein<Rational> exact_lambda3(const SpaceSpline& spline, const Segment& s) {
   const SpaceWindow w = space_window(spline, s);
-  const auto make_b = [&] { return space_window_points<Bounded>(spline, w); };
-  const auto make_r = [&] { return space_window_points<Rational>(spline, w); };
+  if (spline.is_rational())
+    return lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, space_window_hpoints<Rational>(spline, w)));
+  return lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, space_window_points<Rational>(spline, w)));
+}
+
+/// space_segment for window points made by make_b / make_r (Point3 or, for
+/// a rational spline, HPoint3 vectors).
+template <class MakeB, class MakeR>
+SpaceSegmentResult segment_of(const SpaceWindow& w, const Segment& s, const SpaceAnalyzeOptions& options, MakeB make_b,
+                              MakeR make_r) {
   SpaceSegmentResult r;
   const SpaceDecision c = space_decide(w, SpaceQuantity::curvature, options.max_depth, make_b, make_r);
   r.curvature = c.result;
   r.exact_used = c.exact_used;
-  const std::vector<Point3<Bounded>> Bb = space_window_bezier<Bounded>(w, make_b());
+  const auto Bb = space_window_bezier<Bounded>(w, make_b());
   const SpacePolynomials<Bounded> pb = space_polynomials<Bounded>(Bb);
-  std::optional<std::vector<Point3<Rational>>> Br;
-  const auto exact = [&]() -> const std::vector<Point3<Rational>>& {
+  using ExactPoints = decltype(space_window_bezier<Rational>(w, make_r()));
+  std::optional<ExactPoints> Br;
+  const auto exact = [&]() -> const ExactPoints& {
     if (!Br) Br = space_window_bezier<Rational>(w, make_r());
     return *Br;
   };
@@ -122,8 +150,21 @@ SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, co
   return r;
 }
 
+}  // namespace
+
+SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options) {
+  const SpaceWindow w = space_window(spline, s);
+  if (spline.is_rational())
+    return segment_of(
+        w, s, options, [&] { return space_window_hpoints<Bounded>(spline, w); },
+        [&] { return space_window_hpoints<Rational>(spline, w); });
+  return segment_of(
+      w, s, options, [&] { return space_window_points<Bounded>(spline, w); },
+      [&] { return space_window_points<Rational>(spline, w); });
+}
+
 std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s) {
-  const Bernstein<Rational> l = lambda3_bernstein<Rational>(exact_bezier(spline, s));
+  const Bernstein<Rational> l = exact_lambda3(spline, s);
   std::vector<SpaceExtremum> out;
   if (is_zero(l)) return out;
   for (const RootInterval& r : isolate_roots(l)) {
@@ -143,20 +184,21 @@ SpaceJoint space_joint(const SpaceSpline& spline, int left, int right, const Con
   j.knot = right == 0 ? L.b : R.a;
   j.multiplicity = spline.multiplicity(R.a);
   j.continuity = d - j.multiplicity;
-  const SpaceEnd l = space_end(exact_bezier(spline, L), true), r = space_end(exact_bezier(spline, R), false);
-  j.kappa_left = end_kappa(l, d);
-  j.kappa_right = end_kappa(r, d);
-  j.tau_left = end_tau(l, d);
-  j.tau_right = end_tau(r, d);
+  const ExactBezier bl = exact_bezier(spline, L), br = exact_bezier(spline, R);
+  const SpaceEnd l = space_end(bl.points, bl.weights, true), r = space_end(br.points, br.weights, false);
+  j.kappa_left = end_kappa(l);
+  j.kappa_right = end_kappa(r);
+  j.tau_left = end_tau(l);
+  j.tau_right = end_tau(r);
   j.zero_tangent = sgn(l.G) == 0 || sgn(r.G) == 0;
   if (j.zero_tangent) {
     j.angle_deg = j.normal_angle_deg = kNaN;
     return j;
   }
-  // sign(kappa_R - kappa_L) = sign(kappa_R^2 - kappa_L^2) = sign(A2_R G_L^3 - A2_L G_R^3).
-  if (j.continuity < 2) j.jump = sgn(Rational(r.A2 * l.G * l.G * l.G - l.A2 * r.G * r.G * r.G));
-  // sign(tau_R - tau_L) = sign(D_R A2_L - D_L A2_R) where both kappa > 0.
-  if (j.continuity < 3 && sgn(l.A2) > 0 && sgn(r.A2) > 0) j.torsion_jump = sgn(Rational(r.D * l.A2 - l.D * r.A2));
+  // sign(kappa_R - kappa_L) = sign(kappa_R^2 - kappa_L^2), exact.
+  if (j.continuity < 2) j.jump = sgn(Rational(r.k2 - l.k2));
+  // sign(tau_R - tau_L) where both kappa > 0, exact.
+  if (j.continuity < 3 && sgn(l.A2) > 0 && sgn(r.A2) > 0) j.torsion_jump = sgn(Rational(r.tau - l.tau));
   j.angle_deg = j.continuity >= 1 ? 0.0 : angle_deg(Point3<Rational>(Rational(0) - l.a.x, Rational(0) - l.a.y,
                                                                     Rational(0) - l.a.z),
                                                     r.a);

@@ -47,19 +47,54 @@ std::vector<Point3<T>> space_window_points(const SpaceSpline& spline, const Spac
   return pts;
 }
 
-/// Bezier points B_k = f(a^{d-k}, b^k) of the window's segment, in scalar T
-/// (exact for Rational).
+/// The window's homogeneous points (w x, w y, w z, w) of a rational spline,
+/// in scalar T (exact for Rational: each a product of two doubles).
 template <class T>
-std::vector<Point3<T>> space_window_bezier(const SpaceWindow& w, const std::vector<Point3<T>>& pts) {
+HPoint3<T> to_hpoint3(const Point3<T>& p, double weight) {
+  const T w(weight);
+  return HPoint3<T>{p.x * w, p.y * w, p.z * w, w};
+}
+
+template <class T>
+std::vector<HPoint3<T>> space_window_hpoints(const SpaceSpline& spline, const SpaceWindow& w) {
+  std::vector<HPoint3<T>> pts;
+  for (int i = 0; i <= w.degree; ++i) {
+    const Vec3& p = spline.points()[static_cast<std::size_t>(w.first + i)];
+    pts.push_back(to_hpoint3<T>(Point3<T>{T(p.x), T(p.y), T(p.z)}, spline.weight(w.first + i)));
+  }
+  return pts;
+}
+
+/// Bezier points B_k = f(a^{d-k}, b^k) of the window's segment, in scalar T
+/// (exact for Rational); P is Point3<T> or, for a rational spline, HPoint3<T>.
+template <class T, class P>
+std::vector<P> space_window_bezier_of(const SpaceWindow& w, const std::vector<P>& pts) {
   const std::vector<T> knots(w.knots.begin(), w.knots.end());
   const int d = w.degree;
-  std::vector<Point3<T>> out;
+  std::vector<P> out;
   std::vector<T> args(d);
   for (int k = 0; k <= d; ++k) {
     for (int i = 0; i < d; ++i) args[i] = T(i < d - k ? w.a : w.b);
     out.push_back(blossom_span(knots, pts, d, d - 1, args.data()));
   }
   return out;
+}
+template <class T>
+std::vector<Point3<T>> space_window_bezier(const SpaceWindow& w, const std::vector<Point3<T>>& pts) {
+  return space_window_bezier_of<T>(w, pts);
+}
+template <class T>
+std::vector<HPoint3<T>> space_window_bezier(const SpaceWindow& w, const std::vector<HPoint3<T>>& pts) {
+  return space_window_bezier_of<T>(w, pts);
+}
+
+/// Cartesian points and weights of homogeneous ones (exact for Rational; W > 0).
+template <class T>
+void split_homogeneous(const std::vector<HPoint3<T>>& H, std::vector<Point3<T>>& P, std::vector<T>& w) {
+  for (const HPoint3<T>& h : H) {
+    P.push_back(Point3<T>{T(h.x / h.w), T(h.y / h.w), T(h.z / h.w)});
+    w.push_back(h.w);
+  }
 }
 
 /// Algorithm 1 on lambda3 (curvature) or on T (torsion) of one segment, given
@@ -71,8 +106,8 @@ struct SpaceDecision {
 
 enum class SpaceQuantity { curvature, torsion };
 
-template <class T>
-Bernstein<T> space_quantity_bernstein(const std::vector<Point3<T>>& B, SpaceQuantity q) {
+template <class T, class P>
+Bernstein<T> space_quantity_bernstein(const std::vector<P>& B, SpaceQuantity q) {
   if (q == SpaceQuantity::curvature) return lambda3_bernstein<T>(B);
   Bernstein<T> t = torsion_sign_bernstein<T>(B);
   if (t.empty()) t.assign(1, T(0));  // a quadratic: tau == 0, constant

@@ -37,11 +37,61 @@
 // Every coefficient is a polynomial expression of the control points with
 // exact rational weights, so T = Rational gives the exact coefficients and
 // T = Bounded certified ones (scalar.hpp).
+//
+// Rational space curves (the second half of this file). C = X / W with the
+// homogeneous Bezier curve H = (X, W) = sum_i B_i^n (w_i P_i, w_i), all
+// w_i > 0 (spline/space.hpp), so W > 0 on [0, 1]. As in the plane
+// (rational_lambda.hpp):
+//   C'  = h / W^2,   h = W X' - W' X  (3 components),  h' = W X'' - W'' X,
+//   C'' = (h' W^2 - 2 W W' h) / W^4, so C' x C'' = (h x h') / W^4, and
+//   h x h' = W e with
+//   e = W (X' x X'') - W' (X x X'') + W'' (X x X')   degree 3n-6:
+//     e's components are the 3x3 minors of [H H' H''] that hold the W row
+//     (for a planar curve e = (0, 0, D), D of rational_lambda.hpp), 3x3
+//     Wronskians of degree-n polynomials: degree 3 (n - 3 + 1) = 3n-6,
+//     not the nominal 3n-3 (Wronskian degree bound, rational_lambda.hpp).
+//   So C' x C'' = e / W^3 and, with E = |e|^2 (degree 6n-12) and
+//   G = |h|^2 (degree 4n-4: h is a 2x2 Wronskian, 2n-2),
+//     kappa^2 = |C' x C''|^2 / |C'|^6 = E W^6 / G^3,
+//     d(kappa^2)/dt = W^5 / G^4 * lambda3r,
+//     lambda3r = (E' W + 6 E W') G - 3 E W G'.
+//   W^5 > 0 and G > 0 on a regular segment, so sign(lambda3r) =
+//   sign(d kappa / dt). Degree: the three products have nominal degree
+//   (6n-13)+n+(4n-4) = 11n-17; with leading terms E ~ e t^(6n-12),
+//   W ~ w t^n, G ~ g t^(4n-4) their leading coefficients are
+//   (6n-12) + 6n - 3 (4n-4) = 0 times e w g, so lambda3r has degree
+//   11n-18 (the bound). It is exact: for a planar curve E = D^2
+//   and lambda3r = 2 D lambda with lambda of degree 8n-12
+//   (rational_lambda.hpp), 3n-6 + 8n-12 = 11n-18, and the generator checks
+//   11n-18 on seeded genuine space curves of degree 2..7. For W == 1,
+//   e = c, G = g and lambda3r = lambda3 (elevated to 11n-18).
+//   kappa = 0 exactly where e = 0 (E = 0); C' = 0 exactly where G = 0.
+// Torsion. Removing multiples of the column H = W (C, 1) from H', H'', H'''
+// leaves W (C', 0), W (C'', 0), W (C''', 0), so
+//   det4(H, H', H'', H''') = -W^4 det(C', C'', C''')
+// (expansion along the W row), and tau = det(C', C'', C''') / |C' x C''|^2
+// = W^2 Nr / E with
+//   Nr = -det4(H, H', H'', H''')   degree 4n-12 (a 4x4 Wronskian,
+//     4 (n - 3); n = 3: constant; n = 2: 0). For W == 1, Nr = N.
+//   d tau / dt = W / E^2 * Tr,
+//   Tr = (2 W' Nr + W Nr') E - W Nr E'   degree 11n-26: nominal
+//     (n-1)+(4n-12)+(6n-12) = 11n-25, leading coefficients
+//     2n + (4n-12) - (6n-12) = 0. sign(Tr) = sign(d tau / dt) where E > 0,
+//     sign(tau) = sign(Nr).
+// Computed in Bernstein form only: e at nominal degree 3n-3 reduced three
+// times, h at 2n-1 reduced once, lambda3r at 11n-17 reduced once; det4 by
+// Laplace expansion into the 2x2 minors of (H, H') (reduced once to 2n-2,
+// Wronskians) times those of (H'', H''') (degree 2n-5), at 4n-7 reduced five
+// times; Tr at 11n-25 reduced once. bernstein_reduce checks each exact drop
+// in rationals; tests/bezierize/gen_space_reference.py recomputes all of them
+// in the monomial basis with fractions.
 #include <array>
 #include <vector>
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/lambda.hpp"
+#include "bezierize/rational_lambda.hpp"
+#include "spline/space.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr {
@@ -176,6 +226,179 @@ Bernstein<T> torsion_sign_bernstein(const std::vector<Point3<T>>& P) {
   if (N.empty()) return {};
   const Bernstein<T> c2 = binormal_norm2<T>(binormal_bernstein<T>(P));
   return space_wronskian_combination<T>(N, c2, T(1));
+}
+
+// ---- rational space curves (homogeneous points (w x, w y, w z, w)) ----
+
+namespace space_rational_detail {
+
+using rational_detail::add;
+using rational_detail::minor;
+using rational_detail::reduce;
+
+template <class T>
+using BVec3 = std::array<Bernstein<T>, 3>;
+
+/// a x b for vectors of Bernstein polynomials.
+template <class T>
+BVec3<T> cross(const BVec3<T>& a, const BVec3<T>& b) {
+  return {minor(a[1], b[2], a[2], b[1]), minor(a[2], b[0], a[0], b[2]), minor(a[0], b[1], a[1], b[0])};
+}
+
+template <class T>
+BVec3<T> derivative(const BVec3<T>& a) {
+  return {bernstein_derivative(a[0]), bernstein_derivative(a[1]), bernstein_derivative(a[2])};
+}
+
+/// |a|^2 (the empty polynomial when a == 0 structurally).
+template <class T>
+Bernstein<T> norm2(const BVec3<T>& a) {
+  return add(add(bernstein_product(a[0], a[0]), bernstein_product(a[1], a[1]), T(1)), bernstein_product(a[2], a[2]),
+             T(1));
+}
+
+/// The coordinate polynomials X (three) and W of homogeneous Bezier points.
+template <class T>
+void components(const std::vector<HPoint3<T>>& H, BVec3<T>& X, Bernstein<T>& W) {
+  for (const HPoint3<T>& p : H) {
+    X[0].push_back(p.x);
+    X[1].push_back(p.y);
+    X[2].push_back(p.z);
+    W.push_back(p.w);
+  }
+}
+
+/// An empty (structurally zero) polynomial as `size` zero coefficients.
+template <class T>
+Bernstein<T> sized(Bernstein<T> p, int size) {
+  if (p.empty()) p.assign(static_cast<std::size_t>(size), T(0));
+  return p;
+}
+
+}  // namespace space_rational_detail
+
+/// e = W (X' x X'') - W' (X x X'') + W'' (X x X') at degree 3n-6 (n >= 2):
+/// C' x C'' = e / W^3.
+template <class T>
+std::array<Bernstein<T>, 3> binormal_bernstein(const std::vector<HPoint3<T>>& H) {
+  using namespace space_rational_detail;
+  BVec3<T> X;
+  Bernstein<T> W;
+  components<T>(H, X, W);
+  const BVec3<T> X1 = derivative<T>(X), X2 = derivative<T>(X1);
+  const Bernstein<T> W1 = bernstein_derivative(W), W2 = bernstein_derivative(W1);
+  const BVec3<T> a = cross<T>(X1, X2), b = cross<T>(X, X2), c = cross<T>(X, X1);
+  const int n = static_cast<int>(H.size()) - 1;
+  BVec3<T> e;
+  for (int k = 0; k < 3; ++k) {
+    Bernstein<T> v = add(add(bernstein_product(W, a[k]), bernstein_product(W1, b[k]), T(-1)),
+                         bernstein_product(W2, c[k]), T(1));
+    e[k] = sized(reduce(std::move(v), 3), 3 * n - 5);
+  }
+  return e;
+}
+
+/// h = W X' - W' X at degree 2n-2: C' = h / W^2.
+template <class T>
+std::array<Bernstein<T>, 3> rational_space_h_bernstein(const std::vector<HPoint3<T>>& H) {
+  using namespace space_rational_detail;
+  BVec3<T> X;
+  Bernstein<T> W;
+  components<T>(H, X, W);
+  const Bernstein<T> W1 = bernstein_derivative(W);
+  const int n = static_cast<int>(H.size()) - 1;
+  BVec3<T> h;
+  for (int k = 0; k < 3; ++k)
+    h[k] = sized(reduce(minor(W, bernstein_derivative(X[k]), W1, X[k]), 1), 2 * n - 1);
+  return h;
+}
+
+/// G = |h|^2 at degree 4n-4: zero exactly where C' = 0.
+template <class T>
+Bernstein<T> space_speed2_bernstein(const std::vector<HPoint3<T>>& H) {
+  const int n = static_cast<int>(H.size()) - 1;
+  return space_rational_detail::sized(space_rational_detail::norm2<T>(rational_space_h_bernstein<T>(H)), 4 * n - 3);
+}
+
+/// The rational curve's polynomials in SpacePolynomials' slots: c = e
+/// (3n-6), c2 = E = |e|^2 (6n-12), g = G = |h|^2 (4n-4),
+/// lambda3 = lambda3r = (E' W + 6 E W') G - 3 E W G' (11n-18).
+template <class T>
+SpacePolynomials<T> space_polynomials(const std::vector<HPoint3<T>>& H) {
+  using namespace space_rational_detail;
+  const int n = static_cast<int>(H.size()) - 1;
+  SpacePolynomials<T> r;
+  r.c = binormal_bernstein<T>(H);
+  r.c2 = sized(norm2<T>(r.c), 6 * n - 11);
+  r.g = space_speed2_bernstein<T>(H);
+  BVec3<T> X;
+  Bernstein<T> W;
+  components<T>(H, X, W);
+  const Bernstein<T> W1 = bernstein_derivative(W);
+  // (E' W + 6 E W') G - 3 E W G'
+  const Bernstein<T> a = add(bernstein_product(bernstein_derivative(r.c2), W), bernstein_product(r.c2, W1), T(6));
+  Bernstein<T> l = add(bernstein_product(a, r.g), bernstein_product(bernstein_product(r.c2, W), bernstein_derivative(r.g)),
+                       T(-3));
+  r.lambda3 = reduce(std::move(l), 1);
+  return r;
+}
+
+template <class T>
+Bernstein<T> lambda3_bernstein(const std::vector<HPoint3<T>>& H) {
+  return space_polynomials<T>(H).lambda3;
+}
+
+/// Nr = -det4(H, H', H'', H''') at degree 4n-12 (tau = W^2 Nr / E); empty
+/// for n = 2.
+template <class T>
+Bernstein<T> torsion_numerator_bernstein(const std::vector<HPoint3<T>>& H) {
+  using namespace space_rational_detail;
+  const int n = static_cast<int>(H.size()) - 1;
+  if (n < 3) return {};
+  BVec3<T> X;
+  Bernstein<T> W;
+  components<T>(H, X, W);
+  const std::array<Bernstein<T>, 4> h0{X[0], X[1], X[2], W};
+  std::array<Bernstein<T>, 4> h1, h2, h3;
+  for (int i = 0; i < 4; ++i) {
+    h1[i] = bernstein_derivative(h0[i]);
+    h2[i] = bernstein_derivative(h1[i]);
+    h3[i] = bernstein_derivative(h2[i]);
+  }
+  // Laplace expansion along the column pairs (H, H') and (H'', H'''):
+  // rows i < j, sign (-1)^(i+j+1), complement rows k < l.
+  const auto m = [&](int i, int j) { return reduce(minor(h0[i], h1[j], h0[j], h1[i]), 1); };  // 2n-2
+  const auto M = [&](int i, int j) { return minor(h2[i], h3[j], h2[j], h3[i]); };               // 2n-5
+  Bernstein<T> d = bernstein_product(m(0, 1), M(2, 3));
+  d = add(d, bernstein_product(m(0, 2), M(1, 3)), T(-1));
+  d = add(d, bernstein_product(m(0, 3), M(1, 2)), T(1));
+  d = add(d, bernstein_product(m(1, 2), M(0, 3)), T(1));
+  d = add(d, bernstein_product(m(1, 3), M(0, 2)), T(-1));
+  d = add(d, bernstein_product(m(2, 3), M(0, 1)), T(1));
+  d = sized(std::move(d), 4 * n - 6);
+  d = reduce(std::move(d), 5);
+  for (T& x : d) x = T(0) - x;
+  return d;
+}
+
+/// Tr = (2 W' Nr + W Nr') E - W Nr E' at degree 11n-26, the sign of
+/// d tau / dt; empty for n = 2 (a conic is planar: tau == 0).
+template <class T>
+Bernstein<T> torsion_sign_bernstein(const std::vector<HPoint3<T>>& H) {
+  using namespace space_rational_detail;
+  const Bernstein<T> N = torsion_numerator_bernstein<T>(H);
+  if (N.empty()) return {};
+  const int n = static_cast<int>(H.size()) - 1;
+  BVec3<T> X;
+  Bernstein<T> W;
+  components<T>(H, X, W);
+  const Bernstein<T> E = sized(norm2<T>(binormal_bernstein<T>(H)), 6 * n - 11);
+  // a = 2 W' N + W N' (the empty N' of a constant N is handled by add).
+  Bernstein<T> a = add(bernstein_product(bernstein_derivative(W), N), bernstein_product(W, bernstein_derivative(N)),
+                       Scalar<T>::ratio(1, 2));
+  for (T& x : a) x = T(2) * x;
+  Bernstein<T> t = add(bernstein_product(a, E), bernstein_product(bernstein_product(W, N), bernstein_derivative(E)), T(-1));
+  return reduce(sized(std::move(t), 11 * n - 24), 1);
 }
 
 }  // namespace cmr

@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 
+#include "bezierize/roots.hpp"
 #include "bezierize/space_classify.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -88,8 +91,9 @@ BSpline project_to_plane(const SpaceSpline& spline, const SpacePlane& plane) {
     const double bu = glm::dot(plane.u, x), bv = glm::dot(plane.v, x);
     pts.emplace_back((vv * bu - uv * bv) / det, (uu * bv - uv * bu) / det);
   }
-  if (spline.closed()) return BSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name());
-  return BSpline::make(spline.degree(), spline.knots(), pts, spline.name());
+  std::vector<double> w(spline.weights().begin(), spline.weights().begin() + (spline.is_rational() ? pts.size() : 0));
+  if (spline.closed()) return BSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name(), w);
+  return BSpline::make(spline.degree(), spline.knots(), pts, spline.name(), w);
 }
 
 struct SpaceRegionProblem::State {
@@ -113,10 +117,24 @@ std::vector<Point3<T>> moved_window(const SpaceSpline& spline, const SpaceWindow
   return pts;
 }
 
-/// sign(kappa_R - kappa_L) from the Bezier points of the two sides
-/// (space_analyze.cpp's rule): kSignUnknown when T's bounds do not decide.
+/// A rational spline's window with point k (weight kept) at q: (w q, w).
 template <class T>
-int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R) {
+std::vector<HPoint3<T>> moved_hwindow(const SpaceSpline& spline, const SpaceWindow& w, int k, int twin,
+                                      const Point3<T>& q) {
+  std::vector<HPoint3<T>> pts = space_window_hpoints<T>(spline, w);
+  for (int i = 0; i <= w.degree; ++i)
+    if (w.first + i == k || w.first + i == twin)
+      pts[static_cast<std::size_t>(i)] = to_hpoint3<T>(q, spline.weight(w.first + i));
+  return pts;
+}
+
+/// sign(kappa_R - kappa_L) from the Bezier points (and weights, empty for a
+/// polynomial spline) of the two sides, space_analyze.cpp's rule with
+/// kappa^2 = f^2 (w0 w2 / w1^2)^2 |a x b|^2 / |a|^6 multiplied out
+/// (weights > 0): kSignUnknown when T's bounds do not decide.
+template <class T>
+int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<T>& wl, const std::vector<Point3<T>>& R,
+               const std::vector<T>& wr) {
   const int d = static_cast<int>(L.size()) - 1;
   const Point3<T> al = L[d - 1] - L[d], bl = L[d - 2] - L[d - 1], ar = R[1] - R[0], br = R[2] - R[1];
   const T gl = dot3(al, al), gr = dot3(ar, ar);
@@ -124,8 +142,42 @@ int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R)
   if (sl == kSignUnknown || sr == kSignUnknown) return kSignUnknown;
   if (sl == 0 || sr == 0) return 0;
   const Point3<T> xl = cross3(al, bl), xr = cross3(ar, br);
-  const T a2l = dot3(xl, xl), a2r = dot3(xr, xr);
+  T a2l = dot3(xl, xl), a2r = dot3(xr, xr);
+  if (!wl.empty()) {
+    // (w0 w2)^2 w1'^4 on the other side's w1' clears both denominators.
+    const T ol = wl[d] * wl[d - 2], orr = wr[0] * wr[2], l1 = wl[d - 1] * wl[d - 1], r1 = wr[1] * wr[1];
+    a2l = T(a2l * ol * ol * r1 * r1);
+    a2r = T(a2r * orr * orr * l1 * l1);
+  }
   return Scalar<T>::sign(T(a2r * gl * gl * gl) - T(a2l * gr * gr * gr));
+}
+
+template <class T>
+int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R) {
+  return jump_sign3<T>(L, {}, R, {});
+}
+template <class T>
+int jump_sign3(const std::vector<HPoint3<T>>& HL, const std::vector<HPoint3<T>>& HR) {
+  std::vector<Point3<T>> L, R;
+  std::vector<T> wl, wr;
+  split_homogeneous<T>(HL, L, wl);
+  split_homogeneous<T>(HR, R, wr);
+  return jump_sign3<T>(L, wl, R, wr);
+}
+
+/// The label and depth of a pixel from its segments' classes and joints.
+RegionPixel fold_pixel(const SpaceSpline& spline, const std::vector<SpaceSegmentResult>& segs,
+                       const std::vector<SpaceJoint>& joints, const std::optional<SpaceJoint>& seam) {
+  RegionPixel px;
+  px.label = space_verdict(spline, segs, joints, seam, false);
+  int depth = 0;
+  bool level0 = false;
+  for (const SpaceSegmentResult& r : segs) {
+    depth = std::max(depth, r.curvature.depth);
+    level0 = level0 || (r.curvature.curvature == Curvature::non_monotone && r.curvature.depth == 0);
+  }
+  px.depth = static_cast<std::uint8_t>(level0 ? 0 : depth);
+  return px;
 }
 
 }  // namespace
@@ -174,9 +226,21 @@ const SpaceRegionRequest& SpaceRegionProblem::request() const { return state_->r
 const SpaceSpline& SpaceRegionProblem::spline() const { return state_->spline; }
 
 RegionPixel SpaceRegionProblem::classify(double a, double b) const {
+  return state_->spline.is_rational() ? classify_as<true>(a, b) : classify_as<false>(a, b);
+}
+
+template <bool kRational>
+RegionPixel SpaceRegionProblem::classify_as(double a, double b) const {
   const State& s = *state_;
   const SpacePlane& pl = *s.request.plane;
   const int k = s.request.point, twin = s.spline.twin(k);
+  // The window with point k (and its twin) at q: Cartesian points, or
+  // homogeneous ones (the point's weight kept) for a rational spline.
+  const auto moved = [&](const SpaceWindow& w, const auto& q) {
+    using T = std::remove_cvref_t<decltype(q.x)>;
+    if constexpr (kRational) return moved_hwindow<T>(s.spline, w, k, twin, q);
+    else return moved_window<T>(s.spline, w, k, twin, q);
+  };
   const auto coord_b = [&](double o, double u, double v) { return Bounded(o) + Bounded(a) * Bounded(u) + Bounded(b) * Bounded(v); };
   const auto coord_r = [&](double o, double u, double v) {
     return Rational(Rational(o) + Rational(a) * Rational(u) + Rational(b) * Rational(v));
@@ -193,8 +257,8 @@ RegionPixel SpaceRegionProblem::classify(double a, double b) const {
   std::vector<SpaceSegmentResult> segs = s.segments;
   for (const int i : s.moved_segments) {
     const SpaceWindow w = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(i)]);
-    const auto make_b = [&] { return moved_window<Bounded>(s.spline, w, k, twin, qb); };
-    const auto make_r = [&] { return moved_window<Rational>(s.spline, w, k, twin, exact_q()); };
+    const auto make_b = [&] { return moved(w, qb); };
+    const auto make_r = [&] { return moved(w, exact_q()); };
     SpaceDecision dec;
     if (s.request.exact_only) {
       const auto r = algorithm1(lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, make_r())), s.request.max_depth);
@@ -216,25 +280,71 @@ RegionPixel SpaceRegionProblem::classify(double a, double b) const {
     const SpaceWindow wl = space_window(s.spline, L), wr = space_window(s.spline, R);
     int sign = kSignUnknown;
     if (!s.request.exact_only)
-      sign = jump_sign3<Bounded>(space_window_bezier<Bounded>(wl, moved_window<Bounded>(s.spline, wl, k, twin, qb)),
-                                 space_window_bezier<Bounded>(wr, moved_window<Bounded>(s.spline, wr, k, twin, qb)));
+      sign = jump_sign3<Bounded>(space_window_bezier<Bounded>(wl, moved(wl, qb)),
+                                 space_window_bezier<Bounded>(wr, moved(wr, qb)));
     if (sign == kSignUnknown) {
       sign = jump_sign3<Rational>(
-          space_window_bezier<Rational>(wl, moved_window<Rational>(s.spline, wl, k, twin, exact_q())),
-          space_window_bezier<Rational>(wr, moved_window<Rational>(s.spline, wr, k, twin, exact_q())));
+          space_window_bezier<Rational>(wl, moved(wl, exact_q())),
+          space_window_bezier<Rational>(wr, moved(wr, exact_q())));
       px.exact = true;
     }
     (i == N ? *seam : joints[static_cast<std::size_t>(i - 1)]).jump = sign;
   }
-  px.label = space_verdict(s.spline, segs, joints, seam, false);
-  int depth = 0;
-  bool level0 = false;
-  for (const SpaceSegmentResult& r : segs) {
-    depth = std::max(depth, r.curvature.depth);
-    level0 = level0 || (r.curvature.curvature == Curvature::non_monotone && r.curvature.depth == 0);
-  }
-  px.depth = static_cast<std::uint8_t>(level0 ? 0 : depth);
+  const RegionPixel folded = fold_pixel(s.spline, segs, joints, seam);
+  px.label = folded.label;
+  px.depth = folded.depth;
   return px;
+}
+
+const std::vector<int>& SpaceRegionProblem::moved_segments() const { return state_->moved_segments; }
+const std::vector<int>& SpaceRegionProblem::moved_joints() const { return state_->moved_joints; }
+
+RegionPixel SpaceRegionProblem::compose(const std::vector<MonotonicityResult>& moved, const std::vector<int>& jumps) const {
+  const State& s = *state_;
+  CMR_CHECK(moved.size() == s.moved_segments.size() && jumps.size() == s.moved_joints.size());
+  std::vector<SpaceSegmentResult> segs = s.segments;
+  for (std::size_t i = 0; i < moved.size(); ++i) segs[static_cast<std::size_t>(s.moved_segments[i])].curvature = moved[i];
+  std::vector<SpaceJoint> joints = s.joints;
+  std::optional<SpaceJoint> seam = s.seam;
+  const int N = s.spline.segment_count();
+  for (std::size_t i = 0; i < jumps.size(); ++i) {
+    const int j = s.moved_joints[i];
+    (j == N ? *seam : joints[static_cast<std::size_t>(j - 1)]).jump = jumps[i];
+  }
+  return fold_pixel(s.spline, segs, joints, seam);
+}
+
+std::vector<std::array<double, 2>> SpaceRegionProblem::affine_bezier(int segment) const {
+  const State& s = *state_;
+  CMR_CHECK(!s.spline.is_rational());
+  const SpaceWindow w = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(segment)]);
+  const int k = s.request.point, twin = s.spline.twin(k);
+  // F: the window with the moved point at 0; m: the blossom of the scalar
+  // data that is 1 at the moved point (and its twin), 0 elsewhere.
+  std::vector<Point3<Rational>> pts = space_window_points<Rational>(s.spline, w);
+  std::vector<Rational> unit(static_cast<std::size_t>(w.degree + 1), Rational(0));
+  for (int i = 0; i <= w.degree; ++i)
+    if (w.first + i == k || w.first + i == twin) {
+      pts[static_cast<std::size_t>(i)] = Point3<Rational>{Rational(0), Rational(0), Rational(0)};
+      unit[static_cast<std::size_t>(i)] = 1;
+    }
+  const std::vector<Point3<Rational>> F = space_window_bezier<Rational>(w, pts);
+  const std::vector<Rational> m = space_window_bezier_of<Rational>(w, unit);
+  const auto rounded = [](const Rational& r) -> std::array<double, 2> {
+    const double v = nearest_double(r);
+    const Rational e = abs(Rational(r - Rational(v)));
+    const double eb = e.get_d();
+    return {v, sgn(e) == 0 ? 0.0 : std::nextafter(eb, std::numeric_limits<double>::infinity()) * (1 + 0x1p-50)};
+  };
+  std::vector<std::array<double, 2>> out;
+  for (int i = 0; i <= w.degree; ++i) {
+    const auto ii = static_cast<std::size_t>(i);
+    out.push_back(rounded(F[ii].x));
+    out.push_back(rounded(F[ii].y));
+    out.push_back(rounded(F[ii].z));
+    out.push_back(rounded(m[ii]));
+  }
+  return out;
 }
 
 RegionResult SpaceRegionProblem::render(int threads) const {

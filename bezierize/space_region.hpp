@@ -19,6 +19,7 @@
 // quartic in (a, b) (c is affine in Q); this backend evaluates it per pixel
 // rather than as a prepared polynomial (the plane's RegionSetup), so it is
 // slower than the planar engine, and only the CPU backend exists.
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -69,9 +70,27 @@ class SpaceRegionProblem {
   /// Every pixel (threads: 0 = all cores); labels are Direction.
   RegionResult render(int threads = 0) const;
 
+  // For device backends (vk/space_region_vk.hpp), which judge the parts a
+  // pixel's label depends on and leave the fold to compose():
+  /// The segments whose window holds the moved point (or its twin), ascending.
+  const std::vector<int>& moved_segments() const;
+  /// The joints (1..N; N: a closed spline's seam) next to a moved segment and
+  /// not C^2 by the knots, whose curvature jump varies with the point.
+  const std::vector<int>& moved_joints() const;
+  /// Bezier point k of segment `segment` as F_k + m_k Q for the moved point
+  /// Q (exact from the knots and the fixed points): 4 (d+1) entries
+  /// F_k.x, F_k.y, F_k.z, m_k, each (nearest double, bound on the rounding).
+  std::vector<std::array<double, 2>> affine_bezier(int segment) const;
+  /// The pixel from the certified classes of the moved segments (in
+  /// moved_segments() order) and the exact jump signs of the moved joints
+  /// (moved_joints() order): classify's fold, so the same label and depth.
+  RegionPixel compose(const std::vector<MonotonicityResult>& moved, const std::vector<int>& jumps) const;
+
  private:
   struct State;
   explicit SpaceRegionProblem(std::shared_ptr<const State> s) : state_(std::move(s)) {}
+  template <bool kRational>
+  RegionPixel classify_as(double a, double b) const;
   std::shared_ptr<const State> state_;
 };
 

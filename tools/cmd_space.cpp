@@ -12,6 +12,7 @@
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
+#include "vk/space_region_vk.hpp"
 
 namespace cmr::cli {
 
@@ -58,8 +59,6 @@ bool ends_with(const std::string& s, const std::string& tail) {
 }  // namespace
 
 void run_space_region(const SpaceRegionArgs& a) {
-  if (a.backend == "vulkan")
-    throw InputError("--backend vulkan: regions of space curves run on the CPU backend only (use --backend cpu or auto)");
   if (a.point.empty()) throw InputError("--point is required (see cmr region --help)");
   const SpaceSpline spline = read_space_spline_file(a.file);
   SpaceRegionRequest r;
@@ -87,7 +86,21 @@ void run_space_region(const SpaceRegionArgs& a) {
   if (!(tube.radius > 0) || !std::isfinite(tube.radius))
     throw InputError("--tube-radius: must be a positive number (got " + std::to_string(a.tube_radius) + ")");
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
-  const RegionResult img = problem.render();
+  // --backend vulkan: the device judges each pixel's parts and the CPU the
+  // pixels it cannot certify (vk/space_region_vk.hpp); auto and cpu: the CPU.
+  RegionResult img;
+  vk::SpaceRegionVkStats vk_stats;
+  const bool on_vulkan = a.backend == "vulkan";
+  if (on_vulkan) {
+    auto rendered = vk::render_space_region_vulkan(problem, {}, &vk_stats);
+    if (!rendered) {
+      if (rendered.error().code == vk::Errc::size_unsupported) throw InputError(rendered.error().message);
+      throw EnvironmentError("--backend vulkan: " + rendered.error().message);
+    }
+    img = rendered.take();
+  } else {
+    img = problem.render();
+  }
   const SpacePlane& plane = *problem.request().plane;
   OutputSet out;
   if (!a.labels.empty()) out.stage(a.labels, pgm(img, img.codes(), 255));
@@ -123,13 +136,14 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
                                 {"plane", {{"origin", vec3(plane.origin)}, {"u", vec3(plane.u)}, {"v", vec3(plane.v)}}},
                                 {"dimension", 3},
-                                {"backend", "cpu"},
+                                {"backend", on_vulkan ? "vulkan" : "cpu"},
                                 {"point", r.point},
                                 {"counts", c}};
   if (!a.mesh.empty()) doc["mesh"] = {{"faces", mesh_faces}, {"tube_radius", tube.radius}};
   if (a.stats) {
     doc["seconds"] = img.seconds;
     doc["exact_pixels"] = img.exact_pixels;
+    if (on_vulkan) doc["host_pixels"] = vk_stats.host_pixels;  // left to the CPU by the device
   }
   print_json(doc, a.pretty);
 }

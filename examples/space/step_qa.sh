@@ -6,8 +6,8 @@
 #   bash examples/space/step_qa.sh [BUILD_DIR [OUT_DIR]]   (default build, step_qa)
 # Needs a build with the STEP importer (OpenCASCADE; tools/setup.sh).
 # Exit: 0 when the report was written (the report's own status is printed:
-# 1 some curve's curvature is not monotone, 2 some curve could not be judged,
-# e.g. a rational edge while rational space curves are not supported), 2 when
+# 1 some curve's curvature is not monotone, 2 some curve could not be judged),
+# 2 when
 # the model or the import failed, 77 when cmr was built without STEP support.
 set -euo pipefail
 build=${1:-build}

@@ -40,7 +40,8 @@ glm::dmat3 random_rotation(std::mt19937_64& rng) {
 SpaceSpline transformed(const SpaceSpline& s, const glm::dmat3& M, Vec3 offset, double scale) {
   std::vector<Vec3> pts;
   for (int k = 0; k < s.unique_point_count(); ++k) pts.push_back(scale * (M * s.points()[k]) + offset);
-  return SpaceSpline::make(s.degree(), s.knots(), pts);
+  const std::vector<double> w(s.weights().begin(), s.weights().begin() + (s.is_rational() ? s.unique_point_count() : 0));
+  return SpaceSpline::make(s.degree(), s.knots(), pts, "", w);
 }
 
 // Direction of kappa on a dense sample: +1 non-decreasing, -1 non-increasing, 0 both ways.
@@ -322,6 +323,188 @@ TEST(SpaceAnalyze, BadOptionsAreInputErrors) {
   SpaceAnalyzeOptions o;
   o.max_depth = 99;
   EXPECT_THROW(analyze_space(SpaceSpline::bezier({{0, 0, 0}, {1, 1, 1}, {2, 0, 0}}), o), InputError);
+}
+
+// ---- rational space curves ----
+
+std::vector<double> random_weights(std::mt19937_64& rng, int count) {
+  std::uniform_real_distribution<double> u(0.25, 4);
+  std::vector<double> w(count);
+  for (double& x : w) x = u(rng);
+  return w;
+}
+
+TEST(RationalSpaceAnalyze, CertifiedSegmentClassesAgreeWithDenseSamplingOfKappaAndTau) {
+  std::mt19937_64 rng(2026);
+  int checked = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int d = 2 + trial % 4, m = d + 1 + trial % 3;
+    const SpaceSpline s = SpaceSpline::make(d, open_uniform(d, m), random_points3(rng, m), "", random_weights(rng, m));
+    ASSERT_TRUE(s.is_rational());
+    SpaceAnalyzeOptions o;
+    o.torsion = true;
+    const SpaceAnalysis a = analyze_space(s, o);
+    for (const Segment& seg : s.segments()) {
+      const SpaceSegmentResult& r = a.segments[seg.index];
+      if (r.cusp) continue;
+      const auto check = [&](Curvature c, bool torsion) {
+        const int dir = sampled_direction(s, seg, torsion);
+        if (c == Curvature::increasing) {
+          EXPECT_EQ(dir, 1) << "trial " << trial << " seg " << seg.index << " torsion " << torsion;
+        }
+        if (c == Curvature::decreasing) {
+          EXPECT_EQ(dir, -1) << "trial " << trial << " seg " << seg.index << " torsion " << torsion;
+        }
+        ++checked;
+      };
+      check(r.curvature.curvature, false);
+      if (r.zero_curvature.empty() && d >= 3) check(r.torsion->curvature, true);
+      // The sign of Nr is the sign of tau.
+      if (d >= 3 && r.torsion_sign != 0) {
+        const double tau = space_torsion(s, 0.5 * (seg.a + seg.b));
+        EXPECT_EQ(tau > 0 ? 1 : -1, r.torsion_sign) << "trial " << trial << " seg " << seg.index;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(RationalSpaceAnalyze, PlanarRationalSplineRotatedIntoSpaceGetsThePlanesVerdicts) {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-2, 2), uw(0.25, 4);
+  int compared = 0, monotone = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int d = 2 + trial % 3, m = d + 1 + trial % 2;
+    std::vector<Vec2> P(m);
+    std::vector<double> w(m);
+    for (Vec2& p : P) p = Vec2(u(rng), u(rng));
+    for (double& x : w) x = uw(rng);
+    if (trial % 2 == 0) {  // gentle arcs with near-equal weights, often monotone
+      for (int i = 0; i < m; ++i) P[i] = Vec2(i, 0.3 * i * i + 0.1 * u(rng));
+      for (double& x : w) x = 1 + 0.02 * u(rng);
+    }
+    const BSpline plane = BSpline::make(d, open_uniform(d, m), P, "", w);
+    ASSERT_TRUE(plane.is_rational());
+    AnalyzeOptions o2;
+    o2.classify.max_depth = 12;
+    const SplineAnalysis a2 = analyze(plane, o2);
+    const SpaceSpline embedded = SpaceSpline::embed(plane);
+    ASSERT_TRUE(embedded.is_rational());
+    const SpaceSpline space = transformed(embedded, random_rotation(rng), Vec3(u(rng), u(rng), u(rng)), 1.0);
+    SpaceAnalyzeOptions o3;
+    o3.max_depth = 12;
+    const SpaceAnalysis a3 = analyze_space(space, o3);
+    // The unrotated embedding gets the same verdict too (exact data, no rounding).
+    EXPECT_EQ(analyze_space(embedded, o3).curvature, a3.curvature) << "trial " << trial;
+    if (a2.cusp || a2.cmrwi == Direction::undecided || a2.cmr == Direction::undecided ||
+        a3.curvature == Direction::undecided)
+      continue;
+    Direction want = Direction::none;
+    if (a2.cmr != Direction::none) {
+      int sign = 0;
+      for (const SegmentShape& sh : a2.shapes) sign = sign != 0 ? sign : sh.kappa_sign;
+      want = sign >= 0 ? a2.cmr : (a2.cmr == Direction::increasing ? Direction::decreasing : Direction::increasing);
+      ++monotone;
+    }
+    EXPECT_EQ(to_string(a3.curvature), std::string(to_string(want))) << "trial " << trial;
+    ++compared;
+  }
+  EXPECT_GT(compared, 150);
+  EXPECT_GT(monotone, 20);
+}
+
+void expect_same_verdicts(const SpaceAnalysis& a, const SpaceAnalysis& b, const std::string& what) {
+  ASSERT_EQ(a.segments.size(), b.segments.size()) << what;
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    EXPECT_EQ(a.segments[i].curvature.curvature, b.segments[i].curvature.curvature) << what << " seg " << i;
+    EXPECT_EQ(a.segments[i].torsion->curvature, b.segments[i].torsion->curvature) << what << " seg " << i;
+    EXPECT_EQ(a.segments[i].torsion_sign, b.segments[i].torsion_sign) << what << " seg " << i;
+    EXPECT_EQ(a.segments[i].zero_curvature.size(), b.segments[i].zero_curvature.size()) << what << " seg " << i;
+  }
+  for (std::size_t i = 0; i < a.joints.size(); ++i) EXPECT_EQ(a.joints[i].jump, b.joints[i].jump) << what << " joint " << i;
+  EXPECT_EQ(a.curvature, b.curvature) << what;
+  EXPECT_EQ(*a.torsion, *b.torsion) << what;
+}
+
+TEST(RationalSpaceAnalyze, VerdictsAreInvariantUnderRotationTranslationScalingAndWeightScaling) {
+  std::mt19937_64 rng(98);
+  std::uniform_real_distribution<double> u(-5, 5), sc(0.1, 10);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int d = 2 + trial % 4, m = d + 1 + trial % 4;
+    const std::vector<double> w = random_weights(rng, m);
+    const SpaceSpline s = SpaceSpline::make(d, open_uniform(d, m), random_points3(rng, m), "", w);
+    SpaceAnalyzeOptions o;
+    o.torsion = true;
+    const SpaceAnalysis a = analyze_space(s, o);
+    const std::string at = "trial " + std::to_string(trial);
+    expect_same_verdicts(a, analyze_space(transformed(s, random_rotation(rng), Vec3(u(rng), u(rng), u(rng)), sc(rng)), o),
+                         at + " rigid+scale");
+    for (const double f : {0.5, 3.0}) {  // every weight times f: the same curve
+      std::vector<double> wf = w;
+      for (double& x : wf) x *= f;
+      expect_same_verdicts(a, analyze_space(SpaceSpline::make(d, open_uniform(d, m), s.points(), "", wf), o),
+                           at + " weights*" + std::to_string(f));
+    }
+  }
+}
+
+// A rational Bezier curve with weights w_i rho^i (rho > 0) is the same curve
+// under the Moebius reparametrisation s(t) = rho t / ((1 - t) + rho t) of [0, 1]
+// onto itself, which keeps the orientation: the same verdicts.
+TEST(RationalSpaceAnalyze, VerdictsAreInvariantUnderMoebiusReparametrisation) {
+  std::mt19937_64 rng(97);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int d = 2 + trial % 6;
+    const std::vector<Vec3> P = random_points3(rng, d + 1);
+    const std::vector<double> w = random_weights(rng, d + 1);
+    const SpaceSpline s = SpaceSpline::bezier(P, "", w);
+    SpaceAnalyzeOptions o;
+    o.torsion = true;
+    const SpaceAnalysis a = analyze_space(s, o);
+    for (const double rho : {0.5, 2.0, 3.0}) {
+      std::vector<double> wr = w;
+      double f = 1;
+      for (double& x : wr) {
+        x *= f;
+        f *= rho;
+      }
+      const SpaceSpline r = SpaceSpline::bezier(P, "", wr);
+      // The same point set: C_r(t) = C(s(t)) with s(t) = rho t / ((1 - t) + rho t).
+      for (const double t : {0.25, 0.5, 0.75}) {
+        const double st = rho * t / ((1 - t) + rho * t);
+        EXPECT_LT(glm::length(evaluate(r, t) - evaluate(s, st)), 1e-9) << "trial " << trial << " rho " << rho;
+      }
+      expect_same_verdicts(a, analyze_space(r, o), "trial " + std::to_string(trial) + " rho " + std::to_string(rho));
+    }
+  }
+}
+
+TEST(RationalSpaceAnalyze, JointsMeasureKappaAndTauOfTheRationalCurve) {
+  std::mt19937_64 rng(96);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int d = 3 + trial % 3, m = d + 3;
+    const SpaceSpline s = SpaceSpline::make(d, open_uniform(d, m), random_points3(rng, m), "", random_weights(rng, m));
+    const SpaceAnalysis a = analyze_space(s);
+    for (const SpaceJoint& j : a.joints) {
+      const std::string at = "trial " + std::to_string(trial) + " joint " + std::to_string(j.index);
+      const double kl = space_curvature(s, std::nextafter(j.knot, -1e300)), kr = space_curvature(s, j.knot);
+      EXPECT_NEAR(j.kappa_left, kl, 1e-7 * (1 + kl)) << at;
+      EXPECT_NEAR(j.kappa_right, kr, 1e-7 * (1 + kr)) << at;
+      const double tl = space_torsion(s, std::nextafter(j.knot, -1e300)), tr = space_torsion(s, j.knot);
+      EXPECT_NEAR(j.tau_left, tl, 1e-6 * (1 + std::fabs(tl))) << at;
+      EXPECT_NEAR(j.tau_right, tr, 1e-6 * (1 + std::fabs(tr))) << at;
+    }
+  }
+  // A C1 joint (double knot) of a rational cubic: the exact jump sign is that of the sampled kappas.
+  const SpaceSpline c = SpaceSpline::make(3, {0, 0, 0, 1, 1, 2, 2, 2},
+                                          {{0, 0, 0}, {1, 1, 0.5}, {2, 1, 1}, {3, 1.5, 1.2}, {4, 3, 1}, {5, 3, 3}}, "",
+                                          {1, 2, 0.5, 1.5, 3, 1});
+  const SpaceAnalysis ac = analyze_space(c);
+  ASSERT_EQ(ac.joints.size(), 1u);
+  const double kl = space_curvature(c, std::nextafter(1.0, 0.0)), kr = space_curvature(c, 1.0);
+  EXPECT_EQ(ac.joints[0].jump, kr > kl ? 1 : -1) << kl << " " << kr;
+  EXPECT_NEAR(ac.joints[0].kappa_left, kl, 1e-9);
+  EXPECT_NEAR(ac.joints[0].kappa_right, kr, 1e-9);
 }
 
 }  // namespace

@@ -16,11 +16,12 @@ namespace {
 const std::vector<Vec2> kFig8 = {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}};
 const std::vector<double> kFig8Knots = {0, 1, 2, 3, 4, 5, 6, 7};
 
-SpaceSpline fig8_lifted(const std::vector<double>& z) {
+SpaceSpline fig8_lifted(const std::vector<double>& z, const std::vector<double>& weights = {}) {
   std::vector<Vec3> p;
   for (std::size_t i = 0; i < kFig8.size(); ++i) p.emplace_back(kFig8[i].x, kFig8[i].y, z[i]);
-  return SpaceSpline::make(3, kFig8Knots, p);
+  return SpaceSpline::make(3, kFig8Knots, p, "", weights);
 }
+const std::vector<double> kWeights = {1, 1.03125, 0.96875, 1.0625, 1, 1.03125};
 
 void expect_same_labels(const RegionResult& a, const RegionResult& b, const std::string& what) {
   ASSERT_EQ(a.labels.size(), b.labels.size()) << what;
@@ -50,19 +51,19 @@ std::optional<View> boundary_zoom(const SpaceRegionProblem& problem, const Regio
   return std::nullopt;
 }
 
-TEST(SpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZooms) {
-  std::mt19937_64 rng(250);
+void labels_agree_with_exact_arithmetic(const std::vector<double>& weights, std::uint64_t seed, int size) {
+  std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
   int zooms = 0, mixed = 0;
   std::uint64_t exact = 0;
   for (int trial = 0; trial < 6; ++trial) {
     std::vector<double> z(6);
     for (double& x : z) x = trial == 0 ? 0.0 : u(rng);
-    const SpaceSpline s = fig8_lifted(z);
+    const SpaceSpline s = fig8_lifted(z, weights);
     SpaceRegionRequest r;
     r.point = 3;
     r.plane = SpacePlane{s.points()[3], {1, u(rng), u(rng)}, {u(rng), 1, u(rng)}};
-    r.width = r.height = 20;
+    r.width = r.height = size;
     r.view = View{-0.5, -0.5, 0.5, 0.5};
     const RegionResult fast = SpaceRegionProblem::make(s, r).render(1);
     SpaceRegionRequest e = r;
@@ -87,10 +88,20 @@ TEST(SpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZoo
   EXPECT_GT(exact, 0u);  // and there the exact fallback decided pixels
 }
 
-TEST(SpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) {
+TEST(SpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZooms) {
+  labels_agree_with_exact_arithmetic({}, 250, 20);
+}
+
+TEST(RationalSpaceRegion, LabelsAgreeWithExactArithmeticOnSeededPlanesAndNearBoundaryZooms) {
+  // (Smaller images: the exact-only reference of a rational cubic works on
+// lambda3r of degree 15 in GMP.)
+  labels_agree_with_exact_arithmetic(kWeights, 251, 12);
+}
+
+void pixel_label_is_analyze_space(const std::vector<double>& weights) {
   // Dyadic plane and view: every pixel's point O + a U + b V is a double, so
   // the moved spline exists and analyze_space states the label.
-  const SpaceSpline s = fig8_lifted({0, 0.125, -0.25, 0.25, 0.5, 0});
+  const SpaceSpline s = fig8_lifted({0, 0.125, -0.25, 0.25, 0.5, 0}, weights);
   SpaceRegionRequest r;
   r.point = 3;
   r.plane = SpacePlane{{2, -3.75, 0.25}, {1, 0, 0.125}, {0, 1, -0.0625}};
@@ -115,6 +126,12 @@ TEST(SpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) {
   EXPECT_LT(monotone, 256);
 }
 
+TEST(SpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) { pixel_label_is_analyze_space({}); }
+
+// The moved point keeps its weight: each pixel is analyze_space of the
+// rational spline with point 3 at Q.
+TEST(RationalSpaceRegion, PixelLabelIsAnalyzeSpaceOfTheMovedSpline) { pixel_label_is_analyze_space(kWeights); }
+
 TEST(SpaceRegion, ClosedSplineMovesThePointAndItsTwin) {
   const SpaceSpline s = SpaceSpline::make_closed(3, {0, 1, 2, 3, 4, 5},
                                                  {{2, 0, 0}, {0.5, 1.5, 0.5}, {-1.5, 1, 1}, {-1.5, -1, 0.5}, {0.5, -1.5, 0}});
@@ -137,8 +154,7 @@ TEST(SpaceRegion, ClosedSplineMovesThePointAndItsTwin) {
 }
 
 // A planar spline in its own plane: the plane's region labels, read for |kappa|.
-TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
-  const BSpline plane = BSpline::make(3, kFig8Knots, kFig8);
+void planar_curve_gives_the_planes_labels(const BSpline& plane) {
   const SpaceSpline s = SpaceSpline::embed(plane);
   const int W = 24;
   SpaceRegionRequest r;
@@ -182,6 +198,14 @@ TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
     }
   EXPECT_GT(compared, W * W / 2);
   EXPECT_GT(monotone, 10);
+}
+
+TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
+  planar_curve_gives_the_planes_labels(BSpline::make(3, kFig8Knots, kFig8));
+}
+
+TEST(RationalSpaceRegion, PlanarRationalCurveInItsOwnPlaneGivesThePlanesLabels) {
+  planar_curve_gives_the_planes_labels(BSpline::make(3, kFig8Knots, kFig8, "", kWeights));
 }
 
 TEST(SpaceRegion, BadPlanesAndRequestsAreInputErrors) {

@@ -109,11 +109,55 @@ TEST(SpaceSplineJson, BadInputNamesTheField) {
   expect_error(R"({"points":[[0,0],[1,1,1]]})",
                "points[1] has 3 coordinates but points[0] has 2 (all points must be [x, y], or all [x, y, z])", true);
   expect_error(R"({"points":[[0,0,0],[1,1,"a"],[2,0,0]]})", "points[1][2] is not a number");
-  expect_error(R"({"points":[[0,0,0],[1,1,1],[2,0,0]],"weights":[1,2,1]})",
-               "weights: rational space curves are not supported (3D splines are polynomial)");
+  expect_error(R"({"points":[[0,0,0],[1,1,1],[2,0,0]],"weights":[1,2]})",
+               "weights: one weight per control point is needed: 3 points, 2 weights");
+  expect_error(R"({"points":[[0,0,0],[1,1,1],[2,0,0]],"weights":[1,0,1]})",
+               "weights[1] is 0: rational space curves need positive weights");
+  expect_error(R"({"points":[[0,0,0],[1,1,1],[2,0,0]],"weights":[-1,-2,-1]})",
+               "weights[0] is -1: rational space curves need positive weights");
+  expect_error(R"({"points":[[0,0,0],[1,1,1],[2,0,0]],"weights":[1,"a",1]})", "weights[1] is not a number");
   expect_error(R"({"points":[[0,0,0],["x",1,1],[2,0,0]]})", "points[1][0] is not a number");
   expect_error(R"({"degree":3,"knots":[0,1,2,3],"points":[[0,0,0],[1,1,1],[2,0,0],[3,1,1]]})",
                "knots: polar form needs points + degree - 1 = 6 knots (got 4)");
+}
+
+// A rational space curve: evaluation is the projected homogeneous blossom,
+// derivatives (Leibniz on H = W C) match finite differences, the Bezier
+// points interpolate, and the file round-trips with its weights.
+TEST(SpaceSpline, RationalCurveEvaluatesDerivesAndRoundTrips) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> uw(0.25, 4);
+  for (int d = 2; d <= 5; ++d) {
+    std::vector<double> knots, w;
+    for (int i = 0; i < 7 + d - 1; ++i) knots.push_back(i);
+    for (int i = 0; i < 7; ++i) w.push_back(uw(rng));
+    const std::vector<Vec3> P = random_points3(rng, 7);
+    const SpaceSpline s = SpaceSpline::make(d, knots, P, "r", w);
+    ASSERT_TRUE(s.is_rational());
+    for (const Segment& seg : s.segments()) {
+      const std::vector<Vec3> B = bezier_points(s, seg);
+      EXPECT_LT(glm::length(B.front() - evaluate(s, seg.a)), 1e-12) << "d=" << d;
+      const double t = 0.5 * (seg.a + seg.b), h = 1e-6;
+      // C(t) = sum N_i w_i P_i / sum N_i w_i, from the homogeneous blossom.
+      const Vec4 H = homogeneous_blossom(s, seg, std::vector<double>(d, t).data());
+      EXPECT_LT(glm::length(Vec3(H.x, H.y, H.z) / H.w - evaluate(s, t)), 1e-12) << "d=" << d;
+      for (int r = 1; r <= std::min(d, 3); ++r) {
+        const Vec3 fd = (derivative(s, t + h, r - 1) - derivative(s, t - h, r - 1)) / (2 * h);
+        EXPECT_LT(glm::length(fd - derivative(s, t, r)), 1e-5 * (1 + glm::length(fd))) << "d=" << d << " r=" << r;
+      }
+    }
+    const SpaceSpline back = space_spline_from_json(space_spline_to_json(s));
+    ASSERT_EQ(back.weights().size(), s.weights().size());
+    for (std::size_t i = 0; i < w.size(); ++i) EXPECT_EQ(back.weights()[i], w[i]) << "d=" << d << " i=" << i;
+    // Scaling every weight by the same factor is the same curve.
+    std::vector<double> w3 = w;
+    for (double& x : w3) x *= 3;
+    const SpaceSpline s3 = SpaceSpline::make(d, knots, P, "r3", w3);
+    for (double t = knots[d - 1]; t < knots[knots.size() - d]; t += 0.37)
+      EXPECT_LT(glm::length(evaluate(s3, t) - evaluate(s, t)), 1e-12) << "d=" << d << " t=" << t;
+  }
+  // Equal weights are the polynomial curve.
+  EXPECT_FALSE(SpaceSpline::bezier({{0, 0, 0}, {1, 1, 1}, {2, 0, 0}}, "", {2, 2, 2}).is_rational());
 }
 
 }  // namespace

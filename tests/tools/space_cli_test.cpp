@@ -50,8 +50,16 @@ TEST(SpaceCli, PlanarFilesAreUnchanged) {
 TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("analyze " + write("mixed.json", R"({"points":[[0,0,0],[1,1],[2,0,1]]})")),
                         "points[1] has 2 coordinates but points[0] has 3 (all points must be [x, y], or all [x, y, z])");
-  expect_one_line_error(run("analyze " + write("w3.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,2,1]})")),
-                        "weights: rational space curves are not supported");
+  expect_one_line_error(run("analyze " + write("w2.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,2]})")),
+                        "weights: one weight per control point is needed: 3 points, 2 weights");
+  expect_one_line_error(run("analyze " + write("w0.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,0,1]})")),
+                        "weights[1] is 0: rational space curves need positive weights");
+  expect_one_line_error(run("region " + write("wn.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,-2,1]})") +
+                            " --point 1 --plane xy"),
+                        "weights[1] is -2: rational space curves need positive weights");
+  expect_one_line_error(run("report " + write("wm.json", R"({"points":[[0,0,0],[1,1],[2,0,1]],"weights":[1,2,1]})") +
+                            " --out " + (test::scratch() / "wm_report").string()),
+                        "points[1] has 2 coordinates but points[0] has 3");
   expect_one_line_error(run("analyze " + kExample + " --split 1"),
                         "--split, --segments, --each-piece and --mode are for planar splines");
   expect_one_line_error(run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --torsion"),
@@ -59,8 +67,9 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0,1,0,0,2,0,0"),
                         "--plane: U and V are parallel (the plane is degenerate)");
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0"), "--plane: 3 numbers given, expected 9");
-  expect_one_line_error(run("region " + kExample + " --point 3 --backend vulkan"),
-                        "--backend vulkan: regions of space curves run on the CPU backend only");
+  expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) +
+                            "/examples/space/fig8b_lifted_rational.json --point 3 --plane xy --backend vulkan"),
+                        "--backend vulkan: regions of rational space curves run on the CPU backend only");
   expect_one_line_error(run("region " + kExample + " --point 3 --split 1"), "--split is for planar splines");
   expect_one_line_error(run("region " + kExample + " --point 9"), "--point 9 is outside 0..5");
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
@@ -85,6 +94,46 @@ TEST(SpaceCli, RegionWritesLabelsAndCountsThem) {
   const std::string pgm = test::slurp(labels);
   ASSERT_EQ(pgm.substr(0, 13), "P5\n40 40\n255\n");
   EXPECT_EQ(std::count(pgm.begin() + 13, pgm.end(), '\x02'), dec);
+}
+
+// examples/space/fig8b_lifted_rational.json: the lifted Fig. 8b curve with
+// weights; analyze, region (CPU) and report all take it.
+TEST(SpaceCli, RationalSpaceCurveAnalyzesReportsAndHasRegions) {
+  const std::string file = std::string(CMR_SOURCE_DIR) + "/examples/space/fig8b_lifted_rational.json";
+  const test::Outcome a = run("analyze " + file + " --torsion");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto doc = nlohmann::json::parse(a.out);
+  EXPECT_EQ(doc["spline"]["dimension"], 3);
+  EXPECT_EQ(doc["spline"]["curvature"], "decreasing");
+  ASSERT_EQ(doc["segments"].size(), 3u);
+  EXPECT_EQ(doc["segments"][0]["torsion_sign"], "negative");
+  const std::string labels = (test::scratch() / "space_rational_labels.pgm").string();
+  const test::Outcome r =
+      run("region " + file + " --point 3 --plane xy --view -1.2,-1.2,0.8,0.8 --size 24x24 --labels " + labels);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto reg = nlohmann::json::parse(r.out);
+  EXPECT_GT(reg["counts"]["decreasing"].get<int>(), 20);
+  EXPECT_GT(reg["counts"]["none"].get<int>(), 20);
+  const std::string dir = (test::scratch() / "space_rational_report").string();
+  const test::Outcome p = run("report " + file + " --out " + dir + " --require cmrwi");
+  ASSERT_EQ(p.code, 0) << p.err;
+  const auto rep = nlohmann::json::parse(test::slurp(dir + "/report.json"));
+  EXPECT_EQ(rep["splines"][0]["pass"], true);
+  EXPECT_EQ(rep["splines"][0]["analysis"]["spline"]["curvature"], "decreasing");
+}
+
+// --backend vulkan (lavapipe): the same labels file as --backend cpu.
+TEST(SpaceCli, RegionOnVulkanWritesTheCpuLabels) {
+  const std::string cpu = (test::scratch() / "space_cpu.pgm").string(), gpu = (test::scratch() / "space_vk.pgm").string();
+  const std::string args = "region " + kExample + " --point 3 --plane xy --view -1.2,-1.2,0.8,0.8 --size 32x32 --labels ";
+  const test::Outcome c = run(args + cpu + " --backend cpu");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const test::Outcome g = run(args + gpu + " --backend vulkan --stats");
+  ASSERT_EQ(g.code, 0) << g.err;
+  const auto doc = nlohmann::json::parse(g.out);
+  EXPECT_EQ(doc["backend"], "vulkan");
+  EXPECT_LT(doc["host_pixels"].get<int>(), 32 * 32 / 2);
+  EXPECT_EQ(test::slurp(gpu), test::slurp(cpu));
 }
 
 TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {

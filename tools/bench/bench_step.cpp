@@ -2,9 +2,8 @@
 // file to certified verdicts. One pass: read the file and convert every
 // B-spline/Bezier edge (step/step.hpp), then analyze_space (curvature
 // monotonicity, zero curvature, joints: what `cmr report` judges; with
-// "torsion" as third argument torsion monotonicity too) on every polynomial curve;
-// rational curves are counted and skipped while rational space curves are
-// not supported. Best of PASSES passes (the machine's speed drifts); the
+// "torsion" as third argument torsion monotonicity too) on every curve,
+// polynomial and rational. Best of PASSES passes (the machine's speed drifts); the
 // processor, the core count and the load average are printed with it.
 //   build/tools/cmr_step_model model.step 5 && build/tools/bench/bench_step model.step [PASSES [torsion]]
 #include <algorithm>
@@ -51,10 +50,7 @@ Pass run(const char* path, bool torsion) {
   o.torsion = torsion;
   for (const import::StepCurve& c : curves.curves) {
     ++p.curves;
-    if (!c.weights.empty()) {
-      ++p.rational;
-      continue;
-    }
+    p.rational += !c.weights.empty();
     const SpaceSpline s = space_spline_from_json(nlohmann::json::parse(import::step_curve_json(c).dump()));
     const SpaceAnalysis a = analyze_space(s, o);
     ++p.analyzed;
@@ -84,7 +80,7 @@ int main(int argc, char** argv) {
       const Pass p = run(argv[1], torsion);
       if (p.import + p.analyze < best.import + best.analyze) best = p;
     }
-    std::printf("%d B-spline edges (%d rational, skipped), %d analyzed%s: %d segments, %d with monotone curvature\n",
+    std::printf("%d B-spline edges (%d rational), %d analyzed%s: %d segments, %d with monotone curvature\n",
                 best.curves, best.rational, best.analyzed, torsion ? " with torsion" : "", best.segments, best.monotone);
     std::printf("read + convert: %.3f s (%.0f edges/s); analyze: %.3f s (%.0f edges/s); together %.0f edges/s\n",
                 best.import, best.curves / best.import, best.analyze, best.analyzed / best.analyze,

@@ -1,0 +1,282 @@
+#version 450
+// Regions of a point of a polynomial space curve moving in a plane, one pixel
+// per invocation: the GPU mirror of one part of
+// cmr::SpaceRegionProblem::classify (bezierize/space_region.cpp). One run
+// judges one moved segment (Algorithm 1 on lambda3, bezierize/space_lambda.hpp
+// and decide.hpp) or one varying joint's curvature jump, in double precision
+// with a running error bound on every quantity (as cmr::Bounded). A result
+// that rests on a sign this arithmetic cannot certify is flagged, and the
+// host (vk/space_region_vk.cpp) then classifies the pixel on the CPU, so the
+// labels equal the CPU backend's.
+//
+// Buffer (std430): uint hdr[16], then dvec2 data[] (value, error bound):
+//   hdr[0] width, hdr[1] height, hdr[2] mode (0 segment, 1 joint),
+//   hdr[3] offset of the plane coordinate a per column (width entries),
+//   hdr[4] offset of b per row (height entries), hdr[5] offset of the plane
+//   (O, U, V: nine entries, exact), hdr[6] offset of the segment data:
+//   for each of the DEG+1 Bezier points B_k = F_k + m_k Q (Q the moved
+//   point), the entries F_k.x, F_k.y, F_k.z, m_k; a joint run has the left
+//   segment's then the right segment's.
+// Result word: mode 0: curvature code (0 increasing, 1 decreasing,
+// 2 non-monotone, 3 undecided, 4 constant) | depth << 8; mode 1: jump sign
+// + 1; or RESULT_UNCERTAIN.
+#define REAL double
+#define REAL2 dvec2
+#define K_ROUND 2.220446049250313080847263336181640625e-16LF     // 2^-52
+#define K_TINY 9.332636185032188789900895447238171696171e-302LF  // 2^-1000
+
+layout(constant_id = 0) const int DEG = 3;    // degree n of the segments, 2..7
+layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
+
+const int M = DEG - 1;          // hodograph degree
+const int NC = 2 * DEG - 3;     // coefficients of each component of c = P' x P'' (degree 2n-4)
+const int NC2 = 4 * DEG - 7;    // |c|^2 (4n-8)
+const int NG = 2 * DEG - 1;     // g = |P'|^2 (2n-2)
+const int NL = 6 * DEG - 10;    // lambda3 (6n-11)
+const uint RESULT_UNCERTAIN = 65536u;
+
+layout(std430, set = 0, binding = 0) readonly buffer SpaceData {
+  uint hdr[16];
+  REAL2 data[];
+};
+layout(location = 0) out uint result;
+
+REAL2 b_add(REAL2 a, REAL2 b) {
+  precise REAL r = a.x + b.x;
+  precise REAL e = a.y + b.y + K_ROUND * abs(r);
+  return REAL2(r, e);
+}
+REAL2 b_sub(REAL2 a, REAL2 b) {
+  precise REAL r = a.x - b.x;
+  precise REAL e = a.y + b.y + K_ROUND * abs(r);
+  return REAL2(r, e);
+}
+REAL2 b_mul(REAL2 a, REAL2 b) {
+  precise REAL r = a.x * b.x;
+  precise REAL e = abs(a.x) * b.y + abs(b.x) * a.y + a.y * b.y + K_ROUND * abs(r) + K_TINY;
+  return REAL2(r, e);
+}
+// a / d for an exact integer d != 0.
+REAL2 b_div_int(REAL2 a, REAL d) {
+  precise REAL r = a.x / d;
+  precise REAL e = (a.y / abs(d)) * (REAL(1) + REAL(2) * K_ROUND) + K_ROUND * abs(r) + K_TINY;
+  return REAL2(r, e);
+}
+REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
+REAL2 b_exact(REAL v) { return REAL2(v, REAL(0)); }
+
+// C(n, k), exact in double for the sizes here (n <= 6 DEG).
+REAL binom(int n, int k) {
+  REAL c = REAL(1);
+  for (int i = 0; i < k; ++i) c = c * REAL(n - i) / REAL(i + 1);
+  return c;
+}
+
+const int SIGN_UNKNOWN = 2;
+int b_sign(REAL2 a) {
+  if (abs(a.x) > a.y) return a.x > REAL(0) ? 1 : -1;  // false for NaN: unknown
+  if (a.y == REAL(0) && a.x == REAL(0)) return 0;     // an exact (structural) zero
+  return SIGN_UNKNOWN;
+}
+
+REAL2 Q[3];
+REAL2 B[DEG + 1][3];
+
+// Bezier points of the segment whose data start at entry `at`.
+void load_bezier(uint at) {
+  for (int k = 0; k <= DEG; ++k) {
+    REAL2 m = data[at + uint(4 * k + 3)];
+    for (int c = 0; c < 3; ++c) B[k][c] = b_add(data[at + uint(4 * k + c)], b_mul(m, Q[c]));
+  }
+}
+
+REAL2 lam[NL];
+
+// lambda3 = (|c|^2)' g - 3 |c|^2 g' from B (space_lambda.hpp's formulas).
+void lambda3() {
+  REAL2 q[DEG][3];
+  for (int i = 0; i < DEG; ++i)
+    for (int c = 0; c < 3; ++c) q[i][c] = b_mul(b_exact(REAL(DEG)), b_sub(B[i + 1][c], B[i][c]));
+  // c_k = sum_{i<j, i+j-1=k} (j-i) C(m,i) C(m,j) / C(2m-2,k) (q_i x q_j)
+  REAL2 cc[3][NC];
+  for (int k = 0; k < NC; ++k)
+    for (int c = 0; c < 3; ++c) cc[c][k] = REAL2(0);
+  for (int i = 0; i <= M; ++i)
+    for (int j = i + 1; j <= M; ++j) {
+      int k = i + j - 1;
+      REAL2 w = b_exact(REAL(j - i) * binom(M, i) * binom(M, j));
+      REAL2 x0 = b_sub(b_mul(q[i][1], q[j][2]), b_mul(q[i][2], q[j][1]));
+      REAL2 x1 = b_sub(b_mul(q[i][2], q[j][0]), b_mul(q[i][0], q[j][2]));
+      REAL2 x2 = b_sub(b_mul(q[i][0], q[j][1]), b_mul(q[i][1], q[j][0]));
+      cc[0][k] = b_add(cc[0][k], b_mul(w, x0));
+      cc[1][k] = b_add(cc[1][k], b_mul(w, x1));
+      cc[2][k] = b_add(cc[2][k], b_mul(w, x2));
+    }
+  for (int k = 0; k < NC; ++k)
+    for (int c = 0; c < 3; ++c) cc[c][k] = b_div_int(cc[c][k], binom(2 * M - 2, k));
+  // |c|^2: the three products summed before the one division per coefficient.
+  REAL2 c2[NC2];
+  for (int k = 0; k < NC2; ++k) {
+    REAL2 s = REAL2(0);
+    for (int i = max(0, k - (NC - 1)); i <= min(k, NC - 1); ++i) {
+      int j = k - i;
+      REAL2 d = b_add(b_add(b_mul(cc[0][i], cc[0][j]), b_mul(cc[1][i], cc[1][j])), b_mul(cc[2][i], cc[2][j]));
+      s = b_add(s, b_mul(b_exact(binom(NC - 1, i) * binom(NC - 1, j)), d));
+    }
+    c2[k] = b_div_int(s, binom(NC2 - 1, k));
+  }
+  // g = |P'|^2: sum_{i<=j} (1 or 2) C(m,i) C(m,j) / C(2m,i+j) q_i.q_j
+  REAL2 g[NG];
+  for (int k = 0; k < NG; ++k) g[k] = REAL2(0);
+  for (int i = 0; i <= M; ++i)
+    for (int j = i; j <= M; ++j) {
+      REAL2 d = b_add(b_add(b_mul(q[i][0], q[j][0]), b_mul(q[i][1], q[j][1])), b_mul(q[i][2], q[j][2]));
+      g[i + j] = b_add(g[i + j], b_mul(b_exact(REAL(i == j ? 1 : 2) * binom(M, i) * binom(M, j)), d));
+    }
+  for (int k = 0; k < NG; ++k) g[k] = b_div_int(g[k], binom(2 * M, k));
+  // Derivatives (one spare entry: NC2 - 1 is 0 for a quadratic).
+  REAL2 c2d[NC2], gd[NG];
+  for (int k = 0; k + 1 < NC2; ++k) c2d[k] = b_mul(b_exact(REAL(NC2 - 1)), b_sub(c2[k + 1], c2[k]));
+  for (int k = 0; k + 1 < NG; ++k) gd[k] = b_mul(b_exact(REAL(NG - 1)), b_sub(g[k + 1], g[k]));
+  // lambda3_k = [c2' g]_k - 3 [c2 g']_k, each product in Bernstein form.
+  int p1 = NC2 - 2, p2 = NG - 1, p3 = NC2 - 1, p4 = NG - 2;  // degrees of c2', g, c2, g'
+  for (int k = 0; k < NL; ++k) {
+    REAL2 x = REAL2(0), y = REAL2(0);
+    if (p1 >= 0) {
+      for (int i = max(0, k - p2); i <= min(k, p1); ++i)
+        x = b_add(x, b_mul(b_exact(binom(p1, i) * binom(p2, k - i)), b_mul(c2d[i], g[k - i])));
+      x = b_div_int(x, binom(NL - 1, k));
+    }
+    for (int i = max(0, k - p4); i <= min(k, p3); ++i)
+      y = b_add(y, b_mul(b_exact(binom(p3, i) * binom(p4, k - i)), b_mul(c2[i], gd[k - i])));
+    y = b_div_int(y, binom(NL - 1, k));
+    lam[k] = b_sub(x, b_mul(b_exact(REAL(3)), y));
+  }
+}
+
+// Algorithm 1 on lam: decide.hpp's traverse with BernsteinSource (halves at
+// t = 1/2, right halves on a stack) and MonotonicityFold (classify.cpp).
+const int P_INC = 0, P_DEC = 1, P_ZERO = 2, P_NONMONO = 3, P_SPLIT = 6, P_UNCERTAIN = 7;
+const int T_NO = 0, T_YES = 1, T_UNKNOWN = 2;
+int ends_opposite(int first, int last) {
+  if (first == 0 || last == 0) return T_NO;
+  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
+  return first != last ? T_YES : T_NO;
+}
+REAL2 cur[NL];
+REAL2 pending[(MAXD + 1) * NL];
+REAL2 work[NL];
+
+int piece_rule() {
+  int first = b_sign(cur[0]);
+  int last = NL > 1 ? b_sign(cur[NL - 1]) : first;
+  int pos = 0, neg = 0, zero = 0, unk = 0;
+  for (int t = 0; t < (NL > 1 ? 2 : 1); ++t) {
+    int s = t == 0 ? first : last;
+    if (s == SIGN_UNKNOWN) ++unk; else if (s > 0) ++pos; else if (s < 0) ++neg; else ++zero;
+  }
+  for (int k = 1; k + 1 < NL && !(pos > 0 && neg > 0); ++k) {
+    int s = b_sign(cur[k]);
+    if (s == SIGN_UNKNOWN) ++unk; else if (s > 0) ++pos; else if (s < 0) ++neg; else ++zero;
+  }
+  int ends = ends_opposite(first, last);
+  if (ends == T_YES) return P_NONMONO;
+  bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
+  if (ge && le) return P_ZERO;
+  if (ge) return P_INC;
+  if (le) return P_DEC;
+  if (pos > 0 && neg > 0 && ends == T_NO) return P_SPLIT;
+  return P_UNCERTAIN;
+}
+
+uint algorithm1() {
+  for (int k = 0; k < NL; ++k) cur[k] = lam[k];
+  int level = 0, j = 0, sp = 0;
+  bool inc = false, dec = false, undecided = false;
+  int deepest = 0;
+  for (;;) {
+    int p = piece_rule();
+    if (p == P_UNCERTAIN) return RESULT_UNCERTAIN;
+    if (p == P_SPLIT && level < MAXD) {
+      ++level;
+      j *= 2;
+      // cur -> its left half; the right half is pushed.
+      for (int i = 0; i < NL; ++i) work[i] = cur[i];
+      int base = sp * NL;
+      pending[base + NL - 1] = work[NL - 1];
+      for (int r = 1; r < NL; ++r) {
+        for (int i = 0; i + r < NL; ++i) work[i] = b_half(b_add(work[i], work[i + 1]));
+        cur[r] = work[0];
+        pending[base + NL - 1 - r] = work[NL - 1 - r];
+      }
+      ++sp;
+      continue;
+    }
+    // MonotonicityFold::visit
+    if (p == P_ZERO) return 4u | (uint(level) << 8);
+    if (p == P_NONMONO) return 2u | (uint(level) << 8);
+    if (p == P_INC) inc = true;
+    else if (p == P_DEC) dec = true;
+    else undecided = true;
+    deepest = max(deepest, level);
+    if (inc && dec) return 2u | (uint(level) << 8);
+    while (level > 0 && (j & 1) == 1) {
+      --level;
+      j >>= 1;
+    }
+    if (level == 0) break;
+    ++j;
+    --sp;
+    for (int i = 0; i < NL; ++i) cur[i] = pending[sp * NL + i];
+  }
+  if (undecided) return 3u | (uint(MAXD) << 8);
+  return (inc ? 0u : 1u) | (uint(deepest) << 8);
+}
+
+REAL2 dot3(REAL2 a[3], REAL2 b[3]) { return b_add(b_add(b_mul(a[0], b[0]), b_mul(a[1], b[1])), b_mul(a[2], b[2])); }
+
+// sign(kappa_R - kappa_L) of space_region.cpp's jump_sign3: from the legs
+// at the joint, sign(|ar x br|^2 |al|^6 - |al x bl|^2 |ar|^6).
+uint joint_sign(uint left, uint right) {
+  load_bezier(left);
+  REAL2 al[3], bl[3], xl[3];
+  for (int c = 0; c < 3; ++c) {
+    al[c] = b_sub(B[DEG - 1][c], B[DEG][c]);
+    bl[c] = b_sub(B[DEG - 2][c], B[DEG - 1][c]);
+  }
+  load_bezier(right);
+  REAL2 ar[3], br[3], xr[3];
+  for (int c = 0; c < 3; ++c) {
+    ar[c] = b_sub(B[1][c], B[0][c]);
+    br[c] = b_sub(B[2][c], B[1][c]);
+  }
+  REAL2 gl = dot3(al, al), gr = dot3(ar, ar);
+  if (b_sign(gl) != 1 || b_sign(gr) != 1) return RESULT_UNCERTAIN;  // zero tangents: the host
+  xl[0] = b_sub(b_mul(al[1], bl[2]), b_mul(al[2], bl[1]));
+  xl[1] = b_sub(b_mul(al[2], bl[0]), b_mul(al[0], bl[2]));
+  xl[2] = b_sub(b_mul(al[0], bl[1]), b_mul(al[1], bl[0]));
+  xr[0] = b_sub(b_mul(ar[1], br[2]), b_mul(ar[2], br[1]));
+  xr[1] = b_sub(b_mul(ar[2], br[0]), b_mul(ar[0], br[2]));
+  xr[2] = b_sub(b_mul(ar[0], br[1]), b_mul(ar[1], br[0]));
+  REAL2 a2l = dot3(xl, xl), a2r = dot3(xr, xr);
+  REAL2 d = b_sub(b_mul(a2r, b_mul(gl, b_mul(gl, gl))), b_mul(a2l, b_mul(gr, b_mul(gr, gr))));
+  int s = b_sign(d);
+  if (s == SIGN_UNKNOWN || s == 0) return RESULT_UNCERTAIN;
+  return uint(s + 1);
+}
+
+void main() {
+  uint col = uint(gl_FragCoord.x), row = uint(gl_FragCoord.y);
+  REAL a = data[hdr[3] + col].x, b = data[hdr[4] + row].x;
+  uint pl = hdr[5];
+  for (int c = 0; c < 3; ++c)
+    Q[c] = b_add(b_add(b_exact(data[pl + uint(c)].x), b_mul(b_exact(a), b_exact(data[pl + uint(3 + c)].x))),
+                 b_mul(b_exact(b), b_exact(data[pl + uint(6 + c)].x)));
+  if (hdr[2] == 0u) {
+    load_bezier(hdr[6]);
+    lambda3();
+    result = algorithm1();
+  } else {
+    result = joint_sign(hdr[6], hdr[6] + uint(4 * (DEG + 1)));
+  }
+}

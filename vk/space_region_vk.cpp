@@ -1,0 +1,139 @@
+#include "vk/space_region_vk.hpp"
+
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include "space_region_fp64_frag.h"
+#include "spline/parallel.hpp"
+#include "vk/fragment_pipeline.hpp"
+
+namespace cmr::vk {
+
+namespace {
+
+constexpr std::uint32_t kHeaderWords = 16;
+constexpr std::uint32_t kUncertain = 65536u;
+
+/// The storage buffer of one run (shaders/space_region_fp64.frag's layout).
+std::vector<std::byte> pack(int width, int height, std::uint32_t mode, const std::vector<double>& a,
+                            const std::vector<double>& b, const SpacePlane& plane,
+                            const std::vector<std::array<double, 2>>& segments) {
+  std::vector<std::array<double, 2>> data;
+  std::uint32_t hdr[kHeaderWords] = {};
+  hdr[0] = static_cast<std::uint32_t>(width);
+  hdr[1] = static_cast<std::uint32_t>(height);
+  hdr[2] = mode;
+  hdr[3] = static_cast<std::uint32_t>(data.size());
+  for (const double x : a) data.push_back({x, 0});
+  hdr[4] = static_cast<std::uint32_t>(data.size());
+  for (const double y : b) data.push_back({y, 0});
+  hdr[5] = static_cast<std::uint32_t>(data.size());
+  for (const Vec3& v : {plane.origin, plane.u, plane.v})
+    for (int c = 0; c < 3; ++c) data.push_back({v[c], 0});
+  hdr[6] = static_cast<std::uint32_t>(data.size());
+  data.insert(data.end(), segments.begin(), segments.end());
+  std::vector<std::byte> out(sizeof(hdr) + data.size() * sizeof(double) * 2);
+  std::memcpy(out.data(), hdr, sizeof(hdr));
+  std::memcpy(out.data() + sizeof(hdr), data.data(), data.size() * sizeof(double) * 2);
+  return out;
+}
+
+MonotonicityResult decode_segment(std::uint32_t w) {
+  static constexpr Curvature kCodes[] = {Curvature::increasing, Curvature::decreasing, Curvature::non_monotone,
+                                         Curvature::undecided, Curvature::constant};
+  return {kCodes[w & 255u], static_cast<int>(w >> 8)};
+}
+
+}  // namespace
+
+Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& problem, const SpaceRegionVkOptions& options,
+                                                SpaceRegionVkStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  const SpaceRegionRequest& r = problem.request();
+  const SpaceSpline& spline = problem.spline();
+  if (spline.is_rational())
+    return Error{Errc::size_unsupported, VK_SUCCESS,
+                 "--backend vulkan: regions of rational space curves run on the CPU backend only (use --backend cpu)"};
+  if (spline.degree() < 2 || spline.degree() > 7)
+    return Error{Errc::size_unsupported, VK_SUCCESS,
+                 "--backend vulkan: space curves of degree 2..7 only (this one has degree " +
+                     std::to_string(spline.degree()) + "; use --backend cpu)"};
+  ContextOptions co;
+  co.device_name = options.device;
+  co.require_float64 = true;
+  auto context = Context::create(co);
+  if (!context) return context.error();
+  const std::uint32_t spec[2] = {static_cast<std::uint32_t>(spline.degree()), static_cast<std::uint32_t>(r.max_depth)};
+  auto pipeline = FragmentPipeline::create(context.value(), std::span<const std::uint32_t>(cmr_space_region_fp64_frag_spv),
+                                           static_cast<std::uint32_t>(r.width), static_cast<std::uint32_t>(r.height), 0,
+                                           FragmentPipeline::kDefaultBandRows, spec);
+  if (!pipeline) return pipeline.error();
+
+  // Plane coordinates of the pixel centres, exactly as the CPU forms them.
+  std::vector<double> a(static_cast<std::size_t>(r.width)), b(static_cast<std::size_t>(r.height));
+  for (int i = 0; i < r.width; ++i) a[static_cast<std::size_t>(i)] = pixel_center(*r.view, r.width, r.height, i, 0).x;
+  for (int j = 0; j < r.height; ++j) b[static_cast<std::size_t>(j)] = pixel_center(*r.view, r.width, r.height, 0, j).y;
+
+  // One run per moved segment and per varying joint.
+  std::vector<std::vector<std::uint32_t>> seg_words, joint_words;
+  for (const int s : problem.moved_segments()) {
+    auto words = pipeline.value().run(pack(r.width, r.height, 0, a, b, *r.plane, problem.affine_bezier(s)));
+    if (!words) return words.error();
+    seg_words.push_back(std::move(words.value()));
+  }
+  const int N = spline.segment_count();
+  for (const int j : problem.moved_joints()) {
+    std::vector<std::array<double, 2>> both = problem.affine_bezier(j - 1);
+    const std::vector<std::array<double, 2>> right = problem.affine_bezier(j % N);
+    both.insert(both.end(), right.begin(), right.end());
+    auto words = pipeline.value().run(pack(r.width, r.height, 1, a, b, *r.plane, both));
+    if (!words) return words.error();
+    joint_words.push_back(std::move(words.value()));
+  }
+
+  RegionResult out;
+  out.width = r.width;
+  out.height = r.height;
+  out.view = *r.view;
+  const std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  out.labels.assign(n, Direction::none);
+  out.depth.assign(n, 0);
+  std::vector<std::uint8_t> exact(n, 0), host(n, 0);
+  parallel_for(static_cast<std::size_t>(r.height), options.threads, [&](std::size_t j) {
+    std::vector<MonotonicityResult> moved(seg_words.size());
+    std::vector<int> jumps(joint_words.size());
+    for (int i = 0; i < r.width; ++i) {
+      const std::size_t idx = j * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(i);
+      bool certain = true;
+      for (std::size_t s = 0; s < seg_words.size() && certain; ++s) {
+        certain = (seg_words[s][idx] & kUncertain) == 0;
+        if (certain) moved[s] = decode_segment(seg_words[s][idx]);
+      }
+      for (std::size_t k = 0; k < joint_words.size() && certain; ++k) {
+        certain = (joint_words[k][idx] & kUncertain) == 0;
+        if (certain) jumps[k] = static_cast<int>(joint_words[k][idx]) - 1;
+      }
+      RegionPixel p;
+      if (certain) {
+        p = problem.compose(moved, jumps);
+      } else {  // the CPU decides: error bounds, then exact
+        p = problem.classify(a[static_cast<std::size_t>(i)], b[j]);
+        host[idx] = 1;
+      }
+      out.labels[idx] = p.label;
+      out.depth[idx] = p.depth;
+      exact[idx] = p.exact ? 1 : 0;
+    }
+  });
+  for (const std::uint8_t e : exact) out.exact_pixels += e;
+  if (stats) {
+    stats->host_pixels = 0;
+    for (const std::uint8_t h : host) stats->host_pixels += h;
+    stats->device_pixels = n - stats->host_pixels;
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace cmr::vk

@@ -1,0 +1,38 @@
+#pragma once
+// The Vulkan backend of space-curve plane regions (issue 25): for a
+// polynomial space curve, the device judges each moved segment (Algorithm 1
+// on lambda3) and each varying joint's curvature jump per pixel, with
+// certified double-precision arithmetic (shaders/space_region_fp64.frag);
+// the host folds the parts with SpaceRegionProblem::compose, and classifies
+// on the CPU (SpaceRegionProblem::classify: error bounds, then exact) every
+// pixel where some part was not certified. So the labels (and depths) equal
+// the CPU backend's.
+#include <cstddef>
+#include <string>
+
+#include "bezierize/space_region.hpp"
+#include "vk/context.hpp"
+#include "vk/error.hpp"
+
+namespace cmr::vk {
+
+struct SpaceRegionVkOptions {
+  std::string device;  ///< device name (case-insensitive substring); empty: the first with shaderFloat64
+  int threads = 0;     ///< host threads for the uncertain pixels; 0: all cores
+};
+
+/// Renders `problem` on a Vulkan device. Errors: as Context::create
+/// (no_device, device_not_found, loader_missing, missing_feature when no
+/// device has shaderFloat64) and FragmentPipeline::create / run;
+/// size_unsupported for a rational curve or a degree outside 2..7 (the
+/// shader's range: use the CPU backend).
+/// What a render did: pixels the device certified, and those it left to the CPU.
+struct SpaceRegionVkStats {
+  std::size_t device_pixels = 0, host_pixels = 0;
+};
+
+Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& problem,
+                                                const SpaceRegionVkOptions& options = {},
+                                                SpaceRegionVkStats* stats = nullptr);
+
+}  // namespace cmr::vk
