@@ -410,6 +410,10 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
 }
 
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
+  return analyze(spline, options, AnalyzeParts{segment_shape, classify_segment, joint_between});
+}
+
+SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts) {
   const int N = spline.segment_count();
   const SegmentRange range = judged_range(options.segments, N);
   if (options.split) validate_cuts({*options.split}, range, N);
@@ -426,15 +430,15 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
   for (const Segment& s : spline.segments()) {
-    out.shapes.push_back(segment_shape(spline, s));
+    out.shapes.push_back(parts.shape(spline, s));
     const bool judged = out.judged(s.index);
-    out.segments.push_back(!judged ? SegmentClass{} : out.shapes.back().pole ? pole_class() : classify_segment(spline, s, co));
+    out.segments.push_back(!judged ? SegmentClass{} : out.shapes.back().pole ? pole_class() : parts.classify(spline, s, co));
     out.exact_segments += out.segments.back().exact_used ? 1 : 0;
     out.cusp = out.cusp || out.shapes.back().cusp;
     out.pole = out.pole || out.shapes.back().pole;
   }
-  for (int i = 1; i < N; ++i) out.joints.push_back(joint_between(spline, i - 1, i, options.continuity));
-  if (spline.closed()) out.seam = joint_between(spline, N - 1, 0, options.continuity);
+  for (int i = 1; i < N; ++i) out.joints.push_back(parts.joint(spline, i - 1, i, options.continuity));
+  if (spline.closed()) out.seam = parts.joint(spline, N - 1, 0, options.continuity);
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
   const int first = range.first, end = range.last + 1;
   // The whole period of a closed spline without split joints: the seam is a

@@ -34,6 +34,7 @@
 //    those segments are classified and judged (the verdicts above, the split
 //    and the joint conflicts are of that range); with options.splits the
 //    range's groups between the joints get the alternation verdict.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -183,6 +184,18 @@ struct SplineAnalysis {
 /// Validates options.split, .segments and .splits (InputError: "split 5 is
 /// outside 1..2"); split and splits together are an error.
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options = {});
+
+/// The per-span work of analyze(), supplied by the caller (RegionMemo,
+/// bezierize/region_memo.hpp, remembers it between splines that differ in a
+/// few points). Each must return exactly what segment_shape, classify_segment
+/// and joint_between return for the same arguments; analyze(spline, options,
+/// parts) then equals analyze(spline, options).
+struct AnalyzeParts {
+  std::function<SegmentShape(const BSpline&, const Segment&)> shape;
+  std::function<SegmentClass(const BSpline&, const Segment&, const ClassifyOptions&)> classify;
+  std::function<Joint(const BSpline&, int left, int right, const ContinuityTolerances&)> joint;
+};
+SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts);
 
 /// The verdict of segments [first, last) from their classes and the joints
 /// strictly inside that range (joints[i-1] is the joint starting segment i).

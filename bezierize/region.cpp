@@ -303,8 +303,20 @@ std::shared_ptr<const RegionBase> region_base(const BSpline& spline, int max_dep
   return std::make_shared<const RegionBase>(RegionBase{spline, analyze(spline, ao), max_depth});
 }
 
+RegionEntry prepare_entry(const RegionSetup& s, int segment, bool classify) {
+  const int d = s.spline().degree();
+  RegionEntry e;
+  e.segment = segment;
+  e.classify = classify;
+  set_moved_points(s, s.spline().segments()[segment], e);
+  e.n_xi = s.spline().is_rational() ? 8 * d - 11 : 4 * d - 6;
+  e.n_nu = s.spline().is_rational() ? 3 * d - 5 : 2 * d - 3;
+  if (e.classify) set_piece_polynomials(e, s.piece_levels);
+  return e;
+}
+
 RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
-                           std::shared_ptr<const RegionBase> base) {
+                           std::shared_ptr<const RegionBase> base, const EntrySource& entries) {
   validate_region_options(spline, options);
   if (!base) base = region_base(spline, options.max_depth);
   CMR_CHECK(base->max_depth == options.max_depth && base->spline.point_count() == spline.point_count());
@@ -319,7 +331,7 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
   s.cuts = options.split        ? std::vector<int>{*options.split}
            : options.each_piece ? each_piece_cuts(s.range, options.splits)
                                 : options.splits;
-  const int d = spline.degree(), N = spline.segment_count();
+  const int N = spline.segment_count();
   s.around = spline.closed() && s.range.first == 0 && s.range.last == N - 1 && s.cuts.empty() && !options.each_piece;
 
   std::vector<bool> touched, needed;
@@ -341,14 +353,8 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
   std::vector<int> entry_of(N, -1);
   for (int seg = 0; seg < N; ++seg) {
     if (!needed[seg]) continue;
-    RegionEntry e;
-    e.segment = seg;
+    RegionEntry e = entries ? entries(s, seg, touched[seg]) : prepare_entry(s, seg, touched[seg]);
     e.part = group_of(s.cuts, seg);
-    e.classify = touched[seg];
-    set_moved_points(s, spline.segments()[seg], e);
-    e.n_xi = spline.is_rational() ? 8 * d - 11 : 4 * d - 6;
-    e.n_nu = spline.is_rational() ? 3 * d - 5 : 2 * d - 3;
-    if (e.classify) set_piece_polynomials(e, s.piece_levels);
     entry_of[seg] = static_cast<int>(s.entries.size());
     s.entries.push_back(std::move(e));
   }

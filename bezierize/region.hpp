@@ -159,6 +159,7 @@ class RegionProblem {
   const backend::RegionSetup& setup() const { return *setup_; }
 
  private:
+  friend class RegionMemo;  // bezierize/region_memo.hpp: problems whose per-span setup is remembered
   explicit RegionProblem(std::shared_ptr<const backend::RegionSetup> setup) : setup_(std::move(setup)) {}
   std::shared_ptr<const backend::RegionSetup> setup_;
 };

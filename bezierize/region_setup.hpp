@@ -25,6 +25,7 @@
 // word the shader returns; RegionResult decodes them into typed labels.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -167,8 +168,21 @@ std::shared_ptr<const RegionBase> region_base(const BSpline& spline, int max_dep
 /// Validates (validate_region_options) and prepares. `base`, when given,
 /// must be region_base(spline, options.max_depth) (shared between the
 /// problems of several points); computed here otherwise.
+/// `entries`, when given, supplies each entry instead of prepare_entry and
+/// must return what prepare_entry returns for the same arguments (RegionMemo,
+/// bezierize/region_memo.hpp, remembers them between moves).
+struct RegionSetup;
+using EntrySource = std::function<RegionEntry(const RegionSetup& setup, int segment, bool classify)>;
 RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
-                           std::shared_ptr<const RegionBase> base = nullptr);
+                           std::shared_ptr<const RegionBase> base = nullptr, const EntrySource& entries = {});
+
+/// The entry of judged segment `segment` of a setup whose group, options and
+/// piece_levels are set: its Bezier points before the move and their
+/// influence weights, and (with classify: the group touches it) its piece
+/// polynomials. It depends on the segment's window alone (its 2d knots, d+1
+/// points and weights, which of them the group holds) and piece_levels;
+/// `part` is left 0 (prepare_region sets it).
+RegionEntry prepare_entry(const RegionSetup& setup, int segment, bool classify);
 
 /// The reference for one position: certified floating point, exact fallback.
 PixelResult classify_position(const RegionSetup& setup, Vec2 p);

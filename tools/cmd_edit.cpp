@@ -16,6 +16,7 @@ struct EditArgs {
   std::string size = "1024x768";
   bool bench = false;
   int frames = 200;
+  int points = 10000;
   int point = 3;
   bool no_vsync = false;
   std::string region_path = "auto";
@@ -60,6 +61,9 @@ void add_edit_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"fp64", "fp32"}));
   cmd->add_flag("--bench", a->bench, "replay a scripted drag (FILE or the Fig. 8 spline) and print frame times");
   cmd->add_option("--frames", a->frames, "--bench: frames per run")->capture_default_str();
+  cmd->add_option("--points", a->points,
+                  "--bench: region frames of a spline of this many points against a 6-point one's (0: skip)")
+      ->capture_default_str();
   cmd->add_option("--point", a->point,
                   "the point selected when the editor opens (default: the first point whose region shows in the "
                   "view); --bench: the dragged point (default 3)");
@@ -73,6 +77,9 @@ void add_edit_command(CLI::App& app, int& exit_code) {
       if (a->frames < 1) throw InputError("--frames must be at least 1");
       b.frames = a->frames;
       b.point = a->point;
+      if (a->points != 0 && (a->points < 7 || a->points > 1000000))
+        throw InputError("--points must be 0 or lie in 7..1000000");
+      b.points = a->points;
       b.device = a->device;
       b.region_path = parse_region_path(a->region_path);
       exit_code = edit::run_bench(b);

@@ -29,6 +29,7 @@
 #include "bezierize/analyze.hpp"
 #include "bezierize/contour.hpp"
 #include "bezierize/knot_ops.hpp"
+#include "bezierize/region_memo.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -93,7 +94,7 @@ BSpline step_spline(const SweepArgs& a, const BSpline& base, int s, double& valu
   }
 }
 
-std::vector<Step> prepare(const SweepArgs& a, const BSpline& base) {
+std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& memo) {
   if (a.steps < 1 || a.steps > kMaxSweepSteps)
     throw InputError("--steps " + std::to_string(a.steps) + " is outside 1.." + std::to_string(kMaxSweepSteps));
   if (a.knot.has_value() == !a.to_knots.empty())
@@ -119,10 +120,12 @@ std::vector<Step> prepare(const SweepArgs& a, const BSpline& base) {
   rq.depth = false;
   rq.view = a.view.empty() ? default_view(base, w, h) : parse_view(a.view);
   std::vector<Step> steps;
+  // A step moves one knot: only the spans whose window holds it are prepared
+  // again (bezierize/region_memo.hpp).
   for (int s = 0; s <= a.steps; ++s) {
     double value = 0;
     BSpline spline = step_spline(a, base, s, value);
-    RegionProblem problem = RegionProblem::make(spline, rq);
+    RegionProblem problem = memo.make(spline, rq);
     steps.push_back({value, std::move(spline), std::move(problem)});
   }
   return steps;
@@ -223,7 +226,8 @@ void run_sweep(const SweepArgs& a) {
     if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
       throw InputError("--out-dir " + a.out_dir + ": not a folder");
   }
-  const std::vector<Step> steps = prepare(a, base);
+  RegionMemo memo;
+  const std::vector<Step> steps = prepare(a, base, memo);
   const bool split = a.split.has_value();
   const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
   const Progress progress(static_cast<int>(steps.size()));
@@ -240,7 +244,7 @@ void run_sweep(const SweepArgs& a) {
     ao.classify.max_depth = a.depth;
     ao.split = a.split;
     ao.split_mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-    const SplineAnalysis verdict = analyze(st.spline, ao);
+    const SplineAnalysis verdict = memo.analyze(st.spline, ao);
     nlohmann::ordered_json verdicts = {{"cmrwi", to_string(verdict.cmrwi)}, {"cmr", to_string(verdict.cmr)}};
     if (verdict.split) verdicts["split"] = to_string(*verdict.split);
     nlohmann::ordered_json areas = nlohmann::ordered_json::object();

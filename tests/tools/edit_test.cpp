@@ -170,6 +170,22 @@ TEST(EditNoDisplay, ExitsThreeWithOneLine) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
+// `cmr edit --bench --points N`: N is 0 (skip the locality frames) or 7..10^6;
+// anything else is refused before a window opens (exit 2, one line).
+TEST(EditBenchPoints, OutOfRangeIsRefusedWithOneLine) {
+  const fs::path dir = scratch();
+  for (const char* n : {"3", "-1", "2000000"}) {
+    const std::string line = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(CMR_BINARY) + " edit --bench --points " +
+                             n + " >" + (dir / "bp_out").string() + " 2>" + (dir / "bp_err").string();
+    const int status = std::system(line.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << n;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << n;
+    const std::string err = cmr::test::slurp(dir / "bp_err");
+    EXPECT_NE(err.find("--points must be 0 or lie in 7..1000000"), std::string::npos) << n << ": " << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << n << ": " << err;
+  }
+}
+
 TEST_F(EditTest, DragSavesTheEditedSplineAndRegionPixelsMatchCmrRegion) {
   const fs::path saved = dir_ / "saved.json", shot = dir_ / "shot.png";
   const Outcome r = run_edit(kFig8,

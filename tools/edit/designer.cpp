@@ -218,7 +218,7 @@ std::optional<std::pair<Vec2, Vec2>> region_box(const Editor& e, double zoom, in
   r.width = std::max(8, pixels);
   r.height = std::max(8, static_cast<int>(std::lround(pixels * hh / hw)));
   r.depth = false;
-  const RegionResult res = compute_regions(e.region_spline(), {r}).front();
+  const RegionResult res = compute_regions(e.region_spline(), {r}, &e.memo()).front();
   std::optional<std::pair<Vec2, Vec2>> box;
   const double px = 2 * hw / r.width, py = 2 * hh / r.height;
   for (int j = 0; j < res.height; ++j)
@@ -366,7 +366,7 @@ bool Editor::in_selected_region(Vec2 p) const {
   if (q.size() != 1) return false;
   RegionRequest r = q.front();
   r.depth = false;
-  return in_region(RegionProblem::make(region_spline(), r).classify(p), r);
+  return in_region(memo().make(region_spline(), r).classify(p), r);
 }
 
 Vec2 Editor::constrained_target(Vec2 from, Vec2 to) const {
@@ -378,7 +378,7 @@ Vec2 Editor::constrained_target(Vec2 from, Vec2 to) const {
   r.depth = false;
   try {
     // The region of P_k does not depend on where P_k stands: one problem.
-    const RegionProblem problem = RegionProblem::make(region_spline(), r);
+    const RegionProblem problem = memo().make(region_spline(), r);
     const auto inside = [&](Vec2 p) { return in_region(problem.classify(p), r); };
     if (inside(to) || !inside(from)) return to;
     double in = 0, out = 1;  // from + (to - from) * s: inside at `in`, outside at `out`

@@ -372,11 +372,11 @@ void Editor::export_region(const std::filesystem::path& path) {
   const std::vector<RegionRequest> q = region_requests(true);
   if (q.empty()) throw InputError("export-region: no region is shown (select a handle)");
   const BSpline spline = region_spline();
-  const std::vector<RegionResult> layers = compute_regions(spline, q);
+  const std::vector<RegionResult> layers = compute_regions(spline, q, &memo());
   OutputSet out;  // the files of cmr region --png / --labels (draw/region_export.hpp)
   if (path.extension() == ".png") {
     draw::RegionPicture picture = draw::layers_picture(spline, layers, q);
-    if (layers.size() == 1) picture.note = region_reason(RegionProblem::make(spline, q.front()), layers[0]).value_or("");
+    if (layers.size() == 1) picture.note = region_reason(memo().make(spline, q.front()), layers[0]).value_or("");
     out.stage(path, draw::region_png(picture));
   } else {
     draw::stage_label_pgms(out, path, layers, q);
@@ -493,14 +493,14 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       static std::atomic<long> serials{0};  // unique over every editor: caches keyed by it never mix two
       region_serial_ = ++serials;
       region_.clear();
-      for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r));
+      for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r, &memo()));
       region_keys_ = std::move(keys);
       region_coarse_ = coarse;
       rgba_stale_ = true;
       // Why a single region is empty or full (bezierize/region_reason.hpp), in the status line.
       if (coarse == 1 && requests.size() == 1) {
         try {
-          if (const auto why = region_reason(RegionProblem::make(s, requests[0]), *region_.front())) message = *why;
+          if (const auto why = region_reason(memo().make(s, requests[0]), *region_.front())) message = *why;
         } catch (const InputError&) {
         }
       }
@@ -546,7 +546,7 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
 
 const SplineAnalysis& Editor::analysis() {
   if (analysis_stale_ || !analysis_) {
-    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode, doc().segments);
+    analysis_ = verdicts(doc().spline, doc().max_depth, doc().split, doc().mode, doc().segments, &memo());
     analysis_stale_ = false;
   }
   return *analysis_;

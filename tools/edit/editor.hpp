@@ -5,6 +5,7 @@
 // window (window.cpp) feeds real GLFW input into the same handlers a script
 // (script.hpp) feeds its events into.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -257,6 +258,9 @@ class Editor {
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
+  /// The per-span setup remembered between moves (bezierize/region_memo.hpp):
+  /// every region problem and verdict the editor makes goes through it.
+  RegionMemo& memo() const { return *memo_; }
   /// The region of the selected point's weight (bezierize/weight_region.hpp,
   /// `cmr region --weight K`) over [w/4, 4w] of its weight w (ends in
   /// increasing order for w < 0; [-1, 1] for w = 0), in the view's labels (mode, split, segments,
@@ -306,6 +310,7 @@ class Editor {
   int drag_serial_ = 0;
   bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
   RegionCache cache_;
+  std::shared_ptr<RegionMemo> memo_ = std::make_shared<RegionMemo>();
   std::vector<const RegionResult*> region_;
   std::vector<std::vector<double>> region_keys_;
   std::pair<int, int> region_canvas_{0, 0};

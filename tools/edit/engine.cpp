@@ -15,11 +15,13 @@
 
 namespace cmr::edit {
 
-std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers) {
+std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers,
+                                          RegionMemo* memo) {
   std::vector<RegionResult> out;
   out.reserve(layers.size());
   CpuRegionBackend backend;  // all cores
-  for (const RegionRequest& r : layers) out.push_back(backend.render(RegionProblem::make(spline, r)));
+  for (const RegionRequest& r : layers)
+    out.push_back(backend.render(memo != nullptr ? memo->make(spline, r) : RegionProblem::make(spline, r)));
   return out;
 }
 
@@ -92,10 +94,10 @@ const RegionResult* RegionCache::find(const std::vector<double>& key) {
   return entries_.front().result.get();
 }
 
-const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request) {
+const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo) {
   std::vector<double> key = region_key(spline, request);
   if (const RegionResult* hit = find(key)) return *hit;
-  auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}).front()));
+  auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}, memo).front()));
   entries_.insert(entries_.begin(), Entry{std::move(key), std::move(result)});
   if (entries_.size() > capacity_) entries_.resize(capacity_);
   return *entries_.front().result;
@@ -146,13 +148,13 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
 }
 
 SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
-                        std::optional<SegmentRange> segments) {
+                        std::optional<SegmentRange> segments, RegionMemo* memo) {
   AnalyzeOptions o;
   o.classify.max_depth = max_depth;
   o.split = split;
   o.split_mode = mode;
   o.segments = segments;
-  return analyze(spline, o);
+  return memo != nullptr ? memo->analyze(spline, o) : analyze(spline, o);
 }
 
 CurvatureEvents curvature_events(const BSpline& spline, int max_depth) {

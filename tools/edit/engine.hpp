@@ -11,6 +11,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
+#include "bezierize/region_memo.hpp"
 #include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 
@@ -19,7 +20,10 @@ namespace cmr::edit {
 /// The label maps of one request per layer (RegionRequest, one moved point
 /// each), computed on the CPU (all cores), certified: each equals `cmr region
 /// FILE --point K --view ... --size WxH` for the same state.
-std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers);
+/// With `memo`, the problems are made through it (bezierize/region_memo.hpp:
+/// the spans a move left alone are not prepared again; the same labels).
+std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers,
+                                          RegionMemo* memo = nullptr);
 
 /// What a region depends on, exactly: the request (view, size, mode, split,
 /// depth, the moved point k and its rigid companions), the degree, knots and
@@ -42,7 +46,7 @@ class RegionCache {
   const RegionResult* find(const std::vector<double>& key);
   /// The layer for a request: remembered, else computed (compute_regions) and
   /// remembered, evicting the least recently used beyond the capacity.
-  const RegionResult& get(const BSpline& spline, const RegionRequest& request);
+  const RegionResult& get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo = nullptr);
   void set_capacity(std::size_t capacity);
   std::size_t size() const { return entries_.size(); }
 
@@ -64,7 +68,7 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
 /// Verdicts of the spline as `cmr analyze` gives them (InputError for a split
 /// joint the spline lacks).
 SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,
-                        std::optional<SegmentRange> segments = std::nullopt);
+                        std::optional<SegmentRange> segments = std::nullopt, RegionMemo* memo = nullptr);
 
 /// Certified curvature extrema and inflections of the whole curve (as `cmr
 /// report` finds them), for marking the comb and the plot.

@@ -66,7 +66,7 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
     const std::vector<RegionRequest> q = requests_of(d, false, coarse);
     if (q.size() != 1) continue;
     try {
-      const std::vector<RegionResult> r = compute_regions(start.spline, q);
+      const std::vector<RegionResult> r = compute_regions(start.spline, q, &memo());
       const int cells = monotone_count(r.front());
       if (cells >= kOpeningCells) return open(k, "the first point whose region shows in this view");
       if (cells > most) most = cells, most_at = k;
@@ -74,7 +74,7 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
       // The reason of the first point whose region is judged on segments it
       // does not wrap (a closed curve's whole period says nothing about one).
       if (!first_reason || first_reason->find(kPeriodReason) != std::string::npos)
-        if (auto why = region_reason(RegionProblem::make(start.spline, q.front()), r.front()))
+        if (auto why = region_reason(memo().make(start.spline, q.front()), r.front()))
           if (!first_reason || why->find(kPeriodReason) == std::string::npos) first_reason = std::move(why);
     } catch (const InputError& e) {
       if (!first_reason) first_reason = e.what();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -124,9 +125,14 @@ void draw_outlines(Editor& e, ImDrawList* dl) {
     for (std::size_t l = 0; l < layers.size() && l < points.size(); ++l) {
       const RegionResult& r = *layers[l];
       const ImU32 col = colour_u32(draw::point_colour(points[l]));
-      const auto in = [&](int i, int j) {
-        return i >= 0 && j >= 0 && i < r.width && j < r.height && r.in_region(static_cast<std::size_t>(j) * r.width + i);
-      };
+      // Inside or not, once per pixel, with a border of outside pixels (the
+      // edge scans below read each pixel up to four times).
+      const int W = r.width + 2;
+      std::vector<std::uint8_t> inside(static_cast<std::size_t>(W) * (r.height + 2), 0);
+      for (int j = 0; j < r.height; ++j)
+        for (int i = 0; i < r.width; ++i)
+          inside[static_cast<std::size_t>(j + 1) * W + i + 1] = r.in_region(static_cast<std::size_t>(j) * r.width + i);
+      const auto in = [&](int i, int j) { return inside[static_cast<std::size_t>(j + 1) * W + i + 1] != 0; };
       for (int j = 0; j <= r.height; ++j) {  // horizontal edges above row j, in runs
         int run = -1;
         for (int i = 0; i <= r.width; ++i) {

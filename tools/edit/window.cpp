@@ -16,6 +16,8 @@
 #include <numeric>
 #include <optional>
 
+#include <sys/resource.h>
+
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
@@ -143,6 +145,15 @@ class App {
   /// Writes the next presented frame to `path` as a PNG (the "export PNG"
   /// button: the editor's file with .view.png).
   void export_view(std::filesystem::path path) { export_view_ = std::move(path); }
+  /// Where the last frame's time went (ms): the region layers (Editor::region),
+  /// the panels and overlay (build_ui and ImGui::Render), the region's colours
+  /// and upload (RegionPainter::record), drawing and presenting (the rest).
+  struct Phases {
+    double region = 0, ui = 0, record = 0, present = 0;
+    double cpu = 0;  ///< drag_frames only: the process's CPU time (every thread)
+    double vertices = 0;  ///< the panels' and overlay's vertices (ImGui's draw data)
+  };
+  const Phases& phases() const { return phases_; }
 
  private:
   static App& self(GLFWwindow* w) { return *static_cast<App*>(glfwGetWindowUserPointer(w)); }
@@ -171,6 +182,7 @@ class App {
     bool down[3] = {false, false, false};
   };
   std::optional<ScriptPointer> script_pointer_;
+  Phases phases_;
 };
 
 App::App(BSpline spline, std::filesystem::path path, int width, int height, const std::string& device,
@@ -312,15 +324,24 @@ bool App::frame(vk::Screenshot* shot) {
     if (io.KeyMap[ImGuiKey_Enter] >= 0) io.KeysDown[io.KeyMap[ImGuiKey_Enter]] = enter_down_;
   }
   ImGui::NewFrame();
+  const auto ms_since = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
+  const auto region_start = Clock::now();
+  editor_.region();  // what the panels and the painter read below
+  phases_.region = ms_since(region_start);
+  const auto ui_start = Clock::now();
   fields_.clear();  // the fields this frame shows
   UiInfo info{region_path_, frame_ms_, &export_png_, &ruler_, &fields_};
   build_ui(editor_, info);
   ImGui::Render();
+  phases_.ui = ms_since(ui_start);
+  phases_.vertices = ImGui::GetDrawData()->TotalVtxCount;
   auto begun = check(presenter_->begin_frame(static_cast<uint32_t>(fw), static_cast<uint32_t>(fh)));
   if (!begun) return false;
   const vk::PresentFrame& f = *begun;
   editor_.resize(static_cast<int>(f.extent.width), static_cast<int>(f.extent.height));
+  const auto record_start = Clock::now();
   check(painter_->record(editor_, f));
+  phases_.record = ms_since(record_start);
   presenter_->begin_pass(f);
   painter_->draw(f);
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), f.cmd);
@@ -342,6 +363,7 @@ bool App::frame(vk::Screenshot* shot) {
     export_view_.clear();
   }
   frame_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  phases_.present = frame_ms_ - phases_.region - phases_.ui - phases_.record;
   return true;
 }
 
@@ -720,6 +742,16 @@ std::string load_average() {
   return in >> one ? one : "unknown";
 }
 
+/// CPU time of this process so far, every thread (the Vulkan driver's
+/// rasterising threads included), in ms: less sensitive to other processes
+/// on the machine than wall-clock time.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  const auto ms = [](const timeval& t) { return t.tv_sec * 1e3 + t.tv_usec * 1e-3; };
+  return ms(u.ru_utime) + ms(u.ru_stime);
+}
+
 struct FrameStats {
   double mean = 0, p50 = 0, p95 = 0, fps = 0;
 };
@@ -737,21 +769,65 @@ FrameStats stats_of(std::vector<double> ms) {
 
 /// Drags point k around a circle of the window (radius a tenth of the
 /// window's height about the point's place), one position per frame.
-std::vector<double> drag_frames(App& app, int k, int frames) {
+std::vector<double> drag_frames(App& app, int k, int frames, App::Phases& mean) {
   Editor& e = app.editor();
   const Vec2 centre = e.viewport().to_screen(e.doc().spline.points()[k]);
   const double r = 0.1 * e.viewport().height;
   e.mouse_move(centre.x, centre.y);
   e.mouse_button(MouseButton::left, true, false);
   std::vector<double> ms;
+  const double cpu0 = process_cpu_ms();
   for (int i = 0; i < frames; ++i) {
     const double a = 2 * M_PI * i / frames;
     e.mouse_move(centre.x + r * std::sin(a), centre.y + r * (1 - std::cos(a)) * 0.5);
     const auto t0 = Clock::now();
     app.frame();
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    const App::Phases& p = app.phases();
+    mean.region += p.region / frames, mean.ui += p.ui / frames, mean.record += p.record / frames;
+    mean.present += p.present / frames;
+    mean.vertices += p.vertices / frames;
   }
+  mean.cpu = (process_cpu_ms() - cpu0) / frames;
   e.mouse_button(MouseButton::left, false, false);
+  return ms;
+}
+
+/// n points on a slow wave, cubic, uniform knots (the locality benchmark's
+/// curve: the same shape about its middle point whatever n).
+BSpline wave_spline(int n) {
+  std::vector<Vec2> p;
+  std::vector<double> knots;
+  for (int i = 0; i < n; ++i) p.push_back({0.5 * i, std::sin(0.3 * i)});
+  for (int i = 0; i < n + 2; ++i) knots.push_back(i);
+  return BSpline::make(3, knots, p, "wave");
+}
+
+/// Region frames of the editor (headless: Editor::region_rgba, the CPU
+/// engine) for a spline of n points: the middle point selected, judged on
+/// the spans it acts on, a fixed view about it; each frame first moves its
+/// neighbour a little, so the selected point's region must be computed again
+/// (its fixed spans changed). Returns the frames' times in ms; the first
+/// region (every span analysed, as every frame did before RegionMemo) goes
+/// to `first_ms`.
+std::vector<double> locality_frames(int n, int width, int height, int frames, double& first_ms) {
+  Editor e(wave_spline(n), "wave.json", width, height);
+  const int k = n / 2, d = 3;
+  e.select(k);
+  e.set_segments(SegmentRange{std::max(0, k - d), std::min(n - d - 1, k)});
+  const Vec2 c = e.doc().spline.points()[k];
+  e.set_view({c.x - 2.0, c.y - 1.5, c.x + 2.0, c.y + 1.5});
+  const auto start = Clock::now();
+  (void)e.region_rgba();
+  first_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  const Vec2 q = e.doc().spline.points()[k + 1];
+  std::vector<double> ms;
+  for (int i = 0; i < frames; ++i) {
+    e.move_point(k + 1, q + Vec2{0.0, 0.01 * (1 + i % 7)});
+    const auto t0 = Clock::now();
+    (void)e.region_rgba();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
   return ms;
 }
 
@@ -773,11 +849,37 @@ int run_bench(const BenchOptions& o) {
   for (bool all : {false, true}) {
     app.editor().set_all_points(all);
     app.frame();
-    const FrameStats s = stats_of(drag_frames(app, o.point, o.frames));
+    App::Phases phases;
+    const FrameStats s = stats_of(drag_frames(app, o.point, o.frames, phases));
     std::printf("%-34s mean %6.2f ms  p50 %6.2f ms  p95 %6.2f ms  %6.1f fps (p95: %.1f fps)\n",
                 all ? "every point's region overlapped:" : "the dragged point's region:", s.mean, s.p50, s.p95,
                 s.fps, 1000.0 / s.p95);
+    std::printf("%-34s region %.2f ms, panels %.2f ms, colours and upload %.2f ms, drawing and present %.2f ms; "
+                "CPU time %.2f ms (every thread of cmr); %.0f UI vertices\n",
+                "  mean per frame:", phases.region, phases.ui, phases.record, phases.present, phases.cpu, phases.vertices);
   }
+  if (o.points > 0) {
+    // Locality (issue 23): a region frame of a long spline against a short
+    // one's, runs interleaved (the machine's load falls on both alike).
+    const int frames = 30, w = app.editor().viewport().width, h = app.editor().viewport().height;
+    std::vector<double> small, large;
+    double first_small = 0, first_large = 0, first = 0;
+    for (int round = 0; round < 3; ++round) {
+      for (double x : locality_frames(6, w, h, frames, first)) small.push_back(x);
+      first_small += first / 3;
+      for (double x : locality_frames(o.points, w, h, frames, first)) large.push_back(x);
+      first_large += first / 3;
+    }
+    const FrameStats a = stats_of(small), b = stats_of(large);
+    std::printf("region frame after a neighbour's move, %d-point spline: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n",
+                6, a.mean, a.p50, a.p95);
+    std::printf("region frame after a neighbour's move, %d-point spline: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n",
+                o.points, b.mean, b.p50, b.p95);
+    std::printf("ratio %d-point / 6-point: mean %.2f, p50 %.2f\n", o.points, b.mean / a.mean, b.p50 / a.p50);
+    std::printf("the first region (every span analysed, as each frame before the memo): %d points %.1f ms, 6 points %.1f ms\n",
+                o.points, first_large, first_small);
+  }
+  std::printf("load average at the end: %s\n", load_average().c_str());
   return kEditOk;
 }
 

@@ -37,6 +37,9 @@ struct BenchOptions {
   int width = 1024, height = 768;
   int frames = 200;
   int point = 3;               ///< the dragged point
+  /// Locality: region frames of a spline of this many points against a
+  /// 6-point one's (0: not measured).
+  int points = 10000;
   std::string device;
   RegionPath region_path = RegionPath::automatic;
 };
