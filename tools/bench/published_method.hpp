@@ -62,6 +62,19 @@ struct PublishedRegion {
 /// outside 0..kMaxDepth.
 std::vector<uint8_t> published_region(const BSpline& spline, const PublishedRegion& request);
 
+/// The same labels by the same arithmetic, vectorised across pixels: kLanes
+/// (4) pixels of a row per step (GCC vector extensions; with AVX2, where
+/// tools/bench/CMakeLists.txt finds it, 4 doubles per instruction). ξ and the
+/// level-0 rules are computed for the 4 pixels at once; then either
+/// (lockstep) each lane runs its own depth-first Algorithm 1 on a fixed
+/// stack, all lanes' pieces halved by one vector de Casteljau per step and
+/// lanes masked out as they finish, as a fragment shader runs it, or
+/// (default) the lanes that must split continue one by one. Same errors as
+/// published_region; labels equal to it byte for byte (the same operations
+/// in the same order per pixel, no FMA contraction).
+std::vector<uint8_t> published_region_lanes(const BSpline& spline, const PublishedRegion& request,
+                                            bool lockstep = false);
+
 /// ξ_0..ξ_{4n-7} of the Bézier segment with points P (n = P.size()-1) by the
 /// baseline's fixed-degree code, for tests. Throws InputError for a degree
 /// outside kPublishedMinDegree..kPublishedMaxDegree.
