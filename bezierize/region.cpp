@@ -491,40 +491,49 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
 
 // The region pixel (and block) source of the one traversal (decide.hpp):
 // the pieces of one entry's xi (or nu) at one displacement (or over a box of
-// them), each coefficient evaluated only when the traversal reads its sign.
-// Pieces down to the precomputed levels come from their polynomials; deeper
-// ones are halved (bernstein_halve) from their ancestor at the deepest
-// precomputed level.
+// them). Pieces down to the precomputed levels come from their polynomials,
+// each coefficient evaluated only when the traversal reads its sign. Deeper
+// pieces are derived once each: a split below the precomputed levels halves
+// the current piece once (bernstein_halve), the left half becomes current
+// and the right half waits on a fixed stack, one slot per level (depth
+// first, left first: at most one pending piece per level). The halvings are
+// those of deriving each piece from its deepest precomputed ancestor, in the
+// same order, so values and bounds are the same bit for bit; only repeated
+// work is gone. The stack is per thread and reused: no heap per pixel.
 class LazyPieces {
  public:
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
-      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {}
+      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
+    static thread_local std::vector<Bounded> scratch;
+    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    if (scratch.size() < need) scratch.resize(need);
+    base_ = scratch.data();
+  }
   int size() const { return n1_; }
   int sign(int k) const { return certain_sign(coeff(k)); }
-  void split(int level, int j) { select(level, j); }
-  void next(int level, int j) { select(level, j); }
+  void split(int level, int j) {
+    if (level > levels_) {
+      // Halve the current piece (level - 1) once; from the polynomials at the deepest precomputed level.
+      if (level - 1 <= levels_)
+        for (int k = 0; k < n1_; ++k) cur()[k] = from_poly(k);
+      bernstein_halve(cur(), n1_, cur(), slot(level), work());
+    }
+    select(level, j);
+  }
+  void next(int level, int j) {
+    if (level > levels_) std::copy(slot(level), slot(level) + n1_, cur());
+    select(level, j);
+  }
 
  private:
-  // Prepares piece (level, j); coefficients then come from coeff(k).
   void select(int level, int j) {
     level_ = level;
-    if (level <= levels_) {
-      piece_ = (1 << level) - 1 + j;
-      return;
-    }
-    const int up = level - levels_;
-    piece_ = (1 << levels_) - 1 + (j >> up);
-    cur_.resize(n1_);
-    other_.resize(n1_);
-    work_.resize(n1_);
-    for (int k = 0; k < n1_; ++k) cur_[k] = from_poly(k);
-    for (int b = up - 1; b >= 0; --b) {
-      const bool right = (j >> b) & 1;
-      bernstein_halve(cur_.data(), n1_, right ? other_.data() : cur_.data(), right ? cur_.data() : other_.data(),
-                      work_.data());
-    }
+    if (level <= levels_) piece_ = (1 << level) - 1 + j;
   }
-  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur_[k]; }
+  Bounded* cur() const { return base_; }
+  Bounded* work() const { return base_ + n1_; }
+  Bounded* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
+  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur()[k]; }
   Bounded from_poly(int k) const {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
@@ -535,7 +544,7 @@ class LazyPieces {
   bool eta_;
   int n1_;
   int level_ = 0, piece_ = 0;
-  std::vector<Bounded> cur_, other_, work_;
+  Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
 };
 
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
@@ -680,6 +689,7 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 // opposite end signs: an inflection). nullopt when a piece at level D stays
 // unresolved over the box.
 enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
+
 constexpr int kBoxPieceBudget = 6;
 
 // The block policy of the one traversal: block_piece's rules (decide.hpp),
