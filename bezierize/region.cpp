@@ -690,7 +690,21 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 // unresolved over the box.
 enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
 
-constexpr int kBoxPieceBudget = 6;
+// How many pieces a block proof may visit per traversal before the block is
+// quartered instead. A failed proof is wasted work, so the budget follows
+// what the block's pixels would cost: about kBoxPiecesPerPixel pieces per
+// pixel, at least kBoxMinPieces (the cheap proofs of large uniform blocks)
+// and at most kBoxMaxPieces. Small blocks, which often straddle a region
+// boundary and fail, risk little; large blocks, whose pixels would each
+// need deep traversals in a zoom onto a boundary, may go as deep as those
+// pixels would (a budget of 6 for every block left 99.9% of such a zoom to
+// the pixels).
+constexpr int kBoxMinPieces = 6, kBoxMaxPieces = 256;
+constexpr double kBoxPiecesPerPixel = 0.5;
+int box_piece_budget(long pixels) {
+  return static_cast<int>(std::clamp<double>(kBoxPiecesPerPixel * static_cast<double>(pixels), kBoxMinPieces,
+                                             kBoxMaxPieces));
+}
 
 // The block policy of the one traversal: block_piece's rules (decide.hpp),
 // folded into one outcome for the whole box.
@@ -714,13 +728,14 @@ class BoxFold {
   std::optional<BoxOutcome> stop_;
 };
 
-BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa) {
+BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa,
+                         int budget) {
   LazyPieces src(e, mono, levels, eta);
   BoxFold fold;
   int visited = 0;
   // A box that needs many pieces is cheaper to quarter than to resolve.
   const auto rule = [&](const SignSummary& s) {
-    return ++visited > kBoxPieceBudget ? Piece::uncertain : block_piece(s, eta);
+    return ++visited > budget ? Piece::uncertain : block_piece(s, eta);
   };
   if (!traverse(src, D, rule, [&](Piece p, int) { return fold.visit(p); }, true)) return BoxOutcome::unresolved;
   const BoxOutcome r = fold.result();
@@ -728,7 +743,8 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
   return r;
 }
 
-std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
+std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by,
+                                               int budget) {
   if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
   const RegionRequest& o = s.options;
   const int D = o.max_depth;
@@ -741,7 +757,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     SegmentClass c;
-    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr)) {
+    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget)) {
       case BoxOutcome::not_monotone: return PixelResult{0, 0, false};
       case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
@@ -750,7 +766,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (o.mode == Mode::cmr) {
       // For eta, "increasing" means all pieces positive: no inflection, kappa > 0.
       int kappa = 0;
-      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa)) {
+      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget)) {
         case BoxOutcome::not_monotone: return PixelResult{0, 0, false};  // an inflection
         case BoxOutcome::unresolved: return std::nullopt;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
@@ -794,7 +810,8 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
   const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
   const Monomials mono(bx.v, by.v, bx.e, by.e);
-  if (!o.depth) return classify_box_labels(s, mono, bx, by);
+  if (!o.depth)
+    return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)));
   return classify_fast(s, mono, bx, by);
 }
 
