@@ -380,9 +380,15 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
   PixelResult r;
   r.exact = exact;
   const RegionRequest& o = s.options;
-  const std::vector<Direction> groups = group_verdicts(s.verdict, classes, joints, o.mode);
+  if (labels_of(o) == Labels::plain) {  // one group: no vector of verdicts (no heap per pixel)
+    const std::vector<int>& starts = s.verdict.starts;
+    const int end = starts.size() > 1 ? starts[1] : static_cast<int>(classes.size());
+    r.label = code(part_verdict(classes, joints, starts[0], end, o.mode));
+  }
+  const std::vector<Direction> groups =
+      labels_of(o) == Labels::plain ? std::vector<Direction>{} : group_verdicts(s.verdict, classes, joints, o.mode);
   switch (labels_of(o)) {
-    case Labels::plain: r.label = code(groups[0]); break;
+    case Labels::plain: break;
     case Labels::split: r.label = code(combine_split(groups[0], groups[1])); break;
     case Labels::alternating: r.label = code(alternation_verdict(groups)); break;
     case Labels::each_piece: r.label = code(each_piece_verdict(groups)); break;
@@ -655,7 +661,8 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     uncertain = uncertain || fails == Truth::unknown;
   }
   if (uncertain) return std::nullopt;
-  std::vector<SegmentClass> classes = s.verdict.classes;
+  static thread_local std::vector<SegmentClass> classes;  // reused: no heap per pixel
+  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     const auto m = lazy_algorithm1(e, mono, s.piece_levels, o.max_depth);
@@ -669,7 +676,8 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     }
     classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.verdict.joints;
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   return verdict(s, classes, joints, false);
 }
@@ -753,7 +761,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (!e.classify) continue;
     if (level0_fails(e, mono, false) == Truth::yes) return PixelResult{0, 0, false};
   }
-  std::vector<SegmentClass> classes = s.verdict.classes;
+  static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
+  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     SegmentClass c;
@@ -774,7 +783,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     }
     classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.verdict.joints;
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   PixelResult r = verdict(s, classes, joints, false);
   r.depth = 0;
