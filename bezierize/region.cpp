@@ -553,7 +553,61 @@ class LazyPieces {
   Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
 };
 
+// The cheapest certified try for one pixel: the root piece's coefficients
+// are evaluated once, in plain double, with one error bound E (the largest
+// of their bounds); deeper pieces are halved in plain double on a per-thread
+// stack, each child's bound E + n1 u max|c| (1 + 2^-20) + tiny (the bound of
+// classify.cpp's fast source: halving averages neighbours, and n1 averaging
+// steps each round by at most u max|c|). Looser than LazyPieces (whose
+// pieces to level kPieceLevels come from exact polynomials), so a pixel
+// whose signs are not certain here goes on to LazyPieces, then to the exact
+// path: every answer is still Algorithm 1's on the exact coefficients.
+class FlatPieces {
+ public:
+  FlatPieces(const RegionEntry& e, const Monomials& m) : n1_(e.n_xi) {
+    static thread_local std::vector<double> scratch;
+    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    if (scratch.size() < need) scratch.resize(need);
+    base_ = scratch.data();
+    for (int k = 0; k < n1_; ++k) {
+      const Bounded b = eval_poly(e.xi[k], m);
+      base_[k] = b.v;
+      e_ = std::max(e_, b.e);
+    }
+  }
+  int size() const { return n1_; }
+  int sign(int k) const {
+    const double x = base_[k];
+    if (std::fabs(x) > e_) return x > 0 ? 1 : -1;
+    return x == 0 && e_ == 0 ? 0 : kSignUnknown;
+  }
+  void split(int level, int) {
+    double mag = 0;
+    for (int k = 0; k < n1_; ++k) mag = std::max(mag, std::fabs(base_[k]));
+    e_ += n1_ * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    bernstein_halve(base_, n1_, base_, slot(level), base_ + n1_);
+    pending_e_[level] = e_;
+  }
+  void next(int level, int) {
+    std::copy(slot(level), slot(level) + n1_, base_);
+    e_ = pending_e_[level];
+  }
+
+ private:
+  double* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
+  int n1_;
+  double e_ = 0;
+  double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  double pending_e_[kMaxDepth + 1];
+};
+
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
+  if (m.point) {
+    FlatPieces flat(e, m);
+    MonotonicityFold fold;
+    if (traverse(flat, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+      return fold.result(D);
+  }
   LazyPieces src(e, m, levels, false);
   MonotonicityFold fold;
   if (!traverse(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
