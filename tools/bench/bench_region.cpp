@@ -22,6 +22,7 @@
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 #include <sys/utsname.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -144,21 +145,36 @@ struct Scene {
   int point;
 };
 
-/// Best wall-clock seconds of each of fs, measured interleaved: pass r runs
-/// every function once, in turn, so that load on the shared machine falls on
-/// all of them alike; stops after `reps` rounds or kMeasureBudget seconds per
-/// function (at least one round).
+/// Seconds of CPU time this process (every thread, lavapipe's included) has used.
+double cpu_now() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Best wall-clock seconds (wall) and best CPU seconds of the process (cpu)
+/// of each of fs, measured interleaved: round r runs every function once, in
+/// turn, so that load on the shared machine falls on all of them alike;
+/// stops after `reps` rounds or kMeasureBudget seconds per function (at
+/// least one round). On a loaded machine the CPU seconds are the steadier
+/// figure (time spent waiting for a core is not counted).
 template <std::size_t K>
-std::array<double, K> best_interleaved(int reps, const std::array<std::function<void()>, K>& fs) {
-  std::array<double, K> best;
-  best.fill(1e300);
+struct Timings {
+  std::array<double, K> wall, cpu;
+};
+template <std::size_t K>
+Timings<K> best_interleaved(int reps, const std::array<std::function<void()>, K>& fs) {
+  Timings<K> best;
+  best.wall.fill(1e300);
+  best.cpu.fill(1e300);
   double spent = 0;
   for (int r = 0; r < reps && spent < kMeasureBudget * K; ++r)
     for (std::size_t k = 0; k < K; ++k) {
-      const double t0 = now();
+      const double t0 = now(), c0 = cpu_now();
       fs[k]();
       const double t = now() - t0;
-      best[k] = std::min(best[k], t);
+      best.wall[k] = std::min(best.wall[k], t);
+      best.cpu[k] = std::min(best.cpu[k], cpu_now() - c0);
       spent += t;
     }
   return best;
@@ -187,21 +203,25 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
   r.view = view_of(setup);
   std::vector<uint8_t> ours, lanes, lockstep;
   RegionResult img;
-  const std::array<double, 5> t = best_interleaved<5>(
+  const Timings<5> timings = best_interleaved<5>(
       reps, {[&] { ours = bench::published_region(*sc.spline, r); },
              [&] { lanes = bench::published_region_lanes(*sc.spline, r, false); },
              [&] { lockstep = bench::published_region_lanes(*sc.spline, r, true); },
              [&] { img = render(setup, false); }, [&] { (void)render(setup, true); }});
+  const std::array<double, 5>& t = timings.wall;
+  const std::array<double, 5>& c = timings.cpu;
   const double tp = t[0], ts = std::min(t[1], t[2]), tc = t[3], tv = t[4], tb = std::min(tp, ts);
+  const double cb = std::min({c[0], c[1], c[2]});
   long differ = 0, lanes_differ = 0;
   for (std::size_t k = 0; k < ours.size(); ++k) {
     differ += ours[k] != img.code_at(k);
     lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]);
   }
   const double mpix = static_cast<double>(ours.size()) / 1e6;
-  std::printf("  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7ld %5ld %6.3f%% %5.2f\n", sc.name, view_name,
-              depth, size, mpix / tp, mpix / ts, mpix / tc, mpix / tv, tb / tc, tb / tv, differ, lanes_differ,
-              100.0 * static_cast<double>(img.exact_pixels) / ours.size(), load_average());
+  std::printf("  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7.2fx %7.2fx %6ld %4ld %6.3f%% %5.2f\n",
+              sc.name, view_name, depth, size, mpix / tp, mpix / ts, mpix / tc, mpix / tv, tb / tc, tb / tv, cb / c[3],
+              cb / c[4], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
+              load_average());
   std::fflush(stdout);
 }
 
@@ -214,9 +234,9 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
               "the project's flags: SSE2, 2 doubles per instruction",
 #endif
               reps);
-  std::printf("  %-20s %-12s %2s %4s %8s %8s %8s %8s %8s %8s %7s %5s %7s %5s\n", "scene", "view", "D", "size",
-              "pub Mp/s", "vec Mp/s", "CPU Mp/s", "Vk Mp/s", "CPU/best", "Vk/best", "differ", "vecd", "exact",
-              "load");
+  std::printf("  %-20s %-12s %2s %4s %8s %8s %8s %8s %8s %8s %8s %8s %6s %4s %7s %5s\n", "scene", "view", "D", "size",
+              "pub Mp/s", "vec Mp/s", "CPU Mp/s", "Vk Mp/s", "CPU/best", "Vk/best", "CPU/b cs", "Vk/b cs", "differ",
+              "vecd", "exact", "load");
   for (const Scene& sc : scenes) {
     const RegionProblem base = prepare(*sc.spline, sc.point, kDefaultDepth, kSize, std::nullopt);
     const View v = view_of(base);
@@ -236,7 +256,9 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     std::printf("  (%s: zoom centred on the boundary point (%.12g, %.12g))\n", sc.name, edge.x, edge.y);
   }
   std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); best: the fastest\n"
-              "  baseline of the cell; differ: pixels whose published label is not the certified one;\n"
+              "  baseline of the cell (wall-clock); CPU/b cs, Vk/b cs: the same ratios in CPU seconds of the process\n"
+              "  (every thread; the steadier figure on a loaded machine); differ: pixels whose published label is\n"
+              "  not the certified one;\n"
               "  vecd: pixels where a vectorised baseline differs from the native one (0: same arithmetic);\n"
               "  exact: pixels cmr's exact path decided; load: 1-minute load average after the cell\n");
 }
