@@ -16,6 +16,9 @@
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"
+#ifdef CMR_BENCH_VK
+#include "tools/bench/published_method_vk.hpp"
+#endif
 
 namespace {
 
@@ -159,11 +162,14 @@ TEST(PublishedMethod, LabelsAgreeWithCertifiedLabelsOnDegree9Bezier) {
   expect_agreement(s, 4, 16, 128, zoom_on_boundary(s, 4, 16, 128, 50), "bezier9 P4, zoom on a boundary");
 }
 
-// The vectorised baseline (published_region_lanes) computes every pixel with
-// the same operations in the same order as published_region: the two label
+// The vectorised baseline (published_region_lanes) and the fragment-shader
+// baseline (published_region_vulkan, fp64 on lavapipe) compute every pixel
+// with the same operations in the same order as published_region: the label
 // maps must be equal byte for byte, on views with region boundaries (default
 // views, boundary zooms down to 4e-4 of the default view's width), on image
 // widths that are not a multiple of the lane count, at several depths.
+constexpr int kShaderWidth = 67;  ///< the zooms' image width in expect_lanes_equal_on_views
+
 void expect_lanes_equal(const cmr::BSpline& spline, int point, int depth, int width, int height, const View& view,
                         const std::string& scene) {
   PublishedRegion r;
@@ -175,15 +181,25 @@ void expect_lanes_equal(const cmr::BSpline& spline, int point, int depth, int wi
   const std::vector<uint8_t> scalar = published_region(spline, r);
   std::vector<int> count(4, 0);
   for (const uint8_t c : scalar) ++count[std::min<int>(c, 3)];
-  for (const bool lockstep : {false, true}) {
+  for (const int form : {0, 1, 2}) {
+    const bool lockstep = form == 1;
+    // The shader: at D = 16 on the zooms only (one pipeline per scene; lavapipe compiles each for seconds).
+    if (form == 2 && (depth != 16 || width != kShaderWidth)) continue;
+#ifdef CMR_BENCH_VK
+    const std::vector<uint8_t> lanes = form == 2 ? cmr::bench::published_region_vulkan(spline, r)
+                                                 : cmr::bench::published_region_lanes(spline, r, lockstep);
+#else
+    if (form == 2) continue;
     const std::vector<uint8_t> lanes = cmr::bench::published_region_lanes(spline, r, lockstep);
+#endif
     ASSERT_EQ(scalar.size(), lanes.size()) << scene;
     int differ = 0, first = -1;
     for (std::size_t k = 0; k < scalar.size(); ++k) {
       if (scalar[k] != lanes[k] && first < 0) first = static_cast<int>(k);
       differ += scalar[k] != lanes[k];
     }
-    EXPECT_EQ(differ, 0) << scene << (lockstep ? ", lock step" : ", level 0 vectorised") << ": first differing pixel ("
+    EXPECT_EQ(differ, 0) << scene << (form == 2 ? ", fragment shader" : lockstep ? ", lock step" : ", level 0 vectorised")
+                         << ": first differing pixel ("
                          << first % width << ", " << first / width << ")";
   }
   int labels_seen = 0;
@@ -223,7 +239,7 @@ void expect_lanes_equal_on_views(const cmr::BSpline& spline, int point, const st
     View zoom = base.view;
     for (const int factor : {40, 1600, 64000}) {  // 1/64000 of the default view: about a 4e-4 zoom
       zoom = zoom_in(spline, point, depth >= 3 ? depth : 10, 96, zoom, 40);
-      expect_lanes_equal(spline, point, depth, 67, 45, zoom,
+      expect_lanes_equal(spline, point, depth, kShaderWidth, 45, zoom,
                          name + ", zoom 1/" + std::to_string(factor) + ", D = " + std::to_string(depth));
     }
   }
@@ -249,6 +265,11 @@ TEST(PublishedMethod, LanesRejectWhatTheScalarRejects) {
   EXPECT_THROW((void)cmr::bench::published_region_lanes(
                    cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
                cmr::InputError);
+#ifdef CMR_BENCH_VK
+  EXPECT_THROW((void)cmr::bench::published_region_vulkan(
+                   cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
+               cmr::InputError);
+#endif
 }
 
 }  // namespace

@@ -10,7 +10,8 @@
 //     Mesa shader cache is disabled for this program);
 //   - the baselines (tools/bench/published_method.hpp: the authors'
 //     per-pixel method, fixed-degree straight-line code, plain double, all
-//     cores; natively per pixel and vectorised across 4 pixels) against cmr's
+//     cores; natively per pixel, vectorised across 4 pixels, and as a fp64
+//     fragment shader on the Vulkan device) against cmr's
 //     CPU and Vulkan backends, measured interleaved in the same run, for a
 //     cubic Bezier (fig2.json P1), the uniform cubic (fig8.json P3) and the
 //     degree-9 Bezier, in three views (the whole region, 10x wider, and a
@@ -37,6 +38,7 @@
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"
+#include "tools/bench/published_method_vk.hpp"
 #include "bezierize/region.hpp"
 #include "vk/backend_choice.hpp"
 
@@ -201,42 +203,46 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
   r.max_depth = depth;
   r.width = r.height = size;
   r.view = view_of(setup);
-  std::vector<uint8_t> ours, lanes, lockstep;
+  std::vector<uint8_t> ours, lanes, lockstep, shaded;
   RegionResult img;
-  const Timings<5> timings = best_interleaved<5>(
+  (void)bench::published_region_vulkan(*sc.spline, r);  // compile this degree/depth/size's pipeline untimed
+  const Timings<6> timings = best_interleaved<6>(
       reps, {[&] { ours = bench::published_region(*sc.spline, r); },
              [&] { lanes = bench::published_region_lanes(*sc.spline, r, false); },
              [&] { lockstep = bench::published_region_lanes(*sc.spline, r, true); },
-             [&] { img = render(setup, false); }, [&] { (void)render(setup, true); }});
-  const std::array<double, 5>& t = timings.wall;
-  const std::array<double, 5>& c = timings.cpu;
-  const double tp = t[0], ts = std::min(t[1], t[2]), tc = t[3], tv = t[4], tb = std::min(tp, ts);
-  const double cb = std::min({c[0], c[1], c[2]});
+             [&] { shaded = bench::published_region_vulkan(*sc.spline, r); }, [&] { img = render(setup, false); },
+             [&] { (void)render(setup, true); }});
+  const std::array<double, 6>& t = timings.wall;
+  const std::array<double, 6>& c = timings.cpu;
+  const double tp = t[0], ts = std::min(t[1], t[2]), tg = t[3], tc = t[4], tv = t[5], tb = std::min({tp, ts, tg});
+  const double cb = std::min({c[0], c[1], c[2], c[3]});
   long differ = 0, lanes_differ = 0;
   for (std::size_t k = 0; k < ours.size(); ++k) {
     differ += ours[k] != img.code_at(k);
-    lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]);
+    lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]) + (ours[k] != shaded[k]);
   }
   const double mpix = static_cast<double>(ours.size()) / 1e6;
-  std::printf("  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7.2fx %7.2fx %6ld %4ld %6.3f%% %5.2f\n",
-              sc.name, view_name, depth, size, mpix / tp, mpix / ts, mpix / tc, mpix / tv, tb / tc, tb / tv, cb / c[3],
-              cb / c[4], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
-              load_average());
+  std::printf(
+      "  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7.2fx %7.2fx %6ld %4ld %6.3f%% %5.2f\n",
+      sc.name, view_name, depth, size, mpix / tp, mpix / ts, mpix / tg, mpix / tc, mpix / tv, tb / tc, tb / tv,
+      cb / c[4], cb / c[5], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
+      load_average());
   std::fflush(stdout);
 }
 
 void print_comparison(const std::vector<Scene>& scenes, int reps) {
-  std::printf("\nbaselines (the published method, all cores, plain double: native per pixel, and vectorised\n"
-              "across 4 pixels, %s) vs cmr (certified), measured interleaved, best of %d:\n",
+  std::printf("\nbaselines (the published method, plain double: native per pixel on all cores, vectorised\n"
+              "across 4 pixels (%s), and as a fp64 fragment shader on the\n"
+              "Vulkan device) vs cmr (certified), measured interleaved, best of %d:\n",
 #ifdef CMR_BENCH_AVX2
               "AVX2: 4 doubles per instruction",
 #else
               "the project's flags: SSE2, 2 doubles per instruction",
 #endif
               reps);
-  std::printf("  %-20s %-12s %2s %4s %8s %8s %8s %8s %8s %8s %8s %8s %6s %4s %7s %5s\n", "scene", "view", "D", "size",
-              "pub Mp/s", "vec Mp/s", "CPU Mp/s", "Vk Mp/s", "CPU/best", "Vk/best", "CPU/b cs", "Vk/b cs", "differ",
-              "vecd", "exact", "load");
+  std::printf("  %-20s %-12s %2s %4s %8s %8s %8s %8s %8s %8s %8s %8s %8s %6s %4s %7s %5s\n", "scene", "view", "D",
+              "size", "pub Mp/s", "vec Mp/s", "shd Mp/s", "CPU Mp/s", "Vk Mp/s", "CPU/best", "Vk/best", "CPU/b cs",
+              "Vk/b cs", "differ", "vecd", "exact", "load");
   for (const Scene& sc : scenes) {
     const RegionProblem base = prepare(*sc.spline, sc.point, kDefaultDepth, kSize, std::nullopt);
     const View v = view_of(base);
@@ -255,11 +261,12 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     }
     std::printf("  (%s: zoom centred on the boundary point (%.12g, %.12g))\n", sc.name, edge.x, edge.y);
   }
-  std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); best: the fastest\n"
+  std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); shd: the shader\n"
+              "  (shaders/published_fp64.frag, every pixel shaded, pipeline compiled untimed); best: the fastest\n"
               "  baseline of the cell (wall-clock); CPU/b cs, Vk/b cs: the same ratios in CPU seconds of the process\n"
               "  (every thread; the steadier figure on a loaded machine); differ: pixels whose published label is\n"
               "  not the certified one;\n"
-              "  vecd: pixels where a vectorised baseline differs from the native one (0: same arithmetic);\n"
+              "  vecd: pixels where the vectorised or shader baseline differs from the native one (0: same arithmetic);\n"
               "  exact: pixels cmr's exact path decided; load: 1-minute load average after the cell\n");
 }
 

@@ -418,6 +418,18 @@ class Kernel {
     for (int l = 0; l < count; ++l) out[l] = (active >> l) & 1 ? dir[l].label() : 0;
   }
 
+  PublishedHostPart host_part() const {
+    PublishedHostPart h;
+    h.degree = N;
+    h.anchor = anchor_;
+    h.segments = static_cast<int>(moved_.size());
+    for (const MovedSegment<N>& m : moved_)
+      for (int i = 0; i <= N; ++i) h.data.insert(h.data.end(), {m.base[i].x, m.base[i].y, m.w[i]});
+    h.fixed_directions = (fixed_.inc ? 1u : 0u) | (fixed_.dec ? 2u : 0u) | (fixed_.undecided ? 4u : 0u);
+    h.all_zero = fixed_.label() == 0;
+    return h;
+  }
+
   /// run() with kLanes pixels of a row at a time.
   std::vector<uint8_t> run_lanes(bool lockstep) const {
     std::vector<uint8_t> labels(static_cast<std::size_t>(r_.width) * r_.height, 0);
@@ -503,6 +515,11 @@ std::vector<uint8_t> published_region(const BSpline& spline, const PublishedRegi
 std::vector<uint8_t> published_region_lanes(const BSpline& spline, const PublishedRegion& request, bool lockstep) {
   validate(spline, request);
   return by_degree(spline.degree(), [&]<int N>() { return Kernel<N>(spline, request).run_lanes(lockstep); });
+}
+
+PublishedHostPart published_host_part(const BSpline& spline, const PublishedRegion& request) {
+  validate(spline, request);
+  return by_degree(spline.degree(), [&]<int N>() { return Kernel<N>(spline, request).host_part(); });
 }
 
 std::vector<double> published_lambda(const std::vector<Vec2>& P) {
