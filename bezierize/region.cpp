@@ -386,9 +386,15 @@ PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& class
   PixelResult r;
   r.exact = exact;
   const RegionRequest& o = s.options;
-  const std::vector<Direction> groups = group_verdicts(s.verdict, classes, joints, o.mode);
+  if (labels_of(o) == Labels::plain) {  // one group: no vector of verdicts (no heap per pixel)
+    const std::vector<int>& starts = s.verdict.starts;
+    const int end = starts.size() > 1 ? starts[1] : static_cast<int>(classes.size());
+    r.label = code(part_verdict(classes, joints, starts[0], end, o.mode));
+  }
+  const std::vector<Direction> groups =
+      labels_of(o) == Labels::plain ? std::vector<Direction>{} : group_verdicts(s.verdict, classes, joints, o.mode);
   switch (labels_of(o)) {
-    case Labels::plain: r.label = code(groups[0]); break;
+    case Labels::plain: break;
     case Labels::split: r.label = code(combine_split(groups[0], groups[1])); break;
     case Labels::alternating: r.label = code(alternation_verdict(groups)); break;
     case Labels::each_piece: r.label = code(each_piece_verdict(groups)); break;
@@ -497,40 +503,49 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
 
 // The region pixel (and block) source of the one traversal (decide.hpp):
 // the pieces of one entry's xi (or nu) at one displacement (or over a box of
-// them), each coefficient evaluated only when the traversal reads its sign.
-// Pieces down to the precomputed levels come from their polynomials; deeper
-// ones are halved (bernstein_halve) from their ancestor at the deepest
-// precomputed level.
+// them). Pieces down to the precomputed levels come from their polynomials,
+// each coefficient evaluated only when the traversal reads its sign. Deeper
+// pieces are derived once each: a split below the precomputed levels halves
+// the current piece once (bernstein_halve), the left half becomes current
+// and the right half waits on a fixed stack, one slot per level (depth
+// first, left first: at most one pending piece per level). The halvings are
+// those of deriving each piece from its deepest precomputed ancestor, in the
+// same order, so values and bounds are the same bit for bit; only repeated
+// work is gone. The stack is per thread and reused: no heap per pixel.
 class LazyPieces {
  public:
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
-      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {}
+      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
+    static thread_local std::vector<Bounded> scratch;
+    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    if (scratch.size() < need) scratch.resize(need);
+    base_ = scratch.data();
+  }
   int size() const { return n1_; }
   int sign(int k) const { return certain_sign(coeff(k)); }
-  void split(int level, int j) { select(level, j); }
-  void next(int level, int j) { select(level, j); }
+  void split(int level, int j) {
+    if (level > levels_) {
+      // Halve the current piece (level - 1) once; from the polynomials at the deepest precomputed level.
+      if (level - 1 <= levels_)
+        for (int k = 0; k < n1_; ++k) cur()[k] = from_poly(k);
+      bernstein_halve(cur(), n1_, cur(), slot(level), work());
+    }
+    select(level, j);
+  }
+  void next(int level, int j) {
+    if (level > levels_) std::copy(slot(level), slot(level) + n1_, cur());
+    select(level, j);
+  }
 
  private:
-  // Prepares piece (level, j); coefficients then come from coeff(k).
   void select(int level, int j) {
     level_ = level;
-    if (level <= levels_) {
-      piece_ = (1 << level) - 1 + j;
-      return;
-    }
-    const int up = level - levels_;
-    piece_ = (1 << levels_) - 1 + (j >> up);
-    cur_.resize(n1_);
-    other_.resize(n1_);
-    work_.resize(n1_);
-    for (int k = 0; k < n1_; ++k) cur_[k] = from_poly(k);
-    for (int b = up - 1; b >= 0; --b) {
-      const bool right = (j >> b) & 1;
-      bernstein_halve(cur_.data(), n1_, right ? other_.data() : cur_.data(), right ? cur_.data() : other_.data(),
-                      work_.data());
-    }
+    if (level <= levels_) piece_ = (1 << level) - 1 + j;
   }
-  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur_[k]; }
+  Bounded* cur() const { return base_; }
+  Bounded* work() const { return base_ + n1_; }
+  Bounded* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
+  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur()[k]; }
   Bounded from_poly(int k) const {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
@@ -541,10 +556,64 @@ class LazyPieces {
   bool eta_;
   int n1_;
   int level_ = 0, piece_ = 0;
-  std::vector<Bounded> cur_, other_, work_;
+  Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+};
+
+// The cheapest certified try for one pixel: the root piece's coefficients
+// are evaluated once, in plain double, with one error bound E (the largest
+// of their bounds); deeper pieces are halved in plain double on a per-thread
+// stack, each child's bound E + n1 u max|c| (1 + 2^-20) + tiny (the bound of
+// classify.cpp's fast source: halving averages neighbours, and n1 averaging
+// steps each round by at most u max|c|). Looser than LazyPieces (whose
+// pieces to level kPieceLevels come from exact polynomials), so a pixel
+// whose signs are not certain here goes on to LazyPieces, then to the exact
+// path: every answer is still Algorithm 1's on the exact coefficients.
+class FlatPieces {
+ public:
+  FlatPieces(const RegionEntry& e, const Monomials& m) : n1_(e.n_xi) {
+    static thread_local std::vector<double> scratch;
+    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    if (scratch.size() < need) scratch.resize(need);
+    base_ = scratch.data();
+    for (int k = 0; k < n1_; ++k) {
+      const Bounded b = eval_poly(e.xi[k], m);
+      base_[k] = b.v;
+      e_ = std::max(e_, b.e);
+    }
+  }
+  int size() const { return n1_; }
+  int sign(int k) const {
+    const double x = base_[k];
+    if (std::fabs(x) > e_) return x > 0 ? 1 : -1;
+    return x == 0 && e_ == 0 ? 0 : kSignUnknown;
+  }
+  void split(int level, int) {
+    double mag = 0;
+    for (int k = 0; k < n1_; ++k) mag = std::max(mag, std::fabs(base_[k]));
+    e_ += n1_ * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    bernstein_halve(base_, n1_, base_, slot(level), base_ + n1_);
+    pending_e_[level] = e_;
+  }
+  void next(int level, int) {
+    std::copy(slot(level), slot(level) + n1_, base_);
+    e_ = pending_e_[level];
+  }
+
+ private:
+  double* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
+  int n1_;
+  double e_ = 0;
+  double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  double pending_e_[kMaxDepth + 1];
 };
 
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
+  if (m.point) {
+    FlatPieces flat(e, m);
+    MonotonicityFold fold;
+    if (traverse(flat, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+      return fold.result(D);
+  }
   LazyPieces src(e, m, levels, false);
   MonotonicityFold fold;
   if (!traverse(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
@@ -652,7 +721,8 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     uncertain = uncertain || fails == Truth::unknown;
   }
   if (uncertain) return std::nullopt;
-  std::vector<SegmentClass> classes = s.verdict.classes;
+  static thread_local std::vector<SegmentClass> classes;  // reused: no heap per pixel
+  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     const auto m = lazy_algorithm1(e, mono, s.piece_levels, o.max_depth);
@@ -666,7 +736,8 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
     }
     classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.verdict.joints;
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   return verdict(s, classes, joints, false);
 }
@@ -686,7 +757,22 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 // opposite end signs: an inflection). nullopt when a piece at level D stays
 // unresolved over the box.
 enum class BoxOutcome { increasing, decreasing, not_monotone, unresolved };
-constexpr int kBoxPieceBudget = 6;
+
+// How many pieces a block proof may visit per traversal before the block is
+// quartered instead. A failed proof is wasted work, so the budget follows
+// what the block's pixels would cost: about kBoxPiecesPerPixel pieces per
+// pixel, at least kBoxMinPieces (the cheap proofs of large uniform blocks)
+// and at most kBoxMaxPieces. Small blocks, which often straddle a region
+// boundary and fail, risk little; large blocks, whose pixels would each
+// need deep traversals in a zoom onto a boundary, may go as deep as those
+// pixels would (a budget of 6 for every block left 99.9% of such a zoom to
+// the pixels).
+constexpr int kBoxMinPieces = 6, kBoxMaxPieces = 256;
+constexpr double kBoxPiecesPerPixel = 0.5;
+int box_piece_budget(long pixels) {
+  return static_cast<int>(std::clamp<double>(kBoxPiecesPerPixel * static_cast<double>(pixels), kBoxMinPieces,
+                                             kBoxMaxPieces));
+}
 
 // The block policy of the one traversal: block_piece's rules (decide.hpp),
 // folded into one outcome for the whole box.
@@ -710,13 +796,14 @@ class BoxFold {
   std::optional<BoxOutcome> stop_;
 };
 
-BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa) {
+BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa,
+                         int budget) {
   LazyPieces src(e, mono, levels, eta);
   BoxFold fold;
   int visited = 0;
   // A box that needs many pieces is cheaper to quarter than to resolve.
   const auto rule = [&](const SignSummary& s) {
-    return ++visited > kBoxPieceBudget ? Piece::uncertain : block_piece(s, eta);
+    return ++visited > budget ? Piece::uncertain : block_piece(s, eta);
   };
   if (!traverse(src, D, rule, [&](Piece p, int) { return fold.visit(p); }, true)) return BoxOutcome::unresolved;
   const BoxOutcome r = fold.result();
@@ -724,7 +811,8 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
   return r;
 }
 
-std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by) {
+std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by,
+                                               int budget) {
   if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
   const RegionRequest& o = s.options;
   const int D = o.max_depth;
@@ -733,11 +821,12 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (!e.classify) continue;
     if (level0_fails(e, mono, false) == Truth::yes) return PixelResult{0, 0, false};
   }
-  std::vector<SegmentClass> classes = s.verdict.classes;
+  static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
+  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
   for (const RegionEntry& e : s.entries) {
     if (!e.classify) continue;
     SegmentClass c;
-    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr)) {
+    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget)) {
       case BoxOutcome::not_monotone: return PixelResult{0, 0, false};
       case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
@@ -746,7 +835,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (o.mode == Mode::cmr) {
       // For eta, "increasing" means all pieces positive: no inflection, kappa > 0.
       int kappa = 0;
-      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa)) {
+      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget)) {
         case BoxOutcome::not_monotone: return PixelResult{0, 0, false};  // an inflection
         case BoxOutcome::unresolved: return std::nullopt;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
@@ -754,7 +843,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     }
     classes[s.verdict.slot[e.segment]] = c;
   }
-  std::vector<Joint> joints = s.verdict.joints;
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
   PixelResult r = verdict(s, classes, joints, false);
   r.depth = 0;
@@ -790,7 +880,8 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
   const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
   const Monomials mono(bx.v, by.v, bx.e, by.e);
-  if (!o.depth) return classify_box_labels(s, mono, bx, by);
+  if (!o.depth)
+    return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)));
   return classify_fast(s, mono, bx, by);
 }
 

@@ -16,6 +16,9 @@
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"
+#ifdef CMR_BENCH_VK
+#include "tools/bench/published_method_vk.hpp"
+#endif
 
 namespace {
 
@@ -157,6 +160,116 @@ TEST(PublishedMethod, LabelsAgreeWithCertifiedLabelsOnDegree9Bezier) {
   const cmr::BSpline s = cmr::read_spline_file(kSource + "/examples/bezier9.json");
   expect_agreement(s, 4, 12, 128, std::nullopt, "bezier9 P4, default view");
   expect_agreement(s, 4, 16, 128, zoom_on_boundary(s, 4, 16, 128, 50), "bezier9 P4, zoom on a boundary");
+}
+
+// The vectorised baseline (published_region_lanes) and the fragment-shader
+// baseline (published_region_vulkan, fp64 on lavapipe) compute every pixel
+// with the same operations in the same order as published_region: the label
+// maps must be equal byte for byte, on views with region boundaries (default
+// views, boundary zooms down to 4e-4 of the default view's width), on image
+// widths that are not a multiple of the lane count, at several depths.
+constexpr int kShaderWidth = 67;  ///< the zooms' image width in expect_lanes_equal_on_views
+
+void expect_lanes_equal(const cmr::BSpline& spline, int point, int depth, int width, int height, const View& view,
+                        const std::string& scene) {
+  PublishedRegion r;
+  r.point = point;
+  r.max_depth = depth;
+  r.width = width;
+  r.height = height;
+  r.view = view;
+  const std::vector<uint8_t> scalar = published_region(spline, r);
+  std::vector<int> count(4, 0);
+  for (const uint8_t c : scalar) ++count[std::min<int>(c, 3)];
+  for (const int form : {0, 1, 2}) {
+    const bool lockstep = form == 1;
+    // The shader: at D = 16 on the zooms only (one pipeline per scene; lavapipe compiles each for seconds).
+    if (form == 2 && (depth != 16 || width != kShaderWidth)) continue;
+#ifdef CMR_BENCH_VK
+    const std::vector<uint8_t> lanes = form == 2 ? cmr::bench::published_region_vulkan(spline, r)
+                                                 : cmr::bench::published_region_lanes(spline, r, lockstep);
+#else
+    if (form == 2) continue;
+    const std::vector<uint8_t> lanes = cmr::bench::published_region_lanes(spline, r, lockstep);
+#endif
+    ASSERT_EQ(scalar.size(), lanes.size()) << scene;
+    int differ = 0, first = -1;
+    for (std::size_t k = 0; k < scalar.size(); ++k) {
+      if (scalar[k] != lanes[k] && first < 0) first = static_cast<int>(k);
+      differ += scalar[k] != lanes[k];
+    }
+    EXPECT_EQ(differ, 0) << scene << (form == 2 ? ", fragment shader" : lockstep ? ", lock step" : ", level 0 vectorised")
+                         << ": first differing pixel ("
+                         << first % width << ", " << first / width << ")";
+  }
+  int labels_seen = 0;
+  for (int c : count) labels_seen += c > 0;
+  if (depth >= 3) {
+    EXPECT_GE(labels_seen, 2) << scene << ": the view shows one label only, so the test proves little";
+  }
+}
+
+// `view` shrunk `factor` times around the first label change of the scalar
+// baseline's map of it (size x size pixels), rows from the middle out.
+View zoom_in(const cmr::BSpline& spline, int point, int depth, int size, const View& view, double factor) {
+  PublishedRegion r;
+  r.point = point;
+  r.max_depth = depth;
+  r.width = r.height = size;
+  r.view = view;
+  const std::vector<uint8_t> labels = published_region(spline, r);
+  for (int step = 0; step < size; ++step) {
+    const int j = size / 2 + (step % 2 ? -(step + 1) / 2 : step / 2);
+    for (int i = 1; i < size; ++i)
+      if (labels[static_cast<std::size_t>(j) * size + i] != labels[static_cast<std::size_t>(j) * size + i - 1]) {
+        const Vec2 a = cmr::pixel_center(view, size, size, i - 1, j), b = cmr::pixel_center(view, size, size, i, j);
+        const Vec2 p = 0.5 * (a + b);
+        const double hx = (view.x1 - view.x0) / (2 * factor), hy = (view.y1 - view.y0) / (2 * factor);
+        return View{p.x - hx, p.y - hy, p.x + hx, p.y + hy};
+      }
+  }
+  ADD_FAILURE() << "no label change in the view";
+  return view;
+}
+
+void expect_lanes_equal_on_views(const cmr::BSpline& spline, int point, const std::string& name) {
+  const Certified base = certified_labels(spline, point, 12, 96, std::nullopt);
+  for (const int depth : {0, 3, 10, 16}) {
+    expect_lanes_equal(spline, point, depth, 97, 61, base.view, name + ", default view, D = " + std::to_string(depth));
+    View zoom = base.view;
+    for (const int factor : {40, 1600, 64000}) {  // 1/64000 of the default view: about a 4e-4 zoom
+      zoom = zoom_in(spline, point, depth >= 3 ? depth : 10, 96, zoom, 40);
+      expect_lanes_equal(spline, point, depth, kShaderWidth, 45, zoom,
+                         name + ", zoom 1/" + std::to_string(factor) + ", D = " + std::to_string(depth));
+    }
+  }
+}
+
+TEST(PublishedMethod, LanesEqualScalarOnCubicBezier) {
+  expect_lanes_equal_on_views(cmr::read_spline_file(kSource + "/examples/figures/fig2.json"), 1, "fig2 P1");
+}
+
+TEST(PublishedMethod, LanesEqualScalarOnUniformCubic) {
+  expect_lanes_equal_on_views(cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), 3, "fig8 P3");
+}
+
+TEST(PublishedMethod, LanesEqualScalarOnDegree9Bezier) {
+  expect_lanes_equal_on_views(cmr::read_spline_file(kSource + "/examples/bezier9.json"), 4, "bezier9 P4");
+}
+
+TEST(PublishedMethod, LanesRejectWhatTheScalarRejects) {
+  PublishedRegion r;
+  r.width = r.height = 4;
+  r.view = View{0, 0, 5, 1};
+  r.point = 6;
+  EXPECT_THROW((void)cmr::bench::published_region_lanes(
+                   cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
+               cmr::InputError);
+#ifdef CMR_BENCH_VK
+  EXPECT_THROW((void)cmr::bench::published_region_vulkan(
+                   cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
+               cmr::InputError);
+#endif
 }
 
 }  // namespace

@@ -8,20 +8,29 @@
 //     the degree-9 Bezier curve of examples/bezier9.json, point P4; time to the
 //     first image in a fresh process state, shader compilation included (the
 //     Mesa shader cache is disabled for this program);
-//   - the published method (tools/bench/published_method.hpp: the authors'
+//   - the baselines (tools/bench/published_method.hpp: the authors'
 //     per-pixel method, fixed-degree straight-line code, plain double, all
-//     cores) against cmr's CPU and Vulkan backends, measured in the same run,
-//     in three views (the whole region, 10x wider, and a 4e-4-wide zoom
-//     centred on a point of a region boundary found by bisection), at D = 10
-//     and D = 16, with the number of pixels whose labels differ.
-// Usage: bench_region [repetitions=5]   (run from the repository root)
+//     cores; natively per pixel, vectorised across 4 pixels, and as a fp64
+//     fragment shader on the Vulkan device) against cmr's
+//     CPU and Vulkan backends, measured interleaved in the same run, for a
+//     cubic Bezier (fig2.json P1), the uniform cubic (fig8.json P3) and the
+//     degree-9 Bezier, in three views (the whole region, 10x wider, and a
+//     4e-4-wide zoom centred on a point of a region boundary found by
+//     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
+//     faster baseline of each cell, with the number of pixels whose labels
+//     differ and the load average.
+// Usage: bench_region [repetitions=5] [cells]   (run from the repository root)
+//   cells: only the comparison cells whose "scene view D size" text contains
+//   this string (e.g. "zoom 16 512"), and no default-view section.
 #include <sys/utsname.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <string>
 #include <thread>
@@ -29,6 +38,7 @@
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"
+#include "tools/bench/published_method_vk.hpp"
 #include "bezierize/region.hpp"
 #include "vk/backend_choice.hpp"
 
@@ -73,7 +83,7 @@ uint8_t certified_label(const RegionProblem& s, Vec2 p) { return code(s.classify
 
 constexpr int kSize = 1024;
 constexpr double kMpix = kSize * kSize / 1e6;
-constexpr int kCompareSize = 512;       ///< image side in the published-method comparison
+constexpr int kCompareSize = 512;       ///< the smaller image side in the baseline comparison (the other: kSize)
 constexpr double kWideFactor = 10;      ///< the wide view: this times the default view's extent
 constexpr double kZoomWidth = 4e-4;     ///< the zoom's world width, centred on a boundary point
 constexpr int kBisectionSteps = 60;     ///< halvings of the boundary bracket (2^-60 of a pixel)
@@ -137,31 +147,102 @@ struct Scene {
   int point;
 };
 
-/// One line of the comparison: published method vs cmr CPU vs cmr Vulkan.
-void compare(const Scene& sc, const char* view_name, std::optional<View> view, int depth, int reps) {
-  const RegionProblem setup = prepare(*sc.spline, sc.point, depth, kCompareSize, view);
+/// Seconds of CPU time this process (every thread, lavapipe's included) has used.
+double cpu_now() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Best wall-clock seconds (wall) and best CPU seconds of the process (cpu)
+/// of each of fs, measured interleaved: round r runs every function once, in
+/// turn, so that load on the shared machine falls on all of them alike;
+/// stops after `reps` rounds or kMeasureBudget seconds per function (at
+/// least one round). On a loaded machine the CPU seconds are the steadier
+/// figure (time spent waiting for a core is not counted).
+template <std::size_t K>
+struct Timings {
+  std::array<double, K> wall, cpu;
+};
+template <std::size_t K>
+Timings<K> best_interleaved(int reps, const std::array<std::function<void()>, K>& fs) {
+  Timings<K> best;
+  best.wall.fill(1e300);
+  best.cpu.fill(1e300);
+  double spent = 0;
+  for (int r = 0; r < reps && spent < kMeasureBudget * K; ++r)
+    for (std::size_t k = 0; k < K; ++k) {
+      const double t0 = now(), c0 = cpu_now();
+      fs[k]();
+      const double t = now() - t0;
+      best.wall[k] = std::min(best.wall[k], t);
+      best.cpu[k] = std::min(best.cpu[k], cpu_now() - c0);
+      spent += t;
+    }
+  return best;
+}
+
+double load_average() {
+  double l = 0;
+  std::ifstream("/proc/loadavg") >> l;
+  return l;
+}
+
+/// Cells whose "scene view D size" text contains this (argv[2]); empty: every cell.
+std::string g_only;
+
+/// One line of the comparison: the baselines (published method native, its
+/// vectorised form) vs cmr CPU and cmr Vulkan; ratios against the best baseline.
+void compare(const Scene& sc, const char* view_name, std::optional<View> view, int depth, int size, int reps) {
+  if (!g_only.empty() && (std::string(sc.name) + " " + view_name + " " + std::to_string(depth) + " " +
+                          std::to_string(size)).find(g_only) == std::string::npos)
+    return;
+  const RegionProblem setup = prepare(*sc.spline, sc.point, depth, size, view);
   bench::PublishedRegion r;
   r.point = sc.point;
   r.max_depth = depth;
-  r.width = r.height = kCompareSize;
+  r.width = r.height = size;
   r.view = view_of(setup);
-  std::vector<uint8_t> ours;
-  const double tp = best_of(reps, [&] { ours = bench::published_region(*sc.spline, r); });
+  std::vector<uint8_t> ours, lanes, lockstep, shaded;
   RegionResult img;
-  const double tc = best_of(reps, [&] { img = render(setup, false); });
-  const double tv = best_of(reps, [&] { (void)render(setup, true); });
-  long differ = 0;
-  for (std::size_t k = 0; k < ours.size(); ++k) differ += ours[k] != img.code_at(k);
+  (void)bench::published_region_vulkan(*sc.spline, r);  // compile this degree/depth/size's pipeline untimed
+  const Timings<6> timings = best_interleaved<6>(
+      reps, {[&] { ours = bench::published_region(*sc.spline, r); },
+             [&] { lanes = bench::published_region_lanes(*sc.spline, r, false); },
+             [&] { lockstep = bench::published_region_lanes(*sc.spline, r, true); },
+             [&] { shaded = bench::published_region_vulkan(*sc.spline, r); }, [&] { img = render(setup, false); },
+             [&] { (void)render(setup, true); }});
+  const std::array<double, 6>& t = timings.wall;
+  const std::array<double, 6>& c = timings.cpu;
+  const double tp = t[0], ts = std::min(t[1], t[2]), tg = t[3], tc = t[4], tv = t[5], tb = std::min({tp, ts, tg});
+  const double cb = std::min({c[0], c[1], c[2], c[3]});
+  long differ = 0, lanes_differ = 0;
+  for (std::size_t k = 0; k < ours.size(); ++k) {
+    differ += ours[k] != img.code_at(k);
+    lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]) + (ours[k] != shaded[k]);
+  }
   const double mpix = static_cast<double>(ours.size()) / 1e6;
-  std::printf("  %-20s %-13s %2d %9.2f %9.2f %9.2f %8.2fx %7.2fx %8ld %7.3f%%\n", sc.name, view_name, depth, mpix / tp,
-              mpix / tc, mpix / tv, tp / tc, tp / tv, differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size());
+  std::printf(
+      "  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7.2fx %7.2fx %6ld %4ld %6.3f%% %5.2f\n",
+      sc.name, view_name, depth, size, mpix / tp, mpix / ts, mpix / tg, mpix / tc, mpix / tv, tb / tc, tb / tv,
+      cb / c[4], cb / c[5], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
+      load_average());
+  std::fflush(stdout);
 }
 
 void print_comparison(const std::vector<Scene>& scenes, int reps) {
-  std::printf("\npublished method (all cores, plain double) vs cmr (certified), %dx%d, same run, best of %d:\n",
-              kCompareSize, kCompareSize, reps);
-  std::printf("  %-20s %-13s %2s %9s %9s %9s %9s %8s %8s %8s\n", "scene", "view", "D", "pub Mp/s", "CPU Mp/s",
-              "Vk Mp/s", "CPU/pub", "Vk/pub", "differ", "exact");
+  std::printf("\nbaselines (the published method, plain double: native per pixel on all cores, vectorised\n"
+              "across 4 pixels (%s), and as a fp64 fragment shader on the\n"
+              "Vulkan device) vs cmr (certified), measured interleaved, best of %d:\n",
+#ifdef CMR_BENCH_AVX2
+              "AVX2: 4 doubles per instruction",
+#else
+              "the project's flags: SSE2, 2 doubles per instruction",
+#endif
+              reps);
+  std::printf("  %-20s %-12s %2s %4s %8s %8s %8s %8s %8s %8s %8s %8s %8s %6s %4s %7s %5s\n", "scene", "view", "D",
+              "size", "pub Mp/s", "vec Mp/s", "shd Mp/s", "CPU Mp/s", "Vk Mp/s", "CPU/best", "Vk/best", "CPU/b cs",
+              "Vk/b cs", "differ", "vecd", "exact", "load");
   for (const Scene& sc : scenes) {
     const RegionProblem base = prepare(*sc.spline, sc.point, kDefaultDepth, kSize, std::nullopt);
     const View v = view_of(base);
@@ -172,13 +253,21 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     for (const int depth : {10, 16}) {
       // Compile this depth's pipeline untimed: a small image across the boundary reaches the device.
       (void)render(prepare(*sc.spline, sc.point, depth, kWarmupSize, zoom), true);
-      compare(sc, "whole region", std::nullopt, depth, reps);
-      compare(sc, "10x wider", wide, depth, reps);
-      compare(sc, "4e-4 zoom", zoom, depth, reps);
+      for (const int size : {kCompareSize, kSize}) {
+        compare(sc, "whole region", std::nullopt, depth, size, reps);
+        compare(sc, "10x wider", wide, depth, size, reps);
+        compare(sc, "4e-4 zoom", zoom, depth, size, reps);
+      }
     }
     std::printf("  (%s: zoom centred on the boundary point (%.12g, %.12g))\n", sc.name, edge.x, edge.y);
   }
-  std::printf("  differ: pixels whose published label is not the certified one; exact: pixels cmr's exact path decided\n");
+  std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); shd: the shader\n"
+              "  (shaders/published_fp64.frag, every pixel shaded, pipeline compiled untimed); best: the fastest\n"
+              "  baseline of the cell (wall-clock); CPU/b cs, Vk/b cs: the same ratios in CPU seconds of the process\n"
+              "  (every thread; the steadier figure on a loaded machine); differ: pixels whose published label is\n"
+              "  not the certified one;\n"
+              "  vecd: pixels where the vectorised or shader baseline differs from the native one (0: same arithmetic);\n"
+              "  exact: pixels cmr's exact path decided; load: 1-minute load average after the cell\n");
 }
 
 }  // namespace
@@ -186,42 +275,46 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
 int main(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
+  if (argc > 2) g_only = argv[2];
   utsname un{};
   uname(&un);
-  std::printf("cmr region benchmark: %s, %u hardware threads, %s %s\n", cpu_model().c_str(),
-              std::thread::hardware_concurrency(), un.sysname, un.release);
+  std::printf("cmr region benchmark: %s, %u hardware threads, %s %s, load average %.2f\n", cpu_model().c_str(),
+              std::thread::hardware_concurrency(), un.sysname, un.release, load_average());
   std::printf("1024x1024, D = 12, fp64, certified labels, default view, best of %d (fewer where %.0f s are spent)\n\n",
               reps, kMeasureBudget);
 
   const BSpline uniform = read_spline_file("examples/figures/fig8.json");
   const BSpline bezier9 = read_spline_file("examples/bezier9.json");
-  const RegionProblem one = prepare(uniform, 3, kDefaultDepth, kSize, std::nullopt);
+  if (g_only.empty()) {
+    const RegionProblem one = prepare(uniform, 3, kDefaultDepth, kSize, std::nullopt);
 
-  const double t_first0 = now();
-  const RegionResult first = render(one, true);
-  const double t_first = now() - t_first0;
-  const double compile = shader_setup_seconds();
+    const double t_first0 = now();
+    const RegionResult first = render(one, true);
+    const double t_first = now() - t_first0;
+    const double compile = shader_setup_seconds();
 
-  std::printf("%-58s %12s %12s\n", "scene", "Vulkan", "CPU backend");
-  auto row = [&](const char* name, const RegionProblem& s) {
-    const double tv = best_of(reps, [&] { (void)render(s, true); });
-    const double tc = best_of(reps, [&] { (void)render(s, false); });
-    std::printf("%-58s %7.1f Mp/s %7.1f Mp/s\n", name, kMpix / tv, kMpix / tc);
-  };
-  row("uniform cubic B-spline, 6 points, P3 (fig8.json)", one);
+    std::printf("%-58s %12s %12s\n", "scene", "Vulkan", "CPU backend");
+    auto row = [&](const char* name, const RegionProblem& s) {
+      const double tv = best_of(reps, [&] { (void)render(s, true); });
+      const double tc = best_of(reps, [&] { (void)render(s, false); });
+      std::printf("%-58s %7.1f Mp/s %7.1f Mp/s\n", name, kMpix / tv, kMpix / tc);
+    };
+    row("uniform cubic B-spline, 6 points, P3 (fig8.json)", one);
 
-  std::vector<RegionProblem> all;
-  for (int k = 0; k < uniform.point_count(); ++k) all.push_back(prepare(uniform, k, kDefaultDepth, kSize, std::nullopt));
-  const double fv = best_of(reps, [&] { for (auto& s : all) (void)render(s, true); });
-  const double fc = best_of(reps, [&] { for (auto& s : all) (void)render(s, false); });
-  std::printf("%-58s %6.1f fps    %6.1f fps\n", "same spline, every point overlapped (--point all)", 1 / fv, 1 / fc);
+    std::vector<RegionProblem> all;
+    for (int k = 0; k < uniform.point_count(); ++k) all.push_back(prepare(uniform, k, kDefaultDepth, kSize, std::nullopt));
+    const double fv = best_of(reps, [&] { for (auto& s : all) (void)render(s, true); });
+    const double fc = best_of(reps, [&] { for (auto& s : all) (void)render(s, false); });
+    std::printf("%-58s %6.1f fps    %6.1f fps\n", "same spline, every point overlapped (--point all)", 1 / fv, 1 / fc);
 
-  row("degree-9 Bezier, P4 (bezier9.json)", prepare(bezier9, 4, kDefaultDepth, kSize, std::nullopt));
+    row("degree-9 Bezier, P4 (bezier9.json)", prepare(bezier9, 4, kDefaultDepth, kSize, std::nullopt));
 
-  std::printf("\ntime to first image (Vulkan context, shader compile %.3f s, render): %.3f s\n", compile, t_first);
-  std::printf("share of pixels the exact path decided (Vulkan, fig8 P3): %.4f%%\n",
-              100.0 * static_cast<double>(first.exact_pixels) / (kSize * kSize));
-
-  print_comparison({{"uniform cubic, P3", &uniform, 3}, {"degree-9 Bezier, P4", &bezier9, 4}}, reps);
+    std::printf("\ntime to first image (Vulkan context, shader compile %.3f s, render): %.3f s\n", compile, t_first);
+    std::printf("share of pixels the exact path decided (Vulkan, fig8 P3): %.4f%%\n",
+                100.0 * static_cast<double>(first.exact_pixels) / (kSize * kSize));
+  }
+  const BSpline cubic = read_spline_file("examples/figures/fig2.json");
+  print_comparison({{"cubic Bezier, P1", &cubic, 1}, {"uniform cubic, P3", &uniform, 3}, {"degree-9 Bezier, P4", &bezier9, 4}},
+                   reps);
   return 0;
 }

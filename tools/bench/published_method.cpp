@@ -12,6 +12,12 @@
 namespace cmr::bench {
 namespace {
 
+/// kLanes doubles, one pixel per lane (GCC vector extensions; the compiler
+/// maps them on the widest vector instructions the build's flags allow).
+inline constexpr int kLanes = 4;
+typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
+typedef long long LaneMask __attribute__((vector_size(kLanes * sizeof(double))));
+
 /// Row n of Pascal's triangle as doubles (exact up to n = 4 kPublishedMaxDegree).
 template <int n>
 constexpr std::array<double, n + 1> binomials() {
@@ -29,36 +35,42 @@ constexpr std::array<double, n + 1> inverse_binomials() {
 }
 
 /// ξ of one Bézier segment of degree N (header: the formulas), straight-line
-/// after unrolling: every bound and weight is a compile-time constant.
-template <int N>
-void lambda_fixed(const Vec2* P, double* xi) {
+/// after unrolling: every bound and weight is a compile-time constant. T is
+/// double (one pixel) or Lanes (kLanes pixels, the same operations in the same
+/// order, so every lane rounds as the scalar code does).
+template <int N, class T>
+void lambda_fixed(const T* Px, const T* Py, T* xi) {
   constexpr int m = N - 1, dn = 2 * N - 4, dg = 2 * N - 2, dl = 4 * N - 7;
   constexpr auto cm = binomials<m>();
   constexpr auto cn1 = binomials<dn - 1>(), cg1 = binomials<dg - 1>();
   constexpr auto inv_n = inverse_binomials<dn>(), inv_g = inverse_binomials<dg>(), inv_l = inverse_binomials<dl>();
-  double qx[m + 1], qy[m + 1];
+  T qx[m + 1], qy[m + 1];
 #pragma GCC unroll 16
   for (int i = 0; i <= m; ++i) {
-    qx[i] = N * (P[i + 1].x - P[i].x);
-    qy[i] = N * (P[i + 1].y - P[i].y);
+    qx[i] = double(N) * (Px[i + 1] - Px[i]);
+    qy[i] = double(N) * (Py[i + 1] - Py[i]);
   }
-  double nu_s[dn + 1] = {}, g_s[dg + 1] = {};  // binomially scaled ν and g
+  T nu_s[dn + 1], g_s[dg + 1];  // binomially scaled ν and g
+  for (T& v : nu_s) v = T{} + 0.0;
+  for (T& v : g_s) v = T{} + 0.0;
 #pragma GCC unroll 16
   for (int i = 0; i <= m; ++i) {
-    g_s[2 * i] += cm[i] * cm[i] * (qx[i] * qx[i] + qy[i] * qy[i]);
+    g_s[2 * i] += (cm[i] * cm[i]) * (qx[i] * qx[i] + qy[i] * qy[i]);
 #pragma GCC unroll 16
     for (int j = i + 1; j <= m; ++j) {
       const double w = cm[i] * cm[j];
-      nu_s[i + j - 1] += (j - i) * w * (qx[i] * qy[j] - qy[i] * qx[j]);
-      g_s[i + j] += 2 * w * (qx[i] * qx[j] + qy[i] * qy[j]);
+      nu_s[i + j - 1] += (double(j - i) * w) * (qx[i] * qy[j] - qy[i] * qx[j]);
+      g_s[i + j] += (2 * w) * (qx[i] * qx[j] + qy[i] * qy[j]);
     }
   }
-  double d_s[dn], e_s[dg];  // scaled η' (degree dn-1) and g' (degree dg-1)
+  T d_s[dn], e_s[dg];  // scaled η' (degree dn-1) and g' (degree dg-1)
 #pragma GCC unroll 32
-  for (int k = 0; k < dn; ++k) d_s[k] = cn1[k] * dn * (nu_s[k + 1] * inv_n[k + 1] - nu_s[k] * inv_n[k]);
+  for (int k = 0; k < dn; ++k) d_s[k] = (cn1[k] * dn) * (nu_s[k + 1] * inv_n[k + 1] - nu_s[k] * inv_n[k]);
 #pragma GCC unroll 32
-  for (int k = 0; k < dg; ++k) e_s[k] = cg1[k] * dg * (g_s[k + 1] * inv_g[k + 1] - g_s[k] * inv_g[k]);
-  double a[dl + 1] = {}, b[dl + 1] = {};  // scaled η' g and η g'
+  for (int k = 0; k < dg; ++k) e_s[k] = (cg1[k] * dg) * (g_s[k + 1] * inv_g[k + 1] - g_s[k] * inv_g[k]);
+  T a[dl + 1], b[dl + 1];  // scaled η' g and η g'
+  for (T& v : a) v = T{} + 0.0;
+  for (T& v : b) v = T{} + 0.0;
 #pragma GCC unroll 32
   for (int i = 0; i < dn; ++i)
 #pragma GCC unroll 32
@@ -71,19 +83,39 @@ void lambda_fixed(const Vec2* P, double* xi) {
   for (int k = 0; k <= dl; ++k) xi[k] = (a[k] - 1.5 * b[k]) * inv_l[k];
 }
 
+template <int N>
+void lambda_fixed(const Vec2* P, double* xi) {
+  double x[N + 1], y[N + 1];
+  for (int i = 0; i <= N; ++i) {
+    x[i] = P[i].x;
+    y[i] = P[i].y;
+  }
+  lambda_fixed<N, double>(x, y, xi);
+}
+
 /// ξ_0 = λ(0) alone, from the first four points (the same formulas at k = 0:
 /// ν_0 = m det(q_0,q_1), ν_1 = 2 C(m,2) det(q_0,q_2) / (2n-4), g_0 = q_0·q_0,
 /// g_1 = 2 m q_0·q_1 / (2n-2), ξ_0 = (2n-4)(ν_1-ν_0) g_0 - (3/2) ν_0 (2n-2)(g_1-g_0)).
 /// ξ_{4n-7} is the same of the reversed points (λ of the reversed curve is λ(1-t)).
 /// Lets a pixel fail condition (3) at level 0 before its full ξ is formed.
+template <int N, class T>
+void lambda_start(const T& x0, const T& y0, const T& x1, const T& y1, const T& x2, const T& y2, const T& x3,
+                  const T& y3, T& out) {
+  constexpr int m = N - 1, dn = 2 * N - 4, dg = 2 * N - 2;
+  const T q0x = double(N) * (x1 - x0), q0y = double(N) * (y1 - y0);
+  const T q1x = double(N) * (x2 - x1), q1y = double(N) * (y2 - y1);
+  const T q2x = double(N) * (x3 - x2), q2y = double(N) * (y3 - y2);
+  const T nu0 = double(m) * (q0x * q1y - q0y * q1x);
+  const T nu1 = (m * (m - 1) / double(dn)) * (q0x * q2y - q0y * q2x);
+  const T g0 = q0x * q0x + q0y * q0y, g1 = (2.0 * m / dg) * (q0x * q1x + q0y * q1y);
+  out = double(dn) * (nu1 - nu0) * g0 - (1.5 * dg) * nu0 * (g1 - g0);
+}
+
 template <int N>
 double lambda_start(Vec2 p0, Vec2 p1, Vec2 p2, Vec2 p3) {
-  constexpr int m = N - 1, dn = 2 * N - 4, dg = 2 * N - 2;
-  const Vec2 q0 = double(N) * (p1 - p0), q1 = double(N) * (p2 - p1), q2 = double(N) * (p3 - p2);
-  const double nu0 = m * (q0.x * q1.y - q0.y * q1.x);
-  const double nu1 = (m * (m - 1) / double(dn)) * (q0.x * q2.y - q0.y * q2.x);
-  const double g0 = q0.x * q0.x + q0.y * q0.y, g1 = (2.0 * m / dg) * (q0.x * q1.x + q0.y * q1.y);
-  return dn * (nu1 - nu0) * g0 - 1.5 * nu0 * dg * (g1 - g0);
+  double out;
+  lambda_start<N, double>(p0.x, p0.y, p1.x, p1.y, p2.x, p2.y, p3.x, p3.y, out);
+  return out;
 }
 
 /// Condition (3) at level 0: ends of opposite sign.
@@ -143,6 +175,136 @@ Verdict algorithm1_fixed(const double* xi, int max_depth) {
   if (undecided) return Verdict::undecided;
   return inc || !dec ? Verdict::increasing : Verdict::decreasing;
 }
+
+/// Algorithm 1 (as algorithm1_fixed) for kLanes pixels at once: each lane has
+/// its own depth-first traversal; every step examines every lane's current
+/// piece and halves all of them with one vector de Casteljau, and lanes
+/// that have finished are masked out. A lane's pending right halves sit in
+/// `pending` at their level (depth first, left first: at most one per level),
+/// marked in the lane's bit set. Returns each lane's verdict.
+template <int K>
+std::array<Verdict, kLanes> algorithm1_lanes(const Lanes* xi, int max_depth, unsigned active) {
+  Lanes cur[K], left[K];
+  Lanes pending[kMaxDepth + 2][K];
+  std::copy(xi, xi + K, cur);
+  int level[kLanes] = {};
+  std::uint64_t waiting[kLanes] = {};  // bit L: a right half pending at level L
+  bool inc[kLanes] = {}, dec[kLanes] = {}, undecided[kLanes] = {};
+  std::array<Verdict, kLanes> out{};
+  const auto finish = [&](int l, Verdict v) {
+    out[l] = v;
+    active &= ~(1u << l);
+  };
+  while (active) {
+    Lanes lo = cur[0], hi = cur[0];
+#pragma GCC unroll 32
+    for (int i = 1; i < K; ++i) {
+      lo = lo < cur[i] ? lo : cur[i];
+      hi = hi > cur[i] ? hi : cur[i];
+    }
+    const LaneMask differ = ((cur[0] < 0) & (cur[K - 1] > 0)) | ((cur[0] > 0) & (cur[K - 1] < 0));
+    const LaneMask ge = lo >= 0, le = hi <= 0;
+    bool any_split = false;
+    unsigned split = 0, popped = 0;
+    for (int l = 0; l < kLanes; ++l) {
+      if (!((active >> l) & 1)) continue;
+      if (differ[l]) {
+        finish(l, Verdict::none);
+        continue;
+      }
+      if (ge[l] && le[l]) {
+        finish(l, Verdict::constant);
+        continue;
+      }
+      if (ge[l] || le[l]) {
+        (ge[l] ? inc : dec)[l] = true;
+      } else if (level[l] < max_depth) {
+        split |= 1u << l;
+        any_split = true;
+        continue;
+      } else {
+        undecided[l] = true;
+      }
+      if (inc[l] && dec[l]) {
+        finish(l, Verdict::none);
+        continue;
+      }
+      if (waiting[l] == 0) {  // the lane's traversal is over
+        finish(l, undecided[l] ? Verdict::undecided
+                               : (inc[l] || !dec[l] ? Verdict::increasing : Verdict::decreasing));
+        continue;
+      }
+      const int L = 63 - __builtin_clzll(waiting[l]);  // the most recent pending piece
+      waiting[l] &= ~(std::uint64_t{1} << L);
+      level[l] = L;
+      popped |= 1u << l;
+    }
+    if (!any_split) {
+      for (int l = 0; l < kLanes; ++l)
+        if ((popped >> l) & 1)
+#pragma GCC unroll 32
+          for (int i = 0; i < K; ++i) cur[i][l] = pending[level[l]][i][l];
+      continue;
+    }
+    // de Casteljau at 1/2 on every lane: left in `left`, cur becomes the right half.
+    left[0] = cur[0];
+#pragma GCC unroll 32
+    for (int r = 1; r < K; ++r) {
+#pragma GCC unroll 32
+      for (int i = 0; i < K - r; ++i) cur[i] = 0.5 * (cur[i] + cur[i + 1]);
+      left[r] = cur[0];
+    }
+    // Splitting lanes keep the right half pending and go on with the left;
+    // popped lanes take their pending piece.
+    for (int l = 0; l < kLanes; ++l) {
+      if ((split >> l) & 1) {
+        const int L = ++level[l];
+        waiting[l] |= std::uint64_t{1} << L;
+#pragma GCC unroll 32
+        for (int i = 0; i < K; ++i) {
+          pending[L][i][l] = cur[i][l];
+          cur[i][l] = left[i][l];
+        }
+      } else if ((popped >> l) & 1) {
+#pragma GCC unroll 32
+        for (int i = 0; i < K; ++i) cur[i][l] = pending[level[l]][i][l];
+      }
+    }
+  }
+  return out;
+}
+
+/// Algorithm 1 with level 0 decided for kLanes pixels at once (rules (3), (1)
+/// and (2) on vectors) and the lanes that must split continuing one by one
+/// on algorithm1_fixed (the same pieces, the same arithmetic).
+template <int K>
+std::array<Verdict, kLanes> algorithm1_level0_lanes(const Lanes* xi, int max_depth, unsigned active) {
+  Lanes lo = xi[0], hi = xi[0];
+#pragma GCC unroll 32
+  for (int i = 1; i < K; ++i) {
+    lo = lo < xi[i] ? lo : xi[i];
+    hi = hi > xi[i] ? hi : xi[i];
+  }
+  const LaneMask differ = ((xi[0] < 0) & (xi[K - 1] > 0)) | ((xi[0] > 0) & (xi[K - 1] < 0));
+  const LaneMask ge = lo >= 0, le = hi <= 0;
+  std::array<Verdict, kLanes> out{};
+  for (int l = 0; l < kLanes; ++l) {
+    if (!((active >> l) & 1)) continue;
+    if (differ[l]) out[l] = Verdict::none;
+    else if (ge[l] && le[l]) out[l] = Verdict::constant;
+    else if (ge[l]) out[l] = Verdict::increasing;
+    else if (le[l]) out[l] = Verdict::decreasing;
+    else if (max_depth == 0) out[l] = Verdict::undecided;
+    else {
+      double c[K];
+#pragma GCC unroll 32
+      for (int i = 0; i < K; ++i) c[i] = xi[i][l];
+      out[l] = algorithm1_fixed<K>(c, max_depth);
+    }
+  }
+  return out;
+}
+
 
 /// Directions seen so far over a spline's segments (analyze.hpp's CMRWI rule
 /// for C² splines: constant segments go with either direction).
@@ -216,6 +378,78 @@ class Kernel {
     return dir.label();
   }
 
+  /// Labels of `count` <= kLanes pixels at (px, py), one per lane.
+  void lanes(const Lanes& px, const Lanes& py, int count, bool lockstep, uint8_t* out) const {
+    const Lanes dx = px - anchor_.x, dy = py - anchor_.y;
+    unsigned active = (1u << count) - 1;
+    const int segs = static_cast<int>(moved_.size());
+    Lanes X[N + 1][N + 1], Y[N + 1][N + 1];
+    for (int s = 0; s < segs; ++s) {  // the level-0 test (3) on ξ's ends first, as pixel() does
+      const MovedSegment<N>& m = moved_[s];
+#pragma GCC unroll 16
+      for (int i = 0; i <= N; ++i) {
+        X[s][i] = m.base[i].x + m.w[i] * dx;
+        Y[s][i] = m.base[i].y + m.w[i] * dy;
+      }
+      const Lanes* x = X[s];
+      const Lanes* y = Y[s];
+      Lanes first, last;
+      lambda_start<N, Lanes>(x[0], y[0], x[1], y[1], x[2], y[2], x[3], y[3], first);
+      lambda_start<N, Lanes>(x[N], y[N], x[N - 1], y[N - 1], x[N - 2], y[N - 2], x[N - 3], y[N - 3], last);
+      const LaneMask differ = ((first < 0) & (last > 0)) | ((first > 0) & (last < 0));
+      for (int l = 0; l < kLanes; ++l)
+        if (differ[l]) active &= ~(1u << l);
+    }
+    Directions dir[kLanes];
+    for (Directions& d : dir) d = fixed_;
+    if (active) {
+      Lanes xi[N + 1][K];
+      for (int s = 0; s < segs; ++s) lambda_fixed<N, Lanes>(X[s], Y[s], xi[s]);
+      for (int s = 0; s < segs && active; ++s) {
+        const std::array<Verdict, kLanes> v = lockstep ? algorithm1_lanes<K>(xi[s], r_.max_depth, active)
+                                                         : algorithm1_level0_lanes<K>(xi[s], r_.max_depth, active);
+        for (int l = 0; l < kLanes; ++l) {
+          if (!((active >> l) & 1)) continue;
+          dir[l].add(v[l]);
+          if (dir[l].none || (dir[l].inc && dir[l].dec)) active &= ~(1u << l);
+        }
+      }
+    }
+    for (int l = 0; l < count; ++l) out[l] = (active >> l) & 1 ? dir[l].label() : 0;
+  }
+
+  PublishedHostPart host_part() const {
+    PublishedHostPart h;
+    h.degree = N;
+    h.anchor = anchor_;
+    h.segments = static_cast<int>(moved_.size());
+    for (const MovedSegment<N>& m : moved_)
+      for (int i = 0; i <= N; ++i) h.data.insert(h.data.end(), {m.base[i].x, m.base[i].y, m.w[i]});
+    h.fixed_directions = (fixed_.inc ? 1u : 0u) | (fixed_.dec ? 2u : 0u) | (fixed_.undecided ? 4u : 0u);
+    h.all_zero = fixed_.label() == 0;
+    return h;
+  }
+
+  /// run() with kLanes pixels of a row at a time.
+  std::vector<uint8_t> run_lanes(bool lockstep) const {
+    std::vector<uint8_t> labels(static_cast<std::size_t>(r_.width) * r_.height, 0);
+    if (fixed_.label() == 0) return labels;
+    parallel_for(static_cast<std::size_t>(r_.height), r_.threads, [&](std::size_t j) {
+      uint8_t* row = labels.data() + j * r_.width;
+      for (int i = 0; i < r_.width; i += kLanes) {
+        const int count = std::min(kLanes, r_.width - i);
+        Lanes px, py;
+        for (int l = 0; l < kLanes; ++l) {  // a short last group repeats its last pixel
+          const Vec2 p = pixel_center(r_.view, r_.width, r_.height, i + std::min(l, count - 1), static_cast<int>(j));
+          px[l] = p.x;
+          py[l] = p.y;
+        }
+        lanes(px, py, count, lockstep, row + i);
+      }
+    });
+    return labels;
+  }
+
   std::vector<uint8_t> run() const {
     std::vector<uint8_t> labels(static_cast<std::size_t>(r_.width) * r_.height, 0);
     if (fixed_.label() == 0) return labels;  // an untouched segment already fails
@@ -276,6 +510,16 @@ static_assert(kPublishedMinDegree == 3 && kPublishedMaxDegree == 9, "by_degree l
 std::vector<uint8_t> published_region(const BSpline& spline, const PublishedRegion& request) {
   validate(spline, request);
   return by_degree(spline.degree(), [&]<int N>() { return Kernel<N>(spline, request).run(); });
+}
+
+std::vector<uint8_t> published_region_lanes(const BSpline& spline, const PublishedRegion& request, bool lockstep) {
+  validate(spline, request);
+  return by_degree(spline.degree(), [&]<int N>() { return Kernel<N>(spline, request).run_lanes(lockstep); });
+}
+
+PublishedHostPart published_host_part(const BSpline& spline, const PublishedRegion& request) {
+  validate(spline, request);
+  return by_degree(spline.degree(), [&]<int N>() { return Kernel<N>(spline, request).host_part(); });
 }
 
 std::vector<double> published_lambda(const std::vector<Vec2>& P) {

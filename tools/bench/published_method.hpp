@@ -62,6 +62,35 @@ struct PublishedRegion {
 /// outside 0..kMaxDepth.
 std::vector<uint8_t> published_region(const BSpline& spline, const PublishedRegion& request);
 
+/// The same labels by the same arithmetic, vectorised across pixels: kLanes
+/// (4) pixels of a row per step (GCC vector extensions; with AVX2, where
+/// tools/bench/CMakeLists.txt finds it, 4 doubles per instruction). ξ and the
+/// level-0 rules are computed for the 4 pixels at once; then either
+/// (lockstep) each lane runs its own depth-first Algorithm 1 on a fixed
+/// stack, all lanes' pieces halved by one vector de Casteljau per step and
+/// lanes masked out as they finish, as a fragment shader runs it, or
+/// (default) the lanes that must split continue one by one. Same errors as
+/// published_region; labels equal to it byte for byte (the same operations
+/// in the same order per pixel, no FMA contraction).
+std::vector<uint8_t> published_region_lanes(const BSpline& spline, const PublishedRegion& request,
+                                            bool lockstep = false);
+
+/// What a device running the baseline needs from the host (the authors' tool
+/// likewise hands points to its shader): per moved segment, for each of its
+/// n+1 points, base x, base y and weight w (B = base + w (p - P_k)), and the
+/// directions of the untouched segments (bit 0 increasing, bit 1
+/// decreasing, bit 2 undecided). all_zero: an untouched segment already
+/// fails, so every label is 0. Validates as published_region does.
+struct PublishedHostPart {
+  int degree = 0;
+  Vec2 anchor;
+  int segments = 0;
+  std::vector<double> data;
+  uint32_t fixed_directions = 0;
+  bool all_zero = false;
+};
+PublishedHostPart published_host_part(const BSpline& spline, const PublishedRegion& request);
+
 /// ξ_0..ξ_{4n-7} of the Bézier segment with points P (n = P.size()-1) by the
 /// baseline's fixed-degree code, for tests. Throws InputError for a degree
 /// outside kPublishedMinDegree..kPublishedMaxDegree.
