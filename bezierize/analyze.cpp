@@ -330,7 +330,8 @@ double certified_end_curvature(const BSpline& spline, EndCache& end) {
   const double c = (spline.degree() - 1.0) / spline.degree();
   if (fast_paths_enabled()) {
     const EndTerms<Tracked>& b = end.tracked();
-    if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v, b.G.v);
+    // + 0.0: an exact zero is +0, as the rational's rounding gives it.
+    if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v + 0.0, b.G.v);
   }
   const EndTerms<Rational>& x = end.exact();
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent

@@ -231,7 +231,7 @@ std::optional<double> tracked_kappa(const std::vector<Point<Tracked>>& B, double
   if (G.v == 0 && G.e == 0) return std::numeric_limits<double>::quiet_NaN();
   const auto tight = [](const Tracked& v) { return (v.v == 0 && v.e == 0) || v.e <= 0x1p-40 * std::fabs(v.v); };
   if (!(G.v > 0 && tight(G) && tight(A))) return std::nullopt;
-  return (n - 1.0) / n * A.v / G.v / std::sqrt(G.v);
+  return (n - 1.0) / n * (A.v + 0.0) / G.v / std::sqrt(G.v);  // an exact zero as +0, as exact_kappa gives it
 }
 
 // span_roots from isolate_roots_bounded's roots (the same enclosures), the

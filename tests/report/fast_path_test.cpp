@@ -69,7 +69,9 @@ void expect_same_analysis(const SplineAnalysis& f, const SplineAnalysis& x, cons
     EXPECT_EQ(fj[i].g2, xj[i].g2) << c;
     EXPECT_TRUE(same_kappa(fj[i].kappa_left, xj[i].kappa_left)) << c;
     EXPECT_TRUE(same_kappa(fj[i].kappa_right, xj[i].kappa_right)) << c;
-    if (!std::isnan(xj[i].angle_deg)) EXPECT_EQ(fj[i].angle_deg, xj[i].angle_deg) << c;
+    if (!std::isnan(xj[i].angle_deg)) {
+      EXPECT_EQ(fj[i].angle_deg, xj[i].angle_deg) << c;
+    }
   }
   EXPECT_EQ(f.cmrwi, x.cmrwi) << ctx;
   EXPECT_EQ(f.cmr, x.cmr) << ctx;
@@ -153,7 +155,7 @@ BSpline random_spline(std::mt19937_64& rng, int trial) {
   }
   // Knots: clamped, interior integers with random multiplicities (1..d).
   std::vector<double> knots(d, 0.0);
-  int interior = m - d;
+  int interior = m - d - 1;  // polar form: m + d - 1 knots, d at each clamped end
   double u = 0;
   while (interior > 0) {
     u += integer ? 1.0 : 0.5 + (rng() % 5) * 0.25;
