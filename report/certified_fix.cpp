@@ -259,10 +259,10 @@ std::string compact_path(const std::vector<std::pair<long, long>>& pts) {
 }  // namespace
 
 std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing) {
-  // About 240 samples a panel whatever the segment count, drawn on whole
+  // About 160 samples a panel whatever the segment count, drawn on whole
   // pixels with relative moves and collinear points dropped (compact_path):
   // a font page with hundreds of fixes stays small (docs/report.md).
-  const int per = std::clamp(240 / std::max(1, before.segment_count()), 6, 48);
+  const int per = std::clamp(160 / std::max(1, before.segment_count()), 4, 32);
   const auto kb = kappa_samples(before, per), ka = kappa_samples(after, per);
   double lo = 0, hi = 0;
   for (const auto* set : {&kb, &ka})
