@@ -11,6 +11,8 @@
 #include "bezierize/roots.hpp"
 #include "bezierize/exact.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/fast_path.hpp"
+#include "bezierize/tracked.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
@@ -82,9 +84,10 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
 class EndCache {
  public:
   EndCache(const BSpline& spline, const Segment& s, int side) : spline_(spline), s_(s), side_(side) {}
-  const EndTerms<Bounded>& bounded() {
-    if (!bounded_) bounded_ = end_curvature<Bounded>(spline_, s_, side_);
-    return *bounded_;
+  /// Error-bounded, and exact (bound 0) where every operation was (tracked.hpp).
+  const EndTerms<Tracked>& tracked() {
+    if (!tracked_) tracked_ = end_curvature<Tracked>(spline_, s_, side_);
+    return *tracked_;
   }
   const EndTerms<Rational>& exact() {
     if (!exact_) exact_ = end_curvature<Rational>(spline_, s_, side_);
@@ -95,7 +98,7 @@ class EndCache {
   const BSpline& spline_;
   const Segment& s_;
   int side_;
-  std::optional<EndTerms<Bounded>> bounded_;
+  std::optional<EndTerms<Tracked>> tracked_;
   std::optional<EndTerms<Rational>> exact_;
 };
 
@@ -104,7 +107,7 @@ class EndCache {
 // 2.5 * 2^-40 + 8u < kKappaRelError of the exact value.
 constexpr double kBoundedRel = 0x1p-40;
 
-bool tight(const Bounded& x) { return (x.v == 0 && x.e == 0) || x.e <= kBoundedRel * std::fabs(x.v); }
+bool tight(const Tracked& x) { return (x.v == 0 && x.e == 0) || x.e <= kBoundedRel * std::fabs(x.v); }
 
 double kappa_from(double c, double A, double G) { return c * A / G / std::sqrt(G); }
 
@@ -114,6 +117,16 @@ double to_double(const Rational& x) { return x.get_d(); }  // truncation: relati
 // and the start tangent of the right one (aR), exactly 0 when they are
 // parallel and point the same way (exact rationals: this runs at C0 knots).
 double tangent_angle_deg(EndCache& left, EndCache& right) {
+  if (fast_paths_enabled()) {
+    // Exact in double (bound 0): the same values the rationals round to.
+    const Point<Tracked>& l = left.tracked().a;
+    const Point<Tracked>& r = right.tracked().a;
+    const Tracked dt = det(r, l), dp = Tracked(0) - dot(l, r);
+    if (dt.exact() && dp.exact()) {
+      if (dt.v == 0 && dp.v > 0) return 0.0;
+      return std::atan2(std::fabs(dt.v), dp.v) * (180.0 / std::numbers::pi);
+    }
+  }
   const Point<Rational>& l = left.exact().a;
   const Point<Rational>& r = right.exact().a;
   const Rational dt = det(r, l), dp = Rational(0) - dot(l, r);  // det(-l, r) = det(r, l)
@@ -150,6 +163,14 @@ bool has_pole(const BSpline& spline) {
   for (const Segment& s : spline.segments())
     if (!segment_poles(spline, s).empty()) return true;
   return false;
+}
+
+SegmentClass straight_class() {
+  SegmentClass c;
+  c.monotonicity = {Curvature::constant, 0};
+  c.inflection = {Inflection::present, 0, 0};
+  c.exact_used = true;  // decided on exact coefficients, as classify_segment's exact fallback does
+  return c;
 }
 
 SegmentClass pole_class() {
@@ -193,9 +214,62 @@ Bernstein<Rational> speed_polynomial(const BSpline& spline, const Segment& s) {
   return rational_speed2_bernstein<Rational>(segment_homogeneous_points<Rational>(spline, s));
 }
 
+// Whether eta (error-bounded coefficients whose two ends are certainly of
+// the same non-zero sign) changes sign strictly inside [0, 1]: halving until
+// each piece is certainly of one sign (no root) or has certainly opposite
+// signs at its ends (an odd number of sign changes inside it). Inflection::
+// undecided when a piece is still open at level kShapeDepth (a touching zero,
+// a zero at a halving point, or bounds too wide): then the exact path decides.
+constexpr int kShapeDepth = 20;
+
+Inflection halving_inflection(const Bernstein<Bounded>& c, int level) {
+  if (strict_sign(c) != 0) return Inflection::none;
+  const int s0 = certain_sign(c.front()), sn = certain_sign(c.back());
+  if ((s0 == 1 || s0 == -1) && (sn == 1 || sn == -1) && s0 != sn) return Inflection::present;
+  if (level >= kShapeDepth) return Inflection::undecided;
+  Bernstein<Bounded> left(c.size()), right(c.size()), work(c.size());
+  bernstein_halve(c.data(), c.size(), left.data(), right.data(), work.data());
+  const Inflection l = halving_inflection(left, level + 1);
+  if (l == Inflection::present) return l;
+  const Inflection r = halving_inflection(right, level + 1);
+  if (r == Inflection::present) return r;
+  return l == Inflection::none && r == Inflection::none ? Inflection::none : Inflection::undecided;
+}
+
+// segment_shape of a polynomial segment from exactness-tracked Bezier points
+// (tracked.hpp), where that decides every field as the exact path would;
+// nullopt otherwise. Decided here: eta certainly of one sign (no zero of eta,
+// hence none of P'); eta certainly 0 (straight) with |P'|^2 certainly
+// positive (no cusp); and eta certainly non-zero at both ends with |P'|^2
+// certainly positive, the inflection found by halving_inflection.
+std::optional<SegmentShape> fast_shape(const BSpline& spline, const Segment& s) {
+  const std::vector<Point<Tracked>> P = segment_bezier_points<Tracked>(spline, s);
+  const Bernstein<Tracked> eta = eta_bernstein<Tracked>(P);
+  SegmentShape out;
+  if (const int quick = strict_sign(eta); quick != 0) {
+    out.kappa_sign = quick;
+    return out;
+  }
+  // P' = 0 somewhere only if some coefficient of |P'|^2 is not certainly > 0.
+  if (strict_sign(speed2_bernstein<Tracked>(P)) != 1) return std::nullopt;
+  if (certainly_zero(eta)) {
+    out.straight = true;
+    return out;
+  }
+  const int s0 = certain_sign(eta.front()), sn = certain_sign(eta.back());
+  if (!((s0 == 1 || s0 == -1) && (sn == 1 || sn == -1))) return std::nullopt;
+  out.kappa_sign = s0;
+  out.inflection = s0 != sn ? Inflection::present : halving_inflection(to_bounded(eta), 0);
+  if (out.inflection == Inflection::undecided) return std::nullopt;
+  return out;
+}
+
 }  // namespace
 
 SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
+  const bool fast = fast_paths_enabled();
+  if (fast && !spline.is_rational())
+    if (std::optional<SegmentShape> quick = fast_shape(spline, s)) return *quick;
   SegmentShape out;
   out.poles = segment_poles(spline, s);
   out.pole = !out.poles.empty();
@@ -207,7 +281,7 @@ SegmentShape segment_shape(const BSpline& spline, const Segment& s) {
   const int w_sign = weight_sign(spline, s);
   // Most segments: eta certainly of one sign on [0, 1] (so no zero of eta,
   // hence no zero of P' either, as eta = det(P', P'')).
-  const int quick = strict_sign(curvature_sign_polynomial<Bounded>(spline, s));
+  const int quick = fast ? strict_sign(curvature_sign_polynomial<Bounded>(spline, s)) : 0;
   if (quick != 0) {
     out.kappa_sign = w_sign * quick;
     return out;
@@ -254,18 +328,23 @@ namespace {
 
 double certified_end_curvature(const BSpline& spline, EndCache& end) {
   const double c = (spline.degree() - 1.0) / spline.degree();
-  const EndTerms<Bounded>& b = end.bounded();
-  if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v, b.G.v);
+  if (fast_paths_enabled()) {
+    const EndTerms<Tracked>& b = end.tracked();
+    // + 0.0: an exact zero is +0, as the rational's rounding gives it.
+    if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v + 0.0, b.G.v);
+  }
   const EndTerms<Rational>& x = end.exact();
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
   return kappa_from(c, to_double(x.A), to_double(x.G));
 }
 
 int curvature_jump_sign(EndCache& left, EndCache& right) {
-  const EndTerms<Bounded>& bl = left.bounded();
-  const EndTerms<Bounded>& br = right.bounded();
-  const int quick = jump_sign<Bounded>(bl.A, bl.G, br.A, br.G);
-  if (quick != kSignUnknown) return quick;
+  if (fast_paths_enabled()) {
+    const EndTerms<Tracked>& bl = left.tracked();
+    const EndTerms<Tracked>& br = right.tracked();
+    const int quick = jump_sign<Tracked>(bl.A, bl.G, br.A, br.G);
+    if (quick != kSignUnknown) return quick;
+  }
   const EndTerms<Rational>& L = left.exact();
   const EndTerms<Rational>& R = right.exact();
   return jump_sign<Rational>(L.A, L.G, R.A, R.G);
@@ -432,7 +511,17 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, con
   for (const Segment& s : spline.segments()) {
     out.shapes.push_back(parts.shape(spline, s));
     const bool judged = out.judged(s.index);
-    out.segments.push_back(!judged ? SegmentClass{} : out.shapes.back().pole ? pole_class() : parts.classify(spline, s, co));
+    const SegmentShape& shape = out.shapes.back();
+    // A straight polynomial segment (eta == 0, decided exactly above): lambda
+    // == 0 too, and Algorithms 1 and 2 on the exact coefficients stop at level
+    // 0 with "constant" and "inflection" (eta_0 eta_n = 0), which is what
+    // classify_segment finds through its exact fallback (error bounds never
+    // prove a zero); the class is written down instead of recomputed.
+    const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
+    out.segments.push_back(!judged ? SegmentClass{}
+                           : shape.pole ? pole_class()
+                           : straight  ? straight_class()
+                                       : parts.classify(spline, s, co));
     out.exact_segments += out.segments.back().exact_used ? 1 : 0;
     out.cusp = out.cusp || out.shapes.back().cusp;
     out.pole = out.pole || out.shapes.back().pole;

@@ -109,6 +109,11 @@ bool has_pole(const BSpline& spline);
 /// is W^3 D / |h|^3, so its sign is weight_sign * sign(D).
 int weight_sign(const BSpline& spline, const Segment& s);
 
+/// The classes of a straight polynomial segment (eta == 0 and lambda == 0):
+/// what classify_segment returns for it (constant and, by Algorithm 2's
+/// eta_0 eta_n <= 0, an inflection, both at depth 0; the exact path used).
+SegmentClass straight_class();
+
 /// The classes of a segment with a pole: non-monotone and an inflection, at
 /// depth 0 (a curve through infinity has no monotone curvature).
 SegmentClass pole_class();

@@ -223,11 +223,46 @@ std::vector<std::vector<double>> kappa_samples(const BSpline& s, int per_segment
   return out;
 }
 
+// An SVG path of whole-pixel points: "M x y" then relative "l" steps, a
+// point dropped where it continues the previous step's straight line in the
+// same direction (flat stretches of the curvature cost nothing), repeated
+// points dropped.
+std::string compact_path(const std::vector<std::pair<long, long>>& pts) {
+  std::vector<std::pair<long, long>> keep;
+  for (const auto& p : pts) {
+    if (!keep.empty() && keep.back() == p) continue;
+    if (keep.size() >= 2) {
+      const auto& a = keep[keep.size() - 2];
+      const auto& b = keep.back();
+      const long ux = b.first - a.first, uy = b.second - a.second, vx = p.first - b.first, vy = p.second - b.second;
+      if (ux * vy - uy * vx == 0 && ux * vx + uy * vy > 0) {
+        keep.back() = p;  // b lies on the segment a..p
+        continue;
+      }
+    }
+    keep.push_back(p);
+  }
+  if (keep.empty()) return {};
+  std::string d = "M" + std::to_string(keep[0].first) + " " + std::to_string(keep[0].second);
+  if (keep.size() == 1) return d + "h0";
+  d += "l";
+  for (std::size_t i = 1; i < keep.size(); ++i) {
+    const long dx = keep[i].first - keep[i - 1].first, dy = keep[i].second - keep[i - 1].second;
+    if (i > 1 && dx >= 0) d += ' ';
+    d += std::to_string(dx);
+    if (dy >= 0) d += ' ';
+    d += std::to_string(dy);
+  }
+  return d;
+}
+
 }  // namespace
 
 std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing) {
-  // About 400 samples a panel whatever the segment count: a font page stays small.
-  const int per = std::clamp(400 / std::max(1, before.segment_count()), 8, 64);
+  // About 160 samples a panel whatever the segment count, drawn on whole
+  // pixels with relative moves and collinear points dropped (compact_path):
+  // a font page with hundreds of fixes stays small (docs/report.md).
+  const int per = std::clamp(160 / std::max(1, before.segment_count()), 4, 32);
   const auto kb = kappa_samples(before, per), ka = kappa_samples(after, per);
   double lo = 0, hi = 0;
   for (const auto* set : {&kb, &ka})
@@ -255,24 +290,25 @@ std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, 
                  "\" fill=\"#fde0e0\"/>";
     out += "<line stroke=\"#aaa\" x1=\"" + fixed1(x0 + 5) + "\" x2=\"" + fixed1(x0 + W - 5) + "\" y1=\"" + fixed1(Y(0)) +
            "\" y2=\"" + fixed1(Y(0)) + "\"/><path stroke=\"#bbb\" stroke-dasharray=\"3 3\" d=\"";
-    for (const Segment& seg : s.segments()) out.append("M").append(fixed1(X(panel, seg.a))).append(",15V").append(fixed1(H - 5));
+    for (const Segment& seg : s.segments())
+      out.append("M").append(std::to_string(std::lround(X(panel, seg.a)))).append(" 15v").append(std::to_string(int(H) - 20));
     out += "\"/><path fill=\"none\" stroke=\"" + std::string(panel == 0 ? "#c00000" : "#1a7f1a") +
            "\" stroke-width=\"1.4\" d=\"";
+    std::vector<std::vector<std::pair<long, long>>> strokes;  // whole-pixel polylines, broken at NaN
+    bool pen = false;
     for (std::size_t i = 0; i < ks.size(); ++i) {
       const Segment& seg = s.segments()[i];
-      bool pen = false;
       for (int k = 0; k <= per; ++k) {
         if (std::isnan(ks[i][k])) {
           pen = false;
           continue;
         }
-        out.append(pen ? " " : "M")
-            .append(fixed1(X(panel, seg.a + (seg.b - seg.a) * k / per)))
-            .append(",")
-            .append(fixed1(Y(ks[i][k])));
+        if (!pen) strokes.emplace_back();
+        strokes.back().emplace_back(std::lround(X(panel, seg.a + (seg.b - seg.a) * k / per)), std::lround(Y(ks[i][k])));
         pen = true;
       }
     }
+    for (const auto& stroke : strokes) out += compact_path(stroke);
     out += "\"/><text font-size=\"11\" x=\"" + fixed1(x0 + 5) + "\" y=\"11\">" +
            (panel == 0 ? "κ before" : "κ after (certified)") + "</text>";
   }

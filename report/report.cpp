@@ -13,6 +13,8 @@
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/fast_roots.hpp"
+#include "bezierize/tracked.hpp"
 #include "bezierize/joint_json.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
@@ -200,6 +202,74 @@ std::vector<SpanRoot> span_roots(const Bernstein<Rational>& p, const Segment& s,
   return out;
 }
 
+// a + x * len as a double when it is exact in double (x, a, len exact).
+bool exact_affine(double a, double len, double x, double& out) {
+  const double p = x * len;
+  if (p != 0 ? !(std::fabs(p) >= Tracked::kSafe && std::isfinite(p) && std::fma(x, len, -p) == 0) : !(x == 0 || len == 0))
+    return false;
+  const double r = a + p;
+  if (!std::isfinite(r)) return false;
+  const double bb = r - a;
+  if ((a - (r - bb)) + (p - bb) != 0) return false;
+  out = r;
+  return true;
+}
+
+// exact_kappa of a segment given by exactness-tracked Bezier points: the same
+// formula on error-bounded values; nullopt when they are not tight enough to
+// certify kKappaRelError (then the exact evaluation runs).
+std::optional<double> tracked_kappa(const std::vector<Point<Tracked>>& B, double u) {
+  const int n = static_cast<int>(B.size()) - 1;
+  Bernstein<Tracked> x, y;
+  for (const Point<Tracked>& p : B) x.push_back(p.x), y.push_back(p.y);
+  const Bernstein<Tracked> x1 = bernstein_derivative(x), y1 = bernstein_derivative(y);
+  const Tracked n1(n), n2(n * (n - 1)), tu(u);
+  const Point<Tracked> d1(bernstein_eval(x1, tu) / n1, bernstein_eval(y1, tu) / n1);
+  const Point<Tracked> d2(bernstein_eval(bernstein_derivative(x1), tu) / n2,
+                          bernstein_eval(bernstein_derivative(y1), tu) / n2);
+  const Tracked G = dot(d1, d1), A = det(d1, d2);
+  if (G.v == 0 && G.e == 0) return std::numeric_limits<double>::quiet_NaN();
+  const auto tight = [](const Tracked& v) { return (v.v == 0 && v.e == 0) || v.e <= 0x1p-40 * std::fabs(v.v); };
+  if (!(G.v > 0 && tight(G) && tight(A))) return std::nullopt;
+  return (n - 1.0) / n * (A.v + 0.0) / G.v / std::sqrt(G.v);  // an exact zero as +0, as exact_kappa gives it
+}
+
+// span_roots from isolate_roots_bounded's roots (the same enclosures), the
+// curvature from tracked_kappa where it certifies, else kappa_exact.
+std::vector<SpanRoot> fast_span_roots(const std::vector<FastRoot>& roots, const Segment& s,
+                                      const std::vector<Point<Tracked>>& B,
+                                      const std::function<double(const Rational&)>& kappa_exact) {
+  std::vector<SpanRoot> out;
+  const double len = s.b - s.a;
+  const bool len_exact = [&] {
+    const double bb = len - s.b;  // TwoSum of s.b + (-s.a)
+    return std::isfinite(len) && (s.b - (len - bb)) + (-s.a - bb) == 0;
+  }();
+  for (const FastRoot& r : roots) {
+    SpanRoot sr;
+    const double lo = r.lo(), hi = r.hi(), mid = r.mid();
+    double t = 0, tl = 0, th = 0;
+    if (len_exact && exact_affine(s.a, len, mid, t) && exact_affine(s.a, len, lo, tl) && exact_affine(s.a, len, hi, th)) {
+      sr.t = t, sr.t_lo = tl, sr.t_hi = th;
+    } else {
+      const Rational a(s.a), l = Rational(s.b) - Rational(s.a);
+      sr.t = nearest_double(a + Rational(mid) * l);
+      sr.t_lo = double_below(a + Rational(lo) * l);
+      sr.t_hi = double_above(a + Rational(hi) * l);
+    }
+    sr.exact = r.exact;
+    sr.multiplicity = r.multiplicity;
+    sr.sign_before = r.sign_before;
+    sr.sign_after = r.sign_after;
+    if (r.exact && r.k == 0) sr.at = SpanRoot::At::start;
+    else if (r.exact && lo == 1) sr.at = SpanRoot::At::end;
+    const std::optional<double> k = tracked_kappa(B, mid);
+    sr.kappa = k ? *k : kappa_exact(Rational(mid));
+    out.push_back(sr);
+  }
+  return out;
+}
+
 // The curve as a sequence of stretches on which a sign (of dkappa/ds, or of
 // kappa) is constant, each with the place where it ends; the events are the
 // places where the sign changes.
@@ -299,22 +369,57 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
     eta_exact = [&] { return rational_d_bernstein<Rational>(exact.homogeneous(i)); };
     kappa_at = [&](const Rational& u) { return exact_rational_kappa(exact.homogeneous(i), u); };
   } else {
-    const auto B = segment_bezier_points<Bounded>(spline, s);
-    for (const Point<Bounded>& p : B) span.bezier.push_back({p.x.v, p.y.v});
-    lambda_b = lambda_bernstein<Bounded>(B);
-    eta_b = eta_bernstein<Bounded>(B);
+    // Exactness-tracked (tracked.hpp): the same values as Bounded with
+    // bounds that stay 0 where the arithmetic was exact.
+    const auto B = segment_bezier_points<Tracked>(spline, s);
+    for (const Point<Tracked>& p : B) span.bezier.push_back({p.x.v, p.y.v});
+    lambda_b = to_bounded(lambda_bernstein<Tracked>(B));
+    eta_b = to_bounded(eta_bernstein<Tracked>(B));
     lambda_exact = [&] { return lambda_bernstein<Rational>(exact(i)); };
     eta_exact = [&] { return eta_bernstein<Rational>(exact(i)); };
     kappa_at = [&](const Rational& u) { return exact_kappa(exact(i), u); };
+    if (fast_paths_enabled()) {
+      // Roots by certified float isolation (fast_roots.hpp): the exact
+      // isolation's enclosures wherever every sign it reads is certain.
+      const auto fast = [&](const Bernstein<Bounded>& p, bool& zero, int& sign, std::vector<SpanRoot>& out) {
+        sign = strict_sign(p);
+        if (sign != 0) return true;
+        if (std::all_of(p.begin(), p.end(), [](const Bounded& x) { return x.v == 0 && x.e == 0; })) {
+          zero = true;  // certainly the zero polynomial
+          return true;
+        }
+        const std::optional<std::vector<FastRoot>> r = isolate_roots_bounded(p, roots);
+        if (!r) return false;
+        sign = sign_at_start_bounded(p);
+        out = fast_span_roots(*r, s, B, kappa_at);
+        return true;
+      };
+      const bool l = fast(lambda_b, span.lambda_zero, start.lambda, span.extrema);
+      const bool e = fast(eta_b, span.eta_zero, start.eta, span.inflections);
+      if (!l) {
+        const Bernstein<Rational> lambda = lambda_exact();
+        span.lambda_zero = is_zero(lambda);
+        start.lambda = sign_at_start(lambda);
+        span.extrema = span_roots(lambda, s, kappa_at, roots);
+      }
+      if (!e) {
+        const Bernstein<Rational> eta = eta_exact();
+        span.eta_zero = is_zero(eta);
+        start.eta = sign_at_start(eta);
+        span.inflections = span_roots(eta, s, kappa_at, roots);
+      }
+      return span;
+    }
   }
-  start.lambda = strict_sign(lambda_b);
+  const bool fast = fast_paths_enabled();  // off: every sign from the exact polynomials
+  start.lambda = fast ? strict_sign(lambda_b) : 0;
   if (start.lambda == 0) {
     const Bernstein<Rational> lambda = lambda_exact();
     span.lambda_zero = is_zero(lambda);
     start.lambda = sign_at_start(lambda);
     span.extrema = span_roots(lambda, s, kappa_at, roots);
   }
-  start.eta = strict_sign(eta_b);
+  start.eta = fast ? strict_sign(eta_b) : 0;
   if (start.eta == 0) {
     const Bernstein<Rational> eta = eta_exact();
     span.eta_zero = is_zero(eta);

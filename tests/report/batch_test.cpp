@@ -378,6 +378,27 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
 // 2,852 findings, each marked; Noto Serif, 8,964; TeX Gyre Heros), stay under 2 MB; the overview's thumbnails
 // link to the glyph's picture, which zooms to the window on a click; both
 // pages give one count of glyphs and contours, the same one.
+// With the certified fixes (the default with thumbnails): the pages' total
+// on DejaVu Sans's Latin glyphs. The aim is 2 MB (issue 24, item 5); the
+// compact κ plots took it from 5.6 MB to 3.35 MB, and this bound keeps it
+// from growing back (docs/report.md says what is left). Slow: the fix search
+// of every failing contour (about 25 CPU seconds).
+TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTheirMeasuredSize) {
+  const fs::path out = test::scratch() / "latin_fixes";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kDejaVu +
+                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                    " --backend cpu --quiet --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  std::uintmax_t pages = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    if (e.path().extension() == ".html") pages += e.file_size();
+  std::cout << "DejaVu Sans U+0021-U+017F, three gates, with fixes: " << pages << " bytes of pages\n";
+  const std::string font = test::slurp(out / "font.html");
+  EXPECT_NE(font.find("class=\"kplot\""), std::string::npos) << "the fixes' curvature plots are drawn";
+  EXPECT_LE(pages, 3600u * 1000) << pages << " bytes";
+}
+
 TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
   const fs::path out = test::scratch() / "latin_gates";
   fs::remove_all(out);

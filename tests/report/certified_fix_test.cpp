@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <cmath>
 
 #include "report/batch.hpp"
@@ -163,6 +165,42 @@ TEST(CertifiedFix, KappaPlotShadesTheFailingSegmentsAndDrawsBothCurves) {
   EXPECT_NE(svg.find("#c00000"), std::string::npos);  // before
   EXPECT_NE(svg.find("#1a7f1a"), std::string::npos);  // after
   EXPECT_EQ(svg.find("nan"), std::string::npos);
+}
+
+// The plot is drawn compactly (whole pixels, relative steps, flat runs
+// merged): a font page carries hundreds of them (docs/report.md, <= 2 MB).
+// Decoding the curve paths gives points inside the panels.
+TEST(CertifiedFix, KappaPlotIsCompactAndItsPathsStayInsideThePanels) {
+  const BSpline before = fig8();
+  const BSpline after = before.with_point(2, before.points()[2] + Vec2(0.05, 0.05));
+  const std::string svg = kappa_before_after_svg(before, after, {1});
+  EXPECT_LT(svg.size(), 4000u) << svg;
+  int paths = 0;
+  for (const char* colour : {"#c00000", "#1a7f1a"}) {
+    const std::size_t at = svg.find(std::string("stroke=\"") + colour);
+    ASSERT_NE(at, std::string::npos) << colour;
+    const std::size_t d0 = svg.find("d=\"", at) + 3, d1 = svg.find('"', d0);
+    std::istringstream in(svg.substr(d0, d1 - d0));
+    char c = 0;
+    long x = 0, y = 0;
+    int points = 0;
+    in >> c;
+    ASSERT_EQ(c, 'M') << colour;
+    in >> x >> y >> c;
+    ASSERT_EQ(c, 'l') << colour;
+    ++points;
+    long dx = 0, dy = 0;
+    while (in >> dx >> dy) {
+      x += dx, y += dy;
+      ++points;
+      EXPECT_GE(y, 15) << colour << " point " << points;
+      EXPECT_LE(y, 145) << colour << " point " << points;
+      EXPECT_GE(x, paths == 0 ? 0 : 310) << colour << " point " << points;
+      EXPECT_LE(x, paths == 0 ? 300 : 610) << colour << " point " << points;
+    }
+    EXPECT_GT(points, 20) << colour;
+    ++paths;
+  }
 }
 
 // The tangent line search is gone from the report: no "tangent_fixes" in the
