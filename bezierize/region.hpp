@@ -198,6 +198,9 @@ struct RegionResult {
   double seconds = 0;                    ///< wall time of the render
   double setup_seconds = 0;              ///< of which creating device state (shader compilation)
 
+  /// A width x height result with plain labels, every pixel Direction::none
+  /// at depth 0 (filled in by a backend, or a picture with no region).
+  static RegionResult blank(int width, int height, const View& view);
   std::size_t size() const { return depth.size(); }
   /// The label code of pixel `index` (code() of whichever label it has).
   std::uint8_t code_at(std::size_t index) const {

@@ -9,6 +9,17 @@
 
 namespace cmr {
 
+RegionResult RegionResult::blank(int width, int height, const View& view) {
+  RegionResult out;
+  out.width = width;
+  out.height = height;
+  out.view = view;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  out.labels.assign(n, Direction::none);
+  out.depth.assign(n, 0);
+  return out;
+}
+
 std::vector<std::uint8_t> RegionResult::codes() const {
   std::vector<std::uint8_t> out(size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = code_at(i);

@@ -350,13 +350,8 @@ std::vector<std::array<double, 2>> SpaceRegionProblem::affine_bezier(int segment
 RegionResult SpaceRegionProblem::render(int threads) const {
   const auto start = std::chrono::steady_clock::now();
   const SpaceRegionRequest& r = state_->request;
-  RegionResult out;
-  out.width = r.width;
-  out.height = r.height;
-  out.view = *r.view;
-  const std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
-  out.labels.assign(n, Direction::none);
-  out.depth.assign(n, 0);
+  RegionResult out = RegionResult::blank(r.width, r.height, *r.view);
+  const std::size_t n = out.size();
   std::vector<std::uint8_t> exact(n, 0);
   parallel_for(static_cast<std::size_t>(r.height), threads, [&](std::size_t j) {
     for (int i = 0; i < r.width; ++i) {

@@ -287,12 +287,8 @@ std::vector<const RegionResult*> all_points(Builder& b, const BSpline& s, Mode m
 
 /// A region layer with no region: pictures of a curve alone (Figs. 1, 13).
 const RegionResult& blank_layer(Builder& b, const View& view) {
-  auto blank = std::make_shared<RegionResult>();
   const int size = b.options().size;
-  blank->width = blank->height = size;
-  blank->view = view;
-  blank->labels.assign(static_cast<std::size_t>(size) * size, Direction::none);
-  blank->depth.assign(blank->labels.size(), 0);
+  auto blank = std::make_shared<RegionResult>(RegionResult::blank(size, size, view));
   b.keep(blank);
   return *blank;
 }

@@ -92,13 +92,8 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     joint_words.push_back(std::move(words.value()));
   }
 
-  RegionResult out;
-  out.width = r.width;
-  out.height = r.height;
-  out.view = *r.view;
-  const std::size_t n = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
-  out.labels.assign(n, Direction::none);
-  out.depth.assign(n, 0);
+  RegionResult out = RegionResult::blank(r.width, r.height, *r.view);
+  const std::size_t n = out.size();
   std::vector<std::uint8_t> exact(n, 0), host(n, 0);
   parallel_for(static_cast<std::size_t>(r.height), options.threads, [&](std::size_t j) {
     std::vector<MonotonicityResult> moved(seg_words.size());
