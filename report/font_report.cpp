@@ -99,10 +99,10 @@ std::string outline_d(const BSpline& s) {
 /// The moves of fixes as arrows: a line from the old to the new position and
 /// a dot on the new one, every move of the glyph in two paths (subpaths; the
 /// dot a zero-length stroke with round caps), so that the attributes come
-/// once per glyph, not once per move. `inline_style`: the colours as
-/// attributes, for the picture that a thumbnail's <use> clones (the page's
-/// style sheet does not reach a clone); else the page's classes.
-std::string move_marks(const std::vector<const CertifiedFix*>& fixes, bool inline_style) {
+/// once per glyph, not once per move. The colours are attributes: the
+/// thumbnail's and the fixed picture's <use> clones are not reached by the
+/// page's style sheet.
+std::string move_marks(const std::vector<const CertifiedFix*>& fixes) {
   std::string arrows, dots;
   for (const CertifiedFix* f : fixes)
     for (const PointMove& m : f->moves) {
@@ -110,7 +110,6 @@ std::string move_marks(const std::vector<const CertifiedFix*>& fixes, bool inlin
       dots.append("M").append(xy0(m.to)).append("h0");
     }
   if (arrows.empty()) return {};
-  if (!inline_style) return "<path class=\"f\" d=\"" + arrows + "\"/><path class=\"fp\" d=\"" + dots + "\"/>";
   return "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"" + arrows +
          "\"/><path class=\"fp\" stroke=\"#0070f0\" stroke-width=\"6\" stroke-linecap=\"round\"" +
          std::string(kFixedWidth) + " d=\"" + dots + "\"/>";
@@ -197,7 +196,7 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
       }
     if (const CertifiedFix* f = first_fix(*r)) fixes.push_back(f);
   }
-  g.moves = move_marks(fixes, true);
+  g.moves = move_marks(fixes);
   const std::string fixed_width(kFixedWidth);
   std::string comb = "<path class=\"t\" stroke=\"#7aa6d8\" stroke-width=\"0.6\"" + fixed_width + " d=\"" + teeth +
                      "\"/><path class=\"k\" stroke=\"#2a62a8\" stroke-width=\"0.8\"" + fixed_width + " d=\"" + tips + "\"/>";
