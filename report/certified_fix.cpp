@@ -254,10 +254,10 @@ std::string compact_path(const std::vector<std::pair<long, long>>& pts) {
 
 std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing,
                                    const std::string& id) {
-  // About 64 samples a panel whatever the segment count, drawn on whole
+  // About 56 samples a panel whatever the segment count, drawn on whole
   // pixels with relative moves and collinear points dropped (compact_path):
   // a font page with hundreds of fixes stays small (docs/report.md).
-  const int per = std::clamp(64 / std::max(1, before.segment_count()), 4, 32);
+  const int per = std::clamp(56 / std::max(1, before.segment_count()), 4, 32);
   const auto kb = kappa_samples(before, per), ka = kappa_samples(after, per);
   double lo = 0, hi = 0;
   for (const auto* set : {&kb, &ka})

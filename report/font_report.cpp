@@ -227,7 +227,7 @@ std::string fixed_glyph_svg(const std::vector<const SplineReport*>& contours, co
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
                          {"viewBox", fmt(frame.x0, 0) + " " + fmt(-frame.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)},
                          {"class", "fixed"}}) +
-         "<use href=\"#" + id + "-o\" opacity=\".45\" stroke-dasharray=\"4 3\"/><path class=\"x\" d=\"" + fixed +
+         "<use href=\"#" + id + "-o\" fill=\"none\" opacity=\".45\" stroke-dasharray=\"4 3\"/><path class=\"x\" d=\"" + fixed +
          "\"/>" + marks +
          std::string(draw::kSvgClose);
 }
@@ -430,9 +430,10 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
           details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
                      ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
                      fmt(f.seconds, 2) + " s; certified by analyze.</p><table><tr><th>move<th>from<th>to"
-                     "<th>by<th>distance";
+                     "<th>distance";
           // The point's own name without the glyph and contour (the
-          // heading above says them), whole units without ".0", and no
+          // heading above says them), whole units without ".0", no "by"
+          // column (to minus from; report.json has the displacement) and no
           // optional end tags: a font's page has hundreds of these rows.
           for (const PointMove& m : f.moves) {
             std::string name = "P";
@@ -441,7 +442,6 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
             if (const std::size_t slash = name.rfind('/'); slash != std::string::npos) name.erase(0, slash + 1);
             details += "<tr><td>" + html_escape(name) + "<td>" + short_num(m.from.x) + ", " + short_num(m.from.y) +
                        "<td>" + short_num(m.to.x) + ", " + short_num(m.to.y) + "<td>" +
-                       short_num(m.to.x - m.from.x) + ", " + short_num(m.to.y - m.from.y) + "<td>" +
                        short_num(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)";
           }
           // κ before and after for the fix the outline shows (first_fix) only: a Latin font's page stays small.
