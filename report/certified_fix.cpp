@@ -20,12 +20,6 @@ namespace {
 
 std::string num(double v) { return format_number(v, 6); }
 
-std::string fixed1(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-
 std::string point_name(int k, const std::vector<std::string>* names) {
   if (names && k >= 0 && k < static_cast<int>(names->size())) return (*names)[k];
   return "P" + std::to_string(k);
@@ -258,11 +252,12 @@ std::string compact_path(const std::vector<std::pair<long, long>>& pts) {
 
 }  // namespace
 
-std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing) {
-  // About 160 samples a panel whatever the segment count, drawn on whole
+std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, const std::vector<int>& failing,
+                                   const std::string& id) {
+  // About 56 samples a panel whatever the segment count, drawn on whole
   // pixels with relative moves and collinear points dropped (compact_path):
   // a font page with hundreds of fixes stays small (docs/report.md).
-  const int per = std::clamp(160 / std::max(1, before.segment_count()), 4, 32);
+  const int per = std::clamp(56 / std::max(1, before.segment_count()), 4, 32);
   const auto kb = kappa_samples(before, per), ka = kappa_samples(after, per);
   double lo = 0, hi = 0;
   for (const auto* set : {&kb, &ka})
@@ -275,24 +270,44 @@ std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, 
   const double W = 300, H = 150, t0 = before.domain_begin(), t1 = before.domain_end();
   auto X = [&](int panel, double t) { return panel * (W + 10) + 5 + (W - 10) * (t - t0) / (t1 - t0); };
   auto Y = [&](double k) { return 20 + (H - 30) * (hi - k) / (hi - lo); };
-  std::string out = draw::svg_open({{"width", fixed1(2 * W + 10)}, {"height", fixed1(H)}, {"class", "kplot"}});
+  // Whole pixels, and each kind of mark once for both panels (one path of
+  // subpaths, the attributes once): the frames, the failing segments' bands,
+  // the zero lines, the segment joints, then the two curves.
+  auto I = [](double v) { return std::to_string(std::lround(v)); };
+  const int h = static_cast<int>(H) - 20;
+  std::string out = draw::svg_open({{"width", I(2 * W + 10)}, {"height", I(H)}, {"class", "kplot"}});
+  std::string frames, bands, zero, labels, joints[2];
   for (int panel = 0; panel < 2; ++panel) {
     const BSpline& s = panel == 0 ? before : after;
-    const auto& ks = panel == 0 ? kb : ka;
     const double x0 = panel * (W + 10);
-    out += "<rect x=\"" + fixed1(x0) + "\" y=\"15\" width=\"" + fixed1(W) + "\" height=\"" + fixed1(H - 20) +
-           "\" fill=\"#fafafa\" stroke=\"#ccc\"/>";
+    frames += "M" + I(x0) + " 15h" + I(W) + "v" + std::to_string(h) + "h-" + I(W) + "z";
     if (panel == 0)
       for (int i : failing)
         if (i >= 0 && i < s.segment_count())
-          out += "<rect x=\"" + fixed1(X(0, s.segments()[i].a)) + "\" y=\"15\" width=\"" +
-                 fixed1(X(0, s.segments()[i].b) - X(0, s.segments()[i].a)) + "\" height=\"" + fixed1(H - 20) +
-                 "\" fill=\"#fde0e0\"/>";
-    out += "<line stroke=\"#aaa\" x1=\"" + fixed1(x0 + 5) + "\" x2=\"" + fixed1(x0 + W - 5) + "\" y1=\"" + fixed1(Y(0)) +
-           "\" y2=\"" + fixed1(Y(0)) + "\"/><path stroke=\"#bbb\" stroke-dasharray=\"3 3\" d=\"";
-    for (const Segment& seg : s.segments())
-      out.append("M").append(std::to_string(std::lround(X(panel, seg.a)))).append(" 15v").append(std::to_string(int(H) - 20));
-    out += "\"/><path fill=\"none\" stroke=\"" + std::string(panel == 0 ? "#c00000" : "#1a7f1a") +
+          bands += "M" + I(X(0, s.segments()[i].a)) + " 15H" + I(X(0, s.segments()[i].b)) + "v" + std::to_string(h) +
+                   "H" + I(X(0, s.segments()[i].a)) + "z";
+    zero += "M" + I(x0 + 5) + " " + I(Y(0)) + "h" + I(W - 10);
+    // Both panels' joints in panel 0's frame: equal (a fix moves points,
+    // not knots) and an id given, the "after" panel reuses the drawing.
+    for (const Segment& seg : s.segments()) joints[panel] += "M" + I(X(0, seg.a)) + " 15v" + std::to_string(h);
+    labels += "<text font-size=\"11\" x=\"" + I(x0 + 5) + "\" y=\"11\">" +
+              (panel == 0 ? "κ before" : "κ after (certified)") + "</text>";
+  }
+  out += "<path style=\"fill:#fafafa\" stroke=\"#ccc\" d=\"" + frames + "\"/>";
+  if (!bands.empty()) out += "<path style=\"fill:#fde0e0\" d=\"" + bands + "\"/>";
+  out += "<path stroke=\"#aaa\" d=\"" + zero + "\"/>";
+  const char* dashed = "<path stroke=\"#bbb\" stroke-dasharray=\"3 3\"";
+  if (!id.empty() && joints[0] == joints[1]) {
+    out += dashed + (" id=\"" + id + "\" d=\"") + joints[0] + "\"/><use href=\"#" + id + "\" x=\"" + I(W + 10) + "\"/>";
+  } else {
+    out += dashed + std::string(" d=\"") + joints[0] + "\"/>" + dashed + " transform=\"translate(" + I(W + 10) +
+           ")\" d=\"" + joints[1] + "\"/>";
+  }
+  out += labels;
+  for (int panel = 0; panel < 2; ++panel) {
+    const BSpline& s = panel == 0 ? before : after;
+    const auto& ks = panel == 0 ? kb : ka;
+    out += "<path fill=\"none\" stroke=\"" + std::string(panel == 0 ? "#c00000" : "#1a7f1a") +
            "\" stroke-width=\"1.4\" d=\"";
     std::vector<std::vector<std::pair<long, long>>> strokes;  // whole-pixel polylines, broken at NaN
     bool pen = false;
@@ -309,10 +324,9 @@ std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, 
       }
     }
     for (const auto& stroke : strokes) out += compact_path(stroke);
-    out += "\"/><text font-size=\"11\" x=\"" + fixed1(x0 + 5) + "\" y=\"11\">" +
-           (panel == 0 ? "κ before" : "κ after (certified)") + "</text>";
+    out += "\"/>";
   }
-  out += "<text font-size=\"9\" x=\"" + fixed1(2 * W - 90) + "\" y=\"11\">κ " + html_escape(num(lo)) + " … " +
+  out += "<text font-size=\"9\" x=\"" + I(2 * W - 90) + "\" y=\"11\">κ " + html_escape(num(lo)) + " … " +
          html_escape(num(hi)) + "</text>";
   out += draw::kSvgClose;
   return out;

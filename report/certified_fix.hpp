@@ -61,9 +61,11 @@ nlohmann::ordered_json certified_fix_json(const CertifiedFix& fix, const std::ve
 
 /// Signed curvature against the parameter, before (the input) and after (the
 /// fixed spline), as two panels of one inline SVG on one kappa scale; the
-/// segments the check failed on are shaded in the "before" panel.
+/// segments the check failed on are shaded in the "before" panel. `id`
+/// (unique in the page, optional): the "after" panel reuses the "before"
+/// panel's segment joints through `<use>` where they are the same.
 std::string kappa_before_after_svg(const BSpline& before, const BSpline& after,
-                                   const std::vector<int>& failing_segments);
+                                   const std::vector<int>& failing_segments, const std::string& id = {});
 
 /// One HTML block: "Smallest certified fix (cmr): move P3 by (dx, dy) …" and,
 /// when found, the before/after curvature plots of `original`.

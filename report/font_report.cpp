@@ -18,6 +18,14 @@ std::string fmt(double v, int decimals = 1) {
   return buf;
 }
 
+/// One decimal, without a trailing ".0" (and "0" for "-0.0").
+std::string short_num(double v) {
+  std::string s = fmt(v, 1);
+  if (s.size() > 2 && s.compare(s.size() - 2, 2, ".0") == 0) s.resize(s.size() - 2);
+  if (s == "-0") s = "0";
+  return s;
+}
+
 std::string utf8(std::uint32_t c) {
   std::string s;
   if (c < 0x80) {
@@ -51,6 +59,7 @@ std::string code_label(std::uint32_t c) {
 /// the moves of the certified fix (first_fix) in blue.
 struct GlyphPicture {
   std::string body;
+  std::string moves;  // the fixes' arrows, drawn after body in `<g id="ID-m">` (the fixed picture reuses it)
   double x0 = 0, y0 = 0, x1 = 1, y1 = 1;  // bounding box in font units
 };
 
@@ -87,21 +96,29 @@ std::string outline_d(const BSpline& s) {
   return d + "Z";
 }
 
-/// The moves of a fix as arrows: a line from the old to the new position and
-/// a dot on the new one.
-std::string move_marks(const CertifiedFix& f, int units_per_em) {
-  std::string out;
-  for (const PointMove& m : f.moves)
-    out += "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"M" + xy0(m.from) +
-           "L" + xy0(m.to) + "\"/><circle class=\"fp\" fill=\"#0070f0\" cx=\"" +
-           fmt(m.to.x) + "\" cy=\"" + fmt(-m.to.y) + "\" r=\"" + fmt(0.012 * units_per_em) + "\"/>";
-  return out;
+/// The moves of fixes as arrows: a line from the old to the new position and
+/// a dot on the new one, every move of the glyph in two paths (subpaths; the
+/// dot a zero-length stroke with round caps), so that the attributes come
+/// once per glyph, not once per move. The colours are attributes: the
+/// thumbnail's and the fixed picture's <use> clones are not reached by the
+/// page's style sheet.
+std::string move_marks(const std::vector<const CertifiedFix*>& fixes) {
+  std::string arrows, dots;
+  for (const CertifiedFix* f : fixes)
+    for (const PointMove& m : f->moves) {
+      arrows.append("M").append(xy0(m.from)).append("L").append(xy0(m.to));
+      dots.append("M").append(xy0(m.to)).append("h0");
+    }
+  if (arrows.empty()) return {};
+  return "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"" + arrows +
+         "\"/><path class=\"fp\" stroke=\"#0070f0\" stroke-width=\"6\" stroke-linecap=\"round\"" +
+         std::string(kFixedWidth) + " d=\"" + dots + "\"/>";
 }
 constexpr int kCombSamples = 8;  // comb samples per segment at most (the outline's polyline of other degrees)
 /// Comb samples of the whole glyph at most: a glyph of many short segments
 /// (serifs) gets fewer per segment (at least 2), so that a Latin font's page
-/// stays under 2 MB; a glyph of up to 24 segments gets all 8.
-constexpr int kCombSamplesPerGlyph = 192;
+/// stays under 2 MB; a glyph of up to 12 segments gets all 8.
+constexpr int kCombSamplesPerGlyph = 96;
 
 GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int units_per_em) {
   GlyphPicture g;
@@ -124,6 +141,8 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   // Every contour's outline, teeth, tip line and violation dots each in one
   // path of the glyph (subpaths), so that the attributes come once.
   std::string outline, teeth, tips, dots, marks;
+  std::vector<const CertifiedFix*> fixes;
+  long tooth_x = 0, tooth_y = 0;  // the last tooth's tip
   for (const SplineReport* r : contours) {
     const BSpline& s = *r->spline;
     outline += "M" + xy(r->spans.front().bezier.front());
@@ -151,9 +170,16 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         // every gate's marks).
         const long px = std::lround(c.point.x), py = std::lround(-c.point.y);
         const long tx = std::lround(tip.x), ty = std::lround(-tip.y);
-        if (k % 2 == 0)
-          teeth.append("M").append(std::to_string(px)).append(",").append(std::to_string(py))
-              .append("l").append(std::to_string(tx - px)).append(",").append(std::to_string(ty - py));
+        // A tooth starts with a relative move from the previous tooth's tip
+        // (the same pixels in fewer digits).
+        if (k % 2 == 0) {
+          if (teeth.empty())
+            teeth.append("M").append(std::to_string(px)).append(",").append(std::to_string(py));
+          else
+            teeth.append("m").append(std::to_string(px - tooth_x)).append(",").append(std::to_string(py - tooth_y));
+          teeth.append("l").append(std::to_string(tx - px)).append(",").append(std::to_string(ty - py));
+          tooth_x = tx, tooth_y = ty;
+        }
         if (first_tip) tips.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty));
         else tips.append("l").append(std::to_string(tx - last_tip_x)).append(",").append(std::to_string(ty - last_tip_y));
         last_tip_x = tx, last_tip_y = ty;
@@ -168,8 +194,9 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         const Vec2 p = evaluate(s, v.t);
         dots.append("M").append(std::to_string(std::lround(p.x))).append(",").append(std::to_string(std::lround(-p.y))).append("h0");
       }
-    if (const CertifiedFix* f = first_fix(*r)) marks += move_marks(*f, units_per_em);
+    if (const CertifiedFix* f = first_fix(*r)) fixes.push_back(f);
   }
+  g.moves = move_marks(fixes);
   const std::string fixed_width(kFixedWidth);
   std::string comb = "<path class=\"t\" stroke=\"#7aa6d8\" stroke-width=\"0.6\"" + fixed_width + " d=\"" + teeth +
                      "\"/><path class=\"k\" stroke=\"#2a62a8\" stroke-width=\"0.8\"" + fixed_width + " d=\"" + tips + "\"/>";
@@ -182,25 +209,26 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   return g;
 }
 
-/// The fixed glyph beside the original, in the same frame: every contour's
-/// original outline dashed, the fixed ones (first_fix) in green over it,
-/// and each move as an arrow. Empty when no contour has a fix.
+/// The fixed glyph beside the original, in the same frame: the original
+/// outline (the picture's `<g id="ID-o">`, see svg()) referenced with a
+/// dashed, faint `<use>` rather than drawn again, the changed contours as
+/// fixed (first_fix) in green over it, and each move as an arrow. Empty when
+/// no contour has a fix. `id`: the original picture's id.
 std::string fixed_glyph_svg(const std::vector<const SplineReport*>& contours, const GlyphPicture& frame, int height,
-                            int units_per_em) {
-  std::string original, fixed, marks;
-  for (const SplineReport* r : contours) {
-    const CertifiedFix* f = first_fix(*r);
-    original += outline_d(*r->spline);
-    fixed += outline_d(f ? *f->fixed : *r->spline);
-    if (f) marks += move_marks(*f, units_per_em);
-  }
-  if (marks.empty()) return {};
+                            const std::string& id) {
+  std::string fixed;
+  std::vector<const CertifiedFix*> fixes;
+  for (const SplineReport* r : contours)
+    if (const CertifiedFix* f = first_fix(*r)) fixed += outline_d(*f->fixed), fixes.push_back(f);
+  if (fixes.empty() || frame.moves.empty()) return {};
+  const std::string marks = "<use href=\"#" + id + "-m\"/>";
   const double w = frame.x1 - frame.x0, h = frame.y1 - frame.y0;
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
                          {"viewBox", fmt(frame.x0, 0) + " " + fmt(-frame.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)},
                          {"class", "fixed"}}) +
-         "<path class=\"o\" d=\"" + original + "\"/><path class=\"x\" d=\"" + fixed + "\"/>" + marks +
+         "<use href=\"#" + id + "-o\" fill=\"none\" opacity=\".45\" stroke-dasharray=\"4 3\"/><path class=\"x\" d=\"" + fixed +
+         "\"/>" + marks +
          std::string(draw::kSvgClose);
 }
 
@@ -211,7 +239,9 @@ std::string svg(const GlyphPicture& g, int height, const std::string& id, bool r
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
                          {"viewBox", fmt(g.x0, 0) + " " + fmt(-g.y1, 0) + " " + fmt(w, 0) + " " + fmt(h, 0)}}) +
-         (reference ? "<use href=\"#" + id + "\"/>" : "<g id=\"" + id + "\" fill=\"none\">" + g.body + "</g>") +
+         (reference ? "<use href=\"#" + id + "\"/>"
+                    : "<g id=\"" + id + "\" fill=\"none\"><g id=\"" + id + "-o\">" +
+                          (g.body.rfind("<g>", 0) == 0 ? g.body.substr(3) : g.body + "</g>") + "</g>") +
          std::string(draw::kSvgClose);
 }
 
@@ -237,7 +267,8 @@ constexpr const char* kStyle =
     "svg .t{stroke:#7aa6d8;stroke-width:0.6;vector-effect:non-scaling-stroke}"
     "svg .k{stroke:#2a62a8;stroke-width:0.8;vector-effect:non-scaling-stroke}"
     "svg .v{stroke:#d00000;stroke-opacity:.6;stroke-width:7;stroke-linecap:round;vector-effect:non-scaling-stroke}"
-    "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}svg .fp{fill:#0070f0}"
+    "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}"
+    "svg .fp{stroke:#0070f0;stroke-width:6;stroke-linecap:round;vector-effect:non-scaling-stroke}"
     "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
     "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
     ".pics figure{margin:0}.pics figcaption{font-size:12px;color:#555}"
@@ -337,7 +368,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
         out += "<td><a href=\"#" + anchor + "\">" + svg(gp, 96, anchor + "-pic", true) + "</a></td>";
         picture = svg(gp, 320, anchor + "-pic", false);
-        const std::string fixed = fixed_glyph_svg(contours, gp, 320, font.units_per_em);
+        const std::string fixed = fixed_glyph_svg(contours, gp, 320, anchor + "-pic");
         if (!fixed.empty())
           picture = "<div class=\"pics\"><figure>" + picture + "<figcaption>original</figcaption></figure><figure>" +
                     fixed + "<figcaption>fixed (green) over the original (dashed)</figcaption></figure></div>";
@@ -398,20 +429,25 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
           }
           details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
                      ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
-                     fmt(f.seconds, 2) + " s; certified by analyze.</p><table><tr><th>move</th><th>from</th><th>to</th>"
-                     "<th>by</th><th>distance</th></tr>";
+                     fmt(f.seconds, 2) + " s; certified by analyze.</p><table><tr><th>move<th>from<th>to"
+                     "<th>distance";
+          // The point's own name without the glyph and contour (the
+          // heading above says them), whole units without ".0", no "by"
+          // column (to minus from; report.json has the displacement) and no
+          // optional end tags: a font's page has hundreds of these rows.
           for (const PointMove& m : f.moves) {
             std::string name = "P";
             if (m.point < static_cast<int>(g.point_names[c].size())) name = g.point_names[c][m.point];
             else name.append(std::to_string(m.point));
-            details += "<tr><td>" + html_escape(name) +
-                       "</td><td>" + fmt(m.from.x) + ", " + fmt(m.from.y) + "</td><td>" + fmt(m.to.x) + ", " +
-                       fmt(m.to.y) + "</td><td>" + fmt(m.to.x - m.from.x) + ", " + fmt(m.to.y - m.from.y) + "</td><td>" +
-                       fmt(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)</td></tr>";
+            if (const std::size_t slash = name.rfind('/'); slash != std::string::npos) name.erase(0, slash + 1);
+            details += "<tr><td>" + html_escape(name) + "<td>" + short_num(m.from.x) + ", " + short_num(m.from.y) +
+                       "<td>" + short_num(m.to.x) + ", " + short_num(m.to.y) + "<td>" +
+                       short_num(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)";
           }
           // κ before and after for the fix the outline shows (first_fix) only: a Latin font's page stays small.
           details += "</table>";
-          if (&f == first_fix(r)) details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments);
+          if (&f == first_fix(r))
+            details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments, anchor + "-c" + std::to_string(c) + "-j");
         }
       }
       details += "</section>";
@@ -420,7 +456,19 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
   }
   out += kScript;
   out += "</body></html>\n";
-  return out;
+  // An SVG inside HTML needs no namespace attribute (the HTML parser puts
+  // it in the SVG namespace): about 35 bytes for each of a page's thousand
+  // pictures.
+  const std::string_view ns = " xmlns=\"http://www.w3.org/2000/svg\"";
+  std::string lean;
+  lean.reserve(out.size());
+  for (std::size_t at = 0;;) {
+    const std::size_t hit = out.find(ns, at);
+    lean.append(out, at, hit == std::string::npos ? std::string::npos : hit - at);
+    if (hit == std::string::npos) break;
+    at = hit + ns.size();
+  }
+  return lean;
 }
 
 }  // namespace cmr::report

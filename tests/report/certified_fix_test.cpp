@@ -159,9 +159,13 @@ TEST(CertifiedFix, KappaPlotShadesTheFailingSegmentsAndDrawsBothCurves) {
   const BSpline after = before.with_point(2, before.points()[2] + Vec2(0.05, 0.05));
   const std::string svg = kappa_before_after_svg(before, after, {1, 2});
   EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 40);
+  // The shaded bands: one path, a closed subpath ("...z") per failing segment.
+  const std::size_t band = svg.find("#fde0e0");
+  ASSERT_NE(band, std::string::npos) << svg;
+  const std::size_t d0 = svg.find("d=\"", band) + 3, d1 = svg.find('"', d0);
   std::size_t shaded = 0;
-  for (std::size_t at = svg.find("#fde0e0"); at != std::string::npos; at = svg.find("#fde0e0", at + 1)) ++shaded;
-  EXPECT_EQ(shaded, 2u);
+  for (std::size_t at = d0; at < d1; ++at) shaded += svg[at] == 'z' ? 1 : 0;
+  EXPECT_EQ(shaded, 2u) << svg.substr(d0, d1 - d0);
   EXPECT_NE(svg.find("#c00000"), std::string::npos);  // before
   EXPECT_NE(svg.find("#1a7f1a"), std::string::npos);  // after
   EXPECT_EQ(svg.find("nan"), std::string::npos);
@@ -198,7 +202,7 @@ TEST(CertifiedFix, KappaPlotIsCompactAndItsPathsStayInsideThePanels) {
       EXPECT_GE(x, paths == 0 ? 0 : 310) << colour << " point " << points;
       EXPECT_LE(x, paths == 0 ? 300 : 610) << colour << " point " << points;
     }
-    EXPECT_GT(points, 20) << colour;
+    EXPECT_GT(points, 12) << colour;  // about 64 samples a panel, straight runs merged
     ++paths;
   }
 }
