@@ -398,6 +398,28 @@ TEST_F(EditTest, ResizeRecreatesTheSwapchainAndExportsAreCmrRegions) {
   EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
 }
 
+// On lavapipe under Xvfb (MIT-SHM offered) frames reach the window through
+// MIT-SHM, after a resize too; CMR_EDIT_PRESENT=swapchain takes the
+// swapchain, and both paths present the same bytes.
+TEST_F(EditTest, PresentsThroughMitShmOnACpuDeviceAndTheSwapchainShowsTheSame) {
+  const std::string script = "ui off\noverlay off\nselect 3\nresize 400 300\nview " + kView + "\n";
+  const fs::path shm_png = dir_ / "shm.png", swapchain_png = dir_ / "swapchain.png";
+  const Outcome shm = run_edit(kFig8, script, shm_png);
+  ASSERT_EQ(shm.code, 0) << shm.err;
+  if (shm.err.find("is a CPU") == std::string::npos) GTEST_SKIP() << "not a CPU Vulkan device: " << shm.err;
+  EXPECT_NE(shm.err.find("; presented through MIT-SHM"), std::string::npos) << shm.err;
+  ::setenv("CMR_EDIT_PRESENT", "swapchain", 1);
+  const Outcome sc = run_edit(kFig8, script, swapchain_png);
+  ::unsetenv("CMR_EDIT_PRESENT");
+  ASSERT_EQ(sc.code, 0) << sc.err;
+  EXPECT_NE(sc.err.find("; presented through the Vulkan swapchain (MIT-SHM switched off)"), std::string::npos)
+      << sc.err;
+  const Image a = read_png(shm_png), b = read_png(swapchain_png);
+  ASSERT_EQ(a.width, 400) << "the offscreen image follows the window";
+  ASSERT_EQ(a.height, 300);
+  EXPECT_TRUE(a.rgb == b.rgb) << "MIT-SHM and the swapchain present the same pixels";
+}
+
 TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   // Fig. 13's closed six-point blob, clicked at whole pixels of a known view.
   const cmr::View v{-2, -1.5, 7, 5.25};  // 320x240: square pixels

@@ -200,6 +200,8 @@ App::App(BSpline spline, std::filesystem::path path, int width, int height, cons
   vk::PresenterOptions po;
   po.vsync = vsync;
   set_x11_window(window_.window, po);  // lavapipe presents through MIT-SHM (vk/presenter.hpp)
+  if (const char* p = std::getenv("CMR_EDIT_PRESENT"); p != nullptr && std::string(p) == "swapchain")
+    po.allow_shm = false;  // the swapchain on every device (comparisons, tests)
   presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
   painter_ = check(make_painter(*context_, *presenter_, region_path, precision));
   region_path_ = painter_->describe();
