@@ -420,6 +420,28 @@ TEST_F(EditTest, PresentsThroughMitShmOnACpuDeviceAndTheSwapchainShowsTheSame) {
   EXPECT_TRUE(a.rgb == b.rgb) << "MIT-SHM and the swapchain present the same pixels";
 }
 
+// An X server without MIT-SHM (Xvfb -extension MIT-SHM): the swapchain,
+// and the startup line says why.
+TEST_F(EditTest, FallsBackToTheSwapchainWithoutMitShm) {
+  const std::string script = write("edit_script.txt", "ui off\nselect 3\n");
+  const fs::path err = dir_ / "noshm.err";
+  const std::string line = "xvfb-run -a -s '-screen 0 800x600x24 -extension MIT-SHM' " + std::string(CMR_BINARY) +
+                           " edit " + kFig8 + " --size 320x240 --script " + script + " --screenshot " +
+                           (dir_ / "noshm.png").string() + " >/dev/null 2>" + err.string();
+  int status = 0;
+  for (int attempt = 0; attempt < 3; ++attempt) {  // xvfb-run's exit 5: see run_edit
+    status = std::system(line.c_str());
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 5) break;
+  }
+  const std::string text = cmr::test::slurp(err);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  if (text.find("is a CPU") == std::string::npos) GTEST_SKIP() << "not a CPU Vulkan device: " << text;
+  EXPECT_NE(text.find("; presented through the Vulkan swapchain (MIT-SHM not used: the X server has no MIT-SHM)"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(read_png(dir_ / "noshm.png").width, 320) << "the swapchain presented";
+}
+
 TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   // Fig. 13's closed six-point blob, clicked at whole pixels of a known view.
   const cmr::View v{-2, -1.5, 7, 5.25};  // 320x240: square pixels
