@@ -16,7 +16,7 @@ packages=(
   libgtest-dev libgmock-dev
   libvulkan-dev mesa-vulkan-drivers glslang-tools
   chromium fonts-dejavu-core
-  libglfw3-dev libimgui-dev xvfb xauth
+  libglfw3-dev libimgui-dev xvfb xauth libxext-dev
   libopenmesh-dev
   libocct-data-exchange-dev libtbb-dev
   libfreetype-dev fonts-urw-base35

@@ -1,6 +1,7 @@
 #include "vk/presenter.hpp"
 
 #include "vk/internal.hpp"
+#include "vk/x11_shm.hpp"
 
 #include <algorithm>
 #include <array>
@@ -60,6 +61,12 @@ struct Presenter::Impl {
   int generation = 0;
   bool stale = false;  // recreate before the next acquire
   Readback readback;
+  // MIT-SHM presentation (CPU devices on X11): frames are drawn into
+  // `offscreen` (images = {offscreen}), read back and put into the window.
+  std::unique_ptr<detail::XShmTarget> shm;
+  VkImage offscreen = VK_NULL_HANDLE;
+  VkDeviceMemory offscreen_memory = VK_NULL_HANDLE;
+  std::string presentation = "presented through the Vulkan swapchain";
 
   VkDevice dev() const { return state->device; }
   ~Impl() {
@@ -67,6 +74,7 @@ struct Presenter::Impl {
     vkDeviceWaitIdle(dev());
     destroy_swapchain_parts();
     if (swapchain != VK_NULL_HANDLE) vkDestroySwapchainKHR(dev(), swapchain, nullptr);
+    destroy_offscreen();
     free_readback();
     for (SlotSync& s : slots) {
       if (s.fence != VK_NULL_HANDLE) vkDestroyFence(dev(), s.fence, nullptr);
@@ -86,6 +94,13 @@ struct Presenter::Impl {
     images.clear();
   }
 
+  void destroy_offscreen() {
+    if (offscreen != VK_NULL_HANDLE) vkDestroyImage(dev(), offscreen, nullptr);
+    if (offscreen_memory != VK_NULL_HANDLE) vkFreeMemory(dev(), offscreen_memory, nullptr);
+    offscreen = VK_NULL_HANDLE;
+    offscreen_memory = VK_NULL_HANDLE;
+  }
+
   void free_readback() {
     detail::destroy_buffer(dev(), readback);
   }
@@ -95,8 +110,12 @@ struct Presenter::Impl {
   Result<void> create_sync();
   Result<void> create_swapchain(uint32_t width, uint32_t height);
   Result<void> create_image_parts();
+  Result<void> create_views();
+  bool try_shm(const PresenterOptions& wanted, uint32_t width, uint32_t height);
+  Result<void> create_offscreen(uint32_t width, uint32_t height, bool resize_shm);
   Result<void> ensure_readback(VkDeviceSize size);
   void record_readback(const PresentFrame& frame) const;
+  void copy_screenshot(VkExtent2D size, Screenshot& out) const;
 };
 
 Result<void> Presenter::Impl::choose_surface_format() {
@@ -233,6 +252,11 @@ Result<void> Presenter::Impl::create_image_parts() {
   images.resize(count);
   if (VkResult r = vkGetSwapchainImagesKHR(dev(), swapchain, &count, images.data()); r != VK_SUCCESS)
     return vk_error(r, "vkGetSwapchainImagesKHR");
+  return create_views();
+}
+
+// A view, a framebuffer and a "rendered" semaphore for each of `images`.
+Result<void> Presenter::Impl::create_views() {
   for (VkImage image : images) {
     VkImageViewCreateInfo view{};
     view.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
@@ -266,6 +290,95 @@ Result<void> Presenter::Impl::create_image_parts() {
   return {};
 }
 
+// Decides the presentation path: MIT-SHM for a CPU device on an X11 window
+// whose server shares memory with us, else the swapchain (with the reason in
+// `presentation`). On success `format` and `shm` are set, with a segment for
+// width x height.
+bool Presenter::Impl::try_shm(const PresenterOptions& wanted, uint32_t width, uint32_t height) {
+  if (wanted.x11_display == nullptr || wanted.x11_window == 0) return false;  // not X11: nothing to say
+  if (!wanted.allow_shm) {
+    presentation += " (MIT-SHM switched off)";
+    return false;
+  }
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(state->physical_device, &props);
+  if (props.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) return false;  // a GPU's swapchain is its fast path
+#ifdef CMR_HAVE_XSHM
+  VkFormatProperties fp{};
+  vkGetPhysicalDeviceFormatProperties(state->physical_device, VK_FORMAT_B8G8R8A8_UNORM, &fp);
+  const VkFormatFeatureFlags need = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT |
+                                    VK_FORMAT_FEATURE_TRANSFER_DST_BIT;
+  if ((fp.optimalTilingFeatures & need) != need) {
+    presentation += " (MIT-SHM: the device cannot draw B8G8R8A8)";
+    return false;
+  }
+  std::string why;
+  std::unique_ptr<detail::XShmTarget> target =
+      detail::XShmTarget::open(wanted.x11_display, wanted.x11_window, why);
+  if (target && width > 0 && height > 0 && !target->resize(width, height, why)) target.reset();
+  if (!target) {
+    presentation += " (MIT-SHM not used: " + why + ")";
+    return false;
+  }
+  shm = std::move(target);
+  format = {VK_FORMAT_B8G8R8A8_UNORM, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};  // the bytes of a BGRX X visual
+  presentation = "presented through MIT-SHM (offscreen image, XShmPutImage)";
+  return true;
+#else
+  (void)width;
+  (void)height;
+  presentation += " (built without libXext: no MIT-SHM)";
+  return false;
+#endif
+}
+
+// The MIT-SHM path's frame image: one offscreen image of `format` (frames
+// are finished before end_frame returns, so one is enough), and the shared
+// segment resized to match.
+Result<void> Presenter::Impl::create_offscreen(uint32_t width, uint32_t height, bool resize_shm) {
+  if (width == 0 || height == 0) return {};  // minimised: keep the old image
+  destroy_swapchain_parts();
+  destroy_offscreen();
+  extent = {0, 0};
+  if (resize_shm) {
+    std::string why;
+    if (!shm->resize(width, height, why)) return Error{Errc::other, VK_SUCCESS, "MIT-SHM presentation: " + why};
+  }
+  VkImageCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format.format;
+  info.extent = {width, height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  if (VkResult r = vkCreateImage(dev(), &info, nullptr, &offscreen); r != VK_SUCCESS)
+    return vk_error(r, "vkCreateImage (offscreen frame)");
+  VkMemoryRequirements req{};
+  vkGetImageMemoryRequirements(dev(), offscreen, &req);
+  const std::optional<uint32_t> type =
+      detail::find_memory_type(state->memory, req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (!type) return Error{Errc::missing_feature, VK_SUCCESS, "no memory type for the offscreen frame"};
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = *type;
+  if (VkResult r = vkAllocateMemory(dev(), &alloc, nullptr, &offscreen_memory); r != VK_SUCCESS)
+    return vk_error(r, "vkAllocateMemory (offscreen frame)");
+  if (VkResult r = vkBindImageMemory(dev(), offscreen, offscreen_memory, 0); r != VK_SUCCESS)
+    return vk_error(r, "vkBindImageMemory (offscreen frame)");
+  images = {offscreen};
+  extent = {width, height};
+  min_images = 2;
+  ++generation;
+  stale = false;
+  return create_views();
+}
+
 Result<void> Presenter::Impl::ensure_readback(VkDeviceSize size) {
   if (readback.size >= size) return {};
   free_readback();
@@ -297,6 +410,12 @@ Result<Presenter> Presenter::create(Context& context, uint32_t width, uint32_t h
   auto impl = std::make_unique<Impl>();
   impl->state = context.state();
   impl->options = options;
+  if (impl->try_shm(options, width, height)) {
+    if (auto r = impl->create_render_pass(); !r) return r.error();
+    if (auto r = impl->create_sync(); !r) return r.error();
+    if (auto r = impl->create_offscreen(width, height, false); !r) return r.error();
+    return Presenter(std::move(impl));
+  }
   if (auto r = impl->choose_surface_format(); !r) return r.error();
   uint32_t mode_count = 0;
   VkPhysicalDevice pd = impl->state->physical_device;
@@ -322,6 +441,16 @@ Result<std::optional<PresentFrame>> Presenter::begin_frame(uint32_t width, uint3
     return r == VK_TIMEOUT ? Error{Errc::device_lost, r, "a frame did not finish within two minutes"}
                            : vk_error(r, "vkWaitForFences");
   if (width == 0 || height == 0) return std::optional<PresentFrame>{};
+  if (m.shm) {
+    if (width != m.extent.width || height != m.extent.height) {
+      vkDeviceWaitIdle(m.dev());
+      if (auto r = m.create_offscreen(width, height, true); !r) return r.error();
+    }
+    if (VkResult rr = vkResetFences(m.dev(), 1, &s.fence); rr != VK_SUCCESS) return vk_error(rr, "vkResetFences");
+    vkResetCommandBuffer(s.cmd, 0);
+    if (auto rr = detail::begin_one_time(s.cmd); !rr) return rr.error();
+    return std::optional<PresentFrame>{PresentFrame{s.cmd, m.offscreen, m.extent, 0, m.slot}};
+  }
   if (m.stale || m.swapchain == VK_NULL_HANDLE || width != m.extent.width || height != m.extent.height) {
     vkDeviceWaitIdle(m.dev());
     if (auto r = m.create_swapchain(width, height); !r) return r.error();
@@ -377,6 +506,25 @@ Result<void> Presenter::end_frame(const PresentFrame& frame, Screenshot* screens
   vkCmdPipelineBarrier(frame.cmd, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
                        nullptr, 0, nullptr);
   const VkDeviceSize bytes = VkDeviceSize{frame.extent.width} * frame.extent.height * 4;
+  if (m.shm) {
+    // Read the frame back, wait for it, and put it into the window.
+    if (auto r = m.ensure_readback(bytes); !r) {
+      vkEndCommandBuffer(frame.cmd);
+      return r.error();
+    }
+    m.record_readback(frame);
+    if (VkResult r = vkEndCommandBuffer(frame.cmd); r != VK_SUCCESS) return vk_error(r, "vkEndCommandBuffer");
+    if (auto r = detail::submit(m.state->queue, frame.cmd, s.fence); !r) return r.error();
+    m.slot = (m.slot + 1) % kFramesInFlight;
+    if (VkResult r = vkWaitForFences(m.dev(), 1, &s.fence, VK_TRUE, kFenceTimeoutNs); r != VK_SUCCESS)
+      return r == VK_TIMEOUT ? Error{Errc::device_lost, r, "a frame did not finish within two minutes"}
+                             : vk_error(r, "vkWaitForFences");
+#ifdef CMR_HAVE_XSHM
+    m.shm->put(m.readback.mapped, frame.extent.width, frame.extent.height);
+#endif
+    if (screenshot != nullptr) m.copy_screenshot(frame.extent, *screenshot);
+    return {};
+  }
   if (screenshot != nullptr) {
     if (auto r = m.ensure_readback(bytes); !r) {
       vkEndCommandBuffer(frame.cmd);
@@ -412,14 +560,20 @@ Result<void> Presenter::end_frame(const PresentFrame& frame, Screenshot* screens
   if (screenshot == nullptr) return {};
   if (VkResult r = vkWaitForFences(m.dev(), 1, &s.fence, VK_TRUE, kFenceTimeoutNs); r != VK_SUCCESS)
     return vk_error(r, "vkWaitForFences (screenshot)");
-  screenshot->width = frame.extent.width;
-  screenshot->height = frame.extent.height;
-  screenshot->rgba.resize(bytes);
-  std::memcpy(screenshot->rgba.data(), m.readback.mapped, bytes);
-  if (m.format.format == VK_FORMAT_B8G8R8A8_UNORM) {
-    for (std::size_t i = 0; i < screenshot->rgba.size(); i += 4) std::swap(screenshot->rgba[i], screenshot->rgba[i + 2]);
-  }
+  m.copy_screenshot(frame.extent, *screenshot);
   return {};
+}
+
+// The read-back frame (after its fence) as RGBA.
+void Presenter::Impl::copy_screenshot(VkExtent2D size, Screenshot& out) const {
+  const std::size_t bytes = std::size_t{size.width} * size.height * 4;
+  out.width = size.width;
+  out.height = size.height;
+  out.rgba.resize(bytes);
+  std::memcpy(out.rgba.data(), readback.mapped, bytes);
+  if (format.format == VK_FORMAT_B8G8R8A8_UNORM) {
+    for (std::size_t i = 0; i < out.rgba.size(); i += 4) std::swap(out.rgba[i], out.rgba[i + 2]);
+  }
 }
 
 Result<void> Presenter::submit_once(const std::function<void(VkCommandBuffer)>& record) {
@@ -452,5 +606,7 @@ uint32_t Presenter::image_count() const { return static_cast<uint32_t>(impl_->im
 uint32_t Presenter::min_image_count() const { return impl_->min_images; }
 VkPresentModeKHR Presenter::present_mode() const { return impl_->present_mode; }
 int Presenter::generation() const { return impl_->generation; }
+bool Presenter::shm() const { return impl_->shm != nullptr; }
+const std::string& Presenter::presentation() const { return impl_->presentation; }
 
 }  // namespace cmr::vk

@@ -19,6 +19,12 @@
 // the bytes written are the bytes presented and read back. Usage includes
 // TRANSFER_DST (uploads beneath the UI) and TRANSFER_SRC (readback).
 //
+// On a CPU device with an X11 window (PresenterOptions::x11_display), the
+// frame's image is an offscreen image of the same format, and end_frame
+// copies it to host memory, waits for it and puts it into the window through
+// MIT-SHM; the swapchain is the fallback (no MIT-SHM, XShmAttach refused, not
+// X11, a real GPU). presentation() says which path is used.
+//
 // Thread safety: as for Context.
 #pragma once
 
@@ -31,6 +37,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace cmr::vk {
@@ -39,6 +46,16 @@ struct PresenterOptions {
   /// false: prefer IMMEDIATE, then MAILBOX (frame rate not tied to the
   /// display, for benchmarks); true: FIFO (always available).
   bool vsync = true;
+  /// The window's X11 Display* and Window (e.g. glfwGetX11Display(),
+  /// glfwGetX11Window()), or null/0 when not on X11. With both, a CPU device
+  /// (lavapipe) presents through MIT-SHM instead of the swapchain: frames go
+  /// to an offscreen image, are copied to host memory and put into the window
+  /// with XShmPutImage (lavapipe's X11 swapchain sends every frame through
+  /// the X socket). Real GPUs always use the swapchain.
+  void* x11_display = nullptr;
+  unsigned long x11_window = 0;
+  /// false: never MIT-SHM (the swapchain, for comparisons and tests).
+  bool allow_shm = true;
 };
 
 /// One frame being recorded.
@@ -109,8 +126,14 @@ class Presenter {
   uint32_t image_count() const;
   uint32_t min_image_count() const;
   VkPresentModeKHR present_mode() const;
-  /// Times the swapchain has been (re)created, the first time included.
+  /// Times the swapchain (or the offscreen image) has been (re)created, the
+  /// first time included.
   int generation() const;
+  /// true when frames are put into the window through MIT-SHM.
+  bool shm() const;
+  /// One line: "presented through MIT-SHM" or "presented through the Vulkan
+  /// swapchain" (with why MIT-SHM is not used, when it was considered).
+  const std::string& presentation() const;
 
  private:
   struct Impl;

@@ -398,6 +398,50 @@ TEST_F(EditTest, ResizeRecreatesTheSwapchainAndExportsAreCmrRegions) {
   EXPECT_GT(seen[1] + seen[2], 0) << "the view should show region pixels";
 }
 
+// On lavapipe under Xvfb (MIT-SHM offered) frames reach the window through
+// MIT-SHM, after a resize too; CMR_EDIT_PRESENT=swapchain takes the
+// swapchain, and both paths present the same bytes.
+TEST_F(EditTest, PresentsThroughMitShmOnACpuDeviceAndTheSwapchainShowsTheSame) {
+  const std::string script = "ui off\noverlay off\nselect 3\nresize 400 300\nview " + kView + "\n";
+  const fs::path shm_png = dir_ / "shm.png", swapchain_png = dir_ / "swapchain.png";
+  const Outcome shm = run_edit(kFig8, script, shm_png);
+  ASSERT_EQ(shm.code, 0) << shm.err;
+  if (shm.err.find("is a CPU") == std::string::npos) GTEST_SKIP() << "not a CPU Vulkan device: " << shm.err;
+  EXPECT_NE(shm.err.find("; presented through MIT-SHM"), std::string::npos) << shm.err;
+  ::setenv("CMR_EDIT_PRESENT", "swapchain", 1);
+  const Outcome sc = run_edit(kFig8, script, swapchain_png);
+  ::unsetenv("CMR_EDIT_PRESENT");
+  ASSERT_EQ(sc.code, 0) << sc.err;
+  EXPECT_NE(sc.err.find("; presented through the Vulkan swapchain (MIT-SHM switched off)"), std::string::npos)
+      << sc.err;
+  const Image a = read_png(shm_png), b = read_png(swapchain_png);
+  ASSERT_EQ(a.width, 400) << "the offscreen image follows the window";
+  ASSERT_EQ(a.height, 300);
+  EXPECT_TRUE(a.rgb == b.rgb) << "MIT-SHM and the swapchain present the same pixels";
+}
+
+// An X server without MIT-SHM (Xvfb -extension MIT-SHM): the swapchain,
+// and the startup line says why.
+TEST_F(EditTest, FallsBackToTheSwapchainWithoutMitShm) {
+  const std::string script = write("edit_script.txt", "ui off\nselect 3\n");
+  const fs::path err = dir_ / "noshm.err";
+  const std::string line = "xvfb-run -a -s '-screen 0 800x600x24 -extension MIT-SHM' " + std::string(CMR_BINARY) +
+                           " edit " + kFig8 + " --size 320x240 --script " + script + " --screenshot " +
+                           (dir_ / "noshm.png").string() + " >/dev/null 2>" + err.string();
+  int status = 0;
+  for (int attempt = 0; attempt < 3; ++attempt) {  // xvfb-run's exit 5: see run_edit
+    status = std::system(line.c_str());
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 5) break;
+  }
+  const std::string text = cmr::test::slurp(err);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  if (text.find("is a CPU") == std::string::npos) GTEST_SKIP() << "not a CPU Vulkan device: " << text;
+  EXPECT_NE(text.find("; presented through the Vulkan swapchain (MIT-SHM not used: the X server has no MIT-SHM)"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(read_png(dir_ / "noshm.png").width, 320) << "the swapchain presented";
+}
+
 TEST_F(EditTest, KappaCurveModeClicksModifiesAndShowsTheHandlesRegion) {
   // Fig. 13's closed six-point blob, clicked at whole pixels of a known view.
   const cmr::View v{-2, -1.5, 7, 5.25};  // 320x240: square pixels

@@ -30,6 +30,11 @@
 #include "tools/edit/ui.hpp"
 
 namespace cmr::edit {
+// The window's X11 display and window for the presenter (end of this file).
+void set_x11_window(GLFWwindow* window, vk::PresenterOptions& options);
+}  // namespace cmr::edit
+
+namespace cmr::edit {
 namespace {
 
 using cmr::EnvironmentError;
@@ -127,6 +132,7 @@ class App {
   bool frame(vk::Screenshot* shot = nullptr);
   void resize_window(int w, int h);
   int swapchain_generation() const { return presenter_->generation(); }
+  const std::string& presentation() const { return presenter_->presentation(); }
   /// Pointer input, from GLFW or a script: a move always reaches the editor
   /// (drags and pans follow it); a press over a panel goes to the panel only.
   void pointer_move(double x, double y);
@@ -193,10 +199,13 @@ App::App(BSpline spline, std::filesystem::path path, int width, int height, cons
   glfwGetFramebufferSize(window_.window, &fw, &fh);
   vk::PresenterOptions po;
   po.vsync = vsync;
+  set_x11_window(window_.window, po);  // lavapipe presents through MIT-SHM (vk/presenter.hpp)
+  if (const char* p = std::getenv("CMR_EDIT_PRESENT"); p != nullptr && std::string(p) == "swapchain")
+    po.allow_shm = false;  // the swapchain on every device (comparisons, tests)
   presenter_.emplace(check(vk::Presenter::create(*context_, static_cast<uint32_t>(fw), static_cast<uint32_t>(fh), po)));
   painter_ = check(make_painter(*context_, *presenter_, region_path, precision));
   region_path_ = painter_->describe();
-  std::cerr << "cmr edit: " << region_path_ << '\n';
+  std::cerr << "cmr edit: " << region_path_ << "; " << presenter_->presentation() << '\n';
   editor_.resize(fw, fh);
   install_callbacks();
   init_imgui();
@@ -845,7 +854,7 @@ int run_bench(const BenchOptions& o) {
               app.editor().viewport().height);
   std::printf("machine: %s, %d hardware threads, load average %s; Vulkan device: %s\n", cpu_model().c_str(),
               thread_count(0), load_average().c_str(), app.device_name().c_str());
-  std::printf("%s\n", app.region_path().c_str());
+  std::printf("%s; %s\n", app.region_path().c_str(), app.presentation().c_str());
   for (bool all : {false, true}) {
     app.editor().set_all_points(all);
     app.frame();
@@ -884,3 +893,15 @@ int run_bench(const BenchOptions& o) {
 }
 
 }  // namespace cmr::edit
+
+// GLFW's X11 native access (libglfw3 is built for X11). Declared here rather
+// than through <GLFW/glfw3native.h>, which needs Xrandr's headers and brings
+// Xlib's macros (None, Status, Bool ...): Display* is struct _XDisplay*, and
+// Window an XID (unsigned long).
+extern "C" struct _XDisplay* glfwGetX11Display(void);
+extern "C" unsigned long glfwGetX11Window(GLFWwindow* window);
+
+void cmr::edit::set_x11_window(GLFWwindow* window, vk::PresenterOptions& options) {
+  options.x11_display = glfwGetX11Display();
+  options.x11_window = glfwGetX11Window(window);
+}
