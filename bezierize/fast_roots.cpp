@@ -1,5 +1,9 @@
 #include "bezierize/fast_roots.hpp"
 
+#include <tuple>
+
+#include "bezierize/root_signs.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -184,15 +188,7 @@ std::optional<std::vector<FastRoot>> isolate_roots_bounded(const Bernstein<Bound
   std::vector<FastRoot> out;
   for (const Found& f : found) {
     FastRoot r{f.k, f.level, f.exact, f.multiplicity, 0, 0};
-    const int flip = f.multiplicity % 2 == 1 ? -1 : 1;
-    if (f.exact && f.k == 0) {
-      r.sign_after = s;
-      r.sign_before = s * flip;
-    } else {
-      r.sign_before = s;
-      r.sign_after = s * flip;
-      s = r.sign_after;
-    }
+    std::tie(r.sign_before, r.sign_after) = signs_around_root(s, f.multiplicity, f.exact && f.k == 0);
     out.push_back(r);
   }
   return out;

@@ -1,5 +1,9 @@
 #include "bezierize/roots.hpp"
 
+#include <tuple>
+
+#include "bezierize/root_signs.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -310,15 +314,7 @@ std::vector<RootInterval> isolate_roots(const Bernstein<Rational>& p, const Root
   int s = sign_at_start(p);
   for (const Found& f : found) {
     RootInterval r{lower(f), upper(f), f.multiplicity, 0, 0};
-    const int flip = f.multiplicity % 2 == 1 ? -1 : 1;
-    if (r.exact() && sgn(r.lo) == 0) {
-      r.sign_after = s;
-      r.sign_before = s * flip;
-    } else {
-      r.sign_before = s;
-      r.sign_after = s * flip;
-      s = r.sign_after;
-    }
+    std::tie(r.sign_before, r.sign_after) = signs_around_root(s, f.multiplicity, r.exact() && sgn(r.lo) == 0);
     out.push_back(std::move(r));
   }
   return out;
