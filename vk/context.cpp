@@ -2,10 +2,8 @@
 
 #include "vk/internal.hpp"
 
-#if defined(CMR_SANITIZER_BUILD)
 #include <dlfcn.h>
 #include <link.h>
-#endif
 
 #include <algorithm>
 #include <cctype>
@@ -341,12 +339,15 @@ struct Candidate {
   bool presents = true;  // with a surface: graphics_family presents to it and VK_KHR_swapchain exists
 };
 
-#if defined(CMR_SANITIZER_BUILD)
-// Sanitizer builds (tools/sanitize.sh): every library loaded so far, the
-// Vulkan driver among them, stays mapped until exit. The loader unloads the
-// driver with the instance, and LeakSanitizer would then report the driver's
-// process-lifetime caches from "<unknown module>", which no suppression can
-// name; mapped, they are named and suppressed (tools/lsan.supp).
+// Every library loaded so far, the Vulkan driver among them, stays mapped
+// until exit. The loader unloads the driver with each instance, and
+// - NVIDIA's driver (580, seen on an H200) can then be loaded only 29 times
+//   in a process: the 30th vkCreateInstance fails ("Could not get
+//   'vkCreateInstance' via 'vk_icdGetInstanceProcAddr'"), so a program that
+//   opens and closes Contexts (a test suite, a service) would lose its GPU;
+// - LeakSanitizer would report the driver's process-lifetime caches from
+//   "<unknown module>", which no suppression can name; mapped, they are
+//   named and suppressed (tools/lsan.supp).
 void keep_loaded_libraries() {
   std::vector<std::string> names;
   dl_iterate_phdr(
@@ -358,7 +359,6 @@ void keep_loaded_libraries() {
       &names);
   for (const std::string& name : names) ::dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
 }
-#endif
 
 // All physical devices with what device selection needs to know about them.
 // Zero devices is an error (no_device).
@@ -376,9 +376,7 @@ Result<std::vector<Candidate>> list_devices(VkInstance instance) {
   if (r == VK_ERROR_INITIALIZATION_FAILED) return no_device_error(r);
   if (r != VK_SUCCESS) return vk_error(r, "vkEnumeratePhysicalDevices");
   if (handles.empty()) return no_device_error(VK_SUCCESS);
-#if defined(CMR_SANITIZER_BUILD)
   keep_loaded_libraries();
-#endif
 
   std::vector<Candidate> devices;
   devices.reserve(handles.size());

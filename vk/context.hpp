@@ -74,7 +74,11 @@ class Context {
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
   // Objects created from this Context (FragmentPipeline) keep the device
-  // alive, so they may outlive it.
+  // alive, so they may outlive it. Destroy them all before exit() starts:
+  // NVIDIA's driver (580, seen on an H200) tears itself down in an exit
+  // handler registered when it loads, so a Context or pipeline that a static
+  // destructor destroys afterwards calls into unmapped code. Whatever lives
+  // for the whole run belongs in a static that is never destroyed.
   ~Context();
 
   // The chosen device. Must not be called on a moved-from Context.

@@ -4,6 +4,7 @@
 
 #include "fullscreen_vert.h"   // cmr_fullscreen_vert_spv (a vertex shader)
 #include "test_pattern_frag.h"  // cmr_test_pattern_frag_spv
+#include "device_under_test.hpp"
 
 #include <gtest/gtest.h>
 
@@ -90,18 +91,25 @@ std::span<const std::byte> bytes_of(const uint32_t& v) { return std::as_bytes(st
 }
 
 Context make_context() {
-  auto context = Context::create(test_options("llvmpipe"));
+  auto context = Context::create(test_options(cmr::vk::test::device_under_test()));
   if (!context) ADD_FAILURE() << context.error().message;
   return context.take();
 }
 
 class FragmentPipelineTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    auto context = Context::create(test_options("llvmpipe"));
-    ASSERT_TRUE(context) << context.error().message;
-    context_.emplace(context.take());
+  // One device for the suite, as a program keeps one; closed in
+  // TearDownTestSuite, before exit() (vk/context.hpp says why).
+  static void SetUpTestSuite() {
+    auto context = Context::create(test_options(cmr::vk::test::device_under_test()));
+    if (context) {
+      context_.emplace(context.take());
+    } else {
+      setup_error_ = context.error().message;
+    }
   }
+  static void TearDownTestSuite() { context_.reset(); }
+  void SetUp() override { ASSERT_TRUE(context_) << setup_error_; }
   Context& context() { return *context_; }
 
   Result<FragmentPipeline> make(uint32_t width, uint32_t height,
@@ -120,7 +128,8 @@ class FragmentPipelineTest : public ::testing::Test {
   }
 
  private:
-  std::optional<Context> context_;
+  static inline std::optional<Context> context_;
+  static inline std::string setup_error_;
 };
 
 TEST_F(FragmentPipelineTest, PatternMatchesHostFp64AndRowOrder) {

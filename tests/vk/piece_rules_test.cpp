@@ -8,6 +8,7 @@
 
 #include "piece_rules_test_fp32_frag.h"
 #include "piece_rules_test_fp64_frag.h"
+#include "device_under_test.hpp"
 
 #include <gtest/gtest.h>
 
@@ -116,7 +117,7 @@ std::string describe(const Case& k) {
 }
 
 void compare(std::span<const uint32_t> spirv, bool fp64) {
-  auto context = vk::Context::create(test_options("llvmpipe"));
+  auto context = vk::Context::create(test_options(cmr::vk::test::device_under_test()));
   ASSERT_TRUE(context) << context.error().message;
   std::vector<Case> cases = table();
   const auto rows = static_cast<uint32_t>((cases.size() + kColumns - 1) / kColumns);

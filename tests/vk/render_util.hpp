@@ -21,9 +21,10 @@ struct BackendOptions {
 };
 
 /// The Vulkan backend for these options, created once per test program (its
-/// pipelines are reused, as the CLI reuses its one backend).
+/// pipelines are reused, as the CLI reuses its one backend). Never destroyed:
+/// a GPU driver may be gone by the time static destructors run (vk/context.hpp).
 inline vk::VulkanRegionBackend& vulkan_backend(const BackendOptions& o) {
-  static std::map<std::tuple<int, bool>, std::unique_ptr<vk::VulkanRegionBackend>> backends;
+  static auto& backends = *new std::map<std::tuple<int, bool>, std::unique_ptr<vk::VulkanRegionBackend>>;
   auto& b = backends[{static_cast<int>(o.precision), o.cull}];
   if (!b) {
     vk::VulkanRegionOptions vo;

@@ -64,10 +64,12 @@ View view_of(const RegionProblem& s) { return s.view(); }
 double g_shader_setup_seconds = 0;
 
 /// Renders on the Vulkan device (lavapipe here) or on every CPU core; one
-/// backend of each kind for the whole run, as `cmr region` keeps one.
+/// backend of each kind for the whole run, as `cmr region` keeps one. The
+/// Vulkan one is never destroyed: a GPU driver may be gone by the time static
+/// destructors run (vk/context.hpp).
 RegionResult render(const RegionProblem& s, bool vulkan) {
   static CpuRegionBackend cpu;
-  static std::shared_ptr<RegionBackend> device = vk::make_region_backend({vk::BackendKind::vulkan, {}, {}});
+  static auto& device = *new std::shared_ptr<RegionBackend>(vk::make_region_backend({vk::BackendKind::vulkan, {}, {}}));
   RegionResult r = (vulkan ? *device : static_cast<RegionBackend&>(cpu)).render(s);
   if (vulkan) g_shader_setup_seconds += r.setup_seconds;
   return r;
@@ -270,9 +272,8 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
               "  exact: pixels cmr's exact path decided; load: 1-minute load average after the cell\n");
 }
 
-}  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   if (argc > 2) g_only = argv[2];
@@ -317,4 +318,16 @@ int main(int argc, char** argv) {
   print_comparison({{"cubic Bezier, P1", &cubic, 1}, {"uniform cubic, P3", &uniform, 3}, {"degree-9 Bezier, P4", &bezier9, 4}},
                    reps);
   return 0;
+}
+
+}  // namespace
+
+/// Run from the repository root (it reads examples/); any failure is one line.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_region: %s\n", e.what());
+    return 1;
+  }
 }

@@ -23,19 +23,21 @@ struct Push {
 };
 static_assert(sizeof(Push) == 64, "published_fp64.frag's push-constant block is 64 bytes");
 
+/// The device and the pipelines, for the whole run; never destroyed, since a
+/// GPU driver may be gone by the time static destructors run (vk/context.hpp).
 vk::Context& context() {
-  static std::unique_ptr<vk::Context> ctx = [] {
+  static auto& ctx = *new std::unique_ptr<vk::Context>([] {
     vk::ContextOptions o;
     o.require_float64 = true;
     auto c = vk::Context::create(o);
     if (!c) throw std::runtime_error("published_region_vulkan: " + c.error().message);
     return std::make_unique<vk::Context>(c.take());
-  }();
+  }());
   return *ctx;
 }
 
 vk::FragmentPipeline& pipeline(int degree, int depth, int width, int height) {
-  static std::map<std::tuple<int, int, int, int>, std::unique_ptr<vk::FragmentPipeline>> cache;
+  static auto& cache = *new std::map<std::tuple<int, int, int, int>, std::unique_ptr<vk::FragmentPipeline>>;
   std::unique_ptr<vk::FragmentPipeline>& p = cache[{degree, depth, width, height}];
   if (!p) {
     const std::array<uint32_t, 2> spec{static_cast<uint32_t>(degree), static_cast<uint32_t>(depth)};
