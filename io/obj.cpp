@@ -14,7 +14,8 @@ namespace {
 
 struct Vertex {
   Vec3 p;
-  double w = 1;
+  std::optional<double> w;  ///< the 4th coordinate when given (the weight of rational curves)
+  int line = 0;
 };
 
 struct Curve {
@@ -65,11 +66,20 @@ SpaceSpline build(const Curve& c, const std::vector<Vertex>& vs, const std::stri
   std::vector<Vec3> pts;
   std::vector<double> w;
   for (int i : c.indices) {
-    pts.push_back(vs[static_cast<std::size_t>(i)].p);
-    w.push_back(vs[static_cast<std::size_t>(i)].w);
+    const Vertex& v = vs[static_cast<std::size_t>(i)];
+    pts.push_back(v.p);
+    if (!c.rational) continue;  // w of a non-rational curve's vertices is ignored (the spec)
+    const std::string which = "vertex " + std::to_string(i + 1) + " (line " + std::to_string(v.line) + ")";
+    if (!v.w) throw InputError(at + ": curv: " + which + " has no weight: a rat curve needs 'v x y z w'");
+    if (!(*v.w > 0)) {
+      std::ostringstream o;
+      o << at << ": curv: " << which << " has weight " << *v.w << ": rational curves need positive weights";
+      throw InputError(o.str());
+    }
+    w.push_back(*v.w);
   }
-  if (c.rational && std::any_of(w.begin(), w.end(), [&](double x) { return x != w.front(); }))
-    throw InputError(at + ": rational curves with unequal weights are not supported (3D splines are polynomial)");
+  // Equal weights are the polynomial curve: written without weights, as before.
+  if (std::all_of(w.begin(), w.end(), [&](double x) { return x == w.front(); })) w.clear();
   const int d = c.degree, m = static_cast<int>(pts.size());
   std::vector<double> polar;
   if (c.cstype == "bspline") {
@@ -91,7 +101,7 @@ SpaceSpline build(const Curve& c, const std::vector<Vertex>& vs, const std::stri
   }
   SpaceSpline s = [&] {
     try {
-      return SpaceSpline::make(d, polar, pts, name);
+      return SpaceSpline::make(d, polar, pts, name, w);
     } catch (const InputError& e) {
       throw InputError(at + ": " + e.what());
     }
@@ -146,7 +156,7 @@ std::vector<ObjCurve> parse_obj_curves(const std::string& text, const std::strin
     if (key == "v") {
       if (args.size() < 3 || args.size() > 4) throw InputError(at + ": v: expected x y z [w]");
       Vertex v{{number(args[0], at, "v"), number(args[1], at, "v"), number(args[2], at, "v")},
-               args.size() == 4 ? number(args[3], at, "v") : 1.0};
+               args.size() == 4 ? std::optional<double>(number(args[3], at, "v")) : std::nullopt, start};
       vs.push_back(v);
     } else if (key == "o" || key == "g") {
       name = args.empty() ? "" : args[0];

@@ -14,9 +14,13 @@
 ///       uniform B-spline of degree min(3, vertices - 1) (at least 3 vertices).
 ///   o NAME / g NAME      names the curves that follow (else "curv" or "l")
 /// Everything else (faces, normals, texture vertices, surfaces' statements
-/// outside a curve) is skipped. Rational curves whose weights are all equal
-/// are the polynomial curve; other weights are refused (rational space curves
-/// are not supported yet). Errors are InputError "FILE:LINE: what".
+/// outside a curve) is skipped. Vertex coordinates are Cartesian and w a
+/// separate weight (the spec: C(t) = sum N_i w_i P_i / sum N_i w_i): a `rat`
+/// curve becomes a rational spline with its vertices' weights, which must be
+/// given (`v x y z w`) and positive; equal weights are the polynomial curve
+/// (written without weights). A non-rational curve ignores w. Errors are
+/// InputError "FILE:LINE: what" (LINE: the curv statement; a weight's error
+/// also names the vertex's line).
 #include <filesystem>
 #include <string>
 #include <vector>
