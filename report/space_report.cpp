@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
 #include <glm/geometric.hpp>
 
+#include "draw/draw.hpp"
 #include "io/output.hpp"
 #include "spline/errors.hpp"
 
@@ -22,7 +24,63 @@ std::string num(double x) {
   return buf;
 }
 
+std::string base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t v = 0;
+    for (std::size_t k = 0; k < 3; ++k) v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+/// A direction of the default plane named by the control point it leads to
+/// ("P4 − P3"), read off the plane default_space_plane returned.
+std::string direction_name(const SpaceSpline& s, int k, Vec3 dir) {
+  const Vec3 at = s.points()[static_cast<std::size_t>(k)];
+  for (int i = 0; i < s.unique_point_count(); ++i)
+    if (i != k && s.points()[static_cast<std::size_t>(i)] - at == dir)
+      return "P" + std::to_string(i) + " − P" + std::to_string(k);
+  return "(" + num(dir.x) + ", " + num(dir.y) + ", " + num(dir.z) + ")";
+}
+
+nlohmann::ordered_json vec3_json(Vec3 p) { return {p.x, p.y, p.z}; }
+
 }  // namespace
+
+std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane, const RegionResult& image, int point,
+                             int max_depth, bool depth_shading) {
+  const BSpline seen = project_to_plane(spline, plane);
+  draw::RegionPicture pic;
+  pic.spline = &seen;
+  pic.layers = {&image};
+  pic.points = {point};
+  pic.max_depth = max_depth;
+  pic.depth_shading = depth_shading;
+  return draw::region_png(pic);
+}
+
+SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth) {
+  SpaceThumbnail t;
+  t.point = k;
+  try {
+    SpaceRegionRequest request;  // no plane: default_space_plane, as `cmr region --point K`
+    request.point = k;
+    request.width = request.height = size;
+    request.max_depth = max_depth;
+    const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, request);
+    t.plane = *problem.request().plane;
+    t.image = problem.render();
+    t.png = space_region_png(spline, t.plane, t.image, k, max_depth);
+    t.plane_name = "the plane through P" + std::to_string(k) + " spanned by " + direction_name(spline, k, t.plane.u) +
+                   " and " + direction_name(spline, k, t.plane.v);
+  } catch (const InputError& e) {
+    t.error = e.what();
+  }
+  return t;
+}
 
 nlohmann::ordered_json space_segment_json(const SpaceSpline& spline, const SpaceAnalysis& a, std::size_t i) {
   const Segment& s = spline.segments()[i];
@@ -110,6 +168,9 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
     }
   }
   if (!std::isfinite(r.kappa_min)) r.kappa_min = 0;
+  if (options.regions)
+    for (int k = 0; k < r.spline->unique_point_count(); ++k)
+      r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
   r.pass = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
   return r;
 }
@@ -135,11 +196,33 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
                       {"kappa", space_curvature(*r.spline, e.t)}});
     j["curvature_extrema"] = ex;
     j["kappa_range"] = {r.kappa_min, r.kappa_max};
+    if (options.regions) {  // each point's region in its default plane (the thumbnails)
+      nlohmann::ordered_json regions = nlohmann::ordered_json::array();
+      for (const SpaceThumbnail& t : r.thumbnails) {
+        nlohmann::ordered_json g = {{"point", t.point}};
+        if (!t.error.empty()) {
+          g["error"] = t.error;
+        } else {
+          const View& v = t.image.view;
+          g["plane"] = {{"origin", vec3_json(t.plane.origin)}, {"u", vec3_json(t.plane.u)}, {"v", vec3_json(t.plane.v)}};
+          g["view"] = {v.x0, v.y0, v.x1, v.y1};
+          g["size"] = {t.image.width, t.image.height};
+          nlohmann::ordered_json counts;
+          std::vector<std::uint64_t> n(kRegionLabelCodes, 0);
+          for (std::size_t i = 0; i < t.image.size(); ++i) ++n[t.image.code_at(i)];
+          for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) counts[t.image.label_name(l)] = n[l];
+          g["counts"] = counts;
+        }
+        regions.push_back(g);
+      }
+      j["regions"] = regions;
+    }
     ++(r.pass ? pass : fail);
     list.push_back(j);
   }
   nlohmann::ordered_json doc = {{"tool", "cmr report"}, {"dimension", 3}, {"depth", options.max_depth}};
   if (options.require_monotone) doc["require"] = "cmrwi";
+  if (options.regions) doc["region_size"] = options.region_size;
   doc["splines"] = list;
   doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}};
   return doc;
@@ -242,7 +325,8 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>cmr report: space curves</title><style>"
       "body{font-family:sans-serif;margin:20px;max-width:1100px}table{border-collapse:collapse;margin:6px 0}"
       "td,th{border:1px solid #ccc;padding:2px 6px;font-size:13px}.pass{color:#276749}.fail{color:#c53030}"
-      "section{border-top:1px solid #999;margin-top:18px;padding-top:8px}</style></head><body>"
+      "section{border-top:1px solid #999;margin-top:18px;padding-top:8px}"
+      "figure{display:inline-block;margin:4px;vertical-align:top}figcaption{font-size:12px;max-width:200px}</style></head><body>"
       "<h1>cmr report: space curves</h1><p>Curvature monotonicity of |κ| certified per segment (Algorithm 1 on "
       "λ₃ = (|c|²)′|P′|² − 3|c|²(|P′|²)′, c = P′ × P″; exact where error bounds do not decide), depth " +
       std::to_string(options.max_depth) + ". See docs/space.md.</p>";
@@ -296,6 +380,21 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
                (j.jump > 0 ? "up" : (j.jump < 0 ? "down" : "none")) + "</td><td>" + num(j.tau_left) + "</td><td>" +
                num(j.tau_right) + "</td></tr>";
       out += "</table>";
+    }
+    if (!r.thumbnails.empty()) {  // each control point's region in its default plane
+      out += "<div class=\"regions\"><h3>Regions of the control points</h3><p>Each control point moved in its default "
+             "plane (the plane of <code>cmr region FILE --point K</code> without --plane), coloured by the certified "
+             "verdict of the whole curve as in <code>cmr region</code>.</p>";
+      for (const SpaceThumbnail& t : r.thumbnails) {
+        const std::string p = "P" + std::to_string(t.point);
+        out += "<figure>";
+        if (t.error.empty())
+          out += "<img alt=\"region of " + p + " in " + html_escape(t.plane_name) + "\" width=\"" +
+                 std::to_string(options.region_size * 2) + "\" src=\"data:image/png;base64," + base64(t.png) + "\">";
+        out += "<figcaption>" + p + ": " + html_escape(t.error.empty() ? "in " + t.plane_name : "no region: " + t.error) +
+               "</figcaption></figure>";
+      }
+      out += "</div>";
     }
     out += "</section>";
   }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/space_analyze.hpp"
+#include "bezierize/space_region.hpp"
 
 namespace cmr::report {
 
@@ -18,6 +19,21 @@ struct SpaceReportOptions {
   bool torsion = true;  ///< judge torsion monotonicity too (reported; the gate is curvature's)
   ContinuityTolerances continuity;
   bool require_monotone = false;  ///< the gate: |kappa| monotone over the whole spline
+  bool regions = true;            ///< a region thumbnail per control point (`cmr report --no-thumbnails`: off)
+  int region_size = 96;           ///< thumbnails are region_size x region_size (`--region-size`)
+};
+
+/// The region of one control point in its default plane
+/// (default_space_plane, the plane `cmr region FILE --point K` takes without
+/// --plane), over the default view, at the report's depth: the labels of
+/// `cmr region FILE --point K --size NxN --depth D` and its --png picture.
+struct SpaceThumbnail {
+  int point = 0;
+  std::string error;  ///< why there is no region (e.g. a degenerate default plane); then nothing else is filled
+  SpacePlane plane;
+  RegionResult image;
+  std::string png;
+  std::string plane_name;  ///< "the plane through P3 spanned by P4 − P3 and P2 − P3"
 };
 
 struct SpaceReport {
@@ -28,7 +44,16 @@ struct SpaceReport {
   std::vector<std::vector<SpaceExtremum>> extrema;  ///< per segment, certified locations
   double kappa_min = 0, kappa_max = 0;              ///< sampled (the plot's range)
   bool pass = false;  ///< the curvature verdict is increasing or decreasing
+  std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions
 };
+
+/// The picture of a space region (`cmr region --png` and the report's
+/// thumbnails): the labels, with the curve and its control polygon projected
+/// onto the plane and point `point` marked.
+std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane, const RegionResult& image, int point,
+                             int max_depth, bool depth_shading = false);
+/// The thumbnail of control point k (its region in its default plane).
+SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
 
 /// Reads and analyses one file; an InputError becomes `error`.
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options);

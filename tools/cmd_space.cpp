@@ -104,19 +104,10 @@ void run_space_region(const SpaceRegionArgs& a) {
   const SpacePlane& plane = *problem.request().plane;
   OutputSet out;
   if (!a.labels.empty()) out.stage(a.labels, pgm(img, img.codes(), 255));
-  const BSpline seen = project_to_plane(spline, plane);
-  if (!a.png.empty() || ends_with(a.depth_map, ".png")) {
-    draw::RegionPicture pic;
-    pic.spline = &seen;
-    pic.layers = {&img};
-    pic.points = {r.point};
-    pic.max_depth = r.max_depth;
-    if (!a.png.empty()) out.stage(a.png, draw::region_png(pic));
-    if (ends_with(a.depth_map, ".png")) {
-      pic.depth_shading = true;
-      out.stage(a.depth_map, draw::region_png(pic));
-    }
-  }
+  // The picture of the report's thumbnails (report/space_report.hpp).
+  if (!a.png.empty()) out.stage(a.png, report::space_region_png(spline, plane, img, r.point, r.max_depth));
+  if (ends_with(a.depth_map, ".png"))
+    out.stage(a.depth_map, report::space_region_png(spline, plane, img, r.point, r.max_depth, true));
   if (!a.depth_map.empty() && !ends_with(a.depth_map, ".png"))
     out.stage(a.depth_map, pgm(img, img.depth, std::max(1, r.max_depth)));
   std::size_t mesh_faces = 0;
@@ -149,9 +140,12 @@ void run_space_region(const SpaceRegionArgs& a) {
 }
 
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty) {
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty, int region_size,
+                     bool thumbnails) {
   validate(continuity);
   report::SpaceReportOptions o;
+  o.region_size = region_size;
+  o.regions = thumbnails;
   o.max_depth = depth;
   o.torsion = torsion;
   o.continuity = continuity;

@@ -31,8 +31,10 @@ void run_space_region(const SpaceRegionArgs& args);
 
 /// `cmr report FILES --out DIR` when every FILE is a space curve: DIR/report.json
 /// and DIR/index.html (report/space_report.hpp). Returns the exit code (1 when
-/// `require_monotone` and some curve's curvature is not monotone).
+/// `require_monotone` and some curve's curvature is not monotone). With `thumbnails`, each
+/// control point's region in its default plane, `region_size` pixels a side.
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty);
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty,
+                     int region_size = 96, bool thumbnails = true);
 
 }  // namespace cmr::cli

@@ -1,0 +1,138 @@
+// The region thumbnails of `cmr report` for space curves (issue 25,
+// report/space_report.hpp, docs/space.md): one per control point, its region
+// in its default plane, the picture and labels of `cmr region FILE --point K`
+// (no --plane) at the same size and depth.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <regex>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/cli_util.hpp"
+
+namespace cmr {
+namespace {
+
+using test::run;
+using test::write;
+
+const std::string kSpace = std::string(CMR_SOURCE_DIR) + "/examples/space/";
+
+std::string base64_decode(const std::string& text) {
+  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::uint32_t bits = 0;
+  int n = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    const std::size_t v = kAlphabet.find(c);
+    if (v == std::string::npos) ADD_FAILURE() << "not base64: " << c;
+    bits = (bits << 6) | static_cast<std::uint32_t>(v);
+    n += 6;
+    if (n >= 8) {
+      n -= 8;
+      out += static_cast<char>((bits >> n) & 0xff);
+    }
+  }
+  return out;
+}
+
+struct Thumb {
+  int point;
+  std::string alt, png;
+};
+
+std::vector<Thumb> thumbnails(const std::string& html) {
+  std::vector<Thumb> out;
+  const std::regex img("<img alt=\"(region of P([0-9]+)[^\"]*)\" width=\"[0-9]+\" src=\"data:image/png;base64,([^\"]+)\">");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it)
+    out.push_back({std::stoi((*it)[2]), (*it)[1], base64_decode((*it)[3])});
+  return out;
+}
+
+std::size_t count_code(const std::string& pgm, char code) {
+  const std::size_t header = pgm.find("255\n") + 4;
+  return static_cast<std::size_t>(std::count(pgm.begin() + static_cast<std::ptrdiff_t>(header), pgm.end(), code));
+}
+
+// Every control point's thumbnail is the --png of `cmr region --point K` on
+// its default plane (byte for byte, so pixel for pixel), and the report's
+// plane, view and label counts are that command's (its --labels map counted).
+void expect_thumbnails_are_regions(const std::string& file, int points, int size) {
+  const std::string dir = (test::scratch() / "space_thumbs").string();
+  const test::Outcome r = run("report " + file + " --out " + dir + " --region-size " + std::to_string(size));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(test::slurp(dir + "/report.json"));
+  const int depth = doc["depth"];
+  EXPECT_EQ(doc["region_size"], size);
+  const auto& regions = doc["splines"][0]["regions"];
+  const std::vector<Thumb> thumbs = thumbnails(test::slurp(dir + "/index.html"));
+  ASSERT_EQ(thumbs.size(), static_cast<std::size_t>(points));
+  ASSERT_EQ(regions.size(), static_cast<std::size_t>(points));
+  for (int k = 0; k < points; ++k) {
+    SCOPED_TRACE(testing::Message() << "P" << k);
+    EXPECT_EQ(thumbs[k].point, k);
+    EXPECT_NE(thumbs[k].alt.find("in the plane through P" + std::to_string(k) + " spanned by P"), std::string::npos)
+        << thumbs[k].alt;
+    const std::string png = (test::scratch() / "space_thumb_region.png").string();
+    const std::string pgm = (test::scratch() / "space_thumb_region.pgm").string();
+    std::ostringstream command;  // (one stream: GCC 12 warns -Wrestrict on a long chain of string +)
+    command << "region " << file << " --point " << k << " --size " << size << "x" << size << " --depth " << depth
+            << " --png " << png << " --labels " << pgm;
+    const test::Outcome g = run(command.str());
+    ASSERT_EQ(g.code, 0) << g.err;
+    const auto reg = nlohmann::json::parse(g.out);
+    EXPECT_EQ(regions[k]["point"], k);
+    EXPECT_EQ(regions[k]["plane"], reg["plane"]);
+    EXPECT_EQ(regions[k]["view"], reg["view"]);
+    EXPECT_EQ(regions[k]["counts"], reg["counts"]);
+    EXPECT_TRUE(thumbs[k].png == test::slurp(png)) << "the thumbnail is not cmr region's picture";
+    const std::string labels = test::slurp(pgm);
+    EXPECT_EQ(count_code(labels, '\x01'), regions[k]["counts"]["increasing"].get<std::size_t>());
+    EXPECT_EQ(count_code(labels, '\x02'), regions[k]["counts"]["decreasing"].get<std::size_t>());
+  }
+}
+
+TEST(SpaceReportThumbnails, OnePerPointEqualToRegionOnTheDefaultPlane) {
+  expect_thumbnails_are_regions(kSpace + "fig8b_lifted.json", 6, 40);
+}
+
+TEST(SpaceReportThumbnails, RationalCurveToo) { expect_thumbnails_are_regions(kSpace + "fig8b_lifted_rational.json", 6, 16); }
+
+// A point whose default plane is degenerate (its neighbours collinear with
+// it) gets no thumbnail but the line `cmr region --point K` exits 2 with; the
+// report is still written, and the other points get theirs.
+TEST(SpaceReportThumbnails, DegenerateDefaultPlaneIsNamedNotFatal) {
+  const std::string file = write("straight_start.json", R"({"points":[[0,0,0],[1,0,0],[2,0,0],[3,1,1],[4,1,3]]})");
+  const std::string dir = (test::scratch() / "space_thumbs_degenerate").string();
+  const test::Outcome r = run("report " + file + " --out " + dir + " --region-size 12");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto regions = nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"][0]["regions"];
+  ASSERT_EQ(regions.size(), 5u);
+  const test::Outcome g = run("region " + file + " --point 1");
+  EXPECT_EQ(g.code, 2);
+  ASSERT_TRUE(regions[1].contains("error"));
+  const std::string error = regions[1]["error"];
+  EXPECT_NE(g.err.find(error), std::string::npos) << g.err << " vs " << error;
+  EXPECT_FALSE(regions[1].contains("plane"));
+  EXPECT_TRUE(regions[3].contains("plane"));
+  const std::string html = test::slurp(dir + "/index.html");
+  EXPECT_NE(html.find("P1: no region: "), std::string::npos);
+  const std::vector<Thumb> thumbs = thumbnails(html);
+  EXPECT_EQ(thumbs.size(), 3u);  // P0 and P1: collinear neighbours
+}
+
+TEST(SpaceReportThumbnails, NoThumbnailsLeavesThemOut) {
+  const std::string dir = (test::scratch() / "space_thumbs_off").string();
+  const test::Outcome r = run("report " + kSpace + "fig8b_lifted.json --out " + dir + " --no-thumbnails");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(test::slurp(dir + "/report.json"));
+  EXPECT_FALSE(doc["splines"][0].contains("regions"));
+  EXPECT_FALSE(doc.contains("region_size"));
+  EXPECT_TRUE(thumbnails(test::slurp(dir + "/index.html")).empty());
+}
+
+}  // namespace
+}  // namespace cmr
