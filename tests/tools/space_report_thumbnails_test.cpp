@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report/space_report.hpp"
 #include "tests/cli_util.hpp"
 
 namespace cmr {
@@ -97,6 +98,32 @@ void expect_thumbnails_are_regions(const std::string& file, int points, int size
 
 TEST(SpaceReportThumbnails, OnePerPointEqualToRegionOnTheDefaultPlane) {
   expect_thumbnails_are_regions(kSpace + "fig8b_lifted.json", 6, 40);
+}
+
+// The label maps themselves: the report's in-memory regions (report/
+// space_report.hpp) against the --labels map of `cmr region --point K`.
+TEST(SpaceReportThumbnails, LabelMapsEqualRegionLabels) {
+  const std::string file = kSpace + "fig8b_lifted.json";
+  report::SpaceReportOptions o;
+  o.region_size = 24;
+  const report::SpaceReport r = report::space_report(file, o);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  ASSERT_EQ(r.thumbnails.size(), 6u);
+  for (const report::SpaceThumbnail& t : r.thumbnails) {
+    SCOPED_TRACE(testing::Message() << "P" << t.point);
+    ASSERT_TRUE(t.error.empty()) << t.error;
+    const std::string pgm = (test::scratch() / "space_thumb_labels.pgm").string();
+    std::ostringstream command;
+    command << "region " << file << " --point " << t.point << " --size 24x24 --depth " << o.max_depth << " --labels "
+            << pgm;
+    const test::Outcome g = run(command.str());
+    ASSERT_EQ(g.code, 0) << g.err;
+    const std::string labels = test::slurp(pgm);
+    const std::string header = "P5\n24 24\n255\n";
+    ASSERT_EQ(labels.substr(0, header.size()), header);
+    const std::vector<std::uint8_t> codes = t.image.codes();
+    EXPECT_EQ(std::string(codes.begin(), codes.end()), labels.substr(header.size()));
+  }
 }
 
 TEST(SpaceReportThumbnails, RationalCurveToo) { expect_thumbnails_are_regions(kSpace + "fig8b_lifted_rational.json", 6, 16); }
