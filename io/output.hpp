@@ -185,4 +185,8 @@ void write_spline_file(const std::filesystem::path& path, const BSpline& spline)
 /// U+FFFD, so the page always decodes.
 std::string html_escape(std::string_view text);
 
+/// Standard base64 (RFC 4648, with '=' padding) of `bytes`: images inlined in
+/// HTML reports as data: URLs.
+std::string base64(std::string_view bytes);
+
 }  // namespace cmr

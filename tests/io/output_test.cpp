@@ -581,3 +581,21 @@ TEST(OutputSetOwned, ReusedFolderHoldsOnlyThisRunsFiles) {
 
 }  // namespace
 }  // namespace cmr
+
+namespace cmr {
+namespace {
+
+// RFC 4648 section 10's test vectors (the report's inline images).
+TEST(Base64, Rfc4648Vectors) {
+  EXPECT_EQ(base64(""), "");
+  EXPECT_EQ(base64("f"), "Zg==");
+  EXPECT_EQ(base64("fo"), "Zm8=");
+  EXPECT_EQ(base64("foo"), "Zm9v");
+  EXPECT_EQ(base64("foob"), "Zm9vYg==");
+  EXPECT_EQ(base64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(base64(std::string("\xff\x00\x80", 3)), "/wCA");
+}
+
+}  // namespace
+}  // namespace cmr
