@@ -193,53 +193,48 @@ std::array<double, 2> rounded_with_bound(const Rational& r) {
 /// the degree vanishes (so the values are such polynomials on the grid).
 template <class Values>
 std::vector<SpaceRegionProblem::PlanePolynomial> interpolate_plane(int degree, std::size_t count, Values values) {
-  const int n = degree + 1;
+  using Matrix = std::vector<std::vector<Rational>>;
+  const std::size_t n = static_cast<std::size_t>(degree) + 1;
   // basis[i][p]: the coefficient of t^p in the Lagrange polynomial of node i.
-  std::vector<std::vector<Rational>> basis(static_cast<std::size_t>(n), std::vector<Rational>(static_cast<std::size_t>(n)));
-  for (int i = 0; i < n; ++i) {
+  Matrix basis(n, std::vector<Rational>(n));
+  for (std::size_t i = 0; i < n; ++i) {
     std::vector<Rational> c(1, Rational(1));
     Rational den(1);
-    for (int j = 0; j < n; ++j) {
+    for (std::size_t j = 0; j < n; ++j) {
       if (j == i) continue;
       std::vector<Rational> next(c.size() + 1, Rational(0));  // c * (t - j)
       for (std::size_t k = 0; k < c.size(); ++k) {
         next[k + 1] += c[k];
-        next[k] -= c[k] * j;
+        next[k] -= c[k] * Rational(static_cast<long>(j));
       }
       c = std::move(next);
-      den *= i - j;
+      den *= static_cast<long>(i) - static_cast<long>(j);
     }
-    for (int p = 0; p < n; ++p) basis[static_cast<std::size_t>(i)][static_cast<std::size_t>(p)] = c[static_cast<std::size_t>(p)] / den;
+    for (std::size_t p = 0; p < n; ++p) basis[i][p] = c[p] / den;
   }
   // grid[i][j]: the values at (i, j).
-  std::vector<std::vector<std::vector<Rational>>> grid(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      std::vector<Rational> v = values(Rational(i), Rational(j));
+  std::vector<std::vector<std::vector<Rational>>> grid(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      std::vector<Rational> v = values(Rational(static_cast<long>(i)), Rational(static_cast<long>(j)));
       CMR_CHECK(v.size() == count);
-      grid[static_cast<std::size_t>(i)].push_back(std::move(v));
+      grid[i].push_back(std::move(v));
     }
   std::vector<SpaceRegionProblem::PlanePolynomial> out(count);
   for (std::size_t k = 0; k < count; ++k) {
-    const auto at = [&](int i, int j) -> const Rational& {
-      return grid[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)][k];
-    };
     // A[p][j] = sum_i basis[i][p] v(i, j); C[p][q] = sum_j basis[j][q] A[p][j].
-    std::vector<std::vector<Rational>> A(static_cast<std::size_t>(n), std::vector<Rational>(static_cast<std::size_t>(n)));
-    for (int p = 0; p < n; ++p)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) A[static_cast<std::size_t>(p)][static_cast<std::size_t>(j)] += basis[static_cast<std::size_t>(i)][static_cast<std::size_t>(p)] * at(i, j);
-    std::vector<std::vector<Rational>> C(static_cast<std::size_t>(n), std::vector<Rational>(static_cast<std::size_t>(n)));
-    for (int p = 0; p < n; ++p)
-      for (int q = 0; q < n; ++q) {
-        Rational& c = C[static_cast<std::size_t>(p)][static_cast<std::size_t>(q)];
-        for (int j = 0; j < n; ++j)
-          c += basis[static_cast<std::size_t>(j)][static_cast<std::size_t>(q)] * A[static_cast<std::size_t>(p)][static_cast<std::size_t>(j)];
-        CMR_CHECK(p + q <= degree || sgn(c) == 0);  // the degree bound holds
+    Matrix A(n, std::vector<Rational>(n)), C(n, std::vector<Rational>(n));
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < n; ++i) A[p][j] += basis[i][p] * grid[i][j][k];
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = 0; q < n; ++q) {
+        for (std::size_t j = 0; j < n; ++j) C[p][q] += basis[j][q] * A[p][j];
+        CMR_CHECK(p + q < n || sgn(C[p][q]) == 0);  // the degree bound holds
       }
     out[k].degree = degree;
-    for (int p = 0; p < n; ++p)
-      for (int q = 0; p + q < n; ++q) out[k].terms.push_back(rounded_with_bound(C[static_cast<std::size_t>(p)][static_cast<std::size_t>(q)]));
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = 0; p + q < n; ++q) out[k].terms.push_back(rounded_with_bound(C[p][q]));
   }
   return out;
 }
@@ -440,7 +435,9 @@ namespace {
 /// The exact moved point Q at (a0 + x, b0 + y).
 Point3<Rational> plane_point(const SpacePlane& pl, double a0, double b0, const Rational& x, const Rational& y) {
   const Rational a = Rational(a0) + x, b = Rational(b0) + y;
-  const auto c = [&](double o, double u, double v) { return Rational(Rational(o) + a * Rational(u) + b * Rational(v)); };
+  const auto c = [&](double o, double u, double v) {
+    return Rational(Rational(o) + a * Rational(u) + b * Rational(v));
+  };
   return {c(pl.origin.x, pl.u.x, pl.v.x), c(pl.origin.y, pl.u.y, pl.v.y), c(pl.origin.z, pl.u.z, pl.v.z)};
 }
 
@@ -454,7 +451,8 @@ std::vector<SpaceRegionProblem::PlanePolynomial> SpaceRegionProblem::rational_la
   const int k = s.request.point, twin = s.spline.twin(k), n = s.spline.degree();
   return interpolate_plane(5, static_cast<std::size_t>(11 * n - 17), [&](const Rational& x, const Rational& y) {
     const Point3<Rational> q = plane_point(*s.request.plane, a0, b0, x, y);
-    return lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, moved_hwindow<Rational>(s.spline, w, k, twin, q)));
+    const auto H = moved_hwindow<Rational>(s.spline, w, k, twin, q);
+    return lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, H));
   });
 }
 

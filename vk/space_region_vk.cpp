@@ -130,7 +130,8 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     }
     for (const int j : problem.moved_joints()) {
       const auto p = problem.rational_jump(j, a0, b0);
-      auto words = pipeline.value().run(pack_rational(r.width, r.height, 3, x, y, std::vector<SpaceRegionProblem::PlanePolynomial>(p.begin(), p.end())));
+      const std::vector<SpaceRegionProblem::PlanePolynomial> polys(p.begin(), p.end());
+      auto words = pipeline.value().run(pack_rational(r.width, r.height, 3, x, y, polys));
       if (!words) return words.error();
       joint_words.push_back(std::move(words.value()));
     }

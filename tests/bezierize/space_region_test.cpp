@@ -230,9 +230,12 @@ TEST(RationalSpaceRegion, Lambda3PolynomialsInThePlaneAreTheExactCoefficients) {
     for (int trial = 0; trial < 4; ++trial) {
       const Rational x(u(rng), 64), y(u(rng), 64);  // offsets from (a0, b0)
       const Rational a = Rational(a0) + x, b = Rational(b0) + y;
-      const auto c = [&](double o, double du, double dv) { return Rational(Rational(o) + a * Rational(du) + b * Rational(dv)); };
-      const Point3<Rational> q{c(r.plane->origin.x, r.plane->u.x, r.plane->v.x), c(r.plane->origin.y, r.plane->u.y, r.plane->v.y),
-                               c(r.plane->origin.z, r.plane->u.z, r.plane->v.z)};
+      const SpacePlane& pl = *r.plane;
+      const auto c = [&](double o, double du, double dv) {
+        return Rational(Rational(o) + a * Rational(du) + b * Rational(dv));
+      };
+      const Point3<Rational> q{c(pl.origin.x, pl.u.x, pl.v.x), c(pl.origin.y, pl.u.y, pl.v.y),
+                               c(pl.origin.z, pl.u.z, pl.v.z)};
       std::vector<HPoint3<Rational>> H = space_window_hpoints<Rational>(s, w);
       for (int i = 0; i <= 3; ++i)
         if (w.first + i == 3) H[static_cast<std::size_t>(i)] = to_hpoint3<Rational>(q, s.weight(3));
