@@ -177,7 +177,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
     return false;
   };
   const std::string failing_text =
-      !r.failing_segments.empty() ? "failing: " + list(r.failing_segments)
+      !r.failing_segments.empty() ? "failing segments: " + list(r.failing_segments)
       : !r.joint_conflicts.empty() ? "joints in conflict: " + list(r.joint_conflicts)
                                    : "segments of both directions";
   std::vector<int> candidates;
