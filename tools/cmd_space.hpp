@@ -33,7 +33,8 @@ void run_space_region(const SpaceRegionArgs& args);
 /// and DIR/index.html (report/space_report.hpp). Returns the exit code (1 when
 /// `require_monotone` and some curve's curvature is not monotone).
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty);
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty,
+                     bool fixes = true);
 
 /// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the

@@ -91,6 +91,48 @@ TEST(SpaceFixCli, AMonotoneCurveReportsNothingToFix) {
   EXPECT_EQ(doc["certificate"]["spline"]["curvature"], "decreasing");
 }
 
+std::string scratch_dir(const std::string& name) {
+  const std::string probe = write(name + ".probe", "");
+  return probe.substr(0, probe.rfind('/') + 1) + name;
+}
+
+TEST(SpaceFixCli, ReportSuggestsACertifiedFixForAFailingSpaceCurve) {
+  const std::string dir = scratch_dir("space_fix_report");
+  const test::Outcome r = run("report " + kFailing + " " + kMonotone + " --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = read_json(dir + "/report.json");
+  ASSERT_EQ(doc["splines"].size(), 2u);
+  const auto& failing = doc["splines"][0];
+  EXPECT_EQ(failing["pass"], false);
+  ASSERT_TRUE(failing.contains("certified_fixes"));
+  const auto& fix = failing["certified_fixes"][0];
+  EXPECT_EQ(fix["check"], "cmrwi");
+  ASSERT_EQ(fix["found"], true) << fix.dump();
+  ASSERT_EQ(fix["moves"].size(), 1u);
+  EXPECT_EQ(fix["failing_segments"], nlohmann::json::array({0, 1}));
+  // Apply the reported move to the input from the JSON's numbers alone and
+  // re-judge it with cmr analyze.
+  auto spline = read_json(kFailing);
+  const auto& m = fix["moves"][0];
+  EXPECT_EQ(spline["points"][m["point"].get<int>()], m["from"]);
+  spline["points"][m["point"].get<int>()] = m["to"];
+  const test::Outcome a = run("analyze " + write("report_fixed.json", spline.dump()));
+  ASSERT_EQ(a.code, 0) << a.err;
+  const std::string verdict = nlohmann::json::parse(a.out)["spline"]["curvature"];
+  EXPECT_TRUE(verdict == "increasing" || verdict == "decreasing") << verdict;
+  EXPECT_EQ(fix["certificate"]["curvature"], verdict);
+  // A passing curve gets no entry; the page says what moves.
+  EXPECT_FALSE(doc["splines"][1].contains("certified_fixes"));
+  std::ifstream html(dir + "/index.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("Smallest certified fix (cmrwi): move P" + std::to_string(m["point"].get<int>())),
+            std::string::npos);
+  // --no-fixes skips the search.
+  const std::string dir2 = scratch_dir("space_fix_report_nofix");
+  ASSERT_EQ(run("report " + kFailing + " --out " + dir2 + " --no-fixes").code, 0);
+  EXPECT_FALSE(read_json(dir2 + "/report.json")["splines"][0].contains("certified_fixes"));
+}
+
 TEST(SpaceFixCli, BadInputExitsTwoWithOneLine) {
   expect_one_line_error(run("fix " + kFailing + " --max-move 0.001"),
                         "fig8_lifted.json: no certified fix within --max-move 0.001 (failing segments: 0, 1;");
