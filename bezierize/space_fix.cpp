@@ -204,6 +204,11 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
   for (int k : candidates) {
     SpaceUnitFix unit;
     unit.point = k;
+    if (Clock::now() > search.deadline) {  // each candidate's region problem judges every segment once
+      unit.reason = "search time limit (" + fmt(request.time_limit) + " s) reached";
+      r.units.push_back(unit);
+      break;
+    }
     const Vec3 P = spline.points()[static_cast<std::size_t>(k)];
     SpacePlane plane;
     try {
