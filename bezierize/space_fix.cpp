@@ -194,6 +194,16 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
       if ((spline.closed() || (k != 0 && k != m - 1)) && acts(k)) candidates.push_back(k);
   }
 
+  // keep g1: the node of a tied joint (knot multiplicity >= degree: the curve
+  // passes through it) does not move, and each of its handles only slides
+  // along the line through the node (the tangent direction is kept exactly).
+  const auto wrap = [&](int i) { return spline.closed() ? ((i % m) + m) % m : i; };
+  std::vector<int> tied_nodes;
+  for (int j : ties_g1) {
+    const int seg = j % N;
+    tied_nodes.push_back(wrap(spline.segments()[static_cast<std::size_t>(seg)].span - d + 1));
+  }
+
   struct Best {
     int point = -1;
     double distance = kInf;
@@ -210,8 +220,33 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
       break;
     }
     const Vec3 P = spline.points()[static_cast<std::size_t>(k)];
+    int handle_of = 0, node = -1;
+    bool is_node = false;
+    for (int t : tied_nodes) {
+      if (t == k) is_node = true;
+      if (wrap(t - 1) == k || wrap(t + 1) == k) ++handle_of, node = t;
+    }
+    if (is_node || handle_of > 1) {
+      unit.reason = is_node ? "the node of a G1 joint does not move with --keep g1 (--keep none moves it)"
+                            : "a handle of two G1 joints does not move with --keep g1 (--keep none moves it)";
+      r.units.push_back(unit);
+      continue;
+    }
+    const bool slide = handle_of == 1;
     SpacePlane plane;
-    try {
+    if (slide) {  // u: along the tangent line, away from the node; v: any normal
+      const Vec3 leg = P - spline.points()[static_cast<std::size_t>(node)];
+      if (!(glm::length(leg) > 0)) {
+        unit.reason = "a handle on its G1 node has no tangent line to slide on";
+        r.units.push_back(unit);
+        continue;
+      }
+      const Vec3 u = glm::normalize(leg);
+      const Vec3 axis = std::abs(u.x) <= std::abs(u.y) && std::abs(u.x) <= std::abs(u.z) ? Vec3{1, 0, 0}
+                        : std::abs(u.y) <= std::abs(u.z)                               ? Vec3{0, 1, 0}
+                                                                                        : Vec3{0, 0, 1};
+      plane = orthonormal({P, u, glm::cross(u, axis)});
+    } else try {
       plane = request.plane_text.empty() ? default_space_plane(spline, k) : parse_space_plane(request.plane_text, P);
       plane.origin = P;
       plane = orthonormal(plane);
@@ -241,6 +276,31 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
     // The farthest this unit may go: the request's, or nearer than the best so far.
     const double limit = std::min(max_move, best.distance);
     try {
+      double br = kInf, bt = 0;
+      if (slide) {  // 1-D: the first passing distance each way, never reaching the node
+        const double to_node = glm::length(P - spline.points()[static_cast<std::size_t>(node)]);
+        for (const int sgn : {1, -1}) {
+          const double lim = sgn > 0 ? limit : std::min(limit, to_node * (1 - 1e-9));
+          constexpr int steps1 = 2048;
+          const double st = lim / steps1;
+          for (int j = 1; j <= steps1; ++j) {
+            double hi_r = j * st, lo_r = (j - 1) * st;
+            if (hi_r >= br) break;
+            if (!pass(sgn * hi_r, 0)) continue;
+            while (hi_r - lo_r > tol) {
+              const double mid = 0.5 * (lo_r + hi_r);
+              (pass(sgn * mid, 0) ? hi_r : lo_r) = mid;
+            }
+            if (hi_r < br) br = hi_r, bt = sgn > 0 ? 0 : std::numbers::pi;
+            break;
+          }
+        }
+        if (!(br < kInf)) {
+          unit.reason = "no certified position within " + fmt(limit) + " on its tangent line (--keep g1)";
+          r.units.push_back(unit);
+          continue;
+        }
+      } else {
       struct Cell {
         double a, b, r;
       };
@@ -294,7 +354,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
         }
         return kInf;
       };
-      double bt = std::atan2(passing.front().b, passing.front().a), br = kInf;
+      bt = std::atan2(passing.front().b, passing.front().a);
       int seeds = 0;
       for (const Cell& seed : passing) {
         if (seed.r > rb + 2 * diag || seeds == 6) break;
@@ -322,6 +382,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
         if (f2 < br) br = f2, bt = x2;
       }
       if (!(br < kInf)) br = rb, bt = std::atan2(passing.front().b, passing.front().a);
+      }
       // Certify: the moved point rounded to doubles, analyze_space on the
       // spline so moved; pushed outwards along the ray where rounding lands
       // just outside.

@@ -20,7 +20,11 @@
 // each a golden-section search over the angle of a ray from K, each ray's
 // first passing distance found by scanning and bisection to the tolerance.
 // Candidates are tried one at a time and the nearest fix is kept (several
-// points moving together are not searched for space curves).
+// points moving together are not searched for space curves). Keep g1: the
+// node of a joint that is G1 but not C1 by its knots does not move, and each
+// of its handles only slides along the line through the node (1-D: a scan of
+// 2048 samples each way, never reaching the node, then bisection), so the
+// tangent direction is kept; a handle of two such joints does not move.
 //
 // Certificate: the moved point is rounded to doubles, the moved spline is
 // judged by analyze_space (the verdict code of `cmr analyze` and `cmr report`

@@ -25,6 +25,10 @@ SpaceSpline lifted(std::vector<double> weights = {}) {
                            "fig8-lifted", std::move(weights));
 }
 
+/// How the legs right of the Bezier form's joints are lengthened, and how far
+/// handle B4 is then slid along its tangent towards its node (factors of its leg).
+constexpr double kLengthen = 1.05, kSlide = 0.2;
+
 bool monotone(const SpaceAnalysis& a) {
   return a.curvature == Direction::increasing || a.curvature == Direction::decreasing;
 }
@@ -145,6 +149,70 @@ TEST(SpaceFix, RotatingTheCurveRotatesTheFix) {
     const Vec3 want = R(f.moves.front().to - f.moves.front().from);
     EXPECT_LT(glm::length(fr.moves.front().to - fr.moves.front().from - want), 1e-5 * f.size) << what;
   }
+}
+
+/// Spline s as piecewise cubic Beziers (knots of multiplicity 3: its joints
+/// are C0 by their knots, G1 and G2 geometrically).
+SpaceSpline bezier_form(const SpaceSpline& s, std::vector<double>& knots) {
+  std::vector<Vec3> pts;
+  knots.clear();
+  for (const Segment& seg : s.segments()) {
+    const std::vector<Vec3> b = bezier_points(s, seg);
+    for (std::size_t i = pts.empty() ? 0 : 1; i < b.size(); ++i) pts.push_back(b[i]);
+    for (int i = 0; i < 3; ++i) knots.push_back(seg.a);
+  }
+  for (int i = 0; i < 3; ++i) knots.push_back(s.segments().back().b);
+  return SpaceSpline::make(3, knots, pts);
+}
+
+TEST(SpaceFix, KeepG1SlidesAHandleAlongItsTangent) {
+  // The monotone lifted Fig. 8b in Bezier form, with handle B4 slid along its
+  // tangent line towards node B3 (G1 kept): segment 1 or joint 1 fails.
+  const SpaceSpline monotone_curve = SpaceSpline::make(
+      3, {0, 1, 2, 3, 4, 5, 6, 7},
+      {{1.3, -1.43, 0}, {1.05, -0.06, 0.3}, {2.15, -1.31, 0.8}, {1.2, -4.03, 1.5}, {-2.23, -6.95, 2.4},
+       {-6.78, -9.78, 3.5}});
+  std::vector<double> knots;
+  const SpaceSpline b = bezier_form(monotone_curve, knots);
+  // Its joints are G2 (on the boundary of the jump's sign); lengthening the
+  // legs right of them makes them G1 with clear downward jumps.
+  std::vector<Vec3> pts = b.points();
+  pts[4] = pts[3] + kLengthen * (pts[4] - pts[3]);
+  pts[7] = pts[6] + kLengthen * (pts[7] - pts[6]);
+  {
+    const SpaceAnalysis a0 = analyze_space(SpaceSpline::make(3, knots, pts));
+    ASSERT_TRUE(monotone(a0)) << "the G1 Bezier form is " << to_string(a0.curvature);
+    ASSERT_EQ(a0.joints[0].jump, -1);
+  }
+  pts[4] = pts[3] + kSlide * (pts[4] - pts[3]);
+  const SpaceSpline bz = SpaceSpline::make(3, knots, pts);
+  const SpaceAnalysis in = analyze_space(bz);
+  ASSERT_FALSE(monotone(in));
+  ASSERT_EQ(in.joints.size(), 2u);
+  for (const SpaceJoint& j : in.joints) ASSERT_TRUE(j.continuity == 0 && j.g1) << j.index;
+  SpaceFixRequest req;
+  req.keep = Keep::g1;
+  const SpaceFixResult f = space_fix(bz, req);
+  EXPECT_EQ(f.tie_joints, (std::vector<int>{1, 2}));
+  ASSERT_TRUE(f.fixed) << f.reason;
+  EXPECT_TRUE(f.ties_hold);
+  const int k = f.moves.front().point;
+  std::vector<Vec3> moved = pts;
+  moved[static_cast<std::size_t>(k)] = f.moves.front().to;
+  const SpaceAnalysis a = analyze_space(SpaceSpline::make(3, knots, moved));
+  EXPECT_TRUE(monotone(a)) << to_string(a.curvature);
+  for (const SpaceJoint& j : a.joints) EXPECT_TRUE(j.g1) << "joint " << j.index << " lost G1 (P" << k << ")";
+  // The moved handle stayed on its tangent line (k is a handle of node 3 or 6).
+  const int node = k == 2 || k == 4 ? 3 : 6;
+  ASSERT_TRUE(k == 2 || k == 4 || k == 5 || k == 7) << "P" << k << " is not a handle";
+  const Vec3 t0 = glm::normalize(pts[static_cast<std::size_t>(k)] - pts[static_cast<std::size_t>(node)]);
+  const Vec3 t1 = glm::normalize(moved[static_cast<std::size_t>(k)] - moved[static_cast<std::size_t>(node)]);
+  EXPECT_LT(glm::length(t1 - t0), 1e-12) << "P" << k;
+  // The nodes are named as not moving.
+  for (const SpaceUnitFix& u : f.units)
+    if (u.point == 3 || u.point == 6) {
+      EXPECT_NE(u.reason.find("the node of a G1 joint"), std::string::npos) << u.point;
+    }
 }
 
 TEST(SpaceFix, NoFixWithinMaxMoveNamesTheFailingSegments) {
