@@ -300,7 +300,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       out += std::to_string(m.point);
       out += " by (" + html_escape(num(dm.x)) + ", " + html_escape(num(dm.y)) + ", " + html_escape(num(dm.z));
       out += "), " + html_escape(num(100 * m.distance / r.fix->size));
-      out += "% of the curve size, in its default plane; re-analysed: <b class=\"pass\">";
+      out += "% of the curve size; re-analysed: <b class=\"pass\">";
       out += to_string(r.fix->certificate.curvature);
       out += "</b></p>";
     } else if (r.fix && !r.fix->fixed) {

@@ -130,10 +130,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/fix.md, "Space curves")
-      if (!args->segments.empty() || !args->png.empty())
-        throw InputError(args->file + ": a space curve; --segments and --png are for planar splines");
-      run_space_fix({args->file, args->require, args->points, args->keep, args->plane, args->out, args->max_move,
-                     args->tolerance, args->depth, args->pretty});
+      if (!args->segments.empty())
+        throw InputError(args->file + ": a space curve; --segments is for planar splines");
+      run_space_fix({args->file, args->require, args->points, args->keep, args->plane, args->out, args->png,
+                     args->max_move, args->tolerance, args->depth, args->pretty});
       exit_code = kOk;
       return;
     }

@@ -38,9 +38,10 @@ int run_space_report(const std::vector<std::string>& files, const std::string& o
 
 /// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the
-/// JSON and writes --out (all or none). InputError (exit 2) when none is found.
+/// JSON and writes --out and --png (all or none). InputError (exit 2) when none
+/// is found.
 struct SpaceFixArgs {
-  std::string file, require = "cmr", points, keep = "g1", plane, out;
+  std::string file, require = "cmr", points, keep = "g1", plane, out, png;
   double max_move = 0, tolerance = 1e-6;
   int depth = kDefaultDepth;
   bool pretty = false;

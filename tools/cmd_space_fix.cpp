@@ -2,7 +2,10 @@
 // docs/fix.md "Space curves").
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
 #include "bezierize/space_fix.hpp"
+#include "draw/draw.hpp"
 #include "io/output.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
@@ -39,10 +42,54 @@ std::vector<int> parse_point_list(const std::string& text) {
 
 Json plane_json(const SpacePlane& p) { return {{"origin", vec3(p.origin)}, {"u", vec3(p.u)}, {"v", vec3(p.v)}}; }
 
+/// The moved point's region in its plane (the labels `cmr region` draws; a
+/// point's region does not depend on where the point itself is) with the
+/// curve projected onto the plane, before with the move and after; for a
+/// curve that needs no fix, the region of its middle point in its default plane.
+std::string space_fix_png(const SpaceSpline& before, const SpaceFixResult& f, int depth) {
+  SpaceRegionRequest rr;
+  rr.max_depth = depth;
+  rr.width = rr.height = 200;
+  Vec2 shift{0, 0};
+  if (f.moves.empty()) {
+    rr.point = before.unique_point_count() / 2;
+  } else {
+    const SpacePointMove& m = f.moves.front();
+    rr.point = m.point;
+    rr.plane = m.plane;
+    shift = Vec2{glm::dot(m.to - m.from, m.plane.u), glm::dot(m.to - m.from, m.plane.v)};
+    const double h = std::max(4 * m.distance, f.size / 20);
+    rr.view = View{-h, -h, h, h};
+  }
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(before, rr);
+  const SpacePlane& plane = *problem.request().plane;
+  const RegionResult image = problem.render();
+  const BSpline seen_before = project_to_plane(before, plane), seen_after = project_to_plane(*f.spline, plane);
+  draw::RegionPicture pb, pa;
+  pb.spline = &seen_before, pb.layers = {&image}, pb.points = {rr.point};
+  pa.spline = &seen_after, pa.layers = {&image}, pa.points = {rr.point};
+  if (!f.moves.empty()) pb.moved = std::make_pair(Vec2{0, 0}, shift);
+  draw::Figure fig;
+  const std::string name = std::string("P").append(std::to_string(rr.point));
+  fig.title = "cmr fix (space curve): " + name + "'s region in its plane";
+  fig.rows = {{draw::Panel{pb, "before: the region and the move"},
+               draw::Panel{pa, std::string("after: analyze_space says ") + to_string(f.certificate.curvature)}}};
+  fig.legend = draw::legend_for(pb);
+  std::string caption = "nothing to move: the curve meets the requirement";
+  if (!f.moves.empty()) {
+    caption = "moved " + name;
+    caption.append(" by ").append(std::to_string(f.max_distance)).append(" (");
+    caption.append(std::to_string(f.max_distance / f.size * 100)).append("% of the curve size)");
+  }
+  fig.caption = caption;
+  return draw::figure_png(fig);
+}
+
 }  // namespace
 
 void run_space_fix(const SpaceFixArgs& args) {
   if (!args.out.empty()) check_output_path(args.out, "--out");
+  if (!args.png.empty()) check_output_path(args.png, "--png");
   if (args.require != "cmr" && args.require != "cmrwi")
     throw InputError(args.file + ": a space curve; its fix takes --require cmr (|kappa| monotone, no zero curvature) "
                                  "or cmrwi (|kappa| monotone), not '" +
@@ -84,8 +131,10 @@ void run_space_fix(const SpaceFixArgs& args) {
   Json joints = Json::array();
   std::vector<SpaceJoint> all = f.certificate.joints;
   if (f.certificate.seam) all.push_back(*f.certificate.seam);
-  for (const SpaceJoint& jt : all)
-    joints.push_back({{"index", jt.index}, {"continuity", "C" + std::to_string(jt.continuity)}, {"g1", jt.g1}, {"g2", jt.g2}});
+  for (const SpaceJoint& jt : all) {
+    const std::string continuity = std::string("C").append(std::to_string(jt.continuity));
+    joints.push_back({{"index", jt.index}, {"continuity", continuity}, {"g1", jt.g1}, {"g2", jt.g2}});
+  }
   certificate["joints"] = joints;
   Json doc = {{"file", args.file},
               {"dimension", 3},
@@ -109,6 +158,10 @@ void run_space_fix(const SpaceFixArgs& args) {
   if (!args.out.empty()) {
     outputs.stage(args.out, space_spline_to_json(*f.spline).dump(2) + "\n");
     doc["out"] = args.out;
+  }
+  if (!args.png.empty()) {
+    outputs.stage(args.png, space_fix_png(spline, f, args.depth));
+    doc["png"] = args.png;
   }
   outputs.commit();
   print_json(doc, args.pretty);

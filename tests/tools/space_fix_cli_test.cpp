@@ -75,6 +75,19 @@ TEST(SpaceFixCli, FailingPolynomialCubicIsFixedAndAnalyzeAgrees) {
   expect_fixed(kFailing, "--plane xy --points P2", "polynomial_xy");
 }
 
+TEST(SpaceFixCli, PngShowsTheRegionAndTheMove) {
+  const std::string png = write("space_fix.png", "");
+  const test::Outcome r = run("fix " + kFailing + " --png " + png);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["png"], png);
+  std::ifstream in(png, std::ios::binary);
+  std::string head(8, '\0');
+  in.read(head.data(), 8);
+  EXPECT_EQ(head, std::string("\x89PNG\r\n\x1a\n", 8));
+  in.seekg(0, std::ios::end);
+  EXPECT_GT(in.tellg(), 5000);
+}
+
 TEST(SpaceFixCli, FailingRationalCubicIsFixedAndAnalyzeAgrees) {
   const std::string in = write("rational.json", R"({"degree": 3, "knots": [0, 1, 2, 3, 4, 5, 6, 7],
     "points": [[1.3, -1.43, 0], [1.05, -0.06, 0.3], [2.15, -1.31, 0.8], [1.97, -3.83, 1.5], [-2.23, -6.95, 2.4],
@@ -138,7 +151,7 @@ TEST(SpaceFixCli, BadInputExitsTwoWithOneLine) {
                         "fig8_lifted.json: no certified fix within --max-move 0.001 (failing segments: 0, 1;");
   expect_one_line_error(run("fix " + kFailing + " --require each-piece"),
                         "a space curve; its fix takes --require cmr (|kappa| monotone, no zero curvature) or cmrwi");
-  expect_one_line_error(run("fix " + kFailing + " --segments 0..1"), "--segments and --png are for planar splines");
+  expect_one_line_error(run("fix " + kFailing + " --segments 0..1"), "a space curve; --segments is for planar splines");
   expect_one_line_error(run("fix " + kFailing + " --points 9"), "--points: P9 is outside P0..P5");
   expect_one_line_error(run("fix " + kFailing + " --points 5"),
                         "--points: P5 does not act on a failing segment (failing segments: 0, 1)");
