@@ -149,13 +149,14 @@ void run_space_region(const SpaceRegionArgs& a) {
 }
 
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty) {
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty, bool fixes) {
   validate(continuity);
   report::SpaceReportOptions o;
   o.max_depth = depth;
   o.torsion = torsion;
   o.continuity = continuity;
   o.require_monotone = require_monotone;
+  o.fixes = fixes;
   std::vector<report::SpaceReport> reports;
   for (const std::string& f : files) reports.push_back(report::space_report(f, o));
   const std::filesystem::path dir = out;

@@ -33,6 +33,19 @@ void run_space_region(const SpaceRegionArgs& args);
 /// and DIR/index.html (report/space_report.hpp). Returns the exit code (1 when
 /// `require_monotone` and some curve's curvature is not monotone).
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty);
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty,
+                     bool fixes = true);
+
+/// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
+/// the nearest certified move of one point in a plane through it; prints the
+/// JSON and writes --out and --png (all or none). InputError (exit 2) when none
+/// is found.
+struct SpaceFixArgs {
+  std::string file, require = "cmr", points, keep = "g1", plane, out, png;
+  double max_move = 0, tolerance = 1e-6;
+  int depth = kDefaultDepth;
+  bool pretty = false;
+};
+void run_space_fix(const SpaceFixArgs& args);
 
 }  // namespace cmr::cli
