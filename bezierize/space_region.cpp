@@ -132,15 +132,18 @@ std::vector<HPoint3<T>> moved_hwindow(const SpaceSpline& spline, const SpaceWind
 /// polynomial spline) of the two sides, space_analyze.cpp's rule with
 /// kappa^2 = f^2 (w0 w2 / w1^2)^2 |a x b|^2 / |a|^6 multiplied out
 /// (weights > 0): kSignUnknown when T's bounds do not decide.
+/// The quantities of jump_sign3: the squared leg lengths gl, gr at the
+/// joint and d, whose sign is the jump's where gl, gr > 0.
 template <class T>
-int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<T>& wl, const std::vector<Point3<T>>& R,
-               const std::vector<T>& wr) {
+struct JumpTerms {
+  T gl, gr, d;
+};
+template <class T>
+JumpTerms<T> jump_terms3(const std::vector<Point3<T>>& L, const std::vector<T>& wl, const std::vector<Point3<T>>& R,
+                         const std::vector<T>& wr) {
   const int d = static_cast<int>(L.size()) - 1;
   const Point3<T> al = L[d - 1] - L[d], bl = L[d - 2] - L[d - 1], ar = R[1] - R[0], br = R[2] - R[1];
   const T gl = dot3(al, al), gr = dot3(ar, ar);
-  const int sl = Scalar<T>::sign(gl), sr = Scalar<T>::sign(gr);
-  if (sl == kSignUnknown || sr == kSignUnknown) return kSignUnknown;
-  if (sl == 0 || sr == 0) return 0;
   const Point3<T> xl = cross3(al, bl), xr = cross3(ar, br);
   T a2l = dot3(xl, xl), a2r = dot3(xr, xr);
   if (!wl.empty()) {
@@ -149,20 +152,105 @@ int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<T>& wl, const 
     a2l = T(a2l * ol * ol * r1 * r1);
     a2r = T(a2r * orr * orr * l1 * l1);
   }
-  return Scalar<T>::sign(T(a2r * gl * gl * gl) - T(a2l * gr * gr * gr));
-}
-
-template <class T>
-int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R) {
-  return jump_sign3<T>(L, {}, R, {});
+  return {gl, gr, T(T(a2r * gl * gl * gl) - T(a2l * gr * gr * gr))};
 }
 template <class T>
-int jump_sign3(const std::vector<HPoint3<T>>& HL, const std::vector<HPoint3<T>>& HR) {
+JumpTerms<T> jump_terms3(const std::vector<HPoint3<T>>& HL, const std::vector<HPoint3<T>>& HR) {
   std::vector<Point3<T>> L, R;
   std::vector<T> wl, wr;
   split_homogeneous<T>(HL, L, wl);
   split_homogeneous<T>(HR, R, wr);
-  return jump_sign3<T>(L, wl, R, wr);
+  return jump_terms3<T>(L, wl, R, wr);
+}
+
+template <class T>
+int jump_sign3(const JumpTerms<T>& t) {
+  const int sl = Scalar<T>::sign(t.gl), sr = Scalar<T>::sign(t.gr);
+  if (sl == kSignUnknown || sr == kSignUnknown) return kSignUnknown;
+  if (sl == 0 || sr == 0) return 0;
+  return Scalar<T>::sign(t.d);
+}
+template <class T>
+int jump_sign3(const std::vector<Point3<T>>& L, const std::vector<Point3<T>>& R) {
+  return jump_sign3<T>(jump_terms3<T>(L, {}, R, {}));
+}
+template <class T>
+int jump_sign3(const std::vector<HPoint3<T>>& HL, const std::vector<HPoint3<T>>& HR) {
+  return jump_sign3<T>(jump_terms3<T>(HL, HR));
+}
+
+/// (nearest double, bound on the rounding) of r.
+std::array<double, 2> rounded_with_bound(const Rational& r) {
+  const double v = nearest_double(r);
+  const Rational e = abs(Rational(r - Rational(v)));
+  const double eb = e.get_d();
+  return {v, sgn(e) == 0 ? 0.0 : std::nextafter(eb, std::numeric_limits<double>::infinity()) * (1 + 0x1p-50)};
+}
+
+/// The polynomials of total degree `degree` in (x, y) through values(x, y)
+/// (each call: `count` exact values) on the grid x, y in 0..degree: tensor
+/// Lagrange interpolation in rationals, then a check that every term above
+/// the degree vanishes (so the values are such polynomials on the grid).
+template <class Values>
+std::vector<SpaceRegionProblem::PlanePolynomial> interpolate_plane(int degree, std::size_t count, Values values) {
+  using Matrix = std::vector<std::vector<Rational>>;
+  const std::size_t n = static_cast<std::size_t>(degree) + 1;
+  // basis[i][p]: the coefficient of t^p in the Lagrange polynomial of node i.
+  Matrix basis(n, std::vector<Rational>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<Rational> c(1, Rational(1));
+    Rational den(1);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      std::vector<Rational> next(c.size() + 1, Rational(0));  // c * (t - j)
+      for (std::size_t k = 0; k < c.size(); ++k) {
+        next[k + 1] += c[k];
+        next[k] -= c[k] * Rational(static_cast<long>(j));
+      }
+      c = std::move(next);
+      den *= static_cast<long>(i) - static_cast<long>(j);
+    }
+    for (std::size_t p = 0; p < n; ++p) basis[i][p] = c[p] / den;
+  }
+  // grid[i][j]: the values at (i, j).
+  std::vector<std::vector<std::vector<Rational>>> grid(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      std::vector<Rational> v = values(Rational(static_cast<long>(i)), Rational(static_cast<long>(j)));
+      CMR_CHECK(v.size() == count);
+      grid[i].push_back(std::move(v));
+    }
+  std::vector<SpaceRegionProblem::PlanePolynomial> out(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    // A[p][j] = sum_i basis[i][p] v(i, j); C[p][q] = sum_j basis[j][q] A[p][j].
+    Matrix A(n, std::vector<Rational>(n)), C(n, std::vector<Rational>(n));
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < n; ++i) A[p][j] += basis[i][p] * grid[i][j][k];
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = 0; q < n; ++q) {
+        for (std::size_t j = 0; j < n; ++j) C[p][q] += basis[j][q] * A[p][j];
+        CMR_CHECK(p + q < n || sgn(C[p][q]) == 0);  // the degree bound holds
+      }
+    out[k].degree = degree;
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = 0; p + q < n; ++q) out[k].terms.push_back(rounded_with_bound(C[p][q]));
+  }
+  return out;
+}
+
+/// p (of higher nominal degree) as a polynomial of degree `degree`: its
+/// terms above it must be zero.
+SpaceRegionProblem::PlanePolynomial lowered(const SpaceRegionProblem::PlanePolynomial& p, int degree) {
+  SpaceRegionProblem::PlanePolynomial out;
+  out.degree = degree;
+  std::size_t t = 0;
+  for (int i = 0; i <= p.degree; ++i)
+    for (int j = 0; i + j <= p.degree; ++j, ++t) {
+      if (i + j <= degree) out.terms.push_back(p.terms[t]);
+      else CMR_CHECK(p.terms[t][0] == 0 && p.terms[t][1] == 0);
+    }
+  return out;
 }
 
 /// The label and depth of a pixel from its segments' classes and joints.
@@ -330,12 +418,7 @@ std::vector<std::array<double, 2>> SpaceRegionProblem::affine_bezier(int segment
     }
   const std::vector<Point3<Rational>> F = space_window_bezier<Rational>(w, pts);
   const std::vector<Rational> m = space_window_bezier_of<Rational>(w, unit);
-  const auto rounded = [](const Rational& r) -> std::array<double, 2> {
-    const double v = nearest_double(r);
-    const Rational e = abs(Rational(r - Rational(v)));
-    const double eb = e.get_d();
-    return {v, sgn(e) == 0 ? 0.0 : std::nextafter(eb, std::numeric_limits<double>::infinity()) * (1 + 0x1p-50)};
-  };
+  const auto rounded = rounded_with_bound;
   std::vector<std::array<double, 2>> out;
   for (int i = 0; i <= w.degree; ++i) {
     const auto ii = static_cast<std::size_t>(i);
@@ -345,6 +428,49 @@ std::vector<std::array<double, 2>> SpaceRegionProblem::affine_bezier(int segment
     out.push_back(rounded(m[ii]));
   }
   return out;
+}
+
+namespace {
+
+/// The exact moved point Q at (a0 + x, b0 + y).
+Point3<Rational> plane_point(const SpacePlane& pl, double a0, double b0, const Rational& x, const Rational& y) {
+  const Rational a = Rational(a0) + x, b = Rational(b0) + y;
+  const auto c = [&](double o, double u, double v) {
+    return Rational(Rational(o) + a * Rational(u) + b * Rational(v));
+  };
+  return {c(pl.origin.x, pl.u.x, pl.v.x), c(pl.origin.y, pl.u.y, pl.v.y), c(pl.origin.z, pl.u.z, pl.v.z)};
+}
+
+}  // namespace
+
+std::vector<SpaceRegionProblem::PlanePolynomial> SpaceRegionProblem::rational_lambda3(int segment, double a0,
+                                                                                     double b0) const {
+  const State& s = *state_;
+  CMR_CHECK(s.spline.is_rational());
+  const SpaceWindow w = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(segment)]);
+  const int k = s.request.point, twin = s.spline.twin(k), n = s.spline.degree();
+  return interpolate_plane(5, static_cast<std::size_t>(11 * n - 17), [&](const Rational& x, const Rational& y) {
+    const Point3<Rational> q = plane_point(*s.request.plane, a0, b0, x, y);
+    const auto H = moved_hwindow<Rational>(s.spline, w, k, twin, q);
+    return lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, H));
+  });
+}
+
+std::array<SpaceRegionProblem::PlanePolynomial, 3> SpaceRegionProblem::rational_jump(int joint, double a0,
+                                                                                   double b0) const {
+  const State& s = *state_;
+  CMR_CHECK(s.spline.is_rational());
+  const int N = s.spline.segment_count(), k = s.request.point, twin = s.spline.twin(k);
+  const SpaceWindow wl = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(joint - 1)]);
+  const SpaceWindow wr = space_window(s.spline, s.spline.segments()[static_cast<std::size_t>(joint % N)]);
+  const auto p = interpolate_plane(8, 3, [&](const Rational& x, const Rational& y) {
+    const Point3<Rational> q = plane_point(*s.request.plane, a0, b0, x, y);
+    const JumpTerms<Rational> t =
+        jump_terms3<Rational>(space_window_bezier<Rational>(wl, moved_hwindow<Rational>(s.spline, wl, k, twin, q)),
+                              space_window_bezier<Rational>(wr, moved_hwindow<Rational>(s.spline, wr, k, twin, q)));
+    return std::vector<Rational>{t.gl, t.gr, t.d};
+  });
+  return {lowered(p[0], 2), lowered(p[1], 2), p[2]};
 }
 
 RegionResult SpaceRegionProblem::render(int threads) const {

@@ -18,7 +18,7 @@
 // classified once. Every Bernstein coefficient of lambda3 is a bivariate
 // quartic in (a, b) (c is affine in Q); this backend evaluates it per pixel
 // rather than as a prepared polynomial (the plane's RegionSetup), so it is
-// slower than the planar engine, and only the CPU backend exists.
+// slower than the planar engine; vk/space_region_vk.hpp is the device backend.
 #include <array>
 #include <memory>
 #include <optional>
@@ -85,6 +85,26 @@ class SpaceRegionProblem {
   /// moved_segments() order) and the exact jump signs of the moved joints
   /// (moved_joints() order): classify's fold, so the same label and depth.
   RegionPixel compose(const std::vector<MonotonicityResult>& moved, const std::vector<int>& jumps) const;
+
+  // For device backends on rational curves: the pixel-dependent quantities
+  // as polynomials in the offsets (x, y) = (a - a0, b - b0) of the plane
+  // coordinates from a base point (a0, b0). The moved homogeneous point
+  // (w Q, w) is affine in (x, y), and so are e (3x3 minors of [H H' H''],
+  // multilinear with Q in at most one column) and h = W X' - W' X; E, G are
+  // quadratic, W affine, so each lambda3 coefficient has degree 5. Exact:
+  // interpolated in rationals on a grid and checked to vanish above the degree.
+  /// Terms x^p y^q, p + q <= degree, ordered p = 0..degree, q = 0..degree-p;
+  /// each (nearest double, bound on its rounding) of the exact coefficient.
+  struct PlanePolynomial {
+    int degree = 0;
+    std::vector<std::array<double, 2>> terms;
+  };
+  /// Rational curves: a moved segment's lambda3 Bernstein coefficients
+  /// (classify's, 11n-17 of them), each of degree 5 in (x, y).
+  std::vector<PlanePolynomial> rational_lambda3(int segment, double a0, double b0) const;
+  /// Rational curves: joint j's (moved_joints()) gl, gr (degree 2) and D
+  /// (degree 8) of classify's rule: the jump's sign is sign(D) where gl, gr > 0.
+  std::array<PlanePolynomial, 3> rational_jump(int joint, double a0, double b0) const;
 
  private:
   struct State;

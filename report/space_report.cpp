@@ -160,7 +160,40 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
     for (int k = 0; k < r.spline->unique_point_count(); ++k)
       r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
   r.pass = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
+  if (!r.pass && options.fixes) {  // the smallest certified fix (bezierize/space_fix.hpp)
+    SpaceFixRequest f;
+    f.max_depth = options.max_depth;
+    f.time_limit = kReportSpaceFixSeconds;
+    r.fix = space_fix(*r.spline, f);
+  }
   return r;
+}
+
+nlohmann::ordered_json space_fix_json(const SpaceFixResult& f) {
+  const auto v3 = [](const Vec3& p) { return nlohmann::ordered_json::array({p.x, p.y, p.z}); };
+  nlohmann::ordered_json moves = nlohmann::ordered_json::array();
+  for (const SpacePointMove& m : f.moves) {
+    std::string name = "P";
+    name += std::to_string(m.point);
+    moves.push_back({{"point", m.point},
+                     {"name", name},
+                     {"from", v3(m.from)},
+                     {"to", v3(m.to)},
+                     {"displacement", v3(m.to - m.from)},
+                     {"distance", m.distance},
+                     {"relative", m.distance / f.size}});
+  }
+  nlohmann::ordered_json j = {{"check", "cmrwi"},
+                              {"found", f.fixed && !f.already},
+                              {"moves", moves},
+                              {"max_relative", f.max_distance / f.size},
+                              {"seconds", f.seconds},
+                              {"failing_segments", f.failing_segments}};
+  if (f.fixed)
+    j["certificate"] = {{"curvature", to_string(f.certificate.curvature)}};
+  else
+    j["reason"] = f.reason;
+  return j;
 }
 
 nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options) {
@@ -205,6 +238,7 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
       }
       j["regions"] = regions;
     }
+    if (r.fix) j["certified_fixes"] = nlohmann::ordered_json::array({space_fix_json(*r.fix)});
     ++(r.pass ? pass : fail);
     list.push_back(j);
   }
@@ -331,6 +365,19 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
     if (a.torsion) out += " · torsion: <b>" + std::string(to_string(*a.torsion)) + "</b>";
     out += std::string(" · zero curvature: ") + (a.zero_curvature ? "yes" : "no") + " · cusp: " + (a.cusp ? "yes" : "no") +
            " · κ in [" + html_escape(num(r.kappa_min)) + ", " + html_escape(num(r.kappa_max)) + "]</p>";
+    if (r.fix && r.fix->fixed && !r.fix->moves.empty()) {
+      const SpacePointMove& m = r.fix->moves.front();
+      const Vec3 dm = m.to - m.from;
+      out += "<p>Smallest certified fix (cmrwi): move P";
+      out += std::to_string(m.point);
+      out += " by (" + html_escape(num(dm.x)) + ", " + html_escape(num(dm.y)) + ", " + html_escape(num(dm.z));
+      out += "), " + html_escape(num(100 * m.distance / r.fix->size));
+      out += "% of the curve size; re-analysed: <b class=\"pass\">";
+      out += to_string(r.fix->certificate.curvature);
+      out += "</b></p>";
+    } else if (r.fix && !r.fix->fixed) {
+      out += "<p>No certified fix: " + html_escape(r.fix->reason) + "</p>";
+    }
     const double extent = [&] {
       Vec3 lo = r.spline->points()[0], hi = lo;
       for (const Vec3& p : r.spline->points()) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/space_analyze.hpp"
+#include "bezierize/space_fix.hpp"
 #include "bezierize/space_region.hpp"
 
 namespace cmr::report {
@@ -19,6 +20,9 @@ struct SpaceReportOptions {
   bool torsion = true;  ///< judge torsion monotonicity too (reported; the gate is curvature's)
   ContinuityTolerances continuity;
   bool require_monotone = false;  ///< the gate: |kappa| monotone over the whole spline
+  /// Search the smallest certified fix of each failing curve (space_fix,
+  /// cmrwi, each point in its default plane, kReportSpaceFixSeconds).
+  bool fixes = true;
   bool regions = true;            ///< a region thumbnail per control point (`cmr report --no-thumbnails`: off)
   int region_size = 96;           ///< thumbnails are region_size x region_size (`--region-size`)
 };
@@ -36,6 +40,10 @@ struct SpaceThumbnail {
   std::string plane_name;  ///< "the plane through P3 spanned by P4 − P3 and P2 − P3"
 };
 
+/// Time limit of a failing space curve's fix search in a report (seconds);
+/// the nearest fix found by then is still certified.
+inline constexpr double kReportSpaceFixSeconds = 2;
+
 struct SpaceReport {
   std::string file;
   std::string error;  ///< the input's one-line error (then nothing else is filled)
@@ -45,6 +53,7 @@ struct SpaceReport {
   double kappa_min = 0, kappa_max = 0;              ///< sampled (the plot's range)
   bool pass = false;  ///< the curvature verdict is increasing or decreasing
   std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions
+  std::optional<SpaceFixResult> fix;  ///< failing curves, with options.fixes
 };
 
 /// The picture of a space region (`cmr region --png` and the report's
@@ -67,6 +76,12 @@ nlohmann::ordered_json space_joint_json(const SpaceAnalysis& analysis, const Spa
 nlohmann::ordered_json space_verdict_json(const SpaceAnalysis& analysis);
 /// report.json: {"dimension": 3, "splines": [...], "summary": {...}}.
 nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
+/// A fix's entry of report.json's "certified_fixes" (the planar report's
+/// fields, 3D points): {"check": "cmrwi", "found", "moves": [{"point", "name",
+/// "from", "to", "displacement", "distance", "relative"}], "max_relative",
+/// "seconds", "failing_segments", "certificate": {"curvature"}} with
+/// "reason" when none was found.
+nlohmann::ordered_json space_fix_json(const SpaceFixResult& fix);
 /// index.html, self-contained (inline SVG).
 std::string space_report_html(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
 

@@ -17,7 +17,15 @@
 //   for each of the DEG+1 Bezier points B_k = F_k + m_k Q (Q the moved
 //   point), the entries F_k.x, F_k.y, F_k.z, m_k; a joint run has the left
 //   segment's then the right segment's.
-// Result word: mode 0: curvature code (0 increasing, 1 decreasing,
+// Rational curves (RAT = 1, modes 2 and 3): hdr[3], hdr[4] hold the
+// offsets x = a - a0 per column and y = b - b0 per row (with rounding
+// bounds), hdr[6] the polynomials in (x, y) the host derived exactly
+// (SpaceRegionProblem::rational_lambda3 / rational_jump): terms x^p y^q,
+// p + q <= D, ordered p = 0..D, q = 0..D-p. Mode 2: the NL coefficients of
+// lambda3 (degree 11n-18), each of degree hdr[7]; then Algorithm 1 as in
+// mode 0. Mode 3: gl, gr, D of a joint, of degrees hdr[7], hdr[8], hdr[9];
+// the jump rule of mode 1.
+// Result word: mode 0 and 2: curvature code (0 increasing, 1 decreasing,
 // 2 non-monotone, 3 undecided, 4 constant) | depth << 8; mode 1: jump sign
 // + 1; or RESULT_UNCERTAIN.
 #define REAL double
@@ -27,12 +35,15 @@
 
 layout(constant_id = 0) const int DEG = 3;    // degree n of the segments, 2..7
 layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
+layout(constant_id = 2) const int RAT = 0;    // 1: a rational curve (modes 2 and 3)
 
 const int M = DEG - 1;          // hodograph degree
 const int NC = 2 * DEG - 3;     // coefficients of each component of c = P' x P'' (degree 2n-4)
 const int NC2 = 4 * DEG - 7;    // |c|^2 (4n-8)
 const int NG = 2 * DEG - 1;     // g = |P'|^2 (2n-2)
-const int NL = 6 * DEG - 10;    // lambda3 (6n-11)
+const int NLP = 6 * DEG - 10;   // lambda3 of a polynomial curve (6n-11)
+const int NL = RAT * (11 * DEG - 17) + (1 - RAT) * NLP;  // the lambda3 Algorithm 1 runs on
+const int MAXPOLY = 8;          // highest degree of a mode 2/3 polynomial in (x, y)
 const uint RESULT_UNCERTAIN = 65536u;
 
 layout(std430, set = 0, binding = 0) readonly buffer SpaceData {
@@ -140,16 +151,16 @@ void lambda3() {
   for (int k = 0; k + 1 < NG; ++k) gd[k] = b_mul(b_exact(REAL(NG - 1)), b_sub(g[k + 1], g[k]));
   // lambda3_k = [c2' g]_k - 3 [c2 g']_k, each product in Bernstein form.
   int p1 = NC2 - 2, p2 = NG - 1, p3 = NC2 - 1, p4 = NG - 2;  // degrees of c2', g, c2, g'
-  for (int k = 0; k < NL; ++k) {
+  for (int k = 0; k < NLP; ++k) {
     REAL2 x = REAL2(0), y = REAL2(0);
     if (p1 >= 0) {
       for (int i = max(0, k - p2); i <= min(k, p1); ++i)
         x = b_add(x, b_mul(b_exact(binom(p1, i) * binom(p2, k - i)), b_mul(c2d[i], g[k - i])));
-      x = b_div_int(x, binom(NL - 1, k));
+      x = b_div_int(x, binom(NLP - 1, k));
     }
     for (int i = max(0, k - p4); i <= min(k, p3); ++i)
       y = b_add(y, b_mul(b_exact(binom(p3, i) * binom(p4, k - i)), b_mul(c2[i], gd[k - i])));
-    y = b_div_int(y, binom(NL - 1, k));
+    y = b_div_int(y, binom(NLP - 1, k));
     lam[k] = b_sub(x, b_mul(b_exact(REAL(3)), y));
   }
 }
@@ -237,6 +248,15 @@ REAL2 dot3(REAL2 a[3], REAL2 b[3]) { return b_add(b_add(b_mul(a[0], b[0]), b_mul
 
 // sign(kappa_R - kappa_L) of space_region.cpp's jump_sign3: from the legs
 // at the joint, sign(|ar x br|^2 |al|^6 - |al x bl|^2 |ar|^6).
+// The joint rule (space_region.cpp's jump_sign3): both legs certified
+// non-zero, then the certified sign of d; otherwise the host decides.
+uint jump_word(REAL2 gl, REAL2 gr, REAL2 d) {
+  if (b_sign(gl) != 1 || b_sign(gr) != 1) return RESULT_UNCERTAIN;  // zero tangents: the host
+  int s = b_sign(d);
+  if (s == SIGN_UNKNOWN || s == 0) return RESULT_UNCERTAIN;
+  return uint(s + 1);
+}
+
 uint joint_sign(uint left, uint right) {
   load_bezier(left);
   REAL2 al[3], bl[3], xl[3];
@@ -251,7 +271,6 @@ uint joint_sign(uint left, uint right) {
     br[c] = b_sub(B[2][c], B[1][c]);
   }
   REAL2 gl = dot3(al, al), gr = dot3(ar, ar);
-  if (b_sign(gl) != 1 || b_sign(gr) != 1) return RESULT_UNCERTAIN;  // zero tangents: the host
   xl[0] = b_sub(b_mul(al[1], bl[2]), b_mul(al[2], bl[1]));
   xl[1] = b_sub(b_mul(al[2], bl[0]), b_mul(al[0], bl[2]));
   xl[2] = b_sub(b_mul(al[0], bl[1]), b_mul(al[1], bl[0]));
@@ -260,13 +279,57 @@ uint joint_sign(uint left, uint right) {
   xr[2] = b_sub(b_mul(ar[0], br[1]), b_mul(ar[1], br[0]));
   REAL2 a2l = dot3(xl, xl), a2r = dot3(xr, xr);
   REAL2 d = b_sub(b_mul(a2r, b_mul(gl, b_mul(gl, gl))), b_mul(a2l, b_mul(gr, b_mul(gr, gr))));
-  int s = b_sign(d);
-  if (s == SIGN_UNKNOWN || s == 0) return RESULT_UNCERTAIN;
-  return uint(s + 1);
+  return jump_word(gl, gr, d);
+}
+
+// Polynomials in the offsets (x, y) of the moved point (modes 2 and 3).
+REAL2 XP[MAXPOLY + 1], YP[MAXPOLY + 1];
+void plane_powers(REAL2 x, REAL2 y) {
+  XP[0] = b_exact(REAL(1));
+  YP[0] = b_exact(REAL(1));
+  for (int i = 1; i <= MAXPOLY; ++i) {
+    XP[i] = b_mul(XP[i - 1], x);
+    YP[i] = b_mul(YP[i - 1], y);
+  }
+}
+uint poly_terms(int D) { return uint((D + 1) * (D + 2) / 2); }
+// sum_p x^p (sum_q c_pq y^q) from the terms at entry `at`.
+REAL2 plane_poly(uint at, int D) {
+  REAL2 s = REAL2(0);
+  uint t = at;
+  for (int p = 0; p <= D; ++p) {
+    REAL2 inner = REAL2(0);
+    for (int q = 0; p + q <= D; ++q) inner = b_add(inner, b_mul(data[t++], YP[q]));
+    s = b_add(s, b_mul(inner, XP[p]));
+  }
+  return s;
 }
 
 void main() {
   uint col = uint(gl_FragCoord.x), row = uint(gl_FragCoord.y);
+  if (hdr[2] >= 2u) {  // a rational curve: polynomials in (x, y)
+    int D0 = int(hdr[7]);
+    if (D0 > MAXPOLY || int(hdr[8]) > MAXPOLY || int(hdr[9]) > MAXPOLY) {
+      result = RESULT_UNCERTAIN;
+      return;
+    }
+    plane_powers(data[hdr[3] + col], data[hdr[4] + row]);
+    uint at = hdr[6];
+    if (hdr[2] == 2u) {
+      for (int k = 0; k < NL; ++k) {
+        lam[k] = plane_poly(at, D0);
+        at += poly_terms(D0);
+      }
+      result = algorithm1();
+    } else {
+      REAL2 gl = plane_poly(at, D0);
+      at += poly_terms(D0);
+      REAL2 gr = plane_poly(at, int(hdr[8]));
+      at += poly_terms(int(hdr[8]));
+      result = jump_word(gl, gr, plane_poly(at, int(hdr[9])));
+    }
+    return;
+  }
   REAL a = data[hdr[3] + col].x, b = data[hdr[4] + row].x;
   uint pl = hdr[5];
   for (int c = 0; c < 3; ++c)

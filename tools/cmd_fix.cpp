@@ -10,6 +10,7 @@
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
 
 namespace cmr::cli {
 
@@ -101,7 +102,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "fix", "Move the fewest control points the least distance so that the curve meets a requirement (certified)");
   struct Args {
-    std::string file, require = "cmr", points, keep = "g1", out, png, segments;
+    std::string file, require = "cmr", points, keep = "g1", out, png, segments, plane;
     double max_move = 0, tolerance = 1e-6;
     int depth = kDefaultDepth;
     bool pretty = false;
@@ -123,8 +124,20 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth"), 0, kMaxDepth);
   cmd->add_option("--out", args->out, "write the fixed spline here (JSON, atomically)");
   cmd->add_option("--png", args->png, "a before/after picture: the moved point's region, both curves and curvature plots");
+  cmd->add_option("--plane", args->plane,
+                  "space curves: the plane each point moves in, through it (xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ: "
+                  "its U, V); default: the plane of its neighbours' directions");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
+    if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/fix.md, "Space curves")
+      if (!args->segments.empty())
+        throw InputError(args->file + ": a space curve; --segments is for planar splines");
+      run_space_fix({args->file, args->require, args->points, args->keep, args->plane, args->out, args->png,
+                     args->max_move, args->tolerance, args->depth, args->pretty});
+      exit_code = kOk;
+      return;
+    }
+    if (!args->plane.empty()) throw InputError(args->file + ": a planar spline; --plane is for space curves");
     if (!args->out.empty()) check_output_path(args->out, "--out");
     if (!args->png.empty()) check_output_path(args->png, "--png");
     if (!(args->max_move >= 0) || !std::isfinite(args->max_move))

@@ -102,7 +102,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
       if (!args->segments.empty() || (!args->require.empty() && args->require != "cmrwi"))
         throw InputError(space + ": a space curve; its report takes --require cmrwi only, and no --segments");
       exit_code = run_space_report(args->files, args->out, args->depth, true, args->continuity,
-                                   args->require == "cmrwi", args->pretty, args->region_size, !args->no_thumbnails);
+                                   args->require == "cmrwi", args->pretty, !args->no_fixes && !args->no_thumbnails,
+                                   args->region_size, !args->no_thumbnails);
       return;
     }
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file

@@ -140,8 +140,8 @@ void run_space_region(const SpaceRegionArgs& a) {
 }
 
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty, int region_size,
-                     bool thumbnails) {
+                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty, bool fixes,
+                     int region_size, bool thumbnails) {
   validate(continuity);
   report::SpaceReportOptions o;
   o.region_size = region_size;
@@ -150,6 +150,7 @@ int run_space_report(const std::vector<std::string>& files, const std::string& o
   o.torsion = torsion;
   o.continuity = continuity;
   o.require_monotone = require_monotone;
+  o.fixes = fixes;
   std::vector<report::SpaceReport> reports;
   for (const std::string& f : files) reports.push_back(report::space_report(f, o));
   const std::filesystem::path dir = out;

@@ -35,6 +35,18 @@ void run_space_region(const SpaceRegionArgs& args);
 /// control point's region in its default plane, `region_size` pixels a side.
 int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
                      const ContinuityTolerances& continuity, bool require_monotone, bool pretty,
-                     int region_size = 96, bool thumbnails = true);
+                     bool fixes = true, int region_size = 96, bool thumbnails = true);
+
+/// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
+/// the nearest certified move of one point in a plane through it; prints the
+/// JSON and writes --out and --png (all or none). InputError (exit 2) when none
+/// is found.
+struct SpaceFixArgs {
+  std::string file, require = "cmr", points, keep = "g1", plane, out, png;
+  double max_move = 0, tolerance = 1e-6;
+  int depth = kDefaultDepth;
+  bool pretty = false;
+};
+void run_space_fix(const SpaceFixArgs& args);
 
 }  // namespace cmr::cli

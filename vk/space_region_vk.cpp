@@ -1,6 +1,7 @@
 #include "vk/space_region_vk.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -12,6 +13,9 @@ namespace cmr::vk {
 
 namespace {
 
+/// Rational curves: the highest degree the device takes (lambda3 has
+/// 11n - 17 coefficients, each a bivariate quintic).
+constexpr int kMaxRationalDegree = 7;
 constexpr std::uint32_t kHeaderWords = 16;
 constexpr std::uint32_t kUncertain = 65536u;
 
@@ -39,6 +43,39 @@ std::vector<std::byte> pack(int width, int height, std::uint32_t mode, const std
   return out;
 }
 
+/// The storage buffer of a rational run (modes 2 and 3): offsets x per
+/// column, y per row, then the polynomials' terms; hdr[7..9] their degrees.
+std::vector<std::byte> pack_rational(int width, int height, std::uint32_t mode,
+                                     const std::vector<std::array<double, 2>>& x,
+                                     const std::vector<std::array<double, 2>>& y,
+                                     const std::vector<SpaceRegionProblem::PlanePolynomial>& polys) {
+  std::vector<std::array<double, 2>> data;
+  std::uint32_t hdr[kHeaderWords] = {};
+  hdr[0] = static_cast<std::uint32_t>(width);
+  hdr[1] = static_cast<std::uint32_t>(height);
+  hdr[2] = mode;
+  hdr[3] = static_cast<std::uint32_t>(data.size());
+  data.insert(data.end(), x.begin(), x.end());
+  hdr[4] = static_cast<std::uint32_t>(data.size());
+  data.insert(data.end(), y.begin(), y.end());
+  hdr[6] = static_cast<std::uint32_t>(data.size());
+  for (std::size_t k = 0; k < polys.size(); ++k) {
+    if (k < 3) hdr[7 + k] = static_cast<std::uint32_t>(polys[k].degree);
+    data.insert(data.end(), polys[k].terms.begin(), polys[k].terms.end());
+  }
+  std::vector<std::byte> out(sizeof(hdr) + data.size() * sizeof(double) * 2);
+  std::memcpy(out.data(), hdr, sizeof(hdr));
+  std::memcpy(out.data() + sizeof(hdr), data.data(), data.size() * sizeof(double) * 2);
+  return out;
+}
+
+/// v - base with a bound on its rounding (round to nearest: at most
+/// 2^-53 of the exact difference, so below 2^-52 |fl(v - base)|).
+std::array<double, 2> offset(double v, double base) {
+  const double d = v - base;
+  return {d, 0x1p-52 * std::abs(d)};
+}
+
 MonotonicityResult decode_segment(std::uint32_t w) {
   static constexpr Curvature kCodes[] = {Curvature::increasing, Curvature::decreasing, Curvature::non_monotone,
                                          Curvature::undecided, Curvature::constant};
@@ -52,19 +89,20 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   const auto start = std::chrono::steady_clock::now();
   const SpaceRegionRequest& r = problem.request();
   const SpaceSpline& spline = problem.spline();
-  if (spline.is_rational())
+  const bool rational = spline.is_rational();
+  const int max_degree = rational ? kMaxRationalDegree : 7;
+  if (spline.degree() < 2 || spline.degree() > max_degree)
     return Error{Errc::size_unsupported, VK_SUCCESS,
-                 "--backend vulkan: regions of rational space curves run on the CPU backend only (use --backend cpu)"};
-  if (spline.degree() < 2 || spline.degree() > 7)
-    return Error{Errc::size_unsupported, VK_SUCCESS,
-                 "--backend vulkan: space curves of degree 2..7 only (this one has degree " +
-                     std::to_string(spline.degree()) + "; use --backend cpu)"};
+                 std::string("--backend vulkan: ") + (rational ? "rational " : "") + "space curves of degree 2.." +
+                     std::to_string(max_degree) + " only (this one has degree " + std::to_string(spline.degree()) +
+                     "; use --backend cpu)"};
   ContextOptions co;
   co.device_name = options.device;
   co.require_float64 = true;
   auto context = Context::create(co);
   if (!context) return context.error();
-  const std::uint32_t spec[2] = {static_cast<std::uint32_t>(spline.degree()), static_cast<std::uint32_t>(r.max_depth)};
+  const std::uint32_t spec[3] = {static_cast<std::uint32_t>(spline.degree()), static_cast<std::uint32_t>(r.max_depth),
+                                 rational ? 1u : 0u};
   auto pipeline = FragmentPipeline::create(context.value(), std::span<const std::uint32_t>(cmr_space_region_fp64_frag_spv),
                                            static_cast<std::uint32_t>(r.width), static_cast<std::uint32_t>(r.height), 0,
                                            FragmentPipeline::kDefaultBandRows, spec);
@@ -77,13 +115,33 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
 
   // One run per moved segment and per varying joint.
   std::vector<std::vector<std::uint32_t>> seg_words, joint_words;
-  for (const int s : problem.moved_segments()) {
+  const int N = spline.segment_count();
+  if (rational) {
+    // Each part as polynomials in the offsets from the view's centre (the
+    // host's exact derivation, once per render); the device evaluates them.
+    const double a0 = 0.5 * r.view->x0 + 0.5 * r.view->x1, b0 = 0.5 * r.view->y0 + 0.5 * r.view->y1;
+    std::vector<std::array<double, 2>> x, y;
+    for (const double v : a) x.push_back(offset(v, a0));
+    for (const double v : b) y.push_back(offset(v, b0));
+    for (const int s : problem.moved_segments()) {
+      auto words = pipeline.value().run(pack_rational(r.width, r.height, 2, x, y, problem.rational_lambda3(s, a0, b0)));
+      if (!words) return words.error();
+      seg_words.push_back(std::move(words.value()));
+    }
+    for (const int j : problem.moved_joints()) {
+      const auto p = problem.rational_jump(j, a0, b0);
+      const std::vector<SpaceRegionProblem::PlanePolynomial> polys(p.begin(), p.end());
+      auto words = pipeline.value().run(pack_rational(r.width, r.height, 3, x, y, polys));
+      if (!words) return words.error();
+      joint_words.push_back(std::move(words.value()));
+    }
+  }
+  for (const int s : rational ? std::vector<int>{} : problem.moved_segments()) {
     auto words = pipeline.value().run(pack(r.width, r.height, 0, a, b, *r.plane, problem.affine_bezier(s)));
     if (!words) return words.error();
     seg_words.push_back(std::move(words.value()));
   }
-  const int N = spline.segment_count();
-  for (const int j : problem.moved_joints()) {
+  for (const int j : rational ? std::vector<int>{} : problem.moved_joints()) {
     std::vector<std::array<double, 2>> both = problem.affine_bezier(j - 1);
     const std::vector<std::array<double, 2>> right = problem.affine_bezier(j % N);
     both.insert(both.end(), right.begin(), right.end());

@@ -1,8 +1,10 @@
 #pragma once
-// The Vulkan backend of space-curve plane regions (issue 25): for a
-// polynomial space curve, the device judges each moved segment (Algorithm 1
-// on lambda3) and each varying joint's curvature jump per pixel, with
-// certified double-precision arithmetic (shaders/space_region_fp64.frag);
+// The Vulkan backend of space-curve plane regions (issue 25): the device
+// judges each moved segment (Algorithm 1 on lambda3) and each varying
+// joint's curvature jump per pixel, with certified double-precision
+// arithmetic (shaders/space_region_fp64.frag); for a rational curve from
+// polynomials in the plane coordinates that the host derives exactly once
+// per render (SpaceRegionProblem::rational_lambda3 / rational_jump);
 // the host folds the parts with SpaceRegionProblem::compose, and classifies
 // on the CPU (SpaceRegionProblem::classify: error bounds, then exact) every
 // pixel where some part was not certified. So the labels (and depths) equal
@@ -24,7 +26,7 @@ struct SpaceRegionVkOptions {
 /// Renders `problem` on a Vulkan device. Errors: as Context::create
 /// (no_device, device_not_found, loader_missing, missing_feature when no
 /// device has shaderFloat64) and FragmentPipeline::create / run;
-/// size_unsupported for a rational curve or a degree outside 2..7 (the
+/// size_unsupported for a degree outside 2..7, polynomial or rational (the
 /// shader's range: use the CPU backend).
 /// What a render did: pixels the device certified, and those it left to the CPU.
 struct SpaceRegionVkStats {

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "bezierize/analyze.hpp"
+#include "bezierize/space_classify.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr {
@@ -206,6 +207,58 @@ TEST(SpaceRegion, PlanarCurveInItsOwnPlaneGivesThePlanesLabels) {
 
 TEST(RationalSpaceRegion, PlanarRationalCurveInItsOwnPlaneGivesThePlanesLabels) {
   planar_curve_gives_the_planes_labels(BSpline::make(3, kFig8Knots, kFig8, "", kWeights));
+}
+
+// rational_lambda3 (the Vulkan backend's input): each polynomial, at seeded
+// offsets, is the exact lambda3 coefficient of the moved curve within the
+// bound its rounded terms carry, and it has 21 terms (degree 5).
+TEST(RationalSpaceRegion, Lambda3PolynomialsInThePlaneAreTheExactCoefficients) {
+  const SpaceSpline s = fig8_lifted({0, 0.3, 0.8, 1.5, 2.4, 3.5}, {1, 1.5, 0.7, 1.2, 2, 1});
+  SpaceRegionRequest r;
+  r.point = 3;
+  r.plane = SpacePlane{s.points()[3], {1, 0.25, 0}, {0, 1, -0.5}};
+  r.width = r.height = 4;
+  const SpaceRegionProblem p = SpaceRegionProblem::make(s, r);
+  const double a0 = 0.375, b0 = -0.25;
+  std::mt19937_64 rng(31);
+  std::uniform_int_distribution<int> u(-64, 64);
+  ASSERT_EQ(p.moved_segments().size(), 3u);
+  for (const int seg : p.moved_segments()) {
+    const auto polys = p.rational_lambda3(seg, a0, b0);
+    ASSERT_EQ(polys.size(), 11u * 3 - 17) << seg;
+    const SpaceWindow w = space_window(s, s.segments()[static_cast<std::size_t>(seg)]);
+    for (int trial = 0; trial < 4; ++trial) {
+      const Rational x(u(rng), 64), y(u(rng), 64);  // offsets from (a0, b0)
+      const Rational a = Rational(a0) + x, b = Rational(b0) + y;
+      const SpacePlane& pl = *r.plane;
+      const auto c = [&](double o, double du, double dv) {
+        return Rational(Rational(o) + a * Rational(du) + b * Rational(dv));
+      };
+      const Point3<Rational> q{c(pl.origin.x, pl.u.x, pl.v.x), c(pl.origin.y, pl.u.y, pl.v.y),
+                               c(pl.origin.z, pl.u.z, pl.v.z)};
+      std::vector<HPoint3<Rational>> H = space_window_hpoints<Rational>(s, w);
+      for (int i = 0; i <= 3; ++i)
+        if (w.first + i == 3) H[static_cast<std::size_t>(i)] = to_hpoint3<Rational>(q, s.weight(3));
+      const Bernstein<Rational> exact = lambda3_bernstein<Rational>(space_window_bezier<Rational>(w, H));
+      ASSERT_EQ(exact.size(), polys.size());
+      for (std::size_t k = 0; k < exact.size(); ++k) {
+        ASSERT_EQ(polys[k].degree, 5);
+        ASSERT_EQ(polys[k].terms.size(), 21u);
+        Rational v(0), bound(0);
+        std::size_t t = 0;
+        for (int i = 0; i <= 5; ++i)
+          for (int j = 0; i + j <= 5; ++j, ++t) {
+            Rational m(1);
+            for (int e = 0; e < i; ++e) m *= x;
+            for (int e = 0; e < j; ++e) m *= y;
+            v += Rational(polys[k].terms[t][0]) * m;
+            bound += Rational(polys[k].terms[t][1]) * abs(m);
+          }
+        EXPECT_LE(abs(Rational(v - exact[k])), bound) << "segment " << seg << " coefficient " << k;
+        EXPECT_LE(bound, abs(exact[k]) * Rational(1, 1 << 20) + Rational(1, 1 << 30)) << "segment " << seg;
+      }
+    }
+  }
 }
 
 TEST(SpaceRegion, BadPlanesAndRequestsAreInputErrors) {

@@ -67,9 +67,13 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0,1,0,0,2,0,0"),
                         "--plane: U and V are parallel (the plane is degenerate)");
   expect_one_line_error(run("region " + kExample + " --point 3 --plane 0,0,0"), "--plane: 3 numbers given, expected 9");
-  expect_one_line_error(run("region " + std::string(CMR_SOURCE_DIR) +
-                            "/examples/space/fig8b_lifted_rational.json --point 3 --plane xy --backend vulkan"),
-                        "--backend vulkan: regions of rational space curves run on the CPU backend only");
+  expect_one_line_error(
+      run("region " +
+          write("rational8.json", R"({"degree": 8, "knots": [0,0,0,0,0,0,0,0,1,1,1,1,1,1,1,1],
+            "points": [[0,0,0],[1,0.1,0.2],[2,0.4,0.1],[3,0.9,0],[4,1.6,0.3],[5,2.5,0.1],[6,3.6,0],[7,4.9,0.2],[8,6.4,0]],
+            "weights": [1,2,1,1,1,1,1,1,1]})") +
+          " --point 4 --plane xy --backend vulkan"),
+      "--backend vulkan: rational space curves of degree 2..7 only (this one has degree 8; use --backend cpu)");
   expect_one_line_error(run("region " + kExample + " --point 3 --split 1"), "--split is for planar splines");
   expect_one_line_error(run("region " + kExample + " --point 9"), "--point 9 is outside 0..5");
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
@@ -134,6 +138,24 @@ TEST(SpaceCli, RegionOnVulkanWritesTheCpuLabels) {
   EXPECT_EQ(doc["backend"], "vulkan");
   EXPECT_LT(doc["host_pixels"].get<int>(), 32 * 32 / 2);
   EXPECT_EQ(test::slurp(gpu), test::slurp(cpu));
+}
+
+// A rational space curve on --backend vulkan: the same labels and picture.
+TEST(SpaceCli, RegionOfARationalCurveOnVulkanWritesTheCpuLabelsAndPicture) {
+  const std::string file = std::string(CMR_SOURCE_DIR) + "/examples/space/fig8b_lifted_rational.json";
+  const std::string dir = test::scratch().string() + "/space_rational_";
+  const std::string args = "region " + file + " --point 3 --plane xy --view -1.2,-1.2,0.8,0.8 --size 32x32";
+  const test::Outcome c = run(args + " --labels " + dir + "cpu.pgm --png " + dir + "cpu.png --backend cpu");
+  ASSERT_EQ(c.code, 0) << c.err;
+  const test::Outcome g = run(args + " --labels " + dir + "vk.pgm --png " + dir + "vk.png --backend vulkan --stats");
+  ASSERT_EQ(g.code, 0) << g.err;
+  const auto doc = nlohmann::json::parse(g.out);
+  EXPECT_EQ(doc["backend"], "vulkan");
+  EXPECT_LT(doc["host_pixels"].get<int>(), 32 * 32 / 2);
+  EXPECT_GT(doc["counts"]["decreasing"].get<int>(), 20);
+  EXPECT_GT(doc["counts"]["none"].get<int>(), 20);
+  EXPECT_EQ(test::slurp(dir + "vk.pgm"), test::slurp(dir + "cpu.pgm"));
+  EXPECT_EQ(test::slurp(dir + "vk.png"), test::slurp(dir + "cpu.png"));
 }
 
 TEST(SpaceCli, ImportObjWritesSpaceSplinesThatAnalyzeReads) {

@@ -1,0 +1,170 @@
+// `cmr fix FILE` on a space curve (tools/cmd_space.hpp, bezierize/space_fix.hpp,
+// docs/fix.md "Space curves").
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "bezierize/space_fix.hpp"
+#include "draw/draw.hpp"
+#include "io/output.hpp"
+#include "report/space_report.hpp"
+#include "spline/errors.hpp"
+#include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
+
+namespace cmr::cli {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json vec3(const Vec3& p) { return Json::array({p.x, p.y, p.z}); }
+
+std::vector<int> parse_point_list(const std::string& text) {
+  std::vector<int> out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    if (!item.empty() && (item[0] == 'P' || item[0] == 'p')) item = item.substr(1);
+    try {
+      std::size_t used = 0;
+      const int k = std::stoi(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+      out.push_back(k);
+    } catch (const std::exception&) {
+      throw InputError("--points: '" + text + "' is not a list of point indices (K,K2,... or P1,P2,...)");
+    }
+  }
+  return out;
+}
+
+Json plane_json(const SpacePlane& p) { return {{"origin", vec3(p.origin)}, {"u", vec3(p.u)}, {"v", vec3(p.v)}}; }
+
+/// The moved point's region in its plane (the labels `cmr region` draws; a
+/// point's region does not depend on where the point itself is) with the
+/// curve projected onto the plane, before with the move and after; for a
+/// curve that needs no fix, the region of its middle point in its default plane.
+std::string space_fix_png(const SpaceSpline& before, const SpaceFixResult& f, int depth) {
+  SpaceRegionRequest rr;
+  rr.max_depth = depth;
+  rr.width = rr.height = 200;
+  Vec2 shift{0, 0};
+  if (f.moves.empty()) {
+    rr.point = before.unique_point_count() / 2;
+  } else {
+    const SpacePointMove& m = f.moves.front();
+    rr.point = m.point;
+    rr.plane = m.plane;
+    shift = Vec2{glm::dot(m.to - m.from, m.plane.u), glm::dot(m.to - m.from, m.plane.v)};
+    const double h = std::max(4 * m.distance, f.size / 20);
+    rr.view = View{-h, -h, h, h};
+  }
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(before, rr);
+  const SpacePlane& plane = *problem.request().plane;
+  const RegionResult image = problem.render();
+  const BSpline seen_before = project_to_plane(before, plane), seen_after = project_to_plane(*f.spline, plane);
+  draw::RegionPicture pb, pa;
+  pb.spline = &seen_before, pb.layers = {&image}, pb.points = {rr.point};
+  pa.spline = &seen_after, pa.layers = {&image}, pa.points = {rr.point};
+  if (!f.moves.empty()) pb.moved = std::make_pair(Vec2{0, 0}, shift);
+  draw::Figure fig;
+  const std::string name = std::string("P").append(std::to_string(rr.point));
+  fig.title = "cmr fix (space curve): " + name + "'s region in its plane";
+  fig.rows = {{draw::Panel{pb, "before: the region and the move"},
+               draw::Panel{pa, std::string("after: analyze_space says ") + to_string(f.certificate.curvature)}}};
+  fig.legend = draw::legend_for(pb);
+  std::string caption = "nothing to move: the curve meets the requirement";
+  if (!f.moves.empty()) {
+    caption = "moved " + name;
+    caption.append(" by ").append(std::to_string(f.max_distance)).append(" (");
+    caption.append(std::to_string(f.max_distance / f.size * 100)).append("% of the curve size)");
+  }
+  fig.caption = caption;
+  return draw::figure_png(fig);
+}
+
+}  // namespace
+
+void run_space_fix(const SpaceFixArgs& args) {
+  if (!args.out.empty()) check_output_path(args.out, "--out");
+  if (!args.png.empty()) check_output_path(args.png, "--png");
+  if (args.require != "cmr" && args.require != "cmrwi")
+    throw InputError(args.file + ": a space curve; its fix takes --require cmr (|kappa| monotone, no zero curvature) "
+                                 "or cmrwi (|kappa| monotone), not '" +
+                     args.require + "'");
+  SpaceFixRequest request;
+  request.no_zero_curvature = args.require == "cmr";
+  if (!args.points.empty()) request.points = parse_point_list(args.points);
+  request.plane_text = args.plane;
+  request.keep = args.keep == "g2" ? Keep::g2 : args.keep == "none" ? Keep::none : Keep::g1;
+  request.max_move = args.max_move;
+  request.tolerance = args.tolerance;
+  request.max_depth = args.depth;
+  const SpaceSpline spline = read_space_spline_file(args.file);
+  const SpaceFixResult f = space_fix(spline, request);
+  if (!f.fixed) throw InputError(args.file + ": " + f.reason);
+  Json moves = Json::array();
+  for (const SpacePointMove& m : f.moves)
+    moves.push_back({{"point", m.point},
+                     {"from", vec3(m.from)},
+                     {"to", vec3(m.to)},
+                     {"displacement", vec3(m.to - m.from)},
+                     {"distance", m.distance},
+                     {"relative", m.distance / f.size},
+                     {"plane", plane_json(m.plane)}});
+  Json units = Json::array();
+  for (const SpaceUnitFix& u : f.units) {
+    Json ju = {{"point", u.point}, {"found", u.found}};
+    if (u.plane) ju["plane"] = plane_json(*u.plane);
+    if (u.found)
+      ju["displacement"] = vec3(u.displacement), ju["distance"] = u.distance;
+    else
+      ju["reason"] = u.reason;
+    units.push_back(ju);
+  }
+  Json certificate = {{"requirement", args.require},
+                      {"holds", f.certificate_holds},
+                      {"ties", f.ties_hold},
+                      {"spline", report::space_verdict_json(f.certificate)}};
+  Json joints = Json::array();
+  std::vector<SpaceJoint> all = f.certificate.joints;
+  if (f.certificate.seam) all.push_back(*f.certificate.seam);
+  for (const SpaceJoint& jt : all) {
+    const std::string continuity = std::string("C").append(std::to_string(jt.continuity));
+    joints.push_back({{"index", jt.index}, {"continuity", continuity}, {"g1", jt.g1}, {"g2", jt.g2}});
+  }
+  certificate["joints"] = joints;
+  Json doc = {{"file", args.file},
+              {"dimension", 3},
+              {"require", args.require},
+              {"keep", to_string(request.keep)},
+              {"already", f.already},
+              {"fixed", f.fixed},
+              {"moves", moves},
+              {"total_squared", f.total_squared},
+              {"max_distance", f.max_distance},
+              {"size", f.size},
+              {"tolerance", request.tolerance * f.size},
+              {"failing_segments", f.failing_segments},
+              {"joint_conflicts", f.joint_conflicts},
+              {"tie_joints", f.tie_joints},
+              {"units", units},
+              {"certificate", certificate},
+              {"evaluations", f.evaluations},
+              {"seconds", f.seconds}};
+  OutputSet outputs;  // all or none (io/output.hpp)
+  if (!args.out.empty()) {
+    outputs.stage(args.out, space_spline_to_json(*f.spline).dump(2) + "\n");
+    doc["out"] = args.out;
+  }
+  if (!args.png.empty()) {
+    outputs.stage(args.png, space_fix_png(spline, f, args.depth));
+    doc["png"] = args.png;
+  }
+  outputs.commit();
+  print_json(doc, args.pretty);
+}
+
+}  // namespace cmr::cli
