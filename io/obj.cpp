@@ -70,13 +70,13 @@ SpaceSpline build(const Curve& c, const std::vector<Vertex>& vs, const std::stri
     pts.push_back(v.p);
     if (!c.rational) continue;  // w of a non-rational curve's vertices is ignored (the spec)
     const std::string which = "vertex " + std::to_string(i + 1) + " (line " + std::to_string(v.line) + ")";
-    if (!v.w) throw InputError(at + ": curv: " + which + " has no weight: a rat curve needs 'v x y z w'");
-    if (!(*v.w > 0)) {
+    const double weight = v.w.value_or(1.0);  // the spec: a vertex's w defaults to 1.0
+    if (!(weight > 0)) {
       std::ostringstream o;
-      o << at << ": curv: " << which << " has weight " << *v.w << ": rational curves need positive weights";
+      o << at << ": curv: " << which << " has weight " << weight << ": rational curves need positive weights";
       throw InputError(o.str());
     }
-    w.push_back(*v.w);
+    w.push_back(weight);
   }
   // Equal weights are the polynomial curve: written without weights, as before.
   if (std::all_of(w.begin(), w.end(), [&](double x) { return x == w.front(); })) w.clear();

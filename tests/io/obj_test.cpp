@@ -120,6 +120,18 @@ void expect_error(const std::string& body, const std::string& want) {
   }
 }
 
+// The spec: a vertex's w defaults to 1.0, also for the vertices of a rat curve.
+TEST(ObjCurves, RatVertexWithoutWHasWeightOne) {
+  const auto curves = parse_obj_curves(
+      "v 3 3 3\nv 4 3 3 2\nv 5 4 3 1\ncstype rat bspline\ndeg 2\ncurv 0 1 1 2 3\nparm u 0 0 0 1 1 1\nend\n", "t.obj");
+  ASSERT_EQ(curves.size(), 1u);
+  EXPECT_EQ(curves[0].spline.weights(), (std::vector<double>{1, 2, 1}));
+  const auto equal = parse_obj_curves(
+      "v 3 3 3\nv 4 3 3\nv 5 4 3 1\ncstype rat bspline\ndeg 2\ncurv 0 1 1 2 3\nparm u 0 0 0 1 1 1\nend\n", "t.obj");
+  ASSERT_EQ(equal.size(), 1u);
+  EXPECT_TRUE(equal[0].spline.weights().empty()) << "weights 1, 1, 1 are the polynomial curve";
+}
+
 TEST(ObjCurves, BadInputNamesFileAndLine) {
   expect_error("", "t.obj: no curves (cstype/curv or l elements)");
   expect_error("cstype bspline\ndeg 3\ncurv 0 3 1 2 3 4 5 9\nparm u 0 0 0 0 1 2 3 3 3 3\nend\n",
@@ -130,15 +142,11 @@ TEST(ObjCurves, BadInputNamesFileAndLine) {
                "t.obj:10: curv: the range [0, 2] is not the curve's domain [0, 3] (trimmed curves are not supported)");
   expect_error("cstype rat bspline\ndeg 2\ncurv 0 1 1 2 7\nparm u 0 0 0 1 1 1\nend\nv 0 0 0\n",
                "t.obj:10: curv: vertex 7 is outside 1..6 (or -1..-6)");
-  // rat curves: every vertex needs a positive w (the error names the curv line and the vertex's line)
-  expect_error("v 3 3 3 2\ncstype rat bspline\ndeg 2\ncurv 0 1 1 2 7\nparm u 0 0 0 1 1 1\nend\n",
-               "t.obj:11: curv: vertex 1 (line 2) has no weight: a rat curve needs 'v x y z w'");
+  // rat curves: every vertex's w must be positive (the error names the curv line and the vertex's line)
   expect_error("v 3 3 3 2\nv 4 3 3 0\nv 5 3 3 1\ncstype rat bspline\ndeg 2\ncurv 0 1 7 8 9\nparm u 0 0 0 1 1 1\nend\n",
                "t.obj:13: curv: vertex 8 (line 9) has weight 0: rational curves need positive weights");
   expect_error("v 3 3 3 2\nv 4 3 3 -0.5\nv 5 3 3 1\ncstype rat bezier\ndeg 2\ncurv 0 1 7 8 9\nend\n",
                "t.obj:13: curv: vertex 8 (line 9) has weight -0.5: rational curves need positive weights");
-  expect_error("v 3 3 3\nv 4 3 3 2\nv 5 3 3 1\ncstype rat bspline\ndeg 2\ncurv 0 1 7 8 9\nparm u 0 0 0 1 1 1\nend\n",
-               "t.obj:13: curv: vertex 7 (line 8) has no weight: a rat curve needs 'v x y z w'");
   expect_error("cstype taylor\n", "t.obj:8: cstype taylor: only bspline and bezier curves are read (not taylor)");
   expect_error("l 1 2\n", "t.obj:8: l: a polyline needs at least 3 vertices to be a control polygon (got 2)");
   expect_error("v 1 x 2\n", "t.obj:8: v: 'x' is not a finite number");
