@@ -348,7 +348,8 @@ class Writer {
           names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c]};
     }
     std::vector<std::vector<Finding>> item_findings(w.reports.size());
-    std::string text;  // the file's objects, written at once
+    std::string& text = text_;  // the file's objects, written at once
+    text.clear();                // (one buffer for the run: its pages are not faulted in again per file)
     for (std::size_t i = 0; i < w.reports.size(); ++i) {
       const SplineReport& r = w.reports[i];
       if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
@@ -509,6 +510,8 @@ class Writer {
   }
 
  private:
+  std::string text_;  // consume's report.json text of one file
+
   std::string dump(const Json& j) const {
     return j.dump(options_.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace);
   }
