@@ -397,8 +397,13 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
       const bool e = fast(eta_b, span.eta_zero, start.eta, span.inflections);
       // eta certainly the zero polynomial (a straight segment): so is
       // lambda = eta' g - (3/2) eta g', whatever bounds its doubles carry.
-      const bool l = e && span.eta_zero ? (span.lambda_zero = true, start.lambda = 0, true)
-                                        : fast(lambda_b, span.lambda_zero, start.lambda, span.extrema);
+      bool l = true;
+      if (e && span.eta_zero) {
+        span.lambda_zero = true;
+        start.lambda = 0;
+      } else {
+        l = fast(lambda_b, span.lambda_zero, start.lambda, span.extrema);
+      }
       if (!l) {
         const Bernstein<Rational> lambda = lambda_exact();
         span.lambda_zero = is_zero(lambda);
