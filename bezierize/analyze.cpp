@@ -67,6 +67,11 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
     HPoint<T> h[3];
     for (int k = 0; k < 3; ++k) h[k] = blossom_span(w.knots, H, d, w.span, args(k).data());
     out = end_terms<T>(h[0], h[1], h[2]);
+  } else if (std::is_same_v<T, Rational> && d >= 2 && bezier_window(spline, s)) {
+    // A Bezier window (extract.hpp): the k-th Bezier point from the end is
+    // control point k (side 0) or d-k (side 1), exactly.
+    const auto& P = w.points;
+    out = side == 0 ? end_terms<T>(P[0], P[1], P[2]) : end_terms<T>(P[d], P[d - 1], P[d - 2]);
   } else {
     Point<T> q[3];
     for (int k = 0; k < 3; ++k) q[k] = blossom_span(w.knots, w.points, d, w.span, args(k).data());

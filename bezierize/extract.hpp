@@ -2,8 +2,10 @@
 // Bezier form of B-spline segments, by blossoming (the primary route) and by
 // repeated Boehm knot insertion (an independent route the tests compare with),
 // and the affine influence of a control point on those Bezier points.
+#include <type_traits>
 #include <vector>
 
+#include "bezierize/exact.hpp"
 #include "spline/blossom.hpp"
 #include "spline/bspline.hpp"
 
@@ -53,10 +55,26 @@ SegmentWindow<T> segment_window(const BSpline& spline, const Segment& s) {
   return w;
 }
 
+/// True when segment s = [a, b]'s window has knots a^d b^d (both ends of
+/// multiplicity d, as every piece of a chain of Bezier pieces: fonts, SVG).
+/// Then control point k of the window is the blossom at (a^{d-k}, b^k), the
+/// k-th Bezier point, exactly: blossoming computes the same points.
+inline bool bezier_window(const BSpline& spline, const Segment& s) {
+  const int d = spline.degree(), first = s.span - d + 1;
+  const std::vector<double>& u = spline.knots();
+  for (int i = 0; i < d; ++i)
+    if (u[first + i] != s.a || u[s.span + 1 + i] != s.b) return false;
+  return true;
+}
+
 /// Bezier points of segment s in scalar type T (exactly for T = Rational).
 template <class T>
 std::vector<Point<T>> segment_bezier_points(const BSpline& spline, const Segment& s) {
   const SegmentWindow<T> w = segment_window<T>(spline, s);
+  // Exact: a Bezier window's control points are its Bezier points (the
+  // rational blossom, d(d+1)/2 GMP affine steps per point, is skipped).
+  if constexpr (std::is_same_v<T, Rational>)
+    if (bezier_window(spline, s)) return w.points;
   return bezier_points(w.knots, w.points, spline.degree(), w.span, T(s.a), T(s.b));
 }
 

@@ -18,6 +18,7 @@
 #include "io/output.hpp"
 #include "io/svg.hpp"
 #include "report/baseline.hpp"
+#include "report/json_stream.hpp"
 #include "report/junit.hpp"
 #include "report/sarif.hpp"
 #include "report/batch.hpp"
@@ -338,9 +339,8 @@ class Writer {
     rec.kind = w.kind;
     rec.seconds = w.seconds;
     rec.title = w.font ? w.font->family + " " + w.font->style : w.path;
-    // The file's spline objects, ids numbered across the run.
-    Json doc = report_json(w.reports, options_.report);
-    Json splines = std::move(doc["splines"]);  // moved, not copied: a font's splines are large
+    // The file's spline objects, ids numbered across the run, streamed as text
+    // (report/json_stream.hpp: the same bytes as the tree, without building one).
     std::vector<ItemNames> names(w.reports.size());
     if (w.font) {
       for (const auto& g : w.font->glyphs)
@@ -348,31 +348,28 @@ class Writer {
           names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c]};
     }
     std::vector<std::vector<Finding>> item_findings(w.reports.size());
+    std::string& text = text_;  // the file's objects, written at once
+    text.clear();                // (one buffer for the run: its pages are not faulted in again per file)
     for (std::size_t i = 0; i < w.reports.size(); ++i) {
       const SplineReport& r = w.reports[i];
       if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
       if (w.font && names[i].glyph.empty()) names[i].glyph = r.name;  // an unreadable font: its one invalid item
       item_findings[i] = findings_of(r, w.path, names[i], options_.report);
-      Json& j = splines[i];
-      j["id"] = "s" + std::to_string(first_ + static_cast<int>(i));
-      j["source"] = w.path;
-      j["glyph"] = names[i].glyph;
-      j["contour"] = names[i].contour;
-      if (names[i].points && j.contains("certified_fixes")) {  // the font's point names
-        j["certified_fixes"] = Json::array();
-        for (const CertifiedFix& f : r.certified_fixes) j["certified_fixes"].push_back(certified_fix_json(f, names[i].points));
-      }
-      if (r.error.empty()) {
-        Json fj = Json::array();
-        for (const Finding& f : item_findings[i])
-          fj.push_back({{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}});
-        j["findings"] = fj;
-      }
-      json_.write(std::string(first_ + i == 0 ? "" : ",") + (options_.pretty ? "\n" : "") + dump(j));
+      SplineJsonExtras extras;
+      extras.source = &w.path;
+      extras.glyph = names[i].glyph;
+      extras.contour = names[i].contour;
+      extras.point_names = names[i].points;
+      extras.findings = &item_findings[i];
+      if (first_ + i != 0) text += ',';
+      if (options_.pretty) text += '\n';
+      JsonStream stream(text, options_.pretty ? 2 : -1);
+      write_spline_json(stream, r, first_ + static_cast<int>(i), extras);
       ++rec.items;
       (!r.error.empty() ? rec.items_invalid : (r.pass ? rec.items_pass : rec.items_fail))++;
       if (!r.error.empty()) summary_.invalid_messages.push_back(r.error);
     }
+    json_.write(text);
     // Cases: one per glyph of a font, else one per spline.
     if (w.font) {
       FontRow row;
@@ -513,6 +510,8 @@ class Writer {
   }
 
  private:
+  std::string text_;  // consume's report.json text of one file
+
   std::string dump(const Json& j) const {
     return j.dump(options_.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace);
   }

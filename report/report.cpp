@@ -394,8 +394,16 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
         out = fast_span_roots(*r, s, B, kappa_at);
         return true;
       };
-      const bool l = fast(lambda_b, span.lambda_zero, start.lambda, span.extrema);
       const bool e = fast(eta_b, span.eta_zero, start.eta, span.inflections);
+      // eta certainly the zero polynomial (a straight segment): so is
+      // lambda = eta' g - (3/2) eta g', whatever bounds its doubles carry.
+      bool l = true;
+      if (e && span.eta_zero) {
+        span.lambda_zero = true;
+        start.lambda = 0;
+      } else {
+        l = fast(lambda_b, span.lambda_zero, start.lambda, span.extrema);
+      }
       if (!l) {
         const Bernstein<Rational> lambda = lambda_exact();
         span.lambda_zero = is_zero(lambda);
