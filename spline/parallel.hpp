@@ -2,6 +2,8 @@
 /// One thread pool primitive for the whole project: run independent jobs on
 /// several threads and carry the first exception back to the caller (a worker
 /// that throws must not end in std::terminate).
+#include <sched.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -12,10 +14,18 @@
 
 namespace cmr {
 
-/// The number of worker threads to use for `threads` (0: every hardware thread).
-inline int thread_count(int threads) {
-  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+/// The cores this thread may run on: its CPU affinity (taskset, a container's
+/// cpuset, a CI runner's limit), which std::thread::hardware_concurrency
+/// ignores; every online core where the affinity cannot be read.
+inline int available_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
+
+/// The number of worker threads to use for `threads` (0: every available core).
+inline int thread_count(int threads) { return threads > 0 ? threads : available_cores(); }
 
 /// Calls job(i) for every i in [0, count), on up to thread_count(threads)
 /// threads including the caller's; jobs are handed out in increasing order.

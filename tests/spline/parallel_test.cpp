@@ -34,5 +34,23 @@ TEST(ParallelFor, CarriesAWorkersExceptionToTheCaller) {
   }
 }
 
+// "Every core" means the cores the process may use (taskset, a cpuset), not
+// every core of the machine: limited to one core, the pool has one thread.
+TEST(ThreadCount, FollowsTheCpuAffinity) {
+  cpu_set_t before;
+  ASSERT_EQ(sched_getaffinity(0, sizeof before, &before), 0);
+  EXPECT_EQ(thread_count(0), CPU_COUNT(&before));
+  EXPECT_EQ(thread_count(3), 3);
+  int first = 0;
+  while (!CPU_ISSET(first, &before)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const int limited = thread_count(0);
+  ASSERT_EQ(sched_setaffinity(0, sizeof before, &before), 0);
+  EXPECT_EQ(limited, 1);
+}
+
 }  // namespace
 }  // namespace cmr
