@@ -14,8 +14,10 @@ namespace cmr::vk {
 namespace {
 
 /// Rational curves: the highest degree the device takes (lambda3 has
-/// 11n - 17 coefficients, each a bivariate quintic).
-constexpr int kMaxRationalDegree = 7;
+/// 11n - 17 coefficients, each a bivariate quintic). Degree 7 ran on lavapipe
+/// but NVIDIA's driver (580, H200) rejected its pipeline
+/// (vkCreateGraphicsPipelines: VK_ERROR_UNKNOWN); 2..6 ran on both.
+constexpr int kMaxRationalDegree = 6;
 constexpr std::uint32_t kHeaderWords = 16;
 constexpr std::uint32_t kUncertain = 65536u;
 

@@ -26,8 +26,8 @@ struct SpaceRegionVkOptions {
 /// Renders `problem` on a Vulkan device. Errors: as Context::create
 /// (no_device, device_not_found, loader_missing, missing_feature when no
 /// device has shaderFloat64) and FragmentPipeline::create / run;
-/// size_unsupported for a degree outside 2..7, polynomial or rational (the
-/// shader's range: use the CPU backend).
+/// size_unsupported for a degree outside 2..7 (polynomial) or 2..6
+/// (rational): the shader's range; use the CPU backend.
 /// What a render did: pixels the device certified, and those it left to the CPU.
 struct SpaceRegionVkStats {
   std::size_t device_pixels = 0, host_pixels = 0;

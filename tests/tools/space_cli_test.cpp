@@ -73,7 +73,7 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
             "points": [[0,0,0],[1,0.1,0.2],[2,0.4,0.1],[3,0.9,0],[4,1.6,0.3],[5,2.5,0.1],[6,3.6,0],[7,4.9,0.2],[8,6.4,0]],
             "weights": [1,2,1,1,1,1,1,1,1]})") +
           " --point 4 --plane xy --backend vulkan"),
-      "--backend vulkan: rational space curves of degree 2..7 only (this one has degree 8; use --backend cpu)");
+      "--backend vulkan: rational space curves of degree 2..6 only (this one has degree 8; use --backend cpu)");
   expect_one_line_error(run("region " + kExample + " --point 3 --split 1"), "--split is for planar splines");
   expect_one_line_error(run("region " + kExample + " --point 9"), "--point 9 is outside 0..5");
   expect_one_line_error(run("region " + kExample + " --point all"), "'all' is for planar splines");
