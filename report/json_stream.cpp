@@ -152,23 +152,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// The same words as report.cpp's tree writer (spline_json).
-const char* status_of(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
-
-const char* extremum_kind(int sign_before, int sign_after) {
-  if (sign_before == sign_after) return "touch";
-  return sign_before > 0 ? "maximum" : "minimum";
-}
-
-const char* at_name(SpanRoot::At at) {
-  switch (at) {
-    case SpanRoot::At::interior: return "interior";
-    case SpanRoot::At::start: return "start";
-    case SpanRoot::At::end: return "end";
-  }
-  return "?";
-}
-
 void write_root(JsonStream& o, const SpanRoot& r, bool extremum) {
   o.begin_object();
   o.member("t", r.t);
@@ -180,12 +163,12 @@ void write_root(JsonStream& o, const SpanRoot& r, bool extremum) {
   o.member("exact", r.exact);
   o.member("multiplicity", r.multiplicity);
   if (extremum) {
-    o.member("kind", extremum_kind(r.sign_before, r.sign_after));
+    o.member("kind", root_kind_word(r.sign_before, r.sign_after));
     o.member("kappa", r.kappa);
   } else {
     o.member("kind", r.sign_before == r.sign_after ? "touch" : "sign change");
   }
-  o.member("at", at_name(r.at));
+  o.member("at", root_at_word(r.at));
   o.end_object();
 }
 
@@ -324,7 +307,7 @@ void write_spline_json(JsonStream& o, const SplineReport& r, int index, const Sp
   o.member("id", id);
   o.member("file", r.file);
   o.member("name", r.name);
-  o.member("status", status_of(r));
+  o.member("status", status_word(r));
   if (!r.error.empty()) {
     o.member("error", r.error);
     write_batch_tail(o, r, x);

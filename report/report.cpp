@@ -665,18 +665,14 @@ int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& opt
 
 // ---------------------------------------------------------------- JSON
 
-namespace {
+const char* status_word(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
 
-using Json = nlohmann::ordered_json;
-
-const char* status_of(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
-
-const char* extremum_kind(int sign_before, int sign_after) {
+const char* root_kind_word(int sign_before, int sign_after) {
   if (sign_before == sign_after) return "touch";
   return sign_before > 0 ? "maximum" : "minimum";  // lambda + to -: kappa rises, then falls
 }
 
-const char* at_name(SpanRoot::At at) {
+const char* root_at_word(SpanRoot::At at) {
   switch (at) {
     case SpanRoot::At::interior: return "interior";
     case SpanRoot::At::start: return "start";
@@ -685,15 +681,19 @@ const char* at_name(SpanRoot::At at) {
   return "?";
 }
 
+namespace {
+
+using Json = nlohmann::ordered_json;
+
 Json root_json(const SpanRoot& r, bool extremum) {
   Json j{{"t", r.t}, {"enclosure", {r.t_lo, r.t_hi}}, {"exact", r.exact}, {"multiplicity", r.multiplicity}};
   if (extremum) {
-    j["kind"] = extremum_kind(r.sign_before, r.sign_after);
+    j["kind"] = root_kind_word(r.sign_before, r.sign_after);
     j["kappa"] = r.kappa;
   } else {
     j["kind"] = r.sign_before == r.sign_after ? "touch" : "sign change";
   }
-  j["at"] = at_name(r.at);
+  j["at"] = root_at_word(r.at);
   return j;
 }
 
@@ -779,7 +779,7 @@ std::string verdict_label(const SplineReport& r, Direction d) { return straight_
 namespace {
 
 Json spline_json(const SplineReport& r, int index) {
-  Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_of(r)}};
+  Json j{{"id", "s" + std::to_string(index)}, {"file", r.file}, {"name", r.name}, {"status", status_word(r)}};
   if (!r.error.empty()) {
     j["error"] = r.error;
     return j;
@@ -1094,7 +1094,7 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
 }
 
 std::string badge(const SplineReport& r) {
-  const std::string st = status_of(r);
+  const std::string st = status_word(r);
   std::string label = st;
   std::transform(label.begin(), label.end(), label.begin(), [](unsigned char ch) { return std::toupper(ch); });
   return "<span class=\"badge " + st + "\">" + label + "</span>";
@@ -1104,7 +1104,7 @@ std::string roots_cell(const std::vector<SpanRoot>& roots, bool extremum) {
   std::string out;
   for (const SpanRoot& x : roots) {
     if (!out.empty()) out += "<br>";
-    const std::string kind = extremum ? extremum_kind(x.sign_before, x.sign_after)
+    const std::string kind = extremum ? root_kind_word(x.sign_before, x.sign_after)
                                       : (x.sign_before != x.sign_after ? "sign change" : "touch");
     out += num(x.t) + (x.exact ? " (exact) " : " ") + kind;
     if (x.multiplicity > 1) out += " ×" + std::to_string(x.multiplicity);

@@ -212,6 +212,15 @@ void find_fixes(SplineReport& report, const ReportOptions& options);
 /// 2 when an input is invalid (kExitPass, kExitFail, kExitInvalid).
 int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& options);
 
+/// The words report.json writes: a spline's status ("pass", "fail",
+/// "invalid"), a root of λ's kind ("maximum", "minimum", "touch", from the
+/// signs of λ around it) and where in its span it lies ("interior", "start",
+/// "end"). One definition for the tree writer (report_json) and the
+/// streamed one (report/json_stream.hpp), which must write the same bytes.
+const char* status_word(const SplineReport& r);
+const char* root_kind_word(int sign_before, int sign_after);
+const char* root_at_word(SpanRoot::At at);
+
 /// The report as a cmr-report/2 document (docs/report-schema.md).
 nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
 /// One self-contained page: no network, pictures inline (SVG, data: URIs).

@@ -166,6 +166,26 @@ void check_total_pixels(long long images, int width, int height, const std::stri
                    " pixels (2^28) per run (fewer " + what + " or a smaller --size)");
 }
 
+std::vector<int> parse_point_list(const std::string& text) {
+  std::vector<int> out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    if (!item.empty() && (item[0] == 'P' || item[0] == 'p')) item = item.substr(1);
+    try {
+      std::size_t used = 0;
+      const int k = std::stoi(item, &used);
+      if (used != item.size()) throw std::invalid_argument(item);
+      out.push_back(k);
+    } catch (const std::exception&) {
+      throw InputError("--points: '" + text + "' is not a list of point indices (K,K2,... or P1,P2,...)");
+    }
+  }
+  return out;
+}
+
 View parse_view(const std::string& text) {
   std::vector<double> v;
   std::istringstream in(text);

@@ -95,6 +95,9 @@ std::pair<int, int> parse_size(const std::string& text);
 void check_total_pixels(long long images, int width, int height, const std::string& what);
 /// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
 View parse_view(const std::string& text);
+/// --points K,K2,... or P1,P2,... (cmr fix, planar and space): the indices, as
+/// written (InputError for anything else; the caller checks the range).
+std::vector<int> parse_point_list(const std::string& text);
 
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);

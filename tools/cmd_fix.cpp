@@ -39,26 +39,6 @@ Json certificate_json(const FixResult& f, const FixRequirement& req) {
   return j;
 }
 
-std::vector<int> parse_points(const std::string& text) {
-  std::vector<int> out;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = text.find(',', pos);
-    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
-    if (!item.empty() && (item[0] == 'P' || item[0] == 'p')) item = item.substr(1);
-    try {
-      std::size_t used = 0;
-      const int k = std::stoi(item, &used);
-      if (used != item.size()) throw std::invalid_argument(item);
-      out.push_back(k);
-    } catch (const std::exception&) {
-      throw InputError("--points: '" + text + "' is not a list of point indices (K,K2,... or P1,P2,...)");
-    }
-  }
-  return out;
-}
-
 /// Before and after: the first moved point's region (its unit's group
 /// moving with it, the requirement's labels) on the original curve with the
 /// move drawn, the fixed curve, and both curvature plots.
@@ -145,7 +125,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     FixRequest request;
     request.requirement = parse_fix_requirement(args->require);
     if (!args->segments.empty()) request.requirement.segments = parse_segment_range(args->segments);
-    if (!args->points.empty()) request.points = parse_points(args->points);
+    if (!args->points.empty()) request.points = parse_point_list(args->points);
     request.together = request.points.size() > 1;
     request.keep = args->keep == "g2" ? Keep::g2 : args->keep == "none" ? Keep::none : Keep::g1;
     request.max_move = args->max_move;

@@ -20,25 +20,6 @@ using Json = nlohmann::ordered_json;
 
 Json vec3(const Vec3& p) { return Json::array({p.x, p.y, p.z}); }
 
-std::vector<int> parse_point_list(const std::string& text) {
-  std::vector<int> out;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = text.find(',', pos);
-    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
-    if (!item.empty() && (item[0] == 'P' || item[0] == 'p')) item = item.substr(1);
-    try {
-      std::size_t used = 0;
-      const int k = std::stoi(item, &used);
-      if (used != item.size()) throw std::invalid_argument(item);
-      out.push_back(k);
-    } catch (const std::exception&) {
-      throw InputError("--points: '" + text + "' is not a list of point indices (K,K2,... or P1,P2,...)");
-    }
-  }
-  return out;
-}
 
 Json plane_json(const SpacePlane& p) { return {{"origin", vec3(p.origin)}, {"u", vec3(p.u)}, {"v", vec3(p.v)}}; }
 
