@@ -72,7 +72,11 @@ for v in ASAN_OPTIONS UBSAN_OPTIONS; do
   [[ -n ${!v:-} ]] && sanitizer_env+=("$v=${!v}")
 done
 if [[ -n ${LSAN_OPTIONS:-} ]]; then
-  supp=$(sed -n 's/.*suppressions=\([^:]*\).*/\1/p' <<<"$LSAN_OPTIONS")
+  supp=""  # the suppressions= option (not print_suppressions=)
+  IFS=: read -ra lsan_parts <<<"$LSAN_OPTIONS"
+  for part in "${lsan_parts[@]}"; do
+    if [[ $part == suppressions=* ]]; then supp=${part#suppressions=}; fi
+  done
   if [[ -n $supp && -f $supp ]]; then
     cp "$supp" "$tmp/lsan.supp"
     sanitizer_env+=("LSAN_OPTIONS=${LSAN_OPTIONS//"$supp"/$tmp/lsan.supp}")
