@@ -12,7 +12,10 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <ostream>
+#include <stdexcept>
+#include <string_view>
 
 #include "io/font.hpp"
 #include "io/output.hpp"
@@ -282,6 +285,19 @@ struct FontRow {
 };
 constexpr std::size_t kWorst = 8;
 
+/// A processed file with the outputs that need no numbering (Writer::prepare).
+struct PreparedFile {
+  FileWork work;  ///< a spline or SVG file keeps its reports: its page sections are numbered
+  FileRecord rec;
+  std::string json;  ///< its spline objects back to back, each with the id "s0"
+  std::vector<std::pair<std::size_t, std::size_t>> objects;  ///< per object: its start, the offset of its id's 0
+  std::vector<std::string> invalid_messages;
+  std::optional<FontRow> font_row;  ///< a font: its summary row (page name set by write)
+  std::string font_page;            ///< a font: its page
+  std::vector<std::string> sarif;   ///< results in case order, without a baseline state
+  std::string junit;                ///< its suite, with the id 0
+};
+
 const char* status_class(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
 
 std::string badge_html(const char* status) {
@@ -305,7 +321,8 @@ std::string host_name() {
   return buf;
 }
 
-/// Writes a run's outputs as its files finish, in file order.
+/// Writes a run's outputs as its files finish, in file order (prepare in
+/// the processing threads, write in one thread at a time).
 class Writer {
  public:
   Writer(const BatchOptions& options, std::size_t files, std::size_t fonts)
@@ -333,23 +350,27 @@ class Writer {
 
   int items() const { return summary_.items; }
 
-  void consume(FileWork& w) {
-    FileRecord rec;
+  /// The part of a file's outputs that does not depend on the files before
+  /// it: its spline objects' JSON text (ids numbered later), findings, cases,
+  /// its font page, its SARIF results and JUnit suite. Reads only what the
+  /// constructor set, so the threads that process files call it in parallel
+  /// and the one writing thread (write) only numbers, counts and writes.
+  PreparedFile prepare(FileWork&& w) const {
+    PreparedFile p;
+    FileRecord& rec = p.rec;
     rec.path = w.path;
     rec.kind = w.kind;
     rec.seconds = w.seconds;
     rec.title = w.font ? w.font->family + " " + w.font->style : w.path;
-    // The file's spline objects, ids numbered across the run, streamed as text
-    // (report/json_stream.hpp: the same bytes as the tree, without building one).
     std::vector<ItemNames> names(w.reports.size());
     if (w.font) {
       for (const auto& g : w.font->glyphs)
         for (std::size_t c = 0; c < g.items.size(); ++c)
           names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c]};
     }
+    // The file's spline objects as text (report/json_stream.hpp: the same bytes
+    // as the tree), each with the id "s0"; write puts in the run's numbers.
     std::vector<std::vector<Finding>> item_findings(w.reports.size());
-    std::string& text = text_;  // the file's objects, written at once
-    text.clear();                // (one buffer for the run: its pages are not faulted in again per file)
     for (std::size_t i = 0; i < w.reports.size(); ++i) {
       const SplineReport& r = w.reports[i];
       if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
@@ -361,18 +382,19 @@ class Writer {
       extras.contour = names[i].contour;
       extras.point_names = names[i].points;
       extras.findings = &item_findings[i];
-      if (first_ + i != 0) text += ',';
-      if (options_.pretty) text += '\n';
-      JsonStream stream(text, options_.pretty ? 2 : -1);
-      write_spline_json(stream, r, first_ + static_cast<int>(i), extras);
+      const std::size_t begin = p.json.size();
+      JsonStream stream(p.json, options_.pretty ? 2 : -1);
+      write_spline_json(stream, r, 0, extras);
+      const std::size_t id = p.json.find("\"s0\"", begin);  // the first member is the id
+      if (id == std::string::npos) throw std::logic_error("report.json: a spline object without its id");
+      p.objects.push_back({begin, id + 2});
       ++rec.items;
       (!r.error.empty() ? rec.items_invalid : (r.pass ? rec.items_pass : rec.items_fail))++;
-      if (!r.error.empty()) summary_.invalid_messages.push_back(r.error);
+      if (!r.error.empty()) p.invalid_messages.push_back(r.error);
     }
-    json_.write(text);
     // Cases: one per glyph of a font, else one per spline.
     if (w.font) {
-      FontRow row;
+      FontRow& row = p.font_row.emplace();
       row.title = rec.title;
       row.path = w.path;
       row.cubic = w.font->cubic;
@@ -409,14 +431,9 @@ class Writer {
         rec.cases.push_back(std::move(c));
         row.invalid = 1;
       }
-      row.page = single_font_ ? "font.html"
-                              : "fonts/" + std::to_string(summary_.fonts) + "-" + import::file_stem(fs::path(w.path).stem().string()) + ".html";
-      out_.stage(options_.out / row.page, font_report_html({*w.font}, w.reports, options_.report));
-      rec.page = row.page;
-      ++summary_.fonts;
-      summary_.glyphs += row.glyphs;
-      summary_.glyphs_fail += row.glyphs_fail;
-      fonts_.push_back(std::move(row));
+      p.font_page = font_report_html({*w.font}, w.reports, options_.report);
+      w.reports.clear();
+      w.reports.shrink_to_fit();
     } else {
       for (std::size_t i = 0; i < w.reports.size(); ++i) {
         const SplineReport& r = w.reports[i];
@@ -425,6 +442,53 @@ class Writer {
         c.error = r.error;
         c.pass = r.error.empty() && r.pass;
         c.findings = std::move(item_findings[i]);
+        rec.cases.push_back(std::move(c));
+      }
+    }
+    // SARIF results without a baseline state (write adds it: the last member).
+    if (options_.sarif) {
+      for (const CaseRecord& c : rec.cases) {
+        if (!c.error.empty()) p.sarif.push_back(sarif_invalid(rec.path, c.name, c.error, options_.report));
+        for (const Finding& f : c.findings) p.sarif.push_back(sarif_result(f, options_.report, nullptr));
+      }
+    }
+    if (options_.junit) p.junit = junit_suite(rec, 0, timestamp_, host_);
+    p.work = std::move(w);
+    return p;
+  }
+
+  /// Writes a prepared file: numbers its spline objects and its JUnit suite
+  /// after the files before it, compares its findings with the baseline and
+  /// counts them.
+  void write(PreparedFile& p) {
+    FileRecord& rec = p.rec;
+    FileWork& w = p.work;
+    std::string& text = text_;  // the file's objects, written at once
+    text.clear();                // (one buffer for the run: its pages are not faulted in again per file)
+    for (std::size_t i = 0; i < p.objects.size(); ++i) {
+      const auto [begin, digit] = p.objects[i];
+      const std::size_t end = i + 1 < p.objects.size() ? p.objects[i + 1].first : p.json.size();
+      if (first_ + i != 0) text += ',';
+      if (options_.pretty) text += '\n';
+      text.append(p.json, begin, digit - begin);
+      text += std::to_string(first_ + static_cast<int>(i));
+      text.append(p.json, digit + 1, end - digit - 1);
+    }
+    json_.write(text);
+    for (std::string& m : p.invalid_messages) summary_.invalid_messages.push_back(std::move(m));
+    if (p.font_row) {
+      FontRow& row = *p.font_row;
+      row.page = single_font_ ? "font.html"
+                              : "fonts/" + std::to_string(summary_.fonts) + "-" + import::file_stem(fs::path(w.path).stem().string()) + ".html";
+      out_.stage(options_.out / row.page, p.font_page);
+      rec.page = row.page;
+      ++summary_.fonts;
+      summary_.glyphs += row.glyphs;
+      summary_.glyphs_fail += row.glyphs_fail;
+      fonts_.push_back(std::move(row));
+    } else {
+      for (std::size_t i = 0; i < w.reports.size(); ++i) {
+        const SplineReport& r = w.reports[i];
         const int id = first_ + static_cast<int>(i);
         std::string row = "<tr><td>" + std::to_string(id) + "</td><td><a href=\"#s" + std::to_string(id) + "\">" +
                           html_escape(r.name) + "</a></td><td>" + html_escape(r.file) + "</td><td>" +
@@ -432,25 +496,25 @@ class Writer {
         // A spline of straight segments only has constant (zero) curvature: "straight", not a direction.
         if (r.error.empty())
           row += "<td>" + verdict_label(r, r.analysis.cmrwi) + "</td><td>" + verdict_label(r, r.analysis.cmr) +
-                 "</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" + std::to_string(c.findings.size()) +
-                 "</td></tr>";
+                 "</td><td>" + std::to_string(r.monotone_pieces) + "</td><td>" +
+                 std::to_string(rec.cases[i].findings.size()) + "</td></tr>";
         else
           row += "<td colspan=\"4\">invalid input</td></tr>";
         spline_rows_.push_back(std::move(row));
-        rec.cases.push_back(std::move(c));
       }
       const std::string html = report_sections_html(w.reports, first_, options_.report);
       if (std::fwrite(html.data(), 1, html.size(), sections_.get()) != html.size())
         throw EnvironmentError("a temporary file for the page: cannot be written");
     }
-    first_ += static_cast<int>(w.reports.size());
+    first_ += rec.items;
     w.reports.clear();
     w.reports.shrink_to_fit();
 
     // Findings: counted, compared with the baseline, written to SARIF.
+    std::size_t next_result = 0;
     for (const CaseRecord& c : rec.cases) {
       if (!c.error.empty() && sarif_.is_open()) {
-        sarif_.write(std::string(sarif_results_ ? "," : "") + sarif_invalid(rec.path, c.name, c.error, options_.report));
+        sarif_.write(std::string(sarif_results_ ? "," : "") + p.sarif[next_result++]);
         ++sarif_results_;
       }
       for (const Finding& f : c.findings) {
@@ -466,12 +530,21 @@ class Writer {
           }
         }
         if (sarif_.is_open()) {
-          sarif_.write(std::string(sarif_results_ ? "," : "") + sarif_result(f, options_.report, state));
+          std::string& result = p.sarif[next_result++];
+          if (state) {  // sarif_result with the state: "baselineState" is its last member
+            result.pop_back();
+            result += std::string(",\"baselineState\":\"") + state + "\"}";
+          }
+          sarif_.write(std::string(sarif_results_ ? "," : "") + result);
           ++sarif_results_;
         }
       }
     }
-    if (junit_.is_open()) junit_.write(junit_suite(rec, file_index_, timestamp_, host_));
+    if (junit_.is_open()) {  // junit_suite with this file's index as its id
+      static constexpr std::string_view kHead = "  <testsuite id=\"0\"";
+      if (p.junit.compare(0, kHead.size(), kHead) != 0) throw std::logic_error("JUnit: a suite without its id");
+      junit_.write("  <testsuite id=\"" + std::to_string(file_index_) + "\"" + p.junit.substr(kHead.size()));
+    }
     ++file_index_;
     summary_.items += rec.items;
     summary_.pass += rec.items_pass;
@@ -510,7 +583,7 @@ class Writer {
   }
 
  private:
-  std::string text_;  // consume's report.json text of one file
+  std::string text_;  // write's report.json text of one file
 
   std::string dump(const Json& j) const {
     return j.dump(options_.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace);
@@ -602,18 +675,18 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
   Writer writer(options, files.size(), fonts);
   const int threads = thread_count(options.report.threads);
   int done = 0;
-  auto written = [&](const FileWork& w) {
+  auto written = [&](const std::string& path) {
     ++done;
-    if (progress) progress(done, static_cast<int>(files.size()), writer.items(), w.path);
+    if (progress) progress(done, static_cast<int>(files.size()), writer.items(), path);
   };
   // Regions (the fix search) render one spline at a time on the backend,
   // which is not shared between threads: with them, files go one by one.
   const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
   if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
     for (const std::string& f : files) {  // one file at a time, its splines in parallel
-      FileWork w = process_file(f, options, options.report.threads);
-      writer.consume(w);
-      written(w);
+      PreparedFile p = writer.prepare(process_file(f, options, options.report.threads));
+      writer.write(p);
+      written(p.rec.path);
     }
   } else {
     // Files in parallel, one thread each; finished files are written in
@@ -622,13 +695,13 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
     const std::size_t window = 2 * static_cast<std::size_t>(threads);
     std::mutex m;
     std::condition_variable cv;
-    std::map<std::size_t, FileWork> ready;
+    std::map<std::size_t, PreparedFile> ready;
     std::size_t next = 0;
     bool abort = false, flushing = false;
     parallel_for(files.size(), threads, [&](std::size_t i) {
-      FileWork w;
+      PreparedFile w;
       try {
-        w = process_file(files[i], options, 1);
+        w = writer.prepare(process_file(files[i], options, 1));
       } catch (...) {
         const std::lock_guard lock(m);
         abort = true;
@@ -642,12 +715,12 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       if (flushing) return;  // the writing thread takes it
       flushing = true;
       for (auto it = ready.find(next); it != ready.end(); it = ready.find(next)) {
-        FileWork item = std::move(it->second);
+        PreparedFile item = std::move(it->second);
         ready.erase(it);
         lock.unlock();
         try {
-          writer.consume(item);
-          written(item);
+          writer.write(item);
+          written(item.rec.path);
         } catch (...) {
           lock.lock();
           abort = true;

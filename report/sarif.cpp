@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report/json_stream.hpp"
+
 namespace cmr::report {
 namespace {
 
@@ -53,24 +55,23 @@ RuleText rule_text(const std::string& id) {
           "The HTML report shows, per control point, the region where moving it alone makes the spline pass."};
 }
 
-Json logical(const Finding& f) {
-  std::string fq = f.glyph;
-  if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
-  return Json::array({Json{{"name", f.node.empty() ? f.glyph : f.node},
-                           {"fullyQualifiedName", fq},
-                           {"kind", "element"}}});
-}
-
 Json location(const std::string& file, Json logical_locations) {
   return Json::array(
       {Json{{"physicalLocation", {{"artifactLocation", {{"uri", path_uri(file)}}}}}, {"logicalLocations", logical_locations}}});
 }
 
+// The index of `id` in sarif_rule_ids(options), without building the list.
 int rule_index(const std::string& id, const ReportOptions& options) {
-  const auto ids = sarif_rule_ids(options);
-  for (std::size_t i = 0; i < ids.size(); ++i)
-    if (ids[i] == id) return static_cast<int>(i);
-  return -1;
+  int i = 0;
+  if (options.require) {
+    if (to_string(*options.require) == id) return i;
+    ++i;
+  }
+  for (const Gate& g : options.gates) {
+    if (to_string(g) == id) return i;
+    ++i;
+  }
+  return id == kInvalidRule ? i : -1;
 }
 
 }  // namespace
@@ -120,15 +121,53 @@ std::string sarif_header(const ReportOptions& options) {
 }
 
 std::string sarif_result(const Finding& f, const ReportOptions& options, const char* baseline_state) {
-  Json r = {{"ruleId", f.gate},
-            {"ruleIndex", rule_index(f.gate, options)},
-            {"level", "error"},
-            {"message", {{"text", f.message}}},
-            {"locations", location(f.file, logical(f))},
-            {"partialFingerprints", {{"cmrFinding/v1", f.key()}}},
-            {"properties", {{"glyph", f.glyph}, {"contour", f.contour}, {"node", f.node}}}};
-  if (baseline_state) r["baselineState"] = baseline_state;
-  return r.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  // Streamed (report/json_stream.hpp: the bytes nlohmann's dump gives): a
+  // corpus has hundreds of thousands of results.
+  std::string fq = f.glyph;
+  if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
+  std::string out;
+  JsonStream o(out, -1);
+  o.begin_object();
+  o.member("ruleId", f.gate);
+  o.member("ruleIndex", rule_index(f.gate, options));
+  o.member("level", "error");
+  o.key("message");
+  o.begin_object();
+  o.member("text", f.message);
+  o.end_object();
+  o.key("locations");
+  o.begin_array();
+  o.begin_object();
+  o.key("physicalLocation");
+  o.begin_object();
+  o.key("artifactLocation");
+  o.begin_object();
+  o.member("uri", path_uri(f.file));
+  o.end_object();
+  o.end_object();
+  o.key("logicalLocations");
+  o.begin_array();
+  o.begin_object();
+  o.member("name", f.node.empty() ? f.glyph : f.node);
+  o.member("fullyQualifiedName", fq);
+  o.member("kind", "element");
+  o.end_object();
+  o.end_array();
+  o.end_object();
+  o.end_array();
+  o.key("partialFingerprints");
+  o.begin_object();
+  o.member("cmrFinding/v1", f.key());
+  o.end_object();
+  o.key("properties");
+  o.begin_object();
+  o.member("glyph", f.glyph);
+  o.member("contour", f.contour);
+  o.member("node", f.node);
+  o.end_object();
+  if (baseline_state) o.member("baselineState", baseline_state);
+  o.end_object();
+  return out;
 }
 
 std::string sarif_invalid(const std::string& file, const std::string& name, const std::string& error,

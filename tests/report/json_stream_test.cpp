@@ -5,6 +5,7 @@
 // field by field against docs/report-schema.md.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -15,6 +16,7 @@
 #include "io/font.hpp"
 #include "report/batch.hpp"
 #include "report/json_stream.hpp"
+#include "report/sarif.hpp"
 #include "spline/errors.hpp"
 #include "tests/cli_util.hpp"
 
@@ -277,6 +279,46 @@ TEST(JsonStream, StreamedReportJsonOfAFontFollowsTheSchema) {
     EXPECT_EQ(doc["summary"]["fail"], fail);
     EXPECT_EQ(doc["summary"]["findings"], findings);
   }
+}
+
+
+// sarif_result is streamed too: the same bytes as the tree SARIF's result
+// object was built as (ruleId ... properties, then baselineState when given),
+// for plain names and for quotes, backslashes, control characters, non-ASCII
+// UTF-8 and an invalid byte in the file, glyph, node and message.
+TEST(JsonStream, SarifResultsStreamTheTreesBytes) {
+  ReportOptions options;
+  options.require = parse_requirement("cmr");
+  options.gates = {*parse_gate("extrema-at-nodes"), *parse_gate("g2-at-smooth-nodes:0.05")};
+  const std::vector<std::string> ids = sarif_rule_ids(options);
+  auto tree = [&](const Finding& f, const char* state) {
+    std::string fq = f.glyph;
+    if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
+    const int index = static_cast<int>(std::find(ids.begin(), ids.end(), f.gate) - ids.begin());
+    Json logical = Json::array({Json{{"name", f.node.empty() ? f.glyph : f.node}, {"fullyQualifiedName", fq}, {"kind", "element"}}});
+    Json r = {{"ruleId", f.gate},
+              {"ruleIndex", index < static_cast<int>(ids.size()) ? index : -1},
+              {"level", "error"},
+              {"message", {{"text", f.message}}},
+              {"locations", Json::array({Json{{"physicalLocation", {{"artifactLocation", {{"uri", path_uri(f.file)}}}}},
+                                              {"logicalLocations", logical}}})},
+              {"partialFingerprints", {{"cmrFinding/v1", f.key()}}},
+              {"properties", {{"glyph", f.glyph}, {"contour", f.contour}, {"node", f.node}}}};
+    if (state) r["baselineState"] = state;
+    return dumped(r, -1);
+  };
+  const std::vector<Finding> findings = {
+      {"/fonts/Sans.ttf", "O", 0, "p3-p4", "extrema-at-nodes", "O/c0 between nodes p3-p4: sharpest point inside"},
+      {"fonts/Some Font (1).otf", "quote\"back\\slash", 2, "", "cmr", "fails the cmr check\n(verdict none)\t"},
+      {"/f/\xc3\xa9t\xc3\xa9.ttf", "uni00E9", 1, "n\xe2\x80\x93" "2", "g2-at-smooth-nodes:0.05", "\xce\xba jumps \x01"},
+      {"/f/bad\xff.ttf", "bad\xfe", 3, "p1", "unknown-gate", "invalid \xc3 byte"},
+  };
+  for (const Finding& f : findings)
+    for (const char* state : {static_cast<const char*>(nullptr), "new", "unchanged"}) {
+      const std::string text = sarif_result(f, options, state);
+      EXPECT_EQ(text, tree(f, state)) << f.glyph << " " << (state ? state : "-");
+      EXPECT_TRUE(Json::parse(text).is_object()) << f.glyph;
+    }
 }
 
 }  // namespace
