@@ -474,6 +474,9 @@ StagedStream& StagedStream::operator=(StagedStream&& o) noexcept {
     if (fd_ >= 0) ::close(fd_);
     path_ = std::move(o.path_);
     fd_ = o.fd_;
+    sync_ = o.sync_;
+    written_ = o.written_;
+    unstarted_ = o.unstarted_;
     o.fd_ = -1;
   }
   return *this;
@@ -486,6 +489,15 @@ StagedStream::~StagedStream() {
 void StagedStream::write(std::string_view bytes) {
   CMR_CHECK(fd_ >= 0);
   if (!write_all(fd_, bytes)) throw_errno(path_, errno);
+  written_ += bytes.size();
+  unstarted_ += bytes.size();
+  constexpr std::uint64_t kStartWriteBack = 8u << 20;
+  if (sync_ && unstarted_ >= kStartWriteBack) {
+    // A hint only (close still fsyncs): an error here changes nothing.
+    (void)::sync_file_range(fd_, static_cast<off_t>(written_ - unstarted_), static_cast<off_t>(unstarted_),
+                            SYNC_FILE_RANGE_WRITE);
+    unstarted_ = 0;
+  }
 }
 
 void StagedStream::close() {

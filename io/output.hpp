@@ -61,7 +61,10 @@ class StagedStream {
   StagedStream() = default;
   StagedStream(const StagedStream&) = delete;
   StagedStream& operator=(const StagedStream&) = delete;
-  StagedStream(StagedStream&& o) noexcept : path_(std::move(o.path_)), fd_(o.fd_), sync_(o.sync_) { o.fd_ = -1; }
+  StagedStream(StagedStream&& o) noexcept
+      : path_(std::move(o.path_)), fd_(o.fd_), sync_(o.sync_), written_(o.written_), unstarted_(o.unstarted_) {
+    o.fd_ = -1;
+  }
   StagedStream& operator=(StagedStream&& o) noexcept;
   ~StagedStream();
   void write(std::string_view bytes);
@@ -74,6 +77,10 @@ class StagedStream {
   std::filesystem::path path_;
   int fd_ = -1;
   bool sync_ = true;  ///< fsync on close (a staged file; not a stream's spool)
+  /// Bytes written, and those whose write-back to disk was not started yet:
+  /// a synced stream starts it every few MiB (sync_file_range), so that
+  /// close's fsync does not wait for a whole large file at the end of a run.
+  std::uint64_t written_ = 0, unstarted_ = 0;
 };
 
 /// Output files committed together: all of them, or none.
