@@ -357,6 +357,7 @@ class Writer {
   /// and the one writing thread (write) only numbers, counts and writes.
   PreparedFile prepare(FileWork&& w) const {
     PreparedFile p;
+    p.json = take_buffer();
     FileRecord& rec = p.rec;
     rec.path = w.path;
     rec.kind = w.kind;
@@ -475,6 +476,7 @@ class Writer {
       text.append(p.json, digit + 1, end - digit - 1);
     }
     json_.write(text);
+    give_back(std::move(p.json));
     for (std::string& m : p.invalid_messages) summary_.invalid_messages.push_back(std::move(m));
     if (p.font_row) {
       FontRow& row = *p.font_row;
@@ -584,6 +586,25 @@ class Writer {
 
  private:
   std::string text_;  // write's report.json text of one file
+
+  // Buffers for prepare's JSON text, given back by write: a large string
+  // reused keeps its pages, where a fresh one per file is regrown and its
+  // pages faulted in again (a font's objects are megabytes).
+  std::string take_buffer() const {
+    const std::lock_guard lock(pool_mutex_);
+    if (pool_.empty()) return {};
+    std::string b = std::move(pool_.back());
+    pool_.pop_back();
+    return b;
+  }
+  void give_back(std::string&& b) {
+    b.clear();
+    const std::lock_guard lock(pool_mutex_);
+    if (pool_.size() < kPooledBuffers) pool_.push_back(std::move(b));
+  }
+  static constexpr std::size_t kPooledBuffers = 8;
+  mutable std::mutex pool_mutex_;
+  mutable std::vector<std::string> pool_;
 
   std::string dump(const Json& j) const {
     return j.dump(options_.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace);
