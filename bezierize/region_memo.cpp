@@ -275,10 +275,19 @@ std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& splin
     return last_base_;
   }
   // The points (and weights) that differ from the last base's, bitwise.
+  // Blocks of 64 compared with memcmp, points within a differing block one by one.
   std::vector<int> moved;
-  if (!same_bits(last->spline.points(), spline.points()) || !same_bits(last->spline.weights(), spline.weights()))
-    for (int i = 0; i < spline.point_count(); ++i)
-      if (!same_point(last->spline, spline, i)) moved.push_back(i);
+  const std::vector<Vec2>&P = spline.points(), &Q = last->spline.points();
+  const std::vector<double>&W = spline.weights(), &V = last->spline.weights();
+  constexpr int kBlock = 64;
+  for (int i0 = 0; i0 < spline.point_count(); i0 += kBlock) {
+    const int m = std::min(kBlock, spline.point_count() - i0);
+    const bool same = std::memcmp(&P[i0], &Q[i0], m * sizeof(Vec2)) == 0 &&
+                      (W.empty() || std::memcmp(&W[i0], &V[i0], m * sizeof(double)) == 0);
+    if (!same)
+      for (int i = i0; i < i0 + m; ++i)
+        if (!same_point(last->spline, spline, i)) moved.push_back(i);
+  }
   if (moved.empty()) return last_base_;  // the same spline: the same base
   // The spans whose window (P_{span-d+1} .. P_{span+1}) holds a moved point:
   // span in [i-1, i+d-1]; the segments are in ascending span order.

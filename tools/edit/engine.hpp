@@ -53,8 +53,10 @@ class RegionCache {
  private:
   struct Entry {
     std::vector<double> key;
+    std::uint64_t hash = 0;  ///< hash(key)
     std::shared_ptr<const RegionResult> result;
   };
+  static std::uint64_t hash(const std::vector<double>& key);
   std::vector<Entry> entries_;
   std::size_t capacity_;
 };
