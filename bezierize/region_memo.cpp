@@ -251,6 +251,30 @@ AnalyzeParts RegionMemo::parts() {
 
 SplineAnalysis RegionMemo::analyze(const BSpline& spline, const AnalyzeOptions& options) {
   ++call_;
+  // The per-span results are the base's of that depth (kept and patched as
+  // for make(): no span looked up by its data) when the tolerances are the
+  // base's; the fields below are all that selects them.
+  static_assert(sizeof(ClassifyOptions) == 2 * sizeof(int) && sizeof(ContinuityTolerances) == 2 * sizeof(double),
+                "a new option: check that it does not change the base's per-span results");
+  const ContinuityTolerances plain = AnalyzeOptions{}.continuity;
+  const bool via_base = options.classify.max_depth >= 0 && options.classify.max_depth <= kMaxDepth &&
+                        std::bit_cast<std::uint64_t>(options.continuity.angle_deg) ==
+                            std::bit_cast<std::uint64_t>(plain.angle_deg) &&
+                        std::bit_cast<std::uint64_t>(options.continuity.curvature_rel) ==
+                            std::bit_cast<std::uint64_t>(plain.curvature_rel);
+  if (via_base) {
+    const std::shared_ptr<const backend::RegionBase> b = base(spline, options.classify.max_depth);
+    const SplineAnalysis& k = b->analysis;
+    AnalyzeParts p;
+    p.shape = [&k](const BSpline&, const Segment& g) { return k.shapes[g.index]; };
+    p.classify = [&k](const BSpline&, const Segment& g, const ClassifyOptions&) { return k.segments[g.index]; };
+    p.joint = [&k](const BSpline&, int, int right, const ContinuityTolerances&) {
+      return right == 0 ? *k.seam : k.joints[right - 1];
+    };
+    SplineAnalysis a = cmr::analyze(spline, options, p);
+    trim(static_cast<std::size_t>(spline.segment_count()));
+    return a;
+  }
   SplineAnalysis a = cmr::analyze(spline, options, parts());
   trim(static_cast<std::size_t>(spline.segment_count()));
   return a;
@@ -259,20 +283,34 @@ SplineAnalysis RegionMemo::analyze(const BSpline& spline, const AnalyzeOptions& 
 std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& spline, int max_depth) {
   AnalyzeOptions ao;  // as backend::region_base
   ao.classify.max_depth = max_depth;
-  const backend::RegionBase* last = last_base_.get();
-  const bool same_shape = last != nullptr && whole_ != nullptr && last->max_depth == max_depth &&
-                          last->spline.degree() == spline.degree() && last->spline.closed() == spline.closed() &&
-                          last->spline.is_rational() == spline.is_rational() &&
-                          same_bits(last->spline.knots(), spline.knots()) &&
-                          last->spline.point_count() == spline.point_count();
+  // The kept base of this depth, degree, knots and point count, if any
+  // (one per depth: the editor's regions and its analysis may differ in it).
+  const auto fits = [&](const BaseSlot& k) {
+    const backend::RegionBase* last = k.base.get();
+    return last != nullptr && k.whole != nullptr && last->max_depth == max_depth &&
+           last->spline.degree() == spline.degree() && last->spline.closed() == spline.closed() &&
+           last->spline.is_rational() == spline.is_rational() && last->spline.point_count() == spline.point_count() &&
+           same_bits(last->spline.knots(), spline.knots());
+  };
+  auto slot = std::find_if(bases_.begin(), bases_.end(), fits);
+  const bool same_shape = slot != bases_.end();
+  if (!same_shape) {
+    // A new slot, or the least recently used one.
+    if (bases_.size() < kBaseSlots) slot = bases_.insert(bases_.end(), BaseSlot{});
+    else slot = std::min_element(bases_.begin(), bases_.end(), [](const BaseSlot& x, const BaseSlot& y) { return x.used < y.used; });
+  }
+  slot->used = call_;
+  std::shared_ptr<backend::RegionBase>& kept = slot->base;
+  std::unique_ptr<Whole>& whole = slot->whole;
+  const backend::RegionBase* last = kept.get();
   if (!same_shape) {
     // Every span analysed (or found in the maps): the first base, or new knots.
-    last_base_ = std::make_shared<backend::RegionBase>(
+    kept = std::make_shared<backend::RegionBase>(
         backend::RegionBase{spline, cmr::analyze(spline, ao, parts()), max_depth});
-    whole_ = std::make_unique<Whole>();
-    whole_->build(last_base_->analysis);
+    whole = std::make_unique<Whole>();
+    whole->build(kept->analysis);
     ++counts_.bases_built;
-    return last_base_;
+    return kept;
   }
   // The points (and weights) that differ from the last base's, bitwise.
   // Blocks of 64 compared with memcmp, points within a differing block one by one.
@@ -288,7 +326,7 @@ std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& splin
       for (int i = i0; i < i0 + m; ++i)
         if (!same_point(last->spline, spline, i)) moved.push_back(i);
   }
-  if (moved.empty()) return last_base_;  // the same spline: the same base
+  if (moved.empty()) return kept;  // the same spline: the same base
   // The spans whose window (P_{span-d+1} .. P_{span+1}) holds a moved point:
   // span in [i-1, i+d-1]; the segments are in ascending span order.
   const int d = spline.degree(), N = spline.segment_count();
@@ -302,22 +340,22 @@ std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& splin
   std::sort(changed.begin(), changed.end());
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   // Patch in place unless a problem still holds the last base (it must not change under it).
-  if (last_base_.use_count() > 1) {
-    last_base_ = std::make_shared<backend::RegionBase>(*last_base_);
+  if (kept.use_count() > 1) {
+    kept = std::make_shared<backend::RegionBase>(*kept);
     ++counts_.bases_copied;
   }
   ++counts_.bases_patched;
-  backend::RegionBase& b = *last_base_;
+  backend::RegionBase& b = *kept;
   b.spline = spline;
   SplineAnalysis& a = b.analysis;
   const AnalyzeParts p = parts();
   ClassifyOptions co = ao.classify;
   co.inflection = true;  // as analyze: CMR verdicts always need Algorithm 2
   for (const int g : changed) {
-    whole_->count(a, g, -1);
+    whole->count(a, g, -1);
     a.shapes[g] = p.shape(spline, segs[g]);
     a.segments[g] = span_class(spline, segs[g], a.shapes[g], co, p);
-    whole_->count(a, g, +1);
+    whole->count(a, g, +1);
     ++counts_.spans_patched;
   }
   // The joints beside a changed span: joints[j] lies between segments j and
@@ -331,18 +369,18 @@ std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& splin
   std::sort(joints.begin(), joints.end());
   joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
   for (const int j : joints) {
-    Joint& slot = j < N - 1 ? a.joints[j] : *a.seam;
-    whole_->jump(j, slot.jump, -1);
-    slot = j < N - 1 ? p.joint(spline, j, j + 1, ao.continuity) : p.joint(spline, N - 1, 0, ao.continuity);
-    whole_->jump(j, slot.jump, +1);
+    Joint& at = j < N - 1 ? a.joints[j] : *a.seam;
+    whole->jump(j, at.jump, -1);
+    at = j < N - 1 ? p.joint(spline, j, j + 1, ao.continuity) : p.joint(spline, N - 1, 0, ao.continuity);
+    whole->jump(j, at.jump, +1);
   }
-  for (const int g : changed) whole_->leaf(a, g);
+  for (const int g : changed) whole->leaf(a, g);
   for (const int g : changed) {
-    whole_->pull(a, g);
-    if (g + 1 < N) whole_->pull(a, g + 1);  // the joint before it may have changed
+    whole->pull(a, g);
+    if (g + 1 < N) whole->pull(a, g + 1);  // the joint before it may have changed
   }
-  whole_->finish(a);
-  return last_base_;
+  whole->finish(a);
+  return kept;
 }
 
 RegionProblem RegionMemo::make(const BSpline& spline, const RegionRequest& request) {

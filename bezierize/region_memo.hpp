@@ -94,9 +94,15 @@ class RegionMemo {
   Map<SegmentClass> classes_;
   Map<Joint> joints_;
   Map<std::shared_ptr<const backend::RegionEntry>> entries_;
-  /// Not const: patched in place when the memo is its only holder.
-  std::shared_ptr<backend::RegionBase> last_base_;
-  std::unique_ptr<Whole> whole_;
+  /// The bases kept (one per depth, the last kBaseSlots depths used): not
+  /// const, patched in place when the memo is their only holder.
+  struct BaseSlot {
+    std::shared_ptr<backend::RegionBase> base;
+    std::unique_ptr<Whole> whole;
+    long used = 0;
+  };
+  static constexpr std::size_t kBaseSlots = 3;
+  std::vector<BaseSlot> bases_;
   long call_ = 0;
   Counts counts_;
 };

@@ -157,67 +157,6 @@ TEST(RegionMemo, RationalLabelMapsEqualFromScratch) {
   check_family({"rational cubic", spiral(8, 3, false, true)}, 8, 10);
 }
 
-TEST(RegionMemo, AnalysisEqualsAnalyze) {
-  std::mt19937 rng(9);
-  RegionMemo memo;
-  for (BSpline s : {spiral(10, 3), spiral(8, 3, true), spiral(9, 4, false, true, true)}) {
-    for (int step = 0; step < 8; ++step) {
-      const int k = static_cast<int>(rng() % s.unique_point_count());
-      s = s.with_point(k, s.points()[k] + Vec2{0.2 * (step % 3) - 0.2, 0.1});
-      AnalyzeOptions o;
-      o.classify.max_depth = 1 + step % 6;
-      if (step % 2 == 1 && !s.closed()) o.split = 1;
-      const SplineAnalysis a = memo.analyze(s, o), b = analyze(s, o);
-      const std::string where = s.name() + " step " + std::to_string(step);
-      EXPECT_EQ(a.cmrwi, b.cmrwi) << where;
-      EXPECT_EQ(a.cmr, b.cmr) << where;
-      EXPECT_EQ(a.cmr_algorithm2, b.cmr_algorithm2) << where;
-      EXPECT_EQ(a.split, b.split) << where;
-      ASSERT_EQ(a.segments.size(), b.segments.size()) << where;
-      for (std::size_t i = 0; i < a.segments.size(); ++i) {
-        EXPECT_EQ(a.segments[i].monotonicity.curvature, b.segments[i].monotonicity.curvature) << where << " seg " << i;
-        EXPECT_EQ(a.segments[i].monotonicity.depth, b.segments[i].monotonicity.depth) << where << " seg " << i;
-        EXPECT_EQ(a.segments[i].inflection.inflection, b.segments[i].inflection.inflection) << where << " seg " << i;
-        EXPECT_EQ(a.shapes[i].inflection, b.shapes[i].inflection) << where << " seg " << i;
-      }
-      ASSERT_EQ(a.joints.size(), b.joints.size()) << where;
-      for (std::size_t j = 0; j < a.joints.size(); ++j) {
-        EXPECT_EQ(a.joints[j].jump, b.joints[j].jump) << where << " joint " << j;
-        EXPECT_EQ(a.joints[j].g2, b.joints[j].g2) << where << " joint " << j;
-        EXPECT_EQ(a.joints[j].continuity, b.joints[j].continuity) << where << " joint " << j;
-      }
-    }
-  }
-}
-
-// Locality: after a move of one point of a 40-span cubic, the next problem
-// (any point's) analyses only the spans whose window holds the moved point
-// (at most d+1 shapes, d+1 classes and d+2 joints) and prepares only the
-// entries whose window holds it.
-TEST(RegionMemo, AMoveReanalysesOnlyTheSpansItActsOn) {
-  RegionMemo memo;
-  BSpline s = spiral(43, 3);
-  RegionRequest r;
-  r.point = 20;
-  r.width = r.height = 8;
-  r.max_depth = 4;
-  (void)memo.make(s, r);
-  const int d = s.degree();
-  for (int k : {0, 7, 21, 42}) {
-    s = s.with_point(k, s.points()[k] + Vec2{0.05, -0.03});
-    const RegionMemo::Counts before = memo.counts();
-    for (int point : {20, 21}) {  // the second: nothing new at all
-      r.point = point;
-      (void)memo.make(s, r);
-    }
-    const RegionMemo::Counts after = memo.counts();
-    EXPECT_LE(after.spans_computed - before.spans_computed, 3 * d + 4) << "moved P" << k;
-    EXPECT_GT(after.spans_computed - before.spans_computed, 0) << "moved P" << k;
-    // P20 and P21 act on at most d+2 spans together; only those holding P_k are new.
-    EXPECT_LE(after.entries_computed - before.entries_computed, 2 * (d + 1)) << "moved P" << k;
-  }
-}
-
 // Every field of a base's analysis against analyze's (region_base), bitwise
 // where it is a number.
 void expect_same_analysis(const SplineAnalysis& a, const SplineAnalysis& b, const std::string& where) {
@@ -264,6 +203,69 @@ void expect_same_analysis(const SplineAnalysis& a, const SplineAnalysis& b, cons
         << where << " joint " << j;
     EXPECT_EQ(std::bit_cast<std::uint64_t>(ja[j].kappa_right), std::bit_cast<std::uint64_t>(jb[j].kappa_right))
         << where << " joint " << j;
+  }
+}
+
+TEST(RegionMemo, AnalysisEqualsAnalyze) {
+  std::mt19937 rng(9);
+  RegionMemo memo;
+  for (BSpline s : {spiral(10, 3), spiral(8, 3, true), spiral(9, 4, false, true, true)}) {
+    for (int step = 0; step < 8; ++step) {
+      const int k = static_cast<int>(rng() % s.unique_point_count());
+      s = s.with_point(k, s.points()[k] + Vec2{0.2 * (step % 3) - 0.2, 0.1});
+      AnalyzeOptions o;
+      o.classify.max_depth = 1 + step % 6;
+      if (step % 2 == 1 && !s.closed()) o.split = 1;
+      if (step == 5) o.continuity.angle_deg = 2.0;  // not the base's tolerances: every span looked up
+      const SplineAnalysis a = memo.analyze(s, o), b = analyze(s, o);
+      const std::string where = s.name() + " step " + std::to_string(step);
+      EXPECT_EQ(a.cmrwi, b.cmrwi) << where;
+      EXPECT_EQ(a.cmr, b.cmr) << where;
+      EXPECT_EQ(a.cmr_algorithm2, b.cmr_algorithm2) << where;
+      EXPECT_EQ(a.split, b.split) << where;
+      expect_same_analysis(a, b, where);
+      ASSERT_EQ(a.segments.size(), b.segments.size()) << where;
+      for (std::size_t i = 0; i < a.segments.size(); ++i) {
+        EXPECT_EQ(a.segments[i].monotonicity.curvature, b.segments[i].monotonicity.curvature) << where << " seg " << i;
+        EXPECT_EQ(a.segments[i].monotonicity.depth, b.segments[i].monotonicity.depth) << where << " seg " << i;
+        EXPECT_EQ(a.segments[i].inflection.inflection, b.segments[i].inflection.inflection) << where << " seg " << i;
+        EXPECT_EQ(a.shapes[i].inflection, b.shapes[i].inflection) << where << " seg " << i;
+      }
+      ASSERT_EQ(a.joints.size(), b.joints.size()) << where;
+      for (std::size_t j = 0; j < a.joints.size(); ++j) {
+        EXPECT_EQ(a.joints[j].jump, b.joints[j].jump) << where << " joint " << j;
+        EXPECT_EQ(a.joints[j].g2, b.joints[j].g2) << where << " joint " << j;
+        EXPECT_EQ(a.joints[j].continuity, b.joints[j].continuity) << where << " joint " << j;
+      }
+    }
+  }
+}
+
+// Locality: after a move of one point of a 40-span cubic, the next problem
+// (any point's) analyses only the spans whose window holds the moved point
+// (at most d+1 shapes, d+1 classes and d+2 joints) and prepares only the
+// entries whose window holds it.
+TEST(RegionMemo, AMoveReanalysesOnlyTheSpansItActsOn) {
+  RegionMemo memo;
+  BSpline s = spiral(43, 3);
+  RegionRequest r;
+  r.point = 20;
+  r.width = r.height = 8;
+  r.max_depth = 4;
+  (void)memo.make(s, r);
+  const int d = s.degree();
+  for (int k : {0, 7, 21, 42}) {
+    s = s.with_point(k, s.points()[k] + Vec2{0.05, -0.03});
+    const RegionMemo::Counts before = memo.counts();
+    for (int point : {20, 21}) {  // the second: nothing new at all
+      r.point = point;
+      (void)memo.make(s, r);
+    }
+    const RegionMemo::Counts after = memo.counts();
+    EXPECT_LE(after.spans_computed - before.spans_computed, 3 * d + 4) << "moved P" << k;
+    EXPECT_GT(after.spans_computed - before.spans_computed, 0) << "moved P" << k;
+    // P20 and P21 act on at most d+2 spans together; only those holding P_k are new.
+    EXPECT_LE(after.entries_computed - before.entries_computed, 2 * (d + 1)) << "moved P" << k;
   }
 }
 
@@ -371,6 +373,24 @@ TEST(RegionMemo, AMoveOfATenThousandSpanSplineDoesConstantSpanWork) {
     EXPECT_LE(after.entries_computed + after.entries_reused - before.entries_computed - before.entries_reused,
               2 * (d + 1))
         << where;
+  }
+  // The analysis of the moved spline (the editor's verdicts) reads the same
+  // kept base: no span looked up beyond the moved point's.
+  s = s.with_point(3000, s.points()[3000] + Vec2{0.0, 0.01});
+  {
+    AnalyzeOptions o;
+    o.classify.max_depth = r.max_depth;
+    o.segments = SegmentRange{100, 9000};
+    const RegionMemo::Counts before = memo.counts();
+    const SplineAnalysis a = memo.analyze(s, o);
+    const RegionMemo::Counts after = memo.counts();
+    EXPECT_EQ(after.bases_built, before.bases_built);
+    EXPECT_LE(after.spans_computed + after.spans_reused - before.spans_computed - before.spans_reused, 3 * d + 4);
+    const SplineAnalysis b = analyze(s, o);
+    EXPECT_EQ(a.cmrwi, b.cmrwi);
+    EXPECT_EQ(a.cmr, b.cmr);
+    EXPECT_EQ(a.joint_conflicts, b.joint_conflicts);
+    EXPECT_EQ(a.exact_segments, b.exact_segments);
   }
   // A problem still holding the base: the next move copies it once.
   const RegionProblem held = memo.make(s, r);
