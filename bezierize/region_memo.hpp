@@ -20,13 +20,17 @@
 // Between two calls on splines of the same knots that differ in a few control
 // points (an editor's frame after a move), make() does not look at the other
 // spans at all: it finds the moved points (one bitwise comparison of the
-// point and weight arrays), and patches the last base's analysis in place
+// point and weight arrays), and patches the kept base of that depth in place
 // (when no problem still holds it; a copy otherwise) at the d+1 spans of each
 // moved point and their joints. The base's whole-spline verdicts (cmrwi,
 // cmr, cmr_algorithm2, joint_conflicts) are kept exact by a tree of
-// part_verdict's run summaries (O(log N) per patched span). What stays
-// O(N) per call is that comparison and one copy of the spline's arrays
-// (memcpy speed, no per-span work); Counts says how many spans were touched.
+// part_verdict's run summaries (O(log N) per patched span). analyze() reads
+// its per-span results from the same kept base (with the default continuity
+// tolerances; other tolerances look every span up by its data). What stays
+// O(N) per call is that comparison, one copy of the spline's arrays (memcpy
+// speed, no per-span work) and prepare_region's flag passes; analyze() also
+// folds its verdicts over the judged range. Counts says how many spans were
+// touched.
 //
 // Not thread-safe: one memo per thread (the editor, a sweep).
 #include <cstddef>
