@@ -47,6 +47,9 @@ static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,  // each_piece
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   std::vector<double> key;
+  // One allocation (a long spline's key is long): the fields below, at most.
+  key.reserve(24 + r.with.size() + r.splits.size() + spline.knots().size() + spline.weights().size() +
+              4 * spline.points().size());
   const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
   // Pushed one by one: insert of an initializer list into the empty vector
   // makes GCC 12 warn falsely (-Wstringop-overflow).
@@ -110,7 +113,11 @@ const RegionResult* RegionCache::find(const std::vector<double>& key) {
 }
 
 const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo) {
-  std::vector<double> key = region_key(spline, request);
+  return get(spline, request, region_key(spline, request), memo);
+}
+
+const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
+                                     RegionMemo* memo) {
   if (const RegionResult* hit = find(key)) return *hit;
   auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}, memo).front()));
   const std::uint64_t h = hash(key);

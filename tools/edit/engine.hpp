@@ -47,6 +47,9 @@ class RegionCache {
   /// The layer for a request: remembered, else computed (compute_regions) and
   /// remembered, evicting the least recently used beyond the capacity.
   const RegionResult& get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo = nullptr);
+  /// The same with the request's key given (region_key(spline, request)).
+  const RegionResult& get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
+                          RegionMemo* memo = nullptr);
   void set_capacity(std::size_t capacity);
   std::size_t size() const { return entries_.size(); }
 
