@@ -1,9 +1,12 @@
 #include "bezierize/region_memo.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstring>
+#include <set>
 
+#include "bezierize/fast_path.hpp"
 #include "bezierize/region_setup.hpp"
 
 namespace cmr {
@@ -56,7 +59,152 @@ V remembered(Map& map, Key&& key, long call, long& computed, long& reused, F&& c
   return v;
 }
 
+
+// A span's class as analyze gives it (every span judged): a pole or a
+// straight polynomial span is written down, the others classified.
+SegmentClass span_class(const BSpline& spline, const Segment& g, const SegmentShape& shape,
+                        const ClassifyOptions& co, const AnalyzeParts& p) {
+  const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
+  return shape.pole ? pole_class() : straight ? straight_class() : p.classify(spline, g, co);
+}
+
+// What part_verdict (analyze.cpp) reads of a run of segments in one mode:
+// the flags of its classes, the first and last sign of the curvature chain
+// (CMR; 0: none seen), and the jumps of the joints inside the run. Two
+// adjacent runs join through the joint between them, so the reading of
+// [0, N) is a tree of readings and a span's change costs O(log N).
+struct Reading {
+  bool any = false;  // holds a segment
+  bool inc = false, dec = false, none = false, undecided = false, up = false, down = false;
+  int k_first = 0, k_last = 0;
+};
+
+Reading read(const SegmentClass& c, Mode mode) {
+  Reading r;
+  r.any = true;
+  switch (c.monotonicity.curvature) {
+    case Curvature::increasing: r.inc = true; break;
+    case Curvature::decreasing: r.dec = true; break;
+    case Curvature::non_monotone: r.none = true; break;
+    case Curvature::undecided: r.undecided = true; break;
+    case Curvature::constant: break;
+  }
+  if (mode != Mode::cmr) return r;
+  switch (c.inflection.inflection) {
+    case Inflection::present: r.none = true; break;
+    case Inflection::undecided: r.undecided = true; break;
+    case Inflection::none: r.k_first = r.k_last = c.inflection.kappa_sign; break;  // 0: straight, skipped
+  }
+  return r;
+}
+
+// l's segments, then r's, with the joint between them of jump `jump`.
+Reading join(const Reading& l, const Reading& r, int jump) {
+  if (!l.any) return r;
+  if (!r.any) return l;
+  Reading o;
+  o.any = true;
+  o.inc = l.inc || r.inc;
+  o.dec = l.dec || r.dec;
+  o.undecided = l.undecided || r.undecided;
+  o.none = l.none || r.none || (l.k_last != 0 && r.k_first != 0 && l.k_last != r.k_first);  // a sign change
+  o.up = l.up || r.up || jump > 0;
+  o.down = l.down || r.down || jump < 0;
+  o.k_first = l.k_first != 0 ? l.k_first : r.k_first;
+  o.k_last = r.k_last != 0 ? r.k_last : l.k_last;
+  return o;
+}
+
+// part_verdict's answer from its reading of the part.
+Direction verdict_of(const Reading& r) {
+  if (r.none || (r.inc && r.dec)) return Direction::none;
+  if ((r.up && r.dec) || (r.down && r.inc) || (r.up && r.down)) return Direction::none;  // a jump against the direction
+  if (r.undecided) return Direction::undecided;
+  if (r.dec || r.down) return Direction::decreasing;
+  return Direction::increasing;
+}
+
 }  // namespace
+
+// The base's whole-spline verdicts (analyze with every span judged; a closed
+// spline's seam judged like every other joint) from a tree of readings over
+// its segments, in the three lists analyze judges: the classes in CMRWI, the
+// classes in CMR (cmr_algorithm2), the exact-inflection classes in CMR (cmr);
+// with the flags and counts analyze ORs and sums over the spans.
+struct RegionMemo::Whole {
+  struct Node {
+    std::array<Reading, 3> r;
+    int first = 0;  // its first segment (the joint before it joins it to its left sibling)
+  };
+  int size = 1;  // leaves: a power of two >= N
+  std::vector<Node> nodes;
+  std::set<int> ups, downs;  // joint positions (the seam at N-1) whose jump is > 0, < 0
+  long cusps = 0, poles = 0, exact = 0;
+
+  static int jump_before(const SplineAnalysis& a, int first) { return a.joints[first - 1].jump; }
+  void leaf(const SplineAnalysis& a, int g) {
+    Node& n = nodes[size + g];
+    n.first = g;
+    const SegmentClass reported = exact_inflection_classes({a.segments[g]}, {a.shapes[g]}).front();
+    n.r = {read(a.segments[g], Mode::cmrwi), read(a.segments[g], Mode::cmr), read(reported, Mode::cmr)};
+  }
+  void combine(const SplineAnalysis& a, int i) {
+    const Node &l = nodes[2 * i], &r = nodes[2 * i + 1];
+    Node& n = nodes[i];
+    const int jump = l.r[0].any && r.r[0].any ? jump_before(a, r.first) : 0;
+    for (int m = 0; m < 3; ++m) n.r[m] = join(l.r[m], r.r[m], jump);
+    n.first = l.r[0].any ? l.first : r.first;
+  }
+  void pull(const SplineAnalysis& a, int g) {
+    for (int i = (size + g) / 2; i >= 1; i /= 2) combine(a, i);
+  }
+  void count(const SplineAnalysis& a, int g, int sign) {
+    cusps += sign * (a.shapes[g].cusp ? 1 : 0);
+    poles += sign * (a.shapes[g].pole ? 1 : 0);
+    exact += sign * (a.segments[g].exact_used ? 1 : 0);
+  }
+  void jump(int position, int j, int sign) {
+    std::set<int>& s = j > 0 ? ups : downs;
+    if (j == 0) return;
+    if (sign > 0) s.insert(position);
+    else s.erase(position);
+  }
+  void build(const SplineAnalysis& a) {
+    const int N = static_cast<int>(a.segments.size());
+    while (size < N) size *= 2;
+    nodes.assign(2 * static_cast<std::size_t>(size), Node{});
+    for (int g = 0; g < N; ++g) {
+      leaf(a, g);
+      count(a, g, +1);
+    }
+    for (int i = size - 1; i >= 1; --i) combine(a, i);
+    for (int j = 0; j + 1 < N; ++j) jump(j, a.joints[j].jump, +1);
+    if (a.seam) jump(N - 1, a.seam->jump, +1);
+  }
+  // analyze's cmrwi, cmr, cmr_algorithm2, joint_conflicts, cusp, pole and
+  // exact_segments, from the tree.
+  void finish(SplineAnalysis& a) const {
+    std::array<Reading, 3> w = nodes[1].r;
+    if (a.seam) {  // the whole period: a neutral class after segment N-1, the seam before it
+      w[0] = join(w[0], read(neutral_class(), Mode::cmrwi), a.seam->jump);
+      w[1] = join(w[1], read(neutral_class(), Mode::cmr), a.seam->jump);
+      w[2] = join(w[2], read(neutral_class(), Mode::cmr), a.seam->jump);
+    }
+    a.cmrwi = verdict_of(w[0]);
+    a.cmr_algorithm2 = verdict_of(w[1]);
+    a.cmr = verdict_of(w[2]);
+    // part_verdict's conflicts (CMRWI): unless the segments alone fail, every
+    // joint whose jump goes against the segments' direction, in order.
+    a.joint_conflicts.clear();
+    const Reading& c = w[0];
+    if (!(c.none || (c.inc && c.dec)) && (c.inc || c.dec))
+      for (const int j : c.dec ? ups : downs)
+        a.joint_conflicts.push_back(j < static_cast<int>(a.joints.size()) ? a.joints[j].index : a.seam->index);
+    a.cusp = cusps > 0;
+    a.pole = poles > 0;
+    a.exact_segments = static_cast<int>(exact);
+  }
+};
 
 std::size_t RegionMemo::KeyHash::operator()(const std::vector<std::uint64_t>& k) const noexcept {
   std::uint64_t h = 0x9E3779B97F4A7C15ull ^ k.size();
@@ -103,56 +251,136 @@ AnalyzeParts RegionMemo::parts() {
 
 SplineAnalysis RegionMemo::analyze(const BSpline& spline, const AnalyzeOptions& options) {
   ++call_;
+  // The per-span results are the base's of that depth (kept and patched as
+  // for make(): no span looked up by its data) when the tolerances are the
+  // base's; the fields below are all that selects them.
+  static_assert(sizeof(ClassifyOptions) == 2 * sizeof(int) && sizeof(ContinuityTolerances) == 2 * sizeof(double),
+                "a new option: check that it does not change the base's per-span results");
+  const ContinuityTolerances plain = AnalyzeOptions{}.continuity;
+  const bool via_base = options.classify.max_depth >= 0 && options.classify.max_depth <= kMaxDepth &&
+                        std::bit_cast<std::uint64_t>(options.continuity.angle_deg) ==
+                            std::bit_cast<std::uint64_t>(plain.angle_deg) &&
+                        std::bit_cast<std::uint64_t>(options.continuity.curvature_rel) ==
+                            std::bit_cast<std::uint64_t>(plain.curvature_rel);
+  if (via_base) {
+    const std::shared_ptr<const backend::RegionBase> b = base(spline, options.classify.max_depth);
+    const SplineAnalysis& k = b->analysis;
+    AnalyzeParts p;
+    p.shape = [&k](const BSpline&, const Segment& g) { return k.shapes[g.index]; };
+    p.classify = [&k](const BSpline&, const Segment& g, const ClassifyOptions&) { return k.segments[g.index]; };
+    p.joint = [&k](const BSpline&, int, int right, const ContinuityTolerances&) {
+      return right == 0 ? *k.seam : k.joints[right - 1];
+    };
+    SplineAnalysis a = cmr::analyze(spline, options, p);
+    trim(static_cast<std::size_t>(spline.segment_count()));
+    return a;
+  }
   SplineAnalysis a = cmr::analyze(spline, options, parts());
   trim(static_cast<std::size_t>(spline.segment_count()));
   return a;
 }
 
 std::shared_ptr<const backend::RegionBase> RegionMemo::base(const BSpline& spline, int max_depth) {
-  const backend::RegionBase* last = last_base_.get();
-  const bool same_shape = last != nullptr && last->max_depth == max_depth &&
-                          last->spline.degree() == spline.degree() && last->spline.closed() == spline.closed() &&
-                          last->spline.is_rational() == spline.is_rational() &&
-                          same_bits(last->spline.knots(), spline.knots()) &&
-                          last->spline.point_count() == spline.point_count();
-  // The spans whose window holds a control point (or weight) that differs
-  // from the last base's: only these are looked up (or analysed); the others'
-  // shapes, classes and joints are the last base's (the same exact data).
-  std::vector<bool> changed;
-  if (same_shape) {
-    const int d = spline.degree();
-    std::vector<bool> moved(spline.point_count(), false);
-    bool any = false;
-    for (int i = 0; i < spline.point_count(); ++i) {
-      moved[i] = !same_point(last->spline, spline, i);
-      any = any || moved[i];
-    }
-    if (!any) return last_base_;  // the same spline: the same base
-    for (const Segment& g : spline.segments()) {
-      bool c = false;
-      for (int i = g.span - d + 1; i <= g.span + 1 && !c; ++i) c = moved[i];
-      changed.push_back(c);
-    }
-  }
-  AnalyzeParts p = parts();
-  if (same_shape) {
-    const SplineAnalysis& old = last->analysis;
-    p.shape = [&, inner = p.shape](const BSpline& s, const Segment& g) {
-      return changed[g.index] ? inner(s, g) : old.shapes[g.index];
-    };
-    p.classify = [&, inner = p.classify](const BSpline& s, const Segment& g, const ClassifyOptions& o) {
-      return changed[g.index] ? inner(s, g, o) : old.segments[g.index];
-    };
-    p.joint = [&, inner = p.joint](const BSpline& s, int left, int right, const ContinuityTolerances& t) {
-      if (changed[left] || changed[right]) return inner(s, left, right, t);
-      return right == 0 ? *old.seam : old.joints[right - 1];
-    };
-  }
   AnalyzeOptions ao;  // as backend::region_base
   ao.classify.max_depth = max_depth;
-  last_base_ = std::make_shared<const backend::RegionBase>(
-      backend::RegionBase{spline, cmr::analyze(spline, ao, p), max_depth});
-  return last_base_;
+  // The kept base of this depth, degree, knots and point count, if any
+  // (one per depth: the editor's regions and its analysis may differ in it).
+  const auto fits = [&](const BaseSlot& k) {
+    const backend::RegionBase* last = k.base.get();
+    return last != nullptr && k.whole != nullptr && last->max_depth == max_depth &&
+           last->spline.degree() == spline.degree() && last->spline.closed() == spline.closed() &&
+           last->spline.is_rational() == spline.is_rational() && last->spline.point_count() == spline.point_count() &&
+           same_bits(last->spline.knots(), spline.knots());
+  };
+  auto slot = std::find_if(bases_.begin(), bases_.end(), fits);
+  const bool same_shape = slot != bases_.end();
+  if (!same_shape) {
+    // A new slot, or the least recently used one.
+    if (bases_.size() < kBaseSlots) slot = bases_.insert(bases_.end(), BaseSlot{});
+    else slot = std::min_element(bases_.begin(), bases_.end(), [](const BaseSlot& x, const BaseSlot& y) { return x.used < y.used; });
+  }
+  slot->used = call_;
+  std::shared_ptr<backend::RegionBase>& kept = slot->base;
+  std::unique_ptr<Whole>& whole = slot->whole;
+  const backend::RegionBase* last = kept.get();
+  if (!same_shape) {
+    // Every span analysed (or found in the maps): the first base, or new knots.
+    kept = std::make_shared<backend::RegionBase>(
+        backend::RegionBase{spline, cmr::analyze(spline, ao, parts()), max_depth});
+    whole = std::make_unique<Whole>();
+    whole->build(kept->analysis);
+    ++counts_.bases_built;
+    return kept;
+  }
+  // The points (and weights) that differ from the last base's, bitwise.
+  // Blocks of 64 compared with memcmp, points within a differing block one by one.
+  std::vector<int> moved;
+  const std::vector<Vec2>&P = spline.points(), &Q = last->spline.points();
+  const std::vector<double>&W = spline.weights(), &V = last->spline.weights();
+  constexpr int kBlock = 64;
+  for (int i0 = 0; i0 < spline.point_count(); i0 += kBlock) {
+    const int m = std::min(kBlock, spline.point_count() - i0);
+    const bool same = std::memcmp(&P[i0], &Q[i0], m * sizeof(Vec2)) == 0 &&
+                      (W.empty() || std::memcmp(&W[i0], &V[i0], m * sizeof(double)) == 0);
+    if (!same)
+      for (int i = i0; i < i0 + m; ++i)
+        if (!same_point(last->spline, spline, i)) moved.push_back(i);
+  }
+  if (moved.empty()) return kept;  // the same spline: the same base
+  // The spans whose window (P_{span-d+1} .. P_{span+1}) holds a moved point:
+  // span in [i-1, i+d-1]; the segments are in ascending span order.
+  const int d = spline.degree(), N = spline.segment_count();
+  const std::vector<Segment>& segs = spline.segments();
+  std::vector<int> changed;
+  for (const int i : moved) {
+    auto it = std::lower_bound(segs.begin(), segs.end(), i - 1,
+                               [](const Segment& g, int span) { return g.span < span; });
+    for (; it != segs.end() && it->span <= i + d - 1; ++it) changed.push_back(it->index);
+  }
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  // Patch in place unless a problem still holds the last base (it must not change under it).
+  if (kept.use_count() > 1) {
+    kept = std::make_shared<backend::RegionBase>(*kept);
+    ++counts_.bases_copied;
+  }
+  ++counts_.bases_patched;
+  backend::RegionBase& b = *kept;
+  b.spline = spline;
+  SplineAnalysis& a = b.analysis;
+  const AnalyzeParts p = parts();
+  ClassifyOptions co = ao.classify;
+  co.inflection = true;  // as analyze: CMR verdicts always need Algorithm 2
+  for (const int g : changed) {
+    whole->count(a, g, -1);
+    a.shapes[g] = p.shape(spline, segs[g]);
+    a.segments[g] = span_class(spline, segs[g], a.shapes[g], co, p);
+    whole->count(a, g, +1);
+    ++counts_.spans_patched;
+  }
+  // The joints beside a changed span: joints[j] lies between segments j and
+  // j+1; position N-1 is a closed spline's seam (segment N-1 against 0).
+  std::vector<int> joints;
+  for (const int g : changed) {
+    if (g >= 1) joints.push_back(g - 1);
+    if (g + 1 < N) joints.push_back(g);
+    if (a.seam && (g == 0 || g == N - 1)) joints.push_back(N - 1);
+  }
+  std::sort(joints.begin(), joints.end());
+  joints.erase(std::unique(joints.begin(), joints.end()), joints.end());
+  for (const int j : joints) {
+    Joint& at = j < N - 1 ? a.joints[j] : *a.seam;
+    whole->jump(j, at.jump, -1);
+    at = j < N - 1 ? p.joint(spline, j, j + 1, ao.continuity) : p.joint(spline, N - 1, 0, ao.continuity);
+    whole->jump(j, at.jump, +1);
+  }
+  for (const int g : changed) whole->leaf(a, g);
+  for (const int g : changed) {
+    whole->pull(a, g);
+    if (g + 1 < N) whole->pull(a, g + 1);  // the joint before it may have changed
+  }
+  whole->finish(a);
+  return kept;
 }
 
 RegionProblem RegionMemo::make(const BSpline& spline, const RegionRequest& request) {

@@ -15,9 +15,22 @@
 // Equal keys mean the same exact inputs to the same deterministic functions,
 // so a problem made through the memo is the problem RegionProblem::make
 // gives: the same certified label at every position (tests/bezierize/
-// region_memo_test.cpp compares label maps). What stays O(N) per problem is
-// hashing the spans' windows and folding the fixed runs: tens of
-// nanoseconds per span instead of the analysis's tens of microseconds.
+// region_memo_test.cpp compares label maps).
+//
+// Between two calls on splines of the same knots that differ in a few control
+// points (an editor's frame after a move), make() does not look at the other
+// spans at all: it finds the moved points (one bitwise comparison of the
+// point and weight arrays), and patches the kept base of that depth in place
+// (when no problem still holds it; a copy otherwise) at the d+1 spans of each
+// moved point and their joints. The base's whole-spline verdicts (cmrwi,
+// cmr, cmr_algorithm2, joint_conflicts) are kept exact by a tree of
+// part_verdict's run summaries (O(log N) per patched span). analyze() reads
+// its per-span results from the same kept base (with the default continuity
+// tolerances; other tolerances look every span up by its data). What stays
+// O(N) per call is that comparison, one copy of the spline's arrays (memcpy
+// speed, no per-span work) and prepare_region's flag passes; analyze() also
+// folds its verdicts over the judged range. Counts says how many spans were
+// touched.
 //
 // Not thread-safe: one memo per thread (the editor, a sweep).
 #include <cstddef>
@@ -51,8 +64,13 @@ class RegionMemo {
 
   /// What was computed and what reused since the memo was made (spans:
   /// shapes, classes and joints; entries: the moved spans' preparations).
+  /// bases_built: bases analysed over every span (the first call, new knots,
+  /// degree or depth); bases_patched: bases made from the last one by
+  /// patching spans_patched spans in place; bases_copied: of those, the ones
+  /// that had to copy the last base first (a problem still held it).
   struct Counts {
     long spans_computed = 0, spans_reused = 0, entries_computed = 0, entries_reused = 0;
+    long bases_built = 0, bases_patched = 0, bases_copied = 0, spans_patched = 0;
   };
   const Counts& counts() const { return counts_; }
   /// Entries kept at most, over every kind (the least recently used go first).
@@ -73,12 +91,22 @@ class RegionMemo {
   /// Drops what was not used in the last few calls once the memo is large.
   void trim(std::size_t spans);
   std::shared_ptr<const backend::RegionBase> base(const BSpline& spline, int max_depth);
+  /// The last base's whole-spline verdict summaries (region_memo.cpp).
+  struct Whole;
 
   Map<SegmentShape> shapes_;
   Map<SegmentClass> classes_;
   Map<Joint> joints_;
   Map<std::shared_ptr<const backend::RegionEntry>> entries_;
-  std::shared_ptr<const backend::RegionBase> last_base_;
+  /// The bases kept (one per depth, the last kBaseSlots depths used): not
+  /// const, patched in place when the memo is their only holder.
+  struct BaseSlot {
+    std::shared_ptr<backend::RegionBase> base;
+    std::unique_ptr<Whole> whole;
+    long used = 0;
+  };
+  static constexpr std::size_t kBaseSlots = 3;
+  std::vector<BaseSlot> bases_;
   long call_ = 0;
   Counts counts_;
 };

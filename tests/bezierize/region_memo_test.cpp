@@ -6,9 +6,16 @@
 
 #include <gtest/gtest.h>
 
+#include "bezierize/extract.hpp"
+#include "bezierize/region_setup.hpp"
+
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 
 namespace cmr {
@@ -150,6 +157,55 @@ TEST(RegionMemo, RationalLabelMapsEqualFromScratch) {
   check_family({"rational cubic", spiral(8, 3, false, true)}, 8, 10);
 }
 
+// Every field of a base's analysis against analyze's (region_base), bitwise
+// where it is a number.
+void expect_same_analysis(const SplineAnalysis& a, const SplineAnalysis& b, const std::string& where) {
+  EXPECT_EQ(a.cmrwi, b.cmrwi) << where;
+  EXPECT_EQ(a.cmr, b.cmr) << where;
+  EXPECT_EQ(a.cmr_algorithm2, b.cmr_algorithm2) << where;
+  EXPECT_EQ(a.cusp, b.cusp) << where;
+  EXPECT_EQ(a.pole, b.pole) << where;
+  EXPECT_EQ(a.joint_conflicts, b.joint_conflicts) << where;
+  EXPECT_EQ(a.exact_segments, b.exact_segments) << where;
+  EXPECT_EQ(a.range.first, b.range.first) << where;
+  EXPECT_EQ(a.range.last, b.range.last) << where;
+  ASSERT_EQ(a.segments.size(), b.segments.size()) << where;
+  ASSERT_EQ(a.shapes.size(), b.shapes.size()) << where;
+  for (std::size_t i = 0; i < a.segments.size(); ++i) {
+    const SegmentClass &x = a.segments[i], &y = b.segments[i];
+    EXPECT_EQ(x.monotonicity.curvature, y.monotonicity.curvature) << where << " seg " << i;
+    EXPECT_EQ(x.monotonicity.depth, y.monotonicity.depth) << where << " seg " << i;
+    EXPECT_EQ(x.inflection.inflection, y.inflection.inflection) << where << " seg " << i;
+    EXPECT_EQ(x.inflection.depth, y.inflection.depth) << where << " seg " << i;
+    EXPECT_EQ(x.inflection.kappa_sign, y.inflection.kappa_sign) << where << " seg " << i;
+    EXPECT_EQ(x.exact_used, y.exact_used) << where << " seg " << i;
+    const SegmentShape &u = a.shapes[i], &v = b.shapes[i];
+    EXPECT_EQ(u.pole, v.pole) << where << " seg " << i;
+    EXPECT_EQ(u.straight, v.straight) << where << " seg " << i;
+    EXPECT_EQ(u.cusp, v.cusp) << where << " seg " << i;
+    EXPECT_EQ(u.inflection, v.inflection) << where << " seg " << i;
+    EXPECT_EQ(u.kappa_sign, v.kappa_sign) << where << " seg " << i;
+  }
+  ASSERT_EQ(a.joints.size(), b.joints.size()) << where;
+  ASSERT_EQ(a.seam.has_value(), b.seam.has_value()) << where;
+  std::vector<Joint> ja = a.joints, jb = b.joints;
+  if (a.seam) {
+    ja.push_back(*a.seam);
+    jb.push_back(*b.seam);
+  }
+  for (std::size_t j = 0; j < ja.size(); ++j) {
+    EXPECT_EQ(ja[j].index, jb[j].index) << where << " joint " << j;
+    EXPECT_EQ(ja[j].jump, jb[j].jump) << where << " joint " << j;
+    EXPECT_EQ(ja[j].continuity, jb[j].continuity) << where << " joint " << j;
+    EXPECT_EQ(ja[j].g1, jb[j].g1) << where << " joint " << j;
+    EXPECT_EQ(ja[j].g2, jb[j].g2) << where << " joint " << j;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(ja[j].kappa_left), std::bit_cast<std::uint64_t>(jb[j].kappa_left))
+        << where << " joint " << j;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(ja[j].kappa_right), std::bit_cast<std::uint64_t>(jb[j].kappa_right))
+        << where << " joint " << j;
+  }
+}
+
 TEST(RegionMemo, AnalysisEqualsAnalyze) {
   std::mt19937 rng(9);
   RegionMemo memo;
@@ -160,12 +216,14 @@ TEST(RegionMemo, AnalysisEqualsAnalyze) {
       AnalyzeOptions o;
       o.classify.max_depth = 1 + step % 6;
       if (step % 2 == 1 && !s.closed()) o.split = 1;
+      if (step == 5) o.continuity.angle_deg = 2.0;  // not the base's tolerances: every span looked up
       const SplineAnalysis a = memo.analyze(s, o), b = analyze(s, o);
       const std::string where = s.name() + " step " + std::to_string(step);
       EXPECT_EQ(a.cmrwi, b.cmrwi) << where;
       EXPECT_EQ(a.cmr, b.cmr) << where;
       EXPECT_EQ(a.cmr_algorithm2, b.cmr_algorithm2) << where;
       EXPECT_EQ(a.split, b.split) << where;
+      expect_same_analysis(a, b, where);
       ASSERT_EQ(a.segments.size(), b.segments.size()) << where;
       for (std::size_t i = 0; i < a.segments.size(); ++i) {
         EXPECT_EQ(a.segments[i].monotonicity.curvature, b.segments[i].monotonicity.curvature) << where << " seg " << i;
@@ -209,6 +267,140 @@ TEST(RegionMemo, AMoveReanalysesOnlyTheSpansItActsOn) {
     // P20 and P21 act on at most d+2 spans together; only those holding P_k are new.
     EXPECT_LE(after.entries_computed - before.entries_computed, 2 * (d + 1)) << "moved P" << k;
   }
+}
+
+// The spline reflected in the x axis (open, polynomial): its signed
+// curvature runs the other way (a decreasing spiral's increases).
+BSpline mirrored(const BSpline& s) {
+  std::vector<Vec2> p = s.points();
+  for (Vec2& q : p) q.y = -q.y;
+  return BSpline::make(s.degree(), s.knots(), p, s.name() + " mirrored");
+}
+
+// The base a problem made through the memo reads (patched in place between
+// moves, its whole-spline verdicts from the memo's tree of readings) is
+// region_base's, field by field, over seeded moves of one and two points;
+// a base still held by an earlier problem is copied, not changed under it.
+TEST(RegionMemo, PatchedBaseEqualsRegionBase) {
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<double> offset(-0.8, 0.8);
+  std::set<Direction> verdicts;
+  long conflicts = 0, copies = 0;
+  // A spiral with a knot inserted twice at an interior knot (the same curve:
+  // a C1 joint whose jump the small moves turn up or down) gives decreasing
+  // verdicts and conflicting jumps; the others give the rest.
+  const BSpline doubled = insert_knot(spiral(11, 3), 5.0);
+  for (const BSpline& start : {doubled, mirrored(doubled), spiral(11, 3), spiral(9, 3, true), spiral(10, 3, false, false, true),
+                               spiral(9, 4, false, false, true), spiral(8, 3, false, true)}) {
+    RegionMemo memo;
+    BSpline s = start;
+    RegionRequest r;
+    r.width = r.height = 4;
+    r.max_depth = 5;
+    std::optional<RegionProblem> held;
+    for (int step = 0; step < 12; ++step) {
+      const int n = s.unique_point_count();
+      for (int m = 0; m <= step % 2; ++m) {  // one or two points
+        const int k = static_cast<int>(rng() % n);
+        const double scale = step < 8 ? 0.01 : 1.0;  // small moves first (the verdicts change now and then), then large
+        s = s.with_point(k, s.points()[k] + scale * Vec2{offset(rng), offset(rng)});
+      }
+      r.point = static_cast<int>(rng() % n);
+      const RegionMemo::Counts before = memo.counts();
+      const RegionProblem a = memo.make(s, r);
+      const std::string where = s.name() + " step " + std::to_string(step);
+      const SplineAnalysis want = backend::region_base(s, r.max_depth)->analysis;
+      expect_same_analysis(a.setup().base->analysis, want, where);
+      EXPECT_EQ(a.setup().spline().points(), s.points()) << where;
+      copies += memo.counts().bases_copied - before.bases_copied;
+      if (held) {  // the problem held from two steps back still reads its own spline's base
+        const BSpline& old = held->setup().spline();
+        expect_same_analysis(held->setup().base->analysis, backend::region_base(old, r.max_depth)->analysis,
+                             where + " (held)");
+      }
+      if (step % 3 == 0) held = a;
+      verdicts.insert(want.cmrwi);
+      verdicts.insert(want.cmr);
+      conflicts += static_cast<long>(want.joint_conflicts.size());
+    }
+  }
+  // The moves changed the verdicts and made conflicting jumps; held problems forced copies.
+  EXPECT_GE(verdicts.size(), 3u);
+  EXPECT_GT(conflicts, 0);
+  EXPECT_GT(copies, 0);
+}
+
+// n points on a slow wave, cubic, uniform knots (n - 3 spans).
+BSpline wave(int n) {
+  std::vector<Vec2> p;
+  std::vector<double> knots;
+  for (int i = 0; i < n; ++i) p.push_back({0.5 * i, std::sin(0.3 * i)});
+  for (int i = 0; i < n + 2; ++i) knots.push_back(i);
+  return BSpline::make(3, knots, p, "wave");
+}
+
+// Locality at scale (issue 23, item 4): after a move of one point of a
+// 10 000-span cubic, the next problem patches the last base at the d+1 spans
+// holding the point (no base analysed over every span, none copied: the
+// last problem is gone) and analyses or looks up at most 3d+4 span results.
+TEST(RegionMemo, AMoveOfATenThousandSpanSplineDoesConstantSpanWork) {
+  RegionMemo memo;
+  BSpline s = wave(10003);
+  const int d = s.degree(), N = s.segment_count();
+  ASSERT_EQ(N, 10000);
+  RegionRequest r;
+  r.point = 5001;
+  r.width = r.height = 8;
+  r.max_depth = 4;
+  r.segments = SegmentRange{4998, 5001};  // the spans P5001 acts on (as the editor's bench)
+  (void)memo.make(s, r);
+  ASSERT_EQ(memo.counts().bases_built, 1);
+  ASSERT_EQ(memo.counts().spans_computed, 3 * N - 1);  // every shape, class and joint once
+  for (int k : {0, 5000, 5002, 10002}) {
+    s = s.with_point(k, s.points()[k] + Vec2{0.0, 0.01});
+    const RegionMemo::Counts before = memo.counts();
+    (void)memo.make(s, r);
+    const RegionMemo::Counts after = memo.counts();
+    const std::string where = "moved P" + std::to_string(k);
+    EXPECT_EQ(after.bases_built, before.bases_built) << where;
+    EXPECT_EQ(after.bases_copied, before.bases_copied) << where;
+    EXPECT_EQ(after.bases_patched, before.bases_patched + 1) << where;
+    EXPECT_GT(after.spans_patched - before.spans_patched, 0) << where;
+    EXPECT_LE(after.spans_patched - before.spans_patched, d + 1) << where;
+    const long span_work = after.spans_computed + after.spans_reused - before.spans_computed - before.spans_reused;
+    EXPECT_GT(span_work, 0) << where;
+    EXPECT_LE(span_work, 3 * d + 4) << where;
+    EXPECT_LE(after.entries_computed + after.entries_reused - before.entries_computed - before.entries_reused,
+              2 * (d + 1))
+        << where;
+  }
+  // The analysis of the moved spline (the editor's verdicts) reads the same
+  // kept base: no span looked up beyond the moved point's.
+  s = s.with_point(3000, s.points()[3000] + Vec2{0.0, 0.01});
+  {
+    AnalyzeOptions o;
+    o.classify.max_depth = r.max_depth;
+    o.segments = SegmentRange{100, 9000};
+    const RegionMemo::Counts before = memo.counts();
+    const SplineAnalysis a = memo.analyze(s, o);
+    const RegionMemo::Counts after = memo.counts();
+    EXPECT_EQ(after.bases_built, before.bases_built);
+    EXPECT_LE(after.spans_computed + after.spans_reused - before.spans_computed - before.spans_reused, 3 * d + 4);
+    const SplineAnalysis b = analyze(s, o);
+    EXPECT_EQ(a.cmrwi, b.cmrwi);
+    EXPECT_EQ(a.cmr, b.cmr);
+    EXPECT_EQ(a.joint_conflicts, b.joint_conflicts);
+    EXPECT_EQ(a.exact_segments, b.exact_segments);
+  }
+  // A problem still holding the base: the next move copies it once.
+  const RegionProblem held = memo.make(s, r);
+  s = s.with_point(7000, s.points()[7000] + Vec2{0.0, 0.01});
+  const long copied = memo.counts().bases_copied;
+  const RegionProblem next = memo.make(s, r);
+  EXPECT_EQ(memo.counts().bases_copied, copied + 1);
+  EXPECT_NE(held.setup().spline().points()[7000].y, next.setup().spline().points()[7000].y);
+  // And the patched base is still region_base's.
+  expect_same_analysis(next.setup().base->analysis, backend::region_base(s, r.max_depth)->analysis, "10 000 spans");
 }
 
 TEST(RegionMemo, BadRequestsFailAsRegionProblemMake) {

@@ -171,6 +171,21 @@ TEST(EditEngine, RegionKeyIgnoresOnlyWhereTheMovedGroupStands) {
   EXPECT_NE(region_key(far, r), region_key(far2, r));
 }
 
+TEST(EditEngine, RegionCacheFindsEqualKeysOnly) {
+  // Keys are compared with == (through their hash first): -0.0 and 0.0 are
+  // one key, the smallest difference another.
+  const BSpline s = spline6().with_point(4, {0.0, -6.95});
+  RegionRequest r;
+  r.point = 2;
+  r.width = r.height = 8;
+  RegionCache cache;
+  const RegionResult& a = cache.get(s, r);
+  EXPECT_EQ(cache.find(region_key(s.with_point(4, {-0.0, -6.95}), r)), &a) << "-0.0 == 0.0: the same key";
+  EXPECT_EQ(cache.find(region_key(s.with_point(4, {1e-300, -6.95}), r)), nullptr);
+  EXPECT_EQ(&cache.get(s, r), &a);
+  EXPECT_EQ(cache.size(), 1u);
+}
+
 TEST(EditEngine, CachedRegionOfADraggedPointIsItsCertifiedRegion) {
   // The layer the cache returns while P2 is dragged is what classify gives
   // for the spline with P2 where the drag left it.

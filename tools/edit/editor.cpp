@@ -493,7 +493,7 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       static std::atomic<long> serials{0};  // unique over every editor: caches keyed by it never mix two
       region_serial_ = ++serials;
       region_.clear();
-      for (const RegionRequest& r : requests) region_.push_back(&cache_.get(s, r, &memo()));
+      for (std::size_t i = 0; i < requests.size(); ++i) region_.push_back(&cache_.get(s, requests[i], keys[i], &memo()));
       region_keys_ = std::move(keys);
       region_coarse_ = coarse;
       rgba_stale_ = true;

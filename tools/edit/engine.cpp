@@ -1,6 +1,7 @@
 #include "tools/edit/engine.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <sstream>
@@ -46,6 +47,9 @@ static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,  // each_piece
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   std::vector<double> key;
+  // One allocation (a long spline's key is long): the fields below, at most.
+  key.reserve(24 + r.with.size() + r.splits.size() + spline.knots().size() + spline.weights().size() +
+              4 * spline.points().size());
   const auto count = [&](std::size_t n) { key.push_back(static_cast<double>(n)); };
   // Pushed one by one: insert of an initializer list into the empty vector
   // makes GCC 12 warn falsely (-Wstringop-overflow).
@@ -87,18 +91,37 @@ std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
   return key;
 }
 
+std::uint64_t RegionCache::hash(const std::vector<double>& key) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull ^ key.size();
+  for (const double v : key) {
+    // Equal keys (==, element by element) hash alike: -0.0 as 0.0.
+    h ^= (v == 0 ? 0 : std::bit_cast<std::uint64_t>(v)) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+  }
+  return h;
+}
+
 const RegionResult* RegionCache::find(const std::vector<double>& key) {
-  const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
+  // The hash first: a long spline's keys are long and share their knots and
+  // most points, so comparing them whole against every entry costs O(N) each.
+  const std::uint64_t h = hash(key);
+  const auto it =
+      std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.hash == h && e.key == key; });
   if (it == entries_.end()) return nullptr;
   std::rotate(entries_.begin(), it, it + 1);
   return entries_.front().result.get();
 }
 
 const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo) {
-  std::vector<double> key = region_key(spline, request);
+  return get(spline, request, region_key(spline, request), memo);
+}
+
+const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
+                                     RegionMemo* memo) {
   if (const RegionResult* hit = find(key)) return *hit;
   auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}, memo).front()));
-  entries_.insert(entries_.begin(), Entry{std::move(key), std::move(result)});
+  const std::uint64_t h = hash(key);
+  entries_.insert(entries_.begin(), Entry{std::move(key), h, std::move(result)});
   if (entries_.size() > capacity_) entries_.resize(capacity_);
   return *entries_.front().result;
 }

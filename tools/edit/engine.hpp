@@ -47,14 +47,19 @@ class RegionCache {
   /// The layer for a request: remembered, else computed (compute_regions) and
   /// remembered, evicting the least recently used beyond the capacity.
   const RegionResult& get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo = nullptr);
+  /// The same with the request's key given (region_key(spline, request)).
+  const RegionResult& get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
+                          RegionMemo* memo = nullptr);
   void set_capacity(std::size_t capacity);
   std::size_t size() const { return entries_.size(); }
 
  private:
   struct Entry {
     std::vector<double> key;
+    std::uint64_t hash = 0;  ///< hash(key)
     std::shared_ptr<const RegionResult> result;
   };
+  static std::uint64_t hash(const std::vector<double>& key);
   std::vector<Entry> entries_;
   std::size_t capacity_;
 };

@@ -803,11 +803,12 @@ std::vector<double> drag_frames(App& app, int k, int frames, App::Phases& mean) 
 }
 
 /// n points on a slow wave, cubic, uniform knots (the locality benchmark's
-/// curve: the same shape about its middle point whatever n).
+/// curve: the same shape about its middle point n/2 whatever n, the wave's
+/// phase counted from it; only a short spline's ends cut the judged spans).
 BSpline wave_spline(int n) {
   std::vector<Vec2> p;
   std::vector<double> knots;
-  for (int i = 0; i < n; ++i) p.push_back({0.5 * i, std::sin(0.3 * i)});
+  for (int i = 0; i < n; ++i) p.push_back({0.5 * (i - n / 2), std::sin(0.3 * (i - n / 2))});
   for (int i = 0; i < n + 2; ++i) knots.push_back(i);
   return BSpline::make(3, knots, p, "wave");
 }
@@ -815,11 +816,16 @@ BSpline wave_spline(int n) {
 /// Region frames of the editor (headless: Editor::region_rgba, the CPU
 /// engine) for a spline of n points: the middle point selected, judged on
 /// the spans it acts on, a fixed view about it; each frame first moves its
-/// neighbour a little, so the selected point's region must be computed again
-/// (its fixed spans changed). Returns the frames' times in ms; the first
-/// region (every span analysed, as every frame did before RegionMemo) goes
-/// to `first_ms`.
-std::vector<double> locality_frames(int n, int width, int height, int frames, double& first_ms) {
+/// neighbour a little, so the selected point's region changes (its fixed
+/// spans changed). `revisit` false: every frame's position is new, so the
+/// region is computed (the memo's patched base, the render); true: the
+/// frames revisit seven positions shown before the timing, so the editor's
+/// region cache serves them (the key, the colours and the status line's
+/// reason remain). Returns the frames' times in ms and appends their CPU
+/// times (every thread of cmr) to `cpu_ms`; the first region (every span
+/// analysed, as every frame did before RegionMemo) goes to `first_ms`.
+std::vector<double> locality_frames(int n, int width, int height, int frames, bool revisit, double& first_ms,
+                                    std::vector<double>& cpu_ms) {
   Editor e(wave_spline(n), "wave.json", width, height);
   const int k = n / 2, d = 3;
   e.select(k);
@@ -830,12 +836,21 @@ std::vector<double> locality_frames(int n, int width, int height, int frames, do
   (void)e.region_rgba();
   first_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   const Vec2 q = e.doc().spline.points()[k + 1];
+  const auto offset = [&](int i) { return Vec2{0.0, revisit ? 0.01 * (1 + i % 7) : 0.001 * (1 + i)}; };
+  if (revisit) {
+    for (int i = 0; i < 7; ++i) {
+      e.move_point(k + 1, q + offset(i));
+      (void)e.region_rgba();
+    }
+  }
   std::vector<double> ms;
   for (int i = 0; i < frames; ++i) {
-    e.move_point(k + 1, q + Vec2{0.0, 0.01 * (1 + i % 7)});
+    e.move_point(k + 1, q + offset(i));
+    const double c0 = process_cpu_ms();
     const auto t0 = Clock::now();
     (void)e.region_rgba();
     ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    cpu_ms.push_back(process_cpu_ms() - c0);
   }
   return ms;
 }
@@ -871,22 +886,29 @@ int run_bench(const BenchOptions& o) {
     // Locality (issue 23): a region frame of a long spline against a short
     // one's, runs interleaved (the machine's load falls on both alike).
     const int frames = 30, w = app.editor().viewport().width, h = app.editor().viewport().height;
-    std::vector<double> small, large;
-    double first_small = 0, first_large = 0, first = 0;
-    for (int round = 0; round < 3; ++round) {
-      for (double x : locality_frames(6, w, h, frames, first)) small.push_back(x);
-      first_small += first / 3;
-      for (double x : locality_frames(o.points, w, h, frames, first)) large.push_back(x);
-      first_large += first / 3;
+    std::printf("locality: region frames after a neighbour's move of the middle point of an N-point cubic, "
+                "%d frames x 3 rounds, interleaved; load average %s\n", frames, load_average().c_str());
+    for (bool revisit : {false, true}) {
+      std::vector<double> small, large, cpu_small, cpu_large;
+      double first_small = 0, first_large = 0, first = 0;
+      for (int round = 0; round < 3; ++round) {
+        for (double x : locality_frames(6, w, h, frames, revisit, first, cpu_small)) small.push_back(x);
+        first_small += first / 3;
+        for (double x : locality_frames(o.points, w, h, frames, revisit, first, cpu_large)) large.push_back(x);
+        first_large += first / 3;
+      }
+      const FrameStats a = stats_of(small), b = stats_of(large), ca = stats_of(cpu_small), cb = stats_of(cpu_large);
+      const char* what = revisit ? "region remembered (revisited positions)" : "region computed (new positions)";
+      std::printf("%s, %d points: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n", what, 6, a.mean, a.p50, a.p95);
+      std::printf("%s, %d points: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n", what, o.points, b.mean, b.p50, b.p95);
+      std::printf("%s: ratio %d-point / 6-point: mean %.2f, p50 %.2f; CPU time per frame (every thread) "
+                  "%.2f / %.2f ms, ratio %.2f\n",
+                  what, o.points, b.mean / a.mean, b.p50 / a.p50, cb.mean, ca.mean, cb.mean / ca.mean);
+      if (!revisit)
+        std::printf("the first region (every span analysed, as each frame before the memo): %d points %.1f ms, "
+                    "6 points %.1f ms\n",
+                    o.points, first_large, first_small);
     }
-    const FrameStats a = stats_of(small), b = stats_of(large);
-    std::printf("region frame after a neighbour's move, %d-point spline: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n",
-                6, a.mean, a.p50, a.p95);
-    std::printf("region frame after a neighbour's move, %d-point spline: mean %.2f ms  p50 %.2f ms  p95 %.2f ms\n",
-                o.points, b.mean, b.p50, b.p95);
-    std::printf("ratio %d-point / 6-point: mean %.2f, p50 %.2f\n", o.points, b.mean / a.mean, b.p50 / a.p50);
-    std::printf("the first region (every span analysed, as each frame before the memo): %d points %.1f ms, 6 points %.1f ms\n",
-                o.points, first_large, first_small);
   }
   std::printf("load average at the end: %s\n", load_average().c_str());
   return kEditOk;
