@@ -81,19 +81,25 @@ void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   const int d = s.spline().degree();
   const SegmentWindow<Rational> window = segment_window<Rational>(s.spline(), g);
   const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
+  // A Bezier window's control values are its Bezier values exactly
+  // (extract.hpp, bezier_window): the rational blossoms, O(d^3) GMP steps, are skipped.
+  const bool bezier = bezier_window(s.spline(), g);
+  const auto bezier_values = [&](const auto& values) {
+    return bezier ? values : bezier_points(window.knots, values, d, window.span, Rational(g.a), Rational(g.b));
+  };
   std::vector<Rational> indicator(d + 1, Rational(0));
   for (int k : s.group)
     if (k >= first && k <= first + d) indicator[k - first] = Rational(s.spline().weight(k));  // (w x) moves by w d
-  e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
+  e.weight_exact = bezier_values(indicator);
   if (s.spline().is_rational()) {
-    for (const HPoint<Rational>& h : segment_homogeneous_points<Rational>(s.spline(), g)) {
+    for (const HPoint<Rational>& h : bezier_values(homogeneous_window_points<Rational>(s.spline(), g))) {
       e.base_exact.push_back({h.x, h.y});
       e.hw_exact.push_back(h.z);
       const double w = rounded(h.z);
       e.hw.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
     }
   } else {
-    e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+    e.base_exact = bezier_values(window.points);
   }
   for (int i = 0; i <= d; ++i) {
     // Rounding to nearest: error at most half an ulp, bounded by u |v|.

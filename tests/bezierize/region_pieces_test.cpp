@@ -6,7 +6,8 @@
 // all round to zero marked with a NaN. The rounded xi and nu of every
 // touched entry of prepare_region, and the entries' rounded Bezier points and
 // influence weights with their error bounds, must equal the reference bit
-// for bit: on seeded B-splines and Beziers of degrees 2..15 (random knot
+// for bit, and their exact Bezier points and weights the blossoms' (which a
+// Bezier window skips): on seeded B-splines and Beziers of degrees 2..15 (random knot
 // gaps, so denominators are not powers of two), rational ones of degrees 2..6, at
 // depths 0..3 and 12, and at coordinate scales whose coefficients underflow
 // to subnormals or zero, or are near the top of the double range (the
@@ -21,6 +22,7 @@
 #include <sstream>
 #include <string>
 
+#include "bezierize/extract.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/poly3.hpp"
 #include "bezierize/rational_lambda.hpp"
@@ -140,8 +142,28 @@ Kinds expect_reference(const BSpline& spline, int point, int depth, const std::s
   o.width = o.height = 4;
   const RegionSetup s = prepare_region(spline, o);
   int touched = 0;
+  const int d = spline.degree();
   for (const RegionEntry& e : s.entries) {
     const std::string where = label + ", D " + std::to_string(depth) + ", segment " + std::to_string(e.segment);
+    // The exact Bezier points and influence weights are the blossoms' (a Bezier window skips them).
+    const Segment& g = spline.segments()[e.segment];
+    const SegmentWindow<Rational> window = segment_window<Rational>(spline, g);
+    const int first = g.span - d + 1;
+    std::vector<Rational> indicator(d + 1, Rational(0));
+    if (point >= first && point <= first + d) indicator[point - first] = Rational(spline.weight(point));
+    EXPECT_TRUE(e.weight_exact == bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b)))
+        << where << ": influence weights";
+    if (spline.is_rational()) {
+      const std::vector<HPoint<Rational>> H = segment_homogeneous_points<Rational>(spline, g);
+      for (std::size_t i = 0; i < H.size(); ++i)
+        EXPECT_TRUE(e.base_exact[i].x == H[i].x && e.base_exact[i].y == H[i].y && e.hw_exact[i] == H[i].z)
+            << where << ": homogeneous Bezier point " << i;
+    } else {
+      const std::vector<Point<Rational>> B =
+          bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+      for (std::size_t i = 0; i < B.size(); ++i)
+        EXPECT_TRUE(e.base_exact[i].x == B[i].x && e.base_exact[i].y == B[i].y) << where << ": Bezier point " << i;
+    }
     for (std::size_t i = 0; i < e.base_exact.size(); ++i) {
       EXPECT_TRUE(same_bits(e.base[i].x, reference_rounded(e.base_exact[i].x))) << where << ", B0 x " << i;
       EXPECT_TRUE(same_bits(e.base[i].y, reference_rounded(e.base_exact[i].y))) << where << ", B0 y " << i;
@@ -210,6 +232,13 @@ TEST(RegionPieces, RationalSplinesEqualTheExactHalving) {
   for (int d = 2; d <= 6; ++d) {
     const BSpline s = random_spline(rng, d, 2, 1.0, true, true);
     expect_reference(s, s.point_count() / 2, 3, "rational B-spline of degree " + std::to_string(d));
+    std::vector<Vec2> P;
+    std::vector<double> w;
+    for (int i = 0; i <= d; ++i) {
+      P.push_back(Vec2(2 * unit(rng) - 1, 2 * unit(rng) - 1));
+      w.push_back(0.5 + 1.5 * unit(rng));
+    }
+    expect_reference(BSpline::bezier(P, "seeded", w), d / 2, 3, "rational Bezier of degree " + std::to_string(d));
   }
 }
 
