@@ -10,6 +10,7 @@
 #include "bezierize/lambda.hpp"
 #include "bezierize/poly3.hpp"
 #include "bezierize/rational_lambda.hpp"
+#include "bezierize/region_pieces.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -18,39 +19,6 @@ namespace cmr::backend {
 namespace {
 
 double rounded(const Rational& q) { return q.get_d(); }
-
-// The first K coefficients rounded to double. All zeros exactly when the
-// polynomial is zero: a non-zero one whose coefficients all underflow gets a
-// NaN, which makes every sign uncertain (and the pixel exact) instead of
-// passing for a structural zero.
-template <std::size_t K>
-std::array<double, K> rounded_poly(const Poly3& p) {
-  std::array<double, K> r{};
-  bool exact_zero = true, all_rounded_zero = true;
-  for (std::size_t m = 0; m < K; ++m) {
-    r[m] = rounded(p.c[m]);
-    exact_zero = exact_zero && sgn(p.c[m]) == 0;
-    all_rounded_zero = all_rounded_zero && r[m] == 0;
-  }
-  if (all_rounded_zero && !exact_zero) r[0] = std::numeric_limits<double>::quiet_NaN();
-  return r;
-}
-
-// Bernstein coefficients of every subdivision piece down to `levels`, in heap
-// order (piece 2^L - 1 + j is [j, j+1] / 2^L), exactly.
-std::vector<Bernstein<Poly3>> piece_polynomials(const Bernstein<Poly3>& root, int levels) {
-  std::vector<Bernstein<Poly3>> pieces{root};
-  const std::size_t n1 = root.size();
-  const Poly3 half(Rational(1, 2));
-  const auto mid = [&](const Poly3& a, const Poly3& b) { return half * (a + b); };
-  for (std::size_t p = 0; pieces.size() < (std::size_t{2} << levels) - 1; ++p) {
-    Bernstein<Poly3> left(n1), right(n1), work(n1);
-    bernstein_halve(pieces[p].data(), n1, left.data(), right.data(), work.data(), mid);
-    pieces.push_back(std::move(left));
-    pieces.push_back(std::move(right));
-  }
-  return pieces;
-}
 
 // The point group: k first, then the rigid members without repeats. On a
 // closed spline every member brings its twin in the unrolled form (the same
@@ -113,19 +81,25 @@ void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   const int d = s.spline().degree();
   const SegmentWindow<Rational> window = segment_window<Rational>(s.spline(), g);
   const int first = g.span - d + 1;  // the window holds P_first .. P_{first+d}
+  // A Bezier window's control values are its Bezier values exactly
+  // (extract.hpp, bezier_window): the rational blossoms, O(d^3) GMP steps, are skipped.
+  const bool bezier = bezier_window(s.spline(), g);
+  const auto bezier_values = [&](const auto& values) {
+    return bezier ? values : bezier_points(window.knots, values, d, window.span, Rational(g.a), Rational(g.b));
+  };
   std::vector<Rational> indicator(d + 1, Rational(0));
   for (int k : s.group)
     if (k >= first && k <= first + d) indicator[k - first] = Rational(s.spline().weight(k));  // (w x) moves by w d
-  e.weight_exact = bezier_points(window.knots, indicator, d, window.span, Rational(g.a), Rational(g.b));
+  e.weight_exact = bezier_values(indicator);
   if (s.spline().is_rational()) {
-    for (const HPoint<Rational>& h : segment_homogeneous_points<Rational>(s.spline(), g)) {
+    for (const HPoint<Rational>& h : bezier_values(homogeneous_window_points<Rational>(s.spline(), g))) {
       e.base_exact.push_back({h.x, h.y});
       e.hw_exact.push_back(h.z);
       const double w = rounded(h.z);
       e.hw.push_back(Bounded(w, Bounded::kRound * std::fabs(w) + Bounded::kTiny));
     }
   } else {
-    e.base_exact = bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
+    e.base_exact = bezier_values(window.points);
   }
   for (int i = 0; i <= d; ++i) {
     // Rounding to nearest: error at most half an ulp, bounded by u |v|.
@@ -137,8 +111,17 @@ void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   }
 }
 
-// The rounded piece polynomials xi_k(dx, dy) and nu_k(dx, dy) of a touched entry.
+// The rounded piece polynomials xi_k(dx, dy) and nu_k(dx, dy) of a touched
+// entry, formed and halved in integers over common denominators
+// (region_pieces.hpp): the values of halving the exact Poly3 coefficients,
+// without a gcd per operation.
 void set_piece_polynomials(RegionEntry& e, int piece_levels) {
+  if (e.hw_exact.empty() && e.base_exact.size() >= 3) {
+    MovedPieces pieces = moved_pieces(e.base_exact, e.weight_exact, piece_levels);
+    e.xi = std::move(pieces.xi);
+    e.nu = std::move(pieces.nu);
+    return;
+  }
   std::vector<Point<Poly3>> P;
   std::vector<HPoint<Poly3>> H;
   for (std::size_t i = 0; i < e.base_exact.size(); ++i) {
@@ -147,15 +130,8 @@ void set_piece_polynomials(RegionEntry& e, int piece_levels) {
     if (!e.hw_exact.empty()) H.push_back({P.back().x, P.back().y, Poly3(e.hw_exact[i])});
   }
   const bool rational = !e.hw_exact.empty();
-  for (const Bernstein<Poly3>& piece :
-       piece_polynomials(rational ? rational_lambda_bernstein<Poly3>(H) : lambda_bernstein<Poly3>(P), piece_levels))
-    for (const Poly3& c : piece) e.xi.push_back(rounded_poly<10>(c));
-  for (const Bernstein<Poly3>& piece :
-       piece_polynomials(rational ? rational_d_bernstein<Poly3>(H) : eta_bernstein<Poly3>(P), piece_levels))
-    for (const Poly3& c : piece) {
-      for (int m = 3; m < kPoly3Terms; ++m) CMR_CHECK(sgn(c.c[m]) == 0);  // eta is affine in (dx, dy)
-      e.nu.push_back(rounded_poly<3>(c));
-    }
+  e.xi = rounded_pieces<10>(rational ? rational_lambda_bernstein<Poly3>(H) : lambda_bernstein<Poly3>(P), piece_levels);
+  e.nu = rounded_pieces<3>(rational ? rational_d_bernstein<Poly3>(H) : eta_bernstein<Poly3>(P), piece_levels);
 }
 
 }  // namespace
