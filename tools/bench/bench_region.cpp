@@ -22,9 +22,10 @@
 // Usage: bench_region [repetitions=5] [cells [cmr]]   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
-//   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan):
-//   best wall-clock and CPU seconds per frame, for profiling and for
-//   comparing builds back to back.
+//   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
+//   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
+//   for profiling and for comparing builds back to back (under callgrind,
+//   instructions per frame: the difference of two repetition counts).
 #include <sys/utsname.h>
 #include <time.h>
 
@@ -206,7 +207,17 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
     return;
   const RegionProblem setup = prepare(*sc.spline, sc.point, depth, size, view);
   if (g_cmr_only) {
-    const Timings<1> tc = best_interleaved<1>(reps, {[&] { (void)render(setup, false); }});
+    // Exactly `reps` frames (no time budget): instruction counts under
+    // callgrind scale with reps.
+    Timings<1> tc;
+    tc.wall.fill(1e300);
+    tc.cpu.fill(1e300);
+    for (int k = 0; k < reps; ++k) {
+      const double t0 = now(), c0 = cpu_now();
+      (void)render(setup, false);
+      tc.wall[0] = std::min(tc.wall[0], now() - t0);
+      tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
+    }
     std::printf("  %-20s %-12s %2d %4d  cmr CPU %8.3f ms wall %8.3f ms CPU %8.2f Mp/s\n", sc.name, view_name, depth, size,
                 1e3 * tc.wall[0], 1e3 * tc.cpu[0], static_cast<double>(size) * size / 1e6 / tc.wall[0]);
     std::fflush(stdout);
