@@ -746,6 +746,10 @@ std::optional<MonotonicityResult> flat_algorithm1(const double* root, int n1, do
       FlatPiecesN<10> src(root, e);
       return flat_algorithm1(src, D);
     }
+    case 30: {  // degree 9
+      FlatPiecesN<30> src(root, e);
+      return flat_algorithm1(src, D);
+    }
     default: {
       FlatPieces src(root, n1, e);
       return flat_algorithm1(src, D);
@@ -915,6 +919,7 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
     switch (n1) {  // straight-line code for the common sizes (cubic: 6; quartic: 10)
       case 6: root_values<6>(t, mu, v); break;
       case 10: root_values<10>(t, mu, v); break;
+      case 30: root_values<30>(t, mu, v); break;
       default:
         for (int m = 0; m < kPoly3Terms; ++m)
           for (int c = 0; c < n1; ++c) v[c] += t[m * n1 + c] * mu[m];
