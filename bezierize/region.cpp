@@ -403,14 +403,33 @@ struct Interval {
 // and each D_st carries its rounding, kPolyErrorUnits u sum |c_m| |T[st][m]|.
 // Expanding at the centre avoids the cancellation that makes a term-by-term
 // interval bound useless away from the moved point.
+// The (st, m) pairs with T[st][m] possibly non-zero (s <= a_m, t <= b_m),
+// listed by m: fixed at compile time, so the box evaluation below unrolls
+// into straight-line code.
+struct PairTable {
+  uint8_t st[35], m[35];
+};
+constexpr PairTable pair_table() {
+  PairTable t{};
+  int n = 0;
+  for (int m = 0; m < kPoly3Terms; ++m)
+    for (int st = 0; st < kPoly3Terms; ++st)
+      if (kPoly3ExpX[st] <= kPoly3ExpX[m] && kPoly3ExpY[st] <= kPoly3ExpY[m]) {
+        t.st[n] = static_cast<uint8_t>(st);
+        t.m[n] = static_cast<uint8_t>(m);
+        ++n;
+      }
+  return t;
+}
+inline constexpr PairTable kPairTable = pair_table();
+
 struct Monomials {
   // T[st][m] is non-zero only for s <= a_m and t <= b_m: 35 pairs, listed by m.
   static constexpr int kPairs = 35;
   bool point = true;
   double v[kPoly3Terms];                // point: mu_m
   double a[kPoly3Terms];                // point: |mu_m|
-  double tv[kPairs], at[kPairs];        // box: T[st][m] and |T[st][m]| of the non-zero pairs
-  uint8_t pair_st[kPairs], pair_m[kPairs];
+  double tv[kPairs], at[kPairs];        // box: T[st][m] and |T[st][m]| of kPairTable's pairs, in its order
   double rpow[kPoly3Terms];             // box: r_x^s r_y^t, rounded up
   Monomials(double dx, double dy) {
     const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
@@ -431,8 +450,6 @@ struct Monomials {
         if (s > am || t > bm) continue;
         tv[n] = binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t];
         at[n] = std::fabs(tv[n]);
-        pair_st[n] = static_cast<uint8_t>(st);
-        pair_m[n] = static_cast<uint8_t>(m);
         ++n;
       }
     }
@@ -467,10 +484,11 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
   // Pairs are listed by m, and only m < K carry coefficients (K = 3: 5 pairs).
   constexpr int pairs = K == kPoly3Terms ? Monomials::kPairs : 5;
   static_assert(K == kPoly3Terms || K == 3, "polynomials of degree 3 or 1");
+#pragma GCC unroll 35
   for (int k = 0; k < pairs; ++k) {
-    const double cm = c[m.pair_m[k]];
-    d[m.pair_st[k]] += cm * m.tv[k];
-    mag[m.pair_st[k]] += std::fabs(cm) * m.at[k];
+    const double cm = c[kPairTable.m[k]];
+    d[kPairTable.st[k]] += cm * m.tv[k];
+    mag[kPairTable.st[k]] += std::fabs(cm) * m.at[k];
   }
   double err = units * mag[0] + 16 * Bounded::kTiny;
   for (std::size_t st = 1; st < K; ++st) err += (std::fabs(d[st]) + units * mag[st]) * m.rpow[st] * (1 + 4 * Bounded::kRound);
@@ -557,6 +575,14 @@ class FlatPieces {
       e_ = std::max(e_, b.e);
     }
   }
+  /// The root piece's coefficients `root` (n1 of them), with one bound `e` on all.
+  FlatPieces(const double* root, int n1, double e) : n1_(n1), e_(e) {
+    static thread_local std::vector<double> scratch;
+    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    if (scratch.size() < need) scratch.resize(need);
+    base_ = scratch.data();
+    std::copy(root, root + n1, base_);
+  }
   int size() const { return n1_; }
   int sign(int k) const {
     const double x = base_[k];
@@ -582,6 +608,130 @@ class FlatPieces {
   double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
   double pending_e_[kMaxDepth + 1];
 };
+
+// The first try of the CPU render's pixels (region_cull), prepared once per
+// render: each touched entry's root coefficients xi_k(dx, dy) stored
+// monomial-major (t[m * n1 + k] = c_km), so that one pixel's n1 values cost
+// 10 n1-wide multiply-adds, and per monomial the largest |c_km| over k, so
+// that one bound serves every coefficient:
+//     E = kPolyErrorUnits u sum_m max_k |c_km| |mu_m| + 16 tiny
+// is at least each coefficient's own bound of eval_poly (the same sum with
+// |c_km|), of which FlatPieces takes the largest. Level 0 and the traversal
+// read the same values, so a pixel evaluates its root coefficients once.
+// Looser than classify_fast; a pixel with an uncertain sign here goes on to
+// classify_fast, then to the exact path: labels and depths are the exact ones.
+struct PixelKernel {
+  struct Entry {
+    int entry = 0;  ///< index into RegionSetup::entries
+    int n1 = 0;
+    int offset = 0;  ///< where its values start in a pixel's buffer
+    std::vector<double> t;
+    std::array<double, kPoly3Terms> mag{};
+  };
+  std::vector<Entry> entries;
+  int values = 0;  ///< sum of n1
+  explicit PixelKernel(const RegionSetup& s) {
+    for (std::size_t q = 0; q < s.entries.size(); ++q) {
+      const RegionEntry& e = s.entries[q];
+      if (!e.classify) continue;
+      Entry k;
+      k.entry = static_cast<int>(q);
+      k.n1 = e.n_xi;
+      k.offset = values;
+      values += k.n1;
+      k.t.assign(static_cast<std::size_t>(kPoly3Terms) * k.n1, 0.0);
+      for (int c = 0; c < k.n1; ++c)
+        for (int m = 0; m < kPoly3Terms; ++m) {
+          const double v = e.xi[c][m];  // the root piece: coefficients 0..n1-1
+          k.t[static_cast<std::size_t>(m) * k.n1 + c] = v;
+          k.mag[m] = std::max(k.mag[m], std::fabs(v));
+        }
+      entries.push_back(std::move(k));
+    }
+  }
+};
+
+// v[c] = sum_m t[m * N + c] mu[m], in the order m = 0, 1, ..., 9 (the order
+// eval_poly sums in; the bound does not depend on it).
+template <int N>
+void root_values(const double* t, const double* mu, double* v) {
+  double acc[N] = {};
+  for (int m = 0; m < kPoly3Terms; ++m)
+    for (int c = 0; c < N; ++c) acc[c] += t[m * N + c] * mu[m];
+  for (int c = 0; c < N; ++c) v[c] = acc[c];
+}
+
+inline int flat_sign(double x, double e) {
+  if (std::fabs(x) > e) return x > 0 ? 1 : -1;  // false for NaN: unknown
+  return x == 0 && e == 0 ? 0 : kSignUnknown;
+}
+
+// FlatPieces with n1 fixed at compile time (the kernel's common sizes): the
+// same halvings (bernstein_halve's order, HalfMean) and the same bound, in
+// straight-line code on the stack.
+template <int N>
+class FlatPiecesN {
+ public:
+  FlatPiecesN(const double* root, double e) : e_(e) { std::copy(root, root + N, cur_); }
+  int size() const { return N; }
+  int sign(int k) const { return flat_sign(cur_[k], e_); }
+  void split(int level, int) {
+    double mag = 0;
+    for (int k = 0; k < N; ++k) mag = std::max(mag, std::fabs(cur_[k]));
+    e_ += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    double* right = pending_[level];
+    double w[N];
+    std::copy(cur_, cur_ + N, w);
+    right[N - 1] = w[N - 1];
+    for (int r = 1; r < N; ++r) {
+      for (int i = 0; i + r < N; ++i) w[i] = HalfMean{}(w[i], w[i + 1]);
+      cur_[r] = w[0];
+      right[N - 1 - r] = w[N - 1 - r];
+    }
+    pending_e_[level] = e_;
+  }
+  void next(int level, int) {
+    std::copy(pending_[level], pending_[level] + N, cur_);
+    e_ = pending_e_[level];
+  }
+
+ private:
+  double e_;
+  double cur_[N];
+  double pending_[kMaxDepth + 1][N];
+  double pending_e_[kMaxDepth + 1];
+};
+
+// Algorithm 1 on the kernel's root values of one segment (nullopt: a sign
+// not certain with the flat bound).
+template <class Source>
+std::optional<MonotonicityResult> flat_algorithm1(Source& src, int D) {
+  MonotonicityFold fold;
+  if (!traverse(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+    return std::nullopt;
+  return fold.result(D);
+}
+
+std::optional<MonotonicityResult> flat_algorithm1(const double* root, int n1, double e, int D) {
+  switch (n1) {
+    case 6: {
+      FlatPiecesN<6> src(root, e);
+      return flat_algorithm1(src, D);
+    }
+    case 10: {
+      FlatPiecesN<10> src(root, e);
+      return flat_algorithm1(src, D);
+    }
+    case 30: {  // degree 9
+      FlatPiecesN<30> src(root, e);
+      return flat_algorithm1(src, D);
+    }
+    default: {
+      FlatPieces src(root, n1, e);
+      return flat_algorithm1(src, D);
+    }
+  }
+}
 
 std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Monomials& m, int levels, int D) {
   if (m.point) {
@@ -718,6 +868,106 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
   return verdict(s, classes, joints, false);
 }
 
+// classify_fast for one pixel through the render's PixelKernel: nullopt when
+// a sign is not certain with the kernel's one bound (then classify_fast).
+std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
+                                               Bounded bx, Bounded by) {
+  if (s.fixed_level0_none) return PixelResult{0, 0, false};
+  const RegionRequest& o = s.options;
+  const bool cmr = o.mode == Mode::cmr;
+  const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
+  const double mu[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
+  double amu[kPoly3Terms];
+  for (int m = 0; m < kPoly3Terms; ++m) amu[m] = std::fabs(mu[m]);
+  static thread_local std::vector<double> values, bounds;  // reused: no heap per pixel
+  values.assign(static_cast<std::size_t>(k.values), 0.0);
+  bounds.resize(k.entries.size());
+  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
+  // Level 0 first, as classify_fast: any segment failing there decides the pixel.
+  bool uncertain = false;
+  for (std::size_t q = 0; q < k.entries.size(); ++q) {
+    const PixelKernel::Entry& ke = k.entries[q];
+    double* v = values.data() + ke.offset;
+    const int n1 = ke.n1;
+    const double* t = ke.t.data();
+    double mag = 0;
+    for (int m = 0; m < kPoly3Terms; ++m) mag += ke.mag[m] * amu[m];
+    switch (n1) {  // straight-line code for the common sizes (cubic: 6; quartic: 10)
+      case 6: root_values<6>(t, mu, v); break;
+      case 10: root_values<10>(t, mu, v); break;
+      case 30: root_values<30>(t, mu, v); break;
+      default:
+        for (int m = 0; m < kPoly3Terms; ++m)
+          for (int c = 0; c < n1; ++c) v[c] += t[m * n1 + c] * mu[m];
+    }
+    const double e = units * mag + 16 * Bounded::kTiny;
+    bounds[q] = e;
+    Truth fails = ends_opposite(flat_sign(v[0], e), flat_sign(v[n1 - 1], e));
+    if (cmr && fails != Truth::yes) {
+      const RegionEntry& re = s.entries[ke.entry];
+      const Monomials mono(dx, dy);
+      const Truth infl = ends_touch(certain_sign(eval_poly(re.nu[0], mono)),
+                                    certain_sign(eval_poly(re.nu[re.n_nu - 1], mono)));
+      fails = infl == Truth::yes ? Truth::yes
+              : (fails == Truth::unknown || infl == Truth::unknown) ? Truth::unknown
+                                                                    : Truth::no;
+    }
+    if (fails == Truth::yes) return PixelResult{0, 0, false};
+    uncertain = uncertain || fails == Truth::unknown;
+  }
+  if (uncertain) return std::nullopt;
+  // Without a depth map a segment that fails decides the label (0: its group
+  // is "none", and every label kind fails with a failing group), whatever the
+  // other segments give; the segment that failed last is tried first, since
+  // neighbouring pixels tend to fail on the same one. With a depth map every
+  // segment's depth is needed.
+  const bool labels_only = !o.depth;
+  static thread_local std::size_t first_try = 0;
+  const std::size_t n = k.entries.size(), start = labels_only && first_try < n ? first_try : 0;
+  static thread_local std::vector<SegmentClass> classes;
+  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
+  for (std::size_t step = 0; step < n; ++step) {
+    const std::size_t q = (start + step) % n;
+    const PixelKernel::Entry& ke = k.entries[q];
+    const RegionEntry& e = s.entries[ke.entry];
+    const auto mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth);
+    if (!mono) {
+      uncertain = true;  // another segment may still fail for certain
+      continue;
+    }
+    SegmentClass c;
+    c.monotonicity = *mono;
+    if (cmr && !(labels_only && c.monotonicity.curvature == Curvature::non_monotone)) {
+      const auto i = lazy_algorithm2(e, Monomials(dx, dy), s.piece_levels, o.max_depth);
+      if (!i) {
+        uncertain = true;
+        continue;
+      }
+      c.inflection = *i;
+    }
+    if (labels_only && (c.monotonicity.curvature == Curvature::non_monotone ||
+                        (cmr && c.inflection.inflection == Inflection::present))) {
+      first_try = q;
+      return PixelResult{0, 0, false};
+    }
+    classes[s.verdict.slot[e.segment]] = c;
+  }
+  if (uncertain) return std::nullopt;
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
+  if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
+  return verdict(s, classes, joints, false);
+}
+
+// One pixel of the CPU render: the kernel's try, then classify_position's.
+PixelResult classify_pixel(const RegionSetup& s, const PixelKernel& k, Vec2 p) {
+  const double dx = p.x - s.anchor.x, dy = p.y - s.anchor.y;
+  const Bounded bx(dx, 0.5 * Bounded::kRound * std::fabs(dx)), by(dy, 0.5 * Bounded::kRound * std::fabs(dy));
+  if (const auto r = classify_pixel_flat(s, k, dx, dy, bx, by)) return *r;
+  if (const auto r = classify_fast(s, Monomials(dx, dy), bx, by)) return *r;
+  return classify_position_exact(s, p);
+}
+
 // Labels for a whole box of displacements without following each pixel's
 // traversal (used only when no depth map is wanted, since decision levels
 // may differ between the pixels). Per touched segment, a depth-first search
@@ -799,11 +1049,19 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   }
   static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
   classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
-  for (const RegionEntry& e : s.entries) {
+  // The segment that failed last (on this thread) is tried first: a failing
+  // segment decides the label (0) whatever the others give, and neighbouring
+  // blocks tend to fail on the same one.
+  const std::size_t n = s.entries.size();
+  static thread_local std::size_t first_try = 0;
+  const std::size_t start = first_try < n ? first_try : 0;
+  for (std::size_t step = 0; step < n; ++step) {
+    const std::size_t q = (start + step) % n;
+    const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
     SegmentClass c;
     switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget)) {
-      case BoxOutcome::not_monotone: return PixelResult{0, 0, false};
+      case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
       case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
       case BoxOutcome::decreasing: c.monotonicity = {Curvature::decreasing, 0}; break;
@@ -812,7 +1070,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       // For eta, "increasing" means all pieces positive: no inflection, kappa > 0.
       int kappa = 0;
       switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget)) {
-        case BoxOutcome::not_monotone: return PixelResult{0, 0, false};  // an inflection
+        case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};  // an inflection
         case BoxOutcome::unresolved: return std::nullopt;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
       }
@@ -890,8 +1148,8 @@ void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
 
 // A block of a few pixels: evaluating the pixels (here, or on the device when
 // min_block > 1) is cheaper than a box. Returns the pixels the exact path decided.
-std::uint64_t small_block(const RegionSetup& s, RegionImage& img, const PixelBlock& b, int min_block,
-                          std::vector<std::array<int, 2>>& listed) {
+std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& b,
+                          int min_block, std::vector<std::array<int, 2>>& listed) {
   std::uint64_t exact = 0;
   for (int j = b[1]; j <= b[3]; ++j)
     for (int i = b[0]; i <= b[2]; ++i) {
@@ -899,7 +1157,7 @@ std::uint64_t small_block(const RegionSetup& s, RegionImage& img, const PixelBlo
         listed.push_back({i, j});
         continue;
       }
-      const PixelResult r = classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
+      const PixelResult r = classify_pixel(s, k, pixel_center(img.view, img.width, img.height, i, j));
       fill(img, {i, j, i, j}, r);
       exact += r.exact;
     }
@@ -908,10 +1166,10 @@ std::uint64_t small_block(const RegionSetup& s, RegionImage& img, const PixelBlo
 
 // Decides one top-level block into img: whole where classify_block holds,
 // else quartered; blocks no larger than min_block are listed (single pixels
-// with min_block == 1 go through classify_position). Returns the pixels the
-// exact path decided.
-std::uint64_t cull_block(const RegionSetup& s, RegionImage& img, const PixelBlock& top, int min_block,
-                         std::vector<std::array<int, 2>>& listed) {
+// with min_block == 1 go through the render's per-pixel path, classify_pixel).
+// Returns the pixels the exact path decided.
+std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& top,
+                         int min_block, std::vector<std::array<int, 2>>& listed) {
   std::uint64_t exact = 0;
   std::vector<PixelBlock> todo{top};
   while (!todo.empty()) {
@@ -919,7 +1177,7 @@ std::uint64_t cull_block(const RegionSetup& s, RegionImage& img, const PixelBloc
     const auto [i0, j0, i1, j1] = b;
     todo.pop_back();
     if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
-      exact += small_block(s, img, b, min_block, listed);
+      exact += small_block(s, k, img, b, min_block, listed);
     } else if (const auto r = classify_block(s, i0, j0, i1, j1)) {
       fill(img, b, *r);
     } else if (i1 - i0 < min_block && j1 - j0 < min_block) {
@@ -945,11 +1203,12 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
   const int bw = (o.width + kRegionBlock - 1) / kRegionBlock, bh = (o.height + kRegionBlock - 1) / kRegionBlock;
   std::vector<std::vector<std::array<int, 2>>> listed(static_cast<std::size_t>(bw) * bh);
   std::vector<std::uint64_t> exact(listed.size(), 0);
+  const PixelKernel kernel(s);
   parallel_for(listed.size(), threads, [&](std::size_t b) {
     const int bi = static_cast<int>(b) % bw, bj = static_cast<int>(b) / bw;
     const PixelBlock top{bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
                          std::min(o.height, (bj + 1) * kRegionBlock) - 1};
-    exact[b] = cull_block(s, img, top, min_block, listed[b]);
+    exact[b] = cull_block(s, kernel, img, top, min_block, listed[b]);
   });
   for (const std::uint64_t e : exact) img.exact_pixels += e;
   if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);

@@ -19,9 +19,13 @@
 //     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
 //     faster baseline of each cell, with the number of pixels whose labels
 //     differ and the load average.
-// Usage: bench_region [repetitions=5] [cells]   (run from the repository root)
+// Usage: bench_region [repetitions=5] [cells [cmr]]   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
+//   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
+//   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
+//   for profiling and for comparing builds back to back (under callgrind,
+//   instructions per frame: the difference of two repetition counts).
 #include <sys/utsname.h>
 #include <time.h>
 
@@ -192,6 +196,8 @@ double load_average() {
 
 /// Cells whose "scene view D size" text contains this (argv[2]); empty: every cell.
 std::string g_only;
+/// argv[3] == "cmr": only cmr's CPU backend is timed in those cells.
+bool g_cmr_only = false;
 
 /// One line of the comparison: the baselines (published method native, its
 /// vectorised form) vs cmr CPU and cmr Vulkan; ratios against the best baseline.
@@ -200,6 +206,23 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
                           std::to_string(size)).find(g_only) == std::string::npos)
     return;
   const RegionProblem setup = prepare(*sc.spline, sc.point, depth, size, view);
+  if (g_cmr_only) {
+    // Exactly `reps` frames (no time budget): instruction counts under
+    // callgrind scale with reps.
+    Timings<1> tc;
+    tc.wall.fill(1e300);
+    tc.cpu.fill(1e300);
+    for (int k = 0; k < reps; ++k) {
+      const double t0 = now(), c0 = cpu_now();
+      (void)render(setup, false);
+      tc.wall[0] = std::min(tc.wall[0], now() - t0);
+      tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
+    }
+    std::printf("  %-20s %-12s %2d %4d  cmr CPU %8.3f ms wall %8.3f ms CPU %8.2f Mp/s\n", sc.name, view_name, depth, size,
+                1e3 * tc.wall[0], 1e3 * tc.cpu[0], static_cast<double>(size) * size / 1e6 / tc.wall[0]);
+    std::fflush(stdout);
+    return;
+  }
   bench::PublishedRegion r;
   r.point = sc.point;
   r.max_depth = depth;
@@ -254,7 +277,7 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     const View zoom = centred(edge, 0.5 * kZoomWidth, 0.5 * kZoomWidth);
     for (const int depth : {10, 16}) {
       // Compile this depth's pipeline untimed: a small image across the boundary reaches the device.
-      (void)render(prepare(*sc.spline, sc.point, depth, kWarmupSize, zoom), true);
+      if (!g_cmr_only) (void)render(prepare(*sc.spline, sc.point, depth, kWarmupSize, zoom), true);
       for (const int size : {kCompareSize, kSize}) {
         compare(sc, "whole region", std::nullopt, depth, size, reps);
         compare(sc, "10x wider", wide, depth, size, reps);
@@ -277,6 +300,7 @@ int run(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   if (argc > 2) g_only = argv[2];
+  g_cmr_only = argc > 3 && std::string(argv[3]) == "cmr";
   utsname un{};
   uname(&un);
   std::printf("cmr region benchmark: %s, %u hardware threads, %s %s, load average %.2f\n", cpu_model().c_str(),
