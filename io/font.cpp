@@ -1,6 +1,8 @@
 #include "io/font.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -106,6 +108,39 @@ void name_cubic_items(std::vector<Item>& items, const std::string& prefix) {
 
 /// The chain of one contour (points first..last of the outline), or empty
 /// when the contour has no piece (a lone point).
+/// x = a + b exactly in double (Knuth's TwoSum: the rounding error is 0).
+bool exact_sum(double a, double b, double& x) {
+  x = a + b;
+  const double a1 = x - b, b1 = x - a1;
+  return std::isfinite(x) && (a - a1) + (b - b1) == 0;
+}
+
+/// A CFF line from A to B as a cubic whose inner points lie exactly on the
+/// line: A + k (B - A) and B - k (B - A) with k = 21845/65536 (1/3 within
+/// 5e-6), when every step is exact in double (font units are integers, so it
+/// always is). The uniform thirds (2A + B)/3, (A + 2B)/3 are not doubles:
+/// rounded, they bend the line by ~1e-16 of its length, which gave every
+/// slanted line a tiny curvature, inflections and a "curvature jump" to the
+/// next straight piece, and sent it through the exact rational path. A line
+/// is straight for any inner points on it in order (curvature 0; its
+/// direction at both ends is B - A); only its speed is not uniform, by 5e-6.
+/// nullopt (the rounded thirds) where a step would round.
+std::optional<std::array<Vec2, 2>> exact_cubic_line(Vec2 a, Vec2 b) {
+  constexpr double k = 21845.0 / 65536.0;
+  std::array<Vec2, 2> out;
+  for (int c = 0; c < 2; ++c) {
+    const double ac = c == 0 ? a.x : a.y, bc = c == 0 ? b.x : b.y;
+    double d, first, second;
+    if (!exact_sum(bc, -ac, d)) return std::nullopt;
+    const double q = k * d;  // exact when fma finds no rounding error
+    if (std::fma(k, d, -q) != 0) return std::nullopt;
+    if (!exact_sum(ac, q, first) || !exact_sum(bc, -q, second)) return std::nullopt;
+    (c == 0 ? out[0].x : out[0].y) = first;
+    (c == 0 ? out[1].x : out[1].y) = second;
+  }
+  return out;
+}
+
 std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
   const int n = last - first + 1;
   int start = 0;
@@ -120,10 +155,11 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   // Inner points of the straight piece from a node to the next (by value:
   // the pushes below may move `items`).
   auto add_line = [&](const Item from, const Item to) {
+    const std::optional<std::array<Vec2, 2>> exact = degree == 3 ? exact_cubic_line(from.p, to.p) : std::nullopt;
     for (int k = 1; k < degree; ++k) {
       const double s = static_cast<double>(k) / degree;
       Item it;
-      it.p = from.p + s * (to.p - from.p);
+      it.p = exact ? (*exact)[k - 1] : from.p + s * (to.p - from.p);
       it.name = from.name;
       it.name.append("+p").append(std::to_string(to.font_point));  // font_point is already contour-relative
       if (degree > 2) it.name.append("@").append(std::to_string(k)).append("/").append(std::to_string(degree));
