@@ -15,6 +15,7 @@
 
 #include "bezierize/region.hpp"
 #include "bezierize/region_setup.hpp"
+#include "tests/bezierize/boundary_point.hpp"
 #include "spline/spline_json.hpp"
 
 namespace cmr {
@@ -38,25 +39,10 @@ RegionRequest request(int point, int depth, int size, std::optional<View> view) 
 // a row of the default view at size x size (rows from the middle out, labels
 // of region_cpu), bisected 60 times on exact labels; the bench's way.
 Vec2 boundary_point(const BSpline& spline, int point, int depth, int size = 64) {
-  const RegionProblem p = RegionProblem::make(spline, request(point, depth, size, std::nullopt));
-  const RegionSetup& s = p.setup();
-  const RegionImage img = region_cpu(s, 1);
-  for (int step = 0; step < size; ++step) {
-    const int j = size / 2 + (step % 2 ? -(step + 1) / 2 : step / 2);
-    for (int i = 1; i < size; ++i) {
-      const std::size_t at = static_cast<std::size_t>(j) * size + i;
-      if (img.labels[at] == img.labels[at - 1]) continue;
-      Vec2 a = pixel_center(p.view(), size, size, i - 1, j), b = pixel_center(p.view(), size, size, i, j);
-      const uint8_t left = classify_position_exact(s, a).label;
-      for (int k = 0; k < 60; ++k) {
-        const Vec2 m = 0.5 * (a + b);
-        (classify_position_exact(s, m).label == left ? a : b) = m;
-      }
-      return 0.5 * (a + b);
-    }
-  }
-  ADD_FAILURE() << "no boundary in the default view";
-  return {0, 0};
+  const std::optional<Vec2> edge =
+      test::boundary_point(RegionProblem::make(spline, request(point, depth, size, std::nullopt)), size);
+  if (!edge) ADD_FAILURE() << "no boundary in the default view";
+  return edge.value_or(Vec2{0, 0});
 }
 
 void expect_exact_labels(const BSpline& spline, int point, const std::string& name, int size) {

@@ -16,6 +16,7 @@
 
 #include "bezierize/region.hpp"
 #include "bezierize/region_setup.hpp"
+#include "tests/bezierize/boundary_point.hpp"
 #include "spline/spline_json.hpp"
 
 namespace cmr {
@@ -40,24 +41,7 @@ RegionRequest request(int point, int depth, int size, std::optional<View> view, 
 // (rows from the middle out), bisected 60 times on exact labels.
 std::optional<Vec2> boundary_point(const BSpline& spline, int point, int depth, Mode mode) {
   const int size = 64;
-  const RegionProblem p = RegionProblem::make(spline, request(point, depth, size, std::nullopt, false, mode));
-  const RegionSetup& s = p.setup();
-  const RegionImage img = region_cpu(s, 1);
-  for (int step = 0; step < size; ++step) {
-    const int j = size / 2 + (step % 2 ? -(step + 1) / 2 : step / 2);
-    for (int i = 1; i < size; ++i) {
-      const std::size_t at = static_cast<std::size_t>(j) * size + i;
-      if (img.labels[at] == img.labels[at - 1]) continue;
-      Vec2 a = pixel_center(p.view(), size, size, i - 1, j), b = pixel_center(p.view(), size, size, i, j);
-      const uint8_t left = classify_position_exact(s, a).label;
-      for (int k = 0; k < 60; ++k) {
-        const Vec2 m = 0.5 * (a + b);
-        (classify_position_exact(s, m).label == left ? a : b) = m;
-      }
-      return 0.5 * (a + b);
-    }
-  }
-  return std::nullopt;
+  return test::boundary_point(RegionProblem::make(spline, request(point, depth, size, std::nullopt, false, mode)), size);
 }
 
 void expect_exact_maps(const BSpline& spline, int point, const std::string& name, int size, unsigned seed) {
