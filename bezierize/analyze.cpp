@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bezierize/decide.hpp"
+#include "bezierize/double_word.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "bezierize/roots.hpp"
@@ -98,6 +99,11 @@ class EndCache {
     if (!exact_) exact_ = end_curvature<Rational>(spline_, s_, side_);
     return *exact_;
   }
+  /// Double-word, error-bounded (double_word.hpp).
+  const EndTerms<DoubleWord>& wide() {
+    if (!wide_) wide_ = end_curvature<DoubleWord>(spline_, s_, side_);
+    return *wide_;
+  }
 
  private:
   const BSpline& spline_;
@@ -105,6 +111,7 @@ class EndCache {
   int side_;
   std::optional<EndTerms<Tracked>> tracked_;
   std::optional<EndTerms<Rational>> exact_;
+  std::optional<EndTerms<DoubleWord>> wide_;
 };
 
 // Relative error bound below which the error-bounded A and G are used as
@@ -337,6 +344,14 @@ double certified_end_curvature(const BSpline& spline, EndCache& end) {
     const EndTerms<Tracked>& b = end.tracked();
     // + 0.0: an exact zero is +0, as the rational's rounding gives it.
     if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v + 0.0, b.G.v);
+    // The exact path's value below is kappa_from of the truncations of A and
+    // G: a double-word enclosure that pins both gives it without GMP
+    // (polynomial spans: end_terms of homogeneous points branches on signs).
+    if (!spline.is_rational()) {
+      const EndTerms<DoubleWord>& w = end.wide();
+      const std::optional<double> A = w.A.truncated(), G = w.G.truncated();
+      if (A && G && *G > 0) return kappa_from(c, *A, *G);
+    }
   }
   const EndTerms<Rational>& x = end.exact();
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
@@ -493,11 +508,20 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
   return j;
 }
 
+AnalyzeParts default_analyze_parts() { return {segment_shape, classify_segment, joint_between}; }
+
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
-  return analyze(spline, options, AnalyzeParts{segment_shape, classify_segment, joint_between});
+  return analyze(spline, options, default_analyze_parts());
 }
 
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts) {
+  SplineAnalysis out = start_analysis(spline, options);
+  for (int i = 0; i < spline.segment_count(); ++i) analyze_span(out, spline, options, parts, i);
+  finish_analysis(out, spline, options, parts);
+  return out;
+}
+
+SplineAnalysis start_analysis(const BSpline& spline, const AnalyzeOptions& options) {
   const int N = spline.segment_count();
   const SegmentRange range = judged_range(options.segments, N);
   if (options.split) validate_cuts({*options.split}, range, N);
@@ -511,30 +535,43 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, con
   validate(options.continuity);
   SplineAnalysis out;
   out.range = range;
+  out.segments.resize(N);
+  out.shapes.resize(N);
+  out.joints.resize(N - 1);
+  return out;
+}
+
+void analyze_span(SplineAnalysis& out, const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts,
+                  int i) {
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
-  for (const Segment& s : spline.segments()) {
-    out.shapes.push_back(parts.shape(spline, s));
-    const bool judged = out.judged(s.index);
-    const SegmentShape& shape = out.shapes.back();
-    // A straight polynomial segment (eta == 0, decided exactly above): lambda
-    // == 0 too, and Algorithms 1 and 2 on the exact coefficients stop at level
-    // 0 with "constant" and "inflection" (eta_0 eta_n = 0), which is what
-    // classify_segment finds through its exact fallback (error bounds never
-    // prove a zero); the class is written down instead of recomputed.
-    const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
-    out.segments.push_back(!judged ? SegmentClass{}
-                           : shape.pole ? pole_class()
-                           : straight  ? straight_class()
-                                       : parts.classify(spline, s, co));
-    out.exact_segments += out.segments.back().exact_used ? 1 : 0;
-    out.cusp = out.cusp || out.shapes.back().cusp;
-    out.pole = out.pole || out.shapes.back().pole;
+  const Segment& s = spline.segments()[i];
+  out.shapes[i] = parts.shape(spline, s);
+  const SegmentShape& shape = out.shapes[i];
+  // A straight polynomial segment (eta == 0, decided exactly above): lambda
+  // == 0 too, and Algorithms 1 and 2 on the exact coefficients stop at level
+  // 0 with "constant" and "inflection" (eta_0 eta_n = 0), which is what
+  // classify_segment finds through its exact fallback (error bounds never
+  // prove a zero); the class is written down instead of recomputed.
+  const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
+  out.segments[i] = !out.judged(s.index) ? SegmentClass{}
+                    : shape.pole         ? pole_class()
+                    : straight           ? straight_class()
+                                         : parts.classify(spline, s, co);
+  if (i > 0) out.joints[i - 1] = parts.joint(spline, i - 1, i, options.continuity);
+}
+
+void finish_analysis(SplineAnalysis& out, const BSpline& spline, const AnalyzeOptions& options,
+                     const AnalyzeParts& parts) {
+  const int N = spline.segment_count();
+  for (int i = 0; i < N; ++i) {
+    out.exact_segments += out.segments[i].exact_used ? 1 : 0;
+    out.cusp = out.cusp || out.shapes[i].cusp;
+    out.pole = out.pole || out.shapes[i].pole;
   }
-  for (int i = 1; i < N; ++i) out.joints.push_back(parts.joint(spline, i - 1, i, options.continuity));
   if (spline.closed()) out.seam = parts.joint(spline, N - 1, 0, options.continuity);
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
-  const int first = range.first, end = range.last + 1;
+  const int first = out.range.first, end = out.range.last + 1;
   // The whole period of a closed spline without split joints: the seam is a
   // joint inside the part (a neutral class after the last segment).
   const bool around =
@@ -556,13 +593,12 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, con
                               part_verdict(reported, out.joints, s, end, options.split_mode));
   }
   if (options.each_piece || !options.splits.empty()) {
-    out.cuts = options.each_piece ? each_piece_cuts(range, options.splits) : options.splits;
-    for (const auto& [a, b] : segment_groups(range, out.cuts))
+    out.cuts = options.each_piece ? each_piece_cuts(out.range, options.splits) : options.splits;
+    for (const auto& [a, b] : segment_groups(out.range, out.cuts))
       out.groups.push_back(part_verdict(reported, out.joints, a, b, options.split_mode));
     if (options.each_piece) out.each_piece = each_piece_verdict(out.groups);
     else out.alternation = alternation_verdict(out.groups);
   }
-  return out;
 }
 
 }  // namespace cmr
