@@ -44,6 +44,39 @@ const char* to_string(Split s) {
 
 namespace {
 
+// The first three Bezier points of window w's span from its end e (o the
+// other end): f(e^d), f(e^{d-1} o), f(e^{d-2} o^2), from one de Boor
+// triangle whose levels with e are shared (10 affine steps for a cubic
+// instead of 18, one division each). The same points as blossom_span's up
+// to rounding; used for DoubleWord, whose bounds cover any order of
+// operations (Tracked keeps blossom_span: its values are printed). d >= 2.
+template <class T>
+void end_bezier_points(const SegmentWindow<T>& w, int d, const T& e, const T& o, Point<T> q[3]) {
+  const int j = w.span;
+  const auto level = [&](std::vector<Point<T>>& work, int r, const T& t) {
+    for (int i = d; i >= r; --i) {  // as blossom_span's level r
+      const int g = j - d + 1 + i;
+      const T& lo = w.knots[g - 1];
+      const T& hi = w.knots[g + d - r];
+      const T alpha = (t - lo) / (hi - lo);
+      const T beta = T(1) - alpha;
+      work[i] = beta * work[i - 1] + alpha * work[i];
+    }
+  };
+  std::vector<Point<T>> work(w.points.begin() + (j - d + 1), w.points.begin() + (j + 2));
+  for (int r = 1; r <= d - 2; ++r) level(work, r, e);
+  std::vector<Point<T>> two = work;  // f(e^{d-2}, knots)
+  level(work, d - 1, e);
+  std::vector<Point<T>> one = work;  // f(e^{d-1}, knots)
+  level(work, d, e);
+  q[0] = work[d];
+  level(one, d, o);
+  q[1] = one[d];
+  level(two, d - 1, o);
+  level(two, d, o);
+  q[2] = two[d];
+}
+
 // The end curvature's terms of segment s at its start (side 0) or end
 // (side 1): end_terms (decide.hpp) of the first three Bezier points read from
 // that end, Cartesian or homogeneous (any weight signs; not at a pole), with
@@ -73,6 +106,10 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
     // control point k (side 0) or d-k (side 1), exactly.
     const auto& P = w.points;
     out = side == 0 ? end_terms<T>(P[0], P[1], P[2]) : end_terms<T>(P[d], P[d - 1], P[d - 2]);
+  } else if (std::is_same_v<T, DoubleWord> && d >= 2) {
+    Point<T> q[3];
+    end_bezier_points<T>(w, d, e, o, q);
+    out = end_terms<T>(q[0], q[1], q[2]);
   } else {
     Point<T> q[3];
     for (int k = 0; k < 3; ++k) q[k] = blossom_span(w.knots, w.points, d, w.span, args(k).data());
