@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bezierize/decide.hpp"
+#include "bezierize/double_word.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "bezierize/roots.hpp"
@@ -43,6 +44,39 @@ const char* to_string(Split s) {
 
 namespace {
 
+// The first three Bezier points of window w's span from its end e (o the
+// other end): f(e^d), f(e^{d-1} o), f(e^{d-2} o^2), from one de Boor
+// triangle whose levels with e are shared (10 affine steps for a cubic
+// instead of 18, one division each). The same points as blossom_span's up
+// to rounding; used for DoubleWord, whose bounds cover any order of
+// operations (Tracked keeps blossom_span: its values are printed). d >= 2.
+template <class T>
+void end_bezier_points(const SegmentWindow<T>& w, int d, const T& e, const T& o, Point<T> q[3]) {
+  const int j = w.span;
+  const auto level = [&](std::vector<Point<T>>& work, int r, const T& t) {
+    for (int i = d; i >= r; --i) {  // as blossom_span's level r
+      const int g = j - d + 1 + i;
+      const T& lo = w.knots[g - 1];
+      const T& hi = w.knots[g + d - r];
+      const T alpha = (t - lo) / (hi - lo);
+      const T beta = T(1) - alpha;
+      work[i] = beta * work[i - 1] + alpha * work[i];
+    }
+  };
+  std::vector<Point<T>> work(w.points.begin() + (j - d + 1), w.points.begin() + (j + 2));
+  for (int r = 1; r <= d - 2; ++r) level(work, r, e);
+  std::vector<Point<T>> two = work;  // f(e^{d-2}, knots)
+  level(work, d - 1, e);
+  std::vector<Point<T>> one = work;  // f(e^{d-1}, knots)
+  level(work, d, e);
+  q[0] = work[d];
+  level(one, d, o);
+  q[1] = one[d];
+  level(two, d - 1, o);
+  level(two, d, o);
+  q[2] = two[d];
+}
+
 // The end curvature's terms of segment s at its start (side 0) or end
 // (side 1): end_terms (decide.hpp) of the first three Bezier points read from
 // that end, Cartesian or homogeneous (any weight signs; not at a pole), with
@@ -72,6 +106,10 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
     // control point k (side 0) or d-k (side 1), exactly.
     const auto& P = w.points;
     out = side == 0 ? end_terms<T>(P[0], P[1], P[2]) : end_terms<T>(P[d], P[d - 1], P[d - 2]);
+  } else if (std::is_same_v<T, DoubleWord> && d >= 2) {
+    Point<T> q[3];
+    end_bezier_points<T>(w, d, e, o, q);
+    out = end_terms<T>(q[0], q[1], q[2]);
   } else {
     Point<T> q[3];
     for (int k = 0; k < 3; ++k) q[k] = blossom_span(w.knots, w.points, d, w.span, args(k).data());
@@ -98,6 +136,11 @@ class EndCache {
     if (!exact_) exact_ = end_curvature<Rational>(spline_, s_, side_);
     return *exact_;
   }
+  /// Double-word, error-bounded (double_word.hpp).
+  const EndTerms<DoubleWord>& wide() {
+    if (!wide_) wide_ = end_curvature<DoubleWord>(spline_, s_, side_);
+    return *wide_;
+  }
 
  private:
   const BSpline& spline_;
@@ -105,6 +148,7 @@ class EndCache {
   int side_;
   std::optional<EndTerms<Tracked>> tracked_;
   std::optional<EndTerms<Rational>> exact_;
+  std::optional<EndTerms<DoubleWord>> wide_;
 };
 
 // Relative error bound below which the error-bounded A and G are used as
@@ -337,6 +381,14 @@ double certified_end_curvature(const BSpline& spline, EndCache& end) {
     const EndTerms<Tracked>& b = end.tracked();
     // + 0.0: an exact zero is +0, as the rational's rounding gives it.
     if (tight(b.A) && b.G.v > 0 && tight(b.G)) return kappa_from(c, b.A.v + 0.0, b.G.v);
+    // The exact path's value below is kappa_from of the truncations of A and
+    // G: a double-word enclosure that pins both gives it without GMP
+    // (polynomial spans: end_terms of homogeneous points branches on signs).
+    if (!spline.is_rational()) {
+      const EndTerms<DoubleWord>& w = end.wide();
+      const std::optional<double> A = w.A.truncated(), G = w.G.truncated();
+      if (A && G && *G > 0) return kappa_from(c, *A, *G);
+    }
   }
   const EndTerms<Rational>& x = end.exact();
   if (sgn(x.G) == 0) return std::numeric_limits<double>::quiet_NaN();  // a zero tangent
@@ -493,11 +545,20 @@ Joint joint_between(const BSpline& spline, int left, int right, const Continuity
   return j;
 }
 
+AnalyzeParts default_analyze_parts() { return {segment_shape, classify_segment, joint_between}; }
+
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
-  return analyze(spline, options, AnalyzeParts{segment_shape, classify_segment, joint_between});
+  return analyze(spline, options, default_analyze_parts());
 }
 
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts) {
+  SplineAnalysis out = start_analysis(spline, options);
+  for (int i = 0; i < spline.segment_count(); ++i) analyze_span(out, spline, options, parts, i);
+  finish_analysis(out, spline, options, parts);
+  return out;
+}
+
+SplineAnalysis start_analysis(const BSpline& spline, const AnalyzeOptions& options) {
   const int N = spline.segment_count();
   const SegmentRange range = judged_range(options.segments, N);
   if (options.split) validate_cuts({*options.split}, range, N);
@@ -511,30 +572,43 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, con
   validate(options.continuity);
   SplineAnalysis out;
   out.range = range;
+  out.segments.resize(N);
+  out.shapes.resize(N);
+  out.joints.resize(N - 1);
+  return out;
+}
+
+void analyze_span(SplineAnalysis& out, const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts,
+                  int i) {
   ClassifyOptions co = options.classify;
   co.inflection = true;  // CMR verdicts always need Algorithm 2
-  for (const Segment& s : spline.segments()) {
-    out.shapes.push_back(parts.shape(spline, s));
-    const bool judged = out.judged(s.index);
-    const SegmentShape& shape = out.shapes.back();
-    // A straight polynomial segment (eta == 0, decided exactly above): lambda
-    // == 0 too, and Algorithms 1 and 2 on the exact coefficients stop at level
-    // 0 with "constant" and "inflection" (eta_0 eta_n = 0), which is what
-    // classify_segment finds through its exact fallback (error bounds never
-    // prove a zero); the class is written down instead of recomputed.
-    const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
-    out.segments.push_back(!judged ? SegmentClass{}
-                           : shape.pole ? pole_class()
-                           : straight  ? straight_class()
-                                       : parts.classify(spline, s, co));
-    out.exact_segments += out.segments.back().exact_used ? 1 : 0;
-    out.cusp = out.cusp || out.shapes.back().cusp;
-    out.pole = out.pole || out.shapes.back().pole;
+  const Segment& s = spline.segments()[i];
+  out.shapes[i] = parts.shape(spline, s);
+  const SegmentShape& shape = out.shapes[i];
+  // A straight polynomial segment (eta == 0, decided exactly above): lambda
+  // == 0 too, and Algorithms 1 and 2 on the exact coefficients stop at level
+  // 0 with "constant" and "inflection" (eta_0 eta_n = 0), which is what
+  // classify_segment finds through its exact fallback (error bounds never
+  // prove a zero); the class is written down instead of recomputed.
+  const bool straight = fast_paths_enabled() && shape.straight && !spline.is_rational();
+  out.segments[i] = !out.judged(s.index) ? SegmentClass{}
+                    : shape.pole         ? pole_class()
+                    : straight           ? straight_class()
+                                         : parts.classify(spline, s, co);
+  if (i > 0) out.joints[i - 1] = parts.joint(spline, i - 1, i, options.continuity);
+}
+
+void finish_analysis(SplineAnalysis& out, const BSpline& spline, const AnalyzeOptions& options,
+                     const AnalyzeParts& parts) {
+  const int N = spline.segment_count();
+  for (int i = 0; i < N; ++i) {
+    out.exact_segments += out.segments[i].exact_used ? 1 : 0;
+    out.cusp = out.cusp || out.shapes[i].cusp;
+    out.pole = out.pole || out.shapes[i].pole;
   }
-  for (int i = 1; i < N; ++i) out.joints.push_back(parts.joint(spline, i - 1, i, options.continuity));
   if (spline.closed()) out.seam = parts.joint(spline, N - 1, 0, options.continuity);
   const std::vector<SegmentClass> reported = exact_inflection_classes(out.segments, out.shapes);
-  const int first = range.first, end = range.last + 1;
+  const int first = out.range.first, end = out.range.last + 1;
   // The whole period of a closed spline without split joints: the seam is a
   // joint inside the part (a neutral class after the last segment).
   const bool around =
@@ -556,13 +630,12 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, con
                               part_verdict(reported, out.joints, s, end, options.split_mode));
   }
   if (options.each_piece || !options.splits.empty()) {
-    out.cuts = options.each_piece ? each_piece_cuts(range, options.splits) : options.splits;
-    for (const auto& [a, b] : segment_groups(range, out.cuts))
+    out.cuts = options.each_piece ? each_piece_cuts(out.range, options.splits) : options.splits;
+    for (const auto& [a, b] : segment_groups(out.range, out.cuts))
       out.groups.push_back(part_verdict(reported, out.joints, a, b, options.split_mode));
     if (options.each_piece) out.each_piece = each_piece_verdict(out.groups);
     else out.alternation = alternation_verdict(out.groups);
   }
-  return out;
 }
 
 }  // namespace cmr

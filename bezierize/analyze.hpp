@@ -202,6 +202,22 @@ struct AnalyzeParts {
 };
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts);
 
+/// analyze(spline, options, parts) in three steps, for a caller that runs
+/// the spans on several threads and streams them (report/analyze_json.hpp):
+/// start_analysis validates the options (the errors of analyze) and sizes
+/// segments, shapes and joints; analyze_span(i) fills segment i's shape and
+/// class and, for i > 0, joints[i-1] (the spans are independent: any order,
+/// any threads, given parts that are safe to call concurrently, as the
+/// defaults are); finish_analysis adds the seam, the counts and the
+/// verdicts. start, every span, finish: exactly analyze()'s result.
+SplineAnalysis start_analysis(const BSpline& spline, const AnalyzeOptions& options);
+void analyze_span(SplineAnalysis& analysis, const BSpline& spline, const AnalyzeOptions& options,
+                  const AnalyzeParts& parts, int i);
+void finish_analysis(SplineAnalysis& analysis, const BSpline& spline, const AnalyzeOptions& options,
+                     const AnalyzeParts& parts);
+/// The default parts: segment_shape, classify_segment, joint_between.
+AnalyzeParts default_analyze_parts();
+
 /// The verdict of segments [first, last) from their classes and the joints
 /// strictly inside that range (joints[i-1] is the joint starting segment i).
 Direction part_verdict(const std::vector<SegmentClass>& segments, const std::vector<Joint>& joints, int first,

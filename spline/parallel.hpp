@@ -6,10 +6,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <thread>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace cmr {
@@ -52,6 +56,78 @@ void parallel_for(std::size_t count, int threads, Job&& job) {
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(work);
   work();
+  for (std::thread& t : pool) t.join();
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+/// A pipeline whose output stays in order: produce(i) for every i in
+/// [0, count) on up to thread_count(threads) worker threads, and consume(r)
+/// of each result on the calling thread in increasing i (a streamed output:
+/// cmr analyze's JSON, report/analyze_json.hpp). Jobs are handed out in
+/// increasing order, and job i starts only once result i - window has been
+/// consumed, so at most `window` results exist at a time (memory stays that
+/// of `window` results, whatever count is). With one thread (or one job) it
+/// is the plain loop consume(produce(i)) on the calling thread. When produce
+/// or consume throws, no further job starts and no further result is
+/// consumed; the first exception is rethrown here once every worker stopped.
+template <class Produce, class Consume>
+void parallel_ordered(std::size_t count, int threads, std::size_t window, Produce&& produce, Consume&& consume) {
+  using Result = std::invoke_result_t<Produce&, std::size_t>;
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count(threads)), count);
+  if (workers <= 1) {
+    for (std::size_t i = 0; i < count; ++i) consume(produce(i));
+    return;
+  }
+  window = std::max(window, workers);
+  std::vector<std::optional<Result>> slots(window);  // result i in slot i % window
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::size_t next = 0, consumed = 0;  // guarded by mutex
+  bool failed = false;
+  std::exception_ptr first_error;
+  const auto fail = [&](std::exception_ptr e) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (!first_error) first_error = std::move(e);
+    failed = true;
+  };
+  auto work = [&] {
+    for (;;) {
+      std::size_t i = 0;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        changed.wait(lock, [&] { return failed || next >= count || next < consumed + window; });
+        if (failed || next >= count) return;
+        i = next++;
+      }
+      try {
+        Result r = produce(i);
+        const std::lock_guard<std::mutex> lock(mutex);
+        slots[i % window].emplace(std::move(r));
+      } catch (...) {
+        fail(std::current_exception());
+      }
+      changed.notify_all();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < workers; ++t) pool.emplace_back(work);
+  try {
+    for (std::size_t i = 0; i < count; ++i) {
+      std::optional<Result> r;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        changed.wait(lock, [&] { return failed || slots[i % window].has_value(); });
+        if (failed) break;
+        r.swap(slots[i % window]);
+        ++consumed;
+      }
+      changed.notify_all();
+      consume(std::move(*r));
+    }
+  } catch (...) {
+    fail(std::current_exception());
+  }
+  changed.notify_all();
   for (std::thread& t : pool) t.join();
   if (first_error) std::rethrow_exception(first_error);
 }

@@ -234,6 +234,10 @@ int spline_file_dimension(const std::filesystem::path& path) {
   } catch (const InputError&) {
     return 2;  // the planar reader reports it
   }
+  return spline_file_dimension(path, doc);
+}
+
+int spline_file_dimension(const std::filesystem::path& path, const nlohmann::json& doc) {
   try {
     return spline_dimension(doc);
   } catch (const InputError& e) {

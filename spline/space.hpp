@@ -143,6 +143,8 @@ int spline_dimension(const nlohmann::json& doc);
 /// with the path on error). A file that is not a JSON object counts as 2
 /// (the planar reader then reports it).
 int spline_file_dimension(const std::filesystem::path& path);
+/// The same of the file's document, already parsed (read_spline_document).
+int spline_file_dimension(const std::filesystem::path& path, const nlohmann::json& doc);
 
 /// A spline file with [x, y, z] points: the planar file format (spline_json.hpp)
 /// otherwise, every field and message the same ("weights" included, which

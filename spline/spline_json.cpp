@@ -186,10 +186,13 @@ const char* foreign_kind(std::string_view text) {
 }  // namespace
 
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options) {
+  return spline_from_document(read_spline_document(path), path, options);
+}
+
+json read_spline_document(const std::filesystem::path& path) {
   const std::string text = read_input_file(path);
-  json doc;
   try {
-    doc = json::parse(text);
+    return json::parse(text);
   } catch (const json::exception& e) {
     if (const char* kind = foreign_kind(text))  // an SVG or font given where a spline file belongs
       throw InputError(path.string() + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
@@ -201,6 +204,9 @@ BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& o
     if (pos != std::string::npos) what = what.substr(pos + 2);
     throw InputError(path.string() + ": malformed JSON: " + what);
   }
+}
+
+BSpline spline_from_document(const json& doc, const std::filesystem::path& path, const ReadOptions& options) {
   try {
     return spline_from_json(doc, options);
   } catch (const InputError& e) {

@@ -36,6 +36,13 @@ BSpline spline_from_json(const nlohmann::json& doc, const ReadOptions& options =
 /// Reads and validates a spline file (through read_input_file); messages are
 /// prefixed with the path.
 BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& options = {});
+/// read_spline_file in two steps, for a caller that looks at the document
+/// first (cmr analyze: its dimension) without parsing it twice: the file's
+/// JSON with read_spline_file's reading and parse errors, then
+/// spline_from_json with messages prefixed with the path.
+nlohmann::json read_spline_document(const std::filesystem::path& path);
+BSpline spline_from_document(const nlohmann::json& doc, const std::filesystem::path& path,
+                             const ReadOptions& options = {});
 /// The spline as a file's JSON. (Writing a file: cmr::write_spline_file in
 /// io/output.hpp, atomically.)
 nlohmann::json spline_to_json(const BSpline& spline);

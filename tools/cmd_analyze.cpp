@@ -6,9 +6,10 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
+#include "report/analyze_json.hpp"
 #include "spline/errors.hpp"
-#include "bezierize/joint_json.hpp"
 #include "spline/limits.hpp"
+#include "spline/space.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/cmd_space.hpp"
@@ -29,75 +30,6 @@ struct AnalyzeArgs {
   std::string each_piece;  // --each-piece [S1,S2,...]
   const CLI::Option* each_piece_option = nullptr;
 };
-
-nlohmann::ordered_json segment_json(const Segment& s, const SegmentClass& c, const SegmentShape& sh, bool judged) {
-  if (!judged)  // --segments: reported, not judged
-    return {{"index", s.index}, {"interval", {s.a, s.b}}, {"curvature", "ignored"}, {"inflection", "ignored"}};
-  nlohmann::ordered_json seg = {{"index", s.index},
-                                {"interval", {s.a, s.b}},
-                                {"class", shape_class(sh)},
-                                {"curvature", to_string(c.monotonicity.curvature)},
-                                {"inflection", to_string(sh.inflection)},
-                                {"zero_curvature_at", kappa_zero_at(sh)},
-                                {"algorithm2", to_string(c.inflection.inflection)},
-                                {"depth", c.monotonicity.depth},
-                                {"inflection_depth", c.inflection.depth},
-                                {"exact", c.exact_used}};
-  if (sh.pole) seg["poles"] = sh.poles;  // W = 0 there: the curve passes through infinity
-  return seg;
-}
-
-nlohmann::ordered_json verdict_json(const SplineAnalysis& a, const std::vector<int>& splits) {
-  nlohmann::ordered_json verdict = {{"cmrwi", to_string(a.cmrwi)},
-                                    {"cmr", to_string(a.cmr)},
-                                    {"cmr_algorithm2", to_string(a.cmr_algorithm2)},
-                                    {"cusp", a.cusp}};
-  if (a.pole) verdict["pole"] = true;
-  if (a.split) verdict["split"] = to_string(*a.split);
-  if (a.alternation || a.each_piece) {
-    // --split S1,S2,... (alternation) or --each-piece (each group on its own:
-    // monotone in either direction): the groups between the cut joints.
-    if (a.alternation) verdict["alternation"] = to_string(*a.alternation);
-    else verdict["each_piece"] = to_string(*a.each_piece);
-    nlohmann::ordered_json groups = nlohmann::ordered_json::array();
-    const auto parts = segment_groups(a.range, a.alternation ? splits : a.cuts);
-    for (std::size_t g = 0; g < a.groups.size(); ++g)
-      groups.push_back({{"segments", {parts[g].first, parts[g].second - 1}}, {"direction", to_string(a.groups[g])}});
-    verdict["groups"] = groups;
-  }
-  if (a.range != SegmentRange{0, static_cast<int>(a.segments.size()) - 1})
-    verdict["segments"] = {a.range.first, a.range.last};
-  if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
-  return verdict;
-}
-
-// The analysis as JSON on stdout, one segment and one joint at a time (a
-// spline of 10^6 spans is never one JSON tree: docs/outputs.md, "Limits").
-void print_analysis(const BSpline& spline, const SplineAnalysis& a, const std::vector<int>& splits, bool pretty) {
-  JsonObjectStream out(std::cout, pretty);
-  out.begin_array("segments");
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    const Segment& s = spline.segments()[i];
-    out.element(segment_json(s, a.segments[i], a.shapes[i], a.judged(s.index)));
-  }
-  out.end_array();
-  out.begin_array("joints");
-  const auto joint = [&](const Joint& j) {
-    const bool is_seam = a.seam && j.index == a.seam->index;
-    nlohmann::ordered_json json = joint_json(j, {std::nullopt, true, is_seam});  // pole and seam marks
-    const bool inside = j.index > a.range.first && j.index <= a.range.last;
-    const bool seam_judged = is_seam && a.range.first == 0 &&
-                             a.range.last == static_cast<int>(a.segments.size()) - 1 && splits.empty() && !a.split &&
-                             !a.each_piece;
-    if (!inside && !seam_judged) json["ignored"] = true;
-    out.element(json);
-  };
-  for (const Joint& j : a.joints) joint(j);
-  if (a.seam) joint(*a.seam);  // a closed spline's seam: joint N
-  out.end_array();
-  out.member("spline", verdict_json(a, splits));
-  out.finish();
-}
 
 }  // namespace
 
@@ -125,7 +57,9 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--torsion", args->torsion, "space curves: also judge torsion monotonicity (docs/space.md)");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
-    if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
+    // The file is parsed once (a 10^6-span spline's JSON is large).
+    std::optional<nlohmann::json> doc = read_spline_document(args->file);
+    if (spline_file_dimension(args->file, *doc) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
       if (!args->split.empty() || !args->segments.empty() || args->mode != "cmrwi" ||
           args->each_piece_option->count() > 0)
         throw InputError(args->file +
@@ -134,7 +68,8 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
       exit_code = kOk;
       return;
     }
-    const BSpline spline = read_spline_file(args->file);
+    const BSpline spline = spline_from_document(*doc, args->file);
+    doc.reset();  // its memory before the analysis
     if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;
@@ -148,7 +83,8 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     o.split_mode = args->mode == "cmr" ? Mode::cmr : Mode::cmrwi;
     o.continuity = args->continuity;
-    print_analysis(spline, analyze(spline, o), o.splits, args->pretty);
+    // Streamed, on every available core (report/analyze_json.hpp).
+    report::write_analysis_json(std::cout, spline, o, {.pretty = args->pretty});
     exit_code = kOk;
   });
 }

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace cmr {
@@ -31,6 +34,66 @@ TEST(ParallelFor, CarriesAWorkersExceptionToTheCaller) {
                  std::runtime_error)
         << "threads " << threads;
     EXPECT_LT(ran.load(), 10000) << "jobs kept starting after the failure, threads " << threads;
+  }
+}
+
+TEST(ParallelOrdered, ConsumesEveryResultInOrderWithABoundedWindow) {
+  for (int threads : {1, 2, 3, 8})
+    for (std::size_t window : {1u, 2u, 5u}) {
+      std::atomic<int> live{0}, peak{0};  // results produced and not yet consumed
+      std::vector<std::size_t> order;
+      parallel_ordered(
+          500, threads, window,
+          [&](std::size_t i) {
+            const int now = ++live;
+            for (int p = peak.load(); now > p && !peak.compare_exchange_weak(p, now);) {
+            }
+            if (i % 7 == 0) std::this_thread::yield();  // out-of-order completion
+            return std::vector<std::size_t>(3, i);
+          },
+          [&](std::vector<std::size_t> r) {
+            --live;
+            ASSERT_EQ(r.size(), 3u);
+            order.push_back(r[0]);
+          });
+      ASSERT_EQ(order.size(), 500u) << "threads " << threads << ", window " << window;
+      for (std::size_t i = 0; i < order.size(); ++i)
+        ASSERT_EQ(order[i], i) << "threads " << threads << ", window " << window;
+      // Job i starts once result i - window was consumed (the window is at
+      // least the worker count); +1: `live` drops only after the slot is free.
+      const int allowed = static_cast<int>(std::max<std::size_t>(window, static_cast<std::size_t>(threads))) + 1;
+      EXPECT_LE(peak.load(), allowed) << "threads " << threads << ", window " << window;
+    }
+}
+
+TEST(ParallelOrdered, CarriesAnExceptionAndStopsConsuming) {
+  for (int threads : {1, 2, 4}) {
+    std::size_t consumed = 0;
+    EXPECT_THROW(parallel_ordered(
+                     10000, threads, 4,
+                     [&](std::size_t i) {
+                       if (i == 17) throw std::runtime_error("job 17 failed");
+                       return i;
+                     },
+                     [&](std::size_t i) {
+                       EXPECT_LT(i, 17u) << "consumed past the failed job, threads " << threads;
+                       ++consumed;
+                     }),
+                 std::runtime_error)
+        << "threads " << threads;
+    EXPECT_LE(consumed, 17u);
+    // A consumer that throws stops the producers too.
+    std::atomic<int> produced{0};
+    EXPECT_THROW(parallel_ordered(
+                     10000, threads, 4, [&](std::size_t i) {
+                       ++produced;
+                       return i;
+                     },
+                     [&](std::size_t i) {
+                       if (i == 3) throw std::runtime_error("write failed");
+                     }),
+                 std::runtime_error);
+    EXPECT_LT(produced.load(), 100) << "threads " << threads;
   }
 }
 

@@ -1,7 +1,8 @@
-// analyze prints its JSON one segment and one joint at a time
-// (JsonObjectStream, tools/cli_common.hpp): the text must be byte for byte
-// what printing the whole tree gives, and memory must not grow with the JSON
-// (docs/outputs.md, "Limits on work").
+// JsonObjectStream (tools/cli_common.hpp; `cmr analyze` of a space curve)
+// prints one member and one element at a time: the text must be byte for
+// byte what printing the whole tree gives. `cmr analyze` streams its JSON
+// in chunks (report/analyze_json.hpp; tests/report/analyze_json_test.cpp):
+// memory must not grow with the JSON (docs/outputs.md, "Limits on work").
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>

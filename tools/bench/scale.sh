@@ -9,8 +9,11 @@
 #   * batch/NNNNN.json: 10,000 cubic B-splines of 10 spans (13 points marching
 #     along x with random heights, seed 6; bench_report's family).
 # Usage: tools/bench/scale.sh [CMR] [OUT]   (CMR default build/tools/cmr, OUT /tmp/cmr-scale)
-# Environment: SPANS=N (default 1000000), SPLINES=N (default 10000).
+# Environment: SPANS=N (default 1000000), SPLINES=N (default 10000);
+# REFERENCE=CMR also runs that binary's analyze and compares the outputs.
 # Targets: analyze <= 10 s and <= 1 GB; report <= 10 s wall; on 2 cores.
+# On a shared machine wall time measures the load: CPU time and the cores
+# kept busy are the fair figures (wall on free cores ~ CPU / cores busy).
 set -euo pipefail
 cmr=${1:-build/tools/cmr}
 out=${2:-/tmp/cmr-scale}
@@ -55,15 +58,24 @@ measure() {  # NAME COMMAND...
   local rc=$?
   set -e
   if ((rc != 0 && rc != 1)); then echo "scale: $name failed ($rc)"; tail -3 "$out/$name.err"; exit 1; fi
-  local wall user sys rss
+  local wall user sys rss cpu
   wall=$(grep 'Elapsed (wall clock)' "$out/$name.time" | awk '{print $NF}')
   user=$(grep 'User time' "$out/$name.time" | awk '{print $NF}')
   sys=$(grep 'System time' "$out/$name.time" | awk '{print $NF}')
   rss=$(grep 'Maximum resident set size' "$out/$name.time" | awk '{print $NF}')
-  echo "scale: $name: wall $wall, CPU ${user} s user + ${sys} s sys, peak memory $((rss / 1024)) MiB"
+  cpu=$(grep 'Percent of CPU' "$out/$name.time" | awk '{print $NF}')
+  # CPU / wall: how many cores the run kept busy on average (a loaded
+  # machine lowers it; on free cores it is the parallelism reached).
+  echo "scale: $name: wall $wall, CPU ${user} s user + ${sys} s sys ($cpu of one core), peak memory $((rss / 1024)) MiB"
 }
+# analyze runs its spans on every core of its CPU affinity (taskset limits it).
 measure analyze "$cmr" analyze "$out/long.json"
 echo "scale: analyze output $(du -h "$out/analyze.out" | cut -f1)"
+if [[ -n ${REFERENCE:-} ]]; then  # REFERENCE=OTHER_CMR: its output must be byte for byte the same
+  measure reference "$REFERENCE" analyze "$out/long.json"
+  if cmp -s "$out/analyze.out" "$out/reference.out"; then echo "scale: analyze output identical to $REFERENCE's"
+  else echo "scale: analyze output DIFFERS from $REFERENCE's"; exit 1; fi
+fi
 measure report "$cmr" report "$out/batch" --no-thumbnails --quiet --out "$out/report"
 echo "scale: report: $(tail -1 "$out/report.out")"
 echo "scale: load average after $(cut -d' ' -f1-3 /proc/loadavg)"
