@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bezierize/joint_json.hpp"
+#include "io/stdout_error.hpp"
 #include "report/json_stream.hpp"
 #include "spline/parallel.hpp"
 
@@ -176,7 +177,10 @@ SplineAnalysis write_analysis_json(std::ostream& out, const BSpline& spline, con
   const std::size_t chunks = static_cast<std::size_t>((n + chunk - 1) / chunk);
   const int threads = thread_count(json.threads);
   const std::size_t window = json.window > 0 ? static_cast<std::size_t>(json.window) : 4 * static_cast<std::size_t>(threads);
-  const auto write = [&](const std::string& text) { out.write(text.data(), static_cast<std::streamsize>(text.size())); };
+  // A failed write to stdout keeps its errno for the one line main prints.
+  const auto write = [&](const std::string& text) {
+    write_noting_stdout_error(out, text.data(), static_cast<std::streamsize>(text.size()));
+  };
   const auto range_of = [&](std::size_t k, int count) {
     const int first = static_cast<int>(k) * chunk;
     return std::pair<int, int>{first, std::min(count, first + chunk)};
@@ -220,7 +224,7 @@ SplineAnalysis write_analysis_json(std::ostream& out, const BSpline& spline, con
   verdict.stream().value(verdict_json(a, options.splits));
   write(verdict.take(false));
   write(pretty ? "\n}\n" : "}\n");
-  out.flush();
+  write_noting_stdout_error(out, nullptr, 0);  // the flush
   return a;
 }
 

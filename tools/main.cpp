@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "spline/errors.hpp"
+#include "io/stdout_error.hpp"
 #include "tools/cli_common.hpp"
 
 namespace {
@@ -32,6 +33,7 @@ int finish_stdout(int exit_code) {
   if (flushed && !std::ferror(stdout) && std::cout.good()) return exit_code;
   struct stat st {};
   const bool pipe = ::fstat(STDOUT_FILENO, &st) == 0 && S_ISFIFO(st.st_mode);
+  if (error == 0) error = cmr::first_stdout_error().load();  // a streamed command's write failed earlier
   if (error == EPIPE || (error == 0 && pipe)) return exit_code;  // the error was EPIPE, seen by an earlier write
   std::cerr << "cmr: stdout: " << (error != 0 ? std::strerror(error) : "write error") << '\n';
   return exit_code == cmr::cli::kOk || exit_code == cmr::cli::kFail ? cmr::cli::kEnvironment : exit_code;
