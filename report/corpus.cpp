@@ -512,19 +512,23 @@ class Writer {
     w.reports.clear();
     w.reports.shrink_to_fit();
 
-    // Findings: counted, compared with the baseline, written to SARIF.
+    // Findings: counted, compared with the baseline, written to SARIF (the
+    // file's results in one write).
+    std::string& sarif = text_;  // report.json's text is written already
+    sarif.clear();
     std::size_t next_result = 0;
+    const auto add_result = [&](const std::string& result) {
+      if (sarif_results_++ != 0) sarif += ',';
+      sarif += result;
+    };
     for (const CaseRecord& c : rec.cases) {
-      if (!c.error.empty() && sarif_.is_open()) {
-        sarif_.write(std::string(sarif_results_ ? "," : "") + p.sarif[next_result++]);
-        ++sarif_results_;
-      }
+      if (!c.error.empty() && sarif_.is_open()) add_result(p.sarif[next_result++]);
       for (const Finding& f : c.findings) {
         ++summary_.findings;
         const char* state = nullptr;
         if (baseline_) {
           state = baseline_->judge(f);
-          if (std::string(state) == "new") {
+          if (std::string_view(state) == "new") {
             ++summary_.new_findings;
             summary_.new_list.push_back(f);
           } else {
@@ -537,11 +541,11 @@ class Writer {
             result.pop_back();
             result += std::string(",\"baselineState\":\"") + state + "\"}";
           }
-          sarif_.write(std::string(sarif_results_ ? "," : "") + result);
-          ++sarif_results_;
+          add_result(result);
         }
       }
     }
+    if (!sarif.empty()) sarif_.write(sarif);
     if (junit_.is_open()) {  // junit_suite with this file's index as its id
       static constexpr std::string_view kHead = "  <testsuite id=\"0\"";
       if (p.junit.compare(0, kHead.size(), kHead) != 0) throw std::logic_error("JUnit: a suite without its id");
