@@ -1,6 +1,7 @@
 #include "bezierize/region_setup.hpp"
 
 #include "bezierize/algorithms.hpp"
+#include "bezierize/box_reuse.hpp"
 #include "bezierize/decide.hpp"
 
 #include <algorithm>
@@ -703,32 +704,38 @@ class FlatPiecesN {
 };
 
 // Algorithm 1 on the kernel's root values of one segment (nullopt: a sign
-// not certain with the flat bound).
+// not certain with the flat bound). With a record (labels only), the facts
+// its block learned replace the nodes' own rules (box_reuse.hpp).
 template <class Source>
-std::optional<MonotonicityResult> flat_algorithm1(Source& src, int D) {
+std::optional<MonotonicityResult> flat_algorithm1(Source& src, int D, const SegmentRecord* record,
+                                                  std::uint64_t* reused) {
   MonotonicityFold fold;
-  if (!traverse(src, D, monotonicity_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+  const auto visit = [&](Piece p, int level) { return fold.visit(p, level); };
+  if (!(record ? traverse_with_record(src, D, monotonicity_piece, visit, record, *reused)
+               : traverse(src, D, monotonicity_piece, visit)))
     return std::nullopt;
   return fold.result(D);
 }
 
-std::optional<MonotonicityResult> flat_algorithm1(const double* root, int n1, double e, int D) {
+std::optional<MonotonicityResult> flat_algorithm1(const double* root, int n1, double e, int D,
+                                                  const SegmentRecord* record = nullptr,
+                                                  std::uint64_t* reused = nullptr) {
   switch (n1) {
     case 6: {
       FlatPiecesN<6> src(root, e);
-      return flat_algorithm1(src, D);
+      return flat_algorithm1(src, D, record, reused);
     }
     case 10: {
       FlatPiecesN<10> src(root, e);
-      return flat_algorithm1(src, D);
+      return flat_algorithm1(src, D, record, reused);
     }
     case 30: {  // degree 9
       FlatPiecesN<30> src(root, e);
-      return flat_algorithm1(src, D);
+      return flat_algorithm1(src, D, record, reused);
     }
     default: {
       FlatPieces src(root, n1, e);
-      return flat_algorithm1(src, D);
+      return flat_algorithm1(src, D, record, reused);
     }
   }
 }
@@ -747,11 +754,15 @@ std::optional<MonotonicityResult> lazy_algorithm1(const RegionEntry& e, const Mo
   return fold.result(D);
 }
 
-std::optional<InflectionResult> lazy_algorithm2(const RegionEntry& e, const Monomials& m, int levels, int D) {
+std::optional<InflectionResult> lazy_algorithm2(const RegionEntry& e, const Monomials& m, int levels, int D,
+                                                const SegmentRecord* record = nullptr,
+                                                std::uint64_t* reused = nullptr) {
   LazyPieces src(e, m, levels, true);
   const int kappa_sign = src.sign(0);
   InflectionFold fold;
-  if (!traverse(src, D, inflection_piece, [&](Piece p, int level) { return fold.visit(p, level); }))
+  const auto visit = [&](Piece p, int level) { return fold.visit(p, level); };
+  if (!(record ? traverse_with_record(src, D, inflection_piece, visit, record, *reused)
+               : traverse(src, D, inflection_piece, visit)))
     return std::nullopt;
   return fold.result(D, kappa_sign);
 }
@@ -868,6 +879,15 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
   return verdict(s, classes, joints, false);
 }
 
+// What the failed block around the current pixels learned (cull_block sets
+// it around small_block on its thread; null: nothing known), and where the
+// pixels count their reuse. Labels only (box_reuse.hpp).
+struct PixelReuse {
+  const BoxKnowledge* known = nullptr;
+  BlockReuseCounts* counts = nullptr;
+};
+thread_local PixelReuse tl_pixel_reuse;
+
 // classify_fast for one pixel through the render's PixelKernel: nullopt when
 // a sign is not certain with the kernel's one bound (then classify_fast).
 std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
@@ -926,11 +946,21 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
   const std::size_t n = k.entries.size(), start = labels_only && first_try < n ? first_try : 0;
   static thread_local std::vector<SegmentClass> classes;
   classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
+  // Labels only: the facts the failed block around this pixel learned.
+  const BoxKnowledge* known = labels_only ? tl_pixel_reuse.known : nullptr;
   for (std::size_t step = 0; step < n; ++step) {
     const std::size_t q = (start + step) % n;
     const PixelKernel::Entry& ke = k.entries[q];
     const RegionEntry& e = s.entries[ke.entry];
-    const auto mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth);
+    const SegmentRecord* rx = known ? &known->xi[ke.entry] : nullptr;
+    std::optional<MonotonicityResult> mono;
+    if (rx && rx->whole() != NodeFact::none) {  // one direction over the whole block
+      ++tl_pixel_reuse.counts->pixel_segments;
+      mono = MonotonicityResult{rx->whole() == NodeFact::increasing ? Curvature::increasing : Curvature::decreasing, 0};
+    } else {
+      mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth,
+                             rx && !rx->nodes.empty() ? rx : nullptr, known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+    }
     if (!mono) {
       uncertain = true;  // another segment may still fail for certain
       continue;
@@ -938,12 +968,20 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
     SegmentClass c;
     c.monotonicity = *mono;
     if (cmr && !(labels_only && c.monotonicity.curvature == Curvature::non_monotone)) {
-      const auto i = lazy_algorithm2(e, Monomials(dx, dy), s.piece_levels, o.max_depth);
-      if (!i) {
-        uncertain = true;
-        continue;
+      const SegmentRecord* rn = known ? &known->nu[ke.entry] : nullptr;
+      if (rn && rn->whole() != NodeFact::none) {  // eta of one strict sign over the whole block
+        ++tl_pixel_reuse.counts->pixel_segments;
+        c.inflection = {Inflection::none, 0, rn->whole() == NodeFact::increasing ? 1 : -1};
+      } else {
+        const auto i = lazy_algorithm2(e, Monomials(dx, dy), s.piece_levels, o.max_depth,
+                                       rn && !rn->nodes.empty() ? rn : nullptr,
+                                       known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+        if (!i) {
+          uncertain = true;
+          continue;
+        }
+        c.inflection = *i;
       }
-      c.inflection = *i;
     }
     if (labels_only && (c.monotonicity.curvature == Curvature::non_monotone ||
                         (cmr && c.inflection.inflection == Inflection::present))) {
@@ -1022,30 +1060,88 @@ class BoxFold {
   std::optional<BoxOutcome> stop_;
 };
 
+// With `record` (labels only, box_reuse.hpp): every node's fact is written
+// there, and a node whose fact the parent block's record `parent` holds is
+// decided by it without evaluating (nor counting against the budget); when
+// the traversal stops short, the parent's facts past the last node reached
+// are carried over (they hold for this box too).
 BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa,
-                         int budget) {
+                         int budget, const SegmentRecord* parent = nullptr, SegmentRecord* record = nullptr,
+                         BlockReuseCounts* counts = nullptr) {
   LazyPieces src(e, mono, levels, eta);
   BoxFold fold;
   int visited = 0;
-  // A box that needs many pieces is cheaper to quarter than to resolve.
-  const auto rule = [&](const SignSummary& s) {
-    return ++visited > budget ? Piece::uncertain : block_piece(s, eta);
-  };
-  if (!traverse(src, D, rule, [&](Piece p, int) { return fold.visit(p); }, true)) return BoxOutcome::unresolved;
+  bool done = false;
+  if (!record) {
+    // A box that needs many pieces is cheaper to quarter than to resolve.
+    const auto rule = [&](const SignSummary& s) {
+      return ++visited > budget ? Piece::uncertain : block_piece(s, eta);
+    };
+    done = traverse(src, D, rule, [&](Piece p, int) { return fold.visit(p); }, true);
+  } else {
+    RecordReader reader(parent);
+    RecordWriter writer(record);
+    const auto decide = [&](int level, int j) {
+      NodeFact f = reader.at(level, j);
+      Piece p;
+      if (f != NodeFact::none) {
+        ++counts->box_nodes;
+        p = fact_piece(f);
+      } else {
+        if (++visited > budget) return Piece::uncertain;
+        const SignSummary s = scan_signs(src, true);
+        p = block_piece(s, eta);
+        if (p == Piece::uncertain) return p;
+        f = box_fact(s, p, eta);
+      }
+      writer.node(level, j, f);
+      return p;
+    };
+    done = traverse_nodes(src, D, decide, [&](Piece p, int) { return fold.visit(p); },
+                          [&](int level) { writer.done(level); });
+    if ((!done || fold.result() == BoxOutcome::unresolved) && parent) {
+      const bool all = record->nodes.empty();
+      const std::uint64_t last = all ? 0 : record->nodes.back().key;
+      for (const SegmentRecord::Node& n : parent->nodes)
+        if (all || n.key > last) record->nodes.push_back(n);
+    }
+  }
+  if (!done) return BoxOutcome::unresolved;
   const BoxOutcome r = fold.result();
   if (kappa) *kappa = r == BoxOutcome::increasing ? 1 : -1;
   return r;
 }
 
+// With `out` (labels only, box_reuse.hpp): what the proof learned goes to
+// out (for the quarters and pixels when it fails), starting from what the
+// parent block learned (`parent`, may be null), whose facts it also uses.
 std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monomials& mono, Bounded bx, Bounded by,
-                                               int budget) {
+                                               int budget, const BoxKnowledge* parent = nullptr,
+                                               BoxKnowledge* out = nullptr, BlockReuseCounts* counts = nullptr) {
   if (s.fixed_none) return PixelResult{0, 0, false};  // that segment's part is "none" for every position
   const RegionRequest& o = s.options;
   const int D = o.max_depth;
+  if (out) {
+    // Segments this proof does not reach keep what the parent learned.
+    out->reset(s.entries.size());
+    if (parent)
+      for (std::size_t q = 0; q < s.entries.size(); ++q) {
+        out->xi[q].nodes.assign(parent->xi[q].nodes.begin(), parent->xi[q].nodes.end());
+        out->nu[q].nodes.assign(parent->nu[q].nodes.begin(), parent->nu[q].nodes.end());
+      }
+  }
   // The cheapest proof first: a whole segment with opposite end signs.
-  for (const RegionEntry& e : s.entries) {
+  for (std::size_t q = 0; q < s.entries.size(); ++q) {
+    const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
-    if (level0_fails(e, mono, false) == Truth::yes) return PixelResult{0, 0, false};
+    if (parent && parent->xi[q].level0_no) {  // certain over the parent box, so over this one
+      ++counts->box_level0;
+      out->xi[q].level0_no = true;
+      continue;
+    }
+    const Truth fails = level0_fails(e, mono, false);
+    if (fails == Truth::yes) return PixelResult{0, 0, false};
+    if (out) out->xi[q].level0_no = fails == Truth::no;
   }
   static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
   classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
@@ -1060,7 +1156,17 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
     SegmentClass c;
-    switch (box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget)) {
+    const SegmentRecord* px = parent ? &parent->xi[q] : nullptr;
+    SegmentRecord* ox = out ? &out->xi[q] : nullptr;
+    BoxOutcome mono_outcome;
+    if (px && px->whole() != NodeFact::none) {  // one direction over the parent: no traversal (out keeps it)
+      ++counts->box_segments;
+      mono_outcome = px->whole() == NodeFact::increasing ? BoxOutcome::increasing : BoxOutcome::decreasing;
+    } else {
+      if (ox) ox->nodes.clear();
+      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts);
+    }
+    switch (mono_outcome) {
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
       case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
@@ -1069,7 +1175,18 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (o.mode == Mode::cmr) {
       // For eta, "increasing" means all pieces positive: no inflection, kappa > 0.
       int kappa = 0;
-      switch (box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget)) {
+      const SegmentRecord* pn = parent ? &parent->nu[q] : nullptr;
+      SegmentRecord* on = out ? &out->nu[q] : nullptr;
+      BoxOutcome eta_outcome;
+      if (pn && pn->whole() != NodeFact::none) {
+        ++counts->box_segments;
+        eta_outcome = pn->whole() == NodeFact::increasing ? BoxOutcome::increasing : BoxOutcome::decreasing;
+        kappa = eta_outcome == BoxOutcome::increasing ? 1 : -1;
+      } else {
+        if (on) on->nodes.clear();
+        eta_outcome = box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget, pn, on, counts);
+      }
+      switch (eta_outcome) {
         case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};  // an inflection
         case BoxOutcome::unresolved: return std::nullopt;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
@@ -1102,7 +1219,14 @@ PixelResult classify_position(const RegionSetup& s, Vec2 p) {
   return classify_position_exact(s, p);
 }
 
-std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, int i1, int j1) {
+namespace {
+
+// classify_block, handing what a failed label proof learned to `out` and
+// taking what its parent block learned from `parent` (box_reuse.hpp; both
+// null: no reuse).
+std::optional<PixelResult> classify_block_with(const RegionSetup& s, int i0, int j0, int i1, int j1,
+                                               const BoxKnowledge* parent, BoxKnowledge* out,
+                                               BlockReuseCounts* counts) {
   const RegionRequest& o = s.options;
   const View& v = *o.view;
   // Columns run left to right (x grows with i), rows top to bottom (y falls with j).
@@ -1115,8 +1239,15 @@ std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, 
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
   const Monomials mono(bx.v, by.v, bx.e, by.e);
   if (!o.depth)
-    return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)));
+    return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)),
+                               parent, out, counts);
   return classify_fast(s, mono, bx, by);
+}
+
+}  // namespace
+
+std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, int i1, int j1) {
+  return classify_block_with(s, i0, j0, i1, j1, nullptr, nullptr, nullptr);
 }
 
 RegionImage blank_image(const RegionSetup& s) {
@@ -1168,29 +1299,43 @@ std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImag
 // else quartered; blocks no larger than min_block are listed (single pixels
 // with min_block == 1 go through the render's per-pixel path, classify_pixel).
 // Returns the pixels the exact path decided.
+// Labels only (and unless CMR_BLOCK_REUSE=0), a failed block proof hands
+// what it learned to its quarters and, at the end, to its pixels
+// (box_reuse.hpp). Blocks are taken depth first, so the knowledge of the
+// failed block at quartering depth d (known[d]) stays in place until all of
+// its quarters are done.
 std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& top,
                          int min_block, std::vector<std::array<int, 2>>& listed) {
   std::uint64_t exact = 0;
-  std::vector<PixelBlock> todo{top};
+  const bool reuse = !s.options.depth && block_reuse();
+  static thread_local std::vector<BoxKnowledge> known;  // reused: no heap per block
+  BlockReuseCounts counts;
+  std::vector<std::pair<PixelBlock, int>> todo{{top, 0}};  // with its quartering depth
   while (!todo.empty()) {
-    const PixelBlock b = todo.back();
+    const auto [b, d] = todo.back();
     const auto [i0, j0, i1, j1] = b;
     todo.pop_back();
+    if (reuse && known.size() <= static_cast<std::size_t>(d)) known.resize(static_cast<std::size_t>(d) + 1);
+    const BoxKnowledge* parent = reuse && d > 0 ? &known[static_cast<std::size_t>(d) - 1] : nullptr;
     if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
+      tl_pixel_reuse = {parent, &counts};
       exact += small_block(s, k, img, b, min_block, listed);
-    } else if (const auto r = classify_block(s, i0, j0, i1, j1)) {
+      tl_pixel_reuse = {};
+    } else if (const auto r = classify_block_with(s, i0, j0, i1, j1, parent,
+                                                  reuse ? &known[static_cast<std::size_t>(d)] : nullptr, &counts)) {
       fill(img, b, *r);
     } else if (i1 - i0 < min_block && j1 - j0 < min_block) {
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) listed.push_back({i, j});
     } else {
       const int im = (i0 + i1) / 2, jm = (j0 + j1) / 2;
-      todo.push_back({i0, j0, im, jm});
-      if (im < i1) todo.push_back({im + 1, j0, i1, jm});
-      if (jm < j1) todo.push_back({i0, jm + 1, im, j1});
-      if (im < i1 && jm < j1) todo.push_back({im + 1, jm + 1, i1, j1});
+      todo.push_back({{i0, j0, im, jm}, d + 1});
+      if (im < i1) todo.push_back({{im + 1, j0, i1, jm}, d + 1});
+      if (jm < j1) todo.push_back({{i0, jm + 1, im, j1}, d + 1});
+      if (im < i1 && jm < j1) todo.push_back({{im + 1, jm + 1, i1, j1}, d + 1});
     }
   }
+  add_block_reuse_counts(counts);
   return exact;
 }
 
