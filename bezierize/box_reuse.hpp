@@ -84,15 +84,16 @@ struct BlockReuseCounts {
   std::uint64_t box_level0 = 0;    ///< level-0 checks a sub-box skipped
   std::uint64_t pixel_nodes = 0;   ///< nodes a pixel took from its block
   std::uint64_t pixel_segments = 0;  ///< segment traversals a pixel skipped
+  std::uint64_t eta = 0;  ///< of all these, the nodes and segments of Algorithm 2 (nu; CMR mode)
 };
-inline std::atomic<std::uint64_t> block_reuse_totals[5];
+inline std::atomic<std::uint64_t> block_reuse_totals[6];
 inline BlockReuseCounts block_reuse_counts() {
   const auto at = [](int i) { return block_reuse_totals[i].load(std::memory_order_relaxed); };
-  return {at(0), at(1), at(2), at(3), at(4)};
+  return {at(0), at(1), at(2), at(3), at(4), at(5)};
 }
 inline void add_block_reuse_counts(const BlockReuseCounts& c) {
-  const std::uint64_t v[5] = {c.box_nodes, c.box_segments, c.box_level0, c.pixel_nodes, c.pixel_segments};
-  for (int i = 0; i < 5; ++i)
+  const std::uint64_t v[6] = {c.box_nodes, c.box_segments, c.box_level0, c.pixel_nodes, c.pixel_segments, c.eta};
+  for (int i = 0; i < 6; ++i)
     if (v[i]) block_reuse_totals[i].fetch_add(v[i], std::memory_order_relaxed);
 }
 

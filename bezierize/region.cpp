@@ -971,11 +971,12 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
       const SegmentRecord* rn = known ? &known->nu[ke.entry] : nullptr;
       if (rn && rn->whole() != NodeFact::none) {  // eta of one strict sign over the whole block
         ++tl_pixel_reuse.counts->pixel_segments;
+        ++tl_pixel_reuse.counts->eta;
         c.inflection = {Inflection::none, 0, rn->whole() == NodeFact::increasing ? 1 : -1};
       } else {
         const auto i = lazy_algorithm2(e, Monomials(dx, dy), s.piece_levels, o.max_depth,
                                        rn && !rn->nodes.empty() ? rn : nullptr,
-                                       known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+                                       known ? &tl_pixel_reuse.counts->eta : nullptr);
         if (!i) {
           uncertain = true;
           continue;
@@ -1086,6 +1087,7 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
       Piece p;
       if (f != NodeFact::none) {
         ++counts->box_nodes;
+        counts->eta += eta;
         p = fact_piece(f);
       } else {
         if (++visited > budget) return Piece::uncertain;
@@ -1180,6 +1182,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       BoxOutcome eta_outcome;
       if (pn && pn->whole() != NodeFact::none) {
         ++counts->box_segments;
+        ++counts->eta;
         eta_outcome = pn->whole() == NodeFact::increasing ? BoxOutcome::increasing : BoxOutcome::decreasing;
         kappa = eta_outcome == BoxOutcome::increasing ? 1 : -1;
       } else {
