@@ -58,6 +58,13 @@ void expect_reuse_exact(const BSpline& spline, int point, const std::string& nam
   for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
     const std::uint64_t eta_before = block_reuse_counts().eta;
     for (const int depth : {10, 16}) {
+      // The default view at a size with many failed blocks (nu's reuse in CMR mode; see eta below).
+      {
+        const RegionProblem p = RegionProblem::make(spline, request(point, depth, 256, std::nullopt, mode));
+        const RegionImage on = render(p.setup(), true), off = render(p.setup(), false);
+        EXPECT_EQ(on.labels, off.labels) << name << ", default view 256^2, D = " << depth
+                                         << (mode == Mode::cmr ? ", CMR" : ", CMRWI");
+      }
       const RegionProblem whole = RegionProblem::make(spline, request(point, depth, 64, std::nullopt, mode));
       const auto edge = test::boundary_point(whole, 64);
       if (!edge) continue;  // one label in the default view
