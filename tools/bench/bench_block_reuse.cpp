@@ -6,13 +6,16 @@
 // (fig2 P1), the uniform cubic (fig8 P3) and the degree-9 Bezier (bezier9
 // P4); the whole region (default view), 10x wider, and a 4e-4 zoom centred on
 // the first boundary point bench_region finds; D = 10 and 16; 512^2 and
-// 1024^2. Also checks that both label maps are equal (exit 1 otherwise).
+// 1024^2. Also checks that both label maps are equal (exit 1 otherwise), and
+// prints per frame how many nodes, segments and level-0 checks the blocks
+// and the pixels took from a failed parent (BlockReuseCounts).
 //
 // Run from the repository root: build/tools/bench/bench_block_reuse [reps] [filter]
 // (filter: a substring of "scene view D size", e.g. "zoom 16 512").
 #include <time.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -94,7 +97,8 @@ int main(int argc, char** argv) {
   std::printf("region CPU render, labels only, one thread, CPU ms of that thread, best of %d, reuse off/on "
               "interleaved\n",
               reps);
-  std::printf("| cell (scene, view, D, size) | reuse off, ms | reuse on, ms | off / on |\n|---|---:|---:|---:|\n");
+  std::printf("| cell (scene, view, D, size) | reuse off, ms | reuse on, ms | off / on | taken by blocks | taken by "
+              "pixels |\n|---|---:|---:|---:|---:|---:|\n");
   bool differ = false;
   for (const Scene& sc : scenes) {
     std::optional<BSpline> read;
@@ -126,6 +130,7 @@ int main(int argc, char** argv) {
           const RegionProblem p = prepare(spline, sc.point, depth, size, view);
           double best[2] = {1e300, 1e300};
           RegionImage img[2];
+          const BlockReuseCounts c0 = block_reuse_counts();
           for (int r = 0; r < reps; ++r)
             for (int on = 0; on < 2; ++on) {
               set_block_reuse(on);
@@ -134,10 +139,15 @@ int main(int argc, char** argv) {
               best[on] = std::min(best[on], thread_cpu() - t0);
             }
           set_block_reuse(-1);
+          const BlockReuseCounts c1 = block_reuse_counts();
+          const auto per_frame = [&](std::uint64_t a, std::uint64_t b) { return static_cast<double>(b - a) / reps; };
+          const double box = per_frame(c0.box_nodes + c0.box_segments + c0.box_level0,
+                                       c1.box_nodes + c1.box_segments + c1.box_level0),
+                       pix = per_frame(c0.pixel_nodes + c0.pixel_segments, c1.pixel_nodes + c1.pixel_segments);
           const bool same = img[0].labels == img[1].labels;
           differ = differ || !same;
-          std::printf("| %s | %.2f | %.2f | %.2f |%s\n", cell.c_str(), 1e3 * best[0], 1e3 * best[1], best[0] / best[1],
-                      same ? "" : " LABELS DIFFER");
+          std::printf("| %s | %.2f | %.2f | %.2f | %.0f | %.0f |%s\n", cell.c_str(), 1e3 * best[0], 1e3 * best[1],
+                      best[0] / best[1], box, pix, same ? "" : " LABELS DIFFER");
           std::fflush(stdout);
         }
   }
