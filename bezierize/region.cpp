@@ -1132,7 +1132,17 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
         out->nu[q].nodes.assign(parent->nu[q].nodes.begin(), parent->nu[q].nodes.end());
       }
   }
-  // The cheapest proof first: a whole segment with opposite end signs.
+  // The cheapest proof first: a whole segment with opposite end signs. A
+  // segment whose xi_0 has no certain sign over the box is not worth a
+  // traversal: every piece on the left edge of its subdivision starts with
+  // that same coefficient (subdivision keeps it; below the precomputed
+  // levels it is copied, above them each piece's polynomial has it), so
+  // block_piece splits each of them (no certain leaf, no certain rule 3),
+  // and the depth-first traversal goes down that edge first, to level D or
+  // to the end of its budget, and fails. It is unresolved at once (always
+  // safe: the quarters or the pixels decide; labels cannot change).
+  static thread_local std::vector<char> hopeless;
+  hopeless.assign(s.entries.size(), 0);
   for (std::size_t q = 0; q < s.entries.size(); ++q) {
     const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
@@ -1141,9 +1151,11 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       out->xi[q].level0_no = true;
       continue;
     }
-    const Truth fails = level0_fails(e, mono, false);
+    const int first = certain_sign(eval_poly(e.xi[0], mono)), last = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
+    const Truth fails = ends_opposite(first, last);
     if (fails == Truth::yes) return PixelResult{0, 0, false};
     if (out) out->xi[q].level0_no = fails == Truth::no;
+    hopeless[q] = first == kSignUnknown;
   }
   static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
   classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
@@ -1164,6 +1176,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (px && px->whole() != NodeFact::none) {  // one direction over the parent: no traversal (out keeps it)
       ++counts->box_segments;
       mono_outcome = px->whole() == NodeFact::increasing ? BoxOutcome::increasing : BoxOutcome::decreasing;
+    } else if (hopeless[q]) {
+      mono_outcome = BoxOutcome::unresolved;
     } else {
       if (ox) ox->nodes.clear();
       mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts);
