@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "bezierize/halve_pairs.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/poly3.hpp"
 #include "bezierize/rational_lambda.hpp"
@@ -679,15 +680,7 @@ class FlatPiecesN {
     double mag = 0;
     for (int k = 0; k < N; ++k) mag = std::max(mag, std::fabs(cur_[k]));
     e_ += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
-    double* right = pending_[level];
-    double w[N];
-    std::copy(cur_, cur_ + N, w);
-    right[N - 1] = w[N - 1];
-    for (int r = 1; r < N; ++r) {
-      for (int i = 0; i + r < N; ++i) w[i] = HalfMean{}(w[i], w[i + 1]);
-      cur_[r] = w[0];
-      right[N - 1 - r] = w[N - 1 - r];
-    }
+    halve_in_pairs<N>(cur_, pending_[level]);  // bernstein_halve's values, bit for bit
     pending_e_[level] = e_;
   }
   void next(int level, int) {
