@@ -5,9 +5,9 @@
 //  - the render: label maps and depth maps at each forced level (scalar,
 //    sse2, avx2 where the CPU has it) are equal pixel for pixel, and equal
 //    to the exact path's, on a cubic Bezier (fig2 P1), the uniform cubic
-//    fig8 P3, a quartic Bezier (n1 = 10), the degree-9 Bezier (P4) and a
-//    rational cubic (NURBS, n1 = 13), in the default view and seeded zooms
-//    onto a region boundary; the pixels that went through the batch path
+//    fig8 P3, a quartic Bezier (P1, n1 = 10), the degree-9 Bezier (P4) and a
+//    rational cubic (examples/rational/nurbs_cubic.json P3, n1 = 13), in the
+//    default view and seeded zooms onto a region boundary (20 or 12 pixels); the pixels that went through the batch path
 //    are counted (each scene and level must have some), and a deliberately
 //    wrong batch (lane 1's v[0] negated) must be caught by the comparison.
 #include <gtest/gtest.h>
@@ -168,9 +168,9 @@ struct Scene {
 std::vector<Scene> scenes() {
   return {{"cubic Bezier fig2 P1", read_spline_file(kSource + "/examples/figures/fig2.json"), 1},
           {"uniform cubic fig8 P3", read_spline_file(kSource + "/examples/figures/fig8.json"), 3},
-          {"quartic Bezier P2", BSpline::bezier({{0, 0}, {1, 2}, {3, 3}, {5, 2.5}, {6.5, 0.5}}), 2},
+          {"quartic Bezier P1", BSpline::bezier({{0, 0}, {2, 0}, {4, 1}, {5, 3}, {5, 5}}), 1},
           {"degree-9 Bezier P4", read_spline_file(kSource + "/examples/bezier9.json"), 4},
-          {"rational cubic P2", read_spline_file(kSource + "/examples/rational/nurbs_cubic.json"), 2}};
+          {"rational cubic P3", read_spline_file(kSource + "/examples/rational/nurbs_cubic.json"), 3}};
 }
 
 // The views of a scene: its default view and two seeded zooms onto a region
@@ -209,57 +209,67 @@ int differences(const RegionImage& a, const RegionImage& b, std::ostringstream& 
   return wrong;
 }
 
-TEST(PixelSimd, LabelAndDepthMapsAreEqualAtEveryLevelAndExact) {
-  constexpr int kSize = 20;
-  std::mt19937_64 rng(2324);
+// One scene: every level's maps against the scalar level's and the exact
+// path's; returns the pixels a faulty batch changed (the fault hook on).
+std::uint64_t check_scene(const Scene& sc, unsigned seed, int size = 20) {
+  std::mt19937_64 rng(seed);
   std::uint64_t faulty_differences = 0;
-  for (const Scene& sc : scenes()) {
-    std::vector<std::uint64_t> batched(3, 0);
-    for (const Mode mode : {Mode::cmrwi, Mode::cmr})
-      for (const int depth : {10, 16})
-        for (const std::optional<View>& v : views(sc, depth, mode, rng))
-          for (const bool depth_map : {false, true}) {
-            const RegionProblem p = RegionProblem::make(sc.spline, request(sc.point, depth, kSize, v, depth_map, mode));
-            const RegionSetup& s = p.setup();
-            const std::string where = describe(sc, mode, depth, v, depth_map);
-            RegionImage scalar;
-            {
-              const ForcedLevel forced(SimdLevel::scalar);
-              scalar = region_cpu(s, 2);
-            }
-            // The exact path, pixel by pixel (no depths without a depth map).
-            RegionImage exact = scalar;
-            for (int j = 0; j < kSize; ++j)
-              for (int i = 0; i < kSize; ++i) {
-                const PixelResult r = classify_position_exact(s, pixel_center(p.view(), kSize, kSize, i, j));
-                const std::size_t at = static_cast<std::size_t>(j) * kSize + i;
-                exact.labels[at] = r.label;
-                exact.depth[at] = depth_map ? r.depth : 0;
-              }
-            std::ostringstream first;
-            EXPECT_EQ(differences(scalar, exact, first), 0) << "scalar vs exact: " << where << first.str();
-            for (const SimdLevel l : levels()) {
-              const ForcedLevel forced(l);
-              const std::uint64_t before = simd_pixel_count(l);
-              const RegionImage img = region_cpu(s, 2);
-              batched[static_cast<int>(l)] += simd_pixel_count(l) - before;
-              std::ostringstream diff;
-              EXPECT_EQ(differences(img, scalar, diff), 0) << simd_name(l) << " vs scalar: " << where << diff.str();
-              if (l == SimdLevel::scalar) continue;
-              const Fault fault;
-              std::ostringstream ignored;
-              faulty_differences += differences(region_cpu(s, 2), scalar, ignored);
-            }
+  std::vector<std::uint64_t> batched(3, 0);
+  for (const Mode mode : {Mode::cmrwi, Mode::cmr})
+    for (const int depth : {10, 16})
+      for (const std::optional<View>& v : views(sc, depth, mode, rng))
+        for (const bool depth_map : {false, true}) {
+          const RegionProblem p = RegionProblem::make(sc.spline, request(sc.point, depth, size, v, depth_map, mode));
+          const RegionSetup& s = p.setup();
+          const std::string where = describe(sc, mode, depth, v, depth_map) + ", seed " + std::to_string(seed);
+          RegionImage scalar;
+          {
+            const ForcedLevel forced(SimdLevel::scalar);
+            scalar = region_cpu(s, 2);
           }
-    // Every level compared pixels that went through its batch path.
-    for (const SimdLevel l : levels())
-      EXPECT_GT(batched[static_cast<int>(l)], 0u) << sc.name << ": no pixel went through " << simd_name(l);
-  }
-  // A wrong batch changes some pixel's label or depth, and the comparison above would name it.
+          // The exact path, pixel by pixel (no depths without a depth map).
+          RegionImage exact = scalar;
+          for (int j = 0; j < size; ++j)
+            for (int i = 0; i < size; ++i) {
+              const PixelResult r = classify_position_exact(s, pixel_center(p.view(), size, size, i, j));
+              const std::size_t at = static_cast<std::size_t>(j) * size + i;
+              exact.labels[at] = r.label;
+              exact.depth[at] = depth_map ? r.depth : 0;
+            }
+          std::ostringstream first;
+          EXPECT_EQ(differences(scalar, exact, first), 0) << "scalar vs exact: " << where << first.str();
+          for (const SimdLevel l : levels()) {
+            const ForcedLevel forced(l);
+            const std::uint64_t before = simd_pixel_count(l);
+            const RegionImage img = region_cpu(s, 2);
+            batched[static_cast<int>(l)] += simd_pixel_count(l) - before;
+            std::ostringstream diff;
+            EXPECT_EQ(differences(img, scalar, diff), 0) << simd_name(l) << " vs scalar: " << where << diff.str();
+            if (l == SimdLevel::scalar) continue;
+            const Fault fault;
+            std::ostringstream ignored;
+            faulty_differences += differences(region_cpu(s, 2), scalar, ignored);
+          }
+        }
+  // Every level compared pixels that went through its batch path.
+  for (const SimdLevel l : levels())
+    EXPECT_GT(batched[static_cast<int>(l)], 0u) << sc.name << ": no pixel went through " << simd_name(l);
+  return faulty_differences;
+}
+
+// A wrong batch changes some pixel's label or depth, and the comparison
+// would name it (where the CPU has a SIMD level).
+void expect_fault_seen(std::uint64_t faulty_differences) {
   if (levels().size() > 1) {
     EXPECT_GT(faulty_differences, 0u);
   }
 }
+
+TEST(PixelSimdMaps, CubicBezierAtEveryLevel) { expect_fault_seen(check_scene(scenes()[0], 2324)); }
+TEST(PixelSimdMaps, UniformCubicAtEveryLevel) { expect_fault_seen(check_scene(scenes()[1], 2325)); }
+TEST(PixelSimdMaps, QuarticBezierAtEveryLevel) { expect_fault_seen(check_scene(scenes()[2], 2326)); }
+TEST(PixelSimdMaps, Degree9BezierAtEveryLevel) { expect_fault_seen(check_scene(scenes()[3], 2327, 12)); }
+TEST(PixelSimdMaps, RationalCubicAtEveryLevel) { expect_fault_seen(check_scene(scenes()[4], 2328, 12)); }
 
 }  // namespace
 }  // namespace cmr
