@@ -1186,6 +1186,7 @@ std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImag
       for (int i = b[0]; i <= b[2]; ++i) listed.push_back({i, j});
     return exact;
   }
+  CMR_CHECK((b[2] - b[0] + 1) * (b[3] - b[1] + 1) <= kPixelsPerSmallBlock);
   Vec2 p[kPixelsPerSmallBlock];
   PixelResult r[kPixelsPerSmallBlock];
   int n = 0;
