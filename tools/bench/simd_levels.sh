@@ -30,6 +30,7 @@ levels="scalar sse2"
 grep -qw avx2 /proc/cpuinfo 2>/dev/null && levels="$levels avx2"
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
+load_before=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
 r=0
 while [ "$r" -lt "$rounds" ]; do
   if [ -n "$before" ]; then
@@ -41,6 +42,7 @@ while [ "$r" -lt "$rounds" ]; do
   env -u CMR_SIMD "$bench" "$reps" "$filter" cmr 2>/dev/null | grep "cmr CPU" | sed 's/^/default|/' >>"$out"
   r=$((r + 1))
 done
+echo "1-minute load average: $load_before before, $(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?) after"
 python3 - "$out" ${before:+before} $levels default <<'EOF'
 import re, statistics, sys
 rows, cols = {}, sys.argv[2:]
