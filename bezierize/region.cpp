@@ -7,8 +7,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <span>
 
+#include "bezierize/halve_pairs.hpp"
 #include "bezierize/lambda.hpp"
+#include "bezierize/pixel_simd.hpp"
 #include "bezierize/poly3.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "bezierize/region_pieces.hpp"
@@ -618,7 +621,9 @@ class FlatPieces {
 //     E = kPolyErrorUnits u sum_m max_k |c_km| |mu_m| + 16 tiny
 // is at least each coefficient's own bound of eval_poly (the same sum with
 // |c_km|), of which FlatPieces takes the largest. Level 0 and the traversal
-// read the same values, so a pixel evaluates its root coefficients once.
+// read the same values, so a pixel evaluates its root coefficients once;
+// pixel_root_values (pixel_simd.hpp) evaluates them for 1, 2 or 4 pixels at
+// once, bit-identically.
 // Looser than classify_fast; a pixel with an uncertain sign here goes on to
 // classify_fast, then to the exact path: labels and depths are the exact ones.
 struct PixelKernel {
@@ -631,6 +636,7 @@ struct PixelKernel {
   };
   std::vector<Entry> entries;
   int values = 0;  ///< sum of n1
+  SimdLevel simd = simd_level();  ///< pixels per pixel_root_values call: simd_lanes(simd)
   explicit PixelKernel(const RegionSetup& s) {
     for (std::size_t q = 0; q < s.entries.size(); ++q) {
       const RegionEntry& e = s.entries[q];
@@ -652,16 +658,6 @@ struct PixelKernel {
   }
 };
 
-// v[c] = sum_m t[m * N + c] mu[m], in the order m = 0, 1, ..., 9 (the order
-// eval_poly sums in; the bound does not depend on it).
-template <int N>
-void root_values(const double* t, const double* mu, double* v) {
-  double acc[N] = {};
-  for (int m = 0; m < kPoly3Terms; ++m)
-    for (int c = 0; c < N; ++c) acc[c] += t[m * N + c] * mu[m];
-  for (int c = 0; c < N; ++c) v[c] = acc[c];
-}
-
 inline int flat_sign(double x, double e) {
   if (std::fabs(x) > e) return x > 0 ? 1 : -1;  // false for NaN: unknown
   return x == 0 && e == 0 ? 0 : kSignUnknown;
@@ -680,15 +676,7 @@ class FlatPiecesN {
     double mag = 0;
     for (int k = 0; k < N; ++k) mag = std::max(mag, std::fabs(cur_[k]));
     e_ += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
-    double* right = pending_[level];
-    double w[N];
-    std::copy(cur_, cur_ + N, w);
-    right[N - 1] = w[N - 1];
-    for (int r = 1; r < N; ++r) {
-      for (int i = 0; i + r < N; ++i) w[i] = HalfMean{}(w[i], w[i + 1]);
-      cur_[r] = w[0];
-      right[N - 1 - r] = w[N - 1 - r];
-    }
+    halve_in_pairs<N>(cur_, pending_[level]);  // bernstein_halve's values, bit for bit
     pending_e_[level] = e_;
   }
   void next(int level, int) {
@@ -888,40 +876,23 @@ struct PixelReuse {
 };
 thread_local PixelReuse tl_pixel_reuse;
 
-// classify_fast for one pixel through the render's PixelKernel: nullopt when
-// a sign is not certain with the kernel's one bound (then classify_fast).
+// classify_fast for one pixel through the render's PixelKernel, on the
+// pixel's root values (values[ke.offset + c]) and bounds (bounds[q]) from
+// pixel_root_values: nullopt when a sign is not certain with the kernel's one
+// bound (then classify_fast).
 std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
-                                               Bounded bx, Bounded by) {
+                                               Bounded bx, Bounded by, std::span<const double> values,
+                                               std::span<const double> bounds) {
   if (s.fixed_level0_none) return PixelResult{0, 0, false};
   const RegionRequest& o = s.options;
   const bool cmr = o.mode == Mode::cmr;
-  const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
-  const double mu[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
-  double amu[kPoly3Terms];
-  for (int m = 0; m < kPoly3Terms; ++m) amu[m] = std::fabs(mu[m]);
-  static thread_local std::vector<double> values, bounds;  // reused: no heap per pixel
-  values.assign(static_cast<std::size_t>(k.values), 0.0);
-  bounds.resize(k.entries.size());
-  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
   // Level 0 first, as classify_fast: any segment failing there decides the pixel.
   bool uncertain = false;
   for (std::size_t q = 0; q < k.entries.size(); ++q) {
     const PixelKernel::Entry& ke = k.entries[q];
-    double* v = values.data() + ke.offset;
+    const double* v = values.data() + ke.offset;
     const int n1 = ke.n1;
-    const double* t = ke.t.data();
-    double mag = 0;
-    for (int m = 0; m < kPoly3Terms; ++m) mag += ke.mag[m] * amu[m];
-    switch (n1) {  // straight-line code for the common sizes (cubic: 6; quartic: 10)
-      case 6: root_values<6>(t, mu, v); break;
-      case 10: root_values<10>(t, mu, v); break;
-      case 30: root_values<30>(t, mu, v); break;
-      default:
-        for (int m = 0; m < kPoly3Terms; ++m)
-          for (int c = 0; c < n1; ++c) v[c] += t[m * n1 + c] * mu[m];
-    }
-    const double e = units * mag + 16 * Bounded::kTiny;
-    bounds[q] = e;
+    const double e = bounds[q];
     Truth fails = ends_opposite(flat_sign(v[0], e), flat_sign(v[n1 - 1], e));
     if (cmr && fails != Truth::yes) {
       const RegionEntry& re = s.entries[ke.entry];
@@ -998,13 +969,64 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
   return verdict(s, classes, joints, false);
 }
 
-// One pixel of the CPU render: the kernel's try, then classify_position's.
-PixelResult classify_pixel(const RegionSetup& s, const PixelKernel& k, Vec2 p) {
-  const double dx = p.x - s.anchor.x, dy = p.y - s.anchor.y;
-  const Bounded bx(dx, 0.5 * Bounded::kRound * std::fabs(dx)), by(dy, 0.5 * Bounded::kRound * std::fabs(dy));
-  if (const auto r = classify_pixel_flat(s, k, dx, dy, bx, by)) return *r;
-  if (const auto r = classify_fast(s, Monomials(dx, dy), bx, by)) return *r;
-  return classify_position_exact(s, p);
+// Pixels of the CPU render (count of them, centres p[0..count)) through the
+// kernel, in chunks of simd_lanes(k.simd): per touched segment, in the
+// kernel's order, the root values and bound of a chunk's pixels at once
+// (pixel_root_values: bit-identical at every level), then each pixel's
+// level-0 test (ends_opposite of flat_sign of v[0], v[n1 - 1]); a chunk whose
+// pixels all failed there skips the later segments. Each pixel not decided
+// at level 0 goes on as before, on its computed values: classify_pixel_flat,
+// then classify_fast, then the exact path. Writes out[0..count).
+void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, int count, PixelResult* out) {
+  constexpr int kStrideMax = 64;
+  CMR_CHECK(count > 0 && count <= kStrideMax);
+  if (s.fixed_level0_none) {
+    std::fill(out, out + count, PixelResult{0, 0, false});
+    return;
+  }
+  const int lanes = simd_lanes(k.simd);
+  const int stride = (count + lanes - 1) / lanes * lanes;
+  double dx[kStrideMax] = {}, dy[kStrideMax] = {};
+  bool done[kStrideMax] = {};
+  for (int i = 0; i < count; ++i) {
+    dx[i] = p[i].x - s.anchor.x;
+    dy[i] = p[i].y - s.anchor.y;
+  }
+  static thread_local std::vector<double> batch, bounds, values, pixel_bounds;  // reused: no heap per pixel
+  batch.resize(static_cast<std::size_t>(k.values) * stride);
+  bounds.resize(k.entries.size() * stride);
+  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound, tiny = 16 * Bounded::kTiny;
+  for (std::size_t q = 0; q < k.entries.size(); ++q) {
+    const PixelKernel::Entry& ke = k.entries[q];
+    double* v = batch.data() + static_cast<std::size_t>(ke.offset) * stride;
+    double* e = bounds.data() + q * stride;
+    for (int first = 0; first < count; first += lanes) {
+      const int last = std::min(count, first + lanes);
+      if (std::all_of(done + first, done + last, [](bool d) { return d; })) continue;
+      pixel_root_values(k.simd, ke.t.data(), ke.mag.data(), ke.n1, dx + first, dy + first, v + first, stride,
+                        e + first, units, tiny);
+      if (q == 0) count_simd_pixels(k.simd, last - first);
+      for (int i = first; i < last; ++i)
+        done[i] = done[i] || ends_opposite(flat_sign(v[i], e[i]),
+                                           flat_sign(v[static_cast<std::size_t>(ke.n1 - 1) * stride + i], e[i])) ==
+                                 Truth::yes;
+    }
+  }
+  values.resize(static_cast<std::size_t>(k.values));
+  pixel_bounds.resize(k.entries.size());
+  for (int i = 0; i < count; ++i) {
+    if (done[i]) {
+      out[i] = PixelResult{0, 0, false};
+      continue;
+    }
+    for (int c = 0; c < k.values; ++c) values[c] = batch[static_cast<std::size_t>(c) * stride + i];
+    for (std::size_t q = 0; q < k.entries.size(); ++q) pixel_bounds[q] = bounds[q * stride + i];
+    const Bounded bx(dx[i], 0.5 * Bounded::kRound * std::fabs(dx[i]));
+    const Bounded by(dy[i], 0.5 * Bounded::kRound * std::fabs(dy[i]));
+    if (const auto r = classify_pixel_flat(s, k, dx[i], dy[i], bx, by, values, pixel_bounds)) out[i] = *r;
+    else if (const auto f = classify_fast(s, Monomials(dx[i], dy[i]), bx, by)) out[i] = *f;
+    else out[i] = classify_position_exact(s, p[i]);
+  }
 }
 
 // Labels for a whole box of displacements without following each pixel's
@@ -1294,20 +1316,29 @@ void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
     }
 }
 
-// A block of a few pixels: evaluating the pixels (here, or on the device when
-// min_block > 1) is cheaper than a box. Returns the pixels the exact path decided.
+// A block of a few pixels: evaluating the pixels (here, in SIMD chunks
+// through classify_pixels, or on the device when min_block > 1) is cheaper
+// than a box. Returns the pixels the exact path decided.
 std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& b,
                           int min_block, std::vector<std::array<int, 2>>& listed) {
   std::uint64_t exact = 0;
+  if (min_block > 1) {
+    for (int j = b[1]; j <= b[3]; ++j)
+      for (int i = b[0]; i <= b[2]; ++i) listed.push_back({i, j});
+    return exact;
+  }
+  CMR_CHECK((b[2] - b[0] + 1) * (b[3] - b[1] + 1) <= kPixelsPerSmallBlock);
+  Vec2 p[kPixelsPerSmallBlock];
+  PixelResult r[kPixelsPerSmallBlock];
+  int n = 0;
+  for (int j = b[1]; j <= b[3]; ++j)
+    for (int i = b[0]; i <= b[2]; ++i) p[n++] = pixel_center(img.view, img.width, img.height, i, j);
+  classify_pixels(s, k, p, n, r);
+  n = 0;
   for (int j = b[1]; j <= b[3]; ++j)
     for (int i = b[0]; i <= b[2]; ++i) {
-      if (min_block > 1) {
-        listed.push_back({i, j});
-        continue;
-      }
-      const PixelResult r = classify_pixel(s, k, pixel_center(img.view, img.width, img.height, i, j));
-      fill(img, {i, j, i, j}, r);
-      exact += r.exact;
+      fill(img, {i, j, i, j}, r[n]);
+      exact += r[n++].exact;
     }
   return exact;
 }

@@ -2,6 +2,7 @@
 // validation, and the label types with their codes.
 #include <algorithm>
 #include <cmath>
+#include <ranges>
 #include <string>
 
 #include "bezierize/region_setup.hpp"
@@ -204,19 +205,16 @@ RegionResult to_result(RegionImage&& image, Labels kind) {
   r.split = kind == Labels::split;
   r.alternating = kind == Labels::alternating;
   r.each_piece = kind == Labels::each_piece;
-  if (r.each_piece) {
-    r.piece_labels.reserve(image.labels.size());
-    for (uint8_t c : image.labels) r.piece_labels.push_back(piece_label(c));
-  } else if (r.alternating) {
-    r.alternating_labels.reserve(image.labels.size());
-    for (uint8_t c : image.labels) r.alternating_labels.push_back(alternating_label(c));
-  } else if (r.split) {
-    r.split_labels.reserve(image.labels.size());
-    for (uint8_t c : image.labels) r.split_labels.push_back(split_label(c));
-  } else {
-    r.labels.reserve(image.labels.size());
-    for (uint8_t c : image.labels) r.labels.push_back(region_label(c));
-  }
+  // One pass each, into storage allocated once (assign from a sized range:
+  // no zero fill, no capacity check per pixel).
+  const auto as = [&](auto& out, auto label) {
+    const auto v = image.labels | std::views::transform(label);
+    out.assign(v.begin(), v.end());
+  };
+  if (r.each_piece) as(r.piece_labels, piece_label);
+  else if (r.alternating) as(r.alternating_labels, alternating_label);
+  else if (r.split) as(r.split_labels, split_label);
+  else as(r.labels, region_label);
   r.depth = std::move(image.depth);
   r.exact_pixels = image.exact_pixels;
   return r;

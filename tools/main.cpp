@@ -14,6 +14,7 @@
 #include "spline/errors.hpp"
 #include "io/stdout_error.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/keep_freed_memory.hpp"
 
 namespace {
 
@@ -45,6 +46,7 @@ int run(int argc, char** argv);
 
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
+  cmr::cli::keep_freed_memory();
   return finish_stdout(run(argc, argv));
 }
 

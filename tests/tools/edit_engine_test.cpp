@@ -11,6 +11,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/knot_ops.hpp"
+#include "bezierize/region_reason.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
@@ -184,6 +185,36 @@ TEST(EditEngine, RegionCacheFindsEqualKeysOnly) {
   EXPECT_EQ(cache.find(region_key(s.with_point(4, {1e-300, -6.95}), r)), nullptr);
   EXPECT_EQ(&cache.get(s, r), &a);
   EXPECT_EQ(cache.size(), 1u);
+}
+
+TEST(EditEngine, RegionCacheRemembersWhyALayerIsEmpty) {
+  // The status line's reason is worked out once per remembered layer: a frame
+  // served by the cache does not prepare the request again (issue 23: a
+  // 10,000-point spline's remembered frame). P5 of Fig. 8 acts on segment 2
+  // only; segments 0..1 fail whatever it does.
+  const BSpline s = spline6();
+  RegionRequest r;
+  r.point = 5;
+  r.width = r.height = 8;
+  r.depth = false;
+  RegionCache cache;
+  const auto key = region_key(s, r);
+  EXPECT_FALSE(cache.reason(s, r, key).has_value()) << "not remembered yet";
+  EXPECT_EQ(cache.reasons_worked_out(), 0);
+  const RegionResult& layer = cache.get(s, r, key);
+  const auto direct = region_reason(RegionProblem::make(s, r), layer);
+  ASSERT_TRUE(direct.has_value());
+  EXPECT_EQ(cache.reason(s, r, key), direct);
+  EXPECT_EQ(cache.reason(s, r, key), direct);
+  EXPECT_EQ(cache.reasons_worked_out(), 1) << "the second call is served from the cache";
+  // Another layer in between: the first one's reason is still remembered.
+  RegionRequest r3 = r;
+  r3.point = 3;
+  const auto key3 = region_key(s, r3);
+  const RegionResult& layer3 = cache.get(s, r3, key3);
+  EXPECT_EQ(cache.reason(s, r3, key3), region_reason(RegionProblem::make(s, r3), layer3));
+  EXPECT_EQ(cache.reason(s, r, key), direct);
+  EXPECT_EQ(cache.reasons_worked_out(), 2);
 }
 
 TEST(EditEngine, CachedRegionOfADraggedPointIsItsCertifiedRegion) {

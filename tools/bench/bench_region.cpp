@@ -45,6 +45,7 @@
 #include "tools/bench/published_method_vk.hpp"
 #include "bezierize/region.hpp"
 #include "vk/backend_choice.hpp"
+#include "tools/keep_freed_memory.hpp"
 
 using namespace cmr;
 
@@ -348,6 +349,7 @@ int run(int argc, char** argv) {
 
 /// Run from the repository root (it reads examples/); any failure is one line.
 int main(int argc, char** argv) {
+  cmr::cli::keep_freed_memory();  // as cmr does (tools/keep_freed_memory.hpp)
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

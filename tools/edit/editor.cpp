@@ -474,15 +474,23 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
   if (canvas() != region_canvas_) region_stale_ = true;
   bool differs = false;
   if (region_stale_) {
-    const BSpline s = region_spline();
+    // The document's spline itself (no copy: a long spline's points are long),
+    // or a kappa-curve handle's own piece.
+    const Document& d = doc();
+    std::optional<BSpline> piece;
+    if (d.kcurve && d.kcurve->modifying) piece = region_spline();
+    const BSpline& s = piece ? *piece : d.spline;
     std::vector<RegionRequest> requests = region_requests(false, 1);
     std::vector<std::vector<double>> keys;
     for (const RegionRequest& r : requests) keys.push_back(region_key(s, r));
     cache_.set_capacity(std::max<std::size_t>(16, 3 * requests.size()));
     const bool interacting = dragging_ >= 0 || panning_ || animation_.has_value();
-    const bool cached = std::all_of(keys.begin(), keys.end(), [&](const auto& k) { return cache_.find(k) != nullptr; });
+    // (Looked up only while interacting: each lookup hashes a whole key.)
+    const auto cached = [&] {
+      return std::all_of(keys.begin(), keys.end(), [&](const auto& k) { return cache_.find(k) != nullptr; });
+    };
     int coarse = 1;
-    if (interacting && !cached) {
+    if (interacting && !cached()) {
       coarse = kDragCoarse;
       requests = region_requests(false, coarse);
       keys.clear();
@@ -498,12 +506,8 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       region_coarse_ = coarse;
       rgba_stale_ = true;
       // Why a single region is empty or full (bezierize/region_reason.hpp), in the status line.
-      if (coarse == 1 && requests.size() == 1) {
-        try {
-          if (const auto why = region_reason(memo().make(s, requests[0]), *region_.front())) message = *why;
-        } catch (const InputError&) {
-        }
-      }
+      if (coarse == 1 && requests.size() == 1)
+        if (const auto why = cache_.reason(s, requests[0], region_keys_[0], &memo())) message = *why;
     }
     // Dragging: the full-resolution region is due when the drag ends.
     region_stale_ = coarse != 1;
@@ -519,8 +523,8 @@ const std::vector<uint8_t>& Editor::region_rgba(bool* changed) {
   if (recomputed) rgba_stale_ = true;
   if (changed != nullptr) *changed = rgba_stale_;
   if (rgba_stale_) {
-    const std::vector<uint8_t> part =
-        edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth);
+    std::vector<uint8_t>& part = region_part_;
+    edit::region_rgba(region_, doc().split.has_value(), doc().depth_shading, doc().max_depth, part);
     const std::size_t w = viewport_.width, h = viewport_.height;
     const std::size_t cw = std::min<std::size_t>(region_canvas_.first, w);
     const std::size_t ch = std::min<std::size_t>(region_canvas_.second, h);

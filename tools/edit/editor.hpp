@@ -310,6 +310,7 @@ class Editor {
   int drag_serial_ = 0;
   bool region_stale_ = true, rgba_stale_ = true, analysis_stale_ = true, events_stale_ = true;
   RegionCache cache_;
+  std::vector<uint8_t> region_part_;  ///< the region's colours before scaling to the window (reused)
   std::shared_ptr<RegionMemo> memo_ = std::make_shared<RegionMemo>();
   std::vector<const RegionResult*> region_;
   std::vector<std::vector<double>> region_keys_;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bezierize/extract.hpp"
+#include "bezierize/region_reason.hpp"
 #include "report/extremum.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
@@ -101,15 +102,39 @@ std::uint64_t RegionCache::hash(const std::vector<double>& key) {
   return h;
 }
 
-const RegionResult* RegionCache::find(const std::vector<double>& key) {
+RegionCache::Entry* RegionCache::entry(const std::vector<double>& key) {
   // The hash first: a long spline's keys are long and share their knots and
   // most points, so comparing them whole against every entry costs O(N) each.
+  // The most recent entry first, compared without hashing: the editor asks
+  // for the layer it has just been given.
+  if (!entries_.empty() && entries_.front().key == key) return &entries_.front();
   const std::uint64_t h = hash(key);
   const auto it =
       std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.hash == h && e.key == key; });
   if (it == entries_.end()) return nullptr;
   std::rotate(entries_.begin(), it, it + 1);
-  return entries_.front().result.get();
+  return &entries_.front();
+}
+
+const RegionResult* RegionCache::find(const std::vector<double>& key) {
+  const Entry* e = entry(key);
+  return e != nullptr ? e->result.get() : nullptr;
+}
+
+std::optional<std::string> RegionCache::reason(const BSpline& spline, const RegionRequest& request,
+                                               const std::vector<double>& key, RegionMemo* memo) {
+  Entry* e = entry(key);
+  if (e == nullptr) return std::nullopt;
+  if (!e->reason) {
+    ++reasons_worked_out_;
+    try {
+      e->reason = region_reason(memo != nullptr ? memo->make(spline, request) : RegionProblem::make(spline, request),
+                                *e->result);
+    } catch (const InputError&) {
+      e->reason = std::optional<std::string>{};
+    }
+  }
+  return *e->reason;
 }
 
 const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest& request, RegionMemo* memo) {
@@ -121,7 +146,7 @@ const RegionResult& RegionCache::get(const BSpline& spline, const RegionRequest&
   if (const RegionResult* hit = find(key)) return *hit;
   auto result = std::make_shared<const RegionResult>(std::move(compute_regions(spline, {request}, memo).front()));
   const std::uint64_t h = hash(key);
-  entries_.insert(entries_.begin(), Entry{std::move(key), h, std::move(result)});
+  entries_.insert(entries_.begin(), Entry{std::move(key), h, std::move(result), std::nullopt});
   if (entries_.size() > capacity_) entries_.resize(capacity_);
   return *entries_.front().result;
 }
@@ -133,7 +158,17 @@ void RegionCache::set_capacity(std::size_t capacity) {
 
 std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading,
                                  int max_depth) {
-  if (layers.empty()) return {};
+  std::vector<uint8_t> rgba;
+  region_rgba(layers, split, depth_shading, max_depth, rgba);
+  return rgba;
+}
+
+void region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading, int max_depth,
+                 std::vector<uint8_t>& rgba) {
+  if (layers.empty()) {
+    rgba.clear();
+    return;
+  }
   draw::RegionPicture picture;
   picture.layers = layers;
   picture.split = split;
@@ -142,7 +177,7 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
   picture.depth_shading = depth_shading;
   picture.max_depth = max_depth;
   const std::size_t count = layers.front()->size();
-  std::vector<uint8_t> rgba(count * 4);
+  rgba.resize(count * 4);  // every byte is written below
   // Rows in parallel: the colour of a pixel depends on that pixel alone, so a
   // pixel whose labels (and levels, when shaded) equal its left neighbour's
   // takes that colour without recomputing it (regions are mostly runs).
@@ -167,7 +202,6 @@ std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers,
       rgba[4 * i + 3] = 255;
     }
   });
-  return rgba;
 }
 
 SplineAnalysis verdicts(const BSpline& spline, int max_depth, std::optional<int> split, Mode mode,

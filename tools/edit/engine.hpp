@@ -50,15 +50,27 @@ class RegionCache {
   /// The same with the request's key given (region_key(spline, request)).
   const RegionResult& get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
                           RegionMemo* memo = nullptr);
+  /// Why the remembered layer of a request is empty or full
+  /// (region_reason, bezierize/region_reason.hpp), worked out at its first
+  /// call and remembered with the layer: a frame served by the cache does not
+  /// prepare the request again. nullopt when the layer is neither, when the
+  /// request cannot be prepared, or when the key is not remembered.
+  std::optional<std::string> reason(const BSpline& spline, const RegionRequest& request,
+                                    const std::vector<double>& key, RegionMemo* memo = nullptr);
   void set_capacity(std::size_t capacity);
   std::size_t size() const { return entries_.size(); }
+  /// How many reasons were worked out (not served from the cache) so far.
+  long reasons_worked_out() const { return reasons_worked_out_; }
 
  private:
   struct Entry {
     std::vector<double> key;
     std::uint64_t hash = 0;  ///< hash(key)
     std::shared_ptr<const RegionResult> result;
+    std::optional<std::optional<std::string>> reason;  ///< once worked out
   };
+  Entry* entry(const std::vector<double>& key);
+  long reasons_worked_out_ = 0;
   static std::uint64_t hash(const std::vector<double>& key);
   std::vector<Entry> entries_;
   std::size_t capacity_;
@@ -69,6 +81,10 @@ class RegionCache {
 /// decreasing, overlaps darker, optional depth shading).
 std::vector<uint8_t> region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading,
                                  int max_depth);
+/// The same into `rgba` (resized; its memory is reused when the size stays,
+/// so an editor frame does not fault in a fresh buffer of the window's size).
+void region_rgba(const std::vector<const RegionResult*>& layers, bool split, bool depth_shading, int max_depth,
+                 std::vector<uint8_t>& rgba);
 
 /// Verdicts of the spline as `cmr analyze` gives them (InputError for a split
 /// joint the spline lacks).
