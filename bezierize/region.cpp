@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <span>
 
 #include "bezierize/halve_pairs.hpp"
@@ -1308,12 +1309,16 @@ constexpr int kPixelsPerSmallBlock = 4;
 using PixelBlock = std::array<int, 4>;
 
 void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
-  for (int j = b[1]; j <= b[3]; ++j)
-    for (int i = b[0]; i <= b[2]; ++i) {
-      const std::size_t at = static_cast<std::size_t>(j) * img.width + i;
-      img.labels[at] = r.label;
-      img.depth[at] = r.depth;
-    }
+  // A row at a time (byte stores may alias the image's own fields, so a
+  // per-pixel loop reloaded its width and data pointers at every pixel).
+  const std::size_t width = static_cast<std::size_t>(img.width), n = static_cast<std::size_t>(b[2] - b[0] + 1);
+  uint8_t* const labels = img.labels.data();
+  uint8_t* const depth = img.depth.data();
+  for (int j = b[1]; j <= b[3]; ++j) {
+    const std::size_t at = static_cast<std::size_t>(j) * width + static_cast<std::size_t>(b[0]);
+    std::memset(labels + at, r.label, n);
+    std::memset(depth + at, r.depth, n);
+  }
 }
 
 // A block of a few pixels: evaluating the pixels (here, in SIMD chunks

@@ -2,8 +2,9 @@
 // validation, and the label types with their codes.
 #include <algorithm>
 #include <cmath>
-#include <ranges>
+#include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
@@ -205,11 +206,17 @@ RegionResult to_result(RegionImage&& image, Labels kind) {
   r.split = kind == Labels::split;
   r.alternating = kind == Labels::alternating;
   r.each_piece = kind == Labels::each_piece;
-  // One pass each, into storage allocated once (assign from a sized range:
-  // no zero fill, no capacity check per pixel).
+  // Each label type is a one-byte enum whose values are its codes (code() is
+  // a cast): check the largest code once, then copy the bytes (both passes
+  // vectorise; a check and a cast per pixel did not: 0.45 ms of a 1024^2 frame).
+  std::uint8_t largest = 0;
+  for (const std::uint8_t c : image.labels) largest = std::max(largest, c);
   const auto as = [&](auto& out, auto label) {
-    const auto v = image.labels | std::views::transform(label);
-    out.assign(v.begin(), v.end());
+    (void)label(largest);  // CMR_CHECK: every code is below the type's count
+    using Label = typename std::remove_reference_t<decltype(out)>::value_type;
+    static_assert(sizeof(Label) == 1 && std::is_trivially_copyable_v<Label>);
+    out.resize(image.labels.size());
+    if (!out.empty()) std::memcpy(out.data(), image.labels.data(), image.labels.size());
   };
   if (r.each_piece) as(r.piece_labels, piece_label);
   else if (r.alternating) as(r.alternating_labels, alternating_label);
