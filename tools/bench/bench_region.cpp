@@ -197,8 +197,10 @@ double load_average() {
 
 /// Cells whose "scene view D size" text contains this (argv[2]); empty: every cell.
 std::string g_only;
-/// argv[3] == "cmr": only cmr's CPU backend is timed in those cells.
+/// argv[3] == "cmr": only cmr's CPU backend is timed in those cells; "vk":
+/// only its Vulkan backend (for profiling one backend).
 bool g_cmr_only = false;
+bool g_vk_only = false;
 
 /// One line of the comparison: the baselines (published method native, its
 /// vectorised form) vs cmr CPU and cmr Vulkan; ratios against the best baseline.
@@ -215,11 +217,12 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
     tc.cpu.fill(1e300);
     for (int k = 0; k < reps; ++k) {
       const double t0 = now(), c0 = cpu_now();
-      (void)render(setup, false);
+      (void)render(setup, g_vk_only);
       tc.wall[0] = std::min(tc.wall[0], now() - t0);
       tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
     }
-    std::printf("  %-20s %-12s %2d %4d  cmr CPU %8.3f ms wall %8.3f ms CPU %8.2f Mp/s\n", sc.name, view_name, depth, size,
+    std::printf("  %-20s %-12s %2d %4d  cmr %s %8.3f ms wall %8.3f ms CPU %8.2f Mp/s\n", sc.name, view_name, depth, size,
+                g_vk_only ? "Vulkan" : "CPU",
                 1e3 * tc.wall[0], 1e3 * tc.cpu[0], static_cast<double>(size) * size / 1e6 / tc.wall[0]);
     std::fflush(stdout);
     return;
@@ -301,7 +304,8 @@ int run(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   if (argc > 2) g_only = argv[2];
-  g_cmr_only = argc > 3 && std::string(argv[3]) == "cmr";
+  g_vk_only = argc > 3 && std::string(argv[3]) == "vk";
+  g_cmr_only = argc > 3 && (std::string(argv[3]) == "cmr" || g_vk_only);
   utsname un{};
   uname(&un);
   std::printf("cmr region benchmark: %s, %u hardware threads, %s %s, load average %.2f\n", cpu_model().c_str(),
