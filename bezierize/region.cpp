@@ -916,8 +916,10 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
   const bool labels_only = !o.depth;
   static thread_local std::size_t first_try = 0;
   const std::size_t n = k.entries.size(), start = labels_only && first_try < n ? first_try : 0;
+  // The verdict's template, copied at the first class it receives (a pixel
+  // that fails on the first segment tried never needs it).
   static thread_local std::vector<SegmentClass> classes;
-  classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
+  bool classes_copied = false;
   // Labels only: the facts the failed block around this pixel learned.
   const BoxKnowledge* known = labels_only ? tl_pixel_reuse.known : nullptr;
   for (std::size_t step = 0; step < n; ++step) {
@@ -961,9 +963,14 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
       first_try = q;
       return PixelResult{0, 0, false};
     }
+    if (!classes_copied) {
+      classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
+      classes_copied = true;
+    }
     classes[s.verdict.slot[e.segment]] = c;
   }
   if (uncertain) return std::nullopt;
+  if (!classes_copied) classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
   static thread_local std::vector<Joint> joints;
   joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
   if (!varying_jumps(s, bx, by, joints)) return std::nullopt;
