@@ -1,6 +1,7 @@
 #include "bezierize/region_setup.hpp"
 
 #include "bezierize/algorithms.hpp"
+#include "bezierize/box_eval.hpp"
 #include "bezierize/box_reuse.hpp"
 #include "bezierize/decide.hpp"
 
@@ -352,6 +353,9 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
 
 namespace {
 
+using box_eval::eval_poly;
+using box_eval::Monomials;
+
 // A varying joint's index in the verdict template: it sits before its right
 // segment, which is an entry and so has a slot of its own.
 int verdict_joint(const RegionSetup& s, const RegionJoint& j) {
@@ -396,109 +400,6 @@ struct Interval {
   double mag() const { return std::max(std::fabs(lo), std::fabs(hi)); }
 };
 
-// The monomials of poly3.hpp at the displacement of one pixel (a point), or
-// over the displacements of a block of pixels (a box c + [-r, r]).
-//
-// Point: P = sum c_m mu_m is evaluated directly; its error is at most
-// kPolyErrorUnits u sum |c_m| |mu_m| (see region.hpp for the count).
-// Box: P is expanded around the centre, P(c + h) = sum_st D_st h_x^s h_y^t
-// with Taylor coefficients D_st = sum_m c_m T[st][m],
-// T[st][m] = C(a_m, s) C(b_m, t) c_x^(a_m - s) c_y^(b_m - t); then over the box
-//     |P - D_00| <= sum_{st != 00} |D_st| r_x^s r_y^t,
-// and each D_st carries its rounding, kPolyErrorUnits u sum |c_m| |T[st][m]|.
-// Expanding at the centre avoids the cancellation that makes a term-by-term
-// interval bound useless away from the moved point.
-// The (st, m) pairs with T[st][m] possibly non-zero (s <= a_m, t <= b_m),
-// listed by m: fixed at compile time, so the box evaluation below unrolls
-// into straight-line code.
-struct PairTable {
-  uint8_t st[35], m[35];
-};
-constexpr PairTable pair_table() {
-  PairTable t{};
-  int n = 0;
-  for (int m = 0; m < kPoly3Terms; ++m)
-    for (int st = 0; st < kPoly3Terms; ++st)
-      if (kPoly3ExpX[st] <= kPoly3ExpX[m] && kPoly3ExpY[st] <= kPoly3ExpY[m]) {
-        t.st[n] = static_cast<uint8_t>(st);
-        t.m[n] = static_cast<uint8_t>(m);
-        ++n;
-      }
-  return t;
-}
-inline constexpr PairTable kPairTable = pair_table();
-
-struct Monomials {
-  // T[st][m] is non-zero only for s <= a_m and t <= b_m: 35 pairs, listed by m.
-  static constexpr int kPairs = 35;
-  bool point = true;
-  double v[kPoly3Terms];                // point: mu_m
-  double a[kPoly3Terms];                // point: |mu_m|
-  double tv[kPairs], at[kPairs];        // box: T[st][m] and |T[st][m]| of kPairTable's pairs, in its order
-  double rpow[kPoly3Terms];             // box: r_x^s r_y^t, rounded up
-  Monomials(double dx, double dy) {
-    const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
-    const double m[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
-    for (int i = 0; i < kPoly3Terms; ++i) {
-      v[i] = m[i];
-      a[i] = std::fabs(m[i]);
-    }
-  }
-  Monomials(double cx, double cy, double rx, double ry) : point(false) {
-    const double px[4] = {1, cx, cx * cx, cx * cx * cx}, py[4] = {1, cy, cy * cy, cy * cy * cy};
-    const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
-    int n = 0;
-    for (int m = 0; m < kPoly3Terms; ++m) {
-      const int am = kPoly3ExpX[m], bm = kPoly3ExpY[m];
-      for (int st = 0; st < kPoly3Terms; ++st) {
-        const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
-        if (s > am || t > bm) continue;
-        tv[n] = binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t];
-        at[n] = std::fabs(tv[n]);
-        ++n;
-      }
-    }
-    for (int st = 0; st < kPoly3Terms; ++st) {
-      const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
-      const double up = 1 + 8 * Bounded::kRound;
-      double r = 1;
-      for (int k = 0; k < s; ++k) r *= rx * up;
-      for (int k = 0; k < t; ++k) r *= ry * up;
-      rpow[st] = r;
-    }
-  }
-};
-
-template <std::size_t K>
-Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
-  // prepare_region guarantees that only an exactly zero polynomial rounds to
-  // all zeros: structural zeros (the same for every position) stay exact.
-  bool zero = true;
-  for (std::size_t i = 0; i < K; ++i) zero = zero && c[i] == 0;
-  if (zero) return {0.0, 0.0};
-  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
-  if (m.point) {
-    double val = 0, mag = 0;
-    for (std::size_t i = 0; i < K; ++i) {
-      val += c[i] * m.v[i];
-      mag += std::fabs(c[i]) * m.a[i];
-    }
-    return {val, units * mag + 16 * Bounded::kTiny};
-  }
-  double d[kPoly3Terms] = {}, mag[kPoly3Terms] = {};
-  // Pairs are listed by m, and only m < K carry coefficients (K = 3: 5 pairs).
-  constexpr int pairs = K == kPoly3Terms ? Monomials::kPairs : 5;
-  static_assert(K == kPoly3Terms || K == 3, "polynomials of degree 3 or 1");
-#pragma GCC unroll 35
-  for (int k = 0; k < pairs; ++k) {
-    const double cm = c[kPairTable.m[k]];
-    d[kPairTable.st[k]] += cm * m.tv[k];
-    mag[kPairTable.st[k]] += std::fabs(cm) * m.at[k];
-  }
-  double err = units * mag[0] + 16 * Bounded::kTiny;
-  for (std::size_t st = 1; st < K; ++st) err += (std::fabs(d[st]) + units * mag[st]) * m.rpow[st] * (1 + 4 * Bounded::kRound);
-  return {d[0], err};
-}
 
 // The region pixel (and block) source of the one traversal (decide.hpp):
 // the pieces of one entry's xi (or nu) at one displacement (or over a box of
