@@ -412,14 +412,28 @@ struct Interval {
 // those of deriving each piece from its deepest precomputed ancestor, in the
 // same order, so values and bounds are the same bit for bit; only repeated
 // work is gone. The stack is per thread and reused: no heap per pixel.
+// Shared ends: subdivision keeps a piece's end values, so the left half's
+// first coefficient is its parent's first, the right half's last is its
+// parent's last, and the right half's first is the left half's last (the
+// value at the split point). Their exact values are equal, so are their
+// rounded piece polynomials (each rounds the same rational), so are their
+// evaluations: down to the precomputed levels each is evaluated once and
+// handed on (bit for bit what evaluating it again gives). `root_ends`, if
+// given, are the root's first and last coefficients already evaluated with
+// the same Monomials (the level-0 test's).
 class LazyPieces {
  public:
-  LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
+  LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta, const Bounded* root_ends = nullptr)
       : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
     static thread_local std::vector<Bounded> scratch;
     const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
     if (scratch.size() < need) scratch.resize(need);
     base_ = scratch.data();
+    if (root_ends) {
+      first_ = root_ends[0];
+      last_ = root_ends[1];
+      has_first_ = has_last_ = true;
+    }
   }
   int size() const { return n1_; }
   int sign(int k) const { return certain_sign(coeff(k)); }
@@ -427,25 +441,57 @@ class LazyPieces {
     if (level > levels_) {
       // Halve the current piece (level - 1) once; from the polynomials at the deepest precomputed level.
       if (level - 1 <= levels_)
-        for (int k = 0; k < n1_; ++k) cur()[k] = from_poly(k);
+        for (int k = 0; k < n1_; ++k) cur()[k] = coeff(k);
       bernstein_halve(cur(), n1_, cur(), slot(level), work());
+    } else {
+      // The left half keeps the first end; the right half (pending) the last.
+      pend_last_[level] = last_;
+      has_pend_last_[level] = has_last_;
+      has_pend_first_[level] = false;  // set when the left half's last is evaluated
+      has_last_ = false;
     }
     select(level, j);
   }
   void next(int level, int j) {
-    if (level > levels_) std::copy(slot(level), slot(level) + n1_, cur());
+    if (level > levels_) {
+      std::copy(slot(level), slot(level) + n1_, cur());
+    } else {
+      first_ = pend_first_[level];
+      has_first_ = has_pend_first_[level];
+      last_ = pend_last_[level];
+      has_last_ = has_pend_last_[level];
+    }
     select(level, j);
   }
 
  private:
   void select(int level, int j) {
     level_ = level;
+    j_ = j;
     if (level <= levels_) piece_ = (1 << level) - 1 + j;
   }
   Bounded* cur() const { return base_; }
   Bounded* work() const { return base_ + n1_; }
   Bounded* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
-  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur()[k]; }
+  Bounded coeff(int k) const {
+    if (level_ > levels_) return cur()[k];
+    if (k == 0 && has_first_) return first_;
+    if (k == n1_ - 1 && has_last_) return last_;
+    const Bounded b = from_poly(k);
+    if (k == 0) {
+      first_ = b;
+      has_first_ = true;
+    }
+    if (k == n1_ - 1) {
+      last_ = b;
+      has_last_ = true;
+      if (level_ > 0 && (j_ & 1) == 0) {  // a left half: its last is its pending sibling's first
+        pend_first_[level_] = b;
+        has_pend_first_[level_] = true;
+      }
+    }
+    return b;
+  }
   Bounded from_poly(int k) const {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
@@ -455,8 +501,16 @@ class LazyPieces {
   int levels_;
   bool eta_;
   int n1_;
-  int level_ = 0, piece_ = 0;
+  int level_ = 0, j_ = 0, piece_ = 0;
   Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  // The current piece's end values once known (down to the precomputed
+  // levels), and per level those of the pending right half.
+  mutable Bounded first_{}, last_{};
+  mutable bool has_first_ = false, has_last_ = false;
+  mutable Bounded pend_first_[kMaxDepth + 1];
+  Bounded pend_last_[kMaxDepth + 1];
+  mutable bool has_pend_first_[kMaxDepth + 1] = {};
+  bool has_pend_last_[kMaxDepth + 1] = {};
 };
 
 // The cheapest certified try for one pixel: the root piece's coefficients
@@ -992,8 +1046,8 @@ class BoxFold {
 // are carried over (they hold for this box too).
 BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa,
                          int budget, const SegmentRecord* parent = nullptr, SegmentRecord* record = nullptr,
-                         BlockReuseCounts* counts = nullptr) {
-  LazyPieces src(e, mono, levels, eta);
+                         BlockReuseCounts* counts = nullptr, const Bounded* root_ends = nullptr) {
+  LazyPieces src(e, mono, levels, eta, root_ends);
   BoxFold fold;
   int visited = 0;
   bool done = false;
@@ -1067,6 +1121,11 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   // safe: the quarters or the pixels decide; labels cannot change).
   static thread_local std::vector<char> hopeless;
   hopeless.assign(s.entries.size(), 0);
+  // xi_0 and xi_last over the box, kept for the traversal's root piece (the same values).
+  static thread_local std::vector<std::array<Bounded, 2>> ends;
+  static thread_local std::vector<char> have_ends;
+  ends.resize(s.entries.size());
+  have_ends.assign(s.entries.size(), 0);
   for (std::size_t q = 0; q < s.entries.size(); ++q) {
     const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
@@ -1075,7 +1134,9 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       out->xi[q].level0_no = true;
       continue;
     }
-    const int first = certain_sign(eval_poly(e.xi[0], mono)), last = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
+    ends[q] = {eval_poly(e.xi[0], mono), eval_poly(e.xi[e.n_xi - 1], mono)};
+    have_ends[q] = 1;
+    const int first = certain_sign(ends[q][0]), last = certain_sign(ends[q][1]);
     const Truth fails = ends_opposite(first, last);
     if (fails == Truth::yes) return PixelResult{0, 0, false};
     if (out) out->xi[q].level0_no = fails == Truth::no;
@@ -1104,7 +1165,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       mono_outcome = BoxOutcome::unresolved;
     } else {
       if (ox) ox->nodes.clear();
-      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts);
+      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts,
+                                   have_ends[q] ? ends[q].data() : nullptr);
     }
     switch (mono_outcome) {
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
