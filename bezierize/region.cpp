@@ -11,6 +11,7 @@
 #include <cstring>
 #include <span>
 
+#include "bezierize/halve_bounded.hpp"
 #include "bezierize/halve_pairs.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/pixel_simd.hpp"
@@ -425,8 +426,8 @@ class LazyPieces {
  public:
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta, const Bounded* root_ends = nullptr)
       : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
-    static thread_local std::vector<Bounded> scratch;
-    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    static thread_local std::vector<double> scratch;
+    const std::size_t need = static_cast<std::size_t>(2 * (kMaxDepth + 3)) * n1_;
     if (scratch.size() < need) scratch.resize(need);
     base_ = scratch.data();
     if (root_ends) {
@@ -441,8 +442,13 @@ class LazyPieces {
     if (level > levels_) {
       // Halve the current piece (level - 1) once; from the polynomials at the deepest precomputed level.
       if (level - 1 <= levels_)
-        for (int k = 0; k < n1_; ++k) cur()[k] = coeff(k);
-      bernstein_halve(cur(), n1_, cur(), slot(level), work());
+        for (int k = 0; k < n1_; ++k) {
+          const Bounded b = coeff(k);
+          cur()[k] = b.v;
+          cur()[n1_ + k] = b.e;
+        }
+      // bernstein_halve<Bounded>'s values and bounds, bit for bit (halve_bounded.hpp).
+      halve_bounded_rows(cur(), cur() + n1_, n1_, slot(level), slot(level) + n1_, work(), work() + n1_);
     } else {
       // The left half keeps the first end; the right half (pending) the last.
       pend_last_[level] = last_;
@@ -454,7 +460,7 @@ class LazyPieces {
   }
   void next(int level, int j) {
     if (level > levels_) {
-      std::copy(slot(level), slot(level) + n1_, cur());
+      std::copy(slot(level), slot(level) + 2 * n1_, cur());
     } else {
       first_ = pend_first_[level];
       has_first_ = has_pend_first_[level];
@@ -470,11 +476,12 @@ class LazyPieces {
     j_ = j;
     if (level <= levels_) piece_ = (1 << level) - 1 + j;
   }
-  Bounded* cur() const { return base_; }
-  Bounded* work() const { return base_ + n1_; }
-  Bounded* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
+  // A piece: n1 values, then their n1 bounds.
+  double* cur() const { return base_; }
+  double* work() const { return base_ + 2 * n1_; }
+  double* slot(int level) const { return base_ + static_cast<std::size_t>(2 * (level + 2)) * n1_; }
   Bounded coeff(int k) const {
-    if (level_ > levels_) return cur()[k];
+    if (level_ > levels_) return {cur()[k], cur()[n1_ + k]};
     if (k == 0 && has_first_) return first_;
     if (k == n1_ - 1 && has_last_) return last_;
     const Bounded b = from_poly(k);
@@ -502,7 +509,7 @@ class LazyPieces {
   bool eta_;
   int n1_;
   int level_ = 0, j_ = 0, piece_ = 0;
-  Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
   // The current piece's end values once known (down to the precomputed
   // levels), and per level those of the pending right half.
   mutable Bounded first_{}, last_{};
