@@ -1,6 +1,7 @@
 #include "bezierize/region_setup.hpp"
 
 #include "bezierize/algorithms.hpp"
+#include "bezierize/box_eval.hpp"
 #include "bezierize/box_reuse.hpp"
 #include "bezierize/decide.hpp"
 
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <span>
 
+#include "bezierize/halve_bounded.hpp"
 #include "bezierize/halve_pairs.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/pixel_simd.hpp"
@@ -352,6 +354,9 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
 
 namespace {
 
+using box_eval::eval_poly;
+using box_eval::Monomials;
+
 // A varying joint's index in the verdict template: it sits before its right
 // segment, which is an entry and so has a slot of its own.
 int verdict_joint(const RegionSetup& s, const RegionJoint& j) {
@@ -396,109 +401,6 @@ struct Interval {
   double mag() const { return std::max(std::fabs(lo), std::fabs(hi)); }
 };
 
-// The monomials of poly3.hpp at the displacement of one pixel (a point), or
-// over the displacements of a block of pixels (a box c + [-r, r]).
-//
-// Point: P = sum c_m mu_m is evaluated directly; its error is at most
-// kPolyErrorUnits u sum |c_m| |mu_m| (see region.hpp for the count).
-// Box: P is expanded around the centre, P(c + h) = sum_st D_st h_x^s h_y^t
-// with Taylor coefficients D_st = sum_m c_m T[st][m],
-// T[st][m] = C(a_m, s) C(b_m, t) c_x^(a_m - s) c_y^(b_m - t); then over the box
-//     |P - D_00| <= sum_{st != 00} |D_st| r_x^s r_y^t,
-// and each D_st carries its rounding, kPolyErrorUnits u sum |c_m| |T[st][m]|.
-// Expanding at the centre avoids the cancellation that makes a term-by-term
-// interval bound useless away from the moved point.
-// The (st, m) pairs with T[st][m] possibly non-zero (s <= a_m, t <= b_m),
-// listed by m: fixed at compile time, so the box evaluation below unrolls
-// into straight-line code.
-struct PairTable {
-  uint8_t st[35], m[35];
-};
-constexpr PairTable pair_table() {
-  PairTable t{};
-  int n = 0;
-  for (int m = 0; m < kPoly3Terms; ++m)
-    for (int st = 0; st < kPoly3Terms; ++st)
-      if (kPoly3ExpX[st] <= kPoly3ExpX[m] && kPoly3ExpY[st] <= kPoly3ExpY[m]) {
-        t.st[n] = static_cast<uint8_t>(st);
-        t.m[n] = static_cast<uint8_t>(m);
-        ++n;
-      }
-  return t;
-}
-inline constexpr PairTable kPairTable = pair_table();
-
-struct Monomials {
-  // T[st][m] is non-zero only for s <= a_m and t <= b_m: 35 pairs, listed by m.
-  static constexpr int kPairs = 35;
-  bool point = true;
-  double v[kPoly3Terms];                // point: mu_m
-  double a[kPoly3Terms];                // point: |mu_m|
-  double tv[kPairs], at[kPairs];        // box: T[st][m] and |T[st][m]| of kPairTable's pairs, in its order
-  double rpow[kPoly3Terms];             // box: r_x^s r_y^t, rounded up
-  Monomials(double dx, double dy) {
-    const double x2 = dx * dx, xy = dx * dy, y2 = dy * dy;
-    const double m[kPoly3Terms] = {1, dx, dy, x2, xy, y2, x2 * dx, x2 * dy, y2 * dx, y2 * dy};
-    for (int i = 0; i < kPoly3Terms; ++i) {
-      v[i] = m[i];
-      a[i] = std::fabs(m[i]);
-    }
-  }
-  Monomials(double cx, double cy, double rx, double ry) : point(false) {
-    const double px[4] = {1, cx, cx * cx, cx * cx * cx}, py[4] = {1, cy, cy * cy, cy * cy * cy};
-    const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
-    int n = 0;
-    for (int m = 0; m < kPoly3Terms; ++m) {
-      const int am = kPoly3ExpX[m], bm = kPoly3ExpY[m];
-      for (int st = 0; st < kPoly3Terms; ++st) {
-        const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
-        if (s > am || t > bm) continue;
-        tv[n] = binom[am][s] * binom[bm][t] * px[am - s] * py[bm - t];
-        at[n] = std::fabs(tv[n]);
-        ++n;
-      }
-    }
-    for (int st = 0; st < kPoly3Terms; ++st) {
-      const int s = kPoly3ExpX[st], t = kPoly3ExpY[st];
-      const double up = 1 + 8 * Bounded::kRound;
-      double r = 1;
-      for (int k = 0; k < s; ++k) r *= rx * up;
-      for (int k = 0; k < t; ++k) r *= ry * up;
-      rpow[st] = r;
-    }
-  }
-};
-
-template <std::size_t K>
-Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
-  // prepare_region guarantees that only an exactly zero polynomial rounds to
-  // all zeros: structural zeros (the same for every position) stay exact.
-  bool zero = true;
-  for (std::size_t i = 0; i < K; ++i) zero = zero && c[i] == 0;
-  if (zero) return {0.0, 0.0};
-  const double units = kPolyErrorUnits * 0.5 * Bounded::kRound;
-  if (m.point) {
-    double val = 0, mag = 0;
-    for (std::size_t i = 0; i < K; ++i) {
-      val += c[i] * m.v[i];
-      mag += std::fabs(c[i]) * m.a[i];
-    }
-    return {val, units * mag + 16 * Bounded::kTiny};
-  }
-  double d[kPoly3Terms] = {}, mag[kPoly3Terms] = {};
-  // Pairs are listed by m, and only m < K carry coefficients (K = 3: 5 pairs).
-  constexpr int pairs = K == kPoly3Terms ? Monomials::kPairs : 5;
-  static_assert(K == kPoly3Terms || K == 3, "polynomials of degree 3 or 1");
-#pragma GCC unroll 35
-  for (int k = 0; k < pairs; ++k) {
-    const double cm = c[kPairTable.m[k]];
-    d[kPairTable.st[k]] += cm * m.tv[k];
-    mag[kPairTable.st[k]] += std::fabs(cm) * m.at[k];
-  }
-  double err = units * mag[0] + 16 * Bounded::kTiny;
-  for (std::size_t st = 1; st < K; ++st) err += (std::fabs(d[st]) + units * mag[st]) * m.rpow[st] * (1 + 4 * Bounded::kRound);
-  return {d[0], err};
-}
 
 // The region pixel (and block) source of the one traversal (decide.hpp):
 // the pieces of one entry's xi (or nu) at one displacement (or over a box of
@@ -511,14 +413,28 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
 // those of deriving each piece from its deepest precomputed ancestor, in the
 // same order, so values and bounds are the same bit for bit; only repeated
 // work is gone. The stack is per thread and reused: no heap per pixel.
+// Shared ends: subdivision keeps a piece's end values, so the left half's
+// first coefficient is its parent's first, the right half's last is its
+// parent's last, and the right half's first is the left half's last (the
+// value at the split point). Their exact values are equal, so are their
+// rounded piece polynomials (each rounds the same rational), so are their
+// evaluations: down to the precomputed levels each is evaluated once and
+// handed on (bit for bit what evaluating it again gives). `root_ends`, if
+// given, are the root's first and last coefficients already evaluated with
+// the same Monomials (the level-0 test's).
 class LazyPieces {
  public:
-  LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta)
+  LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta, const Bounded* root_ends = nullptr)
       : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
-    static thread_local std::vector<Bounded> scratch;
-    const std::size_t need = static_cast<std::size_t>(kMaxDepth + 3) * n1_;
+    static thread_local std::vector<double> scratch;
+    const std::size_t need = static_cast<std::size_t>(2 * (kMaxDepth + 3)) * n1_;
     if (scratch.size() < need) scratch.resize(need);
     base_ = scratch.data();
+    if (root_ends) {
+      first_ = root_ends[0];
+      last_ = root_ends[1];
+      has_first_ = has_last_ = true;
+    }
   }
   int size() const { return n1_; }
   int sign(int k) const { return certain_sign(coeff(k)); }
@@ -526,25 +442,63 @@ class LazyPieces {
     if (level > levels_) {
       // Halve the current piece (level - 1) once; from the polynomials at the deepest precomputed level.
       if (level - 1 <= levels_)
-        for (int k = 0; k < n1_; ++k) cur()[k] = from_poly(k);
-      bernstein_halve(cur(), n1_, cur(), slot(level), work());
+        for (int k = 0; k < n1_; ++k) {
+          const Bounded b = coeff(k);
+          cur()[k] = b.v;
+          cur()[n1_ + k] = b.e;
+        }
+      // bernstein_halve<Bounded>'s values and bounds, bit for bit (halve_bounded.hpp).
+      halve_bounded_rows(cur(), cur() + n1_, n1_, slot(level), slot(level) + n1_, work(), work() + n1_);
+    } else {
+      // The left half keeps the first end; the right half (pending) the last.
+      pend_last_[level] = last_;
+      has_pend_last_[level] = has_last_;
+      has_pend_first_[level] = false;  // set when the left half's last is evaluated
+      has_last_ = false;
     }
     select(level, j);
   }
   void next(int level, int j) {
-    if (level > levels_) std::copy(slot(level), slot(level) + n1_, cur());
+    if (level > levels_) {
+      std::copy(slot(level), slot(level) + 2 * n1_, cur());
+    } else {
+      first_ = pend_first_[level];
+      has_first_ = has_pend_first_[level];
+      last_ = pend_last_[level];
+      has_last_ = has_pend_last_[level];
+    }
     select(level, j);
   }
 
  private:
   void select(int level, int j) {
     level_ = level;
+    j_ = j;
     if (level <= levels_) piece_ = (1 << level) - 1 + j;
   }
-  Bounded* cur() const { return base_; }
-  Bounded* work() const { return base_ + n1_; }
-  Bounded* slot(int level) const { return base_ + static_cast<std::size_t>(level + 2) * n1_; }
-  Bounded coeff(int k) const { return level_ <= levels_ ? from_poly(k) : cur()[k]; }
+  // A piece: n1 values, then their n1 bounds.
+  double* cur() const { return base_; }
+  double* work() const { return base_ + 2 * n1_; }
+  double* slot(int level) const { return base_ + static_cast<std::size_t>(2 * (level + 2)) * n1_; }
+  Bounded coeff(int k) const {
+    if (level_ > levels_) return {cur()[k], cur()[n1_ + k]};
+    if (k == 0 && has_first_) return first_;
+    if (k == n1_ - 1 && has_last_) return last_;
+    const Bounded b = from_poly(k);
+    if (k == 0) {
+      first_ = b;
+      has_first_ = true;
+    }
+    if (k == n1_ - 1) {
+      last_ = b;
+      has_last_ = true;
+      if (level_ > 0 && (j_ & 1) == 0) {  // a left half: its last is its pending sibling's first
+        pend_first_[level_] = b;
+        has_pend_first_[level_] = true;
+      }
+    }
+    return b;
+  }
   Bounded from_poly(int k) const {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
@@ -554,8 +508,16 @@ class LazyPieces {
   int levels_;
   bool eta_;
   int n1_;
-  int level_ = 0, piece_ = 0;
-  Bounded* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  int level_ = 0, j_ = 0, piece_ = 0;
+  double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  // The current piece's end values once known (down to the precomputed
+  // levels), and per level those of the pending right half.
+  mutable Bounded first_{}, last_{};
+  mutable bool has_first_ = false, has_last_ = false;
+  mutable Bounded pend_first_[kMaxDepth + 1];
+  Bounded pend_last_[kMaxDepth + 1];
+  mutable bool has_pend_first_[kMaxDepth + 1] = {};
+  bool has_pend_last_[kMaxDepth + 1] = {};
 };
 
 // The cheapest certified try for one pixel: the root piece's coefficients
@@ -1098,8 +1060,8 @@ class BoxFold {
 // are carried over (they hold for this box too).
 BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels, int D, bool eta, int* kappa,
                          int budget, const SegmentRecord* parent = nullptr, SegmentRecord* record = nullptr,
-                         BlockReuseCounts* counts = nullptr) {
-  LazyPieces src(e, mono, levels, eta);
+                         BlockReuseCounts* counts = nullptr, const Bounded* root_ends = nullptr) {
+  LazyPieces src(e, mono, levels, eta, root_ends);
   BoxFold fold;
   int visited = 0;
   bool done = false;
@@ -1173,6 +1135,11 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   // safe: the quarters or the pixels decide; labels cannot change).
   static thread_local std::vector<char> hopeless;
   hopeless.assign(s.entries.size(), 0);
+  // xi_0 and xi_last over the box, kept for the traversal's root piece (the same values).
+  static thread_local std::vector<std::array<Bounded, 2>> ends;
+  static thread_local std::vector<char> have_ends;
+  ends.resize(s.entries.size());
+  have_ends.assign(s.entries.size(), 0);
   for (std::size_t q = 0; q < s.entries.size(); ++q) {
     const RegionEntry& e = s.entries[q];
     if (!e.classify) continue;
@@ -1181,7 +1148,9 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       out->xi[q].level0_no = true;
       continue;
     }
-    const int first = certain_sign(eval_poly(e.xi[0], mono)), last = certain_sign(eval_poly(e.xi[e.n_xi - 1], mono));
+    ends[q] = {eval_poly(e.xi[0], mono), eval_poly(e.xi[e.n_xi - 1], mono)};
+    have_ends[q] = 1;
+    const int first = certain_sign(ends[q][0]), last = certain_sign(ends[q][1]);
     const Truth fails = ends_opposite(first, last);
     if (fails == Truth::yes) return PixelResult{0, 0, false};
     if (out) out->xi[q].level0_no = fails == Truth::no;
@@ -1210,7 +1179,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       mono_outcome = BoxOutcome::unresolved;
     } else {
       if (ox) ox->nodes.clear();
-      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts);
+      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts,
+                                   have_ends[q] ? ends[q].data() : nullptr);
     }
     switch (mono_outcome) {
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
