@@ -820,8 +820,8 @@ BSpline wave_spline(int n) {
 /// spans changed). `revisit` false: every frame's position is new, so the
 /// region is computed (the memo's patched base, the render); true: the
 /// frames revisit seven positions shown before the timing, so the editor's
-/// region cache serves them (the key, the colours and the status line's
-/// reason remain). Returns the frames' times in ms and appends their CPU
+/// region cache serves them (the key and the colours remain; the status
+/// line's reason is remembered with the layer). Returns the frames' times in ms and appends their CPU
 /// times (every thread of cmr) to `cpu_ms`; the first region (every span
 /// analysed, as every frame did before RegionMemo) goes to `first_ms`.
 std::vector<double> locality_frames(int n, int width, int height, int frames, bool revisit, double& first_ms,
