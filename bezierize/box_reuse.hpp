@@ -200,34 +200,6 @@ class RecordWriter {
   std::size_t path_[kMaxDepth + 1] = {};
 };
 
-/// decide.hpp's traversal with the decision of each node left to
-/// decide(level, j) (a recorded fact or the node's own rule) and done(level)
-/// called for each node whose subtree the traversal has finished.
-template <class Source, class Decide, class Visit, class Done>
-bool traverse_nodes(Source& src, int max_depth, Decide decide, Visit visit, Done done) {
-  int level = 0, j = 0;
-  for (;;) {
-    const Piece p = decide(level, j);
-    if (p == Piece::uncertain) return false;
-    if (p == Piece::split && level < max_depth) {
-      ++level;
-      j *= 2;
-      src.split(level, j);
-      continue;
-    }
-    if (visit(p, level)) return true;
-    done(level);
-    while (level > 0 && (j & 1) == 1) {
-      --level;
-      j >>= 1;
-      done(level);
-    }
-    if (level == 0) return true;
-    ++j;
-    src.next(level, j);
-  }
-}
-
 /// A pixel traversal (rule: monotonicity_piece or inflection_piece) that
 /// takes the facts of its block's record where it reaches them.
 template <class Source, class Rule, class Visit>

@@ -162,11 +162,24 @@ SignSummary scan_signs(Source& src, bool stop_at_unknown = false) {
 ///                                the most recently pending one
 /// rule(const SignSummary&) -> Piece is one of the tables above.
 /// Returns false when a piece was uncertain.
+template <class Source, class Decide, class Visit, class Done>
+bool traverse_nodes(Source& src, int max_depth, Decide decide, Visit visit, Done done);
+
 template <class Source, class Rule, class Visit>
 bool traverse(Source& src, int max_depth, Rule rule, Visit visit, bool stop_at_unknown = false) {
+  return traverse_nodes(
+      src, max_depth, [&](int, int) { return rule(scan_signs(src, stop_at_unknown)); }, visit, [](int) {});
+}
+
+/// The one traversal itself, with the decision of each node (level, j) left
+/// to decide(level, j) (traverse: the rule on the current piece's signs; a
+/// block's reuse, bezierize/box_reuse.hpp: a recorded fact where there is
+/// one) and done(level) called for each node whose subtree it has finished.
+template <class Source, class Decide, class Visit, class Done>
+bool traverse_nodes(Source& src, int max_depth, Decide decide, Visit visit, Done done) {
   int level = 0, j = 0;
   for (;;) {
-    const Piece p = rule(scan_signs(src, stop_at_unknown));
+    const Piece p = decide(level, j);
     if (p == Piece::uncertain) return false;
     if (p == Piece::split && level < max_depth) {
       ++level;
@@ -175,10 +188,12 @@ bool traverse(Source& src, int max_depth, Rule rule, Visit visit, bool stop_at_u
       continue;
     }
     if (visit(p, level)) return true;
+    done(level);
     // Climb while on a right child, then go to the right sibling.
     while (level > 0 && (j & 1) == 1) {
       --level;
       j >>= 1;
+      done(level);
     }
     if (level == 0) return true;
     ++j;

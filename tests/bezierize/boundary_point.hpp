@@ -1,5 +1,5 @@
 #pragma once
-// A point on a region boundary, for tests that zoom there: the first label
+// Helpers of the region tests. A point on a region boundary, for tests that zoom there: the first label
 // change along a row of problem p's default view at size x size (rows from
 // the middle out, labels of region_cpu), bisected 60 times on exact labels
 // (bench_region finds its zoom centres the same way).
@@ -10,6 +10,21 @@
 #include "bezierize/region_setup.hpp"
 
 namespace cmr::test {
+
+/// The request of the region tests: point `point` moved, D = depth, a
+/// size x size image of `view` (nullopt: the default view), with or without
+/// a depth map (without: label maps, where block proofs and their reuse run).
+inline RegionRequest region_request(int point, int depth, int size, std::optional<View> view, bool depth_map,
+                                    Mode mode = Mode::cmrwi) {
+  RegionRequest o;
+  o.point = point;
+  o.max_depth = depth;
+  o.width = o.height = size;
+  o.view = view;
+  o.depth = depth_map;
+  o.mode = mode;
+  return o;
+}
 
 inline std::optional<Vec2> boundary_point(const RegionProblem& p, int size) {
   const backend::RegionSetup& s = p.setup();

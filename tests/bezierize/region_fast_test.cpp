@@ -26,13 +26,7 @@ using namespace cmr::backend;
 const std::string kSource = CMR_SOURCE_DIR;
 
 RegionRequest request(int point, int depth, int size, std::optional<View> view) {
-  RegionRequest o;
-  o.point = point;
-  o.max_depth = depth;
-  o.width = o.height = size;
-  o.view = view;
-  o.depth = false;  // label maps: the block proofs run
-  return o;
+  return test::region_request(point, depth, size, view, false);  // label maps: the block proofs run
 }
 
 // A point on a region boundary: a label change between neighbouring pixels of

@@ -27,14 +27,7 @@ using namespace cmr::backend;
 const std::string kSource = CMR_SOURCE_DIR;
 
 RegionRequest request(int point, int depth, int size, std::optional<View> view, bool depth_map, Mode mode) {
-  RegionRequest o;
-  o.point = point;
-  o.max_depth = depth;
-  o.width = o.height = size;
-  o.view = view;
-  o.depth = depth_map;
-  o.mode = mode;
-  return o;
+  return test::region_request(point, depth, size, view, depth_map, mode);
 }
 
 // A label change between neighbouring pixels of a row of the default view

@@ -29,14 +29,7 @@ using namespace cmr::backend;
 const std::string kSource = CMR_SOURCE_DIR;
 
 RegionRequest request(int point, int depth, int size, std::optional<View> view, Mode mode) {
-  RegionRequest o;
-  o.point = point;
-  o.max_depth = depth;
-  o.width = o.height = size;
-  o.view = view;
-  o.depth = false;  // labels only: reuse is for label maps
-  o.mode = mode;
-  return o;
+  return test::region_request(point, depth, size, view, false, mode);  // labels only: reuse is for label maps
 }
 
 // Restores the environment's switch whatever the test's outcome.
