@@ -18,6 +18,7 @@ constexpr int kTerms = 10;  // poly3.hpp's monomials: 1, dx, dy, x2, xy, y2, x2 
 std::atomic<int> g_forced{-1};
 std::atomic<bool> g_fault{false};
 std::atomic<std::uint64_t> g_pixels[3];
+thread_local std::uint64_t tl_pixels[3];
 
 // v[c] = sum_m t[m * N + c] mu[m], in the order m = 0, 1, ..., 9 (the order
 // eval_poly sums in; the bound does not depend on it).
@@ -189,8 +190,14 @@ std::uint64_t simd_pixel_count(SimdLevel level) {
   return g_pixels[static_cast<int>(level)].load(std::memory_order_relaxed);
 }
 
-void count_simd_pixels(SimdLevel level, int pixels) {
-  g_pixels[static_cast<int>(level)].fetch_add(static_cast<std::uint64_t>(pixels), std::memory_order_relaxed);
+void count_simd_pixels(SimdLevel level, int pixels) { tl_pixels[static_cast<int>(level)] += static_cast<std::uint64_t>(pixels); }
+
+void publish_simd_pixel_counts() {
+  for (int l = 0; l < 3; ++l) {
+    if (tl_pixels[l] == 0) continue;
+    g_pixels[l].fetch_add(tl_pixels[l], std::memory_order_relaxed);
+    tl_pixels[l] = 0;
+  }
 }
 
 void set_simd_fault_for_test(bool on) { g_fault.store(on, std::memory_order_relaxed); }

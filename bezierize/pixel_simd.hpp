@@ -54,11 +54,15 @@ bool set_simd_level(SimdLevel level);
 void pixel_root_values(SimdLevel level, const double* t, const double* mag, int n1, const double* dx,
                        const double* dy, double* v, int stride, double* e, double units, double tiny);
 
-/// Pixels whose root values went through pixel_root_values at each level
-/// (counted by region.cpp per chunk of lanes; relaxed atomics), so tests can
-/// see that a comparison covers pixels of the batch path.
+/// Pixels whose root values went through pixel_root_values at each level,
+/// so tests can see that a comparison covers pixels of the batch path.
+/// count_simd_pixels adds to the calling thread's own tally (no shared cache
+/// line touched per chunk of lanes); publish_simd_pixel_counts adds that
+/// tally to the totals simd_pixel_count reads (region.cpp: once per 64x64
+/// block job).
 std::uint64_t simd_pixel_count(SimdLevel level);
 void count_simd_pixels(SimdLevel level, int pixels);
+void publish_simd_pixel_counts();
 
 /// Test hook: when on, the SIMD levels (not scalar) negate lane 1's v[0], so
 /// a test can check that its comparison catches a wrong batch.

@@ -1285,7 +1285,9 @@ constexpr int kPixelsPerSmallBlock = 4;
 // Columns i0..i1 and rows j0..j1 of an image, inclusive.
 using PixelBlock = std::array<int, 4>;
 
-void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
+// Writes a block's label, and its depth when a depth map is wanted (without
+// one the depth map stays blank_image's zeros).
+void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r, bool depth_map) {
   // A row at a time (byte stores may alias the image's own fields, so a
   // per-pixel loop reloaded its width and data pointers at every pixel).
   const std::size_t width = static_cast<std::size_t>(img.width), n = static_cast<std::size_t>(b[2] - b[0] + 1);
@@ -1294,7 +1296,7 @@ void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r) {
   for (int j = b[1]; j <= b[3]; ++j) {
     const std::size_t at = static_cast<std::size_t>(j) * width + static_cast<std::size_t>(b[0]);
     std::memset(labels + at, r.label, n);
-    std::memset(depth + at, r.depth, n);
+    if (depth_map) std::memset(depth + at, r.depth, n);
   }
 }
 
@@ -1319,7 +1321,7 @@ std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImag
   n = 0;
   for (int j = b[1]; j <= b[3]; ++j)
     for (int i = b[0]; i <= b[2]; ++i) {
-      fill(img, {i, j, i, j}, r[n]);
+      fill(img, {i, j, i, j}, r[n], s.options.depth);
       exact += r[n++].exact;
     }
   return exact;
@@ -1353,7 +1355,7 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
       tl_pixel_reuse = {};
     } else if (const auto r = classify_block_with(s, i0, j0, i1, j1, parent,
                                                   reuse ? &known[static_cast<std::size_t>(d)] : nullptr, &counts)) {
-      fill(img, b, *r);
+      fill(img, b, *r, s.options.depth);
     } else if (i1 - i0 < min_block && j1 - j0 < min_block) {
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) listed.push_back({i, j});
@@ -1366,6 +1368,7 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
     }
   }
   add_block_reuse_counts(counts);
+  publish_simd_pixel_counts();
   return exact;
 }
 
@@ -1386,7 +1389,6 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
     exact[b] = cull_block(s, kernel, img, top, min_block, listed[b]);
   });
   for (const std::uint64_t e : exact) img.exact_pixels += e;
-  if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
   std::vector<std::array<int, 2>> out;
   for (const auto& l : listed) out.insert(out.end(), l.begin(), l.end());
   return out;
