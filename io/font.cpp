@@ -67,6 +67,7 @@ struct Item {
   Vec2 p;
   std::string name;
   int font_point = -1;
+  int line_of = -1;   // an added line point: the font point of the line's first node
   bool node = false;  // explicit on-curve point
 };
 
@@ -106,8 +107,6 @@ void name_cubic_items(std::vector<Item>& items, const std::string& prefix) {
   }
 }
 
-/// The chain of one contour (points first..last of the outline), or empty
-/// when the contour has no piece (a lone point).
 /// x = a + b exactly in double (Knuth's TwoSum: the rounding error is 0).
 bool exact_sum(double a, double b, double& x) {
   x = a + b;
@@ -141,16 +140,19 @@ std::optional<std::array<Vec2, 2>> exact_cubic_line(Vec2 a, Vec2 b) {
   return out;
 }
 
-std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
-  const int n = last - first + 1;
+/// The chain of one contour (its points in the font's order), or empty when
+/// the contour has no piece (a lone point).
+std::vector<Item> contour_items(const std::vector<OutlinePoint>& points, int degree, const std::string& prefix,
+                                PointNaming naming) {
+  const int n = static_cast<int>(points.size());
   int start = 0;
-  while (start < n && FT_CURVE_TAG(o.tags[first + start]) != FT_CURVE_TAG_ON) ++start;
+  while (start < n && points[start].tag != OutlinePoint::Tag::on) ++start;
   const bool has_node = start < n;
   if (!has_node) {
     if (degree == 3) throw InputError(prefix + ": a cubic contour without an on-curve point");
     start = 0;
   }
-  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx - first); };
+  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx); };
   std::vector<Item> items;
   // Inner points of the straight piece from a node to the next (by value:
   // the pushes below may move `items`).
@@ -163,24 +165,25 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
       it.name = from.name;
       it.name.append("+p").append(std::to_string(to.font_point));  // font_point is already contour-relative
       if (degree > 2) it.name.append("@").append(std::to_string(k)).append("/").append(std::to_string(degree));
+      it.line_of = from.font_point;
       items.push_back(it);
     }
   };
   int inner_run = 0;  // inner points since the last node (cubic: must be 0 or 2)
   for (int j = 0; j < n; ++j) {
-    const int idx = first + (start + j) % n;
-    const int tag = FT_CURVE_TAG(o.tags[idx]);
+    const int idx = (start + j) % n;
+    const OutlinePoint::Tag tag = points[idx].tag;
     Item it;
-    it.p = {static_cast<double>(o.points[idx].x), static_cast<double>(o.points[idx].y)};
+    it.p = points[idx].p;
     it.name = name(idx);
-    it.font_point = idx - first;
-    it.node = tag == FT_CURVE_TAG_ON;
-    if ((tag == FT_CURVE_TAG_CUBIC) != (degree == 3) && !it.node)
-      throw InputError(prefix + ": point " + std::to_string(idx - first) + " mixes conic and cubic control points");
+    it.font_point = idx;
+    it.node = tag == OutlinePoint::Tag::on;
+    if ((tag == OutlinePoint::Tag::cubic) != (degree == 3) && !it.node)
+      throw InputError(prefix + ": point " + std::to_string(idx) + " mixes conic and cubic control points");
     if (it.node) {
       if (degree == 3 && inner_run != 0 && inner_run != 2)
         throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points before point " +
-                         std::to_string(idx - first) + " (expected 2)");
+                         std::to_string(idx) + " (expected 2)");
       inner_run = 0;
       if (!items.empty() && items.back().node) {
         if (items.back().p == it.p) continue;  // zero-length line: dropped
@@ -202,15 +205,30 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   }
   const bool any_inner = std::any_of(items.begin(), items.end(), [](const Item& i) { return !i.node; });
   if (items.size() < 2 || !any_inner) return {};
-  if (degree == 3) name_cubic_items(items, prefix);
+  if (degree == 3 && naming == PointNaming::editor) name_cubic_items(items, prefix);
   return items;
 }
 
-/// The contour's spline and names, or nothing for a contour without a piece.
-std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, const std::string& glyph) {
+/// The points of contour c of a FreeType outline, contour-relative.
+std::vector<OutlinePoint> outline_points(const FT_Outline& o, int c) {
   const int first = c == 0 ? 0 : o.contours[c - 1] + 1, last = o.contours[c];
+  std::vector<OutlinePoint> out;
+  for (int i = first; i <= last; ++i) {
+    const int tag = FT_CURVE_TAG(o.tags[i]);
+    out.push_back({{static_cast<double>(o.points[i].x), static_cast<double>(o.points[i].y)},
+                   tag == FT_CURVE_TAG_ON      ? OutlinePoint::Tag::on
+                   : tag == FT_CURVE_TAG_CUBIC ? OutlinePoint::Tag::cubic
+                                               : OutlinePoint::Tag::conic});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<Contour> outline_contour(const std::vector<OutlinePoint>& points, int c, int degree,
+                                       const std::string& glyph, PointNaming naming) {
   const std::string prefix = glyph + "/c" + std::to_string(c);
-  const std::vector<Item> items = contour_items(o, first, last, degree, prefix);
+  const std::vector<Item> items = contour_items(points, degree, prefix, naming);
   if (items.empty()) return std::nullopt;
   const std::size_t m = items.size();
   // A piece starts at each inner point whose predecessor is a node; in degree
@@ -220,25 +238,28 @@ std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, cons
     inc[k] = !items[k].node && (degree == 2 || items[(k + m - 1) % m].node);
   std::vector<Vec2> pts;
   std::vector<std::string> point_names, joint_names;
-  std::vector<int> font_point;
+  std::vector<int> font_point, source_point;
   std::vector<bool> node;
   for (const Item& it : items) {
     pts.push_back(it.p);
     point_names.push_back(it.name);
     font_point.push_back(it.font_point);
+    source_point.push_back(it.font_point >= 0 ? it.font_point : it.line_of);
     node.push_back(it.node);
   }
   // Segments in order of their first inner point k = 1..m (item m is item 0).
+  std::vector<int> joint_source_point;
   for (std::size_t k = 1; k <= m; ++k) {
     if (!inc[k % m]) continue;
     const Item& prev = items[k - 1];
     joint_names.push_back(prev.node ? prev.name : prev.name + "+p" + std::to_string(items[k % m].font_point));
+    joint_source_point.push_back(prev.font_point >= 0 ? prev.font_point : prev.line_of);
   }
-  return Contour{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
-                 std::move(font_point), std::move(node), std::move(joint_names)};
+  Contour out{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
+              std::move(font_point), std::move(node), std::move(joint_names), std::move(source_point),
+              std::move(joint_source_point)};
+  return out;
 }
-
-}  // namespace
 
 std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec) {
   std::vector<std::uint32_t> out;
@@ -294,7 +315,13 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
   font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
   const int font_degree = font.cubic ? 3 : 2;
-  for (const std::uint32_t cp : codepoints) {
+  std::vector<std::uint32_t> every;  // no code points asked for: every one the character map has
+  if (codepoints.empty()) {
+    FT_UInt gid = 0;
+    for (FT_ULong cp = FT_Get_First_Char(face.get(), &gid); gid != 0; cp = FT_Get_Next_Char(face.get(), cp, &gid))
+      every.push_back(static_cast<std::uint32_t>(cp));
+  }
+  for (const std::uint32_t cp : codepoints.empty() ? every : codepoints) {
     const FT_UInt gid = FT_Get_Char_Index(face.get(), cp);
     if (gid == 0) {
       font.missing.push_back(cp);
@@ -319,7 +346,8 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
     const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
-        if (std::optional<Contour> contour = make_contour(o, c, degree, g.name)) g.contours.push_back(std::move(*contour));
+        if (std::optional<Contour> contour = outline_contour(outline_points(o, c), c, degree, g.name, PointNaming::editor))
+          g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {
       throw InputError(path.string() + ": " + e.what());

@@ -43,7 +43,7 @@ struct FileFilter {
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter);
 
 enum class FileKind : std::uint8_t { spline, svg, font };
-/// By extension: fonts (io/font.hpp), .svg, else a spline file.
+/// By extension: fonts (io/font.hpp) and font sources (.ufo, .glif: io/ufo.hpp), .svg, else a spline file.
 FileKind file_kind(const std::string& path);
 
 /// One violation with its stable identity.
@@ -54,6 +54,10 @@ struct Finding {
   std::string node;     ///< "p12" (a node), "p12-p15" (the segment between two nodes), "segment 3", "joint 2"; "" for the whole spline
   std::string gate;     ///< the gate's text ("extrema-at-nodes"), or the check ("cmr") for a spline failing it
   std::string message;  ///< one line a designer can act on (node names, what to move)
+  /// Font sources: the .glif the finding lies in and the line of the <point>
+  /// it names (the node, or the first handle to move); "" and 0 otherwise.
+  std::string source;
+  int line = 0;
   /// "file|glyph|cC|node|gate": what a baseline compares.
   std::string key() const;
 };
@@ -82,6 +86,7 @@ struct FileRecord {
 struct BatchOptions {
   ReportOptions report;                 ///< per spline (report.hpp); report.threads: 0 = every core
   std::vector<std::uint32_t> codepoints;  ///< the glyphs of the fonts
+  bool all_glyphs = false;              ///< every glyph of a font source (UFO), whatever its code points
   std::filesystem::path out;            ///< report.json, index.html, the pages
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json

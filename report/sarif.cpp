@@ -142,8 +142,14 @@ std::string sarif_result(const Finding& f, const ReportOptions& options, const c
   o.begin_object();
   o.key("artifactLocation");
   o.begin_object();
-  o.member("uri", path_uri(f.file));
+  o.member("uri", path_uri(f.source.empty() ? f.file : f.source));
   o.end_object();
+  if (f.line > 0) {  // a font source: the <point>'s line, where code scanning places the alert
+    o.key("region");
+    o.begin_object();
+    o.member("startLine", f.line);
+    o.end_object();
+  }
   o.end_object();
   o.key("logicalLocations");
   o.begin_array();

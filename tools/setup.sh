@@ -7,6 +7,8 @@
 # libocct-data-exchange-dev (OpenCASCADE's STEP reader; it pulls in the other
 # libocct-*-dev packages) and libtbb-dev (a library OCCT's CMake targets name)
 # are for the STEP importer (step/); without them cmr builds without it.
+# python3-fonttools, python3-ufolib2 and fontmake make and build the test
+# UFOs of tests/report/ufo_source_test.py (tools/make_test_ufo.py).
 set -euo pipefail
 
 packages=(
@@ -24,6 +26,7 @@ packages=(
   fonts-noto-core fonts-texgyre
   strace
   clang libclang-rt-14-dev
+  python3-fonttools python3-ufolib2 fontmake
 )
 
 missing=()
