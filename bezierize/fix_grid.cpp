@@ -91,6 +91,41 @@ std::vector<Unit> units_of(const BSpline& s, const FixResult& fix, double grid) 
   return units;
 }
 
+/// The partners (GridOptions::partners) that no unit moves yet, each a
+/// unit of its own that stays near where it is: a slide where the point is
+/// a handle of an exactly smooth node (the point, the node and the node's
+/// other neighbour exactly collinear, the node between), else free.
+void add_partners(std::vector<Unit>& units, const BSpline& s, const GridOptions& options) {
+  const int m = s.unique_point_count();
+  const std::vector<Vec2>& p = s.points();
+  std::vector<bool> taken(m, false);
+  for (const Unit& u : units)
+    for (int k : u.points) taken[k] = true;
+  int added = 0;
+  for (int k : options.partners) {
+    if (k < 0 || k >= m || taken[k] || added >= options.max_partners) continue;
+    Unit u;
+    u.points = {k};
+    for (int d : {-1, 1}) {
+      const int j = s.closed() ? (k + d + m) % m : k + d, o = s.closed() ? (j + d + m) % m : j + d;
+      if (j < 0 || j >= m || o < 0 || o >= m) continue;
+      const Vec2 a = p[k] - p[j], b = p[o] - p[j];
+      if (a == Vec2(0.0) || b == Vec2(0.0) || a.x * b.y - a.y * b.x != 0 || dot(a, b) >= 0) continue;
+      if (!on_grid(p[j], options.grid) || !on_grid(p[k], options.grid)) continue;
+      const long dx = std::lround(a.x / options.grid), dy = std::lround(a.y / options.grid);
+      const long g = std::gcd(std::abs(dx), std::abs(dy));
+      u.kind = Unit::Kind::slide;
+      u.anchor = p[j];
+      u.step = Vec2(static_cast<double>(dx / g) * options.grid, static_cast<double>(dy / g) * options.grid);
+      u.t0 = g;
+      break;
+    }
+    taken[k] = true;
+    units.push_back(std::move(u));
+    ++added;
+  }
+}
+
 /// A unit's candidates at `radius` cells: displacements of its points.
 std::vector<Vec2> candidates(const Unit& u, const BSpline& s, int radius, double grid, double max_move) {
   std::vector<Vec2> out{Vec2(0.0)};  // staying put
@@ -130,7 +165,9 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
     out.reason = "the fix moves no point";
     return out;
   }
-  const std::vector<Unit> units = units_of(original, fix, options.grid);
+  std::vector<Unit> units = units_of(original, fix, options.grid);
+  add_partners(units, original, options);
+
   std::set<std::vector<long>> tried;  // by the candidates' grid coordinates
   double best_cost = std::numeric_limits<double>::infinity();
   std::vector<Vec2> best;
@@ -184,7 +221,8 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
       for (std::size_t k = 0; k < delta.size(); ++k)
         if (delta[k] != Vec2(0.0)) moved = moved.with_point(static_cast<int>(k), original.points()[k] + delta[k]);
       ++out.evaluations;
-      if (judge(moved) == 0) {
+      const int verdict = judge(moved);
+      if (verdict == 0) {
         best_cost = cost;
         best = delta;
         out.spline = std::move(moved);

@@ -21,6 +21,9 @@
 //    direction), where the node and the direction are on the grid (a line
 //    with no other grid point near keeps the handle where it is);
 //  * a free point: the grid points around it.
+// Partners (GridOptions::partners: points the fix left alone, typically the
+// neighbouring handles) are units too, moving a few grid steps from where
+// they are: a slide on their smooth node's tangent, else free.
 // Candidates of a unit are the grid positions within `radius` cells of its
 // off-grid target (and its original position); the radius grows (1, 2, 4,
 // 8 cells) until a passing combination is found, the product of candidate
@@ -42,6 +45,12 @@ struct GridOptions {
   double max_move = 0;        ///< largest displacement of a point; 0: none beyond the search's own
   long max_evaluations = 20000;
   double max_seconds = 20;
+  /// Points the fix did not move that may move too, each by a few grid
+  /// steps (a narrow passing region often holds no grid point for the moved
+  /// units alone: a neighbouring handle's step opens it); in order of
+  /// preference, at most max_partners of them.
+  std::vector<int> partners;
+  int max_partners = 3;
 };
 
 /// Combinations tried per radius at most.

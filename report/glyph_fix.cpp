@@ -61,6 +61,46 @@ std::vector<int> movable_points(const import::Contour& c) {
   return out;
 }
 
+/// The movable handles (not nodes) nearest the fix's moved points along
+/// the contour, nearest first: the grid snap's partners.
+std::vector<int> partners_of(const import::Contour& c, const FixResult& f, const std::vector<int>& movable) {
+  const int m = static_cast<int>(c.node.size());
+  std::vector<std::pair<int, int>> by_distance;  // (steps along the contour, point)
+  for (int k : movable) {
+    if (c.node[k]) continue;
+    int best = m;
+    for (const PointMove& mv : f.moves) {
+      const int d = std::abs(k - mv.point);
+      best = std::min(best, std::min(d, m - d));
+    }
+    if (best > 0 && best <= 3) by_distance.emplace_back(best, k);
+  }
+  std::sort(by_distance.begin(), by_distance.end());
+  std::vector<int> out;
+  for (const auto& [d, k] : by_distance) out.push_back(k);
+  return out;
+}
+
+/// Rounds of the search (each lowers the count of violations).
+constexpr int kGlyphFixRounds = 12;
+
+/// Every node that is exactly smooth in the source (its neighbours on both
+/// sides exactly collinear with it, on opposite sides) is so in `s` too.
+/// Exact for coordinates below 2^26 (products below 2^53): font units.
+bool smooth_kept(const import::Contour& c, const BSpline& s) {
+  const int m = static_cast<int>(c.node.size());
+  const std::vector<Vec2>& a = c.spline.points();
+  const std::vector<Vec2>& b = s.points();
+  auto smooth = [&](const std::vector<Vec2>& p, int k) {
+    const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
+    if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
+    return u.x * v.y - u.y * v.x == 0 && u.x * v.x + u.y * v.y < 0;
+  };
+  for (int k = 0; k < m; ++k)
+    if (c.node[k] && smooth(a, k) && !smooth(b, k)) return false;
+  return true;
+}
+
 ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
@@ -93,58 +133,93 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
     out.reason = "no source point may move (every node ends a straight piece)";
     return out;
   }
-  BSpline current = c.spline;
-  ReportOptions stage = o;
-  stage.gates.clear();
-  const std::size_t stages = o.gates.size() + (o.require ? 1 : 0);
-  for (std::size_t i = 0; i < stages; ++i) {
-    if (!(o.require && i == 0)) stage.gates.push_back(o.gates[i - (o.require ? 1 : 0)]);  // stage 0: the requirement alone
-    const std::function<int(const BSpline&)> stage_judge = judge_of(stage);
-    if (stage_judge(current) == 0) continue;
-    FixRequest q;
-    q.requirement = guide(stage, judged_report(current, stage));
-    q.max_depth = o.max_depth;
-    q.keep = Keep::g1;
-    q.max_seconds = options.max_seconds;
-    q.threads = 1;
-    q.max_move = options.max_move;
-    q.judge = stage_judge;
-    q.together = i > 0;  // later stages: the points together, from where the earlier stages left them
-    q.points = movable;  // with a judge every judged segment counts as failing, so each point acts on one
-    const FixResult f = fix(current, q);
-    if (!f.fixed) {
-      out.reason = f.reason;
-      return out;
+  // Rounds: each tries to fix one failing check alone (its own judge and
+  // search guide), then all of them at once, from where the last round
+  // left the contour, snapped to the grid; a round is taken when the total
+  // count of violations of every check falls and every smooth node stays
+  // exactly smooth. So the total falls each round and the loop ends.
+  auto checks_of = [&](const BSpline& s) {
+    std::vector<ReportOptions> out_checks;
+    const SplineReport r = judged_report(s, o);
+    if (o.require && !r.requirement_pass) {
+      ReportOptions t = o;
+      t.gates.clear();
+      out_checks.push_back(t);
     }
-    current = *f.spline;
+    for (std::size_t g = 0; g < r.gates.size(); ++g)
+      if (!r.gates[g].pass()) {
+        ReportOptions t = o;
+        t.require.reset();
+        t.gates = {o.gates[g]};
+        out_checks.push_back(t);
+      }
+    if (out_checks.size() > 1) out_checks.push_back(o);
+    return out_checks;
+  };
+  BSpline current = c.spline;
+  int current_total = total(out.rejudged);
+  std::string why;
+  for (int round = 0; round < kGlyphFixRounds && current_total > 0; ++round) {
+    bool improved = false;
+    for (const ReportOptions& t : checks_of(current)) {
+      const std::function<int(const BSpline&)> check_judge = judge_of(t);
+      FixRequest q;
+      q.requirement = guide(t, judged_report(current, t));
+      q.max_depth = o.max_depth;
+      q.keep = Keep::g1;
+      q.max_seconds = options.max_seconds;
+      q.threads = 1;
+      q.max_move = options.max_move;
+      q.judge = check_judge;
+      q.points = movable;  // with a judge every judged segment counts as failing, so each point acts on one
+      const FixResult f = fix(current, q);
+      if (!f.fixed || f.already) {
+        why = f.reason;
+        continue;
+      }
+      out.off_grid_distance = std::max(out.off_grid_distance, f.max_distance);
+      BSpline next = *f.spline;
+      if (options.grid > 0) {
+        // On the grid: the check passes and the total falls.
+        const int before_total = current_total;
+        auto snap_judge = [&](const BSpline& s) {
+          const int own = check_judge(s);
+          if (own != 0) return own;
+          return judge(s) < before_total && smooth_kept(c, s) ? 0 : 1;
+        };
+        GridOptions g;
+        g.grid = options.grid;
+        g.max_move = options.max_move;
+        g.max_seconds = options.max_seconds;
+        g.partners = partners_of(c, f, movable);
+        const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
+        if (!snapped.found) {
+          why = snapped.reason;
+          continue;
+        }
+        next = *snapped.spline;
+      }
+      const int next_total = judge(next);
+      if (next_total < current_total && smooth_kept(c, next)) {
+        current = std::move(next);
+        current_total = next_total;
+        improved = true;
+        break;
+      }
+      why = "a fix of one check breaks another";
+    }
+    if (!improved) break;
   }
-  // The stages' moves together, from the original points.
-  FixResult f;
-  f.fixed = true;
-  f.spline = current;
+  if (current_total > 0) {
+    out.reason = why.empty() ? "no fix passes every check" : why;
+    return out;
+  }
+  std::vector<PointMove> moves;
   for (int k = 0; k < c.spline.unique_point_count(); ++k) {
     const Vec2 from = c.spline.points()[k], to = current.points()[k];
-    if (from == to) continue;
-    const double d = std::hypot(to.x - from.x, to.y - from.y);
-    f.moves.push_back({k, from, to, d});
-    f.max_distance = std::max(f.max_distance, d);
+    if (from != to) moves.push_back({k, from, to, std::hypot(to.x - from.x, to.y - from.y)});
   }
-  out.off_grid_distance = f.max_distance;
-  std::vector<PointMove> moves = f.moves;
-  BSpline fixed = *f.spline;
-  if (options.grid > 0) {
-    GridOptions g;
-    g.grid = options.grid;
-    g.max_move = options.max_move;
-    g.max_seconds = options.max_seconds;
-    const GridFix snapped = snap_to_grid(c.spline, f, judge, g);
-    if (!snapped.found) {
-      out.reason = snapped.reason;
-      return out;
-    }
-    moves = snapped.moves;
-    fixed = *snapped.spline;
-  }
+  const BSpline& fixed = current;
   // Re-judged, check by check: none may be worse, all must pass.
   const std::vector<GateCount> after = judge_counts(fixed, o);
   bool all_pass = true;

@@ -95,8 +95,9 @@ def main():
         check("a qcurve .glif imports as a quadratic spline", doc.get("degree") == 2, r.stderr)
 
         # fix: a copy of the UFO where only moved points' x/y change, on the grid
-        r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes", "--out", "Fixed.ufo", cwd=tmp)
-        check("fix O (extrema) exits 0", r.returncode == 0, r.stderr)
+        r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--out",
+                "Fixed.ufo", cwd=tmp)
+        check("fix O (extrema and g2 at once) exits 0", r.returncode == 0, r.stderr)
         fixed = os.path.join(tmp, "Fixed.ufo")
         if r.returncode == 0:
             check("the copy has the same files", tree_files(nimbus) == tree_files(fixed))
@@ -107,12 +108,15 @@ def main():
             check("only x/y of moved points change, to integers", ok, why)
             judge = lambda p, g: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", g],
                                                 capture_output=True, text=True)
-            before, after = judge(os.path.join(nimbus, "glyphs", "O_.glif"), "extrema"), judge(
-                os.path.join(fixed, "glyphs", "O_.glif"), "extrema")
-            check("exact judge: the source fails, the fixed glyph passes", before.returncode == 1 and after.returncode == 0,
-                  after.stdout)
+            for gate in ("extrema", "g2"):
+                before, after = judge(os.path.join(nimbus, "glyphs", "O_.glif"), gate), judge(
+                    os.path.join(fixed, "glyphs", "O_.glif"), gate)
+                check("exact judge (%s): the source fails, the fixed glyph passes" % gate,
+                      before.returncode == 1 and after.returncode == 0, after.stdout)
             doc = json.loads(r.stdout)
-            check("the fix document shows the re-judging", all("rejudged" in c for c in doc["contours"]))
+            check("the fix document shows the re-judging of both checks",
+                  all([x["after"] for x in c["rejudged"]] == [0, 0] and len(c["rejudged"]) == 2 for c in doc["contours"]),
+                  str(doc["contours"]))
             if shutil.which("fontmake"):
                 fm = subprocess.run(["fontmake", "-u", fixed, "-o", "otf", "--output-dir", os.path.join(tmp, "otf")],
                                     capture_output=True, text=True, timeout=600)
