@@ -106,7 +106,7 @@ void name_cubic_items(std::vector<Item>& items, const std::string& prefix) {
   }
 }
 
-/// The chain of one contour (points first..last of the outline), or empty
+/// The chain of one contour (its points in the font's order), or empty
 /// when the contour has no piece (a lone point).
 /// x = a + b exactly in double (Knuth's TwoSum: the rounding error is 0).
 bool exact_sum(double a, double b, double& x) {
@@ -141,16 +141,16 @@ std::optional<std::array<Vec2, 2>> exact_cubic_line(Vec2 a, Vec2 b) {
   return out;
 }
 
-std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
-  const int n = last - first + 1;
+std::vector<Item> contour_items(const std::vector<OutlinePoint>& o, int degree, const std::string& prefix) {
+  const int n = static_cast<int>(o.size());
   int start = 0;
-  while (start < n && FT_CURVE_TAG(o.tags[first + start]) != FT_CURVE_TAG_ON) ++start;
+  while (start < n && o[start].tag != OutlinePoint::Tag::on) ++start;
   const bool has_node = start < n;
   if (!has_node) {
     if (degree == 3) throw InputError(prefix + ": a cubic contour without an on-curve point");
     start = 0;
   }
-  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx - first); };
+  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx); };
   std::vector<Item> items;
   // Inner points of the straight piece from a node to the next (by value:
   // the pushes below may move `items`).
@@ -168,19 +168,19 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   };
   int inner_run = 0;  // inner points since the last node (cubic: must be 0 or 2)
   for (int j = 0; j < n; ++j) {
-    const int idx = first + (start + j) % n;
-    const int tag = FT_CURVE_TAG(o.tags[idx]);
+    const int idx = (start + j) % n;
+    const OutlinePoint::Tag tag = o[idx].tag;
     Item it;
-    it.p = {static_cast<double>(o.points[idx].x), static_cast<double>(o.points[idx].y)};
+    it.p = o[idx].p;
     it.name = name(idx);
-    it.font_point = idx - first;
-    it.node = tag == FT_CURVE_TAG_ON;
-    if ((tag == FT_CURVE_TAG_CUBIC) != (degree == 3) && !it.node)
-      throw InputError(prefix + ": point " + std::to_string(idx - first) + " mixes conic and cubic control points");
+    it.font_point = idx;
+    it.node = tag == OutlinePoint::Tag::on;
+    if ((tag == OutlinePoint::Tag::cubic) != (degree == 3) && !it.node)
+      throw InputError(prefix + ": point " + std::to_string(idx) + " mixes conic and cubic control points");
     if (it.node) {
       if (degree == 3 && inner_run != 0 && inner_run != 2)
         throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points before point " +
-                         std::to_string(idx - first) + " (expected 2)");
+                         std::to_string(idx) + " (expected 2)");
       inner_run = 0;
       if (!items.empty() && items.back().node) {
         if (items.back().p == it.p) continue;  // zero-length line: dropped
@@ -206,11 +206,11 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   return items;
 }
 
-/// The contour's spline and names, or nothing for a contour without a piece.
-std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, const std::string& glyph) {
-  const int first = c == 0 ? 0 : o.contours[c - 1] + 1, last = o.contours[c];
+}  // namespace
+
+std::optional<Contour> make_contour(const std::vector<OutlinePoint>& o, int c, int degree, const std::string& glyph) {
   const std::string prefix = glyph + "/c" + std::to_string(c);
-  const std::vector<Item> items = contour_items(o, first, last, degree, prefix);
+  const std::vector<Item> items = contour_items(o, degree, prefix);
   if (items.empty()) return std::nullopt;
   const std::size_t m = items.size();
   // A piece starts at each inner point whose predecessor is a node; in degree
@@ -236,6 +236,23 @@ std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, cons
   }
   return Contour{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
                  std::move(font_point), std::move(node), std::move(joint_names)};
+}
+
+namespace {
+
+/// Contour c of a FreeType outline, its points and tags as they are.
+std::vector<OutlinePoint> outline_contour(const FT_Outline& o, int c) {
+  const int first = c == 0 ? 0 : o.contours[c - 1] + 1, last = o.contours[c];
+  std::vector<OutlinePoint> out;
+  out.reserve(static_cast<std::size_t>(last - first + 1));
+  for (int idx = first; idx <= last; ++idx) {
+    const int tag = FT_CURVE_TAG(o.tags[idx]);
+    out.push_back({{static_cast<double>(o.points[idx].x), static_cast<double>(o.points[idx].y)},
+                   tag == FT_CURVE_TAG_ON      ? OutlinePoint::Tag::on
+                   : tag == FT_CURVE_TAG_CUBIC ? OutlinePoint::Tag::cubic
+                                               : OutlinePoint::Tag::conic});
+  }
+  return out;
 }
 
 }  // namespace
@@ -319,7 +336,7 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
     const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
-        if (std::optional<Contour> contour = make_contour(o, c, degree, g.name)) g.contours.push_back(std::move(*contour));
+        if (std::optional<Contour> contour = make_contour(outline_contour(o, c), c, degree, g.name)) g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {
       throw InputError(path.string() + ": " + e.what());

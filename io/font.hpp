@@ -32,6 +32,7 @@
 /// outline that is not a chain of pieces (a lone cubic control point).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,24 @@ struct Font {
   std::vector<Glyph> glyphs;  ///< in the order asked for; characters the font lacks are left out
   std::vector<std::uint32_t> missing;
 };
+
+/// One point of a glyph outline as the font stores it: an on-curve point,
+/// or an off-curve (control) point of a quadratic (TrueType, "conic") or
+/// cubic (CFF) piece. TrueType's implied on-curve points are not listed.
+struct OutlinePoint {
+  enum class Tag { on, conic, cubic };
+  Vec2 p;
+  Tag tag = Tag::on;
+};
+
+/// Contour number `c` of glyph `glyph`, given as its points in the font's
+/// order, as the spline read_font makes of it (degree 2 for TrueType, 3 for
+/// CFF), or nothing for a contour without a piece (a lone point). The one
+/// builder of read_font and of the Python pen (python/cmr/pen.py), so both
+/// name and place the points alike. InputError as read_font (without the
+/// path) for an outline that is not a chain of pieces.
+std::optional<Contour> make_contour(const std::vector<OutlinePoint>& outline, int c, int degree,
+                                    const std::string& glyph);
 
 /// Parses "A-Z,a-z,0-9,U+00E9,x": characters and inclusive ranges of them,
 /// comma separated (UTF-8; "U+hex" for any code point; "," itself as "U+002C").
