@@ -7,6 +7,9 @@
 # libocct-data-exchange-dev (OpenCASCADE's STEP reader; it pulls in the other
 # libocct-*-dev packages) and libtbb-dev (a library OCCT's CMake targets name)
 # are for the STEP importer (step/); without them cmr builds without it.
+# pybind11-dev and python3-dev build the Python module (python/, import cmr);
+# python3-numpy, python3-pytest and python3-fonttools run it and its tests
+# (tests/python); python3-matplotlib is for cmr.plot and examples/python.
 set -euo pipefail
 
 packages=(
@@ -24,6 +27,7 @@ packages=(
   fonts-noto-core fonts-texgyre
   strace
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib
 )
 
 missing=()
