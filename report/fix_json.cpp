@@ -1,5 +1,6 @@
 #include "report/fix_json.hpp"
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -24,8 +25,11 @@ Json certificate_json(const FixResult& f, const FixRequirement& req) {
   Json joints = Json::array();
   std::vector<Joint> all = a.joints;
   if (a.seam) all.push_back(*a.seam);
-  for (const Joint& jt : all)
-    joints.push_back({{"index", jt.index}, {"continuity", "C" + std::to_string(jt.continuity)}, {"g1", jt.g1}, {"g2", jt.g2}});
+  for (const Joint& jt : all) {
+    std::string continuity = "C";  // appended, not "C" + ...: GCC 12 warns (-Wrestrict) on that here
+    continuity.append(std::to_string(jt.continuity));
+    joints.push_back({{"index", jt.index}, {"continuity", continuity}, {"g1", jt.g1}, {"g2", jt.g2}});
+  }
   j["joints"] = joints;
   return j;
 }
