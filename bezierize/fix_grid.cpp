@@ -171,7 +171,46 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
   std::set<std::vector<long>> tried;  // by the candidates' grid coordinates
   double best_cost = std::numeric_limits<double>::infinity();
   std::vector<Vec2> best;
-  int found_at = 0;  // the radius of the first pass: one wider round may still hold a cheaper one
+  // First every moved unit pushed on together, s grid steps past its
+  // off-grid target along its own move (a fix lies on its region's edge;
+  // a little farther out, rounding stays inside): one passing combination
+  // bounds the cost that the enumeration below must beat.
+  for (const double push : {0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0}) {
+    std::vector<Vec2> delta(original.unique_point_count(), Vec2(0.0));
+    double cost = 0;
+    for (const Unit& u : units) {
+      const Vec2 lead = original.points()[u.points.front()];
+      const double len = norm(u.target);
+      if (len == 0) continue;  // a partner stays
+      Vec2 d;
+      if (u.kind == Unit::Kind::slide) {
+        const double t_star = dot(lead + u.target - u.anchor, u.step) / dot(u.step, u.step);
+        const double away = t_star > static_cast<double>(u.t0) ? 1 : -1;
+        const long t = std::lround(t_star + away * push * options.grid / norm(u.step));
+        if (t == 0 || (t > 0) != (u.t0 > 0)) continue;
+        d = u.anchor + static_cast<double>(t) * u.step - lead;
+      } else {
+        const Vec2 want = (u.kind == Unit::Kind::group ? Vec2(0.0) : lead) + u.target * (1 + push * options.grid / len);
+        d = Vec2(std::round(want.x / options.grid) * options.grid, std::round(want.y / options.grid) * options.grid) -
+            (u.kind == Unit::Kind::group ? Vec2(0.0) : lead);
+      }
+      if (options.max_move > 0 && norm(d) > options.max_move) continue;
+      for (int k : u.points) delta[k] = d;
+      cost += static_cast<double>(u.points.size()) * dot(d, d);
+    }
+    if (cost == 0 || cost >= best_cost) continue;
+    BSpline moved = original;
+    for (std::size_t k = 0; k < delta.size(); ++k)
+      if (delta[k] != Vec2(0.0)) moved = moved.with_point(static_cast<int>(k), original.points()[k] + delta[k]);
+    ++out.evaluations;
+    if (judge(moved) == 0) {
+      best_cost = cost;
+      best = delta;
+      out.spline = std::move(moved);
+      break;
+    }
+  }
+  int found_at = out.spline ? 1 : 0;  // the radius of the first pass: one wider round may still hold a cheaper one
   for (int radius = 1; radius <= 8 && (found_at == 0 || radius <= 2 * found_at); radius *= 2) {
     // Each unit's candidates; radii shrink (largest first) until the product fits.
     std::vector<int> r(units.size(), radius);

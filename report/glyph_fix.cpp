@@ -179,6 +179,16 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
       }
       out.off_grid_distance = std::max(out.off_grid_distance, f.max_distance);
       BSpline next = *f.spline;
+      // Off the grid it may still break another check; the grid snap (which
+      // may move neighbouring handles too) then has to mend that.
+      const bool off_grid_ok = judge(next) < current_total && smooth_kept(c, next);
+      const std::string breaks = "the fix of " +
+                                 (t.gates.size() == 1 && !t.require ? to_string(t.gates[0]) : std::string("every check")) +
+                                 " breaks another check (no round lowers the count of violations)";
+      if (!off_grid_ok && options.grid <= 0) {
+        why = breaks;
+        continue;
+      }
       if (options.grid > 0) {
         // On the grid: the check passes and the total falls.
         const int before_total = current_total;
@@ -194,7 +204,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
         g.partners = partners_of(c, f, movable);
         const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
         if (!snapped.found) {
-          why = snapped.reason;
+          why = off_grid_ok ? snapped.reason : breaks;
           continue;
         }
         next = *snapped.spline;
@@ -206,7 +216,6 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
         improved = true;
         break;
       }
-      why = "a fix of one check breaks another";
     }
     if (!improved) break;
   }

@@ -14,6 +14,7 @@
 #include "io/ufo.hpp"
 #include "report/gates.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/fix_json.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -24,27 +25,6 @@ namespace cmr::cli {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json point_json(Vec2 p) { return Json::array({p.x, p.y}); }
-
-/// The verdicts of the certificate, as `cmr analyze` prints them.
-Json certificate_json(const FixResult& f, const FixRequirement& req) {
-  const SplineAnalysis& a = f.certificate;
-  Json j = {{"requirement", to_string(req)},
-            {"holds", f.certificate_holds},
-            {"ties", f.ties_hold},
-            {"cmrwi", to_string(a.cmrwi)},
-            {"cmr", to_string(a.cmr)},
-            {"cmr_algorithm2", to_string(a.cmr_algorithm2)}};
-  if (a.split) j["split"] = to_string(*a.split);
-  Json joints = Json::array();
-  std::vector<Joint> all = a.joints;
-  if (a.seam) all.push_back(*a.seam);
-  for (const Joint& jt : all)
-    joints.push_back({{"index", jt.index}, {"continuity", "C" + std::to_string(jt.continuity)}, {"g1", jt.g1}, {"g2", jt.g2}});
-  j["joints"] = joints;
-  return j;
-}
 
 /// Before and after: the first moved point's region (its unit's group
 /// moving with it, the requirement's labels) on the original curve with the
@@ -122,8 +102,8 @@ void run_source_fix(const SourceFixArgs& a) {
     for (std::size_t i = 0; i < f.moves.size(); ++i) {
       const PointMove& m = f.moves[i];
       moves.push_back({{"point", f.names[i]},
-                       {"from", point_json(m.from)},
-                       {"to", point_json(m.to)},
+                       {"from", Json::array({m.from.x, m.from.y})},
+                       {"to", Json::array({m.to.x, m.to.y})},
                        {"distance", m.distance}});
       if (f.source_points[i] >= 0) edits.push_back({f.contour, f.source_points[i], m.to.x, m.to.y});
     }
@@ -244,37 +224,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     const BSpline spline = read_spline_file(args->file);
     const FixResult f = fix(spline, request);
     if (!f.fixed) throw InputError(args->file + ": " + f.reason);
-    Json moves = Json::array();
-    for (const PointMove& m : f.moves)
-      moves.push_back({{"point", m.point},
-                       {"from", point_json(m.from)},
-                       {"to", point_json(m.to)},
-                       {"displacement", point_json(m.to - m.from)},
-                       {"distance", m.distance},
-                       {"relative", m.distance / f.size}});
-    Json units = Json::array();
-    for (const UnitFix& u : f.units) {
-      Json ju = {{"points", u.points}, {"slide", u.slide}, {"found", u.found}};
-      if (u.found) ju["displacement"] = point_json(u.displacement), ju["distance"] = u.distance;
-      units.push_back(ju);
-    }
-    Json doc = {{"file", args->file},
-                {"require", to_string(request.requirement)},
-                {"segments", {f.certificate.range.first, f.certificate.range.last}},
-                {"keep", to_string(request.keep)},
-                {"already", f.already},
-                {"fixed", f.fixed},
-                {"moves", moves},
-                {"total_squared", f.total_squared},
-                {"max_distance", f.max_distance},
-                {"size", f.size},
-                {"tolerance", request.tolerance * f.size},
-                {"failing_segments", f.failing_segments},
-                {"tie_joints", f.tie_joints},
-                {"units", units},
-                {"certificate", certificate_json(f, request.requirement)},
-                {"evaluations", f.evaluations},
-                {"seconds", f.seconds}};
+    Json doc = report::fix_json(args->file, request, f);
     // All outputs or none (io/output.hpp).
     OutputSet outputs;
     if (!args->out.empty()) {

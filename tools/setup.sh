@@ -9,6 +9,9 @@
 # are for the STEP importer (step/); without them cmr builds without it.
 # python3-fonttools, python3-ufolib2 and fontmake make and build the test
 # UFOs of tests/report/ufo_source_test.py (tools/make_test_ufo.py).
+# pybind11-dev and python3-dev build the Python module (python/, import cmr);
+# python3-numpy, python3-pytest and python3-fonttools run it and its tests
+# (tests/python); python3-matplotlib is for cmr.plot and examples/python.
 set -euo pipefail
 
 packages=(
@@ -26,7 +29,8 @@ packages=(
   fonts-noto-core fonts-texgyre
   strace
   clang libclang-rt-14-dev
-  python3-fonttools python3-ufolib2 fontmake
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib
+  python3-ufolib2 fontmake
 )
 
 missing=()

@@ -184,12 +184,12 @@ def main():
         open(ds, "w").write('<?xml version="1.0"?>\n<designspace format="4.1">\n<axes>\n'
                             '<axis tag="wght" name="Weight" minimum="400" maximum="700" default="400"/>\n</axes>\n'
                             '<sources>\n<source filename="Nimbus.ufo"><location><dimension name="Weight" xvalue="400"/>'
-                            '</location></source>\n<source filename="Fixed.ufo"><location><dimension name="Weight" '
+                            '</location></source>\n<source filename="InPlace.ufo"><location><dimension name="Weight" '
                             'xvalue="700"/></location></source>\n</sources>\n</designspace>\n')
         r = run("report", "Family.designspace", "--out", "rd", "--no-thumbnails", "--quiet", cwd=tmp)
         check("a designspace reports its masters", "2 fonts" in r.stdout, r.stdout + r.stderr)
         doc = open(ds).read()
-        open(ds, "w").write(doc.replace("Fixed.ufo", "Missing.ufo"))
+        open(ds, "w").write(doc.replace("InPlace.ufo", "Missing.ufo"))
         r = run("report", "Family.designspace", "--out", "rd2", "--no-thumbnails", "--quiet", cwd=tmp)
         check("a designspace naming a missing source: exit 2 with the line",
               r.returncode == 2 and re.search(r"Family\.designspace:\d+: the source 'Missing.ufo' does not exist", r.stderr),
