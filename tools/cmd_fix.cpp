@@ -170,7 +170,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, no-inflection, "
                   "g2-at-smooth-nodes[:tol], each-run");
   cmd->add_option("--points", args->points,
-                  "points that may move (K,K2,...); several move together. Default: every point but an open "
+                  "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");
   cmd->add_option("--keep", args->keep, "ties kept at joints: g1 (default), g2, none")
       ->check(CLI::IsMember({"g1", "g2", "none"}));
@@ -215,20 +215,28 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     FixRequest request;
     request.requirement = parse_fix_requirement(args->require);
     if (!args->segments.empty()) request.requirement.segments = parse_segment_range(args->segments);
-    if (!args->points.empty()) request.points = parse_point_list(args->points);
+    // A spline file from `cmr import` names its points ("point_names"):
+    // --points takes those names, and --out keeps them.
+    const nlohmann::json document = read_spline_document(args->file);
+    const BSpline spline = spline_from_document(document, args->file);
+    std::vector<std::string> names;
+    if (document.is_object() && document.contains("point_names") && document["point_names"].is_array())
+      for (const auto& n : document["point_names"]) names.push_back(n.is_string() ? n.get<std::string>() : std::string());
+    if (!args->points.empty()) request.points = parse_point_list(args->points, names);
     request.together = request.points.size() > 1;
     request.keep = args->keep == "g2" ? Keep::g2 : args->keep == "none" ? Keep::none : Keep::g1;
     request.max_move = args->max_move;
     request.tolerance = args->tolerance;
     request.max_depth = args->depth;
-    const BSpline spline = read_spline_file(args->file);
     const FixResult f = fix(spline, request);
     if (!f.fixed) throw InputError(args->file + ": " + f.reason);
     Json doc = report::fix_json(args->file, request, f);
     // All outputs or none (io/output.hpp).
     OutputSet outputs;
     if (!args->out.empty()) {
-      outputs.stage(args->out, spline_to_json(*f.spline).dump(2) + "\n");
+      nlohmann::json fixed = spline_to_json(*f.spline);
+      if (!names.empty()) fixed["point_names"] = names;
+      outputs.stage(args->out, fixed.dump(2) + "\n");
       doc["out"] = args->out;
     }
     if (!args->png.empty()) {

@@ -90,6 +90,13 @@ def main():
         r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "imp", cwd=tmp)
         names = json.load(open(os.path.join(tmp, "imp", "O_c0.json")))["point_names"] if r.returncode == 0 else []
         check("import names points GLYPH/cC/pP", names[:3] == ["O/c0/p0", "O/c0/p1", "O/c0/p2"], str(names[:3]) + r.stderr)
+        r = run("fix", "imp/O_c0.json", "--require", "extrema-at-nodes", "--points", "p1,O/c0/p5,p11,p14", "--out",
+                "o.json", cwd=tmp)
+        check("fix --points takes the report's point names", r.returncode == 0, r.stderr)
+        out = json.load(open(os.path.join(tmp, "o.json"))) if r.returncode == 0 else {}
+        check("fix --out keeps point_names", out.get("point_names", [])[:2] == ["O/c0/p0", "O/c0/p1"], str(out)[:200])
+        r = run("fix", "imp/O_c0.json", "--points", "zz", cwd=tmp)
+        check("fix --points with an unknown name: exit 2", r.returncode == 2 and "'zz'" in r.stderr, r.stderr)
         r = run("import", os.path.join(dejavu, "glyphs", "o.glif"), "--out", "imp2", cwd=tmp)
         doc = json.load(open(os.path.join(tmp, "imp2", "o_c0.json"))) if r.returncode == 0 else {}
         check("a qcurve .glif imports as a quadratic spline", doc.get("degree") == 2, r.stderr)
