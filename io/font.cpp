@@ -11,6 +11,7 @@
 #include FT_FREETYPE_H
 #include FT_OUTLINE_H
 #include FT_FONT_FORMATS_H
+#include FT_MULTIPLE_MASTERS_H
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -19,6 +20,13 @@
 
 namespace cmr::import {
 namespace {
+
+/// A location's value as written: "700", "14.5".
+std::string format_location_value(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 /// Decodes one UTF-8 character at text[i] (advancing i); InputError if malformed.
 std::uint32_t utf8_at(const std::string& text, std::size_t& i) {
@@ -294,7 +302,66 @@ bool is_font_path(const std::filesystem::path& path) {
   return false;
 }
 
-Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints) {
+Location parse_location(const std::string& text) {
+  Location out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0 || eq > 4)
+      throw InputError("--location: '" + item + "' is not TAG=VALUE (an axis tag of at most 4 characters: wght=700)");
+    const std::string value = item.substr(eq + 1);
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != 0 || !std::isfinite(v))
+      throw InputError("--location: '" + value + "' (axis " + item.substr(0, eq) + ") is not a number");
+    out.emplace_back(item.substr(0, eq), v);
+  }
+  return out;
+}
+
+namespace {
+
+/// Sets the face to the instance at `location` (see read_font).
+void set_location(FT_Library lib, FT_Face face, const Location& location, const std::string& path, Font& font) {
+  FT_MM_Var* mm = nullptr;
+  if (!FT_HAS_MULTIPLE_MASTERS(face) || FT_Get_MM_Var(face, &mm) != 0)
+    throw InputError(path + ": not a variable font (no fvar table), so --location does not apply");
+  struct Done {
+    FT_Library lib;
+    FT_MM_Var* mm;
+    ~Done() { FT_Done_MM_Var(lib, mm); }
+  } done{lib, mm};
+  std::vector<FT_Fixed> coords(mm->num_axis);
+  for (FT_UInt a = 0; a < mm->num_axis; ++a) coords[a] = mm->axis[a].def;
+  std::string named;
+  for (const auto& [tag, value] : location) {
+    FT_UInt a = 0;
+    for (; a < mm->num_axis; ++a) {
+      const FT_ULong t = mm->axis[a].tag;
+      const std::string name{static_cast<char>(t >> 24), static_cast<char>((t >> 16) & 0xFF),
+                             static_cast<char>((t >> 8) & 0xFF), static_cast<char>(t & 0xFF)};
+      if (name == tag || (tag.size() < 4 && name == tag + std::string(4 - tag.size(), ' '))) break;
+    }
+    if (a == mm->num_axis) throw InputError(path + ": --location: the font has no axis '" + tag + "'");
+    const double lo = mm->axis[a].minimum / 65536.0, hi = mm->axis[a].maximum / 65536.0;
+    if (value < lo || value > hi)
+      throw InputError(path + ": --location: " + tag + "=" + format_location_value(value) + " is outside the axis's range [" +
+                       format_location_value(lo) + ", " + format_location_value(hi) + "]");
+    coords[a] = static_cast<FT_Fixed>(std::lround(value * 65536.0));
+    named += (named.empty() ? "" : ",") + tag + "=" + format_location_value(value);
+  }
+  if (FT_Set_Var_Design_Coordinates(face, mm->num_axis, coords.data()) != 0)
+    throw InputError(path + ": FreeType cannot set the location " + named);
+  font.style += (font.style.empty() ? "" : " ") + std::string("@") + named;
+}
+
+}  // namespace
+
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
+               const Location& location) {
   static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
   // Read as every input is (regular files only, size-limited: a FIFO or a
   // device is refused at once); the bytes outlive the face.
@@ -314,6 +381,7 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   // a spline of the font's degree too.
   const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
   font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
+  if (!location.empty()) set_location(library.lib, face.get(), location, path.string(), font);
   const int font_degree = font.cubic ? 3 : 2;
   std::vector<std::uint32_t> every;  // no code points asked for: every one the character map has
   if (codepoints.empty()) {

@@ -111,9 +111,20 @@ std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec);
 /// .otc, .cff, .pfb, .pfa, .t1, .woff), by its extension.
 bool is_font_path(const std::filesystem::path& path);
 
+/// A variable font's instance: axis tag -> user value ("wght=700,opsz=14").
+using Location = std::vector<std::pair<std::string, double>>;
+/// Parses "TAG=VALUE,TAG=VALUE" (InputError "--location: ..." otherwise).
+Location parse_location(const std::string& text);
+
 /// Loads the glyphs of `codepoints` (unscaled, unhinted); none given: every
-/// code point of the font's character map, in code point order.
-Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints);
+/// code point of the font's character map, in code point order. With a
+/// `location`, the glyphs of that instance of a variable font (TrueType
+/// gvar or CFF2, through FreeType's variation API: design coordinates, so
+/// `avar` is applied), axes not named at their defaults; InputError for a
+/// font without variations (no fvar), an axis it does not have or a value
+/// outside the axis's range. Font::style then names the location.
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
+               const Location& location = {});
 
 /// The contour as a spline file (spline_to_json plus "point_names").
 nlohmann::json contour_json(const Contour& contour);

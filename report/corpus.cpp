@@ -202,7 +202,7 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
       case FileKind::font:
         w.font = font_inputs(import::is_ufo_path(path)
                                  ? import::read_ufo(path, {options.all_glyphs, options.codepoints, {}})
-                                 : import::read_font(path, options.codepoints),
+                                 : import::read_font(path, options.codepoints, options.location),
                              inputs);
         o.certified_fixes = options.fixes;
         break;

@@ -87,6 +87,7 @@ struct BatchOptions {
   ReportOptions report;                 ///< per spline (report.hpp); report.threads: 0 = every core
   std::vector<std::uint32_t> codepoints;  ///< the glyphs of the fonts
   bool all_glyphs = false;              ///< every glyph of a font source (UFO), whatever its code points
+  import::Location location;            ///< a variable font's instance (binary fonts; io/font.hpp)
   std::filesystem::path out;            ///< report.json, index.html, the pages
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json

@@ -24,6 +24,7 @@ struct ImportArgs {
   std::string glyphs = "A-Z,a-z";
   std::string out = ".";
   bool y_down = false;
+  std::string location;
 };
 
 }  // namespace
@@ -36,6 +37,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated), or all")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
+  cmd->add_option("--location", args->location, "variable fonts: the instance, axis tags and user values (wght=700,opsz=14)");
   cmd->add_flag("--y-down", args->y_down,
                 "SVG: keep SVG's y-down coordinates (default: flipped to cmr's y-up frame, (x, y) -> (x, -y))");
   cmd->callback([args, cmd, &exit_code] {
@@ -97,7 +99,10 @@ void add_import_command(CLI::App& app, int& exit_code) {
       const import::Font font =
           import::is_ufo_path(input)
               ? import::read_ufo(input, {all, all ? std::vector<std::uint32_t>{} : import::parse_glyph_spec(args->glyphs), {}})
-              : import::read_font(input, all ? std::vector<std::uint32_t>{} : import::parse_glyph_spec(args->glyphs));
+              : import::read_font(input, all ? std::vector<std::uint32_t>{} : import::parse_glyph_spec(args->glyphs),
+                                  args->location.empty() ? import::Location{} : import::parse_location(args->location));
+      if (!args->location.empty() && import::is_ufo_path(input))
+        throw InputError("--location: for variable fonts (.ttf, .otf), not for " + args->input);
       for (const import::Glyph& g : font.glyphs) {
         if (!g.error.empty()) throw InputError(g.error);  // all or none: the source names the line
         for (const std::string& n : g.notes) std::cerr << "note: " << g.name << ": " << n << '\n';

@@ -45,6 +45,7 @@ struct ReportArgs {
   int region_size = 96;
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
+  std::string location;
   report::FileFilter filter;  // folders: --include / --exclude
   std::string junit, sarif, baseline;
   bool quiet = false;
@@ -79,6 +80,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
                   "character of a font")->capture_default_str();
+  cmd->add_option("--location", args->location,
+                  "variable fonts: the instance to judge, axis tags and user values (wght=700,opsz=14); default: the "
+                  "default instance");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
            kMaxDepth)
       ->capture_default_str();
@@ -125,6 +129,12 @@ void add_report_command(CLI::App& app, int& exit_code) {
     report::BatchOptions b;
     b.all_glyphs = args->glyphs == "all";
     if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(args->glyphs);
+    if (!args->location.empty()) {
+      for (const std::string& f : args->files)
+        if (!import::is_font_path(f))
+          throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
+      b.location = import::parse_location(args->location);
+    }
     b.out = args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;

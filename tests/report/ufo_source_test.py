@@ -186,6 +186,23 @@ def main():
         r = run("fix", "Nimbus.ufo", "--glyph", "nosuch", "--require", "extrema-at-nodes", "--out", "x.ufo", cwd=tmp)
         check("fix of an unknown glyph: exit 2", r.returncode == 2 and "no glyph named 'nosuch'" in r.stderr, r.stderr)
 
+        # a variable font's instance (--location, FreeType's variation API)
+        inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
+        if os.path.exists(inter):
+            pts = {}
+            for w in ("100", "900"):
+                r = run("import", inter, "--glyphs", "O", "--location", "wght=" + w, "--out", "v" + w, cwd=tmp)
+                files = sorted(os.listdir(os.path.join(tmp, "v" + w))) if r.returncode == 0 else []
+                pts[w] = json.load(open(os.path.join(tmp, "v" + w, files[0])))["points"] if files else None
+            check("--location: two instances of Inter differ", pts["100"] and pts["900"] and pts["100"] != pts["900"]
+                  and len(pts["100"]) == len(pts["900"]), str(pts)[:200])
+            r = run("import", inter, "--glyphs", "O", "--location", "wght=2000", "--out", "vbad", cwd=tmp)
+            check("--location outside the axis: exit 2", r.returncode == 2 and "outside the axis's range" in r.stderr, r.stderr)
+            r = run("import", inter, "--glyphs", "O", "--location", "zzzz=1", "--out", "vbad", cwd=tmp)
+            check("--location on an unknown axis: exit 2", r.returncode == 2 and "no axis 'zzzz'" in r.stderr, r.stderr)
+        r = run("import", DEJAVU, "--glyphs", "O", "--location", "wght=400", "--out", "vbad", cwd=tmp)
+        check("--location on a font without fvar: exit 2", r.returncode == 2 and "not a variable font" in r.stderr, r.stderr)
+
         # a designspace: its masters reported as fonts
         ds = os.path.join(tmp, "Family.designspace")
         open(ds, "w").write('<?xml version="1.0"?>\n<designspace format="4.1">\n<axes>\n'
