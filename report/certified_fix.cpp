@@ -56,7 +56,7 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
 /// The fix requirement that implies a gate (docs/fix.md, "In the report"):
 /// every segment monotone has no extremum inside (max-extrema-per-segment:N
 /// for any N); each run between on-curve nodes monotone has rising, then
-/// falling peaks (extrema-at-nodes:runs); no-inflection and g2 are their own.
+/// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
 FixRequirement requirement_of(const Gate& gate) {
   FixRequirement req;
   switch (gate.kind) {
