@@ -49,7 +49,9 @@ check(steps[-1]["run"].strip() == "exit ${{ steps.qa.outputs.code }}", "the last
 with tempfile.TemporaryDirectory() as root:
     os.makedirs(os.path.join(root, env["QA_INPUT"]))
     shutil.copy(font, os.path.join(root, env["QA_INPUT"], os.path.basename(font)))
-    shell_env = dict(os.environ, **{k: str(v) for k, v in env.items()}, QA_GLYPHS="O,o,H,e")
+    shell_env = dict(os.environ)
+    shell_env.update({k: str(v) for k, v in env.items()})
+    shell_env["QA_GLYPHS"] = "O,o,H,e"
     shell_env.pop("CI", None)
     run = command.replace("cmr ", binary + " ", 1)
     # docs/report.md, step 1: accept today's state (the command without the baseline).
