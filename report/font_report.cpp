@@ -106,8 +106,12 @@ std::string move_marks(const std::vector<const CertifiedFix*>& fixes) {
   std::string arrows, dots;
   for (const CertifiedFix* f : fixes)
     for (const PointMove& m : f->moves) {
-      arrows.append("M").append(xy0(m.from)).append("L").append(xy0(m.to));
-      dots.append("M").append(xy0(m.to)).append("h0");
+      // Whole units; the arrow as a relative line (fewer digits).
+      const long fx = std::lround(m.from.x), fy = std::lround(-m.from.y);
+      const long tx = std::lround(m.to.x), ty = std::lround(-m.to.y);
+      arrows.append("M").append(std::to_string(fx)).append(",").append(std::to_string(fy));
+      arrows.append("l").append(std::to_string(tx - fx)).append(",").append(std::to_string(ty - fy));
+      dots.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty)).append("h0");
     }
   if (arrows.empty()) return {};
   return "<path class=\"f\" d=\"" + arrows + "\"/><path class=\"fp\" d=\"" + dots + "\"/>";

@@ -13,7 +13,10 @@ constexpr const char* kClose = "\n</details>\n";
 /// Findings listed per failing glyph or spline (the others counted).
 constexpr std::size_t kFindingsPerCase = 3;
 
-std::string code(const std::string& text) { return "`" + text + "`"; }  // gate names: no backticks in them
+/// A code span, or escaped text where the text holds a backtick (a file name could).
+std::string code(const std::string& text) {
+  return text.find('`') == std::string::npos ? "`" + text + "`" : markdown_escape(text);
+}
 
 /// "12 failing glyphs" / "1 failing spline".
 std::string count_text(int n, const char* one, const char* many) {
