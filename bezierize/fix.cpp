@@ -31,7 +31,9 @@ FixRequirement parse_fix_requirement(const std::string& text) {
   FixRequirement r;
   if (text == "cmrwi") return r.kind = FixRequirement::Kind::cmrwi, r;
   if (text == "cmr") return r.kind = FixRequirement::Kind::cmr, r;
-  if (text == "extrema-at-nodes") return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
+  // extrema-at-nodes: the gate's name before issue 36, kept as an alias.
+  if (text == "curvature-extrema-at-nodes" || text == "extrema-at-nodes")
+    return r.kind = FixRequirement::Kind::extrema_at_nodes, r;
   if (text == "each-piece") return r.kind = FixRequirement::Kind::each_piece, r;
   if (text == "no-inflection") return r.kind = FixRequirement::Kind::no_inflection, r;
   if (text == "each-run") return r.kind = FixRequirement::Kind::each_run, r;
@@ -69,15 +71,15 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
   }
   throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, "
-                   "no-inflection, g2-at-smooth-nodes[:tol] or each-run");
+                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
+                   "(alias extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol] or each-run");
 }
 
 std::string to_string(const FixRequirement& r) {
   switch (r.kind) {
     case FixRequirement::Kind::cmrwi: return "cmrwi";
     case FixRequirement::Kind::cmr: return "cmr";
-    case FixRequirement::Kind::extrema_at_nodes: return "extrema-at-nodes";
+    case FixRequirement::Kind::extrema_at_nodes: return "curvature-extrema-at-nodes";
     case FixRequirement::Kind::each_piece: return "each-piece";
     case FixRequirement::Kind::no_inflection: return "no-inflection";
     case FixRequirement::Kind::each_run: return "each-run";

@@ -68,7 +68,7 @@
 namespace cmr {
 
 /// What the fixed curve must satisfy (the requirement of `cmr report
-/// --require`, and the extrema-at-nodes gate).
+/// --require`, and the curvature-extrema-at-nodes gate).
 struct FixRequirement {
   enum class Kind : std::uint8_t { cmrwi, cmr, split, each_piece, extrema_at_nodes, no_inflection, g2, each_run };
   /// Which extremum split:S asks for at joint S, read in |kappa| as the
@@ -105,7 +105,7 @@ struct FixRequirement {
 FixRequirement resolve_requirement(const BSpline& spline, FixRequirement requirement);
 
 /// Parses "cmrwi", "cmr", "split:S", "split:S:sharpest|flattest",
-/// "each-piece", "extrema-at-nodes", "no-inflection",
+/// "each-piece", "curvature-extrema-at-nodes" (alias "extrema-at-nodes"), "no-inflection",
 /// "g2-at-smooth-nodes[:tol]" and "each-run". "split:S:max|min" (signed curvature,
 /// which flips with the direction of travel) is refused with a hint, as in
 /// `cmr report`. InputError names the text otherwise.
@@ -123,7 +123,7 @@ AnalyzeOptions fix_analyze_options(const FixRequirement& requirement, int max_de
 ///    :flattest, the extremum at S has that |kappa| reading (split_extremum_kind);
 ///  each-piece: every piece monotone on its own, in either direction
 ///    (SplineAnalysis::each_piece is monotone);
-///  extrema-at-nodes: every segment's curvature is certified monotone
+///  curvature-extrema-at-nodes: every segment's curvature is certified monotone
 ///    (Algorithm 1: increasing, decreasing or constant), so no extremum lies
 ///    inside a segment. This is the gate's sufficient condition: a touching
 ///    zero of lambda that the gate would not count, or the depth limit, fails it.

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "report/gates.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -41,7 +42,12 @@ std::vector<std::string> read_baseline(const std::filesystem::path& path) {
     for (const auto& f : s["findings"]) {
       if (!f.is_object() || !f.contains("key") || !f["key"].is_string())
         throw InputError(name + ": a finding of spline '" + s.value("name", std::string("?")) + "' has no key");
-      keys.push_back(f["key"].get<std::string>());
+      // A baseline accepted before the gate's rename names it by its alias
+      // (extrema-at-nodes): the gate is the key's last field.
+      std::string key = f["key"].get<std::string>();
+      const std::size_t bar = key.rfind('|');
+      if (bar != std::string::npos) key = key.substr(0, bar + 1) + canonical_gate_name(key.substr(bar + 1));
+      keys.push_back(std::move(key));
     }
   }
   return keys;

@@ -2,9 +2,9 @@
 /// The smallest certified fix of each failing check of a report
 /// (bezierize/fix.hpp): the requirement (cmrwi, cmr, split:S[:sharpest|
 /// flattest]) and every failing gate, each through a fix requirement that
-/// implies it (extrema-at-nodes and max-extrema-per-segment:N: every segment
+/// implies it (curvature-extrema-at-nodes and max-extrema-per-segment:N: every segment
 /// monotone; each-piece; no-inflection; g2-at-smooth-nodes:tol: g2 at every
-/// smooth joint; extrema-at-nodes:runs: each-run, every run between on-curve
+/// smooth joint; curvature-extrema-at-nodes:runs: each-run, every run between on-curve
 /// nodes monotone, and where that has no fix the valleys' own handles
 /// searched with the gate itself as fix()'s judge, FixRequest::judge). Each is fix() with the report's depth, the spline's G1
 /// joints kept, the end points of an open spline fixed, and a time limit;
@@ -29,10 +29,10 @@ struct ReportOptions;
 
 /// One check's fix: which points move where, and the certificate.
 struct CertifiedFix {
-  std::string check;              ///< "cmr", "split:2:sharpest", "extrema-at-nodes", "no-inflection"
+  std::string check;              ///< "cmr", "split:2:sharpest", "curvature-extrema-at-nodes", "no-inflection"
   /// The fix requirement searched when it differs from the check (a gate's:
-  /// "extrema-at-nodes" for max-extrema-per-segment:N, "each-run" for
-  /// extrema-at-nodes:runs); empty otherwise.
+  /// "curvature-extrema-at-nodes" for max-extrema-per-segment:N, "each-run" for
+  /// curvature-extrema-at-nodes:runs); empty otherwise.
   std::string requirement;
   bool found = false;             ///< a fix the certificate holds for
   std::vector<PointMove> moves;   ///< empty when none
@@ -47,7 +47,7 @@ struct CertifiedFix {
 /// The fix requirement that implies a gate (docs/fix.md, "In the report"):
 /// every segment monotone has no extremum inside (max-extrema-per-segment:N
 /// for any N); each run between on-curve nodes monotone has rising, then
-/// falling peaks (extrema-at-nodes:runs); no-inflection and g2 are their own.
+/// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
 FixRequirement requirement_of(const Gate& gate);
 
 /// Time limit of each fix in a report (seconds).

@@ -24,6 +24,7 @@
 #include "report/baseline.hpp"
 #include "report/json_stream.hpp"
 #include "report/junit.hpp"
+#include "report/markdown.hpp"
 #include "report/sarif.hpp"
 #include "report/batch.hpp"
 #include "spline/errors.hpp"
@@ -93,7 +94,8 @@ FileKind file_kind(const std::string& path) {
   return ext == ".svg" ? FileKind::svg : FileKind::spline;
 }
 
-std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter) {
+std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
+                                       std::vector<std::string>* bases) {
   std::vector<std::string> out;
   for (const std::string& a : args) {
     std::error_code ec;
@@ -106,10 +108,12 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
       const std::size_t before = out.size();
       walk(a, filter, out);
       if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
+      if (bases) bases->resize(out.size(), a);
       continue;
     }
     if (fs::exists(st) || !has_glob(a)) {
       out.push_back(a);  // a file, or a name that is not there: reported as an invalid input
+      if (bases) bases->resize(out.size(), "");
       continue;
     }
     glob_t g{};
@@ -122,10 +126,54 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
     for (const std::string& m : matched) {
       if (fs::is_directory(m, ec)) walk(m, filter, out);
       else if (wanted(m, fs::path(m).filename().string(), filter)) out.push_back(m);
+      if (bases) bases->resize(out.size(), fs::is_directory(m, ec) ? m : "");
     }
     if (out.size() == before) throw InputError(a + ": matches no file");
   }
   return out;
+}
+
+// ------------------------------------------------------------ names
+
+namespace {
+
+/// `p` absolute and normal, its folder's symbolic links resolved (not its
+/// own: a font that is a link keeps its name).
+fs::path resolved(const fs::path& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p.empty() ? fs::path(".") : p, ec).lexically_normal();
+  if (ec) return p;
+  if (!a.has_filename()) a = a.parent_path();  // "in/" names the folder in
+  fs::path folder = fs::weakly_canonical(a.parent_path(), ec);
+  if (ec) folder = a.parent_path();
+  return (folder / a.filename()).lexically_normal();
+}
+
+fs::path resolved_folder(const std::string& folder) {
+  std::error_code ec;
+  fs::path a = fs::weakly_canonical(fs::absolute(folder.empty() ? fs::path(".") : fs::path(folder), ec), ec);
+  return ec ? fs::absolute(folder.empty() ? fs::path(".") : fs::path(folder)).lexically_normal() : a;
+}
+
+}  // namespace
+
+std::string source_name(const std::string& file, const std::string& base) {
+  const fs::path rel = resolved(file).lexically_relative(resolved_folder(base));
+  return rel.empty() ? file : rel.generic_string();
+}
+
+std::string source_uri(const std::string& file, const std::string& root, bool* relative) {
+  const fs::path abs = resolved(file);
+  const fs::path rel = abs.lexically_relative(resolved_folder(root));
+  const bool inside = !rel.empty() && *rel.begin() != "..";
+  if (relative) *relative = inside;
+  return path_uri(inside ? rel.generic_string() : abs.generic_string());
+}
+
+std::string source_uri_base(const std::string& root) {
+  std::string uri = path_uri(resolved_folder(root).generic_string());  // "file:///abs/root"
+  if (uri.back() != '/') uri += '/';
+  return uri;
 }
 
 // ------------------------------------------------------------ summaries
@@ -183,6 +231,9 @@ namespace {
 /// A file's reports while they are written (then dropped).
 struct FileWork {
   std::string path;
+  std::string name;  ///< its findings' file name (source_name)
+  std::string uri;   ///< its SARIF artifact URI (source_uri)
+  bool uri_relative = false;
   FileKind kind = FileKind::spline;
   std::optional<FontInfo> font;
   std::vector<SplineReport> reports;
@@ -366,6 +417,7 @@ class Writer {
     json_ = out_.stage_stream(options.out / "report.json");
     sections_.reset(std::tmpfile());
     if (!sections_) throw EnvironmentError("a temporary file for the page: cannot be created");
+    if (options.markdown) markdown_.emplace(options.report, options.markdown_limit);
     if (options.baseline) {
       baseline_.emplace(read_baseline(*options.baseline));
       summary_.baseline = true;
@@ -374,7 +426,8 @@ class Writer {
     Json settings = report_json({}, options.report)["settings"];
     json_.write("{\"schema\":\"" + std::string(kSchema) + "\",\"settings\":" + dump(settings) + ",\"splines\":[");
     if (junit_.is_open()) junit_.write(junit_header());
-    if (sarif_.is_open()) sarif_.write(sarif_header(options.report));
+    if (sarif_.is_open())
+      sarif_.write(sarif_header(options.report, source_uri_base(options.source_root ? options.source_root->string() : "")));
     timestamp_ = now_iso8601();
     host_ = host_name();
   }
@@ -409,7 +462,7 @@ class Writer {
       const SplineReport& r = w.reports[i];
       if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
       if (w.font && names[i].glyph.empty()) names[i].glyph = r.name;  // an unreadable font: its one invalid item
-      item_findings[i] = findings_of(r, w.path, names[i], options_.report);
+      item_findings[i] = findings_of(r, w.name, names[i], options_.report);
       SplineJsonExtras extras;
       extras.source = &w.path;
       extras.glyph = names[i].glyph;
@@ -482,8 +535,16 @@ class Writer {
     // SARIF results without a baseline state (write adds it: the last member).
     if (options_.sarif) {
       for (const CaseRecord& c : rec.cases) {
-        if (!c.error.empty()) p.sarif.push_back(sarif_invalid(rec.path, c.name, c.error, options_.report));
-        for (const Finding& f : c.findings) p.sarif.push_back(sarif_result(f, options_.report, nullptr));
+        if (!c.error.empty()) p.sarif.push_back(sarif_invalid(w.uri, w.uri_relative, c.name, c.error, options_.report));
+        for (const Finding& f : c.findings)
+          if (f.source.empty()) {
+            p.sarif.push_back(sarif_result(f, w.uri, w.uri_relative, options_.report, nullptr));
+          } else {  // a font source's finding: its .glif, on the <point>'s line
+            bool relative = false;
+            const std::string uri =
+                source_uri(f.source, options_.source_root ? options_.source_root->string() : std::string(), &relative);
+            p.sarif.push_back(sarif_result(f, uri, relative, options_.report, nullptr));
+          }
       }
     }
     if (options_.junit) p.junit = junit_suite(rec, 0, timestamp_, host_);
@@ -579,6 +640,7 @@ class Writer {
       }
     }
     if (!sarif.empty()) sarif_.write(sarif);
+    if (markdown_) markdown_->add(rec, w.name, rec.kind == FileKind::font ? rec.title : std::string());
     if (junit_.is_open()) {  // junit_suite with this file's index as its id
       static constexpr std::string_view kHead = "  <testsuite id=\"0\"";
       if (p.junit.compare(0, kHead.size(), kHead) != 0) throw std::logic_error("JUnit: a suite without its id");
@@ -606,6 +668,8 @@ class Writer {
       s["baseline"] = {{"file", options_.baseline->string()}, {"new", summary_.new_findings},
                        {"fixed", summary_.fixed}, {"unchanged", summary_.unchanged}};
     json_.write(std::string(options_.pretty ? "\n" : "") + "],\"summary\":" + dump(s) + "}\n");
+    if (markdown_)
+      out_.stage(*options_.markdown, markdown_->finish(summary_, options_.baseline ? options_.baseline->string() : ""));
     json_.close();
     if (junit_.is_open()) {
       junit_.write(junit_footer());
@@ -715,6 +779,7 @@ class Writer {
   StagedStream json_, junit_, sarif_;
   std::unique_ptr<std::FILE, FileCloser> sections_;
   std::optional<BaselineComparison> baseline_;
+  std::optional<MarkdownSummary> markdown_;
   BatchSummary summary_;
   std::vector<FontRow> fonts_;
   std::vector<std::string> spline_rows_;
@@ -732,6 +797,15 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       static_cast<std::size_t>(std::count_if(files.begin(), files.end(), [](const std::string& f) { return file_kind(f) == FileKind::font; }));
   Writer writer(options, files.size(), fonts);
   const int threads = thread_count(options.report.threads);
+  // Each file's name in findings and its SARIF URI (independent of how its path was spelled).
+  const std::string root = options.source_root ? options.source_root->string() : std::string();
+  const auto process = [&](std::size_t i, int file_threads) {
+    FileWork w = process_file(files[i], options, file_threads);
+    const std::string base = options.source_root || i >= options.bases.size() ? root : options.bases[i];
+    w.name = source_name(files[i], base);
+    w.uri = source_uri(files[i], root, &w.uri_relative);
+    return w;
+  };
   int done = 0;
   auto written = [&](const std::string& path) {
     ++done;
@@ -741,8 +815,8 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
   // which is not shared between threads: with them, files go one by one.
   const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
   if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
-    for (const std::string& f : files) {  // one file at a time, its splines in parallel
-      PreparedFile p = writer.prepare(process_file(f, options, options.report.threads));
+    for (std::size_t i = 0; i < files.size(); ++i) {  // one file at a time, its splines in parallel
+      PreparedFile p = writer.prepare(process(i, options.report.threads));
       writer.write(p);
       written(p.rec.path);
     }
@@ -759,7 +833,7 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
     parallel_for(files.size(), threads, [&](std::size_t i) {
       PreparedFile w;
       try {
-        w = writer.prepare(process_file(files[i], options, 1));
+        w = writer.prepare(process(i, 1));
       } catch (...) {
         const std::lock_guard lock(m);
         abort = true;

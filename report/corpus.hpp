@@ -38,9 +38,26 @@ struct FileFilter {
 /// The files of `args`, in argument order (a folder's files sorted): a file
 /// as it is; a folder walked recursively (hidden entries skipped); an
 /// argument with * ? or [ that names no file, expanded as a glob (sorted; a
-/// folder it matches walked as a folder). InputError: "ARG: no such file or
-/// folder", "ARG: matches no file".
-std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter);
+/// folder it matches walked as a folder). With `bases`, each file's folder
+/// argument (the folder walked; "" for a file named or globbed) is
+/// appended to it, one per file: BatchOptions::bases. InputError: "ARG: no
+/// such file or folder", "ARG: matches no file".
+std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
+                                       std::vector<std::string>* bases = nullptr);
+
+/// The name a run gives `file` in its findings (Finding::file, and so in a
+/// baseline's keys): its path relative to the folder `base` ("" is the
+/// working folder), '/'-separated, whatever the spelling: `/abs/in/a.ttf`,
+/// `in/a.ttf` and `./in//a.ttf` against `in` (or `/abs/in`) are all `a.ttf`.
+/// Both are made absolute with the symbolic links of their folders
+/// resolved (a font that is itself a link keeps its own name). A file
+/// outside `base` gets a name with `..`.
+std::string source_name(const std::string& file, const std::string& base);
+/// The SARIF artifact URI of `file` relative to the folder `root` ("" is the
+/// working folder): a percent-encoded relative reference when the file lies
+/// under `root` (SARIF's uriBaseId SRCROOT), else an absolute file:// URI;
+/// `relative` says which.
+std::string source_uri(const std::string& file, const std::string& root, bool* relative = nullptr);
 
 enum class FileKind : std::uint8_t { spline, svg, font };
 /// By extension: fonts (io/font.hpp) and font sources (.ufo, .glif: io/ufo.hpp), .svg, else a spline file.
@@ -48,11 +65,11 @@ FileKind file_kind(const std::string& path);
 
 /// One violation with its stable identity.
 struct Finding {
-  std::string file;     ///< the input file, as collected
+  std::string file;     ///< the input file's name: relative to its folder argument or the source root (source_name)
   std::string glyph;    ///< glyph name (fonts), else the spline's name
   int contour = 0;      ///< contour of the glyph (0 for a spline)
   std::string node;     ///< "p12" (a node), "p12-p15" (the segment between two nodes), "segment 3", "joint 2"; "" for the whole spline
-  std::string gate;     ///< the gate's text ("extrema-at-nodes"), or the check ("cmr") for a spline failing it
+  std::string gate;     ///< the gate's text ("curvature-extrema-at-nodes"), or the check ("cmr") for a spline failing it
   std::string message;  ///< one line a designer can act on (node names, what to move)
   /// Font sources: the .glif the finding lies in and the line of the <point>
   /// it names (the node, or the first handle to move); "" and 0 otherwise.
@@ -91,6 +108,19 @@ struct BatchOptions {
   std::filesystem::path out;            ///< report.json, index.html, the pages
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json
+  /// Per file of the run (collect_files' bases): the folder its findings'
+  /// file name is taken relative to ("", or no entry: the working folder),
+  /// so that a baseline does not depend on how a path was spelled.
+  std::vector<std::string> bases;
+  /// --source-root: every finding's file name, and SARIF's artifact URIs,
+  /// relative to this folder (instead of the folder given; SARIF's default
+  /// root is the working folder).
+  std::optional<std::filesystem::path> source_root;
+  /// --markdown: a GitHub-flavoured Markdown summary (report/markdown.hpp).
+  std::optional<std::filesystem::path> markdown;
+  /// The Markdown summary's size limit in bytes (a GitHub comment takes
+  /// 65,536 characters); tests set a small one.
+  std::size_t markdown_limit = 65536;
   bool pretty = false;                  ///< indent report.json
   /// Search the certified fixes of the failing contours of fonts (with
   /// report.regions, report/certified_fix.hpp); off: thumbnails without fixes.

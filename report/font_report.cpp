@@ -55,11 +55,11 @@ std::string code_label(std::uint32_t c) {
 /// A glyph's contours in font units (y up) as SVG elements in a y-down
 /// frame: outlines from the segments' own Bezier points (exact for degrees 2
 /// and 3), the curvature comb (teeth along the normal, kappa scaled so that
-/// the longest tooth is kCombLength of the em), gate violations in red and
-/// the moves of the certified fix (first_fix) in blue.
+/// the longest tooth is kCombLength of the em) and gate violations in red.
+/// The moves of the certified fixes are drawn on the fixed picture only
+/// (fixed_glyph_svg).
 struct GlyphPicture {
   std::string body;
-  std::string moves;  // the fixes' arrows, drawn after body in `<g id="ID-m">` (the fixed picture reuses it)
   double x0 = 0, y0 = 0, x1 = 1, y1 = 1;  // bounding box in font units
 };
 
@@ -99,20 +99,22 @@ std::string outline_d(const BSpline& s) {
 /// The moves of fixes as arrows: a line from the old to the new position and
 /// a dot on the new one, every move of the glyph in two paths (subpaths; the
 /// dot a zero-length stroke with round caps), so that the attributes come
-/// once per glyph, not once per move. The colours are attributes: the
-/// thumbnail's and the fixed picture's <use> clones are not reached by the
-/// page's style sheet.
+/// once per glyph, not once per move. Drawn in the page itself (the fixed
+/// picture, never a <use> clone), so the page's style sheet gives the
+/// colours (classes f and fp) and the paths carry none.
 std::string move_marks(const std::vector<const CertifiedFix*>& fixes) {
   std::string arrows, dots;
   for (const CertifiedFix* f : fixes)
     for (const PointMove& m : f->moves) {
-      arrows.append("M").append(xy0(m.from)).append("L").append(xy0(m.to));
-      dots.append("M").append(xy0(m.to)).append("h0");
+      // Whole units; the arrow as a relative line (fewer digits).
+      const long fx = std::lround(m.from.x), fy = std::lround(-m.from.y);
+      const long tx = std::lround(m.to.x), ty = std::lround(-m.to.y);
+      arrows.append("M").append(std::to_string(fx)).append(",").append(std::to_string(fy));
+      arrows.append("l").append(std::to_string(tx - fx)).append(",").append(std::to_string(ty - fy));
+      dots.append("M").append(std::to_string(tx)).append(",").append(std::to_string(ty)).append("h0");
     }
   if (arrows.empty()) return {};
-  return "<path class=\"f\" stroke=\"#0070f0\" stroke-width=\"2\"" + std::string(kFixedWidth) + " d=\"" + arrows +
-         "\"/><path class=\"fp\" stroke=\"#0070f0\" stroke-width=\"6\" stroke-linecap=\"round\"" +
-         std::string(kFixedWidth) + " d=\"" + dots + "\"/>";
+  return "<path class=\"f\" d=\"" + arrows + "\"/><path class=\"fp\" d=\"" + dots + "\"/>";
 }
 constexpr int kCombSamples = 8;  // comb samples per segment at most (the outline's polyline of other degrees)
 /// Comb samples of the whole glyph at most: a glyph of many short segments
@@ -141,7 +143,6 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
   // Every contour's outline, teeth, tip line and violation dots each in one
   // path of the glyph (subpaths), so that the attributes come once.
   std::string outline, teeth, tips, dots, marks;
-  std::vector<const CertifiedFix*> fixes;
   long tooth_x = 0, tooth_y = 0;  // the last tooth's tip
   for (const SplineReport* r : contours) {
     const BSpline& s = *r->spline;
@@ -194,9 +195,7 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
         const Vec2 p = evaluate(s, v.t);
         dots.append("M").append(std::to_string(std::lround(p.x))).append(",").append(std::to_string(std::lround(-p.y))).append("h0");
       }
-    if (const CertifiedFix* f = first_fix(*r)) fixes.push_back(f);
   }
-  g.moves = move_marks(fixes);
   const std::string fixed_width(kFixedWidth);
   std::string comb = "<path class=\"t\" stroke=\"#7aa6d8\" stroke-width=\"0.6\"" + fixed_width + " d=\"" + teeth +
                      "\"/><path class=\"k\" stroke=\"#2a62a8\" stroke-width=\"0.8\"" + fixed_width + " d=\"" + tips + "\"/>";
@@ -212,16 +211,17 @@ GlyphPicture glyph_picture(const std::vector<const SplineReport*>& contours, int
 /// The fixed glyph beside the original, in the same frame: the original
 /// outline (the picture's `<g id="ID-o">`, see svg()) referenced with a
 /// dashed, faint `<use>` rather than drawn again, the changed contours as
-/// fixed (first_fix) in green over it, and each move as an arrow. Empty when
-/// no contour has a fix. `id`: the original picture's id.
+/// fixed (first_fix) in green over it, and each move as an arrow
+/// (move_marks, drawn here: the picture references nothing but ID-o). Empty
+/// when no contour has a fix. `id`: the original picture's id.
 std::string fixed_glyph_svg(const std::vector<const SplineReport*>& contours, const GlyphPicture& frame, int height,
                             const std::string& id) {
   std::string fixed;
   std::vector<const CertifiedFix*> fixes;
   for (const SplineReport* r : contours)
     if (const CertifiedFix* f = first_fix(*r)) fixed += outline_d(*f->fixed), fixes.push_back(f);
-  if (fixes.empty() || frame.moves.empty()) return {};
-  const std::string marks = "<use href=\"#" + id + "-m\"/>";
+  const std::string marks = move_marks(fixes);
+  if (fixes.empty() || marks.empty()) return {};
   const double w = frame.x1 - frame.x0, h = frame.y1 - frame.y0;
   return draw::svg_open({{"height", std::to_string(height)},
                          {"width", std::to_string(static_cast<int>(std::ceil(height * w / h)))},
@@ -245,12 +245,21 @@ std::string svg(const GlyphPicture& g, int height, const std::string& id, bool r
          std::string(draw::kSvgClose);
 }
 
+/// A point's name without the glyph and contour that the section's heading
+/// says: "g/c0/n6+n7@1/3" -> "n6+n7@1/3" (the whole rest of the name, which
+/// may hold a '/' of its own). A name without that prefix is kept whole.
+std::string local_name(const std::string& name, const std::string& glyph, std::size_t contour) {
+  const std::string prefix = glyph + "/c" + std::to_string(contour) + "/";
+  return name.compare(0, prefix.size(), prefix) == 0 ? name.substr(prefix.size()) : name;
+}
+
 /// "p5 to p7" (the nodes at the ends of the violation's segment, in the
 /// contour named by the section's heading) or "node p5"; the message itself
 /// says which segment and where.
-std::string where(const GateViolation& v, const std::vector<std::string>& joints) {
+std::string where(const GateViolation& v, const std::vector<std::string>& joints, const std::string& glyph,
+                  std::size_t contour) {
   const int N = static_cast<int>(joints.size());
-  auto local = [](const std::string& name) { return name.substr(name.rfind('/') + 1); };
+  auto local = [&](const std::string& name) { return local_name(name, glyph, contour); };
   if (v.segment >= 0 && N > 0) return local(joints[v.segment]) + " to " + local(joints[(v.segment + 1) % N]);
   if (v.joint >= 0 && N > 0) return "node " + local(joints[v.joint % N]);
   return "t = " + fmt(v.t, 4);
@@ -427,9 +436,9 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
             const GateViolation& v = gr.violations[k];
             if (k < kFullMessages)
               details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
-                         html_escape(where(v, g.joint_names[c])) + "</li>";
+                         html_escape(where(v, g.joint_names[c], g.name, c)) + "</li>";
             else
-              more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c]));
+              more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c], g.name, c));
           }
           if (!more.empty())
             details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>, " +
@@ -454,7 +463,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
             std::string name = "P";
             if (m.point < static_cast<int>(g.point_names[c].size())) name = g.point_names[c][m.point];
             else name.append(std::to_string(m.point));
-            if (const std::size_t slash = name.rfind('/'); slash != std::string::npos) name.erase(0, slash + 1);
+            name = local_name(name, g.name, c);
             details += "<tr><td>" + html_escape(name) + "<td>" + short_num(m.from.x) + ", " + short_num(m.from.y) +
                        "<td>" + short_num(m.to.x) + ", " + short_num(m.to.y) + "<td>" +
                        short_num(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)";

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "spline/errors.hpp"
 #include "report/extremum.hpp"
@@ -18,8 +19,9 @@ namespace {
 std::string num(double v, int precision = 6) { return format_number(v, precision); }
 
 const char* kGateNames =
-    "extrema-at-nodes, extrema-at-nodes:runs, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, "
-    "each-piece";
+    "curvature-extrema-at-nodes, curvature-extrema-at-nodes:runs, max-extrema-per-segment:N, "
+    "g2-at-smooth-nodes[:tol], no-inflection, each-piece; extrema-at-nodes is an alias of "
+    "curvature-extrema-at-nodes";
 
 /// Where a curve event lies, for a violation.
 GateViolation at_event(const SplineReport& r, const CurveEvent& e, const std::string& what) {
@@ -47,17 +49,27 @@ bool inside_varying(const SplineReport& r, const CurveEvent& e) {
 
 }  // namespace
 
-std::optional<Gate> parse_gate(const std::string& text) {
+std::string canonical_gate_name(const std::string& text) {
+  // The old name, read by fontbakery's users as its x/y-extremes rule, is
+  // an alias (kept for command lines and baselines written before the rename).
+  static constexpr std::string_view kOld = "extrema-at-nodes";
+  if (text.compare(0, kOld.size(), kOld) == 0 && (text.size() == kOld.size() || text[kOld.size()] == ':'))
+    return "curvature-" + text;
+  return text;
+}
+
+std::optional<Gate> parse_gate(const std::string& given) {
+  const std::string text = canonical_gate_name(given);
   const std::size_t colon = text.find(':');
   const std::string head = text.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : text.substr(colon + 1);
   Gate g;
-  if (text == "extrema-at-nodes:runs") {
+  if (text == "curvature-extrema-at-nodes:runs") {
     g.kind = Gate::Kind::unimodal_runs;
     return g;
   }
-  if (head == "extrema-at-nodes" || head == "no-inflection" || head == "each-piece") {
-    if (colon != std::string::npos) throw InputError("--require: '" + text + "' takes no argument");
+  if (head == "curvature-extrema-at-nodes" || head == "no-inflection" || head == "each-piece") {
+    if (colon != std::string::npos) throw InputError("--require: '" + given + "' takes no argument");
     g.kind = head == "no-inflection" ? Gate::Kind::no_inflection
              : head == "each-piece"  ? Gate::Kind::each_piece
                                      : Gate::Kind::extrema_at_nodes;
@@ -85,12 +97,12 @@ std::optional<Gate> parse_gate(const std::string& text) {
 
 std::string to_string(const Gate& gate) {
   switch (gate.kind) {
-    case Gate::Kind::extrema_at_nodes: return "extrema-at-nodes";
+    case Gate::Kind::extrema_at_nodes: return "curvature-extrema-at-nodes";
     case Gate::Kind::max_extrema_per_segment: return "max-extrema-per-segment:" + std::to_string(gate.max_extrema);
     case Gate::Kind::g2_at_smooth_nodes: return "g2-at-smooth-nodes:" + num(gate.tolerance);
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
-    case Gate::Kind::unimodal_runs: return "extrema-at-nodes:runs";
+    case Gate::Kind::unimodal_runs: return "curvature-extrema-at-nodes:runs";
   }
   return {};
 }

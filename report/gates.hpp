@@ -6,9 +6,11 @@
 /// sampled). A "node" is a joint (on a closed spline the seam too): the
 /// on-curve points of a font contour.
 ///
-///  * extrema-at-nodes: every curvature extremum lies on a node (the rule type
-///    designers use); one inside a segment is a violation, located by
-///    segment and parameter (spline t and the segment's local t in [0, 1]).
+///  * curvature-extrema-at-nodes (alias: extrema-at-nodes, its name before
+///    issue 36, which designers read as fontbakery's x/y-extremes rule): every
+///    curvature extremum lies on a node (the rule type designers use); one
+///    inside a segment is a violation, located by segment and parameter
+///    (spline t and the segment's local t in [0, 1]).
 ///  * max-extrema-per-segment:N: at most N extrema strictly inside any one
 ///    segment.
 ///    Both extremum gates skip segments of constant curvature up to
@@ -23,7 +25,7 @@
 ///  * each-piece: every judged segment (piece) is monotone on its own, in
 ///    either direction (docs/semantics.md, "Each piece on its own"); a piece
 ///    that is not, or is undecided at the depth limit, is a violation.
-///  * extrema-at-nodes:runs: the reading for quadratic (TrueType) outlines,
+///  * curvature-extrema-at-nodes:runs (alias: extrema-at-nodes:runs): the reading for quadratic (TrueType) outlines,
 ///    where every quadratic piece has its own curvature peak by construction
 ///    (a parabola's curvature peaks once, at its vertex: what the format
 ///    forces). A *node* is a joint whose knot multiplicity is at least the
@@ -43,7 +45,7 @@
 ///    max-extrema-per-segment's to judge). report/runs.cpp.
 ///
 /// Fixes: the smallest certified fix of each failing gate that has a fix
-/// requirement (extrema-at-nodes, each-piece), report/certified_fix.hpp.
+/// requirement (curvature-extrema-at-nodes, each-piece), report/certified_fix.hpp.
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,7 +57,7 @@ namespace cmr::report {
 struct SplineReport;
 struct ReportOptions;
 
-/// extrema-at-nodes:runs: peaks within this relative difference are one
+/// curvature-extrema-at-nodes:runs: peaks within this relative difference are one
 /// plateau (a font's integer grid moves a peak by about 1/size of the curve).
 inline constexpr double kRunPeakTolerance = 0.01;
 /// Default relative tolerance of g2-at-smooth-nodes.
@@ -69,10 +71,15 @@ struct Gate {
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
 };
 
-/// A gate's text, or nothing when `text` names no gate (InputError when it
-/// names one with a bad argument: "max-extrema-per-segment:x").
+/// A gate's name with the old alias replaced: "extrema-at-nodes" ->
+/// "curvature-extrema-at-nodes", "extrema-at-nodes:runs" ->
+/// "curvature-extrema-at-nodes:runs"; any other text as it is.
+std::string canonical_gate_name(const std::string& text);
+/// A gate's text (or its alias), or nothing when `text` names no gate
+/// (InputError when it names one with a bad argument: "max-extrema-per-segment:x").
 std::optional<Gate> parse_gate(const std::string& text);
-/// "extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection", "each-piece".
+/// "curvature-extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection",
+/// "each-piece": always the current name, never the alias.
 std::string to_string(const Gate& gate);
 
 /// Parses --require: comma-separated items, at most one of cmrwi / cmr /
@@ -87,7 +94,7 @@ struct GateViolation {
   double t = 0;          ///< spline parameter
   double local_t = 0;    ///< within the segment, 0..1 (segment violations)
   std::string message;   ///< one line: "curvature maximum inside segment 3 at t = 0.42"
-  std::vector<int> handles;  ///< extrema-at-nodes:runs: the control points (distinct indices) to move
+  std::vector<int> handles;  ///< curvature-extrema-at-nodes:runs: the control points (distinct indices) to move
 };
 
 struct GateResult {
@@ -96,7 +103,7 @@ struct GateResult {
   bool pass() const { return violations.empty(); }
 };
 
-/// extrema-at-nodes:runs on one report (see the header comment).
+/// curvature-extrema-at-nodes:runs on one report (see the header comment).
 std::vector<GateViolation> unimodal_run_violations(const SplineReport& report);
 
 /// Every gate on one report (its extrema, inflections and joints).

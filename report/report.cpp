@@ -13,6 +13,7 @@
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/extract.hpp"
+#include "bezierize/fix.hpp"
 #include "bezierize/fast_roots.hpp"
 #include "bezierize/tracked.hpp"
 #include "bezierize/joint_json.hpp"
@@ -576,7 +577,7 @@ namespace {
 
 /// Whether pixel `index` may pass the check: increasing or decreasing, or
 /// with a split an extremum at the joint (sharpest or flattest depends on the
-/// sign of kappa there, which find_fixes verifies with analyze).
+/// sign of kappa there, which find_fixes decides per pixel).
 bool passing_label(const RegionResult& image, std::size_t index, const Requirement&) {
   if (image.split) {
     const Split l = image.split_labels[index];
@@ -601,8 +602,30 @@ std::string thumbnail(const BSpline& spline, const RegionResult& image, bool spl
 void find_fixes(SplineReport& report, const ReportOptions& options) {
   const BSpline& spline = *report.spline;
   const Requirement check = check_of(options);
+  // The points that act on a judged segment: moving any other one leaves
+  // every judged segment, so the verdict, as it is (no region, not drawn).
+  const int N = spline.segment_count();
+  const int first = options.segments ? std::max(0, options.segments->first) : 0;
+  const int last = options.segments ? std::min(N - 1, options.segments->last) : N - 1;
+  std::vector<bool> acts(static_cast<std::size_t>(spline.unique_point_count()), false);
+  for (int i = first; i <= last; ++i)
+    for (int k : segment_points(spline, spline.segments()[i])) acts[static_cast<std::size_t>(k)] = true;
+  // split:S:sharpest|flattest: a pixel passes only when the extremum at S
+  // is the one asked for, which the signs of kappa on the joint's two sides
+  // decide for that position (certified: joint_between, as analyze).
+  const bool kind_asked = check.split && check.extremum != Extremum::any;
+  const auto asked_kind = [&](int k, Vec2 c, Split label) {
+    const BSpline moved = spline.with_point(k, c);
+    return split_passes(label, check.extremum, joint_between(moved, *check.split - 1, *check.split, options.continuity));
+  };
   std::vector<Fix> fixes;
   for (int k = 0; k < spline.unique_point_count(); ++k) {  // a closed spline's twins move with k
+    if (!acts[static_cast<std::size_t>(k)]) {
+      Fix none;
+      none.point = k;
+      fixes.push_back(std::move(none));
+      continue;
+    }
     RegionRequest ro;
     ro.point = k;
     ro.mode = check.mode;
@@ -618,21 +641,19 @@ void find_fixes(SplineReport& report, const ReportOptions& options) {
     std::vector<std::pair<double, Vec2>> candidates;
     for (int j = 0; j < image.height; ++j)
       for (int i = 0; i < image.width; ++i) {
-        if (!passing_label(image, static_cast<std::size_t>(j) * image.width + i, check))
-          continue;
+        const std::size_t index = static_cast<std::size_t>(j) * image.width + i;
+        if (!passing_label(image, index, check)) continue;
         const Vec2 c = pixel_center(image.view, image.width, image.height, i, j);
+        if (kind_asked && !asked_kind(k, c, image.split_labels[index])) continue;
         candidates.emplace_back(dot(c - current, c - current), c);
       }
     std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     fix.pixels = candidates.size();
-    // With a sharpest/flattest split the kind depends on the sign of kappa at
-    // the joint: the nearest candidates are verified until one passes.
-    const std::size_t tries = check.split && check.extremum != Extremum::any ? 64 : 1;
-    for (std::size_t c = 0; c < candidates.size() && c < tries && !fix.verified; ++c) {
-      fix.example = candidates[c].second;
+    // Every candidate has the kind asked for: the nearest is verified by analyze.
+    if (!candidates.empty()) {
+      fix.example = candidates.front().second;
       fix.verified = passes(analyze(spline.with_point(k, *fix.example), analyze_options(options)), check);
     }
-    if (!fix.verified && tries > 1) fix.example.reset();  // no candidate has the kind asked for
     if (fix.example) {
       fix.thumbnail_png = thumbnail(spline, image, check.split.has_value(), options.max_depth, current, *fix.example);
     }
@@ -881,11 +902,24 @@ nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, con
 
 namespace {
 
-// Colours shared by the pictures and the page (maxima red, minima blue, as
-// the paper paints increasing and decreasing regions).
+// Colours shared by the pictures and the page. Extrema by their |kappa|
+// reading, the words of the messages and the gates (report/extremum.hpp):
+// sharpest red, flattest blue, an extremum at an inflection purple; a signed
+// maximum where kappa < 0 is a flattest point, so the signed words would
+// contradict the messages.
 constexpr const char* kRed = "#d00000";
 constexpr const char* kBlue = "#0040d0";
 constexpr const char* kGreen = "#108010";
+constexpr const char* kPurple = "#8000a0";
+
+const char* extremum_colour(const SplineReport& r, const CurveEvent& e) {
+  switch (event_kind(r, e)) {
+    case ExtremumKind::sharpest: return kRed;
+    case ExtremumKind::flattest: return kBlue;
+    case ExtremumKind::inflection: return kPurple;
+  }
+  return kPurple;
+}
 
 void fixed(std::string& out, double v, int decimals = 1) {
   char buf[64];
@@ -1002,7 +1036,7 @@ void curve_marks_svg(std::string& out, const SplineReport& r, const Canvas& c) {
   const CurveSampler sampler(s);
   for (const CurveEvent& e : r.extrema) {
     const Vec2 p = evaluate(s, e.t);
-    if (sampler.inside(p)) marker(out, c.x(p.x), c.y(p.y), e.kind > 0 ? kRed : kBlue, 4.5);
+    if (sampler.inside(p)) marker(out, c.x(p.x), c.y(p.y), extremum_colour(r, e), 4.5);
   }
   for (const CurveEvent& e : r.inflections) {
     const Vec2 p = evaluate(s, e.t);
@@ -1040,8 +1074,8 @@ void curve_svg(std::string& out, const SplineReport& r, const std::vector<std::v
   out += draw::kSvgClose;
 }
 
-// Signed curvature against the parameter: knots dashed, maxima red, minima
-// blue, inflections green.
+// Signed curvature against the parameter: knots dashed, extrema as on the
+// curve (sharpest red, flattest blue), inflections green.
 void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::vector<Frame>>& frames) {
   const BSpline& s = *r.spline;
   const double W = 440, H = 240;
@@ -1085,7 +1119,7 @@ void plot_svg(std::string& out, const SplineReport& r, const std::vector<std::ve
   }
   out += "\"/>";
   for (const CurveEvent& e : r.extrema)
-    marker(out, c.x(e.t), c.y(std::clamp(e.kappa, klo, khi)), e.kind > 0 ? kRed : kBlue, 4.5);
+    marker(out, c.x(e.t), c.y(std::clamp(e.kappa, klo, khi)), extremum_colour(r, e), 4.5);
   for (const CurveEvent& e : r.inflections) marker(out, c.x(e.t), c.y(0), kGreen, 3.5);
   out += "<text font-size=\"10\" x=\"14\" y=\"22\">κ " + html_escape(num(khi)) + "</text>";
   out += "<text font-size=\"10\" x=\"14\" y=\"226\">κ " + html_escape(num(klo)) + "</text>";
@@ -1233,10 +1267,11 @@ void section_html(std::string& out, const SplineReport& r, int index, const Repo
   out += "<div class=\"figs\"><figure>";
   curve_svg(out, r, frames);
   out +=
-      "<figcaption>Curve, control polygon and curvature comb; maxima red, minima blue, inflections "
-      "green</figcaption></figure><figure>";
+      "<figcaption>Curve, control polygon and curvature comb; sharpest points (largest |κ|) red, flattest "
+      "(smallest |κ|) blue, extrema at an inflection purple, inflections green</figcaption></figure><figure>";
   plot_svg(out, r, frames);
-  out += "<figcaption>Signed curvature κ(t); knots dashed</figcaption></figure></div>";
+  out += "<figcaption>Signed curvature κ(t); knots dashed; extrema coloured as on the curve (by |κ|: a sharpest "
+         "point where κ &lt; 0 is a minimum of this plot)</figcaption></figure></div>";
 
   spans_html(out, r);
   joints_html(out, r);

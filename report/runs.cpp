@@ -1,4 +1,4 @@
-// extrema-at-nodes:runs (report/gates.hpp): the reading of the extremum gate
+// curvature-extrema-at-nodes:runs (report/gates.hpp): the reading of the extremum gate
 // for quadratic (TrueType) outlines. A quadratic piece's curvature peaks
 // once, at the parabola's vertex, whatever the designer does; what the
 // designer places are the on-curve points (nodes) and the off-curve points

@@ -20,16 +20,16 @@ struct RuleText {
 };
 
 RuleText rule_text(const std::string& id) {
-  if (id == "extrema-at-nodes")
-    return {"ExtremaAtNodes", "A curvature extremum lies between nodes.",
+  if (id == "curvature-extrema-at-nodes")
+    return {"CurvatureExtremaAtNodes", "A curvature extremum lies between nodes.",
             "Every curvature extremum (a certified root of lambda, or a jump of curvature at a joint) must lie on a "
             "node (an on-curve point); one inside a segment is a violation.",
             "Move the segment's points until the curvature along the segment is monotone, or add a node at the "
             "extremum. The page shows the smallest certified fix (cmr fix): the points to move, by how much, and the "
             "fixed outline."};
-  if (id == "extrema-at-nodes:runs")
+  if (id == "curvature-extrema-at-nodes:runs")
     return {"UnimodalRuns", "The curvature of a run between on-curve points is not unimodal.",
-            "TrueType reading of extrema-at-nodes: each quadratic piece peaks once by construction, so the gate judges "
+            "TrueType reading of curvature-extrema-at-nodes: each quadratic piece peaks once by construction, so the gate judges "
             "each run between explicit on-curve points (implied midpoints are not nodes): |curvature| must rise to at "
             "most one peak and fall (split at inflections). Each dip between two peaks is a violation.",
             "Move the named off-curve points (the handles of the segments meeting at the dip) so that the run's "
@@ -55,9 +55,10 @@ RuleText rule_text(const std::string& id) {
           "The HTML report shows, per control point, the region where moving it alone makes the spline pass."};
 }
 
-Json location(const std::string& file, Json logical_locations) {
-  return Json::array(
-      {Json{{"physicalLocation", {{"artifactLocation", {{"uri", path_uri(file)}}}}}, {"logicalLocations", logical_locations}}});
+Json location(const std::string& uri, bool relative, Json logical_locations) {
+  Json artifact = {{"uri", uri}};
+  if (relative) artifact["uriBaseId"] = kSarifRootId;
+  return Json::array({Json{{"physicalLocation", {{"artifactLocation", artifact}}}, {"logicalLocations", logical_locations}}});
 }
 
 // The index of `id` in sarif_rule_ids(options), without building the list.
@@ -97,7 +98,7 @@ std::vector<std::string> sarif_rule_ids(const ReportOptions& options) {
   return ids;
 }
 
-std::string sarif_header(const ReportOptions& options) {
+std::string sarif_header(const ReportOptions& options, const std::string& root_uri) {
   Json rules = Json::array();
   for (const std::string& id : sarif_rule_ids(options)) {
     const RuleText t = rule_text(id);
@@ -116,11 +117,14 @@ std::string sarif_header(const ReportOptions& options) {
   // The document up to "results": [ — written as text, closed by sarif_footer.
   std::string head = "{\"$schema\":\"https://json.schemastore.org/sarif-2.1.0.json\",\"version\":\"2.1.0\",\"runs\":[{"
                      "\"tool\":{\"driver\":" +
-                     driver.dump() + "},\"columnKind\":\"unicodeCodePoints\",\"results\":[";
+                     driver.dump() + "},\"originalUriBaseIds\":" +
+                     Json{{kSarifRootId, {{"uri", root_uri}}}}.dump() +
+                     ",\"columnKind\":\"unicodeCodePoints\",\"results\":[";
   return head;
 }
 
-std::string sarif_result(const Finding& f, const ReportOptions& options, const char* baseline_state) {
+std::string sarif_result(const Finding& f, const std::string& uri, bool relative, const ReportOptions& options,
+                         const char* baseline_state) {
   // Streamed (report/json_stream.hpp: the bytes nlohmann's dump gives): a
   // corpus has hundreds of thousands of results.
   std::string fq = f.glyph;
@@ -142,7 +146,8 @@ std::string sarif_result(const Finding& f, const ReportOptions& options, const c
   o.begin_object();
   o.key("artifactLocation");
   o.begin_object();
-  o.member("uri", path_uri(f.source.empty() ? f.file : f.source));
+  o.member("uri", uri);
+  if (relative) o.member("uriBaseId", kSarifRootId);
   o.end_object();
   if (f.line > 0) {  // a font source: the <point>'s line, where code scanning places the alert
     o.key("region");
@@ -176,13 +181,13 @@ std::string sarif_result(const Finding& f, const ReportOptions& options, const c
   return out;
 }
 
-std::string sarif_invalid(const std::string& file, const std::string& name, const std::string& error,
+std::string sarif_invalid(const std::string& uri, bool relative, const std::string& name, const std::string& error,
                           const ReportOptions& options) {
   Json r = {{"ruleId", kInvalidRule},
             {"ruleIndex", rule_index(kInvalidRule, options)},
             {"level", "error"},
             {"message", {{"text", error}}},
-            {"locations", location(file, Json::array({Json{{"name", name}, {"kind", "element"}}}))}};
+            {"locations", location(uri, relative, Json::array({Json{{"name", name}, {"kind", "element"}}}))}};
   return r.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

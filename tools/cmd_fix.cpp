@@ -1,4 +1,4 @@
-// cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
+// cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|curvature-extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
 // [--points K,...] [--keep g1|g2|none] [--max-move D] [--out FIXED.json]:
 // the nearest certified repair (bezierize/fix.hpp, docs/fix.md).
 #include <cmath>
@@ -167,8 +167,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<Args>();
   cmd->add_option("FILE", args->file, "spline file (JSON)")->required();
   cmd->add_option("--require", args->require,
-                  "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, extrema-at-nodes, no-inflection, "
-                  "g2-at-smooth-nodes[:tol], each-run");
+                  "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
+                  "(alias: extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol], each-run");
   cmd->add_option("--points", args->points,
                   "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");

@@ -1,7 +1,8 @@
 // cmr report FILES... --out DIR [--require cmrwi|cmr|split:S[:sharpest|:flattest],GATES...] [--segments A..B]
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z] [--include GLOB] [--exclude GLOB]
-// [--junit FILE] [--sarif FILE] [--baseline OLD/report.json] [--quiet]: QA reports and a gate on
+// [--junit FILE] [--sarif FILE] [--markdown FILE] [--baseline OLD/report.json] [--source-root DIR]
+// [--quiet]: QA reports and a gate on
 // their verdicts. FILES are spline files, SVG files, fonts, folders or globs; the batch
 // (finding files, running them in parallel, writing every output) is report/corpus.hpp:
 // this file only parses.
@@ -47,7 +48,7 @@ struct ReportArgs {
   std::string glyphs = "A-Z,a-z";
   std::string location;
   report::FileFilter filter;  // folders: --include / --exclude
-  std::string junit, sarif, baseline;
+  std::string junit, sarif, markdown, baseline, source_root;
   bool quiet = false;
   bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
@@ -68,6 +69,12 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--exclude", args->filter.exclude, "in folders, leave out files matching this glob (repeatable)");
   cmd->add_option("--junit", args->junit, "also write a JUnit XML file (one test case per glyph or spline)");
   cmd->add_option("--sarif", args->sarif, "also write a SARIF 2.1.0 file (one result per violation)");
+  cmd->add_option("--markdown", args->markdown,
+                  "also write a GitHub-flavoured Markdown summary for a pull request comment (under 65,536 characters)");
+  cmd->add_option("--source-root", args->source_root,
+                  "findings name files relative to this folder (baseline keys), and SARIF URIs are relative to it; "
+                  "default: relative to the folder given (files: the working folder), SARIF to the working folder")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--baseline", args->baseline,
                   "an earlier report.json: fail only on findings that are new since it (new, fixed, unchanged counted)");
   cmd->add_flag("--no-fixes", args->no_fixes, "fonts: draw the thumbnails but do not search certified fixes");
@@ -76,7 +83,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--require", args->require,
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
                   "joint S: the parts before and after monotone in opposite directions), split:S:sharpest, split:S:flattest (by |curvature|), "
-                  "extrema-at-nodes, max-extrema-per-segment:N, g2-at-smooth-nodes[:tol] or no-inflection");
+                  "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
+                  "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection or each-piece");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
                   "character of a font")->capture_default_str();
@@ -140,8 +148,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.fixes = !args->no_fixes;
     if (!args->junit.empty()) b.junit = args->junit;
     if (!args->sarif.empty()) b.sarif = args->sarif;
+    if (!args->markdown.empty()) b.markdown = args->markdown;
     if (!args->baseline.empty()) b.baseline = args->baseline;
-    const auto files = report::collect_files(args->files, args->filter);
+    if (!args->source_root.empty()) b.source_root = args->source_root;
+    const auto files = report::collect_files(args->files, args->filter, &b.bases);
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
@@ -149,7 +159,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
     // The one line goes to stderr when a CI file is written to standard output.
-    const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif));
+    const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif)) ||
+                       (b.markdown && is_stdout_path(*b.markdown));
     (piped ? std::cerr : std::cout) << report::summary_line(s) << "; wrote " << args->out << '\n';
     exit_code = s.exit_code;
   });

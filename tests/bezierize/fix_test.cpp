@@ -19,7 +19,10 @@ double norm(Vec2 v) { return std::sqrt(dot(v, v)); }
 TEST(FixRequirement, ParsesEveryFormAndTheSynonyms) {
   EXPECT_EQ(parse_fix_requirement("cmr").kind, FixRequirement::Kind::cmr);
   EXPECT_EQ(parse_fix_requirement("cmrwi").kind, FixRequirement::Kind::cmrwi);
+  EXPECT_EQ(parse_fix_requirement("curvature-extrema-at-nodes").kind, FixRequirement::Kind::extrema_at_nodes);
+  // The gate's name before issue 36 is an alias; the text written is the new name.
   EXPECT_EQ(parse_fix_requirement("extrema-at-nodes").kind, FixRequirement::Kind::extrema_at_nodes);
+  EXPECT_EQ(to_string(parse_fix_requirement("extrema-at-nodes")), "curvature-extrema-at-nodes");
   const FixRequirement s = parse_fix_requirement("split:3");
   EXPECT_EQ(s.kind, FixRequirement::Kind::split);
   EXPECT_EQ(s.split, 3);
@@ -254,7 +257,7 @@ std::vector<NodeTangents> node_tangents(const BSpline& s) {
 TEST(Fix, GlyphContourThatNoSingleMoveFixesGetsAMultiPointFixKeepingG1) {
   const BSpline s = nimbus_b_counter();
   FixRequest r;
-  r.requirement = parse_fix_requirement("extrema-at-nodes");
+  r.requirement = parse_fix_requirement("curvature-extrema-at-nodes");
   r.threads = 2;
   const SplineAnalysis a = analyze(s, fix_analyze_options(r.requirement));
   ASSERT_EQ(failing_segments(s, a, r.requirement), (std::vector<int>{2, 3}));

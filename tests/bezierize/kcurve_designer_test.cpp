@@ -6,7 +6,7 @@
 // curvature extrema; every piece of a cubic chain
 // is certified monotone by the exact classifier (what `cmr analyze` says);
 // collinear points give a straight curve or one clear error. The gate
-// extrema-at-nodes on the same chains is checked in tests/report.
+// curvature-extrema-at-nodes on the same chains is checked in tests/report.
 #include "tests/bezierize/kcurve_sets.hpp"
 
 #include <gtest/gtest.h>

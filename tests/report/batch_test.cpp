@@ -2,7 +2,7 @@
 // streamed report.json, the JUnit XML and SARIF 2.1.0 files checked against
 // the structure their specifications require (parsed with libxml2 and
 // nlohmann::json), regression baselines, and the TrueType reading of the
-// extremum gate (extrema-at-nodes:runs, report/runs.cpp).
+// extremum gate (curvature-extrema-at-nodes:runs, report/runs.cpp).
 #include <gtest/gtest.h>
 #include <libxml/parser.h>
 #include <libxml/tree.h>
@@ -41,7 +41,7 @@ const char* kNotoSerif = "/usr/share/fonts/truetype/noto/NotoSerif-Regular.ttf";
 // A CFF (cubic) font (Debian fonts-texgyre, tools/setup.sh).
 const char* kHeros = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyreheros-regular.otf";
 
-// A cubic that passes extrema-at-nodes (one segment, curvature monotone:
+// A cubic that passes curvature-extrema-at-nodes (one segment, curvature monotone:
 // a class A spiral) and one that fails it (an S with a curvature maximum
 // inside), as spline files.
 BSpline monotone() { return test::class_a_bezier(3, -0.5, 1.5); }
@@ -250,6 +250,18 @@ Json check_sarif(const fs::path& file) {
       const std::string uri = r["locations"][0]["physicalLocation"]["artifactLocation"].value("uri", "");
       EXPECT_FALSE(uri.empty());
       EXPECT_EQ(uri.find(' '), std::string::npos) << uri;
+      // SARIF 2.1.0 §3.4.4: a relative uri names its base (uriBaseId), which
+      // run.originalUriBaseIds resolves to an absolute URI ending in '/'; an
+      // absolute uri has none.
+      const Json& artifact = r["locations"][0]["physicalLocation"]["artifactLocation"];
+      if (artifact.contains("uriBaseId")) {
+        EXPECT_NE(uri.rfind("file:", 0), 0u) << uri;
+        const std::string base = run["originalUriBaseIds"][artifact["uriBaseId"].get<std::string>()].value("uri", "");
+        EXPECT_EQ(base.rfind("file:///", 0), 0u) << base;
+        EXPECT_EQ(base.back(), '/') << base;
+      } else {
+        EXPECT_EQ(uri.rfind("file:///", 0), 0u) << uri;
+      }
       EXPECT_FALSE(r["locations"][0]["logicalLocations"].empty());
       if (r.contains("baselineState")) {
         const std::string b = r["baselineState"];
@@ -278,7 +290,7 @@ TEST(BatchCommand, AFolderRunWritesJunitAndSarifWithTheStructureTheSpecification
   const fs::path d = corpus("ci");
   const fs::path out = test::scratch() / "ci_out";
   fs::remove_all(out);
-  const test::Outcome r = test::run("report " + d.string() + " --glyphs O,o,l,H --require extrema-at-nodes --no-thumbnails --out " +
+  const test::Outcome r = test::run("report " + d.string() + " --glyphs O,o,l,H --require curvature-extrema-at-nodes --no-thumbnails --out " +
                                     out.string() + " --junit " + (out.string() + ".xml") + " --sarif " + out.string() + ".sarif");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(r.err, "");  // no progress bar when stderr is not a terminal
@@ -289,7 +301,7 @@ TEST(BatchCommand, AFolderRunWritesJunitAndSarifWithTheStructureTheSpecification
   const auto failures = check_junit(out.string() + ".xml", &cases);
   EXPECT_EQ(cases, 4 + 3);  // four glyphs, three splines
   ASSERT_TRUE(failures.count("O"));
-  EXPECT_NE(failures.at("O").find("extrema-at-nodes: O/c0"), std::string::npos) << failures.at("O");
+  EXPECT_NE(failures.at("O").find("curvature-extrema-at-nodes: O/c0"), std::string::npos) << failures.at("O");
   EXPECT_TRUE(failures.count("wavy"));
   EXPECT_FALSE(failures.count("monotone"));
   EXPECT_FALSE(failures.count("l"));  // straight only: nothing to fail
@@ -298,7 +310,7 @@ TEST(BatchCommand, AFolderRunWritesJunitAndSarifWithTheStructureTheSpecification
   EXPECT_EQ(results.size(), doc["summary"]["findings"].get<std::size_t>());
   bool glyph_seen = false;
   for (const Json& res : results) {
-    EXPECT_EQ(res["ruleId"], "extrema-at-nodes");
+    EXPECT_EQ(res["ruleId"], "curvature-extrema-at-nodes");
     const std::string uri = res["locations"][0]["physicalLocation"]["artifactLocation"]["uri"];
     if (uri.find("DejaVuSans.ttf") != std::string::npos) {
       glyph_seen = true;
@@ -323,7 +335,7 @@ TEST(BatchCommand, ABaselinePassesWhenNothingChangedAndNamesExactlyTheNewViolati
   const fs::path d = corpus("base");
   const fs::path one = test::scratch() / "base_1", two = test::scratch() / "base_2", three = test::scratch() / "base_3";
   for (const fs::path& p : {one, two, three}) fs::remove_all(p);
-  const std::string common = " --glyphs O,o,H --require extrema-at-nodes:runs,extrema-at-nodes --no-thumbnails --out ";
+  const std::string common = " --glyphs O,o,H --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes --no-thumbnails --out ";
   const test::Outcome first = test::run("report " + d.string() + common + one.string());
   EXPECT_EQ(first.code, 1) << first.err;  // the legacy corpus fails the gate
   const test::Outcome same = test::run("report " + d.string() + common + two.string() + " --baseline " +
@@ -341,7 +353,8 @@ TEST(BatchCommand, ABaselinePassesWhenNothingChangedAndNamesExactlyTheNewViolati
   EXPECT_NE(edited.out.find("(baseline: 1 new, 0 fixed, "), std::string::npos) << edited.out;
   // Exactly one line on stderr, naming the file, the spline, where and the gate.
   EXPECT_EQ(std::count(edited.err.begin(), edited.err.end(), '\n'), 1) << edited.err;
-  EXPECT_EQ(edited.err.rfind("cmr: new: " + (d / "splines" / "monotone.json").string() + ": extrema-at-nodes: monotone: sharpest point inside segment", 0), 0u)
+  // (The file by its name in the folder given: findings' names do not depend on how the folder was spelled.)
+  EXPECT_EQ(edited.err.rfind("cmr: new: splines/monotone.json: curvature-extrema-at-nodes: monotone: sharpest point inside segment", 0), 0u)
       << edited.err;
   const Json doc = read_json(three / "report.json");
   EXPECT_EQ(doc["summary"]["baseline"]["new"], 1);
@@ -373,7 +386,7 @@ TEST(BatchCommand, BadArgumentsAreOneLineAndWriteNothing) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// A whole Latin font's pages with every type gate, the old extrema-at-nodes
+// A whole Latin font's pages with every type gate, curvature-extrema-at-nodes
 // gate included (U+0021-U+017F of DejaVu Sans, thumbnails on, --no-fixes:
 // 2,852 findings, each marked; Noto Serif, 8,964; TeX Gyre Heros), stay under 2 MB; the overview's thumbnails
 // link to the glyph's picture, which zooms to the window on a click; both
@@ -389,7 +402,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   const fs::path out = test::scratch() / "latin_fixes";
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
-                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                    " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
                                     " --backend cpu --quiet --out " + out.string());
   ASSERT_EQ(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
@@ -398,9 +411,11 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   std::cout << "DejaVu Sans U+0021-U+017F, three gates, with fixes: " << pages << " bytes of pages\n";
   const std::string font = test::slurp(out / "font.html");
   EXPECT_NE(font.find("class=\"kplot\""), std::string::npos) << "the fixes' curvature plots are drawn";
-  // The fixed outline reuses the original's drawing and its move arrows.
+  // The fixed outline reuses the original's drawing and draws its own move
+  // arrows (issue 36: it referenced "#ID-m", which no page ever had).
   EXPECT_NE(font.find("<use href=\"#g0-O-pic-o\""), std::string::npos);
-  EXPECT_NE(font.find("<use href=\"#g0-O-pic-m\"/>"), std::string::npos);
+  EXPECT_EQ(font.find("-m\"/>"), std::string::npos);
+  EXPECT_NE(font.find("<path class=\"f\" d=\"M"), std::string::npos);
   EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
 }
 
@@ -408,7 +423,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
   const fs::path out = test::scratch() / "latin_gates";
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
-                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                    " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
                                     " --no-fixes --backend cpu --out " + out.string());
   ASSERT_EQ(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
@@ -449,7 +464,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
     }
     fs::remove_all(out);
     const test::Outcome o = test::run(std::string("report ") + other +
-                                      " --glyphs U+0021-U+017F --require extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes"
+                                      " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
                                       " --no-fixes --backend cpu --out " + out.string());
     ASSERT_EQ(o.code, 1) << o.err;
     std::uintmax_t bytes = 0;
@@ -468,7 +483,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
   const fs::path out = test::scratch() / "latin";
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
-                                    " --glyphs U+0021-U+017F --require extrema-at-nodes:runs --backend cpu --out " + out.string());
+                                    " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs --backend cpu --out " + out.string());
   ASSERT_LE(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
   for (const auto& e : fs::recursive_directory_iterator(out))
@@ -479,7 +494,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesStayUnderTwoMegabytes) {
   // --no-fixes: the same thumbnails, no certified fixes searched.
   const fs::path bare = test::scratch() / "latin_bare";
   fs::remove_all(bare);
-  const test::Outcome nf = test::run(std::string("report ") + kNotoSans + " --glyphs k --require extrema-at-nodes:runs --no-fixes --backend cpu --out " + bare.string());
+  const test::Outcome nf = test::run(std::string("report ") + kNotoSans + " --glyphs k --require curvature-extrema-at-nodes:runs --no-fixes --backend cpu --out " + bare.string());
   if (fs::exists(kNotoSans)) {
     EXPECT_EQ(nf.code, 1) << nf.err;  // k's valley at p6
     const Json k = read_json(bare / "report.json");
@@ -504,7 +519,7 @@ TEST(BatchCommand, CffFindingsAreNamedByTheirNodesEverywhere) {
   fs::copy_file(kHeros, d / "heros.otf");
   const fs::path out = test::scratch() / "cff_out", again = test::scratch() / "cff_again";
   for (const fs::path& p : {out, again}) fs::remove_all(p);
-  const std::string args = " --glyphs O,e,l --require extrema-at-nodes,g2-at-smooth-nodes --no-thumbnails --out ";
+  const std::string args = " --glyphs O,e,l --require curvature-extrema-at-nodes,g2-at-smooth-nodes --no-thumbnails --out ";
   const test::Outcome r = test::run("report " + d.string() + args + out.string() + " --junit " + out.string() +
                                     ".xml --sarif " + out.string() + ".sarif");
   ASSERT_EQ(r.code, 1) << r.err;
@@ -522,7 +537,7 @@ TEST(BatchCommand, CffFindingsAreNamedByTheirNodesEverywhere) {
       EXPECT_NE(f["key"].get<std::string>().find("|" + node + "|"), std::string::npos) << f["key"];
     }
   EXPECT_TRUE(nodes.count("n0-n1")) << "O's first curved piece";
-  const std::string key = (d / "heros.otf").string() + "|O|c0|n0-n1|extrema-at-nodes";
+  const std::string key = "heros.otf|O|c0|n0-n1|curvature-extrema-at-nodes";  // relative to the folder given
   bool keyed = false;
   for (const Json& f : doc["splines"][0]["findings"]) keyed = keyed || f["key"] == key;
   EXPECT_TRUE(keyed) << doc["splines"][0]["findings"].dump();
@@ -556,7 +571,7 @@ TEST(BatchCommand, StraightOnlyGlyphsAreLabelledStraightOnEveryPageAndInJson) {
     const fs::path out = test::scratch() / "straight";
     fs::remove_all(out);
     const test::Outcome r = test::run(std::string("report ") + font +
-                                      " --glyphs l,I,H,-,O --require extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
+                                      " --glyphs l,I,H,-,O --require curvature-extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
     ASSERT_EQ(r.code, 1) << font << ": " << r.err;  // O fails
     const Json doc = read_json(out / "report.json");
     std::set<std::string> straight;
@@ -602,7 +617,7 @@ TEST(BatchCommand, CiFilesAreWrittenToStandardOutputDevicesAndFifosAsStreams) {
   write_spline_file(wavy_file, wavy());
   const fs::path out = test::scratch() / "stream_out";
   fs::remove_all(out);
-  const std::string base = "report " + wavy_file.string() + " --require extrema-at-nodes --no-thumbnails --out " + out.string();
+  const std::string base = "report " + wavy_file.string() + " --require curvature-extrema-at-nodes --no-thumbnails --out " + out.string();
   const test::Outcome full = test::run(base + " --sarif /dev/full");
   EXPECT_EQ(full.code, 3);
   EXPECT_EQ(full.err, "cmr: /dev/full: No space left on device\n");
@@ -662,7 +677,7 @@ struct FontCount {
 
 FontCount count_font(const char* path, const std::string& spec) {
   const import::Font font = import::read_font(path, import::parse_glyph_spec(spec));
-  const ReportOptions o = gate_options("extrema-at-nodes,extrema-at-nodes:runs");
+  const ReportOptions o = gate_options("curvature-extrema-at-nodes,curvature-extrema-at-nodes:runs");
   FontCount c;
   for (const import::Glyph& g : font.glyphs) {
     bool nodes = true, runs = true, curved = false;
@@ -681,7 +696,7 @@ FontCount count_font(const char* path, const std::string& spec) {
 }
 
 // The reading a TrueType designer can act on: on DejaVu Sans and Noto Sans
-// (both drawn with care) nearly every round glyph fails extrema-at-nodes (a
+// (both drawn with care) nearly every round glyph fails curvature-extrema-at-nodes (a
 // peak inside nearly every quadratic piece: the format's), while at most a
 // tenth as many have a run whose peaks are not unimodal (the designer's).
 TEST(UnimodalRuns, SeparatesTheFormatsPeaksFromTheDesignersOnDejaVuAndNoto) {
@@ -695,8 +710,8 @@ TEST(UnimodalRuns, SeparatesTheFormatsPeaksFromTheDesignersOnDejaVuAndNoto) {
   EXPECT_EQ(noto.glyphs, 52);
   EXPECT_GE(2 * noto.fail_nodes, noto.round);
   EXPECT_LE(10 * noto.fail_runs, noto.fail_nodes) << noto.fail_runs << " of " << noto.fail_nodes;
-  std::cout << "DejaVu Sans: " << dejavu.fail_nodes << " fail extrema-at-nodes, " << dejavu.fail_runs
-            << " fail extrema-at-nodes:runs of " << dejavu.glyphs << "; Noto Sans: " << noto.fail_nodes << ", "
+  std::cout << "DejaVu Sans: " << dejavu.fail_nodes << " fail curvature-extrema-at-nodes, " << dejavu.fail_runs
+            << " fail curvature-extrema-at-nodes:runs of " << dejavu.glyphs << "; Noto Sans: " << noto.fail_nodes << ", "
             << noto.fail_runs << "\n";
 }
 
@@ -712,7 +727,7 @@ BSpline bump(double b) {
 }
 
 TEST(UnimodalRuns, ExactCasesOnQuadraticContours) {
-  const auto o = gate_options("extrema-at-nodes:runs");
+  const auto o = gate_options("curvature-extrema-at-nodes:runs");
   const BSpline loop = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
   EXPECT_TRUE(judged_report(loop, o).gates[0].pass());
   const BSpline nodes = BSpline::make_closed(
@@ -727,7 +742,7 @@ TEST(UnimodalRuns, ExactCasesOnQuadraticContours) {
   EXPECT_NE(v.message.find("not unimodal"), std::string::npos) << v.message;
   EXPECT_NE(v.message.find("move control point 2 outwards"), std::string::npos) << v.message;
   // The same gate on the cubic reading fails too (a peak inside every piece), and cannot tell B from A.
-  EXPECT_EQ(judged_report(bump(1.2), gate_options("extrema-at-nodes")).gates[0].violations.size(), 3u);
+  EXPECT_EQ(judged_report(bump(1.2), gate_options("curvature-extrema-at-nodes")).gates[0].violations.size(), 3u);
   const SplineReport sharp = judged_report(bump(3.0), o);
   EXPECT_TRUE(sharp.gates[0].pass()) << sharp.gates[0].violations.front().message;
 }

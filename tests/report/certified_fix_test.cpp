@@ -1,5 +1,5 @@
 // The report's certified fixes (report/certified_fix.hpp): one per failing
-// check (the requirement, the extrema-at-nodes gate), each re-judged.
+// check (the requirement, the curvature-extrema-at-nodes gate), each re-judged.
 #include "report/certified_fix.hpp"
 
 #include <gtest/gtest.h>
@@ -27,19 +27,19 @@ BSpline moved(const BSpline& s, const CertifiedFix& f) {
 
 TEST(CertifiedFix, OnePerFailingCheckAndEachHolds) {
   ReportOptions o;
-  parse_require_list("cmrwi,extrema-at-nodes,no-inflection,max-extrema-per-segment:0", o);
+  parse_require_list("cmrwi,curvature-extrema-at-nodes,no-inflection,max-extrema-per-segment:0", o);
   o.regions = false;
   const SplineReport r = judged_report(fig8(), o);
   ASSERT_FALSE(r.pass);
   ASSERT_TRUE(r.gates[1].pass());   // fig8 has no inflection: no entry
   ASSERT_FALSE(r.gates[2].pass());  // an extremum inside a segment
   const std::vector<CertifiedFix> fixes = certified_fixes(r, o);
-  ASSERT_EQ(fixes.size(), 3u);  // the requirement, extrema-at-nodes, max-extrema-per-segment
+  ASSERT_EQ(fixes.size(), 3u);  // the requirement, curvature-extrema-at-nodes, max-extrema-per-segment
   EXPECT_EQ(fixes[0].check, "cmrwi");
-  EXPECT_EQ(fixes[1].check, "extrema-at-nodes");
+  EXPECT_EQ(fixes[1].check, "curvature-extrema-at-nodes");
   EXPECT_EQ(fixes[2].check, "max-extrema-per-segment:0");
-  EXPECT_EQ(fixes[2].requirement, "extrema-at-nodes");  // every segment monotone: no extremum inside
-  EXPECT_EQ(certified_fix_json(fixes[2])["requirement"], "extrema-at-nodes");
+  EXPECT_EQ(fixes[2].requirement, "curvature-extrema-at-nodes");  // every segment monotone: no extremum inside
+  EXPECT_EQ(certified_fix_json(fixes[2])["requirement"], "curvature-extrema-at-nodes");
   EXPECT_FALSE(certified_fix_json(fixes[1]).contains("requirement"));
   for (std::size_t i = 0; i < 3; ++i) {
     const CertifiedFix& f = fixes[i];
@@ -87,7 +87,7 @@ TEST(CertifiedFix, OnePerFailingCheckAndEachHolds) {
 }
 
 /// Issue 22, item 4: each gate that had no fix requirement gets a certified
-/// fix through one that implies it (extrema-at-nodes:runs: each-run, else
+/// fix through one that implies it (curvature-extrema-at-nodes:runs: each-run, else
 /// the valleys' handles searched with the gate itself as the judge), and the
 /// fixed spline passes the gate itself when judged again (a fresh report of
 /// the moved points).
@@ -114,10 +114,10 @@ std::vector<GateCase> gate_cases() {
     arc.push_back({r * std::cos(a), r * std::sin(a)});
   }
   const BSpline run = BSpline::make(2, {0, 0, 1, 2, 3, 4, 5, 6, 7, 7}, arc);
-  return {{"max-extrema-per-segment:0", "extrema-at-nodes", fig8()},
+  return {{"max-extrema-per-segment:0", "curvature-extrema-at-nodes", fig8()},
           {"no-inflection", "no-inflection", s_curve},
           {"g2-at-smooth-nodes:0.01", "g2-at-smooth-nodes:0.01", g1_joint},
-          {"extrema-at-nodes:runs", "each-run", run}};
+          {"curvature-extrema-at-nodes:runs", "each-run", run}};
 }
 
 TEST(CertifiedFix, EveryGateGetsAFixThatPassesTheGateReJudged) {
@@ -133,10 +133,10 @@ TEST(CertifiedFix, EveryGateGetsAFixThatPassesTheGateReJudged) {
     const CertifiedFix& f = fixes[0];
     EXPECT_EQ(f.check, to_string(r.gates[0].gate)) << c.gate;
     const std::string searched = f.requirement.empty() ? f.check : f.requirement;
-    // extrema-at-nodes:runs: each-run, or where that has no fix, the
+    // curvature-extrema-at-nodes:runs: each-run, or where that has no fix, the
     // valleys' handles judged by the gate itself.
     const bool by_gate = searched == std::string(c.gate) + " (judged by the gate)";
-    EXPECT_TRUE(searched == c.requirement || (by_gate && std::string(c.gate) == "extrema-at-nodes:runs"))
+    EXPECT_TRUE(searched == c.requirement || (by_gate && std::string(c.gate) == "curvature-extrema-at-nodes:runs"))
         << c.gate << ": " << searched;
     ASSERT_TRUE(f.found) << c.gate << ": " << f.reason;
     ASSERT_FALSE(f.moves.empty()) << c.gate;
@@ -211,7 +211,7 @@ TEST(CertifiedFix, KappaPlotIsCompactAndItsPathsStayInsideThePanels) {
 // JSON, the fixes are the certified ones.
 TEST(CertifiedFix, ReportJsonCarriesCertifiedFixesAndNoTangentFixes) {
   ReportOptions o;
-  parse_require_list("cmrwi,extrema-at-nodes", o);
+  parse_require_list("cmrwi,curvature-extrema-at-nodes", o);
   o.regions = true;
   o.region_size = 16;
   o.backend = std::make_shared<CpuRegionBackend>(1);

@@ -132,7 +132,7 @@ void expect_same_report(const SplineReport& f, const SplineReport& x, const std:
 ReportOptions type_gates() {
   ReportOptions o;
   o.regions = false;
-  parse_require_list("extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes,no-inflection", o);
+  parse_require_list("curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes,no-inflection", o);
   return o;
 }
 

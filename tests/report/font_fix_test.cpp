@@ -31,8 +31,8 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   const fs::path out = test::scratch() / "font_fix";
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kNimbus +
-                                    " --glyphs S,e --require extrema-at-nodes --backend cpu --out " + out.string());
-  ASSERT_EQ(r.code, 1) << r.err;  // S and e fail extrema-at-nodes
+                                    " --glyphs S,e --require curvature-extrema-at-nodes --backend cpu --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;  // S and e fail curvature-extrema-at-nodes
   const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
   const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("S,e"));
   FixRequirement gate;
@@ -52,7 +52,7 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
       if (g.name == s["glyph"].get<std::string>()) contour = &g.contours.at(s["contour"].get<int>());
     ASSERT_NE(contour, nullptr) << s["name"];
     for (const auto& f : s["certified_fixes"]) {
-      EXPECT_EQ(f["check"], "extrema-at-nodes");
+      EXPECT_EQ(f["check"], "curvature-extrema-at-nodes");
       if (!f["found"].get<bool>()) continue;
       ++found;
       fixed_glyphs.insert(s["glyph"].get<std::string>());
@@ -83,13 +83,63 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   EXPECT_NE(page.find("<tr><td>n"), std::string::npos);
 }
 
+// Issue 36's page bugs: the fixed outline referenced move arrows
+// (`<use href="#ID-m"/>`) that were never written, and the fix table cut a
+// point's name at its own '/' (`g/c0/n6+n7@1/3` showed as "3"). Every
+// reference on the page must name an element of the page, and every moved
+// point of report.json appears in its table by its whole name (the part
+// after the glyph and contour, which the heading says).
+TEST(FontFix, EveryReferenceResolvesAndMoveTablesNameWholePoints) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed";
+  const fs::path out = test::scratch() / "font_fix_refs";
+  fs::remove_all(out);
+  // g's G2 fix moves a line's implied third-points (names with "@1/3").
+  const test::Outcome r = test::run(std::string("report ") + kNimbus +
+                                    " --glyphs S,g --require curvature-extrema-at-nodes,g2-at-smooth-nodes --backend cpu --out " +
+                                    out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  const std::string page = test::slurp(out / "font.html");
+  std::set<std::string> ids;
+  for (std::size_t at = page.find(" id=\""); at != std::string::npos; at = page.find(" id=\"", at + 1)) {
+    const std::size_t b = at + 5;
+    ids.insert(page.substr(b, page.find('"', b) - b));
+  }
+  std::size_t refs = 0;
+  for (std::size_t at = page.find("href=\"#"); at != std::string::npos; at = page.find("href=\"#", at + 1)) {
+    const std::size_t b = at + 7;
+    const std::string id = page.substr(b, page.find('"', b) - b);
+    ++refs;
+    EXPECT_TRUE(ids.count(id)) << "href=\"#" << id << "\" names no element of the page";
+  }
+  EXPECT_GT(refs, 0u);
+  EXPECT_EQ(page.find("-m\"/>"), std::string::npos);
+  // Each fixed outline draws its moves (arrows and dots) itself.
+  EXPECT_EQ(count(page, "class=\"fixed\""), count(page, "<path class=\"f\" d=\"M"));
+  const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
+  int names = 0, with_slash = 0;
+  for (const auto& s : doc["splines"])
+    for (const auto& f : s.value("certified_fixes", nlohmann::json::array()))
+      for (const auto& m : f["moves"]) {
+        const std::string prefix = s["glyph"].get<std::string>() + "/c" + std::to_string(s["contour"].get<int>()) + "/";
+        const std::string name = m["name"];
+        ASSERT_EQ(name.rfind(prefix, 0), 0u) << name;
+        const std::string local = name.substr(prefix.size());
+        ++names;
+        with_slash += local.find('/') != std::string::npos ? 1 : 0;
+        EXPECT_NE(page.find("<tr><td>" + local + "<td>"), std::string::npos) << name;
+      }
+  EXPECT_GT(names, 0);
+  // The case of the bug: a name with a '/' of its own (a line's implied point).
+  EXPECT_GT(with_slash, 0) << "no moved point's name has a '/' (g's G2 fix moved no implied point)";
+}
+
 // --no-fixes: thumbnails, no fix searched.
 TEST(FontFix, NoFixesSearchesNone) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed";
   const fs::path out = test::scratch() / "font_nofix";
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kNimbus +
-                                    " --glyphs S --require extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
+                                    " --glyphs S --require curvature-extrema-at-nodes --no-fixes --backend cpu --out " + out.string());
   ASSERT_EQ(r.code, 1) << r.err;
   const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
   for (const auto& s : doc["splines"]) EXPECT_FALSE(s.contains("certified_fixes")) << s["name"];

@@ -45,7 +45,7 @@ const GateResult& result(const SplineReport& r, Gate::Kind kind) {
 TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
   const BSpline s = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
   const SplineReport r =
-      judged_report(s, gates("extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection"));
+      judged_report(s, gates("curvature-extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection"));
   ASSERT_EQ(r.joints.size(), 4u);  // three inside and the seam
   EXPECT_EQ(r.joints.back().joint.index, 4);
   const GateResult& at_nodes = result(r, Gate::Kind::extrema_at_nodes);
@@ -72,7 +72,7 @@ TEST(Gates, SquareQuadraticHasOneMaximumMidSegment) {
 // into pass. With gates alone the requirement is informational.
 TEST(Gates, ReportModelLeavesGatesToTheBatchStep) {
   const BSpline s = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
-  const ReportOptions o = gates("extrema-at-nodes");
+  const ReportOptions o = gates("curvature-extrema-at-nodes");
   SplineReport r = report_spline(s, o);
   EXPECT_TRUE(r.gates.empty());
   EXPECT_TRUE(r.pass);  // nothing judged yet
@@ -106,7 +106,7 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
   ASSERT_EQ(paths.size(), 1u);
   const BSpline circle = import::to_bspline(paths[0]);
   ASSERT_TRUE(circle.is_rational());
-  const SplineReport r = judged_report(circle, gates("extrema-at-nodes,max-extrema-per-segment:0"));
+  const SplineReport r = judged_report(circle, gates("curvature-extrema-at-nodes,max-extrema-per-segment:0"));
   bool some_exact_extremum = false;
   for (const SpanReport& sp : r.spans) {
     EXPECT_TRUE(sp.near_constant) << "segment " << sp.segment.index;
@@ -117,7 +117,7 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
   EXPECT_TRUE(some_exact_extremum);  // the data is not exactly a circle: the gates have something to skip
   for (const GateResult& g : r.gates) EXPECT_TRUE(g.pass()) << to_string(g.gate);
 
-  ReportOptions strict = gates("extrema-at-nodes");
+  ReportOptions strict = gates("curvature-extrema-at-nodes");
   strict.constant_tolerance = 0;
   const SplineReport r0 = judged_report(circle, strict);
   EXPECT_FALSE(r0.gates[0].pass());
@@ -126,7 +126,7 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
   // A designed curvature change: the square quadratic's pieces, against
   // sampled curvature (the spread's extremes are at the ends and mid-way).
   const BSpline square = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
-  const SplineReport rs = judged_report(square, gates("extrema-at-nodes"));
+  const SplineReport rs = judged_report(square, gates("curvature-extrema-at-nodes"));
   for (const SpanReport& sp : rs.spans) {
     double lo = segment_end_curvature(square, sp.segment, 0), hi = lo;
     auto consider = [&](double k) { lo = std::min(lo, k), hi = std::max(hi, k); };
@@ -142,7 +142,7 @@ TEST(Gates, RoundedCircleArcsAreConstantWithinTheTolerance) {
 // Every node of a closed contour is judged alike: starting the period at
 // another node gives the same extrema, inflections and violations.
 TEST(Gates, SeamIsJudgedLikeEveryJoint) {
-  const auto opts = gates("extrema-at-nodes,g2-at-smooth-nodes,no-inflection");
+  const auto opts = gates("curvature-extrema-at-nodes,g2-at-smooth-nodes,no-inflection");
   for (const char* path : {kDejaVu, kNimbus}) {
     const import::Font font = import::read_font(path, import::parse_glyph_spec("S,O,a,g,R"));
     for (const import::Glyph& g : font.glyphs)
@@ -173,7 +173,7 @@ TEST(Gates, SeamIsJudgedLikeEveryJoint) {
 // one has a sign change of the sampled dkappa next to it, and each sampled
 // sign change well inside a segment is a certified extremum there.
 TEST(Gates, ExtremaInsideSegmentsMatchDenseSampling) {
-  const auto opts = gates("extrema-at-nodes");
+  const auto opts = gates("curvature-extrema-at-nodes");
   for (const char* path : {kDejaVu, kNimbus}) {
     const import::Font font = import::read_font(path, import::parse_glyph_spec("B,O,S,e,s"));
     for (const import::Glyph& g : font.glyphs)
@@ -247,7 +247,7 @@ TEST(Gates, RegionsOfClosedSplinesMoveTheRepeatedPoint) {
 
 TEST(Gates, RequireListParsing) {
   ReportOptions o;
-  parse_require_list("cmr,extrema-at-nodes,max-extrema-per-segment:2,g2-at-smooth-nodes:0.1,no-inflection", o);
+  parse_require_list("cmr,curvature-extrema-at-nodes,max-extrema-per-segment:2,g2-at-smooth-nodes:0.1,no-inflection", o);
   ASSERT_TRUE(o.require.has_value());
   EXPECT_EQ(to_string(*o.require), "cmr");
   ASSERT_EQ(o.gates.size(), 4u);
@@ -259,6 +259,44 @@ TEST(Gates, RequireListParsing) {
                           "g2-at-smooth-nodes:x", "no-inflection:2", ""}) {
     ReportOptions p;
     EXPECT_THROW(parse_require_list(bad, p), InputError) << bad;
+  }
+}
+
+// Issue 36: designers read "extrema-at-nodes" as fontbakery's x/y-extremes
+// rule, so the gate is curvature-extrema-at-nodes; the old name (and its
+// :runs reading) is read as an alias and never written.
+TEST(Gates, OldNameIsAnAliasAndNeverWritten) {
+  ReportOptions o;
+  parse_require_list("extrema-at-nodes,extrema-at-nodes:runs,curvature-extrema-at-nodes", o);
+  ASSERT_EQ(o.gates.size(), 3u);
+  EXPECT_EQ(o.gates[0].kind, Gate::Kind::extrema_at_nodes);
+  EXPECT_EQ(o.gates[1].kind, Gate::Kind::unimodal_runs);
+  EXPECT_EQ(o.gates[2].kind, Gate::Kind::extrema_at_nodes);
+  EXPECT_EQ(to_string(o.gates[0]), "curvature-extrema-at-nodes");
+  EXPECT_EQ(to_string(o.gates[1]), "curvature-extrema-at-nodes:runs");
+  EXPECT_EQ(canonical_gate_name("extrema-at-nodes"), "curvature-extrema-at-nodes");
+  EXPECT_EQ(canonical_gate_name("extrema-at-nodes:runs"), "curvature-extrema-at-nodes:runs");
+  EXPECT_EQ(canonical_gate_name("curvature-extrema-at-nodes"), "curvature-extrema-at-nodes");
+  EXPECT_EQ(canonical_gate_name("extrema-at-nodesX"), "extrema-at-nodesX");
+  EXPECT_EQ(canonical_gate_name("g2-at-smooth-nodes:0.05"), "g2-at-smooth-nodes:0.05");
+  for (const char* bad : {"extrema-at-nodes:2", "curvature-extrema-at-nodes:2", "curvature-extrema"}) {
+    ReportOptions p;
+    EXPECT_THROW(parse_require_list(bad, p), InputError) << bad;
+  }
+  // --help lists the alias, and the error names both.
+  const auto help = test::run("report --help");
+  EXPECT_NE(help.out.find("curvature-extrema-at-nodes (alias: extrema-at-nodes)"), std::string::npos) << help.out;
+  const auto fix_help = test::run("fix --help");
+  EXPECT_NE(fix_help.out.find("curvature-extrema-at-nodes (alias: extrema-at-nodes)"), std::string::npos)
+      << fix_help.out;
+  ReportOptions p;
+  try {
+    parse_require_list("extrema", p);
+    ADD_FAILURE() << "extrema was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("extrema-at-nodes is an alias of curvature-extrema-at-nodes"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -275,7 +313,7 @@ TEST(Gates, CommandsTakeImportedFilesAndFonts) {
   const auto region = test::run("region " + (dir / "o" / "S_c0.json").string() +
                                 " --point 1 --size 16x16 --backend cpu --png " + (dir / "r.png").string());
   EXPECT_EQ(region.code, 0) << region.err;
-  const auto report = test::run("report " + std::string(kNimbus) + " --glyphs O,S,o --require extrema-at-nodes --out " +
+  const auto report = test::run("report " + std::string(kNimbus) + " --glyphs O,S,o --require curvature-extrema-at-nodes --out " +
                                 (dir / "rep").string() + " --backend cpu");
   EXPECT_EQ(report.code, 1) << report.err;  // Nimbus' O has curvature maxima between its nodes
   const std::string html = test::slurp(dir / "rep" / "font.html");

@@ -53,7 +53,7 @@ void expect_same(const SplineReport& r, int index, const std::string& ctx) {
   // Findings with text that nlohmann must escape: quotes, a backslash, a
   // control character, UTF-8 and an invalid byte (replaced by U+FFFD).
   const std::vector<Finding> findings = {
-      {"a \"font\".ttf", "O", 1, "p3", "extrema-at-nodes", "move p3 \\ left\tby 2 \xc3\xa9 \xff", "", 0},
+      {"a \"font\".ttf", "O", 1, "p3", "curvature-extrema-at-nodes", "move p3 \\ left\tby 2 \xc3\xa9 \xff", "", 0},
       {"f.ttf", "o", 0, "", "cmr", "plain", "", 0}};
   const std::string source = "fonts/Dé \"x\".ttf";
   SplineJsonExtras batch;
@@ -72,7 +72,7 @@ void expect_same(const SplineReport& r, int index, const std::string& ctx) {
 ReportOptions type_gates(bool loose = false) {
   ReportOptions o;
   o.regions = false;
-  parse_require_list("extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes,no-inflection", o);
+  parse_require_list("curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes,no-inflection", o);
   if (loose) {  // wide G1/G2 tolerances: joints where "jump" (none at G2) and "exact_jump" differ
     o.continuity.angle_deg = 10;
     o.continuity.curvature_rel = 0.9;
@@ -258,12 +258,12 @@ TEST(JsonStream, StreamedReportJsonOfAFontFollowsTheSchema) {
   fs::remove_all(out);
   for (const char* pretty : {"", " --pretty"}) {
     const test::Outcome r = test::run(std::string("report ") + kDejaVu +
-                                      " --glyphs U+0041-U+007A --require extrema-at-nodes,g2-at-smooth-nodes"
+                                      " --glyphs U+0041-U+007A --require curvature-extrema-at-nodes,g2-at-smooth-nodes"
                                       " --no-thumbnails --quiet --out " + out.string() + pretty);
-    ASSERT_EQ(r.code, 1) << r.err;  // DejaVu Sans fails extrema-at-nodes
+    ASSERT_EQ(r.code, 1) << r.err;  // DejaVu Sans fails curvature-extrema-at-nodes
     const Json doc = Json::parse(test::slurp(out / "report.json"));  // throws on malformed text
     EXPECT_EQ(doc["schema"], "cmr-report/2");
-    EXPECT_EQ(doc["settings"]["type_gates"], Json::array({"extrema-at-nodes", "g2-at-smooth-nodes:0.05"}));
+    EXPECT_EQ(doc["settings"]["type_gates"], Json::array({"curvature-extrema-at-nodes", "g2-at-smooth-nodes:0.05"}));
     const Json& splines = doc["splines"];
     ASSERT_GT(splines.size(), 60u);
     int fail = 0, findings = 0;
@@ -289,14 +289,16 @@ TEST(JsonStream, StreamedReportJsonOfAFontFollowsTheSchema) {
 TEST(JsonStream, SarifResultsStreamTheTreesBytes) {
   ReportOptions options;
   options.require = parse_requirement("cmr");
-  options.gates = {*parse_gate("extrema-at-nodes"), *parse_gate("g2-at-smooth-nodes:0.05")};
+  options.gates = {*parse_gate("curvature-extrema-at-nodes"), *parse_gate("g2-at-smooth-nodes:0.05")};
   const std::vector<std::string> ids = sarif_rule_ids(options);
   auto tree = [&](const Finding& f, const char* state) {
     std::string fq = f.glyph;
     if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
     const int index = static_cast<int>(std::find(ids.begin(), ids.end(), f.gate) - ids.begin());
     Json logical = Json::array({Json{{"name", f.node.empty() ? f.glyph : f.node}, {"fullyQualifiedName", fq}, {"kind", "element"}}});
-    Json physical = {{"artifactLocation", {{"uri", path_uri(f.source.empty() ? f.file : f.source)}}}};
+    Json artifact = {{"uri", path_uri(f.source.empty() ? f.file : f.source)}};
+    if ((f.source.empty() ? f.file : f.source)[0] != '/') artifact["uriBaseId"] = "SRCROOT";
+    Json physical = {{"artifactLocation", artifact}};
     if (f.line > 0) physical["region"] = {{"startLine", f.line}};
     Json r = {{"ruleId", f.gate},
               {"ruleIndex", index < static_cast<int>(ids.size()) ? index : -1},
@@ -309,7 +311,7 @@ TEST(JsonStream, SarifResultsStreamTheTreesBytes) {
     return dumped(r, -1);
   };
   const std::vector<Finding> findings = {
-      {"/fonts/Sans.ttf", "O", 0, "p3-p4", "extrema-at-nodes", "O/c0 between nodes p3-p4: sharpest point inside", "", 0},
+      {"/fonts/Sans.ttf", "O", 0, "p3-p4", "curvature-extrema-at-nodes", "O/c0 between nodes p3-p4: sharpest point inside", "", 0},
       {"fonts/Some Font (1).otf", "quote\"back\\slash", 2, "", "cmr", "fails the cmr check\n(verdict none)\t", "", 0},
       {"/f/\xc3\xa9t\xc3\xa9.ttf", "uni00E9", 1, "n\xe2\x80\x93" "2", "g2-at-smooth-nodes:0.05", "\xce\xba jumps \x01", "", 0},
       {"/f/bad\xff.ttf", "bad\xfe", 3, "p1", "unknown-gate", "invalid \xc3 byte", "", 0},
@@ -318,7 +320,8 @@ TEST(JsonStream, SarifResultsStreamTheTreesBytes) {
   };
   for (const Finding& f : findings)
     for (const char* state : {static_cast<const char*>(nullptr), "new", "unchanged"}) {
-      const std::string text = sarif_result(f, options, state);
+      const std::string& where = f.source.empty() ? f.file : f.source;  // a source finding: its .glif
+      const std::string text = sarif_result(f, path_uri(where), where[0] != '/', options, state);
       EXPECT_EQ(text, tree(f, state)) << f.glyph << " " << (state ? state : "-");
       EXPECT_TRUE(Json::parse(text).is_object()) << f.glyph;
     }

@@ -1,5 +1,5 @@
 // κ-curves pass cmr's own checks: the cubic chain of 20 seeded designer-like
-// point sets (tests/bezierize/kcurve_sets.hpp) passes the extrema-at-nodes
+// point sets (tests/bezierize/kcurve_sets.hpp) passes the curvature-extrema-at-nodes
 // gate with every piece certified monotone, and its G2 joints show no
 // curvature jump (report JSON `jump`; the exact sign is kept as `exact_jump`).
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ TEST(KCurveGates, TwentySeededCubicChainsPassExtremaAtNodes) {
   const std::vector<test::PointSet> sets = test::designer_sets(4242, 20);
   ReportOptions options;
   options.regions = false;
-  const std::optional<Gate> gate = parse_gate("extrema-at-nodes");
+  const std::optional<Gate> gate = parse_gate("curvature-extrema-at-nodes");
   ASSERT_TRUE(gate);
   for (const test::PointSet& s : sets) {
     KCurveOptions o;

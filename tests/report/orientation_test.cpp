@@ -60,7 +60,7 @@ std::string text(const Summary& s) {
   return t;
 }
 
-const char* kGates = "extrema-at-nodes,max-extrema-per-segment:1,no-inflection";
+const char* kGates = "curvature-extrema-at-nodes,max-extrema-per-segment:1,no-inflection";
 
 TEST(Orientation, ExtremumKindReadsAbsoluteCurvature) {
   // kappa > 0: the signed maximum is the sharpest point; kappa < 0 the flattest.

@@ -12,7 +12,9 @@
 #include <cstring>
 #include <random>
 
+#include "bezierize/fast_path.hpp"
 #include "bezierize/lambda.hpp"
+#include "bezierize/region.hpp"
 #include "spline/curvature.hpp"
 #include "spline/spline_json.hpp"
 #include "io/output.hpp"
@@ -387,6 +389,151 @@ TEST(ReportRequirement, FixesOfASplitGateHaveTheRequiredExtremum) {
     }
     EXPECT_GT(found, 0) << gate;
   }
+}
+
+// Issue 36: for split:3:flattest on docs/analyze.md's wave (segments 2..3,
+// where the joint is sharpest) the report credited points with pixels whose
+// extremum at the joint is the sharpest one, and points that act on no
+// judged segment (P0: all 9,216 pixels) with the whole view. Every count is
+// now the gate's own region: held here to exact re-judging, pixel by
+// pixel (the exact-only path, ExactOnlyScope), and every example passes.
+/// Finds the region fixes of `spline` under `gate` and holds every count to
+/// exact re-judging, pixel by pixel (the exact-only path, ExactOnlyScope):
+/// the pixels where moving the point there passes the gate. Returns the
+/// report's fixes.
+std::vector<Fix> fixes_held_to_exact_rejudging(const BSpline& spline, const std::string& gate,
+                                               std::optional<SegmentRange> segments) {
+  ReportOptions o;
+  o.require = parse_requirement(gate);
+  o.segments = segments;
+  o.region_size = 24;
+  o.backend = std::make_shared<CpuRegionBackend>(1);
+  SplineReport r = report_spline(spline, o);
+  EXPECT_FALSE(r.pass) << gate;
+  find_fixes(r, o);
+  if (!r.fixes) {
+    ADD_FAILURE() << gate << ": no fixes";
+    return {};
+  }
+  const int S = *o.require->split;
+  AnalyzeOptions ao;
+  ao.split = S;
+  ao.split_mode = Mode::cmrwi;
+  ao.segments = o.segments;
+  ao.continuity = o.continuity;
+  ao.classify.max_depth = o.max_depth;
+  const auto passes_exactly = [&](const BSpline& s) {
+    ExactOnlyScope exact;
+    const SplineAnalysis a = analyze(s, ao);
+    return a.split && split_passes(*a.split, o.require->extremum, a.joints[S - 1]);
+  };
+  EXPECT_FALSE(passes_exactly(spline)) << gate;
+  for (const Fix& f : *r.fixes) {
+    RegionRequest ro;
+    ro.point = f.point;
+    ro.mode = Mode::cmrwi;
+    ro.split = S;
+    ro.segments = o.segments;
+    ro.max_depth = o.max_depth;
+    ro.width = ro.height = o.region_size;
+    const RegionResult image = o.backend->render(RegionProblem::make(spline, ro));
+    std::uint64_t exact = 0;
+    for (int j = 0; j < image.height; ++j)
+      for (int i = 0; i < image.width; ++i)
+        exact += passes_exactly(spline.with_point(f.point, pixel_center(image.view, image.width, image.height, i, j))) ? 1 : 0;
+    EXPECT_EQ(f.pixels, exact) << gate << " P" << f.point;
+    EXPECT_EQ(f.example.has_value(), f.pixels > 0) << gate << " P" << f.point;
+    if (f.example) {
+      EXPECT_TRUE(f.verified) << gate << " P" << f.point;
+      EXPECT_TRUE(passes_exactly(spline.with_point(f.point, *f.example))) << gate << " P" << f.point;
+    }
+  }
+  return *r.fixes;
+}
+
+// Issue 36: for split:3:flattest on docs/analyze.md's wave (segments 2..3,
+// where the joint is the sharpest point) the report credited 7 points with
+// pixels whose extremum at the joint is the sharpest one, P0 (which acts on
+// no judged segment) with all 9,216, and none with an example. Every count
+// is now the gate's own region, held to exact re-judging pixel by pixel; on
+// the wave no single point makes the joint the flattest in the view. On a
+// spiral both kinds are reachable, and every counted pixel passes too.
+TEST(ReportFixes, SplitFlattestCountsOnlyTheGatesOwnRegionHeldToExactRejudging) {
+  const BSpline wave = read_spline_file(std::string(CMR_SOURCE_DIR) + "/examples/wave.json");
+  const std::vector<Fix> w = fixes_held_to_exact_rejudging(wave, "split:3:flattest", SegmentRange{2, 3});
+  ASSERT_EQ(w.size(), 7u);
+  EXPECT_EQ(w[0].pixels, 0u);  // P0 and P1 act on no judged segment (segment 2 is P2..P5)
+  EXPECT_EQ(w[1].pixels, 0u);
+  const BSpline spiral_curve = test::polynomial_as_bspline(spiral(), {0, 0, 0, 1, 2, 2, 2});
+  for (const char* gate : {"split:1:sharpest", "split:1:flattest"}) {
+    std::uint64_t claimed = 0;
+    for (const Fix& f : fixes_held_to_exact_rejudging(spiral_curve, gate, std::nullopt)) claimed += f.pixels;
+    EXPECT_GT(claimed, 0u) << gate << ": no point has a region: the check proves nothing";
+  }
+}
+
+// The same through the command: report.json's entries and the page agree.
+TEST(ReportFixes, SplitFlattestJsonAndPageAgree) {
+  const fs::path out = test::scratch() / "wave_flattest";
+  fs::remove_all(out);
+  const test::Outcome r = test::run("report " + std::string(CMR_SOURCE_DIR) +
+                                    "/examples/wave.json --require split:3:flattest --segments 2..3 --backend cpu "
+                                    "--region-size 32 --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  const Json doc = Json::parse(test::slurp(out / "report.json"));
+  const Json& fixes = doc["splines"][0]["fixes"];
+  int with_region = 0;
+  for (const Json& f : fixes) {
+    const bool region = f["region_pixels"].get<std::uint64_t>() > 0;
+    EXPECT_EQ(!f["example"].is_null(), region) << f.dump();
+    if (region) {
+      EXPECT_TRUE(f["verified"].get<bool>()) << f.dump();
+    }
+    with_region += region ? 1 : 0;
+  }
+  EXPECT_EQ(fixes[0]["region_pixels"], 0);
+  const std::string page = test::slurp(out / "index.html");
+  std::size_t shown = 0;
+  for (std::size_t at = page.find("<figcaption>move P"); at != std::string::npos;
+       at = page.find("<figcaption>move P", at + 1))
+    ++shown;
+  EXPECT_EQ(shown, static_cast<std::size_t>(with_region));
+  EXPECT_EQ(page.find("No single control point has a region") == std::string::npos, with_region > 0);
+}
+
+/// The fill colours of the extremum marks (radius 4.5) of a page, in order.
+std::vector<std::string> extremum_colours(const std::string& html) {
+  std::vector<std::string> out;
+  const std::string mark = "r=\"4.5\" fill=\"";
+  for (std::size_t at = html.find(mark); at != std::string::npos; at = html.find(mark, at + 1))
+    out.push_back(html.substr(at + mark.size(), 7));
+  return out;
+}
+
+// Issue 36: the legend said "maxima red, minima blue" (signed kappa) beside
+// messages that say "sharpest" and "flattest" (|kappa|). The marks are now
+// coloured by |kappa|, so a mirrored curve (kappa negated: signed maxima
+// become minima) keeps every colour, and the caption says so.
+TEST(ReportPage, ExtremaAreColouredByAbsoluteCurvatureLikeTheMessages) {
+  const BSpline s = BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, {{0, 0}, {1, 1.5}, {2, -1}, {3, 1.2}, {4, 0}});
+  std::vector<Vec2> mirrored_points;
+  for (const Vec2& p : s.points()) mirrored_points.push_back(Vec2(-p.x, p.y));
+  const BSpline m = BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, mirrored_points);
+  ReportOptions o = no_regions();
+  const std::string a = report_sections_html({report_spline(s, o)}, 0, o);
+  const std::string b = report_sections_html({report_spline(m, o)}, 0, o);
+  const std::vector<std::string> ca = extremum_colours(a), cb = extremum_colours(b);
+  ASSERT_GE(ca.size(), 4u);  // two extrema, each on the curve and on the plot
+  EXPECT_EQ(ca, cb);
+  EXPECT_NE(std::find(ca.begin(), ca.end(), "#d00000"), ca.end());  // a sharpest point
+  EXPECT_NE(a.find("sharpest points (largest |κ|) red, flattest (smallest |κ|) blue"), std::string::npos);
+  EXPECT_EQ(a.find("maxima red"), std::string::npos);
+  // The plot's marks (after the curve's) are red exactly where the messages say "sharpest".
+  const SplineReport r = report_spline(s, o);
+  ASSERT_LE(r.extrema.size(), ca.size());
+  for (std::size_t i = 0; i < r.extrema.size(); ++i)
+    EXPECT_EQ(ca[ca.size() - r.extrema.size() + i] == "#d00000", event_kind(r, r.extrema[i]) == ExtremumKind::sharpest)
+        << "t = " << r.extrema[i].t;
 }
 
 TEST(ReportFixes, FindTheMovedPointAndVerifyTheExample) {

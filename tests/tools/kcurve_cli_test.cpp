@@ -70,7 +70,7 @@ TEST(KCurveCli, BadInputExits2WithOneLineAndNoFile) {
 }
 
 // The reproducer: every piece of the cubic chain is monotone, and
-// report --require extrema-at-nodes passes.
+// report --require curvature-extrema-at-nodes passes.
 TEST(KCurveCli, CubicChainPassesAnalyzeAndExtremaAtNodes) {
   const fs::path out = scratch() / "k_p1c.json";
   const Outcome r = run("kcurve " + write("k_p1.json", kPoints) + " --cubic --out " + out.string());
@@ -88,7 +88,7 @@ TEST(KCurveCli, CubicChainPassesAnalyzeAndExtremaAtNodes) {
   }
   const fs::path dir = scratch() / "k_p1c_report";
   fs::remove_all(dir);
-  const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require extrema-at-nodes");
+  const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require curvature-extrema-at-nodes");
   EXPECT_EQ(rep.code, 0) << rep.out << rep.err;
 }
 
@@ -110,7 +110,7 @@ TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
 // Two of the seeded designer sets (tests/bezierize/kcurve_sets.hpp, seed
 // 2017, sets 203 and 93) where no κ-curve proper was found: one line per
 // point on stderr naming it, exit 0, and the cubic chain still passes
-// extrema-at-nodes (docs/kcurve.md, "What a point off its maximum means").
+// curvature-extrema-at-nodes (docs/kcurve.md, "What a point off its maximum means").
 TEST(KCurveCli, OffPointNoteNamesThePoint) {
   struct Case {
     const char* name;
@@ -144,7 +144,7 @@ TEST(KCurveCli, OffPointNoteNamesThePoint) {
     EXPECT_NE(r.err.find(c.says), std::string::npos) << r.err;
     const fs::path dir = scratch() / (std::string(c.name) + "_report");
     fs::remove_all(dir);
-    const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require extrema-at-nodes");
+    const Outcome rep = run("report " + out.string() + " --out " + dir.string() + " --require curvature-extrema-at-nodes");
     EXPECT_EQ(rep.code, 0) << c.name << ": " << rep.out << rep.err;
   }
   // A κ-curve proper says nothing.

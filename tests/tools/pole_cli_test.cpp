@@ -76,7 +76,7 @@ TEST(PoleCli, ReportGatesNameThePoleAndPicturesStayFinite) {
   fs::remove_all(out);
   const std::string a = write("knot_pole.json", kKnotPole), b = write("crossing.json", kCrossing);
   const Outcome r = run("report " + a + " " + b + " --out " + out.string() +
-                        " --require cmrwi,extrema-at-nodes,no-inflection --backend cpu --region-size 24");
+                        " --require cmrwi,curvature-extrema-at-nodes,no-inflection --backend cpu --region-size 24");
   ASSERT_EQ(r.code, 1) << r.err;  // the gates fail, nothing is invalid
   const auto doc = read_json(out / "report.json");
   const std::string json_text = slurp(out / "report.json");

@@ -3,10 +3,10 @@
 //   cubic   random cubic Beziers with monotone curvature, one inner point
 //           nudged (at most 3% of the size) until it is not (seeded);
 //   fig8    the Fig. 8 B-spline with its points jittered (seeded);
-//   glyphs  DejaVu Sans A-Z a-z 0-9 contours that fail extrema-at-nodes
+//   glyphs  DejaVu Sans A-Z a-z 0-9 contours that fail curvature-extrema-at-nodes
 //           (TrueType: quadratic B-spline contours);
 //   nimbus  the same for Nimbus Sans (CFF: cubic Bezier contours).
-// Each case is judged by the requirement extrema-at-nodes (every segment's
+// Each case is judged by the requirement curvature-extrema-at-nodes (every segment's
 // curvature monotone: a curvature extremum only at a node); three methods:
 //   certified  fix(): the best single unit (keep g1), several when needed;
 //   tangent    the tangent line search `cmr report` offered before the
@@ -105,7 +105,7 @@ Outcome tangent(const BSpline& s, double grid) {
   Outcome o;
   const auto t = Clock::now();
   report::ReportOptions opt;
-  report::parse_require_list("extrema-at-nodes", opt);
+  report::parse_require_list("curvature-extrema-at-nodes", opt);
   opt.regions = false;
   opt.certified_fixes = false;
   opt.threads = 1;

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   using namespace cmr;
   const char* path = argc > 1 ? argv[1] : "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   const std::string gates =
-      argc > 2 ? argv[2] : "extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection";
+      argc > 2 ? argv[2] : "curvature-extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection";
   const std::string glyphs = argc > 3 ? argv[3] : "A-Z,a-z";
   try {
     const import::Font f = import::read_font(path, import::parse_glyph_spec(glyphs));

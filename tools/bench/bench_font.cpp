@@ -48,7 +48,7 @@ Pass run(const char* path, bool thumbnails) {
   const std::vector<report::FontInfo> fonts{report::font_inputs(font, inputs)};
   p.import = seconds_since(start);
   report::ReportOptions o;
-  report::parse_require_list("extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection", o);
+  report::parse_require_list("curvature-extrema-at-nodes,max-extrema-per-segment:1,g2-at-smooth-nodes,no-inflection", o);
   o.regions = thumbnails;  // gates alone: no region images are needed, thumbnails are the glyph pictures and fixes
   p.contours = inputs.size();
   const auto reports = report::report_batch(std::move(inputs), o);
@@ -71,7 +71,7 @@ Pass run(const char* path, bool thumbnails) {
 int main(int argc, char** argv) {
   const char* path = argc > 1 ? argv[1] : "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   const int passes = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
-  std::printf("font QA benchmark: %s, glyphs A-Z a-z, gates extrema-at-nodes, max-extrema-per-segment:1, "
+  std::printf("font QA benchmark: %s, glyphs A-Z a-z, gates curvature-extrema-at-nodes, max-extrema-per-segment:1, "
               "g2-at-smooth-nodes, no-inflection\n%s, %u cores\n",
               path, processor().c_str(), std::thread::hardware_concurrency());
   for (const bool thumbnails : {false, true}) {

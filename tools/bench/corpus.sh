@@ -36,7 +36,7 @@ for f in $(ls "$noto"/*.ttf | sort | head -n "$n") $(ls "$texgyre"/*.otf | sort 
   ln -s "$f" "$out/fonts/$(basename "$f")"
 done
 fonts=$(ls "$out/fonts" | wc -l)
-gates=extrema-at-nodes:runs,extrema-at-nodes,g2-at-smooth-nodes
+gates=curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes
 echo "corpus: $fonts fonts; cmr $("$cmr" --version 2>/dev/null || echo '?'); $(nproc) cores: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
 
 run() {  # NAME ARGS...

@@ -2,8 +2,8 @@
 """Per-font findings of a corpus run (tools/bench/corpus.sh): from its JUnit
 file (glyphs per font) and SARIF file (which glyphs fail which gate), a
 Markdown table and an SVG scatter plot: per font, the share of glyphs with a
-curvature extremum between nodes (extrema-at-nodes) against the share whose
-runs between on-curve points are not unimodal (extrema-at-nodes:runs).
+curvature extremum between nodes (curvature-extrema-at-nodes) against the share whose
+runs between on-curve points are not unimodal (curvature-extrema-at-nodes:runs).
 
 Usage: corpus_stats.py JUNIT SARIF TABLE.md PLOT.svg   (standard library only)
 """
@@ -36,10 +36,10 @@ for path, d in sorted(fonts.items()):
     name = os.path.basename(path)
     cff = name.endswith(".otf")
     share = lambda g: len(d.get(g, ())) / n
-    rows.append((name, cff, n, share("extrema-at-nodes"), share("extrema-at-nodes:runs"), share("g2-at-smooth-nodes")))
+    rows.append((name, cff, n, share("curvature-extrema-at-nodes"), share("curvature-extrema-at-nodes:runs"), share("g2-at-smooth-nodes")))
 
 with open(table, "w", encoding="utf-8") as f:
-    f.write("| font | outlines | Latin glyphs | extrema-at-nodes | extrema-at-nodes:runs | g2-at-smooth-nodes |\n")
+    f.write("| font | outlines | Latin glyphs | curvature-extrema-at-nodes | curvature-extrema-at-nodes:runs | g2-at-smooth-nodes |\n")
     f.write("|---|---|---:|---:|---:|---:|\n")
     for name, cff, n, a, b, c in rows:
         f.write(f"| {name} | {'CFF' if cff else 'TrueType'} | {n} | {a:.0%} | {b:.0%} | {c:.0%} |\n")
@@ -67,7 +67,7 @@ for name, cff, n, a, b, c in rows:
     r = max(2.0, (n / 300) ** 0.5 * 5)
     colour = "#e07000" if cff else "#2a62a8"
     svg.append(f'<circle cx="{px(a):.1f}" cy="{py(b):.1f}" r="{r:.1f}" fill="{colour}" fill-opacity="0.5"><title>{name}</title></circle>')
-svg.append(f'<text x="{(px(0) + px(1)) / 2}" y="{H - 18}" text-anchor="middle">glyphs with a curvature extremum between nodes (extrema-at-nodes)</text>')
+svg.append(f'<text x="{(px(0) + px(1)) / 2}" y="{H - 18}" text-anchor="middle">glyphs with a curvature extremum between nodes (curvature-extrema-at-nodes)</text>')
 svg.append(f'<text transform="translate(16 {(py(0) + py(1)) / 2}) rotate(-90)" text-anchor="middle">glyphs with a run that is not unimodal (:runs)</text>')
 svg.append(f'<circle cx="{px(0.05)}" cy="{py(0.95)}" r="5" fill="#2a62a8"/><text x="{px(0.05) + 10}" y="{py(0.95) + 4}">TrueType (fonts-noto-core)</text>')
 svg.append(f'<circle cx="{px(0.05)}" cy="{py(0.88)}" r="5" fill="#e07000"/><text x="{px(0.05) + 10}" y="{py(0.88) + 4}">CFF (fonts-texgyre)</text>')
