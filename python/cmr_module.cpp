@@ -240,7 +240,7 @@ Json points_json(py::handle points) {
     const py::array a = py::reinterpret_borrow<py::array>(points);
     if (a.ndim() != 2 || (a.shape(1) != 2 && a.shape(1) != 3)) {
       std::string shape = "(";
-      for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+      for (py::ssize_t i = 0; i < a.ndim(); ++i) shape.append(i ? ", " : "").append(std::to_string(a.shape(i)));
       throw InputError("points: expected an N x 2 or N x 3 array, got shape " + shape + (a.ndim() == 1 ? ",)" : ")"));
     }
   }
