@@ -32,6 +32,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <variant>
 #include <vector>
 
@@ -141,6 +142,21 @@ py::str utf8(const std::string& s) {
   return py::reinterpret_steal<py::str>(o);
 }
 
+/// A document's object keys come from a small set (the schema's words):
+/// each is made into an interned Python string once and reused, so a dict
+/// costs no string creation and no hashing per key. Bounded; never freed
+/// (the strings must outlive every dict, and the interpreter's shutdown).
+py::object key_str(const std::string& key) {
+  static auto* cache = new std::unordered_map<std::string, PyObject*>();
+  if (auto it = cache->find(key); it != cache->end()) return py::reinterpret_borrow<py::object>(it->second);
+  py::str s = utf8(key);
+  if (cache->size() >= 4096) return s;
+  PyObject* o = s.release().ptr();
+  PyUnicode_InternInPlace(&o);
+  cache->emplace(key, o);
+  return py::reinterpret_borrow<py::object>(o);
+}
+
 template <class J>
 py::object to_py(const J& j) {
   switch (j.type()) {
@@ -161,7 +177,8 @@ py::object to_py(const J& j) {
     }
     case nlohmann::json::value_t::object: {
       py::dict d;
-      for (auto it = j.begin(); it != j.end(); ++it) d[utf8(it.key())] = to_py(it.value());
+      for (auto it = j.begin(); it != j.end(); ++it)
+        if (PyDict_SetItem(d.ptr(), key_str(it.key()).ptr(), to_py(it.value()).ptr()) != 0) throw py::error_already_set();
       return d;
     }
     default: return py::none();
@@ -674,10 +691,35 @@ py::object judge_py(const Spline& s, const std::string& require, int depth, doub
   return to_py(doc["splines"][0]);
 }
 
+/// Many splines judged as `cmr report` judges them (report_batch: every
+/// core, no regions, no fixes): per spline {"name", "status", "gates"} with
+/// report.json's gates (report::gates_json).
+py::object judge_many_py(const std::vector<Spline>& splines, const std::string& require, int depth, int threads) {
+  report::ReportOptions o;
+  if (!require.empty()) report::parse_require_list(require, o);
+  o.max_depth = depth;
+  o.regions = false;
+  o.threads = threads;
+  std::vector<report::ReportInput> inputs;
+  inputs.reserve(splines.size());
+  for (const Spline& s : splines) inputs.push_back({s.shadow().name(), s.planar("judge_many"), {}});
+  const std::vector<report::SplineReport> reports =
+      interruptible([inputs = std::move(inputs), o]() mutable { return report::report_batch(std::move(inputs), o); });
+  py::list out;
+  for (const report::SplineReport& r : reports) {
+    OJson entry = {{"name", r.name}, {"status", report::status_word(r)}};
+    if (!r.error.empty()) entry["error"] = r.error;
+    if (!r.gates.empty()) entry["gates"] = report::gates_json(r);
+    out.append(to_py(entry));
+  }
+  return out;
+}
+
 // ------------------------------------------------------------ fonts
 
 /// One contour of the pen (python/cmr/pen.py) through io/font.cpp's builder:
-/// the spline file of `cmr import`, or None for a contour without a piece.
+/// the spline of `cmr import` with its point names (to_dict() is the file
+/// `cmr import` writes), or None for a contour without a piece.
 py::object font_contour(py::array_t<double, py::array::c_style | py::array::forcecast> xy, const std::string& tags,
                         int contour, int degree, const std::string& glyph) {
   if (xy.ndim() != 2 || xy.shape(1) != 2 || static_cast<std::size_t>(xy.shape(0)) != tags.size())
@@ -693,9 +735,9 @@ py::object font_contour(py::array_t<double, py::array::c_style | py::array::forc
                   : t == 'q' ? import::OutlinePoint::Tag::conic
                              : import::OutlinePoint::Tag::cubic};
   }
-  const std::optional<import::Contour> c = import::make_contour(outline, contour, degree, glyph);
+  std::optional<import::Contour> c = import::make_contour(outline, contour, degree, glyph);
   if (!c) return py::none();
-  return to_py(import::contour_json(*c));
+  return py::cast(Spline{std::move(c->spline), std::move(c->point_names)});
 }
 
 }  // namespace
@@ -861,6 +903,11 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("backend", &ReportArgs::backend);
   m.def("_report", &report_py);
   m.def("_judge", &judge_py);
+  m.def("_judge_many", &judge_many_py);
+  m.def("_analyze_default", [](const Spline& s) {
+    // cmr.analyze(spline) with every option at its default: no options to convert.
+    return analyze_py(s, AnalyzeArgs{});
+  });
 
   m.def("_font_contour", &font_contour);
   m.def("_label_colour", [](int label, bool split) {

@@ -31,7 +31,7 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "kcurve", "report", "judge", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "kcurve", "report", "judge", "judge_many", "knots", "DEFAULT_DEPTH"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 
@@ -56,6 +56,10 @@ def analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=N
     [S1, S2, ...] (--each-piece); angle_tol, curvature_tol: --angle-tol,
     --curvature-tol; torsion: space curves' --torsion.
     """
+    if (type(spline) is Spline and not unknown and depth == DEFAULT_DEPTH and split is None and mode == "cmrwi"
+            and segments is None and each_piece is None and angle_tol == 1e-3 and curvature_tol == 1e-6
+            and torsion is False and type(depth) is int):
+        return _cmr._analyze_default(spline)  # every option at its default: nothing to convert
     _o.unknown("analyze", unknown, ["depth", "split", "mode", "segments", "each_piece", "angle_tol",
                                     "curvature_tol", "torsion"])
     a = _cmr._AnalyzeArgs()
@@ -191,6 +195,18 @@ def judge(spline, *, require="cmrwi", depth=DEFAULT_DEPTH, angle_tol=1e-3, curva
     return _cmr._judge(_o.spline(spline, "judge"), _o.text("require", require),
                        _o.integer("depth", depth, 0, _o.MAX_DEPTH), _o.number("angle_tol", angle_tol),
                        _o.number("curvature_tol", curvature_tol))
+
+
+def judge_many(splines, *, require="cmrwi", depth=DEFAULT_DEPTH, threads=0, **unknown):
+    """Many splines judged as ``cmr report --require R`` judges them, in one
+    call on `threads` threads (0: every core; report_batch, no regions, no
+    fixes): per spline {"name", "status", "gates"} ("gates" as in
+    report.json, with each violation). The fast path for many glyph
+    contours (cmr.pen.SplinePen.contours)."""
+    _o.unknown("judge_many", unknown, ["require", "depth", "threads"])
+    items = [_o.spline(s, "judge_many") for s in splines]
+    return _cmr._judge_many(items, _o.text("require", require), _o.integer("depth", depth, 0, _o.MAX_DEPTH),
+                            _o.integer("threads", threads, 0, 1024))
 
 
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",

@@ -110,3 +110,24 @@ def test_pen_errors():
         pen.lineTo((1, 2))
     with pytest.raises(cmr.InputError, match="degree"):
         SplinePen("E", degree=4)
+
+
+def test_judge_many_equals_report(tmp_path):
+    # The pen's contours judged in one call equal cmr report's entries for
+    # the same glyphs: status and every gate's violations.
+    if not os.path.exists(DEJAVU):
+        pytest.skip("DejaVu Sans is not installed")
+    require = "extrema-at-nodes,g2-at-smooth-nodes"
+    out = tmp_path / "qa"
+    run_cmr("report", DEJAVU, "--glyphs", "O,a,S,l", "--require", require, "--no-thumbnails", "--quiet", "--out", out,
+            check=False)
+    entries = {e["name"]: e for e in json.loads((out / "report.json").read_text())["splines"]}
+    glyphs = ttLib.TTFont(DEJAVU).getGlyphSet()
+    contours = [c for n in ("O", "a", "S", "l") for c in cmr.fonttools.glyph_contours(glyphs, n)]
+    results = cmr.judge_many(contours, require=require)
+    assert [r["name"] for r in results] == [c.name for c in contours]
+    assert sorted(entries) == sorted(r["name"] for r in results)
+    assert {r["status"] for r in results} == {"pass", "fail"}
+    for r in results:
+        assert r["status"] == entries[r["name"]]["status"], r["name"]
+        assert r["gates"] == entries[r["name"]]["gates"], r["name"]
