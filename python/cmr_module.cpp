@@ -393,6 +393,7 @@ std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a, const std::fu
 
 struct RegionOut {
   RegionResult image;
+  std::vector<std::uint8_t> codes;  ///< image.codes(): the PGM's bytes, handed to NumPy without a copy
   std::optional<RegionContours> contours;
   OJson summary;
   std::vector<std::string> notes;
@@ -445,8 +446,9 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
   out.image = backend->render(problem);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const RegionResult& img = out.image;
+  out.codes = img.codes();  // the one pass over the labels
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
-  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  for (const std::uint8_t c : out.codes) ++counts[c];
   OJson c = OJson::object();
   for (int l = 0; l < img.label_codes(); ++l) c[img.label_name(static_cast<std::uint8_t>(l))] = counts[l];
   const std::uint64_t monotone = img.each_piece ? counts[1]
@@ -485,19 +487,20 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
   return out;
 }
 
-/// The label codes as a (height, width) uint8 array: one pass over the
-/// result into the array's own buffer (the PGM's bytes, row 0 at the top).
-py::array_t<std::uint8_t> label_array(const RegionResult& img) {
-  py::array_t<std::uint8_t> a({img.height, img.width});
-  std::uint8_t* p = a.mutable_data();
-  for (std::size_t i = 0; i < img.size(); ++i) p[i] = img.code_at(i);
-  return a;
+/// The label codes as a (height, width) uint8 array (the PGM's bytes, row 0
+/// at the top): the array owns the codes' vector (a capsule frees it), so the
+/// labels are converted once, in the worker, and never copied.
+py::array_t<std::uint8_t> label_array(std::vector<std::uint8_t>&& codes, int width, int height) {
+  auto* owned = new std::vector<std::uint8_t>(std::move(codes));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<std::uint8_t>*>(p); });
+  return py::array_t<std::uint8_t>({height, width}, {static_cast<py::ssize_t>(width), py::ssize_t{1}}, owned->data(),
+                                   free_when_done);
 }
 
 py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
   const BSpline spline = s.planar("region");
   auto out = std::make_shared<RegionOut>(interruptible([spline, a] { return region_run(spline, a); }));
-  py::array_t<std::uint8_t> labels = label_array(out->image);
+  py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
   if (!full) {
     py::list notes;
     for (const std::string& n : out->notes) notes.append(utf8(n));
