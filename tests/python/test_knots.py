@@ -1,4 +1,4 @@
-"""cmr.knots.* and cmr.kcurve equal `cmr knots` and `cmr kcurve`."""
+"""cmr.knots.*, cmr.kcurve and cmr.report equal `cmr knots`, `cmr kcurve` and `cmr report`."""
 
 import json
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import cmr
-from conftest import ROOT, cli_json
+from conftest import ROOT, cli_json, run_cmr
 
 
 @pytest.mark.parametrize("op,args,call", [
@@ -41,3 +41,19 @@ def test_kcurve_equals_cli(tmp_path):
         assert spline.to_dict() == cli_json("kcurve", path), path.name
         cubic = cmr.kcurve(doc["points"], closed=doc.get("closed", False), cubic=True)
         assert cubic.to_dict() == cli_json("kcurve", path, "--cubic"), path.name
+
+
+def test_report_equals_cli(tmp_path):
+    # cmr.report runs the command's batch: the same exit code, the same
+    # one-line summary counts and the same report.json entries.
+    files = [str(p) for p in sorted((ROOT / "examples" / "report").glob("*.json"))] + [str(ROOT / "examples/wave.json")]
+    out = tmp_path / "cli"
+    p = run_cmr("report", *files, "--require", "cmrwi", "--no-thumbnails", "--quiet", "--out", out, check=False)
+    cli = json.loads((out / "report.json").read_text())
+    r = cmr.report(files, require="cmrwi", thumbnails=False)
+    assert r["exit_code"] == p.returncode and r["out"] is None
+    assert r["summary"].split(";")[0] == p.stdout.split(";")[0]
+    assert [(s["name"], s["status"], s["verdict"]) for s in r["report"]["splines"]] == \
+        [(s["name"], s["status"], s["verdict"]) for s in cli["splines"]]
+    kept = cmr.report(files, require="cmrwi", thumbnails=False, out=tmp_path / "py")
+    assert kept["out"] == str(tmp_path / "py") and (tmp_path / "py" / "index.html").exists()
