@@ -47,6 +47,7 @@
 #include "bezierize/region_reason.hpp"
 #include "bezierize/segments.hpp"
 #include "bezierize/space_analyze.hpp"
+#include "bezierize/space_region.hpp"
 #include "draw/draw.hpp"
 #include "io/font.hpp"
 #include "report/analyze_json.hpp"
@@ -371,6 +372,7 @@ struct RegionArgs {
   std::optional<std::vector<double>> view;
   std::string backend = "auto", precision = "fp64", device;
   bool depth_map = false, contours = false;
+  std::string plane;  ///< space curves: "xy", "yz", "zx" or nine numbers (parse_space_plane); empty: the default
 };
 
 /// The backend of backend=, precision=, device= (tools/cli_common.cpp:
@@ -497,7 +499,65 @@ py::array_t<std::uint8_t> label_array(std::vector<std::uint8_t>&& codes, int wid
                                    free_when_done);
 }
 
+/// A space curve's region of a point moving in a plane, on the CPU (as
+/// tools/cmd_space.cpp: run_space_region with --backend cpu).
+RegionOut space_region_run(const SpaceSpline& spline, const RegionArgs& a) {
+  if (!a.with.empty() || !a.split.empty() || a.segments || a.each_piece || a.mode != "cmrwi" || a.contours)
+    throw InputError("a space curve; with_, split, segments, each_piece, mode and contours are for planar splines");
+  if (a.backend == "vulkan")
+    throw InputError("backend: space regions render on the CPU from Python (cmr region FILE --backend vulkan has the device)");
+  SpaceRegionRequest r;
+  r.point = a.point;
+  if (r.point < 0 || r.point >= spline.unique_point_count())
+    throw InputError("point " + std::to_string(r.point) + " is outside 0.." + std::to_string(spline.unique_point_count() - 1));
+  if (!a.plane.empty()) r.plane = parse_space_plane(a.plane, spline.points()[static_cast<std::size_t>(r.point)]);
+  r.width = a.width;
+  r.height = a.height;
+  r.max_depth = a.depth;
+  if (a.view) r.view = View{(*a.view)[0], (*a.view)[1], (*a.view)[2], (*a.view)[3]};
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
+  RegionOut out;
+  out.image = problem.render();
+  const RegionResult& img = out.image;
+  out.codes = img.codes();
+  std::uint64_t counts[kRegionLabelCodes] = {};
+  for (const std::uint8_t c : out.codes) ++counts[c];
+  OJson c;
+  for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) c[img.label_name(l)] = counts[l];
+  const SpacePlane& plane = *problem.request().plane;
+  auto vec3 = [](const Vec3& p) { return OJson{p.x, p.y, p.z}; };
+  out.summary = {{"width", img.width},
+                 {"height", img.height},
+                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
+                 {"plane", {{"origin", vec3(plane.origin)}, {"u", vec3(plane.u)}, {"v", vec3(plane.v)}}},
+                 {"dimension", 3},
+                 {"backend", "cpu"},
+                 {"point", r.point},
+                 {"counts", c},
+                 {"seconds", img.seconds},
+                 {"exact_pixels", img.exact_pixels}};
+  return out;
+}
+
 py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
+  if (const SpaceSpline* space = std::get_if<SpaceSpline>(&s.value)) {
+    const SpaceSpline curve = *space;
+    auto out = std::make_shared<RegionOut>(interruptible([curve, a] { return space_region_run(curve, a); }));
+    py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
+    if (!full) return py::make_tuple(labels, py::list());
+    py::dict r;
+    r["labels"] = labels;
+    r["summary"] = to_py(out->summary);
+    r["counts"] = to_py(out->summary["counts"]);
+    r["notes"] = py::list();
+    if (a.depth_map) {
+      py::array_t<std::uint8_t> depth({out->image.height, out->image.width});
+      std::copy(out->image.depth.begin(), out->image.depth.end(), depth.mutable_data());
+      r["depth"] = depth;
+    }
+    return r;
+  }
+  if (!a.plane.empty()) throw InputError("plane is for space curves (this spline is planar)");
   const BSpline spline = s.planar("region");
   auto out = std::make_shared<RegionOut>(interruptible([spline, a] { return region_run(spline, a); }));
   py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
@@ -873,7 +933,8 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("precision", &RegionArgs::precision)
       .def_readwrite("device", &RegionArgs::device)
       .def_readwrite("depth_map", &RegionArgs::depth_map)
-      .def_readwrite("contours", &RegionArgs::contours);
+      .def_readwrite("contours", &RegionArgs::contours)
+      .def_readwrite("plane", &RegionArgs::plane);
   m.def("_region", &region_py);
 
   py::class_<FixArgs>(m, "_FixArgs")

@@ -81,10 +81,21 @@ def segments(spline):
     return _cmr._segments(_o.spline(spline, "segments"))
 
 
+def _plane(plane):
+    """plane="xy" | "yz" | "zx" | (ox, oy, oz, ux, uy, uz, vx, vy, vz): the text parse_space_plane reads."""
+    if plane is None:
+        return ""
+    if isinstance(plane, str):
+        return plane
+    if isinstance(plane, (list, tuple)) and len(plane) == 9:
+        return ",".join(repr(_o.number(f"plane[{i}]", v)) for i, v in enumerate(plane))
+    raise InputError(f"plane: expected 'xy', 'yz', 'zx' or nine numbers (origin, u, v), got {plane!r}")
+
+
 def _region_args(function, spline, point, view, size, mode, split, segments, each_piece, with_, depth, backend,
-                 precision, device, unknown, extra):
+                 precision, device, plane, unknown, extra):
     _o.unknown(function, unknown, ["point", "view", "size", "mode", "split", "segments", "each_piece", "with_",
-                                   "depth", "backend", "precision", "device"] + extra)
+                                   "depth", "backend", "precision", "device", "plane"] + extra)
     s = _o.spline(spline, function)
     a = _cmr._RegionArgs()
     if point is None:
@@ -101,21 +112,25 @@ def _region_args(function, spline, point, view, size, mode, split, segments, eac
     a.backend = _o.choice("backend", backend, ("auto", "vulkan", "cpu"))
     a.precision = _o.choice("precision", precision, ("fp64", "fp32"))
     a.device = _o.text("device", device)
+    a.plane = _plane(plane)
     return s, a
 
 
 def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
            each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
-           **unknown):
+           plane=None, **unknown):
     """``cmr region FILE --point K --labels OUT.pgm``: the label map as a
     numpy.uint8 array of shape (height, width), row 0 at the top, the PGM's
     bytes (0 not monotone, 1 increasing, 2 decreasing, 3 undecided; with
     split/each_piece the codes of docs/region.md). view: (x0, y0, x1, y1),
     default the control polygon's box with a margin; size: (width, height).
-    Notes the command prints on stderr come as cmr.Note warnings.
+    Notes the command prints on stderr come as cmr.Note warnings. A space
+    curve's point moves in a plane (plane="xy" | "yz" | "zx" | nine numbers
+    origin, u, v; default: through the point, spanned by its neighbours),
+    rendered on the CPU; view is then in plane coordinates.
     """
     s, a = _region_args("region", spline, point, view, size, mode, split, segments, each_piece, with_, depth,
-                        backend, precision, device, unknown, [])
+                        backend, precision, device, plane, unknown, [])
     labels, notes = _cmr._region(s, a, False)
     _notes(notes)
     return labels
@@ -123,7 +138,7 @@ def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", spli
 
 def region_result(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
                   each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
-                  depth_map=False, contours=False, **unknown):
+                  plane=None, depth_map=False, contours=False, **unknown):
     """region() with the rest of the command's answer, a dict:
     "labels" (as region()), "counts" (per label name), "summary" (the JSON the
     command prints, with --stats' timings), "notes" (the stderr lines); with
@@ -133,7 +148,7 @@ def region_result(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi
     regions, clockwise around holes; --contours).
     """
     s, a = _region_args("region_result", spline, point, view, size, mode, split, segments, each_piece, with_,
-                        depth, backend, precision, device, unknown, ["depth_map", "contours"])
+                        depth, backend, precision, device, plane, unknown, ["depth_map", "contours"])
     a.depth_map = bool(depth_map)
     a.contours = bool(contours)
     return _cmr._region(s, a, True)

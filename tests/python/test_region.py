@@ -71,3 +71,19 @@ def test_empty_region_note():
         labels = cmr.region(ROOT / "examples/figures/fig8.json", point=3, size=(8, 8),
                             view=(100, 100, 101, 101), backend="cpu")
     assert labels.shape == (8, 8)
+
+
+@pytest.mark.parametrize("plane,flags", [(None, []), ("xy", ["--plane", "xy"]),
+                                         ((2.15, -1.31, 0.8, 1, 0, 0, 0, 0.6, 0.8), ["--plane", "2.15,-1.31,0.8,1,0,0,0,0.6,0.8"])],
+                         ids=["default-plane", "xy", "nine-numbers"])
+def test_space_curve_labels_equal_pgm(tmp_path, plane, flags):
+    path = ROOT / "examples/space/fig8_lifted.json"
+    pgm = tmp_path / "space.pgm"
+    summary = cli_json("region", path, "--point", 2, "--size", "48x40", "--backend", "cpu", "--labels", pgm, *flags)
+    w, h, _, pixels = read_pgm(pgm)
+    expected = np.frombuffer(pixels, dtype=np.uint8).reshape(h, w)
+    assert len(np.unique(expected)) >= 2, "a one-label map would prove little"
+    r = cmr.region_result(path, point=2, size=(48, 40), backend="cpu", plane=plane)
+    assert r["labels"].shape == (40, 48) and np.array_equal(r["labels"], expected)
+    assert r["counts"] == summary["counts"] and r["summary"]["plane"] == summary["plane"]
+    assert np.array_equal(cmr.region(path, point=2, size=(48, 40), backend="cpu", plane=plane), expected)
