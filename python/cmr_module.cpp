@@ -47,6 +47,7 @@
 #include "bezierize/region_reason.hpp"
 #include "bezierize/segments.hpp"
 #include "bezierize/space_analyze.hpp"
+#include "bezierize/space_fix.hpp"
 #include "bezierize/space_region.hpp"
 #include "draw/draw.hpp"
 #include "io/font.hpp"
@@ -610,12 +611,36 @@ struct FixArgs {
   double max_move = 0, tolerance = 1e-6;
   int depth = kDefaultDepth;
   int grid = 32;
+  std::string plane;  ///< space curves: --plane (xy, yz, zx or nine numbers)
 };
 
+/// A space curve's fix (as tools/cmd_space_fix.cpp: run_space_fix).
+py::object space_fix_py(const Spline& s, const FixArgs& a) {
+  if (a.segments) throw InputError("a space curve; segments is for planar splines");
+  if (a.require != "cmr" && a.require != "cmrwi")
+    throw InputError("a space curve; its fix takes require cmr (|kappa| monotone, no zero curvature) or cmrwi "
+                     "(|kappa| monotone), not '" + a.require + "'");
+  SpaceFixRequest request;
+  request.no_zero_curvature = a.require == "cmr";
+  request.points = a.points;
+  request.plane_text = a.plane;
+  request.keep = a.keep == "g2" ? Keep::g2 : a.keep == "none" ? Keep::none : Keep::g1;
+  request.max_move = a.max_move;
+  request.tolerance = a.tolerance;
+  request.max_depth = a.depth;
+  const SpaceSpline spline = std::get<SpaceSpline>(s.value);
+  const SpaceFixResult f = interruptible([spline, request] { return space_fix(spline, request); });
+  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
+  Spline fixed{*f.spline, s.point_names};
+  return py::make_tuple(fixed, to_py(report::space_fix_document(std::nullopt, a.require, request, f)));
+}
+
 py::object fix_py(const Spline& s, const FixArgs& a) {
-  const BSpline spline = s.planar("fix (space curves: cmr fix FILE)");
   if (!(a.max_move >= 0) || !std::isfinite(a.max_move))
     throw InputError("max_move: " + std::to_string(a.max_move) + " is not a distance >= 0");
+  if (s.dimension() == 3) return space_fix_py(s, a);
+  if (!a.plane.empty()) throw InputError("plane is for space curves (this spline is planar)");
+  const BSpline spline = s.planar("fix");
   // As tools/cmd_fix.cpp fills FixRequest.
   FixRequest request;
   request.requirement = parse_fix_requirement(a.require);
@@ -946,7 +971,8 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("max_move", &FixArgs::max_move)
       .def_readwrite("tolerance", &FixArgs::tolerance)
       .def_readwrite("depth", &FixArgs::depth)
-      .def_readwrite("grid", &FixArgs::grid);
+      .def_readwrite("grid", &FixArgs::grid)
+      .def_readwrite("plane", &FixArgs::plane);
   m.def("_fix", &fix_py);
 
   m.def("_knots", &knots_op);

@@ -165,7 +165,7 @@ class FixResult(NamedTuple):
 
 
 def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_move=None, tolerance=1e-6,
-        depth=DEFAULT_DEPTH, grid=None, **unknown):
+        depth=DEFAULT_DEPTH, grid=None, plane=None, **unknown):
     """``cmr fix FILE --require R``: the nearest certified repair (docs/fix.md).
 
     require: "cmr", "cmrwi", "split:S[:sharpest|flattest]", "each-piece",
@@ -173,9 +173,12 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
     "each-run"; points: the points that may move ([K, ...] or "P1,P3");
     keep: "g1" | "g2" | "none"; max_move: largest move (default the curve
     size); grid: the search grids' cells per side (8..512, default 32).
+    A space curve (require "cmr" or "cmrwi") moves one point in a plane
+    (plane= as for region; default its neighbours' plane), as `cmr fix` does.
     Raises InputError when there is no certified fix (the command's exit 2).
     """
-    _o.unknown("fix", unknown, ["require", "points", "keep", "segments", "max_move", "tolerance", "depth", "grid"])
+    _o.unknown("fix", unknown, ["require", "points", "keep", "segments", "max_move", "tolerance", "depth", "grid",
+                                "plane"])
     a = _cmr._FixArgs()
     a.require = _o.text("require", require)
     a.points = _o.points_list("points", points)
@@ -185,6 +188,7 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
     a.tolerance = _o.number("tolerance", tolerance)
     a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
     a.grid = 32 if grid is None else _o.integer("grid", grid, 8, 512)
+    a.plane = _plane(plane)
     fixed, doc = _cmr._fix(_o.spline(spline, "fix"), a)
     return FixResult(fixed, doc["moves"], doc["certificate"], doc)
 

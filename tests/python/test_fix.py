@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import cmr
-from conftest import cli_json
+from conftest import ROOT, cli_json
 
 
 def test_fix_fig8_cmrwi_is_rejudged_monotone(tmp_path, fig8_path):
@@ -48,3 +48,18 @@ def test_fix_nothing_to_do_and_no_fix(fig8_path):
     assert again.document["already"] and again.moves == []
     with pytest.raises(cmr.InputError, match="no certified fix"):
         cmr.fix(fig8_path, require="cmrwi", max_move=1e-9)
+
+
+def test_space_fix_equals_cli_and_is_rejudged():
+    path = ROOT / "examples/space/fig8_lifted.json"
+    assert cmr.analyze(path)["spline"]["curvature"] == "none"
+    cli = cli_json("fix", path, "--points", "2")
+    r = cmr.fix(path, points=[2])
+    assert r.spline.dimension == 3 and r.document["dimension"] == 3
+    for key in ("require", "keep", "already", "fixed", "moves", "total_squared", "max_distance", "size", "tolerance",
+                "failing_segments", "joint_conflicts", "tie_joints", "units", "certificate"):
+        assert r.document[key] == cli[key], key
+    # Re-judged exactly (analyze_space, as cmr analyze).
+    assert cmr.analyze(r.spline)["spline"]["curvature"] in ("increasing", "decreasing")
+    with pytest.raises(cmr.InputError, match="its fix takes require cmr"):
+        cmr.fix(path, require="split:2")
