@@ -87,3 +87,19 @@ def test_space_curve_labels_equal_pgm(tmp_path, plane, flags):
     assert r["labels"].shape == (40, 48) and np.array_equal(r["labels"], expected)
     assert r["counts"] == summary["counts"] and r["summary"]["plane"] == summary["plane"]
     assert np.array_equal(cmr.region(path, point=2, size=(48, 40), backend="cpu", plane=plane), expected)
+
+
+def test_vulkan_backend_equals_cpu_and_environment_errors():
+    # On lavapipe where there is no GPU (as tests/vk): the same labels as the CPU backend.
+    fig8 = ROOT / "examples/figures/fig8.json"
+    cpu = cmr.region(fig8, point=3, size=(64, 48), backend="cpu")
+    vk = cmr.region_result(fig8, point=3, size=(64, 48), backend="vulkan")
+    assert vk["summary"]["backend"] == "vulkan"
+    assert np.array_equal(vk["labels"], cpu)
+    # No such device: cmr.EnvironmentError (an OSError) with the command's line (exit 3).
+    p = run_cmr("region", fig8, "--point", 3, "--size", "8x8", "--backend", "vulkan", "--device", "no-such-gpu",
+                check=False)
+    assert p.returncode == 3
+    with pytest.raises(cmr.EnvironmentError) as e:
+        cmr.region(fig8, point=3, size=(8, 8), backend="vulkan", device="no-such-gpu")
+    assert isinstance(e.value, OSError) and p.stderr.strip() == "cmr: " + str(e.value)
