@@ -42,7 +42,9 @@ def pen_splines(font, names):
     (DEJAVU, ["O"]),
     (DEJAVU, ["a", "S", "g", "e", "R"]),
     (NIMBUS, ["O", "a", "S", "g", "R", "N"]),
-], ids=["DejaVuSans-O", "DejaVuSans-aSgeR", "NimbusSans-OaSgRN"])
+    (DEJAVU, ["\u00c1", "\u00e7", "\u00f6"]),  # composites: base glyph and accent through addComponent
+    (NIMBUS, ["\u00c1", "\u00e7", "\u00f6"]),
+], ids=["DejaVuSans-O", "DejaVuSans-aSgeR", "NimbusSans-OaSgRN", "DejaVuSans-composites", "NimbusSans-accented"])
 def test_pen_equals_import_and_analyze(tmp_path, font, chars):
     if not os.path.exists(font):
         pytest.skip(f"{font} is not installed (tools/setup.sh installs it)")
