@@ -336,7 +336,8 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
     const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
-        if (std::optional<Contour> contour = make_contour(outline_contour(o, c), c, degree, g.name)) g.contours.push_back(std::move(*contour));
+        if (std::optional<Contour> contour = make_contour(outline_contour(o, c), c, degree, g.name))
+          g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {
       throw InputError(path.string() + ": " + e.what());

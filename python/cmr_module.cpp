@@ -79,7 +79,9 @@ using OJson = nlohmann::ordered_json;
 
 std::string type_name(py::handle h) { return py::type::handle_of(h).attr("__name__").cast<std::string>(); }
 
-std::string at(const std::string& where, const std::string& key) { return where.empty() ? key : where + "[" + key + "]"; }
+std::string at(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "[" + key + "]";
+}
 
 /// A Python value as spline-file JSON; InputError naming `where` for a value
 /// JSON cannot hold.
@@ -107,7 +109,8 @@ Json to_json(py::handle h, const std::string& where) {
   if (PyDict_Check(o)) {
     Json obj = Json::object();
     for (auto [k, v] : py::reinterpret_borrow<py::dict>(h)) {
-      if (!PyUnicode_Check(k.ptr())) throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
+      if (!PyUnicode_Check(k.ptr()))
+        throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
       const std::string key = k.cast<std::string>();
       obj[key] = to_json(v, where.empty() ? key : where + "." + key);
     }
@@ -180,7 +183,8 @@ py::object to_py(const J& j) {
     case nlohmann::json::value_t::object: {
       py::dict d;
       for (auto it = j.begin(); it != j.end(); ++it)
-        if (PyDict_SetItem(d.ptr(), key_str(it.key()).ptr(), to_py(it.value()).ptr()) != 0) throw py::error_already_set();
+        if (PyDict_SetItem(d.ptr(), key_str(it.key()).ptr(), to_py(it.value()).ptr()) != 0)
+          throw py::error_already_set();
       return d;
     }
     default: return py::none();
@@ -378,7 +382,8 @@ struct RegionArgs {
 
 /// The backend of backend=, precision=, device= (tools/cli_common.cpp:
 /// make_region_backend); its fallback note goes to `note`.
-std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a, const std::function<void(const std::string&)>& note) {
+std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a,
+                                              const std::function<void(const std::string&)>& note) {
 #ifdef CMR_WITH_VULKAN
   vk::BackendChoice choice;
   choice.kind = a.backend == "cpu" ? vk::BackendKind::cpu
@@ -474,11 +479,16 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
     entry["areas"] = areas;
   }
   const RegionRequest& r = problem.request();
-  out.summary = {{"width", r.width},   {"height", r.height}, {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
-                 {"mode", a.mode},     {"backend", backend->name()}, {"points", OJson::array({entry})}};
+  out.summary = {{"width", r.width},
+                 {"height", r.height},
+                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
+                 {"mode", a.mode},
+                 {"backend", backend->name()},
+                 {"points", OJson::array({entry})}};
   if (r.split) out.summary["split"] = *r.split;
   if (!r.splits.empty() && !r.each_piece) out.summary["split"] = r.splits;
-  if (r.each_piece) out.summary["each_piece"] = each_piece_cuts(judged_range(r.segments, spline.segment_count()), r.splits);
+  if (r.each_piece)
+    out.summary["each_piece"] = each_piece_cuts(judged_range(r.segments, spline.segment_count()), r.splits);
   if (r.segments) {
     OJson ignored = OJson::array();
     for (int seg = 0; seg < spline.segment_count(); ++seg)
@@ -506,11 +516,13 @@ RegionOut space_region_run(const SpaceSpline& spline, const RegionArgs& a) {
   if (!a.with.empty() || !a.split.empty() || a.segments || a.each_piece || a.mode != "cmrwi" || a.contours)
     throw InputError("a space curve; with_, split, segments, each_piece, mode and contours are for planar splines");
   if (a.backend == "vulkan")
-    throw InputError("backend: space regions render on the CPU from Python (cmr region FILE --backend vulkan has the device)");
+    throw InputError(
+        "backend: space regions render on the CPU from Python (cmr region FILE --backend vulkan has the device)");
   SpaceRegionRequest r;
   r.point = a.point;
   if (r.point < 0 || r.point >= spline.unique_point_count())
-    throw InputError("point " + std::to_string(r.point) + " is outside 0.." + std::to_string(spline.unique_point_count() - 1));
+    throw InputError("point " + std::to_string(r.point) + " is outside 0.." +
+                     std::to_string(spline.unique_point_count() - 1));
   if (!a.plane.empty()) r.plane = parse_space_plane(a.plane, spline.points()[static_cast<std::size_t>(r.point)]);
   r.width = a.width;
   r.height = a.height;
@@ -589,7 +601,8 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
       for (const std::vector<int>& loop : lc.outlines) {
         py::array_t<double> xy({static_cast<py::ssize_t>(loop.size()), py::ssize_t{2}});
         auto w = xy.mutable_unchecked<2>();
-        for (std::size_t i = 0; i < loop.size(); ++i) w(i, 0) = lc.vertices[loop[i]].x, w(i, 1) = lc.vertices[loop[i]].y;
+        for (std::size_t i = 0; i < loop.size(); ++i)
+          w(i, 0) = lc.vertices[loop[i]].x, w(i, 1) = lc.vertices[loop[i]].y;
         loops.append(xy);
       }
       return loops;
