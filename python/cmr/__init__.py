@@ -231,7 +231,8 @@ def judge_many(splines, *, require="cmrwi", depth=DEFAULT_DEPTH, threads=0, **un
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
            thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, **unknown):
     """``cmr report FILES... --out DIR [--require R]``: the batch report of
-    spline files, SVG files, fonts and folders (planar). Writes report.json
+    spline files, SVG files, fonts and folders (planar; a space curve's file
+    raises InputError: its report is the command's). Writes report.json
     and index.html to `out` (a temporary folder, removed again, when None)
     and returns {"exit_code", "summary" (the command's one line), "invalid",
     "pass", "fail", "items", "findings", "report" (report.json as a dict),
@@ -243,6 +244,15 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
         paths = [paths]
     a = _cmr._ReportArgs()
     a.files = [os.fspath(p) for p in paths]
+    for p in a.files:  # space curves have a report of their own (the command's), not bound here
+        if p.lower().endswith(".json") and os.path.isfile(p):
+            try:
+                dimension = Spline.load(p).dimension
+            except InputError:
+                continue  # an invalid file: the report names it
+            if dimension == 3:
+                raise InputError(f"{p} is a space curve: cmr.report takes planar files "
+                                 "(cmr report FILES --out DIR reports space curves)")
     a.require = _o.text("require", require)
     a.segments = _o.segment_range(segments)
     a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)

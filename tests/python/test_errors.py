@@ -102,6 +102,7 @@ def test_bad_spline_values(value, match):
     (lambda: cmr.kcurve([[0, 0], [1, math.nan], [2, 0]]), r"points\[1\]\[1\] is not a finite number"),
     (lambda: cmr.kcurve(np.zeros((3, 3))), r"points\[0\] is not an \[x, y\] pair"),
     (lambda: cmr.segments(cmr.Spline.load(str(ROOT / "examples/space/fig8_lifted.json"))), "space curve"),
+    (lambda: cmr.report([ROOT / "examples/space/fig8_lifted.json"]), "is a space curve: cmr.report takes planar"),
 ])
 def test_bad_options(call, match):
     with pytest.raises(cmr.InputError, match=match) as e:
