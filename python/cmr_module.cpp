@@ -32,6 +32,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <variant>
 #include <vector>
 
@@ -46,6 +47,8 @@
 #include "bezierize/region_reason.hpp"
 #include "bezierize/segments.hpp"
 #include "bezierize/space_analyze.hpp"
+#include "bezierize/space_fix.hpp"
+#include "bezierize/space_region.hpp"
 #include "draw/draw.hpp"
 #include "io/font.hpp"
 #include "report/analyze_json.hpp"
@@ -76,7 +79,9 @@ using OJson = nlohmann::ordered_json;
 
 std::string type_name(py::handle h) { return py::type::handle_of(h).attr("__name__").cast<std::string>(); }
 
-std::string at(const std::string& where, const std::string& key) { return where.empty() ? key : where + "[" + key + "]"; }
+std::string at(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "[" + key + "]";
+}
 
 /// A Python value as spline-file JSON; InputError naming `where` for a value
 /// JSON cannot hold.
@@ -104,7 +109,8 @@ Json to_json(py::handle h, const std::string& where) {
   if (PyDict_Check(o)) {
     Json obj = Json::object();
     for (auto [k, v] : py::reinterpret_borrow<py::dict>(h)) {
-      if (!PyUnicode_Check(k.ptr())) throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
+      if (!PyUnicode_Check(k.ptr()))
+        throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
       const std::string key = k.cast<std::string>();
       obj[key] = to_json(v, where.empty() ? key : where + "." + key);
     }
@@ -141,6 +147,21 @@ py::str utf8(const std::string& s) {
   return py::reinterpret_steal<py::str>(o);
 }
 
+/// A document's object keys come from a small set (the schema's words):
+/// each is made into an interned Python string once and reused, so a dict
+/// costs no string creation and no hashing per key. Bounded; never freed
+/// (the strings must outlive every dict, and the interpreter's shutdown).
+py::object key_str(const std::string& key) {
+  static auto* cache = new std::unordered_map<std::string, PyObject*>();
+  if (auto it = cache->find(key); it != cache->end()) return py::reinterpret_borrow<py::object>(it->second);
+  py::str s = utf8(key);
+  if (cache->size() >= 4096) return s;
+  PyObject* o = s.release().ptr();
+  PyUnicode_InternInPlace(&o);
+  cache->emplace(key, o);
+  return py::reinterpret_borrow<py::object>(o);
+}
+
 template <class J>
 py::object to_py(const J& j) {
   switch (j.type()) {
@@ -161,7 +182,9 @@ py::object to_py(const J& j) {
     }
     case nlohmann::json::value_t::object: {
       py::dict d;
-      for (auto it = j.begin(); it != j.end(); ++it) d[utf8(it.key())] = to_py(it.value());
+      for (auto it = j.begin(); it != j.end(); ++it)
+        if (PyDict_SetItem(d.ptr(), key_str(it.key()).ptr(), to_py(it.value()).ptr()) != 0)
+          throw py::error_already_set();
       return d;
     }
     default: return py::none();
@@ -240,7 +263,7 @@ Json points_json(py::handle points) {
     const py::array a = py::reinterpret_borrow<py::array>(points);
     if (a.ndim() != 2 || (a.shape(1) != 2 && a.shape(1) != 3)) {
       std::string shape = "(";
-      for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+      for (py::ssize_t i = 0; i < a.ndim(); ++i) shape.append(i ? ", " : "").append(std::to_string(a.shape(i)));
       throw InputError("points: expected an N x 2 or N x 3 array, got shape " + shape + (a.ndim() == 1 ? ",)" : ")"));
     }
   }
@@ -354,11 +377,13 @@ struct RegionArgs {
   std::optional<std::vector<double>> view;
   std::string backend = "auto", precision = "fp64", device;
   bool depth_map = false, contours = false;
+  std::string plane;  ///< space curves: "xy", "yz", "zx" or nine numbers (parse_space_plane); empty: the default
 };
 
 /// The backend of backend=, precision=, device= (tools/cli_common.cpp:
 /// make_region_backend); its fallback note goes to `note`.
-std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a, const std::function<void(const std::string&)>& note) {
+std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a,
+                                              const std::function<void(const std::string&)>& note) {
 #ifdef CMR_WITH_VULKAN
   vk::BackendChoice choice;
   choice.kind = a.backend == "cpu" ? vk::BackendKind::cpu
@@ -376,6 +401,7 @@ std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a, const std::fu
 
 struct RegionOut {
   RegionResult image;
+  std::vector<std::uint8_t> codes;  ///< image.codes(): the PGM's bytes, handed to NumPy without a copy
   std::optional<RegionContours> contours;
   OJson summary;
   std::vector<std::string> notes;
@@ -428,8 +454,9 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
   out.image = backend->render(problem);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const RegionResult& img = out.image;
+  out.codes = img.codes();  // the one pass over the labels
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
-  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  for (const std::uint8_t c : out.codes) ++counts[c];
   OJson c = OJson::object();
   for (int l = 0; l < img.label_codes(); ++l) c[img.label_name(static_cast<std::uint8_t>(l))] = counts[l];
   const std::uint64_t monotone = img.each_piece ? counts[1]
@@ -452,11 +479,16 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
     entry["areas"] = areas;
   }
   const RegionRequest& r = problem.request();
-  out.summary = {{"width", r.width},   {"height", r.height}, {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
-                 {"mode", a.mode},     {"backend", backend->name()}, {"points", OJson::array({entry})}};
+  out.summary = {{"width", r.width},
+                 {"height", r.height},
+                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
+                 {"mode", a.mode},
+                 {"backend", backend->name()},
+                 {"points", OJson::array({entry})}};
   if (r.split) out.summary["split"] = *r.split;
   if (!r.splits.empty() && !r.each_piece) out.summary["split"] = r.splits;
-  if (r.each_piece) out.summary["each_piece"] = each_piece_cuts(judged_range(r.segments, spline.segment_count()), r.splits);
+  if (r.each_piece)
+    out.summary["each_piece"] = each_piece_cuts(judged_range(r.segments, spline.segment_count()), r.splits);
   if (r.segments) {
     OJson ignored = OJson::array();
     for (int seg = 0; seg < spline.segment_count(); ++seg)
@@ -468,19 +500,80 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
   return out;
 }
 
-/// The label codes as a (height, width) uint8 array: one pass over the
-/// result into the array's own buffer (the PGM's bytes, row 0 at the top).
-py::array_t<std::uint8_t> label_array(const RegionResult& img) {
-  py::array_t<std::uint8_t> a({img.height, img.width});
-  std::uint8_t* p = a.mutable_data();
-  for (std::size_t i = 0; i < img.size(); ++i) p[i] = img.code_at(i);
-  return a;
+/// The label codes as a (height, width) uint8 array (the PGM's bytes, row 0
+/// at the top): the array owns the codes' vector (a capsule frees it), so the
+/// labels are converted once, in the worker, and never copied.
+py::array_t<std::uint8_t> label_array(std::vector<std::uint8_t>&& codes, int width, int height) {
+  auto* owned = new std::vector<std::uint8_t>(std::move(codes));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<std::uint8_t>*>(p); });
+  return py::array_t<std::uint8_t>({height, width}, {static_cast<py::ssize_t>(width), py::ssize_t{1}}, owned->data(),
+                                   free_when_done);
+}
+
+/// A space curve's region of a point moving in a plane, on the CPU (as
+/// tools/cmd_space.cpp: run_space_region with --backend cpu).
+RegionOut space_region_run(const SpaceSpline& spline, const RegionArgs& a) {
+  if (!a.with.empty() || !a.split.empty() || a.segments || a.each_piece || a.mode != "cmrwi" || a.contours)
+    throw InputError("a space curve; with_, split, segments, each_piece, mode and contours are for planar splines");
+  if (a.backend == "vulkan")
+    throw InputError(
+        "backend: space regions render on the CPU from Python (cmr region FILE --backend vulkan has the device)");
+  SpaceRegionRequest r;
+  r.point = a.point;
+  if (r.point < 0 || r.point >= spline.unique_point_count())
+    throw InputError("point " + std::to_string(r.point) + " is outside 0.." +
+                     std::to_string(spline.unique_point_count() - 1));
+  if (!a.plane.empty()) r.plane = parse_space_plane(a.plane, spline.points()[static_cast<std::size_t>(r.point)]);
+  r.width = a.width;
+  r.height = a.height;
+  r.max_depth = a.depth;
+  if (a.view) r.view = View{(*a.view)[0], (*a.view)[1], (*a.view)[2], (*a.view)[3]};
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
+  RegionOut out;
+  out.image = problem.render();
+  const RegionResult& img = out.image;
+  out.codes = img.codes();
+  std::uint64_t counts[kRegionLabelCodes] = {};
+  for (const std::uint8_t c : out.codes) ++counts[c];
+  OJson c;
+  for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) c[img.label_name(l)] = counts[l];
+  const SpacePlane& plane = *problem.request().plane;
+  auto vec3 = [](const Vec3& p) { return OJson{p.x, p.y, p.z}; };
+  out.summary = {{"width", img.width},
+                 {"height", img.height},
+                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
+                 {"plane", {{"origin", vec3(plane.origin)}, {"u", vec3(plane.u)}, {"v", vec3(plane.v)}}},
+                 {"dimension", 3},
+                 {"backend", "cpu"},
+                 {"point", r.point},
+                 {"counts", c},
+                 {"seconds", img.seconds},
+                 {"exact_pixels", img.exact_pixels}};
+  return out;
 }
 
 py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
+  if (const SpaceSpline* space = std::get_if<SpaceSpline>(&s.value)) {
+    const SpaceSpline curve = *space;
+    auto out = std::make_shared<RegionOut>(interruptible([curve, a] { return space_region_run(curve, a); }));
+    py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
+    if (!full) return py::make_tuple(labels, py::list());
+    py::dict r;
+    r["labels"] = labels;
+    r["summary"] = to_py(out->summary);
+    r["counts"] = to_py(out->summary["counts"]);
+    r["notes"] = py::list();
+    if (a.depth_map) {
+      py::array_t<std::uint8_t> depth({out->image.height, out->image.width});
+      std::copy(out->image.depth.begin(), out->image.depth.end(), depth.mutable_data());
+      r["depth"] = depth;
+    }
+    return r;
+  }
+  if (!a.plane.empty()) throw InputError("plane is for space curves (this spline is planar)");
   const BSpline spline = s.planar("region");
   auto out = std::make_shared<RegionOut>(interruptible([spline, a] { return region_run(spline, a); }));
-  py::array_t<std::uint8_t> labels = label_array(out->image);
+  py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
   if (!full) {
     py::list notes;
     for (const std::string& n : out->notes) notes.append(utf8(n));
@@ -508,7 +601,8 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
       for (const std::vector<int>& loop : lc.outlines) {
         py::array_t<double> xy({static_cast<py::ssize_t>(loop.size()), py::ssize_t{2}});
         auto w = xy.mutable_unchecked<2>();
-        for (std::size_t i = 0; i < loop.size(); ++i) w(i, 0) = lc.vertices[loop[i]].x, w(i, 1) = lc.vertices[loop[i]].y;
+        for (std::size_t i = 0; i < loop.size(); ++i)
+          w(i, 0) = lc.vertices[loop[i]].x, w(i, 1) = lc.vertices[loop[i]].y;
         loops.append(xy);
       }
       return loops;
@@ -530,12 +624,36 @@ struct FixArgs {
   double max_move = 0, tolerance = 1e-6;
   int depth = kDefaultDepth;
   int grid = 32;
+  std::string plane;  ///< space curves: --plane (xy, yz, zx or nine numbers)
 };
 
+/// A space curve's fix (as tools/cmd_space_fix.cpp: run_space_fix).
+py::object space_fix_py(const Spline& s, const FixArgs& a) {
+  if (a.segments) throw InputError("a space curve; segments is for planar splines");
+  if (a.require != "cmr" && a.require != "cmrwi")
+    throw InputError("a space curve; its fix takes require cmr (|kappa| monotone, no zero curvature) or cmrwi "
+                     "(|kappa| monotone), not '" + a.require + "'");
+  SpaceFixRequest request;
+  request.no_zero_curvature = a.require == "cmr";
+  request.points = a.points;
+  request.plane_text = a.plane;
+  request.keep = a.keep == "g2" ? Keep::g2 : a.keep == "none" ? Keep::none : Keep::g1;
+  request.max_move = a.max_move;
+  request.tolerance = a.tolerance;
+  request.max_depth = a.depth;
+  const SpaceSpline spline = std::get<SpaceSpline>(s.value);
+  const SpaceFixResult f = interruptible([spline, request] { return space_fix(spline, request); });
+  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
+  Spline fixed{*f.spline, s.point_names};
+  return py::make_tuple(fixed, to_py(report::space_fix_document(std::nullopt, a.require, request, f)));
+}
+
 py::object fix_py(const Spline& s, const FixArgs& a) {
-  const BSpline spline = s.planar("fix (space curves: cmr fix FILE)");
   if (!(a.max_move >= 0) || !std::isfinite(a.max_move))
     throw InputError("max_move: " + std::to_string(a.max_move) + " is not a distance >= 0");
+  if (s.dimension() == 3) return space_fix_py(s, a);
+  if (!a.plane.empty()) throw InputError("plane is for space curves (this spline is planar)");
+  const BSpline spline = s.planar("fix");
   // As tools/cmd_fix.cpp fills FixRequest.
   FixRequest request;
   request.requirement = parse_fix_requirement(a.require);
@@ -674,10 +792,35 @@ py::object judge_py(const Spline& s, const std::string& require, int depth, doub
   return to_py(doc["splines"][0]);
 }
 
+/// Many splines judged as `cmr report` judges them (report_batch: every
+/// core, no regions, no fixes): per spline {"name", "status", "gates"} with
+/// report.json's gates (report::gates_json).
+py::object judge_many_py(const std::vector<Spline>& splines, const std::string& require, int depth, int threads) {
+  report::ReportOptions o;
+  if (!require.empty()) report::parse_require_list(require, o);
+  o.max_depth = depth;
+  o.regions = false;
+  o.threads = threads;
+  std::vector<report::ReportInput> inputs;
+  inputs.reserve(splines.size());
+  for (const Spline& s : splines) inputs.push_back({s.shadow().name(), s.planar("judge_many"), {}});
+  const std::vector<report::SplineReport> reports =
+      interruptible([inputs = std::move(inputs), o]() mutable { return report::report_batch(std::move(inputs), o); });
+  py::list out;
+  for (const report::SplineReport& r : reports) {
+    OJson entry = {{"name", r.name}, {"status", report::status_word(r)}};
+    if (!r.error.empty()) entry["error"] = r.error;
+    if (!r.gates.empty()) entry["gates"] = report::gates_json(r);
+    out.append(to_py(entry));
+  }
+  return out;
+}
+
 // ------------------------------------------------------------ fonts
 
 /// One contour of the pen (python/cmr/pen.py) through io/font.cpp's builder:
-/// the spline file of `cmr import`, or None for a contour without a piece.
+/// the spline of `cmr import` with its point names (to_dict() is the file
+/// `cmr import` writes), or None for a contour without a piece.
 py::object font_contour(py::array_t<double, py::array::c_style | py::array::forcecast> xy, const std::string& tags,
                         int contour, int degree, const std::string& glyph) {
   if (xy.ndim() != 2 || xy.shape(1) != 2 || static_cast<std::size_t>(xy.shape(0)) != tags.size())
@@ -693,9 +836,9 @@ py::object font_contour(py::array_t<double, py::array::c_style | py::array::forc
                   : t == 'q' ? import::OutlinePoint::Tag::conic
                              : import::OutlinePoint::Tag::cubic};
   }
-  const std::optional<import::Contour> c = import::outline_contour(outline, contour, degree, glyph, import::PointNaming::editor);
+  std::optional<import::Contour> c = import::outline_contour(outline, contour, degree, glyph, import::PointNaming::editor);
   if (!c) return py::none();
-  return to_py(import::contour_json(*c));
+  return py::cast(Spline{std::move(c->spline), std::move(c->point_names)});
 }
 
 }  // namespace
@@ -828,7 +971,8 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("precision", &RegionArgs::precision)
       .def_readwrite("device", &RegionArgs::device)
       .def_readwrite("depth_map", &RegionArgs::depth_map)
-      .def_readwrite("contours", &RegionArgs::contours);
+      .def_readwrite("contours", &RegionArgs::contours)
+      .def_readwrite("plane", &RegionArgs::plane);
   m.def("_region", &region_py);
 
   py::class_<FixArgs>(m, "_FixArgs")
@@ -840,7 +984,8 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("max_move", &FixArgs::max_move)
       .def_readwrite("tolerance", &FixArgs::tolerance)
       .def_readwrite("depth", &FixArgs::depth)
-      .def_readwrite("grid", &FixArgs::grid);
+      .def_readwrite("grid", &FixArgs::grid)
+      .def_readwrite("plane", &FixArgs::plane);
   m.def("_fix", &fix_py);
 
   m.def("_knots", &knots_op);
@@ -861,6 +1006,11 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("backend", &ReportArgs::backend);
   m.def("_report", &report_py);
   m.def("_judge", &judge_py);
+  m.def("_judge_many", &judge_many_py);
+  m.def("_analyze_default", [](const Spline& s) {
+    // cmr.analyze(spline) with every option at its default: no options to convert.
+    return analyze_py(s, AnalyzeArgs{});
+  });
 
   m.def("_font_contour", &font_contour);
   m.def("_label_colour", [](int label, bool split) {

@@ -15,13 +15,15 @@ from pathlib import Path
 
 from setuptools import setup
 from setuptools.dist import Distribution
-from setuptools.command.build_py import build_py
+from setuptools.command.build_ext import build_ext
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 
 
-class BuildWithCMake(build_py):
+class BuildWithCMake(build_ext):
+    """The module and its package, built by CMake and copied into the wheel's tree."""
+
     def run(self):
         if not (ROOT / "CMakeLists.txt").exists() or not (ROOT / "bezierize").is_dir():
             raise SystemExit("cmr: the python/ folder must be inside the cmr repository (it builds its C++ sources)")
@@ -45,4 +47,4 @@ class BinaryDistribution(Distribution):
         return True
 
 
-setup(packages=[], cmdclass={"build_py": BuildWithCMake}, distclass=BinaryDistribution)
+setup(packages=[], cmdclass={"build_ext": BuildWithCMake}, distclass=BinaryDistribution)

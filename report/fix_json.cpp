@@ -1,5 +1,7 @@
 #include "report/fix_json.hpp"
 
+#include "report/space_report.hpp"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,6 +13,8 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 Json point_json(Vec2 p) { return Json::array({p.x, p.y}); }
+Json vec3(const Vec3& p) { return Json::array({p.x, p.y, p.z}); }
+Json plane_json(const SpacePlane& p) { return {{"origin", vec3(p.origin)}, {"u", vec3(p.u)}, {"v", vec3(p.v)}}; }
 
 /// The verdicts of the certificate, as `cmr analyze` prints them.
 Json certificate_json(const FixResult& f, const FixRequirement& req) {
@@ -65,6 +69,62 @@ Json fix_json(const std::optional<std::string>& file, const FixRequest& request,
                {"tie_joints", f.tie_joints},
                {"units", units},
                {"certificate", certificate_json(f, request.requirement)},
+               {"evaluations", f.evaluations},
+               {"seconds", f.seconds}};
+  if (!file) return rest;
+  Json doc = {{"file", *file}};
+  for (auto it = rest.begin(); it != rest.end(); ++it) doc[it.key()] = std::move(it.value());
+  return doc;
+}
+
+Json space_fix_document(const std::optional<std::string>& file, const std::string& require,
+                        const SpaceFixRequest& request, const SpaceFixResult& f) {
+  Json moves = Json::array();
+  for (const SpacePointMove& m : f.moves)
+    moves.push_back({{"point", m.point},
+                     {"from", vec3(m.from)},
+                     {"to", vec3(m.to)},
+                     {"displacement", vec3(m.to - m.from)},
+                     {"distance", m.distance},
+                     {"relative", m.distance / f.size},
+                     {"plane", plane_json(m.plane)}});
+  Json units = Json::array();
+  for (const SpaceUnitFix& u : f.units) {
+    Json ju = {{"point", u.point}, {"found", u.found}};
+    if (u.plane) ju["plane"] = plane_json(*u.plane);
+    if (u.found)
+      ju["displacement"] = vec3(u.displacement), ju["distance"] = u.distance;
+    else
+      ju["reason"] = u.reason;
+    units.push_back(ju);
+  }
+  Json certificate = {{"requirement", require},
+                      {"holds", f.certificate_holds},
+                      {"ties", f.ties_hold},
+                      {"spline", report::space_verdict_json(f.certificate)}};
+  Json joints = Json::array();
+  std::vector<SpaceJoint> all = f.certificate.joints;
+  if (f.certificate.seam) all.push_back(*f.certificate.seam);
+  for (const SpaceJoint& jt : all) {
+    const std::string continuity = std::string("C").append(std::to_string(jt.continuity));
+    joints.push_back({{"index", jt.index}, {"continuity", continuity}, {"g1", jt.g1}, {"g2", jt.g2}});
+  }
+  certificate["joints"] = joints;
+  Json rest = {{"dimension", 3},
+               {"require", require},
+               {"keep", to_string(request.keep)},
+               {"already", f.already},
+               {"fixed", f.fixed},
+               {"moves", moves},
+               {"total_squared", f.total_squared},
+               {"max_distance", f.max_distance},
+               {"size", f.size},
+               {"tolerance", request.tolerance * f.size},
+               {"failing_segments", f.failing_segments},
+               {"joint_conflicts", f.joint_conflicts},
+               {"tie_joints", f.tie_joints},
+               {"units", units},
+               {"certificate", certificate},
                {"evaluations", f.evaluations},
                {"seconds", f.seconds}};
   if (!file) return rest;

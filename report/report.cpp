@@ -686,6 +686,21 @@ int exit_code(const std::vector<SplineReport>& reports, const ReportOptions& opt
 
 // ---------------------------------------------------------------- JSON
 
+nlohmann::ordered_json gates_json(const SplineReport& r) {
+  nlohmann::ordered_json gates = nlohmann::ordered_json::array();
+  for (const GateResult& g : r.gates) {
+    nlohmann::ordered_json where = nlohmann::ordered_json::array();
+    for (const GateViolation& v : g.violations) {
+      nlohmann::ordered_json w{{"t", v.t}, {"message", v.message}};
+      if (v.segment >= 0) w["segment"] = v.segment, w["local_t"] = v.local_t;
+      if (v.joint >= 0) w["joint"] = v.joint;
+      where.push_back(w);
+    }
+    gates.push_back({{"gate", to_string(g.gate)}, {"pass", g.pass()}, {"violations", where}});
+  }
+  return gates;
+}
+
 const char* status_word(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
 
 const char* root_kind_word(int sign_before, int sign_after) {
@@ -844,20 +859,7 @@ Json spline_json(const SplineReport& r, int index) {
     for (const CertifiedFix& f : r.certified_fixes) j["certified_fixes"].push_back(certified_fix_json(f));
   }
   if (s.closed()) j["closed"] = true;
-  if (!r.gates.empty()) {
-    Json gates = Json::array();
-    for (const GateResult& g : r.gates) {
-      Json where = Json::array();
-      for (const GateViolation& v : g.violations) {
-        Json w{{"t", v.t}, {"message", v.message}};
-        if (v.segment >= 0) w["segment"] = v.segment, w["local_t"] = v.local_t;
-        if (v.joint >= 0) w["joint"] = v.joint;
-        where.push_back(w);
-      }
-      gates.push_back({{"gate", to_string(g.gate)}, {"pass", g.pass()}, {"violations", where}});
-    }
-    j["gates"] = gates;
-  }
+  if (!r.gates.empty()) j["gates"] = gates_json(r);
   return j;
 }
 

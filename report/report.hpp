@@ -221,6 +221,10 @@ const char* status_word(const SplineReport& r);
 const char* root_kind_word(int sign_before, int sign_after);
 const char* root_at_word(SpanRoot::At at);
 
+/// A spline's "gates" in report.json: [{"gate", "pass", "violations": [{"t",
+/// "message", "segment", "local_t"} or {"t", "message", "joint"}]}], one per
+/// judged gate (report_json and the Python module's cmr.judge_many).
+nlohmann::ordered_json gates_json(const SplineReport& r);
 /// The report as a cmr-report/2 document (docs/report-schema.md).
 nlohmann::ordered_json report_json(const std::vector<SplineReport>& reports, const ReportOptions& options);
 /// One self-contained page: no network, pictures inline (SVG, data: URIs).

@@ -7,6 +7,7 @@
 #include "bezierize/space_fix.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "report/fix_json.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
@@ -18,10 +19,8 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json vec3(const Vec3& p) { return Json::array({p.x, p.y, p.z}); }
 
 
-Json plane_json(const SpacePlane& p) { return {{"origin", vec3(p.origin)}, {"u", vec3(p.u)}, {"v", vec3(p.v)}}; }
 
 /// The moved point's region in its plane (the labels `cmr region` draws; a
 /// point's region does not depend on where the point itself is) with the
@@ -86,55 +85,7 @@ void run_space_fix(const SpaceFixArgs& args) {
   const SpaceSpline spline = read_space_spline_file(args.file);
   const SpaceFixResult f = space_fix(spline, request);
   if (!f.fixed) throw InputError(args.file + ": " + f.reason);
-  Json moves = Json::array();
-  for (const SpacePointMove& m : f.moves)
-    moves.push_back({{"point", m.point},
-                     {"from", vec3(m.from)},
-                     {"to", vec3(m.to)},
-                     {"displacement", vec3(m.to - m.from)},
-                     {"distance", m.distance},
-                     {"relative", m.distance / f.size},
-                     {"plane", plane_json(m.plane)}});
-  Json units = Json::array();
-  for (const SpaceUnitFix& u : f.units) {
-    Json ju = {{"point", u.point}, {"found", u.found}};
-    if (u.plane) ju["plane"] = plane_json(*u.plane);
-    if (u.found)
-      ju["displacement"] = vec3(u.displacement), ju["distance"] = u.distance;
-    else
-      ju["reason"] = u.reason;
-    units.push_back(ju);
-  }
-  Json certificate = {{"requirement", args.require},
-                      {"holds", f.certificate_holds},
-                      {"ties", f.ties_hold},
-                      {"spline", report::space_verdict_json(f.certificate)}};
-  Json joints = Json::array();
-  std::vector<SpaceJoint> all = f.certificate.joints;
-  if (f.certificate.seam) all.push_back(*f.certificate.seam);
-  for (const SpaceJoint& jt : all) {
-    const std::string continuity = std::string("C").append(std::to_string(jt.continuity));
-    joints.push_back({{"index", jt.index}, {"continuity", continuity}, {"g1", jt.g1}, {"g2", jt.g2}});
-  }
-  certificate["joints"] = joints;
-  Json doc = {{"file", args.file},
-              {"dimension", 3},
-              {"require", args.require},
-              {"keep", to_string(request.keep)},
-              {"already", f.already},
-              {"fixed", f.fixed},
-              {"moves", moves},
-              {"total_squared", f.total_squared},
-              {"max_distance", f.max_distance},
-              {"size", f.size},
-              {"tolerance", request.tolerance * f.size},
-              {"failing_segments", f.failing_segments},
-              {"joint_conflicts", f.joint_conflicts},
-              {"tie_joints", f.tie_joints},
-              {"units", units},
-              {"certificate", certificate},
-              {"evaluations", f.evaluations},
-              {"seconds", f.seconds}};
+  Json doc = report::space_fix_document(args.file, args.require, request, f);
   OutputSet outputs;  // all or none (io/output.hpp)
   if (!args.out.empty()) {
     outputs.stage(args.out, space_spline_to_json(*f.spline).dump(2) + "\n");

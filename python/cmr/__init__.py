@@ -31,7 +31,7 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "kcurve", "report", "judge", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "kcurve", "report", "judge", "judge_many", "knots", "DEFAULT_DEPTH"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 
@@ -56,6 +56,10 @@ def analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=N
     [S1, S2, ...] (--each-piece); angle_tol, curvature_tol: --angle-tol,
     --curvature-tol; torsion: space curves' --torsion.
     """
+    if (type(spline) is Spline and not unknown and depth == DEFAULT_DEPTH and split is None and mode == "cmrwi"
+            and segments is None and each_piece is None and angle_tol == 1e-3 and curvature_tol == 1e-6
+            and torsion is False and type(depth) is int):
+        return _cmr._analyze_default(spline)  # every option at its default: nothing to convert
     _o.unknown("analyze", unknown, ["depth", "split", "mode", "segments", "each_piece", "angle_tol",
                                     "curvature_tol", "torsion"])
     a = _cmr._AnalyzeArgs()
@@ -77,10 +81,21 @@ def segments(spline):
     return _cmr._segments(_o.spline(spline, "segments"))
 
 
+def _plane(plane):
+    """plane="xy" | "yz" | "zx" | (ox, oy, oz, ux, uy, uz, vx, vy, vz): the text parse_space_plane reads."""
+    if plane is None:
+        return ""
+    if isinstance(plane, str):
+        return plane
+    if isinstance(plane, (list, tuple)) and len(plane) == 9:
+        return ",".join(repr(_o.number(f"plane[{i}]", v)) for i, v in enumerate(plane))
+    raise InputError(f"plane: expected 'xy', 'yz', 'zx' or nine numbers (origin, u, v), got {plane!r}")
+
+
 def _region_args(function, spline, point, view, size, mode, split, segments, each_piece, with_, depth, backend,
-                 precision, device, unknown, extra):
+                 precision, device, plane, unknown, extra):
     _o.unknown(function, unknown, ["point", "view", "size", "mode", "split", "segments", "each_piece", "with_",
-                                   "depth", "backend", "precision", "device"] + extra)
+                                   "depth", "backend", "precision", "device", "plane"] + extra)
     s = _o.spline(spline, function)
     a = _cmr._RegionArgs()
     if point is None:
@@ -97,21 +112,25 @@ def _region_args(function, spline, point, view, size, mode, split, segments, eac
     a.backend = _o.choice("backend", backend, ("auto", "vulkan", "cpu"))
     a.precision = _o.choice("precision", precision, ("fp64", "fp32"))
     a.device = _o.text("device", device)
+    a.plane = _plane(plane)
     return s, a
 
 
 def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
            each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
-           **unknown):
+           plane=None, **unknown):
     """``cmr region FILE --point K --labels OUT.pgm``: the label map as a
     numpy.uint8 array of shape (height, width), row 0 at the top, the PGM's
     bytes (0 not monotone, 1 increasing, 2 decreasing, 3 undecided; with
     split/each_piece the codes of docs/region.md). view: (x0, y0, x1, y1),
     default the control polygon's box with a margin; size: (width, height).
-    Notes the command prints on stderr come as cmr.Note warnings.
+    Notes the command prints on stderr come as cmr.Note warnings. A space
+    curve's point moves in a plane (plane="xy" | "yz" | "zx" | nine numbers
+    origin, u, v; default: through the point, spanned by its neighbours),
+    rendered on the CPU; view is then in plane coordinates.
     """
     s, a = _region_args("region", spline, point, view, size, mode, split, segments, each_piece, with_, depth,
-                        backend, precision, device, unknown, [])
+                        backend, precision, device, plane, unknown, [])
     labels, notes = _cmr._region(s, a, False)
     _notes(notes)
     return labels
@@ -119,7 +138,7 @@ def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", spli
 
 def region_result(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
                   each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
-                  depth_map=False, contours=False, **unknown):
+                  plane=None, depth_map=False, contours=False, **unknown):
     """region() with the rest of the command's answer, a dict:
     "labels" (as region()), "counts" (per label name), "summary" (the JSON the
     command prints, with --stats' timings), "notes" (the stderr lines); with
@@ -129,7 +148,7 @@ def region_result(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi
     regions, clockwise around holes; --contours).
     """
     s, a = _region_args("region_result", spline, point, view, size, mode, split, segments, each_piece, with_,
-                        depth, backend, precision, device, unknown, ["depth_map", "contours"])
+                        depth, backend, precision, device, plane, unknown, ["depth_map", "contours"])
     a.depth_map = bool(depth_map)
     a.contours = bool(contours)
     return _cmr._region(s, a, True)
@@ -146,17 +165,20 @@ class FixResult(NamedTuple):
 
 
 def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_move=None, tolerance=1e-6,
-        depth=DEFAULT_DEPTH, grid=None, **unknown):
+        depth=DEFAULT_DEPTH, grid=None, plane=None, **unknown):
     """``cmr fix FILE --require R``: the nearest certified repair (docs/fix.md).
 
     require: "cmr", "cmrwi", "split:S[:sharpest|flattest]", "each-piece",
-    "extrema-at-nodes", "no-inflection", "g2-at-smooth-nodes[:tol]",
+    "curvature-extrema-at-nodes", "no-inflection", "g2-at-smooth-nodes[:tol]",
     "each-run"; points: the points that may move ([K, ...] or "P1,P3");
     keep: "g1" | "g2" | "none"; max_move: largest move (default the curve
     size); grid: the search grids' cells per side (8..512, default 32).
+    A space curve (require "cmr" or "cmrwi") moves one point in a plane
+    (plane= as for region; default its neighbours' plane), as `cmr fix` does.
     Raises InputError when there is no certified fix (the command's exit 2).
     """
-    _o.unknown("fix", unknown, ["require", "points", "keep", "segments", "max_move", "tolerance", "depth", "grid"])
+    _o.unknown("fix", unknown, ["require", "points", "keep", "segments", "max_move", "tolerance", "depth", "grid",
+                                "plane"])
     a = _cmr._FixArgs()
     a.require = _o.text("require", require)
     a.points = _o.points_list("points", points)
@@ -166,6 +188,7 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
     a.tolerance = _o.number("tolerance", tolerance)
     a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
     a.grid = 32 if grid is None else _o.integer("grid", grid, 8, 512)
+    a.plane = _plane(plane)
     fixed, doc = _cmr._fix(_o.spline(spline, "fix"), a)
     return FixResult(fixed, doc["moves"], doc["certificate"], doc)
 
@@ -193,10 +216,23 @@ def judge(spline, *, require="cmrwi", depth=DEFAULT_DEPTH, angle_tol=1e-3, curva
                        _o.number("curvature_tol", curvature_tol))
 
 
+def judge_many(splines, *, require="cmrwi", depth=DEFAULT_DEPTH, threads=0, **unknown):
+    """Many splines judged as ``cmr report --require R`` judges them, in one
+    call on `threads` threads (0: every core; report_batch, no regions, no
+    fixes): per spline {"name", "status", "gates"} ("gates" as in
+    report.json, with each violation). The fast path for many glyph
+    contours (cmr.pen.SplinePen.contours)."""
+    _o.unknown("judge_many", unknown, ["require", "depth", "threads"])
+    items = [_o.spline(s, "judge_many") for s in splines]
+    return _cmr._judge_many(items, _o.text("require", require), _o.integer("depth", depth, 0, _o.MAX_DEPTH),
+                            _o.integer("threads", threads, 0, 1024))
+
+
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
            thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, **unknown):
     """``cmr report FILES... --out DIR [--require R]``: the batch report of
-    spline files, SVG files, fonts and folders (planar). Writes report.json
+    spline files, SVG files, fonts and folders (planar; a space curve's file
+    raises InputError: its report is the command's). Writes report.json
     and index.html to `out` (a temporary folder, removed again, when None)
     and returns {"exit_code", "summary" (the command's one line), "invalid",
     "pass", "fail", "items", "findings", "report" (report.json as a dict),
@@ -208,6 +244,15 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
         paths = [paths]
     a = _cmr._ReportArgs()
     a.files = [os.fspath(p) for p in paths]
+    for p in a.files:  # space curves have a report of their own (the command's), not bound here
+        if p.lower().endswith(".json") and os.path.isfile(p):
+            try:
+                dimension = Spline.load(p).dimension
+            except InputError:
+                continue  # an invalid file: the report names it
+            if dimension == 3:
+                raise InputError(f"{p} is a space curve: cmr.report takes planar files "
+                                 "(cmr report FILES --out DIR reports space curves)")
     a.require = _o.text("require", require)
     a.segments = _o.segment_range(segments)
     a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)

@@ -6,7 +6,7 @@ import math
 import numbers
 import os
 
-from ._cmr import InputError, Spline, kMaxDegree as MAX_DEGREE, kMaxDepth as MAX_DEPTH, kMaxImageSize as MAX_IMAGE_SIZE
+from ._cmr import InputError, Spline, kMaxDegree as MAX_DEGREE, kMaxDepth as MAX_DEPTH, kMaxImageSize as MAX_IMAGE_SIZE  # noqa: F401
 
 
 def unknown(function, options, allowed):

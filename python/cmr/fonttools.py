@@ -3,14 +3,14 @@
     from fontTools.ttLib import TTFont
     import cmr.fonttools
     glyphs = TTFont("DejaVuSans.ttf").getGlyphSet()
-    cmr.fonttools.check_glyph(glyphs, "O", require="extrema-at-nodes")
+    cmr.fonttools.check_glyph(glyphs, "O", require="curvature-extrema-at-nodes")
 """
 
 from . import judge
-from ._cmr import InputError, Spline
+from ._cmr import InputError
 from .pen import SplinePen
 
-__all__ = ["glyph_splines", "check_glyph", "font_degree"]
+__all__ = ["glyph_contours", "glyph_splines", "check_glyph", "font_degree"]
 
 
 def font_degree(glyph_set):
@@ -23,13 +23,19 @@ def font_degree(glyph_set):
     return None
 
 
-def glyph_splines(glyph_set, name, degree=None):
-    """The glyph's contours through cmr.pen.SplinePen, as spline dicts."""
+def glyph_contours(glyph_set, name, degree=None):
+    """The glyph's contours through cmr.pen.SplinePen, as cmr.Spline objects."""
     if name not in glyph_set:
         raise InputError(f"{name}: no such glyph in the glyph set")
     pen = SplinePen(name, degree=degree or font_degree(glyph_set), glyph_set=glyph_set)
     glyph_set[name].draw(pen)
-    return pen.splines
+    return pen.contours
+
+
+def glyph_splines(glyph_set, name, degree=None):
+    """The glyph's contours through cmr.pen.SplinePen, as spline dicts (the
+    files of ``cmr import``)."""
+    return [s.to_dict() for s in glyph_contours(glyph_set, name, degree)]
 
 
 def check_glyph(glyph_set, name, require="cmrwi", **options):
@@ -41,8 +47,9 @@ def check_glyph(glyph_set, name, require="cmrwi", **options):
     names of the contour where they say which), "spline" (the spline dict)
     and "report" (its entry of report.json)."""
     out = []
-    for d in glyph_splines(glyph_set, name):
-        entry = judge(Spline.from_dict(d), require=require, **options)
+    for s in glyph_contours(glyph_set, name):
+        d = s.to_dict()
+        entry = judge(s, require=require, **options)
         findings = []
         for gate in entry.get("gates", []):
             for v in gate.get("violations", []):

@@ -108,7 +108,13 @@ class SplinePen:
     @property
     def splines(self):
         """One spline-file dict per contour with a piece, in order
-        (name "GLYPH/cC", "point_names")."""
+        (name "GLYPH/cC", "point_names"): the files of ``cmr import``."""
+        return [s.to_dict() for s in self.contours]
+
+    @property
+    def contours(self):
+        """The same contours as cmr.Spline objects (with point_names), ready
+        for cmr.analyze / cmr.judge_many without a dict in between."""
         self._finish()
         if self._splines is None:
             degree = self.degree or self._inferred_degree()

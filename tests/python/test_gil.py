@@ -1,0 +1,97 @@
+"""Long calls release the GIL: Python code runs while they compute, and two
+threads' calls overlap in time. Measured as progress and overlap, not as
+speed: a call that held the GIL would show one gap as long as the call and
+two calls one after the other."""
+
+import _thread
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import cmr
+from conftest import ROOT
+
+FIG8 = str(ROOT / "examples/figures/fig8.json")
+
+# 200 seeded points that a kappa-curve does not converge on: it iterates
+# max_iterations times (about 0.8 ms each on the 2-core VM), then refuses.
+_rng = np.random.default_rng(38)
+POINTS = np.cumsum(_rng.uniform(0.5, 1.5, (200, 2)), axis=0) * [1, 0] + _rng.uniform(-3, 3, (200, 2)) * [0, 1]
+
+
+def slow_kcurve(iterations=1500):
+    try:
+        cmr.kcurve(POINTS, max_iterations=iterations)
+    except cmr.InputError as e:
+        assert "did not converge" in str(e)
+
+
+def big_region():
+    # 8192 x 8192 labels of Fig. 8's P3 on the CPU backend (every core).
+    return cmr.region(FIG8, point=3, size=(8192, 8192), backend="cpu")
+
+
+@pytest.mark.parametrize("call", [slow_kcurve, big_region], ids=["kcurve", "region"])
+def test_python_runs_during_a_call(call):
+    done = threading.Event()
+    span = {}
+
+    def worker():
+        span["start"] = time.perf_counter()
+        call()
+        span["end"] = time.perf_counter()
+        done.set()
+
+    t = threading.Thread(target=worker)
+    t.start()
+    stamps = []
+    while not done.is_set():
+        stamps.append(time.perf_counter())
+        time.sleep(0.001)
+    t.join()
+    inside = [s for s in stamps if span["start"] <= s <= span["end"]]
+    duration = span["end"] - span["start"]
+    assert duration > 0.05, f"the call took only {duration:.3f} s: too short to tell"
+    gaps = [b - a for a, b in zip([span["start"]] + inside, inside + [span["end"]])]
+    # With the GIL held through the call, this thread could not run at all
+    # until it returned: one gap as long as the call.
+    assert max(gaps) < 0.5 * duration, f"longest pause {max(gaps):.3f} s of a {duration:.3f} s call"
+    assert len(inside) >= 5
+
+
+def test_two_threads_overlap():
+    spans = [None, None]
+
+    def worker(i):
+        start = time.perf_counter()
+        slow_kcurve()
+        spans[i] = (start, time.perf_counter())
+
+    threads = [threading.Thread(target=worker, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    (a0, a1), (b0, b1) = spans
+    overlap = min(a1, b1) - max(a0, b0)
+    shorter = min(a1 - a0, b1 - b0)
+    # Serialised by the GIL the two would not overlap at all.
+    assert overlap > 0.5 * shorter, f"overlap {overlap:.3f} s of {shorter:.3f} s"
+
+
+def test_keyboard_interrupt_returns_before_the_call_ends():
+    # Uninterrupted, for comparison.
+    start = time.perf_counter()
+    slow_kcurve()
+    full = time.perf_counter() - start
+    assert full > 0.3, f"the region took only {full:.3f} s: too short to tell"
+    timer = threading.Timer(0.1, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        slow_kcurve()
+    interrupted = time.perf_counter() - start
+    timer.join()
+    assert interrupted < 0.6 * full, f"interrupted after {interrupted:.3f} s of a {full:.3f} s call"

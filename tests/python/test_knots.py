@@ -1,0 +1,59 @@
+"""cmr.knots.*, cmr.kcurve and cmr.report equal `cmr knots`, `cmr kcurve` and `cmr report`."""
+
+import json
+
+import numpy as np
+import pytest
+
+import cmr
+from conftest import ROOT, cli_json, run_cmr
+
+
+@pytest.mark.parametrize("op,args,call", [
+    ("insert", ["2.5"], lambda s: cmr.knots.insert(s, 2.5)),
+    ("insert", ["3.25", "--times", "2"], lambda s: cmr.knots.insert(s, 3.25, times=2)),
+    ("refine", [], cmr.knots.refine),
+    ("elevate", [], cmr.knots.elevate),
+    ("clamp", [], cmr.knots.clamp),
+    ("uniform", [], cmr.knots.uniform),
+    ("set", ["4", "3.5"], lambda s: cmr.knots.set(s, 4, 3.5)),
+])
+def test_knot_operation_equals_cli(fig8_path, op, args, call):
+    assert call(cmr.Spline.load(str(fig8_path))).to_dict() == cli_json("knots", fig8_path, op, *args)
+
+
+def test_remove_undoes_insert(tmp_path, fig8_path):
+    s = cmr.Spline.load(str(fig8_path))
+    inserted = cmr.knots.insert(s, 3.5)
+    path = tmp_path / "inserted.json"
+    path.write_text(json.dumps(inserted.to_dict()))
+    removed = cmr.knots.remove(inserted, 3.5)
+    assert removed.to_dict() == cli_json("knots", path, "remove", "3.5")
+    assert np.allclose(removed.points, s.points, atol=1e-12)
+
+
+def test_kcurve_equals_cli(tmp_path):
+    for path in sorted((ROOT / "examples" / "kcurve").glob("*.json")):
+        doc = json.loads(path.read_text())
+        if set(doc) - {"points", "closed"}:
+            continue
+        spline = cmr.kcurve(np.array(doc["points"], dtype=float), closed=doc.get("closed", False))
+        assert spline.to_dict() == cli_json("kcurve", path), path.name
+        cubic = cmr.kcurve(doc["points"], closed=doc.get("closed", False), cubic=True)
+        assert cubic.to_dict() == cli_json("kcurve", path, "--cubic"), path.name
+
+
+def test_report_equals_cli(tmp_path):
+    # cmr.report runs the command's batch: the same exit code, the same
+    # one-line summary counts and the same report.json entries.
+    files = [str(p) for p in sorted((ROOT / "examples" / "report").glob("*.json"))] + [str(ROOT / "examples/wave.json")]
+    out = tmp_path / "cli"
+    p = run_cmr("report", *files, "--require", "cmrwi", "--no-thumbnails", "--quiet", "--out", out, check=False)
+    cli = json.loads((out / "report.json").read_text())
+    r = cmr.report(files, require="cmrwi", thumbnails=False)
+    assert r["exit_code"] == p.returncode and r["out"] is None
+    assert r["summary"].split(";")[0] == p.stdout.split(";")[0]
+    assert [(s["name"], s["status"], s["verdict"]) for s in r["report"]["splines"]] == \
+        [(s["name"], s["status"], s["verdict"]) for s in cli["splines"]]
+    kept = cmr.report(files, require="cmrwi", thumbnails=False, out=tmp_path / "py")
+    assert kept["out"] == str(tmp_path / "py") and (tmp_path / "py" / "index.html").exists()
