@@ -333,6 +333,7 @@ class Writer {
     if (options.junit) junit_ = out_.stage_stream(*options.junit);
     if (options.sarif) sarif_ = out_.stage_stream(*options.sarif);
     json_ = out_.stage_stream(options.out / "report.json");
+    out_.commit_last(options.out / "report.json");  // renamed last: a new report.json means the whole report is new
     sections_.reset(std::tmpfile());
     if (!sections_) throw EnvironmentError("a temporary file for the page: cannot be created");
     if (options.baseline) {
