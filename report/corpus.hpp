@@ -33,14 +33,28 @@ namespace cmr::report {
 struct FileFilter {
   std::vector<std::string> include;  ///< empty: every font, .svg and .json file
   std::vector<std::string> exclude;  ///< a file matching one is left out
+  /// Folders a walk never enters (the run's own output folder, `--out`):
+  /// matched by identity (device and inode), however they are spelled.
+  std::vector<std::filesystem::path> skip_folders;
+};
+
+/// What a folder walk left out, and why: the run's own output folder, a
+/// cmr output ("a cmr report (report.json of an earlier run)"), a JSON that
+/// is not a spline file, an unreadable folder, a FIFO, a socket or device, a
+/// dangling or looping link, a link to a folder (not followed).
+struct SkippedPath {
+  std::string path, reason;
 };
 
 /// The files of `args`, in argument order (a folder's files sorted): a file
 /// as it is; a folder walked recursively (hidden entries skipped); an
 /// argument with * ? or [ that names no file, expanded as a glob (sorted; a
 /// folder it matches walked as a folder). InputError: "ARG: no such file or
-/// folder", "ARG: matches no file".
-std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter);
+/// folder", "ARG: matches no file". What a walk leaves out is appended to
+/// `skipped` (when given) with its reason; a file named as an argument is
+/// always taken.
+std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
+                                       std::vector<SkippedPath>* skipped = nullptr);
 
 enum class FileKind : std::uint8_t { spline, svg, font };
 /// By extension: fonts (io/font.hpp), .svg, else a spline file.
@@ -89,6 +103,9 @@ struct BatchOptions {
   /// Search the certified fixes of the failing contours of fonts (with
   /// report.regions, report/certified_fix.hpp); off: thumbnails without fixes.
   bool fixes = true;
+  /// What the folder walks left out (collect_files): listed in report.json
+  /// ("skipped") and on the page; they do not change the exit code.
+  std::vector<SkippedPath> skipped;
 };
 
 /// The run's counts (the one-line summary) and its exit code.

@@ -99,7 +99,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"g1", "g2", "none"}));
   cmd->add_option("--segments", args->segments,
                   "judge only spans A..B (inclusive): only they must meet the requirement (as cmr analyze --segments)");
-  cmd->add_option("--max-move", args->max_move, "largest displacement of any point (default: the curve size)");
+  CLI::Option* max_move = cmd->add_option(
+      "--max-move", args->max_move, "largest displacement of any point, a distance > 0 (default: the curve size)");
   cmd->add_option("--tolerance", args->tolerance, "distance tolerance relative to the curve size (default 1e-6)");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth"), 0, kMaxDepth);
   cmd->add_option("--out", args->out, "write the fixed spline here (JSON, atomically)");
@@ -108,7 +109,11 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "space curves: the plane each point moves in, through it (xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ: "
                   "its U, V); default: the plane of its neighbours' directions");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, &exit_code] {
+  cmd->callback([args, max_move, &exit_code] {
+    // 0 would mean "no point may move": no fix at all. Refused rather than
+    // read as the default (it was: issue 42), so that it never means "unlimited".
+    if (max_move->count() > 0 && !(args->max_move > 0 && std::isfinite(args->max_move)))
+      throw InputError("--max-move: " + max_move->as<std::string>() + " is not a distance > 0 (leave it out for the default, the curve size)");
     if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/fix.md, "Space curves")
       if (!args->segments.empty())
         throw InputError(args->file + ": a space curve; --segments is for planar splines");

@@ -93,9 +93,16 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
     std::string space, planar;
+    const auto dimension = [](const std::string& f) {
+      try {
+        return spline_file_dimension(f);
+      } catch (const InputError&) {
+        return 2;  // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
+      }
+    };
     for (const std::string& f : args->files)
       if (import::is_font_path(f) || std::filesystem::is_regular_file(f))  // unreadable: that report names it
-        (!import::is_font_path(f) && spline_file_dimension(f) == 3 ? space : planar) = f;
+        (!import::is_font_path(f) && dimension(f) == 3 ? space : planar) = f;
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
     if (!space.empty()) {
@@ -125,7 +132,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->junit.empty()) b.junit = args->junit;
     if (!args->sarif.empty()) b.sarif = args->sarif;
     if (!args->baseline.empty()) b.baseline = args->baseline;
-    const auto files = report::collect_files(args->files, args->filter);
+    report::FileFilter filter = args->filter;
+    filter.skip_folders.push_back(args->out);  // a rerun never reads its own outputs
+    const auto files = report::collect_files(args->files, filter, &b.skipped);
+    for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
