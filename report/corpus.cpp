@@ -119,12 +119,12 @@ std::string special_kind(const fs::file_status& st) {
 }
 
 void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::string>& out,
-          std::vector<SkippedPath>* skipped) {
+          std::vector<SkippedPath>* skipped, const std::vector<fs::path>& skip_folders) {
   std::vector<std::string> found;
   std::vector<SkippedPath> left;
   const auto skip = [&](const fs::path& p, std::string reason) { left.push_back({p.string(), std::move(reason)}); };
-  std::vector<std::pair<dev_t, ino_t>> never;  // filter.skip_folders, by identity
-  for (const fs::path& f : filter.skip_folders) {
+  std::vector<std::pair<dev_t, ino_t>> never;  // skip_folders, by identity
+  for (const fs::path& f : skip_folders) {
     struct stat st {};
     if (::stat(f.c_str(), &st) == 0) never.emplace_back(st.st_dev, st.st_ino);
   }
@@ -200,14 +200,14 @@ FileKind file_kind(const std::string& path) {
 }
 
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
-                                       std::vector<SkippedPath>* skipped) {
+                                       std::vector<SkippedPath>* skipped, const std::vector<fs::path>& skip_folders) {
   std::vector<std::string> out;
   for (const std::string& a : args) {
     std::error_code ec;
     const auto st = fs::status(a, ec);
     if (fs::is_directory(st)) {
       const std::size_t before = out.size();
-      walk(a, filter, out, skipped);
+      walk(a, filter, out, skipped, skip_folders);
       if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
       continue;
     }
@@ -223,7 +223,7 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
     ::globfree(&g);
     const std::size_t before = out.size();
     for (const std::string& m : matched) {
-      if (fs::is_directory(m, ec)) walk(m, filter, out, skipped);
+      if (fs::is_directory(m, ec)) walk(m, filter, out, skipped, skip_folders);
       else if (wanted(m, fs::path(m).filename().string(), filter)) out.push_back(m);
     }
     if (out.size() == before) throw InputError(a + ": matches no file");

@@ -33,9 +33,6 @@ namespace cmr::report {
 struct FileFilter {
   std::vector<std::string> include;  ///< empty: every font, .svg and .json file
   std::vector<std::string> exclude;  ///< a file matching one is left out
-  /// Folders a walk never enters (the run's own output folder, `--out`):
-  /// matched by identity (device and inode), however they are spelled.
-  std::vector<std::filesystem::path> skip_folders;
 };
 
 /// What a folder walk left out, and why: the run's own output folder, a
@@ -52,9 +49,11 @@ struct SkippedPath {
 /// folder it matches walked as a folder). InputError: "ARG: no such file or
 /// folder", "ARG: matches no file". What a walk leaves out is appended to
 /// `skipped` (when given) with its reason; a file named as an argument is
-/// always taken.
+/// always taken. A walk never enters the folders `skip_folders` (the run's
+/// own output folder, `--out`), matched by identity (device and inode).
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
-                                       std::vector<SkippedPath>* skipped = nullptr);
+                                       std::vector<SkippedPath>* skipped = nullptr,
+                                       const std::vector<std::filesystem::path>& skip_folders = {});
 
 enum class FileKind : std::uint8_t { spline, svg, font };
 /// By extension: fonts (io/font.hpp), .svg, else a spline file.

@@ -132,9 +132,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->junit.empty()) b.junit = args->junit;
     if (!args->sarif.empty()) b.sarif = args->sarif;
     if (!args->baseline.empty()) b.baseline = args->baseline;
-    report::FileFilter filter = args->filter;
-    filter.skip_folders.push_back(args->out);  // a rerun never reads its own outputs
-    const auto files = report::collect_files(args->files, filter, &b.skipped);
+    // A rerun never reads its own outputs (cmr report . --out qa).
+    const auto files = report::collect_files(args->files, args->filter, &b.skipped, {args->out});
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
