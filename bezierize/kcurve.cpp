@@ -988,13 +988,20 @@ std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<c
 }
 
 std::vector<int> kcurve_degenerate_pieces(const KCurve& curve) {
-  std::vector<Vec2> all;
-  for (const auto& q : curve.quadratics) all.insert(all.end(), q.begin(), q.end());
-  const double extent = all.empty() ? 0 : extent_of(all);
+  // Coordinate differences only (no squares): far-scale curves (1e154)
+  // neither overflow nor underflow here.
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (const auto& q : curve.quadratics)
+    for (const Vec2& c : q) {
+      lo_x = std::min(lo_x, c.x), hi_x = std::max(hi_x, c.x);
+      lo_y = std::min(lo_y, c.y), hi_y = std::max(hi_y, c.y);
+    }
+  const double extent = std::max(hi_x - lo_x, hi_y - lo_y);
   std::vector<int> out;
   for (std::size_t i = 0; i < curve.quadratics.size(); ++i) {
     const auto& q = curve.quadratics[i];
-    if (!(glm::length(q[2] - q[0]) > kCoincidentRelative * extent)) out.push_back(static_cast<int>(i));
+    const double chord = std::max(std::abs(q[2].x - q[0].x), std::abs(q[2].y - q[0].y));
+    if (!(chord > kCoincidentRelative * extent)) out.push_back(static_cast<int>(i));
   }
   return out;
 }

@@ -16,6 +16,7 @@
 
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
+#include "spline/space.hpp"
 
 namespace cmr {
 namespace {
@@ -64,7 +65,10 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   points.reserve(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const std::string where = "points[" + std::to_string(i) + "]";
-    if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
+    if (!pts[i].is_array() || pts[i].size() != 2) {
+      if (pts[i].is_array() && pts[i].size() == 3) spline_dimension(doc);  // mixed [x, y] and [x, y, z]: that says so
+      throw InputError(where + " is not an [x, y] pair");
+    }
     points.emplace_back(number(pts[i][0], where + "[0]"), number(pts[i][1], where + "[1]"));
   }
   std::vector<double> weights;

@@ -83,8 +83,8 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
   args->options.time_limit = 60;
   in_range(cmd->add_option("--max-work", args->options.max_point_iterations,
                            "work budget: iterations x points over every start (the 15 starts and their polish); "
-                           "a run that spends it is refused unless it converged. 2000000: 200 points get "
-                           "--max-iterations per start, 1000 points 2000 iterations in all (seconds)"),
+                           "a run that spends it is refused unless it converged. 1000000: 100 points get "
+                           "--max-iterations, 1000 points 1000 iterations in all (seconds)"),
            1, 1e12)
       ->capture_default_str();
   in_range(cmd->add_option("--time-limit", args->options.time_limit,

@@ -173,7 +173,7 @@ TEST(KCurveCli, ThousandRandomClosedPointsFinishOrRefuseWithinTwentySeconds) {
   EXPECT_TRUE(r.code == 0 || r.code == 2) << r.err;
   if (r.code == 2) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_NE(r.err.find("within its budget of 2000000 point-iterations"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("within its budget of 1000000 point-iterations"), std::string::npos) << r.err;
   }
   std::cout << "[ stats    ] 1000 random closed points: exit " << r.code << " in " << seconds << " s\n";
 }
