@@ -113,13 +113,19 @@ class StagedStream {
 /// stage() writes each file's bytes to its own new temporary file beside it
 /// (see temp_name_for); nothing a user sees changes. commit() flushes every
 /// staged file to disk (one syncfs(2) per file system), then renames every
-/// temporary over its path, in staging order, while it holds an exclusive
-/// flock(2) on every folder involved (where the file system supports flock),
-/// so that two runs committing into the same folder never interleave: the
-/// last commit wins with its whole set. Before the renames each existing
-/// output is kept as a hard link under a backup name; if a rename fails, the
-/// files already renamed get their old contents back and the error
-/// propagates. A set destroyed without commit() (an exception on the way)
+/// temporary over its path (staging order, then the manifests, then the
+/// commit_last marker) while it holds an exclusive flock(2) on every folder
+/// involved (where the file system supports flock), so that two runs
+/// committing into the same folder never interleave: the last commit wins
+/// with its whole set. First, under those locks, it carries out the
+/// journals of killed commits there (clean_stale_hidden_files), then writes
+/// its own journal into each folder: its temporaries, each existing output
+/// kept as a hard link under a backup name, the old owned files to remove,
+/// and "commit", flushed: the commit point. A kill before it leaves the old
+/// set (the next commit removes the leftovers); after it, the next commit
+/// finishes the renames (docs/outputs.md). If a rename fails, the journal
+/// says "abort", the files already renamed get their old contents back and
+/// the error propagates. A set destroyed without commit() (an exception on the way)
 /// removes its temporaries and the folders create_folder() made (when still
 /// empty): a failed run leaves every pre-existing file as it was, and no new
 /// file. Staging, committing and rolling back N files is O(N) (one hash
