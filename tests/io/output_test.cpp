@@ -637,6 +637,34 @@ TEST(OutputSetStale, JournalWithTwoLinksIsLeftAlone) {
   EXPECT_NE(err.find(".cmr-journal." + d + ".0 (not a regular file with one link)"), std::string::npos) << err;
 }
 
+// Symbolic links planted among the hidden files are never followed: a
+// journal that is a link to a real journal, and a journaled temporary that
+// is a link to a victim, move nothing (fstatat without following, O_NOFOLLOW).
+TEST(OutputSetStale, PlantedSymbolicLinksAreNeverFollowed) {
+  const fs::path dir = scratch("journal_symlinks");
+  const std::string d = std::to_string(dead_pid());
+  put(dir / "victim.txt", "victim");
+  put(dir / "elsewhere.txt", "the attacker's bytes");
+  const std::string tmp = ".cmr-tmp." + d + ".0.victim.txt";
+  fs::create_symlink(dir / "elsewhere.txt", dir / tmp);
+  const std::string journal = "cmr commit journal 1\npid " + d + " 0\ne 0 1 " +
+                              std::to_string(stat_of(dir / "elsewhere.txt").st_ino) + " " + hex(tmp) + " " +
+                              hex("victim.txt") + "\ncommit\n";
+  put(dir / "real_journal", journal);
+  fs::create_symlink(dir / "real_journal", dir / (".cmr-journal." + d + ".0"));  // a link: never read
+  const std::string d2 = std::to_string(dead_pid());
+  put(dir / (".cmr-journal." + d2 + ".0"), "cmr commit journal 1\npid " + d2 + " 0\ne 0 1 " +
+                                               std::to_string(stat_of(dir / "elsewhere.txt").st_ino) + " " + hex(tmp) +
+                                               " " + hex("victim.txt") + "\ncommit\n");  // names the link as its temporary
+  ::testing::internal::CaptureStderr();
+  write_file_atomic(dir / "out.txt", "x");
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(read(dir / "victim.txt"), "victim");
+  EXPECT_EQ(read(dir / "elsewhere.txt"), "the attacker's bytes");
+  EXPECT_TRUE(fs::is_symlink(dir / tmp)) << "the planted link was followed or moved";
+  EXPECT_NE(err.find(".cmr-journal." + d + ".0 (not a regular file with one link)"), std::string::npos) << err;
+}
+
 // The manifest names files by inode, size and modification time; a file
 // cmr did not write, or a manifest that is no cmr manifest of version 2, removes
 // nothing (issue 42 E1: a planted ".cmr-manifest" naming victim.cfg by its
