@@ -327,5 +327,48 @@ TEST(CommitKill, ImportIntoAnOwnedFolderKilledAtEveryStepLeavesOneImport) {
   EXPECT_GT(kills, 5) << "the injection never hit the commit";
 }
 
+
+// E2 for `fix --out F.json --png F.png`: killed at every rename, link,
+// unlink and sync of its commit, then an unrelated commit: the fixed spline
+// and its picture are byte for byte one run's.
+TEST(CommitKill, FixWithOutAndPngKilledAtEveryStepLeavesOneRun) {
+  if (!strace_works()) GTEST_SKIP() << "strace cannot trace here";
+  const std::string old_spline = fs::path(CMR_SOURCE_DIR).string() + "/examples/uniform.json";
+  const std::string new_spline = fs::path(CMR_SOURCE_DIR).string() + "/examples/clamped.json";
+  const std::vector<std::string> names{"f.json", "f.png"};
+  const auto args = [](const std::string& spline, const fs::path& d) {
+    return " fix " + spline + " --out " + (d / "f.json").string() + " --png " + (d / "f.png").string() + " >/dev/null";
+  };
+  const fs::path old_ref = fresh("fix_old"), new_ref = fresh("fix_new");
+  ASSERT_EQ(run(args(old_spline, old_ref)).code, 0);
+  ASSERT_EQ(run(args(new_spline, new_ref)).code, 0);
+  ASSERT_NE(slurp(old_ref / "f.json"), slurp(new_ref / "f.json")) << "the two runs must differ";
+  int kills = 0;
+  for (const std::string sys : {"rename", "renameat", "renameat2", "link", "linkat", "unlink", "unlinkat", "fsync",
+                                "fdatasync", "syncfs"}) {
+    for (int n = 1; n < 200; ++n) {
+      SCOPED_TRACE(sys + " #" + std::to_string(n));
+      const fs::path dir = fresh("fix_kill");
+      ASSERT_EQ(run(args(old_spline, dir)).code, 0);
+      const Outcome k = run_captured("strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
+                                     ":signal=KILL:when=" + std::to_string(n) + " " + CMR_BINARY + args(new_spline, dir));
+      if (k.code == 0) break;
+      ASSERT_EQ(k.code, 128 + SIGKILL) << k.err;
+      ++kills;
+      const std::string after_kill = set_of(dir, old_ref, new_ref, names);
+      const bool committed = journal_committed(dir);
+      if (!committed) {
+        EXPECT_NE(after_kill, "mixed") << "no journal to finish it";
+      }
+      const Outcome u = run("knots " + old_spline + " clamp --out " + (dir / "other.json").string());
+      ASSERT_EQ(u.code, 0) << u.err;
+      EXPECT_EQ(u.err, "");
+      EXPECT_EQ(set_of(dir, old_ref, new_ref, names), committed ? "new" : after_kill) << "right after the kill: " << after_kill;
+      EXPECT_EQ(hidden_left(dir), std::vector<std::string>{});
+    }
+  }
+  EXPECT_GT(kills, 3) << "the injection never hit the commit";
+}
+
 }  // namespace
 }  // namespace cmr::test
