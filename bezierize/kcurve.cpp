@@ -1,6 +1,7 @@
 #include "bezierize/kcurve.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <limits>
@@ -148,6 +149,10 @@ void validate(std::span<const Vec2> points, const KCurveOptions& options) {
     throw InputError("kcurve restarts " + std::to_string(options.restarts) + " is below 0");
   if (options.max_iterations < 1)
     throw InputError("kcurve max_iterations " + std::to_string(options.max_iterations) + " is below 1");
+  if (options.max_point_iterations < 0)
+    throw InputError("kcurve max_point_iterations " + std::to_string(options.max_point_iterations) + " is below 0");
+  if (!(options.time_limit >= 0))
+    throw InputError("kcurve time_limit " + std::to_string(options.time_limit) + " is not a number of seconds >= 0");
   const int n = static_cast<int>(points.size());
   if (n < kKCurveMinPoints)
     throw InputError("a kappa-curve needs at least " + std::to_string(kKCurveMinPoints) + " points, got " +
@@ -432,10 +437,29 @@ double residual_of(const State& s, double extent, bool strict) {
 
 namespace {
 
+/// KCurveOptions::max_point_iterations and time_limit, spent as the solve
+/// goes (iterations × points; the clock between steps).
+struct Budget {
+  long long point_iterations_left = 0;  ///< < 0: unlimited
+  std::chrono::steady_clock::time_point deadline{};
+  bool timed = false, spent = false;
+  /// Charges one iteration of `points` points; false (and spent) once the budget is gone.
+  bool charge(int points) {
+    if (spent) return false;
+    if (point_iterations_left >= 0) {
+      if (point_iterations_left < points) return !(spent = true);
+      point_iterations_left -= points;
+    }
+    if (timed && std::chrono::steady_clock::now() > deadline) return !(spent = true);
+    return true;
+  }
+};
+
 /// Runs the iteration on s for at most max_iterations (added to
 /// `iterations`) until residual_of(s, extent, strict) <= tolerance; returns
 /// that residual. Throws InputError on a singular system.
-double iterate(State& s, double extent, double tolerance, int max_iterations, bool strict, int& iterations) {
+double iterate(State& s, double extent, double tolerance, int max_iterations, bool strict, int& iterations,
+               Budget& budget) {
   const int n = s.n();
   double residual = std::numeric_limits<double>::infinity();
   const bool newton = n <= kNewtonMaxPoints;
@@ -443,6 +467,10 @@ double iterate(State& s, double extent, double tolerance, int max_iterations, bo
   int next_newton = 0;  // after a failed Newton step, plain steps until this iteration
   double relaxation = 1;  // the plain iteration's step towards the solved middle points
   for (int it = 1; it <= max_iterations; ++it) {
+    if (!budget.charge(n)) {
+      if (it == 1) residual = residual_of(s, extent, strict);
+      break;
+    }
     ++iterations;
     std::vector<double> f;
     if (newton && it > kPlainIterations) {
@@ -558,11 +586,12 @@ bool lambda_valid(const State& s) {
 /// Solves strict_defect = 0 from s: Newton steps with a backtracking line
 /// search, then, where a step does not lower |f|, Levenberg-Marquardt steps
 /// (damped normal equations). Returns |f| at the end; s is the best iterate.
-double strict_solve(State& s, double extent, int max_steps) {
+double strict_solve(State& s, double extent, int max_steps, Budget& budget) {
   const int m = strict_unknowns(s);
   std::vector<double> f = strict_defect(s, extent);
   double fn = norm(f), mu = 1e-3;
   for (int step = 0; step < max_steps && fn > kStrictPolishDefect; ++step) {
+    if (!budget.charge(s.n())) break;
     const std::vector<double> jac = strict_jacobian(s, extent), x0 = strict_pack(s);
     auto try_step = [&](const std::vector<double>& d, double alpha) {
       std::vector<double> x = x0;
@@ -613,11 +642,11 @@ double strict_solve(State& s, double extent, int max_steps) {
 /// solution with every t_i in [0, 1], λ_i in (0, 1) and the strict residual
 /// at most `tolerance` replaces s. False (s unchanged) when none is. Each
 /// start's t is where its strict_solve starts.
-bool polish_strict(State& s, const std::vector<State>& starts, double extent, double tolerance) {
+bool polish_strict(State& s, const std::vector<State>& starts, double extent, double tolerance, Budget& budget) {
   if (s.n() > kNewtonMaxPoints) return false;
   for (State trial : starts) {
     std::fill(trial.pin.begin(), trial.pin.end(), 0);
-    strict_solve(trial, extent, kStrictPolishSteps);
+    strict_solve(trial, extent, kStrictPolishSteps, budget);
     bool inside = lambda_valid(trial);
     for (double t : trial.t) inside = inside && t >= 0 && t <= 1;
     if (inside && residual_of(trial, extent, true) <= tolerance) {
@@ -682,16 +711,17 @@ static_assert(std::size(kAlternativeStarts) == kKCurveRestarts);
 /// proper (polish_strict) from it, from where the strict iteration stopped,
 /// and from the start. Fills out's residual, off_point_maxima and
 /// stray_maxima and adds to out.iterations; s is the result. True when it converged.
-bool solve_from(State& s, double extent, const KCurveOptions& options, const std::vector<Vec2>& points, KCurve& out) {
+bool solve_from(State& s, double extent, const KCurveOptions& options, const std::vector<Vec2>& points, KCurve& out,
+                Budget& budget) {
   const int n = s.n();
   const State start = s;
   out.residual = iterate(s, extent, options.tolerance, std::min(options.max_iterations, kStrictIterations), true,
-                         out.iterations);
+                         out.iterations, budget);
   if (out.residual > options.tolerance && options.max_iterations > kStrictIterations) {
     const State strict_attempt = s;
     s = start;
     out.residual = iterate(s, extent, options.tolerance, options.max_iterations - kStrictIterations, false,
-                           out.iterations);
+                           out.iterations, budget);
     bool off = false;
     for (int i = 0; i < n; ++i) off = off || point_error(s, i, true) > options.tolerance * extent;
     if (off) {
@@ -699,9 +729,10 @@ bool solve_from(State& s, double extent, const KCurveOptions& options, const std
       for (State& from : starts)
         for (int i = 0; i < n; ++i) from.t[i] = kcurve_parameter(from.start(i), from.p[i], from.end(i));
       starts.push_back(start);  // t_i = 1/2
-      if (polish_strict(s, starts, extent, options.tolerance)) out.residual = residual_of(s, extent, true);
+      if (polish_strict(s, starts, extent, options.tolerance, budget)) out.residual = residual_of(s, extent, true);
     }
   }
+  out.budget_spent = budget.spent;
   out.off_point_maxima.clear();
   out.stray_maxima.clear();
   out.unconstrained_t.clear();
@@ -712,7 +743,8 @@ bool solve_from(State& s, double extent, const KCurveOptions& options, const std
     // Why: the smooth system solved from this answer with t free.
     State free = s;
     for (int i = 0; i < n; ++i) free.t[i] = kcurve_parameter(free.start(i), free.p[i], free.end(i));
-    const bool solved = n <= kNewtonMaxPoints && strict_solve(free, extent, kStrictPolishSteps) <= kUnconstrainedDefect;
+    const bool solved =
+        n <= kNewtonMaxPoints && strict_solve(free, extent, kStrictPolishSteps, budget) <= kUnconstrainedDefect;
     if (solved) out.unconstrained_t = free.t;
   }
   return out.converged();
@@ -761,13 +793,21 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   // from the other starting λ in turn, keeping the best answer: a κ-curve
   // proper, else one whose maxima of |κ| are all at points, else the first.
   const State start = s;
-  solve_from(s, extent, options, all, out);
+  Budget budget;
+  budget.point_iterations_left = options.max_point_iterations > 0 ? options.max_point_iterations : -1;
+  if (options.time_limit > 0) {
+    budget.timed = true;
+    budget.deadline = std::chrono::steady_clock::now() +
+                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(options.time_limit));
+  }
+  solve_from(s, extent, options, all, out, budget);
   auto rank = [](const KCurve& k) {
     if (!k.converged()) return 3;
     return k.off_point_maxima.empty() ? 0 : k.stray_maxima.empty() ? 1 : 2;
   };
   for (int r = 0; r < std::min(options.restarts, kKCurveRestarts); ++r) {
-    if (rank(out) == 0 || !out.converged()) break;
+    if (rank(out) == 0 || !out.converged() || budget.spent) break;
     const AlternativeStart& alternative = kAlternativeStarts[r];
     State other = start;
     std::fill(other.lambda.begin(), other.lambda.end() - (other.closed ? 0 : 1), alternative.lambda);
@@ -775,7 +815,7 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
       other.mid[i] = start.p[i] + alternative.push * (start.p[i] - (start.mid_at(i - 1) + start.mid_at(i + 1)) / 2.0);
     KCurve again = out;  // iterations add up
     try {
-      solve_from(other, extent, options, all, again);
+      solve_from(other, extent, options, all, again, budget);
     } catch (const InputError&) {  // a singular system from this start: the answer so far stands
       continue;
     }
@@ -784,6 +824,7 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
     } else {
       out.iterations = again.iterations;
     }
+    out.budget_spent = budget.spent;  // restarts cut short: the best answer so far stands
   }
   for (int i = 0; i < n; ++i) {
     out.quadratics.push_back(s.quadratic(i));
@@ -942,6 +983,25 @@ std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<c
     out.push_back(name + " is not a curvature maximum: it lies on " + joint +
                   (minimum ? ", where |kappa| has a minimum" : "") +
                   "; every maximum of |kappa| is at a point (" + why + "; docs/kcurve.md)");
+  }
+  return out;
+}
+
+std::vector<int> kcurve_degenerate_pieces(const KCurve& curve) {
+  // Coordinate differences only (no squares): far-scale curves (1e154)
+  // neither overflow nor underflow here.
+  double lo_x = std::numeric_limits<double>::infinity(), hi_x = -lo_x, lo_y = lo_x, hi_y = -lo_x;
+  for (const auto& q : curve.quadratics)
+    for (const Vec2& c : q) {
+      lo_x = std::min(lo_x, c.x), hi_x = std::max(hi_x, c.x);
+      lo_y = std::min(lo_y, c.y), hi_y = std::max(hi_y, c.y);
+    }
+  const double extent = std::max(hi_x - lo_x, hi_y - lo_y);
+  std::vector<int> out;
+  for (std::size_t i = 0; i < curve.quadratics.size(); ++i) {
+    const auto& q = curve.quadratics[i];
+    const double chord = std::max(std::abs(q[2].x - q[0].x), std::abs(q[2].y - q[0].y));
+    if (!(chord > kCoincidentRelative * extent)) out.push_back(static_cast<int>(i));
   }
   return out;
 }

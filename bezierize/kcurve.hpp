@@ -101,6 +101,16 @@ struct KCurveOptions {
   /// proper (0: the published start only; at most kKCurveRestarts). Each
   /// costs up to a whole run, so an interactive caller may want fewer.
   int restarts = 14;
+  /// The work budget, by the input's size: iterations × interpolated
+  /// points, over every start (0: none). The default gives a curve of 100
+  /// points or fewer at least its max_iterations (one start's worth), and
+  /// 1,000 points 1,000 iterations in all (about 3 s on the 2-core VM); a
+  /// run that spends it stops there (KCurve::budget_spent), with what it has
+  /// (not converged, or the best answer before the restarts that did not run).
+  long long max_point_iterations = 1'000'000;
+  /// Wall-clock limit in seconds over the whole solve (0: none), checked
+  /// between iterations, polish steps and restarts.
+  double time_limit = 0;
 };
 
 /// The number of other starts kcurve() knows (KCurveOptions::restarts).
@@ -134,6 +144,8 @@ struct KCurve {
   /// solve found no solution (and for a κ-curve proper).
   std::vector<double> unconstrained_t;
   bool converged() const { return residual <= tolerance; }
+  /// The run stopped on KCurveOptions::max_point_iterations or time_limit.
+  bool budget_spent = false;
 };
 
 /// Fewest points a κ-curve accepts, open or closed (an open curve of three
@@ -196,5 +208,10 @@ std::vector<std::string> kcurve_off_point_notes(const KCurve& curve, std::span<c
 /// points of kcurve_cubic_chain(curve); -1 where t_max is 0 or 1 (then the
 /// maximum is a quadratic joint, not a handle pair).
 std::vector<int> kcurve_cubic_maxima(const KCurve& curve);
+
+/// The quadratics of `curve` whose two joints coincide (to
+/// kCoincidentRelative of the curve's extent): a zero-length piece, where
+/// |κ| is undefined. Empty for a usable curve.
+std::vector<int> kcurve_degenerate_pieces(const KCurve& curve);
 
 }  // namespace cmr

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -91,7 +92,9 @@ void sync_folder(const std::filesystem::path& folder) {
 /// folder (by device and inode): two descriptors of one folder would
 /// deadlock the process against itself. Best effort: where a folder cannot
 /// be opened or locked (a file system without flock), the commit goes on
-/// unlocked, each file still replaced atomically.
+/// unlocked, each file still replaced atomically (and no recovery runs
+/// there: it needs the lock). The open folder is kept for the *at() calls
+/// of the journal and of recovery (no path is resolved twice).
 class FolderLocks {
  public:
   FolderLocks() = default;
@@ -100,28 +103,30 @@ class FolderLocks {
   ~FolderLocks() {
     for (const Held& h : held_) ::close(h.fd);  // closing releases the lock
   }
-  void lock(const std::filesystem::path& folder) {
+  /// Locks `folder`; returns its open descriptor (owned here), or -1 when
+  /// it could not be opened. `locked` tells whether the flock is held.
+  int lock(const std::filesystem::path& folder, bool* locked = nullptr) {
+    if (locked != nullptr) *locked = false;
     const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd < 0) return;
+    if (fd < 0) return -1;
     struct stat st {};
     if (::fstat(fd, &st) != 0) {
       ::close(fd);
-      return;
+      return -1;
     }
     for (const Held& h : held_) {
       if (h.dev == st.st_dev && h.ino == st.st_ino) {
         ::close(fd);
-        return;
+        if (locked != nullptr) *locked = h.locked;
+        return h.fd;
       }
     }
-    int locked;
-    while ((locked = ::flock(fd, LOCK_EX)) != 0 && errno == EINTR) {
+    int rc;
+    while ((rc = ::flock(fd, LOCK_EX)) != 0 && errno == EINTR) {
     }
-    if (locked != 0) {
-      ::close(fd);
-      return;
-    }
-    held_.push_back({fd, st.st_dev, st.st_ino});
+    held_.push_back({fd, st.st_dev, st.st_ino, rc == 0});
+    if (locked != nullptr) *locked = rc == 0;
+    return fd;
   }
 
  private:
@@ -129,6 +134,7 @@ class FolderLocks {
     int fd;
     dev_t dev;
     ino_t ino;
+    bool locked;
   };
   std::vector<Held> held_;
 };
@@ -198,20 +204,55 @@ bool copy_spool(int from, int to) {
   }
 }
 
-/// A manifest entry: a file cmr wrote into an owned folder.
+/// A manifest entry: a file cmr wrote into an owned folder, by identity
+/// (inode, size, modification time in ns) and name.
 struct ManifestEntry {
   unsigned long long ino = 0, size = 0;
+  long long mtime_ns = 0;
   std::string name;
 };
-constexpr const char* kManifestHeader = "cmr output manifest 1";
+/// Version 2 carries the modification time; a version 1 manifest (inode and
+/// size only, too weak to prove a file is cmr's) is ignored: it removes nothing.
+constexpr const char* kManifestHeader = "cmr output manifest 2";
+constexpr const char* kJournalHeader = "cmr commit journal 1";
+constexpr const char* kJournalPrefix = ".cmr-journal.";
 
-std::vector<ManifestEntry> read_manifest(const std::filesystem::path& folder) {
-  std::vector<ManifestEntry> out;
-  const int fd = ::open((folder / kManifestName).c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return out;
-  std::string text;
+long long mtime_ns(const struct stat& st) {
+  return static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec;
+}
+
+/// Whether a folder is shared with other users: sticky (/tmp) or writable by
+/// all. There, recovery never touches another user's file.
+bool folder_shared(int dirfd) {
   struct stat st {};
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size < (64 << 20)) {
+  return ::fstat(dirfd, &st) == 0 && (st.st_mode & (S_ISVTX | S_IWOTH)) != 0;
+}
+
+/// The entry `name` of the open folder, not followed: true when it is a
+/// regular file (its stat in `st`).
+bool regular_entry(int dirfd, const std::string& name, struct stat& st) {
+  return ::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(st.st_mode);
+}
+
+/// Whether `st` is a file this user made and nothing else names: owner
+/// geteuid(), one link, and the inode the journal or manifest recorded.
+bool own_single_file(const struct stat& st, unsigned long long ino) {
+  return st.st_uid == ::geteuid() && st.st_nlink == 1 && static_cast<unsigned long long>(st.st_ino) == ino;
+}
+
+/// Reads a small regular file of the open folder, never following a link:
+/// false unless it is a regular file of this user with one link (the
+/// owner's uid in `*owner` when it is someone else's).
+bool read_own_file(int dirfd, const std::string& name, std::string& text, uid_t* owner = nullptr) {
+  struct stat before {};
+  if (!regular_entry(dirfd, name, before)) return false;  // a device or FIFO is never opened
+  const int fd = ::openat(dirfd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return false;
+  struct stat st {};
+  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_ino == before.st_ino && st.st_nlink == 1 &&
+            st.st_uid == ::geteuid() && st.st_size < (64 << 20);
+  if (owner != nullptr) *owner = st.st_uid;
+  if (ok) {
     text.resize(static_cast<std::size_t>(st.st_size));
     std::size_t used = 0;
     while (used < text.size()) {
@@ -223,6 +264,68 @@ std::vector<ManifestEntry> read_manifest(const std::filesystem::path& folder) {
     text.resize(used);
   }
   ::close(fd);
+  return ok;
+}
+
+/// Names in the journal are hex: any byte (a newline, a space) survives.
+std::string hex_of(std::string_view s) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(2 * s.size());
+  for (const char c : s) {
+    out += kDigits[static_cast<unsigned char>(c) >> 4];
+    out += kDigits[static_cast<unsigned char>(c) & 15];
+  }
+  return out;
+}
+bool unhex(std::string_view h, std::string& out) {
+  if (h.size() % 2 != 0) return false;
+  out.clear();
+  const auto digit = [](char c) { return c >= '0' && c <= '9' ? c - '0' : (c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1); };
+  for (std::size_t i = 0; i < h.size(); i += 2) {
+    const int a = digit(h[i]), b = digit(h[i + 1]);
+    if (a < 0 || b < 0) return false;
+    out += static_cast<char>(a * 16 + b);
+  }
+  return true;
+}
+/// A plain file name of the folder (no '/', not "." or "..", not empty).
+bool plain_name(const std::string& n) { return !n.empty() && n.find('/') == std::string::npos && n != "." && n != ".."; }
+
+/// The lines of `text`, split on '\n', each split on ' '.
+std::vector<std::vector<std::string>> lines_of(const std::string& text) {
+  std::vector<std::vector<std::string>> out;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    std::vector<std::string> words;
+    std::size_t w = at;
+    while (w < end) {
+      const std::size_t sp = std::min(text.find(' ', w), end);
+      words.emplace_back(text.substr(w, sp - w));
+      w = sp + 1;
+    }
+    out.push_back(std::move(words));
+    at = end + 1;
+  }
+  return out;
+}
+
+/// The manifest of the open folder, if it is this user's own file (owner
+/// geteuid(), one link, not a link). A manifest someone else owns is noted
+/// in `refused` and names nothing.
+std::vector<ManifestEntry> read_manifest(int dirfd, std::vector<std::string>& refused) {
+  std::vector<ManifestEntry> out;
+  std::string text;
+  uid_t owner = ::geteuid();
+  if (!read_own_file(dirfd, kManifestName, text, &owner)) {
+    struct stat st {};
+    if (::fstatat(dirfd, kManifestName, &st, AT_SYMLINK_NOFOLLOW) == 0)
+      refused.push_back(std::string(kManifestName) +
+                        (st.st_uid != ::geteuid() ? " (owned by uid " + std::to_string(st.st_uid) + ", not this user)"
+                                                  : " (not a regular file with one link)"));
+    return out;
+  }
   std::size_t at = text.find('\n');
   if (at == std::string::npos || text.substr(0, at) != kManifestHeader) return out;  // not cmr's: remove nothing
   while (++at < text.size()) {
@@ -235,11 +338,243 @@ std::vector<ManifestEntry> read_manifest(const std::filesystem::path& folder) {
     if (rest == nullptr || *rest != ' ') continue;
     e.size = std::strtoull(rest + 1, &rest, 10);
     if (rest == nullptr || *rest != ' ') continue;
+    e.mtime_ns = std::strtoll(rest + 1, &rest, 10);
+    if (rest == nullptr || *rest != ' ') continue;
     e.name = rest + 1;
-    if (e.name.empty() || e.name.find('/') != std::string::npos || e.name == "." || e.name == "..") continue;
+    if (!plain_name(e.name) || e.name.rfind(kHiddenPrefix, 0) == 0) continue;
     out.push_back(std::move(e));
   }
   return out;
+}
+
+/// Removes a file an earlier owning commit listed, if it is still the very
+/// file cmr wrote: this user's, one link, same inode, size and time.
+void remove_if_still_ours(int dirfd, const ManifestEntry& e) {
+  struct stat st {};
+  if (regular_entry(dirfd, e.name, st) && own_single_file(st, e.ino) &&
+      static_cast<unsigned long long>(st.st_size) == e.size && mtime_ns(st) == e.mtime_ns)
+    ::unlinkat(dirfd, e.name.c_str(), 0);
+}
+
+/// The start time of process `pid` (clock ticks after boot: field 22 of
+/// /proc/PID/stat), or 0 when it cannot be read. With the pid it names one
+/// process even after the pid is reused.
+unsigned long long process_start(long pid) {
+  std::FILE* f = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+  if (f == nullptr) return 0;
+  char buf[1024];
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+  std::fclose(f);
+  buf[n] = '\0';
+  const char* p = std::strrchr(buf, ')');
+  if (p == nullptr) return 0;
+  for (int field = 2; field < 22 && p != nullptr; ++field) p = std::strchr(p + 1, ' ');
+  return p == nullptr ? 0 : std::strtoull(p + 1, nullptr, 10);
+}
+
+/// One folder's part of a commit, as its journal records it.
+struct JournalEntry {
+  std::string name, temp, backup;  ///< file names in the folder
+  unsigned long long temp_ino = 0, backup_ino = 0;
+  bool existed = false;
+};
+struct Journal {
+  long pid = 0;
+  unsigned long long start = 0;
+  std::vector<JournalEntry> entries;
+  std::vector<ManifestEntry> removals;  ///< an owned folder's old files to remove once committed
+  bool committed = false, aborted = false;
+};
+
+/// Parses a journal; false when it is not one (then nothing is done).
+bool parse_journal(const std::string& text, Journal& j) {
+  const auto lines = lines_of(text);
+  if (lines.empty() || lines[0].size() != 4 || lines[0][0] + " " + lines[0][1] + " " + lines[0][2] + " " + lines[0][3] != kJournalHeader)
+    return false;
+  std::unordered_map<std::string, std::size_t> by_index;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const auto& w = lines[i];
+    if (w.empty()) continue;
+    if (w[0] == "pid" && w.size() == 3) {
+      j.pid = std::strtol(w[1].c_str(), nullptr, 10);
+      j.start = std::strtoull(w[2].c_str(), nullptr, 10);
+    } else if (w[0] == "e" && w.size() == 6) {
+      JournalEntry e;
+      e.existed = w[2] == "1";
+      e.temp_ino = std::strtoull(w[3].c_str(), nullptr, 10);
+      if (!unhex(w[4], e.temp) || !unhex(w[5], e.name) || !plain_name(e.temp) || !plain_name(e.name) ||
+          e.temp.rfind(".cmr-tmp.", 0) != 0)
+        return false;
+      by_index[w[1]] = j.entries.size();
+      j.entries.push_back(std::move(e));
+    } else if (w[0] == "b" && w.size() == 4) {
+      auto it = by_index.find(w[1]);
+      if (it == by_index.end()) return false;
+      JournalEntry& e = j.entries[it->second];
+      e.backup_ino = std::strtoull(w[2].c_str(), nullptr, 10);
+      if (!unhex(w[3], e.backup) || !plain_name(e.backup) || e.backup.rfind(".cmr-bak.", 0) != 0) return false;
+    } else if (w[0] == "r" && w.size() == 5) {
+      ManifestEntry m;
+      m.ino = std::strtoull(w[1].c_str(), nullptr, 10);
+      m.size = std::strtoull(w[2].c_str(), nullptr, 10);
+      m.mtime_ns = std::strtoll(w[3].c_str(), nullptr, 10);
+      if (!unhex(w[4], m.name) || !plain_name(m.name)) return false;
+      j.removals.push_back(std::move(m));
+    } else if (w[0] == "commit") {
+      j.committed = true;
+    } else if (w[0] == "abort") {
+      j.aborted = true;
+    }
+  }
+  return j.pid > 0;
+}
+
+/// Whether recovery may rename over `name`: it is absent, or the folder is
+/// not shared, or it is this user's file. Otherwise it is noted in `refused`.
+bool may_replace(int dirfd, bool shared, const std::string& name, std::vector<std::string>& refused) {
+  struct stat st {};
+  if (::fstatat(dirfd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) return errno == ENOENT;
+  if (!shared || st.st_uid == ::geteuid()) return true;
+  refused.push_back(name + " (owned by uid " + std::to_string(st.st_uid) + ", not this user, in a shared folder)");
+  return false;
+}
+
+/// Unlinks the entry if it is this user's single-linked regular file with `ino`.
+void unlink_own(int dirfd, const std::string& name, unsigned long long ino) {
+  struct stat st {};
+  if (regular_entry(dirfd, name, st) && own_single_file(st, ino)) ::unlinkat(dirfd, name.c_str(), 0);
+}
+
+/// Whether a backup entry is the one the journal made: a regular file with
+/// the journaled inode, at most two links (before the rename it is also the
+/// old file's name), and this user's unless the folder is private.
+bool journaled_backup(int dirfd, bool shared, const JournalEntry& e, struct stat& st) {
+  return !e.backup.empty() && regular_entry(dirfd, e.backup, st) &&
+         static_cast<unsigned long long>(st.st_ino) == e.backup_ino && st.st_nlink <= 2 &&
+         (!shared || st.st_uid == ::geteuid());
+}
+
+/// Finishes an interrupted commit as its journal says: after the commit
+/// point ("commit"), forward (the staged files renamed into place, the old
+/// owned files removed); before it, nothing was renamed yet, so only its
+/// temporaries and backups go; after "abort" (a failed rename being undone),
+/// back (the backups renamed over their names, new names removed).
+void apply_journal(int dirfd, bool shared, const Journal& j, std::vector<std::string>& refused) {
+  struct stat st {};
+  if (j.committed && !j.aborted) {
+    for (const JournalEntry& e : j.entries) {
+      if (regular_entry(dirfd, e.temp, st) && own_single_file(st, e.temp_ino)) {
+        if (may_replace(dirfd, shared, e.name, refused)) ::renameat(dirfd, e.temp.c_str(), dirfd, e.name.c_str());
+        else ::unlinkat(dirfd, e.temp.c_str(), 0);
+      }
+      if (journaled_backup(dirfd, shared, e, st)) ::unlinkat(dirfd, e.backup.c_str(), 0);
+    }
+    for (const ManifestEntry& m : j.removals) remove_if_still_ours(dirfd, m);
+    return;
+  }
+  for (const JournalEntry& e : j.entries) {
+    if (j.aborted) {
+      struct stat now {};
+      const bool present = ::fstatat(dirfd, e.name.c_str(), &now, AT_SYMLINK_NOFOLLOW) == 0;
+      if (journaled_backup(dirfd, shared, e, st)) {
+        if (!(present && now.st_ino == st.st_ino) && may_replace(dirfd, shared, e.name, refused))
+          ::renameat(dirfd, e.backup.c_str(), dirfd, e.name.c_str());
+      } else if (!e.existed && present && S_ISREG(now.st_mode) && own_single_file(now, e.temp_ino)) {
+        ::unlinkat(dirfd, e.name.c_str(), 0);  // a new file of the undone commit
+      }
+    }
+    unlink_own(dirfd, e.temp, e.temp_ino);
+    if (journaled_backup(dirfd, shared, e, st)) ::unlinkat(dirfd, e.backup.c_str(), 0);
+  }
+}
+
+/// The pid in a hidden name ".cmr-KIND.PID.REST", or 0.
+long hidden_pid(const std::string& n, std::size_t at) {
+  const std::size_t end = n.find('.', at);
+  if (end == std::string::npos || end == at || end - at > 10) return 0;
+  for (std::size_t i = at; i < end; ++i)
+    if (!std::isdigit(static_cast<unsigned char>(n[i]))) return 0;
+  return std::stol(n.substr(at, end - at));
+}
+
+/// Recovery in one folder, under its lock (see clean_stale_hidden_files).
+std::size_t recover_folder(int dirfd, const std::filesystem::path& folder) {
+  const int scan_fd = ::dup(dirfd);
+  if (scan_fd < 0) return 0;
+  DIR* dir = ::fdopendir(scan_fd);
+  if (dir == nullptr) {
+    ::close(scan_fd);
+    return 0;
+  }
+  ::rewinddir(dir);
+  std::vector<std::string> journals, hidden;
+  while (const dirent* e = ::readdir(dir)) {
+    const std::string_view n(e->d_name);
+    if (n.rfind(kJournalPrefix, 0) == 0) journals.emplace_back(n);
+    else if (n.rfind(".cmr-tmp.", 0) == 0 || n.rfind(".cmr-bak.", 0) == 0) hidden.emplace_back(n);
+  }
+  ::closedir(dir);
+  const bool shared = folder_shared(dirfd);
+  const long self = ::getpid();
+  std::vector<std::string> refused;
+  std::size_t handled = 0;
+  std::unordered_set<std::string> journaled;  // the temporaries and backups a journal of this user names
+  for (const std::string& n : journals) {
+    const long pid = hidden_pid(n, std::strlen(kJournalPrefix));
+    if (pid == 0 || pid == self) continue;
+    std::string text;
+    uid_t owner = ::geteuid();
+    if (!read_own_file(dirfd, n, text, &owner)) {
+      struct stat st {};
+      if (::fstatat(dirfd, n.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0)
+        refused.push_back(n + (st.st_uid != ::geteuid() ? " (owned by uid " + std::to_string(st.st_uid) + ", not this user)"
+                                                        : " (not a regular file with one link)"));
+      continue;
+    }
+    Journal j;
+    if (!parse_journal(text, j) || j.pid != pid) {
+      refused.push_back(n + " (not a journal cmr wrote)");
+      continue;
+    }
+    // A live process's journal is a commit in progress (it holds the lock
+    // where flock works); a pid reused by another process is not it.
+    if (process_alive(pid) && (j.start == 0 || process_start(pid) == j.start)) continue;
+    for (const JournalEntry& e : j.entries) {
+      journaled.insert(e.temp);
+      if (!e.backup.empty()) journaled.insert(e.backup);
+    }
+    apply_journal(dirfd, shared, j, refused);
+    ::unlinkat(dirfd, n.c_str(), 0);
+    ++handled;
+  }
+  for (const std::string& n : hidden) {
+    // ".cmr-KIND.PID.ATTEMPT.NAME"
+    const long pid = hidden_pid(n, 9);
+    if (pid == 0 || pid == self || journaled.count(n) > 0 || process_alive(pid)) continue;
+    struct stat st {};
+    if (::fstatat(dirfd, n.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+    if (n[5] == 't') {
+      // A dead run's staged temporary (killed before its commit): nothing
+      // refers to it. Only this user's own single file goes.
+      if (S_ISREG(st.st_mode) && st.st_uid == ::geteuid() && st.st_nlink == 1) {
+        ::unlinkat(dirfd, n.c_str(), 0);
+        ++handled;
+      }
+    } else {
+      // A backup no journal of this user names: never renamed anywhere (a
+      // name proves nothing; it may be planted), never removed.
+      refused.push_back(n + (st.st_uid != ::geteuid() ? " (owned by uid " + std::to_string(st.st_uid) + ", not this user)"
+                                                      : " (no journal of an interrupted commit names it)"));
+    }
+  }
+  if (!refused.empty()) {
+    std::string line = "cmr: note: " + folder.string() + ": left alone, not rolled back: " + refused[0];
+    if (refused.size() > 1) line += " and " + std::to_string(refused.size() - 1) + " more";
+    for (char& c : line)
+      if (c == '\n' || c == '\r') c = '?';
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
+  return handled;
 }
 
 }  // namespace
@@ -249,39 +584,11 @@ std::filesystem::path temp_name_for(const std::filesystem::path& path, int attem
 }
 
 std::size_t clean_stale_hidden_files(const std::filesystem::path& folder) {
-  DIR* dir = ::opendir(folder.c_str());
-  if (dir == nullptr) return 0;
-  std::vector<std::string> names;
-  while (const dirent* e = ::readdir(dir)) {
-    const std::string_view n(e->d_name);
-    if (n.rfind(".cmr-tmp.", 0) == 0 || n.rfind(".cmr-bak.", 0) == 0) names.emplace_back(n);
-  }
-  ::closedir(dir);
-  std::size_t handled = 0;
-  for (const std::string& n : names) {
-    // ".cmr-KIND.PID.ATTEMPT.NAME"
-    const std::size_t pid_at = 9, pid_end = n.find('.', pid_at);
-    if (pid_end == std::string::npos || pid_end == pid_at || pid_end - pid_at > 10) continue;
-    const std::size_t attempt_end = n.find('.', pid_end + 1);
-    if (attempt_end == std::string::npos) continue;
-    bool digits = true;
-    for (std::size_t i = pid_at; i < attempt_end; ++i) digits = digits && (std::isdigit(static_cast<unsigned char>(n[i])) || i == pid_end);
-    if (!digits) continue;
-    const long pid = std::stol(n.substr(pid_at, pid_end - pid_at));
-    if (pid == ::getpid() || process_alive(pid)) continue;
-    const std::filesystem::path entry = folder / n;
-    struct stat st {};
-    if (::lstat(entry.c_str(), &st) != 0) continue;
-    const std::string name = n.substr(attempt_end + 1);
-    if (n[5] == 'b' && S_ISREG(st.st_mode) && !name.empty() && name.size() < kHiddenNameMax) {
-      // A killed commit's backup: the old file back in place (a no-op when
-      // it was not replaced yet: both names are one file).
-      ::rename(entry.c_str(), (folder / name).c_str());
-    }
-    if (!S_ISDIR(st.st_mode)) ::unlink(entry.c_str());
-    ++handled;
-  }
-  return handled;
+  FolderLocks lock;
+  bool locked = false;
+  const int fd = lock.lock(folder, &locked);
+  if (fd < 0 || !locked) return 0;
+  return recover_folder(fd, folder);
 }
 
 OutputSet::~OutputSet() { discard(); }
@@ -510,6 +817,71 @@ void StagedStream::close() {
   if (rc != 0) throw_errno(path_, errno);
 }
 
+namespace {
+
+/// A folder's journal of one commit (".cmr-journal.PID.N", this user's,
+/// mode 0600, created with O_EXCL | O_NOFOLLOW in the locked folder): the
+/// files of the commit there (temporary, name, inode), each backup as it is
+/// made, the old owned files to remove, and then the commit point
+/// ("commit", flushed with fdatasync before the first rename). Recovery
+/// (recover_folder) acts only on what a journal of this user names.
+class JournalFile {
+ public:
+  JournalFile() = default;
+  JournalFile(const JournalFile&) = delete;
+  JournalFile& operator=(const JournalFile&) = delete;
+  ~JournalFile() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  /// Creates the journal in `dirfd` (the folder of `output`, which errors
+  /// name: "OUTPUT: <strerror>").
+  void create(int dirfd, const std::filesystem::path& output) {
+    dirfd_ = dirfd;
+    for (int attempt = 0; attempt < kTempNameAttempts; ++attempt) {
+      std::string name = kJournalPrefix;
+      name += std::to_string(::getpid());
+      name += '.';
+      name += std::to_string(attempt);
+      fd_ = ::openat(dirfd, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+      if (fd_ >= 0) {
+        name_ = std::move(name);
+        path_ = output;  // errors name the output the journal is for
+        append(std::string(kJournalHeader) + "\npid " + std::to_string(::getpid()) + " " +
+               std::to_string(process_start(::getpid())) + "\n");
+        return;
+      }
+      if (errno != EEXIST) throw_errno(output, errno);
+    }
+    throw EnvironmentError(output.string() + ": every journal name beside it is taken (" + kJournalPrefix + "...)");
+  }
+  /// Appends `text` (no flush: a killed process's writes stay in the file).
+  void append(std::string_view text) {
+    if (fd_ >= 0 && !write_all(fd_, text)) throw_errno(path_, errno);
+  }
+  void sync() {
+    if (fd_ >= 0 && ::fdatasync(fd_) != 0) throw_errno(path_, errno);
+  }
+  /// Removes the journal (the commit is complete, or undone).
+  void remove() noexcept {
+    if (fd_ < 0) return;
+    ::close(fd_);
+    fd_ = -1;
+    ::unlinkat(dirfd_, name_.c_str(), 0);
+  }
+
+ private:
+  int dirfd_ = -1, fd_ = -1;
+  std::string name_;
+  std::filesystem::path path_;
+};
+
+}  // namespace
+
+void OutputSet::commit_last(const std::filesystem::path& path) {
+  CMR_CHECK(!committed_);
+  last_ = path.string();
+}
+
 void OutputSet::commit() {
   CMR_CHECK(!committed_);
   // The folders written into, each once, in first-use order.
@@ -520,8 +892,11 @@ void OutputSet::commit() {
   for (const std::filesystem::path& f : owned_folders_)
     if (seen.insert(f.string()).second) folders.push_back(f);
   FolderLocks locks;
-  for (const std::filesystem::path& f : folders) locks.lock(f);
-  for (const std::filesystem::path& f : folders) clean_stale_hidden_files(f);
+  for (const std::filesystem::path& f : folders) {
+    bool locked = false;
+    const int fd = locks.lock(f, &locked);
+    if (fd >= 0 && locked) recover_folder(fd, f);  // an interrupted commit here is finished or undone first
+  }
 
   // Owned folders: this run's file names there, and the manifest staged last.
   struct Owned {
@@ -531,16 +906,21 @@ void OutputSet::commit() {
   };
   std::vector<Owned> owned;
   for (const std::filesystem::path& f : owned_folders_) {
-    Owned o{f, read_manifest(f), {}};
+    const int dirfd = locks.lock(f);
+    std::vector<std::string> refused;
+    Owned o{f, dirfd >= 0 ? read_manifest(dirfd, refused) : std::vector<ManifestEntry>{}, {}};
+    if (!refused.empty())
+      std::fprintf(stderr, "cmr: note: %s: %s: its files are left alone\n", f.string().c_str(), refused[0].c_str());
     const std::string key = folder_key(f);
     std::string manifest = std::string(kManifestHeader) + "\n";
     for (const Staged& s : staged_) {
       if (s.temp.empty() || folder_key(folder_of(s.target)) != key) continue;
       const std::string name = s.target.filename().string();
       struct stat st {};
-      if (name.find('\n') != std::string::npos || ::stat(s.temp.c_str(), &st) != 0) continue;
+      if (name.find('\n') != std::string::npos || ::lstat(s.temp.c_str(), &st) != 0) continue;
       o.names.insert(name);
-      manifest += std::to_string(st.st_ino) + " " + std::to_string(st.st_size) + " " + name + "\n";
+      manifest += std::to_string(st.st_ino) + " " + std::to_string(st.st_size) + " " + std::to_string(mtime_ns(st)) +
+                  " " + name + "\n";
     }
     owned.push_back(std::move(o));
     stage(f / kManifestName, manifest);
@@ -586,12 +966,78 @@ void OutputSet::commit() {
   }
   close_streams();
 
+  // The rename order: the files in staging order, then the manifests, then
+  // the set's marker (commit_last: a report's report.json), so that a
+  // reader who sees the marker's new version sees the whole new set.
   std::vector<std::size_t> files;  // indices of the staged files (not streams)
-  for (std::size_t i = 0; i < staged_.size(); ++i)
-    if (!staged_[i].temp.empty()) files.push_back(i);
+  for (int pass = 0; pass < 3; ++pass)
+    for (std::size_t i = 0; i < staged_.size(); ++i) {
+      const Staged& s = staged_[i];
+      if (s.temp.empty()) continue;
+      const int p = !last_.empty() && s.path.string() == last_ ? 2 : (s.manifest ? 1 : 0);
+      if (p == pass) files.push_back(i);
+    }
+
+  // One journal per folder, written before any backup or rename.
+  std::vector<std::unique_ptr<JournalFile>> journals;
+  std::unordered_map<int, std::size_t> journal_of_fd;
+  std::vector<JournalFile*> journal_of_file(files.size(), nullptr);
+  const auto fail_before_commit_point = [&](const auto& undo_backups) {
+    undo_backups();
+    for (auto& j : journals) j->remove();
+    discard();
+  };
   std::vector<Kept> kept;
   kept.reserve(files.size());
-  for (std::size_t i : files) kept.push_back(keep_old(staged_[i].target));
+  try {
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      const Staged& s = staged_[files[k]];
+      const int dirfd = locks.lock(folder_of(s.target));
+      if (dirfd < 0) continue;  // renamed without a journal (the rename reports why it fails)
+      auto it = journal_of_fd.find(dirfd);
+      if (it == journal_of_fd.end()) {
+        journals.push_back(std::make_unique<JournalFile>());
+        journals.back()->create(dirfd, s.path.parent_path() == s.target.parent_path() ? s.path : s.target);
+        it = journal_of_fd.emplace(dirfd, journals.size() - 1).first;
+      }
+      JournalFile& j = *journals[it->second];
+      journal_of_file[k] = &j;
+      struct stat st {}, old {};
+      if (::lstat(s.temp.c_str(), &st) != 0) throw_errno(s.path, errno);
+      const bool existed = ::lstat(s.target.c_str(), &old) == 0;
+      j.append("e " + std::to_string(k) + " " + (existed ? "1 " : "0 ") + std::to_string(st.st_ino) + " " +
+               hex_of(s.temp.filename().string()) + " " + hex_of(s.target.filename().string()) + "\n");
+    }
+    for (const Owned& o : owned) {
+      const int dirfd = locks.lock(o.folder);
+      auto it = journal_of_fd.find(dirfd);
+      if (it == journal_of_fd.end()) continue;
+      std::string lines;
+      for (const ManifestEntry& e : o.old)
+        if (o.names.count(e.name) == 0)
+          lines += "r " + std::to_string(e.ino) + " " + std::to_string(e.size) + " " + std::to_string(e.mtime_ns) + " " +
+                   hex_of(e.name) + "\n";
+      journals[it->second]->append(lines);
+    }
+    // Each old file kept as a backup (the in-process undo), journaled as made.
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      kept.push_back(keep_old(staged_[files[k]].target));
+      struct stat st {};
+      if (!kept[k].link.empty() && journal_of_file[k] != nullptr && ::lstat(kept[k].link.c_str(), &st) == 0)
+        journal_of_file[k]->append("b " + std::to_string(k) + " " + std::to_string(st.st_ino) + " " +
+                                   hex_of(kept[k].link.filename().string()) + "\n");
+    }
+    // The commit point: from here on, recovery finishes this commit.
+    for (auto& j : journals) j->append("commit\n");
+    for (auto& j : journals) j->sync();
+  } catch (...) {
+    fail_before_commit_point([&] {
+      for (const Kept& k : kept)
+        if (!k.link.empty()) ::unlink(k.link.c_str());
+    });
+    throw;
+  }
+
   std::size_t done = 0;
   for (; done < files.size(); ++done) {
     const Staged& s = staged_[files[done]];
@@ -599,6 +1045,11 @@ void OutputSet::commit() {
   }
   const int error = errno;
   if (done < files.size()) {  // undo: the old files back, new ones away
+    try {  // the journal says so first: a kill during the undo is undone too
+      for (auto& j : journals) j->append("abort\n");
+      for (auto& j : journals) j->sync();
+    } catch (...) {
+    }
     for (std::size_t k = 0; k < done; ++k) {
       const Staged& s = staged_[files[k]];
       if (!kept[k].link.empty()) ::rename(kept[k].link.c_str(), s.target.c_str());
@@ -610,23 +1061,22 @@ void OutputSet::commit() {
   if (done < files.size()) {
     const std::filesystem::path failed = staged_[files[done]].path;
     for (std::size_t k = done; k < files.size(); ++k) ::unlink(staged_[files[k]].temp.c_str());
+    for (auto& j : journals) j->remove();
     staged_.clear();  // nothing of the set is left to remove but the folders it made
     discard();
     throw_errno(failed, error);
   }
   committed_ = true;
   // The files cmr wrote there last time and this run did not: removed when
-  // they are still cmr's (same inode and size), so the folder holds this set.
+  // they are still cmr's (this user's, one link, same inode, size and
+  // time), so the folder holds this set.
   for (const Owned& o : owned) {
-    for (const ManifestEntry& e : o.old) {
-      if (o.names.count(e.name) > 0) continue;
-      const std::filesystem::path p = o.folder / e.name;
-      struct stat st {};
-      if (::lstat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && static_cast<unsigned long long>(st.st_ino) == e.ino &&
-          static_cast<unsigned long long>(st.st_size) == e.size)
-        ::unlink(p.c_str());
-    }
+    const int dirfd = locks.lock(o.folder);
+    if (dirfd < 0) continue;
+    for (const ManifestEntry& e : o.old)
+      if (o.names.count(e.name) == 0) remove_if_still_ours(dirfd, e);
   }
+  for (auto& j : journals) j->remove();
   for (const std::filesystem::path& f : folders) sync_folder(f);
 }
 

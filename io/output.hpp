@@ -27,10 +27,13 @@ inline constexpr int kTempNameAttempts = 100;
 /// this prefix and carries the writer's process id:
 ///   ".cmr-tmp.PID.ATTEMPT.NAME"  a staged temporary (renamed over NAME at commit)
 ///   ".cmr-bak.PID.ATTEMPT.NAME"  the old NAME kept during a commit (the undo)
-/// (NAME cut to 150 bytes, so that the entry stays within NAME_MAX). A run
-/// that is killed leaves them behind; the next commit into that folder removes
-/// every temporary whose PID is no live process and puts every such backup
-/// back over its NAME (undoing the replacements of the killed commit).
+///   ".cmr-journal.PID.ATTEMPT"   the journal of a commit into that folder
+/// (NAME cut to 200 bytes, so that the entry stays within NAME_MAX). A run
+/// that is killed leaves them behind; the next commit into that folder
+/// finishes or undoes the killed commit as its journal says, and removes
+/// the dead run's staged temporaries. Only files this user made are acted
+/// on (owner geteuid(), one link, never through a link, the inode its
+/// journal recorded): a name proves nothing (docs/outputs.md, threat model).
 inline constexpr const char* kHiddenPrefix = ".cmr-";
 /// The manifest an owned output folder carries: the files cmr wrote there in
 /// its last commit (see OutputSet::own_folder).
@@ -43,11 +46,17 @@ inline constexpr const char* kManifestName = ".cmr-manifest";
 /// there (another process, an attacker) is skipped, never opened.
 std::filesystem::path temp_name_for(const std::filesystem::path& path, int attempt);
 
-/// Removes the hidden temporaries of dead cmr processes in `folder` and puts
-/// their backups back (see kHiddenPrefix); entries of live processes and
-/// every other file are left alone. Returns how many entries it handled.
-/// Best effort: a folder it cannot read is skipped. OutputSet::commit calls
-/// it on every folder it writes into, under the folder lock.
+/// Recovery of `folder`, under its lock: each journal of this user's dead
+/// cmr processes there is carried out (a commit that passed its commit point
+/// is finished: its staged files renamed into place; one that had not is
+/// undone: its temporaries and backups removed, every old file untouched),
+/// and the dead processes' staged temporaries (this user's, one link) are
+/// removed. Nothing else is touched: a backup or journal that is not this
+/// user's own, or that no journal names, is left alone, and one line on
+/// stderr ("cmr: note: FOLDER: left alone, not rolled back: ...") says so.
+/// Returns how many journals and temporaries it handled. Best effort: a
+/// folder it cannot open or lock is skipped. OutputSet::commit runs it on
+/// every folder it writes into, under the lock it already holds.
 std::size_t clean_stale_hidden_files(const std::filesystem::path& folder);
 
 class OutputSet;
@@ -104,13 +113,19 @@ class StagedStream {
 /// stage() writes each file's bytes to its own new temporary file beside it
 /// (see temp_name_for); nothing a user sees changes. commit() flushes every
 /// staged file to disk (one syncfs(2) per file system), then renames every
-/// temporary over its path, in staging order, while it holds an exclusive
-/// flock(2) on every folder involved (where the file system supports flock),
-/// so that two runs committing into the same folder never interleave: the
-/// last commit wins with its whole set. Before the renames each existing
-/// output is kept as a hard link under a backup name; if a rename fails, the
-/// files already renamed get their old contents back and the error
-/// propagates. A set destroyed without commit() (an exception on the way)
+/// temporary over its path (staging order, then the manifests, then the
+/// commit_last marker) while it holds an exclusive flock(2) on every folder
+/// involved (where the file system supports flock), so that two runs
+/// committing into the same folder never interleave: the last commit wins
+/// with its whole set. First, under those locks, it carries out the
+/// journals of killed commits there (clean_stale_hidden_files), then writes
+/// its own journal into each folder: its temporaries, each existing output
+/// kept as a hard link under a backup name, the old owned files to remove,
+/// and "commit", flushed: the commit point. A kill before it leaves the old
+/// set (the next commit removes the leftovers); after it, the next commit
+/// finishes the renames (docs/outputs.md). If a rename fails, the journal
+/// says "abort", the files already renamed get their old contents back and
+/// the error propagates. A set destroyed without commit() (an exception on the way)
 /// removes its temporaries and the folders create_folder() made (when still
 /// empty): a failed run leaves every pre-existing file as it was, and no new
 /// file. Staging, committing and rolling back N files is O(N) (one hash
@@ -150,6 +165,10 @@ class OutputSet {
   /// bounded), copied to the stream at commit() before any file is renamed,
   /// as stage()'s streams are.
   StagedStream stage_stream(const std::filesystem::path& path);
+  /// Makes the staged file `path` (as given to stage) the set's marker: it
+  /// is renamed last, after the manifest, so that its new version means the
+  /// whole new set is in place (a report's report.json).
+  void commit_last(const std::filesystem::path& path);
   /// Puts every staged file in place (see the class comment). Call once.
   void commit();
   /// The paths staged so far, in staging order.
@@ -172,6 +191,7 @@ class OutputSet {
   std::unordered_set<std::string> key_set_;  // what each staged path reaches (named-twice check)
   std::vector<std::filesystem::path> created_folders_;  // outermost first
   std::vector<std::filesystem::path> owned_folders_;
+  std::string last_;  // commit_last's path
   bool committed_ = false;
 };
 

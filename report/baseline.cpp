@@ -7,6 +7,7 @@
 
 #include "report/gates.hpp"
 #include "spline/errors.hpp"
+#include "spline/limits.hpp"
 
 namespace cmr::report {
 
@@ -18,10 +19,20 @@ std::vector<std::string> read_baseline(const std::filesystem::path& path) {
   const std::string name = "--baseline " + path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": not a file");
+  // Bounded like every input (a 300 MB baseline took 1.9 GB as a tree:
+  // issue 42): checked before reading, and again on what was read (a file
+  // that grows meanwhile).
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  const auto too_large = [&] {
+    return InputError(name + ": larger than the limit of " + std::to_string(kMaxInputBytes >> 20) +
+                      " MiB for an input file (cmr::kMaxInputBytes)");
+  };
+  if (!ec && size > kMaxInputBytes) throw too_large();
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   if (!in && !in.eof()) throw InputError(name + ": cannot be read");
+  if (text.view().size() > kMaxInputBytes) throw too_large();
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text.str());

@@ -1,12 +1,17 @@
 #include "report/corpus.hpp"
 
+#include <dirent.h>
 #include <fnmatch.h>
+#include <sys/stat.h>
 #include <glob.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <condition_variable>
+#include <cstring>
+#include <fstream>
 #include <cstdio>
 #include <ctime>
 #include <map>
@@ -59,8 +64,72 @@ bool wanted(const fs::path& file, const std::string& rel, const FileFilter& f) {
   return std::none_of(f.exclude.begin(), f.exclude.end(), [&](const std::string& p) { return match(p, rel, name); });
 }
 
-void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::string>& out) {
+/// What a walked .json file is, from its top-level keys (a SAX pass that
+/// stops at the first key that decides): "" for a spline file (it has
+/// "points"; also a file that does not parse: that is reported as invalid),
+/// else why it is skipped.
+std::string json_not_a_spline(const fs::path& file) {
+  struct Keys : nlohmann::json_sax<nlohmann::json> {
+    int depth = 0;
+    std::string verdict = "not a spline file (no \"points\")";
+    bool key(string_t& k) override {
+      if (depth != 1) return true;
+      if (k == "points") verdict.clear();
+      else if (k == "schema") verdict = "a cmr output (report.json of an earlier run)";
+      else if (k == "$schema") verdict = "a SARIF or other schema'd JSON, not a spline file";
+      else return true;
+      return false;  // decided: stop reading
+    }
+    bool start_object(std::size_t) override { return ++depth, true; }
+    bool end_object() override { return --depth, true; }
+    bool start_array(std::size_t) override { return ++depth, true; }
+    bool end_array() override { return --depth, true; }
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+      verdict.clear();  // not JSON: the report says why, as for any broken spline file
+      return false;
+    }
+  } keys;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return {};
+  const int first = in.peek();
+  if (first == std::char_traits<char>::eof()) return {};
+  try {
+    nlohmann::json::sax_parse(in, &keys);
+  } catch (const std::exception&) {
+    return {};
+  }
+  return keys.verdict;
+}
+
+/// Why a walk does not take the entry `p` of kind `st` ("" when it is not
+/// a special file).
+std::string special_kind(const fs::file_status& st) {
+  switch (st.type()) {
+    case fs::file_type::fifo: return "a FIFO (not read: it could block)";
+    case fs::file_type::socket: return "a socket";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::character: return "a character device";
+    default: return "not a regular file";
+  }
+}
+
+void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::string>& out,
+          std::vector<SkippedPath>* skipped, const std::vector<fs::path>& skip_folders) {
   std::vector<std::string> found;
+  std::vector<SkippedPath> left;
+  const auto skip = [&](const fs::path& p, std::string reason) { left.push_back({p.string(), std::move(reason)}); };
+  std::vector<std::pair<dev_t, ino_t>> never;  // skip_folders, by identity
+  for (const fs::path& f : skip_folders) {
+    struct stat st {};
+    if (::stat(f.c_str(), &st) == 0) never.emplace_back(st.st_dev, st.st_ino);
+  }
   std::error_code ec;
   fs::recursive_directory_iterator it(folder, fs::directory_options::skip_permission_denied, ec), end;
   if (ec) throw InputError(folder.string() + ": " + ec.message());
@@ -71,18 +140,61 @@ void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::str
       if (it->is_directory(ec)) it.disable_recursion_pending();
       continue;
     }
-    if (it->is_directory(ec) && import::is_ufo_path(it->path())) {  // a UFO is one input, its .glif files its glyphs
-      it.disable_recursion_pending();
-      const std::string rel = it->path().lexically_relative(folder).generic_string();
-      if (wanted(it->path(), rel, filter)) found.push_back(it->path().string());
+    const fs::path& p = it->path();
+    if (it->is_symlink(ec)) {  // links to files are taken; the rest is said
+      std::error_code lec;
+      const fs::file_status target = fs::status(p, lec);
+      if (lec) {
+        skip(p, lec.value() == ELOOP ? "a symbolic link loop" : lec.value() == ENOENT ? "a symbolic link to nothing"
+                                                                                      : "a symbolic link: " + lec.message());
+        continue;
+      }
+      if (fs::is_directory(target)) {
+        skip(p, "a symbolic link to a folder (not followed)");
+        continue;
+      }
+    } else if (it->is_directory(ec)) {
+      if (import::is_ufo_path(p)) {  // a UFO is one input, its .glif files its glyphs
+        it.disable_recursion_pending();
+        if (wanted(p, p.lexically_relative(folder).generic_string(), filter)) found.push_back(p.string());
+        continue;
+      }
+      struct stat st {};
+      if (::stat(p.c_str(), &st) == 0 &&
+          std::find(never.begin(), never.end(), std::make_pair(st.st_dev, st.st_ino)) != never.end()) {
+        skip(p, "the run's own output folder (--out)");
+        it.disable_recursion_pending();
+        continue;
+      }
+      if (DIR* d = ::opendir(p.c_str())) {
+        ::closedir(d);
+      } else {
+        skip(p, std::string("an unreadable folder: ") + std::strerror(errno));
+        it.disable_recursion_pending();
+      }
       continue;
     }
-    if (!it->is_regular_file(ec)) continue;
-    const std::string rel = it->path().lexically_relative(folder).generic_string();
-    if (wanted(it->path(), rel, filter)) found.push_back(it->path().string());
+    const fs::file_status st = it->status(ec);
+    if (!fs::is_regular_file(st)) {
+      skip(p, special_kind(st));
+      continue;
+    }
+    const std::string rel = p.lexically_relative(folder).generic_string();
+    if (!wanted(p, rel, filter)) continue;
+    const std::string ext = p.extension().string();
+    if (file_kind(p.string()) == FileKind::spline && (ext == ".json" || ext == ".JSON")) {
+      std::string why = json_not_a_spline(p);
+      if (!why.empty()) {
+        skip(p, std::move(why));
+        continue;
+      }
+    }
+    found.push_back(p.string());
   }
   std::sort(found.begin(), found.end());
   out.insert(out.end(), found.begin(), found.end());
+  std::sort(left.begin(), left.end(), [](const SkippedPath& a, const SkippedPath& b) { return a.path < b.path; });
+  if (skipped != nullptr) skipped->insert(skipped->end(), left.begin(), left.end());
 }
 
 }  // namespace
@@ -95,18 +207,20 @@ FileKind file_kind(const std::string& path) {
 }
 
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
-                                       std::vector<std::string>* bases) {
+                                       std::vector<std::string>* bases, std::vector<SkippedPath>* skipped,
+                                       const std::vector<fs::path>& skip_folders) {
   std::vector<std::string> out;
   for (const std::string& a : args) {
     std::error_code ec;
     const auto st = fs::status(a, ec);
     if (import::is_designspace_path(a) && fs::exists(st)) {  // its sources (masters), each a font
       for (const import::Designspace::Source& src : import::read_designspace(a).sources) out.push_back(src.path.string());
+      if (bases) bases->resize(out.size(), "");
       continue;
     }
     if (fs::is_directory(st) && !import::is_ufo_path(a)) {
       const std::size_t before = out.size();
-      walk(a, filter, out);
+      walk(a, filter, out, skipped, skip_folders);
       if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
       if (bases) bases->resize(out.size(), a);
       continue;
@@ -124,7 +238,7 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
     ::globfree(&g);
     const std::size_t before = out.size();
     for (const std::string& m : matched) {
-      if (fs::is_directory(m, ec)) walk(m, filter, out);
+      if (fs::is_directory(m, ec)) walk(m, filter, out, skipped, skip_folders);
       else if (wanted(m, fs::path(m).filename().string(), filter)) out.push_back(m);
       if (bases) bases->resize(out.size(), fs::is_directory(m, ec) ? m : "");
     }
@@ -415,6 +529,7 @@ class Writer {
     if (options.junit) junit_ = out_.stage_stream(*options.junit);
     if (options.sarif) sarif_ = out_.stage_stream(*options.sarif);
     json_ = out_.stage_stream(options.out / "report.json");
+    out_.commit_last(options.out / "report.json");  // renamed last: a new report.json means the whole report is new
     sections_.reset(std::tmpfile());
     if (!sections_) throw EnvironmentError("a temporary file for the page: cannot be created");
     if (options.markdown) markdown_.emplace(options.report, options.markdown_limit);
@@ -667,7 +782,10 @@ class Writer {
     if (baseline_)
       s["baseline"] = {{"file", options_.baseline->string()}, {"new", summary_.new_findings},
                        {"fixed", summary_.fixed}, {"unchanged", summary_.unchanged}};
-    json_.write(std::string(options_.pretty ? "\n" : "") + "],\"summary\":" + dump(s) + "}\n");
+    Json skipped = Json::array();
+    for (const SkippedPath& k : options_.skipped) skipped.push_back({{"path", k.path}, {"reason", k.reason}});
+    json_.write(std::string(options_.pretty ? "\n" : "") + "],\"skipped\":" + dump(skipped) + ",\"summary\":" + dump(s) +
+                "}\n");
     if (markdown_)
       out_.stage(*options_.markdown, markdown_->finish(summary_, options_.baseline ? options_.baseline->string() : ""));
     json_.close();
@@ -732,6 +850,12 @@ class Writer {
           head += "<li>" + html_escape(f.file) + ": " + html_escape(f.gate) + ": " + html_escape(f.message) + "</li>";
         head += "</ul>";
       }
+    }
+    if (!options_.skipped.empty()) {  // what the folder walks left out, and why
+      head += "<details><summary>" + std::to_string(options_.skipped.size()) + " skipped</summary><ul>";
+      for (const SkippedPath& k : options_.skipped)
+        head += "<li>" + html_escape(k.path) + ": " + html_escape(k.reason) + "</li>";
+      head += "</ul></details>";
     }
     if (!fonts_.empty()) {
       head += "<h2>Fonts</h2><table class=\"index\"><tr><th>font</th><th>file</th><th>outlines</th><th>glyphs</th>"

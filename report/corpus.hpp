@@ -35,15 +35,28 @@ struct FileFilter {
   std::vector<std::string> exclude;  ///< a file matching one is left out
 };
 
+/// What a folder walk left out, and why: the run's own output folder, a
+/// cmr output ("a cmr report (report.json of an earlier run)"), a JSON that
+/// is not a spline file, an unreadable folder, a FIFO, a socket or device, a
+/// dangling or looping link, a link to a folder (not followed).
+struct SkippedPath {
+  std::string path, reason;
+};
+
 /// The files of `args`, in argument order (a folder's files sorted): a file
 /// as it is; a folder walked recursively (hidden entries skipped); an
 /// argument with * ? or [ that names no file, expanded as a glob (sorted; a
 /// folder it matches walked as a folder). With `bases`, each file's folder
 /// argument (the folder walked; "" for a file named or globbed) is
-/// appended to it, one per file: BatchOptions::bases. InputError: "ARG: no
-/// such file or folder", "ARG: matches no file".
+/// appended to it, one per file: BatchOptions::bases. What a walk leaves out
+/// is appended to `skipped` (when given) with its reason; a file named as an
+/// argument is always taken. A walk never enters the folders `skip_folders`
+/// (the run's own output folder, `--out`), matched by identity (device and
+/// inode). InputError: "ARG: no such file or folder", "ARG: matches no file".
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
-                                       std::vector<std::string>* bases = nullptr);
+                                       std::vector<std::string>* bases = nullptr,
+                                       std::vector<SkippedPath>* skipped = nullptr,
+                                       const std::vector<std::filesystem::path>& skip_folders = {});
 
 /// The name a run gives `file` in its findings (Finding::file, and so in a
 /// baseline's keys): its path relative to the folder `base` ("" is the
@@ -125,6 +138,9 @@ struct BatchOptions {
   /// Search the certified fixes of the failing contours of fonts (with
   /// report.regions, report/certified_fix.hpp); off: thumbnails without fixes.
   bool fixes = true;
+  /// What the folder walks left out (collect_files): listed in report.json
+  /// ("skipped") and on the page; they do not change the exit code.
+  std::vector<SkippedPath> skipped;
 };
 
 /// The run's counts (the one-line summary) and its exit code.

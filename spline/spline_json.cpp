@@ -9,11 +9,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
+#include <new>
 
 #include <nlohmann/json.hpp>
 
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
+#include "spline/space.hpp"
 
 namespace cmr {
 namespace {
@@ -62,7 +65,10 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   points.reserve(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const std::string where = "points[" + std::to_string(i) + "]";
-    if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
+    if (!pts[i].is_array() || pts[i].size() != 2) {
+      if (pts[i].is_array() && pts[i].size() == 3) spline_dimension(doc);  // mixed [x, y] and [x, y, z]: that says so
+      throw InputError(where + " is not an [x, y] pair");
+    }
     points.emplace_back(number(pts[i][0], where + "[0]"), number(pts[i][1], where + "[1]"));
   }
   std::vector<double> weights;
@@ -189,10 +195,51 @@ BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& o
   return spline_from_document(read_spline_document(path), path, options);
 }
 
+void release_json(json& root) noexcept {
+  // Walks down the last children that are non-empty containers, removing
+  // leaves and empty containers from the back (no allocation: a removed
+  // value holds nothing). The way back up is kept for 64 levels; deeper,
+  // the walk restarts from the nearest level kept (still correct).
+  constexpr int kKept = 64;
+  json* up[kKept];
+  int depth = 0;
+  json* cur = &root;
+  const auto last_child = [](json* j) -> json* {
+    if (j->is_array() && !j->empty()) return &j->get_ref<json::array_t&>().back();
+    if (j->is_object() && !j->empty()) return &std::prev(j->get_ref<json::object_t&>().end())->second;
+    return nullptr;
+  };
+  for (;;) {
+    json* last = last_child(cur);
+    if (last == nullptr) {
+      if (cur == &root) return;
+      cur = depth > 0 ? up[--depth] : &root;
+      continue;
+    }
+    if ((last->is_array() || last->is_object()) && !last->empty()) {
+      if (depth < kKept) up[depth++] = cur;
+      cur = last;
+      continue;
+    }
+    if (cur->is_array()) cur->get_ref<json::array_t&>().pop_back();
+    else cur->get_ref<json::object_t&>().erase(std::prev(cur->get_ref<json::object_t&>().end()));
+  }
+}
+
 json read_spline_document(const std::filesystem::path& path) {
   const std::string text = read_input_file(path);
   try {
-    return json::parse(text);
+    // Parsed into a document of our own (json::parse would destroy a
+    // partial one itself, allocating: an abort when memory ran out).
+    json doc;
+    try {
+      nlohmann::detail::json_sax_dom_parser<json> builder(doc, true);
+      json::sax_parse(text, &builder);
+    } catch (const std::bad_alloc&) {
+      release_json(doc);
+      throw;
+    }
+    return doc;
   } catch (const json::exception& e) {
     if (const char* kind = foreign_kind(text))  // an SVG or font given where a spline file belongs
       throw InputError(path.string() + ": " + kind + ", not a spline file (run `cmr import " + path.string() +

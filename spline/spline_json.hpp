@@ -40,7 +40,27 @@ BSpline read_spline_file(const std::filesystem::path& path, const ReadOptions& o
 /// first (cmr analyze: its dimension) without parsing it twice: the file's
 /// JSON with read_spline_file's reading and parse errors, then
 /// spline_from_json with messages prefixed with the path.
+/// Out of memory while parsing is std::bad_alloc (never an abort: the
+/// partial document is torn down with release_json).
 nlohmann::json read_spline_document(const std::filesystem::path& path);
+/// Empties `doc` without allocating (children first, from the last), so that
+/// a large document can be destroyed while memory is exhausted:
+/// nlohmann::json's destructor allocates a stack as large as the largest
+/// array, and a std::bad_alloc there, inside a noexcept destructor, aborts
+/// the process (issue 42: cmr analyze of 10^6 knots under `ulimit -v`).
+void release_json(nlohmann::json& doc) noexcept;
+/// Calls release_json on the document when it goes out of scope (also while
+/// an exception unwinds).
+class JsonReleaser {
+ public:
+  explicit JsonReleaser(nlohmann::json& doc) : doc_(&doc) {}
+  JsonReleaser(const JsonReleaser&) = delete;
+  JsonReleaser& operator=(const JsonReleaser&) = delete;
+  ~JsonReleaser() { release_json(*doc_); }
+
+ private:
+  nlohmann::json* doc_;
+};
 BSpline spline_from_document(const nlohmann::json& doc, const std::filesystem::path& path,
                              const ReadOptions& options = {});
 /// The spline as a file's JSON. (Writing a file: cmr::write_spline_file in

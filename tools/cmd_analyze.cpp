@@ -59,6 +59,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     // The file is parsed once (a 10^6-span spline's JSON is large).
     std::optional<nlohmann::json> doc = read_spline_document(args->file);
+    std::optional<JsonReleaser> release(std::in_place, *doc);  // out of memory below: torn down without allocating
     if (spline_file_dimension(args->file, *doc) == 3) {  // [x, y, z] points: a space curve (docs/space.md)
       if (!args->split.empty() || !args->segments.empty() || args->mode != "cmrwi" ||
           args->each_piece_option->count() > 0)
@@ -69,6 +70,7 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
       return;
     }
     const BSpline spline = spline_from_document(*doc, args->file);
+    release.reset();
     doc.reset();  // its memory before the analysis
     if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
     AnalyzeOptions o;

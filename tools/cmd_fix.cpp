@@ -176,7 +176,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"g1", "g2", "none"}));
   cmd->add_option("--segments", args->segments,
                   "judge only spans A..B (inclusive): only they must meet the requirement (as cmr analyze --segments)");
-  cmd->add_option("--max-move", args->max_move, "largest displacement of any point (default: the curve size)");
+  CLI::Option* max_move = cmd->add_option(
+      "--max-move", args->max_move, "largest displacement of any point, a distance > 0 (default: the curve size)");
   cmd->add_option("--tolerance", args->tolerance, "distance tolerance relative to the curve size (default 1e-6)");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth"), 0, kMaxDepth);
   cmd->add_option("--out", args->out, "write the fixed spline here (JSON, atomically)");
@@ -188,7 +189,11 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyph", args->glyph, "font sources (NAME.ufo, .glif): the glyph to fix");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
-  cmd->callback([args, cmd, &exit_code] {
+  cmd->callback([args, cmd, max_move, &exit_code] {
+    // 0 would mean "no point may move": no fix at all. Refused rather than
+    // read as the default (it was: issue 42), so that it never means "unlimited".
+    if (max_move->count() > 0 && !(args->max_move > 0 && std::isfinite(args->max_move)))
+      throw InputError("--max-move: " + max_move->as<std::string>() + " is not a distance > 0 (leave it out for the default, the curve size)");
     if (import::is_ufo_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
         throw InputError(args->file + ": a font source; --plane, --segments, --png and --keep are for spline files");

@@ -68,6 +68,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       const auto curves = import::read_obj_curves(input);
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
+      files.own_folder(dir);  // as the other importers: an earlier import's files that this one does not write go
       for (const import::ObjCurve& c : curves) {
         files.stage(dir / (input.stem().string() + "_" + std::to_string(written) + "_" + import::file_stem(c.spline.name()) +
                            ".json"),

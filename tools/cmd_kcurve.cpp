@@ -78,7 +78,18 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", args->out, "spline file to write (default: stdout)");
   cmd->add_option("--tolerance", args->options.tolerance, "convergence tolerance (relative, in (0, 1))")
       ->capture_default_str();
-  in_range(cmd->add_option("--max-iterations", args->options.max_iterations, "iteration cap"), 1, 1e6)
+  in_range(cmd->add_option("--max-iterations", args->options.max_iterations, "iteration cap per start"), 1, 1e6)
+      ->capture_default_str();
+  args->options.time_limit = 60;
+  in_range(cmd->add_option("--max-work", args->options.max_point_iterations,
+                           "work budget: iterations x points over every start (the 15 starts and their polish); "
+                           "a run that spends it is refused unless it converged. 1000000: 100 points get "
+                           "--max-iterations, 1000 points 1000 iterations in all (seconds)"),
+           1, 1e12)
+      ->capture_default_str();
+  in_range(cmd->add_option("--time-limit", args->options.time_limit,
+                           "seconds of wall-clock time for the whole solve, a backstop to --max-work"),
+           0.1, 86400.0)
       ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
@@ -95,10 +106,21 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
     if (!curve.converged()) {
       std::ostringstream why;
       why << args->file << ": the kappa-curve did not converge in " << curve.iterations << " iterations (residual "
-          << curve.residual << " > tolerance " << curve.tolerance
-          << "); very sharp turns and nearly collinear points converge slowly: spread the points or raise --tolerance";
+          << curve.residual << " > tolerance " << curve.tolerance << ")";
+      if (curve.budget_spent)
+        why << " within its budget of " << options.max_point_iterations << " point-iterations (--max-work: "
+            << options.max_point_iterations / std::max<std::size_t>(1, input.points.size()) << " iterations of "
+            << input.points.size() << " points) or " << options.time_limit << " s (--time-limit)";
+      why << "; very sharp turns and nearly collinear points converge slowly: spread the points or raise --tolerance";
       throw InputError(why.str());
     }
+    // A piece of zero length (its joints coincide) is no curve a designer
+    // can use: refused, never a silent success (issue 42 E3).
+    if (const std::vector<int> flat = kcurve_degenerate_pieces(curve); !flat.empty())
+      throw InputError(args->file + ": quadratic " + std::to_string(flat.front()) +
+                       " of the kappa-curve has zero length (its two joints coincide" +
+                       (flat.size() > 1 ? ", and " + std::to_string(flat.size() - 1) + " more" : std::string()) +
+                       "): spread the points or lower --tolerance");
     if (args->cubic) {
       const std::vector<int> uncertified = kcurve_cubic_uncertified(curve);
       if (!uncertified.empty())

@@ -108,10 +108,17 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
     std::string space, planar;
+    const auto dimension = [](const std::string& f) {
+      try {
+        return spline_file_dimension(f);
+      } catch (const InputError&) {
+        return 2;  // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
+      }
+    };
     for (const std::string& f : args->files)
       if (import::is_font_path(f) || import::is_source_path(f) || std::filesystem::is_regular_file(f)) {
         const bool font = import::is_font_path(f) || import::is_source_path(f);  // unreadable: that report names it
-        (!font && spline_file_dimension(f) == 3 ? space : planar) = f;
+        (!font && dimension(f) == 3 ? space : planar) = f;
       }
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
@@ -151,7 +158,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->markdown.empty()) b.markdown = args->markdown;
     if (!args->baseline.empty()) b.baseline = args->baseline;
     if (!args->source_root.empty()) b.source_root = args->source_root;
-    const auto files = report::collect_files(args->files, args->filter, &b.bases);
+    // A rerun never reads its own outputs (cmr report . --out qa).
+    const auto files = report::collect_files(args->files, args->filter, &b.bases, &b.skipped, {args->out});
+    for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});

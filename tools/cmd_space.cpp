@@ -157,7 +157,8 @@ int run_space_report(const std::vector<std::string>& files, const std::string& o
   OutputSet set;
   set.create_folder(dir);
   set.stage(dir / "index.html", report::space_report_html(reports, o));
-  set.stage(dir / "report.json", json_text(report::space_report_json(reports, o), pretty));  // last: the commit marker
+  set.stage(dir / "report.json", json_text(report::space_report_json(reports, o), pretty));
+  set.commit_last(dir / "report.json");  // renamed last: the commit marker
   set.commit();
   int pass = 0, fail = 0, invalid = 0;
   for (const report::SpaceReport& r : reports) {

@@ -322,5 +322,35 @@ TEST(KCurve, DegenerateInputIsAClearErrorOrAFiniteCurve) {
   }
 }
 
+// Issue 42 E3: the work budget bounds a solve by the input's size. A
+// budget too small for the input stops the solve (not converged, and
+// budget_spent says why); with the default, a small curve is unaffected.
+TEST(KCurveBudget, WorkBudgetStopsTheSolveAndSaysSo) {
+  const std::vector<Vec2> points{{0, 0}, {1, 2}, {3, 2.5}, {4, 0.5}, {6, 1}};
+  KCurveOptions o;
+  const KCurve free = kcurve(points, o);
+  ASSERT_TRUE(free.converged());
+  EXPECT_FALSE(free.budget_spent);
+  o.max_point_iterations = 3 * 2;  // two iterations of the three interpolated points
+  const KCurve cut = kcurve(points, o);
+  EXPECT_TRUE(cut.budget_spent);
+  EXPECT_LE(cut.iterations, 2);
+  EXPECT_FALSE(cut.converged()) << "two iterations cannot reach 1e-10";
+  o.max_point_iterations = -1;
+  EXPECT_THROW(kcurve(points, o), InputError);
+}
+
+// A zero-length quadratic (its two joints coincide) is found, so that cmr
+// kcurve refuses it instead of printing it as a success.
+TEST(KCurveBudget, DegeneratePiecesAreTheZeroLengthQuadratics) {
+  KCurve k;
+  k.quadratics = {{Vec2(0, 0), Vec2(1, 1), Vec2(2, 0)}, {Vec2(2, 0), Vec2(2.5, 0.5), Vec2(2, 0)},
+                  {Vec2(2, 0), Vec2(3, -1), Vec2(4, 0)}};
+  EXPECT_EQ(kcurve_degenerate_pieces(k), std::vector<int>{1});
+  k.quadratics[1][2] = Vec2(2.5, 0);
+  k.quadratics[2][0] = Vec2(2.5, 0);
+  EXPECT_EQ(kcurve_degenerate_pieces(k), std::vector<int>{});
+}
+
 }  // namespace
 }  // namespace cmr

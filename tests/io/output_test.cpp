@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -529,23 +530,160 @@ long dead_pid() {
   return child;
 }
 
-// A killed run's hidden temporaries and backups are cleaned by the next
-// commit in that folder; a live process's and a user's files are not.
-TEST(OutputSetStale, KilledRunsTemporariesGoAndItsBackupsAreRestored) {
+/// stat of `p` (not followed).
+struct stat stat_of(const fs::path& p) {
+  struct stat st {};
+  EXPECT_EQ(::lstat(p.c_str(), &st), 0) << p;
+  return st;
+}
+
+/// Hex of a name, as a commit journal writes it.
+std::string hex(const std::string& s) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  for (const char c : s) {
+    out += kDigits[static_cast<unsigned char>(c) >> 4];
+    out += kDigits[static_cast<unsigned char>(c) & 15];
+  }
+  return out;
+}
+
+// A killed run's staged temporaries are removed by the next commit in that
+// folder; a live process's, a user's, and a backup no journal names are
+// not: a name proves nothing (the planted ".cmr-bak.DEAD.0.b.txt" of
+// issue 42 E1 must never be renamed over b.txt), and one line says so.
+TEST(OutputSetStale, DeadRunsTemporariesGoUnjournaledBackupsAreLeftAlone) {
   const fs::path dir = scratch("stale");
   const long dead = dead_pid();
   const std::string d = std::to_string(dead), live = std::to_string(::getppid());
   put(dir / (".cmr-tmp." + d + ".0.a.png"), "half written");
   put(dir / (".cmr-tmp." + live + ".0.a.png"), "a live run's");
-  put(dir / "b.txt", "new b (the killed commit had renamed it)");
-  put(dir / (".cmr-bak." + d + ".0.b.txt"), "old b");
+  put(dir / "b.txt", "the user's b");
+  put(dir / (".cmr-bak." + d + ".0.b.txt"), "planted: not a backup of any commit");
   put(dir / ".cmr-tmp.notapid.0.x", "not cmr's pattern");
   put(dir / "user.txt", "mine");
+  ::testing::internal::CaptureStderr();
   write_file_atomic(dir / "c.txt", "c");
-  EXPECT_EQ(names_in(dir), (std::vector<std::string>{".cmr-tmp." + live + ".0.a.png", ".cmr-tmp.notapid.0.x",
-                                                     "b.txt", "c.txt", "user.txt"}));
-  EXPECT_EQ(read(dir / "b.txt"), "old b") << "the killed commit's backup was not put back";
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(names_in(dir), (std::vector<std::string>{".cmr-bak." + d + ".0.b.txt", ".cmr-tmp." + live + ".0.a.png",
+                                                     ".cmr-tmp.notapid.0.x", "b.txt", "c.txt", "user.txt"}));
+  EXPECT_EQ(read(dir / "b.txt"), "the user's b") << "an unjournaled backup was renamed over b.txt";
   EXPECT_EQ(read(dir / "user.txt"), "mine");
+  EXPECT_NE(err.find("cmr: note: "), std::string::npos) << err;
+  EXPECT_NE(err.find(".cmr-bak." + d + ".0.b.txt (no journal of an interrupted commit names it)"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "one line: " << err;
+}
+
+// A journal of this user's dead run is carried out: past its commit point
+// ("commit") the commit is finished (the staged file renamed into place,
+// the backup removed); before it, undone (temporary and backup removed,
+// the old file untouched). Journals and backups are matched by inode: a
+// journal naming a file with another inode moves nothing.
+TEST(OutputSetStale, JournalOfAKilledCommitIsFinishedOrUndone) {
+  const long dead = dead_pid();
+  const std::string d = std::to_string(dead);
+  for (const bool committed : {true, false}) {
+    SCOPED_TRACE(committed ? "killed after the commit point" : "killed before the commit point");
+    const fs::path dir = scratch(committed ? "journal_forward" : "journal_back");
+    put(dir / "r.json", "old json");
+    put(dir / "i.html", "new html");  // renamed already (forward) / never (back: then it is the old one)
+    if (!committed) put(dir / "i.html", "old html");
+    const std::string tj = ".cmr-tmp." + d + ".0.r.json", ti = ".cmr-tmp." + d + ".0.i.html";
+    const std::string bj = ".cmr-bak." + d + ".0.r.json";
+    put(dir / tj, "new json");
+    if (!committed) put(dir / ti, "new html");
+    ASSERT_EQ(::link((dir / "r.json").c_str(), (dir / bj).c_str()), 0);
+    const fs::path other = dir / "unrelated.txt";
+    put(other, "a user's file");
+    const fs::path planted = dir / ".cmr-tmp.999999999.0.unrelated.txt";  // journaled with the wrong inode
+    put(planted, "x");
+    std::string journal = "cmr commit journal 1\npid " + d + " 0\n";
+    journal += "e 0 1 " + std::to_string(stat_of(dir / (committed ? "i.html" : ti)).st_ino) + " " + hex(ti) + " " + hex("i.html") + "\n";
+    journal += "e 1 1 " + std::to_string(stat_of(dir / tj).st_ino) + " " + hex(tj) + " " + hex("r.json") + "\n";
+    journal += "e 2 1 " + std::to_string(stat_of(planted).st_ino + 1) + " " + hex(planted.filename().string()) + " " +
+               hex("unrelated.txt") + "\n";
+    journal += "b 1 " + std::to_string(stat_of(dir / bj).st_ino) + " " + hex(bj) + "\n";
+    if (committed) journal += "commit\n";
+    const fs::path jpath = dir / (".cmr-journal." + d + ".0");
+    put(jpath, journal);
+    ::chmod(jpath.c_str(), 0600);
+    ::testing::internal::CaptureStderr();
+    write_file_atomic(dir / "other.json", "an unrelated commit into the folder");
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(read(dir / "r.json"), committed ? "new json" : "old json");
+    EXPECT_EQ(read(dir / "i.html"), committed ? "new html" : "old html");
+    EXPECT_EQ(read(other), "a user's file") << "a journal entry whose inode does not match moved a file";
+    EXPECT_EQ(names_in(dir), (std::vector<std::string>{planted.filename().string(), "i.html", "other.json", "r.json",
+                                                       "unrelated.txt"}));
+  }
+}
+
+// A journal that is not this user's own file (here: two links, as a hard
+// link planted to someone's file would have) is never carried out.
+TEST(OutputSetStale, JournalWithTwoLinksIsLeftAlone) {
+  const fs::path dir = scratch("journal_links");
+  const std::string d = std::to_string(dead_pid());
+  put(dir / "victim.txt", "victim");
+  const std::string tmp = ".cmr-tmp." + d + ".0.victim.txt";
+  put(dir / tmp, "attacker");
+  const std::string journal = "cmr commit journal 1\npid " + d + " 0\ne 0 1 " + std::to_string(stat_of(dir / tmp).st_ino) +
+                              " " + hex(tmp) + " " + hex("victim.txt") + "\ncommit\n";
+  put(dir / "j", journal);
+  ASSERT_EQ(::link((dir / "j").c_str(), (dir / (".cmr-journal." + d + ".0")).c_str()), 0);
+  ::testing::internal::CaptureStderr();
+  write_file_atomic(dir / "out.txt", "x");
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(read(dir / "victim.txt"), "victim");
+  EXPECT_NE(err.find(".cmr-journal." + d + ".0 (not a regular file with one link)"), std::string::npos) << err;
+}
+
+// Symbolic links planted among the hidden files are never followed: a
+// journal that is a link to a real journal, and a journaled temporary that
+// is a link to a victim, move nothing (fstatat without following, O_NOFOLLOW).
+TEST(OutputSetStale, PlantedSymbolicLinksAreNeverFollowed) {
+  const fs::path dir = scratch("journal_symlinks");
+  const std::string d = std::to_string(dead_pid());
+  put(dir / "victim.txt", "victim");
+  put(dir / "elsewhere.txt", "the attacker's bytes");
+  const std::string tmp = ".cmr-tmp." + d + ".0.victim.txt";
+  fs::create_symlink(dir / "elsewhere.txt", dir / tmp);
+  const std::string journal = "cmr commit journal 1\npid " + d + " 0\ne 0 1 " +
+                              std::to_string(stat_of(dir / "elsewhere.txt").st_ino) + " " + hex(tmp) + " " +
+                              hex("victim.txt") + "\ncommit\n";
+  put(dir / "real_journal", journal);
+  fs::create_symlink(dir / "real_journal", dir / (".cmr-journal." + d + ".0"));  // a link: never read
+  const std::string d2 = std::to_string(dead_pid());
+  put(dir / (".cmr-journal." + d2 + ".0"), "cmr commit journal 1\npid " + d2 + " 0\ne 0 1 " +
+                                               std::to_string(stat_of(dir / "elsewhere.txt").st_ino) + " " + hex(tmp) +
+                                               " " + hex("victim.txt") + "\ncommit\n");  // names the link as its temporary
+  ::testing::internal::CaptureStderr();
+  write_file_atomic(dir / "out.txt", "x");
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(read(dir / "victim.txt"), "victim");
+  EXPECT_EQ(read(dir / "elsewhere.txt"), "the attacker's bytes");
+  EXPECT_TRUE(fs::is_symlink(dir / tmp)) << "the planted link was followed or moved";
+  EXPECT_NE(err.find(".cmr-journal." + d + ".0 (not a regular file with one link)"), std::string::npos) << err;
+}
+
+// The manifest names files by inode, size and modification time; a file
+// cmr did not write, or a manifest that is no cmr manifest of version 2, removes
+// nothing (issue 42 E1: a planted ".cmr-manifest" naming victim.cfg by its
+// inode and size deleted it).
+TEST(OutputSetOwned, PlantedManifestRemovesNothing) {
+  const fs::path dir = scratch("owned_planted");
+  put(dir / "victim.cfg", "keep me");
+  const struct stat v = stat_of(dir / "victim.cfg");
+  const std::string ino = std::to_string(v.st_ino), size = std::to_string(v.st_size);
+  for (const std::string& manifest :
+       {"cmr output manifest 1\n" + ino + " " + size + " victim.cfg\n",                      // the review's reproducer
+        "cmr output manifest 2\n" + ino + " " + size + " 12345 victim.cfg\n"}) {             // a wrong time
+    put(dir / ".cmr-manifest", manifest);
+    OutputSet set;
+    set.own_folder(dir);
+    set.stage(dir / "report.json", "{}");
+    set.commit();
+    EXPECT_EQ(read(dir / "victim.cfg"), "keep me") << manifest;
+  }
 }
 
 // A reused owned folder holds only this run's files: those cmr wrote there

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -151,6 +154,28 @@ TEST(KCurveCli, OffPointNoteNamesThePoint) {
   const Outcome quiet = run("kcurve " + write("k_quiet.json", kPoints));
   ASSERT_EQ(quiet.code, 0) << quiet.err;
   EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+}
+
+// Issue 42 E3: 1,000 random closed points (seeded) finish or are refused in
+// one line within 20 s: the work budget (--max-work) bounds the solve by the
+// input's size (it ran for more than 120 s).
+TEST(KCurveCli, ThousandRandomClosedPointsFinishOrRefuseWithinTwentySeconds) {
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::string text = "{\"closed\": true, \"points\": [";
+  for (int i = 0; i < 1000; ++i) text += (i ? ",[" : "[") + std::to_string(u(rng)) + "," + std::to_string(u(rng)) + "]";
+  text += "]}";
+  const std::string file = write("k_random_1000.json", text);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Outcome r = run("kcurve " + file + " --out " + (scratch() / "k_random_1000_out.json").string());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 20.0);
+  EXPECT_TRUE(r.code == 0 || r.code == 2) << r.err;
+  if (r.code == 2) {
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("within its budget of 1000000 point-iterations"), std::string::npos) << r.err;
+  }
+  std::cout << "[ stats    ] 1000 random closed points: exit " << r.code << " in " << seconds << " s\n";
 }
 
 }  // namespace

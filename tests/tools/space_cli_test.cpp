@@ -57,9 +57,13 @@ TEST(SpaceCli, BadSpaceInputExitsTwoWithOneLine) {
   expect_one_line_error(run("region " + write("wn.json", R"({"points":[[0,0,0],[1,1,1],[2,0,1]],"weights":[1,-2,1]})") +
                             " --point 1 --plane xy"),
                         "weights[1] is -2: rational space curves need positive weights");
-  expect_one_line_error(run("report " + write("wm.json", R"({"points":[[0,0,0],[1,1],[2,0,1]],"weights":[1,2,1]})") +
-                            " --out " + (test::scratch() / "wm_report").string()),
-                        "points[1] has 2 coordinates but points[0] has 3");
+  // A report lists a mixed file as invalid (exit 2, its line) instead of
+  // ending the run, so that one such file does not stop a corpus (issue 42).
+  const test::Outcome wm = run("report " + write("wm.json", R"({"points":[[0,0,0],[1,1],[2,0,1]],"weights":[1,2,1]})") +
+                               " --out " + (test::scratch() / "wm_report").string());
+  EXPECT_EQ(wm.code, 2) << wm.err;
+  EXPECT_NE(wm.err.find("wm.json: points[1] has 2 coordinates but points[0] has 3"), std::string::npos) << wm.err;
+  EXPECT_NE(test::slurp(test::scratch() / "wm_report" / "report.json").find("\"invalid\":1"), std::string::npos);
   expect_one_line_error(run("analyze " + kExample + " --split 1"),
                         "--split, --segments, --each-piece and --mode are for planar splines");
   expect_one_line_error(run("analyze " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --torsion"),
