@@ -7,10 +7,11 @@
 # libocct-data-exchange-dev (OpenCASCADE's STEP reader; it pulls in the other
 # libocct-*-dev packages) and libtbb-dev (a library OCCT's CMake targets name)
 # are for the STEP importer (step/); without them cmr builds without it.
+# python3-yaml: tests/docs/ci_workflow.py reads examples/ci/cmr-qa.yml.
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config python3
+  build-essential cmake ninja-build pkg-config python3 python3-yaml
   libglm-dev nlohmann-json3-dev libcli11-dev libgmp-dev
   libcairo2-dev libpng-dev libxml2-dev
   libgtest-dev libgmock-dev
