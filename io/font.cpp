@@ -11,6 +11,7 @@
 #include FT_FREETYPE_H
 #include FT_OUTLINE_H
 #include FT_FONT_FORMATS_H
+#include FT_MULTIPLE_MASTERS_H
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -19,6 +20,13 @@
 
 namespace cmr::import {
 namespace {
+
+/// A location's value as written: "700", "14.5".
+std::string format_location_value(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 /// Decodes one UTF-8 character at text[i] (advancing i); InputError if malformed.
 std::uint32_t utf8_at(const std::string& text, std::size_t& i) {
@@ -67,6 +75,7 @@ struct Item {
   Vec2 p;
   std::string name;
   int font_point = -1;
+  int line_of = -1;   // an added line point: the font point of the line's first node
   bool node = false;  // explicit on-curve point
 };
 
@@ -106,8 +115,6 @@ void name_cubic_items(std::vector<Item>& items, const std::string& prefix) {
   }
 }
 
-/// The chain of one contour (points first..last of the outline), or empty
-/// when the contour has no piece (a lone point).
 /// x = a + b exactly in double (Knuth's TwoSum: the rounding error is 0).
 bool exact_sum(double a, double b, double& x) {
   x = a + b;
@@ -141,16 +148,19 @@ std::optional<std::array<Vec2, 2>> exact_cubic_line(Vec2 a, Vec2 b) {
   return out;
 }
 
-std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int degree, const std::string& prefix) {
-  const int n = last - first + 1;
+/// The chain of one contour (its points in the font's order), or empty when
+/// the contour has no piece (a lone point).
+std::vector<Item> contour_items(const std::vector<OutlinePoint>& points, int degree, const std::string& prefix,
+                                PointNaming naming) {
+  const int n = static_cast<int>(points.size());
   int start = 0;
-  while (start < n && FT_CURVE_TAG(o.tags[first + start]) != FT_CURVE_TAG_ON) ++start;
+  while (start < n && points[start].tag != OutlinePoint::Tag::on) ++start;
   const bool has_node = start < n;
   if (!has_node) {
     if (degree == 3) throw InputError(prefix + ": a cubic contour without an on-curve point");
     start = 0;
   }
-  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx - first); };
+  auto name = [&](int idx) { return prefix + "/p" + std::to_string(idx); };
   std::vector<Item> items;
   // Inner points of the straight piece from a node to the next (by value:
   // the pushes below may move `items`).
@@ -163,24 +173,25 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
       it.name = from.name;
       it.name.append("+p").append(std::to_string(to.font_point));  // font_point is already contour-relative
       if (degree > 2) it.name.append("@").append(std::to_string(k)).append("/").append(std::to_string(degree));
+      it.line_of = from.font_point;
       items.push_back(it);
     }
   };
   int inner_run = 0;  // inner points since the last node (cubic: must be 0 or 2)
   for (int j = 0; j < n; ++j) {
-    const int idx = first + (start + j) % n;
-    const int tag = FT_CURVE_TAG(o.tags[idx]);
+    const int idx = (start + j) % n;
+    const OutlinePoint::Tag tag = points[idx].tag;
     Item it;
-    it.p = {static_cast<double>(o.points[idx].x), static_cast<double>(o.points[idx].y)};
+    it.p = points[idx].p;
     it.name = name(idx);
-    it.font_point = idx - first;
-    it.node = tag == FT_CURVE_TAG_ON;
-    if ((tag == FT_CURVE_TAG_CUBIC) != (degree == 3) && !it.node)
-      throw InputError(prefix + ": point " + std::to_string(idx - first) + " mixes conic and cubic control points");
+    it.font_point = idx;
+    it.node = tag == OutlinePoint::Tag::on;
+    if ((tag == OutlinePoint::Tag::cubic) != (degree == 3) && !it.node)
+      throw InputError(prefix + ": point " + std::to_string(idx) + " mixes conic and cubic control points");
     if (it.node) {
       if (degree == 3 && inner_run != 0 && inner_run != 2)
         throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points before point " +
-                         std::to_string(idx - first) + " (expected 2)");
+                         std::to_string(idx) + " (expected 2)");
       inner_run = 0;
       if (!items.empty() && items.back().node) {
         if (items.back().p == it.p) continue;  // zero-length line: dropped
@@ -202,15 +213,30 @@ std::vector<Item> contour_items(const FT_Outline& o, int first, int last, int de
   }
   const bool any_inner = std::any_of(items.begin(), items.end(), [](const Item& i) { return !i.node; });
   if (items.size() < 2 || !any_inner) return {};
-  if (degree == 3) name_cubic_items(items, prefix);
+  if (degree == 3 && naming == PointNaming::editor) name_cubic_items(items, prefix);
   return items;
 }
 
-/// The contour's spline and names, or nothing for a contour without a piece.
-std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, const std::string& glyph) {
+/// The points of contour c of a FreeType outline, contour-relative.
+std::vector<OutlinePoint> outline_points(const FT_Outline& o, int c) {
   const int first = c == 0 ? 0 : o.contours[c - 1] + 1, last = o.contours[c];
+  std::vector<OutlinePoint> out;
+  for (int i = first; i <= last; ++i) {
+    const int tag = FT_CURVE_TAG(o.tags[i]);
+    out.push_back({{static_cast<double>(o.points[i].x), static_cast<double>(o.points[i].y)},
+                   tag == FT_CURVE_TAG_ON      ? OutlinePoint::Tag::on
+                   : tag == FT_CURVE_TAG_CUBIC ? OutlinePoint::Tag::cubic
+                                               : OutlinePoint::Tag::conic});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<Contour> outline_contour(const std::vector<OutlinePoint>& points, int c, int degree,
+                                       const std::string& glyph, PointNaming naming) {
   const std::string prefix = glyph + "/c" + std::to_string(c);
-  const std::vector<Item> items = contour_items(o, first, last, degree, prefix);
+  const std::vector<Item> items = contour_items(points, degree, prefix, naming);
   if (items.empty()) return std::nullopt;
   const std::size_t m = items.size();
   // A piece starts at each inner point whose predecessor is a node; in degree
@@ -220,25 +246,28 @@ std::optional<Contour> make_contour(const FT_Outline& o, int c, int degree, cons
     inc[k] = !items[k].node && (degree == 2 || items[(k + m - 1) % m].node);
   std::vector<Vec2> pts;
   std::vector<std::string> point_names, joint_names;
-  std::vector<int> font_point;
+  std::vector<int> font_point, source_point;
   std::vector<bool> node;
   for (const Item& it : items) {
     pts.push_back(it.p);
     point_names.push_back(it.name);
     font_point.push_back(it.font_point);
+    source_point.push_back(it.font_point >= 0 ? it.font_point : it.line_of);
     node.push_back(it.node);
   }
   // Segments in order of their first inner point k = 1..m (item m is item 0).
+  std::vector<int> joint_source_point;
   for (std::size_t k = 1; k <= m; ++k) {
     if (!inc[k % m]) continue;
     const Item& prev = items[k - 1];
     joint_names.push_back(prev.node ? prev.name : prev.name + "+p" + std::to_string(items[k % m].font_point));
+    joint_source_point.push_back(prev.font_point >= 0 ? prev.font_point : prev.line_of);
   }
-  return Contour{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
-                 std::move(font_point), std::move(node), std::move(joint_names)};
+  Contour out{c, BSpline::make_closed(degree, chain_knots(inc), std::move(pts), prefix), std::move(point_names),
+              std::move(font_point), std::move(node), std::move(joint_names), std::move(source_point),
+              std::move(joint_source_point)};
+  return out;
 }
-
-}  // namespace
 
 std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec) {
   std::vector<std::uint32_t> out;
@@ -273,7 +302,66 @@ bool is_font_path(const std::filesystem::path& path) {
   return false;
 }
 
-Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints) {
+Location parse_location(const std::string& text) {
+  Location out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0 || eq > 4)
+      throw InputError("--location: '" + item + "' is not TAG=VALUE (an axis tag of at most 4 characters: wght=700)");
+    const std::string value = item.substr(eq + 1);
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != 0 || !std::isfinite(v))
+      throw InputError("--location: '" + value + "' (axis " + item.substr(0, eq) + ") is not a number");
+    out.emplace_back(item.substr(0, eq), v);
+  }
+  return out;
+}
+
+namespace {
+
+/// Sets the face to the instance at `location` (see read_font).
+void set_location(FT_Library lib, FT_Face face, const Location& location, const std::string& path, Font& font) {
+  FT_MM_Var* mm = nullptr;
+  if (!FT_HAS_MULTIPLE_MASTERS(face) || FT_Get_MM_Var(face, &mm) != 0)
+    throw InputError(path + ": not a variable font (no fvar table), so --location does not apply");
+  struct Done {
+    FT_Library lib;
+    FT_MM_Var* mm;
+    ~Done() { FT_Done_MM_Var(lib, mm); }
+  } done{lib, mm};
+  std::vector<FT_Fixed> coords(mm->num_axis);
+  for (FT_UInt a = 0; a < mm->num_axis; ++a) coords[a] = mm->axis[a].def;
+  std::string named;
+  for (const auto& [tag, value] : location) {
+    FT_UInt a = 0;
+    for (; a < mm->num_axis; ++a) {
+      const FT_ULong t = mm->axis[a].tag;
+      const std::string name{static_cast<char>(t >> 24), static_cast<char>((t >> 16) & 0xFF),
+                             static_cast<char>((t >> 8) & 0xFF), static_cast<char>(t & 0xFF)};
+      if (name == tag || (tag.size() < 4 && name == tag + std::string(4 - tag.size(), ' '))) break;
+    }
+    if (a == mm->num_axis) throw InputError(path + ": --location: the font has no axis '" + tag + "'");
+    const double lo = mm->axis[a].minimum / 65536.0, hi = mm->axis[a].maximum / 65536.0;
+    if (value < lo || value > hi)
+      throw InputError(path + ": --location: " + tag + "=" + format_location_value(value) + " is outside the axis's range [" +
+                       format_location_value(lo) + ", " + format_location_value(hi) + "]");
+    coords[a] = static_cast<FT_Fixed>(std::lround(value * 65536.0));
+    named += (named.empty() ? "" : ",") + tag + "=" + format_location_value(value);
+  }
+  if (FT_Set_Var_Design_Coordinates(face, mm->num_axis, coords.data()) != 0)
+    throw InputError(path + ": FreeType cannot set the location " + named);
+  font.style += (font.style.empty() ? "" : " ") + std::string("@") + named;
+}
+
+}  // namespace
+
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
+               const Location& location) {
   static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
   // Read as every input is (regular files only, size-limited: a FIFO or a
   // device is refused at once); the bytes outlive the face.
@@ -293,8 +381,15 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   // a spline of the font's degree too.
   const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
   font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
+  if (!location.empty()) set_location(library.lib, face.get(), location, path.string(), font);
   const int font_degree = font.cubic ? 3 : 2;
-  for (const std::uint32_t cp : codepoints) {
+  std::vector<std::uint32_t> every;  // no code points asked for: every one the character map has
+  if (codepoints.empty()) {
+    FT_UInt gid = 0;
+    for (FT_ULong cp = FT_Get_First_Char(face.get(), &gid); gid != 0; cp = FT_Get_Next_Char(face.get(), cp, &gid))
+      every.push_back(static_cast<std::uint32_t>(cp));
+  }
+  for (const std::uint32_t cp : codepoints.empty() ? every : codepoints) {
     const FT_UInt gid = FT_Get_Char_Index(face.get(), cp);
     if (gid == 0) {
       font.missing.push_back(cp);
@@ -319,7 +414,8 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
     const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
-        if (std::optional<Contour> contour = make_contour(o, c, degree, g.name)) g.contours.push_back(std::move(*contour));
+        if (std::optional<Contour> contour = outline_contour(outline_points(o, c), c, degree, g.name, PointNaming::editor))
+          g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {
       throw InputError(path.string() + ": " + e.what());

@@ -32,6 +32,7 @@
 /// outline that is not a chain of pieces (a lone cubic control point).
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,12 +50,27 @@ struct Contour {
   std::vector<int> font_point;           ///< the font's point index per control point; -1 where added
   std::vector<bool> node;                ///< the control point is an explicit on-curve point
   std::vector<std::string> joint_names;  ///< per segment i: the node that starts it ("A/c0/p3", implied "A/c0/p2+p3")
+  /// Per control point: the source point it comes from (font_point, or for a
+  /// line's added inner point the line's first node), for locating it in a
+  /// source file (a .glif's <point> line).
+  std::vector<int> source_point;
+  std::vector<int> joint_source_point;  ///< per segment: the source point of the node that starts it
 };
 
 struct Glyph {
   std::string name;         ///< the font's glyph name (else "uniXXXX")
   std::uint32_t codepoint = 0;
   std::vector<Contour> contours;
+  /// Sources (a UFO's .glif, io/ufo.hpp): the .glif's path, and per contour
+  /// (Contour::index) and source point the line of its <point> element;
+  /// empty for binary fonts.
+  std::string source;
+  std::vector<std::vector<int>> point_lines;
+  /// Why the glyph cannot be judged (a malformed or unsupported outline in a
+  /// source): it becomes an invalid item of a report; empty when it is read.
+  std::string error;
+  /// What was read but not judged (components, anchors), one line each.
+  std::vector<std::string> notes;
 };
 
 struct Font {
@@ -66,6 +82,27 @@ struct Font {
   std::vector<std::uint32_t> missing;
 };
 
+/// A point of an outline as a font format lists it: on the curve, or an
+/// off-curve point of a quadratic (conic) or cubic piece.
+struct OutlinePoint {
+  enum class Tag : std::uint8_t { on, conic, cubic };
+  Vec2 p{0.0};
+  Tag tag = Tag::on;
+};
+
+/// How a contour's points are named: `editor` as a font editor shows a
+/// binary font (TrueType "pP", CFF "nN", "nN.out", ...); `source` by the
+/// point's index in the source's own order ("pP") whatever the degree, as a
+/// UFO's .glif lists them.
+enum class PointNaming : std::uint8_t { editor, source };
+
+/// One contour (its points in the format's order, contour-relative indices)
+/// as a closed spline of `degree` (2: conic off-curve points, 3: cubic),
+/// named "GLYPH/cC"; nothing when it has no piece (a lone point). InputError
+/// ("GLYPH/cC: ...") for an outline that is not a chain of pieces.
+std::optional<Contour> outline_contour(const std::vector<OutlinePoint>& points, int contour, int degree,
+                                       const std::string& glyph, PointNaming naming);
+
 /// Parses "A-Z,a-z,0-9,U+00E9,x": characters and inclusive ranges of them,
 /// comma separated (UTF-8; "U+hex" for any code point; "," itself as "U+002C").
 std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec);
@@ -74,8 +111,20 @@ std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec);
 /// .otc, .cff, .pfb, .pfa, .t1, .woff), by its extension.
 bool is_font_path(const std::filesystem::path& path);
 
-/// Loads the glyphs of `codepoints` (unscaled, unhinted).
-Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints);
+/// A variable font's instance: axis tag -> user value ("wght=700,opsz=14").
+using Location = std::vector<std::pair<std::string, double>>;
+/// Parses "TAG=VALUE,TAG=VALUE" (InputError "--location: ..." otherwise).
+Location parse_location(const std::string& text);
+
+/// Loads the glyphs of `codepoints` (unscaled, unhinted); none given: every
+/// code point of the font's character map, in code point order. With a
+/// `location`, the glyphs of that instance of a variable font (TrueType
+/// gvar or CFF2, through FreeType's variation API: design coordinates, so
+/// `avar` is applied), axes not named at their defaults; InputError for a
+/// font without variations (no fvar), an axis it does not have or a value
+/// outside the axis's range. Font::style then names the location.
+Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
+               const Location& location = {});
 
 /// The contour as a spline file (spline_to_json plus "point_names").
 nlohmann::json contour_json(const Contour& contour);

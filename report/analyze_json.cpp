@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "bezierize/extract.hpp"
 #include "bezierize/joint_json.hpp"
 #include "io/stdout_error.hpp"
 #include "report/json_stream.hpp"
@@ -226,6 +227,17 @@ SplineAnalysis write_analysis_json(std::ostream& out, const BSpline& spline, con
   write(pretty ? "\n}\n" : "}\n");
   write_noting_stdout_error(out, nullptr, 0);  // the flush
   return a;
+}
+
+Json segments_json(const BSpline& spline) {
+  Json segs = Json::array();
+  for (const BezierSegment& b : bezier_segments(spline)) {
+    Json pts = Json::array();
+    for (const Vec2& p : b.points) pts.push_back({p.x, p.y});
+    segs.push_back({{"index", b.segment.index}, {"interval", {b.segment.a, b.segment.b}}, {"points", pts}});
+    if (!b.weights.empty()) segs.back()["weights"] = b.weights;
+  }
+  return {{"segments", segs}};
 }
 
 }  // namespace cmr::report

@@ -42,4 +42,8 @@ SplineAnalysis write_analysis_json(std::ostream& out, const BSpline& spline, con
 nlohmann::ordered_json analysis_json_tree(const BSpline& spline, const SplineAnalysis& a,
                                           const std::vector<int>& splits);
 
+/// `cmr segments`' document: {"segments": [{"index", "interval", "points",
+/// "weights" (rational only)}]}, every non-empty span in Bezier form.
+nlohmann::ordered_json segments_json(const BSpline& spline);
+
 }  // namespace cmr::report

@@ -53,10 +53,8 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
   return out;
 }
 
-/// The fix requirement that implies a gate (docs/fix.md, "In the report"):
-/// every segment monotone has no extremum inside (max-extrema-per-segment:N
-/// for any N); each run between on-curve nodes monotone has rising, then
-/// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
+}  // namespace
+
 FixRequirement requirement_of(const Gate& gate) {
   FixRequirement req;
   switch (gate.kind) {
@@ -72,6 +70,8 @@ FixRequirement requirement_of(const Gate& gate) {
   }
   return req;
 }
+
+namespace {
 
 /// A gate's fix: the implying requirement's, then the fixed spline re-judged
 /// by the gate itself (the report's model and check_gates); a fix the gate

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/fix.hpp"
+#include "report/gates.hpp"
 
 namespace cmr::report {
 
@@ -42,6 +43,12 @@ struct CertifiedFix {
   std::optional<BSpline> fixed;   ///< the moved spline (found)
   SplineAnalysis certificate;     ///< analyze(*fixed) (found)
 };
+
+/// The fix requirement that implies a gate (docs/fix.md, "In the report"):
+/// every segment monotone has no extremum inside (max-extrema-per-segment:N
+/// for any N); each run between on-curve nodes monotone has rising, then
+/// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
+FixRequirement requirement_of(const Gate& gate);
 
 /// Time limit of each fix in a report (seconds).
 inline constexpr double kReportFixSeconds = 2;

@@ -20,6 +20,7 @@
 #include "io/font.hpp"
 #include "io/output.hpp"
 #include "io/svg.hpp"
+#include "io/ufo.hpp"
 #include "report/baseline.hpp"
 #include "report/json_stream.hpp"
 #include "report/junit.hpp"
@@ -70,6 +71,12 @@ void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::str
       if (it->is_directory(ec)) it.disable_recursion_pending();
       continue;
     }
+    if (it->is_directory(ec) && import::is_ufo_path(it->path())) {  // a UFO is one input, its .glif files its glyphs
+      it.disable_recursion_pending();
+      const std::string rel = it->path().lexically_relative(folder).generic_string();
+      if (wanted(it->path(), rel, filter)) found.push_back(it->path().string());
+      continue;
+    }
     if (!it->is_regular_file(ec)) continue;
     const std::string rel = it->path().lexically_relative(folder).generic_string();
     if (wanted(it->path(), rel, filter)) found.push_back(it->path().string());
@@ -81,7 +88,7 @@ void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::str
 }  // namespace
 
 FileKind file_kind(const std::string& path) {
-  if (import::is_font_path(path)) return FileKind::font;
+  if (import::is_font_path(path) || import::is_ufo_path(path)) return FileKind::font;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".svg" ? FileKind::svg : FileKind::spline;
@@ -93,7 +100,11 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
   for (const std::string& a : args) {
     std::error_code ec;
     const auto st = fs::status(a, ec);
-    if (fs::is_directory(st)) {
+    if (import::is_designspace_path(a) && fs::exists(st)) {  // its sources (masters), each a font
+      for (const import::Designspace::Source& src : import::read_designspace(a).sources) out.push_back(src.path.string());
+      continue;
+    }
+    if (fs::is_directory(st) && !import::is_ufo_path(a)) {
       const std::size_t before = out.size();
       walk(a, filter, out);
       if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
@@ -240,7 +251,10 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
   try {
     switch (w.kind) {
       case FileKind::font:
-        w.font = font_inputs(import::read_font(path, options.codepoints), inputs);
+        w.font = font_inputs(import::is_ufo_path(path)
+                                 ? import::read_ufo(path, {options.all_glyphs, options.codepoints, {}})
+                                 : import::read_font(path, options.codepoints, options.location),
+                             inputs);
         o.certified_fixes = options.fixes;
         break;
       case FileKind::svg:
@@ -281,6 +295,9 @@ struct ItemNames {
   int contour = 0;
   const std::vector<std::string>* joints = nullptr;  ///< font: node starting each segment
   const std::vector<std::string>* points = nullptr;  ///< font: each control point's name
+  const std::string* source = nullptr;                ///< font source: the glyph's .glif
+  const std::vector<int>* point_lines = nullptr;      ///< font source: each control point's <point> line
+  const std::vector<int>* joint_lines = nullptr;      ///< font source: each segment's starting node's line
 };
 
 std::vector<Finding> findings_of(const SplineReport& r, const std::string& file, const ItemNames& n,
@@ -288,16 +305,20 @@ std::vector<Finding> findings_of(const SplineReport& r, const std::string& file,
   std::vector<Finding> out;
   if (!r.error.empty()) return out;
   if (options.require && !r.requirement_pass) {
-    Finding f{file, n.glyph, n.contour, "", to_string(*options.require), ""};
+    Finding f{file, n.glyph, n.contour, "", to_string(*options.require), "", "", 0};
     f.message = n.glyph + ": fails the " + f.gate + " check";
     if (!options.require->split)
       f.message += std::string(" (verdict ") + to_string(options.require->mode == Mode::cmrwi ? r.analysis.cmrwi : r.analysis.cmr) + ")";
+    if (n.source && !n.source->empty()) {  // the contour: its first node's line
+      f.source = *n.source;
+      f.line = n.joint_lines && !n.joint_lines->empty() ? n.joint_lines->front() : 0;
+    }
     out.push_back(std::move(f));
   }
   const int N = r.spline ? r.spline->segment_count() : 0;
   for (const GateResult& g : r.gates)
     for (const GateViolation& v : g.violations) {
-      Finding f{file, n.glyph, n.contour, "", to_string(g.gate), ""};
+      Finding f{file, n.glyph, n.contour, "", to_string(g.gate), "", "", 0};
       std::string where;
       if (n.joints && N > 0 && static_cast<int>(n.joints->size()) == N) {
         if (v.segment >= 0) {
@@ -314,6 +335,16 @@ std::vector<Finding> findings_of(const SplineReport& r, const std::string& file,
       }
       const std::string prefix = n.points ? n.glyph + "/c" + std::to_string(n.contour) : n.glyph;
       f.message = prefix + (where.empty() ? "" : " " + where) + ": " + v.message;
+      if (n.source && !n.source->empty()) {
+        f.source = *n.source;
+        auto at = [](const std::vector<int>* lines, int k) {
+          return lines && k >= 0 && k < static_cast<int>(lines->size()) ? (*lines)[k] : 0;
+        };
+        f.line = !v.handles.empty() ? at(n.point_lines, v.handles.front())
+                 : v.segment >= 0   ? at(n.joint_lines, v.segment)
+                 : v.joint >= 0 && N > 0 ? at(n.joint_lines, v.joint % N)
+                                         : 0;
+      }
       if (n.points && !v.handles.empty()) {
         std::string names;
         for (int h : v.handles)
@@ -420,7 +451,9 @@ class Writer {
     if (w.font) {
       for (const auto& g : w.font->glyphs)
         for (std::size_t c = 0; c < g.items.size(); ++c)
-          names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c]};
+          names[g.items[c]] = {g.name, static_cast<int>(c), &g.joint_names[c], &g.point_names[c], &g.source,
+                               c < g.point_lines.size() ? &g.point_lines[c] : nullptr,
+                               c < g.joint_lines.size() ? &g.joint_lines[c] : nullptr};
     }
     // The file's spline objects as text (report/json_stream.hpp: the same bytes
     // as the tree), each with the id "s0"; write puts in the run's numbers.
@@ -504,7 +537,14 @@ class Writer {
       for (const CaseRecord& c : rec.cases) {
         if (!c.error.empty()) p.sarif.push_back(sarif_invalid(w.uri, w.uri_relative, c.name, c.error, options_.report));
         for (const Finding& f : c.findings)
-          p.sarif.push_back(sarif_result(f, w.uri, w.uri_relative, options_.report, nullptr));
+          if (f.source.empty()) {
+            p.sarif.push_back(sarif_result(f, w.uri, w.uri_relative, options_.report, nullptr));
+          } else {  // a font source's finding: its .glif, on the <point>'s line
+            bool relative = false;
+            const std::string uri =
+                source_uri(f.source, options_.source_root ? options_.source_root->string() : std::string(), &relative);
+            p.sarif.push_back(sarif_result(f, uri, relative, options_.report, nullptr));
+          }
       }
     }
     if (options_.junit) p.junit = junit_suite(rec, 0, timestamp_, host_);

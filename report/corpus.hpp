@@ -60,7 +60,7 @@ std::string source_name(const std::string& file, const std::string& base);
 std::string source_uri(const std::string& file, const std::string& root, bool* relative = nullptr);
 
 enum class FileKind : std::uint8_t { spline, svg, font };
-/// By extension: fonts (io/font.hpp), .svg, else a spline file.
+/// By extension: fonts (io/font.hpp) and font sources (.ufo, .glif: io/ufo.hpp), .svg, else a spline file.
 FileKind file_kind(const std::string& path);
 
 /// One violation with its stable identity.
@@ -71,6 +71,10 @@ struct Finding {
   std::string node;     ///< "p12" (a node), "p12-p15" (the segment between two nodes), "segment 3", "joint 2"; "" for the whole spline
   std::string gate;     ///< the gate's text ("curvature-extrema-at-nodes"), or the check ("cmr") for a spline failing it
   std::string message;  ///< one line a designer can act on (node names, what to move)
+  /// Font sources: the .glif the finding lies in and the line of the <point>
+  /// it names (the node, or the first handle to move); "" and 0 otherwise.
+  std::string source;
+  int line = 0;
   /// "file|glyph|cC|node|gate": what a baseline compares.
   std::string key() const;
 };
@@ -99,6 +103,8 @@ struct FileRecord {
 struct BatchOptions {
   ReportOptions report;                 ///< per spline (report.hpp); report.threads: 0 = every core
   std::vector<std::uint32_t> codepoints;  ///< the glyphs of the fonts
+  bool all_glyphs = false;              ///< every glyph of a font source (UFO), whatever its code points
+  import::Location location;            ///< a variable font's instance (binary fonts; io/font.hpp)
   std::filesystem::path out;            ///< report.json, index.html, the pages
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json

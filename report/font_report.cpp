@@ -308,11 +308,26 @@ std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int cont
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs) {
   FontInfo info{font.path, font.family, font.style, font.units_per_em, font.cubic, {}, font.missing};
   for (const import::Glyph& g : font.glyphs) {
-    FontInfo::GlyphEntry e{g.name, g.codepoint, {}, {}, {}};
+    FontInfo::GlyphEntry e{g.name, g.codepoint, {}, {}, {}, g.source, {}, {}};
+    if (!g.error.empty()) {  // a source glyph that cannot be read: one invalid item
+      e.items.push_back(inputs.size());
+      e.joint_names.emplace_back();
+      e.point_names.emplace_back();
+      inputs.push_back({font.path + ":" + g.name, std::nullopt, g.error});
+    }
     for (const import::Contour& c : g.contours) {
       e.items.push_back(inputs.size());
       e.joint_names.push_back(c.joint_names);
       e.point_names.push_back(c.point_names);
+      if (!g.source.empty() && c.index < static_cast<int>(g.point_lines.size())) {
+        const std::vector<int>& lines = g.point_lines[c.index];
+        auto line_of = [&](int sp) { return sp >= 0 && sp < static_cast<int>(lines.size()) ? lines[sp] : 0; };
+        std::vector<int> pl, jl;
+        for (int sp : c.source_point) pl.push_back(line_of(sp));
+        for (int sp : c.joint_source_point) jl.push_back(line_of(sp));
+        e.point_lines.push_back(std::move(pl));
+        e.joint_lines.push_back(std::move(jl));
+      }
       inputs.push_back({font.path + ":" + c.spline.name(), c.spline, {}});
     }
     info.glyphs.push_back(std::move(e));

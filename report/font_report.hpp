@@ -28,6 +28,11 @@ struct FontInfo {
     std::vector<std::size_t> items;                     ///< indices of its contours among the report items
     std::vector<std::vector<std::string>> joint_names;  ///< per contour: node name starting each segment
     std::vector<std::vector<std::string>> point_names;  ///< per contour: name of each distinct control point
+    /// Sources (a UFO's .glif): its path, and per contour the line of each
+    /// control point's and each segment's starting node's <point>; empty
+    /// for binary fonts.
+    std::string source;
+    std::vector<std::vector<int>> point_lines, joint_lines;
   };
   std::vector<GlyphEntry> glyphs;
   std::vector<std::uint32_t> missing;

@@ -149,6 +149,12 @@ std::string sarif_result(const Finding& f, const std::string& uri, bool relative
   o.member("uri", uri);
   if (relative) o.member("uriBaseId", kSarifRootId);
   o.end_object();
+  if (f.line > 0) {  // a font source: the <point>'s line, where code scanning places the alert
+    o.key("region");
+    o.begin_object();
+    o.member("startLine", f.line);
+    o.end_object();
+  }
   o.end_object();
   o.key("logicalLocations");
   o.begin_array();

@@ -166,21 +166,38 @@ void check_total_pixels(long long images, int width, int height, const std::stri
                    " pixels (2^28) per run (fewer " + what + " or a smaller --size)");
 }
 
-std::vector<int> parse_point_list(const std::string& text) {
+std::vector<int> parse_point_list(const std::string& text, const std::vector<std::string>& names) {
   std::vector<int> out;
   std::size_t pos = 0;
   while (pos <= text.size()) {
     const std::size_t comma = text.find(',', pos);
-    std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
-    if (!item.empty() && (item[0] == 'P' || item[0] == 'p')) item = item.substr(1);
+    // A name of the file's: whole ("O/c0/p3") or its last part ("p3") when one point has it.
+    int named = -1, matches = 0;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const std::string& n = names[k];
+      const std::size_t slash = n.rfind('/');
+      if (n == item) {
+        named = static_cast<int>(k), matches = 1;
+        break;
+      }
+      if (slash != std::string::npos && n.compare(slash + 1, std::string::npos, item) == 0) named = static_cast<int>(k), ++matches;
+    }
+    if (matches == 1) {
+      out.push_back(named);
+      continue;
+    }
+    if (matches > 1) throw InputError("--points: '" + item + "' names " + std::to_string(matches) + " points (give the whole name)");
+    std::string digits = item;
+    if (!digits.empty() && (digits[0] == 'P' || digits[0] == 'p')) digits = digits.substr(1);
     try {
       std::size_t used = 0;
-      const int k = std::stoi(item, &used);
-      if (used != item.size()) throw std::invalid_argument(item);
+      const int k = std::stoi(digits, &used);
+      if (used != digits.size()) throw std::invalid_argument(digits);
       out.push_back(k);
     } catch (const std::exception&) {
-      throw InputError("--points: '" + text + "' is not a list of point indices (K,K2,... or P1,P2,...)");
+      throw InputError("--points: '" + item + "' is neither a point index (K or PK) nor a name of the file's points");
     }
   }
   return out;

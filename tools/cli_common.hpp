@@ -95,9 +95,12 @@ std::pair<int, int> parse_size(const std::string& text);
 void check_total_pixels(long long images, int width, int height, const std::string& what);
 /// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
 View parse_view(const std::string& text);
-/// --points K,K2,... or P1,P2,... (cmr fix, planar and space): the indices, as
-/// written (InputError for anything else; the caller checks the range).
-std::vector<int> parse_point_list(const std::string& text);
+/// --points K,K2,... or P1,P2,... (cmr fix, planar and space), or names of
+/// the file's points (`names`: its "point_names", as `cmr import` writes
+/// them: the whole name "O/c0/p3", or its last part "p3" when just one point
+/// has it): the indices (InputError for anything else; the caller checks the
+/// range).
+std::vector<int> parse_point_list(const std::string& text, const std::vector<std::string>& names = {});
 
 /// Each command registers itself; the callback sets the exit code.
 void add_segments_command(CLI::App& app, int& exit_code);

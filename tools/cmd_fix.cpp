@@ -1,12 +1,20 @@
 // cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|curvature-extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
 // [--points K,...] [--keep g1|g2|none] [--max-move D] [--out FIXED.json]:
 // the nearest certified repair (bezierize/fix.hpp, docs/fix.md).
+#include <cmath>
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 
 #include "bezierize/fix.hpp"
 #include "bezierize/segments.hpp"
 #include "bezierize/region.hpp"
 #include "draw/draw.hpp"
+#include "io/output.hpp"
+#include "io/ufo.hpp"
+#include "report/gates.hpp"
+#include "report/glyph_fix.hpp"
+#include "report/fix_json.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -17,27 +25,6 @@ namespace cmr::cli {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-Json point_json(Vec2 p) { return Json::array({p.x, p.y}); }
-
-/// The verdicts of the certificate, as `cmr analyze` prints them.
-Json certificate_json(const FixResult& f, const FixRequirement& req) {
-  const SplineAnalysis& a = f.certificate;
-  Json j = {{"requirement", to_string(req)},
-            {"holds", f.certificate_holds},
-            {"ties", f.ties_hold},
-            {"cmrwi", to_string(a.cmrwi)},
-            {"cmr", to_string(a.cmr)},
-            {"cmr_algorithm2", to_string(a.cmr_algorithm2)}};
-  if (a.split) j["split"] = to_string(*a.split);
-  Json joints = Json::array();
-  std::vector<Joint> all = a.joints;
-  if (a.seam) all.push_back(*a.seam);
-  for (const Joint& jt : all)
-    joints.push_back({{"index", jt.index}, {"continuity", "C" + std::to_string(jt.continuity)}, {"g1", jt.g1}, {"g2", jt.g2}});
-  j["joints"] = joints;
-  return j;
-}
 
 /// Before and after: the first moved point's region (its unit's group
 /// moving with it, the requirement's labels) on the original curve with the
@@ -76,14 +63,104 @@ std::string before_after_png(const BSpline& before, const FixResult& f, const Fi
   return draw::figure_png(fig);
 }
 
+/// `cmr fix FONT.ufo|GLYPH.glif --glyph NAME --require GATES [--grid G]
+/// [--out NEW.ufo | --in-place]` (report/glyph_fix.hpp, docs/fix.md "Font
+/// sources"): one fix for every required check, on the grid, written back
+/// as new x/y attributes of the moved <point>s and nothing else.
+struct SourceFixArgs {
+  std::string file, glyph, require, out, points;
+  double grid = 1, max_move = 0;
+  bool in_place = false, pretty = false;
+  int depth = kDefaultDepth;
+};
+
+void run_source_fix(const SourceFixArgs& a) {
+  namespace fs = std::filesystem;
+  const bool glif = fs::path(a.file).extension() == ".glif";
+  if (a.glyph.empty() && !glif) throw InputError(a.file + ": a font source; name the glyph with --glyph NAME");
+  if (!a.points.empty()) throw InputError("--points: not for font sources (every source point may move)");
+  if (!(a.grid >= 0) || !std::isfinite(a.grid)) throw InputError("--grid: " + std::to_string(a.grid) + " is not a step >= 0");
+  if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
+  report::GlyphFixOptions o;
+  report::parse_require_list(a.require, o.judge);
+  o.judge.max_depth = a.depth;
+  o.grid = a.grid;
+  o.max_move = a.max_move;
+  import::GlyphSelection which;
+  if (!glif) which.names = {a.glyph};
+  const import::Font font = import::read_ufo(a.file, which);
+  if (font.glyphs.empty()) throw InputError(a.file + ": no glyph '" + a.glyph + "'");
+  const import::Glyph& g = font.glyphs.front();
+  if (glif && !a.glyph.empty() && a.glyph != g.name)
+    throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
+  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
+  Json contours = Json::array();
+  std::vector<import::PointEdit> edits;
+  std::string failed;
+  for (const report::ContourFix& f : fixes) {
+    Json moves = Json::array();
+    for (std::size_t i = 0; i < f.moves.size(); ++i) {
+      const PointMove& m = f.moves[i];
+      moves.push_back({{"point", f.names[i]},
+                       {"from", Json::array({m.from.x, m.from.y})},
+                       {"to", Json::array({m.to.x, m.to.y})},
+                       {"distance", m.distance}});
+      if (f.source_points[i] >= 0) edits.push_back({f.contour, f.source_points[i], m.to.x, m.to.y});
+    }
+    Json checks = Json::array();
+    for (const report::GateCount& c : f.rejudged)
+      checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
+    Json jc = {{"contour", f.contour}, {"already", f.already}, {"fixed", f.fixed}, {"moves", moves}, {"rejudged", checks}};
+    if (!f.fixed) {
+      jc["reason"] = f.reason;
+      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
+    }
+    if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
+    contours.push_back(jc);
+  }
+  if (!failed.empty()) throw InputError(a.file + ": " + failed);
+  Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
+  // All outputs or none (io/output.hpp): the copy of the whole source, or
+  // the changed .glif in place.
+  OutputSet outputs;
+  const std::string glif_text = read_input_file(g.source);
+  const std::string changed = edits.empty() ? glif_text : import::rewrite_glif_points(glif_text, edits, g.source);
+  if (a.in_place) {
+    if (!edits.empty()) outputs.stage(g.source, changed);
+    doc["written"] = g.source;
+  } else if (!a.out.empty()) {
+    if (glif) {
+      outputs.stage(a.out, changed);
+    } else {
+      const fs::path src = a.file, dst = a.out;
+      std::error_code ec;
+      if (fs::exists(dst, ec)) throw InputError(a.out + ": exists (a copy of the source goes to a new folder)");
+      outputs.create_folder(dst);
+      for (auto it = fs::recursive_directory_iterator(src); it != fs::recursive_directory_iterator(); ++it) {
+        const fs::path rel = it->path().lexically_relative(src);
+        if (it->is_directory()) {
+          outputs.create_folder(dst / rel);
+        } else if (it->is_regular_file()) {
+          const bool is_glyph = fs::equivalent(it->path(), g.source, ec);
+          outputs.stage(dst / rel, is_glyph ? changed : read_input_file(it->path()));
+        }
+      }
+    }
+    doc["out"] = a.out;
+  }
+  outputs.commit();
+  print_json(doc, a.pretty);
+}
+
 }  // namespace
 
 void add_fix_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "fix", "Move the fewest control points the least distance so that the curve meets a requirement (certified)");
   struct Args {
-    std::string file, require = "cmr", points, keep = "g1", out, png, segments, plane;
-    double max_move = 0, tolerance = 1e-6;
+    std::string file, require = "cmr", points, keep = "g1", out, png, segments, plane, glyph;
+    double max_move = 0, tolerance = 1e-6, grid = 1;
+    bool in_place = false;
     int depth = kDefaultDepth;
     bool pretty = false;
   };
@@ -93,7 +170,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
                   "(alias: extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol], each-run");
   cmd->add_option("--points", args->points,
-                  "points that may move (K,K2,...); several move together. Default: every point but an open "
+                  "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");
   cmd->add_option("--keep", args->keep, "ties kept at joints: g1 (default), g2, none")
       ->check(CLI::IsMember({"g1", "g2", "none"}));
@@ -108,7 +185,20 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "space curves: the plane each point moves in, through it (xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ: "
                   "its U, V); default: the plane of its neighbours' directions");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, &exit_code] {
+  cmd->add_option("--glyph", args->glyph, "font sources (NAME.ufo, .glif): the glyph to fix");
+  cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
+  cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
+  cmd->callback([args, cmd, &exit_code] {
+    if (import::is_ufo_path(args->file)) {
+      if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
+        throw InputError(args->file + ": a font source; --plane, --segments, --png and --keep are for spline files");
+      run_source_fix({args->file, args->glyph, cmd->count("--require") > 0 ? args->require : "curvature-extrema-at-nodes",
+                      args->out, args->points, args->grid, args->max_move, args->in_place, args->pretty, args->depth});
+      exit_code = kOk;
+      return;
+    }
+    if (!args->glyph.empty() || args->in_place || cmd->count("--grid") > 0)
+      throw InputError(args->file + ": --glyph, --grid and --in-place are for font sources (.ufo, .glif)");
     if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/fix.md, "Space curves")
       if (!args->segments.empty())
         throw InputError(args->file + ": a space curve; --segments is for planar splines");
@@ -125,50 +215,28 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     FixRequest request;
     request.requirement = parse_fix_requirement(args->require);
     if (!args->segments.empty()) request.requirement.segments = parse_segment_range(args->segments);
-    if (!args->points.empty()) request.points = parse_point_list(args->points);
+    // A spline file from `cmr import` names its points ("point_names"):
+    // --points takes those names, and --out keeps them.
+    const nlohmann::json document = read_spline_document(args->file);
+    const BSpline spline = spline_from_document(document, args->file);
+    std::vector<std::string> names;
+    if (document.is_object() && document.contains("point_names") && document["point_names"].is_array())
+      for (const auto& n : document["point_names"]) names.push_back(n.is_string() ? n.get<std::string>() : std::string());
+    if (!args->points.empty()) request.points = parse_point_list(args->points, names);
     request.together = request.points.size() > 1;
     request.keep = args->keep == "g2" ? Keep::g2 : args->keep == "none" ? Keep::none : Keep::g1;
     request.max_move = args->max_move;
     request.tolerance = args->tolerance;
     request.max_depth = args->depth;
-    const BSpline spline = read_spline_file(args->file);
     const FixResult f = fix(spline, request);
     if (!f.fixed) throw InputError(args->file + ": " + f.reason);
-    Json moves = Json::array();
-    for (const PointMove& m : f.moves)
-      moves.push_back({{"point", m.point},
-                       {"from", point_json(m.from)},
-                       {"to", point_json(m.to)},
-                       {"displacement", point_json(m.to - m.from)},
-                       {"distance", m.distance},
-                       {"relative", m.distance / f.size}});
-    Json units = Json::array();
-    for (const UnitFix& u : f.units) {
-      Json ju = {{"points", u.points}, {"slide", u.slide}, {"found", u.found}};
-      if (u.found) ju["displacement"] = point_json(u.displacement), ju["distance"] = u.distance;
-      units.push_back(ju);
-    }
-    Json doc = {{"file", args->file},
-                {"require", to_string(request.requirement)},
-                {"segments", {f.certificate.range.first, f.certificate.range.last}},
-                {"keep", to_string(request.keep)},
-                {"already", f.already},
-                {"fixed", f.fixed},
-                {"moves", moves},
-                {"total_squared", f.total_squared},
-                {"max_distance", f.max_distance},
-                {"size", f.size},
-                {"tolerance", request.tolerance * f.size},
-                {"failing_segments", f.failing_segments},
-                {"tie_joints", f.tie_joints},
-                {"units", units},
-                {"certificate", certificate_json(f, request.requirement)},
-                {"evaluations", f.evaluations},
-                {"seconds", f.seconds}};
+    Json doc = report::fix_json(args->file, request, f);
     // All outputs or none (io/output.hpp).
     OutputSet outputs;
     if (!args->out.empty()) {
-      outputs.stage(args->out, spline_to_json(*f.spline).dump(2) + "\n");
+      nlohmann::json fixed = spline_to_json(*f.spline);
+      if (!names.empty()) fixed["point_names"] = names;
+      outputs.stage(args->out, fixed.dump(2) + "\n");
       doc["out"] = args->out;
     }
     if (!args->png.empty()) {

@@ -10,6 +10,7 @@
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
 #include "io/font.hpp"
+#include "io/ufo.hpp"
 #include "io/svg.hpp"
 #include "io/obj.hpp"
 #include "step/step.hpp"
@@ -23,6 +24,7 @@ struct ImportArgs {
   std::string glyphs = "A-Z,a-z";
   std::string out = ".";
   bool y_down = false;
+  std::string location;
 };
 
 }  // namespace
@@ -30,10 +32,12 @@ struct ImportArgs {
 void add_import_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ImportArgs>();
   auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF), SVG paths, OBJ or STEP curves as spline files");
-  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...), SVG file (.svg), Wavefront OBJ curves (.obj) or STEP model (.step, .stp)")->required();
-  cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated)")
+  cmd->add_option("INPUT", args->input, "font file (.ttf, .otf, ...), font source (NAME.ufo folder, .glif), SVG file (.svg), Wavefront OBJ curves "
+                  "(.obj) or STEP model (.step, .stp)")->required();
+  cmd->add_option("--glyphs", args->glyphs, "characters of a font: A-Z,a-z,U+00E9 (ranges, comma separated), or all")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
+  cmd->add_option("--location", args->location, "variable fonts: the instance, axis tags and user values (wght=700,opsz=14)");
   cmd->add_flag("--y-down", args->y_down,
                 "SVG: keep SVG's y-down coordinates (default: flipped to cmr's y-up frame, (x, y) -> (x, -y))");
   cmd->callback([args, cmd, &exit_code] {
@@ -90,8 +94,19 @@ void add_import_command(CLI::App& app, int& exit_code) {
       std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " (" << rational
                 << " rational) of " << curves.edges << " edges from " << args->input << " into " << dir.string()
                 << (skipped.empty() ? "" : "; skipped " + skipped) << '\n';
-    } else if (import::is_font_path(input)) {
-      const import::Font font = import::read_font(input, import::parse_glyph_spec(args->glyphs));
+    } else if (import::is_font_path(input) || import::is_ufo_path(input)) {
+      const bool all = args->glyphs == "all";
+      const import::Font font =
+          import::is_ufo_path(input)
+              ? import::read_ufo(input, {all, all ? std::vector<std::uint32_t>{} : import::parse_glyph_spec(args->glyphs), {}})
+              : import::read_font(input, all ? std::vector<std::uint32_t>{} : import::parse_glyph_spec(args->glyphs),
+                                  args->location.empty() ? import::Location{} : import::parse_location(args->location));
+      if (!args->location.empty() && import::is_ufo_path(input))
+        throw InputError("--location: for variable fonts (.ttf, .otf), not for " + args->input);
+      for (const import::Glyph& g : font.glyphs) {
+        if (!g.error.empty()) throw InputError(g.error);  // all or none: the source names the line
+        for (const std::string& n : g.notes) std::cerr << "note: " << g.name << ": " << n << '\n';
+      }
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
@@ -110,7 +125,8 @@ void add_import_command(CLI::App& app, int& exit_code) {
       if (!font.missing.empty()) std::cout << "; " << font.missing.size() << " characters not in the font";
       std::cout << '\n';
     } else {
-      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff), .svg, .obj or .step/.stp file");
+      throw InputError(args->input + ": not a font (.ttf, .otf, .ttc, .otc, .cff, .pfb, .pfa, .t1, .woff), a font source "
+                       "(.ufo, .glif), .svg, .obj or .step/.stp file");
     }
     exit_code = kOk;
   });

@@ -20,6 +20,7 @@
 #include "spline/limits.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/cmd_space.hpp"
+#include "io/ufo.hpp"
 #include "report/corpus.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
@@ -45,6 +46,7 @@ struct ReportArgs {
   int region_size = 96;
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
+  std::string location;
   report::FileFilter filter;  // folders: --include / --exclude
   std::string junit, sarif, markdown, baseline, source_root;
   bool quiet = false;
@@ -60,7 +62,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ReportArgs>();
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
   cmd->add_option("FILES", args->files,
-                  "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), folders (walked recursively) or globs")
+                  "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), font sources (NAME.ufo, .glif, "
+                  ".designspace: its masters), folders (walked recursively) or globs")
       ->required();
   cmd->add_option("--include", args->filter.include, "in folders, only files matching this glob (repeatable)");
   cmd->add_option("--exclude", args->filter.exclude, "in folders, leave out files matching this glob (repeatable)");
@@ -83,7 +86,11 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
                   "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection or each-piece");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
-  cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9)")->capture_default_str();
+  cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
+                  "character of a font")->capture_default_str();
+  cmd->add_option("--location", args->location,
+                  "variable fonts: the instance to judge, axis tags and user values (wght=700,opsz=14); default: the "
+                  "default instance");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
            kMaxDepth)
       ->capture_default_str();
@@ -102,8 +109,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
     std::string space, planar;
     for (const std::string& f : args->files)
-      if (import::is_font_path(f) || std::filesystem::is_regular_file(f))  // unreadable: that report names it
-        (!import::is_font_path(f) && spline_file_dimension(f) == 3 ? space : planar) = f;
+      if (import::is_font_path(f) || import::is_source_path(f) || std::filesystem::is_regular_file(f)) {
+        const bool font = import::is_font_path(f) || import::is_source_path(f);  // unreadable: that report names it
+        (!font && spline_file_dimension(f) == 3 ? space : planar) = f;
+      }
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
     if (!space.empty()) {
@@ -126,7 +135,14 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     report::BatchOptions b;
-    b.codepoints = import::parse_glyph_spec(args->glyphs);
+    b.all_glyphs = args->glyphs == "all";
+    if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(args->glyphs);
+    if (!args->location.empty()) {
+      for (const std::string& f : args->files)
+        if (!import::is_font_path(f))
+          throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
+      b.location = import::parse_location(args->location);
+    }
     b.out = args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;

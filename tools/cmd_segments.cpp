@@ -1,7 +1,7 @@
 // cmr segments FILE: the non-empty spans in Bezier form.
 #include <CLI/CLI.hpp>
 
-#include "bezierize/extract.hpp"
+#include "report/analyze_json.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
 
@@ -18,14 +18,7 @@ void add_segments_command(CLI::App& app, int& exit_code) {
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     const BSpline spline = read_spline_file(args->file);
-    nlohmann::ordered_json segs = nlohmann::ordered_json::array();
-    for (const BezierSegment& b : bezier_segments(spline)) {
-      nlohmann::ordered_json pts = nlohmann::ordered_json::array();
-      for (const Vec2& p : b.points) pts.push_back({p.x, p.y});
-      segs.push_back({{"index", b.segment.index}, {"interval", {b.segment.a, b.segment.b}}, {"points", pts}});
-      if (!b.weights.empty()) segs.back()["weights"] = b.weights;
-    }
-    print_json({{"segments", segs}}, args->pretty);
+    print_json(report::segments_json(spline), args->pretty);
     exit_code = kOk;
   });
 }

@@ -7,6 +7,11 @@
 # libocct-data-exchange-dev (OpenCASCADE's STEP reader; it pulls in the other
 # libocct-*-dev packages) and libtbb-dev (a library OCCT's CMake targets name)
 # are for the STEP importer (step/); without them cmr builds without it.
+# python3-fonttools, python3-ufolib2 and fontmake make and build the test
+# UFOs of tests/report/ufo_source_test.py (tools/make_test_ufo.py).
+# pybind11-dev and python3-dev build the Python module (python/, import cmr);
+# python3-numpy, python3-pytest and python3-fonttools run it and its tests
+# (tests/python); python3-matplotlib is for cmr.plot and examples/python.
 # python3-yaml: tests/docs/ci_workflow.py reads examples/ci/cmr-qa.yml.
 set -euo pipefail
 
@@ -25,6 +30,8 @@ packages=(
   fonts-noto-core fonts-texgyre
   strace
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib
+  python3-ufolib2 fontmake
 )
 
 missing=()

@@ -53,8 +53,8 @@ void expect_same(const SplineReport& r, int index, const std::string& ctx) {
   // Findings with text that nlohmann must escape: quotes, a backslash, a
   // control character, UTF-8 and an invalid byte (replaced by U+FFFD).
   const std::vector<Finding> findings = {
-      {"a \"font\".ttf", "O", 1, "p3", "curvature-extrema-at-nodes", "move p3 \\ left\tby 2 \xc3\xa9 \xff"},
-      {"f.ttf", "o", 0, "", "cmr", "plain"}};
+      {"a \"font\".ttf", "O", 1, "p3", "curvature-extrema-at-nodes", "move p3 \\ left\tby 2 \xc3\xa9 \xff", "", 0},
+      {"f.ttf", "o", 0, "", "cmr", "plain", "", 0}};
   const std::string source = "fonts/Dé \"x\".ttf";
   SplineJsonExtras batch;
   batch.source = &source;
@@ -296,28 +296,32 @@ TEST(JsonStream, SarifResultsStreamTheTreesBytes) {
     if (!f.node.empty()) fq += "/c" + std::to_string(f.contour) + "/" + f.node;
     const int index = static_cast<int>(std::find(ids.begin(), ids.end(), f.gate) - ids.begin());
     Json logical = Json::array({Json{{"name", f.node.empty() ? f.glyph : f.node}, {"fullyQualifiedName", fq}, {"kind", "element"}}});
-    Json artifact = {{"uri", path_uri(f.file)}};
-    if (f.file[0] != '/') artifact["uriBaseId"] = "SRCROOT";
+    Json artifact = {{"uri", path_uri(f.source.empty() ? f.file : f.source)}};
+    if ((f.source.empty() ? f.file : f.source)[0] != '/') artifact["uriBaseId"] = "SRCROOT";
+    Json physical = {{"artifactLocation", artifact}};
+    if (f.line > 0) physical["region"] = {{"startLine", f.line}};
     Json r = {{"ruleId", f.gate},
               {"ruleIndex", index < static_cast<int>(ids.size()) ? index : -1},
               {"level", "error"},
               {"message", {{"text", f.message}}},
-              {"locations", Json::array({Json{{"physicalLocation", {{"artifactLocation", artifact}}},
-                                              {"logicalLocations", logical}}})},
+              {"locations", Json::array({Json{{"physicalLocation", physical}, {"logicalLocations", logical}}})},
               {"partialFingerprints", {{"cmrFinding/v1", f.key()}}},
               {"properties", {{"glyph", f.glyph}, {"contour", f.contour}, {"node", f.node}}}};
     if (state) r["baselineState"] = state;
     return dumped(r, -1);
   };
   const std::vector<Finding> findings = {
-      {"/fonts/Sans.ttf", "O", 0, "p3-p4", "curvature-extrema-at-nodes", "O/c0 between nodes p3-p4: sharpest point inside"},
-      {"fonts/Some Font (1).otf", "quote\"back\\slash", 2, "", "cmr", "fails the cmr check\n(verdict none)\t"},
-      {"/f/\xc3\xa9t\xc3\xa9.ttf", "uni00E9", 1, "n\xe2\x80\x93" "2", "g2-at-smooth-nodes:0.05", "\xce\xba jumps \x01"},
-      {"/f/bad\xff.ttf", "bad\xfe", 3, "p1", "unknown-gate", "invalid \xc3 byte"},
+      {"/fonts/Sans.ttf", "O", 0, "p3-p4", "curvature-extrema-at-nodes", "O/c0 between nodes p3-p4: sharpest point inside", "", 0},
+      {"fonts/Some Font (1).otf", "quote\"back\\slash", 2, "", "cmr", "fails the cmr check\n(verdict none)\t", "", 0},
+      {"/f/\xc3\xa9t\xc3\xa9.ttf", "uni00E9", 1, "n\xe2\x80\x93" "2", "g2-at-smooth-nodes:0.05", "\xce\xba jumps \x01", "", 0},
+      {"/f/bad\xff.ttf", "bad\xfe", 3, "p1", "unknown-gate", "invalid \xc3 byte", "", 0},
+      // a font source: the .glif and the <point>'s line (region.startLine)
+      {"Sans.ufo", "O", 1, "p4", "g2-at-smooth-nodes:0.05", "O/c1 at p4: jump", "Sans.ufo/glyphs/O_.glif", 17},
   };
   for (const Finding& f : findings)
     for (const char* state : {static_cast<const char*>(nullptr), "new", "unchanged"}) {
-      const std::string text = sarif_result(f, path_uri(f.file), f.file[0] != '/', options, state);
+      const std::string& where = f.source.empty() ? f.file : f.source;  // a source finding: its .glif
+      const std::string text = sarif_result(f, path_uri(where), where[0] != '/', options, state);
       EXPECT_EQ(text, tree(f, state)) << f.glyph << " " << (state ? state : "-");
       EXPECT_TRUE(Json::parse(text).is_object()) << f.glyph;
     }

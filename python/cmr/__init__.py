@@ -1,0 +1,232 @@
+"""cmr: certified curvature monotonicity of B-spline curves, in Python.
+
+The library under the ``cmr`` command (docs/python.md). Each function mirrors a
+command and returns what the command prints, as Python objects:
+
+    import cmr
+    s = cmr.Spline(3, [[0, 0], [1, 2], [3, 3], [5, 2.5], [6.5, 1], [7, -1]],
+                   knots=[0, 1, 2, 3, 4, 5, 6, 7])
+    cmr.analyze(s)["spline"]["cmrwi"]          # == cmr analyze FILE
+    labels = cmr.region(s, point=3, size=(256, 256), backend="cpu")  # == --labels
+
+Splines are ``cmr.Spline`` objects, dicts in the spline-file format
+(docs/spline-files.md) or paths to spline files; points may be NumPy arrays
+(N x 2 planar, N x 3 space curves). Bad input raises ``cmr.InputError`` (a
+ValueError) with the command's one-line message; environment failures (no
+Vulkan device, a full disk) raise ``cmr.EnvironmentError`` (an OSError).
+Long calls release the GIL; regions, fixes, reports and analyses of more
+than 256 spans can be interrupted with Ctrl-C (KeyboardInterrupt), the
+computation then finishing on its own thread with its result dropped.
+"""
+
+import json
+import os
+import tempfile
+import warnings
+from typing import NamedTuple
+
+from . import _options as _o
+from ._cmr import EnvironmentError, InputError, Spline  # noqa: A004 (cmr.EnvironmentError is the module's own)
+from . import _cmr
+from . import knots  # noqa: F401  (cmr.knots.insert, ...)
+
+__all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
+           "fix", "FixResult", "kcurve", "report", "judge", "knots", "DEFAULT_DEPTH"]
+
+DEFAULT_DEPTH = _cmr.kDefaultDepth
+
+
+class Note(UserWarning):
+    """The command's "note: ..." lines on stderr (an empty region, the CPU
+    fallback of backend="auto", a closed curve's judged spans)."""
+
+
+def _notes(lines):
+    for line in lines:
+        warnings.warn(line, Note, stacklevel=3)
+
+
+def analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=None, each_piece=None,
+            angle_tol=1e-3, curvature_tol=1e-6, torsion=False, **unknown):
+    """``cmr analyze FILE [options]``: the dict the command prints as JSON
+    (keys "segments", "joints", "spline"; docs/analyze.md).
+
+    depth: --depth D; split: --split S or [S1, S2, ...]; mode: "cmrwi" | "cmr";
+    segments: --segments, as A, (A, B) or "A..B"; each_piece: True or
+    [S1, S2, ...] (--each-piece); angle_tol, curvature_tol: --angle-tol,
+    --curvature-tol; torsion: space curves' --torsion.
+    """
+    _o.unknown("analyze", unknown, ["depth", "split", "mode", "segments", "each_piece", "angle_tol",
+                                    "curvature_tol", "torsion"])
+    a = _cmr._AnalyzeArgs()
+    a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
+    a.split = _o.joints("split", split)
+    a.mode = _o.choice("mode", mode, ("cmrwi", "cmr"))
+    a.segments = _o.segment_range(segments)
+    a.each_piece, a.each_piece_joints = _o.each_piece(each_piece)
+    a.angle_tol = _o.number("angle_tol", angle_tol)
+    a.curvature_tol = _o.number("curvature_tol", curvature_tol)
+    if not isinstance(torsion, bool):
+        raise InputError(f"torsion: expected True or False, got {torsion!r}")
+    a.torsion = torsion
+    return _cmr._analyze(_o.spline(spline, "analyze"), a)
+
+
+def segments(spline):
+    """``cmr segments FILE``: {"segments": [{"index", "interval", "points"[, "weights"]}]}."""
+    return _cmr._segments(_o.spline(spline, "segments"))
+
+
+def _region_args(function, spline, point, view, size, mode, split, segments, each_piece, with_, depth, backend,
+                 precision, device, unknown, extra):
+    _o.unknown(function, unknown, ["point", "view", "size", "mode", "split", "segments", "each_piece", "with_",
+                                   "depth", "backend", "precision", "device"] + extra)
+    s = _o.spline(spline, function)
+    a = _cmr._RegionArgs()
+    if point is None:
+        raise InputError(f"{function}: point is required (the control point K placed at every pixel)")
+    a.point = _o.integer("point", point, 0)
+    a.with_ = _o.points_list("with_", with_)
+    a.mode = _o.choice("mode", mode, ("cmrwi", "cmr"))
+    a.split = _o.joints("split", split)
+    a.segments = _o.segment_range(segments)
+    a.each_piece, a.each_piece_joints = _o.each_piece(each_piece)
+    a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
+    a.width, a.height = _o.size(size)
+    a.view = _o.view(view)
+    a.backend = _o.choice("backend", backend, ("auto", "vulkan", "cpu"))
+    a.precision = _o.choice("precision", precision, ("fp64", "fp32"))
+    a.device = _o.text("device", device)
+    return s, a
+
+
+def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
+           each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
+           **unknown):
+    """``cmr region FILE --point K --labels OUT.pgm``: the label map as a
+    numpy.uint8 array of shape (height, width), row 0 at the top, the PGM's
+    bytes (0 not monotone, 1 increasing, 2 decreasing, 3 undecided; with
+    split/each_piece the codes of docs/region.md). view: (x0, y0, x1, y1),
+    default the control polygon's box with a margin; size: (width, height).
+    Notes the command prints on stderr come as cmr.Note warnings.
+    """
+    s, a = _region_args("region", spline, point, view, size, mode, split, segments, each_piece, with_, depth,
+                        backend, precision, device, unknown, [])
+    labels, notes = _cmr._region(s, a, False)
+    _notes(notes)
+    return labels
+
+
+def region_result(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", split=None, segments=None,
+                  each_piece=None, with_=None, depth=DEFAULT_DEPTH, backend="auto", precision="fp64", device="",
+                  depth_map=False, contours=False, **unknown):
+    """region() with the rest of the command's answer, a dict:
+    "labels" (as region()), "counts" (per label name), "summary" (the JSON the
+    command prints, with --stats' timings), "notes" (the stderr lines); with
+    depth_map=True "depth" (uint8 (h, w), the decision level per pixel); with
+    contours=True "areas" (per label, and "undecided-band") and "contours"
+    (per label name, a list of (n, 2) float outlines: counter-clockwise around
+    regions, clockwise around holes; --contours).
+    """
+    s, a = _region_args("region_result", spline, point, view, size, mode, split, segments, each_piece, with_,
+                        depth, backend, precision, device, unknown, ["depth_map", "contours"])
+    a.depth_map = bool(depth_map)
+    a.contours = bool(contours)
+    return _cmr._region(s, a, True)
+
+
+class FixResult(NamedTuple):
+    """cmr.fix's answer: the fixed spline, each moved point's move (the
+    command's "moves"), the certificate (the fixed curve re-judged by
+    analyze) and the whole document `cmr fix` prints."""
+    spline: Spline
+    moves: list
+    certificate: dict
+    document: dict
+
+
+def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_move=None, tolerance=1e-6,
+        depth=DEFAULT_DEPTH, grid=None, **unknown):
+    """``cmr fix FILE --require R``: the nearest certified repair (docs/fix.md).
+
+    require: "cmr", "cmrwi", "split:S[:sharpest|flattest]", "each-piece",
+    "extrema-at-nodes", "no-inflection", "g2-at-smooth-nodes[:tol]",
+    "each-run"; points: the points that may move ([K, ...] or "P1,P3");
+    keep: "g1" | "g2" | "none"; max_move: largest move (default the curve
+    size); grid: the search grids' cells per side (8..512, default 32).
+    Raises InputError when there is no certified fix (the command's exit 2).
+    """
+    _o.unknown("fix", unknown, ["require", "points", "keep", "segments", "max_move", "tolerance", "depth", "grid"])
+    a = _cmr._FixArgs()
+    a.require = _o.text("require", require)
+    a.points = _o.points_list("points", points)
+    a.keep = _o.choice("keep", keep, ("g1", "g2", "none"))
+    a.segments = _o.segment_range(segments)
+    a.max_move = 0.0 if max_move is None else _o.number("max_move", max_move, 0.0)
+    a.tolerance = _o.number("tolerance", tolerance)
+    a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
+    a.grid = 32 if grid is None else _o.integer("grid", grid, 8, 512)
+    fixed, doc = _cmr._fix(_o.spline(spline, "fix"), a)
+    return FixResult(fixed, doc["moves"], doc["certificate"], doc)
+
+
+def kcurve(points, *, closed=False, cubic=False, tolerance=1e-10, max_iterations=10000, **unknown):
+    """``cmr kcurve POINTS.json [--closed] [--cubic]``: the kappa-curve through
+    the points (N x 2) as a cmr.Spline (docs/kcurve.md)."""
+    _o.unknown("kcurve", unknown, ["closed", "cubic", "tolerance", "max_iterations"])
+    tolerance = _o.number("tolerance", tolerance)
+    if not 0 < tolerance < 1:
+        raise InputError(f"tolerance: {tolerance} is outside (0, 1)")
+    spline, notes = _cmr._kcurve(points, bool(closed), bool(cubic), tolerance,
+                                 _o.integer("max_iterations", max_iterations, 1, 1000000))
+    _notes(notes)
+    return spline
+
+
+def judge(spline, *, require="cmrwi", depth=DEFAULT_DEPTH, angle_tol=1e-3, curvature_tol=1e-6, **unknown):
+    """One spline judged as ``cmr report --require R`` judges it (no regions,
+    no fixes): its entry of report.json (docs/report-schema.md), with
+    "status" and each gate's violations."""
+    _o.unknown("judge", unknown, ["require", "depth", "angle_tol", "curvature_tol"])
+    return _cmr._judge(_o.spline(spline, "judge"), _o.text("require", require),
+                       _o.integer("depth", depth, 0, _o.MAX_DEPTH), _o.number("angle_tol", angle_tol),
+                       _o.number("curvature_tol", curvature_tol))
+
+
+def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
+           thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, **unknown):
+    """``cmr report FILES... --out DIR [--require R]``: the batch report of
+    spline files, SVG files, fonts and folders (planar). Writes report.json
+    and index.html to `out` (a temporary folder, removed again, when None)
+    and returns {"exit_code", "summary" (the command's one line), "invalid",
+    "pass", "fail", "items", "findings", "report" (report.json as a dict),
+    "out"}. thumbnails=False is --no-thumbnails, fixes=False --no-fixes.
+    """
+    _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "thumbnails", "fixes",
+                                   "backend", "angle_tol", "curvature_tol"])
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    a = _cmr._ReportArgs()
+    a.files = [os.fspath(p) for p in paths]
+    a.require = _o.text("require", require)
+    a.segments = _o.segment_range(segments)
+    a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
+    a.glyphs = _o.text("glyphs", glyphs)
+    a.thumbnails = bool(thumbnails)
+    a.fixes = bool(fixes)
+    a.backend = _o.choice("backend", backend, ("auto", "vulkan", "cpu"))
+    a.angle_tol = _o.number("angle_tol", angle_tol)
+    a.curvature_tol = _o.number("curvature_tol", curvature_tol)
+
+    def run(folder):
+        a.out = folder
+        result = _cmr._report(a)
+        with open(os.path.join(folder, "report.json"), encoding="utf-8") as f:
+            result["report"] = json.load(f)
+        result["out"] = None if out is None else folder
+        return result
+
+    if out is not None:
+        return run(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="cmr-report-") as folder:
+        return run(os.path.join(folder, "report"))

@@ -1,0 +1,52 @@
+"""cmr.fonttools: fontTools glyphs judged as ``cmr report FONT`` judges them.
+
+    from fontTools.ttLib import TTFont
+    import cmr.fonttools
+    glyphs = TTFont("DejaVuSans.ttf").getGlyphSet()
+    cmr.fonttools.check_glyph(glyphs, "O", require="extrema-at-nodes")
+"""
+
+from . import judge
+from ._cmr import InputError, Spline
+from .pen import SplinePen
+
+__all__ = ["glyph_splines", "check_glyph", "font_degree"]
+
+
+def font_degree(glyph_set):
+    """2 for a TrueType (glyf) glyph set, 3 for a CFF one, None when the
+    glyph set does not say (the pen then takes it from the curves)."""
+    if hasattr(glyph_set, "glyfTable"):
+        return 2
+    if hasattr(glyph_set, "charStrings"):
+        return 3
+    return None
+
+
+def glyph_splines(glyph_set, name, degree=None):
+    """The glyph's contours through cmr.pen.SplinePen, as spline dicts."""
+    if name not in glyph_set:
+        raise InputError(f"{name}: no such glyph in the glyph set")
+    pen = SplinePen(name, degree=degree or font_degree(glyph_set), glyph_set=glyph_set)
+    glyph_set[name].draw(pen)
+    return pen.splines
+
+
+def check_glyph(glyph_set, name, require="cmrwi", **options):
+    """Each contour of glyph `name` judged with ``--require`` `require` (the
+    report's gates: cmrwi, cmr, extrema-at-nodes, g2-at-smooth-nodes, ...;
+    options as cmr.judge). Returns one dict per contour: "contour" (its
+    name, "O/c0"), "status" ("pass" or "fail"), "findings" (one per gate
+    violation: "gate", "message", "segment" or "joint", "t", with the point
+    names of the contour where they say which), "spline" (the spline dict)
+    and "report" (its entry of report.json)."""
+    out = []
+    for d in glyph_splines(glyph_set, name):
+        entry = judge(Spline.from_dict(d), require=require, **options)
+        findings = []
+        for gate in entry.get("gates", []):
+            for v in gate.get("violations", []):
+                findings.append(dict(v, gate=gate.get("gate")))
+        out.append({"contour": d["name"], "status": entry.get("status"), "findings": findings, "spline": d,
+                    "report": entry})
+    return out

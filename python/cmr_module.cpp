@@ -1,0 +1,892 @@
+// cmr._cmr: the pybind11 module under `import cmr` (python/cmr/__init__.py,
+// docs/python.md). It converts at the edge and calls the library functions
+// the cmr command calls, so that every document is the command's own:
+//  * Python values (dicts, lists, NumPy arrays) become the spline file's
+//    JSON and go through spline_from_json / space_spline_from_json: the same
+//    validation and the same one-line messages as `cmr analyze FILE`;
+//  * the documents come from the command's writers (analysis_json_tree,
+//    segments_json, fix_json, space_*_json) and are turned into Python
+//    objects value by value (no JSON text in between);
+//  * errors: cmr::InputError -> cmr.InputError (a ValueError),
+//    cmr::EnvironmentError -> cmr.EnvironmentError (an OSError).
+// Option names and their checks live in the Python layer (cmr/_options.py);
+// this file trusts the types it is given.
+//
+// Long calls release the GIL. Those that may run for seconds (regions,
+// fixes, reports, large analyses) run on a worker thread while the calling
+// thread waits with the GIL released and checks for signals every 50 ms: a
+// KeyboardInterrupt returns at once. The library has no cancellation point,
+// so the abandoned computation runs to its end on its own thread, on its
+// own copies of the inputs, and its result is dropped.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bezierize/analyze.hpp"
+#include "bezierize/contour.hpp"
+#include "bezierize/fix.hpp"
+#include "bezierize/kcurve.hpp"
+#include "bezierize/knot_ops.hpp"
+#include "bezierize/region.hpp"
+#include "bezierize/region_reason.hpp"
+#include "bezierize/segments.hpp"
+#include "bezierize/space_analyze.hpp"
+#include "draw/draw.hpp"
+#include "io/font.hpp"
+#include "report/analyze_json.hpp"
+#include "report/batch.hpp"
+#include "report/corpus.hpp"
+#include "report/fix_json.hpp"
+#include "report/gates.hpp"
+#include "report/report.hpp"
+#include "report/space_report.hpp"
+#include "spline/curvature.hpp"
+#include "spline/errors.hpp"
+#include "spline/limits.hpp"
+#include "spline/space.hpp"
+#include "spline/spline_json.hpp"
+#ifdef CMR_WITH_VULKAN
+#include "vk/backend_choice.hpp"
+#endif
+
+namespace py = pybind11;
+
+namespace cmr::python {
+namespace {
+
+using Json = nlohmann::json;
+using OJson = nlohmann::ordered_json;
+
+// ------------------------------------------------------------ Python -> JSON
+
+std::string type_name(py::handle h) { return py::type::handle_of(h).attr("__name__").cast<std::string>(); }
+
+std::string at(const std::string& where, const std::string& key) { return where.empty() ? key : where + "[" + key + "]"; }
+
+/// A Python value as spline-file JSON; InputError naming `where` for a value
+/// JSON cannot hold.
+Json to_json(py::handle h, const std::string& where) {
+  PyObject* o = h.ptr();
+  if (o == Py_None) return nullptr;
+  if (PyBool_Check(o)) return o == Py_True;
+  if (PyLong_Check(o)) {
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(o, &overflow);
+    if (overflow == 0 && !(v == -1 && PyErr_Occurred())) return v;
+    PyErr_Clear();
+    return PyLong_AsDouble(o);  // beyond 64 bits: a double, as a JSON reader would
+  }
+  if (PyFloat_Check(o)) return PyFloat_AS_DOUBLE(o);
+  if (PyUnicode_Check(o)) {
+    Py_ssize_t n = 0;
+    const char* s = PyUnicode_AsUTF8AndSize(o, &n);
+    if (s == nullptr) {
+      PyErr_Clear();
+      throw InputError(where + ": a string that is not valid Unicode");
+    }
+    return std::string(s, static_cast<std::size_t>(n));
+  }
+  if (PyDict_Check(o)) {
+    Json obj = Json::object();
+    for (auto [k, v] : py::reinterpret_borrow<py::dict>(h)) {
+      if (!PyUnicode_Check(k.ptr())) throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
+      const std::string key = k.cast<std::string>();
+      obj[key] = to_json(v, where.empty() ? key : where + "." + key);
+    }
+    return obj;
+  }
+  if (PyList_Check(o) || PyTuple_Check(o)) {
+    const py::sequence seq = py::reinterpret_borrow<py::sequence>(h);
+    Json arr = Json::array();
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      const py::object item = seq[i];
+      arr.push_back(to_json(item, at(where, std::to_string(i))));
+    }
+    return arr;
+  }
+  if (py::isinstance<py::array>(h)) {
+    const py::array a = py::reinterpret_borrow<py::array>(h);
+    const char kind = a.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+      throw InputError(where + ": a NumPy array of " + py::str(a.dtype()).cast<std::string>() + " is not numbers");
+    return to_json(a.attr("tolist")(), where);
+  }
+  // NumPy scalars (numpy.float64 is a float already; numpy.int64 is not an int).
+  if (py::hasattr(h, "dtype") && py::hasattr(h, "item")) return to_json(h.attr("item")(), where);
+  throw InputError((where.empty() ? std::string("the spline") : where) + ": a " + type_name(h) +
+                   " is not a spline-file value (numbers, lists, NumPy arrays, dicts, strings, booleans)");
+}
+
+// ------------------------------------------------------------ JSON -> Python
+
+py::str utf8(const std::string& s) {
+  // File names that are not UTF-8 get U+FFFD, as the command's JSON does.
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), static_cast<Py_ssize_t>(s.size()), "replace");
+  if (o == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+template <class J>
+py::object to_py(const J& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return py::none();
+    case nlohmann::json::value_t::boolean: return py::bool_(j.template get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.template get<std::int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.template get<std::uint64_t>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.template get<double>());
+    case nlohmann::json::value_t::string: return utf8(j.template get_ref<const std::string&>());
+    case nlohmann::json::value_t::array: {
+      py::list l(j.size());
+      std::size_t i = 0;
+      for (const auto& v : j) {
+        py::object item = to_py(v);
+        PyList_SET_ITEM(l.ptr(), static_cast<Py_ssize_t>(i++), item.release().ptr());
+      }
+      return l;
+    }
+    case nlohmann::json::value_t::object: {
+      py::dict d;
+      for (auto it = j.begin(); it != j.end(); ++it) d[utf8(it.key())] = to_py(it.value());
+      return d;
+    }
+    default: return py::none();
+  }
+}
+
+// ------------------------------------------------------------ running
+
+/// Runs f with the GIL released on a worker thread; the calling thread waits
+/// and checks for signals (KeyboardInterrupt) every 50 ms. f must own what it
+/// uses (it may outlive the call when interrupted).
+template <class F>
+auto interruptible(F f) -> decltype(f()) {
+  using R = decltype(f());
+  auto task = std::make_shared<std::packaged_task<R()>>(std::move(f));
+  std::future<R> result = task->get_future();
+  std::thread worker([task] { (*task)(); });
+  for (;;) {
+    bool ready = false;
+    {
+      py::gil_scoped_release release;
+      ready = result.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready;
+    }
+    if (ready) break;
+    if (PyErr_CheckSignals() != 0) {
+      worker.detach();  // it finishes on its own copies; the result is dropped
+      throw py::error_already_set();
+    }
+  }
+  worker.join();
+  return result.get();
+}
+
+/// Runs f with the GIL released on this thread (short calls).
+template <class F>
+auto released(F f) -> decltype(f()) {
+  py::gil_scoped_release release;
+  return f();
+}
+
+// ------------------------------------------------------------ splines
+
+/// cmr.Spline: a validated planar or space spline (BSpline / SpaceSpline).
+struct Spline {
+  std::variant<BSpline, SpaceSpline> value;
+  std::vector<std::string> point_names;  ///< the file's "point_names", kept for to_dict
+
+  int dimension() const { return value.index() == 0 ? 2 : 3; }
+  const BSpline& planar(const char* what) const {
+    if (const BSpline* s = std::get_if<BSpline>(&value)) return *s;
+    throw InputError(std::string(what) + ": a space curve; this is for planar splines");
+  }
+  const BSpline& shadow() const {
+    return value.index() == 0 ? std::get<BSpline>(value) : std::get<SpaceSpline>(value).shadow();
+  }
+};
+
+Spline spline_from_doc(const Json& doc) {
+  Spline s = spline_dimension(doc) == 3 ? Spline{space_spline_from_json(doc), {}} : Spline{spline_from_json(doc), {}};
+  if (doc.is_object() && doc.contains("point_names") && doc["point_names"].is_array())
+    for (const Json& n : doc["point_names"])
+      if (n.is_string()) s.point_names.push_back(n.get<std::string>());
+  return s;
+}
+
+Json spline_doc(const Spline& s) {
+  Json doc = s.value.index() == 0 ? spline_to_json(std::get<BSpline>(s.value))
+                                  : space_spline_to_json(std::get<SpaceSpline>(s.value));
+  if (!s.point_names.empty()) doc["point_names"] = s.point_names;
+  return doc;
+}
+
+/// The points argument of Spline(...): a NumPy array must be N x 2 or N x 3.
+Json points_json(py::handle points) {
+  if (py::isinstance<py::array>(points)) {
+    const py::array a = py::reinterpret_borrow<py::array>(points);
+    if (a.ndim() != 2 || (a.shape(1) != 2 && a.shape(1) != 3)) {
+      std::string shape = "(";
+      for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+      throw InputError("points: expected an N x 2 or N x 3 array, got shape " + shape + (a.ndim() == 1 ? ",)" : ")"));
+    }
+  }
+  return to_json(points, "points");
+}
+
+Spline make_spline(py::object degree, py::object points, py::object knots, py::object weights, bool closed,
+                   py::object name) {
+  Json doc = Json::object();
+  if (!degree.is_none()) doc["degree"] = to_json(degree, "degree");
+  doc["points"] = points_json(points);
+  if (!knots.is_none()) doc["knots"] = to_json(knots, "knots");
+  if (!weights.is_none()) doc["weights"] = to_json(weights, "weights");
+  if (closed) doc["closed"] = true;
+  if (!name.is_none()) doc["name"] = to_json(name, "name");
+  return spline_from_doc(doc);
+}
+
+py::array_t<double> points_array(const Spline& s) {
+  const int m = s.shadow().unique_point_count(), d = s.dimension();
+  py::array_t<double> a({m, d});
+  auto w = a.mutable_unchecked<2>();
+  for (int k = 0; k < m; ++k) {
+    if (const BSpline* p = std::get_if<BSpline>(&s.value)) {
+      w(k, 0) = p->points()[k].x, w(k, 1) = p->points()[k].y;
+    } else {
+      const Vec3& q = std::get<SpaceSpline>(s.value).points()[k];
+      w(k, 0) = q.x, w(k, 1) = q.y, w(k, 2) = q.z;
+    }
+  }
+  return a;
+}
+
+// ------------------------------------------------------------ analyze, segments
+
+struct AnalyzeArgs {
+  int depth = kDefaultDepth;
+  std::vector<int> split;
+  std::string mode = "cmrwi";
+  std::optional<std::string> segments;
+  bool each_piece = false;
+  std::string each_piece_joints;
+  double angle_tol = 1e-3, curvature_tol = 1e-6;
+  bool torsion = false;
+};
+
+/// Spans above which an analysis runs on the worker (interruptible).
+constexpr int kLongAnalysis = 256;
+
+OJson analyze_doc(const Spline& s, const AnalyzeArgs& a) {
+  ContinuityTolerances continuity{a.angle_tol, a.curvature_tol};
+  if (const SpaceSpline* space = std::get_if<SpaceSpline>(&s.value)) {
+    // cmr analyze on a space curve (tools/cmd_space.cpp: run_space_analyze).
+    if (!a.split.empty() || a.segments || a.mode != "cmrwi" || a.each_piece)
+      throw InputError("a space curve; split, segments, each_piece and mode are for planar splines");
+    SpaceAnalyzeOptions o;
+    o.max_depth = a.depth;
+    o.torsion = a.torsion;
+    o.continuity = continuity;
+    const SpaceAnalysis an = analyze_space(*space, o);
+    OJson segs = OJson::array(), joints = OJson::array();
+    for (std::size_t i = 0; i < an.segments.size(); ++i) segs.push_back(report::space_segment_json(*space, an, i));
+    for (const SpaceJoint& j : an.joints) joints.push_back(report::space_joint_json(an, j));
+    if (an.seam) joints.push_back(report::space_joint_json(an, *an.seam));
+    return {{"segments", segs}, {"joints", joints}, {"spline", report::space_verdict_json(an)}};
+  }
+  const BSpline& spline = std::get<BSpline>(s.value);
+  if (a.torsion) throw InputError("a planar spline; torsion is for space curves");
+  // As tools/cmd_analyze.cpp fills AnalyzeOptions.
+  AnalyzeOptions o;
+  o.classify.max_depth = a.depth;
+  if (a.split.size() == 1) o.split = a.split[0];
+  else o.splits = a.split;
+  if (a.each_piece) {
+    if (!a.split.empty()) throw InputError("each_piece takes the joints itself (each_piece=[S1, S2, ...]): drop split");
+    o.each_piece = true;
+    o.splits = parse_joint_list(a.each_piece_joints, "each_piece");
+  }
+  if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
+  o.split_mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+  o.continuity = continuity;
+  // The command streams this document (report::write_analysis_json, on every
+  // core); its text is byte for byte json_text of analysis_json_tree
+  // (tests/report/analyze_json_test.cpp). A short analysis builds the tree
+  // here; a long one is streamed as the command does and read back.
+  if (spline.segment_count() <= kLongAnalysis)
+    return report::analysis_json_tree(spline, analyze(spline, o), o.splits);
+  std::ostringstream text;
+  report::write_analysis_json(text, spline, o);
+  return OJson::parse(text.str());
+}
+
+py::object analyze_py(const Spline& s, const AnalyzeArgs& a) {
+  OJson doc = s.shadow().segment_count() <= kLongAnalysis ? released([&] { return analyze_doc(s, a); })
+                                                          : interruptible([s, a] { return analyze_doc(s, a); });
+  return to_py(doc);
+}
+
+// ------------------------------------------------------------ regions
+
+struct RegionArgs {
+  int point = 0;
+  std::vector<int> with;
+  std::string mode = "cmrwi";
+  std::vector<int> split;
+  std::optional<std::string> segments;
+  bool each_piece = false;
+  std::string each_piece_joints;
+  int depth = kDefaultDepth;
+  int width = 512, height = 512;
+  std::optional<std::vector<double>> view;
+  std::string backend = "auto", precision = "fp64", device;
+  bool depth_map = false, contours = false;
+};
+
+/// The backend of backend=, precision=, device= (tools/cli_common.cpp:
+/// make_region_backend); its fallback note goes to `note`.
+std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a, const std::function<void(const std::string&)>& note) {
+#ifdef CMR_WITH_VULKAN
+  vk::BackendChoice choice;
+  choice.kind = a.backend == "cpu" ? vk::BackendKind::cpu
+                : a.backend == "auto" ? vk::BackendKind::automatic
+                                      : vk::BackendKind::vulkan;
+  choice.precision = a.precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
+  choice.device = a.device;
+  return vk::make_region_backend(choice, note);
+#else
+  (void)note;
+  if (a.backend == "vulkan") throw EnvironmentError("this cmr module was built without Vulkan (CMR_WITH_VULKAN=OFF)");
+  return std::make_shared<CpuRegionBackend>();
+#endif
+}
+
+struct RegionOut {
+  RegionResult image;
+  std::optional<RegionContours> contours;
+  OJson summary;
+  std::vector<std::string> notes;
+};
+
+/// As tools/cmd_region.cpp: region_options, validated_problems (one point),
+/// render_all, point_summary, contours_of, region_summary.
+RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
+  RegionOut out;
+  RegionRequest o;
+  o.width = a.width;
+  o.height = a.height;
+  o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
+  if (a.split.size() == 1) o.split = a.split[0];
+  else o.splits = a.split;
+  if (a.each_piece) {
+    if (!a.split.empty()) throw InputError("each_piece takes the joints itself (each_piece=[S1, S2, ...]): drop split");
+    o.each_piece = true;
+    o.splits = parse_joint_list(a.each_piece_joints, "each_piece");
+  }
+  if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
+  o.max_depth = a.depth;
+  o.with = a.with;
+  if (a.view) o.view = View{(*a.view)[0], (*a.view)[1], (*a.view)[2], (*a.view)[3]};
+  o.depth = a.depth_map;
+  o.point = a.point;
+  if (spline.closed() && !o.segments && !o.split && o.splits.empty() && !o.each_piece) {
+    if (const auto r = closed_support_range(spline, a.point, o.with)) {
+      o.segments = r;
+      out.notes.push_back("note: closed curve: P" + std::to_string(a.point) + "'s region judges the spans it acts on, " +
+                          "segments " + std::to_string(r->first) + ".." + std::to_string(r->last) +
+                          " (give segments= to choose others)");
+    }
+  }
+  const RegionProblem problem = RegionProblem::make(spline, o);
+  const std::shared_ptr<RegionBackend> backend =
+      region_backend(a, [&out](const std::string& note) { out.notes.push_back("note: " + note); });
+  // A judged span with a pole makes every position fail (cmd_region.cpp: note_poles).
+  const SegmentRange range = judged_range(problem.request().segments, spline.segment_count());
+  for (int i = range.first; i <= range.last; ++i)
+    if (const std::vector<double> poles = segment_poles(spline, spline.segments()[i]); !poles.empty()) {
+      std::ostringstream t;
+      t.precision(6);
+      t << poles.front();
+      out.notes.push_back("note: segment " + std::to_string(i) + " has a pole (W = 0 at t = " + t.str() +
+                          "): every position fails; the weights do not move with the point");
+      break;
+    }
+  const auto t0 = std::chrono::steady_clock::now();
+  out.image = backend->render(problem);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const RegionResult& img = out.image;
+  std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
+  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  OJson c = OJson::object();
+  for (int l = 0; l < img.label_codes(); ++l) c[img.label_name(static_cast<std::uint8_t>(l))] = counts[l];
+  const std::uint64_t monotone = img.each_piece ? counts[1]
+                                 : img.split    ? counts[1] + counts[2] + counts[3] + counts[4]
+                                                : counts[1] + counts[2];
+  const std::optional<std::string> why = region_reason(problem, img);
+  if (monotone == 0)
+    out.notes.push_back("note: P" + std::to_string(a.point) + " has no " + (a.mode == "cmr" ? "CMR" : "CMRWI") +
+                        (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
+                        " in this view (its region is empty here): " + why.value_or("see view="));
+  else if (why)
+    out.notes.push_back("note: " + *why);
+  OJson entry = {{"point", a.point}, {"counts", c}, {"seconds", seconds}, {"exact_pixels", img.exact_pixels},
+                 {"exact_share", static_cast<double>(img.exact_pixels) / static_cast<double>(img.size())}};
+  if (a.contours) {
+    out.contours = region_contours(problem, img);
+    OJson areas = OJson::object();
+    for (const LabelContours& lc : out.contours->labels) areas[img.label_name(lc.label)] = lc.area;
+    areas[kUndecidedBandName] = out.contours->band.area;
+    entry["areas"] = areas;
+  }
+  const RegionRequest& r = problem.request();
+  out.summary = {{"width", r.width},   {"height", r.height}, {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
+                 {"mode", a.mode},     {"backend", backend->name()}, {"points", OJson::array({entry})}};
+  if (r.split) out.summary["split"] = *r.split;
+  if (!r.splits.empty() && !r.each_piece) out.summary["split"] = r.splits;
+  if (r.each_piece) out.summary["each_piece"] = each_piece_cuts(judged_range(r.segments, spline.segment_count()), r.splits);
+  if (r.segments) {
+    OJson ignored = OJson::array();
+    for (int seg = 0; seg < spline.segment_count(); ++seg)
+      if (seg < r.segments->first || seg > r.segments->last) ignored.push_back(seg);
+    out.summary["segments"] = {r.segments->first, r.segments->last};
+    out.summary["ignored_segments"] = ignored;
+  }
+  out.summary["seconds"] = seconds;
+  return out;
+}
+
+/// The label codes as a (height, width) uint8 array: one pass over the
+/// result into the array's own buffer (the PGM's bytes, row 0 at the top).
+py::array_t<std::uint8_t> label_array(const RegionResult& img) {
+  py::array_t<std::uint8_t> a({img.height, img.width});
+  std::uint8_t* p = a.mutable_data();
+  for (std::size_t i = 0; i < img.size(); ++i) p[i] = img.code_at(i);
+  return a;
+}
+
+py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
+  const BSpline spline = s.planar("region");
+  auto out = std::make_shared<RegionOut>(interruptible([spline, a] { return region_run(spline, a); }));
+  py::array_t<std::uint8_t> labels = label_array(out->image);
+  if (!full) {
+    py::list notes;
+    for (const std::string& n : out->notes) notes.append(utf8(n));
+    return py::make_tuple(labels, notes);
+  }
+  py::dict r;
+  r["labels"] = labels;
+  r["summary"] = to_py(out->summary);
+  r["counts"] = to_py(out->summary["points"][0]["counts"]);
+  if (out->contours) r["areas"] = to_py(out->summary["points"][0]["areas"]);
+  py::list notes;
+  for (const std::string& n : out->notes) notes.append(utf8(n));
+  r["notes"] = notes;
+  if (a.depth_map) {
+    py::array_t<std::uint8_t> depth({out->image.height, out->image.width});
+    std::copy(out->image.depth.begin(), out->image.depth.end(), depth.mutable_data());
+    r["depth"] = depth;
+  }
+  if (out->contours) {
+    // Per label: its outlines as (n, 2) float arrays (counter-clockwise around
+    // regions, clockwise around holes) and its area.
+    py::dict contours;
+    auto outlines = [](const LabelContours& lc) {
+      py::list loops;
+      for (const std::vector<int>& loop : lc.outlines) {
+        py::array_t<double> xy({static_cast<py::ssize_t>(loop.size()), py::ssize_t{2}});
+        auto w = xy.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < loop.size(); ++i) w(i, 0) = lc.vertices[loop[i]].x, w(i, 1) = lc.vertices[loop[i]].y;
+        loops.append(xy);
+      }
+      return loops;
+    };
+    for (const LabelContours& lc : out->contours->labels) contours[utf8(out->image.label_name(lc.label))] = outlines(lc);
+    contours[kUndecidedBandName] = outlines(out->contours->band);
+    r["contours"] = contours;
+  }
+  return r;
+}
+
+// ------------------------------------------------------------ fix
+
+struct FixArgs {
+  std::string require = "cmr";
+  std::vector<int> points;
+  std::string keep = "g1";
+  std::optional<std::string> segments;
+  double max_move = 0, tolerance = 1e-6;
+  int depth = kDefaultDepth;
+  int grid = 32;
+};
+
+py::object fix_py(const Spline& s, const FixArgs& a) {
+  const BSpline spline = s.planar("fix (space curves: cmr fix FILE)");
+  if (!(a.max_move >= 0) || !std::isfinite(a.max_move))
+    throw InputError("max_move: " + std::to_string(a.max_move) + " is not a distance >= 0");
+  // As tools/cmd_fix.cpp fills FixRequest.
+  FixRequest request;
+  request.requirement = parse_fix_requirement(a.require);
+  if (a.segments) request.requirement.segments = parse_segment_range(*a.segments, "segments");
+  request.points = a.points;
+  request.together = request.points.size() > 1;
+  request.keep = a.keep == "g2" ? Keep::g2 : a.keep == "none" ? Keep::none : Keep::g1;
+  request.max_move = a.max_move;
+  request.tolerance = a.tolerance;
+  request.max_depth = a.depth;
+  request.grid = a.grid;
+  const FixResult f = interruptible([spline, request] { return fix(spline, request); });
+  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
+  Spline fixed{*f.spline, s.point_names};
+  return py::make_tuple(fixed, to_py(report::fix_json(std::nullopt, request, f)));
+}
+
+// ------------------------------------------------------------ knots, kcurve
+
+Spline knots_op(const Spline& s, const std::string& op, double u, int times, std::optional<double> tol, int index) {
+  const BSpline& spline = s.planar("knots");
+  // As tools/cmd_knots.cpp: apply().
+  const BSpline result = released([&]() -> BSpline {
+    if (op == "insert") return insert_knot(spline, u, times);
+    if (op == "remove") return remove_knot(spline, u, tol.value_or(kRemovalRelativeTolerance * extent(spline))).spline;
+    if (op == "set") return set_knot(spline, index, u);
+    if (op == "clamp") return clamp(spline);
+    if (op == "uniform") return make_uniform(spline);
+    if (op == "elevate") return elevate_degree(spline);
+    if (op == "refine") return refine(spline);
+    throw InputError("knots: unknown operation '" + op + "' (insert, remove, set, clamp, uniform, elevate, refine)");
+  });
+  return Spline{result, {}};
+}
+
+py::object kcurve_py(py::handle points, bool closed, bool cubic, double tolerance, int max_iterations) {
+  // The points file's checks (tools/cmd_kcurve.cpp: kcurve_points_from_json).
+  const Json pts = points_json(points);
+  if (!pts.is_array()) throw InputError("points: not an array of [x, y] pairs");
+  std::vector<Vec2> input;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const std::string where = "points[" + std::to_string(i) + "]";
+    if (!pts[i].is_array() || pts[i].size() != 2) throw InputError(where + " is not an [x, y] pair");
+    for (int c = 0; c < 2; ++c) {
+      if (!pts[i][c].is_number()) throw InputError(where + "[" + std::to_string(c) + "] is not a number");
+      if (!std::isfinite(pts[i][c].get<double>()))
+        throw InputError(where + "[" + std::to_string(c) + "] is not a finite number");
+    }
+    input.emplace_back(pts[i][0].get<double>(), pts[i][1].get<double>());
+  }
+  KCurveOptions options;
+  options.closed = closed;
+  options.tolerance = tolerance;
+  options.max_iterations = max_iterations;
+  const KCurve curve = interruptible([input, options] { return kcurve(input, options); });
+  // The command's two refusals, in its words (without the file name).
+  if (!curve.converged()) {
+    std::ostringstream why;
+    why << "the kappa-curve did not converge in " << curve.iterations << " iterations (residual " << curve.residual
+        << " > tolerance " << curve.tolerance
+        << "); very sharp turns and nearly collinear points converge slowly: spread the points or raise tolerance";
+    throw InputError(why.str());
+  }
+  if (cubic) {
+    const std::vector<int> uncertified = kcurve_cubic_uncertified(curve);
+    if (!uncertified.empty())
+      throw InputError("piece " + std::to_string(uncertified.front()) +
+                       " of the cubic chain could not be certified monotone (its curvature maximum is not on a joint)");
+  }
+  py::list notes;
+  for (const std::string& line : kcurve_off_point_notes(curve, input)) notes.append(utf8("note: " + line));
+  const BSpline spline = cubic ? kcurve_cubic_chain(curve) : kcurve_quadratic_spline(curve);
+  return py::make_tuple(Spline{spline, {}}, notes);
+}
+
+// ------------------------------------------------------------ report
+
+struct ReportArgs {
+  std::vector<std::string> files;
+  std::string out;
+  std::string require;
+  std::optional<std::string> segments;
+  int depth = kDefaultDepth;
+  bool thumbnails = false;
+  bool fixes = false;
+  std::string glyphs = "A-Z,a-z";
+  double angle_tol = 1e-3, curvature_tol = 1e-6;
+  std::string backend = "cpu";
+};
+
+py::object report_py(const ReportArgs& a) {
+  // As tools/cmd_report.cpp (planar files: spline files, SVG files, fonts).
+  ContinuityTolerances continuity{a.angle_tol, a.curvature_tol};
+  validate(continuity);
+  report::ReportOptions o;
+  o.continuity = continuity;
+  if (!a.require.empty()) report::parse_require_list(a.require, o);
+  if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
+  o.max_depth = a.depth;
+  o.regions = a.thumbnails;
+  RegionArgs ra;
+  ra.backend = a.backend;
+  o.backend = region_backend(ra, [](const std::string&) {});  // the CPU backend by default: no note
+  report::BatchOptions b;
+  b.codepoints = import::parse_glyph_spec(a.glyphs);
+  b.out = a.out;
+  b.fixes = a.fixes;
+  b.report = std::move(o);
+  const std::vector<std::string> files = report::collect_files(a.files, {});
+  const report::BatchSummary s = interruptible([files, b] { return report::run_batch(files, b); });
+  py::dict r;
+  r["exit_code"] = s.exit_code;
+  r["summary"] = utf8(report::summary_line(s));
+  py::list invalid;
+  for (const std::string& e : s.invalid_messages) invalid.append(utf8(e));
+  r["invalid"] = invalid;
+  r["pass"] = s.pass, r["fail"] = s.fail, r["items"] = s.items, r["findings"] = s.findings;
+  return r;
+}
+
+/// One spline judged as `cmr report` judges it, without regions or fixes
+/// (report/batch.hpp: judged_report): its entry of the cmr-report/2
+/// document (docs/report-schema.md), the gates' violations included.
+py::object judge_py(const Spline& s, const std::string& require, int depth, double angle_tol, double curvature_tol) {
+  const BSpline spline = s.planar("judge");
+  report::ReportOptions o;
+  o.continuity = ContinuityTolerances{angle_tol, curvature_tol};
+  validate(o.continuity);
+  if (!require.empty()) report::parse_require_list(require, o);
+  o.max_depth = depth;
+  o.regions = false;
+  OJson doc = released([&] {
+    const report::SplineReport r = report::judged_report(spline, o);
+    return report::report_json({r}, o);
+  });
+  return to_py(doc["splines"][0]);
+}
+
+// ------------------------------------------------------------ fonts
+
+/// One contour of the pen (python/cmr/pen.py) through io/font.cpp's builder:
+/// the spline file of `cmr import`, or None for a contour without a piece.
+py::object font_contour(py::array_t<double, py::array::c_style | py::array::forcecast> xy, const std::string& tags,
+                        int contour, int degree, const std::string& glyph) {
+  if (xy.ndim() != 2 || xy.shape(1) != 2 || static_cast<std::size_t>(xy.shape(0)) != tags.size())
+    throw InputError("font contour: expected N x 2 points and N tags");
+  if (degree != 2 && degree != 3) throw InputError("font contour: degree " + std::to_string(degree) + " is not 2 or 3");
+  std::vector<import::OutlinePoint> outline(tags.size());
+  auto r = xy.unchecked<2>();
+  for (std::size_t i = 0; i < tags.size(); ++i) {
+    const char t = tags[i];
+    if (t != 'o' && t != 'q' && t != 'c') throw InputError("font contour: tag '" + std::string(1, t) + "' is not o, q or c");
+    outline[i] = {{r(i, 0), r(i, 1)},
+                  t == 'o' ? import::OutlinePoint::Tag::on
+                  : t == 'q' ? import::OutlinePoint::Tag::conic
+                             : import::OutlinePoint::Tag::cubic};
+  }
+  const std::optional<import::Contour> c = import::outline_contour(outline, contour, degree, glyph, import::PointNaming::editor);
+  if (!c) return py::none();
+  return to_py(import::contour_json(*c));
+}
+
+}  // namespace
+}  // namespace cmr::python
+
+PYBIND11_MODULE(_cmr, m) {
+  using namespace cmr;
+  using namespace cmr::python;
+  m.doc() = "cmr's C++ library (see the cmr package and docs/python.md)";
+  // cmr::InputError and cmr::EnvironmentError (and the backends' errors
+  // derived from it) with their one-line messages.
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<EnvironmentError>(m, "EnvironmentError", PyExc_OSError);
+
+  py::class_<Spline>(m, "Spline")
+      .def(py::init(&make_spline), py::arg("degree"), py::arg("points"), py::arg("knots") = py::none(),
+           py::arg("weights") = py::none(), py::arg("closed") = false, py::arg("name") = py::none())
+      .def_static("from_dict", [](py::handle d) { return spline_from_doc(to_json(d, "")); })
+      .def_static("load",
+                  [](const std::string& path) {
+                    try {
+                      return spline_from_doc(read_spline_document(path));
+                    } catch (const InputError& e) {
+                      const std::string what = e.what();
+                      if (what.rfind(path + ":", 0) == 0) throw;
+                      throw InputError(path + ": " + what);
+                    }
+                  })
+      .def("to_dict", [](const Spline& s) { return to_py(spline_doc(s)); })
+      .def_property_readonly("degree", [](const Spline& s) { return s.shadow().degree(); })
+      .def_property_readonly("dimension", &Spline::dimension)
+      .def_property_readonly("closed", [](const Spline& s) { return s.shadow().closed(); })
+      .def_property_readonly("name", [](const Spline& s) { return s.shadow().name(); })
+      .def_property_readonly("knots", [](const Spline& s) { return s.shadow().period_knots(); })
+      .def_property_readonly("points", &points_array)
+      .def_property_readonly("weights",
+                             [](const Spline& s) -> py::object {
+                               const BSpline& b = s.shadow();
+                               if (!b.is_rational()) return py::none();
+                               return py::cast(std::vector<double>(b.weights().begin(),
+                                                                   b.weights().begin() + b.unique_point_count()));
+                             })
+      .def_property_readonly("point_names", [](const Spline& s) { return s.point_names; })
+      .def_property_readonly("segment_count", [](const Spline& s) { return s.shadow().segment_count(); })
+      .def_property_readonly("domain", [](const Spline& s) {
+        return py::make_tuple(s.shadow().domain_begin(), s.shadow().domain_end());
+      })
+      .def_property_readonly("segment_intervals", [](const Spline& s) {
+        std::vector<std::pair<double, double>> v;
+        for (const Segment& seg : s.shadow().segments()) v.emplace_back(seg.a, seg.b);
+        return v;
+      })
+      .def("evaluate",
+           [](const Spline& s, py::array_t<double, py::array::forcecast> t) {
+             const BSpline& b = s.planar("evaluate");
+             auto ts = t.unchecked<1>();
+             py::array_t<double> out({ts.shape(0), py::ssize_t{2}});
+             auto w = out.mutable_unchecked<2>();
+             for (py::ssize_t i = 0; i < ts.shape(0); ++i) {
+               const Vec2 p = evaluate(b, ts(i));
+               w(i, 0) = p.x, w(i, 1) = p.y;
+             }
+             return out;
+           },
+           py::arg("t"), "C(t) at each parameter of a 1-D array: an (n, 2) array")
+      .def("derivative",
+           [](const Spline& s, py::array_t<double, py::array::forcecast> t, int r) {
+             const BSpline& b = s.planar("derivative");
+             if (r < 0 || r > b.degree())
+               throw InputError("derivative: order " + std::to_string(r) + " is outside 0.." + std::to_string(b.degree()));
+             auto ts = t.unchecked<1>();
+             py::array_t<double> out({ts.shape(0), py::ssize_t{2}});
+             auto w = out.mutable_unchecked<2>();
+             for (py::ssize_t i = 0; i < ts.shape(0); ++i) {
+               const Vec2 p = derivative(b, ts(i), r);
+               w(i, 0) = p.x, w(i, 1) = p.y;
+             }
+             return out;
+           },
+           py::arg("t"), py::arg("r") = 1, "the r-th derivative C^(r)(t) at each parameter: an (n, 2) array")
+      .def("curvature",
+           [](const Spline& s, py::array_t<double, py::array::forcecast> t) {
+             const BSpline& b = s.planar("curvature");
+             auto ts = t.unchecked<1>();
+             py::array_t<double> out(ts.shape(0));
+             auto w = out.mutable_unchecked<1>();
+             for (py::ssize_t i = 0; i < ts.shape(0); ++i) w(i) = curvature(b, ts(i));
+             return out;
+           },
+           py::arg("t"), "signed curvature at each parameter of a 1-D array")
+      .def("__repr__", [](const Spline& s) {
+        const BSpline& b = s.shadow();
+        return "cmr.Spline(degree=" + std::to_string(b.degree()) + ", points=" + std::to_string(b.unique_point_count()) +
+               " x " + std::to_string(s.dimension()) + ", segments=" + std::to_string(b.segment_count()) +
+               (b.closed() ? ", closed" : "") + (b.is_rational() ? ", rational" : "") +
+               (b.name().empty() ? "" : ", name=" + b.name()) + ")";
+      });
+
+  py::class_<AnalyzeArgs>(m, "_AnalyzeArgs")
+      .def(py::init<>())
+      .def_readwrite("depth", &AnalyzeArgs::depth)
+      .def_readwrite("split", &AnalyzeArgs::split)
+      .def_readwrite("mode", &AnalyzeArgs::mode)
+      .def_readwrite("segments", &AnalyzeArgs::segments)
+      .def_readwrite("each_piece", &AnalyzeArgs::each_piece)
+      .def_readwrite("each_piece_joints", &AnalyzeArgs::each_piece_joints)
+      .def_readwrite("angle_tol", &AnalyzeArgs::angle_tol)
+      .def_readwrite("curvature_tol", &AnalyzeArgs::curvature_tol)
+      .def_readwrite("torsion", &AnalyzeArgs::torsion);
+  m.def("_analyze", &analyze_py);
+  m.def("_segments", [](const Spline& s) {
+    const BSpline& b = s.planar("segments");
+    return to_py(released([&] { return report::segments_json(b); }));
+  });
+
+  py::class_<RegionArgs>(m, "_RegionArgs")
+      .def(py::init<>())
+      .def_readwrite("point", &RegionArgs::point)
+      .def_readwrite("with_", &RegionArgs::with)
+      .def_readwrite("mode", &RegionArgs::mode)
+      .def_readwrite("split", &RegionArgs::split)
+      .def_readwrite("segments", &RegionArgs::segments)
+      .def_readwrite("each_piece", &RegionArgs::each_piece)
+      .def_readwrite("each_piece_joints", &RegionArgs::each_piece_joints)
+      .def_readwrite("depth", &RegionArgs::depth)
+      .def_readwrite("width", &RegionArgs::width)
+      .def_readwrite("height", &RegionArgs::height)
+      .def_readwrite("view", &RegionArgs::view)
+      .def_readwrite("backend", &RegionArgs::backend)
+      .def_readwrite("precision", &RegionArgs::precision)
+      .def_readwrite("device", &RegionArgs::device)
+      .def_readwrite("depth_map", &RegionArgs::depth_map)
+      .def_readwrite("contours", &RegionArgs::contours);
+  m.def("_region", &region_py);
+
+  py::class_<FixArgs>(m, "_FixArgs")
+      .def(py::init<>())
+      .def_readwrite("require", &FixArgs::require)
+      .def_readwrite("points", &FixArgs::points)
+      .def_readwrite("keep", &FixArgs::keep)
+      .def_readwrite("segments", &FixArgs::segments)
+      .def_readwrite("max_move", &FixArgs::max_move)
+      .def_readwrite("tolerance", &FixArgs::tolerance)
+      .def_readwrite("depth", &FixArgs::depth)
+      .def_readwrite("grid", &FixArgs::grid);
+  m.def("_fix", &fix_py);
+
+  m.def("_knots", &knots_op);
+  m.def("_kcurve", &kcurve_py);
+
+  py::class_<ReportArgs>(m, "_ReportArgs")
+      .def(py::init<>())
+      .def_readwrite("files", &ReportArgs::files)
+      .def_readwrite("out", &ReportArgs::out)
+      .def_readwrite("require", &ReportArgs::require)
+      .def_readwrite("segments", &ReportArgs::segments)
+      .def_readwrite("depth", &ReportArgs::depth)
+      .def_readwrite("thumbnails", &ReportArgs::thumbnails)
+      .def_readwrite("fixes", &ReportArgs::fixes)
+      .def_readwrite("glyphs", &ReportArgs::glyphs)
+      .def_readwrite("angle_tol", &ReportArgs::angle_tol)
+      .def_readwrite("curvature_tol", &ReportArgs::curvature_tol)
+      .def_readwrite("backend", &ReportArgs::backend);
+  m.def("_report", &report_py);
+  m.def("_judge", &judge_py);
+
+  m.def("_font_contour", &font_contour);
+  m.def("_label_colour", [](int label, bool split) {
+    // The legend's colour of a plain (Direction) or split label code (draw/draw.hpp).
+    const draw::Rgb c = draw::label_colour(static_cast<std::uint8_t>(label), split);
+    return py::make_tuple(c.r, c.g, c.b);
+  });
+  m.def("_time_analyze",
+        [](const Spline& s, int n, bool document) {
+          // The C++ side of tools/bench/python_overhead.py: n calls of
+          // analyze() (and, with `document`, analysis_json_tree), no Python.
+          const BSpline& b = s.planar("_time_analyze");
+          py::gil_scoped_release release;
+          std::size_t sink = 0;
+          const auto t0 = std::chrono::steady_clock::now();
+          for (int i = 0; i < n; ++i) {
+            const SplineAnalysis a = analyze(b, AnalyzeOptions{});
+            sink += a.segments.size();
+            if (document) sink += report::analysis_json_tree(b, a, {}).size();
+          }
+          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          return sink > 0 ? seconds : -seconds;
+        },
+        py::arg("spline"), py::arg("n"), py::arg("document") = false);
+  m.attr("kDefaultDepth") = kDefaultDepth;
+  m.attr("kMaxDepth") = kMaxDepth;
+  m.attr("kMaxDegree") = kMaxDegree;
+  m.attr("kMaxImageSize") = kMaxImageSize;
+}

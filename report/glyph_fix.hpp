@@ -1,0 +1,55 @@
+#pragma once
+/// One fix for every gate of a glyph, on the font's grid (`cmr fix
+/// FONT.ufo --glyph NAME --require GATES`, docs/fix.md "Font sources").
+///
+/// Per contour that fails: the judge is every required check at once (the
+/// report's model and gates, judged_report: the count of violations of all
+/// of them, plus one when the requirement fails), handed to fix() as its
+/// judge (FixRequest::judge) with the requirement that implies the first
+/// failing gate as the search's guide; G1 kept at smooth nodes
+/// (Keep::g1); only the source's own points move, and never a straight
+/// piece: a line's added inner points are no source points, and a node at
+/// either end of a line stays where it is (so a line stays a line). The
+/// off-grid fix is then snapped to the grid (bezierize/fix_grid.hpp: the
+/// cheapest grid positions near it that the same judge passes). The result
+/// is re-judged gate by gate, before and after, and a fix that makes any
+/// required gate worse is none.
+#include <string>
+#include <vector>
+
+#include "bezierize/fix_grid.hpp"
+#include "io/font.hpp"
+#include "report/report.hpp"
+
+namespace cmr::report {
+
+struct GlyphFixOptions {
+  ReportOptions judge;     ///< the requirement and gates (regions and fixes off)
+  double grid = 1;         ///< the font's grid; 0: off-grid (the fix as found)
+  double max_move = 0;     ///< largest move of any point (font units); 0: the contour's size
+  double max_seconds = 20; ///< per contour, search and snapping each
+};
+
+/// One gate's violations before and after.
+struct GateCount {
+  std::string check;
+  int before = 0, after = 0;
+};
+
+struct ContourFix {
+  int contour = 0;          ///< Contour::index
+  bool already = false;     ///< passes as it is
+  bool fixed = false;
+  std::string reason;       ///< why not fixed (one line)
+  std::vector<PointMove> moves;         ///< control point indices of the contour's spline
+  std::vector<std::string> names;       ///< per move: the point's name
+  std::vector<int> source_points;       ///< per move: its index in the source contour
+  std::vector<GateCount> rejudged;      ///< every required check, before and after
+  double off_grid_distance = 0;         ///< the largest move of the off-grid fix
+  double seconds = 0;
+};
+
+/// Fixes every failing contour of `glyph` (see the header comment).
+std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options);
+
+}  // namespace cmr::report

@@ -1,0 +1,228 @@
+#!/usr/bin/python3
+"""Font sources end to end: a UFO made from Nimbus Sans (CFF: cubic `curve`
+contours) and one from DejaVu Sans (TrueType: `qcurve` contours) by
+tools/make_test_ufo.py, then `cmr report`, `cmr import` and `cmr fix` on
+them, and malformed sources.
+
+    ufo_source_test.py SOURCE_DIR CMR
+
+Prints "N passed, M failed" and exits 1 on any failure.
+"""
+import filecmp
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SRC, CMR = sys.argv[1], sys.argv[2]
+PY = "/usr/bin/python3"
+NIMBUS = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf"
+DEJAVU = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+results = []
+
+
+def check(name, ok, detail=""):
+    results.append(bool(ok))
+    print(("PASS " if ok else "FAIL ") + name + ("" if ok else ": " + detail))
+
+
+def run(*args, cwd=None):
+    return subprocess.run([CMR, *args], cwd=cwd, capture_output=True, text=True, timeout=300)
+
+
+def tree_files(root):
+    out = []
+    for d, _, files in os.walk(root):
+        out += [os.path.relpath(os.path.join(d, f), root) for f in files]
+    return sorted(out)
+
+
+def only_xy_changed(a, b):
+    """Every line the same but for x/y values of <point>s; new values integers."""
+    la, lb = open(a).read().split("\n"), open(b).read().split("\n")
+    if len(la) != len(lb):
+        return False, "line count differs"
+    changed = 0
+    for x, y in zip(la, lb):
+        if x == y:
+            continue
+        changed += 1
+        strip = lambda s: re.sub(r'\b([xy])="[^"]*"', r'\1=""', s)
+        if "<point" not in x or strip(x) != strip(y):
+            return False, "a line other than x/y changed: " + y
+        for v in re.findall(r'\b[xy]="([^"]*)"', y):
+            if not re.fullmatch(r"-?\d+", v):
+                return False, "not an integer coordinate: " + v
+    return changed > 0, "%d lines changed" % changed
+
+
+def main():
+    tmp = tempfile.mkdtemp(prefix="cmr-ufo-")
+    try:
+        nimbus = os.path.join(tmp, "Nimbus.ufo")
+        dejavu = os.path.join(tmp, "DejaVu.ufo")
+        subprocess.run([PY, os.path.join(SRC, "tools/make_test_ufo.py"), NIMBUS, nimbus], check=True)
+        subprocess.run([PY, os.path.join(SRC, "tools/make_test_ufo.py"), DEJAVU, dejavu], check=True)
+
+        # report: SARIF results on the .glif's <point> lines
+        r = run("report", "Nimbus.ufo", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--out", "r",
+                "--sarif", "r.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("report exits 1 on findings", r.returncode == 1, r.stderr)
+        sarif = json.load(open(os.path.join(tmp, "r.sarif")))
+        res = sarif["runs"][0]["results"]
+        on_point = 0
+        for x in res:
+            loc = x["locations"][0]["physicalLocation"]
+            uri, line = loc["artifactLocation"]["uri"], loc.get("region", {}).get("startLine", 0)
+            path = uri[len("file://"):] if uri.startswith("file://") else os.path.join(tmp, uri)
+            if uri.endswith(".glif") and line > 0 and "<point" in open(path).read().split("\n")[line - 1]:
+                on_point += 1
+        check("every SARIF finding on its <point> line", len(res) > 0 and on_point == len(res),
+              "%d of %d" % (on_point, len(res)))
+        r = run("report", "DejaVu.ufo", "--glyphs", "all", "--out", "r2", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("a TrueType-flavoured (qcurve) UFO reports every glyph", r.returncode in (0, 1) and "52 glyphs" in r.stdout,
+              r.stdout + r.stderr)
+
+        # import: names in the .glif's own order
+        r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "imp", cwd=tmp)
+        names = json.load(open(os.path.join(tmp, "imp", "O_c0.json")))["point_names"] if r.returncode == 0 else []
+        check("import names points GLYPH/cC/pP", names[:3] == ["O/c0/p0", "O/c0/p1", "O/c0/p2"], str(names[:3]) + r.stderr)
+        r = run("fix", "imp/O_c0.json", "--require", "extrema-at-nodes", "--points", "p1,O/c0/p5,p11,p14", "--out",
+                "o.json", cwd=tmp)
+        check("fix --points takes the report's point names", r.returncode == 0, r.stderr)
+        out = json.load(open(os.path.join(tmp, "o.json"))) if r.returncode == 0 else {}
+        check("fix --out keeps point_names", out.get("point_names", [])[:2] == ["O/c0/p0", "O/c0/p1"], str(out)[:200])
+        r = run("fix", "imp/O_c0.json", "--points", "zz", cwd=tmp)
+        check("fix --points with an unknown name: exit 2", r.returncode == 2 and "'zz'" in r.stderr, r.stderr)
+        r = run("import", os.path.join(dejavu, "glyphs", "o.glif"), "--out", "imp2", cwd=tmp)
+        doc = json.load(open(os.path.join(tmp, "imp2", "o_c0.json"))) if r.returncode == 0 else {}
+        check("a qcurve .glif imports as a quadratic spline", doc.get("degree") == 2, r.stderr)
+
+        # fix: a copy of the UFO where only moved points' x/y change, on the grid
+        r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--out",
+                "Fixed.ufo", cwd=tmp)
+        check("fix O (extrema and g2 at once) exits 0", r.returncode == 0, r.stderr)
+        fixed = os.path.join(tmp, "Fixed.ufo")
+        if r.returncode == 0:
+            check("the copy has the same files", tree_files(nimbus) == tree_files(fixed))
+            same = [f for f in tree_files(nimbus) if f != os.path.join("glyphs", "O_.glif")]
+            _, mismatch, errors = filecmp.cmpfiles(nimbus, fixed, same, shallow=False)
+            check("every other file is byte-identical", not mismatch and not errors, str(mismatch + errors))
+            ok, why = only_xy_changed(os.path.join(nimbus, "glyphs", "O_.glif"), os.path.join(fixed, "glyphs", "O_.glif"))
+            check("only x/y of moved points change, to integers", ok, why)
+            judge = lambda p, g: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", g],
+                                                capture_output=True, text=True)
+            for gate in ("extrema", "g2"):
+                before, after = judge(os.path.join(nimbus, "glyphs", "O_.glif"), gate), judge(
+                    os.path.join(fixed, "glyphs", "O_.glif"), gate)
+                check("exact judge (%s): the source fails, the fixed glyph passes" % gate,
+                      before.returncode == 1 and after.returncode == 0, after.stdout)
+            doc = json.loads(r.stdout)
+            check("the fix document shows the re-judging of both checks",
+                  all([x["after"] for x in c["rejudged"]] == [0, 0] and len(c["rejudged"]) == 2 for c in doc["contours"]),
+                  str(doc["contours"]))
+            if shutil.which("fontmake"):
+                fm = subprocess.run(["fontmake", "-u", fixed, "-o", "otf", "--output-dir", os.path.join(tmp, "otf")],
+                                    capture_output=True, text=True, timeout=600)
+                check("fontmake builds the fixed source", fm.returncode == 0, fm.stderr[-500:])
+
+        # --in-place: the .glif rewritten, no other file touched
+        inplace = os.path.join(tmp, "InPlace.ufo")
+        shutil.copytree(nimbus, inplace)
+        r = run("fix", "InPlace.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--in-place", cwd=tmp)
+        check("fix --in-place exits 0", r.returncode == 0, r.stderr)
+        changed = [f for f in tree_files(nimbus) if not filecmp.cmp(os.path.join(nimbus, f), os.path.join(inplace, f), False)]
+        check("--in-place changes only o.glif", changed == [os.path.join("glyphs", "o.glif")], str(changed))
+        if changed:
+            ok, why = only_xy_changed(os.path.join(nimbus, "glyphs", "o.glif"), os.path.join(inplace, "glyphs", "o.glif"))
+            check("--in-place changes only x/y", ok, why)
+
+        # bad input: one line naming the file and the line, exit 2, nothing written
+        bad = os.path.join(tmp, "Bad.ufo")
+        shutil.copytree(nimbus, bad)
+        glif = os.path.join(bad, "glyphs", "O_.glif")
+        text = open(glif).read()
+        open(glif, "w").write(text.replace('<point x="180" y="741"/>', '<point x="180" y="nan"/>', 1))
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
+        check("a non-finite coordinate: exit 2, file and line", r.returncode == 2 and re.search(r"O_\.glif:\d+:", r.stderr)
+              and r.stderr.count("\n") == 1 and not os.path.exists(os.path.join(tmp, "bad")), r.stderr)
+        open(glif, "w").write(text.replace("</contour>", "<contour>", 1))
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
+        check("malformed .glif XML: exit 2, file and line", r.returncode == 2 and re.search(r"O_\.glif:\d+: not well-formed",
+              r.stderr), r.stderr)
+        r = run("report", "Bad.ufo", "--out", "rb", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("in a report a broken glyph is invalid, the others judged", r.returncode == 2 and "1 invalid" in r.stdout,
+              r.stdout + r.stderr)
+        open(glif, "w").write(text.replace('<point x="38" y="587"/>', "", 1))
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
+        check("a curve point after 1 off-curve point is refused", r.returncode == 2 and "after 1 off-curve" in r.stderr,
+              r.stderr)
+        open(glif, "w").write(text.replace('type="curve" smooth="yes"/>', 'type="qcurve"/>', 1))
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
+        check("a contour mixing curve and qcurve is refused", r.returncode == 2 and "mixes curve and qcurve" in r.stderr,
+              r.stderr)
+        open(glif, "w").write(text.replace("<outline>", '<outline>\n    <component base="o"/>\n    '
+                                           '<contour><point x="1" y="2" type="move"/><point x="5" y="2" type="line"/></contour>', 1))
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "comp", cwd=tmp)
+        check("components and open contours: notes, the rest imported",
+              r.returncode == 0 and "1 component not judged" in r.stderr and "is open" in r.stderr, r.stderr)
+        os.remove(glif)
+        r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
+        check("a glyph file listed but missing: exit 2", r.returncode == 2 and "missing (listed in contents.plist" in r.stderr,
+              r.stderr)
+        lc = os.path.join(bad, "layercontents.plist")
+        layers = open(lc).read()
+        open(lc, "w").write(re.sub(r"</array>\s*</array>", "</array>\n<array><string>public.default</string>"
+                                   "<string>glyphs.x</string></array>\n</array>", layers))
+        r = run("report", "Bad.ufo", "--out", "rb2", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("two layers with one name: exit 2 naming the line", r.returncode == 2 and re.search(
+            r"layercontents\.plist:\d+: two layers", r.stdout + r.stderr), r.stdout + r.stderr)
+        open(os.path.join(bad, "metainfo.plist"), "w").write("<plist><dict><key>formatVersion</key>")
+        r = run("import", "Bad.ufo", "--out", "bad", cwd=tmp)
+        check("a malformed plist: exit 2 naming the line", r.returncode == 2 and "metainfo.plist:" in r.stderr, r.stderr)
+        r = run("fix", "Nimbus.ufo", "--glyph", "nosuch", "--require", "extrema-at-nodes", "--out", "x.ufo", cwd=tmp)
+        check("fix of an unknown glyph: exit 2", r.returncode == 2 and "no glyph named 'nosuch'" in r.stderr, r.stderr)
+
+        # a variable font's instance (--location, FreeType's variation API)
+        inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
+        if os.path.exists(inter):
+            pts = {}
+            for w in ("100", "900"):
+                r = run("import", inter, "--glyphs", "O", "--location", "wght=" + w, "--out", "v" + w, cwd=tmp)
+                files = sorted(f for f in os.listdir(os.path.join(tmp, "v" + w)) if f.endswith(".json")) if r.returncode == 0 else []
+                pts[w] = json.load(open(os.path.join(tmp, "v" + w, files[0])))["points"] if files else None
+            check("--location: two instances of Inter differ", pts["100"] and pts["900"] and pts["100"] != pts["900"]
+                  and len(pts["100"]) == len(pts["900"]), str(pts)[:200])
+            r = run("import", inter, "--glyphs", "O", "--location", "wght=2000", "--out", "vbad", cwd=tmp)
+            check("--location outside the axis: exit 2", r.returncode == 2 and "outside the axis's range" in r.stderr, r.stderr)
+            r = run("import", inter, "--glyphs", "O", "--location", "zzzz=1", "--out", "vbad", cwd=tmp)
+            check("--location on an unknown axis: exit 2", r.returncode == 2 and "no axis 'zzzz'" in r.stderr, r.stderr)
+        r = run("import", DEJAVU, "--glyphs", "O", "--location", "wght=400", "--out", "vbad", cwd=tmp)
+        check("--location on a font without fvar: exit 2", r.returncode == 2 and "not a variable font" in r.stderr, r.stderr)
+
+        # a designspace: its masters reported as fonts
+        ds = os.path.join(tmp, "Family.designspace")
+        open(ds, "w").write('<?xml version="1.0"?>\n<designspace format="4.1">\n<axes>\n'
+                            '<axis tag="wght" name="Weight" minimum="400" maximum="700" default="400"/>\n</axes>\n'
+                            '<sources>\n<source filename="Nimbus.ufo"><location><dimension name="Weight" xvalue="400"/>'
+                            '</location></source>\n<source filename="InPlace.ufo"><location><dimension name="Weight" '
+                            'xvalue="700"/></location></source>\n</sources>\n</designspace>\n')
+        r = run("report", "Family.designspace", "--out", "rd", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("a designspace reports its masters", "2 fonts" in r.stdout, r.stdout + r.stderr)
+        doc = open(ds).read()
+        open(ds, "w").write(doc.replace("InPlace.ufo", "Missing.ufo"))
+        r = run("report", "Family.designspace", "--out", "rd2", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("a designspace naming a missing source: exit 2 with the line",
+              r.returncode == 2 and re.search(r"Family\.designspace:\d+: the source 'Missing.ufo' does not exist", r.stderr),
+              r.stderr)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    passed = sum(results)
+    print("%d passed, %d failed" % (passed, len(results) - passed))
+    sys.exit(0 if passed == len(results) else 1)
+
+
+main()
