@@ -215,7 +215,7 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
     const auto st = fs::status(a, ec);
     if (import::is_designspace_path(a) && fs::exists(st)) {  // its sources (masters), each a font
       for (const import::Designspace::Source& src : import::read_designspace(a).sources) out.push_back(src.path.string());
-      if (bases) bases->resize(out.size(), "");
+      if (bases) bases->resize(out.size(), "");  // named relative to the working folder (a later folder must not claim them)
       continue;
     }
     if (fs::is_directory(st) && !import::is_ufo_path(a)) {

@@ -12,10 +12,11 @@
 # pybind11-dev and python3-dev build the Python module (python/, import cmr);
 # python3-numpy, python3-pytest and python3-fonttools run it and its tests
 # (tests/python); python3-matplotlib is for cmr.plot and examples/python.
+# python3-yaml: tests/docs/ci_workflow.py reads examples/ci/cmr-qa.yml.
 set -euo pipefail
 
 packages=(
-  build-essential cmake ninja-build pkg-config python3
+  build-essential cmake ninja-build pkg-config python3 python3-yaml
   libglm-dev nlohmann-json3-dev libcli11-dev libgmp-dev
   libcairo2-dev libpng-dev libxml2-dev
   libgtest-dev libgmock-dev

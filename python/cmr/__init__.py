@@ -169,7 +169,7 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
     """``cmr fix FILE --require R``: the nearest certified repair (docs/fix.md).
 
     require: "cmr", "cmrwi", "split:S[:sharpest|flattest]", "each-piece",
-    "curvature-extrema-at-nodes", "no-inflection", "g2-at-smooth-nodes[:tol]",
+    "curvature-extrema-at-nodes" (alias "extrema-at-nodes"), "no-inflection", "g2-at-smooth-nodes[:tol]",
     "each-run"; points: the points that may move ([K, ...] or "P1,P3");
     keep: "g1" | "g2" | "none"; max_move: largest move (default the curve
     size); grid: the search grids' cells per side (8..512, default 32).

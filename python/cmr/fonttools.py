@@ -40,7 +40,7 @@ def glyph_splines(glyph_set, name, degree=None):
 
 def check_glyph(glyph_set, name, require="cmrwi", **options):
     """Each contour of glyph `name` judged with ``--require`` `require` (the
-    report's gates: cmrwi, cmr, extrema-at-nodes, g2-at-smooth-nodes, ...;
+    report's gates: cmrwi, cmr, curvature-extrema-at-nodes, g2-at-smooth-nodes, ...;
     options as cmr.judge). Returns one dict per contour: "contour" (its
     name, "O/c0"), "status" ("pass" or "fail"), "findings" (one per gate
     violation: "gate", "message", "segment" or "joint", "t", with the point

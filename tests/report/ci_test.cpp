@@ -194,6 +194,27 @@ TEST(SourceNames, EverySpellingOfAPathGivesOneName) {
   fs::current_path(cwd);
 }
 
+// collect_files' bases: one per file, in order; a designspace's masters are
+// named relative to the working folder, not claimed by a folder after them.
+TEST(SourceNames, EveryFileHasItsBaseADesignspacesMastersTheWorkingFolder) {
+  const fs::path root = checkout("bases");
+  fs::copy(std::string(CMR_SOURCE_DIR) + "/examples/ufo/Sans.ufo", root / "Sans.ufo", fs::copy_options::recursive);
+  std::ofstream(root / "Family.designspace")
+      << "<?xml version=\"1.0\"?>\n<designspace format=\"4.1\">\n<axes>\n"
+         "<axis tag=\"wght\" name=\"Weight\" minimum=\"400\" maximum=\"400\" default=\"400\"/>\n</axes>\n"
+         "<sources>\n<source filename=\"Sans.ufo\"><location><dimension name=\"Weight\" xvalue=\"400\"/>"
+         "</location></source>\n</sources>\n</designspace>\n";
+  std::vector<std::string> bases;
+  const std::vector<std::string> files =
+      collect_files({(root / "Family.designspace").string(), (root / "in").string(), (root / "in" / "wavy.json").string()},
+                    {}, &bases);
+  ASSERT_EQ(bases.size(), files.size());
+  ASSERT_GE(files.size(), 5u);  // the master, the folder's three files, the file
+  EXPECT_EQ(bases.front(), "") << files.front();
+  for (std::size_t i = 1; i + 1 < files.size(); ++i) EXPECT_EQ(bases[i], (root / "in").string()) << files[i];
+  EXPECT_EQ(bases.back(), "");
+}
+
 // ------------------------------------------------------------ Markdown
 
 FileRecord record(FileKind kind, std::vector<CaseRecord> cases) {
