@@ -1,6 +1,7 @@
 #include "report/font_report.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
@@ -305,6 +306,22 @@ std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int cont
          std::to_string(contours - contours_fail) + " pass, " + std::to_string(contours_fail) + " fail";
 }
 
+namespace {
+
+/// `word` as one word of a POSIX shell command: as it is when it is plain,
+/// else in single quotes.
+std::string shell_word(const std::string& word) {
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '/' || c == '.' || c == '_' || c == '-' || c == '+' || c == ',' || c == ':' || c == '@';
+  });
+  if (plain) return word;
+  std::string out = "'";
+  for (const char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs) {
   FontInfo info{font.path, font.family, font.style, font.units_per_em, font.cubic, {}, font.missing};
   for (const import::Glyph& g : font.glyphs) {
@@ -473,6 +490,18 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
           if (&f == first_fix(r))
             details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments, anchor + "-c" + std::to_string(c) + "-j");
         }
+      }
+      // A source (UFO): the command that writes a fix of every required
+      // check back into it, on the grid (cmr fix, docs/fix.md "Font sources").
+      const bool fails = std::any_of(g.items.begin(), g.items.end(),
+                                     [&](std::size_t i) { return reports[i].error.empty() && !reports[i].pass; });
+      if (!g.source.empty() && fails && !gate_names.empty()) {
+        std::string require;
+        for (const Gate& gate : options.gates) require += (require.empty() ? "" : ",") + to_string(gate);
+        if (options.require) require += (require.empty() ? "" : ",") + to_string(*options.require);
+        details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
+                   html_escape(shell_word(font.path)) + " --glyph " + html_escape(shell_word(g.name)) + " --require " +
+                   html_escape(require) + " --in-place</code> (or <code>--out NEW.ufo</code> for a copy).</p>";
       }
       details += "</section>";
     }

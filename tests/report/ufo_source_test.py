@@ -82,6 +82,13 @@ def main():
                 on_point += 1
         check("every SARIF finding on its <point> line", len(res) > 0 and on_point == len(res),
               "%d of %d" % (on_point, len(res)))
+        pages = "".join(open(os.path.join(tmp, "r", f)).read() for f in os.listdir(os.path.join(tmp, "r"))
+                        if f.endswith(".html"))
+        m = re.search(r"<code>(cmr fix Nimbus\.ufo --glyph o --require [^<]*) --in-place</code>", pages)
+        check("the page prints the command that writes a glyph's fix back", m is not None)
+        if m:
+            r = run(*m.group(1).split()[1:], "--out", "FromPage.ufo", cwd=tmp)
+            check("the page's command runs", r.returncode == 0, r.stderr)
         r = run("report", "DejaVu.ufo", "--glyphs", "all", "--out", "r2", "--no-thumbnails", "--quiet", cwd=tmp)
         check("a TrueType-flavoured (qcurve) UFO reports every glyph", r.returncode in (0, 1) and "52 glyphs" in r.stdout,
               r.stdout + r.stderr)

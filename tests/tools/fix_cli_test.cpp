@@ -127,7 +127,7 @@ TEST(FixCli, BadInputExits2WithOneLineAndNoFile) {
       {"fix " + split + " --max-move 1e-6", "no certified fix within --max-move"},
       {"fix " + split + " --points 1", "P1 does not act on a failing segment (failing: 1)"},
       {"fix " + split + " --points 9", "--points: P9 is outside 0..6"},
-      {"fix " + split + " --points 4,x", "--points: '4,x' is not a list of point indices"},
+      {"fix " + split + " --points 4,x", "--points: 'x' is neither a point index (K or PK) nor a name of the file's points"},
       {"fix " + split + " --require cmq", "--require: 'cmq' is not cmrwi, cmr"},
       {"fix " + split + " --require split:7", "split 7 is outside 1..1"},
       {"fix " + split + " --keep g3", "--keep"},

@@ -155,7 +155,7 @@ TEST(SpaceFixCli, BadInputExitsTwoWithOneLine) {
   expect_one_line_error(run("fix " + kFailing + " --points 9"), "--points: P9 is outside P0..P5");
   expect_one_line_error(run("fix " + kFailing + " --points 5"),
                         "--points: P5 does not act on a failing segment (failing segments: 0, 1)");
-  expect_one_line_error(run("fix " + kFailing + " --points x"), "--points: 'x' is not a list of point indices");
+  expect_one_line_error(run("fix " + kFailing + " --points x"), "--points: 'x' is neither a point index (K or PK) nor a name of the file's points");
   expect_one_line_error(run("fix " + kFailing + " --plane 0,0,0,1,0,0,2,0,0"),
                         "--plane: U and V are parallel (the plane is degenerate)");
   expect_one_line_error(run("fix " + kFailing + " --plane ab"), "--plane: 'ab' is not a number");
