@@ -92,7 +92,9 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
       const std::string& m = failing.violations[k].message;
       const std::size_t at = m.rfind("add a node at ");
       out.reason += (k ? "; " : "") + (at == std::string::npos ? m : m.substr(at + 14));
-      if (failing.violations[k].segment >= 0) out.failing_segments.push_back(failing.violations[k].segment);
+      const int seg = failing.violations[k].segment;
+      if (seg >= 0 && std::find(out.failing_segments.begin(), out.failing_segments.end(), seg) == out.failing_segments.end())
+        out.failing_segments.push_back(seg);
     }
     return out;
   }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include <nlohmann/json.hpp>
@@ -246,6 +247,65 @@ TEST(XyExtrema, CommandReportsTheGateInJsonAndSarif) {
   EXPECT_TRUE(rule) << s["runs"][0]["tool"]["driver"]["rules"].dump();
   ASSERT_FALSE(s["runs"][0]["results"].empty());
   EXPECT_EQ(s["runs"][0]["results"][0]["ruleId"], "xy-extrema-at-nodes");
+}
+
+// A UFO source: each finding's SARIF location is the .glif and the line of
+// a <point> of the segment that needs the node.
+TEST(XyExtrema, UfoFindingsPointAtTheGlifLine) {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::scratch() / "xy_ufo";
+  fs::remove_all(dir);
+  const fs::path ufo = dir / "Test.ufo";
+  fs::create_directories(ufo / "glyphs");
+  const char* plist_head =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!DOCTYPE plist PUBLIC \"-//Apple//DTD PLIST 1.0//EN\" "
+      "\"http://www.apple.com/DTDs/PropertyList-1.0.dtd\">\n<plist version=\"1.0\">\n";
+  std::ofstream(ufo / "metainfo.plist") << plist_head
+                                        << "<dict><key>creator</key><string>cmr tests</string><key>formatVersion</key>"
+                                           "<integer>3</integer></dict>\n</plist>\n";
+  std::ofstream(ufo / "fontinfo.plist") << plist_head << "<dict><key>unitsPerEm</key><integer>1000</integer></dict>\n</plist>\n";
+  std::ofstream(ufo / "layercontents.plist")
+      << plist_head << "<array><array><string>public.default</string><string>glyphs</string></array></array>\n</plist>\n";
+  std::ofstream(ufo / "glyphs" / "contents.plist")
+      << plist_head << "<dict><key>D</key><string>D_.glif</string></dict>\n</plist>\n";
+  // A cubic from (400, 0) to (0, 500) whose handles leave the axes: an x
+  // maximum and a y maximum inside it.
+  std::ofstream(ufo / "glyphs" / "D_.glif") << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                                               "<glyph name=\"D\" format=\"2\">\n"
+                                               "  <advance width=\"600\"/>\n"
+                                               "  <unicode hex=\"0044\"/>\n"
+                                               "  <outline>\n"
+                                               "    <contour>\n"
+                                               "      <point x=\"0\" y=\"0\" type=\"line\"/>\n"
+                                               "      <point x=\"400\" y=\"0\" type=\"line\"/>\n"
+                                               "      <point x=\"600\" y=\"400\"/>\n"
+                                               "      <point x=\"200\" y=\"600\"/>\n"
+                                               "      <point x=\"0\" y=\"500\" type=\"curve\"/>\n"
+                                               "    </contour>\n"
+                                               "  </outline>\n"
+                                               "</glyph>\n";
+  const test::Outcome run = test::run_captured("cd " + dir.string() + " && " + CMR_BINARY +
+                                               " report Test.ufo --glyphs all --require xy-extrema-at-nodes "
+                                               "--no-thumbnails --quiet --out out --sarif s.sarif");
+  ASSERT_EQ(run.code, 1) << run.out << run.err;
+  const nlohmann::json s = nlohmann::json::parse(test::slurp(dir / "s.sarif"));
+  const auto& results = s["runs"][0]["results"];
+  ASSERT_EQ(results.size(), 2u) << results.dump();
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(ufo / "glyphs" / "D_.glif");
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  for (const auto& r : results) {
+    const auto& loc = r["locations"][0]["physicalLocation"];
+    const std::string uri = loc["artifactLocation"]["uri"];
+    EXPECT_NE(uri.find("D_.glif"), std::string::npos) << uri;
+    const int line = loc["region"]["startLine"];
+    ASSERT_GE(line, 1);
+    ASSERT_LE(line, static_cast<int>(lines.size()));
+    EXPECT_NE(lines[line - 1].find("<point"), std::string::npos) << lines[line - 1];
+    EXPECT_NE(r["message"]["text"].get<std::string>().find("add a node at ("), std::string::npos) << r.dump();
+  }
 }
 
 }  // namespace
