@@ -137,6 +137,27 @@ TEST(XyExtrema, StraightPiecesAndTouchingTangentsHaveNone) {
   }
 }
 
+// TrueType's implied on-curve midpoints are simple knots, no nodes: the
+// closed uniform quadratic on a square's corners has its four extrema on
+// such joints (the sides' midpoints), and each is a violation there.
+TEST(XyExtrema, ExtremaOnImpliedMidpointsAreViolations) {
+  const BSpline s = BSpline::make_closed(2, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
+  const SplineReport r = judged_report(s, gates("xy-extrema-at-nodes"));
+  const std::vector<GateViolation>& v = r.gates[0].violations;
+  ASSERT_EQ(v.size(), 4u);
+  for (const GateViolation& x : v) {
+    EXPECT_EQ(x.segment, -1) << x.message;
+    EXPECT_GE(x.joint, 1) << x.message;
+    EXPECT_NE(x.message.find("which is no node"), std::string::npos) << x.message;
+  }
+  const std::vector<XyExtremum> e = xy_extrema(r);
+  ASSERT_EQ(e.size(), 4u);
+  for (const XyExtremum& x : e) {
+    EXPECT_EQ(std::abs(x.point.x) + std::abs(x.point.y), 1.0) << x.point.x << ", " << x.point.y;  // a side's midpoint
+    EXPECT_EQ(x.overshoot, 2.0);  // from the opposite side's extremum (no node anywhere)
+  }
+}
+
 // The gate's text round-trips; a bad tolerance is refused with the gate named.
 TEST(XyExtrema, GateTextRoundTrips) {
   const std::optional<Gate> g = parse_gate("xy-extrema-at-nodes");
@@ -234,7 +255,8 @@ TEST(XyExtrema, CommandReportsTheGateInJsonAndSarif) {
   const fs::path out = test::scratch() / "xy_out";
   const fs::path sarif = test::scratch() / "xy.sarif";
   const test::Outcome run = test::run("report " + file + " --require xy-extrema-at-nodes --no-thumbnails --quiet --out " +
-                                      out.string() + " --sarif " + sarif.string());
+                                      out.string() + " --sarif " + sarif.string() + " --junit " +
+                                      (test::scratch() / "xy.xml").string());
   EXPECT_EQ(run.code, 1) << run.err;
   const nlohmann::json report = nlohmann::json::parse(test::slurp(out / "report.json"));
   const std::string text = report.dump();
@@ -247,6 +269,7 @@ TEST(XyExtrema, CommandReportsTheGateInJsonAndSarif) {
   EXPECT_TRUE(rule) << s["runs"][0]["tool"]["driver"]["rules"].dump();
   ASSERT_FALSE(s["runs"][0]["results"].empty());
   EXPECT_EQ(s["runs"][0]["results"][0]["ruleId"], "xy-extrema-at-nodes");
+  EXPECT_NE(test::slurp(test::scratch() / "xy.xml").find("add a node at (250, 225)"), std::string::npos);
 }
 
 // A UFO source: each finding's SARIF location is the .glif and the line of
