@@ -67,6 +67,9 @@ FixRequirement requirement_of(const Gate& gate) {
       req.g2_tolerance = gate.tolerance;
       break;
     case Gate::Kind::unimodal_runs: req.kind = FixRequirement::Kind::each_run; break;
+    case Gate::Kind::xy_extrema_at_nodes:
+      // Its fix adds a node (gate_fix says where); no point move implies it.
+      throw InputError("xy-extrema-at-nodes is fixed by adding a node at each extremum, not by moving points");
   }
   return req;
 }
@@ -78,6 +81,23 @@ namespace {
 /// still fails is no fix, and the entry says where it fails.
 CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const ReportOptions& options) {
   const Gate& gate = failing.gate;
+  if (gate.kind == Gate::Kind::xy_extrema_at_nodes) {
+    // Its fix is a node inserted at each extremum (a de Casteljau split,
+    // the same curve), which cmr names and does not write back.
+    CertifiedFix out;
+    out.check = to_string(gate);
+    out.reason = "add a node at each extremum (a de Casteljau split there keeps the curve; cmr does not write new "
+                 "nodes back): ";
+    for (std::size_t k = 0; k < failing.violations.size(); ++k) {
+      const std::string& m = failing.violations[k].message;
+      const std::size_t at = m.rfind("add a node at ");
+      out.reason += (k ? "; " : "") + (at == std::string::npos ? m : m.substr(at + 14));
+      const int seg = failing.violations[k].segment;
+      if (seg >= 0 && std::find(out.failing_segments.begin(), out.failing_segments.end(), seg) == out.failing_segments.end())
+        out.failing_segments.push_back(seg);
+    }
+    return out;
+  }
   CertifiedFix out = run_fix(spline, requirement_of(gate), options);
   out.requirement = out.check;
   out.check = to_string(gate);

@@ -11,6 +11,7 @@
 #include "spline/errors.hpp"
 #include "report/extremum.hpp"
 #include "report/report.hpp"
+#include "report/xy_extrema.hpp"
 #include "spline/format.hpp"
 
 namespace cmr::report {
@@ -20,7 +21,7 @@ std::string num(double v, int precision = 6) { return format_number(v, precision
 
 const char* kGateNames =
     "curvature-extrema-at-nodes, curvature-extrema-at-nodes:runs, max-extrema-per-segment:N, "
-    "g2-at-smooth-nodes[:tol], no-inflection, each-piece; extrema-at-nodes is an alias of "
+    "g2-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U]; extrema-at-nodes is an alias of "
     "curvature-extrema-at-nodes";
 
 /// Where a curve event lies, for a violation.
@@ -82,6 +83,17 @@ std::optional<Gate> parse_gate(const std::string& given) {
       throw InputError("--require: '" + text + "' needs a count N >= 0 (max-extrema-per-segment:N)");
     return g;
   }
+  if (head == "xy-extrema-at-nodes") {
+    g.kind = Gate::Kind::xy_extrema_at_nodes;
+    if (colon != std::string::npos) {
+      const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.overshoot);
+      if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.overshoot) ||
+          g.overshoot < 0)
+        throw InputError("--require: '" + text +
+                         "' needs a tolerance U >= 0 in the outline's units (xy-extrema-at-nodes:1)");
+    }
+    return g;
+  }
   if (head == "g2-at-smooth-nodes") {
     g.kind = Gate::Kind::g2_at_smooth_nodes;
     if (colon != std::string::npos) {
@@ -103,6 +115,11 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
     case Gate::Kind::unimodal_runs: return "curvature-extrema-at-nodes:runs";
+    case Gate::Kind::xy_extrema_at_nodes:
+      // The default is the bare name, so that a finding's key (which holds
+      // the gate's text) does not change with how the default was spelled.
+      return gate.overshoot == kDefaultXyExtremumTolerance ? "xy-extrema-at-nodes"
+                                                           : "xy-extrema-at-nodes:" + num(gate.overshoot);
   }
   return {};
 }
@@ -197,6 +214,9 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
         break;
       case Gate::Kind::unimodal_runs:
         for (GateViolation& v : unimodal_run_violations(r)) g.violations.push_back(std::move(v));
+        break;
+      case Gate::Kind::xy_extrema_at_nodes:
+        for (GateViolation& v : xy_extremum_violations(r, gate.overshoot)) g.violations.push_back(std::move(v));
         break;
     }
     out.push_back(std::move(g));

@@ -44,6 +44,17 @@
 ///    piece's interior wiggles are extrema-at-nodes' and
 ///    max-extrema-per-segment's to judge). report/runs.cpp.
 ///
+///  * xy-extrema-at-nodes[:U]: a node at every horizontal and vertical
+///    tangent (the type designer's "points at extrema" rule, which fontbakery
+///    ran through FontForge's and MS Font Validator's checks): every x or y
+///    extremum of the outline (x' or y' changing sign, certified by exact
+///    root isolation) lies on a node; one strictly inside a segment, or on a
+///    joint that is no node, is a violation located by segment, t and the
+///    point, whose fix is a node added there (de Casteljau split; cmr does
+///    not write it back). An extremum poking less than U (default
+///    kDefaultXyExtremumTolerance, in the outline's units) past its nearer
+///    neighbouring node or extremum is tolerated. report/xy_extrema.hpp.
+///
 /// Fixes: the smallest certified fix of each failing gate that has a fix
 /// requirement (curvature-extrema-at-nodes, each-piece), report/certified_fix.hpp.
 #include <optional>
@@ -60,15 +71,19 @@ struct ReportOptions;
 /// curvature-extrema-at-nodes:runs: peaks within this relative difference are one
 /// plateau (a font's integer grid moves a peak by about 1/size of the curve).
 inline constexpr double kRunPeakTolerance = 0.01;
+/// Default tolerance of xy-extrema-at-nodes, in the outline's units (font
+/// units: one unit of the integer grid; report/xy_extrema.hpp).
+inline constexpr double kDefaultXyExtremumTolerance = 1.0;
 /// Default relative tolerance of g2-at-smooth-nodes.
 inline constexpr double kDefaultG2Tolerance = 0.05;
 
 struct Gate {
   enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece,
-                    unimodal_runs };
+                    unimodal_runs, xy_extrema_at_nodes };
   Kind kind = Kind::extrema_at_nodes;
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
+  double overshoot = kDefaultXyExtremumTolerance;  ///< xy-extrema-at-nodes:U
 };
 
 /// A gate's name with the old alias replaced: "extrema-at-nodes" ->
@@ -79,7 +94,7 @@ std::string canonical_gate_name(const std::string& text);
 /// (InputError when it names one with a bad argument: "max-extrema-per-segment:x").
 std::optional<Gate> parse_gate(const std::string& text);
 /// "curvature-extrema-at-nodes", "max-extrema-per-segment:2", "g2-at-smooth-nodes:0.05", "no-inflection",
-/// "each-piece": always the current name, never the alias.
+/// "each-piece", "xy-extrema-at-nodes" (":U" when U is not the default): always the current name, never the alias.
 std::string to_string(const Gate& gate);
 
 /// Parses --require: comma-separated items, at most one of cmrwi / cmr /

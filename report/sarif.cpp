@@ -43,6 +43,15 @@ RuleText rule_text(const std::string& id) {
             "At every smooth node (C1, or G1 by exact tangents) the curvature on both sides must agree within the "
             "relative tolerance.",
             "Move the handles on both sides of the node along the tangent until the curvatures match."};
+  if (id.rfind("xy-extrema-at-nodes", 0) == 0)
+    return {"XyExtremaAtNodes", "An x or y extremum lies between nodes.",
+            "Every horizontal and vertical tangent of the outline (a certified sign change of x' or y', where the "
+            "outline turns back in x or y) must lie on a node (an on-curve point); one inside a segment, or on an "
+            "implied on-curve point, is a violation. Extrema that poke out by less than the tolerance (default one "
+            "font unit) past the nearer node are tolerated.",
+            "Add a node at the point the message gives (split the segment there: the curve stays the same), or move "
+            "the handles onto the axis so that the tangent at an existing node is horizontal or vertical. cmr names "
+            "the point and does not insert it."};
   if (id == "no-inflection")
     return {"NoInflection", "The curvature changes sign.", "The curve must not have an inflection.",
             "Move the handles so that the curve turns one way only, or split the contour at the inflection."};
