@@ -8,6 +8,7 @@
 
 #include "bezierize/classify.hpp"
 #include "report/certified_fix.hpp"
+#include "report/severity.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -54,7 +55,10 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
   std::mutex mutex;
   parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
     out[i] = report_item(inputs[i], options);
-    if (out[i].error.empty()) judge_gates(out[i], options);
+    if (out[i].error.empty()) {
+      judge_gates(out[i], options);
+      assess_severity(out[i], options);  // with min_severity >= 0: below it a finding is info
+    }
     if (out[i].error.empty() && !out[i].pass && options.regions && options.certified_fixes)
       out[i].certified_fixes = certified_fixes(out[i], options);
     const std::lock_guard lock(mutex);

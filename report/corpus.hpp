@@ -86,8 +86,13 @@ struct Finding {
   std::string message;  ///< one line a designer can act on (node names, what to move)
   /// Font sources: the .glif the finding lies in and the line of the <point>
   /// it names (the node, or the first handle to move); "" and 0 otherwise.
-  std::string source;
+  std::string source{};
   int line = 0;
+  /// The smallest certified move that removes it (report/severity.hpp); -1
+  /// when not computed, +inf when none was found; `info`: below the run's
+  /// --min-severity, so it does not fail.
+  double severity = -1;
+  bool info = false;
   /// "file|glyph|cC|node|gate": what a baseline compares.
   std::string key() const;
 };

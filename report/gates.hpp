@@ -110,12 +110,22 @@ struct GateViolation {
   double local_t = 0;    ///< within the segment, 0..1 (segment violations)
   std::string message;   ///< one line: "curvature maximum inside segment 3 at t = 0.42"
   std::vector<int> handles;  ///< curvature-extrema-at-nodes:runs: the control points (distinct indices) to move
+  /// The smallest certified move (largest point displacement, the spline's
+  /// units) that removes this violation (report/severity.hpp); -1: not
+  /// computed; +inf: none found within the search's limits.
+  double severity = -1;
+  bool info = false;  ///< severity below ReportOptions::min_severity: reported, but it does not fail the gate
 };
 
 struct GateResult {
   Gate gate;
   std::vector<GateViolation> violations;
-  bool pass() const { return violations.empty(); }
+  /// No violation fails (info ones do not).
+  bool pass() const {
+    for (const GateViolation& v : violations)
+      if (!v.info) return false;
+    return true;
+  }
 };
 
 /// curvature-extrema-at-nodes:runs on one report (see the header comment).

@@ -298,6 +298,12 @@ void write_batch_tail(JsonStream& o, const SplineReport& r, const SplineJsonExtr
       o.member("node", f.node);
       o.member("message", f.message);
       o.member("key", f.key());
+      if (f.severity >= 0) {  // --min-severity: the smallest certified move that removes it (null: none found)
+        o.key("severity");
+        if (std::isfinite(f.severity)) o.value(f.severity);
+        else o.null();
+        o.member("level", f.info ? "info" : "error");
+      }
       o.end_object();
     }
     o.end_array();
@@ -444,7 +450,14 @@ nlohmann::ordered_json spline_json_tree(const SplineReport& r, int index, const 
   }
   if (r.error.empty() && x.findings) {
     Json fj = Json::array();
-    for (const Finding& f : *x.findings) fj.push_back({{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}});
+    for (const Finding& f : *x.findings) {
+      Json item = {{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}};
+      if (f.severity >= 0) {
+        item["severity"] = std::isfinite(f.severity) ? Json(f.severity) : Json(nullptr);
+        item["level"] = f.info ? "info" : "error";
+      }
+      fj.push_back(item);
+    }
     j["findings"] = fj;
   }
   return j;

@@ -85,6 +85,13 @@ struct ReportOptions {
   /// its largest |kappa|, is read as an arc of constant curvature by the
   /// extremum gates (SpanReport::near_constant); 0: only exact constants.
   double constant_tolerance = kDefaultConstantTolerance;
+  /// Severity (report/severity.hpp): when >= 0, each violation of a gate
+  /// that has a fix gets the smallest certified move that removes it, and
+  /// one whose move is below this (in the spline's units: font units) is
+  /// `info`: reported, but it does not fail the gate (unless `strict`).
+  /// < 0: not computed, every violation fails.
+  double min_severity = -1;
+  bool strict = false;  ///< info findings fail too
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.

@@ -143,7 +143,7 @@ std::string sarif_result(const Finding& f, const std::string& uri, bool relative
   o.begin_object();
   o.member("ruleId", f.gate);
   o.member("ruleIndex", rule_index(f.gate, options));
-  o.member("level", "error");
+  o.member("level", f.info ? "note" : "error");  // info: below --min-severity, it does not fail
   o.key("message");
   o.begin_object();
   o.member("text", f.message);

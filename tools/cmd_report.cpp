@@ -11,6 +11,7 @@
 // subpath is one spline. Space curves get their own report (tools/cmd_space.hpp).
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -47,6 +48,8 @@ struct ReportArgs {
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
   std::string location;
+  double min_severity = -1;
+  bool strict = false;
   report::FileFilter filter;  // folders: --include / --exclude
   std::string junit, sarif, markdown, baseline, source_root;
   bool quiet = false;
@@ -89,6 +92,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
                   "character of a font")->capture_default_str();
+  cmd->add_option("--min-severity", args->min_severity,
+                  "fonts: give each finding its severity, the smallest certified move (font units) that removes it; "
+                  "one below UNITS is info and does not fail (0.5: half a font unit, invisible on the grid)");
+  cmd->add_flag("--strict", args->strict, "with --min-severity: info findings fail too");
   cmd->add_option("--location", args->location,
                   "variable fonts: the instance to judge, axis tags and user values (wght=700,opsz=14); default: the "
                   "default instance");
@@ -137,6 +144,11 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.constant_tolerance = args->constant_tolerance;
     if (!args->require.empty()) report::parse_require_list(args->require, o);
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
+    if (args->min_severity != -1 && !(args->min_severity >= 0 && std::isfinite(args->min_severity)))
+      throw InputError("--min-severity: " + std::to_string(args->min_severity) + " is not a distance >= 0");
+    if (args->strict && args->min_severity < 0) throw InputError("--strict: only with --min-severity");
+    o.min_severity = args->min_severity;
+    o.strict = args->strict;
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;

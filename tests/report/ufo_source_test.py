@@ -89,6 +89,27 @@ def main():
         if m:
             r = run(*m.group(1).split()[1:], "--out", "FromPage.ufo", cwd=tmp)
             check("the page's command runs", r.returncode == 0, r.stderr)
+        # severity: the smallest certified move that removes each finding
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--min-severity", "0.5", "--out", "rs", "--sarif", "rs.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
+        doc = json.load(open(os.path.join(tmp, "rs", "report.json"))) if r.returncode in (0, 1) else {"splines": []}
+        found = [f for s in doc["splines"] for f in s.get("findings", [])]
+        check("--min-severity: every finding has a severity and a level", found and all(
+            "severity" in f and f["level"] in ("info", "error") for f in found), str(found[:2]))
+        check("severity is a move in font units (positive, finite where a fix was found)",
+              all(f["severity"] is None or f["severity"] > 0 for f in found) and any(f["severity"] for f in found))
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--min-severity", "1000", "--out", "rs2", "--sarif", "rs2.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
+        levels = {x["level"] for x in json.load(open(os.path.join(tmp, "rs2.sarif")))["runs"][0]["results"]}
+        finite = all(f["severity"] is not None and f["severity"] < 1000 for f in found)
+        check("findings below --min-severity are info: they pass, SARIF level note",
+              (r.returncode == 0 and levels == {"note"}) if finite else r.returncode == 1, r.stdout + str(levels))
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--min-severity", "1000", "--strict", "--out", "rs3", "--no-thumbnails", "--quiet", cwd=tmp)
+        check("--strict: info findings fail too", r.returncode == 1, r.stdout)
+        r = run("report", "Nimbus.ufo", "--strict", "--out", "rs4", cwd=tmp)
+        check("--strict without --min-severity: exit 2", r.returncode == 2 and "--strict" in r.stderr, r.stderr)
+
         r = run("report", "DejaVu.ufo", "--glyphs", "all", "--out", "r2", "--no-thumbnails", "--quiet", cwd=tmp)
         check("a TrueType-flavoured (qcurve) UFO reports every glyph", r.returncode in (0, 1) and "52 glyphs" in r.stdout,
               r.stdout + r.stderr)
