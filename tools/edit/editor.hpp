@@ -155,6 +155,33 @@ class Editor {
   void save_all();
   /// A press on another curve's point makes that curve active and selects it.
   bool pick_other_curve(double x, double y);
+  // ---- a font source's glyph (a UFO's or a .glif's; tools/edit/sources.cpp) ----
+  /// The .glif the glyph was read from (empty: not a font source); "save"
+  /// and "save all" write back into it (save_source).
+  std::filesystem::path source_glif;
+  /// The font's grid (font units; 0: none): a dragged point lands on it and
+  /// save_source rounds to it.
+  double grid = 0;
+  /// Whether control point k of the edited curve is one a designer moves: not
+  /// a straight piece's added inner point of a font source (those are
+  /// neither drawn nor picked, and follow their line's end nodes).
+  bool movable(int k) const;
+  /// Point k's name as the canvas labels it: for a font source's contour the
+  /// part after "GLYPH/cC/" ("p3", "n3.out"), else point_name(k).
+  std::string short_point_name(int k) const;
+  /// After a move of a font source's contour: every straight piece whose end
+  /// node moved gets its inner points back on the line (as the importer
+  /// places them), so a line stays a line.
+  BSpline keep_lines(const BSpline& before, BSpline after) const;
+  /// Writes every contour's moved source points back into source_glif, as
+  /// `cmr fix --in-place` does (io/ufo.hpp's rewrite_glif_points, staged
+  /// through the OutputSet): only the moved points' x and y attributes
+  /// change, rounded to the grid; every other byte stays. InputError when a
+  /// contour's knots or point count changed (a knot operation) or it became
+  /// rational: a .glif holds point positions only.
+  void save_source();
+  /// The curvature comb of every opened curve, not only the edited one.
+  bool comb_all_curves = false;
   /// Constrained drag (issue 21, item 6): a dragged point that stands in its
   /// region stays in it: where the pointer leaves the region the point stops
   /// at the last position on the way there that RegionProblem::classify
@@ -277,6 +304,10 @@ class Editor {
   bool show_overlay = true;  ///< curve, polygon, points, comb
   bool show_comb = true;
   bool show_legend = true;   ///< the legend at the canvas's top left (designer.hpp's region_legend)
+  /// The legend as a section of the side panel instead of over the canvas's
+  /// top left, where it never covers the curve (the default for a font
+  /// source's glyph, whose contours fill the view).
+  bool legend_docked = false;
   /// Comb length relative to the fitted comb (designer.hpp's comb_geometry:
   /// 1 fits the canvas's view).
   double comb_scale = 1.0;

@@ -60,6 +60,7 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
   };
   int most = 0, most_at = -1;  // the largest region below kOpeningCells, if none reaches it
   for (int k = 0; k < m; ++k) {
+    if (!movable(k)) continue;  // a font source's line point: not the designer's
     Document d = start;
     d.selected = k;
     d.group.clear();

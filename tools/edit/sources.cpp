@@ -1,11 +1,13 @@
 #include "tools/edit/sources.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "io/font.hpp"
 #include "io/output.hpp"
 #include "io/svg.hpp"
+#include "io/ufo.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/edit/designer.hpp"
@@ -31,6 +33,38 @@ OpenedSource open_source(const std::filesystem::path& file, const std::string& g
     out.what = "glyph " + g.name + " of " + shown + ": " + std::to_string(g.contours.size()) +
                (g.contours.size() == 1 ? " contour" : " contours");
     out.font = file;
+    return out;
+  }
+  if (import::is_ufo_path(file)) {  // a font source: a UFO folder's glyph, or one .glif
+    std::string ext = (file.has_filename() ? file : file.parent_path()).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const bool single = ext == ".glif";
+    if (glyph.empty() && !single)
+      throw InputError(file.string() + ": a font source; name the glyph to edit with --glyph NAME (e.g. --glyph O)");
+    import::GlyphSelection which;
+    if (!single) which.names = {glyph};
+    const import::Font font = import::read_ufo(file, which);
+    if (font.glyphs.empty()) throw InputError(shown + " has no glyph '" + glyph + "'");
+    const import::Glyph& g = font.glyphs.front();
+    if (single && !glyph.empty() && glyph != g.name)
+      throw InputError(file.string() + ": holds the glyph '" + g.name + "', not '" + glyph + "'");
+    if (!g.error.empty()) throw InputError(g.error);
+    if (g.contours.empty()) throw InputError(shown + ": glyph " + g.name + " has no contour to edit");
+    for (const import::Contour& c : g.contours) {
+      OpenedCurve oc{c.spline, c.point_names, c.spline.name(), g.source};
+      oc.contour = c.index;
+      oc.font_point = c.font_point;
+      oc.node = c.node;
+      oc.in_source = c.spline.points();
+      oc.source_knots = c.spline.knots();
+      out.curves.push_back(std::move(oc));
+    }
+    out.what = "glyph " + g.name + " of " + shown + ": " + std::to_string(g.contours.size()) +
+               (g.contours.size() == 1 ? " contour" : " contours");
+    for (const std::string& n : g.notes) out.what += "; " + n;
+    out.glif = g.source;
+    out.grid = 1;
+    if (!single) out.font = file;
     return out;
   }
   if (!glyph.empty()) throw InputError("--glyph: only for fonts, not for " + file.string());
@@ -82,6 +116,9 @@ Document fresh_document(const Document& current, const BSpline& spline) {
 void Editor::set_source(OpenedSource source) {
   curves = std::move(source.curves);
   font_path = std::move(source.font);
+  source_glif = std::move(source.glif);
+  grid = source.grid;
+  if (!source_glif.empty()) legend_docked = true;
   active_curve = 0;
   if (curves.empty()) return;
   point_names = curves[0].point_names;
@@ -118,6 +155,10 @@ void Editor::open_glyph(const std::string& spec) {
 }
 
 void Editor::save_all() {
+  if (!source_glif.empty()) {
+    save_source();
+    return;
+  }
   if (curves.empty()) {
     save(path_);
     return;
@@ -140,7 +181,9 @@ bool Editor::pick_other_curve(double x, double y) {
   for (int i = 0; i < static_cast<int>(curves.size()); ++i) {
     if (i == active_curve) continue;
     const std::vector<Vec2>& pts = curves[i].spline.points();
+    const std::vector<int>& fp = curves[i].font_point;
     for (int k = 0; k < static_cast<int>(pts.size()); ++k) {
+      if (!fp.empty() && fp[k % fp.size()] < 0) continue;  // a line's added point: not picked
       const Vec2 s = viewport_.to_screen(pts[k]);
       if (std::hypot(s.x - x, s.y - y) > kPickRadius) continue;
       switch_curve(i);
@@ -149,6 +192,85 @@ bool Editor::pick_other_curve(double x, double y) {
     }
   }
   return false;
+}
+
+}  // namespace cmr::edit
+
+namespace cmr::edit {
+
+bool Editor::movable(int k) const {
+  if (curves.empty() || active_curve >= static_cast<int>(curves.size())) return true;
+  const std::vector<int>& fp = curves[active_curve].font_point;
+  if (fp.empty() || static_cast<int>(fp.size()) != doc().spline.unique_point_count() || k < 0) return true;
+  return fp[static_cast<std::size_t>(k) % fp.size()] >= 0;
+}
+
+std::string Editor::short_point_name(int k) const {
+  std::string name = point_name(k);
+  if (curves.empty() || curves[active_curve].font_point.empty()) return name;
+  const std::string prefix = curves[active_curve].name + "/";
+  if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0) name.erase(0, prefix.size());
+  return name;
+}
+
+BSpline Editor::keep_lines(const BSpline& before, BSpline after) const {
+  if (curves.empty()) return after;
+  const OpenedCurve& c = curves[active_curve];
+  const int m = static_cast<int>(c.font_point.size());
+  if (m == 0 || m != after.unique_point_count() || m != before.unique_point_count() || !after.closed()) return after;
+  const int d = after.degree();
+  // The run of added points after node k (a straight piece from k to the next
+  // node): put back on the segment when an end node moved.
+  for (int k = 0; k < m; ++k) {
+    if (!c.node[k] || c.font_point[(k + 1) % m] >= 0) continue;
+    int run = 0;
+    while (run < m && c.font_point[(k + 1 + run) % m] < 0) ++run;
+    const int e = (k + 1 + run) % m;
+    const Vec2 a = after.points()[k], b = after.points()[e];
+    if (a == before.points()[k] && b == before.points()[e]) continue;
+    for (int j = 1; j <= run; ++j) {
+      // As io/font.cpp places them: a cubic line's inner points at k and 1-k
+      // with k = 21845/65536 (exact in double for integer ends), else j/d.
+      const double t = d == 3 && run == 2 ? (j == 1 ? 21845.0 / 65536.0 : 1 - 21845.0 / 65536.0)
+                                          : static_cast<double>(j) / (run + 1);
+      const Vec2 q = d == 3 && run == 2 && j == 2 ? b - (21845.0 / 65536.0) * (b - a) : a + t * (b - a);
+      after = after.with_point((k + j) % m, q);
+    }
+  }
+  return after;
+}
+
+void Editor::save_source() {
+  if (source_glif.empty()) throw InputError("save: no font source is open");
+  finish_animation();
+  curves[active_curve].spline = doc().spline;
+  const auto on_grid = [&](double v) { return grid > 0 ? std::round(v / grid) * grid : v; };
+  std::vector<import::PointEdit> edits;
+  std::vector<std::pair<int, int>> written;  // (curve, point)
+  for (int i = 0; i < static_cast<int>(curves.size()); ++i) {
+    const OpenedCurve& c = curves[i];
+    const BSpline& s = c.spline;
+    if (s.is_rational())
+      throw InputError("save: " + c.name + " has weights; a .glif holds point positions only (save PATH.json keeps them)");
+    if (s.point_count() != static_cast<int>(c.in_source.size()) ||
+        s.knots() != c.source_knots || static_cast<int>(c.font_point.size()) != s.unique_point_count())
+      throw InputError("save: " + c.name + "'s points or knots changed; a .glif holds point positions only");
+    for (int k = 0; k < s.unique_point_count(); ++k) {
+      if (c.font_point[k] < 0) continue;  // a line's added point: not in the source
+      const Vec2 p{on_grid(s.points()[k].x), on_grid(s.points()[k].y)};
+      if (p == c.in_source[k]) continue;
+      edits.push_back({c.contour, c.font_point[k], p.x, p.y});
+      written.emplace_back(i, k);
+    }
+  }
+  const std::string text = read_input_file(source_glif);
+  OutputSet out;  // the .glif whole, or not at all
+  if (!edits.empty()) out.stage(source_glif, import::rewrite_glif_points(text, edits, source_glif.string()));
+  out.commit();
+  for (std::size_t j = 0; j < written.size(); ++j)
+    curves[written[j].first].in_source[written[j].second] = {edits[j].x, edits[j].y};
+  message = "saved " + std::to_string(edits.size()) + " moved point(s) into " + source_glif.string() +
+            (grid > 0 ? " (x and y only, on the font's grid)" : " (x and y only)");
 }
 
 }  // namespace cmr::edit
