@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -964,3 +965,94 @@ TEST_F(EditTest, ConstrainedDragStopsInsideTheRegion) {
 }
 
 }  // namespace
+
+// ---- issue 36: a font source's glyph (a UFO), saved back into its .glif ----
+
+namespace {
+
+std::map<std::string, std::string> files_under(const fs::path& root) {
+  std::map<std::string, std::string> out;
+  for (const auto& f : fs::recursive_directory_iterator(root))
+    if (f.is_regular_file()) out[f.path().lexically_relative(root).string()] = cmr::test::slurp(f.path());
+  return out;
+}
+
+std::vector<std::string> text_lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+/// The number in attribute `name` of a .glif <point> line.
+double attribute(const std::string& line, const std::string& name) {
+  const std::size_t at = line.find(" " + name + "=\"");
+  if (at == std::string::npos) return NAN;
+  return std::stod(line.substr(at + name.size() + 3));
+}
+
+/// Pixels that differ between two screenshots inside a box.
+int differing(const Image& a, const Image& b, int x0, int y0, int x1, int y1) {
+  int n = 0;
+  for (int j = y0; j < y1; ++j)
+    for (int i = x0; i < x1; ++i) n += a.rgb[j * a.width + i] != b.rgb[j * b.width + i];
+  return n;
+}
+
+}  // namespace
+
+TEST_F(EditTest, UfoGlyphSavesOnlyTheDraggedPointsXYIntoItsGlif) {
+  const fs::path ufo = dir_ / "Sans.ufo";
+  fs::copy(fs::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo", ufo, fs::copy_options::recursive);
+  const auto before = files_under(ufo);
+  // Drag O/c0/p3 to a position off the grid, save (the panel's save), then
+  // the same view three ways: the legend docked (a glyph's default), floating,
+  // and no panels at all; the comb off (it is fitted to the canvas, which the
+  // panels change) and the pointer in the canvas's empty corner.
+  const fs::path docked = dir_ / "docked.png", floating = dir_ / "floating.png", bare = dir_ / "bare.png";
+  const Outcome r = run_edit("Sans.ufo",
+                             "select 3\ndrag 3 700.3 299.6\nstatus\nsave\ncomb off\nmouse 3 3\nscreenshot " +
+                                 docked.string() + "\nlegend-dock off\nscreenshot " + floating.string() +
+                                 "\nui off\nscreenshot " + bare.string() + "\n",
+                             dir_ / "last.png", "1024x768", " --glyph O", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cmr edit: glyph O of Sans.ufo: 2 contours (O/c0, O/c1)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("selected P3 (O/c0/p3)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 1 moved point(s) into Sans.ufo/glyphs/O_.glif (x and y only, on the font's grid)"),
+            std::string::npos)
+      << r.err;
+  // Every other file byte for byte; in the .glif one line, and in it only x and y.
+  const auto after = files_under(ufo);
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [name, bytes] : before) {
+    if (name == "glyphs/O_.glif") continue;
+    EXPECT_EQ(after.at(name), bytes) << name << " was touched";
+  }
+  const auto a = text_lines(before.at("glyphs/O_.glif")), b = text_lines(after.at("glyphs/O_.glif"));
+  ASSERT_EQ(a.size(), b.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == b[i]) continue;
+    ++changed;
+    const double x = attribute(b[i], "x"), y = attribute(b[i], "y");
+    EXPECT_EQ(x, std::round(x)) << b[i] << ": on the font's grid";
+    EXPECT_EQ(y, std::round(y)) << b[i];
+    EXPECT_NEAR(x, 700.3, 3) << b[i];
+    EXPECT_NEAR(y, 299.6, 3) << b[i];
+    std::string p = a[i], q = b[i];
+    for (std::string* s : {&p, &q})
+      for (const char* n : {" x=\"", " y=\""}) {
+        const std::size_t at = s->find(n);
+        s->erase(at + 4, s->find('"', at + 4) - (at + 4));
+      }
+    EXPECT_EQ(p, q) << "only x and y differ: " << a[i] << " -> " << b[i];
+  }
+  EXPECT_EQ(changed, 1);
+  // Docked, the legend covers nothing of the canvas: its top left is the
+  // same as without panels; floating, it is not.
+  const Image d = read_png(docked), f = read_png(floating), n = read_png(bare);
+  ASSERT_EQ(d.width, 1024);
+  ASSERT_EQ(n.width, 1024);
+  EXPECT_EQ(differing(d, n, 0, 0, 320, 200), 0) << "the docked legend covers the canvas";
+  EXPECT_GT(differing(f, n, 0, 0, 320, 200), 2000) << "the floating legend is where the test looks";
+}
