@@ -1056,3 +1056,63 @@ TEST_F(EditTest, UfoGlyphSavesOnlyTheDraggedPointsXYIntoItsGlif) {
   EXPECT_EQ(differing(d, n, 0, 0, 320, 200), 0) << "the docked legend covers the canvas";
   EXPECT_GT(differing(f, n, 0, 0, 320, 200), 2000) << "the floating legend is where the test looks";
 }
+
+namespace {
+
+/// The comb's dark green pixels (expect_comb_inside's test).
+int comb_pixels(const Image& img) {
+  int n = 0;
+  for (const auto& c : img.rgb) n += c[1] > c[0] + 35 && c[1] > c[2] + 35 && c[1] < 200;
+  return n;
+}
+
+/// Near-black pixels in a box (a point marker's outline, a label's text).
+int dark_pixels(const Image& img, int x0, int y0, int x1, int y1) {
+  int n = 0;
+  for (int j = std::max(0, y0); j < std::min(img.height, y1); ++j)
+    for (int i = std::max(0, x0); i < std::min(img.width, x1); ++i) {
+      const auto& c = img.rgb[j * img.width + i];
+      n += c[0] < 80 && c[1] < 80 && c[2] < 80;
+    }
+  return n;
+}
+
+}  // namespace
+
+TEST_F(EditTest, GlyphCombOnEveryContourAndNoMarkersOnALinesAddedPoints) {
+  // A .glif alone: p0 -> p1 is a line, whose added inner points (at about
+  // x = 100 and 200, y = 0) are neither drawn nor picked.
+  const fs::path glif = dir_ / "D_.glif";
+  std::ofstream(glif) << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<glyph name=\"D\" format=\"2\">\n<outline>\n"
+                         "<contour>\n<point x=\"0\" y=\"0\" type=\"line\"/>\n<point x=\"300\" y=\"0\" type=\"line\"/>\n"
+                         "<point x=\"450\" y=\"0\"/>\n<point x=\"500\" y=\"150\"/>\n"
+                         "<point x=\"500\" y=\"300\" type=\"curve\" smooth=\"yes\"/>\n<point x=\"500\" y=\"450\"/>\n"
+                         "<point x=\"450\" y=\"600\"/>\n<point x=\"300\" y=\"600\" type=\"curve\"/>\n"
+                         "<point x=\"0\" y=\"600\" type=\"line\"/>\n</contour>\n</outline>\n</glyph>\n";
+  const fs::path shot = dir_ / "d.png";
+  // View -100..700 both ways on 400x400: world (x, y) at pixel ((x + 100) / 2, (700 - y) / 2).
+  const Outcome r = run_edit(glif.string(),
+                             "ui off\ncomb off\nview -100 -100 700 700\nselect 4\nmouse 100 350\npress left\n"
+                             "release left\nstatus\nscreenshot " + shot.string() + "\n",
+                             dir_ / "last.png", "400x400", "", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("glyph D of D_.glif: 1 contour"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("selected P4 (D/c0/p2)"), std::string::npos) << "a press on a line's added point picks nothing: "
+                                                                       << r.err;
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, 400);
+  // Above the line (y = 0 at row 350): a marker's outline at the nodes p0
+  // (pixel 50) and p1 (200), nothing at the added points (100, 150).
+  EXPECT_GT(dark_pixels(img, 193, 343, 208, 348), 3) << "p1's marker";
+  EXPECT_EQ(dark_pixels(img, 93, 343, 108, 348), 0) << "an added point's marker at x = 100";
+  EXPECT_EQ(dark_pixels(img, 143, 343, 158, 348), 0) << "an added point's marker at x = 200";
+  // A UFO's O: the comb of the edited contour, then of both.
+  const fs::path one = dir_ / "one.png", both = dir_ / "both.png";
+  const Outcome o = run_edit((fs::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo").string(),
+                             "ui off\nfit\nscreenshot " + one.string() + "\ncomb-all on\nscreenshot " + both.string() + "\n",
+                             dir_ / "last.png", "640x480", " --glyph O", dir_);
+  ASSERT_EQ(o.code, 0) << o.err;
+  const int c1 = comb_pixels(read_png(one)), c2 = comb_pixels(read_png(both));
+  EXPECT_GT(c1, 200);
+  EXPECT_GT(c2, c1 + 500) << "the other contour's comb is drawn too";
+}
