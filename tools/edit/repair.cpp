@@ -149,8 +149,29 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     return false;
   }
   FixResult r;
+  std::string via;
   try {
-    r = fix(d.spline, request);
+    // Chain mode's each-piece with every joint a cut asks that every
+    // segment's curvature be monotone on its own: what the report's
+    // curvature-extrema-at-nodes asks, but searched as a whole (every step
+    // analyses the whole spline and must lower its count). On a glyph that
+    // search found nothing in 5 s where the per-segment search of
+    // curvature-extrema-at-nodes (each failing segment repaired by the points
+    // that act on it, judged alone) finds a fix at once (issue 36). So fix
+    // searches per segment first and takes the result when each-piece itself
+    // holds on it; otherwise the each-piece search runs as before.
+    const bool per_segment = request.requirement.kind == FixRequirement::Kind::each_piece &&
+                             request.requirement.cuts.empty() && request.points.empty() && !request.judge;
+    if (per_segment) {
+      FixRequest local = request;
+      local.requirement.kind = FixRequirement::Kind::extrema_at_nodes;
+      r = fix(d.spline, local);
+      if (r.fixed && !r.already && r.spline && requirement_holds(*r.spline, request.requirement, request.max_depth))
+        via = " (searched segment by segment, as curvature-extrema-at-nodes; each-piece holds)";
+      else
+        r = FixResult{};
+    }
+    if (via.empty()) r = fix(d.spline, request);
   } catch (const InputError& e) {
     message = what + ": " + e.what();
     return false;
@@ -176,7 +197,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     moves += one;
   }
   message = what + " (" + req + "): moved " + moves + "; certified by analyze" +
-            (d.segments ? " (every segment judged, as cmr fix)" : "");
+            (d.segments ? " (every segment judged, as cmr fix)" : "") + via;
   animation_ = Animation{d.spline, *r.spline, 0, "fix" + std::to_string(++fix_serial_)};
   history_.seal();     // the fix is an undo step of its own
   advance_animation(0);  // its first frame holds the state before it for undo
@@ -221,7 +242,9 @@ void Editor::advance_animation(double seconds) {
 }
 
 void Editor::finish_animation() {
-  if (animation_) advance_animation(kFixAnimationSeconds);
+  if (!animation_) return;
+  animation_->first = false;  // not the first frame's one step: all the way
+  advance_animation(kFixAnimationSeconds);
 }
 
 }  // namespace cmr::edit
