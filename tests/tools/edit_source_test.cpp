@@ -261,4 +261,10 @@ TEST(EditSource, ChainFixOnAGlyphFindsWhatTheReportFinds) {
   int moved = 0;
   for (int k = 0; k < before.unique_point_count(); ++k) moved += e.doc().spline.points()[k] != before.points()[k];
   EXPECT_EQ(moved, static_cast<int>(r.moves.size())) << e.message;
+  for (int k = 0; k < before.unique_point_count(); ++k) {
+    if (e.movable(k)) continue;
+    EXPECT_EQ(e.doc().spline.points()[k], before.points()[k]) << e.point_name(k) << ": a line's point";
+  }
+  EXPECT_FALSE(e.movable(1)) << "S/c0/p0+p1, the line's midpoint, is not the designer's";
+  EXPECT_EQ(e.short_point_name(5), "p4") << "a binary font's glyph is labelled short too";
 }

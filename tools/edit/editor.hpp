@@ -230,6 +230,12 @@ class Editor {
   /// (advance_animation) and is one undo step. No fix: nothing moves, the
   /// status line says why in one line and the result is false.
   bool fix_curve();
+  /// A glyph's contour (curves with font points): the points a chain-mode
+  /// fix may move: the font's own points (not a line's added ones) that act
+  /// on a segment whose curvature is not certified monotone, except a node
+  /// at an end of a straight piece (it stays, so the line stays the same
+  /// line). Empty for other curves (every point may move).
+  std::vector<int> glyph_fix_points() const;
   /// "snap into region": the selected point alone (its own region, no rigid
   /// group) to the nearest certified position of fix_requirement() found by
   /// bezierize/fix (FixRequest::points = {selected}; in chain mode G1 kept),

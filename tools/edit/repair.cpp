@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "bezierize/analyze.hpp"
 #include "bezierize/region_reason.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
@@ -110,11 +111,41 @@ FixRequirement Editor::fix_requirement() const {
   return r;
 }
 
+std::vector<int> Editor::glyph_fix_points() const {
+  if (curves.empty()) return {};
+  const OpenedCurve& c = curves[active_curve];
+  const BSpline& s = doc().spline;
+  const int m = static_cast<int>(c.font_point.size());
+  if (m == 0 || m != s.unique_point_count()) return {};
+  FixRequirement each;
+  each.kind = FixRequirement::Kind::extrema_at_nodes;
+  const SplineAnalysis a = analyze(s, fix_analyze_options(each, doc().max_depth));
+  std::vector<bool> on_failing(m, false);
+  for (int i = a.range.first; i <= a.range.last; ++i) {
+    const Curvature k = a.segments[i].monotonicity.curvature;
+    if (!a.shapes[i].pole && (k == Curvature::increasing || k == Curvature::decreasing || k == Curvature::constant))
+      continue;
+    for (int p : segment_points(s, s.segments()[i])) on_failing[p % m] = true;
+  }
+  std::vector<int> out;
+  for (int k = 0; k < m; ++k) {
+    if (c.font_point[k] < 0 || !on_failing[k]) continue;
+    const bool line_end = c.node[k] && (c.font_point[(k + 1) % m] < 0 || c.font_point[(k + m - 1) % m] < 0);
+    if (!line_end) out.push_back(k);
+  }
+  return out;
+}
+
 bool Editor::fix_curve() {
   FixRequest q;
   q.requirement = fix_requirement();
   q.keep = Keep::g1;
   q.max_seconds = kFixSeconds;
+  // A glyph in chain mode: only the designer's points that act on a failing
+  // segment, and no node at an end of a line (as `cmr fix FONT.ufo
+  // --glyph`), so lines stay lines.
+  if (q.requirement.kind == FixRequirement::Kind::each_piece && q.requirement.cuts.empty())
+    q.points = glyph_fix_points();
   return apply_fix(q, "fix");
 }
 
@@ -161,7 +192,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     // searches per segment first and takes the result when each-piece itself
     // holds on it; otherwise the each-piece search runs as before.
     const bool per_segment = request.requirement.kind == FixRequirement::Kind::each_piece &&
-                             request.requirement.cuts.empty() && request.points.empty() && !request.judge;
+                             request.requirement.cuts.empty() && !request.judge && !request.together;
     if (per_segment) {
       FixRequest local = request;
       local.requirement.kind = FixRequirement::Kind::extrema_at_nodes;
@@ -184,6 +215,12 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : r.reason);
     return false;
   }
+  for (int k = 0; k < r.spline->unique_point_count(); ++k)
+    if (!movable(k) && r.spline->points()[k] != d.spline.points()[k]) {  // a glyph's line would bend
+      message = what + " (" + req + "): the nearest fix moves " + point_name(k) +
+                ", a straight piece's added point, and would bend the line (chain mode keeps lines)";
+      return false;
+    }
   std::string moves;
   for (std::size_t i = 0; i < r.moves.size(); ++i) {
     if (i == 3) {

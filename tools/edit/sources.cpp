@@ -27,9 +27,14 @@ OpenedSource open_source(const std::filesystem::path& file, const std::string& g
     if (font.glyphs.empty()) throw InputError(shown + " has no glyph for '" + glyph + "'");
     const import::Glyph& g = font.glyphs.front();
     if (g.contours.empty()) throw InputError(shown + ": glyph " + g.name + " has no contour to edit");
-    for (const import::Contour& c : g.contours)
-      out.curves.push_back({c.spline, c.point_names, c.spline.name(),
-                            out_dir / (import::file_stem(g.name) + "_c" + std::to_string(c.index) + ".json")});
+    for (const import::Contour& c : g.contours) {
+      OpenedCurve oc{c.spline, c.point_names, c.spline.name(),
+                     out_dir / (import::file_stem(g.name) + "_c" + std::to_string(c.index) + ".json")};
+      oc.contour = c.index;  // a line's added points are not drawn or picked here either
+      oc.font_point = c.font_point;
+      oc.node = c.node;
+      out.curves.push_back(std::move(oc));
+    }
     out.what = "glyph " + g.name + " of " + shown + ": " + std::to_string(g.contours.size()) +
                (g.contours.size() == 1 ? " contour" : " contours");
     out.font = file;

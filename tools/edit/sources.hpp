@@ -17,8 +17,8 @@ struct OpenedCurve {
   std::vector<std::string> point_names;  ///< one per distinct point; empty: P0, P1, ...
   std::string name;                      ///< "O/c0", "drawing/path1/s0", the file's name
   std::filesystem::path save_as;         ///< the spline JSON "save" writes (cmr import's file name); a UFO glyph: its .glif
-  /// A font source's contour (a UFO glyph, io/ufo.hpp): its index in the
-  /// .glif, per distinct control point the .glif's point index (-1: a
+  /// A glyph's contour (a binary font's, or a UFO's, io/ufo.hpp): its index
+  /// in the glyph, per distinct control point the font's point index (-1: a
   /// straight piece's added inner point, neither drawn nor moved by hand)
   /// and whether it is an on-curve node; empty otherwise.
   int contour = -1;
