@@ -123,7 +123,7 @@ void Editor::set_source(OpenedSource source) {
   font_path = std::move(source.font);
   source_glif = std::move(source.glif);
   grid = source.grid;
-  if (!source_glif.empty()) legend_docked = true;
+  if (!source_glif.empty() || !font_path.empty()) legend_docked = true;  // a glyph: the legend never covers it
   active_curve = 0;
   if (curves.empty()) return;
   point_names = curves[0].point_names;

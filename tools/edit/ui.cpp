@@ -400,7 +400,7 @@ void controls(Editor& e, const UiInfo& info) {
   ImGui::Checkbox("keep in region", &e.constrain_drag);
   ImGui::SameLine();
   ImGui::Checkbox("legend", &e.show_legend);
-  if (e.show_legend) ImGui::Checkbox("legend in this panel (never over the curve)", &e.legend_docked);
+  if (e.show_legend) ImGui::Checkbox("legend in this panel", &e.legend_docked);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("a dragged point inside its region stops at its boundary (certified positions only)");
   const int joints = d.spline.segment_count() - 1;
