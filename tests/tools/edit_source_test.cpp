@@ -112,6 +112,12 @@ TEST(EditSource, UfoGlyphOpensWithTheSourcesNames) {
   EXPECT_EQ(e.point_name(3), "O/c0/p3");
   EXPECT_EQ(e.short_point_name(3), "p3");
   EXPECT_TRUE(e.legend_docked) << "a glyph's legend docks: it never covers the contours";
+  // The pointer over a point shows its full name, on either contour.
+  const Vec2 p3 = e.viewport().to_screen(e.doc().spline.points()[3]);
+  EXPECT_EQ(e.point_hover(p3.x + 2, p3.y).rfind("O/c0/p3 (", 0), 0u) << e.point_hover(p3.x + 2, p3.y);
+  const Vec2 q5 = e.viewport().to_screen(e.curves[1].spline.points()[5]);
+  EXPECT_EQ(e.point_hover(q5.x, q5.y - 1).rfind("O/c1/p5 (", 0), 0u) << e.point_hover(q5.x, q5.y - 1);
+  EXPECT_EQ(e.point_hover(-50, -50), "");
   // Bad inputs, one line each.
   EXPECT_THROW(open_source(kSans, ""), InputError);
   try {

@@ -169,6 +169,10 @@ class Editor {
   /// Point k's name as the canvas labels it: for a font source's contour the
   /// part after "GLYPH/cC/" ("p3", "n3.out"), else point_name(k).
   std::string short_point_name(int k) const;
+  /// What the pointer over window pixel (x, y) shows of a point (the edited
+  /// curve's, else another opened curve's): its full name and coordinates,
+  /// "O/c0/p3 (700, 300)"; empty when no point is within kPickRadius.
+  std::string point_hover(double x, double y) const;
   /// After a move of a font source's contour: every straight piece whose end
   /// node moved gets its inner points back on the line (as the importer
   /// places them), so a line stays a line.

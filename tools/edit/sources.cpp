@@ -245,6 +245,35 @@ BSpline Editor::keep_lines(const BSpline& before, BSpline after) const {
   return after;
 }
 
+std::string Editor::point_hover(double x, double y) const {
+  const auto near = [&](Vec2 p) {
+    const Vec2 s = viewport_.to_screen(p);
+    return std::hypot(s.x - x, s.y - y) <= kPickRadius;
+  };
+  char buf[240];
+  const std::vector<Vec2>& pts = doc().spline.points();
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    if (!movable(i) || !near(pts[i])) continue;
+    std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)", point_name(i).c_str(), pts[i].x, pts[i].y);
+    return buf;
+  }
+  for (int c = 0; c < static_cast<int>(curves.size()); ++c) {  // another contour's point: its full name too
+    if (c == active_curve) continue;
+    const OpenedCurve& oc = curves[c];
+    const std::vector<Vec2>& q = oc.spline.points();
+    for (int i = 0; i < oc.spline.unique_point_count(); ++i) {
+      if (i < static_cast<int>(oc.font_point.size()) && oc.font_point[i] < 0) continue;
+      if (!near(q[i])) continue;
+      std::string name = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
+      if (i < static_cast<int>(oc.point_names.size())) name = oc.point_names[i];
+      else name += std::to_string(i);
+      std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)", name.c_str(), q[i].x, q[i].y);
+      return buf;
+    }
+  }
+  return {};
+}
+
 void Editor::save_source() {
   if (source_glif.empty()) throw InputError("save: no font source is open");
   finish_animation();

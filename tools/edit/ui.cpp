@@ -834,33 +834,7 @@ void canvas_readout(Editor& e) {
   const auto [cw, ch] = e.canvas();
   if (!(m.x >= 0 && m.y >= 0 && m.x < cw && m.y < ch)) return;
   const Document& d = e.doc();
-  std::string text;
-  const std::vector<Vec2>& pts = d.spline.points();
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
-    if (!e.movable(i)) continue;
-    const Vec2 p = e.viewport().to_screen(pts[i]);
-    if (std::hypot(p.x - m.x, p.y - m.y) <= Editor::kPickRadius) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)", e.point_name(i).c_str(), pts[i].x, pts[i].y);
-      text = buf;
-      break;
-    }
-  }
-  for (int c = 0; c < static_cast<int>(e.curves.size()) && text.empty(); ++c) {  // another contour's point: its full name
-    if (c == e.active_curve) continue;
-    const OpenedCurve& oc = e.curves[c];
-    const std::vector<Vec2>& q = oc.spline.points();
-    for (int i = 0; i < oc.spline.unique_point_count(); ++i) {
-      if (i < static_cast<int>(oc.font_point.size()) && oc.font_point[i] < 0) continue;
-      const Vec2 p = e.viewport().to_screen(q[i]);
-      if (std::hypot(p.x - m.x, p.y - m.y) > Editor::kPickRadius) continue;
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)",
-                    i < static_cast<int>(oc.point_names.size()) ? oc.point_names[i].c_str() : "", q[i].x, q[i].y);
-      text = buf;
-      break;
-    }
-  }
+  std::string text = e.point_hover(m.x, m.y);  // the full name ("O/c0/p3") and coordinates
   if (text.empty())
     if (const auto c = pick_curve(d.spline, e.viewport(), m.x, m.y, 8)) {
       char buf[160];
