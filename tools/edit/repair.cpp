@@ -215,10 +215,19 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : r.reason);
     return false;
   }
-  for (int k = 0; k < r.spline->unique_point_count(); ++k)
-    if (!movable(k) && r.spline->points()[k] != d.spline.points()[k]) {  // a glyph's line would bend
+  // A glyph's lines stay lines: no fix moves a line's added point or a node
+  // at an end of a line.
+  const std::vector<int>* fp = curves.empty() ? nullptr : &curves[active_curve].font_point;
+  const int m = fp ? static_cast<int>(fp->size()) : 0;
+  if (m > 0 && m == r.spline->unique_point_count())
+    for (int k = 0; k < m; ++k) {
+      if (r.spline->points()[k] == d.spline.points()[k]) continue;
+      const bool added = (*fp)[k] < 0;
+      const bool line_end = !added && curves[active_curve].node[k] && ((*fp)[(k + 1) % m] < 0 || (*fp)[(k + m - 1) % m] < 0);
+      if (!added && !line_end) continue;
       message = what + " (" + req + "): the nearest fix moves " + point_name(k) +
-                ", a straight piece's added point, and would bend the line (chain mode keeps lines)";
+                (added ? ", a straight piece's added point," : ", a node at an end of a line,") +
+                " and would bend the line (chain mode's fix keeps lines)";
       return false;
     }
   std::string moves;
