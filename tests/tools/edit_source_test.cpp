@@ -274,3 +274,29 @@ TEST(EditSource, ChainFixOnAGlyphFindsWhatTheReportFinds) {
   EXPECT_FALSE(e.movable(1)) << "S/c0/p0+p1, the line's midpoint, is not the designer's";
   EXPECT_EQ(e.short_point_name(5), "p4") << "a binary font's glyph is labelled short too";
 }
+
+// A fix in the editor lies off the grid; saved into a UFO it is rounded. The
+// status line says whether the view's requirement still holds as saved
+// (re-judged on the rounded contour), and what was written is that contour.
+TEST(EditSource, SavingAFixSaysWhetherItHoldsOnTheGrid) {
+  const fs::path dir = scratch("fixsave");
+  fs::copy(kSans, dir / "Sans.ufo", fs::copy_options::recursive);
+  int fixed = 0;
+  for (const char* glyph : {"O", "s"}) {
+    Editor e = editor_of(open_source(dir / "Sans.ufo", glyph));
+    e.set_chain(true);
+    FixRequirement each;
+    each.kind = FixRequirement::Kind::each_piece;
+    if (requirement_holds(e.doc().spline, each, e.doc().max_depth)) continue;
+    ASSERT_TRUE(e.fix_curve()) << glyph << ": " << e.message;
+    ++fixed;
+    e.finish_animation();
+    ASSERT_TRUE(requirement_holds(e.doc().spline, each, e.doc().max_depth)) << glyph << ": the fix holds off the grid";
+    e.save(e.path());
+    const OpenedSource again = open_source(dir / "Sans.ufo", glyph);
+    const bool holds = requirement_holds(again.curves[0].spline, each, e.doc().max_depth);
+    EXPECT_NE(e.message.find(holds ? "each-piece holds as saved" : "each-piece no longer holds"), std::string::npos)
+        << glyph << ": " << e.message;
+  }
+  EXPECT_GT(fixed, 0) << "no test glyph failed each-piece";
+}

@@ -305,6 +305,27 @@ void Editor::save_source() {
     curves[written[j].first].in_source[written[j].second] = {edits[j].x, edits[j].y};
   message = "saved " + std::to_string(edits.size()) + " moved point(s) into " + source_glif.string() +
             (grid > 0 ? " (x and y only, on the font's grid)" : " (x and y only)");
+  // Rounding to the grid can undo a fix (it often lies on its region's
+  // edge): say whether the view's requirement holds as saved when it held
+  // before rounding.
+  if (grid <= 0 || edits.empty()) return;
+  const FixRequirement req = fix_requirement();
+  const BSpline& s = doc().spline;
+  const bool whole_period = s.closed() && !req.segments &&
+                            (req.kind == FixRequirement::Kind::cmr || req.kind == FixRequirement::Kind::cmrwi);
+  if (whole_period) return;  // never monotone over a whole period: nothing to say
+  BSpline rounded = s;
+  for (int k = 0; k < s.unique_point_count(); ++k)
+    rounded = rounded.with_point(k, {std::round(s.points()[k].x / grid) * grid, std::round(s.points()[k].y / grid) * grid});
+  try {
+    if (!requirement_holds(s, req, doc().max_depth)) return;
+    message += requirement_holds(rounded, req, doc().max_depth)
+                   ? "; " + to_string(req) + " holds as saved"
+                   : "; rounded to the grid, " + to_string(req) +
+                         " no longer holds (cmr fix FONT.ufo --glyph NAME --require ... --in-place finds a fix on the grid)";
+  } catch (const InputError&) {
+    // a requirement the curve cannot be judged by: the save stands, nothing to add
+  }
 }
 
 }  // namespace cmr::edit
