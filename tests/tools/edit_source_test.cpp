@@ -300,3 +300,47 @@ TEST(EditSource, SavingAFixSaysWhetherItHoldsOnTheGrid) {
   }
   EXPECT_GT(fixed, 0) << "no test glyph failed each-piece";
 }
+
+// "fix on the grid": the contour fixed as `cmr fix FONT.ufo --glyph NAME
+// --require curvature-extrema-at-nodes` fixes it; saved, the .glif's
+// contour passes the gate exactly as written (integers), and only the moved
+// points' lines differ.
+TEST(EditSource, FixOnTheGridHoldsAsSavedAndChangesOnlyTheMovedPoints) {
+  const fs::path dir = scratch("fixgrid");
+  fs::copy(kSans, dir / "Sans.ufo", fs::copy_options::recursive);
+  const std::string before = slurp(dir / "Sans.ufo/glyphs/O_.glif");
+  Editor e = editor_of(open_source(dir / "Sans.ufo", "O"));
+  FixRequirement gate;
+  gate.kind = FixRequirement::Kind::extrema_at_nodes;
+  ASSERT_FALSE(requirement_holds(e.doc().spline, gate, e.doc().max_depth)) << "O/c0 fails the gate as it is";
+  const BSpline start = e.doc().spline;
+  ASSERT_TRUE(e.fix_on_grid()) << e.message;
+  e.finish_animation();
+  EXPECT_NE(e.message.find("onto the grid"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("curvature-extrema-at-nodes"), std::string::npos) << e.message;
+  const BSpline fixed = e.doc().spline;
+  int moved = 0;
+  for (int k = 0; k < fixed.unique_point_count(); ++k) {
+    const Vec2 p = fixed.points()[k];
+    EXPECT_EQ(p, Vec2(std::round(p.x), std::round(p.y))) << e.point_name(k) << " on the grid";
+    moved += p != start.points()[k];
+  }
+  EXPECT_GT(moved, 0);
+  EXPECT_TRUE(requirement_holds(fixed, gate, e.doc().max_depth)) << "the gate holds on the grid";
+  e.save(e.path());
+  const OpenedSource again = open_source(dir / "Sans.ufo", "O");
+  EXPECT_EQ(again.curves[0].spline.points(), fixed.points()) << "written as found";
+  EXPECT_TRUE(requirement_holds(again.curves[0].spline, gate, e.doc().max_depth));
+  const std::vector<std::string> a = lines_of(before), b = lines_of(slurp(dir / "Sans.ufo/glyphs/O_.glif"));
+  ASSERT_EQ(a.size(), b.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == b[i]) continue;
+    ++changed;
+    EXPECT_EQ(without_xy(a[i]), without_xy(b[i]));
+  }
+  EXPECT_EQ(changed, moved);
+  // Undo restores the exact coordinates.
+  ASSERT_TRUE(e.undo());
+  EXPECT_EQ(e.doc().spline.points(), start.points());
+}

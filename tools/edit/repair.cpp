@@ -5,6 +5,8 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region_reason.hpp"
+#include "report/gates.hpp"
+#include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
 
@@ -147,6 +149,69 @@ bool Editor::fix_curve() {
   if (q.requirement.kind == FixRequirement::Kind::each_piece && q.requirement.cuts.empty())
     q.points = glyph_fix_points();
   return apply_fix(q, "fix");
+}
+
+bool Editor::fix_on_grid() {
+  finish_animation();
+  const std::string what = std::string("fix on the grid (") + kGridFixRequirement + ")";
+  if (curves.empty() || curves[active_curve].font_point.empty()) {
+    message = what + ": for a font's glyph (cmr edit FONT.ufo --glyph NAME)";
+    return false;
+  }
+  const OpenedCurve& oc = curves[active_curve];
+  const Document& d = doc();
+  if (static_cast<int>(oc.font_point.size()) != d.spline.unique_point_count() || d.spline.knots() != oc.spline.knots()) {
+    message = what + ": the contour's knots or points changed (a knot operation); undo it first";
+    return false;
+  }
+  import::Glyph g;
+  g.name = oc.name;
+  // What report::fix_glyph reads of a contour: its index, spline, names,
+  // font points and nodes (the joint and source fields are for locating
+  // findings in a file, not for fixing).
+  g.contours.push_back(import::Contour{oc.contour, d.spline, oc.point_names, oc.font_point, oc.node, {}, {}, {}});
+  report::GlyphFixOptions o;
+  report::parse_require_list(kGridFixRequirement, o.judge);
+  o.judge.max_depth = d.max_depth;
+  o.grid = grid > 0 ? grid : 1;  // a binary font's units: its grid too
+  o.max_seconds = kFixSeconds;
+  std::vector<report::ContourFix> fixes;
+  try {
+    fixes = report::fix_glyph(g, o);
+  } catch (const InputError& e) {
+    message = what + ": " + e.what();
+    return false;
+  }
+  if (fixes.empty()) {
+    message = what + ": nothing to fix";
+    return false;
+  }
+  const report::ContourFix& f = fixes.front();
+  if (f.already) {
+    message = what + ": " + oc.name + " already meets it (nothing moved)";
+    return true;
+  }
+  if (!f.fixed) {
+    message = what + ": " + f.reason;
+    return false;
+  }
+  BSpline to = d.spline;
+  for (const PointMove& m : f.moves) to = to.with_point(m.point, m.to);
+  std::string rejudged;
+  for (const report::GateCount& gc : f.rejudged)
+    rejudged += (rejudged.empty() ? "" : ", ") + gc.check + " " + std::to_string(gc.before) + " -> " +
+                std::to_string(gc.after);
+  char largest[64];
+  double most = 0;
+  for (const PointMove& m : f.moves) most = std::max(most, m.distance);
+  std::snprintf(largest, sizeof largest, "%.4g", most);
+  message = what + ": moved " + std::to_string(f.moves.size()) + " point(s) onto the grid, the largest by " + largest +
+            " (cmr fix FONT.ufo --glyph's search); violations " + rejudged;
+  animation_ = Animation{d.spline, to, 0, "fix" + std::to_string(++fix_serial_)};
+  history_.seal();
+  advance_animation(0);
+  animation_->first = true;
+  return true;
 }
 
 bool Editor::snap_selected() {

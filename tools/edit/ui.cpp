@@ -575,6 +575,13 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("the nearest certified fix of %s (the points cmr fix chooses)",
                       to_string(e.fix_requirement()).c_str());
+  if (!e.curves.empty() && !e.curves[e.active_curve].font_point.empty()) {  // a font's glyph
+    ImGui::SameLine();
+    if (ImGui::Button("fix on grid")) act(e, [&] { e.fix_on_grid(); });
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("%s on the font's grid, as cmr fix FONT.ufo --glyph NAME finds it (lines and smooth nodes kept)",
+                        Editor::kGridFixRequirement);
+  }
   if (ImGui::Button("export PNG") && info.export_png != nullptr) *info.export_png = true;
   ImGui::SameLine();
   if (ImGui::Button("export region")) {
