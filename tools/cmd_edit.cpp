@@ -45,8 +45,11 @@ void add_edit_command(CLI::App& app, int& exit_code) {
   auto a = std::make_shared<EditArgs>();
   auto* cmd = app.add_subcommand("edit", "Design interactively: drag points and see their regions live");
   cmd->add_option("FILE", a->file,
-                  "spline file (JSON), font (with --glyph) or SVG file to open; without it, a cubic Bezier curve");
-  cmd->add_option("--glyph", a->glyph, "a font's glyph to edit, all its contours (one character or U+hex)");
+                  "spline file (JSON), font or UFO (with --glyph), .glif or SVG file to open; without it, a cubic "
+                  "Bezier curve");
+  cmd->add_option("--glyph", a->glyph,
+                  "a font's glyph to edit, all its contours (one character or U+hex; a UFO's: the glyph name, "
+                  "and save writes back into its .glif)");
   cmd->add_option("--script", a->script, "run these input events (see README) in the real window, then exit");
   cmd->add_option("--screenshot", a->screenshot, "PNG of the presented window after the script");
   cmd->add_option("--size", a->size, "window size WxH")->capture_default_str();

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -964,3 +965,154 @@ TEST_F(EditTest, ConstrainedDragStopsInsideTheRegion) {
 }
 
 }  // namespace
+
+// ---- issue 36: a font source's glyph (a UFO), saved back into its .glif ----
+
+namespace {
+
+std::map<std::string, std::string> files_under(const fs::path& root) {
+  std::map<std::string, std::string> out;
+  for (const auto& f : fs::recursive_directory_iterator(root))
+    if (f.is_regular_file()) out[f.path().lexically_relative(root).string()] = cmr::test::slurp(f.path());
+  return out;
+}
+
+std::vector<std::string> text_lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+/// The number in attribute `name` of a .glif <point> line.
+double attribute(const std::string& line, const std::string& name) {
+  const std::size_t at = line.find(" " + name + "=\"");
+  if (at == std::string::npos) return NAN;
+  return std::stod(line.substr(at + name.size() + 3));
+}
+
+/// Pixels that differ between two screenshots inside a box.
+int differing(const Image& a, const Image& b, int x0, int y0, int x1, int y1) {
+  int n = 0;
+  for (int j = y0; j < y1; ++j)
+    for (int i = x0; i < x1; ++i) n += a.rgb[j * a.width + i] != b.rgb[j * b.width + i];
+  return n;
+}
+
+}  // namespace
+
+TEST_F(EditTest, UfoGlyphSavesOnlyTheDraggedPointsXYIntoItsGlif) {
+  const fs::path ufo = dir_ / "Sans.ufo";
+  fs::copy(fs::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo", ufo, fs::copy_options::recursive);
+  const auto before = files_under(ufo);
+  // Drag O/c0/p3 to a position off the grid, save (the panel's save), then
+  // the same view three ways: the legend docked (a glyph's default), floating,
+  // and no panels at all; the comb off (it is fitted to the canvas, which the
+  // panels change) and the pointer in the canvas's empty corner.
+  const fs::path docked = dir_ / "docked.png", floating = dir_ / "floating.png", bare = dir_ / "bare.png";
+  const Outcome r = run_edit("Sans.ufo",
+                             "select 3\ndrag 3 700.3 299.6\nstatus\nsave\ncomb off\nmouse 3 3\nscreenshot " +
+                                 docked.string() + "\nlegend-dock off\nscreenshot " + floating.string() +
+                                 "\nui off\nscreenshot " + bare.string() + "\n",
+                             dir_ / "last.png", "1024x768", " --glyph O", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cmr edit: glyph O of Sans.ufo: 2 contours (O/c0, O/c1)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("selected P3 (O/c0/p3)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("saved 1 moved point(s) into Sans.ufo/glyphs/O_.glif (x and y only, on the font's grid)"),
+            std::string::npos)
+      << r.err;
+  // Every other file byte for byte; in the .glif one line, and in it only x and y.
+  const auto after = files_under(ufo);
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [name, bytes] : before) {
+    if (name == "glyphs/O_.glif") continue;
+    EXPECT_EQ(after.at(name), bytes) << name << " was touched";
+  }
+  const auto a = text_lines(before.at("glyphs/O_.glif")), b = text_lines(after.at("glyphs/O_.glif"));
+  ASSERT_EQ(a.size(), b.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i] == b[i]) continue;
+    ++changed;
+    const double x = attribute(b[i], "x"), y = attribute(b[i], "y");
+    EXPECT_EQ(x, std::round(x)) << b[i] << ": on the font's grid";
+    EXPECT_EQ(y, std::round(y)) << b[i];
+    EXPECT_NEAR(x, 700.3, 3) << b[i];
+    EXPECT_NEAR(y, 299.6, 3) << b[i];
+    std::string p = a[i], q = b[i];
+    for (std::string* s : {&p, &q})
+      for (const char* n : {" x=\"", " y=\""}) {
+        const std::size_t at = s->find(n);
+        s->erase(at + 4, s->find('"', at + 4) - (at + 4));
+      }
+    EXPECT_EQ(p, q) << "only x and y differ: " << a[i] << " -> " << b[i];
+  }
+  EXPECT_EQ(changed, 1);
+  // Docked, the legend covers nothing of the canvas: its top left is the
+  // same as without panels; floating, it is not.
+  const Image d = read_png(docked), f = read_png(floating), n = read_png(bare);
+  ASSERT_EQ(d.width, 1024);
+  ASSERT_EQ(n.width, 1024);
+  EXPECT_EQ(differing(d, n, 0, 0, 320, 200), 0) << "the docked legend covers the canvas";
+  EXPECT_GT(differing(f, n, 0, 0, 320, 200), 2000) << "the floating legend is where the test looks";
+}
+
+namespace {
+
+/// The comb's dark green pixels (expect_comb_inside's test).
+int comb_pixels(const Image& img) {
+  int n = 0;
+  for (const auto& c : img.rgb) n += c[1] > c[0] + 35 && c[1] > c[2] + 35 && c[1] < 200;
+  return n;
+}
+
+/// Near-black pixels in a box (a point marker's outline, a label's text).
+int dark_pixels(const Image& img, int x0, int y0, int x1, int y1) {
+  int n = 0;
+  for (int j = std::max(0, y0); j < std::min(img.height, y1); ++j)
+    for (int i = std::max(0, x0); i < std::min(img.width, x1); ++i) {
+      const auto& c = img.rgb[j * img.width + i];
+      n += c[0] < 80 && c[1] < 80 && c[2] < 80;
+    }
+  return n;
+}
+
+}  // namespace
+
+TEST_F(EditTest, GlyphCombOnEveryContourAndNoMarkersOnALinesAddedPoints) {
+  // A .glif alone: p0 -> p1 is a line, whose added inner points (at about
+  // x = 100 and 200, y = 0) are neither drawn nor picked.
+  const fs::path glif = dir_ / "D_.glif";
+  std::ofstream(glif) << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<glyph name=\"D\" format=\"2\">\n<outline>\n"
+                         "<contour>\n<point x=\"0\" y=\"0\" type=\"line\"/>\n<point x=\"300\" y=\"0\" type=\"line\"/>\n"
+                         "<point x=\"450\" y=\"0\"/>\n<point x=\"500\" y=\"150\"/>\n"
+                         "<point x=\"500\" y=\"300\" type=\"curve\" smooth=\"yes\"/>\n<point x=\"500\" y=\"450\"/>\n"
+                         "<point x=\"450\" y=\"600\"/>\n<point x=\"300\" y=\"600\" type=\"curve\"/>\n"
+                         "<point x=\"0\" y=\"600\" type=\"line\"/>\n</contour>\n</outline>\n</glyph>\n";
+  const fs::path shot = dir_ / "d.png";
+  // View -100..700 both ways on 400x400: world (x, y) at pixel ((x + 100) / 2, (700 - y) / 2).
+  const Outcome r = run_edit(glif.string(),
+                             "ui off\ncomb off\nview -100 -100 700 700\nselect 4\nmouse 100 350\npress left\n"
+                             "release left\nstatus\nscreenshot " + shot.string() + "\n",
+                             dir_ / "last.png", "400x400", "", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("glyph D of D_.glif: 1 contour"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("selected P4 (D/c0/p2)"), std::string::npos) << "a press on a line's added point picks nothing: "
+                                                                       << r.err;
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, 400);
+  // Above the line (y = 0 at row 350): a marker's outline at the nodes p0
+  // (pixel 50) and p1 (200), nothing at the added points (100, 150).
+  EXPECT_GT(dark_pixels(img, 193, 343, 208, 348), 3) << "p1's marker";
+  EXPECT_EQ(dark_pixels(img, 93, 343, 108, 348), 0) << "an added point's marker at x = 100";
+  EXPECT_EQ(dark_pixels(img, 143, 343, 158, 348), 0) << "an added point's marker at x = 200";
+  // A UFO's O: the comb of the edited contour, then of both.
+  const fs::path one = dir_ / "one.png", both = dir_ / "both.png";
+  const Outcome o = run_edit((fs::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo").string(),
+                             "ui off\nfit\nscreenshot " + one.string() + "\ncomb-all on\nscreenshot " + both.string() + "\n",
+                             dir_ / "last.png", "640x480", " --glyph O", dir_);
+  ASSERT_EQ(o.code, 0) << o.err;
+  const int c1 = comb_pixels(read_png(one)), c2 = comb_pixels(read_png(both));
+  EXPECT_GT(c1, 200);
+  EXPECT_GT(c2, c1 + 500) << "the other contour's comb is drawn too";
+}

@@ -34,6 +34,7 @@ int Editor::pick(double x, double y) const {
   double best_d = kPickRadius;
   const std::vector<Vec2>& pts = doc().spline.points();
   for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    if (!movable(i)) continue;  // a font source's line point: not the designer's
     const Vec2 s = viewport_.to_screen(pts[i]);
     const double d = std::hypot(s.x - x, s.y - y);
     if (d <= best_d) best = i, best_d = d;
@@ -51,8 +52,9 @@ void Editor::mouse_move(double x, double y) {
   if (dragging_ >= 0) {
     Document next = doc();
     Vec2 to = viewport_.to_world(x, y) + grab_offset_;
+    if (grid > 0) to = {std::round(to.x / grid) * grid, std::round(to.y / grid) * grid};  // the font's grid
     if (constrain_drag && dragging_ == doc().selected) to = constrained_target(doc().spline.points()[dragging_], to);
-    next.spline = edit::move_point(doc(), dragging_, to);
+    next.spline = keep_lines(doc().spline, edit::move_point(doc(), dragging_, to));
     history_.commit(std::move(next), "drag" + std::to_string(drag_serial_));
     changed_document();
   }
@@ -299,7 +301,7 @@ void Editor::kcurve_modify() {
 void Editor::move_point(int k, Vec2 p) {
   check_point(doc().spline, k);
   Document next = doc();
-  next.spline = edit::move_point(doc(), k, p);
+  next.spline = keep_lines(doc().spline, edit::move_point(doc(), k, p));
   history_.commit(std::move(next));
   changed_document();
 }
@@ -363,6 +365,10 @@ bool Editor::redo() {
 }
 
 void Editor::save(const std::filesystem::path& path) {
+  if (!source_glif.empty() && path == source_glif) {  // a font source's glyph: back into its .glif
+    save_source();
+    return;
+  }
   write_curve_file(path, doc().spline, point_names);
   path_ = path;
   message = "saved " + path.string() + " (spline JSON)";

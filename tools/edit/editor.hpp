@@ -155,6 +155,37 @@ class Editor {
   void save_all();
   /// A press on another curve's point makes that curve active and selects it.
   bool pick_other_curve(double x, double y);
+  // ---- a font source's glyph (a UFO's or a .glif's; tools/edit/sources.cpp) ----
+  /// The .glif the glyph was read from (empty: not a font source); "save"
+  /// and "save all" write back into it (save_source).
+  std::filesystem::path source_glif;
+  /// The font's grid (font units; 0: none): a dragged point lands on it and
+  /// save_source rounds to it.
+  double grid = 0;
+  /// Whether control point k of the edited curve is one a designer moves: not
+  /// a straight piece's added inner point of a font source (those are
+  /// neither drawn nor picked, and follow their line's end nodes).
+  bool movable(int k) const;
+  /// Point k's name as the canvas labels it: for a font source's contour the
+  /// part after "GLYPH/cC/" ("p3", "n3.out"), else point_name(k).
+  std::string short_point_name(int k) const;
+  /// What the pointer over window pixel (x, y) shows of a point (the edited
+  /// curve's, else another opened curve's): its full name and coordinates,
+  /// "O/c0/p3 (700, 300)"; empty when no point is within kPickRadius.
+  std::string point_hover(double x, double y) const;
+  /// After a move of a font source's contour: every straight piece whose end
+  /// node moved gets its inner points back on the line (as the importer
+  /// places them), so a line stays a line.
+  BSpline keep_lines(const BSpline& before, BSpline after) const;
+  /// Writes every contour's moved source points back into source_glif, as
+  /// `cmr fix --in-place` does (io/ufo.hpp's rewrite_glif_points, staged
+  /// through the OutputSet): only the moved points' x and y attributes
+  /// change, rounded to the grid; every other byte stays. InputError when a
+  /// contour's knots or point count changed (a knot operation) or it became
+  /// rational: a .glif holds point positions only.
+  void save_source();
+  /// The curvature comb of every opened curve, not only the edited one.
+  bool comb_all_curves = false;
   /// Constrained drag (issue 21, item 6): a dragged point that stands in its
   /// region stays in it: where the pointer leaves the region the point stops
   /// at the last position on the way there that RegionProblem::classify
@@ -203,6 +234,20 @@ class Editor {
   /// (advance_animation) and is one undo step. No fix: nothing moves, the
   /// status line says why in one line and the result is false.
   bool fix_curve();
+  /// A glyph's contour (curves with font points): the points a chain-mode
+  /// fix may move: the font's own points (not a line's added ones) that act
+  /// on a segment whose curvature is not certified monotone, except a node
+  /// at an end of a straight piece (it stays, so the line stays the same
+  /// line). Empty for other curves (every point may move).
+  std::vector<int> glyph_fix_points() const;
+  /// "fix on the grid" (a font's glyph): the edited contour fixed as `cmr
+  /// fix FONT.ufo --glyph NAME --require curvature-extrema-at-nodes` fixes it
+  /// (report/glyph_fix.hpp: only the font's own points, lines kept, smooth
+  /// nodes kept smooth, positions on the grid, re-judged check by check),
+  /// animated and undoable as fix_curve; saved, it is written as found. At
+  /// most kFixSeconds per stage. No fix: the status line says why.
+  bool fix_on_grid();
+  static constexpr const char* kGridFixRequirement = "curvature-extrema-at-nodes";
   /// "snap into region": the selected point alone (its own region, no rigid
   /// group) to the nearest certified position of fix_requirement() found by
   /// bezierize/fix (FixRequest::points = {selected}; in chain mode G1 kept),
@@ -277,6 +322,10 @@ class Editor {
   bool show_overlay = true;  ///< curve, polygon, points, comb
   bool show_comb = true;
   bool show_legend = true;   ///< the legend at the canvas's top left (designer.hpp's region_legend)
+  /// The legend as a section of the side panel instead of over the canvas's
+  /// top left, where it never covers the curve (the default for a font
+  /// source's glyph, whose contours fill the view).
+  bool legend_docked = false;
   /// Comb length relative to the fitted comb (designer.hpp's comb_geometry:
   /// 1 fits the canvas's view).
   double comb_scale = 1.0;

@@ -73,5 +73,20 @@ if [ -f "$font" ]; then
     --screenshot "$src/docs/img/edit_glyph.png")
 fi
 
+# 6b. A UFO source's glyph (examples/ufo/Sans.ufo, DejaVu Sans's O as a UFO
+#     3): short point names, the comb of every contour, the legend docked in
+#     the panel; a point dragged onto the grid (the copy is saved, not the
+#     example).
+cp -r "$src/examples/ufo/Sans.ufo" "$tmp/Sans.ufo"
+printf 'comb-all on
+select 3
+drag 3 250 330
+save
+mouse 5 5
+wait 2
+' >"$tmp/ufo.txt"
+(cd "$tmp" && run edit Sans.ufo --glyph O --size 1280x900 --script "$tmp/ufo.txt" \
+  --screenshot "$src/docs/img/edit_ufo.png")
+
 # 7. The benchmark (prints the machine and the load average).
 [ "${2:-}" = --no-bench ] || run edit --bench

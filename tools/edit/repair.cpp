@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "bezierize/analyze.hpp"
 #include "bezierize/region_reason.hpp"
+#include "report/gates.hpp"
+#include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
 
@@ -60,6 +63,7 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
   };
   int most = 0, most_at = -1;  // the largest region below kOpeningCells, if none reaches it
   for (int k = 0; k < m; ++k) {
+    if (!movable(k)) continue;  // a font source's line point: not the designer's
     Document d = start;
     d.selected = k;
     d.group.clear();
@@ -109,12 +113,105 @@ FixRequirement Editor::fix_requirement() const {
   return r;
 }
 
+std::vector<int> Editor::glyph_fix_points() const {
+  if (curves.empty()) return {};
+  const OpenedCurve& c = curves[active_curve];
+  const BSpline& s = doc().spline;
+  const int m = static_cast<int>(c.font_point.size());
+  if (m == 0 || m != s.unique_point_count()) return {};
+  FixRequirement each;
+  each.kind = FixRequirement::Kind::extrema_at_nodes;
+  const SplineAnalysis a = analyze(s, fix_analyze_options(each, doc().max_depth));
+  std::vector<bool> on_failing(m, false);
+  for (int i = a.range.first; i <= a.range.last; ++i) {
+    const Curvature k = a.segments[i].monotonicity.curvature;
+    if (!a.shapes[i].pole && (k == Curvature::increasing || k == Curvature::decreasing || k == Curvature::constant))
+      continue;
+    for (int p : segment_points(s, s.segments()[i])) on_failing[p % m] = true;
+  }
+  std::vector<int> out;
+  for (int k = 0; k < m; ++k) {
+    if (c.font_point[k] < 0 || !on_failing[k]) continue;
+    const bool line_end = c.node[k] && (c.font_point[(k + 1) % m] < 0 || c.font_point[(k + m - 1) % m] < 0);
+    if (!line_end) out.push_back(k);
+  }
+  return out;
+}
+
 bool Editor::fix_curve() {
   FixRequest q;
   q.requirement = fix_requirement();
   q.keep = Keep::g1;
   q.max_seconds = kFixSeconds;
+  // A glyph in chain mode: only the designer's points that act on a failing
+  // segment, and no node at an end of a line (as `cmr fix FONT.ufo
+  // --glyph`), so lines stay lines.
+  if (q.requirement.kind == FixRequirement::Kind::each_piece && q.requirement.cuts.empty())
+    q.points = glyph_fix_points();
   return apply_fix(q, "fix");
+}
+
+bool Editor::fix_on_grid() {
+  finish_animation();
+  const std::string what = std::string("fix on the grid (") + kGridFixRequirement + ")";
+  if (curves.empty() || curves[active_curve].font_point.empty()) {
+    message = what + ": for a font's glyph (cmr edit FONT.ufo --glyph NAME)";
+    return false;
+  }
+  const OpenedCurve& oc = curves[active_curve];
+  const Document& d = doc();
+  if (static_cast<int>(oc.font_point.size()) != d.spline.unique_point_count() || d.spline.knots() != oc.spline.knots()) {
+    message = what + ": the contour's knots or points changed (a knot operation); undo it first";
+    return false;
+  }
+  import::Glyph g;
+  g.name = oc.name;
+  // What report::fix_glyph reads of a contour: its index, spline, names,
+  // font points and nodes (the joint and source fields are for locating
+  // findings in a file, not for fixing).
+  g.contours.push_back(import::Contour{oc.contour, d.spline, oc.point_names, oc.font_point, oc.node, {}, {}, {}});
+  report::GlyphFixOptions o;
+  report::parse_require_list(kGridFixRequirement, o.judge);
+  o.judge.max_depth = d.max_depth;
+  o.grid = grid > 0 ? grid : 1;  // a binary font's units: its grid too
+  o.max_seconds = kFixSeconds;
+  std::vector<report::ContourFix> fixes;
+  try {
+    fixes = report::fix_glyph(g, o);
+  } catch (const InputError& e) {
+    message = what + ": " + e.what();
+    return false;
+  }
+  if (fixes.empty()) {
+    message = what + ": nothing to fix";
+    return false;
+  }
+  const report::ContourFix& f = fixes.front();
+  if (f.already) {
+    message = what + ": " + oc.name + " already meets it (nothing moved)";
+    return true;
+  }
+  if (!f.fixed) {
+    message = what + ": " + f.reason;
+    return false;
+  }
+  BSpline to = d.spline;
+  for (const PointMove& m : f.moves) to = to.with_point(m.point, m.to);
+  std::string rejudged;
+  for (const report::GateCount& gc : f.rejudged)
+    rejudged += (rejudged.empty() ? "" : ", ") + gc.check + " " + std::to_string(gc.before) + " -> " +
+                std::to_string(gc.after);
+  char largest[64];
+  double most = 0;
+  for (const PointMove& m : f.moves) most = std::max(most, m.distance);
+  std::snprintf(largest, sizeof largest, "%.4g", most);
+  message = what + ": moved " + std::to_string(f.moves.size()) + " point(s) onto the grid, the largest by " + largest +
+            " (cmr fix FONT.ufo --glyph's search); violations " + rejudged;
+  animation_ = Animation{d.spline, to, 0, "fix" + std::to_string(++fix_serial_)};
+  history_.seal();
+  advance_animation(0);
+  animation_->first = true;
+  return true;
 }
 
 bool Editor::snap_selected() {
@@ -148,8 +245,29 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     return false;
   }
   FixResult r;
+  std::string via;
   try {
-    r = fix(d.spline, request);
+    // Chain mode's each-piece with every joint a cut asks that every
+    // segment's curvature be monotone on its own: what the report's
+    // curvature-extrema-at-nodes asks, but searched as a whole (every step
+    // analyses the whole spline and must lower its count). On a glyph that
+    // search found nothing in 5 s where the per-segment search of
+    // curvature-extrema-at-nodes (each failing segment repaired by the points
+    // that act on it, judged alone) finds a fix at once (issue 36). So fix
+    // searches per segment first and takes the result when each-piece itself
+    // holds on it; otherwise the each-piece search runs as before.
+    const bool per_segment = request.requirement.kind == FixRequirement::Kind::each_piece &&
+                             request.requirement.cuts.empty() && !request.judge && !request.together;
+    if (per_segment) {
+      FixRequest local = request;
+      local.requirement.kind = FixRequirement::Kind::extrema_at_nodes;
+      r = fix(d.spline, local);
+      if (r.fixed && !r.already && r.spline && requirement_holds(*r.spline, request.requirement, request.max_depth))
+        via = " (searched segment by segment, as curvature-extrema-at-nodes; each-piece holds)";
+      else
+        r = FixResult{};
+    }
+    if (via.empty()) r = fix(d.spline, request);
   } catch (const InputError& e) {
     message = what + ": " + e.what();
     return false;
@@ -162,6 +280,21 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : r.reason);
     return false;
   }
+  // A glyph's lines stay lines: no fix moves a line's added point or a node
+  // at an end of a line.
+  const std::vector<int>* fp = curves.empty() ? nullptr : &curves[active_curve].font_point;
+  const int m = fp ? static_cast<int>(fp->size()) : 0;
+  if (m > 0 && m == r.spline->unique_point_count())
+    for (int k = 0; k < m; ++k) {
+      if (r.spline->points()[k] == d.spline.points()[k]) continue;
+      const bool added = (*fp)[k] < 0;
+      const bool line_end = !added && curves[active_curve].node[k] && ((*fp)[(k + 1) % m] < 0 || (*fp)[(k + m - 1) % m] < 0);
+      if (!added && !line_end) continue;
+      message = what + " (" + req + "): the nearest fix moves " + point_name(k) +
+                (added ? ", a straight piece's added point," : ", a node at an end of a line,") +
+                " and would bend the line (chain mode's fix keeps lines)";
+      return false;
+    }
   std::string moves;
   for (std::size_t i = 0; i < r.moves.size(); ++i) {
     if (i == 3) {
@@ -175,7 +308,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     moves += one;
   }
   message = what + " (" + req + "): moved " + moves + "; certified by analyze" +
-            (d.segments ? " (every segment judged, as cmr fix)" : "");
+            (d.segments ? " (every segment judged, as cmr fix)" : "") + via;
   animation_ = Animation{d.spline, *r.spline, 0, "fix" + std::to_string(++fix_serial_)};
   history_.seal();     // the fix is an undo step of its own
   advance_animation(0);  // its first frame holds the state before it for undo
@@ -220,7 +353,9 @@ void Editor::advance_animation(double seconds) {
 }
 
 void Editor::finish_animation() {
-  if (animation_) advance_animation(kFixAnimationSeconds);
+  if (!animation_) return;
+  animation_->first = false;  // not the first frame's one step: all the way
+  advance_animation(kFixAnimationSeconds);
 }
 
 }  // namespace cmr::edit

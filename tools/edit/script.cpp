@@ -22,13 +22,14 @@ const std::map<std::string, Arity>& commands() {
       {"split", {1, 1}},   {"chain", {1, 1}},  {"comb", {1, 1}},     {"ui", {1, 1}},
       {"overlay", {1, 1}}, {"view", {4, 4}},   {"fit", {0, 0}},      {"knot", {2, 2}},
       {"insert", {1, 2}},  {"remove", {1, 2}}, {"elevate", {0, 0}},  {"clamp", {0, 0}},
-      {"uniform", {0, 0}}, {"undo", {0, 0}},   {"redo", {0, 0}},     {"save", {1, 1}},
+      {"uniform", {0, 0}}, {"undo", {0, 0}},   {"redo", {0, 0}},     {"save", {0, 1}},
       {"export-region", {1, 1}}, {"screenshot", {1, 1}}, {"wait", {1, 1}}, {"quit", {0, 0}},
       {"drag-knot", {2, 3}}, {"kcurve", {1, 1}}, {"closed", {1, 1}},
       {"segments", {1, 1}}, {"weight", {2, 2}}, {"weight-region", {1, 1}}, {"resize", {2, 2}}, {"export-view", {1, 1}},
       {"fix", {0, 0}}, {"snap", {0, 0}}, {"status", {0, 0}},
       {"type", {2, 2}}, {"legend", {0, 0}}, {"fit-region", {0, 0}}, {"show-point", {2, 2}}, {"comb-size", {1, 1}},
       {"graph", {1, 1}}, {"contour", {1, 1}}, {"glyph", {1, 1}}, {"save-all", {0, 0}}, {"constrain", {1, 1}},
+      {"legend-dock", {1, 1}}, {"comb-all", {1, 1}}, {"fix-grid", {0, 0}},
   };
   return table;
 }

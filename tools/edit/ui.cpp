@@ -73,14 +73,22 @@ ImU32 colour_u32(draw::Rgb c, int alpha = 255) {
 /// The comb fitted to the canvas's view (designer.hpp's comb_geometry), its
 /// outline, the certified extrema and inflections, and the joints by
 /// continuity.
-void draw_comb(Editor& e, ImDrawList* dl) {
-  const BSpline& s = e.doc().spline;
+void draw_comb_of(Editor& e, ImDrawList* dl, const BSpline& s) {
   const Comb c = comb_geometry(s, canvas_view(e), e.comb_scale, e.comb_density);
   for (std::size_t i = 0; i < c.feet.size(); ++i) {
     dl->AddLine(screen(e, c.feet[i]), screen(e, c.tips[i]), kCombColour);
     if (e.comb_outline && i > 0 && c.feet.size() > 1)
       dl->AddLine(screen(e, c.tips[i - 1]), screen(e, c.tips[i]), IM_COL32(30, 100, 30, 255), 1.5f);
   }
+}
+
+/// The edited curve's comb and, with comb_all_curves, every other opened
+/// curve's (each fitted to the view on its own).
+void draw_comb(Editor& e, ImDrawList* dl) {
+  draw_comb_of(e, dl, e.doc().spline);
+  if (!e.comb_all_curves) return;
+  for (int c = 0; c < static_cast<int>(e.curves.size()); ++c)
+    if (c != e.active_curve) draw_comb_of(e, dl, e.curves[c].spline);
 }
 
 void draw_marks(Editor& e, ImDrawList* dl) {
@@ -177,13 +185,19 @@ void draw_other_curves(Editor& e, ImDrawList* dl, std::vector<Vec2>& at, std::ve
     const std::vector<Vec2>& pts = s.points();
     for (std::size_t i = 1; i < pts.size(); ++i) dl->AddLine(screen(e, pts[i - 1]), screen(e, pts[i]), IM_COL32(170, 170, 170, 255));
     const int n = s.closed() ? s.unique_point_count() : s.point_count();
+    const bool source = !oc.font_point.empty();
+    const std::string prefix = oc.name + "/";
     for (int i = 0; i < n; ++i) {
+      if (source && i < static_cast<int>(oc.font_point.size()) && oc.font_point[i] < 0) continue;  // a line's added point
       const ImVec2 p = screen(e, pts[i]);
       dl->AddCircleFilled(p, 4.0f, IM_COL32(235, 235, 235, 255));
       dl->AddCircle(p, 4.0f, IM_COL32(110, 110, 110, 255), 0, 1.0f);
       std::string name = "P";  // (built with +=: GCC 12 warns falsely on "P" + std::to_string)
       if (i < static_cast<int>(oc.point_names.size())) name = oc.point_names[i];
       else name += std::to_string(i);
+      // A font source's names short on the canvas ("p3"; the full name on hover).
+      if (source && name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0)
+        name.erase(0, prefix.size());
       const ImVec2 size = ImGui::CalcTextSize(name.c_str());
       at.push_back({p.x, p.y});
       sizes.push_back({size.x, size.y});
@@ -201,13 +215,14 @@ void draw_points(Editor& e, ImDrawList* dl) {
   std::vector<Vec2> at, sizes;
   std::vector<std::string> names;
   for (int i = 0; i < n; ++i) {
+    if (!e.movable(i)) continue;  // a font source's line point: neither drawn nor dragged
     const ImVec2 p = screen(e, pts[i]);
     const bool grouped = std::find(d.group.begin(), d.group.end(), i) != d.group.end();
     const ImU32 fill = i == d.selected ? IM_COL32(230, 30, 30, 255)
                                        : (grouped ? IM_COL32(240, 150, 0, 255) : IM_COL32(255, 255, 255, 255));
     dl->AddCircleFilled(p, 5.5f, fill);
     dl->AddCircle(p, 5.5f, IM_COL32(0, 0, 0, 255), 0, 1.5f);
-    names.push_back(e.point_name(i));
+    names.push_back(e.short_point_name(i));
     const ImVec2 size = ImGui::CalcTextSize(names.back().c_str());
     at.push_back({p.x, p.y});
     sizes.push_back({size.x, size.y});
@@ -385,6 +400,7 @@ void controls(Editor& e, const UiInfo& info) {
   ImGui::Checkbox("keep in region", &e.constrain_drag);
   ImGui::SameLine();
   ImGui::Checkbox("legend", &e.show_legend);
+  if (e.show_legend) ImGui::Checkbox("legend in this panel", &e.legend_docked);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("a dragged point inside its region stops at its boundary (certified positions only)");
   const int joints = d.spline.segment_count() - 1;
@@ -400,6 +416,10 @@ void controls(Editor& e, const UiInfo& info) {
   }
   segment_range(e);
   ImGui::Checkbox("comb", &e.show_comb);
+  if (e.curves.size() > 1) {
+    ImGui::SameLine();
+    ImGui::Checkbox("every contour", &e.comb_all_curves);
+  }
   ImGui::SameLine();
   float scale = static_cast<float>(e.comb_scale);
   ImGui::SetNextItemWidth(80);
@@ -555,6 +575,13 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("the nearest certified fix of %s (the points cmr fix chooses)",
                       to_string(e.fix_requirement()).c_str());
+  if (!e.curves.empty() && !e.curves[e.active_curve].font_point.empty()) {  // a font's glyph
+    ImGui::SameLine();
+    if (ImGui::Button("fix on grid")) act(e, [&] { e.fix_on_grid(); });
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("%s on the font's grid, as cmr fix FONT.ufo --glyph NAME finds it (lines and smooth nodes kept)",
+                        Editor::kGridFixRequirement);
+  }
   if (ImGui::Button("export PNG") && info.export_png != nullptr) *info.export_png = true;
   ImGui::SameLine();
   if (ImGui::Button("export region")) {
@@ -592,6 +619,8 @@ void curve_picker(Editor& e) {
   }
 }
 
+void legend_contents(Editor& e);
+
 void side_panel(Editor& e, const UiInfo& info) {
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowPos({io.DisplaySize.x - kPanelWidth, 0});
@@ -603,6 +632,9 @@ void side_panel(Editor& e, const UiInfo& info) {
                    ImGuiWindowFlags_AlwaysVerticalScrollbar);
   ImGui::TextWrapped("%s", e.path().filename().string().c_str());
   curve_picker(e);
+  // Docked, the legend is a section of this panel and never covers the curve.
+  if (e.show_legend && e.legend_docked && ImGui::CollapsingHeader("legend", ImGuiTreeNodeFlags_DefaultOpen))
+    legend_contents(e);
   // How the region reaches the window, in full on hover (one line here).
   ImGui::Text("frame %.1f ms; region path (hover)", info.frame_ms);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", info.region_path.c_str());
@@ -746,14 +778,8 @@ void curvature_plot(Editor& e) {
 
 /// The legend of what the canvas shows (designer.hpp's region_legend), at
 /// its top left; with every point overlapped, a switch per point.
-void legend_window(Editor& e) {
+void legend_contents(Editor& e) {
   const Legend l = region_legend(e);
-  ImGui::SetNextWindowPos({6, 6}, ImGuiCond_Always);
-  ImGui::SetNextWindowBgAlpha(0.88f);
-  // The pointer passes through it: points and regions beneath stay in reach.
-  ImGui::Begin("legend", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse |
-                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 290);
   ImGui::TextWrapped("%s", l.title.c_str());
   ImDrawList* dl = ImGui::GetWindowDrawList();
@@ -792,6 +818,16 @@ void legend_window(Editor& e) {
     if (mark) ImGui::PopTextWrapPos();
   }
   ImGui::PopTextWrapPos();
+}
+
+void legend_window(Editor& e) {
+  ImGui::SetNextWindowPos({6, 6}, ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.88f);
+  // The pointer passes through it: points and regions beneath stay in reach.
+  ImGui::Begin("legend", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoTitleBar);
+  legend_contents(e);
   ImGui::End();
 }
 
@@ -805,17 +841,7 @@ void canvas_readout(Editor& e) {
   const auto [cw, ch] = e.canvas();
   if (!(m.x >= 0 && m.y >= 0 && m.x < cw && m.y < ch)) return;
   const Document& d = e.doc();
-  std::string text;
-  const std::vector<Vec2>& pts = d.spline.points();
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
-    const Vec2 p = e.viewport().to_screen(pts[i]);
-    if (std::hypot(p.x - m.x, p.y - m.y) <= Editor::kPickRadius) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "%s (%.10g, %.10g)", e.point_name(i).c_str(), pts[i].x, pts[i].y);
-      text = buf;
-      break;
-    }
-  }
+  std::string text = e.point_hover(m.x, m.y);  // the full name ("O/c0/p3") and coordinates
   if (text.empty())
     if (const auto c = pick_curve(d.spline, e.viewport(), m.x, m.y, 8)) {
       char buf[160];
@@ -860,7 +886,7 @@ void build_ui(Editor& e, const UiInfo& info) {
   if (!e.show_ui) return;
   side_panel(e, info);
   curvature_plot(e);
-  if (e.show_legend) legend_window(e);
+  if (e.show_legend && !e.legend_docked) legend_window(e);
   canvas_readout(e);
 }
 

@@ -603,6 +603,11 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   else if (n == "fit") e.fit_view();
   else if (n == "contour") e.switch_curve(int_arg(c, 0));
   else if (n == "constrain") e.constrain_drag = switch_arg(c, 0);
+  else if (n == "legend-dock") {
+    e.legend_docked = switch_arg(c, 0);
+    frame_needed_ = true;
+  }
+  else if (n == "comb-all") e.comb_all_curves = switch_arg(c, 0);
   else if (n == "glyph") e.open_glyph(c.args[0]);
   else if (n == "save-all") {
     e.save_all();
@@ -631,7 +636,10 @@ bool ScriptRunner::ui_action(const ScriptCommand& c) {
   }
   else if (n == "undo") e.undo();
   else if (n == "redo") e.redo();
-  else if (n == "save") e.save(c.args[0]);
+  else if (n == "save") {  // no path: the panel's save (a font source's glyph: back into its .glif)
+    e.save(c.args.empty() ? e.path() : std::filesystem::path(c.args[0]));
+    std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
+  }
   else if (n == "export-region") e.export_region(c.args[0]);
   else return false;
   return true;
@@ -662,9 +670,10 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
               << (named ? " (" + name + ")" : std::string()) << "; " << e.message << '\n';
     return true;
   }
-  if (c.name == "fix" || c.name == "snap") {
+  if (c.name == "fix" || c.name == "snap" || c.name == "fix-grid") {
     // The status line (what moved, or why nothing could) on stderr, as in the window's panel.
     if (c.name == "fix") e.fix_curve();
+    else if (c.name == "fix-grid") e.fix_on_grid();
     else e.snap_selected();
     std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     frame_needed_ = true;
@@ -691,7 +700,8 @@ int run_editor(const EditOptions& o) {
   if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
   OpenedSource source = o.file.empty() ? OpenedSource{} : open_source(o.file, o.glyph);
   BSpline spline = source.curves.empty() ? open_spline(o.file) : source.curves[0].spline;
-  if (source.curves.size() > 1 || !source.font.empty()) {
+  const bool several = source.curves.size() > 1 || !source.font.empty() || !source.glif.empty();
+  if (several) {
     std::string names;
     for (const OpenedCurve& c : source.curves) names += (names.empty() ? "" : ", ") + c.name;
     std::cerr << "cmr edit: " << source.what << " (" << names << ")\n";
@@ -700,7 +710,7 @@ int run_editor(const EditOptions& o) {
   if (!o.script.empty()) script = read_script(o.script);
   const std::filesystem::path path = o.file.empty() ? std::filesystem::path("untitled.json") : o.file;
   App app(std::move(spline), path, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
-  if (source.curves.size() > 1 || !source.font.empty()) app.editor().set_source(std::move(source));
+  if (several) app.editor().set_source(std::move(source));
   else app.editor().point_names = read_point_names(o.file);
   app.editor().open_on_region_point(o.point);
   {  // the first view: the curve, its comb and the opened point's region
