@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cerrno>
 #include <condition_variable>
 #include <cstring>
@@ -31,6 +32,7 @@
 #include "report/junit.hpp"
 #include "report/markdown.hpp"
 #include "report/sarif.hpp"
+#include "spline/format.hpp"
 #include "report/batch.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -476,7 +478,15 @@ struct FontRow {
   std::string title, path, page;
   int glyphs = 0, contours = 0, glyphs_fail = 0, contours_fail = 0, invalid = 0;
   std::vector<int> gate_glyphs;  ///< glyphs failing each gate
-  std::vector<std::pair<int, std::string>> worst;  ///< (findings, glyph), at most kWorst
+  /// The glyphs that matter most, at most kWorst: by the largest severity of
+  /// their failing findings (--min-severity; none found counts as the most),
+  /// then by how many findings they have.
+  struct Worst {
+    double severity = -1;  ///< -1: not computed
+    int findings = 0;
+    std::string glyph;
+  };
+  std::vector<Worst> worst;
   bool cubic = false;
 };
 constexpr std::size_t kWorst = 8;
@@ -620,10 +630,17 @@ class Writer {
         row.glyphs_fail += c.pass ? 0 : 1;
         row.invalid += c.error.empty() ? 0 : 1;
         for (std::size_t k = 0; k < gate_fail.size(); ++k) row.gate_glyphs[k] += gate_fail[k];
-        if (!c.findings.empty()) row.worst.push_back({static_cast<int>(c.findings.size()), g.name});
+        if (!c.findings.empty()) {
+          double severity = -1;
+          for (const Finding& f : c.findings)
+            if (!f.info && f.severity >= 0) severity = std::max(severity, f.severity);
+          row.worst.push_back({severity, static_cast<int>(c.findings.size()), g.name});
+        }
         rec.cases.push_back(std::move(c));
       }
-      std::stable_sort(row.worst.begin(), row.worst.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      std::stable_sort(row.worst.begin(), row.worst.end(), [](const FontRow::Worst& a, const FontRow::Worst& b) {
+        return a.severity != b.severity ? a.severity > b.severity : a.findings > b.findings;
+      });
       if (row.worst.size() > kWorst) row.worst.resize(kWorst);
       if (w.font->glyphs.empty() && !w.reports.empty() && !w.reports[0].error.empty()) {
         CaseRecord c;  // an unreadable font
@@ -861,7 +878,10 @@ class Writer {
       head += "<h2>Fonts</h2><table class=\"index\"><tr><th>font</th><th>file</th><th>outlines</th><th>glyphs</th>"
               "<th>contours</th><th>glyphs failing</th>";
       for (const Gate& g : options_.report.gates) head += "<th>glyphs failing " + html_escape(to_string(g)) + "</th>";
-      head += "<th>worst glyphs (findings)</th></tr>";
+      head += std::string("<th>") +
+              (options_.report.min_severity >= 0 ? "worst glyphs (largest move that one finding needs; findings)"
+                                                 : "worst glyphs (findings)") +
+              "</th></tr>";
       for (const FontRow& f : fonts_) {
         head += "<tr><td><a href=\"" + html_escape(f.page) + "\">" + html_escape(f.title) + "</a><br>" +
                 glyph_count_text(f.glyphs, f.glyphs_fail, f.contours, f.contours_fail) + "</td><td>" +
@@ -871,8 +891,12 @@ class Writer {
                 "</td>";
         for (int n : f.gate_glyphs) head += "<td>" + std::to_string(n) + "</td>";
         std::string worst;
-        for (const auto& [n, g] : f.worst)
-          worst += (worst.empty() ? "" : ", ") + html_escape(g) + " (" + std::to_string(n) + ")";
+        for (const FontRow::Worst& w : f.worst) {
+          std::string why = std::to_string(w.findings);
+          if (w.severity >= 0)
+            why = (std::isfinite(w.severity) ? format_number(w.severity, 3) + " units" : std::string("no fix found")) + "; " + why;
+          worst += (worst.empty() ? "" : ", ") + html_escape(w.glyph) + " (" + why + ")";
+        }
         head += "<td>" + worst + "</td></tr>";
       }
       head += "</table>";

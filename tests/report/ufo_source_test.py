@@ -98,6 +98,10 @@ def main():
             "severity" in f and f["level"] in ("info", "error") for f in found), str(found[:2]))
         check("severity is a move in font units (positive, finite where a fix was found)",
               all(f["severity"] is None or f["severity"] > 0 for f in found) and any(f["severity"] for f in found))
+        index = open(os.path.join(tmp, "rs", "index.html")).read() if os.path.exists(os.path.join(tmp, "rs", "index.html")) else ""
+        ranked = [float(x) for x in re.findall(r"\(([0-9.]+) units; \d+\)", index)]
+        check("the overview ranks glyphs by severity", len(ranked) == 2 and ranked == sorted(ranked, reverse=True),
+              str(ranked))
         r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
                 "--min-severity", "1000", "--out", "rs2", "--sarif", "rs2.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
         levels = {x["level"] for x in json.load(open(os.path.join(tmp, "rs2.sarif")))["runs"][0]["results"]}
