@@ -425,9 +425,23 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   return font;
 }
 
-nlohmann::json contour_json(const Contour& contour) {
+std::vector<std::string> contour_labels(const Contour& contour, const std::vector<std::string>& labels) {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < contour.font_point.size(); ++k) {
+    const int sp = contour.font_point[k];
+    out.push_back(sp >= 0 && sp < static_cast<int>(labels.size()) ? labels[sp] : std::string());
+  }
+  return out;
+}
+
+nlohmann::json contour_json(const Contour& contour, const std::vector<std::string>* labels) {
   nlohmann::json doc = spline_to_json(contour.spline);
   doc["point_names"] = contour.point_names;
+  if (labels) {
+    const std::vector<std::string> per_point = contour_labels(contour, *labels);
+    if (std::any_of(per_point.begin(), per_point.end(), [](const std::string& l) { return !l.empty(); }))
+      doc["point_labels"] = per_point;
+  }
   return doc;
 }
 

@@ -66,6 +66,9 @@ struct Glyph {
   /// empty for binary fonts.
   std::string source;
   std::vector<std::vector<int>> point_lines;
+  /// Sources: per contour and source point, its `name` attribute ("" where
+  /// it has none): shown beside the point's own name ("O/c0/p3 (top)").
+  std::vector<std::vector<std::string>> point_labels;
   /// Why the glyph cannot be judged (a malformed or unsupported outline in a
   /// source): it becomes an invalid item of a report; empty when it is read.
   std::string error;
@@ -126,8 +129,12 @@ Location parse_location(const std::string& text);
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
                const Location& location = {});
 
-/// The contour as a spline file (spline_to_json plus "point_names").
-nlohmann::json contour_json(const Contour& contour);
+/// The contour as a spline file (spline_to_json plus "point_names", and for
+/// a source whose points have `name` attributes "point_labels": one per
+/// control point, "" where none; `labels` are the glyph's, per source point).
+nlohmann::json contour_json(const Contour& contour, const std::vector<std::string>* labels = nullptr);
+/// The `name` attribute of each control point of `contour` ("" where none).
+std::vector<std::string> contour_labels(const Contour& contour, const std::vector<std::string>& labels);
 
 /// A file name for a glyph name: [A-Za-z0-9._-] kept, others as _XX hex.
 std::string file_stem(const std::string& glyph_name);

@@ -142,6 +142,7 @@ struct GlifPoint {
   Vec2 p{0.0};
   Type type = Type::offcurve;
   int line = 0;
+  std::string name;  ///< its `name` attribute, if any
 };
 
 double coordinate(const XmlFile& f, const pugi::xml_node& point, const char* attr) {
@@ -191,6 +192,7 @@ GlifOutline parse_glif(const XmlFile& f) {
     for (pugi::xml_node p = c.child("point"); p; p = p.next_sibling("point")) {
       GlifPoint gp;
       gp.line = f.line_of(p);
+      gp.name = p.attribute("name").value();
       gp.p = {coordinate(f, p, "x"), coordinate(f, p, "y")};
       const std::string type = p.attribute("type").value();
       if (type.empty() || type == "offcurve") gp.type = GlifPoint::Type::offcurve;
@@ -264,6 +266,7 @@ struct RawGlyph {
   std::vector<std::optional<std::vector<OutlinePoint>>> contours;
   std::vector<std::string> notes;
   std::vector<std::vector<int>> lines;
+  std::vector<std::vector<std::string>> labels;
   bool conic = false, cubic = false;
 };
 
@@ -287,8 +290,10 @@ RawGlyph read_raw_glyph(const fs::path& file, const std::string& listed_name) {
       g.contours.push_back(contour_points(*f, g.outline.contours[c], g.conic, g.cubic, note, static_cast<int>(c)));
       if (!note.empty()) g.notes.push_back(note);
       std::vector<int> lines;
-      for (const GlifPoint& p : g.outline.contours[c]) lines.push_back(p.line);
+      std::vector<std::string> labels;
+      for (const GlifPoint& p : g.outline.contours[c]) lines.push_back(p.line), labels.push_back(p.name);
       g.lines.push_back(std::move(lines));
+      g.labels.push_back(std::move(labels));
     }
   } catch (const InputError& e) {
     g.error = e.what();
@@ -304,6 +309,7 @@ Glyph make_glyph(RawGlyph& raw, int font_degree) {
   g.error = raw.error;
   g.notes = raw.notes;
   g.point_lines = raw.lines;
+  g.point_labels = raw.labels;
   if (!g.error.empty()) return g;
   try {
     for (std::size_t c = 0; c < raw.contours.size(); ++c) {

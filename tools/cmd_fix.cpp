@@ -101,10 +101,15 @@ void run_source_fix(const SourceFixArgs& a) {
     Json moves = Json::array();
     for (std::size_t i = 0; i < f.moves.size(); ++i) {
       const PointMove& m = f.moves[i];
+      const int sp = f.source_points[i];
+      const bool labelled = f.contour < static_cast<int>(g.point_labels.size()) && sp >= 0 &&
+                            sp < static_cast<int>(g.point_labels[f.contour].size()) &&
+                            !g.point_labels[f.contour][sp].empty();
       moves.push_back({{"point", f.names[i]},
                        {"from", Json::array({m.from.x, m.from.y})},
                        {"to", Json::array({m.to.x, m.to.y})},
                        {"distance", m.distance}});
+      if (labelled) moves.back()["label"] = g.point_labels[f.contour][sp];  // the <point>'s name attribute
       if (f.source_points[i] >= 0) edits.push_back({f.contour, f.source_points[i], m.to.x, m.to.y});
     }
     Json checks = Json::array();

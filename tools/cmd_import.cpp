@@ -116,7 +116,9 @@ void add_import_command(CLI::App& app, int& exit_code) {
         for (const import::Contour& c : g.contours) {
           const std::string stem = import::file_stem(g.name) + "_c" + std::to_string(c.index);
           if (!stems.insert(stem).second) continue;  // a glyph asked for twice (two code points, one glyph)
-          files.stage(dir / (stem + ".json"), import::contour_json(c).dump(2) + "\n");
+          const bool labelled = c.index < static_cast<int>(g.point_labels.size());
+          files.stage(dir / (stem + ".json"),
+                      import::contour_json(c, labelled ? &g.point_labels[c.index] : nullptr).dump(2) + "\n");
           ++written;
         }
       files.commit();

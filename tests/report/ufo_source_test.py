@@ -172,6 +172,22 @@ def main():
             ok, why = only_xy_changed(os.path.join(nimbus, "glyphs", "o.glif"), os.path.join(inplace, "glyphs", "o.glif"))
             check("--in-place changes only x/y", ok, why)
 
+        # a <point>'s name attribute is shown beside the point's name
+        labelled = os.path.join(tmp, "Labelled.ufo")
+        shutil.copytree(nimbus, labelled)
+        lg = os.path.join(labelled, "glyphs", "O_.glif")
+        open(lg, "w").write(open(os.path.join(nimbus, "glyphs", "O_.glif")).read().replace(
+            '<point x="180" y="741"/>', '<point x="180" y="741" name="topleft"/>', 1))
+        r = run("import", "Labelled.ufo", "--glyphs", "O", "--out", "lab", cwd=tmp)
+        doc = json.load(open(os.path.join(tmp, "lab", "O_c0.json"))) if r.returncode == 0 else {}
+        check("import: point_labels carries the <point name>", doc.get("point_labels", [None, None])[1] == "topleft"
+              and doc.get("point_names", [None, None])[1] == "O/c0/p1", str(doc.get("point_labels")))
+        r = run("fix", "Labelled.ufo", "--glyph", "O", "--require", "curvature-extrema-at-nodes", "--out", "LabFixed.ufo",
+                cwd=tmp)
+        moved = [m for c in json.loads(r.stdout)["contours"] for m in c["moves"]] if r.returncode == 0 else []
+        check("fix: a moved point's label beside its name",
+              any(m["point"] == "O/c0/p1" and m.get("label") == "topleft" for m in moved), str(moved)[:300])
+
         # bad input: one line naming the file and the line, exit 2, nothing written
         bad = os.path.join(tmp, "Bad.ufo")
         shutil.copytree(nimbus, bad)
