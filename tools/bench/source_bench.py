@@ -1,15 +1,16 @@
 #!/usr/bin/python3
 """Benchmarks of font sources (issue 36 "Speed"; docs/fix.md, docs/report.md).
 
-    source_bench.py CMR [OUT_DIR]
+    source_bench.py CMR [OUT_DIR] [GATES]
 
 1. A whole Latin UFO reported with the type gates, without fixes: UFOs of
    DejaVu Sans (TrueType: qcurve) and Nimbus Sans (CFF: curve) made by
    tools/make_test_ufo.py from U+0021..U+017F (about 330 glyphs each), then
-   `cmr report UFO --glyphs all --require curvature-extrema-at-nodes,
-   g2-at-smooth-nodes --no-fixes --no-thumbnails`, wall time of the best of 3.
+   `cmr report UFO --glyphs all --require GATES --no-fixes --no-thumbnails`
+   (GATES: curvature-extrema-at-nodes,g2-at-smooth-nodes by default), wall
+   time of the best of 3.
 2. A glyph's multi-gate on-grid fix: `cmr fix UFO --glyph G --require
-   curvature-extrema-at-nodes,g2-at-smooth-nodes --out TMP` for every glyph
+   GATES --out TMP` for every glyph
    of A-Z a-z that fails, wall time and outcome each; the median and worst
    time, and how many were fixed.
 
@@ -31,7 +32,7 @@ FONTS = {
     "DejaVu Sans": "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
     "Nimbus Sans": "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf",
 }
-GATES = "curvature-extrema-at-nodes,g2-at-smooth-nodes"
+GATES = sys.argv[3] if len(sys.argv) > 3 else "curvature-extrema-at-nodes,g2-at-smooth-nodes"
 LATIN = "".join(chr(c) for c in range(0x21, 0x180))
 AZ = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
 
@@ -92,8 +93,13 @@ def main():
         if times:
             print("| %s | %d | %d | %d | %.2f | %.2f |" % (name, len(times), fixed, failed, statistics.median(times),
                                                           max(times)))
-    print("\nWhy not fixed (count):\n")
-    for why, n in sorted(reasons.items(), key=lambda kv: -kv[1]):
+    print("\nWhy not fixed (count, the reason's first words):\n")
+    kinds = {}
+    for why, n in reasons.items():
+        key = why.split(": ", 1)[-1]
+        key = key.split(" within")[0].split(" (")[0].split(";")[0]
+        kinds[key] = kinds.get(key, 0) + n
+    for why, n in sorted(kinds.items(), key=lambda kv: -kv[1]):
         print("- %d x %s" % (n, why))
 
 
