@@ -20,6 +20,19 @@ void judge_gates(SplineReport& report, const ReportOptions& options) {
                 std::all_of(report.gates.begin(), report.gates.end(), [](const GateResult& g) { return g.pass(); });
 }
 
+ReportOptions judge_only(const ReportOptions& options, const std::optional<Gate>& gate) {
+  ReportOptions o = options;
+  if (gate) {
+    o.gates = {*gate};
+    o.require.reset();
+  }
+  o.regions = false;
+  o.certified_fixes = false;
+  o.min_severity = -1;
+  o.threads = 1;
+  return o;
+}
+
 SplineReport judged_report(const BSpline& spline, const ReportOptions& options) {
   SplineReport r = report_spline(spline, options);
   judge_gates(r, options);

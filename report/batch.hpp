@@ -9,6 +9,7 @@
 /// requirement (find_fixes). Nothing runs back
 /// up: the model knows neither gates nor fixes, the gates do not re-report.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,11 @@ namespace cmr::report {
 /// Judges options.gates on a report model: fills report.gates and folds them
 /// into report.pass (every gate must pass).
 void judge_gates(SplineReport& report, const ReportOptions& options);
+
+/// The options that judge a moved spline in a fix search: `options` with
+/// no region images, no fixes, no severity and one thread (the search runs
+/// on its own threads); with `gate`, that gate alone and no requirement.
+ReportOptions judge_only(const ReportOptions& options, const std::optional<Gate>& gate = std::nullopt);
 
 /// report_spline, then judge_gates: one spline's report with its gates (no
 /// fixes). Throws InputError as report_spline.

@@ -101,12 +101,7 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
   CertifiedFix out = run_fix(spline, requirement_of(gate), options);
   out.requirement = out.check;
   out.check = to_string(gate);
-  ReportOptions judge = options;
-  judge.gates = {gate};
-  judge.require.reset();
-  judge.regions = false;
-  judge.certified_fixes = false;
-  judge.threads = 1;
+  const ReportOptions judge = judge_only(options, gate);
   if (!out.found && gate.kind == Gate::Kind::unimodal_runs && !failing.violations.empty()) {
     // each-run asks more than the gate (monotone runs, not rising-then-
     // falling peaks). Then the valleys' own handles, judged by the gate

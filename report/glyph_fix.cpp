@@ -105,10 +105,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
   out.contour = c.index;
-  ReportOptions o = options.judge;
-  o.regions = false;
-  o.certified_fixes = false;
-  o.threads = 1;
+  const ReportOptions o = judge_only(options.judge);
   out.rejudged = judge_counts(c.spline, o);
   if (total(out.rejudged) == 0) {
     out.already = out.fixed = true;

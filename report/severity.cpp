@@ -36,13 +36,7 @@ double severity_of(const BSpline& spline, const Gate& gate, const GateViolation&
     add_segment(v.joint > 0 ? v.joint - 1 : (spline.closed() ? n - 1 : -1));
   }
   if (points.empty()) return std::numeric_limits<double>::infinity();
-  ReportOptions judge = options;
-  judge.gates = {gate};
-  judge.require.reset();
-  judge.regions = false;
-  judge.certified_fixes = false;
-  judge.threads = 1;
-  judge.min_severity = -1;
+  const ReportOptions judge = judge_only(options, gate);
   FixRequest q;
   q.requirement = requirement_of(gate);
   q.max_depth = options.max_depth;
