@@ -69,20 +69,30 @@ pugi::xml_node first_element(const pugi::xml_node& parent) {
 // ------------------------------------------------------------ plists
 
 /// A property-list value (only what a UFO's plists use).
+struct PlistEntry;
 struct Plist {
   enum class Kind { string, number, boolean, array, dict, other } kind = Kind::other;
   std::string text;
   double number = 0;
-  std::vector<Plist> items;                           // array
-  std::vector<std::pair<std::string, Plist>> entries;  // dict, in order
+  std::vector<Plist> items;         // array
+  std::vector<PlistEntry> entries;  // dict, in order
   int line = 0;
 
-  const Plist* find(const std::string& key) const {
-    for (const auto& [k, v] : entries)
-      if (k == key) return &v;
-    return nullptr;
-  }
+  const Plist* find(const std::string& key) const;
 };
+// A dict's key and value: a struct of its own, not a std::pair<std::string,
+// Plist> inside Plist (clang 14 with libstdc++ 12 cannot instantiate that
+// pair while Plist is incomplete: the fuzz build failed on it).
+struct PlistEntry {
+  std::string key;
+  Plist value;
+};
+
+const Plist* Plist::find(const std::string& key) const {
+  for (const auto& [k, v] : entries)
+    if (k == key) return &v;
+  return nullptr;
+}
 
 Plist plist_value(const XmlFile& f, const pugi::xml_node& node) {
   Plist p;
@@ -115,7 +125,7 @@ Plist plist_value(const XmlFile& f, const pugi::xml_node& node) {
       while (v && v.type() != pugi::node_element) v = v.next_sibling();
       if (!v) throw InputError(f.where(c) + ": the key '" + key + "' has no value");
       if (!seen.insert(key).second) throw InputError(f.where(c) + ": the key '" + key + "' appears twice");
-      p.entries.emplace_back(key, plist_value(f, v));
+      p.entries.push_back({key, plist_value(f, v)});
       c = v.next_sibling();
       while (c && c.type() != pugi::node_element) c = c.next_sibling();
     }
