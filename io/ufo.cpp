@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include <pugixml.hpp>
 
+#include "io/output.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 
@@ -46,6 +49,18 @@ void parse_xml(XmlFile& f) {
   f.line_starts = {0};
   for (std::size_t i = 0; i < f.text.size(); ++i)
     if (f.text[i] == '\n') f.line_starts.push_back(i + 1);
+  // A UFO's files are UTF-8 (pugixml does not check): a name in another
+  // encoding would reach the JSON writers, which throw on it (found by fuzz_glif).
+  for (std::size_t i = 0; i < f.text.size();) {
+    const std::size_t n = utf8_sequence(std::string_view(f.text).substr(i));
+    if (n == 0) {
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(f.text[i]));
+      throw InputError(f.path + ":" + std::to_string(f.line_at(static_cast<std::ptrdiff_t>(i))) +
+                       ": not UTF-8 (byte " + byte + ")");
+    }
+    i += n;
+  }
   const pugi::xml_parse_result r =
       f.doc.load_buffer(f.text.data(), f.text.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!r) throw InputError(f.path + ":" + std::to_string(f.line_at(r.offset)) + ": not well-formed XML (" +
