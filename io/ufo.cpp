@@ -486,6 +486,9 @@ Designspace read_designspace(const fs::path& path) {
     }
     if (axis.minimum > axis.maximum || axis.default_value < axis.minimum || axis.default_value > axis.maximum)
       throw InputError(f->where(a) + ": the axis '" + axis.name + "' has its default outside [minimum, maximum]");
+    // Sources locate by axis name: two axes of one name would be one (found by fuzz_designspace).
+    if (std::any_of(ds.axes.begin(), ds.axes.end(), [&](const Designspace::Axis& o) { return o.name == axis.name; }))
+      throw InputError(f->where(a) + ": two axes are named '" + axis.name + "'");
     ds.axes.push_back(axis);
   }
   const fs::path folder = path.parent_path();

@@ -63,3 +63,24 @@ TEST(UfoRead, TextThatIsNotUtf8IsAnInputErrorNamingTheLine) {
   EXPECT_EQ(font.glyphs[0].name, "\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80");
   EXPECT_EQ(font.glyphs[0].contours.size(), 1u);
 }
+
+// fuzz_designspace: two <axis> elements named "Width" were both kept, and a
+// source's location (by axis name) held one of them. Now refused.
+TEST(UfoRead, DesignspaceWithTwoAxesOfOneNameIsAnInputError) {
+  fs::create_directories(scratch() / "a.ufo");
+  const fs::path p = write("two.designspace",
+                           "<?xml version='1.0' encoding='UTF-8'?>\n<designspace format=\"5.0\">\n  <axes>\n"
+                           "    <axis tag=\"wdth\" name=\"Width\" minimum=\"75\" maximum=\"100\" default=\"100\"/>\n"
+                           "    <axis tag=\"wdt2\" name=\"Width\" minimum=\"0\" maximum=\"10\" default=\"5\"/>\n  </axes>\n"
+                           "  <sources><source filename=\"a.ufo\"/></sources>\n</designspace>\n");
+  try {
+    (void)cmr::import::read_designspace(p);
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":5: two axes are named 'Width'");
+  }
+  std::ifstream in(fs::path(CMR_SOURCE_DIR) / "fuzz/corpus/designspace/two_axes_one_name", std::ios::binary);
+  const std::string found((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(found.empty());
+  EXPECT_THROW((void)cmr::import::read_designspace(write("found.designspace", found)), cmr::InputError);
+}
