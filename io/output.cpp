@@ -1097,12 +1097,8 @@ void write_spline_file(const std::filesystem::path& path, const BSpline& spline)
   write_file_atomic(path, spline_to_json(spline).dump(2) + "\n");
 }
 
-namespace {
-
-/// Length of the well-formed UTF-8 sequence at the start of `s` (RFC 3629:
-/// no overlong forms, no surrogates, at most U+10FFFF), or 0 when the first
-/// byte does not start one.
 std::size_t utf8_sequence(std::string_view s) {
+  if (s.empty()) return 0;
   const auto b = [&](std::size_t i) { return static_cast<unsigned char>(s[i]); };
   const auto cont = [&](std::size_t i) { return i < s.size() && (b(i) & 0xC0) == 0x80; };
   const unsigned char c = b(0);
@@ -1122,8 +1118,6 @@ std::size_t utf8_sequence(std::string_view s) {
   }
   return 0;
 }
-
-}  // namespace
 
 std::string html_escape(std::string_view text) {
   std::string out;

@@ -206,6 +206,11 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
 /// Writes a spline file (spline_to_json, indented) with write_file_atomic.
 void write_spline_file(const std::filesystem::path& path, const BSpline& spline);
 
+/// Length of the well-formed UTF-8 sequence at the start of `s` (RFC 3629:
+/// no overlong forms, no surrogates, at most U+10FFFF), or 0 when the first
+/// byte does not start one (or `s` is empty).
+std::size_t utf8_sequence(std::string_view s);
+
 /// Text made safe for HTML element content and attribute values, and valid
 /// UTF-8: & < > " ' become entities, and each byte that does not belong to a
 /// well-formed UTF-8 sequence (a file name in another encoding) becomes

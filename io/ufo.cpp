@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include <pugixml.hpp>
 
+#include "io/output.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 
@@ -46,6 +49,18 @@ void parse_xml(XmlFile& f) {
   f.line_starts = {0};
   for (std::size_t i = 0; i < f.text.size(); ++i)
     if (f.text[i] == '\n') f.line_starts.push_back(i + 1);
+  // A UFO's files are UTF-8 (pugixml does not check): a name in another
+  // encoding would reach the JSON writers, which throw on it (found by fuzz_glif).
+  for (std::size_t i = 0; i < f.text.size();) {
+    const std::size_t n = utf8_sequence(std::string_view(f.text).substr(i));
+    if (n == 0) {
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02X", static_cast<unsigned char>(f.text[i]));
+      throw InputError(f.path + ":" + std::to_string(f.line_at(static_cast<std::ptrdiff_t>(i))) +
+                       ": not UTF-8 (byte " + byte + ")");
+    }
+    i += n;
+  }
   const pugi::xml_parse_result r =
       f.doc.load_buffer(f.text.data(), f.text.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!r) throw InputError(f.path + ":" + std::to_string(f.line_at(r.offset)) + ": not well-formed XML (" +
@@ -69,20 +84,30 @@ pugi::xml_node first_element(const pugi::xml_node& parent) {
 // ------------------------------------------------------------ plists
 
 /// A property-list value (only what a UFO's plists use).
+struct PlistEntry;
 struct Plist {
   enum class Kind { string, number, boolean, array, dict, other } kind = Kind::other;
   std::string text;
   double number = 0;
-  std::vector<Plist> items;                           // array
-  std::vector<std::pair<std::string, Plist>> entries;  // dict, in order
+  std::vector<Plist> items;         // array
+  std::vector<PlistEntry> entries;  // dict, in order
   int line = 0;
 
-  const Plist* find(const std::string& key) const {
-    for (const auto& [k, v] : entries)
-      if (k == key) return &v;
-    return nullptr;
-  }
+  const Plist* find(const std::string& key) const;
 };
+// A dict's key and value: a struct of its own, not a std::pair<std::string,
+// Plist> inside Plist (clang 14 with libstdc++ 12 cannot instantiate that
+// pair while Plist is incomplete: the fuzz build failed on it).
+struct PlistEntry {
+  std::string key;
+  Plist value;
+};
+
+const Plist* Plist::find(const std::string& key) const {
+  for (const auto& [k, v] : entries)
+    if (k == key) return &v;
+  return nullptr;
+}
 
 Plist plist_value(const XmlFile& f, const pugi::xml_node& node) {
   Plist p;
@@ -115,7 +140,7 @@ Plist plist_value(const XmlFile& f, const pugi::xml_node& node) {
       while (v && v.type() != pugi::node_element) v = v.next_sibling();
       if (!v) throw InputError(f.where(c) + ": the key '" + key + "' has no value");
       if (!seen.insert(key).second) throw InputError(f.where(c) + ": the key '" + key + "' appears twice");
-      p.entries.emplace_back(key, plist_value(f, v));
+      p.entries.push_back({key, plist_value(f, v)});
       c = v.next_sibling();
       while (c && c.type() != pugi::node_element) c = c.next_sibling();
     }
@@ -467,6 +492,9 @@ Designspace read_designspace(const fs::path& path) {
     }
     if (axis.minimum > axis.maximum || axis.default_value < axis.minimum || axis.default_value > axis.maximum)
       throw InputError(f->where(a) + ": the axis '" + axis.name + "' has its default outside [minimum, maximum]");
+    // Sources locate by axis name: two axes of one name would be one (found by fuzz_designspace).
+    if (std::any_of(ds.axes.begin(), ds.axes.end(), [&](const Designspace::Axis& o) { return o.name == axis.name; }))
+      throw InputError(f->where(a) + ": two axes are named '" + axis.name + "'");
     ds.axes.push_back(axis);
   }
   const fs::path folder = path.parent_path();

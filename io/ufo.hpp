@@ -87,7 +87,7 @@ struct Designspace {
 };
 /// Reads a .designspace (format 4 or 5; discrete axes' `values` are not
 /// read). InputError naming the file and line for a malformed document, an
-/// axis whose default lies outside its range, a source naming an unknown
+/// axis whose default lies outside its range, two axes with one name, a source naming an unknown
 /// axis, or a source UFO that does not exist.
 Designspace read_designspace(const std::filesystem::path& path);
 

@@ -31,6 +31,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -67,6 +68,19 @@ bool step_supported();
 /// found when it was configured; tools/setup.sh installs it)" in a build
 /// without OCCT.
 StepCurves read_step_curves(const std::filesystem::path& path);
+
+/// How deep a STEP file's parentheses nest (ISO 10303-21 text: outside
+/// 'strings', where '' is a quote, and /* comments */), and the line where
+/// that depth is first reached. read_step_curves refuses a file deeper than
+/// max_step_nesting before OpenCASCADE sees it: OCCT's reader recurses per
+/// level and a file nesting 200,000 parentheses overflowed its stack (issue
+/// 42 E4). Real models nest a few levels (lists of lists of points).
+struct StepNesting {
+  int depth = 0;
+  int line = 1;
+};
+StepNesting step_nesting(std::string_view text);
+inline constexpr int max_step_nesting = 256;
 
 /// The spline file of a curve: {"name", "degree", "knots", "points" ([x, y, z]),
 /// "weights" (rational only), "closed" (closed only)}.

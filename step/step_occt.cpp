@@ -212,6 +212,9 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
 StepCurves read_step_curves(const std::filesystem::path& path) {
   const std::string where = path.string();
   const std::string text = read_input_file(path);  // the project's checks (exists, a file, size)
+  if (const StepNesting n = step_nesting(text); n.depth > max_step_nesting)
+    throw InputError(where + ":" + std::to_string(n.line) + ": parentheses nest more than " +
+                     std::to_string(max_step_nesting) + " deep (not read: OpenCASCADE's reader would overflow its stack)");
   silence_occt();
   TopoDS_Shape shape;
   try {

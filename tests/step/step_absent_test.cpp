@@ -29,3 +29,19 @@ TEST(StepAbsent, CurveJsonHasWeightsOnlyWhenRational) {
   EXPECT_EQ(cmr::import::step_curve_json(c)["weights"], nlohmann::ordered_json({1, 0.5, 1}));
   EXPECT_EQ(cmr::import::step_curve_json(c)["points"][2], nlohmann::ordered_json({2, 0, 1}));
 }
+
+// The pre-scan that keeps deep nesting away from OpenCASCADE (issue 42 E4):
+// parentheses inside 'strings' ('' is a quote) and /* comments */ do not count.
+TEST(StepPrescan, CountsParenthesesOutsideStringsAndComments) {
+  using cmr::import::step_nesting;
+  EXPECT_EQ(step_nesting("").depth, 0);
+  EXPECT_EQ(step_nesting("#1=CARTESIAN_POINT('',(0.,0.,0.));").depth, 2);
+  const auto n = step_nesting("#1=A((1));\n#2=B('((((it''s ((',/* ((((( */\n(((2))));");
+  EXPECT_EQ(n.depth, 4);
+  EXPECT_EQ(n.line, 3);
+  const std::string deep = "#1=CARTESIAN_POINT(''," + std::string(200000, '(') + "0." + std::string(200000, ')') + ");";
+  EXPECT_EQ(step_nesting(deep).depth, 200001);
+  // An unclosed string or comment ends the scan (OCCT refuses the file).
+  EXPECT_EQ(step_nesting("#1=A((' (((((").depth, 2);
+  EXPECT_EQ(step_nesting("#1=A(( /* (((((").depth, 2);
+}

@@ -267,6 +267,18 @@ TEST(StepCli, GarbageFileExits2NamingIt) {
   expect_one_line_exit2(test::run("import " + missing), missing + ": ");
 }
 
+// Issue 42 E4: 200,000 nested parentheses crashed OpenCASCADE's reader
+// (SIGSEGV); the pre-scan refuses the file in one line, exit 2.
+TEST(StepCli, DeepNestingExits2BeforeOpenCascadeReadsIt) {
+  const std::string body = "#1 = CARTESIAN_POINT(''," + std::string(200000, '(') + "0." + std::string(200000, ')') + ");\n";
+  const std::string p = test::write("deep.step", "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n"
+                                                 "FILE_NAME('','',(''),(''),'','','');\nFILE_SCHEMA(('CONFIG_CONTROL_DESIGN'));\n"
+                                                 "ENDSEC;\nDATA;\n" + body + "ENDSEC;\nEND-ISO-10303-21;\n");
+  expect_one_line_exit2(test::run("import " + p + " --out " + (test::scratch() / "deep").string()),
+                        p + ":8: parentheses nest more than 256 deep");
+  EXPECT_FALSE(std::filesystem::exists(test::scratch() / "deep"));
+}
+
 TEST(StepCli, ModelWithoutCurvesExits2) {
   const std::string box = write_step(BRepPrimAPI_MakeBox(1, 2, 3).Shape(), "box.step");
   const test::Outcome r = test::run("import " + box + " --out " + (test::scratch() / "b").string());

@@ -1,0 +1,86 @@
+// Font sources (io/ufo.hpp): what the fuzz harnesses found, held here.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/ufo.hpp"
+#include "spline/errors.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch() {
+  const fs::path dir = fs::temp_directory_path() / ("cmr_ufo_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path write(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+std::string glif(const std::string& name) {
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<glyph name=\"" + name + "\" format=\"2\">\n  <outline>\n"
+         "    <contour>\n      <point x=\"0\" y=\"0\" type=\"line\"/>\n      <point x=\"100\" y=\"0\" type=\"line\"/>\n"
+         "      <point x=\"100\" y=\"100\" type=\"line\"/>\n    </contour>\n  </outline>\n</glyph>\n";
+}
+
+cmr::import::GlyphSelection every_glyph() {
+  cmr::import::GlyphSelection all;
+  all.all = true;
+  return all;
+}
+
+}  // namespace
+
+// fuzz_glif: a glyph name that is not UTF-8 was read, and writing the
+// glyph's contours as JSON threw nlohmann's type_error 316 (std::terminate in
+// cmr import). Now the file is refused where it is read, naming the line.
+TEST(UfoRead, TextThatIsNotUtf8IsAnInputErrorNamingTheLine) {
+  const fs::path bad = write("bad.glif", glif("a\xE1\xE1"));
+  try {
+    (void)cmr::import::read_ufo(bad, every_glyph());
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), bad.string() + ":2: not UTF-8 (byte 0xE1)");
+  }
+  EXPECT_THROW((void)cmr::import::rewrite_glif_points(glif("a\xE1\xE1"), {}, "bad.glif"), cmr::InputError);
+  // The fuzzer's own input (fuzz/corpus/glif/not_utf8_name) is refused too.
+  std::ifstream in(fs::path(CMR_SOURCE_DIR) / "fuzz/corpus/glif/not_utf8_name", std::ios::binary);
+  const std::string found((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(found.empty());
+  EXPECT_THROW((void)cmr::import::read_ufo(write("found.glif", found), every_glyph()), cmr::InputError);
+  // UTF-8 names, of any script, are read.
+  const auto font = cmr::import::read_ufo(write("ok.glif", glif("\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80")), every_glyph());
+  ASSERT_EQ(font.glyphs.size(), 1u);
+  EXPECT_EQ(font.glyphs[0].name, "\xC3\xA9\xE2\x82\xAC\xF0\x9F\x98\x80");
+  EXPECT_EQ(font.glyphs[0].contours.size(), 1u);
+}
+
+// fuzz_designspace: two <axis> elements named "Width" were both kept, and a
+// source's location (by axis name) held one of them. Now refused.
+TEST(UfoRead, DesignspaceWithTwoAxesOfOneNameIsAnInputError) {
+  fs::create_directories(scratch() / "a.ufo");
+  const fs::path p = write("two.designspace",
+                           "<?xml version='1.0' encoding='UTF-8'?>\n<designspace format=\"5.0\">\n  <axes>\n"
+                           "    <axis tag=\"wdth\" name=\"Width\" minimum=\"75\" maximum=\"100\" default=\"100\"/>\n"
+                           "    <axis tag=\"wdt2\" name=\"Width\" minimum=\"0\" maximum=\"10\" default=\"5\"/>\n  </axes>\n"
+                           "  <sources><source filename=\"a.ufo\"/></sources>\n</designspace>\n");
+  try {
+    (void)cmr::import::read_designspace(p);
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":5: two axes are named 'Width'");
+  }
+  std::ifstream in(fs::path(CMR_SOURCE_DIR) / "fuzz/corpus/designspace/two_axes_one_name", std::ios::binary);
+  const std::string found((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(found.empty());
+  EXPECT_THROW((void)cmr::import::read_designspace(write("found.designspace", found)), cmr::InputError);
+}
