@@ -23,16 +23,20 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <unordered_map>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -792,6 +796,16 @@ py::object judge_py(const Spline& s, const std::string& require, int depth, doub
   return to_py(doc["splines"][0]);
 }
 
+/// Entries of judge_many's list for some reports.
+void append_judged(py::list& out, const std::vector<report::SplineReport>& reports) {
+  for (const report::SplineReport& r : reports) {
+    OJson entry = {{"name", r.name}, {"status", report::status_word(r)}};
+    if (!r.error.empty()) entry["error"] = r.error;
+    if (!r.gates.empty()) entry["gates"] = report::gates_json(r);
+    out.append(to_py(entry));
+  }
+}
+
 /// Many splines judged as `cmr report` judges them (report_batch: every
 /// core, no regions, no fixes): per spline {"name", "status", "gates"} with
 /// report.json's gates (report::gates_json).
@@ -807,14 +821,122 @@ py::object judge_many_py(const std::vector<Spline>& splines, const std::string& 
   const std::vector<report::SplineReport> reports =
       interruptible([inputs = std::move(inputs), o]() mutable { return report::report_batch(std::move(inputs), o); });
   py::list out;
-  for (const report::SplineReport& r : reports) {
-    OJson entry = {{"name", r.name}, {"status", report::status_word(r)}};
-    if (!r.error.empty()) entry["error"] = r.error;
-    if (!r.gates.empty()) entry["gates"] = report::gates_json(r);
-    out.append(to_py(entry));
-  }
+  append_judged(out, reports);
   return out;
 }
+
+/// cmr.JudgeQueue: judge_many in the background, so that Python can draw
+/// the next glyphs while the batches before them are judged. One worker
+/// thread takes the submitted batches in order and runs report_batch on
+/// each (on `threads` threads, the same judging as judge_many); results()
+/// waits, with the GIL released and signals checked every 50 ms, and
+/// returns every entry submitted so far, in submission order.
+/// A KeyboardInterrupt in results() drops the batches not yet started (the
+/// one running finishes on its own copies and is dropped too). The worker
+/// owns the shared state, so the queue may be dropped at any time.
+class JudgeQueue {
+ public:
+  JudgeQueue(const std::string& require, int depth, int threads) : state_(std::make_shared<State>()) {
+    if (!require.empty()) report::parse_require_list(require, state_->options);
+    state_->options.max_depth = depth;
+    state_->options.regions = false;
+    state_->options.threads = threads;
+    worker_ = std::thread([st = state_] { run(*st); });
+  }
+  JudgeQueue(const JudgeQueue&) = delete;
+  JudgeQueue& operator=(const JudgeQueue&) = delete;
+  ~JudgeQueue() {
+    {
+      std::lock_guard<std::mutex> lock(state_->mutex);
+      state_->stop = true;
+      state_->todo.clear();
+    }
+    state_->wake.notify_all();
+    worker_.detach();  // finishes a running batch on its own copies, then ends
+  }
+
+  void submit(const std::vector<Spline>& splines) {
+    std::vector<report::ReportInput> inputs;
+    inputs.reserve(splines.size());
+    for (const Spline& s : splines) inputs.push_back({s.shadow().name(), s.planar("JudgeQueue.submit"), {}});
+    {
+      std::lock_guard<std::mutex> lock(state_->mutex);
+      state_->todo.push_back(std::move(inputs));
+      ++state_->submitted;
+    }
+    state_->wake.notify_all();
+  }
+
+  py::list results() {
+    for (;;) {
+      bool finished = false;
+      {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(state_->mutex);
+        finished = state_->done.wait_for(lock, std::chrono::milliseconds(50), [&] {
+          return state_->judged == state_->submitted || state_->error;
+        });
+      }
+      if (finished) break;
+      if (PyErr_CheckSignals() != 0) {
+        std::lock_guard<std::mutex> lock(state_->mutex);
+        state_->submitted -= state_->todo.size();
+        state_->todo.clear();
+        throw py::error_already_set();
+      }
+    }
+    std::vector<std::vector<report::SplineReport>> batches;
+    {
+      std::lock_guard<std::mutex> lock(state_->mutex);
+      if (state_->error) std::rethrow_exception(std::exchange(state_->error, nullptr));
+      batches.swap(state_->reports);
+    }
+    for (auto& b : batches) pending_.push_back(std::move(b));
+    py::list out;
+    for (const auto& b : pending_) append_judged(out, b);
+    return out;
+  }
+
+ private:
+  struct State {
+    report::ReportOptions options;
+    std::mutex mutex;
+    std::condition_variable wake, done;
+    std::deque<std::vector<report::ReportInput>> todo;
+    std::vector<std::vector<report::SplineReport>> reports;  // judged, not yet taken by results()
+    std::size_t submitted = 0, judged = 0;
+    std::exception_ptr error;
+    bool stop = false;
+  };
+
+  static void run(State& st) {
+    std::unique_lock<std::mutex> lock(st.mutex);
+    for (;;) {
+      st.wake.wait(lock, [&] { return st.stop || !st.todo.empty(); });
+      if (st.todo.empty()) return;  // stopped
+      std::vector<report::ReportInput> batch = std::move(st.todo.front());
+      st.todo.pop_front();
+      const report::ReportOptions options = st.options;
+      lock.unlock();
+      std::vector<report::SplineReport> judged;
+      std::exception_ptr error;
+      try {
+        judged = report::report_batch(std::move(batch), options);
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      if (error && !st.error) st.error = error;
+      st.reports.push_back(std::move(judged));
+      ++st.judged;
+      st.done.notify_all();
+    }
+  }
+
+  std::shared_ptr<State> state_;
+  std::thread worker_;
+  std::vector<std::vector<report::SplineReport>> pending_;  // taken by an earlier results()
+};
 
 // ------------------------------------------------------------ fonts
 
@@ -1007,6 +1129,10 @@ PYBIND11_MODULE(_cmr, m) {
   m.def("_report", &report_py);
   m.def("_judge", &judge_py);
   m.def("_judge_many", &judge_many_py);
+  py::class_<JudgeQueue>(m, "_JudgeQueue")
+      .def(py::init<const std::string&, int, int>())
+      .def("submit", &JudgeQueue::submit)
+      .def("results", &JudgeQueue::results);
   m.def("_analyze_default", [](const Spline& s) {
     // cmr.analyze(spline) with every option at its default: no options to convert.
     return analyze_py(s, AnalyzeArgs{});

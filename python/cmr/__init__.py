@@ -31,7 +31,7 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "kcurve", "report", "judge", "judge_many", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 
@@ -226,6 +226,36 @@ def judge_many(splines, *, require="cmrwi", depth=DEFAULT_DEPTH, threads=0, **un
     items = [_o.spline(s, "judge_many") for s in splines]
     return _cmr._judge_many(items, _o.text("require", require), _o.integer("depth", depth, 0, _o.MAX_DEPTH),
                             _o.integer("threads", threads, 0, 1024))
+
+
+class JudgeQueue:
+    """judge_many in the background, for a script that makes its splines as
+    it goes (drawing glyphs through cmr.pen.SplinePen): ``submit(splines)``
+    returns at once and the batch is judged on a worker thread (the same
+    judging as judge_many, on `threads` threads) while Python goes on;
+    ``results()`` waits for every batch submitted so far and returns their
+    entries in submission order, as judge_many's list. Ctrl-C in
+    ``results()`` raises KeyboardInterrupt and drops the batches not yet
+    started.
+
+        q = cmr.JudgeQueue(require="cmrwi")
+        for name in names:
+            q.submit(cmr.fonttools.glyph_contours(glyphs, name))
+        verdicts = q.results()
+    """
+
+    def __init__(self, *, require="cmrwi", depth=DEFAULT_DEPTH, threads=0, **unknown):
+        _o.unknown("JudgeQueue", unknown, ["require", "depth", "threads"])
+        self._queue = _cmr._JudgeQueue(_o.text("require", require), _o.integer("depth", depth, 0, _o.MAX_DEPTH),
+                                       _o.integer("threads", threads, 0, 1024))
+
+    def submit(self, splines):
+        """Queues these splines (cmr.Spline objects or spline dicts)."""
+        self._queue.submit([_o.spline(s, "JudgeQueue.submit") for s in splines])
+
+    def results(self):
+        """Every entry submitted so far, judged, in submission order."""
+        return self._queue.results()
 
 
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",

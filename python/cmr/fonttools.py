@@ -6,11 +6,11 @@
     cmr.fonttools.check_glyph(glyphs, "O", require="curvature-extrema-at-nodes")
 """
 
-from . import judge
+from . import JudgeQueue, judge
 from ._cmr import InputError
 from .pen import SplinePen
 
-__all__ = ["glyph_contours", "glyph_splines", "check_glyph", "font_degree"]
+__all__ = ["glyph_contours", "glyph_splines", "check_glyph", "check_glyphs", "font_degree"]
 
 
 def font_degree(glyph_set):
@@ -56,4 +56,30 @@ def check_glyph(glyph_set, name, require="cmrwi", **options):
                 findings.append(dict(v, gate=gate.get("gate")))
         out.append({"contour": d["name"], "status": entry.get("status"), "findings": findings, "spline": d,
                     "report": entry})
+    return out
+
+
+def check_glyphs(glyph_set, names, require="cmrwi", *, depth=None, threads=0):
+    """Every contour of the glyphs `names` judged with ``--require``
+    `require`, as judge_many judges them, for a whole font at once: each
+    glyph is drawn through the pen and handed to a cmr.JudgeQueue, so the
+    judging of the glyphs drawn so far runs while the next ones are drawn.
+    Returns one dict per contour, in order: "contour" (its name, "O/c0"),
+    "status" and "gates" (report.json's gates, with each violation)."""
+    options = {"require": require, "threads": threads}
+    if depth is not None:
+        options["depth"] = depth
+    queue = JudgeQueue(**options)
+    batch = []
+    for name in names:
+        batch.extend(glyph_contours(glyph_set, name))
+        if len(batch) >= 256:
+            queue.submit(batch)
+            batch = []
+    if batch:
+        queue.submit(batch)
+    out = []
+    for entry in queue.results():
+        entry["contour"] = entry.pop("name")
+        out.append(entry)
     return out

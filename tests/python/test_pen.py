@@ -133,3 +133,43 @@ def test_judge_many_equals_report(tmp_path):
     for r in results:
         assert r["status"] == entries[r["name"]]["status"], r["name"]
         assert r["gates"] == entries[r["name"]]["gates"], r["name"]
+
+
+def test_judge_queue_equals_judge_many():
+    # Batches submitted to a JudgeQueue come back, in submission order, as
+    # judge_many's entries for the same splines; results() may be asked
+    # between submissions and then returns everything so far.
+    if not os.path.exists(NIMBUS):
+        pytest.skip("Nimbus Sans is not installed")
+    require = "curvature-extrema-at-nodes,g2-at-smooth-nodes"
+    glyphs = ttLib.TTFont(NIMBUS).getGlyphSet()
+    per_glyph = [cmr.fonttools.glyph_contours(glyphs, n) for n in ("O", "a", "S", "g", "e", "l", "I", "o")]
+    everything = [c for batch in per_glyph for c in batch]
+    expected = cmr.judge_many(everything, require=require)
+    q = cmr.JudgeQueue(require=require, threads=2)
+    q.submit(per_glyph[0])
+    first = q.results()
+    assert first == expected[:len(per_glyph[0])]
+    for batch in per_glyph[1:]:
+        q.submit([c.to_dict() for c in batch])  # dicts are taken as well
+    assert q.results() == expected
+    assert {r["status"] for r in expected} == {"pass", "fail"}
+    with pytest.raises(cmr.InputError, match="unknown option 'requires'"):
+        cmr.JudgeQueue(requires="cmrwi")
+    with pytest.raises(cmr.InputError):
+        q.submit([{"degree": 3}])
+
+
+def test_check_glyphs_equals_check_glyph():
+    # The whole-font path (pipelined through a JudgeQueue) gives each
+    # contour the status and violations that check_glyph gives it.
+    if not os.path.exists(DEJAVU):
+        pytest.skip("DejaVu Sans is not installed")
+    glyphs = ttLib.TTFont(DEJAVU).getGlyphSet()
+    names = ["O", "a", "S", "l", "g", "B"]
+    together = cmr.fonttools.check_glyphs(glyphs, names, require="curvature-extrema-at-nodes")
+    alone = [r for n in names for r in cmr.fonttools.check_glyph(glyphs, n, require="curvature-extrema-at-nodes")]
+    assert [r["contour"] for r in together] == [r["contour"] for r in alone]
+    for t, a in zip(together, alone):
+        assert t["status"] == a["status"], t["contour"]
+        assert t["gates"] == a["report"]["gates"], t["contour"]
