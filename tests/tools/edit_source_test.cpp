@@ -15,6 +15,8 @@
 #include <sstream>
 
 #include "bezierize/fix.hpp"
+#include "report/batch.hpp"
+#include "report/gates.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/edit/editor.hpp"
@@ -343,4 +345,61 @@ TEST(EditSource, FixOnTheGridHoldsAsSavedAndChangesOnlyTheMovedPoints) {
   // Undo restores the exact coordinates.
   ASSERT_TRUE(e.undo());
   EXPECT_EQ(e.doc().spline.points(), start.points());
+}
+
+namespace {
+
+/// The violations of `gate` that fail (not info) on a plain spline, judged
+/// by the report (report::judged_report), independently of the fix search.
+int failing_violations(const cmr::BSpline& s, const char* gate) {
+  cmr::report::ReportOptions o;
+  cmr::report::parse_require_list(gate, o);
+  const cmr::report::SplineReport r = cmr::report::judged_report(s, o);
+  int n = 0;
+  for (const cmr::report::GateResult& g : r.gates)
+    for (const cmr::report::GateViolation& v : g.violations) n += !v.info;
+  return n;
+}
+
+}  // namespace
+
+// "fix on grid" asks for the gates chosen beside it (script `fix-grid
+// GATES`): with both type gates it is one fix for both, re-judged gate by
+// gate; the message names both; an unknown gate moves nothing and says so.
+TEST(EditSource, FixOnTheGridTakesTheGatesAsked) {
+  const fs::path dir = scratch("fixgates");
+  fs::copy(kSans, dir / "Sans.ufo", fs::copy_options::recursive);
+  Editor e = editor_of(open_source(dir / "Sans.ufo", "O"));
+  const BSpline start = e.doc().spline;
+
+  e.grid_fix_gates = "no-such-gate";
+  EXPECT_FALSE(e.fix_on_grid());
+  EXPECT_NE(e.message.find("no-such-gate"), std::string::npos) << e.message;
+  EXPECT_EQ(e.doc().spline.points(), start.points()) << "a refused gate list moves nothing";
+
+  e.grid_fix_gates = "curvature-extrema-at-nodes,g2-at-smooth-nodes";
+  const int extrema_before = failing_violations(start, "curvature-extrema-at-nodes");
+  const int g2_before = failing_violations(start, "g2-at-smooth-nodes");
+  ASSERT_GT(extrema_before + g2_before, 0) << "O/c0 passes both gates as it is";
+  const bool fixed = e.fix_on_grid();
+  e.finish_animation();
+  EXPECT_NE(e.message.find("fix on the grid (curvature-extrema-at-nodes,g2-at-smooth-nodes)"), std::string::npos)
+      << e.message;
+  if (!fixed) {
+    // No fix within the budget: the status line says why, and nothing moved.
+    EXPECT_EQ(e.doc().spline.points(), start.points()) << e.message;
+    GTEST_SKIP() << "no two-gate fix for Sans.ufo O within the editor's budget: " << e.message;
+  }
+  // Both gates re-judged in the message, and by the report independently:
+  // none worse, and the fix holds on the grid.
+  EXPECT_NE(e.message.find("curvature-extrema-at-nodes " + std::to_string(extrema_before) + " -> "), std::string::npos)
+      << e.message;
+  EXPECT_NE(e.message.find("g2-at-smooth-nodes " + std::to_string(g2_before) + " -> "), std::string::npos) << e.message;
+  const BSpline after = e.doc().spline;
+  for (int k = 0; k < after.unique_point_count(); ++k)
+    EXPECT_EQ(after.points()[k], Vec2(std::round(after.points()[k].x), std::round(after.points()[k].y)));
+  EXPECT_LE(failing_violations(after, "curvature-extrema-at-nodes"), extrema_before);
+  EXPECT_LE(failing_violations(after, "g2-at-smooth-nodes"), g2_before);
+  EXPECT_LT(failing_violations(after, "curvature-extrema-at-nodes") + failing_violations(after, "g2-at-smooth-nodes"),
+            extrema_before + g2_before);
 }

@@ -241,13 +241,18 @@ class Editor {
   /// line). Empty for other curves (every point may move).
   std::vector<int> glyph_fix_points() const;
   /// "fix on the grid" (a font's glyph): the edited contour fixed as `cmr
-  /// fix FONT.ufo --glyph NAME --require curvature-extrema-at-nodes` fixes it
-  /// (report/glyph_fix.hpp: only the font's own points, lines kept, smooth
-  /// nodes kept smooth, positions on the grid, re-judged check by check),
-  /// animated and undoable as fix_curve; saved, it is written as found. At
-  /// most kFixSeconds per stage. No fix: the status line says why.
+  /// fix FONT.ufo --glyph NAME --require GATES` fixes it, GATES being
+  /// grid_fix_gates (report/glyph_fix.hpp: one fix for all of them, only the
+  /// font's own points, lines kept, smooth nodes kept smooth, positions on
+  /// the grid, re-judged gate by gate), animated and undoable as fix_curve;
+  /// saved, it is written as found. At most kFixSeconds per stage. No fix,
+  /// or a gate list report::parse_require_list refuses: the status line
+  /// says why and nothing moves.
   bool fix_on_grid();
   static constexpr const char* kGridFixRequirement = "curvature-extrema-at-nodes";
+  /// The gates "fix on grid" asks for, comma-separated as in `--require`
+  /// (the panel's choice; script `fix-grid GATES`).
+  std::string grid_fix_gates = kGridFixRequirement;
   /// "snap into region": the selected point alone (its own region, no rigid
   /// group) to the nearest certified position of fix_requirement() found by
   /// bezierize/fix (FixRequest::points = {selected}; in chain mode G1 kept),

@@ -153,7 +153,7 @@ bool Editor::fix_curve() {
 
 bool Editor::fix_on_grid() {
   finish_animation();
-  const std::string what = std::string("fix on the grid (") + kGridFixRequirement + ")";
+  const std::string what = "fix on the grid (" + grid_fix_gates + ")";
   if (curves.empty() || curves[active_curve].font_point.empty()) {
     message = what + ": for a font's glyph (cmr edit FONT.ufo --glyph NAME)";
     return false;
@@ -171,12 +171,12 @@ bool Editor::fix_on_grid() {
   // findings in a file, not for fixing).
   g.contours.push_back(import::Contour{oc.contour, d.spline, oc.point_names, oc.font_point, oc.node, {}, {}, {}});
   report::GlyphFixOptions o;
-  report::parse_require_list(kGridFixRequirement, o.judge);
   o.judge.max_depth = d.max_depth;
   o.grid = grid > 0 ? grid : 1;  // a binary font's units: its grid too
   o.max_seconds = kFixSeconds;
   std::vector<report::ContourFix> fixes;
   try {
+    report::parse_require_list(grid_fix_gates, o.judge);
     fixes = report::fix_glyph(g, o);
   } catch (const InputError& e) {
     message = what + ": " + e.what();

@@ -579,8 +579,22 @@ void file_buttons(Editor& e, const UiInfo& info) {
     ImGui::SameLine();
     if (ImGui::Button("fix on grid")) act(e, [&] { e.fix_on_grid(); });
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("%s on the font's grid, as cmr fix FONT.ufo --glyph NAME finds it (lines and smooth nodes kept)",
-                        Editor::kGridFixRequirement);
+      ImGui::SetTooltip("one fix for %s on the font's grid, as cmr fix FONT.ufo --glyph NAME --require finds it "
+                        "(lines and smooth nodes kept, every gate re-judged)",
+                        e.grid_fix_gates.c_str());
+    // The gates it asks for: the type gates a fix can move points for.
+    static const char* const kGateChoices[] = {"curvature-extrema-at-nodes", "g2-at-smooth-nodes",
+                                               "curvature-extrema-at-nodes,g2-at-smooth-nodes"};
+    int choice = -1;
+    for (int i = 0; i < 3; ++i)
+      if (e.grid_fix_gates == kGateChoices[i]) choice = i;
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9);
+    if (ImGui::BeginCombo("##gridgates", choice == 2 ? "both gates" : e.grid_fix_gates.c_str())) {
+      for (int i = 0; i < 3; ++i)
+        if (ImGui::Selectable(i == 2 ? "both gates" : kGateChoices[i], choice == i)) e.grid_fix_gates = kGateChoices[i];
+      ImGui::EndCombo();
+    }
   }
   if (ImGui::Button("export PNG") && info.export_png != nullptr) *info.export_png = true;
   ImGui::SameLine();

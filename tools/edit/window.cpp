@@ -673,7 +673,10 @@ bool ScriptRunner::knot_action(const ScriptCommand& c) {
   if (c.name == "fix" || c.name == "snap" || c.name == "fix-grid") {
     // The status line (what moved, or why nothing could) on stderr, as in the window's panel.
     if (c.name == "fix") e.fix_curve();
-    else if (c.name == "fix-grid") e.fix_on_grid();
+    else if (c.name == "fix-grid") {
+      if (!c.args.empty()) e.grid_fix_gates = c.args[0];
+      e.fix_on_grid();
+    }
     else e.snap_selected();
     std::cerr << "cmr edit: script line " << c.line << ": " << e.message << '\n';
     frame_needed_ = true;
