@@ -184,6 +184,95 @@ Tensor<T> descend(Tensor<T> c, Axis axis, int level, std::uint64_t index) {
   return c;
 }
 
+/// Monomial coefficients (lowest first) of a polynomial in Bernstein form:
+/// a_k = sum_{j<=k} C(d,j) C(d-j,k-j) (-1)^(k-j) c_j.
+std::vector<Rational> to_monomial(const Bernstein<Rational>& c) {
+  const int d = static_cast<int>(c.size()) - 1;
+  std::vector<Rational> a(c.size(), Rational(0));
+  for (int k = 0; k <= d; ++k)
+    for (int j = 0; j <= k; ++j) {
+      const Rational w = Scalar<Rational>::ratio(binomial(d, j) * binomial(d - j, k - j), 1);
+      if ((k - j) % 2 == 0) a[k] += w * c[j];
+      else a[k] -= w * c[j];
+    }
+  return a;
+}
+
+/// Bernstein coefficients of degree D of a polynomial given by monomials of
+/// degree <= D: b_k = sum_{i<=k} C(k,i)/C(D,i) a_i.
+Bernstein<Rational> to_bernstein(const std::vector<Rational>& a, int D) {
+  Bernstein<Rational> b(static_cast<std::size_t>(D + 1), Rational(0));
+  for (int k = 0; k <= D; ++k)
+    for (int i = 0; i <= k && i < static_cast<int>(a.size()); ++i)
+      b[k] += Scalar<Rational>::ratio(binomial(k, i), binomial(D, i)) * a[i];
+  return b;
+}
+
+void trim(std::vector<Rational>& a) {
+  while (!a.empty() && a.back() == 0) a.pop_back();
+}
+
+/// a = q b + r (b non-zero, trimmed); returns q, leaves r in a.
+std::vector<Rational> divide(std::vector<Rational>& a, const std::vector<Rational>& b) {
+  trim(a);
+  std::vector<Rational> q(a.size() >= b.size() ? a.size() - b.size() + 1 : 0, Rational(0));
+  while (a.size() >= b.size()) {
+    const std::size_t shift = a.size() - b.size();
+    const Rational f = a.back() / b.back();
+    q[shift] = f;
+    for (std::size_t k = 0; k < b.size(); ++k) a[shift + k] -= f * b[k];
+    a.pop_back();  // the leading term is now 0
+    trim(a);
+  }
+  return q;
+}
+
+/// The Tensor's s-rows divided by their gcd h(s) when deg h >= 1 (nullopt
+/// otherwise); h_sign: the sign of h on [0, 1], 0 when it changes there.
+std::optional<Tensor<Rational>> divide_common_factor(const Tensor<Rational>& c, int& h_sign) {
+  std::vector<std::vector<Rational>> rows;
+  std::vector<Rational> g;
+  for (int i = 0; i < c.nt; ++i) {
+    rows.push_back(to_monomial(Bernstein<Rational>(c.c.begin() + i * c.ns, c.c.begin() + (i + 1) * c.ns)));
+    trim(rows.back());
+    std::vector<Rational> a = rows.back(), b = g;  // Euclid: g = gcd(g, row)
+    while (!b.empty()) {
+      divide(a, b);
+      std::swap(a, b);
+    }
+    g = a;
+  }
+  if (g.size() < 2) return std::nullopt;  // a constant (or lambda == 0)
+  const int dh = static_cast<int>(g.size()) - 1, ds = c.ns - 1 - dh;
+  Tensor<Rational> mu;
+  mu.nt = c.nt;
+  mu.ns = ds + 1;
+  for (std::vector<Rational>& r : rows) {
+    std::vector<Rational> q = r.empty() ? std::vector<Rational>{} : divide(r, g);
+    CMR_CHECK(r.empty());  // g divides every row exactly
+    const Bernstein<Rational> b = to_bernstein(q, ds);
+    mu.c.insert(mu.c.end(), b.begin(), b.end());
+  }
+  const Bernstein<Rational> h = to_bernstein(g, dh);
+  h_sign = sgn(h.front());
+  for (const RootInterval& r : isolate_roots(h))
+    if (r.sign_change() && r.lo < 1) h_sign = 0;
+  return mu;
+}
+
+/// Each exact coefficient rounded to a double with its bound (get_d
+/// truncates: the error is below one ulp, 2^-52 |v|, charged as 2^-51 |v|).
+Tensor<Bounded> rounded(const Tensor<Rational>& c) {
+  Tensor<Bounded> out;
+  out.nt = c.nt;
+  out.ns = c.ns;
+  for (const Rational& q : c.c) {
+    const double v = q.get_d();
+    out.c.push_back(q == 0 ? Bounded(0.0) : Bounded(v, 2 * Bounded::kRound * std::fabs(v) + Bounded::kTiny));
+  }
+  return out;
+}
+
 /// A cell's outcome: every coefficient certainly >= 0 (eta: > 0), <= 0
 /// (eta: < 0), all 0 (lambda only), split, or a sign the bound leaves open.
 enum class Cell { up, down, zero, split, uncertain };
@@ -226,11 +315,25 @@ class Search {
       : w_(w), A_(A), B_(B), o_(o) {}
 
   BetweenVerdict run() {
-    const bool all = s_cell(build_tensor<Bounded>(w_, A_, B_), 0, 0);
+    bool all = s_cell(build_tensor<Bounded>(w_, A_, B_), 0, 0);
+    int h_sign = 1;  // sign of the common factor h(s) on [0, 1], 0 when it changes
+    if (!all && !budget_spent_ && w_ == Which::lambda) {
+      // lambda = h(s) mu(t, s) with h the gcd of the rows in s: where h has a
+      // root between the masters (an instance with lambda == 0, a straight
+      // one), no interval around it can be certified on lambda; on mu it can.
+      exact_root_ = build_tensor<Rational>(w_, A_, B_);
+      if (std::optional<Tensor<Rational>> mu = divide_common_factor(*exact_root_, h_sign)) {
+        exact_root_ = std::move(*mu);
+        up_ = down_ = false;
+        v_.s_lower = 0;
+        all = s_cell(rounded(*exact_root_), 0, 0);
+      }
+    }
     if (all) {
       v_.kind = BetweenVerdict::Kind::holds_throughout;
       v_.s_lower = 1;
-      v_.direction = up_ && !down_ ? 1 : (down_ && !up_ ? -1 : 0);
+      if (h_sign < 0) std::swap(up_, down_);
+      v_.direction = h_sign != 0 && up_ && !down_ ? 1 : (h_sign != 0 && down_ && !up_ ? -1 : 0);
       return v_;
     }
     if (!budget_spent_) find_witness();

@@ -48,6 +48,13 @@
 ///     max_depth answers increasing, decreasing or constant (its pieces at
 ///     the cells' levels have coefficients of one sign);
 ///   * an s-interval that is not certified is halved in s down to s_depth.
+/// Common factor. Where an instance between has lambda == 0 for every t (a
+/// straight instance, where the direction of monotonicity flips), no
+/// s-interval around it can be certified. So when the certificate on lambda
+/// does not cover [0, 1], h(s) = gcd over Q[s] of the rows c_i.(s) is
+/// computed exactly; when deg h >= 1 the certificate is rerun on
+/// mu = lambda / h (exact, then rounded with its bound): lambda(., s) =
+/// h(s) mu(., s) has no sign change wherever mu(., s) has none.
 /// Signs are read from the bounded coefficients when the bound decides
 /// (counted in cells_float) and from the exact coefficients otherwise
 /// (cells_exact). At an s-interval of level s_depth that is still not
@@ -90,7 +97,9 @@ struct BetweenVerdict {
   enum class Kind : std::uint8_t {
     holds_throughout,  ///< PROOF: for every real s in [0, 1] the property holds at P(s)
     fails,             ///< s_first_fail is an exact witness where it does not
-    undecided,         ///< neither (depth or cell budget exhausted); s_lower still holds
+    undecided,         ///< neither (depth or cell budget exhausted, or the only failures are at
+                       ///< s no dyadic point hits, e.g. a single straight instance at s = 8/15
+                       ///< for inflections); s_lower still holds
   };
   Kind kind = Kind::undecided;
   /// Every real s in [0, s_lower) is certified (the property holds at P(s));
