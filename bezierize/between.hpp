@@ -48,23 +48,27 @@
 ///     max_depth answers increasing, decreasing or constant (its pieces at
 ///     the cells' levels have coefficients of one sign);
 ///   * an s-interval that is not certified is halved in s down to s_depth.
-/// Common factor. Where an instance between has lambda == 0 for every t (a
-/// straight instance, where the direction of monotonicity flips), no
-/// s-interval around it can be certified. So when the certificate on lambda
+/// Signs are read from the bounded coefficients when the bound decides
+/// (counted in cells_float) and from the exact coefficients otherwise
+/// (cells_exact). Phase 1 certifies s-intervals left to right and stops at
+/// the first one of level s_depth that is not certified: its left end is
+/// s_lower. Phase 2 looks for a witness with the exact single-piece
+/// classifier (Algorithm 1 of classify.hpp / algorithms.hpp on lambda of
+/// the exact instance P(s); bounded first, rationals where the bound does
+/// not decide): at s_lower, then s_lower + 2^(k - s_depth) for k = 0, 1, ...
+/// up to s = 1, then by bisection between the last s that did not fail and
+/// the first that did, down to 2^-s_depth; the smallest failing s is checked
+/// once more in rationals and reported.
+/// Algorithm 1's "not monotone" is a certain sign change of lambda(., s) on
+/// [0, 1] (its pieces are of one sign and not zero), i.e. a curvature
+/// extremum strictly inside the instance.
+/// Common factor (lambda only). Where an instance between has lambda == 0
+/// for every t (a straight instance, where the direction of monotonicity
+/// flips), no s-interval around it can be certified. So when the certificate on lambda
 /// does not cover [0, 1], h(s) = gcd over Q[s] of the rows c_i.(s) is
 /// computed exactly; when deg h >= 1 the certificate is rerun on
 /// mu = lambda / h (exact, then rounded with its bound): lambda(., s) =
 /// h(s) mu(., s) has no sign change wherever mu(., s) has none.
-/// Signs are read from the bounded coefficients when the bound decides
-/// (counted in cells_float) and from the exact coefficients otherwise
-/// (cells_exact). At an s-interval of level s_depth that is still not
-/// certified, the exact single-piece classifier (Algorithm 1 of classify.hpp,
-/// algorithms.hpp, on lambda of the exact instance P(s)) is run at the
-/// interval's dyadic midpoint and right end (and at s = 0): the first s where
-/// it answers "not monotone" is a witness, and the search stops there.
-/// Algorithm 1's "not monotone" is a certain sign change of lambda(., s) on
-/// [0, 1] (its pieces are of one sign and not zero), i.e. a curvature
-/// extremum strictly inside the instance.
 ///
 /// Inflections: the same on eta with Algorithm 2's rules: a cell is
 /// certified when every coefficient is > 0 (< 0); the witness is Algorithm 2
