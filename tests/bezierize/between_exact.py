@@ -87,6 +87,22 @@ def lambda_eta(A, B):
     return tensor(lam, 4 * n - 7, 4), tensor(det12, 2 * n - 4, 2)
 
 
+def at_s(rows, s):
+    """The t-coefficients of the tensor at one s (de Casteljau in s)."""
+    Ns = len(rows[0]) - 1
+    return [sum(F(comb(Ns, j)) * s ** j * (1 - s) ** (Ns - j) * r[j] for j in range(Ns + 1)) for r in rows]
+
+
+def check_bump(lam):
+    """cubic_bump: every t-coefficient of lambda > 0 at both masters
+    (increasing), lambda(0) > 0 > lambda(1) at the halfway instance (an
+    extremum strictly inside)."""
+    for s in (F(0), F(1)):
+        assert all(c > 0 for c in at_s(lam, s)), s
+    half = at_s(lam, F(1, 2))
+    assert half[0] > 0 > half[-1], half
+
+
 def cpp_list(rows):
     return "{" + ", ".join('"%s"' % v for row in rows for v in row) + "}"
 
@@ -106,6 +122,8 @@ def main():
            "  static const std::vector<BetweenReference> refs = {"]
     for name, A, B in PAIRS:
         lam, eta = lambda_eta(A, B)
+        if name == "cubic_bump":
+            check_bump(lam)
         out.append('      {"%s", %s,' % (name, cpp_points(A)))
         out.append("       %s," % cpp_points(B))
         out.append("       %s," % cpp_list(lam))

@@ -128,6 +128,13 @@ TEST(Between, BumpBetweenIncreasingMastersFailsNearTheFirstFailure) {
   EXPECT_LE(v.s_first_fail - v.s_lower, std::ldexp(1.0, -o.s_depth));
   std::mt19937 rng(37);
   for (int k = 0; k < 30; ++k) EXPECT_TRUE(monotone(curvature_at(A, B, random_rational(rng, 0, v.s_lower))));
+  // Here the extremum enters through the end t = 1: the first failure is
+  // the first root of lambda(1, s), isolated exactly by another route
+  // (roots.hpp on the tensor's last row) and bracketed by the verdict.
+  const NodeBetween node = node_lambda_between(A, B, A, B);
+  EXPECT_NEAR(v.t_witness, 1.0, 1e-3);
+  EXPECT_LE(v.s_lower, node.left_zero_s + 1e-12);
+  EXPECT_GE(v.s_first_fail, node.left_zero_s - 1e-12);
   // t_witness is within 1e-12 of a sign change of lambda(., s_first_fail).
   ASSERT_GE(v.t_witness, 0.0);
   ASSERT_LE(v.t_witness, 1.0);
