@@ -145,7 +145,6 @@ void OrbitView::fit() {
 void OrbitView::orbit(double yaw_deg, double pitch_deg) {
   camera.yaw = yaw_deg * M_PI / 180;
   camera.pitch = std::clamp(pitch_deg, -89.0, 89.0) * M_PI / 180;
-  if (plane_kind_ == OrbitPlane::screen && dragging_ < 0) reset_plane();
 }
 
 void OrbitView::zoom(double f) {
@@ -157,7 +156,6 @@ void OrbitView::pan(double dx, double dy) {
   const OrbitProjection p = projection();
   const double per_pixel = camera.distance / p.focal;
   camera.target -= (dx * per_pixel) * p.right - (dy * per_pixel) * p.up;
-  if (plane_kind_ == OrbitPlane::screen && dragging_ < 0) reset_plane();
 }
 
 int OrbitView::pick(Vec2 s) const {
@@ -197,7 +195,6 @@ void OrbitView::mouse_button(MouseButton button, bool down) {
         if (drag_start_ && drag_start_->points() != spline_.points()) undo_.push_back(*drag_start_), redo_.clear();
         drag_start_.reset();
       }
-      if (plane_kind_ == OrbitPlane::screen) reset_plane();
     }
     return;
   }
@@ -207,6 +204,10 @@ void OrbitView::mouse_button(MouseButton button, bool down) {
   const int k = pick(last_);
   if (k < 0) return;
   if (k != selected_) select(k);
+  if (plane_kind_ == OrbitPlane::screen && plane_) {  // the screen plane of the view the drag starts in
+    const OrbitProjection p = projection();
+    if (plane_->u != p.right || plane_->v != p.up) reset_plane();
+  }
   if (plane_) {
     dragging_ = k;
     drag_start_ = spline_;

@@ -18,6 +18,8 @@
 // plane without --plane (default_space_plane: through P_K spanned by the
 // directions to its neighbours), or "screen" (through P_K spanned by the
 // camera's right and up), or xy / yz / zx through P_K (parse_space_plane).
+// (The screen plane is the one of the view in which the drag starts: taken
+// again when a drag starts after the camera turned.)
 // The pointer's ray meets the plane where t = ((O - eye).n) / (r.n), n = U x V;
 // (a, b) solve the 2 x 2 normal equations [U.U U.V; U.V V.V] (a, b) =
 // (U.(X - O), V.(X - O)), and the point is put at exactly O + a U + b V (in
