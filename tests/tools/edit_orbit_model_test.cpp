@@ -134,8 +134,9 @@ TEST(EditOrbit, DragStaysInThePlaneAndTheLabelThereIsCmrRegions) {
         }
       // The region did not change: K's region does not depend on where K is in its plane.
       // (Rendered again for the first drop only: each render is 25,600 certified pixels.)
-      if (std::make_pair(i, j) == picks.front())
+      if (std::make_pair(i, j) == picks.front()) {
         EXPECT_EQ(SpaceRegionProblem::make(v.spline(), req).render(0).labels, region.labels);
+      }
       EXPECT_EQ(v.region()->labels, region.labels);
     }
     // Undo puts the point back exactly.
