@@ -139,7 +139,10 @@ void OrbitView::fit() {
   for (const Vec3& p : spline_.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
   camera.target = 0.5 * (lo + hi);
   const double radius = std::max(1e-9, 0.5 * glm::length(hi - lo));
-  camera.distance = 1.15 * radius / std::sin(0.5 * camera.fov);
+  // The narrower of the vertical and horizontal half-angles of the canvas.
+  const double aspect = std::max(1, width_ - panel_width) / static_cast<double>(std::max(1, height_));
+  const double half = std::min(0.5 * camera.fov, std::atan(std::tan(0.5 * camera.fov) * aspect));
+  camera.distance = 1.05 * radius / std::sin(half);
 }
 
 void OrbitView::orbit(double yaw_deg, double pitch_deg) {

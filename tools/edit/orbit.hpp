@@ -60,6 +60,9 @@
 
 namespace cmr::edit {
 
+/// The side panel's width in pixels.
+inline constexpr int kOrbitPanel = 300;
+
 struct OrbitCamera {
   double yaw = 0.7, pitch = 0.5;  ///< radians
   double distance = 10;
@@ -124,7 +127,7 @@ class OrbitView {
   OrbitProjection projection() const {
     return orbit_projection(camera, std::max(1, width_ - panel_width), height_);
   }
-  int panel_width = 0;  ///< pixels the side panel covers (build_orbit_ui sets it)
+  int panel_width = kOrbitPanel;  ///< pixels the side panel covers (0 with panels off; build_orbit_ui sets it)
   /// The target at the control points' bounding-box centre, the distance so the box fits.
   void fit();
   /// Yaw and pitch in degrees (pitch clamped to +-89).

@@ -16,7 +16,7 @@
 namespace cmr::edit {
 namespace {
 
-constexpr int kPanel = 300;
+constexpr int kPanel = kOrbitPanel;
 
 ImU32 rgb(double r, double g, double b, double a = 1) {
   const auto c = [](double x) { return static_cast<int>(std::lround(255 * std::clamp(x, 0.0, 1.0))); };
@@ -143,9 +143,10 @@ void swatch(const draw::Rgb& c, const char* text, bool outline = false) {
 
 void draw_legend(const OrbitView& v) {
   ImGui::SetNextWindowPos({8, 8}, ImGuiCond_Always);
+  ImGui::SetNextWindowSize({260, 0}, ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.85f);
   ImGui::Begin("legend##orbit", nullptr,
-               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoInputs |
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
                    ImGuiWindowFlags_NoFocusOnAppearing);
   for (const std::string& line : orbit_legend(v)) {
     // "kind r,g,b words"
@@ -153,7 +154,7 @@ void draw_legend(const OrbitView& v) {
     const std::string kind = line.substr(0, sp1), words = line.substr(sp2 + 1);
     int r = 0, g = 0, b = 0;
     std::sscanf(line.c_str() + sp1 + 1, "%d,%d,%d", &r, &g, &b);
-    if (kind == "title") ImGui::TextUnformatted(words.c_str());
+    if (kind == "title") ImGui::TextWrapped("%s", words.c_str());
     else swatch({r / 255.0, g / 255.0, b / 255.0}, words.c_str(), kind == "swatch");
   }
   ImGui::End();
@@ -230,20 +231,20 @@ std::vector<std::string> orbit_legend(const OrbitView& v) {
                   static_cast<int>(std::lround(255 * c.g)), static_cast<int>(std::lround(255 * c.b)));
     out.push_back(buf + words);
   };
-  std::string title = "CMRWI (|kappa| monotone over the whole curve): where P";
+  std::string title = "Where P";
   title += std::to_string(v.selected());
   title += " may go in its ";
   title += orbit_plane_name(v.plane_kind());
-  title += " plane";
+  title += " plane: CMRWI, |kappa| monotone over the whole curve";
   add("title", {0, 0, 0}, title);
   add("swatch", draw::label_colour(1, false), "increasing");
   add("swatch", draw::label_colour(2, false), "decreasing");
-  add("swatch", draw::label_colour(0, false), "not monotone (the plane shows through)");
+  add("swatch", draw::label_colour(0, false), "not monotone (the plane)");
   const double tm = colour_tau_max(v);
-  add("line", torsion_colour(1, 1), "curve: torsion > 0 (stronger with |tau|)");
+  add("line", torsion_colour(1, 1), "curve: torsion > 0 (by |tau|)");
   add("line", torsion_colour(-1, 1), "curve: torsion < 0");
   add("line", torsion_colour(0, 1), tm > 0 ? "curve: torsion near 0" : "curve: planar (torsion 0)");
-  if (v.comb) add("line", kComb, "curvature comb (along the principal normal)");
+  if (v.comb) add("line", kComb, "comb (principal normal)");
   add("line", kPolygon, "control polygon");
   return out;
 }
