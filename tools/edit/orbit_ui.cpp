@@ -45,7 +45,6 @@ ImVec2 iv(Vec2 p) { return {static_cast<float>(p.x), static_cast<float>(p.y)}; }
 void draw_canvas(OrbitView& v, const OrbitRegion* region) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   const OrbitProjection p = v.projection();
-  dl->AddRectFilled({0, 0}, {static_cast<float>(v.width()), static_cast<float>(v.height())}, IM_COL32_WHITE);
   const auto line = [&](const Vec3& a, const Vec3& b, ImU32 col, float w) {
     Vec2 s, t;
     if (p.to_screen(a, s) && p.to_screen(b, t)) dl->AddLine(iv(s), iv(t), col, w);
