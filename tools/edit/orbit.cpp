@@ -122,6 +122,10 @@ void OrbitView::analyse() {
       samples_.push_back(c);
     }
   if (samples_.empty()) kappa_min_ = 0;
+  extrema_.clear();
+  for (const Segment& seg : spline_.segments())
+    for (const SpaceExtremum& e : space_curvature_extrema(spline_, seg))
+      extrema_.push_back({evaluate(spline_, e.t), e.t, space_curvature(spline_, e.t), e.maximum});
   Vec3 lo{1e300}, hi{-1e300};
   for (const Vec3& p : spline_.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const double diag = glm::length(hi - lo);

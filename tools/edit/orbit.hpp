@@ -118,6 +118,14 @@ class OrbitView {
   double kappa_min() const { return kappa_min_; }
   double kappa_max() const { return kappa_max_; }
   double tau_max() const { return tau_max_; }  ///< max |tau| of the samples
+  /// The certified curvature extrema inside the segments (space_curvature_extrema,
+  /// as the space report lists them): where, and whether a maximum of |kappa|.
+  struct Extremum {
+    Vec3 p{0.0};
+    double t = 0, kappa = 0;
+    bool maximum = false;
+  };
+  const std::vector<Extremum>& extrema() const { return extrema_; }
 
   OrbitCamera camera;
   int width() const { return width_; }
@@ -200,6 +208,7 @@ class OrbitView {
   SpaceAnalysis analysis_;
   std::vector<CurveSample> samples_;
   double kappa_min_ = 0, kappa_max_ = 0, tau_max_ = 0;
+  std::vector<Extremum> extrema_;
   int width_ = 0, height_ = 0;
   int selected_ = 0, dragging_ = -1;
   OrbitPlane plane_kind_ = OrbitPlane::region;

@@ -39,6 +39,7 @@ double colour_tau_max(const OrbitView& v) {
 }
 
 const draw::Rgb kPolygon{0.55, 0.55, 0.55}, kComb{0.45, 0.62, 0.85}, kPlane{0.35, 0.35, 0.45};
+const draw::Rgb kSharpest{1.0, 0.55, 0.0}, kFlattest{0.0, 0.75, 0.85};
 
 ImVec2 iv(Vec2 p) { return {static_cast<float>(p.x), static_cast<float>(p.y)}; }
 
@@ -97,6 +98,11 @@ void draw_canvas(OrbitView& v, const OrbitRegion* region) {
   const double tm = colour_tau_max(v);
   for (std::size_t i = 1; i < samples.size(); ++i)
     line(samples[i - 1].p, samples[i].p, rgb(torsion_colour(0.5 * (samples[i - 1].tau + samples[i].tau), tm)), 3.0f);
+  // Certified curvature extrema: sharpest (maxima of |kappa|) orange, flattest cyan.
+  for (const OrbitView::Extremum& e : v.extrema()) {
+    Vec2 q;
+    if (p.to_screen(e.p, q)) dl->AddCircleFilled(iv(q), 4.0f, rgb(e.maximum ? kSharpest : kFlattest));
+  }
   // Points and names.
   for (int k = 0; k < m; ++k) {
     Vec2 q;
@@ -130,10 +136,11 @@ std::string verdict_text(Direction d) {
   }
 }
 
-void swatch(const draw::Rgb& c, const char* text, bool outline = false) {
+void swatch(const draw::Rgb& c, const char* text, bool outline, bool dot) {
   const ImVec2 at = ImGui::GetCursorScreenPos();
   ImDrawList* dl = ImGui::GetWindowDrawList();
-  dl->AddRectFilled(at, {at.x + 14, at.y + 14}, rgb(c));
+  if (dot) dl->AddCircleFilled({at.x + 7, at.y + 7}, 5, rgb(c));
+  else dl->AddRectFilled(at, {at.x + 14, at.y + 14}, rgb(c));
   if (outline) dl->AddRect(at, {at.x + 14, at.y + 14}, IM_COL32(120, 120, 120, 255));
   ImGui::Dummy({18, 14});
   ImGui::SameLine();
@@ -154,7 +161,7 @@ void draw_legend(const OrbitView& v) {
     int r = 0, g = 0, b = 0;
     std::sscanf(line.c_str() + sp1 + 1, "%d,%d,%d", &r, &g, &b);
     if (kind == "title") ImGui::TextWrapped("%s", words.c_str());
-    else swatch({r / 255.0, g / 255.0, b / 255.0}, words.c_str(), kind == "swatch");
+    else swatch({r / 255.0, g / 255.0, b / 255.0}, words.c_str(), kind == "swatch", kind == "dot");
   }
   ImGui::End();
 }
@@ -191,6 +198,10 @@ void draw_panel(OrbitView& v, double frame_ms) {
     }
     ImGui::EndTable();
   }
+  for (std::size_t i = 0; i < a.segments.size(); ++i)  // the certified extrema, as the space report lists them
+    for (const OrbitView::Extremum& e : v.extrema())
+      if (e.t >= s.segments()[i].a && e.t <= s.segments()[i].b)
+        ImGui::Text("seg %zu: %s |kappa| %.4g at u=%.4g", i, e.maximum ? "max" : "min", e.kappa, e.t);
   for (const SpaceJoint& j : a.joints)
     ImGui::Text("joint %d (u=%g): %s, jump %s", j.index, j.knot, j.g2 ? "G2" : j.g1 ? "G1" : "G0", jump_name(j.jump));
   ImGui::Separator();
@@ -244,6 +255,10 @@ std::vector<std::string> orbit_legend(const OrbitView& v) {
   add("line", torsion_colour(-1, 1), "curve: torsion < 0");
   add("line", torsion_colour(0, 1), tm > 0 ? "curve: torsion near 0" : "curve: planar (torsion 0)");
   if (v.comb) add("line", kComb, "comb (principal normal)");
+  bool sharpest = false, flattest = false;
+  for (const OrbitView::Extremum& e : v.extrema()) (e.maximum ? sharpest : flattest) = true;
+  if (sharpest) add("dot", kSharpest, "sharpest (max |kappa|)");
+  if (flattest) add("dot", kFlattest, "flattest (min |kappa|)");
   add("line", kPolygon, "control polygon");
   return out;
 }
