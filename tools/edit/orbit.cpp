@@ -76,6 +76,29 @@ OrbitRegion compute_region(const SpaceSpline& spline, int k, const SpacePlane& p
   out.height = res.height;
   out.labels = std::move(res.labels);
   out.full = size >= OrbitView::kFullRegion;
+  if (out.full) {  // a small region: again over its box
+    int i0 = size, i1 = -1, j0 = size, j1 = -1;
+    for (int j = 0; j < size; ++j)
+      for (int i = 0; i < size; ++i) {
+        const Direction d = out.labels[static_cast<std::size_t>(j) * size + i];
+        if (d == Direction::increasing || d == Direction::decreasing)
+          i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+      }
+    i0 = std::max(0, i0 - 2), j0 = std::max(0, j0 - 2), i1 = std::min(size - 1, i1 + 2), j1 = std::min(size - 1, j1 + 2);
+    const int bw = i1 - i0 + 1, bh = j1 - j0 + 1;
+    if (i1 >= i0 && 4 * bw * bh < size * size) {
+      const View& v = out.view;
+      const double da = (v.x1 - v.x0) / size, db = (v.y1 - v.y0) / size;
+      out.detail_view = View{v.x0 + da * i0, v.y1 - db * (j1 + 1), v.x0 + da * (i1 + 1), v.y1 - db * j0};
+      const int longer = std::max(bw, bh);
+      out.detail_width = std::max(1, size * bw / longer);
+      out.detail_height = std::max(1, size * bh / longer);
+      r.view = out.detail_view;
+      r.width = out.detail_width;
+      r.height = out.detail_height;
+      out.detail = SpaceRegionProblem::make(spline, r).render(0).labels;
+    }
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

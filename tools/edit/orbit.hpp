@@ -94,6 +94,14 @@ struct OrbitRegion {
   std::vector<Direction> labels;  ///< row 0 at the top of the view (b = y1)
   bool full = false;              ///< the full resolution
   double seconds = 0;
+  /// With the full resolution, when the monotone pixels' box (a whole number
+  /// of cells, 2 cells of margin) covers under a quarter of the view's area:
+  /// the region again over that box at the full resolution, so a small region
+  /// is not drawn in a few coarse cells (empty otherwise). Cells of `labels`
+  /// inside `detail_view` are drawn from `detail` instead.
+  View detail_view;
+  int detail_width = 0, detail_height = 0;
+  std::vector<Direction> detail;
 };
 
 struct CurveSample {

@@ -60,21 +60,34 @@ void draw_canvas(OrbitView& v, const OrbitRegion* region) {
     const View& w = region->view;
     const auto at = [&](double a, double b) { return region->plane.origin + a * region->plane.u + b * region->plane.v; };
     quad(at(w.x0, w.y0), at(w.x1, w.y0), at(w.x1, w.y1), at(w.x0, w.y1), rgb(kPlane, 0.10));
-    // Each row's runs of one monotone label, one quad each.
-    const double da = (w.x1 - w.x0) / region->width, db = (w.y1 - w.y0) / region->height;
-    for (int j = 0; j < region->height; ++j) {
-      const double b1 = w.y1 - db * j, b0 = w.y1 - db * (j + 1);
-      for (int i = 0; i < region->width;) {
-        const Direction l = region->labels[static_cast<std::size_t>(j) * region->width + i];
-        int e = i + 1;
-        while (e < region->width && region->labels[static_cast<std::size_t>(j) * region->width + e] == l) ++e;
-        if (l == Direction::increasing || l == Direction::decreasing) {
-          const double a0 = w.x0 + da * i, a1 = w.x0 + da * e;
-          quad(at(a0, b0), at(a1, b0), at(a1, b1), at(a0, b1), rgb(draw::label_colour(static_cast<uint8_t>(l), false)));
+    // Each row's runs of one monotone label, one quad each; cells inside the
+    // detail's box are drawn from the detail.
+    const auto runs = [&](const View& vw, int width, int height, const std::vector<Direction>& labels,
+                          const View* skip) {
+      const double da = (vw.x1 - vw.x0) / width, db = (vw.y1 - vw.y0) / height;
+      for (int j = 0; j < height; ++j) {
+        const double b1 = vw.y1 - db * j, b0 = vw.y1 - db * (j + 1);
+        const bool row_in = skip != nullptr && b0 >= skip->y0 - 0.25 * db && b1 <= skip->y1 + 0.25 * db;
+        for (int i = 0; i < width;) {
+          const auto label = [&](int x) {
+            const double c = vw.x0 + da * (x + 0.5);
+            if (row_in && c > skip->x0 && c < skip->x1) return Direction::none;
+            return labels[static_cast<std::size_t>(j) * width + x];
+          };
+          const Direction l = label(i);
+          int e = i + 1;
+          while (e < width && label(e) == l) ++e;
+          if (l == Direction::increasing || l == Direction::decreasing) {
+            const double a0 = vw.x0 + da * i, a1 = vw.x0 + da * e;
+            quad(at(a0, b0), at(a1, b0), at(a1, b1), at(a0, b1), rgb(draw::label_colour(static_cast<uint8_t>(l), false)));
+          }
+          i = e;
         }
-        i = e;
       }
-    }
+    };
+    const bool detail = !region->detail.empty();
+    runs(w, region->width, region->height, region->labels, detail ? &region->detail_view : nullptr);
+    if (detail) runs(region->detail_view, region->detail_width, region->detail_height, region->detail, nullptr);
     const ImU32 grid = rgb(kPlane, 0.35);
     for (int g = 0; g <= 8; ++g) {
       const double a = w.x0 + (w.x1 - w.x0) * g / 8, b = w.y0 + (w.y1 - w.y0) * g / 8;
