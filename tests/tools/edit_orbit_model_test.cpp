@@ -188,3 +188,33 @@ TEST(EditOrbit, OpensOnThePointAskedOrTheFirstWithARegion) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(EditOrbit, OpensFacingThePlaneNotEdgeOn) {
+  const std::string failing = std::string(CMR_SOURCE_DIR) + "/examples/space/fig8_lifted.json";
+  OrbitView v(read_space_spline_file(failing), failing, 1024, 768);
+  for (int k = 0; k < v.spline().unique_point_count(); ++k)
+    for (OrbitPlane kind : {OrbitPlane::region, OrbitPlane::xy, OrbitPlane::yz, OrbitPlane::zx}) {
+      v.select(k);
+      v.set_plane_kind(kind);
+      if (!v.plane()) continue;
+      v.orbit(0, 0);
+      v.face_plane();
+      const Vec3 n = glm::normalize(glm::cross(v.plane()->u, v.plane()->v));
+      // The view direction is at least 20 degrees off the plane: its region is not a line.
+      EXPECT_GE(std::abs(glm::dot(v.projection().forward, n)), std::sin(20 * M_PI / 180) - 1e-12)
+          << "P" << k << " " << edit::orbit_plane_name(kind);
+      // Every control point is in front of the camera and inside the canvas beside the panel.
+      for (const Vec3& q : v.spline().points()) {
+        Vec2 s;
+        ASSERT_TRUE(v.projection().to_screen(q, s));
+        EXPECT_GE(s.x, 0);
+        EXPECT_LE(s.x, v.width() - v.panel_width);
+        EXPECT_GE(s.y, 0);
+        EXPECT_LE(s.y, v.height());
+      }
+    }
+}
+
+}  // namespace

@@ -177,6 +177,21 @@ void OrbitView::orbit(double yaw_deg, double pitch_deg) {
   camera.pitch = std::clamp(pitch_deg, -89.0, 89.0) * M_PI / 180;
 }
 
+void OrbitView::face_plane() {
+  if (plane_) {
+    Vec3 n = glm::cross(plane_->u, plane_->v);
+    if (n.z < 0) n = -n;
+    const double len = glm::length(n);
+    if (len > 0) {
+      n /= len;
+      const double pitch = std::clamp(std::asin(std::clamp(n.z, -1.0, 1.0)) * 180 / M_PI, 20.0, 65.0);
+      const double yaw = std::hypot(n.x, n.y) > 1e-9 ? std::atan2(n.y, n.x) * 180 / M_PI : camera.yaw * 180 / M_PI;
+      orbit(yaw, pitch);
+    }
+  }
+  fit();
+}
+
 void OrbitView::zoom(double f) {
   if (!(f > 0) || !std::isfinite(f)) throw InputError("zoom: the factor must be a positive number");
   camera.distance /= f;

@@ -148,6 +148,11 @@ class OrbitView {
   void fit();
   /// Yaw and pitch in degrees (pitch clamped to +-89).
   void orbit(double yaw_deg, double pitch_deg);
+  /// Turns the camera towards the selected point's plane: yaw and pitch of its
+  /// normal (the side with z >= 0), the pitch kept within 20..65 degrees so
+  /// that z stays up and the curve's height shows; then fit(). (The view
+  /// `cmr edit` opens with.)
+  void face_plane();
   /// The distance divided by f (> 0): f > 1 comes closer.
   void zoom(double f);
   /// Moves the target by a pointer motion of (dx, dy) pixels at the target's depth.

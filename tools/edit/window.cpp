@@ -817,6 +817,8 @@ int run_orbit(const EditOptions& o) {
   std::cerr << "cmr edit: " << o.file.filename().string() << ": a space curve, in the orbit view; " << view->message
             << '\n';
   app.set_orbit(std::move(view));
+  app.frame();  // the window's size and the panel's width
+  app.orbit()->face_plane();
   if (!o.script.empty() || !o.screenshot.empty()) return run_script(app, o, std::move(script));
   while (!app.should_close()) {
     if (!app.frame()) glfwWaitEventsTimeout(0.05);
