@@ -196,6 +196,11 @@ TEST(EditOrbitWindow, RefusesPlanarOnlyCommandsAndOptionsInOneLine) {
   r = run_edit(kLifted, "", shot, " --glyph O");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("is a spline file, not a font"), std::string::npos) << r.err;
+  r = run_edit(kLifted, "", shot, " --region-path gpu");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--region-path: the orbit view of a space curve computes its region on the CPU"),
+            std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(shot));
 }
 
 }  // namespace

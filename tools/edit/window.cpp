@@ -808,6 +808,10 @@ int run_script(App& app, const EditOptions& o, std::vector<ScriptCommand> script
 /// `cmr edit SPACE.json`: the orbit view (orbit.hpp) in the editor's window.
 int run_orbit(const EditOptions& o) {
   if (!o.glyph.empty()) throw InputError("--glyph: " + o.file.string() + " is a spline file, not a font");
+  if (o.region_path != RegionPath::automatic || o.precision)
+    throw InputError(std::string(o.precision ? "--precision" : "--region-path") +
+                     ": the orbit view of a space curve computes its region on the CPU (SpaceRegionProblem); "
+                     "planar splines only");
   SpaceSpline spline = read_space_spline_file(o.file);
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
@@ -992,6 +996,9 @@ std::vector<double> locality_frames(int n, int width, int height, int frames, bo
 /// its plane (the region's default plane), one pointer position per frame on
 /// a circle of the window (as drag_frames), after the full region is shown.
 int run_orbit_bench(const BenchOptions& o) {
+  if (o.region_path != RegionPath::automatic)
+    throw InputError("--region-path: the orbit view of a space curve computes its region on the CPU "
+                     "(SpaceRegionProblem); planar splines only");
   SpaceSpline spline = read_space_spline_file(o.file);
   if (o.point < 0 || o.point >= spline.unique_point_count())
     throw InputError("--point: no point " + std::to_string(o.point));
