@@ -218,3 +218,37 @@ TEST(EditOrbit, OpensFacingThePlaneNotEdgeOn) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(EditOrbit, ARationalCurvesPointMovesInItsPlaneWithItsWeight) {
+  const std::string rational = std::string(CMR_SOURCE_DIR) + "/examples/space/fig8b_lifted_rational.json";
+  OrbitView v(read_space_spline_file(rational), rational, 1024, 768);
+  const SpaceSpline before = v.spline();
+  ASSERT_TRUE(before.is_rational());
+  v.select(3);
+  v.set_plane_kind(OrbitPlane::xy);
+  v.orbit(-60, 35);
+  SpaceRegionRequest req;
+  req.point = 3;
+  req.plane = *v.plane();
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(before, req);
+  int monotone = 0;
+  for (auto [a, b] : {std::pair{0.0, 0.0}, {-0.3, -0.2}, {0.2, 0.3}, {-0.6, 0.1}, {0.5, -0.5}}) {
+    pointer_drag(v, a, b);
+    const Vec3 q = v.spline().points()[3];
+    EXPECT_EQ(q.z, before.points()[3].z);
+    EXPECT_EQ(v.spline().weights(), before.weights());
+    const Vec2 ab = v.plane_coordinates(q);
+    const Direction here = problem.classify(ab.x, ab.y).label;
+    EXPECT_EQ(v.label_here(), here);
+    const Direction analysed = analyze_space(v.spline()).curvature;
+    EXPECT_EQ(analysed == Direction::undecided ? Direction::none : analysed,
+              here == Direction::undecided ? Direction::none : here);
+    monotone += here == Direction::increasing || here == Direction::decreasing;
+  }
+  EXPECT_GT(monotone, 0);  // the test sees both kinds of label
+  EXPECT_LT(monotone, 5);
+}
+
+}  // namespace
