@@ -203,4 +203,18 @@ TEST(EditOrbitWindow, RefusesPlanarOnlyCommandsAndOptionsInOneLine) {
   EXPECT_FALSE(fs::exists(shot));
 }
 
+TEST(EditOrbitWindow, BenchDragsAPointOfASpaceCurve) {
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const Outcome r = cmr::test::run_captured("xvfb-run -a -s '-screen 0 1280x960x24' " + std::string(CMR_BINARY) +
+                                            " edit --bench " + kLifted + " --frames 5 --size 640x480");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("benchmark (orbit view): fig8b_lifted.json, 5 frames of a drag of P3"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("p95"), std::string::npos) << r.out;
+  const Outcome bad = cmr::test::run_captured("xvfb-run -a -s '-screen 0 1280x960x24' " + std::string(CMR_BINARY) +
+                                              " edit --bench " + kLifted + " --point 6 --frames 5");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--point: no point 6"), std::string::npos) << bad.err;
+}
+
 }  // namespace

@@ -597,7 +597,8 @@ bool ScriptRunner::orbit_action(const ScriptCommand& c) {
     app_.pointer_move(from.x, from.y);
     app_.pointer_button(MouseButton::left, true, false);
     if (o.dragging() != k)
-      throw InputError(where + "point " + std::to_string(k) + " is not under the cursor (covered by another point?)");
+      throw InputError(where + "point " + std::to_string(k) +
+                       " cannot be picked there (under a panel or the legend, or covered by another point)");
     drag_ = Drag{from, to, steps, 0};
   } else {
     throw InputError(where + "'" + n + "' is not available in the orbit view of a space curve");
