@@ -55,6 +55,66 @@ void draw_canvas(OrbitView& v, const OrbitRegion* region) {
     if (p.to_screen(a, s[0]) && p.to_screen(b, s[1]) && p.to_screen(c, s[2]) && p.to_screen(d, s[3]))
       dl->AddQuadFilled(iv(s[0]), iv(s[1]), iv(s[2]), iv(s[3]), col);
   };
+  // Depth against the one surface, the plane: what lies behind it (seen from
+  // the eye) is drawn first, then the plane and the region, then the rest;
+  // lines that cross the plane are cut where they cross it.
+  const SpaceSpline& s = v.spline();
+  const int m = s.unique_point_count();
+  Vec3 normal{0.0}, origin{0.0};
+  double eps = 0;
+  if (region != nullptr) {
+    origin = region->plane.origin;
+    normal = glm::normalize(glm::cross(region->plane.u, region->plane.v));
+    if (glm::dot(p.eye - origin, normal) < 0) normal = -normal;  // the eye's side is the front
+    Vec3 lo{1e300}, hi{-1e300};
+    for (const Vec3& q : s.points()) lo = glm::min(lo, q), hi = glm::max(hi, q);
+    eps = 1e-9 * glm::length(hi - lo);
+  }
+  const auto side = [&](const Vec3& q) { return region != nullptr ? glm::dot(q - origin, normal) : 1.0; };
+  const auto in_pass = [&](const Vec3& q, bool front) { return (side(q) >= -eps) == front; };
+  const auto cut = [&](const Vec3& a, const Vec3& b, ImU32 col, float w, bool front) {
+    const double da = side(a), db = side(b);
+    if ((da >= -eps) == (db >= -eps)) {
+      if ((da >= -eps) == front) line(a, b, col, w);
+      return;
+    }
+    const Vec3 c = a + (da / (da - db)) * (b - a);
+    if ((da >= -eps) == front) line(a, c, col, w);
+    else line(c, b, col, w);
+  };
+  const auto scene = [&](bool front) {
+    // Control polygon.
+    for (int k = 0; k + 1 < s.point_count(); ++k) cut(s.points()[k], s.points()[k + 1], rgb(kPolygon), 1.5f, front);
+    // Comb: teeth along the principal normal, tips joined.
+    const auto& samples = v.samples();
+    if (v.comb) {
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        cut(samples[i].p, samples[i].comb, rgb(kComb, 0.8), 1.0f, front);
+        if (i > 0) cut(samples[i - 1].comb, samples[i].comb, rgb(kComb), 1.0f, front);
+      }
+    }
+    // The curve, coloured by its torsion.
+    const double tm = colour_tau_max(v);
+    for (std::size_t i = 1; i < samples.size(); ++i)
+      cut(samples[i - 1].p, samples[i].p, rgb(torsion_colour(0.5 * (samples[i - 1].tau + samples[i].tau), tm)), 3.0f, front);
+    // Certified curvature extrema: sharpest (maxima of |kappa|) orange, flattest cyan.
+    for (const OrbitView::Extremum& e : v.extrema()) {
+      Vec2 q;
+      if (p.to_screen(e.p, q)) if (in_pass(e.p, front)) dl->AddCircleFilled(iv(q), 4.0f, rgb(e.maximum ? kSharpest : kFlattest));
+    }
+    // Points and names.
+    for (int k = 0; k < m; ++k) {
+      Vec2 q;
+      if (!p.to_screen(s.points()[k], q) || !in_pass(s.points()[k], front)) continue;
+      const bool sel = k == v.selected();
+      dl->AddCircleFilled(iv(q), sel ? 6.0f : 4.5f, sel ? IM_COL32(20, 20, 20, 255) : IM_COL32(90, 90, 90, 255));
+      if (sel) dl->AddCircle(iv(q), 10.0f, IM_COL32(20, 20, 20, 255), 0, 1.5f);
+      char name[16];
+      std::snprintf(name, sizeof name, "P%d", k);
+      dl->AddText({static_cast<float>(q.x) + 8, static_cast<float>(q.y) - 18}, IM_COL32(30, 30, 30, 255), name);
+    }
+  };
+  if (region != nullptr) scene(false);
   // The plane: the region's view as a translucent quad with a grid.
   if (region != nullptr) {
     const View& w = region->view;
@@ -95,38 +155,7 @@ void draw_canvas(OrbitView& v, const OrbitRegion* region) {
       line(at(w.x0, b), at(w.x1, b), grid, g % 8 == 0 ? 1.5f : 1.0f);
     }
   }
-  const SpaceSpline& s = v.spline();
-  const int m = s.unique_point_count();
-  // Control polygon.
-  for (int k = 0; k + 1 < s.point_count(); ++k) line(s.points()[k], s.points()[k + 1], rgb(kPolygon), 1.5f);
-  // Comb: teeth along the principal normal, tips joined.
-  const auto& samples = v.samples();
-  if (v.comb) {
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      line(samples[i].p, samples[i].comb, rgb(kComb, 0.8), 1.0f);
-      if (i > 0) line(samples[i - 1].comb, samples[i].comb, rgb(kComb), 1.0f);
-    }
-  }
-  // The curve, coloured by its torsion.
-  const double tm = colour_tau_max(v);
-  for (std::size_t i = 1; i < samples.size(); ++i)
-    line(samples[i - 1].p, samples[i].p, rgb(torsion_colour(0.5 * (samples[i - 1].tau + samples[i].tau), tm)), 3.0f);
-  // Certified curvature extrema: sharpest (maxima of |kappa|) orange, flattest cyan.
-  for (const OrbitView::Extremum& e : v.extrema()) {
-    Vec2 q;
-    if (p.to_screen(e.p, q)) dl->AddCircleFilled(iv(q), 4.0f, rgb(e.maximum ? kSharpest : kFlattest));
-  }
-  // Points and names.
-  for (int k = 0; k < m; ++k) {
-    Vec2 q;
-    if (!p.to_screen(s.points()[k], q)) continue;
-    const bool sel = k == v.selected();
-    dl->AddCircleFilled(iv(q), sel ? 6.0f : 4.5f, sel ? IM_COL32(20, 20, 20, 255) : IM_COL32(90, 90, 90, 255));
-    if (sel) dl->AddCircle(iv(q), 10.0f, IM_COL32(20, 20, 20, 255), 0, 1.5f);
-    char name[16];
-    std::snprintf(name, sizeof name, "P%d", k);
-    dl->AddText({static_cast<float>(q.x) + 8, static_cast<float>(q.y) - 18}, IM_COL32(30, 30, 30, 255), name);
-  }
+  scene(true);
   // Axes: x red, y green, z blue, at the canvas's bottom left.
   const Vec2 o{40.0, v.height() - 40.0};
   const char* names[3] = {"x", "y", "z"};
