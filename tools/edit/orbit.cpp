@@ -279,7 +279,13 @@ void OrbitView::open_on_region_point(std::optional<int> point) {
   }
   int best = 0;
   long best_count = -1;
+  bool timed_out = false;
+  const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < m; ++k) {
+    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(3)) {  // high degrees: each region is slow
+      timed_out = true;
+      break;
+    }
     long count = 0;
     try {
       const OrbitRegion r = compute_region(spline_, k, default_space_plane(spline_, k), kLowRegion);
@@ -294,6 +300,7 @@ void OrbitView::open_on_region_point(std::optional<int> point) {
   select(best);
   message = "opened on P" + std::to_string(best) +
             (best_count >= 4 ? ": the first point whose region shows in its plane"
+             : timed_out     ? ": the largest region of the points tried in 3 s (--point K opens another)"
                              : ": no point has a region of 4 pixels in its plane's default view");
 }
 

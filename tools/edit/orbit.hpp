@@ -172,8 +172,8 @@ class OrbitView {
   void select(int k);
   /// Selects `point` (InputError when out of range), or else the first point,
   /// in index order, whose low-resolution region in its default plane has at
-  /// least 4 monotone pixels (else the one with the most, else P0); the
-  /// message says which and why.
+  /// least 4 monotone pixels (else the one with the most, else P0; the
+  /// search stops after 3 s, for high degrees); the message says which and why.
   void open_on_region_point(std::optional<int> point);
   OrbitPlane plane_kind() const { return plane_kind_; }
   void set_plane_kind(OrbitPlane p);
