@@ -236,7 +236,7 @@ void draw_panel(OrbitView& v, double frame_ms) {
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(r.torsion ? to_string(r.torsion->curvature) : "-");
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(r.torsion_sign > 0 ? "positive" : r.torsion_sign < 0 ? "negative" : "changes or 0");
+      ImGui::TextUnformatted(r.torsion_sign > 0 ? "positive" : r.torsion_sign < 0 ? "negative" : "changes");
     }
     ImGui::EndTable();
   }
