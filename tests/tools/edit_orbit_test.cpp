@@ -101,9 +101,15 @@ TEST(EditOrbitWindow, OpensASpaceCurveAndWritesAScreenshot) {
   if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed (tools/setup.sh installs it)";
   const fs::path shot = scratch() / "orbit_a.png";
   fs::remove(shot);
-  const Outcome r = run_edit(kLifted, "plane xy\norbit -60 35\nui off\n", shot, " --point 3");
+  const Outcome r = run_edit(kLifted, "plane xy\norbit -60 35\nlegend\nui off\n", shot, " --point 3");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("a space curve, in the orbit view"), std::string::npos) << r.err;
+  // The legend names the colours the picture shows (the script's `legend`: kind, colour bytes, words).
+  EXPECT_NE(r.err.find("legend title 0,0,0 Where P3 may go in its xy plane"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("legend swatch 255,102,102 increasing"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("legend swatch 102,102,255 decreasing"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("legend line 0,158,64 curve: torsion > 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("legend line 140,26,191 curve: torsion < 0"), std::string::npos) << r.err;
   const Image img = read_png(shot);
   ASSERT_EQ(img.width, kW);
   ASSERT_EQ(img.height, kH);
