@@ -30,6 +30,7 @@ const std::map<std::string, Arity>& commands() {
       {"type", {2, 2}}, {"legend", {0, 0}}, {"fit-region", {0, 0}}, {"show-point", {2, 2}}, {"comb-size", {1, 1}},
       {"graph", {1, 1}}, {"contour", {1, 1}}, {"glyph", {1, 1}}, {"save-all", {0, 0}}, {"constrain", {1, 1}},
       {"legend-dock", {1, 1}}, {"comb-all", {1, 1}}, {"fix-grid", {0, 1}},
+      {"orbit", {2, 2}}, {"zoom", {1, 1}}, {"pan", {2, 2}}, {"plane", {1, 1}},
   };
   return table;
 }

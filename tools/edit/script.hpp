@@ -52,6 +52,14 @@
 //   status                    the selected point and the status line, on stderr
 //   wait N                    render N frames
 //   quit
+// In the orbit view of a space curve (orbit.hpp), besides the generic mouse,
+// press, release, wait, resize, screenshot, export-view and quit:
+//   orbit YAW PITCH | zoom F | pan DX DY     the camera (degrees, factor, pixels)
+//   plane region|screen|xy|yz|zx              the plane a dragged point moves in
+//   drag K A B [STEPS]        to plane coordinates (A, B) of K's plane
+//   select K | fit | comb on|off | ui on|off | scroll DY | key f|x|c [ctrl]
+//   fix | undo | redo | status | legend | save [PATH]
+// Any other command is refused there with one line.
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -20,11 +20,13 @@
 
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
+#include "spline/space.hpp"
 #include "spline/spline_json.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
 #include "tools/edit/designer.hpp"
 #include "tools/edit/examples.hpp"
+#include "tools/edit/orbit.hpp"
 #include "tools/edit/region_painter.hpp"
 #include "tools/edit/script.hpp"
 #include "tools/edit/ui.hpp"
@@ -123,6 +125,10 @@ class App {
   App& operator=(const App&) = delete;
 
   Editor& editor() { return editor_; }
+  /// A space curve's orbit view (orbit.hpp): when set, it takes the input and
+  /// draws the canvas; the planar editor stays idle.
+  void set_orbit(std::unique_ptr<OrbitView> v) { orbit_ = std::move(v); }
+  OrbitView* orbit() { return orbit_.get(); }
   bool should_close() const { return glfwWindowShouldClose(window_.window) == GLFW_TRUE; }
   void close() { glfwSetWindowShouldClose(window_.window, GLFW_TRUE); }
   const std::string& region_path() const { return region_path_; }
@@ -174,6 +180,7 @@ class App {
   VkDescriptorPool imgui_pool_ = VK_NULL_HANDLE;
   bool imgui_ready_ = false;
   Editor editor_;
+  std::unique_ptr<OrbitView> orbit_;
   std::string region_path_;
   double frame_ms_ = 0;
   std::optional<Clock::time_point> last_frame_;  ///< when the last frame began (an animated fix moves on)
@@ -238,6 +245,7 @@ void App::install_callbacks() {
     const bool shift =
         glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     try {
+      if (self(w).orbit_) return self(w).orbit_->scroll(dy);
       self(w).editor_.scroll(dy, shift);
     } catch (const InputError& e) {
       self(w).editor_.message = e.what();
@@ -248,6 +256,7 @@ void App::install_callbacks() {
     if (key < GLFW_KEY_A || key > GLFW_KEY_Z) return;
     const std::string name(1, static_cast<char>('a' + (key - GLFW_KEY_A)));
     try {
+      if (self(w).orbit_) return orbit_key(*self(w).orbit_, name, (mods & GLFW_MOD_CONTROL) != 0);
       self(w).editor_.key(name, (mods & GLFW_MOD_CONTROL) != 0);
     } catch (const InputError& e) {
       self(w).editor_.message = e.what();
@@ -288,6 +297,7 @@ void App::init_imgui() {
 
 void App::pointer_move(double x, double y) {
   if (script_pointer_) script_pointer_->x = x, script_pointer_->y = y;
+  if (orbit_) return orbit_->mouse_move(x, y);
   editor_.mouse_move(x, y);
 }
 
@@ -295,6 +305,7 @@ void App::pointer_button(MouseButton button, bool down, bool shift) {
   if (script_pointer_) script_pointer_->down[static_cast<int>(button)] = down;
   if (down && ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse) return;
   try {
+    if (orbit_) return orbit_->mouse_button(button, down);
     editor_.mouse_button(button, down, shift);
   } catch (const InputError& e) {
     editor_.message = e.what();
@@ -322,6 +333,7 @@ bool App::frame(vk::Screenshot* shot) {
   int fw = 0, fh = 0;
   glfwGetFramebufferSize(window_.window, &fw, &fh);
   editor_.resize(fw, fh);
+  if (orbit_) orbit_->resize(fw, fh);
   ImGui_ImplVulkan_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   if (script_pointer_) {  // after the backend, which reads the real pointer
@@ -335,12 +347,14 @@ bool App::frame(vk::Screenshot* shot) {
   ImGui::NewFrame();
   const auto ms_since = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
   const auto region_start = Clock::now();
-  editor_.region();  // what the panels and the painter read below
+  if (orbit_) (void)orbit_->region();  // the orbit view's region (low resolution at once, full when done)
+  else editor_.region();  // what the panels and the painter read below
   phases_.region = ms_since(region_start);
   const auto ui_start = Clock::now();
   fields_.clear();  // the fields this frame shows
   UiInfo info{region_path_, frame_ms_, &export_png_, &ruler_, &fields_};
-  build_ui(editor_, info);
+  if (orbit_) build_orbit_ui(*orbit_, frame_ms_);
+  else build_ui(editor_, info);
   ImGui::Render();
   phases_.ui = ms_since(ui_start);
   phases_.vertices = ImGui::GetDrawData()->TotalVtxCount;
@@ -349,10 +363,18 @@ bool App::frame(vk::Screenshot* shot) {
   const vk::PresentFrame& f = *begun;
   editor_.resize(static_cast<int>(f.extent.width), static_cast<int>(f.extent.height));
   const auto record_start = Clock::now();
-  check(painter_->record(editor_, f));
+  if (!orbit_) {
+    check(painter_->record(editor_, f));
+  } else {  // the orbit view: a white canvas (cleared, not drawn: lavapipe rasterises every pixel drawn)
+    presenter_->to_transfer_dst(f);
+    const VkClearColorValue white{{1.0f, 1.0f, 1.0f, 1.0f}};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(f.cmd, f.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &white, 1, &all);
+    presenter_->to_attachment(f, true);
+  }
   phases_.record = ms_since(record_start);
   presenter_->begin_pass(f);
-  painter_->draw(f);
+  if (!orbit_) painter_->draw(f);
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), f.cmd);
   if (export_png_) {
     export_view_ = editor_.path();
@@ -387,6 +409,9 @@ class ScriptRunner {
 
  private:
   void run(const ScriptCommand& c);
+  /// The orbit view's commands (a space curve); false for the generic ones
+  /// (mouse, press, release, wait, screenshot, resize, export-view, quit).
+  bool orbit_action(const ScriptCommand& c);
   bool ui_action(const ScriptCommand& c);
   bool knot_action(const ScriptCommand& c);
   /// drag-knot I U [STEPS]: the pointer presses knot I's handle on the ruler,
@@ -450,6 +475,7 @@ bool ScriptRunner::step() {
 }
 
 void ScriptRunner::run(const ScriptCommand& c) {
+  if (app_.orbit() != nullptr && orbit_action(c)) return;
   Editor& e = app_.editor();
   const std::string& n = c.name;
   if (n == "mouse") {
@@ -512,6 +538,7 @@ void ScriptRunner::run(const ScriptCommand& c) {
   } else if (n == "wait") {
     wait_ = std::max(0, int_arg(c, 0));
   } else if (n == "screenshot") {
+    if (OrbitView* o = app_.orbit()) o->settle();  // the full-resolution region
     vk::Screenshot shot;
     app_.frame(&shot);
     write_png(c.args[0], shot);
@@ -520,6 +547,63 @@ void ScriptRunner::run(const ScriptCommand& c) {
   } else if (!ui_action(c) && !knot_action(c)) {
     throw InputError("script line " + std::to_string(c.line) + ": '" + n + "' is not handled");
   }
+}
+
+bool ScriptRunner::orbit_action(const ScriptCommand& c) {
+  OrbitView& o = *app_.orbit();
+  const std::string& n = c.name;
+  const std::string where = "script line " + std::to_string(c.line) + ": ";
+  if (n == "mouse" || n == "press" || n == "release" || n == "wait" || n == "screenshot" || n == "resize" ||
+      n == "export-view" || n == "quit")
+    return false;
+  frame_needed_ = true;
+  if (n == "orbit") o.orbit(number_arg(c, 0), number_arg(c, 1));
+  else if (n == "zoom") o.zoom(number_arg(c, 0));
+  else if (n == "pan") o.pan(number_arg(c, 0), number_arg(c, 1));
+  else if (n == "plane") o.set_plane_kind(parse_orbit_plane(c.args[0]));
+  else if (n == "select") o.select(int_arg(c, 0));
+  else if (n == "fit") o.fit();
+  else if (n == "comb") o.comb = switch_arg(c, 0);
+  else if (n == "ui") o.panels = switch_arg(c, 0);
+  else if (n == "scroll") o.scroll(number_arg(c, 0));
+  else if (n == "undo") o.undo();
+  else if (n == "redo") o.redo();
+  else if (n == "key") orbit_key(o, c.args[0], c.args.size() > 1 && c.args[1] == "ctrl");
+  else if (n == "fix") {
+    o.fix();
+    std::cerr << "cmr edit: " << where << o.message << '\n';
+  } else if (n == "save") {
+    o.save(c.args.empty() ? o.path() : std::filesystem::path(c.args[0]));
+    std::cerr << "cmr edit: " << where << o.message << '\n';
+  } else if (n == "status") {
+    const Vec3 q = o.spline().points()[o.selected()];
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "selected P%d (%.17g, %.17g, %.17g) in its %s plane; here %s; |kappa| %s",
+                  o.selected(), q.x, q.y, q.z, orbit_plane_name(o.plane_kind()), to_string(o.label_here()),
+                  to_string(o.analysis().curvature));
+    std::cerr << "cmr edit: " << where << buf << "; " << o.message << '\n';
+  } else if (n == "legend") {
+    for (const std::string& line : orbit_legend(o)) std::cerr << "cmr edit: legend " << line << '\n';
+  } else if (n == "drag") {  // drag K A B [STEPS]: to plane coordinates (a, b) of K's plane
+    const int k = int_arg(c, 0);
+    if (k < 0 || k >= o.spline().unique_point_count()) throw InputError(where + "no point " + std::to_string(k));
+    if (k != o.selected()) o.select(k);
+    if (!o.plane()) throw InputError(where + "P" + std::to_string(k) + " has no plane to move in: " + o.message);
+    const OrbitProjection p = o.projection();
+    Vec2 from, to;
+    if (!p.to_screen(o.spline().points()[k], from) || !p.to_screen(o.plane_point(number_arg(c, 1), number_arg(c, 2)), to))
+      throw InputError(where + "drag: the point or its target is behind the camera");
+    const int steps = c.args.size() > 3 ? std::max(1, int_arg(c, 3)) : 10;
+    app_.pointer_move(from.x, from.y);
+    app_.pointer_button(MouseButton::left, true, false);
+    if (o.dragging() != k)
+      throw InputError(where + "point " + std::to_string(k) +
+                       " cannot be picked there (under a panel or the legend, or covered by another point)");
+    drag_ = Drag{from, to, steps, 0};
+  } else {
+    throw InputError(where + "'" + n + "' is not available in the orbit view of a space curve");
+  }
+  return true;
 }
 
 void ScriptRunner::drag_knot(const ScriptCommand& c) {
@@ -695,12 +779,65 @@ BSpline open_spline(const std::filesystem::path& file) {
   return file.empty() ? starting_spline() : read_spline_file(file);
 }
 
+/// A spline file with [x, y, z] points (the orbit view opens it).
+bool is_space_file(const std::filesystem::path& file) {
+  if (file.empty()) return false;
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return ext == ".json" && spline_file_dimension(file) == 3;
+}
+
+/// Runs a script (and the final screenshot) against the app: run_editor's loop.
+int run_script(App& app, const EditOptions& o, std::vector<ScriptCommand> script) {
+  app.use_script_pointer();
+  ScriptRunner runner(app, std::move(script));
+  app.frame();
+  while (runner.step()) {
+  }
+  if (!o.screenshot.empty()) {
+    if (OrbitView* v = app.orbit()) v->settle();
+    vk::Screenshot shot;
+    app.frame();  // the last change visible in both swapchain images
+    app.frame(&shot);
+    write_png(o.screenshot, shot);
+  }
+  if (const std::string s = app.painter_summary(); !s.empty() && app.orbit() == nullptr)
+    std::cerr << "cmr edit: " << s << '\n';
+  return kEditOk;
+}
+
+/// `cmr edit SPACE.json`: the orbit view (orbit.hpp) in the editor's window.
+int run_orbit(const EditOptions& o) {
+  if (!o.glyph.empty()) throw InputError("--glyph: " + o.file.string() + " is a spline file, not a font");
+  if (o.region_path != RegionPath::automatic || o.precision)
+    throw InputError(std::string(o.precision ? "--precision" : "--region-path") +
+                     ": the orbit view of a space curve computes its region on the CPU (SpaceRegionProblem); "
+                     "planar splines only");
+  SpaceSpline spline = read_space_spline_file(o.file);
+  std::vector<ScriptCommand> script;
+  if (!o.script.empty()) script = read_script(o.script);
+  auto view = std::make_unique<OrbitView>(spline, o.file, o.width, o.height);
+  view->open_on_region_point(o.point);
+  App app(spline.shadow(), o.file, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
+  std::cerr << "cmr edit: " << o.file.filename().string() << ": a space curve, in the orbit view; " << view->message
+            << '\n';
+  app.set_orbit(std::move(view));
+  app.frame();  // the window's size and the panel's width
+  app.orbit()->face_plane();
+  if (!o.script.empty() || !o.screenshot.empty()) return run_script(app, o, std::move(script));
+  while (!app.should_close()) {
+    if (!app.frame()) glfwWaitEventsTimeout(0.05);
+  }
+  return kEditOk;
+}
+
 }  // namespace
 
 int run_editor(const EditOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
   if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
+  if (is_space_file(o.file)) return run_orbit(o);
   OpenedSource source = o.file.empty() ? OpenedSource{} : open_source(o.file, o.glyph);
   BSpline spline = source.curves.empty() ? open_spline(o.file) : source.curves[0].spline;
   const bool several = source.curves.size() > 1 || !source.font.empty() || !source.glif.empty();
@@ -723,21 +860,7 @@ int run_editor(const EditOptions& o) {
     e.region();
     e.message = opened;
   }
-  if (!o.script.empty() || !o.screenshot.empty()) {
-    app.use_script_pointer();
-    ScriptRunner runner(app, std::move(script));
-    app.frame();
-    while (runner.step()) {
-    }
-    if (!o.screenshot.empty()) {
-      vk::Screenshot shot;
-      app.frame();  // the last change visible in both swapchain images
-      app.frame(&shot);
-      write_png(o.screenshot, shot);
-    }
-    if (const std::string s = app.painter_summary(); !s.empty()) std::cerr << "cmr edit: " << s << '\n';
-    return kEditOk;
-  }
+  if (!o.script.empty() || !o.screenshot.empty()) return run_script(app, o, std::move(script));
   while (!app.should_close()) {
     if (!app.frame()) glfwWaitEventsTimeout(0.05);
   }
@@ -870,7 +993,63 @@ std::vector<double> locality_frames(int n, int width, int height, int frames, bo
 
 }  // namespace
 
+/// `cmr edit --bench SPACE.json`: the orbit view's drag of point o.point in
+/// its plane (the region's default plane), one pointer position per frame on
+/// a circle of the window (as drag_frames), after the full region is shown.
+int run_orbit_bench(const BenchOptions& o) {
+  if (o.region_path != RegionPath::automatic)
+    throw InputError("--region-path: the orbit view of a space curve computes its region on the CPU "
+                     "(SpaceRegionProblem); planar splines only");
+  SpaceSpline spline = read_space_spline_file(o.file);
+  if (o.point < 0 || o.point >= spline.unique_point_count())
+    throw InputError("--point: no point " + std::to_string(o.point));
+  auto view = std::make_unique<OrbitView>(spline, o.file, o.width, o.height);
+  view->select(o.point);
+  App app(spline.shadow(), o.file, o.width, o.height, o.device, false, o.region_path);
+  app.set_orbit(std::move(view));
+  OrbitView& v = *app.orbit();
+  for (int i = 0; i < 3; ++i) app.frame();  // warm up, and the panel's width is known
+  v.fit();
+  v.settle();
+  app.frame();
+  std::printf("cmr edit benchmark (orbit view): %s, %d frames of a drag of P%d in its %s plane, %dx%d window\n",
+              o.file.filename().c_str(), o.frames, o.point, orbit_plane_name(v.plane_kind()), v.width(), v.height());
+  std::printf("machine: %s, %d hardware threads, load average %s; Vulkan device: %s\n", cpu_model().c_str(),
+              thread_count(0), load_average().c_str(), app.device_name().c_str());
+  std::printf("%s\n", app.presentation().c_str());
+  Vec2 centre;
+  if (!v.projection().to_screen(v.spline().points()[o.point], centre))
+    throw InputError("--point: P" + std::to_string(o.point) + " is behind the camera");
+  const double r = 0.1 * v.height();
+  app.pointer_move(centre.x, centre.y);
+  app.pointer_button(MouseButton::left, true, false);
+  if (v.dragging() != o.point) throw InputError("--point: P" + std::to_string(o.point) + " cannot be picked in the view");
+  std::vector<double> ms;
+  App::Phases mean;
+  const double cpu0 = process_cpu_ms();
+  for (int i = 0; i < o.frames; ++i) {
+    const double a = 2 * M_PI * i / o.frames;
+    const auto t0 = Clock::now();  // the move (analysis, samples, the label there) is part of the frame
+    app.pointer_move(centre.x + r * std::sin(a), centre.y + r * (1 - std::cos(a)) * 0.5);
+    app.frame();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    const App::Phases& p = app.phases();
+    mean.ui += p.ui / o.frames, mean.present += p.present / o.frames, mean.vertices += p.vertices / o.frames;
+  }
+  mean.cpu = (process_cpu_ms() - cpu0) / o.frames;
+  app.pointer_button(MouseButton::left, false, false);
+  const FrameStats s = stats_of(ms);
+  std::printf("%-34s mean %6.2f ms  p50 %6.2f ms  p95 %6.2f ms  %6.1f fps (p95: %.1f fps)\n",
+              "the dragged point in its plane:", s.mean, s.p50, s.p95, s.fps, 1000.0 / s.p95);
+  std::printf("%-34s canvas and panels %.2f ms, drawing and present %.2f ms; CPU time %.2f ms "
+              "(every thread of cmr); %.0f UI vertices\n",
+              "  mean per frame (no move):", mean.ui, mean.present, mean.cpu, mean.vertices);
+  std::printf("load average at the end: %s\n", load_average().c_str());
+  return kEditOk;
+}
+
 int run_bench(const BenchOptions& o) {
+  if (is_space_file(o.file)) return run_orbit_bench(o);
   BSpline spline = o.file.empty() ? fig8_spline() : read_spline_file(o.file);
   if (o.point < 0 || o.point >= spline.point_count())
     throw InputError("--point: no point " + std::to_string(o.point));

@@ -11,6 +11,7 @@ namespace cmr::edit {
 
 struct EditOptions {
   std::filesystem::path file;        ///< spline, font (with glyph) or SVG to open; empty: a cubic Bezier to start from
+                                     ///< (a spline file with [x, y, z] points opens in the orbit view, orbit.hpp)
   std::string glyph;                 ///< a font's glyph (every contour opened; sources.hpp)
   std::filesystem::path script;      ///< empty: interactive
   std::filesystem::path screenshot;  ///< PNG of the presented image after the script (or the first frames)
@@ -47,6 +48,8 @@ struct BenchOptions {
 /// Replays a scripted drag in a real window (vsync off), once showing the
 /// dragged point's region and once with every point overlapped, and prints
 /// frame times (mean, p50, p95, fps) with the CPU model and Vulkan device.
+/// A space curve's file: the orbit view's drag of the point in its default
+/// plane instead (one run; --region-path is refused).
 int run_bench(const BenchOptions& options);
 
 }  // namespace cmr::edit
