@@ -431,7 +431,35 @@ std::optional<BSpline> grid_descent(const import::Contour& c, const BSpline& sta
   return descent_of(c, start, units, o, options, deadline);
 }
 
-ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options) {
+/// A quadratic contour's smooth joint between a straight piece (a line: it
+/// holds an added point, which never moves) and a curve, where
+/// g2-at-smooth-nodes is required: the curve's end curvature would have to
+/// be 0 there, and a quadratic piece has that only when it is straight
+/// itself (its three Bezier points collinear), so no move of the source's
+/// points passes the gate. The joint's name, or "" when there is none.
+std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
+  if (c.spline.degree() != 2) return "";
+  if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
+    return "";
+  const SplineReport r = judged_report(c.spline, o);
+  const int n = c.spline.segment_count();
+  auto is_line = [&](int i) {
+    for (int k : segment_points(c.spline, c.spline.segments()[i]))
+      if (k < static_cast<int>(c.font_point.size()) && c.font_point[k] < 0) return true;
+    return false;
+  };
+  for (const JointReport& jr : r.joints) {
+    const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
+    if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
+    const int right = jr.joint.index % n, left = (right + n - 1) % n;
+    if (!c.spline.closed() && jr.joint.index == 0) continue;
+    if (is_line(kl == 0 ? left : right))
+      return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
+  }
+  return "";
+}
+
+ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, double budget) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
   out.contour = c.index;
@@ -483,26 +511,39 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
     if (out_checks.size() > 1) out_checks.push_back(o);
     return out_checks;
   };
+  if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    out.reason = why.append(join).append(
+        " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
+        "piece has only when straight, so no move of the points passes (add an on-curve point, or accept the jump)");
+    return out;
+  }
   BSpline current = c.spline;
   int current_total = total(out.rejudged);
   std::string why;
-  const auto deadline = t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>(options.max_seconds));
-  // Several checks: the grid descent first (the rounds' fix of one check
-  // mostly breaks another); the rounds where it finds nothing.
+  using Clock = std::chrono::steady_clock;
+  auto at_time = [&](double seconds) {
+    return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  };
+  const auto deadline = at_time(budget);
+  auto left = [&] { return std::max(0.05, std::chrono::duration<double>(deadline - Clock::now()).count()); };
+  // Several checks: the grid descent first, in half the budget (the
+  // rounds' fix of one check mostly breaks another); the rounds where it
+  // finds nothing.
   const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
   if (several && options.grid > 0)
-    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, deadline))
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, at_time(budget / 2)))
       if (judge(*d) == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
-  for (int round = 0; round < kGlyphFixRounds && current_total > 0; ++round) {
+  for (int round = 0; round < kGlyphFixRounds && current_total > 0 && Clock::now() < deadline; ++round) {
     bool improved = false;
     for (const ReportOptions& t : checks_of(current)) {
+      if (Clock::now() >= deadline) break;
       const std::function<int(const BSpline&)> check_judge = judge_of(t);
       FixRequest q;
       q.requirement = guide(t, judged_report(current, t));
       q.max_depth = o.max_depth;
       q.keep = Keep::g1;
-      q.max_seconds = options.max_seconds;
+      q.max_seconds = left();
       q.threads = 1;
       q.max_move = options.max_move;
       q.judge = check_judge;
@@ -535,7 +576,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
         GridOptions g;
         g.grid = options.grid;
         g.max_move = options.max_move;
-        g.max_seconds = options.max_seconds;
+        g.max_seconds = left();
         g.partners = partners_of(c, f, movable);
         const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
         if (!snapped.found) {
@@ -554,7 +595,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
     }
     if (!improved) break;
   }
-  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged)) {
+  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && Clock::now() < deadline) {
     // The rounds lowered the count but no round ends it: the descent from
     // where they left the contour.
     if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, deadline)) {
@@ -603,7 +644,15 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options) {
   if (!glyph.error.empty()) throw InputError(glyph.error);
   std::vector<ContourFix> out;
-  for (const import::Contour& c : glyph.contours) out.push_back(fix_contour(c, options));
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t n = glyph.contours.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Each contour its share of what is left of the glyph's budget (one
+    // that passes as it is uses none), at most max_seconds.
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double share = std::max(0.1, (options.glyph_seconds - spent) / static_cast<double>(n - i));
+    out.push_back(fix_contour(glyph.contours[i], options, std::min(options.max_seconds, share)));
+  }
   return out;
 }
 

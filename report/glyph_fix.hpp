@@ -27,7 +27,11 @@ struct GlyphFixOptions {
   ReportOptions judge;     ///< the requirement and gates (regions and fixes off)
   double grid = 1;         ///< the font's grid; 0: off-grid (the fix as found)
   double max_move = 0;     ///< largest move of any point (font units); 0: the contour's size
-  double max_seconds = 20; ///< per contour, search and snapping each
+  double max_seconds = 20; ///< per contour at most (search, snapping and descent together)
+  /// The whole glyph's time budget: each contour gets its share of what is
+  /// left (a contour that passes as it is takes none). A contour out of time
+  /// is reported without a fix, with the reason of its last attempt.
+  double glyph_seconds = 8;
 };
 
 /// One gate's violations before and after.
