@@ -104,6 +104,18 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
   return true;
 }
 
+/// A curvature jump's distance from passing g2 at tolerance `tol`: its
+/// relative size above tol; where one side is exactly straight (a line meets
+/// a curve: the relative jump is 100 % until the curve's end curvature is
+/// exactly 0), |kappa| size / (1 + |kappa| size) of the curved side, which
+/// falls to 0 as that curvature does (`size`: the curve's, curve_size).
+double g2_excess(double kl, double kr, double tol, double size) {
+  const double scale = std::max(std::abs(kl), std::abs(kr));
+  if (!(scale > 0) || !std::isfinite(scale)) return 0;
+  if (kl == 0 || kr == 0) return scale * size / (1 + scale * size);
+  return std::max(0.0, std::abs(kl - kr) / scale - tol);
+}
+
 /// How far a spline is from passing every check, continuously: each
 /// violation adds one to `count` and its distance from passing to `excess`
 /// (an extremum or inflection inside a segment: its local parameter's
@@ -118,6 +130,7 @@ struct Badness {
 
 Badness badness_of(const SplineReport& r, const ReportOptions& o) {
   Badness b;
+  const double size = r.spline ? curve_size(*r.spline) : 1.0;
   if (o.require && !r.requirement_pass) b.count += 1, b.excess += 1;
   for (const GateResult& g : r.gates)
     for (const GateViolation& v : g.violations) {
@@ -130,7 +143,7 @@ Badness badness_of(const SplineReport& r, const ReportOptions& o) {
           if (jr.joint.index == v.joint) {
             const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
             const double scale = std::max(std::abs(kl), std::abs(kr));
-            if (scale > 0 && std::isfinite(scale)) e = std::max(0.0, std::abs(kl - kr) / scale - g.gate.tolerance);
+            if (scale > 0 && std::isfinite(scale)) e = g2_excess(kl, kr, g.gate.tolerance, size);
             break;
           }
       b.excess += e;
@@ -203,6 +216,8 @@ struct QuickJudge {
   bool g2 = false;
   double tolerance = 0.05;
   std::vector<char> g2_joint;  ///< per segment: the joint that starts it is judged (smooth in the source)
+  std::vector<char> line_start, line_end;  ///< per segment: straight in the source (a line: never moves)
+  double size = 1;             ///< curve_size of the source
 };
 constexpr int kQuickSamples = 48;
 
@@ -222,6 +237,18 @@ std::optional<QuickJudge> quick_judge_of(const BSpline& s, const ReportOptions& 
   const SplineReport r = judged_report(s, o);
   const int n = s.segment_count();
   q.g2_joint.assign(n, 0);
+  q.line_start.assign(n, 0);
+  q.line_end.assign(n, 0);
+  q.size = curve_size(s);
+  for (int i = 0; i < n; ++i) {
+    const std::vector<Vec2> b = bezier_segment(s, s.segments()[i]).points;
+    bool straight = true;
+    for (const Vec2 p : b) {
+      const Vec2 u = p - b.front(), v = b.back() - b.front();
+      straight = straight && u.x * v.y - u.y * v.x == 0;
+    }
+    q.line_start[i] = q.line_end[i] = straight;
+  }
   for (const JointReport& jr : r.joints)
     if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
       q.g2_joint[jr.joint.index % n] = 1;
@@ -276,11 +303,15 @@ Badness quick_badness(const BSpline& s, const QuickJudge& q) {
       if (i >= static_cast<int>(q.g2_joint.size()) || !q.g2_joint[i]) continue;
       const int left = i > 0 ? i - 1 : (s.closed() ? n - 1 : -1);
       if (left < 0) continue;
-      const double kl = k1[left], kr = k0[i];
+      double kl = k1[left], kr = k0[i];
+      // A line's side: exactly 0 (its Bezier points are exactly collinear).
+      if (q.line_end[left]) kl = 0;
+      if (q.line_start[i]) kr = 0;
       const double scale = std::max(std::abs(kl), std::abs(kr));
       if (!(scale > 0) || !std::isfinite(scale)) continue;
-      const double e = std::abs(kl - kr) / scale - 0.9 * q.tolerance;
-      if (e > 0) ++b.count, b.excess += e;
+      if (std::abs(kl - kr) <= 0.9 * q.tolerance * scale) continue;
+      ++b.count;
+      b.excess += g2_excess(kl, kr, 0.9 * q.tolerance, q.size);
     }
   return b;
 }
@@ -640,6 +671,42 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
 }
 
 }  // namespace
+
+import::Contour contour_of(const BSpline& spline, const std::vector<std::string>& names) {
+  const int m = spline.unique_point_count();
+  import::Contour c{0, spline, {}, {}, {}, {}, {}, {}};
+  c.node.assign(m, false);
+  for (const BezierSegment& b : bezier_segments(spline))
+    for (const bool first : {true, false}) {
+      const Vec2 end = first ? b.points.front() : b.points.back();
+      if (spline.multiplicity(first ? b.segment.a : b.segment.b) < spline.degree()) continue;
+      for (int k = 0; k < m; ++k)
+        if (spline.points()[k] == end) c.node[k] = true;
+    }
+  std::vector<char> added(m, 0);
+  for (int k = 0; k < m && k < static_cast<int>(names.size()); ++k) added[k] = names[k].find('+') != std::string::npos;
+  for (const Segment& seg : spline.segments()) {
+    const std::vector<int> pts = segment_points(spline, seg);
+    const std::vector<Vec2> b = bezier_segment(spline, seg).points;
+    bool straight = true;
+    for (const Vec2 q : b) {
+      const Vec2 u = q - b.front(), v = b.back() - b.front();
+      straight = straight && u.x * v.y - u.y * v.x == 0;
+    }
+    const long nodes = std::count_if(pts.begin(), pts.end(), [&](int k) { return c.node[k]; });
+    if (straight && nodes >= 2)
+      for (int k : pts)
+        if (!c.node[k]) added[k] = 1;
+  }
+  for (int k = 0; k < m; ++k) {
+    std::string name = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
+    c.point_names.push_back(k < static_cast<int>(names.size()) && !names[k].empty() ? names[k]
+                                                                                  : name.append(std::to_string(k)));
+    c.font_point.push_back(added[k] ? -1 : k);
+  }
+  c.source_point = c.font_point;
+  return c;
+}
 
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options) {
   if (!glyph.error.empty()) throw InputError(glyph.error);

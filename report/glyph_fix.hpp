@@ -34,11 +34,6 @@ struct GlyphFixOptions {
   double glyph_seconds = 8;
 };
 
-/// One gate's violations before and after.
-struct GateCount {
-  std::string check;
-  int before = 0, after = 0;
-};
 
 struct ContourFix {
   int contour = 0;          ///< Contour::index
@@ -52,6 +47,14 @@ struct ContourFix {
   double off_grid_distance = 0;         ///< the largest move of the off-grid fix
   double seconds = 0;
 };
+
+/// A closed polynomial spline as a contour of the glyph fix (a plain spline
+/// file, or a report's spline): its nodes are the control points the curve
+/// passes through (a knot of multiplicity >= the degree), and the inner
+/// points of an exactly straight piece between two nodes, or of a point
+/// `names` calls "...+..." (import's name of a line's added point), are no
+/// source points (they never move). Point names from `names`, else "P<k>".
+import::Contour contour_of(const BSpline& spline, const std::vector<std::string>& names);
 
 /// Fixes every failing contour of `glyph` (see the header comment).
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options);

@@ -170,10 +170,8 @@ void run_source_fix(const SourceFixArgs& a) {
 
 /// `cmr fix FILE.json --require A,B[,...]` (a plain spline file, e.g. one
 /// `cmr import` made from a font): the glyph fix's engine (report/glyph_fix)
-/// on the file's one closed contour. Its nodes are the control points the
-/// curve passes through (a knot of multiplicity >= the degree there); a
-/// point named "...+..." (import's name of a straight piece's added inner
-/// point) is no source point and never moves. On the grid (--grid, default
+/// on the file's one closed contour (report::contour_of: nodes from the
+/// knots, a straight piece's inner points never move). On the grid (--grid, default
 /// 1 when every coordinate is an integer, as in a font's import; else 0:
 /// off-grid, the rounds without the grid descent).
 void run_spline_multi_fix(const std::string& file, const std::string& require, const std::string& out, double grid,
@@ -186,25 +184,11 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   std::vector<std::string> names;
   if (document.is_object() && document.contains("point_names") && document["point_names"].is_array())
     for (const auto& n : document["point_names"]) names.push_back(n.is_string() ? n.get<std::string>() : std::string());
-  const int m = spline.unique_point_count();
   import::Glyph g;
   g.name = std::filesystem::path(file).stem().string();
-  import::Contour c{0, spline, {}, {}, {}, {}, {}, {}};
-  c.node.assign(m, false);
+  import::Contour c = report::contour_of(spline, names);
   bool integral = true;
-  for (int k = 0; k < m; ++k) {
-    std::string name = "P";
-    c.point_names.push_back(k < static_cast<int>(names.size()) && !names[k].empty() ? names[k] : name.append(std::to_string(k)));
-    c.font_point.push_back(c.point_names.back().find('+') == std::string::npos ? k : -1);
-    const Vec2 p = spline.points()[k];
-    integral = integral && p.x == std::floor(p.x) && p.y == std::floor(p.y);
-  }
-  c.source_point = c.font_point;
-  for (const BezierSegment& b : bezier_segments(spline))
-    for (const Vec2 end : {b.points.front(), b.points.back()})
-      for (int k = 0; k < m; ++k)
-        if (spline.points()[k] == end && spline.multiplicity(end == b.points.front() ? b.segment.a : b.segment.b) >= spline.degree())
-          c.node[k] = true;
+  for (const Vec2 p : spline.points()) integral = integral && p.x == std::floor(p.x) && p.y == std::floor(p.y);
   g.contours.push_back(std::move(c));
   report::GlyphFixOptions o;
   report::parse_require_list(require, o.judge);
