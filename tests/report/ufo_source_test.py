@@ -175,6 +175,13 @@ def main():
             check("exact judge (qcurve, extrema and g2): the source fails, the fixed glyph passes",
                   before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
 
+        # what no move can do: g2 where a line meets a quadratic curve (DejaVu e), said at once
+        r = run("fix", "DejaVu.ufo", "--glyph", "e", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--out", "FixedE.ufo", cwd=tmp)
+        check("fix DejaVu e: a smooth line-to-quadratic join under g2 is named as unfixable (exit 2, one line)",
+              r.returncode == 2 and "joins a line to a quadratic curve" in r.stderr and r.stderr.count("\n") == 1
+              and not os.path.exists(os.path.join(tmp, "FixedE.ufo")), r.stderr)
+
         # several gates on a plain spline file (cmr import's), on the grid
         r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "impm", cwd=tmp)
         r = run("fix", "impm/O_c1.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--out", "m.json",
