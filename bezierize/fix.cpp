@@ -229,18 +229,16 @@ bool segment_alone_bad(const SplineAnalysis& a, int i, const FixRequirement& r) 
 }  // namespace
 
 
-namespace {
-
-// ------------------------------------------------------------------- units
-
-/// Diagonal of the control points' bounding box: the length every tolerance
-/// of the fix scales with.
 double curve_size(const BSpline& s) {
   Vec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (int k = 0; k < s.unique_point_count(); ++k) lo = Vec2(std::min(lo.x, s.points()[k].x), std::min(lo.y, s.points()[k].y)), hi = Vec2(std::max(hi.x, s.points()[k].x), std::max(hi.y, s.points()[k].y));
   const double d = norm(hi - lo);
   return d > 0 ? d : 1.0;
 }
+
+namespace {
+
+// ------------------------------------------------------------------- units
 
 /// A unit of motion: every point translates by the same 2-D vector, or (slide)
 /// the one point moves along `dir`.

@@ -205,6 +205,10 @@ struct FixResult {
   double seconds = 0;
 };
 
+/// Diagonal of the control points' bounding box (1 when it is 0): the curve
+/// size every tolerance and relative move of a fix scales with.
+double curve_size(const BSpline& spline);
+
 /// Finds the fix. Throws InputError for a point out of range or repeated, a
 /// point that acts on no failing segment, a requirement that does not fit
 /// the spline (a split joint it lacks), a bad max_move, tolerance, grid or

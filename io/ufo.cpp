@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string_view>
 #include <unordered_map>
 
@@ -482,9 +483,25 @@ Designspace read_designspace(const fs::path& path) {
     axis.tag = a.attribute("tag").value();
     axis.name = a.attribute("name").value();
     if (axis.name.empty()) throw InputError(f->where(a) + ": <axis> has no name");
-    if (a.attribute("values")) {  // a discrete axis (format 5)
+    if (a.attribute("values")) {  // a discrete axis (format 5): values="0 1"
+      std::istringstream in(a.attribute("values").value());
+      std::string word;
+      while (in >> word) {
+        char* end = nullptr;
+        const double v = std::strtod(word.c_str(), &end);
+        if (*end != 0 || !std::isfinite(v))
+          throw InputError(f->where(a) + ": values=\"" + a.attribute("values").value() + "\" holds '" + word +
+                           "', not a number");
+        axis.values.push_back(v);
+      }
+      if (axis.values.empty()) throw InputError(f->where(a) + ": the discrete axis '" + axis.name + "' has no values");
+      std::sort(axis.values.begin(), axis.values.end());
+      axis.values.erase(std::unique(axis.values.begin(), axis.values.end()), axis.values.end());
+      axis.minimum = axis.values.front();
+      axis.maximum = axis.values.back();
       axis.default_value = number(a, "default", true);
-      axis.minimum = axis.maximum = axis.default_value;
+      if (!std::binary_search(axis.values.begin(), axis.values.end(), axis.default_value))
+        throw InputError(f->where(a) + ": the discrete axis '" + axis.name + "' has its default at none of its values");
     } else {
       axis.minimum = number(a, "minimum", true);
       axis.maximum = number(a, "maximum", true);
@@ -509,7 +526,15 @@ Designspace read_designspace(const fs::path& path) {
     for (pugi::xml_node d = s.child("location").child("dimension"); d; d = d.next_sibling("dimension")) {
       const std::string axis = d.attribute("name").value();
       if (!src.location.count(axis)) throw InputError(f->where(d) + ": <dimension> names no axis ('" + axis + "')");
-      src.location[axis] = number(d, "xvalue", true);
+      const auto known = std::find_if(ds.axes.begin(), ds.axes.end(),
+                                      [&](const Designspace::Axis& x) { return x.name == axis; });
+      const bool discrete = !known->values.empty();
+      // On a discrete axis user and design values are one; elsewhere only xvalue (design) is read.
+      const double v = number(d, discrete && !d.attribute("xvalue") ? "uservalue" : "xvalue", true);
+      if (discrete && !std::binary_search(known->values.begin(), known->values.end(), v))
+        throw InputError(f->where(d) + ": the discrete axis '" + axis + "' has no value " + d.attribute(
+                                            discrete && !d.attribute("xvalue") ? "uservalue" : "xvalue").value());
+      src.location[axis] = v;
     }
     std::error_code ec;
     if (!fs::exists(src.path, ec))

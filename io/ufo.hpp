@@ -74,6 +74,9 @@ struct Designspace {
   struct Axis {
     std::string tag, name;
     double minimum = 0, maximum = 0, default_value = 0;
+    /// A discrete axis (format 5 `values="0 1"`): its values, ascending
+    /// (minimum and maximum are the first and last); empty for a continuous one.
+    std::vector<double> values;
   };
   struct Source {
     std::filesystem::path path;  ///< the source UFO, resolved against the document's folder
@@ -85,10 +88,13 @@ struct Designspace {
   std::vector<Axis> axes;
   std::vector<Source> sources;
 };
-/// Reads a .designspace (format 4 or 5; discrete axes' `values` are not
-/// read). InputError naming the file and line for a malformed document, an
-/// axis whose default lies outside its range, two axes with one name, a source naming an unknown
-/// axis, or a source UFO that does not exist.
+/// Reads a .designspace (format 4 or 5, discrete axes' `values` too: a
+/// source's location on one is one of them, given as `xvalue` or, the same
+/// on a discrete axis, `uservalue`). InputError naming the file and line for
+/// a malformed document, an axis whose default lies outside its range (on a
+/// discrete axis: is none of its values), two axes with one name, a source
+/// naming an unknown axis or at no value of a discrete one, or a source UFO
+/// that does not exist.
 Designspace read_designspace(const std::filesystem::path& path);
 
 /// A new position for one source point of a .glif.

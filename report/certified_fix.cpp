@@ -1,5 +1,9 @@
 #include "report/certified_fix.hpp"
 
+#include <chrono>
+
+#include "report/glyph_fix.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -164,6 +168,45 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
 
 }  // namespace
 
+/// Every required check at once: the glyph fix (report/glyph_fix.hpp) on
+/// the spline as a contour (contour_of), on the grid of 1 unit when every
+/// coordinate is an integer, in kReportFixSeconds; re-judged check by check.
+CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CertifiedFix f;
+  f.check = "all:";
+  if (options.require) f.check.append(" ").append(to_string(*options.require));
+  for (const Gate& g : options.gates) f.check.append(f.check.size() > 4 ? ", " : " ").append(to_string(g));
+  f.requirement = "every check at once (the glyph fix, on the grid)";
+  f.size = curve_size(spline);
+  bool integral = true;
+  for (const Vec2 p : spline.points()) integral = integral && p.x == std::floor(p.x) && p.y == std::floor(p.y);
+  import::Glyph g;
+  g.name = spline.name();
+  g.contours.push_back(contour_of(spline, {}));
+  GlyphFixOptions o;
+  o.judge = options;
+  o.grid = integral ? 1 : 0;
+  o.max_seconds = o.glyph_seconds = kReportFixSeconds;
+  try {
+    const ContourFix c = fix_glyph(g, o).front();
+    f.rejudged = c.rejudged;
+    f.found = c.fixed && !c.already;
+    f.reason = c.already ? "passes as it is" : c.reason;
+    f.moves = c.moves;
+    if (f.found) {
+      BSpline fixed = spline;
+      for (const PointMove& m : c.moves) fixed = fixed.with_point(m.point, m.to);
+      f.certificate = analyze(fixed, fix_analyze_options(FixRequirement{}, options.max_depth));
+      f.fixed = std::move(fixed);
+    }
+  } catch (const InputError& e) {
+    f.reason = e.what();
+  }
+  f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return f;
+}
+
 std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOptions& options) {
   std::vector<CertifiedFix> out;
   if (!r.spline || options.segments) return out;  // a judged range: fix() judges the whole spline
@@ -180,6 +223,8 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
   }
   for (const GateResult& g : r.gates)
     if (!g.pass()) out.push_back(gate_fix(*r.spline, g, options));
+  if (options.gates.size() + (options.require ? 1 : 0) > 1 && r.spline->closed() && !r.spline->is_rational())
+    out.push_back(all_checks_fix(*r.spline, options));
   return out;
 }
 
@@ -204,6 +249,11 @@ nlohmann::ordered_json certified_fix_json(const CertifiedFix& f, const std::vect
   j["max_relative"] = largest_relative_move(f);
   j["seconds"] = f.seconds;
   j["failing_segments"] = f.failing_segments;
+  if (!f.rejudged.empty()) {
+    nlohmann::ordered_json checks = nlohmann::ordered_json::array();
+    for (const GateCount& c : f.rejudged) checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
+    j["rejudged"] = checks;
+  }
   if (f.found) {
     nlohmann::ordered_json c = {{"cmrwi", to_string(f.certificate.cmrwi)}, {"cmr", to_string(f.certificate.cmr)}};
     if (f.certificate.split) c["split"] = to_string(*f.certificate.split);
@@ -356,7 +406,15 @@ std::string certified_fix_html(const CertifiedFix& f, const BSpline& original, c
            num(m.to.x - m.from.x) + ", " + num(m.to.y - m.from.y) + ") to (" + num(m.to.x) + ", " + num(m.to.y) +
            "), " + num(m.distance) + " (" + num(100 * m.distance / f.size) + "% of the curve size)";
   }
-  out += " ✓ certified by analyze (" + num(f.seconds) + " s).</p>";
+  if (f.rejudged.empty()) {
+    out += " ✓ certified by analyze (" + num(f.seconds) + " s).</p>";
+  } else {  // every check re-judged on the moved spline
+    out += ". Re-judged:";
+    for (std::size_t i = 0; i < f.rejudged.size(); ++i)
+      out += std::string(i ? "," : "") + " " + html_escape(f.rejudged[i].check) + " " +
+             std::to_string(f.rejudged[i].before) + " → " + std::to_string(f.rejudged[i].after);
+    out += " ✓ (" + num(f.seconds) + " s).</p>";
+  }
   if (f.fixed) out += kappa_before_after_svg(original, *f.fixed, f.failing_segments);
   return out + "</div>";
 }

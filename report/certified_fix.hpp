@@ -27,6 +27,12 @@ namespace cmr::report {
 struct SplineReport;
 struct ReportOptions;
 
+/// One check's violations before and after a fix.
+struct GateCount {
+  std::string check;
+  int before = 0, after = 0;
+};
+
 /// One check's fix: which points move where, and the certificate.
 struct CertifiedFix {
   std::string check;              ///< "cmr", "split:2:sharpest", "curvature-extrema-at-nodes", "no-inflection"
@@ -42,6 +48,9 @@ struct CertifiedFix {
   std::vector<int> failing_segments;  ///< of the input, for this check
   std::optional<BSpline> fixed;   ///< the moved spline (found)
   SplineAnalysis certificate;     ///< analyze(*fixed) (found)
+  /// The fix of every required check at once (check "all: A, B"): each
+  /// check's violations before and after, re-judged (empty for one check's fix).
+  std::vector<GateCount> rejudged;
 };
 
 /// The fix requirement that implies a gate (docs/fix.md, "In the report"):
@@ -54,7 +63,11 @@ FixRequirement requirement_of(const Gate& gate);
 inline constexpr double kReportFixSeconds = 2;
 
 /// The fixes of a failing spline: one per failing check (the requirement,
-/// then each failing gate in order).
+/// then each failing gate in order), and, where several checks are required
+/// and the spline is closed and polynomial, one more for all of them at once
+/// (check "all: A, B"): the glyph fix's engine (report/glyph_fix.hpp, as
+/// `cmr fix --require A,B`), on the grid of 1 unit where every coordinate is
+/// an integer (a font's), re-judged check by check (CertifiedFix::rejudged).
 std::vector<CertifiedFix> certified_fixes(const SplineReport& report, const ReportOptions& options);
 
 /// The largest displacement over the curve size (0 without moves).

@@ -470,8 +470,17 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
           }
           details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
                      ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
-                     fmt(f.seconds, 2) + " s; certified by analyze.</p><table><tr><th>move<th>from<th>to"
-                     "<th>distance";
+                     fmt(f.seconds, 2) + " s; ";
+          if (f.rejudged.empty()) {
+            details += "certified by analyze.";
+          } else {  // one fix for every check: each re-judged on the moved contour
+            details += "re-judged:";
+            for (std::size_t i = 0; i < f.rejudged.size(); ++i)
+              details += std::string(i ? "," : "") + " " + html_escape(f.rejudged[i].check) + " " +
+                         std::to_string(f.rejudged[i].before) + " &rarr; " + std::to_string(f.rejudged[i].after);
+            details += ".";
+          }
+          details += "</p><table><tr><th>move<th>from<th>to<th>distance";
           // The point's own name without the glyph and contour (the
           // heading above says them), whole units without ".0", no "by"
           // column (to minus from; report.json has the displacement) and no

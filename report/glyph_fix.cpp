@@ -5,7 +5,10 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
+#include <optional>
 
+#include "bezierize/extract.hpp"
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "spline/errors.hpp"
@@ -101,7 +104,393 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
   return true;
 }
 
-ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options) {
+/// A curvature jump's distance from passing g2 at tolerance `tol`: its
+/// relative size above tol; where one side is exactly straight (a line meets
+/// a curve: the relative jump is 100 % until the curve's end curvature is
+/// exactly 0), |kappa| size / (1 + |kappa| size) of the curved side, which
+/// falls to 0 as that curvature does (`size`: the curve's, curve_size).
+double g2_excess(double kl, double kr, double tol, double size) {
+  const double scale = std::max(std::abs(kl), std::abs(kr));
+  if (!(scale > 0) || !std::isfinite(scale)) return 0;
+  if (kl == 0 || kr == 0) return scale * size / (1 + scale * size);
+  return std::max(0.0, std::abs(kl - kr) / scale - tol);
+}
+
+/// How far a spline is from passing every check, continuously: each
+/// violation adds one to `count` and its distance from passing to `excess`
+/// (an extremum or inflection inside a segment: its local parameter's
+/// distance to the nearer end, where it leaves the segment; a curvature jump
+/// at a smooth joint: its relative size above the gate's tolerance; anything
+/// else, and a failing requirement: 1).
+struct Badness {
+  int count = 0;
+  double excess = 0;
+  double score() const { return excess + 1e-3 * count; }
+};
+
+Badness badness_of(const SplineReport& r, const ReportOptions& o) {
+  Badness b;
+  const double size = r.spline ? curve_size(*r.spline) : 1.0;
+  if (o.require && !r.requirement_pass) b.count += 1, b.excess += 1;
+  for (const GateResult& g : r.gates)
+    for (const GateViolation& v : g.violations) {
+      if (v.info) continue;
+      ++b.count;
+      double e = 1;
+      if (v.segment >= 0 && v.local_t > 0 && v.local_t < 1) e = std::min(v.local_t, 1 - v.local_t);
+      if (g.gate.kind == Gate::Kind::g2_at_smooth_nodes && v.joint >= 0)
+        for (const JointReport& jr : r.joints)
+          if (jr.joint.index == v.joint) {
+            const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
+            const double scale = std::max(std::abs(kl), std::abs(kr));
+            if (scale > 0 && std::isfinite(scale)) e = g2_excess(kl, kr, g.gate.tolerance, size);
+            break;
+          }
+      b.excess += e;
+    }
+  return b;
+}
+
+/// A unit of the grid descent: points moved together by whole grid steps.
+/// A slide (a handle of an exactly smooth node) moves along the node's
+/// tangent by multiples of the primitive grid vector on it, so the node
+/// stays exactly smooth; a node moves with its handles by grid translations
+/// (the handles' directions are unchanged); any other point moves freely.
+struct LatticeUnit {
+  std::vector<int> points;
+  bool slide = false;
+  Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
+};
+
+/// The units of the descent over the movable points (movable_points).
+std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vector<int>& movable, double grid) {
+  const int m = static_cast<int>(c.node.size());
+  const std::vector<Vec2>& p = c.spline.points();
+  auto smooth = [&](int k) {
+    const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
+    if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
+    return u.x * v.y - u.y * v.x == 0 && u.x * v.x + u.y * v.y < 0;
+  };
+  auto on_grid = [&](double x) { return x / grid == std::floor(x / grid); };
+  std::vector<LatticeUnit> out;
+  for (int k : movable) {
+    LatticeUnit u;
+    u.points = {k};
+    if (c.node[k]) {
+      for (int d : {m - 1, 1}) {
+        const int j = (k + d) % m;
+        if (!c.node[j] && c.font_point[j] >= 0) u.points.push_back(j);
+      }
+      out.push_back(u);
+      continue;
+    }
+    int anchors = 0;
+    for (int d : {m - 1, 1}) {
+      const int j = (k + d) % m;
+      if (!c.node[j] || !smooth(j)) continue;
+      ++anchors;
+      const Vec2 a = p[k] - p[j];
+      if (!on_grid(a.x) || !on_grid(a.y)) continue;
+      const long dx = std::lround(a.x / grid), dy = std::lround(a.y / grid);
+      const long g = std::gcd(std::abs(dx), std::abs(dy));
+      if (g == 0) continue;
+      u.slide = true;
+      u.step = Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
+    }
+    if (anchors >= 2 || (anchors == 1 && !u.slide)) continue;  // held by two tangents, or off its tangent's grid
+    out.push_back(u);
+  }
+  return out;
+}
+
+/// The descent's quick estimate of Badness in doubles (the exact judge
+/// decides in the end): each segment's signed curvature sampled at
+/// kQuickSamples + 1 parameters, a sign change of its differences an
+/// extremum inside (excess: its distance to the nearer end); at each joint
+/// the source's exact report calls smooth, the end curvatures' relative
+/// difference above 0.9 of the tolerance (a margin for the exact judge).
+/// Used only where every check is one of curvature-extrema-at-nodes,
+/// max-extrema-per-segment:0.. (as extrema) and g2-at-smooth-nodes.
+struct QuickJudge {
+  bool extrema = false;
+  bool g2 = false;
+  double tolerance = 0.05;
+  std::vector<char> g2_joint;  ///< per segment: the joint that starts it is judged (smooth in the source)
+  std::vector<char> line_start, line_end;  ///< per segment: straight in the source (a line: never moves)
+  double size = 1;             ///< curve_size of the source
+};
+constexpr int kQuickSamples = 48;
+
+std::optional<QuickJudge> quick_judge_of(const BSpline& s, const ReportOptions& o) {
+  if (o.require || s.is_rational()) return std::nullopt;
+  QuickJudge q;
+  for (const Gate& g : o.gates) {
+    if (g.kind == Gate::Kind::extrema_at_nodes) {
+      q.extrema = true;
+    } else if (g.kind == Gate::Kind::g2_at_smooth_nodes) {
+      q.g2 = true;
+      q.tolerance = g.tolerance;
+    } else {
+      return std::nullopt;
+    }
+  }
+  const SplineReport r = judged_report(s, o);
+  const int n = s.segment_count();
+  q.g2_joint.assign(n, 0);
+  q.line_start.assign(n, 0);
+  q.line_end.assign(n, 0);
+  q.size = curve_size(s);
+  for (int i = 0; i < n; ++i) {
+    const std::vector<Vec2> b = bezier_segment(s, s.segments()[i]).points;
+    bool straight = true;
+    for (const Vec2 p : b) {
+      const Vec2 u = p - b.front(), v = b.back() - b.front();
+      straight = straight && u.x * v.y - u.y * v.x == 0;
+    }
+    q.line_start[i] = q.line_end[i] = straight;
+  }
+  for (const JointReport& jr : r.joints)
+    if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
+      q.g2_joint[jr.joint.index % n] = 1;
+  return q;
+}
+
+/// Signed curvature of a polynomial Bezier segment at t (de Casteljau on
+/// the first and second hodographs).
+double bezier_kappa(const std::vector<Vec2>& b, double t) {
+  const int d = static_cast<int>(b.size()) - 1;
+  auto eval = [t](std::vector<Vec2> p) {
+    for (std::size_t r = 1; r < p.size(); ++r)
+      for (std::size_t k = 0; k + r < p.size(); ++k) p[k] = (1 - t) * p[k] + t * p[k + 1];
+    return p.empty() ? Vec2(0.0) : p[0];
+  };
+  std::vector<Vec2> d1, d2;
+  for (int k = 0; k < d; ++k) d1.push_back(static_cast<double>(d) * (b[k + 1] - b[k]));
+  for (int k = 0; k + 1 < d; ++k) d2.push_back(static_cast<double>(d - 1) * (d1[k + 1] - d1[k]));
+  const Vec2 v = eval(d1), a = eval(d2);
+  const double speed = std::hypot(v.x, v.y);
+  return speed > 0 ? (v.x * a.y - v.y * a.x) / (speed * speed * speed) : std::numeric_limits<double>::quiet_NaN();
+}
+
+Badness quick_badness(const BSpline& s, const QuickJudge& q) {
+  Badness b;
+  const std::vector<BezierSegment> segs = bezier_segments(s);
+  const int n = static_cast<int>(segs.size());
+  std::vector<double> k0(n), k1(n);
+  for (int i = 0; i < n; ++i) {
+    std::vector<double> k(kQuickSamples + 1);
+    for (int j = 0; j <= kQuickSamples; ++j) k[j] = bezier_kappa(segs[i].points, static_cast<double>(j) / kQuickSamples);
+    k0[i] = k.front(), k1[i] = k.back();
+    if (!q.extrema) continue;
+    double span = 0;
+    for (double v : k) span = std::max(span, std::abs(v));
+    int last = 0;
+    for (int j = 0; j < kQuickSamples; ++j) {
+      const double dk = k[j + 1] - k[j];
+      if (!std::isfinite(dk)) continue;
+      if (std::abs(dk) <= 1e-12 * span) continue;  // flat (a line): no extremum
+      const int sign = dk > 0 ? 1 : -1;
+      if (last != 0 && sign != last) {
+        const double lt = static_cast<double>(j) / kQuickSamples;
+        ++b.count;
+        b.excess += std::min(lt, 1 - lt);
+      }
+      last = sign;
+    }
+  }
+  if (q.g2)
+    for (int i = 0; i < n; ++i) {
+      if (i >= static_cast<int>(q.g2_joint.size()) || !q.g2_joint[i]) continue;
+      const int left = i > 0 ? i - 1 : (s.closed() ? n - 1 : -1);
+      if (left < 0) continue;
+      double kl = k1[left], kr = k0[i];
+      // A line's side: exactly 0 (its Bezier points are exactly collinear).
+      if (q.line_end[left]) kl = 0;
+      if (q.line_start[i]) kr = 0;
+      const double scale = std::max(std::abs(kl), std::abs(kr));
+      if (!(scale > 0) || !std::isfinite(scale)) continue;
+      if (std::abs(kl - kr) <= 0.9 * q.tolerance * scale) continue;
+      ++b.count;
+      b.excess += g2_excess(kl, kr, 0.9 * q.tolerance, q.size);
+    }
+  return b;
+}
+
+/// A descent on the grid towards passing every check, for the glyphs where
+/// the fix of one check breaks another (the nearest fix of each alone lies
+/// in a region the other's excludes): from `start`, pattern search over the
+/// units' grid coordinates with steps of 32, 16, ..., 1 grid cells, a step
+/// taken when the Badness score falls (and every smooth node stays exactly
+/// smooth), and where no unit's step lowers it, two neighbouring units one
+/// cell each at once. It runs on QuickJudge's estimate where the checks
+/// allow (then once more on the exact judge from where that ended, if the
+/// exact judge still finds violations) and on the exact report otherwise.
+/// Once nothing fails, each unit is pulled back towards the source while
+/// everything still passes, so the moves stay as small as this local search
+/// finds (a local minimum, not the nearest). The caller re-judges exactly.
+std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start, const std::vector<LatticeUnit>& units,
+                                  const ReportOptions& o, const GlyphFixOptions& options,
+                                  std::chrono::steady_clock::time_point deadline) {
+  const double grid = options.grid > 0 ? options.grid : 1;
+  if (units.empty()) return std::nullopt;
+  const std::vector<Vec2>& src = c.spline.points();
+  const double max_move = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
+  const std::optional<QuickJudge> quick = quick_judge_of(c.spline, o);
+  auto spline_of = [&](const std::vector<Vec2>& pts) {
+    BSpline s = c.spline;
+    for (int k = 0; k < s.unique_point_count(); ++k)
+      if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
+    return s;
+  };
+  // Badness of a position (nullopt: not allowed), exact or quick.
+  auto score_of = [&](const std::vector<Vec2>& pts, bool exact) -> std::optional<Badness> {
+    for (int k = 0; k < c.spline.unique_point_count(); ++k)
+      if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return std::nullopt;
+    const BSpline s = spline_of(pts);
+    if (!smooth_kept(c, s)) return std::nullopt;
+    try {
+      return exact || !quick ? badness_of(judged_report(s, o), o) : quick_badness(s, *quick);
+    } catch (const InputError&) {
+      return std::nullopt;
+    }
+  };
+  auto directions = [&](const LatticeUnit& u) {
+    if (u.slide) return std::vector<Vec2>{u.step, -1.0 * u.step};
+    return std::vector<Vec2>{Vec2(grid, 0), Vec2(-grid, 0), Vec2(0, grid), Vec2(0, -grid)};
+  };
+  auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
+  // Neighbouring units (within three points along the contour): the pairs.
+  const int m = c.spline.unique_point_count();
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t a = 0; a < units.size(); ++a)
+    for (std::size_t b = a + 1; b < units.size(); ++b) {
+      const int d = std::abs(units[a].points.front() - units[b].points.front());
+      if (std::min(d, m - d) <= 3) pairs.emplace_back(a, b);
+    }
+  auto descend = [&](std::vector<Vec2>& at, Badness& now, bool exact) {
+    for (int s = 32; s >= 1 && now.count > 0 && !expired(); s /= 2) {
+      bool improved = true;
+      while (improved && now.count > 0 && !expired()) {
+        improved = false;
+        for (const LatticeUnit& u : units) {
+          for (const Vec2 dir : directions(u)) {
+            std::vector<Vec2> t = at;
+            for (int k : u.points) t[k] = t[k] + static_cast<double>(s) * dir;
+            const std::optional<Badness> b = score_of(t, exact);
+            if (!b || !(b->score() < now.score())) continue;
+            at = std::move(t), now = *b, improved = true;
+            break;
+          }
+          if (now.count == 0 || expired()) break;
+        }
+        if (improved || s > 1 || now.count == 0) continue;
+        // Stuck at single cells: two neighbouring units at once.
+        for (const auto& [a, b] : pairs) {
+          for (const Vec2 da : directions(units[a])) {
+            for (const Vec2 db : directions(units[b])) {
+              std::vector<Vec2> t = at;
+              for (int k : units[a].points) t[k] = t[k] + da;
+              for (int k : units[b].points) t[k] = t[k] + db;
+              const std::optional<Badness> bb = score_of(t, exact);
+              if (!bb || !(bb->score() < now.score())) continue;
+              at = std::move(t), now = *bb, improved = true;
+              break;
+            }
+            if (improved || expired()) break;
+          }
+          if (improved || expired()) break;
+        }
+      }
+    }
+  };
+  auto pull_back = [&](std::vector<Vec2>& at, bool exact) {
+    for (int s = 32; s >= 1 && !expired(); s /= 2) {
+      bool improved = true;
+      while (improved && !expired()) {
+        improved = false;
+        for (const LatticeUnit& u : units) {
+          const Vec2 off = at[u.points.front()] - src[u.points.front()];
+          if (off == Vec2(0.0)) continue;
+          for (const Vec2 dir : directions(u)) {
+            const Vec2 d = static_cast<double>(s) * dir;
+            if (dot(off + d, off + d) >= dot(off, off)) continue;
+            std::vector<Vec2> t = at;
+            for (int k : u.points) t[k] = t[k] + d;
+            const std::optional<Badness> b = score_of(t, exact);
+            if (!b || b->count > 0) continue;
+            at = std::move(t), improved = true;
+            break;
+          }
+        }
+      }
+    }
+  };
+  std::vector<Vec2> at = start.points();
+  std::optional<Badness> first = score_of(at, !quick.has_value());
+  if (!first) return std::nullopt;
+  Badness now = *first;
+  if (quick) {
+    descend(at, now, false);
+    if (now.count == 0) {
+      std::vector<Vec2> pulled = at;
+      pull_back(pulled, false);
+      const std::optional<Badness> exact_pulled = score_of(pulled, true);
+      if (exact_pulled && exact_pulled->count == 0) return spline_of(pulled);
+    }
+    const std::optional<Badness> exact_now = score_of(at, true);
+    if (!exact_now) return std::nullopt;
+    now = *exact_now;
+  }
+  descend(at, now, true);
+  if (now.count > 0) return std::nullopt;
+  pull_back(at, true);
+  return spline_of(at);
+}
+
+/// The descent (descent_of) with the handles alone first, so that a node,
+/// whose move shifts the glyph's extremes and stems, moves only where the
+/// handles cannot pass every check; then with every unit.
+std::optional<BSpline> grid_descent(const import::Contour& c, const BSpline& start, const std::vector<int>& movable,
+                                    const ReportOptions& o, const GlyphFixOptions& options,
+                                    std::chrono::steady_clock::time_point deadline) {
+  const std::vector<LatticeUnit> units = lattice_units(c, movable, options.grid > 0 ? options.grid : 1);
+  std::vector<LatticeUnit> handles;
+  for (const LatticeUnit& u : units)
+    if (!c.node[u.points.front()]) handles.push_back(u);
+  if (!handles.empty() && handles.size() < units.size())
+    if (std::optional<BSpline> d = descent_of(c, start, handles, o, options, deadline)) return d;
+  return descent_of(c, start, units, o, options, deadline);
+}
+
+/// A quadratic contour's smooth joint between a straight piece (a line: it
+/// holds an added point, which never moves) and a curve, where
+/// g2-at-smooth-nodes is required: the curve's end curvature would have to
+/// be 0 there, and a quadratic piece has that only when it is straight
+/// itself (its three Bezier points collinear), so no move of the source's
+/// points passes the gate. The joint's name, or "" when there is none.
+std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
+  if (c.spline.degree() != 2) return "";
+  if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
+    return "";
+  const SplineReport r = judged_report(c.spline, o);
+  const int n = c.spline.segment_count();
+  auto is_line = [&](int i) {
+    for (int k : segment_points(c.spline, c.spline.segments()[i]))
+      if (k < static_cast<int>(c.font_point.size()) && c.font_point[k] < 0) return true;
+    return false;
+  };
+  for (const JointReport& jr : r.joints) {
+    const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
+    if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
+    const int right = jr.joint.index % n, left = (right + n - 1) % n;
+    if (!c.spline.closed() && jr.joint.index == 0) continue;
+    if (is_line(kl == 0 ? left : right))
+      return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
+  }
+  return "";
+}
+
+ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, double budget) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
   out.contour = c.index;
@@ -153,18 +542,39 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
     if (out_checks.size() > 1) out_checks.push_back(o);
     return out_checks;
   };
+  if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    out.reason = why.append(join).append(
+        " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
+        "piece has only when straight, so no move of the points passes (add an on-curve point, or accept the jump)");
+    return out;
+  }
   BSpline current = c.spline;
   int current_total = total(out.rejudged);
   std::string why;
-  for (int round = 0; round < kGlyphFixRounds && current_total > 0; ++round) {
+  using Clock = std::chrono::steady_clock;
+  auto at_time = [&](double seconds) {
+    return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  };
+  const auto deadline = at_time(budget);
+  auto left = [&] { return std::max(0.05, std::chrono::duration<double>(deadline - Clock::now()).count()); };
+  // Several checks: the grid descent first, in half the budget (the
+  // rounds' fix of one check mostly breaks another); the rounds where it
+  // finds nothing.
+  const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
+  if (several && options.grid > 0)
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, at_time(budget / 2)))
+      if (judge(*d) == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
+  for (int round = 0; round < kGlyphFixRounds && current_total > 0 && Clock::now() < deadline; ++round) {
     bool improved = false;
     for (const ReportOptions& t : checks_of(current)) {
+      if (Clock::now() >= deadline) break;
       const std::function<int(const BSpline&)> check_judge = judge_of(t);
       FixRequest q;
       q.requirement = guide(t, judged_report(current, t));
       q.max_depth = o.max_depth;
       q.keep = Keep::g1;
-      q.max_seconds = options.max_seconds;
+      q.max_seconds = left();
       q.threads = 1;
       q.max_move = options.max_move;
       q.judge = check_judge;
@@ -197,7 +607,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
         GridOptions g;
         g.grid = options.grid;
         g.max_move = options.max_move;
-        g.max_seconds = options.max_seconds;
+        g.max_seconds = left();
         g.partners = partners_of(c, f, movable);
         const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
         if (!snapped.found) {
@@ -215,6 +625,17 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
       }
     }
     if (!improved) break;
+  }
+  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && Clock::now() < deadline) {
+    // The rounds lowered the count but no round ends it: the descent from
+    // where they left the contour.
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, deadline)) {
+      const int d_total = judge(*d);
+      if (d_total == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
+      else why = "the grid descent ends with violations";
+    } else if (why.empty()) {
+      why = "the grid descent finds no position that passes every check";
+    }
   }
   if (current_total > 0) {
     out.reason = why.empty() ? "no fix passes every check" : why;
@@ -251,10 +672,54 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options)
 
 }  // namespace
 
+import::Contour contour_of(const BSpline& spline, const std::vector<std::string>& names) {
+  const int m = spline.unique_point_count();
+  import::Contour c{0, spline, {}, {}, {}, {}, {}, {}};
+  c.node.assign(m, false);
+  for (const BezierSegment& b : bezier_segments(spline))
+    for (const bool first : {true, false}) {
+      const Vec2 end = first ? b.points.front() : b.points.back();
+      if (spline.multiplicity(first ? b.segment.a : b.segment.b) < spline.degree()) continue;
+      for (int k = 0; k < m; ++k)
+        if (spline.points()[k] == end) c.node[k] = true;
+    }
+  std::vector<char> added(m, 0);
+  for (int k = 0; k < m && k < static_cast<int>(names.size()); ++k) added[k] = names[k].find('+') != std::string::npos;
+  for (const Segment& seg : spline.segments()) {
+    const std::vector<int> pts = segment_points(spline, seg);
+    const std::vector<Vec2> b = bezier_segment(spline, seg).points;
+    bool straight = true;
+    for (const Vec2 q : b) {
+      const Vec2 u = q - b.front(), v = b.back() - b.front();
+      straight = straight && u.x * v.y - u.y * v.x == 0;
+    }
+    const long nodes = std::count_if(pts.begin(), pts.end(), [&](int k) { return c.node[k]; });
+    if (straight && nodes >= 2)
+      for (int k : pts)
+        if (!c.node[k]) added[k] = 1;
+  }
+  for (int k = 0; k < m; ++k) {
+    std::string name = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
+    c.point_names.push_back(k < static_cast<int>(names.size()) && !names[k].empty() ? names[k]
+                                                                                  : name.append(std::to_string(k)));
+    c.font_point.push_back(added[k] ? -1 : k);
+  }
+  c.source_point = c.font_point;
+  return c;
+}
+
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options) {
   if (!glyph.error.empty()) throw InputError(glyph.error);
   std::vector<ContourFix> out;
-  for (const import::Contour& c : glyph.contours) out.push_back(fix_contour(c, options));
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t n = glyph.contours.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Each contour its share of what is left of the glyph's budget (one
+    // that passes as it is uses none), at most max_seconds.
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double share = std::max(0.1, (options.glyph_seconds - spent) / static_cast<double>(n - i));
+    out.push_back(fix_contour(glyph.contours[i], options, std::min(options.max_seconds, share)));
+  }
   return out;
 }
 

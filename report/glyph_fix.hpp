@@ -14,6 +14,24 @@
 /// cheapest grid positions near it that the same judge passes). The result
 /// is re-judged gate by gate, before and after, and a fix that makes any
 /// required gate worse is none.
+///
+/// Several checks at once: first a descent on the grid (glyph_fix.cpp,
+/// grid_descent). Units: a handle of an exactly smooth node slides by k
+/// times the primitive grid vector (dx, dy) / gcd(dx, dy) of its tangent
+/// (so the node stays exactly smooth, checked in integer arithmetic); a
+/// node moves with its handles by grid translations; other handles freely.
+/// Objective, per violation (0 when it passes): an extremum inside a
+/// segment at local parameter u: min(u, 1 - u); a g2 jump kl | kr:
+/// |kl - kr| / max(|kl|, |kr|) - tol, or where one side is a line (0):
+/// |k| s / (1 + |k| s) of the other (s: curve_size); plus 1e-3 per
+/// violation. Estimated in doubles (kappa sampled at 49 parameters a
+/// segment, g2 at 0.9 tol), decided by the exact report. Pattern search
+/// with steps 32..1 cells, pairs of neighbouring units at 1 cell; handles
+/// alone first, then nodes too; then each unit pulled back towards the
+/// source while everything passes. A local search: passing, not nearest.
+/// A quadratic contour's smooth line-to-curve join under g2 cannot pass
+/// (a quadratic's end curvature is 0 only when it is straight): said at
+/// once. Time: GlyphFixOptions::glyph_seconds per glyph.
 #include <string>
 #include <vector>
 
@@ -27,14 +45,13 @@ struct GlyphFixOptions {
   ReportOptions judge;     ///< the requirement and gates (regions and fixes off)
   double grid = 1;         ///< the font's grid; 0: off-grid (the fix as found)
   double max_move = 0;     ///< largest move of any point (font units); 0: the contour's size
-  double max_seconds = 20; ///< per contour, search and snapping each
+  double max_seconds = 20; ///< per contour at most (search, snapping and descent together)
+  /// The whole glyph's time budget: each contour gets its share of what is
+  /// left (a contour that passes as it is takes none). A contour out of time
+  /// is reported without a fix, with the reason of its last attempt.
+  double glyph_seconds = 8;
 };
 
-/// One gate's violations before and after.
-struct GateCount {
-  std::string check;
-  int before = 0, after = 0;
-};
 
 struct ContourFix {
   int contour = 0;          ///< Contour::index
@@ -48,6 +65,14 @@ struct ContourFix {
   double off_grid_distance = 0;         ///< the largest move of the off-grid fix
   double seconds = 0;
 };
+
+/// A closed polynomial spline as a contour of the glyph fix (a plain spline
+/// file, or a report's spline): its nodes are the control points the curve
+/// passes through (a knot of multiplicity >= the degree), and the inner
+/// points of an exactly straight piece between two nodes, or of a point
+/// `names` calls "...+..." (import's name of a line's added point), are no
+/// source points (they never move). Point names from `names`, else "P<k>".
+import::Contour contour_of(const BSpline& spline, const std::vector<std::string>& names);
 
 /// Fixes every failing contour of `glyph` (see the header comment).
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options);

@@ -13,6 +13,7 @@
 #include "io/output.hpp"
 #include "io/ufo.hpp"
 #include "report/gates.hpp"
+#include "bezierize/extract.hpp"
 #include "report/glyph_fix.hpp"
 #include "report/fix_json.hpp"
 #include "spline/errors.hpp"
@@ -74,29 +75,12 @@ struct SourceFixArgs {
   int depth = kDefaultDepth;
 };
 
-void run_source_fix(const SourceFixArgs& a) {
-  namespace fs = std::filesystem;
-  const bool glif = fs::path(a.file).extension() == ".glif";
-  if (a.glyph.empty() && !glif) throw InputError(a.file + ": a font source; name the glyph with --glyph NAME");
-  if (!a.points.empty()) throw InputError("--points: not for font sources (every source point may move)");
-  if (!(a.grid >= 0) || !std::isfinite(a.grid)) throw InputError("--grid: " + std::to_string(a.grid) + " is not a step >= 0");
-  if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  report::GlyphFixOptions o;
-  report::parse_require_list(a.require, o.judge);
-  o.judge.max_depth = a.depth;
-  o.grid = a.grid;
-  o.max_move = a.max_move;
-  import::GlyphSelection which;
-  if (!glif) which.names = {a.glyph};
-  const import::Font font = import::read_ufo(a.file, which);
-  if (font.glyphs.empty()) throw InputError(a.file + ": no glyph '" + a.glyph + "'");
-  const import::Glyph& g = font.glyphs.front();
-  if (glif && !a.glyph.empty() && a.glyph != g.name)
-    throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
-  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
+/// The document's `contours` (each contour's moves, by name, and every
+/// check re-judged), the source edits of the moved points, and the first
+/// contour's reason when one is not fixed (empty when all are).
+Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>& fixes,
+                   std::vector<import::PointEdit>& edits, std::string& failed) {
   Json contours = Json::array();
-  std::vector<import::PointEdit> edits;
-  std::string failed;
   for (const report::ContourFix& f : fixes) {
     Json moves = Json::array();
     for (std::size_t i = 0; i < f.moves.size(); ++i) {
@@ -123,6 +107,32 @@ void run_source_fix(const SourceFixArgs& a) {
     if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
     contours.push_back(jc);
   }
+  return contours;
+}
+
+void run_source_fix(const SourceFixArgs& a) {
+  namespace fs = std::filesystem;
+  const bool glif = fs::path(a.file).extension() == ".glif";
+  if (a.glyph.empty() && !glif) throw InputError(a.file + ": a font source; name the glyph with --glyph NAME");
+  if (!a.points.empty()) throw InputError("--points: not for font sources (every source point may move)");
+  if (!(a.grid >= 0) || !std::isfinite(a.grid)) throw InputError("--grid: " + std::to_string(a.grid) + " is not a step >= 0");
+  if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
+  report::GlyphFixOptions o;
+  report::parse_require_list(a.require, o.judge);
+  o.judge.max_depth = a.depth;
+  o.grid = a.grid;
+  o.max_move = a.max_move;
+  import::GlyphSelection which;
+  if (!glif) which.names = {a.glyph};
+  const import::Font font = import::read_ufo(a.file, which);
+  if (font.glyphs.empty()) throw InputError(a.file + ": no glyph '" + a.glyph + "'");
+  const import::Glyph& g = font.glyphs.front();
+  if (glif && !a.glyph.empty() && a.glyph != g.name)
+    throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
+  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
+  std::vector<import::PointEdit> edits;
+  std::string failed;
+  const Json contours = contours_json(g, fixes, edits, failed);
   if (!failed.empty()) throw InputError(a.file + ": " + failed);
   Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
   // All outputs or none (io/output.hpp): the copy of the whole source, or
@@ -155,6 +165,54 @@ void run_source_fix(const SourceFixArgs& a) {
   }
   outputs.commit();
   print_json(doc, a.pretty);
+}
+
+
+/// `cmr fix FILE.json --require A,B[,...]` (a plain spline file, e.g. one
+/// `cmr import` made from a font): the glyph fix's engine (report/glyph_fix)
+/// on the file's one closed contour (report::contour_of: nodes from the
+/// knots, a straight piece's inner points never move). On the grid (--grid, default
+/// 1 when every coordinate is an integer, as in a font's import; else 0:
+/// off-grid, the rounds without the grid descent).
+void run_spline_multi_fix(const std::string& file, const std::string& require, const std::string& out, double grid,
+                          bool grid_given, double max_move, int depth, bool pretty) {
+  const nlohmann::json document = read_spline_document(file);
+  const BSpline spline = spline_from_document(document, file);
+  if (!spline.closed()) throw InputError(file + ": several checks at once (--require A,B) need a closed spline");
+  if (spline.is_rational()) throw InputError(file + ": several checks at once (--require A,B) need a polynomial spline");
+  if (!(grid >= 0) || !std::isfinite(grid)) throw InputError("--grid: " + std::to_string(grid) + " is not a step >= 0");
+  std::vector<std::string> names;
+  if (document.is_object() && document.contains("point_names") && document["point_names"].is_array())
+    for (const auto& n : document["point_names"]) names.push_back(n.is_string() ? n.get<std::string>() : std::string());
+  import::Glyph g;
+  g.name = std::filesystem::path(file).stem().string();
+  import::Contour c = report::contour_of(spline, names);
+  bool integral = true;
+  for (const Vec2 p : spline.points()) integral = integral && p.x == std::floor(p.x) && p.y == std::floor(p.y);
+  g.contours.push_back(std::move(c));
+  report::GlyphFixOptions o;
+  report::parse_require_list(require, o.judge);
+  o.judge.max_depth = depth;
+  o.grid = grid_given ? grid : (integral ? 1.0 : 0.0);
+  o.max_move = max_move;
+  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
+  std::vector<import::PointEdit> edits;
+  std::string failed;
+  const Json contours = contours_json(g, fixes, edits, failed);
+  if (!failed.empty()) throw InputError(file + ": " + failed);
+  Json doc = {{"file", file}, {"require", require}, {"grid", o.grid}, {"contours", contours}};
+  OutputSet outputs;
+  if (!out.empty()) {
+    BSpline fixed = spline;
+    for (const report::ContourFix& f : fixes)
+      for (const PointMove& mv : f.moves) fixed = fixed.with_point(mv.point, mv.to);
+    nlohmann::json j = spline_to_json(fixed);
+    if (!names.empty()) j["point_names"] = names;
+    outputs.stage(out, j.dump(2) + "\n");
+    doc["out"] = out;
+  }
+  outputs.commit();
+  print_json(doc, pretty);
 }
 
 }  // namespace
@@ -207,8 +265,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       exit_code = kOk;
       return;
     }
-    if (!args->glyph.empty() || args->in_place || cmd->count("--grid") > 0)
-      throw InputError(args->file + ": --glyph, --grid and --in-place are for font sources (.ufo, .glif)");
+    const bool several = args->require.find(',') != std::string::npos;
+    if (!args->glyph.empty() || args->in_place || (cmd->count("--grid") > 0 && !several))
+      throw InputError(args->file + ": --glyph, --grid and --in-place are for font sources (.ufo, .glif)" +
+                       std::string(several ? "" : " and several checks (--require A,B)"));
     if (spline_file_dimension(args->file) == 3) {  // [x, y, z] points: a space curve (docs/fix.md, "Space curves")
       if (!args->segments.empty())
         throw InputError(args->file + ": a space curve; --segments is for planar splines");
@@ -218,6 +278,15 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (!args->plane.empty()) throw InputError(args->file + ": a planar spline; --plane is for space curves");
+    if (several) {  // every check at once: the glyph fix's engine (report/glyph_fix.hpp)
+      if (!args->points.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
+        throw InputError(args->file + ": several checks (--require A,B): --points, --segments, --png and --keep are for one");
+      if (!args->out.empty()) check_output_path(args->out, "--out");
+      run_spline_multi_fix(args->file, args->require, args->out, args->grid, cmd->count("--grid") > 0, args->max_move,
+                           args->depth, args->pretty);
+      exit_code = kOk;
+      return;
+    }
     if (!args->out.empty()) check_output_path(args->out, "--out");
     if (!args->png.empty()) check_output_path(args->png, "--png");
     if (!(args->max_move >= 0) || !std::isfinite(args->max_move))

@@ -38,7 +38,7 @@ cmr::import::GlyphSelection every_glyph() {
   return all;
 }
 
-}  // namespace
+
 
 // fuzz_glif: a glyph name that is not UTF-8 was read, and writing the
 // glyph's contours as JSON threw nlohmann's type_error 316 (std::terminate in
@@ -84,3 +84,54 @@ TEST(UfoRead, DesignspaceWithTwoAxesOfOneNameIsAnInputError) {
   ASSERT_FALSE(found.empty());
   EXPECT_THROW((void)cmr::import::read_designspace(write("found.designspace", found)), cmr::InputError);
 }
+
+// Format 5's discrete axes (values="..."): their values read, a source's
+// location on one is one of them (xvalue or uservalue), and a default or a
+// location at none of them is refused with the line.
+TEST(UfoRead, DesignspaceDiscreteAxesAreRead) {
+  fs::create_directories(scratch() / "a.ufo");
+  fs::create_directories(scratch() / "b.ufo");
+  auto doc = [](const std::string& italic_default, const std::string& b_location) {
+    return "<?xml version='1.0' encoding='UTF-8'?>\n<designspace format=\"5.0\">\n  <axes>\n"
+           "    <axis tag=\"wght\" name=\"Weight\" minimum=\"100\" maximum=\"900\" default=\"400\"/>\n"
+           "    <axis tag=\"ital\" name=\"Italic\" values=\"1 0\" default=\"" + italic_default + "\"/>\n  </axes>\n"
+           "  <sources>\n    <source filename=\"a.ufo\"/>\n"
+           "    <source filename=\"b.ufo\" name=\"Italic\"><location>" + b_location + "</location></source>\n"
+           "  </sources>\n</designspace>\n";
+  };
+  const cmr::import::Designspace ds = cmr::import::read_designspace(
+      write("discrete.designspace", doc("0", "<dimension name=\"Italic\" uservalue=\"1\"/>")));
+  ASSERT_EQ(ds.axes.size(), 2u);
+  EXPECT_TRUE(ds.axes[0].values.empty());
+  EXPECT_EQ(ds.axes[1].values, (std::vector<double>{0, 1}));
+  EXPECT_EQ(ds.axes[1].minimum, 0);
+  EXPECT_EQ(ds.axes[1].maximum, 1);
+  ASSERT_EQ(ds.sources.size(), 2u);
+  EXPECT_TRUE(ds.sources[0].is_default);
+  EXPECT_EQ(ds.sources[1].location.at("Italic"), 1);
+  EXPECT_FALSE(ds.sources[1].is_default);
+  const fs::path bad_default = write("bad_default.designspace", doc("0.5", ""));
+  try {
+    (void)cmr::import::read_designspace(bad_default);
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              bad_default.string() + ":5: the discrete axis 'Italic' has its default at none of its values");
+  }
+  const fs::path bad_location =
+      write("bad_location.designspace", doc("0", "<dimension name=\"Italic\" xvalue=\"0.5\"/>"));
+  try {
+    (void)cmr::import::read_designspace(bad_location);
+    FAIL() << "no InputError";
+  } catch (const cmr::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), bad_location.string() + ":9: the discrete axis 'Italic' has no value 0.5");
+  }
+  EXPECT_THROW((void)cmr::import::read_designspace(write("bad_values.designspace",
+                                                         "<?xml version='1.0'?>\n<designspace format=\"5.0\"><axes>"
+                                                         "<axis tag=\"ital\" name=\"Italic\" values=\"0 x\" default=\"0\"/>"
+                                                         "</axes><sources><source filename=\"a.ufo\"/></sources>"
+                                                         "</designspace>\n")),
+               cmr::InputError);
+}
+
+}  // namespace

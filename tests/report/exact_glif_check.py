@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""An exact judge of a cubic .glif, independent of cmr (rational arithmetic).
+"""An exact judge of a cubic or quadratic .glif, independent of cmr (rational arithmetic).
 
     exact_glif_check.py GLYPH.glif [--gates extrema,g2] [--g2-tol 0.05]
 
@@ -18,8 +18,12 @@ Prints one line per violation and exits 1 when there is one, else 0.
    k = det(P', P'') / |P'|^3 on both sides satisfy
    |kl - kr| <= tol * max(|kl|, |kr|), decided exactly on k^2 (rational).
 
-Only `line` and `curve` contours are read (a cubic source); a contour is
-closed (no `move`).
+`line`, `curve` and `qcurve` contours are read; a contour is closed (no
+`move`). A `qcurve` with k off-curve points is k quadratics joined at the
+implied on-curve midpoints (TrueType's rule), each raised exactly to a cubic
+(P0, P0 + 2/3 (P1 - P0), P2 + 2/3 (P1 - P2), P2: the same curve, the same
+parametrisation, so the same curvature and lambda); an implied midpoint is a
+node whose tangents are exactly parallel, so G2 is judged there too.
 """
 import sys
 import xml.etree.ElementTree as ET
@@ -34,7 +38,7 @@ def contours(path):
     for c in root.iter("contour"):
         pts = [(F(p.get("x")), F(p.get("y")), p.get("type")) for p in c.iter("point")]
         # rotate to start at an on-curve point
-        k = next(i for i, p in enumerate(pts) if p[2] in ("curve", "line"))
+        k = next(i for i, p in enumerate(pts) if p[2] in ("curve", "line", "qcurve"))
         pts = pts[k:] + pts[:k]
         segs = []
         n = len(pts)
@@ -48,6 +52,16 @@ def contours(path):
                 j += 1
             end = pts[j % n]
             ctrl = [start] + offs + [end]
+            if end[2] == "qcurve" and offs:
+                on = [start]
+                for a, b in zip(offs, offs[1:]):  # the implied on-curve midpoints
+                    on.append(((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, "qcurve"))
+                on.append(end)
+                for q0, q1, q2 in zip(on, offs, on[1:]):
+                    segs.append([(q0[0], q0[1]), (q0[0] + 2 * (q1[0] - q0[0]) / 3, q0[1] + 2 * (q1[1] - q0[1]) / 3),
+                                 (q2[0] + 2 * (q1[0] - q2[0]) / 3, q2[1] + 2 * (q1[1] - q2[1]) / 3), (q2[0], q2[1])])
+                i = j
+                continue
             if len(ctrl) == 2:  # a line as a cubic
                 a, b = start, end
                 ctrl = [a, (a[0] + (b[0] - a[0]) / 3, a[1] + (b[1] - a[1]) / 3, None),

@@ -161,6 +161,79 @@ def main():
                                     capture_output=True, text=True, timeout=600)
                 check("fontmake builds the fixed source", fm.returncode == 0, fm.stderr[-500:])
 
+        # two gates on a TrueType-flavoured (qcurve) source: DejaVu Sans O
+        r = run("fix", "DejaVu.ufo", "--glyph", "O", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--out", "FixedDV.ufo", cwd=tmp)
+        check("fix DejaVu O (qcurve; extrema and g2 at once) exits 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            src_o, fix_o = os.path.join(dejavu, "glyphs", "O_.glif"), os.path.join(tmp, "FixedDV.ufo", "glyphs", "O_.glif")
+            ok, why = only_xy_changed(src_o, fix_o)
+            check("DejaVu O: only x/y of moved points change, to integers", ok, why)
+            judge = lambda p, g: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", g],
+                                                capture_output=True, text=True)
+            before, after = judge(src_o, "extrema,g2"), judge(fix_o, "extrema,g2")
+            check("exact judge (qcurve, extrema and g2): the source fails, the fixed glyph passes",
+                  before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+
+        # what no move can do: g2 where a line meets a quadratic curve (DejaVu e), said at once
+        r = run("fix", "DejaVu.ufo", "--glyph", "e", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--out", "FixedE.ufo", cwd=tmp)
+        check("fix DejaVu e: a smooth line-to-quadratic join under g2 is named as unfixable (exit 2, one line)",
+              r.returncode == 2 and "joins a line to a quadratic curve" in r.stderr and r.stderr.count("\n") == 1
+              and not os.path.exists(os.path.join(tmp, "FixedE.ufo")), r.stderr)
+
+        # several gates on a plain spline file (cmr import's), on the grid
+        r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "impm", cwd=tmp)
+        r = run("fix", "impm/O_c1.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--out", "m.json",
+                cwd=tmp)
+        check("fix FILE.json --require A,B exits 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            doc, fixed_doc = json.loads(r.stdout), json.load(open(os.path.join(tmp, "m.json")))
+            check("FILE.json --require A,B: both checks re-judged to 0",
+                  [x["after"] for x in doc["contours"][0]["rejudged"]] == [0, 0], r.stdout[:300])
+            pts = [p for p in fixed_doc["points"]]
+            check("FILE.json --require A,B: integer coordinates, names kept",
+                  all(float(v).is_integer() for p in pts for v in p) and fixed_doc.get("point_names", [""])[0] == "O/c1/p0",
+                  str(pts[:3]))
+            rj = run("report", "m.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--no-fixes",
+                     "--no-thumbnails", "--quiet", "--out", "mrep", cwd=tmp)
+            check("FILE.json --require A,B: cmr report passes the fixed file", rj.returncode == 0, rj.stdout + rj.stderr)
+        open(os.path.join(tmp, "open.json"), "w").write(json.dumps(
+            {"degree": 3, "points": [[0, 0], [1, 2], [3, 3], [4, 0], [6, 1], [7, 3], [9, 0]],
+             "knots": [0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 2]}))
+        r = run("fix", "open.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--out", "oo.json",
+                cwd=tmp)
+        check("FILE.json --require A,B on an open spline: exit 2, one line, nothing written",
+              r.returncode == 2 and r.stderr.count("\n") == 1 and not os.path.exists(os.path.join(tmp, "oo.json")),
+              r.stderr)
+
+        # the report's own fix search: one fix for every required check, re-judged check by check
+        r = run("report", "Nimbus.ufo", "--glyphs", "O", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--out", "rall", "--quiet", cwd=tmp)
+        doc = json.load(open(os.path.join(tmp, "rall", "report.json"))) if r.returncode in (0, 1) else {"splines": []}
+        alls = [(s["name"], f) for s in doc["splines"] for f in s.get("certified_fixes", []) if f["check"].startswith("all:")]
+        check("report: each failing contour gets one fix of all required checks",
+              len(alls) == 2 and all(f["found"] for _, f in alls), str(alls)[:300])
+        check("report: that fix is re-judged against every check, each to 0",
+              all([x["check"] for x in f["rejudged"]] == ["curvature-extrema-at-nodes", "g2-at-smooth-nodes:0.05"]
+                  and all(x["before"] > 0 or x["check"].startswith("g2") for x in f["rejudged"])
+                  and all(x["after"] == 0 for x in f["rejudged"]) for _, f in alls), str(alls)[:300])
+        page = open(os.path.join(tmp, "rall", "font.html")).read() if os.path.exists(os.path.join(tmp, "rall", "font.html")) else ""
+        check("report: the page shows the re-judging", "re-judged: curvature-extrema-at-nodes" in page)
+        r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "impr", cwd=tmp)
+        for name, f in alls:
+            path = os.path.join(tmp, "impr", "O_" + name.split("/")[1] + ".json")
+            sp = json.load(open(path))
+            for m in f["moves"]:
+                sp["points"][m["point"]] = m["to"]
+            json.dump(sp, open(os.path.join(tmp, "rall_" + name.split("/")[1] + ".json"), "w"))
+            rj = run("report", "rall_" + name.split("/")[1] + ".json", "--require",
+                     "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--no-thumbnails", "--quiet", "--out",
+                     "rallj_" + name.split("/")[1], cwd=tmp)
+            check("report's all-checks fix of %s: integer moves that pass both gates when applied" % name,
+                  rj.returncode == 0 and all(float(v).is_integer() for m in f["moves"] for v in m["to"]),
+                  rj.stdout + rj.stderr)
+
         # --in-place: the .glif rewritten, no other file touched
         inplace = os.path.join(tmp, "InPlace.ufo")
         shutil.copytree(nimbus, inplace)

@@ -63,10 +63,11 @@ def main():
     print("| font | failing glyphs | fixed | not fixed | median (s) | worst (s) |")
     print("|---|---|---|---|---|---|")
     reasons = {}
+    fixed_names = {}
     for name, path in FONTS.items():
         ufo = os.path.join(tmp, name.replace(" ", "") + "-AZ.ufo")
         subprocess.run(["/usr/bin/python3", MAKE, path, ufo, AZ], check=True)
-        times, fixed, failed = [], 0, 0
+        times, fixed, failed, names = [], 0, 0, []
         for ch in AZ:
             glif = [f for f in os.listdir(os.path.join(ufo, "glyphs")) if f.endswith(".glif")]
             # the glyph's name: the file whose <unicode> is this character
@@ -86,6 +87,7 @@ def main():
             times.append(t)
             if r.returncode == 0:
                 fixed += 1
+                names.append(gname)
             else:
                 failed += 1
                 why = r.stderr.strip().split(": ", 2)[-1][:90]
@@ -93,6 +95,9 @@ def main():
         if times:
             print("| %s | %d | %d | %d | %.2f | %.2f |" % (name, len(times), fixed, failed, statistics.median(times),
                                                           max(times)))
+            fixed_names[name] = names
+    for name, names in fixed_names.items():
+        print("\nFixed in %s: %s" % (name, " ".join(names) or "none"))
     print("\nWhy not fixed (count, the reason's first words):\n")
     kinds = {}
     for why, n in reasons.items():
