@@ -84,6 +84,8 @@ TEST(Pipes, EveryReadingCommandReadsStandardInput) {
        kClamped},
       {"kcurve -", kPoints},
       {"analyze -", kSpace},  // a space curve: the file's dimension is read first, then the curve (stdin kept)
+      {"report - --no-thumbnails --out " + (dir / "planar").string(), kClamped},
+      {"report - --no-thumbnails --out " + (dir / "space").string(), kSpace},
       {"region - --point 2 --plane xy --size 32x32 --png " + (dir / "s.png").string(), kSpace},
   };
   for (const Case& c : cases) {
@@ -93,6 +95,11 @@ TEST(Pipes, EveryReadingCommandReadsStandardInput) {
   }
   EXPECT_TRUE(fs::exists(dir / "r.png"));
   EXPECT_TRUE(fs::exists(dir / "s.png"));
+  for (const char* run : {"planar", "space"}) {  // one spline each, read from the pipe, its findings naming "-"
+    const nlohmann::json doc = nlohmann::json::parse(cmr::test::slurp(dir / run / "report.json"));
+    ASSERT_EQ(doc["splines"].size(), 1u) << run;
+    EXPECT_NE(doc["splines"][0].value("status", ""), "invalid") << run << ": " << doc["splines"][0].dump();
+  }
   fs::remove_all(dir);
 }
 
