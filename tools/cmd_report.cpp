@@ -137,12 +137,12 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
     if (!space.empty()) {
-      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--strict", "--markdown",
-                               "--backend", "--device"})
+      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--strict", "--backend",
+                               "--device"})
         if (cmd->count(flag) > 0)
           throw InputError(std::string(flag) + ": not for space curves (" + space +
-                           "); their report takes --require, --junit, --sarif, --baseline, --constant-tol and the "
-                           "joint tolerances");
+                           "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
+                           "--torsion-tol and the joint tolerances");
       for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
       SpaceReportRun run;
       run.files = std::move(collected);
@@ -163,6 +163,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
       if (!args->sarif.empty()) run.sarif = args->sarif;
       if (!args->baseline.empty()) run.baseline = args->baseline;
       if (!args->source_root.empty()) run.source_root = args->source_root;
+      if (!args->markdown.empty()) run.markdown = args->markdown;
       exit_code = run_space_report(run);
       return;
     }

@@ -15,6 +15,7 @@
 #include "io/output.hpp"
 #include "report/baseline.hpp"
 #include "report/junit.hpp"
+#include "report/markdown.hpp"
 #include "report/sarif.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
@@ -167,12 +168,14 @@ int run_space_report(const SpaceReportRun& run) {
   if (run.baseline) baseline.emplace(report::read_baseline(*run.baseline));  // a bad baseline: before any work
   std::vector<report::SpaceReport> reports;
   std::vector<std::vector<report::Finding>> findings;
+  std::vector<std::string> names;  // each file's name in findings
   const std::string root = run.source_root ? run.source_root->string() : std::string();
   for (std::size_t i = 0; i < run.files.size(); ++i) {
     const std::string& f = run.files[i];
     reports.push_back(report::space_report(f, o));
     const std::string base = run.source_root ? root : (i < run.bases.size() ? run.bases[i] : std::string());
-    findings.push_back(report::space_findings(reports.back(), report::source_name(f, base), o));
+    names.push_back(report::source_name(f, base));
+    findings.push_back(report::space_findings(reports.back(), names.back(), o));
   }
   const std::filesystem::path dir = run.out;
   OutputSet set;
@@ -186,6 +189,8 @@ int run_space_report(const SpaceReportRun& run) {
   if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "localhost");
   int pass = 0, fail = 0, invalid = 0, new_findings = 0, unchanged = 0, results = 0;
   std::vector<const report::Finding*> new_list;
+  std::optional<report::MarkdownSummary> markdown;
+  if (run.markdown) markdown.emplace(run.parsed);
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const report::SpaceReport& r = reports[i];
     report::FileRecord rec;
@@ -215,11 +220,30 @@ int run_space_report(const SpaceReportRun& run) {
     }
     rec.cases.push_back(std::move(c));
     junit += report::junit_suite(rec, static_cast<int>(i), timestamp, host);
+    if (markdown) markdown->add(rec, names[i], "");
   }
   junit += report::junit_footer();
   if (run.sarif) sarif += report::sarif_footer();
   if (run.junit) set.stage(*run.junit, junit);
   if (run.sarif) set.stage(*run.sarif, sarif);
+  const bool gated = o.require_monotone || !o.gates.empty();
+  const int exit_code = invalid > 0 ? kInvalid
+                        : baseline  ? (new_findings > 0 ? kFail : kOk)
+                                    : (gated && fail > 0 ? kFail : kOk);
+  int finding_count = 0;
+  for (const auto& fs : findings) finding_count += static_cast<int>(fs.size());
+  if (markdown) {  // the planar run's summary, from the same counts
+    report::BatchSummary s;
+    s.files = static_cast<int>(reports.size());
+    s.items = s.files;
+    s.pass = pass, s.fail = fail, s.invalid = invalid;
+    s.findings = finding_count;
+    s.baseline = baseline.has_value();
+    s.new_findings = new_findings, s.unchanged = unchanged, s.fixed = baseline ? baseline->fixed() : 0;
+    for (const report::Finding* f : new_list) s.new_list.push_back(*f);
+    s.exit_code = exit_code;
+    set.stage(*run.markdown, markdown->finish(s, run.baseline ? run.baseline->string() : std::string()));
+  }
   nlohmann::ordered_json doc = report::space_report_json(reports, o, &findings);
   if (baseline)
     doc["summary"]["baseline"] = {{"file", run.baseline->string()}, {"new", new_findings},
@@ -228,20 +252,16 @@ int run_space_report(const SpaceReportRun& run) {
   set.commit_last(dir / "report.json");  // renamed last: the commit marker
   set.commit();
   for (const report::Finding* f : new_list) std::cerr << "cmr: new: " << f->file << ": " << f->gate << ": " << f->message << '\n';
-  const bool piped = (run.junit && is_stdout_path(*run.junit)) || (run.sarif && is_stdout_path(*run.sarif));
+  const bool piped = (run.junit && is_stdout_path(*run.junit)) || (run.sarif && is_stdout_path(*run.sarif)) ||
+                     (run.markdown && is_stdout_path(*run.markdown));
   std::ostream& line = piped ? std::cerr : std::cout;
   line << reports.size() << (reports.size() == 1 ? " space curve: " : " space curves: ") << pass << " pass, " << fail
        << " fail, " << invalid << " invalid";
-  int finding_count = 0;
-  for (const auto& fs : findings) finding_count += static_cast<int>(fs.size());
   line << "; " << finding_count << (finding_count == 1 ? " finding" : " findings");
   if (baseline)
     line << " (baseline: " << new_findings << " new, " << baseline->fixed() << " fixed, " << unchanged << " unchanged)";
   line << "; wrote " << (dir / "index.html").string() << " and " << (dir / "report.json").string() << '\n';
-  if (invalid > 0) return kInvalid;
-  if (baseline) return new_findings > 0 ? kFail : kOk;
-  const bool gated = o.require_monotone || !o.gates.empty();
-  return gated && fail > 0 ? kFail : kOk;
+  return exit_code;
 }
 
 }  // namespace cmr::cli

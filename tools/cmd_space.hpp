@@ -36,8 +36,8 @@ void run_space_region(const SpaceRegionArgs& args);
 /// DIR/report.json (the planar report's schema, with findings) and
 /// DIR/index.html (report/space_report.hpp), and the CI files the planar
 /// run writes: --junit (one suite per file, one case per curve), --sarif
-/// (one result per finding, invalid inputs as results) and --baseline (only
-/// new findings fail). All outputs are one OutputSet (all or none).
+/// (one result per finding, invalid inputs as results), --markdown (the
+/// planar run's summary) and --baseline (only new findings fail). All outputs are one OutputSet (all or none).
 struct SpaceReportRun {
   std::vector<std::string> files;  ///< collected (report::collect_files)
   std::vector<std::string> bases;  ///< per file, its folder argument (collect_files' bases)
@@ -45,6 +45,7 @@ struct SpaceReportRun {
   report::SpaceReportOptions options;
   report::ReportOptions parsed;  ///< --require as the planar report reads it (SARIF's rules)
   std::optional<std::filesystem::path> junit, sarif, baseline, source_root;
+  std::optional<std::filesystem::path> markdown;  ///< --markdown (report/markdown.hpp)
   bool pretty = false;
 };
 /// Returns the exit code: 2 when a file is invalid, else with a baseline 1

@@ -44,7 +44,7 @@ TEST(SpaceReportCi, AFolderWithRequireJunitSarifAndBaselineWritesBothFilesAndHon
   fs::copy_file(kPassing, curves / "a.json");
   fs::copy_file(kFailing, curves / "b.json");
   const std::string ci = " --require cmrwi --no-thumbnails --junit " + (dir / "j.xml").string() + " --sarif " +
-                         (dir / "s.sarif").string();
+                         (dir / "s.sarif").string() + " --markdown " + (dir / "m.md").string();
   // 1. The first run: b fails; both CI files written, report.json with the schema and findings.
   const Outcome first = run("report " + curves.string() + ci + " --out " + (dir / "r1").string());
   EXPECT_EQ(first.code, 1) << first.err;
@@ -56,6 +56,9 @@ TEST(SpaceReportCi, AFolderWithRequireJunitSarifAndBaselineWritesBothFilesAndHon
   for (std::size_t at = junit.find("<testcase"); at != std::string::npos; at = junit.find("<testcase", at + 1)) ++cases;
   EXPECT_EQ(cases, 2u) << junit;
   EXPECT_NE(junit.find("<failure"), std::string::npos) << junit;
+  const std::string markdown = slurp(dir / "m.md");  // the planar run's summary: the failing curve named
+  EXPECT_NE(markdown.find("b.json"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("fig8-lifted"), std::string::npos) << markdown;
   const nlohmann::json sarif = nlohmann::json::parse(slurp(dir / "s.sarif"));
   ASSERT_EQ(sarif["runs"][0]["results"].size(), 1u) << sarif.dump();
   EXPECT_EQ(sarif["runs"][0]["results"][0]["ruleId"], "cmrwi");
@@ -78,6 +81,7 @@ TEST(SpaceReportCi, AFolderWithRequireJunitSarifAndBaselineWritesBothFilesAndHon
   EXPECT_EQ(more.code, 1) << more.err;
   EXPECT_NE(more.err.find("cmr: new: c.json: cmrwi:"), std::string::npos) << more.err;
   EXPECT_NE(more.out.find("1 new, 0 fixed, 1 unchanged"), std::string::npos) << more.out;
+  EXPECT_NE(slurp(dir / "m.md").find("1 new"), std::string::npos) << slurp(dir / "m.md");
   // 4. The fixed curve: the baseline counts it fixed.
   fs::remove(curves / "b.json");
   fs::remove(curves / "c.json");
@@ -114,7 +118,7 @@ TEST(SpaceReportCi, GatesThatMeanSomethingIn3DGiveFindingsBySegmentAndJoint) {
 TEST(SpaceReportCi, FlagsAndGatesThatDoNotApplyAreRefusedInOneLine) {
   const fs::path dir = fresh("space_refused");
   const std::string out = " --out " + (dir / "r").string();
-  expect_one_line_exit_2(run("report " + kPassing + " --markdown " + (dir / "m.md").string() + out), "--markdown: not for space curves", "markdown");
+  expect_one_line_exit_2(run("report " + kPassing + " --glyphs A" + out), "--glyphs: not for space curves", "glyphs");
   expect_one_line_exit_2(run("report " + kPassing + " --segments 0..1" + out), "--segments: not for space curves", "segments");
   expect_one_line_exit_2(run("report " + kPassing + " --require split:1" + out), "has no meaning in 3D", "split");
   expect_one_line_exit_2(run("report " + kPassing + " --require xy-extrema-at-nodes" + out), "a rule for font outlines", "xy");
