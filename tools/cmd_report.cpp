@@ -8,7 +8,9 @@
 // this file only parses.
 // A font file is imported (io/font.hpp): each glyph contour is one closed spline;
 // an SVG file (.svg) is read as cmr import reads it (io/svg.hpp, y-up): each
-// subpath is one spline. Space curves get their own report (tools/cmd_space.hpp).
+// subpath is one spline. A run of space curves (files, folders, globs or -) is judged by
+// report/space_report.hpp and written in the same schema with the same CI files
+// (tools/cmd_space.hpp: run_space_report); a flag only planar runs take is refused.
 #include <unistd.h>
 
 #include <cmath>
