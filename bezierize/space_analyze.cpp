@@ -154,13 +154,32 @@ SpaceSegmentResult segment_of(const SpaceWindow& w, const Segment& s, const Spac
 
 SpaceSegmentResult space_segment(const SpaceSpline& spline, const Segment& s, const SpaceAnalyzeOptions& options) {
   const SpaceWindow w = space_window(spline, s);
-  if (spline.is_rational())
-    return segment_of(
-        w, s, options, [&] { return space_window_hpoints<Bounded>(spline, w); },
-        [&] { return space_window_hpoints<Rational>(spline, w); });
-  return segment_of(
-      w, s, options, [&] { return space_window_points<Bounded>(spline, w); },
-      [&] { return space_window_points<Rational>(spline, w); });
+  SpaceSegmentResult r =
+      spline.is_rational()
+          ? segment_of(
+                w, s, options, [&] { return space_window_hpoints<Bounded>(spline, w); },
+                [&] { return space_window_hpoints<Rational>(spline, w); })
+          : segment_of(
+                w, s, options, [&] { return space_window_points<Bounded>(spline, w); },
+                [&] { return space_window_points<Rational>(spline, w); });
+  if (r.torsion) {
+    // N == 0 exactly: torsion_sign 0 with no sign change and class constant.
+    r.planar = r.torsion->curvature == Curvature::constant && r.torsion_sign == 0 && r.torsion_sign_changes.empty();
+    if (!r.planar && options.torsion_tolerance > 0) {
+      bool within = true;
+      for (int i = 0; i <= kTorsionSamples + 1 && within; ++i) {
+        const double tau = space_torsion(spline, s.a + (s.b - s.a) * i / (kTorsionSamples + 1));
+        within = !std::isfinite(tau) || std::abs(tau) <= options.torsion_tolerance;  // kappa = 0: no torsion there
+      }
+      if (within) {
+        r.planar = true;
+        r.torsion->curvature = Curvature::constant;
+        r.torsion_sign = 0;
+        r.torsion_sign_changes.clear();
+      }
+    }
+  }
+  return r;
 }
 
 std::vector<SpaceExtremum> space_curvature_extrema(const SpaceSpline& spline, const Segment& s) {
@@ -250,6 +269,8 @@ SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions
   if (options.max_depth < 0 || options.max_depth > kMaxDepth)
     throw InputError("--depth " + std::to_string(options.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
   validate(options.continuity);
+  if (!(options.torsion_tolerance >= 0 && std::isfinite(options.torsion_tolerance)))
+    throw InputError("--torsion-tol " + std::to_string(options.torsion_tolerance) + " is not a number >= 0");
   SpaceAnalysis a;
   const int N = spline.segment_count();
   for (const Segment& s : spline.segments()) {
@@ -262,7 +283,14 @@ SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions
   for (int i = 1; i < N; ++i) a.joints.push_back(space_joint(spline, i - 1, i, options.continuity));
   if (spline.closed()) a.seam = space_joint(spline, N - 1, 0, options.continuity);
   a.curvature = space_verdict(spline, a.segments, a.joints, a.seam, false, &a.joint_conflicts);
-  if (options.torsion) a.torsion = space_verdict(spline, a.segments, a.joints, a.seam, true);
+  if (options.torsion) {
+    a.torsion = space_verdict(spline, a.segments, a.joints, a.seam, true);
+    a.planar = !a.segments.empty();
+    for (const SpaceSegmentResult& r : a.segments) a.planar = a.planar && r.planar;
+    // Constant pieces go with either direction (the planar rules, as a curve
+    // of straights): the jumps of a torsion that is noise do not count.
+    if (a.planar) a.torsion = Direction::increasing;
+  }
   return a;
 }
 

@@ -44,7 +44,16 @@ struct SpaceAnalyzeOptions {
   int max_depth = kDefaultDepth;  ///< D of Algorithm 1, 0..kMaxDepth
   bool torsion = false;           ///< also judge torsion monotonicity
   ContinuityTolerances continuity;
+  /// With torsion: a segment whose |tau| is at most this at its ends and at
+  /// kTorsionSamples points between them is planar (its torsion class
+  /// `constant`, as for N == 0 exactly): a CAD curve lying in a plane up to
+  /// the rounding of its data (tau ~ 1e-6) is not judged on that noise.
+  /// 0 (the default): only N == 0 exactly is planar. >= 0, finite.
+  double torsion_tolerance = 0;
 };
+
+/// How many points between a segment's ends torsion_tolerance looks at.
+inline constexpr int kTorsionSamples = 32;
 
 struct SpaceSegmentResult {
   MonotonicityResult curvature;  ///< Algorithm 1 on lambda3 (constant: straight)
@@ -60,6 +69,9 @@ struct SpaceSegmentResult {
   /// With options.torsion: parameters strictly inside where N = det(P', P'', P''')
   /// changes sign (tau changes sign there; exact root isolation, as zero_curvature).
   std::vector<double> torsion_sign_changes;
+  /// With options.torsion: N == 0 exactly (the segment lies in a plane), or
+  /// |tau| within options.torsion_tolerance (then torsion is `constant`).
+  bool planar = false;
 };
 
 struct SpaceJoint {
@@ -85,6 +97,13 @@ struct SpaceAnalysis {
   std::optional<Direction> torsion;            ///< with options.torsion
   bool cusp = false;
   bool zero_curvature = false;  ///< kappa = 0 somewhere (not counting straight segments)
+  /// With options.torsion: every segment is planar (tau = 0 on each, up to
+  /// the tolerance): every segment's torsion is `constant`, the curve's
+  /// verdict follows the planar rules (constant pieces go with either
+  /// direction: `increasing`), and reports label it "zero (planar pieces)",
+  /// as the planar report labels a curve of straights "straight". (Pieces in different planes meeting at a corner
+  /// of the osculating plane are each planar too.)
+  bool planar = false;
   std::vector<int> joint_conflicts;
   int exact_segments = 0;
 };

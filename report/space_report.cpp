@@ -85,6 +85,7 @@ nlohmann::ordered_json space_segment_json(const SpaceSpline& spline, const Space
     j["torsion_depth"] = r.torsion->depth;
     j["torsion_sign"] = sign_word(r.torsion_sign);
     j["torsion_sign_changes"] = r.torsion_sign_changes;
+    j["planar"] = r.planar;
   }
   return j;
 }
@@ -116,7 +117,10 @@ nlohmann::ordered_json space_verdict_json(const SpaceAnalysis& a) {
                                     {"curvature", to_string(a.curvature)},
                                     {"zero_curvature", a.zero_curvature},
                                     {"cusp", a.cusp}};
-  if (a.torsion) verdict["torsion"] = to_string(*a.torsion);
+  if (a.torsion) {
+    verdict["torsion"] = to_string(*a.torsion);
+    verdict["planar"] = a.planar;
+  }
   if (!a.joint_conflicts.empty()) verdict["joint_conflicts"] = a.joint_conflicts;
   return verdict;
 }
@@ -128,6 +132,136 @@ nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const Spac
   for (const SpaceJoint& j : a.joints) joints.push_back(space_joint_json(a, j));
   if (a.seam) joints.push_back(space_joint_json(a, *a.seam));
   return {{"segments", segs}, {"joints", joints}, {"spline", space_verdict_json(a)}};
+}
+
+namespace {
+
+/// The violations of each gate (report/gates.hpp's rules, read in 3D: a
+/// smooth joint is a G1 one without a zero tangent; zero curvature is the
+/// inflection's analogue).
+std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptions& options) {
+  std::vector<GateResult> out;
+  const SpaceSpline& spline = *r.spline;
+  const auto& segments = spline.segments();
+  for (const Gate& gate : options.gates) {
+    GateResult g{gate, {}};
+    const auto at = [&](int i, double t, std::string message) {
+      GateViolation v;
+      v.segment = i;
+      v.t = t;
+      const Segment& s = segments[static_cast<std::size_t>(i)];
+      v.local_t = s.b > s.a ? (t - s.a) / (s.b - s.a) : 0;
+      v.message = std::move(message);
+      g.violations.push_back(std::move(v));
+    };
+    switch (gate.kind) {
+      case Gate::Kind::extrema_at_nodes:
+      case Gate::Kind::max_extrema_per_segment:
+        for (std::size_t i = 0; i < r.extrema.size(); ++i) {
+          if (r.kappa_spread[i] <= options.constant_tolerance) continue;  // an arc of constant curvature
+          const auto& ex = r.extrema[i];
+          const int allowed = gate.kind == Gate::Kind::extrema_at_nodes ? 0 : gate.max_extrema;
+          if (static_cast<int>(ex.size()) <= allowed) continue;
+          if (gate.kind == Gate::Kind::extrema_at_nodes) {
+            for (const SpaceExtremum& e : ex)
+              at(static_cast<int>(i), e.t,
+                 std::string("curvature ") + (e.maximum ? "maximum" : "minimum") + " inside segment " +
+                     std::to_string(i) + " at t = " + num(e.t));
+          } else {
+            at(static_cast<int>(i), ex[static_cast<std::size_t>(allowed)].t,
+               std::to_string(ex.size()) + " curvature extrema inside segment " + std::to_string(i) + " (at most " +
+                   std::to_string(allowed) + "); the first extra at t = " + num(ex[static_cast<std::size_t>(allowed)].t));
+          }
+        }
+        break;
+      case Gate::Kind::g2_at_smooth_nodes: {
+        std::vector<const SpaceJoint*> joints;
+        for (const SpaceJoint& j : r.analysis.joints) joints.push_back(&j);
+        if (r.analysis.seam) joints.push_back(&*r.analysis.seam);
+        for (const SpaceJoint* j : joints) {
+          if (!j->g1 || j->zero_tangent) continue;  // a corner: exempt
+          const double kl = j->kappa_left, kr = j->kappa_right;
+          if (!std::isfinite(kl) || !std::isfinite(kr)) continue;
+          const double scale = std::max(kl, kr);
+          if (std::abs(kl - kr) <= gate.tolerance * scale) continue;
+          GateViolation v;
+          v.joint = j->index;
+          v.t = j->knot;
+          v.message = "curvature " + num(kl) + " | " + num(kr) + " at smooth joint " + std::to_string(j->index) +
+                      " (t = " + num(j->knot) + "): differs by " + num(100 * std::abs(kl - kr) / scale) + "%";
+          g.violations.push_back(std::move(v));
+        }
+        break;
+      }
+      case Gate::Kind::no_inflection:
+        for (std::size_t i = 0; i < r.analysis.segments.size(); ++i)
+          for (double t : r.analysis.segments[i].zero_curvature)
+            at(static_cast<int>(i), t, "zero curvature (kappa = 0) in segment " + std::to_string(i) + " at t = " + num(t));
+        break;
+      case Gate::Kind::each_piece:
+        for (std::size_t i = 0; i < r.analysis.segments.size(); ++i) {
+          const Curvature d = r.analysis.segments[i].curvature.curvature;
+          if (d == Curvature::increasing || d == Curvature::decreasing || d == Curvature::constant ||
+              r.kappa_spread[i] <= options.constant_tolerance)
+            continue;
+          at(static_cast<int>(i), segments[i].a,
+             "segment " + std::to_string(i) +
+                 (d == Curvature::non_monotone ? " is not monotone on its own" : " is undecided at the depth limit"));
+        }
+        break;
+      case Gate::Kind::unimodal_runs:
+      case Gate::Kind::xy_extrema_at_nodes:
+        break;  // refused by space_requirements
+    }
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+}  // namespace
+
+void space_requirements(const ReportOptions& parsed, SpaceReportOptions& o, const std::string& file) {
+  if (parsed.require) {
+    if (parsed.require->split)
+      throw InputError(file + ": a space curve: --require " + to_string(*parsed.require) +
+                       " has no meaning in 3D (|kappa| has no sign to split at a joint); use cmrwi or cmr");
+    o.require_monotone = true;
+    o.require_no_zero_curvature = parsed.require->mode == Mode::cmr;
+  }
+  for (const Gate& g : parsed.gates) {
+    if (g.kind == Gate::Kind::unimodal_runs || g.kind == Gate::Kind::xy_extrema_at_nodes)
+      throw InputError(file + ": a space curve: --require " + to_string(g) +
+                       " is a rule for font outlines, not for space curves");
+    o.gates.push_back(g);
+  }
+}
+
+std::vector<Finding> space_findings(const SpaceReport& r, const std::string& name, const SpaceReportOptions& options) {
+  std::vector<Finding> out;
+  if (!r.error.empty() || !r.spline) return out;
+  const std::string glyph = r.spline->name();
+  if (options.require_monotone && !r.check_pass) {
+    Finding f;
+    f.file = name;
+    f.glyph = glyph;
+    f.gate = options.require_no_zero_curvature ? "cmr" : "cmrwi";
+    f.message = glyph + ": fails the " + f.gate + " check (curvature " + to_string(r.analysis.curvature) +
+                (options.require_no_zero_curvature && r.analysis.zero_curvature ? ", zero curvature" : "") + ")";
+    out.push_back(std::move(f));
+  }
+  for (const GateResult& g : r.gates)
+    for (const GateViolation& v : g.violations) {
+      Finding f;
+      f.file = name;
+      f.glyph = glyph;
+      f.gate = to_string(g.gate);
+      f.node = v.segment >= 0 ? "segment " + std::to_string(v.segment)
+               : v.joint >= 0 ? "joint " + std::to_string(v.joint)
+                              : std::string();
+      f.message = glyph + ": " + v.message;
+      out.push_back(std::move(f));
+    }
+  return out;
 }
 
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options) {
@@ -142,10 +276,13 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   SpaceAnalyzeOptions o;
   o.max_depth = options.max_depth;
   o.torsion = options.torsion;
+  o.torsion_tolerance = options.torsion_tolerance;
   o.continuity = options.continuity;
   r.analysis = analyze_space(*r.spline, o);
   r.kappa_min = std::numeric_limits<double>::infinity();
   r.kappa_max = 0;
+  double lo_all = std::numeric_limits<double>::infinity(), hi_all = 0;
+  r.near_constant = !r.analysis.cusp;
   for (const Segment& s : r.spline->segments()) {
     r.extrema.push_back(space_curvature_extrema(*r.spline, s));
     for (int i = 0; i <= 64; ++i) {
@@ -154,13 +291,34 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
       r.kappa_min = std::min(r.kappa_min, k);
       r.kappa_max = std::max(r.kappa_max, k);
     }
+    // The planar report's spread (report.cpp, curvature_range): |kappa| at
+    // the segment's ends and at its stationary points.
+    double lo = std::numeric_limits<double>::infinity(), hi = 0;
+    const auto consider = [&](double t) {
+      const double k = space_curvature(*r.spline, t);
+      if (!std::isfinite(k)) return;
+      lo = std::min(lo, k), hi = std::max(hi, k);
+    };
+    consider(s.a);
+    consider(s.b);
+    for (const SpaceExtremum& e : r.extrema.back()) consider(e.t);
+    const double spread = hi > 0 && std::isfinite(lo) ? (hi - lo) / hi : (hi > 0 ? 1.0 : 0.0);
+    r.kappa_spread.push_back(spread);
+    if (std::isfinite(lo)) lo_all = std::min(lo_all, lo), hi_all = std::max(hi_all, hi);
   }
   if (!std::isfinite(r.kappa_min)) r.kappa_min = 0;
+  r.spread = hi_all > 0 && std::isfinite(lo_all) ? (hi_all - lo_all) / hi_all : 0;
+  for (double x : r.kappa_spread) r.near_constant = r.near_constant && x <= options.constant_tolerance;
+  r.near_constant = r.near_constant && r.spread <= options.constant_tolerance && hi_all > 0;
   if (options.regions)
     for (int k = 0; k < r.spline->unique_point_count(); ++k)
       r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
-  r.pass = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
-  if (!r.pass && options.fixes) {  // the smallest certified fix (bezierize/space_fix.hpp)
+  const bool monotone = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
+  r.check_pass = (monotone || r.near_constant) && !(options.require_no_zero_curvature && r.analysis.zero_curvature);
+  r.gates = space_gates(r, options);
+  r.pass = r.check_pass;
+  for (const GateResult& g : r.gates) r.pass = r.pass && g.pass();
+  if (!(monotone || r.near_constant) && options.fixes) {  // the smallest certified fix (bezierize/space_fix.hpp)
     SpaceFixRequest f;
     f.max_depth = options.max_depth;
     f.time_limit = kReportSpaceFixSeconds;
@@ -196,11 +354,14 @@ nlohmann::ordered_json space_fix_json(const SpaceFixResult& f) {
   return j;
 }
 
-nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options) {
+nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options,
+                                         const std::vector<std::vector<Finding>>* findings) {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  int pass = 0, fail = 0, invalid = 0;
-  for (const SpaceReport& r : reports) {
-    nlohmann::ordered_json j = {{"file", r.file}};
+  int pass = 0, fail = 0, invalid = 0, finding_count = 0;
+  for (std::size_t at = 0; at < reports.size(); ++at) {
+    const SpaceReport& r = reports[at];
+    nlohmann::ordered_json j = {{"id", "s" + std::to_string(at)}, {"file", r.file}};
+    j["status"] = !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail");
     if (!r.error.empty()) {
       j["error"] = r.error;
       ++invalid;
@@ -209,7 +370,33 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
     }
     j["name"] = r.spline->name();
     j["pass"] = r.pass;
+    j["check_pass"] = r.check_pass;
+    j["near_constant"] = r.near_constant;
+    j["kappa_spread"] = r.spread;
     j["analysis"] = space_analysis_json(*r.spline, r.analysis);
+    for (std::size_t i = 0; i < r.kappa_spread.size(); ++i) {
+      j["analysis"]["segments"][i]["kappa_spread"] = r.kappa_spread[i];
+      j["analysis"]["segments"][i]["near_constant"] = r.kappa_spread[i] <= options.constant_tolerance;
+    }
+    nlohmann::ordered_json gates = nlohmann::ordered_json::array();
+    for (const GateResult& g : r.gates) {
+      nlohmann::ordered_json vs = nlohmann::ordered_json::array();
+      for (const GateViolation& v : g.violations) {
+        nlohmann::ordered_json x = {{"t", v.t}, {"message", v.message}};
+        if (v.segment >= 0) x["segment"] = v.segment;
+        if (v.joint >= 0) x["joint"] = v.joint;
+        vs.push_back(x);
+      }
+      gates.push_back({{"gate", to_string(g.gate)}, {"pass", g.pass()}, {"violations", vs}});
+    }
+    j["gates"] = gates;
+    if (findings && at < findings->size()) {
+      nlohmann::ordered_json fj = nlohmann::ordered_json::array();
+      for (const Finding& f : (*findings)[at])
+        fj.push_back({{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}});
+      finding_count += static_cast<int>(fj.size());
+      j["findings"] = fj;
+    }
     nlohmann::ordered_json ex = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < r.extrema.size(); ++i)
       for (const SpaceExtremum& e : r.extrema[i])
@@ -242,11 +429,15 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
     ++(r.pass ? pass : fail);
     list.push_back(j);
   }
-  nlohmann::ordered_json doc = {{"tool", "cmr report"}, {"dimension", 3}, {"depth", options.max_depth}};
-  if (options.require_monotone) doc["require"] = "cmrwi";
+  nlohmann::ordered_json doc = {{"schema", kSchema}, {"tool", "cmr report"}, {"dimension", 3}, {"depth", options.max_depth}};
+  if (options.require_monotone) doc["require"] = options.require_no_zero_curvature ? "cmr" : "cmrwi";
+  nlohmann::ordered_json gate_names = nlohmann::ordered_json::array();
+  for (const Gate& g : options.gates) gate_names.push_back(to_string(g));
+  doc["gates"] = gate_names;
+  doc["constant_tolerance"] = options.constant_tolerance;
   if (options.regions) doc["region_size"] = options.region_size;
   doc["splines"] = list;
-  doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}};
+  doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}, {"findings", finding_count}};
   return doc;
 }
 
@@ -360,9 +551,22 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       continue;
     }
     const SpaceAnalysis& a = r.analysis;
-    out += std::string("<p>curvature: <b class=\"") + (r.pass ? "pass" : "fail") + "\">" + to_string(a.curvature) +
+    // The planar report's wording (report.cpp, verdict_label): a curve of
+    // straights is "straight"; here a curve of constant curvature within
+    // --constant-tol says so, and torsion zero on every piece is "zero".
+    bool straight = !a.segments.empty();
+    for (const SpaceSegmentResult& s : a.segments) straight = straight && s.straight;
+    const std::string curvature_label =
+        straight ? "straight"
+        : r.near_constant && a.curvature != Direction::increasing && a.curvature != Direction::decreasing
+            ? "constant within " + num(options.constant_tolerance) + " (spread " + num(r.spread) + ")"
+            : std::string(to_string(a.curvature));
+    out += std::string("<p>curvature: <b class=\"") + (r.pass ? "pass" : "fail") + "\">" + html_escape(curvature_label) +
            "</b>";
-    if (a.torsion) out += " · torsion: <b>" + std::string(to_string(*a.torsion)) + "</b>";
+    if (a.torsion) out += " · torsion: <b>" + std::string(a.planar ? "zero (planar pieces)" : to_string(*a.torsion)) + "</b>";
+    for (const GateResult& g : r.gates)
+      out += std::string(" · <span class=\"") + (g.pass() ? "pass" : "fail") + "\">" + html_escape(to_string(g.gate)) +
+             (g.pass() ? ": pass" : ": " + std::to_string(g.violations.size()) + " violations") + "</span>";
     out += std::string(" · zero curvature: ") + (a.zero_curvature ? "yes" : "no") + " · cusp: " + (a.cusp ? "yes" : "no") +
            " · κ in [" + html_escape(num(r.kappa_min)) + ", " + html_escape(num(r.kappa_max)) + "]</p>";
     if (r.fix && r.fix->fixed && !r.fix->moves.empty()) {
@@ -387,7 +591,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       return glm::length(hi - lo);
     }();
     out += projections_svg(*r.spline, r.kappa_max > 0 ? 0.25 * extent / r.kappa_max : 0.0);
-    out += "<div>" + plot_svg(*r.spline, r.extrema, false) + (a.torsion ? plot_svg(*r.spline, r.extrema, true) : "") +
+    out += "<div>" + plot_svg(*r.spline, r.extrema, false) + (a.torsion && !a.planar ? plot_svg(*r.spline, r.extrema, true) : "") +
            "</div>";
     out += "<table><tr><th>segment</th><th>interval</th><th>curvature</th><th>depth</th><th>κ = 0 at</th>"
            "<th>extrema</th><th>torsion</th><th>exact</th></tr>";

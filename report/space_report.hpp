@@ -12,14 +12,33 @@
 #include "bezierize/space_analyze.hpp"
 #include "bezierize/space_fix.hpp"
 #include "bezierize/space_region.hpp"
+#include "report/corpus.hpp"
+#include "report/gates.hpp"
 
 namespace cmr::report {
 
 struct SpaceReportOptions {
   int max_depth = kDefaultDepth;
   bool torsion = true;  ///< judge torsion monotonicity too (reported; the gate is curvature's)
+  double torsion_tolerance = 0;  ///< SpaceAnalyzeOptions::torsion_tolerance (`--torsion-tol`)
   ContinuityTolerances continuity;
   bool require_monotone = false;  ///< the gate: |kappa| monotone over the whole spline
+  /// --require cmr: monotone and kappa never 0 (zero curvature is the space
+  /// analogue of an inflection); implies require_monotone.
+  bool require_no_zero_curvature = false;
+  /// The gates of the planar report that have a meaning in 3D
+  /// (space_requirements): curvature-extrema-at-nodes,
+  /// max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection
+  /// (no zero curvature) and each-piece.
+  std::vector<Gate> gates;
+  /// The planar report's rule (ReportOptions::constant_tolerance): a segment
+  /// whose curvature, at its ends and stationary points, varies by at most
+  /// this relative to its largest |kappa| is an arc of constant curvature up
+  /// to the rounding of its data (a CAD circle, an OpenCASCADE approximation
+  /// of one): the extremum gates skip it, and a curve whose every segment is
+  /// such an arc, with the same curvature within the tolerance across its
+  /// joints, passes cmrwi and cmr (its exact verdict is still reported).
+  double constant_tolerance = kDefaultConstantTolerance;
   /// Search the smallest certified fix of each failing curve (space_fix,
   /// cmrwi, each point in its default plane, kReportSpaceFixSeconds).
   bool fixes = true;
@@ -51,7 +70,18 @@ struct SpaceReport {
   SpaceAnalysis analysis;
   std::vector<std::vector<SpaceExtremum>> extrema;  ///< per segment, certified locations
   double kappa_min = 0, kappa_max = 0;              ///< sampled (the plot's range)
-  bool pass = false;  ///< the curvature verdict is increasing or decreasing
+  /// The check (cmrwi, or cmr with require_no_zero_curvature) holds: the
+  /// curvature verdict is increasing or decreasing, or the curve is
+  /// near_constant; and every gate passes.
+  bool pass = false;
+  bool check_pass = false;  ///< the check alone
+  /// Per segment: (max - min) / max of |kappa| at its ends and stationary
+  /// points (0 for a straight segment); near_constant when every segment's
+  /// and the whole curve's are at most options.constant_tolerance.
+  std::vector<double> kappa_spread;
+  double spread = 0;  ///< the same over the whole curve
+  bool near_constant = false;
+  std::vector<GateResult> gates;  ///< options.gates, in order
   std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions
   std::optional<SpaceFixResult> fix;  ///< failing curves, with options.fixes
 };
@@ -64,6 +94,18 @@ std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane,
 /// The thumbnail of control point k (its region in its default plane).
 SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
 
+/// The planar report's --require (parse_require_list into `parsed`) for a
+/// run of space curves: cmrwi and cmr and the gates above go into `o`; a
+/// check or gate that has no meaning for a space curve (split:S, the
+/// quadratic-run and x/y-extremum gates of fonts) is an InputError naming
+/// `file`, the run's first space curve.
+void space_requirements(const ReportOptions& parsed, SpaceReportOptions& o, const std::string& file);
+
+/// The findings of one report (Finding::key as the planar report's: file,
+/// the spline's name, contour 0, "segment i" / "joint i", the gate or the
+/// check), `name` being the file's name in findings (source_name).
+std::vector<Finding> space_findings(const SpaceReport& r, const std::string& name, const SpaceReportOptions& options);
+
 /// Reads and analyses one file; an InputError becomes `error`.
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options);
 
@@ -74,8 +116,13 @@ nlohmann::ordered_json space_analysis_json(const SpaceSpline& spline, const Spac
 nlohmann::ordered_json space_segment_json(const SpaceSpline& spline, const SpaceAnalysis& analysis, std::size_t i);
 nlohmann::ordered_json space_joint_json(const SpaceAnalysis& analysis, const SpaceJoint& joint);
 nlohmann::ordered_json space_verdict_json(const SpaceAnalysis& analysis);
-/// report.json: {"dimension": 3, "splines": [...], "summary": {...}}.
-nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
+/// report.json: {"schema": kSchema, "dimension": 3, "splines": [...],
+/// "summary": {...}}; each spline with its "status" (pass, fail, invalid)
+/// and, with `findings` (one list per report), its "findings" as the planar
+/// report writes them ({"gate", "node", "message", "key"}: a baseline of
+/// either reads both).
+nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports, const SpaceReportOptions& options,
+                                         const std::vector<std::vector<Finding>>* findings = nullptr);
 /// A fix's entry of report.json's "certified_fixes" (the planar report's
 /// fields, 3D points): {"check": "cmrwi", "found", "moves": [{"point", "name",
 /// "from", "to", "displacement", "distance", "relative"}], "max_relative",

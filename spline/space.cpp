@@ -221,7 +221,7 @@ nlohmann::json parse_file(const std::filesystem::path& path) {
     std::string what = e.what();
     const auto pos = what.find("] ");
     if (pos != std::string::npos) what = what.substr(pos + 2);
-    throw InputError(path.string() + ": malformed JSON: " + what);
+    throw InputError(input_name(path) + ": malformed JSON: " + what);
   }
 }
 
@@ -241,7 +241,7 @@ int spline_file_dimension(const std::filesystem::path& path, const nlohmann::jso
   try {
     return spline_dimension(doc);
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    throw InputError(input_name(path) + ": " + e.what());
   }
 }
 
@@ -276,7 +276,7 @@ SpaceSpline read_space_spline_file(const std::filesystem::path& path, const Read
   try {
     return space_spline_from_json(doc, options);
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    throw InputError(input_name(path) + ": " + e.what());
   }
 }
 

@@ -1,16 +1,19 @@
 #include "spline/spline_json.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
 #include <new>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -132,26 +135,99 @@ BSpline spline_from_json(const json& doc, const ReadOptions& options) {
   return BSpline::make(degree, std::move(knots), std::move(points), std::move(name), std::move(weights));
 }
 
+namespace {
+
+std::atomic<bool> g_stdin_closed{false};
+
+/// Reads `fd` (a pipe, a FIFO, a socket, a character device such as
+/// /dev/null) to its end, at most kMaxInputBytes. A descriptor in
+/// non-blocking mode (a FIFO opened with O_NONBLOCK, or a standard input
+/// left so) is waited on with poll in steps of 100 ms, then read again: a
+/// FIFO's read returns 0 (its end) once no writer holds it, even where poll
+/// would not report the hang-up (a FIFO reopened through /dev/stdin after
+/// its writer has gone), so no wait outlives the writers.
+std::string read_stream(int fd, const std::string& name, const std::string& too_large) {
+  std::string text(4096, '\0');
+  std::size_t used = 0;
+  for (;;) {
+    if (used == text.size()) {
+      if (text.size() > kMaxInputBytes) throw InputError(too_large);
+      text.resize(std::min<std::size_t>(2 * text.size(), kMaxInputBytes + 1));
+    }
+    const ssize_t n = ::read(fd, text.data() + used, text.size() - used);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      pollfd p{fd, POLLIN, 0};
+      (void)::poll(&p, 1, 100);
+      continue;
+    }
+    if (n < 0) throw InputError(name + ": cannot read the file (" + std::strerror(errno) + ")");
+    if (n == 0) break;
+    used += static_cast<std::size_t>(n);
+  }
+  if (used > kMaxInputBytes) throw InputError(too_large);
+  text.resize(used);
+  return text;
+}
+
+/// What standard input held when it was first read: cmr reads it once, and
+/// a command that reads its input twice (the dimension of a spline file,
+/// then the file) gets the same text again.
+std::optional<std::string>& stdin_text() {
+  static std::optional<std::string> text;
+  return text;
+}
+
+}  // namespace
+
+std::string input_name(const std::filesystem::path& path) {
+  return path == kStdinPath ? std::string("stdin") : path.string();
+}
+
+void note_stdin_closed() noexcept { g_stdin_closed = true; }
+
 std::string read_input_file(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) throw InputError(path.string() + ": cannot open the file (" + std::strerror(errno) + ")");
+  const bool from_stdin = path == kStdinPath;
+  const std::string name = input_name(path);
+  if (from_stdin && stdin_text()) return *stdin_text();
+  if (from_stdin && g_stdin_closed) throw InputError("stdin: closed (nothing to read; pipe a spline file in, or name one)");
+  const int fd = from_stdin ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) throw InputError(name + ": cannot open the file (" + std::strerror(errno) + ")");
   struct Closer {
     int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
+    bool own;
+    ~Closer() {
+      if (own) ::close(fd);
+    }
+  } closer{fd, !from_stdin};
   struct stat st {};
-  if (::fstat(fd, &st) != 0) throw InputError(path.string() + ": cannot read the file (" + std::strerror(errno) + ")");
-  if (!S_ISREG(st.st_mode)) {
+  if (::fstat(fd, &st) != 0) {
+    if (from_stdin && errno == EBADF) throw InputError("stdin: closed (nothing to read; pipe a spline file in, or name one)");
+    throw InputError(name + ": cannot read the file (" + std::strerror(errno) + ")");
+  }
+  const std::string too_large =
+      name + ": larger than the " + std::to_string(kMaxInputBytes >> 20) + " MiB input limit";
+  // Standard input may be anything but a folder or a terminal; a named path
+  // a regular file or a FIFO (a pipe: /dev/stdin, /dev/fd/N, mkfifo's).
+  const bool terminal = from_stdin && ::isatty(fd) == 1;
+  const bool stream = S_ISFIFO(st.st_mode) || (from_stdin && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode) && !terminal);
+  if (!S_ISREG(st.st_mode) && !stream) {
+    if (terminal) throw InputError("stdin: a terminal (pipe a spline file in: cmr knots FILE insert U | cmr analyze -)");
     const char* kind = S_ISDIR(st.st_mode)    ? "a folder"
-                       : S_ISFIFO(st.st_mode) ? "a FIFO"
                        : S_ISCHR(st.st_mode)  ? "a character device"
                        : S_ISBLK(st.st_mode)  ? "a block device"
                        : S_ISSOCK(st.st_mode) ? "a socket"
                                               : "not a plain file";
-    throw InputError(path.string() + ": not a regular file (" + kind + ")");
+    throw InputError(name + ": not a regular file (" + kind + ")");
   }
-  const std::string too_large =
-      path.string() + ": larger than the " + std::to_string(kMaxInputBytes >> 20) + " MiB input limit";
+  if (stream) {
+    std::string text = read_stream(fd, name, too_large);
+    if (text.empty())
+      throw InputError(name + (S_ISFIFO(st.st_mode) ? ": empty (nothing came through the FIFO)"
+                                                    : ": empty (nothing to read)"));
+    if (from_stdin) stdin_text() = text;
+    return text;
+  }
   if (static_cast<std::uint64_t>(st.st_size) > kMaxInputBytes) throw InputError(too_large);
   std::string text(static_cast<std::size_t>(st.st_size), '\0');
   std::size_t used = 0;
@@ -162,12 +238,14 @@ std::string read_input_file(const std::filesystem::path& path) {
     }
     const ssize_t n = ::read(fd, text.data() + used, text.size() - used);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw InputError(path.string() + ": cannot read the file (" + std::strerror(errno) + ")");
+    if (n < 0) throw InputError(name + ": cannot read the file (" + std::strerror(errno) + ")");
     if (n == 0) break;
     used += static_cast<std::size_t>(n);
   }
   if (used > kMaxInputBytes) throw InputError(too_large);
   text.resize(used);
+  if (from_stdin && text.empty()) throw InputError("stdin: empty (nothing to read)");
+  if (from_stdin) stdin_text() = text;
   return text;
 }
 
@@ -242,14 +320,14 @@ json read_spline_document(const std::filesystem::path& path) {
     return doc;
   } catch (const json::exception& e) {
     if (const char* kind = foreign_kind(text))  // an SVG or font given where a spline file belongs
-      throw InputError(path.string() + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
+      throw InputError(input_name(path) + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
                        " --out DIR` to convert it to spline files)");
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ..."
     // (or out_of_range.406 "number overflow parsing '1e999'").
     std::string what = e.what();
     const auto pos = what.find("] ");
     if (pos != std::string::npos) what = what.substr(pos + 2);
-    throw InputError(path.string() + ": malformed JSON: " + what);
+    throw InputError(input_name(path) + ": malformed JSON: " + what);
   }
 }
 
@@ -257,7 +335,7 @@ BSpline spline_from_document(const json& doc, const std::filesystem::path& path,
   try {
     return spline_from_json(doc, options);
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    throw InputError(input_name(path) + ": " + e.what());
   }
 }
 

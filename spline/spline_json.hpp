@@ -67,13 +67,32 @@ BSpline spline_from_document(const nlohmann::json& doc, const std::filesystem::p
 /// io/output.hpp, atomically.)
 nlohmann::json spline_to_json(const BSpline& spline);
 
+/// The path that names standard input: every command that reads a spline,
+/// points or script file reads standard input when given "-".
+inline constexpr const char* kStdinPath = "-";
+/// How messages name an input: "stdin" for "-", else the path.
+std::string input_name(const std::filesystem::path& path);
+/// Called by cmr's main when file descriptor 0 was closed at start (it then
+/// holds /dev/null, so that no file cmr opens lands there): reading "-"
+/// says "stdin: closed".
+void note_stdin_closed() noexcept;
+
 /// The whole content of an input file (spline, points, script), read safely:
 /// opened with O_NONBLOCK, so that a FIFO with no writer cannot hang the
-/// open; then fstat must show a regular file (a FIFO, a device such as
-/// /dev/zero, a folder or a socket is refused at once, before any read); and
-/// at most kMaxInputBytes are read (a larger or growing file is refused).
+/// open; then fstat must show a regular file or a FIFO (a device such as
+/// /dev/zero, a folder or a socket is refused at once, before any read);
+/// and at most kMaxInputBytes are read (a larger or growing file or stream
+/// is refused, after reading at most one byte past the limit).
+/// A FIFO (a pipe reached through /dev/stdin or /dev/fd/N, or mkfifo's) is
+/// read until no writer holds it; one that gives nothing (no writer, or a
+/// writer that closed it at once) is "PATH: empty (...)", at once.
+/// "-" reads standard input (kStdinPath): a pipe, a file, a socket or a
+/// device such as /dev/null, not a terminal or a folder; empty or closed is
+/// one line ("stdin: empty (nothing to read)", "stdin: closed (...)"). It is
+/// read once per process and kept: reading "-" again gives the same text.
 /// Throws InputError "PATH: cannot open the file (<strerror>)", "PATH: not a
-/// regular file (a FIFO)", "PATH: larger than the 64 MiB input limit", ...
+/// regular file (a character device)", "PATH: larger than the 64 MiB input
+/// limit", ... (PATH as input_name writes it).
 std::string read_input_file(const std::filesystem::path& path);
 
 }  // namespace cmr

@@ -29,6 +29,7 @@ struct AnalyzeArgs {
   bool torsion = false;  // space curves (tools/cmd_space.hpp)
   std::string each_piece;  // --each-piece [S1,S2,...]
   const CLI::Option* each_piece_option = nullptr;
+  double torsion_tolerance = 0;
 };
 
 }  // namespace
@@ -55,6 +56,9 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
           ->expected(0, 1);
   add_continuity_options(*cmd, args->continuity);
   cmd->add_flag("--torsion", args->torsion, "space curves: also judge torsion monotonicity (docs/space.md)");
+  cmd->add_option("--torsion-tol", args->torsion_tolerance,
+                  "with --torsion: a segment whose |torsion| is at most this is planar (torsion constant); default 0: "
+                  "only exactly planar segments");
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     // The file is parsed once (a 10^6-span spline's JSON is large).
@@ -65,14 +69,16 @@ void add_analyze_command(CLI::App& app, int& exit_code) {
           args->each_piece_option->count() > 0)
         throw InputError(args->file +
                          ": a space curve; --split, --segments, --each-piece and --mode are for planar splines");
-      run_space_analyze(args->file, args->depth, args->torsion, args->continuity, args->pretty);
+      if (args->torsion_tolerance != 0 && !args->torsion) throw InputError("--torsion-tol: only with --torsion");
+      run_space_analyze(args->file, args->depth, args->torsion, args->continuity, args->pretty, args->torsion_tolerance);
       exit_code = kOk;
       return;
     }
     const BSpline spline = spline_from_document(*doc, args->file);
     release.reset();
     doc.reset();  // its memory before the analysis
-    if (args->torsion) throw InputError(args->file + ": a planar spline; --torsion is for space curves");
+    if (args->torsion || args->torsion_tolerance != 0)
+      throw InputError(input_name(args->file) + ": a planar spline; --torsion and --torsion-tol are for space curves");
     AnalyzeOptions o;
     o.classify.max_depth = args->depth;
     if (args->split.size() == 1) o.split = args->split[0];

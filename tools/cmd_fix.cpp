@@ -3,6 +3,7 @@
 // the nearest certified repair (bezierize/fix.hpp, docs/fix.md).
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 
 #include <CLI/CLI.hpp>
 
@@ -323,7 +324,9 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       doc["png"] = args->png;
     }
     outputs.commit();
-    print_json(doc, args->pretty);
+    // With --out - (or --png -) stdout is the file alone (a pipe: cmr fix F --out - | cmr analyze -): the JSON goes to stderr.
+    if (is_stdout_path(args->out) || is_stdout_path(args->png)) std::cerr << json_text(doc, args->pretty);
+    else print_json(doc, args->pretty);
     exit_code = kOk;
   });
 }

@@ -63,9 +63,9 @@ KCurvePoints read_kcurve_points_file(const std::filesystem::path& path) {
     std::string what = e.what();  // "[json.exception.parse_error.101] parse error at ..."
     const auto pos = what.find("] ");
     if (pos != std::string::npos) what = what.substr(pos + 2);
-    throw InputError(path.string() + ": malformed JSON: " + what);
+    throw InputError(input_name(path) + ": malformed JSON: " + what);
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    throw InputError(input_name(path) + ": " + e.what());
   }
 }
 

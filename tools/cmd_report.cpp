@@ -8,7 +8,9 @@
 // this file only parses.
 // A font file is imported (io/font.hpp): each glyph contour is one closed spline;
 // an SVG file (.svg) is read as cmr import reads it (io/svg.hpp, y-up): each
-// subpath is one spline. Space curves get their own report (tools/cmd_space.hpp).
+// subpath is one spline. A run of space curves (files, folders, globs or -) is judged by
+// report/space_report.hpp and written in the same schema with the same CI files
+// (tools/cmd_space.hpp: run_space_report); a flag only planar runs take is refused.
 #include <unistd.h>
 
 #include <cmath>
@@ -55,6 +57,7 @@ struct ReportArgs {
   bool quiet = false;
   bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
+  double torsion_tolerance = 0;
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -112,32 +115,61 @@ void add_report_command(CLI::App& app, int& exit_code) {
                            "extremum gates skip its stationary points (rounded circle arcs); 0: exact constants only"),
            0.0, 1.0)
       ->capture_default_str();
+  cmd->add_option("--torsion-tol", args->torsion_tolerance,
+                  "space curves: a segment whose |torsion| is at most this is planar (torsion constant); default 0: "
+                  "only exactly planar segments");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, &exit_code] {
-    // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
+  cmd->callback([args, cmd, &exit_code] {
+    // Space curves ([x, y, z] points) are judged by report/space_report.hpp
+    // and written with the same schema, findings and CI files
+    // (tools/cmd_space.hpp, docs/space.md).
+    std::vector<std::string> bases;
+    std::vector<report::SkippedPath> skipped;
+    std::vector<std::string> collected = report::collect_files(args->files, args->filter, &bases, &skipped, {args->out});
     std::string space, planar;
-    const auto dimension = [](const std::string& f) {
-      try {
-        return spline_file_dimension(f);
-      } catch (const InputError&) {
-        return 2;  // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
-      }
-    };
-    for (const std::string& f : args->files)
-      if (import::is_font_path(f) || import::is_source_path(f) || std::filesystem::is_regular_file(f)) {
-        const bool font = import::is_font_path(f) || import::is_source_path(f);  // unreadable: that report names it
-        (!font && dimension(f) == 3 ? space : planar) = f;
-      }
+    for (const std::string& f : collected) {
+      int dimension = 2;
+      if (report::file_kind(f) == report::FileKind::spline) try {
+          dimension = spline_file_dimension(f);
+        } catch (const InputError&) {
+          // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
+        }
+      (dimension == 3 ? space : planar) = f;
+    }
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
     if (!space.empty()) {
-      if (!args->segments.empty() || (!args->require.empty() && args->require != "cmrwi"))
-        throw InputError(space + ": a space curve; its report takes --require cmrwi only, and no --segments");
-      exit_code = run_space_report(args->files, args->out, args->depth, true, args->continuity,
-                                   args->require == "cmrwi", args->pretty, !args->no_fixes && !args->no_thumbnails,
-                                   args->region_size, !args->no_thumbnails);
+      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--strict", "--backend",
+                               "--device"})
+        if (cmd->count(flag) > 0)
+          throw InputError(std::string(flag) + ": not for space curves (" + space +
+                           "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
+                           "--torsion-tol and the joint tolerances");
+      for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
+      SpaceReportRun run;
+      run.files = std::move(collected);
+      run.bases = std::move(bases);
+      run.out = args->out;
+      run.pretty = args->pretty;
+      if (!args->require.empty()) report::parse_require_list(args->require, run.parsed);
+      report::space_requirements(run.parsed, run.options, space);
+      run.options.max_depth = args->depth;
+      run.options.torsion = true;
+      run.options.continuity = args->continuity;
+      run.options.constant_tolerance = args->constant_tolerance;
+      run.options.torsion_tolerance = args->torsion_tolerance;
+      run.options.fixes = !args->no_fixes && !args->no_thumbnails;
+      run.options.regions = !args->no_thumbnails;
+      run.options.region_size = args->region_size;
+      if (!args->junit.empty()) run.junit = args->junit;
+      if (!args->sarif.empty()) run.sarif = args->sarif;
+      if (!args->baseline.empty()) run.baseline = args->baseline;
+      if (!args->source_root.empty()) run.source_root = args->source_root;
+      if (!args->markdown.empty()) run.markdown = args->markdown;
+      exit_code = run_space_report(run);
       return;
     }
+    if (cmd->count("--torsion-tol") > 0) throw InputError("--torsion-tol: for space curves, and this run has none");
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;
@@ -172,7 +204,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->baseline.empty()) b.baseline = args->baseline;
     if (!args->source_root.empty()) b.source_root = args->source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
-    const auto files = report::collect_files(args->files, args->filter, &b.bases, &b.skipped, {args->out});
+    const std::vector<std::string>& files = collected;
+    b.bases = std::move(bases);
+    b.skipped = std::move(skipped);
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);

@@ -1,7 +1,11 @@
 // Space curves on the command line (tools/cmd_space.hpp, docs/space.md).
 #include "tools/cmd_space.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <ctime>
 #include <cmath>
 #include <iostream>
 
@@ -9,6 +13,10 @@
 #include "draw/draw.hpp"
 #include "draw/space_mesh.hpp"
 #include "io/output.hpp"
+#include "report/baseline.hpp"
+#include "report/junit.hpp"
+#include "report/markdown.hpp"
+#include "report/sarif.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
@@ -23,11 +31,12 @@ nlohmann::ordered_json vec3(const Vec3& p) { return {p.x, p.y, p.z}; }
 }  // namespace
 
 void run_space_analyze(const std::string& file, int depth, bool torsion, const ContinuityTolerances& continuity,
-                       bool pretty) {
+                       bool pretty, double torsion_tolerance) {
   const SpaceSpline spline = read_space_spline_file(file);
   SpaceAnalyzeOptions o;
   o.max_depth = depth;
   o.torsion = torsion;
+  o.torsion_tolerance = torsion_tolerance;
   o.continuity = continuity;
   const SpaceAnalysis a = analyze_space(spline, o);
   // One segment and one joint at a time, as the planar analyze (docs/outputs.md, "Limits on work").
@@ -139,41 +148,120 @@ void run_space_region(const SpaceRegionArgs& a) {
   print_json(doc, a.pretty);
 }
 
-int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty, bool fixes,
-                     int region_size, bool thumbnails) {
-  validate(continuity);
-  report::SpaceReportOptions o;
-  o.region_size = region_size;
-  o.regions = thumbnails;
-  o.max_depth = depth;
-  o.torsion = torsion;
-  o.continuity = continuity;
-  o.require_monotone = require_monotone;
-  o.fixes = fixes;
+namespace {
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  return buf;
+}
+
+}  // namespace
+
+int run_space_report(const SpaceReportRun& run) {
+  const report::SpaceReportOptions& o = run.options;
+  validate(o.continuity);
+  std::optional<report::BaselineComparison> baseline;
+  if (run.baseline) baseline.emplace(report::read_baseline(*run.baseline));  // a bad baseline: before any work
   std::vector<report::SpaceReport> reports;
-  for (const std::string& f : files) reports.push_back(report::space_report(f, o));
-  const std::filesystem::path dir = out;
+  std::vector<std::vector<report::Finding>> findings;
+  std::vector<std::string> names;  // each file's name in findings
+  const std::string root = run.source_root ? run.source_root->string() : std::string();
+  for (std::size_t i = 0; i < run.files.size(); ++i) {
+    const std::string& f = run.files[i];
+    reports.push_back(report::space_report(f, o));
+    const std::string base = run.source_root ? root : (i < run.bases.size() ? run.bases[i] : std::string());
+    names.push_back(report::source_name(f, base));
+    findings.push_back(report::space_findings(reports.back(), names.back(), o));
+  }
+  const std::filesystem::path dir = run.out;
   OutputSet set;
   set.create_folder(dir);
   set.stage(dir / "index.html", report::space_report_html(reports, o));
-  set.stage(dir / "report.json", json_text(report::space_report_json(reports, o), pretty));
-  set.commit_last(dir / "report.json");  // renamed last: the commit marker
-  set.commit();
-  int pass = 0, fail = 0, invalid = 0;
-  for (const report::SpaceReport& r : reports) {
+  // The CI files: one suite per file (one case: its curve), one SARIF result per finding.
+  std::string junit = report::junit_header(), sarif;
+  if (run.sarif) sarif = report::sarif_header(run.parsed, report::source_uri_base(root));
+  const std::string timestamp = utc_now();
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "localhost");
+  int pass = 0, fail = 0, invalid = 0, new_findings = 0, unchanged = 0, results = 0;
+  std::vector<const report::Finding*> new_list;
+  std::optional<report::MarkdownSummary> markdown;
+  if (run.markdown) markdown.emplace(run.parsed);
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const report::SpaceReport& r = reports[i];
+    report::FileRecord rec;
+    rec.path = rec.title = r.file;
+    rec.items = 1;
+    report::CaseRecord c;
+    c.name = r.spline ? r.spline->name() : std::filesystem::path(r.file).filename().string();
+    c.error = r.error;
+    c.pass = r.error.empty() && r.pass;
+    c.findings = findings[i];
+    (!r.error.empty() ? rec.items_invalid : (r.pass ? rec.items_pass : rec.items_fail)) = 1;
     if (!r.error.empty()) {
       ++invalid;
       std::cerr << "cmr: " << r.error << '\n';
     } else {
       ++(r.pass ? pass : fail);
     }
+    bool relative = false;
+    const std::string uri = report::source_uri(r.file, root, &relative);
+    if (run.sarif && !r.error.empty())
+      sarif.append(results++ ? "," : "").append(report::sarif_invalid(uri, relative, c.name, r.error, run.parsed));
+    for (const report::Finding& f : findings[i]) {
+      const char* state = baseline ? baseline->judge(f) : nullptr;
+      if (state && std::string(state) == "new") ++new_findings, new_list.push_back(&f);
+      if (state && std::string(state) == "unchanged") ++unchanged;
+      if (run.sarif) sarif.append(results++ ? "," : "").append(report::sarif_result(f, uri, relative, run.parsed, state));
+    }
+    rec.cases.push_back(std::move(c));
+    junit += report::junit_suite(rec, static_cast<int>(i), timestamp, host);
+    if (markdown) markdown->add(rec, names[i], "");
   }
-  std::cout << reports.size() << (reports.size() == 1 ? " space curve: " : " space curves: ") << pass << " pass, "
-            << fail << " fail, " << invalid << " invalid; wrote " << (dir / "index.html").string() << " and "
-            << (dir / "report.json").string() << '\n';
-  if (invalid > 0) return kInvalid;
-  return require_monotone && fail > 0 ? kFail : kOk;
+  junit += report::junit_footer();
+  if (run.sarif) sarif += report::sarif_footer();
+  if (run.junit) set.stage(*run.junit, junit);
+  if (run.sarif) set.stage(*run.sarif, sarif);
+  const bool gated = o.require_monotone || !o.gates.empty();
+  const int exit_code = invalid > 0 ? kInvalid
+                        : baseline  ? (new_findings > 0 ? kFail : kOk)
+                                    : (gated && fail > 0 ? kFail : kOk);
+  int finding_count = 0;
+  for (const auto& fs : findings) finding_count += static_cast<int>(fs.size());
+  if (markdown) {  // the planar run's summary, from the same counts
+    report::BatchSummary s;
+    s.files = static_cast<int>(reports.size());
+    s.items = s.files;
+    s.pass = pass, s.fail = fail, s.invalid = invalid;
+    s.findings = finding_count;
+    s.baseline = baseline.has_value();
+    s.new_findings = new_findings, s.unchanged = unchanged, s.fixed = baseline ? baseline->fixed() : 0;
+    for (const report::Finding* f : new_list) s.new_list.push_back(*f);
+    s.exit_code = exit_code;
+    set.stage(*run.markdown, markdown->finish(s, run.baseline ? run.baseline->string() : std::string()));
+  }
+  nlohmann::ordered_json doc = report::space_report_json(reports, o, &findings);
+  if (baseline)
+    doc["summary"]["baseline"] = {{"file", run.baseline->string()}, {"new", new_findings},
+                                  {"fixed", baseline->fixed()}, {"unchanged", unchanged}};
+  set.stage(dir / "report.json", json_text(doc, run.pretty));
+  set.commit_last(dir / "report.json");  // renamed last: the commit marker
+  set.commit();
+  for (const report::Finding* f : new_list) std::cerr << "cmr: new: " << f->file << ": " << f->gate << ": " << f->message << '\n';
+  const bool piped = (run.junit && is_stdout_path(*run.junit)) || (run.sarif && is_stdout_path(*run.sarif)) ||
+                     (run.markdown && is_stdout_path(*run.markdown));
+  std::ostream& line = piped ? std::cerr : std::cout;
+  line << reports.size() << (reports.size() == 1 ? " space curve: " : " space curves: ") << pass << " pass, " << fail
+       << " fail, " << invalid << " invalid";
+  line << "; " << finding_count << (finding_count == 1 ? " finding" : " findings");
+  if (baseline)
+    line << " (baseline: " << new_findings << " new, " << baseline->fixed() << " fixed, " << unchanged << " unchanged)";
+  line << "; wrote " << (dir / "index.html").string() << " and " << (dir / "report.json").string() << '\n';
+  return exit_code;
 }
 
 }  // namespace cmr::cli

@@ -3,18 +3,21 @@
 /// region` and `cmr report` do when FILE has [x, y, z] points
 /// (spline_file_dimension == 3). The planar commands call these; nothing
 /// here links CLI11.
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bezierize/space_analyze.hpp"
+#include "report/space_report.hpp"
 
 namespace cmr::cli {
 
 /// `cmr analyze FILE [--torsion]` on a space curve: prints the JSON.
 void run_space_analyze(const std::string& file, int depth, bool torsion, const ContinuityTolerances& continuity,
-                       bool pretty);
+                       bool pretty, double torsion_tolerance = 0);
 
 struct SpaceRegionArgs {
   std::string file, point, plane, size = "256x256", view, backend = "auto";
@@ -29,13 +32,25 @@ struct SpaceRegionArgs {
 /// backend only: --backend vulkan is an InputError.
 void run_space_region(const SpaceRegionArgs& args);
 
-/// `cmr report FILES --out DIR` when every FILE is a space curve: DIR/report.json
-/// and DIR/index.html (report/space_report.hpp). Returns the exit code (1 when
-/// `require_monotone` and some curve's curvature is not monotone). With `thumbnails`, each
-/// control point's region in its default plane, `region_size` pixels a side.
-int run_space_report(const std::vector<std::string>& files, const std::string& out, int depth, bool torsion,
-                     const ContinuityTolerances& continuity, bool require_monotone, bool pretty,
-                     bool fixes = true, int region_size = 96, bool thumbnails = true);
+/// `cmr report FILES --out DIR` when every file of the run is a space curve:
+/// DIR/report.json (the planar report's schema, with findings) and
+/// DIR/index.html (report/space_report.hpp), and the CI files the planar
+/// run writes: --junit (one suite per file, one case per curve), --sarif
+/// (one result per finding, invalid inputs as results), --markdown (the
+/// planar run's summary) and --baseline (only new findings fail). All outputs are one OutputSet (all or none).
+struct SpaceReportRun {
+  std::vector<std::string> files;  ///< collected (report::collect_files)
+  std::vector<std::string> bases;  ///< per file, its folder argument (collect_files' bases)
+  std::string out;
+  report::SpaceReportOptions options;
+  report::ReportOptions parsed;  ///< --require as the planar report reads it (SARIF's rules)
+  std::optional<std::filesystem::path> junit, sarif, baseline, source_root;
+  std::optional<std::filesystem::path> markdown;  ///< --markdown (report/markdown.hpp)
+  bool pretty = false;
+};
+/// Returns the exit code: 2 when a file is invalid, else with a baseline 1
+/// when a finding is new, else 1 when a required check or gate fails.
+int run_space_report(const SpaceReportRun& run);
 
 /// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the

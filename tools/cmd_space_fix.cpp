@@ -1,6 +1,7 @@
 // `cmr fix FILE` on a space curve (tools/cmd_space.hpp, bezierize/space_fix.hpp,
 // docs/fix.md "Space curves").
 #include <cmath>
+#include <iostream>
 
 #include <glm/geometric.hpp>
 
@@ -96,7 +97,9 @@ void run_space_fix(const SpaceFixArgs& args) {
     doc["png"] = args.png;
   }
   outputs.commit();
-  print_json(doc, args.pretty);
+  // With --out - (or --png -) stdout is the file alone: the JSON goes to stderr (as cmr fix's).
+  if (is_stdout_path(args.out) || is_stdout_path(args.png)) std::cerr << json_text(doc, args.pretty);
+  else print_json(doc, args.pretty);
 }
 
 }  // namespace cmr::cli

@@ -1,5 +1,6 @@
 // The cmr command. Exit codes: 0 success, 1 a --require gate failed,
 // 2 invalid input or usage (one line on stderr), 3 environment failure.
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/spline_json.hpp"
 #include "io/stdout_error.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/keep_freed_memory.hpp"
@@ -42,9 +44,26 @@ int finish_stdout(int exit_code) {
 
 int run(int argc, char** argv);
 
+/// A standard descriptor closed at start (`cmr analyze - <&-`) is filled with
+/// /dev/null opened read-only, so that no file cmr opens lands on it (and a
+/// write to a closed stdout still fails, as EBADF); a closed stdin is noted,
+/// and reading "-" says "stdin: closed".
+void fill_closed_standard_descriptors() {
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (::fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+    const int got = ::open("/dev/null", O_RDONLY | O_NOCTTY);  // the lowest free number: fd itself
+    if (got >= 0 && got != fd) {
+      (void)::dup2(got, fd);
+      ::close(got);
+    }
+    if (fd == 0) cmr::note_stdin_closed();
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  fill_closed_standard_descriptors();
   std::signal(SIGPIPE, SIG_IGN);
   cmr::cli::keep_freed_memory();
   return finish_stdout(run(argc, argv));

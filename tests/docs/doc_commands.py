@@ -8,7 +8,8 @@
    the built binary, in order, in a fresh scratch folder per block where
    `examples/` is the repository's (a `mkdir -p DIR` line in the block is run
    too), and must exit 0 — or with the code a trailing comment `# exit N`
-   states.
+   states. A pipeline of cmr commands (`cmr A | cmr B -`) runs as one: each
+   command before the last must exit 0, the last as stated.
 
 Usage: doc_commands.py SOURCE_DIR CMR_BINARY
 Prints one line per check and 'N passed, N failed' at the end; exits 1 on any
@@ -92,13 +93,33 @@ for page in pages:
                 if m:
                     expect = int(m.group(1))
                 command = stripped.split(" #")[0].strip()
-                args = [binary] + shlex.split(command)[1:]
+                stages = [[]]
+                for word in shlex.split(command):
+                    if word == "|":
+                        stages.append([])
+                    else:
+                        stages[-1].append(word)
                 env = dict(os.environ)
                 env.setdefault("VK_DRIVER_FILES", "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")
-                run = subprocess.run(args, cwd=scratch, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     timeout=600, env=env)
-                ok = run.returncode == expect
-                detail = "" if ok else f" -> exit {run.returncode}: {run.stderr.decode(errors='replace').strip()[:300]}"
+                if any(not st or st[0] != "cmr" for st in stages):
+                    report(False, f"{rel}: {command} -> a pipeline stage that is not a cmr command")
+                    continue
+                procs, upstream = [], None
+                for k, st in enumerate(stages):
+                    last = k + 1 == len(stages)
+                    procs.append(subprocess.Popen([binary] + st[1:], cwd=scratch, stdin=upstream,
+                                                  stdout=subprocess.DEVNULL if last else subprocess.PIPE,
+                                                  stderr=subprocess.PIPE, env=env))
+                    upstream = procs[-1].stdout
+                for p in procs[:-1]:
+                    p.stdout.close()  # the next stage holds it
+                    p.stdout = None
+                errors = [p.communicate(timeout=600)[1] for p in reversed(procs)][::-1]
+                codes = [p.returncode for p in procs]
+                ok = codes[-1] == expect and all(c == 0 for c in codes[:-1])
+                bad = next((k for k, c in enumerate(codes) if (c != expect if k + 1 == len(codes) else c != 0)), -1)
+                detail = "" if ok else (f" -> exit {codes[bad]}: "
+                                        f"{errors[bad].decode(errors='replace').strip()[:300]}")
                 report(ok, f"{rel}: {command}{detail}")
 
 print(f"{passed} passed, {failed} failed")

@@ -336,8 +336,8 @@ TEST(Gates, CommandsTakeImportedFilesAndFonts) {
   std::filesystem::remove_all(dir);
 }
 
-// Fonts and SVG files are read as every input is: a FIFO with no writer or a
-// device is refused at once (exit 2, one line), never waited on.
+// Fonts and SVG files are read as every input is: a FIFO with no writer
+// gives nothing and is refused at once (exit 2, one line), never waited on.
 TEST(Gates, FontAndSvgInputsThatAreNotRegularFilesAreRefusedAtOnce) {
   const auto dir = test::scratch() / "fifo";
   std::filesystem::remove_all(dir);
@@ -351,7 +351,7 @@ TEST(Gates, FontAndSvgInputsThatAreNotRegularFilesAreRefusedAtOnce) {
       const auto r = test::run(cmd);
       EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10)) << cmd;
       EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
-      EXPECT_NE(r.err.find("not a regular file (a FIFO)"), std::string::npos) << cmd << ": " << r.err;
+      EXPECT_NE(r.err.find("empty (nothing came through the FIFO)"), std::string::npos) << cmd << ": " << r.err;
     }
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "o"));
