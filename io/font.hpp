@@ -69,6 +69,9 @@ struct Glyph {
   /// Sources: per contour and source point, its `name` attribute ("" where
   /// it has none): shown beside the point's own name ("O/c0/p3 (top)").
   std::vector<std::vector<std::string>> point_labels;
+  /// Sources: per contour and source point, its smooth="yes" flag (the
+  /// designer's "smooth node"); empty for binary fonts.
+  std::vector<std::vector<bool>> point_smooth;
   /// Why the glyph cannot be judged (a malformed or unsupported outline in a
   /// source): it becomes an invalid item of a report; empty when it is read.
   std::string error;
