@@ -247,6 +247,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     p->s1 = s1;
     p->from = std::move(from);
     p->to = std::move(to);
+    p->master_a = ds.sources[l.a].name;
+    p->master_b = ds.sources[l.b].name;
     const double c0 = loc[l.a][l.axis], c1 = loc[l.b][l.axis];
     for (std::size_t k = 0; k < axes.size(); ++k) {
       const double x0 = static_cast<int>(k) == l.axis ? c0 + s0 * (c1 - c0) : loc[l.a][k];

@@ -85,6 +85,9 @@ struct Piece {
   /// the texts below take sigma.
   double s0 = 0, s1 = 1;
   std::string from, to;  ///< where it starts and ends: a master's name ("Regular") or a location ("wght=437.5")
+  /// The masters at s = 0 and s = 1 of the line (a variable font: the cuts'
+  /// locations): where the nodes judged are smooth.
+  std::string master_a{}, master_b{};
   std::vector<PieceAxis> axes;
   /// The location at s: "\"Weight\": 437.5" for each varying axis, then the
   /// others ("\"Weight\": 437.5, \"Width\": 100").

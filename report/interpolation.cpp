@@ -35,48 +35,59 @@ Rational middle(const RootInterval& r) { return r.exact() ? r.lo : Rational((r.l
 
 }  // namespace
 
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy) {
+  return ux * vy - uy * vx == 0 && ux * vx + uy * vy > 0;
+}
+
 G1Between g1_between(const NodeTangents& t) {
   G1Between out;
+  out.judged = true;
   const Poly ux{t.u0x, t.u1x}, uy{t.u0y, t.u1y}, vx{t.v0x, t.v1x}, vy{t.v0y, t.v1y};
   const Poly c = sub(bernstein_product(ux, vy), bernstein_product(uy, vx));
   const Poly d = add(bernstein_product(ux, vx), bernstein_product(uy, vy));
-  // Smooth at both ends: collinear, the same direction.
-  if (c.front() != 0 || c.back() != 0 || d.front() <= 0 || d.back() <= 0) return out;
-  out.judged = true;
+  const double to_degrees = 180 / std::numbers::pi;
+  // The open intervals between consecutive zeros of p in [0, 1] (0 and 1
+  // count as bounds), where p != 0; with `negative`, those where p < 0.
+  auto between_roots = [&](const Poly& p, bool negative) {
+    const std::vector<RootInterval> roots = isolate_roots(p);
+    std::vector<std::pair<Rational, Rational>> bounds;
+    if (roots.empty() || roots.front().lo != 0) bounds.emplace_back(Rational(0), Rational(0));
+    for (const RootInterval& r : roots) bounds.emplace_back(r.lo, r.hi);
+    if (roots.empty() || roots.back().hi != 1) bounds.emplace_back(Rational(1), Rational(1));
+    for (std::size_t k = 0; k + 1 < bounds.size(); ++k) {
+      if (!(bounds[k].second < bounds[k + 1].first)) continue;
+      const Rational mid = (bounds[k].second + bounds[k + 1].first) / 2;
+      if (negative && bernstein_eval(p, mid) > 0) continue;
+      out.fail.emplace_back(double_below(bounds[k].second), double_above(bounds[k + 1].first));
+    }
+  };
   if (is_zero(c)) {
     // Collinear throughout: G1 unless the direction reverses (d <= 0 somewhere).
-    std::vector<RootInterval> roots = isolate_roots(d);
-    if (roots.empty()) {
+    between_roots(d, true);
+    const std::vector<RootInterval> zeros = isolate_roots(d);
+    if (out.fail.empty() && zeros.empty()) {
       out.holds = true;
       return out;
     }
-    // d > 0 at both ends: between its first and last root it is <= 0 (touching: one point).
-    out.fail.emplace_back(double_below(roots.front().lo), double_above(roots.back().hi));
-    out.worst_s = nearest_double(middle(roots.front()));
+    out.worst_s = zeros.empty() ? out.fail.front().first : nearest_double(middle(zeros.front()));
     out.worst_angle = 180;
+    if (out.fail.empty()) out.fail.emplace_back(out.worst_s, out.worst_s);  // touches 0: a collapsed handle
     return out;
   }
-  // c != 0: the open intervals between its roots in [0, 1].
-  std::vector<RootInterval> roots = isolate_roots(c);
-  for (std::size_t k = 0; k + 1 < roots.size(); ++k)
-    out.fail.emplace_back(double_below(roots[k].hi), double_above(roots[k + 1].lo));
-  // The worst angle: at a root of g = c' d - c d' inside (0, 1).
+  between_roots(c, false);
+  // The worst angle: at a root of g = c' d - c d' inside (0, 1), or at an end.
   const Poly g = sub(bernstein_product(bernstein_derivative(c), d), bernstein_product(c, bernstein_derivative(d)));
-  double worst = -1;
-  for (const RootInterval& r : isolate_roots(g)) {
-    const Rational s = middle(r);
-    if (s <= 0 || s >= 1) continue;
-    const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * 180 / std::numbers::pi;
-    if (a > worst) {
-      worst = a;
+  std::vector<Rational> candidates{Rational(0), Rational(1)};
+  for (const RootInterval& r : isolate_roots(g))
+    if (middle(r) > 0 && middle(r) < 1) candidates.push_back(middle(r));
+  out.worst_angle = -1;
+  for (const Rational& s : candidates) {
+    const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * to_degrees;
+    if (a > out.worst_angle) {
+      out.worst_angle = a;
       out.worst_s = nearest_double(s);
     }
   }
-  if (worst < 0) {  // g has no root inside (it cannot, with c(0) = c(1) = 0 and c != 0): the middle
-    out.worst_s = 0.5;
-    worst = std::abs(std::atan2(value_at(c, Rational(1, 2)), value_at(d, Rational(1, 2)))) * 180 / std::numbers::pi;
-  }
-  out.worst_angle = worst;
   return out;
 }
 
@@ -135,17 +146,30 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
       std::array<Rational, 4> u = tangent(1), v = tangent_out(1);
       if (n >= 2 && is_zero_vector(u[0], u[1]) && is_zero_vector(u[2], u[3])) u = tangent(2);
       if (n >= 2 && is_zero_vector(v[0], v[1]) && is_zero_vector(v[2], v[3])) v = tangent_out(2);
+      // Smooth at the masters (s = 0 and 1 of the masters' line, whatever part of it the piece is).
+      if (m.piece->s0 != 0 || m.piece->s1 != 1) {
+        const import::Piece whole;
+        import::ContourMotion line{std::make_shared<const import::Piece>(whole), m.a, m.b, {}};
+        std::vector<RPoint> l0 = end_points(line, left, false), l1 = end_points(line, left, true);
+        std::vector<RPoint> r0 = end_points(line, right, false), r1 = end_points(line, right, true);
+        const int bu = u == tangent(1) ? 1 : 2, bv = v == tangent_out(1) ? 1 : 2;
+        if (!g1_at(l0[n].x - l0[n - bu].x, l0[n].y - l0[n - bu].y, r0[bv].x - r0[0].x, r0[bv].y - r0[0].y) ||
+            !g1_at(l1[n].x - l1[n - bu].x, l1[n].y - l1[n - bu].y, r1[bv].x - r1[0].x, r1[bv].y - r1[0].y))
+          continue;
+      } else if (!g1_at(u[0], u[1], v[0], v[1]) || !g1_at(u[2], u[3], v[2], v[3])) {
+        continue;
+      }
       const G1Between g = g1_between({u[0], u[1], u[2], u[3], v[0], v[1], v[2], v[3]});
-      if (!g.judged || g.holds) continue;
+      if (g.holds) continue;
       const import::Piece& p = *m.piece;
       GateViolation viol;
       viol.joint = j;
       viol.t = jr.joint.knot;
       std::string& msg = viol.message;
       msg = "smooth at ";
-      msg += p.from;
+      msg += p.master_a;
       msg += " and ";
-      msg += p.to;
+      msg += p.master_b;
       msg += g.worst_angle >= 180 ? " but its tangents reverse between them: " : " but a kink between them: not G1 for ";
       for (std::size_t k = 0; k < g.fail.size(); ++k) {
         if (k) msg += "; ";

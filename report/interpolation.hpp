@@ -70,9 +70,13 @@ struct NodeTangents {
   Rational u0x, u0y, u1x, u1y, v0x, v0y, v1x, v1y;
 };
 
-/// What g1-between-masters finds at one node on one piece.
+/// G1 at one instance: u x v = 0 and u . v > 0, exactly.
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy);
+
+/// What g1-between-masters finds at one node on one piece (the caller
+/// judges only nodes smooth at the masters: g1_at at both).
 struct G1Between {
-  bool judged = false;    ///< smooth (collinear, same direction) at both ends
+  bool judged = false;    ///< set by g1_between
   bool holds = false;     ///< certified G1 at every s in [0, 1]
   /// Where it fails: open intervals of s (c != 0, or d <= 0 with c == 0);
   /// ends rounded outwards to doubles (exact when they are dyadic).
@@ -81,7 +85,9 @@ struct G1Between {
   double worst_angle = 0;  ///< degrees, at worst_s
 };
 
-/// The test of the header comment on one node's tangents.
+/// The test of the header comment on one node's tangents over s in [0, 1]
+/// (a piece's own parameter: for a --between part of the masters' line the
+/// ends need not be G1, and the worst angle may lie at an end).
 G1Between g1_between(const NodeTangents& t);
 
 /// The violations of g1-between-masters on one contour's report (its

@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""The interpolation gates end to end (report/interpolation.hpp): two-master
+designspaces made by tools/make_test_designspace.py, `cmr report
+--require g1-between-masters` on them, each bad input, and the independent
+exact check (interpolation_check.py) of the reported interval and worst
+instance.
+
+    interpolation_test.py SOURCE_DIR CMR
+
+Prints "N passed, M failed" and exits 1 on any failure.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+SRC, CMR = sys.argv[1], sys.argv[2]
+PY = "/usr/bin/python3"
+results = []
+
+
+def check(name, ok, detail=""):
+    results.append(bool(ok))
+    print(("PASS " if ok else "FAIL ") + name + ("" if ok else ": " + detail))
+
+
+def run(*args, cwd=None):
+    return subprocess.run([CMR, "report", *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def violations(out):
+    with open(os.path.join(out, "report.json")) as f:
+        r = json.load(f)
+    return [v["message"] for s in r["splines"] for g in s.get("gates", []) if g["gate"] == "g1-between-masters"
+            for v in g["violations"]]
+
+
+def errors(proc):
+    return [l for l in proc.stderr.splitlines() if l.startswith("cmr:")]
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    subprocess.run([PY, os.path.join(SRC, "tools", "make_test_designspace.py"), tmp], check=True)
+    g1 = ["--require", "g1-between-masters", "--glyphs", "O", "--no-thumbnails"]
+
+    # Done when: the kink exits 1 and names a Weight strictly between the masters; the twin exits 0.
+    out = os.path.join(tmp, "kink")
+    p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode in (0, 1) else []
+    check("kink exits 1", p.returncode == 1, p.stdout + p.stderr)
+    check("kink: one violation naming Weight between the masters",
+          len(msgs) == 1 and "Weight in (400, 700)" in msgs[0] and "\"Weight\": " in msgs[0], str(msgs))
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"),
+                        os.path.join(tmp, "kink.designspace"), os.path.join(out, "report.json"), "0"],
+                       capture_output=True, text=True)
+    check("kink: the interval and worst instance agree with exact Fractions", c.returncode == 0, c.stdout + c.stderr)
+    print(c.stdout.strip())
+
+    out = os.path.join(tmp, "prop")
+    p = run(os.path.join(tmp, "proportional.designspace"), *g1, "--out", out)
+    check("proportional handles exit 0", p.returncode == 0, p.stdout + p.stderr)
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"),
+                        os.path.join(tmp, "proportional.designspace"), os.path.join(out, "report.json"), "0"],
+                       capture_output=True, text=True)
+    check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
+
+    # --between: a part of the masters' line, inside and reversed.
+    for between in ("wght=400:wght=500", "wght=650:wght=500"):
+        out = os.path.join(tmp, "between")
+        p = run(os.path.join(tmp, "kink.designspace"), *g1, "--between", between, "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        lo, hi = sorted(float(x.split("=")[1]) for x in between.split(":"))
+        check("--between " + between + " exits 1 on its own range",
+              p.returncode == 1 and len(msgs) == 1 and ("Weight in (%g, %g)" % (lo, hi)) in msgs[0],
+              p.stderr + str(msgs))
+    out = os.path.join(tmp, "between_prop")
+    p = run(os.path.join(tmp, "proportional.designspace"), *g1, "--between", "wght=450:wght=600", "--out", out)
+    check("--between on the proportional twin exits 0", p.returncode == 0, p.stdout + p.stderr)
+
+    # Other gates with a designspace keep reading its masters as UFOs (not as one file).
+    p = run(os.path.join(tmp, "kink.designspace"), "--require", "no-inflection", "--glyphs", "O", "--no-thumbnails",
+            "--out", os.path.join(tmp, "plain"))
+    check("without an interpolation gate a designspace is its masters", p.returncode in (0, 1) and "2 files" in p.stdout,
+          p.stdout + p.stderr)
+
+    # Bad input: one line each, exit 2 (or invalid in the report).
+    bad = [
+        ("incompatible masters", [os.path.join(tmp, "incompatible.designspace"), *g1],
+         "O: incompatible masters: contour 0 has 6 points in Regular, 7 in Bold"),
+        ("a designspace naming a missing source", [os.path.join(tmp, "missing.designspace"), *g1],
+         "the source 'Missing.ufo' does not exist"),
+        ("an axis default outside its range", [os.path.join(tmp, "bad_default.designspace"), *g1],
+         "has its default outside [minimum, maximum]"),
+        ("--between naming an unknown axis", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wdth=1:wdth=2"],
+         "--between: no axis 'wdth'"),
+        ("--between with a value out of range", [os.path.join(tmp, "kink.designspace"), *g1, "--between",
+                                                 "wght=300:wght=500"], "wght=300 is outside the axis's range [400, 700]"),
+        ("--between of one location", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wght=500:wght=500"],
+         "are one location"),
+        ("--between that is not LOC1:LOC2", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wght=500"],
+         "--between: 'wght=500' is not LOC1:LOC2"),
+        ("--between without an interpolation gate", [os.path.join(tmp, "kink.designspace"), "--between",
+                                                     "wght=400:wght=500"], "--between: only with an interpolation gate"),
+        ("a UFO (one master) given to an interpolation gate", [os.path.join(tmp, "Regular.ufo"), *g1],
+         "one master (a UFO): the interpolation gates need a designspace or a variable font"),
+        ("a font without fvar given to an interpolation gate",
+         ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", *g1], "no fvar table"),
+    ]
+    for name, args, text in bad:
+        out = os.path.join(tmp, "bad")
+        p = run(*args, "--out", out)
+        lines = [l for l in errors(p) if text in l]
+        check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and len(errors(p)) == 1,
+              "rc %d: %s" % (p.returncode, p.stderr))
+
+print("%d passed, %d failed" % (results.count(True), results.count(False)))
+sys.exit(0 if all(results) else 1)
