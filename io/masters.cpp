@@ -336,8 +336,136 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
   return m;
 }
 
-Masters read_variable_masters(const fs::path& path, const GlyphSelection&, const std::optional<Segment2>&) {
-  throw InputError(path.string() + ": variable fonts: not yet");
+// ------------------------------------------------------------ variable fonts
+
+Masters read_variable_masters(const fs::path& path, const GlyphSelection& which, const std::optional<Segment2>& between) {
+  const std::string file = path.string();
+  const Variations var = read_variations(path);
+  std::vector<SpaceAxis> axes;
+  for (const Variations::Axis& a : var.axes) {
+    SpaceAxis s;
+    s.tag = a.tag;
+    s.name = a.name;
+    s.minimum = a.minimum;
+    s.maximum = a.maximum;
+    s.default_value = a.default_value;
+    // fvar's normalisation, then avar's map (a designspace axis's piecewise map, reused).
+    Designspace::Axis avar;
+    avar.map = a.avar;
+    s.to_coord = [a, avar](double u) {
+      const double n = u < a.default_value   ? (a.default_value == a.minimum ? 0 : (u - a.default_value) / (a.default_value - a.minimum))
+                       : u > a.default_value ? (a.maximum == a.default_value ? 0 : (u - a.default_value) / (a.maximum - a.default_value))
+                                             : 0.0;
+      return avar.to_design(n);
+    };
+    s.to_user = [a, avar](double c) {
+      const double n = avar.to_user(c);
+      return n < 0 ? a.default_value + n * (a.default_value - a.minimum) : a.default_value + n * (a.maximum - a.default_value);
+    };
+    s.coord_breaks.push_back(0);
+    for (const auto& m : a.avar) s.coord_breaks.push_back(m.second);
+    axes.push_back(std::move(s));
+  }
+  const std::size_t n_axes = axes.size();
+  auto name_of = [&](const std::vector<double>& c) {
+    std::string out;
+    for (std::size_t k = 0; k < n_axes; ++k) out += (out.empty() ? "" : ",") + axes[k].tag + "=" + num(axes[k].to_user(c[k]));
+    return out;
+  };
+  // The pieces: (start, end) coordinate vectors along one axis, from cut
+  // to cut, and the part s0..s1 of it that is judged (--between).
+  struct Ends {
+    std::vector<double> a, b;
+    double s0 = 0, s1 = 1;
+  };
+  std::vector<Ends> ends;
+  auto cut_line = [&](const std::vector<double>& p0, const std::vector<double>& p1, int ax) {
+    const std::vector<double>& cuts = var.cuts[ax];  // -1, ..., 1
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double lo = std::max(cuts[k], p0[ax]), hi = std::min(cuts[k + 1], p1[ax]);
+      if (!(lo < hi)) continue;
+      Ends e{p0, p0, 0, 1};
+      e.a[ax] = cuts[k];
+      e.b[ax] = cuts[k + 1];
+      e.s0 = (lo - cuts[k]) / (cuts[k + 1] - cuts[k]);
+      e.s1 = (hi - cuts[k]) / (cuts[k + 1] - cuts[k]);
+      ends.push_back(std::move(e));
+    }
+  };
+  if (!between) {
+    for (std::size_t ax = 0; ax < n_axes; ++ax) {
+      std::set<std::vector<double>> bases{std::vector<double>(n_axes, 0.0)};
+      for (std::vector<double> p : var.peaks) {
+        p[ax] = 0;
+        bases.insert(p);
+      }
+      for (std::vector<double> b : bases) {
+        std::vector<double> e = b;
+        b[ax] = -1;
+        e[ax] = 1;
+        cut_line(b, e, static_cast<int>(ax));
+      }
+    }
+  } else {
+    std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
+    const int ax = varying_axis(p0, p1);
+    if (ax < 0)
+      throw InputError(file + ": --between: " + location_text(between->first) + " and " +
+                       location_text(between->second) + (ax == -1 ? " are one location" : " differ in more than one axis"));
+    if (p0[ax] > p1[ax]) std::swap(p0, p1);
+    cut_line(p0, p1, ax);
+  }
+
+  Masters m;
+  m.font = read_font(path, which.codepoints);
+  m.font.path = file;
+  // The instances at the pieces' ends, each loaded once.
+  std::map<std::vector<double>, Font> instances;
+  for (const Ends& e : ends)
+    for (const std::vector<double>* c : {&e.a, &e.b})
+      if (!instances.count(*c)) instances.emplace(*c, read_font(path, which.codepoints, {}, *c));
+  for (const Ends& e : ends) {
+    auto p = std::make_shared<Piece>();
+    p->s0 = e.s0;
+    p->s1 = e.s1;
+    p->master_a = name_of(e.a);
+    p->master_b = name_of(e.b);
+    std::vector<double> x0 = e.a, x1 = e.a;
+    for (std::size_t x = 0; x < n_axes; ++x) {
+      x0[x] = e.a[x] + e.s0 * (e.b[x] - e.a[x]);
+      x1[x] = e.a[x] + e.s1 * (e.b[x] - e.a[x]);
+      p->axes.push_back(piece_axis(axes[x], x0[x], x1[x]));
+    }
+    p->from = name_of(x0);
+    p->to = name_of(x1);
+    m.pieces.push_back(p);
+  }
+  m.motions.resize(m.font.glyphs.size());
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    Glyph& g = m.font.glyphs[gi];
+    std::string why;
+    for (const auto& [c, f] : instances) {
+      if (gi >= f.glyphs.size() || f.glyphs[gi].name != g.name) {
+        why = "the instance at " + name_of(c) + " has other glyphs";
+        break;
+      }
+      why = incompatibility(g, "the default instance", f.glyphs[gi], "the instance at " + name_of(c));
+      if (!why.empty()) break;
+    }
+    if (!why.empty()) {
+      g.error = g.name + ": incompatible masters: " + why;
+      g.contours.clear();
+      continue;
+    }
+    m.motions[gi].resize(g.contours.size());
+    for (std::size_t k = 0; k < ends.size(); ++k) {
+      const Glyph& ga = instances.at(ends[k].a).glyphs[gi];
+      const Glyph& gb = instances.at(ends[k].b).glyphs[gi];
+      for (std::size_t c = 0; c < g.contours.size(); ++c)
+        m.motions[gi][c].push_back(ContourMotion{m.pieces[k], ga.contours[c].spline, gb.contours[c].spline, {}});
+    }
+  }
+  return m;
 }
 
 }  // namespace

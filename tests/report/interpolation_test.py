@@ -84,6 +84,33 @@ with tempfile.TemporaryDirectory() as tmp:
     check("without an interpolation gate a designspace is its masters", p.returncode in (0, 1) and "2 files" in p.stdout,
           p.stdout + p.stderr)
 
+    # Variable fonts built from the same designspace by fontmake (Debian): CFF2 keeps the cubic masters, so the
+    # pieces (gvar/CFF2 regions, avar) give the designspace's answer; a --between inside the piece is judged too.
+    vf = os.path.join(tmp, "vf")
+    built = subprocess.run(["fontmake", "-m", os.path.join(tmp, "kink.designspace"), "-o", "variable-cff2",
+                            "--output-dir", vf], capture_output=True, text=True)
+    check("fontmake builds the CFF2 variable font", built.returncode == 0, built.stderr[-2000:])
+    otf = os.path.join(vf, "kink-VF.otf")
+    if built.returncode == 0:
+        out = os.path.join(tmp, "vf_out")
+        p = run(otf, *g1, "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        ds_msgs = violations(os.path.join(tmp, "kink"))
+        check("CFF2 variable font: exit 1 with the designspace's interval and worst instance",
+              p.returncode == 1 and len(msgs) == 1 and len(ds_msgs) == 1 and
+              msgs[0].split("but", 1)[1] == ds_msgs[0].split("but", 1)[1], p.stderr + str(msgs) + str(ds_msgs))
+        p = run(otf, *g1, "--between", "wght=450:wght=500", "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        check("CFF2 variable font --between inside a piece: exit 1 on Weight in (450, 500)",
+              p.returncode == 1 and len(msgs) == 1 and "Weight in (450, 500)" in msgs[0], p.stderr + str(msgs))
+        p = run(otf, *g1, "--between", "wght=450:wdth=500", "--out", out)
+        check("variable font --between naming an unknown axis: exit 2, one line",
+              p.returncode == 2 and len(errors(p)) == 1 and "--between: no axis 'wdth'" in p.stderr, p.stderr)
+        p = run(otf, *g1, "--between", "wght=450:wght=900", "--out", out)
+        check("variable font --between out of range: exit 2, one line",
+              p.returncode == 2 and len(errors(p)) == 1 and "wght=900 is outside the axis's range [400, 700]" in p.stderr,
+              p.stderr)
+
     # Bad input: one line each, exit 2 (or invalid in the report).
     bad = [
         ("incompatible masters", [os.path.join(tmp, "incompatible.designspace"), *g1],
