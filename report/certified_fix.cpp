@@ -71,6 +71,8 @@ FixRequirement requirement_of(const Gate& gate) {
       // Its fix adds a node (gate_fix says where); no point move implies it.
       throw InputError("xy-extrema-at-nodes is fixed by adding a node at each extremum, not by moving points");
     case Gate::Kind::g1_between_masters:
+    case Gate::Kind::curvature_between_masters:
+    case Gate::Kind::extrema_between_masters:
       throw InputError(to_string(gate) + " is fixed in the masters, which cmr does not search yet");
   }
   return req;

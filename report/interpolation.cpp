@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "bezierize/bernstein.hpp"
+#include "bezierize/between.hpp"
 #include "bezierize/extract.hpp"
 #include "bezierize/roots.hpp"
 #include "report/report.hpp"
@@ -187,6 +188,103 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
       msg += "} (s = ";
       msg += num(g.worst_s, 12);
       msg += ")";
+      out.push_back(std::move(viol));
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// Segment `seg`'s Bezier points (doubles: the splines' own control points of a Bezier window).
+std::vector<Vec2> bezier_of(const BSpline& s, int seg) { return segment_bezier_points<double>(s, s.segments()[seg]); }
+
+/// Where on the piece a location s of the masters' line lies: sigma.
+double sigma_of(const import::Piece& p, double s) { return p.s1 == p.s0 ? 0.0 : (s - p.s0) / (p.s1 - p.s0); }
+
+}  // namespace
+
+std::vector<GateViolation> curvature_between_violations(const SplineReport& r, bool extrema) {
+  std::vector<GateViolation> out;
+  if (!r.motions || !r.spline) return out;
+  const BSpline& s = *r.spline;
+  const int N = s.segment_count(), deg = s.degree();
+  BetweenOptions options;
+  for (const import::ContourMotion& m : *r.motions) {
+    if (m.a.segment_count() != N || m.b.segment_count() != N || m.a.is_rational() || deg < 2) continue;
+    const import::Piece& p = *m.piece;
+    for (int i = 0; i < N; ++i) {
+      const std::vector<Vec2> A = bezier_of(m.a, i), B = bezier_of(m.b, i);
+      // Monotone at both masters (straight pieces: constant, which passes).
+      if (monotone_between(A, A, options).kind != BetweenVerdict::Kind::holds_throughout ||
+          monotone_between(B, B, options).kind != BetweenVerdict::Kind::holds_throughout)
+        continue;
+      const BetweenVerdict v = monotone_between(A, B, options);
+      if (v.kind == BetweenVerdict::Kind::holds_throughout) continue;
+      if (v.s_lower >= p.s1) continue;  // certified on all of this part of the line
+      GateViolation viol;
+      viol.segment = i;
+      viol.t = s.segments()[i].a;
+      std::string& msg = viol.message;
+      msg = "curvature monotone at ";
+      msg += p.master_a;
+      msg += " and ";
+      msg += p.master_b;
+      const bool inside = v.kind == BetweenVerdict::Kind::fails && v.s_first_fail >= p.s0 && v.s_first_fail <= p.s1;
+      if (inside) {
+        const double sig = sigma_of(p, v.s_first_fail);
+        viol.local_t = v.t_witness;
+        viol.t = s.segments()[i].a + (s.segments()[i].b - s.segments()[i].a) * v.t_witness;
+        msg += " but not at {";
+        msg += p.location(sig);
+        msg += "} (s = ";
+        msg += num(sig, 12);
+        msg += "): a curvature extremum inside segment ";
+        msg += std::to_string(i);
+        msg += " at t = ";
+        msg += num(v.t_witness, 6);
+        msg += " of the segment; monotone at every location before {";
+        msg += p.location(std::max(0.0, sigma_of(p, v.s_lower)));
+        msg += "}";
+      } else {
+        msg += ": undecided between them (certified up to {";
+        msg += p.location(std::max(0.0, sigma_of(p, v.s_lower)));
+        msg += "}, the certificate's depth or cell budget spent)";
+      }
+      out.push_back(std::move(viol));
+    }
+    if (!extrema) continue;
+    // A node that is a curvature extremum at both masters must stay one.
+    for (const JointReport& jr : r.joints) {
+      const int j = jr.joint.index;
+      if (jr.joint.multiplicity < deg) continue;
+      const int right = j % N, left = s.closed() ? (right + N - 1) % N : right - 1;
+      if (left < 0 || (!s.closed() && j >= N)) continue;
+      const NodeBetween nb = node_lambda_between(bezier_of(m.a, left), bezier_of(m.b, left), bezier_of(m.a, right),
+                                                 bezier_of(m.b, right));
+      if (nb.pattern_kept()) continue;
+      // An extremum at both masters: the signs at s = 0 and 1 differ across the node on each.
+      const NodeBetween at_a = node_lambda_between(bezier_of(m.a, left), bezier_of(m.a, left), bezier_of(m.a, right),
+                                                   bezier_of(m.a, right));
+      const NodeBetween at_b = node_lambda_between(bezier_of(m.b, left), bezier_of(m.b, left), bezier_of(m.b, right),
+                                                   bezier_of(m.b, right));
+      const bool extremum_a = at_a.pattern_kept() && at_a.left_sign != at_a.right_sign;
+      const bool extremum_b = at_b.pattern_kept() && at_b.left_sign != at_b.right_sign;
+      if (!extremum_a || !extremum_b) continue;
+      const double zero = nb.left_zero_s >= 0 && (nb.right_zero_s < 0 || nb.left_zero_s <= nb.right_zero_s)
+                              ? nb.left_zero_s
+                              : nb.right_zero_s;
+      if (zero < p.s0 || zero > p.s1) continue;
+      GateViolation viol;
+      viol.joint = j;
+      viol.t = jr.joint.knot;
+      viol.message = "a curvature extremum at ";
+      viol.message += p.master_a;
+      viol.message += " and ";
+      viol.message += p.master_b;
+      viol.message += " but the curvature turns flat beside the node at {";
+      viol.message += p.location(sigma_of(p, zero));
+      viol.message += "} (lambda = 0 there): its extremum may leave the node";
       out.push_back(std::move(viol));
     }
   }

@@ -94,6 +94,20 @@ G1Between g1_between(const NodeTangents& t);
 /// motions: SplineReport::motions); none without motions.
 std::vector<GateViolation> g1_between_violations(const SplineReport& report);
 
+/// curvature-between-masters (extrema = false) and extrema-between-masters
+/// (true) on one contour's report: per segment and piece, when the segment's
+/// curvature is monotone at both masters of the piece (Algorithm 1 on each
+/// master: monotone_between of a master with itself), monotone_between of
+/// the two (bezierize/between.hpp): `fails` gives the first failing location
+/// (an exact dyadic s, the instance's extremum at t_witness; the infimum of
+/// the failing s lies in [s_lower, s_first_fail]); `undecided` is a
+/// violation too, naming the part certified. A piece that is part s0..s1 of
+/// its masters' line is judged on the whole line (exact doubles) and holds
+/// when the line is certified up to s1. extrema: the same, and a node that
+/// is a curvature extremum at both masters (lambda's signs at it differ on
+/// its two sides) must keep both signs for every s (node_lambda_between).
+std::vector<GateViolation> curvature_between_violations(const SplineReport& report, bool extrema);
+
 /// The report items of a designspace or variable font judged by the
 /// interpolation gates: the default master's contours (font_inputs), each
 /// carrying its motions along the pieces (io/masters.hpp read_masters).

@@ -16,6 +16,12 @@ designspaceLib, as a designer's tools would):
   incompatible.designspace  Bold's "O" has one point more.
   missing.designspace       names a source UFO that does not exist.
   bad_default.designspace   an axis whose default lies outside its range.
+  bump.designspace          glyph "O": one cubic piece (then two lines) whose
+                            curvature increases at both masters but has an
+                            interior extremum at the halfway instance
+                            (bezierize/between.hpp's cubic_bump pair, times 50).
+  similar.designspace       the same Regular, Bold = 2 x Regular: every
+                            instance is similar, curvature monotone throughout.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -56,6 +62,31 @@ def glyph_o(font, m, extra=False):
     pen.endPath()
 
 
+# The bump piece at both masters (tests/bezierize/between_exact.py's cubic_bump, times 50).
+BUMP_A = [(0, 0), (100, 100), (450, 300), (600, 400)]
+BUMP_B = [(0, 0), (50, 100), (250, 300), (600, 400)]
+
+
+def bump_ufo(path, style, pts, scale=1):
+    f = ufoLib2.Font()
+    f.info.familyName = "Interp Test"
+    f.info.styleName = style
+    f.info.unitsPerEm = 1000
+    g = f.newGlyph("O")
+    g.unicodes = [ord("O")]
+    g.width = 700
+    p = [(x * scale, y * scale) for x, y in pts]
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint(p[0], segmentType="line")
+    pen.addPoint(p[1])
+    pen.addPoint(p[2])
+    pen.addPoint(p[3], segmentType="curve")
+    pen.addPoint((p[3][0], p[0][1]), segmentType="line")
+    pen.endPath()
+    f.save(path, overwrite=True)
+
+
 def ufo(path, style, m, extra=False):
     f = ufoLib2.Font()
     f.info.familyName = "Interp Test"
@@ -65,13 +96,13 @@ def ufo(path, style, m, extra=False):
     f.save(path, overwrite=True)
 
 
-def designspace(out, name, bold_ufo, default=400, bold_file=None):
+def designspace(out, name, bold_ufo, default=400, bold_file=None, regular="Regular.ufo"):
     doc = DesignSpaceDocument()
     a = AxisDescriptor()
     a.name, a.tag, a.minimum, a.default, a.maximum = "Weight", "wght", USER[0], default, USER[1]
     a.map = list(zip(USER, DESIGN))
     doc.addAxis(a)
-    for file, style, w in (("Regular.ufo", "Regular", DESIGN[0]), (bold_file or bold_ufo, "Bold", DESIGN[1])):
+    for file, style, w in ((regular, "Regular", DESIGN[0]), (bold_file or bold_ufo, "Bold", DESIGN[1])):
         s = SourceDescriptor()
         s.filename, s.name, s.styleName, s.familyName = file, style, style, "Interp Test"
         s.location = {"Weight": w}
@@ -92,6 +123,11 @@ def main():
     designspace(out, "incompatible", "BoldIncompatible.ufo")
     designspace(out, "missing", "Bold.ufo", bold_file="Missing.ufo")
     designspace(out, "bad_default", "Bold.ufo", default=900)
+    bump_ufo(os.path.join(out, "BumpRegular.ufo"), "Regular", BUMP_A)
+    bump_ufo(os.path.join(out, "BumpBold.ufo"), "Bold", BUMP_B)
+    bump_ufo(os.path.join(out, "SimilarBold.ufo"), "Bold", BUMP_A, scale=2)
+    designspace(out, "bump", "BumpBold.ufo", regular="BumpRegular.ufo")
+    designspace(out, "similar", "SimilarBold.ufo", regular="BumpRegular.ufo")
 
 
 if __name__ == "__main__":

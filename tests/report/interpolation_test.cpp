@@ -96,6 +96,13 @@ TEST(InterpolationGate, ParsesAndTakesNoArgument) {
   EXPECT_TRUE(is_interpolation_gate(*g));
   EXPECT_EQ(to_string(*g), "g1-between-masters");
   EXPECT_THROW(parse_gate("g1-between-masters:2"), InputError);
+  for (const char* name : {"curvature-between-masters", "extrema-between-masters"}) {
+    const std::optional<Gate> c = parse_gate(name);
+    ASSERT_TRUE(c) << name;
+    EXPECT_TRUE(is_interpolation_gate(*c));
+    EXPECT_EQ(to_string(*c), name);
+  }
+  EXPECT_FALSE(is_interpolation_gate(*parse_gate("g2-at-smooth-nodes")));
 }
 
 TEST(Pieces, BetweenParsesTwoLocations) {

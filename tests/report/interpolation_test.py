@@ -10,10 +10,12 @@ instance.
 Prints "N passed, M failed" and exits 1 on any failure.
 """
 import json
+import re
 import os
 import subprocess
 import sys
 import tempfile
+from fractions import Fraction
 
 SRC, CMR = sys.argv[1], sys.argv[2]
 PY = "/usr/bin/python3"
@@ -83,6 +85,42 @@ with tempfile.TemporaryDirectory() as tmp:
             "--out", os.path.join(tmp, "plain"))
     check("without an interpolation gate a designspace is its masters", p.returncode in (0, 1) and "2 files" in p.stdout,
           p.stdout + p.stderr)
+
+    # Done when (2): curvature increasing at both masters, an interior extremum at the halfway instance (checked
+    # here in Fractions), exits 1 with a Weight strictly between; B = 2A (every instance similar) exits 0.
+    sys.path.insert(0, os.path.join(SRC, "tools"))
+    import make_test_designspace as fixture
+
+    def lam_ends(P):
+        """lambda = det(d1, d3) |d1|^2 - 3 det(d1, d2) (d1 . d2) of a cubic at t = 0 and t = 1, exactly."""
+        out = []
+        for t in (0, 1):
+            d1 = [3 * (P[1][k] - P[0][k]) if t == 0 else 3 * (P[3][k] - P[2][k]) for k in (0, 1)]
+            d2 = [6 * (P[2][k] - 2 * P[1][k] + P[0][k]) if t == 0 else 6 * (P[3][k] - 2 * P[2][k] + P[1][k])
+                  for k in (0, 1)]
+            d3 = [6 * (P[3][k] - 3 * P[2][k] + 3 * P[1][k] - P[0][k]) for k in (0, 1)]
+            det = lambda a, b: a[0] * b[1] - a[1] * b[0]
+            dot = lambda a, b: a[0] * b[0] + a[1] * b[1]
+            out.append(det(d1, d3) * dot(d1, d1) - 3 * det(d1, d2) * dot(d1, d2))
+        return out
+
+    half = [tuple((Fraction(a[k]) + Fraction(b[k])) / 2 for k in (0, 1)) for a, b in zip(fixture.BUMP_A, fixture.BUMP_B)]
+    lh = lam_ends(half)
+    check("bump fixture: the halfway instance has lambda(0) > 0 > lambda(1) (an interior extremum, exact)",
+          lh[0] > 0 > lh[1], str(lh))
+    for gate in ("curvature-between-masters", "extrema-between-masters"):
+        out = os.path.join(tmp, "bump")
+        p = run(os.path.join(tmp, "bump.designspace"), "--require", gate, "--glyphs", "O", "--no-thumbnails",
+                "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        msgs = [v["message"] for s in r["splines"] for g in s.get("gates", []) for v in g["violations"]]
+        w = [float(x) for m in msgs for x in re.findall(r'not at \{"Weight": ([0-9.]+)\}', m)]
+        check(gate + ": the bump exits 1 at a Weight strictly between, before the halfway weight",
+              p.returncode == 1 and len(w) == 1 and 400 < w[0] <= 550, p.stderr + str(msgs))
+        p = run(os.path.join(tmp, "similar.designspace"), "--require", gate, "--glyphs", "O", "--no-thumbnails",
+                "--out", os.path.join(tmp, "similar"))
+        check(gate + ": B = 2A exits 0", p.returncode == 0, p.stdout + p.stderr)
 
     # Variable fonts built from the same designspace by fontmake (Debian): CFF2 keeps the cubic masters, so the
     # pieces (gvar/CFF2 regions, avar) give the designspace's answer; a --between inside the piece is judged too.
