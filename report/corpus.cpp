@@ -61,6 +61,7 @@ bool wanted(const fs::path& file, const std::string& rel, const FileFilter& f) {
     const FileKind k = file_kind(file.string());
     const std::string ext = file.extension().string();
     if (k == FileKind::spline && ext != ".json" && ext != ".JSON") return false;
+    if (import::is_designspace_path(file)) return false;  // a folder's UFOs are its masters, walked as such
   } else if (std::none_of(f.include.begin(), f.include.end(), [&](const std::string& p) { return match(p, rel, name); })) {
     return false;
   }
