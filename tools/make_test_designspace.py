@@ -20,6 +20,10 @@ designspaceLib, as a designer's tools would):
                             curvature increases at both masters but has an
                             interior extremum at the halfway instance
                             (bezierize/between.hpp's cubic_bump pair, times 50).
+  three.designspace         kink's Regular and Bold with a Medium master at
+                            Weight 550 (design 80), G1 with handles in ratio
+                            3: two pieces (Regular-Medium, Medium-Bold), each
+                            a kink; none from Regular straight to Bold.
   similar.designspace       the same Regular, Bold = 2 x Regular: every
                             instance is similar, curvature monotone throughout.
 
@@ -39,6 +43,7 @@ from fontTools.designspaceLib import AxisDescriptor, DesignSpaceDocument, Source
 REGULAR = {"u": (100, 0), "v": (200, 0), "b": (0, 400), "h": (300, 400), "k": (-300, 400)}
 BOLD_KINK = {"u": (60, 30), "v": (240, 120), "b": (0, 420), "h": (330, 420), "k": (-330, 420)}
 BOLD_PROPORTIONAL = dict(BOLD_KINK, v=(120, 60))
+MEDIUM = {"u": (80, 20), "v": (240, 60), "b": (0, 410), "h": (315, 410), "k": (-315, 410)}
 NODES = {"kink": (REGULAR, BOLD_KINK), "proportional": (REGULAR, BOLD_PROPORTIONAL)}
 # The Weight axis: user values and their design values.
 USER = (400, 700)
@@ -96,13 +101,16 @@ def ufo(path, style, m, extra=False):
     f.save(path, overwrite=True)
 
 
-def designspace(out, name, bold_ufo, default=400, bold_file=None, regular="Regular.ufo"):
+def designspace(out, name, bold_ufo, default=400, bold_file=None, regular="Regular.ufo", medium=None):
     doc = DesignSpaceDocument()
     a = AxisDescriptor()
     a.name, a.tag, a.minimum, a.default, a.maximum = "Weight", "wght", USER[0], default, USER[1]
     a.map = list(zip(USER, DESIGN))
     doc.addAxis(a)
-    for file, style, w in ((regular, "Regular", DESIGN[0]), (bold_file or bold_ufo, "Bold", DESIGN[1])):
+    masters = [(regular, "Regular", DESIGN[0]), (bold_file or bold_ufo, "Bold", DESIGN[1])]
+    if medium:
+        masters.insert(1, (medium, "Medium", (DESIGN[0] + DESIGN[1]) // 2))
+    for file, style, w in masters:
         s = SourceDescriptor()
         s.filename, s.name, s.styleName, s.familyName = file, style, style, "Interp Test"
         s.location = {"Weight": w}
@@ -123,6 +131,8 @@ def main():
     designspace(out, "incompatible", "BoldIncompatible.ufo")
     designspace(out, "missing", "Bold.ufo", bold_file="Missing.ufo")
     designspace(out, "bad_default", "Bold.ufo", default=900)
+    ufo(os.path.join(out, "Medium.ufo"), "Medium", MEDIUM)
+    designspace(out, "three", "Bold.ufo", medium="Medium.ufo")
     bump_ufo(os.path.join(out, "BumpRegular.ufo"), "Regular", BUMP_A)
     bump_ufo(os.path.join(out, "BumpBold.ufo"), "Bold", BUMP_B)
     bump_ufo(os.path.join(out, "SimilarBold.ufo"), "Bold", BUMP_A, scale=2)

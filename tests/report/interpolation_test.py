@@ -67,6 +67,21 @@ with tempfile.TemporaryDirectory() as tmp:
                        capture_output=True, text=True)
     check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
 
+    # Three masters on one axis: a piece between each adjacent pair, none across the middle master.
+    out = os.path.join(tmp, "three")
+    p = run(os.path.join(tmp, "three.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("three masters: two pieces, Regular-Medium and Medium-Bold, each a kink",
+          p.returncode == 1 and len(msgs) == 2 and any("Regular and Medium" in m and "Weight in (400, 550)" in m
+                                                       for m in msgs)
+          and any("Medium and Bold" in m and "Weight in (550, 700)" in m for m in msgs), p.stderr + str(msgs))
+
+    p = run(os.path.join(tmp, "three.designspace"), *g1, "--between", "wght=450:wght=650", "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("three masters --between wght=450:wght=650: cut at Medium into (450, 550) and (550, 650)",
+          p.returncode == 1 and len(msgs) == 2 and any("Weight in (450, 550)" in m for m in msgs)
+          and any("Weight in (550, 650)" in m for m in msgs), p.stderr + str(msgs))
+
     # --between: a part of the masters' line, inside and reversed.
     for between in ("wght=400:wght=500", "wght=650:wght=500"):
         out = os.path.join(tmp, "between")
@@ -148,6 +163,22 @@ with tempfile.TemporaryDirectory() as tmp:
         check("variable font --between out of range: exit 2, one line",
               p.returncode == 2 and len(errors(p)) == 1 and "wght=900 is outside the axis's range [400, 700]" in p.stderr,
               p.stderr)
+
+    # A real TrueType variable font (Debian fonts-inter-variable, when installed): gvar's regions cut the
+    # Weight axis at its default, so the pieces run wght=100..400 and 400..900; the run completes (no invalid).
+    inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
+    if os.path.exists(inter):
+        out = os.path.join(tmp, "inter")
+        p = run(inter, "--require", "g1-between-masters,curvature-between-masters", "--glyphs", "a", "--no-thumbnails",
+                "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        msgs = [v["message"] for s in r["splines"] for g in s.get("gates", []) for v in g["violations"]]
+        check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
+              p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
+              any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
+    else:
+        print("SKIP Inter: fonts-inter-variable is not installed")
 
     # Bad input: one line each, exit 2 (or invalid in the report).
     bad = [
