@@ -37,7 +37,10 @@
 ///  * `--between LOC1:LOC2` (axis tags and user values, "wght=400" and
 ///    "wght=700"; unnamed axes at their defaults): the two locations must
 ///    differ in one axis; the segment is cut into the pieces above that it
-///    crosses (a designspace: only along a line of masters).
+///    crosses (a designspace: only along a line of masters; a variable
+///    font: any line along one axis), and each part is judged as the part
+///    s0..s1 of its piece (Piece::s0, s1): the node's smoothness is that of
+///    the piece's ends (masters, or a variable font's cuts).
 ///
 /// Compatibility: every master's glyph must have the same contours with the
 /// same control points (count, degree, knots: the same point types in the
