@@ -67,6 +67,19 @@ with tempfile.TemporaryDirectory() as tmp:
                        capture_output=True, text=True)
     check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
 
+    # The finding through the report machinery: SARIF on the default master's <point> line of the node.
+    sarif = os.path.join(tmp, "kink.sarif")
+    p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", os.path.join(tmp, "kink_sarif"), "--sarif", sarif)
+    with open(sarif) as f:
+        res = json.load(f)["runs"][0]["results"]
+    glif = open(os.path.join(tmp, "Regular.ufo", "glyphs", "O_.glif")).read().split("\n")
+    node_line = 1 + next(i for i, l in enumerate(glif) if 'smooth="yes"' in l)
+    loc = res[0]["locations"][0]["physicalLocation"] if len(res) == 1 else {}
+    check("SARIF: one g1-between-masters result on the node's <point> line of the default master",
+          p.returncode == 1 and len(res) == 1 and res[0]["ruleId"] == "g1-between-masters" and
+          loc.get("region", {}).get("startLine") == node_line and loc["artifactLocation"]["uri"].endswith("O_.glif"),
+          str(res)[:500])
+
     # Three masters on one axis: a piece between each adjacent pair, none across the middle master.
     out = os.path.join(tmp, "three")
     p = run(os.path.join(tmp, "three.designspace"), *g1, "--out", out)
