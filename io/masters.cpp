@@ -208,21 +208,27 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     for (const auto& m : a.map) s.coord_breaks.push_back(m.second);
     axes.push_back(std::move(s));
   }
-  const std::size_t n = ds.sources.size();
+  // Sources in a UFO's other layer (sparse masters) are not read: the
+  // pieces run between the full masters.
+  std::vector<Designspace::Source> sources;
+  for (const Designspace::Source& src : ds.sources)
+    if (src.layer.empty()) sources.push_back(src);
+  if (sources.empty()) throw InputError(path.string() + ": every source is a layer of a UFO (no full master)");
+  const std::size_t n = sources.size();
   std::vector<std::vector<double>> loc(n);
   std::size_t def = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    for (const Designspace::Axis& a : ds.axes) loc[k].push_back(ds.sources[k].location.at(a.name));
-    if (ds.sources[k].is_default) def = k;
+    for (const Designspace::Axis& a : ds.axes) loc[k].push_back(sources[k].location.at(a.name));
+    if (sources[k].is_default) def = k;
   }
   // The default master first, then the others (each a UFO: its errors are the run's).
   std::vector<Font> fonts(n);
-  fonts[def] = read_ufo(ds.sources[def].path, which);
+  fonts[def] = read_ufo(sources[def].path, which);
   for (std::size_t k = 0; k < n; ++k) {
     if (k == def) continue;
     GlyphSelection all;
     all.all = true;
-    fonts[k] = read_ufo(ds.sources[k].path, all);
+    fonts[k] = read_ufo(sources[k].path, all);
   }
 
   // Pieces between adjacent masters along each axis.
@@ -247,8 +253,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     p->s1 = s1;
     p->from = std::move(from);
     p->to = std::move(to);
-    p->master_a = ds.sources[l.a].name;
-    p->master_b = ds.sources[l.b].name;
+    p->master_a = sources[l.a].name;
+    p->master_b = sources[l.b].name;
     const double c0 = loc[l.a][l.axis], c1 = loc[l.b][l.axis];
     for (std::size_t k = 0; k < axes.size(); ++k) {
       const double x0 = static_cast<int>(k) == l.axis ? c0 + s0 * (c1 - c0) : loc[l.a][k];
@@ -259,7 +265,7 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
   };
   std::vector<std::pair<Line, std::shared_ptr<const Piece>>> pieces;
   if (!between) {
-    for (const Line& l : lines) pieces.emplace_back(l, make_piece(l, 0, 1, ds.sources[l.a].name, ds.sources[l.b].name));
+    for (const Line& l : lines) pieces.emplace_back(l, make_piece(l, 0, 1, sources[l.a].name, sources[l.b].name));
   } else {
     const std::string file = path.string();
     std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
@@ -278,8 +284,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
       if (!(lo < hi)) continue;
       covered += hi - lo;
       auto name_at = [&](double c) {
-        if (c == c0) return ds.sources[l.a].name;
-        if (c == c1) return ds.sources[l.b].name;
+        if (c == c0) return sources[l.a].name;
+        if (c == c1) return sources[l.b].name;
         return axes[ax].tag + "=" + num(axes[ax].to_user(c));
       };
       pieces.emplace_back(l, make_piece(l, (lo - c0) / (c1 - c0), (hi - c0) / (c1 - c0), name_at(lo), name_at(hi)));
@@ -312,8 +318,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     for (std::size_t k = 0; k < n && why.empty(); ++k) {
       const Glyph* o = glyph_in(k);
       if (o == nullptr || k == def) continue;
-      if (!o->error.empty()) why = "cannot be read in " + ds.sources[k].name + " (" + o->error + ")";
-      else why = incompatibility(g, ds.sources[def].name, *o, ds.sources[k].name);
+      if (!o->error.empty()) why = "cannot be read in " + sources[k].name + " (" + o->error + ")";
+      else why = incompatibility(g, sources[def].name, *o, sources[k].name);
     }
     if (!why.empty()) {
       g.error = g.name + ": incompatible masters: " + why;

@@ -13,7 +13,8 @@
 /// midpoint are affine combinations of source points, so they move
 /// affinely too).
 ///
-///  * A designspace (io/ufo.hpp: its sources are the masters, UFOs): along
+///  * A designspace (io/ufo.hpp: its sources are the masters, UFOs; a source
+///    in a UFO's other layer, a sparse master, is left out): along
 ///    each axis, between two masters whose design locations differ in that
 ///    axis only and with no other master on the line strictly between them
 ///    (adjacent masters; the other axes stay at the masters' values). s is

@@ -538,6 +538,7 @@ Designspace read_designspace(const fs::path& path) {
     if (file.empty()) throw InputError(f->where(s) + ": <source> has no filename");
     src.path = folder / file;
     src.name = s.attribute("name") ? s.attribute("name").value() : file;
+    src.layer = s.attribute("layer").value();
     for (const Designspace::Axis& a : ds.axes) src.location[a.name] = a.to_design(a.default_value);
     for (pugi::xml_node d = s.child("location").child("dimension"); d; d = d.next_sibling("dimension")) {
       const std::string axis = d.attribute("name").value();

@@ -87,6 +87,7 @@ struct Designspace {
     std::map<std::string, double> location;  ///< axis name -> design value (missing axes at their default)
     bool is_default = false;     ///< at every axis's default
     int line = 0;                ///< of its <source> element
+    std::string layer{};         ///< its `layer` attribute (a sparse master in a UFO's other layer); "" for the default layer
   };
   std::vector<Axis> axes;
   std::vector<Source> sources;

@@ -80,6 +80,18 @@ with tempfile.TemporaryDirectory() as tmp:
           loc.get("region", {}).get("startLine") == node_line and loc["artifactLocation"]["uri"].endswith("O_.glif"),
           str(res)[:500])
 
+    # A sparse master (a source in another layer of a UFO) is left out: the pieces run between the full masters.
+    text = open(os.path.join(tmp, "kink.designspace")).read()
+    layered = text.replace("</sources>", '<source filename="Regular.ufo" name="Sparse" layer="sparse">'
+                           '<location><dimension name="Weight" xvalue="80"/></location></source></sources>')
+    with open(os.path.join(tmp, "sparse.designspace"), "w") as f:
+        f.write(layered)
+    out = os.path.join(tmp, "sparse")
+    p = run(os.path.join(tmp, "sparse.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("a source in another layer (sparse master) is left out",
+          p.returncode == 1 and len(msgs) == 1 and "Regular and Bold" in msgs[0], p.stderr + str(msgs))
+
     # Three masters on one axis: a piece between each adjacent pair, none across the middle master.
     out = os.path.join(tmp, "three")
     p = run(os.path.join(tmp, "three.designspace"), *g1, "--out", out)
