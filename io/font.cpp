@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include <ft2build.h>
 #include FT_FREETYPE_H
 #include FT_OUTLINE_H
 #include FT_FONT_FORMATS_H
 #include FT_MULTIPLE_MASTERS_H
+#include FT_TRUETYPE_TABLES_H
+#include FT_TRUETYPE_TAGS_H
 
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -361,7 +364,7 @@ void set_location(FT_Library lib, FT_Face face, const Location& location, const 
 }  // namespace
 
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
-               const Location& location) {
+               const Location& location, const std::vector<double>& blend) {
   static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
   // Read as every input is (regular files only, size-limited: a FIFO or a
   // device is refused at once); the bytes outlive the face.
@@ -382,6 +385,13 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
   font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
   if (!location.empty()) set_location(library.lib, face.get(), location, path.string(), font);
+  if (!blend.empty()) {
+    std::vector<FT_Fixed> coords;
+    for (const double v : blend) coords.push_back(static_cast<FT_Fixed>(std::lround(v * 65536.0)));
+    if (!FT_HAS_MULTIPLE_MASTERS(face.get()) ||
+        FT_Set_Var_Blend_Coordinates(face.get(), static_cast<FT_UInt>(coords.size()), coords.data()) != 0)
+      throw InputError(path.string() + ": FreeType cannot set the blend coordinates of an instance");
+  }
   const int font_degree = font.cubic ? 3 : 2;
   std::vector<std::uint32_t> every;  // no code points asked for: every one the character map has
   if (codepoints.empty()) {
@@ -457,6 +467,192 @@ std::string file_stem(const std::string& glyph_name) {
     }
   }
   return out;
+}
+
+// ------------------------------------------------------------ variations
+
+namespace {
+
+/// A font table's bytes (empty when the font has none).
+std::vector<unsigned char> sfnt_table(FT_Face face, FT_ULong tag) {
+  FT_ULong length = 0;
+  if (FT_Load_Sfnt_Table(face, tag, 0, nullptr, &length) != 0 || length == 0) return {};
+  std::vector<unsigned char> out(length);
+  if (FT_Load_Sfnt_Table(face, tag, 0, out.data(), &length) != 0) return {};
+  return out;
+}
+
+/// Big-endian reads, bounds-checked (InputError naming the table).
+struct Reader {
+  const std::vector<unsigned char>& b;
+  std::string what;
+  std::size_t need(std::size_t at, std::size_t n) const {
+    if (at > b.size() || n > b.size() - at) throw InputError(what + ": truncated");
+    return at;
+  }
+  unsigned u8(std::size_t at) const { return b[need(at, 1)]; }
+  unsigned u16(std::size_t at) const { need(at, 2); return (unsigned{b[at]} << 8) | b[at + 1]; }
+  std::uint32_t u32(std::size_t at) const { return (std::uint32_t{u16(at)} << 16) | u16(at + 2); }
+  double f2dot14(std::size_t at) const { return static_cast<std::int16_t>(u16(at)) / 16384.0; }
+};
+
+/// One region (start, peak, end per axis) into the cuts and peaks.
+void add_region(Variations& v, const std::vector<double>& start, const std::vector<double>& peak,
+                const std::vector<double>& end, std::set<std::vector<double>>& peaks) {
+  for (std::size_t a = 0; a < v.axes.size(); ++a) {
+    if (peak[a] == 0) continue;  // the region does not involve the axis
+    for (const double c : {start[a], peak[a], end[a]})
+      if (c >= -1 && c <= 1) v.cuts[a].push_back(c);
+  }
+  peaks.insert(peak);
+}
+
+/// gvar: every tuple header of every glyph (OpenType gvar, version 1).
+void gvar_regions(const std::vector<unsigned char>& t, Variations& v, std::set<std::vector<double>>& peaks,
+                  const std::string& path) {
+  const Reader r{t, path + ": gvar"};
+  const std::size_t axes = r.u16(4), shared_count = r.u16(6);
+  if (axes != v.axes.size()) throw InputError(path + ": gvar has " + std::to_string(axes) + " axes, fvar " +
+                                              std::to_string(v.axes.size()));
+  const std::uint32_t shared_at = r.u32(8);
+  const std::size_t glyphs = r.u16(12);
+  const bool long_offsets = (r.u16(14) & 1) != 0;
+  const std::uint32_t data_at = r.u32(16);
+  auto tuple = [&](std::size_t at) {
+    std::vector<double> out(axes);
+    for (std::size_t a = 0; a < axes; ++a) out[a] = r.f2dot14(at + 2 * a);
+    return out;
+  };
+  std::vector<std::vector<double>> shared;
+  for (std::size_t k = 0; k < shared_count; ++k) shared.push_back(tuple(shared_at + k * axes * 2));
+  for (std::size_t g = 0; g < glyphs; ++g) {
+    const std::size_t o0 = long_offsets ? r.u32(20 + 4 * g) : 2 * std::size_t{r.u16(20 + 2 * g)};
+    const std::size_t o1 = long_offsets ? r.u32(24 + 4 * g) : 2 * std::size_t{r.u16(22 + 2 * g)};
+    if (o1 <= o0) continue;
+    std::size_t at = data_at + o0;
+    const std::size_t count = r.u16(at) & 0x0FFF;
+    at += 4;
+    for (std::size_t k = 0; k < count; ++k) {
+      const unsigned index = r.u16(at + 2);
+      at += 4;
+      std::vector<double> peak;
+      if (index & 0x8000) {
+        peak = tuple(at);
+        at += 2 * axes;
+      } else {
+        if ((index & 0x0FFF) >= shared.size()) throw InputError(path + ": gvar: a tuple names no shared tuple");
+        peak = shared[index & 0x0FFF];
+      }
+      std::vector<double> start(axes), end(axes);
+      if (index & 0x4000) {
+        start = tuple(at);
+        end = tuple(at + 2 * axes);
+        at += 4 * axes;
+      } else {
+        for (std::size_t a = 0; a < axes; ++a) start[a] = std::min(0.0, peak[a]), end[a] = std::max(0.0, peak[a]);
+      }
+      add_region(v, start, peak, end, peaks);
+    }
+  }
+}
+
+/// CFF2: the regions of the top DICT's item variation store (operator 24).
+void cff2_regions(const std::vector<unsigned char>& t, Variations& v, std::set<std::vector<double>>& peaks,
+                  const std::string& path) {
+  const Reader r{t, path + ": CFF2"};
+  const std::size_t header = r.u8(2), dict_length = r.u16(3);
+  std::size_t at = header, end = header + dict_length;
+  r.need(header, dict_length);
+  std::vector<double> operands;
+  std::optional<std::size_t> vstore;
+  while (at < end) {
+    const unsigned b0 = r.u8(at);
+    if (b0 == 28) operands.push_back(static_cast<std::int16_t>(r.u16(at + 1))), at += 3;
+    else if (b0 == 29) operands.push_back(static_cast<std::int32_t>(r.u32(at + 1))), at += 5;
+    else if (b0 == 30) {  // a real: nibbles to 0xf
+      ++at;
+      while (at < end && (r.u8(at) & 0x0F) != 0x0F && (r.u8(at) >> 4) != 0x0F) ++at;
+      ++at;
+      operands.push_back(0);
+    } else if (b0 >= 32 && b0 <= 246) operands.push_back(static_cast<int>(b0) - 139), ++at;
+    else if (b0 >= 247 && b0 <= 250) operands.push_back((static_cast<int>(b0) - 247) * 256 + r.u8(at + 1) + 108), at += 2;
+    else if (b0 >= 251 && b0 <= 254) operands.push_back(-(static_cast<int>(b0) - 251) * 256 - static_cast<int>(r.u8(at + 1)) - 108), at += 2;
+    else {  // an operator
+      const unsigned op = b0 == 12 ? 1200 + r.u8(at + 1) : b0;
+      at += b0 == 12 ? 2 : 1;
+      if (op == 24 && !operands.empty()) vstore = static_cast<std::size_t>(operands.back());
+      operands.clear();
+    }
+  }
+  if (!vstore) return;
+  const std::size_t store = *vstore + 2;  // after its u16 length
+  const std::size_t list = store + r.u32(store + 2);
+  const std::size_t axes = r.u16(list), regions = r.u16(list + 2);
+  if (axes != v.axes.size()) throw InputError(path + ": CFF2's variation store has " + std::to_string(axes) + " axes");
+  for (std::size_t k = 0; k < regions; ++k) {
+    std::vector<double> start(axes), peak(axes), stop(axes);
+    for (std::size_t a = 0; a < axes; ++a) {
+      const std::size_t p = list + 4 + (k * axes + a) * 6;
+      start[a] = r.f2dot14(p);
+      peak[a] = r.f2dot14(p + 2);
+      stop[a] = r.f2dot14(p + 4);
+    }
+    add_region(v, start, peak, stop, peaks);
+  }
+}
+
+}  // namespace
+
+Variations read_variations(const std::filesystem::path& path) {
+  static thread_local FreeTypeLibrary library;
+  const std::string bytes = read_input_file(path);
+  FT_Face raw = nullptr;
+  if (const FT_Error e = FT_New_Memory_Face(library.lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
+                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
+      e != 0)
+    throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
+  const std::unique_ptr<FT_FaceRec_, FaceDeleter> face(raw);
+  FT_MM_Var* mm = nullptr;
+  if (!FT_HAS_MULTIPLE_MASTERS(face.get()) || FT_Get_MM_Var(face.get(), &mm) != 0)
+    throw InputError(path.string() + ": no fvar table: the interpolation gates need a variable font or a designspace");
+  Variations v;
+  for (FT_UInt a = 0; a < mm->num_axis; ++a) {
+    Variations::Axis ax;
+    const FT_ULong t = mm->axis[a].tag;
+    ax.tag = {static_cast<char>(t >> 24), static_cast<char>((t >> 16) & 0xFF), static_cast<char>((t >> 8) & 0xFF),
+              static_cast<char>(t & 0xFF)};
+    while (!ax.tag.empty() && ax.tag.back() == ' ') ax.tag.pop_back();
+    ax.name = mm->axis[a].name ? mm->axis[a].name : ax.tag;
+    ax.minimum = mm->axis[a].minimum / 65536.0;
+    ax.default_value = mm->axis[a].def / 65536.0;
+    ax.maximum = mm->axis[a].maximum / 65536.0;
+    v.axes.push_back(ax);
+  }
+  FT_Done_MM_Var(library.lib, mm);
+  const std::string file = path.string();
+  if (const std::vector<unsigned char> avar = sfnt_table(face.get(), TTAG_avar); !avar.empty()) {
+    const Reader r{avar, file + ": avar"};
+    const std::size_t axes = r.u16(6);
+    std::size_t at = 8;
+    for (std::size_t a = 0; a < axes; ++a) {
+      const std::size_t count = r.u16(at);
+      at += 2;
+      for (std::size_t k = 0; k < count; ++k, at += 4)
+        if (a < v.axes.size()) v.axes[a].avar.emplace_back(r.f2dot14(at), r.f2dot14(at + 2));
+    }
+  }
+  v.cuts.assign(v.axes.size(), {-1.0, 0.0, 1.0});
+  std::set<std::vector<double>> peaks;
+  if (const std::vector<unsigned char> gvar = sfnt_table(face.get(), TTAG_gvar); !gvar.empty())
+    gvar_regions(gvar, v, peaks, file);
+  if (const std::vector<unsigned char> cff2 = sfnt_table(face.get(), FT_MAKE_TAG('C', 'F', 'F', '2')); !cff2.empty())
+    cff2_regions(cff2, v, peaks, file);
+  for (std::vector<double>& c : v.cuts) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+  }
+  v.peaks.assign(peaks.begin(), peaks.end());
+  return v;
 }
 
 }  // namespace cmr::import

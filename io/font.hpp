@@ -69,6 +69,9 @@ struct Glyph {
   /// Sources: per contour and source point, its `name` attribute ("" where
   /// it has none): shown beside the point's own name ("O/c0/p3 (top)").
   std::vector<std::vector<std::string>> point_labels;
+  /// Sources: per contour and source point, its smooth="yes" flag (the
+  /// designer's "smooth node"); empty for binary fonts.
+  std::vector<std::vector<bool>> point_smooth;
   /// Why the glyph cannot be judged (a malformed or unsupported outline in a
   /// source): it becomes an invalid item of a report; empty when it is read.
   std::string error;
@@ -126,8 +129,36 @@ Location parse_location(const std::string& text);
 /// `avar` is applied), axes not named at their defaults; InputError for a
 /// font without variations (no fvar), an axis it does not have or a value
 /// outside the axis's range. Font::style then names the location.
+///
+/// With `blend` (one value per axis), the instance at those normalised
+/// coordinates after avar (FreeType's blend coordinates, -1..1) instead:
+/// the ends of the interpolation gates' pieces (io/masters.hpp).
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
-               const Location& location = {});
+               const Location& location = {}, const std::vector<double>& blend = {});
+
+/// A variable font's design space as the interpolation gates cut it
+/// (io/masters.hpp).
+struct Variations {
+  struct Axis {
+    std::string tag, name;
+    double minimum = 0, default_value = 0, maximum = 0;  ///< user values (fvar)
+    /// avar's segment map of the axis: (from, to) normalised values,
+    /// ascending; empty: none (the identity).
+    std::vector<std::pair<double, double>> avar{};
+  };
+  std::vector<Axis> axes;
+  /// Per axis: the normalised coordinates (after avar) where some variation
+  /// region starts, peaks or ends on it, with -1, 0 and 1; ascending,
+  /// distinct. From gvar's tuple headers (shared and embedded peaks,
+  /// intermediate regions) or CFF2's item variation store regions.
+  std::vector<std::vector<double>> cuts;
+  /// Every region's peak (one normalised value per axis), distinct.
+  std::vector<std::vector<double>> peaks;
+};
+/// Reads fvar, avar and the regions of gvar or CFF2. InputError "FONT: no
+/// fvar table: ..." for a font without variations, and for tables that do
+/// not parse.
+Variations read_variations(const std::filesystem::path& path);
 
 /// The contour as a spline file (spline_to_json plus "point_names", and for
 /// a source whose points have `name` attributes "point_labels": one per

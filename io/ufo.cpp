@@ -169,6 +169,7 @@ struct GlifPoint {
   Type type = Type::offcurve;
   int line = 0;
   std::string name;  ///< its `name` attribute, if any
+  bool smooth = false;  ///< smooth="yes"
 };
 
 double coordinate(const XmlFile& f, const pugi::xml_node& point, const char* attr) {
@@ -219,6 +220,7 @@ GlifOutline parse_glif(const XmlFile& f) {
       GlifPoint gp;
       gp.line = f.line_of(p);
       gp.name = p.attribute("name").value();
+      gp.smooth = std::string(p.attribute("smooth").value()) == "yes";
       gp.p = {coordinate(f, p, "x"), coordinate(f, p, "y")};
       const std::string type = p.attribute("type").value();
       if (type.empty() || type == "offcurve") gp.type = GlifPoint::Type::offcurve;
@@ -293,6 +295,7 @@ struct RawGlyph {
   std::vector<std::string> notes;
   std::vector<std::vector<int>> lines;
   std::vector<std::vector<std::string>> labels;
+  std::vector<std::vector<bool>> smooth;
   bool conic = false, cubic = false;
 };
 
@@ -317,9 +320,12 @@ RawGlyph read_raw_glyph(const fs::path& file, const std::string& listed_name) {
       if (!note.empty()) g.notes.push_back(note);
       std::vector<int> lines;
       std::vector<std::string> labels;
-      for (const GlifPoint& p : g.outline.contours[c]) lines.push_back(p.line), labels.push_back(p.name);
+      std::vector<bool> smooth;
+      for (const GlifPoint& p : g.outline.contours[c])
+        lines.push_back(p.line), labels.push_back(p.name), smooth.push_back(p.smooth);
       g.lines.push_back(std::move(lines));
       g.labels.push_back(std::move(labels));
+      g.smooth.push_back(std::move(smooth));
     }
   } catch (const InputError& e) {
     g.error = e.what();
@@ -336,6 +342,7 @@ Glyph make_glyph(RawGlyph& raw, int font_degree) {
   g.notes = raw.notes;
   g.point_lines = raw.lines;
   g.point_labels = raw.labels;
+  g.point_smooth = raw.smooth;
   if (!g.error.empty()) return g;
   try {
     for (std::size_t c = 0; c < raw.contours.size(); ++c) {
@@ -461,6 +468,26 @@ Font read_ufo(const fs::path& path_in, const GlyphSelection& which) {
 
 // ------------------------------------------------------------ designspace
 
+namespace {
+
+/// The piecewise-linear function through `pts` (x ascending) at x, or x
+/// itself without points; the end pieces extended.
+double piecewise(const std::vector<std::pair<double, double>>& pts, double x, bool inverse) {
+  if (pts.empty()) return x;
+  auto X = [&](std::size_t k) { return inverse ? pts[k].second : pts[k].first; };
+  auto Y = [&](std::size_t k) { return inverse ? pts[k].first : pts[k].second; };
+  if (pts.size() == 1) return x - X(0) + Y(0);
+  std::size_t k = 1;
+  while (k + 1 < pts.size() && x > X(k)) ++k;
+  const double x0 = X(k - 1), x1 = X(k), y0 = Y(k - 1), y1 = Y(k);
+  return x1 == x0 ? y0 : y0 + (x - x0) * (y1 - y0) / (x1 - x0);
+}
+
+}  // namespace
+
+double Designspace::Axis::to_design(double user) const { return piecewise(map, user, false); }
+double Designspace::Axis::to_user(double design) const { return piecewise(map, design, true); }
+
 Designspace read_designspace(const fs::path& path) {
   const std::unique_ptr<XmlFile> f = load_xml(path);
   const pugi::xml_node root = f->doc.child("designspace");
@@ -509,6 +536,12 @@ Designspace read_designspace(const fs::path& path) {
     }
     if (axis.minimum > axis.maximum || axis.default_value < axis.minimum || axis.default_value > axis.maximum)
       throw InputError(f->where(a) + ": the axis '" + axis.name + "' has its default outside [minimum, maximum]");
+    for (pugi::xml_node m = a.child("map"); m; m = m.next_sibling("map")) {
+      const std::pair<double, double> io{number(m, "input", true), number(m, "output", true)};
+      if (!axis.map.empty() && (io.first <= axis.map.back().first || io.second < axis.map.back().second))
+        throw InputError(f->where(m) + ": the axis '" + axis.name + "' has a <map> that is not increasing");
+      axis.map.push_back(io);
+    }
     // Sources locate by axis name: two axes of one name would be one (found by fuzz_designspace).
     if (std::any_of(ds.axes.begin(), ds.axes.end(), [&](const Designspace::Axis& o) { return o.name == axis.name; }))
       throw InputError(f->where(a) + ": two axes are named '" + axis.name + "'");
@@ -522,7 +555,8 @@ Designspace read_designspace(const fs::path& path) {
     if (file.empty()) throw InputError(f->where(s) + ": <source> has no filename");
     src.path = folder / file;
     src.name = s.attribute("name") ? s.attribute("name").value() : file;
-    for (const Designspace::Axis& a : ds.axes) src.location[a.name] = a.default_value;
+    src.layer = s.attribute("layer").value();
+    for (const Designspace::Axis& a : ds.axes) src.location[a.name] = a.to_design(a.default_value);
     for (pugi::xml_node d = s.child("location").child("dimension"); d; d = d.next_sibling("dimension")) {
       const std::string axis = d.attribute("name").value();
       if (!src.location.count(axis)) throw InputError(f->where(d) + ": <dimension> names no axis ('" + axis + "')");
@@ -540,7 +574,7 @@ Designspace read_designspace(const fs::path& path) {
     if (!fs::exists(src.path, ec))
       throw InputError(f->where(s) + ": the source '" + file + "' does not exist (" + src.path.string() + ")");
     src.is_default = std::all_of(ds.axes.begin(), ds.axes.end(),
-                                 [&](const Designspace::Axis& a) { return src.location[a.name] == a.default_value; });
+                                 [&](const Designspace::Axis& a) { return src.location[a.name] == a.to_design(a.default_value); });
     ds.sources.push_back(std::move(src));
   }
   if (ds.sources.empty()) throw InputError(f->path + ": no <source>");

@@ -73,28 +73,36 @@ Font read_ufo(const std::filesystem::path& path, const GlyphSelection& which);
 struct Designspace {
   struct Axis {
     std::string tag, name;
-    double minimum = 0, maximum = 0, default_value = 0;
+    double minimum = 0, maximum = 0, default_value = 0;  ///< user values
     /// A discrete axis (format 5 `values="0 1"`): its values, ascending
     /// (minimum and maximum are the first and last); empty for a continuous one.
-    std::vector<double> values;
+    std::vector<double> values{};
+    /// <map input="USER" output="DESIGN"/>, ascending in user value; empty:
+    /// design values are user values. Sources' locations are design values.
+    std::vector<std::pair<double, double>> map{};
+    /// The map as a piecewise-linear function (either way; the ends extended).
+    double to_design(double user) const;
+    double to_user(double design) const;
   };
   struct Source {
     std::filesystem::path path;  ///< the source UFO, resolved against the document's folder
     std::string name;            ///< its `name` attribute (else the file name)
-    std::map<std::string, double> location;  ///< axis name -> value (missing axes at their default)
+    std::map<std::string, double> location;  ///< axis name -> design value (missing axes at their default)
     bool is_default = false;     ///< at every axis's default
     int line = 0;                ///< of its <source> element
+    std::string layer{};         ///< its `layer` attribute (a sparse master in a UFO's other layer); "" for the default layer
   };
   std::vector<Axis> axes;
   std::vector<Source> sources;
 };
 /// Reads a .designspace (format 4 or 5, discrete axes' `values` too: a
 /// source's location on one is one of them, given as `xvalue` or, the same
-/// on a discrete axis, `uservalue`). InputError naming the file and line for
-/// a malformed document, an axis whose default lies outside its range (on a
-/// discrete axis: is none of its values), two axes with one name, a source
-/// naming an unknown axis or at no value of a discrete one, or a source UFO
-/// that does not exist.
+/// on a discrete axis, `uservalue`; an axis's <map> is read). InputError
+/// naming the file and line for a malformed document, an axis whose default
+/// lies outside its range (on a discrete axis: is none of its values), a map
+/// that is not increasing, two axes with one name, a source naming an
+/// unknown axis or at no value of a discrete one, or a source UFO that does
+/// not exist.
 Designspace read_designspace(const std::filesystem::path& path);
 
 /// A new position for one source point of a .glif.

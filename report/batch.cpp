@@ -54,6 +54,7 @@ SplineReport report_item(const ReportInput& input, const ReportOptions& options)
     r.error = e.what();
   }
   r.file = input.file;
+  r.motions = input.motions;
   if (r.name.empty()) r.name = std::filesystem::path(r.file).stem().string();
   return r;
 }

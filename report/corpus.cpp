@@ -28,6 +28,7 @@
 #include "io/svg.hpp"
 #include "io/ufo.hpp"
 #include "report/baseline.hpp"
+#include "report/interpolation.hpp"
 #include "report/json_stream.hpp"
 #include "report/junit.hpp"
 #include "report/markdown.hpp"
@@ -60,6 +61,7 @@ bool wanted(const fs::path& file, const std::string& rel, const FileFilter& f) {
     const FileKind k = file_kind(file.string());
     const std::string ext = file.extension().string();
     if (k == FileKind::spline && ext != ".json" && ext != ".JSON") return false;
+    if (import::is_designspace_path(file)) return false;  // a folder's UFOs are its masters, walked as such
   } else if (std::none_of(f.include.begin(), f.include.end(), [&](const std::string& p) { return match(p, rel, name); })) {
     return false;
   }
@@ -202,7 +204,7 @@ void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::str
 }  // namespace
 
 FileKind file_kind(const std::string& path) {
-  if (import::is_font_path(path) || import::is_ufo_path(path)) return FileKind::font;
+  if (import::is_font_path(path) || import::is_source_path(path)) return FileKind::font;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".svg" ? FileKind::svg : FileKind::spline;
@@ -367,6 +369,12 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
   try {
     switch (w.kind) {
       case FileKind::font:
+        if (std::any_of(o.gates.begin(), o.gates.end(), is_interpolation_gate)) {
+          // The masters and the pieces between them (report/interpolation.hpp).
+          w.font = interpolation_inputs(path, {options.all_glyphs, options.codepoints, {}}, options.between, inputs);
+          o.certified_fixes = options.fixes;
+          break;
+        }
         w.font = font_inputs(import::is_ufo_path(path)
                                  ? import::read_ufo(path, {options.all_glyphs, options.codepoints, {}})
                                  : import::read_font(path, options.codepoints, options.location),

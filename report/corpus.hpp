@@ -123,6 +123,9 @@ struct BatchOptions {
   std::vector<std::uint32_t> codepoints;  ///< the glyphs of the fonts
   bool all_glyphs = false;              ///< every glyph of a font source (UFO), whatever its code points
   import::Location location;            ///< a variable font's instance (binary fonts; io/font.hpp)
+  /// --between LOC1:LOC2: the segment the interpolation gates judge
+  /// (io/masters.hpp); none: the pieces along every axis.
+  std::optional<std::pair<import::Location, import::Location>> between{};
   std::filesystem::path out;            ///< report.json, index.html, the pages
   std::optional<std::filesystem::path> junit, sarif;  ///< CI files
   std::optional<std::filesystem::path> baseline;      ///< an earlier report.json

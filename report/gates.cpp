@@ -12,6 +12,7 @@
 #include "report/extremum.hpp"
 #include "report/report.hpp"
 #include "report/xy_extrema.hpp"
+#include "report/interpolation.hpp"
 #include "spline/format.hpp"
 
 namespace cmr::report {
@@ -21,7 +22,7 @@ std::string num(double v, int precision = 6) { return format_number(v, precision
 
 const char* kGateNames =
     "curvature-extrema-at-nodes, curvature-extrema-at-nodes:runs, max-extrema-per-segment:N, "
-    "g2-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U]; extrema-at-nodes is an alias of "
+    "g2-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U], g1-between-masters, curvature-between-masters, extrema-between-masters; extrema-at-nodes is an alias of "
     "curvature-extrema-at-nodes";
 
 /// Where a curve event lies, for a violation.
@@ -69,11 +70,15 @@ std::optional<Gate> parse_gate(const std::string& given) {
     g.kind = Gate::Kind::unimodal_runs;
     return g;
   }
-  if (head == "curvature-extrema-at-nodes" || head == "no-inflection" || head == "each-piece") {
+  if (head == "curvature-extrema-at-nodes" || head == "no-inflection" || head == "each-piece" ||
+      head == "g1-between-masters" || head == "curvature-between-masters" || head == "extrema-between-masters") {
     if (colon != std::string::npos) throw InputError("--require: '" + given + "' takes no argument");
-    g.kind = head == "no-inflection" ? Gate::Kind::no_inflection
-             : head == "each-piece"  ? Gate::Kind::each_piece
-                                     : Gate::Kind::extrema_at_nodes;
+    g.kind = head == "no-inflection"        ? Gate::Kind::no_inflection
+             : head == "each-piece"         ? Gate::Kind::each_piece
+             : head == "g1-between-masters" ? Gate::Kind::g1_between_masters
+             : head == "curvature-between-masters" ? Gate::Kind::curvature_between_masters
+             : head == "extrema-between-masters"   ? Gate::Kind::extrema_between_masters
+                                            : Gate::Kind::extrema_at_nodes;
     return g;
   }
   if (head == "max-extrema-per-segment") {
@@ -115,6 +120,9 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
     case Gate::Kind::unimodal_runs: return "curvature-extrema-at-nodes:runs";
+    case Gate::Kind::g1_between_masters: return "g1-between-masters";
+    case Gate::Kind::curvature_between_masters: return "curvature-between-masters";
+    case Gate::Kind::extrema_between_masters: return "extrema-between-masters";
     case Gate::Kind::xy_extrema_at_nodes:
       // The default is the bare name, so that a finding's key (which holds
       // the gate's text) does not change with how the default was spelled.
@@ -217,6 +225,14 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
         break;
       case Gate::Kind::xy_extrema_at_nodes:
         for (GateViolation& v : xy_extremum_violations(r, gate.overshoot)) g.violations.push_back(std::move(v));
+        break;
+      case Gate::Kind::g1_between_masters:
+        for (GateViolation& v : g1_between_violations(r)) g.violations.push_back(std::move(v));
+        break;
+      case Gate::Kind::curvature_between_masters:
+      case Gate::Kind::extrema_between_masters:
+        for (GateViolation& v : curvature_between_violations(r, gate.kind == Gate::Kind::extrema_between_masters))
+          g.violations.push_back(std::move(v));
         break;
     }
     out.push_back(std::move(g));

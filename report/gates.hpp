@@ -55,6 +55,19 @@
 ///    kDefaultXyExtremumTolerance, in the outline's units) past its nearer
 ///    neighbouring node or extremum is tolerated. report/xy_extrema.hpp.
 ///
+///  * g1-between-masters: every node smooth at the masters stays G1 at
+///    every location between them (a designspace or a variable font; exact:
+///    report/interpolation.hpp). Its findings name the location in the
+///    user's axis values.
+///  * curvature-between-masters: every segment whose curvature is monotone
+///    at both masters of a piece stays monotone at every location between
+///    (bezierize/between.hpp's bivariate certificate in (t, s)); otherwise
+///    the first failing location and the instance's extremum.
+///  * extrema-between-masters: curvature-extrema-at-nodes at every location:
+///    the same certificate on every segment without an interior extremum at
+///    the masters, and a node that is a curvature extremum at both masters
+///    must stay one (lambda's signs at the node for every s).
+///
 /// Fixes: the smallest certified fix of each failing gate that has a fix
 /// requirement (curvature-extrema-at-nodes, each-piece), report/certified_fix.hpp.
 #include <optional>
@@ -79,7 +92,8 @@ inline constexpr double kDefaultG2Tolerance = 0.05;
 
 struct Gate {
   enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece,
-                    unimodal_runs, xy_extrema_at_nodes };
+                    unimodal_runs, xy_extrema_at_nodes, g1_between_masters,
+                    curvature_between_masters, extrema_between_masters };
   Kind kind = Kind::extrema_at_nodes;
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
@@ -127,6 +141,13 @@ struct GateResult {
     return true;
   }
 };
+
+/// A gate judged between masters (report/interpolation.hpp): it needs a
+/// designspace or a variable font, and has no point-moving fix yet.
+inline bool is_interpolation_gate(const Gate& gate) {
+  return gate.kind == Gate::Kind::g1_between_masters || gate.kind == Gate::Kind::curvature_between_masters ||
+         gate.kind == Gate::Kind::extrema_between_masters;
+}
 
 /// curvature-extrema-at-nodes:runs on one report (see the header comment).
 std::vector<GateViolation> unimodal_run_violations(const SplineReport& report);

@@ -47,7 +47,8 @@ FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
     return req;
   }
   for (const GateResult& g : r.gates)
-    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes) return requirement_of(g.gate);  // xy: a node
+    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes && !is_interpolation_gate(g.gate))
+      return requirement_of(g.gate);  // xy: a node; between masters: not a move of this contour
   return {};
 }
 

@@ -25,6 +25,10 @@
 #include "report/certified_fix.hpp"
 #include "report/gates.hpp"
 
+namespace cmr::import {
+struct ContourMotion;  // io/masters.hpp
+}
+
 namespace cmr::report {
 
 /// The version of report_json's document (docs/report-schema.md).
@@ -186,6 +190,10 @@ struct SplineReport {
   std::optional<std::vector<Fix>> fixes;  ///< one per control point; only for failing splines with regions on
   /// The smallest certified fix of each failing check (report/certified_fix.hpp); with regions and certified_fixes on.
   std::vector<CertifiedFix> certified_fixes;
+  /// A master's contour (a designspace, a variable font): how it moves along
+  /// each piece of the design space (io/masters.hpp), for the interpolation
+  /// gates (report/interpolation.hpp); null otherwise.
+  std::shared_ptr<const std::vector<import::ContourMotion>> motions{};
 };
 
 /// Every judged segment is straight (eta == 0: zero curvature throughout; a
@@ -202,6 +210,7 @@ struct ReportInput {
   std::string file;               ///< path or label
   std::optional<BSpline> spline;  ///< the spline, when it could be read
   std::string error;              ///< else the InputError's message
+  std::shared_ptr<const std::vector<import::ContourMotion>> motions{};  ///< SplineReport::motions
 };
 /// Reads a spline file; an invalid one becomes an item with its error.
 ReportInput read_input(const std::string& file);

@@ -52,6 +52,21 @@ RuleText rule_text(const std::string& id) {
             "Add a node at the point the message gives (split the segment there: the curve stays the same), or move "
             "the handles onto the axis so that the tangent at an existing node is horizontal or vertical. cmr names "
             "the point and does not insert it."};
+  if (id == "g1-between-masters")
+    return {"G1BetweenMasters", "A smooth node is a kink between the masters.",
+            "A node smooth at both masters (smooth=\"yes\" and collinear, exactly) must stay G1 at every location "
+            "between them: the cross product of its tangents, a polynomial of degree 2 in the axis, must vanish "
+            "identically. It does not when the handles' lengths change in different ratios.",
+            "Make the two handles' lengths change in the same ratio from master to master (the message gives the "
+            "worst location and angle)."};
+  if (id == "curvature-between-masters" || id == "extrema-between-masters")
+    return {id == "curvature-between-masters" ? "CurvatureBetweenMasters" : "ExtremaBetweenMasters",
+            "The curvature of a segment is monotone at both masters but not between them.",
+            "Every segment whose curvature is monotone at both masters must stay monotone at every location "
+            "between them (a certificate in the segment's parameter and the axis); extrema-between-masters also "
+            "asks a node that is a curvature extremum at both masters to stay one.",
+            "Move the segment's handles in one master so that the instances between keep a monotone curvature; "
+            "the message gives the first failing location and the instance's extremum."};
   if (id == "no-inflection")
     return {"NoInflection", "The curvature changes sign.", "The curve must not have an inflection.",
             "Move the handles so that the curve turns one way only, or split the contour at the inflection."};

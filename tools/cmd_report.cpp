@@ -24,6 +24,8 @@
 #include "tools/cli_common.hpp"
 #include "tools/cmd_space.hpp"
 #include "io/ufo.hpp"
+#include "io/masters.hpp"
+#include "report/interpolation.hpp"
 #include "report/corpus.hpp"
 #include "report/font_report.hpp"
 #include "io/font.hpp"
@@ -50,6 +52,7 @@ struct ReportArgs {
   bool pretty = false;
   std::string glyphs = "A-Z,a-z";
   std::string location;
+  std::string between;
   double min_severity = -1;
   bool strict = false;
   report::FileFilter filter;  // folders: --include / --exclude
@@ -91,7 +94,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "joint S: the parts before and after monotone in opposite directions), split:S:sharpest, split:S:flattest (by |curvature|), "
                   "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
                   "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
-                  "(a node at every horizontal and vertical tangent; U: tolerated overshoot in font units, default 1)");
+                  "(a node at every horizontal and vertical tangent; U: tolerated overshoot in font units, default 1); for a "
+                  ".designspace or a variable font also g1-between-masters, curvature-between-masters and "
+                  "extrema-between-masters (judged at every location between the masters: docs/interpolation.md)");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
                   "character of a font")->capture_default_str();
@@ -102,6 +107,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--location", args->location,
                   "variable fonts: the instance to judge, axis tags and user values (wght=700,opsz=14); default: the "
                   "default instance");
+  cmd->add_option("--between", args->between,
+                  "interpolation gates (g1-between-masters): judge this segment of the design space, two locations "
+                  "that differ in one axis (wght=400:wght=700; axis tags, user values); default: between adjacent "
+                  "masters along every axis");
   in_range(cmd->add_option("--depth", args->depth, "maximum subdivision depth D (level 0 = whole span)"), 0,
            kMaxDepth)
       ->capture_default_str();
@@ -195,6 +204,11 @@ void add_report_command(CLI::App& app, int& exit_code) {
           throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
       b.location = import::parse_location(args->location);
     }
+    const bool interpolation = std::any_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate);
+    if (!args->between.empty()) {
+      if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
+      b.between = import::parse_between(args->between);
+    }
     b.out = args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;
@@ -204,9 +218,18 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->baseline.empty()) b.baseline = args->baseline;
     if (!args->source_root.empty()) b.source_root = args->source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
-    const std::vector<std::string>& files = collected;
-    b.bases = std::move(bases);
-    b.skipped = std::move(skipped);
+    std::vector<std::string> files;
+    if (interpolation) {
+      // The interpolation gates take a designspace as one file (its masters together), not as its sources.
+      std::vector<std::string> walked, whole;
+      for (const std::string& f : args->files) (import::is_designspace_path(f) ? whole : walked).push_back(f);
+      if (!walked.empty()) files = report::collect_files(walked, args->filter, &b.bases, &b.skipped, {args->out});
+      for (const std::string& f : whole) files.push_back(f), b.bases.push_back("");
+    } else {
+      files = std::move(collected);
+      b.bases = std::move(bases);
+      b.skipped = std::move(skipped);
+    }
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);

@@ -1,0 +1,486 @@
+// Masters and the pieces where points move affinely (io/masters.hpp).
+#include "io/masters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "spline/errors.hpp"
+#include "spline/format.hpp"
+
+namespace cmr::import {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string num(double v) { return format_number(v, 7); }
+
+}  // namespace
+
+// ------------------------------------------------------------ pieces
+
+double PieceAxis::user(double s) const {
+  if (at.empty()) return 0;
+  if (at.size() == 1 || s <= at.front().first) return at.front().second;
+  for (std::size_t k = 1; k < at.size(); ++k)
+    if (s <= at[k].first) {
+      const auto [s0, u0] = at[k - 1];
+      const auto [s1, u1] = at[k];
+      return s1 == s0 ? u1 : u0 + (s - s0) * (u1 - u0) / (s1 - s0);
+    }
+  return at.back().second;
+}
+
+bool PieceAxis::varies() const {
+  return std::any_of(at.begin(), at.end(), [&](const auto& p) { return p.second != at.front().second; });
+}
+
+std::string Piece::location(double s) const {
+  std::string out;
+  for (int pass = 0; pass < 2; ++pass)
+    for (const PieceAxis& a : axes) {
+      if (a.varies() != (pass == 0)) continue;
+      if (!out.empty()) out += ", ";
+      out += "\"";
+      out += a.name;
+      out += "\": ";
+      out += num(a.user(s));
+    }
+  return out;
+}
+
+std::string Piece::range(double sa, double sb) const {
+  std::string out;
+  for (const PieceAxis& a : axes) {
+    if (!a.varies()) continue;
+    double u0 = a.user(sa), u1 = a.user(sb);
+    if (u0 > u1) std::swap(u0, u1);
+    if (!out.empty()) out += ", ";
+    out += a.name;
+    out += " in (";
+    out += num(u0);
+    out += ", ";
+    out += num(u1);
+    out += ")";
+  }
+  return out;
+}
+
+Segment2 parse_between(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos || text.find(':', colon + 1) != std::string::npos)
+    throw InputError("--between: '" + text + "' is not LOC1:LOC2 (wght=400:wght=700)");
+  auto part = [&](const std::string& t) {
+    try {
+      return parse_location(t);
+    } catch (const InputError& e) {
+      std::string m = e.what();
+      if (m.rfind("--location", 0) == 0) m.replace(0, 10, "--between");
+      throw InputError(m);
+    }
+  };
+  return {part(text.substr(0, colon)), part(text.substr(colon + 1))};
+}
+
+namespace {
+
+/// An axis of a design space as the pieces need it: user range and default,
+/// and the maps between user values and the coordinate that the instances
+/// are affine in (a designspace: design values; a variable font:
+/// normalised values after avar).
+struct SpaceAxis {
+  std::string tag, name;
+  double minimum = 0, maximum = 0, default_value = 0;  // user
+  std::function<double(double)> to_coord, to_user;
+  std::vector<double> coord_breaks;  // coordinates where to_user has a break (map points)
+};
+
+/// The user values of axis `ax` along a line from coordinate c0 (s = 0) to
+/// c1 (s = 1) of that axis.
+PieceAxis piece_axis(const SpaceAxis& ax, double c0, double c1) {
+  PieceAxis p;
+  p.name = ax.name;
+  p.tag = ax.tag;
+  p.at.emplace_back(0.0, ax.to_user(c0));
+  if (c0 != c1) {
+    std::vector<double> inner;
+    for (double b : ax.coord_breaks)
+      if ((b - c0) * (b - c1) < 0) inner.push_back((b - c0) / (c1 - c0));
+    std::sort(inner.begin(), inner.end());
+    for (double s : inner) p.at.emplace_back(s, ax.to_user(c0 + s * (c1 - c0)));
+    p.at.emplace_back(1.0, ax.to_user(c1));
+  }
+  return p;
+}
+
+/// A location given by tags and user values as coordinates (unnamed axes at
+/// their defaults), checked against the axes.
+std::vector<double> coordinates(const Location& loc, const std::vector<SpaceAxis>& axes, const std::string& file) {
+  std::vector<double> out;
+  for (const SpaceAxis& a : axes) out.push_back(a.to_coord(a.default_value));
+  for (const auto& [tag, value] : loc) {
+    std::size_t k = 0;
+    while (k < axes.size() && axes[k].tag != tag) ++k;
+    if (k == axes.size()) {
+      std::string have;
+      for (const SpaceAxis& a : axes) have += (have.empty() ? "" : ", ") + a.tag;
+      throw InputError(file + ": --between: no axis '" + tag + "' (the axes: " + have + ")");
+    }
+    const SpaceAxis& a = axes[k];
+    if (value < a.minimum || value > a.maximum)
+      throw InputError(file + ": --between: " + tag + "=" + num(value) + " is outside the axis's range [" +
+                       num(a.minimum) + ", " + num(a.maximum) + "]");
+    out[k] = a.to_coord(value);
+  }
+  return out;
+}
+
+std::string location_text(const Location& loc) {
+  std::string out;
+  for (const auto& [tag, v] : loc) out += (out.empty() ? "" : ",") + tag + "=" + num(v);
+  return out.empty() ? "default" : out;
+}
+
+/// The axis two coordinate vectors differ in (-1: none or several).
+int varying_axis(const std::vector<double>& a, const std::vector<double>& b) {
+  int axis = -1;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k] != b[k]) {
+      if (axis >= 0) return -2;
+      axis = static_cast<int>(k);
+    }
+  return axis;
+}
+
+/// Why two masters' glyphs cannot be interpolated ("" when they can).
+std::string incompatibility(const Glyph& a, const std::string& name_a, const Glyph& b, const std::string& name_b) {
+  if (a.contours.size() != b.contours.size())
+    return std::to_string(a.contours.size()) + " contours in " + name_a + ", " + std::to_string(b.contours.size()) +
+           " in " + name_b;
+  for (std::size_t c = 0; c < a.contours.size(); ++c) {
+    const BSpline& x = a.contours[c].spline;
+    const BSpline& y = b.contours[c].spline;
+    const std::string which = "contour " + std::to_string(a.contours[c].index);
+    if (a.contours[c].index != b.contours[c].index) return which + " is open in one of " + name_a + ", " + name_b;
+    // Source points (a line's added inner points are none).
+    auto count = [](const Contour& k) { return std::count_if(k.font_point.begin(), k.font_point.end(), [](int p) { return p >= 0; }); };
+    if (x.points().size() != y.points().size() || x.degree() != y.degree() || count(a.contours[c]) != count(b.contours[c]))
+      return which + " has " + std::to_string(count(a.contours[c])) + " points in " + name_a + ", " +
+             std::to_string(count(b.contours[c])) + " in " + name_b;
+    if (x.knots() != y.knots() || a.contours[c].node != b.contours[c].node)
+      return which + " has other point types in " + name_b + " than in " + name_a;
+  }
+  return {};
+}
+
+/// Per segment: the node starting it is marked smooth in the glyph (no
+/// marks, a binary font: true).
+std::vector<bool> smooth_marks(const Glyph& g, const Contour& c) {
+  std::vector<bool> out;
+  for (const int sp : c.joint_source_point) {
+    bool s = true;
+    if (!g.point_smooth.empty()) {
+      s = c.index < static_cast<int>(g.point_smooth.size()) && sp >= 0 &&
+          sp < static_cast<int>(g.point_smooth[c.index].size()) && g.point_smooth[c.index][sp];
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+// ------------------------------------------------------------ designspace
+
+Masters read_designspace_masters(const fs::path& path, const GlyphSelection& which,
+                                 const std::optional<Segment2>& between) {
+  const Designspace ds = read_designspace(path);
+  std::vector<SpaceAxis> axes;
+  for (const Designspace::Axis& a : ds.axes) {
+    SpaceAxis s;
+    s.tag = a.tag.empty() ? a.name : a.tag;
+    s.name = a.name;
+    s.minimum = a.minimum;
+    s.maximum = a.maximum;
+    s.default_value = a.default_value;
+    s.to_coord = [a](double u) { return a.to_design(u); };
+    s.to_user = [a](double d) { return a.to_user(d); };
+    for (const auto& m : a.map) s.coord_breaks.push_back(m.second);
+    axes.push_back(std::move(s));
+  }
+  // Sources in a UFO's other layer (sparse masters) are not read: the
+  // pieces run between the full masters.
+  std::vector<Designspace::Source> sources;
+  for (const Designspace::Source& src : ds.sources)
+    if (src.layer.empty()) sources.push_back(src);
+  if (sources.empty()) throw InputError(path.string() + ": every source is a layer of a UFO (no full master)");
+  const std::size_t n = sources.size();
+  std::vector<std::vector<double>> loc(n);
+  std::size_t def = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    for (const Designspace::Axis& a : ds.axes) loc[k].push_back(sources[k].location.at(a.name));
+    if (sources[k].is_default) def = k;
+  }
+  // The default master first, then the others (each a UFO: its errors are the run's).
+  std::vector<Font> fonts(n);
+  fonts[def] = read_ufo(sources[def].path, which);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k == def) continue;
+    GlyphSelection all;
+    all.all = true;
+    fonts[k] = read_ufo(sources[k].path, all);
+  }
+
+  // Pieces between adjacent masters along each axis.
+  struct Line {
+    std::size_t a, b;  // masters at s = 0 and s = 1
+    int axis;
+  };
+  std::vector<Line> lines;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      const int ax = varying_axis(loc[i], loc[j]);
+      if (ax < 0 || loc[i][ax] >= loc[j][ax]) continue;
+      bool adjacent = true;
+      for (std::size_t k = 0; k < n && adjacent; ++k)
+        if (varying_axis(loc[i], loc[k]) == ax && loc[k][ax] > loc[i][ax] && loc[k][ax] < loc[j][ax]) adjacent = false;
+      if (adjacent) lines.push_back({i, j, ax});
+    }
+  Masters m;
+  auto make_piece = [&](const Line& l, double s0, double s1, std::string from, std::string to) {
+    auto p = std::make_shared<Piece>();
+    p->s0 = s0;
+    p->s1 = s1;
+    p->from = std::move(from);
+    p->to = std::move(to);
+    p->master_a = sources[l.a].name;
+    p->master_b = sources[l.b].name;
+    const double c0 = loc[l.a][l.axis], c1 = loc[l.b][l.axis];
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      const double x0 = static_cast<int>(k) == l.axis ? c0 + s0 * (c1 - c0) : loc[l.a][k];
+      const double x1 = static_cast<int>(k) == l.axis ? c0 + s1 * (c1 - c0) : loc[l.a][k];
+      p->axes.push_back(piece_axis(axes[k], x0, x1));
+    }
+    return p;
+  };
+  std::vector<std::pair<Line, std::shared_ptr<const Piece>>> pieces;
+  if (!between) {
+    for (const Line& l : lines) pieces.emplace_back(l, make_piece(l, 0, 1, sources[l.a].name, sources[l.b].name));
+  } else {
+    const std::string file = path.string();
+    std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
+    const int ax = varying_axis(p0, p1);
+    if (ax < 0)
+      throw InputError(file + ": --between: " + location_text(between->first) + " and " +
+                       location_text(between->second) + (ax == -1 ? " are one location" : " differ in more than one axis"));
+    const bool reversed = p0[ax] > p1[ax];
+    if (reversed) std::swap(p0, p1);
+    double covered = 0;
+    for (const Line& l : lines) {
+      const int off = varying_axis(loc[l.a], p0);  // the same line: the other axes agree
+      if (l.axis != ax || (off != ax && off != -1)) continue;
+      const double c0 = loc[l.a][ax], c1 = loc[l.b][ax];
+      const double lo = std::max(c0, p0[ax]), hi = std::min(c1, p1[ax]);
+      if (!(lo < hi)) continue;
+      covered += hi - lo;
+      auto name_at = [&](double c) {
+        if (c == c0) return sources[l.a].name;
+        if (c == c1) return sources[l.b].name;
+        return axes[ax].tag + "=" + num(axes[ax].to_user(c));
+      };
+      pieces.emplace_back(l, make_piece(l, (lo - c0) / (c1 - c0), (hi - c0) / (c1 - c0), name_at(lo), name_at(hi)));
+    }
+    if (covered < p1[ax] - p0[ax])
+      throw InputError(file + ": --between: " + location_text(between->first) + ":" + location_text(between->second) +
+                       " does not run between masters (in a designspace, cmr interpolates along an axis between "
+                       "masters that differ in that axis only; a variable font takes any segment)");
+  }
+
+  m.font = std::move(fonts[def]);
+  m.font.path = path.string();
+  m.motions.resize(m.font.glyphs.size());
+  for (const auto& pc : pieces) m.pieces.push_back(pc.second);
+  // Each master's glyphs by name.
+  std::vector<std::map<std::string, const Glyph*>> by_name(n);
+  for (std::size_t k = 0; k < n; ++k)
+    if (k != def)
+      for (const Glyph& g : fonts[k].glyphs) by_name[k][g.name] = &g;
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    Glyph& g = m.font.glyphs[gi];
+    if (!g.error.empty()) continue;
+    auto glyph_in = [&](std::size_t k) -> const Glyph* {
+      if (k == def) return &g;
+      const auto it = by_name[k].find(g.name);
+      return it == by_name[k].end() ? nullptr : it->second;
+    };
+    // Compatibility with every master that has the glyph.
+    std::string why;
+    for (std::size_t k = 0; k < n && why.empty(); ++k) {
+      const Glyph* o = glyph_in(k);
+      if (o == nullptr || k == def) continue;
+      if (!o->error.empty()) why = "cannot be read in " + sources[k].name + " (" + o->error + ")";
+      else why = incompatibility(g, sources[def].name, *o, sources[k].name);
+    }
+    if (!why.empty()) {
+      g.error = g.name + ": incompatible masters: " + why;
+      g.contours.clear();
+      continue;
+    }
+    m.motions[gi].resize(g.contours.size());
+    for (const auto& [line, piece] : pieces) {
+      const Glyph* ga = glyph_in(line.a);
+      const Glyph* gb = glyph_in(line.b);
+      if (ga == nullptr || gb == nullptr) continue;  // a sparse master
+      for (std::size_t c = 0; c < g.contours.size(); ++c) {
+        ContourMotion mo{piece, ga->contours[c].spline, gb->contours[c].spline, {}};
+        const std::vector<bool> sa = smooth_marks(*ga, ga->contours[c]), sb = smooth_marks(*gb, gb->contours[c]);
+        for (std::size_t k = 0; k < sa.size(); ++k) mo.smooth.push_back(sa[k] && k < sb.size() && sb[k]);
+        m.motions[gi][c].push_back(std::move(mo));
+      }
+    }
+  }
+  return m;
+}
+
+// ------------------------------------------------------------ variable fonts
+
+Masters read_variable_masters(const fs::path& path, const GlyphSelection& which, const std::optional<Segment2>& between) {
+  const std::string file = path.string();
+  const Variations var = read_variations(path);
+  std::vector<SpaceAxis> axes;
+  for (const Variations::Axis& a : var.axes) {
+    SpaceAxis s;
+    s.tag = a.tag;
+    s.name = a.name;
+    s.minimum = a.minimum;
+    s.maximum = a.maximum;
+    s.default_value = a.default_value;
+    // fvar's normalisation, then avar's map (a designspace axis's piecewise map, reused).
+    Designspace::Axis avar;
+    avar.map = a.avar;
+    s.to_coord = [a, avar](double u) {
+      const double n = u < a.default_value   ? (a.default_value == a.minimum ? 0 : (u - a.default_value) / (a.default_value - a.minimum))
+                       : u > a.default_value ? (a.maximum == a.default_value ? 0 : (u - a.default_value) / (a.maximum - a.default_value))
+                                             : 0.0;
+      return avar.to_design(n);
+    };
+    s.to_user = [a, avar](double c) {
+      const double n = avar.to_user(c);
+      return n < 0 ? a.default_value + n * (a.default_value - a.minimum) : a.default_value + n * (a.maximum - a.default_value);
+    };
+    s.coord_breaks.push_back(0);
+    for (const auto& m : a.avar) s.coord_breaks.push_back(m.second);
+    axes.push_back(std::move(s));
+  }
+  const std::size_t n_axes = axes.size();
+  auto name_of = [&](const std::vector<double>& c) {
+    std::string out;
+    for (std::size_t k = 0; k < n_axes; ++k) out += (out.empty() ? "" : ",") + axes[k].tag + "=" + num(axes[k].to_user(c[k]));
+    return out;
+  };
+  // The pieces: (start, end) coordinate vectors along one axis, from cut
+  // to cut, and the part s0..s1 of it that is judged (--between).
+  struct Ends {
+    std::vector<double> a, b;
+    double s0 = 0, s1 = 1;
+  };
+  std::vector<Ends> ends;
+  auto cut_line = [&](const std::vector<double>& p0, const std::vector<double>& p1, int ax) {
+    const std::vector<double>& cuts = var.cuts[ax];  // -1, ..., 1
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double lo = std::max(cuts[k], p0[ax]), hi = std::min(cuts[k + 1], p1[ax]);
+      if (!(lo < hi)) continue;
+      Ends e{p0, p0, 0, 1};
+      e.a[ax] = cuts[k];
+      e.b[ax] = cuts[k + 1];
+      e.s0 = (lo - cuts[k]) / (cuts[k + 1] - cuts[k]);
+      e.s1 = (hi - cuts[k]) / (cuts[k + 1] - cuts[k]);
+      ends.push_back(std::move(e));
+    }
+  };
+  if (!between) {
+    for (std::size_t ax = 0; ax < n_axes; ++ax) {
+      std::set<std::vector<double>> bases{std::vector<double>(n_axes, 0.0)};
+      for (std::vector<double> p : var.peaks) {
+        p[ax] = 0;
+        bases.insert(p);
+      }
+      for (std::vector<double> b : bases) {
+        std::vector<double> e = b;
+        b[ax] = -1;
+        e[ax] = 1;
+        cut_line(b, e, static_cast<int>(ax));
+      }
+    }
+  } else {
+    std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
+    const int ax = varying_axis(p0, p1);
+    if (ax < 0)
+      throw InputError(file + ": --between: " + location_text(between->first) + " and " +
+                       location_text(between->second) + (ax == -1 ? " are one location" : " differ in more than one axis"));
+    if (p0[ax] > p1[ax]) std::swap(p0, p1);
+    cut_line(p0, p1, ax);
+  }
+
+  Masters m;
+  m.font = read_font(path, which.codepoints);
+  m.font.path = file;
+  // The instances at the pieces' ends, each loaded once.
+  std::map<std::vector<double>, Font> instances;
+  for (const Ends& e : ends)
+    for (const std::vector<double>* c : {&e.a, &e.b})
+      if (!instances.count(*c)) instances.emplace(*c, read_font(path, which.codepoints, {}, *c));
+  for (const Ends& e : ends) {
+    auto p = std::make_shared<Piece>();
+    p->s0 = e.s0;
+    p->s1 = e.s1;
+    p->master_a = name_of(e.a);
+    p->master_b = name_of(e.b);
+    std::vector<double> x0 = e.a, x1 = e.a;
+    for (std::size_t x = 0; x < n_axes; ++x) {
+      x0[x] = e.a[x] + e.s0 * (e.b[x] - e.a[x]);
+      x1[x] = e.a[x] + e.s1 * (e.b[x] - e.a[x]);
+      p->axes.push_back(piece_axis(axes[x], x0[x], x1[x]));
+    }
+    p->from = name_of(x0);
+    p->to = name_of(x1);
+    m.pieces.push_back(p);
+  }
+  m.motions.resize(m.font.glyphs.size());
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    Glyph& g = m.font.glyphs[gi];
+    std::string why;
+    for (const auto& [c, f] : instances) {
+      if (gi >= f.glyphs.size() || f.glyphs[gi].name != g.name) {
+        why = "the instance at " + name_of(c) + " has other glyphs";
+        break;
+      }
+      why = incompatibility(g, "the default instance", f.glyphs[gi], "the instance at " + name_of(c));
+      if (!why.empty()) break;
+    }
+    if (!why.empty()) {
+      g.error = g.name + ": incompatible masters: " + why;
+      g.contours.clear();
+      continue;
+    }
+    m.motions[gi].resize(g.contours.size());
+    for (std::size_t k = 0; k < ends.size(); ++k) {
+      const Glyph& ga = instances.at(ends[k].a).glyphs[gi];
+      const Glyph& gb = instances.at(ends[k].b).glyphs[gi];
+      for (std::size_t c = 0; c < g.contours.size(); ++c)
+        m.motions[gi][c].push_back(ContourMotion{m.pieces[k], ga.contours[c].spline, gb.contours[c].spline, {}});
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+Masters read_masters(const fs::path& path, const GlyphSelection& which, const std::optional<Segment2>& between) {
+  if (is_designspace_path(path)) return read_designspace_masters(path, which, between);
+  if (is_ufo_path(path))
+    throw InputError(path.string() + ": one master (a UFO): the interpolation gates need a designspace or a variable font");
+  return read_variable_masters(path, which, between);
+}
+
+}  // namespace cmr::import

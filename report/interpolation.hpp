@@ -1,0 +1,117 @@
+#pragma once
+/// The interpolation gates (issue 37; `cmr report FAMILY.designspace
+/// --require g1-between-masters`, or a variable font): judged on every
+/// piece of the design space where points move affinely
+/// (io/masters.hpp), not only at the masters.
+///
+/// g1-between-masters. Every node that is smooth at the masters stays G1 at
+/// every location of each piece. Along a piece (parameter s in [0, 1]) every
+/// control point is P(s) = (1 - s) A + s B, and so is every Bezier point of
+/// every segment (an affine function of the control points; exact for
+/// A and B the piece's end splines, built exactly from the masters as
+/// (1 - s0) M_a + s0 M_b, io/masters.hpp's Piece::s0, s1). At the node that
+/// ends segment i-1 (Bezier points L_0..L_n) and starts segment i (R_0..R_n)
+/// the tangents are
+///
+///   u(s) = L_n - L_{n-1},  v(s) = R_1 - R_0     (each affine: degree 1 in s)
+///
+/// (a handle of zero length at both ends of the piece: the next point,
+/// L_n - L_{n-2} or R_2 - R_0). The node is G1 at s exactly when
+///
+///   c(s) = u(s) x v(s) = 0   and   d(s) = u(s) . v(s) > 0,
+///
+/// c and d polynomials of degree <= 2 in s, in Bernstein form on [0, 1]:
+///   c = [u0 x v0, (u0 x v1 + u1 x v0) / 2, u1 x v1]    (d likewise with .)
+/// with exact rational coefficients (the inputs are doubles: every double is
+/// a rational, bezierize/exact.hpp).
+///
+/// "Smooth at the masters" (the nodes judged): the node is marked smooth
+/// (a .glif's smooth="yes") in both masters of the piece, AND c = 0 and
+/// d > 0 exactly at both ends of the piece (s = 0 and s = 1). A node the
+/// designer marked smooth whose tangents are off by float noise at a master
+/// (non-integer coordinates, e.g. 455.53248462973204 after an off-grid fix)
+/// is *not* collinear at that master in exact arithmetic; it is not judged
+/// here (g2-at-smooth-nodes and the G1 tolerance of cmr analyze judge the
+/// masters themselves). Integer masters, as UFO sources usually are, make
+/// the test exact with no tolerance at all. A binary variable font has no
+/// smooth marks: collinearity at both ends decides alone.
+///
+/// The certificate: c == 0 (its three coefficients are zero) and d > 0 on
+/// [0, 1] (no root of d there: isolate_roots): the node is G1 at every
+/// location of the piece. Otherwise a violation: the open s-intervals
+/// between consecutive roots of c in [0, 1] (c(0) = c(1) = 0 and c of
+/// degree <= 2 not identically zero leave exactly (0, 1): the node is a kink
+/// at every location strictly between), or, c == 0, where d <= 0 (the
+/// tangents reverse or a handle collapses). The worst instance: the angle
+/// between u and v is theta(s) = atan2(c(s), d(s)) with
+///
+///   theta'(s) = (c' d - c d') / (c^2 + d^2),
+///
+/// and g = c' d - c d' has degree <= 2 (its s^3 terms cancel), so |theta|
+/// is largest at a root of g in (0, 1) (isolated exactly; theta = 0 at the
+/// ends): the worst angle, in degrees, is evaluated there (double precision
+/// at the enclosure's middle, within 1e-12 in s), and its location is given
+/// in the user's axis values ("Weight": 437.5).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bezierize/exact.hpp"
+#include "io/masters.hpp"
+#include "report/font_report.hpp"
+#include "report/gates.hpp"
+
+namespace cmr::report {
+
+/// A node's tangents along a piece: u(s) = (1 - s) u0 + s u1, v likewise
+/// (exact).
+struct NodeTangents {
+  Rational u0x, u0y, u1x, u1y, v0x, v0y, v1x, v1y;
+};
+
+/// G1 at one instance: u x v = 0 and u . v > 0, exactly.
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy);
+
+/// What g1-between-masters finds at one node on one piece (the caller
+/// judges only nodes smooth at the masters: g1_at at both).
+struct G1Between {
+  bool judged = false;    ///< set by g1_between
+  bool holds = false;     ///< certified G1 at every s in [0, 1]
+  /// Where it fails: open intervals of s (c != 0, or d <= 0 with c == 0);
+  /// ends rounded outwards to doubles (exact when they are dyadic).
+  std::vector<std::pair<double, double>> fail;
+  double worst_s = 0;      ///< the worst instance (nearest double)
+  double worst_angle = 0;  ///< degrees, at worst_s
+};
+
+/// The test of the header comment on one node's tangents over s in [0, 1]
+/// (a piece's own parameter: for a --between part of the masters' line the
+/// ends need not be G1, and the worst angle may lie at an end).
+G1Between g1_between(const NodeTangents& t);
+
+/// The violations of g1-between-masters on one contour's report (its
+/// motions: SplineReport::motions); none without motions.
+std::vector<GateViolation> g1_between_violations(const SplineReport& report);
+
+/// curvature-between-masters (extrema = false) and extrema-between-masters
+/// (true) on one contour's report: per segment and piece, when the segment's
+/// curvature is monotone at both masters of the piece (Algorithm 1 on each
+/// master: monotone_between of a master with itself), monotone_between of
+/// the two (bezierize/between.hpp): `fails` gives the first failing location
+/// (an exact dyadic s, the instance's extremum at t_witness; the infimum of
+/// the failing s lies in [s_lower, s_first_fail]); `undecided` is a
+/// violation too, naming the part certified. A piece that is part s0..s1 of
+/// its masters' line is judged on the whole line (exact doubles) and holds
+/// when the line is certified up to s1. extrema: the same, and a node that
+/// is a curvature extremum at both masters (lambda's signs at it differ on
+/// its two sides) must keep both signs for every s (node_lambda_between).
+std::vector<GateViolation> curvature_between_violations(const SplineReport& report, bool extrema);
+
+/// The report items of a designspace or variable font judged by the
+/// interpolation gates: the default master's contours (font_inputs), each
+/// carrying its motions along the pieces (io/masters.hpp read_masters).
+FontInfo interpolation_inputs(const std::string& path, const import::GlyphSelection& which,
+                              const std::optional<import::Segment2>& between, std::vector<ReportInput>& inputs);
+
+}  // namespace cmr::report

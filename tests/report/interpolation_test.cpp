@@ -1,0 +1,135 @@
+// g1-between-masters (report/interpolation.hpp) on hand-made tangents, and
+// the pieces' parsing and user values (io/masters.hpp). The designspaces
+// end to end: interpolation_sources (interpolation_test.py).
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "io/masters.hpp"
+#include "report/gates.hpp"
+#include "report/interpolation.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr::report {
+namespace {
+
+NodeTangents tangents(double u0x, double u0y, double u1x, double u1y, double v0x, double v0y, double v1x,
+                      double v1y) {
+  return {Rational(u0x), Rational(u0y), Rational(u1x), Rational(u1y),
+          Rational(v0x), Rational(v0y), Rational(v1x), Rational(v1y)};
+}
+
+/// The angle between u(s) and v(s) in degrees, in double (the test's own).
+double angle(const double t[8], double s) {
+  const double ux = (1 - s) * t[0] + s * t[2], uy = (1 - s) * t[1] + s * t[3];
+  const double vx = (1 - s) * t[4] + s * t[6], vy = (1 - s) * t[5] + s * t[7];
+  return std::abs(std::atan2(ux * vy - uy * vx, ux * vx + uy * vy)) * 180 / std::numbers::pi;
+}
+
+TEST(G1Between, HandlesInDifferentRatiosKinkStrictlyBetween) {
+  // Regular: u = (100, 0), v = (200, 0) (ratio 2); Bold: u = (60, 30), v = (240, 120) (ratio 4).
+  const double t[8] = {100, 0, 60, 30, 200, 0, 240, 120};
+  const G1Between g = g1_between(tangents(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7]));
+  ASSERT_TRUE(g.judged);
+  EXPECT_FALSE(g.holds);
+  ASSERT_EQ(g.fail.size(), 1u);  // c = 6000 s (1 - s): a kink on all of (0, 1)
+  EXPECT_EQ(g.fail[0].first, 0.0);
+  EXPECT_EQ(g.fail[0].second, 1.0);
+  EXPECT_GT(g.worst_s, 0.0);
+  EXPECT_LT(g.worst_s, 1.0);
+  // The worst angle is the largest on a fine grid (within the grid's resolution), and at worst_s.
+  double best = 0;
+  for (int k = 0; k <= 100000; ++k) best = std::max(best, angle(t, k / 100000.0));
+  EXPECT_NEAR(g.worst_angle, best, 1e-6);
+  EXPECT_NEAR(angle(t, g.worst_s), g.worst_angle, 1e-9);
+}
+
+TEST(G1Between, ProportionalHandlesHold) {
+  // v = 2 u at both masters: v(s) = 2 u(s) for every s.
+  const G1Between g = g1_between(tangents(100, 0, 60, 30, 200, 0, 120, 60));
+  EXPECT_TRUE(g.judged);
+  EXPECT_TRUE(g.holds);
+  EXPECT_TRUE(g.fail.empty());
+}
+
+TEST(G1Between, CollinearThroughoutButReversingFails) {
+  // v = (1, 0) throughout, u from (1, 0) to (-1, 0): collinear at every s, but u passes through 0 at s = 1/2
+  // and reverses (a masters' pair the caller would not judge: it is not G1 at Bold; the polynomial test alone).
+  const G1Between g = g1_between(tangents(1, 0, -1, 0, 1, 0, 1, 0));
+  EXPECT_FALSE(g.holds);
+  ASSERT_FALSE(g.fail.empty());
+  EXPECT_EQ(g.worst_angle, 180);
+  EXPECT_LE(g.fail[0].first, 0.5);
+  EXPECT_GE(g.fail[0].second, 0.5);
+}
+
+TEST(G1Between, PartOfTheLineMayStartAtAKink) {
+  // The kink's tangents restricted to s in [1/4, 3/4]: c != 0 at both ends, so the whole part fails, and the
+  // worst angle is the line's (inside) or an end's.
+  auto at = [](double a, double b, double s) { return (1 - s) * a + s * b; };
+  const double t[8] = {100, 0, 60, 30, 200, 0, 240, 120};
+  const double s0 = 0.25, s1 = 0.75;
+  const double q[8] = {at(t[0], t[2], s0), at(t[1], t[3], s0), at(t[0], t[2], s1), at(t[1], t[3], s1),
+                       at(t[4], t[6], s0), at(t[5], t[7], s0), at(t[4], t[6], s1), at(t[5], t[7], s1)};
+  const G1Between g = g1_between(tangents(q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]));
+  EXPECT_FALSE(g.holds);
+  ASSERT_EQ(g.fail.size(), 1u);
+  EXPECT_EQ(g.fail[0].first, 0.0);
+  EXPECT_EQ(g.fail[0].second, 1.0);
+  double best = 0;
+  for (int k = 0; k <= 100000; ++k) best = std::max(best, angle(q, k / 100000.0));
+  EXPECT_NEAR(g.worst_angle, best, 1e-6);
+}
+
+TEST(G1Between, SmoothAtAnInstanceIsExact) {
+  EXPECT_TRUE(g1_at(Rational(3), Rational(4), Rational(6), Rational(8)));
+  EXPECT_FALSE(g1_at(Rational(3), Rational(4), Rational(-6), Rational(-8)));  // reversed
+  // Off by the last bit of a double: not collinear in exact arithmetic.
+  EXPECT_FALSE(g1_at(Rational(0.1), Rational(0.2), Rational(0.1), Rational(std::nextafter(0.2, 1.0))));
+}
+
+TEST(InterpolationGate, ParsesAndTakesNoArgument) {
+  const std::optional<Gate> g = parse_gate("g1-between-masters");
+  ASSERT_TRUE(g);
+  EXPECT_EQ(g->kind, Gate::Kind::g1_between_masters);
+  EXPECT_TRUE(is_interpolation_gate(*g));
+  EXPECT_EQ(to_string(*g), "g1-between-masters");
+  EXPECT_THROW(parse_gate("g1-between-masters:2"), InputError);
+  for (const char* name : {"curvature-between-masters", "extrema-between-masters"}) {
+    const std::optional<Gate> c = parse_gate(name);
+    ASSERT_TRUE(c) << name;
+    EXPECT_TRUE(is_interpolation_gate(*c));
+    EXPECT_EQ(to_string(*c), name);
+  }
+  EXPECT_FALSE(is_interpolation_gate(*parse_gate("g2-at-smooth-nodes")));
+}
+
+TEST(Pieces, BetweenParsesTwoLocations) {
+  const import::Segment2 s = import::parse_between("wght=400:wght=700,wdth=100");
+  ASSERT_EQ(s.first.size(), 1u);
+  ASSERT_EQ(s.second.size(), 2u);
+  EXPECT_EQ(s.second[1].first, "wdth");
+  EXPECT_THROW(import::parse_between("wght=400"), InputError);
+  EXPECT_THROW(import::parse_between("wght=400:wght=x"), InputError);
+  EXPECT_THROW(import::parse_between("a:b:c"), InputError);
+  try {
+    import::parse_between("wght=400:weight=700");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--between:", 0), 0u) << e.what();
+  }
+}
+
+TEST(Pieces, UserValuesFollowTheBreaks) {
+  import::Piece p;
+  p.axes.push_back({"Weight", "wght", {{0.0, 400.0}, {0.5, 500.0}, {1.0, 700.0}}});
+  p.axes.push_back({"Width", "wdth", {{0.0, 100.0}}});
+  EXPECT_DOUBLE_EQ(p.axes[0].user(0.25), 450);
+  EXPECT_DOUBLE_EQ(p.axes[0].user(0.75), 600);
+  EXPECT_EQ(p.location(0.75), "\"Weight\": 600, \"Width\": 100");
+  EXPECT_EQ(p.range(0, 0.5), "Weight in (400, 500)");
+}
+
+}  // namespace
+}  // namespace cmr::report

@@ -1,0 +1,239 @@
+#!/usr/bin/python3
+"""The interpolation gates end to end (report/interpolation.hpp): two-master
+designspaces made by tools/make_test_designspace.py, `cmr report
+--require g1-between-masters` on them, each bad input, and the independent
+exact check (interpolation_check.py) of the reported interval and worst
+instance.
+
+    interpolation_test.py SOURCE_DIR CMR
+
+Prints "N passed, M failed" and exits 1 on any failure.
+"""
+import json
+import re
+import os
+import subprocess
+import sys
+import tempfile
+from fractions import Fraction
+
+SRC, CMR = sys.argv[1], sys.argv[2]
+PY = "/usr/bin/python3"
+results = []
+
+
+def check(name, ok, detail=""):
+    results.append(bool(ok))
+    print(("PASS " if ok else "FAIL ") + name + ("" if ok else ": " + detail))
+
+
+def run(*args, cwd=None):
+    return subprocess.run([CMR, "report", *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def violations(out):
+    with open(os.path.join(out, "report.json")) as f:
+        r = json.load(f)
+    return [v["message"] for s in r["splines"] for g in s.get("gates", []) if g["gate"] == "g1-between-masters"
+            for v in g["violations"]]
+
+
+def errors(proc):
+    return [l for l in proc.stderr.splitlines() if l.startswith("cmr:")]
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    subprocess.run([PY, os.path.join(SRC, "tools", "make_test_designspace.py"), tmp], check=True)
+    g1 = ["--require", "g1-between-masters", "--glyphs", "O", "--no-thumbnails"]
+
+    # Done when: the kink exits 1 and names a Weight strictly between the masters; the twin exits 0.
+    out = os.path.join(tmp, "kink")
+    p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode in (0, 1) else []
+    check("kink exits 1", p.returncode == 1, p.stdout + p.stderr)
+    check("kink: one violation naming Weight between the masters",
+          len(msgs) == 1 and "Weight in (400, 700)" in msgs[0] and "\"Weight\": " in msgs[0], str(msgs))
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"),
+                        os.path.join(tmp, "kink.designspace"), os.path.join(out, "report.json"), "0"],
+                       capture_output=True, text=True)
+    check("kink: the interval and worst instance agree with exact Fractions", c.returncode == 0, c.stdout + c.stderr)
+    print(c.stdout.strip())
+
+    out = os.path.join(tmp, "prop")
+    p = run(os.path.join(tmp, "proportional.designspace"), *g1, "--out", out)
+    check("proportional handles exit 0", p.returncode == 0, p.stdout + p.stderr)
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"),
+                        os.path.join(tmp, "proportional.designspace"), os.path.join(out, "report.json"), "0"],
+                       capture_output=True, text=True)
+    check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
+
+    # The finding through the report machinery: SARIF on the default master's <point> line of the node.
+    sarif = os.path.join(tmp, "kink.sarif")
+    p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", os.path.join(tmp, "kink_sarif"), "--sarif", sarif)
+    with open(sarif) as f:
+        res = json.load(f)["runs"][0]["results"]
+    glif = open(os.path.join(tmp, "Regular.ufo", "glyphs", "O_.glif")).read().split("\n")
+    node_line = 1 + next(i for i, l in enumerate(glif) if 'smooth="yes"' in l)
+    loc = res[0]["locations"][0]["physicalLocation"] if len(res) == 1 else {}
+    check("SARIF: one g1-between-masters result on the node's <point> line of the default master",
+          p.returncode == 1 and len(res) == 1 and res[0]["ruleId"] == "g1-between-masters" and
+          loc.get("region", {}).get("startLine") == node_line and loc["artifactLocation"]["uri"].endswith("O_.glif"),
+          str(res)[:500])
+
+    # A sparse master (a source in another layer of a UFO) is left out: the pieces run between the full masters.
+    text = open(os.path.join(tmp, "kink.designspace")).read()
+    layered = text.replace("</sources>", '<source filename="Regular.ufo" name="Sparse" layer="sparse">'
+                           '<location><dimension name="Weight" xvalue="80"/></location></source></sources>')
+    with open(os.path.join(tmp, "sparse.designspace"), "w") as f:
+        f.write(layered)
+    out = os.path.join(tmp, "sparse")
+    p = run(os.path.join(tmp, "sparse.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("a source in another layer (sparse master) is left out",
+          p.returncode == 1 and len(msgs) == 1 and "Regular and Bold" in msgs[0], p.stderr + str(msgs))
+
+    # Three masters on one axis: a piece between each adjacent pair, none across the middle master.
+    out = os.path.join(tmp, "three")
+    p = run(os.path.join(tmp, "three.designspace"), *g1, "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("three masters: two pieces, Regular-Medium and Medium-Bold, each a kink",
+          p.returncode == 1 and len(msgs) == 2 and any("Regular and Medium" in m and "Weight in (400, 550)" in m
+                                                       for m in msgs)
+          and any("Medium and Bold" in m and "Weight in (550, 700)" in m for m in msgs), p.stderr + str(msgs))
+
+    p = run(os.path.join(tmp, "three.designspace"), *g1, "--between", "wght=450:wght=650", "--out", out)
+    msgs = violations(out) if p.returncode == 1 else []
+    check("three masters --between wght=450:wght=650: cut at Medium into (450, 550) and (550, 650)",
+          p.returncode == 1 and len(msgs) == 2 and any("Weight in (450, 550)" in m for m in msgs)
+          and any("Weight in (550, 650)" in m for m in msgs), p.stderr + str(msgs))
+
+    # --between: a part of the masters' line, inside and reversed.
+    for between in ("wght=400:wght=500", "wght=650:wght=500"):
+        out = os.path.join(tmp, "between")
+        p = run(os.path.join(tmp, "kink.designspace"), *g1, "--between", between, "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        lo, hi = sorted(float(x.split("=")[1]) for x in between.split(":"))
+        check("--between " + between + " exits 1 on its own range",
+              p.returncode == 1 and len(msgs) == 1 and ("Weight in (%g, %g)" % (lo, hi)) in msgs[0],
+              p.stderr + str(msgs))
+    out = os.path.join(tmp, "between_prop")
+    p = run(os.path.join(tmp, "proportional.designspace"), *g1, "--between", "wght=450:wght=600", "--out", out)
+    check("--between on the proportional twin exits 0", p.returncode == 0, p.stdout + p.stderr)
+
+    # Other gates with a designspace keep reading its masters as UFOs (not as one file).
+    p = run(os.path.join(tmp, "kink.designspace"), "--require", "no-inflection", "--glyphs", "O", "--no-thumbnails",
+            "--out", os.path.join(tmp, "plain"))
+    check("without an interpolation gate a designspace is its masters", p.returncode in (0, 1) and "2 files" in p.stdout,
+          p.stdout + p.stderr)
+
+    # Done when (2): curvature increasing at both masters, an interior extremum at the halfway instance (checked
+    # here in Fractions), exits 1 with a Weight strictly between; B = 2A (every instance similar) exits 0.
+    sys.path.insert(0, os.path.join(SRC, "tools"))
+    import make_test_designspace as fixture
+
+    def lam_ends(P):
+        """lambda = det(d1, d3) |d1|^2 - 3 det(d1, d2) (d1 . d2) of a cubic at t = 0 and t = 1, exactly."""
+        out = []
+        for t in (0, 1):
+            d1 = [3 * (P[1][k] - P[0][k]) if t == 0 else 3 * (P[3][k] - P[2][k]) for k in (0, 1)]
+            d2 = [6 * (P[2][k] - 2 * P[1][k] + P[0][k]) if t == 0 else 6 * (P[3][k] - 2 * P[2][k] + P[1][k])
+                  for k in (0, 1)]
+            d3 = [6 * (P[3][k] - 3 * P[2][k] + 3 * P[1][k] - P[0][k]) for k in (0, 1)]
+            det = lambda a, b: a[0] * b[1] - a[1] * b[0]
+            dot = lambda a, b: a[0] * b[0] + a[1] * b[1]
+            out.append(det(d1, d3) * dot(d1, d1) - 3 * det(d1, d2) * dot(d1, d2))
+        return out
+
+    half = [tuple((Fraction(a[k]) + Fraction(b[k])) / 2 for k in (0, 1)) for a, b in zip(fixture.BUMP_A, fixture.BUMP_B)]
+    lh = lam_ends(half)
+    check("bump fixture: the halfway instance has lambda(0) > 0 > lambda(1) (an interior extremum, exact)",
+          lh[0] > 0 > lh[1], str(lh))
+    for gate in ("curvature-between-masters", "extrema-between-masters"):
+        out = os.path.join(tmp, "bump")
+        p = run(os.path.join(tmp, "bump.designspace"), "--require", gate, "--glyphs", "O", "--no-thumbnails",
+                "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        msgs = [v["message"] for s in r["splines"] for g in s.get("gates", []) for v in g["violations"]]
+        w = [float(x) for m in msgs for x in re.findall(r'not at \{"Weight": ([0-9.]+)\}', m)]
+        check(gate + ": the bump exits 1 at a Weight strictly between, before the halfway weight",
+              p.returncode == 1 and len(w) == 1 and 400 < w[0] <= 550, p.stderr + str(msgs))
+        p = run(os.path.join(tmp, "similar.designspace"), "--require", gate, "--glyphs", "O", "--no-thumbnails",
+                "--out", os.path.join(tmp, "similar"))
+        check(gate + ": B = 2A exits 0", p.returncode == 0, p.stdout + p.stderr)
+
+    # Variable fonts built from the same designspace by fontmake (Debian): CFF2 keeps the cubic masters, so the
+    # pieces (gvar/CFF2 regions, avar) give the designspace's answer; a --between inside the piece is judged too.
+    vf = os.path.join(tmp, "vf")
+    built = subprocess.run(["fontmake", "-m", os.path.join(tmp, "kink.designspace"), "-o", "variable-cff2",
+                            "--output-dir", vf], capture_output=True, text=True)
+    check("fontmake builds the CFF2 variable font", built.returncode == 0, built.stderr[-2000:])
+    otf = os.path.join(vf, "kink-VF.otf")
+    if built.returncode == 0:
+        out = os.path.join(tmp, "vf_out")
+        p = run(otf, *g1, "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        ds_msgs = violations(os.path.join(tmp, "kink"))
+        check("CFF2 variable font: exit 1 with the designspace's interval and worst instance",
+              p.returncode == 1 and len(msgs) == 1 and len(ds_msgs) == 1 and
+              msgs[0].split("but", 1)[1] == ds_msgs[0].split("but", 1)[1], p.stderr + str(msgs) + str(ds_msgs))
+        p = run(otf, *g1, "--between", "wght=450:wght=500", "--out", out)
+        msgs = violations(out) if p.returncode == 1 else []
+        check("CFF2 variable font --between inside a piece: exit 1 on Weight in (450, 500)",
+              p.returncode == 1 and len(msgs) == 1 and "Weight in (450, 500)" in msgs[0], p.stderr + str(msgs))
+        p = run(otf, *g1, "--between", "wght=450:wdth=500", "--out", out)
+        check("variable font --between naming an unknown axis: exit 2, one line",
+              p.returncode == 2 and len(errors(p)) == 1 and "--between: no axis 'wdth'" in p.stderr, p.stderr)
+        p = run(otf, *g1, "--between", "wght=450:wght=900", "--out", out)
+        check("variable font --between out of range: exit 2, one line",
+              p.returncode == 2 and len(errors(p)) == 1 and "wght=900 is outside the axis's range [400, 700]" in p.stderr,
+              p.stderr)
+
+    # A real TrueType variable font (Debian fonts-inter-variable, when installed): gvar's regions cut the
+    # Weight axis at its default, so the pieces run wght=100..400 and 400..900; the run completes (no invalid).
+    inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
+    if os.path.exists(inter):
+        out = os.path.join(tmp, "inter")
+        p = run(inter, "--require", "g1-between-masters,curvature-between-masters", "--glyphs", "a", "--no-thumbnails",
+                "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        msgs = [v["message"] for s in r["splines"] for g in s.get("gates", []) for v in g["violations"]]
+        check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
+              p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
+              any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
+    else:
+        print("SKIP Inter: fonts-inter-variable is not installed")
+
+    # Bad input: one line each, exit 2 (or invalid in the report).
+    bad = [
+        ("incompatible masters", [os.path.join(tmp, "incompatible.designspace"), *g1],
+         "O: incompatible masters: contour 0 has 6 points in Regular, 7 in Bold"),
+        ("a designspace naming a missing source", [os.path.join(tmp, "missing.designspace"), *g1],
+         "the source 'Missing.ufo' does not exist"),
+        ("an axis default outside its range", [os.path.join(tmp, "bad_default.designspace"), *g1],
+         "has its default outside [minimum, maximum]"),
+        ("--between naming an unknown axis", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wdth=1:wdth=2"],
+         "--between: no axis 'wdth'"),
+        ("--between with a value out of range", [os.path.join(tmp, "kink.designspace"), *g1, "--between",
+                                                 "wght=300:wght=500"], "wght=300 is outside the axis's range [400, 700]"),
+        ("--between of one location", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wght=500:wght=500"],
+         "are one location"),
+        ("--between that is not LOC1:LOC2", [os.path.join(tmp, "kink.designspace"), *g1, "--between", "wght=500"],
+         "--between: 'wght=500' is not LOC1:LOC2"),
+        ("--between without an interpolation gate", [os.path.join(tmp, "kink.designspace"), "--between",
+                                                     "wght=400:wght=500"], "--between: only with an interpolation gate"),
+        ("a UFO (one master) given to an interpolation gate", [os.path.join(tmp, "Regular.ufo"), *g1],
+         "one master (a UFO): the interpolation gates need a designspace or a variable font"),
+        ("a font without fvar given to an interpolation gate",
+         ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", *g1], "no fvar table"),
+    ]
+    for name, args, text in bad:
+        out = os.path.join(tmp, "bad")
+        p = run(*args, "--out", out)
+        lines = [l for l in errors(p) if text in l]
+        check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and len(errors(p)) == 1,
+              "rc %d: %s" % (p.returncode, p.stderr))
+
+print("%d passed, %d failed" % (results.count(True), results.count(False)))
+sys.exit(0 if all(results) else 1)

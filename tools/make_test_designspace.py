@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Test fixture: small two-master designspaces for the interpolation gates.
+
+    make_test_designspace.py OUT_DIR
+
+Writes into OUT_DIR (Debian python3-ufolib2 and python3-fonttools'
+designspaceLib, as a designer's tools would):
+
+  kink.designspace          Regular (Weight 400) and Bold (Weight 700), glyph
+                            "O": one contour whose node p0 is smooth="yes" and
+                            G1 at both masters, its handles' lengths in ratio
+                            2 (Regular) and 4 (Bold): a kink at every weight
+                            strictly between.
+  proportional.designspace  the same, Bold's handles in ratio 2 as well:
+                            G1 at every weight.
+  incompatible.designspace  Bold's "O" has one point more.
+  missing.designspace       names a source UFO that does not exist.
+  bad_default.designspace   an axis whose default lies outside its range.
+  bump.designspace          glyph "O": one cubic piece (then two lines) whose
+                            curvature increases at both masters but has an
+                            interior extremum at the halfway instance
+                            (bezierize/between.hpp's cubic_bump pair, times 50).
+  three.designspace         kink's Regular and Bold with a Medium master at
+                            Weight 550 (design 80), G1 with handles in ratio
+                            3: two pieces (Regular-Medium, Medium-Bold), each
+                            a kink; none from Regular straight to Bold.
+  similar.designspace       the same Regular, Bold = 2 x Regular: every
+                            instance is similar, curvature monotone throughout.
+
+The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
+findings' user values are not the design values. NODES gives the node's
+tangents; tests/report/interpolation_check.py re-derives the answer from
+them with fractions.Fraction.
+"""
+import os
+import sys
+
+import ufoLib2
+from fontTools.designspaceLib import AxisDescriptor, DesignSpaceDocument, SourceDescriptor
+
+# Node p0 at (0, 0): incoming tangent u = p0 - (the point before it),
+# outgoing v = (the point after it) - p0. Regular: u = (100, 0), v = (200, 0).
+REGULAR = {"u": (100, 0), "v": (200, 0), "b": (0, 400), "h": (300, 400), "k": (-300, 400)}
+BOLD_KINK = {"u": (60, 30), "v": (240, 120), "b": (0, 420), "h": (330, 420), "k": (-330, 420)}
+BOLD_PROPORTIONAL = dict(BOLD_KINK, v=(120, 60))
+MEDIUM = {"u": (80, 20), "v": (240, 60), "b": (0, 410), "h": (315, 410), "k": (-315, 410)}
+NODES = {"kink": (REGULAR, BOLD_KINK), "proportional": (REGULAR, BOLD_PROPORTIONAL)}
+# The Weight axis: user values and their design values.
+USER = (400, 700)
+DESIGN = (40, 120)
+
+
+def glyph_o(font, m, extra=False):
+    g = font.newGlyph("O")
+    g.unicodes = [ord("O")]
+    g.width = 600
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint((0, 0), segmentType="curve", smooth=True)
+    pen.addPoint(m["v"])
+    pen.addPoint(m["h"])
+    pen.addPoint(m["b"], segmentType="curve")
+    if extra:
+        pen.addPoint((m["k"][0] // 2, m["b"][1]), segmentType="line")
+    pen.addPoint(m["k"])
+    pen.addPoint((-m["u"][0], -m["u"][1]))
+    pen.endPath()
+
+
+# The bump piece at both masters (tests/bezierize/between_exact.py's cubic_bump, times 50).
+BUMP_A = [(0, 0), (100, 100), (450, 300), (600, 400)]
+BUMP_B = [(0, 0), (50, 100), (250, 300), (600, 400)]
+
+
+def bump_ufo(path, style, pts, scale=1):
+    f = ufoLib2.Font()
+    f.info.familyName = "Interp Test"
+    f.info.styleName = style
+    f.info.unitsPerEm = 1000
+    g = f.newGlyph("O")
+    g.unicodes = [ord("O")]
+    g.width = 700
+    p = [(x * scale, y * scale) for x, y in pts]
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint(p[0], segmentType="line")
+    pen.addPoint(p[1])
+    pen.addPoint(p[2])
+    pen.addPoint(p[3], segmentType="curve")
+    pen.addPoint((p[3][0], p[0][1]), segmentType="line")
+    pen.endPath()
+    f.save(path, overwrite=True)
+
+
+def ufo(path, style, m, extra=False):
+    f = ufoLib2.Font()
+    f.info.familyName = "Interp Test"
+    f.info.styleName = style
+    f.info.unitsPerEm = 1000
+    glyph_o(f, m, extra)
+    f.save(path, overwrite=True)
+
+
+def designspace(out, name, bold_ufo, default=400, bold_file=None, regular="Regular.ufo", medium=None):
+    doc = DesignSpaceDocument()
+    a = AxisDescriptor()
+    a.name, a.tag, a.minimum, a.default, a.maximum = "Weight", "wght", USER[0], default, USER[1]
+    a.map = list(zip(USER, DESIGN))
+    doc.addAxis(a)
+    masters = [(regular, "Regular", DESIGN[0]), (bold_file or bold_ufo, "Bold", DESIGN[1])]
+    if medium:
+        masters.insert(1, (medium, "Medium", (DESIGN[0] + DESIGN[1]) // 2))
+    for file, style, w in masters:
+        s = SourceDescriptor()
+        s.filename, s.name, s.styleName, s.familyName = file, style, style, "Interp Test"
+        s.location = {"Weight": w}
+        doc.addSource(s)
+    path = os.path.join(out, name + ".designspace")
+    doc.write(path)
+
+
+def main():
+    out = sys.argv[1]
+    os.makedirs(out, exist_ok=True)
+    ufo(os.path.join(out, "Regular.ufo"), "Regular", REGULAR)
+    ufo(os.path.join(out, "Bold.ufo"), "Bold", BOLD_KINK)
+    ufo(os.path.join(out, "BoldProportional.ufo"), "Bold", BOLD_PROPORTIONAL)
+    ufo(os.path.join(out, "BoldIncompatible.ufo"), "Bold", BOLD_KINK, extra=True)
+    designspace(out, "kink", "Bold.ufo")
+    designspace(out, "proportional", "BoldProportional.ufo")
+    designspace(out, "incompatible", "BoldIncompatible.ufo")
+    designspace(out, "missing", "Bold.ufo", bold_file="Missing.ufo")
+    designspace(out, "bad_default", "Bold.ufo", default=900)
+    ufo(os.path.join(out, "Medium.ufo"), "Medium", MEDIUM)
+    designspace(out, "three", "Bold.ufo", medium="Medium.ufo")
+    bump_ufo(os.path.join(out, "BumpRegular.ufo"), "Regular", BUMP_A)
+    bump_ufo(os.path.join(out, "BumpBold.ufo"), "Bold", BUMP_B)
+    bump_ufo(os.path.join(out, "SimilarBold.ufo"), "Bold", BUMP_A, scale=2)
+    designspace(out, "bump", "BumpBold.ufo", regular="BumpRegular.ufo")
+    designspace(out, "similar", "SimilarBold.ufo", regular="BumpRegular.ufo")
+
+
+if __name__ == "__main__":
+    main()
