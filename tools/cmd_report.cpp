@@ -29,6 +29,7 @@
 #include "io/svg.hpp"
 #include "report/report.hpp"
 #include "report/batch.hpp"
+#include "report/merge.hpp"
 
 namespace cmr::cli {
 
@@ -55,6 +56,9 @@ struct ReportArgs {
   bool quiet = false;
   bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
+  std::string shard;                // --shard i/N (report/merge.hpp)
+  std::vector<std::string> merge;   // --merge DIR...
+  int jobs = 0;                     // --jobs N: threads; 0 = every core
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -66,8 +70,14 @@ void add_report_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
   cmd->add_option("FILES", args->files,
                   "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), font sources (NAME.ufo, .glif, "
-                  ".designspace: its masters), folders (walked recursively) or globs")
-      ->required();
+                  ".designspace: its masters), folders (walked recursively) or globs");
+  cmd->add_option("--shard", args->shard,
+                  "i/N: report only the inputs whose position k (0-based, in the collected and expanded order) has "
+                  "k mod N = i-1; merge the N parts with --merge (docs/report.md, Large collections)");
+  cmd->add_option("--merge", args->merge,
+                  "combine the report folders of a sharded run into --out (report.json, index.html; with --junit, "
+                  "--sarif, --markdown NAME: each part's NAME), without judging again");
+  in_range(cmd->add_option("--jobs,-j", args->jobs, "threads (default: every core)"), 1, 4096);
   cmd->add_option("--include", args->filter.include, "in folders, only files matching this glob (repeatable)");
   cmd->add_option("--exclude", args->filter.exclude, "in folders, leave out files matching this glob (repeatable)");
   cmd->add_option("--junit", args->junit, "also write a JUnit XML file (one test case per glyph or spline)");
@@ -114,6 +124,24 @@ void add_report_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
+    if (!args->merge.empty()) {  // report/merge.hpp: the parts' outputs combined, nothing judged again
+      if (!args->files.empty() || !args->shard.empty())
+        throw InputError("--merge: takes report folders only (no FILES, no --shard)");
+      report::MergeOptions m;
+      m.parts.assign(args->merge.begin(), args->merge.end());
+      m.out = args->out;
+      m.pretty = args->pretty;
+      if (!args->junit.empty()) m.junit = args->junit;
+      if (!args->sarif.empty()) m.sarif = args->sarif;
+      if (!args->markdown.empty()) m.markdown = args->markdown;
+      const report::MergeSummary s = report::merge_reports(m);
+      std::cout << s.line << "; wrote " << args->out << '\n';
+      exit_code = s.exit_code;
+      return;
+    }
+    if (args->files.empty()) throw InputError("FILES: name the spline files, fonts or folders to report");
+    const std::optional<report::Shard> shard =
+        args->shard.empty() ? std::nullopt : std::optional<report::Shard>(report::parse_shard(args->shard));
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
     std::string space, planar;
     const auto dimension = [](const std::string& f) {
@@ -131,6 +159,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!space.empty() && !planar.empty())
       throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
     if (!space.empty()) {
+      if (shard) throw InputError(space + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
       if (!args->segments.empty() || (!args->require.empty() && args->require != "cmrwi"))
         throw InputError(space + ": a space curve; its report takes --require cmrwi only, and no --segments");
       exit_code = run_space_report(args->files, args->out, args->depth, true, args->continuity,
@@ -152,6 +181,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
+    o.threads = args->jobs;
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     report::BatchOptions b;
@@ -172,7 +202,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->baseline.empty()) b.baseline = args->baseline;
     if (!args->source_root.empty()) b.source_root = args->source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
-    const auto files = report::collect_files(args->files, args->filter, &b.bases, &b.skipped, {args->out});
+    auto files = report::collect_files(args->files, args->filter, &b.bases, &b.skipped, {args->out});
+    if (shard) report::keep_shard(*shard, files, b.bases);
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
