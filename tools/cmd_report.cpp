@@ -71,7 +71,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("FILES", args->files,
                   "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), font sources (NAME.ufo, .glif, "
                   ".designspace: its masters), folders (walked recursively) or globs");
-  cmd->add_option("--shard", args->shard,
+  CLI::Option* shard_option = cmd->add_option("--shard", args->shard,
                   "i/N: report only the inputs whose position k (0-based, in the collected and expanded order) has "
                   "k mod N = i-1; merge the N parts with --merge (docs/report.md, Large collections)");
   cmd->add_option("--merge", args->merge,
@@ -123,9 +123,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
            0.0, 1.0)
       ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, &exit_code] {
+  cmd->callback([args, shard_option, &exit_code] {
     if (!args->merge.empty()) {  // report/merge.hpp: the parts' outputs combined, nothing judged again
-      if (!args->files.empty() || !args->shard.empty())
+      if (!args->files.empty() || shard_option->count() > 0)
         throw InputError("--merge: takes report folders only (no FILES, no --shard)");
       report::MergeOptions m;
       m.parts.assign(args->merge.begin(), args->merge.end());
@@ -141,7 +141,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     }
     if (args->files.empty()) throw InputError("FILES: name the spline files, fonts or folders to report");
     const std::optional<report::Shard> shard =
-        args->shard.empty() ? std::nullopt : std::optional<report::Shard>(report::parse_shard(args->shard));
+        shard_option->count() == 0 ? std::nullopt : std::optional<report::Shard>(report::parse_shard(args->shard));
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
     std::string space, planar;
     const auto dimension = [](const std::string& f) {
