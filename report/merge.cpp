@@ -35,11 +35,13 @@ Shard parse_shard(const std::string& text) {
   return s;
 }
 
-void keep_shard(const Shard& shard, std::vector<std::string>& files, std::vector<std::string>& bases) {
+std::vector<std::size_t> keep_shard(const Shard& shard, std::vector<std::string>& files, std::vector<std::string>& bases) {
   const bool with_bases = bases.size() == files.size();
+  std::vector<std::size_t> positions;
   std::size_t kept = 0;
   for (std::size_t k = 0; k < files.size(); ++k)
-    if (shard.takes(k)) {
+    if (shard.takes(k) || file_kind(files[k]) == FileKind::font) {
+      positions.push_back(k);
       if (kept != k) {  // (a self-move would empty the string)
         files[kept] = std::move(files[k]);
         if (with_bases) bases[kept] = std::move(bases[k]);
@@ -48,6 +50,7 @@ void keep_shard(const Shard& shard, std::vector<std::string>& files, std::vector
     }
   files.resize(kept);
   if (with_bases) bases.resize(kept);
+  return positions;
 }
 
 namespace {

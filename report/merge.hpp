@@ -8,10 +8,14 @@
 /// Sharding. The run's inputs are collected and expanded as usual
 /// (collect_files: arguments in order, each folder walked and sorted, each
 /// glob's matches sorted: an order that does not depend on the file
-/// system's). Item k of that list (0-based) belongs to shard i of N when
-/// k mod N = i - 1: the N shards are disjoint and together are the whole
-/// list. An item is one input file (a font or a UFO is one item with all
-/// its glyphs).
+/// system's). The items are that list's files, a font's (or UFO's) glyphs
+/// each an item of their own: glyph j (in the order of --glyphs, or the
+/// font's for all) of the file at position k (0-based) is item k + j, any
+/// other file item k; item k belongs to shard i of N when k mod N = i - 1.
+/// So the N shards are disjoint, together they are the whole run, and a
+/// font's glyphs are spread over all the shards. Every part reads each
+/// font (cheap beside judging it) and judges only its own glyphs; the file
+/// itself is counted by the part that owns position k.
 ///
 /// Merging. report.json: the parts' "splines" concatenated in part order,
 /// their ids renumbered s0, s1, ...; "skipped" the union (by path); the
@@ -29,6 +33,7 @@
 /// Errors: InputError (exit 2, one line) for a part without report.json, a
 /// report.json that is not a cmr report, parts that differ, a CI file asked
 /// for that a part does not have, the output folder among the parts.
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -46,9 +51,24 @@ struct Shard {
 /// Parses "i/N" (decimal, 1 <= i <= N). InputError "--shard TEXT: ..." otherwise.
 Shard parse_shard(const std::string& text);
 
-/// Keeps the items of `files` (and the parallel `bases`, when as long) that
-/// belong to `shard`, in their order.
-void keep_shard(const Shard& shard, std::vector<std::string>& files, std::vector<std::string>& bases);
+/// Keeps the files of `files` (and the parallel `bases`, when as long) that
+/// hold items of `shard` (a file whose position it owns; every font), in
+/// their order; returns the kept files' positions in the whole list
+/// (BatchOptions::shard_positions).
+std::vector<std::size_t> keep_shard(const Shard& shard, std::vector<std::string>& files, std::vector<std::string>& bases);
+
+/// Keeps the glyphs of the font at `position` that belong to `shard`
+/// (glyph j is item position + j), in their order.
+template <class Glyph>
+void keep_shard_glyphs(const Shard& shard, std::size_t position, std::vector<Glyph>& glyphs) {
+  std::size_t kept = 0;
+  for (std::size_t j = 0; j < glyphs.size(); ++j)
+    if (shard.takes(position + j)) {
+      if (kept != j) glyphs[kept] = std::move(glyphs[j]);
+      ++kept;
+    }
+  glyphs.erase(glyphs.begin() + static_cast<std::ptrdiff_t>(kept), glyphs.end());
+}
 
 struct MergeOptions {
   std::vector<std::filesystem::path> parts;  ///< each a report folder (report.json, index.html)

@@ -203,7 +203,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->source_root.empty()) b.source_root = args->source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
     auto files = report::collect_files(args->files, args->filter, &b.bases, &b.skipped, {args->out});
-    if (shard) report::keep_shard(*shard, files, b.bases);
+    if (shard) {
+      b.shard = shard;
+      b.shard_positions = report::keep_shard(*shard, files, b.bases);
+    }
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);

@@ -86,6 +86,9 @@ with tempfile.TemporaryDirectory() as tmp:
             seen[f] += 1
         check(len(part["splines"]) > 0, f"shard {i}/{N} is empty: the test's collection is too small")
     check(all(c == 1 for c in seen.values()), f"an input in two shards: {seen}")
+    if os.path.exists(FONT):  # a font's glyphs are items of their own, spread over the shards
+        with_font = [p for p in parts if any(s["file"].startswith(FONT) for s in p["splines"])]
+        check(len(with_font) == N, f"the font's glyphs are in {len(with_font)} of {N} shards")
     union = Counter(spline_key(s) for p in parts for s in p["splines"])
     check(union == Counter(spline_key(s) for s in W["splines"]),
           "the shards' splines are not the whole run's (as a multiset)")
@@ -118,6 +121,20 @@ with tempfile.TemporaryDirectory() as tmp:
     check(Counter(spline_key(s) for s in J["splines"]) == Counter(spline_key(s) for s in W["splines"]),
           "--jobs 1 gives another report")
     check(j1.returncode == whole.returncode, "--jobs 1: another exit code")
+
+    # An unreadable font is one invalid item, in one part only; a font whose
+    # glyphs a part does not take is no file of that part's count.
+    broken = os.path.join(tmp, "broken.ttf")
+    open(broken, "wb").write(b"not a font")
+    few = ["examples/uniform.json", broken, FONT, "--glyphs", "a", "--no-thumbnails", "--quiet"]
+    wr = run(*few, "--out", os.path.join(tmp, "few"))
+    for i in (1, 2, 3):
+        run(*few, "--out", os.path.join(tmp, f"few{i}"), "--shard", f"{i}/3")
+    fm = run("--merge", *[os.path.join(tmp, f"few{i}") for i in (1, 2, 3)], "--out", os.path.join(tmp, "few-merged"))
+    FW = json.load(open(os.path.join(tmp, "few", "report.json")))["summary"]
+    FM = json.load(open(os.path.join(tmp, "few-merged", "report.json")))["summary"]
+    check(wr.returncode == 2 and fm.returncode == 2, f"broken font: exits {wr.returncode}, merged {fm.returncode}")
+    check(counts(FM) == counts(FW), f"broken font: merged {counts(FM)} != whole {counts(FW)}")
 
     # Bad input: one line, exit 2, nothing written.
     for bad in ["0/2", "3/2", "1/0", "0/0", "x", "1/x", "1", "-1/2", "1/2/3", ""]:
