@@ -181,6 +181,7 @@ MergeSummary merge_reports(const MergeOptions& options) {
   std::set<std::string> skipped_paths;
   int new_findings = 0, unchanged = 0, baseline_total = -1;
   bool any_fail_exit = false, any_invalid_exit = false;
+  std::vector<std::string> part_counts;  // index.html's table
   for (Json& r : reports) {
     for (Json& s : r["splines"]) {
       if (s.is_object() && s.contains("id")) s["id"] = "s" + std::to_string(splines.size());
@@ -190,6 +191,10 @@ MergeSummary merge_reports(const MergeOptions& options) {
       for (Json& k : r["skipped"])
         if (skipped_paths.insert(k.value("path", std::string())).second) skipped.push_back(std::move(k));
     const Json& s = r["summary"];
+    part_counts.push_back(std::to_string(count(s, "files")) + "</td><td>" + std::to_string(count(s, "splines")) +
+                          "</td><td>" + std::to_string(count(s, "pass")) + "</td><td>" + std::to_string(count(s, "fail")) +
+                          "</td><td>" + std::to_string(count(s, "invalid")) + "</td><td>" +
+                          std::to_string(count(s, "findings")) + "</td><td>" + std::to_string(count(s, "exit_code")));
     m.files += count(s, "files");
     m.splines += count(s, "splines");
     m.pass += count(s, "pass");
@@ -296,10 +301,11 @@ MergeSummary merge_reports(const MergeOptions& options) {
   std::string page = "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " +
                      html_escape(m.line) + "</title><style>" + report_style() +
                      "</style></head><body><h1>cmr report</h1><p>" + html_escape(m.line) + ", schema " + kSchema +
-                     ".</p><h2>Parts</h2><table class=\"index\"><tr><th>part</th><th>folder</th></tr>";
+                     ".</p><h2>Parts</h2><table class=\"index\"><tr><th>part</th><th>folder</th><th>files</th><th>splines and "
+                     "contours</th><th>pass</th><th>fail</th><th>invalid</th><th>findings</th><th>exit code</th></tr>";
   for (std::size_t i = 0; i < options.parts.size(); ++i)
     page += "<tr><td><a href=\"parts/" + html_escape(names[i]) + "/index.html\">" + html_escape(names[i]) + "</a></td><td>" +
-            html_escape(options.parts[i].string()) + "</td></tr>";
+            html_escape(options.parts[i].string()) + "</td><td>" + part_counts[i] + "</td></tr>";
   page += "</table></body></html>\n";
   out.stage(options.out / "index.html", page);
   out.stage(options.out / "report.json",

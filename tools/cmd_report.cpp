@@ -2,7 +2,7 @@
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z] [--include GLOB] [--exclude GLOB]
 // [--junit FILE] [--sarif FILE] [--markdown FILE] [--baseline OLD/report.json] [--source-root DIR]
-// [--quiet]: QA reports and a gate on
+// [--quiet] [--shard i/N] [--jobs N], and cmr report --merge DIRS... --out DIR (report/merge.hpp): QA reports and a gate on
 // their verdicts. FILES are spline files, SVG files, fonts, folders or globs; the batch
 // (finding files, running them in parallel, writing every output) is report/corpus.hpp:
 // this file only parses.
