@@ -136,6 +136,22 @@ with tempfile.TemporaryDirectory() as tmp:
     check(wr.returncode == 2 and fm.returncode == 2, f"broken font: exits {wr.returncode}, merged {fm.returncode}")
     check(counts(FM) == counts(FW), f"broken font: merged {counts(FM)} != whole {counts(FW)}")
 
+    # With a baseline each part compares its findings with the whole
+    # baseline; the merge's new / fixed / unchanged are the whole run's.
+    base = ["examples/report", "examples/uniform.json", "--require", "cmrwi,curvature-extrema-at-nodes",
+            "--no-thumbnails", "--quiet", "--baseline", os.path.join(tmp, "base", "report.json")]
+    run("examples/report", "--require", "cmrwi,curvature-extrema-at-nodes", "--no-thumbnails", "--quiet",
+        "--out", os.path.join(tmp, "base"))
+    bw = run(*base, "--out", os.path.join(tmp, "bw"))
+    for i in (1, 2):
+        run(*base, "--out", os.path.join(tmp, f"b{i}"), "--shard", f"{i}/2")
+    bm = run("--merge", os.path.join(tmp, "b1"), os.path.join(tmp, "b2"), "--out", os.path.join(tmp, "bm"))
+    BW = json.load(open(os.path.join(tmp, "bw", "report.json")))["summary"]
+    BM = json.load(open(os.path.join(tmp, "bm", "report.json")))["summary"]
+    check(bw.returncode == bm.returncode, f"baseline: merged exit {bm.returncode}, whole {bw.returncode}")
+    check(counts(BM) == counts(BW) and BM.get("baseline") == BW.get("baseline"),
+          f"baseline: merged {BM} != whole {BW}")
+
     # Bad input: one line, exit 2, nothing written.
     for bad in ["0/2", "3/2", "1/0", "0/0", "x", "1/x", "1", "-1/2", "1/2/3", ""]:
         d = os.path.join(tmp, "bad-shard")
