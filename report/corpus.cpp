@@ -358,7 +358,7 @@ struct FileWork {
   double seconds = 0;
 };
 
-FileWork process_file(const std::string& path, const BatchOptions& options, int threads) {
+FileWork process_file(const std::string& path, std::size_t index, const BatchOptions& options, int threads) {
   const auto t0 = std::chrono::steady_clock::now();
   FileWork w;
   w.path = path;
@@ -375,10 +375,13 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
           o.certified_fixes = options.fixes;
           break;
         }
-        w.font = font_inputs(import::is_ufo_path(path)
-                                 ? import::read_ufo(path, {options.all_glyphs, options.codepoints, {}})
-                                 : import::read_font(path, options.codepoints, options.location),
-                             inputs);
+        {
+          import::Font font = import::is_ufo_path(path)
+                                  ? import::read_ufo(path, {options.all_glyphs, options.codepoints, {}})
+                                  : import::read_font(path, options.codepoints, options.location);
+          if (options.shard) keep_shard_glyphs(*options.shard, options.shard_positions.at(index), font.glyphs);
+          w.font = font_inputs(font, inputs);
+        }
         o.certified_fixes = options.fixes;
         break;
       case FileKind::svg:
@@ -398,6 +401,7 @@ FileWork process_file(const std::string& path, const BatchOptions& options, int 
   } catch (const InputError& e) {  // the whole file is unreadable: one invalid item
     inputs.clear();
     w.font.reset();
+    if (options.shard && !options.shard->takes(options.shard_positions.at(index))) return w;  // its owner part says it
     ReportInput in;
     in.file = path;
     in.error = e.what();
@@ -951,12 +955,16 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t fonts =
       static_cast<std::size_t>(std::count_if(files.begin(), files.end(), [](const std::string& f) { return file_kind(f) == FileKind::font; }));
-  Writer writer(options, files.size(), fonts);
+  std::size_t counted = files.size();  // a sharded run counts the files it owns (report/merge.hpp)
+  if (options.shard)
+    counted = static_cast<std::size_t>(std::count_if(options.shard_positions.begin(), options.shard_positions.end(),
+                                                     [&](std::size_t k) { return options.shard->takes(k); }));
+  Writer writer(options, counted, fonts);
   const int threads = thread_count(options.report.threads);
   // Each file's name in findings and its SARIF URI (independent of how its path was spelled).
   const std::string root = options.source_root ? options.source_root->string() : std::string();
   const auto process = [&](std::size_t i, int file_threads) {
-    FileWork w = process_file(files[i], options, file_threads);
+    FileWork w = process_file(files[i], i, options, file_threads);
     const std::string base = options.source_root || i >= options.bases.size() ? root : options.bases[i];
     w.name = source_name(files[i], base);
     w.uri = source_uri(files[i], root, &w.uri_relative);

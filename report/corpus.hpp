@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "report/font_report.hpp"
+#include "report/merge.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
@@ -149,6 +150,13 @@ struct BatchOptions {
   /// What the folder walks left out (collect_files): listed in report.json
   /// ("skipped") and on the page; they do not change the exit code.
   std::vector<SkippedPath> skipped;
+  /// --shard (report/merge.hpp): with it, `shard_positions` gives each
+  /// file's position in the whole collected list (keep_shard); a font keeps
+  /// its glyphs j with position + j in the shard, and a file is counted
+  /// (and an unreadable font's invalid item given) only by the part that
+  /// owns its position.
+  std::optional<Shard> shard;
+  std::vector<std::size_t> shard_positions;
 };
 
 /// The run's counts (the one-line summary) and its exit code.

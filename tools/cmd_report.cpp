@@ -2,7 +2,7 @@
 // [--depth D] [--no-thumbnails] [--backend auto|vulkan|cpu] [--device NAME] [--region-size N]
 // [--angle-tol DEG] [--curvature-tol REL] [--glyphs A-Z,a-z] [--include GLOB] [--exclude GLOB]
 // [--junit FILE] [--sarif FILE] [--markdown FILE] [--baseline OLD/report.json] [--source-root DIR]
-// [--quiet]: QA reports and a gate on
+// [--quiet] [--shard i/N] [--jobs N], and cmr report --merge DIRS... --out DIR (report/merge.hpp): QA reports and a gate on
 // their verdicts. FILES are spline files, SVG files, fonts, folders or globs; the batch
 // (finding files, running them in parallel, writing every output) is report/corpus.hpp:
 // this file only parses.
@@ -33,6 +33,7 @@
 #include "io/svg.hpp"
 #include "report/report.hpp"
 #include "report/batch.hpp"
+#include "report/merge.hpp"
 
 namespace cmr::cli {
 
@@ -61,6 +62,9 @@ struct ReportArgs {
   bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
   double torsion_tolerance = 0;
+  std::string shard;                // --shard i/N (report/merge.hpp)
+  std::vector<std::string> merge;   // --merge DIR...
+  int jobs = 0;                     // --jobs N: threads; 0 = every core
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -72,8 +76,14 @@ void add_report_command(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand("report", "QA report of spline files: JSON and a self-contained HTML page");
   cmd->add_option("FILES", args->files,
                   "spline files (JSON), SVG files, fonts (.ttf, .otf, ...), font sources (NAME.ufo, .glif, "
-                  ".designspace: its masters), folders (walked recursively) or globs")
-      ->required();
+                  ".designspace: its masters), folders (walked recursively) or globs");
+  CLI::Option* shard_option = cmd->add_option("--shard", args->shard,
+                  "i/N: report only the inputs whose position k (0-based, in the collected and expanded order) has "
+                  "k mod N = i-1; merge the N parts with --merge (docs/report.md, Large collections)");
+  cmd->add_option("--merge", args->merge,
+                  "combine the report folders of a sharded run into --out (report.json, index.html; with --junit, "
+                  "--sarif, --markdown NAME: each part's NAME), without judging again");
+  in_range(cmd->add_option("--jobs,-j", args->jobs, "threads (default: every core)"), 1, 4096);
   cmd->add_option("--include", args->filter.include, "in folders, only files matching this glob (repeatable)");
   cmd->add_option("--exclude", args->filter.exclude, "in folders, leave out files matching this glob (repeatable)");
   cmd->add_option("--junit", args->junit, "also write a JUnit XML file (one test case per glyph or spline)");
@@ -128,7 +138,25 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "space curves: a segment whose |torsion| is at most this is planar (torsion constant); default 0: "
                   "only exactly planar segments");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, cmd, &exit_code] {
+  cmd->callback([args, cmd, shard_option, &exit_code] {
+    if (!args->merge.empty()) {  // report/merge.hpp: the parts' outputs combined, nothing judged again
+      if (!args->files.empty() || shard_option->count() > 0)
+        throw InputError("--merge: takes report folders only (no FILES, no --shard)");
+      report::MergeOptions m;
+      m.parts.assign(args->merge.begin(), args->merge.end());
+      m.out = args->out;
+      m.pretty = args->pretty;
+      if (!args->junit.empty()) m.junit = args->junit;
+      if (!args->sarif.empty()) m.sarif = args->sarif;
+      if (!args->markdown.empty()) m.markdown = args->markdown;
+      const report::MergeSummary s = report::merge_reports(m);
+      std::cout << s.line << "; wrote " << args->out << '\n';
+      exit_code = s.exit_code;
+      return;
+    }
+    if (args->files.empty()) throw InputError("FILES: name the spline files, fonts or folders to report");
+    const std::optional<report::Shard> shard =
+        shard_option->count() == 0 ? std::nullopt : std::optional<report::Shard>(report::parse_shard(args->shard));
     // Space curves ([x, y, z] points) are judged by report/space_report.hpp
     // and written with the same schema, findings and CI files
     // (tools/cmd_space.hpp, docs/space.md).
@@ -154,6 +182,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
           throw InputError(std::string(flag) + ": not for space curves (" + space +
                            "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
                            "--torsion-tol and the joint tolerances");
+      if (shard) throw InputError(space + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
       for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
       SpaceReportRun run;
       run.files = std::move(collected);
@@ -193,6 +222,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
+    o.threads = args->jobs;
     o.backend = make_region_backend(args->backend, "fp64", args->device);
 
     report::BatchOptions b;
@@ -229,6 +259,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
       files = std::move(collected);
       b.bases = std::move(bases);
       b.skipped = std::move(skipped);
+    }
+    if (shard) {
+      b.shard = shard;
+      b.shard_positions = report::keep_shard(*shard, files, b.bases);
     }
     for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
