@@ -22,10 +22,14 @@
 #include <string>
 #include <vector>
 
+#include "report/batch.hpp"
 #include "report/font_report.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
+
+/// The default of `cmr report --time-limit` (seconds).
+inline constexpr double kDefaultReportTimeLimit = 3600;
 
 /// Which files a folder contributes (a file named on the command line is
 /// always taken). Patterns are shell globs (fnmatch), matched against the
@@ -146,6 +150,13 @@ struct BatchOptions {
   /// What the folder walks left out (collect_files): listed in report.json
   /// ("skipped") and on the page; they do not change the exit code.
   std::vector<SkippedPath> skipped;
+  /// Seconds for all fix searches of the run (report/batch.hpp FixBudget;
+  /// <= 0: no limit): after them failing splines are reported without fixes.
+  double fix_budget = kDefaultFixBudgetSeconds;
+  /// The run's time limit in seconds (<= 0: none): checked before each file
+  /// and each part of a file; past it the run stops with InputError and
+  /// writes nothing.
+  double time_limit = kDefaultReportTimeLimit;
 };
 
 /// The run's counts (the one-line summary) and its exit code.
@@ -160,6 +171,8 @@ struct BatchSummary {
   double seconds = 0;
   int exit_code = kExitPass;  ///< kExitInvalid, else kExitFail on a failure (on a new finding with a baseline), else kExitPass
   std::vector<std::filesystem::path> written;
+  /// What the run's budgets left out (FixBudget::note), "" when nothing.
+  std::string note;
 };
 
 /// "3 files (1 font, 52 glyphs): 70 contours and splines: 25 pass, 45 fail, 0 invalid; 61 findings (new 1,

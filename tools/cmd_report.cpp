@@ -55,6 +55,8 @@ struct ReportArgs {
   bool quiet = false;
   bool no_fixes = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
+  double fix_budget = report::kDefaultFixBudgetSeconds;
+  double time_limit = report::kDefaultReportTimeLimit;
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -112,6 +114,15 @@ void add_report_command(CLI::App& app, int& exit_code) {
                            "extremum gates skip its stationary points (rounded circle arcs); 0: exact constants only"),
            0.0, 1.0)
       ->capture_default_str();
+  in_range(cmd->add_option("--fix-budget", args->fix_budget,
+                           "seconds for all fix searches of the run (regions, certified fixes); after them failing "
+                           "splines are reported without fixes (a note says how many); 0: no limit"),
+           0.0, 1e9)
+      ->capture_default_str();
+  in_range(cmd->add_option("--time-limit", args->time_limit,
+                           "seconds for the whole run: past it the run stops with exit 2 and writes nothing; 0: none"),
+           0.0, 1e9)
+      ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, &exit_code] {
     // Space curves ([x, y, z] points) get their own report (tools/cmd_space.hpp, docs/space.md).
@@ -166,6 +177,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.out = args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;
+    b.fix_budget = args->fix_budget;
+    b.time_limit = args->time_limit;
     if (!args->junit.empty()) b.junit = args->junit;
     if (!args->sarif.empty()) b.sarif = args->sarif;
     if (!args->markdown.empty()) b.markdown = args->markdown;
@@ -178,7 +191,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
     if (bar) report::clear_progress(std::cerr);
-    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';  // read_spline_file names the file
+    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
+    if (!s.note.empty()) std::cerr << "cmr: note: " << s.note << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
     // The one line goes to stderr when a CI file is written to standard output.
     const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif)) ||
