@@ -16,6 +16,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -591,7 +593,32 @@ std::size_t clean_stale_hidden_files(const std::filesystem::path& folder) {
   return recover_folder(fd, folder);
 }
 
-OutputSet::~OutputSet() { discard(); }
+namespace {
+
+/// An owned folder's manifest as it is now: (inode, modification time), or
+/// (0, 0) when there is none. A commit renames a new manifest in (a new inode).
+std::pair<unsigned long long, long long> manifest_stamp(const std::filesystem::path& folder) {
+  struct stat st {};
+  if (::lstat((folder / kManifestName).c_str(), &st) != 0) return {0, 0};
+  return {static_cast<unsigned long long>(st.st_ino), mtime_ns(st)};
+}
+
+/// Per OutputSet, per owned folder: its manifest when own_folder was called
+/// (a side table, so that io/output.hpp's layout stays as it is).
+std::mutex stamps_mutex;
+std::unordered_map<const OutputSet*, std::unordered_map<std::string, std::pair<unsigned long long, long long>>> stamps;
+
+void forget_stamps(const OutputSet* set) {
+  const std::lock_guard lock(stamps_mutex);
+  stamps.erase(set);
+}
+
+}  // namespace
+
+OutputSet::~OutputSet() {
+  discard();
+  forget_stamps(this);
+}
 
 void OutputSet::close_streams() noexcept {
   for (Staged& s : staged_) {
@@ -635,9 +662,18 @@ void OutputSet::create_folder(const std::filesystem::path& folder) {
   }
 }
 
+// Concurrent runs: own_folder notes the folder's manifest as it is now; if,
+// when commit() takes the folder's lock, another cmr run has committed into
+// the folder since (its manifest was replaced), commit() writes nothing and
+// throws EnvironmentError "FOLDER: another cmr run wrote this folder while
+// this one ran; ...": the first run's whole set stays, the later one says so
+// in one line (exit 3; docs/outputs.md).
 void OutputSet::own_folder(const std::filesystem::path& folder) {
   CMR_CHECK(!committed_);
   owned_folders_.push_back(folder);
+  const auto stamp = manifest_stamp(folder);
+  const std::lock_guard lock(stamps_mutex);
+  stamps[this].emplace(folder.string(), stamp);
 }
 
 namespace {
@@ -895,6 +931,20 @@ void OutputSet::commit() {
   for (const std::filesystem::path& f : folders) {
     bool locked = false;
     const int fd = locks.lock(f, &locked);
+    // Another run committed into an owned folder since own_folder: it wins,
+    // this run writes nothing (checked before recovery, which may finish a
+    // dead run's manifest).
+    std::optional<std::pair<unsigned long long, long long>> noted;
+    {
+      const std::lock_guard lock(stamps_mutex);
+      if (const auto it = stamps.find(this); it != stamps.end())
+        if (const auto at = it->second.find(f.string()); at != it->second.end()) noted = at->second;
+    }
+    if (noted && manifest_stamp(f) != *noted) {
+      discard();
+      throw EnvironmentError(f.string() + ": another cmr run wrote this folder while this one ran; its files are "
+                             "kept and this run's are not written (run it again)");
+    }
     if (fd >= 0 && locked) recover_folder(fd, f);  // an interrupted commit here is finished or undone first
   }
 
