@@ -27,7 +27,47 @@
 
 namespace cmr {
 
+namespace {
+
+/// Refuses (InputError) an output path with a control character (a newline,
+/// a tab, ESC...): every message and manifest line names a file on one line,
+/// and a terminal must not be driven by a file name. The message shows each
+/// such byte escaped (a newline as backslash-n).
+void check_output_name(const std::filesystem::path& path) {
+  const std::string& text = path.native();
+  if (std::none_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    return;
+  std::string shown;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') shown += "\\n";
+    else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      shown += buf;
+    } else shown += c;
+  }
+  throw InputError(shown + ": an output name with a newline or another control character is refused");
+}
+
+/// Refuses (InputError) to follow the output path `path`, a symbolic link
+/// (`link`: its lstat), that another user planted in a shared folder (sticky
+/// or writable by all, e.g. /tmp): as the kernel's protected_symlinks, a
+/// link there is followed only when it is this user's or the folder
+/// owner's, so that another user cannot aim cmr's output at a file of ours.
+void check_shared_link(const std::filesystem::path& path, const struct stat& link) {
+  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  struct stat dir {};
+  if (::stat(folder.c_str(), &dir) != 0 || (dir.st_mode & (S_ISVTX | S_IWOTH)) == 0) return;
+  if (link.st_uid == ::geteuid() || link.st_uid == dir.st_uid) return;
+  throw InputError(path.string() + ": a symbolic link owned by uid " + std::to_string(link.st_uid) +
+                   " in a shared folder (sticky or writable by all): not followed");
+}
+
+}  // namespace
+
 void check_output_path(const std::filesystem::path& path, const std::string& option) {
+  check_output_name(path);
   const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
@@ -642,6 +682,8 @@ void OutputSet::discard() noexcept {
 }
 
 void OutputSet::create_folder(const std::filesystem::path& folder) {
+  check_output_name(folder);
+  if (struct stat link {}; ::lstat(folder.c_str(), &link) == 0 && S_ISLNK(link.st_mode)) check_shared_link(folder, link);
   std::vector<std::filesystem::path> missing;  // innermost first
   for (std::filesystem::path p = folder.lexically_normal(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
     struct stat st {};
@@ -696,6 +738,7 @@ std::string folder_key(const std::filesystem::path& folder) {
 }  // namespace
 
 void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes) {
+  check_output_name(path);
   CMR_CHECK(!committed_);
   if (path.filename().empty()) throw_errno(path, EISDIR);
   Staged s;
@@ -710,6 +753,7 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
     s.target = path;  // a new file (its folder is checked when the temporary is created)
   } else {
     if (S_ISLNK(st.st_mode)) {
+      check_shared_link(path, st);
       if (::stat(path.c_str(), &st) != 0) {
         if (errno == ENOENT) throw InputError(path.string() + ": a symbolic link to nothing (cmr follows links to files)");
         throw_errno(path, errno);
@@ -761,6 +805,7 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
 }
 
 StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
+  check_output_name(path);
   CMR_CHECK(!committed_);
   if (path.filename().empty()) throw_errno(path, EISDIR);
   struct stat st {};
@@ -791,6 +836,7 @@ StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
   s.target = path;
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) {  // a link to a regular file is followed, as by stage()
+      check_shared_link(path, st);
       std::error_code ec;
       s.target = std::filesystem::canonical(path, ec);
       if (ec) {
