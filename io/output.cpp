@@ -1,4 +1,5 @@
 #include "io/output.hpp"
+#include "io/output_guard.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -9,6 +10,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
@@ -653,7 +655,32 @@ void forget_stamps(const OutputSet* set) {
   stamps.erase(set);
 }
 
+/// note_read's files: the canonical path -> (device, inode, size, time).
+using ReadStamp = std::array<long long, 4>;
+std::mutex reads_mutex;
+std::unordered_map<std::string, ReadStamp> reads;
+
+std::string read_key(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::filesystem::path c = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path.lexically_normal().string() : c.string();
+}
+
+std::optional<ReadStamp> read_stamp(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+  return ReadStamp{static_cast<long long>(st.st_dev), static_cast<long long>(st.st_ino),
+                   static_cast<long long>(st.st_size), mtime_ns(st)};
+}
+
 }  // namespace
+
+void note_read(const std::filesystem::path& path) {
+  const std::optional<ReadStamp> stamp = read_stamp(path);
+  if (!stamp) return;
+  const std::lock_guard lock(reads_mutex);
+  reads[read_key(path)] = *stamp;
+}
 
 OutputSet::~OutputSet() {
   discard();
@@ -993,6 +1020,20 @@ void OutputSet::commit() {
     }
     if (fd >= 0 && locked) recover_folder(fd, f);  // an interrupted commit here is finished or undone first
   }
+  // A file this program read (note_read) that another one wrote since: not
+  // replaced (two editors saving one file), checked under the folders' locks.
+  {
+    const std::lock_guard lock(reads_mutex);
+    for (const Staged& s : staged_) {
+      if (s.temp.empty() || reads.empty()) continue;
+      const auto it = reads.find(read_key(s.target));
+      if (it == reads.end() || read_stamp(s.target) == it->second) continue;
+      const std::filesystem::path changed = s.path;
+      discard();
+      throw EnvironmentError(changed.string() + ": changed on disk since this program read it (another editor or "
+                             "program saved it); not written, so nothing of it is lost");
+    }
+  }
 
   // Owned folders: this run's file names there, and the manifest staged last.
   struct Owned {
@@ -1163,6 +1204,14 @@ void OutputSet::commit() {
     throw_errno(failed, error);
   }
   committed_ = true;
+  {  // the files this program noted (note_read) are now the ones it wrote
+    const std::lock_guard lock(reads_mutex);
+    if (!reads.empty())
+      for (const Staged& s : staged_)
+        if (!s.temp.empty())
+          if (const auto it = reads.find(read_key(s.target)); it != reads.end())
+            if (const auto now = read_stamp(s.target)) it->second = *now;
+  }
   // The files cmr wrote there last time and this run did not: removed when
   // they are still cmr's (this user's, one link, same inode, size and
   // time), so the folder holds this set.

@@ -12,7 +12,10 @@ it ran writes nothing and says so in one line (exit 3). Checked here:
 - a long report racing an import into the same folder: the same, with the
   import's files;
 - two reports started together, several times: each pair is serialised
-  (exit codes 0 0, 0 3 or 3 0, never 3 3), the folder holds one whole set.
+  (exit codes 0 0, 0 3 or 3 0, never 3 3), the folder holds one whole set;
+- two editors (cmr edit --script, under Xvfb; skipped without xvfb-run)
+  open one spline file; the second to save is refused with one line
+  (exit 3) instead of replacing the first one's save (io/output_guard.hpp).
 
 Usage: concurrency_test.py CMR WORKDIR
 """
@@ -116,6 +119,32 @@ for k in range(4):
     said = all(len(e) == 1 and LINE in e[0] for r, e in ((ra, ea), (rb, eb)) if r == 3)
     ok, what = one_whole_set(os.path.join(WORK, out))
     check(serialised and said and ok, f"two reports at once #{k}: exits {ra} {rb}, {what}")
+
+# 4. Two editors save one file (cmr edit's scripted mode, under one Xvfb):
+# the second save must not replace the first one's work.
+if shutil.which("xvfb-run") is None:
+    print("skip: two editors need xvfb-run")
+else:
+    src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "figures", "fig8.json")
+    shutil.copy(src, os.path.join(WORK, "both.json"))
+    knots = len(json.load(open(os.path.join(WORK, "both.json")))["knots"])
+    with open(os.path.join(WORK, "slow.txt"), "w") as f:  # opens, waits, changes, saves
+        f.write("wait 120\nelevate\nsave\nquit\n")
+    with open(os.path.join(WORK, "fast.txt"), "w") as f:  # opens, inserts a knot, saves at once
+        f.write("insert 3.5\nsave\nquit\n")
+    env = dict(os.environ, VK_DRIVER_FILES="/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")
+    shell = (f"{CMR} edit both.json --script slow.txt 2>slow.err & p=$!; sleep 1; "
+             f"{CMR} edit both.json --script fast.txt 2>fast.err; b=$?; wait $p; a=$?; echo $a $b")
+    r = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 800x600x24", "sh", "-c", shell], cwd=WORK, env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=300)
+    codes = r.stdout.decode().split()
+    slow_err = [l for l in open(os.path.join(WORK, "slow.err")).read().splitlines() if "changed on disk" in l]
+    saved = json.load(open(os.path.join(WORK, "both.json")))
+    check(codes[-2:] == ["3", "0"], f"two editors: the fast one saves (0), the slow one is refused (3) (got {codes})")
+    check(len(slow_err) == 1, f"two editors: the slow one says so in one line ({slow_err})")
+    check(len(saved["knots"]) == knots + 1 and saved["degree"] == json.load(open(src))["degree"],
+          "two editors: the file holds the fast editor's save (one knot more, degree as before), nothing mixed")
+    check(not [n for n in os.listdir(WORK) if n.startswith(".cmr-")], "two editors: no hidden file left")
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)
