@@ -1,6 +1,8 @@
 #include "bezierize/space_region.hpp"
 
+#include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -281,6 +283,8 @@ SpaceRegionProblem SpaceRegionProblem::make(const SpaceSpline& spline, const Spa
   if (r.width < 1 || r.width > kMaxImageSize || r.height < 1 || r.height > kMaxImageSize)
     throw InputError("--size " + std::to_string(r.width) + "x" + std::to_string(r.height) + " is outside 1.." +
                      std::to_string(kMaxImageSize) + " per side");
+  if (!(r.time_limit >= 0) || !std::isfinite(r.time_limit))
+    throw InputError("space region: time limit " + std::to_string(r.time_limit) + " is not a number of seconds >= 0");
   if (!r.plane) r.plane = default_space_plane(spline, r.point);
   check_plane(*r.plane, "--plane");
   if (!r.view) r.view = default_view(project_to_plane(spline, *r.plane), r.width, r.height);
@@ -479,16 +483,37 @@ RegionResult SpaceRegionProblem::render(int threads) const {
   RegionResult out = RegionResult::blank(r.width, r.height, *r.view);
   const std::size_t n = out.size();
   std::vector<std::uint8_t> exact(n, 0);
+  // The render's time budget (SpaceRegionRequest::time_limit): past it, or
+  // projected past 4 times it after the first second, the render stops.
+  std::atomic<std::size_t> done{0};
+  std::atomic<bool> over{false};
+  const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   parallel_for(static_cast<std::size_t>(r.height), threads, [&](std::size_t j) {
     for (int i = 0; i < r.width; ++i) {
+      if (over.load(std::memory_order_relaxed)) return;
       const Vec2 c = pixel_center(out.view, r.width, r.height, i, static_cast<int>(j));
       const RegionPixel p = classify(c.x, c.y);
       const std::size_t idx = j * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(i);
       out.labels[idx] = p.label;
       out.depth[idx] = p.depth;
       exact[idx] = p.exact ? 1 : 0;
+      const std::size_t finished = ++done;
+      if (r.time_limit > 0 && (p.exact || finished % 256 == 0)) {
+        const double t = seconds();
+        if (t > r.time_limit || (t > 1 && t * static_cast<double>(n) / static_cast<double>(finished) > 4 * r.time_limit))
+          over = true;
+      }
     }
   });
+  if (over) {
+    const double t = seconds(), per_pixel = t / static_cast<double>(std::max<std::size_t>(done, 1));
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "space region: %dx%d pixels would take about %.0f s (%.2g ms a pixel after %zu pixels: exact "
+                  "arithmetic, e.g. for extreme weights); more than the limit of %g s per render (a smaller --size)",
+                  r.width, r.height, per_pixel * static_cast<double>(n), per_pixel * 1e3, done.load(), r.time_limit);
+    throw InputError(buf);
+  }
   for (const std::uint8_t e : exact) out.exact_pixels += e;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

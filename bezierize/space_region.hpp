@@ -44,6 +44,9 @@ SpacePlane parse_space_plane(const std::string& text, Vec3 through);
 /// points). InputError when they are parallel.
 SpacePlane default_space_plane(const SpaceSpline& spline, int k);
 
+/// SpaceRegionRequest::time_limit's default (seconds per render).
+inline constexpr double kDefaultSpaceRegionSeconds = 60;
+
 struct SpaceRegionRequest {
   int point = 0;
   std::optional<SpacePlane> plane;  ///< default_space_plane when empty
@@ -51,6 +54,12 @@ struct SpaceRegionRequest {
   int width = 256, height = 256;
   std::optional<View> view;  ///< in plane coordinates (a, b); default: the projected polygon with a margin
   bool exact_only = false;   ///< skip the error-bounded path (tests: the exact reference)
+  /// Seconds one render may take (0: no limit). Pixels the error bounds
+  /// cannot decide go to exact (GMP) arithmetic, which extreme weights
+  /// (1e300 and 1e-300) make ~9 ms a pixel: render() stops with InputError
+  /// once past this, or after its first second when the pixels so far
+  /// project to more than 4 times it.
+  double time_limit = kDefaultSpaceRegionSeconds;
 };
 
 /// The planar spline of the control points' plane coordinates (least

@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
 shift || true
-all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location)
+all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location py_dict)
 names=("$@")
 ((${#names[@]})) || names=("${all[@]}")
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \

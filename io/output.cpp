@@ -1,4 +1,5 @@
 #include "io/output.hpp"
+#include "io/output_guard.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -9,6 +10,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
@@ -16,6 +18,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <unordered_map>
 
 #include <nlohmann/json.hpp>
@@ -25,7 +29,47 @@
 
 namespace cmr {
 
+namespace {
+
+/// Refuses (InputError) an output path with a control character (a newline,
+/// a tab, ESC...): every message and manifest line names a file on one line,
+/// and a terminal must not be driven by a file name. The message shows each
+/// such byte escaped (a newline as backslash-n).
+void check_output_name(const std::filesystem::path& path) {
+  const std::string& text = path.native();
+  if (std::none_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    return;
+  std::string shown;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') shown += "\\n";
+    else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      shown += buf;
+    } else shown += c;
+  }
+  throw InputError(shown + ": an output name with a newline or another control character is refused");
+}
+
+/// Refuses (InputError) to follow the output path `path`, a symbolic link
+/// (`link`: its lstat), that another user planted in a shared folder (sticky
+/// or writable by all, e.g. /tmp): as the kernel's protected_symlinks, a
+/// link there is followed only when it is this user's or the folder
+/// owner's, so that another user cannot aim cmr's output at a file of ours.
+void check_shared_link(const std::filesystem::path& path, const struct stat& link) {
+  const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  struct stat dir {};
+  if (::stat(folder.c_str(), &dir) != 0 || (dir.st_mode & (S_ISVTX | S_IWOTH)) == 0) return;
+  if (link.st_uid == ::geteuid() || link.st_uid == dir.st_uid) return;
+  throw InputError(path.string() + ": a symbolic link owned by uid " + std::to_string(link.st_uid) +
+                   " in a shared folder (sticky or writable by all): not followed");
+}
+
+}  // namespace
+
 void check_output_path(const std::filesystem::path& path, const std::string& option) {
+  check_output_name(path);
   const std::filesystem::path folder = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec))
@@ -591,7 +635,57 @@ std::size_t clean_stale_hidden_files(const std::filesystem::path& folder) {
   return recover_folder(fd, folder);
 }
 
-OutputSet::~OutputSet() { discard(); }
+namespace {
+
+/// An owned folder's manifest as it is now: (inode, modification time), or
+/// (0, 0) when there is none. A commit renames a new manifest in (a new inode).
+std::pair<unsigned long long, long long> manifest_stamp(const std::filesystem::path& folder) {
+  struct stat st {};
+  if (::lstat((folder / kManifestName).c_str(), &st) != 0) return {0, 0};
+  return {static_cast<unsigned long long>(st.st_ino), mtime_ns(st)};
+}
+
+/// Per OutputSet, per owned folder: its manifest when own_folder was called
+/// (a side table, so that io/output.hpp's layout stays as it is).
+std::mutex stamps_mutex;
+std::unordered_map<const OutputSet*, std::unordered_map<std::string, std::pair<unsigned long long, long long>>> stamps;
+
+void forget_stamps(const OutputSet* set) {
+  const std::lock_guard lock(stamps_mutex);
+  stamps.erase(set);
+}
+
+/// note_read's files: the canonical path -> (device, inode, size, time).
+using ReadStamp = std::array<long long, 4>;
+std::mutex reads_mutex;
+std::unordered_map<std::string, ReadStamp> reads;
+
+std::string read_key(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::filesystem::path c = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path.lexically_normal().string() : c.string();
+}
+
+std::optional<ReadStamp> read_stamp(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+  return ReadStamp{static_cast<long long>(st.st_dev), static_cast<long long>(st.st_ino),
+                   static_cast<long long>(st.st_size), mtime_ns(st)};
+}
+
+}  // namespace
+
+void note_read(const std::filesystem::path& path) {
+  const std::optional<ReadStamp> stamp = read_stamp(path);
+  if (!stamp) return;
+  const std::lock_guard lock(reads_mutex);
+  reads[read_key(path)] = *stamp;
+}
+
+OutputSet::~OutputSet() {
+  discard();
+  forget_stamps(this);
+}
 
 void OutputSet::close_streams() noexcept {
   for (Staged& s : staged_) {
@@ -615,6 +709,8 @@ void OutputSet::discard() noexcept {
 }
 
 void OutputSet::create_folder(const std::filesystem::path& folder) {
+  check_output_name(folder);
+  if (struct stat link {}; ::lstat(folder.c_str(), &link) == 0 && S_ISLNK(link.st_mode)) check_shared_link(folder, link);
   std::vector<std::filesystem::path> missing;  // innermost first
   for (std::filesystem::path p = folder.lexically_normal(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
     struct stat st {};
@@ -635,9 +731,18 @@ void OutputSet::create_folder(const std::filesystem::path& folder) {
   }
 }
 
+// Concurrent runs: own_folder notes the folder's manifest as it is now; if,
+// when commit() takes the folder's lock, another cmr run has committed into
+// the folder since (its manifest was replaced), commit() writes nothing and
+// throws EnvironmentError "FOLDER: another cmr run wrote this folder while
+// this one ran; ...": the first run's whole set stays, the later one says so
+// in one line (exit 3; docs/outputs.md).
 void OutputSet::own_folder(const std::filesystem::path& folder) {
   CMR_CHECK(!committed_);
   owned_folders_.push_back(folder);
+  const auto stamp = manifest_stamp(folder);
+  const std::lock_guard lock(stamps_mutex);
+  stamps[this].emplace(folder.string(), stamp);
 }
 
 namespace {
@@ -660,6 +765,7 @@ std::string folder_key(const std::filesystem::path& folder) {
 }  // namespace
 
 void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes) {
+  check_output_name(path);
   CMR_CHECK(!committed_);
   if (path.filename().empty()) throw_errno(path, EISDIR);
   Staged s;
@@ -674,6 +780,7 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
     s.target = path;  // a new file (its folder is checked when the temporary is created)
   } else {
     if (S_ISLNK(st.st_mode)) {
+      check_shared_link(path, st);
       if (::stat(path.c_str(), &st) != 0) {
         if (errno == ENOENT) throw InputError(path.string() + ": a symbolic link to nothing (cmr follows links to files)");
         throw_errno(path, errno);
@@ -725,6 +832,7 @@ void OutputSet::stage(const std::filesystem::path& path, std::string_view bytes)
 }
 
 StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
+  check_output_name(path);
   CMR_CHECK(!committed_);
   if (path.filename().empty()) throw_errno(path, EISDIR);
   struct stat st {};
@@ -755,6 +863,7 @@ StagedStream OutputSet::stage_stream(const std::filesystem::path& path) {
   s.target = path;
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) {  // a link to a regular file is followed, as by stage()
+      check_shared_link(path, st);
       std::error_code ec;
       s.target = std::filesystem::canonical(path, ec);
       if (ec) {
@@ -895,7 +1004,35 @@ void OutputSet::commit() {
   for (const std::filesystem::path& f : folders) {
     bool locked = false;
     const int fd = locks.lock(f, &locked);
+    // Another run committed into an owned folder since own_folder: it wins,
+    // this run writes nothing (checked before recovery, which may finish a
+    // dead run's manifest).
+    std::optional<std::pair<unsigned long long, long long>> noted;
+    {
+      const std::lock_guard lock(stamps_mutex);
+      if (const auto it = stamps.find(this); it != stamps.end())
+        if (const auto at = it->second.find(f.string()); at != it->second.end()) noted = at->second;
+    }
+    if (noted && manifest_stamp(f) != *noted) {
+      discard();
+      throw EnvironmentError(f.string() + ": another cmr run wrote this folder while this one ran; its files are "
+                             "kept and this run's are not written (run it again)");
+    }
     if (fd >= 0 && locked) recover_folder(fd, f);  // an interrupted commit here is finished or undone first
+  }
+  // A file this program read (note_read) that another one wrote since: not
+  // replaced (two editors saving one file), checked under the folders' locks.
+  {
+    const std::lock_guard lock(reads_mutex);
+    for (const Staged& s : staged_) {
+      if (s.temp.empty() || reads.empty()) continue;
+      const auto it = reads.find(read_key(s.target));
+      if (it == reads.end() || read_stamp(s.target) == it->second) continue;
+      const std::filesystem::path changed = s.path;
+      discard();
+      throw EnvironmentError(changed.string() + ": changed on disk since this program read it (another editor or "
+                             "program saved it); not written, so nothing of it is lost");
+    }
   }
 
   // Owned folders: this run's file names there, and the manifest staged last.
@@ -1067,6 +1204,14 @@ void OutputSet::commit() {
     throw_errno(failed, error);
   }
   committed_ = true;
+  {  // the files this program noted (note_read) are now the ones it wrote
+    const std::lock_guard lock(reads_mutex);
+    if (!reads.empty())
+      for (const Staged& s : staged_)
+        if (!s.temp.empty())
+          if (const auto it = reads.find(read_key(s.target)); it != reads.end())
+            if (const auto now = read_stamp(s.target)) it->second = *now;
+  }
   // The files cmr wrote there last time and this run did not: removed when
   // they are still cmr's (this user's, one link, same inode, size and
   // time), so the folder holds this set.

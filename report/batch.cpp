@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <set>
@@ -61,10 +62,44 @@ SplineReport report_item(const ReportInput& input, const ReportOptions& options)
 
 }  // namespace
 
+void FixBudget::start(double budget_seconds) {
+  seconds = budget_seconds;
+  deadline = budget_seconds > 0 ? std::chrono::steady_clock::now() +
+                                      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                          std::chrono::duration<double>(budget_seconds))
+                                : std::chrono::steady_clock::time_point::max();
+}
+
+std::string FixBudget::note() const {
+  std::string note;
+  if (const int n = skipped.load(); n > 0) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", seconds);
+    note = std::to_string(n) + (n == 1 ? " failing spline has" : " failing splines have") +
+           " no fix search or only part of one: the run's fix search budget of " + buf + " s (--fix-budget) was spent";
+  }
+  if (const int n = too_large.load(); n > 0) {
+    if (!note.empty()) note += "; ";
+    note += std::to_string(n) + (n == 1 ? " failing spline has" : " failing splines have") +
+            " no fix search: more than " + std::to_string(kMaxRegionFixPoints) + " control points";
+  }
+  return note;
+}
+
 std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
-                                       const Progress& progress) {
+                                       const Progress& progress, FixBudget* budget) {
   const int total = static_cast<int>(inputs.size());
   std::vector<SplineReport> out(total);
+  std::vector<char> unbudgeted(inputs.size(), 0);  // a fix search skipped: the budget was spent
+  std::vector<char> too_large_certified(inputs.size(), 0);  // no certified fix search: too many points
+  const auto too_large = [](const SplineReport& r) {
+    return r.spline && r.spline->unique_point_count() > kMaxRegionFixPoints;
+  };
+  const auto count_unbudgeted = [&] {
+    if (budget == nullptr) return;
+    budget->skipped += static_cast<int>(std::count(unbudgeted.begin(), unbudgeted.end(), 1));
+    budget->too_large += static_cast<int>(std::count(too_large_certified.begin(), too_large_certified.end(), 1));
+  };
   int done = 0;
   std::mutex mutex;
   parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
@@ -73,23 +108,39 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
       judge_gates(out[i], options);
       assess_severity(out[i], options);  // with min_severity >= 0: below it a finding is info
     }
-    if (out[i].error.empty() && !out[i].pass && options.regions && options.certified_fixes)
-      out[i].certified_fixes = certified_fixes(out[i], options);
+    if (out[i].error.empty() && !out[i].pass && options.regions && options.certified_fixes) {
+      if (budget != nullptr && budget->spent()) unbudgeted[i] = 1;
+      else if (budget != nullptr && too_large(out[i])) too_large_certified[i] = 1;
+      else out[i].certified_fixes = certified_fixes(out[i], options);
+    }
     const std::lock_guard lock(mutex);
     ++done;
     if (progress) progress(done, total, out[i].name);
   });
-  if (!options.regions) return out;
+  if (!options.regions) {
+    count_unbudgeted();
+    return out;
+  }
   // Regions one spline at a time: each render already uses every core (or the GPU).
   std::vector<SplineReport*> failing;
   for (SplineReport& r : out) {
     // Regions search fixes of the monotonicity requirement, not of the gates.
-    if (r.error.empty() && !r.requirement_pass && (options.require || options.gates.empty())) failing.push_back(&r);
+    if (!r.error.empty() || r.requirement_pass || !(options.require || options.gates.empty())) continue;
+    if (budget != nullptr && too_large(r)) {
+      too_large_certified[static_cast<std::size_t>(&r - out.data())] = 1;  // counted once
+      continue;
+    }
+    failing.push_back(&r);
   }
   for (std::size_t i = 0; i < failing.size(); ++i) {
+    if (budget != nullptr && budget->spent()) {
+      unbudgeted[static_cast<std::size_t>(failing[i] - out.data())] = 1;
+      continue;
+    }
     find_fixes(*failing[i], options);
     if (progress) progress(static_cast<int>(i) + 1, static_cast<int>(failing.size()), "regions: " + failing[i]->name);
   }
+  count_unbudgeted();
   return out;
 }
 

@@ -8,6 +8,8 @@
 /// moved spline re-judged by analyze) and the region fixes of a failing
 /// requirement (find_fixes). Nothing runs back
 /// up: the model knows neither gates nor fixes, the gates do not re-report.
+#include <atomic>
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -31,6 +33,34 @@ ReportOptions judge_only(const ReportOptions& options, const std::optional<Gate>
 /// fixes). Throws InputError as report_spline.
 SplineReport judged_report(const BSpline& spline, const ReportOptions& options);
 
+/// The most control points a spline may have for its fix searches
+/// (find_fixes renders one region image per control point, ~9 ms each at
+/// 96 x 96 on this 2-core machine: 512 points are ~5 s; a certified fix
+/// re-analyses the whole spline per candidate, and a 32,000-point contour's
+/// search took more than 1.3 GB); a larger spline is reported and judged
+/// without fixes (FixBudget::too_large).
+inline constexpr int kMaxRegionFixPoints = 512;
+/// The default of `cmr report --fix-budget` (seconds for all fix searches of a run).
+inline constexpr double kDefaultFixBudgetSeconds = 20;
+
+/// The time a run gives its fix searches (the region fixes and the certified
+/// fixes of failing splines), shared by all its files and threads: a search
+/// not started before `deadline` is skipped, and the spline is reported and
+/// judged without it (counted in `skipped`). Each search already started
+/// finishes (a certified fix search stops at kReportFixSeconds, a region fix
+/// search renders at most kMaxRegionFixPoints images).
+struct FixBudget {
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  double seconds = 0;                ///< what the deadline was set from (0: none; for the note)
+  std::atomic<int> skipped{0};       ///< failing splines without fixes: the budget was spent
+  std::atomic<int> too_large{0};     ///< failing splines without fixes: more than kMaxRegionFixPoints points
+  /// A budget of `seconds` from now (<= 0: none).
+  void start(double budget_seconds);
+  bool spent() const { return std::chrono::steady_clock::now() > deadline; }
+  /// The note for the run's stderr and page ("" when nothing was skipped).
+  std::string note() const;
+};
+
 /// Called after each spline is analysed, then after each failing one has its
 /// regions: (done, total, name; "regions: name" in the second pass).
 using Progress = std::function<void(int, int, const std::string&)>;
@@ -39,7 +69,8 @@ using Progress = std::function<void(int, int, const std::string&)>;
 /// each failing check; then, one spline at a time, the region fixes of each spline that
 /// fails the requirement. An input error of one item becomes that item's
 /// error; the others go on.
+/// With `budget`, the fix searches are budgeted as FixBudget says.
 std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const ReportOptions& options,
-                                       const Progress& progress = {});
+                                       const Progress& progress = {}, FixBudget* budget = nullptr);
 
 }  // namespace cmr::report

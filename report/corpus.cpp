@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cerrno>
@@ -358,7 +359,27 @@ struct FileWork {
   double seconds = 0;
 };
 
-FileWork process_file(const std::string& path, std::size_t index, const BatchOptions& options, int threads) {
+/// The report inputs of an SVG file's paths [begin, end): one spline each,
+/// named FILE:PATH; a path that is no spline is that input's error.
+std::vector<ReportInput> svg_inputs(const std::string& path, const std::vector<import::PathSpline>& paths,
+                                    std::size_t begin, std::size_t end) {
+  std::vector<ReportInput> inputs;
+  for (std::size_t i = begin; i < end; ++i) {
+    const import::PathSpline& p = paths[i];
+    ReportInput in;
+    in.file = path + ":" + p.name;
+    try {
+      in.spline = import::to_bspline(p);
+    } catch (const InputError& e) {
+      in.error = in.file + ": " + e.what();  // as the subpath is named
+    }
+    inputs.push_back(std::move(in));
+  }
+  return inputs;
+}
+
+FileWork process_file(const std::string& path, std::size_t index, const BatchOptions& options, int threads,
+                      FixBudget* budget) {
   const auto t0 = std::chrono::steady_clock::now();
   FileWork w;
   w.path = path;
@@ -384,18 +405,11 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
         }
         o.certified_fixes = options.fixes;
         break;
-      case FileKind::svg:
-        for (const import::PathSpline& p : import::read_svg(path)) {
-          ReportInput in;
-          in.file = path + ":" + p.name;
-          try {
-            in.spline = import::to_bspline(p);
-          } catch (const InputError& e) {
-            in.error = in.file + ": " + e.what();  // as the subpath is named
-          }
-          inputs.push_back(std::move(in));
-        }
+      case FileKind::svg: {
+        const std::vector<import::PathSpline> paths = import::read_svg(path);
+        inputs = svg_inputs(path, paths, 0, paths.size());
         break;
+      }
       case FileKind::spline: inputs.push_back(read_input(path)); break;
     }
   } catch (const InputError& e) {  // the whole file is unreadable: one invalid item
@@ -407,7 +421,7 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
     in.error = e.what();
     inputs.push_back(std::move(in));
   }
-  w.reports = report_batch(std::move(inputs), o);
+  w.reports = report_batch(std::move(inputs), o, {}, budget);
   w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return w;
 }
@@ -514,6 +528,11 @@ struct PreparedFile {
   std::string font_page;            ///< a font: its page
   std::vector<std::string> sarif;   ///< results in case order, without a baseline state
   std::string junit;                ///< its suite, with the id 0
+  /// A part of a file streamed in parts (an SVG's paths, kStreamChunk at a
+  /// time), and more parts of it follow: Writer::write writes its splines
+  /// and keeps its record until the last part (its JUnit suite, its
+  /// Markdown lines and the file count are the whole file's).
+  bool more = false;
 };
 
 const char* status_class(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
@@ -538,6 +557,12 @@ std::string host_name() {
   if (::gethostname(buf, sizeof buf - 1) != 0) return "localhost";
   return buf;
 }
+
+/// An SVG file's paths are reported and written this many at a time.
+constexpr std::size_t kStreamChunk = 1024;
+/// An SVG file larger than this is reported alone (its parts in order),
+/// not beside other files in parallel.
+constexpr std::uintmax_t kStreamBytes = 256 * 1024;
 
 /// Writes a run's outputs as its files finish, in file order (prepare in
 /// the processing threads, write in one thread at a time).
@@ -784,6 +809,29 @@ class Writer {
       }
     }
     if (!sarif.empty()) sarif_.write(sarif);
+    const int items = rec.items, items_pass = rec.items_pass, items_fail = rec.items_fail, items_invalid = rec.items_invalid;
+    const auto count = [&] {
+      summary_.items += items;
+      summary_.pass += items_pass;
+      summary_.fail += items_fail;
+      summary_.invalid += items_invalid;
+    };
+    if (p.more || part_) {  // a file in parts: its record is the parts' together
+      if (!part_) {
+        part_ = std::move(rec);
+      } else {
+        part_->seconds += rec.seconds;
+        part_->items += items;
+        part_->items_pass += items_pass;
+        part_->items_fail += items_fail;
+        part_->items_invalid += items_invalid;
+        for (CaseRecord& c : rec.cases) part_->cases.push_back(std::move(c));
+      }
+      if (p.more) return count();
+      rec = std::move(*part_);
+      part_.reset();
+      if (junit_.is_open()) p.junit = junit_suite(rec, 0, timestamp_, host_);
+    }
     if (markdown_) markdown_->add(rec, w.name, rec.kind == FileKind::font ? rec.title : std::string());
     if (junit_.is_open()) {  // junit_suite with this file's index as its id
       static constexpr std::string_view kHead = "  <testsuite id=\"0\"";
@@ -791,10 +839,7 @@ class Writer {
       junit_.write("  <testsuite id=\"" + std::to_string(file_index_) + "\"" + p.junit.substr(kHead.size()));
     }
     ++file_index_;
-    summary_.items += rec.items;
-    summary_.pass += rec.items_pass;
-    summary_.fail += rec.items_fail;
-    summary_.invalid += rec.items_invalid;
+    count();
   }
 
   BatchSummary finish(double seconds) {
@@ -945,6 +990,7 @@ class Writer {
   std::vector<std::string> spline_rows_;
   std::string timestamp_, host_;
   int first_ = 0, file_index_ = 0, sarif_results_ = 0;
+  std::optional<FileRecord> part_;  // the parts so far of a file written in parts (PreparedFile::more)
 };
 
 }  // namespace
@@ -961,40 +1007,91 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
                                                      [&](std::size_t k) { return options.shard->takes(k); }));
   Writer writer(options, counted, fonts);
   const int threads = thread_count(options.report.threads);
+  FixBudget budget;
+  budget.start(options.fix_budget);
+  std::atomic<int> done{0};
+  // The run's time limit, checked before each file and each part of a file.
+  const auto check_time = [&] {
+    if (options.time_limit <= 0 ||
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() <= options.time_limit)
+      return;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", options.time_limit);
+    throw InputError(std::string("--time-limit: the report ran past ") + buf + " s with " + std::to_string(done.load()) +
+                     " of " + std::to_string(files.size()) + " files done; nothing written (raise --time-limit, or "
+                     "report fewer files)");
+  };
   // Each file's name in findings and its SARIF URI (independent of how its path was spelled).
   const std::string root = options.source_root ? options.source_root->string() : std::string();
-  const auto process = [&](std::size_t i, int file_threads) {
-    FileWork w = process_file(files[i], i, options, file_threads);
+  const auto named = [&](std::size_t i, FileWork& w) {
     const std::string base = options.source_root || i >= options.bases.size() ? root : options.bases[i];
     w.name = source_name(files[i], base);
     w.uri = source_uri(files[i], root, &w.uri_relative);
+  };
+  const auto process = [&](std::size_t i, int file_threads) {
+    check_time();
+    FileWork w = process_file(files[i], i, options, file_threads, &budget);
+    named(i, w);
     return w;
   };
-  int done = 0;
   auto written = [&](const std::string& path) {
-    ++done;
-    if (progress) progress(done, static_cast<int>(files.size()), writer.items(), path);
+    const int n = ++done;
+    if (progress) progress(n, static_cast<int>(files.size()), writer.items(), path);
   };
-  // Regions (the fix search) render one spline at a time on the backend,
-  // which is not shared between threads: with them, files go one by one.
-  const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
-  if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
-    for (std::size_t i = 0; i < files.size(); ++i) {  // one file at a time, its splines in parallel
-      PreparedFile p = writer.prepare(process(i, options.report.threads));
-      writer.write(p);
-      written(p.rec.path);
+  // An SVG file is reported and written kStreamChunk paths at a time, so
+  // that memory holds one part's reports, never the whole file's (10^5
+  // paths: docs/outputs.md). False when it cannot be read: process_file
+  // then makes it one invalid item.
+  const auto stream_svg = [&](std::size_t i) {
+    check_time();
+    std::vector<import::PathSpline> paths;
+    try {
+      paths = import::read_svg(files[i]);
+    } catch (const InputError&) {
+      return false;
     }
-  } else {
-    // Files in parallel, one thread each; finished files are written in
-    // order by one thread at a time. A file more than `window` ahead of the
-    // next to write waits, so memory holds at most ~window files' reports.
+    for (std::size_t begin = 0;; begin += kStreamChunk) {
+      check_time();
+      const auto t1 = std::chrono::steady_clock::now();
+      const std::size_t end = std::min(paths.size(), begin + kStreamChunk);
+      FileWork w;
+      w.path = files[i];
+      w.kind = FileKind::svg;
+      named(i, w);
+      w.reports = report_batch(svg_inputs(files[i], paths, begin, end), options.report, {}, &budget);
+      w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      PreparedFile p = writer.prepare(std::move(w));
+      p.more = end < paths.size();
+      writer.write(p);
+      if (!p.more) break;
+    }
+    written(files[i]);
+    return true;
+  };
+  // A file written in parts goes alone (its parts in order, its splines in parallel).
+  const auto in_parts = [&](std::size_t i) {
+    std::error_code ec;
+    return file_kind(files[i]) == FileKind::svg && fs::file_size(files[i], ec) > kStreamBytes && !ec;
+  };
+  const auto one_by_one = [&](std::size_t i) {  // one file, its splines in parallel
+    if (file_kind(files[i]) == FileKind::svg && stream_svg(i)) return;
+    PreparedFile p = writer.prepare(process(i, options.report.threads));
+    writer.write(p);
+    written(p.rec.path);
+  };
+  // Files [first, last) in parallel, one thread each; finished files are
+  // written in order by one thread at a time. A file more than `window`
+  // ahead of the next to write waits, so memory holds at most ~window
+  // files' reports.
+  const auto in_parallel = [&](std::size_t first, std::size_t last) {
     const std::size_t window = 2 * static_cast<std::size_t>(threads);
     std::mutex m;
     std::condition_variable cv;
     std::map<std::size_t, PreparedFile> ready;
-    std::size_t next = 0;
+    std::size_t next = first;
     bool abort = false, flushing = false;
-    parallel_for(files.size(), threads, [&](std::size_t i) {
+    parallel_for(last - first, threads, [&](std::size_t k) {
+      const std::size_t i = first + k;
       PreparedFile w;
       try {
         w = writer.prepare(process(i, 1));
@@ -1030,8 +1127,27 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       }
       flushing = false;
     });
+  };
+  // Regions (the fix search) render one spline at a time on the backend,
+  // which is not shared between threads: with them, files go one by one.
+  const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
+  if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
+    for (std::size_t i = 0; i < files.size(); ++i) one_by_one(i);
+  } else {
+    for (std::size_t i = 0; i < files.size();) {  // runs of small files in parallel, a large SVG alone
+      if (in_parts(i)) {
+        one_by_one(i++);
+        continue;
+      }
+      std::size_t j = i;
+      while (j < files.size() && !in_parts(j)) ++j;
+      in_parallel(i, j);
+      i = j;
+    }
   }
-  return writer.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  BatchSummary summary = writer.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  summary.note = budget.note();
+  return summary;
 }
 
 }  // namespace cmr::report

@@ -22,11 +22,15 @@
 #include <string>
 #include <vector>
 
+#include "report/batch.hpp"
 #include "report/font_report.hpp"
 #include "report/merge.hpp"
 #include "report/report.hpp"
 
 namespace cmr::report {
+
+/// The default of `cmr report --time-limit` (seconds).
+inline constexpr double kDefaultReportTimeLimit = 3600;
 
 /// Which files a folder contributes (a file named on the command line is
 /// always taken). Patterns are shell globs (fnmatch), matched against the
@@ -157,6 +161,13 @@ struct BatchOptions {
   /// owns its position.
   std::optional<Shard> shard;
   std::vector<std::size_t> shard_positions;
+  /// Seconds for all fix searches of the run (report/batch.hpp FixBudget;
+  /// <= 0: no limit): after them failing splines are reported without fixes.
+  double fix_budget = kDefaultFixBudgetSeconds;
+  /// The run's time limit in seconds (<= 0: none): checked before each file
+  /// and each part of a file; past it the run stops with InputError and
+  /// writes nothing.
+  double time_limit = kDefaultReportTimeLimit;
 };
 
 /// The run's counts (the one-line summary) and its exit code.
@@ -171,6 +182,8 @@ struct BatchSummary {
   double seconds = 0;
   int exit_code = kExitPass;  ///< kExitInvalid, else kExitFail on a failure (on a new finding with a baseline), else kExitPass
   std::vector<std::filesystem::path> written;
+  /// What the run's budgets left out (FixBudget::note), "" when nothing.
+  std::string note;
 };
 
 /// "3 files (1 font, 52 glyphs): 70 contours and splines: 25 pass, 45 fail, 0 invalid; 61 findings (new 1,

@@ -65,6 +65,8 @@ struct ReportArgs {
   std::string shard;                // --shard i/N (report/merge.hpp)
   std::vector<std::string> merge;   // --merge DIR...
   int jobs = 0;                     // --jobs N: threads; 0 = every core
+  double fix_budget = report::kDefaultFixBudgetSeconds;
+  double time_limit = report::kDefaultReportTimeLimit;
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
@@ -137,6 +139,15 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--torsion-tol", args->torsion_tolerance,
                   "space curves: a segment whose |torsion| is at most this is planar (torsion constant); default 0: "
                   "only exactly planar segments");
+  in_range(cmd->add_option("--fix-budget", args->fix_budget,
+                           "seconds for all fix searches of the run (regions, certified fixes); after them failing "
+                           "splines are reported without fixes (a note says how many); 0: no limit"),
+           0.0, 1e9)
+      ->capture_default_str();
+  in_range(cmd->add_option("--time-limit", args->time_limit,
+                           "seconds for the whole run: past it the run stops with exit 2 and writes nothing; 0: none"),
+           0.0, 1e9)
+      ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
   cmd->callback([args, cmd, shard_option, &exit_code] {
     if (!args->merge.empty()) {  // report/merge.hpp: the parts' outputs combined, nothing judged again
@@ -242,6 +253,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.out = args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;
+    b.fix_budget = args->fix_budget;
+    b.time_limit = args->time_limit;
     if (!args->junit.empty()) b.junit = args->junit;
     if (!args->sarif.empty()) b.sarif = args->sarif;
     if (!args->markdown.empty()) b.markdown = args->markdown;
@@ -269,7 +282,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
     if (bar) report::clear_progress(std::cerr);
-    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';  // read_spline_file names the file
+    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
+    if (!s.note.empty()) std::cerr << "cmr: note: " << s.note << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
     // The one line goes to stderr when a CI file is written to standard output.
     const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif)) ||

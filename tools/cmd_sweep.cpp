@@ -18,8 +18,10 @@
 // area.png (area per label against the knot value) and tube.obj / tube.ply
 // (the monotone voxels of the stacked label maps, x, y and the knot value,
 // as a closed mesh: draw/mesh.hpp).
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -40,6 +42,34 @@ namespace cmr::cli {
 namespace {
 
 inline constexpr int kMaxSweepSteps = 10000;
+/// What a sweep holds per pixel of all its steps until it writes them (each
+/// step's region maps, contours, frame and the tube's stack): 4 steps of
+/// 1024 x 1024 peaked at 425 MB resident, 4 of 512 x 512 at 129 MB: about 100
+/// bytes a pixel (16 steps of 4096 x 4096, within the pixel count limit,
+/// took 20 GB).
+inline constexpr long long kSweepBytesPerPixel = 100;
+
+/// The memory a sweep may plan to use: 3/4 of the smaller of the machine's
+/// memory and the address space limit (ulimit -v).
+long long sweep_memory_limit() {
+  long long limit = static_cast<long long>(::sysconf(_SC_PHYS_PAGES)) * ::sysconf(_SC_PAGE_SIZE);
+  rlimit r{};
+  if (::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    limit = std::min(limit, static_cast<long long>(r.rlim_cur));
+  return limit / 4 * 3;
+}
+
+/// Refuses (InputError) a sweep whose pixels would not fit in memory
+/// (sweep_memory_limit), before anything is rendered.
+void check_sweep_memory(long long images, int width, int height) {
+  const long long bytes = images * width * height * kSweepBytesPerPixel, limit = sweep_memory_limit();
+  if (bytes <= limit) return;
+  const auto mb = [](long long b) { return std::to_string(b / (1024 * 1024)) + " MB"; };
+  throw InputError(std::to_string(images) + " steps of " + std::to_string(width) + "x" + std::to_string(height) +
+                   " pixels need about " + mb(bytes) + " (" + std::to_string(kSweepBytesPerPixel) +
+                   " bytes a pixel): more than the limit of " + mb(limit) +
+                   " (3/4 of this machine's memory or of ulimit -v; fewer steps or a smaller --size)");
+}
 
 struct SweepArgs {
   std::string file;
@@ -110,6 +140,7 @@ std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& m
   RegionRequest rq;
   const auto [w, h] = parse_size(a.size);
   check_total_pixels(a.steps + 1LL, w, h, "steps");
+  check_sweep_memory(a.steps + 1LL, w, h);
   rq.width = w;
   rq.height = h;
   rq.point = a.point;

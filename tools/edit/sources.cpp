@@ -6,6 +6,7 @@
 
 #include "io/font.hpp"
 #include "io/output.hpp"
+#include "io/output_guard.hpp"
 #include "io/svg.hpp"
 #include "io/ufo.hpp"
 #include "spline/errors.hpp"
@@ -68,6 +69,7 @@ OpenedSource open_source(const std::filesystem::path& file, const std::string& g
                (g.contours.size() == 1 ? " contour" : " contours");
     for (const std::string& n : g.notes) out.what += "; " + n;
     out.glif = g.source;
+    note_read(g.source);  // as a spline file: a second editor's save is not replaced
     out.grid = 1;
     if (!single) out.font = file;
     return out;
@@ -83,6 +85,7 @@ OpenedSource open_source(const std::filesystem::path& file, const std::string& g
     out.what = shown + ": " + std::to_string(paths.size()) + (paths.size() == 1 ? " path" : " paths");
     return out;
   }
+  note_read(file);  // a save refuses to replace it once another editor has saved it (io/output_guard.hpp)
   BSpline s = read_spline_file(file);
   out.curves.push_back({std::move(s), read_point_names(file), shown, file});
   out.what = shown;
