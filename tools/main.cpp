@@ -47,6 +47,7 @@ int run(int argc, char** argv);
 int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
   cmr::cli::keep_freed_memory();
+  cmr::cli::read_environment();
   return finish_stdout(run(argc, argv));
 }
 
