@@ -1,7 +1,7 @@
 #pragma once
 /// Reuse of a failed block proof by the block's quarters and pixels (region
 /// CPU backend, labels only; region.cpp: classify_box_labels, cull_block,
-/// classify_pixel_flat). Switch: CMR_BLOCK_REUSE=0 in the environment (or
+/// classify_pixel_flat). Switch: CMR_BLOCK_REUSE=0 in cmr's environment (or
 /// set_block_reuse) turns it off; labels are the same either way.
 ///
 /// What a block proof learns. The box traversal (block_piece's rules over the
@@ -49,7 +49,6 @@
 /// holds for every sub-box; "level 0 is unknown" is not inherited.
 #include <atomic>
 #include <cstdint>
-#include <cstdlib>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -62,18 +61,11 @@ namespace cmr::backend {
 enum class NodeFact : std::uint8_t { increasing, decreasing, split, none };
 
 inline std::atomic<int> block_reuse_override{-1};
-/// Whether a block proof's subdivision is reused (CMR_BLOCK_REUSE, default on;
-/// read once per process).
-inline bool block_reuse() {
-  const int o = block_reuse_override.load(std::memory_order_relaxed);
-  if (o >= 0) return o != 0;
-  static const bool env = [] {
-    const char* v = std::getenv("CMR_BLOCK_REUSE");
-    return !(v && std::string_view(v) == "0");
-  }();
-  return env;
-}
-/// Overrides CMR_BLOCK_REUSE (tests): 1 on, 0 off, -1 back to the environment.
+/// Whether a block proof's subdivision is reused (default on; the library
+/// reads no environment: tools/ read CMR_BLOCK_REUSE into set_block_reuse).
+inline bool block_reuse() { return block_reuse_override.load(std::memory_order_relaxed) != 0; }
+/// Turns reuse off (0) or on (1; -1: the default, on) for later renders
+/// (tests, benchmarks, tools/cli_common.hpp read_environment).
 inline void set_block_reuse(int on) { block_reuse_override.store(on, std::memory_order_relaxed); }
 
 /// How often reuse happened since the process started (tests: so that a

@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <unordered_map>
+#include <utility>
 
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -14,23 +14,21 @@
 namespace cmr {
 namespace {
 
-constexpr std::uint8_t kPad = 255;  // the padding ring: never a label
-
-std::uint8_t code_of(const RegionPixel& p, bool split) { return split ? code(p.split_label) : code(p.label); }
-
-/// The padded sample grid: sample (si, sj), sj = 0 the top padding row; pixel
-/// (i, j) is sample (i + 1, j + 1).
+/// The sample grid: sample (si, sj), si = 0..W + 1, sj = 0..H + 1, sj = 0 the
+/// top row; pixel (i, j) is sample (i + 1, j + 1); the samples of the outer
+/// ring lie on the view's edge (contour.hpp).
 struct Grid {
   int W = 0, H = 0, SW = 0, SH = 0;
   View view;
-  std::vector<std::uint8_t> codes;  // of the pixels, row-major
+  std::vector<std::uint8_t> codes;  // of every sample, row-major over (si, sj)
 
-  std::uint8_t label(int si, int sj) const {
-    if (si <= 0 || sj <= 0 || si > W || sj > H) return kPad;
-    return codes[static_cast<std::size_t>(sj - 1) * W + (si - 1)];
+  std::uint8_t label(int si, int sj) const { return codes[static_cast<std::size_t>(sample(si, sj))]; }
+  Vec2 position(int si, int sj) const {
+    const Vec2 c = pixel_center(view, W, H, std::clamp(si - 1, 0, W - 1), std::clamp(sj - 1, 0, H - 1));
+    return {si == 0 ? view.x0 : si == W + 1 ? view.x1 : c.x, sj == 0 ? view.y1 : sj == H + 1 ? view.y0 : c.y};
   }
-  Vec2 centre(int si, int sj) const { return pixel_center(view, W, H, si - 1, sj - 1); }
   std::int64_t sample(int si, int sj) const { return static_cast<std::int64_t>(sj) * SW + si; }
+  bool ring(int si, int sj) const { return si == 0 || sj == 0 || si == W + 1 || sj == H + 1; }
 };
 
 /// An edge of the sample grid: from sample (si, sj) to its right (horizontal)
@@ -43,6 +41,12 @@ struct Edge {
   int bj() const { return vertical ? sj + 1 : sj; }
 };
 
+/// The edge between two neighbouring samples, and whether p is its first end.
+std::pair<Edge, bool> edge_between(int pi, int pj, int qi, int qj) {
+  if (pj == qj) return {Edge{std::min(pi, qi), pj, false}, pi < qi};
+  return {Edge{pi, std::min(pj, qj), true}, pj < qj};
+}
+
 struct Bracket {
   double lo = 0, hi = 1;
   std::uint8_t hi_label = 0;
@@ -51,15 +55,15 @@ struct Bracket {
 Vec2 along(Vec2 a, Vec2 b, double t) { return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t}; }
 
 /// Bisection from a (label L) towards b (label b_label != L); see contour.hpp.
-Bracket bisect(const RegionProblem& problem, bool split, Vec2 a, Vec2 b, std::uint8_t L, std::uint8_t b_label,
-               double stop) {
+Bracket bisect(const RegionProblem& problem, Vec2 a, Vec2 b, std::uint8_t L, std::uint8_t b_label, double stop) {
+  const RegionRequest& rq = problem.request();
   Bracket r{0, 1, b_label};
   for (;;) {
     const Vec2 plo = along(a, b, r.lo), phi = along(a, b, r.hi);
     if (std::hypot(phi.x - plo.x, phi.y - plo.y) <= stop) break;
     const double mid = 0.5 * (r.lo + r.hi);
     if (!(r.lo < mid && mid < r.hi)) break;
-    const std::uint8_t m = code_of(problem.classify(along(a, b, mid)), split);
+    const std::uint8_t m = label_code(problem.classify(along(a, b, mid)), rq);
     if (m == L) {
       r.lo = mid;
     } else {
@@ -78,182 +82,89 @@ struct Refined {
   Bracket bracket;
 };
 
-class LabelBuilder {
- public:
-  LabelBuilder(const Grid& g, std::uint8_t L, const std::unordered_map<std::int64_t, Vec2>& refined_at)
-      : g_(g), L_(L), refined_at_(refined_at) {
-    out_.label = L;
-  }
-
-  LabelContours build() {
-    for (int cj = 0; cj + 1 < g_.SH; ++cj)
-      for (int ci = 0; ci + 1 < g_.SW; ++ci) cell(ci, cj);
-    chain();
-    return std::move(out_);
-  }
-
- private:
-  bool in(int si, int sj) const { return g_.label(si, sj) == L_; }
-
-  int corner_vertex(int si, int sj) {
-    auto [it, fresh] = corners_.try_emplace(g_.sample(si, sj), 0);
-    if (fresh) it->second = add(g_.centre(si, sj), false);
-    return it->second;
-  }
-
-  int add(Vec2 p, bool refined) {
-    out_.vertices.push_back(p);
-    out_.refined.push_back(refined);
-    return static_cast<int>(out_.vertices.size()) - 1;
-  }
-
-  /// The vertex on the edge between samples p and q (one in L, one not).
-  int edge_vertex(int pi, int pj, int qi, int qj) {
-    Edge e;
-    if (pj == qj) e = {std::min(pi, qi), pj, false};
-    else e = {pi, std::min(pj, qj), true};
-    auto [it, fresh] = edges_.try_emplace(e.id(g_), 0);
-    if (!fresh) return it->second;
-    const bool p_pad = g_.label(pi, pj) == kPad, q_pad = g_.label(qi, qj) == kPad;
-    if (p_pad || q_pad) {
-      // Clip to the view's edge: the real sample's centre moved onto it.
-      const int ri = p_pad ? qi : pi, rj = p_pad ? qj : pj, ai = p_pad ? pi : qi, aj = p_pad ? pj : qj;
-      Vec2 c = g_.centre(ri, rj);
-      if (ai == 0) c.x = g_.view.x0;
-      if (ai == g_.W + 1) c.x = g_.view.x1;
-      if (aj == 0) c.y = g_.view.y1;
-      if (aj == g_.H + 1) c.y = g_.view.y0;
-      it->second = add(c, false);
-    } else {
-      it->second = add(refined_at_.at(2 * e.id(g_) + (L_ == g_.label(e.si, e.sj) ? 0 : 1)), true);
-    }
-    return it->second;
-  }
-
-  void cell(int ci, int cj) {
-    const std::array<std::array<int, 2>, 4> c = {{{ci, cj + 1}, {ci + 1, cj + 1}, {ci + 1, cj}, {ci, cj}}};
-    std::array<bool, 4> inside{};
-    int count = 0;
-    for (int k = 0; k < 4; ++k) count += (inside[k] = in(c[k][0], c[k][1]));
-    if (count == 0) return;
-    auto ev = [&](int k) {
-      const int n = (k + 1) % 4;
-      return edge_vertex(c[k][0], c[k][1], c[n][0], c[n][1]);
-    };
-    if (count == 2 && inside[0] == inside[2]) {
-      // Saddle: separated, one triangle at each inside corner.
-      for (int k = 0; k < 4; ++k) {
-        if (!inside[k]) continue;
-        const int exit = ev(k), entry = ev((k + 3) % 4);
-        out_.pieces.push_back({corner_vertex(c[k][0], c[k][1]), exit, entry});
-        link(exit, entry);
-      }
-      return;
-    }
-    std::vector<int> piece;
-    int pending_exit = -1, first_entry = -1;
-    for (int k = 0; k < 4; ++k) {
-      const int n = (k + 1) % 4;
-      if (inside[k]) piece.push_back(corner_vertex(c[k][0], c[k][1]));
-      if (inside[k] != inside[n]) {
-        const int v = ev(k);
-        piece.push_back(v);
-        if (inside[k]) pending_exit = v;
-        else if (pending_exit >= 0) link(pending_exit, v), pending_exit = -1;
-        else first_entry = v;
-      }
-    }
-    if (pending_exit >= 0) link(pending_exit, first_entry);
-    out_.pieces.push_back(std::move(piece));
-  }
-
-  void link(int from, int to) { next_[from] = to; }
-
-  void chain() {
-    std::unordered_map<int, bool> seen;
-    for (const auto& [start, unused] : next_) {
-      (void)unused;
-      if (seen.count(start)) continue;
-      std::vector<int> loop;
-      for (int v = start; !seen.count(v); v = next_.at(v)) {
-        seen[v] = true;
-        loop.push_back(v);
-      }
-      out_.area += polygon_area(out_.vertices, loop);
-      out_.outlines.push_back(std::move(loop));
-    }
-  }
-
-  const Grid& g_;
-  std::uint8_t L_;
-  const std::unordered_map<std::int64_t, Vec2>& refined_at_;
-  LabelContours out_;
-  std::unordered_map<std::int64_t, int> corners_, edges_;
-  std::unordered_map<int, int> next_;
+/// A point on a cell's boundary: a sample (a corner) or an edge vertex, with
+/// the two labels its bracket separates (edge vertices only).
+struct CellPoint {
+  Vec2 p;
+  bool refined = false;
+  std::uint8_t from = 0, to = 0;  ///< the bracket's start label and end label
+  /// A certified change from or to L lies within tolerance / 2 (contour.hpp):
+  /// the owner's piece also holds other labels' vertices.
+  bool refined_for(int L) const { return refined && (L == kUndecidedBandLabel || from == L || to == L); }
 };
 
-/// The undecided band (contour.hpp): in every cell with an undecided gap on
-/// one of its edges, the part of the cell that no label's piece covers: the
-/// polygon of the cell's edge vertices in counter-clockwise order (each
-/// label's piece is cut off by the chord between its own vertices). Its
-/// outlines are the piece edges not shared by two pieces.
-LabelContours undecided_band(const Grid& g, const std::unordered_map<std::int64_t, Vec2>& refined_at,
-                             const std::unordered_map<std::int64_t, bool>& undecided_gap) {
-  LabelContours band;
-  band.label = kUndecidedBandLabel;
-  if (undecided_gap.empty()) return band;
-  std::map<std::pair<double, double>, int> index;  // one vertex per point
-  auto vertex = [&](Vec2 p, bool refined) {
-    auto [it, fresh] = index.try_emplace({p.x, p.y}, 0);
-    if (fresh) {
-      it->second = static_cast<int>(band.vertices.size());
-      band.vertices.push_back(p);
-      band.refined.push_back(refined);
+/// A refined vertex: where, and between which labels.
+struct Vertex {
+  Vec2 p;
+  std::uint8_t from = 0, to = 0;
+};
+
+/// One cell (2x2 samples): its corners c0..c3 counter-clockwise from the
+/// bottom-left, their labels, and the boundary walk's edge vertices.
+struct Cell {
+  std::array<CellPoint, 4> corner;
+  std::array<std::uint8_t, 4> label{};
+  /// Per edge k (c_k -> c_{k+1}): the vertex of c_k's label, then that of
+  /// c_{k+1}'s (one point when they coincide); empty when the labels agree.
+  std::array<std::vector<CellPoint>, 4> vertices;
+  /// The label that owns the central polygon (the edge vertices in walk
+  /// order), or -1 when it has under three points.
+  int owner = -1;
+
+  /// Every edge vertex in walk order.
+  std::vector<CellPoint> central() const {
+    std::vector<CellPoint> out;
+    for (const auto& vs : vertices) out.insert(out.end(), vs.begin(), vs.end());
+    return out;
+  }
+};
+
+/// The pieces of label L in one cell (contour.hpp): the owner's piece is the
+/// whole walk less the other labels' corners; any other label's, one piece
+/// per run of consecutive corners with its label, from the vertex before the
+/// run to the one after it.
+std::vector<std::vector<CellPoint>> pieces_of(const Cell& c, int L) {
+  std::vector<std::vector<CellPoint>> out;
+  if (c.owner == L) {
+    std::vector<CellPoint> piece;
+    for (int k = 0; k < 4; ++k) {
+      if (c.label[k] == L) piece.push_back(c.corner[k]);
+      piece.insert(piece.end(), c.vertices[k].begin(), c.vertices[k].end());
     }
-    return it->second;
-  };
-  std::map<std::pair<int, int>, int> directed;  // piece edges, counted
-  for (int cj = 0; cj + 1 < g.SH; ++cj)
-    for (int ci = 0; ci + 1 < g.SW; ++ci) {
-      const std::array<std::array<int, 2>, 4> c = {{{ci, cj + 1}, {ci + 1, cj + 1}, {ci + 1, cj}, {ci, cj}}};
-      bool gap = false;
-      std::vector<int> piece;
-      for (int k = 0; k < 4; ++k) {
-        const auto& p = c[k];
-        const auto& q = c[(k + 1) % 4];
-        const std::uint8_t lp = g.label(p[0], p[1]), lq = g.label(q[0], q[1]);
-        if (lp == lq) continue;
-        if (lp == kPad || lq == kPad) {  // the view's edge: one vertex, as LabelBuilder puts it
-          const int ri = lp == kPad ? q[0] : p[0], rj = lp == kPad ? q[1] : p[1];
-          const int ai = lp == kPad ? p[0] : q[0], aj = lp == kPad ? p[1] : q[1];
-          Vec2 at = g.centre(ri, rj);
-          if (ai == 0) at.x = g.view.x0;
-          if (ai == g.W + 1) at.x = g.view.x1;
-          if (aj == 0) at.y = g.view.y1;
-          if (aj == g.H + 1) at.y = g.view.y0;
-          piece.push_back(vertex(at, false));
-          continue;
-        }
-        Edge e;
-        if (p[1] == q[1]) e = {std::min(p[0], q[0]), p[1], false};
-        else e = {p[0], std::min(p[1], q[1]), true};
-        const std::int64_t id = e.id(g);
-        gap = gap || undecided_gap.count(id);
-        // From p's side to q's: the vertex of p's label first.
-        const bool p_first = p[0] == e.si && p[1] == e.sj;
-        const int a = vertex(refined_at.at(2 * id + (p_first ? 0 : 1)), true);
-        const int b = vertex(refined_at.at(2 * id + (p_first ? 1 : 0)), true);
-        if (piece.empty() || piece.back() != a) piece.push_back(a);
-        if (b != a) piece.push_back(b);
-      }
-      if (!gap) continue;
-      if (piece.size() > 1 && piece.front() == piece.back()) piece.pop_back();
-      if (piece.size() < 3) continue;
-      for (std::size_t k = 0; k < piece.size(); ++k) ++directed[{piece[k], piece[(k + 1) % piece.size()]}];
-      band.pieces.push_back(std::move(piece));
-    }
-  // Outline edges: those whose reverse is not a piece edge too.
-  std::unordered_map<int, std::vector<int>> next;
+    out.push_back(std::move(piece));
+    return out;
+  }
+  int start = -1;  // a corner of L whose predecessor is not L
+  int count = 0;
+  for (int k = 0; k < 4; ++k) {
+    count += c.label[k] == L;
+    if (c.label[k] == L && c.label[(k + 3) % 4] != L) start = k;
+  }
+  if (count == 4) {
+    out.push_back({c.corner[0], c.corner[1], c.corner[2], c.corner[3]});
+    return out;
+  }
+  if (start < 0) return out;
+  for (int s = 0; s < 4; ++s) {
+    const int k0 = (start + s) % 4;
+    if (c.label[k0] != L || c.label[(k0 + 3) % 4] == L) continue;  // not a run's first corner
+    std::vector<CellPoint> piece{c.vertices[(k0 + 3) % 4].back()};
+    int k = k0;
+    for (; c.label[k] == L; k = (k + 1) % 4) piece.push_back(c.corner[k]);
+    piece.push_back(c.vertices[(k + 3) % 4].front());
+    out.push_back(std::move(piece));
+  }
+  return out;
+}
+
+/// Outlines from pieces that tile a set: the directed piece edges whose
+/// reverse is no piece's edge, chained into closed loops; their shoelace sum
+/// is the set's area.
+void chain_outlines(LabelContours& lc) {
+  std::map<std::pair<int, int>, int> directed;
+  for (const std::vector<int>& piece : lc.pieces)
+    for (std::size_t k = 0; k < piece.size(); ++k) ++directed[{piece[k], piece[(k + 1) % piece.size()]}];
+  std::map<int, std::vector<int>> next;
   for (const auto& [edge, count] : directed)
     if (!directed.count({edge.second, edge.first}))
       for (int k = 0; k < count; ++k) next[edge.first].push_back(edge.second);
@@ -270,11 +181,47 @@ LabelContours undecided_band(const Grid& g, const std::unordered_map<std::int64_
         out.pop_back();
         v = w;
       }
-      band.area += polygon_area(band.vertices, loop);
-      band.outlines.push_back(std::move(loop));
+      lc.area += polygon_area(lc.vertices, loop);
+      lc.outlines.push_back(std::move(loop));
     }
-  return band;
 }
+
+/// Builds one label's contours from its pieces, one vertex per point.
+class LabelBuilder {
+ public:
+  explicit LabelBuilder(std::uint8_t L) : L_(L) { out_.label = L; }
+
+  void add_piece(const std::vector<CellPoint>& points) {
+    std::vector<int> piece;
+    for (const CellPoint& q : points) {
+      const int v = vertex(q);
+      if (piece.empty() || piece.back() != v) piece.push_back(v);
+    }
+    while (piece.size() > 1 && piece.front() == piece.back()) piece.pop_back();
+    if (piece.size() >= 3) out_.pieces.push_back(std::move(piece));
+  }
+
+  LabelContours build() {
+    chain_outlines(out_);
+    return std::move(out_);
+  }
+
+ private:
+  int vertex(const CellPoint& q) {
+    auto [it, fresh] = index_.try_emplace({q.p.x, q.p.y}, 0);
+    if (fresh) {
+      it->second = static_cast<int>(out_.vertices.size());
+      out_.vertices.push_back(q.p);
+      out_.refined.push_back(false);
+    }
+    if (q.refined_for(L_)) out_.refined[static_cast<std::size_t>(it->second)] = true;
+    return it->second;
+  }
+
+  int L_;
+  LabelContours out_;
+  std::map<std::pair<double, double>, int> index_;
+};
 
 }  // namespace
 
@@ -290,39 +237,63 @@ double polygon_area(const std::vector<Vec2>& v, const std::vector<int>& loop) {
   return 0.5 * twice;
 }
 
+const char* RegionContours::label_name(std::uint8_t c) const {
+  if (c == kUndecidedBandLabel) return kUndecidedBandName;
+  RegionResult kind;
+  kind.split = split;
+  kind.alternating = alternating;
+  kind.each_piece = each_piece;
+  return kind.label_name(c);
+}
+
 RegionContours region_contours(const RegionProblem& problem, const RegionResult& region,
                                const ContourOptions& options) {
   const RegionRequest& rq = problem.request();
   const View& v = problem.view();
+  const bool each_piece = rq.each_piece, alternating = !rq.splits.empty() && !each_piece;
   if (region.width != rq.width || region.height != rq.height || region.split != rq.split.has_value() ||
-      region.view.x0 != v.x0 || region.view.y0 != v.y0 || region.view.x1 != v.x1 || region.view.y1 != v.y1 ||
+      region.each_piece != each_piece || region.alternating != alternating || region.view.x0 != v.x0 ||
+      region.view.y0 != v.y0 || region.view.x1 != v.x1 || region.view.y1 != v.y1 ||
       region.size() != static_cast<std::size_t>(rq.width) * rq.height)
-    throw InputError("region_contours: the region was not rendered from this problem (size, view or split differ)");
+    throw InputError("region_contours: the region was not rendered from this problem (size, view or mode differ)");
   if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
     throw InputError("region_contours: the tolerance must be positive and finite");
 
-  Grid g{rq.width, rq.height, rq.width + 2, rq.height + 2, v, region.codes()};
-  const bool split = region.split;
+  Grid g{rq.width, rq.height, rq.width + 2, rq.height + 2, v, {}};
+  g.codes.assign(static_cast<std::size_t>(g.SW) * g.SH, 0);
+  // The pixels' labels from the map; the ring's samples on the view's edge
+  // classified here (the map has no sample there).
+  const std::vector<std::uint8_t> pixels = region.codes();
+  std::vector<std::pair<int, int>> ring;
+  for (int sj = 0; sj < g.SH; ++sj)
+    for (int si = 0; si < g.SW; ++si) {
+      if (g.ring(si, sj)) ring.emplace_back(si, sj);
+      else g.codes[g.sample(si, sj)] = pixels[static_cast<std::size_t>(sj - 1) * g.W + (si - 1)];
+    }
+  parallel_for(ring.size(), options.threads, [&](std::size_t k) {
+    const auto [si, sj] = ring[k];
+    g.codes[g.sample(si, sj)] = label_code(problem.classify(g.position(si, sj)), rq);
+  });
   const double stop = options.tolerance * std::min(std::abs(v.x1 - v.x0), std::abs(v.y1 - v.y0));
 
-  // Every edge between two pixel centres of different labels, bisected from
-  // its first end (left or top) with that end's label.
+  // Every edge between two samples of different labels, bisected from its
+  // first end (left or top) with that end's label.
   std::vector<Refined> jobs;
-  for (int sj = 1; sj <= g.H; ++sj)
-    for (int si = 1; si <= g.W; ++si)
+  for (int sj = 0; sj < g.SH; ++sj)
+    for (int si = 0; si < g.SW; ++si)
       for (const bool vertical : {false, true}) {
         const Edge e{si, sj, vertical};
-        const std::uint8_t b = g.label(e.bi(), e.bj());
-        if (b != kPad && b != g.label(si, sj)) jobs.push_back({e, true, g.label(si, sj), {}});
+        if (e.bi() >= g.SW || e.bj() >= g.SH) continue;
+        if (g.label(e.bi(), e.bj()) != g.label(si, sj)) jobs.push_back({e, true, g.label(si, sj), {}});
       }
   auto run = [&](std::vector<Refined>& list) {
     parallel_for(list.size(), options.threads, [&](std::size_t k) {
       Refined& r = list[k];
       const Edge& e = r.edge;
-      Vec2 a = g.centre(e.si, e.sj), b = g.centre(e.bi(), e.bj());
+      Vec2 a = g.position(e.si, e.sj), b = g.position(e.bi(), e.bj());
       std::uint8_t b_label = g.label(e.bi(), e.bj());
       if (!r.from_a) std::swap(a, b), b_label = g.label(e.si, e.sj);
-      r.bracket = bisect(problem, split, a, b, r.label, b_label, stop);
+      r.bracket = bisect(problem, a, b, r.label, b_label, stop);
     });
   };
   run(jobs);
@@ -336,38 +307,92 @@ RegionContours region_contours(const RegionProblem& problem, const RegionResult&
 
   // The vertex of (edge, side): key 2 * edge id + 0 for the first end's label,
   // + 1 for the second end's.
-  std::unordered_map<std::int64_t, Vec2> refined_at;
-  refined_at.reserve(2 * jobs.size());
+  std::map<std::int64_t, Vertex> refined_at;
   auto vertex_of = [&](const Refined& r) {
     const Edge& e = r.edge;
-    Vec2 a = g.centre(e.si, e.sj), b = g.centre(e.bi(), e.bj());
+    Vec2 a = g.position(e.si, e.sj), b = g.position(e.bi(), e.bj());
     if (!r.from_a) std::swap(a, b);
     return along(a, b, 0.5 * (r.bracket.lo + r.bracket.hi));
   };
   for (const Refined& r : jobs) {
-    const Vec2 p = vertex_of(r);
+    const Vertex p{vertex_of(r), r.label, r.bracket.hi_label};
     refined_at[2 * r.edge.id(g)] = p;
     if (r.bracket.hi_label == g.label(r.edge.bi(), r.edge.bj())) refined_at[2 * r.edge.id(g) + 1] = p;
   }
-  for (const Refined& r : second) refined_at[2 * r.edge.id(g) + 1] = vertex_of(r);
+  for (const Refined& r : second) refined_at[2 * r.edge.id(g) + 1] = {vertex_of(r), r.label, r.bracket.hi_label};
   // Edges whose first bracket ended at the undecided label (between two
   // decided labels): the stretch between their two vertices is undecided.
-  const std::uint8_t undecided = split ? code(Split::undecided) : code(Direction::undecided);
-  std::unordered_map<std::int64_t, bool> undecided_gap;
+  const std::uint8_t undecided = static_cast<std::uint8_t>(region.label_codes() - 1);
+  std::map<std::int64_t, bool> undecided_gap;
   for (const Refined& r : jobs)
-    if (r.bracket.hi_label == undecided && r.label != undecided &&
-        g.label(r.edge.bi(), r.edge.bj()) != undecided)
+    if (r.bracket.hi_label == undecided && r.label != undecided && g.label(r.edge.bi(), r.edge.bj()) != undecided)
       undecided_gap[r.edge.id(g)] = true;
+
+  // The cells, their edge vertices and the owners of their central polygons.
+  std::vector<Cell> cells;
+  cells.reserve(static_cast<std::size_t>(g.SW - 1) * (g.SH - 1));
+  std::vector<std::size_t> owned;  // cells whose owner a classification decides
+  for (int cj = 0; cj + 1 < g.SH; ++cj)
+    for (int ci = 0; ci + 1 < g.SW; ++ci) {
+      const std::array<std::array<int, 2>, 4> at = {{{ci, cj + 1}, {ci + 1, cj + 1}, {ci + 1, cj}, {ci, cj}}};
+      Cell c;
+      bool gap = false;
+      for (int k = 0; k < 4; ++k) {
+        c.corner[k] = {g.position(at[k][0], at[k][1]), false};
+        c.label[k] = g.label(at[k][0], at[k][1]);
+      }
+      for (int k = 0; k < 4; ++k) {
+        const int n = (k + 1) % 4;
+        if (c.label[k] == c.label[n]) continue;
+        const auto [e, k_first] = edge_between(at[k][0], at[k][1], at[n][0], at[n][1]);
+        const std::int64_t id = e.id(g);
+        gap = gap || undecided_gap.count(id);
+        const Vertex a = refined_at.at(2 * id + (k_first ? 0 : 1)), b = refined_at.at(2 * id + (k_first ? 1 : 0));
+        c.vertices[k].push_back({a.p, true, a.from, a.to});
+        if (b.p.x != a.p.x || b.p.y != a.p.y) c.vertices[k].push_back({b.p, true, b.from, b.to});
+      }
+      std::vector<CellPoint> mid = c.central();
+      if (!mid.empty() && mid.front().p.x == mid.back().p.x && mid.front().p.y == mid.back().p.y) mid.pop_back();
+      if (mid.size() >= 3) {
+        if (gap) c.owner = kUndecidedBandLabel;
+        else owned.push_back(cells.size());
+      }
+      cells.push_back(std::move(c));
+    }
+  // The central polygon's owner: the label at its centroid (of its points);
+  // an undecided centroid where no corner is undecided is the band's.
+  parallel_for(owned.size(), options.threads, [&](std::size_t k) {
+    Cell& c = cells[owned[k]];
+    const std::vector<CellPoint> mid = c.central();
+    Vec2 sum{0, 0};
+    for (const CellPoint& q : mid) sum = sum + q.p;
+    const double n = static_cast<double>(mid.size());
+    const std::uint8_t l = label_code(problem.classify({sum.x / n, sum.y / n}), rq);
+    const bool corner_undecided = std::find(c.label.begin(), c.label.end(), undecided) != c.label.end();
+    c.owner = l == undecided && !corner_undecided ? kUndecidedBandLabel : l;
+  });
 
   RegionContours out;
   out.view = v;
-  out.split = split;
+  out.split = region.split;
+  out.alternating = alternating;
+  out.each_piece = each_piece;
   out.bisections = jobs.size() + second.size();
   std::array<bool, 256> present{};
   for (std::uint8_t c : g.codes) present[c] = true;
-  for (int L = 0; L < 256; ++L)
-    if (present[L]) out.labels.push_back(LabelBuilder(g, static_cast<std::uint8_t>(L), refined_at).build());
-  out.band = undecided_band(g, refined_at, undecided_gap);
+  for (const Cell& c : cells)
+    if (c.owner >= 0 && c.owner != kUndecidedBandLabel) present[static_cast<std::size_t>(c.owner)] = true;
+  for (int L = 0; L < 256; ++L) {
+    if (!present[L] || L == kUndecidedBandLabel) continue;
+    LabelBuilder b(static_cast<std::uint8_t>(L));
+    for (const Cell& c : cells)
+      for (const std::vector<CellPoint>& piece : pieces_of(c, L)) b.add_piece(piece);
+    out.labels.push_back(b.build());
+  }
+  LabelBuilder band(kUndecidedBandLabel);
+  for (const Cell& c : cells)
+    for (const std::vector<CellPoint>& piece : pieces_of(c, kUndecidedBandLabel)) band.add_piece(piece);
+  out.band = band.build();
   return out;
 }
 

@@ -3,26 +3,35 @@
 // boundary vertex refined by bisection with the certified classifier.
 //
 // Samples. The label map of a RegionResult gives one sample per pixel centre
-// (pixel_center). The grid is padded with one ring of "outside" samples one
-// pixel spacing beyond the outermost centres; a vertex on an edge between a
-// pixel centre and a padding sample is put at the view's edge (halfway), so
-// regions are clipped to the view rectangle. (The padding corners are not
-// cells' corners of any region, so at each view corner a right triangle with
-// legs of half a pixel is cut off a region that fills the corner.)
+// (pixel_center), with the label of the request's kind (label_code: plain,
+// split, alternating or each-piece; every classification below uses the same
+// kind). A ring of samples on the view's edge surrounds them: one on each
+// edge level with every pixel row and column, and the four view corners,
+// each classified with the certified classifier (the map has none there).
+// The cells (2x2 samples) tile the view rectangle exactly: pixel-sized inside,
+// half a pixel wide along the edges, a quarter pixel at the corners.
 //
-// Per label L, the cell (2x2 samples) walk: corners in counter-clockwise
-// world order c0..c3 (bottom-left, bottom-right, top-right, top-left); walking
-// c0 -> c1 -> c2 -> c3 -> c0, every corner with label L is emitted, and
-// between consecutive corners whose membership differs the vertex on that edge
-// is emitted. The emitted vertices lie on the cell's boundary in boundary
-// order, so the piece is a convex polygon with the region on its left. The
-// two saddle cases (L exactly at two diagonal corners) are resolved as
-// separated: two triangles, one at each corner, so that the pieces of
-// different labels never overlap in a cell. Where the piece leaves L (edge k:
-// c_k in, c_{k+1} out) to where it comes back, its edge is a piece of the
-// outline, oriented with L on the left; every edge vertex has exactly one
-// outgoing and one incoming outline edge, so the outline edges chain into
-// closed loops: counter-clockwise around a region, clockwise around a hole.
+// Cells. Corners c0..c3 in counter-clockwise world order (bottom-left,
+// bottom-right, top-right, top-left). Walking c0 -> c1 -> c2 -> c3 -> c0, on
+// each edge whose ends' labels differ lie the vertex of the first end's label
+// and that of the second end's (one point when the bisection from one end
+// ended at the other's label, see below). The central polygon is the edge
+// vertices in walk order; where it has three or more points (three labels
+// meet, a saddle, or an edge with two vertices) it belongs to one owner: the
+// undecided band when an edge of the cell has an undecided stretch (below),
+// else the label the classifier gives its centroid (the band's if that is
+// undecided and no corner is). A label's pieces in a cell: the owner's is the
+// whole walk less the other labels' corners (corners of its own label and
+// every edge vertex); any other label's, one triangle-or-more per run of
+// consecutive corners with that label, from the vertex before the run to the
+// one after it (a saddle not owned by L: two separate triangles). Every piece
+// has its vertices on the cell's boundary in boundary order, so it is a
+// convex counter-clockwise polygon, and the pieces of all labels and the band
+// tile the cell: the label areas and the band's sum to the view's area up to
+// rounding. Outlines are the piece edges whose reverse is no piece edge of
+// the same label, chained into closed loops: counter-clockwise around a
+// region, clockwise around a hole (along the view's edge the region's own
+// edge is its outline).
 //
 // Refinement. The vertex on an edge from sample a (label L) to sample b (not
 // L) is found by bisection of t in [0, 1] on p(t) = a + t (b - a), keeping
@@ -40,10 +49,9 @@
 // lies on the boundary of L's certified label and a second bisection from M
 // puts M's vertex on the boundary of M's: the stretch between them is
 // undecided, and the exact boundary of L (at unlimited depth) lies somewhere
-// in it. Those stretches make the band (RegionContours::band, name
-// "undecided-band"): in each cell with such a stretch on an edge, the part of
-// the cell no label's piece covers (the polygon of the cell's edge vertices,
-// counter-clockwise). Undecided pixels keep their own label as before.
+// in it. The cells with such a stretch on an edge give their central polygon
+// to the band (RegionContours::band, name "undecided-band"). Undecided pixels
+// keep their own label as before.
 //
 // Area. The shoelace formula on the loops (signed: holes negative) gives each
 // label's area; the convex pieces triangulate the same set (fans), so the sum
@@ -66,11 +74,12 @@ struct ContourOptions {
 /// The geometry of one label.
 struct LabelContours {
   std::uint8_t label = 0;  ///< the label code (code())
-  /// Every vertex: pixel centres with label L, refined boundary points, and
-  /// points on the view's edge.
+  /// Every vertex: samples with label L (pixel centres and points of the
+  /// view's edge) and refined boundary points.
   std::vector<Vec2> vertices;
-  /// Per vertex: true for a refined boundary point (a certified label change
-  /// lies within tolerance / 2 of it), false for pixel centres and view-edge points.
+  /// Per vertex: true for a refined boundary point (a certified change from
+  /// or to this label lies within tolerance / 2 of it), false for samples
+  /// and for other labels' vertices on the owner's piece of a cell.
   std::vector<bool> refined;
   /// Convex pieces (vertex indices, counter-clockwise); their union is the
   /// label's region as sampled.
@@ -89,21 +98,28 @@ inline constexpr const char* kUndecidedBandName = "undecided-band";
 /// All labels present in the map, in increasing code order.
 struct RegionContours {
   View view;
-  bool split = false;  ///< label codes are Split codes
+  bool split = false;        ///< label codes are Split codes
+  bool alternating = false;  ///< label codes are Alternation codes
+  bool each_piece = false;   ///< label codes are EachPiece codes
   std::vector<LabelContours> labels;
   /// The band undecided at the depth limit between two decided labels,
   /// narrower than a pixel (so no pixel centre is in it): label
   /// kUndecidedBandLabel, pieces and outlines as above, area the shoelace
-  /// sum; empty when no bisection met the undecided label.
+  /// sum; empty when no cell's central polygon is the band's.
   LabelContours band;
   std::uint64_t bisections = 0;  ///< refined edges (classify runs ~log2(1/tolerance) times each)
+
+  /// The name of label code `c` of this map's kind (RegionResult::label_name;
+  /// kUndecidedBandName for the band).
+  const char* label_name(std::uint8_t c) const;
 };
 
 /// Signed area of a closed polygon (shoelace; counter-clockwise positive).
 double polygon_area(const std::vector<Vec2>& vertices, const std::vector<int>& loop);
 
 /// The contours of `region`, rendered from `problem` (same size, view and
-/// labels; InputError otherwise), refined with problem.classify.
+/// kind of label; InputError otherwise), refined with problem.classify read
+/// as the request's kind of label (label_code).
 RegionContours region_contours(const RegionProblem& problem, const RegionResult& region,
                                const ContourOptions& options = {});
 

@@ -2,8 +2,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -101,13 +99,6 @@ bool cpu_has_avx2() {
 
 #endif
 
-SimdLevel initial_level() {
-  std::string warning;
-  const SimdLevel level = simd_level_for(std::getenv("CMR_SIMD"), warning);
-  if (!warning.empty()) std::fprintf(stderr, "%s\n", warning.c_str());
-  return level;
-}
-
 }  // namespace
 
 const char* simd_name(SimdLevel level) {
@@ -161,8 +152,7 @@ SimdLevel simd_level_for(const char* env, std::string& warning) {
 SimdLevel simd_level() {
   const int forced = g_forced.load(std::memory_order_relaxed);
   if (forced >= 0) return static_cast<SimdLevel>(forced);
-  static const SimdLevel initial = initial_level();
-  return initial;
+  return best_simd_level();
 }
 
 bool set_simd_level(SimdLevel level) {

@@ -11,12 +11,12 @@
 // at every level, and so are the labels and depths that region.cpp derives
 // from them (tests/bezierize/pixel_simd_test.cpp checks both).
 //
-// The level is chosen once per process: the best the CPU has
-// (__builtin_cpu_supports("avx2"), else SSE2, the x86-64 baseline; scalar on
-// other architectures), unless the environment variable
-// CMR_SIMD=scalar|sse2|avx2 forces one (benchmarks, tests). An unknown value,
-// or a level this CPU or build lacks, prints one line on stderr at first use
-// and the best level is used instead.
+// The level is the best the CPU has (__builtin_cpu_supports("avx2"), else
+// SSE2, the x86-64 baseline; scalar on other architectures), unless
+// set_simd_level forces one. The library reads no environment: cmr and the
+// benchmarks read CMR_SIMD=scalar|sse2|avx2 at start (tools/cli_common.hpp
+// read_environment, with simd_level_for); an unknown value, or a level this
+// CPU or build lacks, prints one line on stderr and the best level is used.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -40,8 +40,7 @@ std::optional<SimdLevel> parse_simd_level(std::string_view text);
 /// level, or the best one with `warning` set to the line to print when the
 /// value is unknown or the level unavailable.
 SimdLevel simd_level_for(const char* env, std::string& warning);
-/// The level the CPU render uses: set_simd_level's if called, else chosen at
-/// first use from CMR_SIMD and the CPU (printing simd_level_for's warning).
+/// The level the CPU render uses: set_simd_level's if called, else the best.
 SimdLevel simd_level();
 /// Forces the level of later renders (tests, benchmarks); false (and the level
 /// unchanged) when this CPU or build lacks it.

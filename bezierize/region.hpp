@@ -125,6 +125,10 @@ struct RegionPixel {
 /// `pixel` (classified for `request`) is in the region: its label of the
 /// request's kind is a certified pass, as RegionResult::in_region reads it.
 bool in_region(const RegionPixel& pixel, const RegionRequest& request);
+/// The label code of `pixel` of the request's kind (code() of piece_label,
+/// alternating_label, split_label or label): what a map rendered for
+/// `request` holds at that position (RegionResult::code_at).
+std::uint8_t label_code(const RegionPixel& pixel, const RegionRequest& request);
 
 /// A validated, prepared region problem: the exact piece polynomials of the
 /// moved segments and the fixed segments' classes, computed once. Cheap to

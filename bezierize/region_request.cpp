@@ -45,13 +45,15 @@ bool RegionResult::in_region(std::size_t index) const {
   return passes(code_at(index), each_piece, alternating, split);
 }
 
+std::uint8_t label_code(const RegionPixel& pixel, const RegionRequest& request) {
+  return request.each_piece          ? code(pixel.piece_label)
+         : !request.splits.empty()   ? code(pixel.alternating_label)
+         : request.split.has_value() ? code(pixel.split_label)
+                                     : code(pixel.label);
+}
+
 bool in_region(const RegionPixel& pixel, const RegionRequest& request) {
-  const bool alternating = !request.splits.empty();
-  const std::uint8_t c = request.each_piece ? code(pixel.piece_label)
-                         : alternating      ? code(pixel.alternating_label)
-                         : request.split.has_value() ? code(pixel.split_label)
-                                            : code(pixel.label);
-  return passes(c, request.each_piece, alternating, request.split.has_value());
+  return passes(label_code(pixel, request), request.each_piece, !request.splits.empty(), request.split.has_value());
 }
 
 int RegionResult::label_codes() const {

@@ -139,12 +139,17 @@ SpaceSegmentResult segment_of(const SpaceWindow& w, const Segment& s, const Spac
     if (r.torsion_sign == 0 && !nb.empty()) {
       const Bernstein<Rational> N = torsion_numerator_bernstein<Rational>(exact());
       r.torsion_sign = strict_sign(N);
-      if (r.torsion_sign == 0 && !is_zero(N))
-        for (const RootInterval& root : isolate_roots(N)) {
+      if (r.torsion_sign == 0 && !is_zero(N)) {
+        const std::vector<RootInterval> roots = isolate_roots(N);
+        // No root on the closed span: N has one strict sign there, its sign
+        // at the start (the coefficients' signs need not show it).
+        if (roots.empty()) r.torsion_sign = sign_at_start(N);
+        for (const RootInterval& root : roots) {
           if (!root.sign_change() || (root.exact() && (sgn(root.lo) == 0 || root.lo == 1))) continue;
           const Rational u = root.exact() ? root.lo : Rational((root.lo + root.hi) / 2);
           r.torsion_sign_changes.push_back(nearest_double(Rational(Rational(s.a) + u * (Rational(s.b) - Rational(s.a)))));
         }
+      }
     }
   }
   return r;

@@ -972,16 +972,22 @@ Rgb point_colour(int k) {
 
 Rgb pixel_colour(const RegionPicture& p, std::size_t index) { return colour_at(p, point_fills(p), index); }
 
-Rgb label_colour(std::uint8_t label, bool split) {
+Rgb label_colour(std::uint8_t label, bool split, bool alternating, bool each_piece) {
   RegionResult one;
   one.width = one.height = 1;
   one.split = split;
+  one.alternating = alternating;
+  one.each_piece = each_piece;
   one.depth = {0};
-  if (split) one.split_labels = {static_cast<Split>(label)};
+  if (each_piece) one.piece_labels = {static_cast<EachPiece>(label)};
+  else if (alternating) one.alternating_labels = {static_cast<Alternation>(label)};
+  else if (split) one.split_labels = {static_cast<Split>(label)};
   else one.labels = {static_cast<Direction>(label)};
   RegionPicture pic;
   pic.layers = {&one};
   pic.split = split;
+  pic.alternating = alternating;
+  pic.each_piece = each_piece;
   return pixel_colour(pic, 0);
 }
 

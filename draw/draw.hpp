@@ -85,10 +85,11 @@ std::string rgba_png(int width, int height, const std::vector<std::uint8_t>& rgb
 /// The colour of pixel `index` (row-major) of the picture's layers, by the
 /// legend above.
 Rgb pixel_colour(const RegionPicture& picture, std::size_t index);
-/// The legend colour of one label code (a Direction code, or with `split`
-/// a Split code) on a single layer: pixel_colour of a one-pixel map.
+/// The legend colour of one label code (a Direction code; with `split` a
+/// Split code, with `alternating` an Alternation code, with `each_piece` an
+/// EachPiece code) on a single layer: pixel_colour of a one-pixel map.
 /// Meshes colour their faces with it and sweep plots their series.
-Rgb label_colour(std::uint8_t label, bool split);
+Rgb label_colour(std::uint8_t label, bool split, bool alternating = false, bool each_piece = false);
 
 /// Curvature against the parameter: each segment drawn from its own
 /// polynomial (so jumps at joints show), red where kappa increases and blue

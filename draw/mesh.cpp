@@ -44,7 +44,7 @@ Mesh region_mesh(const RegionContours& contours) {
   OpenMesh::VPropHandleT<std::uint8_t> label;
   mesh.add_property(label, kLabelProperty);
   for (const LabelContours& lc : contours.labels) {
-    const draw::Rgb c = draw::label_colour(lc.label, contours.split);
+    const draw::Rgb c = draw::label_colour(lc.label, contours.split, contours.alternating, contours.each_piece);
     const Mesh::Color colour(byte(c.r), byte(c.g), byte(c.b));
     std::vector<Mesh::VertexHandle> handles;
     handles.reserve(lc.vertices.size());
@@ -223,10 +223,9 @@ std::string contours_svg(const RegionContours& rc) {
   out += "<rect x=\"" + num(v.x0) + "\" y=\"" + num(-v.y1) + "\" width=\"" + num(w) + "\" height=\"" + num(h) +
          "\" fill=\"white\"/>\n";
   for (const LabelContours& lc : rc.labels) {
-    const draw::Rgb c = draw::label_colour(lc.label, rc.split);
+    const draw::Rgb c = draw::label_colour(lc.label, rc.split, rc.alternating, rc.each_piece);
     const std::string fill = draw::svg_colour(c);
-    const std::string name =
-        rc.split ? to_string(static_cast<Split>(lc.label)) : to_string(static_cast<Direction>(lc.label));
+    const std::string name = rc.label_name(lc.label);
     out += "<path data-label=\"" + std::to_string(lc.label) + "\" data-name=\"" + name + "\" data-area=\"" +
            num(lc.area) + "\" fill=\"" + fill + "\" fill-rule=\"nonzero\" stroke=\"black\" stroke-width=\"" +
            num(stroke) + "\" d=\"";

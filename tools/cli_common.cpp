@@ -9,6 +9,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bezierize/box_reuse.hpp"
+#include "bezierize/pixel_simd.hpp"
 #include "spline/errors.hpp"
 #ifdef CMR_WITH_VULKAN
 #include "vk/backend_choice.hpp"
@@ -54,6 +56,15 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
   if (backend != "vulkan") return std::make_shared<CpuRegionBackend>();
   return std::make_shared<NoVulkanBackend>();
 #endif
+}
+
+void read_environment() {
+  std::string warning;
+  const backend::SimdLevel level = backend::simd_level_for(std::getenv("CMR_SIMD"), warning);
+  if (!warning.empty()) std::cerr << warning << '\n';
+  backend::set_simd_level(level);
+  const char* reuse = std::getenv("CMR_BLOCK_REUSE");
+  if (reuse && std::string_view(reuse) == "0") backend::set_block_reuse(0);
 }
 
 std::string json_text(const nlohmann::ordered_json& doc, bool pretty) {

@@ -103,6 +103,13 @@ View parse_view(const std::string& text);
 std::vector<int> parse_point_list(const std::string& text, const std::vector<std::string>& names = {});
 
 /// Each command registers itself; the callback sets the exit code.
+/// The environment switches of the region render, read here and nowhere in
+/// the libraries: CMR_SIMD=scalar|sse2|avx2 (set_simd_level; an unknown or
+/// unavailable level prints one line on stderr and the best is used) and
+/// CMR_BLOCK_REUSE=0 (set_block_reuse(0)). cmr and the benchmarks call it
+/// first thing.
+void read_environment();
+
 void add_segments_command(CLI::App& app, int& exit_code);
 /// `cmr analyze`: see README "Command line".
 void add_analyze_command(CLI::App& app, int& exit_code);

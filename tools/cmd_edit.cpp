@@ -50,7 +50,7 @@ void add_edit_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyph", a->glyph,
                   "a font's glyph to edit, all its contours (one character or U+hex; a UFO's: the glyph name, "
                   "and save writes back into its .glif)");
-  cmd->add_option("--script", a->script, "run these input events (see README) in the real window, then exit");
+  cmd->add_option("--script", a->script, "run these input events (format: docs/edit.md) in the real window, then exit");
   cmd->add_option("--screenshot", a->screenshot, "PNG of the presented window after the script");
   cmd->add_option("--size", a->size, "window size WxH")->capture_default_str();
   cmd->add_option("--device", a->device, "Vulkan device name (substring, case-insensitive)");

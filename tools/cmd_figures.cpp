@@ -38,7 +38,7 @@ void print_claims(const std::vector<fig::Claim>& claims) {
 
 void add_figures_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<FiguresArgs>();
-  auto* cmd = app.add_subcommand("figures", "Recompute the paper's Figs. 1-10 and 13, check their claims, write PNGs, "
+  auto* cmd = app.add_subcommand("figures", "Recompute the paper's Figs. 1-13, check their claims, write PNGs, "
                                             "SVGs and index.html");
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
   add_backend_options(*cmd, args->backend, args->device);
@@ -50,7 +50,10 @@ void add_figures_command(CLI::App& app, int& exit_code) {
     o.backend = make_region_backend(args->backend, "fp64", args->device);
     o.size = args->size;
     o.progress = &std::cout;
-    std::cout << "cmr figures: " << args->size << "x" << args->size << " px regions on the " << o.backend->name()
+    // The backend is picked (and any note about it printed on stderr) before
+    // the first line starts, so the note never lands inside it.
+    const std::string backend = o.backend->name();
+    std::cout << "cmr figures: " << args->size << "x" << args->size << " px regions on the " << backend
               << " backend, into " << args->out << '\n';
     const auto t0 = std::chrono::steady_clock::now();
     const fig::FiguresResult r = fig::make_figures(o);

@@ -233,7 +233,9 @@ class Builder {
     std::stable_partition(figure.legend.begin(), figure.legend.end(), [](const draw::LegendEntry& e) {
       return e.ring || e.colour.r < 1 || e.colour.g < 1 || e.colour.b < 1;
     });
-    FigureFile file{id, figure.title, figure.caption, {}};
+    FigureFile file{id, figure.title, figure.caption, {}, {}};
+    for (const auto& row : figure.rows)
+      for (const draw::Panel& p : row) file.panels.push_back(p.label);
     const std::filesystem::path png = options_.out / (id + ".png"), svg = options_.out / (id + ".svg");
     out_.stage(png, draw::figure_png(figure, &file.labels));
     out_.stage(svg, draw::figure_svg(figure));
@@ -342,11 +344,11 @@ void figure1(Builder& b, const Curves& c) {
     b.claim(first ? "Fig. 1a" : "Fig. 1b", "lambda from the derivatives has the signs of its Bernstein form",
             sign_mismatch == 0, std::to_string(sign_mismatch) + " of 101 samples differ in sign");
     const View v = default_view(*s, b.options().size, b.options().size);
-    const std::string id = first ? "(a) " : "(b) ";
-    f.rows.push_back({{picture(*s, {&blank_layer(b, v)}, depth), id + (first ? "monotone (decreasing) curvature"
-                                                                                   : "non-monotone curvature")},
-                      {draw::LambdaPlot{xi}, id + "lambda(t); dots: xi_0..xi_5"},
-                      {draw::CurvaturePlot{s, &a}, id + "curvature plot"}});
+    const std::string id = first ? "(a)" : "(b)";
+    f.rows.push_back({{picture(*s, {&blank_layer(b, v)}, depth), id + (first ? " monotone (decreasing) curvature"
+                                                                                   : " non-monotone curvature")},
+                      {draw::LambdaPlot{xi}, "lambda(t) of " + id + "; dots: xi_0..xi_5"},
+                      {draw::CurvaturePlot{s, &a}, "curvature plot of " + id}});
   }
   f.caption = "lambda is the numerator of dkappa/ds (Eq. 3); its Bernstein coefficients xi_0..xi_5 (Eq. 4) bound it. "
               "(a) The class A cubic (0,0), (1,0), (2.22,0.45), (3.51,1.53): all xi_i < 0, so the curvature "
@@ -390,7 +392,7 @@ void figure2(Builder& b, const Curves& c) {
     if (i % 2 == 0) f.rows.emplace_back();
     f.rows.back().push_back(
         {moved_picture(s, r, c.fig2.points()[0], 0, depth), std::string("(") + k.id + ") " + k.text});
-    f.rows.back().push_back({draw::CurvaturePlot{&s, &a}, std::string("(") + k.id + ") curvature plot"});
+    f.rows.back().push_back({draw::CurvaturePlot{&s, &a}, std::string("curvature plot of (") + k.id + ")"});
   }
   f.caption = "The CMRWI of P0 (where P0 may go so that the curvature is monotone, inflections allowed) of the "
               "cubic (0,0), (0.3,-0.5), (1.6,-0.3), (3,0); the hollow circle is P0's original place. A flat arch "
@@ -458,7 +460,7 @@ void figure4(Builder& b, const Curves& c) {
   draw::Figure f;
   f.title = "Fig. 4: CMRs of all control points, and each point moved within its CMR";
   f.rows.push_back({{picture(c.fig4, cmr, depth), "(a) CMRs of P0..P3, overlapped: not monotone"},
-                    {draw::CurvaturePlot{&c.fig4, &a}, "(a) curvature plot"}});
+                    {draw::CurvaturePlot{&c.fig4, &a}, "curvature plot of (a)"}});
   for (int k = 0; k < 4; ++k) {
     const BSpline& s = c.fig4x[k];
     const SplineAnalysis& ak = b.analysis(s);
@@ -472,7 +474,7 @@ void figure4(Builder& b, const Curves& c) {
     if (k % 2 == 0) f.rows.emplace_back();
     f.rows.back().push_back({moved_picture(s, *cmr[k], c.fig4.points()[k], k, depth),
                              "(" + id + ") P" + std::to_string(k) + " moved within its CMR"});
-    f.rows.back().push_back({draw::CurvaturePlot{&s, &ak}, "(" + id + ") curvature plot: " + to_string(ak.cmr)});
+    f.rows.back().push_back({draw::CurvaturePlot{&s, &ak}, "curvature plot of (" + id + "): " + to_string(ak.cmr)});
   }
   f.caption = "The cubic (0,0), (1,0), (2.22,0.45), (3.16,2.24) (Fig. 1(a) with P3 bent up, which makes the "
               "curvature non-monotone) and the CMR of each control point, the others fixed; overlapping CMRs are "
@@ -612,9 +614,9 @@ void figure8(Builder& b, const Curves& c) {
   draw::Figure f;
   f.title = "Fig. 8: CMRs of a cubic B-spline with knots [0,1,2,3,4,5,6,7]";
   f.rows.push_back({{picture(c.fig8, cmr, depth), "(a) CMRs of P0..P5"},
-                    {draw::CurvaturePlot{&c.fig8, &b.analysis(c.fig8)}, "(a) curvature plot"}});
+                    {draw::CurvaturePlot{&c.fig8, &b.analysis(c.fig8)}, "curvature plot of (a)"}});
   f.rows.push_back({{moved_picture(c.fig8b, *cmr[3], c.fig8.points()[3], 3, depth), "(b) P3 moved within its CMR"},
-                    {draw::CurvaturePlot{&c.fig8b, &ab}, "(b) curvature plot: increasing"}});
+                    {draw::CurvaturePlot{&c.fig8b, &ab}, "curvature plot of (b): increasing"}});
   f.caption = "Six points placed clockwise, so the curvature is negative and the regions are red (increasing). "
               "The polygon is a clockwise spiral hill-climbed so that the first two segments both fail: P0 acts on "
               "the first segment only and P4, P5 not on it at all, so only P1, P2, P3 can repair the curve. The "
@@ -639,9 +641,9 @@ void figure9_10(Builder& b, const Curves& c) {
   draw::Figure f;
   f.title = "Fig. 9: CMRs of a cubic B-spline with knots [0,0,0,1,2,3,3,3]";
   f.rows.push_back({{picture(c.fig9, cmr, depth), "(a) CMRs of P0..P5"},
-                    {draw::CurvaturePlot{&c.fig9, &a}, "(a) curvature plot"}});
+                    {draw::CurvaturePlot{&c.fig9, &a}, "curvature plot of (a)"}});
   f.rows.push_back({{moved_picture(c.fig9b, *cmr[3], c.fig9.points()[3], 3, depth), "(b) P3 moved within its CMR"},
-                    {draw::CurvaturePlot{&c.fig9b, &ab}, "(b) curvature plot: increasing"}});
+                    {draw::CurvaturePlot{&c.fig9b, &ab}, "curvature plot of (b): increasing"}});
   f.caption = "A clockwise class A cubic (legs turning by -0.5 rad and growing by 2.5, so |kappa| falls and kappa "
               "rises) written on the clamped knots, with P3 pulled in to (1.5,-1); only P3 can repair it. (b) puts "
               "P3 back where the polynomial had it, (3.46,-2.1).";
@@ -677,9 +679,9 @@ void figure9_10(Builder& b, const Curves& c) {
   draw::RegionPicture pb_pic = moved_picture(c.fig10b, sp, c.fig9b.points()[5], 5, depth);
   pa_pic.split = pb_pic.split = true;
   g.rows.push_back({{pa_pic, "(a) P5 in the dark blue (inc-dec) region"},
-                    {draw::CurvaturePlot{&c.fig10a, &b.analysis(c.fig10a)}, "(a) curvature plot: maximum at u = 2"}});
+                    {draw::CurvaturePlot{&c.fig10a, &b.analysis(c.fig10a)}, "curvature plot of (a): maximum at u = 2"}});
   g.rows.push_back({{pb_pic, "(b) P5 in the red (inc-inc) region"},
-                    {draw::CurvaturePlot{&c.fig10b, &xb}, "(b) curvature plot: increasing"}});
+                    {draw::CurvaturePlot{&c.fig10b, &xb}, "curvature plot of (b): increasing"}});
   g.caption = "Starting from Fig. 9(b), the CMRs of P5 with the curve split at u = 2: segments 0-1 and segment 2 "
               "are judged apart (CMR mode). P5 acts on the last segment only; bent inwards to (5.4,-5.8) it makes "
               "that segment decreasing (a maximum at the joint), placed at (6.5,-6.3) it keeps the whole curve "
@@ -757,7 +759,7 @@ void draw_figure13(Builder& b, const std::array<BSpline, 3>& s, const RegionResu
   moved_prev.moved = std::make_pair(chain.points()[k - 1], edited.points()[k - 1]);
   f.rows.push_back({{picture(quad, {blank}, depth), "(a) the kappa-curve (quadratic Bezier chain)"},
                     {picture(chain, {blank}, depth), "(b) split at the maxima, degree-elevated"},
-                    {draw::CurvaturePlot{&chain, &b.analysis(chain)}, "(b) curvature plot: maxima at the points"}});
+                    {draw::CurvaturePlot{&chain, &b.analysis(chain)}, "curvature plot of (b): maxima at the points"}});
   f.rows.push_back({{moved_next, "(c) P" + std::to_string(k + 1) + " moved within its region"},
                     {moved_prev, "(d) P" + std::to_string(k - 1) + " moved onto the new tangent, in its region"},
                     {draw::CurvaturePlot{&edited, &b.analysis(edited)}, "(e) curvature plot after the move"}});
@@ -945,7 +947,7 @@ void figure11(Builder& b, const Curves& c) {
   f.rows.push_back({{handles, "(a) Q3's region for piece 1, Q5's for piece 2"},
                     {joint, "(b) Q4 with Q3, Q5: each piece monotone"}});
   f.rows.push_back({{moved_pic, "(c) Q4 moved into its region"},
-                    {draw::CurvaturePlot{&after, &b.analysis(after)}, "(c) curvature plot: each piece monotone"}});
+                    {draw::CurvaturePlot{&after, &b.analysis(after)}, "curvature plot of (c): each piece monotone"}});
   f.caption = "Q1..Q7 are P0..P6. (a) Q3 acts on the first piece only and Q5 on the second; each region is that "
               "piece judged alone. (b) Q4 moves with Q3 and Q5 (a rigid group, so G1 at Q4 stays exact); green is "
               "where both pieces are monotone, each in either direction on its own (the paper's purple). (c) Q4 "
@@ -1051,7 +1053,7 @@ void figure12(Builder& b) {
   f.title = "Fig. 12: an apple of 8 G1 Bezier pieces made monotone piece by piece through the regions";
   const RegionResult* blank = &blank_layer(b, default_view(start, b.options().size, b.options().size));
   std::vector<draw::Panel> row1{{picture(start, {blank}, depth), "(a) the apple as drawn"},
-                                {draw::CurvaturePlot{&start, &b.analysis(start)}, "(a) curvature plot"}};
+                                {draw::CurvaturePlot{&start, &b.analysis(start)}, "curvature plot of (a)"}};
   f.rows.push_back(row1);
   for (std::size_t i = 0; i < shown.size() && i < 4; i += 2) {
     std::vector<draw::Panel> row;
@@ -1062,8 +1064,10 @@ void figure12(Builder& b) {
     }
     f.rows.push_back(row);
   }
-  f.rows.push_back({{picture(final_chain, {blank}, depth), "(g) the final apple"},
-                    {draw::CurvaturePlot{&final_chain, &b.analysis(final_chain)}, "(g) curvature plot"}});
+  // The next letter after the steps shown (b.. for up to four of them).
+  const std::string last = "(" + std::string(1, static_cast<char>('b' + std::min<std::size_t>(shown.size(), 4))) + ")";
+  f.rows.push_back({{picture(final_chain, {blank}, depth), last + " the final apple"},
+                    {draw::CurvaturePlot{&final_chain, &b.analysis(final_chain)}, "curvature plot of " + last}});
   f.caption = "The apple's outline (core and leaf left out): 8 cubic pieces with G1 at the on-curve points "
               "(handles on the Catmull-Rom tangents, their lengths scaled by fixed factors so that some pieces "
               "have a curvature extremum inside). Each step moves one on-curve point with its two handles (G1 "

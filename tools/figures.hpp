@@ -42,6 +42,7 @@ struct FigureFile {
   std::string title;
   std::string caption;  ///< with the one-line reasons for the chosen curves
   std::vector<std::vector<draw::TextBox>> labels;  ///< the labels drawn in each panel (draw::figure_png)
+  std::vector<std::string> panels;  ///< each panel's caption, row by row ("(a) ...", "curvature plot of (a)")
 };
 
 /// The figures, the checked claims and every file written.

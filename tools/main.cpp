@@ -66,6 +66,7 @@ int main(int argc, char** argv) {
   fill_closed_standard_descriptors();
   std::signal(SIGPIPE, SIG_IGN);
   cmr::cli::keep_freed_memory();
+  cmr::cli::read_environment();
   return finish_stdout(run(argc, argv));
 }
 

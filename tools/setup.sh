@@ -13,6 +13,9 @@
 # python3-numpy, python3-pytest and python3-fonttools run it and its tests
 # (tests/python); python3-matplotlib is for cmr.plot and examples/python.
 # python3-yaml: tests/docs/ci_workflow.py reads examples/ci/cmr-qa.yml.
+# time: /usr/bin/time, which tools/bench/scale.sh (quoted in the README) runs.
+# Progress: apt's output is condensed to a line per 25 packages downloaded
+# and per 25 set up (a first install is several hundred packages, minutes).
 set -euo pipefail
 
 packages=(
@@ -28,7 +31,7 @@ packages=(
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
   fonts-noto-core fonts-texgyre
-  strace
+  strace time
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib
   python3-ufolib2 fontmake
@@ -50,6 +53,11 @@ sudo=()
 if ((EUID != 0)); then sudo=(sudo); fi
 echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
+echo "setup: apt-get update"
 "${sudo[@]}" apt-get update -qq
-"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "setup: apt-get install (with their dependencies; this takes minutes on a first install)"
+"${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}" | awk '
+  / newly installed/ { total = $3; print "setup: " total " packages to download and set up"; fflush() }
+  /^Get:/ { got++; if (got % 25 == 0 || got == total) { print "setup: downloaded " got " of " total; fflush() } }
+  /^Setting up / { set++; if (set % 25 == 0 || set == total) { print "setup: set up " set " of " total; fflush() } }'
 echo "setup: done"

@@ -139,12 +139,15 @@ TEST(BoxReuse, PixelTraversalTakesRecordedFacts) {
   EXPECT_EQ(seen, (std::vector<Piece>{Piece::increasing, Piece::increasing}));
 }
 
-TEST(BoxReuse, SwitchOverridesTheEnvironment) {
+// The switch (tools/ read CMR_BLOCK_REUSE into it; the library reads no
+// environment): off, on, and back to the default, on.
+TEST(BoxReuse, SwitchTurnsReuseOffAndBackOn) {
   set_block_reuse(0);
   EXPECT_FALSE(block_reuse());
   set_block_reuse(1);
   EXPECT_TRUE(block_reuse());
   set_block_reuse(-1);
+  EXPECT_TRUE(block_reuse());
 }
 
 }  // namespace

@@ -18,6 +18,23 @@ RegionContours contours_of(const RegionProblem& problem) {
   return region_contours(problem, cpu.render(problem));
 }
 
+// The coordinate a refined vertex was bisected along: the one that is not a
+// sample's (a pixel centre's, or the view's edge on the ring of samples).
+Vec2 bisection_step(Vec2 p, const View& v, int width, double delta) {
+  const double cx = (p.x - v.x0) / (v.x1 - v.x0) * width - 0.5;
+  const bool on_column = p.x == v.x0 || p.x == v.x1 || std::abs(cx - std::round(cx)) <= 1e-6;
+  return on_column ? Vec2{0, delta} : Vec2{delta, 0};
+}
+
+// The labels and the band tile the view: their areas sum to its area.
+void expect_areas_sum_to_the_view(const RegionContours& rc) {
+  const View& v = rc.view;
+  double total = rc.band.area;
+  for (const LabelContours& lc : rc.labels) total += lc.area;
+  const double view_area = (v.x1 - v.x0) * (v.y1 - v.y0);
+  EXPECT_NEAR(total, view_area, 1e-9 * view_area) << "band " << rc.band.area;
+}
+
 // Every piece is a convex counter-clockwise polygon, the fans of the pieces
 // cover exactly the area the outlines enclose, and every outline vertex is an
 // edge vertex (refined or on the view's edge).
@@ -35,6 +52,7 @@ void expect_consistent(const RegionContours& rc) {
     EXPECT_NEAR(fans, lc.area, 1e-9 * std::abs(lc.area) + 1e-12) << "label " << int(lc.label);
     for (const std::vector<int>& loop : lc.outlines) EXPECT_GE(loop.size(), 3u);
   }
+  expect_areas_sum_to_the_view(rc);
 }
 
 // A quadratic Bezier P0 = (0,0), P1 = p, P2 = (4,0): P' = 2((1-t)a + tb) with
@@ -98,11 +116,9 @@ TEST(Contour, CubicVerticesSeparateTheirLabelOnTheExactPath) {
     for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
       if (!lc.refined[i]) continue;
       const Vec2 p = lc.vertices[i];
-      // The pixel edge is horizontal or vertical: the coordinate that is not a
-      // pixel centre's is the one that was bisected.
-      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
-      const bool on_row = std::abs(cx - std::round(cx)) > 1e-6;  // x was bisected
-      const Vec2 d = on_row ? Vec2{delta, 0} : Vec2{0, delta};
+      // The sample grid's edge is horizontal or vertical: the coordinate
+      // that is not a sample's is the one that was bisected.
+      const Vec2 d = bisection_step(p, v, rq.width, delta);
       const std::uint8_t lo = code(problem.classify(p - d).label), hi = code(problem.classify(p + d).label);
       EXPECT_NE(lo, hi) << "(" << p.x << ", " << p.y << ")";
       EXPECT_TRUE(lo == lc.label || hi == lc.label) << "(" << p.x << ", " << p.y << ")";
@@ -138,8 +154,7 @@ TEST(Contour, SplitLabelVerticesSeparateTheirLabelOnTheExactPath) {
     for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
       if (!lc.refined[i]) continue;
       const Vec2 p = lc.vertices[i];
-      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
-      const Vec2 d = std::abs(cx - std::round(cx)) > 1e-6 ? Vec2{delta, 0} : Vec2{0, delta};
+      const Vec2 d = bisection_step(p, v, rq.width, delta);
       const std::uint8_t lo = code(problem.classify(p - d).split_label), hi = code(problem.classify(p + d).split_label);
       EXPECT_NE(lo, hi) << "(" << p.x << ", " << p.y << ")";
       EXPECT_TRUE(lo == lc.label || hi == lc.label) << "(" << p.x << ", " << p.y << ")";
@@ -148,6 +163,7 @@ TEST(Contour, SplitLabelVerticesSeparateTheirLabelOnTheExactPath) {
   }
   EXPECT_EQ(monotone_labels, 2u);  // inc-inc and inc-dec
   EXPECT_GT(checked, 20);
+  expect_areas_sum_to_the_view(rc);
 }
 
 // A label map with holes: outlines of a ring come as one counter-clockwise
@@ -204,9 +220,7 @@ TEST(Contour, Fig8VerticesKeepThePromisedDistanceAndTheBandIsItsOwnOutline) {
     for (std::size_t i = 0; i < lc->vertices.size(); ++i) {
       if (!lc->refined[i]) continue;
       const Vec2 p = lc->vertices[i];
-      const double cx = (p.x - v.x0) / (v.x1 - v.x0) * rq.width - 0.5;
-      const bool on_row = std::abs(cx - std::round(cx)) > 1e-6;  // x was bisected
-      const Vec2 d = on_row ? Vec2{delta, 0} : Vec2{0, delta};
+      const Vec2 d = bisection_step(p, v, rq.width, delta);
       const std::uint8_t lo = code(problem.classify(p - d).label), hi = code(problem.classify(p + d).label);
       EXPECT_NE(lo, hi) << "label " << int(lc->label) << " vertex (" << p.x << ", " << p.y << ")";
       // A band vertex is some label's vertex: undecided on one side, or a
@@ -232,12 +246,60 @@ TEST(Contour, Fig8VerticesKeepThePromisedDistanceAndTheBandIsItsOwnOutline) {
   // The band is thin (about 1e-8 here): compare to the rounding of
   // coordinates of the view's size, not to its own area.
   EXPECT_NEAR(fans, rc.band.area, 1e-12 * (v.x1 - v.x0) * (v.y1 - v.y0));
-  // The labels and the band cover the view (the padding ring cuts half-pixel
-  // triangles at the corners only).
-  double total = rc.band.area;
-  for (const LabelContours& lc : rc.labels) total += lc.area;
-  const double view_area = (v.x1 - v.x0) * (v.y1 - v.y0), pixel = view_area / (rq.width * rq.height);
-  EXPECT_NEAR(total, view_area, pixel) << "band " << rc.band.area;
+  // The labels and the band tile the view, corners and junctions included.
+  expect_areas_sum_to_the_view(rc);
+}
+
+// The each-piece and alternating (--split S1,S2) maps: their contours are
+// refined with the map's own kind of label (the reproducer: fig8, P3,
+// 40x40, view -0.1,-5.4,3.0,-2.3, --each-piece), so every refined vertex
+// separates two labels of that kind on the exact path, one of them its own,
+// and the areas sum to the view. The label names are the map's own.
+void expect_vertices_keep_the_promise_in_the_maps_kind(const RegionRequest& rq, const std::vector<const char*>& names) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  const RegionProblem problem = RegionProblem::make(s, rq);
+  CpuRegionBackend cpu(2);
+  const RegionResult map = cpu.render(problem);
+  const RegionContours rc = region_contours(problem, map);
+  expect_consistent(rc);
+  const View& v = problem.view();
+  const double delta = ContourOptions{}.tolerance / 2 * std::min(v.x1 - v.x0, v.y1 - v.y0) * (1 + 1e-6);
+  int checked = 0;
+  for (const LabelContours& lc : rc.labels) {
+    EXPECT_STREQ(rc.label_name(lc.label), map.label_name(lc.label));
+    for (std::size_t i = 0; i < lc.vertices.size(); ++i) {
+      if (!lc.refined[i]) continue;
+      const Vec2 p = lc.vertices[i], d = bisection_step(p, v, rq.width, delta);
+      const std::uint8_t lo = label_code(problem.classify(p - d), rq), hi = label_code(problem.classify(p + d), rq);
+      EXPECT_NE(lo, hi) << "label " << int(lc.label) << " vertex (" << p.x << ", " << p.y << ")";
+      EXPECT_TRUE(lo == lc.label || hi == lc.label) << "label " << int(lc.label) << " vertex (" << p.x << ", " << p.y
+                                                    << "): " << int(lo) << " | " << int(hi);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 20);
+  std::vector<const char*> got;
+  for (const LabelContours& lc : rc.labels) got.push_back(rc.label_name(lc.label));
+  ASSERT_EQ(got.size(), names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) EXPECT_STREQ(got[k], names[k]);
+}
+
+TEST(Contour, EachPieceOutlinesUseTheEachPieceClassifier) {
+  RegionRequest rq;
+  rq.point = 3;
+  rq.each_piece = true;
+  rq.width = rq.height = 40;
+  rq.view = View{-0.1, -5.4, 3.0, -2.3};
+  expect_vertices_keep_the_promise_in_the_maps_kind(rq, {"fail", "each-monotone"});
+}
+
+TEST(Contour, AlternatingOutlinesUseTheAlternatingClassifier) {
+  RegionRequest rq;
+  rq.point = 3;
+  rq.splits = {1, 2};
+  rq.width = rq.height = 40;  // the default view: 16 pixels inc-first
+  expect_vertices_keep_the_promise_in_the_maps_kind(rq, {"fail", "inc-first"});
 }
 
 TEST(Contour, MismatchedRegionIsAnInputError) {

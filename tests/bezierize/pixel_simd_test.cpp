@@ -57,8 +57,8 @@ class Fault {
 };
 
 TEST(PixelSimd, LevelsParseAndFallBackWithOneLine) {
-  // The process's level (under CMR_SIMD=fast, ctest's pixel_simd_bad_env
-  // checks that this first use prints its one stderr line).
+  // The process's level (the library reads no environment; ctest's
+  // pixel_simd_bad_env checks cmr's one stderr line under CMR_SIMD=fast).
   EXPECT_TRUE(simd_available(simd_level()));
   EXPECT_EQ(parse_simd_level("scalar"), SimdLevel::scalar);
   EXPECT_EQ(parse_simd_level("sse2"), SimdLevel::sse2);

@@ -51,6 +51,10 @@ struct BadCase {
   const char* message_part;
 };
 
+// Printed by its name, so the test's name (ctest lists GetParam()) is stable
+// and readable, not the struct's bytes.
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
 class BSplineRejects : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BSplineRejects, WithAMessageNamingTheProblem) {

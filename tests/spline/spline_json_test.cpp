@@ -42,6 +42,10 @@ struct BadDoc {
   const char* message_part;
 };
 
+// Printed by its name, so the test's name (ctest lists GetParam()) is stable
+// and readable, not the struct's bytes.
+void PrintTo(const BadDoc& c, std::ostream* os) { *os << c.name; }
+
 class SplineJsonRejects : public ::testing::TestWithParam<BadDoc> {};
 
 TEST_P(SplineJsonRejects, NamingFieldAndIndex) {

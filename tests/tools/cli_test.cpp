@@ -23,6 +23,10 @@ struct BadInput {
   const char* message_part;
 };
 
+// Printed by its name, so the test's name (ctest lists GetParam()) is stable
+// and readable, not the struct's bytes.
+void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
+
 class CliRejects : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(CliRejects, WithExit2AndOneLineNamingTheProblem) {

@@ -199,6 +199,22 @@ TEST(Figures, IndexHasAHeadingAnImageWithAltAndACaptionPerFigure) {
   EXPECT_EQ(figures, r.figures.size()) << "every figure has one image on the page";
 }
 
+// Panel letters: every panel that starts with a letter has its own, in order
+// from (a) with none left out; a panel belonging to another says so
+// ("curvature plot of (a)") instead of repeating its letter (they repeated:
+// (a)(a), (c)(c), and Fig. 12 had no (f)).
+TEST(Figures, PanelLettersAreDistinctAndConsecutive) {
+  const FiguresResult& r = run_once();
+  for (const FigureFile& f : r.figures) {
+    std::string letters;
+    for (const std::string& caption : f.panels)
+      if (caption.size() >= 3 && caption[0] == '(' && caption[2] == ')') letters += caption[1];
+    std::string want;
+    for (std::size_t k = 0; k < letters.size(); ++k) want += static_cast<char>('a' + k);
+    EXPECT_EQ(letters, want) << f.id;
+  }
+}
+
 // Each figure's SVG is well-formed XML with an <svg> root of the PNG's size,
 // embedded region images (one per region panel) and drawn text and lines.
 TEST(Figures, SvgBesideEveryPngIsWellFormedWithTheExpectedElements) {

@@ -46,6 +46,10 @@ struct SameCurveOp {
   int degree_change;
 };
 
+// Printed by its name, so the test's name (ctest lists GetParam()) is stable
+// and readable, not the struct's bytes.
+void PrintTo(const SameCurveOp& c, std::ostream* os) { *os << c.name; }
+
 class KnotsCliKeepsTheCurve : public ::testing::TestWithParam<SameCurveOp> {};
 
 TEST_P(KnotsCliKeepsTheCurve, AndPrintsAValidSpline) {
@@ -135,6 +139,10 @@ struct BadInput {
   std::string file_text;  // empty: kUniform
   const char* message_part;
 };
+
+// Printed by its name, so the test's name (ctest lists GetParam()) is stable
+// and readable, not the struct's bytes.
+void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
 
 class KnotsCliRejects : public ::testing::TestWithParam<BadInput> {};
 

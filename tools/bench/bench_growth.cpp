@@ -40,6 +40,7 @@
 #include "bezierize/region_setup.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
+#include "tools/cli_common.hpp"
 #include "tools/bench/published_method.hpp"
 #include "tools/keep_freed_memory.hpp"
 
@@ -236,6 +237,7 @@ int run(int argc, char** argv) {
 /// Run from the repository root (it reads examples/); any failure is one line.
 int main(int argc, char** argv) {
   cmr::cli::keep_freed_memory();  // as cmr does (tools/keep_freed_memory.hpp)
+  cmr::cli::read_environment();    // CMR_SIMD, CMR_BLOCK_REUSE, as cmr does
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {
