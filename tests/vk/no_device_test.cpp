@@ -69,7 +69,7 @@ RegionProblem small_problem() {
 
 TEST_F(NoDevice, AutomaticBackendFallsBackToCpuAndAnnouncesIt) {
   std::vector<std::string> notes;
-  auto backend = make_region_backend({BackendKind::automatic, RegionPrecision::fp64, ""},
+  auto backend = make_region_backend({.kind = BackendKind::automatic},
                                      [&](const std::string& n) { notes.push_back(n); });
   EXPECT_TRUE(notes.empty()) << "the choice is made at the first render or name()";
   const RegionResult r = backend->render(small_problem());
@@ -83,14 +83,14 @@ TEST_F(NoDevice, AutomaticBackendFallsBackToCpuAndAnnouncesIt) {
 
 TEST_F(NoDevice, CpuBackendIsNoFallback) {
   int notes = 0;
-  auto backend = make_region_backend({BackendKind::cpu, RegionPrecision::fp64, ""}, [&](const std::string&) { ++notes; });
+  auto backend = make_region_backend({.kind = BackendKind::cpu}, [&](const std::string&) { ++notes; });
   backend->render(small_problem());
   EXPECT_EQ(backend->name(), "cpu");
   EXPECT_EQ(notes, 0);
 }
 
 TEST_F(NoDevice, VulkanBackendThrowsEnvironmentErrorAtFirstRender) {
-  auto backend = make_region_backend({BackendKind::vulkan, RegionPrecision::fp32, ""});
+  auto backend = make_region_backend({.kind = BackendKind::vulkan, .precision = RegionPrecision::fp32});
   EXPECT_EQ(backend->name(), "vulkan");
   try {
     backend->render(small_problem());
