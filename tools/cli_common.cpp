@@ -58,6 +58,11 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
   choice.device = device;
   choice.frames = frames;
   choice.cache_dir = user_cache_dir();
+  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"})
+    if (const char* value = std::getenv(var); value != nullptr && *value != '\0') {
+      if (!choice.loader_selection.empty()) choice.loader_selection += ", ";
+      choice.loader_selection.append(var).append("='").append(value).append("'");
+    }
   // Failure injection for the tests of the Vulkan fallbacks (tests/tools).
   if (const char* fault = std::getenv("CMR_VK_FAULT"); fault != nullptr) {
     const std::string f = fault;

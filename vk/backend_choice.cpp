@@ -107,8 +107,10 @@ class MeasuredCpuBackend final : public RegionBackend {
 /// the CPU backend renders that frame and every later one.
 class DeferredVulkanBackend final : public RegionBackend {
  public:
-  DeferredVulkanBackend(VulkanRegionOptions options, std::shared_ptr<RateBook> book, BackendNote note)
-      : options_(std::move(options)), book_(std::move(book)), note_(std::move(note)), cpu_(book_) {}
+  DeferredVulkanBackend(VulkanRegionOptions options, std::string loader_selection, std::shared_ptr<RateBook> book,
+                        BackendNote note)
+      : options_(std::move(options)), loader_selection_(std::move(loader_selection)), book_(std::move(book)),
+        note_(std::move(note)), cpu_(book_) {}
   RegionResult render(const RegionProblem& problem) override {
     if (failed_) return cpu_.render(problem);
     if (!backend_) open();
@@ -132,6 +134,11 @@ class DeferredVulkanBackend final : public RegionBackend {
     auto created = VulkanRegionBackend::create(options_);
     if (!created) {
       std::string message = created.error().message;
+      if (created.error().code == Errc::no_device && !loader_selection_.empty()) {
+        const std::size_t at = message.find(';');
+        message.insert(at == std::string::npos ? message.size() : at,
+                       " (" + loader_selection_ + "; check that the file exists)");
+      }
       if (message.find("VK_DRIVER_FILES") == std::string::npos)
         message += " (for lavapipe: install mesa-vulkan-drivers or export "
                    "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json)";
@@ -152,6 +159,7 @@ class DeferredVulkanBackend final : public RegionBackend {
     if (note_) note_(line);
   }
   VulkanRegionOptions options_;
+  std::string loader_selection_;
   std::shared_ptr<RateBook> book_;
   BackendNote note_;
   MeasuredCpuBackend cpu_;
@@ -217,7 +225,7 @@ class AutoBackend final : public RegionBackend {
         book_->set_device(device_);
         BackendChoice c = choice_;
         c.device = device_;
-        vulkan_ = std::make_shared<DeferredVulkanBackend>(vulkan_options(c), book_, note_);
+        vulkan_ = std::make_shared<DeferredVulkanBackend>(vulkan_options(c), c.loader_selection, book_, note_);
       }
     }
     if (!vulkan_ || vulkan_failed_) return cpu_;
@@ -356,7 +364,8 @@ std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, 
     case BackendKind::automatic:
       return std::make_shared<AutoBackend>(choice, std::move(note), book);
     case BackendKind::vulkan:
-      return std::make_shared<DeferredVulkanBackend>(vulkan_options(choice), book, std::move(note));
+      return std::make_shared<DeferredVulkanBackend>(vulkan_options(choice), choice.loader_selection, book,
+                                                     std::move(note));
   }
   CMR_CHECK(false);
   return nullptr;

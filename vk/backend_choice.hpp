@@ -94,6 +94,10 @@ struct BackendChoice {
   int frames = 1;      ///< frames the job will render (cmr region: its points; sweep: its steps); 0: many, not known
   std::string cache_dir{};  ///< the pipeline cache and backend-rates.txt live here; empty: nothing kept across runs
   InjectedFault fault = InjectedFault::none;  ///< tests only: a Vulkan failure to report (vk/region_vk.hpp)
+  /// The loader's driver selection as the program read it (e.g.
+  /// "VK_DRIVER_FILES='/path.json'"); named in the line of a missing device,
+  /// since a stale path is the usual cause. The library reads no environment.
+  std::string loader_selection{};
   std::optional<BackendRates> rates{};        ///< tests only: automatic's evidence instead of the cache's
 };
 

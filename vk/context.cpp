@@ -244,15 +244,11 @@ constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.aarch
 constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 #endif
 
-// One actionable line for "the loader found nothing". Mentions the loader's
-// driver-selection variables when set, since a stale path is the usual cause.
+// One actionable line for "the loader found nothing". The library reads no
+// environment: a program that knows the loader's driver selection adds it
+// (BackendChoice::loader_selection, set by tools/cli_common.cpp).
 Error no_device_error(VkResult result) {
   std::string message = "no Vulkan device found";
-  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"}) {
-    if (const char* value = std::getenv(var); value != nullptr && *value != '\0') {
-      message += std::string(" (") + var + "='" + value + "'; check that the file exists)";
-    }
-  }
   message += "; install mesa-vulkan-drivers or select lavapipe with VK_DRIVER_FILES=";
   message += kLavapipeIcd;
   return Error{Errc::no_device, result, std::move(message)};
