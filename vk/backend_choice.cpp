@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <system_error>
@@ -41,16 +42,21 @@ double fold(double kept, double measured) { return kept > 0 ? std::sqrt(kept * m
 
 /// The rates a backend reads and updates, shared by the backends one
 /// make_region_backend builds; written back to the cache file when it
-/// changes (unless they were injected).
+/// changes (unless they were injected). Thread-safe, as the CPU backend is
+/// (callers may render on it from several threads).
 class RateBook {
  public:
   RateBook(std::string dir, std::optional<BackendRates> injected)
       : dir_(std::move(dir)), injected_(injected.has_value()), rates_(injected.value_or(BackendRates{})) {
     if (!injected_) rates_ = load_backend_rates(dir_, "");
   }
-  const BackendRates& rates() const { return rates_; }
+  BackendRates rates() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return rates_;
+  }
   /// The Vulkan device the Vulkan rates belong to (known at its listing or opening).
   void set_device(const std::string& name) {
+    const std::lock_guard<std::mutex> lock(mutex_);
     if (name == device_) return;
     device_ = name;
     if (injected_) return;
@@ -61,14 +67,17 @@ class RateBook {
   }
   void cpu_frame(double pixels, double seconds) {
     if (pixels < kMinMeasuredPixels || seconds <= 0) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
     rates_.cpu_pixels_per_second = fold(rates_.cpu_pixels_per_second, pixels / seconds);
     save();
   }
   void vulkan_open(double seconds) {
+    const std::lock_guard<std::mutex> lock(mutex_);
     rates_.vulkan_open_seconds = fold(rates_.vulkan_open_seconds, seconds);
     save();
   }
   void vulkan_frame(double pixels, double seconds, double compile_seconds) {
+    const std::lock_guard<std::mutex> lock(mutex_);
     if (compile_seconds > 0) rates_.vulkan_compile_seconds = fold(rates_.vulkan_compile_seconds, compile_seconds);
     if (pixels >= kMinMeasuredPixels && seconds > 0)
       rates_.vulkan_pixels_per_second = fold(rates_.vulkan_pixels_per_second, pixels / seconds);
@@ -79,9 +88,10 @@ class RateBook {
   void save() {
     if (!injected_ && !dir_.empty()) store_backend_rates(dir_, device_, rates_);
   }
+  mutable std::mutex mutex_;
   std::string dir_, device_;
   bool injected_;
-  BackendRates rates_;
+  BackendRates rates_;  // guarded by mutex_, as is device_
 };
 
 /// The CPU backend, its frames measured.
