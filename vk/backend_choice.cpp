@@ -203,11 +203,12 @@ class AutoBackend final : public RegionBackend {
   AutoBackend(BackendChoice choice, BackendNote note, std::shared_ptr<RateBook> book)
       : choice_(std::move(choice)), note_(std::move(note)), book_(std::move(book)), cpu_(book_) {}
   RegionResult render(const RegionProblem& problem) override {
-    RegionBackend& b = pick(frame_pixels(problem));
-    last_ = b.name();
+    RegionBackend& b = pick(frame_pixels(problem), true);
     if (&b == vulkan_.get()) {
       try {
-        return b.render(problem);
+        RegionResult r = b.render(problem);
+        last_ = b.name();  // "cpu" when the device failed during the frame
+        return r;
       } catch (const InputError&) {
         throw;
       } catch (const EnvironmentError& e) {  // the device would not open
@@ -217,15 +218,17 @@ class AutoBackend final : public RegionBackend {
         return cpu_.render(problem);
       }
     }
+    last_ = b.name();
     return b.render(problem);
   }
   std::string name() const override {
     if (!last_.empty()) return last_;
-    return const_cast<AutoBackend*>(this)->pick(512.0 * 512.0).name();
+    return const_cast<AutoBackend*>(this)->pick(512.0 * 512.0, false).name();
   }
 
  private:
-  RegionBackend& pick(double pixels) {
+  /// The backend for a frame of `pixels`; `frame`: one is about to render.
+  RegionBackend& pick(double pixels, bool frame) {
     if (!listed_) {
       listed_ = true;
       device_ = candidate_device(choice_.device);
@@ -242,7 +245,8 @@ class AutoBackend final : public RegionBackend {
     const int expected = choice_.frames > 0 ? choice_.frames : kManyFrames;
     RegionJob job;
     job.pixels = pixels;
-    job.frames = std::max(1, expected - rendered_++);
+    job.frames = std::max(1, expected - rendered_);
+    if (frame) ++rendered_;
     job.vulkan_open = vulkan_->ready();
     const AutoDecision d = auto_rule(book_->rates(), job);
     if (d.kind == BackendKind::vulkan) return *vulkan_;

@@ -250,6 +250,20 @@ TEST(AutoOnDevice, InjectedMeasurementsDecide) {
   EXPECT_EQ(rv.labels, rc.labels);
 }
 
+TEST(AutoOnDevice, AFailingDeviceIsReportedAsTheCpuThatRendered) {
+  const std::string dir = fresh_dir("autofault").string();
+  const RegionProblem p = fig2_512();
+  BackendChoice c = choice_of(BackendKind::automatic, dir);
+  c.rates = rates(1e6, 1e12, 0, 0);  // picks the device
+  c.fault = InjectedFault::device_lost;
+  std::vector<std::string> notes;
+  auto b = make_region_backend(c, [&](const std::string& n) { notes.push_back(n); });
+  EXPECT_EQ(b->name(), "vulkan");  // what it would pick; nothing rendered yet
+  EXPECT_EQ(b->render(p).labels, CpuRegionBackend().render(p).labels);
+  EXPECT_EQ(b->name(), "cpu");
+  EXPECT_EQ(notes.size(), 1u);
+}
+
 // ---- Faults: one note, the CPU backend's labels.
 
 class Fault : public ::testing::TestWithParam<InjectedFault> {};
