@@ -128,6 +128,9 @@ class DeferredVulkanBackend final : public RegionBackend {
     auto r = backend_->try_render(problem);
     if (!r) {
       if (r.error().code == Errc::size_unsupported) throw InputError(r.error().message);
+      // A device that lacks what was asked (fp64) is the user's choice to
+      // change (--precision fp32): an environment error, as before.
+      if (r.error().code == Errc::missing_feature) throw RegionFailure(r.error());
       failed_ = true;
       announce("the Vulkan backend failed (" + r.error().message + "), so the CPU backend renders");
       return cpu_.render(problem);
@@ -211,9 +214,9 @@ class AutoBackend final : public RegionBackend {
         return r;
       } catch (const InputError&) {
         throw;
-      } catch (const EnvironmentError& e) {  // the device would not open
+      } catch (const EnvironmentError& e) {  // the device would not open, or lacks fp64
         vulkan_failed_ = true;
-        if (note_) note_(std::string("the Vulkan device did not open (") + e.what() + "), so the CPU backend renders");
+        if (note_) note_(std::string("the Vulkan device cannot render (") + e.what() + "), so the CPU backend renders");
         last_ = "cpu";
         return cpu_.render(problem);
       }

@@ -10,7 +10,9 @@
 //    use the CPU backend. A failure after it opened (device lost, out of
 //    device memory, a pipeline the driver rejects) is announced in one note
 //    and that frame and every later one render on the CPU backend (the same
-//    labels).
+//    labels). A device without shaderFloat64 asked for fp64 still throws
+//    (RegionFailure: use --precision fp32), and a size over a device limit
+//    InputError.
 //  - automatic: per frame, the backend auto_rule picks from measured speeds
 //    (BackendRates, kept in the cache directory) for the frames still to
 //    come; a Vulkan device is a candidate only when the loader lists a real

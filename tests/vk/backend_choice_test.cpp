@@ -287,7 +287,16 @@ TEST_P(Fault, GivesOneNoteAndTheCpuAnswer) {
 
 INSTANTIATE_TEST_SUITE_P(Injected, Fault,
                          ::testing::Values(InjectedFault::device_lost, InjectedFault::out_of_memory,
-                                           InjectedFault::pipeline_rejected));
+                                           InjectedFault::pipeline_rejected),
+                         [](const ::testing::TestParamInfo<InjectedFault>& p) -> std::string {
+                           switch (p.param) {
+                             case InjectedFault::device_lost: return "DeviceLost";
+                             case InjectedFault::out_of_memory: return "OutOfMemory";
+                             case InjectedFault::pipeline_rejected: return "PipelineRejected";
+                             case InjectedFault::none: break;
+                           }
+                           return "None";
+                         });
 
 TEST(PipelineCacheFile, DamagedFileIsOneNoteThenRebuilt) {
   const std::string dir = fresh_dir("cache").string();
