@@ -287,10 +287,9 @@ void VulkanRegionBackend::save_pipeline_cache() {
     if (!out) ec = std::make_error_code(std::errc::io_error);
   }
   if (!ec) std::filesystem::rename(part, file, ec);
-  if (ec) {
-    std::filesystem::remove(part, ec);
-    if (cache_note_.empty()) cache_note_ = "the Vulkan pipeline cache could not be written to " + file;
-  }
+  // A cache that cannot be written (a read-only home) only costs the next
+  // run its compile: no note.
+  if (ec) std::filesystem::remove(part, ec);
 }
 
 Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {

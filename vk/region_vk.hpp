@@ -75,8 +75,8 @@ class VulkanRegionBackend final : public RegionBackend {
   double pipeline_seconds() const { return pipeline_seconds_; }
   /// Seconds create() took (instance, device, pipeline cache file).
   double open_seconds() const { return open_seconds_; }
-  /// Why the pipeline cache file was not used or not written (a corrupt or
-  /// foreign file, an unwritable directory): one line, else empty.
+  /// Why the pipeline cache file was not used (a damaged or foreign file):
+  /// one line, else empty. One that cannot be written is not noted.
   const std::string& cache_note() const { return cache_note_; }
   /// The pipeline cache file (empty without options().cache_dir).
   std::string cache_file() const;
