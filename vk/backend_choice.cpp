@@ -33,6 +33,25 @@ double frame_pixels(const RegionProblem& p) {
   return static_cast<double>(p.request().width) * static_cast<double>(p.request().height);
 }
 
+constexpr const char* kRatesFile = "backend-rates.txt";
+
+/// The names of the Vulkan devices backend-rates.txt holds.
+std::vector<std::string> stored_vulkan_devices(const std::string& cache_dir) {
+  std::vector<std::string> names;
+  if (cache_dir.empty()) return names;
+  std::ifstream in(std::filesystem::path(cache_dir) / kRatesFile);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string kind, name;
+    double pps = 0, open = 0, compile = 0;
+    if (!(s >> kind) || kind != "vulkan" || !(s >> pps >> open >> compile)) continue;
+    std::getline(s >> std::ws, name);
+    if (!name.empty()) names.push_back(name);
+  }
+  return names;
+}
+
 /// Frames smaller than this say more about fixed costs than about a rate.
 constexpr double kMinMeasuredPixels = 16384;
 
@@ -64,6 +83,23 @@ class RateBook {
     rates_.vulkan_pixels_per_second = kept.vulkan_pixels_per_second;
     rates_.vulkan_open_seconds = kept.vulkan_open_seconds;
     rates_.vulkan_compile_seconds = kept.vulkan_compile_seconds;
+  }
+  /// Whether auto_rule could pick some Vulkan device for `job`: an
+  /// unmeasured one (exploration), or one the cache file (or the injected
+  /// rates) holds. False when the CPU is unmeasured.
+  bool vulkan_possible(const RegionJob& job) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (rates_.cpu_pixels_per_second <= 0) return false;
+    BackendRates r;
+    r.cpu_pixels_per_second = rates_.cpu_pixels_per_second;
+    if (auto_rule(r, job).kind == BackendKind::vulkan) return true;  // exploring an unmeasured device
+    if (injected_) return auto_rule(rates_, job).kind == BackendKind::vulkan;
+    for (const std::string& name : stored_vulkan_devices(dir_)) {
+      BackendRates kept = load_backend_rates(dir_, name);
+      kept.cpu_pixels_per_second = rates_.cpu_pixels_per_second;
+      if (auto_rule(kept, job).kind == BackendKind::vulkan) return true;
+    }
+    return false;
   }
   void cpu_frame(double pixels, double seconds) {
     if (pixels < kMinMeasuredPixels || seconds <= 0) return;
@@ -232,7 +268,15 @@ class AutoBackend final : public RegionBackend {
  private:
   /// The backend for a frame of `pixels`; `frame`: one is about to render.
   RegionBackend& pick(double pixels, bool frame) {
+    const int expected = choice_.frames > 0 ? choice_.frames : kManyFrames;
+    RegionJob job;
+    job.pixels = pixels;
+    job.frames = std::max(1, expected - rendered_);
+    if (frame) ++rendered_;
     if (!listed_) {
+      // Asking the loader costs an instance (tens of milliseconds, more than
+      // a small frame): only when some device could win this job.
+      if (!book_->vulkan_possible(job)) return cpu_;
       listed_ = true;
       device_ = candidate_device(choice_.device);
       if (device_.empty()) {
@@ -245,11 +289,6 @@ class AutoBackend final : public RegionBackend {
       }
     }
     if (!vulkan_ || vulkan_failed_) return cpu_;
-    const int expected = choice_.frames > 0 ? choice_.frames : kManyFrames;
-    RegionJob job;
-    job.pixels = pixels;
-    job.frames = std::max(1, expected - rendered_);
-    if (frame) ++rendered_;
     job.vulkan_open = vulkan_->ready();
     const AutoDecision d = auto_rule(book_->rates(), job);
     if (d.kind == BackendKind::vulkan) return *vulkan_;
@@ -264,8 +303,6 @@ class AutoBackend final : public RegionBackend {
   std::string device_, last_;
   int rendered_ = 0;
 };
-
-constexpr const char* kRatesFile = "backend-rates.txt";
 
 }  // namespace
 

@@ -17,7 +17,11 @@
 //    (BackendRates, kept in the cache directory) for the frames still to
 //    come; a Vulkan device is a candidate only when the loader lists a real
 //    GPU (type not VK_PHYSICAL_DEVICE_TYPE_CPU, so not lavapipe) or `device`
-//    names one. No candidate: the CPU backend, with kCpuFallbackNote once.
+//    names one. The loader is asked (an instance: tens of milliseconds)
+//    only once the rule could pick some device for the frame: an unmeasured
+//    one for exploration, or one the rates file holds; until then the CPU
+//    renders without a note (its frames measure r_cpu). Asked and no
+//    candidate: the CPU backend, with kCpuFallbackNote once.
 //    name() says the backend of the last frame (before any frame, the one
 //    the rule would pick for one frame of 512x512), so callers report what
 //    actually ran.

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 namespace cmr::vk {
@@ -70,7 +71,11 @@ RegionProblem small_problem() {
 
 TEST_F(NoDevice, AutomaticBackendFallsBackToCpuAndAnnouncesIt) {
   std::vector<std::string> notes;
-  auto backend = make_region_backend({.kind = BackendKind::automatic},
+  // Measurements under which a device could win, so the loader is asked.
+  BackendRates rates;
+  rates.cpu_pixels_per_second = 1;
+  rates.vulkan_pixels_per_second = 1e12;
+  auto backend = make_region_backend({.kind = BackendKind::automatic, .rates = rates},
                                      [&](const std::string& n) { notes.push_back(n); });
   EXPECT_TRUE(notes.empty()) << "the choice is made at the first render or name()";
   const RegionResult r = backend->render(small_problem());
@@ -80,6 +85,22 @@ TEST_F(NoDevice, AutomaticBackendFallsBackToCpuAndAnnouncesIt) {
   EXPECT_EQ(notes[0], kCpuFallbackNote);
   backend->render(small_problem());
   EXPECT_EQ(notes.size(), 1u);
+}
+
+// Where no device could win the job (the CPU unmeasured, or measured far
+// faster), automatic does not ask the loader: the CPU renders, silently.
+TEST_F(NoDevice, AutomaticAsksNoLoaderWhereNoDeviceCouldWin) {
+  BackendRates fast_cpu;
+  fast_cpu.cpu_pixels_per_second = 1e12;
+  fast_cpu.vulkan_pixels_per_second = 1e6;
+  for (const std::optional<BackendRates>& rates : {std::optional<BackendRates>{}, std::optional<BackendRates>{fast_cpu}}) {
+    std::vector<std::string> notes;
+    auto backend = make_region_backend({.kind = BackendKind::automatic, .rates = rates},
+                                       [&](const std::string& n) { notes.push_back(n); });
+    backend->render(small_problem());
+    EXPECT_EQ(backend->name(), "cpu");
+    EXPECT_TRUE(notes.empty()) << notes.front();
+  }
 }
 
 TEST_F(NoDevice, CpuBackendIsNoFallback) {
