@@ -1382,7 +1382,7 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
   std::vector<std::vector<std::array<int, 2>>> listed(static_cast<std::size_t>(bw) * bh);
   std::vector<std::uint64_t> exact(listed.size(), 0);
   const PixelKernel kernel(s);
-  parallel_for(listed.size(), threads, [&](std::size_t b) {
+  WorkerPool::shared().run(listed.size(), threads, [&](std::size_t b) {
     const int bi = static_cast<int>(b) % bw, bj = static_cast<int>(b) / bw;
     const PixelBlock top{bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
                          std::min(o.height, (bj + 1) * kRegionBlock) - 1};

@@ -8,7 +8,9 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -59,6 +61,91 @@ void parallel_for(std::size_t count, int threads, Job&& job) {
   for (std::thread& t : pool) t.join();
   if (first_error) std::rethrow_exception(first_error);
 }
+
+/// Worker threads started once and kept for the process: run() has
+/// parallel_for's contract (job(i) for every i in [0, count) on up to
+/// thread_count(threads) threads including the caller's, in increasing
+/// order, the first exception rethrown once all stopped) without starting a
+/// thread per call. A frame of a few milliseconds (a 512x512 region) paid
+/// about 0.1 ms per started thread. One batch runs at a time; a call made
+/// while the pool is busy (another thread's batch, or a job that calls run()
+/// again) is handed to parallel_for, so it never waits for the pool.
+class WorkerPool {
+ public:
+  /// The process's pool: never destroyed (its threads sleep until exit).
+  static WorkerPool& shared() {
+    static WorkerPool* pool = new WorkerPool;
+    return *pool;
+  }
+
+  template <class Job>
+  void run(std::size_t count, int threads, Job&& job) {
+    const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(thread_count(threads)), count);
+    std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+    if (workers <= 1 || !busy.owns_lock()) {
+      parallel_for(count, threads, std::forward<Job>(job));
+      return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr first_error;
+    std::mutex error_mutex;
+    std::function<void()> work = [&] {
+      for (std::size_t i = next++; i < count && !failed; i = next++) {
+        try {
+          job(i);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(error_mutex);
+          if (!first_error) first_error = std::current_exception();
+          failed = true;
+        }
+      }
+    };
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      while (threads_.size() + 1 < workers) threads_.emplace_back([this] { serve(); });
+      work_ = &work;
+      wanted_ = workers - 1;
+      running_ = 0;
+      ++batch_;
+    }
+    wake_.notify_all();
+    work();
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      // Every worker that took the batch has finished it; none takes it later.
+      done_.wait(lock, [&] { return running_ == 0; });
+      wanted_ = 0;
+      work_ = nullptr;
+    }
+    if (first_error) std::rethrow_exception(first_error);
+  }
+
+ private:
+  WorkerPool() = default;
+  void serve() {
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return batch_ != seen && wanted_ > 0; });
+      seen = batch_;
+      --wanted_;
+      ++running_;
+      std::function<void()>* work = work_;
+      lock.unlock();
+      (*work)();
+      lock.lock();
+      if (--running_ == 0) done_.notify_all();
+    }
+  }
+  std::mutex busy_;   // held by the batch's caller
+  std::mutex mutex_;  // guards what follows
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> threads_;
+  std::function<void()>* work_ = nullptr;
+  std::size_t wanted_ = 0, running_ = 0;  // workers still to join the batch, and in it
+  std::uint64_t batch_ = 0;
+};
 
 /// A pipeline whose output stays in order: produce(i) for every i in
 /// [0, count) on up to thread_count(threads) worker threads, and consume(r)

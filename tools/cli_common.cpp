@@ -39,8 +39,16 @@ std::string number_text(double x) {
 
 }  // namespace
 
+std::string user_cache_dir() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg != nullptr && *xdg == '/') return std::string(xdg) + "/cmr";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && *home == '/') return std::string(home) + "/.cache/cmr";
+  return {};
+}
+
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
-                                                   const std::string& device) {
+                                                   const std::string& device, int frames) {
   CMR_CHECK(precision == "fp64" || precision == "fp32");  // CLI11 checked the choices
   CMR_CHECK(backend == "cpu" || backend == "auto" || backend == "vulkan");
 #ifdef CMR_WITH_VULKAN
@@ -50,9 +58,25 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
                                     : vk::BackendKind::vulkan;
   choice.precision = precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
   choice.device = device;
+  choice.frames = frames;
+  choice.cache_dir = user_cache_dir();
+  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"})
+    if (const char* value = std::getenv(var); value != nullptr && *value != '\0') {
+      if (!choice.loader_selection.empty()) choice.loader_selection += ", ";
+      choice.loader_selection.append(var).append("='").append(value).append("'");
+    }
+  // Failure injection for the tests of the Vulkan fallbacks (tests/tools).
+  if (const char* fault = std::getenv("CMR_VK_FAULT"); fault != nullptr) {
+    const std::string f = fault;
+    choice.fault = f == "device_lost"         ? vk::InjectedFault::device_lost
+                   : f == "out_of_memory"     ? vk::InjectedFault::out_of_memory
+                   : f == "pipeline_rejected" ? vk::InjectedFault::pipeline_rejected
+                                              : vk::InjectedFault::none;
+  }
   return vk::make_region_backend(choice, [](const std::string& note) { std::cerr << "note: " << note << '\n'; });
 #else
   (void)device;
+  (void)frames;
   if (backend != "vulkan") return std::make_shared<CpuRegionBackend>();
   return std::make_shared<NoVulkanBackend>();
 #endif
@@ -126,7 +150,7 @@ void add_pretty_flag(CLI::App& cmd, bool& pretty) {
 }
 
 void add_backend_options(CLI::App& cmd, std::string& backend, std::string& device, std::string* precision) {
-  cmd.add_option("--backend", backend, "region backend: auto (Vulkan on a real GPU, else cpu), vulkan, cpu")
+  cmd.add_option("--backend", backend, "region backend: auto (a real GPU where measured faster for the job, else cpu), vulkan, cpu")
       ->check(CLI::IsMember(kBackendChoices))
       ->capture_default_str();
   cmd.add_option("--device", device, "Vulkan device name (case-insensitive substring); default: the first suitable");

@@ -34,12 +34,19 @@ using cmr::EnvironmentError;
 /// and --device NAME: one per command run, so Vulkan contexts and compiled
 /// pipelines are reused by every render. The choice is the library's
 /// (vk::make_region_backend, vk/backend_choice.hpp: "auto" is Vulkan on a
-/// real GPU, else the CPU backend); this maps the option strings onto its
-/// aggregate and prints its fallback note on stderr ("note: ..."). A build
+/// candidate GPU when measured faster for the job, else the CPU backend);
+/// this maps the option strings onto its aggregate, with `frames` the
+/// frames the command will render (0: many, not known), the cache directory
+/// user_cache_dir() and, for tests, CMR_VK_FAULT=device_lost|out_of_memory|
+/// pipeline_rejected (a Vulkan failure to inject), and prints its notes on
+/// stderr ("note: ..."). A build
 /// without Vulkan renders "auto" and "cpu" on the CPU; "vulkan" throws
 /// EnvironmentError at the first render.
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
-                                                   const std::string& device = "");
+                                                   const std::string& device = "", int frames = 1);
+/// $XDG_CACHE_HOME/cmr, else $HOME/.cache/cmr (only absolute paths count);
+/// empty when neither is set: nothing is kept across runs.
+std::string user_cache_dir();
 /// The --backend choices, in help order.
 inline const std::vector<std::string> kBackendChoices = {"auto", "vulkan", "cpu"};
 

@@ -47,7 +47,7 @@ void add_figures_command(CLI::App& app, int& exit_code) {
   cmd->callback([args, &exit_code] {
     fig::FiguresOptions o;
     o.out = args->out;
-    o.backend = make_region_backend(args->backend, "fp64", args->device);
+    o.backend = make_region_backend(args->backend, "fp64", args->device, 0);
     o.size = args->size;
     o.progress = &std::cout;
     // The backend is picked (and any note about it printed on stderr) before

@@ -179,7 +179,7 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
   Rendered r;
   r.notes = std::move(notes);
   if (!problems.empty()) note_poles(problems.front(), r.notes);
-  const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
+  const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device, static_cast<int>(problems.size()));
   const auto t0 = std::chrono::steady_clock::now();
   for (const RegionProblem& problem : problems) {
     const auto t1 = std::chrono::steady_clock::now();

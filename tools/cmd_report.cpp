@@ -234,7 +234,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.regions = !args->no_thumbnails;
     o.region_size = args->region_size;
     o.threads = args->jobs;
-    o.backend = make_region_backend(args->backend, "fp64", args->device);
+    o.backend = make_region_backend(args->backend, "fp64", args->device, 0);
 
     report::BatchOptions b;
     b.all_glyphs = args->glyphs == "all";

@@ -260,7 +260,7 @@ void run_sweep(const SweepArgs& a) {
   RegionMemo memo;
   const std::vector<Step> steps = prepare(a, base, memo);
   const bool split = a.split.has_value();
-  const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device);
+  const std::shared_ptr<RegionBackend> backend = make_region_backend(a.backend, a.precision, a.device, static_cast<int>(steps.size()));
   const Progress progress(static_cast<int>(steps.size()));
   progress.show(0);
 

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <string_view>
 #include <utility>
 
@@ -19,6 +20,7 @@ DeviceState::~DeviceState() {
     // Objects made from the Context are gone by now (they hold this state),
     // but the queue may still be executing their last submission.
     vkDeviceWaitIdle(device);
+    if (pipeline_cache != VK_NULL_HANDLE) vkDestroyPipelineCache(device, pipeline_cache, nullptr);
     vkDestroyDevice(device, nullptr);
   }
   if (surface != VK_NULL_HANDLE) vkDestroySurfaceKHR(instance, surface, nullptr);
@@ -242,15 +244,11 @@ constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.aarch
 constexpr std::string_view kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 #endif
 
-// One actionable line for "the loader found nothing". Mentions the loader's
-// driver-selection variables when set, since a stale path is the usual cause.
+// One actionable line for "the loader found nothing". The library reads no
+// environment: a program that knows the loader's driver selection adds it
+// (BackendChoice::loader_selection, set by tools/cli_common.cpp).
 Error no_device_error(VkResult result) {
   std::string message = "no Vulkan device found";
-  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"}) {
-    if (const char* value = std::getenv(var); value != nullptr && *value != '\0') {
-      message += std::string(" (") + var + "='" + value + "'; check that the file exists)";
-    }
-  }
   message += "; install mesa-vulkan-drivers or select lavapipe with VK_DRIVER_FILES=";
   message += kLavapipeIcd;
   return Error{Errc::no_device, result, std::move(message)};
@@ -530,6 +528,7 @@ Result<Context> Context::create(const ContextOptions& options) {
   VkPhysicalDeviceProperties props{};
   vkGetPhysicalDeviceProperties(chosen->handle, &props);
   state->limits = props.limits;
+  state->properties = props;
   vkGetPhysicalDeviceMemoryProperties(chosen->handle, &state->memory);
 
   const float priority = 1.0f;
@@ -560,7 +559,51 @@ Result<Context> Context::create(const ContextOptions& options) {
     return vk_error(r, "vkCreateDevice on '" + chosen->info.name + "'");
   }
   vkGetDeviceQueue(state->device, state->queue_family_index, 0, &state->queue);
-  return Context(std::move(state));
+  Context context(std::move(state));
+  if (auto r = context.load_pipeline_cache({}); !r) return r.error();
+  return context;
+}
+
+bool pipeline_cache_matches(std::span<const std::byte> data, uint32_t vendor_id, uint32_t device_id,
+                            const uint8_t (&uuid)[VK_UUID_SIZE]) {
+  // VkPipelineCacheHeaderVersionOne: headerSize, headerVersion, vendorID,
+  // deviceID (4 bytes each, the host's byte order), pipelineCacheUUID.
+  constexpr std::size_t kHeader = 16 + VK_UUID_SIZE;
+  if (data.size() < kHeader) return false;
+  uint32_t word[4];
+  std::memcpy(word, data.data(), sizeof word);
+  return word[0] >= kHeader && word[0] <= data.size() && word[1] == VK_PIPELINE_CACHE_HEADER_VERSION_ONE &&
+         word[2] == vendor_id && word[3] == device_id && std::memcmp(data.data() + 16, uuid, VK_UUID_SIZE) == 0;
+}
+
+Result<void> Context::load_pipeline_cache(std::span<const std::byte> data) {
+  detail::DeviceState& s = *state_;
+  const bool usable = !data.empty() && pipeline_cache_matches(data, s.properties.vendorID, s.properties.deviceID,
+                                                              s.properties.pipelineCacheUUID);
+  VkPipelineCacheCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO;
+  info.initialDataSize = usable ? data.size() : 0;
+  info.pInitialData = usable ? data.data() : nullptr;
+  VkPipelineCache cache = VK_NULL_HANDLE;
+  if (VkResult r = vkCreatePipelineCache(s.device, &info, nullptr, &cache); r != VK_SUCCESS)
+    return vk_error(r, "vkCreatePipelineCache");
+  if (s.pipeline_cache != VK_NULL_HANDLE) vkDestroyPipelineCache(s.device, s.pipeline_cache, nullptr);
+  s.pipeline_cache = cache;
+  if (!data.empty() && !usable)
+    return Error{Errc::other, VK_SUCCESS,
+                 "the pipeline cache is not one of this device and driver (its header does not match); it "
+                 "starts empty"};
+  return {};
+}
+
+std::vector<std::byte> Context::pipeline_cache_data() const {
+  const detail::DeviceState& s = *state_;
+  std::size_t size = 0;
+  if (vkGetPipelineCacheData(s.device, s.pipeline_cache, &size, nullptr) != VK_SUCCESS) return {};
+  std::vector<std::byte> out(size);
+  if (vkGetPipelineCacheData(s.device, s.pipeline_cache, &size, out.data()) != VK_SUCCESS) return {};
+  out.resize(size);
+  return out;
 }
 
 Context::Context(std::shared_ptr<detail::DeviceState> state) : state_(std::move(state)) {}

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,14 @@ struct ContextOptions {
   // this surface and it offers VK_KHR_swapchain, which is then enabled.
   std::function<Result<VkSurfaceKHR>(VkInstance)> make_surface;
 };
+
+// Whether `data` starts with the VkPipelineCacheHeaderVersionOne of this
+// device and driver (header size at least 32 and within the data, version
+// one, vendor and device ids, pipelineCacheUUID). Only such data is handed
+// to vkCreatePipelineCache; a driver that changed (a new UUID) or a foreign
+// or truncated file fails here.
+bool pipeline_cache_matches(std::span<const std::byte> data, uint32_t vendor_id, uint32_t device_id,
+                            const uint8_t (&uuid)[VK_UUID_SIZE]);
 
 namespace detail {
 struct DeviceState;  // Vulkan handles; shared with objects made from a Context
@@ -92,6 +101,17 @@ class Context {
   uint32_t queue_family_index() const;
   // The surface made by ContextOptions::make_surface, else VK_NULL_HANDLE.
   VkSurfaceKHR surface() const;
+
+  // The VkPipelineCache every pipeline made from this Context goes through:
+  // created empty; load_pipeline_cache replaces it with `data` (what
+  // pipeline_cache_data gave in an earlier run, e.g. a file under the user's
+  // cache directory) when pipeline_cache_matches says it is this device's
+  // and driver's. Errors: other (the header does not match, or empty data
+  // is not passed and it is shorter than a header: the cache is then empty
+  // and usable), out_of_memory, device_lost.
+  Result<void> load_pipeline_cache(std::span<const std::byte> data);
+  // The cache's contents now (empty when the driver cannot say).
+  std::vector<std::byte> pipeline_cache_data() const;
 
   // Internal: shared ownership of the Vulkan handles.
   const std::shared_ptr<detail::DeviceState>& state() const { return state_; }

@@ -311,7 +311,7 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
   no_blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                             VK_COLOR_COMPONENT_A_BIT;
   auto created =
-      detail::create_fullscreen_pipeline(device, pipeline_layout, render_pass, fragment_spirv, specialization, no_blend);
+      detail::create_fullscreen_pipeline(*state, pipeline_layout, render_pass, fragment_spirv, specialization, no_blend);
   if (!created) return created.error();
   pipeline = created.value();
   return {};
@@ -319,10 +319,11 @@ Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> f
 
 namespace detail {
 
-Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass render_pass,
+Result<VkPipeline> create_fullscreen_pipeline(const DeviceState& state, VkPipelineLayout layout, VkRenderPass render_pass,
                                               std::span<const uint32_t> fragment_spirv,
                                               std::span<const uint32_t> specialization,
                                               const VkPipelineColorBlendAttachmentState& colour_blend) {
+  const VkDevice device = state.device;
   // Shader modules are only needed until the pipeline exists.
   struct Module {
     VkDevice device;
@@ -418,7 +419,7 @@ Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout 
   info.renderPass = render_pass;
   info.subpass = 0;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  if (VkResult r = vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+  if (VkResult r = vkCreateGraphicsPipelines(device, state.pipeline_cache, 1, &info, nullptr, &pipeline);
       r != VK_SUCCESS) {
     Error e = vk_error(r, "vkCreateGraphicsPipelines");
     // Anything but memory exhaustion here means the driver rejected the shader.

@@ -31,6 +31,10 @@ struct DeviceState {
   DeviceInfo info{};
   VkPhysicalDeviceLimits limits{};
   VkPhysicalDeviceMemoryProperties memory{};
+  VkPhysicalDeviceProperties properties{};  // vendorID, deviceID, pipelineCacheUUID: the pipeline cache's key
+  // Every pipeline made on this device goes through this cache
+  // (Context::load_pipeline_cache fills it from an earlier run).
+  VkPipelineCache pipeline_cache = VK_NULL_HANDLE;
 
   DeviceState() = default;
   DeviceState(const DeviceState&) = delete;
@@ -108,9 +112,9 @@ std::vector<std::byte> pack_region(const cmr::backend::RegionSetup& setup, Regio
 // A graphics pipeline drawing one full-screen triangle (the built-in vertex
 // shader, no vertex input) with `fragment_spirv` (specialisation constant i =
 // specialization[i]), dynamic viewport and scissor, for subpass 0 of
-// render_pass. Errors: shader_invalid (module or pipeline rejected),
+// render_pass, through the device's pipeline cache. Errors: shader_invalid (module or pipeline rejected),
 // out_of_memory, device_lost. Implemented in fragment_pipeline.cpp.
-Result<VkPipeline> create_fullscreen_pipeline(VkDevice device, VkPipelineLayout layout, VkRenderPass render_pass,
+Result<VkPipeline> create_fullscreen_pipeline(const DeviceState& state, VkPipelineLayout layout, VkRenderPass render_pass,
                                               std::span<const uint32_t> fragment_spirv,
                                               std::span<const uint32_t> specialization,
                                               const VkPipelineColorBlendAttachmentState& colour_blend);

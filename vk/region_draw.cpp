@@ -137,7 +137,7 @@ struct RegionDrawer::Impl {
     blend.alphaBlendOp = VK_BLEND_OP_ADD;
     blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
                            VK_COLOR_COMPONENT_A_BIT;
-    auto p = detail::create_fullscreen_pipeline(dev(), pipeline_layout, render_pass, spirv, spec, blend);
+    auto p = detail::create_fullscreen_pipeline(*state, pipeline_layout, render_pass, spirv, spec, blend);
     if (!p) return p.error();
     pipelines.emplace_back(key, p.value());
     return p.value();

@@ -3,9 +3,16 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <span>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "bezierize/region_setup.hpp"
 #include "shaders/region_layout.h"
@@ -235,12 +242,54 @@ void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pi
 }  // namespace
 
 Result<VulkanRegionBackend> VulkanRegionBackend::create(const VulkanRegionOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
   ContextOptions co;
   co.device_name = options.device;
   co.require_float64 = false;  // fp64 is checked per render, so fp32 works on any device
   auto context = Context::create(co);
   if (!context) return context.error();
-  return VulkanRegionBackend(context.take(), options);
+  VulkanRegionBackend b(context.take(), options);
+  if (const std::string file = b.cache_file(); !file.empty()) {
+    std::ifstream in(file, std::ios::binary);
+    if (in) {
+      const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+      const auto data = std::as_bytes(std::span<const char>(bytes));
+      if (auto r = b.context_.load_pipeline_cache(data); !r) {
+        if (r.error().code != Errc::other) return r.error();
+        b.cache_note_ = "the Vulkan pipeline cache " + file + " is not this device's or is damaged, so it is rebuilt";
+      }
+    }
+  }
+  b.open_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return b;
+}
+
+std::string VulkanRegionBackend::cache_file() const {
+  if (options_.cache_dir.empty()) return {};
+  const VkPhysicalDeviceProperties& p = context_.state()->properties;
+  char name[64];
+  std::snprintf(name, sizeof name, "vulkan-pipelines-%04x-%04x.bin", p.vendorID, p.deviceID);
+  return (std::filesystem::path(options_.cache_dir) / name).string();
+}
+
+void VulkanRegionBackend::save_pipeline_cache() {
+  const std::string file = cache_file();
+  if (file.empty()) return;
+  const std::vector<std::byte> data = context_.pipeline_cache_data();
+  if (data.empty()) return;
+  // Written beside and renamed over, so a reader never sees half a file.
+  std::error_code ec;
+  std::filesystem::create_directories(std::filesystem::path(file).parent_path(), ec);
+  const std::string part = file + ".part" + std::to_string(::getpid());
+  {
+    std::ofstream out(part, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
+    if (!out) ec = std::make_error_code(std::errc::io_error);
+  }
+  if (!ec) std::filesystem::rename(part, file, ec);
+  // A cache that cannot be written (a read-only home) only costs the next
+  // run its compile: no note.
+  if (ec) std::filesystem::remove(part, ec);
 }
 
 Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
@@ -249,6 +298,9 @@ Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s
                 s.spline().is_rational()};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
+  if (options_.fault == InjectedFault::pipeline_rejected)
+    return Error{Errc::shader_invalid, VK_ERROR_UNKNOWN,
+                 "vkCreateGraphicsPipelines failed: VK_ERROR_UNKNOWN (injected: the driver rejected the pipeline)"};
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t spec[5] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
                             key.joints ? 1u : 0u, key.rational ? 1u : 0u};
@@ -259,6 +311,7 @@ Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s
   if (!created) return created.error();
   pipelines_.emplace_back(key, created.take());
   pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  save_pipeline_cache();
   return &pipelines_.back().second;
 }
 
@@ -269,6 +322,9 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use --precision fp32"};
   auto pipeline = pipeline_for(s);
   if (!pipeline) return pipeline.error();
+  if (options_.fault == InjectedFault::out_of_memory)
+    return Error{Errc::out_of_memory, VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                 "vkAllocateMemory failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (injected)"};
   std::vector<uint32_t> out;
   out.reserve(pixels.size());
   const std::size_t per_run = std::size_t{kWorkAreaWidth} * kWorkAreaHeight;
@@ -282,6 +338,8 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
     const VkRect2D area{{0, 0}, {kWorkAreaWidth, rows}};
     auto words = pipeline.value()->run(buffer, {}, std::span<const VkRect2D>(&area, 1));
     if (!words) return words.error();
+    if (options_.fault == InjectedFault::device_lost)
+      return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
     // Entry k sits in 4x4 tile k / 16 of the area, at (k % 4, k / 4 % 4) inside it.
     for (std::size_t k = 0; k < chunk.size(); ++k) {
       const std::size_t tile = k >> 4, tx = tile % (kWorkAreaWidth / 4), ty = tile / (kWorkAreaWidth / 4);

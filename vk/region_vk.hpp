@@ -19,12 +19,24 @@ namespace cmr::vk {
 
 enum class RegionPrecision { fp64, fp32 };
 
+/// A fault a test makes the backend report, as the driver would: at the
+/// first render, device_lost after the frame's submission, out_of_memory at
+/// the frame's buffers, pipeline_rejected when the pipeline is created
+/// (shader_invalid, as the H200 rejected a degree-7 rational space pipeline).
+/// Only tests and tools/ set it (`cmr` reads CMR_VK_FAULT, tools/cli_common.cpp).
+enum class InjectedFault { none, device_lost, out_of_memory, pipeline_rejected };
+
 /// How a VulkanRegionBackend is created.
 struct VulkanRegionOptions {
   std::string device;                                 ///< device name (case-insensitive substring); empty: the first suitable
   RegionPrecision precision = RegionPrecision::fp64;  ///< shader arithmetic; labels are certified either way
   bool cull = true;                                   ///< host decides whole blocks first (off: the device shades every pixel)
   int threads = 0;                                    ///< host threads (culling, uncertain pixels); 0: all cores
+  /// Where the VkPipelineCache is kept across runs (the file
+  /// vulkan-pipelines-VENDOR-DEVICE.bin, rewritten whenever a pipeline is
+  /// created); empty: pipelines are cached only for the backend's lifetime.
+  std::string cache_dir;
+  InjectedFault fault = InjectedFault::none;  ///< tests only (see InjectedFault)
 };
 
 /// A Vulkan failure during a render (device lost, out of memory), carrying
@@ -61,6 +73,13 @@ class VulkanRegionBackend final : public RegionBackend {
   const VulkanRegionOptions& options() const { return options_; }
   /// Seconds spent creating pipelines (shader compilation) so far.
   double pipeline_seconds() const { return pipeline_seconds_; }
+  /// Seconds create() took (instance, device, pipeline cache file).
+  double open_seconds() const { return open_seconds_; }
+  /// Why the pipeline cache file was not used (a damaged or foreign file):
+  /// one line, else empty. One that cannot be written is not noted.
+  const std::string& cache_note() const { return cache_note_; }
+  /// The pipeline cache file (empty without options().cache_dir).
+  std::string cache_file() const;
 
  private:
   struct Key {
@@ -76,10 +95,14 @@ class VulkanRegionBackend final : public RegionBackend {
   /// One result word per listed pixel, in order (shaders/region_layout.h).
   Result<std::vector<uint32_t>> shade(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels);
 
+  void save_pipeline_cache();
+
   Context context_;
   VulkanRegionOptions options_;
   std::vector<std::pair<Key, FragmentPipeline>> pipelines_;
   double pipeline_seconds_ = 0;
+  double open_seconds_ = 0;
+  std::string cache_note_;
 };
 
 }  // namespace cmr::vk

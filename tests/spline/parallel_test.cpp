@@ -37,6 +37,48 @@ TEST(ParallelFor, CarriesAWorkersExceptionToTheCaller) {
   }
 }
 
+TEST(WorkerPool, VisitsEveryIndexOnceBatchAfterBatchOnTheSameThreads) {
+  WorkerPool& pool = WorkerPool::shared();
+  for (int batch = 0; batch < 200; ++batch) {
+    const int threads = batch % 4 + 1;
+    std::vector<std::atomic<int>> seen(static_cast<std::size_t>(batch % 7) * 50);
+    pool.run(seen.size(), threads, [&](std::size_t i) { ++seen[i]; });
+    for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << "index " << i << ", batch " << batch;
+  }
+}
+
+TEST(WorkerPool, CarriesAnExceptionAndStaysUsable) {
+  WorkerPool& pool = WorkerPool::shared();
+  std::atomic<int> ran{0};
+  EXPECT_THROW(pool.run(10000, 4,
+                        [&](std::size_t i) {
+                          ++ran;
+                          if (i == 17) throw std::runtime_error("job 17 failed");
+                        }),
+               std::runtime_error);
+  EXPECT_LT(ran.load(), 10000);
+  std::atomic<int> after{0};
+  pool.run(100, 4, [&](std::size_t) { ++after; });
+  EXPECT_EQ(after.load(), 100);
+}
+
+TEST(WorkerPool, NestedAndConcurrentCallsNeverWait) {
+  // A job that calls run() again, and two threads running batches at once:
+  // the busy pool hands them to parallel_for instead of deadlocking.
+  WorkerPool& pool = WorkerPool::shared();
+  std::atomic<int> inner{0};
+  pool.run(8, 4, [&](std::size_t) { pool.run(10, 2, [&](std::size_t) { ++inner; }); });
+  EXPECT_EQ(inner.load(), 80);
+  std::atomic<int> total{0};
+  std::vector<std::thread> callers;
+  for (int c = 0; c < 4; ++c)
+    callers.emplace_back([&] {
+      for (int k = 0; k < 50; ++k) pool.run(64, 3, [&](std::size_t) { ++total; });
+    });
+  for (std::thread& t : callers) t.join();
+  EXPECT_EQ(total.load(), 4 * 50 * 64);
+}
+
 TEST(ParallelOrdered, ConsumesEveryResultInOrderWithABoundedWindow) {
   for (int threads : {1, 2, 3, 8})
     for (std::size_t window : {1u, 2u, 5u}) {

@@ -75,7 +75,7 @@ double g_shader_setup_seconds = 0;
 /// destructors run (vk/context.hpp).
 RegionResult render(const RegionProblem& s, bool vulkan) {
   static CpuRegionBackend cpu;
-  static auto& device = *new std::shared_ptr<RegionBackend>(vk::make_region_backend({vk::BackendKind::vulkan, {}, {}}));
+  static auto& device = *new std::shared_ptr<RegionBackend>(vk::make_region_backend({.kind = vk::BackendKind::vulkan}));
   RegionResult r = (vulkan ? *device : static_cast<RegionBackend&>(cpu)).render(s);
   if (vulkan) g_shader_setup_seconds += r.setup_seconds;
   return r;
