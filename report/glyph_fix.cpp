@@ -47,7 +47,8 @@ FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
     return req;
   }
   for (const GateResult& g : r.gates)
-    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes) return requirement_of(g.gate);  // xy: a node
+    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes && g.gate.kind != Gate::Kind::g3_at_smooth_nodes)
+      return requirement_of(g.gate);  // xy: a node; g3: no point-move fix
   return {};
 }
 

@@ -90,7 +90,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
                   "joint S: the parts before and after monotone in opposite directions), split:S:sharpest, split:S:flattest (by |curvature|), "
                   "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
-                  "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
+                  "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
                   "(a node at every horizontal and vertical tangent; U: tolerated overshoot in font units, default 1)");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
