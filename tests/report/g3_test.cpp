@@ -205,3 +205,28 @@ TEST(G3, Parsing) {
 
 }  // namespace
 }  // namespace cmr::report
+
+namespace cmr::report {
+namespace {
+
+// A closed uniform cubic on a square's corners: by its symmetry each joint
+// is a mirror point of kappa, so dkappa/ds on both sides differ in sign, at
+// every joint, the seam (joint 4) included; the square's C2 keeps G2.
+TEST(G3, TheSeamIsJudgedLikeEveryJoint) {
+  const BSpline s = BSpline::make_closed(3, {0, 1, 2, 3, 4}, {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}, "square");
+  const SplineReport r = judged_report(s, gates("g2-at-smooth-nodes:0,g3-at-smooth-nodes"));
+  EXPECT_TRUE(r.gates[0].pass());
+  const std::vector<GateViolation>& v = r.gates[1].violations;
+  ASSERT_EQ(v.size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(v[static_cast<std::size_t>(k)].joint, k + 1);
+    const int left = k, right = (k + 1) % 4;
+    const double a = planar_end_kappa_slope(s, s.segments()[static_cast<std::size_t>(left)], 1);
+    const double b = planar_end_kappa_slope(s, s.segments()[static_cast<std::size_t>(right)], 0);
+    EXPECT_NE(a, 0);
+    EXPECT_EQ(a, -b);
+  }
+}
+
+}  // namespace
+}  // namespace cmr::report
