@@ -193,6 +193,15 @@ TEST(G3, SpaceReportAndCommandLine) {
       << bad_tol.err;
 }
 
+// cmr fix has no search for G3: refused in one line, nothing written.
+TEST(G3, FixRefusesTheGate) {
+  const std::string out = (test::scratch() / "g3_fixed.ufo").string();
+  const test::Outcome r = test::run(std::string("fix ") + CMR_SOURCE_DIR + "/examples/ufo/Sans.ufo --glyph O --require g3-at-smooth-nodes --out " + out);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "cmr: --require g3-at-smooth-nodes:0.05: cmr fix has no certified fix for G3 (it keeps g2 at most)\n");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(G3, Parsing) {
   const std::optional<Gate> g = parse_gate("g3-at-smooth-nodes");
   ASSERT_TRUE(g);
