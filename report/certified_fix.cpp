@@ -71,6 +71,8 @@ FixRequirement requirement_of(const Gate& gate) {
       req.g2_tolerance = gate.tolerance;
       break;
     case Gate::Kind::unimodal_runs: req.kind = FixRequirement::Kind::each_run; break;
+    case Gate::Kind::g3_at_smooth_nodes:
+      throw InputError("g3-at-smooth-nodes has no certified fix (cmr fix keeps g2 at most)");
     case Gate::Kind::xy_extrema_at_nodes:
       // Its fix adds a node (gate_fix says where); no point move implies it.
       throw InputError("xy-extrema-at-nodes is fixed by adding a node at each extremum, not by moving points");
@@ -89,6 +91,12 @@ namespace {
 /// still fails is no fix, and the entry says where it fails.
 CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const ReportOptions& options) {
   const Gate& gate = failing.gate;
+  if (gate.kind == Gate::Kind::g3_at_smooth_nodes) {  // no point-move search for dkappa/ds yet
+    CertifiedFix out;
+    out.check = to_string(gate);
+    out.reason = "no certified fix for g3-at-smooth-nodes (cmr fix keeps g2 at most)";
+    return out;
+  }
   if (gate.kind == Gate::Kind::xy_extrema_at_nodes) {
     // Its fix is a node inserted at each extremum (a de Casteljau split,
     // the same curve), which cmr names and does not write back.

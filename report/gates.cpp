@@ -10,6 +10,7 @@
 
 #include "spline/errors.hpp"
 #include "report/extremum.hpp"
+#include "report/g3.hpp"
 #include "report/report.hpp"
 #include "report/xy_extrema.hpp"
 #include "report/interpolation.hpp"
@@ -22,7 +23,7 @@ std::string num(double v, int precision = 6) { return format_number(v, precision
 
 const char* kGateNames =
     "curvature-extrema-at-nodes, curvature-extrema-at-nodes:runs, max-extrema-per-segment:N, "
-    "g2-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U], g1-between-masters, curvature-between-masters, extrema-between-masters; extrema-at-nodes is an alias of "
+    "g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U], g1-between-masters, curvature-between-masters, extrema-between-masters; extrema-at-nodes is an alias of "
     "curvature-extrema-at-nodes";
 
 /// Where a curve event lies, for a violation.
@@ -99,13 +100,13 @@ std::optional<Gate> parse_gate(const std::string& given) {
     }
     return g;
   }
-  if (head == "g2-at-smooth-nodes") {
-    g.kind = Gate::Kind::g2_at_smooth_nodes;
+  if (head == "g2-at-smooth-nodes" || head == "g3-at-smooth-nodes") {
+    g.kind = head == "g2-at-smooth-nodes" ? Gate::Kind::g2_at_smooth_nodes : Gate::Kind::g3_at_smooth_nodes;
     if (colon != std::string::npos) {
       const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.tolerance);
       if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.tolerance) ||
           g.tolerance < 0)
-        throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
+        throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (" + head + ":0.05)");
     }
     return g;
   }
@@ -117,6 +118,7 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::extrema_at_nodes: return "curvature-extrema-at-nodes";
     case Gate::Kind::max_extrema_per_segment: return "max-extrema-per-segment:" + std::to_string(gate.max_extrema);
     case Gate::Kind::g2_at_smooth_nodes: return "g2-at-smooth-nodes:" + num(gate.tolerance);
+    case Gate::Kind::g3_at_smooth_nodes: return "g3-at-smooth-nodes:" + num(gate.tolerance);
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
     case Gate::Kind::unimodal_runs: return "curvature-extrema-at-nodes:runs";
@@ -216,6 +218,9 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
             g.violations.push_back(v);
           }
         }
+        break;
+      case Gate::Kind::g3_at_smooth_nodes:
+        for (GateViolation& v : g3_violations(r, gate.tolerance)) g.violations.push_back(std::move(v));
         break;
       case Gate::Kind::no_inflection:
         for (const CurveEvent& e : r.inflections) g.violations.push_back(at_event(r, e, "inflection"));

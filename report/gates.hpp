@@ -21,6 +21,11 @@
 ///    exact tangents; corners are exempt) the curvature on both sides agrees
 ///    within tol relative to the larger: |kl - kr| <= tol * max(|kl|, |kr|).
 ///    Default tol kDefaultG2Tolerance.
+///  * g3-at-smooth-nodes[:tol]: at the same smooth nodes, G2 within tol and
+///    equal dkappa/ds on both sides (and, on a space curve, equal torsion)
+///    within tol relative to the larger, with a floor of kappa^2 (kappa for
+///    torsion); exact end derivatives of the Bezier pieces, rational or not.
+///    Default tol kDefaultG2Tolerance. report/g3.hpp.
 ///  * no-inflection: the curvature never changes sign.
 ///  * each-piece: every judged segment (piece) is monotone on its own, in
 ///    either direction (docs/semantics.md, "Each piece on its own"); a piece
@@ -93,10 +98,10 @@ inline constexpr double kDefaultG2Tolerance = 0.05;
 struct Gate {
   enum class Kind { extrema_at_nodes, max_extrema_per_segment, g2_at_smooth_nodes, no_inflection, each_piece,
                     unimodal_runs, xy_extrema_at_nodes, g1_between_masters,
-                    curvature_between_masters, extrema_between_masters };
+                    curvature_between_masters, extrema_between_masters, g3_at_smooth_nodes };
   Kind kind = Kind::extrema_at_nodes;
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
-  double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol
+  double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol, g3-at-smooth-nodes:tol
   double overshoot = kDefaultXyExtremumTolerance;  ///< xy-extrema-at-nodes:U
 };
 

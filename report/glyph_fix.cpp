@@ -47,8 +47,9 @@ FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
     return req;
   }
   for (const GateResult& g : r.gates)
-    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes && !is_interpolation_gate(g.gate))
-      return requirement_of(g.gate);  // xy: a node; between masters: not a move of this contour
+    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes && g.gate.kind != Gate::Kind::g3_at_smooth_nodes &&
+        !is_interpolation_gate(g.gate))
+      return requirement_of(g.gate);  // xy: a node; g3: no point-move fix; between masters: not a move of this contour
   return {};
 }
 

@@ -43,6 +43,11 @@ RuleText rule_text(const std::string& id) {
             "At every smooth node (C1, or G1 by exact tangents) the curvature on both sides must agree within the "
             "relative tolerance.",
             "Move the handles on both sides of the node along the tangent until the curvatures match."};
+  if (id.rfind("g3-at-smooth-nodes", 0) == 0)
+    return {"G3AtSmoothNodes", "Curvature or its slope jumps at a smooth node.",
+            "At every smooth node the curvature, its arc-length derivative dkappa/ds and, on a space curve, the "
+            "torsion on both sides must agree within the relative tolerance.",
+            "Move the handles next to the node (the third points from it on both sides) until the slopes match."};
   if (id.rfind("xy-extrema-at-nodes", 0) == 0)
     return {"XyExtremaAtNodes", "An x or y extremum lies between nodes.",
             "Every horizontal and vertical tangent of the outline (a certified sign change of x' or y', where the "

@@ -10,6 +10,7 @@
 
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "report/g3.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -193,6 +194,9 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
         }
         break;
       }
+      case Gate::Kind::g3_at_smooth_nodes:
+        for (GateViolation& v : space_g3_violations(spline, r.analysis, gate.tolerance)) g.violations.push_back(std::move(v));
+        break;
       case Gate::Kind::no_inflection:
         for (std::size_t i = 0; i < r.analysis.segments.size(); ++i)
           for (double t : r.analysis.segments[i].zero_curvature)

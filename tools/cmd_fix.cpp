@@ -28,6 +28,13 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+/// A gate cmr fix cannot search a fix for, refused in one line (exit 2).
+void refuse_unfixable(const report::ReportOptions& o) {
+  for (const report::Gate& g : o.gates)
+    if (g.kind == report::Gate::Kind::g3_at_smooth_nodes)
+      throw InputError("--require " + report::to_string(g) + ": cmr fix has no certified fix for G3 (it keeps g2 at most)");
+}
+
 /// Before and after: the first moved point's region (its unit's group
 /// moving with it, the requirement's labels) on the original curve with the
 /// move drawn, the fixed curve, and both curvature plots.
@@ -120,6 +127,7 @@ void run_source_fix(const SourceFixArgs& a) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
   report::GlyphFixOptions o;
   report::parse_require_list(a.require, o.judge);
+  refuse_unfixable(o.judge);
   o.judge.max_depth = a.depth;
   o.grid = a.grid;
   o.max_move = a.max_move;
@@ -193,6 +201,7 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   g.contours.push_back(std::move(c));
   report::GlyphFixOptions o;
   report::parse_require_list(require, o.judge);
+  refuse_unfixable(o.judge);
   o.judge.max_depth = depth;
   o.grid = grid_given ? grid : (integral ? 1.0 : 0.0);
   o.max_move = max_move;

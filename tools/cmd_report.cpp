@@ -105,7 +105,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "gates, comma separated: exit 1 when a spline fails cmrwi, cmr, split:S (a curvature extremum at "
                   "joint S: the parts before and after monotone in opposite directions), split:S:sharpest, split:S:flattest (by |curvature|), "
                   "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
-                  "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
+                  "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
                   "(a node at every horizontal and vertical tangent; U: tolerated overshoot in font units, default 1); for a "
                   ".designspace or a variable font also g1-between-masters, curvature-between-masters and "
                   "extrema-between-masters (judged at every location between the masters: docs/interpolation.md)");
