@@ -49,8 +49,8 @@
 //     answers, seeds, first-grid cells) the requirement itself accepts (for
 //     cmr the labels are Algorithm 2, the certificate exact inflections).
 //     Tested: within 1% (+ tolerance) of a 384x384 brute-force map's nearest
-//     passing pixel on 40 seeded cubic Beziers under cmr
-//     (tests/bezierize/fix_nearest_test.cpp).
+//     passing pixel on 40 seeded cubic Beziers and 20 uniform cubic
+//     B-splines under cmr (tests/bezierize/fix_nearest_test.cpp).
 //  2. Several units: when no single unit fixes the curve (or with
 //     FixRequest::together), units are moved one after the other, each to the
 //     nearest position that lowers the count of violations; when no single
