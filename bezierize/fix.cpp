@@ -1153,6 +1153,9 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     // The region labels (cmr: the paper's Algorithm 2) may pass a position
     // the certificate (analyze: exact inflections) fails, in slivers along
     // an edge: the answer is the nearest candidate the requirement accepts.
+    // Cheap certified labels (the region problems; curvature-extrema-at-nodes:
+    // each segment's own): search below the first cell.
+    const bool refine = !exact_local && !request.judge;
     const std::function<bool(Vec2)> certify = [&](Vec2 x) {
       std::vector<Vec2> d(m, Vec2(0.0));
       for (int k : u.points) d[k] += x;
@@ -1163,7 +1166,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     alone[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol,
                                       std::max(8, request.grid / 2), request.threads, 2)
                             : nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid,
-                                      request.threads, 6, region_kind && !request.judge, certify);
+                                      request.threads, 6, refine, refine ? certify : std::function<bool(Vec2)>{});
     UnitFix uf;
     uf.points = u.points;
     uf.slide = u.slide;
