@@ -39,7 +39,8 @@
 //     it, the answer is within `tolerance` of the nearest passing position
 //     (tested against a dense brute-force label map,
 //     tests/bezierize/fix_test.cpp).
-//     Below the first cell (region requirements without a judge): where the
+//     Below the first cell (2-D units; region requirements and
+//     curvature-extrema-at-nodes, without a caller's judge): where the
 //     region is thinner than a cell (a sliver along an edge, a wedge tip),
 //     levels halving the cell classify the children of every passing cell
 //     and its 8 neighbours, then flood the 5x5 neighbours of each new passing
