@@ -661,7 +661,8 @@ struct Nearest {
 };
 
 Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, double size, double max_move, double tol,
-                int grid, int threads, std::size_t max_seeds = 6) {
+                int grid, int threads, std::size_t max_seeds = 6, bool refine = false,
+                const std::function<bool(Vec2)>& certify = {}) {
   // Cell (i, j) of an n x n grid of half-width w centred on c (in the unit's
   // coordinates: dims 1 uses c.x as the parameter t along dir).
   auto at = [&](Vec2 c, double w, int n, int i, int j) {
@@ -702,7 +703,82 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
     std::vector<Nearest> finer = scan(Vec2(0.0), w2, n1);
     if (!finer.empty() && finer.front().dist <= cells.front().dist) cells = std::move(finer), w = w2;
   }
-  const double cell = 2 * w / n1;
+  double cell = 2 * w / n1;
+  // 2b. Below the first cell (dims 2, when refine): a passing region thinner
+  // than a cell (a sliver along a boundary, a wedge tip) may come nearer the
+  // point than any passing cell centre shows. Each level halves the cell:
+  // the children of every passing cell and of its 8 neighbours are
+  // classified, then the neighbours of every new passing child (a flood that
+  // follows a sliver along its length at that level), each only while its
+  // lower distance bound (centre distance less half a diagonal) is below the
+  // best passing distance D; down to a cell of D / 512 (or the tolerance).
+  const std::vector<Nearest> first_cells(cells.begin(), cells.begin() + std::min<std::size_t>(cells.size(), max_seeds));
+  if (dims == 2 && refine) {
+    using Key = std::pair<long long, long long>;
+    const double o = -w;  // the lattice of every level: centres o + (i + 1/2) h
+    Nearest best_cell = cells.front();
+    std::vector<Key> prev;
+    for (const Nearest& c : cells)
+      if (c.dist - 1.5 * std::sqrt(2.0) * cell < best_cell.dist)
+        prev.emplace_back(std::llround((c.x.x - o) / cell - 0.5), std::llround((c.x.y - o) / cell - 0.5));
+    double h = cell;
+    long budget = 16L * n1 * n1;  // classifier calls below the first cell: 16 first grids
+    while (!prev.empty() && h > best_cell.dist / 512 && h > tol && budget > 0) {
+      const double hc = h / 2, half_diag = hc / std::sqrt(2.0);
+      auto centre = [&](Key k) { return Vec2(o + (k.first + 0.5) * hc, o + (k.second + 0.5) * hc); };
+      std::set<Key> seen;
+      std::vector<Key> batch;
+      auto want = [&](Key k) {
+        if (seen.insert(k).second && norm(centre(k)) - half_diag < best_cell.dist) batch.push_back(k);
+      };
+      for (const Key& p : prev)
+        for (long long di = -1; di <= 1; ++di)
+          for (long long dj = -1; dj <= 1; ++dj)
+            for (long long a = 0; a < 2; ++a)
+              for (long long b = 0; b < 2; ++b) want({2 * (p.first + di) + a, 2 * (p.second + dj) + b});
+      std::vector<Nearest> level;
+      std::vector<Key> level_keys;
+      const std::vector<Key> first = batch;  // the children of the cells before and of their neighbours
+      while (!batch.empty() && budget > 0) {
+        std::vector<char> ok(batch.size(), 0);
+        budget -= static_cast<long>(batch.size());
+        parallel_for(batch.size(), threads, [&](std::size_t t) {
+          const Vec2 x = centre(batch[t]);
+          if (norm(x) <= max_move) ok[t] = pass(x);
+        });
+        const std::vector<Key> done = std::move(batch);
+        batch.clear();
+        for (std::size_t t = 0; t < done.size(); ++t) {
+          if (!ok[t]) continue;
+          const Vec2 x = centre(done[t]);
+          level.push_back(Nearest{true, x, norm(x)});
+          level_keys.push_back(done[t]);
+          if (level.back().dist < best_cell.dist) best_cell = level.back();
+        }
+        for (std::size_t t = 0; t < done.size(); ++t)
+          if (ok[t])
+            for (long long di = -2; di <= 2; ++di)
+              for (long long dj = -2; dj <= 2; ++dj) want({done[t].first + di, done[t].second + dj});
+      }
+      h = hc;
+      if (level.empty()) {
+        // No centre of this level passes: the region (if the cells before
+        // touch one) is thinner still. Descend from this level's cells around
+        // the passing ones before; the coarser cells stand meanwhile.
+        prev.clear();
+        for (const Key& k : first)
+          if (norm(centre(k)) - 1.5 * std::sqrt(2.0) * h < best_cell.dist) prev.push_back(k);
+        continue;
+      }
+      prev.clear();
+      for (std::size_t t = 0; t < level.size(); ++t)
+        if (level[t].dist - 1.5 * std::sqrt(2.0) * h < best_cell.dist) prev.push_back(level_keys[t]);
+      level.push_back(best_cell);  // a passing centre of a coarser level may still be the nearest
+      std::sort(level.begin(), level.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
+      cells = std::move(level);
+      cell = h;
+    }
+  }
   // Seeds: the passing cells that may hold the nearest point (within two cell
   // diagonals of the best), at least three cells apart, at most six.
   std::vector<Nearest> seeds;
@@ -725,6 +801,7 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
     return hi;
   };
   Nearest best;
+  std::vector<Nearest> candidates;  // with certify: every answer a seed gives, and the seeds
   for (const Nearest& seed : seeds) {
     Nearest local = seed;
     if (dims == 1) {
@@ -750,7 +827,16 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
         if (r < local.dist) local = Nearest{true, r * Vec2(std::cos(th), std::sin(th)), r};
     }
     if (local.dist < best.dist) best = local;
+    candidates.push_back(local), candidates.push_back(seed);
   }
+  // 4. With certify (the requirement's own judge, when the labels are a
+  // stricter or looser test than it): the nearest candidate it accepts,
+  // the first grid's passing cells last.
+  if (!certify || !best.found || certify(best.x)) return best;
+  candidates.insert(candidates.end(), first_cells.begin(), first_cells.end());
+  std::stable_sort(candidates.begin(), candidates.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
+  for (const Nearest& c : candidates)
+    if (certify(c.x)) return c;
   return best;
 }
 
@@ -1064,12 +1150,23 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
         if (!passing_pixel(pr.classify(p0 + x), request.requirement)) return false;
       return true;
     };
+    // The region labels (cmr: the paper's Algorithm 2) may pass a position
+    // the certificate (analyze: exact inflections) fails, in slivers along
+    // an edge: the answer is the nearest candidate the requirement accepts.
+    // Cheap certified labels (the region problems; curvature-extrema-at-nodes:
+    // each segment's own): search below the first cell.
+    const bool refine = !exact_local && !request.judge;
+    const std::function<bool(Vec2)> certify = [&](Vec2 x) {
+      std::vector<Vec2> d(m, Vec2(0.0));
+      for (int k : u.points) d[k] += x;
+      return search.holds(d);
+    };
     // The exactly judged kinds (no region problem: each position re-judges
     // its checks in exact arithmetic) search half the grid from two seeds.
     alone[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol,
                                       std::max(8, request.grid / 2), request.threads, 2)
                             : nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid,
-                                      request.threads);
+                                      request.threads, 6, refine, refine ? certify : std::function<bool(Vec2)>{});
     UnitFix uf;
     uf.points = u.points;
     uf.slide = u.slide;
