@@ -28,6 +28,7 @@
 /// Every converted curve is evaluated against OCCT's at sample parameters
 /// (error <= 1e-9 of its bounding box), so a conversion slip cannot pass
 /// silently (InputError naming the edge).
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -69,18 +70,42 @@ bool step_supported();
 /// without OCCT.
 StepCurves read_step_curves(const std::filesystem::path& path);
 
-/// How deep a STEP file's parentheses nest (ISO 10303-21 text: outside
-/// 'strings', where '' is a quote, and /* comments */), and the line where
-/// that depth is first reached. read_step_curves refuses a file deeper than
-/// max_step_nesting before OpenCASCADE sees it: OCCT's reader recurses per
-/// level and a file nesting 200,000 parentheses overflowed its stack (issue
-/// 42 E4). Real models nest a few levels (lists of lists of points).
-struct StepNesting {
+/// The pre-scan of a STEP file's text (ISO 10303-21), before OpenCASCADE
+/// sees it, outside 'strings' (where '' is a quote), "binaries" and /*
+/// comments */:
+///  - how deep its parentheses nest, and the line where that depth is first
+///    reached. read_step_curves refuses a file deeper than max_step_nesting:
+///    OCCT's reader recurses per level and a file nesting 200,000
+///    parentheses overflowed its stack (issue 42 E4). Real models nest a few
+///    levels (lists of lists of points).
+///  - the first number that is no geometry: a real whose magnitude exceeds
+///    max_step_magnitude (or that overflows a double, 1.E400), or an integer
+///    beyond a 32-bit int, with the entity (#id) whose parameters hold it.
+///    OCCT treats 2e100 as infinite (Precision::Infinite) and its shape
+///    healing squares coordinates: one point of the example model at
+///    (1.E308, -1.7E308, 1.E308) kept it classifying points for more than
+///    120 s (issue 42 E5). A model in millimetres (or metres, or inches)
+///    has no coordinate, knot or weight near 1e100.
+struct StepScan {
   int depth = 0;
-  int line = 1;
+  int line = 1;  ///< where `depth` is first reached
+  /// The first number out of range ("" when none), its entity and line.
+  std::string bad_number;
+  long long bad_entity = 0;  ///< 0: outside any entity (the header)
+  int bad_line = 0;
 };
-StepNesting step_nesting(std::string_view text);
+StepScan step_scan(std::string_view text);
 inline constexpr int max_step_nesting = 256;
+inline constexpr double max_step_magnitude = 1e100;
+
+/// The time budget of reading a STEP file of `bytes` bytes, in seconds:
+/// 5 s + 4 s per MB. `cmr import` reads the example model (200 KB) in 0.1 s
+/// and its 100-copy benchmark model (21 MB; budget 89 s) in 4.6 s of CPU,
+/// 18.5 s on the loaded 2-core VM (cmr_step_model OUT 100). `cmr import`
+/// stops a read that outlives it (OCCT's algorithms cannot be interrupted)
+/// with one line and exit 2, before anything is written. The environment
+/// variable CMR_STEP_TIME_BUDGET (seconds) replaces it, for tests.
+double step_time_budget(std::uintmax_t bytes);
 
 /// The spline file of a curve: {"name", "degree", "knots", "points" ([x, y, z]),
 /// "weights" (rational only), "closed" (closed only)}.

@@ -2,6 +2,10 @@
 #include "step/step.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
 
 namespace cmr::import {
 
@@ -18,30 +22,87 @@ nlohmann::ordered_json step_curve_json(const StepCurve& c) {
   return doc;
 }
 
-StepNesting step_nesting(std::string_view text) {
-  StepNesting deepest;
+StepScan step_scan(std::string_view text) {
+  StepScan scan;
   int depth = 0, line = 1;
+  long long entity = 0;
+  const auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
+  const auto is_name = [&](char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || is_digit(c) || c == '_'; };
+  // Skips to the `close` that ends what starts at i (a string, binary or
+  // comment), counting its lines; false when it is not closed.
+  const auto skip = [&](std::size_t& i, std::string_view close, std::size_t from) {
+    const std::size_t end = text.find(close, from);
+    if (end == std::string_view::npos) return false;
+    line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+    i = end + close.size() - 1;
+    return true;
+  };
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
       ++line;
     } else if (c == '\'') {  // a string: '' inside it is a quote, so a scan to the next quote is enough
-      const std::size_t end = text.find('\'', i + 1);
-      if (end == std::string_view::npos) break;
-      line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
-      i = end;
+      if (!skip(i, "'", i + 1)) break;
+    } else if (c == '"') {  // a binary
+      if (!skip(i, "\"", i + 1)) break;
     } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
-      const std::size_t end = text.find("*/", i + 2);
-      if (end == std::string_view::npos) break;
-      line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
-      i = end + 1;
+      if (!skip(i, "*/", i + 2)) break;
     } else if (c == '(') {
-      if (++depth > deepest.depth) deepest = {depth, line};
+      if (++depth > scan.depth) scan.depth = depth, scan.line = line;
     } else if (c == ')') {
       depth = std::max(depth - 1, 0);
+    } else if (c == '#') {  // an instance name: "#12 =" starts entity 12, "#12" elsewhere refers to it
+      std::size_t j = i + 1;
+      long long id = 0;
+      while (j < text.size() && is_digit(text[j])) id = std::min(id * 10 + (text[j++] - '0'), 1LL << 60);
+      std::size_t k = j;
+      while (k < text.size() && (text[k] == ' ' || text[k] == '\t' || text[k] == '\r' || text[k] == '\n')) ++k;
+      if (k < text.size() && text[k] == '=') entity = id;
+      i = j - 1;
+    } else if (is_name(c) && !is_digit(c)) {  // a keyword or enumeration (B_SPLINE_CURVE_2, .T.): not numbers
+      while (i + 1 < text.size() && is_name(text[i + 1])) ++i;
+    } else if (is_digit(c) || ((c == '+' || c == '-') && i + 1 < text.size() && is_digit(text[i + 1]))) {
+      std::size_t j = i + 1;
+      while (j < text.size() && is_digit(text[j])) ++j;
+      bool real = false;
+      if (j < text.size() && text[j] == '.') {
+        real = true;
+        for (++j; j < text.size() && is_digit(text[j]);) ++j;
+      }
+      if (j < text.size() && (text[j] == 'E' || text[j] == 'e')) {
+        std::size_t k = j + 1;
+        if (k < text.size() && (text[k] == '+' || text[k] == '-')) ++k;
+        if (k < text.size() && is_digit(text[k])) {
+          real = true;
+          for (j = k; j < text.size() && is_digit(text[j]);) ++j;
+        }
+      }
+      const std::string token(text.substr(i, j - i));
+      if (scan.bad_number.empty()) {
+        errno = 0;
+        bool bad = false;
+        if (real) {
+          const double x = std::strtod(token.c_str(), nullptr);
+          bad = errno == ERANGE ? std::abs(x) > 1 : !(std::abs(x) <= max_step_magnitude);  // underflow to 0 is harmless
+        } else {
+          const long long n = std::strtoll(token.c_str(), nullptr, 10);
+          bad = errno == ERANGE || n > std::numeric_limits<int>::max() || n < std::numeric_limits<int>::min();
+        }
+        if (bad) scan.bad_number = token, scan.bad_entity = entity, scan.bad_line = line;
+      }
+      i = j - 1;
     }
   }
-  return deepest;
+  return scan;
+}
+
+double step_time_budget(std::uintmax_t bytes) {
+  if (const char* env = std::getenv("CMR_STEP_TIME_BUDGET"); env != nullptr && *env != '\0') {
+    char* end = nullptr;
+    const double s = std::strtod(env, &end);
+    if (*end == '\0' && s > 0 && std::isfinite(s)) return s;
+  }
+  return 5.0 + 4.0 * static_cast<double>(bytes) / 1e6;
 }
 
 std::string skipped_summary(const StepCurves& curves) {

@@ -212,9 +212,18 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
 StepCurves read_step_curves(const std::filesystem::path& path) {
   const std::string where = path.string();
   const std::string text = read_input_file(path);  // the project's checks (exists, a file, size)
-  if (const StepNesting n = step_nesting(text); n.depth > max_step_nesting)
-    throw InputError(where + ":" + std::to_string(n.line) + ": parentheses nest more than " +
+  const StepScan scan = step_scan(text);
+  if (scan.depth > max_step_nesting)
+    throw InputError(where + ":" + std::to_string(scan.line) + ": parentheses nest more than " +
                      std::to_string(max_step_nesting) + " deep (not read: OpenCASCADE's reader would overflow its stack)");
+  if (!scan.bad_number.empty()) {
+    std::string m = where;
+    m.append(":").append(std::to_string(scan.bad_line)).append(": ");
+    if (scan.bad_entity > 0) m.append("#").append(std::to_string(scan.bad_entity)).append(": ");
+    m.append(scan.bad_number).append(" is out of range for geometry (reals up to 1e100 in magnitude, integers of 32 bits; "
+             "not read: OpenCASCADE's geometry overflows on such numbers)");
+    throw InputError(m);
+  }
   silence_occt();
   TopoDS_Shape shape;
   try {

@@ -2,8 +2,14 @@
 // font glyph contours (io/font.hpp) and SVG subpaths
 // (io/svg.hpp) as spline files, one per contour or subpath, all
 // written or none (cmr::OutputSet; the output folder is created if missing).
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <set>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -25,6 +31,40 @@ struct ImportArgs {
   std::string out = ".";
   bool y_down = false;
   std::string location;
+};
+
+// Ends the process with one line on stderr and exit 2 when `seconds` pass
+// before it is destroyed: the STEP reader's budget (step_time_budget).
+// OpenCASCADE's shape healing runs loops that poll nothing, so a watchdog,
+// not a cancel flag; it fires before the output set exists, so nothing is
+// half-written.
+class Watchdog {
+ public:
+  Watchdog(double seconds, std::string message)
+      : message_(std::move(message)), thread_([this, seconds] {
+          std::unique_lock lock(mutex_);
+          if (cv_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; })) return;
+          std::fprintf(stderr, "cmr: %s\n", message_.c_str());
+          std::fflush(stderr);
+          std::_Exit(kInvalid);
+        }) {}
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+  ~Watchdog() {
+    {
+      const std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    cv_.notify_one();
+    thread_.join();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool done_ = false;
+  std::string message_;
+  std::thread thread_;  // last: starts once the members above exist
 };
 
 }  // namespace
@@ -80,7 +120,17 @@ void add_import_command(CLI::App& app, int& exit_code) {
                 << args->input << " into " << dir.string() << '\n';
     } else if (ext == ".step" || ext == ".stp") {  // B-spline curves and edges through OpenCASCADE (step/step.hpp)
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
-      const import::StepCurves curves = import::read_step_curves(input);
+      const import::StepCurves curves = [&] {
+        std::error_code ec;
+        const std::uintmax_t bytes = std::filesystem::file_size(input, ec);
+        const double budget = import::step_time_budget(ec ? 0 : bytes);
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%.3g", budget);
+        const Watchdog watchdog(budget, args->input + ": not read within its time budget of " + secs + " s (" +
+                                            std::to_string(ec ? 0 : bytes) +
+                                            " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
+        return import::read_step_curves(input);
+      }();
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       files.own_folder(dir);  // the files an earlier import wrote there and this one does not go

@@ -6,7 +6,10 @@
 // model (cmr_step_model) and on bad files (exit 2, one line).
 #include <cmath>
 #include <fstream>
+#include <chrono>
+#include <cstdlib>
 #include <random>
+#include <regex>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -277,6 +280,53 @@ TEST(StepCli, DeepNestingExits2BeforeOpenCascadeReadsIt) {
   expect_one_line_exit2(test::run("import " + p + " --out " + (test::scratch() / "deep").string()),
                         p + ":8: parentheses nest more than 256 deep");
   EXPECT_FALSE(std::filesystem::exists(test::scratch() / "deep"));
+}
+
+// Issue 42 E5: the example model with the location of its first plane at
+// (1.E308, -1.7E308, 1.E308) kept OpenCASCADE's shape healing busy for more
+// than 120 s. The pre-scan refuses it in one line naming the entity (#id),
+// within 10 s, and writes nothing.
+TEST(StepCli, HugeCoordinatesExit2NamingTheEntityWithin10s) {
+  const std::string model = (test::scratch() / "e5_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string text = test::slurp(model);
+  std::smatch plane, axis;
+  ASSERT_TRUE(std::regex_search(text, plane, std::regex(R"(= PLANE\('[^']*',#(\d+)\))")));
+  ASSERT_TRUE(std::regex_search(text, axis, std::regex(std::string("#").append(plane[1].str()) + R"( = AXIS2_PLACEMENT_3D\('[^']*',#(\d+),)")));
+  const std::string id = axis[1];
+  std::string hid = "#";  // "#95" (appended: -Wrestrict)
+  hid.append(id);
+  const std::regex point(hid + R"( = CARTESIAN_POINT\('[^']*',\([^;]*\)\);)");
+  ASSERT_TRUE(std::regex_search(text, point));
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find(hid + " = ")), '\n'));
+  for (const std::string coords : {"1.E308,-1.7E308,1.E308", "1.E400,0.,0.", "0.,2.E100,0."}) {
+    const std::string bad = test::write("e5.step", std::regex_replace(text, point, hid + " = CARTESIAN_POINT('',(" + coords + "));"));
+    const auto start = std::chrono::steady_clock::now();
+    const test::Outcome r = test::run("import " + bad + " --out " + (test::scratch() / "e5").string());
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+    const std::string first = coords.substr(0, coords.find(',')) == "0." ? "2.E100" : coords.substr(0, coords.find(','));
+    expect_one_line_exit2(r, bad + std::string(":").append(std::to_string(line)) + ": " + hid + ": " + first + " is out of range for geometry");
+    EXPECT_FALSE(std::filesystem::exists(test::scratch() / "e5"));
+  }
+  // Just inside the range, the model still imports (the plane is moved, its edges are lines).
+  const std::string fine = test::write("e5.step", std::regex_replace(text, point, hid + " = CARTESIAN_POINT('',(1.E3,-1.E3,0.));"));
+  EXPECT_EQ(test::run("import " + fine + " --out " + (test::scratch() / "e5").string()).code, 0);
+}
+
+// The read's time budget (5 s + 4 s per MB) stops a read that outlives it
+// with one line, exit 2, nothing written; CMR_STEP_TIME_BUDGET shrinks it
+// below the example model's read time here.
+TEST(StepCli, ReadOverItsTimeBudgetExits2WritingNothing) {
+  const std::string model = (test::scratch() / "budget_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string out = (test::scratch() / "budget").string();
+  ::setenv("CMR_STEP_TIME_BUDGET", "0.001", 1);
+  const test::Outcome r = test::run("import " + model + " --out " + out);
+  ::unsetenv("CMR_STEP_TIME_BUDGET");
+  expect_one_line_exit2(r, model + ": not read within its time budget of 0.001 s (");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_EQ(test::run("import " + model + " --out " + out).code, 0);  // the default budget
+  EXPECT_DOUBLE_EQ(import::step_time_budget(2'000'000), 13.0);
 }
 
 TEST(StepCli, ModelWithoutCurvesExits2) {
