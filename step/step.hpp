@@ -40,9 +40,23 @@
 
 namespace cmr::import {
 
+/// Where an edge comes from in the STEP file (read_step_curves: through
+/// OpenCASCADE's transfer process, XSControl_TransferReader's
+/// TransientProcess, whose binders map each EDGE_CURVE (or a wireframe's
+/// TRIMMED_CURVE), ADVANCED_FACE, CLOSED_SHELL/OPEN_SHELL and
+/// PRODUCT_DEFINITION to its shape). Names are the entities' name
+/// attributes ('' in the file: empty); the face and shell are the first that
+/// hold the edge, the product the smallest one whose shape holds it.
+struct StepOrigin {
+  long long entity = 0;  ///< the edge's entity, #1234 (0: not traced, a shape built in memory)
+  std::string edge_name, face_name, shell_name, product_name;
+};
+
 struct StepCurve {
-  std::string name;          ///< "edge N" (N: OCCT's 1-based edge index)
-  int edge = 0;              ///< that index
+  std::string name;          ///< step_curve_name: "edge #1234 (box (0, 0, 0)..(40, 30, 20))"
+  int edge = 0;              ///< OCCT's 1-based edge index (TopExp::MapShapes)
+  StepOrigin origin;
+  glm::dvec3 box_min{0}, box_max{0};  ///< the edge's bounding box (BndLib_Add3dCurve::AddOptimal, its range only)
   std::string type;          ///< "Geom_BSplineCurve" or "Geom_BezierCurve"
   int degree = 0;
   std::vector<double> knots;  ///< cmr's polar-form knots (one period when closed)
@@ -57,7 +71,31 @@ struct StepCurves {
   std::vector<StepCurve> curves;
   int edges = 0;                         ///< distinct edges in the model
   std::map<std::string, int> skipped;    ///< curve type (or "degenerated edge") -> count
+  std::map<long long, std::string> skipped_entities;  ///< traced edges skipped: #id -> curve type
 };
+
+/// A curve's name: "edge #1234" (or "edge 57", OCCT's index, when the edge
+/// was not traced to an entity), then its names where the file has them and
+/// its bounding box: "edge #1234 'rim' (face 'top', shell 'body', product
+/// 'Bracket'; box (0, -2.5, 0)..(40, 30, 20))". Numbers with 6 significant
+/// digits.
+std::string step_curve_name(const StepCurve& curve);
+
+/// "edge #1234", or "edge 57" (OCCT's index) when not traced.
+std::string step_edge_label(const StepCurve& curve);
+
+/// The file stem of a curve's spline file: "1234" (the entity), or "edge57".
+std::string step_curve_stem(const StepCurve& curve);
+
+/// `--edges '#1234,#1240'`: the entity ids, in order, without repeats.
+/// InputError "--edges: ..." for anything but comma-separated #N.
+std::vector<long long> parse_step_edge_ids(const std::string& spec);
+
+/// The curves of `curves` whose entities are `ids`, in the order of `ids`.
+/// InputError "--edges: #999 is not an edge of FILE" (or "... is a
+/// Geom_Line edge, skipped: ...") for an id that names no converted curve.
+std::vector<StepCurve> select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
+                                         const std::string& where);
 
 /// Whether this cmr was built with the STEP importer (OCCT found at configure time).
 bool step_supported();

@@ -1,6 +1,11 @@
 // The parts of the STEP importer that need no OpenCASCADE (step/step.hpp).
 #include "step/step.hpp"
 
+#include <cstdio>
+#include <utility>
+
+#include "spline/errors.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -94,6 +99,97 @@ StepScan step_scan(std::string_view text) {
     }
   }
   return scan;
+}
+
+std::string step_edge_label(const StepCurve& c) {
+  std::string s = "edge ";
+  if (c.origin.entity > 0) s.append("#");
+  s.append(std::to_string(c.origin.entity > 0 ? c.origin.entity : c.edge));
+  return s;
+}
+
+namespace {
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x == 0 ? 0.0 : x);  // no "-0"
+  return buf;
+}
+
+std::string point(const glm::dvec3& p) {
+  std::string s = "(";
+  s.append(number(p.x)).append(", ").append(number(p.y)).append(", ").append(number(p.z)).append(")");
+  return s;
+}
+
+}  // namespace
+
+std::string step_curve_name(const StepCurve& c) {
+  std::string s = step_edge_label(c);
+  if (!c.origin.edge_name.empty()) s.append(" '").append(c.origin.edge_name).append("'");
+  std::string context;
+  for (const auto& [kind, name] : {std::pair<const char*, const std::string&>{"face", c.origin.face_name},
+                                   {"shell", c.origin.shell_name}, {"product", c.origin.product_name}})
+    if (!name.empty()) context.append(context.empty() ? "" : ", ").append(kind).append(" '").append(name).append("'");
+  if (!context.empty()) context.append("; ");
+  context.append("box ").append(point(c.box_min)).append("..").append(point(c.box_max));
+  s.append(" (").append(context).append(")");
+  return s;
+}
+
+std::string step_curve_stem(const StepCurve& c) {
+  if (c.origin.entity > 0) return std::to_string(c.origin.entity);
+  std::string s = "edge";
+  return s.append(std::to_string(c.edge));
+}
+
+std::vector<long long> parse_step_edge_ids(const std::string& spec) {
+  std::vector<long long> ids;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = spec.find(',', start);
+    std::string item = spec.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    while (!item.empty() && item.front() == ' ') item.erase(item.begin());
+    while (!item.empty() && item.back() == ' ') item.pop_back();
+    const bool digits = item.size() > 1 && item.size() <= 19 && item[0] == '#' &&
+                        std::all_of(item.begin() + 1, item.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+    if (!digits) {
+      std::string m = "--edges: \"";
+      m.append(item).append("\" is not a STEP entity id (expected #1234, comma separated: '#1234,#1240')");
+      throw InputError(m);
+    }
+    const long long id = std::stoll(item.substr(1));
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return ids;
+}
+
+std::vector<StepCurve> select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
+                                         const std::string& where) {
+  std::vector<StepCurve> out;
+  for (const long long id : ids) {
+    const auto it = std::find_if(curves.curves.begin(), curves.curves.end(),
+                                 [id](const StepCurve& c) { return c.origin.entity == id; });
+    if (it != curves.curves.end()) {
+      out.push_back(*it);
+      continue;
+    }
+    std::string m = "--edges: #";
+    m.append(std::to_string(id));
+    if (const auto s = curves.skipped_entities.find(id); s != curves.skipped_entities.end())
+      m.append(" is a ").append(s->second).append(" edge of ").append(where).append(", skipped (cmr judges B-spline and Bezier edges)");
+    else {
+      m.append(" is not a B-spline or Bezier edge of ").append(where).append(" (they are ");
+      for (std::size_t i = 0; i < curves.curves.size() && i < 6; ++i)
+        m.append(i ? ", " : "").append(step_edge_label(curves.curves[i]).substr(5));
+      if (curves.curves.size() > 6) m.append(", ... ").append(std::to_string(curves.curves.size())).append(" in all");
+      m.append(")");
+    }
+    throw InputError(m);
+  }
+  return out;
 }
 
 double step_time_budget(std::uintmax_t bytes) {

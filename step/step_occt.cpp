@@ -4,6 +4,23 @@
 #include <sstream>
 
 #include <BRep_Tool.hxx>
+#include <BndLib_Add3dCurve.hxx>
+#include <Bnd_Box.hxx>
+#include <GeomAdaptor_Curve.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <Interface_InterfaceModel.hxx>
+#include <StepBasic_Product.hxx>
+#include <StepBasic_ProductDefinition.hxx>
+#include <StepBasic_ProductDefinitionFormation.hxx>
+#include <StepRepr_RepresentationItem.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TransferBRep.hxx>
+#include <Transfer_TransientProcess.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <GeomConvert.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BezierCurve.hxx>
@@ -112,29 +129,149 @@ void fill_closed(StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
 
 constexpr double kTolerance = 1e-9;
 
+std::string text_of(const Handle(TCollection_HAsciiString) & s) { return s.IsNull() ? std::string() : s->ToCString(); }
+
+// The entities the transfer bound to shapes (XSControl_TransferReader's
+// TransientProcess: one binder per transferred entity).
+StepTrace trace_of(const STEPControl_Reader& reader) {
+  StepTrace trace;
+  const Handle(XSControl_WorkSession) ws = reader.WS();
+  const Handle(Interface_InterfaceModel) model = ws->Model();
+  const Handle(Transfer_TransientProcess) tp = ws->TransferReader()->TransientProcess();
+  if (model.IsNull() || tp.IsNull()) return trace;
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    const Handle(Standard_Transient) e = model->Value(i);
+    const Handle(Transfer_Binder) binder = tp->Find(e);
+    if (binder.IsNull()) continue;
+    const TopoDS_Shape shape = TransferBRep::ShapeResult(binder);
+    if (shape.IsNull()) continue;
+    // The label the file gave the entity: "#1234".
+    const std::string label = text_of(ws->EntityLabel(e));
+    long long id = 0;
+    if (label.size() > 1 && label[0] == '#') id = std::strtoll(label.c_str() + 1, nullptr, 10);
+    if (id <= 0) continue;
+    const void* key = shape.TShape().get();
+    if (const Handle(StepBasic_ProductDefinition) pd = Handle(StepBasic_ProductDefinition)::DownCast(e); !pd.IsNull()) {
+      std::string name;
+      if (!pd->Formation().IsNull() && !pd->Formation()->OfProduct().IsNull()) name = text_of(pd->Formation()->OfProduct()->Name());
+      TopTools_IndexedMapOfShape edges;
+      TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+      for (int k = 1; k <= edges.Extent(); ++k) {
+        StepTrace::Entity& p = trace.products[edges(k).TShape().get()];
+        if (p.id == 0 || edges.Extent() < p.size) p = {id, name, edges.Extent()};
+      }
+      continue;
+    }
+    const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(e);
+    if (item.IsNull()) continue;
+    const StepTrace::Entity entity{id, text_of(item->Name()), 0};
+    switch (shape.ShapeType()) {
+      case TopAbs_EDGE: trace.edges.emplace(key, entity); break;
+      case TopAbs_FACE: trace.faces.emplace(key, entity); break;
+      case TopAbs_SHELL: trace.shells.emplace(key, entity); break;
+      default: break;
+    }
+  }
+  return trace;
+}
+
+// The names of an edge's face, shell and product (the first face and shell
+// that hold it and have an entity).
+void trace_edge(StepCurve& c, const TopoDS_Shape& edge, const StepTrace& trace,
+                const TopTools_IndexedDataMapOfShapeListOfShape& faces_of_edge,
+                const TopTools_IndexedDataMapOfShapeListOfShape& shells_of_face) {
+  const auto find = [](const std::unordered_map<const void*, StepTrace::Entity>& m, const TopoDS_Shape& s) {
+    const auto it = m.find(s.TShape().get());
+    return it == m.end() ? nullptr : &it->second;
+  };
+  if (const StepTrace::Entity* e = find(trace.edges, edge)) c.origin.entity = e->id, c.origin.edge_name = e->name;
+  if (const StepTrace::Entity* p = find(trace.products, edge)) c.origin.product_name = p->name;
+  const int fi = faces_of_edge.FindIndex(edge);
+  if (fi == 0) return;
+  for (const TopoDS_Shape& face : faces_of_edge(fi)) {
+    const StepTrace::Entity* f = find(trace.faces, face);
+    if (f == nullptr) continue;
+    c.origin.face_name = f->name;
+    if (const int si = shells_of_face.FindIndex(face); si != 0)
+      for (const TopoDS_Shape& shell : shells_of_face(si))
+        if (const StepTrace::Entity* sh = find(trace.shells, shell)) {
+          c.origin.shell_name = sh->name;
+          break;
+        }
+    break;
+  }
+}
+
+// The reader's checks, before the transfer: OCCT reads past a syntax error or
+// a parameter of the wrong type (it keeps a null or undefined entity and
+// records a fail), and its transfer then dereferences that null handle
+// (SIGSEGV in STEPConstruct_Assembly::CheckSRRReversesNAUO, found by
+// fuzz_step within seconds). A file with a fail is refused, naming the
+// first one: "FILE: #3: OpenCASCADE could not read this entity (Parameter
+// n0.1 (...) : Entity has illegal type)".
+void refuse_failed_entities(const STEPControl_Reader& reader, const std::string& where) {
+  const Interface_CheckIterator checks = reader.WS()->ModelCheckList();
+  for (checks.Start(); checks.More(); checks.Next()) {
+    const Handle(Interface_Check)& check = checks.Value();
+    if (!check->HasFailed()) continue;
+    std::string what = check->NbFails() > 0 ? check->CFail(1) : "a fail";
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    std::string m = where;
+    if (!check->Entity().IsNull()) {
+      m.append(": ").append(text_of(reader.WS()->EntityLabel(check->Entity())));
+      m.append(": OpenCASCADE could not read this entity (").append(what).append(")");
+    } else {
+      m.append(": OpenCASCADE could not read it (").append(what).append(")");
+    }
+    throw InputError(m);
+  }
+}
+
 }  // namespace
 
 bool step_supported() { return true; }
 
-StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
+StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, const StepTrace* trace) {
   StepCurves out;
   try {
     TopTools_IndexedMapOfShape edges;
-    if (!shape.IsNull()) TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+    TopTools_IndexedDataMapOfShapeListOfShape faces_of_edge, shells_of_face;
+    if (!shape.IsNull()) {
+      TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+      if (trace != nullptr) {
+        TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, faces_of_edge);
+        TopExp::MapShapesAndAncestors(shape, TopAbs_FACE, TopAbs_SHELL, shells_of_face);
+      }
+    }
     out.edges = edges.Extent();
     for (int e = 1; e <= edges.Extent(); ++e) {
       const TopoDS_Edge& edge = TopoDS::Edge(edges(e));
+      StepCurve c;
+      c.edge = e;
+      if (trace != nullptr) trace_edge(c, edge, *trace, faces_of_edge, shells_of_face);
       double first = 0, last = 0;
       Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+      const auto skip = [&](const std::string& type) {
+        ++out.skipped[type];
+        if (c.origin.entity > 0) out.skipped_entities[c.origin.entity] = type;
+      };
       if (curve.IsNull()) {
-        ++out.skipped["degenerated edge"];
+        skip("degenerated edge");
         continue;
+      }
+      {  // the box of the part the edge uses, before the basis curve replaces a trimmed one
+        Bnd_Box box;
+        BndLib_Add3dCurve::AddOptimal(GeomAdaptor_Curve(curve, std::min(first, last), std::max(first, last)), 0.0, box);
+        box.SetGap(0.0);  // AddOptimal widens it by Precision::Confusion
+        if (!box.IsVoid()) {
+          double x0, y0, z0, x1, y1, z1;
+          box.Get(x0, y0, z0, x1, y1, z1);
+          c.box_min = {x0, y0, z0}, c.box_max = {x1, y1, z1};
+        }
       }
       if (curve->IsKind(STANDARD_TYPE(Geom_TrimmedCurve)))
         curve = Handle(Geom_TrimmedCurve)::DownCast(curve)->BasisCurve();
-      StepCurve c;
-      c.edge = e;
-      c.name = "edge " + std::to_string(e);
+      c.name = step_edge_label(c);  // in messages until the name is complete
       Handle(Geom_BSplineCurve) g;
       if (curve->IsKind(STANDARD_TYPE(Geom_BSplineCurve))) {
         c.type = "Geom_BSplineCurve";
@@ -143,11 +280,11 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
         c.type = "Geom_BezierCurve";
         g = GeomConvert::CurveToBSplineCurve(curve);
       } else {
-        ++out.skipped[curve->DynamicType()->Name()];
+        skip(curve->DynamicType()->Name());
         continue;
       }
       if (g->Degree() < 2) {  // a polyline: no curvature to judge (cmr's splines have degree >= 2)
-        ++out.skipped[c.type + " of degree 1"];
+        skip(c.type + " of degree 1");
         continue;
       }
       const double eps = Precision::PConfusion();
@@ -200,6 +337,7 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where) {
       if (!(err <= kTolerance))
         throw InputError(where + ": " + c.name + ": the converted B-spline does not reproduce OpenCASCADE's curve (error " +
                          std::to_string(err) + " of its size)");
+      c.name = step_curve_name(c);
       out.curves.push_back(std::move(c));
     }
   } catch (const Standard_Failure& f) {
@@ -226,18 +364,21 @@ StepCurves read_step_curves(const std::filesystem::path& path) {
   }
   silence_occt();
   TopoDS_Shape shape;
+  StepTrace trace;
   try {
     STEPControl_Reader reader;
     std::istringstream in(text);
     if (reader.ReadStream(where.c_str(), in) != IFSelect_RetDone)
       throw InputError(where + ": not a readable STEP file (OpenCASCADE's STEP reader failed)");
+    refuse_failed_entities(reader, where);
     reader.TransferRoots();
     shape = reader.OneShape();
+    trace = trace_of(reader);
   } catch (const Standard_Failure& f) {
     throw InputError(where + ": OpenCASCADE failed reading it (" + f.DynamicType()->Name() + ": " +
                      f.GetMessageString() + ")");
   }
-  StepCurves out = shape_curves(shape, where);
+  StepCurves out = shape_curves(shape, where, &trace);
   if (out.curves.empty()) {
     if (out.edges == 0) throw InputError(where + ": no curves (the STEP model has no edges)");
     throw InputError(where + ": no B-spline or Bezier curves (" + std::to_string(out.edges) + " edges: " +

@@ -31,6 +31,7 @@ struct ImportArgs {
   std::string out = ".";
   bool y_down = false;
   std::string location;
+  std::string edges;
 };
 
 // Ends the process with one line on stderr and exit 2 when `seconds` pass
@@ -78,6 +79,8 @@ void add_import_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
   cmd->add_option("--location", args->location, "variable fonts: the instance, axis tags and user values (wght=700,opsz=14)");
+  cmd->add_option("--edges", args->edges,
+                  "STEP: only these edges, by STEP entity id ('#1234,#1240'; cmr import names each curve by its id)");
   cmd->add_flag("--y-down", args->y_down,
                 "SVG: keep SVG's y-down coordinates (default: flipped to cmr's y-up frame, (x, y) -> (x, -y))");
   cmd->callback([args, cmd, &exit_code] {
@@ -87,6 +90,8 @@ void add_import_command(CLI::App& app, int& exit_code) {
     OutputSet files;
     int written = 0, rational = 0;
     if (ext != ".svg" && args->y_down) throw InputError("--y-down: only for SVG files, not for " + args->input);
+    if (ext != ".step" && ext != ".stp" && cmd->count("--edges") > 0)
+      throw InputError("--edges: only for STEP files (.step, .stp), not for " + args->input);
     if (ext == ".svg") {
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
       const auto paths = import::read_svg(input, {.flip_y = !args->y_down});
@@ -120,7 +125,9 @@ void add_import_command(CLI::App& app, int& exit_code) {
                 << args->input << " into " << dir.string() << '\n';
     } else if (ext == ".step" || ext == ".stp") {  // B-spline curves and edges through OpenCASCADE (step/step.hpp)
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
-      const import::StepCurves curves = [&] {
+      const std::vector<long long> ids =
+          cmd->count("--edges") > 0 ? import::parse_step_edge_ids(args->edges) : std::vector<long long>{};
+      import::StepCurves curves = [&] {
         std::error_code ec;
         const std::uintmax_t bytes = std::filesystem::file_size(input, ec);
         const double budget = import::step_time_budget(ec ? 0 : bytes);
@@ -131,11 +138,12 @@ void add_import_command(CLI::App& app, int& exit_code) {
                                             " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
         return import::read_step_curves(input);
       }();
+      if (!ids.empty()) curves.curves = import::select_step_edges(curves, ids, args->input);
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
       for (const import::StepCurve& c : curves.curves) {
-        files.stage(dir / (input.stem().string() + "_e" + std::to_string(c.edge) + ".json"),
+        files.stage(dir / (input.stem().string() + "_" + import::step_curve_stem(c) + ".json"),
                     import::step_curve_json(c).dump(2) + "\n");
         ++written;
         rational += c.weights.empty() ? 0 : 1;
