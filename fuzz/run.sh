@@ -9,13 +9,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
 shift || true
-all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location)
-names=("$@")
-((${#names[@]})) || names=("${all[@]}")
+all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location obj)
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DCMR_FUZZ=ON -DCMR_SANITIZER_BUILD=ON -DCMR_BUILD_TESTS=OFF -DCMR_BUILD_BENCHMARKS=OFF -DCMR_WITH_VULKAN=OFF -DCMR_BUILD_EDITOR=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
   >/dev/null
+# fuzz_step where the build has the STEP importer (OpenCASCADE found).
+grep -q 'build fuzz/fuzz_step:' build-fuzz/build.ninja && all+=(step)
+names=("$@")
+((${#names[@]})) || names=("${all[@]}")
 ninja -C build-fuzz -j"${CMR_FUZZ_JOBS:-2}" "${names[@]/#/fuzz/fuzz_}"
 mkdir -p build-fuzz/findings
 status=0

@@ -11,7 +11,9 @@
 //    circle arc converted, GeomConvert), a Bezier edge of degree 5, and a
 //    clamped quartic B-spline with an interior triple knot.
 // COPIES (default 1) places that many copies side by side, 200 apart in y
-// (the benchmark's larger model). Deterministic: the same file on every run
+// (the benchmark's larger model). `cmr_step_model OUT.step seed` writes the
+// STEP fuzz harness's small seed instead (fuzz/corpus/step): one cubic
+// B-spline edge, one Bezier edge of degree 3 and a circle's edge. Deterministic: the same file on every run
 // (the writer's time stamp aside).
 #include <cmath>
 #include <cstdio>
@@ -89,10 +91,46 @@ TopoDS_Shape loft() {
 
 }  // namespace
 
+// The fuzz seed: a few edges, a few KB of STEP.
+TopoDS_Shape seed() {
+  BRep_Builder b;
+  TopoDS_Compound c;
+  b.MakeCompound(c);
+  b.Add(c, BRepBuilderAPI_MakeEdge(interpolate({{0, 0, 0}, {1, 2, 0.5}, {3, 1, 1}, {4, 3, 0}, {6, 2, -1}}, false)));
+  TColgp_Array1OfPnt bez(1, 4);
+  for (int i = 0; i < 4; ++i) bez.SetValue(i + 1, gp_Pnt(i, i * i % 3, 1 - i));
+  b.Add(c, BRepBuilderAPI_MakeEdge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(bez))));
+  b.Add(c, BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 5, 0), gp_Dir(0, 0, 1)), 2)));
+  return c;
+}
+
+bool write_step(const TopoDS_Shape& shape, const char* path) {
+  STEPControl_Writer writer;
+  Interface_Static::SetCVal("write.step.schema", "AP214CD");
+  if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone) {
+    std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
+    return false;
+  }
+  if (writer.Write(path) != IFSelect_RetDone) {
+    std::fprintf(stderr, "cmr_step_model: %s: cannot write the STEP file\n", path);
+    return false;
+  }
+  return true;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 3 && std::string(argv[2]) == "seed") {
+    Message::DefaultMessenger()->ChangePrinters().Clear();
+    try {
+      return write_step(seed(), argv[1]) ? 0 : 3;
+    } catch (const Standard_Failure& f) {
+      std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
+      return 3;
+    }
+  }
   const int copies = argc == 3 ? std::atoi(argv[2]) : 1;
   if ((argc != 2 && argc != 3) || copies < 1 || copies > 10000) {
-    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000]\n");
+    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000 | seed]\n");
     return 2;
   }
   Message::DefaultMessenger()->ChangePrinters().Clear();  // OCCT's progress lines
@@ -128,16 +166,7 @@ int main(int argc, char** argv) {
       shift.SetTranslation(gp_Vec(0, 200.0 * k, 0));
       b.Add(all, k == 0 ? TopoDS_Shape(model) : BRepBuilderAPI_Transform(model, shift, true).Shape());
     }
-    STEPControl_Writer writer;
-    Interface_Static::SetCVal("write.step.schema", "AP214CD");
-    if (writer.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone) {
-      std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
-      return 3;
-    }
-    if (writer.Write(argv[1]) != IFSelect_RetDone) {
-      std::fprintf(stderr, "cmr_step_model: %s: cannot write the STEP file\n", argv[1]);
-      return 3;
-    }
+    if (!write_step(all, argv[1])) return 3;
   } catch (const Standard_Failure& f) {
     std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
     return 3;
