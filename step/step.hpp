@@ -65,6 +65,55 @@ struct StepCurve {
   bool closed = false;
   bool unperiodised = false;  ///< OCCT's curve was periodic and is written open
   bool trimmed = false;       ///< the edge uses part of the curve's domain
+  /// Its |kappa| by cmr's certified analysis (analyze_space, CMRWI rules), in
+  /// the curve's own direction: "increasing", "decreasing", "none",
+  /// "undecided", or "not judged (...)" (edges of chains only; "" otherwise).
+  std::string curvature;
+};
+
+/// Chains of edges (issue 40 item 4): the runs of consecutive converted
+/// edges of each wire of the model (BRepTools_WireExplorer: edges in wire
+/// order, each with its orientation; a line or circle between two edges ends
+/// a run), each run once (an edge shared by two faces' wires is in both),
+/// cut at corners (tangents more than corner_deg apart: a face's corner is
+/// meant, not a continuity defect) into chains of two edges or more.
+/// At each shared vertex, with the orientations applied (a reversed edge is
+/// walked from its end: the first and third derivatives change sign):
+///   gap    |end of one - start of the next|; more than ChainTolerances::gap
+///          is an InputError naming both edges (one line, exit 2);
+///   G1     tangent angle <= angle_deg;
+///   G2     G1 and |kappa_l N_l - kappa_r N_r| <= curvature_rel * max(kappa)
+///          (curvature vectors: magnitude and osculating plane);
+///   G3     G2 and |dkappa/ds_l - dkappa/ds_r| <= g3_rel * max(|dk_l|, |dk_r|,
+///          kappa_max^2) and |tau_l - tau_r| <= g3_rel * max(|tau_l|, |tau_r|,
+///          kappa_max), with a, b, c the first three derivatives:
+///          kappa = |a x b| / |a|^3, tau = det(a, b, c) / |a x b|^2,
+///          dkappa/ds = ((a x b).(a x c) / (|a x b| |a|^3) - 3 |a x b| (a.b) / |a|^5) / |a|.
+/// Derivatives from OpenCASCADE's curve (Geom_BSplineCurve::D3, rational
+/// curves exactly). Monotone: "each edge" when every edge's |kappa| is
+/// monotone (increasing, decreasing or none: constant); "whole chain" when,
+/// walked along the chain, all go one way and no junction's kappa jumps
+/// against it (beyond curvature_rel).
+struct ChainTolerances {
+  double gap = 1e-6;            ///< model units
+  double angle_deg = 1e-3;      ///< G1
+  double curvature_rel = 1e-6;  ///< G2
+  double g3_rel = 1e-3;         ///< G3
+  double corner_deg = 10;       ///< a junction whose tangents differ more is a corner: it ends the chain
+};
+
+struct StepJunction {
+  double gap = 0, angle_deg = 0;
+  double kappa_left = 0, kappa_right = 0, dkds_left = 0, dkds_right = 0, tau_left = 0, tau_right = 0;
+  int level = 0;  ///< 0 (not G1), 1, 2 or 3
+  glm::dvec3 at{0};
+};
+
+struct StepChain {
+  std::vector<std::size_t> curves;      ///< indices into StepCurves::curves, in chain order
+  std::vector<bool> reversed;           ///< walked against the curve's parameter
+  std::vector<StepJunction> junctions;  ///< junctions[i]: curves[i] -> curves[i + 1] (closed: and last -> first)
+  bool closed = false;
 };
 
 struct StepCurves {
@@ -72,7 +121,14 @@ struct StepCurves {
   int edges = 0;                         ///< distinct edges in the model
   std::map<std::string, int> skipped;    ///< curve type (or "degenerated edge") -> count
   std::map<long long, std::string> skipped_entities;  ///< traced edges skipped: #id -> curve type
+  std::vector<StepChain> chains;
 };
+
+/// The chains' report, one line per chain then one per junction:
+///   chain 1: #12 > #40 > -#55 (3 edges, open): each edge monotone; whole chain: kappa increasing
+///     #12 > #40 at (1, 2, 3): G3 (gap 0, angle 0 deg, kappa 0.5 | 0.5, dkappa/ds 0.1 | 0.1, tau 0 | 0)
+/// ("-#55": walked reversed; "not monotone: #40 undecided" and so on).
+std::vector<std::string> step_chain_report(const StepCurves& curves, const ChainTolerances& tolerances = {});
 
 /// A curve's name: "edge #1234" (or "edge 57", OCCT's index, when the edge
 /// was not traced to an entity), then its names where the file has them and
@@ -83,6 +139,8 @@ std::string step_curve_name(const StepCurve& curve);
 
 /// "edge #1234", or "edge 57" (OCCT's index) when not traced.
 std::string step_edge_label(const StepCurve& curve);
+/// "#1234", or "edge 57" when not traced (chains, lists).
+std::string step_edge_id(const StepCurve& curve);
 
 /// The file stem of a curve's spline file: "1234" (the entity), or "edge57".
 std::string step_curve_stem(const StepCurve& curve);
@@ -91,10 +149,11 @@ std::string step_curve_stem(const StepCurve& curve);
 /// InputError "--edges: ..." for anything but comma-separated #N.
 std::vector<long long> parse_step_edge_ids(const std::string& spec);
 
-/// The curves of `curves` whose entities are `ids`, in the order of `ids`.
+/// `curves` with only the curves whose entities are `ids`, in the order of
+/// `ids`, and the chains all of whose edges are among them.
 /// InputError "--edges: #999 is not an edge of FILE" (or "... is a
 /// Geom_Line edge, skipped: ...") for an id that names no converted curve.
-std::vector<StepCurve> select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
+StepCurves select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
                                          const std::string& where);
 
 /// Whether this cmr was built with the STEP importer (OCCT found at configure time).
@@ -106,7 +165,7 @@ bool step_supported();
 /// InputError "FILE: cmr was built without STEP support (OpenCASCADE was not
 /// found when it was configured; tools/setup.sh installs it)" in a build
 /// without OCCT.
-StepCurves read_step_curves(const std::filesystem::path& path);
+StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolerances& chains = {});
 
 /// The pre-scan of a STEP file's text (ISO 10303-21), before OpenCASCADE
 /// sees it, outside 'strings' (where '' is a quote), "binaries" and /*

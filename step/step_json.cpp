@@ -108,6 +108,10 @@ std::string step_edge_label(const StepCurve& c) {
   return s;
 }
 
+std::string step_edge_id(const StepCurve& c) {
+  return c.origin.entity > 0 ? step_edge_label(c).substr(5) : step_edge_label(c);
+}
+
 namespace {
 
 std::string number(double x) {
@@ -166,14 +170,17 @@ std::vector<long long> parse_step_edge_ids(const std::string& spec) {
   return ids;
 }
 
-std::vector<StepCurve> select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
-                                         const std::string& where) {
-  std::vector<StepCurve> out;
+StepCurves select_step_edges(const StepCurves& curves, const std::vector<long long>& ids, const std::string& where) {
+  StepCurves out = curves;
+  out.curves.clear();
+  out.chains.clear();
+  std::map<std::size_t, std::size_t> index;  // old -> new
   for (const long long id : ids) {
     const auto it = std::find_if(curves.curves.begin(), curves.curves.end(),
                                  [id](const StepCurve& c) { return c.origin.entity == id; });
     if (it != curves.curves.end()) {
-      out.push_back(*it);
+      index[static_cast<std::size_t>(it - curves.curves.begin())] = out.curves.size();
+      out.curves.push_back(*it);
       continue;
     }
     std::string m = "--edges: #";
@@ -183,13 +190,88 @@ std::vector<StepCurve> select_step_edges(const StepCurves& curves, const std::ve
     else {
       m.append(" is not a B-spline or Bezier edge of ").append(where).append(" (they are ");
       for (std::size_t i = 0; i < curves.curves.size() && i < 6; ++i)
-        m.append(i ? ", " : "").append(step_edge_label(curves.curves[i]).substr(5));
+        m.append(i ? ", " : "").append(step_edge_id(curves.curves[i]));
       if (curves.curves.size() > 6) m.append(", ... ").append(std::to_string(curves.curves.size())).append(" in all");
       m.append(")");
     }
     throw InputError(m);
   }
+  for (const StepChain& chain : curves.chains) {
+    StepChain kept = chain;
+    bool all = true;
+    for (std::size_t& i : kept.curves) {
+      const auto it = index.find(i);
+      all = all && it != index.end();
+      if (it != index.end()) i = it->second;
+    }
+    if (all) out.chains.push_back(kept);
+  }
   return out;
+}
+
+std::vector<std::string> step_chain_report(const StepCurves& curves, const ChainTolerances& tol) {
+  std::vector<std::string> lines;
+  int index = 0;
+  for (const StepChain& chain : curves.chains) {
+    const std::size_t n = chain.curves.size();
+    const auto label = [&](std::size_t i) {
+      std::string s;
+      if (chain.reversed[i]) s.append("-");
+      return s.append(step_edge_id(curves.curves[chain.curves[i]]));
+    };
+    // Each edge's direction walked along the chain (reversed: the other way).
+    std::vector<std::string> dirs, bad;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::string d = curves.curves[chain.curves[i]].curvature;
+      if (chain.reversed[i]) d = d == "increasing" ? "decreasing" : d == "decreasing" ? "increasing" : d;
+      if (d != "increasing" && d != "decreasing" && d != "none") bad.push_back(label(i).append(" ").append(d));
+      dirs.push_back(d);
+    }
+    std::string line = "chain ";
+    line.append(std::to_string(++index)).append(": ");
+    for (std::size_t i = 0; i < n; ++i) line.append(i ? " > " : "").append(label(i));
+    line.append(" (").append(std::to_string(n)).append(" edges, ").append(chain.closed ? "closed" : "open").append("): ");
+    if (!bad.empty()) {
+      line.append("not monotone: ");
+      for (std::size_t i = 0; i < bad.size(); ++i) line.append(i ? ", " : "").append(bad[i]);
+    } else {
+      line.append("each edge monotone; whole chain: ");
+      std::string way;  // the one direction of the non-constant edges
+      bool one_way = true;
+      for (const std::string& d : dirs)
+        if (d != "none") {
+          if (way.empty()) way = d;
+          one_way = one_way && d == way;
+        }
+      // A junction's kappa jump against that direction breaks it.
+      for (const StepJunction& j : chain.junctions) {
+        const double jump = j.kappa_right - j.kappa_left, slack = tol.curvature_rel * std::max(j.kappa_left, j.kappa_right);
+        if ((way == "increasing" && jump < -slack) || (way == "decreasing" && jump > slack) || (way.empty() && std::abs(jump) > slack))
+          one_way = false;
+      }
+      if (chain.closed && !way.empty()) one_way = false;  // a closed chain's kappa cannot grow all the way round
+      if (one_way)
+        line.append("kappa ").append(way.empty() ? std::string("constant") : way);
+      else
+        line.append("not monotone");
+    }
+    lines.push_back(line);
+    for (std::size_t i = 0; i < chain.junctions.size(); ++i) {
+      const StepJunction& j = chain.junctions[i];
+      std::string s = "  ";
+      s.append(label(i)).append(" > ").append(label((i + 1) % n)).append(" at ").append(point(j.at)).append(": ");
+      if (j.level == 0)
+        s.append("not G1");
+      else
+        s.append("G").append(std::to_string(j.level));
+      s.append(" (gap ").append(number(j.gap)).append(", angle ").append(number(j.angle_deg)).append(" deg, kappa ");
+      s.append(number(j.kappa_left)).append(" | ").append(number(j.kappa_right)).append(", dkappa/ds ");
+      s.append(number(j.dkds_left)).append(" | ").append(number(j.dkds_right)).append(", tau ");
+      s.append(number(j.tau_left)).append(" | ").append(number(j.tau_right)).append(")");
+      lines.push_back(s);
+    }
+  }
+  return lines;
 }
 
 double step_time_budget(std::uintmax_t bytes) {

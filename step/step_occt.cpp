@@ -3,7 +3,14 @@
 #include <cmath>
 #include <sstream>
 
+#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Vec.hxx>
+#include <set>
+#include <unordered_map>
+#include "bezierize/space_analyze.hpp"
 #include <BndLib_Add3dCurve.hxx>
 #include <Bnd_Box.hxx>
 #include <GeomAdaptor_Curve.hxx>
@@ -227,12 +234,160 @@ void refuse_failed_entities(const STEPControl_Reader& reader, const std::string&
   }
 }
 
+// --- chains (step/step.hpp, StepChain) ---
+
+struct EndDerivatives {
+  gp_Pnt p;
+  gp_Vec a, b, c;  // r', r'', r''' in the walking direction
+};
+
+EndDerivatives end_of(const Handle(Geom_BSplineCurve) & g, bool reversed, bool at_end) {
+  // Walked forward, the chain leaves a curve at its last parameter; walked
+  // reversed (t -> -t), at its first, with r' and r''' negated.
+  const double t = (at_end != reversed) ? g->LastParameter() : g->FirstParameter();
+  EndDerivatives d;
+  g->D3(t, d.p, d.a, d.b, d.c);
+  if (reversed) d.a.Reverse(), d.c.Reverse();
+  return d;
+}
+
+struct Shape3 {
+  double kappa = 0, tau = 0, dkds = 0;
+  gp_Vec t, kvec;  // unit tangent, curvature vector kappa N
+};
+
+Shape3 shape3(const EndDerivatives& d) {
+  Shape3 s;
+  const double la = d.a.Magnitude();
+  if (!(la > 0)) return s;
+  s.t = d.a / la;
+  const gp_Vec w = d.a.Crossed(d.b), w1 = d.a.Crossed(d.c);
+  const double lw = w.Magnitude();
+  s.kappa = lw / (la * la * la);
+  s.kvec = w.Crossed(d.a) / (la * la * la * la);  // (a x b) x a / |a|^4 = kappa N
+  if (lw > 0) {
+    s.tau = w.Dot(d.c) / (lw * lw);
+    s.dkds = (w.Dot(w1) / (lw * la * la * la) - 3 * lw * d.a.Dot(d.b) / std::pow(la, 5)) / la;
+  }
+  return s;
+}
+
+StepJunction junction(const EndDerivatives& l, const EndDerivatives& r, const ChainTolerances& tol) {
+  StepJunction j;
+  j.gap = l.p.Distance(r.p);
+  j.at = {l.p.X(), l.p.Y(), l.p.Z()};
+  const Shape3 L = shape3(l), R = shape3(r);
+  j.kappa_left = L.kappa, j.kappa_right = R.kappa, j.dkds_left = L.dkds, j.dkds_right = R.dkds;
+  j.tau_left = L.tau, j.tau_right = R.tau;
+  const double c = std::clamp(L.t.Dot(R.t), -1.0, 1.0);
+  j.angle_deg = std::acos(c) * 180 / M_PI;
+  if (L.t.Magnitude() == 0 || R.t.Magnitude() == 0) j.angle_deg = 180;
+  const double kmax = std::max(L.kappa, R.kappa);
+  const bool g1 = j.angle_deg <= tol.angle_deg;
+  const bool g2 = g1 && (L.kvec - R.kvec).Magnitude() <= tol.curvature_rel * kmax;
+  const bool g3 = g2 && std::abs(L.dkds - R.dkds) <= tol.g3_rel * std::max({std::abs(L.dkds), std::abs(R.dkds), kmax * kmax}) &&
+                  std::abs(L.tau - R.tau) <= tol.g3_rel * std::max({std::abs(L.tau), std::abs(R.tau), kmax});
+  j.level = g3 ? 3 : g2 ? 2 : g1 ? 1 : 0;
+  return j;
+}
+
+// The runs of converted edges in the wires of `shape`, each once.
+void find_chains(const TopoDS_Shape& shape, StepCurves& out, const std::vector<Handle(Geom_BSplineCurve)>& geoms,
+                 const std::unordered_map<const void*, std::size_t>& curve_of, const ChainTolerances& tol,
+                 const std::string& where) {
+  std::set<std::vector<std::size_t>> seen;
+  // A run of a wire: its junctions (gaps refused), cut at corners into chains.
+  const auto flush = [&](StepChain& run) {
+    const std::size_t n = run.curves.size();
+    if (n >= 2) {
+      std::vector<StepJunction> js;
+      for (std::size_t i = 0; i + 1 < n || (run.closed && i < n); ++i) {
+        const std::size_t k = (i + 1) % n;
+        const StepJunction j = junction(end_of(geoms[run.curves[i]], run.reversed[i], true),
+                                        end_of(geoms[run.curves[k]], run.reversed[k], false), tol);
+        if (!(j.gap <= tol.gap)) {
+          std::string m = where;
+          m.append(": chain ").append(step_edge_id(out.curves[run.curves[i]])).append(" > ");
+          m.append(step_edge_id(out.curves[run.curves[k]])).append(": the edges' ends are ");
+          char buf[96];
+          std::snprintf(buf, sizeof buf, "%.6g apart at their shared vertex, more than the tolerance %.6g", j.gap, tol.gap);
+          throw InputError(m.append(buf));
+        }
+        js.push_back(j);
+      }
+      // Cut at corners: a closed run with a corner starts after it.
+      std::size_t start = 0;
+      bool cut = false;
+      for (std::size_t i = 0; i < js.size(); ++i)
+        if (js[i].angle_deg > tol.corner_deg) start = (i + 1) % n, cut = true;
+      StepChain chain;
+      chain.closed = run.closed && !cut;
+      const auto emit = [&] {
+        if (chain.curves.size() >= 2) {
+          std::vector<std::size_t> key = chain.curves;
+          std::sort(key.begin(), key.end());
+          if (seen.insert(key).second) out.chains.push_back(chain);
+        }
+        chain = StepChain{};
+      };
+      for (std::size_t s = 0; s < n; ++s) {
+        const std::size_t i = (start + s) % n;
+        chain.curves.push_back(run.curves[i]);
+        chain.reversed.push_back(run.reversed[i]);
+        const bool last = s + 1 == n;
+        if (i < js.size() && (!last || chain.closed)) {
+          if (js[i].angle_deg > tol.corner_deg) {
+            emit();
+            continue;
+          }
+          chain.junctions.push_back(js[i]);
+        }
+      }
+      emit();
+    }
+    run = StepChain{};
+  };
+  for (TopExp_Explorer w(shape, TopAbs_WIRE); w.More(); w.Next()) {
+    std::vector<std::size_t> idx;
+    std::vector<bool> rev;
+    std::vector<bool> converted;
+    for (BRepTools_WireExplorer e(TopoDS::Wire(w.Current())); e.More(); e.Next()) {
+      const auto it = curve_of.find(e.Current().TShape().get());
+      converted.push_back(it != curve_of.end());
+      idx.push_back(it == curve_of.end() ? 0 : it->second);
+      rev.push_back(e.Current().Orientation() == TopAbs_REVERSED);
+    }
+    const std::size_t n = idx.size();
+    const bool all = n >= 2 && std::all_of(converted.begin(), converted.end(), [](bool b) { return b; });
+    const bool closed = all && BRep_Tool::IsClosed(w.Current());
+    // Start after a gap (a skipped edge) so that a run through the wire's start stays one.
+    std::size_t start = 0;
+    if (!all)
+      while (converted[start]) ++start;
+    StepChain chain;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = (start + k) % n;
+      if (!converted[i]) {
+        flush(chain);
+        continue;
+      }
+      chain.curves.push_back(idx[i]);
+      chain.reversed.push_back(rev[i]);
+    }
+    chain.closed = closed;
+    flush(chain);
+  }
+}
+
 }  // namespace
 
 bool step_supported() { return true; }
 
-StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, const StepTrace* trace) {
+StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, const StepTrace* trace,
+                        const ChainTolerances& tolerances) {
   StepCurves out;
+  std::vector<Handle(Geom_BSplineCurve)> geoms;  // parallel to out.curves: OCCT's curve of each
+  std::unordered_map<const void*, std::size_t> curve_of;  // edge TShape -> index in out.curves
   try {
     TopTools_IndexedMapOfShape edges;
     TopTools_IndexedDataMapOfShapeListOfShape faces_of_edge, shells_of_face;
@@ -338,8 +493,21 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, con
         throw InputError(where + ": " + c.name + ": the converted B-spline does not reproduce OpenCASCADE's curve (error " +
                          std::to_string(err) + " of its size)");
       c.name = step_curve_name(c);
+      curve_of.emplace(edge.TShape().get(), out.curves.size());
+      geoms.push_back(g);
       out.curves.push_back(std::move(c));
     }
+    if (!shape.IsNull()) find_chains(shape, out, geoms, curve_of, tolerances, where);
+    for (const StepChain& chain : out.chains)
+      for (const std::size_t i : chain.curves) {
+        StepCurve& c = out.curves[i];
+        if (!c.curvature.empty()) continue;
+        try {
+          c.curvature = to_string(analyze_space(space_spline_from_json(nlohmann::json::parse(step_curve_json(c).dump()))).curvature);
+        } catch (const InputError& e) {
+          c.curvature = std::string("not judged (") + e.what() + ")";
+        }
+      }
   } catch (const Standard_Failure& f) {
     throw InputError(where + ": OpenCASCADE failed reading it (" + f.DynamicType()->Name() + ": " +
                      f.GetMessageString() + ")");
@@ -347,7 +515,7 @@ StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, con
   return out;
 }
 
-StepCurves read_step_curves(const std::filesystem::path& path) {
+StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolerances& chains) {
   const std::string where = path.string();
   const std::string text = read_input_file(path);  // the project's checks (exists, a file, size)
   const StepScan scan = step_scan(text);
@@ -378,7 +546,7 @@ StepCurves read_step_curves(const std::filesystem::path& path) {
     throw InputError(where + ": OpenCASCADE failed reading it (" + f.DynamicType()->Name() + ": " +
                      f.GetMessageString() + ")");
   }
-  StepCurves out = shape_curves(shape, where, &trace);
+  StepCurves out = shape_curves(shape, where, &trace, chains);
   if (out.curves.empty()) {
     if (out.edges == 0) throw InputError(where + ": no curves (the STEP model has no edges)");
     throw InputError(where + ": no B-spline or Bezier curves (" + std::to_string(out.edges) + " edges: " +

@@ -25,6 +25,8 @@ struct StepTrace {
 /// As read_step_curves, on a shape: every distinct edge, converted or counted
 /// in `skipped`. No curve is not an error here (curves may be empty).
 /// `where` prefixes messages; `trace` (may be null) names the edges' entities.
-StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, const StepTrace* trace = nullptr);
+/// Chains (StepCurves::chains) with `tolerances`.
+StepCurves shape_curves(const TopoDS_Shape& shape, const std::string& where, const StepTrace* trace = nullptr,
+                        const ChainTolerances& tolerances = {});
 
 }  // namespace cmr::import

@@ -138,7 +138,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
                                             " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
         return import::read_step_curves(input);
       }();
-      if (!ids.empty()) curves.curves = import::select_step_edges(curves, ids, args->input);
+      if (!ids.empty()) curves = import::select_step_edges(curves, ids, args->input);
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
@@ -153,6 +153,9 @@ void add_import_command(CLI::App& app, int& exit_code) {
       std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " (" << rational
                 << " rational) of " << curves.edges << " edges from " << args->input << " into " << dir.string()
                 << (skipped.empty() ? "" : "; skipped " + skipped) << '\n';
+      // Chains of edges (the model's wires; step/step.hpp, StepChain): their
+      // junctions' G1/G2/G3 and monotonicity, one line each.
+      for (const std::string& line : import::step_chain_report(curves)) std::cout << line << '\n';
     } else if (import::is_font_path(input) || import::is_ufo_path(input)) {
       const bool all = args->glyphs == "all";
       const import::Font font =

@@ -14,6 +14,9 @@
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
 #include <GC_MakeArcOfCircle.hxx>
@@ -34,6 +37,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "spline/errors.hpp"
 #include "spline/space.hpp"
 #include "step/step.hpp"
 #include "step/step_occt.hpp"
@@ -214,6 +218,59 @@ TEST(StepConvert, OtherCurveTypesAndPolylinesAreSkippedAndCounted) {
   EXPECT_EQ(r.skipped.at("Geom_Line"), 12);
   EXPECT_EQ(r.skipped.at("Geom_BSplineCurve of degree 1"), 1);
   EXPECT_EQ(import::skipped_summary(r), "1 Geom_BSplineCurve of degree 1, 12 Geom_Line");
+}
+
+// A chain with a gap: two edges share a vertex (tolerance 0.1) but their
+// curves end 0.01 apart; the chain's gap tolerance (1e-6) refuses it in one
+// line naming both edges. Within the gap tolerance it is a chain, judged G1
+// (the tangents agree) and not G2 (the curvatures do not).
+TEST(StepChains, AGapLargerThanTheToleranceIsRefused) {
+  BRep_Builder b;
+  const auto bspline = [](std::vector<gp_Pnt> pts) {
+    TColgp_Array1OfPnt poles(1, static_cast<int>(pts.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i) poles.SetValue(static_cast<int>(i) + 1, pts[i]);
+    return Handle(Geom_Curve)(new Geom_BezierCurve(poles));
+  };
+  const auto chain = [&](double gap) {
+    const Handle(Geom_Curve) c1 = bspline({{0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {3, 1, 0}});
+    const Handle(Geom_Curve) c2 = bspline({{3, 1 + gap, 0}, {4, 1 + gap, 0}, {5, 3, 1}, {6, 2, 0}});
+    TopoDS_Vertex v0, v1, v2;
+    b.MakeVertex(v0, gp_Pnt(0, 0, 0), 1e-7);
+    b.MakeVertex(v1, gp_Pnt(3, 1, 0), 0.1);
+    b.MakeVertex(v2, gp_Pnt(6, 2, 0), 1e-7);
+    TopoDS_Edge e1, e2;
+    b.MakeEdge(e1, c1, 1e-7);
+    b.Add(e1, v0.Oriented(TopAbs_FORWARD));
+    b.Add(e1, v1.Oriented(TopAbs_REVERSED));
+    b.Range(e1, 0, 1);
+    b.MakeEdge(e2, c2, 1e-7);
+    b.Add(e2, v1.Oriented(TopAbs_FORWARD));
+    b.Add(e2, v2.Oriented(TopAbs_REVERSED));
+    b.Range(e2, 0, 1);
+    TopoDS_Wire w;
+    b.MakeWire(w);
+    b.Add(w, e1);
+    b.Add(w, e2);
+    return w;
+  };
+  try {
+    import::shape_curves(chain(0.01), "gap.step", nullptr, {.gap = 1e-6});
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "gap.step: chain edge 1 > edge 2: the edges' ends are 0.01 apart at their shared vertex, "
+                                     "more than the tolerance 1e-06");
+  }
+  const StepCurves r = import::shape_curves(chain(0), "gap.step", nullptr);
+  ASSERT_EQ(r.chains.size(), 1u);
+  ASSERT_EQ(r.chains[0].junctions.size(), 1u);
+  const import::StepJunction& j = r.chains[0].junctions[0];
+  EXPECT_EQ(j.level, 1);
+  // Cubic Bezier ends: r' = 3 (P3 - P2), r'' = 6 (P3 - 2 P2 + P1) (and at the
+  // start 3 (P1 - P0), 6 (P2 - 2 P1 + P0)): left r' = (3, 0, 0), r'' = (0, -6, 0),
+  // kappa = 18 / 27; right r' = (3, 0, 0), r'' = (0, 12, 6), kappa = 18 sqrt(5) / 27.
+  EXPECT_NEAR(j.kappa_left, 2.0 / 3, 1e-12);
+  EXPECT_NEAR(j.kappa_right, 2.0 / 3 * std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(j.angle_deg, 0, 1e-9);
 }
 
 // --- cmr import FILE.step end to end ---
@@ -472,6 +529,35 @@ TEST(StepCli, EntitiesOpenCascadeFailedToReadExit2) {
   expect_one_line_exit2(test::run(std::string("import ") + typed + " --out " + out),
                         typed + ": #" + sdr[1].str() + ": OpenCASCADE could not read this entity (");
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Issue 40 item 4: the class-A-style wire (cmr_step_model OUT wire) is one
+// chain of its four B-spline edges in wire order, and its junctions are
+// what the construction makes them: e1 > e2 cut from one quintic at a simple
+// knot's neighbourhood (C4: G3), e2 > e3 a new curve along the end tangent
+// (G1 only), e3 > e4 cut at a triple knot of a quintic (C2: G2, not G3).
+// --edges keeps a chain only with all of its edges.
+TEST(StepCli, ClassAWireIsOneChainWithItsContinuityAtEachJunction) {
+  const std::string model = (test::scratch() / "wire.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model + " wire").c_str()), 0);
+  const std::string out = (test::scratch() / "wire").string();
+  const test::Outcome r = test::run(std::string("import ") + model + " --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(chain 1: (#\d+) > (#\d+) > (#\d+) > (#\d+) \(4 edges, open\): each edge monotone; )"))) << r.out;
+  const std::vector<std::string> ids{m[1], m[2], m[3], m[4]};
+  const char* levels[] = {"G3", "G1", "G2"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string at = std::string("\n  ") + ids[i] + " > " + ids[i + 1] + " at (";
+    const std::size_t p = r.out.find(at);
+    ASSERT_NE(p, std::string::npos) << at << "\n" << r.out;
+    const std::string line = r.out.substr(p + 1, r.out.find('\n', p + 1) - p - 1);
+    EXPECT_NE(line.find(std::string("): ") + levels[i] + " (gap "), std::string::npos) << line;
+  }
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out;  // the summary, one chain, three junctions
+  const test::Outcome some = test::run(std::string("import ") + model + " --out " + out + " --edges '" + ids[0] + "," + ids[1] + "'");
+  ASSERT_EQ(some.code, 0) << some.err;
+  EXPECT_EQ(some.out.find("chain"), std::string::npos) << some.out;
 }
 
 TEST(StepCli, ModelWithoutCurvesExits2) {
