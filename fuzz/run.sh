@@ -36,6 +36,10 @@ for n in "${names[@]}"; do
   fi
   dict=()
   [[ -f fuzz/dict/$n.dict ]] && dict=(-dict="fuzz/dict/$n.dict")
+  # OpenCASCADE's STEP reader leaks what it read of some malformed entities
+  # (RWStepGeom_RWDirection::ReadStep's arrays): not cmr's memory, so
+  # LeakSanitizer is off for fuzz_step (ASan and UBSan stay on).
+  [[ $n == step ]] && dict+=(-detect_leaks=0)
   start=$(date +%s)
   # -timeout is wall-clock time: at nice 19 on a loaded machine a 0.3 s input
   # of fuzz_kcurve was once stopped after 29 s (20 s allowed), not a hang.

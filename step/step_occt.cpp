@@ -48,6 +48,7 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Shape.hxx>
 
+#include "io/output.hpp"
 #include "spline/errors.hpp"
 #include "spline/space.hpp"
 #include "spline/spline_json.hpp"
@@ -136,7 +137,17 @@ void fill_closed(StepCurve& c, const Handle(Geom_BSplineCurve) & g) {
 
 constexpr double kTolerance = 1e-9;
 
-std::string text_of(const Handle(TCollection_HAsciiString) & s) { return s.IsNull() ? std::string() : s->ToCString(); }
+// An OCCT string as UTF-8: a STEP name's bytes (ISO 8859-1 in older files)
+// that are not UTF-8 become U+FFFD, as JSON holds UTF-8 only.
+std::string text_of(const Handle(TCollection_HAsciiString) & s) {
+  std::string out;
+  for (std::string_view rest = s.IsNull() ? "" : s->ToCString(); !rest.empty();) {
+    const std::size_t n = utf8_sequence(rest);
+    out.append(n == 0 ? std::string_view("\xEF\xBF\xBD") : rest.substr(0, n));
+    rest.remove_prefix(n == 0 ? 1 : n);
+  }
+  return out;
+}
 
 // The entities the transfer bound to shapes (XSControl_TransferReader's
 // TransientProcess: one binder per transferred entity).
