@@ -190,6 +190,12 @@ struct StepScan {
   std::string bad_number;
   long long bad_entity = 0;  ///< 0: outside any entity (the header)
   int bad_line = 0;
+  /// The first break of an instance's parentheses ("" when none): a ')'
+  /// without its '(', a ';' inside parentheses, or more than ';' after the
+  /// parameter list closed. OCCT's parser recovers from some of these with a
+  /// null entity that its model loader then dereferences (SIGSEGV; fuzz_step).
+  std::string syntax;
+  int syntax_line = 0;
 };
 StepScan step_scan(std::string_view text);
 inline constexpr int max_step_nesting = 256;

@@ -42,6 +42,13 @@ StepScan step_scan(std::string_view text) {
     i = end + close.size() - 1;
     return true;
   };
+  // An instance's parameters close once: "#1 = A(...);" or "#1 = (A(...) B(...));",
+  // then ';' (OCCT's parser recovered from "#1 = A(3) B(4) );" with a null
+  // entity that its model loader then dereferenced: fuzz_step).
+  bool closed = false;
+  const auto bad_syntax = [&](const char* what) {
+    if (scan.syntax.empty()) scan.syntax = what, scan.syntax_line = line;
+  };
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '\n') {
@@ -53,9 +60,18 @@ StepScan step_scan(std::string_view text) {
     } else if (c == '/' && i + 1 < text.size() && text[i + 1] == '*') {
       if (!skip(i, "*/", i + 2)) break;
     } else if (c == '(') {
+      if (closed) bad_syntax("a '(' after a closed parameter list (expected ';')");
       if (++depth > scan.depth) scan.depth = depth, scan.line = line;
     } else if (c == ')') {
+      if (depth == 0) bad_syntax("a ')' without its '('");
       depth = std::max(depth - 1, 0);
+      if (depth == 0) closed = true;
+      continue;
+    } else if (c == ';') {
+      if (depth > 0) bad_syntax("a ';' inside parentheses");
+      depth = 0, closed = false;
+    } else if (closed && c != ' ' && c != '\t' && c != '\r') {
+      bad_syntax("more after a closed parameter list (expected ';')");
     } else if (c == '#') {  // an instance name: "#12 =" starts entity 12, "#12" elsewhere refers to it
       std::size_t j = i + 1;
       long long id = 0;

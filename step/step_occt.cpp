@@ -533,6 +533,8 @@ StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolera
   if (scan.depth > max_step_nesting)
     throw InputError(where + ":" + std::to_string(scan.line) + ": parentheses nest more than " +
                      std::to_string(max_step_nesting) + " deep (not read: OpenCASCADE's reader would overflow its stack)");
+  if (!scan.syntax.empty())
+    throw InputError(where + ":" + std::to_string(scan.syntax_line) + ": not STEP syntax: " + scan.syntax);
   if (!scan.bad_number.empty()) {
     std::string m = where;
     m.append(":").append(std::to_string(scan.bad_line)).append(": ");

@@ -68,3 +68,18 @@ TEST(StepPrescan, FindsTheFirstNumberOutOfRangeAndItsEntity) {
   EXPECT_EQ(step_scan("#9=A(-2147483649);").bad_entity, 9);
   EXPECT_EQ(step_scan("HEADER;FOO(3.E200);").bad_entity, 0);  // outside any entity
 }
+
+// The pre-scan's syntax: an instance's parameters close once, then ';'
+// (fuzz_step: OCCT's parser turned "#100 = A(3) B((#1)) C('x') );" into a
+// null entity that its model loader dereferenced, SIGSEGV).
+TEST(StepPrescan, FindsParenthesesThatDoNotCloseAnInstance) {
+  using cmr::import::step_scan;
+  EXPECT_EQ(step_scan("ISO-10303-21;\nHEADER;\nFILE_NAME('a;)(',(''));\nENDSEC;\nDATA;\n#1=A((1.,2.),'x');\n"
+                      "#2 = ( B(1) C((#1)) ) /* ) */ ;\n#3=D(\n(2));\nENDSEC;\nEND-ISO-10303-21;\n").syntax, "");
+  const auto extra = step_scan("DATA;\n#1=A(1);\n#100 = B(3)\n C((#1)) );");
+  EXPECT_EQ(extra.syntax, "more after a closed parameter list (expected ';')");
+  EXPECT_EQ(extra.syntax_line, 4);
+  EXPECT_EQ(step_scan("#1=A(1));").syntax, "a ')' without its '('");
+  EXPECT_EQ(step_scan("#1=A((1);\n#2=B(2);").syntax, "a ';' inside parentheses");
+  EXPECT_EQ(step_scan("#1=A(1)(2);").syntax, "a '(' after a closed parameter list (expected ';')");
+}
