@@ -75,7 +75,8 @@ StepScan step_scan(std::string_view text) {
     } else if (c == '#') {  // an instance name: "#12 =" starts entity 12, "#12" elsewhere refers to it
       std::size_t j = i + 1;
       long long id = 0;
-      while (j < text.size() && is_digit(text[j])) id = std::min(id * 10 + (text[j++] - '0'), 1LL << 60);
+      // Saturated at 10^18 (no overflow; fuzz_step found 2^60 * 10 under UBSan).
+      for (; j < text.size() && is_digit(text[j]); ++j) id = id < 100'000'000'000'000'000LL ? id * 10 + (text[j] - '0') : id;
       std::size_t k = j;
       while (k < text.size() && (text[k] == ' ' || text[k] == '\t' || text[k] == '\r' || text[k] == '\n')) ++k;
       if (k < text.size() && text[k] == '=') entity = id;

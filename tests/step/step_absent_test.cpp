@@ -67,6 +67,9 @@ TEST(StepPrescan, FindsTheFirstNumberOutOfRangeAndItsEntity) {
   EXPECT_EQ(step_scan("#8=A(2147483648);").bad_number, "2147483648");
   EXPECT_EQ(step_scan("#9=A(-2147483649);").bad_entity, 9);
   EXPECT_EQ(step_scan("HEADER;FOO(3.E200);").bad_entity, 0);  // outside any entity
+  // A 40-digit instance name saturates (no overflow) and is still the entity.
+  const auto long_id = step_scan("#" + std::string(40, '9') + " = A(1.E300);");
+  EXPECT_GE(long_id.bad_entity, 100'000'000'000'000'000LL);
 }
 
 // The pre-scan's syntax: an instance's parameters close once, then ';'
