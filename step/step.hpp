@@ -192,7 +192,7 @@ struct StepScan {
   int bad_line = 0;
   /// The first break of an instance's parentheses ("" when none): a ')'
   /// without its '(', a ';' inside parentheses, or more than ';' after the
-  /// parameter list closed. OCCT's parser recovers from some of these with a
+  /// parameter list closed; or an instance defined twice. OCCT's parser recovers from some of these with a
   /// null entity that its model loader then dereferences (SIGSEGV; fuzz_step).
   std::string syntax;
   int syntax_line = 0;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <unordered_map>
 
 namespace cmr::import {
 
@@ -46,6 +47,7 @@ StepScan step_scan(std::string_view text) {
   // then ';' (OCCT's parser recovered from "#1 = A(3) B(4) );" with a null
   // entity that its model loader then dereferenced: fuzz_step).
   bool closed = false;
+  std::unordered_map<long long, int> defined;  // instance -> its line
   const auto bad_syntax = [&](const char* what) {
     if (scan.syntax.empty()) scan.syntax = what, scan.syntax_line = line;
   };
@@ -79,7 +81,17 @@ StepScan step_scan(std::string_view text) {
       for (; j < text.size() && is_digit(text[j]); ++j) id = id < 100'000'000'000'000'000LL ? id * 10 + (text[j] - '0') : id;
       std::size_t k = j;
       while (k < text.size() && (text[k] == ' ' || text[k] == '\t' || text[k] == '\r' || text[k] == '\n')) ++k;
-      if (k < text.size() && text[k] == '=') entity = id;
+      if (k < text.size() && text[k] == '=') {
+        entity = id;
+        // An instance defined twice (OCCT records a fail for it after
+        // loading; its loader crashed on fuzz_step's inputs that had one
+        // beside a malformed parameter, so it is refused before).
+        if (const auto [it, fresh] = defined.emplace(id, line); !fresh && scan.syntax.empty()) {
+          std::string m = "#";
+          m.append(std::to_string(id)).append(" is defined twice (first on line ").append(std::to_string(it->second)).append(")");
+          scan.syntax = m, scan.syntax_line = line;
+        }
+      }
       i = j - 1;
     } else if (is_name(c) && !is_digit(c)) {  // a keyword or enumeration (B_SPLINE_CURVE_2, .T.): not numbers
       while (i + 1 < text.size() && is_name(text[i + 1])) ++i;

@@ -85,4 +85,7 @@ TEST(StepPrescan, FindsParenthesesThatDoNotCloseAnInstance) {
   EXPECT_EQ(step_scan("#1=A(1));").syntax, "a ')' without its '('");
   EXPECT_EQ(step_scan("#1=A((1);\n#2=B(2);").syntax, "a ';' inside parentheses");
   EXPECT_EQ(step_scan("#1=A(1)(2);").syntax, "a '(' after a closed parameter list (expected ';')");
+  const auto twice = step_scan("#1=A(1);\n#118 = B(#1);\n#2=C(2);\n#118=D(3);");
+  EXPECT_EQ(twice.syntax, "#118 is defined twice (first on line 2)");
+  EXPECT_EQ(twice.syntax_line, 4);
 }
