@@ -560,6 +560,36 @@ TEST(StepCli, ClassAWireIsOneChainWithItsContinuityAtEachJunction) {
   EXPECT_EQ(some.out.find("chain"), std::string::npos) << some.out;
 }
 
+// fuzz_step's fifth finding, minimized: OpenCASCADE's parser crashes
+// (SIGSEGV in its model loader) on this file, which the pre-scan does not
+// refuse (its string ends where OCCT's lexer does not think it ends). The
+// parser runs first in a child process: its crash is one line, exit 2.
+TEST(StepCli, OpenCascadeCrashingOnAFileIsOneLineExit2) {
+  const std::string p = test::write("occt_crash.step", R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION(('Open CASCADE Model'),'2;1');
+FILE_NAME('Open CASCADE Shape Model','2026-12-02T03:38:05',('Author'),(
+    'Open CASCADE'),'Open CASCADE STEP processor 7.6','Open CASCADE 7.6'
+  ,'Unknown');
+FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));
+ENDSEC;
+DATA;
+#2 = APPLICATION_CONTEXT(
+  'co4.919561459374,3.534138473518,-0.84673553223)
+  );
+#101 = TRIMMED_CURVE('',#102,(#107,PARAMETER_VALUE(0.)),(#108,
+    PARAMETER_VAL,UE(6.28318530718)),.T.,.PARAMETER.);
+#118 = NEXT_ASSEMBLY_USAGE_OCCUICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('',(#11,#100)
+  ,#109);
+#118 = NEXT_ASSEMBLY_USAGE_OCCURRENCE('3','','',#5,#94,$);
+ENDSEC;
+END-ISO-10303-21;
+)");
+  const std::string out = (test::scratch() / "occt_crash").string();
+  expect_one_line_exit2(test::run(std::string("import ") + p + " --out " + out), p + ": OpenCASCADE crashed reading it (signal 11");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(StepCli, ModelWithoutCurvesExits2) {
   const std::string box = write_step(BRepPrimAPI_MakeBox(1, 2, 3).Shape(), "box.step");
   const test::Outcome r = test::run("import " + box + " --out " + (test::scratch() / "b").string());
