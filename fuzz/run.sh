@@ -9,13 +9,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
 shift || true
-all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location py_dict)
-names=("$@")
-((${#names[@]})) || names=("${all[@]}")
+all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location py_dict obj)
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DCMR_FUZZ=ON -DCMR_SANITIZER_BUILD=ON -DCMR_BUILD_TESTS=OFF -DCMR_BUILD_BENCHMARKS=OFF -DCMR_WITH_VULKAN=OFF -DCMR_BUILD_EDITOR=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
   >/dev/null
+# fuzz_step where the build has the STEP importer (OpenCASCADE found).
+grep -q 'build fuzz/fuzz_step:' build-fuzz/build.ninja && all+=(step)
+names=("$@")
+((${#names[@]})) || names=("${all[@]}")
 ninja -C build-fuzz -j"${CMR_FUZZ_JOBS:-2}" "${names[@]/#/fuzz/fuzz_}"
 mkdir -p build-fuzz/findings
 status=0
@@ -34,10 +36,17 @@ for n in "${names[@]}"; do
   fi
   dict=()
   [[ -f fuzz/dict/$n.dict ]] && dict=(-dict="fuzz/dict/$n.dict")
+  # OpenCASCADE's STEP reader leaks what it read of some malformed entities
+  # (RWStepGeom_RWDirection::ReadStep's arrays): not cmr's memory, so
+  # LeakSanitizer is off for fuzz_step (ASan and UBSan stay on).
+  # LeakSanitizer's own check at exit is off too (ASAN_OPTIONS), or those
+  # leaks end the run as a finding.
+  envs=()
+  [[ $n == step ]] && dict+=(-detect_leaks=0) && envs=(ASAN_OPTIONS=detect_leaks=0)
   start=$(date +%s)
   # -timeout is wall-clock time: at nice 19 on a loaded machine a 0.3 s input
   # of fuzz_kcurve was once stopped after 29 s (20 s allowed), not a hang.
-  if nice -n 19 "build-fuzz/fuzz/fuzz_$n" -max_total_time="$seconds" -max_len=65536 -timeout=60 -rss_limit_mb=2048 \
+  if nice -n 19 env "${envs[@]}" "build-fuzz/fuzz/fuzz_$n" -max_total_time="$seconds" -max_len=65536 -timeout=60 -rss_limit_mb=2048 \
       -artifact_prefix="build-fuzz/findings/$n-" "${dict[@]}" "build-fuzz/corpus/$n" "fuzz/corpus/$n" \
       >"build-fuzz/findings/$n.log" 2>&1; then
     # libFuzzer ends with "Done RUNS runs in SECONDS second(s)".

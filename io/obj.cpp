@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "io/output.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 
@@ -160,6 +161,13 @@ std::vector<ObjCurve> parse_obj_curves(const std::string& text, const std::strin
       vs.push_back(v);
     } else if (key == "o" || key == "g") {
       name = args.empty() ? "" : args[0];
+      // The name goes into JSON, which holds UTF-8 only (fuzz_obj: a byte
+      // 0xFF here ended `cmr import` with "unexpected error", exit 3).
+      for (std::string_view rest = name; !rest.empty();) {
+        const std::size_t n = utf8_sequence(rest);
+        if (n == 0) throw InputError(at + ": " + key + ": the name is not UTF-8");
+        rest.remove_prefix(n);
+      }
     } else if (key == "cstype") {
       rational = !args.empty() && args[0] == "rat";
       const std::string type = args.empty() ? "" : args.back();

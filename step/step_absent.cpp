@@ -6,7 +6,7 @@ namespace cmr::import {
 
 bool step_supported() { return false; }
 
-StepCurves read_step_curves(const std::filesystem::path& path) {
+StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolerances&) {
   throw InputError(path.string() +
                    ": cmr was built without STEP support (OpenCASCADE was not found when it was configured; "
                    "tools/setup.sh installs it)");

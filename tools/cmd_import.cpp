@@ -2,8 +2,14 @@
 // font glyph contours (io/font.hpp) and SVG subpaths
 // (io/svg.hpp) as spline files, one per contour or subpath, all
 // written or none (cmr::OutputSet; the output folder is created if missing).
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <set>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -25,6 +31,41 @@ struct ImportArgs {
   std::string out = ".";
   bool y_down = false;
   std::string location;
+  std::string edges;
+};
+
+// Ends the process with one line on stderr and exit 2 when `seconds` pass
+// before it is destroyed: the STEP reader's budget (step_time_budget).
+// OpenCASCADE's shape healing runs loops that poll nothing, so a watchdog,
+// not a cancel flag; it fires before the output set exists, so nothing is
+// half-written.
+class Watchdog {
+ public:
+  Watchdog(double seconds, std::string message)
+      : message_(std::move(message)), thread_([this, seconds] {
+          std::unique_lock lock(mutex_);
+          if (cv_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; })) return;
+          std::fprintf(stderr, "cmr: %s\n", message_.c_str());
+          std::fflush(stderr);
+          std::_Exit(kInvalid);
+        }) {}
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+  ~Watchdog() {
+    {
+      const std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    cv_.notify_one();
+    thread_.join();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool done_ = false;
+  std::string message_;
+  std::thread thread_;  // last: starts once the members above exist
 };
 
 }  // namespace
@@ -38,6 +79,8 @@ void add_import_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output folder (created if missing)")->capture_default_str();
   cmd->add_option("--location", args->location, "variable fonts: the instance, axis tags and user values (wght=700,opsz=14)");
+  cmd->add_option("--edges", args->edges,
+                  "STEP: only these edges, by STEP entity id ('#1234,#1240'; cmr import names each curve by its id)");
   cmd->add_flag("--y-down", args->y_down,
                 "SVG: keep SVG's y-down coordinates (default: flipped to cmr's y-up frame, (x, y) -> (x, -y))");
   cmd->callback([args, cmd, &exit_code] {
@@ -47,6 +90,8 @@ void add_import_command(CLI::App& app, int& exit_code) {
     OutputSet files;
     int written = 0, rational = 0;
     if (ext != ".svg" && args->y_down) throw InputError("--y-down: only for SVG files, not for " + args->input);
+    if (ext != ".step" && ext != ".stp" && cmd->count("--edges") > 0)
+      throw InputError("--edges: only for STEP files (.step, .stp), not for " + args->input);
     if (ext == ".svg") {
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
       const auto paths = import::read_svg(input, {.flip_y = !args->y_down});
@@ -80,12 +125,25 @@ void add_import_command(CLI::App& app, int& exit_code) {
                 << args->input << " into " << dir.string() << '\n';
     } else if (ext == ".step" || ext == ".stp") {  // B-spline curves and edges through OpenCASCADE (step/step.hpp)
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
-      const import::StepCurves curves = import::read_step_curves(input);
+      const std::vector<long long> ids =
+          cmd->count("--edges") > 0 ? import::parse_step_edge_ids(args->edges) : std::vector<long long>{};
+      import::StepCurves curves = [&] {
+        std::error_code ec;
+        const std::uintmax_t bytes = std::filesystem::file_size(input, ec);
+        const double budget = import::step_time_budget(ec ? 0 : bytes);
+        char secs[32];
+        std::snprintf(secs, sizeof secs, "%.3g", budget);
+        const Watchdog watchdog(budget, args->input + ": not read within its time budget of " + secs + " s (" +
+                                            std::to_string(ec ? 0 : bytes) +
+                                            " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
+        return import::read_step_curves(input);
+      }();
+      if (!ids.empty()) curves = import::select_step_edges(curves, ids, args->input);
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);
       files.own_folder(dir);  // the files an earlier import wrote there and this one does not go
       for (const import::StepCurve& c : curves.curves) {
-        files.stage(dir / (input.stem().string() + "_e" + std::to_string(c.edge) + ".json"),
+        files.stage(dir / (input.stem().string() + "_" + import::step_curve_stem(c) + ".json"),
                     import::step_curve_json(c).dump(2) + "\n");
         ++written;
         rational += c.weights.empty() ? 0 : 1;
@@ -95,6 +153,9 @@ void add_import_command(CLI::App& app, int& exit_code) {
       std::cout << "imported " << written << (written == 1 ? " space curve" : " space curves") << " (" << rational
                 << " rational) of " << curves.edges << " edges from " << args->input << " into " << dir.string()
                 << (skipped.empty() ? "" : "; skipped " + skipped) << '\n';
+      // Chains of edges (the model's wires; step/step.hpp, StepChain): their
+      // junctions' G1/G2/G3 and monotonicity, one line each.
+      for (const std::string& line : import::step_chain_report(curves)) std::cout << line << '\n';
     } else if (import::is_font_path(input) || import::is_ufo_path(input)) {
       const bool all = args->glyphs == "all";
       const import::Font font =

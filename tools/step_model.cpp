@@ -11,7 +11,10 @@
 //    circle arc converted, GeomConvert), a Bezier edge of degree 5, and a
 //    clamped quartic B-spline with an interior triple knot.
 // COPIES (default 1) places that many copies side by side, 200 apart in y
-// (the benchmark's larger model). Deterministic: the same file on every run
+// (the benchmark's larger model). `cmr_step_model OUT.step seed` writes the
+// STEP fuzz harness's small seed instead (fuzz/corpus/step): one cubic
+// B-spline edge, one Bezier edge of degree 3 and a circle's edge; `wire`
+// the class-A-style wire of the chains example (class_a_wire below). Deterministic: the same file on every run
 // (the writer's time stamp aside).
 #include <cmath>
 #include <cstdio>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepFilletAPI_MakeFillet.hxx>
@@ -89,10 +93,97 @@ TopoDS_Shape loft() {
 
 }  // namespace
 
+// The class-A-style wire (`cmr_step_model OUT.step wire`; docs/space.md,
+// "Chains of edges"): four B-spline edges in one wire, e1 > e2 > e3 > e4,
+// in the plane z = 0, closed by a line into the boundary of a planar face
+// (STEP keeps a wire's shared vertices in a face; a free wire is written as
+// unconnected curves).
+// e1 and e2 are one quintic B-spline (simple knots: C4) cut at an interior
+// parameter: their junction is G3. e3 and e4 are a second quintic with a
+// triple knot (C2 there) cut at that knot: G2, not G3. The second curve
+// starts at the first's end along its end tangent with another speed and
+// curvature: that junction is G1 only.
+TopoDS_Shape class_a_wire() {
+  const auto quintic = [](const std::vector<gp_Pnt>& pts, const std::vector<double>& knots, const std::vector<int>& mults) {
+    TColgp_Array1OfPnt poles(1, static_cast<int>(pts.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i) poles.SetValue(static_cast<int>(i) + 1, pts[i]);
+    TColStd_Array1OfReal k(1, static_cast<int>(knots.size()));
+    TColStd_Array1OfInteger m(1, static_cast<int>(knots.size()));
+    for (std::size_t i = 0; i < knots.size(); ++i) k.SetValue(static_cast<int>(i) + 1, knots[i]), m.SetValue(static_cast<int>(i) + 1, mults[i]);
+    return Handle(Geom_BSplineCurve)(new Geom_BSplineCurve(poles, k, m, 5));
+  };
+  // A widening spiral: its curvature falls along it.
+  std::vector<gp_Pnt> a;
+  for (int i = 0; i < 9; ++i) {
+    const double t = 0.45 * i, r = 10 + 2.2 * i;
+    a.emplace_back(r * std::cos(t), r * std::sin(t), 0);
+  }
+  const Handle(Geom_BSplineCurve) first = quintic(a, {0, 1, 2, 3, 4}, {6, 1, 1, 1, 6});
+  // The second curve: its first leg along the first's end tangent (G1), then on.
+  gp_Pnt end;
+  gp_Vec d1;
+  first->D1(first->LastParameter(), end, d1);
+  const gp_Vec u = d1.Normalized();
+  std::vector<gp_Pnt> b{end, end.Translated(u * 6)};
+  for (int i = 2; i < 10; ++i) {
+    const gp_Pnt p = b.back();
+    const double t = 0.3 * i;
+    b.push_back(p.Translated(gp_Vec(u.X() * 5 + 2 * std::sin(t), u.Y() * 5 + 2 * std::cos(t), 0)));
+  }
+  const Handle(Geom_BSplineCurve) second = quintic(b, {0, 1, 2, 3}, {6, 1, 3, 6});  // 10 poles = 16 - 5 - 1
+  const double cut = 2.2;
+  BRepBuilderAPI_MakeWire wire;
+  const Handle(Geom_BSplineCurve) e1 = Handle(Geom_BSplineCurve)::DownCast(first->Copy());
+  const Handle(Geom_BSplineCurve) e2 = Handle(Geom_BSplineCurve)::DownCast(first->Copy());
+  e1->Segment(0, cut), e2->Segment(cut, 4);
+  const Handle(Geom_BSplineCurve) e3 = Handle(Geom_BSplineCurve)::DownCast(second->Copy());
+  const Handle(Geom_BSplineCurve) e4 = Handle(Geom_BSplineCurve)::DownCast(second->Copy());
+  e3->Segment(0, 2), e4->Segment(2, 3);
+  for (const Handle(Geom_BSplineCurve)& e : {e1, e2, e3, e4}) wire.Add(BRepBuilderAPI_MakeEdge(e).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(e4->EndPoint(), e1->StartPoint()).Edge());  // the line that closes it
+  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+}
+
+// The fuzz seed: a few edges, a few KB of STEP.
+TopoDS_Shape seed() {
+  BRep_Builder b;
+  TopoDS_Compound c;
+  b.MakeCompound(c);
+  b.Add(c, BRepBuilderAPI_MakeEdge(interpolate({{0, 0, 0}, {1, 2, 0.5}, {3, 1, 1}, {4, 3, 0}, {6, 2, -1}}, false)));
+  TColgp_Array1OfPnt bez(1, 4);
+  for (int i = 0; i < 4; ++i) bez.SetValue(i + 1, gp_Pnt(i, i * i % 3, 1 - i));
+  b.Add(c, BRepBuilderAPI_MakeEdge(Handle(Geom_BezierCurve)(new Geom_BezierCurve(bez))));
+  b.Add(c, BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(0, 5, 0), gp_Dir(0, 0, 1)), 2)));
+  return c;
+}
+
+bool write_step(const TopoDS_Shape& shape, const char* path) {
+  STEPControl_Writer writer;
+  Interface_Static::SetCVal("write.step.schema", "AP214CD");
+  if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone) {
+    std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
+    return false;
+  }
+  if (writer.Write(path) != IFSelect_RetDone) {
+    std::fprintf(stderr, "cmr_step_model: %s: cannot write the STEP file\n", path);
+    return false;
+  }
+  return true;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 3 && (std::string(argv[2]) == "seed" || std::string(argv[2]) == "wire")) {
+    Message::DefaultMessenger()->ChangePrinters().Clear();
+    try {
+      return write_step(std::string(argv[2]) == "seed" ? seed() : class_a_wire(), argv[1]) ? 0 : 3;
+    } catch (const Standard_Failure& f) {
+      std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
+      return 3;
+    }
+  }
   const int copies = argc == 3 ? std::atoi(argv[2]) : 1;
   if ((argc != 2 && argc != 3) || copies < 1 || copies > 10000) {
-    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000]\n");
+    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000 | seed | wire]\n");
     return 2;
   }
   Message::DefaultMessenger()->ChangePrinters().Clear();  // OCCT's progress lines
@@ -128,16 +219,7 @@ int main(int argc, char** argv) {
       shift.SetTranslation(gp_Vec(0, 200.0 * k, 0));
       b.Add(all, k == 0 ? TopoDS_Shape(model) : BRepBuilderAPI_Transform(model, shift, true).Shape());
     }
-    STEPControl_Writer writer;
-    Interface_Static::SetCVal("write.step.schema", "AP214CD");
-    if (writer.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone) {
-      std::fprintf(stderr, "cmr_step_model: OpenCASCADE could not transfer the model\n");
-      return 3;
-    }
-    if (writer.Write(argv[1]) != IFSelect_RetDone) {
-      std::fprintf(stderr, "cmr_step_model: %s: cannot write the STEP file\n", argv[1]);
-      return 3;
-    }
+    if (!write_step(all, argv[1])) return 3;
   } catch (const Standard_Failure& f) {
     std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
     return 3;

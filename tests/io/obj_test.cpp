@@ -151,6 +151,9 @@ TEST(ObjCurves, BadInputNamesFileAndLine) {
   expect_error("l 1 2\n", "t.obj:8: l: a polyline needs at least 3 vertices to be a control polygon (got 2)");
   expect_error("v 1 x 2\n", "t.obj:8: v: 'x' is not a finite number");
   expect_error("cstype bspline\ndeg 3\ncurv 0 3 1 2 3 4 5 6\n", "t.obj:10: curv: no 'end' statement");
+  // A name that is not UTF-8 cannot go into JSON (fuzz_obj's finding: exit 3, "unexpected error").
+  expect_error("o bad\xffname\n", "t.obj:8: o: the name is not UTF-8");
+  expect_error("g \xc3\n", "t.obj:8: g: the name is not UTF-8");
 }
 
 }  // namespace

@@ -6,10 +6,17 @@
 // model (cmr_step_model) and on bad files (exit 2, one line).
 #include <cmath>
 #include <fstream>
+#include <chrono>
+#include <cstdlib>
 #include <random>
+#include <regex>
+#include <sstream>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRep_Builder.hxx>
 #include <GC_MakeArcOfCircle.hxx>
@@ -30,6 +37,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "spline/errors.hpp"
 #include "spline/space.hpp"
 #include "step/step.hpp"
 #include "step/step_occt.hpp"
@@ -212,6 +220,59 @@ TEST(StepConvert, OtherCurveTypesAndPolylinesAreSkippedAndCounted) {
   EXPECT_EQ(import::skipped_summary(r), "1 Geom_BSplineCurve of degree 1, 12 Geom_Line");
 }
 
+// A chain with a gap: two edges share a vertex (tolerance 0.1) but their
+// curves end 0.01 apart; the chain's gap tolerance (1e-6) refuses it in one
+// line naming both edges. Within the gap tolerance it is a chain, judged G1
+// (the tangents agree) and not G2 (the curvatures do not).
+TEST(StepChains, AGapLargerThanTheToleranceIsRefused) {
+  BRep_Builder b;
+  const auto bspline = [](std::vector<gp_Pnt> pts) {
+    TColgp_Array1OfPnt poles(1, static_cast<int>(pts.size()));
+    for (std::size_t i = 0; i < pts.size(); ++i) poles.SetValue(static_cast<int>(i) + 1, pts[i]);
+    return Handle(Geom_Curve)(new Geom_BezierCurve(poles));
+  };
+  const auto chain = [&](double gap) {
+    const Handle(Geom_Curve) c1 = bspline({{0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {3, 1, 0}});
+    const Handle(Geom_Curve) c2 = bspline({{3, 1 + gap, 0}, {4, 1 + gap, 0}, {5, 3, 1}, {6, 2, 0}});
+    TopoDS_Vertex v0, v1, v2;
+    b.MakeVertex(v0, gp_Pnt(0, 0, 0), 1e-7);
+    b.MakeVertex(v1, gp_Pnt(3, 1, 0), 0.1);
+    b.MakeVertex(v2, gp_Pnt(6, 2, 0), 1e-7);
+    TopoDS_Edge e1, e2;
+    b.MakeEdge(e1, c1, 1e-7);
+    b.Add(e1, v0.Oriented(TopAbs_FORWARD));
+    b.Add(e1, v1.Oriented(TopAbs_REVERSED));
+    b.Range(e1, 0, 1);
+    b.MakeEdge(e2, c2, 1e-7);
+    b.Add(e2, v1.Oriented(TopAbs_FORWARD));
+    b.Add(e2, v2.Oriented(TopAbs_REVERSED));
+    b.Range(e2, 0, 1);
+    TopoDS_Wire w;
+    b.MakeWire(w);
+    b.Add(w, e1);
+    b.Add(w, e2);
+    return w;
+  };
+  try {
+    import::shape_curves(chain(0.01), "gap.step", nullptr, {.gap = 1e-6});
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "gap.step: chain edge 1 > edge 2: the edges' ends are 0.01 apart at their shared vertex, "
+                                     "more than the tolerance 1e-06");
+  }
+  const StepCurves r = import::shape_curves(chain(0), "gap.step", nullptr);
+  ASSERT_EQ(r.chains.size(), 1u);
+  ASSERT_EQ(r.chains[0].junctions.size(), 1u);
+  const import::StepJunction& j = r.chains[0].junctions[0];
+  EXPECT_EQ(j.level, 1);
+  // Cubic Bezier ends: r' = 3 (P3 - P2), r'' = 6 (P3 - 2 P2 + P1) (and at the
+  // start 3 (P1 - P0), 6 (P2 - 2 P1 + P0)): left r' = (3, 0, 0), r'' = (0, -6, 0),
+  // kappa = 18 / 27; right r' = (3, 0, 0), r'' = (0, 12, 6), kappa = 18 sqrt(5) / 27.
+  EXPECT_NEAR(j.kappa_left, 2.0 / 3, 1e-12);
+  EXPECT_NEAR(j.kappa_right, 2.0 / 3 * std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(j.angle_deg, 0, 1e-9);
+}
+
 // --- cmr import FILE.step end to end ---
 
 std::string write_step(const TopoDS_Shape& s, const std::string& name) {
@@ -277,6 +338,256 @@ TEST(StepCli, DeepNestingExits2BeforeOpenCascadeReadsIt) {
   expect_one_line_exit2(test::run("import " + p + " --out " + (test::scratch() / "deep").string()),
                         p + ":8: parentheses nest more than 256 deep");
   EXPECT_FALSE(std::filesystem::exists(test::scratch() / "deep"));
+}
+
+// Issue 42 E5: the example model with the location of its first plane at
+// (1.E308, -1.7E308, 1.E308) kept OpenCASCADE's shape healing busy for more
+// than 120 s. The pre-scan refuses it in one line naming the entity (#id),
+// within 10 s, and writes nothing.
+TEST(StepCli, HugeCoordinatesExit2NamingTheEntityWithin10s) {
+  const std::string model = (test::scratch() / "e5_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string text = test::slurp(model);
+  std::smatch plane, axis;
+  ASSERT_TRUE(std::regex_search(text, plane, std::regex(R"(= PLANE\('[^']*',#(\d+)\))")));
+  ASSERT_TRUE(std::regex_search(text, axis, std::regex(std::string("#").append(plane[1].str()) + R"( = AXIS2_PLACEMENT_3D\('[^']*',#(\d+),)")));
+  const std::string id = axis[1];
+  std::string hid = "#";  // "#95" (appended: -Wrestrict)
+  hid.append(id);
+  const std::regex point(hid + R"( = CARTESIAN_POINT\('[^']*',\([^;]*\)\);)");
+  ASSERT_TRUE(std::regex_search(text, point));
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find(hid + " = ")), '\n'));
+  for (const std::string coords : {"1.E308,-1.7E308,1.E308", "1.E400,0.,0.", "0.,2.E100,0."}) {
+    const std::string bad = test::write("e5.step", std::regex_replace(text, point, hid + " = CARTESIAN_POINT('',(" + coords + "));"));
+    const auto start = std::chrono::steady_clock::now();
+    const test::Outcome r = test::run("import " + bad + " --out " + (test::scratch() / "e5").string());
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+    const std::string first = coords.substr(0, coords.find(',')) == "0." ? "2.E100" : coords.substr(0, coords.find(','));
+    expect_one_line_exit2(r, bad + std::string(":").append(std::to_string(line)) + ": " + hid + ": " + first + " is out of range for geometry");
+    EXPECT_FALSE(std::filesystem::exists(test::scratch() / "e5"));
+  }
+  // Just inside the range, the model still imports (the plane is moved, its edges are lines).
+  const std::string fine = test::write("e5.step", std::regex_replace(text, point, hid + " = CARTESIAN_POINT('',(1.E3,-1.E3,0.));"));
+  EXPECT_EQ(test::run("import " + fine + " --out " + (test::scratch() / "e5").string()).code, 0);
+}
+
+// The read's time budget (5 s + 4 s per MB) stops a read that outlives it
+// with one line, exit 2, nothing written; CMR_STEP_TIME_BUDGET shrinks it
+// below the example model's read time here.
+TEST(StepCli, ReadOverItsTimeBudgetExits2WritingNothing) {
+  const std::string model = (test::scratch() / "budget_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string out = (test::scratch() / "budget").string();
+  ::setenv("CMR_STEP_TIME_BUDGET", "0.001", 1);
+  const test::Outcome r = test::run("import " + model + " --out " + out);
+  ::unsetenv("CMR_STEP_TIME_BUDGET");
+  expect_one_line_exit2(r, model + ": not read within its time budget of 0.001 s (");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_EQ(test::run("import " + model + " --out " + out).code, 0);  // the default budget
+  EXPECT_DOUBLE_EQ(import::step_time_budget(2'000'000), 13.0);
+}
+
+// Issue 40 item 3: each curve is named by its STEP entity (#id, the file's
+// EDGE_CURVE or wireframe TRIMMED_CURVE) and its file is MODEL_ID.json. The
+// ids are checked against the file's text: an EDGE_CURVE's two vertices are
+// the spline's end points. Names the file gives (edge, face, shell,
+// product) and the edge's bounding box are in the curve's name.
+TEST(StepCli, CurvesAreNamedByTheirStepEntities) {
+  const std::string model = (test::scratch() / "ids_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  std::string text = test::slurp(model);
+  const auto entity = [&](const std::string& id) {  // "#12 = NAME(...);" -> "NAME(...)" on one line
+    const std::size_t at = text.find(std::string("\n#") + id + " = ");
+    EXPECT_NE(at, std::string::npos) << id;
+    std::string e = text.substr(at + id.size() + 5, text.find(';', at) - at - id.size() - 5);
+    e.erase(std::remove(e.begin(), e.end(), '\n'), e.end());
+    return e;
+  };
+  const auto coords = [&](const std::string& e) {  // CARTESIAN_POINT('',(x,y,z)) -> x, y, z
+    std::vector<double> v;
+    const std::string inner = e.substr(e.find(",(") + 2);
+    std::stringstream in(inner);
+    for (std::string t; std::getline(in, t, ',');) v.push_back(std::stod(t));
+    return v;
+  };
+  const std::string out = (test::scratch() / "ids").string();
+  ASSERT_EQ(test::run(std::string("import ") + model + " --out " + out).code, 0);
+  int edge_curves = 0, files = 0;
+  std::string a_bspline_edge;
+  for (const auto& f : std::filesystem::directory_iterator(out)) {
+    if (f.path().extension() != ".json") continue;  // the output set's manifest
+    ++files;
+    const nlohmann::json doc = nlohmann::json::parse(test::slurp(f.path()));
+    std::smatch m;
+    const std::string stem = f.path().stem().string(), name = doc["name"];
+    ASSERT_TRUE(std::regex_match(stem, m, std::regex(R"(ids_model_(\d+))"))) << stem;
+    const std::string id = m[1];
+    EXPECT_EQ(name.rfind(std::string("edge #") + id + " (", 0), 0u) << name;
+    EXPECT_TRUE(std::regex_search(name, std::regex(R"(box \(-?[0-9.e+-]+, -?[0-9.e+-]+, -?[0-9.e+-]+\)\.\.\()"))) << name;
+    const std::string e = entity(id);
+    if (e.rfind("TRIMMED_CURVE(", 0) == 0) continue;  // the wireframe's curves
+    ASSERT_EQ(e.rfind("EDGE_CURVE(", 0), 0u) << id << ": " << e;
+    ++edge_curves;
+    a_bspline_edge = id;
+    std::smatch v;
+    ASSERT_TRUE(std::regex_search(e, v, std::regex(R"(EDGE_CURVE\('[^']*',#(\d+),#(\d+),)")));
+    const auto point_of = [&](const std::string& vertex) {  // VERTEX_POINT('',#p) -> p's coordinates
+      std::smatch r;
+      const std::string ve = entity(vertex);
+      EXPECT_TRUE(std::regex_search(ve, r, std::regex(R"(VERTEX_POINT\('[^']*',#(\d+)\))"))) << ve;
+      return coords(entity(r[1]));
+    };
+    const auto p0 = point_of(v[1]), p1 = point_of(v[2]);
+    const auto& pts = doc["points"];
+    const auto near = [](const nlohmann::json& p, const std::vector<double>& q) {
+      return std::abs(p[0].get<double>() - q[0]) + std::abs(p[1].get<double>() - q[1]) + std::abs(p[2].get<double>() - q[2]) < 1e-6;
+    };
+    if (doc.contains("closed")) continue;  // a closed curve's first point is no vertex
+    EXPECT_TRUE((near(pts.front(), p0) && near(pts.back(), p1)) || (near(pts.front(), p1) && near(pts.back(), p0))) << id;
+  }
+  EXPECT_EQ(files, 10);
+  EXPECT_GE(edge_curves, 4);
+  // Names the file gives: the edge's, its faces', shells' and products'.
+  text = std::regex_replace(text, std::regex(std::string("#") + a_bspline_edge + " = EDGE_CURVE\\(''"), std::string("#") + a_bspline_edge + " = EDGE_CURVE('rim'");
+  text = std::regex_replace(text, std::regex(R"(ADVANCED_FACE\(''\s*,)"), "ADVANCED_FACE('skin',");
+  text = std::regex_replace(text, std::regex(R"(CLOSED_SHELL\(''\s*,)"), "CLOSED_SHELL('body',");
+  text = std::regex_replace(text, std::regex(R"(PRODUCT\('[^']*',\s*'[^']*')"), "PRODUCT('Bracket','Bracket'");
+  const std::string named = test::write("ids_named.step", text);
+  ASSERT_EQ(test::run(std::string("import ") + named + " --out " + out).code, 0);
+  const nlohmann::json doc = nlohmann::json::parse(test::slurp(out + "/ids_named_" + a_bspline_edge + ".json"));
+  EXPECT_EQ(doc["name"].get<std::string>().rfind(std::string("edge #") + a_bspline_edge + " 'rim' (face 'skin', shell 'body', product 'Bracket'; box (", 0), 0u)
+      << doc["name"];
+}
+
+// --edges '#A,#B' imports those edges only; an unknown id, a skipped edge's
+// id and a malformed list are one line, exit 2, nothing written.
+TEST(StepCli, EdgesOptionPicksEdgesByEntityId) {
+  const std::string model = (test::scratch() / "pick_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const std::string all = (test::scratch() / "pick_all").string();
+  ASSERT_EQ(test::run(std::string("import ") + model + " --out " + all).code, 0);
+  std::vector<std::string> ids;
+  for (const auto& f : std::filesystem::directory_iterator(all))
+    if (f.path().extension() == ".json") ids.push_back(f.path().stem().string().substr(11));
+  std::sort(ids.begin(), ids.end());
+  ASSERT_EQ(ids.size(), 10u);
+  const std::string out = (test::scratch() / "pick").string();
+  const test::Outcome r = test::run(std::string("import ") + model + " --out " + out + " --edges '#" + ids[7] + ", #" + ids[2] + ",#" + ids[7] + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("imported 2 space curves"), std::string::npos) << r.out;
+  std::vector<std::string> got;
+  for (const auto& f : std::filesystem::directory_iterator(out))
+    if (f.path().extension() == ".json") got.push_back(f.path().filename().string());
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, (std::vector<std::string>{std::string("pick_model_") + ids[2] + ".json", std::string("pick_model_") + ids[7] + ".json"}));
+  const std::string none = (test::scratch() / "pick_none").string();
+  expect_one_line_exit2(test::run(std::string("import ") + model + " --out " + none + " --edges '#999999'"),
+                        std::string("--edges: #999999 is not a B-spline or Bezier edge of ") + model + " (they are #");
+  // A line of the filleted box: an EDGE_CURVE whose curve is a LINE.
+  const std::string text = test::slurp(model);
+  const std::regex edge_curve(R"(#(\d+) = EDGE_CURVE\('',#\d+,#\d+,#(\d+),)");
+  std::string line_id;
+  for (std::sregex_iterator it(text.begin(), text.end(), edge_curve), end; it != end && line_id.empty(); ++it) {
+    // Its curve is a LINE, or a SURFACE_CURVE of a LINE.
+    std::smatch c;
+    if (!std::regex_search(text, c, std::regex(std::string("#") + (*it)[2].str() + R"( = (LINE\(|SURFACE_CURVE\('',#(\d+)))")))
+      continue;
+    if (c[1].str() == "LINE(" || text.find(std::string("\n#") + c[2].str() + " = LINE(") != std::string::npos) line_id = (*it)[1];
+  }
+  ASSERT_FALSE(line_id.empty());
+  expect_one_line_exit2(test::run(std::string("import ") + model + " --out " + none + " --edges '#" + line_id + "'"),
+                        std::string("--edges: #") + line_id + " is a Geom_Line edge of " + model + ", skipped");
+  for (const std::string bad : {"12", "#", "#1,,#2", "#1x", "#99999999999999999999"})
+    expect_one_line_exit2(test::run(std::string("import ") + model + " --out " + none + " --edges '" + bad + "'"), "--edges: \"");
+  const std::string obj = test::write("pick.obj", "v 0 0 0\nv 1 1 0\nv 2 0 0\nl 1 2 3\n");
+  expect_one_line_exit2(test::run(std::string("import ") + obj + " --out " + none + " --edges '#1'"), "--edges: only for STEP files");
+  EXPECT_FALSE(std::filesystem::exists(none));
+}
+
+// OCCT reads past a syntax error or a parameter of the wrong type, keeping a
+// null entity, and its transfer then crashed (SIGSEGV; fuzz_step's first
+// finding: the seed with "PRODUCT_DEFINITION_SHAPE(" made
+// "PRODUCT_DEFINITION_SDATA;"). The reader's fails are refused first, in one
+// line naming the entity where OCCT names one.
+TEST(StepCli, EntitiesOpenCascadeFailedToReadExit2) {
+  const std::string seed = (test::scratch() / "fails_seed.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + seed + " seed").c_str()), 0);
+  const std::string text = test::slurp(seed);
+  const std::string out = (test::scratch() / "fails").string();
+  ASSERT_EQ(test::run(std::string("import ") + seed + " --out " + out).code, 0);
+  std::filesystem::remove_all(out);
+  const std::string syntax = test::write("fails_syntax.step", std::regex_replace(text, std::regex(R"(PRODUCT_DEFINITION_SHAPE\()"), "PRODUCT_DEFINITION_SDATA;",
+                                                                                   std::regex_constants::format_first_only));
+  expect_one_line_exit2(test::run(std::string("import ") + syntax + " --out " + out),
+                        syntax + ":15: not STEP syntax: a ')' without its '('");  // the pre-scan finds it first
+  // SHAPE_DEFINITION_REPRESENTATION's definition made a PRODUCT.
+  std::smatch sdr, product;
+  ASSERT_TRUE(std::regex_search(text, sdr, std::regex(R"(#(\d+) = SHAPE_DEFINITION_REPRESENTATION\(#\d+,)")));
+  ASSERT_TRUE(std::regex_search(text, product, std::regex(R"(#(\d+) = PRODUCT\()")));
+  const std::string typed = test::write("fails_type.step", std::regex_replace(text, std::regex(R"(SHAPE_DEFINITION_REPRESENTATION\(#\d+,)"),
+                                                                               std::string("SHAPE_DEFINITION_REPRESENTATION(#") + product[1].str() + ","));
+  expect_one_line_exit2(test::run(std::string("import ") + typed + " --out " + out),
+                        typed + ": #" + sdr[1].str() + ": OpenCASCADE could not read this entity (");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Issue 40 item 4: the class-A-style wire (cmr_step_model OUT wire) is one
+// chain of its four B-spline edges in wire order, and its junctions are
+// what the construction makes them: e1 > e2 cut from one quintic at a simple
+// knot's neighbourhood (C4: G3), e2 > e3 a new curve along the end tangent
+// (G1 only), e3 > e4 cut at a triple knot of a quintic (C2: G2, not G3).
+// --edges keeps a chain only with all of its edges.
+TEST(StepCli, ClassAWireIsOneChainWithItsContinuityAtEachJunction) {
+  const std::string model = (test::scratch() / "wire.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model + " wire").c_str()), 0);
+  const std::string out = (test::scratch() / "wire").string();
+  const test::Outcome r = test::run(std::string("import ") + model + " --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(chain 1: (#\d+) > (#\d+) > (#\d+) > (#\d+) \(4 edges, open\): each edge monotone; )"))) << r.out;
+  const std::vector<std::string> ids{m[1], m[2], m[3], m[4]};
+  const char* levels[] = {"G3", "G1", "G2"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string at = std::string("\n  ") + ids[i] + " > " + ids[i + 1] + " at (";
+    const std::size_t p = r.out.find(at);
+    ASSERT_NE(p, std::string::npos) << at << "\n" << r.out;
+    const std::string line = r.out.substr(p + 1, r.out.find('\n', p + 1) - p - 1);
+    EXPECT_NE(line.find(std::string("): ") + levels[i] + " (gap "), std::string::npos) << line;
+  }
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out;  // the summary, one chain, three junctions
+  const test::Outcome some = test::run(std::string("import ") + model + " --out " + out + " --edges '" + ids[0] + "," + ids[1] + "'");
+  ASSERT_EQ(some.code, 0) << some.err;
+  EXPECT_EQ(some.out.find("chain"), std::string::npos) << some.out;
+}
+
+// fuzz_step's fifth finding, minimized: OpenCASCADE's parser crashes
+// (SIGSEGV in its model loader) on this file, which the pre-scan does not
+// refuse (its string ends where OCCT's lexer does not think it ends). The
+// parser runs first in a child process: its crash is one line, exit 2.
+TEST(StepCli, OpenCascadeCrashingOnAFileIsOneLineExit2) {
+  const std::string p = test::write("occt_crash.step", R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION(('Open CASCADE Model'),'2;1');
+FILE_NAME('Open CASCADE Shape Model','2026-12-02T03:38:05',('Author'),(
+    'Open CASCADE'),'Open CASCADE STEP processor 7.6','Open CASCADE 7.6'
+  ,'Unknown');
+FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));
+ENDSEC;
+DATA;
+#2 = APPLICATION_CONTEXT(
+  'co4.919561459374,3.534138473518,-0.84673553223)
+  );
+#101 = TRIMMED_CURVE('',#102,(#107,PARAMETER_VALUE(0.)),(#108,
+    PARAMETER_VAL,UE(6.28318530718)),.T.,.PARAMETER.);
+#118 = NEXT_ASSEMBLY_USAGE_OCCUICALLY_BOUNDED_WIREFRAME_SHAPE_REPRESENTATION('',(#11,#100)
+  ,#109);
+#118 = NEXT_ASSEMBLY_USAGE_OCCURRENCE('3','','',#5,#94,$);
+ENDSEC;
+END-ISO-10303-21;
+)");
+  const std::string out = (test::scratch() / "occt_crash").string();
+  expect_one_line_exit2(test::run(std::string("import ") + p + " --out " + out), p + ": OpenCASCADE crashed reading it (signal 11");
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(StepCli, ModelWithoutCurvesExits2) {
