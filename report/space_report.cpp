@@ -215,6 +215,9 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
         break;
       case Gate::Kind::unimodal_runs:
       case Gate::Kind::xy_extrema_at_nodes:
+      case Gate::Kind::g1_between_masters:
+      case Gate::Kind::curvature_between_masters:
+      case Gate::Kind::extrema_between_masters:
         break;  // refused by space_requirements
     }
     out.push_back(std::move(g));
@@ -236,6 +239,9 @@ void space_requirements(const ReportOptions& parsed, SpaceReportOptions& o, cons
     if (g.kind == Gate::Kind::unimodal_runs || g.kind == Gate::Kind::xy_extrema_at_nodes)
       throw InputError(file + ": a space curve: --require " + to_string(g) +
                        " is a rule for font outlines, not for space curves");
+    if (is_interpolation_gate(g))
+      throw InputError(file + ": a space curve: --require " + to_string(g) +
+                       " judges a font's masters (a .designspace or a variable font), not a space curve");
     o.gates.push_back(g);
   }
 }
@@ -320,7 +326,8 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   const bool monotone = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
   r.check_pass = (monotone || r.near_constant) && !(options.require_no_zero_curvature && r.analysis.zero_curvature);
   r.gates = space_gates(r, options);
-  r.pass = r.check_pass;
+  // As a planar report: the curvature check counts unless only gates are asked for.
+  r.pass = options.require_monotone || r.gates.empty() ? r.check_pass : true;
   for (const GateResult& g : r.gates) r.pass = r.pass && g.pass();
   if (!(monotone || r.near_constant) && options.fixes) {  // the smallest certified fix (bezierize/space_fix.hpp)
     SpaceFixRequest f;

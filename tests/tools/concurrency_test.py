@@ -128,8 +128,8 @@ else:
     src = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "figures", "fig8.json")
     shutil.copy(src, os.path.join(WORK, "both.json"))
     knots = len(json.load(open(os.path.join(WORK, "both.json")))["knots"])
-    with open(os.path.join(WORK, "slow.txt"), "w") as f:  # opens, waits, changes, saves
-        f.write("wait 120\nelevate\nsave\nquit\n")
+    with open(os.path.join(WORK, "slow.txt"), "w") as f:  # opens, waits (1500 frames: seconds, so the fast one saves first), changes, saves
+        f.write("wait 1500\nelevate\nsave\nquit\n")
     with open(os.path.join(WORK, "fast.txt"), "w") as f:  # opens, inserts a knot, saves at once
         f.write("insert 3.5\nsave\nquit\n")
     env = dict(os.environ, VK_DRIVER_FILES="/usr/share/vulkan/icd.d/lvp_icd.x86_64.json")

@@ -16,7 +16,11 @@
 # Usage: installed_test.sh CMAKE BUILD_DIR SOURCE_DIR
 set -euo pipefail
 cmake_cmd=$1 build=$2 source=$(cd "$3" && pwd -P)
-tmp=$(mktemp -d)
+# The scratch folder must lie outside SOURCE_DIR, which gets hidden: ctest's
+# TMPDIR (build/test-scratch) may be under it, so then /tmp is used.
+base=${TMPDIR:-/tmp}
+case "$(cd "$base" && pwd -P)/" in "$source"/*) base=/tmp ;; esac
+tmp=$(mktemp -d -p "$base")
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "installed_test: $*" >&2; exit 1; }
 
