@@ -72,6 +72,24 @@ struct FreeTypeLibrary {
 struct FaceDeleter {
   void operator()(FT_Face f) const { FT_Done_Face(f); }
 };
+using FacePtr = std::unique_ptr<FT_FaceRec_, FaceDeleter>;
+
+/// The face of a font file's bytes (the caller keeps `bytes` alive: FreeType
+/// reads from them), on this thread's library; InputError naming the file
+/// when FreeType cannot read it.
+FT_Library ft_library() {
+  static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
+  return library.lib;
+}
+
+FacePtr open_face(const std::filesystem::path& path, const std::string& bytes) {
+  FT_Face raw = nullptr;
+  if (const FT_Error e = FT_New_Memory_Face(ft_library(), reinterpret_cast<const FT_Byte*>(bytes.data()),
+                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
+      e != 0)
+    throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
+  return FacePtr(raw);
+}
 
 /// A control point of the chain being built.
 struct Item {
@@ -365,16 +383,10 @@ void set_location(FT_Library lib, FT_Face face, const Location& location, const 
 
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
                const Location& location, const std::vector<double>& blend) {
-  static thread_local FreeTypeLibrary library;  // one per thread: FT_Library is not thread-safe
   // Read as every input is (regular files only, size-limited: a FIFO or a
   // device is refused at once); the bytes outlive the face.
   const std::string bytes = read_input_file(path);
-  FT_Face raw = nullptr;
-  if (const FT_Error e = FT_New_Memory_Face(library.lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
-                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
-      e != 0)
-    throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
-  const std::unique_ptr<FT_FaceRec_, FaceDeleter> face(raw);
+  const FacePtr face = open_face(path, bytes);
   Font font;
   font.path = path.string();
   font.family = face->family_name ? face->family_name : "";
@@ -384,7 +396,7 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
   // a spline of the font's degree too.
   const std::string format = FT_Get_Font_Format(face.get()) ? FT_Get_Font_Format(face.get()) : "";
   font.cubic = format == "CFF" || format == "Type 1" || format == "CID Type 1";
-  if (!location.empty()) set_location(library.lib, face.get(), location, path.string(), font);
+  if (!location.empty()) set_location(ft_library(), face.get(), location, path.string(), font);
   if (!blend.empty()) {
     std::vector<FT_Fixed> coords;
     for (const double v : blend) coords.push_back(static_cast<FT_Fixed>(std::lround(v * 65536.0)));
@@ -604,14 +616,8 @@ void cff2_regions(const std::vector<unsigned char>& t, Variations& v, std::set<s
 }  // namespace
 
 Variations read_variations(const std::filesystem::path& path) {
-  static thread_local FreeTypeLibrary library;
   const std::string bytes = read_input_file(path);
-  FT_Face raw = nullptr;
-  if (const FT_Error e = FT_New_Memory_Face(library.lib, reinterpret_cast<const FT_Byte*>(bytes.data()),
-                                            static_cast<FT_Long>(bytes.size()), 0, &raw);
-      e != 0)
-    throw InputError(path.string() + ": not a font FreeType can read (error " + std::to_string(e) + ")");
-  const std::unique_ptr<FT_FaceRec_, FaceDeleter> face(raw);
+  const FacePtr face = open_face(path, bytes);
   FT_MM_Var* mm = nullptr;
   if (!FT_HAS_MULTIPLE_MASTERS(face.get()) || FT_Get_MM_Var(face.get(), &mm) != 0)
     throw InputError(path.string() + ": no fvar table: the interpolation gates need a variable font or a designspace");
@@ -628,7 +634,7 @@ Variations read_variations(const std::filesystem::path& path) {
     ax.maximum = mm->axis[a].maximum / 65536.0;
     v.axes.push_back(ax);
   }
-  FT_Done_MM_Var(library.lib, mm);
+  FT_Done_MM_Var(ft_library(), mm);
   const std::string file = path.string();
   if (const std::vector<unsigned char> avar = sfnt_table(face.get(), TTAG_avar); !avar.empty()) {
     const Reader r{avar, file + ": avar"};

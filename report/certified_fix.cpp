@@ -59,6 +59,18 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
 
 }  // namespace
 
+FixRequest gate_fix_request(const Gate& gate, int max_depth, double max_seconds) {
+  FixRequest q;
+  q.requirement = requirement_of(gate);
+  q.max_depth = max_depth;
+  q.keep = Keep::g1;
+  q.max_seconds = max_seconds;
+  q.threads = 1;
+  q.grid = 16;
+  q.tolerance = 1e-4;
+  return q;
+}
+
 FixRequirement requirement_of(const Gate& gate) {
   FixRequirement req;
   switch (gate.kind) {
@@ -128,14 +140,7 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
     // each-run asks more than the gate (monotone runs, not rising-then-
     // falling peaks). Then the valleys' own handles, judged by the gate
     // itself on every moved spline (its violation count must fall to 0).
-    FixRequest q;
-    q.requirement = requirement_of(gate);
-    q.max_depth = options.max_depth;
-    q.keep = Keep::g1;
-    q.max_seconds = kReportFixSeconds;
-    q.threads = 1;
-    q.grid = 16;
-    q.tolerance = 1e-4;
+    FixRequest q = gate_fix_request(gate, options.max_depth, kReportFixSeconds);
     std::set<int> handles;
     for (const GateViolation& v : failing.violations) handles.insert(v.handles.begin(), v.handles.end());
     q.points.assign(handles.begin(), handles.end());

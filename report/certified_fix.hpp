@@ -59,6 +59,11 @@ struct CertifiedFix {
 /// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
 FixRequirement requirement_of(const Gate& gate);
 
+/// The fix search's request for one gate as a report runs it (the gate
+/// fixes and the severity search): requirement_of(gate), G1 kept, one
+/// thread, a first grid of 16, tolerance 1e-4, at most `max_seconds`.
+FixRequest gate_fix_request(const Gate& gate, int max_depth, double max_seconds);
+
 /// Time limit of each fix in a report (seconds).
 inline constexpr double kReportFixSeconds = 2;
 

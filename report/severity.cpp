@@ -37,14 +37,7 @@ double severity_of(const BSpline& spline, const Gate& gate, const GateViolation&
   }
   if (points.empty()) return std::numeric_limits<double>::infinity();
   const ReportOptions judge = judge_only(options, gate);
-  FixRequest q;
-  q.requirement = requirement_of(gate);
-  q.max_depth = options.max_depth;
-  q.keep = Keep::g1;
-  q.max_seconds = kSeverityFixSeconds;
-  q.threads = 1;
-  q.grid = 16;
-  q.tolerance = 1e-4;
+  FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
   q.points.assign(points.begin(), points.end());
   q.judge = [judge, v](const BSpline& s) {
     try {
