@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
 shift || true
-all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location py_dict obj)
+all=(spline_json svg_document svg_path font kcurve knot_ops analyze region_classify glif ufo designspace location py_dict obj stdin)
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DCMR_FUZZ=ON -DCMR_SANITIZER_BUILD=ON -DCMR_BUILD_TESTS=OFF -DCMR_BUILD_BENCHMARKS=OFF -DCMR_WITH_VULKAN=OFF -DCMR_BUILD_EDITOR=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
@@ -36,6 +36,7 @@ for n in "${names[@]}"; do
   fi
   dict=()
   [[ -f fuzz/dict/$n.dict ]] && dict=(-dict="fuzz/dict/$n.dict")
+  [[ $n == stdin ]] && dict=(-dict=fuzz/dict/spline_json.dict)  # spline files through standard input
   # OpenCASCADE's STEP reader leaks what it read of some malformed entities
   # (RWStepGeom_RWDirection::ReadStep's arrays): not cmr's memory, so
   # LeakSanitizer is off for fuzz_step (ASan and UBSan stay on).

@@ -186,6 +186,11 @@ std::string input_name(const std::filesystem::path& path) {
 
 void note_stdin_closed() noexcept { g_stdin_closed = true; }
 
+void forget_stdin() noexcept {
+  stdin_text().reset();
+  g_stdin_closed = false;
+}
+
 std::string read_input_file(const std::filesystem::path& path) {
   const bool from_stdin = path == kStdinPath;
   const std::string name = input_name(path);

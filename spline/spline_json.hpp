@@ -76,6 +76,11 @@ std::string input_name(const std::filesystem::path& path);
 /// holds /dev/null, so that no file cmr opens lands there): reading "-"
 /// says "stdin: closed".
 void note_stdin_closed() noexcept;
+/// Forgets what standard input held (read_input_file keeps it) and that it
+/// was closed, so that the next read of "-" reads descriptor 0 again: for a
+/// process that reads one standard input after another (fuzz/fuzz_stdin.cpp),
+/// never cmr itself.
+void forget_stdin() noexcept;
 
 /// The whole content of an input file (spline, points, script), read safely:
 /// opened with O_NONBLOCK, so that a FIFO with no writer cannot hang the
