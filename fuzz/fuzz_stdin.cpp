@@ -6,14 +6,14 @@
 //
 // The first byte m chooses what descriptor 0 is (m % 8) and how it is fed
 // (m >> 3):
-//   0  a pipe, written by a thread in chunks of 2^(4 + (m>>3) % 13) bytes
+//   0  a pipe, written in chunks of 2^(4 + (m>>3) % 13) bytes
 //      (`cmr knots F insert U | cmr analyze -`); the writer's end is closed
 //      after the last byte, so no bytes is an empty, closed pipe
-//   1  the same pipe with O_NONBLOCK on its reading end (the reader's poll
-//      path: a standard input left non-blocking)
+//   1  the same pipe with O_NONBLOCK on its reading end, written by a thread
+//      (the reader's poll path: a standard input left non-blocking)
 //   2  a regular file (memfd) positioned (m>>3) bytes in
 //      (`cmr analyze - < F`, and `(head -c N; cmr analyze -) < F`)
-//   3  a stream socket (socketpair), written by a thread and shut down
+//   3  a stream socket (socketpair), written and closed
 //   4  /dev/null (`cmr analyze - < /dev/null`)
 //   5  descriptor 0 closed (fstat: EBADF)
 //   6  closed at start, as cmr's main leaves it (`cmr analyze - <&-`: /dev/null
@@ -54,13 +54,16 @@ int g_saved_stdin = -1;  // the fuzzer's own descriptor 0, put back after each i
 
 [[noreturn]] void fail() { __builtin_trap(); }
 
-void write_all(int fd, std::string_view bytes, std::size_t chunk) {
+/// Writes in chunks; what is left when the descriptor would block (it is
+/// non-blocking) or is closed at the other end (EPIPE; SIGPIPE is ignored).
+std::string_view write_all(int fd, std::string_view bytes, std::size_t chunk) {
   while (!bytes.empty()) {
     const ssize_t n = ::write(fd, bytes.data(), std::min(chunk, bytes.size()));
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // EPIPE: the reader stopped (SIGPIPE is ignored)
+    if (n <= 0) break;
     bytes.remove_prefix(static_cast<std::size_t>(n));
   }
+  return bytes;
 }
 
 bool starts_with(const std::string& s, std::string_view prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
@@ -148,11 +151,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (!ok) fail();
   if (other >= 0) {
+    // What fits in the pipe or socket is written before the read, and the
+    // rest by a thread (at nice 19 on the loaded VM every hand-over between
+    // two threads cost milliseconds: 4 runs a second with a thread for each
+    // input). The non-blocking pipe always gets its bytes from a thread, so
+    // that the reader finds it empty and waits (EAGAIN, poll).
     const std::size_t chunk = std::size_t{1} << (4 + (m >> 3) % 13);
-    writer = std::thread([other, chunk, &payload] {
-      write_all(other, payload, chunk);
+    std::string_view rest = payload;
+    if (kind != 1) {
+      ::fcntl(other, F_SETFL, ::fcntl(other, F_GETFL) | O_NONBLOCK);
+      rest = write_all(other, rest, chunk);
+      ::fcntl(other, F_SETFL, ::fcntl(other, F_GETFL) & ~O_NONBLOCK);
+    }
+    if (rest.empty() && kind != 1) {
       ::close(other);
-    });
+    } else {
+      writer = std::thread([other, chunk, rest] {
+        (void)write_all(other, rest, chunk);
+        ::close(other);
+      });
+    }
   }
 
   const bool by_path = kind == 7;
