@@ -101,7 +101,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   std::string expected = payload;
   std::thread writer;
-  int other = -1;  // the end the writer thread holds
+  int other = -1;  // the writing end of the pipe or socket
   bool ok = true;
   switch (kind) {
     case 0:
