@@ -17,6 +17,7 @@
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
+#include "spline/parallel.hpp"
 
 namespace cmr {
 
@@ -554,6 +555,22 @@ SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options) {
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options, const AnalyzeParts& parts) {
   SplineAnalysis out = start_analysis(spline, options);
   for (int i = 0; i < spline.segment_count(); ++i) analyze_span(out, spline, options, parts, i);
+  finish_analysis(out, spline, options, parts);
+  return out;
+}
+
+SplineAnalysis analyze_on_threads(const BSpline& spline, const AnalyzeOptions& options, int threads,
+                                  const std::atomic<bool>* cancel) {
+  constexpr int kChunk = 256;  // spans per job: small enough to answer a cancel within milliseconds
+  const AnalyzeParts parts = default_analyze_parts();
+  SplineAnalysis out = start_analysis(spline, options);
+  const int n = spline.segment_count();
+  parallel_for(static_cast<std::size_t>((n + kChunk - 1) / kChunk), threads, [&](std::size_t k) {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) throw Cancelled();
+    const int first = static_cast<int>(k) * kChunk;
+    for (int i = first; i < std::min(n, first + kChunk); ++i) analyze_span(out, spline, options, parts, i);
+  });
+  if (cancel != nullptr && cancel->load()) throw Cancelled();
   finish_analysis(out, spline, options, parts);
   return out;
 }

@@ -34,6 +34,7 @@
 //    those segments are classified and judged (the verdicts above, the split
 //    and the joint conflicts are of that range); with options.splits the
 //    range's groups between the joints get the alternation verdict.
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -217,6 +218,13 @@ void finish_analysis(SplineAnalysis& analysis, const BSpline& spline, const Anal
                      const AnalyzeParts& parts);
 /// The default parts: segment_shape, classify_segment, joint_between.
 AnalyzeParts default_analyze_parts();
+
+/// analyze(spline, options) with the spans in chunks on `threads` threads
+/// (0: every available core): the same result. `cancel` (may be null) is read
+/// between chunks; once it is set no further chunk starts and Cancelled is
+/// thrown (the Python module's KeyboardInterrupt).
+SplineAnalysis analyze_on_threads(const BSpline& spline, const AnalyzeOptions& options, int threads = 0,
+                                  const std::atomic<bool>* cancel = nullptr);
 
 /// The verdict of segments [first, last) from their classes and the joints
 /// strictly inside that range (joints[i-1] is the joint starting segment i).

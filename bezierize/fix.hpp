@@ -69,6 +69,7 @@
 //  re-judges the checks the move touches (eta's sign, error-bounded first
 //  and exact where undecided; the joint curvatures), and the certificate is
 //  analyze, as for every kind.
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -174,6 +175,10 @@ struct FixRequest {
   /// Wall-clock limit of the search in seconds (0: none); when it runs out,
   /// the best certified fix found so far is returned, or none.
   double max_seconds = 30;
+  /// The caller's cancel flag (may be null; the Python module's
+  /// KeyboardInterrupt): once set, the search ends as when its time is up,
+  /// and its result is to be dropped.
+  const std::atomic<bool>* cancel = nullptr;
   /// A caller's own judge instead of the requirement (the report's gates):
   /// how many violations a spline has, 0 when it passes; called from the
   /// search's threads (must be thread-safe). The search then evaluates it on

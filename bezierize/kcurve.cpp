@@ -443,6 +443,7 @@ struct Budget {
   long long point_iterations_left = 0;  ///< < 0: unlimited
   std::chrono::steady_clock::time_point deadline{};
   bool timed = false, spent = false;
+  const std::atomic<bool>* cancel = nullptr;  ///< KCurveOptions::cancel
   /// Charges one iteration of `points` points; false (and spent) once the budget is gone.
   bool charge(int points) {
     if (spent) return false;
@@ -451,6 +452,7 @@ struct Budget {
       point_iterations_left -= points;
     }
     if (timed && std::chrono::steady_clock::now() > deadline) return !(spent = true);
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return !(spent = true);
     return true;
   }
 };
@@ -795,6 +797,7 @@ KCurve kcurve(std::span<const Vec2> points, const KCurveOptions& options) {
   const State start = s;
   Budget budget;
   budget.point_iterations_left = options.max_point_iterations > 0 ? options.max_point_iterations : -1;
+  budget.cancel = options.cancel;
   if (options.time_limit > 0) {
     budget.timed = true;
     budget.deadline = std::chrono::steady_clock::now() +

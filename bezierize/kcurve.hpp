@@ -83,6 +83,7 @@
 // Eq. 7 (CAD&A 2024): the maximum of a quadratic (P0, P1, P2) lies at
 //     t* = (P0 - P1)·(P0 - 2P1 + P2) / |P0 - 2P1 + P2|^2,
 // the minimum of |c'(t)|^2 (c'/2 = (P1-P0) + t (P0 - 2P1 + P2)).
+#include <atomic>
 #include <array>
 #include <span>
 #include <string>
@@ -111,6 +112,10 @@ struct KCurveOptions {
   /// Wall-clock limit in seconds over the whole solve (0: none), checked
   /// between iterations, polish steps and restarts.
   double time_limit = 0;
+  /// The caller's cancel flag (may be null; the Python module's
+  /// KeyboardInterrupt), read where time_limit is: once set, the solve stops
+  /// as when its budget is spent, and its result is to be dropped.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// The number of other starts kcurve() knows (KCurveOptions::restarts).

@@ -1383,6 +1383,7 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
   std::vector<std::uint64_t> exact(listed.size(), 0);
   const PixelKernel kernel(s);
   WorkerPool::shared().run(listed.size(), threads, [&](std::size_t b) {
+    if (o.cancel != nullptr && o.cancel->load(std::memory_order_relaxed)) return;  // the result is dropped
     const int bi = static_cast<int>(b) % bw, bj = static_cast<int>(b) / bw;
     const PixelBlock top{bi * kRegionBlock, bj * kRegionBlock, std::min(o.width, (bi + 1) * kRegionBlock) - 1,
                          std::min(o.height, (bj + 1) * kRegionBlock) - 1};

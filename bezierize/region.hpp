@@ -24,6 +24,7 @@
 // produced, and every depth reads 0.
 //
 // How the fast path is certified: bezierize/region_setup.hpp.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -107,6 +108,10 @@ struct RegionRequest {
   /// can be labelled "not monotone" by a proof that skips each pixel's own
   /// traversal (faster), and RegionResult::depth is all zero.
   bool depth = true;
+  /// The caller's cancel flag (may be null; the Python module's
+  /// KeyboardInterrupt): once it is set, the CPU backend starts no further
+  /// block and the image it returns is incomplete, to be dropped.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// What one position gets. Exactly one of label / split_label /

@@ -22,6 +22,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -83,16 +85,34 @@ using OJson = nlohmann::ordered_json;
 
 std::string type_name(py::handle h) { return py::type::handle_of(h).attr("__name__").cast<std::string>(); }
 
-std::string at(const std::string& where, const std::string& key) {
-  return where.empty() ? key : where + "[" + key + "]";
-}
+/// Where a value lies in an argument ("points[3][1]", "knots", "name"),
+/// spelled only when an error message needs it: reading a spline from
+/// Python values builds no strings on the way.
+struct Where {
+  const Where* parent = nullptr;
+  std::string_view key;   ///< a dict member's key, or the argument's name at the top
+  Py_ssize_t index = -1;  ///< a list element's index (key unused)
+  std::string str() const {
+    if (parent == nullptr) return std::string(key);
+    std::string up = parent->str();
+    if (index >= 0) return up.empty() ? std::to_string(index) : up.append("[").append(std::to_string(index)).append("]");
+    return up.empty() ? std::string(key) : up.append(".").append(key);
+  }
+  std::string or_the_spline() const {
+    std::string w = str();
+    return w.empty() ? "the spline" : w;
+  }
+};
 
-/// A Python value as spline-file JSON; InputError naming `where` for a value
-/// JSON cannot hold.
-Json to_json(py::handle h, const std::string& where) {
+/// Nesting that no spline file has (they go 3 deep): deeper values are
+/// refused before the reader's recursion could exhaust the stack.
+constexpr int kMaxNesting = 64;
+
+Json to_json(py::handle h, const Where& where, int depth = 0) {
   PyObject* o = h.ptr();
   if (o == Py_None) return nullptr;
   if (PyBool_Check(o)) return o == Py_True;
+  if (PyFloat_Check(o)) return PyFloat_AS_DOUBLE(o);
   if (PyLong_Check(o)) {
     int overflow = 0;
     const long long v = PyLong_AsLongLongAndOverflow(o, &overflow);
@@ -100,32 +120,47 @@ Json to_json(py::handle h, const std::string& where) {
     PyErr_Clear();
     return PyLong_AsDouble(o);  // beyond 64 bits: a double, as a JSON reader would
   }
-  if (PyFloat_Check(o)) return PyFloat_AS_DOUBLE(o);
   if (PyUnicode_Check(o)) {
     Py_ssize_t n = 0;
     const char* s = PyUnicode_AsUTF8AndSize(o, &n);
     if (s == nullptr) {
       PyErr_Clear();
-      throw InputError(where + ": a string that is not valid Unicode");
+      throw InputError(where.or_the_spline() + ": a string that is not valid Unicode");
     }
     return std::string(s, static_cast<std::size_t>(n));
   }
-  if (PyDict_Check(o)) {
+  const bool list = PyList_Check(o), tuple = !list && PyTuple_Check(o), dict = PyDict_Check(o);
+  if ((list || tuple || dict) && depth >= kMaxNesting)
+    throw InputError(where.or_the_spline() + ": nested more than " + std::to_string(kMaxNesting) +
+                     " deep; a spline file's values are numbers, lists of them and strings");
+  if (dict) {
     Json obj = Json::object();
-    for (auto [k, v] : py::reinterpret_borrow<py::dict>(h)) {
-      if (!PyUnicode_Check(k.ptr()))
-        throw InputError(at(where, py::repr(k).cast<std::string>()) + ": a key that is not a string");
-      const std::string key = k.cast<std::string>();
-      obj[key] = to_json(v, where.empty() ? key : where + "." + key);
+    Py_ssize_t pos = 0;
+    PyObject *k = nullptr, *v = nullptr;
+    while (PyDict_Next(o, &pos, &k, &v)) {
+      Py_ssize_t n = 0;
+      const char* key = PyUnicode_Check(k) ? PyUnicode_AsUTF8AndSize(k, &n) : nullptr;
+      if (key == nullptr) {
+        PyErr_Clear();
+        std::string shown = py::repr(k).cast<std::string>();
+        const std::string up = where.str();
+        throw InputError((up.empty() ? shown : up + "[" + shown + "]") +
+                         (PyUnicode_Check(k) ? ": a key that is not valid Unicode" : ": a key that is not a string"));
+      }
+      const std::string_view name(key, static_cast<std::size_t>(n));
+      obj[std::string(name)] = to_json(v, Where{&where, name}, depth + 1);
     }
     return obj;
   }
-  if (PyList_Check(o) || PyTuple_Check(o)) {
-    const py::sequence seq = py::reinterpret_borrow<py::sequence>(h);
+  if (list || tuple) {
+    const Py_ssize_t n = list ? PyList_GET_SIZE(o) : PyTuple_GET_SIZE(o);
     Json arr = Json::array();
-    for (std::size_t i = 0; i < seq.size(); ++i) {
-      const py::object item = seq[i];
-      arr.push_back(to_json(item, at(where, std::to_string(i))));
+    arr.get_ref<Json::array_t&>().reserve(static_cast<std::size_t>(n));
+    // A list may change size while its items convert (a NumPy item's
+    // tolist() runs Python code): the size is read again each time.
+    for (Py_ssize_t i = 0; i < (list ? PyList_GET_SIZE(o) : n); ++i) {
+      const py::object item = py::reinterpret_borrow<py::object>(list ? PyList_GET_ITEM(o, i) : PyTuple_GET_ITEM(o, i));
+      arr.push_back(to_json(item, Where{&where, {}, i}, depth + 1));
     }
     return arr;
   }
@@ -133,14 +168,18 @@ Json to_json(py::handle h, const std::string& where) {
     const py::array a = py::reinterpret_borrow<py::array>(h);
     const char kind = a.dtype().kind();
     if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
-      throw InputError(where + ": a NumPy array of " + py::str(a.dtype()).cast<std::string>() + " is not numbers");
-    return to_json(a.attr("tolist")(), where);
+      throw InputError(where.or_the_spline() + ": a NumPy array of " + py::str(a.dtype()).cast<std::string>() +
+                       " is not numbers");
+    return to_json(a.attr("tolist")(), where, depth);
   }
   // NumPy scalars (numpy.float64 is a float already; numpy.int64 is not an int).
-  if (py::hasattr(h, "dtype") && py::hasattr(h, "item")) return to_json(h.attr("item")(), where);
-  throw InputError((where.empty() ? std::string("the spline") : where) + ": a " + type_name(h) +
+  if (py::hasattr(h, "dtype") && py::hasattr(h, "item")) return to_json(h.attr("item")(), where, depth);
+  throw InputError(where.or_the_spline() + ": a " + type_name(h) +
                    " is not a spline-file value (numbers, lists, NumPy arrays, dicts, strings, booleans)");
 }
+
+/// to_json of an argument named `name` ("" for a whole spline dict).
+Json to_json(py::handle h, const char* name) { return to_json(h, Where{nullptr, name}); }
 
 // ------------------------------------------------------------ JSON -> Python
 
@@ -151,20 +190,110 @@ py::str utf8(const std::string& s) {
   return py::reinterpret_steal<py::str>(o);
 }
 
-/// A document's object keys come from a small set (the schema's words):
-/// each is made into an interned Python string once and reused, so a dict
-/// costs no string creation and no hashing per key. Bounded; never freed
-/// (the strings must outlive every dict, and the interpreter's shutdown).
-py::object key_str(const std::string& key) {
-  static auto* cache = new std::unordered_map<std::string, PyObject*>();
-  if (auto it = cache->find(key); it != cache->end()) return py::reinterpret_borrow<py::object>(it->second);
-  py::str s = utf8(key);
-  if (cache->size() >= 4096) return s;
-  PyObject* o = s.release().ptr();
+/// A document's object keys and its short words ("increasing", "none")
+/// come from a small set (the schema's): each is made into an interned
+/// Python string once and reused, so a dict costs no string creation and no
+/// hashing per key. Bounded; never freed (the strings must outlive every
+/// dict, and the interpreter's shutdown). Needs the GIL.
+struct WordHash {
+  using is_transparent = void;
+  std::size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
+PyObject* word_by_text(std::string_view w) {
+  static auto* cache = new std::unordered_map<std::string, PyObject*, WordHash, std::equal_to<>>();
+  if (auto it = cache->find(w); it != cache->end()) {
+    Py_INCREF(it->second);
+    return it->second;
+  }
+  PyObject* o = PyUnicode_DecodeUTF8(w.data(), static_cast<Py_ssize_t>(w.size()), "replace");
+  if (o == nullptr) throw py::error_already_set();
+  if (cache->size() >= 4096 || w.size() > 64) return o;
   PyUnicode_InternInPlace(&o);
-  cache->emplace(key, o);
-  return py::reinterpret_borrow<py::object>(o);
+  Py_INCREF(o);  // the cache's reference
+  cache->emplace(std::string(w), o);
+  return o;
 }
+
+/// word_by_text behind a small table indexed by where the text lies: the
+/// writers' keys and words are string literals, so each is found at its own
+/// address without hashing its text (the text is still compared, so a
+/// reused buffer never gets another string's word).
+PyObject* word(std::string_view w) {
+  struct Slot {
+    const char* at = nullptr;
+    std::string text;
+    PyObject* word = nullptr;  // a reference owned by word_by_text's cache
+  };
+  static auto* slots = new std::array<Slot, 256>();
+  Slot& slot = (*slots)[(reinterpret_cast<std::uintptr_t>(w.data()) >> 3 ^ w.size()) & 255];
+  if (slot.at == w.data() && slot.text == w) {
+    Py_INCREF(slot.word);
+    return slot.word;
+  }
+  PyObject* o = word_by_text(w);
+  if (w.size() <= 64 && PyUnicode_CHECK_INTERNED(o)) slot = {w.data(), std::string(w), o};
+  return o;
+}
+
+py::object key_str(const std::string& key) { return py::reinterpret_steal<py::object>(word(key)); }
+
+/// A document built straight into Python objects by the same writers that
+/// stream the command's JSON text (report::JsonStream's interface:
+/// begin_object, key, value, member, ...), e.g.
+/// report::write_analysis_document: no tree and no text in between, and
+/// the same keys, order and values as the command prints (a non-finite
+/// number is None, as the text's null). Needs the GIL.
+class PyDocument {
+ public:
+  void begin_object() { open(PyDict_New()); }
+  void begin_array() { open(PyList_New(0)); }
+  void end_object() { open_.pop_back(); }
+  void end_array() { open_.pop_back(); }
+  PyDocument& key(std::string_view k) {
+    key_ = py::reinterpret_steal<py::object>(word(k));
+    return *this;
+  }
+  void null() { add(Py_NewRef(Py_None)); }
+  void value(bool b) { add(PyBool_FromLong(b ? 1 : 0)); }
+  void value(double d) { add(std::isfinite(d) ? PyFloat_FromDouble(d) : Py_NewRef(Py_None)); }
+  void value(std::string_view s) { add(s.size() <= 32 ? word(s) : utf8(std::string(s)).release().ptr()); }
+  void value(const char* s) { value(std::string_view(s)); }
+  void value(const std::string& s) { value(std::string_view(s)); }
+  template <typename T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool>, int> = 0>
+  void value(T v) {
+    if constexpr (std::is_signed_v<T>) add(PyLong_FromLongLong(static_cast<long long>(v)));
+    else add(PyLong_FromUnsignedLongLong(static_cast<unsigned long long>(v)));
+  }
+  template <typename T>
+  void member(std::string_view k, const T& v) {
+    key(k);
+    value(v);
+  }
+  /// The finished document (after the outermost end_object / end_array).
+  py::object take() { return std::move(root_); }
+
+ private:
+  // Takes the new reference `o` into the open container (or as the root).
+  void add(PyObject* o) {
+    if (o == nullptr) throw py::error_already_set();
+    py::object owned = py::reinterpret_steal<py::object>(o);
+    if (open_.empty()) {
+      root_ = std::move(owned);
+      return;
+    }
+    PyObject* parent = open_.back();
+    if (PyDict_CheckExact(parent) ? PyDict_SetItem(parent, key_.ptr(), o) : PyList_Append(parent, o)) 
+      throw py::error_already_set();
+  }
+  void open(PyObject* container) {
+    add(container);                  // the parent (or root_) holds it
+    open_.push_back(container);      // borrowed while open
+  }
+
+  py::object root_;
+  py::object key_;
+  std::vector<PyObject*> open_;
+};
 
 template <class J>
 py::object to_py(const J& j) {
@@ -173,7 +302,10 @@ py::object to_py(const J& j) {
     case nlohmann::json::value_t::boolean: return py::bool_(j.template get<bool>());
     case nlohmann::json::value_t::number_integer: return py::int_(j.template get<std::int64_t>());
     case nlohmann::json::value_t::number_unsigned: return py::int_(j.template get<std::uint64_t>());
-    case nlohmann::json::value_t::number_float: return py::float_(j.template get<double>());
+    case nlohmann::json::value_t::number_float: {  // a non-finite number is the text's null
+      const double d = j.template get<double>();
+      return std::isfinite(d) ? py::object(py::float_(d)) : py::object(py::none());
+    }
     case nlohmann::json::value_t::string: return utf8(j.template get_ref<const std::string&>());
     case nlohmann::json::value_t::array: {
       py::list l(j.size());
@@ -199,9 +331,13 @@ py::object to_py(const J& j) {
 
 /// Runs f with the GIL released on a worker thread; the calling thread waits
 /// and checks for signals (KeyboardInterrupt) every 50 ms. f must own what it
-/// uses (it may outlive the call when interrupted).
+/// uses (it may outlive the call when interrupted). With `cancel` (a flag f's
+/// computation reads), an interrupt sets the flag and waits for the worker
+/// to stop (it throws Cancelled at its next check), so no work outlives the
+/// call; without it the worker is left to finish on its own copies and its
+/// result is dropped.
 template <class F>
-auto interruptible(F f) -> decltype(f()) {
+auto interruptible(F f, std::shared_ptr<std::atomic<bool>> cancel = nullptr) -> decltype(f()) {
   using R = decltype(f());
   auto task = std::make_shared<std::packaged_task<R()>>(std::move(f));
   std::future<R> result = task->get_future();
@@ -214,12 +350,25 @@ auto interruptible(F f) -> decltype(f()) {
     }
     if (ready) break;
     if (PyErr_CheckSignals() != 0) {
-      worker.detach();  // it finishes on its own copies; the result is dropped
+      if (cancel) {
+        cancel->store(true);
+        py::gil_scoped_release release;
+        worker.join();  // stops at the computation's next check; its Cancelled stays in the dropped future
+      } else {
+        worker.detach();  // it finishes on its own copies; the result is dropped
+      }
       throw py::error_already_set();
     }
   }
   worker.join();
   return result.get();
+}
+
+/// interruptible(f) for a computation that takes a cancel flag: f(cancel).
+template <class F>
+auto cancellable(F f) -> decltype(f(static_cast<const std::atomic<bool>*>(nullptr))) {
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  return interruptible([f = std::move(f), flag = cancel]() mutable { return f(flag.get()); }, cancel);
 }
 
 /// Runs f with the GIL released on this thread (short calls).
@@ -317,26 +466,23 @@ struct AnalyzeArgs {
 /// Spans above which an analysis runs on the worker (interruptible).
 constexpr int kLongAnalysis = 256;
 
-OJson analyze_doc(const Spline& s, const AnalyzeArgs& a) {
-  ContinuityTolerances continuity{a.angle_tol, a.curvature_tol};
-  if (const SpaceSpline* space = std::get_if<SpaceSpline>(&s.value)) {
-    // cmr analyze on a space curve (tools/cmd_space.cpp: run_space_analyze).
-    if (!a.split.empty() || a.segments || a.mode != "cmrwi" || a.each_piece)
-      throw InputError("a space curve; split, segments, each_piece and mode are for planar splines");
-    SpaceAnalyzeOptions o;
-    o.max_depth = a.depth;
-    o.torsion = a.torsion;
-    o.continuity = continuity;
-    const SpaceAnalysis an = analyze_space(*space, o);
-    OJson segs = OJson::array(), joints = OJson::array();
-    for (std::size_t i = 0; i < an.segments.size(); ++i) segs.push_back(report::space_segment_json(*space, an, i));
-    for (const SpaceJoint& j : an.joints) joints.push_back(report::space_joint_json(an, j));
-    if (an.seam) joints.push_back(report::space_joint_json(an, *an.seam));
-    return {{"segments", segs}, {"joints", joints}, {"spline", report::space_verdict_json(an)}};
-  }
-  const BSpline& spline = std::get<BSpline>(s.value);
+/// cmr analyze on a space curve (tools/cmd_space.cpp: run_space_analyze).
+OJson space_analyze_doc(const SpaceSpline& space, const AnalyzeArgs& a) {
+  SpaceAnalyzeOptions o;
+  o.max_depth = a.depth;
+  o.torsion = a.torsion;
+  o.continuity = {a.angle_tol, a.curvature_tol};
+  const SpaceAnalysis an = analyze_space(space, o);
+  OJson segs = OJson::array(), joints = OJson::array();
+  for (std::size_t i = 0; i < an.segments.size(); ++i) segs.push_back(report::space_segment_json(space, an, i));
+  for (const SpaceJoint& j : an.joints) joints.push_back(report::space_joint_json(an, j));
+  if (an.seam) joints.push_back(report::space_joint_json(an, *an.seam));
+  return {{"segments", segs}, {"joints", joints}, {"spline", report::space_verdict_json(an)}};
+}
+
+/// As tools/cmd_analyze.cpp fills AnalyzeOptions.
+AnalyzeOptions planar_analyze_options(const AnalyzeArgs& a) {
   if (a.torsion) throw InputError("a planar spline; torsion is for space curves");
-  // As tools/cmd_analyze.cpp fills AnalyzeOptions.
   AnalyzeOptions o;
   o.classify.max_depth = a.depth;
   if (a.split.size() == 1) o.split = a.split[0];
@@ -348,22 +494,37 @@ OJson analyze_doc(const Spline& s, const AnalyzeArgs& a) {
   }
   if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
   o.split_mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-  o.continuity = continuity;
-  // The command streams this document (report::write_analysis_json, on every
-  // core); its text is byte for byte json_text of analysis_json_tree
-  // (tests/report/analyze_json_test.cpp). A short analysis builds the tree
-  // here; a long one is streamed as the command does and read back.
-  if (spline.segment_count() <= kLongAnalysis)
-    return report::analysis_json_tree(spline, analyze(spline, o), o.splits);
-  std::ostringstream text;
-  report::write_analysis_json(text, spline, o);
-  return OJson::parse(text.str());
+  o.continuity = {a.angle_tol, a.curvature_tol};
+  return o;
 }
 
+/// Spans up to which an analysis runs on the calling thread (not
+/// interruptible: 16 cubic spans take about 40 us), the GIL held: releasing
+/// and taking it back would cost a tenth of a cubic Bezier's analysis.
+constexpr int kShortAnalysis = 16;
+
 py::object analyze_py(const Spline& s, const AnalyzeArgs& a) {
-  OJson doc = s.shadow().segment_count() <= kLongAnalysis ? released([&] { return analyze_doc(s, a); })
-                                                          : interruptible([s, a] { return analyze_doc(s, a); });
-  return to_py(doc);
+  if (const SpaceSpline* space = std::get_if<SpaceSpline>(&s.value)) {
+    if (!a.split.empty() || a.segments || a.mode != "cmrwi" || a.each_piece)
+      throw InputError("a space curve; split, segments, each_piece and mode are for planar splines");
+    const OJson doc = s.shadow().segment_count() <= kLongAnalysis
+                          ? released([&] { return space_analyze_doc(*space, a); })
+                          : interruptible([space = *space, a] { return space_analyze_doc(space, a); });
+    return to_py(doc);
+  }
+  const BSpline& spline = std::get<BSpline>(s.value);
+  const AnalyzeOptions o = planar_analyze_options(a);
+  // The document `cmr analyze` streams (report::write_analysis_json), built
+  // by the stream's own member writers straight into Python objects.
+  const int n = spline.segment_count();
+  const SplineAnalysis an = n <= kShortAnalysis   ? analyze(spline, o)
+                            : n <= kLongAnalysis  ? released([&] { return analyze(spline, o); })
+                                                  : cancellable([spline, o](const std::atomic<bool>* cancel) {
+                                                     return analyze_on_threads(spline, o, 0, cancel);
+                                                   });
+  PyDocument doc;
+  report::write_analysis_document(doc, spline, an, o.splits);
+  return doc.take();
 }
 
 // ------------------------------------------------------------ regions
@@ -413,9 +574,10 @@ struct RegionOut {
 
 /// As tools/cmd_region.cpp: region_options, validated_problems (one point),
 /// render_all, point_summary, contours_of, region_summary.
-RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
+RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atomic<bool>* cancel = nullptr) {
   RegionOut out;
   RegionRequest o;
+  o.cancel = cancel;
   o.width = a.width;
   o.height = a.height;
   o.mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
@@ -456,6 +618,7 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a) {
     }
   const auto t0 = std::chrono::steady_clock::now();
   out.image = backend->render(problem);
+  if (cancel != nullptr && cancel->load()) throw Cancelled();  // an incomplete image: dropped
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const RegionResult& img = out.image;
   out.codes = img.codes();  // the one pass over the labels
@@ -576,7 +739,8 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
   }
   if (!a.plane.empty()) throw InputError("plane is for space curves (this spline is planar)");
   const BSpline spline = s.planar("region");
-  auto out = std::make_shared<RegionOut>(interruptible([spline, a] { return region_run(spline, a); }));
+  auto out = std::make_shared<RegionOut>(
+      cancellable([spline, a](const std::atomic<bool>* cancel) { return region_run(spline, a, cancel); }));
   py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
   if (!full) {
     py::list notes;
@@ -669,7 +833,10 @@ py::object fix_py(const Spline& s, const FixArgs& a) {
   request.tolerance = a.tolerance;
   request.max_depth = a.depth;
   request.grid = a.grid;
-  const FixResult f = interruptible([spline, request] { return fix(spline, request); });
+  const FixResult f = cancellable([spline, request](const std::atomic<bool>* cancel) mutable {
+    request.cancel = cancel;
+    return fix(spline, request);
+  });
   if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
   Spline fixed{*f.spline, s.point_names};
   return py::make_tuple(fixed, to_py(report::fix_json(std::nullopt, request, f)));
@@ -712,7 +879,10 @@ py::object kcurve_py(py::handle points, bool closed, bool cubic, double toleranc
   options.closed = closed;
   options.tolerance = tolerance;
   options.max_iterations = max_iterations;
-  const KCurve curve = interruptible([input, options] { return kcurve(input, options); });
+  const KCurve curve = cancellable([input, options](const std::atomic<bool>* cancel) mutable {
+    options.cancel = cancel;
+    return kcurve(input, options);
+  });
   // The command's two refusals, in its words (without the file name).
   if (!curve.converged()) {
     std::ostringstream why;
@@ -1133,9 +1303,11 @@ PYBIND11_MODULE(_cmr, m) {
       .def(py::init<const std::string&, int, int>())
       .def("submit", &JudgeQueue::submit)
       .def("results", &JudgeQueue::results);
-  m.def("_analyze_default", [](const Spline& s) {
-    // cmr.analyze(spline) with every option at its default: no options to convert.
-    return analyze_py(s, AnalyzeArgs{});
+  m.def("_analyze_default", [](py::handle s) {
+    // cmr.analyze(spline) with every option at its default: no options to
+    // convert. A cmr.Spline or a spline-file dict (cmr.Spline.from_dict).
+    if (PyDict_Check(s.ptr())) return analyze_py(spline_from_doc(to_json(s, "")), AnalyzeArgs{});
+    return analyze_py(s.cast<const Spline&>(), AnalyzeArgs{});
   });
 
   m.def("_font_contour", &font_contour);
@@ -1145,22 +1317,25 @@ PYBIND11_MODULE(_cmr, m) {
     return py::make_tuple(c.r, c.g, c.b);
   });
   m.def("_time_analyze",
-        [](const Spline& s, int n, bool document) {
+        [](const Spline& s, int n, bool document, bool read) {
           // The C++ side of tools/bench/python_overhead.py: n calls of
-          // analyze() (and, with `document`, analysis_json_tree), no Python.
+          // analyze() (with `document`, and analysis_json_tree; with `read`,
+          // after reading the spline from its spline-file JSON tree, the
+          // C++ counterpart of a dict argument), no Python.
           const BSpline& b = s.planar("_time_analyze");
+          const Json doc = spline_to_json(b);
           py::gil_scoped_release release;
           std::size_t sink = 0;
           const auto t0 = std::chrono::steady_clock::now();
           for (int i = 0; i < n; ++i) {
-            const SplineAnalysis a = analyze(b, AnalyzeOptions{});
+            const SplineAnalysis a = read ? analyze(spline_from_json(doc), AnalyzeOptions{}) : analyze(b, AnalyzeOptions{});
             sink += a.segments.size();
             if (document) sink += report::analysis_json_tree(b, a, {}).size();
           }
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
           return sink > 0 ? seconds : -seconds;
         },
-        py::arg("spline"), py::arg("n"), py::arg("document") = false);
+        py::arg("spline"), py::arg("n"), py::arg("document") = false, py::arg("read") = false);
   m.attr("kDefaultDepth") = kDefaultDepth;
   m.attr("kMaxDepth") = kMaxDepth;
   m.attr("kMaxDegree") = kMaxDegree;

@@ -58,13 +58,7 @@ Json verdict_json(const SplineAnalysis& a, const std::vector<int>& splits) {
   return verdict;
 }
 
-// A joint's marks in analyze's document: the seam mark, and "ignored" on a
-// joint outside the judged range (the seam is judged with the whole period
-// and no split joints).
-struct JointMarks {
-  bool seam = false;
-  bool ignored = false;
-};
+}  // namespace
 
 JointMarks joint_marks(const SplineAnalysis& a, const Joint& j, const std::vector<int>& splits) {
   JointMarks m;
@@ -77,47 +71,7 @@ JointMarks joint_marks(const SplineAnalysis& a, const Joint& j, const std::vecto
   return m;
 }
 
-// ------------------------------------------------------------ the stream
-
-// The streamed twin of segment_json.
-void write_segment(JsonStream& o, const Segment& s, const SegmentClass& c, const SegmentShape& sh, bool judged) {
-  o.begin_object();
-  o.member("index", s.index);
-  o.key("interval");
-  o.begin_array();
-  o.value(s.a);
-  o.value(s.b);
-  o.end_array();
-  if (!judged) {
-    o.member("curvature", "ignored");
-    o.member("inflection", "ignored");
-    o.end_object();
-    return;
-  }
-  o.member("class", shape_class(sh));
-  o.member("curvature", to_string(c.monotonicity.curvature));
-  o.member("inflection", to_string(sh.inflection));
-  o.member("zero_curvature_at", kappa_zero_at(sh));
-  o.member("algorithm2", to_string(c.inflection.inflection));
-  o.member("depth", c.monotonicity.depth);
-  o.member("inflection_depth", c.inflection.depth);
-  o.member("exact", c.exact_used);
-  if (sh.pole) {
-    o.key("poles");
-    o.begin_array();
-    for (const double t : sh.poles) o.value(t);
-    o.end_array();
-  }
-  o.end_object();
-}
-
-void write_joint(JsonStream& o, const SplineAnalysis& a, const Joint& j, const std::vector<int>& splits) {
-  const JointMarks m = joint_marks(a, j, splits);
-  o.begin_object();
-  write_joint_members(o, j, {std::nullopt, true, m.seam});
-  if (m.ignored) o.member("ignored", true);
-  o.end_object();
-}
+namespace {
 
 // Text that a JsonStream writing the whole document writes at one place in
 // it: inside the top-level object, as the value of a member (depth 1) or as
@@ -222,7 +176,7 @@ SplineAnalysis write_analysis_json(std::ostream& out, const BSpline& spline, con
 
   write(pretty ? ",\n  \"spline\": " : ",\"spline\":");
   Placed verdict(pretty, false);
-  verdict.stream().value(verdict_json(a, options.splits));
+  write_verdict(verdict.stream(), a, options.splits);
   write(verdict.take(false));
   write(pretty ? "\n}\n" : "}\n");
   write_noting_stdout_error(out, nullptr, 0);  // the flush

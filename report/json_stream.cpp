@@ -146,26 +146,6 @@ void JsonStream::value(const nlohmann::ordered_json& j) {
   }
 }
 
-void write_joint_members(JsonStream& o, const Joint& j, const JointJsonFields& fields) {
-  o.member("index", j.index);
-  o.member("knot", j.knot);
-  o.member("multiplicity", j.multiplicity);
-  std::string continuity = "C";
-  continuity += std::to_string(j.continuity);
-  o.member("continuity", continuity);
-  o.member("g1", j.g1);
-  o.member("g2", j.g2);
-  o.member("angle", j.angle_deg);  // NaN (a zero tangent) prints as null
-  o.member("zero_tangent", j.zero_tangent);
-  if (fields.corner) o.member("corner", *fields.corner);
-  o.member("kappa_left", j.kappa_left);
-  o.member("kappa_right", j.kappa_right);
-  o.member("jump", jump_name(shown_jump(j)));  // "none" at a G2 joint (docs/semantics.md)
-  o.member("exact_jump", jump_name(j.jump));   // the exact sign of the jump
-  if (fields.marks && j.pole) o.member("pole", true);
-  if (fields.marks && fields.seam) o.member("seam", true);
-}
-
 // ---------------------------------------------------------------- one spline
 
 namespace {

@@ -71,11 +71,6 @@ class JsonStream {
   std::vector<char> array_;  // per open container: is an array
 };
 
-/// The members of joint_json(j, fields) (bezierize/joint_json.hpp), streamed
-/// into the open object in the same order: report.json's joints and `cmr
-/// analyze`'s (report/analyze_json.hpp).
-void write_joint_members(JsonStream& out, const Joint& j, const JointJsonFields& fields = {});
-
 /// What the batch writer adds to a spline's object (report/corpus.cpp).
 struct SplineJsonExtras {
   const std::string* source = nullptr;                  ///< "source" (with glyph and contour), when set

@@ -16,6 +16,9 @@
 //    vk::RegionFailure, which also carries the vk::Error); inside vk/ the
 //    Vulkan boundary returns vk::Result (vk/error.hpp), and vk/ turns a
 //    failure into an EnvironmentError where it leaves that boundary.
+//  * A computation stopped because its caller asked (a cancel flag it
+//    handed in was set: the Python module's KeyboardInterrupt):
+//    cmr::Cancelled. No result exists; nothing was written.
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -33,6 +36,12 @@ class InputError : public std::runtime_error {
 class EnvironmentError : public std::runtime_error {
  public:
   explicit EnvironmentError(const std::string& message) : std::runtime_error(message) {}
+};
+
+/// A computation stopped at its caller's request (a set cancel flag).
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled") {}
 };
 
 [[noreturn]] inline void check_failed(const char* expr, const char* file, int line) {

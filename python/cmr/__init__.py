@@ -15,10 +15,12 @@ Splines are ``cmr.Spline`` objects, dicts in the spline-file format
 ValueError) with the command's one-line message; environment failures (no
 Vulkan device, a full disk) raise ``cmr.EnvironmentError`` (an OSError).
 Long calls release the GIL; regions, fixes, reports and analyses of more
-than 256 spans can be interrupted with Ctrl-C (KeyboardInterrupt), the
-computation then finishing on its own thread with its result dropped.
+than 256 spans can be interrupted with Ctrl-C (KeyboardInterrupt): an
+analysis stops, the others finish on their own thread with the result
+dropped (docs/python.md, "Threads and Ctrl-C").
 """
 
+import inspect as _inspect
 import json
 import os
 import tempfile
@@ -46,20 +48,23 @@ def _notes(lines):
         warnings.warn(line, Note, stacklevel=3)
 
 
-def analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=None, each_piece=None,
-            angle_tol=1e-3, curvature_tol=1e-6, torsion=False, **unknown):
+def analyze(spline, **options):
     """``cmr analyze FILE [options]``: the dict the command prints as JSON
     (keys "segments", "joints", "spline"; docs/analyze.md).
 
-    depth: --depth D; split: --split S or [S1, S2, ...]; mode: "cmrwi" | "cmr";
-    segments: --segments, as A, (A, B) or "A..B"; each_piece: True or
-    [S1, S2, ...] (--each-piece); angle_tol, curvature_tol: --angle-tol,
-    --curvature-tol; torsion: space curves' --torsion.
+    Options (keywords; see the signature): depth: --depth D; split: --split S
+    or [S1, S2, ...]; mode: "cmrwi" | "cmr"; segments: --segments, as A,
+    (A, B) or "A..B"; each_piece: True or [S1, S2, ...] (--each-piece);
+    angle_tol, curvature_tol: --angle-tol, --curvature-tol; torsion: space
+    curves' --torsion.
     """
-    if (type(spline) is Spline and not unknown and depth == DEFAULT_DEPTH and split is None and mode == "cmrwi"
-            and segments is None and each_piece is None and angle_tol == 1e-3 and curvature_tol == 1e-6
-            and torsion is False and type(depth) is int):
+    if not options and (type(spline) is Spline or type(spline) is dict):
         return _cmr._analyze_default(spline)  # every option at its default: nothing to convert
+    return _analyze(spline, **options)
+
+
+def _analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=None, each_piece=None,
+             angle_tol=1e-3, curvature_tol=1e-6, torsion=False, **unknown):
     _o.unknown("analyze", unknown, ["depth", "split", "mode", "segments", "each_piece", "angle_tol",
                                     "curvature_tol", "torsion"])
     a = _cmr._AnalyzeArgs()
@@ -74,6 +79,9 @@ def analyze(spline, *, depth=DEFAULT_DEPTH, split=None, mode="cmrwi", segments=N
         raise InputError(f"torsion: expected True or False, got {torsion!r}")
     a.torsion = torsion
     return _cmr._analyze(_o.spline(spline, "analyze"), a)
+
+
+analyze.__signature__ = _inspect.signature(_analyze)
 
 
 def segments(spline):

@@ -129,6 +129,23 @@ TEST(Fix, Fig8IsFixedByOnePoint) {
   EXPECT_EQ(f.spline->points().back(), s.points().back());
 }
 
+TEST(Fix, ASetCancelFlagEndsTheSearchAsItsTimeLimitWould) {
+  // FixRequest::cancel (the Python module's KeyboardInterrupt), set before
+  // the search: it ends at once without a fix, as when max_seconds runs out;
+  // unset, the same request finds Fig8IsFixedByOnePoint's fix.
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmrwi");
+  const std::atomic<bool> unset{false}, set{true};
+  r.cancel = &unset;
+  EXPECT_TRUE(fix(s, r).fixed);
+  r.cancel = &set;
+  const FixResult f = fix(s, r);
+  EXPECT_FALSE(f.fixed);
+  EXPECT_NE(f.reason.find("time limit"), std::string::npos) << f.reason;
+}
+
 /// The CMR Bezier (0,0) (2,0) (3,0.5) (3.3,1.2) split at t = 1/2 (a knot of
 /// multiplicity 3, so the joint is G1 and G2 by geometry), then one point of
 /// the right half moved: P5 (breaks G2, keeps G1) or the end point P6 (keeps

@@ -464,3 +464,31 @@ TEST(Region, RationalSplineLabelsEqualTheExactAnalysisOfTheMovedSpline) {
 
 }  // namespace
 }  // namespace cmr
+
+namespace cmr {
+namespace {
+
+TEST(Region, ASetCancelFlagStopsTheCpuRenderBeforeItsBlocks) {
+  // The caller's cancel flag (RegionRequest::cancel, the Python module's
+  // KeyboardInterrupt) is read before each block: set before the render,
+  // no block runs and every pixel keeps the blank image's label; unset, the
+  // same request labels pixels monotone.
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},  // Fig. 8
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  RegionRequest o;
+  o.point = 3;
+  o.width = o.height = 64;
+  const auto monotone = [](const RegionResult& r) {
+    int n = 0;
+    for (const Direction d : r.labels) n += d != Direction::none ? 1 : 0;
+    return n;
+  };
+  const std::atomic<bool> unset{false}, set{true};
+  o.cancel = &unset;
+  EXPECT_GT(monotone(CpuRegionBackend(2).render(RegionProblem::make(s, o))), 0);
+  o.cancel = &set;
+  EXPECT_EQ(monotone(CpuRegionBackend(2).render(RegionProblem::make(s, o))), 0);
+}
+
+}  // namespace
+}  // namespace cmr

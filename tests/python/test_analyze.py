@@ -71,8 +71,8 @@ def test_seeded_spline_equals_cli(tmp_path, seed):
 
 
 def test_long_spline_streamed_equals_cli(tmp_path):
-    # More spans than the module analyses inline: the streamed writer, on
-    # the worker thread.
+    # More spans than the module analyses inline: analyze_on_threads on the
+    # worker thread, its dict against the command's streamed text.
     rng = random.Random(7)
     m = 700
     doc = {"degree": 3, "knots": list(range(m + 2)),
@@ -81,6 +81,23 @@ def test_long_spline_streamed_equals_cli(tmp_path):
     path.write_text(json.dumps(doc))
     assert cmr.Spline.from_dict(doc).segment_count > 256
     assert cmr.analyze(doc) == cli_json("analyze", path)
+
+
+@pytest.mark.parametrize("doc", [
+    # A zero tangent at the joint (a repeated point): its angle and both
+    # curvatures are NaN, which the command prints as null.
+    {"degree": 2, "points": [[0, 0], [1, 1], [1, 1], [2, 0]], "knots": [0, 1, 2, 3, 4]},
+    # A closed spline with its seam, and the short path (at most 16 spans,
+    # the GIL held) against a few more spans.
+    {"degree": 3, "points": [[0, 0], [2, 0], [3, 2], [1, 3], [-1, 2]], "closed": True},
+    {"degree": 3, "points": [[i, (i * 7) % 5] for i in range(20)], "knots": list(range(22))},
+], ids=["zero-tangent", "closed", "17-spans"])
+def test_marked_documents_equal_cli(tmp_path, doc):
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(doc))
+    cli = cli_json("analyze", path)
+    assert cmr.analyze(doc) == cli
+    assert cmr.analyze(cmr.Spline.from_dict(doc)) == cli
 
 
 def test_space_curve_equals_cli():

@@ -69,12 +69,25 @@ def test_bad_knots_and_degree():
     ({"points": FIG8["points"], "degree": 3, "knots": FIG8["knots"], "colour": 1}, "colour"),
     ({"points": FIG8["points"], "degree": 3, "knots": FIG8["knots"], "name": object()}, "not a spline-file value"),
     ({1: 2}, "a key that is not a string"),
+    ({"degree": 3, "points": [[0, 0], [1, 1], [2, 0], [3, [[[[[[[[[[1]]]]]]]]]]]]}, r"points\[3\]\[1\] is not a number"),
     ("/no/such/file.json", "cannot open"),
 ])
 def test_bad_spline_values(value, match):
     with pytest.raises(cmr.InputError, match=match) as e:
         cmr.analyze(value)
     one_line(e)
+
+
+def test_deep_nesting_is_refused_not_a_crash():
+    # 100,000 nested lists: read recursively, they would exhaust the C
+    # stack; the reader refuses past 64 levels.
+    deep = []
+    for _ in range(100000):
+        deep = [deep]
+    for value in ({"degree": 3, "points": deep}, {"degree": 3, "points": [[0, 0]], "name": {"a": deep}}):
+        with pytest.raises(cmr.InputError, match="nested more than 64 deep") as e:
+            cmr.analyze(value)
+        one_line(e)
 
 
 @pytest.mark.parametrize("call,match", [

@@ -4,6 +4,7 @@ speed: a call that held the GIL would show one gap as long as the call and
 two calls one after the other."""
 
 import _thread
+import os
 import threading
 import time
 
@@ -95,3 +96,56 @@ def test_keyboard_interrupt_returns_before_the_call_ends():
     interrupted = time.perf_counter() - start
     timer.join()
     assert interrupted < 0.6 * full, f"interrupted after {interrupted:.3f} s of a {full:.3f} s call"
+
+
+def _threads():
+    return len(os.listdir("/proc/self/task"))
+
+
+def long_analysis():
+    # 60,000 cubic spans of a random walk: more than 256 spans run on the
+    # worker, on every core in chunks of 256.
+    rng = np.random.default_rng(42)
+    m = 60000
+    points = np.cumsum(rng.uniform(-1, 1, (m, 2)), axis=0)
+    cmr.analyze(cmr.Spline(3, points, knots=list(range(m + 2))))
+
+
+def timed(call):
+    """The call's wall time, and the time of its part a cancel must cut
+    short: a region's render (its summary's seconds; labels to codes, counts
+    and the reason come after it), the whole call otherwise."""
+    start = time.perf_counter()
+    if call is big_region:
+        part = cmr.region_result(FIG8, point=3, size=(8192, 8192), backend="cpu")["summary"]["seconds"]
+    else:
+        call()
+        part = None
+    full = time.perf_counter() - start
+    return full, part if part is not None else full
+
+
+@pytest.mark.parametrize("call", [long_analysis, big_region, slow_kcurve], ids=["analyze", "region", "kcurve"])
+def test_keyboard_interrupt_cancels_the_computation(call):
+    # The call is cancelled, not abandoned: when the KeyboardInterrupt
+    # arrives (0.1 s in), the computation has stopped and its thread is
+    # gone. Without the cancel flag it would go on until it ended: on its
+    # own thread (one more thread in /proc/self/task, CPU time rising), or
+    # with the caller waiting for it.
+    full, part = timed(call)
+    assert part > 0.3, f"the call's cancellable part took only {part:.3f} s: too short to tell"
+    before = _threads()  # after a first run: the region's worker pool is up
+    timer = threading.Timer(0.1, _thread.interrupt_main)
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        call()
+    interrupted = time.perf_counter() - start
+    timer.join()
+    left = _threads() - before
+    cpu0 = time.process_time()
+    time.sleep(0.5)
+    after = time.process_time() - cpu0
+    assert interrupted < 0.1 + 0.5 * part, f"interrupted after {interrupted:.3f} s; its part takes {part:.3f} s"
+    assert left <= 0, f"{left} more threads after the interrupt: the computation went on"
+    assert after < 0.05, f"{after:.3f} s of CPU time in the 0.5 s after the interrupt: the computation went on"

@@ -4,7 +4,9 @@
 // seeded splines with inflections, cusps, straight runs, repeated knots,
 // closed and rational ones, under every option that changes the document
 // (--segments, --split, alternation, --each-piece); and the analysis it
-// returns is analyze()'s.
+// returns is analyze()'s. The same members written from a finished analysis
+// (write_analysis_document, the Python module's dict) and the threaded
+// analyze_on_threads give the same bytes; a set cancel flag stops the latter.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +15,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "report/analyze_json.hpp"
+#include "report/json_stream.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -127,6 +130,18 @@ void expect_same_document(const BSpline& s, const std::string& ctx) {
           same_text(reference, streamed(s, o, {.pretty = pretty, .threads = 2, .chunk = 2, .window = 3}, &parallel)))
           << c << ", 2 threads, chunk 2";
       const SplineAnalysis a = analyze(s, o);
+      // The finished analysis written by the stream's member writers (what
+      // the Python module builds its dict with), from analyze() and from
+      // analyze_on_threads on 3 threads.
+      std::string members;
+      JsonStream whole(members, pretty ? 2 : -1);
+      write_analysis_document(whole, s, a, o.splits);
+      EXPECT_TRUE(same_text(reference, members + "\n")) << c << ", write_analysis_document";
+      const SplineAnalysis threaded = analyze_on_threads(s, o, 3);
+      std::string threaded_text;
+      JsonStream threaded_stream(threaded_text, pretty ? 2 : -1);
+      write_analysis_document(threaded_stream, s, threaded, o.splits);
+      EXPECT_TRUE(same_text(reference, threaded_text + "\n")) << c << ", analyze_on_threads";
       EXPECT_EQ(parallel.exact_segments, a.exact_segments) << c;
       EXPECT_EQ(single.exact_segments, a.exact_segments) << c;
       EXPECT_EQ(parallel.cmrwi, a.cmrwi) << c;
@@ -154,6 +169,17 @@ TEST(AnalyzeJson, StreamedParallelTextIsTheSingleThreadTextAndTheTree) {
   EXPECT_GT(made, 90);
   EXPECT_GT(closed, 20);
   EXPECT_GT(rational, 20);
+}
+
+TEST(AnalyzeJson, ACancelFlagStopsTheThreadedAnalysis) {
+  std::vector<Vec2> P;
+  std::vector<double> knots;
+  for (int i = 0; i < 2000; ++i) P.emplace_back(i, (i * 7919) % 13);
+  for (int i = 0; i < 2000 + 2; ++i) knots.push_back(i);
+  const BSpline s = BSpline::make(3, knots, P, "long");
+  const std::atomic<bool> set{true}, unset{false};
+  EXPECT_THROW(analyze_on_threads(s, {}, 2, &set), Cancelled);
+  EXPECT_EQ(analyze_on_threads(s, {}, 2, &unset).cmrwi, analyze(s, {}).cmrwi);
 }
 
 TEST(AnalyzeJson, KnownShapesAreCovered) {

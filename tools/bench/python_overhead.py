@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The speed points of issue 38 for `import cmr` (docs/python.md, "Speed"):
 
- 1. cmr.analyze on a cubic Bezier against the C++ call, in a loop of 10,000
+ 1. cmr.analyze on a cubic Bezier against the C++ call, in loops of 10,000
     (the binding's and the dict's overhead): the C++ loop is timed inside
     the module (cmr._cmr._time_analyze, no Python in between);
  2. cmr.region: the labels come back in one pass (the render's time, the
@@ -49,19 +49,31 @@ def machine():
     return f"{cpu}, {os.cpu_count()} hardware threads, Python {platform.python_version()}, load {os.getloadavg()[0]:.2f}"
 
 
-def bench_analyze(n=10000):
+def bench_analyze(n=10000, rounds=15):
+    """Each of the four loops `rounds` times, interleaved, best of each: the
+    machine's load (other builds) slows all of them alike within a round."""
     bezier = cmr.Spline(3, [[0, 0], [1, 2], [3, 3], [4, 0]])
     d = bezier.to_dict()
-    cpp = best(lambda: cmr._cmr._time_analyze(bezier, n))
-    cpp_doc = best(lambda: cmr._cmr._time_analyze(bezier, n, True))
-    py_spline = best(lambda: [cmr.analyze(bezier) for _ in range(n)])
-    py_dict = best(lambda: [cmr.analyze(d) for _ in range(n)])
-    print(f"1. cmr.analyze, cubic Bezier, loop of {n}:")
-    print(f"   C++ analyze()                     {cpp / n * 1e6:7.2f} us/call")
-    print(f"   C++ analyze() + document tree     {cpp_doc / n * 1e6:7.2f} us/call")
-    for what, t in (("cmr.analyze(cmr.Spline)", py_spline), ("cmr.analyze(dict)      ", py_dict)):
-        print(f"   {what}           {t / n * 1e6:7.2f} us/call  = {t / cpp_doc:.2f}x analyze() + document, "
-              f"{t / cpp:.2f}x analyze() alone")
+    loops = {
+        "cpp": lambda: cmr._cmr._time_analyze(bezier, n),
+        "cpp_read": lambda: cmr._cmr._time_analyze(bezier, n, False, True),
+        "cpp_doc": lambda: cmr._cmr._time_analyze(bezier, n, True),
+        "py_spline": lambda: best(lambda: [cmr.analyze(bezier) for _ in range(n)], 1),
+        "py_dict": lambda: best(lambda: [cmr.analyze(d) for _ in range(n)], 1),
+    }
+    t = {k: float("inf") for k in loops}
+    for _ in range(rounds):
+        for k, f in loops.items():
+            t[k] = min(t[k], f())
+    us = {k: v / n * 1e6 for k, v in t.items()}
+    print(f"1. cmr.analyze, cubic Bezier, loop of {n} (best of {rounds}, interleaved):")
+    print(f"   C++ analyze()                        {us['cpp']:7.2f} us/call")
+    print(f"   C++ spline_from_json() + analyze()   {us['cpp_read']:7.2f} us/call")
+    print(f"   C++ analyze() + document tree        {us['cpp_doc']:7.2f} us/call")
+    print(f"   cmr.analyze(cmr.Spline)              {us['py_spline']:7.2f} us/call  = "
+          f"{t['py_spline'] / t['cpp']:.2f}x analyze()")
+    print(f"   cmr.analyze(dict)                    {us['py_dict']:7.2f} us/call  = "
+          f"{t['py_dict'] / t['cpp_read']:.2f}x spline_from_json() + analyze(), {t['py_dict'] / t['cpp']:.2f}x analyze()")
 
 
 def bench_region():

@@ -41,9 +41,10 @@ void push_difference(std::vector<double>& key, double a, double b) {
 
 }  // namespace
 
-// The key holds every field of RegionRequest; a new field must join it (the
-// size check makes a merge that adds one fail here rather than cache wrongly).
-static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 144,  // each_piece fits the padding
+// The key holds every field of RegionRequest that shapes the labels (all but
+// `cancel`, a caller's flag); a new field must join it (the size check makes
+// a merge that adds one fail here rather than cache wrongly).
+static_assert(sizeof(void*) != 8 || sizeof(RegionRequest) == 152,  // each_piece fits the padding
               "RegionRequest changed: add the new field to region_key, then update this size");
 
 std::vector<double> region_key(const BSpline& spline, const RegionRequest& r) {
