@@ -56,7 +56,7 @@ def glyph_o(font, m, extra=False):
     g.width = 600
     pen = g.getPointPen()
     pen.beginPath()
-    pen.addPoint((0, 0), segmentType="curve", smooth=True)
+    pen.addPoint((0, 0), segmentType="curve", smooth=m.get("smooth", True))
     pen.addPoint(m["v"])
     pen.addPoint(m["h"])
     pen.addPoint(m["b"], segmentType="curve")
