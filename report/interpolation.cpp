@@ -36,11 +36,13 @@ Rational middle(const RootInterval& r) { return r.exact() ? r.lo : Rational((r.l
 
 }  // namespace
 
-bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy) {
-  return ux * vy - uy * vx == 0 && ux * vx + uy * vy > 0;
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy, const Rational& tan_turn) {
+  const Rational c = ux * vy - uy * vx, d = ux * vx + uy * vy;
+  if (tan_turn == 0) return c == 0 && d > 0;
+  return d > 0 && abs(c) <= tan_turn * d;
 }
 
-G1Between g1_between(const NodeTangents& t) {
+G1Between g1_between(const NodeTangents& t, const Rational& tan_turn) {
   G1Between out;
   out.judged = true;
   const Poly ux{t.u0x, t.u1x}, uy{t.u0y, t.u1y}, vx{t.v0x, t.v1x}, vy{t.v0y, t.v1y};
@@ -62,6 +64,41 @@ G1Between g1_between(const NodeTangents& t) {
       out.fail.emplace_back(double_below(bounds[k].second), double_above(bounds[k + 1].first));
     }
   };
+  // The worst angle: at a root of g = c' d - c d' inside (0, 1), or at an end.
+  auto worst = [&] {
+    const Poly g = sub(bernstein_product(bernstein_derivative(c), d), bernstein_product(c, bernstein_derivative(d)));
+    std::vector<Rational> candidates{Rational(0), Rational(1)};
+    if (!is_zero(g))
+      for (const RootInterval& r : isolate_roots(g))
+        if (middle(r) > 0 && middle(r) < 1) candidates.push_back(middle(r));
+    out.worst_angle = -1;
+    for (const Rational& s : candidates) {
+      const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * to_degrees;
+      if (a > out.worst_angle) {
+        out.worst_angle = a;
+        out.worst_s = nearest_double(s);
+      }
+    }
+  };
+  if (tan_turn > 0) {
+    // Within the turn: T d - c >= 0, T d + c >= 0 and d > 0 (the header's h+ and h-).
+    Poly scaled = d;
+    for (Rational& k : scaled) k *= tan_turn;
+    for (const Poly& h : {sub(scaled, c), add(scaled, c), d})
+      if (!is_zero(h)) between_roots(h, true);
+    std::sort(out.fail.begin(), out.fail.end());
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& f : out.fail) {
+      if (!merged.empty() && f.first <= merged.back().second)
+        merged.back().second = std::max(merged.back().second, f.second);
+      else
+        merged.push_back(f);
+    }
+    out.fail = std::move(merged);
+    out.holds = out.fail.empty();
+    if (!out.holds) worst();
+    return out;
+  }
   if (is_zero(c)) {
     // Collinear throughout: G1 unless the direction reverses (d <= 0 somewhere).
     between_roots(d, true);
@@ -76,19 +113,7 @@ G1Between g1_between(const NodeTangents& t) {
     return out;
   }
   between_roots(c, false);
-  // The worst angle: at a root of g = c' d - c d' inside (0, 1), or at an end.
-  const Poly g = sub(bernstein_product(bernstein_derivative(c), d), bernstein_product(c, bernstein_derivative(d)));
-  std::vector<Rational> candidates{Rational(0), Rational(1)};
-  for (const RootInterval& r : isolate_roots(g))
-    if (middle(r) > 0 && middle(r) < 1) candidates.push_back(middle(r));
-  out.worst_angle = -1;
-  for (const Rational& s : candidates) {
-    const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * to_degrees;
-    if (a > out.worst_angle) {
-      out.worst_angle = a;
-      out.worst_s = nearest_double(s);
-    }
-  }
+  worst();
   return out;
 }
 
@@ -110,9 +135,10 @@ bool is_zero_vector(const Rational& x, const Rational& y) { return x == 0 && y =
 
 }  // namespace
 
-std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
+std::vector<GateViolation> g1_between_violations(const SplineReport& r, double turn_degrees) {
   std::vector<GateViolation> out;
   if (!r.motions || !r.spline) return out;
+  const Rational T(turn_degrees > 0 ? std::tan(turn_degrees * std::numbers::pi / 180) : 0.0);
   const BSpline& s = *r.spline;
   const int N = s.segment_count(), deg = s.degree();
   for (const JointReport& jr : r.joints) {
@@ -154,24 +180,38 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
         std::vector<RPoint> l0 = end_points(line, left, false), l1 = end_points(line, left, true);
         std::vector<RPoint> r0 = end_points(line, right, false), r1 = end_points(line, right, true);
         const int bu = u == tangent(1) ? 1 : 2, bv = v == tangent_out(1) ? 1 : 2;
-        if (!g1_at(l0[n].x - l0[n - bu].x, l0[n].y - l0[n - bu].y, r0[bv].x - r0[0].x, r0[bv].y - r0[0].y) ||
-            !g1_at(l1[n].x - l1[n - bu].x, l1[n].y - l1[n - bu].y, r1[bv].x - r1[0].x, r1[bv].y - r1[0].y))
+        if (!g1_at(l0[n].x - l0[n - bu].x, l0[n].y - l0[n - bu].y, r0[bv].x - r0[0].x, r0[bv].y - r0[0].y, T) ||
+            !g1_at(l1[n].x - l1[n - bu].x, l1[n].y - l1[n - bu].y, r1[bv].x - r1[0].x, r1[bv].y - r1[0].y, T))
           continue;
-      } else if (!g1_at(u[0], u[1], v[0], v[1]) || !g1_at(u[2], u[3], v[2], v[3])) {
+      } else if (!g1_at(u[0], u[1], v[0], v[1], T) || !g1_at(u[2], u[3], v[2], v[3], T)) {
         continue;
       }
-      const G1Between g = g1_between({u[0], u[1], u[2], u[3], v[0], v[1], v[2], v[3]});
+      const G1Between g = g1_between({u[0], u[1], u[2], u[3], v[0], v[1], v[2], v[3]}, T);
       if (g.holds) continue;
       const import::Piece& p = *m.piece;
       GateViolation viol;
       viol.joint = j;
       viol.t = jr.joint.knot;
       std::string& msg = viol.message;
-      msg = "smooth at ";
+      if (T > 0) {
+        msg = "within ";
+        msg += num(turn_degrees, 6);
+        msg += " degrees of G1 at ";
+      } else {
+        msg = "smooth at ";
+      }
       msg += p.master_a;
       msg += " and ";
       msg += p.master_b;
-      msg += g.worst_angle >= 180 ? " but its tangents reverse between them: " : " but a kink between them: not G1 for ";
+      if (g.worst_angle >= 180) {
+        msg += " but its tangents reverse between them: ";
+      } else if (T > 0) {
+        msg += " but not between them: turns more than ";
+        msg += num(turn_degrees, 6);
+        msg += " degrees for ";
+      } else {
+        msg += " but a kink between them: not G1 for ";
+      }
       for (std::size_t k = 0; k < g.fail.size(); ++k) {
         if (k) msg += "; ";
         msg += p.range(g.fail[k].first, g.fail[k].second);

@@ -52,6 +52,20 @@
 /// ends): the worst angle, in degrees, is evaluated there (double precision
 /// at the enclosure's middle, within 1e-12 in s), and its location is given
 /// in the user's axis values ("Weight": 437.5).
+///
+/// g1-between-masters:DEG (DEG in (0, 90) degrees), for masters rounded to
+/// a grid, whose smooth nodes are rarely exactly collinear: a node marked
+/// smooth at both masters whose tangents turn by at most DEG at both ends
+/// must turn by at most DEG at every location between. With T = tan(DEG)
+/// (the double's exact rational value),
+///
+///   |theta(s)| <= DEG  <=>  d(s) > 0,  h+(s) = T d - c >= 0,  h-(s) = T d + c >= 0,
+///
+/// h+ and h- of degree <= 2 (Bernstein coefficients T d_k -+ c_k): the node
+/// is judged when this holds at both masters, and fails on the open
+/// s-intervals where h+ < 0, h- < 0 or d < 0 (between their exact roots);
+/// the worst angle as above. DEG = 0 is the exact rule (h+ = -c and
+/// h- = c both >= 0 on [0, 1] is c == 0), kept on its own path.
 #include <memory>
 #include <optional>
 #include <string>
@@ -70,8 +84,10 @@ struct NodeTangents {
   Rational u0x, u0y, u1x, u1y, v0x, v0y, v1x, v1y;
 };
 
-/// G1 at one instance: u x v = 0 and u . v > 0, exactly.
-bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy);
+/// G1 at one instance: u x v = 0 and u . v > 0, exactly; with tan_turn =
+/// T > 0, within the turn: u . v > 0 and |u x v| <= T u . v.
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy,
+           const Rational& tan_turn = Rational(0));
 
 /// What g1-between-masters finds at one node on one piece (the caller
 /// judges only nodes smooth at the masters: g1_at at both).
@@ -88,11 +104,14 @@ struct G1Between {
 /// The test of the header comment on one node's tangents over s in [0, 1]
 /// (a piece's own parameter: for a --between part of the masters' line the
 /// ends need not be G1, and the worst angle may lie at an end).
-G1Between g1_between(const NodeTangents& t);
+/// tan_turn > 0: the turn of g1-between-masters:DEG, T = tan(DEG); `fail`
+/// then gives where the turn exceeds DEG.
+G1Between g1_between(const NodeTangents& t, const Rational& tan_turn = Rational(0));
 
 /// The violations of g1-between-masters on one contour's report (its
-/// motions: SplineReport::motions); none without motions.
-std::vector<GateViolation> g1_between_violations(const SplineReport& report);
+/// motions: SplineReport::motions); none without motions. turn_degrees:
+/// g1-between-masters:DEG (0: exactly G1).
+std::vector<GateViolation> g1_between_violations(const SplineReport& report, double turn_degrees = 0);
 
 /// curvature-between-masters (extrema = false) and extrema-between-masters
 /// (true) on one contour's report: per segment and piece, when the segment's

@@ -89,13 +89,53 @@ TEST(G1Between, SmoothAtAnInstanceIsExact) {
   EXPECT_FALSE(g1_at(Rational(0.1), Rational(0.2), Rational(0.1), Rational(std::nextafter(0.2, 1.0))));
 }
 
-TEST(InterpolationGate, ParsesAndTakesNoArgument) {
+TEST(G1Between, WithinATurnFailsExactlyWhereTheTurnExceedsIt) {
+  // Marked smooth but rounded to integers: 0.19 degrees off at Regular, 0.57 at Bold,
+  // 19.4 degrees between (tools/bench/midway_compare.py's case "rounded").
+  const double t[8] = {100, 0, 100, 100, 300, 1, 50, 51};
+  const double deg = 1;
+  const Rational T(std::tan(deg * std::numbers::pi / 180));
+  const NodeTangents n = tangents(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7]);
+  // The exact rule does not judge it (not collinear at the masters); within 1 degree does.
+  EXPECT_FALSE(g1_at(n.u0x, n.u0y, n.v0x, n.v0y));
+  EXPECT_TRUE(g1_at(n.u0x, n.u0y, n.v0x, n.v0y, T));
+  EXPECT_TRUE(g1_at(n.u1x, n.u1y, n.v1x, n.v1y, T));
+  const G1Between g = g1_between(n, T);
+  ASSERT_TRUE(g.judged);
+  EXPECT_FALSE(g.holds);
+  ASSERT_EQ(g.fail.size(), 1u);
+  const auto [lo, hi] = g.fail[0];
+  ASSERT_LT(lo, hi);
+  // The interval's ends are where the turn is exactly 1 degree: above it inside, below it outside.
+  EXPECT_NEAR(angle(t, lo), deg, 1e-6);
+  EXPECT_NEAR(angle(t, hi), deg, 1e-6);
+  EXPECT_GT(angle(t, (lo + hi) / 2), deg);
+  EXPECT_LT(angle(t, lo / 2), deg);
+  EXPECT_LT(angle(t, (hi + 1) / 2), deg);
+  // The worst instance: no sample has a larger turn.
+  for (int k = 0; k <= 1000; ++k) EXPECT_LE(angle(t, k / 1000.0), g.worst_angle + 1e-9);
+  EXPECT_NEAR(angle(t, g.worst_s), g.worst_angle, 1e-9);
+  EXPECT_GT(g.worst_angle, 19);
+  // A turn larger than the node's worst: it holds; the proportional twin holds within any turn.
+  EXPECT_TRUE(g1_between(n, Rational(std::tan(20 * std::numbers::pi / 180))).holds);
+  EXPECT_TRUE(g1_between(tangents(100, 0, 60, 30, 200, 0, 120, 60), T).holds);
+}
+
+TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
   const std::optional<Gate> g = parse_gate("g1-between-masters");
   ASSERT_TRUE(g);
   EXPECT_EQ(g->kind, Gate::Kind::g1_between_masters);
+  EXPECT_EQ(g->turn_degrees, 0.0);
   EXPECT_TRUE(is_interpolation_gate(*g));
   EXPECT_EQ(to_string(*g), "g1-between-masters");
-  EXPECT_THROW(parse_gate("g1-between-masters:2"), InputError);
+  const std::optional<Gate> t = parse_gate("g1-between-masters:0.5");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->turn_degrees, 0.5);
+  EXPECT_EQ(to_string(*t), "g1-between-masters:0.5");
+  EXPECT_EQ(to_string(*parse_gate("g1-between-masters:0")), "g1-between-masters");
+  for (const char* bad : {"g1-between-masters:", "g1-between-masters:x", "g1-between-masters:-1",
+                          "g1-between-masters:90", "g1-between-masters:nan", "curvature-between-masters:2"})
+    EXPECT_THROW(parse_gate(bad), InputError) << bad;
   for (const char* name : {"curvature-between-masters", "extrema-between-masters"}) {
     const std::optional<Gate> c = parse_gate(name);
     ASSERT_TRUE(c) << name;

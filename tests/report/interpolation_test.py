@@ -10,6 +10,7 @@ instance.
 Prints "N passed, M failed" and exits 1 on any failure.
 """
 import json
+import math
 import re
 import os
 import subprocess
@@ -66,6 +67,48 @@ with tempfile.TemporaryDirectory() as tmp:
                         os.path.join(tmp, "proportional.designspace"), os.path.join(out, "report.json"), "0"],
                        capture_output=True, text=True)
     check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
+
+    # g1-between-masters:DEG: p0 marked smooth but rounded to integers (0.19 and 0.57 degrees off at the masters).
+    rounded = os.path.join(tmp, "rounded.designspace")
+    p = run(rounded, *g1, "--out", os.path.join(tmp, "rounded0"))
+    check("rounded: the exact rule does not judge a node off G1 at the masters (exit 0)", p.returncode == 0,
+          p.stdout + p.stderr)
+    out = os.path.join(tmp, "rounded1")
+    p = run(rounded, "--require", "g1-between-masters:1", "--glyphs", "O", "--no-thumbnails", "--out", out)
+    with open(os.path.join(out, "report.json")) as f:
+        msgs = [v["message"] for sp in json.load(f)["splines"] for g in sp.get("gates", [])
+                if g["gate"] == "g1-between-masters:1" for v in g["violations"]]
+    # Independently: the turn exceeds 1 degree where T d - c < 0 or T d + c < 0 (c = u x v, d = u . v, exact).
+    sys.path.insert(0, os.path.join(SRC, "tools"))
+    import make_test_designspace as fixture
+
+    (ra, rb) = fixture.NODES["rounded"]
+    T = Fraction(math.tan(math.radians(1)))
+
+    def at(s, key):
+        return [Fraction(ra[key][i]) + s * (rb[key][i] - ra[key][i]) for i in (0, 1)]
+
+    def h(s, sign):
+        u, v = at(s, "u"), at(s, "v")
+        return T * (u[0] * v[0] + u[1] * v[1]) - sign * (u[0] * v[1] - u[1] * v[0])
+
+    def crossing(lo, hi, sign):  # h(lo) and h(hi) of opposite signs: bisect to 2^-60
+        neg_lo = h(lo, sign) < 0
+        while hi - lo > Fraction(1, 2**60):
+            m = (lo + hi) / 2
+            lo, hi = (m, hi) if (h(m, sign) < 0) == neg_lo else (lo, m)
+        return float(lo)
+
+    # The turn is negative (clockwise) between: h- = T d + c < 0 on one interval, whose ends bracket 1/2.
+    want = (crossing(Fraction(0), Fraction(1, 2), -1), crossing(Fraction(1, 2), Fraction(1), -1))
+    got = re.search(r"\(s in \(([0-9.e-]+), ([0-9.e-]+)\)\)", msgs[0]) if len(msgs) == 1 else None
+    check("rounded, g1-between-masters:1: exit 1, one violation whose s-interval is where the turn exceeds 1 degree "
+          "(exact: %.9f..%.9f)" % want,
+          p.returncode == 1 and got is not None and abs(float(got.group(1)) - want[0]) < 1e-9 and
+          abs(float(got.group(2)) - want[1]) < 1e-9 and h(Fraction(0), 1) > 0 and h(Fraction(1), 1) > 0, str(msgs))
+    p = run(rounded, "--require", "g1-between-masters:20", "--glyphs", "O", "--no-thumbnails", "--out", out)
+    check("rounded, g1-between-masters:20 (more than its worst 19.4 degrees): exit 0", p.returncode == 0,
+          p.stdout + p.stderr)
 
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
@@ -128,8 +171,6 @@ with tempfile.TemporaryDirectory() as tmp:
 
     # Done when (2): curvature increasing at both masters, an interior extremum at the halfway instance (checked
     # here in Fractions), exits 1 with a Weight strictly between; B = 2A (every instance similar) exits 0.
-    sys.path.insert(0, os.path.join(SRC, "tools"))
-    import make_test_designspace as fixture
 
     def lam_ends(P):
         """lambda = det(d1, d3) |d1|^2 - 3 det(d1, d2) (d1 . d2) of a cubic at t = 0 and t = 1, exactly."""
@@ -225,6 +266,8 @@ with tempfile.TemporaryDirectory() as tmp:
                                                      "wght=400:wght=500"], "--between: only with an interpolation gate"),
         ("a UFO (one master) given to an interpolation gate", [os.path.join(tmp, "Regular.ufo"), *g1],
          "one master (a UFO): the interpolation gates need a designspace or a variable font"),
+        ("g1-between-masters with a turn of 90 degrees", [os.path.join(tmp, "kink.designspace"), "--require",
+                                                          "g1-between-masters:90"], "needs a turn in degrees"),
         ("a font without fvar given to an interpolation gate",
          ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", *g1], "no fvar table"),
     ]
