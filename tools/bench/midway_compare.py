@@ -180,6 +180,10 @@ CASES = [
 ]
 
 
+# The turn of g1-between-masters:DEG in the tables' last cmr column.
+TURN = 1.0
+DEFAULT_FONTS = ["/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf",
+                 "/usr/share/fonts/truetype/inter-vf/Inter-italic.var.ttf"]
 # Two cases of each kind get a picture (docs/interpolation.md).
 PICTURES = ("both-a", "both-b", "early-a", "alike", "corner-a", "rounded")
 
@@ -228,6 +232,8 @@ def fmt_case(name, kind, what, reg, bold, smooth, cmr, tmp, pictures):
     mid = [k for k in run_midway(ds)["kinks"] if k["point"] == 0]
     rc, found, _ = run_cmr(cmr, ds, os.path.join(tmp, name + "-qa"))
     found = [f for f in found if f["node"] == "p0"]
+    rc_t, found_t, _ = run_cmr(cmr, ds, os.path.join(tmp, name + "-qa-t"), gates=f"g1-between-masters:{TURN:g}")
+    found_t = [f for f in found_t if f["node"] == "p0"]
     ref = reference(reg[0], reg[1], bold[0], bold[1])
     # What each says.
     if mid:
@@ -249,6 +255,13 @@ def fmt_case(name, kind, what, reg, bold, smooth, cmr, tmp, pictures):
     else:
         exact = (f"not G1 at the masters ({ref['ends'][0]:.2f}, {ref['ends'][1]:.2f} deg); "
                  f"{ref['worst']:.2f} deg at s = {ref['worst_s']:.3f}")
+    if found_t:
+        w = WORST.search(found_t[0]["message"])
+        turn_says = f"exit {rc_t}: turns beyond {TURN:g} deg, worst {float(w.group(1)):.2f}"
+    else:
+        turn_says = f"exit {rc_t}: " + ("judged, within" if smooth and within(ref, TURN) else "not judged")
+    # The turn column against the reference: judged (marked smooth, within TURN at both masters) and beyond it.
+    turn_ok = bool(found_t) == (smooth and within(ref, TURN) and ref["worst"] > TURN)
     # Who is right.
     truth_kink = bool(ref["kink"]) if ref["g1_at_masters"] else None
     cmr_ok = (bool(found) == truth_kink) if truth_kink is not None else not found
@@ -257,7 +270,8 @@ def fmt_case(name, kind, what, reg, bold, smooth, cmr, tmp, pictures):
         cmr_ok = cmr_ok and abs(float(w.group(1)) - ref["worst"]) < 1e-4 and abs(float(w.group(3)) - ref["worst_s"]) < 1e-9
     if truth_kink is None:
         if smooth:
-            right = "midway: a smooth node that kinks; cmr is silent (a miss of cmr's exact rule)"
+            right = (f"midway, and cmr with :{TURN:g}; the exact rule is silent (the node is not exactly G1 at the "
+                     "masters)")
             cmr_ok = True  # cmr's rule (exactly G1 at both masters) says: not judged; the check is on its own terms
         elif mid:
             right = "cmr: the node is a corner at both masters, not a smooth node"
@@ -269,7 +283,8 @@ def fmt_case(name, kind, what, reg, bold, smooth, cmr, tmp, pictures):
         right = "both" if not mid and not found else ("cmr" if not found else "midway")
     if pictures and name in PICTURES:
         draw(os.path.join(pictures, f"midway_{name}.svg"), name, reg, bold, ref["worst_s"])
-    return f"| `{name}` | {kind} | {what} | {mid_says} | {cmr_says} | {exact} | {right} |", cmr_ok
+    return (f"| `{name}` | {kind} | {what} | {mid_says} | {cmr_says} | {turn_says} | {exact} | {right} |",
+            cmr_ok and turn_ok)
 
 
 # ----------------------------------------------------------------- pictures
@@ -331,9 +346,10 @@ def draw(path, name, reg, bold, worst_s):
 def font_nodes(path):
     """Per piece between adjacent masters of a gvar font (the midway
     baseline's masters and pairs): (piece label, glyph, contour, point,
-    tangents at both masters) of every on-curve node with an off-curve
-    neighbour, integer coordinates as fontTools instantiates them."""
-    upem, masters, glyphs = midway_kinks.variable_font_masters(path, [])
+    tangents at both masters, two lines?) of every on-curve node whose
+    neighbours differ from it, integer coordinates as fontTools
+    instantiates them (FreeType's too: the deltas are integers)."""
+    _, masters, glyphs = midway_kinks.variable_font_masters(path, [])
     for i, j in midway_kinks.pairs(masters):
         for g in glyphs:
             a, b = masters[i][2].get(g), masters[j][2].get(g)
@@ -345,59 +361,66 @@ def font_nodes(path):
                 n = len(pa)
                 for k in range(n):
                     p, q = (k - 1) % n, (k + 1) % n
-                    if not on[k] or (on[p] and on[q]):
+                    if not on[k]:
                         continue
                     t = [(pa[k][0] - pa[p][0], pa[k][1] - pa[p][1]), (pa[q][0] - pa[k][0], pa[q][1] - pa[k][1]),
                          (pb[k][0] - pb[p][0], pb[k][1] - pb[p][1]), (pb[q][0] - pb[k][0], pb[q][1] - pb[k][1])]
                     if any(x == (0, 0) for x in t):
                         continue
-                    yield f"{masters[i][0]}:{masters[j][0]}", g, ci, k, t
+                    yield f"{masters[i][0]}:{masters[j][0]}", g, ci, k, t, on[p] and on[q]
 
+
+def within(ref, deg):
+    return abs(ref["ends"][0]) <= deg and abs(ref["ends"][1]) <= deg
 
 
 def font_rows(path, cmr, tmp):
-    t0 = time.perf_counter()
     mid = run_midway(path)
-    t_mid = time.perf_counter() - t0
     rc, found, t_cmr = run_cmr(cmr, path, os.path.join(tmp, "font-qa"), glyphs="A-Z,a-z")
-    rc_c, found_c, t_cur = run_cmr(cmr, path, os.path.join(tmp, "font-qa-c"), gates="curvature-between-masters",
-                                   glyphs="A-Z,a-z")
-    counts = {"nodes": 0, "exact": 0, "exact_kink": 0, "near": 0, "grows1": 0, "grows5": 0, "grows12": 0}
+    gate = f"g1-between-masters:{TURN:g}"
+    rc_t, found_t, t_turn = run_cmr(cmr, path, os.path.join(tmp, "font-qa-t"), gates=gate, glyphs="A-Z,a-z")
+    c = {"nodes": 0, "exact": 0, "exact_kink": 0, "near": 0, "grows1": 0, "grows5": 0, "grows12": 0, "turn": 0,
+         "turn_fail": 0}
     worst = (0.0, None)
-    for piece, g, c, k, (uA, vA, uB, vB) in font_nodes(path):
-        counts["nodes"] += 1
+    for piece, g, ci, k, (uA, vA, uB, vB), lines in font_nodes(path):
         ref = reference(uA, vA, uB, vB)
+        if within(ref, TURN):  # what g1-between-masters:TURN judges (a variable font has no smooth marks)
+            c["turn"] += 1
+            c["turn_fail"] += ref["worst"] > TURN
+        if lines:
+            continue  # two lines: not a node the baseline looks at
+        c["nodes"] += 1
         if ref["g1_at_masters"]:
-            counts["exact"] += 1
-            counts["exact_kink"] += bool(ref["kink"])
+            c["exact"] += 1
+            c["exact_kink"] += bool(ref["kink"])
             continue
         sa, sb = (math.sin(math.radians(abs(e))) for e in ref["ends"])
         if sa <= midway_kinks.T and sb <= midway_kinks.T and abs(ref["ends"][0]) < 90 and abs(ref["ends"][1]) < 90:
-            counts["near"] += 1
+            c["near"] += 1
             for limit, key in ((1, "grows1"), (5, "grows5"), (12, "grows12")):
-                counts[key] += ref["growth"] > limit
+                c[key] += ref["growth"] > limit
             if ref["growth"] > worst[0]:
-                worst = (ref["growth"], f"{g}/c{c}/p{k} ({piece}): {max(abs(e) for e in ref['ends']):.2f} deg at the "
+                worst = (ref["growth"], f"{g}/c{ci}/p{k} ({piece}): {max(abs(e) for e in ref['ends']):.2f} deg at the "
                          f"masters, {ref['worst']:.2f} between")
     name = os.path.basename(path)
-    lines = [
-        f"| {name}, Latin letters, {counts['nodes']} on-curve nodes with a handle on the pieces | "
-        f"{len(mid['kinks'])} kinks ({mid['seconds']:.2f} s) | exit {rc}: {len(found)} findings ({t_cmr:.2f} s); "
-        f"curvature-between-masters exit {rc_c}, {len(found_c)} findings ({t_cur:.1f} s) | "
-        f"{counts['exact']} nodes exactly G1 at both masters, {counts['exact_kink']} of them kinks between; "
-        f"{counts['near']} more within the baseline's smooth threshold (sine <= 0.1) but not exactly G1: "
-        f"the turn grows between the masters by more than 1 degree at {counts['grows1']}, 5 at {counts['grows5']}, "
-        f"12 at {counts['grows12']} |",
-    ]
-    if worst[1]:
-        lines.append(f"\nLargest growth on {name}: {worst[1]}.")
-    return lines
+    row = (f"| {name}: Latin letters, {c['nodes']} on-curve nodes with a handle, on 2 pieces | "
+           f"{len(mid['kinks'])} kinks ({mid['seconds']:.2f} s) | "
+           f"exit {rc}, {len(found)} findings ({t_cmr:.2f} s) | {gate}: exit {rc_t}, {len(found_t)} findings "
+           f"({t_turn:.2f} s) | "
+           f"{c['exact']} nodes exactly G1 at both masters, {c['exact_kink']} of them kinks between; "
+           f"{c['near']} more within the baseline's smooth threshold (sine <= 0.1), not exactly G1: the turn grows "
+           f"between the masters by more than 1 degree at {c['grows1']}, 5 at {c['grows5']}, 12 at {c['grows12']}; "
+           f"{c['turn']} nodes (lines too) within {TURN:g} degree at both masters, {c['turn_fail']} of them beyond it "
+           f"between |")
+    ok = len(found) == c["exact_kink"] and len(found_t) == c["turn_fail"]
+    note = f"Largest growth on {name}: {worst[1]}." if worst[1] else ""
+    return row, note, ok
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cmr", default=os.path.join(HERE, "..", "..", "build", "tools", "cmr"))
-    ap.add_argument("--inter", default="/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf")
+    ap.add_argument("--font", action="append", help="a gvar variable font (repeatable; default: Inter roman and italic)")
     ap.add_argument("--no-font", action="store_true", help="only the synthetic cases")
     ap.add_argument("--pictures", default="")
     args = ap.parse_args()
@@ -406,18 +429,27 @@ def main():
         return 3
     ok = True
     with tempfile.TemporaryDirectory() as tmp:
-        print("| case | kind | what | midway (s = 1/2) | cmr g1-between-masters | exact (Fraction) | right |")
-        print("|---|---|---|---|---|---|---|")
+        print(f"| case | kind | what | midway (s = 1/2) | cmr g1-between-masters | cmr g1-between-masters:{TURN:g} | "
+              "exact (Fraction) | right |")
+        print("|---|---|---|---|---|---|---|---|")
         for name, kind, what, reg, bold, smooth in CASES:
             row, good = fmt_case(name, kind, what, reg, bold, smooth, args.cmr, tmp, args.pictures)
             ok = ok and good
             print(row)
-        if not args.no_font and os.path.exists(args.inter):
+        fonts = [] if args.no_font else [f for f in args.font or DEFAULT_FONTS if os.path.exists(f)]
+        notes = []
+        if fonts:
             print()
-            print("| font | midway | cmr | exact (Fraction) |")
-            print("|---|---|---|---|")
-            for line in font_rows(args.inter, args.cmr, tmp):
-                print(line)
+            print(f"| font | midway | cmr g1-between-masters | cmr g1-between-masters:{TURN:g} | exact (Fraction) |")
+            print("|---|---|---|---|---|")
+        for f in fonts:
+            row, note, good = font_rows(f, args.cmr, tmp)
+            ok = ok and good
+            print(row)
+            notes.append(note)
+        for note in notes:
+            if note:
+                print("\n" + note)
     if not ok:
         print("midway_compare: cmr's answer differs from the exact one on a case", file=sys.stderr)
     return 0 if ok else 1
