@@ -21,6 +21,13 @@ using Poly = Bernstein<Rational>;
 
 std::string num(double v, int precision = 6) { return format_number(v, precision); }
 
+/// "1 degree", "0.5 degrees".
+std::string degrees(double v) {
+  std::string out = num(v, 6);
+  out += v == 1 ? " degree" : " degrees";
+  return out;
+}
+
 Poly sub(Poly a, const Poly& b) {
   for (std::size_t k = 0; k < a.size(); ++k) a[k] -= b[k];
   return a;
@@ -195,8 +202,8 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r, double t
       std::string& msg = viol.message;
       if (T > 0) {
         msg = "within ";
-        msg += num(turn_degrees, 6);
-        msg += " degrees of G1 at ";
+        msg += degrees(turn_degrees);
+        msg += " of G1 at ";
       } else {
         msg = "smooth at ";
       }
@@ -207,8 +214,8 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r, double t
         msg += " but its tangents reverse between them: ";
       } else if (T > 0) {
         msg += " but not between them: turns more than ";
-        msg += num(turn_degrees, 6);
-        msg += " degrees for ";
+        msg += degrees(turn_degrees);
+        msg += " for ";
       } else {
         msg += " but a kink between them: not G1 for ";
       }

@@ -243,6 +243,13 @@ with tempfile.TemporaryDirectory() as tmp:
         check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
               p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
               any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
+        # Section sign: at wght=900 two consecutive on-curve points coincide (a line of zero length), which the
+        # reader drops; the instances share their points, so the line names that, not "incompatible masters".
+        p = run(inter, *g1[:2], "--glyphs", "U+00A7", "--no-thumbnails", "--out", os.path.join(tmp, "inter_s"))
+        lines = errors(p)
+        check("Inter U+00A7: a line shrinking to zero length at wght=900 is named as such, exit 2, one line",
+              p.returncode == 2 and len(lines) == 1 and "shrinks to zero length" in lines[0] and
+              "incompatible" not in lines[0], "rc %d: %s" % (p.returncode, p.stderr))
     else:
         print("SKIP Inter: fonts-inter-variable is not installed")
 
