@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
+#include <numeric>
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/between.hpp"
@@ -121,6 +123,48 @@ G1Between g1_between(const NodeTangents& t, const Rational& tan_turn) {
   }
   between_roots(c, false);
   worst();
+  return out;
+}
+
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]) {
+  using I = long long;
+  constexpr double kMax = 1e15;  // integers a double and a long long both hold, with room for products
+  for (int m = 0; m < 2; ++m)
+    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
+      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
+        return std::nullopt;
+  // u = alpha g, v = beta g at each master (g primitive), or nullopt.
+  struct Split {
+    I gx, gy, alpha, beta;
+  };
+  auto split = [&](int m) -> std::optional<Split> {
+    const I ux = static_cast<I>(node[m].x - in_handle[m].x), uy = static_cast<I>(node[m].y - in_handle[m].y);
+    const I vx = static_cast<I>(out_handle[m].x - node[m].x), vy = static_cast<I>(out_handle[m].y - node[m].y);
+    if ((ux == 0 && uy == 0) || (vx == 0 && vy == 0)) return std::nullopt;
+    const I gv = std::gcd(std::abs(vx), std::abs(vy)), gu = std::gcd(std::abs(ux), std::abs(uy));
+    const I gx = vx / gv, gy = vy / gv;
+    if (ux / gu != gx || uy / gu != gy) return std::nullopt;  // not exactly G1 here
+    return Split{gx, gy, gu, gv};
+  };
+  const std::optional<Split> a = split(0), b = split(1);
+  if (!a || !b) return std::nullopt;
+  G1NodeFix out{in_handle[0], out_handle[0], 0.0};
+  const I cross = a->gx * b->gy - a->gy * b->gx;
+  if (cross == 0) {
+    if (a->gx * b->gx + a->gy * b->gy < 0) return std::nullopt;  // opposite directions: the node reverses
+    return out;                                                  // the same direction at both: G1 throughout
+  }
+  const I common = std::gcd(b->alpha, b->beta), p = b->alpha / common, q = b->beta / common;
+  auto cost = [&](I k) { return std::llabs(p * k - a->alpha) + std::llabs(q * k - a->beta); };
+  I best = 0;
+  for (const I k0 : {a->alpha / p, a->beta / q})
+    for (const I k : {k0, k0 + 1})
+      if (k >= 1 && (best == 0 || cost(k) < cost(best))) best = k;
+  const double len = std::hypot(static_cast<double>(a->gx), static_cast<double>(a->gy));
+  const Vec2 g{static_cast<double>(a->gx), static_cast<double>(a->gy)};
+  out.in_handle = node[0] - static_cast<double>(p * best) * g;
+  out.out_handle = node[0] + static_cast<double>(q * best) * g;
+  out.distance = static_cast<double>(cost(best)) * len;
   return out;
 }
 

@@ -108,6 +108,33 @@ struct G1Between {
 /// then gives where the turn exceeds DEG.
 G1Between g1_between(const NodeTangents& t, const Rational& tan_turn = Rational(0));
 
+/// A fix of g1-between-masters at one node, in one master, on the integer
+/// grid (issue 37 item 4). At master m the node N has its incoming handle
+/// H_in and outgoing H_out, exactly collinear with N and on the integer
+/// grid: u = N - H_in = alpha g, v = H_out - N = beta g with g the primitive
+/// integer direction (gcd of its coordinates 1) and alpha, beta positive
+/// integers; at the other master u' = alpha' g', v' = beta' g'. Then
+///
+///   c(s) = 2 s (1 - s) c1,  2 c1 = u x v' + u' x v = (alpha beta' - alpha' beta) (g x g'),
+///
+/// so the node is G1 at every location iff g x g' = 0 or alpha / beta =
+/// alpha' / beta' = p / q (reduced). The handles of master m that keep g and
+/// the grid and make it G1 are alpha = p k, beta = q k (k >= 1, integer): the
+/// total move |p k - alpha| |g| + |q k - beta| |g| is convex and piecewise
+/// linear in k, least at k = floor or ceil of alpha / p or beta / q. With
+/// c == 0, u(s) = (p / q) v(s), so d > 0 unless v(s) = 0 somewhere (g' = -g
+/// direction: the node reverses, which no such move fixes). Refused
+/// (nullopt): coordinates not integers, a handle of zero length, a node not
+/// exactly G1 at a master, or g' opposite to g.
+struct G1NodeFix {
+  Vec2 in_handle{}, out_handle{};  ///< the master's new handles
+  double distance = 0;             ///< |H_in' - H_in| + |H_out' - H_out|
+};
+/// node, in_handle, out_handle: at the master whose handles move ([0]) and
+/// at the other ([1]). A node already G1 between them: its handles
+/// unmoved, distance 0. Not yet taken by `cmr fix` (a designspace).
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
+
 /// The violations of g1-between-masters on one contour's report (its
 /// motions: SplineReport::motions); none without motions. turn_degrees:
 /// g1-between-masters:DEG (0: exactly G1).

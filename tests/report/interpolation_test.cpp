@@ -121,6 +121,58 @@ TEST(G1Between, WithinATurnFailsExactlyWhereTheTurnExceedsIt) {
   EXPECT_TRUE(g1_between(tangents(100, 0, 60, 30, 200, 0, 120, 60), T).holds);
 }
 
+TEST(G1BetweenFix, SmallestGridMoveInOneMasterMakesTheNodeG1Throughout) {
+  // The kink example (examples/interpolation): Regular u = (100, 0), v = (200, 0); Bold u = (60, 30), v = (240, 120).
+  const Vec2 reg[3] = {{0, 0}, {-100, 0}, {200, 0}}, bold[3] = {{0, 0}, {-60, -30}, {240, 120}};
+  for (int moved = 0; moved < 2; ++moved) {
+    const Vec2* m = moved == 0 ? reg : bold;
+    const Vec2* o = moved == 0 ? bold : reg;
+    const Vec2 node[2] = {m[0], o[0]}, in[2] = {m[1], o[1]}, out[2] = {m[2], o[2]};
+    const std::optional<G1NodeFix> f = g1_between_fix(node, in, out);
+    ASSERT_TRUE(f) << moved;
+    // Re-judged exactly: G1 at every location between, with the other master as it was.
+    const Vec2 u = m[0] - f->in_handle, v = f->out_handle - m[0];
+    const Vec2 uo = o[0] - o[1], vo = o[2] - o[0];
+    const NodeTangents t = moved == 0 ? tangents(u.x, u.y, uo.x, uo.y, v.x, v.y, vo.x, vo.y)
+                                      : tangents(uo.x, uo.y, u.x, u.y, vo.x, vo.y, v.x, v.y);
+    EXPECT_TRUE(g1_between(t).holds) << moved;
+    // On the grid, on the master's tangent line, and no nearer such fix (brute force over the grid's
+    // points on the line: alpha, beta up to 400 steps of the primitive direction).
+    EXPECT_EQ(f->in_handle.x, std::floor(f->in_handle.x));
+    EXPECT_EQ(f->out_handle.y, std::floor(f->out_handle.y));
+    const Vec2 g = moved == 0 ? Vec2{1, 0} : Vec2{2, 1};
+    const double a0 = moved == 0 ? 100 : 30, b0 = moved == 0 ? 200 : 120;  // u = a0 g, v = b0 g
+    double best = 1e300;
+    for (int a = 1; a <= 400; ++a)
+      for (int b = 1; b <= 400; ++b) {
+        const NodeTangents c = moved == 0 ? tangents(a * g.x, a * g.y, uo.x, uo.y, b * g.x, b * g.y, vo.x, vo.y)
+                                          : tangents(uo.x, uo.y, a * g.x, a * g.y, vo.x, vo.y, b * g.x, b * g.y);
+        // c1 == 0 exactly (the cross product's middle coefficient; the ends are 0): G1 throughout.
+        if (c.u0x * c.v1y - c.u0y * c.v1x + c.u1x * c.v0y - c.u1y * c.v0x != 0) continue;
+        best = std::min(best, (std::abs(a - a0) + std::abs(b - b0)) * std::hypot(g.x, g.y));
+      }
+    EXPECT_NEAR(f->distance, best, 1e-9) << moved;
+  }
+  // Fixing Regular moves least: its incoming handle from (-100, 0) to (-50, 0) (ratio 1:4 as Bold's).
+  const Vec2 node[2] = {reg[0], bold[0]}, in[2] = {reg[1], bold[1]}, out[2] = {reg[2], bold[2]};
+  const std::optional<G1NodeFix> f = g1_between_fix(node, in, out);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->in_handle, Vec2(-50, 0));
+  EXPECT_EQ(f->out_handle, Vec2(200, 0));
+  EXPECT_DOUBLE_EQ(f->distance, 50);
+  // Refused: a non-integer coordinate, a node not G1 at a master, a handle of zero length.
+  const Vec2 off[2] = {{-100.5, 0}, bold[1]}, bent[2] = {{-100, 1}, bold[1]}, zero[2] = {{0, 0}, bold[1]};
+  EXPECT_FALSE(g1_between_fix(node, off, out));
+  EXPECT_FALSE(g1_between_fix(node, bent, out));
+  EXPECT_FALSE(g1_between_fix(node, zero, out));
+  // Already G1 between (the proportional twin): unmoved.
+  const Vec2 pin[2] = {reg[1], {-60, -30}}, pout[2] = {reg[2], {120, 60}};
+  const std::optional<G1NodeFix> same = g1_between_fix(node, pin, pout);
+  ASSERT_TRUE(same);
+  EXPECT_EQ(same->distance, 0.0);
+  EXPECT_EQ(same->in_handle, reg[1]);
+}
+
 TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
   const std::optional<Gate> g = parse_gate("g1-between-masters");
   ASSERT_TRUE(g);
