@@ -7,13 +7,16 @@
 #include <cstdlib>
 #include <numbers>
 #include <numeric>
+#include <tuple>
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/between.hpp"
 #include "bezierize/extract.hpp"
 #include "bezierize/roots.hpp"
 #include "report/report.hpp"
+#include "spline/errors.hpp"
 #include "spline/format.hpp"
+#include "io/ufo.hpp"
 
 namespace cmr::report {
 namespace {
@@ -166,6 +169,117 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
   out.out_handle = node[0] + static_cast<double>(q * best) * g;
   out.distance = static_cast<double>(cost(best)) * len;
   return out;
+}
+
+MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& glyph) {
+  const import::Designspace ds = import::read_designspace(path);
+  std::vector<const import::Designspace::Source*> sources;
+  for (const auto& src : ds.sources)
+    if (src.layer.empty()) sources.push_back(&src);
+  if (sources.size() != 2)
+    throw InputError(path + ": cmr fix --require g1-between-masters takes a designspace of two masters for now (" +
+                     std::to_string(sources.size()) + " here)");
+  import::GlyphSelection which;
+  which.names = {glyph};
+  import::Glyph g[2];
+  for (int m = 0; m < 2; ++m) {
+    const import::Font f = import::read_ufo(sources[m]->path, which);
+    if (f.glyphs.empty()) throw InputError(path + ": no glyph '" + glyph + "' in " + sources[m]->name);
+    g[m] = f.glyphs.front();
+    if (!g[m].error.empty()) throw InputError(path + ": " + g[m].error);
+  }
+  if (g[0].contours.size() != g[1].contours.size()) throw InputError(path + ": " + glyph + ": incompatible masters");
+  // A judged node: its position, handles, and their source points, per master.
+  struct Node {
+    int contour = 0, node = 0, in = 0, out = 0;  // Contour::index and source points
+    std::string name;
+    Vec2 p[2], h_in[2], h_out[2];
+  };
+  std::vector<Node> nodes;
+  for (std::size_t c = 0; c < g[0].contours.size(); ++c) {
+    const import::Contour& a = g[0].contours[c];
+    const import::Contour& b = g[1].contours[c];
+    if (a.font_point != b.font_point || a.node != b.node || a.spline.degree() != b.spline.degree())
+      throw InputError(path + ": " + glyph + ": incompatible masters (contour " + std::to_string(a.index) + ")");
+    if (a.spline.degree() != 3) continue;  // quadratic sources: not taken yet
+    const int n = static_cast<int>(a.node.size());
+    for (int i = 0; i < n; ++i) {
+      const int prev = (i + n - 1) % n, next = (i + 1) % n;
+      if (!a.node[i] || a.node[prev] || a.node[next] || a.font_point[prev] < 0 || a.font_point[next] < 0) continue;
+      bool smooth = true;
+      for (int m = 0; m < 2; ++m) {
+        const auto& marks = g[m].point_smooth;
+        const int fp = a.font_point[i];
+        smooth = smooth && a.index < static_cast<int>(marks.size()) && fp < static_cast<int>(marks[a.index].size()) &&
+                 marks[a.index][fp];
+      }
+      if (!smooth) continue;
+      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}};
+      for (int m = 0; m < 2; ++m) {
+        const std::vector<Vec2>& pts = g[m].contours[c].spline.points();
+        node.p[m] = pts[i];
+        node.h_in[m] = pts[prev];
+        node.h_out[m] = pts[next];
+      }
+      nodes.push_back(node);
+    }
+  }
+  auto tangents_of = [](const Vec2 p[2], const Vec2 in[2], const Vec2 out[2]) {
+    const Vec2 u0 = p[0] - in[0], u1 = p[1] - in[1], v0 = out[0] - p[0], v1 = out[1] - p[1];
+    return NodeTangents{Rational(u0.x), Rational(u0.y), Rational(u1.x), Rational(u1.y),
+                        Rational(v0.x), Rational(v0.y), Rational(v1.x), Rational(v1.y)};
+  };
+  auto kink = [&](const Node& k) {
+    const NodeTangents t = tangents_of(k.p, k.h_in, k.h_out);
+    if (!g1_at(t.u0x, t.u0y, t.v0x, t.v0y) || !g1_at(t.u1x, t.u1y, t.v1x, t.v1y)) return false;  // not judged
+    return !g1_between(t).holds;
+  };
+  MastersG1Fix best;
+  best.distance = -1;
+  for (int m = 0; m < 2; ++m) {
+    MastersG1Fix fix;
+    fix.master = sources[m]->name;
+    fix.ufo = sources[m]->path.string();
+    fix.glif = g[m].source;
+    std::string unfixable;
+    std::vector<Node> moved = nodes;
+    for (Node& k : moved) {
+      if (!kink(k)) continue;
+      ++fix.kinks_before;
+      const int o = 1 - m;
+      const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
+      const std::optional<G1NodeFix> f = g1_between_fix(p, in, out);
+      if (!f) {
+        if (unfixable.empty()) unfixable = k.name;
+        continue;
+      }
+      for (const auto& [from, to, fp] : {std::tuple{k.h_in[m], f->in_handle, k.in}, std::tuple{k.h_out[m], f->out_handle, k.out}}) {
+        if (from == to) continue;
+        std::string name = glyph;
+        name.append("/c").append(std::to_string(k.contour)).append("/p").append(std::to_string(fp));
+        fix.moves.push_back({name, from, to, std::hypot(to.x - from.x, to.y - from.y)});
+        fix.edits.push_back({k.contour, fp, to.x, to.y});
+      }
+      k.h_in[m] = f->in_handle;
+      k.h_out[m] = f->out_handle;
+      fix.distance += f->distance;
+    }
+    if (!unfixable.empty()) continue;
+    for (const Node& k : moved) fix.kinks_after += kink(k) ? 1 : 0;
+    if (best.distance < 0 || fix.distance < best.distance) best = fix;
+  }
+  if (best.distance < 0) {
+    std::string first;
+    for (const Node& k : nodes)
+      if (kink(k)) {
+        first = k.name;
+        break;
+      }
+    throw InputError(path + ": " + first +
+                     ": no move of its handles on the integer grid in one master makes it G1 between the masters "
+                     "(off the grid, or its tangents reverse)");
+  }
+  return best;
 }
 
 namespace {

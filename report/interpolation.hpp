@@ -135,6 +135,30 @@ struct G1NodeFix {
 /// unmoved, distance 0. Not yet taken by `cmr fix` (a designspace).
 std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
 
+/// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
+/// (two masters in their UFOs' default layers, cubic outlines): every node
+/// of the glyph marked smooth and exactly G1 at both masters is judged
+/// (g1_between); each kink gets g1_between_fix's move in one master, the
+/// same master for all of them, the one with the smaller total move; the
+/// moved master is re-judged exactly (kinks_after, 0 when certified).
+/// InputError (one line): not two masters, the glyph missing or
+/// incompatible, a kink no grid move in one master fixes (named).
+struct MastersG1Fix {
+  std::string master;  ///< the source whose handles move (its name)
+  std::string ufo;     ///< its UFO folder
+  std::string glif;    ///< its .glif
+  std::vector<import::PointEdit> edits;  ///< the moved points (contour index, source point, x, y)
+  struct Move {
+    std::string point;  ///< "O/c0/p1"
+    Vec2 from{}, to{};
+    double distance = 0;
+  };
+  std::vector<Move> moves;
+  int kinks_before = 0, kinks_after = 0;
+  double distance = 0;  ///< total move
+};
+MastersG1Fix fix_g1_between_masters(const std::string& designspace, const std::string& glyph);
+
 /// The violations of g1-between-masters on one contour's report (its
 /// motions: SplineReport::motions); none without motions. turn_degrees:
 /// g1-between-masters:DEG (0: exactly G1).

@@ -110,6 +110,66 @@ with tempfile.TemporaryDirectory() as tmp:
     check("rounded, g1-between-masters:20 (more than its worst 19.4 degrees): exit 0", p.returncode == 0,
           p.stdout + p.stderr)
 
+    # cmr fix FAMILY.designspace --glyph O --require g1-between-masters: handles moved in one master, on the grid;
+    # re-judged by cmr report and independently here (Fractions: collinear at both masters, and the cross
+    # product's middle coefficient u0 x v1 + u1 x v0 is 0, so c(s) == 0 at every s).
+    import shutil
+    import ufoLib2
+
+    fixdir = os.path.join(tmp, "fixdir")
+    os.makedirs(fixdir)
+    for name in ("Regular.ufo", "Bold.ufo"):
+        shutil.copytree(os.path.join(tmp, name), os.path.join(fixdir, name))
+    shutil.copy(os.path.join(tmp, "kink.designspace"), fixdir)
+    ds = os.path.join(fixdir, "kink.designspace")
+
+    def fix(*args):
+        return subprocess.run([CMR, "fix", ds, "--glyph", "O", *args], capture_output=True, text=True, timeout=120)
+
+    def exact_g1_throughout(reg, bold):
+        def tangents(ufo):
+            pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+            node, before, after = pts[0], pts[-1], pts[1]
+            return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
+        (u0, v0), (u1, v1) = tangents(reg), tangents(bold)
+        cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
+        return cross(u0, v0) == 0 and cross(u1, v1) == 0 and cross(u0, v1) + cross(u1, v0) == 0
+
+    before = open(os.path.join(fixdir, "Regular.ufo", "glyphs", "O_.glif")).read()
+    p = fix("--require", "g1-between-masters", "--out", os.path.join(fixdir, "Fixed.ufo"))
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    fixed_glif = os.path.join(fixdir, "Fixed.ufo", "glyphs", "O_.glif")
+    changed = [(a, b) for a, b in zip(before.splitlines(), open(fixed_glif).read().splitlines()) if a != b] \
+        if os.path.exists(fixed_glif) else []
+    check("fix --out: one master's copy with one point's x moved on the grid, re-judged 1 kink -> 0",
+          p.returncode == 0 and doc.get("master") == "Regular" and doc.get("rejudged") == [
+              {"check": "g1-between-masters", "before": 1, "after": 0}] and len(changed) == 1 and
+          all(float(v).is_integer() for m in doc["moves"] for v in m["to"]), p.stdout + p.stderr + str(changed))
+    check("fix --out: exact Fractions: the fixed master and Bold are G1 at every location between",
+          os.path.exists(fixed_glif) and exact_g1_throughout(os.path.join(fixdir, "Fixed.ufo"),
+                                                             os.path.join(fixdir, "Bold.ufo")) and
+          not exact_g1_throughout(os.path.join(fixdir, "Regular.ufo"), os.path.join(fixdir, "Bold.ufo")))
+    p = fix("--require", "g1-between-masters", "--in-place")
+    r = run(ds, *g1, "--out", os.path.join(fixdir, "qa"))
+    check("fix --in-place: cmr report --require g1-between-masters exits 0 on the family afterwards",
+          p.returncode == 0 and r.returncode == 0 and
+          open(os.path.join(fixdir, "Regular.ufo", "glyphs", "O_.glif")).read() == open(fixed_glif).read(),
+          p.stderr + r.stdout + r.stderr)
+    p = fix("--require", "g1-between-masters", "--in-place")
+    check("fix again: nothing to move (0 kinks), exit 0", p.returncode == 0 and json.loads(p.stdout)["moves"] == [],
+          p.stdout + p.stderr)
+    for name, args, text in [
+            ("fix of a designspace with three masters", [os.path.join(tmp, "three.designspace"), "--glyph", "O",
+                                                        "--require", "g1-between-masters"], "two masters"),
+            ("fix of a designspace without --glyph", [ds, "--require", "g1-between-masters"], "--glyph NAME"),
+            ("fix of a designspace for another gate", [ds, "--glyph", "O", "--require", "no-inflection"],
+             "is fixed for --require g1-between-masters")]:
+        p = subprocess.run([CMR, "fix", *args], capture_output=True, text=True, timeout=120)
+        lines = errors(p)
+        check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and text in lines[0],
+              "rc %d: %s" % (p.returncode, p.stderr))
+
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
     p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", os.path.join(tmp, "kink_sarif"), "--sarif", sarif)
