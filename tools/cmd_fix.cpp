@@ -306,7 +306,9 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "space curves: the plane each point moves in, through it (xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ: "
                   "its U, V); default: the plane of its neighbours' directions");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->add_option("--glyph", args->glyph, "font sources (NAME.ufo, .glif): the glyph to fix");
+  cmd->add_option("--glyph", args->glyph,
+                  "font sources (NAME.ufo, .glif; a two-master .designspace with --require g1-between-masters): the "
+                  "glyph to fix");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
   cmd->callback([args, cmd, max_move, &exit_code] {
