@@ -138,6 +138,11 @@ struct GateViolation {
   /// computed; +inf: none found within the search's limits.
   double severity = -1;
   bool info = false;  ///< severity below ReportOptions::min_severity: reported, but it does not fail the gate
+  /// Interpolation gates: the instance the page draws (the worst or first
+  /// failing location), SplineReport::motions[motion] at motion_s on its
+  /// masters' line (0..1); -1: none.
+  int motion = -1;
+  double motion_s = -1;
 };
 
 struct GateResult {

@@ -357,6 +357,8 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r, double t
       GateViolation viol;
       viol.joint = j;
       viol.t = jr.joint.knot;
+      viol.motion = static_cast<int>(&m - r.motions->data());
+      viol.motion_s = p.s0 + (p.s1 - p.s0) * std::clamp(g.worst_s, 0.0, 1.0);
       std::string& msg = viol.message;
       if (T > 0) {
         msg = "within ";
@@ -437,6 +439,8 @@ std::vector<GateViolation> curvature_between_violations(const SplineReport& r, b
       msg += p.master_b;
       const bool inside = v.kind == BetweenVerdict::Kind::fails && v.s_first_fail >= p.s0 && v.s_first_fail <= p.s1;
       if (inside) {
+        viol.motion = static_cast<int>(&m - r.motions->data());
+        viol.motion_s = v.s_first_fail;
         const double sig = sigma_of(p, v.s_first_fail);
         viol.local_t = v.t_witness;
         viol.t = s.segments()[i].a + (s.segments()[i].b - s.segments()[i].a) * v.t_witness;

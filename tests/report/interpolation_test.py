@@ -110,6 +110,19 @@ with tempfile.TemporaryDirectory() as tmp:
     check("rounded, g1-between-masters:20 (more than its worst 19.4 degrees): exit 0", p.returncode == 0,
           p.stdout + p.stderr)
 
+    # The page draws the worst instance (in red, with its comb) between the two masters; none for the twin.
+    pages = {}
+    for name in ("kink", "proportional"):
+        out = os.path.join(tmp, name + "_page")
+        run(os.path.join(tmp, name + ".designspace"), "--require", "g1-between-masters", "--glyphs", "O", "--out", out)
+        with open(os.path.join(out, "font.html")) as f:
+            pages[name] = f.read()
+    drawn = re.search(r'<svg[^>]*class="between".*?</svg>', pages["kink"], re.S)
+    check("the page draws the kink's worst instance between the masters (three outlines, the instance's comb)",
+          drawn is not None and drawn.group(0).count('class="o2"') == 2 and drawn.group(0).count('class="b"') == 1 and
+          'class="t"' in drawn.group(0) and "553.9501" in pages["kink"] and 'class="between"' not in pages["proportional"],
+          pages["kink"][:300])
+
     # cmr fix FAMILY.designspace --glyph O --require g1-between-masters: handles moved in one master, on the grid;
     # re-judged by cmr report and independently here (Fractions: collinear at both masters, and the cross
     # product's middle coefficient u0 x v1 + u1 x v0 is 0, so c(s) == 0 at every s).
