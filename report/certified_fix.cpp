@@ -89,6 +89,8 @@ FixRequirement requirement_of(const Gate& gate) {
       // Its fix adds a node (gate_fix says where); no point move implies it.
       throw InputError("xy-extrema-at-nodes is fixed by adding a node at each extremum, not by moving points");
     case Gate::Kind::g1_between_masters:
+      throw InputError(to_string(gate) +
+                       " is fixed in one master: cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters");
     case Gate::Kind::curvature_between_masters:
     case Gate::Kind::extrema_between_masters:
       throw InputError(to_string(gate) + " is fixed in the masters, which cmr does not search yet");
@@ -129,7 +131,10 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
   if (is_interpolation_gate(gate)) {
     CertifiedFix out;
     out.check = to_string(gate);
-    out.reason = "moves in one master would fix it; cmr does not search them yet";
+    out.reason = gate.kind == Gate::Kind::g1_between_masters && gate.turn_degrees == 0
+                     ? "moves in one master fix it: cmr fix FAMILY.designspace --glyph NAME --require "
+                       "g1-between-masters (two masters)"
+                     : "moves in one master would fix it; cmr does not search them yet";
     return out;
   }
   CertifiedFix out = run_fix(spline, requirement_of(gate), options);

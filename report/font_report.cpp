@@ -8,6 +8,7 @@
 #include "bezierize/extract.hpp"
 #include "spline/curvature.hpp"
 #include "draw/svg_text.hpp"
+#include "io/masters.hpp"
 #include "io/output.hpp"
 
 namespace cmr::report {
@@ -233,6 +234,80 @@ std::string fixed_glyph_svg(const std::vector<const SplineReport*>& contours, co
          std::string(draw::kSvgClose);
 }
 
+/// Interpolation gates: the glyph at the two masters of its first
+/// violation's piece and at the instance the violation names (the worst or
+/// first failing location, (1 - s) A + s B: the motions' unrolled control
+/// points, as an open spline on their knots), side by side in one frame,
+/// the instance in red with its curvature comb (kCombSamples teeth per
+/// segment). Empty without such a violation. `caption`: the violation's
+/// message.
+std::string between_svg(const std::vector<const SplineReport*>& contours, int units_per_em, int height,
+                        std::string& caption) {
+  int k = -1;
+  double s = 0;
+  for (const SplineReport* r : contours)
+    for (const GateResult& gr : r->gates)
+      for (const GateViolation& v : gr.violations)
+        if (k < 0 && v.motion >= 0 && r->motions && v.motion < static_cast<int>(r->motions->size()))
+          k = v.motion, s = v.motion_s, caption = v.message;
+  if (k < 0) return {};
+  std::vector<BSpline> panels[3];  // master a, the instance, master b
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (const SplineReport* r : contours) {
+    if (!r->motions || k >= static_cast<int>(r->motions->size())) continue;
+    const import::ContourMotion& m = (*r->motions)[k];
+    if (m.a.is_rational() || m.a.points().size() != m.b.points().size()) continue;
+    std::vector<Vec2> pts;
+    for (std::size_t i = 0; i < m.a.points().size(); ++i)
+      pts.push_back(m.a.points()[i] + s * (m.b.points()[i] - m.a.points()[i]));
+    panels[0].push_back(m.a);
+    panels[1].push_back(BSpline::make(m.a.degree(), m.a.knots(), pts));
+    panels[2].push_back(m.b);
+    for (const auto& panel : panels)
+      for (const Vec2 q : panel.back().points()) {
+        x0 = std::min(x0, q.x), x1 = std::max(x1, q.x);
+        y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+      }
+  }
+  if (panels[1].empty()) return {};
+  const double pad = 0.05 * units_per_em, w = x1 - x0 + 2 * pad, h = y1 - y0 + 2 * pad;
+  double kmax = 0;
+  for (const BSpline& inst : panels[1])
+    for (const Segment& seg : inst.segments())
+      for (int j = 0; j <= kCombSamples; ++j) {
+        const CurvatureSample c = curvature_at(inst, seg.a + (seg.b - seg.a) * j / kCombSamples);
+        if (std::isfinite(c.kappa)) kmax = std::max(kmax, std::abs(c.kappa));
+      }
+  const double scale = kmax > 0 ? kCombLength * units_per_em / kmax : 0;
+  std::string body;
+  for (int p = 0; p < 3; ++p) {
+    std::string d, teeth;
+    for (const BSpline& c : panels[p]) {
+      d += outline_d(c);
+      if (p != 1) continue;
+      for (const Segment& seg : c.segments())
+        for (int j = 0; j < kCombSamples; ++j) {
+          const double t = seg.a + (seg.b - seg.a) * j / kCombSamples;
+          const CurvatureSample cs = curvature_at(c, t);
+          const Vec2 d1 = derivative(c, t, 1);
+          const double len = std::sqrt(dot(d1, d1));
+          if (!(len > 0) || !std::isfinite(cs.kappa)) continue;
+          const Vec2 tip = cs.point - scale * cs.kappa * Vec2(-d1.y / len, d1.x / len);
+          teeth += "M" + xy0(cs.point) + "L" + xy0(tip);
+        }
+    }
+    body += "<g transform=\"translate(" + fmt(p * w, 0) + ",0)\"><path class=\"" + std::string(p == 1 ? "b" : "o2") +
+            "\" d=\"" + d + "\"/>";
+    if (!teeth.empty()) body += "<path class=\"t\" d=\"" + teeth + "\"/>";
+    body += "</g>";
+  }
+  return draw::svg_open({{"height", std::to_string(height)},
+                         {"width", std::to_string(static_cast<int>(std::ceil(height * 3 * w / h)))},
+                         {"viewBox", fmt(x0 - pad, 0) + " " + fmt(-(y1 + pad), 0) + " " + fmt(3 * w, 0) + " " + fmt(h, 0)},
+                         {"class", "between"}}) +
+         body + std::string(draw::kSvgClose);
+}
+
 /// The picture drawn once (`<g id>` inside the glyph's large view) and the
 /// overview's thumbnail as a reference to it (`<use>`): one copy per page.
 std::string svg(const GlyphPicture& g, int height, const std::string& id, bool reference) {
@@ -280,7 +355,9 @@ constexpr const char* kStyle =
     "svg .f{stroke:#0070f0;stroke-width:2;vector-effect:non-scaling-stroke}"
     "svg .fp{stroke:#0070f0;stroke-width:6;stroke-linecap:round;vector-effect:non-scaling-stroke}"
     "svg .o{stroke:#888;stroke-width:1;stroke-dasharray:4 3;vector-effect:non-scaling-stroke}"
-    "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
+    "svg .x{stroke:#1a7f1a;stroke-width:1.6;vector-effect:non-scaling-stroke}"
+    "svg .b{stroke:#c00000;stroke-width:1.4;vector-effect:non-scaling-stroke}"
+    "svg .o2{stroke:#000;stroke-width:1;vector-effect:non-scaling-stroke}.pics{display:flex;gap:16px}"
     ".pics figure{margin:0}.pics figcaption{font-size:12px;color:#555}"
     "section{margin-top:1.5em;border-top:1px solid #ccc}.ch{font-size:1.4em}"
     "section svg{cursor:zoom-in}section svg.zoom{height:90vh;width:auto;cursor:zoom-out}";
@@ -413,6 +490,11 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         if (!fixed.empty())
           picture = "<div class=\"pics\"><figure>" + picture + "<figcaption>original</figcaption></figure><figure>" +
                     fixed + "<figcaption>fixed (green) over the original (dashed)</figcaption></figure></div>";
+        std::string caption;
+        const std::string between = between_svg(contours, font.units_per_em, 320, caption);
+        if (!between.empty())
+          picture += "<figure>" + between + "<figcaption>between the masters: left and right the masters, in red the "
+                     "instance of " + html_escape(caption) + "</figcaption></figure>";
       } else if (options.regions) {
         out += "<td></td>";
       }

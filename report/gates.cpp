@@ -23,7 +23,7 @@ std::string num(double v, int precision = 6) { return format_number(v, precision
 
 const char* kGateNames =
     "curvature-extrema-at-nodes, curvature-extrema-at-nodes:runs, max-extrema-per-segment:N, "
-    "g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U], g1-between-masters, curvature-between-masters, extrema-between-masters; extrema-at-nodes is an alias of "
+    "g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece, xy-extrema-at-nodes[:U], g1-between-masters[:DEG], curvature-between-masters, extrema-between-masters; extrema-at-nodes is an alias of "
     "curvature-extrema-at-nodes";
 
 /// Where a curve event lies, for a violation.
@@ -69,6 +69,14 @@ std::optional<Gate> parse_gate(const std::string& given) {
   Gate g;
   if (text == "curvature-extrema-at-nodes:runs") {
     g.kind = Gate::Kind::unimodal_runs;
+    return g;
+  }
+  if (head == "g1-between-masters" && colon != std::string::npos) {
+    g.kind = Gate::Kind::g1_between_masters;
+    const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.turn_degrees);
+    if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.turn_degrees) ||
+        g.turn_degrees < 0 || g.turn_degrees >= 90)
+      throw InputError("--require: '" + text + "' needs a turn in degrees, 0 <= DEG < 90 (g1-between-masters:0.5)");
     return g;
   }
   if (head == "curvature-extrema-at-nodes" || head == "no-inflection" || head == "each-piece" ||
@@ -122,7 +130,8 @@ std::string to_string(const Gate& gate) {
     case Gate::Kind::no_inflection: return "no-inflection";
     case Gate::Kind::each_piece: return "each-piece";
     case Gate::Kind::unimodal_runs: return "curvature-extrema-at-nodes:runs";
-    case Gate::Kind::g1_between_masters: return "g1-between-masters";
+    case Gate::Kind::g1_between_masters:
+      return gate.turn_degrees == 0 ? "g1-between-masters" : "g1-between-masters:" + num(gate.turn_degrees);
     case Gate::Kind::curvature_between_masters: return "curvature-between-masters";
     case Gate::Kind::extrema_between_masters: return "extrema-between-masters";
     case Gate::Kind::xy_extrema_at_nodes:
@@ -232,7 +241,7 @@ std::vector<GateResult> check_gates(const SplineReport& r, const std::vector<Gat
         for (GateViolation& v : xy_extremum_violations(r, gate.overshoot)) g.violations.push_back(std::move(v));
         break;
       case Gate::Kind::g1_between_masters:
-        for (GateViolation& v : g1_between_violations(r)) g.violations.push_back(std::move(v));
+        for (GateViolation& v : g1_between_violations(r, gate.turn_degrees)) g.violations.push_back(std::move(v));
         break;
       case Gate::Kind::curvature_between_masters:
       case Gate::Kind::extrema_between_masters:

@@ -63,7 +63,10 @@
 ///  * g1-between-masters: every node smooth at the masters stays G1 at
 ///    every location between them (a designspace or a variable font; exact:
 ///    report/interpolation.hpp). Its findings name the location in the
-///    user's axis values.
+///    user's axis values. g1-between-masters:DEG: a node whose tangents
+///    turn by at most DEG degrees at both masters turns by at most DEG at
+///    every location between (for masters rounded to the grid, whose smooth
+///    nodes are rarely exactly collinear).
 ///  * curvature-between-masters: every segment whose curvature is monotone
 ///    at both masters of a piece stays monotone at every location between
 ///    (bezierize/between.hpp's bivariate certificate in (t, s)); otherwise
@@ -103,6 +106,7 @@ struct Gate {
   int max_extrema = 1;                     ///< max-extrema-per-segment:N
   double tolerance = kDefaultG2Tolerance;  ///< g2-at-smooth-nodes:tol, g3-at-smooth-nodes:tol
   double overshoot = kDefaultXyExtremumTolerance;  ///< xy-extrema-at-nodes:U
+  double turn_degrees = 0;  ///< g1-between-masters:DEG (0: exactly G1; report/interpolation.hpp)
 };
 
 /// A gate's name with the old alias replaced: "extrema-at-nodes" ->
@@ -134,6 +138,11 @@ struct GateViolation {
   /// computed; +inf: none found within the search's limits.
   double severity = -1;
   bool info = false;  ///< severity below ReportOptions::min_severity: reported, but it does not fail the gate
+  /// Interpolation gates: the instance the page draws (the worst or first
+  /// failing location), SplineReport::motions[motion] at motion_s on its
+  /// masters' line (0..1); -1: none.
+  int motion = -1;
+  double motion_s = -1;
 };
 
 struct GateResult {

@@ -4,14 +4,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
+#include <numeric>
+#include <tuple>
 
 #include "bezierize/bernstein.hpp"
 #include "bezierize/between.hpp"
 #include "bezierize/extract.hpp"
 #include "bezierize/roots.hpp"
 #include "report/report.hpp"
+#include "spline/errors.hpp"
 #include "spline/format.hpp"
+#include "io/ufo.hpp"
 
 namespace cmr::report {
 namespace {
@@ -20,6 +25,13 @@ using RPoint = Point<Rational>;
 using Poly = Bernstein<Rational>;
 
 std::string num(double v, int precision = 6) { return format_number(v, precision); }
+
+/// "1 degree", "0.5 degrees".
+std::string degrees(double v) {
+  std::string out = num(v, 6);
+  out += v == 1 ? " degree" : " degrees";
+  return out;
+}
 
 Poly sub(Poly a, const Poly& b) {
   for (std::size_t k = 0; k < a.size(); ++k) a[k] -= b[k];
@@ -36,11 +48,13 @@ Rational middle(const RootInterval& r) { return r.exact() ? r.lo : Rational((r.l
 
 }  // namespace
 
-bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy) {
-  return ux * vy - uy * vx == 0 && ux * vx + uy * vy > 0;
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy, const Rational& tan_turn) {
+  const Rational c = ux * vy - uy * vx, d = ux * vx + uy * vy;
+  if (tan_turn == 0) return c == 0 && d > 0;
+  return d > 0 && abs(c) <= tan_turn * d;
 }
 
-G1Between g1_between(const NodeTangents& t) {
+G1Between g1_between(const NodeTangents& t, const Rational& tan_turn) {
   G1Between out;
   out.judged = true;
   const Poly ux{t.u0x, t.u1x}, uy{t.u0y, t.u1y}, vx{t.v0x, t.v1x}, vy{t.v0y, t.v1y};
@@ -62,6 +76,41 @@ G1Between g1_between(const NodeTangents& t) {
       out.fail.emplace_back(double_below(bounds[k].second), double_above(bounds[k + 1].first));
     }
   };
+  // The worst angle: at a root of g = c' d - c d' inside (0, 1), or at an end.
+  auto worst = [&] {
+    const Poly g = sub(bernstein_product(bernstein_derivative(c), d), bernstein_product(c, bernstein_derivative(d)));
+    std::vector<Rational> candidates{Rational(0), Rational(1)};
+    if (!is_zero(g))
+      for (const RootInterval& r : isolate_roots(g))
+        if (middle(r) > 0 && middle(r) < 1) candidates.push_back(middle(r));
+    out.worst_angle = -1;
+    for (const Rational& s : candidates) {
+      const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * to_degrees;
+      if (a > out.worst_angle) {
+        out.worst_angle = a;
+        out.worst_s = nearest_double(s);
+      }
+    }
+  };
+  if (tan_turn > 0) {
+    // Within the turn: T d - c >= 0, T d + c >= 0 and d > 0 (the header's h+ and h-).
+    Poly scaled = d;
+    for (Rational& k : scaled) k *= tan_turn;
+    for (const Poly& h : {sub(scaled, c), add(scaled, c), d})
+      if (!is_zero(h)) between_roots(h, true);
+    std::sort(out.fail.begin(), out.fail.end());
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& f : out.fail) {
+      if (!merged.empty() && f.first <= merged.back().second)
+        merged.back().second = std::max(merged.back().second, f.second);
+      else
+        merged.push_back(f);
+    }
+    out.fail = std::move(merged);
+    out.holds = out.fail.empty();
+    if (!out.holds) worst();
+    return out;
+  }
   if (is_zero(c)) {
     // Collinear throughout: G1 unless the direction reverses (d <= 0 somewhere).
     between_roots(d, true);
@@ -76,20 +125,161 @@ G1Between g1_between(const NodeTangents& t) {
     return out;
   }
   between_roots(c, false);
-  // The worst angle: at a root of g = c' d - c d' inside (0, 1), or at an end.
-  const Poly g = sub(bernstein_product(bernstein_derivative(c), d), bernstein_product(c, bernstein_derivative(d)));
-  std::vector<Rational> candidates{Rational(0), Rational(1)};
-  for (const RootInterval& r : isolate_roots(g))
-    if (middle(r) > 0 && middle(r) < 1) candidates.push_back(middle(r));
-  out.worst_angle = -1;
-  for (const Rational& s : candidates) {
-    const double a = std::abs(std::atan2(value_at(c, s), value_at(d, s))) * to_degrees;
-    if (a > out.worst_angle) {
-      out.worst_angle = a;
-      out.worst_s = nearest_double(s);
+  worst();
+  return out;
+}
+
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]) {
+  using I = long long;
+  constexpr double kMax = 1e15;  // integers a double and a long long both hold, with room for products
+  for (int m = 0; m < 2; ++m)
+    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
+      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
+        return std::nullopt;
+  // u = alpha g, v = beta g at each master (g primitive), or nullopt.
+  struct Split {
+    I gx, gy, alpha, beta;
+  };
+  auto split = [&](int m) -> std::optional<Split> {
+    const I ux = static_cast<I>(node[m].x - in_handle[m].x), uy = static_cast<I>(node[m].y - in_handle[m].y);
+    const I vx = static_cast<I>(out_handle[m].x - node[m].x), vy = static_cast<I>(out_handle[m].y - node[m].y);
+    if ((ux == 0 && uy == 0) || (vx == 0 && vy == 0)) return std::nullopt;
+    const I gv = std::gcd(std::abs(vx), std::abs(vy)), gu = std::gcd(std::abs(ux), std::abs(uy));
+    const I gx = vx / gv, gy = vy / gv;
+    if (ux / gu != gx || uy / gu != gy) return std::nullopt;  // not exactly G1 here
+    return Split{gx, gy, gu, gv};
+  };
+  const std::optional<Split> a = split(0), b = split(1);
+  if (!a || !b) return std::nullopt;
+  G1NodeFix out{in_handle[0], out_handle[0], 0.0};
+  const I cross = a->gx * b->gy - a->gy * b->gx;
+  if (cross == 0) {
+    if (a->gx * b->gx + a->gy * b->gy < 0) return std::nullopt;  // opposite directions: the node reverses
+    return out;                                                  // the same direction at both: G1 throughout
+  }
+  const I common = std::gcd(b->alpha, b->beta), p = b->alpha / common, q = b->beta / common;
+  auto cost = [&](I k) { return std::llabs(p * k - a->alpha) + std::llabs(q * k - a->beta); };
+  I best = 0;
+  for (const I k0 : {a->alpha / p, a->beta / q})
+    for (const I k : {k0, k0 + 1})
+      if (k >= 1 && (best == 0 || cost(k) < cost(best))) best = k;
+  const double len = std::hypot(static_cast<double>(a->gx), static_cast<double>(a->gy));
+  const Vec2 g{static_cast<double>(a->gx), static_cast<double>(a->gy)};
+  out.in_handle = node[0] - static_cast<double>(p * best) * g;
+  out.out_handle = node[0] + static_cast<double>(q * best) * g;
+  out.distance = static_cast<double>(cost(best)) * len;
+  return out;
+}
+
+MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& glyph) {
+  const import::Designspace ds = import::read_designspace(path);
+  std::vector<const import::Designspace::Source*> sources;
+  for (const auto& src : ds.sources)
+    if (src.layer.empty()) sources.push_back(&src);
+  if (sources.size() != 2)
+    throw InputError(path + ": cmr fix --require g1-between-masters takes a designspace of two masters for now (" +
+                     std::to_string(sources.size()) + " here)");
+  import::GlyphSelection which;
+  which.names = {glyph};
+  import::Glyph g[2];
+  for (int m = 0; m < 2; ++m) {
+    const import::Font f = import::read_ufo(sources[m]->path, which);
+    if (f.glyphs.empty()) throw InputError(path + ": no glyph '" + glyph + "' in " + sources[m]->name);
+    g[m] = f.glyphs.front();
+    if (!g[m].error.empty()) throw InputError(path + ": " + g[m].error);
+  }
+  if (g[0].contours.size() != g[1].contours.size()) throw InputError(path + ": " + glyph + ": incompatible masters");
+  // A judged node: its position, handles, and their source points, per master.
+  struct Node {
+    int contour = 0, node = 0, in = 0, out = 0;  // Contour::index and source points
+    std::string name;
+    Vec2 p[2], h_in[2], h_out[2];
+  };
+  std::vector<Node> nodes;
+  for (std::size_t c = 0; c < g[0].contours.size(); ++c) {
+    const import::Contour& a = g[0].contours[c];
+    const import::Contour& b = g[1].contours[c];
+    if (a.font_point != b.font_point || a.node != b.node || a.spline.degree() != b.spline.degree())
+      throw InputError(path + ": " + glyph + ": incompatible masters (contour " + std::to_string(a.index) + ")");
+    if (a.spline.degree() != 3) continue;  // quadratic sources: not taken yet
+    const int n = static_cast<int>(a.node.size());
+    for (int i = 0; i < n; ++i) {
+      const int prev = (i + n - 1) % n, next = (i + 1) % n;
+      if (!a.node[i] || a.node[prev] || a.node[next] || a.font_point[prev] < 0 || a.font_point[next] < 0) continue;
+      bool smooth = true;
+      for (int m = 0; m < 2; ++m) {
+        const auto& marks = g[m].point_smooth;
+        const int fp = a.font_point[i];
+        smooth = smooth && a.index < static_cast<int>(marks.size()) && fp < static_cast<int>(marks[a.index].size()) &&
+                 marks[a.index][fp];
+      }
+      if (!smooth) continue;
+      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}};
+      for (int m = 0; m < 2; ++m) {
+        const std::vector<Vec2>& pts = g[m].contours[c].spline.points();
+        node.p[m] = pts[i];
+        node.h_in[m] = pts[prev];
+        node.h_out[m] = pts[next];
+      }
+      nodes.push_back(node);
     }
   }
-  return out;
+  auto tangents_of = [](const Vec2 p[2], const Vec2 in[2], const Vec2 out[2]) {
+    const Vec2 u0 = p[0] - in[0], u1 = p[1] - in[1], v0 = out[0] - p[0], v1 = out[1] - p[1];
+    return NodeTangents{Rational(u0.x), Rational(u0.y), Rational(u1.x), Rational(u1.y),
+                        Rational(v0.x), Rational(v0.y), Rational(v1.x), Rational(v1.y)};
+  };
+  auto kink = [&](const Node& k) {
+    const NodeTangents t = tangents_of(k.p, k.h_in, k.h_out);
+    if (!g1_at(t.u0x, t.u0y, t.v0x, t.v0y) || !g1_at(t.u1x, t.u1y, t.v1x, t.v1y)) return false;  // not judged
+    return !g1_between(t).holds;
+  };
+  MastersG1Fix best;
+  best.distance = -1;
+  for (int m = 0; m < 2; ++m) {
+    MastersG1Fix fix;
+    fix.master = sources[m]->name;
+    fix.ufo = sources[m]->path.string();
+    fix.glif = g[m].source;
+    std::string unfixable;
+    std::vector<Node> moved = nodes;
+    for (Node& k : moved) {
+      if (!kink(k)) continue;
+      ++fix.kinks_before;
+      const int o = 1 - m;
+      const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
+      const std::optional<G1NodeFix> f = g1_between_fix(p, in, out);
+      if (!f) {
+        if (unfixable.empty()) unfixable = k.name;
+        continue;
+      }
+      for (const auto& [from, to, fp] : {std::tuple{k.h_in[m], f->in_handle, k.in}, std::tuple{k.h_out[m], f->out_handle, k.out}}) {
+        if (from == to) continue;
+        std::string name = glyph;
+        name.append("/c").append(std::to_string(k.contour)).append("/p").append(std::to_string(fp));
+        fix.moves.push_back({name, from, to, std::hypot(to.x - from.x, to.y - from.y)});
+        fix.edits.push_back({k.contour, fp, to.x, to.y});
+      }
+      k.h_in[m] = f->in_handle;
+      k.h_out[m] = f->out_handle;
+      fix.distance += f->distance;
+    }
+    if (!unfixable.empty()) continue;
+    for (const Node& k : moved) fix.kinks_after += kink(k) ? 1 : 0;
+    if (best.distance < 0 || fix.distance < best.distance) best = fix;
+  }
+  if (best.distance < 0) {
+    std::string first;
+    for (const Node& k : nodes)
+      if (kink(k)) {
+        first = k.name;
+        break;
+      }
+    throw InputError(path + ": " + first +
+                     ": no move of its handles on the integer grid in one master makes it G1 between the masters "
+                     "(off the grid, or its tangents reverse)");
+  }
+  return best;
 }
 
 namespace {
@@ -110,9 +300,10 @@ bool is_zero_vector(const Rational& x, const Rational& y) { return x == 0 && y =
 
 }  // namespace
 
-std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
+std::vector<GateViolation> g1_between_violations(const SplineReport& r, double turn_degrees) {
   std::vector<GateViolation> out;
   if (!r.motions || !r.spline) return out;
+  const Rational T(turn_degrees > 0 ? std::tan(turn_degrees * std::numbers::pi / 180) : 0.0);
   const BSpline& s = *r.spline;
   const int N = s.segment_count(), deg = s.degree();
   for (const JointReport& jr : r.joints) {
@@ -154,24 +345,40 @@ std::vector<GateViolation> g1_between_violations(const SplineReport& r) {
         std::vector<RPoint> l0 = end_points(line, left, false), l1 = end_points(line, left, true);
         std::vector<RPoint> r0 = end_points(line, right, false), r1 = end_points(line, right, true);
         const int bu = u == tangent(1) ? 1 : 2, bv = v == tangent_out(1) ? 1 : 2;
-        if (!g1_at(l0[n].x - l0[n - bu].x, l0[n].y - l0[n - bu].y, r0[bv].x - r0[0].x, r0[bv].y - r0[0].y) ||
-            !g1_at(l1[n].x - l1[n - bu].x, l1[n].y - l1[n - bu].y, r1[bv].x - r1[0].x, r1[bv].y - r1[0].y))
+        if (!g1_at(l0[n].x - l0[n - bu].x, l0[n].y - l0[n - bu].y, r0[bv].x - r0[0].x, r0[bv].y - r0[0].y, T) ||
+            !g1_at(l1[n].x - l1[n - bu].x, l1[n].y - l1[n - bu].y, r1[bv].x - r1[0].x, r1[bv].y - r1[0].y, T))
           continue;
-      } else if (!g1_at(u[0], u[1], v[0], v[1]) || !g1_at(u[2], u[3], v[2], v[3])) {
+      } else if (!g1_at(u[0], u[1], v[0], v[1], T) || !g1_at(u[2], u[3], v[2], v[3], T)) {
         continue;
       }
-      const G1Between g = g1_between({u[0], u[1], u[2], u[3], v[0], v[1], v[2], v[3]});
+      const G1Between g = g1_between({u[0], u[1], u[2], u[3], v[0], v[1], v[2], v[3]}, T);
       if (g.holds) continue;
       const import::Piece& p = *m.piece;
       GateViolation viol;
       viol.joint = j;
       viol.t = jr.joint.knot;
+      viol.motion = static_cast<int>(&m - r.motions->data());
+      viol.motion_s = p.s0 + (p.s1 - p.s0) * std::clamp(g.worst_s, 0.0, 1.0);
       std::string& msg = viol.message;
-      msg = "smooth at ";
+      if (T > 0) {
+        msg = "within ";
+        msg += degrees(turn_degrees);
+        msg += " of G1 at ";
+      } else {
+        msg = "smooth at ";
+      }
       msg += p.master_a;
       msg += " and ";
       msg += p.master_b;
-      msg += g.worst_angle >= 180 ? " but its tangents reverse between them: " : " but a kink between them: not G1 for ";
+      if (g.worst_angle >= 180) {
+        msg += " but its tangents reverse between them: ";
+      } else if (T > 0) {
+        msg += " but not between them: turns more than ";
+        msg += degrees(turn_degrees);
+        msg += " for ";
+      } else {
+        msg += " but a kink between them: not G1 for ";
+      }
       for (std::size_t k = 0; k < g.fail.size(); ++k) {
         if (k) msg += "; ";
         msg += p.range(g.fail[k].first, g.fail[k].second);
@@ -232,6 +439,8 @@ std::vector<GateViolation> curvature_between_violations(const SplineReport& r, b
       msg += p.master_b;
       const bool inside = v.kind == BetweenVerdict::Kind::fails && v.s_first_fail >= p.s0 && v.s_first_fail <= p.s1;
       if (inside) {
+        viol.motion = static_cast<int>(&m - r.motions->data());
+        viol.motion_s = v.s_first_fail;
         const double sig = sigma_of(p, v.s_first_fail);
         viol.local_t = v.t_witness;
         viol.t = s.segments()[i].a + (s.segments()[i].b - s.segments()[i].a) * v.t_witness;

@@ -52,6 +52,20 @@
 /// ends): the worst angle, in degrees, is evaluated there (double precision
 /// at the enclosure's middle, within 1e-12 in s), and its location is given
 /// in the user's axis values ("Weight": 437.5).
+///
+/// g1-between-masters:DEG (DEG in (0, 90) degrees), for masters rounded to
+/// a grid, whose smooth nodes are rarely exactly collinear: a node marked
+/// smooth at both masters whose tangents turn by at most DEG at both ends
+/// must turn by at most DEG at every location between. With T = tan(DEG)
+/// (the double's exact rational value),
+///
+///   |theta(s)| <= DEG  <=>  d(s) > 0,  h+(s) = T d - c >= 0,  h-(s) = T d + c >= 0,
+///
+/// h+ and h- of degree <= 2 (Bernstein coefficients T d_k -+ c_k): the node
+/// is judged when this holds at both masters, and fails on the open
+/// s-intervals where h+ < 0, h- < 0 or d < 0 (between their exact roots);
+/// the worst angle as above. DEG = 0 is the exact rule (h+ = -c and
+/// h- = c both >= 0 on [0, 1] is c == 0), kept on its own path.
 #include <memory>
 #include <optional>
 #include <string>
@@ -70,8 +84,10 @@ struct NodeTangents {
   Rational u0x, u0y, u1x, u1y, v0x, v0y, v1x, v1y;
 };
 
-/// G1 at one instance: u x v = 0 and u . v > 0, exactly.
-bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy);
+/// G1 at one instance: u x v = 0 and u . v > 0, exactly; with tan_turn =
+/// T > 0, within the turn: u . v > 0 and |u x v| <= T u . v.
+bool g1_at(const Rational& ux, const Rational& uy, const Rational& vx, const Rational& vy,
+           const Rational& tan_turn = Rational(0));
 
 /// What g1-between-masters finds at one node on one piece (the caller
 /// judges only nodes smooth at the masters: g1_at at both).
@@ -88,11 +104,65 @@ struct G1Between {
 /// The test of the header comment on one node's tangents over s in [0, 1]
 /// (a piece's own parameter: for a --between part of the masters' line the
 /// ends need not be G1, and the worst angle may lie at an end).
-G1Between g1_between(const NodeTangents& t);
+/// tan_turn > 0: the turn of g1-between-masters:DEG, T = tan(DEG); `fail`
+/// then gives where the turn exceeds DEG.
+G1Between g1_between(const NodeTangents& t, const Rational& tan_turn = Rational(0));
+
+/// A fix of g1-between-masters at one node, in one master, on the integer
+/// grid (issue 37 item 4). At master m the node N has its incoming handle
+/// H_in and outgoing H_out, exactly collinear with N and on the integer
+/// grid: u = N - H_in = alpha g, v = H_out - N = beta g with g the primitive
+/// integer direction (gcd of its coordinates 1) and alpha, beta positive
+/// integers; at the other master u' = alpha' g', v' = beta' g'. Then
+///
+///   c(s) = 2 s (1 - s) c1,  2 c1 = u x v' + u' x v = (alpha beta' - alpha' beta) (g x g'),
+///
+/// so the node is G1 at every location iff g x g' = 0 or alpha / beta =
+/// alpha' / beta' = p / q (reduced). The handles of master m that keep g and
+/// the grid and make it G1 are alpha = p k, beta = q k (k >= 1, integer): the
+/// total move |p k - alpha| |g| + |q k - beta| |g| is convex and piecewise
+/// linear in k, least at k = floor or ceil of alpha / p or beta / q. With
+/// c == 0, u(s) = (p / q) v(s), so d > 0 unless v(s) = 0 somewhere (g' = -g
+/// direction: the node reverses, which no such move fixes). Refused
+/// (nullopt): coordinates not integers, a handle of zero length, a node not
+/// exactly G1 at a master, or g' opposite to g.
+struct G1NodeFix {
+  Vec2 in_handle{}, out_handle{};  ///< the master's new handles
+  double distance = 0;             ///< |H_in' - H_in| + |H_out' - H_out|
+};
+/// node, in_handle, out_handle: at the master whose handles move ([0]) and
+/// at the other ([1]). A node already G1 between them: its handles
+/// unmoved, distance 0. Not yet taken by `cmr fix` (a designspace).
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
+
+/// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
+/// (two masters in their UFOs' default layers, cubic outlines): every node
+/// of the glyph marked smooth and exactly G1 at both masters is judged
+/// (g1_between); each kink gets g1_between_fix's move in one master, the
+/// same master for all of them, the one with the smaller total move; the
+/// moved master is re-judged exactly (kinks_after, 0 when certified).
+/// InputError (one line): not two masters, the glyph missing or
+/// incompatible, a kink no grid move in one master fixes (named).
+struct MastersG1Fix {
+  std::string master;  ///< the source whose handles move (its name)
+  std::string ufo;     ///< its UFO folder
+  std::string glif;    ///< its .glif
+  std::vector<import::PointEdit> edits;  ///< the moved points (contour index, source point, x, y)
+  struct Move {
+    std::string point;  ///< "O/c0/p1"
+    Vec2 from{}, to{};
+    double distance = 0;
+  };
+  std::vector<Move> moves;
+  int kinks_before = 0, kinks_after = 0;
+  double distance = 0;  ///< total move
+};
+MastersG1Fix fix_g1_between_masters(const std::string& designspace, const std::string& glyph);
 
 /// The violations of g1-between-masters on one contour's report (its
-/// motions: SplineReport::motions); none without motions.
-std::vector<GateViolation> g1_between_violations(const SplineReport& report);
+/// motions: SplineReport::motions); none without motions. turn_degrees:
+/// g1-between-masters:DEG (0: exactly G1).
+std::vector<GateViolation> g1_between_violations(const SplineReport& report, double turn_degrees = 0);
 
 /// curvature-between-masters (extrema = false) and extrema-between-masters
 /// (true) on one contour's report: per segment and piece, when the segment's

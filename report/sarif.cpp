@@ -57,11 +57,12 @@ RuleText rule_text(const std::string& id) {
             "Add a node at the point the message gives (split the segment there: the curve stays the same), or move "
             "the handles onto the axis so that the tangent at an existing node is horizontal or vertical. cmr names "
             "the point and does not insert it."};
-  if (id == "g1-between-masters")
+  if (id.rfind("g1-between-masters", 0) == 0)
     return {"G1BetweenMasters", "A smooth node is a kink between the masters.",
             "A node smooth at both masters (smooth=\"yes\" and collinear, exactly) must stay G1 at every location "
             "between them: the cross product of its tangents, a polynomial of degree 2 in the axis, must vanish "
-            "identically. It does not when the handles' lengths change in different ratios.",
+            "identically. It does not when the handles' lengths change in different ratios. With :DEG, a node whose "
+            "tangents turn by at most DEG degrees at both masters must turn by at most DEG at every location.",
             "Make the two handles' lengths change in the same ratio from master to master (the message gives the "
             "worst location and angle)."};
   if (id == "curvature-between-masters" || id == "extrema-between-masters")

@@ -16,6 +16,7 @@
 #include "report/gates.hpp"
 #include "bezierize/extract.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/interpolation.hpp"
 #include "report/fix_json.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -118,6 +119,64 @@ Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>
   return contours;
 }
 
+/// Stages a copy of the source folder `src` (a UFO) as the new folder `out`,
+/// with the .glif `glif` replaced by `changed`.
+void stage_source_copy(const std::string& src_text, const std::string& out, const std::string& glif,
+                       const std::string& changed, OutputSet& outputs) {
+  namespace fs = std::filesystem;
+  const fs::path src = src_text, dst = out;
+  std::error_code ec;
+  if (fs::exists(dst, ec)) throw InputError(out + ": exists (a copy of the source goes to a new folder)");
+  outputs.create_folder(dst);
+  for (auto it = fs::recursive_directory_iterator(src); it != fs::recursive_directory_iterator(); ++it) {
+    const fs::path rel = it->path().lexically_relative(src);
+    if (it->is_directory()) {
+      outputs.create_folder(dst / rel);
+    } else if (it->is_regular_file()) {
+      const bool is_glyph = fs::equivalent(it->path(), glif, ec);
+      outputs.stage(dst / rel, is_glyph ? changed : read_input_file(it->path()));
+    }
+  }
+}
+
+/// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters
+/// [--out NEW.ufo | --in-place]` (report/interpolation.hpp
+/// fix_g1_between_masters): the kinks between the two masters fixed by
+/// moving handles in one master on the grid; --out: a copy of that master's
+/// UFO, --in-place: its .glif rewritten (only the moved points' x and y).
+void run_masters_fix(const std::string& file, const std::string& glyph, const std::string& require,
+                     const std::string& out, bool in_place, bool pretty) {
+  if (glyph.empty()) throw InputError(file + ": a designspace; name the glyph with --glyph NAME");
+  if (require != "g1-between-masters")
+    throw InputError(file + ": a designspace is fixed for --require g1-between-masters (other gates: cmr fix MASTER.ufo)");
+  if (in_place && !out.empty()) throw InputError("--in-place and --out: choose one");
+  const report::MastersG1Fix f = report::fix_g1_between_masters(file, glyph);
+  if (f.kinks_after != 0)
+    throw InputError(file + ": " + glyph + ": the moves leave " + std::to_string(f.kinks_after) + " kinks (not certified)");
+  Json moves = Json::array();
+  for (const report::MastersG1Fix::Move& m : f.moves)
+    moves.push_back({{"point", m.point},
+                     {"from", Json::array({m.from.x, m.from.y})},
+                     {"to", Json::array({m.to.x, m.to.y})},
+                     {"distance", m.distance}});
+  Json doc = {{"file", file},     {"glyph", glyph},       {"require", require},
+              {"master", f.master}, {"ufo", f.ufo},       {"moves", moves},
+              {"distance", f.distance},
+              {"rejudged", Json::array({{{"check", "g1-between-masters"}, {"before", f.kinks_before}, {"after", f.kinks_after}}})}};
+  OutputSet outputs;
+  const std::string text = read_input_file(f.glif);
+  const std::string changed = f.edits.empty() ? text : import::rewrite_glif_points(text, f.edits, f.glif);
+  if (in_place) {
+    if (!f.edits.empty()) outputs.stage(f.glif, changed);
+    doc["written"] = f.glif;
+  } else if (!out.empty()) {
+    stage_source_copy(f.ufo, out, f.glif, changed, outputs);
+    doc["out"] = out;
+  }
+  outputs.commit();
+  print_json(doc, pretty);
+}
+
 void run_source_fix(const SourceFixArgs& a) {
   namespace fs = std::filesystem;
   const bool glif = fs::path(a.file).extension() == ".glif";
@@ -156,19 +215,7 @@ void run_source_fix(const SourceFixArgs& a) {
     if (glif) {
       outputs.stage(a.out, changed);
     } else {
-      const fs::path src = a.file, dst = a.out;
-      std::error_code ec;
-      if (fs::exists(dst, ec)) throw InputError(a.out + ": exists (a copy of the source goes to a new folder)");
-      outputs.create_folder(dst);
-      for (auto it = fs::recursive_directory_iterator(src); it != fs::recursive_directory_iterator(); ++it) {
-        const fs::path rel = it->path().lexically_relative(src);
-        if (it->is_directory()) {
-          outputs.create_folder(dst / rel);
-        } else if (it->is_regular_file()) {
-          const bool is_glyph = fs::equivalent(it->path(), g.source, ec);
-          outputs.stage(dst / rel, is_glyph ? changed : read_input_file(it->path()));
-        }
-      }
+      stage_source_copy(a.file, a.out, g.source, changed, outputs);
     }
     doc["out"] = a.out;
   }
@@ -259,7 +306,9 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "space curves: the plane each point moves in, through it (xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ: "
                   "its U, V); default: the plane of its neighbours' directions");
   add_pretty_flag(*cmd, args->pretty);
-  cmd->add_option("--glyph", args->glyph, "font sources (NAME.ufo, .glif): the glyph to fix");
+  cmd->add_option("--glyph", args->glyph,
+                  "font sources (NAME.ufo, .glif; a two-master .designspace with --require g1-between-masters): the "
+                  "glyph to fix");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
   cmd->callback([args, cmd, max_move, &exit_code] {
@@ -267,6 +316,14 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     // read as the default (it was: issue 42), so that it never means "unlimited".
     if (max_move->count() > 0 && !(args->max_move > 0 && std::isfinite(args->max_move)))
       throw InputError("--max-move: " + max_move->as<std::string>() + " is not a distance > 0 (leave it out for the default, the curve size)");
+    if (import::is_designspace_path(args->file)) {
+      if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0 ||
+          !args->points.empty() || cmd->count("--grid") > 0)
+        throw InputError(args->file + ": a designspace; --plane, --segments, --png, --keep, --points and --grid are not for it");
+      run_masters_fix(args->file, args->glyph, args->require, args->out, args->in_place, args->pretty);
+      exit_code = kOk;
+      return;
+    }
     if (import::is_ufo_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
         throw InputError(args->file + ": a font source; --plane, --segments, --png and --keep are for spline files");

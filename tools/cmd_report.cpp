@@ -107,7 +107,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "curvature-extrema-at-nodes (alias: extrema-at-nodes), curvature-extrema-at-nodes:runs, "
                   "max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], g3-at-smooth-nodes[:tol], no-inflection, each-piece or xy-extrema-at-nodes[:U] "
                   "(a node at every horizontal and vertical tangent; U: tolerated overshoot in font units, default 1); for a "
-                  ".designspace or a variable font also g1-between-masters, curvature-between-masters and "
+                  ".designspace or a variable font also g1-between-masters[:DEG] (DEG: a turn in degrees tolerated at smooth nodes), curvature-between-masters and "
                   "extrema-between-masters (judged at every location between the masters: docs/interpolation.md)");
   cmd->add_option("--segments", args->segments, "judge only spans A..B (inclusive); the others are reported as ignored");
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "

@@ -89,13 +89,105 @@ TEST(G1Between, SmoothAtAnInstanceIsExact) {
   EXPECT_FALSE(g1_at(Rational(0.1), Rational(0.2), Rational(0.1), Rational(std::nextafter(0.2, 1.0))));
 }
 
-TEST(InterpolationGate, ParsesAndTakesNoArgument) {
+TEST(G1Between, WithinATurnFailsExactlyWhereTheTurnExceedsIt) {
+  // Marked smooth but rounded to integers: 0.19 degrees off at Regular, 0.57 at Bold,
+  // 19.4 degrees between (tools/bench/midway_compare.py's case "rounded").
+  const double t[8] = {100, 0, 100, 100, 300, 1, 50, 51};
+  const double deg = 1;
+  const Rational T(std::tan(deg * std::numbers::pi / 180));
+  const NodeTangents n = tangents(t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7]);
+  // The exact rule does not judge it (not collinear at the masters); within 1 degree does.
+  EXPECT_FALSE(g1_at(n.u0x, n.u0y, n.v0x, n.v0y));
+  EXPECT_TRUE(g1_at(n.u0x, n.u0y, n.v0x, n.v0y, T));
+  EXPECT_TRUE(g1_at(n.u1x, n.u1y, n.v1x, n.v1y, T));
+  const G1Between g = g1_between(n, T);
+  ASSERT_TRUE(g.judged);
+  EXPECT_FALSE(g.holds);
+  ASSERT_EQ(g.fail.size(), 1u);
+  const auto [lo, hi] = g.fail[0];
+  ASSERT_LT(lo, hi);
+  // The interval's ends are where the turn is exactly 1 degree: above it inside, below it outside.
+  EXPECT_NEAR(angle(t, lo), deg, 1e-6);
+  EXPECT_NEAR(angle(t, hi), deg, 1e-6);
+  EXPECT_GT(angle(t, (lo + hi) / 2), deg);
+  EXPECT_LT(angle(t, lo / 2), deg);
+  EXPECT_LT(angle(t, (hi + 1) / 2), deg);
+  // The worst instance: no sample has a larger turn.
+  for (int k = 0; k <= 1000; ++k) EXPECT_LE(angle(t, k / 1000.0), g.worst_angle + 1e-9);
+  EXPECT_NEAR(angle(t, g.worst_s), g.worst_angle, 1e-9);
+  EXPECT_GT(g.worst_angle, 19);
+  // A turn larger than the node's worst: it holds; the proportional twin holds within any turn.
+  EXPECT_TRUE(g1_between(n, Rational(std::tan(20 * std::numbers::pi / 180))).holds);
+  EXPECT_TRUE(g1_between(tangents(100, 0, 60, 30, 200, 0, 120, 60), T).holds);
+}
+
+TEST(G1BetweenFix, SmallestGridMoveInOneMasterMakesTheNodeG1Throughout) {
+  // The kink example (examples/interpolation): Regular u = (100, 0), v = (200, 0); Bold u = (60, 30), v = (240, 120).
+  const Vec2 reg[3] = {{0, 0}, {-100, 0}, {200, 0}}, bold[3] = {{0, 0}, {-60, -30}, {240, 120}};
+  for (int moved = 0; moved < 2; ++moved) {
+    const Vec2* m = moved == 0 ? reg : bold;
+    const Vec2* o = moved == 0 ? bold : reg;
+    const Vec2 node[2] = {m[0], o[0]}, in[2] = {m[1], o[1]}, out[2] = {m[2], o[2]};
+    const std::optional<G1NodeFix> f = g1_between_fix(node, in, out);
+    ASSERT_TRUE(f) << moved;
+    // Re-judged exactly: G1 at every location between, with the other master as it was.
+    const Vec2 u = m[0] - f->in_handle, v = f->out_handle - m[0];
+    const Vec2 uo = o[0] - o[1], vo = o[2] - o[0];
+    const NodeTangents t = moved == 0 ? tangents(u.x, u.y, uo.x, uo.y, v.x, v.y, vo.x, vo.y)
+                                      : tangents(uo.x, uo.y, u.x, u.y, vo.x, vo.y, v.x, v.y);
+    EXPECT_TRUE(g1_between(t).holds) << moved;
+    // On the grid, on the master's tangent line, and no nearer such fix (brute force over the grid's
+    // points on the line: alpha, beta up to 400 steps of the primitive direction).
+    EXPECT_EQ(f->in_handle.x, std::floor(f->in_handle.x));
+    EXPECT_EQ(f->out_handle.y, std::floor(f->out_handle.y));
+    const Vec2 g = moved == 0 ? Vec2{1, 0} : Vec2{2, 1};
+    const double a0 = moved == 0 ? 100 : 30, b0 = moved == 0 ? 200 : 120;  // u = a0 g, v = b0 g
+    double best = 1e300;
+    for (int a = 1; a <= 400; ++a)
+      for (int b = 1; b <= 400; ++b) {
+        const NodeTangents c = moved == 0 ? tangents(a * g.x, a * g.y, uo.x, uo.y, b * g.x, b * g.y, vo.x, vo.y)
+                                          : tangents(uo.x, uo.y, a * g.x, a * g.y, vo.x, vo.y, b * g.x, b * g.y);
+        // c1 == 0 exactly (the cross product's middle coefficient; the ends are 0): G1 throughout.
+        if (c.u0x * c.v1y - c.u0y * c.v1x + c.u1x * c.v0y - c.u1y * c.v0x != 0) continue;
+        best = std::min(best, (std::abs(a - a0) + std::abs(b - b0)) * std::hypot(g.x, g.y));
+      }
+    EXPECT_NEAR(f->distance, best, 1e-9) << moved;
+  }
+  // Fixing Regular moves least: its incoming handle from (-100, 0) to (-50, 0) (ratio 1:4 as Bold's).
+  const Vec2 node[2] = {reg[0], bold[0]}, in[2] = {reg[1], bold[1]}, out[2] = {reg[2], bold[2]};
+  const std::optional<G1NodeFix> f = g1_between_fix(node, in, out);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->in_handle, Vec2(-50, 0));
+  EXPECT_EQ(f->out_handle, Vec2(200, 0));
+  EXPECT_DOUBLE_EQ(f->distance, 50);
+  // Refused: a non-integer coordinate, a node not G1 at a master, a handle of zero length.
+  const Vec2 off[2] = {{-100.5, 0}, bold[1]}, bent[2] = {{-100, 1}, bold[1]}, zero[2] = {{0, 0}, bold[1]};
+  EXPECT_FALSE(g1_between_fix(node, off, out));
+  EXPECT_FALSE(g1_between_fix(node, bent, out));
+  EXPECT_FALSE(g1_between_fix(node, zero, out));
+  // Already G1 between (the proportional twin): unmoved.
+  const Vec2 pin[2] = {reg[1], {-60, -30}}, pout[2] = {reg[2], {120, 60}};
+  const std::optional<G1NodeFix> same = g1_between_fix(node, pin, pout);
+  ASSERT_TRUE(same);
+  EXPECT_EQ(same->distance, 0.0);
+  EXPECT_EQ(same->in_handle, reg[1]);
+}
+
+TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
   const std::optional<Gate> g = parse_gate("g1-between-masters");
   ASSERT_TRUE(g);
   EXPECT_EQ(g->kind, Gate::Kind::g1_between_masters);
+  EXPECT_EQ(g->turn_degrees, 0.0);
   EXPECT_TRUE(is_interpolation_gate(*g));
   EXPECT_EQ(to_string(*g), "g1-between-masters");
-  EXPECT_THROW(parse_gate("g1-between-masters:2"), InputError);
+  const std::optional<Gate> t = parse_gate("g1-between-masters:0.5");
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->turn_degrees, 0.5);
+  EXPECT_EQ(to_string(*t), "g1-between-masters:0.5");
+  EXPECT_EQ(to_string(*parse_gate("g1-between-masters:0")), "g1-between-masters");
+  for (const char* bad : {"g1-between-masters:", "g1-between-masters:x", "g1-between-masters:-1",
+                          "g1-between-masters:90", "g1-between-masters:nan", "curvature-between-masters:2"})
+    EXPECT_THROW(parse_gate(bad), InputError) << bad;
   for (const char* name : {"curvature-between-masters", "extrema-between-masters"}) {
     const std::optional<Gate> c = parse_gate(name);
     ASSERT_TRUE(c) << name;

@@ -10,6 +10,7 @@ instance.
 Prints "N passed, M failed" and exits 1 on any failure.
 """
 import json
+import math
 import re
 import os
 import subprocess
@@ -66,6 +67,121 @@ with tempfile.TemporaryDirectory() as tmp:
                         os.path.join(tmp, "proportional.designspace"), os.path.join(out, "report.json"), "0"],
                        capture_output=True, text=True)
     check("proportional: c(s) == 0 exactly and no violation", c.returncode == 0, c.stdout + c.stderr)
+
+    # g1-between-masters:DEG: p0 marked smooth but rounded to integers (0.19 and 0.57 degrees off at the masters).
+    rounded = os.path.join(tmp, "rounded.designspace")
+    p = run(rounded, *g1, "--out", os.path.join(tmp, "rounded0"))
+    check("rounded: the exact rule does not judge a node off G1 at the masters (exit 0)", p.returncode == 0,
+          p.stdout + p.stderr)
+    out = os.path.join(tmp, "rounded1")
+    p = run(rounded, "--require", "g1-between-masters:1", "--glyphs", "O", "--no-thumbnails", "--out", out)
+    with open(os.path.join(out, "report.json")) as f:
+        msgs = [v["message"] for sp in json.load(f)["splines"] for g in sp.get("gates", [])
+                if g["gate"] == "g1-between-masters:1" for v in g["violations"]]
+    # Independently: the turn exceeds 1 degree where T d - c < 0 or T d + c < 0 (c = u x v, d = u . v, exact).
+    sys.path.insert(0, os.path.join(SRC, "tools"))
+    import make_test_designspace as fixture
+
+    (ra, rb) = fixture.NODES["rounded"]
+    T = Fraction(math.tan(math.radians(1)))
+
+    def at(s, key):
+        return [Fraction(ra[key][i]) + s * (rb[key][i] - ra[key][i]) for i in (0, 1)]
+
+    def h(s, sign):
+        u, v = at(s, "u"), at(s, "v")
+        return T * (u[0] * v[0] + u[1] * v[1]) - sign * (u[0] * v[1] - u[1] * v[0])
+
+    def crossing(lo, hi, sign):  # h(lo) and h(hi) of opposite signs: bisect to 2^-60
+        neg_lo = h(lo, sign) < 0
+        while hi - lo > Fraction(1, 2**60):
+            m = (lo + hi) / 2
+            lo, hi = (m, hi) if (h(m, sign) < 0) == neg_lo else (lo, m)
+        return float(lo)
+
+    # The turn is negative (clockwise) between: h- = T d + c < 0 on one interval, whose ends bracket 1/2.
+    want = (crossing(Fraction(0), Fraction(1, 2), -1), crossing(Fraction(1, 2), Fraction(1), -1))
+    got = re.search(r"\(s in \(([0-9.e-]+), ([0-9.e-]+)\)\)", msgs[0]) if len(msgs) == 1 else None
+    check("rounded, g1-between-masters:1: exit 1, one violation whose s-interval is where the turn exceeds 1 degree "
+          "(exact: %.9f..%.9f)" % want,
+          p.returncode == 1 and got is not None and abs(float(got.group(1)) - want[0]) < 1e-9 and
+          abs(float(got.group(2)) - want[1]) < 1e-9 and h(Fraction(0), 1) > 0 and h(Fraction(1), 1) > 0, str(msgs))
+    p = run(rounded, "--require", "g1-between-masters:20", "--glyphs", "O", "--no-thumbnails", "--out", out)
+    check("rounded, g1-between-masters:20 (more than its worst 19.4 degrees): exit 0", p.returncode == 0,
+          p.stdout + p.stderr)
+
+    # The page draws the worst instance (in red, with its comb) between the two masters; none for the twin.
+    pages = {}
+    for name in ("kink", "proportional"):
+        out = os.path.join(tmp, name + "_page")
+        run(os.path.join(tmp, name + ".designspace"), "--require", "g1-between-masters", "--glyphs", "O", "--out", out)
+        with open(os.path.join(out, "font.html")) as f:
+            pages[name] = f.read()
+    drawn = re.search(r'<svg[^>]*class="between".*?</svg>', pages["kink"], re.S)
+    check("the page draws the kink's worst instance between the masters (three outlines, the instance's comb)",
+          drawn is not None and drawn.group(0).count('class="o2"') == 2 and drawn.group(0).count('class="b"') == 1 and
+          'class="t"' in drawn.group(0) and "553.9501" in pages["kink"] and 'class="between"' not in pages["proportional"],
+          pages["kink"][:300])
+
+    # cmr fix FAMILY.designspace --glyph O --require g1-between-masters: handles moved in one master, on the grid;
+    # re-judged by cmr report and independently here (Fractions: collinear at both masters, and the cross
+    # product's middle coefficient u0 x v1 + u1 x v0 is 0, so c(s) == 0 at every s).
+    import shutil
+    import ufoLib2
+
+    fixdir = os.path.join(tmp, "fixdir")
+    os.makedirs(fixdir)
+    for name in ("Regular.ufo", "Bold.ufo"):
+        shutil.copytree(os.path.join(tmp, name), os.path.join(fixdir, name))
+    shutil.copy(os.path.join(tmp, "kink.designspace"), fixdir)
+    ds = os.path.join(fixdir, "kink.designspace")
+
+    def fix(*args):
+        return subprocess.run([CMR, "fix", ds, "--glyph", "O", *args], capture_output=True, text=True, timeout=120)
+
+    def exact_g1_throughout(reg, bold):
+        def tangents(ufo):
+            pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+            node, before, after = pts[0], pts[-1], pts[1]
+            return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
+        (u0, v0), (u1, v1) = tangents(reg), tangents(bold)
+        cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
+        return cross(u0, v0) == 0 and cross(u1, v1) == 0 and cross(u0, v1) + cross(u1, v0) == 0
+
+    before = open(os.path.join(fixdir, "Regular.ufo", "glyphs", "O_.glif")).read()
+    p = fix("--require", "g1-between-masters", "--out", os.path.join(fixdir, "Fixed.ufo"))
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    fixed_glif = os.path.join(fixdir, "Fixed.ufo", "glyphs", "O_.glif")
+    changed = [(a, b) for a, b in zip(before.splitlines(), open(fixed_glif).read().splitlines()) if a != b] \
+        if os.path.exists(fixed_glif) else []
+    check("fix --out: one master's copy with one point's x moved on the grid, re-judged 1 kink -> 0",
+          p.returncode == 0 and doc.get("master") == "Regular" and doc.get("rejudged") == [
+              {"check": "g1-between-masters", "before": 1, "after": 0}] and len(changed) == 1 and
+          all(float(v).is_integer() for m in doc["moves"] for v in m["to"]), p.stdout + p.stderr + str(changed))
+    check("fix --out: exact Fractions: the fixed master and Bold are G1 at every location between",
+          os.path.exists(fixed_glif) and exact_g1_throughout(os.path.join(fixdir, "Fixed.ufo"),
+                                                             os.path.join(fixdir, "Bold.ufo")) and
+          not exact_g1_throughout(os.path.join(fixdir, "Regular.ufo"), os.path.join(fixdir, "Bold.ufo")))
+    p = fix("--require", "g1-between-masters", "--in-place")
+    r = run(ds, *g1, "--out", os.path.join(fixdir, "qa"))
+    check("fix --in-place: cmr report --require g1-between-masters exits 0 on the family afterwards",
+          p.returncode == 0 and r.returncode == 0 and
+          open(os.path.join(fixdir, "Regular.ufo", "glyphs", "O_.glif")).read() == open(fixed_glif).read(),
+          p.stderr + r.stdout + r.stderr)
+    p = fix("--require", "g1-between-masters", "--in-place")
+    check("fix again: nothing to move (0 kinks), exit 0", p.returncode == 0 and json.loads(p.stdout)["moves"] == [],
+          p.stdout + p.stderr)
+    for name, args, text in [
+            ("fix of a designspace with three masters", [os.path.join(tmp, "three.designspace"), "--glyph", "O",
+                                                        "--require", "g1-between-masters"], "two masters"),
+            ("fix of a designspace without --glyph", [ds, "--require", "g1-between-masters"], "--glyph NAME"),
+            ("fix of a designspace for another gate", [ds, "--glyph", "O", "--require", "no-inflection"],
+             "is fixed for --require g1-between-masters")]:
+        p = subprocess.run([CMR, "fix", *args], capture_output=True, text=True, timeout=120)
+        lines = errors(p)
+        check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and text in lines[0],
+              "rc %d: %s" % (p.returncode, p.stderr))
 
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
@@ -128,8 +244,6 @@ with tempfile.TemporaryDirectory() as tmp:
 
     # Done when (2): curvature increasing at both masters, an interior extremum at the halfway instance (checked
     # here in Fractions), exits 1 with a Weight strictly between; B = 2A (every instance similar) exits 0.
-    sys.path.insert(0, os.path.join(SRC, "tools"))
-    import make_test_designspace as fixture
 
     def lam_ends(P):
         """lambda = det(d1, d3) |d1|^2 - 3 det(d1, d2) (d1 . d2) of a cubic at t = 0 and t = 1, exactly."""
@@ -202,6 +316,13 @@ with tempfile.TemporaryDirectory() as tmp:
         check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
               p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
               any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
+        # Section sign: at wght=900 two consecutive on-curve points coincide (a line of zero length), which the
+        # reader drops; the instances share their points, so the line names that, not "incompatible masters".
+        p = run(inter, *g1[:2], "--glyphs", "U+00A7", "--no-thumbnails", "--out", os.path.join(tmp, "inter_s"))
+        lines = errors(p)
+        check("Inter U+00A7: a line shrinking to zero length at wght=900 is named as such, exit 2, one line",
+              p.returncode == 2 and len(lines) == 1 and "shrinks to zero length" in lines[0] and
+              "incompatible" not in lines[0], "rc %d: %s" % (p.returncode, p.stderr))
     else:
         print("SKIP Inter: fonts-inter-variable is not installed")
 
@@ -225,6 +346,8 @@ with tempfile.TemporaryDirectory() as tmp:
                                                      "wght=400:wght=500"], "--between: only with an interpolation gate"),
         ("a UFO (one master) given to an interpolation gate", [os.path.join(tmp, "Regular.ufo"), *g1],
          "one master (a UFO): the interpolation gates need a designspace or a variable font"),
+        ("g1-between-masters with a turn of 90 degrees", [os.path.join(tmp, "kink.designspace"), "--require",
+                                                          "g1-between-masters:90"], "needs a turn in degrees"),
         ("a font without fvar given to an interpolation gate",
          ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", *g1], "no fvar table"),
     ]

@@ -26,7 +26,7 @@ the sources that differ along one axis with no source between them; for a
 TrueType variable font (gvar), the default and each peak of the gvar
 regions, with every other axis at its default (as fontTools does).
 
-    /usr/bin/python3 tools/bench/midway_kinks.py FONT.designspace|VF.ttf [--glyphs A,B] [--json]
+    /usr/bin/python3 tools/bench/midway_kinks.py FONT.designspace|VF.ttf [--glyphs A,B|all] [--json]
 
 Prints one line per kink (glyph, contour, point in the font's own order,
 the pair of masters, s_mid and the deviation) or, with --json, a JSON list;
@@ -106,10 +106,12 @@ def variable_font_masters(path, names):
     font = TTFont(path)
     if "gvar" not in font or "fvar" not in font:
         raise SystemExit(f"midway_kinks: {path}: not a TrueType variable font (no fvar/gvar)")
-    glyf = font["glyf"]
     cmap = font.getBestCmap() or {}
-    glyphs = [cmap.get(ord(c), c) if len(c) == 1 else c for c in names] if names else sorted(
-        {cmap[c] for c in range(0x41, 0x7B) if c in cmap and chr(c).isalpha()})
+    if names == ["all"]:
+        glyphs = font.getGlyphOrder()
+    else:
+        glyphs = [cmap.get(ord(c), c) if len(c) == 1 else c for c in names] if names else sorted(
+            {cmap[c] for c in range(0x41, 0x7B) if c in cmap and chr(c).isalpha()})
     peaks = set()
     for g in glyphs:
         for var in font["gvar"].variations.get(g, []):
@@ -120,13 +122,19 @@ def variable_font_masters(path, names):
         a = axes[tag]
         return a.defaultValue + v * ((a.maxValue if v > 0 else a.defaultValue) - (a.defaultValue if v > 0 else a.minValue))
 
-    def outlines(glyph_set):
+    def outlines(instance):
+        """The glyphs of a static instance (components placed and varied,
+        as FreeType loads them; fontTools' getGlyphSet(location) varies a
+        composite's offsets but not its components' points)."""
+        glyf = instance["glyf"]
         out = {}
         for g in glyphs:
-            glyph = glyph_set[g]._getGlyphAndOffset()[0]
-            if glyph.numberOfContours <= 0:
+            glyph = glyf[g]
+            if glyph.numberOfContours == 0:
                 continue
             coords, ends, flags = glyph.getCoordinates(glyf)
+            if not len(ends):
+                continue
             contours, start = [], 0
             for end in ends:
                 contours.append(([tuple(coords[k]) for k in range(start, end + 1)],
@@ -135,11 +143,16 @@ def variable_font_masters(path, names):
             out[g] = contours
         return out
 
-    masters = [("default", {}, outlines(font.getGlyphSet()))]
+    from fontTools.varLib import instancer
+
+    if "avar" in font:
+        raise SystemExit(f"midway_kinks: {path}: has avar, which this baseline's instancing does not invert")
+    masters = [("default", {}, outlines(font))]
     for peak in sorted(peaks, key=lambda p: (len(p), p)):
         loc = dict(peak)
         label = ",".join(f"{tag}={user(tag, v):g}" for tag, v in peak)
-        masters.append((label, loc, outlines(font.getGlyphSet(location=loc, normalized=True))))
+        full = {tag: user(tag, loc.get(tag, 0)) for tag in axes}
+        masters.append((label, loc, outlines(instancer.instantiateVariableFont(TTFont(path), full))))
     return font["head"].unitsPerEm, masters, glyphs
 
 
@@ -152,7 +165,7 @@ def designspace_masters(path, names):
     for source in doc.sources:
         font = ufoLib2.Font.open(source.path)
         upem = font.info.unitsPerEm or upem
-        chosen = names or sorted(font.keys())
+        chosen = sorted(font.keys()) if names in ([], ["all"]) else names
         glyphs = glyphs or chosen
         out = {}
         for g in chosen:
