@@ -159,7 +159,7 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
       case Gate::Kind::extrema_at_nodes:
       case Gate::Kind::max_extrema_per_segment:
         for (std::size_t i = 0; i < r.extrema.size(); ++i) {
-          if (r.kappa_spread[i] <= options.constant_tolerance) continue;  // an arc of constant curvature
+          if (r.turning_deviation[i] <= options.constant_tolerance) continue;  // an arc of constant curvature
           const auto& ex = r.extrema[i];
           const int allowed = gate.kind == Gate::Kind::extrema_at_nodes ? 0 : gate.max_extrema;
           if (static_cast<int>(ex.size()) <= allowed) continue;
@@ -206,7 +206,7 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
         for (std::size_t i = 0; i < r.analysis.segments.size(); ++i) {
           const Curvature d = r.analysis.segments[i].curvature.curvature;
           if (d == Curvature::increasing || d == Curvature::decreasing || d == Curvature::constant ||
-              r.kappa_spread[i] <= options.constant_tolerance)
+              r.turning_deviation[i] <= options.constant_tolerance)
             continue;
           at(static_cast<int>(i), segments[i].a,
              "segment " + std::to_string(i) +
@@ -291,7 +291,7 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   r.analysis = analyze_space(*r.spline, o);
   r.kappa_min = std::numeric_limits<double>::infinity();
   r.kappa_max = 0;
-  double lo_all = std::numeric_limits<double>::infinity(), hi_all = 0;
+  double lo_all = std::numeric_limits<double>::infinity(), hi_all = 0, length_all = 0;
   r.near_constant = !r.analysis.cusp;
   for (const Segment& s : r.spline->segments()) {
     r.extrema.push_back(space_curvature_extrema(*r.spline, s));
@@ -314,12 +314,18 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
     for (const SpaceExtremum& e : r.extrema.back()) consider(e.t);
     const double spread = hi > 0 && std::isfinite(lo) ? (hi - lo) / hi : (hi > 0 ? 1.0 : 0.0);
     r.kappa_spread.push_back(spread);
+    // The planar report's rule (report.hpp, turning_deviation).
+    const double length = polygon_length(bezier_points(*r.spline, s));
+    r.turning_deviation.push_back(!std::isfinite(lo) ? (hi > 0 ? std::numeric_limits<double>::infinity() : 0.0)
+                                                     : turning_deviation(lo, hi, length));
+    length_all += length;
     if (std::isfinite(lo)) lo_all = std::min(lo_all, lo), hi_all = std::max(hi_all, hi);
   }
   if (!std::isfinite(r.kappa_min)) r.kappa_min = 0;
   r.spread = hi_all > 0 && std::isfinite(lo_all) ? (hi_all - lo_all) / hi_all : 0;
-  for (double x : r.kappa_spread) r.near_constant = r.near_constant && x <= options.constant_tolerance;
-  r.near_constant = r.near_constant && r.spread <= options.constant_tolerance && hi_all > 0;
+  r.deviation = hi_all > 0 && std::isfinite(lo_all) ? turning_deviation(lo_all, hi_all, length_all) : 0;
+  for (double x : r.turning_deviation) r.near_constant = r.near_constant && x <= options.constant_tolerance;
+  r.near_constant = r.near_constant && r.deviation <= options.constant_tolerance && hi_all > 0;
   if (options.regions)
     for (int k = 0; k < r.spline->unique_point_count(); ++k)
       r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
@@ -384,10 +390,13 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
     j["check_pass"] = r.check_pass;
     j["near_constant"] = r.near_constant;
     j["kappa_spread"] = r.spread;
+    j["turning_deviation"] = r.deviation;
     j["analysis"] = space_analysis_json(*r.spline, r.analysis);
     for (std::size_t i = 0; i < r.kappa_spread.size(); ++i) {
       j["analysis"]["segments"][i]["kappa_spread"] = r.kappa_spread[i];
-      j["analysis"]["segments"][i]["near_constant"] = r.kappa_spread[i] <= options.constant_tolerance;
+      const double d = r.turning_deviation[i];
+      j["analysis"]["segments"][i]["turning_deviation"] = std::isfinite(d) ? nlohmann::ordered_json(d) : nlohmann::ordered_json(nullptr);
+      j["analysis"]["segments"][i]["near_constant"] = d <= options.constant_tolerance;
     }
     nlohmann::ordered_json gates = nlohmann::ordered_json::array();
     for (const GateResult& g : r.gates) {
@@ -570,7 +579,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
     const std::string curvature_label =
         straight ? "straight"
         : r.near_constant && a.curvature != Direction::increasing && a.curvature != Direction::decreasing
-            ? "constant within " + num(options.constant_tolerance) + " (spread " + num(r.spread) + ")"
+            ? "constant within " + num(options.constant_tolerance) + " (turning deviation " + num(r.deviation) + " rad, spread " + num(r.spread) + ")"
             : std::string(to_string(a.curvature));
     out += std::string("<p>curvature: <b class=\"") + (r.pass ? "pass" : "fail") + "\">" + html_escape(curvature_label) +
            "</b>";

@@ -31,13 +31,15 @@ struct SpaceReportOptions {
   /// max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection
   /// (no zero curvature) and each-piece.
   std::vector<Gate> gates;
-  /// The planar report's rule (ReportOptions::constant_tolerance): a segment
-  /// whose curvature, at its ends and stationary points, varies by at most
-  /// this relative to its largest |kappa| is an arc of constant curvature up
-  /// to the rounding of its data (a CAD circle, an OpenCASCADE approximation
-  /// of one): the extremum gates skip it, and a curve whose every segment is
-  /// such an arc, with the same curvature within the tolerance across its
-  /// joints, passes cmrwi and cmr (its exact verdict is still reported).
+  /// The planar report's rule (ReportOptions::constant_tolerance,
+  /// turning_deviation in report.hpp): a segment whose |kappa|, at its ends
+  /// and stationary points, lies in [lo, hi] with (hi - lo) / 2 times its
+  /// control polygon's length at most this (radians) is an arc of constant
+  /// curvature up to the rounding of its data (a CAD circle, an
+  /// OpenCASCADE approximation of one): the extremum gates skip it, and a
+  /// curve whose every segment and whole length is such an arc (the whole
+  /// curve's lo, hi and length) passes cmrwi and cmr (its exact verdict is
+  /// still reported).
   double constant_tolerance = kDefaultConstantTolerance;
   /// Search the smallest certified fix of each failing curve (space_fix,
   /// cmrwi, each point in its default plane, kReportSpaceFixSeconds).
@@ -76,10 +78,14 @@ struct SpaceReport {
   bool pass = false;
   bool check_pass = false;  ///< the check alone
   /// Per segment: (max - min) / max of |kappa| at its ends and stationary
-  /// points (0 for a straight segment); near_constant when every segment's
-  /// and the whole curve's are at most options.constant_tolerance.
+  /// points (0 for a straight segment), reported.
   std::vector<double> kappa_spread;
   double spread = 0;  ///< the same over the whole curve
+  /// Per segment: turning_deviation(min, max, polygon length) of the same
+  /// values (radians); near_constant when every segment's and the whole
+  /// curve's (`deviation`) are at most options.constant_tolerance.
+  std::vector<double> turning_deviation;
+  double deviation = 0;  ///< the same over the whole curve
   bool near_constant = false;
   std::vector<GateResult> gates;  ///< options.gates, in order
   std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions

@@ -132,8 +132,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_continuity_options(*cmd, args->continuity);
   in_range(cmd->add_option("--constant-tol", args->constant_tolerance,
-                           "relative curvature spread below which a segment is an arc of constant curvature: the "
-                           "extremum gates skip its stationary points (rounded circle arcs); 0: exact constants only"),
+                           "a segment whose curvature spread, halved, times its length (its turning against an arc "
+                           "of constant curvature, radians) is at most this is an arc of constant curvature: the "
+                           "extremum gates skip its stationary points (rounded circle arcs, CAD approximations of "
+                           "circles); 0: exact constants only"),
            0.0, 1.0)
       ->capture_default_str();
   cmd->add_option("--torsion-tol", args->torsion_tolerance,

@@ -4,7 +4,9 @@
 // --torsion-tol (report/space_report.hpp, bezierize/space_analyze.hpp).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <vector>
 #include <fstream>
 #include <string>
 
@@ -163,6 +165,61 @@ TEST(SpaceReportCi, ConstantTolerancePassesANearCircleAndIsNotIgnored) {
   EXPECT_GT(spread, 1e-9);
   EXPECT_LT(spread, 1e-5);
   EXPECT_EQ(spread, spread2);
+  fs::remove_all(dir);
+}
+
+// One --constant-tol rule for planar and space curves (report.hpp,
+// turning_deviation): a planar curve and the same curve turned into space
+// (rotated about the x axis) get the same turning deviation per segment and
+// the same near_constant at a tolerance above it and one below it: a near
+// circle (a rational arc with a weight off by 3e-7) and a designed cubic.
+TEST(SpaceReportCi, ConstantToleranceIsOneRuleForPlanarAndSpaceCurves) {
+  const fs::path dir = fresh("space_one_rule");
+  struct Curve {
+    const char* name;
+    std::vector<std::array<double, 2>> points;
+    std::string extra;
+  };
+  const std::vector<Curve> curves = {
+      {"arc", {{1, 0}, {1, 1}, {0, 1}}, R"(, "weights": [1, 0.70710685, 1])"},
+      {"cubic", {{0, 0}, {1, 2}, {3, 3}, {6, 3}, {8, 1}}, R"(, "degree": 3, "knots": [0, 0, 0, 1, 2, 2, 2])"}};
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  for (const Curve& cv : curves) {
+    std::string planar = std::string(R"({"name": ")") + cv.name + R"(", "points": [)", space = planar;
+    for (std::size_t i = 0; i < cv.points.size(); ++i) {
+      const auto [x, y] = cv.points[i];
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "%s[%.17g, %.17g]", i ? ", " : "", x, y);
+      planar += buf;
+      std::snprintf(buf, sizeof buf, "%s[%.17g, %.17g, %.17g]", i ? ", " : "", x, y * c, y * s);
+      space += buf;
+    }
+    const fs::path p2 = dir / (std::string(cv.name) + "_2d.json"), p3 = dir / (std::string(cv.name) + "_3d.json");
+    std::ofstream(p2) << planar << "]" << cv.extra << "}";
+    std::ofstream(p3) << space << "]" << cv.extra << "}";
+    const auto segments = [&](const fs::path& file, const std::string& tol, bool is_space) {
+      const fs::path out = dir / (file.stem().string() + "_" + tol);
+      const Outcome r = run("report " + file.string() + " --no-thumbnails --constant-tol " + tol + " --out " + out.string());
+      EXPECT_EQ(r.code, 0) << r.err;
+      const nlohmann::json doc = nlohmann::json::parse(slurp(out / "report.json"));
+      return is_space ? doc["splines"][0]["analysis"]["segments"] : doc["splines"][0]["segments"];
+    };
+    const nlohmann::json flat = segments(p2, "1e-9", false);
+    const nlohmann::json turned = segments(p3, "1e-9", true);
+    ASSERT_EQ(flat.size(), turned.size()) << cv.name;
+    for (std::size_t i = 0; i < flat.size(); ++i) {
+      const double d2 = flat[i]["turning_deviation"], d3 = turned[i]["turning_deviation"];
+      EXPECT_NEAR(d3, d2, 1e-6 * d2) << cv.name << " segment " << i;
+      EXPECT_GT(d2, 1e-9) << cv.name;  // neither is constant at the default
+      for (const double tol : {d2 * 2, d2 / 2}) {
+        char t[32];
+        std::snprintf(t, sizeof t, "%.6g", tol);
+        const bool a = segments(p2, t, false)[i]["near_constant"], b = segments(p3, t, true)[i]["near_constant"];
+        EXPECT_EQ(a, tol > d2) << cv.name << " at " << t;
+        EXPECT_EQ(b, a) << cv.name << " at " << t;
+      }
+    }
+  }
   fs::remove_all(dir);
 }
 
