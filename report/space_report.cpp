@@ -457,7 +457,8 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
   doc["constant_tolerance"] = options.constant_tolerance;
   if (options.regions) doc["region_size"] = options.region_size;
   doc["splines"] = list;
-  doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}, {"findings", finding_count}};
+  doc["summary"] = {{"splines", reports.size()}, {"pass", pass},           {"fail", fail},
+                    {"invalid", invalid},        {"files", reports.size()}, {"findings", finding_count}};
   return doc;
 }
 

@@ -245,6 +245,7 @@ int run_space_report(const SpaceReportRun& run) {
     set.stage(*run.markdown, markdown->finish(s, run.baseline ? run.baseline->string() : std::string()));
   }
   nlohmann::ordered_json doc = report::space_report_json(reports, o, &findings);
+  doc["summary"]["exit_code"] = exit_code;  // as a planar report's (report/merge.hpp reads it)
   if (baseline)
     doc["summary"]["baseline"] = {{"file", run.baseline->string()}, {"new", new_findings},
                                   {"fixed", baseline->fixed()}, {"unchanged", unchanged}};
@@ -252,6 +253,7 @@ int run_space_report(const SpaceReportRun& run) {
   set.commit_last(dir / "report.json");  // renamed last: the commit marker
   set.commit();
   for (const report::Finding* f : new_list) std::cerr << "cmr: new: " << f->file << ": " << f->gate << ": " << f->message << '\n';
+  if (run.quiet) return exit_code;
   const bool piped = (run.junit && is_stdout_path(*run.junit)) || (run.sarif && is_stdout_path(*run.sarif)) ||
                      (run.markdown && is_stdout_path(*run.markdown));
   std::ostream& line = piped ? std::cerr : std::cout;

@@ -47,6 +47,9 @@ struct SpaceReportRun {
   std::optional<std::filesystem::path> junit, sarif, baseline, source_root;
   std::optional<std::filesystem::path> markdown;  ///< --markdown (report/markdown.hpp)
   bool pretty = false;
+  /// No summary line (the space part of a run with planar inputs too:
+  /// tools/cmd_report.cpp prints the merged run's line).
+  bool quiet = false;
 };
 /// Returns the exit code: 2 when a file is invalid, else with a baseline 1
 /// when a finding is new, else 1 when a required check or gate fails.
