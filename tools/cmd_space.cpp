@@ -19,6 +19,7 @@
 #include "report/sarif.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
+#include "step/step.hpp"
 #include "tools/cli_common.hpp"
 #include "vk/space_region_vk.hpp"
 
@@ -264,6 +265,29 @@ int run_space_report(const SpaceReportRun& run) {
     line << " (baseline: " << new_findings << " new, " << baseline->fixed() << " fixed, " << unchanged << " unchanged)";
   line << "; wrote " << (dir / "index.html").string() << " and " << (dir / "report.json").string() << '\n';
   return exit_code;
+}
+
+StepEdge open_step_edge(const std::filesystem::path& model, const std::string& spec) {
+  std::vector<long long> ids;
+  try {
+    ids = import::parse_step_edge_ids(spec);
+  } catch (const InputError& e) {  // "--edges: ..." as cmr import says it
+    throw InputError("--edge" + std::string(e.what()).substr(std::string("--edges").size()));
+  }
+  if (ids.size() != 1)
+    throw InputError("--edge: one edge to edit (#1234), not " + std::to_string(ids.size()) + " (" + spec + ")");
+  const import::StepCurves all = import::read_step_curves(model);
+  import::StepCurves picked;
+  try {
+    picked = import::select_step_edges(all, ids, model.string());
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    throw InputError(what.rfind("--edges", 0) == 0 ? "--edge" + what.substr(7) : what);
+  }
+  const import::StepCurve& c = picked.curves.front();
+  const nlohmann::json doc = nlohmann::json::parse(import::step_curve_json(c).dump());
+  return {space_spline_from_json(doc),
+          model.parent_path() / (model.stem().string() + "_" + import::step_curve_stem(c) + ".json")};
 }
 
 }  // namespace cmr::cli

@@ -55,6 +55,18 @@ struct SpaceReportRun {
 /// when a finding is new, else 1 when a required check or gate fails.
 int run_space_report(const SpaceReportRun& run);
 
+/// `cmr edit MODEL.step --edge '#1234'`: that edge of the STEP model as a
+/// space spline (read_step_curves, the spline `cmr import` writes for it),
+/// and where the editor saves it: `cmr import`'s file name beside the model
+/// (MODEL_1234.json), never the model. InputError, one line: a spec that is
+/// not one #id, an id that names no B-spline or Bezier edge (with the ids
+/// that do), a file that is not STEP.
+struct StepEdge {
+  SpaceSpline spline;
+  std::filesystem::path save_path;
+};
+StepEdge open_step_edge(const std::filesystem::path& model, const std::string& spec);
+
 /// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the
 /// JSON and writes --out and --png (all or none). InputError (exit 2) when none
