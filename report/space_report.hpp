@@ -97,6 +97,23 @@ struct SpaceReport {
 /// onto the plane and point `point` marked.
 std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane, const RegionResult& image, int point,
                              int max_depth, bool depth_shading = false);
+/// The default view of a space region (`cmr region FILE --point K` without
+/// --view, the report's thumbnails; issue 40 item 6): the union of the
+/// region and the moved point, with a margin. A 64 x 64 probe over the
+/// polygon's default view (default_view of the curve projected onto the
+/// plane) widened 3 times about its centre, at the request's depth, finds
+/// the region's pixels (RegionResult::in_region); their rectangles' box and
+/// the moved point's plane coordinates, widened by 15% of the larger side
+/// each way and then in one direction so that pixels are square, is the
+/// view. No region in the probe: the polygon's view, `empty`. The request's
+/// plane must be set (or is the default plane); its view is ignored.
+struct SpaceViewFit {
+  View view;
+  bool empty = false;     ///< no region pixel in the probe
+  int probe_pixels = 0;   ///< the probe's region pixels (of 64 x 64)
+};
+SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest& request);
+
 /// The thumbnail of control point k (its region in its default plane).
 SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
 

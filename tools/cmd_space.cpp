@@ -86,7 +86,6 @@ void run_space_region(const SpaceRegionArgs& a) {
   r.width = w;
   r.height = h;
   r.max_depth = a.depth;
-  if (!a.view.empty()) r.view = parse_view(a.view);
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
@@ -95,6 +94,15 @@ void run_space_region(const SpaceRegionArgs& a) {
   tube.radius = a.tube_radius == 0 ? mesh::default_tube_radius(spline) : a.tube_radius;
   if (!(tube.radius > 0) || !std::isfinite(tube.radius))
     throw InputError("--tube-radius: must be a positive number (got " + std::to_string(a.tube_radius) + ")");
+  // Without --view: the region and the moved point with a margin
+  // (report::fit_space_view; the report's thumbnails take the same view).
+  std::optional<report::SpaceViewFit> fit;
+  if (!a.view.empty()) {
+    r.view = parse_view(a.view);
+  } else {
+    fit = report::fit_space_view(spline, r);
+    r.view = fit->view;
+  }
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
   // --backend vulkan: the device judges each pixel's parts and the CPU the
   // pixels it cannot certify (vk/space_region_vk.hpp); auto and cpu: the CPU.
@@ -128,8 +136,13 @@ void run_space_region(const SpaceRegionArgs& a) {
     out.stage(a.mesh, mesh::mesh_file(a.mesh, m));
   }
   out.commit();
-  std::uint64_t counts[kRegionLabelCodes] = {};
-  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  std::uint64_t counts[kRegionLabelCodes] = {}, inside = 0;
+  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)], inside += img.in_region(i) ? 1 : 0;
+  if (fit && fit->empty)
+    std::cerr << "cmr: note: P" << r.point << " has no region near the curve in this plane (the view is the curve's)\n";
+  else if (fit && inside * 100 < img.size())  // under 1% of the picture though fitted: a speck beside the point
+    std::cerr << "cmr: note: P" << r.point << "'s region is a speck: " << inside << " of " << img.size()
+              << " pixels, far from the point or thin (--view zooms)\n";
   nlohmann::ordered_json c;
   for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) c[img.label_name(l)] = counts[l];
   nlohmann::ordered_json doc = {{"width", img.width},
@@ -139,6 +152,7 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"dimension", 3},
                                 {"backend", on_vulkan ? "vulkan" : "cpu"},
                                 {"point", r.point},
+                                {"view_fitted", fit.has_value()},
                                 {"counts", c}};
   if (!a.mesh.empty()) doc["mesh"] = {{"faces", mesh_faces}, {"tube_radius", tube.radius}};
   if (a.stats) {
