@@ -48,7 +48,26 @@ std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane,
   pic.points = {point};
   pic.max_depth = max_depth;
   pic.depth_shading = depth_shading;
+  // The legend (drawn when the picture is large enough) ends with the plane
+  // and its axes: which way a and b run in space.
+  pic.legend = true;
+  pic.note = space_plane_name(spline, plane, point);
   return draw::region_png(pic);
+}
+
+std::string space_plane_name(const SpaceSpline& spline, const SpacePlane& plane, int point) {
+  std::string name = "plane through P";
+  name.append(std::to_string(point))
+      .append(": a (right) along ")
+      .append(direction_name(spline, point, plane.u))
+      .append(", b (up) along ")
+      .append(direction_name(spline, point, plane.v));
+  std::string ascii;  // for the picture's font: "P4 - P3"
+  const std::string minus = "\u2212";
+  for (std::size_t i = 0; i < name.size();)
+    if (name.compare(i, minus.size(), minus) == 0) ascii.push_back('-'), i += minus.size();
+    else ascii.push_back(name[i++]);
+  return ascii;
 }
 
 SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest& request) {

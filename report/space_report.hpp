@@ -114,6 +114,12 @@ struct SpaceViewFit {
 };
 SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest& request);
 
+/// "plane through P3: a (right) along P4 - P3, b (up) along P2 - P3" (a
+/// direction that leads to a control point is named by it, others by their
+/// coordinates): the last line of a space region picture's legend and the
+/// `plane_name` of `cmr region`'s summary.
+std::string space_plane_name(const SpaceSpline& spline, const SpacePlane& plane, int point);
+
 /// The thumbnail of control point k (its region in its default plane).
 SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
 

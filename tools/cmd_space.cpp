@@ -153,6 +153,7 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"backend", on_vulkan ? "vulkan" : "cpu"},
                                 {"point", r.point},
                                 {"view_fitted", fit.has_value()},
+                                {"plane_name", report::space_plane_name(spline, plane, r.point)},
                                 {"counts", c}};
   if (!a.mesh.empty()) doc["mesh"] = {{"faces", mesh_faces}, {"tube_radius", tube.radius}};
   if (a.stats) {

@@ -156,6 +156,7 @@ TEST(SpaceReportThumbnails, DegenerateDefaultPlaneIsNamedNotFatal) {
 // curve whose region shows, it fills at least a tenth of the picture (P2's
 // was 215 of 102,400 pixels in the polygon's view), the point lies inside
 // the view, and the labels are those of `cmr region --view` with that view.
+// The summary's plane_name (the legend's last line) names the plane's axes.
 TEST(SpaceReportThumbnails, DefaultViewIsTheRegionAndThePointWithAMargin) {
   const std::string file = kSpace + "fig8b_lifted.json";
   const std::string pgm = (test::scratch() / "space_fit.pgm").string(), pgm2 = (test::scratch() / "space_fit2.pgm").string();
@@ -166,6 +167,11 @@ TEST(SpaceReportThumbnails, DefaultViewIsTheRegionAndThePointWithAMargin) {
     ASSERT_EQ(g.code, 0) << g.err;
     const auto doc = nlohmann::json::parse(g.out);
     EXPECT_EQ(doc["view_fitted"], true);
+    // The legend's last line names the plane and its axes (report::space_plane_name).
+    std::ostringstream name;  // (one stream: GCC 12 warns -Wrestrict on a chain of string +)
+    name << "plane through P" << k << ": a (right) along P" << k + 1 << " - P" << k << ", b (up) along P" << k - 1
+         << " - P" << k;
+    EXPECT_EQ(doc["plane_name"], name.str());
     const std::size_t region = doc["counts"]["increasing"].get<std::size_t>() + doc["counts"]["decreasing"].get<std::size_t>();
     if (region == 0) continue;
     ++shown;
