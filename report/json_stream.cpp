@@ -212,6 +212,7 @@ void write_segments(JsonStream& o, const SplineReport& r) {
     o.member("lambda_zero", sp.lambda_zero);
     o.member("eta_zero", sp.eta_zero);
     o.member("kappa_spread", sp.kappa_spread);  // not finite: null
+    o.member("turning_deviation", sp.turning_deviation);
     o.member("near_constant", sp.near_constant);
     write_roots(o, "extrema", sp.extrema, true);
     write_roots(o, "inflections", sp.inflections, false);

@@ -164,7 +164,7 @@ MergeSummary merge_reports(const MergeOptions& options) {
       throw InputError((p / "report.json").string() + ": not a cmr report");
     if (r["schema"] != kSchema)
       throw InputError((p / "report.json").string() + ": schema " + r["schema"].get<std::string>() + ", not " + kSchema);
-    if (!reports.empty() && r["settings"] != reports.front()["settings"])
+    if (!reports.empty() && !options.mixed && r["settings"] != reports.front()["settings"])
       throw InputError(dash + p.string() + ": its settings (gates, check, options) differ from " +
                        options.parts.front().string() + "'s: the parts are not one run");
     const bool baseline = r["summary"].contains("baseline");
@@ -240,13 +240,19 @@ MergeSummary merge_reports(const MergeOptions& options) {
     line.unchanged = unchanged;
     line.fixed = std::max(0, baseline_total - unchanged);
   }
-  m.line = "merged " + std::to_string(m.parts) + (m.parts == 1 ? " part: " : " parts: ") + summary_line(line);
+  m.line = (options.mixed ? std::string("planar and space inputs: ")
+                           : "merged " + std::to_string(m.parts) + (m.parts == 1 ? " part: " : " parts: ")) +
+           summary_line(line);
   m.line.erase(m.line.rfind("; "));  // no run time: the parts' times are theirs
 
   OutputSet out;
   out.create_folder(options.out);
   out.own_folder(options.out);
 
+  // A part as the merged outputs name it: its folder (a mixed run's: the
+  // private folder's name, planar or space).
+  const std::vector<std::string> names = part_names(options.parts);
+  const auto shown = [&](std::size_t i) { return options.mixed ? names[i] : options.parts[i].string(); };
   // CI files, each from the same-named file of every part.
   const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
   if (options.junit) {
@@ -284,7 +290,7 @@ MergeSummary merge_reports(const MergeOptions& options) {
       std::string demoted;  // the part's headings one level down, under the merged one
       std::istringstream lines(part);
       for (std::string l; std::getline(lines, l);) demoted += (!l.empty() && l[0] == '#' ? "#" + l : l) + "\n";
-      text += "\n### Part " + std::to_string(i + 1) + ": " + options.parts[i].string() + "\n\n" + demoted;
+      text += "\n### Part " + std::to_string(i + 1) + ": " + shown(i) + "\n\n" + demoted;
     }
     if (text.size() >= kMarkdownLimit) {  // a GitHub comment's limit (report/markdown.hpp)
       const std::string tail = "\n… the parts' summaries are cut here (see the merged report) …\n";
@@ -296,7 +302,6 @@ MergeSummary merge_reports(const MergeOptions& options) {
   }
 
   // The parts' own pages, copied, and the merged index.
-  const std::vector<std::string> names = part_names(options.parts);
   for (std::size_t i = 0; i < options.parts.size(); ++i) copy_folder(out, options.parts[i], options.out / "parts" / names[i]);
   std::string page = "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>cmr report — " +
                      html_escape(m.line) + "</title><style>" + report_style() +
@@ -305,7 +310,7 @@ MergeSummary merge_reports(const MergeOptions& options) {
                      "contours</th><th>pass</th><th>fail</th><th>invalid</th><th>findings</th><th>exit code</th></tr>";
   for (std::size_t i = 0; i < options.parts.size(); ++i)
     page += "<tr><td><a href=\"parts/" + html_escape(names[i]) + "/index.html\">" + html_escape(names[i]) + "</a></td><td>" +
-            html_escape(options.parts[i].string()) + "</td><td>" + part_counts[i] + "</td></tr>";
+            html_escape(shown(i)) + "</td><td>" + part_counts[i] + "</td></tr>";
   page += "</table></body></html>\n";
   out.stage(options.out / "index.html", page);
   out.stage(options.out / "report.json",

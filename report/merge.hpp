@@ -77,6 +77,9 @@ struct MergeOptions {
   /// each part's folder (`--junit junit.xml`: DIR1/junit.xml, DIR2/junit.xml).
   std::optional<std::filesystem::path> junit, sarif, markdown;
   bool pretty = false;
+  /// The parts are one run's planar and space inputs (`cmr report` given
+  /// both): their settings may differ (a space report has none).
+  bool mixed = false;
 };
 
 struct MergeSummary {

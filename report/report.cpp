@@ -500,9 +500,9 @@ void find_events(SplineReport& r, const std::vector<StartSigns>& start) {
 /// (certified values). With a cusp (P' = 0 somewhere) the curvature is
 /// unbounded or undefined there, and a pole sends the curve through
 /// infinity: no finite range (NaN, null in JSON). In the same pass, each
-/// segment's relative spread (SpanReport::kappa_spread) from the same values
-/// (the extremes of kappa over a segment lie there too), near_constant
-/// against `tolerance`.
+/// segment's relative spread (SpanReport::kappa_spread) and its
+/// turning_deviation from the same values (the extremes of kappa over a
+/// segment lie there too), near_constant against `tolerance`.
 void curvature_range(SplineReport& r, double tolerance) {
   r.cusp = r.analysis.cusp;
   const bool bounded = !(r.cusp || r.analysis.pole);
@@ -512,7 +512,7 @@ void curvature_range(SplineReport& r, double tolerance) {
   const BSpline& spline = *r.spline;
   for (SpanReport& span : r.spans) {
     if (span.shape.cusp || span.shape.pole) {
-      span.kappa_spread = std::numeric_limits<double>::quiet_NaN();
+      span.kappa_spread = span.turning_deviation = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -537,7 +537,8 @@ void curvature_range(SplineReport& r, double tolerance) {
     for (const SpanRoot& x : span.extrema) consider(x.t, x.kappa);
     const double scale = std::max(std::abs(lo), std::abs(hi));
     span.kappa_spread = scale > 0 ? (hi - lo) / scale : 0;
-    span.near_constant = span.kappa_spread <= tolerance;
+    span.turning_deviation = turning_deviation(lo, hi, polygon_length(bezier_segment(spline, span.segment).points));
+    span.near_constant = span.turning_deviation <= tolerance;
   }
 }
 
@@ -771,6 +772,7 @@ Json segments_json(const SplineReport& r) {
                         {"lambda_zero", sp.lambda_zero},
                         {"eta_zero", sp.eta_zero},
                         {"kappa_spread", std::isfinite(sp.kappa_spread) ? Json(sp.kappa_spread) : Json(nullptr)},
+                        {"turning_deviation", std::isfinite(sp.turning_deviation) ? Json(sp.turning_deviation) : Json(nullptr)},
                         {"near_constant", sp.near_constant},
                         {"extrema", e},
                         {"inflections", i}});
@@ -1189,7 +1191,7 @@ void spans_html(std::string& out, const SplineReport& r) {
                          std::to_string(sp.classification.inflection.depth)
                    : "—") +
            "</td><td>" + roots_cell(sp.extrema, true) +
-           (sp.near_constant && !sp.lambda_zero ? " (κ constant within " + num(sp.kappa_spread) + ")" : "") +
+           (sp.near_constant && !sp.lambda_zero ? " (κ constant: turning within " + num(sp.turning_deviation) + " rad)" : "") +
            "</td><td>" + roots_cell(sp.inflections, false) + "</td></tr>";
   }
   out += "</table>";

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bezierize/analyze.hpp"
@@ -40,8 +41,33 @@ inline constexpr const char* kSchemaPrevious = "cmr-report/1";
 /// exit_code's values; the cmr command exits with them.
 inline constexpr int kExitPass = 0, kExitFail = 1, kExitInvalid = 2;
 /// Default ReportOptions::constant_tolerance: well above the certification
-/// error of kappa (kKappaRelError, 1e-11) and far below any designed change.
+/// error of kappa (kKappaRelError, 1e-11, times the piece's total curvature)
+/// and far below any designed change.
 inline constexpr double kDefaultConstantTolerance = 1e-9;
+
+/// --constant-tol's rule, one for planar and space curves (docs/analyze.md,
+/// docs/space.md): a piece of arc length at most L whose curvature lies in
+/// [lo, hi] differs from the arc of constant curvature k0 = (lo + hi) / 2 by
+/// |k - k0| <= (hi - lo) / 2 everywhere, so over any of its sub-arcs its total
+/// curvature (the integral of k ds, its turning in radians) differs from
+/// that arc's by at most
+///   turning_deviation = (hi - lo) / 2 * L,
+/// and, in the plane, its tangent by at most that angle and its points by at
+/// most turning_deviation * L / 2 (model units) from the arc with the same
+/// start and tangent. Dimensionless, unchanged by scaling the curve. A piece
+/// is an arc of constant curvature within tol when turning_deviation <= tol.
+/// L: the Bezier control polygon's length (polygon_length), which bounds the
+/// arc length from above (corner cutting; positive weights for a rational
+/// piece), so the bound holds.
+inline double turning_deviation(double lo, double hi, double length) { return (hi - lo) / 2 * length; }
+
+/// The length of a control polygon (Vec2 or Vec3 points).
+template <class P>
+double polygon_length(const std::vector<P>& points) {
+  double l = 0;
+  for (std::size_t i = 1; i < points.size(); ++i) l += glm::distance(points[i - 1], points[i]);
+  return l;
+}
 
 /// Which curvature extremum a split requirement asks for at its joint, by
 /// |kappa| (bezierize/extremum_terms.hpp): the sharpest or the flattest point.
@@ -85,9 +111,10 @@ struct ReportOptions {
   std::optional<SegmentRange> segments;
   std::vector<Gate> gates;             ///< type-design gates (report/gates.hpp); a spline must pass all
   bool certified_fixes = true;         ///< with regions: the smallest certified fix of each failing check (report/certified_fix.hpp)
-  /// A segment whose certified curvature varies by at most this, relative to
-  /// its largest |kappa|, is read as an arc of constant curvature by the
-  /// extremum gates (SpanReport::near_constant); 0: only exact constants.
+  /// A segment whose turning_deviation (its total curvature against an arc
+  /// of constant curvature, radians) is at most this is read as an arc of
+  /// constant curvature by the extremum gates (SpanReport::near_constant);
+  /// 0: only exact constants.
   double constant_tolerance = kDefaultConstantTolerance;
   /// Severity (report/severity.hpp): when >= 0, each violation of a gate
   /// that has a fix gets the smallest certified move that removes it, and
@@ -131,9 +158,13 @@ struct SpanReport {
   /// certified curvature at its ends and stationary points (each within
   /// kKappaRelError); 0 for a straight, NaN with a cusp or a pole.
   double kappa_spread = 0;
-  /// kappa_spread <= ReportOptions::constant_tolerance: an arc of constant
-  /// curvature up to the rounding of its data (an SVG or CAD circle arc,
-  /// whose double weights and points make it an ellipse arc within 1e-16).
+  /// turning_deviation(min kappa, max kappa, polygon_length of the Bezier
+  /// points) from the same values: radians; NaN with a cusp or a pole.
+  double turning_deviation = 0;
+  /// turning_deviation <= ReportOptions::constant_tolerance: an arc of
+  /// constant curvature up to the rounding of its data (an SVG or CAD circle
+  /// arc, whose double weights and points make it an ellipse arc within
+  /// 1e-16; OpenCASCADE's high-degree approximation of a circle).
   /// The verdicts stay exact; only the extremum gates exempt its extrema.
   bool near_constant = false;
 };

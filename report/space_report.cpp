@@ -48,7 +48,76 @@ std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane,
   pic.points = {point};
   pic.max_depth = max_depth;
   pic.depth_shading = depth_shading;
+  // The legend (drawn when the picture is large enough) ends with the plane
+  // and its axes: which way a and b run in space.
+  pic.legend = true;
+  pic.note = space_plane_name(spline, plane, point);
   return draw::region_png(pic);
+}
+
+std::string space_plane_name(const SpaceSpline& spline, const SpacePlane& plane, int point) {
+  std::string name = "plane through P";
+  name.append(std::to_string(point))
+      .append(": a (right) along ")
+      .append(direction_name(spline, point, plane.u))
+      .append(", b (up) along ")
+      .append(direction_name(spline, point, plane.v));
+  std::string ascii;  // for the picture's font: "P4 - P3"
+  const std::string minus = "\u2212";
+  for (std::size_t i = 0; i < name.size();)
+    if (name.compare(i, minus.size(), minus) == 0) ascii.push_back('-'), i += minus.size();
+    else ascii.push_back(name[i++]);
+  return ascii;
+}
+
+SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest& request) {
+  SpaceRegionRequest base = request;
+  base.view.reset();
+  const SpaceRegionProblem polygon = SpaceRegionProblem::make(spline, base);
+  const SpacePlane plane = *polygon.request().plane;
+  const View v0 = *polygon.request().view;
+  SpaceViewFit fit;
+  fit.view = v0;
+  constexpr int kProbe = 64;
+  SpaceRegionRequest probe = base;
+  probe.plane = plane;
+  probe.width = probe.height = kProbe;
+  const double cx = (v0.x0 + v0.x1) / 2, cy = (v0.y0 + v0.y1) / 2;
+  const double hw = 1.5 * std::max(v0.x1 - v0.x0, v0.y1 - v0.y0);
+  probe.view = View{cx - hw, cy - hw, cx + hw, cy + hw};
+  const RegionResult img = SpaceRegionProblem::make(spline, probe).render();
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  const double dx = 2 * hw / kProbe;
+  for (int j = 0; j < kProbe; ++j)
+    for (int i = 0; i < kProbe; ++i)
+      if (img.in_region(static_cast<std::size_t>(j) * kProbe + i)) {
+        ++fit.probe_pixels;
+        x0 = std::min(x0, cx - hw + i * dx), x1 = std::max(x1, cx - hw + (i + 1) * dx);
+        y1 = std::max(y1, cy + hw - j * dx), y0 = std::min(y0, cy + hw - (j + 1) * dx);
+      }
+  if (fit.probe_pixels == 0) {
+    fit.empty = true;
+    return fit;
+  }
+  // The moved point's plane coordinates (a, b): least squares on U, V (exact in the plane).
+  const Vec3 q = spline.points()[static_cast<std::size_t>(request.point)] - plane.origin;
+  const double uu = glm::dot(plane.u, plane.u), uv = glm::dot(plane.u, plane.v), vv = glm::dot(plane.v, plane.v);
+  const double qu = glm::dot(q, plane.u), qv = glm::dot(q, plane.v), det = uu * vv - uv * uv;
+  const double a = (qu * vv - qv * uv) / det, b = (qv * uu - qu * uv) / det;
+  x0 = std::min(x0, a), x1 = std::max(x1, a), y0 = std::min(y0, b), y1 = std::max(y1, b);
+  const double margin = 0.15 * std::max(x1 - x0, y1 - y0);
+  x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
+  // Square pixels: widen the narrower direction about its centre.
+  const double aspect = static_cast<double>(request.width) / request.height;
+  if ((x1 - x0) / (y1 - y0) < aspect) {
+    const double c = (x0 + x1) / 2, h = (y1 - y0) * aspect / 2;
+    x0 = c - h, x1 = c + h;
+  } else {
+    const double c = (y0 + y1) / 2, h = (x1 - x0) / aspect / 2;
+    y0 = c - h, y1 = c + h;
+  }
+  fit.view = View{x0, y0, x1, y1};
+  return fit;
 }
 
 SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth) {
@@ -59,6 +128,7 @@ SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int m
     request.point = k;
     request.width = request.height = size;
     request.max_depth = max_depth;
+    request.view = fit_space_view(spline, request).view;  // the region and the point, as `cmr region` without --view
     const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, request);
     t.plane = *problem.request().plane;
     t.image = problem.render();
@@ -159,7 +229,7 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
       case Gate::Kind::extrema_at_nodes:
       case Gate::Kind::max_extrema_per_segment:
         for (std::size_t i = 0; i < r.extrema.size(); ++i) {
-          if (r.kappa_spread[i] <= options.constant_tolerance) continue;  // an arc of constant curvature
+          if (r.turning_deviation[i] <= options.constant_tolerance) continue;  // an arc of constant curvature
           const auto& ex = r.extrema[i];
           const int allowed = gate.kind == Gate::Kind::extrema_at_nodes ? 0 : gate.max_extrema;
           if (static_cast<int>(ex.size()) <= allowed) continue;
@@ -206,7 +276,7 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
         for (std::size_t i = 0; i < r.analysis.segments.size(); ++i) {
           const Curvature d = r.analysis.segments[i].curvature.curvature;
           if (d == Curvature::increasing || d == Curvature::decreasing || d == Curvature::constant ||
-              r.kappa_spread[i] <= options.constant_tolerance)
+              r.turning_deviation[i] <= options.constant_tolerance)
             continue;
           at(static_cast<int>(i), segments[i].a,
              "segment " + std::to_string(i) +
@@ -291,7 +361,7 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   r.analysis = analyze_space(*r.spline, o);
   r.kappa_min = std::numeric_limits<double>::infinity();
   r.kappa_max = 0;
-  double lo_all = std::numeric_limits<double>::infinity(), hi_all = 0;
+  double lo_all = std::numeric_limits<double>::infinity(), hi_all = 0, length_all = 0;
   r.near_constant = !r.analysis.cusp;
   for (const Segment& s : r.spline->segments()) {
     r.extrema.push_back(space_curvature_extrema(*r.spline, s));
@@ -314,12 +384,18 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
     for (const SpaceExtremum& e : r.extrema.back()) consider(e.t);
     const double spread = hi > 0 && std::isfinite(lo) ? (hi - lo) / hi : (hi > 0 ? 1.0 : 0.0);
     r.kappa_spread.push_back(spread);
+    // The planar report's rule (report.hpp, turning_deviation).
+    const double length = polygon_length(bezier_points(*r.spline, s));
+    r.turning_deviation.push_back(!std::isfinite(lo) ? (hi > 0 ? std::numeric_limits<double>::infinity() : 0.0)
+                                                     : turning_deviation(lo, hi, length));
+    length_all += length;
     if (std::isfinite(lo)) lo_all = std::min(lo_all, lo), hi_all = std::max(hi_all, hi);
   }
   if (!std::isfinite(r.kappa_min)) r.kappa_min = 0;
   r.spread = hi_all > 0 && std::isfinite(lo_all) ? (hi_all - lo_all) / hi_all : 0;
-  for (double x : r.kappa_spread) r.near_constant = r.near_constant && x <= options.constant_tolerance;
-  r.near_constant = r.near_constant && r.spread <= options.constant_tolerance && hi_all > 0;
+  r.deviation = hi_all > 0 && std::isfinite(lo_all) ? turning_deviation(lo_all, hi_all, length_all) : 0;
+  for (double x : r.turning_deviation) r.near_constant = r.near_constant && x <= options.constant_tolerance;
+  r.near_constant = r.near_constant && r.deviation <= options.constant_tolerance && hi_all > 0;
   if (options.regions)
     for (int k = 0; k < r.spline->unique_point_count(); ++k)
       r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
@@ -384,10 +460,13 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
     j["check_pass"] = r.check_pass;
     j["near_constant"] = r.near_constant;
     j["kappa_spread"] = r.spread;
+    j["turning_deviation"] = r.deviation;
     j["analysis"] = space_analysis_json(*r.spline, r.analysis);
     for (std::size_t i = 0; i < r.kappa_spread.size(); ++i) {
       j["analysis"]["segments"][i]["kappa_spread"] = r.kappa_spread[i];
-      j["analysis"]["segments"][i]["near_constant"] = r.kappa_spread[i] <= options.constant_tolerance;
+      const double d = r.turning_deviation[i];
+      j["analysis"]["segments"][i]["turning_deviation"] = std::isfinite(d) ? nlohmann::ordered_json(d) : nlohmann::ordered_json(nullptr);
+      j["analysis"]["segments"][i]["near_constant"] = d <= options.constant_tolerance;
     }
     nlohmann::ordered_json gates = nlohmann::ordered_json::array();
     for (const GateResult& g : r.gates) {
@@ -448,7 +527,8 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
   doc["constant_tolerance"] = options.constant_tolerance;
   if (options.regions) doc["region_size"] = options.region_size;
   doc["splines"] = list;
-  doc["summary"] = {{"pass", pass}, {"fail", fail}, {"invalid", invalid}, {"findings", finding_count}};
+  doc["summary"] = {{"splines", reports.size()}, {"pass", pass},           {"fail", fail},
+                    {"invalid", invalid},        {"files", reports.size()}, {"findings", finding_count}};
   return doc;
 }
 
@@ -570,7 +650,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
     const std::string curvature_label =
         straight ? "straight"
         : r.near_constant && a.curvature != Direction::increasing && a.curvature != Direction::decreasing
-            ? "constant within " + num(options.constant_tolerance) + " (spread " + num(r.spread) + ")"
+            ? "constant within " + num(options.constant_tolerance) + " (turning deviation " + num(r.deviation) + " rad, spread " + num(r.spread) + ")"
             : std::string(to_string(a.curvature));
     out += std::string("<p>curvature: <b class=\"") + (r.pass ? "pass" : "fail") + "\">" + html_escape(curvature_label) +
            "</b>";

@@ -31,13 +31,15 @@ struct SpaceReportOptions {
   /// max-extrema-per-segment:N, g2-at-smooth-nodes[:tol], no-inflection
   /// (no zero curvature) and each-piece.
   std::vector<Gate> gates;
-  /// The planar report's rule (ReportOptions::constant_tolerance): a segment
-  /// whose curvature, at its ends and stationary points, varies by at most
-  /// this relative to its largest |kappa| is an arc of constant curvature up
-  /// to the rounding of its data (a CAD circle, an OpenCASCADE approximation
-  /// of one): the extremum gates skip it, and a curve whose every segment is
-  /// such an arc, with the same curvature within the tolerance across its
-  /// joints, passes cmrwi and cmr (its exact verdict is still reported).
+  /// The planar report's rule (ReportOptions::constant_tolerance,
+  /// turning_deviation in report.hpp): a segment whose |kappa|, at its ends
+  /// and stationary points, lies in [lo, hi] with (hi - lo) / 2 times its
+  /// control polygon's length at most this (radians) is an arc of constant
+  /// curvature up to the rounding of its data (a CAD circle, an
+  /// OpenCASCADE approximation of one): the extremum gates skip it, and a
+  /// curve whose every segment and whole length is such an arc (the whole
+  /// curve's lo, hi and length) passes cmrwi and cmr (its exact verdict is
+  /// still reported).
   double constant_tolerance = kDefaultConstantTolerance;
   /// Search the smallest certified fix of each failing curve (space_fix,
   /// cmrwi, each point in its default plane, kReportSpaceFixSeconds).
@@ -76,10 +78,14 @@ struct SpaceReport {
   bool pass = false;
   bool check_pass = false;  ///< the check alone
   /// Per segment: (max - min) / max of |kappa| at its ends and stationary
-  /// points (0 for a straight segment); near_constant when every segment's
-  /// and the whole curve's are at most options.constant_tolerance.
+  /// points (0 for a straight segment), reported.
   std::vector<double> kappa_spread;
   double spread = 0;  ///< the same over the whole curve
+  /// Per segment: turning_deviation(min, max, polygon length) of the same
+  /// values (radians); near_constant when every segment's and the whole
+  /// curve's (`deviation`) are at most options.constant_tolerance.
+  std::vector<double> turning_deviation;
+  double deviation = 0;  ///< the same over the whole curve
   bool near_constant = false;
   std::vector<GateResult> gates;  ///< options.gates, in order
   std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions
@@ -91,6 +97,29 @@ struct SpaceReport {
 /// onto the plane and point `point` marked.
 std::string space_region_png(const SpaceSpline& spline, const SpacePlane& plane, const RegionResult& image, int point,
                              int max_depth, bool depth_shading = false);
+/// The default view of a space region (`cmr region FILE --point K` without
+/// --view, the report's thumbnails; issue 40 item 6): the union of the
+/// region and the moved point, with a margin. A 64 x 64 probe over the
+/// polygon's default view (default_view of the curve projected onto the
+/// plane) widened 3 times about its centre, at the request's depth, finds
+/// the region's pixels (RegionResult::in_region); their rectangles' box and
+/// the moved point's plane coordinates, widened by 15% of the larger side
+/// each way and then in one direction so that pixels are square, is the
+/// view. No region in the probe: the polygon's view, `empty`. The request's
+/// plane must be set (or is the default plane); its view is ignored.
+struct SpaceViewFit {
+  View view;
+  bool empty = false;     ///< no region pixel in the probe
+  int probe_pixels = 0;   ///< the probe's region pixels (of 64 x 64)
+};
+SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest& request);
+
+/// "plane through P3: a (right) along P4 - P3, b (up) along P2 - P3" (a
+/// direction that leads to a control point is named by it, others by their
+/// coordinates): the last line of a space region picture's legend and the
+/// `plane_name` of `cmr region`'s summary.
+std::string space_plane_name(const SpaceSpline& spline, const SpacePlane& plane, int point);
+
 /// The thumbnail of control point k (its region in its default plane).
 SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
 

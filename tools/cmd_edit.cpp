@@ -1,9 +1,13 @@
 // cmr edit [FILE]: the interactive designer (tools/edit/), its scripted mode
 // and its benchmark.
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <sstream>
 
 #include "spline/errors.hpp"
 #include "tools/cli_common.hpp"
+#include "tools/cmd_space.hpp"
 
 #include <CLI/CLI.hpp>
 #include "tools/edit/window.hpp"
@@ -21,6 +25,7 @@ struct EditArgs {
   bool no_vsync = false;
   std::string region_path = "auto";
   std::string precision;
+  std::string edge;  // --edge '#1234': a STEP model's edge
 };
 
 edit::RegionPath parse_region_path(const std::string& text) {
@@ -70,8 +75,18 @@ void add_edit_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--point", a->point,
                   "the point selected when the editor opens (default: the first point whose region shows in the "
                   "view); --bench: the dragged point (default 3)");
+  cmd->add_option("--edge", a->edge,
+                  "a STEP model's B-spline or Bezier edge to edit, by its entity id ('#1234', as cmr import names "
+                  "it); save writes it as MODEL_1234.json beside the model");
   cmd->callback([a, cmd, &exit_code] {
     const auto [w, h] = parse_window_size(a->size);
+    std::string ext = std::filesystem::path(a->file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    const bool step = ext == ".step" || ext == ".stp";
+    if (step && a->edge.empty())
+      throw InputError(a->file + ": a STEP model: name the edge to edit with --edge '#1234' (cmr import " + a->file +
+                       " lists them)");
+    if (!step && !a->edge.empty()) throw InputError("--edge: for STEP models (.step, .stp), not for " + a->file);
     if (a->bench) {
       edit::BenchOptions b;
       b.file = a->file;  // empty: the embedded Fig. 8 spline
@@ -90,6 +105,12 @@ void add_edit_command(CLI::App& app, int& exit_code) {
     }
     edit::EditOptions o;
     o.file = a->file;
+    if (step) {  // the edge as a space curve (tools/cmd_space.hpp); save writes MODEL_ID.json
+      StepEdge e = open_step_edge(a->file, a->edge);
+      o.file = e.save_path;
+      o.source_label = std::filesystem::path(a->file).filename().string() + ", " + e.spline.name();
+      o.space = std::move(e.spline);
+    }
     o.glyph = a->glyph;
     o.script = a->script;
     o.screenshot = a->screenshot;

@@ -11,11 +11,17 @@
 // subpath is one spline. A run of space curves (files, folders, globs or -) is judged by
 // report/space_report.hpp and written in the same schema with the same CI files
 // (tools/cmd_space.hpp: run_space_report); a flag only planar runs take is refused.
+// A run with both planar and space inputs judges them as two parts in a
+// private folder and merges them into --out (report/merge.hpp, MixedRun below).
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
@@ -70,6 +76,34 @@ struct ReportArgs {
 };
 
 static_assert(report::kExitPass == kOk && report::kExitFail == kFail && report::kExitInvalid == kInvalid);
+
+namespace fs = std::filesystem;
+
+/// A run with planar and space inputs: a private folder (under the system's
+/// temporary folder) with the two parts' report folders, `planar` and
+/// `space` (their names under DIR/parts after the merge), removed when the
+/// run ends, however it ends. A part's CI file has the asked file's name in
+/// its folder, where report::merge_reports looks for it.
+struct MixedRun {
+  fs::path root, planar, space;
+  explicit MixedRun(const std::string& out) {
+    std::string pattern = (fs::temp_directory_path() / "cmr-mixed-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw EnvironmentError(out + ": cannot make a temporary folder for the planar and space parts (" +
+                             std::strerror(errno) + ")");
+    root = pattern;
+    planar = root / "planar";
+    space = root / "space";
+  }
+  MixedRun(const MixedRun&) = delete;
+  MixedRun& operator=(const MixedRun&) = delete;
+  ~MixedRun() {
+    std::error_code ec;
+    fs::remove_all(root, ec);
+  }
+  fs::path planar_file(const std::string& asked) const { return planar / fs::path(asked).filename(); }
+  fs::path space_file(const std::string& asked) const { return space / fs::path(asked).filename(); }
+};
 
 }  // namespace
 
@@ -132,8 +166,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   add_continuity_options(*cmd, args->continuity);
   in_range(cmd->add_option("--constant-tol", args->constant_tolerance,
-                           "relative curvature spread below which a segment is an arc of constant curvature: the "
-                           "extremum gates skip its stationary points (rounded circle arcs); 0: exact constants only"),
+                           "a segment whose curvature spread, halved, times its length (its turning against an arc "
+                           "of constant curvature, radians) is at most this is an arc of constant curvature: the "
+                           "extremum gates skip its stationary points (rounded circle arcs, CAD approximations of "
+                           "circles); 0: exact constants only"),
            0.0, 1.0)
       ->capture_default_str();
   cmd->add_option("--torsion-tol", args->torsion_tolerance,
@@ -175,6 +211,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     std::vector<report::SkippedPath> skipped;
     std::vector<std::string> collected = report::collect_files(args->files, args->filter, &bases, &skipped, {args->out});
     std::string space, planar;
+    std::vector<int> dimensions;
     for (const std::string& f : collected) {
       int dimension = 2;
       if (report::file_kind(f) == report::FileKind::spline) try {
@@ -183,9 +220,15 @@ void add_report_command(CLI::App& app, int& exit_code) {
           // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
         }
       (dimension == 3 ? space : planar) = f;
+      dimensions.push_back(dimension);
     }
-    if (!space.empty() && !planar.empty())
-      throw InputError(space + " is a space curve and " + planar + " is planar: report them separately");
+    // A run with both: the space curves and the planar inputs are judged as
+    // two parts of one run in a private folder, each with its CI files, then
+    // merged into --out (report/merge.hpp: one report.json, JUnit, SARIF,
+    // Markdown; index.html links each part's page).
+    const bool mixed = !space.empty() && !planar.empty();
+    std::optional<MixedRun> parts;
+    if (mixed) parts.emplace(args->out);
     if (!space.empty()) {
       for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--strict", "--backend",
                                "--device"})
@@ -194,11 +237,25 @@ void add_report_command(CLI::App& app, int& exit_code) {
                            "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
                            "--torsion-tol and the joint tolerances");
       if (shard) throw InputError(space + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
-      for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
+      if (!mixed)
+        for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
       SpaceReportRun run;
-      run.files = std::move(collected);
-      run.bases = std::move(bases);
-      run.out = args->out;
+      if (mixed) {  // the space files to their part, the planar ones stay in `collected`
+        std::vector<std::string> kept, kept_bases;
+        const bool with_bases = bases.size() == collected.size();
+        for (std::size_t i = 0; i < collected.size(); ++i) {
+          const bool is_space = dimensions[i] == 3;
+          (is_space ? run.files : kept).push_back(std::move(collected[i]));
+          if (with_bases) (is_space ? run.bases : kept_bases).push_back(std::move(bases[i]));
+        }
+        collected = std::move(kept);
+        bases = std::move(kept_bases);
+      } else {
+        run.files = std::move(collected);
+        run.bases = std::move(bases);
+      }
+      run.out = mixed ? parts->space.string() : args->out;
+      run.quiet = mixed;
       run.pretty = args->pretty;
       if (!args->require.empty()) report::parse_require_list(args->require, run.parsed);
       report::space_requirements(run.parsed, run.options, space);
@@ -210,15 +267,15 @@ void add_report_command(CLI::App& app, int& exit_code) {
       run.options.fixes = !args->no_fixes && !args->no_thumbnails;
       run.options.regions = !args->no_thumbnails;
       run.options.region_size = args->region_size;
-      if (!args->junit.empty()) run.junit = args->junit;
-      if (!args->sarif.empty()) run.sarif = args->sarif;
+      if (!args->junit.empty()) run.junit = mixed ? parts->space_file(args->junit) : fs::path(args->junit);
+      if (!args->sarif.empty()) run.sarif = mixed ? parts->space_file(args->sarif) : fs::path(args->sarif);
       if (!args->baseline.empty()) run.baseline = args->baseline;
       if (!args->source_root.empty()) run.source_root = args->source_root;
-      if (!args->markdown.empty()) run.markdown = args->markdown;
+      if (!args->markdown.empty()) run.markdown = mixed ? parts->space_file(args->markdown) : fs::path(args->markdown);
       exit_code = run_space_report(run);
-      return;
+      if (!mixed) return;
     }
-    if (cmd->count("--torsion-tol") > 0) throw InputError("--torsion-tol: for space curves, and this run has none");
+    if (!mixed && cmd->count("--torsion-tol") > 0) throw InputError("--torsion-tol: for space curves, and this run has none");
     validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
     report::ReportOptions o;
     o.continuity = args->continuity;
@@ -250,14 +307,14 @@ void add_report_command(CLI::App& app, int& exit_code) {
       if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
       b.between = import::parse_between(args->between);
     }
-    b.out = args->out;
+    b.out = mixed ? parts->planar.string() : args->out;
     b.pretty = args->pretty;
     b.fixes = !args->no_fixes;
     b.fix_budget = args->fix_budget;
     b.time_limit = args->time_limit;
-    if (!args->junit.empty()) b.junit = args->junit;
-    if (!args->sarif.empty()) b.sarif = args->sarif;
-    if (!args->markdown.empty()) b.markdown = args->markdown;
+    if (!args->junit.empty()) b.junit = mixed ? parts->planar_file(args->junit) : fs::path(args->junit);
+    if (!args->sarif.empty()) b.sarif = mixed ? parts->planar_file(args->sarif) : fs::path(args->sarif);
+    if (!args->markdown.empty()) b.markdown = mixed ? parts->planar_file(args->markdown) : fs::path(args->markdown);
     if (!args->baseline.empty()) b.baseline = args->baseline;
     if (!args->source_root.empty()) b.source_root = args->source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
@@ -285,6 +342,23 @@ void add_report_command(CLI::App& app, int& exit_code) {
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
     if (!s.note.empty()) std::cerr << "cmr: note: " << s.note << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
+    if (mixed) {  // the two parts into --out, and the merged line
+      report::MergeOptions m;
+      m.parts = {parts->planar, parts->space};
+      m.out = args->out;
+      m.pretty = args->pretty;
+      m.mixed = true;
+      if (!args->junit.empty()) m.junit = args->junit;
+      if (!args->sarif.empty()) m.sarif = args->sarif;
+      if (!args->markdown.empty()) m.markdown = args->markdown;
+      const report::MergeSummary merged = report::merge_reports(m);
+      const bool piped = is_stdout_path(args->junit) || is_stdout_path(args->sarif) || is_stdout_path(args->markdown);
+      std::string line = merged.line.substr(merged.line.find(": ") + 2);  // "merged 2 parts: " is this run's own business
+      (piped ? std::cerr : std::cout) << line << "; " << s.items << " planar, " << (merged.splines - s.items)
+                                      << (merged.splines - s.items == 1 ? " space curve" : " space curves") << "; wrote " << args->out << '\n';
+      exit_code = merged.exit_code;
+      return;
+    }
     // The one line goes to stderr when a CI file is written to standard output.
     const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif)) ||
                        (b.markdown && is_stdout_path(*b.markdown));

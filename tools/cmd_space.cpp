@@ -19,6 +19,7 @@
 #include "report/sarif.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
+#include "step/step.hpp"
 #include "tools/cli_common.hpp"
 #include "vk/space_region_vk.hpp"
 
@@ -85,7 +86,6 @@ void run_space_region(const SpaceRegionArgs& a) {
   r.width = w;
   r.height = h;
   r.max_depth = a.depth;
-  if (!a.view.empty()) r.view = parse_view(a.view);
   if (!a.png.empty()) check_output_path(a.png, "--png");
   if (!a.labels.empty()) check_output_path(a.labels, "--labels");
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
@@ -94,6 +94,15 @@ void run_space_region(const SpaceRegionArgs& a) {
   tube.radius = a.tube_radius == 0 ? mesh::default_tube_radius(spline) : a.tube_radius;
   if (!(tube.radius > 0) || !std::isfinite(tube.radius))
     throw InputError("--tube-radius: must be a positive number (got " + std::to_string(a.tube_radius) + ")");
+  // Without --view: the region and the moved point with a margin
+  // (report::fit_space_view; the report's thumbnails take the same view).
+  std::optional<report::SpaceViewFit> fit;
+  if (!a.view.empty()) {
+    r.view = parse_view(a.view);
+  } else {
+    fit = report::fit_space_view(spline, r);
+    r.view = fit->view;
+  }
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
   // --backend vulkan: the device judges each pixel's parts and the CPU the
   // pixels it cannot certify (vk/space_region_vk.hpp); auto and cpu: the CPU.
@@ -127,8 +136,13 @@ void run_space_region(const SpaceRegionArgs& a) {
     out.stage(a.mesh, mesh::mesh_file(a.mesh, m));
   }
   out.commit();
-  std::uint64_t counts[kRegionLabelCodes] = {};
-  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
+  std::uint64_t counts[kRegionLabelCodes] = {}, inside = 0;
+  for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)], inside += img.in_region(i) ? 1 : 0;
+  if (fit && fit->empty)
+    std::cerr << "cmr: note: P" << r.point << " has no region near the curve in this plane (the view is the curve's)\n";
+  else if (fit && inside * 100 < img.size())  // under 1% of the picture though fitted: a speck beside the point
+    std::cerr << "cmr: note: P" << r.point << "'s region is a speck: " << inside << " of " << img.size()
+              << " pixels, far from the point or thin (--view zooms)\n";
   nlohmann::ordered_json c;
   for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) c[img.label_name(l)] = counts[l];
   nlohmann::ordered_json doc = {{"width", img.width},
@@ -138,6 +152,8 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"dimension", 3},
                                 {"backend", on_vulkan ? "vulkan" : "cpu"},
                                 {"point", r.point},
+                                {"view_fitted", fit.has_value()},
+                                {"plane_name", report::space_plane_name(spline, plane, r.point)},
                                 {"counts", c}};
   if (!a.mesh.empty()) doc["mesh"] = {{"faces", mesh_faces}, {"tube_radius", tube.radius}};
   if (a.stats) {
@@ -245,6 +261,7 @@ int run_space_report(const SpaceReportRun& run) {
     set.stage(*run.markdown, markdown->finish(s, run.baseline ? run.baseline->string() : std::string()));
   }
   nlohmann::ordered_json doc = report::space_report_json(reports, o, &findings);
+  doc["summary"]["exit_code"] = exit_code;  // as a planar report's (report/merge.hpp reads it)
   if (baseline)
     doc["summary"]["baseline"] = {{"file", run.baseline->string()}, {"new", new_findings},
                                   {"fixed", baseline->fixed()}, {"unchanged", unchanged}};
@@ -252,6 +269,7 @@ int run_space_report(const SpaceReportRun& run) {
   set.commit_last(dir / "report.json");  // renamed last: the commit marker
   set.commit();
   for (const report::Finding* f : new_list) std::cerr << "cmr: new: " << f->file << ": " << f->gate << ": " << f->message << '\n';
+  if (run.quiet) return exit_code;
   const bool piped = (run.junit && is_stdout_path(*run.junit)) || (run.sarif && is_stdout_path(*run.sarif)) ||
                      (run.markdown && is_stdout_path(*run.markdown));
   std::ostream& line = piped ? std::cerr : std::cout;
@@ -262,6 +280,29 @@ int run_space_report(const SpaceReportRun& run) {
     line << " (baseline: " << new_findings << " new, " << baseline->fixed() << " fixed, " << unchanged << " unchanged)";
   line << "; wrote " << (dir / "index.html").string() << " and " << (dir / "report.json").string() << '\n';
   return exit_code;
+}
+
+StepEdge open_step_edge(const std::filesystem::path& model, const std::string& spec) {
+  std::vector<long long> ids;
+  try {
+    ids = import::parse_step_edge_ids(spec);
+  } catch (const InputError& e) {  // "--edges: ..." as cmr import says it
+    throw InputError("--edge" + std::string(e.what()).substr(std::string("--edges").size()));
+  }
+  if (ids.size() != 1)
+    throw InputError("--edge: one edge to edit (#1234), not " + std::to_string(ids.size()) + " (" + spec + ")");
+  const import::StepCurves all = import::read_step_curves(model);
+  import::StepCurves picked;
+  try {
+    picked = import::select_step_edges(all, ids, model.string());
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    throw InputError(what.rfind("--edges", 0) == 0 ? "--edge" + what.substr(7) : what);
+  }
+  const import::StepCurve& c = picked.curves.front();
+  const nlohmann::json doc = nlohmann::json::parse(import::step_curve_json(c).dump());
+  return {space_spline_from_json(doc),
+          model.parent_path() / (model.stem().string() + "_" + import::step_curve_stem(c) + ".json")};
 }
 
 }  // namespace cmr::cli

@@ -47,10 +47,25 @@ struct SpaceReportRun {
   std::optional<std::filesystem::path> junit, sarif, baseline, source_root;
   std::optional<std::filesystem::path> markdown;  ///< --markdown (report/markdown.hpp)
   bool pretty = false;
+  /// No summary line (the space part of a run with planar inputs too:
+  /// tools/cmd_report.cpp prints the merged run's line).
+  bool quiet = false;
 };
 /// Returns the exit code: 2 when a file is invalid, else with a baseline 1
 /// when a finding is new, else 1 when a required check or gate fails.
 int run_space_report(const SpaceReportRun& run);
+
+/// `cmr edit MODEL.step --edge '#1234'`: that edge of the STEP model as a
+/// space spline (read_step_curves, the spline `cmr import` writes for it),
+/// and where the editor saves it: `cmr import`'s file name beside the model
+/// (MODEL_1234.json), never the model. InputError, one line: a spec that is
+/// not one #id, an id that names no B-spline or Bezier edge (with the ids
+/// that do), a file that is not STEP.
+struct StepEdge {
+  SpaceSpline spline;
+  std::filesystem::path save_path;
+};
+StepEdge open_step_edge(const std::filesystem::path& model, const std::string& spec);
 
 /// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the

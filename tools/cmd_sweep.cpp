@@ -9,8 +9,9 @@
 //                 only multiplicities can make a step invalid);
 // with the same control points. Every step's spline and region problem is
 // built and validated before anything is rendered (bad input writes nothing).
-// All steps share one view (FILE's default view: the control points do not
-// move). Per step: the region (any backend), its refined contours
+// All steps share one view (without --view: the union of the steps' regions
+// and the moved point, with a margin, fitted_view; the control points do
+// not move). Each frame's legend ends with its knot value. Per step: the region (any backend), its refined contours
 // (bezierize/contour.hpp) and the curve's own verdict (analyze), printed as
 // one JSON line. With --out-dir (created if missing; files an earlier sweep
 // wrote there and this one does not are removed), all or none of: steps.jsonl, contours/
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -124,6 +126,56 @@ BSpline step_spline(const SweepArgs& a, const BSpline& base, int s, double& valu
   }
 }
 
+/// Without --view (issue 40 item 6): the union of the regions over the run
+/// and the moved point (with the --with points), with a margin. Each step
+/// is probed on the CPU at 48 x 48 over three times the polygon's view (its
+/// centre kept); the box of every step's region pixels and the moved points,
+/// widened by 15% of its larger side each way and then to square pixels, is
+/// the view. No region at any step: the polygon's view. (report::fit_space_view
+/// is the same rule for one space region.)
+View fitted_view(const SweepArgs& a, const BSpline& base, const RegionRequest& rq, RegionMemo& memo) {
+  const View v0 = *rq.view;
+  constexpr int kProbe = 48;
+  RegionRequest probe = rq;
+  probe.width = probe.height = kProbe;
+  const double cx = (v0.x0 + v0.x1) / 2, cy = (v0.y0 + v0.y1) / 2;
+  const double hw = 1.5 * std::max(v0.x1 - v0.x0, v0.y1 - v0.y0), dx = 2 * hw / kProbe;
+  probe.view = View{cx - hw, cy - hw, cx + hw, cy + hw};
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  bool any = false;
+  CpuRegionBackend cpu;
+  for (int s = 0; s <= a.steps; ++s) {
+    double value = 0;
+    const RegionResult img = cpu.render(memo.make(step_spline(a, base, s, value), probe));
+    for (int j = 0; j < kProbe; ++j)
+      for (int i = 0; i < kProbe; ++i)
+        if (img.in_region(static_cast<std::size_t>(j) * kProbe + i)) {
+          any = true;
+          x0 = std::min(x0, cx - hw + i * dx), x1 = std::max(x1, cx - hw + (i + 1) * dx);
+          y1 = std::max(y1, cy + hw - j * dx), y0 = std::min(y0, cy + hw - (j + 1) * dx);
+        }
+  }
+  if (!any) return v0;
+  std::vector<int> moved = a.with;
+  moved.push_back(a.point);
+  for (int k : moved) {
+    if (k < 0 || k >= static_cast<int>(base.points().size())) continue;  // RegionProblem::make names it
+    const Vec2 p = base.points()[static_cast<std::size_t>(k)];
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  const double margin = 0.15 * std::max(x1 - x0, y1 - y0);
+  x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
+  const double aspect = static_cast<double>(rq.width) / rq.height;
+  if ((x1 - x0) / (y1 - y0) < aspect) {
+    const double c = (x0 + x1) / 2, h = (y1 - y0) * aspect / 2;
+    x0 = c - h, x1 = c + h;
+  } else {
+    const double c = (y0 + y1) / 2, h = (x1 - x0) / aspect / 2;
+    y0 = c - h, y1 = c + h;
+  }
+  return View{x0, y0, x1, y1};
+}
+
 std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& memo) {
   if (a.steps < 1 || a.steps > kMaxSweepSteps)
     throw InputError("--steps " + std::to_string(a.steps) + " is outside 1.." + std::to_string(kMaxSweepSteps));
@@ -150,6 +202,7 @@ std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& m
   rq.max_depth = a.depth;
   rq.depth = false;
   rq.view = a.view.empty() ? default_view(base, w, h) : parse_view(a.view);
+  if (a.view.empty()) rq.view = fitted_view(a, base, rq, memo);
   std::vector<Step> steps;
   // A step moves one knot: only the spans whose window holds it are prepared
   // again (bezierize/region_memo.hpp).
@@ -334,6 +387,16 @@ void run_sweep(const SweepArgs& a) {
     pic.spline = &steps[k].spline;
     pic.layers = {&images[k]};
     pic.split = split;
+    pic.points = {a.point};
+    // The legend (frames of 240 x 160 pixels or more) ends with the step's knot value.
+    std::ostringstream note;
+    note.precision(6);
+    note << (a.knot ? "knot " + std::to_string(*a.knot) + " = " : std::string("t = ")) << steps[k].value << " (step "
+         << k << " of " << steps.size() - 1;
+    if (a.knot) note << ", from " << *a.from << " to " << *a.to;
+    note << ")";
+    pic.legend = true;
+    pic.note = note.str();
     out.stage(dir / "frames" / (step_name(static_cast<int>(k)) + ".png"), draw::region_png(pic));
   }
   out.stage(dir / "area.png", area_plot(a, steps, contours));
@@ -343,6 +406,7 @@ void run_sweep(const SweepArgs& a) {
   out.commit();
   nlohmann::ordered_json summary = {{"out_dir", a.out_dir},
                                     {"steps", steps.size()},
+                                    {"view", {stack.view.x0, stack.view.y0, stack.view.x1, stack.view.y1}},
                                     {"tube", {{"vertices", tube.n_vertices()},
                                               {"faces", tube.n_faces()},
                                               {"area", mesh::mesh_area(tube)},
@@ -371,7 +435,8 @@ void add_sweep_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--split", a->split, "joint S: spans 0..S-1 against S..N-1");
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH per step")->capture_default_str();
-  cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: the control polygon with a margin)");
+  cmd->add_option("--view", a->view,
+                  "world rectangle X0,Y0,X1,Y1 (default: the regions of all steps and the moved point, with a margin)");
   add_backend_options(*cmd, a->backend, a->device, &a->precision);
   cmd->add_option("--out-dir", a->out_dir,
                   "folder for steps.jsonl, contours/, frames/, index.html, area.png, tube.obj, tube.ply");

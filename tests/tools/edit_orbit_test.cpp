@@ -7,6 +7,7 @@
 
 #include <cairo.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -207,6 +208,66 @@ TEST(EditOrbitWindow, RefusesPlanarOnlyCommandsAndOptionsInOneLine) {
   EXPECT_NE(r.err.find("--region-path: the orbit view of a space curve computes its region on the CPU"),
             std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(shot));
+}
+
+// `cmr edit MODEL.step --edge '#ID'` opens that edge of the model (the
+// class-A-style wire: four quintic edges) in the orbit view: the first line
+// names the model and the edge, the screenshot shows the curve, and `save`
+// writes MODEL_ID.json beside the model, the very spline `cmr import` writes
+// for that edge (every point and knot equal), never the model. An unknown id,
+// a STEP file without --edge, --edge on a spline file and two ids are one
+// line, exit 2, and no screenshot.
+TEST(EditOrbitWindow, OpensAStepModelsEdgeByItsEntityId) {
+#ifndef CMR_STEP_MODEL
+  GTEST_SKIP() << "cmr was built without the STEP importer (OpenCASCADE)";
+#else
+  if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const fs::path dir = scratch() / "orbit_step";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path model = dir / "wire.step";
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model.string() + " wire >/dev/null").c_str()), 0);
+  const Outcome imported = cmr::test::run("import " + model.string() + " --out " + (dir / "imported").string());
+  ASSERT_EQ(imported.code, 0) << imported.err;
+  const std::size_t chain = imported.out.find("chain 1: #");
+  ASSERT_NE(chain, std::string::npos) << imported.out;
+  const std::string id = imported.out.substr(chain + 10, imported.out.find(' ', chain + 10) - chain - 10);  // "54"
+  const std::string second = imported.out.substr(imported.out.find("> #", chain) + 3);
+  const std::string id2 = second.substr(0, second.find(' '));  // the chain's second edge: edit that one
+  const fs::path shot = dir / "edge.png";
+  const Outcome r = run_edit(model.string(), "plane xy\nsave\n", shot, " --edge '#" + id2 + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("cmr edit: wire.step, edge #" + id2 + " ("), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("a space curve, in the orbit view"), std::string::npos) << r.err;
+  const Image img = read_png(shot);
+  ASSERT_EQ(img.width, kW);
+  int curve = 0;  // the curve of a planar edge: dark grey (77, 77, 77)
+  for (const auto& c : img.rgb) curve += c == std::array<int, 3>{77, 77, 77};
+  EXPECT_GT(curve, 50) << "the edge's curve shows";
+  const fs::path saved = dir / ("wire_" + id2 + ".json");
+  ASSERT_TRUE(fs::exists(saved)) << r.err;
+  const nlohmann::json mine = nlohmann::json::parse(cmr::test::slurp(saved));
+  const nlohmann::json theirs = nlohmann::json::parse(cmr::test::slurp(dir / "imported" / ("wire_" + id2 + ".json")));
+  EXPECT_EQ(mine["points"], theirs["points"]);
+  EXPECT_EQ(mine["knots"], theirs["knots"]);
+  EXPECT_EQ(mine["degree"], theirs["degree"]);
+  EXPECT_EQ(mine["name"], theirs["name"]);
+  EXPECT_NE(id, id2);
+  // Bad requests: one line each, exit 2, nothing drawn.
+  const auto refused = [&](const std::string& file, const std::string& options, const std::string& part) {
+    fs::remove(shot);
+    const Outcome b = run_edit(file, "", shot, options);
+    EXPECT_EQ(b.code, 2) << options << ": " << b.err;
+    EXPECT_NE(b.err.find(part), std::string::npos) << options << ": " << b.err;
+    EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << options << ": " << b.err;
+    EXPECT_FALSE(fs::exists(shot)) << options;
+  };
+  refused(model.string(), " --edge '#99999'", "--edge: #99999 is not a B-spline or Bezier edge of");
+  refused(model.string(), "", "a STEP model: name the edge to edit with --edge");
+  refused(model.string(), " --edge '#" + id + ",#" + id2 + "'", "--edge: one edge to edit");
+  refused(kLifted, " --edge '#" + id + "'", "--edge: for STEP models");
+  fs::remove_all(dir);
+#endif
 }
 
 TEST(EditOrbitWindow, BenchDragsAPointOfASpaceCurve) {

@@ -199,8 +199,11 @@ TEST(SpaceCli, ReportWritesJsonAndHtmlAndGatesOnCurvature) {
   const test::Outcome f = run("report " + bent + " --out " + dir + " --require cmrwi");
   EXPECT_EQ(f.code, 1) << f.err;
   EXPECT_FALSE(nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"][0]["curvature_extrema"].empty());
-  expect_one_line_error(run("report " + kExample + " " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --out " + dir),
-                        "is planar: report them separately");
+  // Planar and space files together: one report of both (SpaceReportCi.MixedPlanarAndSpaceInputsAreOneReport).
+  const test::Outcome mixed =
+      run("report " + kExample + " " + std::string(CMR_SOURCE_DIR) + "/examples/figures/fig8b.json --out " + dir);
+  EXPECT_EQ(mixed.code, 0) << mixed.err;
+  EXPECT_EQ(nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"].size(), 2u);
   expect_one_line_error(run("report " + kExample + " --out " + dir + " --require split:1"),
                         "has no meaning in 3D");  // the other checks and gates: space_report_ci_test.cpp
 }

@@ -151,6 +151,57 @@ TEST(SpaceReportThumbnails, DegenerateDefaultPlaneIsNamedNotFatal) {
   EXPECT_EQ(thumbs.size(), 3u);  // P0 and P1: collinear neighbours
 }
 
+// The default view (report::fit_space_view, issue 40 item 6) is the region
+// and the moved point with a margin: for every point of the lifted Fig. 8b
+// curve whose region shows, it fills at least a tenth of the picture (P2's
+// was 215 of 102,400 pixels in the polygon's view), the point lies inside
+// the view, and the labels are those of `cmr region --view` with that view.
+// The summary's plane_name (the legend's last line) names the plane's axes.
+TEST(SpaceReportThumbnails, DefaultViewIsTheRegionAndThePointWithAMargin) {
+  const std::string file = kSpace + "fig8b_lifted.json";
+  const std::string pgm = (test::scratch() / "space_fit.pgm").string(), pgm2 = (test::scratch() / "space_fit2.pgm").string();
+  int shown = 0;
+  for (int k = 1; k <= 4; ++k) {
+    SCOPED_TRACE(testing::Message() << "P" << k);
+    const test::Outcome g = run("region " + file + " --point " + std::to_string(k) + " --size 48x48 --labels " + pgm);
+    ASSERT_EQ(g.code, 0) << g.err;
+    const auto doc = nlohmann::json::parse(g.out);
+    EXPECT_EQ(doc["view_fitted"], true);
+    // The legend's last line names the plane and its axes (report::space_plane_name).
+    std::ostringstream name;  // (one stream: GCC 12 warns -Wrestrict on a chain of string +)
+    name << "plane through P" << k << ": a (right) along P" << k + 1 << " - P" << k << ", b (up) along P" << k - 1
+         << " - P" << k;
+    EXPECT_EQ(doc["plane_name"], name.str());
+    const std::size_t region = doc["counts"]["increasing"].get<std::size_t>() + doc["counts"]["decreasing"].get<std::size_t>();
+    if (region == 0) continue;
+    ++shown;
+    EXPECT_GE(region * 10, 48u * 48u) << g.out;
+    // The moved point in plane coordinates (the default plane passes through it: its origin).
+    const auto& plane = doc["plane"];
+    const auto& v = doc["view"];
+    const nlohmann::json points = nlohmann::json::parse(test::slurp(file))["points"];
+    double q[3], u[3], w[3];
+    for (int i = 0; i < 3; ++i)
+      q[i] = points[k][i].get<double>() - plane["origin"][i].get<double>(), u[i] = plane["u"][i], w[i] = plane["v"][i];
+    const auto dot = [](const double* x, const double* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    const double uu = dot(u, u), uv = dot(u, w), vv = dot(w, w), qu = dot(q, u), qv = dot(q, w);
+    const double a = (qu * vv - qv * uv) / (uu * vv - uv * uv), b = (qv * uu - qu * uv) / (uu * vv - uv * uv);
+    EXPECT_GT(a, v[0].get<double>());
+    EXPECT_LT(a, v[2].get<double>());
+    EXPECT_GT(b, v[1].get<double>());
+    EXPECT_LT(b, v[3].get<double>());
+    std::ostringstream again;
+    again.precision(17);
+    again << "region " << file << " --point " << k << " --size 48x48 --labels " << pgm2 << " --view " << v[0].get<double>()
+          << "," << v[1].get<double>() << "," << v[2].get<double>() << "," << v[3].get<double>();
+    const test::Outcome h = run(again.str());
+    ASSERT_EQ(h.code, 0) << h.err;
+    EXPECT_EQ(nlohmann::json::parse(h.out)["view_fitted"], false);
+    EXPECT_TRUE(test::slurp(pgm) == test::slurp(pgm2)) << "the fitted view's labels are cmr region --view's";
+  }
+  EXPECT_GE(shown, 3);
+}
+
 TEST(SpaceReportThumbnails, NoThumbnailsLeavesThemOut) {
   const std::string dir = (test::scratch() / "space_thumbs_off").string();
   const test::Outcome r = run("report " + kSpace + "fig8b_lifted.json --out " + dir + " --no-thumbnails");

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
+
 #include <nlohmann/json.hpp>
 
 #include "bezierize/knot_ops.hpp"
@@ -189,4 +192,38 @@ TEST(SweepCli, InvalidStepIsRefusedBeforeAnyOutput) {
 }
 
 }  // namespace
+// Without --view the sweep's view is the union of its steps' regions and the
+// moved point, with a margin (issue 40 item 6): P3 lies inside it, the
+// largest step's region fills at least a tenth of the frame, and a rerun
+// with that view given as --view writes the same steps.
+TEST(SweepCli, DefaultViewIsTheUnionOfTheRegionsAndTheMovedPoint) {
+  const fs::path dir = scratch() / "sweep_fitted", again = scratch() / "sweep_fitted_again";
+  const std::string args = "sweep " + kFig8 + " --point 3 --knot 3 --from 2.6 --to 3.2 --steps 3 --size 40x40 --out-dir ";
+  const Outcome r = run(args + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(r.out.substr(r.out.rfind("{\"out_dir\"")));
+  const auto& v = summary["view"];
+  const nlohmann::json p3 = nlohmann::json::parse(slurp(kFig8))["points"][3];
+  EXPECT_GT(p3[0].get<double>(), v[0].get<double>());
+  EXPECT_LT(p3[0].get<double>(), v[2].get<double>());
+  EXPECT_GT(p3[1].get<double>(), v[1].get<double>());
+  EXPECT_LT(p3[1].get<double>(), v[3].get<double>());
+  std::istringstream lines(slurp(dir / "steps.jsonl"));
+  std::size_t largest = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const auto c = nlohmann::json::parse(line)["counts"];
+    largest = std::max(largest, c["increasing"].get<std::size_t>() + c["decreasing"].get<std::size_t>());
+  }
+  EXPECT_GE(largest * 10, 40u * 40u);
+  std::ostringstream view;
+  view.precision(17);
+  view << " --view " << v[0].get<double>() << "," << v[1].get<double>() << "," << v[2].get<double>() << ","
+       << v[3].get<double>();
+  const Outcome r2 = run(args + again.string() + view.str());
+  ASSERT_EQ(r2.code, 0) << r2.err;
+  EXPECT_EQ(slurp(dir / "steps.jsonl"), slurp(again / "steps.jsonl"));
+  fs::remove_all(dir);
+  fs::remove_all(again);
+}
+
 }  // namespace cmr::test

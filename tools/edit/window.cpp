@@ -813,14 +813,14 @@ int run_orbit(const EditOptions& o) {
     throw InputError(std::string(o.precision ? "--precision" : "--region-path") +
                      ": the orbit view of a space curve computes its region on the CPU (SpaceRegionProblem); "
                      "planar splines only");
-  SpaceSpline spline = read_space_spline_file(o.file);
+  SpaceSpline spline = o.space ? *o.space : read_space_spline_file(o.file);
   std::vector<ScriptCommand> script;
   if (!o.script.empty()) script = read_script(o.script);
   auto view = std::make_unique<OrbitView>(spline, o.file, o.width, o.height);
   view->open_on_region_point(o.point);
   App app(spline.shadow(), o.file, o.width, o.height, o.device, o.vsync, o.region_path, o.precision);
-  std::cerr << "cmr edit: " << o.file.filename().string() << ": a space curve, in the orbit view; " << view->message
-            << '\n';
+  std::cerr << "cmr edit: " << (o.source_label.empty() ? o.file.filename().string() : o.source_label)
+            << ": a space curve, in the orbit view; " << view->message << '\n';
   app.set_orbit(std::move(view));
   app.frame();  // the window's size and the panel's width
   app.orbit()->face_plane();
@@ -837,7 +837,7 @@ int run_editor(const EditOptions& o) {
   if (o.width < 64 || o.height < 64 || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("--size: width and height must lie in 64.." + std::to_string(kMaxImageSize));
   if (!o.screenshot.empty()) check_output_path(o.screenshot, "--screenshot");
-  if (is_space_file(o.file)) return run_orbit(o);
+  if (o.space || is_space_file(o.file)) return run_orbit(o);
   OpenedSource source = o.file.empty() ? OpenedSource{} : open_source(o.file, o.glyph);
   BSpline spline = source.curves.empty() ? open_spline(o.file) : source.curves[0].spline;
   const bool several = source.curves.size() > 1 || !source.font.empty() || !source.glif.empty();

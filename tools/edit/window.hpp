@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "spline/space.hpp"
 #include "tools/edit/region_painter.hpp"
 
 namespace cmr::edit {
@@ -23,6 +24,11 @@ struct EditOptions {
   /// The point selected when the editor opens; nothing: the first point whose
   /// region shows (Editor::open_on_region_point).
   std::optional<int> point;
+  /// A space curve opened from elsewhere than `file` (`cmr edit MODEL.step
+  /// --edge '#1234'`: the edge, cmd_space.hpp open_step_edge); `file` is
+  /// then where save writes it.
+  std::optional<SpaceSpline> space;
+  std::string source_label;  ///< what was opened, for the first line (`model.step, edge #1234`)
 };
 
 /// Runs the editor until the window closes or the script ends. Returns the
