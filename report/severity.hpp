@@ -14,14 +14,34 @@
 /// whose severity is below ReportOptions::min_severity (half a grid unit by
 /// default: a move the font's grid cannot even express) is `info`: reported,
 /// but it does not fail its gate, unless ReportOptions::strict.
+#include <limits>
+#include <optional>
+
 #include "report/report.hpp"
 
 namespace cmr::report {
 
 /// Time limit of one violation's search (seconds).
 inline constexpr double kSeverityFixSeconds = 0.5;
+/// A finding whose search found no move below kRefineBelow times the
+/// threshold (or none) is searched again within the threshold alone.
+inline constexpr double kRefineBelow = 8;
 /// The default threshold of `--min-severity`: half a font unit.
 inline constexpr double kDefaultMinSeverity = 0.5;
+
+/// One violation's severity and the move that has it.
+struct SeverityMove {
+  double distance = std::numeric_limits<double>::infinity();  ///< largest point displacement; +inf: none found
+  std::optional<BSpline> moved;  ///< the moved spline (found): the violation's place passes on it
+};
+
+/// The search behind a violation's severity (see above), at most `max_move`
+/// (0: the curve size). Each candidate is judged on the violation's own
+/// segments (its segment, or the two meeting at its joint, as a spline of
+/// their own with the same pieces); the answer is re-judged on the whole
+/// spline, and searched again judging the whole spline where that fails.
+SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& violation,
+                           const ReportOptions& options, double max_move = 0);
 
 /// Fills GateViolation::severity and ::info of report.gates (see above) and
 /// report.pass again. Nothing when options.min_severity < 0.
