@@ -106,7 +106,12 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
     out[i] = report_item(inputs[i], options);
     if (out[i].error.empty()) {
       judge_gates(out[i], options);
+      const auto t0 = std::chrono::steady_clock::now();
       assess_severity(out[i], options);  // with min_severity >= 0: below it a finding is info
+      if (budget != nullptr && options.min_severity >= 0)  // severity does not spend the fix budget
+        budget->severity_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now() - t0).count() /
+                               std::min<std::int64_t>(thread_count(options.threads), static_cast<std::int64_t>(total));
     }
     if (out[i].error.empty() && !out[i].pass && options.regions && options.certified_fixes) {
       if (budget != nullptr && budget->spent()) unbudgeted[i] = 1;

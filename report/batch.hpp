@@ -9,6 +9,7 @@
 /// requirement (find_fixes). Nothing runs back
 /// up: the model knows neither gates nor fixes, the gates do not re-report.
 #include <atomic>
+#include <cstdint>
 #include <chrono>
 #include <functional>
 #include <optional>
@@ -56,7 +57,13 @@ struct FixBudget {
   std::atomic<int> too_large{0};     ///< failing splines without fixes: more than kMaxRegionFixPoints points
   /// A budget of `seconds` from now (<= 0: none).
   void start(double budget_seconds);
-  bool spent() const { return std::chrono::steady_clock::now() > deadline; }
+  /// Time the run spent on severity (report/severity.hpp), per thread:
+  /// it moves the deadline, so that the budget is the fix searches' alone.
+  std::atomic<std::int64_t> severity_ns{0};
+  bool spent() const {
+    return deadline != std::chrono::steady_clock::time_point::max() &&
+           std::chrono::steady_clock::now() > deadline + std::chrono::nanoseconds(severity_ns.load());
+  }
   /// The note for the run's stderr and page ("" when nothing was skipped).
   std::string note() const;
 };

@@ -36,6 +36,7 @@
 #include "report/sarif.hpp"
 #include "spline/format.hpp"
 #include "report/batch.hpp"
+#include "report/severity.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 
@@ -404,6 +405,7 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
           w.font = font_inputs(font, inputs);
         }
         o.certified_fixes = options.fixes;
+        if (o.font_severity && o.min_severity < 0) o.min_severity = kDefaultMinSeverity;
         break;
       case FileKind::svg: {
         const std::vector<import::PathSpline> paths = import::read_svg(path);
@@ -936,7 +938,7 @@ class Writer {
               "<th>contours</th><th>glyphs failing</th>";
       for (const Gate& g : options_.report.gates) head += "<th>glyphs failing " + html_escape(to_string(g)) + "</th>";
       head += std::string("<th>") +
-              (options_.report.min_severity >= 0 ? "worst glyphs (largest move that one finding needs; findings)"
+              (options_.report.min_severity >= 0 || options_.report.font_severity ? "worst glyphs (largest move that one finding needs; findings)"
                                                  : "worst glyphs (findings)") +
               "</th></tr>";
       for (const FontRow& f : fonts_) {

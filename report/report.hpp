@@ -122,6 +122,10 @@ struct ReportOptions {
   /// `info`: reported, but it does not fail the gate (unless `strict`).
   /// < 0: not computed, every violation fails.
   double min_severity = -1;
+  /// Fonts: with min_severity < 0, a font's glyphs get severity at
+  /// report/severity.hpp's kDefaultMinSeverity (half a font unit): `cmr
+  /// report`'s default; --no-severity turns it off.
+  bool font_severity = false;
   bool strict = false;  ///< info findings fail too
 };
 

@@ -1,7 +1,9 @@
 #include "report/severity.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include "bezierize/fix.hpp"
@@ -22,49 +24,111 @@ bool same_place(const GateViolation& a, const GateViolation& b) {
   return a.segment >= 0 ? a.segment == b.segment : a.joint == b.joint && b.segment < 0;
 }
 
-double severity_of(const BSpline& spline, const Gate& gate, const GateViolation& v, const ReportOptions& options) {
-  const int n = spline.segment_count();
-  std::set<int> points;
-  auto add_segment = [&](int i) {
-    if (i < 0 || i >= n) return;
-    for (int k : segment_points(spline, spline.segments()[i])) points.insert(k);
+/// Segments [first, first + count) of `spline` (indices taken cyclically on
+/// a closed spline) as an open spline of their own, with the same polar
+/// knots and control points (for a closed spline, its periodic extension):
+/// each of its segments is the same polynomial piece as the spline's.
+BSpline window(const BSpline& spline, int first, int count) {
+  const int d = spline.degree(), n = spline.segment_count(), m = spline.unique_point_count();
+  // A closed spline's segment i + n is segment i one period on: its span is m further.
+  auto span = [&](int i) { return spline.segments()[static_cast<std::size_t>(((i % n) + n) % n)].span + (i >= n ? m : 0); };
+  const int j0 = span(first), j1 = span(first + count - 1);
+  std::vector<double> period;
+  if (spline.closed()) period = spline.period_knots();
+  const double T = spline.closed() ? period.back() - period.front() : 0;
+  auto knot = [&](int k) {
+    if (!spline.closed()) return spline.knots()[static_cast<std::size_t>(k)];
+    const int i = k - d + 1;  // the periodic extension's index (BSpline::make_closed)
+    const int q = i >= 0 ? i / m : -((-i + m - 1) / m);
+    return period[static_cast<std::size_t>(i - q * m)] + q * T;
   };
-  if (v.segment >= 0) {
-    add_segment(v.segment);
-  } else if (v.joint >= 0) {
-    add_segment(v.joint % n);
-    add_segment(v.joint > 0 ? v.joint - 1 : (spline.closed() ? n - 1 : -1));
+  std::vector<double> knots, weights;
+  std::vector<Vec2> points;
+  for (int k = j0 - d + 1; k <= j1 + d; ++k) knots.push_back(knot(k));
+  for (int k = j0 - d + 1; k <= j1 + 1; ++k) {
+    const int p = spline.closed() ? ((k % m) + m) % m : k;
+    points.push_back(spline.points()[static_cast<std::size_t>(p)]);
+    if (spline.is_rational()) weights.push_back(spline.weight(p));
   }
-  if (points.empty()) return std::numeric_limits<double>::infinity();
-  const ReportOptions judge = judge_only(options, gate);
-  FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
-  q.points.assign(points.begin(), points.end());
-  q.judge = [judge, v](const BSpline& s) {
-    try {
-      const SplineReport r = judged_report(s, judge);
-      return static_cast<int>(std::count_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
-                                            [&](const GateViolation& w) { return same_place(v, w); }));
-    } catch (const InputError&) {
-      return std::numeric_limits<int>::max() / 2;
-    }
-  };
+  return BSpline::make(d, std::move(knots), std::move(points), spline.name(), std::move(weights));
+}
+
+/// How many violations of the judge's one gate lie at `place` on `spline`;
+/// with `first` >= 0 judged on the window of the place alone (its segment,
+/// or the two segments meeting at its joint, starting at segment `first`):
+/// the gate reads a segment's extrema from that segment and a joint's
+/// curvatures from its two sides.
+int violations_at(const BSpline& spline, const ReportOptions& judge, const GateViolation& place, int first) {
   try {
-    const FixResult f = fix(spline, q);
-    if (f.already) return 0;
-    return f.fixed ? f.max_distance : std::numeric_limits<double>::infinity();
+    GateViolation here = place;
+    std::optional<BSpline> w;
+    if (first >= 0) {
+      here = GateViolation{};
+      if (place.segment >= 0) here.segment = 0;
+      else here.joint = 1;
+      w = window(spline, first, place.segment >= 0 ? 1 : 2);
+    }
+    const SplineReport r = judged_report(w ? *w : spline, judge);
+    return static_cast<int>(std::count_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
+                                          [&](const GateViolation& x) { return same_place(here, x); }));
   } catch (const InputError&) {
-    return std::numeric_limits<double>::infinity();
+    return std::numeric_limits<int>::max() / 2;
   }
 }
 
 }  // namespace
+
+SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& v,
+                           const ReportOptions& options, double max_move) {
+  const int n = spline.segment_count();
+  // The place's segments [a, a + count): v's segment, or the two meeting at v's joint.
+  int a = v.segment, count = 1;
+  if (v.segment < 0) {
+    if (v.joint < 0 || (v.joint == 0 && !spline.closed())) return {};
+    a = v.joint > 0 ? v.joint - 1 : n - 1, count = 2;
+  }
+  std::set<int> points;
+  for (int i = a; i < a + count; ++i)
+    for (int k : segment_points(spline, spline.segments()[static_cast<std::size_t>(i % n)])) points.insert(k);
+  const ReportOptions judge = judge_only(options, gate);
+  FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
+  q.points.assign(points.begin(), points.end());
+  q.max_move = max_move;
+  // The search judges each candidate on the place's own segments (a window:
+  // the extrema of a segment are read from it, a joint's curvatures from
+  // its two sides), its answer on the whole spline; where they disagree, or
+  // with --segments (a range of the whole spline), the search judges the
+  // whole spline.
+  // Empty: judge the whole spline (the window's answer did not hold on it).
+  auto search = [&](int first) -> std::optional<SeverityMove> {
+    q.judge = [judge, v, first](const BSpline& s) { return violations_at(s, judge, v, first); };
+    try {
+      FixResult f = fix(spline, q);
+      if (!f.fixed && !f.already) return SeverityMove{};
+      if (first >= 0 && violations_at(*f.spline, judge, v, -1) != 0) return std::nullopt;
+      return SeverityMove{f.already ? 0 : f.max_distance, std::move(f.spline)};
+    } catch (const InputError&) {
+      if (first >= 0) return std::nullopt;
+      return SeverityMove{};
+    }
+  };
+  if (!options.segments && count < n)
+    if (auto m = search(a)) return *m;
+  return *search(-1);
+}
 
 void assess_severity(SplineReport& r, const ReportOptions& options) {
   if (options.min_severity < 0 || !r.spline || !r.error.empty()) return;
   for (GateResult& g : r.gates) {
     if (!has_severity(g.gate)) continue;
     for (GateViolation& v : g.violations) {
-      v.severity = severity_of(*r.spline, g.gate, v, options);
+      v.severity = severity_move(*r.spline, g.gate, v, options).distance;
+      // Coarse to fine near the threshold: the search's first grids scale
+      // with the curve, and a move below the threshold can lie between their
+      // cells; a search within the threshold alone looks there.
+      const double t = options.min_severity;
+      if (t > 0 && v.severity >= t && (v.severity < kRefineBelow * t || !std::isfinite(v.severity)))
+        v.severity = std::min(v.severity, severity_move(*r.spline, g.gate, v, options, t).distance);
       v.info = v.severity < options.min_severity && !options.strict;
     }
   }

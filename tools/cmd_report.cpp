@@ -62,6 +62,7 @@ struct ReportArgs {
   std::string between;
   double min_severity = -1;
   bool strict = false;
+  bool no_severity = false;
   report::FileFilter filter;  // folders: --include / --exclude
   std::string junit, sarif, markdown, baseline, source_root;
   bool quiet = false;
@@ -147,9 +148,10 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyphs", args->glyphs, "characters of the fonts among FILES (A-Z,a-z,U+00E9), or all: every glyph of a UFO, every "
                   "character of a font")->capture_default_str();
   cmd->add_option("--min-severity", args->min_severity,
-                  "fonts: give each finding its severity, the smallest certified move (font units) that removes it; "
-                  "one below UNITS is info and does not fail (0.5: half a font unit, invisible on the grid)");
-  cmd->add_flag("--strict", args->strict, "with --min-severity: info findings fail too");
+                  "fonts: each finding's severity is the smallest certified move (font units) found that removes it; "
+                  "one below UNITS is info and does not fail (default 0.5: half a font unit, invisible on the grid)");
+  cmd->add_flag("--no-severity", args->no_severity, "fonts: no severity: every finding fails (faster)");
+  cmd->add_flag("--strict", args->strict, "info findings fail too");
   cmd->add_option("--location", args->location,
                   "variable fonts: the instance to judge, axis tags and user values (wght=700,opsz=14); default: the "
                   "default instance");
@@ -230,7 +232,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     std::optional<MixedRun> parts;
     if (mixed) parts.emplace(args->out);
     if (!space.empty()) {
-      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--strict", "--backend",
+      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--no-severity", "--strict", "--backend",
                                "--device"})
         if (cmd->count(flag) > 0)
           throw InputError(std::string(flag) + ": not for space curves (" + space +
@@ -284,8 +286,11 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
     if (args->min_severity != -1 && !(args->min_severity >= 0 && std::isfinite(args->min_severity)))
       throw InputError("--min-severity: " + std::to_string(args->min_severity) + " is not a distance >= 0");
-    if (args->strict && args->min_severity < 0) throw InputError("--strict: only with --min-severity");
+    if (args->no_severity && args->min_severity >= 0)
+      throw InputError("--no-severity: not with --min-severity");
+    if (args->strict && args->no_severity) throw InputError("--strict: not with --no-severity (no finding is info)");
     o.min_severity = args->min_severity;
+    o.font_severity = !args->no_severity;
     o.strict = args->strict;
     o.max_depth = args->depth;
     o.regions = !args->no_thumbnails;

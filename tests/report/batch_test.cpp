@@ -404,7 +404,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
                                     " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
-                                    " --backend cpu --quiet --out " + out.string());
+                                    " --no-severity --backend cpu --quiet --out " + out.string());
   ASSERT_EQ(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
   for (const auto& e : fs::recursive_directory_iterator(out))
@@ -425,7 +425,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
                                     " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
-                                    " --no-fixes --backend cpu --out " + out.string());
+                                    " --no-fixes --no-severity --backend cpu --out " + out.string());
   ASSERT_EQ(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
   for (const auto& e : fs::recursive_directory_iterator(out))
@@ -466,7 +466,7 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
     fs::remove_all(out);
     const test::Outcome o = test::run(std::string("report ") + other +
                                       " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
-                                      " --no-fixes --backend cpu --out " + out.string());
+                                      " --no-fixes --no-severity --backend cpu --out " + out.string());
     ASSERT_EQ(o.code, 1) << o.err;
     std::uintmax_t bytes = 0;
     for (const auto& e : fs::recursive_directory_iterator(out))

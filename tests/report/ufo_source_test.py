@@ -111,8 +111,22 @@ def main():
         r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
                 "--min-severity", "1000", "--strict", "--out", "rs3", "--no-thumbnails", "--quiet", cwd=tmp)
         check("--strict: info findings fail too", r.returncode == 1, r.stdout)
-        r = run("report", "Nimbus.ufo", "--strict", "--out", "rs4", cwd=tmp)
-        check("--strict without --min-severity: exit 2", r.returncode == 2 and "--strict" in r.stderr, r.stderr)
+        r = run("report", "Nimbus.ufo", "--strict", "--no-severity", "--out", "rs4", cwd=tmp)
+        check("--strict with --no-severity: exit 2", r.returncode == 2 and "--strict" in r.stderr, r.stderr)
+        # severity is on by default for fonts (threshold 0.5), off with --no-severity
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--out", "rs5", "--no-thumbnails", "--quiet", cwd=tmp)
+        default = [f for s in json.load(open(os.path.join(tmp, "rs5", "report.json")))["splines"]
+                   for f in s.get("findings", [])] if r.returncode in (0, 1) else []
+        check("by default a font's findings have their severity (as --min-severity 0.5)",
+              default and len(default) == len(found) and all(
+                  "severity" in f and f["level"] in ("info", "error") for f in default), str(default[:2]))
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
+                "--no-severity", "--out", "rs6", "--no-thumbnails", "--quiet", cwd=tmp)
+        plain = [f for s in json.load(open(os.path.join(tmp, "rs6", "report.json")))["splines"]
+                 for f in s.get("findings", [])] if r.returncode in (0, 1) else []
+        check("--no-severity: no severity, every finding an error", plain and r.returncode == 1 and all(
+            "severity" not in f and f.get("level", "error") == "error" for f in plain), str(plain[:2]))
 
         r = run("report", "DejaVu.ufo", "--glyphs", "all", "--out", "r2", "--no-thumbnails", "--quiet", cwd=tmp)
         check("a TrueType-flavoured (qcurve) UFO reports every glyph", r.returncode in (0, 1) and "52 glyphs" in r.stdout,

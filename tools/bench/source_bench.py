@@ -1,23 +1,28 @@
 #!/usr/bin/python3
 """Benchmarks of font sources (issue 36 "Speed"; docs/fix.md, docs/report.md).
 
-    source_bench.py CMR [OUT_DIR] [GATES]
+    source_bench.py CMR [OUT_DIR] [GATES] [--report-only]
 
 1. A whole Latin UFO reported with the type gates, without fixes: UFOs of
    DejaVu Sans (TrueType: qcurve) and Nimbus Sans (CFF: curve) made by
    tools/make_test_ufo.py from U+0021..U+017F (about 330 glyphs each), then
    `cmr report UFO --glyphs all --require GATES --no-fixes --no-thumbnails`
    (GATES: curvature-extrema-at-nodes,g2-at-smooth-nodes by default), wall
-   time of the best of 3.
+   time of the best of 3 and its CPU time (user + system), with severity (the
+   default: every finding's smallest certified move, report/severity.hpp) and
+   with --no-severity; the findings, and how many are info (severity below
+   half a font unit).
 2. A glyph's multi-gate on-grid fix: `cmr fix UFO --glyph G --require
    GATES --out TMP` for every glyph
    of A-Z a-z that fails, wall time and outcome each; the median and worst
    time, and how many were fixed.
 
-Prints Markdown tables. Benchmarks, not tests: the numbers depend on the
+--report-only: part 1 alone. Prints Markdown tables. Benchmarks, not tests: the numbers depend on the
 machine (say which when quoting them).
 """
+import json
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -25,14 +30,16 @@ import sys
 import tempfile
 import time
 
-CMR = sys.argv[1]
+REPORT_ONLY = "--report-only" in sys.argv
+ARGV = [a for a in sys.argv if a != "--report-only"]
+CMR = ARGV[1]
 HERE = os.path.dirname(os.path.abspath(__file__))
 MAKE = os.path.join(HERE, "..", "make_test_ufo.py")
 FONTS = {
     "DejaVu Sans": "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
     "Nimbus Sans": "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf",
 }
-GATES = sys.argv[3] if len(sys.argv) > 3 else "curvature-extrema-at-nodes,g2-at-smooth-nodes"
+GATES = ARGV[3] if len(ARGV) > 3 else "curvature-extrema-at-nodes,g2-at-smooth-nodes"
 LATIN = "".join(chr(c) for c in range(0x21, 0x180))
 AZ = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
 
@@ -43,22 +50,40 @@ def timed(args, cwd):
     return time.perf_counter() - t, r
 
 
+def cpu_of(args, cwd):
+    """Wall and CPU seconds (user + system) of one run."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t, r = timed(args, cwd)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return t, after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, r
+
+
 def main():
-    tmp = sys.argv[2] if len(sys.argv) > 2 else tempfile.mkdtemp(prefix="cmr-source-bench-")
+    tmp = ARGV[2] if len(ARGV) > 2 else tempfile.mkdtemp(prefix="cmr-source-bench-")
     os.makedirs(tmp, exist_ok=True)
     print("## Report of a whole Latin UFO, type gates, no fixes\n")
-    print("| font | glyphs | best of 3 (s) | summary |")
-    print("|---|---|---|---|")
+    print("| font | glyphs | severity | best of 3 wall (s) | its CPU (s) | findings | info | glyphs failing |")
+    print("|---|---|---|---|---|---|---|---|")
     for name, path in FONTS.items():
         ufo = os.path.join(tmp, name.replace(" ", "") + "-Latin.ufo")
         subprocess.run(["/usr/bin/python3", MAKE, path, ufo, LATIN], check=True)
-        best, line = float("inf"), ""
-        for k in range(3):
-            t, r = timed(["report", ufo, "--glyphs", "all", "--require", GATES, "--no-fixes", "--no-thumbnails",
-                          "--quiet", "--out", os.path.join(tmp, "report-%d" % k)], tmp)
-            best, line = min(best, t), r.stdout.strip()
         glyphs = len(os.listdir(os.path.join(ufo, "glyphs"))) - 1
-        print("| %s | %d | %.2f | %s |" % (name, glyphs, best, line.split("; wrote")[0]))
+        for mode, extra in (("on (default)", []), ("--no-severity", ["--no-severity"])):
+            best, cpu, line = float("inf"), 0, ""
+            out = os.path.join(tmp, "report")
+            for k in range(3):
+                t, c, r = cpu_of(["report", ufo, "--glyphs", "all", "--require", GATES, "--no-fixes", "--no-thumbnails",
+                                  "--quiet", "--out", out, *extra], tmp)
+                if t < best:
+                    best, cpu, line = t, c, r.stdout.strip()
+            doc = json.load(open(os.path.join(out, "report.json")))
+            findings = [f for sp in doc["splines"] for f in sp.get("findings", [])]
+            info = sum(1 for f in findings if f.get("level") == "info")
+            failing = line.split("glyphs, ", 1)[1].split(" failing")[0] if "glyphs, " in line else "?"
+            print("| %s | %d | %s | %.2f | %.2f | %d | %d | %s |" % (name, glyphs, mode, best, cpu, len(findings), info,
+                                                                 failing))
+    if REPORT_ONLY:
+        return
     print("\n## Multi-gate on-grid fix per failing glyph (A-Z a-z)\n")
     print("| font | failing glyphs | fixed | not fixed | median (s) | worst (s) |")
     print("|---|---|---|---|---|---|")
