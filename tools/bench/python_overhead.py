@@ -8,7 +8,8 @@
     command's summary "seconds", against the whole call);
  3. 10,000 glyph contours through the pen (fontTools -> SplinePen ->
     cmr.judge, as `cmr report` judges them) against `cmr report` on the same
-    glyphs (--no-thumbnails), on as many threads as cores.
+    glyphs (--no-thumbnails, and --no-severity: judging alone, as the pen's
+    verdicts), on as many threads as cores.
 
     PYTHONPATH=build/python /usr/bin/python3 tools/bench/python_overhead.py [CMR_EXE]
 
@@ -167,11 +168,11 @@ def bench_pen(contours_wanted=10000):
     with tempfile.TemporaryDirectory() as out:
         t0 = time.perf_counter()
         p = subprocess.run([CMR, "report", *[p for p, _, _ in chosen], "--glyphs", GLYPHS, "--require", "cmrwi",
-                            "--no-thumbnails", "--quiet", "--out", out], check=False, capture_output=True, text=True)
+                            "--no-thumbnails", "--no-severity", "--quiet", "--out", out], check=False, capture_output=True, text=True)
         cli = time.perf_counter() - t0
     print(f"   Python (fontTools + SplinePen + cmr.judge_many): {py:6.2f} s "
           f"(of which {drawing:.2f} s fontTools drawing through the pen, {py - drawing:.2f} s judging)")
-    print(f"   cmr report --no-thumbnails:                      {cli:6.2f} s ({p.stdout.strip()})")
+    print(f"   cmr report --no-thumbnails --no-severity:        {cli:6.2f} s ({p.stdout.strip()})")
     print(f"   Python (the same through cmr.JudgeQueue):          {py_queue:6.2f} s (drawing and judging overlapped)")
     print(f"   ratio {py / cli:.2f} (judge_many after drawing), {py_queue / cli:.2f} (JudgeQueue); "
           f"judging alone {(py - drawing) / cli:.2f} ({len(results)} contours, {statuses.count('pass')} pass)")
