@@ -144,11 +144,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   p.hdr[HDR_PIECE_LEVELS] = static_cast<uint32_t>(s.piece_levels);
   const int pieces = (2 << s.piece_levels) - 1;
 
-  // dx, dy of every column and row, exactly as cmr::classify_position forms them.
+  // dx, dy of every column and row, exactly as cmr::classify_position forms them
+  // (scaled: kernel_displacement).
   p.hdr[HDR_DX_OFFSET] = p.size();
-  for (int i = 0; i < o.width; ++i) p.values(pixel_center(*o.view, o.width, o.height, i, 0).x - s.anchor.x, 0);
+  for (int i = 0; i < o.width; ++i)
+    p.values(cmr::backend::kernel_displacement(s, pixel_center(*o.view, o.width, o.height, i, 0).x - s.anchor.x), 0);
   p.hdr[HDR_DY_OFFSET] = p.size();
-  for (int j = 0; j < o.height; ++j) p.values(pixel_center(*o.view, o.width, o.height, 0, j).y - s.anchor.y, 0);
+  for (int j = 0; j < o.height; ++j)
+    p.values(cmr::backend::kernel_displacement(s, pixel_center(*o.view, o.width, o.height, 0, j).y - s.anchor.y), 0);
 
   std::vector<bool> in_entry(N, false), touched(N, false);
   p.hdr[HDR_ENTRIES] = static_cast<uint32_t>(s.entries.size());
