@@ -17,6 +17,7 @@
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "vk/context.hpp"
+#include "vk/space_region_vk.hpp"
 
 namespace cmr::vk {
 namespace {
@@ -420,6 +421,21 @@ std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, 
     case BackendKind::vulkan:
       return std::make_shared<DeferredVulkanBackend>(vulkan_options(choice), choice.loader_selection, book,
                                                      std::move(note));
+  }
+  CMR_CHECK(false);
+  return nullptr;
+}
+
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const BackendChoice& choice) {
+  switch (choice.kind) {
+    case BackendKind::cpu:
+    case BackendKind::automatic:
+      return std::make_shared<CpuSpaceRegionBackend>();
+    case BackendKind::vulkan: {
+      SpaceRegionVkOptions o;
+      o.device = choice.device;
+      return std::make_shared<VulkanSpaceRegionBackend>(o);
+    }
   }
   CMR_CHECK(false);
   return nullptr;

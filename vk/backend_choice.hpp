@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "bezierize/region.hpp"
+#include "bezierize/space_region.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::vk {
@@ -126,6 +127,12 @@ using BackendNote = std::function<void(const std::string&)>;
 /// per fallback: automatic without a candidate device, a Vulkan failure
 /// after the device opened, a pipeline cache file that is not used.
 std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, BackendNote note = {});
+
+/// The space-region backend of `choice` (bezierize/space_region.hpp): cpu
+/// and automatic render on the CPU (automatic has no measured rule for space
+/// curves: their device runs are not timed yet), vulkan on the device
+/// `device` names (VulkanSpaceRegionBackend, vk/space_region_vk.hpp).
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const BackendChoice& choice);
 
 /// The text of automatic's fallback note.
 inline constexpr const char* kCpuFallbackNote =

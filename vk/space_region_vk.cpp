@@ -6,6 +6,7 @@
 
 #include "shaders/space_region_layout.h"
 #include "space_region_fp64_frag.h"
+#include "spline/errors.hpp"
 #include "spline/parallel.hpp"
 #include "vk/buffer_packer.hpp"
 #include "vk/fragment_pipeline.hpp"
@@ -186,6 +187,16 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+RegionResult VulkanSpaceRegionBackend::render(const SpaceRegionProblem& problem) {
+  stats_ = {};
+  auto rendered = render_space_region_vulkan(problem, options_, &stats_);
+  if (!rendered) {
+    if (rendered.error().code == Errc::size_unsupported) throw InputError(rendered.error().message);
+    throw EnvironmentError(rendered.error().message);
+  }
+  return rendered.take();
 }
 
 }  // namespace cmr::vk
