@@ -14,6 +14,7 @@
 #include "bezierize/pixel_simd.hpp"
 #include "bezierize/space_region.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #ifdef CMR_WITH_VULKAN
 #include "vk/backend_choice.hpp"
 #endif
@@ -112,8 +113,9 @@ class NoVulkanSpaceBackend final : public SpaceRegionBackend {
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
                                                    const std::string& device, int frames) {
 #ifdef CMR_WITH_VULKAN
-  return vk::make_region_backend(backend_choice(backend, precision, device, frames),
-                                 [](const std::string& note) { std::cerr << "note: " << note << '\n'; });
+  return vk::make_region_backend(backend_choice(backend, precision, device, frames), [](const std::string& note) {
+    std::cerr << "note: " << show_fields(note) << '\n';
+  });
 #else
   (void)precision;
   (void)device;
@@ -131,6 +133,30 @@ std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const std::string&
   return std::make_shared<NoVulkanSpaceBackend>();
 #endif
 }
+
+std::string show_fields(const std::string& marked) {
+  // Each library field (spline/fields.hpp) and the flag that sets it: the one
+  // place the command names the libraries' option fields.
+  static const std::map<std::string, std::string> flags = {
+      {"backend", "--backend"}, {"each_piece", "--each-piece"}, {"split", "--split"}, {"with", "--with"}};
+  std::string out;
+  for (std::size_t at = 0; at < marked.size();) {
+    const std::size_t open = marked.find(kFieldMark, at);
+    const std::size_t close = open == std::string::npos ? open : marked.find(kFieldMark, open + 1);
+    if (close == std::string::npos) {
+      out.append(marked, at, std::string::npos);
+      break;
+    }
+    out.append(marked, at, open - at);
+    const std::string name = marked.substr(open + 1, close - open - 1);
+    const auto it = flags.find(name);
+    out += it != flags.end() ? it->second : name;
+    at = close + 1;
+  }
+  return out;
+}
+
+std::string shown_message(const std::exception& e) { return show_fields(marked_text(e)); }
 
 void read_environment() {
   std::string warning;

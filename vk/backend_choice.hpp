@@ -120,7 +120,8 @@ struct ListedDevice {
 std::string auto_backend_device(const std::vector<ListedDevice>& devices, const std::string& wanted = "");
 
 /// Receives the one-line notes of fallbacks (the cmr command prints them on
-/// stderr as "note: ...").
+/// stderr as "note: ..."). A note may name option fields, marked
+/// (spline/fields.hpp): plain_fields gives their names.
 using BackendNote = std::function<void(const std::string&)>;
 
 /// The backend of `choice` (see the header comment). `note` is called once
