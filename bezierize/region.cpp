@@ -27,6 +27,13 @@ namespace {
 
 double rounded(const Rational& q) { return q.get_d(); }
 
+// q 2^-e, exactly.
+Rational scaled(Rational q, int e) {
+  if (e > 0) mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
+  if (e < 0) mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
+  return q;
+}
+
 // The point group: k first, then the rigid members without repeats. On a
 // closed spline every member brings its twin in the unrolled form (the same
 // control point), so the curve stays closed.
@@ -82,7 +89,7 @@ void mark_fixed_failures(RegionSetup& s, const std::vector<bool>& touched) {
   }
 }
 
-// B0 and w of segment g exactly (w: the blossom of the data that is 1 on the
+// B0 (scaled by 2^-scale_exponent) and w of segment g exactly (w: the blossom of the data that is 1 on the
 // group within the window and 0 elsewhere), and both rounded with bounds.
 void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   const int d = s.spline().degree();
@@ -108,6 +115,8 @@ void set_moved_points(const RegionSetup& s, const Segment& g, RegionEntry& e) {
   } else {
     e.base_exact = bezier_values(window.points);
   }
+  if (s.scale_exponent != 0)  // the kernel's problem (RegionSetup::scale_exponent); weights are not lengths
+    for (Point<Rational>& b : e.base_exact) b = {scaled(b.x, s.scale_exponent), scaled(b.y, s.scale_exponent)};
   for (int i = 0; i <= d; ++i) {
     // Rounding to nearest: error at most half an ulp, bounded by u |v|.
     const double bx = rounded(e.base_exact[i].x), by = rounded(e.base_exact[i].y);
@@ -280,6 +289,13 @@ std::vector<Direction> group_verdicts(const VerdictTemplate& t, const std::vecto
   return out;
 }
 
+int kernel_scale_exponent(const BSpline& spline) {
+  double m = 0;
+  for (const Vec2& p : spline.points()) m = std::max({m, std::fabs(p.x), std::fabs(p.y)});
+  if (m == 0 || !std::isfinite(m) || (m >= 0x1p-64 && m <= 0x1p64)) return 0;
+  return std::ilogb(m);
+}
+
 std::shared_ptr<const RegionBase> region_base(const BSpline& spline, int max_depth) {
   AnalyzeOptions ao;
   ao.classify.max_depth = max_depth;
@@ -310,6 +326,8 @@ RegionSetup prepare_region(const BSpline& spline, const RegionRequest& options,
   }
   s.group = point_group(spline, options);
   s.anchor = spline.points()[options.point];
+  s.scale_exponent = kernel_scale_exponent(spline);
+  s.scale = std::ldexp(1.0, -s.scale_exponent);
   s.range = judged_range(options.segments, spline.segment_count());
   s.cuts = options.split        ? std::vector<int>{*options.split}
            : options.each_piece ? each_piece_cuts(s.range, options.splits)
@@ -734,7 +752,9 @@ Truth level0_fails(const RegionEntry& e, const Monomials& mono, bool cmr) {
 
 PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
   if (s.fixed_level0_none) return {0, 0, false};
-  const Rational dx = Rational(p.x) - Rational(s.anchor.x), dy = Rational(p.y) - Rational(s.anchor.y);
+  // In the entries' scale (RegionSetup::scale_exponent): B = B0 + w d, all scaled by 2^-e.
+  const Rational dx = scaled(Rational(p.x) - Rational(s.anchor.x), s.scale_exponent),
+                 dy = scaled(Rational(p.y) - Rational(s.anchor.y), s.scale_exponent);
   const RegionRequest& o = s.options;
   std::vector<std::vector<Point<Rational>>> B(s.entries.size());
   std::vector<Bernstein<Rational>> xi(s.entries.size()), nu(s.entries.size());
@@ -959,8 +979,8 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
   double dx[kStrideMax] = {}, dy[kStrideMax] = {};
   bool done[kStrideMax] = {};
   for (int i = 0; i < count; ++i) {
-    dx[i] = p[i].x - s.anchor.x;
-    dy[i] = p[i].y - s.anchor.y;
+    dx[i] = kernel_displacement(s, p[i].x - s.anchor.x);
+    dy[i] = kernel_displacement(s, p[i].y - s.anchor.y);
   }
   static thread_local std::vector<double> batch, bounds, values, pixel_bounds;  // reused: no heap per pixel
   batch.resize(static_cast<std::size_t>(k.values) * stride);
@@ -1220,17 +1240,20 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
 }
 
 // The displacements of pixel columns i0..i1 (inclusive), enclosing the exact
-// values: the ends are rounded once, so widen them by a relative u.
-Interval displacement_range(double first, double last, double anchor) {
+// values: the ends are rounded once, so widen them by a relative u; then
+// scaled as the kernel takes them (kernel_displacement: NaN where scaling
+// would be inexact).
+Interval displacement_range(const RegionSetup& s, double first, double last, double anchor) {
   const double lo = first - anchor, hi = last - anchor;
-  return {lo - 0.5 * Bounded::kRound * std::fabs(lo), hi + 0.5 * Bounded::kRound * std::fabs(hi)};
+  return {kernel_displacement(s, lo - 0.5 * Bounded::kRound * std::fabs(lo)),
+          kernel_displacement(s, hi + 0.5 * Bounded::kRound * std::fabs(hi))};
 }
 
 }  // namespace
 
 PixelResult classify_position(const RegionSetup& s, Vec2 p) {
   // dx = fl(p - P_k): one rounding, relative to |dx|, covered by kPolyErrorUnits.
-  const double dx = p.x - s.anchor.x, dy = p.y - s.anchor.y;
+  const double dx = kernel_displacement(s, p.x - s.anchor.x), dy = kernel_displacement(s, p.y - s.anchor.y);
   const Bounded bx(dx, 0.5 * Bounded::kRound * std::fabs(dx)), by(dy, 0.5 * Bounded::kRound * std::fabs(dy));
   if (const auto r = classify_fast(s, Monomials(dx, dy), bx, by)) return *r;
   return classify_position_exact(s, p);
@@ -1247,10 +1270,11 @@ std::optional<PixelResult> classify_block_with(const RegionSetup& s, int i0, int
   const RegionRequest& o = s.options;
   const View& v = *o.view;
   // Columns run left to right (x grows with i), rows top to bottom (y falls with j).
-  const Interval x = displacement_range(pixel_center(v, o.width, o.height, i0, 0).x,
-                                        pixel_center(v, o.width, o.height, i1, 0).x, s.anchor.x);
-  const Interval y = displacement_range(pixel_center(v, o.width, o.height, 0, j1).y,
-                                        pixel_center(v, o.width, o.height, 0, j0).y, s.anchor.y);
+  const Interval x = displacement_range(s, pixel_center(v, o.width, o.height, i0, 0).x,
+                                           pixel_center(v, o.width, o.height, i1, 0).x, s.anchor.x);
+  const Interval y = displacement_range(s, pixel_center(v, o.width, o.height, 0, j1).y,
+                                           pixel_center(v, o.width, o.height, 0, j0).y, s.anchor.y);
+  if (std::isnan(x.lo) || std::isnan(x.hi) || std::isnan(y.lo) || std::isnan(y.hi)) return std::nullopt;
   // Centre and half-width enclosing [lo, hi] despite their rounding.
   const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
   const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());

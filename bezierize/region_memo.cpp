@@ -390,7 +390,8 @@ RegionProblem RegionMemo::make(const BSpline& spline, const RegionRequest& reque
   const backend::EntrySource entry = [this](const backend::RegionSetup& s, int segment, bool classify) {
     const BSpline& before = s.spline();
     const Segment& g = before.segments()[segment];
-    Key k{'E', classify ? 1u : 0u, static_cast<std::uint64_t>(s.piece_levels)};
+    Key k{'E', classify ? 1u : 0u, static_cast<std::uint64_t>(s.piece_levels),
+          static_cast<std::uint64_t>(static_cast<std::int64_t>(s.scale_exponent))};  // entries are scaled by it
     push_window(k, before, g);
     const int first = g.span - before.degree() + 1;
     for (int i = first; i <= first + before.degree(); ++i)  // which window points the group moves

@@ -8,6 +8,7 @@
 
 #include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 
@@ -96,16 +97,17 @@ namespace cmr::backend {
 
 void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   const int m = spline.point_count();
-  auto check_point = [&](int k, const char* what) {
+  auto check_point = [&](int k, const std::string& what) {
     if (k < 0 || k >= m)
-      throw InputError(std::string(what) + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
+      throw InputFieldError(what + " " + std::to_string(k) + " is out of range 0.." + std::to_string(m - 1));
   };
   check_point(o.point, "point");
+  const std::string with = field("with") + " point ";
   for (int g : o.with) {
-    check_point(g, "--with point");
-    if (g == o.point) throw InputError("--with point " + std::to_string(g) + " is the moved point itself");
+    check_point(g, field("with") + " point");
+    if (g == o.point) throw InputFieldError(with + std::to_string(g) + " is the moved point itself");
     if (std::count(o.with.begin(), o.with.end(), g) > 1)  // it would move twice as far
-      throw InputError("--with point " + std::to_string(g) + " is named twice");
+      throw InputFieldError(with + std::to_string(g) + " is named twice");
   }
   for (int v : {o.width, o.height})
     if (v < 1 || v > kMaxImageSize)
@@ -117,7 +119,8 @@ void validate_region_options(const BSpline& spline, const RegionRequest& o) {
   validate_cuts(o.splits, range, N);
   if (o.split && !o.splits.empty()) throw InputError("give one split joint or a list of them, not both");
   if (o.split && o.each_piece)
-    throw InputError("--split and --each-piece exclude each other: give the joints to --each-piece");
+    throw InputFieldError(field("split") + " and " + field("each_piece") + " exclude each other: give the joints to " +
+                          field("each_piece"));
   if (o.max_depth < 0 || o.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(o.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
   if (o.view) {

@@ -24,8 +24,10 @@
 // Labels travel here as their 8-bit codes (code() in region.hpp): the same
 // word the shader returns; RegionResult decodes them into typed labels.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -152,12 +154,42 @@ struct RegionSetup {
   /// every other joint (as analyze does): the verdict template ends with
   /// neutral_class() after segment N-1, the seam being the joint before it.
   bool around = false;
+  /// The floating-point kernel works on the problem scaled by 2^-scale_exponent:
+  /// the entries' Bezier points (base_exact, base; their piece polynomials xi,
+  /// nu) and every displacement (kernel_displacement). A power of two scales
+  /// every rounded value and every bound's |terms| exactly, and the labels do
+  /// not change: each sign decided is that of a polynomial homogeneous in the
+  /// coordinates (lambda, eta, the curvature jumps), so scaling them by a
+  /// positive factor keeps it. Without it, coordinates near 2^+-300 put the
+  /// polynomials' values (degree 4 and more in the coordinates) beyond the
+  /// double range, and every pixel fell to the exact path.
+  /// kernel_scale_exponent: 0 for ordinary data (the kernel then computes
+  /// exactly what it computed before the scaling existed).
+  int scale_exponent = 0;
+  double scale = 1;  ///< 2^-scale_exponent
 
   const BSpline& spline() const { return base->spline; }                          ///< before the move
   const std::vector<SegmentClass>& fixed() const { return base->analysis.segments; }  ///< every segment's class before the move
   const std::vector<Joint>& joints() const { return base->analysis.joints; }          ///< before the move
   const Joint& seam() const { return *base->analysis.seam; }                          ///< closed splines only
 };
+
+/// The exponent e of RegionSetup::scale_exponent for a spline: 0 when the
+/// largest control point coordinate M is 0 or lies in [2^-64, 2^64] (the
+/// kernel's values, of degree at most 12 in the coordinates, stay inside
+/// 2^+-768, far from overflow and from the 2^-1020 slack for underflow), and
+/// otherwise the binary exponent of M (M 2^-e in [1, 2)).
+int kernel_scale_exponent(const BSpline& spline);
+
+/// A displacement d = fl(p - P_k) as the kernel takes it: d 2^-scale_exponent,
+/// exact (one rounding relative to |d|, as before). Where scaling down would
+/// make a non-zero d subnormal (and so inexact), NaN: every sign computed
+/// from it is then uncertain, and the position goes to the exact path.
+inline double kernel_displacement(const RegionSetup& s, double d) {
+  const double scaled = d * s.scale;
+  if (s.scale < 1 && d != 0 && !(std::fabs(scaled) >= 0x1p-1022)) return std::numeric_limits<double>::quiet_NaN();
+  return scaled;
+}
 
 /// Levels of precomputed piece polynomials: deeper pieces are halved per pixel.
 inline constexpr int kPieceLevels = 3;

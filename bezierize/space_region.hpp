@@ -123,4 +123,34 @@ class SpaceRegionProblem {
   std::shared_ptr<const State> state_;
 };
 
+/// Where space regions are rendered: RegionBackend's interface (region.hpp)
+/// for space curves. Every backend gives every pixel the label of
+/// SpaceRegionProblem::classify at its centre. make_space_region_backend
+/// (vk/backend_choice.hpp) builds one from the same BackendChoice as the
+/// planar backends.
+class SpaceRegionBackend {
+ public:
+  virtual ~SpaceRegionBackend() = default;
+  /// Throws InputError for a problem this backend cannot take or a render
+  /// over its time limit, EnvironmentError when its environment fails.
+  virtual RegionResult render(const SpaceRegionProblem& problem) = 0;
+  /// "cpu", "vulkan".
+  virtual std::string name() const = 0;
+  /// Of the last render, the pixels a device left to the CPU (it could not
+  /// certify them); nullopt for a backend that renders on the CPU alone.
+  virtual std::optional<std::size_t> host_pixels() const { return std::nullopt; }
+};
+
+/// All on the host: SpaceRegionProblem::render.
+class CpuSpaceRegionBackend final : public SpaceRegionBackend {
+ public:
+  /// threads: 0 uses every core.
+  explicit CpuSpaceRegionBackend(int threads = 0) : threads_(threads) {}
+  RegionResult render(const SpaceRegionProblem& problem) override { return problem.render(threads_); }
+  std::string name() const override { return "cpu"; }
+
+ private:
+  int threads_;
+};
+
 }  // namespace cmr

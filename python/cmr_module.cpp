@@ -66,6 +66,7 @@
 #include "report/space_report.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/limits.hpp"
 #include "spline/space.hpp"
 #include "spline/spline_json.hpp"
@@ -556,7 +557,9 @@ std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a,
                                       : vk::BackendKind::vulkan;
   choice.precision = a.precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
   choice.device = a.device;
-  return vk::make_region_backend(choice, note);
+  return vk::make_region_backend(choice, [note](const std::string& n) {
+    if (note) note(plain_fields(n));  // fields by their names (spline/fields.hpp)
+  });
 #else
   (void)note;
   if (a.backend == "vulkan") throw EnvironmentError("this cmr module was built without Vulkan (CMR_WITH_VULKAN=OFF)");

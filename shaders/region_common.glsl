@@ -38,22 +38,7 @@ layout(location = 0) out uint result;
 
 #include "piece_rules.glsl"
 
-REAL2 b_add(REAL2 a, REAL2 b) {
-  precise REAL r = a.x + b.x;
-  precise REAL e = a.y + b.y + K_ROUND * abs(r);
-  return REAL2(r, e);
-}
-REAL2 b_sub(REAL2 a, REAL2 b) {
-  precise REAL r = a.x - b.x;
-  precise REAL e = a.y + b.y + K_ROUND * abs(r);
-  return REAL2(r, e);
-}
-REAL2 b_mul(REAL2 a, REAL2 b) {
-  precise REAL r = a.x * b.x;
-  precise REAL e = abs(a.x) * b.y + abs(b.x) * a.y + a.y * b.y + K_ROUND * abs(r) + K_TINY;
-  return REAL2(r, e);
-}
-REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
+#include "bounded.glsl"
 REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
 
 // ---------------------------------------------------------------------------

@@ -1,4 +1,5 @@
 #version 450
+#extension GL_GOOGLE_include_directive : require
 // Regions of a point of a polynomial space curve moving in a plane, one pixel
 // per invocation: the GPU mirror of one part of
 // cmr::SpaceRegionProblem::classify (bezierize/space_region.cpp). One run
@@ -9,29 +10,33 @@
 // host (vk/space_region_vk.cpp) then classifies the pixel on the CPU, so the
 // labels equal the CPU backend's.
 //
-// Buffer (std430): uint hdr[16], then dvec2 data[] (value, error bound):
-//   hdr[0] width, hdr[1] height, hdr[2] mode (0 segment, 1 joint),
-//   hdr[3] offset of the plane coordinate a per column (width entries),
-//   hdr[4] offset of b per row (height entries), hdr[5] offset of the plane
-//   (O, U, V: nine entries, exact), hdr[6] offset of the segment data:
-//   for each of the DEG+1 Bezier points B_k = F_k + m_k Q (Q the moved
-//   point), the entries F_k.x, F_k.y, F_k.z, m_k; a joint run has the left
-//   segment's then the right segment's.
-// Rational curves (RAT = 1, modes 2 and 3): hdr[3], hdr[4] hold the
-// offsets x = a - a0 per column and y = b - b0 per row (with rounding
-// bounds), hdr[6] the polynomials in (x, y) the host derived exactly
+// Buffer (std430; names in shaders/space_region_layout.h, shared with the
+// packer vk/space_region_vk.cpp): uint hdr[SPACE_HDR_WORDS], then dvec2
+// data[] (value, error bound), offsets counting pairs. SPACE_HDR_MODE:
+// SPACE_MODE_SEGMENT or SPACE_MODE_JOINT; SPACE_HDR_COLUMN_OFFSET: the plane
+// coordinate a per column (width entries); SPACE_HDR_ROW_OFFSET: b per row
+// (height entries); SPACE_HDR_PLANE_OFFSET: the plane (O, U, V: nine
+// entries, exact); SPACE_HDR_DATA_OFFSET: the segment data: for each of the
+// DEG+1 Bezier points B_k = F_k + m_k Q (Q the moved point), the entries
+// F_k.x, F_k.y, F_k.z, m_k; a joint run has the left segment's then the
+// right segment's.
+// Rational curves (RAT = 1, SPACE_MODE_RATIONAL_SEGMENT and _JOINT): the
+// column and row entries hold the offsets x = a - a0 per column and
+// y = b - b0 per row (with rounding bounds), SPACE_HDR_DATA_OFFSET the
+// polynomials in (x, y) the host derived exactly
 // (SpaceRegionProblem::rational_lambda3 / rational_jump): terms x^p y^q,
-// p + q <= D, ordered p = 0..D, q = 0..D-p. Mode 2: the NL coefficients of
-// lambda3 (degree 11n-18), each of degree hdr[7]; then Algorithm 1 as in
-// mode 0. Mode 3: gl, gr, D of a joint, of degrees hdr[7], hdr[8], hdr[9];
-// the jump rule of mode 1.
-// Result word: mode 0 and 2: curvature code (0 increasing, 1 decreasing,
-// 2 non-monotone, 3 undecided, 4 constant) | depth << 8; mode 1: jump sign
+// p + q <= D, ordered p = 0..D, q = 0..D-p. A segment: the NL coefficients
+// of lambda3 (degree 11n-18), each of degree hdr[SPACE_HDR_DEGREE]; then
+// Algorithm 1 as for a polynomial segment. A joint: gl, gr, D, of degrees
+// hdr[SPACE_HDR_DEGREE + 0, 1, 2]; the jump rule of a polynomial joint.
+// Result word: segments: curvature code (0 increasing, 1 decreasing,
+// 2 non-monotone, 3 undecided, 4 constant) | depth << 8; joints: jump sign
 // + 1; or RESULT_UNCERTAIN.
 #define REAL double
 #define REAL2 dvec2
 #define K_ROUND 2.220446049250313080847263336181640625e-16LF     // 2^-52
 #define K_TINY 9.332636185032188789900895447238171696171e-302LF  // 2^-1000
+#include "space_region_layout.h"
 
 layout(constant_id = 0) const int DEG = 3;    // degree n of the segments, 2..7
 layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
@@ -43,37 +48,22 @@ const int NC2 = 4 * DEG - 7;    // |c|^2 (4n-8)
 const int NG = 2 * DEG - 1;     // g = |P'|^2 (2n-2)
 const int NLP = 6 * DEG - 10;   // lambda3 of a polynomial curve (6n-11)
 const int NL = RAT * (11 * DEG - 17) + (1 - RAT) * NLP;  // the lambda3 Algorithm 1 runs on
-const int MAXPOLY = 8;          // highest degree of a mode 2/3 polynomial in (x, y)
-const uint RESULT_UNCERTAIN = 65536u;
+const int MAXPOLY = 8;          // highest degree of a rational run's polynomial in (x, y)
 
 layout(std430, set = 0, binding = 0) readonly buffer SpaceData {
-  uint hdr[16];
+  uint hdr[SPACE_HDR_WORDS];
   REAL2 data[];
 };
 layout(location = 0) out uint result;
 
-REAL2 b_add(REAL2 a, REAL2 b) {
-  precise REAL r = a.x + b.x;
-  precise REAL e = a.y + b.y + K_ROUND * abs(r);
-  return REAL2(r, e);
-}
-REAL2 b_sub(REAL2 a, REAL2 b) {
-  precise REAL r = a.x - b.x;
-  precise REAL e = a.y + b.y + K_ROUND * abs(r);
-  return REAL2(r, e);
-}
-REAL2 b_mul(REAL2 a, REAL2 b) {
-  precise REAL r = a.x * b.x;
-  precise REAL e = abs(a.x) * b.y + abs(b.x) * a.y + a.y * b.y + K_ROUND * abs(r) + K_TINY;
-  return REAL2(r, e);
-}
+#include "bounded.glsl"
+#include "piece_rules.glsl"
 // a / d for an exact integer d != 0.
 REAL2 b_div_int(REAL2 a, REAL d) {
   precise REAL r = a.x / d;
   precise REAL e = (a.y / abs(d)) * (REAL(1) + REAL(2) * K_ROUND) + K_ROUND * abs(r) + K_TINY;
   return REAL2(r, e);
 }
-REAL2 b_half(REAL2 a) { return REAL2(REAL(0.5) * a.x, REAL(0.5) * a.y + K_TINY); }
 REAL2 b_exact(REAL v) { return REAL2(v, REAL(0)); }
 
 // C(n, k), exact in double for the sizes here (n <= 6 DEG).
@@ -81,13 +71,6 @@ REAL binom(int n, int k) {
   REAL c = REAL(1);
   for (int i = 0; i < k; ++i) c = c * REAL(n - i) / REAL(i + 1);
   return c;
-}
-
-const int SIGN_UNKNOWN = 2;
-int b_sign(REAL2 a) {
-  if (abs(a.x) > a.y) return a.x > REAL(0) ? 1 : -1;  // false for NaN: unknown
-  if (a.y == REAL(0) && a.x == REAL(0)) return 0;     // an exact (structural) zero
-  return SIGN_UNKNOWN;
 }
 
 REAL2 Q[3];
@@ -166,39 +149,15 @@ void lambda3() {
 }
 
 // Algorithm 1 on lam: decide.hpp's traverse with BernsteinSource (halves at
-// t = 1/2, right halves on a stack) and MonotonicityFold (classify.cpp).
-const int P_INC = 0, P_DEC = 1, P_ZERO = 2, P_NONMONO = 3, P_SPLIT = 6, P_UNCERTAIN = 7;
-const int T_NO = 0, T_YES = 1, T_UNKNOWN = 2;
-int ends_opposite(int first, int last) {
-  if (first == 0 || last == 0) return T_NO;
-  if (first == SIGN_UNKNOWN || last == SIGN_UNKNOWN) return T_UNKNOWN;
-  return first != last ? T_YES : T_NO;
-}
+// t = 1/2, right halves on a stack) and MonotonicityFold (classify.cpp); each
+// piece decided by the shared rule (piece_rules.glsl's decide_piece, the one
+// tests/vk/piece_rules_test.cpp checks against the C++ core) on `cur`.
 REAL2 cur[NL];
 REAL2 pending[(MAXD + 1) * NL];
 REAL2 work[NL];
 
-int piece_rule() {
-  int first = b_sign(cur[0]);
-  int last = NL > 1 ? b_sign(cur[NL - 1]) : first;
-  int pos = 0, neg = 0, zero = 0, unk = 0;
-  for (int t = 0; t < (NL > 1 ? 2 : 1); ++t) {
-    int s = t == 0 ? first : last;
-    if (s == SIGN_UNKNOWN) ++unk; else if (s > 0) ++pos; else if (s < 0) ++neg; else ++zero;
-  }
-  for (int k = 1; k + 1 < NL && !(pos > 0 && neg > 0); ++k) {
-    int s = b_sign(cur[k]);
-    if (s == SIGN_UNKNOWN) ++unk; else if (s > 0) ++pos; else if (s < 0) ++neg; else ++zero;
-  }
-  int ends = ends_opposite(first, last);
-  if (ends == T_YES) return P_NONMONO;
-  bool ge = neg == 0 && unk == 0, le = pos == 0 && unk == 0;
-  if (ge && le) return P_ZERO;
-  if (ge) return P_INC;
-  if (le) return P_DEC;
-  if (pos > 0 && neg > 0 && ends == T_NO) return P_SPLIT;
-  return P_UNCERTAIN;
-}
+REAL2 coeff_at(uint e, bool eta, int p, int k) { return cur[k]; }
+int piece_rule() { return decide_piece(0u, false, 0, NL); }
 
 uint algorithm1() {
   for (int k = 0; k < NL; ++k) cur[k] = lam[k];
@@ -307,15 +266,16 @@ REAL2 plane_poly(uint at, int D) {
 
 void main() {
   uint col = uint(gl_FragCoord.x), row = uint(gl_FragCoord.y);
-  if (hdr[2] >= 2u) {  // a rational curve: polynomials in (x, y)
-    int D0 = int(hdr[7]);
-    if (D0 > MAXPOLY || int(hdr[8]) > MAXPOLY || int(hdr[9]) > MAXPOLY) {
+  uint mode = hdr[SPACE_HDR_MODE];
+  if (mode == SPACE_MODE_RATIONAL_SEGMENT || mode == SPACE_MODE_RATIONAL_JOINT) {  // polynomials in (x, y)
+    int D0 = int(hdr[SPACE_HDR_DEGREE]), D1 = int(hdr[SPACE_HDR_DEGREE + 1u]), D2 = int(hdr[SPACE_HDR_DEGREE + 2u]);
+    if (D0 > MAXPOLY || D1 > MAXPOLY || D2 > MAXPOLY) {
       result = RESULT_UNCERTAIN;
       return;
     }
-    plane_powers(data[hdr[3] + col], data[hdr[4] + row]);
-    uint at = hdr[6];
-    if (hdr[2] == 2u) {
+    plane_powers(data[hdr[SPACE_HDR_COLUMN_OFFSET] + col], data[hdr[SPACE_HDR_ROW_OFFSET] + row]);
+    uint at = hdr[SPACE_HDR_DATA_OFFSET];
+    if (mode == SPACE_MODE_RATIONAL_SEGMENT) {
       for (int k = 0; k < NL; ++k) {
         lam[k] = plane_poly(at, D0);
         at += poly_terms(D0);
@@ -324,22 +284,23 @@ void main() {
     } else {
       REAL2 gl = plane_poly(at, D0);
       at += poly_terms(D0);
-      REAL2 gr = plane_poly(at, int(hdr[8]));
-      at += poly_terms(int(hdr[8]));
-      result = jump_word(gl, gr, plane_poly(at, int(hdr[9])));
+      REAL2 gr = plane_poly(at, D1);
+      at += poly_terms(D1);
+      result = jump_word(gl, gr, plane_poly(at, D2));
     }
     return;
   }
-  REAL a = data[hdr[3] + col].x, b = data[hdr[4] + row].x;
-  uint pl = hdr[5];
+  REAL a = data[hdr[SPACE_HDR_COLUMN_OFFSET] + col].x, b = data[hdr[SPACE_HDR_ROW_OFFSET] + row].x;
+  uint pl = hdr[SPACE_HDR_PLANE_OFFSET];
   for (int c = 0; c < 3; ++c)
     Q[c] = b_add(b_add(b_exact(data[pl + uint(c)].x), b_mul(b_exact(a), b_exact(data[pl + uint(3 + c)].x))),
                  b_mul(b_exact(b), b_exact(data[pl + uint(6 + c)].x)));
-  if (hdr[2] == 0u) {
-    load_bezier(hdr[6]);
+  uint at = hdr[SPACE_HDR_DATA_OFFSET];
+  if (mode == SPACE_MODE_SEGMENT) {
+    load_bezier(at);
     lambda3();
     result = algorithm1();
   } else {
-    result = joint_sign(hdr[6], hdr[6] + uint(4 * (DEG + 1)));
+    result = joint_sign(at, at + uint(4 * (DEG + 1)));
   }
 }

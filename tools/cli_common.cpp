@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -11,7 +12,9 @@
 
 #include "bezierize/box_reuse.hpp"
 #include "bezierize/pixel_simd.hpp"
+#include "bezierize/space_region.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #ifdef CMR_WITH_VULKAN
 #include "vk/backend_choice.hpp"
 #endif
@@ -47,15 +50,25 @@ std::string user_cache_dir() {
   return {};
 }
 
-std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
-                                                   const std::string& device, int frames) {
-  CMR_CHECK(precision == "fp64" || precision == "fp32");  // CLI11 checked the choices
-  CMR_CHECK(backend == "cpu" || backend == "auto" || backend == "vulkan");
+namespace {
+
 #ifdef CMR_WITH_VULKAN
+/// The backend each --backend word (kBackendChoices) chooses: the one place
+/// the CLI reads them.
+vk::BackendKind backend_kind(const std::string& word) {
+  static const std::map<std::string, vk::BackendKind> kinds = {
+      {"auto", vk::BackendKind::automatic}, {"vulkan", vk::BackendKind::vulkan}, {"cpu", vk::BackendKind::cpu}};
+  const auto it = kinds.find(word);
+  CMR_CHECK(it != kinds.end());  // CLI11 checked the choices
+  return it->second;
+}
+
+/// The library's aggregate for the options (see make_region_backend).
+vk::BackendChoice backend_choice(const std::string& backend, const std::string& precision, const std::string& device,
+                                 int frames) {
+  CMR_CHECK(precision == "fp64" || precision == "fp32");  // CLI11 checked the choices
   vk::BackendChoice choice;
-  choice.kind = backend == "cpu" ? vk::BackendKind::cpu
-                : backend == "auto" ? vk::BackendKind::automatic
-                                    : vk::BackendKind::vulkan;
+  choice.kind = backend_kind(backend);
   choice.precision = precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
   choice.device = device;
   choice.frames = frames;
@@ -73,14 +86,77 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
                    : f == "pipeline_rejected" ? vk::InjectedFault::pipeline_rejected
                                               : vk::InjectedFault::none;
   }
-  return vk::make_region_backend(choice, [](const std::string& note) { std::cerr << "note: " << note << '\n'; });
+  return choice;
+}
 #else
+/// Whether each --backend word (kBackendChoices) renders on the CPU in a
+/// build without Vulkan: the one place the CLI reads them.
+bool on_cpu(const std::string& word) {
+  static const std::map<std::string, bool> cpu = {{"auto", true}, {"vulkan", false}, {"cpu", true}};
+  const auto it = cpu.find(word);
+  CMR_CHECK(it != cpu.end());  // CLI11 checked the choices
+  return it->second;
+}
+
+/// --backend vulkan of space regions in a build without Vulkan.
+class NoVulkanSpaceBackend final : public SpaceRegionBackend {
+ public:
+  RegionResult render(const SpaceRegionProblem&) override {
+    throw EnvironmentError("this cmr was built without Vulkan; use --backend cpu");
+  }
+  std::string name() const override { return "vulkan"; }
+};
+#endif
+
+}  // namespace
+
+std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision,
+                                                   const std::string& device, int frames) {
+#ifdef CMR_WITH_VULKAN
+  return vk::make_region_backend(backend_choice(backend, precision, device, frames), [](const std::string& note) {
+    std::cerr << "note: " << show_fields(note) << '\n';
+  });
+#else
+  (void)precision;
   (void)device;
   (void)frames;
-  if (backend != "vulkan") return std::make_shared<CpuRegionBackend>();
+  if (on_cpu(backend)) return std::make_shared<CpuRegionBackend>();
   return std::make_shared<NoVulkanBackend>();
 #endif
 }
+
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const std::string& backend) {
+#ifdef CMR_WITH_VULKAN
+  return vk::make_space_region_backend(backend_choice(backend, "fp64", "", 1));
+#else
+  if (on_cpu(backend)) return std::make_shared<CpuSpaceRegionBackend>();
+  return std::make_shared<NoVulkanSpaceBackend>();
+#endif
+}
+
+std::string show_fields(const std::string& marked) {
+  // Each library field (spline/fields.hpp) and the flag that sets it: the one
+  // place the command names the libraries' option fields.
+  static const std::map<std::string, std::string> flags = {
+      {"backend", "--backend"}, {"each_piece", "--each-piece"}, {"split", "--split"}, {"with", "--with"}};
+  std::string out;
+  for (std::size_t at = 0; at < marked.size();) {
+    const std::size_t open = marked.find(kFieldMark, at);
+    const std::size_t close = open == std::string::npos ? open : marked.find(kFieldMark, open + 1);
+    if (close == std::string::npos) {
+      out.append(marked, at, std::string::npos);
+      break;
+    }
+    out.append(marked, at, open - at);
+    const std::string name = marked.substr(open + 1, close - open - 1);
+    const auto it = flags.find(name);
+    out += it != flags.end() ? it->second : name;
+    at = close + 1;
+  }
+  return out;
+}
+
+std::string shown_message(const std::exception& e) { return show_fields(marked_text(e)); }
 
 void read_environment() {
   std::string warning;

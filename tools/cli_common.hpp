@@ -22,6 +22,10 @@ class App;
 class Option;
 }
 
+namespace cmr {
+class SpaceRegionBackend;  // bezierize/space_region.hpp
+}
+
 namespace cmr::cli {
 
 /// The command's exit codes.
@@ -44,6 +48,15 @@ using cmr::EnvironmentError;
 /// EnvironmentError at the first render.
 std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, const std::string& precision = "fp64",
                                                    const std::string& device = "", int frames = 1);
+/// The space-region backend of --backend (vk::make_space_region_backend):
+/// "vulkan" the first device with shaderFloat64, "auto" and "cpu" the CPU.
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const std::string& backend);
+/// A library message as the command shows it: each field it names
+/// (spline/fields.hpp) as the flag that sets it (one table, cli_common.cpp),
+/// e.g. "with point 3 is named twice" as "--with point 3 is named twice".
+std::string show_fields(const std::string& marked);
+/// The message of `e` so shown (its marked text where it names fields).
+std::string shown_message(const std::exception& e);
 /// $XDG_CACHE_HOME/cmr, else $HOME/.cache/cmr (only absolute paths count);
 /// empty when neither is set: nothing is kept across runs.
 std::string user_cache_dir();

@@ -21,7 +21,6 @@
 #include "spline/errors.hpp"
 #include "step/step.hpp"
 #include "tools/cli_common.hpp"
-#include "vk/space_region_vk.hpp"
 
 namespace cmr::cli {
 
@@ -106,18 +105,16 @@ void run_space_region(const SpaceRegionArgs& a) {
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
   // --backend vulkan: the device judges each pixel's parts and the CPU the
   // pixels it cannot certify (vk/space_region_vk.hpp); auto and cpu: the CPU.
+  const std::shared_ptr<SpaceRegionBackend> backend = make_space_region_backend(a.backend);
   RegionResult img;
-  vk::SpaceRegionVkStats vk_stats;
-  const bool on_vulkan = a.backend == "vulkan";
-  if (on_vulkan) {
-    auto rendered = vk::render_space_region_vulkan(problem, {}, &vk_stats);
-    if (!rendered) {
-      if (rendered.error().code == vk::Errc::size_unsupported) throw InputError(rendered.error().message);
-      throw EnvironmentError("--backend vulkan: " + rendered.error().message);
-    }
-    img = rendered.take();
-  } else {
-    img = problem.render();
+  try {
+    img = backend->render(problem);
+  } catch (const InputError&) {
+    throw;
+  } catch (const EnvironmentError& e) {  // the device's failure, named as the option chose it
+    std::string message = "--backend ";
+    message.append(backend->name()).append(": ").append(e.what());
+    throw EnvironmentError(message);
   }
   const SpacePlane& plane = *problem.request().plane;
   OutputSet out;
@@ -150,7 +147,7 @@ void run_space_region(const SpaceRegionArgs& a) {
                                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
                                 {"plane", {{"origin", vec3(plane.origin)}, {"u", vec3(plane.u)}, {"v", vec3(plane.v)}}},
                                 {"dimension", 3},
-                                {"backend", on_vulkan ? "vulkan" : "cpu"},
+                                {"backend", backend->name()},
                                 {"point", r.point},
                                 {"view_fitted", fit.has_value()},
                                 {"plane_name", report::space_plane_name(spline, plane, r.point)},
@@ -159,7 +156,7 @@ void run_space_region(const SpaceRegionArgs& a) {
   if (a.stats) {
     doc["seconds"] = img.seconds;
     doc["exact_pixels"] = img.exact_pixels;
-    if (on_vulkan) doc["host_pixels"] = vk_stats.host_pixels;  // left to the CPU by the device
+    if (const auto host = backend->host_pixels()) doc["host_pixels"] = *host;  // left to the CPU by the device
   }
   print_json(doc, a.pretty);
 }

@@ -127,10 +127,10 @@ int run(int argc, char** argv) {
     std::cerr << "cmr: " << e.what() << " (see " << help << ")\n";
     return kInvalid;
   } catch (const cmr::InputError& e) {
-    std::cerr << "cmr: " << e.what() << '\n';
+    std::cerr << "cmr: " << cmr::cli::shown_message(e) << '\n';  // the libraries' fields as flags
     return kInvalid;
   } catch (const EnvironmentError& e) {
-    std::cerr << "cmr: " << e.what() << '\n';
+    std::cerr << "cmr: " << cmr::cli::shown_message(e) << '\n';
     return kEnvironment;
   } catch (const std::bad_alloc&) {
     std::cerr << "cmr: out of memory\n";

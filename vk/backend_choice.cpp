@@ -15,8 +15,10 @@
 #include <unistd.h>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 #include "vk/context.hpp"
+#include "vk/space_region_vk.hpp"
 
 namespace cmr::vk {
 namespace {
@@ -191,7 +193,7 @@ class DeferredVulkanBackend final : public RegionBackend {
       if (message.find("VK_DRIVER_FILES") == std::string::npos)
         message += " (for lavapipe: install mesa-vulkan-drivers or export "
                    "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json)";
-      throw EnvironmentError(message + "; or use --backend cpu");
+      throw EnvironmentFieldError(message + "; or use " + field("backend") + " cpu");
     }
     backend_.emplace(created.take());
     book_->set_device(backend_->device().name);
@@ -252,7 +254,7 @@ class AutoBackend final : public RegionBackend {
         throw;
       } catch (const EnvironmentError& e) {  // the device would not open, or lacks fp64
         vulkan_failed_ = true;
-        if (note_) note_(std::string("the Vulkan device cannot render (") + e.what() + "), so the CPU backend renders");
+        if (note_) note_("the Vulkan device cannot render (" + marked_text(e) + "), so the CPU backend renders");
         last_ = "cpu";
         return cpu_.render(problem);
       }
@@ -420,6 +422,21 @@ std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, 
     case BackendKind::vulkan:
       return std::make_shared<DeferredVulkanBackend>(vulkan_options(choice), choice.loader_selection, book,
                                                      std::move(note));
+  }
+  CMR_CHECK(false);
+  return nullptr;
+}
+
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const BackendChoice& choice) {
+  switch (choice.kind) {
+    case BackendKind::cpu:
+    case BackendKind::automatic:
+      return std::make_shared<CpuSpaceRegionBackend>();
+    case BackendKind::vulkan: {
+      SpaceRegionVkOptions o;
+      o.device = choice.device;
+      return std::make_shared<VulkanSpaceRegionBackend>(o);
+    }
   }
   CMR_CHECK(false);
   return nullptr;

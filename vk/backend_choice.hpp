@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "bezierize/region.hpp"
+#include "bezierize/space_region.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::vk {
@@ -119,13 +120,20 @@ struct ListedDevice {
 std::string auto_backend_device(const std::vector<ListedDevice>& devices, const std::string& wanted = "");
 
 /// Receives the one-line notes of fallbacks (the cmr command prints them on
-/// stderr as "note: ...").
+/// stderr as "note: ..."). A note may name option fields, marked
+/// (spline/fields.hpp): plain_fields gives their names.
 using BackendNote = std::function<void(const std::string&)>;
 
 /// The backend of `choice` (see the header comment). `note` is called once
 /// per fallback: automatic without a candidate device, a Vulkan failure
 /// after the device opened, a pipeline cache file that is not used.
 std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, BackendNote note = {});
+
+/// The space-region backend of `choice` (bezierize/space_region.hpp): cpu
+/// and automatic render on the CPU (automatic has no measured rule for space
+/// curves: their device runs are not timed yet), vulkan on the device
+/// `device` names (VulkanSpaceRegionBackend, vk/space_region_vk.hpp).
+std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const BackendChoice& choice);
 
 /// The text of automatic's fallback note.
 inline constexpr const char* kCpuFallbackNote =

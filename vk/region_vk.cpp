@@ -17,6 +17,7 @@
 #include "bezierize/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "spline/errors.hpp"
+#include "vk/buffer_packer.hpp"
 #include "vk/internal.hpp"
 
 #include "region_fp32_frag.h"
@@ -26,6 +27,7 @@ namespace cmr::vk {
 namespace {
 
 using namespace layout;
+using detail::BufferPacker;
 using cmr::backend::RegionEntry;
 using cmr::backend::RegionJoint;
 using cmr::backend::RegionSetup;
@@ -53,53 +55,6 @@ uint32_t flags_of(const SegmentClass& c, Mode mode) {
   }
   return f;
 }
-
-class Packer {
- public:
-  explicit Packer(RegionPrecision p) : fp32_(p == RegionPrecision::fp32) {}
-  uint32_t hdr[HDR_WORDS] = {};
-  uint32_t size() const { return static_cast<uint32_t>(pairs_.size()); }
-  /// A value with an error bound (an exact double when e = 0).
-  void bounded(double v, double e = 0) { pairs_.push_back({v, e, false}); }
-  void bounded(const Bounded& b) { bounded(b.v, b.e); }
-  /// Two plain values (coefficients; their rounding is in the shader's bound).
-  void values(double a, double b) { pairs_.push_back({a, b, true}); }
-
-  std::vector<std::byte> bytes() const {
-    const std::size_t scalar = fp32_ ? 4 : 8;
-    std::vector<std::byte> out(sizeof(hdr) + pairs_.size() * 2 * scalar);
-    std::memcpy(out.data(), hdr, sizeof(hdr));
-    std::byte* at = out.data() + sizeof(hdr);
-    for (const Pair& p : pairs_) {
-      if (fp32_) {
-        const float v = static_cast<float>(p.a);
-        float e = static_cast<float>(p.b);
-        if (!p.plain) {
-          // Rounding the value to float moves it; the bound absorbs the move
-          // and is itself rounded upwards.
-          const double grown = p.b + std::fabs(p.a - static_cast<double>(v));
-          e = static_cast<float>(grown);
-          if (static_cast<double>(e) < grown) e = std::nextafter(e, std::numeric_limits<float>::infinity());
-        }
-        std::memcpy(at, &v, 4);
-        std::memcpy(at + 4, &e, 4);
-      } else {
-        std::memcpy(at, &p.a, 8);
-        std::memcpy(at + 8, &p.b, 8);
-      }
-      at += 2 * scalar;
-    }
-    return out;
-  }
-
- private:
-  struct Pair {
-    double a, b;
-    bool plain;
-  };
-  bool fp32_;
-  std::vector<Pair> pairs_;
-};
 
 // Polynomial coefficients as the device will see them. All zeros must mean an
 // exact zero (the shader then trusts the sign), and rounding to float must
@@ -131,7 +86,7 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   auto part_of = [&](int seg) { return cmr::group_of(s.cuts, seg); };
   const cmr::backend::Labels kind = cmr::backend::labels_of(o);
 
-  Packer p(precision);
+  BufferPacker p(HDR_WORDS, precision);
   p.hdr[HDR_WIDTH] = static_cast<uint32_t>(o.width);
   p.hdr[HDR_HEIGHT] = static_cast<uint32_t>(o.height);
   p.hdr[HDR_MODE] = o.mode == Mode::cmr ? 1 : 0;
@@ -144,11 +99,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   p.hdr[HDR_PIECE_LEVELS] = static_cast<uint32_t>(s.piece_levels);
   const int pieces = (2 << s.piece_levels) - 1;
 
-  // dx, dy of every column and row, exactly as cmr::classify_position forms them.
+  // dx, dy of every column and row, exactly as cmr::classify_position forms them
+  // (scaled: kernel_displacement).
   p.hdr[HDR_DX_OFFSET] = p.size();
-  for (int i = 0; i < o.width; ++i) p.values(pixel_center(*o.view, o.width, o.height, i, 0).x - s.anchor.x, 0);
+  for (int i = 0; i < o.width; ++i)
+    p.values(cmr::backend::kernel_displacement(s, pixel_center(*o.view, o.width, o.height, i, 0).x - s.anchor.x), 0);
   p.hdr[HDR_DY_OFFSET] = p.size();
-  for (int j = 0; j < o.height; ++j) p.values(pixel_center(*o.view, o.width, o.height, 0, j).y - s.anchor.y, 0);
+  for (int j = 0; j < o.height; ++j)
+    p.values(cmr::backend::kernel_displacement(s, pixel_center(*o.view, o.width, o.height, 0, j).y - s.anchor.y), 0);
 
   std::vector<bool> in_entry(N, false), touched(N, false);
   p.hdr[HDR_ENTRIES] = static_cast<uint32_t>(s.entries.size());

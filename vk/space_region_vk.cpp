@@ -2,11 +2,13 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <vector>
 
+#include "shaders/space_region_layout.h"
 #include "space_region_fp64_frag.h"
+#include "spline/errors.hpp"
 #include "spline/parallel.hpp"
+#include "vk/buffer_packer.hpp"
 #include "vk/fragment_pipeline.hpp"
 
 namespace cmr::vk {
@@ -18,57 +20,51 @@ namespace {
 /// but NVIDIA's driver (580, H200) rejected its pipeline
 /// (vkCreateGraphicsPipelines: VK_ERROR_UNKNOWN); 2..6 ran on both.
 constexpr int kMaxRationalDegree = 6;
-constexpr std::uint32_t kHeaderWords = 16;
-constexpr std::uint32_t kUncertain = 65536u;
+using namespace layout;
 
-/// The storage buffer of one run (shaders/space_region_fp64.frag's layout).
+/// The storage buffer of one run of a polynomial curve
+/// (shaders/space_region_layout.h): a per column, b per row, the plane, then
+/// the segment data `segments` (a joint run: both segments').
 std::vector<std::byte> pack(int width, int height, std::uint32_t mode, const std::vector<double>& a,
                             const std::vector<double>& b, const SpacePlane& plane,
                             const std::vector<std::array<double, 2>>& segments) {
-  std::vector<std::array<double, 2>> data;
-  std::uint32_t hdr[kHeaderWords] = {};
-  hdr[0] = static_cast<std::uint32_t>(width);
-  hdr[1] = static_cast<std::uint32_t>(height);
-  hdr[2] = mode;
-  hdr[3] = static_cast<std::uint32_t>(data.size());
-  for (const double x : a) data.push_back({x, 0});
-  hdr[4] = static_cast<std::uint32_t>(data.size());
-  for (const double y : b) data.push_back({y, 0});
-  hdr[5] = static_cast<std::uint32_t>(data.size());
+  detail::BufferPacker p(SPACE_HDR_WORDS);
+  p.hdr[SPACE_HDR_WIDTH] = static_cast<std::uint32_t>(width);
+  p.hdr[SPACE_HDR_HEIGHT] = static_cast<std::uint32_t>(height);
+  p.hdr[SPACE_HDR_MODE] = mode;
+  p.hdr[SPACE_HDR_COLUMN_OFFSET] = p.size();
+  for (const double x : a) p.values(x, 0);
+  p.hdr[SPACE_HDR_ROW_OFFSET] = p.size();
+  for (const double y : b) p.values(y, 0);
+  p.hdr[SPACE_HDR_PLANE_OFFSET] = p.size();
   for (const Vec3& v : {plane.origin, plane.u, plane.v})
-    for (int c = 0; c < 3; ++c) data.push_back({v[c], 0});
-  hdr[6] = static_cast<std::uint32_t>(data.size());
-  data.insert(data.end(), segments.begin(), segments.end());
-  std::vector<std::byte> out(sizeof(hdr) + data.size() * sizeof(double) * 2);
-  std::memcpy(out.data(), hdr, sizeof(hdr));
-  std::memcpy(out.data() + sizeof(hdr), data.data(), data.size() * sizeof(double) * 2);
-  return out;
+    for (int c = 0; c < 3; ++c) p.values(v[c], 0);
+  p.hdr[SPACE_HDR_DATA_OFFSET] = p.size();
+  for (const auto& [v, e] : segments) p.bounded(v, e);
+  return p.bytes();
 }
 
-/// The storage buffer of a rational run (modes 2 and 3): offsets x per
-/// column, y per row, then the polynomials' terms; hdr[7..9] their degrees.
+/// The storage buffer of a rational run (SPACE_MODE_RATIONAL_*): offsets x
+/// per column, y per row, then the polynomials' terms, their degrees from
+/// SPACE_HDR_DEGREE on.
 std::vector<std::byte> pack_rational(int width, int height, std::uint32_t mode,
                                      const std::vector<std::array<double, 2>>& x,
                                      const std::vector<std::array<double, 2>>& y,
                                      const std::vector<SpaceRegionProblem::PlanePolynomial>& polys) {
-  std::vector<std::array<double, 2>> data;
-  std::uint32_t hdr[kHeaderWords] = {};
-  hdr[0] = static_cast<std::uint32_t>(width);
-  hdr[1] = static_cast<std::uint32_t>(height);
-  hdr[2] = mode;
-  hdr[3] = static_cast<std::uint32_t>(data.size());
-  data.insert(data.end(), x.begin(), x.end());
-  hdr[4] = static_cast<std::uint32_t>(data.size());
-  data.insert(data.end(), y.begin(), y.end());
-  hdr[6] = static_cast<std::uint32_t>(data.size());
+  detail::BufferPacker p(SPACE_HDR_WORDS);
+  p.hdr[SPACE_HDR_WIDTH] = static_cast<std::uint32_t>(width);
+  p.hdr[SPACE_HDR_HEIGHT] = static_cast<std::uint32_t>(height);
+  p.hdr[SPACE_HDR_MODE] = mode;
+  p.hdr[SPACE_HDR_COLUMN_OFFSET] = p.size();
+  for (const auto& [v, e] : x) p.bounded(v, e);
+  p.hdr[SPACE_HDR_ROW_OFFSET] = p.size();
+  for (const auto& [v, e] : y) p.bounded(v, e);
+  p.hdr[SPACE_HDR_DATA_OFFSET] = p.size();
   for (std::size_t k = 0; k < polys.size(); ++k) {
-    if (k < 3) hdr[7 + k] = static_cast<std::uint32_t>(polys[k].degree);
-    data.insert(data.end(), polys[k].terms.begin(), polys[k].terms.end());
+    if (k < SPACE_HDR_DEGREES) p.hdr[SPACE_HDR_DEGREE + k] = static_cast<std::uint32_t>(polys[k].degree);
+    for (const auto& [v, e] : polys[k].terms) p.bounded(v, e);
   }
-  std::vector<std::byte> out(sizeof(hdr) + data.size() * sizeof(double) * 2);
-  std::memcpy(out.data(), hdr, sizeof(hdr));
-  std::memcpy(out.data() + sizeof(hdr), data.data(), data.size() * sizeof(double) * 2);
-  return out;
+  return p.bytes();
 }
 
 /// v - base with a bound on its rounding (round to nearest: at most
@@ -126,20 +122,22 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     for (const double v : a) x.push_back(offset(v, a0));
     for (const double v : b) y.push_back(offset(v, b0));
     for (const int s : problem.moved_segments()) {
-      auto words = pipeline.value().run(pack_rational(r.width, r.height, 2, x, y, problem.rational_lambda3(s, a0, b0)));
+      auto words = pipeline.value().run(
+          pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_SEGMENT, x, y, problem.rational_lambda3(s, a0, b0)));
       if (!words) return words.error();
       seg_words.push_back(std::move(words.value()));
     }
     for (const int j : problem.moved_joints()) {
       const auto p = problem.rational_jump(j, a0, b0);
       const std::vector<SpaceRegionProblem::PlanePolynomial> polys(p.begin(), p.end());
-      auto words = pipeline.value().run(pack_rational(r.width, r.height, 3, x, y, polys));
+      auto words = pipeline.value().run(pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_JOINT, x, y, polys));
       if (!words) return words.error();
       joint_words.push_back(std::move(words.value()));
     }
   }
   for (const int s : rational ? std::vector<int>{} : problem.moved_segments()) {
-    auto words = pipeline.value().run(pack(r.width, r.height, 0, a, b, *r.plane, problem.affine_bezier(s)));
+    auto words =
+        pipeline.value().run(pack(r.width, r.height, SPACE_MODE_SEGMENT, a, b, *r.plane, problem.affine_bezier(s)));
     if (!words) return words.error();
     seg_words.push_back(std::move(words.value()));
   }
@@ -147,7 +145,7 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     std::vector<std::array<double, 2>> both = problem.affine_bezier(j - 1);
     const std::vector<std::array<double, 2>> right = problem.affine_bezier(j % N);
     both.insert(both.end(), right.begin(), right.end());
-    auto words = pipeline.value().run(pack(r.width, r.height, 1, a, b, *r.plane, both));
+    auto words = pipeline.value().run(pack(r.width, r.height, SPACE_MODE_JOINT, a, b, *r.plane, both));
     if (!words) return words.error();
     joint_words.push_back(std::move(words.value()));
   }
@@ -162,11 +160,11 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
       const std::size_t idx = j * static_cast<std::size_t>(r.width) + static_cast<std::size_t>(i);
       bool certain = true;
       for (std::size_t s = 0; s < seg_words.size() && certain; ++s) {
-        certain = (seg_words[s][idx] & kUncertain) == 0;
+        certain = (seg_words[s][idx] & RESULT_UNCERTAIN) == 0;
         if (certain) moved[s] = decode_segment(seg_words[s][idx]);
       }
       for (std::size_t k = 0; k < joint_words.size() && certain; ++k) {
-        certain = (joint_words[k][idx] & kUncertain) == 0;
+        certain = (joint_words[k][idx] & RESULT_UNCERTAIN) == 0;
         if (certain) jumps[k] = static_cast<int>(joint_words[k][idx]) - 1;
       }
       RegionPixel p;
@@ -189,6 +187,16 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+RegionResult VulkanSpaceRegionBackend::render(const SpaceRegionProblem& problem) {
+  stats_ = {};
+  auto rendered = render_space_region_vulkan(problem, options_, &stats_);
+  if (!rendered) {
+    if (rendered.error().code == Errc::size_unsupported) throw InputError(rendered.error().message);
+    throw EnvironmentError(rendered.error().message);
+  }
+  return rendered.take();
 }
 
 }  // namespace cmr::vk

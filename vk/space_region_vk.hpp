@@ -10,7 +10,9 @@
 // pixel where some part was not certified. So the labels (and depths) equal
 // the CPU backend's.
 #include <cstddef>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "bezierize/space_region.hpp"
 #include "vk/context.hpp"
@@ -36,5 +38,19 @@ struct SpaceRegionVkStats {
 Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& problem,
                                                 const SpaceRegionVkOptions& options = {},
                                                 SpaceRegionVkStats* stats = nullptr);
+
+/// render_space_region_vulkan as a SpaceRegionBackend: size_unsupported
+/// throws InputError with its message, any other error EnvironmentError.
+class VulkanSpaceRegionBackend final : public SpaceRegionBackend {
+ public:
+  explicit VulkanSpaceRegionBackend(SpaceRegionVkOptions options = {}) : options_(std::move(options)) {}
+  RegionResult render(const SpaceRegionProblem& problem) override;
+  std::string name() const override { return "vulkan"; }
+  std::optional<std::size_t> host_pixels() const override { return stats_.host_pixels; }
+
+ private:
+  SpaceRegionVkOptions options_;
+  SpaceRegionVkStats stats_;
+};
 
 }  // namespace cmr::vk

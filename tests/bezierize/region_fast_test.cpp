@@ -6,8 +6,11 @@
 // labels of seeded points within 1e-9 of the boundary. Scenes: a cubic Bezier
 // (fig2 P1), the uniform cubic B-spline (fig8 P3), the degree-9 Bezier (P4),
 // at D = 10 and 16. Images are small so the exact path stays within seconds.
+// And the scale: with coordinates multiplied by 2^300 or 2^-300 the labels,
+// depths and exact-path pixels are those of the unscaled spline.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <random>
 #include <sstream>
@@ -116,6 +119,66 @@ TEST(RegionFast, BlockProofsDecideMostOfABoundaryZoom) {
             << "block at (" << i0 << ", " << j0 << "), corner (" << i << ", " << j << ")";
     }
   EXPECT_GE(proved, blocks / 2) << proved << " of " << blocks << " blocks proved";
+}
+
+BSpline scaled_spline(BSpline s, int e) {
+  for (int k = 0; k < s.point_count(); ++k)
+    s = s.with_point(k, {std::ldexp(s.points()[k].x, e), std::ldexp(s.points()[k].y, e)});
+  return s;
+}
+
+// Coordinates scaled by 2^+-300: the kernel works on the problem scaled back
+// near 1 (RegionSetup::scale_exponent), so every pixel's label and depth are
+// those of the unscaled spline and no more pixels take the exact path (all of
+// them did before: the polynomials' values left the double range). A sample
+// of pixels is checked against the analysis of the moved, scaled spline.
+TEST(RegionFast, LabelsAndExactPixelsDoNotDependOnTheScale) {
+  struct Scene {
+    std::string file;
+    int point;
+    Mode mode;
+    bool depth_map;
+    std::optional<int> split;
+  };
+  const std::vector<Scene> scenes = {{"figures/fig2.json", 1, Mode::cmrwi, true, std::nullopt},
+                                     {"figures/fig8.json", 3, Mode::cmr, false, std::nullopt},
+                                     {"figures/fig8.json", 3, Mode::cmrwi, true, 2},
+                                     {"rational/nurbs_cubic.json", 4, Mode::cmrwi, true, std::nullopt}};
+  const int size = 40;
+  for (const Scene& sc : scenes) {
+    const BSpline spline = read_spline_file(kSource + "/examples/" + sc.file);
+    RegionRequest o = test::region_request(sc.point, 10, size, std::nullopt, sc.depth_map, sc.mode);
+    o.split = sc.split;
+    const RegionProblem plain = RegionProblem::make(spline, o);
+    const RegionImage want = region_cpu(plain.setup(), 1);
+    EXPECT_EQ(plain.setup().scale_exponent, 0) << sc.file;
+    for (const int e : {300, -300}) {
+      const std::string where = sc.file + " P" + std::to_string(sc.point) + " at 2^" + std::to_string(e);
+      const BSpline big = scaled_spline(spline, e);
+      const View v = plain.view();
+      RegionRequest ob = o;
+      ob.view = View{std::ldexp(v.x0, e), std::ldexp(v.y0, e), std::ldexp(v.x1, e), std::ldexp(v.y1, e)};
+      const RegionProblem scaled = RegionProblem::make(big, ob);
+      EXPECT_NE(scaled.setup().scale_exponent, 0) << where;
+      const RegionImage got = region_cpu(scaled.setup(), 1);
+      EXPECT_EQ(got.labels, want.labels) << where;
+      EXPECT_EQ(got.depth, want.depth) << where;
+      EXPECT_EQ(got.exact_pixels, want.exact_pixels) << where << " (" << size * size << " pixels)";
+      EXPECT_LT(got.exact_pixels, static_cast<std::uint64_t>(size * size / 10)) << where;
+      // The sample: every 53rd pixel and the first pixel of each label.
+      std::map<int, int> first;
+      for (int at = 0; at < size * size; ++at) first.emplace(got.labels[at], at);
+      EXPECT_GE(first.size(), 2u) << where << ": the image shows one label only";
+      std::vector<int> sample;
+      for (int at = 0; at < size * size; at += 53) sample.push_back(at);
+      for (const auto& [label, at] : first) sample.push_back(at);
+      for (const int at : sample) {
+        const Vec2 c = pixel_center(*ob.view, size, size, at % size, at / size);
+        const SplineAnalysis a = analyze(big.with_point(sc.point, c), region_analyze_options(ob));
+        EXPECT_EQ(int(region_label_code(a, ob)), int(got.labels[at])) << where << ", pixel " << at;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -133,14 +133,29 @@ struct Kinds {
 };
 
 // Every touched entry of the setup of `spline` with `point` moved, at depth D,
-// against the reference; `label` names the case in a failure.
-Kinds expect_reference(const BSpline& spline, int point, int depth, const std::string& label) {
+// against the reference; `label` names the case in a failure. The setup's
+// entries are those of the problem scaled by 2^-scale_exponent (exact Bezier
+// points included); with `unscaled` they are prepared again at exponent 0
+// (the data as given: what extreme scales then put into the conversions).
+Kinds expect_reference(const BSpline& spline, int point, int depth, const std::string& label,
+                       bool unscaled = false) {
   Kinds kinds;
   RegionRequest o;
   o.point = point;
   o.max_depth = depth;
   o.width = o.height = 4;
-  const RegionSetup s = prepare_region(spline, o);
+  RegionSetup s = prepare_region(spline, o);
+  if (unscaled) {
+    s.scale_exponent = 0;
+    s.scale = 1;
+    for (RegionEntry& e : s.entries) {
+      const int part = e.part;
+      e = prepare_entry(s, e.segment, e.classify);
+      e.part = part;
+    }
+  }
+  // The exact factor of the entries' points (a power of two, exact as a double).
+  const Rational factor(std::ldexp(1.0, -s.scale_exponent));
   int touched = 0;
   const int d = spline.degree();
   for (const RegionEntry& e : s.entries) {
@@ -156,13 +171,15 @@ Kinds expect_reference(const BSpline& spline, int point, int depth, const std::s
     if (spline.is_rational()) {
       const std::vector<HPoint<Rational>> H = segment_homogeneous_points<Rational>(spline, g);
       for (std::size_t i = 0; i < H.size(); ++i)
-        EXPECT_TRUE(e.base_exact[i].x == H[i].x && e.base_exact[i].y == H[i].y && e.hw_exact[i] == H[i].z)
+        EXPECT_TRUE(e.base_exact[i].x == factor * H[i].x && e.base_exact[i].y == factor * H[i].y &&
+                    e.hw_exact[i] == H[i].z)
             << where << ": homogeneous Bezier point " << i;
     } else {
       const std::vector<Point<Rational>> B =
           bezier_points(window.knots, window.points, d, window.span, Rational(g.a), Rational(g.b));
       for (std::size_t i = 0; i < B.size(); ++i)
-        EXPECT_TRUE(e.base_exact[i].x == B[i].x && e.base_exact[i].y == B[i].y) << where << ": Bezier point " << i;
+        EXPECT_TRUE(e.base_exact[i].x == factor * B[i].x && e.base_exact[i].y == factor * B[i].y)
+            << where << ": Bezier point " << i;
     }
     for (std::size_t i = 0; i < e.base_exact.size(); ++i) {
       EXPECT_TRUE(same_bits(e.base[i].x, reference_rounded(e.base_exact[i].x))) << where << ", B0 x " << i;
@@ -245,7 +262,9 @@ TEST(RegionPieces, RationalSplinesEqualTheExactHalving) {
 TEST(RegionPieces, ExtremeScalesEqualTheExactHalving) {
   // lambda scales as the 4th power of the coordinates: 1e-80 puts its
   // constant terms below the subnormal range (the NaN marker), 1e-77 among
-  // subnormals, 1e70 near the top of the double range, 1e80 past it.
+  // subnormals, 1e70 near the top of the double range, 1e80 past it. So the
+  // data as given (unscaled); the setup itself scales such data near 1
+  // (RegionSetup::scale_exponent), checked too.
   std::mt19937_64 rng(5);
   Kinds kinds;
   const auto add = [&](const Kinds& k) {
@@ -258,10 +277,12 @@ TEST(RegionPieces, ExtremeScalesEqualTheExactHalving) {
       std::ostringstream label;
       label << "degree " << d << " at scale " << scale;
       const BSpline s = random_spline(rng, d, 2, scale, false, false);
-      add(expect_reference(s, s.point_count() / 2, 3, label.str()));
+      add(expect_reference(s, s.point_count() / 2, 3, label.str(), true));
+      expect_reference(s, s.point_count() / 2, 3, "scaled, " + label.str());
       std::vector<Vec2> P;
       for (int i = 0; i <= d; ++i) P.push_back(Vec2(scale * (2 * unit(rng) - 1), scale * (2 * unit(rng) - 1)));
-      add(expect_reference(BSpline::bezier(P, "seeded"), d / 2, 3, "Bezier, " + label.str()));
+      add(expect_reference(BSpline::bezier(P, "seeded"), d / 2, 3, "Bezier, " + label.str(), true));
+      expect_reference(BSpline::bezier(P, "seeded"), d / 2, 3, "scaled Bezier, " + label.str());
     }
   // The cases reach what they are here for (the NaN marker: RoundedPiecesOfArbitraryRationals).
   EXPECT_GT(kinds.subnormal, 0) << "no subnormal coefficient";

@@ -9,6 +9,7 @@
 #include "bezierize/analyze.hpp"
 #include "bezierize/region_setup.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "tests/test_util.hpp"
 
 namespace cmr {
@@ -53,6 +54,33 @@ TEST(Region, InvalidOptionsAreInputErrors) {
   bad([](RegionRequest& o) { o.view = View{1, 0, 0, 1}; });
   bad([](RegionRequest& o) { o.segments = SegmentRange{0, 1}; });  // one segment: 0..0
   bad([](RegionRequest& o) { o.splits = {1}; });
+}
+
+// The library speaks in fields: its messages name RegionRequest's members
+// (marked, spline/fields.hpp), never the cmr command's flags.
+TEST(Region, InvalidOptionsNameTheRequestsFields) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6}, {{0, 0}, {1, 1}, {2, 0}, {3, 1}, {4, 0}});
+  auto message = [&](auto tweak) {
+    RegionRequest o;
+    tweak(o);
+    try {
+      RegionProblem::make(s, o);
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+      return marked_text(e);
+    }
+    ADD_FAILURE() << "accepted";
+    return std::string();
+  };
+  EXPECT_EQ(message([](RegionRequest& o) { o.with = {9}; }), field("with") + " point 9 is out of range 0..4");
+  EXPECT_EQ(message([](RegionRequest& o) { o.with = {0}; }), field("with") + " point 0 is the moved point itself");
+  EXPECT_EQ(message([](RegionRequest& o) { o.with = {2, 2}; }), field("with") + " point 2 is named twice");
+  EXPECT_EQ(message([](RegionRequest& o) {
+              o.split = 1;
+              o.each_piece = true;
+            }),
+            field("split") + " and " + field("each_piece") + " exclude each other: give the joints to " +
+                field("each_piece"));
 }
 
 // Segment control (RegionRequest::segments / splits) on a wave whose

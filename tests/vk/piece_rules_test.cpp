@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <fstream>
 #include <random>
 #include <span>
 #include <sstream>
@@ -149,6 +150,26 @@ TEST(PieceRules, TableCoversEveryOutcome) {
 
 TEST(PieceRules, ShaderFp64MatchesCore) { compare(cmr_piece_rules_test_fp64_frag_spv, true); }
 TEST(PieceRules, ShaderFp32MatchesCore) { compare(cmr_piece_rules_test_fp32_frag_spv, false); }
+
+// The rules these tests check are the ones every region shader runs: the
+// planar (region_common.glsl) and space (space_region_fp64.frag) shaders
+// include piece_rules.glsl and bounded.glsl and define neither the piece
+// rules, the certain sign nor the bounded arithmetic themselves.
+TEST(PieceRules, EveryRegionShaderIncludesTheSharedRules) {
+  for (const char* name : {"region_common.glsl", "space_region_fp64.frag"}) {
+    const std::string path = std::string(CMR_SOURCE_DIR) + "/shaders/" + name;
+    std::ifstream in(path);
+    ASSERT_TRUE(in) << path;
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string src = text.str();
+    EXPECT_NE(src.find("#include \"piece_rules.glsl\""), std::string::npos) << name;
+    EXPECT_NE(src.find("#include \"bounded.glsl\""), std::string::npos) << name;
+    for (const char* own : {"int b_sign(", "int ends_opposite(", "int ends_touch(", "int monotonicity_rule(",
+                            "REAL2 b_add(", "REAL2 b_sub(", "REAL2 b_mul(", "REAL2 b_half(", "SIGN_UNKNOWN ="})
+      EXPECT_EQ(src.find(own), std::string::npos) << name << " defines its own " << own;
+  }
+}
 
 }  // namespace
 }  // namespace cmr

@@ -3,7 +3,9 @@
 // the host), and the CPU labels are what `analyze` says of the moved spline.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/region.hpp"
@@ -164,6 +166,40 @@ TEST(RegionBackends, VulkanAndCpuLabelMapsAreIdentical) {
             << sc.name << (prec == vk::RegionPrecision::fp32 ? " fp32" : " fp64") << " pixel (" << at % sc.options.width
             << ", " << at / sc.options.width << ")";
         ASSERT_EQ(int(gpu.depth[at]), int(cpu.depth[at])) << sc.name << " depth at pixel " << at;
+      }
+    }
+  }
+}
+
+// Coordinates scaled by 2^+-300 (points and view): the host hands the device
+// the problem scaled back near 1 (RegionSetup::scale_exponent), so each
+// open scene's labels and depths on the device, fp64 and fp32, are those of
+// the unscaled scene on the CPU, and the device leaves the host no more
+// pixels to decide exactly than unscaled (before, it left all of them).
+TEST(RegionBackends, VulkanLabelsDoNotDependOnTheScale) {
+  for (const Scene& sc : scenes()) {
+    if (sc.spline.closed()) continue;
+    const RegionProblem plain = RegionProblem::make(sc.spline, sc.options);
+    const RegionImage cpu = test::render(plain, {test::Backend::cpu});
+    for (const int e : {300, -300}) {
+      BSpline big = sc.spline;
+      for (int k = 0; k < big.point_count(); ++k)
+        big = big.with_point(k, {std::ldexp(big.points()[k].x, e), std::ldexp(big.points()[k].y, e)});
+      RegionRequest o = sc.options;
+      const View& v = plain.view();
+      o.view = View{std::ldexp(v.x0, e), std::ldexp(v.y0, e), std::ldexp(v.x1, e), std::ldexp(v.y1, e)};
+      const RegionProblem scaled = RegionProblem::make(big, o);
+      for (vk::RegionPrecision prec : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
+        test::BackendOptions bo;
+        bo.precision = prec;
+        bo.cull = false;  // the device shades every pixel
+        const std::string where = std::string(sc.name) + " at 2^" + std::to_string(e) +
+                                  (prec == vk::RegionPrecision::fp32 ? " fp32" : " fp64");
+        const RegionImage want = test::render(plain, bo);
+        const RegionImage gpu = test::render(scaled, bo);
+        EXPECT_EQ(gpu.labels, cpu.labels) << where;
+        EXPECT_EQ(gpu.depth, cpu.depth) << where;
+        EXPECT_EQ(gpu.exact_pixels, want.exact_pixels) << where;
       }
     }
   }
