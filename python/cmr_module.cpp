@@ -697,14 +697,25 @@ RegionOut space_region_run(const SpaceSpline& spline, const RegionArgs& a) {
   r.width = a.width;
   r.height = a.height;
   r.max_depth = a.depth;
+  // Without view: the region and the moved point with a margin, as the
+  // command (report::fit_space_view), with its notes.
+  std::optional<report::SpaceViewFit> fit;
   if (a.view) r.view = View{(*a.view)[0], (*a.view)[1], (*a.view)[2], (*a.view)[3]};
+  else r.view = (fit = report::fit_space_view(spline, r))->view;
   const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, r);
   RegionOut out;
   out.image = problem.render();
   const RegionResult& img = out.image;
   out.codes = img.codes();
-  std::uint64_t counts[kRegionLabelCodes] = {};
+  std::uint64_t counts[kRegionLabelCodes] = {}, inside = 0;
   for (const std::uint8_t c : out.codes) ++counts[c];
+  for (std::size_t i = 0; i < img.size(); ++i) inside += img.in_region(i) ? 1 : 0;
+  if (fit && fit->empty)
+    out.notes.push_back("note: P" + std::to_string(r.point) +
+                        " has no region near the curve in this plane (the view is the curve's)");
+  else if (fit && inside * 100 < img.size())
+    out.notes.push_back("note: P" + std::to_string(r.point) + "'s region is a speck: " + std::to_string(inside) +
+                        " of " + std::to_string(img.size()) + " pixels, far from the point or thin (view= zooms)");
   OJson c;
   for (std::uint8_t l = 0; l < kRegionLabelCodes; ++l) c[img.label_name(l)] = counts[l];
   const SpacePlane& plane = *problem.request().plane;
@@ -716,6 +727,8 @@ RegionOut space_region_run(const SpaceSpline& spline, const RegionArgs& a) {
                  {"dimension", 3},
                  {"backend", "cpu"},
                  {"point", r.point},
+                 {"view_fitted", fit.has_value()},
+                 {"plane_name", report::space_plane_name(spline, plane, r.point)},
                  {"counts", c},
                  {"seconds", img.seconds},
                  {"exact_pixels", img.exact_pixels}};
@@ -727,12 +740,14 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
     const SpaceSpline curve = *space;
     auto out = std::make_shared<RegionOut>(interruptible([curve, a] { return space_region_run(curve, a); }));
     py::array_t<std::uint8_t> labels = label_array(std::move(out->codes), out->image.width, out->image.height);
-    if (!full) return py::make_tuple(labels, py::list());
+    py::list notes;
+    for (const std::string& n : out->notes) notes.append(utf8(n));
+    if (!full) return py::make_tuple(labels, notes);
     py::dict r;
     r["labels"] = labels;
     r["summary"] = to_py(out->summary);
     r["counts"] = to_py(out->summary["counts"]);
-    r["notes"] = py::list();
+    r["notes"] = notes;
     if (a.depth_map) {
       py::array_t<std::uint8_t> depth({out->image.height, out->image.width});
       std::copy(out->image.depth.begin(), out->image.depth.end(), depth.mutable_data());
