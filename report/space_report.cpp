@@ -10,6 +10,7 @@
 
 #include "draw/draw.hpp"
 #include "io/output.hpp"
+#include "bezierize/view_fit.hpp"
 #include "report/g3.hpp"
 #include "spline/errors.hpp"
 
@@ -82,20 +83,10 @@ SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest&
   SpaceRegionRequest probe = base;
   probe.plane = plane;
   probe.width = probe.height = kProbe;
-  const double cx = (v0.x0 + v0.x1) / 2, cy = (v0.y0 + v0.y1) / 2;
-  const double hw = 1.5 * std::max(v0.x1 - v0.x0, v0.y1 - v0.y0);
-  probe.view = View{cx - hw, cy - hw, cx + hw, cy + hw};
-  const RegionResult img = SpaceRegionProblem::make(spline, probe).render();
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  const double dx = 2 * hw / kProbe;
-  for (int j = 0; j < kProbe; ++j)
-    for (int i = 0; i < kProbe; ++i)
-      if (img.in_region(static_cast<std::size_t>(j) * kProbe + i)) {
-        ++fit.probe_pixels;
-        x0 = std::min(x0, cx - hw + i * dx), x1 = std::max(x1, cx - hw + (i + 1) * dx);
-        y1 = std::max(y1, cy + hw - j * dx), y0 = std::min(y0, cy + hw - (j + 1) * dx);
-      }
-  if (fit.probe_pixels == 0) {
+  probe.view = ViewFit::probe_view(v0);
+  ViewFit box;
+  fit.probe_pixels = box.add_region(SpaceRegionProblem::make(spline, probe).render(), *probe.view);
+  if (box.empty()) {
     fit.empty = true;
     return fit;
   }
@@ -103,20 +94,8 @@ SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest&
   const Vec3 q = spline.points()[static_cast<std::size_t>(request.point)] - plane.origin;
   const double uu = glm::dot(plane.u, plane.u), uv = glm::dot(plane.u, plane.v), vv = glm::dot(plane.v, plane.v);
   const double qu = glm::dot(q, plane.u), qv = glm::dot(q, plane.v), det = uu * vv - uv * uv;
-  const double a = (qu * vv - qv * uv) / det, b = (qv * uu - qu * uv) / det;
-  x0 = std::min(x0, a), x1 = std::max(x1, a), y0 = std::min(y0, b), y1 = std::max(y1, b);
-  const double margin = 0.15 * std::max(x1 - x0, y1 - y0);
-  x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
-  // Square pixels: widen the narrower direction about its centre.
-  const double aspect = static_cast<double>(request.width) / request.height;
-  if ((x1 - x0) / (y1 - y0) < aspect) {
-    const double c = (x0 + x1) / 2, h = (y1 - y0) * aspect / 2;
-    x0 = c - h, x1 = c + h;
-  } else {
-    const double c = (y0 + y1) / 2, h = (x1 - x0) / aspect / 2;
-    y0 = c - h, y1 = c + h;
-  }
-  fit.view = View{x0, y0, x1, y1};
+  box.add_point((qu * vv - qv * uv) / det, (qv * uu - qu * uv) / det);
+  fit.view = box.view(request.width, request.height);
   return fit;
 }
 

@@ -34,6 +34,7 @@
 #include "bezierize/contour.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "bezierize/region_memo.hpp"
+#include "bezierize/view_fit.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -131,49 +132,29 @@ BSpline step_spline(const SweepArgs& a, const BSpline& base, int s, double& valu
 /// is probed on the CPU at 48 x 48 over three times the polygon's view (its
 /// centre kept); the box of every step's region pixels and the moved points,
 /// widened by 15% of its larger side each way and then to square pixels, is
-/// the view. No region at any step: the polygon's view. (report::fit_space_view
-/// is the same rule for one space region.)
+/// the view (bezierize/view_fit.hpp, as report::fit_space_view for one
+/// space region). No region at any step: the polygon's view.
 View fitted_view(const SweepArgs& a, const BSpline& base, const RegionRequest& rq, RegionMemo& memo) {
   const View v0 = *rq.view;
   constexpr int kProbe = 48;
   RegionRequest probe = rq;
   probe.width = probe.height = kProbe;
-  const double cx = (v0.x0 + v0.x1) / 2, cy = (v0.y0 + v0.y1) / 2;
-  const double hw = 1.5 * std::max(v0.x1 - v0.x0, v0.y1 - v0.y0), dx = 2 * hw / kProbe;
-  probe.view = View{cx - hw, cy - hw, cx + hw, cy + hw};
-  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
-  bool any = false;
+  probe.view = ViewFit::probe_view(v0);
+  ViewFit box;
   CpuRegionBackend cpu;
   for (int s = 0; s <= a.steps; ++s) {
     double value = 0;
-    const RegionResult img = cpu.render(memo.make(step_spline(a, base, s, value), probe));
-    for (int j = 0; j < kProbe; ++j)
-      for (int i = 0; i < kProbe; ++i)
-        if (img.in_region(static_cast<std::size_t>(j) * kProbe + i)) {
-          any = true;
-          x0 = std::min(x0, cx - hw + i * dx), x1 = std::max(x1, cx - hw + (i + 1) * dx);
-          y1 = std::max(y1, cy + hw - j * dx), y0 = std::min(y0, cy + hw - (j + 1) * dx);
-        }
+    box.add_region(cpu.render(memo.make(step_spline(a, base, s, value), probe)), *probe.view);
   }
-  if (!any) return v0;
+  if (box.empty()) return v0;
   std::vector<int> moved = a.with;
   moved.push_back(a.point);
   for (int k : moved) {
     if (k < 0 || k >= static_cast<int>(base.points().size())) continue;  // RegionProblem::make names it
     const Vec2 p = base.points()[static_cast<std::size_t>(k)];
-    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+    box.add_point(p.x, p.y);
   }
-  const double margin = 0.15 * std::max(x1 - x0, y1 - y0);
-  x0 -= margin, x1 += margin, y0 -= margin, y1 += margin;
-  const double aspect = static_cast<double>(rq.width) / rq.height;
-  if ((x1 - x0) / (y1 - y0) < aspect) {
-    const double c = (x0 + x1) / 2, h = (y1 - y0) * aspect / 2;
-    x0 = c - h, x1 = c + h;
-  } else {
-    const double c = (y0 + y1) / 2, h = (x1 - x0) / aspect / 2;
-    y0 = c - h, y1 = c + h;
-  }
-  return View{x0, y0, x1, y1};
+  return box.view(rq.width, rq.height);
 }
 
 std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& memo) {
