@@ -13,6 +13,21 @@ namespace cmr::test {
 
 namespace fs = std::filesystem;
 
+/// A sanitizer build (tools/sanitize.sh: -fsanitize=address,undefined, -O1).
+/// Its programs run several times slower than a Release build's, ASan cannot
+/// start under `ulimit -v` (it reserves terabytes of shadow address space),
+/// and LeakSanitizer cannot run under ptrace (strace). The few tests that rely
+/// on those skip or give cmr more time there, saying so (docs/outputs.md).
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitizerBuild = true;
+#else
+inline constexpr bool kSanitizerBuild = false;
+#endif
+
+/// The environment a command traced by strace needs: LeakSanitizer off in a
+/// sanitizer build (it refuses to run under ptrace), nothing otherwise.
+inline std::string traced_env() { return kSanitizerBuild ? "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 " : ""; }
+
 struct Outcome {
   int code = -1;
   std::string out, err;

@@ -404,7 +404,9 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   fs::remove_all(out);
   const test::Outcome r = test::run(std::string("report ") + kDejaVu +
                                     " --glyphs U+0021-U+017F --require curvature-extrema-at-nodes:runs,curvature-extrema-at-nodes,g2-at-smooth-nodes"
-                                    " --no-severity --backend cpu --quiet --out " + out.string());
+                                    " --no-severity --backend cpu --quiet --out " + out.string() +
+                                    // the default 20 s fix budget assumes a Release build
+                                    (test::kSanitizerBuild ? " --fix-budget 400" : ""));
   ASSERT_EQ(r.code, 1) << r.err;
   std::uintmax_t pages = 0;
   for (const auto& e : fs::recursive_directory_iterator(out))

@@ -176,7 +176,7 @@ TEST(CommitKill, ReportKilledAtEveryRenameLinkUnlinkAndSyncLeavesOneRun) {
       const fs::path rep = dir / "R";
       ASSERT_EQ(run("report " + old_spline + " --out " + rep.string()).code, 0);
       ASSERT_EQ(run_of(rep / "report.json"), "old");
-      const Outcome k = run_captured("strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
+      const Outcome k = run_captured(traced_env() + "strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
                                      ":signal=KILL:when=" + std::to_string(n) + " " + CMR_BINARY + " report " +
                                      new_spline + " --out " + rep.string());
       if (k.code == 0) break;  // fewer than n calls: every kill point of this syscall was tried
@@ -241,7 +241,7 @@ TEST(CommitKill, RegionWithSeveralOutputsKilledAtEveryStepLeavesOneRun) {
       SCOPED_TRACE(sys + " #" + std::to_string(n));
       const fs::path dir = fresh("region_kill");
       ASSERT_EQ(run(args(old_spline, dir)).code, 0);
-      const Outcome k = run_captured("strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
+      const Outcome k = run_captured(traced_env() + "strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
                                      ":signal=KILL:when=" + std::to_string(n) + " " + CMR_BINARY + args(new_spline, dir));
       if (k.code == 0) break;
       ASSERT_EQ(k.code, 128 + SIGKILL) << k.err;
@@ -301,7 +301,7 @@ TEST(CommitKill, ImportIntoAnOwnedFolderKilledAtEveryStepLeavesOneImport) {
       SCOPED_TRACE(sys + " #" + std::to_string(n));
       const fs::path dir = fresh("import_kill");
       ASSERT_EQ(run("import " + (src / "old" / "drawing.svg").string() + " --out " + dir.string()).code, 0);
-      const Outcome k = run_captured("strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
+      const Outcome k = run_captured(traced_env() + "strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
                                      ":signal=KILL:when=" + std::to_string(n) + " " + CMR_BINARY + " import " +
                                      (src / "new" / "drawing.svg").string() + " --out " + dir.string());
       if (k.code == 0) break;
@@ -350,7 +350,7 @@ TEST(CommitKill, FixWithOutAndPngKilledAtEveryStepLeavesOneRun) {
       SCOPED_TRACE(sys + " #" + std::to_string(n));
       const fs::path dir = fresh("fix_kill");
       ASSERT_EQ(run(args(old_spline, dir)).code, 0);
-      const Outcome k = run_captured("strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
+      const Outcome k = run_captured(traced_env() + "strace -f -qq -o /dev/null -e trace=" + sys + " -e inject=" + sys +
                                      ":signal=KILL:when=" + std::to_string(n) + " " + CMR_BINARY + args(new_spline, dir));
       if (k.code == 0) break;
       ASSERT_EQ(k.code, 128 + SIGKILL) << k.err;
