@@ -5,7 +5,7 @@
 /// keep out of users' translation units.
 #include <optional>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/classify.hpp"
 
 namespace cmr {

@@ -15,7 +15,7 @@
 //      or a touching zero is not one.
 //    - SplineAnalysis::cmr_algorithm2, the paper's Algorithm 2 as stated
 //      (nu_0 nu_last <= 0 -> inflection, depth limit -> undecided): what the
-//      region engine draws for --mode cmr (bezierize/region.hpp, the shader).
+//      region engine draws for --mode cmr (region/region.hpp, the shader).
 //      It is stricter: a pass under Algorithm 2 is a pass under the exact
 //      reading, never the reverse.
 //  * Straight segments (lambda == 0, equivalently eta == 0 for a polynomial
@@ -192,7 +192,7 @@ struct SplineAnalysis {
 SplineAnalysis analyze(const BSpline& spline, const AnalyzeOptions& options = {});
 
 /// The per-span work of analyze(), supplied by the caller (RegionMemo,
-/// bezierize/region_memo.hpp, remembers it between splines that differ in a
+/// region/region_memo.hpp, remembers it between splines that differ in a
 /// few points). Each must return exactly what segment_shape, classify_segment
 /// and joint_between return for the same arguments; analyze(spline, options,
 /// parts) then equals analyze(spline, options).

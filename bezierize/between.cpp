@@ -4,10 +4,10 @@
 #include <optional>
 
 #include "bezierize/algorithms.hpp"
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/lambda.hpp"
-#include "bezierize/roots.hpp"
-#include "bezierize/scalar.hpp"
+#include "numeric/roots.hpp"
+#include "numeric/scalar.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr {

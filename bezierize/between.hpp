@@ -29,7 +29,7 @@
 /// the degree-d polynomial through those d+1 values, converted to Bernstein
 /// form by the inverse of the collocation matrix M_kj = B_j^d(k/d)
 /// (c_ij = sum_k (M^-1)_jk xi_i(s_k)). In double with a certified error bound
-/// (bezierize/bounded.hpp: the instance points, lambda's coefficients and the
+/// (numeric/bounded.hpp: the instance points, lambda's coefficients and the
 /// interpolation all carry their bound), and in exact rationals (GMP) where
 /// the bound does not decide. tests/bezierize/between_exact.py recomputes
 /// c_ij independently (bivariate monomials in fractions).

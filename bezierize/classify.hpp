@@ -21,7 +21,7 @@
 //
 // Exactness. Sign tests are exact comparisons with zero by design. The
 // coefficients are first computed in double with a certified error bound
-// (bezierize/bounded.hpp); when a sign that matters is not certain, the span is
+// (numeric/bounded.hpp); when a sign that matters is not certain, the span is
 // recomputed in exact rational arithmetic from the double inputs (GMP), so the
 // result is always the one Algorithms 1 and 2 give on exact coefficients.
 #include <cstdint>

@@ -40,9 +40,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/piece.hpp"
-#include "bezierize/bounded.hpp"
+#include "numeric/bounded.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/vec2.hpp"
@@ -173,7 +173,7 @@ bool traverse(Source& src, int max_depth, Rule rule, Visit visit, bool stop_at_u
 
 /// The one traversal itself, with the decision of each node (level, j) left
 /// to decide(level, j) (traverse: the rule on the current piece's signs; a
-/// block's reuse, bezierize/box_reuse.hpp: a recorded fact where there is
+/// block's reuse, region/box_reuse.hpp: a recorded fact where there is
 /// one) and done(level) called for each node whose subtree it has finished.
 template <class Source, class Decide, class Visit, class Done>
 bool traverse_nodes(Source& src, int max_depth, Decide decide, Visit visit, Done done) {

@@ -5,7 +5,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "spline/blossom.hpp"
 #include "spline/bspline.hpp"
 

@@ -19,7 +19,7 @@
 #include <array>
 #include <cmath>
 
-#include "bezierize/scalar.hpp"
+#include "numeric/scalar.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr {

@@ -20,7 +20,7 @@
 // (n = 2: eta is a constant, eta' = 0 and lambda = -(3/2) eta g', degree 1.)
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr {

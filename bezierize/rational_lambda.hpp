@@ -48,7 +48,7 @@
 #include <array>
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr {

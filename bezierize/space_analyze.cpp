@@ -4,7 +4,7 @@
 #include <limits>
 #include <numbers>
 
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "bezierize/space_classify.hpp"
 
 namespace cmr {

@@ -88,7 +88,7 @@
 #include <array>
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
 #include "spline/space.hpp"

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr::draw {
@@ -47,7 +47,7 @@ struct RegionPicture {
   bool alternating = false;                ///< the layers hold alternating labels (several joints)
   bool each_piece = false;                 ///< the layers hold each-piece labels (EachPiece)
   /// One line the legend ends with (why a region is empty or full:
-  /// bezierize/region_reason.hpp); nothing when empty.
+  /// region/region_reason.hpp); nothing when empty.
   std::string note;
   bool depth_shading = false;              ///< Fig. 7: darker with the decision level, grey for not monotone
   int max_depth = kDefaultDepth;           ///< D of the render: the depth shading's darkest level

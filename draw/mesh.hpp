@@ -3,7 +3,7 @@
 /// target cmr::mesh; no CLI, no file output: bytes in memory, written by the
 /// caller with cmr::write_file_atomic).
 ///
-/// Region meshes: every label's convex contour pieces (bezierize/contour.hpp)
+/// Region meshes: every label's convex contour pieces (region/contour.hpp)
 /// as triangle fans, one OpenMesh TriMesh for all labels; a piece's vertices
 /// are shared with its neighbours (pixel centres and edge vertices have one
 /// index per label), so each label is a 2-manifold with boundary whose holes
@@ -35,7 +35,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #pragma GCC diagnostic pop
 
-#include "bezierize/contour.hpp"
+#include "region/contour.hpp"
 
 namespace cmr::mesh {
 

@@ -1,7 +1,7 @@
 #pragma once
 /// A region's export files, written the same way by `cmr region` and the
 /// editor's export-region: the label map as a binary PGM (one label code per
-/// pixel, code() of bezierize/region.hpp), one file per point when there are
+/// pixel, code() of region/region.hpp), one file per point when there are
 /// several (PATH.PK.EXT), and the composite PNG (every point's region over
 /// the curve, each point in its own colour when there are several, with the
 /// legend). Staged on an OutputSet (io/output.hpp): all files or none.
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
 

@@ -28,8 +28,8 @@
 #include <filesystem>
 #include <string>
 
-#include "bezierize/region.hpp"
-#include "bezierize/space_region.hpp"
+#include "region/region.hpp"
+#include "region/space_region.hpp"
 #include "draw/mesh.hpp"
 #include "spline/space.hpp"
 

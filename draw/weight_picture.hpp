@@ -1,8 +1,8 @@
 #pragma once
-/// The picture of the region of a weight (bezierize/weight_region.hpp).
+/// The picture of the region of a weight (region/weight_region.hpp).
 #include <string>
 
-#include "bezierize/weight_region.hpp"
+#include "region/weight_region.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr {

@@ -2,7 +2,7 @@
 #include <cstring>
 #include <vector>
 
-#include "bezierize/kcurve.hpp"
+#include "design/kcurve.hpp"
 #include "spline/errors.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

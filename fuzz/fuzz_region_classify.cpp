@@ -2,7 +2,7 @@
 // the input, on a spline from the input.
 #include <cstring>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "fuzz/common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

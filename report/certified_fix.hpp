@@ -1,6 +1,6 @@
 #pragma once
 /// The smallest certified fix of each failing check of a report
-/// (bezierize/fix.hpp): the requirement (cmrwi, cmr, split:S[:sharpest|
+/// (design/fix.hpp): the requirement (cmrwi, cmr, split:S[:sharpest|
 /// flattest]) and every failing gate, each through a fix requirement that
 /// implies it (curvature-extrema-at-nodes and max-extrema-per-segment:N: every segment
 /// monotone; each-piece; no-inflection; g2-at-smooth-nodes:tol: g2 at every
@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "report/gates.hpp"
 
 namespace cmr::report {

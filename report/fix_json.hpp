@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bezierize/fix.hpp"
-#include "bezierize/space_fix.hpp"
+#include "design/fix.hpp"
+#include "design/space_fix.hpp"
 
 namespace cmr::report {
 

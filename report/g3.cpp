@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "bezierize/extract.hpp"
 #include "bezierize/space_analyze.hpp"
 #include "bezierize/space_classify.hpp"

@@ -2,7 +2,7 @@
 /// Type-design gates (`cmr report --require`, comma separated, beside cmrwi,
 /// cmr and split:S), judged on a spline's certified report (report.hpp: the
 /// extrema and inflections come from the exact roots of lambda and eta,
-/// bezierize/roots.hpp, and the curvature jumps at joints; nothing is
+/// numeric/roots.hpp, and the curvature jumps at joints; nothing is
 /// sampled). A "node" is a joint (on a closed spline the seam too): the
 /// on-curve points of a font contour.
 ///

@@ -10,7 +10,7 @@
 /// (Keep::g1); only the source's own points move, and never a straight
 /// piece: a line's added inner points are no source points, and a node at
 /// either end of a line stays where it is (so a line stays a line). The
-/// off-grid fix is then snapped to the grid (bezierize/fix_grid.hpp: the
+/// off-grid fix is then snapped to the grid (design/fix_grid.hpp: the
 /// cheapest grid positions near it that the same judge passes). The result
 /// is re-judged gate by gate, before and after, and a fix that makes any
 /// required gate worse is none.
@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/fix_grid.hpp"
+#include "design/fix_grid.hpp"
 #include "io/font.hpp"
 #include "report/report.hpp"
 

@@ -9,10 +9,10 @@
 #include <numeric>
 #include <tuple>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/between.hpp"
 #include "bezierize/extract.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "report/report.hpp"
 #include "spline/errors.hpp"
 #include "spline/format.hpp"

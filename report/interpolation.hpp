@@ -23,7 +23,7 @@
 /// c and d polynomials of degree <= 2 in s, in Bernstein form on [0, 1]:
 ///   c = [u0 x v0, (u0 x v1 + u1 x v0) / 2, u1 x v1]    (d likewise with .)
 /// with exact rational coefficients (the inputs are doubles: every double is
-/// a rational, bezierize/exact.hpp).
+/// a rational, numeric/exact.hpp).
 ///
 /// "Smooth at the masters" (the nodes judged): the node is marked smooth
 /// (a .glif's smooth="yes") in both masters of the piece, AND c = 0 and
@@ -71,7 +71,7 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "io/masters.hpp"
 #include "report/font_report.hpp"
 #include "report/gates.hpp"

@@ -11,15 +11,15 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "bezierize/extract.hpp"
-#include "bezierize/fix.hpp"
-#include "bezierize/fast_roots.hpp"
-#include "bezierize/tracked.hpp"
+#include "design/fix.hpp"
+#include "numeric/fast_roots.hpp"
+#include "numeric/tracked.hpp"
 #include "bezierize/joint_json.hpp"
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -143,7 +143,7 @@ Frame frame_at(const std::vector<Vec2>& B, double u) {
 
 // Curvature of a Bezier segment with exact points at parameter u: exact
 // P'(u), P''(u) from the Bernstein derivatives of the coordinates
-// (bezierize/bernstein.hpp), then det and |P'|^2 rounded once each, so the
+// (numeric/bernstein.hpp), then det and |P'|^2 rounded once each, so the
 // sign is exact and the relative error a few units of rounding (within
 // kKappaRelError). NaN where P'(u) = 0.
 double exact_kappa(const std::vector<Point<Rational>>& B, const Rational& u) {

@@ -1,7 +1,7 @@
 #pragma once
 /// Spline QA reports (`cmr report`): per spline, every span's classification
 /// (Algorithms 1 and 2, CAD&A 2024 §3), the certified parameters of its
-/// curvature extrema and inflections (bezierize/roots.hpp), the joints, the
+/// curvature extrema and inflections (numeric/roots.hpp), the joints, the
 /// monotone pieces of the whole curve, and for a spline that fails the check,
 /// which single control points have a region that fixes it (§4). Rendered as a
 /// versioned JSON document (docs/report-schema.md) and one self-contained HTML
@@ -19,9 +19,9 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/limits.hpp"
 #include "report/certified_fix.hpp"
 #include "report/gates.hpp"

@@ -6,7 +6,7 @@
 #include <optional>
 #include <set>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "spline/errors.hpp"

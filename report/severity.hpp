@@ -5,7 +5,7 @@
 ///
 /// For each violation of a gate that has a fix (curvature-extrema-at-nodes and
 /// max-extrema-per-segment: an extremum inside segment i; g2-at-smooth-nodes:
-/// a jump at joint j), fix() (bezierize/fix.hpp) searches the nearest move of
+/// a jump at joint j), fix() (design/fix.hpp) searches the nearest move of
 /// the points of that segment (of the two segments meeting at that joint),
 /// with smooth nodes kept G1, judged by the gate itself: the violation at that
 /// place must be gone (others may come or go: this measures the one finding,

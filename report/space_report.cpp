@@ -10,7 +10,7 @@
 
 #include "draw/draw.hpp"
 #include "io/output.hpp"
-#include "bezierize/view_fit.hpp"
+#include "region/view_fit.hpp"
 #include "report/g3.hpp"
 #include "spline/errors.hpp"
 
@@ -384,7 +384,7 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   // As a planar report: the curvature check counts unless only gates are asked for.
   r.pass = options.require_monotone || r.gates.empty() ? r.check_pass : true;
   for (const GateResult& g : r.gates) r.pass = r.pass && g.pass();
-  if (!(monotone || r.near_constant) && options.fixes) {  // the smallest certified fix (bezierize/space_fix.hpp)
+  if (!(monotone || r.near_constant) && options.fixes) {  // the smallest certified fix (design/space_fix.hpp)
     SpaceFixRequest f;
     f.max_depth = options.max_depth;
     f.time_limit = kReportSpaceFixSeconds;

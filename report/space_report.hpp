@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/space_analyze.hpp"
-#include "bezierize/space_fix.hpp"
-#include "bezierize/space_region.hpp"
+#include "design/space_fix.hpp"
+#include "region/space_region.hpp"
 #include "report/corpus.hpp"
 #include "report/gates.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "bezierize/extract.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "report/report.hpp"
 #include "spline/format.hpp"
 

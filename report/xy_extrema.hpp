@@ -7,7 +7,7 @@
 /// point: an on-curve point), the notion of curvature-extrema-at-nodes:runs;
 /// an open spline's ends are nodes too.
 ///
-/// Certified by exact root isolation (bezierize/roots.hpp). Segment i with
+/// Certified by exact root isolation (numeric/roots.hpp). Segment i with
 /// Bezier points P_0..P_n (exact rationals from the doubles,
 /// segment_bezier_points<Rational>) is C(u) = sum P_k B_k^n(u), u in [0, 1]:
 ///
@@ -51,8 +51,8 @@
 /// point inserted into a font's source is a new point, not a moved one).
 #include <vector>
 
-#include "bezierize/bernstein.hpp"
-#include "bezierize/exact.hpp"
+#include "numeric/bernstein.hpp"
+#include "numeric/exact.hpp"
 #include "report/gates.hpp"
 #include "spline/bspline.hpp"
 

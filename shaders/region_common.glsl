@@ -1,6 +1,6 @@
 // Curvature monotonicity region, one pixel per invocation: the GPU mirror of
-// cmr::classify_position (bezierize/region.cpp), with the same certified
-// arithmetic as cmr::Bounded (bezierize/bounded.hpp). Every quantity is a
+// cmr::classify_position (region/region.cpp), with the same certified
+// arithmetic as cmr::Bounded (numeric/bounded.hpp). Every quantity is a
 // pair (value, bound on |exact - value|); a sign is certain when
 // |value| > bound. A pixel whose deciding signs are not all certain is
 // flagged, and the host recomputes it exactly, so labels never depend on how
@@ -46,7 +46,7 @@ REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
 // displacement (dx, dy) = p - P_k with coefficients the host computed exactly
 // and rounded (cmr::RegionEntry); evaluating one costs ten products, and its
 // error bound is K_POLY units of roundoff times sum |c_m| |mu_m| (see
-// bezierize/region.hpp for the count).
+// region/region.hpp for the count).
 
 const REAL K_POLY = REAL(24) * REAL(0.5) * K_ROUND;
 
@@ -89,7 +89,7 @@ REAL2 nu_at(uint e, int p, int k) {
   return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
 }
 
-// Depth-first Algorithms 1 and 2 on the piece polynomials (bezierize/region.cpp,
+// Depth-first Algorithms 1 and 2 on the piece polynomials (region/region.cpp,
 // lazy_algorithm1/2): ends first, inner coefficients until both signs appear.
 // Pieces below the precomputed levels are left to the host (DEEP), so no
 // coefficient arrays live in the shader.
@@ -215,7 +215,7 @@ uint level0(bool cmr) {
 }
 
 // Every touched segment through Algorithms 1 (and 2), the varying joints,
-// and the verdict (cmr::detail::verdict in bezierize/region.cpp): each group
+// and the verdict (cmr::detail::verdict in region/region.cpp): each group
 // of judged segments (cmr::part_verdict), then the label of the groups
 // (one group: its direction; two with a split: cmr::combine_split; any
 // number: cmr::alternation_verdict, or each on its own:

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Regions of a point of a polynomial space curve moving in a plane, one pixel
 // per invocation: the GPU mirror of one part of
-// cmr::SpaceRegionProblem::classify (bezierize/space_region.cpp). One run
+// cmr::SpaceRegionProblem::classify (region/space_region.cpp). One run
 // judges one moved segment (Algorithm 1 on lambda3, bezierize/space_lambda.hpp
 // and decide.hpp) or one varying joint's curvature jump, in double precision
 // with a running error bound on every quantity (as cmr::Bounded). A result

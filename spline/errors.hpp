@@ -12,7 +12,7 @@
 //  * Environment failures (no Vulkan device, a device lost, out of device
 //    memory, a full disk, an I/O error, a permission the process lacks):
 //    cmr::EnvironmentError. The cmr command maps it to exit code 3. The
-//    backends' errors derive from it (BackendError, bezierize/region.hpp;
+//    backends' errors derive from it (BackendError, region/region.hpp;
 //    vk::RegionFailure, which also carries the vk::Error); inside vk/ the
 //    Vulkan boundary returns vk::Result (vk/error.hpp), and vk/ turns a
 //    failure into an EnvironmentError where it leaves that boundary.

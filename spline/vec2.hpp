@@ -2,7 +2,7 @@
 // 2D point types. Public APIs use cmr::Vec2 (glm::dvec2). Generic algorithms
 // (the blossom, the Bernstein algebra, lambda/eta) are templates over a scalar
 // type so that the same code runs in double, in double with a running error
-// bound (bezierize/bounded.hpp) and in exact rational arithmetic (GMP); Vec2T
+// bound (numeric/bounded.hpp) and in exact rational arithmetic (GMP); Vec2T
 // is the point type they use for non-double scalars.
 #include <type_traits>
 #include <utility>

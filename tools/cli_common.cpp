@@ -10,9 +10,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "bezierize/box_reuse.hpp"
-#include "bezierize/pixel_simd.hpp"
-#include "bezierize/space_region.hpp"
+#include "region/box_reuse.hpp"
+#include "region/pixel_simd.hpp"
+#include "region/space_region.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
 #ifdef CMR_WITH_VULKAN

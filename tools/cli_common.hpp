@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "io/output.hpp"
 
 namespace CLI {
@@ -23,7 +23,7 @@ class Option;
 }
 
 namespace cmr {
-class SpaceRegionBackend;  // bezierize/space_region.hpp
+class SpaceRegionBackend;  // region/space_region.hpp
 }
 
 namespace cmr::cli {

@@ -1,15 +1,15 @@
 // cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|curvature-extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
 // [--points K,...] [--keep g1|g2|none] [--max-move D] [--out FIXED.json]:
-// the nearest certified repair (bezierize/fix.hpp, docs/fix.md).
+// the nearest certified repair (design/fix.hpp, docs/fix.md).
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "bezierize/segments.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
 #include "io/ufo.hpp"

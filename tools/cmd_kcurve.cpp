@@ -5,7 +5,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "bezierize/kcurve.hpp"
+#include "design/kcurve.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"

@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region_reason.hpp"
+#include "region/region_reason.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
@@ -44,7 +44,7 @@ struct RegionArgs {
   std::string contours;  // --contours OUT.svg|OUT.obj|OUT.ply
   bool stats = false;
   bool pretty = false;
-  // --weight K --from A --to B (bezierize/weight_region.hpp): the region of a weight.
+  // --weight K --from A --to B (region/weight_region.hpp): the region of a weight.
   std::optional<int> weight;
   std::optional<double> from, to;
   int samples = WeightRegionRequest{}.samples;
@@ -193,7 +193,7 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
   return r;
 }
 
-/// --contours: every image's refined outlines (bezierize/contour.hpp), and
+/// --contours: every image's refined outlines (region/contour.hpp), and
 /// each label's area in its summary ("areas": {"label name": area}).
 std::vector<RegionContours> contours_of(const RegionArgs& a, const std::vector<RegionProblem>& problems, Rendered& r) {
   std::vector<RegionContours> all;

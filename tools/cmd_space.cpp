@@ -9,7 +9,7 @@
 #include <cmath>
 #include <iostream>
 
-#include "bezierize/space_region.hpp"
+#include "region/space_region.hpp"
 #include "draw/draw.hpp"
 #include "draw/space_mesh.hpp"
 #include "io/output.hpp"

@@ -67,7 +67,7 @@ struct StepEdge {
 };
 StepEdge open_step_edge(const std::filesystem::path& model, const std::string& spec);
 
-/// `cmr fix FILE` on a space curve (bezierize/space_fix.hpp, docs/fix.md):
+/// `cmr fix FILE` on a space curve (design/space_fix.hpp, docs/fix.md):
 /// the nearest certified move of one point in a plane through it; prints the
 /// JSON and writes --out and --png (all or none). InputError (exit 2) when none
 /// is found.

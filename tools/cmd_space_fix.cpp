@@ -1,11 +1,11 @@
-// `cmr fix FILE` on a space curve (tools/cmd_space.hpp, bezierize/space_fix.hpp,
+// `cmr fix FILE` on a space curve (tools/cmd_space.hpp, design/space_fix.hpp,
 // docs/fix.md "Space curves").
 #include <cmath>
 #include <iostream>
 
 #include <glm/geometric.hpp>
 
-#include "bezierize/space_fix.hpp"
+#include "design/space_fix.hpp"
 #include "draw/draw.hpp"
 #include "io/output.hpp"
 #include "report/fix_json.hpp"

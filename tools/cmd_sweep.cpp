@@ -12,7 +12,7 @@
 // All steps share one view (without --view: the union of the steps' regions
 // and the moved point, with a margin, fitted_view; the control points do
 // not move). Each frame's legend ends with its knot value. Per step: the region (any backend), its refined contours
-// (bezierize/contour.hpp) and the curve's own verdict (analyze), printed as
+// (region/contour.hpp) and the curve's own verdict (analyze), printed as
 // one JSON line. With --out-dir (created if missing; files an earlier sweep
 // wrote there and this one does not are removed), all or none of: steps.jsonl, contours/
 // step_NNN.svg, frames/step_NNN.png, index.html (a slider over the frames),
@@ -31,10 +31,10 @@
 #include <CLI/CLI.hpp>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/contour.hpp"
+#include "region/contour.hpp"
 #include "bezierize/knot_ops.hpp"
-#include "bezierize/region_memo.hpp"
-#include "bezierize/view_fit.hpp"
+#include "region/region_memo.hpp"
+#include "region/view_fit.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"
@@ -132,7 +132,7 @@ BSpline step_spline(const SweepArgs& a, const BSpline& base, int s, double& valu
 /// is probed on the CPU at 48 x 48 over three times the polygon's view (its
 /// centre kept); the box of every step's region pixels and the moved points,
 /// widened by 15% of its larger side each way and then to square pixels, is
-/// the view (bezierize/view_fit.hpp, as report::fit_space_view for one
+/// the view (region/view_fit.hpp, as report::fit_space_view for one
 /// space region). No region at any step: the polygon's view.
 View fitted_view(const SweepArgs& a, const BSpline& base, const RegionRequest& rq, RegionMemo& memo) {
   const View v0 = *rq.view;
@@ -186,7 +186,7 @@ std::vector<Step> prepare(const SweepArgs& a, const BSpline& base, RegionMemo& m
   if (a.view.empty()) rq.view = fitted_view(a, base, rq, memo);
   std::vector<Step> steps;
   // A step moves one knot: only the spans whose window holds it are prepared
-  // again (bezierize/region_memo.hpp).
+  // again (region/region_memo.hpp).
   for (int s = 0; s <= a.steps; ++s) {
     double value = 0;
     BSpline spline = step_spline(a, base, s, value);

@@ -15,9 +15,9 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/extremum_terms.hpp"
-#include "bezierize/kcurve.hpp"
+#include "design/kcurve.hpp"
 #include "bezierize/lambda.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"

@@ -13,7 +13,7 @@
 #include "spline/bspline.hpp"
 #include "draw/draw.hpp"
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr::fig {

@@ -45,8 +45,8 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/region.hpp"
-#include "bezierize/space_region.hpp"
+#include "region/region.hpp"
+#include "region/space_region.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::vk {
@@ -129,7 +129,7 @@ using BackendNote = std::function<void(const std::string&)>;
 /// after the device opened, a pipeline cache file that is not used.
 std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, BackendNote note = {});
 
-/// The space-region backend of `choice` (bezierize/space_region.hpp): cpu
+/// The space-region backend of `choice` (region/space_region.hpp): cpu
 /// and automatic render on the CPU (automatic has no measured rule for space
 /// curves: their device runs are not timed yet), vulkan on the device
 /// `device` names (VulkanSpaceRegionBackend, vk/space_region_vk.hpp).

@@ -13,7 +13,7 @@
 #include <limits>
 #include <vector>
 
-#include "bezierize/bounded.hpp"
+#include "numeric/bounded.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::vk::detail {

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <vector>
 
-#include "bezierize/region_setup.hpp"
+#include "region/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "vk/internal.hpp"
 

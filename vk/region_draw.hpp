@@ -27,7 +27,7 @@
 #include <span>
 #include <string>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "vk/context.hpp"
 #include "vk/error.hpp"
 #include "vk/region_vk.hpp"

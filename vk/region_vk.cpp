@@ -14,7 +14,7 @@
 
 #include <unistd.h>
 
-#include "bezierize/region_setup.hpp"
+#include "region/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "spline/errors.hpp"
 #include "vk/buffer_packer.hpp"

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "vk/context.hpp"
 #include "vk/fragment_pipeline.hpp"
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <utility>
 
-#include "bezierize/space_region.hpp"
+#include "region/space_region.hpp"
 #include "vk/context.hpp"
 #include "vk/error.hpp"
 

@@ -2,7 +2,7 @@
 // when a Vulkan device is present, the same region on the Vulkan backend.
 #include <cstdio>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "vk/region_vk.hpp"
 
 int main() {

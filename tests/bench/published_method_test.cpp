@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "bezierize/lambda.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/bench/published_method.hpp"

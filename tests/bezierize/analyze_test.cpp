@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tests/test_util.hpp"

@@ -12,7 +12,7 @@
 #include "bezierize/algorithms.hpp"
 #include "bezierize/classify.hpp"
 #include "bezierize/lambda.hpp"
-#include "bezierize/scalar.hpp"
+#include "numeric/scalar.hpp"
 #include "spline/errors.hpp"
 #include "tests/bezierize/between_reference.hpp"
 

@@ -11,9 +11,9 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/decide.hpp"
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "bezierize/extract.hpp"
-#include "bezierize/fast_path.hpp"
+#include "numeric/fast_path.hpp"
 
 namespace cmr {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bezierize/bernstein.hpp"
+#include "numeric/bernstein.hpp"
 #include "tests/test_util.hpp"
 
 namespace cmr {

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/exact.hpp"
+#include "numeric/exact.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
 #include "tests/test_util.hpp"

@@ -11,7 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "bezierize/space_classify.hpp"
 #include "bezierize/space_lambda.hpp"
 #include "spline/errors.hpp"

@@ -124,7 +124,7 @@ TEST(Mesh, InconsistentStackIsAnInputError) {
 }
 
 // The regions of the quadratic Bezier's middle point (two disks, see
-// tests/bezierize/contour_test.cpp): the mesh's area per label is the contour
+// tests/region/contour_test.cpp): the mesh's area per label is the contour
 // area, its boundary loops are the outlines, and the OBJ and PLY files read
 // back with OpenMesh's readers give the same vertices and area.
 TEST(Mesh, RegionMeshMatchesContoursAndReadsBack) {

@@ -1,5 +1,5 @@
 // The floating-point shortcuts of analyze and the report (exactness-tracked
-// doubles, certified float root isolation; bezierize/fast_path.hpp) against
+// doubles, certified float root isolation; numeric/fast_path.hpp) against
 // the exact-only path (ExactOnlyScope: every decision they make taken in
 // rationals instead): on seeded random B-splines and on the glyphs of real
 // fonts, every verdict, class, shape, joint decision, root enclosure and
@@ -15,8 +15,8 @@
 #include "bezierize/algorithms.hpp"
 #include "bezierize/analyze.hpp"
 #include "bezierize/extract.hpp"
-#include "bezierize/fast_path.hpp"
-#include "bezierize/fast_roots.hpp"
+#include "numeric/fast_path.hpp"
+#include "numeric/fast_roots.hpp"
 #include "bezierize/lambda.hpp"
 #include "io/font.hpp"
 #include "report/batch.hpp"

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "io/font.hpp"
 #include "tests/cli_util.hpp"
 

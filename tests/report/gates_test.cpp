@@ -9,8 +9,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "bezierize/region.hpp"
-#include "bezierize/region_setup.hpp"
+#include "region/region.hpp"
+#include "region/region_setup.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tests/cli_util.hpp"

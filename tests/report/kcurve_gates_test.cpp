@@ -1,14 +1,14 @@
 // κ-curves pass cmr's own checks: the cubic chain of 20 seeded designer-like
-// point sets (tests/bezierize/kcurve_sets.hpp) passes the curvature-extrema-at-nodes
+// point sets (tests/design/kcurve_sets.hpp) passes the curvature-extrema-at-nodes
 // gate with every piece certified monotone, and its G2 joints show no
 // curvature jump (report JSON `jump`; the exact sign is kept as `exact_jump`).
 #include <gtest/gtest.h>
 
-#include "bezierize/kcurve.hpp"
+#include "design/kcurve.hpp"
 #include "report/gates.hpp"
 #include "report/batch.hpp"
 #include "report/report.hpp"
-#include "tests/bezierize/kcurve_sets.hpp"
+#include "tests/design/kcurve_sets.hpp"
 
 namespace cmr::report {
 namespace {

@@ -12,9 +12,9 @@
 #include <cstring>
 #include <random>
 
-#include "bezierize/fast_path.hpp"
+#include "numeric/fast_path.hpp"
 #include "bezierize/lambda.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/curvature.hpp"
 #include "spline/spline_json.hpp"
 #include "io/output.hpp"

@@ -11,11 +11,11 @@
 
 #include "bezierize/analyze.hpp"
 #include "bezierize/knot_ops.hpp"
-#include "bezierize/region_reason.hpp"
+#include "region/region_reason.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
-#include "bezierize/weight_region.hpp"
+#include "region/weight_region.hpp"
 #include "vk/presenter.hpp"
 
 namespace {

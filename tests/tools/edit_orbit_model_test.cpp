@@ -12,7 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "bezierize/space_analyze.hpp"
-#include "bezierize/space_region.hpp"
+#include "region/space_region.hpp"
 #include "spline/space.hpp"
 #include "tools/edit/orbit.hpp"
 

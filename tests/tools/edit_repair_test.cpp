@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/fix.hpp"
-#include "bezierize/region.hpp"
-#include "bezierize/region_reason.hpp"
+#include "design/fix.hpp"
+#include "region/region.hpp"
+#include "region/region_reason.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/edit/editor.hpp"
 

@@ -15,7 +15,7 @@
 #include <regex>
 #include <sstream>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "report/batch.hpp"
 #include "report/gates.hpp"
 #include "spline/errors.hpp"

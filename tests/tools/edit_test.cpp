@@ -18,10 +18,10 @@
 #include <sstream>
 #include <vector>
 
-#include "bezierize/fix.hpp"
-#include "bezierize/kcurve.hpp"
+#include "design/fix.hpp"
+#include "design/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/spline_json.hpp"
 #include "tests/cli_util.hpp"
 

@@ -110,7 +110,7 @@ TEST(KCurveCli, CollinearPointsAreStraightOrOneLineError) {
   }
 }
 
-// Two of the seeded designer sets (tests/bezierize/kcurve_sets.hpp, seed
+// Two of the seeded designer sets (tests/design/kcurve_sets.hpp, seed
 // 2017, sets 203 and 93) where no κ-curve proper was found: one line per
 // point on stderr naming it, exit 0, and the cubic chain still passes
 // curvature-extrema-at-nodes (docs/kcurve.md, "What a point off its maximum means").

@@ -20,7 +20,7 @@ using cmr::test::write;
 namespace fs = std::filesystem;
 
 // Uniform cubic: W(3) = (1 + 4 (-0.5) + 1) / 6 = 0, the joint of segments 0
-// and 1; segment 2 has no pole (tests/bezierize/pole_test.cpp).
+// and 1; segment 2 has no pole (tests/region/pole_test.cpp).
 const std::string kKnotPole =
     R"({"degree": 3, "knots": [0, 1, 2, 3, 4, 5, 6, 7], "points": [[0, 0], [1, 1.2], [2.2, 1.4], [3.1, 0.3], )"
     R"([4.4, -0.6], [5.5, 0.2]], "weights": [1, 1, -0.5, 1, 1, 1]})";

@@ -510,7 +510,7 @@ TEST(RegionBackendsAgree, SomeComparedMapHasSeveralLabels) {
 }  // namespace
 
 // Issue 20, item 2: a reason for every empty or full region, naming the
-// segments responsible (bezierize/region_reason.hpp), on stderr and in the
+// segments responsible (region/region_reason.hpp), on stderr and in the
 // PNG's legend.
 namespace {
 

@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "tests/test_util.hpp"
 #include "tests/vk/render_util.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "tests/test_util.hpp"
 #include "tests/vk/render_util.hpp"
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "bezierize/region_setup.hpp"
+#include "region/region_setup.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::test {

@@ -1,5 +1,5 @@
 // bench_block_reuse: the region CPU render's label maps with and without the
-// reuse of failed block proofs (bezierize/box_reuse.hpp, CMR_BLOCK_REUSE),
+// reuse of failed block proofs (region/box_reuse.hpp, CMR_BLOCK_REUSE),
 // on ONE thread, timed in CPU seconds of that thread (steady on a shared,
 // loaded machine, where bench_region's all-core figures scatter), off and on
 // interleaved, best of `reps` each. Cells as bench_region's: the cubic Bezier
@@ -23,9 +23,9 @@
 #include <string>
 #include <utility>
 
-#include "bezierize/box_reuse.hpp"
-#include "bezierize/region.hpp"
-#include "bezierize/region_setup.hpp"
+#include "region/box_reuse.hpp"
+#include "region/region.hpp"
+#include "region/region_setup.hpp"
 #include "spline/spline_json.hpp"
 
 using namespace cmr;

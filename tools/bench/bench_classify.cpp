@@ -3,7 +3,7 @@
 //     memory, and how often the exact (rational) fallback ran;
 //  2. correctness on hard curves: lambda with two roots within 1e-6 of each
 //     other, or a root within 1e-9 of an end, at scales 2^-7 .. 2^7, against
-//     the truth from certified root isolation (bezierize/roots.hpp); and the
+//     the truth from certified root isolation (numeric/roots.hpp); and the
 //     same curves judged by a sampled curvature-extremum search with an
 //     absolute tolerance, as CAD kernels do it.
 // Usage: bench_classify [spans=1000000]   (best of 5 passes)
@@ -17,7 +17,7 @@
 
 #include "bezierize/classify.hpp"
 #include "bezierize/lambda.hpp"
-#include "bezierize/roots.hpp"
+#include "numeric/roots.hpp"
 #include "spline/curvature.hpp"
 
 using namespace cmr;

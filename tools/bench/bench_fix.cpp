@@ -1,4 +1,4 @@
-// The nearest certified repair (bezierize/fix.hpp) against the two ways it
+// The nearest certified repair (design/fix.hpp) against the two ways it
 // replaces, on seeded failing curves (docs/fix.md):
 //   cubic   random cubic Beziers with monotone curvature, one inner point
 //           nudged (at most 3% of the size) until it is not (seeded);
@@ -34,7 +34,7 @@
 #include <string>
 #include <thread>
 
-#include "bezierize/fix.hpp"
+#include "design/fix.hpp"
 #include "io/font.hpp"
 #include "report/batch.hpp"
 #include "report/report.hpp"

@@ -36,8 +36,8 @@
 #include <string>
 #include <thread>
 
-#include "bezierize/region.hpp"
-#include "bezierize/region_setup.hpp"
+#include "region/region.hpp"
+#include "region/region_setup.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
 #include "tools/cli_common.hpp"

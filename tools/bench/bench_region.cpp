@@ -44,7 +44,7 @@
 #include "tools/cli_common.hpp"
 #include "tools/bench/published_method.hpp"
 #include "tools/bench/published_method_vk.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "vk/backend_choice.hpp"
 #include "tools/keep_freed_memory.hpp"
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A/B of the region block-proof reuse (bezierize/box_reuse.hpp): runs
+"""A/B of the region block-proof reuse (region/box_reuse.hpp): runs
 `bench_region N "VIEW D SIZE" cmr` with CMR_BLOCK_REUSE=1 and =0, interleaved
 (each round runs both, in turn, so load falls on both alike), for every view,
 D and size, and prints a Markdown table of the best CPU ms (every thread of

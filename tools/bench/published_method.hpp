@@ -39,7 +39,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "spline/bspline.hpp"
 
 namespace cmr::bench {

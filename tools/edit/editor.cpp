@@ -6,8 +6,8 @@
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region_reason.hpp"
-#include "bezierize/kcurve.hpp"
+#include "region/region_reason.hpp"
+#include "design/kcurve.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"
 #include "spline/parallel.hpp"
@@ -511,7 +511,7 @@ const std::vector<const RegionResult*>& Editor::region(bool* changed) {
       region_keys_ = std::move(keys);
       region_coarse_ = coarse;
       rgba_stale_ = true;
-      // Why a single region is empty or full (bezierize/region_reason.hpp), in the status line.
+      // Why a single region is empty or full (region/region_reason.hpp), in the status line.
       if (coarse == 1 && requests.size() == 1)
         if (const auto why = cache_.reason(s, requests[0], region_keys_[0], &memo())) message = *why;
     }

@@ -13,8 +13,8 @@
 #include "tools/edit/engine.hpp"
 #include "tools/edit/model.hpp"
 #include "tools/edit/sources.hpp"
-#include "bezierize/fix.hpp"
-#include "bezierize/weight_region.hpp"
+#include "design/fix.hpp"
+#include "region/weight_region.hpp"
 
 namespace cmr::edit {
 
@@ -87,7 +87,7 @@ class Editor {
   void move_point(int k, Vec2 p);
   /// The weight of point k (a polynomial spline becomes rational, its other
   /// weights 1; weights all 1 again make it polynomial): with_weight of
-  /// bezierize/weight_region.hpp. A weight outside [-kMaxWeight, kMaxWeight] is
+  /// region/weight_region.hpp. A weight outside [-kMaxWeight, kMaxWeight] is
   /// clamped and the status line says so; InputError for a point out of
   /// range, a weight that is not a number, every weight 0, and in κ-curve mode (the curve
   /// is rebuilt from its points there). Consecutive changes of one point's
@@ -212,7 +212,7 @@ class Editor {
   /// the canvas's view (opening_coarse; the CPU engine, RegionProblem's
   /// labels); when none has that many, the point with the most (the first of
   /// equals), if any. When none has one, P0 stays selected and the status line says so
-  /// with the first reason (bezierize/region_reason.hpp) that names the
+  /// with the first reason (region/region_reason.hpp) that names the
   /// segments responsible (P0's unless its support wraps a closed curve's
   /// seam). Not an undo step. Returns the point chosen,
   /// or nothing. With `named` (`cmr edit --point K`) that point is opened
@@ -308,10 +308,10 @@ class Editor {
   const std::vector<uint8_t>& region_rgba(bool* changed = nullptr);
   const SplineAnalysis& analysis();
   const CurvatureEvents& events();
-  /// The per-span setup remembered between moves (bezierize/region_memo.hpp):
+  /// The per-span setup remembered between moves (region/region_memo.hpp):
   /// every region problem and verdict the editor makes goes through it.
   RegionMemo& memo() const { return *memo_; }
-  /// The region of the selected point's weight (bezierize/weight_region.hpp,
+  /// The region of the selected point's weight (region/weight_region.hpp,
   /// `cmr region --weight K`) over [w/4, 4w] of its weight w (ends in
   /// increasing order for w < 0; [-1, 1] for w = 0), in the view's labels (mode, split, segments,
   /// depth), kWeightRegionSamples samples: nullptr unless

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "bezierize/extract.hpp"
-#include "bezierize/region_reason.hpp"
+#include "region/region_reason.hpp"
 #include "report/extremum.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "spline/errors.hpp"

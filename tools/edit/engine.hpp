@@ -1,6 +1,6 @@
 #pragma once
 // The editor's one doorway into the engine: regions, verdicts, curvature
-// events. Every call into bezierize/region.hpp, bezierize/analyze.hpp and the
+// events. Every call into region/region.hpp, bezierize/analyze.hpp and the
 // report's root finding made by `cmr edit` is in engine.cpp, so an API change
 // there is ported in one file.
 #include <cstdint>
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region.hpp"
-#include "bezierize/region_memo.hpp"
+#include "region/region.hpp"
+#include "region/region_memo.hpp"
 #include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 
@@ -20,7 +20,7 @@ namespace cmr::edit {
 /// The label maps of one request per layer (RegionRequest, one moved point
 /// each), computed on the CPU (all cores), certified: each equals `cmr region
 /// FILE --point K --view ... --size WxH` for the same state.
-/// With `memo`, the problems are made through it (bezierize/region_memo.hpp:
+/// With `memo`, the problems are made through it (region/region_memo.hpp:
 /// the spans a move left alone are not prepared again; the same labels).
 std::vector<RegionResult> compute_regions(const BSpline& spline, const std::vector<RegionRequest>& layers,
                                           RegionMemo* memo = nullptr);
@@ -51,7 +51,7 @@ class RegionCache {
   const RegionResult& get(const BSpline& spline, const RegionRequest& request, std::vector<double> key,
                           RegionMemo* memo = nullptr);
   /// Why the remembered layer of a request is empty or full
-  /// (region_reason, bezierize/region_reason.hpp), worked out at its first
+  /// (region_reason, region/region_reason.hpp), worked out at its first
   /// call and remembered with the layer: a frame served by the cache does not
   /// prepare the request again. nullopt when the layer is neither, when the
   /// request cannot be prepared, or when the key is not remembered.

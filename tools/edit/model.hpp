@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region.hpp"
+#include "region/region.hpp"
 #include "bezierize/segments.hpp"
 #include "spline/bspline.hpp"
 #include "spline/limits.hpp"

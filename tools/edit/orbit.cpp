@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "bezierize/space_fix.hpp"
+#include "design/space_fix.hpp"
 #include "io/output.hpp"
 #include "spline/errors.hpp"
 

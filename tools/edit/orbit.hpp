@@ -28,7 +28,7 @@
 // it is.
 //
 // The region. Point K's certified region in that plane: the labels of
-// SpaceRegionProblem (bezierize/space_region.hpp, the CPU path of `cmr region
+// SpaceRegionProblem (region/space_region.hpp, the CPU path of `cmr region
 // SPACE.json --point K --plane ...`) over the plane's default view, drawn in
 // the plane. The region of K depends on every point but K, not on where K is
 // in the plane: a drag within the fixed plane leaves it as it is, so it is
@@ -54,7 +54,7 @@
 #include <vector>
 
 #include "bezierize/space_analyze.hpp"
-#include "bezierize/space_region.hpp"
+#include "region/space_region.hpp"
 #include "spline/space.hpp"
 #include "tools/edit/editor.hpp"
 
@@ -203,7 +203,7 @@ class OrbitView {
   bool panels = true;  ///< the legend and side panel (script `ui on|off`)
   std::string message;
 
-  /// `cmr fix`'s search for space curves (bezierize/space_fix.hpp), cmrwi, 5 s; one undo step.
+  /// `cmr fix`'s search for space curves (design/space_fix.hpp), cmrwi, 5 s; one undo step.
   void fix();
   void undo();
   void redo();

@@ -1,10 +1,10 @@
 // The editor's opening selection and its repairs: "fix" and "snap into
-// region" (bezierize/fix.hpp), animated and undoable (docs/edit.md).
+// region" (design/fix.hpp), animated and undoable (docs/edit.md).
 #include <algorithm>
 #include <cstdio>
 
 #include "bezierize/analyze.hpp"
-#include "bezierize/region_reason.hpp"
+#include "region/region_reason.hpp"
 #include "report/gates.hpp"
 #include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"

@@ -9,7 +9,7 @@
 #include <optional>
 #include <set>
 
-#include "bezierize/kcurve.hpp"
+#include "design/kcurve.hpp"
 #include "tools/edit/designer.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"

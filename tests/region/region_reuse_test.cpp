@@ -1,0 +1,156 @@
+// Reuse of a failed block proof by its quarters and pixels (box_reuse.hpp,
+// region.cpp: cull_block, classify_box_labels, classify_pixel_flat): label
+// maps (no depth map) rendered with reuse must equal those rendered without
+// it (set_block_reuse, the switch behind CMR_BLOCK_REUSE=0) and the exact
+// path's, pixel by pixel, on seeded zooms onto a region boundary. Scenes: a
+// cubic Bezier (fig2 P1), the uniform cubic B-spline (fig8 P3), the degree-9
+// Bezier (P4) and a rational cubic B-spline (nurbs_cubic P3); modes CMRWI and
+// CMR (where eta's traversal is reused too); D = 10 and 16. Each scene also
+// checks that reuse happened, in the block proofs and at the pixels (and for
+// nu in CMR mode where the scene has a CMR boundary: fig8 P3, nurbs_cubic
+// P3), so that equal maps cannot come from reuse never taking place.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "region/box_reuse.hpp"
+#include "region/region.hpp"
+#include "region/region_setup.hpp"
+#include "spline/spline_json.hpp"
+#include "tests/region/boundary_point.hpp"
+
+namespace cmr {
+namespace {
+
+using namespace cmr::backend;
+
+const std::string kSource = CMR_SOURCE_DIR;
+
+RegionRequest request(int point, int depth, int size, std::optional<View> view, Mode mode) {
+  return test::region_request(point, depth, size, view, false, mode);  // labels only: reuse is for label maps
+}
+
+// Restores the environment's switch whatever the test's outcome.
+struct ReuseSwitch {
+  ~ReuseSwitch() { set_block_reuse(-1); }
+};
+
+RegionImage render(const RegionSetup& s, bool reuse) {
+  set_block_reuse(reuse ? 1 : 0);
+  return region_cpu(s, 2);
+}
+
+void expect_reuse_exact(const BSpline& spline, int point, const std::string& name, int size, int exact_size,
+                        unsigned seed, bool check_eta = true) {
+  const ReuseSwitch restore;
+  std::mt19937_64 rng(seed);
+  const BlockReuseCounts before = block_reuse_counts();
+  std::uint64_t eta = 0;  // reuse of nu's traversal (CMR mode only)
+  for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
+    const std::uint64_t eta_before = block_reuse_counts().eta;
+    for (const int depth : {10, 16}) {
+      // The default view at a size with many failed blocks (nu's reuse in CMR mode; see eta below).
+      {
+        const RegionProblem p = RegionProblem::make(spline, request(point, depth, 256, std::nullopt, mode));
+        const RegionImage on = render(p.setup(), true), off = render(p.setup(), false);
+        EXPECT_EQ(on.labels, off.labels) << name << ", default view 256^2, D = " << depth
+                                         << (mode == Mode::cmr ? ", CMR" : ", CMRWI");
+      }
+      const RegionProblem whole = RegionProblem::make(spline, request(point, depth, 64, std::nullopt, mode));
+      const auto edge = test::boundary_point(whole, 64);
+      if (!edge) continue;  // one label in the default view
+      std::uniform_real_distribution<double> log_width(std::log(1e-4), std::log(2e-1)), shift(-0.25, 0.25);
+      for (int zoom = 0; zoom < 2; ++zoom) {
+        const double w = std::exp(log_width(rng));
+        const Vec2 c{edge->x + shift(rng) * w, edge->y + shift(rng) * w};
+        const View v{c.x - w / 2, c.y - w / 2, c.x + w / 2, c.y + w / 2};
+        std::ostringstream where;
+        where.precision(17);
+        where << name << (mode == Mode::cmr ? ", CMR" : ", CMRWI") << ", D = " << depth << ", seed " << seed
+              << ", zoom " << zoom << " (width " << w << " at " << c.x << ", " << c.y << ")";
+        // With and without reuse, at a size with several levels of quartering.
+        {
+          const RegionProblem p = RegionProblem::make(spline, request(point, depth, size, v, mode));
+          const RegionImage on = render(p.setup(), true), off = render(p.setup(), false);
+          int wrong = 0;
+          std::ostringstream first;
+          for (int j = 0; j < size; ++j)
+            for (int i = 0; i < size; ++i) {
+              const std::size_t at = static_cast<std::size_t>(j) * size + i;
+              if (on.labels[at] != off.labels[at] && wrong++ < 3)
+                first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << " with reuse, "
+                      << int(off.labels[at]) << " without";
+            }
+          EXPECT_EQ(wrong, 0) << where.str() << ", " << size << "^2" << first.str();
+        }
+        // With reuse against the exact path.
+        {
+          const RegionProblem p = RegionProblem::make(spline, request(point, depth, exact_size, v, mode));
+          const RegionSetup& s = p.setup();
+          const RegionImage on = render(s, true);
+          int wrong = 0;
+          std::ostringstream first;
+          for (int j = 0; j < exact_size; ++j)
+            for (int i = 0; i < exact_size; ++i) {
+              const PixelResult exact = classify_position_exact(s, pixel_center(v, exact_size, exact_size, i, j));
+              const std::size_t at = static_cast<std::size_t>(j) * exact_size + i;
+              if (on.labels[at] != exact.label && wrong++ < 3)
+                first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
+                      << int(exact.label);
+            }
+          EXPECT_EQ(wrong, 0) << where.str() << ", " << exact_size << "^2 against the exact path" << first.str();
+        }
+      }
+    }
+    const std::uint64_t eta_here = block_reuse_counts().eta - eta_before;
+    if (mode == Mode::cmrwi) {
+      EXPECT_EQ(eta_here, 0u) << name << ": nu reused without CMR mode";
+    }
+    eta += eta_here;
+  }
+  const BlockReuseCounts after = block_reuse_counts();
+  const auto box = (after.box_nodes + after.box_segments + after.box_level0) -
+                   (before.box_nodes + before.box_segments + before.box_level0);
+  const auto pixel = (after.pixel_nodes + after.pixel_segments) - (before.pixel_nodes + before.pixel_segments);
+  EXPECT_GT(box, 0u) << name << ": no block proof took anything from its parent";
+  EXPECT_GT(pixel, 0u) << name << ": no pixel took anything from its block";
+  if (check_eta) {
+    EXPECT_GT(eta, 0u) << name << ": no reuse of nu's traversal in CMR mode";
+  }
+}
+
+TEST(RegionReuse, CubicBezierLabelsUnchanged) {
+  expect_reuse_exact(read_spline_file(kSource + "/examples/figures/fig2.json"), 1, "fig2 P1", 96, 32, 2311,
+                     false);  // CMR: the inflection fails in the whole default view (no boundary to zoom onto)
+}
+
+TEST(RegionReuse, UniformCubicLabelsUnchanged) {
+  expect_reuse_exact(read_spline_file(kSource + "/examples/figures/fig8.json"), 3, "fig8 P3", 96, 32, 2312);
+}
+
+TEST(RegionReuse, Degree9BezierLabelsUnchanged) {
+  expect_reuse_exact(read_spline_file(kSource + "/examples/bezier9.json"), 4, "bezier9 P4", 64, 16, 2313,
+                     false);  // CMR: as for fig2 P1
+}
+
+TEST(RegionReuse, RationalCubicLabelsUnchanged) {
+  expect_reuse_exact(read_spline_file(kSource + "/examples/rational/nurbs_cubic.json"), 3, "nurbs_cubic P3", 96, 20,
+                     2314);
+}
+
+// The switch itself: off means no reuse at all.
+TEST(RegionReuse, SwitchOffReusesNothing) {
+  const ReuseSwitch restore;
+  const BSpline spline = read_spline_file(kSource + "/examples/figures/fig8.json");
+  const RegionProblem p = RegionProblem::make(spline, request(3, 10, 128, std::nullopt, Mode::cmrwi));
+  const BlockReuseCounts before = block_reuse_counts();
+  render(p.setup(), false);
+  const BlockReuseCounts after = block_reuse_counts();
+  EXPECT_EQ(after.box_nodes + after.box_segments + after.box_level0 + after.pixel_nodes + after.pixel_segments,
+            before.box_nodes + before.box_segments + before.box_level0 + before.pixel_nodes + before.pixel_segments);
+}
+
+}  // namespace
+}  // namespace cmr
