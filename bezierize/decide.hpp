@@ -3,7 +3,7 @@
 /// 2024, §3): the piece rules as functions of a sign summary, and the one
 /// depth-first traversal over a coefficient source. Every C++ path (the
 /// generic exact/Bounded/double path and the allocation-free fast path in
-/// classify.cpp, the region pixel and region block paths in region.cpp)
+/// classify.cpp, the region pixel and region block paths in region/region.cpp and region/block.cpp)
 /// decides pieces here; the shader (shaders/piece_rules.glsl) mirrors these
 /// rules line by line, and tests/vk/piece_rules_test.cpp compares the two on
 /// a table of coefficient vectors.
@@ -105,7 +105,7 @@ constexpr Piece inflection_piece(const SignSummary& s) {
   return Piece::uncertain;
 }
 
-/// The rules of the region block proof (region.cpp, classify_box_labels),
+/// The rules of the region block proof (region/block.cpp, classify_box_labels),
 /// where a piece's signs must hold for every position of a block of pixels.
 /// They differ from Algorithms 1 and 2 by design: the block search does not
 /// reproduce each pixel's traversal (levels may differ between pixels), it

@@ -1,6 +1,6 @@
 #pragma once
-/// The Cairo side of cmr::draw, shared by its picture modules (draw.cpp, the
-/// weight picture): owning handles, a checked image surface and context, the
+/// The Cairo side of cmr::draw, shared by its picture modules (draw.cpp, plot.cpp,
+/// the weight picture): owning handles, a checked image surface and context, the
 /// source colour, and the one encoder of a painted picture into PNG or SVG
 /// bytes. Private to draw/ (it includes <cairo.h>, which draw links
 /// privately); other modules reach SVG through draw/svg_text.hpp.

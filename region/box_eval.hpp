@@ -4,7 +4,7 @@
 // box of them: the value with a rigorous bound on its distance to the exact
 // value of the polynomial (its rounded coefficients' exact rational values
 // at the exact displacement, as region_setup.hpp's error model states).
-// Shared by the CPU region backend's pixels and block proofs (region.cpp);
+// Shared by the CPU region backend's pixels and block proofs (region.cpp, block.cpp);
 // tested against exact rational evaluation (tests/region/box_eval_test.cpp).
 #include <array>
 #include <cmath>

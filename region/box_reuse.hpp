@@ -1,7 +1,7 @@
 #pragma once
 /// Reuse of a failed block proof by the block's quarters and pixels (region
-/// CPU backend, labels only; region.cpp: classify_box_labels, cull_block,
-/// classify_pixel_flat). Switch: CMR_BLOCK_REUSE=0 in cmr's environment (or
+/// CPU backend, labels only; block.cpp: classify_box_labels, cull_block;
+/// region.cpp: classify_pixel_flat). Switch: CMR_BLOCK_REUSE=0 in cmr's environment (or
 /// set_block_reuse) turns it off; labels are the same either way.
 ///
 /// What a block proof learns. The box traversal (block_piece's rules over the

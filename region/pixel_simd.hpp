@@ -46,7 +46,7 @@ SimdLevel simd_level();
 /// unchanged) when this CPU or build lacks it.
 bool set_simd_level(SimdLevel level);
 
-/// The root values and bound of one kernel entry (region.cpp's PixelKernel:
+/// The root values and bound of one kernel entry (kernel.hpp's PixelKernel:
 /// t monomial-major, t[m * n1 + c]; mag[m] = max_c |t[m * n1 + c]|) for the
 /// simd_lanes(level) pixels with displacements dx[0..], dy[0..]: pixel p's
 /// value c goes to v[c * stride + p], its bound to e[p].
@@ -57,7 +57,7 @@ void pixel_root_values(SimdLevel level, const double* t, const double* mag, int 
 /// so tests can see that a comparison covers pixels of the batch path.
 /// count_simd_pixels adds to the calling thread's own tally (no shared cache
 /// line touched per chunk of lanes); publish_simd_pixel_counts adds that
-/// tally to the totals simd_pixel_count reads (region.cpp: once per 64x64
+/// tally to the totals simd_pixel_count reads (block.cpp: once per 64x64
 /// block job).
 std::uint64_t simd_pixel_count(SimdLevel level);
 void count_simd_pixels(SimdLevel level, int pixels);

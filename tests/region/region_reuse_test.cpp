@@ -1,5 +1,5 @@
 // Reuse of a failed block proof by its quarters and pixels (box_reuse.hpp,
-// region.cpp: cull_block, classify_box_labels, classify_pixel_flat): label
+// block.cpp: cull_block, classify_box_labels; region.cpp: classify_pixel_flat): label
 // maps (no depth map) rendered with reuse must equal those rendered without
 // it (set_block_reuse, the switch behind CMR_BLOCK_REUSE=0) and the exact
 // path's, pixel by pixel, on seeded zooms onto a region boundary. Scenes: a
