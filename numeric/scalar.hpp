@@ -5,7 +5,7 @@
 //   Bounded  : double with a certified error bound (numeric/bounded.hpp)
 //   Rational : exact (GMP), the fallback that makes every decision exact
 /// Marks translation units that see the internal scalar types (GMP, __int128);
-/// tests/bezierize/public_headers_test.cpp checks the public headers do not.
+/// tests/region/public_headers_test.cpp checks the public headers do not.
 #define CMR_INTERNAL_SCALAR_TYPES 1
 #include <cstdint>
 #include <string>
