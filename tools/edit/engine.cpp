@@ -14,6 +14,7 @@
 #include "spline/parallel.hpp"
 #include "draw/draw.hpp"
 #include "report/report.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 
@@ -131,6 +132,7 @@ std::optional<std::string> RegionCache::reason(const BSpline& spline, const Regi
     try {
       e->reason = region_reason(memo != nullptr ? memo->make(spline, request) : RegionProblem::make(spline, request),
                                 *e->result);
+      if (e->reason) e->reason = cli::show_fields(*e->reason);  // the library's fields as the command's flags
     } catch (const InputError&) {
       e->reason = std::optional<std::string>{};
     }

@@ -13,6 +13,7 @@
 #include "tools/edit/designer.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -41,7 +42,7 @@ void act(Editor& e, F&& f) {
   try {
     f();
   } catch (const InputError& err) {
-    e.message = err.what();
+    e.message = cli::shown_message(err);
   }
 }
 
