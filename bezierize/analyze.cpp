@@ -16,6 +16,7 @@
 #include "numeric/tracked.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/limits.hpp"
 #include "spline/parallel.hpp"
 
@@ -369,9 +370,9 @@ void validate(const ContinuityTolerances& t) {
     return s.str();
   };
   if (!(t.angle_deg >= 0 && t.angle_deg < 180))
-    throw InputError("--angle-tol " + text(t.angle_deg) + " is outside [0, 180) degrees");
+    throw InputFieldError(field("angle_deg") + " " + text(t.angle_deg) + " is outside [0, 180) degrees");
   if (!(t.curvature_rel >= 0 && t.curvature_rel <= 1))
-    throw InputError("--curvature-tol " + text(t.curvature_rel) + " is outside [0, 1]");
+    throw InputFieldError(field("curvature_rel") + " " + text(t.curvature_rel) + " is outside [0, 1]");
 }
 
 namespace {
@@ -582,7 +583,8 @@ SplineAnalysis start_analysis(const BSpline& spline, const AnalyzeOptions& optio
   validate_cuts(options.splits, range, N);
   if (options.split && !options.splits.empty()) throw InputError("give one split joint or a list of them, not both");
   if (options.split && options.each_piece)
-    throw InputError("--split and --each-piece exclude each other: give the joints to --each-piece");
+    throw InputFieldError(field("split") + " and " + field("each_piece") + " exclude each other: give the joints to " +
+                          field("each_piece"));
   if (options.classify.max_depth < 0 || options.classify.max_depth > kMaxDepth)
     throw InputError("depth " + std::to_string(options.classify.max_depth) + " is outside 0.." +
                      std::to_string(kMaxDepth));

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 
@@ -82,7 +83,7 @@ bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint) {
   return joint > range.first && joint <= range.last && !std::binary_search(cuts.begin(), cuts.end(), joint);
 }
 
-SegmentRange parse_segment_range(const std::string& text, const char* option) {
+SegmentRange parse_segment_range(const std::string& text, const std::string& option) {
   const auto dots = text.find("..");
   const auto number = [&](std::string_view s, int& v) {
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -93,16 +94,14 @@ SegmentRange parse_segment_range(const std::string& text, const char* option) {
                       ? number(text, r.first) && (r.last = r.first, true)
                       : number(std::string_view(text).substr(0, dots), r.first) &&
                             number(std::string_view(text).substr(dots + 2), r.last);
-  if (!ok) throw InputError(std::string(option) + ": expected A..B or A, segment indices (got '" + text + "')");
+  if (!ok) throw InputFieldError(option + ": expected A..B or A, segment indices (got '" + text + "')");
   return r;
 }
 
-std::vector<int> parse_joint_list(const std::string& text, const char* option) {
+std::vector<int> parse_joint_list(const std::string& text, const std::string& option) {
   std::vector<int> out;
   if (text.empty()) return out;
-  const auto bad = [&] {
-    return InputError(std::string(option) + ": expected joints S1,S2,... (got '" + text + "')");
-  };
+  const auto bad = [&] { return InputFieldError(option + ": expected joints S1,S2,... (got '" + text + "')"); };
   std::size_t at = 0;
   for (;;) {
     const std::size_t comma = text.find(',', at);

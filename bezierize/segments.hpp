@@ -24,6 +24,8 @@
 #include <utility>
 #include <vector>
 
+#include "spline/fields.hpp"
+
 namespace cmr {
 
 /// Segments first..last (inclusive) are judged; the others are ignored.
@@ -78,12 +80,13 @@ int group_of(const std::vector<int>& cuts, int seg);
 bool joint_counts(SegmentRange range, const std::vector<int>& cuts, int joint);
 
 /// "A..B" (two non-negative integers; A <= B is checked by judged_range) or
-/// "A" (A..A); InputError naming `option` otherwise.
-SegmentRange parse_segment_range(const std::string& text, const char* option = "--segments");
+/// "A" (A..A); InputError naming `option` otherwise (a field, spline/fields.hpp,
+/// or a program's own word for it).
+SegmentRange parse_segment_range(const std::string& text, const std::string& option = field("segments"));
 
 /// "S1,S2,..." (non-negative integers) or "" (no joints: every joint, for
-/// --each-piece); InputError naming `option` otherwise ("--each-piece: expected
+/// each_piece); InputError naming `option` otherwise ("each_piece: expected
 /// joints S1,S2,... (got 'x')"). The joints are validated later (validate_cuts).
-std::vector<int> parse_joint_list(const std::string& text, const char* option = "--each-piece");
+std::vector<int> parse_joint_list(const std::string& text, const std::string& option = field("each_piece"));
 
 }  // namespace cmr

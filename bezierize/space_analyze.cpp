@@ -6,6 +6,7 @@
 
 #include "numeric/roots.hpp"
 #include "bezierize/space_classify.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 
@@ -272,10 +273,12 @@ Direction space_verdict(const SpaceSpline& spline, const std::vector<SpaceSegmen
 
 SpaceAnalysis analyze_space(const SpaceSpline& spline, const SpaceAnalyzeOptions& options) {
   if (options.max_depth < 0 || options.max_depth > kMaxDepth)
-    throw InputError("--depth " + std::to_string(options.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+    throw InputFieldError(field("max_depth") + " " + std::to_string(options.max_depth) + " is outside 0.." +
+                          std::to_string(kMaxDepth));
   validate(options.continuity);
   if (!(options.torsion_tolerance >= 0 && std::isfinite(options.torsion_tolerance)))
-    throw InputError("--torsion-tol " + std::to_string(options.torsion_tolerance) + " is not a number >= 0");
+    throw InputFieldError(field("torsion_tolerance") + " " + std::to_string(options.torsion_tolerance) +
+                          " is not a number >= 0");
   SpaceAnalysis a;
   const int N = spline.segment_count();
   for (const Segment& s : spline.segments()) {

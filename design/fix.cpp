@@ -21,6 +21,7 @@
 #include "region/region.hpp"
 #include "region/region_setup.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 
 namespace cmr {
@@ -46,7 +47,8 @@ FixRequirement parse_fix_requirement(const std::string& text) {
       if (end != b && ec == std::errc() && end == text.data() + text.size() && std::isfinite(r.g2_tolerance) &&
           r.g2_tolerance >= 0)
         return r;
-      throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
+      throw InputFieldError(field("requirement") + ": '" + text +
+                            "' needs a relative tolerance >= 0 (g2-at-smooth-nodes:0.05)");
     }
   }
   if (text.rfind("split:", 0) == 0) {
@@ -56,9 +58,10 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     if (colon != std::string::npos) {
       const std::string e = s.substr(colon + 1);
       if (e == "max" || e == "min")
-        throw InputError("--require: '" + text +
-                         "' reads signed curvature, which flips with the direction of travel: use split:S:sharpest "
-                         "or :flattest");
+        throw InputFieldError(
+            field("requirement") + ": '" + text +
+            "' reads signed curvature, which flips with the direction of travel: use split:S:sharpest "
+            "or :flattest");
       if (e == "sharpest")
         r.extremum = FixRequirement::Extremum::sharpest;
       else if (e == "flattest")
@@ -70,9 +73,10 @@ FixRequirement parse_fix_requirement(const std::string& text) {
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), r.split);
     if (!s.empty() && ec == std::errc() && end == s.data() + s.size()) return r;
   }
-  throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
-                   "(alias extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol] or each-run");
+  throw InputFieldError(
+      field("requirement") + ": '" + text +
+      "' is not cmrwi, cmr, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
+      "(alias extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol] or each-run");
 }
 
 std::string to_string(const FixRequirement& r) {
@@ -949,23 +953,25 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   request.requirement = resolve_requirement(spline, request_in.requirement);
   const int m = spline.unique_point_count();
   if (!(request.tolerance > 0 && request.tolerance < 1))
-    throw InputError("--tolerance: " + std::to_string(request.tolerance) + " is outside (0, 1)");
+    throw InputFieldError(field("tolerance") + ": " + std::to_string(request.tolerance) + " is outside (0, 1)");
   if (!(request.max_move >= 0) || !std::isfinite(request.max_move))
-    throw InputError("--max-move: " + std::to_string(request.max_move) + " is not a distance >= 0");
+    throw InputFieldError(field("max_move") + ": " + std::to_string(request.max_move) + " is not a distance >= 0");
   if (!(request.max_seconds >= 0) || !std::isfinite(request.max_seconds))
-    throw InputError("--max-seconds: " + std::to_string(request.max_seconds) + " is not a time >= 0");
+    throw InputFieldError(field("max_seconds") + ": " + std::to_string(request.max_seconds) + " is not a time >= 0");
   if (request.grid < 8 || request.grid > 512) throw InputError("grid " + std::to_string(request.grid) + " is outside 8..512");
   if (request.max_depth < 0 || request.max_depth > kMaxDepth)
-    throw InputError("--depth: " + std::to_string(request.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+    throw InputFieldError(field("max_depth") + ": " + std::to_string(request.max_depth) + " is outside 0.." +
+                          std::to_string(kMaxDepth));
   if (request.requirement.kind == FixRequirement::Kind::split &&
       (request.requirement.split < 1 || request.requirement.split > spline.segment_count() - 1))
-    throw InputError("--require: split " + std::to_string(request.requirement.split) + " is outside 1.." +
-                     std::to_string(spline.segment_count() - 1) + " (the joints of a " +
-                     std::to_string(spline.segment_count()) + "-segment spline)");
+    throw InputFieldError(field("requirement") + ": split " + std::to_string(request.requirement.split) +
+                          " is outside 1.." + std::to_string(spline.segment_count() - 1) + " (the joints of a " +
+                          std::to_string(spline.segment_count()) + "-segment spline)");
   std::set<int> given;
   for (int k : request.points) {
-    if (k < 0 || k >= m) throw InputError("--points: P" + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
-    if (!given.insert(k).second) throw InputError("--points: P" + std::to_string(k) + " is named twice");
+    if (k < 0 || k >= m)
+      throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
+    if (!given.insert(k).second) throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is named twice");
   }
 
   FixResult out;
@@ -1010,7 +1016,8 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       if (!acting.count(k)) {
         std::string segs;
         for (int i : out.failing_segments) segs += (segs.empty() ? "" : ", ") + std::to_string(i);
-        throw InputError("--points: P" + std::to_string(k) + " does not act on a failing segment (failing: " + segs + ")");
+        throw InputFieldError(field("points") + ": P" + std::to_string(k) +
+                              " does not act on a failing segment (failing: " + segs + ")");
       }
   }
   // Units of every allowed point: those acting on a failing segment are
@@ -1443,9 +1450,10 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     z = project(z, search.tol / 8);  // the last pull to the tolerance
   }
   if (!feasible) {
-    out.reason = search.timed_out ? "no certified fix found in the time limit (" + std::to_string(request.max_seconds) + " s)"
-                                  : "no certified fix within --max-move " + std::to_string(search.max_move) + " (" +
-                                        std::to_string(ties.units.size()) + " unit(s) of motion tried)";
+    out.reason = search.timed_out
+                     ? "no certified fix found in the time limit (" + std::to_string(request.max_seconds) + " s)"
+                     : "no certified fix within " + field("max_move") + " " + std::to_string(search.max_move) + " (" +
+                           std::to_string(ties.units.size()) + " unit(s) of motion tried)";
     out.evaluations = search.evaluations;
     finish(out);
     return out;

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 
@@ -46,7 +47,8 @@ SpacePlane orthonormal(SpacePlane p) {
   const Vec3 u = p.u / glm::length(p.u);
   Vec3 v = p.v - glm::dot(p.v, u) * u;
   const double lv = glm::length(v);
-  if (!(lv > 0) || !std::isfinite(lv)) throw InputError("--plane: U and V are parallel (the plane is degenerate)");
+  if (!(lv > 0) || !std::isfinite(lv))
+    throw InputFieldError(field("plane") + ": U and V are parallel (the plane is degenerate)");
   p.u = u;
   p.v = v / lv;
   return p;
@@ -109,11 +111,12 @@ SpaceSpline with_point_moved(const SpaceSpline& spline, int k, const Vec3& q) {
 SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& request) {
   const auto t0 = Clock::now();
   if (request.max_depth < 0 || request.max_depth > kMaxDepth)
-    throw InputError("--depth " + std::to_string(request.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+    throw InputFieldError(field("max_depth") + " " + std::to_string(request.max_depth) + " is outside 0.." +
+                          std::to_string(kMaxDepth));
   if (!(request.max_move >= 0) || !std::isfinite(request.max_move))
-    throw InputError("--max-move: " + fmt(request.max_move) + " is not a distance >= 0");
+    throw InputFieldError(field("max_move") + ": " + fmt(request.max_move) + " is not a distance >= 0");
   if (!(request.tolerance > 0) || !std::isfinite(request.tolerance) || request.tolerance >= 1)
-    throw InputError("--tolerance: " + fmt(request.tolerance) + " is not in (0, 1)");
+    throw InputFieldError(field("tolerance") + ": " + fmt(request.tolerance) + " is not in (0, 1)");
   SpaceFixResult r;
   const int m = spline.unique_point_count(), N = spline.segment_count(), d = spline.degree();
   Vec3 lo = spline.points().front(), hi = lo;
@@ -184,9 +187,11 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
   if (!request.points.empty()) {
     for (int k : request.points) {
       if (k < 0 || k >= m)
-        throw InputError("--points: P" + std::to_string(k) + " is outside P0..P" + std::to_string(m - 1));
+        throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is outside P0..P" +
+                              std::to_string(m - 1));
       if (!acts(k))
-        throw InputError("--points: P" + std::to_string(k) + " does not act on a failing segment (" + failing_text + ")");
+        throw InputFieldError(field("points") + ": P" + std::to_string(k) + " does not act on a failing segment (" +
+                              failing_text + ")");
       if (std::find(candidates.begin(), candidates.end(), k) == candidates.end()) candidates.push_back(k);
     }
   } else {
@@ -227,8 +232,10 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
       if (wrap(t - 1) == k || wrap(t + 1) == k) ++handle_of, node = t;
     }
     if (is_node || handle_of > 1) {
-      unit.reason = is_node ? "the node of a G1 joint does not move with --keep g1 (--keep none moves it)"
-                            : "a handle of two G1 joints does not move with --keep g1 (--keep none moves it)";
+      unit.reason = is_node ? "the node of a G1 joint does not move with " + field("keep") + " g1 (" + field("keep") +
+                                  " none moves it)"
+                            : "a handle of two G1 joints does not move with " + field("keep") + " g1 (" +
+                                  field("keep") + " none moves it)";
       r.units.push_back(unit);
       continue;
     }
@@ -252,7 +259,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
       plane = orthonormal(plane);
     } catch (const InputError& e) {
       if (!request.plane_text.empty()) throw;  // a bad --plane is the caller's error
-      unit.reason = e.what();
+      unit.reason = marked_text(e);  // fields marked: the caller shows them
       r.units.push_back(unit);
       continue;
     }
@@ -296,7 +303,8 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
           }
         }
         if (!(br < kInf)) {
-          unit.reason = "no certified position within " + fmt(limit) + " on its tangent line (--keep g1)";
+          unit.reason =
+              "no certified position within " + fmt(limit) + " on its tangent line (" + field("keep") + " g1)";
           r.units.push_back(unit);
           continue;
         }
@@ -437,8 +445,10 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
       tried += ": ";
       tried += u.reason;
     }
-    r.reason = "no certified fix within --max-move " + fmt(max_move) + " (" + failing_text +
-               (candidates.empty() ? "; no point acts on it" : "; no single point moving in its plane makes |kappa| monotone: " + tried) + ")";
+    r.reason = "no certified fix within " + field("max_move") + " " + fmt(max_move) + " (" + failing_text +
+               (candidates.empty() ? "; no point acts on it"
+                                   : "; no single point moving in its plane makes |kappa| monotone: " + tried) +
+               ")";
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;

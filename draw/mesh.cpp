@@ -266,7 +266,7 @@ std::string lower_extension(const std::filesystem::path& path) {
 void check_contour_file_name(const std::filesystem::path& path, const std::string& option) {
   const std::string ext = lower_extension(path);
   if (ext != ".svg" && ext != ".obj" && ext != ".ply")
-    throw InputError(option + " " + path.string() + ": expected a file name ending in .svg, .obj or .ply");
+    throw InputFieldError(option + " " + path.string() + ": expected a file name ending in .svg, .obj or .ply");
 }
 
 std::string contour_file(const std::filesystem::path& path, const RegionContours& contours, const std::string& option) {

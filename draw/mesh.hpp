@@ -36,6 +36,7 @@
 #pragma GCC diagnostic pop
 
 #include "region/contour.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::mesh {
 
@@ -94,8 +95,8 @@ std::string contours_svg(const RegionContours& contours);
 /// contours_svg, .obj obj_text(region_mesh), .ply ply_text(region_mesh).
 /// InputError naming `option` for any other extension.
 std::string contour_file(const std::filesystem::path& path, const RegionContours& contours,
-                         const std::string& option = "--contours");
+                         const std::string& option = field("contours"));
 /// The InputError of contour_file for a bad extension, before any work.
-void check_contour_file_name(const std::filesystem::path& path, const std::string& option = "--contours");
+void check_contour_file_name(const std::filesystem::path& path, const std::string& option = field("contours"));
 
 }  // namespace cmr::mesh

@@ -78,7 +78,7 @@ std::vector<double> tube_parameters(const SpaceSpline& spline, double max_turn) 
 
 Mesh curve_tube(const SpaceSpline& spline, const TubeOptions& o) {
   if (!(o.radius > 0) || !std::isfinite(o.radius))
-    throw InputError("--tube-radius: must be a positive number (got " + std::to_string(o.radius) + ")");
+    throw InputFieldError(field("radius") + ": must be a positive number (got " + std::to_string(o.radius) + ")");
   if (o.sides < 3) throw InputError("tube: at least 3 sides (got " + std::to_string(o.sides) + ")");
   std::vector<double> ts = tube_parameters(spline, o.max_turn);
   std::vector<Vec3> c, tan, nor;
@@ -220,7 +220,7 @@ void append(Mesh& mesh, const Mesh& part) {
 void check_mesh_file_name(const std::filesystem::path& path, const std::string& option) {
   const std::string ext = lower_extension(path);
   if (ext != ".obj" && ext != ".ply")
-    throw InputError(option + " " + path.string() + ": expected a file name ending in .obj or .ply");
+    throw InputFieldError(option + " " + path.string() + ": expected a file name ending in .obj or .ply");
 }
 
 std::string mesh_file(const std::filesystem::path& path, const Mesh& mesh, const std::string& option) {

@@ -58,8 +58,8 @@ double default_tube_radius(const SpaceSpline& spline);
 
 /// InputError unless `path` ends in .obj or .ply (case-insensitive):
 /// "OPTION PATH: expected a file name ending in .obj or .ply".
-void check_mesh_file_name(const std::filesystem::path& path, const std::string& option = "--mesh");
+void check_mesh_file_name(const std::filesystem::path& path, const std::string& option = field("mesh"));
 /// obj_text or ply_text of `mesh`, by `path`'s extension.
-std::string mesh_file(const std::filesystem::path& path, const Mesh& mesh, const std::string& option = "--mesh");
+std::string mesh_file(const std::filesystem::path& path, const Mesh& mesh, const std::string& option = field("mesh"));
 
 }  // namespace cmr::mesh

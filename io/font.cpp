@@ -17,6 +17,7 @@
 #include FT_TRUETYPE_TAGS_H
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/spline_json.hpp"
 #include "io/chain.hpp"
 #include "io/output.hpp"
@@ -36,12 +37,12 @@ std::uint32_t utf8_at(const std::string& text, std::size_t& i) {
   const auto b = static_cast<unsigned char>(text[i]);
   int extra = b < 0x80 ? 0 : (b >> 5) == 6 ? 1 : (b >> 4) == 14 ? 2 : (b >> 3) == 30 ? 3 : -1;
   if (extra < 0 || i + extra >= text.size() + (extra == 0 ? 1 : 0))
-    throw InputError("--glyphs: '" + text + "' is not valid UTF-8");
+    throw InputFieldError(field("glyphs") + ": '" + text + "' is not valid UTF-8");
   std::uint32_t c = extra == 0 ? b : (b & (0x3F >> extra));
   ++i;
   for (int k = 0; k < extra; ++k, ++i) {
     if (i >= text.size() || (static_cast<unsigned char>(text[i]) >> 6) != 2)
-      throw InputError("--glyphs: '" + text + "' is not valid UTF-8");
+      throw InputFieldError(field("glyphs") + ": '" + text + "' is not valid UTF-8");
     c = (c << 6) | (static_cast<unsigned char>(text[i]) & 0x3F);
   }
   return c;
@@ -54,7 +55,7 @@ std::uint32_t spec_char(const std::string& item, std::size_t& i) {
     std::uint32_t c = 0;
     while (j < item.size() && std::isxdigit(static_cast<unsigned char>(item[j])) && j - i < 8)
       c = c * 16 + static_cast<std::uint32_t>(std::stoi(item.substr(j++, 1), nullptr, 16));
-    if (j == i + 2 || c > 0x10FFFF) throw InputError("--glyphs: '" + item + "' has a bad U+ code point");
+    if (j == i + 2 || c > 0x10FFFF) throw InputFieldError(field("glyphs") + ": '" + item + "' has a bad U+ code point");
     i = j;
     return c;
   }
@@ -297,17 +298,18 @@ std::vector<std::uint32_t> parse_glyph_spec(const std::string& spec) {
     const std::size_t comma = spec.find(',', pos);
     const std::string item = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     pos = comma == std::string::npos ? spec.size() + 1 : comma + 1;
-    if (item.empty()) throw InputError("--glyphs: empty item in '" + spec + "'");
+    if (item.empty()) throw InputFieldError(field("glyphs") + ": empty item in '" + spec + "'");
     std::size_t i = 0;
     const std::uint32_t a = spec_char(item, i);
     std::uint32_t b = a;
     if (i < item.size()) {
       if (item[i] != '-' || i + 1 >= item.size())
-        throw InputError("--glyphs: '" + item + "' is not a character or a range A-Z");
+        throw InputFieldError(field("glyphs") + ": '" + item + "' is not a character or a range A-Z");
       ++i;
       b = spec_char(item, i);
-      if (i != item.size()) throw InputError("--glyphs: '" + item + "' is not a character or a range A-Z");
-      if (b < a) throw InputError("--glyphs: the range '" + item + "' runs backwards");
+      if (i != item.size())
+        throw InputFieldError(field("glyphs") + ": '" + item + "' is not a character or a range A-Z");
+      if (b < a) throw InputFieldError(field("glyphs") + ": the range '" + item + "' runs backwards");
     }
     for (std::uint32_t c = a; c <= b; ++c)
       if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
@@ -332,12 +334,13 @@ Location parse_location(const std::string& text) {
     pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos || eq == 0 || eq > 4)
-      throw InputError("--location: '" + item + "' is not TAG=VALUE (an axis tag of at most 4 characters: wght=700)");
+      throw InputFieldError(field("location") + ": '" + item +
+                            "' is not TAG=VALUE (an axis tag of at most 4 characters: wght=700)");
     const std::string value = item.substr(eq + 1);
     char* end = nullptr;
     const double v = std::strtod(value.c_str(), &end);
     if (value.empty() || *end != 0 || !std::isfinite(v))
-      throw InputError("--location: '" + value + "' (axis " + item.substr(0, eq) + ") is not a number");
+      throw InputFieldError(field("location") + ": '" + value + "' (axis " + item.substr(0, eq) + ") is not a number");
     out.emplace_back(item.substr(0, eq), v);
   }
   return out;
@@ -349,7 +352,7 @@ namespace {
 void set_location(FT_Library lib, FT_Face face, const Location& location, const std::string& path, Font& font) {
   FT_MM_Var* mm = nullptr;
   if (!FT_HAS_MULTIPLE_MASTERS(face) || FT_Get_MM_Var(face, &mm) != 0)
-    throw InputError(path + ": not a variable font (no fvar table), so --location does not apply");
+    throw InputFieldError(path + ": not a variable font (no fvar table), so " + field("location") + " does not apply");
   struct Done {
     FT_Library lib;
     FT_MM_Var* mm;
@@ -366,11 +369,13 @@ void set_location(FT_Library lib, FT_Face face, const Location& location, const 
                              static_cast<char>((t >> 8) & 0xFF), static_cast<char>(t & 0xFF)};
       if (name == tag || (tag.size() < 4 && name == tag + std::string(4 - tag.size(), ' '))) break;
     }
-    if (a == mm->num_axis) throw InputError(path + ": --location: the font has no axis '" + tag + "'");
+    if (a == mm->num_axis)
+      throw InputFieldError(path + ": " + field("location") + ": the font has no axis '" + tag + "'");
     const double lo = mm->axis[a].minimum / 65536.0, hi = mm->axis[a].maximum / 65536.0;
     if (value < lo || value > hi)
-      throw InputError(path + ": --location: " + tag + "=" + format_location_value(value) + " is outside the axis's range [" +
-                       format_location_value(lo) + ", " + format_location_value(hi) + "]");
+      throw InputFieldError(path + ": " + field("location") + ": " + tag + "=" + format_location_value(value) +
+                            " is outside the axis's range [" + format_location_value(lo) + ", " +
+                            format_location_value(hi) + "]");
     coords[a] = static_cast<FT_Fixed>(std::lround(value * 65536.0));
     named += (named.empty() ? "" : ",") + tag + "=" + format_location_value(value);
   }
@@ -440,7 +445,7 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
           g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {
-      throw InputError(path.string() + ": " + e.what());
+      throw InputFieldError(path.string() + ": " + marked_text(e));
     }
     font.glyphs.push_back(std::move(g));
   }

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/format.hpp"
 
 namespace cmr::import {
@@ -71,14 +72,15 @@ std::string Piece::range(double sa, double sb) const {
 Segment2 parse_between(const std::string& text) {
   const std::size_t colon = text.find(':');
   if (colon == std::string::npos || text.find(':', colon + 1) != std::string::npos)
-    throw InputError("--between: '" + text + "' is not LOC1:LOC2 (wght=400:wght=700)");
+    throw InputFieldError(field("between") + ": '" + text + "' is not LOC1:LOC2 (wght=400:wght=700)");
   auto part = [&](const std::string& t) {
     try {
       return parse_location(t);
     } catch (const InputError& e) {
-      std::string m = e.what();
-      if (m.rfind("--location", 0) == 0) m.replace(0, 10, "--between");
-      throw InputError(m);
+      std::string m = marked_text(e);
+      const std::string location = field("location");
+      if (m.rfind(location, 0) == 0) m.replace(0, location.size(), field("between"));
+      throw InputFieldError(m);
     }
   };
   return {part(text.substr(0, colon)), part(text.substr(colon + 1))};
@@ -126,12 +128,12 @@ std::vector<double> coordinates(const Location& loc, const std::vector<SpaceAxis
     if (k == axes.size()) {
       std::string have;
       for (const SpaceAxis& a : axes) have += (have.empty() ? "" : ", ") + a.tag;
-      throw InputError(file + ": --between: no axis '" + tag + "' (the axes: " + have + ")");
+      throw InputFieldError(file + ": " + field("between") + ": no axis '" + tag + "' (the axes: " + have + ")");
     }
     const SpaceAxis& a = axes[k];
     if (value < a.minimum || value > a.maximum)
-      throw InputError(file + ": --between: " + tag + "=" + num(value) + " is outside the axis's range [" +
-                       num(a.minimum) + ", " + num(a.maximum) + "]");
+      throw InputFieldError(file + ": " + field("between") + ": " + tag + "=" + num(value) +
+                            " is outside the axis's range [" + num(a.minimum) + ", " + num(a.maximum) + "]");
     out[k] = a.to_coord(value);
   }
   return out;
@@ -271,8 +273,9 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
     const int ax = varying_axis(p0, p1);
     if (ax < 0)
-      throw InputError(file + ": --between: " + location_text(between->first) + " and " +
-                       location_text(between->second) + (ax == -1 ? " are one location" : " differ in more than one axis"));
+      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
+                            location_text(between->second) +
+                            (ax == -1 ? " are one location" : " differ in more than one axis"));
     const bool reversed = p0[ax] > p1[ax];
     if (reversed) std::swap(p0, p1);
     double covered = 0;
@@ -291,9 +294,10 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
       pieces.emplace_back(l, make_piece(l, (lo - c0) / (c1 - c0), (hi - c0) / (c1 - c0), name_at(lo), name_at(hi)));
     }
     if (covered < p1[ax] - p0[ax])
-      throw InputError(file + ": --between: " + location_text(between->first) + ":" + location_text(between->second) +
-                       " does not run between masters (in a designspace, cmr interpolates along an axis between "
-                       "masters that differ in that axis only; a variable font takes any segment)");
+      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + ":" +
+                            location_text(between->second) +
+                            " does not run between masters (in a designspace, cmr interpolates along an axis between "
+                            "masters that differ in that axis only; a variable font takes any segment)");
   }
 
   m.font = std::move(fonts[def]);
@@ -416,8 +420,9 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
     std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
     const int ax = varying_axis(p0, p1);
     if (ax < 0)
-      throw InputError(file + ": --between: " + location_text(between->first) + " and " +
-                       location_text(between->second) + (ax == -1 ? " are one location" : " differ in more than one axis"));
+      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
+                            location_text(between->second) +
+                            (ax == -1 ? " are one location" : " differ in more than one axis"));
     if (p0[ax] > p1[ax]) std::swap(p0, p1);
     cut_line(p0, p1, ax);
   }

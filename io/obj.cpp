@@ -7,6 +7,7 @@
 
 #include "io/output.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/spline_json.hpp"
 
 namespace cmr::import {
@@ -104,7 +105,7 @@ SpaceSpline build(const Curve& c, const std::vector<Vertex>& vs, const std::stri
     try {
       return SpaceSpline::make(d, polar, pts, name, w);
     } catch (const InputError& e) {
-      throw InputError(at + ": " + e.what());
+      throw InputFieldError(at + ": " + marked_text(e));
     }
   }();
   if (s.domain_begin() != c.u0 || s.domain_end() != c.u1) {
@@ -213,7 +214,7 @@ std::vector<ObjCurve> parse_obj_curves(const std::string& text, const std::strin
       try {
         out.push_back({SpaceSpline::make(d, clamped_uniform(d, static_cast<int>(pts.size())), pts, label("l")), "l", start});
       } catch (const InputError& e) {
-        throw InputError(at + ": l: " + e.what());
+        throw InputFieldError(at + ": l: " + marked_text(e));
       }
     }
   }

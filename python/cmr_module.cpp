@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -81,6 +82,19 @@ namespace {
 
 using Json = nlohmann::json;
 using OJson = nlohmann::ordered_json;
+
+/// A library message as the module shows it: each option field it names
+/// (spline/fields.hpp) as the keyword that sets it here, where the two differ
+/// (region(..., depth=) sets RegionRequest::max_depth), else by its name.
+std::string python_fields(const std::string& marked) {
+  static const std::map<std::string, std::string> keywords = {
+      {"angle_deg", "angle_tol"}, {"curvature_rel", "curvature_tol"}, {"max_depth", "depth"},
+      {"requirement", "require"}, {"with", "with_"}};
+  return rename_fields(marked, [](const std::string& name) {
+    const auto it = keywords.find(name);
+    return it != keywords.end() ? it->second : name;
+  });
+}
 
 // ------------------------------------------------------------ Python -> JSON
 
@@ -558,7 +572,7 @@ std::shared_ptr<RegionBackend> region_backend(const RegionArgs& a,
   choice.precision = a.precision == "fp32" ? vk::RegionPrecision::fp32 : vk::RegionPrecision::fp64;
   choice.device = a.device;
   return vk::make_region_backend(choice, [note](const std::string& n) {
-    if (note) note(plain_fields(n));  // fields by their names (spline/fields.hpp)
+    if (note) note(python_fields(n));  // fields as this module's keywords
   });
 #else
   (void)note;
@@ -636,9 +650,9 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atom
   if (monotone == 0)
     out.notes.push_back("note: P" + std::to_string(a.point) + " has no " + (a.mode == "cmr" ? "CMR" : "CMRWI") +
                         (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
-                        " in this view (its region is empty here): " + why.value_or("see view="));
+                        " in this view (its region is empty here): " + (why ? python_fields(*why) : "see view="));
   else if (why)
-    out.notes.push_back("note: " + *why);
+    out.notes.push_back("note: " + python_fields(*why));
   OJson entry = {{"point", a.point}, {"counts", c}, {"seconds", seconds}, {"exact_pixels", img.exact_pixels},
                  {"exact_share", static_cast<double>(img.exact_pixels) / static_cast<double>(img.size())}};
   if (a.contours) {
@@ -829,9 +843,11 @@ py::object space_fix_py(const Spline& s, const FixArgs& a) {
   request.max_depth = a.depth;
   const SpaceSpline spline = std::get<SpaceSpline>(s.value);
   const SpaceFixResult f = interruptible([spline, request] { return space_fix(spline, request); });
-  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
+  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + python_fields(f.reason));
   Spline fixed{*f.spline, s.point_names};
-  return py::make_tuple(fixed, to_py(report::space_fix_document(std::nullopt, a.require, request, f)));
+  OJson doc = report::space_fix_document(std::nullopt, a.require, request, f);
+  show_fields_in(doc, python_fields);  // the units' reasons name fields
+  return py::make_tuple(fixed, to_py(doc));
 }
 
 py::object fix_py(const Spline& s, const FixArgs& a) {
@@ -855,7 +871,7 @@ py::object fix_py(const Spline& s, const FixArgs& a) {
     request.cancel = cancel;
     return fix(spline, request);
   });
-  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + f.reason);
+  if (!f.fixed) throw InputError((spline.name().empty() ? "" : spline.name() + ": ") + python_fields(f.reason));
   Spline fixed{*f.spline, s.point_names};
   return py::make_tuple(fixed, to_py(report::fix_json(std::nullopt, request, f)));
 }
@@ -941,6 +957,7 @@ py::object report_py(const ReportArgs& a) {
   ContinuityTolerances continuity{a.angle_tol, a.curvature_tol};
   validate(continuity);
   report::ReportOptions o;
+  o.show_fields = python_fields;
   o.continuity = continuity;
   if (!a.require.empty()) report::parse_require_list(a.require, o);
   if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
@@ -972,6 +989,7 @@ py::object report_py(const ReportArgs& a) {
 py::object judge_py(const Spline& s, const std::string& require, int depth, double angle_tol, double curvature_tol) {
   const BSpline spline = s.planar("judge");
   report::ReportOptions o;
+  o.show_fields = python_fields;
   o.continuity = ContinuityTolerances{angle_tol, curvature_tol};
   validate(o.continuity);
   if (!require.empty()) report::parse_require_list(require, o);
@@ -999,6 +1017,7 @@ void append_judged(py::list& out, const std::vector<report::SplineReport>& repor
 /// report.json's gates (report::gates_json).
 py::object judge_many_py(const std::vector<Spline>& splines, const std::string& require, int depth, int threads) {
   report::ReportOptions o;
+  o.show_fields = python_fields;
   if (!require.empty()) report::parse_require_list(require, o);
   o.max_depth = depth;
   o.regions = false;
@@ -1160,8 +1179,20 @@ PYBIND11_MODULE(_cmr, m) {
   m.doc() = "cmr's C++ library (see the cmr package and docs/python.md)";
   // cmr::InputError and cmr::EnvironmentError (and the backends' errors
   // derived from it) with their one-line messages.
-  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
-  py::register_exception<EnvironmentError>(m, "EnvironmentError", PyExc_OSError);
+  static PyObject* input_error = py::register_exception<InputError>(m, "InputError", PyExc_ValueError).ptr();
+  static PyObject* environment_error =
+      py::register_exception<EnvironmentError>(m, "EnvironmentError", PyExc_OSError).ptr();
+  // Their messages with the option fields they name (spline/fields.hpp) as
+  // this module's keywords (python_fields); tried before the two above.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(input_error, python_fields(marked_text(e)).c_str());
+    } catch (const EnvironmentError& e) {
+      PyErr_SetString(environment_error, python_fields(marked_text(e)).c_str());
+    }
+  });
 
   py::class_<Spline>(m, "Spline")
       .def(py::init(&make_spline), py::arg("degree"), py::arg("points"), py::arg("knots") = py::none(),
@@ -1174,7 +1205,7 @@ PYBIND11_MODULE(_cmr, m) {
                     } catch (const InputError& e) {
                       const std::string what = e.what();
                       if (what.rfind(path + ":", 0) == 0) throw;
-                      throw InputError(path + ": " + what);
+                      throw InputFieldError(path + ": " + marked_text(e));
                     }
                   })
       .def("to_dict", [](const Spline& s) { return to_py(spline_doc(s)); })

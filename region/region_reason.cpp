@@ -4,6 +4,7 @@
 
 #include "bezierize/extract.hpp"
 #include "region/region_setup.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 
@@ -74,7 +75,7 @@ std::optional<std::string> region_reason(const RegionProblem& problem, const Reg
   if (empty && s.around) {
     std::string hint;
     if (const auto r = closed_support_range(problem.spline(), problem.request().point, problem.request().with))
-      hint = " (--segments " + std::to_string(r->first) + ".." + std::to_string(r->last) + ")";
+      hint = " (" + field("segments") + " " + std::to_string(r->first) + ".." + std::to_string(r->last) + ")";
     return "a closed curve's curvature is never monotone over its whole period: judge the spans " + P +
            " acts on" + hint;
   }
@@ -88,7 +89,7 @@ std::optional<std::string> region_reason(const RegionProblem& problem, const Reg
              segment_list_text(acted) + ")";
     }
     return "no monotone position of " + P + " in this view (it acts on " + segment_list_text(acted) +
-           "; the region may lie outside the view: try a larger --view)";
+           "; the region may lie outside the view: try a larger " + field("view") + ")";
   }
   return P + "'s region covers the whole view (it extends beyond it)";
 }

@@ -13,6 +13,7 @@
 #include "numeric/roots.hpp"
 #include "bezierize/space_classify.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 
 namespace cmr {
@@ -29,8 +30,8 @@ bool degenerate(const Vec3& u, const Vec3& v) {
 }
 
 void check_plane(const SpacePlane& p, const std::string& what) {
-  if (!finite3(p.origin) || !finite3(p.u) || !finite3(p.v)) throw InputError(what + ": not finite");
-  if (degenerate(p.u, p.v)) throw InputError(what + ": U and V are parallel (the plane is degenerate)");
+  if (!finite3(p.origin) || !finite3(p.u) || !finite3(p.v)) throw InputFieldError(what + ": not finite");
+  if (degenerate(p.u, p.v)) throw InputFieldError(what + ": U and V are parallel (the plane is degenerate)");
 }
 
 }  // namespace
@@ -51,20 +52,22 @@ SpacePlane parse_space_plane(const std::string& text, Vec3 through) {
       used = 0;
     }
     if (used == 0 || used != item.size())
-      throw InputError("--plane: '" + item + "' is not a number (expected xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ)");
+      throw InputFieldError(field("plane") + ": '" + item +
+                            "' is not a number (expected xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ)");
     v.push_back(x);
   }
   if (v.size() != 9)
-    throw InputError("--plane: " + std::to_string(v.size()) +
-                     " numbers given, expected 9 (OX,OY,OZ,UX,UY,UZ,VX,VY,VZ), or xy, yz, zx");
+    throw InputFieldError(field("plane") + ": " + std::to_string(v.size()) +
+                          " numbers given, expected 9 (OX,OY,OZ,UX,UY,UZ,VX,VY,VZ), or xy, yz, zx");
   SpacePlane p{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
-  check_plane(p, "--plane");
+  check_plane(p, field("plane"));
   return p;
 }
 
 SpacePlane default_space_plane(const SpaceSpline& spline, int k) {
   const int m = spline.unique_point_count();
-  if (k < 0 || k >= m) throw InputError("--point " + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
+  if (k < 0 || k >= m)
+    throw InputFieldError(field("point") + " " + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
   const auto P = [&](int i) { return spline.points()[static_cast<std::size_t>(i)]; };
   int i1 = k + 1, i2 = k - 1;
   if (spline.closed()) {
@@ -76,11 +79,12 @@ SpacePlane default_space_plane(const SpaceSpline& spline, int k) {
     i1 = m - 3;
   }
   if (i1 < 0 || i2 < 0 || i1 >= m || i2 >= m)
-    throw InputError("point " + std::to_string(k) + " has too few neighbours for a default plane; give --plane");
+    throw InputFieldError("point " + std::to_string(k) + " has too few neighbours for a default plane; give " +
+                          field("plane"));
   SpacePlane p{P(k), P(i1) - P(k), P(i2) - P(k)};
   if (degenerate(p.u, p.v))
-    throw InputError("the default plane of point " + std::to_string(k) +
-                     " is degenerate (its neighbours are collinear with it); give --plane");
+    throw InputFieldError("the default plane of point " + std::to_string(k) +
+                          " is degenerate (its neighbours are collinear with it); give " + field("plane"));
   return p;
 }
 
@@ -277,21 +281,22 @@ SpaceRegionProblem SpaceRegionProblem::make(const SpaceSpline& spline, const Spa
   SpaceRegionRequest& r = s->request;
   const int m = spline.unique_point_count();
   if (r.point < 0 || r.point >= m)
-    throw InputError("--point " + std::to_string(r.point) + " is outside 0.." + std::to_string(m - 1));
+    throw InputFieldError(field("point") + " " + std::to_string(r.point) + " is outside 0.." + std::to_string(m - 1));
   if (r.max_depth < 0 || r.max_depth > kMaxDepth)
-    throw InputError("--depth " + std::to_string(r.max_depth) + " is outside 0.." + std::to_string(kMaxDepth));
+    throw InputFieldError(field("max_depth") + " " + std::to_string(r.max_depth) + " is outside 0.." +
+                          std::to_string(kMaxDepth));
   if (r.width < 1 || r.width > kMaxImageSize || r.height < 1 || r.height > kMaxImageSize)
-    throw InputError("--size " + std::to_string(r.width) + "x" + std::to_string(r.height) + " is outside 1.." +
-                     std::to_string(kMaxImageSize) + " per side");
+    throw InputFieldError(field("size") + " " + std::to_string(r.width) + "x" + std::to_string(r.height) +
+                          " is outside 1.." + std::to_string(kMaxImageSize) + " per side");
   if (!(r.time_limit >= 0) || !std::isfinite(r.time_limit))
     throw InputError("space region: time limit " + std::to_string(r.time_limit) + " is not a number of seconds >= 0");
   if (!r.plane) r.plane = default_space_plane(spline, r.point);
-  check_plane(*r.plane, "--plane");
+  check_plane(*r.plane, field("plane"));
   if (!r.view) r.view = default_view(project_to_plane(spline, *r.plane), r.width, r.height);
   const View& v = *r.view;
   if (!std::isfinite(v.x0) || !std::isfinite(v.x1) || !std::isfinite(v.y0) || !std::isfinite(v.y1) ||
       !(v.x1 > v.x0) || !(v.y1 > v.y0) || !std::isfinite(v.x1 - v.x0) || !std::isfinite(v.y1 - v.y0))
-    throw InputError("--view: needs finite X0 < X1 and Y0 < Y1");
+    throw InputFieldError(field("view") + ": needs finite X0 < X1 and Y0 < Y1");
   SpaceAnalyzeOptions o;
   o.max_depth = r.max_depth;
   for (const Segment& seg : spline.segments()) s->segments.push_back(space_segment(spline, seg, o));
@@ -510,9 +515,9 @@ RegionResult SpaceRegionProblem::render(int threads) const {
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "space region: %dx%d pixels would take about %.0f s (%.2g ms a pixel after %zu pixels: exact "
-                  "arithmetic, e.g. for extreme weights); more than the limit of %g s per render (a smaller --size)",
+                  "arithmetic, e.g. for extreme weights); more than the limit of %g s per render",
                   r.width, r.height, per_pixel * static_cast<double>(n), per_pixel * 1e3, done.load(), r.time_limit);
-    throw InputError(buf);
+    throw InputFieldError(std::string(buf) + " (a smaller " + field("size") + ")");
   }
   for (const std::uint8_t e : exact) out.exact_pixels += e;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -37,7 +37,7 @@ struct SpacePlane {
 /// A plane from its text: "xy", "yz" or "zx" (the coordinate plane through
 /// `through`, axes in that order), or nine numbers "ox,oy,oz,ux,uy,uz,vx,vy,vz".
 /// InputError for anything else, a non-finite number, or U, V parallel or zero
-/// ("--plane: U and V are parallel (the plane is degenerate)").
+/// ("plane: U and V are parallel (the plane is degenerate)", plane a field).
 SpacePlane parse_space_plane(const std::string& text, Vec3 through);
 /// The default plane of point k: through P_k, spanned by the directions to its
 /// neighbours (P_{k+1} - P_k and P_{k-1} - P_k; at an end, the next two

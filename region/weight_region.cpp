@@ -8,6 +8,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 
 namespace cmr {
@@ -48,19 +49,22 @@ std::string number(double x) {
 
 void validate(const BSpline& spline, const WeightRegionRequest& r) {
   if (r.point < 0 || r.point >= spline.point_count())
-    throw InputError("--weight: point " + std::to_string(r.point) + " is outside 0.." +
-                     std::to_string(spline.point_count() - 1));
+    throw InputFieldError(field("WeightRegionRequest::point") + ": point " + std::to_string(r.point) +
+                          " is outside 0.." + std::to_string(spline.point_count() - 1));
   if (!std::isfinite(r.from) || !std::isfinite(r.to))
-    throw InputError("--from/--to: the weights must be finite numbers");
-  if (!(r.from < r.to)) throw InputError("--from " + number(r.from) + " must be smaller than --to " + number(r.to));
+    throw InputFieldError(field("from") + "/" + field("to") + ": the weights must be finite numbers");
+  if (!(r.from < r.to))
+    throw InputFieldError(field("from") + " " + number(r.from) + " must be smaller than " + field("to") + " " +
+                          number(r.to));
   if (r.samples < 2 || r.samples > kMaxWeightSamples)
-    throw InputError("--samples: " + std::to_string(r.samples) + " is outside 2.." + std::to_string(kMaxWeightSamples));
+    throw InputFieldError(field("samples") + ": " + std::to_string(r.samples) + " is outside 2.." +
+                          std::to_string(kMaxWeightSamples));
   if (!(r.tolerance > 0 && r.tolerance < 1)) throw InputError("weight region: the tolerance must lie in (0, 1)");
-  for (const auto& [w, option] : {std::pair{r.from, "--from"}, std::pair{r.to, "--to"}}) {
+  for (const auto& [w, option] : {std::pair{r.from, field("from")}, std::pair{r.to, field("to")}}) {
     try {
       (void)with_weight(spline, r.point, w);
     } catch (const InputError& e) {
-      throw InputError(std::string(option) + " " + number(w) + ": " + e.what());
+      throw InputFieldError(option + " " + number(w) + ": " + marked_text(e));
     }
   }
   // The label options (split, segments, depth) are validated by analyze.

@@ -7,6 +7,7 @@
 
 #include "report/gates.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr::report {
@@ -16,9 +17,9 @@ std::string Finding::key() const {
 }
 
 std::vector<std::string> read_baseline(const std::filesystem::path& path) {
-  const std::string name = "--baseline " + path.string();
+  const std::string name = field("baseline") + " " + path.string();
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(name + ": not a file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputFieldError(name + ": not a file");
   // Bounded like every input (a 300 MB baseline took 1.9 GB as a tree:
   // issue 42): checked before reading, and again on what was read (a file
   // that grows meanwhile).
@@ -31,28 +32,28 @@ std::vector<std::string> read_baseline(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
-  if (!in && !in.eof()) throw InputError(name + ": cannot be read");
+  if (!in && !in.eof()) throw InputFieldError(name + ": cannot be read");
   if (text.view().size() > kMaxInputBytes) throw too_large();
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(text.str());
   } catch (const nlohmann::json::exception&) {
-    throw InputError(name + ": not JSON (a report.json of cmr report is expected)");
+    throw InputFieldError(name + ": not JSON (a report.json of cmr report is expected)");
   }
   const std::string schema = doc.is_object() ? doc.value("schema", std::string()) : std::string();
   if (!doc.is_object() || (schema != kSchema && schema != kSchemaPrevious) || !doc.contains("splines") ||
       !doc["splines"].is_array())
-    throw InputError(name + ": not a " + std::string(kSchema) + " report");
+    throw InputFieldError(name + ": not a " + std::string(kSchema) + " report");
   std::vector<std::string> keys;
   for (const auto& s : doc["splines"]) {
-    if (!s.is_object()) throw InputError(name + ": a spline entry is not an object");
+    if (!s.is_object()) throw InputFieldError(name + ": a spline entry is not an object");
     if (s.value("status", std::string()) == "invalid") continue;
     if (!s.contains("findings") || !s["findings"].is_array())
-      throw InputError(name + ": spline '" + s.value("name", std::string("?")) +
-                       "' has no findings (a report from before baselines: run cmr report again to make one)");
+      throw InputFieldError(name + ": spline '" + s.value("name", std::string("?")) +
+                            "' has no findings (a report from before baselines: run cmr report again to make one)");
     for (const auto& f : s["findings"]) {
       if (!f.is_object() || !f.contains("key") || !f["key"].is_string())
-        throw InputError(name + ": a finding of spline '" + s.value("name", std::string("?")) + "' has no key");
+        throw InputFieldError(name + ": a finding of spline '" + s.value("name", std::string("?")) + "' has no key");
       // A baseline accepted before the gate's rename names it by its alias
       // (extrema-at-nodes): the gate is the key's last field.
       std::string key = f["key"].get<std::string>();

@@ -11,6 +11,7 @@
 #include "report/certified_fix.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 
 namespace cmr::report {
@@ -52,7 +53,7 @@ SplineReport report_item(const ReportInput& input, const ReportOptions& options)
       r.error = input.error;
   } catch (const InputError& e) {
     r = SplineReport{};
-    r.error = e.what();
+    r.error = options.show_fields(marked_text(e));
   }
   r.file = input.file;
   r.motions = input.motions;
@@ -76,7 +77,8 @@ std::string FixBudget::note() const {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%g", seconds);
     note = std::to_string(n) + (n == 1 ? " failing spline has" : " failing splines have") +
-           " no fix search or only part of one: the run's fix search budget of " + buf + " s (--fix-budget) was spent";
+           " no fix search or only part of one: the run's fix search budget of " + buf + " s (" + field("fix_budget") +
+           ") was spent";
   }
   if (const int n = too_large.load(); n > 0) {
     if (!note.empty()) note += "; ";

@@ -49,10 +49,10 @@ CertifiedFix run_fix(const BSpline& spline, const FixRequirement& requirement, c
       out.fixed = std::move(f.spline);
       out.certificate = std::move(f.certificate);
     } else {
-      out.reason = f.already ? "the check holds" : f.reason;
+      out.reason = f.already ? "the check holds" : options.show_fields(f.reason);
     }
   } catch (const InputError& e) {
-    out.reason = e.what();
+    out.reason = options.show_fields(marked_text(e));
   }
   return out;
 }
@@ -89,8 +89,8 @@ FixRequirement requirement_of(const Gate& gate) {
       // Its fix adds a node (gate_fix says where); no point move implies it.
       throw InputError("xy-extrema-at-nodes is fixed by adding a node at each extremum, not by moving points");
     case Gate::Kind::g1_between_masters:
-      throw InputError(to_string(gate) +
-                       " is fixed in one master: cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters");
+      throw InputFieldError(to_string(gate) + " is fixed in one master: cmr fix FAMILY.designspace " + field("glyph") +
+                            " NAME " + field("require") + " g1-between-masters");
     case Gate::Kind::curvature_between_masters:
     case Gate::Kind::extrema_between_masters:
       throw InputError(to_string(gate) + " is fixed in the masters, which cmr does not search yet");
@@ -132,8 +132,8 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
     CertifiedFix out;
     out.check = to_string(gate);
     out.reason = gate.kind == Gate::Kind::g1_between_masters && gate.turn_degrees == 0
-                     ? "moves in one master fix it: cmr fix FAMILY.designspace --glyph NAME --require "
-                       "g1-between-masters (two masters)"
+                     ? options.show_fields("moves in one master fix it: cmr fix FAMILY.designspace " + field("glyph") +
+                                           " NAME " + field("require") + " g1-between-masters (two masters)")
                      : "moves in one master would fix it; cmr does not search them yet";
     return out;
   }
@@ -220,7 +220,7 @@ CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options)
     const ContourFix c = fix_glyph(g, o).front();
     f.rejudged = c.rejudged;
     f.found = c.fixed && !c.already;
-    f.reason = c.already ? "passes as it is" : c.reason;
+    f.reason = c.already ? "passes as it is" : options.show_fields(c.reason);
     f.moves = c.moves;
     if (f.found) {
       BSpline fixed = spline;
@@ -229,7 +229,7 @@ CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options)
       f.fixed = std::move(fixed);
     }
   } catch (const InputError& e) {
-    f.reason = e.what();
+    f.reason = options.show_fields(marked_text(e));
   }
   f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return f;
@@ -382,7 +382,8 @@ std::string kappa_before_after_svg(const BSpline& before, const BSpline& after, 
     zero += "M" + I(x0 + 5) + " " + I(Y(0)) + "h" + I(W - 10);
     // Both panels' joints in panel 0's frame: equal (a fix moves points,
     // not knots) and an id given, the "after" panel reuses the drawing.
-    for (const Segment& seg : s.segments()) joints[panel] += "M" + I(X(0, seg.a)) + " 15v" + std::to_string(h);
+    for (const Segment& seg : s.segments())  // += "M" alone: GCC 12 warns falsely (-Wrestrict) on "M" + string
+      joints[panel].append("M").append(I(X(0, seg.a))).append(" 15v").append(std::to_string(h));
     labels += "<text font-size=\"11\" x=\"" + I(x0 + 5) + "\" y=\"11\">" +
               (panel == 0 ? "κ before" : "κ after (certified)") + "</text>";
   }

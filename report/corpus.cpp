@@ -38,6 +38,7 @@
 #include "report/batch.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 
 namespace cmr::report {
@@ -168,7 +169,7 @@ void walk(const fs::path& folder, const FileFilter& filter, std::vector<std::str
       struct stat st {};
       if (::stat(p.c_str(), &st) == 0 &&
           std::find(never.begin(), never.end(), std::make_pair(st.st_dev, st.st_ino)) != never.end()) {
-        skip(p, "the run's own output folder (--out)");
+        skip(p, "the run's own output folder (" + field("out") + ")");
         it.disable_recursion_pending();
         continue;
       }
@@ -227,7 +228,9 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
     if (fs::is_directory(st) && !import::is_ufo_path(a)) {
       const std::size_t before = out.size();
       walk(a, filter, out, skipped, skip_folders);
-      if (out.size() == before) throw InputError(a + ": no font, SVG or spline file in this folder (with --include/--exclude)");
+      if (out.size() == before)
+        throw InputFieldError(a + ": no font, SVG or spline file in this folder (with " + field("include") + "/" +
+                              field("exclude") + ")");
       if (bases) bases->resize(out.size(), a);
       continue;
     }
@@ -372,7 +375,7 @@ std::vector<ReportInput> svg_inputs(const std::string& path, const std::vector<i
     try {
       in.spline = import::to_bspline(p);
     } catch (const InputError& e) {
-      in.error = in.file + ": " + e.what();  // as the subpath is named
+      in.error = in.file + ": " + marked_text(e);  // as the subpath is named
     }
     inputs.push_back(std::move(in));
   }
@@ -420,9 +423,11 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
     if (options.shard && !options.shard->takes(options.shard_positions.at(index))) return w;  // its owner part says it
     ReportInput in;
     in.file = path;
-    in.error = e.what();
+    in.error = marked_text(e);
     inputs.push_back(std::move(in));
   }
+  for (ReportInput& in : inputs)
+    in.error = o.show_fields(in.error);  // the fields its message names, as the run names them
   w.reports = report_batch(std::move(inputs), o, {}, budget);
   w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return w;
@@ -859,7 +864,8 @@ class Writer {
       s["baseline"] = {{"file", options_.baseline->string()}, {"new", summary_.new_findings},
                        {"fixed", summary_.fixed}, {"unchanged", summary_.unchanged}};
     Json skipped = Json::array();
-    for (const SkippedPath& k : options_.skipped) skipped.push_back({{"path", k.path}, {"reason", k.reason}});
+    for (const SkippedPath& k : options_.skipped)
+      skipped.push_back({{"path", k.path}, {"reason", options_.report.show_fields(k.reason)}});
     json_.write(std::string(options_.pretty ? "\n" : "") + "],\"skipped\":" + dump(skipped) + ",\"summary\":" + dump(s) +
                 "}\n");
     if (markdown_)
@@ -930,7 +936,7 @@ class Writer {
     if (!options_.skipped.empty()) {  // what the folder walks left out, and why
       head += "<details><summary>" + std::to_string(options_.skipped.size()) + " skipped</summary><ul>";
       for (const SkippedPath& k : options_.skipped)
-        head += "<li>" + html_escape(k.path) + ": " + html_escape(k.reason) + "</li>";
+        head += "<li>" + html_escape(k.path) + ": " + html_escape(options_.report.show_fields(k.reason)) + "</li>";
       head += "</ul></details>";
     }
     if (!fonts_.empty()) {
@@ -1019,9 +1025,9 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       return;
     char buf[64];
     std::snprintf(buf, sizeof buf, "%g", options.time_limit);
-    throw InputError(std::string("--time-limit: the report ran past ") + buf + " s with " + std::to_string(done.load()) +
-                     " of " + std::to_string(files.size()) + " files done; nothing written (raise --time-limit, or "
-                     "report fewer files)");
+    throw InputFieldError(field("time_limit") + ": the report ran past " + buf + " s with " +
+                          std::to_string(done.load()) + " of " + std::to_string(files.size()) +
+                          " files done; nothing written (raise " + field("time_limit") + ", or report fewer files)");
   };
   // Each file's name in findings and its SARIF URI (independent of how its path was spelled).
   const std::string root = options.source_root ? options.source_root->string() : std::string();
@@ -1060,7 +1066,9 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       w.path = files[i];
       w.kind = FileKind::svg;
       named(i, w);
-      w.reports = report_batch(svg_inputs(files[i], paths, begin, end), options.report, {}, &budget);
+      std::vector<ReportInput> inputs = svg_inputs(files[i], paths, begin, end);
+      for (ReportInput& in : inputs) in.error = options.report.show_fields(in.error);
+      w.reports = report_batch(std::move(inputs), options.report, {}, &budget);
       w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
       PreparedFile p = writer.prepare(std::move(w));
       p.more = end < paths.size();

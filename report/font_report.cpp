@@ -7,6 +7,7 @@
 
 #include "bezierize/extract.hpp"
 #include "spline/curvature.hpp"
+#include "spline/fields.hpp"
 #include "draw/svg_text.hpp"
 #include "io/masters.hpp"
 #include "io/output.hpp"
@@ -456,7 +457,7 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
            glyph_count_text(static_cast<int>(font.glyphs.size()), fail, static_cast<int>(contour_count),
                             static_cast<int>(contour_fail)) +
            "</b>. Gates: " +
-           html_escape(gate_names.empty() ? "none (--require)" : gate_names) +
+           html_escape(gate_names.empty() ? options.show_fields("none (" + field("require") + ")") : gate_names) +
            ". Fixes are the smallest certified fix of each failing check (cmr fix: the fewest points moved the "
            "least, smooth nodes kept smooth, the fixed contour re-judged by the exact engine); each failing "
            "glyph shows its fixed outline (green) over the original (dashed).";
@@ -590,9 +591,11 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
         std::string require;
         for (const Gate& gate : options.gates) require += (require.empty() ? "" : ",") + to_string(gate);
         if (options.require) require += (require.empty() ? "" : ",") + to_string(*options.require);
+        const auto flag = [&](const char* name) { return html_escape(options.show_fields(field(name))); };
         details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
-                   html_escape(shell_word(font.path)) + " --glyph " + html_escape(shell_word(g.name)) + " --require " +
-                   html_escape(require) + " --in-place</code> (or <code>--out NEW.ufo</code> for a copy).</p>";
+                   html_escape(shell_word(font.path)) + " " + flag("glyph") + " " + html_escape(shell_word(g.name)) +
+                   " " + flag("require") + " " + html_escape(require) + " " + flag("in_place") + "</code> (or <code>" +
+                   flag("out") + " NEW.ufo</code> for a copy).</p>";
       }
       details += "</section>";
     }

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "report/extremum.hpp"
 #include "report/g3.hpp"
 #include "report/report.hpp"
@@ -76,12 +77,13 @@ std::optional<Gate> parse_gate(const std::string& given) {
     const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.turn_degrees);
     if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.turn_degrees) ||
         g.turn_degrees < 0 || g.turn_degrees >= 90)
-      throw InputError("--require: '" + text + "' needs a turn in degrees, 0 <= DEG < 90 (g1-between-masters:0.5)");
+      throw InputFieldError(field("require") + ": '" + text +
+                            "' needs a turn in degrees, 0 <= DEG < 90 (g1-between-masters:0.5)");
     return g;
   }
   if (head == "curvature-extrema-at-nodes" || head == "no-inflection" || head == "each-piece" ||
       head == "g1-between-masters" || head == "curvature-between-masters" || head == "extrema-between-masters") {
-    if (colon != std::string::npos) throw InputError("--require: '" + given + "' takes no argument");
+    if (colon != std::string::npos) throw InputFieldError(field("require") + ": '" + given + "' takes no argument");
     g.kind = head == "no-inflection"        ? Gate::Kind::no_inflection
              : head == "each-piece"         ? Gate::Kind::each_piece
              : head == "g1-between-masters" ? Gate::Kind::g1_between_masters
@@ -94,7 +96,7 @@ std::optional<Gate> parse_gate(const std::string& given) {
     g.kind = Gate::Kind::max_extrema_per_segment;
     const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.max_extrema);
     if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || g.max_extrema < 0)
-      throw InputError("--require: '" + text + "' needs a count N >= 0 (max-extrema-per-segment:N)");
+      throw InputFieldError(field("require") + ": '" + text + "' needs a count N >= 0 (max-extrema-per-segment:N)");
     return g;
   }
   if (head == "xy-extrema-at-nodes") {
@@ -103,8 +105,8 @@ std::optional<Gate> parse_gate(const std::string& given) {
       const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.overshoot);
       if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.overshoot) ||
           g.overshoot < 0)
-        throw InputError("--require: '" + text +
-                         "' needs a tolerance U >= 0 in the outline's units (xy-extrema-at-nodes:1)");
+        throw InputFieldError(field("require") + ": '" + text +
+                              "' needs a tolerance U >= 0 in the outline's units (xy-extrema-at-nodes:1)");
     }
     return g;
   }
@@ -114,7 +116,8 @@ std::optional<Gate> parse_gate(const std::string& given) {
       const auto [end, ec] = std::from_chars(arg.data(), arg.data() + arg.size(), g.tolerance);
       if (arg.empty() || ec != std::errc() || end != arg.data() + arg.size() || !std::isfinite(g.tolerance) ||
           g.tolerance < 0)
-        throw InputError("--require: '" + text + "' needs a relative tolerance >= 0 (" + head + ":0.05)");
+        throw InputFieldError(field("require") + ": '" + text + "' needs a relative tolerance >= 0 (" + head +
+                              ":0.05)");
     }
     return g;
   }
@@ -158,11 +161,12 @@ void parse_require_list(const std::string& text, ReportOptions& options) {
       r = parse_requirement(item);
     } catch (const InputError& e) {
       if (std::string(e.what()).find("signed curvature") != std::string::npos) throw;  // split:S:max|min: the hint
-      throw InputError("--require: '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames + ")");
+      throw InputFieldError(field("require") + ": '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames +
+                            ")");
     }
     if (options.require)
-      throw InputError("--require: '" + item + "' and '" + to_string(*options.require) +
-                       "': at most one of cmrwi, cmr, split:S");
+      throw InputFieldError(field("require") + ": '" + item + "' and '" + to_string(*options.require) +
+                            "': at most one of cmrwi, cmr, split:S");
     options.require = r;
   }
 }

@@ -15,6 +15,7 @@
 #include "numeric/roots.hpp"
 #include "report/report.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/format.hpp"
 #include "io/ufo.hpp"
 
@@ -177,8 +178,9 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
   for (const auto& src : ds.sources)
     if (src.layer.empty()) sources.push_back(&src);
   if (sources.size() != 2)
-    throw InputError(path + ": cmr fix --require g1-between-masters takes a designspace of two masters for now (" +
-                     std::to_string(sources.size()) + " here)");
+    throw InputFieldError(path + ": cmr fix " + field("require") +
+                          " g1-between-masters takes a designspace of two masters for now (" +
+                          std::to_string(sources.size()) + " here)");
   import::GlyphSelection which;
   which.names = {glyph};
   import::Glyph g[2];

@@ -13,13 +13,14 @@
 #include "report/markdown.hpp"
 #include "report/report.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::report {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
 Shard parse_shard(const std::string& text) {
-  const auto bad = [&](const std::string& why) { return InputError("--shard " + text + ": " + why); };
+  const auto bad = [&](const std::string& why) { return InputFieldError(field("shard") + " " + text + ": " + why); };
   const std::size_t slash = text.find('/');
   const auto number = [&](const std::string& s) {
     if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](unsigned char c) { return c >= '0' && c <= '9'; }))
@@ -144,15 +145,16 @@ std::string junit_suites(const fs::path& path, int& next_id) {
 }  // namespace
 
 MergeSummary merge_reports(const MergeOptions& options) {
-  if (options.parts.empty()) throw InputError("--merge: name the parts' report folders");
-  const std::string dash = "--merge ";
+  if (options.parts.empty()) throw InputFieldError(field("parts") + ": name the parts' report folders");
+  const std::string dash = field("parts") + " ";
   std::error_code ec;
   const fs::path out_abs = fs::weakly_canonical(fs::absolute(options.out), ec);
   for (const fs::path& p : options.parts) {
     const fs::path part = fs::weakly_canonical(fs::absolute(p), ec);
     const fs::path rel = out_abs.lexically_relative(part);
     if (!rel.empty() && *rel.begin() != "..")
-      throw InputError(dash + p.string() + ": the output folder " + options.out.string() + " is (inside) this part");
+      throw InputFieldError(dash + p.string() + ": the output folder " + options.out.string() +
+                            " is (inside) this part");
   }
 
   // report.json of each part: checked before anything is written.
@@ -165,13 +167,13 @@ MergeSummary merge_reports(const MergeOptions& options) {
     if (r["schema"] != kSchema)
       throw InputError((p / "report.json").string() + ": schema " + r["schema"].get<std::string>() + ", not " + kSchema);
     if (!reports.empty() && !options.mixed && r["settings"] != reports.front()["settings"])
-      throw InputError(dash + p.string() + ": its settings (gates, check, options) differ from " +
-                       options.parts.front().string() + "'s: the parts are not one run");
+      throw InputFieldError(dash + p.string() + ": its settings (gates, check, options) differ from " +
+                            options.parts.front().string() + "'s: the parts are not one run");
     const bool baseline = r["summary"].contains("baseline");
     if (!reports.empty() && baseline != reports.front()["summary"].contains("baseline"))
-      throw InputError(dash + p.string() + ": one part was compared with a baseline and another was not");
+      throw InputFieldError(dash + p.string() + ": one part was compared with a baseline and another was not");
     if (baseline && !reports.empty() && r["summary"]["baseline"]["file"] != reports.front()["summary"]["baseline"]["file"])
-      throw InputError(dash + p.string() + ": its baseline differs from " + options.parts.front().string() + "'s");
+      throw InputFieldError(dash + p.string() + ": its baseline differs from " + options.parts.front().string() + "'s");
     reports.push_back(std::move(r));
   }
 
@@ -274,8 +276,10 @@ MergeSummary merge_reports(const MergeOptions& options) {
       if (i > 0 && run["tool"] != doc["runs"][0]["tool"])
         throw InputError(f.string() + ": its tool (cmr version, rules) differs from the first part's");
       if (i > 0 && run.value("originalUriBaseIds", Json()) != doc["runs"][0].value("originalUriBaseIds", Json()))
-        throw InputError(f.string() + ": its source root differs from the first part's (run the parts from one folder, "
-                                      "or give --source-root)");
+        throw InputFieldError(f.string() +
+                              ": its source root differs from the first part's (run the parts from one folder, "
+                              "or give " +
+                              field("source_root") + ")");
       for (Json& r : run["results"]) results.push_back(std::move(r));
       if (i == 0) doc = std::move(s);
     }

@@ -22,6 +22,7 @@
 #include "region/region.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 #include "draw/draw.hpp"
@@ -45,14 +46,15 @@ Requirement parse_requirement(const std::string& text) {
       }
     for (const char* old : {":max", ":min"})
       if (s.size() > 4 && s.compare(s.size() - 4, 4, old) == 0)
-        throw InputError("--require: '" + text + "' read signed curvature, which flips with the direction of travel: " +
-                         "use split:" + s.substr(0, s.size() - 4) + ":sharpest or :flattest (by |curvature|)");
+        throw InputFieldError(field("require") + ": '" + text +
+                              "' read signed curvature, which flips with the direction of travel: " + "use split:" +
+                              s.substr(0, s.size() - 4) + ":sharpest or :flattest (by |curvature|)");
     int joint = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), joint);
     if (ec == std::errc() && end == s.data() + s.size() && !s.empty()) return {Mode::cmrwi, joint, extremum};
   }
-  throw InputError("--require: '" + text +
-                   "' is not cmrwi, cmr, split:S, split:S:sharpest or split:S:flattest (S a joint index)");
+  throw InputFieldError(field("require") + ": '" + text +
+                        "' is not cmrwi, cmr, split:S, split:S:sharpest or split:S:flattest (S a joint index)");
 }
 
 std::string to_string(const Requirement& r) {
@@ -669,7 +671,7 @@ ReportInput read_input(const std::string& file) {
   try {
     in.spline = read_spline_file(file);
   } catch (const InputError& e) {
-    in.error = e.what();
+    in.error = marked_text(e);  // fields marked (spline/fields.hpp): shown as the run's options say
   }
   return in;
 }

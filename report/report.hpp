@@ -22,6 +22,7 @@
 #include "numeric/roots.hpp"
 
 #include "region/region.hpp"
+#include "spline/fields.hpp"
 #include "spline/limits.hpp"
 #include "report/certified_fix.hpp"
 #include "report/gates.hpp"
@@ -127,6 +128,10 @@ struct ReportOptions {
   /// report`'s default; --no-severity turns it off.
   bool font_severity = false;
   bool strict = false;  ///< info findings fail too
+  /// How the report's documents name the option fields (spline/fields.hpp)
+  /// in the library messages they quote (a file's error, a fix's reason):
+  /// by their names, or a program's own (the cmr command: its flags).
+  std::function<std::string(const std::string&)> show_fields = plain_fields;
 };
 
 /// The check a spline is judged by: the requirement, or CMR without one.
@@ -244,7 +249,7 @@ std::string verdict_label(const SplineReport& r, Direction d);
 struct ReportInput {
   std::string file;               ///< path or label
   std::optional<BSpline> spline;  ///< the spline, when it could be read
-  std::string error;              ///< else the InputError's message
+  std::string error;              ///< else the InputError's message (its fields marked; process_file shows them)
   std::shared_ptr<const std::vector<import::ContourMotion>> motions{};  ///< SplineReport::motions
 };
 /// Reads a spline file; an invalid one becomes an item with its error.

@@ -13,6 +13,7 @@
 #include "region/view_fit.hpp"
 #include "report/g3.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::report {
 
@@ -115,7 +116,7 @@ SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int m
     t.plane_name = "the plane through P" + std::to_string(k) + " spanned by " + direction_name(spline, k, t.plane.u) +
                    " and " + direction_name(spline, k, t.plane.v);
   } catch (const InputError& e) {
-    t.error = e.what();
+    t.error = marked_text(e);  // fields marked: space_report shows them as its options say
   }
   return t;
 }
@@ -279,18 +280,18 @@ std::vector<GateResult> space_gates(const SpaceReport& r, const SpaceReportOptio
 void space_requirements(const ReportOptions& parsed, SpaceReportOptions& o, const std::string& file) {
   if (parsed.require) {
     if (parsed.require->split)
-      throw InputError(file + ": a space curve: --require " + to_string(*parsed.require) +
-                       " has no meaning in 3D (|kappa| has no sign to split at a joint); use cmrwi or cmr");
+      throw InputFieldError(file + ": a space curve: " + field("require") + " " + to_string(*parsed.require) +
+                            " has no meaning in 3D (|kappa| has no sign to split at a joint); use cmrwi or cmr");
     o.require_monotone = true;
     o.require_no_zero_curvature = parsed.require->mode == Mode::cmr;
   }
   for (const Gate& g : parsed.gates) {
     if (g.kind == Gate::Kind::unimodal_runs || g.kind == Gate::Kind::xy_extrema_at_nodes)
-      throw InputError(file + ": a space curve: --require " + to_string(g) +
-                       " is a rule for font outlines, not for space curves");
+      throw InputFieldError(file + ": a space curve: " + field("require") + " " + to_string(g) +
+                            " is a rule for font outlines, not for space curves");
     if (is_interpolation_gate(g))
-      throw InputError(file + ": a space curve: --require " + to_string(g) +
-                       " judges a font's masters (a .designspace or a variable font), not a space curve");
+      throw InputFieldError(file + ": a space curve: " + field("require") + " " + to_string(g) +
+                            " judges a font's masters (a .designspace or a variable font), not a space curve");
     o.gates.push_back(g);
   }
 }
@@ -329,7 +330,7 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   try {
     r.spline = read_space_spline_file(file);
   } catch (const InputError& e) {
-    r.error = e.what();
+    r.error = options.show_fields(marked_text(e));
     return r;
   }
   SpaceAnalyzeOptions o;
@@ -376,8 +377,10 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   for (double x : r.turning_deviation) r.near_constant = r.near_constant && x <= options.constant_tolerance;
   r.near_constant = r.near_constant && r.deviation <= options.constant_tolerance && hi_all > 0;
   if (options.regions)
-    for (int k = 0; k < r.spline->unique_point_count(); ++k)
+    for (int k = 0; k < r.spline->unique_point_count(); ++k) {
       r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
+      r.thumbnails.back().error = options.show_fields(r.thumbnails.back().error);
+    }
   const bool monotone = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
   r.check_pass = (monotone || r.near_constant) && !(options.require_no_zero_curvature && r.analysis.zero_curvature);
   r.gates = space_gates(r, options);
@@ -389,6 +392,7 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
     f.max_depth = options.max_depth;
     f.time_limit = kReportSpaceFixSeconds;
     r.fix = space_fix(*r.spline, f);
+    r.fix->reason = options.show_fields(r.fix->reason);
   }
   return r;
 }
@@ -691,9 +695,12 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       out += "</table>";
     }
     if (!r.thumbnails.empty()) {  // each control point's region in its default plane
-      out += "<div class=\"regions\"><h3>Regions of the control points</h3><p>Each control point moved in its default "
-             "plane (the plane of <code>cmr region FILE --point K</code> without --plane), coloured by the certified "
-             "verdict of the whole curve as in <code>cmr region</code>.</p>";
+      out +=
+          "<div class=\"regions\"><h3>Regions of the control points</h3><p>Each control point moved in its default "
+          "plane (the plane of <code>cmr region FILE " +
+          html_escape(options.show_fields(field("point"))) + " K</code> without " +
+          html_escape(options.show_fields(field("plane"))) +
+          "), coloured by the certified verdict of the whole curve as in <code>cmr region</code>.</p>";
       for (const SpaceThumbnail& t : r.thumbnails) {
         const std::string p = "P" + std::to_string(t.point);
         out += "<figure>";

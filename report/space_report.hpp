@@ -3,6 +3,7 @@
 /// every input is a space curve. The model, its JSON and a self-contained
 /// HTML page (three orthographic projections with the curvature comb, the
 /// curvature and torsion plots, the segments and joints), in memory.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "region/space_region.hpp"
 #include "report/corpus.hpp"
 #include "report/gates.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::report {
 
@@ -46,6 +48,9 @@ struct SpaceReportOptions {
   bool fixes = true;
   bool regions = true;            ///< a region thumbnail per control point (`cmr report --no-thumbnails`: off)
   int region_size = 96;           ///< thumbnails are region_size x region_size (`--region-size`)
+  /// How the documents name the option fields quoted in library messages
+  /// (ReportOptions::show_fields).
+  std::function<std::string(const std::string&)> show_fields = plain_fields;
 };
 
 /// The region of one control point in its default plane

@@ -7,6 +7,7 @@
 
 #include "spline/blossom.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/format.hpp"
 
 namespace cmr {
@@ -241,7 +242,7 @@ int spline_file_dimension(const std::filesystem::path& path, const nlohmann::jso
   try {
     return spline_dimension(doc);
   } catch (const InputError& e) {
-    throw InputError(input_name(path) + ": " + e.what());
+    throw InputFieldError(input_name(path) + ": " + marked_text(e));
   }
 }
 
@@ -276,7 +277,7 @@ SpaceSpline read_space_spline_file(const std::filesystem::path& path, const Read
   try {
     return space_spline_from_json(doc, options);
   } catch (const InputError& e) {
-    throw InputError(input_name(path) + ": " + e.what());
+    throw InputFieldError(input_name(path) + ": " + marked_text(e));
   }
 }
 

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/limits.hpp"
 #include "spline/space.hpp"
 
@@ -40,14 +41,17 @@ void apply_knot_convention(std::vector<double>& knots, std::size_t points, int d
   const std::string counts = std::to_string(points) + " points of degree " + std::to_string(degree);
   if (options.conventional) {
     if (knots.size() != full)
-      throw InputError("knots: --conventional expects the full vector of points + degree + 1 = " +
-                       std::to_string(full) + " values for " + counts + " (got " + std::to_string(knots.size()) + ")");
+      throw InputFieldError("knots: " + field("conventional") +
+                            " expects the full vector of points + degree + 1 = " + std::to_string(full) +
+                            " values for " + counts + " (got " + std::to_string(knots.size()) + ")");
     knots.erase(knots.begin());
     knots.pop_back();
   } else if (knots.size() == full && points > 0) {
-    throw InputError("knots: " + std::to_string(knots.size()) + " values is the conventional (full) knot vector for " +
-                     counts + "; drop the first and the last knot (cmr uses polar form), or convert the file with "
-                     "`cmr knots FILE --conventional clamp` (any knots operation takes --conventional)");
+    throw InputFieldError("knots: " + std::to_string(knots.size()) +
+                          " values is the conventional (full) knot vector for " + counts +
+                          "; drop the first and the last knot (cmr uses polar form), or convert the file with "
+                          "`cmr knots FILE " +
+                          field("conventional") + " clamp` (any knots operation takes " + field("conventional") + ")");
   }
 }
 
@@ -325,8 +329,8 @@ json read_spline_document(const std::filesystem::path& path) {
     return doc;
   } catch (const json::exception& e) {
     if (const char* kind = foreign_kind(text))  // an SVG or font given where a spline file belongs
-      throw InputError(input_name(path) + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
-                       " --out DIR` to convert it to spline files)");
+      throw InputFieldError(input_name(path) + ": " + kind + ", not a spline file (run `cmr import " + path.string() +
+                            " " + field("out") + " DIR` to convert it to spline files)");
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at line L, column C: ..."
     // (or out_of_range.406 "number overflow parsing '1e999'").
     std::string what = e.what();
@@ -340,7 +344,7 @@ BSpline spline_from_document(const json& doc, const std::filesystem::path& path,
   try {
     return spline_from_json(doc, options);
   } catch (const InputError& e) {
-    throw InputError(input_name(path) + ": " + e.what());
+    throw InputFieldError(input_name(path) + ": " + marked_text(e));
   }
 }
 

@@ -146,12 +146,12 @@ std::string step_edge_id(const StepCurve& curve);
 std::string step_curve_stem(const StepCurve& curve);
 
 /// `--edges '#1234,#1240'`: the entity ids, in order, without repeats.
-/// InputError "--edges: ..." for anything but comma-separated #N.
+/// InputError "edges: ..." (edges a field, spline/fields.hpp) for anything but comma-separated #N.
 std::vector<long long> parse_step_edge_ids(const std::string& spec);
 
 /// `curves` with only the curves whose entities are `ids`, in the order of
 /// `ids`, and the chains all of whose edges are among them.
-/// InputError "--edges: #999 is not an edge of FILE" (or "... is a
+/// InputError "edges: #999 is not an edge of FILE" (or "... is a
 /// Geom_Line edge, skipped: ...") for an id that names no converted curve.
 StepCurves select_step_edges(const StepCurves& curves, const std::vector<long long>& ids,
                                          const std::string& where);

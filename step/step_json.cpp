@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -187,9 +188,10 @@ std::vector<long long> parse_step_edge_ids(const std::string& spec) {
     const bool digits = item.size() > 1 && item.size() <= 19 && item[0] == '#' &&
                         std::all_of(item.begin() + 1, item.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
     if (!digits) {
-      std::string m = "--edges: \"";
-      m.append(item).append("\" is not a STEP entity id (expected #1234, comma separated: '#1234,#1240')");
-      throw InputError(m);
+      std::string m = field("edges");
+      m.append(": \"").append(item).append(
+          "\" is not a STEP entity id (expected #1234, comma separated: '#1234,#1240')");
+      throw InputFieldError(m);
     }
     const long long id = std::stoll(item.substr(1));
     if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
@@ -212,8 +214,8 @@ StepCurves select_step_edges(const StepCurves& curves, const std::vector<long lo
       out.curves.push_back(*it);
       continue;
     }
-    std::string m = "--edges: #";
-    m.append(std::to_string(id));
+    std::string m = field("edges");
+    m.append(": #").append(std::to_string(id));
     if (const auto s = curves.skipped_entities.find(id); s != curves.skipped_entities.end())
       m.append(" is a ").append(s->second).append(" edge of ").append(where).append(", skipped (cmr judges B-spline and Bezier edges)");
     else {
@@ -223,7 +225,7 @@ StepCurves select_step_edges(const StepCurves& curves, const std::vector<long lo
       if (curves.curves.size() > 6) m.append(", ... ").append(std::to_string(curves.curves.size())).append(" in all");
       m.append(")");
     }
-    throw InputError(m);
+    throw InputFieldError(m);
   }
   for (const StepChain& chain : curves.chains) {
     StepChain kept = chain;

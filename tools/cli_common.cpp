@@ -134,30 +134,6 @@ std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const std::string&
 #endif
 }
 
-std::string show_fields(const std::string& marked) {
-  // Each library field (spline/fields.hpp) and the flag that sets it: the one
-  // place the command names the libraries' option fields.
-  static const std::map<std::string, std::string> flags = {
-      {"backend", "--backend"}, {"each_piece", "--each-piece"}, {"split", "--split"}, {"with", "--with"}};
-  std::string out;
-  for (std::size_t at = 0; at < marked.size();) {
-    const std::size_t open = marked.find(kFieldMark, at);
-    const std::size_t close = open == std::string::npos ? open : marked.find(kFieldMark, open + 1);
-    if (close == std::string::npos) {
-      out.append(marked, at, std::string::npos);
-      break;
-    }
-    out.append(marked, at, open - at);
-    const std::string name = marked.substr(open + 1, close - open - 1);
-    const auto it = flags.find(name);
-    out += it != flags.end() ? it->second : name;
-    at = close + 1;
-  }
-  return out;
-}
-
-std::string shown_message(const std::exception& e) { return show_fields(marked_text(e)); }
-
 void read_environment() {
   std::string warning;
   const backend::SimdLevel level = backend::simd_level_for(std::getenv("CMR_SIMD"), warning);

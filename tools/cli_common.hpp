@@ -16,6 +16,7 @@
 #include "bezierize/analyze.hpp"
 #include "region/region.hpp"
 #include "io/output.hpp"
+#include "tools/field_flags.hpp"
 
 namespace CLI {
 class App;
@@ -51,12 +52,6 @@ std::shared_ptr<RegionBackend> make_region_backend(const std::string& backend, c
 /// The space-region backend of --backend (vk::make_space_region_backend):
 /// "vulkan" the first device with shaderFloat64, "auto" and "cpu" the CPU.
 std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const std::string& backend);
-/// A library message as the command shows it: each field it names
-/// (spline/fields.hpp) as the flag that sets it (one table, cli_common.cpp),
-/// e.g. "with point 3 is named twice" as "--with point 3 is named twice".
-std::string show_fields(const std::string& marked);
-/// The message of `e` so shown (its marked text where it names fields).
-std::string shown_message(const std::exception& e);
 /// $XDG_CACHE_HOME/cmr, else $HOME/.cache/cmr (only absolute paths count);
 /// empty when neither is set: nothing is kept across runs.
 std::string user_cache_dir();

@@ -110,8 +110,8 @@ Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>
       checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
     Json jc = {{"contour", f.contour}, {"already", f.already}, {"fixed", f.fixed}, {"moves", moves}, {"rejudged", checks}};
     if (!f.fixed) {
-      jc["reason"] = f.reason;
-      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
+      jc["reason"] = show_fields(f.reason);
+      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + show_fields(f.reason);
     }
     if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
     contours.push_back(jc);
@@ -375,7 +375,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     request.tolerance = args->tolerance;
     request.max_depth = args->depth;
     const FixResult f = fix(spline, request);
-    if (!f.fixed) throw InputError(args->file + ": " + f.reason);
+    if (!f.fixed) throw InputError(args->file + ": " + show_fields(f.reason));
     Json doc = report::fix_json(args->file, request, f);
     // All outputs or none (io/output.hpp).
     OutputSet outputs;

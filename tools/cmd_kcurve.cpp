@@ -65,7 +65,7 @@ KCurvePoints read_kcurve_points_file(const std::filesystem::path& path) {
     if (pos != std::string::npos) what = what.substr(pos + 2);
     throw InputError(input_name(path) + ": malformed JSON: " + what);
   } catch (const InputError& e) {
-    throw InputError(input_name(path) + ": " + e.what());
+    throw InputError(input_name(path) + ": " + shown_message(e));
   }
 }
 
@@ -101,7 +101,7 @@ void add_kcurve_command(CLI::App& app, int& exit_code) {
     try {
       curve = kcurve(input.points, options);
     } catch (const InputError& e) {
-      throw InputError(args->file + ": " + e.what());
+      throw InputError(args->file + ": " + shown_message(e));
     }
     if (!curve.converged()) {
       std::ostringstream why;

@@ -147,7 +147,7 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
     notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
                     (a.mode == "cmr" ? "CMR" : "CMRWI") +
                     (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
-                    " in this view (its region is empty here): " + why.value_or("see --view"));
+                    " in this view (its region is empty here): " + (why ? show_fields(*why) : "see --view"));
   else if (why)
     notes.push_back("note: " + *why);
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
@@ -264,7 +264,7 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
   }
   if (!a.png.empty()) {
     draw::RegionPicture pic = draw::layers_picture(spline, r.images, requests_of(problems));
-    if (!several) pic.note = region_reason(problems.front(), r.images.front()).value_or("");
+    if (!several) pic.note = show_fields(region_reason(problems.front(), r.images.front()).value_or(""));
     out.stage(a.png, draw::region_png(pic));
   }
   out.commit();

@@ -240,7 +240,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
                            "--torsion-tol and the joint tolerances");
       if (shard) throw InputError(space + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
       if (!mixed)
-        for (const report::SkippedPath& k : skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
+        for (const report::SkippedPath& k : skipped)
+          std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
       SpaceReportRun run;
       if (mixed) {  // the space files to their part, the planar ones stay in `collected`
         std::vector<std::string> kept, kept_bases;
@@ -269,6 +270,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
       run.options.fixes = !args->no_fixes && !args->no_thumbnails;
       run.options.regions = !args->no_thumbnails;
       run.options.region_size = args->region_size;
+      run.options.show_fields = show_fields;  // the libraries' fields as this command's flags
       if (!args->junit.empty()) run.junit = mixed ? parts->space_file(args->junit) : fs::path(args->junit);
       if (!args->sarif.empty()) run.sarif = mixed ? parts->space_file(args->sarif) : fs::path(args->sarif);
       if (!args->baseline.empty()) run.baseline = args->baseline;
@@ -297,6 +299,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     o.region_size = args->region_size;
     o.threads = args->jobs;
     o.backend = make_region_backend(args->backend, "fp64", args->device, 0);
+    o.show_fields = show_fields;  // the libraries' fields as this command's flags
 
     report::BatchOptions b;
     b.all_glyphs = args->glyphs == "all";
@@ -339,13 +342,14 @@ void add_report_command(CLI::App& app, int& exit_code) {
       b.shard = shard;
       b.shard_positions = report::keep_shard(*shard, files, b.bases);
     }
-    for (const report::SkippedPath& k : b.skipped) std::cerr << "cmr: note: skipped " << k.path << ": " << k.reason << '\n';
+    for (const report::SkippedPath& k : b.skipped)
+      std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
     const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
     b.report = std::move(o);
     const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
     if (bar) report::clear_progress(std::cerr);
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
-    if (!s.note.empty()) std::cerr << "cmr: note: " << s.note << '\n';  // read_spline_file names the file
+    if (!s.note.empty()) std::cerr << "cmr: note: " << show_fields(s.note) << '\n';  // read_spline_file names the file
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
     if (mixed) {  // the two parts into --out, and the merged line
       report::MergeOptions m;

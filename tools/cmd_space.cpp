@@ -113,7 +113,7 @@ void run_space_region(const SpaceRegionArgs& a) {
     throw;
   } catch (const EnvironmentError& e) {  // the device's failure, named as the option chose it
     std::string message = "--backend ";
-    message.append(backend->name()).append(": ").append(e.what());
+    message.append(backend->name()).append(": ").append(shown_message(e));
     throw EnvironmentError(message);
   }
   const SpacePlane& plane = *problem.request().plane;
@@ -284,7 +284,7 @@ StepEdge open_step_edge(const std::filesystem::path& model, const std::string& s
   try {
     ids = import::parse_step_edge_ids(spec);
   } catch (const InputError& e) {  // "--edges: ..." as cmr import says it
-    throw InputError("--edge" + std::string(e.what()).substr(std::string("--edges").size()));
+    throw InputError("--edge" + shown_message(e).substr(std::string("--edges").size()));
   }
   if (ids.size() != 1)
     throw InputError("--edge: one edge to edit (#1234), not " + std::to_string(ids.size()) + " (" + spec + ")");
@@ -293,7 +293,7 @@ StepEdge open_step_edge(const std::filesystem::path& model, const std::string& s
   try {
     picked = import::select_step_edges(all, ids, model.string());
   } catch (const InputError& e) {
-    const std::string what = e.what();
+    const std::string what = shown_message(e);
     throw InputError(what.rfind("--edges", 0) == 0 ? "--edge" + what.substr(7) : what);
   }
   const import::StepCurve& c = picked.curves.front();

@@ -85,8 +85,9 @@ void run_space_fix(const SpaceFixArgs& args) {
   request.max_depth = args.depth;
   const SpaceSpline spline = read_space_spline_file(args.file);
   const SpaceFixResult f = space_fix(spline, request);
-  if (!f.fixed) throw InputError(args.file + ": " + f.reason);
+  if (!f.fixed) throw InputError(args.file + ": " + show_fields(f.reason));
   Json doc = report::space_fix_document(args.file, args.require, request, f);
+  show_fields_in(doc, show_fields);  // the units' reasons name fields: as this command's flags
   OutputSet outputs;  // all or none (io/output.hpp)
   if (!args.out.empty()) {
     outputs.stage(args.out, space_spline_to_json(*f.spline).dump(2) + "\n");

@@ -122,7 +122,7 @@ BSpline step_spline(const SweepArgs& a, const BSpline& base, int s, double& valu
   } catch (const InputError& e) {
     std::ostringstream m;
     m.precision(17);
-    m << "step " << s << " (" << (a.knot ? "knot value " : "t = ") << value << "): " << e.what();
+    m << "step " << s << " (" << (a.knot ? "knot value " : "t = ") << value << "): " << shown_message(e);
     throw InputError(m.str());
   }
 }

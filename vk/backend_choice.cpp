@@ -165,7 +165,7 @@ class DeferredVulkanBackend final : public RegionBackend {
     const auto t0 = Clock::now();
     auto r = backend_->try_render(problem);
     if (!r) {
-      if (r.error().code == Errc::size_unsupported) throw InputError(r.error().message);
+      if (r.error().code == Errc::size_unsupported) throw InputFieldError(r.error().message);
       // A device that lacks what was asked (fp64) is the user's choice to
       // change (--precision fp32): an environment error, as before.
       if (r.error().code == Errc::missing_feature) throw RegionFailure(r.error());

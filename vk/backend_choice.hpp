@@ -47,6 +47,7 @@
 
 #include "region/region.hpp"
 #include "region/space_region.hpp"
+#include "spline/fields.hpp"
 #include "vk/region_vk.hpp"
 
 namespace cmr::vk {
@@ -135,8 +136,8 @@ std::shared_ptr<RegionBackend> make_region_backend(const BackendChoice& choice, 
 /// `device` names (VulkanSpaceRegionBackend, vk/space_region_vk.hpp).
 std::shared_ptr<SpaceRegionBackend> make_space_region_backend(const BackendChoice& choice);
 
-/// The text of automatic's fallback note.
-inline constexpr const char* kCpuFallbackNote =
-    "no GPU found, so the CPU backend renders (--backend vulkan uses a CPU Vulkan device such as lavapipe)";
+/// The text of automatic's fallback note (naming the field backend).
+inline const std::string kCpuFallbackNote = "no GPU found, so the CPU backend renders (" + field("backend") +
+                                            " vulkan uses a CPU Vulkan device such as lavapipe)";
 
 }  // namespace cmr::vk

@@ -12,6 +12,8 @@
 #include <string_view>
 #include <utility>
 
+#include "spline/fields.hpp"
+
 namespace cmr::vk {
 namespace detail {
 
@@ -518,7 +520,7 @@ Result<Context> Context::create(const ContextOptions& options) {
     const bool fp64_problem = std::any_of(reasons.begin(), reasons.end(), [](const std::string& r) {
       return r.find("shaderFloat64") != std::string::npos;
     });
-    if (fp64_problem) message += "; use --precision fp32";
+    if (fp64_problem) message += "; use " + field("precision") + " fp32";
     return Error{Errc::missing_feature, VK_SUCCESS, std::move(message)};
   }
 

@@ -46,7 +46,9 @@ struct Error {
   // The failing call's result, or VK_SUCCESS when the error was detected by
   // cmr::vk itself (bad size, device name not found, ...).
   VkResult vk_result = VK_SUCCESS;
-  // One line (no '\n'), meant to be shown to the user as is.
+  // One line (no '\n'), meant to be shown to the user; the options it names
+  // are marked as fields (spline/fields.hpp: plain_fields, or a program's own
+  // names for them).
   std::string message;
 };
 

@@ -277,7 +277,7 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
                                                          const std::vector<std::array<int, 2>>& pixels) {
   if (options_.precision == RegionPrecision::fp64 && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
-                 "device '" + context_.device().name + "' lacks shaderFloat64; use --precision fp32"};
+                 "device '" + context_.device().name + "' lacks shaderFloat64; use " + field("precision") + " fp32"};
   auto pipeline = pipeline_for(s);
   if (!pipeline) return pipeline.error();
   if (options_.fault == InjectedFault::out_of_memory)
@@ -334,7 +334,7 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
 RegionResult VulkanRegionBackend::render(const RegionProblem& problem) {
   auto r = try_render(problem);
   if (!r) {
-    if (r.error().code == Errc::size_unsupported) throw InputError(r.error().message);
+    if (r.error().code == Errc::size_unsupported) throw InputFieldError(r.error().message);
     throw RegionFailure(r.error());
   }
   return r.take();

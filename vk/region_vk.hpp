@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "region/region.hpp"
+#include "spline/fields.hpp"
 #include "vk/context.hpp"
 #include "vk/fragment_pipeline.hpp"
 
@@ -42,9 +43,10 @@ struct VulkanRegionOptions {
 /// A Vulkan failure during a render (device lost, out of memory), carrying
 /// the vk::Error: thrown by VulkanRegionBackend::render. A BackendError, so
 /// an EnvironmentError (spline/errors.hpp): callers need not re-wrap it.
-class RegionFailure : public BackendError {
+class RegionFailure : public BackendError, public FieldMessage {
  public:
-  explicit RegionFailure(Error e) : BackendError(e.message), error_(std::move(e)) {}
+  explicit RegionFailure(Error e)
+      : BackendError(plain_fields(e.message)), FieldMessage(e.message), error_(std::move(e)) {}
   const Error& error() const { return error_; }
 
  private:

@@ -7,6 +7,7 @@
 #include "shaders/space_region_layout.h"
 #include "space_region_fp64_frag.h"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 #include "vk/buffer_packer.hpp"
 #include "vk/fragment_pipeline.hpp"
@@ -91,9 +92,9 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   const int max_degree = rational ? kMaxRationalDegree : 7;
   if (spline.degree() < 2 || spline.degree() > max_degree)
     return Error{Errc::size_unsupported, VK_SUCCESS,
-                 std::string("--backend vulkan: ") + (rational ? "rational " : "") + "space curves of degree 2.." +
+                 field("backend") + " vulkan: " + (rational ? "rational " : "") + "space curves of degree 2.." +
                      std::to_string(max_degree) + " only (this one has degree " + std::to_string(spline.degree()) +
-                     "; use --backend cpu)"};
+                     "; use " + field("backend") + " cpu)"};
   ContextOptions co;
   co.device_name = options.device;
   co.require_float64 = true;
@@ -193,8 +194,8 @@ RegionResult VulkanSpaceRegionBackend::render(const SpaceRegionProblem& problem)
   stats_ = {};
   auto rendered = render_space_region_vulkan(problem, options_, &stats_);
   if (!rendered) {
-    if (rendered.error().code == Errc::size_unsupported) throw InputError(rendered.error().message);
-    throw EnvironmentError(rendered.error().message);
+    if (rendered.error().code == Errc::size_unsupported) throw InputFieldError(rendered.error().message);
+    throw EnvironmentFieldError(rendered.error().message);
   }
   return rendered.take();
 }

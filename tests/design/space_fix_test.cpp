@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr {
 namespace {
@@ -222,7 +223,8 @@ TEST(SpaceFix, NoFixWithinMaxMoveNamesTheFailingSegments) {
   EXPECT_FALSE(f.fixed);
   EXPECT_TRUE(f.moves.empty());
   EXPECT_FALSE(f.spline.has_value());
-  EXPECT_NE(f.reason.find("no certified fix within --max-move 0.001 (failing segments: 0, 1"), std::string::npos)
+  EXPECT_NE(plain_fields(f.reason).find("no certified fix within max_move 0.001 (failing segments: 0, 1"),
+            std::string::npos)
       << f.reason;
   EXPECT_EQ(f.reason.find('\n'), std::string::npos);
 }
@@ -236,7 +238,7 @@ TEST(SpaceFix, BadRequestsAreInputErrors) {
     space_fix(lifted(), req);
     ADD_FAILURE() << "P5 accepted";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "--points: P5 does not act on a failing segment (failing segments: 0, 1)");
+    EXPECT_STREQ(e.what(), "points: P5 does not act on a failing segment (failing segments: 0, 1)");
   }
   req = {};
   req.plane_text = "0,0,0,1,0,0,2,0,0";

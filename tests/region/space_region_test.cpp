@@ -272,18 +272,18 @@ TEST(SpaceRegion, BadPlanesAndRequestsAreInputErrors) {
     return std::string("no error");
   };
   EXPECT_EQ(message([] { parse_space_plane("0,0,0,1,0,0,2,0,0", Vec3(0.0)); }),
-            "--plane: U and V are parallel (the plane is degenerate)");
+            "plane: U and V are parallel (the plane is degenerate)");  // fields by name: spline/fields.hpp
   EXPECT_EQ(message([] { parse_space_plane("0,0,0,1,0,0", Vec3(0.0)); }),
-            "--plane: 6 numbers given, expected 9 (OX,OY,OZ,UX,UY,UZ,VX,VY,VZ), or xy, yz, zx");
+            "plane: 6 numbers given, expected 9 (OX,OY,OZ,UX,UY,UZ,VX,VY,VZ), or xy, yz, zx");
   EXPECT_EQ(message([] { parse_space_plane("0,0,x,1,0,0,0,1,0", Vec3(0.0)); }),
-            "--plane: 'x' is not a number (expected xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ)");
+            "plane: 'x' is not a number (expected xy, yz, zx or OX,OY,OZ,UX,UY,UZ,VX,VY,VZ)");
   EXPECT_EQ(parse_space_plane("yz", Vec3(1, 2, 3)).origin, Vec3(1, 2, 3));
   // Point 1's neighbours 0 and 2 are collinear with it.
   EXPECT_EQ(message([&] { default_space_plane(s, 1); }),
-            "the default plane of point 1 is degenerate (its neighbours are collinear with it); give --plane");
+            "the default plane of point 1 is degenerate (its neighbours are collinear with it); give plane");
   SpaceRegionRequest r;
   r.point = 4;
-  EXPECT_EQ(message([&] { SpaceRegionProblem::make(s, r); }), "--point 4 is outside 0..3");
+  EXPECT_EQ(message([&] { SpaceRegionProblem::make(s, r); }), "point 4 is outside 0..3");
 }
 
 }  // namespace

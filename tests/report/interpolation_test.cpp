@@ -209,7 +209,7 @@ TEST(Pieces, BetweenParsesTwoLocations) {
     import::parse_between("wght=400:weight=700");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("--between:", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("between:", 0), 0u) << e.what();  // the field: --between in cmr
   }
 }
 

@@ -77,7 +77,7 @@ INSTANTIATE_TEST_SUITE_P(
                              R"({"degree":2,"knots":[0,0,0,1,1,1],"points":[[0,0],[1,1],[2,0]]})",
                              "knots: 6 values is the conventional (full) knot vector for 3 points of degree 2; drop "
                              "the first and the last knot (cmr uses polar form), or convert the file with `cmr knots FILE "
-                             "--conventional clamp`"}),
+                             "conventional clamp`"}),  // conventional: a field (spline/fields.hpp), --conventional in cmr
     [](const auto& p) { return std::string(p.param.name); });
 
 TEST(SplineJson, ConventionalKnotsDropTheirEndKnotsWhenAskedTo) {

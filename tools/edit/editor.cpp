@@ -15,6 +15,7 @@
 #include "io/output.hpp"
 #include "draw/draw.hpp"
 #include "draw/region_export.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 
@@ -268,7 +269,7 @@ void Editor::add_kcurve_point(Vec2 p) {
   try {
     rebuild_kcurve(next);
   } catch (const InputError& e) {
-    message = std::string("point not added: ") + e.what();
+    message = std::string("point not added: ") + cli::shown_message(e);
     return;
   }
   history_.commit(std::move(next));
@@ -330,7 +331,7 @@ bool Editor::knot_operation(const std::string& name, double a, double b) {
     replace_spline(std::move(r.spline), r.message);
     return true;
   } catch (const InputError& e) {
-    message = std::string("refused: ") + e.what();
+    message = std::string("refused: ") + cli::shown_message(e);
     return false;
   }
 }
@@ -382,7 +383,8 @@ void Editor::export_region(const std::filesystem::path& path) {
   OutputSet out;  // the files of cmr region --png / --labels (draw/region_export.hpp)
   if (path.extension() == ".png") {
     draw::RegionPicture picture = draw::layers_picture(spline, layers, q);
-    if (layers.size() == 1) picture.note = region_reason(memo().make(spline, q.front()), layers[0]).value_or("");
+    if (layers.size() == 1)
+      picture.note = cli::show_fields(region_reason(memo().make(spline, q.front()), layers[0]).value_or(""));
     out.stage(path, draw::region_png(picture));
   } else {
     draw::stage_label_pgms(out, path, layers, q);

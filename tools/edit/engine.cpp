@@ -14,6 +14,7 @@
 #include "spline/parallel.hpp"
 #include "draw/draw.hpp"
 #include "report/report.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 
@@ -129,8 +130,10 @@ std::optional<std::string> RegionCache::reason(const BSpline& spline, const Regi
   if (!e->reason) {
     ++reasons_worked_out_;
     try {
-      e->reason = region_reason(memo != nullptr ? memo->make(spline, request) : RegionProblem::make(spline, request),
-                                *e->result);
+      std::optional<std::string> why = region_reason(
+          memo != nullptr ? memo->make(spline, request) : RegionProblem::make(spline, request), *e->result);
+      if (why) why = cli::show_fields(*why);  // the library's fields as the command's flags
+      e->reason = std::move(why);
     } catch (const InputError&) {
       e->reason = std::optional<std::string>{};
     }

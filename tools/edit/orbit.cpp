@@ -10,6 +10,7 @@
 #include "design/space_fix.hpp"
 #include "io/output.hpp"
 #include "spline/errors.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 
@@ -323,7 +324,7 @@ void OrbitView::reset_plane() {
       default: plane_ = parse_space_plane(orbit_plane_name(plane_kind_), through); break;
     }
   } catch (const InputError& e) {
-    message = std::string("P") + std::to_string(selected_) + " has no plane: " + e.what();
+    message = std::string("P") + std::to_string(selected_) + " has no plane: " + cli::shown_message(e);
   }
   ++generation_;
   region_.reset();
@@ -382,7 +383,7 @@ void OrbitView::update_label() {
     const Vec2 ab = plane_coordinates(spline_.points()[selected_]);
     label_here_ = SpaceRegionProblem::make(spline_, r).classify(ab.x, ab.y).label;
   } catch (const InputError& e) {
-    message = e.what();
+    message = cli::shown_message(e);
   }
 }
 
@@ -409,7 +410,7 @@ const OrbitRegion* OrbitView::region() {
       region_ = compute_region(spline_, selected_, *plane_, kLowRegion);
       start_full_region();
     } catch (const InputError& e) {
-      message = e.what();
+      message = cli::shown_message(e);
       return nullptr;
     }
   }
@@ -434,7 +435,8 @@ void OrbitView::fix() {
     if (f.already) {
       message = "fix (cmrwi): |kappa| is already monotone; nothing moves";
     } else if (!f.fixed || !f.spline || f.moves.empty()) {
-      message = "fix (cmrwi): " + (f.reason.empty() ? std::string("no certified fix found") : f.reason);
+      message =
+          "fix (cmrwi): " + (f.reason.empty() ? std::string("no certified fix found") : cli::show_fields(f.reason));
     } else {
       undo_.push_back(spline_);
       redo_.clear();
@@ -446,7 +448,7 @@ void OrbitView::fix() {
       message = buf;
     }
   } catch (const InputError& e) {
-    message = std::string("fix: ") + e.what();
+    message = std::string("fix: ") + cli::shown_message(e);
   }
 }
 

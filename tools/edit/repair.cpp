@@ -9,6 +9,7 @@
 #include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -79,9 +80,10 @@ std::optional<int> Editor::open_on_region_point(std::optional<int> named) {
       // does not wrap (a closed curve's whole period says nothing about one).
       if (!first_reason || first_reason->find(kPeriodReason) != std::string::npos)
         if (auto why = region_reason(memo().make(start.spline, q.front()), r.front()))
-          if (!first_reason || why->find(kPeriodReason) == std::string::npos) first_reason = std::move(why);
+          if (*why = cli::show_fields(*why); !first_reason || why->find(kPeriodReason) == std::string::npos)
+            first_reason = std::move(why);
     } catch (const InputError& e) {
-      if (!first_reason) first_reason = e.what();
+      if (!first_reason) first_reason = cli::shown_message(e);
     }
   }
   if (most_at >= 0) return open(most_at, "the largest region in this view, and a small one");
@@ -179,7 +181,7 @@ bool Editor::fix_on_grid() {
     report::parse_require_list(grid_fix_gates, o.judge);
     fixes = report::fix_glyph(g, o);
   } catch (const InputError& e) {
-    message = what + ": " + e.what();
+    message = what + ": " + cli::shown_message(e);
     return false;
   }
   if (fixes.empty()) {
@@ -192,7 +194,7 @@ bool Editor::fix_on_grid() {
     return true;
   }
   if (!f.fixed) {
-    message = what + ": " + f.reason;
+    message = what + ": " + cli::show_fields(f.reason);
     return false;
   }
   BSpline to = d.spline;
@@ -269,7 +271,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     }
     if (via.empty()) r = fix(d.spline, request);
   } catch (const InputError& e) {
-    message = what + ": " + e.what();
+    message = what + ": " + cli::shown_message(e);
     return false;
   }
   if (r.already) {
@@ -277,7 +279,7 @@ bool Editor::apply_fix(const FixRequest& request, const std::string& what) {
     return true;
   }
   if (!r.fixed || !r.spline) {
-    message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : r.reason);
+    message = what + " (" + req + "): " + (r.reason.empty() ? "no certified fix" : cli::show_fields(r.reason));
     return false;
   }
   // A glyph's lines stay lines: no fix moves a line's added point or a node

@@ -13,6 +13,7 @@
 #include "tools/edit/designer.hpp"
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 namespace {
@@ -41,7 +42,7 @@ void act(Editor& e, F&& f) {
   try {
     f();
   } catch (const InputError& err) {
-    e.message = err.what();
+    e.message = cli::shown_message(err);
   }
 }
 
@@ -567,7 +568,7 @@ void file_buttons(Editor& e, const UiInfo& info) {
   if (ImGui::Button("fit")) e.fit_view();
   ImGui::SameLine();
   if (ImGui::Button("fit region")) act(e, [&] { e.fit_region(); });
-  // bezierize/fix: the nearest certified fix of the view's requirement (x),
+  // design/fix: the nearest certified fix of the view's requirement (x),
   // the selected point into its region (s); animated, one undo step each.
   // (In the rows that were there: the panel keeps its height.)
   ImGui::SameLine();

@@ -30,6 +30,7 @@
 #include "tools/edit/region_painter.hpp"
 #include "tools/edit/script.hpp"
 #include "tools/edit/ui.hpp"
+#include "tools/field_flags.hpp"
 
 namespace cmr::edit {
 // The window's X11 display and window for the presenter (end of this file).
@@ -78,11 +79,11 @@ struct WindowHandle {
 
 template <class T>
 T check(vk::Result<T> r) {
-  if (!r) throw EnvironmentError(r.error().message);
+  if (!r) throw EnvironmentFieldError(r.error().message);
   return r.take();
 }
 void check(vk::Result<void> r) {
-  if (!r) throw EnvironmentError(r.error().message);
+  if (!r) throw EnvironmentFieldError(r.error().message);
 }
 
 vk::Context make_context(GLFWwindow* window, const std::string& device) {
@@ -248,7 +249,7 @@ void App::install_callbacks() {
       if (self(w).orbit_) return self(w).orbit_->scroll(dy);
       self(w).editor_.scroll(dy, shift);
     } catch (const InputError& e) {
-      self(w).editor_.message = e.what();
+      self(w).editor_.message = cli::shown_message(e);
     }
   });
   glfwSetKeyCallback(window_.window, [](GLFWwindow* w, int key, int, int action, int mods) {
@@ -259,7 +260,7 @@ void App::install_callbacks() {
       if (self(w).orbit_) return orbit_key(*self(w).orbit_, name, (mods & GLFW_MOD_CONTROL) != 0);
       self(w).editor_.key(name, (mods & GLFW_MOD_CONTROL) != 0);
     } catch (const InputError& e) {
-      self(w).editor_.message = e.what();
+      self(w).editor_.message = cli::shown_message(e);
     }
   });
 }
@@ -308,7 +309,7 @@ void App::pointer_button(MouseButton button, bool down, bool shift) {
     if (orbit_) return orbit_->mouse_button(button, down);
     editor_.mouse_button(button, down, shift);
   } catch (const InputError& e) {
-    editor_.message = e.what();
+    editor_.message = cli::shown_message(e);
   }
 }
 
@@ -389,7 +390,7 @@ bool App::frame(vk::Screenshot* shot) {
       write_png(export_view_, exporting ? own : *shot);
       editor_.message = "view written to " + export_view_.string();
     } catch (const InputError& e) {
-      editor_.message = e.what();
+      editor_.message = cli::shown_message(e);
     }
     export_view_.clear();
   }
