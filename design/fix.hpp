@@ -26,7 +26,7 @@
 //    the node may not move.
 //  * joints that are C1 (C2) by their knots are G1 (G2) whatever moves.
 //
-// Search (design/fix.cpp):
+// Search (design/fix.cpp; its parts in design/fix_search.cpp):
 //  1. One unit, nearest: for a 2-D unit, certified labels on a square grid
 //     centred on the point, its half-width doubling from 1/16 of the curve
 //     size up to max_move until a passing position is found; a finer grid

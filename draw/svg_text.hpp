@@ -1,6 +1,6 @@
 #pragma once
 /// SVG text written by hand, in one place: the report's curve and curvature
-/// plots (report/report.cpp), the font page's glyphs (report/font_report.cpp)
+/// plots (report/report_html.cpp), the font page's glyphs (report/font_report.cpp)
 /// and region contours (draw/mesh.cpp) open and close their pictures here.
 /// Pictures painted with Cairo (figure_svg, the weight picture) become SVG in
 /// one other place: render_picture (draw/cairo_canvas.hpp, private to draw).

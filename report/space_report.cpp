@@ -625,7 +625,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       continue;
     }
     const SpaceAnalysis& a = r.analysis;
-    // The planar report's wording (report.cpp, verdict_label): a curve of
+    // The planar report's wording (report_json.cpp, verdict_label): a curve of
     // straights is "straight"; here a curve of constant curvature within
     // --constant-tol says so, and torsion zero on every piece is "zero".
     bool straight = !a.segments.empty();

@@ -206,8 +206,9 @@ inline constexpr double max_step_magnitude = 1e100;
 /// and its 100-copy benchmark model (21 MB; budget 89 s) in 4.6 s of CPU,
 /// 18.5 s on the loaded 2-core VM (cmr_step_model OUT 100). `cmr import`
 /// stops a read that outlives it (OCCT's algorithms cannot be interrupted)
-/// with one line and exit 2, before anything is written. The environment
-/// variable CMR_STEP_TIME_BUDGET (seconds) replaces it, for tests.
+/// with one line and exit 2, before anything is written (and reads the
+/// environment variable CMR_STEP_TIME_BUDGET, seconds, which replaces it for
+/// tests; the library reads no environment).
 double step_time_budget(std::uintmax_t bytes);
 
 /// The spline file of a curve: {"name", "degree", "knots", "points" ([x, y, z]),

@@ -306,11 +306,6 @@ std::vector<std::string> step_chain_report(const StepCurves& curves, const Chain
 }
 
 double step_time_budget(std::uintmax_t bytes) {
-  if (const char* env = std::getenv("CMR_STEP_TIME_BUDGET"); env != nullptr && *env != '\0') {
-    char* end = nullptr;
-    const double s = std::strtod(env, &end);
-    if (*end == '\0' && s > 0 && std::isfinite(s)) return s;
-  }
   return 5.0 + 4.0 * static_cast<double>(bytes) / 1e6;
 }
 

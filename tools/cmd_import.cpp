@@ -3,6 +3,7 @@
 // (io/svg.hpp) as spline files, one per contour or subpath, all
 // written or none (cmr::OutputSet; the output folder is created if missing).
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +34,17 @@ struct ImportArgs {
   std::string location;
   std::string edges;
 };
+
+/// The STEP read's time budget: import::step_time_budget, or the environment
+/// variable CMR_STEP_TIME_BUDGET (seconds, > 0), which replaces it for tests.
+double step_read_budget(std::uintmax_t bytes) {
+  if (const char* env = std::getenv("CMR_STEP_TIME_BUDGET"); env != nullptr && *env != '\0') {
+    char* end = nullptr;
+    const double s = std::strtod(env, &end);
+    if (*end == '\0' && s > 0 && std::isfinite(s)) return s;
+  }
+  return import::step_time_budget(bytes);
+}
 
 // Ends the process with one line on stderr and exit 2 when `seconds` pass
 // before it is destroyed: the STEP reader's budget (step_time_budget).
@@ -130,7 +142,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       import::StepCurves curves = [&] {
         std::error_code ec;
         const std::uintmax_t bytes = std::filesystem::file_size(input, ec);
-        const double budget = import::step_time_budget(ec ? 0 : bytes);
+        const double budget = step_read_budget(ec ? 0 : bytes);
         char secs[32];
         std::snprintf(secs, sizeof secs, "%.3g", budget);
         const Watchdog watchdog(budget, args->input + ": not read within its time budget of " + secs + " s (" +
