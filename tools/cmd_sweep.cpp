@@ -57,7 +57,7 @@ inline constexpr int kMaxSweepSteps = 10000;
 /// bytes a pixel (16 steps of 4096 x 4096, within the pixel count limit,
 /// took 20 GB).
 inline constexpr long long kSweepBytesPerPixel = 100;
-/// And per step, whatever its size: the kappa plot's PNG (about 20 kB at 376 x 520 pixels).
+/// And per step, whatever its size: the kappa plot's PNG (about 20 kB at 392 x 494 pixels).
 inline constexpr long long kSweepBytesPerStep = 64 * 1024;
 
 /// The memory a sweep may plan to use: 3/4 of the smaller of the machine's
