@@ -429,8 +429,9 @@ void draw_inner_legend(cairo_t* cr, const RegionPicture& p, double x, double y, 
       if (const std::optional<Vec2> q = sampler.at(seg.a + (seg.b - seg.a) * k / 32)) things.push_back(map(*q));
   double bx = x + 4, by = y + h - 4 - bh;
   long fewest = -1;
+  const double top = y + 4 + (p.ruler ? 28 : 0);  // under a knot ruler
   for (const auto& [cx, cy] : {std::pair{x + 4, y + h - 4 - bh}, std::pair{x + w - 4 - bw, y + h - 4 - bh},
-                               std::pair{x + 4, y + 4}, std::pair{x + w - 4 - bw, y + 4}}) {
+                               std::pair{x + 4, top}, std::pair{x + w - 4 - bw, top}}) {
     long n = 0;
     for (const auto& [tx, ty] : things) n += tx >= cx && tx <= cx + bw && ty >= cy && ty <= cy + bh;
     if (fewest < 0 || n < fewest) fewest = n, bx = cx, by = cy;
@@ -453,6 +454,60 @@ void draw_inner_legend(cairo_t* cr, const RegionPicture& p, double x, double y, 
   cairo_restore(cr);
 }
 
+/// KnotRuler: a white strip across the top, the line, the ticks, the marked
+/// knot in red and the label above the line.
+void draw_knot_ruler(cairo_t* cr, const KnotRuler& r, double x, double y, double w, double h) {
+  if (w < kRulerMinWidth || h < kRulerMinHeight || !(r.to > r.from)) return;
+  const RulerGeometry g = knot_ruler_geometry(w);
+  const double gx0 = x + g.x0, gx1 = x + g.x1, gy = y + g.y;
+  const auto at = [&](double u) { return gx0 + (u - r.from) / (r.to - r.from) * (gx1 - gx0); };
+  cairo_save(cr);
+  cairo_rectangle(cr, x + 4, y + 4, w - 8, 24);
+  cairo_set_source_rgba(cr, 1, 1, 1, 0.88);
+  cairo_fill_preserve(cr);
+  set_colour(cr, {0.6, 0.6, 0.6});
+  cairo_set_line_width(cr, 1);
+  cairo_stroke(cr);
+  set_colour(cr, {0.2, 0.2, 0.2});
+  cairo_move_to(cr, gx0, gy + 0.5);
+  cairo_line_to(cr, gx1, gy + 0.5);
+  cairo_stroke(cr);
+  for (std::size_t i = 0; i < r.knots.size();) {  // one tick per value, longer by its multiplicity
+    std::size_t j = i;
+    while (j < r.knots.size() && r.knots[j] == r.knots[i]) ++j;  // exact: a repeated knot is equal by design
+    if (static_cast<int>(i) > r.marked || static_cast<int>(j) <= r.marked) {
+      const double tx = std::round(at(r.knots[i])) + 0.5;
+      cairo_move_to(cr, tx, gy - 3);
+      cairo_line_to(cr, tx, gy + 2 + 1.5 * static_cast<double>(j - i - 1));
+      cairo_stroke(cr);
+    }
+    i = j;
+  }
+  if (r.marked >= 0 && r.marked < static_cast<int>(r.knots.size())) {
+    const double mx = at(r.knots[static_cast<std::size_t>(r.marked)]);
+    set_colour(cr, {0.85, 0, 0});
+    cairo_set_line_width(cr, 2);
+    cairo_move_to(cr, mx, gy - 4);
+    cairo_line_to(cr, mx, gy + 6);
+    cairo_stroke(cr);
+    cairo_move_to(cr, mx - 4, gy - 9);
+    cairo_line_to(cr, mx + 4, gy - 9);
+    cairo_line_to(cr, mx, gy - 4);
+    cairo_close_path(cr);
+    cairo_fill(cr);
+  }
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  set_colour(cr, {0, 0, 0});
+  // The label at the left, or at the right where the mark is in the left half.
+  const double size = 9;
+  cairo_set_font_size(cr, size);
+  const double tw = text_width(cr, r.label);
+  const bool right = r.marked >= 0 && r.marked < static_cast<int>(r.knots.size()) &&
+                     at(r.knots[static_cast<std::size_t>(r.marked)]) < x + w / 2;
+  text_at(cr, right ? x + w - 8 - tw : x + 8, y + 13, r.label, size);
+  cairo_restore(cr);
+}
+
 void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, double w, double h, Labels& labels) {
   check_picture(p);
   const WorldMap map{p.layers[0]->view, x, y, w, h};
@@ -466,6 +521,7 @@ void draw_region_panel(cairo_t* cr, const RegionPicture& p, double x, double y, 
   draw_marked(cr, p, map);
   draw_point_names(cr, *p.spline, map, labels);
   if (p.legend) draw_inner_legend(cr, p, x, y, w, h);
+  if (p.ruler) draw_knot_ruler(cr, *p.ruler, x, y, w, h);
   cairo_restore(cr);
   set_colour(cr, {0.5, 0.5, 0.5});
   cairo_set_line_width(cr, 1);
@@ -625,6 +681,8 @@ const char* colour_label_name(bool split, bool alternating, int label, bool each
 }
 
 }  // namespace
+
+RulerGeometry knot_ruler_geometry(double width) { return {12, width - 12, 22}; }
 
 Rgb point_colour(int k) {
   static const Rgb palette[] = {{0.12, 0.47, 0.71}, {1.0, 0.5, 0.05},   {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16},

@@ -38,6 +38,27 @@ struct Rgb {
   double r = 1, g = 1, b = 1;
 };
 
+/// A knot ruler across the top of a region picture (`cmr sweep`'s frames):
+/// the interval [from, to] as a line, a tick per knot (a repeated knot's
+/// tick longer by its multiplicity), knot `marked` in red with a triangle
+/// over it, and above the line `label` (e.g. "knot 3 = 2.9"). Drawn on a
+/// white strip 24 px high in pictures at least kRulerMinWidth x
+/// kRulerMinHeight px.
+struct KnotRuler {
+  std::vector<double> knots;
+  int marked = -1;          ///< the moving knot's index, or -1
+  double from = 0, to = 1;  ///< the ruler's ends (the same for every frame of a sweep, so the mark moves)
+  std::string label;
+};
+/// The ruler's line: its ends' x and its y in the picture's pixels (the strip
+/// is 4 px in from the edges), for `knot_ruler_x` and tests.
+struct RulerGeometry {
+  double x0 = 0, x1 = 0, y = 0;
+  double x(const KnotRuler& r, double u) const { return x0 + (u - r.from) / (r.to - r.from) * (x1 - x0); }
+};
+RulerGeometry knot_ruler_geometry(double width);
+inline constexpr int kRulerMinWidth = 96, kRulerMinHeight = 64;
+
 /// A region image (one layer per moved point) with the curve, the control
 /// polygon and the point numbers drawn over it.
 struct RegionPicture {
@@ -63,6 +84,7 @@ struct RegionPicture {
   /// Draw legend_for(picture) inside the picture (bottom left, on a white
   /// box) when the picture is large enough (at least 240 x 160 px).
   bool legend = false;
+  std::optional<KnotRuler> ruler;  ///< a knot ruler across the top (KnotRuler)
 };
 
 /// The colour of control point k's regions with per-point colours: eight
@@ -173,7 +195,20 @@ struct LinePlot {
   int width = 720, height = 420;
 };
 
-/// The plot as PNG bytes; std::bad_alloc as for region_png.
-std::string line_plot_png(const LinePlot& plot);
+/// Where a line plot's data went: the frame's pixels (left..right,
+/// top..bottom) and the data ranges mapped onto them (x0 at left, y0 at
+/// bottom), so that a page can mark a point of the plot (the sweep page's
+/// current step).
+struct PlotArea {
+  int width = 0, height = 0;  ///< the picture's size
+  double left = 0, right = 0, top = 0, bottom = 0;
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  double px(double x) const { return left + (x - x0) / (x1 - x0) * (right - left); }
+  double py(double y) const { return bottom - (y - y0) / (y1 - y0) * (bottom - top); }
+};
+
+/// The plot as PNG bytes (and with `area` where its data went); std::bad_alloc
+/// as for region_png.
+std::string line_plot_png(const LinePlot& plot, PlotArea* area = nullptr);
 
 }  // namespace cmr::draw

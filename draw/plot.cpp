@@ -275,7 +275,7 @@ void draw_lambda_panel(cairo_t* cr, const LambdaPlot& plot, double x, double y, 
 }
 }  // namespace detail
 
-std::string line_plot_png(const LinePlot& plot) {
+std::string line_plot_png(const LinePlot& plot, PlotArea* area) {
   Surface surface = make_surface(plot.width, plot.height);
   Context cr = make_context(surface.get());
   cairo_t* c = cr.get();
@@ -294,8 +294,10 @@ std::string line_plot_png(const LinePlot& plot) {
   if (!(y1 > y0)) y1 = y0 + 1;
   y1 += 0.05 * (y1 - y0);
   const double left = 80, right = plot.width - 20, top = 40, bottom = plot.height - 60;
-  auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * (right - left); };
-  auto py = [&](double y) { return bottom - (y - y0) / (y1 - y0) * (bottom - top); };
+  const PlotArea frame{plot.width, plot.height, left, right, top, bottom, x0, x1, y0, y1};
+  if (area != nullptr) *area = frame;
+  auto px = [&](double x) { return frame.px(x); };
+  auto py = [&](double y) { return frame.py(y); };
   set_colour(c, {0, 0, 0});
   text_at(c, left, 24, plot.title, 15, true);
   cairo_set_line_width(c, 1);

@@ -56,6 +56,7 @@
 #include "bezierize/space_analyze.hpp"
 #include "design/space_fix.hpp"
 #include "region/space_region.hpp"
+#include "region/view_fit.hpp"
 #include "draw/draw.hpp"
 #include "io/font.hpp"
 #include "report/analyze_json.hpp"
@@ -589,8 +590,9 @@ struct RegionOut {
   std::vector<std::string> notes;
 };
 
-/// As tools/cmd_region.cpp: region_options, validated_problems (one point),
-/// render_all, point_summary, contours_of, region_summary.
+/// As tools/cmd_region.cpp: region_options, validated_problems (one point;
+/// without view= the fitted view, fit_region_view), render_all,
+/// point_summary, contours_of, region_summary.
 RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atomic<bool>* cancel = nullptr) {
   RegionOut out;
   RegionRequest o;
@@ -619,6 +621,9 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atom
                           " (give segments= to choose others)");
     }
   }
+  std::optional<RegionViewFit> fit;
+  if (!o.view) o.view = (fit = fit_region_view(spline, {o}))->view;
+  if (cancel != nullptr && cancel->load()) throw Cancelled();
   const RegionProblem problem = RegionProblem::make(spline, o);
   const std::shared_ptr<RegionBackend> backend =
       region_backend(a, [&out](const std::string& note) { out.notes.push_back("note: " + note); });
@@ -650,9 +655,15 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atom
   if (monotone == 0)
     out.notes.push_back("note: P" + std::to_string(a.point) + " has no " + (a.mode == "cmr" ? "CMR" : "CMRWI") +
                         (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
-                        " in this view (its region is empty here): " + (why ? python_fields(*why) : "see view="));
+                        " in this view (its region is empty here" +
+                        (fit && fit->empty ? std::string(", and in three times the polygon's view") : std::string()) +
+                        "): " + (why ? python_fields(*why) : "see view="));
   else if (why)
     out.notes.push_back("note: " + python_fields(*why));
+  if (fit && monotone > 0 && monotone * 100 < img.size())
+    out.notes.push_back("note: P" + std::to_string(a.point) + "'s region is a speck: " + std::to_string(monotone) +
+                        " of " + std::to_string(img.size()) +
+                        " pixels (thin, or smaller than the probe's pixels; view= zooms)");
   OJson entry = {{"point", a.point}, {"counts", c}, {"seconds", seconds}, {"exact_pixels", img.exact_pixels},
                  {"exact_share", static_cast<double>(img.exact_pixels) / static_cast<double>(img.size())}};
   if (a.contours) {
@@ -663,12 +674,11 @@ RegionOut region_run(const BSpline& spline, const RegionArgs& a, const std::atom
     entry["areas"] = areas;
   }
   const RegionRequest& r = problem.request();
-  out.summary = {{"width", r.width},
-                 {"height", r.height},
-                 {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}},
-                 {"mode", a.mode},
-                 {"backend", backend->name()},
-                 {"points", OJson::array({entry})}};
+  out.summary = {{"width", r.width}, {"height", r.height}, {"view", {img.view.x0, img.view.y0, img.view.x1, img.view.y1}}};
+  if (fit) out.summary["view_fitted"] = fit->fitted();  // as the command: without a view only
+  out.summary["mode"] = a.mode;
+  out.summary["backend"] = backend->name();
+  out.summary["points"] = OJson::array({entry});
   if (r.split) out.summary["split"] = *r.split;
   if (!r.splits.empty() && !r.each_piece) out.summary["split"] = r.splits;
   if (r.each_piece)

@@ -1,5 +1,7 @@
 #include "region/view_fit.hpp"
 
+#include "region/region_setup.hpp"
+
 #include <algorithm>
 #include <cstddef>
 
@@ -27,6 +29,57 @@ int ViewFit::add_region(const RegionResult& probe, const View& view) {
 
 void ViewFit::add_point(double x, double y) {
   x0_ = std::min(x0_, x), x1_ = std::max(x1_, x), y0_ = std::min(y0_, y), y1_ = std::max(y1_, y);
+}
+
+void ViewFit::add_moved_points(const BSpline& spline, const RegionRequest& request) {
+  std::vector<int> moved = request.with;
+  moved.push_back(request.point);
+  for (const int k : moved) {
+    if (k < 0 || k >= spline.point_count()) continue;
+    const Vec2 p = spline.points()[static_cast<std::size_t>(k)];
+    add_point(p.x, p.y);
+  }
+}
+
+RegionViewFit fit_region_view(const BSpline& spline, const std::vector<RegionRequest>& requests, int probe) {
+  RegionViewFit fit;
+  fit.probe = probe;
+  if (requests.empty()) return fit;
+  // The requests as given (their size above all) before any view is made of them.
+  for (const RegionRequest& r : requests) backend::validate_region_options(spline, r);
+  const RegionRequest& first = requests.front();
+  fit.view = default_view(spline, first.width, first.height);
+  ViewFit box;
+  CpuRegionBackend cpu;
+  const auto probe_all = [&](const View& probe_view) {
+    fit.probe_pixels.clear();
+    for (const RegionRequest& r : requests) {
+      RegionRequest p = r;
+      p.width = p.height = probe;
+      p.view = probe_view;
+      p.depth = false;
+      fit.probe_pixels.push_back(box.add_region(cpu.render(RegionProblem::make(spline, p)), probe_view));
+    }
+  };
+  probe_all(ViewFit::probe_view(fit.view));
+  // Nothing in the wide probe: a region smaller than its pixels may still lie
+  // near the curve; a second probe over the polygon's square (3 times finer).
+  if (box.empty()) {
+    const View wide = ViewFit::probe_view(fit.view);
+    const double cx = (wide.x0 + wide.x1) / 2, cy = (wide.y0 + wide.y1) / 2, h = (wide.x1 - wide.x0) / 6;
+    probe_all(View{cx - h, cy - h, cx + h, cy + h});
+  }
+  if (box.empty()) return fit;
+  fit.empty = false;
+  int all = 0;
+  for (const int n : fit.probe_pixels) all += n;
+  if (all == probe * probe * static_cast<int>(requests.size())) {
+    fit.full = true;
+    return fit;
+  }
+  for (const RegionRequest& r : requests) box.add_moved_points(spline, r);
+  fit.view = box.view(first.width, first.height);
+  return fit;
 }
 
 View ViewFit::view(int width, int height) const {

@@ -1,12 +1,13 @@
 #pragma once
 /// A region picture's default view that shows the answer (issue 40 item 6),
-/// one rule for `cmr sweep` (planar, every step) and a space region (the
-/// report's thumbnails, `cmr region` of a space curve): a square probe three
-/// times the polygon's view about its centre is rendered small; the box of
-/// its region pixels and of the moved points, widened by 15% of its larger
-/// side each way and then in one direction so that the picture's pixels are
-/// square, is the view.
+/// one rule for `cmr region` (planar: fit_region_view; a space curve: the
+/// report's thumbnails too), and `cmr sweep` (every step): a square probe
+/// three times the polygon's view about its centre is rendered small; the
+/// box of its region pixels and of the moved points, widened by 15% of its
+/// larger side each way and then in one direction so that the picture's
+/// pixels are square, is the view.
 #include <limits>
+#include <vector>
 
 #include "region/region.hpp"
 
@@ -22,6 +23,10 @@ class ViewFit {
   int add_region(const RegionResult& probe, const View& view);
   /// Adds a point (the moved control point, in the picture's coordinates).
   void add_point(double x, double y);
+  /// Adds a planar request's moved points (its point and its --with points)
+  /// as they are in `spline` (indices out of range are skipped:
+  /// RegionProblem::make names them).
+  void add_moved_points(const BSpline& spline, const RegionRequest& request);
 
   /// No region pixel was added.
   bool empty() const { return pixels_ == 0; }
@@ -33,5 +38,30 @@ class ViewFit {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
   double x0_ = kInf, y0_ = kInf, x1_ = -kInf, y1_ = -kInf;
 };
+
+/// The default view of a planar `cmr region` (the Python module's region()
+/// too): the union of the regions of `requests` (one per moved point, their
+/// views ignored; `cmr region --point all` gives several) and of their moved
+/// points, fitted by ViewFit. Each request is probed on the CPU at `probe`
+/// x `probe` pixels over ViewFit::probe_view of the polygon's view
+/// (default_view for the requests' size, which all share), and where that
+/// finds no region pixel, again over the square of the polygon's view's
+/// larger side (a third of the first probe: pixels 3 times finer, for
+/// regions smaller than the first probe's pixels). No region pixel in
+/// either: the polygon's view, `empty`; every pixel of every probe in
+/// the region (nothing to frame: a point that acts on no judged segment):
+/// the polygon's view too, `full`. Throws InputError as RegionProblem::make
+/// does for a bad request.
+struct RegionViewFit {
+  View view;
+  bool empty = true;              ///< no region pixel in any probe: `view` is the polygon's
+  bool full = false;              ///< every probe pixel in the region: `view` is the polygon's
+  bool fitted() const { return !empty && !full; }
+  std::vector<int> probe_pixels;  ///< each request's region pixels in its (last) probe
+  int probe = 0;                  ///< the probe's side in pixels
+};
+inline constexpr int kRegionProbeSize = 64;
+RegionViewFit fit_region_view(const BSpline& spline, const std::vector<RegionRequest>& requests,
+                              int probe = kRegionProbeSize);
 
 }  // namespace cmr

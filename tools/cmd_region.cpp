@@ -12,6 +12,7 @@
 
 #include "bezierize/analyze.hpp"
 #include "region/region_reason.hpp"
+#include "region/view_fit.hpp"
 #include "spline/errors.hpp"
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
@@ -98,9 +99,10 @@ std::vector<int> chosen_points(const RegionArgs& a, const BSpline& spline) {
 }
 
 /// Every point and output path is validated before anything is rendered, so
-/// bad input leaves no files.
+/// bad input leaves no files. Without --view the view is fitted to the
+/// points' regions (fit_region_view, issue 40 item 6), and `fit` says how.
 std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline& spline, RegionRequest o,
-                                             std::vector<std::string>& notes) {
+                                             std::vector<std::string>& notes, std::optional<RegionViewFit>& fit) {
   // A closed curve is never monotone over its period: without --segments (and
   // without joints) one point's region judges the spans it acts on.
   const std::vector<int> points = chosen_points(a, spline);
@@ -117,6 +119,12 @@ std::vector<RegionProblem> validated_problems(const RegionArgs& a, const BSpline
   if (!a.depth_map.empty()) check_output_path(a.depth_map, "--depth-map");
   if (!a.contours.empty()) check_output_path(a.contours, "--contours"), mesh::check_contour_file_name(a.contours);
   check_total_pixels(static_cast<long long>(points.size()), o.width, o.height, "points");
+  if (!o.view) {
+    std::vector<RegionRequest> each;
+    for (const int k : points) each.push_back(o), each.back().point = k;
+    fit = fit_region_view(spline, each);
+    o.view = fit->view;
+  }
   return RegionProblem::make_each(spline, o, points);
 }
 
@@ -130,9 +138,11 @@ struct Rendered {
 };
 
 /// Label counts of one image (and with --stats its timing and exact share);
-/// an empty region adds a note.
+/// an empty region adds a note, and so does a speck in a fitted view (`fit`:
+/// without --view).
 nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& problem, const RegionResult& img,
-                                     double sec, std::vector<std::string>& notes) {
+                                     double sec, const std::optional<RegionViewFit>& fit,
+                                     std::vector<std::string>& notes) {
   std::vector<std::uint64_t> counts(kSplitLabelCodes, 0);
   for (std::size_t i = 0; i < img.size(); ++i) ++counts[img.code_at(i)];
   // Keyed by the labels' names, in code order.
@@ -143,13 +153,21 @@ nlohmann::ordered_json point_summary(const RegionArgs& a, const RegionProblem& p
                                  : img.split    ? counts[1] + counts[2] + counts[3] + counts[4]
                                                 : counts[1] + counts[2];
   const std::optional<std::string> why = region_reason(problem, img);  // empty or full: say why
+  const std::string k = std::to_string(problem.request().point);
   if (monotone == 0)
-    notes.push_back("note: P" + std::to_string(problem.request().point) + " has no " +
-                    (a.mode == "cmr" ? "CMR" : "CMRWI") +
+    notes.push_back("note: P" + k + " has no " + (a.mode == "cmr" ? "CMR" : "CMRWI") +
                     (img.split ? " with both parts monotone" : img.each_piece ? " with each piece monotone" : "") +
-                    " in this view (its region is empty here): " + (why ? show_fields(*why) : "see --view"));
+                    " in this view (its region is empty here" +
+                    (fit && fit->empty ? std::string(", and in three times the polygon's view") : std::string()) +
+                    "): " + (why ? show_fields(*why) : "see --view"));
   else if (why)
     notes.push_back("note: " + *why);
+  if (fit && monotone > 0 && monotone * 100 < img.size())  // under 1% of a fitted picture: thin, or small beside others
+    notes.push_back("note: P" + k + "'s region is a speck: " + std::to_string(monotone) + " of " +
+                    std::to_string(img.size()) + " pixels (" +
+                    (fit->probe_pixels.size() > 1 ? "small beside the other points' regions, or thin"
+                                                  : "thin, or smaller than the probe's pixels") +
+                    "; --view zooms)");
   nlohmann::ordered_json entry = {{"point", problem.request().point}, {"counts", c}};
   if (a.stats) {
     entry["seconds"] = sec;
@@ -175,7 +193,8 @@ void note_poles(const RegionProblem& problem, std::vector<std::string>& notes) {
     }
 }
 
-Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems, std::vector<std::string> notes) {
+Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& problems, std::vector<std::string> notes,
+                    const std::optional<RegionViewFit>& fit) {
   Rendered r;
   r.notes = std::move(notes);
   if (!problems.empty()) note_poles(problems.front(), r.notes);
@@ -186,7 +205,7 @@ Rendered render_all(const RegionArgs& a, const std::vector<RegionProblem>& probl
     r.images.push_back(backend->render(problem));
     const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     r.setup_seconds += r.images.back().setup_seconds;
-    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec, r.notes));
+    r.per_point.push_back(point_summary(a, problem, r.images.back(), sec, fit, r.notes));
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.backend = backend->name();
@@ -272,14 +291,14 @@ void write_outputs(const RegionArgs& a, const BSpline& spline, const std::vector
 
 /// The JSON printed on stdout.
 nlohmann::ordered_json region_summary(const RegionArgs& a, const RegionRequest& o,
-                                      const std::vector<RegionProblem>& problems, const Rendered& r) {
+                                      const std::vector<RegionProblem>& problems, const Rendered& r,
+                                      const std::optional<RegionViewFit>& fit) {
   const View& v = r.images.front().view;
-  nlohmann::ordered_json doc = {{"width", o.width},
-                                {"height", o.height},
-                                {"view", {v.x0, v.y0, v.x1, v.y1}},
-                                {"mode", a.mode},
-                                {"backend", r.backend},
-                                {"points", r.per_point}};
+  nlohmann::ordered_json doc = {{"width", o.width}, {"height", o.height}, {"view", {v.x0, v.y0, v.x1, v.y1}}};
+  if (fit) doc["view_fitted"] = fit->fitted();  // without --view only: a given view's output is as it was
+  doc["mode"] = a.mode;
+  doc["backend"] = r.backend;
+  doc["points"] = r.per_point;
   if (o.split) doc["split"] = *o.split;
   if (!o.splits.empty() && !o.each_piece) doc["split"] = o.splits;
   if (o.each_piece)  // the cut joints (every joint of the judged range by default)
@@ -360,13 +379,14 @@ void run_weight_region(const RegionArgs& a) {
 void run_region(const RegionArgs& a) {
   const BSpline spline = read_spline_file(a.file);
   std::vector<std::string> notes;
-  const std::vector<RegionProblem> problems = validated_problems(a, spline, region_options(a), notes);
+  std::optional<RegionViewFit> fit;
+  const std::vector<RegionProblem> problems = validated_problems(a, spline, region_options(a), notes, fit);
   const RegionRequest& o = problems.front().request();
-  Rendered r = render_all(a, problems, std::move(notes));
+  Rendered r = render_all(a, problems, std::move(notes), fit);
   const std::vector<RegionContours> contours = contours_of(a, problems, r);
   write_outputs(a, spline, problems, r, contours);
   for (const std::string& note : r.notes) std::cerr << note << '\n';  // after the outputs: a failure prints one line
-  print_json(region_summary(a, o, problems, r), a.pretty);
+  print_json(region_summary(a, o, problems, r, fit), a.pretty);
 }
 
 }  // namespace
@@ -404,7 +424,8 @@ void add_region_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--segments", a->segments, "judge only spans A..B (inclusive); the others are ignored");
   in_range(cmd->add_option("--depth", a->depth, "maximum subdivision depth D"), 0, kMaxDepth)->capture_default_str();
   cmd->add_option("--size", a->size, "image size WxH")->capture_default_str();
-  cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: control polygon with a margin)");
+  cmd->add_option("--view", a->view, "world rectangle X0,Y0,X1,Y1 (default: the points' regions and the moved points, with a margin; "
+                                      "the control polygon's view where no region shows)");
   add_backend_options(*cmd, a->backend, a->device, &a->precision);
   cmd->add_option("--png", a->png,
                   "picture: regions, curve, control polygon, the moved point ringed, a legend (with --point all one "

@@ -11,14 +11,19 @@
 // built and validated before anything is rendered (bad input writes nothing).
 // All steps share one view (without --view: the union of the steps' regions
 // and the moved point, with a margin, fitted_view; the control points do
-// not move). Each frame's legend ends with its knot value. Per step: the region (any backend), its refined contours
-// (region/contour.hpp) and the curve's own verdict (analyze), printed as
-// one JSON line. With --out-dir (created if missing; files an earlier sweep
-// wrote there and this one does not are removed), all or none of: steps.jsonl, contours/
-// step_NNN.svg, frames/step_NNN.png, index.html (a slider over the frames),
-// area.png (area per label against the knot value) and tube.obj / tube.ply
-// (the monotone voxels of the stacked label maps, x, y and the knot value,
-// as a closed mesh: draw/mesh.hpp).
+// not move). Each frame carries a knot ruler (the knot vector, the moving
+// knot in red, its value) and its legend ends with the knot value. Per step:
+// the region (any backend), its refined contours (region/contour.hpp),
+// the curve's own verdict (analyze) and why the region is empty or full
+// (region_reason), printed as one JSON line. With --out-dir (created if
+// missing; files an earlier sweep wrote there and this one does not are
+// removed), all or none of: steps.jsonl, contours/step_NNN.svg,
+// frames/step_NNN.png, kappa/step_NNN.png (the step's curvature with each
+// segment's certified class), index.html (a slider over the frames and
+// kappa plots, the current step marked on the area plot), area.png (area
+// per label against the knot value) and tube.obj / tube.ply (the monotone
+// voxels of the stacked label maps, x, y and the knot value, as a closed
+// mesh: draw/mesh.hpp).
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -34,6 +39,7 @@
 #include "region/contour.hpp"
 #include "bezierize/knot_ops.hpp"
 #include "region/region_memo.hpp"
+#include "region/region_reason.hpp"
 #include "region/view_fit.hpp"
 #include "spline/errors.hpp"
 #include "spline/spline_json.hpp"
@@ -51,6 +57,8 @@ inline constexpr int kMaxSweepSteps = 10000;
 /// bytes a pixel (16 steps of 4096 x 4096, within the pixel count limit,
 /// took 20 GB).
 inline constexpr long long kSweepBytesPerPixel = 100;
+/// And per step, whatever its size: the kappa plot's PNG (about 20 kB at 392 x 494 pixels).
+inline constexpr long long kSweepBytesPerStep = 64 * 1024;
 
 /// The memory a sweep may plan to use: 3/4 of the smaller of the machine's
 /// memory and the address space limit (ulimit -v).
@@ -65,12 +73,14 @@ long long sweep_memory_limit() {
 /// Refuses (InputError) a sweep whose pixels would not fit in memory
 /// (sweep_memory_limit), before anything is rendered.
 void check_sweep_memory(long long images, int width, int height) {
-  const long long bytes = images * width * height * kSweepBytesPerPixel, limit = sweep_memory_limit();
+  const long long bytes = images * (width * height * kSweepBytesPerPixel + kSweepBytesPerStep),
+                  limit = sweep_memory_limit();
   if (bytes <= limit) return;
   const auto mb = [](long long b) { return std::to_string(b / (1024 * 1024)) + " MB"; };
   throw InputError(std::to_string(images) + " steps of " + std::to_string(width) + "x" + std::to_string(height) +
                    " pixels need about " + mb(bytes) + " (" + std::to_string(kSweepBytesPerPixel) +
-                   " bytes a pixel): more than the limit of " + mb(limit) +
+                   " bytes a pixel and " + std::to_string(kSweepBytesPerStep / 1024) +
+                   " kB a step): more than the limit of " + mb(limit) +
                    " (3/4 of this machine's memory or of ulimit -v; fewer steps or a smaller --size)");
 }
 
@@ -147,13 +157,7 @@ View fitted_view(const SweepArgs& a, const BSpline& base, const RegionRequest& r
     box.add_region(cpu.render(memo.make(step_spline(a, base, s, value), probe)), *probe.view);
   }
   if (box.empty()) return v0;
-  std::vector<int> moved = a.with;
-  moved.push_back(a.point);
-  for (int k : moved) {
-    if (k < 0 || k >= static_cast<int>(base.points().size())) continue;  // RegionProblem::make names it
-    const Vec2 p = base.points()[static_cast<std::size_t>(k)];
-    box.add_point(p.x, p.y);
-  }
+  box.add_moved_points(base, rq);  // the control points do not move with the knots
   return box.view(rq.width, rq.height);
 }
 
@@ -219,29 +223,50 @@ class Progress {
   bool on_;
 };
 
-/// The slider page over frames/step_NNN.png.
-std::string sweep_html(const SweepArgs& a, const std::vector<nlohmann::ordered_json>& records) {
+/// The slider page over frames/step_NNN.png and kappa/step_NNN.png; the
+/// current step is a red line over area.png (`area`: where the plot put its
+/// data, draw::PlotArea, in percent of the picture so that a scaled picture
+/// keeps it in place).
+std::string sweep_html(const SweepArgs& a, const std::vector<nlohmann::ordered_json>& records,
+                       const draw::PlotArea& area) {
   nlohmann::json data = nlohmann::json::array();
   for (const auto& r : records) data.push_back(nlohmann::json::parse(r.dump()));
+  const nlohmann::json plot = {{"width", area.width}, {"height", area.height}, {"left", area.left},
+                               {"right", area.right}, {"top", area.top},       {"bottom", area.bottom},
+                               {"x0", area.x0},       {"x1", area.x1},         {"y0", area.y0},
+                               {"y1", area.y1}};
   const std::string axis = a.knot ? "knot " + std::to_string(*a.knot) : std::string("t (to the target knots)");
   // JSON inside <script>: "</" must not end the element.
   std::string json = data.dump();
   for (std::size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 2)) json.replace(at, 2, "<\\/");
   return "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>cmr sweep: " + html_escape(a.file) +
          "</title>\n<style>body{font-family:sans-serif;margin:20px}img{image-rendering:pixelated;border:1px solid "
-         "#888;max-width:90vw}#info{font-family:monospace;white-space:pre}</style></head><body>\n"
+         "#888;max-width:90vw}#info{font-family:monospace;white-space:pre}#area{position:relative;display:inline-block}"
+         "#area img{border:0;display:block}#mark{position:absolute;width:2px;margin-left:-1px;background:#d00}"
+         "</style></head><body>\n"
          "<h1>Region of P" + std::to_string(a.point) + " while " + html_escape(axis) + " moves</h1>\n"
          "<p><input type=\"range\" id=\"s\" min=\"0\" max=\"" + std::to_string(records.size() - 1) +
          "\" value=\"0\" style=\"width:600px\"> <button id=\"play\">play</button></p>\n"
-         "<div id=\"info\"></div>\n<p><img id=\"frame\" src=\"frames/step_000.png\" alt=\"region\"></p>\n"
-         "<p><img src=\"area.png\" alt=\"area against the knot value\"></p>\n"
+         "<div id=\"info\"></div>\n<p><img id=\"frame\" src=\"frames/step_000.png\" alt=\"region\"> "
+         "<img id=\"kappa\" src=\"kappa/step_000.png\" alt=\"curvature of the step's curve\"></p>\n"
+         "<p><span id=\"area\"><img src=\"area.png\" alt=\"area against the knot value\">"
+         "<span id=\"mark\"></span></span></p>\n"
          "<p>Files: <a href=\"steps.jsonl\">steps.jsonl</a>, <a href=\"tube.obj\">tube.obj</a>, "
          "<a href=\"tube.ply\">tube.ply</a>, contours/step_NNN.svg.</p>\n<script>\nconst steps = " + json +
-         ";\nconst s = document.getElementById('s'), img = document.getElementById('frame'), info = "
-         "document.getElementById('info');\nfunction show(){const r = steps[s.value]; const n = String(s.value)."
-         "padStart(3,'0');\n img.src = 'frames/step_' + n + '.png';\n info.textContent = 'step ' + r.step + '   "
+         ";\nconst plot = " + plot.dump() +
+         ";\nconst s = document.getElementById('s'), img = document.getElementById('frame'), kappa = "
+         "document.getElementById('kappa'), mark = document.getElementById('mark'), info = "
+         "document.getElementById('info');\n"
+         "mark.style.top = (100 * plot.top / plot.height) + '%'; mark.style.height = (100 * (plot.bottom - plot.top) / "
+         "plot.height) + '%';\n"
+         "function markAt(v){const x = plot.left + (v - plot.x0) / (plot.x1 - plot.x0) * (plot.right - plot.left); "
+         "return 100 * x / plot.width;}\n"
+         "function show(){const r = steps[s.value]; const n = String(s.value)."
+         "padStart(3,'0');\n img.src = 'frames/step_' + n + '.png'; kappa.src = 'kappa/step_' + n + '.png';\n "
+         "mark.style.left = markAt(r.value) + '%';\n info.textContent = 'step ' + r.step + '   "
          "value ' + r.value + '   knots ' + JSON.stringify(r.knots) + '\\nmonotone area ' + r.monotone_area + '   "
-         "areas ' + JSON.stringify(r.areas) + '\\ncurve: cmrwi ' + r.verdict.cmrwi + ', cmr ' + r.verdict.cmr;}\n"
+         "areas ' + JSON.stringify(r.areas) + '\\ncurve: cmrwi ' + r.verdict.cmrwi + ', cmr ' + r.verdict.cmr + "
+         "(r.reason ? '\\nwhy: ' + r.reason : '');}\n"
          "s.oninput = show; let timer = null;\ndocument.getElementById('play').onclick = () => { if (timer) "
          "{clearInterval(timer); timer = null; return;}\n timer = setInterval(() => { s.value = (Number(s.value) + 1) "
          "% steps.length; show(); }, 150); };\nshow();\n</script>\n</body></html>\n";
@@ -249,7 +274,7 @@ std::string sweep_html(const SweepArgs& a, const std::vector<nlohmann::ordered_j
 
 /// Area per label against the knot value, and the monotone total.
 std::string area_plot(const SweepArgs& a, const std::vector<Step>& steps,
-                      const std::vector<RegionContours>& contours) {
+                      const std::vector<RegionContours>& contours, draw::PlotArea& where) {
   draw::LinePlot plot;
   plot.title = "Region of P" + std::to_string(a.point) + ": area against the knot value";
   plot.x_label = a.knot ? "knot " + std::to_string(*a.knot) : std::string("t (to the target knots)");
@@ -279,7 +304,32 @@ std::string area_plot(const SweepArgs& a, const std::vector<Step>& steps,
     total.points.emplace_back(steps[k].value, area);
   }
   plot.series.insert(plot.series.begin(), std::move(total));
-  return draw::line_plot_png(plot);
+  return draw::line_plot_png(plot, &where);
+}
+
+/// The curvature of step k's curve (the moved point where it is) with each
+/// segment's certified class under it (draw::CurvaturePlot), titled with the
+/// knot value; the caption says why the region is empty or full there
+/// (region_reason, the record's "reason"), or how large it is.
+std::string kappa_plot(const SweepArgs& a, const Step& step, const SplineAnalysis& analysis,
+                       const nlohmann::ordered_json& record, std::size_t k, std::size_t steps) {
+  std::ostringstream title;
+  title.precision(6);
+  title << "Step " << k << " of " << steps - 1 << ": " << (a.knot ? "knot " + std::to_string(*a.knot) + " = " : "t = ")
+        << step.value;
+  std::ostringstream caption;
+  caption.precision(4);
+  caption << "Curvature of the step's curve (red: increasing, blue: decreasing; the band: each segment's certified "
+             "class). P"
+          << a.point << "'s region: ";
+  if (record.contains("reason")) caption << record["reason"].get<std::string>();
+  else caption << "monotone area " << record["monotone_area"].get<double>() << ".";
+  draw::Figure f;
+  f.title = title.str();
+  f.rows = {{draw::Panel{draw::CurvaturePlot{&step.spline, &analysis}, ""}}};
+  f.caption = caption.str();
+  f.panel_size = 360;
+  return draw::figure_png(f);
 }
 
 void run_sweep(const SweepArgs& a) {
@@ -300,6 +350,7 @@ void run_sweep(const SweepArgs& a) {
 
   std::vector<RegionResult> images;
   std::vector<RegionContours> contours;
+  std::vector<SplineAnalysis> verdicts;  // the kappa plots' class bands
   std::vector<nlohmann::ordered_json> records;
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const Step& st = steps[k];
@@ -309,9 +360,10 @@ void run_sweep(const SweepArgs& a) {
     ao.classify.max_depth = a.depth;
     ao.split = a.split;
     ao.split_mode = a.mode == "cmr" ? Mode::cmr : Mode::cmrwi;
-    const SplineAnalysis verdict = memo.analyze(st.spline, ao);
-    nlohmann::ordered_json verdicts = {{"cmrwi", to_string(verdict.cmrwi)}, {"cmr", to_string(verdict.cmr)}};
-    if (verdict.split) verdicts["split"] = to_string(*verdict.split);
+    verdicts.push_back(memo.analyze(st.spline, ao));
+    const SplineAnalysis& verdict = verdicts.back();
+    nlohmann::ordered_json curve = {{"cmrwi", to_string(verdict.cmrwi)}, {"cmr", to_string(verdict.cmr)}};
+    if (verdict.split) curve["split"] = to_string(*verdict.split);
     nlohmann::ordered_json areas = nlohmann::ordered_json::object();
     double monotone_area = 0;
     for (const LabelContours& lc : contours.back().labels) {
@@ -328,8 +380,10 @@ void run_sweep(const SweepArgs& a) {
                                 {"areas", areas},
                                 {"monotone_area", monotone_area},
                                 {"counts", c},
-                                {"verdict", verdicts},
+                                {"verdict", curve},
                                 {"exact_pixels", images.back().exact_pixels}};
+    // Why the region is empty or full here (the segments responsible), when it is.
+    if (const std::optional<std::string> why = region_reason(st.problem, images.back())) r["reason"] = *why;
     std::cout << r.dump() << "\n" << std::flush;
     records.push_back(std::move(r));
     progress.show(static_cast<int>(k + 1));
@@ -358,10 +412,15 @@ void run_sweep(const SweepArgs& a) {
   OutputSet out;
   out.create_folder(dir);
   out.own_folder(dir);
-  for (const char* sub : {"contours", "frames"}) out.create_folder(dir / sub), out.own_folder(dir / sub);
+  for (const char* sub : {"contours", "frames", "kappa"}) out.create_folder(dir / sub), out.own_folder(dir / sub);
   std::string lines;
   for (const auto& r : records) lines += r.dump() + "\n";
   out.stage(dir / "steps.jsonl", lines);
+  // One knot ruler for every frame: the knots' range over all steps, so that the mark moves.
+  draw::KnotRuler ruler;
+  ruler.from = steps.front().spline.knots().front(), ruler.to = steps.front().spline.knots().back();
+  for (const Step& st : steps)
+    ruler.from = std::min(ruler.from, st.spline.knots().front()), ruler.to = std::max(ruler.to, st.spline.knots().back());
   for (std::size_t k = 0; k < steps.size(); ++k) {
     out.stage(dir / "contours" / (step_name(static_cast<int>(k)) + ".svg"), mesh::contours_svg(contours[k]));
     draw::RegionPicture pic;
@@ -378,12 +437,23 @@ void run_sweep(const SweepArgs& a) {
     note << ")";
     pic.legend = true;
     pic.note = note.str();
+    // The ruler: the step's knots, the moving one marked (with --to-knots every knot moves: none is).
+    ruler.knots = steps[k].spline.knots();
+    ruler.marked = a.knot ? *a.knot : -1;
+    std::ostringstream value;
+    value.precision(4);
+    value << (a.knot ? "u" + std::to_string(*a.knot) + " = " : std::string("t = ")) << steps[k].value;
+    ruler.label = value.str();
+    pic.ruler = ruler;
     out.stage(dir / "frames" / (step_name(static_cast<int>(k)) + ".png"), draw::region_png(pic));
+    out.stage(dir / "kappa" / (step_name(static_cast<int>(k)) + ".png"),
+              kappa_plot(a, steps[k], verdicts[k], records[k], k, steps.size()));
   }
-  out.stage(dir / "area.png", area_plot(a, steps, contours));
+  draw::PlotArea area;
+  out.stage(dir / "area.png", area_plot(a, steps, contours, area));
   out.stage(dir / "tube.obj", mesh::obj_text(tube));
   out.stage(dir / "tube.ply", mesh::ply_text(tube));
-  out.stage(dir / "index.html", sweep_html(a, records));
+  out.stage(dir / "index.html", sweep_html(a, records, area));
   out.commit();
   nlohmann::ordered_json summary = {{"out_dir", a.out_dir},
                                     {"steps", steps.size()},

@@ -131,7 +131,9 @@ def region(spline, point=None, *, view=None, size=(512, 512), mode="cmrwi", spli
     numpy.uint8 array of shape (height, width), row 0 at the top, the PGM's
     bytes (0 not monotone, 1 increasing, 2 decreasing, 3 undecided; with
     split/each_piece the codes of docs/region.md). view: (x0, y0, x1, y1),
-    default the control polygon's box with a margin; size: (width, height).
+    default the region and the moved point with a margin, as the command's
+    (the control polygon's box with a margin where no region shows); size:
+    (width, height).
     Notes the command prints on stderr come as cmr.Note warnings. A space
     curve's point moves in a plane (plane="xy" | "yz" | "zx" | nine numbers
     origin, u, v; default: through the point, spanned by its neighbours),

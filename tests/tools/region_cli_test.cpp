@@ -568,3 +568,118 @@ TEST(RegionReason, EachPieceOnTheCliAndItsBadInput) {
 }
 
 }  // namespace
+
+// Issue 40 item 6: without --view the view is the union of the point's
+// region and the moved point with a margin (region/view_fit.hpp:
+// fit_region_view), so a region is not drawn as a speck; with --view
+// nothing changes.
+namespace {
+
+struct PgmRegion {
+  int width = 0, height = 0, pixels = 0;   // region pixels (labels 1 and 2)
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;  // their box, inclusive
+};
+
+PgmRegion region_of(const fs::path& pgm) {
+  std::string why;
+  const auto g = read_pgm(pgm, &why);
+  EXPECT_TRUE(g) << pgm << ": " << why;
+  PgmRegion r;
+  if (!g) return r;
+  r.width = g->width, r.height = g->height;
+  for (int y = 0; y < g->height; ++y)
+    for (int x = 0; x < g->width; ++x)
+      if (const int v = g->pixels[static_cast<std::size_t>(y) * g->width + x]; v == 1 || v == 2)
+        ++r.pixels, r.x0 = std::min(r.x0, x), r.x1 = std::max(r.x1, x), r.y0 = std::min(r.y0, y), r.y1 = std::max(r.y1, y);
+  return r;
+}
+
+std::string view_flag(const nlohmann::json& v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << " --view " << v[0].get<double>() << "," << v[1].get<double>() << "," << v[2].get<double>() << ","
+    << v[3].get<double>();
+  return s.str();
+}
+
+TEST(RegionDefaultView, IsTheRegionAndTheMovedPointWithAMargin) {
+  struct Case {
+    std::string file;
+    int point;
+  };
+  const std::vector<Case> cases = {{kFig2, 0},    {kFig2, 1},   {kFig2, 2},   {kFig2, 3},   {kFig8b, 2},
+                                   {kFig8b, 3},   {kFig8b, 4},  {kUniform, 2}, {kClamped, 3}, {kNurbs, 3}};
+  for (const Case& c : cases) {
+    const std::string what = c.file + " P" + std::to_string(c.point);
+    const fs::path dir = out_dir("default_view");
+    const std::string args = "region " + c.file + " --point " + std::to_string(c.point) + " --size 64x48 --backend cpu";
+    const Outcome r = run(args + " --labels " + (dir / "fit.pgm").string());
+    const nlohmann::json doc = parse_or_fail(r, what);
+    ASSERT_TRUE(doc.contains("view_fitted")) << what << ": " << r.out;
+    ASSERT_TRUE(doc["view_fitted"].get<bool>()) << what << ": " << r.out << r.err;
+    const auto& v = doc["view"];
+    const double vx0 = v[0], vy0 = v[1], vx1 = v[2], vy1 = v[3];
+    EXPECT_NEAR((vx1 - vx0) / (vy1 - vy0), 64.0 / 48.0, 1e-9) << what << ": square pixels";
+    // The moved point is inside, at least 10% of the view in from its edges (the 15% margin).
+    const nlohmann::json k = nlohmann::json::parse(cmr::test::slurp(c.file))["points"][c.point];
+    const double kx = k[0], ky = k[1];
+    EXPECT_GT(kx, vx0 + 0.1 * (vx1 - vx0)) << what;
+    EXPECT_LT(kx, vx1 - 0.1 * (vx1 - vx0)) << what;
+    EXPECT_GT(ky, vy0 + 0.1 * (vy1 - vy0)) << what;
+    EXPECT_LT(ky, vy1 - 0.1 * (vy1 - vy0)) << what;
+    // The region and K span at least half the view along one axis (the box
+    // with its margin is 1.3 times theirs, less the probe's pixel).
+    PgmRegion g = region_of(dir / "fit.pgm");
+    ASSERT_GT(g.pixels, 0) << what;
+    const int ki = static_cast<int>((kx - vx0) / (vx1 - vx0) * 64), kj = static_cast<int>((vy1 - ky) / (vy1 - vy0) * 48);
+    g.x0 = std::min(g.x0, ki), g.x1 = std::max(g.x1, ki), g.y0 = std::min(g.y0, kj), g.y1 = std::max(g.y1, kj);
+    EXPECT_TRUE((g.x1 - g.x0 + 1) * 2 >= 64 || (g.y1 - g.y0 + 1) * 2 >= 48)
+        << what << ": region and K span " << g.x1 - g.x0 + 1 << " x " << g.y1 - g.y0 + 1 << " of 64 x 48";
+    // The fitted view is an ordinary view: given as --view, the same labels.
+    const Outcome again = run(args + view_flag(v) + " --labels " + (dir / "given.pgm").string());
+    ASSERT_EQ(again.code, 0) << what << ": " << again.err;
+    EXPECT_EQ(binary(dir / "fit.pgm"), binary(dir / "given.pgm")) << what;
+    EXPECT_FALSE(nlohmann::json::parse(again.out).contains("view_fitted")) << what << ": with --view, as before";
+  }
+}
+
+TEST(RegionDefaultView, PointAllFitsEveryPointsRegion) {
+  const fs::path dir = out_dir("default_view_all");
+  const Outcome r = run("region " + kFig8b + " --point all --size 48x48 --backend cpu --labels " +
+                        (dir / "OUT.pgm").string());
+  const nlohmann::json doc = parse_or_fail(r, "--point all");
+  ASSERT_TRUE(doc["view_fitted"].get<bool>()) << r.out;
+  const auto& v = doc["view"];
+  const nlohmann::json points = nlohmann::json::parse(cmr::test::slurp(kFig8b))["points"];
+  int shown = 0;
+  for (int k = 0; k < 6; ++k) {
+    const PgmRegion g = region_of(dir / ("OUT.P" + std::to_string(k) + ".pgm"));
+    if (g.pixels == 0) continue;
+    ++shown;  // a point whose region shows is inside the view
+    const double kx = points[k][0], ky = points[k][1];
+    EXPECT_TRUE(kx > v[0].get<double>() && kx < v[2].get<double>() && ky > v[1].get<double>() && ky < v[3].get<double>())
+        << "P" << k << " outside " << v;
+  }
+  EXPECT_GE(shown, 3) << r.out;
+}
+
+TEST(RegionDefaultView, NoRegionNearTheCurveKeepsThePolygonsViewAndSaysSo) {
+  // Fig. 8(a)'s P0 has no CMRWI near the curve (the figure's claim, for CMRs).
+  const std::string fig8 = kSource + "/examples/figures/fig8.json";
+  const Outcome r = run("region " + fig8 + " --point 0 --size 48x48 --backend cpu");
+  const nlohmann::json doc = parse_or_fail(r, "fig8 P0");
+  EXPECT_FALSE(doc["view_fitted"].get<bool>()) << r.out;
+  EXPECT_NE(r.err.find("(its region is empty here, and in three times the polygon's view)"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // The polygon's view: its box with a 25% margin, square pixels (cmr::default_view).
+  const nlohmann::json p = nlohmann::json::parse(cmr::test::slurp(fig8))["points"];
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const auto& q : p) x0 = std::min(x0, q[0].get<double>()), x1 = std::max(x1, q[0].get<double>()),
+                          y0 = std::min(y0, q[1].get<double>()), y1 = std::max(y1, q[1].get<double>());
+  const double side = 1.5 * std::max(x1 - x0, y1 - y0);
+  EXPECT_NEAR(doc["view"][2].get<double>() - doc["view"][0].get<double>(), side, 1e-12 * side) << doc["view"];
+  EXPECT_NEAR(doc["view"][0].get<double>() + doc["view"][2].get<double>(), x0 + x1, 1e-12 * side) << doc["view"];
+}
+
+}  // namespace

@@ -9,6 +9,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -16,7 +20,10 @@
 #include "bezierize/knot_ops.hpp"
 #include "spline/spline_json.hpp"
 #include "tests/cli_util.hpp"
+#include "draw/draw.hpp"
 #include "draw/mesh.hpp"
+
+#include <cairo.h>
 
 namespace cmr::test {
 namespace {
@@ -224,6 +231,108 @@ TEST(SweepCli, DefaultViewIsTheUnionOfTheRegionsAndTheMovedPoint) {
   EXPECT_EQ(slurp(dir / "steps.jsonl"), slurp(again / "steps.jsonl"));
   fs::remove_all(dir);
   fs::remove_all(again);
+}
+
+namespace {
+
+/// A PNG read back with Cairo: pixel (x, y) as {r, g, b}, 0..255.
+struct Picture {
+  std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> surface{nullptr, cairo_surface_destroy};
+  int width = 0, height = 0;
+  std::array<int, 3> at(int x, int y) const {
+    const unsigned char* row = cairo_image_surface_get_data(surface.get()) +
+                               static_cast<std::ptrdiff_t>(y) * cairo_image_surface_get_stride(surface.get());
+    const std::uint32_t p = reinterpret_cast<const std::uint32_t*>(row)[x];  // native-endian ARGB32
+    return {static_cast<int>((p >> 16) & 255), static_cast<int>((p >> 8) & 255), static_cast<int>(p & 255)};
+  }
+};
+
+Picture read_picture(const fs::path& p) {
+  Picture pic;
+  pic.surface.reset(cairo_image_surface_create_from_png(p.c_str()));
+  EXPECT_EQ(cairo_surface_status(pic.surface.get()), CAIRO_STATUS_SUCCESS) << p;
+  cairo_surface_flush(pic.surface.get());
+  pic.width = cairo_image_surface_get_width(pic.surface.get());
+  pic.height = cairo_image_surface_get_height(pic.surface.get());
+  return pic;
+}
+
+/// The mean x of the ruler's red mark (the strip's rows, red and not the
+/// regions' light red), or -1 when there is none.
+double red_mark_x(const Picture& p) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 4; y < 28; ++y)
+    for (int x = 0; x < p.width; ++x)
+      if (const auto c = p.at(x, y); c[0] > 170 && c[1] < 70 && c[2] < 70) sum += x, ++n;
+  return n == 0 ? -1 : sum / n;
+}
+
+}  // namespace
+
+// Issue 40 item 6: every frame carries a knot ruler whose red mark sits at
+// the moving knot's value on a scale shared by all frames; every step has a
+// kappa plot and, where its region is empty or full, the reason; the page's
+// area plot gets a marker whose mapping (the page's `plot` object) puts
+// each step on the drawn total-area curve.
+TEST(SweepCli, FramesCarryAKnotRulerAndThePageMarksTheStepOnTheAreaPlot) {
+  const fs::path d = fresh_dir("sweep_ruler");
+  const Outcome r = run("sweep " + kFig8 + " --point 3 --knot 3 --from 2.1 --to 3.9 --steps 6 --size 160x160 --view " +
+                        kView + " --out-dir " + d.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(slurp(d / "steps.jsonl"));
+  std::vector<nlohmann::json> records;
+  for (std::string line; std::getline(lines, line);) records.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(records.size(), 7u);
+  // fig8's knots are 0..7 and knot 3 stays inside them: the ruler spans [0, 7].
+  draw::KnotRuler ruler;
+  ruler.from = 0, ruler.to = 7;
+  const draw::RulerGeometry g = draw::knot_ruler_geometry(160);
+  std::vector<double> marks;
+  int with_reason = 0;
+  for (std::size_t s = 0; s < records.size(); ++s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "step_%03zu.png", s);
+    const Picture frame = read_picture(d / "frames" / name);
+    ASSERT_EQ(frame.width, 160);
+    const double u = records[s]["value"].get<double>(), x = red_mark_x(frame);
+    EXPECT_NEAR(x, g.x(ruler, u), 2.0) << name << ": the red mark for knot 3 = " << u;
+    marks.push_back(x);
+    EXPECT_TRUE(fs::exists(d / "kappa" / name)) << name;
+    // A reason exactly where the region is empty (or full) in the view.
+    const auto& c = records[s]["counts"];
+    const std::size_t in = c["increasing"].get<std::size_t>() + c["decreasing"].get<std::size_t>();
+    EXPECT_EQ(records[s].contains("reason"), in == 0 || in == 160u * 160u) << name << ": " << records[s].dump();
+    with_reason += records[s].contains("reason");
+  }
+  EXPECT_GT(marks.back() - marks.front(), 0.2 * (g.x1 - g.x0)) << "the mark moves with the knot";
+  EXPECT_GE(with_reason, 1) << "the sweep passes steps where P3's region vanishes (docs/sweep.md)";
+  EXPECT_NE(slurp(d / "kappa" / "step_000.png"), slurp(d / "kappa" / "step_006.png"));
+
+  const std::string html = slurp(d / "index.html");
+  for (const char* part : {"id=\"mark\"", "id=\"kappa\"", "'kappa/step_'", "markAt(r.value)"})
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  const std::size_t at = html.find("const plot = ");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t from = at + 13;
+  const nlohmann::json plot = nlohmann::json::parse(html.substr(from, html.find(";\n", from) - from));
+  const auto num = [&](const char* key) { return plot.at(key).get<double>(); };
+  const draw::PlotArea area{plot.at("width").get<int>(), plot.at("height").get<int>(), num("left"), num("right"),
+                            num("top"), num("bottom"), num("x0"), num("x1"), num("y0"), num("y1")};
+  const Picture png = read_picture(d / "area.png");
+  ASSERT_EQ(png.width, area.width);
+  ASSERT_EQ(png.height, area.height);
+  for (const nlohmann::json& rec : records) {
+    // The total-area curve (black, drawn under the label's series where they are equal) passes
+    // within 3 px of the marked step's point: a pixel there is neither white nor the grid's grey.
+    const int px = static_cast<int>(std::lround(area.px(rec["value"].get<double>())));
+    const int py = static_cast<int>(std::lround(area.py(rec["monotone_area"].get<double>())));
+    bool dark = false;
+    for (int y = std::max(0, py - 3); y <= std::min(png.height - 1, py + 3); ++y)
+      for (int x = std::max(0, px - 3); x <= std::min(png.width - 1, px + 3); ++x)
+        if (const auto c = png.at(x, y); std::min({c[0], c[1], c[2]}) < 150) dark = true;
+    EXPECT_TRUE(dark) << "step " << rec["step"] << ": no curve at (" << px << ", " << py << ") of area.png";
+  }
 }
 
 }  // namespace cmr::test
