@@ -353,7 +353,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
     if (!s.note.empty()) std::cerr << "cmr: note: " << s.note << '\n';  // read_spline_file names the file
     if (!s.cache_note.empty()) std::cerr << "cmr: note: " << s.cache_note << '\n';
-    if (s.cache_read)  // what the resume cache saved (report/report_cache.hpp)
+    if (s.cache_read && s.glyphs_reused + s.glyphs_judged > 0)  // what the resume cache saved (report/report_cache.hpp)
       std::cerr << "cmr: note: " << (fs::path(b.out) / report::kReportCacheName).string() << ": " << s.glyphs_reused
                 << (s.glyphs_reused == 1 ? " glyph" : " glyphs") << " unchanged, taken from it; " << s.glyphs_judged
                 << " judged\n";

@@ -22,6 +22,7 @@ report carries its search time, which no two runs share):
     fontmake is installed), reuse their glyphs too.
 Prints "N passed, M failed" and exits 1 on any failure.
 """
+import hashlib
 import os
 import re
 import shutil
@@ -129,6 +130,19 @@ with tempfile.TemporaryDirectory() as tmp:
     check("first run exits 1 (10 kinks)", p1.returncode == 1, p1.stdout + p1.stderr)
     check("first run: no cache to read, no note", counts(p1) is None and not notes(p1), p1.stderr)
     check("first run writes report.cache", os.path.isfile(cache))
+    # The file's form (report/report_cache.hpp): the header names the build by the SHA-256 of the cmr executable,
+    # and each record's checksum is the SHA-256 of its payload (hashlib's, independently).
+    data = read(cache)
+    head, _, rest = data.partition(b"\n")
+    build, _, rest = rest.partition(b"\n")
+    records = []
+    while len(rest) >= 72:
+        n = int.from_bytes(rest[32:40], "little")
+        records.append(hashlib.sha256(rest[72:72 + n]).digest() == rest[40:72] and len(rest) >= 72 + n)
+        rest = rest[72 + n:]
+    check("report.cache: its header, the build's SHA-256, 20 records each with its payload's SHA-256",
+          head == b"cmr report cache 1" and build.decode() == hashlib.sha256(read(CMR)).hexdigest() and
+          records == [True] * 20 and rest == b"", (head, build, records))
     first = os.path.join(tmp, "first")
     shutil.copytree(qa, first)
     ref = fresh("fresh")
