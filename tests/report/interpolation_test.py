@@ -276,6 +276,47 @@ with tempfile.TemporaryDirectory() as tmp:
                 "--out", os.path.join(tmp, "similar"))
         check(gate + ": B = 2A exits 0", p.returncode == 0, p.stdout + p.stderr)
 
+    # A line of zero length in one master (Bold: the line after b ends on b), as Inter's section sign at
+    # Weight 900: the reader keeps it as a segment of equal points there, the masters correspond, and the glyph
+    # is judged: p0 is the kink of kink.designspace (same interval and worst instance), its proportional twin G1.
+    zl = os.path.join(tmp, "zeroline.designspace")
+    out = os.path.join(tmp, "zeroline")
+    p = run(zl, *g1, "--out", out)
+    msgs = violations(out) if p.returncode in (0, 1) else []
+    kink_msgs = violations(os.path.join(tmp, "kink"))
+    check("zero-length line in Bold: judged, exit 1, the kink's interval and worst instance",
+          p.returncode == 1 and len(msgs) == 1 and "incompatible" not in p.stderr and len(kink_msgs) == 1 and
+          msgs[0] == kink_msgs[0], "rc %d: %s %s %s" % (p.returncode, p.stderr, msgs, kink_msgs))
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"), zl,
+                        os.path.join(out, "report.json"), "0"], capture_output=True, text=True)
+    check("zero-length line: the interval and worst instance agree with exact Fractions", c.returncode == 0,
+          c.stdout + c.stderr)
+    with open(os.path.join(out, "report.json")) as f:
+        sp = json.load(f)["splines"]
+    check("zero-length line: the judged contour keeps the line (3 segments: two curves and Regular's 50-unit line)",
+          len(sp) == 1 and len(sp[0].get("segments", [])) == 3, str([len(x.get("segments", [])) for x in sp]))
+    p = run(os.path.join(tmp, "zeroline_proportional.designspace"), *g1, "--out", os.path.join(tmp, "zl_prop"))
+    check("zero-length line, proportional handles: exit 0", p.returncode == 0, p.stdout + p.stderr)
+    p = run(zl, "--require", "g1-between-masters,curvature-between-masters,extrema-between-masters", "--glyphs", "O",
+            "--out", os.path.join(tmp, "zl_all"))
+    check("zero-length line: the curvature gates judge it too (exit 1, nothing invalid, thumbnails drawn)",
+          p.returncode == 1 and " 0 invalid" in p.stdout and "incompatible" not in p.stderr, p.stdout + p.stderr)
+    # A TrueType variable font from it (fontmake -o variable: gvar keeps every point; cu2qu rounds the curves, so
+    # p0 is no longer exactly G1 and only :DEG judges it): judged, nothing invalid. (A CFF2 font cannot be: FreeType
+    # drops a zero-length line from the instance's outline itself, so the point is not there to keep.)
+    built = subprocess.run(["fontmake", "-m", zl, "-o", "variable", "--output-dir", os.path.join(tmp, "zl_vf")],
+                           capture_output=True, text=True)
+    check("fontmake builds the zero-length line's TrueType variable font", built.returncode == 0, built.stderr[-2000:])
+    if built.returncode == 0:
+        out = os.path.join(tmp, "zl_vf_out")
+        p = run(os.path.join(tmp, "zl_vf", "zeroline-VF.ttf"), "--require",
+                "g1-between-masters:1,curvature-between-masters", "--glyphs", "O", "--no-thumbnails", "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        check("zero-length line in a TrueType variable font: judged, nothing invalid",
+              p.returncode in (0, 1) and r["summary"]["invalid"] == 0 and len(r["splines"]) == 1 and
+              "incompatible" not in p.stderr, "rc %d: %s" % (p.returncode, p.stderr))
+
     # Variable fonts built from the same designspace by fontmake (Debian): CFF2 keeps the cubic masters, so the
     # pieces (gvar/CFF2 regions, avar) give the designspace's answer; a --between inside the piece is judged too.
     vf = os.path.join(tmp, "vf")
@@ -316,13 +357,17 @@ with tempfile.TemporaryDirectory() as tmp:
         check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
               p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
               any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
-        # Section sign: at wght=900 two consecutive on-curve points coincide (a line of zero length), which the
-        # reader drops; the instances share their points, so the line names that, not "incompatible masters".
-        p = run(inter, *g1[:2], "--glyphs", "U+00A7", "--no-thumbnails", "--out", os.path.join(tmp, "inter_s"))
-        lines = errors(p)
-        check("Inter U+00A7: a line shrinking to zero length at wght=900 is named as such, exit 2, one line",
-              p.returncode == 2 and len(lines) == 1 and "shrinks to zero length" in lines[0] and
-              "incompatible" not in lines[0], "rc %d: %s" % (p.returncode, p.stderr))
+        # Section sign and U+047C: at wght=900 two consecutive on-curve points coincide (a line of zero
+        # length); the reader keeps that line in every instance, so both glyphs are judged.
+        out = os.path.join(tmp, "inter_s")
+        p = run(inter, "--require", "g1-between-masters,curvature-between-masters", "--glyphs", "U+00A7,U+047C",
+                "--no-thumbnails", "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        judged = sorted({s["glyph"] for s in r["splines"] if s.get("status") in ("pass", "fail")})
+        check("Inter U+00A7, U+047C (a line of zero length at wght=900): judged, nothing invalid",
+              p.returncode in (0, 1) and r["summary"]["invalid"] == 0 and judged == ["uni00A7", "uni047C"],
+              "rc %d: %s %s" % (p.returncode, p.stderr, judged))
     else:
         print("SKIP Inter: fonts-inter-variable is not installed")
 
