@@ -36,6 +36,9 @@ designspaceLib, as a designer's tools would):
                             kept; p0 is still a kink between them.
   zeroline_proportional.designspace  the same with Bold's handles in
                             proportion: G1 at every weight.
+  three_fixable.designspace Regular (handles 1:2), Medium (1:3, as in
+                            three) and BoldProportional (1:2): a kink on both
+                            pieces, fixed by moving Medium's handles alone.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -159,6 +162,7 @@ def main():
     ufo(os.path.join(out, "LineRegular.ufo"), "Regular", REGULAR, line=(-50, 0))
     ufo(os.path.join(out, "LineBold.ufo"), "Bold", BOLD_KINK, line=(0, 0))
     ufo(os.path.join(out, "LineBoldProportional.ufo"), "Bold", BOLD_PROPORTIONAL, line=(0, 0))
+    designspace(out, "three_fixable", "BoldProportional.ufo", medium="Medium.ufo")
     designspace(out, "zeroline", "LineBold.ufo", regular="LineRegular.ufo")
     designspace(out, "zeroline_proportional", "LineBoldProportional.ufo", regular="LineRegular.ufo")
 

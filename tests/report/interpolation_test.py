@@ -173,8 +173,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check("fix again: nothing to move (0 kinks), exit 0", p.returncode == 0 and json.loads(p.stdout)["moves"] == [],
           p.stdout + p.stderr)
     for name, args, text in [
-            ("fix of a designspace with three masters", [os.path.join(tmp, "three.designspace"), "--glyph", "O",
-                                                        "--require", "g1-between-masters"], "two masters"),
+            ("fix of three masters whose handle ratios no move in one master reconciles",
+             [os.path.join(tmp, "three.designspace"), "--glyph", "O", "--require", "g1-between-masters"],
+             "no move of its handles on the integer grid in one master"),
             ("fix of a designspace without --glyph", [ds, "--require", "g1-between-masters"], "--glyph NAME"),
             ("fix of a designspace for another gate", [ds, "--glyph", "O", "--require", "no-inflection"],
              "is fixed for --require g1-between-masters")]:
@@ -182,6 +183,60 @@ with tempfile.TemporaryDirectory() as tmp:
         lines = errors(p)
         check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and text in lines[0],
               "rc %d: %s" % (p.returncode, p.stderr))
+
+    # More than two masters (three_fixable: Regular 1:2, Medium 1:3, Bold 1:2, a kink on both pieces): the
+    # smallest total grid move in one master, against a brute force over every master and every grid point
+    # pair on its node's tangent line (handles alpha g, beta g, 1 <= alpha, beta <= 200), exact Fractions.
+    fixdir3 = os.path.join(tmp, "fix3")
+    os.makedirs(fixdir3)
+    for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo"):
+        shutil.copytree(os.path.join(tmp, u), os.path.join(fixdir3, u))
+    shutil.copy(os.path.join(tmp, "three_fixable.designspace"), fixdir3)
+    ds3 = os.path.join(fixdir3, "three_fixable.designspace")
+    names3 = ["Regular", "Medium", "Bold"]
+    ufos3 = [os.path.join(fixdir3, u) for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo")]
+
+    def node_tangents(ufo):
+        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+        node, before, after = pts[0], pts[-1], pts[1]
+        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
+    cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
+    pieces3 = [(0, 1), (1, 2)]  # adjacent masters along Weight
+
+    def kinks3(tan):
+        return sum(1 for a, b in pieces3 if cross(tan[a][0], tan[a][1]) == 0 and cross(tan[b][0], tan[b][1]) == 0
+                   and cross(tan[a][0], tan[b][1]) + cross(tan[b][0], tan[a][1]) != 0)
+
+    tan3 = [node_tangents(u) for u in ufos3]
+    best = None  # (distance, master)
+    for m in range(3):
+        u, v = tan3[m]
+        gx, gy = u
+        k = math.gcd(int(gx), int(gy))
+        gx, gy = gx / k, gy / k
+        a0, b0 = u[0] / gx if gx else u[1] / gy, v[0] / gx if gx else v[1] / gy
+        for a in range(1, 201):
+            for b in range(1, 201):
+                trial = list(tan3)
+                trial[m] = ((a * gx, a * gy), (b * gx, b * gy))
+                if kinks3(trial) == 0:
+                    d = (abs(a - a0) + abs(b - b0)) * math.hypot(gx, gy)
+                    if best is None or d < best[0] - 1e-9:
+                        best = (float(d), names3[m])
+    p = subprocess.run([CMR, "fix", ds3, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
+                       capture_output=True, text=True, timeout=120)
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    check("fix, three masters: a kink on both pieces before (brute force: %s)" % (best,), kinks3(tan3) == 2)
+    check("fix, three masters: the brute force's master and smallest total move, re-judged 2 kinks -> 0",
+          p.returncode == 0 and best is not None and doc.get("master") == best[1] and
+          abs(doc.get("distance", -1) - best[0]) < 1e-9 and
+          doc.get("rejudged") == [{"check": "g1-between-masters", "before": 2, "after": 0}],
+          p.stdout + p.stderr + str(best))
+    tan3_after = [node_tangents(u) for u in ufos3]
+    r = run(ds3, *g1, "--out", os.path.join(fixdir3, "qa"))
+    check("fix, three masters: exact Fractions find no kink afterwards, and cmr report exits 0",
+          kinks3(tan3_after) == 0 and r.returncode == 0, r.stdout + r.stderr)
 
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
