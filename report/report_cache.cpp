@@ -272,6 +272,7 @@ bool decode(std::string_view bytes, CachedGlyph& g) {
       f.info = in.u64() != 0;
       it.findings.push_back(std::move(f));
     }
+    if (it.json.find("\"s0\"") == std::string::npos) return false;  // every spline object carries its id
     g.items.push_back(std::move(it));
   }
   return in.ok && in.s.empty() && static_cast<int>(g.items.size()) == g.html.contours;
