@@ -173,7 +173,7 @@ std::optional<std::array<Vec2, 2>> exact_cubic_line(Vec2 a, Vec2 b) {
 /// The chain of one contour (its points in the font's order), or empty when
 /// the contour has no piece (a lone point).
 std::vector<Item> contour_items(const std::vector<OutlinePoint>& points, int degree, const std::string& prefix,
-                                PointNaming naming) {
+                                PointNaming naming, bool keep_zero_lines) {
   const int n = static_cast<int>(points.size());
   int start = 0;
   while (start < n && points[start].tag != OutlinePoint::Tag::on) ++start;
@@ -216,7 +216,7 @@ std::vector<Item> contour_items(const std::vector<OutlinePoint>& points, int deg
                          std::to_string(idx) + " (expected 2)");
       inner_run = 0;
       if (!items.empty() && items.back().node) {
-        if (items.back().p == it.p) continue;  // zero-length line: dropped
+        if (items.back().p == it.p && !keep_zero_lines) continue;  // zero-length line: dropped
         add_line(items.back(), it);
       }
     } else {
@@ -228,7 +228,7 @@ std::vector<Item> contour_items(const std::vector<OutlinePoint>& points, int deg
     throw InputError(prefix + ": " + std::to_string(inner_run) + " cubic control points close the contour (expected 2)");
   // Closing: the last node back to the first.
   if (has_node && items.size() > 1 && items.back().node) {
-    if (items.back().p == items.front().p) {
+    if (items.back().p == items.front().p && !keep_zero_lines) {
       items.pop_back();
     }
     if (items.size() > 1 && items.back().node) add_line(items.back(), items.front());
@@ -256,9 +256,9 @@ std::vector<OutlinePoint> outline_points(const FT_Outline& o, int c) {
 }  // namespace
 
 std::optional<Contour> outline_contour(const std::vector<OutlinePoint>& points, int c, int degree,
-                                       const std::string& glyph, PointNaming naming) {
+                                       const std::string& glyph, PointNaming naming, bool keep_zero_lines) {
   const std::string prefix = glyph + "/c" + std::to_string(c);
-  const std::vector<Item> items = contour_items(points, degree, prefix, naming);
+  const std::vector<Item> items = contour_items(points, degree, prefix, naming, keep_zero_lines);
   if (items.empty()) return std::nullopt;
   const std::size_t m = items.size();
   // A piece starts at each inner point whose predecessor is a node; in degree
@@ -387,7 +387,7 @@ void set_location(FT_Library lib, FT_Face face, const Location& location, const 
 }  // namespace
 
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
-               const Location& location, const std::vector<double>& blend) {
+               const Location& location, const std::vector<double>& blend, bool keep_zero_lines) {
   // Read as every input is (regular files only, size-limited: a FIFO or a
   // device is refused at once); the bytes outlive the face.
   const std::string bytes = read_input_file(path);
@@ -441,7 +441,8 @@ Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_
     const int degree = font_degree;
     try {
       for (int c = 0; c < o.n_contours; ++c) {
-        if (std::optional<Contour> contour = outline_contour(outline_points(o, c), c, degree, g.name, PointNaming::editor))
+        if (std::optional<Contour> contour =
+                outline_contour(outline_points(o, c), c, degree, g.name, PointNaming::editor, keep_zero_lines))
           g.contours.push_back(std::move(*contour));
       }
     } catch (const InputError& e) {

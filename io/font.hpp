@@ -14,7 +14,8 @@
 ///  * Two on-curve points in a row are a straight piece, made exact by inner
 ///    points at 1/d..(d-1)/d of the way (a uniformly parametrised line).
 ///    An on-curve point equal to the previous one (a zero-length line) is
-///    dropped.
+///    dropped (kept as a segment of equal points when reading masters for
+///    the interpolation gates: keep_zero_lines).
 /// Every piece is one unit-length span: segment i of the spline is the i-th
 /// piece of the contour, starting at the contour's first on-curve point (or,
 /// when it has none, at its first off-curve point's leading implied node).
@@ -106,8 +107,13 @@ enum class PointNaming : std::uint8_t { editor, source };
 /// as a closed spline of `degree` (2: conic off-curve points, 3: cubic),
 /// named "GLYPH/cC"; nothing when it has no piece (a lone point). InputError
 /// ("GLYPH/cC: ...") for an outline that is not a chain of pieces.
+/// keep_zero_lines: a line of zero length (a node equal to the node before
+/// it, the closing line included) is kept as a segment whose points are all
+/// that node, instead of dropped: the interpolation gates read masters so
+/// (io/masters.hpp), where a line may shrink to zero length in one master
+/// and not in the others.
 std::optional<Contour> outline_contour(const std::vector<OutlinePoint>& points, int contour, int degree,
-                                       const std::string& glyph, PointNaming naming);
+                                       const std::string& glyph, PointNaming naming, bool keep_zero_lines = false);
 
 /// Parses "A-Z,a-z,0-9,U+00E9,x": characters and inclusive ranges of them,
 /// comma separated (UTF-8; "U+hex" for any code point; "," itself as "U+002C").
@@ -133,8 +139,9 @@ Location parse_location(const std::string& text);
 /// With `blend` (one value per axis), the instance at those normalised
 /// coordinates after avar (FreeType's blend coordinates, -1..1) instead:
 /// the ends of the interpolation gates' pieces (io/masters.hpp).
+/// keep_zero_lines: as outline_contour's.
 Font read_font(const std::filesystem::path& path, const std::vector<std::uint32_t>& codepoints,
-               const Location& location = {}, const std::vector<double>& blend = {});
+               const Location& location = {}, const std::vector<double>& blend = {}, bool keep_zero_lines = false);
 
 /// A variable font's design space as the interpolation gates cut it
 /// (io/masters.hpp).

@@ -309,6 +309,55 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
   for (std::size_t k = 0; k < n; ++k)
     if (k != def)
       for (const Glyph& g : fonts[k].glyphs) by_name[k][g.name] = &g;
+  // Compatibility with every master that has the glyph ("" when compatible).
+  auto compatibility = [&](const Glyph& g, const std::vector<std::map<std::string, const Glyph*>>& others) {
+    std::string why;
+    for (std::size_t k = 0; k < n && why.empty(); ++k) {
+      if (k == def) continue;
+      const auto it = others[k].find(g.name);
+      if (it == others[k].end()) continue;
+      const Glyph* o = it->second;
+      if (!o->error.empty()) why = "cannot be read in " + sources[k].name + " (" + o->error + ")";
+      else why = incompatibility(g, sources[def].name, *o, sources[k].name);
+    }
+    return why;
+  };
+  std::vector<std::string> why(m.font.glyphs.size());
+  std::vector<std::string> retry;  // glyphs whose masters differ: read again keeping lines of zero length
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    const Glyph& g = m.font.glyphs[gi];
+    if (!g.error.empty()) continue;
+    why[gi] = compatibility(g, by_name);
+    if (!why[gi].empty()) retry.push_back(g.name);
+  }
+  // A line that shrinks to zero length in one master is dropped by the
+  // reader there (io/font.hpp) and kept in the others: those glyphs are read
+  // again from every master with their lines of zero length kept (a segment
+  // of equal points), so that their points correspond; a glyph that is then
+  // compatible takes its masters from that reading.
+  std::vector<Font> kept(n);
+  std::vector<std::map<std::string, const Glyph*>> kept_by_name(n);
+  if (!retry.empty()) {
+    for (std::size_t k = 0; k < n; ++k) {
+      GlyphSelection names;
+      for (const std::string& name : retry)
+        if (k == def || by_name[k].count(name)) names.names.push_back(name);
+      kept[k] = read_ufo(sources[k].path, names, true);
+      for (const Glyph& g : kept[k].glyphs) kept_by_name[k][g.name] = &g;
+    }
+    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+      if (why[gi].empty()) continue;
+      const Glyph& g = m.font.glyphs[gi];
+      const auto d = std::find_if(kept[def].glyphs.begin(), kept[def].glyphs.end(), [&](const Glyph& x) { return x.name == g.name; });
+      if (d == kept[def].glyphs.end() || !d->error.empty() || !compatibility(*d, kept_by_name).empty()) continue;
+      const std::uint32_t codepoint = g.codepoint;
+      m.font.glyphs[gi] = *d;
+      m.font.glyphs[gi].codepoint = codepoint;
+      why[gi].clear();
+      for (std::size_t k = 0; k < n; ++k)
+        if (k != def && kept_by_name[k].count(g.name)) by_name[k][g.name] = kept_by_name[k][g.name];
+    }
+  }
   for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
     Glyph& g = m.font.glyphs[gi];
     if (!g.error.empty()) continue;
@@ -317,16 +366,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
       const auto it = by_name[k].find(g.name);
       return it == by_name[k].end() ? nullptr : it->second;
     };
-    // Compatibility with every master that has the glyph.
-    std::string why;
-    for (std::size_t k = 0; k < n && why.empty(); ++k) {
-      const Glyph* o = glyph_in(k);
-      if (o == nullptr || k == def) continue;
-      if (!o->error.empty()) why = "cannot be read in " + sources[k].name + " (" + o->error + ")";
-      else why = incompatibility(g, sources[def].name, *o, sources[k].name);
-    }
-    if (!why.empty()) {
-      g.error = g.name + ": incompatible masters: " + why;
+    if (!why[gi].empty()) {
+      g.error = g.name + ": incompatible masters: " + why[gi];
       g.contours.clear();
       continue;
     }
@@ -452,31 +493,76 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
     m.pieces.push_back(p);
   }
   m.motions.resize(m.font.glyphs.size());
+  // Each instance's glyph gi (nullptr: the instance has other glyphs).
+  std::map<std::vector<double>, std::vector<const Glyph*>> glyph_at;
+  for (const auto& [c, f] : instances) {
+    std::vector<const Glyph*>& at = glyph_at[c];
+    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi)
+      at.push_back(gi < f.glyphs.size() && f.glyphs[gi].name == m.font.glyphs[gi].name ? &f.glyphs[gi] : nullptr);
+  }
+  auto compatibility = [&](const Glyph& g, std::size_t gi) {
+    for (const auto& [c, at] : glyph_at) {
+      if (at[gi] == nullptr) return "the instance at " + name_of(c) + " has other glyphs";
+      std::string why = incompatibility(g, "the default instance", *at[gi], "the instance at " + name_of(c));
+      if (!why.empty()) return why;
+    }
+    return std::string();
+  };
+  std::vector<std::string> why(m.font.glyphs.size());
+  std::vector<std::uint32_t> retry;
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    why[gi] = compatibility(m.font.glyphs[gi], gi);
+    if (!why[gi].empty()) retry.push_back(m.font.glyphs[gi].codepoint);
+  }
+  // A variable font's instances share their points: they differ only where
+  // the reader dropped a line of zero length at one instance (io/font.hpp).
+  // Those glyphs are read again, at the default and at every piece's end,
+  // with their lines of zero length kept (a segment of equal points there).
+  std::optional<Font> kept_default;
+  std::map<std::vector<double>, Font> kept;
+  if (!retry.empty()) {
+    kept_default = read_font(path, retry, {}, {}, true);
+    for (const auto& [c, f] : instances) kept.emplace(c, read_font(path, retry, {}, c, true));
+    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+      if (why[gi].empty()) continue;
+      const std::string& name = m.font.glyphs[gi].name;
+      auto find = [&](const Font& f) -> const Glyph* {
+        for (const Glyph& x : f.glyphs)
+          if (x.name == name) return &x;
+        return nullptr;
+      };
+      const Glyph* d = find(*kept_default);
+      if (d == nullptr) continue;
+      std::string again;
+      std::map<std::vector<double>, const Glyph*> found;
+      for (const auto& [c, f] : kept) {
+        const Glyph* x = find(f);
+        if (x == nullptr) {
+          again = "the instance at " + name_of(c) + " has other glyphs";
+          break;
+        }
+        again = incompatibility(*d, "the default instance", *x, "the instance at " + name_of(c));
+        if (!again.empty()) break;
+        found[c] = x;
+      }
+      if (!again.empty()) continue;
+      m.font.glyphs[gi] = *d;
+      for (auto& [c, at] : glyph_at) at[gi] = found.at(c);
+      why[gi].clear();
+    }
+  }
   for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
     Glyph& g = m.font.glyphs[gi];
-    std::string why;
-    for (const auto& [c, f] : instances) {
-      if (gi >= f.glyphs.size() || f.glyphs[gi].name != g.name) {
-        why = "the instance at " + name_of(c) + " has other glyphs";
-        break;
-      }
-      why = incompatibility(g, "the default instance", f.glyphs[gi], "the instance at " + name_of(c));
-      // A variable font's instances share their points: they differ here only where the reader dropped a
-      // line of zero length (or a contour shrunk to a point) at one instance.
-      if (!why.empty()) {
-        why += ": a line shrinks to zero length there, which the reader drops; not judged between the masters";
-        break;
-      }
-    }
-    if (!why.empty()) {
-      g.error = g.name + ": " + why;
+    if (!why[gi].empty()) {
+      // Still incompatible, with lines of zero length kept: a contour shrinks to a point there.
+      g.error = g.name + ": " + why[gi] + " (with lines of zero length kept); not judged between the masters";
       g.contours.clear();
       continue;
     }
     m.motions[gi].resize(g.contours.size());
     for (std::size_t k = 0; k < ends.size(); ++k) {
-      const Glyph& ga = instances.at(ends[k].a).glyphs[gi];
-      const Glyph& gb = instances.at(ends[k].b).glyphs[gi];
+      const Glyph& ga = *glyph_at.at(ends[k].a)[gi];
+      const Glyph& gb = *glyph_at.at(ends[k].b)[gi];
       for (std::size_t c = 0; c < g.contours.size(); ++c)
         m.motions[gi][c].push_back(ContourMotion{m.pieces[k], ga.contours[c].spline, gb.contours[c].spline, {}});
     }

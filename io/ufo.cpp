@@ -333,7 +333,7 @@ RawGlyph read_raw_glyph(const fs::path& file, const std::string& listed_name) {
   return g;
 }
 
-Glyph make_glyph(RawGlyph& raw, int font_degree) {
+Glyph make_glyph(RawGlyph& raw, int font_degree, bool keep_zero_lines) {
   Glyph g;
   g.name = raw.name;
   g.codepoint = raw.outline.unicodes.empty() ? 0 : raw.outline.unicodes.front();
@@ -352,7 +352,7 @@ Glyph make_glyph(RawGlyph& raw, int font_degree) {
       for (const OutlinePoint& p : pts)
         if (p.tag != OutlinePoint::Tag::on) degree = p.tag == OutlinePoint::Tag::cubic ? 3 : 2;
       if (std::optional<Contour> contour =
-              outline_contour(pts, static_cast<int>(c), degree, g.name, PointNaming::source))
+              outline_contour(pts, static_cast<int>(c), degree, g.name, PointNaming::source, keep_zero_lines))
         g.contours.push_back(std::move(*contour));
     }
   } catch (const InputError& e) {
@@ -395,7 +395,7 @@ bool is_designspace_path(const fs::path& path) { return lower_extension(path) ==
 
 bool is_source_path(const fs::path& path) { return is_ufo_path(path) || is_designspace_path(path); }
 
-Font read_ufo(const fs::path& path_in, const GlyphSelection& which) {
+Font read_ufo(const fs::path& path_in, const GlyphSelection& which, bool keep_zero_lines) {
   const fs::path path = path_in.has_filename() ? path_in : path_in.parent_path();  // "a.ufo/" names a.ufo
   Font font;
   font.path = path_in.string();
@@ -462,7 +462,7 @@ Font read_ufo(const fs::path& path_in, const GlyphSelection& which) {
   bool conic = false, cubic = false;
   for (const RawGlyph& g : raw) conic |= g.conic, cubic |= g.cubic;
   font.cubic = cubic || !conic;
-  for (RawGlyph& g : raw) font.glyphs.push_back(make_glyph(g, font.cubic ? 3 : 2));
+  for (RawGlyph& g : raw) font.glyphs.push_back(make_glyph(g, font.cubic ? 3 : 2, keep_zero_lines));
   return font;
 }
 

@@ -67,7 +67,8 @@ struct GlyphSelection {
 /// selection reads its one glyph, with unitsPerEm 0). Glyph::source is the
 /// .glif's path and Glyph::point_lines its points' lines. Font::missing
 /// lists the selected code points no glyph has. InputError as above.
-Font read_ufo(const std::filesystem::path& path, const GlyphSelection& which);
+/// keep_zero_lines: as outline_contour's (io/font.hpp).
+Font read_ufo(const std::filesystem::path& path, const GlyphSelection& which, bool keep_zero_lines = false);
 
 /// A designspace document: its axes and its sources (masters).
 struct Designspace {

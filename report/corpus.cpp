@@ -34,6 +34,7 @@
 #include "report/json_stream.hpp"
 #include "report/junit.hpp"
 #include "report/markdown.hpp"
+#include "report/report_cache.hpp"
 #include "report/sarif.hpp"
 #include "spline/format.hpp"
 #include "report/batch.hpp"
@@ -138,6 +139,10 @@ struct PreparedFile {
   /// and keeps its record until the last part (its JUnit suite, its
   /// Markdown lines and the file count are the whole file's).
   bool more = false;
+  /// A font's glyphs taken from the resume cache and judged, and the new
+  /// cache's records of its glyphs.
+  int reused = 0, judged = 0;
+  std::string cache_records;
 };
 
 const char* status_class(const SplineReport& r) { return !r.error.empty() ? "invalid" : (r.pass ? "pass" : "fail"); }
@@ -182,6 +187,18 @@ class Writer {
     if (options.sarif) sarif_ = out_.stage_stream(*options.sarif);
     json_ = out_.stage_stream(options.out / "report.json");
     out_.commit_last(options.out / "report.json");  // renamed last: a new report.json means the whole report is new
+    // The resume cache (report/report_cache.hpp): the previous one is read
+    // before anything is judged; the new one is one more file of the set.
+    if (options.cache && fonts > 0 && !build_id().empty()) {
+      const fs::path file = options.out / kReportCacheName;
+      old_cache_.open(file, cache_note_);
+      summary_.cache_read = old_cache_.usable();
+      cache_.emplace();
+      cache_->old = &old_cache_;
+      cache_->run_prefix = run_key_prefix(options);
+      cache_file_ = out_.stage_stream(file);
+      cache_file_.write(cache_header());
+    }
     sections_.reset(std::tmpfile());
     if (!sections_) throw EnvironmentError("a temporary file for the page: cannot be created");
     if (options.markdown) markdown_.emplace(options.report, options.markdown_limit);
@@ -200,6 +217,27 @@ class Writer {
   }
 
   int items() const { return summary_.items; }
+  /// The resume cache of the run's fonts (nullptr: none).
+  const CacheContext* cache() const { return cache_ ? &*cache_ : nullptr; }
+
+  /// Item `i` of `w` as the report writes it (its JSON object with the id "s0").
+  CachedItem item_output(const FileWork& w, std::size_t i, const ItemNames& n) const {
+    const SplineReport& r = w.reports[i];
+    CachedItem it;
+    it.findings = findings_of(r, w.name, n, options_.report);
+    SplineJsonExtras extras;
+    extras.source = &w.path;
+    extras.glyph = n.glyph;
+    extras.contour = n.contour;
+    extras.point_names = n.points;
+    extras.findings = &it.findings;
+    JsonStream stream(it.json, options_.pretty ? 2 : -1);
+    write_spline_json(stream, r, 0, extras);
+    it.error = r.error;
+    it.pass = r.pass;
+    for (const GateResult& g : r.gates) it.gate_pass.push_back(g.pass());
+    return it;
+  }
 
   /// The part of a file's outputs that does not depend on the files before
   /// it: its spline objects' JSON text (ids numbered later), findings, cases,
@@ -222,29 +260,53 @@ class Writer {
                                c < g.point_lines.size() ? &g.point_lines[c] : nullptr,
                                c < g.joint_lines.size() ? &g.joint_lines[c] : nullptr};
     }
+    // Each item as the report writes it: a font's glyph from the resume
+    // cache as the cache has it, the others from their reports.
+    std::vector<const CachedItem*> item_of(w.reports.size(), nullptr);
+    std::vector<CachedGlyph> glyphs;
+    if (w.font) {
+      glyphs.resize(w.font->glyphs.size());
+      for (std::size_t gi = 0; gi < glyphs.size(); ++gi) {
+        const auto& g = w.font->glyphs[gi];
+        const bool cached = gi < w.cached.size() && w.cached[gi].has_value();
+        if (cached) {
+          glyphs[gi] = std::move(*w.cached[gi]);
+          ++p.reused;
+        } else {
+          for (std::size_t i : g.items) glyphs[gi].items.push_back(item_output(w, i, names[i]));
+          glyphs[gi].html = font_glyph_html(*w.font, 0, gi, w.reports, options_.report);
+          ++p.judged;
+        }
+        if (glyphs[gi].items.size() != g.items.size()) throw std::logic_error("report cache: a glyph's contours differ");
+        for (std::size_t c = 0; c < g.items.size(); ++c) item_of[g.items[c]] = &glyphs[gi].items[c];
+        // The new cache: every glyph whose output is whole.
+        if (gi < w.keys.size() && (cached || (w.store && (glyphs[gi].html.pass || w.store_failing))))
+          p.cache_records += cache_record(w.keys[gi], glyphs[gi]);
+      }
+    }
+    std::vector<CachedItem> loose(w.reports.size());  // items of no glyph: spline and SVG files
+    for (std::size_t i = 0; i < w.reports.size(); ++i) {
+      if (item_of[i] != nullptr) continue;
+      const SplineReport& r = w.reports[i];
+      if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
+      if (w.font && names[i].glyph.empty()) names[i].glyph = r.name;  // an unreadable font: its one invalid item
+      loose[i] = item_output(w, i, names[i]);
+      item_of[i] = &loose[i];
+    }
     // The file's spline objects as text (report/json_stream.hpp: the same bytes
     // as the tree), each with the id "s0"; write puts in the run's numbers.
     std::vector<std::vector<Finding>> item_findings(w.reports.size());
     for (std::size_t i = 0; i < w.reports.size(); ++i) {
-      const SplineReport& r = w.reports[i];
-      if (!w.font) names[i] = {r.name, 0, nullptr, nullptr};
-      if (w.font && names[i].glyph.empty()) names[i].glyph = r.name;  // an unreadable font: its one invalid item
-      item_findings[i] = findings_of(r, w.name, names[i], options_.report);
-      SplineJsonExtras extras;
-      extras.source = &w.path;
-      extras.glyph = names[i].glyph;
-      extras.contour = names[i].contour;
-      extras.point_names = names[i].points;
-      extras.findings = &item_findings[i];
+      const CachedItem& it = *item_of[i];
+      item_findings[i] = it.findings;
       const std::size_t begin = p.json.size();
-      JsonStream stream(p.json, options_.pretty ? 2 : -1);
-      write_spline_json(stream, r, 0, extras);
+      p.json += it.json;
       const std::size_t id = p.json.find("\"s0\"", begin);  // the first member is the id
       if (id == std::string::npos) throw std::logic_error("report.json: a spline object without its id");
       p.objects.push_back({begin, id + 2});
       ++rec.items;
-      (!r.error.empty() ? rec.items_invalid : (r.pass ? rec.items_pass : rec.items_fail))++;
-      if (!r.error.empty()) p.invalid_messages.push_back(r.error);
+      (!it.error.empty() ? rec.items_invalid : (it.pass ? rec.items_pass : rec.items_fail))++;
+      if (!it.error.empty()) p.invalid_messages.push_back(it.error);
     }
     // Cases: one per glyph of a font, else one per spline.
     if (w.font) {
@@ -259,16 +321,16 @@ class Writer {
         c.contours = static_cast<int>(g.items.size());
         std::vector<bool> gate_fail(options_.report.gates.size(), false);
         for (std::size_t i : g.items) {
-          const SplineReport& r = w.reports[i];
+          const CachedItem& r = *item_of[i];
           if (!r.error.empty()) c.error += (c.error.empty() ? "" : "; ") + r.error;
           c.pass = c.pass && r.error.empty() && r.pass;
-          for (std::size_t k = 0; k < r.gates.size() && k < gate_fail.size(); ++k)
-            gate_fail[k] = gate_fail[k] || !r.gates[k].pass();
+          for (std::size_t k = 0; k < r.gate_pass.size() && k < gate_fail.size(); ++k)
+            gate_fail[k] = gate_fail[k] || !r.gate_pass[k];
           for (Finding& f : item_findings[i]) c.findings.push_back(std::move(f));
         }
         ++row.glyphs;
         row.contours += c.contours;
-        for (std::size_t i : g.items) row.contours_fail += w.reports[i].error.empty() && w.reports[i].pass ? 0 : 1;
+        for (std::size_t i : g.items) row.contours_fail += item_of[i]->error.empty() && item_of[i]->pass ? 0 : 1;
         row.glyphs_fail += c.pass ? 0 : 1;
         row.invalid += c.error.empty() ? 0 : 1;
         for (std::size_t k = 0; k < gate_fail.size(); ++k) row.gate_glyphs[k] += gate_fail[k];
@@ -284,15 +346,17 @@ class Writer {
         return a.severity != b.severity ? a.severity > b.severity : a.findings > b.findings;
       });
       if (row.worst.size() > kWorst) row.worst.resize(kWorst);
-      if (w.font->glyphs.empty() && !w.reports.empty() && !w.reports[0].error.empty()) {
+      if (w.font->glyphs.empty() && !w.reports.empty() && !item_of[0]->error.empty()) {
         CaseRecord c;  // an unreadable font
         c.name = fs::path(w.path).filename().string();
-        c.error = w.reports[0].error;
+        c.error = item_of[0]->error;
         c.pass = false;
         rec.cases.push_back(std::move(c));
         row.invalid = 1;
       }
-      p.font_page = font_report_html({*w.font}, w.reports, options_.report);
+      std::vector<GlyphHtml> html;
+      for (CachedGlyph& g : glyphs) html.push_back(std::move(g.html));
+      p.font_page = font_page_html({*w.font}, {std::move(html)}, options_.report);
       w.reports.clear();
       w.reports.shrink_to_fit();
     } else {
@@ -345,6 +409,9 @@ class Writer {
     }
     json_.write(text);
     give_back(std::move(p.json));
+    if (cache_file_.is_open() && !p.cache_records.empty()) cache_file_.write(p.cache_records);
+    summary_.glyphs_reused += p.reused;
+    summary_.glyphs_judged += p.judged;
     for (std::string& m : p.invalid_messages) summary_.invalid_messages.push_back(std::move(m));
     if (p.font_row) {
       FontRow& row = *p.font_row;
@@ -477,6 +544,10 @@ class Writer {
       sarif_.write(sarif_footer());
       sarif_.close();
     }
+    if (cache_file_.is_open()) cache_file_.close();
+    summary_.cache_note = cache_note_;
+    const std::string damage = old_cache_.damage_note();
+    if (!damage.empty()) summary_.cache_note += (summary_.cache_note.empty() ? "" : "; ") + damage;
     write_index();
     summary_.written = out_.paths();
     out_.commit();
@@ -588,6 +659,10 @@ class Writer {
   bool single_font_ = false;
   OutputSet out_;
   StagedStream json_, junit_, sarif_;
+  ReportCache old_cache_;
+  std::optional<CacheContext> cache_;
+  StagedStream cache_file_;
+  std::string cache_note_;
   std::unique_ptr<std::FILE, FileCloser> sections_;
   std::optional<BaselineComparison> baseline_;
   std::optional<MarkdownSummary> markdown_;
@@ -636,8 +711,10 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
   };
   const auto process = [&](std::size_t i, int file_threads) {
     check_time();
-    FileWork w = process_file(files[i], i, options, file_threads, &budget);
+    FileWork w;
+    w.path = files[i];
     named(i, w);
+    process_file(w, i, options, file_threads, &budget, writer.cache());
     return w;
   };
   auto written = [&](const std::string& path) {

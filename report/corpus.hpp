@@ -168,6 +168,10 @@ struct BatchOptions {
   /// and each part of a file; past it the run stops with InputError and
   /// writes nothing.
   double time_limit = kDefaultReportTimeLimit;
+  /// The resume cache (report/report_cache.hpp): a font's glyph whose key
+  /// is in OUT/report.cache is not judged again, and the run writes its
+  /// own cache with its outputs. Off (--no-cache): none read or written.
+  bool cache = true;
 };
 
 /// The run's counts (the one-line summary) and its exit code.
@@ -184,6 +188,11 @@ struct BatchSummary {
   std::vector<std::filesystem::path> written;
   /// What the run's budgets left out (FixBudget::note), "" when nothing.
   std::string note;
+  /// The resume cache: fonts' glyphs taken from it and judged; whether a
+  /// cache was read; a note when it was ignored or damaged ("" otherwise).
+  int glyphs_reused = 0, glyphs_judged = 0;
+  bool cache_read = false;
+  std::string cache_note;
 };
 
 /// "3 files (1 font, 52 glyphs): 70 contours and splines: 25 pass, 45 fail, 0 invalid; 61 findings (new 1,

@@ -10,6 +10,7 @@
 #include "report/batch.hpp"
 #include "report/corpus.hpp"
 #include "report/font_report.hpp"
+#include "report/report_cache.hpp"
 
 namespace cmr::report::corpus_detail {
 
@@ -23,6 +24,18 @@ struct FileWork {
   std::optional<FontInfo> font;
   std::vector<SplineReport> reports;
   double seconds = 0;
+  /// The resume cache (a font): per glyph its key, and what the cache had
+  /// of it (then its items were not judged: their reports are empty);
+  /// `store`: the glyphs judged here are complete and go into the new cache.
+  std::vector<CacheKey> keys;
+  std::vector<std::optional<CachedGlyph>> cached;
+  bool store = false, store_failing = false;
+};
+
+/// What a run's resume cache needs while files are processed.
+struct CacheContext {
+  const ReportCache* old = nullptr;  ///< the previous run's (may be unusable: nothing found)
+  std::string run_prefix;           ///< run_key_prefix
 };
 
 struct ItemNames {
@@ -38,8 +51,9 @@ struct ItemNames {
 // Defined in corpus_inputs.cpp:
 std::vector<ReportInput> svg_inputs(const std::string& path, const std::vector<import::PathSpline>& paths,
                                     std::size_t begin, std::size_t end);
-FileWork process_file(const std::string& path, std::size_t index, const BatchOptions& options, int threads,
-                      FixBudget* budget);
+/// Processes w.path (w.name and w.uri set) into `w`.
+void process_file(FileWork& w, std::size_t index, const BatchOptions& options, int threads, FixBudget* budget,
+                  const CacheContext* cache);
 std::vector<Finding> findings_of(const SplineReport& r, const std::string& file, const ItemNames& n,
                                  const ReportOptions& options);
 

@@ -329,11 +329,21 @@ std::vector<ReportInput> svg_inputs(const std::string& path, const std::vector<i
   return inputs;
 }
 
-FileWork process_file(const std::string& path, std::size_t index, const BatchOptions& options, int threads,
-                      FixBudget* budget) {
+/// Whether a font's report items are its glyphs' contours in order (every
+/// item in one glyph, glyph after glyph): what the cache's keys assume.
+bool items_in_glyph_order(const FontInfo& font, std::size_t items) {
+  std::size_t next = 0;
+  for (const auto& g : font.glyphs)
+    for (std::size_t i : g.items)
+      if (i != next++) return false;
+  return next == items;
+}
+
+/// Processes w.path (w.name and w.uri set) into `w`.
+void process_file(FileWork& w, std::size_t index, const BatchOptions& options, int threads, FixBudget* budget,
+                  const CacheContext* cache) {
   const auto t0 = std::chrono::steady_clock::now();
-  FileWork w;
-  w.path = path;
+  const std::string& path = w.path;
   w.kind = file_kind(path);
   ReportOptions o = options.report;
   o.threads = threads;
@@ -367,7 +377,7 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
   } catch (const InputError& e) {  // the whole file is unreadable: one invalid item
     inputs.clear();
     w.font.reset();
-    if (options.shard && !options.shard->takes(options.shard_positions.at(index))) return w;  // its owner part says it
+    if (options.shard && !options.shard->takes(options.shard_positions.at(index))) return;  // its owner part says it
     ReportInput in;
     in.file = path;
     in.error = marked_text(e);
@@ -375,9 +385,32 @@ FileWork process_file(const std::string& path, std::size_t index, const BatchOpt
   }
   for (ReportInput& in : inputs)
     in.error = o.show_fields(in.error);  // the fields its message names, as the run names them
-  w.reports = report_batch(std::move(inputs), o, {}, budget);
+  // A font's glyphs found in the resume cache are not judged: their items
+  // stay empty reports; the others are judged together, as without a cache.
+  if (cache && w.font && items_in_glyph_order(*w.font, inputs.size())) {
+    const std::string prefix = file_key_prefix(cache->run_prefix, w.path, w.name, w.uri, w.uri_relative, *w.font);
+    std::vector<bool> skip(inputs.size(), false);
+    for (const auto& g : w.font->glyphs) {
+      w.keys.push_back(glyph_key(prefix, g, inputs));
+      w.cached.push_back(cache->old ? cache->old->find(w.keys.back()) : std::nullopt);
+      if (w.cached.back())
+        for (std::size_t i : g.items) skip[i] = true;
+    }
+    std::vector<ReportInput> judged;
+    std::vector<std::size_t> where;
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      if (!skip[i]) judged.push_back(std::move(inputs[i])), where.push_back(i);
+    std::vector<SplineReport> reports = report_batch(std::move(judged), o, {}, budget);
+    w.reports.resize(inputs.size());
+    for (std::size_t k = 0; k < where.size(); ++k) w.reports[where[k]] = std::move(reports[k]);
+    // A failing glyph judged once the fix budget was spent may lack its
+    // fixes: it is not kept.
+    w.store = true;
+    w.store_failing = !o.regions || budget == nullptr || (budget->skipped.load() == 0 && !budget->spent());
+  } else {
+    w.reports = report_batch(std::move(inputs), o, {}, budget);
+  }
   w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return w;
 }
 
 }  // namespace corpus_detail

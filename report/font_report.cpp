@@ -294,7 +294,10 @@ std::string between_svg(const std::vector<const SplineReport*>& contours, int un
           const double len = std::sqrt(dot(d1, d1));
           if (!(len > 0) || !std::isfinite(cs.kappa)) continue;
           const Vec2 tip = cs.point - scale * cs.kappa * Vec2(-d1.y / len, d1.x / len);
-          teeth += "M" + xy0(cs.point) + "L" + xy0(tip);
+          teeth += 'M';  // appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "literal" + string&&
+          teeth += xy0(cs.point);
+          teeth += 'L';
+          teeth += xy0(tip);
         }
     }
     body += "<g transform=\"translate(" + fmt(p * w, 0) + ",0)\"><path class=\"" + std::string(p == 1 ? "b" : "o2") +
@@ -430,8 +433,147 @@ FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs)
   return info;
 }
 
-std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vector<SplineReport>& reports,
-                             const ReportOptions& options) {
+GlyphHtml font_glyph_html(const FontInfo& font, std::size_t fi, std::size_t gi, const std::vector<SplineReport>& reports,
+                          const ReportOptions& options) {
+  std::string gate_names;
+  for (const Gate& g : options.gates) gate_names += (gate_names.empty() ? "" : ", ") + to_string(g);
+  if (options.require) gate_names += (gate_names.empty() ? "" : ", ") + to_string(*options.require);
+  const auto& g = font.glyphs[gi];
+  GlyphHtml h;
+  h.contours = static_cast<int>(g.items.size());
+  for (std::size_t i : g.items) h.contours_fail += reports[i].error.empty() && reports[i].pass ? 0 : 1;
+  h.pass = h.contours_fail == 0;
+  std::string& out = h.row;
+  std::string& details = h.details;
+  const std::string anchor = "g" + std::to_string(fi) + "-" + import::file_stem(g.name);
+  std::vector<const SplineReport*> contours;
+  for (std::size_t i : g.items)
+    if (reports[i].error.empty()) contours.push_back(&reports[i]);
+  const char* status = h.pass ? "pass" : "fail";
+  out += "<tr data-name=\"" + html_escape(g.name) + "\" data-status=\"" + status + "\"><td class=\"ch\">" +
+         html_escape(utf8(g.codepoint)) + "</td><td><a href=\"#" + anchor + "\">" + html_escape(g.name) +
+         "</a></td><td data-v=\"" + std::to_string(g.items.size()) + "\">" + std::to_string(g.items.size()) + "</td>";
+  std::string picture;
+  if (options.regions && !contours.empty()) {
+    const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
+    out += "<td><a href=\"#" + anchor + "\">" + svg(gp, 96, anchor + "-pic", true) + "</a></td>";
+    picture = svg(gp, 320, anchor + "-pic", false);
+    const std::string fixed = fixed_glyph_svg(contours, gp, 320, anchor + "-pic");
+    if (!fixed.empty())
+      picture = "<div class=\"pics\"><figure>" + picture + "<figcaption>original</figcaption></figure><figure>" +
+                fixed + "<figcaption>fixed (green) over the original (dashed)</figcaption></figure></div>";
+    std::string caption;
+    const std::string between = between_svg(contours, font.units_per_em, 320, caption);
+    if (!between.empty())
+      picture += "<figure>" + between + "<figcaption>between the masters: left and right the masters, in red the "
+                 "instance of " + html_escape(caption) + "</figcaption></figure>";
+  } else if (options.regions) {
+    out += "<td></td>";
+  }
+  std::size_t fixes = 0;
+  for (const SplineReport* r : contours) fixes += first_fix(*r) ? 1 : 0;
+  for (std::size_t k = 0; k < options.gates.size(); ++k) {
+    std::size_t n = 0;
+    for (const SplineReport* r : contours) n += r->gates[k].violations.size();
+    out += "<td class=\"" + std::string(n == 0 ? "pass" : "fail") + "\" data-v=\"" + std::to_string(n) + "\">" +
+           (n == 0 ? "pass" : std::to_string(n) + " fail") + "</td>";
+  }
+  // A glyph of straight pieces only (l, I, H, -): constant curvature, labelled so, not by a direction.
+  const bool straight = !contours.empty() && std::all_of(contours.begin(), contours.end(),
+                                                         [](const SplineReport* r) { return straight_only(*r); });
+  out += "<td data-v=\"" + std::to_string(fixes) + "\">" + std::to_string(fixes) + "</td><td class=\"" + status +
+         "\">" + status + (straight ? " (straight)" : "") + "</td></tr>";
+
+  details += "<section id=\"" + anchor + "\"><h2>" + html_escape(g.name) + " <span class=\"ch\">" +
+             html_escape(utf8(g.codepoint)) + "</span> " + code_label(g.codepoint) + ": " + status + "</h2>" +
+             picture;
+  for (std::size_t c = 0; c < g.items.size(); ++c) {
+    const SplineReport& r = reports[g.items[c]];
+    details += "<h3>" + html_escape(r.name) + ": " + (r.error.empty() ? (r.pass ? "pass" : "fail") : "invalid") +
+               (straight_only(r) ? ", straight" : "") + "</h3>";
+    if (!r.error.empty()) {
+      details += "<p>" + html_escape(r.error) + "</p>";
+      continue;
+    }
+    details += "<p>" + std::to_string(r.spline->segment_count()) + " segments, " +
+               std::to_string(r.extrema.size()) + " curvature extrema, " + std::to_string(r.inflections.size()) +
+               " inflections.</p><ul>";
+    // Each gate's first kFullMessages violations in full, then the
+    // places of the others in one item (every message is in report.json,
+    // JUnit and SARIF): a whole font's page stays small.
+    for (const GateResult& gr : r.gates) {
+      std::string more;
+      for (std::size_t k = 0; k < gr.violations.size(); ++k) {
+        const GateViolation& v = gr.violations[k];
+        if (k < kFullMessages)
+          details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
+                     html_escape(where(v, g.joint_names[c], g.name, c)) + "</li>";
+        else
+          more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c], g.name, c));
+      }
+      if (!more.empty())
+        details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>, " +
+                   std::to_string(gr.violations.size() - kFullMessages) + " more: " + more + "</li>";
+    }
+    details += "</ul>";
+    for (const CertifiedFix& f : r.certified_fixes) {
+      details += "<p>Smallest certified fix (" + html_escape(f.check) + "): ";
+      if (!f.found) {
+        details += html_escape(f.reason) + ".</p>";
+        continue;
+      }
+      details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
+                 ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
+                 fmt(f.seconds, 2) + " s; ";
+      if (f.rejudged.empty()) {
+        details += "certified by analyze.";
+      } else {  // one fix for every check: each re-judged on the moved contour
+        details += "re-judged:";
+        for (std::size_t i = 0; i < f.rejudged.size(); ++i)
+          details += std::string(i ? "," : "") + " " + html_escape(f.rejudged[i].check) + " " +
+                     std::to_string(f.rejudged[i].before) + " &rarr; " + std::to_string(f.rejudged[i].after);
+        details += ".";
+      }
+      details += "</p><table><tr><th>move<th>from<th>to<th>distance";
+      // The point's own name without the glyph and contour (the
+      // heading above says them), whole units without ".0", no "by"
+      // column (to minus from; report.json has the displacement) and no
+      // optional end tags: a font's page has hundreds of these rows.
+      for (const PointMove& m : f.moves) {
+        std::string name = "P";
+        if (m.point < static_cast<int>(g.point_names[c].size())) name = g.point_names[c][m.point];
+        else name.append(std::to_string(m.point));
+        name = local_name(name, g.name, c);
+        details += "<tr><td>" + html_escape(name) + "<td>" + short_num(m.from.x) + ", " + short_num(m.from.y) +
+                   "<td>" + short_num(m.to.x) + ", " + short_num(m.to.y) + "<td>" +
+                   short_num(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)";
+      }
+      // κ before and after for the fix the outline shows (first_fix) only: a Latin font's page stays small.
+      details += "</table>";
+      if (&f == first_fix(r))
+        details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments, anchor + "-c" + std::to_string(c) + "-j");
+    }
+  }
+  // A source (UFO): the command that writes a fix of every required
+  // check back into it, on the grid (cmr fix, docs/fix.md "Font sources").
+  const bool fails = std::any_of(g.items.begin(), g.items.end(),
+                                 [&](std::size_t i) { return reports[i].error.empty() && !reports[i].pass; });
+  if (!g.source.empty() && fails && !gate_names.empty()) {
+    std::string require;
+    for (const Gate& gate : options.gates) require += (require.empty() ? "" : ",") + to_string(gate);
+    if (options.require) require += (require.empty() ? "" : ",") + to_string(*options.require);
+    const auto flag = [&](const char* name) { return html_escape(options.show_fields(field(name))); };
+    details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
+               html_escape(shell_word(font.path)) + " " + flag("glyph") + " " + html_escape(shell_word(g.name)) +
+               " " + flag("require") + " " + html_escape(require) + " " + flag("in_place") + "</code> (or <code>" +
+               flag("out") + " NEW.ufo</code> for a copy).</p>";
+  }
+  details += "</section>";
+  return h;
+}
+
+std::string font_page_html(const std::vector<FontInfo>& fonts, const std::vector<std::vector<GlyphHtml>>& glyphs,
+                           const ReportOptions& options) {
   std::string out = "<!doctype html><html><head><meta charset=\"utf-8\"><title>cmr font report</title><style>";
   out += kStyle;
   out += "</style></head><body>";
@@ -442,14 +584,10 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     const FontInfo& font = fonts[fi];
     int pass = 0, fail = 0;
     std::size_t contour_count = 0, contour_fail = 0;
-    std::vector<bool> glyph_pass;
-    for (const auto& g : font.glyphs) {
-      contour_count += g.items.size();
-      for (std::size_t i : g.items) contour_fail += reports[i].error.empty() && reports[i].pass ? 0 : 1;
-      bool ok = true;
-      for (std::size_t i : g.items) ok = ok && reports[i].error.empty() && reports[i].pass;
-      glyph_pass.push_back(ok);
-      ++(ok ? pass : fail);
+    for (const GlyphHtml& g : glyphs[fi]) {
+      contour_count += static_cast<std::size_t>(g.contours);
+      contour_fail += static_cast<std::size_t>(g.contours_fail);
+      ++(g.pass ? pass : fail);
     }
     out += "<h1>" + html_escape(font.family + " " + font.style) + "</h1><p>" + html_escape(font.path) + ": " +
            std::to_string(font.units_per_em) + " units per em, " + (font.cubic ? "cubic (CFF)" : "quadratic (TrueType)") +
@@ -472,132 +610,9 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     for (const Gate& g : options.gates) out += "<th>" + html_escape(to_string(g)) + "</th>";
     out += "<th>fixes</th><th>status</th></tr></thead><tbody>";
     std::string details;
-    for (std::size_t gi = 0; gi < font.glyphs.size(); ++gi) {
-      const auto& g = font.glyphs[gi];
-      const std::string anchor = "g" + std::to_string(fi) + "-" + import::file_stem(g.name);
-      std::vector<const SplineReport*> contours;
-      for (std::size_t i : g.items)
-        if (reports[i].error.empty()) contours.push_back(&reports[i]);
-      const char* status = glyph_pass[gi] ? "pass" : "fail";
-      out += "<tr data-name=\"" + html_escape(g.name) + "\" data-status=\"" + status + "\"><td class=\"ch\">" +
-             html_escape(utf8(g.codepoint)) + "</td><td><a href=\"#" + anchor + "\">" + html_escape(g.name) +
-             "</a></td><td data-v=\"" + std::to_string(g.items.size()) + "\">" + std::to_string(g.items.size()) + "</td>";
-      std::string picture;
-      if (options.regions && !contours.empty()) {
-        const GlyphPicture gp = glyph_picture(contours, font.units_per_em);
-        out += "<td><a href=\"#" + anchor + "\">" + svg(gp, 96, anchor + "-pic", true) + "</a></td>";
-        picture = svg(gp, 320, anchor + "-pic", false);
-        const std::string fixed = fixed_glyph_svg(contours, gp, 320, anchor + "-pic");
-        if (!fixed.empty())
-          picture = "<div class=\"pics\"><figure>" + picture + "<figcaption>original</figcaption></figure><figure>" +
-                    fixed + "<figcaption>fixed (green) over the original (dashed)</figcaption></figure></div>";
-        std::string caption;
-        const std::string between = between_svg(contours, font.units_per_em, 320, caption);
-        if (!between.empty())
-          picture += "<figure>" + between + "<figcaption>between the masters: left and right the masters, in red the "
-                     "instance of " + html_escape(caption) + "</figcaption></figure>";
-      } else if (options.regions) {
-        out += "<td></td>";
-      }
-      std::size_t fixes = 0;
-      for (const SplineReport* r : contours) fixes += first_fix(*r) ? 1 : 0;
-      for (std::size_t k = 0; k < options.gates.size(); ++k) {
-        std::size_t n = 0;
-        for (const SplineReport* r : contours) n += r->gates[k].violations.size();
-        out += "<td class=\"" + std::string(n == 0 ? "pass" : "fail") + "\" data-v=\"" + std::to_string(n) + "\">" +
-               (n == 0 ? "pass" : std::to_string(n) + " fail") + "</td>";
-      }
-      // A glyph of straight pieces only (l, I, H, -): constant curvature, labelled so, not by a direction.
-      const bool straight = !contours.empty() && std::all_of(contours.begin(), contours.end(),
-                                                             [](const SplineReport* r) { return straight_only(*r); });
-      out += "<td data-v=\"" + std::to_string(fixes) + "\">" + std::to_string(fixes) + "</td><td class=\"" + status +
-             "\">" + status + (straight ? " (straight)" : "") + "</td></tr>";
-
-      details += "<section id=\"" + anchor + "\"><h2>" + html_escape(g.name) + " <span class=\"ch\">" +
-                 html_escape(utf8(g.codepoint)) + "</span> " + code_label(g.codepoint) + ": " + status + "</h2>" +
-                 picture;
-      for (std::size_t c = 0; c < g.items.size(); ++c) {
-        const SplineReport& r = reports[g.items[c]];
-        details += "<h3>" + html_escape(r.name) + ": " + (r.error.empty() ? (r.pass ? "pass" : "fail") : "invalid") +
-                   (straight_only(r) ? ", straight" : "") + "</h3>";
-        if (!r.error.empty()) {
-          details += "<p>" + html_escape(r.error) + "</p>";
-          continue;
-        }
-        details += "<p>" + std::to_string(r.spline->segment_count()) + " segments, " +
-                   std::to_string(r.extrema.size()) + " curvature extrema, " + std::to_string(r.inflections.size()) +
-                   " inflections.</p><ul>";
-        // Each gate's first kFullMessages violations in full, then the
-        // places of the others in one item (every message is in report.json,
-        // JUnit and SARIF): a whole font's page stays small.
-        for (const GateResult& gr : r.gates) {
-          std::string more;
-          for (std::size_t k = 0; k < gr.violations.size(); ++k) {
-            const GateViolation& v = gr.violations[k];
-            if (k < kFullMessages)
-              details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>: " + html_escape(v.message) + " &mdash; " +
-                         html_escape(where(v, g.joint_names[c], g.name, c)) + "</li>";
-            else
-              more += (more.empty() ? "" : "; ") + html_escape(where(v, g.joint_names[c], g.name, c));
-          }
-          if (!more.empty())
-            details += "<li><b>" + html_escape(to_string(gr.gate)) + "</b>, " +
-                       std::to_string(gr.violations.size() - kFullMessages) + " more: " + more + "</li>";
-        }
-        details += "</ul>";
-        for (const CertifiedFix& f : r.certified_fixes) {
-          details += "<p>Smallest certified fix (" + html_escape(f.check) + "): ";
-          if (!f.found) {
-            details += html_escape(f.reason) + ".</p>";
-            continue;
-          }
-          details += std::to_string(f.moves.size()) + (f.moves.size() == 1 ? " point" : " points") +
-                     ", largest move " + fmt(100 * largest_relative_move(f), 2) + "% of the contour size, " +
-                     fmt(f.seconds, 2) + " s; ";
-          if (f.rejudged.empty()) {
-            details += "certified by analyze.";
-          } else {  // one fix for every check: each re-judged on the moved contour
-            details += "re-judged:";
-            for (std::size_t i = 0; i < f.rejudged.size(); ++i)
-              details += std::string(i ? "," : "") + " " + html_escape(f.rejudged[i].check) + " " +
-                         std::to_string(f.rejudged[i].before) + " &rarr; " + std::to_string(f.rejudged[i].after);
-            details += ".";
-          }
-          details += "</p><table><tr><th>move<th>from<th>to<th>distance";
-          // The point's own name without the glyph and contour (the
-          // heading above says them), whole units without ".0", no "by"
-          // column (to minus from; report.json has the displacement) and no
-          // optional end tags: a font's page has hundreds of these rows.
-          for (const PointMove& m : f.moves) {
-            std::string name = "P";
-            if (m.point < static_cast<int>(g.point_names[c].size())) name = g.point_names[c][m.point];
-            else name.append(std::to_string(m.point));
-            name = local_name(name, g.name, c);
-            details += "<tr><td>" + html_escape(name) + "<td>" + short_num(m.from.x) + ", " + short_num(m.from.y) +
-                       "<td>" + short_num(m.to.x) + ", " + short_num(m.to.y) + "<td>" +
-                       short_num(m.distance) + " (" + fmt(100 * m.distance / f.size, 2) + "%)";
-          }
-          // κ before and after for the fix the outline shows (first_fix) only: a Latin font's page stays small.
-          details += "</table>";
-          if (&f == first_fix(r))
-            details += kappa_before_after_svg(*r.spline, *f.fixed, f.failing_segments, anchor + "-c" + std::to_string(c) + "-j");
-        }
-      }
-      // A source (UFO): the command that writes a fix of every required
-      // check back into it, on the grid (cmr fix, docs/fix.md "Font sources").
-      const bool fails = std::any_of(g.items.begin(), g.items.end(),
-                                     [&](std::size_t i) { return reports[i].error.empty() && !reports[i].pass; });
-      if (!g.source.empty() && fails && !gate_names.empty()) {
-        std::string require;
-        for (const Gate& gate : options.gates) require += (require.empty() ? "" : ",") + to_string(gate);
-        if (options.require) require += (require.empty() ? "" : ",") + to_string(*options.require);
-        const auto flag = [&](const char* name) { return html_escape(options.show_fields(field(name))); };
-        details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
-                   html_escape(shell_word(font.path)) + " " + flag("glyph") + " " + html_escape(shell_word(g.name)) +
-                   " " + flag("require") + " " + html_escape(require) + " " + flag("in_place") + "</code> (or <code>" +
-                   flag("out") + " NEW.ufo</code> for a copy).</p>";
-      }
-      details += "</section>";
+    for (const GlyphHtml& g : glyphs[fi]) {
+      out += g.row;
+      details += g.details;
     }
     out += "</tbody></table>" + details;
   }
@@ -616,6 +631,15 @@ std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vect
     at = hit + ns.size();
   }
   return lean;
+}
+
+std::string font_report_html(const std::vector<FontInfo>& fonts, const std::vector<SplineReport>& reports,
+                             const ReportOptions& options) {
+  std::vector<std::vector<GlyphHtml>> glyphs(fonts.size());
+  for (std::size_t fi = 0; fi < fonts.size(); ++fi)
+    for (std::size_t gi = 0; gi < fonts[fi].glyphs.size(); ++gi)
+      glyphs[fi].push_back(font_glyph_html(fonts[fi], fi, gi, reports, options));
+  return font_page_html(fonts, glyphs, options);
 }
 
 }  // namespace cmr::report

@@ -47,6 +47,21 @@ std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int cont
 /// "FONT:GLYPH/cC") and returns where they went.
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs);
 
+/// One glyph's part of a font page: its row of the overview table and its
+/// section, with what the page's counts take of it (the report's resume
+/// cache keeps it: report/report_cache.hpp).
+struct GlyphHtml {
+  std::string row, details;
+  bool pass = true;  ///< every contour valid and passing
+  int contours = 0, contours_fail = 0;
+};
+/// Glyph `glyph` of `font`, the `font_index`-th font of its page.
+GlyphHtml font_glyph_html(const FontInfo& font, std::size_t font_index, std::size_t glyph,
+                          const std::vector<SplineReport>& reports, const ReportOptions& options);
+/// The page of `fonts` from their glyphs' parts (glyphs[f][g]: glyph g of font f).
+std::string font_page_html(const std::vector<FontInfo>& fonts, const std::vector<std::vector<GlyphHtml>>& glyphs,
+                           const ReportOptions& options);
+
 /// One self-contained page (no network) for the fonts' glyphs. Thumbnails
 /// (inline SVG, curvature comb) are drawn when options.regions is on (they
 /// are what --no-thumbnails leaves out).

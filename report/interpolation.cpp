@@ -177,110 +177,148 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
   std::vector<const import::Designspace::Source*> sources;
   for (const auto& src : ds.sources)
     if (src.layer.empty()) sources.push_back(&src);
-  if (sources.size() != 2)
+  const std::size_t n = sources.size();
+  if (n < 2)
     throw InputFieldError(path + ": cmr fix " + field("require") +
-                          " g1-between-masters takes a designspace of two masters for now (" +
-                          std::to_string(sources.size()) + " here)");
+                          " g1-between-masters takes a designspace of two masters or more (" +
+                     std::to_string(n) + " here)");
   import::GlyphSelection which;
   which.names = {glyph};
-  import::Glyph g[2];
-  for (int m = 0; m < 2; ++m) {
+  // The pieces: pairs of adjacent masters (io/masters.hpp), by index.
+  std::vector<std::pair<std::size_t, std::size_t>> pieces;
+  {
+    const import::Masters masters = import::read_masters(path, which);
+    auto index_of = [&](const std::string& name) {
+      for (std::size_t k = 0; k < n; ++k)
+        if (sources[k]->name == name) return k;
+      throw InputError(path + ": two sources named '" + name + "'?");
+    };
+    for (const auto& p : masters.pieces) {
+      const std::pair<std::size_t, std::size_t> ab{index_of(p->master_a), index_of(p->master_b)};
+      if (std::find(pieces.begin(), pieces.end(), ab) == pieces.end()) pieces.push_back(ab);
+    }
+  }
+  std::vector<import::Glyph> g(n);
+  for (std::size_t m = 0; m < n; ++m) {
     const import::Font f = import::read_ufo(sources[m]->path, which);
     if (f.glyphs.empty()) throw InputError(path + ": no glyph '" + glyph + "' in " + sources[m]->name);
     g[m] = f.glyphs.front();
     if (!g[m].error.empty()) throw InputError(path + ": " + g[m].error);
+    if (g[m].contours.size() != g[0].contours.size()) throw InputError(path + ": " + glyph + ": incompatible masters");
   }
-  if (g[0].contours.size() != g[1].contours.size()) throw InputError(path + ": " + glyph + ": incompatible masters");
-  // A judged node: its position, handles, and their source points, per master.
+  // A node with a handle on each side: its position, handles, and their source points, per master; and
+  // whether it is marked smooth there.
   struct Node {
     int contour = 0, node = 0, in = 0, out = 0;  // Contour::index and source points
     std::string name;
-    Vec2 p[2], h_in[2], h_out[2];
+    std::vector<Vec2> p, h_in, h_out;
+    std::vector<bool> smooth;
   };
   std::vector<Node> nodes;
   for (std::size_t c = 0; c < g[0].contours.size(); ++c) {
     const import::Contour& a = g[0].contours[c];
-    const import::Contour& b = g[1].contours[c];
-    if (a.font_point != b.font_point || a.node != b.node || a.spline.degree() != b.spline.degree())
-      throw InputError(path + ": " + glyph + ": incompatible masters (contour " + std::to_string(a.index) + ")");
+    for (std::size_t m = 1; m < n; ++m) {
+      const import::Contour& b = g[m].contours[c];
+      if (a.font_point != b.font_point || a.node != b.node || a.spline.degree() != b.spline.degree())
+        throw InputError(path + ": " + glyph + ": incompatible masters (contour " + std::to_string(a.index) + ")");
+    }
     if (a.spline.degree() != 3) continue;  // quadratic sources: not taken yet
-    const int n = static_cast<int>(a.node.size());
-    for (int i = 0; i < n; ++i) {
-      const int prev = (i + n - 1) % n, next = (i + 1) % n;
+    const int count = static_cast<int>(a.node.size());
+    for (int i = 0; i < count; ++i) {
+      const int prev = (i + count - 1) % count, next = (i + 1) % count;
       if (!a.node[i] || a.node[prev] || a.node[next] || a.font_point[prev] < 0 || a.font_point[next] < 0) continue;
-      bool smooth = true;
-      for (int m = 0; m < 2; ++m) {
+      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}, {}};
+      for (std::size_t m = 0; m < n; ++m) {
         const auto& marks = g[m].point_smooth;
         const int fp = a.font_point[i];
-        smooth = smooth && a.index < static_cast<int>(marks.size()) && fp < static_cast<int>(marks[a.index].size()) &&
-                 marks[a.index][fp];
-      }
-      if (!smooth) continue;
-      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}};
-      for (int m = 0; m < 2; ++m) {
+        node.smooth.push_back(a.index < static_cast<int>(marks.size()) && fp < static_cast<int>(marks[a.index].size()) &&
+                              marks[a.index][fp]);
         const std::vector<Vec2>& pts = g[m].contours[c].spline.points();
-        node.p[m] = pts[i];
-        node.h_in[m] = pts[prev];
-        node.h_out[m] = pts[next];
+        node.p.push_back(pts[i]);
+        node.h_in.push_back(pts[prev]);
+        node.h_out.push_back(pts[next]);
       }
-      nodes.push_back(node);
+      if (std::any_of(node.smooth.begin(), node.smooth.end(), [](bool b) { return b; })) nodes.push_back(node);
     }
   }
-  auto tangents_of = [](const Vec2 p[2], const Vec2 in[2], const Vec2 out[2]) {
-    const Vec2 u0 = p[0] - in[0], u1 = p[1] - in[1], v0 = out[0] - p[0], v1 = out[1] - p[1];
+  auto tangents_of = [](const Node& k, std::size_t a, std::size_t b) {
+    const Vec2 u0 = k.p[a] - k.h_in[a], u1 = k.p[b] - k.h_in[b], v0 = k.h_out[a] - k.p[a], v1 = k.h_out[b] - k.p[b];
     return NodeTangents{Rational(u0.x), Rational(u0.y), Rational(u1.x), Rational(u1.y),
                         Rational(v0.x), Rational(v0.y), Rational(v1.x), Rational(v1.y)};
   };
-  auto kink = [&](const Node& k) {
-    const NodeTangents t = tangents_of(k.p, k.h_in, k.h_out);
-    if (!g1_at(t.u0x, t.u0y, t.v0x, t.v0y) || !g1_at(t.u1x, t.u1y, t.v1x, t.v1y)) return false;  // not judged
-    return !g1_between(t).holds;
+  // Judged on the piece a-b: marked smooth at both masters and exactly G1 at both (as the gate judges).
+  auto judged = [&](const Node& k, std::size_t a, std::size_t b) {
+    if (!k.smooth[a] || !k.smooth[b]) return false;
+    const NodeTangents t = tangents_of(k, a, b);
+    return g1_at(t.u0x, t.u0y, t.v0x, t.v0y) && g1_at(t.u1x, t.u1y, t.v1x, t.v1y);
   };
+  auto kink = [&](const Node& k, std::size_t a, std::size_t b) { return judged(k, a, b) && !g1_between(tangents_of(k, a, b)).holds; };
+  auto kinks = [&](const std::vector<Node>& all) {
+    int count = 0;
+    for (const Node& k : all)
+      for (const auto& [a, b] : pieces) count += kink(k, a, b) ? 1 : 0;
+    return count;
+  };
+  // Master m's handles move: every kinked node must lie on pieces with m only; its handles then take the
+  // smallest grid move that makes it G1 throughout against one neighbour of m (g1_between_fix), the
+  // smallest such move that keeps it so on every piece with m. (Against two neighbours whose handle ratios
+  // differ, none does: the moves that serve one neighbour keep that neighbour's ratio.)
   MastersG1Fix best;
   best.distance = -1;
-  for (int m = 0; m < 2; ++m) {
+  std::string unfixable;
+  for (std::size_t m = 0; m < n; ++m) {
     MastersG1Fix fix;
     fix.master = sources[m]->name;
     fix.ufo = sources[m]->path.string();
     fix.glif = g[m].source;
-    std::string unfixable;
+    fix.kinks_before = kinks(nodes);
+    bool ok = true;
     std::vector<Node> moved = nodes;
     for (Node& k : moved) {
-      if (!kink(k)) continue;
-      ++fix.kinks_before;
-      const int o = 1 - m;
-      const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
-      const std::optional<G1NodeFix> f = g1_between_fix(p, in, out);
-      if (!f) {
+      bool kinked = false, elsewhere = false;
+      for (const auto& [a, b] : pieces)
+        if (kink(k, a, b)) (a == m || b == m ? kinked : elsewhere) = true;
+      if (!kinked && !elsewhere) continue;
+      std::optional<G1NodeFix> chosen;
+      if (!elsewhere)
+        for (const auto& [a, b] : pieces) {
+          if ((a != m && b != m) || !judged(k, a, b)) continue;
+          const std::size_t o = a == m ? b : a;
+          const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
+          const std::optional<G1NodeFix> f = g1_between_fix(p, in, out);
+          if (!f || (chosen && chosen->distance <= f->distance)) continue;
+          Node trial = k;
+          trial.h_in[m] = f->in_handle;
+          trial.h_out[m] = f->out_handle;
+          bool holds = true;
+          for (const auto& [x, y] : pieces)
+            if ((x == m || y == m) && kink(trial, x, y)) holds = false;
+          if (holds) chosen = f;
+        }
+      if (!chosen) {
         if (unfixable.empty()) unfixable = k.name;
-        continue;
+        ok = false;
+        break;
       }
-      for (const auto& [from, to, fp] : {std::tuple{k.h_in[m], f->in_handle, k.in}, std::tuple{k.h_out[m], f->out_handle, k.out}}) {
+      for (const auto& [from, to, fp] : {std::tuple{k.h_in[m], chosen->in_handle, k.in}, std::tuple{k.h_out[m], chosen->out_handle, k.out}}) {
         if (from == to) continue;
         std::string name = glyph;
         name.append("/c").append(std::to_string(k.contour)).append("/p").append(std::to_string(fp));
         fix.moves.push_back({name, from, to, std::hypot(to.x - from.x, to.y - from.y)});
         fix.edits.push_back({k.contour, fp, to.x, to.y});
       }
-      k.h_in[m] = f->in_handle;
-      k.h_out[m] = f->out_handle;
-      fix.distance += f->distance;
+      k.h_in[m] = chosen->in_handle;
+      k.h_out[m] = chosen->out_handle;
+      fix.distance += chosen->distance;
     }
-    if (!unfixable.empty()) continue;
-    for (const Node& k : moved) fix.kinks_after += kink(k) ? 1 : 0;
+    if (!ok) continue;
+    fix.kinks_after = kinks(moved);
     if (best.distance < 0 || fix.distance < best.distance) best = fix;
   }
-  if (best.distance < 0) {
-    std::string first;
-    for (const Node& k : nodes)
-      if (kink(k)) {
-        first = k.name;
-        break;
-      }
-    throw InputError(path + ": " + first +
+  if (best.distance < 0)
+    throw InputError(path + ": " + unfixable +
                      ": no move of its handles on the integer grid in one master makes it G1 between the masters "
-                     "(off the grid, or its tangents reverse)");
-  }
+                     "(off the grid, its tangents reverse, or masters on both sides of it need other handle ratios)");
   return best;
 }
 

@@ -136,12 +136,18 @@ struct G1NodeFix {
 std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
 
 /// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
-/// (two masters in their UFOs' default layers, cubic outlines): every node
-/// of the glyph marked smooth and exactly G1 at both masters is judged
-/// (g1_between); each kink gets g1_between_fix's move in one master, the
-/// same master for all of them, the one with the smaller total move; the
-/// moved master is re-judged exactly (kinks_after, 0 when certified).
-/// InputError (one line): not two masters, the glyph missing or
+/// (two masters or more in their UFOs' default layers, cubic outlines): on
+/// every piece between adjacent masters (io/masters.hpp), every node of the
+/// glyph marked smooth and exactly G1 at both of its masters is judged
+/// (g1_between). The handles move in one master m, the same for all kinks:
+/// each kinked node must have its kinks on pieces with m only; it takes the
+/// least of g1_between_fix's moves against m's neighbours that leaves it G1
+/// throughout on every piece with m (the grid moves that keep a node G1
+/// against a neighbour keep that neighbour's handle ratio, so two
+/// neighbours with other ratios and tangents leave none). Of the masters so
+/// fixable, the one with the smallest total move; it is re-judged exactly on
+/// every piece (kinks_before and kinks_after count node-piece pairs).
+/// InputError (one line): fewer than two masters, the glyph missing or
 /// incompatible, a kink no grid move in one master fixes (named).
 struct MastersG1Fix {
   std::string master;  ///< the source whose handles move (its name)

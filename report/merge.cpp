@@ -1,4 +1,5 @@
 #include "report/merge.hpp"
+#include "report/report_cache.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -96,7 +97,7 @@ std::vector<std::string> part_names(const std::vector<fs::path>& parts) {
 }
 
 /// Stages every file of `from` (hidden entries skipped: cmr's manifest and
-/// temporaries) under `to`.
+/// temporaries; and the part's resume cache, report/report_cache.hpp) under `to`.
 void copy_folder(OutputSet& out, const fs::path& from, const fs::path& to) {
   out.create_folder(to);
   std::error_code ec;
@@ -111,6 +112,7 @@ void copy_folder(OutputSet& out, const fs::path& from, const fs::path& to) {
       continue;
     }
     if (it->is_symlink(ec)) continue;  // a part's outputs are regular files
+    if (name == kReportCacheName && it->path().parent_path() == from) continue;  // the part's resume cache: its own
     if (it->is_directory(ec)) out.create_folder(to / it->path().lexically_relative(from));
     else if (it->is_regular_file(ec)) files.push_back(it->path());
   }

@@ -40,6 +40,7 @@
 #include "report/report.hpp"
 #include "report/batch.hpp"
 #include "report/merge.hpp"
+#include "report/report_cache.hpp"
 
 namespace cmr::cli {
 
@@ -67,6 +68,7 @@ struct ReportArgs {
   std::string junit, sarif, markdown, baseline, source_root;
   bool quiet = false;
   bool no_fixes = false;
+  bool no_cache = false;
   double constant_tolerance = report::kDefaultConstantTolerance;
   double torsion_tolerance = 0;
   std::string shard;                // --shard i/N (report/merge.hpp)
@@ -134,6 +136,9 @@ void add_report_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--baseline", args->baseline,
                   "an earlier report.json: fail only on findings that are new since it (new, fixed, unchanged counted)");
   cmd->add_flag("--no-fixes", args->no_fixes, "fonts: draw the thumbnails but do not search certified fixes");
+  cmd->add_flag("--no-cache", args->no_cache,
+                "fonts: judge every glyph and write no resume cache (default: a glyph whose sources, options and cmr "
+                "build did not change since the last run into --out is taken from OUT/report.cache)");
   cmd->add_flag("--quiet", args->quiet, "no progress bar (it is drawn only on a terminal, and never with CI set)");
   cmd->add_option("--out", args->out, "output folder for report.json and index.html")->required();
   cmd->add_option("--require", args->require,
@@ -320,6 +325,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
     b.fixes = !args->no_fixes;
     b.fix_budget = args->fix_budget;
     b.time_limit = args->time_limit;
+    b.cache = !args->no_cache;
     if (!args->junit.empty()) b.junit = mixed ? parts->planar_file(args->junit) : fs::path(args->junit);
     if (!args->sarif.empty()) b.sarif = mixed ? parts->planar_file(args->sarif) : fs::path(args->sarif);
     if (!args->markdown.empty()) b.markdown = mixed ? parts->planar_file(args->markdown) : fs::path(args->markdown);
@@ -350,6 +356,11 @@ void add_report_command(CLI::App& app, int& exit_code) {
     if (bar) report::clear_progress(std::cerr);
     for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
     if (!s.note.empty()) std::cerr << "cmr: note: " << show_fields(s.note) << '\n';  // read_spline_file names the file
+    if (!s.cache_note.empty()) std::cerr << "cmr: note: " << s.cache_note << '\n';
+    if (s.cache_read && s.glyphs_reused + s.glyphs_judged > 0)  // what the resume cache saved (report/report_cache.hpp)
+      std::cerr << "cmr: note: " << (fs::path(b.out) / report::kReportCacheName).string() << ": " << s.glyphs_reused
+                << (s.glyphs_reused == 1 ? " glyph" : " glyphs") << " unchanged, taken from it; " << s.glyphs_judged
+                << " judged\n";
     for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
     if (mixed) {  // the two parts into --out, and the merged line
       report::MergeOptions m;

@@ -29,6 +29,16 @@ designspaceLib, as a designer's tools would):
   rounded.designspace       p0 marked smooth but rounded to integers: 0.19
                             degrees off G1 at Regular, 0.57 at Bold, 19.4
                             degrees between (for g1-between-masters:DEG).
+  zeroline.designspace      kink's "O" with a line after node b: 50 units
+                            long at Regular, of zero length at Bold (its end
+                            on b), as Inter's section sign at Weight 900: the
+                            masters' points correspond only with that line
+                            kept; p0 is still a kink between them.
+  zeroline_proportional.designspace  the same with Bold's handles in
+                            proportion: G1 at every weight.
+  three_fixable.designspace Regular (handles 1:2), Medium (1:3, as in
+                            three) and BoldProportional (1:2): a kink on both
+                            pieces, fixed by moving Medium's handles alone.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -56,7 +66,7 @@ USER = (400, 700)
 DESIGN = (40, 120)
 
 
-def glyph_o(font, m, extra=False):
+def glyph_o(font, m, extra=False, line=None):
     g = font.newGlyph("O")
     g.unicodes = [ord("O")]
     g.width = 600
@@ -66,6 +76,8 @@ def glyph_o(font, m, extra=False):
     pen.addPoint(m["v"])
     pen.addPoint(m["h"])
     pen.addPoint(m["b"], segmentType="curve")
+    if line is not None:  # a line from b to b + line (zero length when line is (0, 0))
+        pen.addPoint((m["b"][0] + line[0], m["b"][1] + line[1]), segmentType="line")
     if extra:
         pen.addPoint((m["k"][0] // 2, m["b"][1]), segmentType="line")
     pen.addPoint(m["k"])
@@ -98,12 +110,12 @@ def bump_ufo(path, style, pts, scale=1):
     f.save(path, overwrite=True)
 
 
-def ufo(path, style, m, extra=False):
+def ufo(path, style, m, extra=False, line=None):
     f = ufoLib2.Font()
     f.info.familyName = "Interp Test"
     f.info.styleName = style
     f.info.unitsPerEm = 1000
-    glyph_o(f, m, extra)
+    glyph_o(f, m, extra, line)
     f.save(path, overwrite=True)
 
 
@@ -147,6 +159,12 @@ def main():
     ufo(os.path.join(out, "RoundedRegular.ufo"), "Regular", ROUNDED_REGULAR)
     ufo(os.path.join(out, "RoundedBold.ufo"), "Bold", ROUNDED_BOLD)
     designspace(out, "rounded", "RoundedBold.ufo", regular="RoundedRegular.ufo")
+    ufo(os.path.join(out, "LineRegular.ufo"), "Regular", REGULAR, line=(-50, 0))
+    ufo(os.path.join(out, "LineBold.ufo"), "Bold", BOLD_KINK, line=(0, 0))
+    ufo(os.path.join(out, "LineBoldProportional.ufo"), "Bold", BOLD_PROPORTIONAL, line=(0, 0))
+    designspace(out, "three_fixable", "BoldProportional.ufo", medium="Medium.ufo")
+    designspace(out, "zeroline", "LineBold.ufo", regular="LineRegular.ufo")
+    designspace(out, "zeroline_proportional", "LineBoldProportional.ufo", regular="LineRegular.ufo")
 
 
 if __name__ == "__main__":

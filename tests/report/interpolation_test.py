@@ -173,8 +173,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check("fix again: nothing to move (0 kinks), exit 0", p.returncode == 0 and json.loads(p.stdout)["moves"] == [],
           p.stdout + p.stderr)
     for name, args, text in [
-            ("fix of a designspace with three masters", [os.path.join(tmp, "three.designspace"), "--glyph", "O",
-                                                        "--require", "g1-between-masters"], "two masters"),
+            ("fix of three masters whose handle ratios no move in one master reconciles",
+             [os.path.join(tmp, "three.designspace"), "--glyph", "O", "--require", "g1-between-masters"],
+             "no move of its handles on the integer grid in one master"),
             ("fix of a designspace without --glyph", [ds, "--require", "g1-between-masters"], "--glyph NAME"),
             ("fix of a designspace for another gate", [ds, "--glyph", "O", "--require", "no-inflection"],
              "is fixed for --require g1-between-masters")]:
@@ -182,6 +183,60 @@ with tempfile.TemporaryDirectory() as tmp:
         lines = errors(p)
         check(name + ": exit 2, one line", p.returncode == 2 and len(lines) == 1 and text in lines[0],
               "rc %d: %s" % (p.returncode, p.stderr))
+
+    # More than two masters (three_fixable: Regular 1:2, Medium 1:3, Bold 1:2, a kink on both pieces): the
+    # smallest total grid move in one master, against a brute force over every master and every grid point
+    # pair on its node's tangent line (handles alpha g, beta g, 1 <= alpha, beta <= 200), exact Fractions.
+    fixdir3 = os.path.join(tmp, "fix3")
+    os.makedirs(fixdir3)
+    for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo"):
+        shutil.copytree(os.path.join(tmp, u), os.path.join(fixdir3, u))
+    shutil.copy(os.path.join(tmp, "three_fixable.designspace"), fixdir3)
+    ds3 = os.path.join(fixdir3, "three_fixable.designspace")
+    names3 = ["Regular", "Medium", "Bold"]
+    ufos3 = [os.path.join(fixdir3, u) for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo")]
+
+    def node_tangents(ufo):
+        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+        node, before, after = pts[0], pts[-1], pts[1]
+        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
+    cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
+    pieces3 = [(0, 1), (1, 2)]  # adjacent masters along Weight
+
+    def kinks3(tan):
+        return sum(1 for a, b in pieces3 if cross(tan[a][0], tan[a][1]) == 0 and cross(tan[b][0], tan[b][1]) == 0
+                   and cross(tan[a][0], tan[b][1]) + cross(tan[b][0], tan[a][1]) != 0)
+
+    tan3 = [node_tangents(u) for u in ufos3]
+    best = None  # (distance, master)
+    for m in range(3):
+        u, v = tan3[m]
+        gx, gy = u
+        k = math.gcd(int(gx), int(gy))
+        gx, gy = gx / k, gy / k
+        a0, b0 = u[0] / gx if gx else u[1] / gy, v[0] / gx if gx else v[1] / gy
+        for a in range(1, 201):
+            for b in range(1, 201):
+                trial = list(tan3)
+                trial[m] = ((a * gx, a * gy), (b * gx, b * gy))
+                if kinks3(trial) == 0:
+                    d = (abs(a - a0) + abs(b - b0)) * math.hypot(gx, gy)
+                    if best is None or d < best[0] - 1e-9:
+                        best = (float(d), names3[m])
+    p = subprocess.run([CMR, "fix", ds3, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
+                       capture_output=True, text=True, timeout=120)
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    check("fix, three masters: a kink on both pieces before (brute force: %s)" % (best,), kinks3(tan3) == 2)
+    check("fix, three masters: the brute force's master and smallest total move, re-judged 2 kinks -> 0",
+          p.returncode == 0 and best is not None and doc.get("master") == best[1] and
+          abs(doc.get("distance", -1) - best[0]) < 1e-9 and
+          doc.get("rejudged") == [{"check": "g1-between-masters", "before": 2, "after": 0}],
+          p.stdout + p.stderr + str(best))
+    tan3_after = [node_tangents(u) for u in ufos3]
+    r = run(ds3, *g1, "--out", os.path.join(fixdir3, "qa"))
+    check("fix, three masters: exact Fractions find no kink afterwards, and cmr report exits 0",
+          kinks3(tan3_after) == 0 and r.returncode == 0, r.stdout + r.stderr)
 
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
@@ -276,6 +331,47 @@ with tempfile.TemporaryDirectory() as tmp:
                 "--out", os.path.join(tmp, "similar"))
         check(gate + ": B = 2A exits 0", p.returncode == 0, p.stdout + p.stderr)
 
+    # A line of zero length in one master (Bold: the line after b ends on b), as Inter's section sign at
+    # Weight 900: the reader keeps it as a segment of equal points there, the masters correspond, and the glyph
+    # is judged: p0 is the kink of kink.designspace (same interval and worst instance), its proportional twin G1.
+    zl = os.path.join(tmp, "zeroline.designspace")
+    out = os.path.join(tmp, "zeroline")
+    p = run(zl, *g1, "--out", out)
+    msgs = violations(out) if p.returncode in (0, 1) else []
+    kink_msgs = violations(os.path.join(tmp, "kink"))
+    check("zero-length line in Bold: judged, exit 1, the kink's interval and worst instance",
+          p.returncode == 1 and len(msgs) == 1 and "incompatible" not in p.stderr and len(kink_msgs) == 1 and
+          msgs[0] == kink_msgs[0], "rc %d: %s %s %s" % (p.returncode, p.stderr, msgs, kink_msgs))
+    c = subprocess.run([PY, os.path.join(SRC, "tests", "report", "interpolation_check.py"), zl,
+                        os.path.join(out, "report.json"), "0"], capture_output=True, text=True)
+    check("zero-length line: the interval and worst instance agree with exact Fractions", c.returncode == 0,
+          c.stdout + c.stderr)
+    with open(os.path.join(out, "report.json")) as f:
+        sp = json.load(f)["splines"]
+    check("zero-length line: the judged contour keeps the line (3 segments: two curves and Regular's 50-unit line)",
+          len(sp) == 1 and len(sp[0].get("segments", [])) == 3, str([len(x.get("segments", [])) for x in sp]))
+    p = run(os.path.join(tmp, "zeroline_proportional.designspace"), *g1, "--out", os.path.join(tmp, "zl_prop"))
+    check("zero-length line, proportional handles: exit 0", p.returncode == 0, p.stdout + p.stderr)
+    p = run(zl, "--require", "g1-between-masters,curvature-between-masters,extrema-between-masters", "--glyphs", "O",
+            "--out", os.path.join(tmp, "zl_all"))
+    check("zero-length line: the curvature gates judge it too (exit 1, nothing invalid, thumbnails drawn)",
+          p.returncode == 1 and " 0 invalid" in p.stdout and "incompatible" not in p.stderr, p.stdout + p.stderr)
+    # A TrueType variable font from it (fontmake -o variable: gvar keeps every point; cu2qu rounds the curves, so
+    # p0 is no longer exactly G1 and only :DEG judges it): judged, nothing invalid. (A CFF2 font cannot be: FreeType
+    # drops a zero-length line from the instance's outline itself, so the point is not there to keep.)
+    built = subprocess.run(["fontmake", "-m", zl, "-o", "variable", "--output-dir", os.path.join(tmp, "zl_vf")],
+                           capture_output=True, text=True)
+    check("fontmake builds the zero-length line's TrueType variable font", built.returncode == 0, built.stderr[-2000:])
+    if built.returncode == 0:
+        out = os.path.join(tmp, "zl_vf_out")
+        p = run(os.path.join(tmp, "zl_vf", "zeroline-VF.ttf"), "--require",
+                "g1-between-masters:1,curvature-between-masters", "--glyphs", "O", "--no-thumbnails", "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        check("zero-length line in a TrueType variable font: judged, nothing invalid",
+              p.returncode in (0, 1) and r["summary"]["invalid"] == 0 and len(r["splines"]) == 1 and
+              "incompatible" not in p.stderr, "rc %d: %s" % (p.returncode, p.stderr))
+
     # Variable fonts built from the same designspace by fontmake (Debian): CFF2 keeps the cubic masters, so the
     # pieces (gvar/CFF2 regions, avar) give the designspace's answer; a --between inside the piece is judged too.
     vf = os.path.join(tmp, "vf")
@@ -316,13 +412,17 @@ with tempfile.TemporaryDirectory() as tmp:
         check("Inter (gvar, avar): judged on the pieces wght=100..400 and 400..900",
               p.returncode in (0, 1) and any("wght=100 and wght=400" in m for m in msgs) and
               any("wght=400 and wght=900" in m for m in msgs), p.stderr + str(msgs[:3]))
-        # Section sign: at wght=900 two consecutive on-curve points coincide (a line of zero length), which the
-        # reader drops; the instances share their points, so the line names that, not "incompatible masters".
-        p = run(inter, *g1[:2], "--glyphs", "U+00A7", "--no-thumbnails", "--out", os.path.join(tmp, "inter_s"))
-        lines = errors(p)
-        check("Inter U+00A7: a line shrinking to zero length at wght=900 is named as such, exit 2, one line",
-              p.returncode == 2 and len(lines) == 1 and "shrinks to zero length" in lines[0] and
-              "incompatible" not in lines[0], "rc %d: %s" % (p.returncode, p.stderr))
+        # Section sign and U+047C: at wght=900 two consecutive on-curve points coincide (a line of zero
+        # length); the reader keeps that line in every instance, so both glyphs are judged.
+        out = os.path.join(tmp, "inter_s")
+        p = run(inter, "--require", "g1-between-masters,curvature-between-masters", "--glyphs", "U+00A7,U+047C",
+                "--no-thumbnails", "--out", out)
+        with open(os.path.join(out, "report.json")) as f:
+            r = json.load(f)
+        judged = sorted({s["glyph"] for s in r["splines"] if s.get("status") in ("pass", "fail")})
+        check("Inter U+00A7, U+047C (a line of zero length at wght=900): judged, nothing invalid",
+              p.returncode in (0, 1) and r["summary"]["invalid"] == 0 and judged == ["uni00A7", "uni047C"],
+              "rc %d: %s %s" % (p.returncode, p.stderr, judged))
     else:
         print("SKIP Inter: fonts-inter-variable is not installed")
 
