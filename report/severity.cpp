@@ -9,6 +9,8 @@
 #include "bezierize/fix.hpp"
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
+#include "report/contour_moves.hpp"
+#include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -80,6 +82,12 @@ int violations_at(const BSpline& spline, const ReportOptions& judge, const GateV
 
 SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& v,
                            const ReportOptions& options, double max_move) {
+  const ContourMoves moves = contour_moves(contour_of(spline, {}));
+  return severity_move(spline, gate, v, options, moves, max_move);
+}
+
+SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& v,
+                           const ReportOptions& options, const ContourMoves& moves, double max_move) {
   const int n = spline.segment_count();
   // The place's segments [a, a + count): v's segment, or the two meeting at v's joint.
   int a = v.segment, count = 1;
@@ -93,6 +101,14 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
   const ReportOptions judge = judge_only(options, gate);
   FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
   q.points.assign(points.begin(), points.end());
+  // The designer's moves only (report/contour_moves.hpp): a line's points
+  // stay, smooth nodes keep G1. None of the place's points may move: no
+  // allowed move removes the finding.
+  if (!moves.restrict(q)) {
+    SeverityMove none;
+    none.none_allowed = true;
+    return none;
+  }
   q.max_move = max_move;
   // The search judges each candidate on the place's own segments (a window:
   // the extrema of a segment are read from it, a joint's curvatures from
@@ -104,9 +120,16 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
     q.judge = [judge, v, first](const BSpline& s) { return violations_at(s, judge, v, first); };
     try {
       FixResult f = fix(spline, q);
-      if (!f.fixed && !f.already) return SeverityMove{};
+      if (!f.fixed && !f.already) {
+        SeverityMove none;
+        none.none_allowed = f.nothing_moves;
+        return none;
+      }
       if (first >= 0 && violations_at(*f.spline, judge, v, -1) != 0) return std::nullopt;
-      return SeverityMove{f.already ? 0 : f.max_distance, std::move(f.spline)};
+      SeverityMove found;
+      found.distance = f.already ? 0 : f.max_distance;
+      found.moved = std::move(f.spline);
+      return found;
     } catch (const InputError&) {
       if (first >= 0) return std::nullopt;
       return SeverityMove{};
@@ -119,16 +142,22 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
 
 void assess_severity(SplineReport& r, const ReportOptions& options) {
   if (options.min_severity < 0 || !r.spline || !r.error.empty()) return;
+  std::optional<ContourMoves> moves;  // the same rules for every finding of the spline
   for (GateResult& g : r.gates) {
     if (!has_severity(g.gate)) continue;
     for (GateViolation& v : g.violations) {
-      v.severity = severity_move(*r.spline, g.gate, v, options).distance;
+      if (!moves) moves = contour_moves(contour_of(*r.spline, {}));
+      const SeverityMove first = severity_move(*r.spline, g.gate, v, options, *moves);
+      v.severity = first.distance;
       // Coarse to fine near the threshold: the search's first grids scale
       // with the curve, and a move below the threshold can lie between their
       // cells; a search within the threshold alone looks there.
       const double t = options.min_severity;
-      if (t > 0 && v.severity >= t && (v.severity < kRefineBelow * t || !std::isfinite(v.severity)))
-        v.severity = std::min(v.severity, severity_move(*r.spline, g.gate, v, options, t).distance);
+      if (!first.none_allowed && t > 0 && v.severity >= t && (v.severity < kRefineBelow * t || !std::isfinite(v.severity)))
+        v.severity = std::min(v.severity, severity_move(*r.spline, g.gate, v, options, *moves, t).distance);
+      v.severity_outcome = std::isfinite(v.severity) ? SeverityOutcome::moved
+                           : first.none_allowed       ? SeverityOutcome::no_allowed_move
+                                                      : SeverityOutcome::none_found;
       v.info = v.severity < options.min_severity && !options.strict;
     }
   }
