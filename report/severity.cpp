@@ -140,27 +140,76 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
   return *search(-1);
 }
 
-void assess_severity(SplineReport& r, const ReportOptions& options) {
+namespace {
+
+/// The memo's key: the spline's degree, closedness, knots, points and
+/// weights as bytes (bit for bit: -0.0 and 0.0 differ, as they may in a search).
+std::string memo_key(const BSpline& s) {
+  std::string key;
+  auto put = [&key](const void* p, std::size_t n) { key.append(static_cast<const char*>(p), n); };
+  const int head[2] = {s.degree(), s.closed() ? 1 : 0};
+  put(head, sizeof head);
+  put(s.knots().data(), s.knots().size() * sizeof(double));
+  key.push_back('|');
+  put(s.points().data(), s.points().size() * sizeof(Vec2));
+  key.push_back('|');
+  put(s.weights().data(), s.weights().size() * sizeof(double));
+  return key;
+}
+
+}  // namespace
+
+std::optional<std::vector<SeverityMemo::Entry>> SeverityMemo::find(const BSpline& spline) const {
+  const std::string key = memo_key(spline);
+  const std::lock_guard lock(mutex_);
+  const auto it = entries_.find(key);
+  if (it == entries_.end()) return std::nullopt;
+  return it->second;
+}
+
+void SeverityMemo::store(const BSpline& spline, std::vector<Entry> entries) {
+  std::string key = memo_key(spline);
+  const std::lock_guard lock(mutex_);
+  entries_.emplace(std::move(key), std::move(entries));
+}
+
+void assess_severity(SplineReport& r, const ReportOptions& options, SeverityMemo* memo) {
   if (options.min_severity < 0 || !r.spline || !r.error.empty()) return;
+  std::size_t count = 0;
+  for (const GateResult& g : r.gates)
+    if (has_severity(g.gate)) count += g.violations.size();
+  std::optional<std::vector<SeverityMemo::Entry>> known;
+  if (memo != nullptr && count > 0) known = memo->find(*r.spline);
+  if (known && known->size() != count) known.reset();  // cannot happen for one run's options; be safe
+  std::vector<SeverityMemo::Entry> found;
   std::optional<ContourMoves> moves;  // the same rules for every finding of the spline
+  std::size_t index = 0;
   for (GateResult& g : r.gates) {
     if (!has_severity(g.gate)) continue;
     for (GateViolation& v : g.violations) {
-      if (!moves) moves = contour_moves(contour_of(*r.spline, {}));
-      const SeverityMove first = severity_move(*r.spline, g.gate, v, options, *moves);
-      v.severity = first.distance;
-      // Coarse to fine near the threshold: the search's first grids scale
-      // with the curve, and a move below the threshold can lie between their
-      // cells; a search within the threshold alone looks there.
-      const double t = options.min_severity;
-      if (!first.none_allowed && t > 0 && v.severity >= t && (v.severity < kRefineBelow * t || !std::isfinite(v.severity)))
-        v.severity = std::min(v.severity, severity_move(*r.spline, g.gate, v, options, *moves, t).distance);
-      v.severity_outcome = std::isfinite(v.severity) ? SeverityOutcome::moved
-                           : first.none_allowed       ? SeverityOutcome::no_allowed_move
-                                                      : SeverityOutcome::none_found;
+      if (known) {
+        v.severity = (*known)[index].severity;
+        v.severity_outcome = (*known)[index].outcome;
+      } else {
+        if (!moves) moves = contour_moves(contour_of(*r.spline, {}));
+        const SeverityMove first = severity_move(*r.spline, g.gate, v, options, *moves);
+        v.severity = first.distance;
+        // Coarse to fine near the threshold: the search's first grids scale
+        // with the curve, and a move below the threshold can lie between their
+        // cells; a search within the threshold alone looks there.
+        const double t = options.min_severity;
+        if (!first.none_allowed && t > 0 && v.severity >= t && (v.severity < kRefineBelow * t || !std::isfinite(v.severity)))
+          v.severity = std::min(v.severity, severity_move(*r.spline, g.gate, v, options, *moves, t).distance);
+        v.severity_outcome = std::isfinite(v.severity) ? SeverityOutcome::moved
+                             : first.none_allowed       ? SeverityOutcome::no_allowed_move
+                                                        : SeverityOutcome::none_found;
+        found.push_back({v.severity, v.severity_outcome});
+      }
+      ++index;
       v.info = v.severity < options.min_severity && !options.strict;
     }
   }
+  if (memo != nullptr && !known && count > 0) memo->store(*r.spline, std::move(found));
   const bool gates_pass = std::all_of(r.gates.begin(), r.gates.end(), [](const GateResult& g) { return g.pass(); });
   // report.pass is the requirement's verdict (when one is asked) and every gate's.
   const bool requirement = r.requirement_pass || (!options.require && !options.gates.empty());

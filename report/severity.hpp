@@ -37,7 +37,11 @@
 /// joint the moved points touch must pass fix()'s own g2 check (a failing
 /// neighbour raises a g2 finding's number).
 #include <limits>
+#include <mutex>
 #include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "report/contour_moves.hpp"
 #include "report/report.hpp"
@@ -73,8 +77,32 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
 SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& violation,
                            const ReportOptions& options, double max_move = 0);
 
+/// The severities found in one run, by spline: a spline with the same
+/// degree, knots, points and weights, bit for bit, as one already assessed
+/// (an accented glyph's copy of its base letter's contour: Nimbus Sans'
+/// Latin UFO has 631 contours, 432 distinct) gets its numbers without a
+/// second search. The numbers are those the search gave the first copy,
+/// so a run's numbers are what they are without the memo. For one run's
+/// options only (the gates and threshold decide the findings); thread-safe.
+class SeverityMemo {
+ public:
+  struct Entry {
+    double severity = 0;
+    SeverityOutcome outcome = SeverityOutcome::moved;
+  };
+  /// The entries of `spline` (one per violation of the gates that have a
+  /// severity, in order), or empty when it was not assessed.
+  std::optional<std::vector<Entry>> find(const BSpline& spline) const;
+  void store(const BSpline& spline, std::vector<Entry> entries);
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, std::vector<Entry>> entries_;
+};
+
 /// Fills GateViolation::severity, ::severity_outcome and ::info of report.gates (see above) and
-/// report.pass again. Nothing when options.min_severity < 0.
-void assess_severity(SplineReport& report, const ReportOptions& options);
+/// report.pass again. Nothing when options.min_severity < 0. With `memo`,
+/// a spline assessed before in the run takes its numbers from there.
+void assess_severity(SplineReport& report, const ReportOptions& options, SeverityMemo* memo = nullptr);
 
 }  // namespace cmr::report
