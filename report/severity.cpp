@@ -1,11 +1,13 @@
 #include "report/severity.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <set>
 
+#include "bezierize/extract.hpp"
 #include "bezierize/fix.hpp"
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
@@ -78,6 +80,121 @@ int violations_at(const BSpline& spline, const ReportOptions& judge, const GateV
   }
 }
 
+/// Whether a segment is a straight piece: its Bezier points exactly
+/// collinear (contour_of's test).
+bool straight_piece(const std::vector<Vec2>& b) {
+  for (const Vec2 q : b)
+    if (det(q - b.front(), b.back() - b.front()) != 0) return false;
+  return true;
+}
+
+/// A g2 jump where a straight piece meets a curve (a stem meeting a bowl).
+/// The line's curvature is exactly 0, so the jump goes only when the curve's
+/// end curvature is exactly 0 too: its Bezier points B0 (the node), B1 (the
+/// handle, on the line's tangent) and B2 exactly collinear. A search by
+/// grid cells and rays does not hit that line; this constructs the moves:
+/// each point the designer may move (`moves`) that shifts B2 (and not B0,
+/// B1), moved the least that puts B2 exactly on the tangent line (a free
+/// point along the line's normal; a handle of an exactly smooth node along
+/// its own tangent, so the node stays smooth), for a tangent parallel to an
+/// axis (a vertical or horizontal stem: the coordinate is then set exactly;
+/// others: none constructed). Each candidate is re-judged by the gate on the
+/// whole spline; the least that passes. nullopt: not such a joint (the
+/// search decides); a SeverityMove without `moved`: such a joint, and no
+/// construction passes ("none found").
+std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOptions& judge, const GateViolation& v,
+                                           const ContourMoves& moves, double max_move) {
+  if (v.segment >= 0 || v.joint < 0 || spline.is_rational() || spline.degree() < 2) return std::nullopt;
+  const int n = spline.segment_count(), d = spline.degree();
+  if (v.joint == 0 && !spline.closed()) return std::nullopt;
+  const int right = v.joint % n, left = (right + n - 1) % n;
+  const Segment& ls = spline.segments()[static_cast<std::size_t>(left)];
+  const Segment& rs = spline.segments()[static_cast<std::size_t>(right)];
+  const std::vector<Vec2> L = bezier_segment(spline, ls).points, R = bezier_segment(spline, rs).points;
+  const bool line_left = straight_piece(L), line_right = straight_piece(R);
+  if (line_left == line_right) return std::nullopt;
+  const Segment& curve = line_left ? rs : ls;
+  auto ends = [&](const BSpline& s) {  // B0, B1, B2 of the curve at the joint
+    const std::vector<Vec2> b = bezier_segment(s, curve).points;
+    return line_left ? std::array<Vec2, 3>{b[0], b[1], b[2]} : std::array<Vec2, 3>{b[d], b[d - 1], b[d - 2]};
+  };
+  const std::array<Vec2, 3> e = ends(spline);
+  const Vec2 u = e[1] - e[0];
+  if (u == Vec2(0.0)) return std::nullopt;
+  SeverityMove best;
+  if (u.x != 0 && u.y != 0) return best;  // a slanted line: no exact construction
+  const int axis = u.x == 0 ? 0 : 1;      // the coordinate B2 must share with B0
+  const double limit = max_move > 0 ? max_move : curve_size(spline);
+  const int m = spline.unique_point_count();
+  const std::vector<Vec2>& P = spline.points();
+  const import::Contour contour = contour_of(spline, {});  // its nodes
+  auto coord = [](Vec2 p, int a) { return a == 0 ? p.x : p.y; };
+  bool acts = false;  // some allowed point moves B0, B1 or B2
+  for (int k : segment_points(spline, curve)) {
+    if (!moves.movable(k)) continue;
+    // A handle next to an exactly smooth node slides along its tangent;
+    // next to a nearly smooth one it is left to the search's ties.
+    Vec2 dir(0.0);
+    int tie = -1;
+    bool skip = false;
+    for (int side : {-1, 1}) {
+      if (!spline.closed() && (k + side < 0 || k + side >= m || k + 2 * side < 0 || k + 2 * side >= m)) continue;
+      const int node = (k + side + m) % m, other = (k + 2 * side + m) % m;
+      if (!contour.node[static_cast<std::size_t>(node)]) continue;
+      const Vec2 a = P[k] - P[node], b = P[other] - P[node];
+      if (a == Vec2(0.0) || b == Vec2(0.0) || !(dot(a, b) < 0)) continue;
+      const double cross = det(a, b);
+      if (cross == 0) {
+        if (tie >= 0) skip = true;  // held by two tangents
+        tie = node, dir = a / std::hypot(a.x, a.y);
+      } else if (std::abs(cross) <= 1e-9 * std::hypot(a.x, a.y) * std::hypot(b.x, b.y)) {
+        skip = true;
+      }
+    }
+    const bool slide = tie >= 0;
+    if (skip) continue;  // held, or left to the search's ties
+    // How B2 depends on P_k (affinely, the same weight in x and y), and
+    // that B0 and B1 do not.
+    const std::array<Vec2, 3> probe = ends(spline.with_point(k, P[k] + Vec2(1.0, 1.0)));
+    if (probe[0] != e[0] || probe[1] != e[1]) {
+      acts = true;
+      continue;
+    }
+    const double c = probe[2].x - e[2].x;
+    if (!(std::abs(c) > 1e-12)) continue;
+    acts = true;
+    const double gap = coord(e[0], axis) - coord(e[2], axis);  // B2 must move by this along the axis
+    Vec2 delta(0.0);
+    if (slide) {
+      const double along = coord(dir, axis);
+      if (!(std::abs(along) > 1e-12)) continue;
+      delta = (gap / (c * along)) * dir;
+    } else {
+      (axis == 0 ? delta.x : delta.y) = gap / c;
+    }
+    Vec2 to = P[k] + delta;
+    // Exactly on the line: the coordinate nudged by ulps until B2's equals B0's.
+    BSpline moved = spline.with_point(k, to);
+    // (Not a slide: nudged on one axis alone it would leave its tangent.)
+    for (int tries = 0; !slide && tries < 8 && coord(ends(moved)[2], axis) != coord(e[0], axis); ++tries) {
+      const double off = coord(ends(moved)[2], axis) - coord(e[0], axis);
+      double& x = axis == 0 ? to.x : to.y;
+      x = std::nextafter(x, (off > 0) == (c > 0) ? -HUGE_VAL : HUGE_VAL);
+      moved = spline.with_point(k, to);
+    }
+    const std::array<Vec2, 3> f = ends(moved);
+    if (det(f[1] - f[0], f[2] - f[0]) != 0) continue;
+    const double dist = std::hypot(to.x - P[k].x, to.y - P[k].y);
+    if (dist > limit || dist >= best.distance) continue;
+    if (slide && !(dot(to - P[tie], dir) > 0)) continue;  // the handle would reach or pass its node
+    if (violations_at(moved, judge, v, -1) != 0) continue;
+    best.distance = dist;
+    best.moved = std::move(moved);
+  }
+  best.none_allowed = !acts;  // no allowed move reaches B0, B1 or B2: none can remove the jump
+  return best;
+}
+
 }  // namespace
 
 SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& v,
@@ -109,6 +226,9 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
     none.none_allowed = true;
     return none;
   }
+  // A stem meeting a bowl: constructed, not searched (line_join_move).
+  if (gate.kind == Gate::Kind::g2_at_smooth_nodes)
+    if (std::optional<SeverityMove> j = line_join_move(spline, judge, v, moves, max_move)) return *j;
   q.max_move = max_move;
   // The search judges each candidate on the place's own segments (a window:
   // the extrema of a segment are read from it, a joint's curvatures from

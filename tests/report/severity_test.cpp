@@ -194,14 +194,14 @@ import::Contour short_line_into_a_curve() {
   return *import::outline_contour(pts, 0, 3, "t", import::PointNaming::source);
 }
 
-TEST(Severity, AJumpWhereALineMeetsACurveIsNotRemovedByBendingTheLine) {
+TEST(Severity, AJumpWhereALineMeetsACurveIsRemovedByStraighteningTheCurveNotByBendingTheLine) {
   // Derivation: the line's side has curvature 0, so the jump goes only when
   // the curve's start curvature is 0 too: (2/3) cross(P1 - P0, P2 - P1) /
   // |P1 - P0|^3 = 0, i.e. P2 on the tangent line x = 0. The designer may
   // not move the line (n0, n1, its third-points), nor n2 (a line's end);
   // P1 (n1's handle) only slides along x = 0, which leaves the cross product
   // 0 only with P2 there too. So no allowed move below 60 units (P2 (60,
-  // 100) -> (0, 100)) removes it: the severity is at least 60, or none.
+  // 100) -> (0, 100)) removes it: the severity is at least 60.
   // The old search bent the line instead (n1 and its group moved).
   const import::Contour c = short_line_into_a_curve();
   ReportOptions o;
@@ -218,7 +218,12 @@ TEST(Severity, AJumpWhereALineMeetsACurveIsNotRemovedByBendingTheLine) {
   EXPECT_EQ(contour_moves(contour_of(c.spline, {})).points, moves.points);
   const SeverityMove m = severity_move(c.spline, r.gates[0].gate, *v, o, moves);
   EXPECT_GE(m.distance, 60 - 1e-9) << v->message;
-  if (m.moved) expect_designer_move(c.spline, *m.moved, moves, v->message);
+  // And 60 is reached: the severity search constructs such a join's move
+  // (P2 onto the stem's line, exactly) rather than searching for it.
+  ASSERT_TRUE(m.moved.has_value()) << v->message;
+  EXPECT_EQ(m.distance, 60);
+  EXPECT_EQ(m.moved->points()[5], Vec2(0, 100));
+  expect_designer_move(c.spline, *m.moved, moves, v->message);
   // The same through assess_severity, as the report does it: an error at
   // the default threshold, not info.
   SplineReport rr = r;
