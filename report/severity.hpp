@@ -23,6 +23,15 @@
 /// reported, but it does not fail its gate, unless ReportOptions::strict;
 /// +inf is never info.
 ///
+/// A g2 jump where a straight piece meets a curve (a stem meeting a bowl)
+/// is not searched but constructed (severity.cpp, line_join_move): the
+/// line's curvature is exactly 0, so only the curve's end Bezier points B0,
+/// B1, B2 exactly collinear remove it, a line no grid search hits; for a
+/// line parallel to an axis each allowed point that moves B2 alone goes
+/// there (along the normal, or along its node's tangent for a smooth node's
+/// handle), re-judged on the whole spline; no_allowed_move where no allowed
+/// point reaches B0..B2, none_found where no construction passes.
+///
 /// Cost: each candidate is judged on a window, the violation's own segments
 /// cut out as an open spline with the same polar knots and points (the same
 /// polynomial pieces; a segment's extrema are read from it, a joint's
