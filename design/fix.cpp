@@ -354,6 +354,7 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
   out.spline = spline;
   if (std::none_of(ties.units.begin(), ties.units.end(), unit_acts)) {
     out.reason = "no point may move: every point acting on a failing segment is fixed or held by a tie";
+    out.nothing_moves = true;
     finish(out);
     return out;
   }

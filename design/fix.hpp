@@ -208,6 +208,9 @@ struct FixResult {
   bool already = false;  ///< the input meets the requirement: nothing moved
   bool fixed = false;    ///< the certificate holds (requirement and ties)
   std::string reason;    ///< why not fixed (one line)
+  /// Not fixed because no allowed point acting on a failing segment may move
+  /// (each is fixed, or held by ties: a handle between two G1 nodes).
+  bool nothing_moves = false;
   std::optional<BSpline> spline;  ///< the moved spline (the input when not fixed)
   std::vector<PointMove> moves;   ///< every point that moved
   double total_squared = 0;       ///< sum of squared displacements

@@ -155,10 +155,11 @@ struct Search {
   }
 
   BSpline moved(const std::vector<Vec2>& delta) const {
-    BSpline s = base;
+    // One copy of the spline per moved point (with_point), none more.
+    std::optional<BSpline> s;
     for (std::size_t k = 0; k < delta.size(); ++k)
-      if (delta[k] != Vec2(0.0)) s = s.with_point(static_cast<int>(k), base.points()[k] + delta[k]);
-    return s;
+      if (delta[k] != Vec2(0.0)) s = (s ? *s : base).with_point(static_cast<int>(k), base.points()[k] + delta[k]);
+    return s ? std::move(*s) : base;
   }
 
   /// The requirement on a moved spline: extrema-at-nodes re-classifies only

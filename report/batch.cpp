@@ -104,12 +104,13 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
   };
   int done = 0;
   std::mutex mutex;
+  SeverityMemo severity_memo;  // a contour copied into another glyph: its severities once
   parallel_for(inputs.size(), options.threads, [&](std::size_t i) {
     out[i] = report_item(inputs[i], options);
     if (out[i].error.empty()) {
       judge_gates(out[i], options);
       const auto t0 = std::chrono::steady_clock::now();
-      assess_severity(out[i], options);  // with min_severity >= 0: below it a finding is info
+      assess_severity(out[i], options, &severity_memo);  // with min_severity >= 0: below it a finding is info
       if (budget != nullptr && options.min_severity >= 0)  // severity does not spend the fix budget
         budget->severity_ns += std::chrono::duration_cast<std::chrono::nanoseconds>(
                                    std::chrono::steady_clock::now() - t0).count() /

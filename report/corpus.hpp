@@ -98,6 +98,10 @@ struct Finding {
   /// --min-severity, so it does not fail.
   double severity = -1;
   bool info = false;
+  /// Severity +inf: why ("no allowed move": none of the finding's points
+  /// may move, report/contour_moves.hpp; "none found": the search found
+  /// none in its limits); "" otherwise.
+  std::string severity_note{};
   /// "file|glyph|cC|node|gate": what a baseline compares.
   std::string key() const;
 };

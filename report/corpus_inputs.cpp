@@ -432,7 +432,7 @@ std::vector<Finding> findings_of(const SplineReport& r, const std::string& file,
   std::vector<Finding> out;
   if (!r.error.empty()) return out;
   if (options.require && !r.requirement_pass) {
-    Finding f{file, n.glyph, n.contour, "", to_string(*options.require), "", "", 0, -1, false};
+    Finding f{file, n.glyph, n.contour, "", to_string(*options.require), "", "", 0, -1, false, ""};
     f.message = n.glyph + ": fails the " + f.gate + " check";
     if (!options.require->split)
       f.message += std::string(" (verdict ") + to_string(options.require->mode == Mode::cmrwi ? r.analysis.cmrwi : r.analysis.cmr) + ")";
@@ -445,7 +445,8 @@ std::vector<Finding> findings_of(const SplineReport& r, const std::string& file,
   const int N = r.spline ? r.spline->segment_count() : 0;
   for (const GateResult& g : r.gates)
     for (const GateViolation& v : g.violations) {
-      Finding f{file, n.glyph, n.contour, "", to_string(g.gate), "", "", 0, v.severity, v.info};
+      Finding f{file, n.glyph, n.contour, "", to_string(g.gate), "", "", 0, v.severity, v.info,
+                severity_note(v.severity_outcome)};
       std::string where;
       if (n.joints && N > 0 && static_cast<int>(n.joints->size()) == N) {
         if (v.segment >= 0) {

@@ -124,6 +124,15 @@ std::optional<Gate> parse_gate(const std::string& given) {
   return std::nullopt;
 }
 
+const char* severity_note(SeverityOutcome outcome) {
+  switch (outcome) {
+    case SeverityOutcome::moved: return "";
+    case SeverityOutcome::no_allowed_move: return "no allowed move";
+    case SeverityOutcome::none_found: return "none found";
+  }
+  return "";
+}
+
 std::string to_string(const Gate& gate) {
   switch (gate.kind) {
     case Gate::Kind::extrema_at_nodes: return "curvature-extrema-at-nodes";

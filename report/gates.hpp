@@ -78,6 +78,7 @@
 ///
 /// Fixes: the smallest certified fix of each failing gate that has a fix
 /// requirement (curvature-extrema-at-nodes, each-piece), report/certified_fix.hpp.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -126,6 +127,15 @@ std::string to_string(const Gate& gate);
 void parse_require_list(const std::string& text, ReportOptions& options);
 
 /// Where a gate fails.
+/// How a violation's severity search ended (report/severity.hpp).
+enum class SeverityOutcome : std::uint8_t {
+  moved,            ///< a move removes it (GateViolation::severity is its size)
+  no_allowed_move,  ///< none of its segments' points may move (a line's, or held by smooth nodes): +inf
+  none_found,       ///< the search found no move within its limits: +inf
+};
+/// report.json's words: "no allowed move", "none found" ("" for moved).
+const char* severity_note(SeverityOutcome outcome);
+
 struct GateViolation {
   int segment = -1;      ///< inside this segment, or
   int joint = -1;        ///< at this joint (index i starts segment i mod N; N is a closed spline's seam)
@@ -135,8 +145,9 @@ struct GateViolation {
   std::vector<int> handles;  ///< curvature-extrema-at-nodes:runs: the control points (distinct indices) to move
   /// The smallest certified move (largest point displacement, the spline's
   /// units) that removes this violation (report/severity.hpp); -1: not
-  /// computed; +inf: none found within the search's limits.
+  /// computed; +inf: none (severity_outcome says why).
   double severity = -1;
+  SeverityOutcome severity_outcome = SeverityOutcome::moved;
   bool info = false;  ///< severity below ReportOptions::min_severity: reported, but it does not fail the gate
   /// Interpolation gates: the instance the page draws (the worst or first
   /// failing location), SplineReport::motions[motion] at motion_s on its

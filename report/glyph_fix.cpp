@@ -11,6 +11,7 @@
 #include "bezierize/extract.hpp"
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
+#include "report/contour_moves.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -51,19 +52,6 @@ FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
         !is_interpolation_gate(g.gate))
       return requirement_of(g.gate);  // xy: a node; g3: no point-move fix; between masters: not a move of this contour
   return {};
-}
-
-/// The contour's points a fix may move: source points that are not a
-/// straight piece's end node (a line's inner points are no source points).
-std::vector<int> movable_points(const import::Contour& c) {
-  const int m = static_cast<int>(c.font_point.size());
-  std::vector<int> out;
-  for (int k = 0; k < m; ++k) {
-    if (c.font_point[k] < 0) continue;
-    const bool line_end = c.node[k] && (c.font_point[(k + 1) % m] < 0 || c.font_point[(k + m - 1) % m] < 0);
-    if (!line_end) out.push_back(k);
-  }
-  return out;
 }
 
 /// The movable handles (not nodes) nearest the fix's moved points along
@@ -164,7 +152,7 @@ struct LatticeUnit {
   Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
 };
 
-/// The units of the descent over the movable points (movable_points).
+/// The units of the descent over the movable points (contour_moves).
 std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vector<int>& movable, double grid) {
   const int m = static_cast<int>(c.node.size());
   const std::vector<Vec2>& p = c.spline.points();
@@ -516,7 +504,8 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // Stages: the requirement, then each gate in turn, each judged together
   // with the checks before it (which it may not break), from where the
   // stage before left the contour.
-  const std::vector<int> movable = movable_points(c);
+  const ContourMoves rules = contour_moves(c);  // the rules every search of a contour's points keeps
+  const std::vector<int>& movable = rules.points;
   if (movable.empty()) {
     out.reason = "no source point may move (every node ends a straight piece)";
     return out;
@@ -575,12 +564,11 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       FixRequest q;
       q.requirement = guide(t, judged_report(current, t));
       q.max_depth = o.max_depth;
-      q.keep = Keep::g1;
       q.max_seconds = left();
       q.threads = 1;
       q.max_move = options.max_move;
       q.judge = check_judge;
-      q.points = movable;  // with a judge every judged segment counts as failing, so each point acts on one
+      rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
       const FixResult f = fix(current, q);
       if (!f.fixed || f.already) {
         why = f.reason;

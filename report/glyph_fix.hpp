@@ -6,10 +6,12 @@
 /// report's model and gates, judged_report: the count of violations of all
 /// of them, plus one when the requirement fails), handed to fix() as its
 /// judge (FixRequest::judge) with the requirement that implies the first
-/// failing gate as the search's guide; G1 kept at smooth nodes
-/// (Keep::g1); only the source's own points move, and never a straight
-/// piece: a line's added inner points are no source points, and a node at
-/// either end of a line stays where it is (so a line stays a line). The
+/// failing gate as the search's guide; the moves are the designer's
+/// (report/contour_moves.hpp, the rules the report's severity keeps too):
+/// G1 kept at smooth nodes (Keep::g1), only the source's own points move,
+/// and never a straight piece: a line's added inner points are no source
+/// points, and a node at either end of a line stays where it is (so a line
+/// stays a line). The
 /// off-grid fix is then snapped to the grid (design/fix_grid.hpp: the
 /// cheapest grid positions near it that the same judge passes). The result
 /// is re-judged gate by gate, before and after, and a fix that makes any

@@ -283,6 +283,7 @@ void write_batch_tail(JsonStream& o, const SplineReport& r, const SplineJsonExtr
         o.key("severity");
         if (std::isfinite(f.severity)) o.value(f.severity);
         else o.null();
+        if (!f.severity_note.empty()) o.member("severity_note", f.severity_note);  // why null
         o.member("level", f.info ? "info" : "error");
       }
       o.end_object();
@@ -435,6 +436,7 @@ nlohmann::ordered_json spline_json_tree(const SplineReport& r, int index, const 
       Json item = {{"gate", f.gate}, {"node", f.node}, {"message", f.message}, {"key", f.key()}};
       if (f.severity >= 0) {
         item["severity"] = std::isfinite(f.severity) ? Json(f.severity) : Json(nullptr);
+        if (!f.severity_note.empty()) item["severity_note"] = f.severity_note;
         item["level"] = f.info ? "info" : "error";
       }
       fj.push_back(item);

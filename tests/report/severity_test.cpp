@@ -14,8 +14,12 @@
 
 #include "io/font.hpp"
 #include "io/ufo.hpp"
+#include "bezierize/analyze.hpp"
+#include "bezierize/extract.hpp"
 #include "report/batch.hpp"
+#include "report/contour_moves.hpp"
 #include "report/gates.hpp"
+#include "report/glyph_fix.hpp"
 
 namespace cmr::report {
 namespace {
@@ -88,6 +92,176 @@ TEST(Severity, AViolationsMoveIsNoLargerWithinTheThresholdThanWithout) {
         }
     }
   EXPECT_GT(bounded, 0);
+}
+
+
+// ---- The designer's moves (report/contour_moves.hpp, issue 36 item 5) ----
+
+/// Every straight piece of `before` (a line: all its Bezier points exactly
+/// collinear) has the same Bezier points in `after`; every G1 joint of
+/// `before` is G1 in `after`; every moved point is one `moves` allows.
+void expect_designer_move(const BSpline& before, const BSpline& after, const ContourMoves& moves,
+                          const std::string& what) {
+  SCOPED_TRACE(what);
+  for (int k = 0; k < before.unique_point_count(); ++k)
+    if (before.points()[k] != after.points()[k]) {
+      EXPECT_TRUE(moves.movable(k)) << "P" << k << " moved";
+    }
+  for (const Segment& seg : before.segments()) {
+    const std::vector<Vec2> b = bezier_segment(before, seg).points, a = bezier_segment(after, seg).points;
+    bool straight = true;
+    for (const Vec2 q : b) {
+      const Vec2 u = q - b.front(), v = b.back() - b.front();
+      straight = straight && u.x * v.y - u.y * v.x == 0;
+    }
+    if (!straight) continue;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      EXPECT_EQ(a[i], b[i]) << "the line of segment " << seg.span << " moved (Bezier point " << i << ")";
+  }
+  AnalyzeOptions ao;
+  const SplineAnalysis x = analyze(before, ao), y = analyze(after, ao);
+  std::vector<Joint> jx = x.joints, jy = y.joints;
+  if (x.seam) jx.push_back(*x.seam);
+  if (y.seam) jy.push_back(*y.seam);
+  ASSERT_EQ(jx.size(), jy.size());
+  for (std::size_t i = 0; i < jx.size(); ++i)
+    if (jx[i].g1) {
+      EXPECT_TRUE(jy[i].g1) << "joint " << jx[i].index << " lost G1";
+    }
+}
+
+/// Every finding's severity move on these contours keeps the designer's
+/// rules; returns how many moves were checked.
+int check_designer_moves(const std::vector<import::Glyph>& glyphs) {
+  ReportOptions o;
+  parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o);
+  o.regions = false;
+  o.threads = 1;
+  int checked = 0;
+  for (const import::Glyph& g : glyphs)
+    for (const import::Contour& c : g.contours) {
+      const ContourMoves moves = contour_moves(contour_of(c.spline, {}));
+      const SplineReport r = judged_report(c.spline, o);
+      for (const GateResult& gr : r.gates)
+        for (const GateViolation& v : gr.violations) {
+          const SeverityMove m = severity_move(c.spline, gr.gate, v, o, moves);
+          if (!m.moved) continue;
+          ++checked;
+          expect_designer_move(c.spline, *m.moved, moves, c.spline.name() + " " + to_string(gr.gate) + " " + v.message);
+        }
+    }
+  return checked;
+}
+
+TEST(Severity, ContourOfASourceContourAllowsWhatTheImportSays) {
+  // contour_of(spline) (what the report has) and the import's own contour
+  // (what `cmr fix FONT.ufo` has) give the same moves on a UFO's glyphs.
+  const import::Font f = import::read_ufo(std::filesystem::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo", {true, {}, {}});
+  int contours = 0;
+  for (const import::Glyph& g : f.glyphs)
+    for (const import::Contour& c : g.contours) {
+      EXPECT_EQ(contour_moves(contour_of(c.spline, {})).points, contour_moves(c).points) << c.spline.name();
+      ++contours;
+    }
+  EXPECT_GT(contours, 2);
+}
+
+TEST(Severity, EveryMoveKeepsLinesStraightAndSmoothNodesG1OnAUfo) {
+  const import::Font f = import::read_ufo(std::filesystem::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo", {true, {}, {}});
+  EXPECT_GT(check_designer_moves(f.glyphs), 3);
+}
+
+TEST(Severity, EveryMoveKeepsLinesStraightAndSmoothNodesG1OnFonts) {
+  // Glyphs whose findings sit where stems meet bowls (DejaVu j, U; Nimbus
+  // ordfeminine, whose old severity bent a 3-unit line by half a unit).
+  const std::filesystem::path dejavu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  const std::filesystem::path nimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+  int checked = 0;
+  if (std::filesystem::exists(dejavu)) checked += check_designer_moves(import::read_font(dejavu, {'j', 'U', 'g'}).glyphs);
+  if (std::filesystem::exists(nimbus)) checked += check_designer_moves(import::read_font(nimbus, {0xAA, 'j', 'U'}).glyphs);
+  if (checked == 0) GTEST_SKIP() << "neither fonts-dejavu-core nor fonts-urw-base35 is installed";
+  EXPECT_GT(checked, 3);
+}
+
+/// A cubic contour (one glyph of a CFF font or a UFO): a 3-unit line n0 (0,0)
+/// -> n1 (0,3), a curve n1 -> (0,40) (60,100) -> n2 (100,100), lines to
+/// (100,0) and back. n1 is smooth (line and handle both point up), so
+/// g2-at-smooth-nodes finds a 100 % jump there: the line's curvature is 0.
+import::Contour short_line_into_a_curve() {
+  using T = import::OutlinePoint::Tag;
+  const std::vector<import::OutlinePoint> pts = {{{0, 0}, T::on},     {{0, 3}, T::on},      {{0, 40}, T::cubic},
+                                                 {{60, 100}, T::cubic}, {{100, 100}, T::on}, {{100, 0}, T::on}};
+  return *import::outline_contour(pts, 0, 3, "t", import::PointNaming::source);
+}
+
+TEST(Severity, AJumpWhereALineMeetsACurveIsRemovedByStraighteningTheCurveNotByBendingTheLine) {
+  // Derivation: the line's side has curvature 0, so the jump goes only when
+  // the curve's start curvature is 0 too: (2/3) cross(P1 - P0, P2 - P1) /
+  // |P1 - P0|^3 = 0, i.e. P2 on the tangent line x = 0. The designer may
+  // not move the line (n0, n1, its third-points), nor n2 (a line's end);
+  // P1 (n1's handle) only slides along x = 0, which leaves the cross product
+  // 0 only with P2 there too. So no allowed move below 60 units (P2 (60,
+  // 100) -> (0, 100)) removes it: the severity is at least 60.
+  // The old search bent the line instead (n1 and its group moved).
+  const import::Contour c = short_line_into_a_curve();
+  ReportOptions o;
+  parse_require_list("g2-at-smooth-nodes", o);
+  o.regions = false;
+  o.threads = 1;
+  const SplineReport r = judged_report(c.spline, o);
+  ASSERT_EQ(r.gates.size(), 1u);
+  const auto v = std::find_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
+                              [&](const GateViolation& w) { return w.joint >= 0; });
+  ASSERT_NE(v, r.gates[0].violations.end());
+  const ContourMoves moves = contour_moves(c);
+  EXPECT_EQ(moves.points, (std::vector<int>{4, 5}));  // the curve's handles (0,40) and (60,100)
+  EXPECT_EQ(contour_moves(contour_of(c.spline, {})).points, moves.points);
+  const SeverityMove m = severity_move(c.spline, r.gates[0].gate, *v, o, moves);
+  EXPECT_GE(m.distance, 60 - 1e-9) << v->message;
+  // And 60 is reached: the severity search constructs such a join's move
+  // (P2 onto the stem's line, exactly) rather than searching for it.
+  ASSERT_TRUE(m.moved.has_value()) << v->message;
+  EXPECT_EQ(m.distance, 60);
+  EXPECT_EQ(m.moved->points()[5], Vec2(0, 100));
+  expect_designer_move(c.spline, *m.moved, moves, v->message);
+  // The same through assess_severity, as the report does it: an error at
+  // the default threshold, not info.
+  SplineReport rr = r;
+  o.min_severity = kDefaultMinSeverity;
+  assess_severity(rr, o);
+  for (const GateViolation& w : rr.gates[0].violations) {
+    EXPECT_GE(w.severity, 60 - 1e-9) << w.message;
+    EXPECT_FALSE(w.info) << w.message;
+  }
+}
+
+TEST(Severity, WhereNoPointOfTheFindingMayMoveItHasNoneNotZero) {
+  // A TrueType contour: a line (0,0) -> (0,50), a quadratic (0,50) (0,100)
+  // (50,100) smooth at both ends (the line before, the line after), lines
+  // round. The jumps at (0,50) and (50,100) lie between a line and the
+  // curve; the line's points and its end nodes may not move, and the one
+  // handle (0,100) is held by both smooth nodes' tangents. So no allowed
+  // move exists: severity +inf, "no allowed move", an error at any threshold.
+  using T = import::OutlinePoint::Tag;
+  const std::vector<import::OutlinePoint> pts = {{{0, 0}, T::on},     {{0, 50}, T::on},     {{0, 100}, T::conic},
+                                                 {{50, 100}, T::on},  {{100, 100}, T::on},  {{100, 0}, T::on}};
+  const import::Contour c = *import::outline_contour(pts, 0, 2, "q", import::PointNaming::source);
+  ReportOptions o;
+  parse_require_list("g2-at-smooth-nodes", o);
+  o.regions = false;
+  o.threads = 1;
+  o.min_severity = 1e6;
+  SplineReport r = judged_report(c.spline, o);
+  ASSERT_EQ(r.gates.size(), 1u);
+  ASSERT_GE(r.gates[0].violations.size(), 1u);
+  assess_severity(r, o);
+  for (const GateViolation& v : r.gates[0].violations) {
+    SCOPED_TRACE(v.message);
+    EXPECT_TRUE(std::isinf(v.severity));
+    EXPECT_EQ(v.severity_outcome, SeverityOutcome::no_allowed_move);
+    EXPECT_FALSE(v.info);
+  }
+  EXPECT_FALSE(r.pass);
 }
 
 }  // namespace

@@ -103,6 +103,11 @@ def main():
             "severity" in f and f["level"] in ("info", "error") for f in found), str(found[:2]))
         check("severity is a move in font units (positive, finite where a fix was found)",
               all(f["severity"] is None or f["severity"] > 0 for f in found) and any(f["severity"] for f in found))
+        check("a finding without a severity says why (severity_note) and is an error, never info",
+              all((f["severity"] is None) == ("severity_note" in f) and
+                  (f["severity"] is not None or (f["level"] == "error" and
+                                                 f["severity_note"] in ("no allowed move", "none found")))
+                  for f in found), str([f for f in found if f["severity"] is None][:2]))
         index = open(os.path.join(tmp, "rs", "index.html")).read() if os.path.exists(os.path.join(tmp, "rs", "index.html")) else ""
         ranked = [float(x) for x in re.findall(r"\(([0-9.]+) units; \d+\)", index)]
         check("the overview ranks glyphs by severity", len(ranked) == 2 and ranked == sorted(ranked, reverse=True),

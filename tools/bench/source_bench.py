@@ -17,7 +17,8 @@
    of A-Z a-z that fails, wall time and outcome each; the median and worst
    time, and how many were fixed.
 
---report-only: part 1 alone. Prints Markdown tables. Benchmarks, not tests: the numbers depend on the
+--report-only: part 1 alone; --fix-only: part 2 alone. Each part prints the
+load average (1, 5, 15 min) before and after it. Prints Markdown tables. Benchmarks, not tests: the numbers depend on the
 machine (say which when quoting them).
 """
 import json
@@ -31,7 +32,8 @@ import tempfile
 import time
 
 REPORT_ONLY = "--report-only" in sys.argv
-ARGV = [a for a in sys.argv if a != "--report-only"]
+FIX_ONLY = "--fix-only" in sys.argv
+ARGV = [a for a in sys.argv if a not in ("--report-only", "--fix-only")]
 CMR = ARGV[1]
 HERE = os.path.dirname(os.path.abspath(__file__))
 MAKE = os.path.join(HERE, "..", "make_test_ufo.py")
@@ -61,7 +63,18 @@ def cpu_of(args, cwd):
 def main():
     tmp = ARGV[2] if len(ARGV) > 2 else tempfile.mkdtemp(prefix="cmr-source-bench-")
     os.makedirs(tmp, exist_ok=True)
-    print("## Report of a whole Latin UFO, type gates, no fixes\n")
+    if not FIX_ONLY:
+        report_part(tmp)
+    if not REPORT_ONLY:
+        fix_part(tmp)
+
+
+def load():
+    return open("/proc/loadavg").read().split()[:3]
+
+
+def report_part(tmp):
+    print("## Report of a whole Latin UFO, type gates, no fixes (load before: %s)\n" % " ".join(load()))
     print("| font | glyphs | severity | best of 3 wall (s) | its CPU (s) | findings | info | glyphs failing |")
     print("|---|---|---|---|---|---|---|---|")
     for name, path in FONTS.items():
@@ -82,9 +95,11 @@ def main():
             failing = line.split("glyphs, ", 1)[1].split(" failing")[0] if "glyphs, " in line else "?"
             print("| %s | %d | %s | %.2f | %.2f | %d | %d | %s |" % (name, glyphs, mode, best, cpu, len(findings), info,
                                                                  failing))
-    if REPORT_ONLY:
-        return
-    print("\n## Multi-gate on-grid fix per failing glyph (A-Z a-z)\n")
+    print("\nload after: %s" % " ".join(load()))
+
+
+def fix_part(tmp):
+    print("\n## Multi-gate on-grid fix per failing glyph (A-Z a-z) (load before: %s)\n" % " ".join(load()))
     print("| font | failing glyphs | fixed | not fixed | median (s) | worst (s) |")
     print("|---|---|---|---|---|---|")
     reasons = {}
@@ -131,6 +146,7 @@ def main():
         kinds[key] = kinds.get(key, 0) + n
     for why, n in sorted(kinds.items(), key=lambda kv: -kv[1]):
         print("- %d x %s" % (n, why))
+    print("\nload after: %s" % " ".join(load()))
 
 
 if __name__ == "__main__":
