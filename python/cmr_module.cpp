@@ -957,6 +957,7 @@ struct ReportArgs {
   int depth = kDefaultDepth;
   bool thumbnails = false;
   bool fixes = false;
+  bool cache = true;
   std::string glyphs = "A-Z,a-z";
   double angle_tol = 1e-3, curvature_tol = 1e-6;
   std::string backend = "cpu";
@@ -980,6 +981,7 @@ py::object report_py(const ReportArgs& a) {
   b.codepoints = import::parse_glyph_spec(a.glyphs);
   b.out = a.out;
   b.fixes = a.fixes;
+  b.cache = a.cache;
   b.report = std::move(o);
   const std::vector<std::string> files = report::collect_files(a.files, {});
   const report::BatchSummary s = interruptible([files, b] { return report::run_batch(files, b); });
@@ -1351,6 +1353,7 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("depth", &ReportArgs::depth)
       .def_readwrite("thumbnails", &ReportArgs::thumbnails)
       .def_readwrite("fixes", &ReportArgs::fixes)
+      .def_readwrite("cache", &ReportArgs::cache)
       .def_readwrite("glyphs", &ReportArgs::glyphs)
       .def_readwrite("angle_tol", &ReportArgs::angle_tol)
       .def_readwrite("curvature_tol", &ReportArgs::curvature_tol)

@@ -269,17 +269,19 @@ class JudgeQueue:
 
 
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
-           thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, **unknown):
+           thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, cache=True,
+           **unknown):
     """``cmr report FILES... --out DIR [--require R]``: the batch report of
     spline files, SVG files, fonts and folders (planar; a space curve's file
     raises InputError: its report is the command's). Writes report.json
     and index.html to `out` (a temporary folder, removed again, when None)
     and returns {"exit_code", "summary" (the command's one line), "invalid",
     "pass", "fail", "items", "findings", "report" (report.json as a dict),
-    "out"}. thumbnails=False is --no-thumbnails, fixes=False --no-fixes.
+    "out"}. thumbnails=False is --no-thumbnails, fixes=False --no-fixes,
+    cache=False --no-cache (no report.cache is read or written in `out`).
     """
     _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "thumbnails", "fixes",
-                                   "backend", "angle_tol", "curvature_tol"])
+                                   "backend", "angle_tol", "curvature_tol", "cache"])
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     a = _cmr._ReportArgs()
@@ -299,6 +301,7 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
     a.glyphs = _o.text("glyphs", glyphs)
     a.thumbnails = bool(thumbnails)
     a.fixes = bool(fixes)
+    a.cache = bool(cache)
     a.backend = _o.choice("backend", backend, ("auto", "vulkan", "cpu"))
     a.angle_tol = _o.number("angle_tol", angle_tol)
     a.curvature_tol = _o.number("curvature_tol", curvature_tol)

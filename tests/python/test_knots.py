@@ -57,3 +57,17 @@ def test_report_equals_cli(tmp_path):
         [(s["name"], s["status"], s["verdict"]) for s in cli["splines"]]
     kept = cmr.report(files, require="cmrwi", thumbnails=False, out=tmp_path / "py")
     assert kept["out"] == str(tmp_path / "py") and (tmp_path / "py" / "index.html").exists()
+
+
+def test_report_cache_is_written_unless_turned_off(tmp_path):
+    # A font's report keeps its resume cache (report.cache) in `out`, as the
+    # command does; cache=False is --no-cache: none is read or written.
+    ufo = str(ROOT / "examples" / "ufo" / "Sans.ufo")
+    kept = cmr.report(ufo, require="curvature-extrema-at-nodes", thumbnails=False, fixes=False, out=tmp_path / "a")
+    assert (tmp_path / "a" / "report.cache").is_file()
+    off = cmr.report(ufo, require="curvature-extrema-at-nodes", thumbnails=False, fixes=False, out=tmp_path / "b",
+                     cache=False)
+    assert not (tmp_path / "b" / "report.cache").exists()
+    assert off["exit_code"] == kept["exit_code"] and off["report"]["splines"] == kept["report"]["splines"]
+    with pytest.raises(cmr.InputError, match="unknown option 'cache_dir'"):
+        cmr.report(ufo, cache_dir="x")
