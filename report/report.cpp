@@ -456,7 +456,11 @@ std::vector<JointReport> joint_reports(const SplineAnalysis& analysis) {
   std::vector<Joint> joints = analysis.joints;
   if (analysis.seam) joints.push_back(*analysis.seam);
   std::vector<JointReport> out;
-  for (const Joint& j : joints) out.push_back({j, std::string(1, 'C') + std::to_string(j.continuity), !j.g1});
+  for (const Joint& j : joints) {
+    std::string continuity = "C";  // appended: GCC 12 reports a false -Wrestrict on "C" + to_string here
+    continuity += std::to_string(j.continuity);
+    out.push_back({j, std::move(continuity), !j.g1});
+  }
   return out;
 }
 
