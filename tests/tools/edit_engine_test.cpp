@@ -15,6 +15,7 @@
 #include "spline/curvature.hpp"
 #include "spline/errors.hpp"
 #include "tools/edit/editor.hpp"
+#include "tools/field_flags.hpp"
 #include "region/weight_region.hpp"
 #include "vk/presenter.hpp"
 
@@ -212,7 +213,10 @@ TEST(EditEngine, RegionCacheRemembersWhyALayerIsEmpty) {
   r3.point = 3;
   const auto key3 = region_key(s, r3);
   const RegionResult& layer3 = cache.get(s, r3, key3);
-  EXPECT_EQ(cache.reason(s, r3, key3), region_reason(RegionProblem::make(s, r3), layer3));
+  // The editor shows the reason's fields as the command's flags (tools/field_flags.hpp).
+  const auto direct3 = region_reason(RegionProblem::make(s, r3), layer3);
+  ASSERT_TRUE(direct3.has_value());
+  EXPECT_EQ(cache.reason(s, r3, key3), cli::show_fields(*direct3));
   EXPECT_EQ(cache.reason(s, r, key), direct);
   EXPECT_EQ(cache.reasons_worked_out(), 2);
 }
