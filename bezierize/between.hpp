@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 /// Certified curvature monotonicity (and inflection freedom) of a planar
 /// polynomial Bezier piece at every location between two masters (issue 37,
 /// gates curvature-between-masters and extrema-between-masters).

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // The classifier: Algorithms 1 and 2 of Yoshida et al., CAD&A 21(1) 2024, §3,
 // the reference every backend (CPU regions, the Vulkan shader) must match.
 //

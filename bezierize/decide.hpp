@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 /// The one decision core of Algorithms 1 and 2 (Yoshida et al., CAD&A 21(1)
 /// 2024, §3): the piece rules as functions of a sign summary, and the one
 /// depth-first traversal over a coefficient source. Every C++ path (the

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // Bezier form of B-spline segments, by blossoming (the primary route) and by
 // repeated Boehm knot insertion (an independent route the tests compare with),
 // and the affine influence of a control point on those Bezier points.

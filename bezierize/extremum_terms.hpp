@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 /// The designer's reading of a curvature extremum (docs/semantics.md,
 /// "Sharpest and flattest"): by |kappa|, which does not depend on the
 /// direction of travel or on mirroring, instead of by signed kappa, which

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // lambda and eta of a Bezier segment in plain double, with a rigorous
 // a-priori error bound per coefficient: the classifier's first, cheapest try.
 //

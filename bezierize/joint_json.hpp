@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 /// The one JSON writer of a Joint (analyze.hpp), behind the "joints" arrays
 /// of `cmr analyze` and of the report (cmr-report/2, docs/report-schema.md).
 /// The two documents share every field of a joint; each adds marks of its

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // Knot operations on polar-form B-splines (Ramshaw): insertion, removal,
 // moving one knot, clamping, uniform knots, degree elevation and refinement.
 // Every operation is const and returns a new, validated BSpline.

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // eta and lambda of a planar Bezier segment in Bernstein form (CAD&A 2024 §3).
 //
 // Let P(t) = sum_i B_i^n P_i, Q = P' the hodograph: degree m = n-1 with

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 /// The outcomes of one (sub)segment's coefficients under Algorithms 1 and 2
 /// (CAD&A 2024 §3). A public header of its own, free of the scalar types
 /// (no GMP, no __int128), so that analysis headers can name it.

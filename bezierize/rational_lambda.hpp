@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // D and lambda of a rational Bezier segment in Bernstein form: Algorithms 1
 // and 2 of CAD&A 2024 §3 for rational curves (the paper's future work).
 //

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // Segment control (issue 11, item 2): which segments are judged, and several
 // joints at once for curvature extrema.
 //

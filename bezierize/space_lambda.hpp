@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::bezierize and the libraries above it: a library user
+// includes `bezierize/analyze.hpp` (space curves:
+// `bezierize/space_analyze.hpp`).
 // Curvature and torsion of a polynomial space curve in Bernstein form: the 3D
 // analogue of lambda.hpp (issue 25; Saito & Yoshida 2023 for the route).
 //

@@ -1,4 +1,7 @@
 #pragma once
+// Internal to cmr::design and the libraries above it: a library user includes
+// `design/fix.hpp` or `design/kcurve.hpp` (space curves:
+// `design/space_fix.hpp`).
 // A certified fix on a grid (`cmr fix FONT.ufo`, docs/fix.md "On the
 // font's grid"): the nearest set of grid positions near a fix whose exact
 // judging passes.

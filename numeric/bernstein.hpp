@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Bernstein-form polynomials on [0, 1]: p(t) = sum_i c_i B_i^n(t),
 // B_i^n = C(n,i) t^i (1-t)^{n-i}. Generic over the scalar type (scalar.hpp).
 #include <vector>

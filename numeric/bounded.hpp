@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // A double carrying a rigorous bound on its absolute error: the certified
 // floating-point path of the classifier.
 //

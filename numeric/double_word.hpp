@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // DoubleWord: a double-word number (hi + lo, about 106 bits) carrying a
 // certified bound on its absolute error, the rules of Bounded
 // (numeric/bounded.hpp) at double-double precision. It is the second

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Exact rational arithmetic (GMP) for the classifier's fallback path. Every
 // double is a dyadic rational, so the exact value of any expression of +, -,
 // *, / on double inputs is an mpq_class. Sign tests on it are exact.

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Switch for the floating-point shortcuts of the spline analysis and the
 // report (bezierize/analyze.cpp, report/report.cpp): error-bounded and
 // exactness-tracked doubles (numeric/tracked.hpp) and certified float root

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // isolate_roots (numeric/roots.hpp) on error-bounded coefficients: the same
 // halving, Descartes counts and bisection, step for step, with every sign
 // decided from a certified double (numeric/bounded.hpp) instead of a

@@ -12,6 +12,8 @@
 // derived for that arithmetic holds unchanged. Row-wise, the value and bound
 // loops vectorise (the array of pairs interleaved them).
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 
 #include <cmath>
 

@@ -14,6 +14,8 @@
 // HalvePairs.BitIdenticalToBernsteinHalve) and FlatPiecesN's error bound,
 // derived for that arithmetic, holds unchanged.
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 
 namespace cmr {
 

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Exact bivariate polynomials of total degree <= 3 in the displacement
 // (dx, dy) of the moved control point, used as a scalar type by the generic
 // lambda/eta code: running lambda_bernstein<Poly3> on Bezier points

@@ -2,6 +2,8 @@
 // roots left to right (the one rule of roots.cpp's exact isolation and
 // fast_roots.cpp's certified float isolation).
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 
 #include <utility>
 

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Certified real roots of Bernstein polynomials with exact coefficients: where
 // a segment's curvature has its extrema (roots of lambda) and its inflections
 // (roots of eta), CAD&A 2024 §3, found with certainty rather than by sampling.

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // What the generic algorithms need from a scalar type beyond + - * /:
 // exact integer ratios (binomial weights), halving, and a sign decision.
 //   double   : plain floating point (pointwise reference, tests)

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr's libraries: a library user includes `bezierize/analyze.hpp`
+// or `region/region.hpp`.
 // Tracked: a double with a certified error bound (the rules of Bounded,
 // numeric/bounded.hpp) that stays *exactly zero* while every operation so
 // far was exact. Font outlines and many CAD inputs are small dyadic numbers

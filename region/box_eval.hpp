@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // The certified evaluation of one piece coefficient polynomial (poly3.hpp,
 // degree 3 or 1 in the displacement) at one pixel's displacement or over a
 // box of them: the value with a rigorous bound on its distance to the exact

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 /// Reuse of a failed block proof by the block's quarters and pixels (region
 /// CPU backend, labels only; block.cpp: classify_box_labels, cull_block;
 /// region.cpp: classify_pixel_flat). Switch: CMR_BLOCK_REUSE=0 in cmr's environment (or

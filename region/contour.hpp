@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // Vector contours of a rendered region (marching squares), with every
 // boundary vertex refined by bisection with the certified classifier.
 //

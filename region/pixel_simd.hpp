@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // SIMD across pixels for the CPU region render's per-pixel kernel (issue 23,
 // item 2): the root values of one touched segment,
 //     v[c] = sum_m t[m * n1 + c] mu_m(dx, dy),   m = 0, 1, ..., 9 in that order,

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // Locality of region setup (issue 23, item 4): a point's move changes the
 // Bezier points of the d+1 spans it acts on and nothing else, so between two
 // region problems of a spline that differ by a moved point (an editor's drag,

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // The rounded piece polynomials of a region entry (region_setup.hpp,
 // RegionEntry::xi and ::nu): the Bernstein coefficients of every subdivision
 // piece of xi (or nu) down to a level, each a polynomial in the displacement

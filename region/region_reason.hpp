@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 /// Why a point's region is empty or covers the whole view (issue 20, item 2):
 /// one line naming the segment(s) responsible, for `cmr region`'s stderr
 /// note, the region picture's caption and the editor. Exact: read from the

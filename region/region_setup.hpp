@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 // The backend interface (namespace cmr::backend): the host preparation of a
 // region problem (RegionSetup, reached through RegionProblem::setup()) and the
 // per-position and per-block classifiers that every RegionBackend shares

@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 /// A region picture's default view that shows the answer (issue 40 item 6),
 /// one rule for `cmr region` (planar: fit_region_view; a space curve: the
 /// report's thumbnails too), and `cmr sweep` (every step): a square probe

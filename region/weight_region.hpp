@@ -1,4 +1,6 @@
 #pragma once
+// Internal to cmr::region and the libraries above it: a library user includes
+// `region/region.hpp` (space curves: `region/space_region.hpp`).
 /// The region of a weight (`cmr region SPLINE --weight K --from A --to B`):
 /// with every control point and every other weight fixed, which values of
 /// the weight w_K in [A, B] give which region label (the labels of `cmr

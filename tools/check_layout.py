@@ -16,6 +16,9 @@ Checks (all by default; --check NAME, repeatable, runs only those named):
   fieldmap every field("NAME") a library marks has its flag in the command's
            one table (tools/field_flags.hpp), so the command never prints a
            bare field name where it printed a flag
+  public   in the folders split out of bezierize/ (SPLIT), every header is
+           either named in the folder README's "Public header:" paragraph
+           or says "Internal" in its opening comment
 
 The libraries are the folders in LIBRARIES that exist; tools/ is the command
 (it may name flags) and tests/ the tests. "Code" is C, C++ and GLSL text
@@ -38,7 +41,8 @@ CODE_EXT = (".c", ".cc", ".cpp", ".h", ".hpp", ".glsl", ".frag", ".vert", ".comp
 SOURCE_EXT = (".c", ".cc", ".cpp", ".h", ".hpp")
 MAX_SHARE = 0.25
 MAX_LINES = 1000
-CHECKS = ["share", "lines", "getenv", "flags", "backend", "hdr", "fieldmap"]
+CHECKS = ["share", "lines", "getenv", "flags", "backend", "hdr", "fieldmap", "public"]
+SPLIT = ["numeric", "bezierize", "region", "design"]
 FIELD_TABLE = "tools/field_flags.hpp"
 
 # Known exceptions, one place: {check: {path or folder: why}}. Paths are
@@ -209,6 +213,33 @@ def check_fieldmap(root, libs, failures, known):
                         (known if rel in KNOWN.get("fieldmap", {}) else failures).append(msg)
 
 
+def readme_public_headers(root, folder):
+    """The headers named in FOLDER/README.md's "Public header:" paragraph."""
+    path = os.path.join(root, folder, "README.md")
+    if not os.path.exists(path):
+        return None
+    m = re.search(r"^Public headers?:(.*?)(?:\n\s*\n|\n[A-Z][a-z]+:|\Z)", read(path), re.M | re.S)
+    return set(re.findall(r"`(?:" + folder + r"/)?([A-Za-z0-9_]+\.hpp)`", m.group(1))) if m else set()
+
+
+def check_public(root, failures, known):
+    for folder in SPLIT:
+        if not os.path.isdir(os.path.join(root, folder)):
+            continue
+        public = readme_public_headers(root, folder)
+        if public is None:
+            failures.append(f"public: {folder}/README.md is missing (it names the folder's public header)")
+            continue
+        for rel, path in files_under(root, folder, (".hpp",)):
+            name = os.path.basename(rel)
+            if name in public:
+                continue
+            opening = re.match(r"(?:\s*(?://[^\n]*|#pragma once)\n)*", read(path)).group(0)
+            if not re.search(r"\bInternal\b", opening):
+                msg = f"public: {rel} is not a public header of {folder}/README.md and does not say it is internal"
+                (known if rel in KNOWN.get("public", {}) else failures).append(msg)
+
+
 def self_test():
     """Each check fails on a small tree made to break it, and passes on its fix."""
     import tempfile
@@ -228,7 +259,8 @@ def self_test():
              "flags": lambda: check_flags(root, libs, failures, known),
              "backend": lambda: check_backend(root, failures, known),
              "hdr": lambda: check_hdr(root, failures, known),
-             "fieldmap": lambda: check_fieldmap(root, libs, failures, known)}[check]()
+             "fieldmap": lambda: check_fieldmap(root, libs, failures, known),
+             "public": lambda: check_public(root, failures, known)}[check]()
             return failures
 
     small = {"tools/main.cpp": "int main() {}\n" * 40, "io/a.cpp": "int a;\n" * 10, "step/a.cpp": "int a;\n" * 10}
@@ -244,6 +276,10 @@ def self_test():
         ("hdr", {"vk/p.cpp": "p.hdr[3] = 1;\n"}, {"vk/p.cpp": "p.hdr[SPACE_HDR_MODE] = 1;\n"}),
         ("fieldmap", {FIELD_TABLE: '{"max_move", "--max-move"},\n', "spline/f.cpp": 'field("max_move") + field("grid");\n'},
          {FIELD_TABLE: '{"max_move", "--max-move"},\n{"grid", "--grid"},\n', "spline/f.cpp": 'field("max_move") + field("grid");\n'}),
+        ("public", {"region/README.md": "Public header: `region/region.hpp`.\n", "region/region.hpp": "#pragma once\n",
+                    "region/kernel.hpp": "#pragma once\n// The kernel.\nint f(); // Internal\n"},
+         {"region/README.md": "Public header: `region/region.hpp`.\n", "region/region.hpp": "#pragma once\n",
+          "region/kernel.hpp": "#pragma once\n// Internal to cmr::region.\n// The kernel.\n"}),
     ]
     bad = 0
     for check, breaking, passing in cases:
@@ -281,6 +317,8 @@ def main():
         check_hdr(root, failures, known)
     if "fieldmap" in checks:
         check_fieldmap(root, libs, failures, known)
+    if "public" in checks:
+        check_public(root, failures, known)
     if args.list:
         print("libraries: " + " ".join(libs))
         print("checks: " + " ".join(checks))
