@@ -268,10 +268,11 @@ double unit_cost(const Unit& u, Vec2 x) { return dot(x, x) * static_cast<double>
 
 }  // namespace
 
-FixResult fix(const BSpline& spline, const FixRequest& request_in) {
-  const auto start = Clock::now();
-  FixRequest request = request_in;  // each-run: each-piece with the nodes as cuts
-  request.requirement = resolve_requirement(spline, request_in.requirement);
+namespace {
+
+/// The request's numbers and points, checked before any work
+/// (InputFieldError naming the field).
+void check_fix_request(const BSpline& spline, const FixRequest& request) {
   const int m = spline.unique_point_count();
   if (!(request.tolerance > 0 && request.tolerance < 1))
     throw InputFieldError(field("tolerance") + ": " + std::to_string(request.tolerance) + " is outside (0, 1)");
@@ -294,147 +295,190 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is outside 0.." + std::to_string(m - 1));
     if (!given.insert(k).second) throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is named twice");
   }
+}
 
-  FixResult out;
-  out.size = curve_size(spline);
-  const AnalyzeOptions ao = fix_analyze_options(request.requirement, request.max_depth);
-  const SplineAnalysis a0 = analyze(spline, ao);
-  auto finish = [&](FixResult& r) {
-    r.certificate = analyze(*r.spline, ao);
-    r.certificate_holds = request.judge ? request.judge(*r.spline) == 0 : requirement_holds(r.certificate, request.requirement);
-    // Every tie joint is still G1, and with keep g2 still G2 where it was.
-    const std::vector<Joint> before = all_joints(a0), after = all_joints(r.certificate);
-    r.ties_hold = true;
-    for (int ji : r.tie_joints)
-      for (std::size_t i = 0; i < after.size(); ++i)
-        if (after[i].index == ji)
-          r.ties_hold = r.ties_hold && after[i].g1 && (request.keep != Keep::g2 || !before[i].g2 || after[i].g2);
-    r.fixed = r.certificate_holds && r.ties_hold;
-    if (!r.fixed && r.reason.empty())
-      r.reason = !r.certificate_holds ? "the certificate does not hold" : "a tie at a joint broke";
-    r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  };
-  if (request.judge ? request.judge(spline) == 0 : requirement_holds(a0, request.requirement)) {
-    out.already = true;
-    out.spline = spline;
-    finish(out);
-    return out;
+/// One run of fix(): the input's analysis, the units of motion and the
+/// search's state, shared by its stages:
+///   1. each unit alone (each_unit_alone): the nearest position of each unit
+///      that meets the requirement by itself; the cheapest one wins;
+///   2a. otherwise greedy steps (greedy): one unit (or two at once,
+///      two_at_once) moved at a time to lower the badness until it holds;
+///   2b. then a compass search (polish) on the total squared displacement.
+/// Every answer is certified (certify) before it is returned.
+class FixRun {
+ public:
+  FixRun(const BSpline& spline, const FixRequest& request_in, Clock::time_point start)
+      : spline_(spline), request_(request_in), start_(start), m_(spline.unique_point_count()) {
+    request_.requirement = resolve_requirement(spline, request_in.requirement);  // each-run: each-piece with the nodes as cuts
+    check_fix_request(spline, request_);
+    out_.size = curve_size(spline);
+    ao_ = fix_analyze_options(request_.requirement, request_.max_depth);
+    a0_ = analyze(spline, ao_);
+    kind_ = request_.requirement.kind;
+    region_kind_ = !local_kind(kind_);
+    // no-inflection, g2: no region problem; each check is judged exactly on the moved spline.
+    exact_local_ = local_kind(kind_) && kind_ != FixRequirement::Kind::extrema_at_nodes;
   }
-  out.failing_segments = failing_segments(spline, a0, request.requirement);
-  if (request.judge) {  // the caller's judge says whether, not where: every judged segment
-    out.failing_segments.clear();
-    for (int i = a0.range.first; i <= a0.range.last; ++i) out.failing_segments.push_back(i);
+
+  FixResult run();
+
+ private:
+  bool judged_to_hold(const BSpline& s, const SplineAnalysis& a) const {
+    return request_.judge ? request_.judge(s) == 0 : requirement_holds(a, request_.requirement);
   }
-  std::set<int> acting;
-  for (int i : out.failing_segments)
-    for (int k : segment_points(spline, spline.segments()[i])) acting.insert(k);
-  std::vector<int> allowed = request.points;
+  void certify(FixResult& r) const;
+  std::vector<int> allowed_points() const;
+  bool unit_acts(const Unit& u) const {
+    return std::any_of(u.points.begin(), u.points.end(), [&](int k) { return acting_.count(k) > 0; });
+  }
+  std::vector<int> touched_checks(const BSpline& current, const Unit& u) const;
+  std::vector<RegionRequest> segment_requests(const BSpline& current, const Unit& u) const;
+  bool hopeless_alone(const Unit& u) const;
+  std::vector<std::vector<Prepared>> problems_of(const BSpline& current,
+                                                 const std::vector<std::vector<RegionRequest>>& per_unit) const;
+  void each_unit_alone();
+  std::vector<Vec2> delta_of(const std::vector<double>& z) const;
+  double cost_of(const std::vector<double>& z) const {
+    double c = 0;
+    for (const Vec2& d : delta_of(z)) c += dot(d, d);
+    return c;
+  }
+  void set_unit(std::vector<double>& z, std::size_t ui, Vec2 x) const {
+    if (ties_.units[ui].slide)
+      z[offset_[ui]] = dot(x, ties_.units[ui].dir);
+    else
+      z[offset_[ui]] = x.x, z[offset_[ui] + 1] = x.y;
+  }
+  std::vector<std::pair<std::size_t, Vec2>> two_at_once(const std::vector<Vec2>& now, const BSpline& current,
+                                                        int before);
+  bool greedy(std::vector<double>& z);
+  void polish(std::vector<double>& z);
+
+  const BSpline& spline_;
+  FixRequest request_;
+  const Clock::time_point start_;
+  const int m_;
+  FixResult out_;
+  AnalyzeOptions ao_;
+  SplineAnalysis a0_;
+  FixRequirement::Kind kind_{};
+  bool region_kind_ = false, exact_local_ = false;
+  std::set<int> acting_;  ///< points acting on a failing segment
+  Ties ties_;
+  std::optional<Search> search_;  ///< made once the units are known
+  // Stage 1's answers, per unit.
+  std::vector<Nearest> alone_;
+  std::optional<std::size_t> best_unit_;
+  // The several-unit search: one coordinate block per unit.
+  std::vector<std::size_t> offset_;
+};
+
+void FixRun::certify(FixResult& r) const {
+  r.certificate = analyze(*r.spline, ao_);
+  r.certificate_holds = judged_to_hold(*r.spline, r.certificate);
+  // Every tie joint is still G1, and with keep g2 still G2 where it was.
+  const std::vector<Joint> before = all_joints(a0_), after = all_joints(r.certificate);
+  r.ties_hold = true;
+  for (int ji : r.tie_joints)
+    for (std::size_t i = 0; i < after.size(); ++i)
+      if (after[i].index == ji)
+        r.ties_hold = r.ties_hold && after[i].g1 && (request_.keep != Keep::g2 || !before[i].g2 || after[i].g2);
+  r.fixed = r.certificate_holds && r.ties_hold;
+  if (!r.fixed && r.reason.empty())
+    r.reason = !r.certificate_holds ? "the certificate does not hold" : "a tie at a joint broke";
+  r.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+}
+
+/// The points that may move: the request's (each must act on a failing
+/// segment), else every point but an open curve's two ends.
+std::vector<int> FixRun::allowed_points() const {
+  std::vector<int> allowed = request_.points;
   if (allowed.empty()) {
-    for (int k = 0; k < m; ++k)
-      if (spline.closed() || (k != 0 && k != m - 1)) allowed.push_back(k);
-  } else {
-    for (int k : allowed)
-      if (!acting.count(k)) {
-        std::string segs;
-        for (int i : out.failing_segments) segs += (segs.empty() ? "" : ", ") + std::to_string(i);
-        throw InputFieldError(field("points") + ": P" + std::to_string(k) +
-                              " does not act on a failing segment (failing: " + segs + ")");
-      }
+    for (int k = 0; k < m_; ++k)
+      if (spline_.closed() || (k != 0 && k != m_ - 1)) allowed.push_back(k);
+    return allowed;
   }
-  // Units of every allowed point: those acting on a failing segment are
-  // tried alone; the others join the several-unit search (a segment that
-  // fails only by its direction may need its neighbours moved).
-  std::set<int> all_points;
-  for (int k = 0; k < m; ++k) all_points.insert(k);
-  const Ties ties = build_units(spline, a0, allowed, request.keep, all_points);
-  auto unit_acts = [&](const Unit& u) {
-    return std::any_of(u.points.begin(), u.points.end(), [&](int k) { return acting.count(k) > 0; });
-  };
-  out.tie_joints = ties.joints;
-  out.spline = spline;
-  if (std::none_of(ties.units.begin(), ties.units.end(), unit_acts)) {
-    out.reason = "no point may move: every point acting on a failing segment is fixed or held by a tie";
-    out.nothing_moves = true;
-    finish(out);
-    return out;
+  for (int k : allowed)
+    if (!acting_.count(k)) {
+      std::string segs;
+      for (int i : out_.failing_segments) segs += (segs.empty() ? "" : ", ") + std::to_string(i);
+      throw InputFieldError(field("points") + ": P" + std::to_string(k) +
+                            " does not act on a failing segment (failing: " + segs + ")");
+    }
+  return allowed;
+}
+
+/// The checks a unit acts on.
+std::vector<int> FixRun::touched_checks(const BSpline& current, const Unit& u) const {
+  std::vector<int> out_checks;
+  for (int i = a0_.range.first; i <= a0_.range.last; ++i) {
+    const std::vector<int> pts = check_points(current, kind_, i);
+    if (std::any_of(u.points.begin(), u.points.end(),
+                    [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); }))
+      out_checks.push_back(i);
   }
+  return out_checks;
+}
 
-  Search search(spline, request, a0);
-  search.handles = ties.handles;
-  search.size = out.size;
-  search.tol = request.tolerance * out.size;
-  search.max_move = request.max_move > 0 ? request.max_move : out.size;
-  search.deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.max_seconds));
-  const FixRequirement::Kind kind = request.requirement.kind;
-  const bool region_kind = !local_kind(kind);
-  // no-inflection, g2: no region problem; each check is judged exactly on the moved spline.
-  const bool exact_local = local_kind(kind) && kind != FixRequirement::Kind::extrema_at_nodes;
-  // The checks a unit acts on.
-  auto touched_checks = [&](const BSpline& current, const Unit& u) {
-    std::vector<int> out_checks;
-    for (int i = a0.range.first; i <= a0.range.last; ++i) {
-      const std::vector<int> pts = check_points(current, kind, i);
-      if (std::any_of(u.points.begin(), u.points.end(),
-                      [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); }))
-        out_checks.push_back(i);
-    }
-    return out_checks;
-  };
+/// The region requests of the judged segments a unit acts on, each judged
+/// alone (extrema-at-nodes: every segment monotone on its own).
+std::vector<RegionRequest> FixRun::segment_requests(const BSpline& current, const Unit& u) const {
+  std::vector<RegionRequest> rs;
+  for (int i = a0_.range.first; i <= a0_.range.last; ++i) {
+    const std::vector<int> pts = segment_points(current, current.segments()[i]);
+    const bool touched = std::any_of(u.points.begin(), u.points.end(),
+                                     [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+    if (!touched) continue;
+    RegionRequest rr;
+    rr.point = u.points[0];
+    rr.with.assign(u.points.begin() + 1, u.points.end());
+    rr.mode = Mode::cmrwi;
+    rr.segments = SegmentRange{i, i};
+    rr.max_depth = request_.max_depth;
+    rr.depth = false;
+    rs.push_back(std::move(rr));
+  }
+  return rs;
+}
 
-  // The region requests of the judged segments a unit acts on, each judged
-  // alone (extrema-at-nodes: every segment monotone on its own).
-  auto segment_requests = [&](const BSpline& current, const Unit& u) {
-    std::vector<RegionRequest> rs;
-    for (int i = a0.range.first; i <= a0.range.last; ++i) {
-      const std::vector<int> pts = segment_points(current, current.segments()[i]);
-      const bool touched = std::any_of(u.points.begin(), u.points.end(),
-                                       [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-      if (!touched) continue;
-      RegionRequest rr;
-      rr.point = u.points[0];
-      rr.with.assign(u.points.begin() + 1, u.points.end());
-      rr.mode = Mode::cmrwi;
-      rr.segments = SegmentRange{i, i};
-      rr.max_depth = request.max_depth;
-      rr.depth = false;
-      rs.push_back(std::move(rr));
-    }
-    return rs;
-  };
-  // A judged segment the unit does not act on fails in the input: moving the
-  // unit alone cannot meet extrema-at-nodes.
-  auto hopeless_alone = [&](const Unit& u) {
-    for (int i = a0.range.first; i <= a0.range.last; ++i) {
-      const std::vector<int> pts = check_points(spline, kind, i);
-      const bool touched = std::any_of(u.points.begin(), u.points.end(),
-                                       [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-      if (!touched && search.base_bad[i]) return true;
-    }
-    return false;
-  };
-  // The problems of several units' requests on one spline, which is analysed
-  // once for all of them (prepare_many; that analysis is most of a
-  // problem's set-up on a long contour).
-  auto problems_of = [&](const BSpline& current, const std::vector<std::vector<RegionRequest>>& per_unit) {
-    std::vector<RegionRequest> all;
-    for (const auto& rs : per_unit) all.insert(all.end(), rs.begin(), rs.end());
-    const std::vector<Prepared> made = prepare_many(current, all);
-    std::vector<std::vector<Prepared>> out_problems(per_unit.size());
-    std::size_t next = 0;
-    for (std::size_t ui = 0; ui < per_unit.size(); ++ui)
-      for (std::size_t r = 0; r < per_unit[ui].size(); ++r) out_problems[ui].push_back(made[next++]);
-    return out_problems;
-  };
+/// A judged segment the unit does not act on fails in the input: moving the
+/// unit alone cannot meet extrema-at-nodes.
+bool FixRun::hopeless_alone(const Unit& u) const {
+  for (int i = a0_.range.first; i <= a0_.range.last; ++i) {
+    const std::vector<int> pts = check_points(spline_, kind_, i);
+    const bool touched = std::any_of(u.points.begin(), u.points.end(),
+                                     [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+    if (!touched && search_->base_bad[i]) return true;
+  }
+  return false;
+}
 
-  // 1. Each unit alone.
-  std::optional<std::size_t> best_unit;
-  std::vector<Nearest> alone(ties.units.size());
-  std::vector<char> hopeless(ties.units.size(), 0);
-  std::vector<std::vector<RegionRequest>> alone_requests(ties.units.size());
-  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
-    const Unit& u = ties.units[ui];
+/// The problems of several units' requests on one spline, which is analysed
+/// once for all of them (prepare_many; that analysis is most of a
+/// problem's set-up on a long contour).
+std::vector<std::vector<Prepared>> FixRun::problems_of(
+    const BSpline& current, const std::vector<std::vector<RegionRequest>>& per_unit) const {
+  std::vector<RegionRequest> all;
+  for (const auto& rs : per_unit) all.insert(all.end(), rs.begin(), rs.end());
+  const std::vector<Prepared> made = prepare_many(current, all);
+  std::vector<std::vector<Prepared>> out_problems(per_unit.size());
+  std::size_t next = 0;
+  for (std::size_t ui = 0; ui < per_unit.size(); ++ui)
+    for (std::size_t r = 0; r < per_unit[ui].size(); ++r) out_problems[ui].push_back(made[next++]);
+  return out_problems;
+}
+
+/// Stage 1: each unit alone. Fills alone_, best_unit_ and out_.units.
+void FixRun::each_unit_alone() {
+  Search& search = *search_;
+  const FixRequest& request = request_;
+  alone_.assign(ties_.units.size(), Nearest{});
+  std::vector<char> hopeless(ties_.units.size(), 0);
+  std::vector<std::vector<RegionRequest>> alone_requests(ties_.units.size());
+  for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) {
+    const Unit& u = ties_.units[ui];
     if (!unit_acts(u)) continue;
-    if (region_kind && !request.judge) {
+    if (region_kind_ && !request.judge) {
       RegionRequest rr;
       rr.point = u.points[0];
       rr.with.assign(u.points.begin() + 1, u.points.end());
@@ -448,24 +492,26 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
       rr.max_depth = request.max_depth;
       rr.depth = false;
       alone_requests[ui].push_back(std::move(rr));
-    } else if (!region_kind && !(hopeless[ui] = hopeless_alone(u)) && !exact_local) {
-      alone_requests[ui] = segment_requests(spline, u);
+    } else if (!region_kind_ && !(hopeless[ui] = hopeless_alone(u)) && !exact_local_) {
+      alone_requests[ui] = segment_requests(spline_, u);
     }
   }
-  const std::vector<std::vector<Prepared>> alone_problems = problems_of(spline, alone_requests);
-  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
-    const Unit& u = ties.units[ui];
+  const std::vector<std::vector<Prepared>> alone_problems = problems_of(spline_, alone_requests);
+  for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) {
+    const Unit& u = ties_.units[ui];
     if (!unit_acts(u)) continue;
     if (hopeless[ui]) {
       // extrema-at-nodes: a failing segment the unit does not act on rules it out.
-      out.units.push_back(UnitFix{u.points, u.slide, false, Vec2(0.0), 0});
+      out_.units.push_back(UnitFix{u.points, u.slide, false, Vec2(0.0), 0});
       continue;
     }
     // The unit must make its region problem pass (extrema-at-nodes: every
     // segment it acts on monotone on its own, the region of each judged alone).
     const std::vector<Prepared>& pieces = alone_problems[ui];
-    const Vec2 p0 = spline.points()[u.points[0]];
-    const std::vector<int> checks = exact_local ? touched_checks(spline, u) : std::vector<int>{};
+    const Vec2 p0 = spline_.points()[u.points[0]];
+    const std::vector<int> checks = exact_local_ ? touched_checks(spline_, u) : std::vector<int>{};
+    const int m = m_;
+    const bool exact_local = exact_local_;
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
       ++search.evaluations;
       if (search.expired()) return false;
@@ -486,311 +532,366 @@ FixResult fix(const BSpline& spline, const FixRequest& request_in) {
     // Cheap certified labels (the region problems; curvature-extrema-at-nodes:
     // each segment's own): search below the first cell.
     const bool refine = !exact_local && !request.judge;
-    const std::function<bool(Vec2)> certify = [&](Vec2 x) {
+    const std::function<bool(Vec2)> certify_position = [&](Vec2 x) {
       std::vector<Vec2> d(m, Vec2(0.0));
       for (int k : u.points) d[k] += x;
       return search.holds(d);
     };
     // The exactly judged kinds (no region problem: each position re-judges
     // its checks in exact arithmetic) search half the grid from two seeds.
-    alone[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol,
-                                      std::max(8, request.grid / 2), request.threads, 2)
-                            : nearest(pass, u.dims(), u.dir, out.size, search.max_move, search.tol, request.grid,
-                                      request.threads, 6, refine, refine ? certify : std::function<bool(Vec2)>{});
+    alone_[ui] = exact_local ? nearest(pass, u.dims(), u.dir, out_.size, search.max_move, search.tol,
+                                       std::max(8, request.grid / 2), request.threads, 2)
+                             : nearest(pass, u.dims(), u.dir, out_.size, search.max_move, search.tol, request.grid,
+                                       request.threads, 6, refine,
+                                       refine ? certify_position : std::function<bool(Vec2)>{});
     UnitFix uf;
     uf.points = u.points;
     uf.slide = u.slide;
-    uf.found = alone[ui].found;
-    uf.displacement = alone[ui].x;
-    uf.distance = alone[ui].dist;
-    out.units.push_back(uf);
-    if (alone[ui].found &&
-        (!best_unit || unit_cost(u, alone[ui].x) < unit_cost(ties.units[*best_unit], alone[*best_unit].x)))
-      best_unit = ui;
+    uf.found = alone_[ui].found;
+    uf.displacement = alone_[ui].x;
+    uf.distance = alone_[ui].dist;
+    out_.units.push_back(uf);
+    if (alone_[ui].found &&
+        (!best_unit_ || unit_cost(u, alone_[ui].x) < unit_cost(ties_.units[*best_unit_], alone_[*best_unit_].x)))
+      best_unit_ = ui;
   }
+}
 
-  // The state of the several-unit search: one coordinate block per unit.
-  std::vector<std::size_t> offset(ties.units.size() + 1, 0);
-  for (std::size_t ui = 0; ui < ties.units.size(); ++ui) offset[ui + 1] = offset[ui] + ties.units[ui].dims();
-  auto delta_of = [&](const std::vector<double>& z) {
-    std::vector<Vec2> delta(m, Vec2(0.0));
-    for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
-      const Unit& u = ties.units[ui];
-      const Vec2 x = u.slide ? z[offset[ui]] * u.dir : Vec2(z[offset[ui]], z[offset[ui] + 1]);
-      for (int k : u.points) delta[k] += x;
-    }
-    return delta;
-  };
-  auto cost_of = [&](const std::vector<double>& z) {
-    double c = 0;
-    for (const Vec2& d : delta_of(z)) c += dot(d, d);
-    return c;
-  };
-  auto set_unit = [&](std::vector<double>& z, std::size_t ui, Vec2 x) {
-    if (ties.units[ui].slide)
-      z[offset[ui]] = dot(x, ties.units[ui].dir);
-    else
-      z[offset[ui]] = x.x, z[offset[ui] + 1] = x.y;
-  };
-  // Two units moved at once, for a greedy step that no single unit can
-  // make: every pair of units acting on a common failing segment, each
-  // pair's nearest position (in coordinates scaled so that their squared
-  // length is the added squared displacement) that lowers the badness
-  // (extrema-at-nodes: fewer of the segments the pair acts on fail, each
-  // classified again exactly); the cheapest pair's moves.
-  auto two_at_once = [&](const std::vector<Vec2>& now, const BSpline& current, int before) {
-    std::vector<std::pair<std::size_t, Vec2>> best_moves;
-    double best_cost = std::numeric_limits<double>::infinity();
-    std::vector<int> failing;
-    if (!region_kind) {
-      for (int i = a0.range.first; i <= a0.range.last; ++i)
-        if (search.bad_in(now, {i})) failing.push_back(i);
-    } else {
-      failing = request.judge ? out.failing_segments
-                              : failing_segments(current, analyze(current, ao), request.requirement);
-    }
-    auto touches = [&](const Unit& u, int i) {
-      const std::vector<int> pts = check_points(current, kind, i);
-      return std::any_of(u.points.begin(), u.points.end(),
-                         [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
-    };
-    std::set<std::pair<std::size_t, std::size_t>> pairs;
-    for (int i : failing) {
-      std::vector<std::size_t> on;
-      for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
-        if (touches(ties.units[ui], i)) on.push_back(ui);
-      for (std::size_t p = 0; p < on.size(); ++p)
-        for (std::size_t q = p + 1; q < on.size(); ++q) pairs.insert({on[p], on[q]});
-    }
-    std::vector<std::pair<std::size_t, std::size_t>> order(pairs.begin(), pairs.end());
-    std::stable_sort(order.begin(), order.end(), [&](const auto& p, const auto& q) {
-      return ties.units[p.first].dims() + ties.units[p.second].dims() <
-             ties.units[q.first].dims() + ties.units[q.second].dims();
-    });  // the cheap 2-D pairs first: their distance bounds the others' search
-    for (const auto& [a, b] : order) {
-      if (search.expired()) break;
-      const Unit& ua = ties.units[a];
-      const Unit& ub = ties.units[b];
-      std::vector<int> segs;
-      int local_before = 0;
-      for (int i = a0.range.first; i <= a0.range.last; ++i)
-        if (touches(ua, i) || touches(ub, i)) {
-          segs.push_back(i);
-          local_before += std::binary_search(failing.begin(), failing.end(), i);
-        }
-      const int da = ua.dims(), dims = da + ub.dims();
-      const double wa = 1 / std::sqrt(static_cast<double>(ua.points.size()));
-      const double wb = 1 / std::sqrt(static_cast<double>(ub.points.size()));
-      auto moves_of = [&](const std::vector<double>& c) {
-        const Vec2 xa = wa * (ua.slide ? c[0] * ua.dir : Vec2(c[0], c[1]));
-        const Vec2 xb = wb * (ub.slide ? c[da] * ub.dir : Vec2(c[da], c[da + 1]));
-        return std::pair{xa, xb};
-      };
-      const std::function<bool(const std::vector<double>&)> pass_n = [&](const std::vector<double>& c) {
-        const auto [xa, xb] = moves_of(c);
-        std::vector<Vec2> d = now;
-        for (int k : ua.points) d[k] += xa;
-        for (int k : ub.points) d[k] += xb;
-        if (region_kind) return search.badness(d) < before;
-        ++search.evaluations;
-        if (search.expired()) return false;
-        for (const Vec2& dk : d)
-          if (norm(dk) > search.max_move) return false;
-        return search.bad_in(d, segs) < local_before;
-      };
-      const double coarse = std::max(search.tol, 1e-3 * out.size);
-      // A pair farther than the best so far cannot win: search only inside it.
-      const double reach = std::min(search.max_move * std::sqrt(static_cast<double>(dims)), std::sqrt(best_cost));
-      std::vector<double> c;
-      if (dims == 2) {
-        const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out.size, reach, coarse,
-                                   std::max(8, request.grid / 2), request.threads, 1);
-        if (nr.found) c = {nr.x.x, nr.x.y};
-      } else {
-        const NearestN nr = nearest_rays(pass_n, dims, out.size, reach, coarse, request.threads);
-        if (nr.found) c = nr.c;
-      }
-      if (c.empty()) continue;
-      double cost = 0;
-      for (double v : c) cost += v * v;
-      if (cost < best_cost) {
-        best_cost = cost;
-        const auto [xa, xb] = moves_of(c);
-        best_moves = {{a, xa}, {b, xb}};
-      }
-    }
-    return best_moves;
-  };
-  std::vector<double> z(offset.back(), 0.0);
-  bool feasible = false;
-  if (best_unit) {
-    set_unit(z, *best_unit, alone[*best_unit].x);
-    feasible = true;
+std::vector<Vec2> FixRun::delta_of(const std::vector<double>& z) const {
+  std::vector<Vec2> delta(m_, Vec2(0.0));
+  for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) {
+    const Unit& u = ties_.units[ui];
+    const Vec2 x = u.slide ? z[offset_[ui]] * u.dir : Vec2(z[offset_[ui]], z[offset_[ui] + 1]);
+    for (int k : u.points) delta[k] += x;
   }
-  if (!feasible) {
-    // 2a. Greedy: each step moves one unit to the nearest position that
-    // lowers the badness (Search::badness) of the curve.
-    // extrema-at-nodes judges each unit on its own segments only, so a
-    // unit's step (cached) stays valid until a point of those segments moves.
-    std::vector<std::optional<Nearest>> cached(ties.units.size());
-    std::vector<std::vector<int>> watch(ties.units.size());  // points of the segments a unit acts on
-    if (!region_kind)
-      for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
-        std::set<int> w(ties.units[ui].points.begin(), ties.units[ui].points.end());
-        for (int i = a0.range.first; i <= a0.range.last; ++i) {
-          const std::vector<int> pts = check_points(spline, kind, i);
-          const bool touched = std::any_of(ties.units[ui].points.begin(), ties.units[ui].points.end(), [&](int k) {
-            return std::find(pts.begin(), pts.end(), k) != pts.end();
-          });
-          if (touched) w.insert(pts.begin(), pts.end());
-        }
-        watch[ui].assign(w.begin(), w.end());
+  return delta;
+}
+
+// Two units moved at once, for a greedy step that no single unit can
+// make: every pair of units acting on a common failing segment, each
+// pair's nearest position (in coordinates scaled so that their squared
+// length is the added squared displacement) that lowers the badness
+// (extrema-at-nodes: fewer of the segments the pair acts on fail, each
+// classified again exactly); the cheapest pair's moves.
+std::vector<std::pair<std::size_t, Vec2>> FixRun::two_at_once(const std::vector<Vec2>& now, const BSpline& current,
+                                                              int before) {
+  Search& search = *search_;
+  const FixRequest& request = request_;
+  const bool region_kind = region_kind_;
+  std::vector<std::pair<std::size_t, Vec2>> best_moves;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<int> failing;
+  if (!region_kind) {
+    for (int i = a0_.range.first; i <= a0_.range.last; ++i)
+      if (search.bad_in(now, {i})) failing.push_back(i);
+  } else {
+    failing = request.judge ? out_.failing_segments
+                            : failing_segments(current, analyze(current, ao_), request.requirement);
+  }
+  auto touches = [&](const Unit& u, int i) {
+    const std::vector<int> pts = check_points(current, kind_, i);
+    return std::any_of(u.points.begin(), u.points.end(),
+                       [&](int k) { return std::find(pts.begin(), pts.end(), k) != pts.end(); });
+  };
+  std::set<std::pair<std::size_t, std::size_t>> pairs;
+  for (int i : failing) {
+    std::vector<std::size_t> on;
+    for (std::size_t ui = 0; ui < ties_.units.size(); ++ui)
+      if (touches(ties_.units[ui], i)) on.push_back(ui);
+    for (std::size_t p = 0; p < on.size(); ++p)
+      for (std::size_t q = p + 1; q < on.size(); ++q) pairs.insert({on[p], on[q]});
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> order(pairs.begin(), pairs.end());
+  std::stable_sort(order.begin(), order.end(), [&](const auto& p, const auto& q) {
+    return ties_.units[p.first].dims() + ties_.units[p.second].dims() <
+           ties_.units[q.first].dims() + ties_.units[q.second].dims();
+  });  // the cheap 2-D pairs first: their distance bounds the others' search
+  for (const auto& [a, b] : order) {
+    if (search.expired()) break;
+    const Unit& ua = ties_.units[a];
+    const Unit& ub = ties_.units[b];
+    std::vector<int> segs;
+    int local_before = 0;
+    for (int i = a0_.range.first; i <= a0_.range.last; ++i)
+      if (touches(ua, i) || touches(ub, i)) {
+        segs.push_back(i);
+        local_before += std::binary_search(failing.begin(), failing.end(), i);
       }
-    for (int step = 0; step < static_cast<int>(ties.units.size()) && !feasible; ++step) {
-      std::optional<std::pair<std::size_t, Vec2>> pick;
-      double pick_cost = std::numeric_limits<double>::infinity();
-      const std::vector<Vec2> now = delta_of(z);
-      const int before = search.badness(now);
-      const BSpline current = search.moved(now);
-      // extrema-at-nodes: the region problems of every unit without a cached
-      // step, on the current spline (analysed once for all of them).
-      std::vector<std::vector<RegionRequest>> step_requests(ties.units.size());
-      if (!region_kind && !exact_local)
-        for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
-          if (!cached[ui]) step_requests[ui] = segment_requests(current, ties.units[ui]);
-      const std::vector<std::vector<Prepared>> step_problems = problems_of(current, step_requests);
-      for (std::size_t ui = 0; ui < ties.units.size(); ++ui) {
-        const Unit& u = ties.units[ui];
-        if (cached[ui]) {
-          const Nearest& nr = *cached[ui];
-          if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
+    const int da = ua.dims(), dims = da + ub.dims();
+    const double wa = 1 / std::sqrt(static_cast<double>(ua.points.size()));
+    const double wb = 1 / std::sqrt(static_cast<double>(ub.points.size()));
+    auto moves_of = [&](const std::vector<double>& c) {
+      const Vec2 xa = wa * (ua.slide ? c[0] * ua.dir : Vec2(c[0], c[1]));
+      const Vec2 xb = wb * (ub.slide ? c[da] * ub.dir : Vec2(c[da], c[da + 1]));
+      return std::pair{xa, xb};
+    };
+    const std::function<bool(const std::vector<double>&)> pass_n = [&](const std::vector<double>& c) {
+      const auto [xa, xb] = moves_of(c);
+      std::vector<Vec2> d = now;
+      for (int k : ua.points) d[k] += xa;
+      for (int k : ub.points) d[k] += xb;
+      if (region_kind) return search.badness(d) < before;
+      ++search.evaluations;
+      if (search.expired()) return false;
+      for (const Vec2& dk : d)
+        if (norm(dk) > search.max_move) return false;
+      return search.bad_in(d, segs) < local_before;
+    };
+    const double coarse = std::max(search.tol, 1e-3 * out_.size);
+    // A pair farther than the best so far cannot win: search only inside it.
+    const double reach = std::min(search.max_move * std::sqrt(static_cast<double>(dims)), std::sqrt(best_cost));
+    std::vector<double> c;
+    if (dims == 2) {
+      const Nearest nr = nearest([&](Vec2 x) { return pass_n({x.x, x.y}); }, 2, Vec2(0.0), out_.size, reach, coarse,
+                                 std::max(8, request.grid / 2), request.threads, 1);
+      if (nr.found) c = {nr.x.x, nr.x.y};
+    } else {
+      const NearestN nr = nearest_rays(pass_n, dims, out_.size, reach, coarse, request.threads);
+      if (nr.found) c = nr.c;
+    }
+    if (c.empty()) continue;
+    double cost = 0;
+    for (double v : c) cost += v * v;
+    if (cost < best_cost) {
+      best_cost = cost;
+      const auto [xa, xb] = moves_of(c);
+      best_moves = {{a, xa}, {b, xb}};
+    }
+  }
+  return best_moves;
+}
+
+/// Stage 2a, greedy: each step moves one unit to the nearest position that
+/// lowers the badness (Search::badness) of the curve; whether z then holds.
+/// extrema-at-nodes judges each unit on its own segments only, so a unit's
+/// step (cached) stays valid until a point of those segments moves.
+bool FixRun::greedy(std::vector<double>& z) {
+  Search& search = *search_;
+  const FixRequest& request = request_;
+  const bool region_kind = region_kind_, exact_local = exact_local_;
+  bool feasible = false;
+  std::vector<std::optional<Nearest>> cached(ties_.units.size());
+  std::vector<std::vector<int>> watch(ties_.units.size());  // points of the segments a unit acts on
+  if (!region_kind)
+    for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) {
+      std::set<int> w(ties_.units[ui].points.begin(), ties_.units[ui].points.end());
+      for (int i = a0_.range.first; i <= a0_.range.last; ++i) {
+        const std::vector<int> pts = check_points(spline_, kind_, i);
+        const bool touched = std::any_of(ties_.units[ui].points.begin(), ties_.units[ui].points.end(), [&](int k) {
+          return std::find(pts.begin(), pts.end(), k) != pts.end();
+        });
+        if (touched) w.insert(pts.begin(), pts.end());
+      }
+      watch[ui].assign(w.begin(), w.end());
+    }
+  for (int step = 0; step < static_cast<int>(ties_.units.size()) && !feasible; ++step) {
+    std::optional<std::pair<std::size_t, Vec2>> pick;
+    double pick_cost = std::numeric_limits<double>::infinity();
+    const std::vector<Vec2> now = delta_of(z);
+    const int before = search.badness(now);
+    const BSpline current = search.moved(now);
+    // extrema-at-nodes: the region problems of every unit without a cached
+    // step, on the current spline (analysed once for all of them).
+    std::vector<std::vector<RegionRequest>> step_requests(ties_.units.size());
+    if (!region_kind && !exact_local)
+      for (std::size_t ui = 0; ui < ties_.units.size(); ++ui)
+        if (!cached[ui]) step_requests[ui] = segment_requests(current, ties_.units[ui]);
+    const std::vector<std::vector<Prepared>> step_problems = problems_of(current, step_requests);
+    for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) {
+      const Unit& u = ties_.units[ui];
+      if (cached[ui]) {
+        const Nearest& nr = *cached[ui];
+        if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
+        continue;
+      }
+      std::function<bool(Vec2)> pass = [&](Vec2 x) {
+        std::vector<Vec2> d = now;
+        for (int k : u.points) d[k] += x;
+        return search.badness(d) < before;
+      };
+      // extrema-at-nodes: fewer of the unit's own segments fail, judged by
+      // their regions on the current spline.
+      const std::vector<Prepared>& pieces = step_problems[ui];
+      int bad_now = 0;
+      const Vec2 p0 = current.points()[u.points[0]];
+      const std::vector<int> checks = exact_local ? touched_checks(current, u) : std::vector<int>{};
+      if (exact_local) bad_now = search.bad_in(now, checks);
+      if (!region_kind) {
+        if (!exact_local)
+          for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
+        if (bad_now == 0) {
+          cached[ui] = Nearest{};
           continue;
         }
-        std::function<bool(Vec2)> pass = [&](Vec2 x) {
-          std::vector<Vec2> d = now;
-          for (int k : u.points) d[k] += x;
-          return search.badness(d) < before;
-        };
-        // extrema-at-nodes: fewer of the unit's own segments fail, judged by
-        // their regions on the current spline.
-        const std::vector<Prepared>& pieces = step_problems[ui];
-        int bad_now = 0;
-        const Vec2 p0 = current.points()[u.points[0]];
-        const std::vector<int> checks = exact_local ? touched_checks(current, u) : std::vector<int>{};
-        if (exact_local) bad_now = search.bad_in(now, checks);
-        if (!region_kind) {
-          if (!exact_local)
-            for (const Prepared& pr : pieces) bad_now += !passing_pixel(pr.classify(p0), request.requirement);
-          if (bad_now == 0) {
-            cached[ui] = Nearest{};
-            continue;
-          }
-          pass = [&, p0, bad_now](Vec2 x) {
-            ++search.evaluations;
-            if (search.expired()) return false;
-            for (int k : u.points)
-              if (norm(now[k] + x) > search.max_move) return false;
-            if (exact_local || u.slide) {
-              std::vector<Vec2> d = now;
-              for (int k : u.points) d[k] += x;
-              if (exact_local) return search.bad_in(d, checks) < bad_now;
-              if (search.flips(d)) return false;
-            }
-            int bad = 0;
-            for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
-            return bad < bad_now;
-          };
-        }
-        // Coarse (half the grid, 1e-3 of the size, one seed): the compass search refines.
-        const Nearest nr = nearest(pass, u.dims(), u.dir, out.size, search.max_move, std::max(search.tol, 1e-3 * out.size),
-                                   std::max(8, request.grid / 2), request.threads, 1);
-        if (!region_kind && !search.timed_out) cached[ui] = nr;
-        if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
-      }
-      // No single unit lowers the badness (with G1 kept a segment whose two
-      // handles must both slide, or a node group that must move with a
-      // handle): two units at once.
-      std::vector<std::pair<std::size_t, Vec2>> step_moves;
-      if (pick)
-        step_moves.push_back(*pick);
-      else if (!search.expired())
-        step_moves = two_at_once(now, current, before);
-      if (step_moves.empty()) break;
-      for (const auto& [pu, x] : step_moves) {
-        const Unit& u = ties.units[pu];
-        const Vec2 x0 = u.slide ? z[offset[pu]] * u.dir : Vec2(z[offset[pu]], z[offset[pu] + 1]);
-        set_unit(z, pu, x0 + x);
-        for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
+        pass = [&, p0, bad_now](Vec2 x) {
+          ++search.evaluations;
+          if (search.expired()) return false;
           for (int k : u.points)
-            if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
-      }
-      feasible = search.holds(delta_of(z));
-    }
-  }
-  if (feasible && (request.together || !best_unit)) {
-    // 2b. Compass search on the total squared displacement; each trial is
-    // pulled back towards no move by bisection while it still passes.
-    auto ok = [&](const std::vector<double>& v) { return search.holds(delta_of(v)); };
-    const double stop = std::max(search.tol, 1e-3 * out.size);
-    auto project = [&](std::vector<double> v, double precision) {
-      double lo = 0, hi = 1;
-      double len = std::sqrt(cost_of(v));
-      while ((hi - lo) * len > precision) {
-        const double mid = 0.5 * (lo + hi);
-        std::vector<double> t = v;
-        for (double& c : t) c *= mid;
-        if (ok(t)) hi = mid; else lo = mid;
-      }
-      for (double& c : v) c *= hi;
-      return v;
-    };
-    std::vector<bool> moved_coordinate(z.size(), false);
-    for (std::size_t ui = 0; ui < ties.units.size(); ++ui)
-      for (std::size_t i = offset[ui]; i < offset[ui + 1]; ++i)
-        for (std::size_t c = offset[ui]; c < offset[ui + 1]; ++c) moved_coordinate[i] = moved_coordinate[i] || z[c] != 0;
-    z = project(z, stop / 4);
-    double h = std::max(std::sqrt(cost_of(z)) / 2, stop);
-    const int rounds = request.together ? 200 : 20;  // after greedy steps: a short polish
-    for (int round = 0; round < rounds && h >= stop; ++round) {
-      bool improved = false;
-      for (std::size_t i = 0; i < z.size() && !improved; ++i)
-        for (const double sgn : {-1.0, 1.0}) {
-          if (!request.together && !moved_coordinate[i]) continue;  // only the units the greedy steps moved
-          std::vector<double> t = z;
-          t[i] += sgn * h;
-          if (!ok(t)) continue;
-          t = project(t, stop / 4);
-          if (cost_of(t) < cost_of(z) * (1 - 1e-9)) {
-            z = t;
-            improved = true;
-            break;
+            if (norm(now[k] + x) > search.max_move) return false;
+          if (exact_local || u.slide) {
+            std::vector<Vec2> d = now;
+            for (int k : u.points) d[k] += x;
+            if (exact_local) return search.bad_in(d, checks) < bad_now;
+            if (search.flips(d)) return false;
           }
-        }
-      if (!improved) h /= 2;
+          int bad = 0;
+          for (const Prepared& pr : pieces) bad += !passing_pixel(pr.classify(p0 + x), request.requirement);
+          return bad < bad_now;
+        };
+      }
+      // Coarse (half the grid, 1e-3 of the size, one seed): the compass search refines.
+      const Nearest nr = nearest(pass, u.dims(), u.dir, out_.size, search.max_move, std::max(search.tol, 1e-3 * out_.size),
+                                 std::max(8, request.grid / 2), request.threads, 1);
+      if (!region_kind && !search.timed_out) cached[ui] = nr;
+      if (nr.found && unit_cost(u, nr.x) < pick_cost) pick_cost = unit_cost(u, nr.x), pick = std::make_pair(ui, nr.x);
     }
-    z = project(z, search.tol / 8);  // the last pull to the tolerance
+    // No single unit lowers the badness (with G1 kept a segment whose two
+    // handles must both slide, or a node group that must move with a
+    // handle): two units at once.
+    std::vector<std::pair<std::size_t, Vec2>> step_moves;
+    if (pick)
+      step_moves.push_back(*pick);
+    else if (!search.expired())
+      step_moves = two_at_once(now, current, before);
+    if (step_moves.empty()) break;
+    for (const auto& [pu, x] : step_moves) {
+      const Unit& u = ties_.units[pu];
+      const Vec2 x0 = u.slide ? z[offset_[pu]] * u.dir : Vec2(z[offset_[pu]], z[offset_[pu] + 1]);
+      set_unit(z, pu, x0 + x);
+      for (std::size_t ui = 0; ui < ties_.units.size(); ++ui)
+        for (int k : u.points)
+          if (std::binary_search(watch[ui].begin(), watch[ui].end(), k)) cached[ui].reset();
+    }
+    feasible = search.holds(delta_of(z));
   }
+  return feasible;
+}
+
+/// Stage 2b: a compass search on the total squared displacement of a z that
+/// holds; each trial is pulled back towards no move by bisection while it
+/// still passes.
+void FixRun::polish(std::vector<double>& z) {
+  Search& search = *search_;
+  const FixRequest& request = request_;
+  auto ok = [&](const std::vector<double>& v) { return search.holds(delta_of(v)); };
+  const double stop = std::max(search.tol, 1e-3 * out_.size);
+  auto project = [&](std::vector<double> v, double precision) {
+    double lo = 0, hi = 1;
+    double len = std::sqrt(cost_of(v));
+    while ((hi - lo) * len > precision) {
+      const double mid = 0.5 * (lo + hi);
+      std::vector<double> t = v;
+      for (double& c : t) c *= mid;
+      if (ok(t)) hi = mid; else lo = mid;
+    }
+    for (double& c : v) c *= hi;
+    return v;
+  };
+  std::vector<bool> moved_coordinate(z.size(), false);
+  for (std::size_t ui = 0; ui < ties_.units.size(); ++ui)
+    for (std::size_t i = offset_[ui]; i < offset_[ui + 1]; ++i)
+      for (std::size_t c = offset_[ui]; c < offset_[ui + 1]; ++c) moved_coordinate[i] = moved_coordinate[i] || z[c] != 0;
+  z = project(z, stop / 4);
+  double h = std::max(std::sqrt(cost_of(z)) / 2, stop);
+  const int rounds = request.together ? 200 : 20;  // after greedy steps: a short polish
+  for (int round = 0; round < rounds && h >= stop; ++round) {
+    bool improved = false;
+    for (std::size_t i = 0; i < z.size() && !improved; ++i)
+      for (const double sgn : {-1.0, 1.0}) {
+        if (!request.together && !moved_coordinate[i]) continue;  // only the units the greedy steps moved
+        std::vector<double> t = z;
+        t[i] += sgn * h;
+        if (!ok(t)) continue;
+        t = project(t, stop / 4);
+        if (cost_of(t) < cost_of(z) * (1 - 1e-9)) {
+          z = t;
+          improved = true;
+          break;
+        }
+      }
+    if (!improved) h /= 2;
+  }
+  z = project(z, search.tol / 8);  // the last pull to the tolerance
+}
+
+FixResult FixRun::run() {
+  if (judged_to_hold(spline_, a0_)) {
+    out_.already = true;
+    out_.spline = spline_;
+    certify(out_);
+    return out_;
+  }
+  out_.failing_segments = failing_segments(spline_, a0_, request_.requirement);
+  if (request_.judge) {  // the caller's judge says whether, not where: every judged segment
+    out_.failing_segments.clear();
+    for (int i = a0_.range.first; i <= a0_.range.last; ++i) out_.failing_segments.push_back(i);
+  }
+  for (int i : out_.failing_segments)
+    for (int k : segment_points(spline_, spline_.segments()[i])) acting_.insert(k);
+  const std::vector<int> allowed = allowed_points();
+  // Units of every allowed point: those acting on a failing segment are
+  // tried alone; the others join the several-unit search (a segment that
+  // fails only by its direction may need its neighbours moved).
+  std::set<int> all_points;
+  for (int k = 0; k < m_; ++k) all_points.insert(k);
+  ties_ = build_units(spline_, a0_, allowed, request_.keep, all_points);
+  out_.tie_joints = ties_.joints;
+  out_.spline = spline_;
+  if (std::none_of(ties_.units.begin(), ties_.units.end(), [&](const Unit& u) { return unit_acts(u); })) {
+    out_.reason = "no point may move: every point acting on a failing segment is fixed or held by a tie";
+    out_.nothing_moves = true;
+    certify(out_);
+    return out_;
+  }
+
+  Search& search = search_.emplace(spline_, request_, a0_);
+  search.handles = ties_.handles;
+  search.size = out_.size;
+  search.tol = request_.tolerance * out_.size;
+  search.max_move = request_.max_move > 0 ? request_.max_move : out_.size;
+  search.deadline =
+      start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request_.max_seconds));
+
+  each_unit_alone();
+
+  offset_.assign(ties_.units.size() + 1, 0);
+  for (std::size_t ui = 0; ui < ties_.units.size(); ++ui) offset_[ui + 1] = offset_[ui] + ties_.units[ui].dims();
+  std::vector<double> z(offset_.back(), 0.0);
+  bool feasible = false;
+  if (best_unit_) {
+    set_unit(z, *best_unit_, alone_[*best_unit_].x);
+    feasible = true;
+  }
+  if (!feasible) feasible = greedy(z);
+  if (feasible && (request_.together || !best_unit_)) polish(z);
   if (!feasible) {
-    out.reason = search.timed_out
-                     ? "no certified fix found in the time limit (" + std::to_string(request.max_seconds) + " s)"
-                     : "no certified fix within " + field("max_move") + " " + std::to_string(search.max_move) + " (" +
-                           std::to_string(ties.units.size()) + " unit(s) of motion tried)";
-    out.evaluations = search.evaluations;
-    finish(out);
-    return out;
+    out_.reason = search.timed_out
+                      ? "no certified fix found in the time limit (" + std::to_string(request_.max_seconds) + " s)"
+                      : "no certified fix within " + field("max_move") + " " + std::to_string(search.max_move) + " (" +
+                            std::to_string(ties_.units.size()) + " unit(s) of motion tried)";
+    out_.evaluations = search.evaluations;
+    certify(out_);
+    return out_;
   }
   const std::vector<Vec2> delta = delta_of(z);
-  out.spline = search.moved(delta);
-  for (int k = 0; k < m; ++k) {
+  out_.spline = search.moved(delta);
+  for (int k = 0; k < m_; ++k) {
     if (delta[k] == Vec2(0.0)) continue;
-    PointMove pm{k, spline.points()[k], out.spline->points()[k], norm(out.spline->points()[k] - spline.points()[k])};
-    out.total_squared += pm.distance * pm.distance;
-    out.max_distance = std::max(out.max_distance, pm.distance);
-    out.moves.push_back(pm);
+    PointMove pm{k, spline_.points()[k], out_.spline->points()[k], norm(out_.spline->points()[k] - spline_.points()[k])};
+    out_.total_squared += pm.distance * pm.distance;
+    out_.max_distance = std::max(out_.max_distance, pm.distance);
+    out_.moves.push_back(pm);
   }
-  out.evaluations = search.evaluations;
-  finish(out);
-  return out;
+  out_.evaluations = search.evaluations;
+  certify(out_);
+  return out_;
+}
+
+}  // namespace
+
+FixResult fix(const BSpline& spline, const FixRequest& request) {
+  const auto start = Clock::now();
+  return FixRun(spline, request, start).run();
 }
 
 }  // namespace cmr
