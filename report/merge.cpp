@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -146,7 +147,11 @@ std::string junit_suites(const fs::path& path, int& next_id) {
 
 }  // namespace
 
-MergeSummary merge_reports(const MergeOptions& options) {
+namespace {
+
+/// The parts' report.json, each checked (a cmr report of this schema, the
+/// same settings unless mixed, the same baseline) before anything is written.
+std::vector<Json> read_parts(const MergeOptions& options) {
   if (options.parts.empty()) throw InputFieldError(field("parts") + ": name the parts' report folders");
   const std::string dash = field("parts") + " ";
   std::error_code ec;
@@ -178,6 +183,63 @@ MergeSummary merge_reports(const MergeOptions& options) {
       throw InputFieldError(dash + p.string() + ": its baseline differs from " + options.parts.front().string() + "'s");
     reports.push_back(std::move(r));
   }
+  return reports;
+}
+
+/// One SARIF file of the parts' same-named files: the first part's run with
+/// every part's results (the tools and source roots must agree).
+std::string merged_sarif(const MergeOptions& options) {
+  const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
+  Json doc;
+  Json results = Json::array();
+  for (std::size_t i = 0; i < options.parts.size(); ++i) {
+    const fs::path f = part_file(i, *options.sarif);
+    Json s = read_json(f, "SARIF file " + options.sarif->filename().string());
+    if (!s.is_object() || !s.contains("runs") || !s["runs"].is_array() || s["runs"].size() != 1 ||
+        !s["runs"][0].contains("results") || !s["runs"][0]["results"].is_array())
+      throw InputError(f.string() + ": not a SARIF file of cmr report (one run with results)");
+    Json& run = s["runs"][0];
+    if (i > 0 && run["tool"] != doc["runs"][0]["tool"])
+      throw InputError(f.string() + ": its tool (cmr version, rules) differs from the first part's");
+    if (i > 0 && run.value("originalUriBaseIds", Json()) != doc["runs"][0].value("originalUriBaseIds", Json()))
+      throw InputFieldError(f.string() +
+                            ": its source root differs from the first part's (run the parts from one folder, "
+                            "or give " +
+                            field("source_root") + ")");
+    for (Json& r : run["results"]) results.push_back(std::move(r));
+    if (i == 0) doc = std::move(s);
+  }
+  doc["runs"][0]["results"] = std::move(results);
+  return doc.dump(options.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+/// The merged Markdown summary: the run's line, then each part's own file
+/// with its headings a level down, cut to a GitHub comment's limit.
+std::string merged_markdown(const MergeOptions& options, const MergeSummary& m,
+                            const std::function<std::string(std::size_t)>& shown) {
+  const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
+  std::string text = std::string(m.exit_code == kExitPass ? "## cmr report: pass" : "## cmr report: fail") + "\n\n" +
+                     m.line + ".\n";
+  for (std::size_t i = 0; i < options.parts.size(); ++i) {
+    std::string part = read_text(part_file(i, *options.markdown), "Markdown file " + options.markdown->filename().string());
+    std::string demoted;  // the part's headings one level down, under the merged one
+    std::istringstream lines(part);
+    for (std::string l; std::getline(lines, l);) demoted += (!l.empty() && l[0] == '#' ? "#" + l : l) + "\n";
+    text += "\n### Part " + std::to_string(i + 1) + ": " + shown(i) + "\n\n" + demoted;
+  }
+  if (text.size() >= kMarkdownLimit) {  // a GitHub comment's limit (report/markdown.hpp)
+    const std::string tail = "\n… the parts' summaries are cut here (see the merged report) …\n";
+    std::size_t cut = text.rfind('\n', kMarkdownLimit - tail.size() - 1);
+    text.resize(cut == std::string::npos ? 0 : cut);
+    text += tail;
+  }
+  return text;
+}
+
+}  // namespace
+
+MergeSummary merge_reports(const MergeOptions& options) {
+  std::vector<Json> reports = read_parts(options);
 
   MergeSummary m;
   m.parts = static_cast<int>(reports.size());
@@ -265,47 +327,8 @@ MergeSummary merge_reports(const MergeOptions& options) {
     for (std::size_t i = 0; i < options.parts.size(); ++i) text += junit_suites(part_file(i, *options.junit), id);
     out.stage(*options.junit, text + junit_footer());
   }
-  if (options.sarif) {
-    Json doc;
-    Json results = Json::array();
-    for (std::size_t i = 0; i < options.parts.size(); ++i) {
-      const fs::path f = part_file(i, *options.sarif);
-      Json s = read_json(f, "SARIF file " + options.sarif->filename().string());
-      if (!s.is_object() || !s.contains("runs") || !s["runs"].is_array() || s["runs"].size() != 1 ||
-          !s["runs"][0].contains("results") || !s["runs"][0]["results"].is_array())
-        throw InputError(f.string() + ": not a SARIF file of cmr report (one run with results)");
-      Json& run = s["runs"][0];
-      if (i > 0 && run["tool"] != doc["runs"][0]["tool"])
-        throw InputError(f.string() + ": its tool (cmr version, rules) differs from the first part's");
-      if (i > 0 && run.value("originalUriBaseIds", Json()) != doc["runs"][0].value("originalUriBaseIds", Json()))
-        throw InputFieldError(f.string() +
-                              ": its source root differs from the first part's (run the parts from one folder, "
-                              "or give " +
-                              field("source_root") + ")");
-      for (Json& r : run["results"]) results.push_back(std::move(r));
-      if (i == 0) doc = std::move(s);
-    }
-    doc["runs"][0]["results"] = std::move(results);
-    out.stage(*options.sarif, doc.dump(options.pretty ? 2 : -1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-  }
-  if (options.markdown) {
-    std::string text = std::string(m.exit_code == kExitPass ? "## cmr report: pass" : "## cmr report: fail") + "\n\n" +
-                       m.line + ".\n";
-    for (std::size_t i = 0; i < options.parts.size(); ++i) {
-      std::string part = read_text(part_file(i, *options.markdown), "Markdown file " + options.markdown->filename().string());
-      std::string demoted;  // the part's headings one level down, under the merged one
-      std::istringstream lines(part);
-      for (std::string l; std::getline(lines, l);) demoted += (!l.empty() && l[0] == '#' ? "#" + l : l) + "\n";
-      text += "\n### Part " + std::to_string(i + 1) + ": " + shown(i) + "\n\n" + demoted;
-    }
-    if (text.size() >= kMarkdownLimit) {  // a GitHub comment's limit (report/markdown.hpp)
-      const std::string tail = "\n… the parts' summaries are cut here (see the merged report) …\n";
-      std::size_t cut = text.rfind('\n', kMarkdownLimit - tail.size() - 1);
-      text.resize(cut == std::string::npos ? 0 : cut);
-      text += tail;
-    }
-    out.stage(*options.markdown, text);
-  }
+  if (options.sarif) out.stage(*options.sarif, merged_sarif(options));
+  if (options.markdown) out.stage(*options.markdown, merged_markdown(options, m, shown));
 
   // The parts' own pages, copied, and the merged index.
   for (std::size_t i = 0; i < options.parts.size(); ++i) copy_folder(out, options.parts[i], options.out / "parts" / names[i]);
