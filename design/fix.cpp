@@ -320,6 +320,7 @@ class FixRun {
     exact_local_ = local_kind(kind_) && kind_ != FixRequirement::Kind::extrema_at_nodes;
   }
 
+  /// The answer (once: it is moved out of the run).
   FixResult run();
 
  private:
@@ -819,7 +820,7 @@ FixResult FixRun::run() {
     out_.already = true;
     out_.spline = spline_;
     certify(out_);
-    return out_;
+    return std::move(out_);
   }
   out_.failing_segments = failing_segments(spline_, a0_, request_.requirement);
   if (request_.judge) {  // the caller's judge says whether, not where: every judged segment
@@ -841,7 +842,7 @@ FixResult FixRun::run() {
     out_.reason = "no point may move: every point acting on a failing segment is fixed or held by a tie";
     out_.nothing_moves = true;
     certify(out_);
-    return out_;
+    return std::move(out_);
   }
 
   Search& search = search_.emplace(spline_, request_, a0_);
@@ -871,7 +872,7 @@ FixResult FixRun::run() {
                             std::to_string(ties_.units.size()) + " unit(s) of motion tried)";
     out_.evaluations = search.evaluations;
     certify(out_);
-    return out_;
+    return std::move(out_);
   }
   const std::vector<Vec2> delta = delta_of(z);
   out_.spline = search.moved(delta);
@@ -884,7 +885,7 @@ FixResult FixRun::run() {
   }
   out_.evaluations = search.evaluations;
   certify(out_);
-  return out_;
+  return std::move(out_);
 }
 
 }  // namespace

@@ -149,6 +149,11 @@ std::string junit_suites(const fs::path& path, int& next_id) {
 
 namespace {
 
+/// Part i's CI file of the same name as the merged one (JUnit, SARIF, Markdown).
+fs::path part_file(const MergeOptions& options, std::size_t i, const fs::path& name) {
+  return options.parts[i] / name.filename();
+}
+
 /// The parts' report.json, each checked (a cmr report of this schema, the
 /// same settings unless mixed, the same baseline) before anything is written.
 std::vector<Json> read_parts(const MergeOptions& options) {
@@ -189,11 +194,10 @@ std::vector<Json> read_parts(const MergeOptions& options) {
 /// One SARIF file of the parts' same-named files: the first part's run with
 /// every part's results (the tools and source roots must agree).
 std::string merged_sarif(const MergeOptions& options) {
-  const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
   Json doc;
   Json results = Json::array();
   for (std::size_t i = 0; i < options.parts.size(); ++i) {
-    const fs::path f = part_file(i, *options.sarif);
+    const fs::path f = part_file(options, i, *options.sarif);
     Json s = read_json(f, "SARIF file " + options.sarif->filename().string());
     if (!s.is_object() || !s.contains("runs") || !s["runs"].is_array() || s["runs"].size() != 1 ||
         !s["runs"][0].contains("results") || !s["runs"][0]["results"].is_array())
@@ -217,11 +221,10 @@ std::string merged_sarif(const MergeOptions& options) {
 /// with its headings a level down, cut to a GitHub comment's limit.
 std::string merged_markdown(const MergeOptions& options, const MergeSummary& m,
                             const std::function<std::string(std::size_t)>& shown) {
-  const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
   std::string text = std::string(m.exit_code == kExitPass ? "## cmr report: pass" : "## cmr report: fail") + "\n\n" +
                      m.line + ".\n";
   for (std::size_t i = 0; i < options.parts.size(); ++i) {
-    std::string part = read_text(part_file(i, *options.markdown), "Markdown file " + options.markdown->filename().string());
+    std::string part = read_text(part_file(options, i, *options.markdown), "Markdown file " + options.markdown->filename().string());
     std::string demoted;  // the part's headings one level down, under the merged one
     std::istringstream lines(part);
     for (std::string l; std::getline(lines, l);) demoted += (!l.empty() && l[0] == '#' ? "#" + l : l) + "\n";
@@ -319,12 +322,11 @@ MergeSummary merge_reports(const MergeOptions& options) {
   // private folder's name, planar or space).
   const std::vector<std::string> names = part_names(options.parts);
   const auto shown = [&](std::size_t i) { return options.mixed ? names[i] : options.parts[i].string(); };
-  // CI files, each from the same-named file of every part.
-  const auto part_file = [&](std::size_t i, const fs::path& name) { return options.parts[i] / name.filename(); };
+  // CI files, each from the same-named file of every part (part_file).
   if (options.junit) {
     std::string text = junit_header();
     int id = 0;
-    for (std::size_t i = 0; i < options.parts.size(); ++i) text += junit_suites(part_file(i, *options.junit), id);
+    for (std::size_t i = 0; i < options.parts.size(); ++i) text += junit_suites(part_file(options, i, *options.junit), id);
     out.stage(*options.junit, text + junit_footer());
   }
   if (options.sarif) out.stage(*options.sarif, merged_sarif(options));

@@ -90,20 +90,11 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   const SpaceSpline& spline = problem.spline();
   const bool rational = spline.is_rational();
   const int max_degree = rational ? kMaxRationalDegree : 7;
-  if (spline.degree() < 2 || spline.degree() > max_degree) {
-    // Appended piece by piece: GCC 12 misreads a chain of string + (a false -Warray-bounds).
-    std::string why = field("backend");
-    why += " vulkan: ";
-    why += rational ? "rational " : "";
-    why += "space curves of degree 2..";
-    why += std::to_string(max_degree);
-    why += " only (this one has degree ";
-    why += std::to_string(spline.degree());
-    why += "; use ";
-    why += field("backend");
-    why += " cpu)";
-    return Error{Errc::size_unsupported, VK_SUCCESS, why};
-  }
+  if (spline.degree() < 2 || spline.degree() > max_degree)
+    return Error{Errc::size_unsupported, VK_SUCCESS,
+                 field("backend") + " vulkan: " + (rational ? "rational " : "") + "space curves of degree 2.." +
+                     std::to_string(max_degree) + " only (this one has degree " + std::to_string(spline.degree()) +
+                     "; use " + field("backend") + " cpu)"};
   ContextOptions co;
   co.device_name = options.device;
   co.require_float64 = true;
