@@ -158,6 +158,8 @@ std::vector<int> space_fix_candidates(const SpaceSpline& spline, const SpaceFixR
       if (k < 0 || k >= m)
         throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is outside P0..P" +
                               std::to_string(m - 1));
+      if (std::find(request.held.begin(), request.held.end(), k) != request.held.end())
+        throw InputFieldError(field("points") + ": P" + std::to_string(k) + " is held (it carries an end's jet)");
       if (!acts(k))
         throw InputFieldError(field("points") + ": P" + std::to_string(k) + " does not act on a failing segment (" +
                               failing_text + ")");
@@ -165,7 +167,9 @@ std::vector<int> space_fix_candidates(const SpaceSpline& spline, const SpaceFixR
     }
   } else {
     for (int k = 0; k < m; ++k)
-      if ((spline.closed() || (k != 0 && k != m - 1)) && acts(k)) candidates.push_back(k);
+      if ((spline.closed() || (k != 0 && k != m - 1)) && acts(k) &&
+          std::find(request.held.begin(), request.held.end(), k) == request.held.end())
+        candidates.push_back(k);
   }
   return candidates;
 }
@@ -319,7 +323,7 @@ void apply_best(SpaceFixResult& r, const SpaceSpline& spline, int point, const S
 
 /// No fix: no move, and the reason with what each point tried.
 void explain_no_fix(SpaceFixResult& r, const std::string& max_move, const std::string& failing_text,
-                    bool no_candidates) {
+                    bool no_candidates, bool some_held) {
   r.moves.clear();
   r.spline.reset();
   std::string tried;
@@ -331,7 +335,7 @@ void explain_no_fix(SpaceFixResult& r, const std::string& max_move, const std::s
     tried += u.reason;
   }
   r.reason = "no certified fix within " + field("max_move") + " " + max_move + " (" + failing_text +
-             (no_candidates ? "; no point acts on it"
+             (no_candidates ? (some_held ? "; no point that may move acts on it (the others are held)" : "; no point acts on it")
                             : "; no single point moving in its plane makes |kappa| monotone: " + tried) +
              ")";
 }
@@ -554,7 +558,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
   }
   r.evaluations = evaluations;
   if (best.point >= 0) apply_best(r, spline, best.point, best.plane, best.a, best.b, search);
-  if (!r.fixed) explain_no_fix(r, fmt(max_move), failing_text, candidates.empty());
+  if (!r.fixed) explain_no_fix(r, fmt(max_move), failing_text, candidates.empty(), !request.held.empty());
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
 }

@@ -51,6 +51,11 @@ struct SpaceFixRequest {
   /// segment or a joint in conflict. Empty: every such point but an open
   /// spline's two end points.
   std::vector<int> points;
+  /// Points that must not move, whatever else holds (a STEP chain's edge
+  /// keeps the points that carry its ends' jets: import::fix_step_chain).
+  /// Left out of the default candidates; naming one in `points` is an
+  /// InputError.
+  std::vector<int> held;
   /// The plane's directions ("xy", "yz", "zx" or nine numbers, as `cmr region
   /// --plane`; the origin is each moved point itself). Empty: each point's
   /// default plane.

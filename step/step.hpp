@@ -124,11 +124,40 @@ struct StepCurves {
   std::vector<StepChain> chains;
 };
 
+/// A chain's junctions computed again, by OpenCASCADE, from the converted
+/// curves (StepCurve's points, knots and weights; open curves only): the
+/// certificate of a chain fix (step/chain_fix.hpp), whose edges exist only
+/// in cmr's form. InputError for a closed edge.
+std::vector<StepJunction> step_chain_junctions(const StepCurves& curves, const StepChain& chain,
+                                               const ChainTolerances& tolerances = {});
+
+/// Walked along a chain: each edge's |kappa| direction (a reversed edge's
+/// the other way round), the edges that are not monotone ("-#55
+/// undecided", "#40 not monotone": analyze_space's "none"), and whether the
+/// whole chain goes one way: every edge the same way and no junction's kappa
+/// jumping against it (beyond curvature_rel); a closed chain never (its kappa
+/// cannot grow all the way round). `way`: "increasing" or "decreasing" when
+/// one way, else "". (An edge of constant kappa is "increasing" by
+/// analyze_space's rules, as in `cmr analyze`.)
+struct ChainVerdict {
+  std::vector<std::string> directions;  ///< in chain order
+  std::vector<std::string> not_monotone;
+  bool one_way = false;
+  std::string way;
+};
+ChainVerdict chain_verdict(const StepCurves& curves, const StepChain& chain, const ChainTolerances& tolerances = {});
+
+/// "#12" or "-#55" (walked reversed): the i-th edge of a chain.
+std::string chain_edge_label(const StepCurves& curves, const StepChain& chain, std::size_t i);
+
 /// The chains' report, one line per chain then one per junction:
 ///   chain 1: #12 > #40 > -#55 (3 edges, open): each edge monotone; whole chain: kappa increasing
 ///     #12 > #40 at (1, 2, 3): G3 (gap 0, angle 0 deg, kappa 0.5 | 0.5, dkappa/ds 0.1 | 0.1, tau 0 | 0)
 /// ("-#55": walked reversed; "not monotone: #40 undecided" and so on).
 std::vector<std::string> step_chain_report(const StepCurves& curves, const ChainTolerances& tolerances = {});
+/// One chain's lines (numbered `index`, 1-based).
+std::vector<std::string> step_chain_report(const StepCurves& curves, const StepChain& chain, int index,
+                                           const ChainTolerances& tolerances = {});
 
 /// A curve's name: "edge #1234" (or "edge 57", OCCT's index, when the edge
 /// was not traced to an entity), then its names where the file has them and

@@ -12,4 +12,9 @@ StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolera
                    "tools/setup.sh installs it)");
 }
 
+std::vector<StepJunction> step_chain_junctions(const StepCurves&, const StepChain&, const ChainTolerances&) {
+  throw InputError("cmr was built without STEP support (OpenCASCADE was not found when it was configured; "
+                   "tools/setup.sh installs it)");
+}
+
 }  // namespace cmr::import

@@ -240,68 +240,81 @@ StepCurves select_step_edges(const StepCurves& curves, const std::vector<long lo
   return out;
 }
 
+std::string chain_edge_label(const StepCurves& curves, const StepChain& chain, std::size_t i) {
+  std::string s;
+  if (chain.reversed[i]) s.append("-");
+  return s.append(step_edge_id(curves.curves[chain.curves[i]]));
+}
+
+ChainVerdict chain_verdict(const StepCurves& curves, const StepChain& chain, const ChainTolerances& tol) {
+  ChainVerdict v;
+  for (std::size_t i = 0; i < chain.curves.size(); ++i) {
+    std::string d = curves.curves[chain.curves[i]].curvature;
+    if (chain.reversed[i]) d = d == "increasing" ? "decreasing" : d == "decreasing" ? "increasing" : d;
+    // analyze_space's "none" is not monotone (part_verdict; all constant is "increasing").
+    if (d != "increasing" && d != "decreasing")
+      v.not_monotone.push_back(chain_edge_label(curves, chain, i).append(" ").append(d == "none" ? "not monotone" : d));
+    v.directions.push_back(d);
+  }
+  if (!v.not_monotone.empty()) return v;
+  v.one_way = true;
+  for (const std::string& d : v.directions) {
+    if (v.way.empty()) v.way = d;
+    v.one_way = v.one_way && d == v.way;
+  }
+  // A junction's kappa jump against that direction breaks it.
+  for (const StepJunction& j : chain.junctions) {
+    const double jump = j.kappa_right - j.kappa_left, slack = tol.curvature_rel * std::max(j.kappa_left, j.kappa_right);
+    if ((v.way == "increasing" && jump < -slack) || (v.way == "decreasing" && jump > slack)) v.one_way = false;
+  }
+  if (chain.closed) v.one_way = false;  // a closed chain's kappa cannot grow all the way round
+  if (!v.one_way) v.way.clear();
+  return v;
+}
+
+std::vector<std::string> step_chain_report(const StepCurves& curves, const StepChain& chain, int index,
+                                           const ChainTolerances& tol) {
+  std::vector<std::string> lines;
+  const std::size_t n = chain.curves.size();
+  const auto label = [&](std::size_t i) { return chain_edge_label(curves, chain, i); };
+  const ChainVerdict v = chain_verdict(curves, chain, tol);
+  std::string line = "chain ";
+  line.append(std::to_string(index)).append(": ");
+  for (std::size_t i = 0; i < n; ++i) line.append(i ? " > " : "").append(label(i));
+  line.append(" (").append(std::to_string(n)).append(" edges, ").append(chain.closed ? "closed" : "open").append("): ");
+  if (!v.not_monotone.empty()) {
+    line.append("not monotone: ");
+    for (std::size_t i = 0; i < v.not_monotone.size(); ++i) line.append(i ? ", " : "").append(v.not_monotone[i]);
+  } else {
+    line.append("each edge monotone; whole chain: ");
+    if (v.one_way)
+      line.append("kappa ").append(v.way);
+    else
+      line.append("not monotone");
+  }
+  lines.push_back(line);
+  for (std::size_t i = 0; i < chain.junctions.size(); ++i) {
+    const StepJunction& j = chain.junctions[i];
+    std::string s = "  ";
+    s.append(label(i)).append(" > ").append(label((i + 1) % n)).append(" at ").append(point(j.at)).append(": ");
+    if (j.level == 0)
+      s.append("not G1");
+    else
+      s.append("G").append(std::to_string(j.level));
+    s.append(" (gap ").append(number(j.gap)).append(", angle ").append(number(j.angle_deg)).append(" deg, kappa ");
+    s.append(number(j.kappa_left)).append(" | ").append(number(j.kappa_right)).append(", dkappa/ds ");
+    s.append(number(j.dkds_left)).append(" | ").append(number(j.dkds_right)).append(", tau ");
+    s.append(number(j.tau_left)).append(" | ").append(number(j.tau_right)).append(")");
+    lines.push_back(s);
+  }
+  return lines;
+}
+
 std::vector<std::string> step_chain_report(const StepCurves& curves, const ChainTolerances& tol) {
   std::vector<std::string> lines;
   int index = 0;
-  for (const StepChain& chain : curves.chains) {
-    const std::size_t n = chain.curves.size();
-    const auto label = [&](std::size_t i) {
-      std::string s;
-      if (chain.reversed[i]) s.append("-");
-      return s.append(step_edge_id(curves.curves[chain.curves[i]]));
-    };
-    // Each edge's direction walked along the chain (reversed: the other way).
-    std::vector<std::string> dirs, bad;
-    for (std::size_t i = 0; i < n; ++i) {
-      std::string d = curves.curves[chain.curves[i]].curvature;
-      if (chain.reversed[i]) d = d == "increasing" ? "decreasing" : d == "decreasing" ? "increasing" : d;
-      if (d != "increasing" && d != "decreasing" && d != "none") bad.push_back(label(i).append(" ").append(d));
-      dirs.push_back(d);
-    }
-    std::string line = "chain ";
-    line.append(std::to_string(++index)).append(": ");
-    for (std::size_t i = 0; i < n; ++i) line.append(i ? " > " : "").append(label(i));
-    line.append(" (").append(std::to_string(n)).append(" edges, ").append(chain.closed ? "closed" : "open").append("): ");
-    if (!bad.empty()) {
-      line.append("not monotone: ");
-      for (std::size_t i = 0; i < bad.size(); ++i) line.append(i ? ", " : "").append(bad[i]);
-    } else {
-      line.append("each edge monotone; whole chain: ");
-      std::string way;  // the one direction of the non-constant edges
-      bool one_way = true;
-      for (const std::string& d : dirs)
-        if (d != "none") {
-          if (way.empty()) way = d;
-          one_way = one_way && d == way;
-        }
-      // A junction's kappa jump against that direction breaks it.
-      for (const StepJunction& j : chain.junctions) {
-        const double jump = j.kappa_right - j.kappa_left, slack = tol.curvature_rel * std::max(j.kappa_left, j.kappa_right);
-        if ((way == "increasing" && jump < -slack) || (way == "decreasing" && jump > slack) || (way.empty() && std::abs(jump) > slack))
-          one_way = false;
-      }
-      if (chain.closed && !way.empty()) one_way = false;  // a closed chain's kappa cannot grow all the way round
-      if (one_way)
-        line.append("kappa ").append(way.empty() ? std::string("constant") : way);
-      else
-        line.append("not monotone");
-    }
-    lines.push_back(line);
-    for (std::size_t i = 0; i < chain.junctions.size(); ++i) {
-      const StepJunction& j = chain.junctions[i];
-      std::string s = "  ";
-      s.append(label(i)).append(" > ").append(label((i + 1) % n)).append(" at ").append(point(j.at)).append(": ");
-      if (j.level == 0)
-        s.append("not G1");
-      else
-        s.append("G").append(std::to_string(j.level));
-      s.append(" (gap ").append(number(j.gap)).append(", angle ").append(number(j.angle_deg)).append(" deg, kappa ");
-      s.append(number(j.kappa_left)).append(" | ").append(number(j.kappa_right)).append(", dkappa/ds ");
-      s.append(number(j.dkds_left)).append(" | ").append(number(j.dkds_right)).append(", tau ");
-      s.append(number(j.tau_left)).append(" | ").append(number(j.tau_right)).append(")");
-      lines.push_back(s);
-    }
-  }
+  for (const StepChain& chain : curves.chains)
+    for (std::string& l : step_chain_report(curves, chain, ++index, tol)) lines.push_back(std::move(l));
   return lines;
 }
 

@@ -624,4 +624,53 @@ StepCurves read_step_curves(const std::filesystem::path& path, const ChainTolera
   return out;
 }
 
+namespace {
+
+/// OpenCASCADE's curve of a converted open edge: cmr's polar knots with the
+/// first and last value repeated once more are OCCT's flat knot sequence
+/// (the inverse of fill_open), grouped into knots and multiplicities.
+Handle(Geom_BSplineCurve) occt_curve(const StepCurve& c) {
+  if (c.closed) throw InputError(step_edge_id(c) + ": a closed edge (its junctions are its own seam)");
+  std::vector<double> flat;
+  flat.push_back(c.knots.front());
+  flat.insert(flat.end(), c.knots.begin(), c.knots.end());
+  flat.push_back(c.knots.back());
+  std::vector<double> knots;
+  std::vector<int> mults;
+  for (double k : flat) {
+    if (!knots.empty() && k == knots.back()) ++mults.back();
+    else knots.push_back(k), mults.push_back(1);
+  }
+  const int m = static_cast<int>(c.points.size()), n = static_cast<int>(knots.size());
+  TColgp_Array1OfPnt poles(1, m);
+  for (int i = 0; i < m; ++i) poles.SetValue(i + 1, gp_Pnt(c.points[i].x, c.points[i].y, c.points[i].z));
+  TColStd_Array1OfReal k(1, n);
+  TColStd_Array1OfInteger mu(1, n);
+  for (int i = 0; i < n; ++i) k.SetValue(i + 1, knots[i]), mu.SetValue(i + 1, mults[i]);
+  if (c.weights.empty()) return new Geom_BSplineCurve(poles, k, mu, c.degree);
+  TColStd_Array1OfReal w(1, m);
+  for (int i = 0; i < m; ++i) w.SetValue(i + 1, c.weights[i]);
+  return new Geom_BSplineCurve(poles, w, k, mu, c.degree);
+}
+
+}  // namespace
+
+std::vector<StepJunction> step_chain_junctions(const StepCurves& curves, const StepChain& chain,
+                                               const ChainTolerances& tolerances) {
+  std::vector<Handle(Geom_BSplineCurve)> g;
+  try {
+    for (std::size_t i : chain.curves) g.push_back(occt_curve(curves.curves[i]));
+  } catch (const Standard_Failure& f) {
+    throw InputError(std::string("OpenCASCADE refused a chain's edge (") + f.DynamicType()->Name() + ": " +
+                     f.GetMessageString() + ")");
+  }
+  std::vector<StepJunction> out;
+  const std::size_t n = g.size();
+  for (std::size_t i = 0; i + 1 < n || (chain.closed && i < n); ++i) {
+    const std::size_t k = (i + 1) % n;
+    out.push_back(junction(end_of(g[i], chain.reversed[i], true), end_of(g[k], chain.reversed[k], false), tolerances));
+  }
+  return out;
+}
+
 }  // namespace cmr::import

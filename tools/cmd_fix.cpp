@@ -1,6 +1,9 @@
 // cmr fix FILE --require cmr|cmrwi|split:S[:sharpest|flattest]|each-piece|curvature-extrema-at-nodes|no-inflection|g2-at-smooth-nodes[:tol]|each-run [--segments A..B]
 // [--points K,...] [--keep g1|g2|none] [--max-move D] [--out FIXED.json]:
-// the nearest certified repair (design/fix.hpp, docs/fix.md).
+// the nearest certified repair (design/fix.hpp, docs/fix.md); and
+// cmr fix MODEL.step --chain N [--require cmr|cmrwi|each-piece] [--keep none|g1|g2|g3] [--out DIR]:
+// a chain of STEP edges fixed with its junctions kept (step/chain_fix.hpp).
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -282,6 +285,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     double max_move = 0, tolerance = 1e-6, grid = 1;
     bool in_place = false;
     int depth = kDefaultDepth;
+    int chain = 0;
     bool pretty = false;
   };
   auto args = std::make_shared<Args>();
@@ -292,8 +296,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--points", args->points,
                   "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");
-  cmd->add_option("--keep", args->keep, "ties kept at joints: g1 (default), g2, none")
-      ->check(CLI::IsMember({"g1", "g2", "none"}));
+  cmd->add_option("--keep", args->keep,
+                  "ties kept at joints: g1 (default), g2, none; a STEP chain: the continuity its junctions keep, none, g1, "
+                  "g2 (its default) or g3")
+      ->check(CLI::IsMember({"g1", "g2", "g3", "none"}));
   cmd->add_option("--segments", args->segments,
                   "judge only spans A..B (inclusive): only they must meet the requirement (as cmr analyze --segments)");
   CLI::Option* max_move = cmd->add_option(
@@ -311,11 +317,29 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "glyph to fix");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
+  cmd->add_option("--chain", args->chain,
+                  "STEP models (.step, .stp): the chain of edges to fix, by the number cmr import gives it; --out is then "
+                  "a folder for the chain's edges");
   cmd->callback([args, cmd, max_move, &exit_code] {
     // 0 would mean "no point may move": no fix at all. Refused rather than
     // read as the default (it was: issue 42), so that it never means "unlimited".
     if (max_move->count() > 0 && !(args->max_move > 0 && std::isfinite(args->max_move)))
       throw InputError("--max-move: " + max_move->as<std::string>() + " is not a distance > 0 (leave it out for the default, the curve size)");
+    std::string ext = std::filesystem::path(args->file).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".step" || ext == ".stp") {  // a chain of edges (step/chain_fix.hpp, docs/fix.md)
+      if (cmd->count("--chain") == 0)
+        throw InputError(args->file + ": a STEP model; name the chain to fix with --chain N (cmr import lists them)");
+      if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || !args->points.empty() ||
+          !args->glyph.empty() || cmd->count("--grid") > 0 || args->in_place)
+        throw InputError(args->file + ": a STEP chain; --plane, --segments, --png, --points, --glyph, --grid and --in-place are not for it");
+      run_chain_fix({args->file, args->require, cmd->count("--keep") > 0 ? args->keep : "g2", args->out, args->chain,
+                     args->max_move, args->tolerance, args->depth, args->pretty});
+      exit_code = kOk;
+      return;
+    }
+    if (cmd->count("--chain") > 0) throw InputError("--chain: only for STEP models (.step, .stp), not for " + args->file);
+    if (args->keep == "g3") throw InputError("--keep g3: only for a STEP chain (cmr fix MODEL.step --chain N); a spline keeps g2 at most");
     if (import::is_designspace_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0 ||
           !args->points.empty() || cmd->count("--grid") > 0)

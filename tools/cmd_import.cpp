@@ -21,6 +21,7 @@
 #include "io/svg.hpp"
 #include "io/obj.hpp"
 #include "step/step.hpp"
+#include "tools/cmd_space.hpp"
 
 namespace cmr::cli {
 
@@ -82,6 +83,18 @@ class Watchdog {
 
 }  // namespace
 
+import::StepCurves read_step_within_budget(const std::string& file) {
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+  const double budget = step_read_budget(ec ? 0 : bytes);
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.3g", budget);
+  const Watchdog watchdog(budget, file + ": not read within its time budget of " + secs + " s (" +
+                                      std::to_string(ec ? 0 : bytes) +
+                                      " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
+  return import::read_step_curves(file);
+}
+
 void add_import_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<ImportArgs>();
   auto* cmd = app.add_subcommand("import", "Font glyphs (TrueType, CFF), SVG paths, OBJ or STEP curves as spline files");
@@ -139,17 +152,7 @@ void add_import_command(CLI::App& app, int& exit_code) {
       if (cmd->count("--glyphs") > 0) throw InputError("--glyphs: only for fonts, not for " + args->input);
       const std::vector<long long> ids =
           cmd->count("--edges") > 0 ? import::parse_step_edge_ids(args->edges) : std::vector<long long>{};
-      import::StepCurves curves = [&] {
-        std::error_code ec;
-        const std::uintmax_t bytes = std::filesystem::file_size(input, ec);
-        const double budget = step_read_budget(ec ? 0 : bytes);
-        char secs[32];
-        std::snprintf(secs, sizeof secs, "%.3g", budget);
-        const Watchdog watchdog(budget, args->input + ": not read within its time budget of " + secs + " s (" +
-                                            std::to_string(ec ? 0 : bytes) +
-                                            " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
-        return import::read_step_curves(input);
-      }();
+      import::StepCurves curves = read_step_within_budget(args->input);
       if (!ids.empty()) curves = import::select_step_edges(curves, ids, args->input);
       const std::filesystem::path dir = args->out;
       files.create_folder(dir);

@@ -12,6 +12,7 @@
 
 #include "bezierize/space_analyze.hpp"
 #include "report/space_report.hpp"
+#include "step/step.hpp"
 
 namespace cmr::cli {
 
@@ -78,5 +79,24 @@ struct SpaceFixArgs {
   bool pretty = false;
 };
 void run_space_fix(const SpaceFixArgs& args);
+
+/// A STEP model's curves and chains (import::read_step_curves) under its
+/// time budget (5 s + 4 s per MB, or the environment's
+/// CMR_STEP_TIME_BUDGET): past it the process ends with one line and exit 2,
+/// before anything is written (tools/cmd_import.cpp).
+import::StepCurves read_step_within_budget(const std::string& file);
+
+/// `cmr fix MODEL.step --chain N` (step/chain_fix.hpp, docs/fix.md "Chains
+/// of STEP edges"): every failing edge of the chain fixed with its ends'
+/// jets held; prints the JSON and writes the chain's edges into --out DIR
+/// (all or none). InputError (exit 2) when no certified fix is found.
+struct ChainFixArgs {
+  std::string file, require = "cmr", keep = "g2", out;
+  int chain = 0;  ///< 1-based, as `cmr import` numbers the chains
+  double max_move = 0, tolerance = 1e-6;
+  int depth = kDefaultDepth;
+  bool pretty = false;
+};
+void run_chain_fix(const ChainFixArgs& args);
 
 }  // namespace cmr::cli

@@ -11,6 +11,7 @@
 #include "report/fix_json.hpp"
 #include "report/space_report.hpp"
 #include "spline/errors.hpp"
+#include "step/chain_fix.hpp"
 #include "tools/cli_common.hpp"
 #include "tools/cmd_space.hpp"
 
@@ -20,8 +21,13 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
+Json vec3_json(const Vec3& p) { return Json::array({p.x, p.y, p.z}); }
 
-
+std::string level_text(int level) {
+  std::string s = level == 0 ? "not G1" : "G";
+  if (level > 0) s += std::to_string(level);
+  return s;
+}
 
 /// The moved point's region in its plane (the labels `cmr region` draws; a
 /// point's region does not depend on where the point itself is) with the
@@ -101,6 +107,94 @@ void run_space_fix(const SpaceFixArgs& args) {
   // With --out - (or --png -) stdout is the file alone: the JSON goes to stderr (as cmr fix's).
   if (is_stdout_path(args.out) || is_stdout_path(args.png)) std::cerr << json_text(doc, args.pretty);
   else print_json(doc, args.pretty);
+}
+
+void run_chain_fix(const ChainFixArgs& args) {
+  if (args.require != "cmr" && args.require != "cmrwi" && args.require != "each-piece")
+    throw InputError(args.file + ": a STEP chain; its fix takes --require cmr (the whole chain's |kappa| one way, no zero "
+                                 "curvature), cmrwi (the whole chain one way) or each-piece (each edge monotone), not '" +
+                     args.require + "'");
+  if (args.chain < 1) throw InputError("--chain: " + std::to_string(args.chain) + " is not a chain number (1, 2, ...: cmr import lists them)");
+  if (!args.out.empty()) check_output_path(args.out, "--out");
+  import::ChainFixRequest request;
+  request.whole_chain = args.require != "each-piece";
+  request.no_zero_curvature = args.require == "cmr";
+  request.keep = args.keep == "none" ? 0 : args.keep == "g1" ? 1 : args.keep == "g3" ? 3 : 2;
+  request.max_move = args.max_move;
+  request.tolerance = args.tolerance;
+  request.max_depth = args.depth;
+  const import::StepCurves curves = read_step_within_budget(args.file);
+  if (static_cast<std::size_t>(args.chain) > curves.chains.size())
+    throw InputError("--chain: " + args.file + " has " + std::to_string(curves.chains.size()) +
+                     (curves.chains.size() == 1 ? " chain" : " chains") + ", not " + std::to_string(args.chain) +
+                     " (cmr import lists them)");
+  const std::size_t index = static_cast<std::size_t>(args.chain - 1);
+  const import::ChainFixResult r = [&] {
+    try {
+      return import::fix_step_chain(curves, index, request);
+    } catch (const InputError& e) {
+      throw InputError(args.file + ": " + show_fields(marked_text(e)));
+    }
+  }();
+  if (!r.fixed) throw InputError(args.file + ": chain " + std::to_string(args.chain) + ": " + show_fields(r.reason));
+  const import::StepChain& chain = curves.chains[index];
+  Json doc;
+  doc["file"] = args.file;
+  doc["chain"] = args.chain;
+  doc["require"] = args.require;
+  doc["keep"] = args.keep;
+  doc["already"] = r.already;
+  doc["fixed"] = r.fixed;
+  doc["before"] = import::step_chain_report(curves, chain, args.chain).front();
+  import::StepChain after = chain;
+  after.junctions = r.junctions_after;
+  doc["after"] = import::step_chain_report(r.curves, after, args.chain).front();
+  Json edges = Json::array();
+  for (std::size_t i = 0; i < r.edges.size(); ++i) {
+    const import::ChainEdgeFix& e = r.edges[i];
+    Json je;
+    je["edge"] = import::chain_edge_label(curves, chain, i);
+    je["name"] = curves.curves[e.curve].name;
+    je["before"] = e.before;
+    je["after"] = e.after;
+    je["held"] = e.held;
+    if (e.fix && !e.fix->moves.empty()) {
+      const SpacePointMove& m = e.fix->moves.front();
+      je["move"] = Json{{"point", m.point}, {"from", vec3_json(m.from)}, {"to", vec3_json(m.to)}, {"distance", m.distance},
+                        {"relative", m.distance / e.fix->size}};
+    }
+    edges.push_back(je);
+  }
+  doc["edges"] = edges;
+  Json junctions = Json::array();
+  for (std::size_t j = 0; j < r.junctions_before.size(); ++j)
+  {
+    std::string at = import::chain_edge_label(curves, chain, j);
+    at += " > ";
+    at += import::chain_edge_label(curves, chain, (j + 1) % chain.curves.size());
+    junctions.push_back(Json{{"at", at},
+                             {"before", level_text(r.junctions_before[j].level)},
+                             {"after", level_text(r.junctions_after[j].level)}});
+  }
+  doc["junctions"] = junctions;
+  doc["certificate"] =
+      "each moved edge judged again by analyze_space; the junctions computed again by OpenCASCADE from the fixed edges";
+  doc["seconds"] = r.seconds;
+  OutputSet outputs;  // all or none (io/output.hpp)
+  if (!args.out.empty()) {
+    const std::filesystem::path dir = args.out, stem = std::filesystem::path(args.file).stem();
+    outputs.create_folder(dir);
+    Json written = Json::array();
+    for (std::size_t i : chain.curves) {
+      const import::StepCurve& c = r.curves.curves[i];
+      const std::filesystem::path path = dir / (stem.string() + "_" + import::step_curve_stem(c) + ".json");
+      outputs.stage(path, import::step_curve_json(c).dump(2) + "\n");
+      written.push_back(path.string());
+    }
+    doc["out"] = written;
+  }
+  outputs.commit();
+  print_json(doc, args.pretty);
 }
 
 }  // namespace cmr::cli

@@ -14,7 +14,9 @@
 // (the benchmark's larger model). `cmr_step_model OUT.step seed` writes the
 // STEP fuzz harness's small seed instead (fuzz/corpus/step): one cubic
 // B-spline edge, one Bezier edge of degree 3 and a circle's edge; `wire`
-// the class-A-style wire of the chains example (class_a_wire below). Deterministic: the same file on every run
+// the class-A-style wire of the chains example (class_a_wire below);
+// `spiral` and `spiral-dent` the chain of the chain-fix example (spiral_wire
+// below). Deterministic: the same file on every run
 // (the writer's time stamp aside).
 #include <cmath>
 #include <cstdio>
@@ -144,6 +146,39 @@ TopoDS_Shape class_a_wire() {
   return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
 }
 
+// The chain-fix example (`cmr_step_model OUT.step spiral|spiral-dent`;
+// docs/space.md, "Chains of edges"): a quintic B-spline whose 24 poles lie on
+// a discrete logarithmic spiral, P_i = 10 * 1.08^i (cos 0.35 i, sin 0.35 i, 0),
+// on uniform knots 0..29. Each span is then the image of the one before it
+// by one similarity (rotate 0.35, scale 1.08), so |kappa| falls by 1.08 from
+// each span to the next, and it falls inside one span (cmr's analysis says
+// so): the curve's |kappa| decreases throughout. Its 19 spans [5, 24] are cut
+// at the simple knot 14 into two edges (C4 there: a G3 junction), e1 with 9
+// spans and e2 with 10, closed by a line into a planar face. `spiral-dent`
+// pushes pole 7 15 % outwards: its B-spline is non-zero on (7, 13) only,
+// inside e1, so e1's |kappa| is no longer monotone while both of e1's ends,
+// and the junction, are what they were; `cmr fix OUT.step --chain 1`
+// repairs it with the junction kept.
+TopoDS_Shape spiral_wire(bool dent) {
+  TColgp_Array1OfPnt poles(1, 24);
+  for (int i = 0; i < 24; ++i) {
+    const double r = 10 * std::pow(1.08, i) * (dent && i == 7 ? 1.15 : 1.0), a = 0.35 * i;
+    poles.SetValue(i + 1, gp_Pnt(r * std::cos(a), r * std::sin(a), 0));
+  }
+  TColStd_Array1OfReal knots(1, 30);  // 24 poles + degree 5 + 1, each once: not clamped
+  TColStd_Array1OfInteger mults(1, 30);
+  for (int i = 1; i <= 30; ++i) knots.SetValue(i, i - 1), mults.SetValue(i, 1);
+  const Handle(Geom_BSplineCurve) curve = new Geom_BSplineCurve(poles, knots, mults, 5);
+  const Handle(Geom_BSplineCurve) e1 = Handle(Geom_BSplineCurve)::DownCast(curve->Copy());
+  const Handle(Geom_BSplineCurve) e2 = Handle(Geom_BSplineCurve)::DownCast(curve->Copy());
+  e1->Segment(5, 14), e2->Segment(14, 24);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(e1).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(e2).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(e2->EndPoint(), e1->StartPoint()).Edge());  // the line that closes it
+  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+}
+
 // The fuzz seed: a few edges, a few KB of STEP.
 TopoDS_Shape seed() {
   BRep_Builder b;
@@ -172,10 +207,12 @@ bool write_step(const TopoDS_Shape& shape, const char* path) {
 }
 
 int main(int argc, char** argv) {
-  if (argc == 3 && (std::string(argv[2]) == "seed" || std::string(argv[2]) == "wire")) {
+  const std::string kind = argc == 3 ? argv[2] : "";
+  if (kind == "seed" || kind == "wire" || kind == "spiral" || kind == "spiral-dent") {
     Message::DefaultMessenger()->ChangePrinters().Clear();
     try {
-      return write_step(std::string(argv[2]) == "seed" ? seed() : class_a_wire(), argv[1]) ? 0 : 3;
+      const TopoDS_Shape shape = kind == "seed" ? seed() : kind == "wire" ? class_a_wire() : spiral_wire(kind == "spiral-dent");
+      return write_step(shape, argv[1]) ? 0 : 3;
     } catch (const Standard_Failure& f) {
       std::fprintf(stderr, "cmr_step_model: OpenCASCADE: %s\n", f.GetMessageString());
       return 3;
@@ -183,7 +220,7 @@ int main(int argc, char** argv) {
   }
   const int copies = argc == 3 ? std::atoi(argv[2]) : 1;
   if ((argc != 2 && argc != 3) || copies < 1 || copies > 10000) {
-    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000 | seed | wire]\n");
+    std::fprintf(stderr, "usage: cmr_step_model OUT.step [COPIES 1..10000 | seed | wire | spiral | spiral-dent]\n");
     return 2;
   }
   Message::DefaultMessenger()->ChangePrinters().Clear();  // OCCT's progress lines

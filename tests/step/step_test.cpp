@@ -38,8 +38,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "bezierize/space_analyze.hpp"
 #include "spline/errors.hpp"
 #include "spline/space.hpp"
+#include "step/chain_fix.hpp"
 #include "step/step.hpp"
 #include "step/step_occt.hpp"
 #include "tests/cli_util.hpp"
@@ -611,7 +613,10 @@ TEST(StepCli, EntitiesOpenCascadeFailedToReadExit2) {
 // what the construction makes them: e1 > e2 cut from one quintic at a simple
 // knot's neighbourhood (C4: G3), e2 > e3 a new curve along the end tangent
 // (G1 only), e3 > e4 cut at a triple knot of a quintic (C2: G2, not G3).
-// --edges keeps a chain only with all of its edges.
+// --edges keeps a chain only with all of its edges. None of its edges has
+// monotone |kappa| (the clamped quintics through the spiral's poles wobble
+// near their ends: `cmr analyze` finds segment 0 of the first one
+// non-monotone); analyze_space's "none" reads "not monotone".
 TEST(StepCli, ClassAWireIsOneChainWithItsContinuityAtEachJunction) {
   const std::string model = (test::scratch() / "wire.step").string();
   ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model + " wire").c_str()), 0);
@@ -619,7 +624,7 @@ TEST(StepCli, ClassAWireIsOneChainWithItsContinuityAtEachJunction) {
   const test::Outcome r = test::run(std::string("import ") + model + " --out " + out);
   ASSERT_EQ(r.code, 0) << r.err;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(chain 1: (#\d+) > (#\d+) > (#\d+) > (#\d+) \(4 edges, open\): each edge monotone; )"))) << r.out;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(chain 1: (#\d+) > (#\d+) > (#\d+) > (#\d+) \(4 edges, open\): not monotone: #\d+ not monotone, )"))) << r.out;
   const std::vector<std::string> ids{m[1], m[2], m[3], m[4]};
   const char* levels[] = {"G3", "G1", "G2"};
   for (int i = 0; i < 3; ++i) {
@@ -673,6 +678,175 @@ TEST(StepCli, ModelWithoutCurvesExits2) {
   expect_one_line_exit2(test::run("import " + point + " --out " + (test::scratch() / "b").string()),
                         point + ": no curves (the STEP model has no edges)");
   EXPECT_FALSE(std::filesystem::exists(test::scratch() / "b"));
+}
+
+// --- chain fixes (step/chain_fix.hpp) ---
+
+StepCurves spiral_model(const std::string& kind) {
+  const std::string path = (test::scratch() / (kind + ".step")).string();
+  EXPECT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + path + " " + kind).c_str()), 0);
+  return import::read_step_curves(path);
+}
+
+// The held points: at a clamped end the k + 1 points there; at an end that
+// is not clamped its whole end span's d + 1 points.
+TEST(StepChainFix, HeldPointsAreTheEndsJetsPoints) {
+  StepCurve c;
+  c.degree = 3;
+  c.points.assign(9, glm::dvec3(0));
+  c.knots = {0, 0, 0, 1, 2, 3, 4, 5, 6, 6, 6};  // clamped: 9 points, 11 knots
+  EXPECT_EQ(import::chain_held_points(c, 2), (std::vector<int>{0, 1, 2, 6, 7, 8}));
+  EXPECT_EQ(import::chain_held_points(c, 0), (std::vector<int>{0, 8}));
+  EXPECT_EQ(import::chain_held_points(c, 3), (std::vector<int>{0, 1, 2, 3, 5, 6, 7, 8}));
+  c.knots = {0, 1, 2, 3, 4, 5, 6, 7, 8, 8, 8};  // the start not clamped: its first span's 4 points
+  EXPECT_EQ(import::chain_held_points(c, 1), (std::vector<int>{0, 1, 2, 3, 7, 8}));
+}
+
+// What holding them keeps, checked by OpenCASCADE's derivatives (not cmr's):
+// moving any point that keep 3 does not hold leaves the junction's kappa,
+// dkappa/ds and tau as they were; moving P3, which keep 2 frees, keeps kappa
+// but changes dkappa/ds (so keep 2 promises G2, not G3).
+TEST(StepChainFix, MovingAPointThatIsNotHeldLeavesTheJunctionAsItWas) {
+  const StepCurves curves = spiral_model("spiral");
+  ASSERT_EQ(curves.chains.size(), 1u);
+  const import::StepChain& chain = curves.chains[0];
+  const import::StepJunction before = import::step_chain_junctions(curves, chain).at(0);
+  EXPECT_EQ(before.level, 3);
+  const StepCurve& e1 = curves.curves[chain.curves[0]];
+  const std::vector<int> held = import::chain_held_points(e1, 3);
+  const int m = static_cast<int>(e1.points.size());
+  ASSERT_GT(m, 8);
+  for (int k = 0; k < m; ++k) {
+    if (std::find(held.begin(), held.end(), k) != held.end()) continue;
+    StepCurves moved = curves;
+    moved.curves[chain.curves[0]].points[static_cast<std::size_t>(k)] += glm::dvec3(1.5, -2, 0.5);
+    const import::StepJunction after = import::step_chain_junctions(moved, chain).at(0);
+    EXPECT_EQ(after.level, 3) << "P" << k;
+    EXPECT_NEAR(after.kappa_left, before.kappa_left, 1e-12 * before.kappa_left) << "P" << k;
+    EXPECT_NEAR(after.dkds_left, before.dkds_left, 1e-9 * std::abs(before.dkds_left)) << "P" << k;
+    EXPECT_NEAR(after.tau_left, before.tau_left, 1e-12) << "P" << k;
+  }
+  StepCurves p3 = curves;  // the end's P3 (counted from the junction): keep 2 moves it
+  p3.curves[chain.curves[0]].points[static_cast<std::size_t>(m - 4)] += glm::dvec3(1.5, -2, 0);
+  const import::StepJunction after = import::step_chain_junctions(p3, chain).at(0);
+  EXPECT_NEAR(after.kappa_left, before.kappa_left, 1e-12 * before.kappa_left);
+  EXPECT_GT(std::abs(after.dkds_left - before.dkds_left), 1e-3 * std::abs(before.dkds_left));
+  EXPECT_EQ(after.level, 2);
+}
+
+// The dented spiral (cmr_step_model OUT spiral-dent): its first edge is not
+// monotone, its junction G3. The fix moves one point of that edge that is not
+// held; the held points are bit for bit the input's; analyze_space, called
+// here on the fixed edge, finds |kappa| decreasing; OpenCASCADE's junction
+// is G3 still; the second edge does not move. The undented spiral needs no fix.
+TEST(StepChainFix, DentedSpiralIsFixedWithItsG3JunctionKept) {
+  const StepCurves curves = spiral_model("spiral-dent");
+  ASSERT_EQ(curves.chains.size(), 1u);
+  import::ChainFixRequest request;
+  request.whole_chain = true;
+  request.no_zero_curvature = true;
+  for (int keep : {2, 3}) {
+    request.keep = keep;
+    const import::ChainFixResult r = import::fix_step_chain(curves, 0, request);
+    ASSERT_TRUE(r.fixed) << r.reason;
+    EXPECT_FALSE(r.already);
+    ASSERT_EQ(r.edges.size(), 2u);
+    const import::ChainEdgeFix& e = r.edges[0];
+    EXPECT_EQ(e.before, "not monotone");
+    EXPECT_EQ(e.after, "decreasing");
+    ASSERT_TRUE(e.fix && e.fix->moves.size() == 1);
+    const int moved = e.fix->moves[0].point;
+    EXPECT_EQ(std::find(e.held.begin(), e.held.end(), moved), e.held.end());
+    const StepCurve& in = curves.curves[e.curve];
+    const StepCurve& out = r.curves.curves[e.curve];
+    for (std::size_t i = 0; i < in.points.size(); ++i) {
+      if (static_cast<int>(i) == moved) continue;
+      EXPECT_EQ(out.points[i], in.points[i]) << i;  // bit for bit
+    }
+    const SpaceSpline fixed = space_spline_from_json(nlohmann::json::parse(import::step_curve_json(out).dump()));
+    EXPECT_EQ(analyze_space(fixed).curvature, Direction::decreasing);
+    EXPECT_EQ(r.curves.curves[r.edges[1].curve].points, curves.curves[r.edges[1].curve].points);
+    EXPECT_FALSE(r.edges[1].searched);
+    ASSERT_EQ(r.junctions_after.size(), 1u);
+    EXPECT_EQ(r.junctions_before[0].level, 3);
+    EXPECT_EQ(r.junctions_after[0].level, 3);
+  }
+  const import::ChainFixResult clean = import::fix_step_chain(spiral_model("spiral"), 0, request);
+  EXPECT_TRUE(clean.fixed && clean.already) << clean.reason;
+}
+
+// A chain whose edges go opposite ways: the spiral's first edge, then the
+// same edge walked back (a cusp at the junction: not G1, and it stays so).
+// Each edge is monotone, so each-piece needs nothing; the whole chain cannot
+// be one way with the ends' curvatures held, and the reason says so.
+TEST(StepChainFix, EdgesGoingOppositeWaysCannotMakeTheWholeChainMonotone) {
+  StepCurves curves = spiral_model("spiral");
+  curves.chains = {import::StepChain{{0, 0}, {false, true}, {}, false}};
+  import::ChainFixRequest request;
+  request.whole_chain = false;
+  request.no_zero_curvature = false;
+  const import::ChainFixResult each = import::fix_step_chain(curves, 0, request);
+  EXPECT_TRUE(each.fixed && each.already) << each.reason;
+  request.whole_chain = true;
+  const import::ChainFixResult whole = import::fix_step_chain(curves, 0, request);
+  EXPECT_FALSE(whole.fixed);
+  const std::string id = import::step_edge_id(curves.curves[0]);
+  EXPECT_EQ(whole.reason, "each edge is monotone, but not the whole chain one way (walked along it: " + id +
+                              " decreasing, -" + id +
+                              " increasing); its ends' curvatures are held, so no move of inner points turns an edge "
+                              "round (each-piece asks only for each edge)");
+}
+
+TEST(StepChainFix, BadRequestsAreOneLine) {
+  const StepCurves curves = spiral_model("spiral");
+  import::ChainFixRequest request;
+  EXPECT_THROW(import::fix_step_chain(curves, 1, request), InputError);
+  request.keep = 4;
+  EXPECT_THROW(import::fix_step_chain(curves, 0, request), InputError);
+  request.keep = 2;
+  StepCurves closed = curves;
+  closed.curves[0].closed = true;
+  try {
+    import::fix_step_chain(closed, 0, request);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "chain 1: " + import::step_edge_id(curves.curves[0]) + " is a closed edge (a chain fix holds each edge's two ends)");
+  }
+}
+
+// cmr fix MODEL.step --chain N end to end: the fixed chain's edges written as
+// cmr import names them, `cmr analyze` (another process) judging the fixed
+// edge decreasing; bad requests one line, exit 2, nothing written.
+TEST(StepCli, ChainFixWritesTheChainsEdgesAndRefusesBadRequests) {
+  const std::string model = (test::scratch() / "spiral-dent.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model + " spiral-dent").c_str()), 0);
+  const std::string out = (test::scratch() / "fixed").string();
+  const test::Outcome r = test::run("fix " + model + " --chain 1 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(r.out);
+  EXPECT_EQ(doc["fixed"], true);
+  EXPECT_EQ(doc["keep"], "g2");  // a chain's default
+  EXPECT_EQ(doc["junctions"][0]["before"], "G3");
+  EXPECT_EQ(doc["junctions"][0]["after"], "G3");
+  ASSERT_EQ(doc["out"].size(), 2u);
+  const std::string first = doc["out"][0];
+  const test::Outcome a = test::run("analyze " + first);
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_EQ(nlohmann::json::parse(a.out)["spline"]["curvature"], "decreasing") << a.out;
+
+  const std::string none = (test::scratch() / "none").string();
+  expect_one_line_exit2(test::run("fix " + model + " --out " + none), model + ": a STEP model; name the chain to fix with --chain N");
+  expect_one_line_exit2(test::run("fix " + model + " --chain 2 --out " + none), "--chain: " + model + " has 1 chain, not 2");
+  expect_one_line_exit2(test::run("fix " + model + " --chain 1 --points 3 --out " + none), model + ": a STEP chain; --plane");
+  expect_one_line_exit2(test::run("fix " + model + " --chain 1 --require split:1 --out " + none), model + ": a STEP chain; its fix takes");
+  expect_one_line_exit2(test::run("fix " + first + " --chain 1"), "--chain: only for STEP models");
+  expect_one_line_exit2(test::run("fix " + first + " --keep g3"), "--keep g3: only for a STEP chain");
+  const std::string wire = (test::scratch() / "wire.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + wire + " wire").c_str()), 0);
+  expect_one_line_exit2(test::run("fix " + wire + " --chain 1 --out " + none),
+                        wire + ": chain 1: no certified fix of every edge with its ends held (--keep g2): ");
+  EXPECT_FALSE(std::filesystem::exists(none));
 }
 
 }  // namespace
