@@ -1,6 +1,7 @@
 #include "report/space_report.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -100,7 +101,7 @@ SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest&
   return fit;
 }
 
-SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth) {
+SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth, double time_limit) {
   SpaceThumbnail t;
   t.point = k;
   try {
@@ -108,6 +109,7 @@ SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int m
     request.point = k;
     request.width = request.height = size;
     request.max_depth = max_depth;
+    request.time_limit = time_limit;
     request.view = fit_space_view(spline, request).view;  // the region and the point, as `cmr region` without --view
     const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, request);
     t.plane = *problem.request().plane;
@@ -324,7 +326,7 @@ std::vector<Finding> space_findings(const SpaceReport& r, const std::string& nam
   return out;
 }
 
-SpaceReport space_report(const std::string& file, const SpaceReportOptions& options) {
+SpaceReport space_report_analysis(const std::string& file, const SpaceReportOptions& options) {
   SpaceReport r;
   r.file = file;
   try {
@@ -376,25 +378,135 @@ SpaceReport space_report(const std::string& file, const SpaceReportOptions& opti
   r.deviation = hi_all > 0 && std::isfinite(lo_all) ? turning_deviation(lo_all, hi_all, length_all) : 0;
   for (double x : r.turning_deviation) r.near_constant = r.near_constant && x <= options.constant_tolerance;
   r.near_constant = r.near_constant && r.deviation <= options.constant_tolerance && hi_all > 0;
-  if (options.regions)
-    for (int k = 0; k < r.spline->unique_point_count(); ++k) {
-      r.thumbnails.push_back(space_thumbnail(*r.spline, k, options.region_size, options.max_depth));
-      r.thumbnails.back().error = options.show_fields(r.thumbnails.back().error);
-    }
   const bool monotone = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
   r.check_pass = (monotone || r.near_constant) && !(options.require_no_zero_curvature && r.analysis.zero_curvature);
   r.gates = space_gates(r, options);
   // As a planar report: the curvature check counts unless only gates are asked for.
   r.pass = options.require_monotone || r.gates.empty() ? r.check_pass : true;
   for (const GateResult& g : r.gates) r.pass = r.pass && g.pass();
-  if (!(monotone || r.near_constant) && options.fixes) {  // the smallest certified fix (design/space_fix.hpp)
-    SpaceFixRequest f;
-    f.max_depth = options.max_depth;
-    f.time_limit = kReportSpaceFixSeconds;
-    r.fix = space_fix(*r.spline, f);
-    r.fix->reason = options.show_fields(r.fix->reason);
-  }
   return r;
+}
+
+namespace {
+
+/// "P3, P5-P9, P12": points, runs of three or more as ranges.
+std::string point_ranges(const std::vector<int>& points) {
+  std::string out;
+  for (std::size_t i = 0; i < points.size();) {
+    std::size_t j = i;
+    while (j + 1 < points.size() && points[j + 1] == points[j] + 1) ++j;
+    if (!out.empty()) out += ", ";
+    out += "P" + std::to_string(points[i]);
+    if (j >= i + 2) out += "-P" + std::to_string(points[j]), i = j + 1;
+    else ++i;
+  }
+  return out;
+}
+
+/// Why a thumbnail or a fix search was left out (fields marked).
+std::string budget_spent(const SpaceReportOptions& o) {
+  return "the run's budget for fix searches and regions (" + field("fix_budget") + " " + num(o.budget) + " s) was spent";
+}
+
+bool needs_fix(const SpaceReport& r) {
+  const bool monotone = r.analysis.curvature == Direction::increasing || r.analysis.curvature == Direction::decreasing;
+  return r.spline && !(monotone || r.near_constant);
+}
+
+/// A curve's points in the order their thumbnails matter: the fix's point,
+/// then the points acting on a failing segment (each segment's d + 1), then
+/// the others; unique points (a closed curve's twins folded).
+std::vector<int> thumbnail_order(const SpaceReport& r) {
+  const SpaceSpline& s = *r.spline;
+  const int m = s.unique_point_count(), d = s.degree();
+  std::vector<int> order;
+  std::vector<bool> taken(static_cast<std::size_t>(m), false);
+  const auto take = [&](int k) {
+    k = ((k % m) + m) % m;
+    if (!taken[static_cast<std::size_t>(k)]) taken[static_cast<std::size_t>(k)] = true, order.push_back(k);
+  };
+  if (r.fix && r.fix->fixed && !r.fix->moves.empty()) take(r.fix->moves.front().point);
+  for (std::size_t i = 0; i < r.analysis.segments.size(); ++i) {
+    const Curvature c = r.analysis.segments[i].curvature.curvature;
+    if (c == Curvature::increasing || c == Curvature::decreasing || c == Curvature::constant) continue;
+    const int first = s.segments()[i].span - d + 1;
+    for (int k = first; k <= first + d; ++k) take(k);
+  }
+  for (int k = 0; k < m; ++k) take(k);
+  return order;
+}
+
+}  // namespace
+
+void space_report_extras(std::vector<SpaceReport>& reports, const SpaceReportOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  // The curves by their cost, cheapest first (a stable order: the run's
+  // within equal costs), so that the budget covers as many curves as it can:
+  // a pixel's work grows with lambda3's degree 6d - 11, a fix search's with
+  // the segments too.
+  std::vector<SpaceReport*> by_cost;
+  for (SpaceReport& r : reports)
+    if (r.spline) by_cost.push_back(&r);
+  const auto cost = [](const SpaceReport* r) {
+    const double d = 6.0 * r->spline->degree() - 11;
+    return d * d * static_cast<double>(r->spline->segment_count());
+  };
+  std::stable_sort(by_cost.begin(), by_cost.end(),
+                   [&](const SpaceReport* a, const SpaceReport* b) { return cost(a) < cost(b); });
+  // Seconds left of the run's budget (options.budget 0: unlimited).
+  const auto left = [&](double cap) {
+    if (!(options.budget > 0)) return cap;
+    return std::min(cap, options.budget - std::chrono::duration<double>(Clock::now() - start).count());
+  };
+  std::vector<SpaceReport*> order;  // the failing curves first, each group cheapest first
+  for (SpaceReport* r : by_cost)
+    if (!r->pass) order.push_back(r);
+  for (SpaceReport* r : by_cost)
+    if (r->pass) order.push_back(r);
+  bool spent = false;
+  for (SpaceReport* c : order) {
+    SpaceReport& r = *c;
+    if (options.fixes && needs_fix(r)) {  // the smallest certified fix (design/space_fix.hpp)
+      const double seconds = spent ? 0 : left(kReportSpaceFixSeconds);
+      if (!(seconds > 0)) {
+        spent = true;
+        r.fix_not_searched = true;
+      } else {
+        SpaceFixRequest f;
+        f.max_depth = options.max_depth;
+        f.time_limit = seconds;
+        r.fix = space_fix(*r.spline, f);
+        r.fix->reason = options.show_fields(r.fix->reason);
+      }
+    }
+    if (!options.regions) continue;
+    for (int k : thumbnail_order(r)) {
+      const double seconds = spent ? 0 : left(kDefaultSpaceRegionSeconds);
+      if (!(seconds > 0)) {
+        spent = true;
+        r.regions_not_drawn.push_back(k);
+        continue;
+      }
+      SpaceThumbnail t = space_thumbnail(*r.spline, k, options.region_size, options.max_depth, seconds);
+      if (!t.error.empty() && options.budget > 0 && !(left(kDefaultSpaceRegionSeconds) > 0)) {
+        spent = true;  // stopped by the budget, not by the region itself
+        r.regions_not_drawn.push_back(k);
+        continue;
+      }
+      t.error = options.show_fields(t.error);
+      r.thumbnails.push_back(std::move(t));
+    }
+    std::sort(r.thumbnails.begin(), r.thumbnails.end(),
+              [](const SpaceThumbnail& x, const SpaceThumbnail& y) { return x.point < y.point; });
+    std::sort(r.regions_not_drawn.begin(), r.regions_not_drawn.end());
+  }
+}
+
+SpaceReport space_report(const std::string& file, const SpaceReportOptions& options) {
+  std::vector<SpaceReport> one{space_report_analysis(file, options)};
+  space_report_extras(one, options);
+  return std::move(one.front());
 }
 
 nlohmann::ordered_json space_fix_json(const SpaceFixResult& f) {
@@ -497,8 +609,11 @@ nlohmann::ordered_json space_report_json(const std::vector<SpaceReport>& reports
         regions.push_back(g);
       }
       j["regions"] = regions;
+      if (!r.regions_not_drawn.empty())
+        j["regions_not_drawn"] = {{"points", r.regions_not_drawn}, {"reason", options.show_fields(budget_spent(options))}};
     }
     if (r.fix) j["certified_fixes"] = nlohmann::ordered_json::array({space_fix_json(*r.fix)});
+    if (r.fix_not_searched) j["fix_not_searched"] = options.show_fields(budget_spent(options));
     ++(r.pass ? pass : fail);
     list.push_back(j);
   }
@@ -655,6 +770,8 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
       out += "</b></p>";
     } else if (r.fix && !r.fix->fixed) {
       out += "<p>No certified fix: " + html_escape(r.fix->reason) + "</p>";
+    } else if (r.fix_not_searched) {
+      out += "<p>No fix searched: " + html_escape(options.show_fields(budget_spent(options))) + ".</p>";
     }
     const double extent = [&] {
       Vec3 lo = r.spline->points()[0], hi = lo;
@@ -694,7 +811,7 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
                num(j.tau_right) + "</td></tr>";
       out += "</table>";
     }
-    if (!r.thumbnails.empty()) {  // each control point's region in its default plane
+    if (!r.thumbnails.empty() || !r.regions_not_drawn.empty()) {  // each control point's region in its default plane
       out +=
           "<div class=\"regions\"><h3>Regions of the control points</h3><p>Each control point moved in its default "
           "plane (the plane of <code>cmr region FILE " +
@@ -710,6 +827,10 @@ std::string space_report_html(const std::vector<SpaceReport>& reports, const Spa
         out += "<figcaption>" + p + ": " + html_escape(t.error.empty() ? "in " + t.plane_name : "no region: " + t.error) +
                "</figcaption></figure>";
       }
+      if (!r.regions_not_drawn.empty())
+        out += "<p>Not drawn: " + point_ranges(r.regions_not_drawn) + " (" +
+               html_escape(options.show_fields(budget_spent(options))) + "; <code>cmr region FILE " +
+               html_escape(options.show_fields(field("point"))) + " K</code> draws one).</p>";
       out += "</div>";
     }
     out += "</section>";

@@ -48,6 +48,10 @@ struct SpaceReportOptions {
   bool fixes = true;
   bool regions = true;            ///< a region thumbnail per control point (`cmr report --no-thumbnails`: off)
   int region_size = 96;           ///< thumbnails are region_size x region_size (`--region-size`)
+  /// Seconds of wall time for every fix search and thumbnail of a run
+  /// (space_report_extras; `cmr report --fix-budget`, default
+  /// kDefaultSpaceBudgetSeconds for space curves); 0: no limit.
+  double budget = 0;
   /// How the documents name the option fields quoted in library messages
   /// (ReportOptions::show_fields).
   std::function<std::string(const std::string&)> show_fields = plain_fields;
@@ -69,6 +73,12 @@ struct SpaceThumbnail {
 /// Time limit of a failing space curve's fix search in a report (seconds);
 /// the nearest fix found by then is still certified.
 inline constexpr double kReportSpaceFixSeconds = 2;
+
+/// `cmr report`'s default budget for a run of space curves' fix searches
+/// and thumbnails (SpaceReportOptions::budget): a thumbnail of a degree-14
+/// CAD edge takes 5-60 s (lambda3 of degree 73 a pixel, exact arithmetic on
+/// the region's boundary), and such an edge can have 183 points.
+inline constexpr double kDefaultSpaceBudgetSeconds = 5;
 
 struct SpaceReport {
   std::string file;
@@ -93,8 +103,11 @@ struct SpaceReport {
   double deviation = 0;  ///< the same over the whole curve
   bool near_constant = false;
   std::vector<GateResult> gates;  ///< options.gates, in order
-  std::vector<SpaceThumbnail> thumbnails;  ///< one per (unique) control point when options.regions
+  std::vector<SpaceThumbnail> thumbnails;  ///< the points' drawn (or refused) regions, by point, when options.regions
+  /// Points whose thumbnail the run's budget left out (space_report_extras), ascending.
+  std::vector<int> regions_not_drawn;
   std::optional<SpaceFixResult> fix;  ///< failing curves, with options.fixes
+  bool fix_not_searched = false;      ///< failing, options.fixes, and the run's budget was spent before its search
 };
 
 /// The picture of a space region (`cmr region --png` and the report's
@@ -125,8 +138,10 @@ SpaceViewFit fit_space_view(const SpaceSpline& spline, const SpaceRegionRequest&
 /// `plane_name` of `cmr region`'s summary.
 std::string space_plane_name(const SpaceSpline& spline, const SpacePlane& plane, int point);
 
-/// The thumbnail of control point k (its region in its default plane).
-SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth);
+/// The thumbnail of control point k (its region in its default plane);
+/// `time_limit`: seconds for its renders (SpaceRegionRequest::time_limit).
+SpaceThumbnail space_thumbnail(const SpaceSpline& spline, int k, int size, int max_depth,
+                               double time_limit = kDefaultSpaceRegionSeconds);
 
 /// The planar report's --require (parse_require_list into `parsed`) for a
 /// run of space curves: cmrwi and cmr and the gates above go into `o`; a
@@ -140,7 +155,25 @@ void space_requirements(const ReportOptions& parsed, SpaceReportOptions& o, cons
 /// check), `name` being the file's name in findings (source_name).
 std::vector<Finding> space_findings(const SpaceReport& r, const std::string& name, const SpaceReportOptions& options);
 
-/// Reads and analyses one file; an InputError becomes `error`.
+/// Reads and analyses one file (the verdict, extrema, gates, pass), without
+/// its fix search and thumbnails; an InputError becomes `error`.
+SpaceReport space_report_analysis(const std::string& file, const SpaceReportOptions& options);
+
+/// The costly parts of a run's reports within options.budget seconds of
+/// wall time for the whole run (0: no limit), curve by curve: the failing
+/// curves first, then the passing ones, each group cheapest first (by
+/// (6d - 11)^2 times the segments: lambda3's degree is 6d - 11) so that the
+/// budget covers as many curves as it can. For each: its fix search when it
+/// fails (options.fixes; kReportSpaceFixSeconds, or what is left), then its
+/// thumbnails (options.regions): the fix's point first, then the points that
+/// act on its failing segments, then its other points. Each render gets what is left of
+/// the budget (at most kDefaultSpaceRegionSeconds); what the budget leaves
+/// out is listed (SpaceReport::regions_not_drawn, fix_not_searched), never
+/// half drawn. Thumbnails are kept by point.
+void space_report_extras(std::vector<SpaceReport>& reports, const SpaceReportOptions& options);
+
+/// Reads and analyses one file, then its fix search and thumbnails
+/// (space_report_analysis, space_report_extras).
 SpaceReport space_report(const std::string& file, const SpaceReportOptions& options);
 
 /// The JSON of `cmr analyze` for a space curve: {"segments": [segment i ...],

@@ -184,7 +184,8 @@ void add_report_command(CLI::App& app, int& exit_code) {
                   "only exactly planar segments");
   in_range(cmd->add_option("--fix-budget", args->fix_budget,
                            "seconds for all fix searches of the run (regions, certified fixes); after them failing "
-                           "splines are reported without fixes (a note says how many); 0: no limit"),
+                           "splines are reported without fixes (a note says how many); 0: no limit. Space curves: "
+                           "their fix searches and thumbnails, default 5 (the rest listed as not drawn)"),
            0.0, 1e9)
       ->capture_default_str();
   in_range(cmd->add_option("--time-limit", args->time_limit,
@@ -275,6 +276,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
       run.options.fixes = !args->no_fixes && !args->no_thumbnails;
       run.options.regions = !args->no_thumbnails;
       run.options.region_size = args->region_size;
+      run.options.budget = cmd->count("--fix-budget") > 0 ? args->fix_budget : report::kDefaultSpaceBudgetSeconds;
       run.options.show_fields = show_fields;  // the libraries' fields as this command's flags
       if (!args->junit.empty()) run.junit = mixed ? parts->space_file(args->junit) : fs::path(args->junit);
       if (!args->sarif.empty()) run.sarif = mixed ? parts->space_file(args->sarif) : fs::path(args->sarif);

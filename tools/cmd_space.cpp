@@ -183,12 +183,13 @@ int run_space_report(const SpaceReportRun& run) {
   std::vector<std::vector<report::Finding>> findings;
   std::vector<std::string> names;  // each file's name in findings
   const std::string root = run.source_root ? run.source_root->string() : std::string();
+  for (const std::string& f : run.files) reports.push_back(report::space_report_analysis(f, o));
+  report::space_report_extras(reports, o);  // fix searches and thumbnails, within the run's budget
   for (std::size_t i = 0; i < run.files.size(); ++i) {
     const std::string& f = run.files[i];
-    reports.push_back(report::space_report(f, o));
     const std::string base = run.source_root ? root : (i < run.bases.size() ? run.bases[i] : std::string());
     names.push_back(report::source_name(f, base));
-    findings.push_back(report::space_findings(reports.back(), names.back(), o));
+    findings.push_back(report::space_findings(reports[i], names.back(), o));
   }
   const std::filesystem::path dir = run.out;
   OutputSet set;

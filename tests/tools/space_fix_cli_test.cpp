@@ -111,7 +111,7 @@ std::string scratch_dir(const std::string& name) {
 
 TEST(SpaceFixCli, ReportSuggestsACertifiedFixForAFailingSpaceCurve) {
   const std::string dir = scratch_dir("space_fix_report");
-  const test::Outcome r = run("report " + kFailing + " " + kMonotone + " --out " + dir);
+  const test::Outcome r = run("report " + kFailing + " " + kMonotone + " --out " + dir + " --fix-budget 0");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto doc = read_json(dir + "/report.json");
   ASSERT_EQ(doc["splines"].size(), 2u);

@@ -63,7 +63,8 @@ std::size_t count_code(const std::string& pgm, char code) {
 // plane, view and label counts are that command's (its --labels map counted).
 void expect_thumbnails_are_regions(const std::string& file, int points, int size) {
   const std::string dir = (test::scratch() / "space_thumbs").string();
-  const test::Outcome r = run("report " + file + " --out " + dir + " --region-size " + std::to_string(size));
+  const test::Outcome r =  // --fix-budget 0: every thumbnail, however loaded the machine (the budget's own test is below)
+      run("report " + file + " --out " + dir + " --region-size " + std::to_string(size) + " --fix-budget 0");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto doc = nlohmann::json::parse(test::slurp(dir + "/report.json"));
   const int depth = doc["depth"];
@@ -134,7 +135,7 @@ TEST(SpaceReportThumbnails, RationalCurveToo) { expect_thumbnails_are_regions(kS
 TEST(SpaceReportThumbnails, DegenerateDefaultPlaneIsNamedNotFatal) {
   const std::string file = write("straight_start.json", R"({"points":[[0,0,0],[1,0,0],[2,0,0],[3,1,1],[4,1,3]]})");
   const std::string dir = (test::scratch() / "space_thumbs_degenerate").string();
-  const test::Outcome r = run("report " + file + " --out " + dir + " --region-size 12");
+  const test::Outcome r = run("report " + file + " --out " + dir + " --region-size 12 --fix-budget 0");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto regions = nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"][0]["regions"];
   ASSERT_EQ(regions.size(), 5u);
@@ -213,4 +214,51 @@ TEST(SpaceReportThumbnails, NoThumbnailsLeavesThemOut) {
 }
 
 }  // namespace
+// The run's budget for fix searches and thumbnails (SpaceReportOptions::
+// budget, `--fix-budget`; docs/space.md): what it leaves out is listed, never
+// half drawn. A budget spent before anything starts leaves out every
+// thumbnail and the failing curve's fix search; no budget (0) draws them all.
+TEST(SpaceReportThumbnails, TheRunsBudgetListsWhatItLeavesOut) {
+  const std::vector<std::string> files{kSpace + "fig8_lifted.json", kSpace + "fig8b_lifted.json"};
+  report::SpaceReportOptions o;
+  o.region_size = 16;
+  const auto reports = [&](double budget) {
+    o.budget = budget;
+    std::vector<report::SpaceReport> rs;
+    for (const std::string& f : files) rs.push_back(report::space_report_analysis(f, o));
+    report::space_report_extras(rs, o);
+    return rs;
+  };
+  const std::vector<report::SpaceReport> all = reports(0);
+  ASSERT_FALSE(all[0].pass);  // fig8_lifted fails: it gets a fix search
+  ASSERT_TRUE(all[0].fix.has_value());
+  for (const report::SpaceReport& r : all) {
+    EXPECT_EQ(static_cast<int>(r.thumbnails.size()), r.spline->unique_point_count());
+    EXPECT_TRUE(r.regions_not_drawn.empty());
+    EXPECT_FALSE(r.fix_not_searched);
+  }
+  const std::vector<report::SpaceReport> none = reports(1e-9);
+  EXPECT_FALSE(none[0].fix.has_value());
+  EXPECT_TRUE(none[0].fix_not_searched);
+  for (const report::SpaceReport& r : none) {
+    EXPECT_TRUE(r.thumbnails.empty());
+    std::vector<int> every(static_cast<std::size_t>(r.spline->unique_point_count()));
+    for (std::size_t k = 0; k < every.size(); ++k) every[k] = static_cast<int>(k);
+    EXPECT_EQ(r.regions_not_drawn, every);
+  }
+  // The CLI: the note in report.json and on the page.
+  const std::string dir = (test::scratch() / "space_thumbs_budget").string();
+  const test::Outcome r = run("report " + files[0] + " --out " + dir + " --region-size 16 --fix-budget 0.000000001");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto spline = nlohmann::json::parse(test::slurp(dir + "/report.json"))["splines"][0];
+  EXPECT_EQ(spline["regions"].size(), 0u);
+  EXPECT_EQ(spline["regions_not_drawn"]["points"].size(), 6u);
+  EXPECT_EQ(spline["regions_not_drawn"]["reason"],
+            "the run's budget for fix searches and regions (--fix-budget 1e-09 s) was spent");
+  EXPECT_EQ(spline["fix_not_searched"], spline["regions_not_drawn"]["reason"]);
+  const std::string page = test::slurp(dir + "/index.html");
+  EXPECT_NE(page.find("Not drawn: P0-P5 (the run&#39;s budget"), std::string::npos) << page.substr(0, 200);
+  EXPECT_NE(page.find("No fix searched: the run"), std::string::npos);
+}
+
 }  // namespace cmr
