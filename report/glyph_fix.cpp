@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -480,6 +481,130 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
   return "";
 }
 
+/// The total count of violations of every check in `oi` (a spline that
+/// cannot be judged counts as very many).
+std::function<int(const BSpline&)> total_judge(const ReportOptions& oi) {
+  return [oi](const BSpline& s) {
+    try {
+      return total(judge_counts(s, oi));
+    } catch (const InputError&) {
+      return std::numeric_limits<int>::max() / 2;
+    }
+  };
+}
+
+/// The checks of `o` that `s` fails, each alone (the requirement, each
+/// gate), then all of them together when there are several: the rounds of
+/// fix_contour try each in turn.
+std::vector<ReportOptions> failing_checks(const BSpline& s, const ReportOptions& o) {
+  std::vector<ReportOptions> out;
+  const SplineReport r = judged_report(s, o);
+  if (o.require && !r.requirement_pass) {
+    ReportOptions t = o;
+    t.gates.clear();
+    out.push_back(t);
+  }
+  for (std::size_t g = 0; g < r.gates.size(); ++g)
+    if (!r.gates[g].pass()) {
+      ReportOptions t = o;
+      t.require.reset();
+      t.gates = {o.gates[g]};
+      out.push_back(t);
+    }
+  if (out.size() > 1) out.push_back(o);
+  return out;
+}
+
+/// One attempt of a round: the nearest certified fix of check `t` alone
+/// from `current` (design/fix.hpp with `t`'s judge), snapped to the grid
+/// when there is one; the contour it gives when every check's total falls
+/// below `current_total` and every smooth node stays exactly smooth, else
+/// nothing (and `why` says why), with its total. `off_grid` grows to the
+/// fix's distance; `left` gives the seconds left of the contour's budget.
+std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, const BSpline& current,
+                                                     int current_total, const ReportOptions& t,
+                                                     const ContourMoves& rules, const GlyphFixOptions& options,
+                                                     const std::function<int(const BSpline&)>& judge,
+                                                     const std::function<double()>& left, double& off_grid,
+                                                     std::string& why) {
+  const std::function<int(const BSpline&)> check_judge = total_judge(t);
+  FixRequest q;
+  q.requirement = guide(t, judged_report(current, t));
+  q.max_depth = t.max_depth;
+  q.max_seconds = left();
+  q.threads = 1;
+  q.max_move = options.max_move;
+  q.judge = check_judge;
+  rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
+  const FixResult f = fix(current, q);
+  if (!f.fixed || f.already) {
+    why = f.reason;
+    return std::nullopt;
+  }
+  off_grid = std::max(off_grid, f.max_distance);
+  BSpline next = *f.spline;
+  // Off the grid it may still break another check; the grid snap (which
+  // may move neighbouring handles too) then has to mend that.
+  const bool off_grid_ok = judge(next) < current_total && smooth_kept(c, next);
+  const std::string breaks = "the fix of " +
+                             (t.gates.size() == 1 && !t.require ? to_string(t.gates[0]) : std::string("every check")) +
+                             " breaks another check (no round lowers the count of violations)";
+  if (!off_grid_ok && options.grid <= 0) {
+    why = breaks;
+    return std::nullopt;
+  }
+  if (options.grid > 0) {
+    // On the grid: the check passes and the total falls.
+    auto snap_judge = [&](const BSpline& s) {
+      const int own = check_judge(s);
+      if (own != 0) return own;
+      return judge(s) < current_total && smooth_kept(c, s) ? 0 : 1;
+    };
+    GridOptions g;
+    g.grid = options.grid;
+    g.max_move = options.max_move;
+    g.max_seconds = left();
+    g.partners = partners_of(c, f, rules.points);
+    const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
+    if (!snapped.found) {
+      why = off_grid_ok ? snapped.reason : breaks;
+      return std::nullopt;
+    }
+    next = *snapped.spline;
+  }
+  const int next_total = judge(next);
+  if (next_total < current_total && smooth_kept(c, next)) return std::make_pair(std::move(next), next_total);
+  return std::nullopt;
+}
+
+/// The certificate of a contour fix: `fixed` re-judged check by check (none
+/// may be worse, all must pass), its moves by the source's point names.
+/// False (and out.reason) when a check fails.
+bool certify_contour_fix(const import::Contour& c, const BSpline& fixed, const ReportOptions& o, ContourFix& out) {
+  const std::vector<GateCount> after = judge_counts(fixed, o);
+  bool all_pass = true;
+  for (std::size_t i = 0; i < out.rejudged.size() && i < after.size(); ++i) {
+    out.rejudged[i].after = after[i].before;
+    all_pass = all_pass && after[i].before == 0;
+  }
+  if (!all_pass) {
+    out.reason = "the fix fails a check when re-judged";
+    return false;
+  }
+  out.fixed = true;
+  for (int k = 0; k < c.spline.unique_point_count(); ++k) {
+    const Vec2 from = c.spline.points()[k], to = fixed.points()[k];
+    if (from != to) out.moves.push_back({k, from, to, std::hypot(to.x - from.x, to.y - from.y)});
+  }
+  for (const PointMove& m : out.moves) {
+    std::string name = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
+    out.names.push_back(m.point < static_cast<int>(c.point_names.size()) ? c.point_names[m.point]
+                                                                         : name.append(std::to_string(m.point)));
+    out.source_points.push_back(m.point < static_cast<int>(c.font_point.size()) ? c.font_point[m.point] : -1);
+  }
+  return true;
+}
+
 ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, double budget) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
@@ -491,48 +616,13 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     for (GateCount& g : out.rejudged) g.after = g.before;
     return out;
   }
-  auto judge_of = [](const ReportOptions& oi) {
-    return [oi](const BSpline& s) {
-      try {
-        return total(judge_counts(s, oi));
-      } catch (const InputError&) {
-        return std::numeric_limits<int>::max() / 2;
-      }
-    };
-  };
-  const std::function<int(const BSpline&)> judge = judge_of(o);
-  // Stages: the requirement, then each gate in turn, each judged together
-  // with the checks before it (which it may not break), from where the
-  // stage before left the contour.
+  const std::function<int(const BSpline&)> judge = total_judge(o);
   const ContourMoves rules = contour_moves(c);  // the rules every search of a contour's points keeps
   const std::vector<int>& movable = rules.points;
   if (movable.empty()) {
     out.reason = "no source point may move (every node ends a straight piece)";
     return out;
   }
-  // Rounds: each tries to fix one failing check alone (its own judge and
-  // search guide), then all of them at once, from where the last round
-  // left the contour, snapped to the grid; a round is taken when the total
-  // count of violations of every check falls and every smooth node stays
-  // exactly smooth. So the total falls each round and the loop ends.
-  auto checks_of = [&](const BSpline& s) {
-    std::vector<ReportOptions> out_checks;
-    const SplineReport r = judged_report(s, o);
-    if (o.require && !r.requirement_pass) {
-      ReportOptions t = o;
-      t.gates.clear();
-      out_checks.push_back(t);
-    }
-    for (std::size_t g = 0; g < r.gates.size(); ++g)
-      if (!r.gates[g].pass()) {
-        ReportOptions t = o;
-        t.require.reset();
-        t.gates = {o.gates[g]};
-        out_checks.push_back(t);
-      }
-    if (out_checks.size() > 1) out_checks.push_back(o);
-    return out_checks;
-  };
   if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
     std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
     out.reason = why.append(join).append(
@@ -548,7 +638,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
   };
   const auto deadline = at_time(budget);
-  auto left = [&] { return std::max(0.05, std::chrono::duration<double>(deadline - Clock::now()).count()); };
+  const std::function<double()> left = [&] {
+    return std::max(0.05, std::chrono::duration<double>(deadline - Clock::now()).count());
+  };
   // Several checks: the grid descent first, in half the budget (the
   // rounds' fix of one check mostly breaks another); the rounds where it
   // finds nothing.
@@ -556,60 +648,18 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   if (several && options.grid > 0)
     if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, at_time(budget / 2)))
       if (judge(*d) == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
+  // Rounds: each tries to fix one failing check alone (its own judge and
+  // search guide), then all of them at once, from where the last round
+  // left the contour, snapped to the grid; a round is taken when the total
+  // count of violations of every check falls and every smooth node stays
+  // exactly smooth. So the total falls each round and the loop ends.
   for (int round = 0; round < kGlyphFixRounds && current_total > 0 && Clock::now() < deadline; ++round) {
     bool improved = false;
-    for (const ReportOptions& t : checks_of(current)) {
+    for (const ReportOptions& t : failing_checks(current, o)) {
       if (Clock::now() >= deadline) break;
-      const std::function<int(const BSpline&)> check_judge = judge_of(t);
-      FixRequest q;
-      q.requirement = guide(t, judged_report(current, t));
-      q.max_depth = o.max_depth;
-      q.max_seconds = left();
-      q.threads = 1;
-      q.max_move = options.max_move;
-      q.judge = check_judge;
-      rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
-      const FixResult f = fix(current, q);
-      if (!f.fixed || f.already) {
-        why = f.reason;
-        continue;
-      }
-      out.off_grid_distance = std::max(out.off_grid_distance, f.max_distance);
-      BSpline next = *f.spline;
-      // Off the grid it may still break another check; the grid snap (which
-      // may move neighbouring handles too) then has to mend that.
-      const bool off_grid_ok = judge(next) < current_total && smooth_kept(c, next);
-      const std::string breaks = "the fix of " +
-                                 (t.gates.size() == 1 && !t.require ? to_string(t.gates[0]) : std::string("every check")) +
-                                 " breaks another check (no round lowers the count of violations)";
-      if (!off_grid_ok && options.grid <= 0) {
-        why = breaks;
-        continue;
-      }
-      if (options.grid > 0) {
-        // On the grid: the check passes and the total falls.
-        const int before_total = current_total;
-        auto snap_judge = [&](const BSpline& s) {
-          const int own = check_judge(s);
-          if (own != 0) return own;
-          return judge(s) < before_total && smooth_kept(c, s) ? 0 : 1;
-        };
-        GridOptions g;
-        g.grid = options.grid;
-        g.max_move = options.max_move;
-        g.max_seconds = left();
-        g.partners = partners_of(c, f, movable);
-        const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
-        if (!snapped.found) {
-          why = off_grid_ok ? snapped.reason : breaks;
-          continue;
-        }
-        next = *snapped.spline;
-      }
-      const int next_total = judge(next);
-      if (next_total < current_total && smooth_kept(c, next)) {
-        current = std::move(next);
-        current_total = next_total;
+      if (auto next = attempt_check(c, current, current_total, t, rules, options, judge, left, out.off_grid_distance, why)) {
+        current = std::move(next->first);
+        current_total = next->second;
         improved = true;
         break;
       }
@@ -631,31 +681,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     out.reason = why.empty() ? "no fix passes every check" : why;
     return out;
   }
-  std::vector<PointMove> moves;
-  for (int k = 0; k < c.spline.unique_point_count(); ++k) {
-    const Vec2 from = c.spline.points()[k], to = current.points()[k];
-    if (from != to) moves.push_back({k, from, to, std::hypot(to.x - from.x, to.y - from.y)});
-  }
-  const BSpline& fixed = current;
-  // Re-judged, check by check: none may be worse, all must pass.
-  const std::vector<GateCount> after = judge_counts(fixed, o);
-  bool all_pass = true;
-  for (std::size_t i = 0; i < out.rejudged.size() && i < after.size(); ++i) {
-    out.rejudged[i].after = after[i].before;
-    all_pass = all_pass && after[i].before == 0;
-  }
-  if (!all_pass) {
-    out.reason = "the fix fails a check when re-judged";
-    return out;
-  }
-  out.fixed = true;
-  out.moves = moves;
-  for (const PointMove& m : moves) {
-    std::string name = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
-    out.names.push_back(m.point < static_cast<int>(c.point_names.size()) ? c.point_names[m.point]
-                                                                         : name.append(std::to_string(m.point)));
-    out.source_points.push_back(m.point < static_cast<int>(c.font_point.size()) ? c.font_point[m.point] : -1);
-  }
+  if (!certify_contour_fix(c, current, o, out)) return out;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
