@@ -389,9 +389,9 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
 
 // ------------------------------------------------------------ variable fonts
 
-Masters read_variable_masters(const fs::path& path, const GlyphSelection& which, const std::optional<Segment2>& between) {
-  const std::string file = path.string();
-  const Variations var = read_variations(path);
+/// A variable font's axes as design-space axes: fvar's normalisation, then
+/// avar's map (a designspace axis's piecewise map, reused).
+std::vector<SpaceAxis> variation_axes(const Variations& var) {
   std::vector<SpaceAxis> axes;
   for (const Variations::Axis& a : var.axes) {
     SpaceAxis s;
@@ -400,7 +400,6 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
     s.minimum = a.minimum;
     s.maximum = a.maximum;
     s.default_value = a.default_value;
-    // fvar's normalisation, then avar's map (a designspace axis's piecewise map, reused).
     Designspace::Axis avar;
     avar.map = a.avar;
     s.to_coord = [a, avar](double u) {
@@ -417,25 +416,38 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
     for (const auto& m : a.avar) s.coord_breaks.push_back(m.second);
     axes.push_back(std::move(s));
   }
+  return axes;
+}
+
+/// "wght=400,wdth=100": a location by its user values.
+std::string location_name(const std::vector<SpaceAxis>& axes, const std::vector<double>& c) {
+  std::string out;
+  for (std::size_t k = 0; k < axes.size(); ++k) out += (out.empty() ? "" : ",") + axes[k].tag + "=" + num(axes[k].to_user(c[k]));
+  return out;
+}
+
+/// A piece of a variable font's design space: from `a` to `b` (normalised
+/// coordinates) along one axis, from cut to cut, and the part s0..s1 of it
+/// that is judged (--between).
+struct PieceEnds {
+  std::vector<double> a, b;
+  double s0 = 0, s1 = 1;
+};
+
+/// The pieces where every point moves affinely: along each axis, from cut
+/// to cut (gvar's region peaks, starts and ends), with the other axes at the
+/// default and at each peak's location; or the user's --between segment,
+/// cut the same way.
+std::vector<PieceEnds> variation_pieces(const Variations& var, const std::vector<SpaceAxis>& axes,
+                                        const std::optional<Segment2>& between, const std::string& file) {
   const std::size_t n_axes = axes.size();
-  auto name_of = [&](const std::vector<double>& c) {
-    std::string out;
-    for (std::size_t k = 0; k < n_axes; ++k) out += (out.empty() ? "" : ",") + axes[k].tag + "=" + num(axes[k].to_user(c[k]));
-    return out;
-  };
-  // The pieces: (start, end) coordinate vectors along one axis, from cut
-  // to cut, and the part s0..s1 of it that is judged (--between).
-  struct Ends {
-    std::vector<double> a, b;
-    double s0 = 0, s1 = 1;
-  };
-  std::vector<Ends> ends;
+  std::vector<PieceEnds> ends;
   auto cut_line = [&](const std::vector<double>& p0, const std::vector<double>& p1, int ax) {
     const std::vector<double>& cuts = var.cuts[ax];  // -1, ..., 1
     for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
       const double lo = std::max(cuts[k], p0[ax]), hi = std::min(cuts[k + 1], p1[ax]);
       if (!(lo < hi)) continue;
-      Ends e{p0, p0, 0, 1};
+      PieceEnds e{p0, p0, 0, 1};
       e.a[ax] = cuts[k];
       e.b[ax] = cuts[k + 1];
       e.s0 = (lo - cuts[k]) / (cuts[k + 1] - cuts[k]);
@@ -457,26 +469,82 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
         cut_line(b, e, static_cast<int>(ax));
       }
     }
-  } else {
-    std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
-    const int ax = varying_axis(p0, p1);
-    if (ax < 0)
-      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
-                            location_text(between->second) +
-                            (ax == -1 ? " are one location" : " differ in more than one axis"));
-    if (p0[ax] > p1[ax]) std::swap(p0, p1);
-    cut_line(p0, p1, ax);
+    return ends;
   }
+  std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
+  const int ax = varying_axis(p0, p1);
+  if (ax < 0)
+    throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
+                          location_text(between->second) +
+                          (ax == -1 ? " are one location" : " differ in more than one axis"));
+  if (p0[ax] > p1[ax]) std::swap(p0, p1);
+  cut_line(p0, p1, ax);
+  return ends;
+}
+
+/// A variable font's instances share their points: they differ only where
+/// the reader dropped a line of zero length at one instance (io/font.hpp).
+/// The glyphs with a reason in `why` are read again, at the default and at
+/// every piece's end, with their lines of zero length kept (a segment of
+/// equal points there); a glyph whose readings then correspond takes them
+/// (in `m.font` and `glyph_at`), and its reason is cleared.
+void reread_with_zero_length_lines(const fs::path& path, const std::vector<SpaceAxis>& axes,
+                                   const std::map<std::vector<double>, Font>& instances, Masters& m,
+                                   std::map<std::vector<double>, std::vector<const Glyph*>>& glyph_at,
+                                   std::vector<std::string>& why, std::optional<Font>& kept_default,
+                                   std::map<std::vector<double>, Font>& kept) {
+  std::vector<std::uint32_t> retry;
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi)
+    if (!why[gi].empty()) retry.push_back(m.font.glyphs[gi].codepoint);
+  if (retry.empty()) return;
+  kept_default = read_font(path, retry, {}, {}, true);
+  for (const auto& [c, f] : instances) kept.emplace(c, read_font(path, retry, {}, c, true));
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    if (why[gi].empty()) continue;
+    const std::string& name = m.font.glyphs[gi].name;
+    auto find = [&](const Font& f) -> const Glyph* {
+      for (const Glyph& x : f.glyphs)
+        if (x.name == name) return &x;
+      return nullptr;
+    };
+    const Glyph* d = find(*kept_default);
+    if (d == nullptr) continue;
+    std::string again;
+    std::map<std::vector<double>, const Glyph*> found;
+    for (const auto& [c, f] : kept) {
+      const Glyph* x = find(f);
+      if (x == nullptr) {
+        again = "the instance at " + location_name(axes, c) + " has other glyphs";
+        break;
+      }
+      again = incompatibility(*d, "the default instance", *x, "the instance at " + location_name(axes, c));
+      if (!again.empty()) break;
+      found[c] = x;
+    }
+    if (!again.empty()) continue;
+    m.font.glyphs[gi] = *d;
+    for (auto& [c, at] : glyph_at) at[gi] = found.at(c);
+    why[gi].clear();
+  }
+}
+
+Masters read_variable_masters(const fs::path& path, const GlyphSelection& which, const std::optional<Segment2>& between) {
+  const std::string file = path.string();
+  const Variations var = read_variations(path);
+  const std::vector<SpaceAxis> axes = variation_axes(var);
+  const std::size_t n_axes = axes.size();
+  const auto name_of = [&](const std::vector<double>& c) { return location_name(axes, c); };
+  const std::vector<PieceEnds> ends = variation_pieces(var, axes, between, file);
 
   Masters m;
   m.font = read_font(path, which.codepoints);
   m.font.path = file;
   // The instances at the pieces' ends, each loaded once.
   std::map<std::vector<double>, Font> instances;
-  for (const Ends& e : ends)
+  for (const PieceEnds& e : ends)
     for (const std::vector<double>* c : {&e.a, &e.b})
       if (!instances.count(*c)) instances.emplace(*c, read_font(path, which.codepoints, {}, *c));
-  for (const Ends& e : ends) {
+  for (const PieceEnds& e : ends) {
     auto p = std::make_shared<Piece>();
     p->s0 = e.s0;
     p->s1 = e.s1;
@@ -509,48 +577,10 @@ Masters read_variable_masters(const fs::path& path, const GlyphSelection& which,
     return std::string();
   };
   std::vector<std::string> why(m.font.glyphs.size());
-  std::vector<std::uint32_t> retry;
-  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
-    why[gi] = compatibility(m.font.glyphs[gi], gi);
-    if (!why[gi].empty()) retry.push_back(m.font.glyphs[gi].codepoint);
-  }
-  // A variable font's instances share their points: they differ only where
-  // the reader dropped a line of zero length at one instance (io/font.hpp).
-  // Those glyphs are read again, at the default and at every piece's end,
-  // with their lines of zero length kept (a segment of equal points there).
-  std::optional<Font> kept_default;
+  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) why[gi] = compatibility(m.font.glyphs[gi], gi);
+  std::optional<Font> kept_default;  // the glyphs read again, which glyph_at then points into
   std::map<std::vector<double>, Font> kept;
-  if (!retry.empty()) {
-    kept_default = read_font(path, retry, {}, {}, true);
-    for (const auto& [c, f] : instances) kept.emplace(c, read_font(path, retry, {}, c, true));
-    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
-      if (why[gi].empty()) continue;
-      const std::string& name = m.font.glyphs[gi].name;
-      auto find = [&](const Font& f) -> const Glyph* {
-        for (const Glyph& x : f.glyphs)
-          if (x.name == name) return &x;
-        return nullptr;
-      };
-      const Glyph* d = find(*kept_default);
-      if (d == nullptr) continue;
-      std::string again;
-      std::map<std::vector<double>, const Glyph*> found;
-      for (const auto& [c, f] : kept) {
-        const Glyph* x = find(f);
-        if (x == nullptr) {
-          again = "the instance at " + name_of(c) + " has other glyphs";
-          break;
-        }
-        again = incompatibility(*d, "the default instance", *x, "the instance at " + name_of(c));
-        if (!again.empty()) break;
-        found[c] = x;
-      }
-      if (!again.empty()) continue;
-      m.font.glyphs[gi] = *d;
-      for (auto& [c, at] : glyph_at) at[gi] = found.at(c);
-      why[gi].clear();
-    }
-  }
+  reread_with_zero_length_lines(path, axes, instances, m, glyph_at, why, kept_default, kept);
   for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
     Glyph& g = m.font.glyphs[gi];
     if (!why[gi].empty()) {
