@@ -108,6 +108,243 @@ struct MixedRun {
   fs::path space_file(const std::string& asked) const { return space / fs::path(asked).filename(); }
 };
 
+/// One `cmr report` run from its parsed arguments: a merge of shards, or
+/// the inputs collected, the space curves judged (report/space_report.hpp,
+/// tools/cmd_space.hpp), the planar inputs batched (report/batch.hpp), and
+/// a run with both merged into --out (report/merge.hpp). run() returns the
+/// exit code.
+class ReportRun {
+ public:
+  ReportRun(const ReportArgs& args, const CLI::App& cmd, const CLI::Option& shard_option)
+      : a_(args), cmd_(cmd), shard_option_(shard_option) {}
+
+  int run() {
+    if (!a_.merge.empty()) return merge_shards();
+    if (a_.files.empty()) throw InputError("FILES: name the spline files, fonts or folders to report");
+    if (shard_option_.count() > 0) shard_ = report::parse_shard(a_.shard);
+    collect();
+    // A run with both: the space curves and the planar inputs are judged as
+    // two parts of one run in a private folder, each with its CI files, then
+    // merged into --out (report/merge.hpp: one report.json, JUnit, SARIF,
+    // Markdown; index.html links each part's page).
+    mixed_ = !space_.empty() && !planar_.empty();
+    if (mixed_) parts_.emplace(a_.out);
+    if (!space_.empty()) {
+      const int code = space_part();
+      if (!mixed_) return code;
+    }
+    if (!mixed_ && cmd_.count("--torsion-tol") > 0) throw InputError("--torsion-tol: for space curves, and this run has none");
+    const report::BatchSummary s = planar_part();
+    if (mixed_) return merge_parts(s);
+    // The one line goes to stderr when a CI file is written to standard output.
+    const bool piped = is_stdout_path(a_.junit) || is_stdout_path(a_.sarif) || is_stdout_path(a_.markdown);
+    (piped ? std::cerr : std::cout) << report::summary_line(s) << "; wrote " << a_.out << '\n';
+    return s.exit_code;
+  }
+
+ private:
+  /// --merge: the parts' outputs combined, nothing judged again.
+  int merge_shards() const {
+    if (!a_.files.empty() || shard_option_.count() > 0)
+      throw InputError("--merge: takes report folders only (no FILES, no --shard)");
+    report::MergeOptions m;
+    m.parts.assign(a_.merge.begin(), a_.merge.end());
+    m.out = a_.out;
+    m.pretty = a_.pretty;
+    if (!a_.junit.empty()) m.junit = a_.junit;
+    if (!a_.sarif.empty()) m.sarif = a_.sarif;
+    if (!a_.markdown.empty()) m.markdown = a_.markdown;
+    const report::MergeSummary s = report::merge_reports(m);
+    std::cout << s.line << "; wrote " << a_.out << '\n';
+    return s.exit_code;
+  }
+
+  /// The inputs (folders walked, globs expanded), each with its dimension:
+  /// space curves ([x, y, z] points) go to report/space_report.hpp, with the
+  /// same schema, findings and CI files (docs/space.md).
+  void collect() {
+    collected_ = report::collect_files(a_.files, a_.filter, &bases_, &skipped_, {a_.out});
+    for (const std::string& f : collected_) {
+      int dimension = 2;
+      if (report::file_kind(f) == report::FileKind::spline) try {
+          dimension = spline_file_dimension(f);
+        } catch (const InputError&) {
+          // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
+        }
+      (dimension == 3 ? space_ : planar_) = f;
+      dimensions_.push_back(dimension);
+    }
+  }
+
+  /// The space curves' report (alone, or the space part of a mixed run):
+  /// its exit code.
+  int space_part() {
+    for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--no-severity", "--strict", "--backend",
+                             "--device"})
+      if (cmd_.count(flag) > 0)
+        throw InputError(std::string(flag) + ": not for space curves (" + space_ +
+                         "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
+                         "--torsion-tol and the joint tolerances");
+    if (shard_) throw InputError(space_ + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
+    if (!mixed_)
+      for (const report::SkippedPath& k : skipped_)
+        std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
+    SpaceReportRun run;
+    if (mixed_) {  // the space files to their part, the planar ones stay in collected_
+      std::vector<std::string> kept, kept_bases;
+      const bool with_bases = bases_.size() == collected_.size();
+      for (std::size_t i = 0; i < collected_.size(); ++i) {
+        const bool is_space = dimensions_[i] == 3;
+        (is_space ? run.files : kept).push_back(std::move(collected_[i]));
+        if (with_bases) (is_space ? run.bases : kept_bases).push_back(std::move(bases_[i]));
+      }
+      collected_ = std::move(kept);
+      bases_ = std::move(kept_bases);
+    } else {
+      run.files = std::move(collected_);
+      run.bases = std::move(bases_);
+    }
+    run.out = mixed_ ? parts_->space.string() : a_.out;
+    run.quiet = mixed_;
+    run.pretty = a_.pretty;
+    if (!a_.require.empty()) report::parse_require_list(a_.require, run.parsed);
+    report::space_requirements(run.parsed, run.options, space_);
+    run.options.max_depth = a_.depth;
+    run.options.torsion = true;
+    run.options.continuity = a_.continuity;
+    run.options.constant_tolerance = a_.constant_tolerance;
+    run.options.torsion_tolerance = a_.torsion_tolerance;
+    run.options.fixes = !a_.no_fixes && !a_.no_thumbnails;
+    run.options.regions = !a_.no_thumbnails;
+    run.options.region_size = a_.region_size;
+    run.options.budget = cmd_.count("--fix-budget") > 0 ? a_.fix_budget : report::kDefaultSpaceBudgetSeconds;
+    run.options.show_fields = show_fields;  // the libraries' fields as this command's flags
+    if (!a_.junit.empty()) run.junit = mixed_ ? parts_->space_file(a_.junit) : fs::path(a_.junit);
+    if (!a_.sarif.empty()) run.sarif = mixed_ ? parts_->space_file(a_.sarif) : fs::path(a_.sarif);
+    if (!a_.baseline.empty()) run.baseline = a_.baseline;
+    if (!a_.source_root.empty()) run.source_root = a_.source_root;
+    if (!a_.markdown.empty()) run.markdown = mixed_ ? parts_->space_file(a_.markdown) : fs::path(a_.markdown);
+    return run_space_report(run);
+  }
+
+  /// The planar report's options (checks, gates, severity, regions).
+  report::ReportOptions planar_options() const {
+    validate(a_.continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
+    report::ReportOptions o;
+    o.continuity = a_.continuity;
+    o.constant_tolerance = a_.constant_tolerance;
+    if (!a_.require.empty()) report::parse_require_list(a_.require, o);
+    if (!a_.segments.empty()) o.segments = parse_segment_range(a_.segments);
+    if (a_.min_severity != -1 && !(a_.min_severity >= 0 && std::isfinite(a_.min_severity)))
+      throw InputError("--min-severity: " + std::to_string(a_.min_severity) + " is not a distance >= 0");
+    if (a_.no_severity && a_.min_severity >= 0)
+      throw InputError("--no-severity: not with --min-severity");
+    if (a_.strict && a_.no_severity) throw InputError("--strict: not with --no-severity (no finding is info)");
+    o.min_severity = a_.min_severity;
+    o.font_severity = !a_.no_severity;
+    o.strict = a_.strict;
+    o.max_depth = a_.depth;
+    o.regions = !a_.no_thumbnails;
+    o.region_size = a_.region_size;
+    o.threads = a_.jobs;
+    o.backend = make_region_backend(a_.backend, "fp64", a_.device, 0);
+    o.show_fields = show_fields;  // the libraries' fields as this command's flags
+    return o;
+  }
+
+  /// The planar inputs (alone, or the planar part of a mixed run), batched;
+  /// its notes on stderr.
+  report::BatchSummary planar_part() {
+    report::ReportOptions o = planar_options();
+    report::BatchOptions b;
+    b.all_glyphs = a_.glyphs == "all";
+    if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(a_.glyphs);
+    if (!a_.location.empty()) {
+      for (const std::string& f : a_.files)
+        if (!import::is_font_path(f))
+          throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
+      b.location = import::parse_location(a_.location);
+    }
+    const bool interpolation = std::any_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate);
+    if (!a_.between.empty()) {
+      if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
+      b.between = import::parse_between(a_.between);
+    }
+    b.out = mixed_ ? parts_->planar.string() : a_.out;
+    b.pretty = a_.pretty;
+    b.fixes = !a_.no_fixes;
+    b.fix_budget = a_.fix_budget;
+    b.time_limit = a_.time_limit;
+    b.cache = !a_.no_cache;
+    if (!a_.junit.empty()) b.junit = mixed_ ? parts_->planar_file(a_.junit) : fs::path(a_.junit);
+    if (!a_.sarif.empty()) b.sarif = mixed_ ? parts_->planar_file(a_.sarif) : fs::path(a_.sarif);
+    if (!a_.markdown.empty()) b.markdown = mixed_ ? parts_->planar_file(a_.markdown) : fs::path(a_.markdown);
+    if (!a_.baseline.empty()) b.baseline = a_.baseline;
+    if (!a_.source_root.empty()) b.source_root = a_.source_root;
+    // A rerun never reads its own outputs (cmr report . --out qa).
+    std::vector<std::string> files;
+    if (interpolation) {
+      // The interpolation gates take a designspace as one file (its masters together), not as its sources.
+      std::vector<std::string> walked, whole;
+      for (const std::string& f : a_.files) (import::is_designspace_path(f) ? whole : walked).push_back(f);
+      if (!walked.empty()) files = report::collect_files(walked, a_.filter, &b.bases, &b.skipped, {a_.out});
+      for (const std::string& f : whole) files.push_back(f), b.bases.push_back("");
+    } else {
+      files = std::move(collected_);
+      b.bases = std::move(bases_);
+      b.skipped = std::move(skipped_);
+    }
+    if (shard_) {
+      b.shard = shard_;
+      b.shard_positions = report::keep_shard(*shard_, files, b.bases);
+    }
+    for (const report::SkippedPath& k : b.skipped)
+      std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
+    const bool bar = !a_.quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
+    b.report = std::move(o);
+    const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
+    if (bar) report::clear_progress(std::cerr);
+    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
+    if (!s.note.empty()) std::cerr << "cmr: note: " << show_fields(s.note) << '\n';  // read_spline_file names the file
+    if (!s.cache_note.empty()) std::cerr << "cmr: note: " << s.cache_note << '\n';
+    if (s.cache_read && s.glyphs_reused + s.glyphs_judged > 0)  // what the resume cache saved (report/report_cache.hpp)
+      std::cerr << "cmr: note: " << (fs::path(b.out) / report::kReportCacheName).string() << ": " << s.glyphs_reused
+                << (s.glyphs_reused == 1 ? " glyph" : " glyphs") << " unchanged, taken from it; " << s.glyphs_judged
+                << " judged\n";
+    for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
+    return s;
+  }
+
+  /// A mixed run's two parts into --out, and the merged line: its exit code.
+  int merge_parts(const report::BatchSummary& s) const {
+    report::MergeOptions m;
+    m.parts = {parts_->planar, parts_->space};
+    m.out = a_.out;
+    m.pretty = a_.pretty;
+    m.mixed = true;
+    if (!a_.junit.empty()) m.junit = a_.junit;
+    if (!a_.sarif.empty()) m.sarif = a_.sarif;
+    if (!a_.markdown.empty()) m.markdown = a_.markdown;
+    const report::MergeSummary merged = report::merge_reports(m);
+    const bool piped = is_stdout_path(a_.junit) || is_stdout_path(a_.sarif) || is_stdout_path(a_.markdown);
+    std::string line = merged.line.substr(merged.line.find(": ") + 2);  // "merged 2 parts: " is this run's own business
+    (piped ? std::cerr : std::cout) << line << "; " << s.items << " planar, " << (merged.splines - s.items)
+                                    << (merged.splines - s.items == 1 ? " space curve" : " space curves") << "; wrote " << a_.out << '\n';
+    return merged.exit_code;
+  }
+
+  const ReportArgs& a_;
+  const CLI::App& cmd_;
+  const CLI::Option& shard_option_;
+  std::optional<report::Shard> shard_;
+  std::vector<std::string> collected_, bases_;
+  std::vector<report::SkippedPath> skipped_;
+  std::vector<int> dimensions_;
+  std::string space_, planar_;  // one space input and one planar input, when there are any
+  bool mixed_ = false;
+  std::optional<MixedRun> parts_;
+};
+
 }  // namespace
 
 void add_report_command(CLI::App& app, int& exit_code) {
@@ -193,200 +430,7 @@ void add_report_command(CLI::App& app, int& exit_code) {
            0.0, 1e9)
       ->capture_default_str();
   add_pretty_flag(*cmd, args->pretty);
-  cmd->callback([args, cmd, shard_option, &exit_code] {
-    if (!args->merge.empty()) {  // report/merge.hpp: the parts' outputs combined, nothing judged again
-      if (!args->files.empty() || shard_option->count() > 0)
-        throw InputError("--merge: takes report folders only (no FILES, no --shard)");
-      report::MergeOptions m;
-      m.parts.assign(args->merge.begin(), args->merge.end());
-      m.out = args->out;
-      m.pretty = args->pretty;
-      if (!args->junit.empty()) m.junit = args->junit;
-      if (!args->sarif.empty()) m.sarif = args->sarif;
-      if (!args->markdown.empty()) m.markdown = args->markdown;
-      const report::MergeSummary s = report::merge_reports(m);
-      std::cout << s.line << "; wrote " << args->out << '\n';
-      exit_code = s.exit_code;
-      return;
-    }
-    if (args->files.empty()) throw InputError("FILES: name the spline files, fonts or folders to report");
-    const std::optional<report::Shard> shard =
-        shard_option->count() == 0 ? std::nullopt : std::optional<report::Shard>(report::parse_shard(args->shard));
-    // Space curves ([x, y, z] points) are judged by report/space_report.hpp
-    // and written with the same schema, findings and CI files
-    // (tools/cmd_space.hpp, docs/space.md).
-    std::vector<std::string> bases;
-    std::vector<report::SkippedPath> skipped;
-    std::vector<std::string> collected = report::collect_files(args->files, args->filter, &bases, &skipped, {args->out});
-    std::string space, planar;
-    std::vector<int> dimensions;
-    for (const std::string& f : collected) {
-      int dimension = 2;
-      if (report::file_kind(f) == report::FileKind::spline) try {
-          dimension = spline_file_dimension(f);
-        } catch (const InputError&) {
-          // mixed [x, y] and [x, y, z] points: one invalid entry of the report, not the end of the run
-        }
-      (dimension == 3 ? space : planar) = f;
-      dimensions.push_back(dimension);
-    }
-    // A run with both: the space curves and the planar inputs are judged as
-    // two parts of one run in a private folder, each with its CI files, then
-    // merged into --out (report/merge.hpp: one report.json, JUnit, SARIF,
-    // Markdown; index.html links each part's page).
-    const bool mixed = !space.empty() && !planar.empty();
-    std::optional<MixedRun> parts;
-    if (mixed) parts.emplace(args->out);
-    if (!space.empty()) {
-      for (const char* flag : {"--segments", "--glyphs", "--location", "--min-severity", "--no-severity", "--strict", "--backend",
-                               "--device"})
-        if (cmd->count(flag) > 0)
-          throw InputError(std::string(flag) + ": not for space curves (" + space +
-                           "); their report takes --require, --junit, --sarif, --markdown, --baseline, --constant-tol, "
-                           "--torsion-tol and the joint tolerances");
-      if (shard) throw InputError(space + ": a space curve; --shard is for planar reports (fonts, SVG, spline files)");
-      if (!mixed)
-        for (const report::SkippedPath& k : skipped)
-          std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
-      SpaceReportRun run;
-      if (mixed) {  // the space files to their part, the planar ones stay in `collected`
-        std::vector<std::string> kept, kept_bases;
-        const bool with_bases = bases.size() == collected.size();
-        for (std::size_t i = 0; i < collected.size(); ++i) {
-          const bool is_space = dimensions[i] == 3;
-          (is_space ? run.files : kept).push_back(std::move(collected[i]));
-          if (with_bases) (is_space ? run.bases : kept_bases).push_back(std::move(bases[i]));
-        }
-        collected = std::move(kept);
-        bases = std::move(kept_bases);
-      } else {
-        run.files = std::move(collected);
-        run.bases = std::move(bases);
-      }
-      run.out = mixed ? parts->space.string() : args->out;
-      run.quiet = mixed;
-      run.pretty = args->pretty;
-      if (!args->require.empty()) report::parse_require_list(args->require, run.parsed);
-      report::space_requirements(run.parsed, run.options, space);
-      run.options.max_depth = args->depth;
-      run.options.torsion = true;
-      run.options.continuity = args->continuity;
-      run.options.constant_tolerance = args->constant_tolerance;
-      run.options.torsion_tolerance = args->torsion_tolerance;
-      run.options.fixes = !args->no_fixes && !args->no_thumbnails;
-      run.options.regions = !args->no_thumbnails;
-      run.options.region_size = args->region_size;
-      run.options.budget = cmd->count("--fix-budget") > 0 ? args->fix_budget : report::kDefaultSpaceBudgetSeconds;
-      run.options.show_fields = show_fields;  // the libraries' fields as this command's flags
-      if (!args->junit.empty()) run.junit = mixed ? parts->space_file(args->junit) : fs::path(args->junit);
-      if (!args->sarif.empty()) run.sarif = mixed ? parts->space_file(args->sarif) : fs::path(args->sarif);
-      if (!args->baseline.empty()) run.baseline = args->baseline;
-      if (!args->source_root.empty()) run.source_root = args->source_root;
-      if (!args->markdown.empty()) run.markdown = mixed ? parts->space_file(args->markdown) : fs::path(args->markdown);
-      exit_code = run_space_report(run);
-      if (!mixed) return;
-    }
-    if (!mixed && cmd->count("--torsion-tol") > 0) throw InputError("--torsion-tol: for space curves, and this run has none");
-    validate(args->continuity);  // before the batch: a bad tolerance is a usage error, not a bad file
-    report::ReportOptions o;
-    o.continuity = args->continuity;
-    o.constant_tolerance = args->constant_tolerance;
-    if (!args->require.empty()) report::parse_require_list(args->require, o);
-    if (!args->segments.empty()) o.segments = parse_segment_range(args->segments);
-    if (args->min_severity != -1 && !(args->min_severity >= 0 && std::isfinite(args->min_severity)))
-      throw InputError("--min-severity: " + std::to_string(args->min_severity) + " is not a distance >= 0");
-    if (args->no_severity && args->min_severity >= 0)
-      throw InputError("--no-severity: not with --min-severity");
-    if (args->strict && args->no_severity) throw InputError("--strict: not with --no-severity (no finding is info)");
-    o.min_severity = args->min_severity;
-    o.font_severity = !args->no_severity;
-    o.strict = args->strict;
-    o.max_depth = args->depth;
-    o.regions = !args->no_thumbnails;
-    o.region_size = args->region_size;
-    o.threads = args->jobs;
-    o.backend = make_region_backend(args->backend, "fp64", args->device, 0);
-    o.show_fields = show_fields;  // the libraries' fields as this command's flags
-
-    report::BatchOptions b;
-    b.all_glyphs = args->glyphs == "all";
-    if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(args->glyphs);
-    if (!args->location.empty()) {
-      for (const std::string& f : args->files)
-        if (!import::is_font_path(f))
-          throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
-      b.location = import::parse_location(args->location);
-    }
-    const bool interpolation = std::any_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate);
-    if (!args->between.empty()) {
-      if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
-      b.between = import::parse_between(args->between);
-    }
-    b.out = mixed ? parts->planar.string() : args->out;
-    b.pretty = args->pretty;
-    b.fixes = !args->no_fixes;
-    b.fix_budget = args->fix_budget;
-    b.time_limit = args->time_limit;
-    b.cache = !args->no_cache;
-    if (!args->junit.empty()) b.junit = mixed ? parts->planar_file(args->junit) : fs::path(args->junit);
-    if (!args->sarif.empty()) b.sarif = mixed ? parts->planar_file(args->sarif) : fs::path(args->sarif);
-    if (!args->markdown.empty()) b.markdown = mixed ? parts->planar_file(args->markdown) : fs::path(args->markdown);
-    if (!args->baseline.empty()) b.baseline = args->baseline;
-    if (!args->source_root.empty()) b.source_root = args->source_root;
-    // A rerun never reads its own outputs (cmr report . --out qa).
-    std::vector<std::string> files;
-    if (interpolation) {
-      // The interpolation gates take a designspace as one file (its masters together), not as its sources.
-      std::vector<std::string> walked, whole;
-      for (const std::string& f : args->files) (import::is_designspace_path(f) ? whole : walked).push_back(f);
-      if (!walked.empty()) files = report::collect_files(walked, args->filter, &b.bases, &b.skipped, {args->out});
-      for (const std::string& f : whole) files.push_back(f), b.bases.push_back("");
-    } else {
-      files = std::move(collected);
-      b.bases = std::move(bases);
-      b.skipped = std::move(skipped);
-    }
-    if (shard) {
-      b.shard = shard;
-      b.shard_positions = report::keep_shard(*shard, files, b.bases);
-    }
-    for (const report::SkippedPath& k : b.skipped)
-      std::cerr << "cmr: note: skipped " << k.path << ": " << show_fields(k.reason) << '\n';
-    const bool bar = !args->quiet && ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
-    b.report = std::move(o);
-    const report::BatchSummary s = report::run_batch(files, b, bar ? report::terminal_progress(std::cerr) : report::BatchProgress{});
-    if (bar) report::clear_progress(std::cerr);
-    for (const std::string& e : s.invalid_messages) std::cerr << "cmr: " << e << '\n';
-    if (!s.note.empty()) std::cerr << "cmr: note: " << show_fields(s.note) << '\n';  // read_spline_file names the file
-    if (!s.cache_note.empty()) std::cerr << "cmr: note: " << s.cache_note << '\n';
-    if (s.cache_read && s.glyphs_reused + s.glyphs_judged > 0)  // what the resume cache saved (report/report_cache.hpp)
-      std::cerr << "cmr: note: " << (fs::path(b.out) / report::kReportCacheName).string() << ": " << s.glyphs_reused
-                << (s.glyphs_reused == 1 ? " glyph" : " glyphs") << " unchanged, taken from it; " << s.glyphs_judged
-                << " judged\n";
-    for (const report::Finding& f : s.new_list) std::cerr << "cmr: new: " << f.file << ": " << f.gate << ": " << f.message << '\n';
-    if (mixed) {  // the two parts into --out, and the merged line
-      report::MergeOptions m;
-      m.parts = {parts->planar, parts->space};
-      m.out = args->out;
-      m.pretty = args->pretty;
-      m.mixed = true;
-      if (!args->junit.empty()) m.junit = args->junit;
-      if (!args->sarif.empty()) m.sarif = args->sarif;
-      if (!args->markdown.empty()) m.markdown = args->markdown;
-      const report::MergeSummary merged = report::merge_reports(m);
-      const bool piped = is_stdout_path(args->junit) || is_stdout_path(args->sarif) || is_stdout_path(args->markdown);
-      std::string line = merged.line.substr(merged.line.find(": ") + 2);  // "merged 2 parts: " is this run's own business
-      (piped ? std::cerr : std::cout) << line << "; " << s.items << " planar, " << (merged.splines - s.items)
-                                      << (merged.splines - s.items == 1 ? " space curve" : " space curves") << "; wrote " << args->out << '\n';
-      exit_code = merged.exit_code;
-      return;
-    }
-    // The one line goes to stderr when a CI file is written to standard output.
-    const bool piped = (b.junit && is_stdout_path(*b.junit)) || (b.sarif && is_stdout_path(*b.sarif)) ||
-                       (b.markdown && is_stdout_path(*b.markdown));
-    (piped ? std::cerr : std::cout) << report::summary_line(s) << "; wrote " << args->out << '\n';
-    exit_code = s.exit_code;
-  });
+  cmd->callback([args, cmd, shard_option, &exit_code] { exit_code = ReportRun(*args, *cmd, *shard_option).run(); });
 }
 
 }  // namespace cmr::cli
