@@ -115,8 +115,7 @@ void run_chain_fix(const ChainFixArgs& args) {
                                  "curvature), cmrwi (the whole chain one way) or each-piece (each edge monotone), not '" +
                      args.require + "'");
   if (args.chain < 1) throw InputError("--chain: " + std::to_string(args.chain) + " is not a chain number (1, 2, ...: cmr import lists them)");
-  if (!args.out.empty()) check_output_path(args.out, "--out");
-  import::ChainFixRequest request;
+  import::ChainFixRequest request;  // --out is a folder (made, or written into, as cmr import's)
   request.whole_chain = args.require != "each-piece";
   request.no_zero_curvature = args.require == "cmr";
   request.keep = args.keep == "none" ? 0 : args.keep == "g1" ? 1 : args.keep == "g3" ? 3 : 2;

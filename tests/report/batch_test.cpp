@@ -419,7 +419,11 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   EXPECT_NE(font.find("<use href=\"#g0-O-pic-o\""), std::string::npos);
   EXPECT_EQ(font.find("-m\"/>"), std::string::npos);
   EXPECT_NE(font.find("<path class=\"f\" d=\"M"), std::string::npos);
-  EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
+  // The size depends on which fixes the searches find in their time: the
+  // bound is the Release build's (a sanitizer build, given 400 s, finds others).
+  if (!test::kSanitizerBuild) {
+    EXPECT_LE(pages, 2u * 1000 * 1000) << pages << " bytes";
+  }
 }
 
 TEST(BatchCommand, AWholeLatinFontsPagesWithEveryGateStayUnderTwoMegabytes) {
