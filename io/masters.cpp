@@ -156,6 +156,21 @@ int varying_axis(const std::vector<double>& a, const std::vector<double>& b) {
   return axis;
 }
 
+/// `--between LOC1:LOC2`: its two locations' coordinates (p0, p1) and the
+/// one axis along which they differ. InputError when they are one location
+/// or differ in more than one axis.
+int between_axis(const Segment2& between, const std::vector<SpaceAxis>& axes, const std::string& file,
+                 std::vector<double>& p0, std::vector<double>& p1) {
+  p0 = coordinates(between.first, axes, file);
+  p1 = coordinates(between.second, axes, file);
+  const int ax = varying_axis(p0, p1);
+  if (ax < 0)
+    throw InputFieldError(file + ": " + field("between") + ": " + location_text(between.first) + " and " +
+                          location_text(between.second) +
+                          (ax == -1 ? " are one location" : " differ in more than one axis"));
+  return ax;
+}
+
 /// Why two masters' glyphs cannot be interpolated ("" when they can).
 std::string incompatibility(const Glyph& a, const std::string& name_a, const Glyph& b, const std::string& name_b) {
   if (a.contours.size() != b.contours.size())
@@ -270,12 +285,8 @@ Masters read_designspace_masters(const fs::path& path, const GlyphSelection& whi
     for (const Line& l : lines) pieces.emplace_back(l, make_piece(l, 0, 1, sources[l.a].name, sources[l.b].name));
   } else {
     const std::string file = path.string();
-    std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
-    const int ax = varying_axis(p0, p1);
-    if (ax < 0)
-      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
-                            location_text(between->second) +
-                            (ax == -1 ? " are one location" : " differ in more than one axis"));
+    std::vector<double> p0, p1;
+    const int ax = between_axis(*between, axes, file, p0, p1);
     const bool reversed = p0[ax] > p1[ax];
     if (reversed) std::swap(p0, p1);
     double covered = 0;
@@ -471,12 +482,8 @@ std::vector<PieceEnds> variation_pieces(const Variations& var, const std::vector
     }
     return ends;
   }
-  std::vector<double> p0 = coordinates(between->first, axes, file), p1 = coordinates(between->second, axes, file);
-  const int ax = varying_axis(p0, p1);
-  if (ax < 0)
-    throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + " and " +
-                          location_text(between->second) +
-                          (ax == -1 ? " are one location" : " differ in more than one axis"));
+  std::vector<double> p0, p1;
+  const int ax = between_axis(*between, axes, file, p0, p1);
   if (p0[ax] > p1[ax]) std::swap(p0, p1);
   cut_line(p0, p1, ax);
   return ends;
