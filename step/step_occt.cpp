@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include <BRepTools_WireExplorer.hxx>
@@ -404,7 +405,8 @@ void find_chains(const TopoDS_Shape& shape, StepCurves& out, const std::vector<H
 // child exits 0 when it finished (or refused the file); anything else (a
 // signal, or a sanitizer's exit code) is a crash, and the file is refused
 // before this process reads it. The read costs twice its time (the budget
-// covers both). 0: no crash (or no fork possible: read in-process).
+// covers both). 0: no crash (or no fork possible, or other threads beside
+// this one: read in-process).
 }  // namespace
 
 // Set in sanitizer builds only (weak: null otherwise).
@@ -412,13 +414,28 @@ extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribu
 
 namespace {
 
+// Other threads than the caller's: a child forked beside them may inherit a
+// lock one of them held (the sanitizers' allocator's, or any library's) and
+// never finish, so the probe forks only in a single-threaded process (cmr
+// import, the editor's STEP read and the fuzzer are, when they read).
+bool other_threads() {
+  std::error_code ec;
+  std::size_t n = 0;
+  for (auto it = std::filesystem::directory_iterator("/proc/self/task", ec); !ec && it != std::filesystem::directory_iterator();
+       it.increment(ec))
+    ++n;
+  return !ec && n > 1;
+}
+
 int probe_crash(const std::string& text, const std::string& where) {
+  if (other_threads()) return 0;
   std::fflush(nullptr);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) return 0;
   if (pid == 0) {
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // the parent's watchdog (cmr import's budget) ends the child too
-    if (::getppid() == 1) std::_Exit(0);
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // the parent's end (cmr import's budget alarm) ends the child too
+    if (::getppid() != parent) std::_Exit(0);  // it ended before the line above (reparented: to init or a subreaper)
     // A crash here ends the child by its signal, for the parent to read:
     // not through a handler inherited from the parent (a fuzzer's or a
     // sanitizer's would report the parent's input as its own finding).

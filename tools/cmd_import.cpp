@@ -2,15 +2,17 @@
 // font glyph contours (io/font.hpp) and SVG subpaths
 // (io/svg.hpp) as spline files, one per contour or subpath, all
 // written or none (cmr::OutputSet; the output folder is created if missing).
-#include <chrono>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
-#include <condition_variable>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
-#include <mutex>
 #include <set>
-#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -49,36 +51,49 @@ double step_read_budget(std::uintmax_t bytes) {
 
 // Ends the process with one line on stderr and exit 2 when `seconds` pass
 // before it is destroyed: the STEP reader's budget (step_time_budget).
-// OpenCASCADE's shape healing runs loops that poll nothing, so a watchdog,
+// OpenCASCADE's shape healing runs loops that poll nothing, so an alarm,
 // not a cancel flag; it fires before the output set exists, so nothing is
-// half-written.
-class Watchdog {
+// half-written. A process timer (setitimer, SIGALRM), not a thread: the
+// reader forks a crash probe (step/step_occt.cpp), and a child forked
+// beside another thread can inherit a lock that thread held (the
+// sanitizers' allocator's) and never finish. A fork's child inherits no
+// timer; the probe's child dies with this process (PR_SET_PDEATHSIG).
+char budget_line[8192];
+std::size_t budget_line_size = 0;
+
+extern "C" void budget_spent(int) {
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, budget_line, budget_line_size);
+  std::_Exit(kInvalid);
+}
+
+class BudgetAlarm {
  public:
-  Watchdog(double seconds, std::string message)
-      : message_(std::move(message)), thread_([this, seconds] {
-          std::unique_lock lock(mutex_);
-          if (cv_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; })) return;
-          std::fprintf(stderr, "cmr: %s\n", message_.c_str());
-          std::fflush(stderr);
-          std::_Exit(kInvalid);
-        }) {}
-  Watchdog(const Watchdog&) = delete;
-  Watchdog& operator=(const Watchdog&) = delete;
-  ~Watchdog() {
-    {
-      const std::lock_guard lock(mutex_);
-      done_ = true;
-    }
-    cv_.notify_one();
-    thread_.join();
+  BudgetAlarm(double seconds, const std::string& message) {
+    const std::string line = "cmr: " + message + "\n";
+    budget_line_size = std::min(line.size(), sizeof budget_line);
+    std::memcpy(budget_line, line.data(), budget_line_size);
+    budget_line[budget_line_size - 1] = '\n';  // one line, even when cut
+    struct sigaction on_alarm {};
+    on_alarm.sa_handler = budget_spent;
+    sigemptyset(&on_alarm.sa_mask);
+    ::sigaction(SIGALRM, &on_alarm, &previous_);
+    const double whole = std::floor(std::min(seconds, 1e8));  // time_t holds it
+    itimerval t{};
+    t.it_value.tv_sec = static_cast<time_t>(whole);
+    // At least 1 us: a zero it_value disarms the timer.
+    t.it_value.tv_usec = std::max<suseconds_t>(1, static_cast<suseconds_t>((std::min(seconds, 1e8) - whole) * 1e6));
+    ::setitimer(ITIMER_REAL, &t, nullptr);
+  }
+  BudgetAlarm(const BudgetAlarm&) = delete;
+  BudgetAlarm& operator=(const BudgetAlarm&) = delete;
+  ~BudgetAlarm() {
+    const itimerval off{};
+    ::setitimer(ITIMER_REAL, &off, nullptr);
+    ::sigaction(SIGALRM, &previous_, nullptr);
   }
 
  private:
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  bool done_ = false;
-  std::string message_;
-  std::thread thread_;  // last: starts once the members above exist
+  struct sigaction previous_ {};
 };
 
 }  // namespace
@@ -89,7 +104,7 @@ import::StepCurves read_step_within_budget(const std::string& file) {
   const double budget = step_read_budget(ec ? 0 : bytes);
   char secs[32];
   std::snprintf(secs, sizeof secs, "%.3g", budget);
-  const Watchdog watchdog(budget, file + ": not read within its time budget of " + secs + " s (" +
+  const BudgetAlarm alarm(budget, file + ": not read within its time budget of " + secs + " s (" +
                                       std::to_string(ec ? 0 : bytes) +
                                       " bytes: 5 s + 4 s per MB; OpenCASCADE did not finish with it)");
   return import::read_step_curves(file);
