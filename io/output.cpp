@@ -394,83 +394,111 @@ void OutputSet::commit_last(const std::filesystem::path& path) {
   last_ = path.string();
 }
 
-void OutputSet::commit() {
-  CMR_CHECK(!committed_);
-  // The folders written into, each once, in first-use order.
-  std::vector<std::filesystem::path> folders;
-  std::unordered_set<std::string> seen;
-  for (const Staged& s : staged_)
-    if (!s.temp.empty() && seen.insert(folder_of(s.target).string()).second) folders.push_back(folder_of(s.target));
-  for (const std::filesystem::path& f : owned_folders_)
-    if (seen.insert(f.string()).second) folders.push_back(f);
-  FolderLocks locks;
-  for (const std::filesystem::path& f : folders) {
-    bool locked = false;
-    const int fd = locks.lock(f, &locked);
-    // Another run committed into an owned folder since own_folder: it wins,
-    // this run writes nothing (checked before recovery, which may finish a
-    // dead run's manifest).
-    std::optional<std::pair<unsigned long long, long long>> noted;
-    {
-      const std::lock_guard lock(stamps_mutex);
-      if (const auto it = stamps.find(this); it != stamps.end())
-        if (const auto at = it->second.find(f.string()); at != it->second.end()) noted = at->second;
-    }
-    if (noted && manifest_stamp(f) != *noted) {
-      discard();
-      throw EnvironmentError(f.string() + ": another cmr run wrote this folder while this one ran; its files are "
-                             "kept and this run's are not written (run it again)");
-    }
-    if (fd >= 0 && locked) recover_folder(fd, f);  // an interrupted commit here is finished or undone first
-  }
-  // A file this program read (note_read) that another one wrote since: not
-  // replaced (two editors saving one file), checked under the folders' locks.
-  {
-    const std::lock_guard lock(reads_mutex);
-    for (const Staged& s : staged_) {
-      if (s.temp.empty() || reads.empty()) continue;
-      const auto it = reads.find(read_key(s.target));
-      if (it == reads.end() || read_stamp(s.target) == it->second) continue;
-      const std::filesystem::path changed = s.path;
-      discard();
-      throw EnvironmentError(changed.string() + ": changed on disk since this program read it (another editor or "
-                             "program saved it); not written, so nothing of it is lost");
-    }
+// One commit's steps, in their order (the class comment of OutputSet says
+// why each comes where it does). Up to the commit point a failure discards
+// the set and leaves every file as it was; after it, a failed rename undoes
+// the renames made.
+class OutputSet::Committer {
+ public:
+  explicit Committer(OutputSet& set) : set_(set) {}
+
+  void run() {
+    collect_folders();
+    lock_and_recover();
+    refuse_changed_reads();
+    stage_manifests();
+    sync_staged_data();
+    write_streams();
+    order_renames();
+    journal_up_to_the_commit_point();
+    rename_or_undo();
+    finish();
   }
 
-  // Owned folders: this run's file names there, and the manifest staged last.
+ private:
+  /// An owned folder: the old manifest's entries and this run's names there.
   struct Owned {
     std::filesystem::path folder;
     std::vector<ManifestEntry> old;
     std::unordered_set<std::string> names;
   };
-  std::vector<Owned> owned;
-  for (const std::filesystem::path& f : owned_folders_) {
-    const int dirfd = locks.lock(f);
-    std::vector<std::string> refused;
-    Owned o{f, dirfd >= 0 ? read_manifest(dirfd, refused) : std::vector<ManifestEntry>{}, {}};
-    if (!refused.empty())
-      std::fprintf(stderr, "cmr: note: %s: %s: its files are left alone\n", f.string().c_str(), refused[0].c_str());
-    const std::string key = folder_key(f);
-    std::string manifest = std::string(kManifestHeader) + "\n";
-    for (const Staged& s : staged_) {
-      if (s.temp.empty() || folder_key(folder_of(s.target)) != key) continue;
-      const std::string name = s.target.filename().string();
-      struct stat st {};
-      if (name.find('\n') != std::string::npos || ::lstat(s.temp.c_str(), &st) != 0) continue;
-      o.names.insert(name);
-      manifest += std::to_string(st.st_ino) + " " + std::to_string(st.st_size) + " " + std::to_string(mtime_ns(st)) +
-                  " " + name + "\n";
-    }
-    owned.push_back(std::move(o));
-    stage(f / kManifestName, manifest);
-    staged_.back().manifest = true;
+
+  /// The folders written into, each once, in first-use order.
+  void collect_folders() {
+    std::unordered_set<std::string> seen;
+    for (const Staged& s : set_.staged_)
+      if (!s.temp.empty() && seen.insert(folder_of(s.target).string()).second) folders_.push_back(folder_of(s.target));
+    for (const std::filesystem::path& f : set_.owned_folders_)
+      if (seen.insert(f.string()).second) folders_.push_back(f);
   }
 
-  // Every staged file's data on disk: one syncfs per file system.
-  {
+  /// Locks each folder. Another run committed into an owned folder since
+  /// own_folder: it wins, this run writes nothing (checked before recovery,
+  /// which may finish a dead run's manifest). Then an interrupted commit
+  /// there is finished or undone.
+  void lock_and_recover() {
+    for (const std::filesystem::path& f : folders_) {
+      bool locked = false;
+      const int fd = locks_.lock(f, &locked);
+      std::optional<std::pair<unsigned long long, long long>> noted;
+      {
+        const std::lock_guard lock(stamps_mutex);
+        if (const auto it = stamps.find(&set_); it != stamps.end())
+          if (const auto at = it->second.find(f.string()); at != it->second.end()) noted = at->second;
+      }
+      if (noted && manifest_stamp(f) != *noted) {
+        set_.discard();
+        throw EnvironmentError(f.string() + ": another cmr run wrote this folder while this one ran; its files are "
+                               "kept and this run's are not written (run it again)");
+      }
+      if (fd >= 0 && locked) recover_folder(fd, f);
+    }
+  }
+
+  /// A file this program read (note_read) that another one wrote since: not
+  /// replaced (two editors saving one file), checked under the folders' locks.
+  void refuse_changed_reads() {
+    const std::lock_guard lock(reads_mutex);
+    for (const Staged& s : set_.staged_) {
+      if (s.temp.empty() || reads.empty()) continue;
+      const auto it = reads.find(read_key(s.target));
+      if (it == reads.end() || read_stamp(s.target) == it->second) continue;
+      const std::filesystem::path changed = s.path;
+      set_.discard();
+      throw EnvironmentError(changed.string() + ": changed on disk since this program read it (another editor or "
+                             "program saved it); not written, so nothing of it is lost");
+    }
+  }
+
+  /// Owned folders: this run's file names there, and the manifest staged last.
+  void stage_manifests() {
+    for (const std::filesystem::path& f : set_.owned_folders_) {
+      const int dirfd = locks_.lock(f);
+      std::vector<std::string> refused;
+      Owned o{f, dirfd >= 0 ? read_manifest(dirfd, refused) : std::vector<ManifestEntry>{}, {}};
+      if (!refused.empty())
+        std::fprintf(stderr, "cmr: note: %s: %s: its files are left alone\n", f.string().c_str(), refused[0].c_str());
+      const std::string key = folder_key(f);
+      std::string manifest = std::string(kManifestHeader) + "\n";
+      for (const Staged& s : set_.staged_) {
+        if (s.temp.empty() || folder_key(folder_of(s.target)) != key) continue;
+        const std::string name = s.target.filename().string();
+        struct stat st {};
+        if (name.find('\n') != std::string::npos || ::lstat(s.temp.c_str(), &st) != 0) continue;
+        o.names.insert(name);
+        manifest += std::to_string(st.st_ino) + " " + std::to_string(st.st_size) + " " + std::to_string(mtime_ns(st)) +
+                    " " + name + "\n";
+      }
+      owned_.push_back(std::move(o));
+      set_.stage(f / kManifestName, manifest);
+      set_.staged_.back().manifest = true;
+    }
+  }
+
+  /// Every staged file's data on disk: one syncfs per file system.
+  void sync_staged_data() {
     std::vector<dev_t> synced;
-    for (const std::filesystem::path& f : folders) {
+    for (const std::filesystem::path& f : folders_) {
       const int fd = ::open(f.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
       if (fd < 0) continue;
       struct stat st {};
@@ -480,12 +508,12 @@ void OutputSet::commit() {
           const int error = errno;
           ::close(fd);
           std::filesystem::path named = f;
-          for (const Staged& s : staged_)
+          for (const Staged& s : set_.staged_)
             if (!s.temp.empty() && folder_of(s.target) == f) {
               named = s.path;
               break;
             }
-          discard();
+          set_.discard();
           throw_errno(named, error);
         }
       }
@@ -493,139 +521,162 @@ void OutputSet::commit() {
     }
   }
 
-  // Streams first: they cannot be taken back, so a failed one changes no file.
-  std::fflush(stdout);
-  for (Staged& s : staged_) {
-    if (s.stream_fd < 0) continue;
-    if (!write_all(s.stream_fd, s.bytes) || (s.spool_fd >= 0 && !copy_spool(s.spool_fd, s.stream_fd))) {
-      const int error = errno;
-      const std::filesystem::path failed = s.path;
-      discard();
-      throw EnvironmentError(failed.string() + ": " + std::strerror(error));
-    }
-  }
-  close_streams();
-
-  // The rename order: the files in staging order, then the manifests, then
-  // the set's marker (commit_last: a report's report.json), so that a
-  // reader who sees the marker's new version sees the whole new set.
-  std::vector<std::size_t> files;  // indices of the staged files (not streams)
-  for (int pass = 0; pass < 3; ++pass)
-    for (std::size_t i = 0; i < staged_.size(); ++i) {
-      const Staged& s = staged_[i];
-      if (s.temp.empty()) continue;
-      const int p = !last_.empty() && s.path.string() == last_ ? 2 : (s.manifest ? 1 : 0);
-      if (p == pass) files.push_back(i);
-    }
-
-  // One journal per folder, written before any backup or rename.
-  std::vector<std::unique_ptr<JournalFile>> journals;
-  std::unordered_map<int, std::size_t> journal_of_fd;
-  std::vector<JournalFile*> journal_of_file(files.size(), nullptr);
-  const auto fail_before_commit_point = [&](const auto& undo_backups) {
-    undo_backups();
-    for (auto& j : journals) j->remove();
-    discard();
-  };
-  std::vector<Kept> kept;
-  kept.reserve(files.size());
-  try {
-    for (std::size_t k = 0; k < files.size(); ++k) {
-      const Staged& s = staged_[files[k]];
-      const int dirfd = locks.lock(folder_of(s.target));
-      if (dirfd < 0) continue;  // renamed without a journal (the rename reports why it fails)
-      auto it = journal_of_fd.find(dirfd);
-      if (it == journal_of_fd.end()) {
-        journals.push_back(std::make_unique<JournalFile>());
-        journals.back()->create(dirfd, s.path.parent_path() == s.target.parent_path() ? s.path : s.target);
-        it = journal_of_fd.emplace(dirfd, journals.size() - 1).first;
+  /// Streams first: they cannot be taken back, so a failed one changes no file.
+  void write_streams() {
+    std::fflush(stdout);
+    for (Staged& s : set_.staged_) {
+      if (s.stream_fd < 0) continue;
+      if (!write_all(s.stream_fd, s.bytes) || (s.spool_fd >= 0 && !copy_spool(s.spool_fd, s.stream_fd))) {
+        const int error = errno;
+        const std::filesystem::path failed = s.path;
+        set_.discard();
+        throw EnvironmentError(failed.string() + ": " + std::strerror(error));
       }
-      JournalFile& j = *journals[it->second];
-      journal_of_file[k] = &j;
-      struct stat st {}, old {};
-      if (::lstat(s.temp.c_str(), &st) != 0) throw_errno(s.path, errno);
-      const bool existed = ::lstat(s.target.c_str(), &old) == 0;
-      j.append("e " + std::to_string(k) + " " + (existed ? "1 " : "0 ") + std::to_string(st.st_ino) + " " +
-               hex_of(s.temp.filename().string()) + " " + hex_of(s.target.filename().string()) + "\n");
     }
-    for (const Owned& o : owned) {
-      const int dirfd = locks.lock(o.folder);
-      auto it = journal_of_fd.find(dirfd);
-      if (it == journal_of_fd.end()) continue;
-      std::string lines;
-      for (const ManifestEntry& e : o.old)
-        if (o.names.count(e.name) == 0)
-          lines += "r " + std::to_string(e.ino) + " " + std::to_string(e.size) + " " + std::to_string(e.mtime_ns) + " " +
-                   hex_of(e.name) + "\n";
-      journals[it->second]->append(lines);
-    }
-    // Each old file kept as a backup (the in-process undo), journaled as made.
-    for (std::size_t k = 0; k < files.size(); ++k) {
-      kept.push_back(keep_old(staged_[files[k]].target));
-      struct stat st {};
-      if (!kept[k].link.empty() && journal_of_file[k] != nullptr && ::lstat(kept[k].link.c_str(), &st) == 0)
-        journal_of_file[k]->append("b " + std::to_string(k) + " " + std::to_string(st.st_ino) + " " +
-                                   hex_of(kept[k].link.filename().string()) + "\n");
-    }
-    // The commit point: from here on, recovery finishes this commit.
-    for (auto& j : journals) j->append("commit\n");
-    for (auto& j : journals) j->sync();
-  } catch (...) {
-    fail_before_commit_point([&] {
-      for (const Kept& k : kept)
-        if (!k.link.empty()) ::unlink(k.link.c_str());
-    });
-    throw;
+    set_.close_streams();
   }
 
-  std::size_t done = 0;
-  for (; done < files.size(); ++done) {
-    const Staged& s = staged_[files[done]];
-    if (::rename(s.temp.c_str(), s.target.c_str()) != 0) break;
+  /// The rename order: the files in staging order, then the manifests, then
+  /// the set's marker (commit_last: a report's report.json), so that a
+  /// reader who sees the marker's new version sees the whole new set.
+  void order_renames() {
+    for (int pass = 0; pass < 3; ++pass)
+      for (std::size_t i = 0; i < set_.staged_.size(); ++i) {
+        const Staged& s = set_.staged_[i];
+        if (s.temp.empty()) continue;
+        const int p = !set_.last_.empty() && s.path.string() == set_.last_ ? 2 : (s.manifest ? 1 : 0);
+        if (p == pass) files_.push_back(i);
+      }
   }
-  const int error = errno;
-  if (done < files.size()) {  // undo: the old files back, new ones away
-    try {  // the journal says so first: a kill during the undo is undone too
-      for (auto& j : journals) j->append("abort\n");
-      for (auto& j : journals) j->sync();
+
+  /// One journal per folder, written before any backup or rename: each
+  /// file (temporary, name, inode), the owned files to remove, each backup
+  /// as it is made, then "commit", flushed: the commit point, from which
+  /// recovery finishes this commit. A failure before it undoes the backups.
+  void journal_up_to_the_commit_point() {
+    std::unordered_map<int, std::size_t> journal_of_fd;
+    journal_of_file_.assign(files_.size(), nullptr);
+    kept_.reserve(files_.size());
+    try {
+      for (std::size_t k = 0; k < files_.size(); ++k) {
+        const Staged& s = set_.staged_[files_[k]];
+        const int dirfd = locks_.lock(folder_of(s.target));
+        if (dirfd < 0) continue;  // renamed without a journal (the rename reports why it fails)
+        auto it = journal_of_fd.find(dirfd);
+        if (it == journal_of_fd.end()) {
+          journals_.push_back(std::make_unique<JournalFile>());
+          journals_.back()->create(dirfd, s.path.parent_path() == s.target.parent_path() ? s.path : s.target);
+          it = journal_of_fd.emplace(dirfd, journals_.size() - 1).first;
+        }
+        JournalFile& j = *journals_[it->second];
+        journal_of_file_[k] = &j;
+        struct stat st {}, old {};
+        if (::lstat(s.temp.c_str(), &st) != 0) throw_errno(s.path, errno);
+        const bool existed = ::lstat(s.target.c_str(), &old) == 0;
+        j.append("e " + std::to_string(k) + " " + (existed ? "1 " : "0 ") + std::to_string(st.st_ino) + " " +
+                 hex_of(s.temp.filename().string()) + " " + hex_of(s.target.filename().string()) + "\n");
+      }
+      for (const Owned& o : owned_) {
+        const auto it = journal_of_fd.find(locks_.lock(o.folder));
+        if (it == journal_of_fd.end()) continue;
+        std::string lines;
+        for (const ManifestEntry& e : o.old)
+          if (o.names.count(e.name) == 0)
+            lines += "r " + std::to_string(e.ino) + " " + std::to_string(e.size) + " " + std::to_string(e.mtime_ns) +
+                     " " + hex_of(e.name) + "\n";
+        journals_[it->second]->append(lines);
+      }
+      // Each old file kept as a backup (the in-process undo), journaled as made.
+      for (std::size_t k = 0; k < files_.size(); ++k) {
+        kept_.push_back(keep_old(set_.staged_[files_[k]].target));
+        struct stat st {};
+        if (!kept_[k].link.empty() && journal_of_file_[k] != nullptr && ::lstat(kept_[k].link.c_str(), &st) == 0)
+          journal_of_file_[k]->append("b " + std::to_string(k) + " " + std::to_string(st.st_ino) + " " +
+                                      hex_of(kept_[k].link.filename().string()) + "\n");
+      }
+      for (auto& j : journals_) j->append("commit\n");
+      for (auto& j : journals_) j->sync();
     } catch (...) {
+      for (const Kept& k : kept_)
+        if (!k.link.empty()) ::unlink(k.link.c_str());
+      for (auto& j : journals_) j->remove();
+      set_.discard();
+      throw;
     }
-    for (std::size_t k = 0; k < done; ++k) {
-      const Staged& s = staged_[files[k]];
-      if (!kept[k].link.empty()) ::rename(kept[k].link.c_str(), s.target.c_str());
-      else if (!kept[k].existed) ::unlink(s.target.c_str());
+  }
+
+  /// Renames every file in order. When one fails, the journal says so first
+  /// (a kill during the undo is undone too), then the old files go back and
+  /// the new ones away, and the error propagates.
+  void rename_or_undo() {
+    std::size_t done = 0;
+    for (; done < files_.size(); ++done) {
+      const Staged& s = set_.staged_[files_[done]];
+      if (::rename(s.temp.c_str(), s.target.c_str()) != 0) break;
     }
+    const int error = errno;
+    if (done < files_.size()) {
+      try {
+        for (auto& j : journals_) j->append("abort\n");
+        for (auto& j : journals_) j->sync();
+      } catch (...) {
+      }
+      for (std::size_t k = 0; k < done; ++k) {
+        const Staged& s = set_.staged_[files_[k]];
+        if (!kept_[k].link.empty()) ::rename(kept_[k].link.c_str(), s.target.c_str());
+        else if (!kept_[k].existed) ::unlink(s.target.c_str());
+      }
+    }
+    for (std::size_t k = done < files_.size() ? done : 0; k < kept_.size(); ++k)
+      if (!kept_[k].link.empty()) ::unlink(kept_[k].link.c_str());
+    if (done < files_.size()) {
+      const std::filesystem::path failed = set_.staged_[files_[done]].path;
+      for (std::size_t k = done; k < files_.size(); ++k) ::unlink(set_.staged_[files_[k]].temp.c_str());
+      for (auto& j : journals_) j->remove();
+      set_.staged_.clear();  // nothing of the set is left to remove but the folders it made
+      set_.discard();
+      throw_errno(failed, error);
+    }
+    set_.committed_ = true;
   }
-  for (std::size_t k = done < files.size() ? done : 0; k < kept.size(); ++k)
-    if (!kept[k].link.empty()) ::unlink(kept[k].link.c_str());
-  if (done < files.size()) {
-    const std::filesystem::path failed = staged_[files[done]].path;
-    for (std::size_t k = done; k < files.size(); ++k) ::unlink(staged_[files[k]].temp.c_str());
-    for (auto& j : journals) j->remove();
-    staged_.clear();  // nothing of the set is left to remove but the folders it made
-    discard();
-    throw_errno(failed, error);
+
+  /// The files this program noted (note_read) are now the ones it wrote;
+  /// the files cmr wrote in an owned folder last time and this run did not
+  /// are removed when they are still cmr's (this user's, one link, same
+  /// inode, size and time), so the folder holds this set. Then the journals
+  /// go and the folders' entries reach the disk.
+  void finish() {
+    {
+      const std::lock_guard lock(reads_mutex);
+      if (!reads.empty())
+        for (const Staged& s : set_.staged_)
+          if (!s.temp.empty())
+            if (const auto it = reads.find(read_key(s.target)); it != reads.end())
+              if (const auto now = read_stamp(s.target)) it->second = *now;
+    }
+    for (const Owned& o : owned_) {
+      const int dirfd = locks_.lock(o.folder);
+      if (dirfd < 0) continue;
+      for (const ManifestEntry& e : o.old)
+        if (o.names.count(e.name) == 0) remove_if_still_ours(dirfd, e);
+    }
+    for (auto& j : journals_) j->remove();
+    for (const std::filesystem::path& f : folders_) sync_folder(f);
   }
-  committed_ = true;
-  {  // the files this program noted (note_read) are now the ones it wrote
-    const std::lock_guard lock(reads_mutex);
-    if (!reads.empty())
-      for (const Staged& s : staged_)
-        if (!s.temp.empty())
-          if (const auto it = reads.find(read_key(s.target)); it != reads.end())
-            if (const auto now = read_stamp(s.target)) it->second = *now;
-  }
-  // The files cmr wrote there last time and this run did not: removed when
-  // they are still cmr's (this user's, one link, same inode, size and
-  // time), so the folder holds this set.
-  for (const Owned& o : owned) {
-    const int dirfd = locks.lock(o.folder);
-    if (dirfd < 0) continue;
-    for (const ManifestEntry& e : o.old)
-      if (o.names.count(e.name) == 0) remove_if_still_ours(dirfd, e);
-  }
-  for (auto& j : journals) j->remove();
-  for (const std::filesystem::path& f : folders) sync_folder(f);
+
+  OutputSet& set_;
+  std::vector<std::filesystem::path> folders_;
+  FolderLocks locks_;  // held until the commit ends (declared before the journals: released after them)
+  std::vector<Owned> owned_;
+  std::vector<std::size_t> files_;  // indices of the staged files (not streams), in rename order
+  std::vector<std::unique_ptr<JournalFile>> journals_;
+  std::vector<JournalFile*> journal_of_file_;  // parallel to files_
+  std::vector<Kept> kept_;                     // parallel to files_
+};
+
+void OutputSet::commit() {
+  CMR_CHECK(!committed_);
+  Committer(*this).run();
 }
 
 std::vector<std::filesystem::path> OutputSet::paths() const {

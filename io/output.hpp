@@ -185,6 +185,7 @@ class OutputSet {
     int spool_fd = -1;             ///< a stream written in pieces: its bytes, after `bytes` (stage_stream)
     bool manifest = false;         ///< an owned folder's manifest (not in paths())
   };
+  class Committer;  // commit()'s steps (output.cpp)
   void discard() noexcept;
   void close_streams() noexcept;
   std::vector<Staged> staged_;

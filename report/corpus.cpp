@@ -678,58 +678,101 @@ class Writer {
 
 // ------------------------------------------------------------ the run
 
-BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions& options, const BatchProgress& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t fonts =
-      static_cast<std::size_t>(std::count_if(files.begin(), files.end(), [](const std::string& f) { return file_kind(f) == FileKind::font; }));
-  std::size_t counted = files.size();  // a sharded run counts the files it owns (report/merge.hpp)
-  if (options.shard)
-    counted = static_cast<std::size_t>(std::count_if(options.shard_positions.begin(), options.shard_positions.end(),
-                                                     [&](std::size_t k) { return options.shard->takes(k); }));
-  Writer writer(options, counted, fonts);
-  const int threads = thread_count(options.report.threads);
-  FixBudget budget;
-  budget.start(options.fix_budget);
-  std::atomic<int> done{0};
-  // The run's time limit, checked before each file and each part of a file.
-  const auto check_time = [&] {
-    if (options.time_limit <= 0 ||
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() <= options.time_limit)
-      return;
+namespace {
+
+/// One `run_batch`: its files read, reported and handed to the Writer in
+/// order, one by one or in parallel runs of small files.
+class BatchRun {
+ public:
+  BatchRun(const std::vector<std::string>& files, const BatchOptions& options, const BatchProgress& progress)
+      : files_(files),
+        options_(options),
+        progress_(progress),
+        t0_(std::chrono::steady_clock::now()),
+        writer_(options, counted_files(files, options), font_files(files)),
+        threads_(thread_count(options.report.threads)),
+        root_(options.source_root ? options.source_root->string() : std::string()) {
+    budget_.start(options.fix_budget);
+  }
+
+  BatchSummary run() {
+    // Regions (the fix search) render one spline at a time on the backend,
+    // which is not shared between threads: with them, files go one by one.
+    const bool regions = options_.report.regions && (options_.report.require || options_.report.gates.empty());
+    if (threads_ <= 1 || files_.size() < static_cast<std::size_t>(threads_) || regions) {
+      for (std::size_t i = 0; i < files_.size(); ++i) one_by_one(i);
+    } else {
+      for (std::size_t i = 0; i < files_.size();) {  // runs of small files in parallel, a large SVG alone
+        if (in_parts(i)) {
+          one_by_one(i++);
+          continue;
+        }
+        std::size_t j = i;
+        while (j < files_.size() && !in_parts(j)) ++j;
+        in_parallel(i, j);
+        i = j;
+      }
+    }
+    BatchSummary summary = writer_.finish(seconds_since_start());
+    summary.note = budget_.note();
+    return summary;
+  }
+
+ private:
+  /// A sharded run counts the files it owns (report/merge.hpp).
+  static std::size_t counted_files(const std::vector<std::string>& files, const BatchOptions& options) {
+    if (!options.shard) return files.size();
+    return static_cast<std::size_t>(std::count_if(options.shard_positions.begin(), options.shard_positions.end(),
+                                                  [&](std::size_t k) { return options.shard->takes(k); }));
+  }
+  static std::size_t font_files(const std::vector<std::string>& files) {
+    return static_cast<std::size_t>(
+        std::count_if(files.begin(), files.end(), [](const std::string& f) { return file_kind(f) == FileKind::font; }));
+  }
+  double seconds_since_start() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+  /// The run's time limit, checked before each file and each part of a file.
+  void check_time() const {
+    if (options_.time_limit <= 0 || seconds_since_start() <= options_.time_limit) return;
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", options.time_limit);
+    std::snprintf(buf, sizeof buf, "%g", options_.time_limit);
     throw InputFieldError(field("time_limit") + ": the report ran past " + buf + " s with " +
-                          std::to_string(done.load()) + " of " + std::to_string(files.size()) +
+                          std::to_string(done_.load()) + " of " + std::to_string(files_.size()) +
                           " files done; nothing written (raise " + field("time_limit") + ", or report fewer files)");
-  };
-  // Each file's name in findings and its SARIF URI (independent of how its path was spelled).
-  const std::string root = options.source_root ? options.source_root->string() : std::string();
-  const auto named = [&](std::size_t i, FileWork& w) {
-    const std::string base = options.source_root || i >= options.bases.size() ? root : options.bases[i];
-    w.name = source_name(files[i], base);
-    w.uri = source_uri(files[i], root, &w.uri_relative);
-  };
-  const auto process = [&](std::size_t i, int file_threads) {
+  }
+
+  /// Each file's name in findings and its SARIF URI (independent of how its path was spelled).
+  void name(std::size_t i, FileWork& w) const {
+    const std::string base = options_.source_root || i >= options_.bases.size() ? root_ : options_.bases[i];
+    w.name = source_name(files_[i], base);
+    w.uri = source_uri(files_[i], root_, &w.uri_relative);
+  }
+
+  FileWork process(std::size_t i, int file_threads) {
     check_time();
     FileWork w;
-    w.path = files[i];
-    named(i, w);
-    process_file(w, i, options, file_threads, &budget, writer.cache());
+    w.path = files_[i];
+    name(i, w);
+    process_file(w, i, options_, file_threads, &budget_, writer_.cache());
     return w;
-  };
-  auto written = [&](const std::string& path) {
-    const int n = ++done;
-    if (progress) progress(n, static_cast<int>(files.size()), writer.items(), path);
-  };
-  // An SVG file is reported and written kStreamChunk paths at a time, so
-  // that memory holds one part's reports, never the whole file's (10^5
-  // paths: docs/outputs.md). False when it cannot be read: process_file
-  // then makes it one invalid item.
-  const auto stream_svg = [&](std::size_t i) {
+  }
+
+  void written(const std::string& path) {
+    const int n = ++done_;
+    if (progress_) progress_(n, static_cast<int>(files_.size()), writer_.items(), path);
+  }
+
+  /// An SVG file is reported and written kStreamChunk paths at a time, so
+  /// that memory holds one part's reports, never the whole file's (10^5
+  /// paths: docs/outputs.md). False when it cannot be read: process_file
+  /// then makes it one invalid item.
+  bool stream_svg(std::size_t i) {
     check_time();
     std::vector<import::PathSpline> paths;
     try {
-      paths = import::read_svg(files[i]);
+      paths = import::read_svg(files_[i]);
     } catch (const InputError&) {
       return false;
     }
@@ -738,48 +781,52 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       const auto t1 = std::chrono::steady_clock::now();
       const std::size_t end = std::min(paths.size(), begin + kStreamChunk);
       FileWork w;
-      w.path = files[i];
+      w.path = files_[i];
       w.kind = FileKind::svg;
-      named(i, w);
-      std::vector<ReportInput> inputs = svg_inputs(files[i], paths, begin, end);
-      for (ReportInput& in : inputs) in.error = options.report.show_fields(in.error);
-      w.reports = report_batch(std::move(inputs), options.report, {}, &budget);
+      name(i, w);
+      std::vector<ReportInput> inputs = svg_inputs(files_[i], paths, begin, end);
+      for (ReportInput& in : inputs) in.error = options_.report.show_fields(in.error);
+      w.reports = report_batch(std::move(inputs), options_.report, {}, &budget_);
       w.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-      PreparedFile p = writer.prepare(std::move(w));
+      PreparedFile p = writer_.prepare(std::move(w));
       p.more = end < paths.size();
-      writer.write(p);
+      writer_.write(p);
       if (!p.more) break;
     }
-    written(files[i]);
+    written(files_[i]);
     return true;
-  };
-  // A file written in parts goes alone (its parts in order, its splines in parallel).
-  const auto in_parts = [&](std::size_t i) {
+  }
+
+  /// A file written in parts goes alone (its parts in order, its splines in parallel).
+  bool in_parts(std::size_t i) const {
     std::error_code ec;
-    return file_kind(files[i]) == FileKind::svg && fs::file_size(files[i], ec) > kStreamBytes && !ec;
-  };
-  const auto one_by_one = [&](std::size_t i) {  // one file, its splines in parallel
-    if (file_kind(files[i]) == FileKind::svg && stream_svg(i)) return;
-    PreparedFile p = writer.prepare(process(i, options.report.threads));
-    writer.write(p);
+    return file_kind(files_[i]) == FileKind::svg && fs::file_size(files_[i], ec) > kStreamBytes && !ec;
+  }
+
+  /// One file, its splines in parallel.
+  void one_by_one(std::size_t i) {
+    if (file_kind(files_[i]) == FileKind::svg && stream_svg(i)) return;
+    PreparedFile p = writer_.prepare(process(i, options_.report.threads));
+    writer_.write(p);
     written(p.rec.path);
-  };
-  // Files [first, last) in parallel, one thread each; finished files are
-  // written in order by one thread at a time. A file more than `window`
-  // ahead of the next to write waits, so memory holds at most ~window
-  // files' reports.
-  const auto in_parallel = [&](std::size_t first, std::size_t last) {
-    const std::size_t window = 2 * static_cast<std::size_t>(threads);
+  }
+
+  /// Files [first, last) in parallel, one thread each; finished files are
+  /// written in order by one thread at a time. A file more than `window`
+  /// ahead of the next to write waits, so memory holds at most ~window
+  /// files' reports.
+  void in_parallel(std::size_t first, std::size_t last) {
+    const std::size_t window = 2 * static_cast<std::size_t>(threads_);
     std::mutex m;
     std::condition_variable cv;
     std::map<std::size_t, PreparedFile> ready;
     std::size_t next = first;
     bool abort = false, flushing = false;
-    parallel_for(last - first, threads, [&](std::size_t k) {
+    parallel_for(last - first, threads_, [&](std::size_t k) {
       const std::size_t i = first + k;
       PreparedFile w;
       try {
-        w = writer.prepare(process(i, 1));
+        w = writer_.prepare(process(i, 1));
       } catch (...) {
         const std::lock_guard lock(m);
         abort = true;
@@ -797,7 +844,7 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
         ready.erase(it);
         lock.unlock();
         try {
-          writer.write(item);
+          writer_.write(item);
           written(item.rec.path);
         } catch (...) {
           lock.lock();
@@ -812,27 +859,23 @@ BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions
       }
       flushing = false;
     });
-  };
-  // Regions (the fix search) render one spline at a time on the backend,
-  // which is not shared between threads: with them, files go one by one.
-  const bool regions = options.report.regions && (options.report.require || options.report.gates.empty());
-  if (threads <= 1 || files.size() < static_cast<std::size_t>(threads) || regions) {
-    for (std::size_t i = 0; i < files.size(); ++i) one_by_one(i);
-  } else {
-    for (std::size_t i = 0; i < files.size();) {  // runs of small files in parallel, a large SVG alone
-      if (in_parts(i)) {
-        one_by_one(i++);
-        continue;
-      }
-      std::size_t j = i;
-      while (j < files.size() && !in_parts(j)) ++j;
-      in_parallel(i, j);
-      i = j;
-    }
   }
-  BatchSummary summary = writer.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  summary.note = budget.note();
-  return summary;
+
+  const std::vector<std::string>& files_;
+  const BatchOptions& options_;
+  const BatchProgress& progress_;
+  const std::chrono::steady_clock::time_point t0_;
+  Writer writer_;
+  const int threads_;
+  const std::string root_;
+  FixBudget budget_;
+  std::atomic<int> done_{0};
+};
+
+}  // namespace
+
+BatchSummary run_batch(const std::vector<std::string>& files, const BatchOptions& options, const BatchProgress& progress) {
+  return BatchRun(files, options, progress).run();
 }
 
 }  // namespace cmr::report
