@@ -195,15 +195,8 @@ Ties build_units(const BSpline& s, const SplineAnalysis& a, const std::vector<in
   return t;
 }
 
-}  // namespace fix_detail
-
-namespace {
 
 // ---------------------------------------------------------------- local checks
-
-}  // namespace
-
-namespace fix_detail {
 
 /// The kinds judged one check at a time (extrema-at-nodes, no-inflection,
 /// g2): check i is judged segment i (g2: the joint that starts segment i),
@@ -292,78 +285,67 @@ std::vector<int> failing_segments(const BSpline& spline, const SplineAnalysis& a
   return out;
 }
 
-namespace {
 
 // ---------------------------------------------------------------- the search
 
-}  // namespace
-
 namespace fix_detail {
 
-Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, double size, double max_move, double tol,
-                int grid, int threads, std::size_t max_seeds /* = 6 */, bool refine /* = false */,
-                const std::function<bool(Vec2)>& certify /* = {} */) {
-  // Cell (i, j) of an n x n grid of half-width w centred on c (in the unit's
-  // coordinates: dims 1 uses c.x as the parameter t along dir).
-  auto at = [&](Vec2 c, double w, int n, int i, int j) {
-    const double u = c.x + w * (2.0 * (i + 0.5) / n - 1.0);
-    const double v = c.y + w * (2.0 * (j + 0.5) / n - 1.0);
-    return dims == 1 ? Vec2(u * dir.x, u * dir.y) : Vec2(u, v);
-  };
-  // The passing cell centres of a grid, nearest to 0 first.
-  auto scan = [&](Vec2 c, double w, int n) {
-    const int rows = dims == 1 ? 1 : n;
-    std::vector<char> ok(static_cast<std::size_t>(n) * rows, 0);
-    parallel_for(ok.size(), threads, [&](std::size_t idx) {
-      const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
-      if (norm(x) <= max_move) ok[idx] = pass(x);
-    });
-    std::vector<Nearest> found;
-    for (std::size_t idx = 0; idx < ok.size(); ++idx)
-      if (ok[idx]) {
-        const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
-        found.push_back(Nearest{true, x, norm(x)});
-      }
-    std::sort(found.begin(), found.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
-    return found;
-  };
-  // 1. Grow a grid around the point until something passes.
-  double w = std::min(size / 16, max_move);
-  const int n1 = dims == 1 ? grid * 4 : grid;
-  std::vector<Nearest> cells;
-  for (;;) {
-    cells = scan(Vec2(0.0), w, n1);
-    if (!cells.empty()) break;
-    if (w >= max_move) return Nearest{};
-    w = std::min(2 * w, max_move);
+namespace {
+
+/// One `nearest` search, its steps named: 1. grow a grid until a cell
+/// passes, 2. a finer grid over the disc found, 2b. (refine) below the first
+/// cell, 3. each seed polished to the boundary, 4. (certify) the nearest
+/// candidate the requirement's own judge accepts.
+class NearestSearch {
+ public:
+  NearestSearch(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, double max_move, double tol, int grid,
+                int threads)
+      : pass_(pass), dims_(dims), dir_(dir), max_move_(max_move), tol_(tol), threads_(threads),
+        n1_(dims == 1 ? grid * 4 : grid) {}
+
+  /// 1. Grow a grid around the point until something passes; false when
+  /// nothing passes within max_move.
+  bool grow(double size) {
+    w_ = std::min(size / 16, max_move_);
+    for (;;) {
+      cells_ = scan(Vec2(0.0), w_, n1_);
+      if (!cells_.empty()) return true;
+      if (w_ >= max_move_) return false;
+      w_ = std::min(2 * w_, max_move_);
+    }
   }
-  // 2. A finer grid over the disc of the distance found.
-  if (cells.front().dist < w * 0.9) {
-    const double w2 = cells.front().dist * (1 + 2.0 / n1);
-    std::vector<Nearest> finer = scan(Vec2(0.0), w2, n1);
-    if (!finer.empty() && finer.front().dist <= cells.front().dist) cells = std::move(finer), w = w2;
+
+  /// 2. A finer grid over the disc of the distance found.
+  void finer() {
+    if (cells_.front().dist < w_ * 0.9) {
+      const double w2 = cells_.front().dist * (1 + 2.0 / n1_);
+      std::vector<Nearest> finer = scan(Vec2(0.0), w2, n1_);
+      if (!finer.empty() && finer.front().dist <= cells_.front().dist) cells_ = std::move(finer), w_ = w2;
+    }
+    cell_ = 2 * w_ / n1_;
   }
-  double cell = 2 * w / n1;
-  // 2b. Below the first cell (dims 2, when refine): a passing region thinner
-  // than a cell (a sliver along a boundary, a wedge tip) may come nearer the
-  // point than any passing cell centre shows. Each level halves the cell:
-  // the children of every passing cell and of its 8 neighbours are
-  // classified, then the neighbours of every new passing child (a flood that
-  // follows a sliver along its length at that level), each only while its
-  // lower distance bound (centre distance less half a diagonal) is below the
-  // best passing distance D; down to a cell of D / 512 (or the tolerance).
-  const std::vector<Nearest> first_cells(cells.begin(), cells.begin() + std::min<std::size_t>(cells.size(), max_seeds));
-  if (dims == 2 && refine) {
+
+  const std::vector<Nearest>& cells() const { return cells_; }
+
+  /// 2b. Below the first cell (dims 2): a passing region thinner than a
+  /// cell (a sliver along a boundary, a wedge tip) may come nearer the point
+  /// than any passing cell centre shows. Each level halves the cell: the
+  /// children of every passing cell and of its 8 neighbours are classified,
+  /// then the neighbours of every new passing child (a flood that follows a
+  /// sliver along its length at that level), each only while its lower
+  /// distance bound (centre distance less half a diagonal) is below the best
+  /// passing distance D; down to a cell of D / 512 (or the tolerance).
+  void refine_below_the_cell() {
     using Key = std::pair<long long, long long>;
-    const double o = -w;  // the lattice of every level: centres o + (i + 1/2) h
-    Nearest best_cell = cells.front();
+    const double o = -w_;  // the lattice of every level: centres o + (i + 1/2) h
+    Nearest best_cell = cells_.front();
     std::vector<Key> prev;
-    for (const Nearest& c : cells)
-      if (c.dist - 1.5 * std::sqrt(2.0) * cell < best_cell.dist)
-        prev.emplace_back(std::llround((c.x.x - o) / cell - 0.5), std::llround((c.x.y - o) / cell - 0.5));
-    double h = cell;
-    long budget = 16L * n1 * n1;  // classifier calls below the first cell: 16 first grids
-    while (!prev.empty() && h > best_cell.dist / 512 && h > tol && budget > 0) {
+    for (const Nearest& c : cells_)
+      if (c.dist - 1.5 * std::sqrt(2.0) * cell_ < best_cell.dist)
+        prev.emplace_back(std::llround((c.x.x - o) / cell_ - 0.5), std::llround((c.x.y - o) / cell_ - 0.5));
+    double h = cell_;
+    long budget = 16L * n1_ * n1_;  // classifier calls below the first cell: 16 first grids
+    while (!prev.empty() && h > best_cell.dist / 512 && h > tol_ && budget > 0) {
       const double hc = h / 2, half_diag = hc / std::sqrt(2.0);
       auto centre = [&](Key k) { return Vec2(o + (k.first + 0.5) * hc, o + (k.second + 0.5) * hc); };
       std::set<Key> seen;
@@ -382,9 +364,9 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
       while (!batch.empty() && budget > 0) {
         std::vector<char> ok(batch.size(), 0);
         budget -= static_cast<long>(batch.size());
-        parallel_for(batch.size(), threads, [&](std::size_t t) {
+        parallel_for(batch.size(), threads_, [&](std::size_t t) {
           const Vec2 x = centre(batch[t]);
-          if (norm(x) <= max_move) ok[t] = pass(x);
+          if (norm(x) <= max_move_) ok[t] = pass_(x);
         });
         const std::vector<Key> done = std::move(batch);
         batch.clear();
@@ -415,57 +397,116 @@ Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, doubl
         if (level[t].dist - 1.5 * std::sqrt(2.0) * h < best_cell.dist) prev.push_back(level_keys[t]);
       level.push_back(best_cell);  // a passing centre of a coarser level may still be the nearest
       std::sort(level.begin(), level.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
-      cells = std::move(level);
-      cell = h;
+      cells_ = std::move(level);
+      cell_ = h;
     }
   }
-  // Seeds: the passing cells that may hold the nearest point (within two cell
-  // diagonals of the best), at least three cells apart, at most six.
-  std::vector<Nearest> seeds;
-  for (const Nearest& c : cells) {
-    if (c.dist > cells.front().dist + 2 * std::sqrt(2.0) * cell || seeds.size() >= max_seeds) break;
-    bool apart = true;
-    for (const Nearest& sd : seeds) apart = apart && norm(sd.x - c.x) >= 3 * cell;
-    if (apart) seeds.push_back(c);
+
+  /// Seeds: the passing cells that may hold the nearest point (within two
+  /// cell diagonals of the best), at least three cells apart, at most
+  /// max_seeds.
+  std::vector<Nearest> seeds(std::size_t max_seeds) const {
+    std::vector<Nearest> seeds;
+    for (const Nearest& c : cells_) {
+      if (c.dist > cells_.front().dist + 2 * std::sqrt(2.0) * cell_ || seeds.size() >= max_seeds) break;
+      bool apart = true;
+      for (const Nearest& sd : seeds) apart = apart && norm(sd.x - c.x) >= 3 * cell_;
+      if (apart) seeds.push_back(c);
+    }
+    return seeds;
   }
-  // The nearest passing point on the ray at angle theta, bracketed below
-  // r_hi (infinity when r_hi itself fails): bisection to the tolerance.
-  auto ray = [&](Vec2 u, double r_hi) {
-    if (r_hi > max_move || !pass(r_hi * u)) return std::numeric_limits<double>::infinity();
-    double lo = std::max(0.0, r_hi - 8 * cell), hi = r_hi;
-    if (lo > 0 && pass(lo * u)) lo = 0;  // 0 always fails (the point does)
-    while (hi - lo > tol / 8 && hi - lo > 1e-16 * hi) {
+
+  /// 3. The seed moved to the boundary: dims 1, between the seed and the
+  /// cell before it (which fails); dims 2, a golden-section search over the
+  /// angle of the ray, each ray's distance found by bisection.
+  Nearest polish(const Nearest& seed) const {
+    Nearest local = seed;
+    if (dims_ == 1) {
+      const double t = dot(seed.x, dir_), s = t > 0 ? 1.0 : -1.0;
+      const double r = ray(s * dir_, std::abs(t));
+      if (r < local.dist) local = Nearest{true, r * s * dir_, r};
+      return local;
+    }
+    const double theta0 = std::atan2(seed.x.y, seed.x.x);
+    const double span = std::min(3.14159265358979, 3 * cell_ / std::max(seed.dist, 1e-300));
+    const double r_hi = seed.dist + 2 * cell_;
+    auto f = [&](double th) { return ray(Vec2(std::cos(th), std::sin(th)), r_hi); };
+    const double g = (std::sqrt(5.0) - 1) / 2;
+    double a = theta0 - span, b = theta0 + span;
+    double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
+    while ((b - a) * r_hi > tol_ / 4) {
+      if (fc <= fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
+      else a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
+    }
+    for (const auto& [th, r] : {std::pair{c, fc}, std::pair{d, fd}, std::pair{theta0, f(theta0)}})
+      if (r < local.dist) local = Nearest{true, r * Vec2(std::cos(th), std::sin(th)), r};
+    return local;
+  }
+
+ private:
+  /// Cell (i, j) of an n x n grid of half-width w centred on c (in the
+  /// unit's coordinates: dims 1 uses c.x as the parameter t along dir).
+  Vec2 at(Vec2 c, double w, int n, int i, int j) const {
+    const double u = c.x + w * (2.0 * (i + 0.5) / n - 1.0);
+    const double v = c.y + w * (2.0 * (j + 0.5) / n - 1.0);
+    return dims_ == 1 ? Vec2(u * dir_.x, u * dir_.y) : Vec2(u, v);
+  }
+
+  /// The passing cell centres of a grid, nearest to 0 first.
+  std::vector<Nearest> scan(Vec2 c, double w, int n) const {
+    const int rows = dims_ == 1 ? 1 : n;
+    std::vector<char> ok(static_cast<std::size_t>(n) * rows, 0);
+    parallel_for(ok.size(), threads_, [&](std::size_t idx) {
+      const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
+      if (norm(x) <= max_move_) ok[idx] = pass_(x);
+    });
+    std::vector<Nearest> found;
+    for (std::size_t idx = 0; idx < ok.size(); ++idx)
+      if (ok[idx]) {
+        const Vec2 x = at(c, w, n, static_cast<int>(idx % n), static_cast<int>(idx / n));
+        found.push_back(Nearest{true, x, norm(x)});
+      }
+    std::sort(found.begin(), found.end(), [](const Nearest& p, const Nearest& q) { return p.dist < q.dist; });
+    return found;
+  }
+
+  /// The nearest passing point on the ray along u, bracketed below r_hi
+  /// (infinity when r_hi itself fails): bisection to the tolerance.
+  double ray(Vec2 u, double r_hi) const {
+    if (r_hi > max_move_ || !pass_(r_hi * u)) return std::numeric_limits<double>::infinity();
+    double lo = std::max(0.0, r_hi - 8 * cell_), hi = r_hi;
+    if (lo > 0 && pass_(lo * u)) lo = 0;  // 0 always fails (the point does)
+    while (hi - lo > tol_ / 8 && hi - lo > 1e-16 * hi) {
       const double mid = 0.5 * (lo + hi);
-      if (pass(mid * u)) hi = mid; else lo = mid;
+      if (pass_(mid * u)) hi = mid; else lo = mid;
     }
     return hi;
-  };
+  }
+
+  const std::function<bool(Vec2)>& pass_;
+  const int dims_;
+  const Vec2 dir_;
+  const double max_move_, tol_;
+  const int threads_, n1_;
+  double w_ = 0, cell_ = 0;     // the grid's half-width and its cell's width
+  std::vector<Nearest> cells_;  // the passing cells, nearest first
+};
+
+}  // namespace
+
+Nearest nearest(const std::function<bool(Vec2)>& pass, int dims, Vec2 dir, double size, double max_move, double tol,
+                int grid, int threads, std::size_t max_seeds /* = 6 */, bool refine /* = false */,
+                const std::function<bool(Vec2)>& certify /* = {} */) {
+  NearestSearch search(pass, dims, dir, max_move, tol, grid, threads);
+  if (!search.grow(size)) return Nearest{};
+  search.finer();
+  const std::vector<Nearest> first_cells(search.cells().begin(),
+                                         search.cells().begin() + std::min<std::size_t>(search.cells().size(), max_seeds));
+  if (dims == 2 && refine) search.refine_below_the_cell();
   Nearest best;
   std::vector<Nearest> candidates;  // with certify: every answer a seed gives, and the seeds
-  for (const Nearest& seed : seeds) {
-    Nearest local = seed;
-    if (dims == 1) {
-      // 3. The boundary between the seed and the cell before it (which fails).
-      const double t = dot(seed.x, dir), s = t > 0 ? 1.0 : -1.0;
-      const double r = ray(s * dir, std::abs(t));
-      if (r < local.dist) local = Nearest{true, r * s * dir, r};
-    } else {
-      // 3. Golden-section search over the angle of the ray, each ray's
-      // distance found by bisection: the boundary point nearest the point.
-      const double theta0 = std::atan2(seed.x.y, seed.x.x);
-      const double span = std::min(3.14159265358979, 3 * cell / std::max(seed.dist, 1e-300));
-      const double r_hi = seed.dist + 2 * cell;
-      auto f = [&](double th) { return ray(Vec2(std::cos(th), std::sin(th)), r_hi); };
-      const double g = (std::sqrt(5.0) - 1) / 2;
-      double a = theta0 - span, b = theta0 + span;
-      double c = b - g * (b - a), d = a + g * (b - a), fc = f(c), fd = f(d);
-      while ((b - a) * r_hi > tol / 4) {
-        if (fc <= fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = f(c);
-        else a = c, c = d, fc = fd, d = a + g * (b - a), fd = f(d);
-      }
-      for (const auto& [th, r] : {std::pair{c, fc}, std::pair{d, fd}, std::pair{theta0, f(theta0)}})
-        if (r < local.dist) local = Nearest{true, r * Vec2(std::cos(th), std::sin(th)), r};
-    }
+  for (const Nearest& seed : search.seeds(max_seeds)) {
+    const Nearest local = search.polish(seed);
     if (local.dist < best.dist) best = local;
     candidates.push_back(local), candidates.push_back(seed);
   }

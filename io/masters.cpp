@@ -209,193 +209,252 @@ std::vector<bool> smooth_marks(const Glyph& g, const Contour& c) {
 
 // ------------------------------------------------------------ designspace
 
-Masters read_designspace_masters(const fs::path& path, const GlyphSelection& which,
-                                 const std::optional<Segment2>& between) {
-  const Designspace ds = read_designspace(path);
-  std::vector<SpaceAxis> axes;
-  for (const Designspace::Axis& a : ds.axes) {
-    SpaceAxis s;
-    s.tag = a.tag.empty() ? a.name : a.tag;
-    s.name = a.name;
-    s.minimum = a.minimum;
-    s.maximum = a.maximum;
-    s.default_value = a.default_value;
-    s.to_coord = [a](double u) { return a.to_design(u); };
-    s.to_user = [a](double d) { return a.to_user(d); };
-    for (const auto& m : a.map) s.coord_breaks.push_back(m.second);
-    axes.push_back(std::move(s));
-  }
-  // Sources in a UFO's other layer (sparse masters) are not read: the
-  // pieces run between the full masters.
-  std::vector<Designspace::Source> sources;
-  for (const Designspace::Source& src : ds.sources)
-    if (src.layer.empty()) sources.push_back(src);
-  if (sources.empty()) throw InputError(path.string() + ": every source is a layer of a UFO (no full master)");
-  const std::size_t n = sources.size();
-  std::vector<std::vector<double>> loc(n);
-  std::size_t def = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    for (const Designspace::Axis& a : ds.axes) loc[k].push_back(sources[k].location.at(a.name));
-    if (sources[k].is_default) def = k;
-  }
-  // The default master first, then the others (each a UFO: its errors are the run's).
-  std::vector<Font> fonts(n);
-  fonts[def] = read_ufo(sources[def].path, which);
-  for (std::size_t k = 0; k < n; ++k) {
-    if (k == def) continue;
-    GlyphSelection all;
-    all.all = true;
-    fonts[k] = read_ufo(sources[k].path, all);
+namespace {
+
+/// One read_designspace_masters: the designspace's full masters, the lines
+/// between adjacent ones, the pieces on them (or on --between), and each
+/// compatible glyph's contours' motions along every piece.
+class DesignspaceReading {
+ public:
+  DesignspaceReading(const fs::path& path, const GlyphSelection& which)
+      : path_(path), ds_(read_designspace(path)), axes_(space_axes(ds_)) {
+    // Sources in a UFO's other layer (sparse masters) are not read: the
+    // pieces run between the full masters.
+    for (const Designspace::Source& src : ds_.sources)
+      if (src.layer.empty()) sources_.push_back(src);
+    if (sources_.empty()) throw InputError(path.string() + ": every source is a layer of a UFO (no full master)");
+    n_ = sources_.size();
+    loc_.resize(n_);
+    for (std::size_t k = 0; k < n_; ++k) {
+      for (const Designspace::Axis& a : ds_.axes) loc_[k].push_back(sources_[k].location.at(a.name));
+      if (sources_[k].is_default) def_ = k;
+    }
+    // The default master first, then the others (each a UFO: its errors are the run's).
+    fonts_.resize(n_);
+    fonts_[def_] = read_ufo(sources_[def_].path, which);
+    for (std::size_t k = 0; k < n_; ++k) {
+      if (k == def_) continue;
+      GlyphSelection all;
+      all.all = true;
+      fonts_[k] = read_ufo(sources_[k].path, all);
+    }
+    by_name_.resize(n_);
+    for (std::size_t k = 0; k < n_; ++k)
+      if (k != def_)
+        for (const Glyph& g : fonts_[k].glyphs) by_name_[k][g.name] = &g;
+    lines_ = adjacent_lines();
   }
 
-  // Pieces between adjacent masters along each axis.
+  Masters masters(const std::optional<Segment2>& between) {
+    const std::vector<LinePiece> pieces = between ? pieces_between(*between) : whole_lines();
+    Masters m;
+    m.font = std::move(fonts_[def_]);
+    m.font.path = path_.string();
+    m.motions.resize(m.font.glyphs.size());
+    for (const LinePiece& pc : pieces) m.pieces.push_back(pc.piece);
+    std::vector<std::string> why(m.font.glyphs.size());
+    std::vector<std::string> retry;  // glyphs whose masters differ: read again keeping lines of zero length
+    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+      const Glyph& g = m.font.glyphs[gi];
+      if (!g.error.empty()) continue;
+      why[gi] = compatibility(g, by_name_);
+      if (!why[gi].empty()) retry.push_back(g.name);
+    }
+    if (!retry.empty()) read_again_with_zero_length_lines(m.font, retry, why);
+    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+      Glyph& g = m.font.glyphs[gi];
+      if (g.error.empty() && !why[gi].empty()) {
+        g.error = g.name + ": incompatible masters: " + why[gi];
+        g.contours.clear();
+      }
+      if (g.error.empty()) m.motions[gi] = motions(g, pieces);
+    }
+    return m;
+  }
+
+ private:
+  /// A line between two adjacent masters: they differ in `axis` only.
   struct Line {
     std::size_t a, b;  // masters at s = 0 and s = 1
     int axis;
   };
-  std::vector<Line> lines;
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j) {
-      const int ax = varying_axis(loc[i], loc[j]);
-      if (ax < 0 || loc[i][ax] >= loc[j][ax]) continue;
-      bool adjacent = true;
-      for (std::size_t k = 0; k < n && adjacent; ++k)
-        if (varying_axis(loc[i], loc[k]) == ax && loc[k][ax] > loc[i][ax] && loc[k][ax] < loc[j][ax]) adjacent = false;
-      if (adjacent) lines.push_back({i, j, ax});
+  struct LinePiece {
+    Line line;
+    std::shared_ptr<const Piece> piece;
+  };
+  using ByName = std::vector<std::map<std::string, const Glyph*>>;
+
+  static std::vector<SpaceAxis> space_axes(const Designspace& ds) {
+    std::vector<SpaceAxis> axes;
+    for (const Designspace::Axis& a : ds.axes) {
+      SpaceAxis s;
+      s.tag = a.tag.empty() ? a.name : a.tag;
+      s.name = a.name;
+      s.minimum = a.minimum;
+      s.maximum = a.maximum;
+      s.default_value = a.default_value;
+      s.to_coord = [a](double u) { return a.to_design(u); };
+      s.to_user = [a](double d) { return a.to_user(d); };
+      for (const auto& m : a.map) s.coord_breaks.push_back(m.second);
+      axes.push_back(std::move(s));
     }
-  Masters m;
-  auto make_piece = [&](const Line& l, double s0, double s1, std::string from, std::string to) {
+    return axes;
+  }
+
+  /// Pieces between adjacent masters along each axis.
+  std::vector<Line> adjacent_lines() const {
+    std::vector<Line> lines;
+    for (std::size_t i = 0; i < n_; ++i)
+      for (std::size_t j = 0; j < n_; ++j) {
+        const int ax = varying_axis(loc_[i], loc_[j]);
+        if (ax < 0 || loc_[i][ax] >= loc_[j][ax]) continue;
+        bool adjacent = true;
+        for (std::size_t k = 0; k < n_ && adjacent; ++k)
+          if (varying_axis(loc_[i], loc_[k]) == ax && loc_[k][ax] > loc_[i][ax] && loc_[k][ax] < loc_[j][ax])
+            adjacent = false;
+        if (adjacent) lines.push_back({i, j, ax});
+      }
+    return lines;
+  }
+
+  std::shared_ptr<const Piece> piece(const Line& l, double s0, double s1, std::string from, std::string to) const {
     auto p = std::make_shared<Piece>();
     p->s0 = s0;
     p->s1 = s1;
     p->from = std::move(from);
     p->to = std::move(to);
-    p->master_a = sources[l.a].name;
-    p->master_b = sources[l.b].name;
-    const double c0 = loc[l.a][l.axis], c1 = loc[l.b][l.axis];
-    for (std::size_t k = 0; k < axes.size(); ++k) {
-      const double x0 = static_cast<int>(k) == l.axis ? c0 + s0 * (c1 - c0) : loc[l.a][k];
-      const double x1 = static_cast<int>(k) == l.axis ? c0 + s1 * (c1 - c0) : loc[l.a][k];
-      p->axes.push_back(piece_axis(axes[k], x0, x1));
+    p->master_a = sources_[l.a].name;
+    p->master_b = sources_[l.b].name;
+    const double c0 = loc_[l.a][l.axis], c1 = loc_[l.b][l.axis];
+    for (std::size_t k = 0; k < axes_.size(); ++k) {
+      const double x0 = static_cast<int>(k) == l.axis ? c0 + s0 * (c1 - c0) : loc_[l.a][k];
+      const double x1 = static_cast<int>(k) == l.axis ? c0 + s1 * (c1 - c0) : loc_[l.a][k];
+      p->axes.push_back(piece_axis(axes_[k], x0, x1));
     }
     return p;
-  };
-  std::vector<std::pair<Line, std::shared_ptr<const Piece>>> pieces;
-  if (!between) {
-    for (const Line& l : lines) pieces.emplace_back(l, make_piece(l, 0, 1, sources[l.a].name, sources[l.b].name));
-  } else {
-    const std::string file = path.string();
+  }
+
+  std::vector<LinePiece> whole_lines() const {
+    std::vector<LinePiece> pieces;
+    for (const Line& l : lines_) pieces.push_back({l, piece(l, 0, 1, sources_[l.a].name, sources_[l.b].name)});
+    return pieces;
+  }
+
+  /// --between: the parts of the lines that the segment covers; it must run
+  /// between masters along one axis.
+  std::vector<LinePiece> pieces_between(const Segment2& between) const {
+    const std::string file = path_.string();
     std::vector<double> p0, p1;
-    const int ax = between_axis(*between, axes, file, p0, p1);
-    const bool reversed = p0[ax] > p1[ax];
-    if (reversed) std::swap(p0, p1);
+    const int ax = between_axis(between, axes_, file, p0, p1);
+    if (p0[ax] > p1[ax]) std::swap(p0, p1);
+    std::vector<LinePiece> pieces;
     double covered = 0;
-    for (const Line& l : lines) {
-      const int off = varying_axis(loc[l.a], p0);  // the same line: the other axes agree
+    for (const Line& l : lines_) {
+      const int off = varying_axis(loc_[l.a], p0);  // the same line: the other axes agree
       if (l.axis != ax || (off != ax && off != -1)) continue;
-      const double c0 = loc[l.a][ax], c1 = loc[l.b][ax];
+      const double c0 = loc_[l.a][ax], c1 = loc_[l.b][ax];
       const double lo = std::max(c0, p0[ax]), hi = std::min(c1, p1[ax]);
       if (!(lo < hi)) continue;
       covered += hi - lo;
       auto name_at = [&](double c) {
-        if (c == c0) return sources[l.a].name;
-        if (c == c1) return sources[l.b].name;
-        return axes[ax].tag + "=" + num(axes[ax].to_user(c));
+        if (c == c0) return sources_[l.a].name;
+        if (c == c1) return sources_[l.b].name;
+        return axes_[ax].tag + "=" + num(axes_[ax].to_user(c));
       };
-      pieces.emplace_back(l, make_piece(l, (lo - c0) / (c1 - c0), (hi - c0) / (c1 - c0), name_at(lo), name_at(hi)));
+      pieces.push_back({l, piece(l, (lo - c0) / (c1 - c0), (hi - c0) / (c1 - c0), name_at(lo), name_at(hi))});
     }
     if (covered < p1[ax] - p0[ax])
-      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between->first) + ":" +
-                            location_text(between->second) +
+      throw InputFieldError(file + ": " + field("between") + ": " + location_text(between.first) + ":" +
+                            location_text(between.second) +
                             " does not run between masters (in a designspace, cmr interpolates along an axis between "
                             "masters that differ in that axis only; a variable font takes any segment)");
+    return pieces;
   }
 
-  m.font = std::move(fonts[def]);
-  m.font.path = path.string();
-  m.motions.resize(m.font.glyphs.size());
-  for (const auto& pc : pieces) m.pieces.push_back(pc.second);
-  // Each master's glyphs by name.
-  std::vector<std::map<std::string, const Glyph*>> by_name(n);
-  for (std::size_t k = 0; k < n; ++k)
-    if (k != def)
-      for (const Glyph& g : fonts[k].glyphs) by_name[k][g.name] = &g;
-  // Compatibility with every master that has the glyph ("" when compatible).
-  auto compatibility = [&](const Glyph& g, const std::vector<std::map<std::string, const Glyph*>>& others) {
+  /// Compatibility with every master that has the glyph ("" when compatible).
+  std::string compatibility(const Glyph& g, const ByName& others) const {
     std::string why;
-    for (std::size_t k = 0; k < n && why.empty(); ++k) {
-      if (k == def) continue;
+    for (std::size_t k = 0; k < n_ && why.empty(); ++k) {
+      if (k == def_) continue;
       const auto it = others[k].find(g.name);
       if (it == others[k].end()) continue;
       const Glyph* o = it->second;
-      if (!o->error.empty()) why = "cannot be read in " + sources[k].name + " (" + o->error + ")";
-      else why = incompatibility(g, sources[def].name, *o, sources[k].name);
+      if (!o->error.empty()) why = "cannot be read in " + sources_[k].name + " (" + o->error + ")";
+      else why = incompatibility(g, sources_[def_].name, *o, sources_[k].name);
     }
     return why;
-  };
-  std::vector<std::string> why(m.font.glyphs.size());
-  std::vector<std::string> retry;  // glyphs whose masters differ: read again keeping lines of zero length
-  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
-    const Glyph& g = m.font.glyphs[gi];
-    if (!g.error.empty()) continue;
-    why[gi] = compatibility(g, by_name);
-    if (!why[gi].empty()) retry.push_back(g.name);
   }
-  // A line that shrinks to zero length in one master is dropped by the
-  // reader there (io/font.hpp) and kept in the others: those glyphs are read
-  // again from every master with their lines of zero length kept (a segment
-  // of equal points), so that their points correspond; a glyph that is then
-  // compatible takes its masters from that reading.
-  std::vector<Font> kept(n);
-  std::vector<std::map<std::string, const Glyph*>> kept_by_name(n);
-  if (!retry.empty()) {
-    for (std::size_t k = 0; k < n; ++k) {
+
+  /// A line that shrinks to zero length in one master is dropped by the
+  /// reader there (io/font.hpp) and kept in the others: those glyphs are
+  /// read again from every master with their lines of zero length kept (a
+  /// segment of equal points), so that their points correspond; a glyph
+  /// that is then compatible takes its masters from that reading.
+  void read_again_with_zero_length_lines(Font& font, const std::vector<std::string>& retry, std::vector<std::string>& why) {
+    kept_.resize(n_);
+    ByName kept_by_name(n_);
+    for (std::size_t k = 0; k < n_; ++k) {
       GlyphSelection names;
       for (const std::string& name : retry)
-        if (k == def || by_name[k].count(name)) names.names.push_back(name);
-      kept[k] = read_ufo(sources[k].path, names, true);
-      for (const Glyph& g : kept[k].glyphs) kept_by_name[k][g.name] = &g;
+        if (k == def_ || by_name_[k].count(name)) names.names.push_back(name);
+      kept_[k] = read_ufo(sources_[k].path, names, true);
+      for (const Glyph& g : kept_[k].glyphs) kept_by_name[k][g.name] = &g;
     }
-    for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
+    for (std::size_t gi = 0; gi < font.glyphs.size(); ++gi) {
       if (why[gi].empty()) continue;
-      const Glyph& g = m.font.glyphs[gi];
-      const auto d = std::find_if(kept[def].glyphs.begin(), kept[def].glyphs.end(), [&](const Glyph& x) { return x.name == g.name; });
-      if (d == kept[def].glyphs.end() || !d->error.empty() || !compatibility(*d, kept_by_name).empty()) continue;
+      const Glyph& g = font.glyphs[gi];
+      const auto d = std::find_if(kept_[def_].glyphs.begin(), kept_[def_].glyphs.end(),
+                                  [&](const Glyph& x) { return x.name == g.name; });
+      if (d == kept_[def_].glyphs.end() || !d->error.empty() || !compatibility(*d, kept_by_name).empty()) continue;
+      const std::string name = g.name;
       const std::uint32_t codepoint = g.codepoint;
-      m.font.glyphs[gi] = *d;
-      m.font.glyphs[gi].codepoint = codepoint;
+      font.glyphs[gi] = *d;
+      font.glyphs[gi].codepoint = codepoint;
       why[gi].clear();
-      for (std::size_t k = 0; k < n; ++k)
-        if (k != def && kept_by_name[k].count(g.name)) by_name[k][g.name] = kept_by_name[k][g.name];
+      for (std::size_t k = 0; k < n_; ++k)
+        if (k != def_ && kept_by_name[k].count(name)) by_name_[k][name] = kept_by_name[k][name];
     }
   }
-  for (std::size_t gi = 0; gi < m.font.glyphs.size(); ++gi) {
-    Glyph& g = m.font.glyphs[gi];
-    if (!g.error.empty()) continue;
+
+  /// Each contour's motion along every piece whose two masters have the glyph.
+  std::vector<std::vector<ContourMotion>> motions(const Glyph& g, const std::vector<LinePiece>& pieces) const {
     auto glyph_in = [&](std::size_t k) -> const Glyph* {
-      if (k == def) return &g;
-      const auto it = by_name[k].find(g.name);
-      return it == by_name[k].end() ? nullptr : it->second;
+      if (k == def_) return &g;
+      const auto it = by_name_[k].find(g.name);
+      return it == by_name_[k].end() ? nullptr : it->second;
     };
-    if (!why[gi].empty()) {
-      g.error = g.name + ": incompatible masters: " + why[gi];
-      g.contours.clear();
-      continue;
-    }
-    m.motions[gi].resize(g.contours.size());
-    for (const auto& [line, piece] : pieces) {
-      const Glyph* ga = glyph_in(line.a);
-      const Glyph* gb = glyph_in(line.b);
+    std::vector<std::vector<ContourMotion>> out(g.contours.size());
+    for (const LinePiece& lp : pieces) {
+      const Glyph* ga = glyph_in(lp.line.a);
+      const Glyph* gb = glyph_in(lp.line.b);
       if (ga == nullptr || gb == nullptr) continue;  // a sparse master
       for (std::size_t c = 0; c < g.contours.size(); ++c) {
-        ContourMotion mo{piece, ga->contours[c].spline, gb->contours[c].spline, {}};
+        ContourMotion mo{lp.piece, ga->contours[c].spline, gb->contours[c].spline, {}};
         const std::vector<bool> sa = smooth_marks(*ga, ga->contours[c]), sb = smooth_marks(*gb, gb->contours[c]);
         for (std::size_t k = 0; k < sa.size(); ++k) mo.smooth.push_back(sa[k] && k < sb.size() && sb[k]);
-        m.motions[gi][c].push_back(std::move(mo));
+        out[c].push_back(std::move(mo));
       }
     }
+    return out;
   }
-  return m;
+
+  const fs::path path_;
+  const Designspace ds_;
+  const std::vector<SpaceAxis> axes_;
+  std::vector<Designspace::Source> sources_;  // the full masters
+  std::size_t n_ = 0, def_ = 0;               // how many; the default's index
+  std::vector<std::vector<double>> loc_;      // each master's design location, by axis
+  std::vector<Font> fonts_;                   // each master's glyphs (the default's: those selected)
+  std::vector<Font> kept_;                    // the glyphs read again with their lines of zero length
+  ByName by_name_;                            // the other masters' glyphs by name (pointing into fonts_ or kept_)
+  std::vector<Line> lines_;
+};
+
+}  // namespace
+
+Masters read_designspace_masters(const fs::path& path, const GlyphSelection& which,
+                                 const std::optional<Segment2>& between) {
+  return DesignspaceReading(path, which).masters(between);
 }
 
 // ------------------------------------------------------------ variable fonts
