@@ -77,11 +77,11 @@ class BudgetAlarm {
     on_alarm.sa_handler = budget_spent;
     sigemptyset(&on_alarm.sa_mask);
     ::sigaction(SIGALRM, &on_alarm, &previous_);
-    const double whole = std::floor(std::min(seconds, 1e8));  // time_t holds it
+    const double s = std::min(seconds, 1e8);  // time_t holds it
     itimerval t{};
-    t.it_value.tv_sec = static_cast<time_t>(whole);
+    t.it_value.tv_sec = static_cast<time_t>(s);
     // At least 1 us: a zero it_value disarms the timer.
-    t.it_value.tv_usec = std::max<suseconds_t>(1, static_cast<suseconds_t>((std::min(seconds, 1e8) - whole) * 1e6));
+    t.it_value.tv_usec = std::max<suseconds_t>(1, static_cast<suseconds_t>((s - std::floor(s)) * 1e6));
     ::setitimer(ITIMER_REAL, &t, nullptr);
   }
   BudgetAlarm(const BudgetAlarm&) = delete;

