@@ -408,6 +408,111 @@ std::optional<SpacePlane> unit_plane(const SpaceSpline& spline, const SpaceFixRe
   }
 }
 
+// The nearest certified move found so far: its point, distance, plane and
+// coordinates in that plane.
+struct BestMove {
+  int point = -1;
+  double distance = kInf;
+  SpacePlane plane;
+  double a = 0, b = 0;
+};
+
+// The nearest certified move of one candidate point, kept in best when it
+// is nearer than the best so far; the point's entry (found, or why not) goes
+// into r.units. Returns false when the search's time is up.
+bool search_unit(int k, const Search& search, const TiedNodes& tied, double size, double max_move, double tol,
+                 BestMove& best, SpaceFixResult& r) {
+  const SpaceSpline& spline = search.spline;
+  const SpaceFixRequest& request = search.request;
+  const std::vector<int>& ties_g1 = search.ties_g1;
+  const std::vector<int>& ties_g2 = search.ties_g2;
+  long& evaluations = search.evaluations;
+  SpaceUnitFix unit;
+  unit.point = k;
+  if (Clock::now() > search.deadline) {  // each candidate's region problem judges every segment once
+    unit.reason = "search time limit (" + fmt(request.time_limit) + " s) reached";
+    r.units.push_back(unit);
+    return false;
+  }
+  const Vec3 P = spline.points()[static_cast<std::size_t>(k)];
+  int node = -1;
+  const TiedNodes::Role role = tied.role(k, node);
+  if (role == TiedNodes::Role::held) {
+    unit.reason = tied.held_reason(k);
+    r.units.push_back(unit);
+    return true;
+  }
+  const bool slide = role == TiedNodes::Role::slides;
+  const std::optional<SpacePlane> chosen = unit_plane(spline, request, k, node, slide, unit.reason);
+  if (!chosen) {
+    r.units.push_back(unit);
+    return true;
+  }
+  const SpacePlane plane = *chosen;
+  unit.plane = plane;
+  SpaceRegionRequest rr;
+  rr.point = k;
+  rr.plane = plane;
+  rr.max_depth = request.max_depth;
+  rr.width = rr.height = 1;
+  rr.view = View{-1, -1, 1, 1};
+  const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, rr);
+  const bool full = request.no_zero_curvature || !ties_g1.empty() || !ties_g2.empty();
+  const auto pass = [&](double a, double b) {
+    ++evaluations;
+    if ((evaluations & 63) == 0 && Clock::now() > search.deadline) throw TimeUp{};
+    const Direction l = problem.classify(a, b).label;
+    if (l != Direction::increasing && l != Direction::decreasing) return false;
+    if (!full) return true;
+    return search.full_check(with_point_moved(spline, k, P + a * plane.u + b * plane.v));
+  };
+  // The farthest this unit may go: the request's, or nearer than the best so far.
+  const double limit = std::min(max_move, best.distance);
+  try {
+    RayHit hit;
+    if (slide) {
+      hit = nearest_on_tangent(pass, limit, glm::length(P - spline.points()[static_cast<std::size_t>(node)]), tol);
+      if (!(hit.r < kInf)) {
+        unit.reason =
+            "no certified position within " + fmt(limit) + " on its tangent line (" + field("keep") + " g1)";
+        r.units.push_back(unit);
+        return true;
+      }
+    } else {
+      const std::optional<RayHit> found = nearest_in_plane(pass, size, limit, tol);
+      if (!found) {
+        unit.reason = limit < max_move ? "no fix nearer than the best so far (" + fmt(limit) + ")"
+                                       : "no certified position within " + fmt(limit) + " in its plane";
+        r.units.push_back(unit);
+        return true;
+      }
+      hit = *found;
+    }
+    const double br = hit.r, bt = hit.theta;
+    // Certify: the moved point rounded to doubles, analyze_space on the
+    // spline so moved; pushed outwards along the ray where rounding lands
+    // just outside.
+    const std::optional<double> certified = certified_radius(search, k, plane, hit, limit, tol);
+    if (!certified) {
+      unit.reason = "the nearest position found (" + fmt(br) + ") is not certified by analyze";
+      r.units.push_back(unit);
+      return true;
+    }
+    const double rr_ok = *certified;
+    const Vec3 q = P + rr_ok * std::cos(bt) * plane.u + rr_ok * std::sin(bt) * plane.v;
+    unit.found = true;
+    unit.displacement = q - P;
+    unit.distance = glm::length(q - P);
+    if (unit.distance < best.distance) best = {k, unit.distance, plane, rr_ok * std::cos(bt), rr_ok * std::sin(bt)};
+  } catch (const TimeUp&) {
+    unit.reason = "search time limit (" + fmt(request.time_limit) + " s) reached";
+    r.units.push_back(unit);
+    return false;
+  }
+  r.units.push_back(unit);
+  return true;
+}
+
 }  // namespace
 
 SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& request) {
@@ -464,98 +569,9 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
 
   const TiedNodes tied(spline, ties_g1);
 
-  struct Best {
-    int point = -1;
-    double distance = kInf;
-    SpacePlane plane;
-    double a = 0, b = 0;
-  } best;
-
-  for (int k : candidates) {
-    SpaceUnitFix unit;
-    unit.point = k;
-    if (Clock::now() > search.deadline) {  // each candidate's region problem judges every segment once
-      unit.reason = "search time limit (" + fmt(request.time_limit) + " s) reached";
-      r.units.push_back(unit);
-      break;
-    }
-    const Vec3 P = spline.points()[static_cast<std::size_t>(k)];
-    int node = -1;
-    const TiedNodes::Role role = tied.role(k, node);
-    if (role == TiedNodes::Role::held) {
-      unit.reason = tied.held_reason(k);
-      r.units.push_back(unit);
-      continue;
-    }
-    const bool slide = role == TiedNodes::Role::slides;
-    const std::optional<SpacePlane> chosen = unit_plane(spline, request, k, node, slide, unit.reason);
-    if (!chosen) {
-      r.units.push_back(unit);
-      continue;
-    }
-    const SpacePlane plane = *chosen;
-    unit.plane = plane;
-    SpaceRegionRequest rr;
-    rr.point = k;
-    rr.plane = plane;
-    rr.max_depth = request.max_depth;
-    rr.width = rr.height = 1;
-    rr.view = View{-1, -1, 1, 1};
-    const SpaceRegionProblem problem = SpaceRegionProblem::make(spline, rr);
-    const bool full = request.no_zero_curvature || !ties_g1.empty() || !ties_g2.empty();
-    const auto pass = [&](double a, double b) {
-      ++evaluations;
-      if ((evaluations & 63) == 0 && Clock::now() > search.deadline) throw TimeUp{};
-      const Direction l = problem.classify(a, b).label;
-      if (l != Direction::increasing && l != Direction::decreasing) return false;
-      if (!full) return true;
-      return search.full_check(with_point_moved(spline, k, P + a * plane.u + b * plane.v));
-    };
-    // The farthest this unit may go: the request's, or nearer than the best so far.
-    const double limit = std::min(max_move, best.distance);
-    try {
-      RayHit hit;
-      if (slide) {
-        hit = nearest_on_tangent(pass, limit, glm::length(P - spline.points()[static_cast<std::size_t>(node)]), tol);
-        if (!(hit.r < kInf)) {
-          unit.reason =
-              "no certified position within " + fmt(limit) + " on its tangent line (" + field("keep") + " g1)";
-          r.units.push_back(unit);
-          continue;
-        }
-      } else {
-        const std::optional<RayHit> found = nearest_in_plane(pass, r.size, limit, tol);
-        if (!found) {
-          unit.reason = limit < max_move ? "no fix nearer than the best so far (" + fmt(limit) + ")"
-                                         : "no certified position within " + fmt(limit) + " in its plane";
-          r.units.push_back(unit);
-          continue;
-        }
-        hit = *found;
-      }
-      const double br = hit.r, bt = hit.theta;
-      // Certify: the moved point rounded to doubles, analyze_space on the
-      // spline so moved; pushed outwards along the ray where rounding lands
-      // just outside.
-      const std::optional<double> certified = certified_radius(search, k, plane, hit, limit, tol);
-      if (!certified) {
-        unit.reason = "the nearest position found (" + fmt(br) + ") is not certified by analyze";
-        r.units.push_back(unit);
-        continue;
-      }
-      const double rr_ok = *certified;
-      const Vec3 q = P + rr_ok * std::cos(bt) * plane.u + rr_ok * std::sin(bt) * plane.v;
-      unit.found = true;
-      unit.displacement = q - P;
-      unit.distance = glm::length(q - P);
-      if (unit.distance < best.distance) best = {k, unit.distance, plane, rr_ok * std::cos(bt), rr_ok * std::sin(bt)};
-    } catch (const TimeUp&) {
-      unit.reason = "search time limit (" + fmt(request.time_limit) + " s) reached";
-      r.units.push_back(unit);
-      break;
-    }
-    r.units.push_back(unit);
-  }
+  BestMove best;
+  for (int k : candidates)
+    if (!search_unit(k, search, tied, r.size, max_move, tol, best, r)) break;
   r.evaluations = evaluations;
   if (best.point >= 0) apply_best(r, spline, best.point, best.plane, best.a, best.b, search);
   if (!r.fixed) explain_no_fix(r, fmt(max_move), failing_text, candidates.empty(), !request.held.empty());
