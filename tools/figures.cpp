@@ -662,9 +662,10 @@ void figure9_10(Builder& b, const Curves& c) {
               (xa.split ? to_string(*xa.split) : "-"));
   // The paper's maximum is of signed kappa; the curve runs clockwise (kappa <
   // 0), so by |kappa| the joint is the flattest point (docs/semantics.md).
-  const std::optional<ExtremumKind> kind = xa.split ? split_extremum_kind(*xa.split, xa.joints[1]) : std::nullopt;
+  std::optional<ExtremumKind> kind;
+  if (xa.split) kind = split_extremum_kind(*xa.split, xa.joints[1]);
   b.claim("Fig. 10a", "read by |kappa|: the clockwise curve's signed maximum at u = 2 is its flattest point",
-          kind == ExtremumKind::flattest,
+          kind.has_value() && *kind == ExtremumKind::flattest,
           std::string("kappa at the joint ") + std::to_string(xa.joints[1].kappa_left) + " | " +
               std::to_string(xa.joints[1].kappa_right) + ": " + (kind ? to_string(*kind) : "no extremum"));
   const SplineAnalysis& xb = b.analysis(c.fig10b);
