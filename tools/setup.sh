@@ -31,7 +31,7 @@ packages=(
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
   fonts-noto-core fonts-texgyre
-  strace time
+  strace time valgrind
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib
   python3-ufolib2 fontmake
