@@ -5,10 +5,13 @@
 // Bezier form of B-spline segments, by blossoming (the primary route) and by
 // repeated Boehm knot insertion (an independent route the tests compare with),
 // and the affine influence of a control point on those Bezier points.
+#include <cmath>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
 #include "numeric/exact.hpp"
+#include "numeric/tracked.hpp"
 #include "spline/blossom.hpp"
 #include "spline/bspline.hpp"
 
@@ -23,11 +26,86 @@ struct BezierSegment {
   std::vector<double> weights;
 };
 
+namespace extract_detail {
+
+/// A coordinate the blossom of a Bezier span hands on unchanged (see
+/// bezier_span_points): finite, not -0.0 (1 * -0.0 + 0 * y is +0.0 for
+/// y >= 0), and for Tracked exact and 0 or of magnitude >= Tracked::kSafe
+/// (1 * x is called exact there only).
+template <class S>
+bool passes_through(const S& x) {
+  if constexpr (std::is_same_v<S, double>) {
+    return std::isfinite(x) && !(x == 0 && std::signbit(x));
+  } else if constexpr (std::is_same_v<S, Tracked>) {
+    return x.e == 0 && std::isfinite(x.v) && (x.v == 0 ? !std::signbit(x.v) : std::fabs(x.v) >= Tracked::kSafe);
+  } else {
+    return true;  // Rational: exact arithmetic, one zero
+  }
+}
+
+template <class S>
+bool same_knot(const S& x, const S& y) {
+  if constexpr (std::is_same_v<S, Tracked>) return x.e == 0 && y.e == 0 && x.v == y.v;
+  else return x == y;
+}
+
+}  // namespace extract_detail
+
+/// Bezier points of span j = [a, b] without evaluating the blossom, where
+/// they are the span's control points bit for bit (values and Tracked
+/// bounds); nullopt elsewhere (the caller blossoms).
+///
+/// A Bezier span: u_{j-d+1} = .. = u_j = a and u_{j+1} = .. = u_{j+d} = b
+/// (every span of a font contour, of a Bezier curve, of a clamped spline's
+/// span between two full knots). Then P_{j-d+1+k} = f(u_{j-d+1+k}, ..,
+/// u_{j+k}) = f(a^{d-k}, b^k) = B_k. blossom_span computes the same value:
+/// every denominator there is hi - lo = b - a = w, every numerator t - lo
+/// and hi - t is 0 or w, so alpha and 1 - alpha are exactly 0 and 1 (0 / w
+/// = 0, w / w = 1 for finite w != 0), and each step 1 * x + 0 * y (or
+/// 0 * x + 1 * y) returns x (y) exactly unless it is -0.0. In Tracked
+/// (numeric/tracked.hpp) each of those operations is also called exact, so
+/// the bound stays 0, when a and b are exact, w = b - a is exact (TwoSum)
+/// and >= kSafe, and every coordinate is exact and 0 or >= kSafe in
+/// magnitude (passes_through). In rationals the arithmetic is exact. Not
+/// for Bounded, which charges a rounding to every operation (the blossom's
+/// bounds are not 0). Derivation checked by tests/bezierize/extract_test.cpp
+/// (BezierSpanPoints.*) against blossom_span bit for bit.
+template <class S, class P>
+std::optional<std::vector<P>> bezier_span_points(const std::vector<S>& knots, const std::vector<P>& points, int d,
+                                                 int j, const S& a, const S& b) {
+  constexpr bool two_d = std::is_same_v<P, Vec2> || std::is_same_v<P, Vec2T<S>>;
+  if constexpr (!two_d || !(std::is_same_v<S, double> || std::is_same_v<S, Tracked> || std::is_same_v<S, Rational>)) {
+    return std::nullopt;
+  } else {
+    if (!extract_detail::same_knot(a, knots[j]) || !extract_detail::same_knot(b, knots[j + 1])) return std::nullopt;
+    for (int i = j - d + 1; i < j; ++i)
+      if (!extract_detail::same_knot(knots[i], a)) return std::nullopt;
+    for (int i = j + 2; i <= j + d; ++i)
+      if (!extract_detail::same_knot(knots[i], b)) return std::nullopt;
+    if constexpr (std::is_same_v<S, double>) {
+      const double w = b - a;
+      if (!(std::isfinite(w) && w > 0)) return std::nullopt;
+    } else if constexpr (std::is_same_v<S, Tracked>) {
+      const Tracked w = b - a;
+      if (w.e != 0 || !(w.v >= Tracked::kSafe) || !std::isfinite(w.v)) return std::nullopt;
+    } else {
+      if (!(b > a)) return std::nullopt;
+    }
+    std::vector<P> out(points.begin() + (j - d + 1), points.begin() + (j + 2));
+    for (const P& p : out)
+      if (!extract_detail::passes_through<S>(p.x) || !extract_detail::passes_through<S>(p.y)) return std::nullopt;
+    return out;
+  }
+}
+
 /// Bezier points of span j = [a, b]: B_k = f(a^{d-k}, b^k), k = 0..d.
 /// Generic so that the classifier can run it with error bounds or exactly.
+/// A Bezier span's are its control points (bezier_span_points: the same
+/// values, taken without the blossom's O(d^3) operations).
 template <class S, class P>
 std::vector<P> bezier_points(const std::vector<S>& knots, const std::vector<P>& points, int degree, int span,
                              const S& a, const S& b) {
+  if (std::optional<std::vector<P>> same = bezier_span_points(knots, points, degree, span, a, b)) return *same;
   std::vector<P> out;
   out.reserve(degree + 1);
   std::vector<S> args(degree);

@@ -226,11 +226,16 @@ double end_curvature(const BSpline& s, const Segment& seg, int side) {
   const int d = s.degree();
   // The three Bezier points at that end, B_k = f(a^{d-k}, b^k), each the
   // blossom bezier_segment computes (the same doubles), the others unneeded.
+  // A Bezier span's are its control points (bezier_span_points: the same doubles).
   std::vector<Vec2> p(static_cast<std::size_t>(d + 1));
-  std::vector<double> args(static_cast<std::size_t>(d));
-  for (int k = side == 0 ? 0 : d - 2; k <= (side == 0 ? 2 : d); ++k) {
-    for (int i = 0; i < d; ++i) args[i] = i < d - k ? seg.a : seg.b;
-    p[k] = blossom_span(s.knots(), s.points(), d, seg.span, args.data());
+  if (std::optional<std::vector<Vec2>> same = bezier_span_points(s.knots(), s.points(), d, seg.span, seg.a, seg.b)) {
+    p = std::move(*same);
+  } else {
+    std::vector<double> args(static_cast<std::size_t>(d));
+    for (int k = side == 0 ? 0 : d - 2; k <= (side == 0 ? 2 : d); ++k) {
+      for (int i = 0; i < d; ++i) args[i] = i < d - k ? seg.a : seg.b;
+      p[k] = blossom_span(s.knots(), s.points(), d, seg.span, args.data());
+    }
   }
   const Vec2 a = side == 0 ? p[1] - p[0] : p[d] - p[d - 1];
   const Vec2 b = side == 0 ? p[2] - p[1] : p[d - 1] - p[d - 2];

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <random>
+
 #include "numeric/bernstein.hpp"
 #include "tests/test_util.hpp"
 
@@ -123,6 +127,107 @@ TEST(Extract, InfluenceWeightsPredictTheMovedBezierPoints) {
   for (const SegmentInfluence& si : g)
     for (int i = 0; i <= 3; ++i)
       EXPECT_NEAR((before[si.segment].points[i] + si.w[i] * delta).x, after[si.segment].points[i].x, 1e-14);
+}
+
+}  // namespace
+}  // namespace cmr
+
+namespace cmr {
+namespace {
+
+/// The blossom's Bezier points, always evaluated (bezier_points without its
+/// shortcut), for comparing bit for bit.
+template <class S, class P>
+std::vector<P> blossomed(const std::vector<S>& knots, const std::vector<P>& points, int d, int j, const S& a,
+                         const S& b) {
+  std::vector<P> out;
+  std::vector<S> args(d);
+  for (int k = 0; k <= d; ++k) {
+    for (int i = 0; i < d; ++i) args[i] = i < d - k ? a : b;
+    out.push_back(blossom_span(knots, points, d, j, args.data()));
+  }
+  return out;
+}
+
+bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; }
+
+/// Bezier spans (knots a^d b^d around span d-1) of random control points:
+/// integer coordinates (a font's), halves, tiny, -0.0 and 0, with integer,
+/// dyadic and non-dyadic knot pairs. Wherever the shortcut answers it must
+/// be the blossom's answer bit for bit (double), value and bound (Tracked),
+/// exactly (Rational); and it must answer for integer data.
+TEST(BezierSpanPoints, EqualTheBlossomBitForBitWhereTheyAnswer) {
+  std::mt19937 rng(20261203);
+  const std::vector<std::pair<double, double>> spans = {{0, 1}, {3, 4}, {-2, 5}, {0.5, 0.75}, {0.1, 0.3}, {1e-280, 1}};
+  const std::vector<double> specials = {0.0, -0.0, 1e-300, -3e-290, 0.5, 1e300};
+  int answered = 0, integer_answered = 0, integer_cases = 0;
+  for (int d = 1; d <= 9; ++d)
+    for (const auto& [a, b] : spans)
+      for (int trial = 0; trial < 60; ++trial) {
+        std::vector<double> knots(d, a);
+        knots.insert(knots.end(), d, b);
+        std::vector<Vec2> pts;
+        const bool integer = trial % 3 == 0;
+        for (int i = 0; i <= d; ++i) {
+          auto coord = [&]() -> double {
+            if (integer) return static_cast<double>(static_cast<int>(rng() % 2001) - 1000);
+            if (rng() % 4 == 0) return specials[rng() % specials.size()];
+            return std::ldexp(static_cast<double>(static_cast<int>(rng() % 20001) - 10000), -static_cast<int>(rng() % 8));
+          };
+          const double x = coord();
+          pts.push_back({x, coord()});
+        }
+        const int j = d - 1;
+        // double
+        if (auto fast = bezier_span_points(knots, pts, d, j, a, b)) {
+          ++answered;
+          const std::vector<Vec2> slow = blossomed(knots, pts, d, j, a, b);
+          for (int k = 0; k <= d; ++k) {
+            EXPECT_TRUE(same_bits((*fast)[k].x, slow[k].x) && same_bits((*fast)[k].y, slow[k].y))
+                << "double, degree " << d << ", span [" << a << ", " << b << "], point " << k;
+          }
+        }
+        // Tracked: values and bounds
+        std::vector<Tracked> tk(knots.begin(), knots.end());
+        std::vector<Point<Tracked>> tp;
+        for (const Vec2& p : pts) tp.push_back(to_point<Tracked>(p));
+        const bool integer_knots = a == std::floor(a) && b == std::floor(b);
+        if (integer && integer_knots) ++integer_cases;
+        if (auto fast = bezier_span_points(tk, tp, d, j, Tracked(a), Tracked(b))) {
+          ++answered;
+          if (integer && integer_knots) ++integer_answered;
+          const std::vector<Point<Tracked>> slow = blossomed(tk, tp, d, j, Tracked(a), Tracked(b));
+          for (int k = 0; k <= d; ++k) {
+            const Point<Tracked>& f = (*fast)[k];
+            const Point<Tracked>& s = slow[k];
+            EXPECT_TRUE(same_bits(f.x.v, s.x.v) && same_bits(f.y.v, s.y.v) && same_bits(f.x.e, s.x.e) &&
+                        same_bits(f.y.e, s.y.e))
+                << "Tracked, degree " << d << ", span [" << a << ", " << b << "], point " << k << ": " << f.x.v << "+-"
+                << f.x.e << " vs " << s.x.v << "+-" << s.x.e;
+          }
+        }
+        // Rational: exactly
+        std::vector<Rational> rk(knots.begin(), knots.end());
+        std::vector<Point<Rational>> rp;
+        for (const Vec2& p : pts) rp.push_back(to_point<Rational>(p));
+        if (auto fast = bezier_span_points(rk, rp, d, j, Rational(a), Rational(b))) {
+          ++answered;
+          const std::vector<Point<Rational>> slow = blossomed(rk, rp, d, j, Rational(a), Rational(b));
+          for (int k = 0; k <= d; ++k) EXPECT_TRUE((*fast)[k].x == slow[k].x && (*fast)[k].y == slow[k].y);
+        }
+      }
+  EXPECT_GT(answered, 1000);
+  EXPECT_EQ(integer_answered, integer_cases);  // a font's data always takes the shortcut
+  EXPECT_GT(integer_cases, 0);
+}
+
+/// Not a Bezier span (a uniform cubic's inner span): no shortcut.
+TEST(BezierSpanPoints, LeaveOtherSpansToTheBlossom) {
+  const std::vector<double> knots = {0, 1, 2, 3, 4, 5, 6, 7};
+  const std::vector<Vec2> pts = {{0, 0}, {1, 2}, {3, 3}, {4, 0}, {6, 1}, {7, 3}};
+  for (int j = 2; j <= 4; ++j) EXPECT_FALSE(bezier_span_points(knots, pts, 3, j, knots[j], knots[j + 1]));
+  const std::vector<double> clamped = {0, 0, 0, 1, 1, 1, 2, 2};  // span 2 = [0, 1] is Bezier, span 3 is empty
+  EXPECT_TRUE(bezier_span_points(clamped, pts, 3, 2, 0.0, 1.0));
 }
 
 }  // namespace
