@@ -15,17 +15,15 @@ import statistics
 import subprocess
 import sys
 
+from region_cells import DEFAULT_CELLS
+
 if len(sys.argv) < 3:
     sys.stderr.write("usage: region_ab.py OLD_BIN NEW_BIN [rounds] [reps] [cell ...]\n")
     sys.exit(2)
 OLD, NEW = sys.argv[1], sys.argv[2]
 ROUNDS = int(sys.argv[3]) if len(sys.argv) > 3 else 5
 REPS = sys.argv[4] if len(sys.argv) > 4 else "30"
-CELLS = sys.argv[5:] or [
-    "P1 whole region 10 1024", "P1 10x wider 10 1024", "P1 4e-4 zoom 10 1024",
-    "P3 whole region 10 1024", "P3 10x wider 16 512", "P3 4e-4 zoom 10 1024",
-    "P4 whole region 10 1024", "P4 10x wider 10 1024", "P4 4e-4 zoom 10 512", "P4 4e-4 zoom 16 1024",
-]
+CELLS = sys.argv[5:] or DEFAULT_CELLS
 LINE = re.compile(r"\s*(.*?)\s+cmr CPU\s+([\d.]+) ms wall\s+([\d.]+) ms CPU")
 
 cpu = collections.defaultdict(list)

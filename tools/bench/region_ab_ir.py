@@ -19,17 +19,15 @@ import re
 import subprocess
 import sys
 
+from region_cells import DEFAULT_CELLS
+
 if len(sys.argv) < 3:
     sys.stderr.write("usage: region_ab_ir.py OLD_BIN NEW_BIN [K] [cell ...]\n")
     sys.exit(2)
 OLD, NEW = sys.argv[1], sys.argv[2]
 K = int(sys.argv[3]) if len(sys.argv) > 3 else 3
 R = 1
-CELLS = sys.argv[4:] or [
-    "P1 whole region 10 1024", "P1 10x wider 10 1024", "P1 4e-4 zoom 10 1024",
-    "P3 whole region 10 1024", "P3 10x wider 16 512", "P3 4e-4 zoom 10 1024",
-    "P4 whole region 10 1024", "P4 10x wider 10 1024", "P4 4e-4 zoom 10 512", "P4 4e-4 zoom 16 1024",
-]
+CELLS = sys.argv[4:] or DEFAULT_CELLS
 FIELDS = {"Ir": r"I\s+refs:\s+([\d,]+)", "D1": r"D1\s+misses:\s+([\d,]+)", "LL": r"LL misses:\s+([\d,]+)"}
 
 
