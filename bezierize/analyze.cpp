@@ -114,7 +114,13 @@ EndTerms<T> end_curvature(const BSpline& spline, const Segment& s, int side) {
     out = end_terms<T>(q[0], q[1], q[2]);
   } else {
     Point<T> q[3];
-    for (int k = 0; k < 3; ++k) q[k] = blossom_span(w.knots, w.points, d, w.span, args(k).data());
+    // A Bezier span's Bezier points are its control points where that is
+    // bit for bit the blossom (values and Tracked bounds: bezier_span_points).
+    const std::optional<std::vector<Point<T>>> b =
+        d >= 2 ? bezier_span_points(w.knots, w.points, d, w.span, T(s.a), T(s.b)) : std::nullopt;
+    for (int k = 0; k < 3; ++k)
+      q[k] = b ? (*b)[static_cast<std::size_t>(side == 0 ? k : d - k)]
+               : blossom_span(w.knots, w.points, d, w.span, args(k).data());
     out = end_terms<T>(q[0], q[1], q[2]);
   }
   if (side == 1) out.A = T(0) - out.A;

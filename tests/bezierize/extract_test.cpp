@@ -136,14 +136,16 @@ namespace cmr {
 namespace {
 
 /// The blossom's Bezier points, always evaluated (bezier_points without its
-/// shortcut), for comparing bit for bit.
+/// shortcut), for comparing bit for bit. B_k = f(a^{d-k}, b^k) with the a's
+/// first (bezier_points' order), or with `b_first` the b's first (the order
+/// analyze's end curvature reads a segment from its end b).
 template <class S, class P>
 std::vector<P> blossomed(const std::vector<S>& knots, const std::vector<P>& points, int d, int j, const S& a,
-                         const S& b) {
+                         const S& b, bool b_first = false) {
   std::vector<P> out;
   std::vector<S> args(d);
   for (int k = 0; k <= d; ++k) {
-    for (int i = 0; i < d; ++i) args[i] = i < d - k ? a : b;
+    for (int i = 0; i < d; ++i) args[i] = b_first ? (i < k ? b : a) : (i < d - k ? a : b);
     out.push_back(blossom_span(knots, points, d, j, args.data()));
   }
   return out;
@@ -196,14 +198,16 @@ TEST(BezierSpanPoints, EqualTheBlossomBitForBitWhereTheyAnswer) {
         if (auto fast = bezier_span_points(tk, tp, d, j, Tracked(a), Tracked(b))) {
           ++answered;
           if (integer && integer_knots) ++integer_answered;
-          const std::vector<Point<Tracked>> slow = blossomed(tk, tp, d, j, Tracked(a), Tracked(b));
-          for (int k = 0; k <= d; ++k) {
-            const Point<Tracked>& f = (*fast)[k];
-            const Point<Tracked>& s = slow[k];
-            EXPECT_TRUE(same_bits(f.x.v, s.x.v) && same_bits(f.y.v, s.y.v) && same_bits(f.x.e, s.x.e) &&
-                        same_bits(f.y.e, s.y.e))
-                << "Tracked, degree " << d << ", span [" << a << ", " << b << "], point " << k << ": " << f.x.v << "+-"
-                << f.x.e << " vs " << s.x.v << "+-" << s.x.e;
+          for (const bool b_first : {false, true}) {
+            const std::vector<Point<Tracked>> slow = blossomed(tk, tp, d, j, Tracked(a), Tracked(b), b_first);
+            for (int k = 0; k <= d; ++k) {
+              const Point<Tracked>& f = (*fast)[k];
+              const Point<Tracked>& s = slow[k];
+              EXPECT_TRUE(same_bits(f.x.v, s.x.v) && same_bits(f.y.v, s.y.v) && same_bits(f.x.e, s.x.e) &&
+                          same_bits(f.y.e, s.y.e))
+                  << "Tracked, degree " << d << ", span [" << a << ", " << b << "], point " << k
+                  << (b_first ? " (b first)" : "") << ": " << f.x.v << "+-" << f.x.e << " vs " << s.x.v << "+-" << s.x.e;
+            }
           }
         }
         // Rational: exactly
