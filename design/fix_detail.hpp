@@ -8,8 +8,10 @@
 #include <functional>
 #include <limits>
 #include <set>
+#include <span>
 #include <vector>
 
+#include "bezierize/classify.hpp"
 #include "bezierize/extract.hpp"
 #include "bezierize/lambda.hpp"
 #include "design/fix.hpp"
@@ -117,8 +119,19 @@ struct LocalJudge {
         if (!std::isfinite(kl) || !std::isfinite(kr)) return true;
         return std::abs(kl - kr) > tol * std::max(std::abs(kl), std::abs(kr));
       }
-      default:
+      default: {
+        // A Bezier window (every piece of a font contour): its control points
+        // are its Bezier points exactly, and classify_bezier decides them
+        // (a-priori bounded doubles, then error-bounded, then exact) without
+        // blossoming them in error-bounded arithmetic first. Both certify
+        // Algorithm 1's exact verdict, so the answer is the same.
+        if (!s.is_rational() && bezier_window(s, seg)) {
+          const std::size_t first = static_cast<std::size_t>(seg.span - s.degree() + 1);
+          const std::span<const Vec2> points(s.points().data() + first, static_cast<std::size_t>(s.degree()) + 1);
+          return !monotone_class(classify_bezier(points, {max_depth, false}));
+        }
         return !segment_poles(s, seg).empty() || !monotone_class(classify_segment(s, seg, {max_depth, false}));
+      }
     }
   }
 };
