@@ -350,9 +350,11 @@ struct StartSigns {
 /// One segment's report: its Bezier points, class, and the roots of lambda
 /// and eta. Most segments' lambda or eta has coefficients of one certain
 /// sign, so no root; the error-bounded points show that without rational
-/// arithmetic, and only the others are formed exactly.
+/// arithmetic, and only the others are formed exactly. Without
+/// `inflections`, eta is left out (no inflections, eta_zero false, start
+/// sign 0): the extrema alone.
 SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, const SegmentShape& shape,
-                       const RootOptions& roots, ExactPoints& exact, StartSigns& start) {
+                       const RootOptions& roots, ExactPoints& exact, StartSigns& start, bool inflections = true) {
   const Segment& s = spline.segments()[i];
   SpanReport span{s, {}, {}, c, shape, false, false, {}, {}};
   // lambda and eta (for a rational spline: lambda and D of rational_lambda.hpp).
@@ -381,7 +383,7 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
     const auto B = segment_bezier_points<Tracked>(spline, s);
     for (const Point<Tracked>& p : B) span.bezier.push_back({p.x.v, p.y.v});
     lambda_b = to_bounded(lambda_bernstein<Tracked>(B));
-    eta_b = to_bounded(eta_bernstein<Tracked>(B));
+    if (inflections) eta_b = to_bounded(eta_bernstein<Tracked>(B));
     lambda_exact = [&] { return lambda_bernstein<Rational>(exact(i)); };
     eta_exact = [&] { return eta_bernstein<Rational>(exact(i)); };
     kappa_at = [&](const Rational& u) { return exact_kappa(exact(i), u); };
@@ -401,7 +403,9 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
         out = fast_span_roots(*r, s, B, kappa_at);
         return true;
       };
-      const bool e = fast(eta_b, span.eta_zero, start.eta, span.inflections);
+      // Without inflections (segment_extrema_count) eta is not looked at:
+      // lambda alone gives the extrema (a straight segment's lambda is 0).
+      const bool e = !inflections || fast(eta_b, span.eta_zero, start.eta, span.inflections);
       // eta certainly the zero polynomial (a straight segment): so is
       // lambda = eta' g - (3/2) eta g', whatever bounds its doubles carry.
       bool l = true;
@@ -434,8 +438,8 @@ SpanReport span_report(const BSpline& spline, int i, const SegmentClass& c, cons
     start.lambda = sign_at_start(lambda);
     span.extrema = span_roots(lambda, s, kappa_at, roots);
   }
-  start.eta = fast ? strict_sign(eta_b) : 0;
-  if (start.eta == 0) {
+  start.eta = fast && inflections ? strict_sign(eta_b) : 0;
+  if (start.eta == 0 && inflections) {
     const Bernstein<Rational> eta = eta_exact();
     span.eta_zero = is_zero(eta);
     start.eta = sign_at_start(eta);
@@ -560,6 +564,51 @@ std::string pole_message(const SpanReport& span) {
   out << "segment " << span.segment.index << " has a pole at t≈";
   for (std::size_t k = 0; k < span.shape.poles.size(); ++k) out << (k ? ", " : "") << span.shape.poles[k];
   return out.str();
+}
+
+std::optional<int> segment_extrema_count(const BSpline& spline, const ReportOptions& options) {
+  if (spline.is_rational() || spline.closed() || spline.segment_count() != 1) return std::nullopt;
+  // report_spline's parts that curvature-extrema-at-nodes reads on one
+  // segment: its extrema (span_report's lambda, find_events) and, when it has
+  // any, whether its curvature is near constant (curvature_range, which reads
+  // the segment's shape: a cusp has no curvature range). Algorithm 1 and 2,
+  // the joints (there are none) and eta are not needed. A polynomial segment
+  // has no pole, so the shape is needed for its cusp alone.
+  //
+  // Where lambda changes sign does not depend on how narrowly its roots are
+  // enclosed, so they are first isolated alone (enclosure width 1), and
+  // refined to options.roots only where the extrema's curvatures can matter:
+  // the segment is near constant only when its curvature range, which
+  // contains the two end curvatures, is within the tolerance
+  // (turning_deviation grows with the range).
+  const Segment& seg = spline.segments()[0];
+  SplineReport r;
+  r.spline = spline;
+  ExactPoints exact(spline);
+  std::vector<StartSigns> start(1);
+  RootOptions isolated = options.roots;
+  isolated.tolerance = 1;
+  r.spans.push_back(span_report(spline, 0, SegmentClass{}, SegmentShape{}, isolated, exact, start[0], false));
+  find_events(r, start);
+  if (r.extrema.empty()) return 0;
+  const double k0 = certified_end_curvature(spline, seg, 0), k1 = certified_end_curvature(spline, seg, 1);
+  const double ends = turning_deviation(std::min(k0, k1), std::max(k0, k1), polygon_length(bezier_segment(spline, seg).points));
+  const auto inside = [&r] {
+    return static_cast<int>(std::count_if(r.extrema.begin(), r.extrema.end(), [&](const CurveEvent& e) {
+      return e.segment >= 0 && !r.spans[static_cast<std::size_t>(e.segment)].near_constant;
+    }));
+  };
+  if (ends > options.constant_tolerance) return inside();  // near_constant is false
+  r.spans.clear();
+  r.extrema.clear();
+  r.inflections.clear();
+  r.spans.push_back(span_report(spline, 0, SegmentClass{}, SegmentShape{}, options.roots, exact, start[0], false));
+  find_events(r, start);
+  r.analysis.shapes = {segment_shape(spline, seg)};
+  r.analysis.cusp = r.analysis.shapes[0].cusp;
+  r.spans[0].shape = r.analysis.shapes[0];
+  curvature_range(r, options.constant_tolerance);
+  return inside();
 }
 
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {

@@ -261,6 +261,14 @@ ReportInput read_input(const std::string& file);
 /// report_batch: report -> gates -> fixes). Throws InputError when the
 /// options do not fit the spline (a split joint it does not have).
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options);
+/// The curvature extrema that curvature-extrema-at-nodes finds on a spline
+/// of one segment (open, polynomial): as many as the gate's violations on
+/// judged_report(spline, judge_only(options, that gate)), computed from the
+/// parts of the model the gate reads (lambda's certified roots, and the
+/// segment's curvature range when it has an extremum), without Algorithm 1
+/// and 2 or the inflections. The severity search's judge of an extremum
+/// (report/severity.cpp). nullopt for any other spline.
+std::optional<int> segment_extrema_count(const BSpline& spline, const ReportOptions& options);
 /// Fills report.fixes for a failing spline (renders one region per control point).
 void find_fixes(SplineReport& report, const ReportOptions& options);
 

@@ -61,7 +61,8 @@ BSpline window(const BSpline& spline, int first, int count) {
 /// with `first` >= 0 judged on the window of the place alone (its segment,
 /// or the two segments meeting at its joint, starting at segment `first`):
 /// the gate reads a segment's extrema from that segment and a joint's
-/// curvatures from its two sides.
+/// curvatures from its two sides. An extremum gate on a segment's window
+/// counts the extrema alone (segment_extrema_count: the same number).
 int violations_at(const BSpline& spline, const ReportOptions& judge, const GateViolation& place, int first) {
   try {
     GateViolation here = place;
@@ -71,6 +72,11 @@ int violations_at(const BSpline& spline, const ReportOptions& judge, const GateV
       if (place.segment >= 0) here.segment = 0;
       else here.joint = 1;
       w = window(spline, first, place.segment >= 0 ? 1 : 2);
+      const Gate& gate = judge.gates[0];
+      const bool extrema = gate.kind == Gate::Kind::extrema_at_nodes || gate.kind == Gate::Kind::max_extrema_per_segment;
+      if (place.segment >= 0 && extrema)
+        if (const std::optional<int> count = segment_extrema_count(*w, judge))
+          return gate.kind == Gate::Kind::extrema_at_nodes ? *count : (*count > gate.max_extrema ? 1 : 0);
     }
     const SplineReport r = judged_report(w ? *w : spline, judge);
     return static_cast<int>(std::count_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),

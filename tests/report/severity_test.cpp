@@ -11,6 +11,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "io/font.hpp"
 #include "io/ufo.hpp"
@@ -262,6 +266,68 @@ TEST(Severity, WhereNoPointOfTheFindingMayMoveItHasNoneNotZero) {
     EXPECT_FALSE(v.info);
   }
   EXPECT_FALSE(r.pass);
+}
+
+
+/// The severity search's judge of an extremum (segment_extrema_count) must
+/// count what the gate finds on the one-segment window, judged by the whole
+/// report machinery: random Bezier segments of degrees 2-5 on integer
+/// coordinates (with polar knots a^d b^d, as a window of a contour has),
+/// straight ones, cusps (interior and at an end), exact circle-like arcs,
+/// and near-constant tolerances from the default to a large one, which
+/// exempts extrema that the default counts.
+TEST(Severity, TheExtremumJudgeCountsWhatTheGateFindsOnTheWindow) {
+  std::mt19937 rng(20261203);
+  auto coord = [&](int range) { return static_cast<double>(static_cast<int>(rng() % (2 * range + 1)) - range); };
+  std::vector<std::vector<Vec2>> shapes = {
+      {{0, 0}, {1, 1}, {0, 1}, {1, 0}},                  // a cusp at t = 1/2
+      {{0, 0}, {0, 0}, {100, 50}, {200, 0}},             // P' = 0 at the start
+      {{0, 0}, {100, 0}, {200, 0}, {300, 0}},            // straight
+      {{0, 0}, {100, 0}, {50, 0}, {300, 0}},             // straight, turning back
+      {{1000, 0}, {1000, 552}, {552, 1000}, {0, 1000}},  // a quarter circle, nearly
+      {{0, 0}, {0, 55}, {45, 100}, {100, 100}},
+      {{0, 0}, {50, 100}, {100, 0}},
+  };
+  for (int trial = 0; trial < 1500; ++trial) {
+    const int d = 2 + static_cast<int>(rng() % 4);
+    std::vector<Vec2> pts;
+    const int range = trial % 3 == 0 ? 10 : 1000;
+    for (int i = 0; i <= d; ++i) pts.push_back({coord(range), coord(range)});
+    if (trial % 7 == 0) pts[1] = pts[0];  // a zero end tangent
+    shapes.push_back(std::move(pts));
+  }
+  const std::vector<double> tolerances = {kDefaultConstantTolerance, 1e-3, 0.05, 10};
+  int with_extrema = 0, exempt = 0, compared = 0;
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    const int d = static_cast<int>(shapes[k].size()) - 1;
+    const double a = static_cast<double>(static_cast<int>(rng() % 9)), b = a + 1 + static_cast<double>(rng() % 3);
+    std::vector<double> knots(static_cast<std::size_t>(d), a);
+    knots.insert(knots.end(), static_cast<std::size_t>(d), b);
+    const BSpline w = BSpline::make(d, knots, shapes[k], "w" + std::to_string(k));
+    for (const double tolerance : tolerances) {
+      ReportOptions o;
+      parse_require_list("curvature-extrema-at-nodes", o);
+      o.constant_tolerance = tolerance;
+      const ReportOptions judge = judge_only(o, o.gates[0]);
+      const SplineReport r = judged_report(w, judge);
+      const int expected = static_cast<int>(std::count_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
+                                                          [](const GateViolation& v) { return v.segment == 0; }));
+      const std::optional<int> got = segment_extrema_count(w, judge);
+      ASSERT_TRUE(got.has_value());
+      EXPECT_EQ(*got, expected) << "shape " << k << ", degree " << d << ", tolerance " << tolerance;
+      ++compared;
+      with_extrema += expected > 0;
+      exempt += expected == 0 && !r.extrema.empty();
+    }
+  }
+  EXPECT_GT(compared, 6000);
+  EXPECT_GT(with_extrema, 1000);  // not all trivially 0
+  EXPECT_GT(exempt, 50);          // the near-constant exemption was exercised
+  // Not for more than one segment, a closed or a rational spline.
+  ReportOptions o;
+  parse_require_list("curvature-extrema-at-nodes", o);
+  EXPECT_FALSE(segment_extrema_count(BSpline::make(3, {0, 0, 0, 1, 2, 2, 2}, {{0, 0}, {1, 2}, {3, 3}, {4, 0}, {6, 1}}), o));
+  EXPECT_FALSE(segment_extrema_count(BSpline::bezier({{0, 0}, {1, 2}, {3, 3}}, "", {1, 2, 1}), o));
 }
 
 }  // namespace
