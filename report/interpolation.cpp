@@ -130,7 +130,8 @@ G1Between g1_between(const NodeTangents& t, const Rational& tan_turn) {
   return out;
 }
 
-std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]) {
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
+                                        bool in_fixed, bool out_fixed) {
   using I = long long;
   constexpr double kMax = 1e15;  // integers a double and a long long both hold, with room for products
   for (int m = 0; m < 2; ++m)
@@ -161,9 +162,18 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
   const I common = std::gcd(b->alpha, b->beta), p = b->alpha / common, q = b->beta / common;
   auto cost = [&](I k) { return std::llabs(p * k - a->alpha) + std::llabs(q * k - a->beta); };
   I best = 0;
-  for (const I k0 : {a->alpha / p, a->beta / q})
-    for (const I k : {k0, k0 + 1})
-      if (k >= 1 && (best == 0 || cost(k) < cost(best))) best = k;
+  if (in_fixed || out_fixed) {
+    // A side that is a line keeps its length: k is the one that side has
+    // (alpha = p k, or beta = q k), when it is an integer.
+    const I fixed = in_fixed ? a->alpha : a->beta, unit = in_fixed ? p : q;
+    if (fixed % unit != 0) return std::nullopt;
+    best = fixed / unit;
+    if (in_fixed && out_fixed && q * best != a->beta) return std::nullopt;
+  } else {
+    for (const I k0 : {a->alpha / p, a->beta / q})
+      for (const I k : {k0, k0 + 1})
+        if (k >= 1 && (best == 0 || cost(k) < cost(best))) best = k;
+  }
   const double len = std::hypot(static_cast<double>(a->gx), static_cast<double>(a->gy));
   const Vec2 g{static_cast<double>(a->gx), static_cast<double>(a->gy)};
   out.in_handle = node[0] - static_cast<double>(p * best) * g;
@@ -206,13 +216,14 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
     if (!g[m].error.empty()) throw InputError(path + ": " + g[m].error);
     if (g[m].contours.size() != g[0].contours.size()) throw InputError(path + ": " + glyph + ": incompatible masters");
   }
-  // A node with a handle on each side: its position, handles, and their source points, per master; and
-  // whether it is marked smooth there.
+  // A node with a handle or a line on each side: its position, handles (on a line's side: the line's other
+  // end, which stays), and their source points, per master; and whether it is marked smooth there.
   struct Node {
     int contour = 0, node = 0, in = 0, out = 0;  // Contour::index and source points
     std::string name;
     std::vector<Vec2> p, h_in, h_out;
     std::vector<bool> smooth;
+    bool in_line = false, out_line = false;  // that side is a line: its end never moves
   };
   std::vector<Node> nodes;
   for (std::size_t c = 0; c < g[0].contours.size(); ++c) {
@@ -222,12 +233,24 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
       if (a.font_point != b.font_point || a.node != b.node || a.spline.degree() != b.spline.degree())
         throw InputError(path + ": " + glyph + ": incompatible masters (contour " + std::to_string(a.index) + ")");
     }
-    if (a.spline.degree() != 3) continue;  // quadratic sources: not taken yet
     const int count = static_cast<int>(a.node.size());
+    // The point that gives a node's tangent on one side (step -1 or +1): its handle, or where that side is a
+    // line (the next point a node, or a line's added inner point) the line's other end, a node that stays.
+    auto side = [&](int i, int step, bool& line) {
+      const int j = (i + step + count) % count;
+      line = a.node[j] || a.font_point[j] < 0;
+      if (!line) return j;
+      int k = j;
+      while (!a.node[k] && k != i) k = (k + step + count) % count;
+      return k;
+    };
     for (int i = 0; i < count; ++i) {
-      const int prev = (i + count - 1) % count, next = (i + 1) % count;
-      if (!a.node[i] || a.node[prev] || a.node[next] || a.font_point[prev] < 0 || a.font_point[next] < 0) continue;
-      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}, {}};
+      if (!a.node[i] || a.font_point[i] < 0 || (!a.spline.closed() && (i == 0 || i == count - 1))) continue;
+      bool in_line = false, out_line = false;
+      const int prev = side(i, -1, in_line), next = side(i, 1, out_line);
+      if (prev == i || next == i || a.font_point[prev] < 0 || a.font_point[next] < 0) continue;
+      Node node{a.index, a.font_point[i], a.font_point[prev], a.font_point[next], a.point_names[i], {}, {}, {}, {},
+                in_line, out_line};
       for (std::size_t m = 0; m < n; ++m) {
         const auto& marks = g[m].point_smooth;
         const int fp = a.font_point[i];
@@ -285,7 +308,7 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
           if ((a != m && b != m) || !judged(k, a, b)) continue;
           const std::size_t o = a == m ? b : a;
           const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
-          const std::optional<G1NodeFix> f = g1_between_fix(p, in, out);
+          const std::optional<G1NodeFix> f = g1_between_fix(p, in, out, k.in_line, k.out_line);
           if (!f || (chosen && chosen->distance <= f->distance)) continue;
           Node trial = k;
           trial.h_in[m] = f->in_handle;
@@ -318,7 +341,8 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
   if (best.distance < 0)
     throw InputError(path + ": " + unfixable +
                      ": no move of its handles on the integer grid in one master makes it G1 between the masters "
-                     "(off the grid, its tangents reverse, or masters on both sides of it need other handle ratios)");
+                     "(off the grid, its tangents reverse, masters on both sides of it need other handle ratios, or "
+                     "a line beside it, whose length stays, leaves no grid length for its handle)");
   return best;
 }
 

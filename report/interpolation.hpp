@@ -132,8 +132,13 @@ struct G1NodeFix {
 };
 /// node, in_handle, out_handle: at the master whose handles move ([0]) and
 /// at the other ([1]). A node already G1 between them: its handles
-/// unmoved, distance 0. Not yet taken by `cmr fix` (a designspace).
-std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
+/// unmoved, distance 0. `in_fixed` / `out_fixed`: that side is a line (its
+/// "handle" is the line's other end, a node that stays), so its length is
+/// kept: k = alpha / p (beta / q) when that is an integer, else nullopt;
+/// only the other handle moves. Both fixed: only an already proportional
+/// node passes.
+std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
+                                        bool in_fixed = false, bool out_fixed = false);
 
 /// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
 /// (two masters or more in their UFOs' default layers, cubic outlines): on

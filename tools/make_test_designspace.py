@@ -39,6 +39,17 @@ designspaceLib, as a designer's tools would):
   three_fixable.designspace Regular (handles 1:2), Medium (1:3, as in
                             three) and BoldProportional (1:2): a kink on both
                             pieces, fixed by moving Medium's handles alone.
+  lineside.designspace      glyph "O" whose smooth node p0 has a line before
+                            it (from the node L = -3u) and a handle after it:
+                            line 300 : handle 200 at Regular, 90 : 120 units
+                            of (2, 1) at Bold, a kink between; only the
+                            handle may move (the line stays a line).
+  lineside_odd.designspace  the same with Bold's line 7 units of (2, 1): no
+                            handle on the integer grid in either master
+                            makes the node G1 throughout.
+  quadratic.designspace     kink's glyph drawn with TrueType quadratics
+                            (qcurve, an implied on-curve point between each
+                            two off-curve points): the same kink at p0.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -83,6 +94,51 @@ def glyph_o(font, m, extra=False, line=None):
     pen.addPoint(m["k"])
     pen.addPoint((-m["u"][0], -m["u"][1]))
     pen.endPath()
+
+
+def glyph_lineside(font, m, line_end, other):
+    """Node p0 at (0, 0), smooth, with a line from `line_end` into it and
+    the handle m["v"] out of it (then m["h"], m["b"], m["k"], `other`)."""
+    g = font.newGlyph("O")
+    g.unicodes = [ord("O")]
+    g.width = 600
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint((0, 0), segmentType="line", smooth=True)
+    pen.addPoint(m["v"])
+    pen.addPoint(m["h"])
+    pen.addPoint(m["b"], segmentType="curve")
+    pen.addPoint(m["k"])
+    pen.addPoint(other)
+    pen.addPoint(line_end, segmentType="curve")
+    pen.endPath()
+
+
+def glyph_quadratic(font, m):
+    """glyph_o's points as one TrueType contour: p0 (0, 0) an on-curve
+    qcurve point, smooth, between the off-curve points -u and v; b on-curve;
+    implied on-curve points halfway between v and h and between k and -u."""
+    g = font.newGlyph("O")
+    g.unicodes = [ord("O")]
+    g.width = 600
+    pen = g.getPointPen()
+    pen.beginPath()
+    pen.addPoint((0, 0), segmentType="qcurve", smooth=True)
+    pen.addPoint(m["v"])
+    pen.addPoint(m["h"])
+    pen.addPoint(m["b"], segmentType="qcurve")
+    pen.addPoint(m["k"])
+    pen.addPoint((-m["u"][0], -m["u"][1]))
+    pen.endPath()
+
+
+def plain_ufo(path, style, draw):
+    f = ufoLib2.Font()
+    f.info.familyName = "Interp Test"
+    f.info.styleName = style
+    f.info.unitsPerEm = 1000
+    draw(f)
+    f.save(path, overwrite=True)
 
 
 # The bump piece at both masters (tests/bezierize/between_exact.py's cubic_bump, times 50).
@@ -165,6 +221,17 @@ def main():
     designspace(out, "three_fixable", "BoldProportional.ufo", medium="Medium.ufo")
     designspace(out, "zeroline", "LineBold.ufo", regular="LineRegular.ufo")
     designspace(out, "zeroline_proportional", "LineBoldProportional.ufo", regular="LineRegular.ufo")
+    plain_ufo(os.path.join(out, "LinesideRegular.ufo"), "Regular",
+              lambda f: glyph_lineside(f, REGULAR, (-300, 0), (-300, 100)))
+    plain_ufo(os.path.join(out, "LinesideBold.ufo"), "Bold",
+              lambda f: glyph_lineside(f, BOLD_KINK, (-180, -90), (-300, 0)))
+    plain_ufo(os.path.join(out, "LinesideOddBold.ufo"), "Bold",
+              lambda f: glyph_lineside(f, BOLD_KINK, (-14, -7), (-300, 0)))
+    designspace(out, "lineside", "LinesideBold.ufo", regular="LinesideRegular.ufo")
+    designspace(out, "lineside_odd", "LinesideOddBold.ufo", regular="LinesideRegular.ufo")
+    plain_ufo(os.path.join(out, "QuadRegular.ufo"), "Regular", lambda f: glyph_quadratic(f, REGULAR))
+    plain_ufo(os.path.join(out, "QuadBold.ufo"), "Bold", lambda f: glyph_quadratic(f, BOLD_KINK))
+    designspace(out, "quadratic", "QuadBold.ufo", regular="QuadRegular.ufo")
 
 
 if __name__ == "__main__":

@@ -173,6 +173,51 @@ TEST(G1BetweenFix, SmallestGridMoveInOneMasterMakesTheNodeG1Throughout) {
   EXPECT_EQ(same->in_handle, reg[1]);
 }
 
+// A node with a line on one side (its "handle" there is the line's other end,
+// which stays): only the other handle moves, to the length that gives the
+// other master's ratio; refused when that length is not on the grid. Checked
+// against a brute force over the free handle's grid points on its tangent.
+TEST(G1BetweenFix, ALinesSideKeepsItsLengthAndTheHandleTakesTheRatio) {
+  // Regular: line from (-300, 0), handle (200, 0); Bold: line from (-180, -90), handle (240, 120).
+  const Vec2 node[2] = {{0, 0}, {0, 0}}, line[2] = {{-300, 0}, {-180, -90}}, handle[2] = {{200, 0}, {240, 120}};
+  const std::optional<G1NodeFix> f = g1_between_fix(node, line, handle, true, false);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->in_handle, Vec2(-300, 0));  // the line's end stays
+  EXPECT_EQ(f->out_handle, Vec2(400, 0));  // 300 : 400 = 90 : 120
+  EXPECT_DOUBLE_EQ(f->distance, 200);
+  // Brute force: the free handle at (b, 0), b = 1..1000, G1 throughout iff u0 x v1 + u1 x v0 == 0 (exact in doubles).
+  int passing = 0;
+  for (int b = 1; b <= 1000; ++b) {
+    const double c = 300.0 * 120 - 0.0 * 240 + 180.0 * 0 - 90.0 * b;  // (300,0)x(240,120) + (180,90)x(b,0)
+    if (c != 0) continue;
+    ++passing;
+    EXPECT_EQ(b, 400);
+  }
+  EXPECT_EQ(passing, 1);
+  // Moving Bold's handle instead: 90 : beta = 300 : 200, beta = 60 units of (2, 1).
+  const Vec2 node_b[2] = {node[1], node[0]}, line_b[2] = {line[1], line[0]}, handle_b[2] = {handle[1], handle[0]};
+  const std::optional<G1NodeFix> fb = g1_between_fix(node_b, line_b, handle_b, true, false);
+  ASSERT_TRUE(fb);
+  EXPECT_EQ(fb->out_handle, Vec2(120, 60));
+  EXPECT_NEAR(fb->distance, std::hypot(120.0, 60.0), 1e-12);
+  // The line on the outgoing side: the same by symmetry.
+  const Vec2 in_h[2] = {{-200, 0}, {-240, -120}}, line_out[2] = {{300, 0}, {180, 90}};
+  const std::optional<G1NodeFix> fo = g1_between_fix(node, in_h, line_out, false, true);
+  ASSERT_TRUE(fo);
+  EXPECT_EQ(fo->in_handle, Vec2(-400, 0));
+  EXPECT_EQ(fo->out_handle, Vec2(300, 0));
+  // Bold's line 7 units of (2, 1): 300 * 120 / 7 and 7 * 200 / 300 are no integers: refused both ways.
+  const Vec2 odd[2] = {{-300, 0}, {-14, -7}}, odd_b[2] = {odd[1], odd[0]};
+  EXPECT_FALSE(g1_between_fix(node, odd, handle, true, false));
+  EXPECT_FALSE(g1_between_fix(node_b, odd_b, handle_b, true, false));
+  // Lines on both sides: only a node already G1 throughout passes (unmoved).
+  EXPECT_FALSE(g1_between_fix(node, line, handle, true, true));
+  const Vec2 prop[2] = {{200, 0}, {120, 60}};
+  const std::optional<G1NodeFix> both = g1_between_fix(node, line, prop, true, true);
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->distance, 0.0);
+}
+
 TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
   const std::optional<Gate> g = parse_gate("g1-between-masters");
   ASSERT_TRUE(g);

@@ -238,6 +238,50 @@ with tempfile.TemporaryDirectory() as tmp:
     check("fix, three masters: exact Fractions find no kink afterwards, and cmr report exits 0",
           kinks3(tan3_after) == 0 and r.returncode == 0, r.stdout + r.stderr)
 
+    # A node with a line on one side (lineside: the line's length stays, the handle takes the other master's
+    # ratio) and a quadratic (TrueType) source: each fixed in place in one master and re-judged by cmr report
+    # (exit 0) and here in Fractions (u = node - the point before it on the contour, a line's other end or a
+    # handle; v = the point after it - node: collinear at both masters and u0 x v1 + u1 x v0 == 0). Until 3 Dec
+    # cmr fix skipped such nodes and said "0 kinks" where the report found one. lineside_odd: no grid length of
+    # the handle in either master: refused in one line.
+    def g1_through(ufos):
+        tans = []
+        for ufo in ufos:
+            pts = ufoLib2.Font.open(ufo)["O"].contours[0].points
+            xy = [(Fraction(pt.x), Fraction(pt.y)) for pt in pts]
+            node, before, after = xy[0], xy[-1], xy[1]
+            tans.append(((node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])))
+        cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
+        (u0, v0), (u1, v1) = tans
+        return cross(u0, v0) == 0 and cross(u1, v1) == 0 and cross(u0, v1) + cross(u1, v0) == 0
+
+    for name, ufos, moved in [("lineside", ("LinesideRegular.ufo", "LinesideBold.ufo"), ("Bold", [120.0, 60.0])),
+                              ("quadratic", ("QuadRegular.ufo", "QuadBold.ufo"), ("Regular", [-50.0, 0.0]))]:
+        d = os.path.join(tmp, "fix_" + name)
+        os.makedirs(d)
+        for u in ufos:
+            shutil.copytree(os.path.join(tmp, u), os.path.join(d, u))
+        shutil.copy(os.path.join(tmp, name + ".designspace"), d)
+        dsn = os.path.join(d, name + ".designspace")
+        before_ok = g1_through([os.path.join(d, u) for u in ufos])
+        r0 = run(dsn, *g1, "--out", os.path.join(d, "qa0"))
+        p = subprocess.run([CMR, "fix", dsn, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
+                           capture_output=True, text=True, timeout=120)
+        doc = json.loads(p.stdout) if p.returncode == 0 else {}
+        r = run(dsn, *g1, "--out", os.path.join(d, "qa"))
+        check("fix, %s: a kink before (report exit 1, Fractions), one handle moved in %s to %s on the grid, "
+              "re-judged 1 -> 0; cmr report exits 0 and Fractions find it G1 throughout" % (name, moved[0], moved[1]),
+              r0.returncode == 1 and not before_ok and p.returncode == 0 and doc.get("master") == moved[0] and
+              [m["to"] for m in doc.get("moves", [])] == [moved[1]] and
+              doc.get("rejudged") == [{"check": "g1-between-masters", "before": 1, "after": 0}] and
+              r.returncode == 0 and g1_through([os.path.join(d, u) for u in ufos]),
+              r0.stdout + p.stdout + p.stderr + r.stdout + r.stderr)
+    p = subprocess.run([CMR, "fix", os.path.join(tmp, "lineside_odd.designspace"), "--glyph", "O", "--require",
+                        "g1-between-masters"], capture_output=True, text=True, timeout=120)
+    lines = errors(p)
+    check("fix, lineside_odd: no grid length for the handle beside the line in either master: exit 2, one line",
+          p.returncode == 2 and len(lines) == 1 and "a line beside it" in lines[0], p.stdout + p.stderr)
+
     # The finding through the report machinery: SARIF on the default master's <point> line of the node.
     sarif = os.path.join(tmp, "kink.sarif")
     p = run(os.path.join(tmp, "kink.designspace"), *g1, "--out", os.path.join(tmp, "kink_sarif"), "--sarif", sarif)
