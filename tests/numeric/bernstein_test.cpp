@@ -20,6 +20,10 @@ TEST(Bernstein, BinomialIsExactFor128Bits) {
   EXPECT_EQ(static_cast<unsigned long long>(binomial(53, 26)), 973469712824056ULL);
   // C(120, 60) = 9.66...e34; check it against the recurrence C(n,k) = C(n-1,k-1) + C(n-1,k).
   EXPECT_TRUE(binomial(120, 60) == binomial(119, 59) + binomial(119, 60));
+  // Pascal's rule across the looked-up rows (n < 33) and the computed ones.
+  for (int n = 1; n <= 40; ++n)
+    for (int k = 0; k <= n; ++k) EXPECT_TRUE(binomial(n, k) == binomial(n - 1, k - 1) + binomial(n - 1, k)) << n << " " << k;
+  EXPECT_TRUE(binomial(32, 16) == Int128(601080390));
 }
 
 TEST(Bernstein, ProductIsPointwiseProduct) {
