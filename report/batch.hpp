@@ -33,6 +33,13 @@ ReportOptions judge_only(const ReportOptions& options, const std::optional<Gate>
 /// report_spline, then judge_gates: one spline's report with its gates (no
 /// fixes). Throws InputError as report_spline.
 SplineReport judged_report(const BSpline& spline, const ReportOptions& options);
+/// judged_report for a judge that reads the gates (and the joints, spans and
+/// events they are made of), not the segments' classes: without a
+/// requirement and without the each-piece gate, the only readers of
+/// Algorithm 1 and 2, those are not run (report_spline(..., false)), and the
+/// gates' violations and verdicts are judged_report's. The search judges of
+/// the severity, the glyph fix and the certified fixes.
+SplineReport gate_report(const BSpline& spline, const ReportOptions& options);
 
 /// The most control points a spline may have for its fix searches
 /// (find_fixes renders one region image per control point, ~9 ms each at

@@ -152,7 +152,7 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
     q.together = q.points.size() > 1;
     q.judge = [judge](const BSpline& s) {
       try {
-        const SplineReport r = judged_report(s, judge);
+        const SplineReport r = gate_report(s, judge);
         return r.gates.empty() ? 0 : static_cast<int>(r.gates[0].violations.size());
       } catch (const InputError&) {
         return std::numeric_limits<int>::max() / 2;
@@ -184,7 +184,7 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
                   std::to_string(v.segment) + (handles.empty() ? "" : " (its handles " + handles + ")");
   }
   if (!out.found) return out;
-  const SplineReport after = judged_report(*out.fixed, judge);
+  const SplineReport after = gate_report(*out.fixed, judge);
   if (!after.gates.empty() && !after.gates[0].pass()) {
     out.found = false;
     out.reason = "the certified " + out.requirement + " fix still fails " + out.check + " when re-judged: " +

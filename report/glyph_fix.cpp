@@ -21,7 +21,7 @@ namespace {
 /// Violations of every required check, per check: the requirement (one when
 /// it fails) first, then each gate's count.
 std::vector<GateCount> judge_counts(const BSpline& s, const ReportOptions& o) {
-  const SplineReport r = judged_report(s, o);
+  const SplineReport r = gate_report(s, o);
   std::vector<GateCount> out;
   if (o.require) out.push_back({to_string(*o.require), r.requirement_pass ? 0 : 1, 0});
   for (const GateResult& g : r.gates) out.push_back({to_string(g.gate), static_cast<int>(g.violations.size()), 0});
@@ -225,7 +225,7 @@ std::optional<QuickJudge> quick_judge_of(const BSpline& s, const ReportOptions& 
       return std::nullopt;
     }
   }
-  const SplineReport r = judged_report(s, o);
+  const SplineReport r = gate_report(s, o);
   const int n = s.segment_count();
   q.g2_joint.assign(n, 0);
   q.line_start.assign(n, 0);
@@ -340,7 +340,7 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
     const BSpline s = spline_of(pts);
     if (!smooth_kept(c, s)) return std::nullopt;
     try {
-      return exact || !quick ? badness_of(judged_report(s, o), o) : quick_badness(s, *quick);
+      return exact || !quick ? badness_of(gate_report(s, o), o) : quick_badness(s, *quick);
     } catch (const InputError&) {
       return std::nullopt;
     }
@@ -463,7 +463,7 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
   if (c.spline.degree() != 2) return "";
   if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
     return "";
-  const SplineReport r = judged_report(c.spline, o);
+  const SplineReport r = gate_report(c.spline, o);
   const int n = c.spline.segment_count();
   auto is_line = [&](int i) {
     for (int k : segment_points(c.spline, c.spline.segments()[i]))
@@ -498,7 +498,7 @@ std::function<int(const BSpline&)> total_judge(const ReportOptions& oi) {
 /// fix_contour try each in turn.
 std::vector<ReportOptions> failing_checks(const BSpline& s, const ReportOptions& o) {
   std::vector<ReportOptions> out;
-  const SplineReport r = judged_report(s, o);
+  const SplineReport r = gate_report(s, o);
   if (o.require && !r.requirement_pass) {
     ReportOptions t = o;
     t.gates.clear();
@@ -529,7 +529,7 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
                                                      std::string& why) {
   const std::function<int(const BSpline&)> check_judge = total_judge(t);
   FixRequest q;
-  q.requirement = guide(t, judged_report(current, t));
+  q.requirement = guide(t, gate_report(current, t));
   q.max_depth = t.max_depth;
   q.max_seconds = left();
   q.threads = 1;

@@ -3,7 +3,7 @@
 /// FONT.ufo --glyph NAME --require GATES`, docs/fix.md "Font sources").
 ///
 /// Per contour that fails: the judge is every required check at once (the
-/// report's model and gates, judged_report: the count of violations of all
+/// report's model and gates, gate_report: the count of violations of all
 /// of them, plus one when the requirement fails), handed to fix() as its
 /// judge (FixRequest::judge) with the requirement that implies the first
 /// failing gate as the search's guide; the moves are the designer's

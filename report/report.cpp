@@ -612,10 +612,16 @@ std::optional<int> segment_extrema_count(const BSpline& spline, const ReportOpti
 }
 
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
+  return report_spline(spline, options, true);
+}
+
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options, bool classify) {
   SplineReport r;
   r.spline = spline;
   r.name = spline.name();
-  r.analysis = analyze(spline, analyze_options(options));
+  AnalyzeParts parts = default_analyze_parts();
+  if (!classify) parts.classify = [](const BSpline&, const Segment&, const ClassifyOptions&) { return SegmentClass{}; };
+  r.analysis = analyze(spline, analyze_options(options), parts);
   r.requirement_pass = passes(r.analysis, check_of(options));
   ExactPoints exact(spline);
   std::vector<StartSigns> start(spline.segment_count());

@@ -78,7 +78,7 @@ int violations_at(const BSpline& spline, const ReportOptions& judge, const GateV
         if (const std::optional<int> count = segment_extrema_count(*w, judge))
           return gate.kind == Gate::Kind::extrema_at_nodes ? *count : (*count > gate.max_extrema ? 1 : 0);
     }
-    const SplineReport r = judged_report(w ? *w : spline, judge);
+    const SplineReport r = gate_report(w ? *w : spline, judge);
     return static_cast<int>(std::count_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
                                           [&](const GateViolation& x) { return same_place(here, x); }));
   } catch (const InputError&) {

@@ -19,8 +19,10 @@
 
 #include "io/font.hpp"
 #include "io/output.hpp"
+#include "io/ufo.hpp"
 #include "report/batch.hpp"
 #include "report/corpus.hpp"
+#include "report/gates.hpp"
 #include "report/junit.hpp"
 #include "report/sarif.hpp"
 #include "spline/errors.hpp"
@@ -756,6 +758,59 @@ TEST(UnimodalRuns, ExactCasesOnQuadraticContours) {
   EXPECT_EQ(judged_report(bump(1.2), gate_options("curvature-extrema-at-nodes")).gates[0].violations.size(), 3u);
   const SplineReport sharp = judged_report(bump(3.0), o);
   EXPECT_TRUE(sharp.gates[0].pass()) << sharp.gates[0].violations.front().message;
+}
+
+
+// gate_report (the search judges' model) skips Algorithm 1 and 2 where no
+// requirement and no each-piece gate reads them: every gate's violations and
+// verdict must be judged_report's. DejaVu Sans' quadratic contours (with
+// their implied nodes) and the cubic Sans UFO, every gate that reads the
+// model's joints, spans or events; with a requirement or each-piece the
+// classes are there.
+TEST(GateReport, EveryGateJudgesAsTheFullReportDoes) {
+  std::vector<BSpline> splines;
+  for (const import::Glyph& g : import::read_ufo(fs::path(CMR_SOURCE_DIR) / "examples/ufo/Sans.ufo", {true, {}, {}}).glyphs)
+    for (const import::Contour& c : g.contours) splines.push_back(c.spline);
+  const fs::path dejavu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (fs::exists(dejavu))
+    for (const import::Glyph& g : import::read_font(dejavu, {'S', 'a', 'g', 'e', 'R', '&'}).glyphs)
+      for (const import::Contour& c : g.contours) splines.push_back(c.spline);
+  ASSERT_GT(splines.size(), 8u);
+  ReportOptions o;
+  parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes,no-inflection,xy-extrema-at-nodes,"
+                     "curvature-extrema-at-nodes:runs,max-extrema-per-segment:1,g3-at-smooth-nodes",
+                     o);
+  o.regions = false;
+  int violations = 0;
+  for (const BSpline& s : splines) {
+    const SplineReport full = judged_report(s, o), lean = gate_report(s, o);
+    ASSERT_EQ(full.gates.size(), lean.gates.size());
+    EXPECT_EQ(full.pass, lean.pass) << s.name();
+    for (std::size_t g = 0; g < full.gates.size(); ++g) {
+      ASSERT_EQ(full.gates[g].violations.size(), lean.gates[g].violations.size()) << s.name() << " " << to_string(full.gates[g].gate);
+      for (std::size_t v = 0; v < full.gates[g].violations.size(); ++v)
+        EXPECT_EQ(full.gates[g].violations[v].message, lean.gates[g].violations[v].message);
+      violations += static_cast<int>(full.gates[g].violations.size());
+    }
+    // Without a reader of the classes they are left empty (a straight
+    // segment's is written down by analyze, not classified).
+    for (std::size_t i = 0; i < lean.analysis.segments.size(); ++i)
+      EXPECT_TRUE(lean.analysis.shapes[i].straight || lean.analysis.segments[i].monotonicity.curvature == Curvature::undecided);
+  }
+  EXPECT_GT(violations, 50);
+  // A requirement, or each-piece: Algorithm 1 and 2 run, as in judged_report.
+  for (const char* require : {"cmrwi,g2-at-smooth-nodes", "each-piece"}) {
+    ReportOptions r;
+    parse_require_list(require, r);
+    r.regions = false;
+    for (const BSpline& s : splines) {
+      const SplineReport full = judged_report(s, r), lean = gate_report(s, r);
+      EXPECT_EQ(full.pass, lean.pass) << require << " " << s.name();
+      EXPECT_EQ(full.requirement_pass, lean.requirement_pass);
+      for (std::size_t i = 0; i < full.analysis.segments.size(); ++i)
+        EXPECT_EQ(full.analysis.segments[i].monotonicity.curvature, lean.analysis.segments[i].monotonicity.curvature);
+    }
+  }
 }
 
 }  // namespace
