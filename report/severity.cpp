@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -103,8 +104,12 @@ bool straight_piece(const std::vector<Vec2>& b) {
 /// B1), moved the least that puts B2 exactly on the tangent line (a free
 /// point along the line's normal; a handle of an exactly smooth node along
 /// its own tangent, so the node stays smooth), for a tangent parallel to an
-/// axis (a vertical or horizontal stem: the coordinate is then set exactly;
-/// others: none constructed). Each candidate is re-judged by the gate on the
+/// axis (a vertical or horizontal stem: the coordinate is then set exactly);
+/// for a slanted line (an italic stem), the point that is B2 itself moved
+/// to B0 + t w (w: u, or its primitive integer direction), t the multiple of
+/// 2^-20 nearest the foot of its perpendicular (exactly on the line in
+/// doubles, at most |w| 2^-21 from the foot; a smooth node's handle there is
+/// left to the search, as it would have to lie on two lines). Each candidate is re-judged by the gate on the
 /// whole spline; the least that passes. nullopt: not such a joint (the
 /// search decides); a SeverityMove without `moved`: such a joint, and no
 /// construction passes ("none found").
@@ -128,8 +133,12 @@ std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOp
   const Vec2 u = e[1] - e[0];
   if (u == Vec2(0.0)) return std::nullopt;
   SeverityMove best;
-  if (u.x != 0 && u.y != 0) return best;  // a slanted line: no exact construction
-  const int axis = u.x == 0 ? 0 : 1;      // the coordinate B2 must share with B0
+  // A slanted line: B2 goes to B0 + t u with t a multiple of 2^-20 nearest
+  // the foot of the perpendicular (exact in doubles for font coordinates),
+  // moved by a point that is B2 itself (weight 1); a smooth node's handle,
+  // which would have to meet two lines at once, is left to the search.
+  const bool slanted = u.x != 0 && u.y != 0;
+  const int axis = u.x == 0 ? 0 : 1;  // the coordinate B2 must share with B0 (axis-parallel line)
   const double limit = max_move > 0 ? max_move : curve_size(spline);
   const int m = spline.unique_point_count();
   const std::vector<Vec2>& P = spline.points();
@@ -169,6 +178,28 @@ std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOp
     const double c = probe[2].x - e[2].x;
     if (!(std::abs(c) > 1e-12)) continue;
     acts = true;
+    if (slanted) {
+      // A smooth node's handle would have to stay on its tangent too: left
+      // to the search (it may act, so the finding is not "no allowed move").
+      if (slide || c != 1 || probe[2].y - e[2].y != 1) continue;  // or B2 is not P_k itself
+      // Along the primitive direction of an integer u (so a foot on the
+      // font's grid is found exactly).
+      Vec2 w = u;
+      if (u.x == std::floor(u.x) && u.y == std::floor(u.y) && std::abs(u.x) < 0x1p52 && std::abs(u.y) < 0x1p52)
+        w = u / static_cast<double>(std::gcd(static_cast<long long>(std::abs(u.x)), static_cast<long long>(std::abs(u.y))));
+      const double foot = dot(e[2] - e[0], w) / dot(w, w);
+      const double t = std::ldexp(std::nearbyint(std::ldexp(foot, 20)), -20);
+      const Vec2 to = P[k] + (e[0] + t * w - e[2]);
+      BSpline moved = spline.with_point(k, to);
+      const std::array<Vec2, 3> f = ends(moved);
+      if (det(f[1] - f[0], f[2] - f[0]) != 0) continue;  // not exactly on the line in doubles
+      const double dist = std::hypot(to.x - P[k].x, to.y - P[k].y);
+      if (dist > limit || dist >= best.distance) continue;
+      if (violations_at(moved, judge, v, -1) != 0) continue;
+      best.distance = dist;
+      best.moved = std::move(moved);
+      continue;
+    }
     const double gap = coord(e[0], axis) - coord(e[2], axis);  // B2 must move by this along the axis
     Vec2 delta(0.0);
     if (slide) {

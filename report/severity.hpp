@@ -29,8 +29,11 @@
 /// B1, B2 exactly collinear remove it, a line no grid search hits; for a
 /// line parallel to an axis each allowed point that moves B2 alone goes
 /// there (along the normal, or along its node's tangent for a smooth node's
-/// handle), re-judged on the whole spline; no_allowed_move where no allowed
-/// point reaches B0..B2, none_found where no construction passes.
+/// handle); for a slanted line (an italic stem) the point that is B2
+/// itself, unless it is a smooth node's handle, goes to the point of the
+/// line (a multiple of 2^-20 of its primitive direction from B0) nearest
+/// its foot; each re-judged on the whole spline; no_allowed_move where no
+/// allowed point reaches B0..B2, none_found where no construction passes.
 ///
 /// Cost: each candidate is judged on a window, the violation's own segments
 /// cut out as an open spline with the same polar knots and points (the same

@@ -239,6 +239,36 @@ TEST(Severity, AJumpWhereALineMeetsACurveIsRemovedByStraighteningTheCurveNotByBe
   }
 }
 
+TEST(Severity, ASlantedLinesJumpIsRemovedByPuttingTheCurvesSecondPointOnTheLine) {
+  // The same join with an italic stem: the line (0,0) -> (10,30), direction
+  // (1,3); the curve (10,30) (20,60) (60,100) (100,100). Its start curvature
+  // is 0 only with (20,60) and P2 on the line 3x = y; (20,60) slides along
+  // it (its node is smooth) and the line may not move, so no allowed move
+  // is shorter than P2's distance to the line, |det((60,100), (1,3))| /
+  // sqrt(10) = 80 / sqrt(10) = sqrt(640), reached at the foot (36,108).
+  using T = import::OutlinePoint::Tag;
+  const std::vector<import::OutlinePoint> pts = {{{0, 0}, T::on},      {{10, 30}, T::on},    {{20, 60}, T::cubic},
+                                                 {{60, 100}, T::cubic}, {{100, 100}, T::on}, {{100, 0}, T::on}};
+  const import::Contour c = *import::outline_contour(pts, 0, 3, "t", import::PointNaming::source);
+  ReportOptions o;
+  parse_require_list("g2-at-smooth-nodes", o);
+  o.regions = false;
+  o.threads = 1;
+  const SplineReport r = judged_report(c.spline, o);
+  const auto v = std::find_if(r.gates[0].violations.begin(), r.gates[0].violations.end(),
+                              [&](const GateViolation& w) { return w.joint >= 0 && w.message.find("curvature 0 |") != std::string::npos; });
+  ASSERT_NE(v, r.gates[0].violations.end());
+  const ContourMoves moves = contour_moves(c);
+  const SeverityMove m = severity_move(c.spline, r.gates[0].gate, *v, o, moves);
+  ASSERT_TRUE(m.moved.has_value()) << v->message;
+  EXPECT_NEAR(m.distance, std::sqrt(640.0), 1e-9);
+  EXPECT_EQ(m.moved->points()[5], Vec2(36, 108));
+  expect_designer_move(c.spline, *m.moved, moves, v->message);
+  const SplineReport after = judged_report(*m.moved, judge_only(o, r.gates[0].gate));
+  EXPECT_TRUE(std::none_of(after.gates[0].violations.begin(), after.gates[0].violations.end(),
+                           [&](const GateViolation& w) { return same_place(*v, w); }));
+}
+
 TEST(Severity, WhereNoPointOfTheFindingMayMoveItHasNoneNotZero) {
   // A TrueType contour: a line (0,0) -> (0,50), a quadratic (0,50) (0,100)
   // (50,100) smooth at both ends (the line before, the line after), lines
