@@ -41,11 +41,15 @@ SplineReport judged_report(const BSpline& spline, const ReportOptions& options) 
   return r;
 }
 
-SplineReport gate_report(const BSpline& spline, const ReportOptions& options) {
+SplineReport gate_model(const BSpline& spline, const ReportOptions& options) {
   const bool classes_read =
       options.require.has_value() || options.gates.empty() ||
       std::any_of(options.gates.begin(), options.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::each_piece; });
-  SplineReport r = report_spline(spline, options, classes_read);
+  return report_spline(spline, options, classes_read);
+}
+
+SplineReport gate_report(const BSpline& spline, const ReportOptions& options) {
+  SplineReport r = gate_model(spline, options);
   judge_gates(r, options);
   return r;
 }

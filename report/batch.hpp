@@ -40,6 +40,10 @@ SplineReport judged_report(const BSpline& spline, const ReportOptions& options);
 /// gates' violations and verdicts are judged_report's. The search judges of
 /// the severity, the glyph fix and the certified fixes.
 SplineReport gate_report(const BSpline& spline, const ReportOptions& options);
+/// gate_report's model before its gates are judged (check_gates judges any
+/// of options' checks on it: a search that judges two sets of the same
+/// checks on one spline builds it once).
+SplineReport gate_model(const BSpline& spline, const ReportOptions& options);
 
 /// The most control points a spline may have for its fix searches
 /// (find_fixes renders one region image per control point, ~9 ms each at

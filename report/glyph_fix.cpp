@@ -18,15 +18,20 @@
 namespace cmr::report {
 namespace {
 
-/// Violations of every required check, per check: the requirement (one when
-/// it fails) first, then each gate's count.
-std::vector<GateCount> judge_counts(const BSpline& s, const ReportOptions& o) {
-  const SplineReport r = gate_report(s, o);
+/// Violations of every check of `t` on a model (gate_model) built with the
+/// options of a set of checks that holds t's (the same model options): the
+/// requirement (one when it fails) first, then each gate's count.
+std::vector<GateCount> counts_on(const SplineReport& model, const ReportOptions& t) {
   std::vector<GateCount> out;
-  if (o.require) out.push_back({to_string(*o.require), r.requirement_pass ? 0 : 1, 0});
-  for (const GateResult& g : r.gates) out.push_back({to_string(g.gate), static_cast<int>(g.violations.size()), 0});
+  if (t.require) out.push_back({to_string(*t.require), model.requirement_pass ? 0 : 1, 0});
+  for (const GateResult& g : check_gates(model, t.gates))
+    out.push_back({to_string(g.gate), static_cast<int>(g.violations.size()), 0});
   return out;
 }
+
+/// Violations of every required check, per check: the requirement (one when
+/// it fails) first, then each gate's count.
+std::vector<GateCount> judge_counts(const BSpline& s, const ReportOptions& o) { return counts_on(gate_model(s, o), o); }
 
 int total(const std::vector<GateCount>& counts) {
   int n = 0;
@@ -519,10 +524,11 @@ std::vector<ReportOptions> failing_checks(const BSpline& s, const ReportOptions&
 /// from `current` (design/fix.hpp with `t`'s judge), snapped to the grid
 /// when there is one; the contour it gives when every check's total falls
 /// below `current_total` and every smooth node stays exactly smooth, else
-/// nothing (and `why` says why), with its total. `off_grid` grows to the
-/// fix's distance; `left` gives the seconds left of the contour's budget.
+/// nothing (and `why` says why), with its total (every check: `o`, whose
+/// total `judge` counts). `off_grid` grows to the fix's distance; `left`
+/// gives the seconds left of the contour's budget.
 std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, const BSpline& current,
-                                                     int current_total, const ReportOptions& t,
+                                                     int current_total, const ReportOptions& t, const ReportOptions& o,
                                                      const ContourMoves& rules, const GlyphFixOptions& options,
                                                      const std::function<int(const BSpline&)>& judge,
                                                      const std::function<double()>& left, double& off_grid,
@@ -554,11 +560,17 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
     return std::nullopt;
   }
   if (options.grid > 0) {
-    // On the grid: the check passes and the total falls.
+    // On the grid: the check passes and the total falls (t's checks and
+    // all of o's judged on one model of the position).
     auto snap_judge = [&](const BSpline& s) {
-      const int own = check_judge(s);
-      if (own != 0) return own;
-      return judge(s) < current_total && smooth_kept(c, s) ? 0 : 1;
+      try {
+        const SplineReport model = gate_model(s, o);
+        const int own = total(counts_on(model, t));
+        if (own != 0) return own;
+        return total(counts_on(model, o)) < current_total && smooth_kept(c, s) ? 0 : 1;
+      } catch (const InputError&) {
+        return std::numeric_limits<int>::max() / 2;
+      }
     };
     GridOptions g;
     g.grid = options.grid;
@@ -657,7 +669,8 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     bool improved = false;
     for (const ReportOptions& t : failing_checks(current, o)) {
       if (Clock::now() >= deadline) break;
-      if (auto next = attempt_check(c, current, current_total, t, rules, options, judge, left, out.off_grid_distance, why)) {
+      if (auto next = attempt_check(c, current, current_total, t, o, rules, options, judge, left, out.off_grid_distance,
+                                    why)) {
         current = std::move(next->first);
         current_total = next->second;
         improved = true;
