@@ -107,6 +107,7 @@ def fix_part(tmp):
     print("|---|---|---|---|---|---|")
     reasons = {}
     fixed_names = {}
+    per_glyph = {}
     for name, path in FONTS.items():
         ufo = os.path.join(tmp, name.replace(" ", "") + "-AZ.ufo")
         subprocess.run(["/usr/bin/python3", MAKE, path, ufo, AZ], check=True)
@@ -128,6 +129,7 @@ def fix_part(tmp):
             if r.returncode == 0 and '"already":false' not in r.stdout:
                 continue  # passes as it is
             times.append(t)
+            per_glyph.setdefault(name, []).append((t, gname))
             if r.returncode == 0:
                 fixed += 1
                 names.append(gname)
@@ -141,6 +143,8 @@ def fix_part(tmp):
             fixed_names[name] = names
     for name, names in fixed_names.items():
         print("\nFixed in %s: %s" % (name, " ".join(names) or "none"))
+    for name, tg in per_glyph.items():
+        print("\nSeconds per glyph in %s, fastest first: %s" % (name, ", ".join("%s %.2f" % (g, t) for t, g in sorted(tg))))
     print("\nWhy not fixed (count, the reason's first words):\n")
     kinds = {}
     for why, n in reasons.items():
