@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <numbers>
 #include <numeric>
+#include <set>
 #include <tuple>
 
 #include "numeric/bernstein.hpp"
@@ -182,7 +183,78 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
   return out;
 }
 
-MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& glyph) {
+std::optional<G1NodeFix> parallel_turn_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]) {
+  using I = long long;
+  constexpr double kMax = 1e15;
+  for (int m = 0; m < 2; ++m)
+    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
+      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
+        return std::nullopt;
+  // Each handle on the ray of the other master's tangent from the node, at
+  // the grid point of it nearest where it is: N -/+ j w, w the tangent's
+  // primitive integer direction, j >= 1.
+  auto on_ray = [&](Vec2 tangent, Vec2 handle, double side) -> std::optional<Vec2> {
+    if (tangent == Vec2(0.0)) return std::nullopt;
+    const double g = static_cast<double>(std::gcd(static_cast<I>(std::abs(tangent.x)), static_cast<I>(std::abs(tangent.y))));
+    const Vec2 w = side * tangent / g;
+    const double j = std::max(1.0, std::nearbyint(dot(handle - node[0], w) / dot(w, w)));
+    return node[0] + j * w;
+  };
+  const std::optional<Vec2> in = on_ray(node[1] - in_handle[1], in_handle[0], -1);
+  const std::optional<Vec2> out = on_ray(out_handle[1] - node[1], out_handle[0], 1);
+  if (!in || !out) return std::nullopt;
+  return G1NodeFix{*in, *out,
+                   std::hypot(in->x - in_handle[0].x, in->y - in_handle[0].y) +
+                       std::hypot(out->x - out_handle[0].x, out->y - out_handle[0].y)};
+}
+
+namespace {
+
+/// g1-between-masters:DEG's gentlest family of moves: master [0]'s handles
+/// kept on their own tangents (multiples a, b of the tangents' primitive
+/// integer directions: on the grid), their lengths near master [1]'s ratio
+/// (b = a / r or a = b r, rounded both ways; a line's side keeps its
+/// length), cheapest first. Whether the turn then stays within DEG between
+/// the masters is the caller's exact judgement, candidate by candidate.
+std::vector<G1NodeFix> ratio_turn_fixes(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
+                                        bool in_fixed, bool out_fixed) {
+  using I = long long;
+  constexpr double kMax = 1e9;  // lengths' multiples stay small integers
+  for (int m = 0; m < 2; ++m)
+    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
+      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y)) return {};
+  const Vec2 um = node[0] - in_handle[0], vm = out_handle[0] - node[0];
+  const Vec2 uo = node[1] - in_handle[1], vo = out_handle[1] - node[1];
+  if (um == Vec2(0.0) || vm == Vec2(0.0) || uo == Vec2(0.0) || vo == Vec2(0.0)) return {};
+  const I gu = std::gcd(static_cast<I>(std::abs(um.x)), static_cast<I>(std::abs(um.y)));
+  const I gv = std::gcd(static_cast<I>(std::abs(vm.x)), static_cast<I>(std::abs(vm.y)));
+  const Vec2 wu = um / static_cast<double>(gu), wv = vm / static_cast<double>(gv);  // master 0's own directions
+  // a / b that gives master 1's length ratio |uo| : |vo| along wu, wv.
+  const double r = std::hypot(uo.x, uo.y) / std::hypot(vo.x, vo.y) * std::hypot(wv.x, wv.y) / std::hypot(wu.x, wu.y);
+  std::vector<G1NodeFix> out;
+  std::set<std::pair<I, I>> seen;
+  auto add = [&](I a, I b) {
+    if (a < 1 || b < 1 || (in_fixed && a != gu) || (out_fixed && b != gv) || !seen.insert({a, b}).second) return;
+    const Vec2 in = node[0] - static_cast<double>(a) * wu, o = node[0] + static_cast<double>(b) * wv;
+    out.push_back({in, o, std::hypot(in.x - in_handle[0].x, in.y - in_handle[0].y) + std::hypot(o.x - out_handle[0].x, o.y - out_handle[0].y)});
+  };
+  const I reach = 2 * std::max(gu, gv) + 4;
+  for (I a = 1; a <= reach; ++a) {
+    const double b = static_cast<double>(a) / r;
+    for (const I k : {static_cast<I>(std::floor(b)), static_cast<I>(std::ceil(b))}) add(a, k);
+  }
+  for (I b = 1; b <= reach; ++b) {
+    const double a = static_cast<double>(b) * r;
+    for (const I k : {static_cast<I>(std::floor(a)), static_cast<I>(std::ceil(a))}) add(k, b);
+  }
+  std::sort(out.begin(), out.end(), [](const G1NodeFix& x, const G1NodeFix& y) { return x.distance < y.distance; });
+  return out;
+}
+
+}  // namespace
+
+MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& glyph, double turn_degrees) {
+  const Rational T(turn_degrees > 0 ? std::tan(turn_degrees * std::numbers::pi / 180) : 0.0);
   const import::Designspace ds = import::read_designspace(path);
   std::vector<const import::Designspace::Source*> sources;
   for (const auto& src : ds.sources)
@@ -273,9 +345,11 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
   auto judged = [&](const Node& k, std::size_t a, std::size_t b) {
     if (!k.smooth[a] || !k.smooth[b]) return false;
     const NodeTangents t = tangents_of(k, a, b);
-    return g1_at(t.u0x, t.u0y, t.v0x, t.v0y) && g1_at(t.u1x, t.u1y, t.v1x, t.v1y);
+    return g1_at(t.u0x, t.u0y, t.v0x, t.v0y, T) && g1_at(t.u1x, t.u1y, t.v1x, t.v1y, T);
   };
-  auto kink = [&](const Node& k, std::size_t a, std::size_t b) { return judged(k, a, b) && !g1_between(tangents_of(k, a, b)).holds; };
+  auto kink = [&](const Node& k, std::size_t a, std::size_t b) {
+    return judged(k, a, b) && !g1_between(tangents_of(k, a, b), T).holds;
+  };
   auto kinks = [&](const std::vector<Node>& all) {
     int count = 0;
     for (const Node& k : all)
@@ -308,15 +382,34 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
           if ((a != m && b != m) || !judged(k, a, b)) continue;
           const std::size_t o = a == m ? b : a;
           const Vec2 p[2] = {k.p[m], k.p[o]}, in[2] = {k.h_in[m], k.h_in[o]}, out[2] = {k.h_out[m], k.h_out[o]};
-          const std::optional<G1NodeFix> f = g1_between_fix(p, in, out, k.in_line, k.out_line);
-          if (!f || (chosen && chosen->distance <= f->distance)) continue;
-          Node trial = k;
-          trial.h_in[m] = f->in_handle;
-          trial.h_out[m] = f->out_handle;
-          bool holds = true;
-          for (const auto& [x, y] : pieces)
-            if ((x == m || y == m) && kink(trial, x, y)) holds = false;
-          if (holds) chosen = f;
+          // Exactly G1 throughout; with :DEG also m's handles parallel to o's
+          // in o's ratio (the turn then is o's at every location).
+          // Exactly G1 throughout; with :DEG also m's own tangents in o's
+          // length ratio (the turn stays near the masters'), and m's handles
+          // on o's tangents (the turn is o's throughout). Tried cheapest
+          // first, each judged exactly on every piece with m.
+          std::vector<G1NodeFix> candidates;
+          if (const std::optional<G1NodeFix> f = g1_between_fix(p, in, out, k.in_line, k.out_line)) candidates.push_back(*f);
+          if (T > 0) {
+            for (const G1NodeFix& f : ratio_turn_fixes(p, in, out, k.in_line, k.out_line)) candidates.push_back(f);
+            if (!k.in_line && !k.out_line)
+              if (const std::optional<G1NodeFix> f = parallel_turn_fix(p, in, out)) candidates.push_back(*f);
+          }
+          std::stable_sort(candidates.begin(), candidates.end(),
+                           [](const G1NodeFix& x, const G1NodeFix& y) { return x.distance < y.distance; });
+          for (const G1NodeFix& f : candidates) {
+            if (chosen && chosen->distance <= f.distance) break;
+            Node trial = k;
+            trial.h_in[m] = f.in_handle;
+            trial.h_out[m] = f.out_handle;
+            bool holds = true;
+            for (const auto& [x, y] : pieces)
+              if ((x == m || y == m) && kink(trial, x, y)) holds = false;
+            if (holds) {
+              chosen = f;
+              break;
+            }
+          }
         }
       if (!chosen) {
         if (unfixable.empty()) unfixable = k.name;

@@ -168,7 +168,18 @@ struct MastersG1Fix {
   int kinks_before = 0, kinks_after = 0;
   double distance = 0;  ///< total move
 };
-MastersG1Fix fix_g1_between_masters(const std::string& designspace, const std::string& glyph);
+MastersG1Fix fix_g1_between_masters(const std::string& designspace, const std::string& glyph, double turn_degrees = 0);
+
+/// g1-between-masters:DEG's other family of moves (fix_g1_between_masters
+/// with turn_degrees > 0): each of master [0]'s handles moved onto the ray
+/// of master [1]'s tangent from the node, H_in = N - a w_u, H_out = N + b w_v
+/// (w: the tangent's primitive integer direction, so the points stay on the
+/// grid; a, b >= 1 the grid points nearest the handles). Then u(s) =
+/// ((1 - s) a' + s) u1 and v(s) = ((1 - s) b' + s) v1 with positive factors
+/// at every location s, so the node's turn is master [1]'s throughout:
+/// within DEG when it is so there. nullopt: coordinates not integers, a zero
+/// tangent.
+std::optional<G1NodeFix> parallel_turn_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]);
 
 /// The violations of g1-between-masters on one contour's report (its
 /// motions: SplineReport::motions); none without motions. turn_degrees:

@@ -150,10 +150,11 @@ void stage_source_copy(const std::string& src_text, const std::string& out, cons
 void run_masters_fix(const std::string& file, const std::string& glyph, const std::string& require,
                      const std::string& out, bool in_place, bool pretty) {
   if (glyph.empty()) throw InputError(file + ": a designspace; name the glyph with --glyph NAME");
-  if (require != "g1-between-masters")
-    throw InputError(file + ": a designspace is fixed for --require g1-between-masters (other gates: cmr fix MASTER.ufo)");
+  const std::optional<report::Gate> gate = report::parse_gate(require);
+  if (!gate || gate->kind != report::Gate::Kind::g1_between_masters)
+    throw InputError(file + ": a designspace is fixed for --require g1-between-masters[:DEG] (other gates: cmr fix MASTER.ufo)");
   if (in_place && !out.empty()) throw InputError("--in-place and --out: choose one");
-  const report::MastersG1Fix f = report::fix_g1_between_masters(file, glyph);
+  const report::MastersG1Fix f = report::fix_g1_between_masters(file, glyph, gate->turn_degrees);
   if (f.kinks_after != 0)
     throw InputError(file + ": " + glyph + ": the moves leave " + std::to_string(f.kinks_after) + " kinks (not certified)");
   Json moves = Json::array();
@@ -165,7 +166,7 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
   Json doc = {{"file", file},     {"glyph", glyph},       {"require", require},
               {"master", f.master}, {"ufo", f.ufo},       {"moves", moves},
               {"distance", f.distance},
-              {"rejudged", Json::array({{{"check", "g1-between-masters"}, {"before", f.kinks_before}, {"after", f.kinks_after}}})}};
+              {"rejudged", Json::array({{{"check", report::to_string(*gate)}, {"before", f.kinks_before}, {"after", f.kinks_after}}})}};
   OutputSet outputs;
   const std::string text = read_input_file(f.glif);
   const std::string changed = f.edits.empty() ? text : import::rewrite_glif_points(text, f.edits, f.glif);

@@ -276,6 +276,44 @@ with tempfile.TemporaryDirectory() as tmp:
               doc.get("rejudged") == [{"check": "g1-between-masters", "before": 1, "after": 0}] and
               r.returncode == 0 and g1_through([os.path.join(d, u) for u in ufos]),
               r0.stdout + p.stdout + p.stderr + r.stdout + r.stderr)
+    # g1-between-masters:1 fixed (rounded: off G1 at the masters by rounding, 19 degrees between): handles move in
+    # one master on the grid; cmr report :1 exits 0 afterwards, and here exactly: with c = u x v and d = u . v
+    # (quadratics in s), T d - c >= 0 and T d + c >= 0 on [0, 1] (at both ends and at each vertex inside).
+    d1 = os.path.join(tmp, "fix_rounded")
+    os.makedirs(d1)
+    for u in ("RoundedRegular.ufo", "RoundedBold.ufo"):
+        shutil.copytree(os.path.join(tmp, u), os.path.join(d1, u))
+    shutil.copy(os.path.join(tmp, "rounded.designspace"), d1)
+    dsr = os.path.join(d1, "rounded.designspace")
+    p = subprocess.run([CMR, "fix", dsr, "--glyph", "O", "--require", "g1-between-masters:1", "--in-place"],
+                       capture_output=True, text=True, timeout=120)
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    r = run(dsr, "--require", "g1-between-masters:1", "--out", os.path.join(d1, "qa"))
+
+    def node_uv(ufo):
+        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+        node, before, after = pts[0], pts[-1], pts[1]
+        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
+    (ua, va), (ub, vb) = node_uv(os.path.join(d1, "RoundedRegular.ufo")), node_uv(os.path.join(d1, "RoundedBold.ufo"))
+
+    def within(sign):  # T d(s) - sign c(s) >= 0 on [0, 1], exactly
+        def f(s):
+            u = [ua[i] + s * (ub[i] - ua[i]) for i in (0, 1)]
+            v = [va[i] + s * (vb[i] - va[i]) for i in (0, 1)]
+            return T * (u[0] * v[0] + u[1] * v[1]) - sign * (u[0] * v[1] - u[1] * v[0])
+        f0, fh, f1 = f(Fraction(0)), f(Fraction(1, 2)), f(Fraction(1))
+        a2 = 2 * (f0 - 2 * fh + f1)  # f(s) = a2 s^2 + a1 s + f0
+        a1 = f1 - f0 - a2
+        vertex = -a1 / (2 * a2) if a2 != 0 else None
+        return f0 >= 0 and f1 >= 0 and (vertex is None or not (0 < vertex < 1) or f(vertex) >= 0)
+
+    check("fix, g1-between-masters:1 (rounded): handles on the grid in one master, re-judged 1 -> 0; cmr report :1 "
+          "exits 0 and exactly the turn stays within 1 degree at every location",
+          p.returncode == 0 and doc.get("rejudged") == [{"check": "g1-between-masters:1", "before": 1, "after": 0}] and
+          all(float(v).is_integer() for m in doc.get("moves", []) for v in m["to"]) and r.returncode == 0 and
+          within(1) and within(-1), p.stdout + p.stderr + r.stdout + r.stderr)
+
     p = subprocess.run([CMR, "fix", os.path.join(tmp, "lineside_odd.designspace"), "--glyph", "O", "--require",
                         "g1-between-masters"], capture_output=True, text=True, timeout=120)
     lines = errors(p)

@@ -3,8 +3,7 @@
 exact arithmetic (issue 37 item 3; the table in docs/interpolation.md).
 
     /usr/bin/python3 tools/bench/midway_compare.py [--cmr build/tools/cmr]
-        [--inter /usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf]
-        [--pictures docs/img]
+        [--font FONT.ttf ... | --no-font] [--pictures docs/img]
 
 For each case (a two-master designspace written into a temporary folder by
 tools/make_test_designspace.py's writers, glyph "O", node p0 at (0, 0) with
@@ -29,8 +28,9 @@ after) - p0 at each master), it runs
     largest turn between.
 
 It prints the Markdown table (one row per case: what each tool says, the
-exact answer, who is right), then, with --inter, the same three on a
-variable font's real masters: every on-curve node with an off-curve
+exact answer, who is right), then (unless --no-font) the same three on a
+variable font's real masters (--font, repeatable; Debian's Inter roman and
+italic by default): every on-curve node with an off-curve
 neighbour of its Latin letters, on each piece between adjacent masters.
 --pictures DIR draws each case (both masters and the worst instance, the
 node's tangents) as DIR/midway_CASE.svg. Exit 1 when cmr's answer differs
