@@ -218,6 +218,27 @@ TEST(G1BetweenFix, ALinesSideKeepsItsLengthAndTheHandleTakesTheRatio) {
   EXPECT_EQ(both->distance, 0.0);
 }
 
+// g1-between-masters:DEG's tangent-ray family: each handle of master 0 on the
+// ray of master 1's tangent (the grid point nearest it); the turn is then
+// master 1's at every location, so within 1 degree when it is so there.
+TEST(G1BetweenFix, HandlesOnTheOtherMastersTangentsKeepItsTurnThroughout) {
+  const Vec2 node[2] = {{0, 0}, {0, 0}}, in[2] = {{-100, 0}, {-100, -100}}, out[2] = {{300, 1}, {50, 51}};
+  const std::optional<G1NodeFix> f = parallel_turn_fix(node, in, out);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->in_handle, Vec2(-50, -50));  // nearest multiple of (1, 1) to (-100, 0): 50
+  EXPECT_EQ(f->out_handle, Vec2(150, 153));  // round(15051 / 5101) = 3 times (50, 51)
+  EXPECT_NEAR(f->distance, std::hypot(50.0, 50.0) + std::hypot(150.0, 152.0), 1e-9);
+  const Rational T(std::tan(std::numbers::pi / 180));
+  auto tangents = [&](Vec2 in0, Vec2 out0) {
+    return NodeTangents{Rational(-in0.x), Rational(-in0.y), Rational(100), Rational(100),
+                        Rational(out0.x), Rational(out0.y), Rational(50), Rational(51)};
+  };
+  EXPECT_FALSE(g1_between(tangents(in[0], out[0]), T).holds);  // 19 degrees between before
+  EXPECT_TRUE(g1_between(tangents(f->in_handle, f->out_handle), T).holds);
+  const Vec2 frac[2] = {{-100.5, 0}, in[1]};
+  EXPECT_FALSE(parallel_turn_fix(node, frac, out));  // off the grid: refused
+}
+
 TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
   const std::optional<Gate> g = parse_gate("g1-between-masters");
   ASSERT_TRUE(g);
