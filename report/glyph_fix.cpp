@@ -486,6 +486,75 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
   return "";
 }
 
+/// A cubic contour's smooth join J of a line and a curve piece S = (J, H1,
+/// H2, F) under g2-at-smooth-nodes and an extremum gate (curvature-extrema-
+/// at-nodes, or max-extrema-per-segment:0) together, where F is an exactly
+/// smooth node whose tangent is square to the line: no move of the designer's
+/// (report/contour_moves.hpp) passes both, so the search is not started.
+/// The moves keep J (a line's end) and the line, H1 on the line (J stays
+/// smooth, H1 never passes J), and F's tangent direction (F's group
+/// translates, its handles slide), so g2 at J, which needs S's end
+/// curvature exactly 0 (the line's), puts H2 where the two lines cross.
+/// Then, in coordinates with J at 0, the line along y and F's tangent along
+/// x: J = (0, 0), H1 = (0, a) with a > 0, H2 = (0, c), F = (b, c) with
+/// b != 0 (F's handle cannot reach F), so x = b t^3 and
+///   det(P', P'') = -18 b t (a (1 - 2t) + c t),
+/// and the curvature kappa = det / |P'|^3 is 0 at t = 0. If c <= a, the
+/// linear factor vanishes at some t0 in (0, 1] and kappa is 0 at both ends
+/// of (0, t0) and not between: an extremum inside. If c > a, kappa keeps one
+/// sign on (0, 1], and with N = t (a (1 - 2t) + c t), D = |P'|^2 (D(1) =
+/// 9 b^2, D'(1) = 36 b^2), d|kappa|/dt at t = 1 has the sign of N'(1) D(1)
+/// - 3/2 N(1) D'(1) = 9 b^2 (3a - 4c) < 0: |kappa| rises from 0 and falls
+/// at the end, so it peaks inside. Either way the piece has a curvature
+/// extremum strictly inside; its turning deviation is at least pi/4 (the
+/// piece turns 90 degrees), above any constant tolerance below 0.5, so the
+/// gate counts it. Checked in exact integer arithmetic (font units); the
+/// join's name, or "" when there is none. Test:
+/// GlyphFix.ALineJoinSquareToItsFarTangentIsRefusedWithBothGates.
+std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
+  const BSpline& s = c.spline;
+  if (s.degree() != 3 || s.is_rational() || !s.closed() || !(o.constant_tolerance < 0.5)) return "";
+  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
+  });
+  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes ||
+           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
+  });
+  if (!g2 || !extrema) return "";
+  const std::vector<Vec2>& P = s.points();
+  const int m = static_cast<int>(c.node.size());
+  if (m < 6 || static_cast<int>(c.font_point.size()) != m) return "";
+  // Font units: integers, small enough that the products below are exact.
+  const auto grid = [](Vec2 p) {
+    return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
+  };
+  const auto at = [&](int k) { return ((k % m) + m) % m; };
+  const auto real_handle = [&](int k) { return !c.node[at(k)] && c.font_point[at(k)] >= 0; };
+  for (int j = 0; j < m; ++j) {
+    if (!c.node[j] || c.font_point[j] < 0) continue;
+    for (const int dir : {1, -1}) {
+      // S on side dir: J, H1, H2, F; the line on the other side (its added
+      // inner point next to J), ending at the node L.
+      const int h1 = at(j + dir), h2 = at(j + 2 * dir), f = at(j + 3 * dir), before = at(j - dir);
+      if (!real_handle(h1) || !real_handle(h2) || !c.node[f] || c.node[before] || c.font_point[before] >= 0) continue;
+      int l = before;
+      while (!c.node[l] && l != j) l = at(l - dir);
+      if (l == j) continue;
+      const int next = at(f + dir);
+      if (!grid(P[j]) || !grid(P[l]) || !grid(P[h1]) || !grid(P[h2]) || !grid(P[f]) || !grid(P[next])) continue;
+      const Vec2 u = P[j] - P[l], e = P[h1] - P[j];  // the line's direction into J, J's handle
+      if (det(u, e) != 0 || !(dot(u, e) > 0)) continue;  // J exactly smooth
+      // F exactly smooth: its tangent d, and the point after it on the same line, in the same direction.
+      const Vec2 d = P[f] - P[h2], after = P[next] - P[f];
+      if (d == Vec2(0.0) || det(d, after) != 0 || !(dot(d, after) > 0)) continue;
+      if (dot(e, d) != 0) continue;  // F's tangent square to the line
+      return j < static_cast<int>(c.point_names.size()) ? c.point_names[j] : "P" + std::to_string(j);
+    }
+  }
+  return "";
+}
+
 /// The total count of violations of every check in `oi` (a spline that
 /// cannot be judged counts as very many).
 std::function<int(const BSpline&)> total_judge(const ReportOptions& oi) {
@@ -640,6 +709,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     out.reason = why.append(join).append(
         " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
         "piece has only when straight, so no move of the points passes (add an on-curve point, or accept the jump)");
+    return out;
+  }
+  if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    out.reason = why.append(join).append(
+        " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
+        "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
+        "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
     return out;
   }
   BSpline current = c.spline;

@@ -33,7 +33,12 @@
 /// source while everything passes. A local search: passing, not nearest.
 /// A quadratic contour's smooth line-to-curve join under g2 cannot pass
 /// (a quadratic's end curvature is 0 only when it is straight): said at
-/// once. Time: GlyphFixOptions::glyph_seconds per glyph.
+/// once. Nor can a cubic's, under g2 and the extremum gate together, where
+/// the curve's far node is exactly smooth with a tangent square to the line
+/// (g2 puts the second handle at the lines' crossing, and such a cubic has
+/// a curvature extremum inside: derived in glyph_fix.cpp,
+/// square_cubic_line_join): said at once too. Time:
+/// GlyphFixOptions::glyph_seconds per glyph.
 #include <string>
 #include <vector>
 

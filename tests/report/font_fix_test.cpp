@@ -5,6 +5,8 @@
 // the original. Each fix is re-judged here from the JSON alone.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -12,6 +14,10 @@
 
 #include "design/fix.hpp"
 #include "io/font.hpp"
+#include "report/batch.hpp"
+#include "report/gates.hpp"
+#include "report/glyph_fix.hpp"
+#include "report/report.hpp"
 #include "tests/cli_util.hpp"
 
 namespace cmr {
@@ -147,6 +153,61 @@ TEST(FontFix, NoFixesSearchesNone) {
   const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
   for (const auto& s : doc["splines"]) EXPECT_FALSE(s.contains("certified_fixes")) << s["name"];
   EXPECT_EQ(test::slurp(out / "font.html").find("class=\"fixed\""), std::string::npos);
+}
+
+
+// The glyph fix refuses at once, with a proof, a smooth line-to-cubic join
+// whose far node's tangent is square to the line when g2 and the extrema
+// gate are both required (report/glyph_fix.cpp, square_cubic_line_join):
+// Nimbus Sans' n (its inner arch: the stem's top p3, the arch's top p6 with
+// a horizontal tangent). With g2 alone it is not refused that way. And the
+// derivation behind it, checked by the report's own extremum count: every
+// cubic J = (0, 0), H1 = (0, a), H2 = (0, c), F = (b, c) with a > 0, b != 0
+// has a curvature extremum strictly inside (any c).
+TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
+  using T = import::OutlinePoint::Tag;
+  const std::vector<std::pair<Vec2, T>> n = {
+      {{70, 524}, T::on},     {{70, 0}, T::on},       {{154, 0}, T::on},      {{154, 289}, T::on},
+      {{154, 396}, T::cubic}, {{210, 466}, T::cubic}, {{296, 466}, T::on},    {{362, 466}, T::cubic},
+      {{404, 426}, T::cubic}, {{404, 363}, T::on},    {{404, 0}, T::on},      {{487, 0}, T::on},
+      {{487, 396}, T::on},    {{487, 483}, T::cubic}, {{422, 539}, T::cubic}, {{321, 539}, T::on},
+      {{243, 539}, T::cubic}, {{193, 509}, T::cubic}, {{147, 436}, T::on},    {{147, 524}, T::on}};
+  std::vector<import::OutlinePoint> pts;
+  for (const auto& [p, tag] : n) pts.push_back({p, tag});
+  import::Glyph g;
+  g.name = "n";
+  g.contours.push_back(*import::outline_contour(pts, 0, 3, "n", import::PointNaming::source));
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<report::ContourFix> both = report::fix_glyph(g, o);
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_FALSE(both[0].fixed);
+  EXPECT_NE(both[0].reason.find("square to the line"), std::string::npos) << both[0].reason;
+  EXPECT_NE(both[0].reason.find("n/c0/p3"), std::string::npos) << both[0].reason;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);  // no search
+  report::GlyphFixOptions g2 = o;
+  g2.judge = {};
+  report::parse_require_list("g2-at-smooth-nodes", g2.judge);
+  g2.judge.regions = false;
+  g2.glyph_seconds = 1;
+  for (const report::ContourFix& f : report::fix_glyph(g, g2))
+    EXPECT_EQ(f.reason.find("square to the line"), std::string::npos) << f.reason;
+  // The derivation: an extremum inside for every a > 0, b != 0 and c.
+  report::ReportOptions judge;
+  report::parse_require_list("curvature-extrema-at-nodes", judge);
+  int checked = 0;
+  for (const double a : {1.0, 7.0, 40.0, 100.0, 333.0})
+    for (const double c : {-200.0, -13.0, 0.0, 1.0, 7.0, 40.0, 55.0, 100.0, 400.0})
+      for (const double b : {-300.0, -2.0, 3.0, 50.0, 1000.0}) {
+        const BSpline piece = BSpline::bezier({{0, 0}, {0, a}, {0, c}, {b, c}});
+        const std::optional<int> count = report::segment_extrema_count(piece, report::judge_only(judge, judge.gates[0]));
+        ASSERT_TRUE(count.has_value());
+        EXPECT_GE(*count, 1) << "a " << a << ", c " << c << ", b " << b;
+        ++checked;
+      }
+  EXPECT_EQ(checked, 225);
 }
 
 }  // namespace
