@@ -131,14 +131,24 @@ G1Between g1_between(const NodeTangents& t, const Rational& tan_turn) {
   return out;
 }
 
+namespace {
+
+/// Every point of both masters an integer below `limit` in magnitude: font
+/// units a double and a long long hold exactly (the grid moves' domain).
+bool grid_points(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2], double limit) {
+  for (int m = 0; m < 2; ++m)
+    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
+      if (!(std::abs(p.x) < limit && std::abs(p.y) < limit) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
+        return false;
+  return true;
+}
+
+}  // namespace
+
 std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
                                         bool in_fixed, bool out_fixed) {
   using I = long long;
-  constexpr double kMax = 1e15;  // integers a double and a long long both hold, with room for products
-  for (int m = 0; m < 2; ++m)
-    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
-      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
-        return std::nullopt;
+  if (!grid_points(node, in_handle, out_handle, 1e15)) return std::nullopt;  // room for products
   // u = alpha g, v = beta g at each master (g primitive), or nullopt.
   struct Split {
     I gx, gy, alpha, beta;
@@ -185,11 +195,7 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
 
 std::optional<G1NodeFix> parallel_turn_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2]) {
   using I = long long;
-  constexpr double kMax = 1e15;
-  for (int m = 0; m < 2; ++m)
-    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
-      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y))
-        return std::nullopt;
+  if (!grid_points(node, in_handle, out_handle, 1e15)) return std::nullopt;
   // Each handle on the ray of the other master's tangent from the node, at
   // the grid point of it nearest where it is: N -/+ j w, w the tangent's
   // primitive integer direction, j >= 1.
@@ -219,10 +225,7 @@ namespace {
 std::vector<G1NodeFix> ratio_turn_fixes(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
                                         bool in_fixed, bool out_fixed) {
   using I = long long;
-  constexpr double kMax = 1e9;  // lengths' multiples stay small integers
-  for (int m = 0; m < 2; ++m)
-    for (const Vec2 p : {node[m], in_handle[m], out_handle[m]})
-      if (!(std::abs(p.x) < kMax && std::abs(p.y) < kMax) || p.x != std::floor(p.x) || p.y != std::floor(p.y)) return {};
+  if (!grid_points(node, in_handle, out_handle, 1e9)) return {};  // lengths' multiples stay small integers
   const Vec2 um = node[0] - in_handle[0], vm = out_handle[0] - node[0];
   const Vec2 uo = node[1] - in_handle[1], vo = out_handle[1] - node[1];
   if (um == Vec2(0.0) || vm == Vec2(0.0) || uo == Vec2(0.0) || vo == Vec2(0.0)) return {};

@@ -77,12 +77,18 @@ USER = (400, 700)
 DESIGN = (40, 120)
 
 
-def glyph_o(font, m, extra=False, line=None):
+def o_pen(font):
+    """A new glyph "O" (width 600) of `font`, its point pen with a path begun."""
     g = font.newGlyph("O")
     g.unicodes = [ord("O")]
     g.width = 600
     pen = g.getPointPen()
     pen.beginPath()
+    return pen
+
+
+def glyph_o(font, m, extra=False, line=None):
+    pen = o_pen(font)
     pen.addPoint((0, 0), segmentType="curve", smooth=m.get("smooth", True))
     pen.addPoint(m["v"])
     pen.addPoint(m["h"])
@@ -99,11 +105,7 @@ def glyph_o(font, m, extra=False, line=None):
 def glyph_lineside(font, m, line_end, other):
     """Node p0 at (0, 0), smooth, with a line from `line_end` into it and
     the handle m["v"] out of it (then m["h"], m["b"], m["k"], `other`)."""
-    g = font.newGlyph("O")
-    g.unicodes = [ord("O")]
-    g.width = 600
-    pen = g.getPointPen()
-    pen.beginPath()
+    pen = o_pen(font)
     pen.addPoint((0, 0), segmentType="line", smooth=True)
     pen.addPoint(m["v"])
     pen.addPoint(m["h"])
@@ -118,11 +120,7 @@ def glyph_quadratic(font, m):
     """glyph_o's points as one TrueType contour: p0 (0, 0) an on-curve
     qcurve point, smooth, between the off-curve points -u and v; b on-curve;
     implied on-curve points halfway between v and h and between k and -u."""
-    g = font.newGlyph("O")
-    g.unicodes = [ord("O")]
-    g.width = 600
-    pen = g.getPointPen()
-    pen.beginPath()
+    pen = o_pen(font)
     pen.addPoint((0, 0), segmentType="qcurve", smooth=True)
     pen.addPoint(m["v"])
     pen.addPoint(m["h"])

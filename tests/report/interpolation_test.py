@@ -129,23 +129,29 @@ with tempfile.TemporaryDirectory() as tmp:
     import shutil
     import ufoLib2
 
+    def copy_family(folder, designspace, ufos):
+        """The fixture's designspace and its master UFOs copied into tmp/folder; the copy's path."""
+        d = os.path.join(tmp, folder)
+        os.makedirs(d)
+        for u in ufos:
+            shutil.copytree(os.path.join(tmp, u), os.path.join(d, u))
+        shutil.copy(os.path.join(tmp, designspace), d)
+        return os.path.join(d, designspace)
+
+    def o_tangents(ufo):
+        """Glyph O's node p0 in `ufo`, exactly: u = p0 - the point before it, v = the point after it - p0."""
+        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
+        node, before, after = pts[0], pts[-1], pts[1]
+        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+
     fixdir = os.path.join(tmp, "fixdir")
-    os.makedirs(fixdir)
-    for name in ("Regular.ufo", "Bold.ufo"):
-        shutil.copytree(os.path.join(tmp, name), os.path.join(fixdir, name))
-    shutil.copy(os.path.join(tmp, "kink.designspace"), fixdir)
-    ds = os.path.join(fixdir, "kink.designspace")
+    ds = copy_family("fixdir", "kink.designspace", ("Regular.ufo", "Bold.ufo"))
 
     def fix(*args):
         return subprocess.run([CMR, "fix", ds, "--glyph", "O", *args], capture_output=True, text=True, timeout=120)
 
     def exact_g1_throughout(reg, bold):
-        def tangents(ufo):
-            pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
-            node, before, after = pts[0], pts[-1], pts[1]
-            return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
-
-        (u0, v0), (u1, v1) = tangents(reg), tangents(bold)
+        (u0, v0), (u1, v1) = o_tangents(reg), o_tangents(bold)
         cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
         return cross(u0, v0) == 0 and cross(u1, v1) == 0 and cross(u0, v1) + cross(u1, v0) == 0
 
@@ -187,19 +193,12 @@ with tempfile.TemporaryDirectory() as tmp:
     # More than two masters (three_fixable: Regular 1:2, Medium 1:3, Bold 1:2, a kink on both pieces): the
     # smallest total grid move in one master, against a brute force over every master and every grid point
     # pair on its node's tangent line (handles alpha g, beta g, 1 <= alpha, beta <= 200), exact Fractions.
-    fixdir3 = os.path.join(tmp, "fix3")
-    os.makedirs(fixdir3)
-    for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo"):
-        shutil.copytree(os.path.join(tmp, u), os.path.join(fixdir3, u))
-    shutil.copy(os.path.join(tmp, "three_fixable.designspace"), fixdir3)
-    ds3 = os.path.join(fixdir3, "three_fixable.designspace")
+    ds3 = copy_family("fix3", "three_fixable.designspace", ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo"))
+    fixdir3 = os.path.dirname(ds3)
     names3 = ["Regular", "Medium", "Bold"]
     ufos3 = [os.path.join(fixdir3, u) for u in ("Regular.ufo", "Medium.ufo", "BoldProportional.ufo")]
 
-    def node_tangents(ufo):
-        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
-        node, before, after = pts[0], pts[-1], pts[1]
-        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
+    node_tangents = o_tangents
 
     cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
     pieces3 = [(0, 1), (1, 2)]  # adjacent masters along Weight
@@ -244,26 +243,11 @@ with tempfile.TemporaryDirectory() as tmp:
     # handle; v = the point after it - node: collinear at both masters and u0 x v1 + u1 x v0 == 0). Until 3 Dec
     # cmr fix skipped such nodes and said "0 kinks" where the report found one. lineside_odd: no grid length of
     # the handle in either master: refused in one line.
-    def g1_through(ufos):
-        tans = []
-        for ufo in ufos:
-            pts = ufoLib2.Font.open(ufo)["O"].contours[0].points
-            xy = [(Fraction(pt.x), Fraction(pt.y)) for pt in pts]
-            node, before, after = xy[0], xy[-1], xy[1]
-            tans.append(((node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])))
-        cross = lambda a, b: a[0] * b[1] - a[1] * b[0]
-        (u0, v0), (u1, v1) = tans
-        return cross(u0, v0) == 0 and cross(u1, v1) == 0 and cross(u0, v1) + cross(u1, v0) == 0
-
     for name, ufos, moved in [("lineside", ("LinesideRegular.ufo", "LinesideBold.ufo"), ("Bold", [120.0, 60.0])),
                               ("quadratic", ("QuadRegular.ufo", "QuadBold.ufo"), ("Regular", [-50.0, 0.0]))]:
-        d = os.path.join(tmp, "fix_" + name)
-        os.makedirs(d)
-        for u in ufos:
-            shutil.copytree(os.path.join(tmp, u), os.path.join(d, u))
-        shutil.copy(os.path.join(tmp, name + ".designspace"), d)
-        dsn = os.path.join(d, name + ".designspace")
-        before_ok = g1_through([os.path.join(d, u) for u in ufos])
+        dsn = copy_family("fix_" + name, name + ".designspace", ufos)
+        d = os.path.dirname(dsn)
+        before_ok = exact_g1_throughout(*[os.path.join(d, u) for u in ufos])
         r0 = run(dsn, *g1, "--out", os.path.join(d, "qa0"))
         p = subprocess.run([CMR, "fix", dsn, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
                            capture_output=True, text=True, timeout=120)
@@ -274,28 +258,19 @@ with tempfile.TemporaryDirectory() as tmp:
               r0.returncode == 1 and not before_ok and p.returncode == 0 and doc.get("master") == moved[0] and
               [m["to"] for m in doc.get("moves", [])] == [moved[1]] and
               doc.get("rejudged") == [{"check": "g1-between-masters", "before": 1, "after": 0}] and
-              r.returncode == 0 and g1_through([os.path.join(d, u) for u in ufos]),
+              r.returncode == 0 and exact_g1_throughout(*[os.path.join(d, u) for u in ufos]),
               r0.stdout + p.stdout + p.stderr + r.stdout + r.stderr)
     # g1-between-masters:1 fixed (rounded: off G1 at the masters by rounding, 19 degrees between): handles move in
     # one master on the grid; cmr report :1 exits 0 afterwards, and here exactly: with c = u x v and d = u . v
     # (quadratics in s), T d - c >= 0 and T d + c >= 0 on [0, 1] (at both ends and at each vertex inside).
-    d1 = os.path.join(tmp, "fix_rounded")
-    os.makedirs(d1)
-    for u in ("RoundedRegular.ufo", "RoundedBold.ufo"):
-        shutil.copytree(os.path.join(tmp, u), os.path.join(d1, u))
-    shutil.copy(os.path.join(tmp, "rounded.designspace"), d1)
-    dsr = os.path.join(d1, "rounded.designspace")
+    dsr = copy_family("fix_rounded", "rounded.designspace", ("RoundedRegular.ufo", "RoundedBold.ufo"))
+    d1 = os.path.dirname(dsr)
     p = subprocess.run([CMR, "fix", dsr, "--glyph", "O", "--require", "g1-between-masters:1", "--in-place"],
                        capture_output=True, text=True, timeout=120)
     doc = json.loads(p.stdout) if p.returncode == 0 else {}
     r = run(dsr, "--require", "g1-between-masters:1", "--out", os.path.join(d1, "qa"))
 
-    def node_uv(ufo):
-        pts = [(Fraction(pt.x), Fraction(pt.y)) for pt in ufoLib2.Font.open(ufo)["O"].contours[0].points]
-        node, before, after = pts[0], pts[-1], pts[1]
-        return (node[0] - before[0], node[1] - before[1]), (after[0] - node[0], after[1] - node[1])
-
-    (ua, va), (ub, vb) = node_uv(os.path.join(d1, "RoundedRegular.ufo")), node_uv(os.path.join(d1, "RoundedBold.ufo"))
+    (ua, va), (ub, vb) = o_tangents(os.path.join(d1, "RoundedRegular.ufo")), o_tangents(os.path.join(d1, "RoundedBold.ufo"))
 
     def within(sign):  # T d(s) - sign c(s) >= 0 on [0, 1], exactly
         def f(s):
