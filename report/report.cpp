@@ -611,10 +611,6 @@ std::optional<int> segment_extrema_count(const BSpline& spline, const ReportOpti
   return inside();
 }
 
-SplineReport report_spline(const BSpline& spline, const ReportOptions& options) {
-  return report_spline(spline, options, true);
-}
-
 SplineReport report_spline(const BSpline& spline, const ReportOptions& options, bool classify) {
   SplineReport r;
   r.spline = spline;

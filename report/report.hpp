@@ -260,14 +260,13 @@ ReportInput read_input(const std::string& file);
 /// judged on the model by report/batch.hpp (judge_gates, judged_report,
 /// report_batch: report -> gates -> fixes). Throws InputError when the
 /// options do not fit the spline (a split joint it does not have).
-SplineReport report_spline(const BSpline& spline, const ReportOptions& options);
-/// The same with `classify` false: Algorithm 1 and 2 are not run, so every
-/// segment's class is empty (SegmentClass{}: undecided), as are the verdicts
-/// and requirement_pass made of them; everything else (shapes, joints,
-/// spans, extrema, inflections, curvature range) is report_spline's. For
-/// judges of gates that do not read the classes (report/batch.hpp:
-/// gate_report), never for a written report.
-SplineReport report_spline(const BSpline& spline, const ReportOptions& options, bool classify);
+/// With `classify` false, Algorithm 1 and 2 are not run, so every segment's
+/// class is empty (SegmentClass{}: undecided), as are the verdicts and
+/// requirement_pass made of them; everything else (shapes, joints, spans,
+/// extrema, inflections, curvature range) is the same. For judges of gates
+/// that do not read the classes (report/batch.hpp: gate_report), never for
+/// a written report.
+SplineReport report_spline(const BSpline& spline, const ReportOptions& options, bool classify = true);
 /// The curvature extrema that curvature-extrema-at-nodes finds on a spline
 /// of one segment (open, polynomial): as many as the gate's violations on
 /// judged_report(spline, judge_only(options, that gate)), computed from the
