@@ -66,6 +66,7 @@
 /// s-intervals where h+ < 0, h- < 0 or d < 0 (between their exact roots);
 /// the worst angle as above. DEG = 0 is the exact rule (h+ = -c and
 /// h- = c both >= 0 on [0, 1] is c == 0), kept on its own path.
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -108,8 +109,10 @@ struct G1Between {
 /// then gives where the turn exceeds DEG.
 G1Between g1_between(const NodeTangents& t, const Rational& tan_turn = Rational(0));
 
-/// A fix of g1-between-masters at one node, in one master, on the integer
-/// grid (issue 37 item 4). At master m the node N has its incoming handle
+/// One family of fixes at one node, in one master, on the integer grid: the
+/// moves that keep the master's own tangent (g1-between-masters:DEG tries
+/// it first; the exact gate's least move over every grid position is
+/// g1_least_move below). At master m the node N has its incoming handle
 /// H_in and outgoing H_out, exactly collinear with N and on the integer
 /// grid: u = N - H_in = alpha g, v = H_out - N = beta g with g the primitive
 /// integer direction (gcd of its coordinates 1) and alpha, beta positive
@@ -140,18 +143,66 @@ struct G1NodeFix {
 std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle[2], const Vec2 out_handle[2],
                                         bool in_fixed = false, bool out_fixed = false);
 
+/// The least move for the exact gate (issue 37 item 4: "the smallest total
+/// move"), over every position on the integer grid of one master m's
+/// handles, the nodes fixed. At m a node has u = N - H_in, v = H_out - N;
+/// at a neighbour o of a piece on which the node is judged, u' and v' = r u'
+/// (collinear: r = beta' / alpha' > 0, rational). With u' x v' = 0 the
+/// cross product c(s) = (1 - s)^2 (u x v) + s (1 - s) (u x v' + u' x v) +
+/// s^2 (u' x v') vanishes identically iff u x v = 0 (G1 at m: v = lambda u,
+/// lambda > 0) and
+///
+///   u x v' + u' x v = r (u x u') + lambda (u' x u) = (r - lambda) (u x u') = 0,
+///
+/// that is, lambda = r (m takes o's handle ratio, in any direction) or
+/// u x u' = 0 (m's tangent along o's, any ratio; u . u' < 0 would reverse
+/// the tangent between: refused). Then d(s) = u(s) . v(s) > 0 on [0, 1]:
+/// with lambda = r, v(s) = r u(s) and u(s) != 0; along u', both are
+/// positive multiples of one direction. So, given u, the outgoing vector is
+/// fixed (v = r u, on the grid when r u is) or free along u's primitive
+/// integer direction w (v = j w, j >= 1: the nearest j to the old v is a
+/// floor or ceiling of its projection), and the least total move is
+///
+///   min over grid u of |u - u_old| + min over those v of |v - v_old|,
+///
+/// searched in square rings around u_old, stopping at the first ring whose
+/// distance reaches the best total (every further u costs more): the answer
+/// is the least over every grid position, not a family of them. A side
+/// that is a line stays (its vector is given); with the incoming side a
+/// line the outgoing vector follows directly (u = v / r symmetrically).
+/// Two nodes sharing a handle (a quadratic source's off-curve point between
+/// two on-curve points) are searched together: the shared point in rings,
+/// each node's other side following from it. `keep_g1`: a node not judged
+/// on any piece with m but G1 at m (and marked smooth) stays G1 there.
+struct G1NodeRule {
+  Vec2 node{}, in_handle{}, out_handle{};         ///< at master m (integers)
+  bool in_fixed = false, out_fixed = false;       ///< that side is a line: its end stays
+  std::vector<std::array<Vec2, 2>> others;        ///< (u', v') at each neighbour of a judged piece
+  bool keep_g1 = true;                            ///< stays G1 at m (v a positive multiple of u)
+};
+struct G1LeastMove {
+  std::vector<G1NodeFix> nodes;  ///< per rule: its new handles and their move
+  double distance = 0;           ///< the total (a shared point counted once)
+};
+/// rules: one node, or two with rules[0]'s outgoing handle the same point as
+/// rules[1]'s incoming one. nullopt: coordinates not integers (or beyond
+/// 1e9), a zero tangent, or no grid move within `reach` units.
+std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, double reach = 2048);
+
 /// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
 /// (two masters or more in their UFOs' default layers, cubic outlines): on
 /// every piece between adjacent masters (io/masters.hpp), every node of the
 /// glyph marked smooth and exactly G1 at both of its masters is judged
 /// (g1_between). The handles move in one master m, the same for all kinks:
-/// each kinked node must have its kinks on pieces with m only; it takes the
-/// least of g1_between_fix's moves against m's neighbours that leaves it G1
-/// throughout on every piece with m (the grid moves that keep a node G1
-/// against a neighbour keep that neighbour's handle ratio, so two
-/// neighbours with other ratios and tangents leave none). Of the masters so
-/// fixable, the one with the smallest total move; it is re-judged exactly on
-/// every piece (kinks_before and kinks_after count node-piece pairs).
+/// each kinked node must have its kinks on pieces with m only. Exact gate:
+/// each kinked node (with a node sharing its handle) takes g1_least_move
+/// against all of m's neighbours, the least move over every grid position
+/// of its handles (`least` = true). g1-between-masters:DEG: the cheapest of
+/// three families of moves (g1_between_fix, ratio_turn_fixes,
+/// parallel_turn_fix) that holds on every piece with m (`least` = false).
+/// Of the masters so fixable, the one with the smallest total move; it is
+/// re-judged exactly on every piece with every edit applied (kinks_before
+/// and kinks_after count node-piece pairs).
 /// InputError (one line): fewer than two masters, the glyph missing or
 /// incompatible, a kink no grid move in one master fixes (named).
 struct MastersG1Fix {
@@ -167,6 +218,7 @@ struct MastersG1Fix {
   std::vector<Move> moves;
   int kinks_before = 0, kinks_after = 0;
   double distance = 0;  ///< total move
+  bool least = false;   ///< proven the least total move in one master (the exact gate)
 };
 MastersG1Fix fix_g1_between_masters(const std::string& designspace, const std::string& glyph, double turn_degrees = 0);
 

@@ -165,7 +165,7 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
                      {"distance", m.distance}});
   Json doc = {{"file", file},     {"glyph", glyph},       {"require", require},
               {"master", f.master}, {"ufo", f.ufo},       {"moves", moves},
-              {"distance", f.distance},
+              {"distance", f.distance},     {"least", f.least},
               {"rejudged", Json::array({{{"check", report::to_string(*gate)}, {"before", f.kinks_before}, {"after", f.kinks_after}}})}};
   OutputSet outputs;
   const std::string text = read_input_file(f.glif);

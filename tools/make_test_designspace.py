@@ -50,6 +50,13 @@ designspaceLib, as a designer's tools would):
   quadratic.designspace     kink's glyph drawn with TrueType quadratics
                             (qcurve, an implied on-curve point between each
                             two off-curve points): the same kink at p0.
+  quadratic_shared.designspace  a TrueType contour whose off-curve point
+                            p1 is the outgoing handle of the smooth node p0
+                            and the incoming one of the smooth node p2, with
+                            a line into p0 (from p5): a kink at p0 (line and
+                            handle 1:2 along (1, 0) at Regular, 1:4 along
+                            (2, 1) at Bold), p2 G1 throughout. Only p1 can
+                            fix p0, and moving it must keep p2 G1.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -127,6 +134,21 @@ def glyph_quadratic(font, m):
     pen.addPoint(m["b"], segmentType="qcurve")
     pen.addPoint(m["k"])
     pen.addPoint((-m["u"][0], -m["u"][1]))
+    pen.endPath()
+
+
+# quadratic_shared's points: p0 (0, 0) after a line from p5, the shared
+# off-curve p1, p2 (on-curve, smooth), p2's outgoing handle p3, one more
+# off-curve p4 (an implied on-curve point between them), p5 on-curve.
+SHARED_REGULAR = [(0, 0), (200, 0), (300, 100), (350, 150), (-100, 300), (-100, 0)]
+SHARED_BOLD = [(0, 0), (240, 120), (340, 220), (390, 270), (-100, 320), (-60, -30)]
+
+
+def glyph_shared(font, pts):
+    pen = o_pen(font)
+    for k, p in enumerate(pts):
+        kind = {0: "line", 2: "qcurve", 5: "qcurve"}.get(k)
+        pen.addPoint(p, segmentType=kind, smooth=k in (0, 2))
     pen.endPath()
 
 
@@ -230,6 +252,9 @@ def main():
     plain_ufo(os.path.join(out, "QuadRegular.ufo"), "Regular", lambda f: glyph_quadratic(f, REGULAR))
     plain_ufo(os.path.join(out, "QuadBold.ufo"), "Bold", lambda f: glyph_quadratic(f, BOLD_KINK))
     designspace(out, "quadratic", "QuadBold.ufo", regular="QuadRegular.ufo")
+    plain_ufo(os.path.join(out, "SharedRegular.ufo"), "Regular", lambda f: glyph_shared(f, SHARED_REGULAR))
+    plain_ufo(os.path.join(out, "SharedBold.ufo"), "Bold", lambda f: glyph_shared(f, SHARED_BOLD))
+    designspace(out, "quadratic_shared", "SharedBold.ufo", regular="SharedRegular.ufo")
 
 
 if __name__ == "__main__":

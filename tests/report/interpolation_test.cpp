@@ -2,7 +2,10 @@
 // the pieces' parsing and user values (io/masters.hpp). The designspaces
 // end to end: interpolation_sources (interpolation_test.py).
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -237,6 +240,181 @@ TEST(G1BetweenFix, HandlesOnTheOtherMastersTangentsKeepItsTurnThroughout) {
   EXPECT_TRUE(g1_between(tangents(f->in_handle, f->out_handle), T).holds);
   const Vec2 frac[2] = {{-100.5, 0}, in[1]};
   EXPECT_FALSE(parallel_turn_fix(node, frac, out));  // off the grid: refused
+}
+
+// g1_least_move against brute force: every pair of grid positions of the
+// moving master's two handles in a box around them, judged by the test's own
+// criterion (the cross product's Bernstein coefficients all zero, and the
+// dot product d(s) > 0 on [0, 1]: at both ends and at its vertex when that
+// lies inside), not by the header's derivation. The least passing total
+// move in the box equals g1_least_move's whenever that lies within the box.
+namespace least {
+
+struct V {
+  long long x, y;
+};
+long long cr(V a, V b) { return a.x * b.y - a.y * b.x; }
+long long dt(V a, V b) { return a.x * b.x + a.y * b.y; }
+
+/// G1 at every s in [0, 1] for u(s) = (1 - s) u0 + s u1, v(s) likewise.
+bool g1_throughout(V u0, V v0, V u1, V v1) {
+  if (cr(u0, v0) != 0 || cr(u1, v1) != 0 || cr(u0, v1) + cr(u1, v0) != 0) return false;
+  const double d0 = static_cast<double>(dt(u0, v0)), d1 = (dt(u0, v1) + dt(u1, v0)) / 2.0, d2 = static_cast<double>(dt(u1, v1));
+  if (!(d0 > 0 && d2 > 0)) return false;
+  const double a = d0 - 2 * d1 + d2;  // d(s) = d0 (1-s)^2 + 2 d1 s (1-s) + d2 s^2 = a s^2 + 2 (d1 - d0) s + d0
+  if (a > 0) {
+    const double s = (d0 - d1) / a;
+    if (s > 0 && s < 1 && a * s * s + 2 * (d1 - d0) * s + d0 <= 0) return false;
+  }
+  return true;
+}
+
+double len(V a, V b) { return std::hypot(static_cast<double>(a.x - b.x), static_cast<double>(a.y - b.y)); }
+
+}  // namespace least
+
+TEST(G1LeastMove, TheLeastOverEveryGridPositionOfBothHandles) {
+  using least::V;
+  std::mt19937 rng(37);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  auto dir = [&] {
+    V g{0, 0};
+    while (g.x == 0 && g.y == 0) g = {pick(-2, 2), pick(-2, 2)};
+    return g;
+  };
+  int compared = 0, moved = 0, rotated = 0;
+  for (int trial = 0; trial < 160; ++trial) {
+    // Master m: node (0, 0), u = a g, v = b g; one or two neighbours: u' = a' g', v' = b' g'.
+    const V g = dir();
+    const int a = pick(1, 4), b = pick(1, 4);
+    const V u{a * g.x, a * g.y}, v{b * g.x, b * g.y};
+    const int neighbours = trial % 4 == 3 ? 2 : 1;
+    std::vector<std::pair<V, V>> others;
+    for (int k = 0; k < neighbours; ++k) {
+      const V h = trial % 5 == 0 ? g : dir();
+      const int a1 = pick(1, 4), b1 = pick(1, 4);
+      if (least::dt(h, g) < 0 && least::cr(h, g) == 0) continue;  // reversed: the gate judges nothing here
+      others.push_back({{a1 * h.x, a1 * h.y}, {b1 * h.x, b1 * h.y}});
+    }
+    if (others.empty()) continue;
+    const bool in_fixed = trial % 7 == 1, out_fixed = trial % 7 == 2;
+    G1NodeRule rule{{0, 0}, {static_cast<double>(-u.x), static_cast<double>(-u.y)},
+                    {static_cast<double>(v.x), static_cast<double>(v.y)}, in_fixed, out_fixed, {}, true};
+    for (const auto& [uo, vo] : others)
+      rule.others.push_back({Vec2(static_cast<double>(uo.x), static_cast<double>(uo.y)),
+                             Vec2(static_cast<double>(vo.x), static_cast<double>(vo.y))});
+    const std::optional<G1LeastMove> f = g1_least_move({rule});
+    // Brute force: u2, v2 in a box of 12 around u, v (a line's side stays).
+    const int box = 12;
+    double brute = std::numeric_limits<double>::infinity();
+    for (int ux = -box; ux <= box; ++ux)
+      for (int uy = -box; uy <= box; ++uy) {
+        if (in_fixed && (ux != 0 || uy != 0)) continue;
+        const V u2{u.x + ux, u.y + uy};
+        for (int vx = -box; vx <= box; ++vx)
+          for (int vy = -box; vy <= box; ++vy) {
+            if (out_fixed && (vx != 0 || vy != 0)) continue;
+            const V v2{v.x + vx, v.y + vy};
+            bool ok = true;
+            for (const auto& [uo, vo] : others) ok = ok && least::g1_throughout(u2, v2, uo, vo);
+            if (ok) brute = std::min(brute, least::len(u2, u) + least::len(v2, v));
+          }
+      }
+    if (f && f->distance < box) {
+      EXPECT_NEAR(f->distance, brute, 1e-9) << "trial " << trial;
+      ++compared;
+      moved += f->distance > 0;
+      // Its answer passes the test's own criterion, on the grid.
+      const G1NodeFix& h = f->nodes.at(0);
+      const V u2{static_cast<long long>(-h.in_handle.x), static_cast<long long>(-h.in_handle.y)};
+      const V v2{static_cast<long long>(h.out_handle.x), static_cast<long long>(h.out_handle.y)};
+      EXPECT_EQ(h.in_handle.x, std::floor(h.in_handle.x));
+      for (const auto& [uo, vo] : others) EXPECT_TRUE(least::g1_throughout(u2, v2, uo, vo)) << "trial " << trial;
+      rotated += least::cr(u2, u) != 0;
+    } else {
+      EXPECT_GE(brute, f ? f->distance - 1e-9 : box) << "trial " << trial;  // nothing cheaper in the box
+    }
+  }
+  EXPECT_GT(compared, 100);
+  EXPECT_GT(moved, 60);
+  std::printf("compared %d, moved %d, off the old tangent %d\n", compared, moved, rotated);
+  EXPECT_GT(rotated, 10);  // answers outside the master's own tangent line (the family searched before)
+}
+
+// The case the tangent-keeping family missed: master m's tangent one unit
+// off the neighbour's (u = (100, 1)). Keeping it, the handles must take the
+// ratio 1:4 along (100, 1) (u = (100, 1), v = (400, 4): 200 units); turned
+// onto the neighbour's tangent with its own lengths, 1 + 2 = 3 units.
+TEST(G1LeastMove, TurningTheTangentOntoTheNeighboursCanBeCheapest) {
+  const G1NodeRule rule{{0, 0}, {-100, -1}, {200, 2}, false, false, {{Vec2{100, 0}, Vec2{400, 0}}}, true};
+  const std::optional<G1LeastMove> f = g1_least_move({rule});
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->nodes[0].in_handle, Vec2(-100, 0));
+  EXPECT_EQ(f->nodes[0].out_handle, Vec2(200, 0));
+  EXPECT_DOUBLE_EQ(f->distance, 3);
+  const Vec2 node[2] = {{0, 0}, {0, 0}}, in[2] = {{-100, -1}, {-100, 0}}, out[2] = {{200, 2}, {400, 0}};
+  const std::optional<G1NodeFix> kept = g1_between_fix(node, in, out);
+  ASSERT_TRUE(kept);
+  EXPECT_NEAR(kept->distance, std::hypot(200.0, 2.0), 1e-9);  // v from (200, 2) to (400, 4)
+  // Refused: off the grid, a zero tangent at the neighbour.
+  G1NodeRule off = rule;
+  off.in_handle = {-100.5, -1};
+  EXPECT_FALSE(g1_least_move({off}));
+  G1NodeRule zero = rule;
+  zero.others = {{Vec2{0, 0}, Vec2{400, 0}}};
+  EXPECT_FALSE(g1_least_move({zero}));
+}
+
+// Two nodes sharing a handle (a quadratic source's off-curve point between
+// two smooth on-curve points): searched together, against brute force over
+// the shared point and both other handles in a box.
+TEST(G1LeastMove, TwoNodesSharingAHandleAreSearchedTogether) {
+  using least::V;
+  std::mt19937 rng(3700);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  int compared = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    // Node A at (0, 0): in-handle -a g, shared handle h = b g; node B = h + c k, out-handle B + e k.
+    const V g{pick(1, 2), pick(-1, 1)}, k{pick(-1, 1), pick(1, 2)};
+    const int a = pick(1, 3), b = pick(1, 3), c = pick(1, 3), e = pick(1, 3);
+    const V A{0, 0}, ha{-a * g.x, -a * g.y}, h{b * g.x, b * g.y}, B{h.x + c * k.x, h.y + c * k.y}, hb{B.x + e * k.x, B.y + e * k.y};
+    // The neighbour master: each node's tangents along other directions, in other ratios.
+    const V go{g.x + 1, g.y}, ko{k.x, k.y + 1};
+    const int ra = pick(1, 3), rb = pick(1, 3);
+    const std::pair<V, V> oa{{go.x, go.y}, {ra * go.x, ra * go.y}}, ob{{ko.x, ko.y}, {rb * ko.x, rb * ko.y}};
+    auto vec = [](V p) { return Vec2(static_cast<double>(p.x), static_cast<double>(p.y)); };
+    const G1NodeRule ra_rule{vec(A), vec(ha), vec(h), false, false, {{vec(oa.first), vec(oa.second)}}, true};
+    const G1NodeRule rb_rule{vec(B), vec(h), vec(hb), false, false, {{vec(ob.first), vec(ob.second)}}, true};
+    const std::optional<G1LeastMove> f = g1_least_move({ra_rule, rb_rule});
+    const int box = 5;
+    double brute = std::numeric_limits<double>::infinity();
+    for (int x0 = -box; x0 <= box; ++x0)
+      for (int y0 = -box; y0 <= box; ++y0) {
+        const V ha2{ha.x + x0, ha.y + y0};
+        const V ua{A.x - ha2.x, A.y - ha2.y};
+        for (int x1 = -box; x1 <= box; ++x1)
+          for (int y1 = -box; y1 <= box; ++y1) {
+            const V h2{h.x + x1, h.y + y1};
+            const V va{h2.x - A.x, h2.y - A.y}, ub{B.x - h2.x, B.y - h2.y};
+            if (!least::g1_throughout(ua, va, oa.first, oa.second)) continue;
+            for (int x2 = -box; x2 <= box; ++x2)
+              for (int y2 = -box; y2 <= box; ++y2) {
+                const V hb2{hb.x + x2, hb.y + y2};
+                if (!least::g1_throughout(ub, V{hb2.x - B.x, hb2.y - B.y}, ob.first, ob.second)) continue;
+                brute = std::min(brute, least::len(ha2, ha) + least::len(h2, h) + least::len(hb2, hb));
+              }
+          }
+      }
+    if (f && f->distance < box) {
+      EXPECT_NEAR(f->distance, brute, 1e-9) << "trial " << trial;
+      EXPECT_EQ(f->nodes[0].out_handle, f->nodes[1].in_handle);  // the shared point, once
+      ++compared;
+    } else {
+      EXPECT_GE(brute, f ? f->distance - 1e-9 : box) << "trial " << trial;
+    }
+  }
+  EXPECT_GE(compared, 4);
+  std::printf("pairs compared with brute force: %d of 12\n", compared);
 }
 
 TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {
