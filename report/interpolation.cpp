@@ -243,34 +243,46 @@ struct TangentNeeds {
   bool keep_g1 = true;
 };
 
-// The side of a node that follows from the other ("known": u when
-// known_in, else v), nearest `old` (the side's vector now), or `old` itself
-// when that side is a line (`fixed`); with its move. The header's rule:
-// against a neighbour whose tangent crosses `known`, other = known * r (or
-// known / r); along it, any positive multiple of known's direction.
-std::optional<std::pair<IVec, double>> follow(const TangentNeeds& req, IVec known, bool known_in, IVec old, bool fixed) {
-  if (req.others.empty() && !req.keep_g1) return std::pair{old, 0.0};
-  if (known == IVec{}) return std::nullopt;
+// What a node's other side may be, given one side ("known": u when
+// known_in, else v), by the header's rule: against a neighbour whose
+// tangent crosses `known`, exactly known * r (or known / r): a point; along
+// every neighbour's tangent, any positive multiple of known's primitive
+// direction: a ray (j w, j >= 1). none: refused.
+struct Sides {
+  enum class Kind { none, point, ray } kind = Kind::none;
+  IVec at{};  ///< the point, or the ray's step w
+};
+Sides sides(const TangentNeeds& req, IVec known, bool known_in) {
+  if (known == IVec{}) return {};
   bool ratio = false;
   Int num = 0, den = 0;
   for (const TangentNeeds::Other& o : req.others) {
     if (icross(known, o.u) == 0) {
-      if (idot(known, o.u) < 0) return std::nullopt;  // the tangent would reverse between the masters
+      if (idot(known, o.u) < 0) return {};  // the tangent would reverse between the masters
       continue;
     }
     const Int n = known_in ? o.num : o.den, d = known_in ? o.den : o.num;
-    if (ratio && static_cast<Wide>(num) * d != static_cast<Wide>(n) * den) return std::nullopt;
+    if (ratio && static_cast<Wide>(num) * d != static_cast<Wide>(n) * den) return {};
     ratio = true, num = n, den = d;
   }
   if (ratio) {
     const Wide x = static_cast<Wide>(known.x) * num, y = static_cast<Wide>(known.y) * num;
-    if (x % den != 0 || y % den != 0) return std::nullopt;  // off the grid
-    const IVec t{static_cast<Int>(x / den), static_cast<Int>(y / den)};
-    if (fixed) return t == old ? std::optional{std::pair{old, 0.0}} : std::nullopt;
-    return std::pair{t, gap(t, old)};
+    if (x % den != 0 || y % den != 0) return {};  // off the grid
+    return {Sides::Kind::point, {static_cast<Int>(x / den), static_cast<Int>(y / den)}};
   }
   const Int g = std::gcd(std::llabs(known.x), std::llabs(known.y));
-  const IVec w{known.x / g, known.y / g};
+  return {Sides::Kind::ray, {known.x / g, known.y / g}};
+}
+
+// The member of `s` nearest `old` (or `old` itself when that side is a
+// line, `fixed`), with its distance; nullopt: none.
+std::optional<std::pair<IVec, double>> nearest(const Sides& s, IVec old, bool fixed) {
+  if (s.kind == Sides::Kind::none) return std::nullopt;
+  if (s.kind == Sides::Kind::point) {
+    if (fixed) return s.at == old ? std::optional{std::pair{old, 0.0}} : std::nullopt;
+    return std::pair{s.at, gap(s.at, old)};
+  }
+  const IVec w = s.at;
   if (fixed) return icross(old, w) == 0 && idot(old, w) > 0 ? std::optional{std::pair{old, 0.0}} : std::nullopt;
   const double j = static_cast<double>(idot(old, w)) / static_cast<double>(idot(w, w));
   std::optional<std::pair<IVec, double>> best;
@@ -284,89 +296,128 @@ std::optional<std::pair<IVec, double>> follow(const TangentNeeds& req, IVec know
 
 }  // namespace
 
-std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, double reach) {
-  if (rules.empty() || rules.size() > 2) return std::nullopt;
-  std::vector<TangentNeeds> req(rules.size());
-  for (std::size_t k = 0; k < rules.size(); ++k) {
-    const G1NodeRule& r = rules[k];
+std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, bool closed, double reach) {
+  const std::size_t k = rules.size();
+  if (k == 0) return std::nullopt;
+  std::vector<TangentNeeds> req(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const G1NodeRule& r = rules[i];
     if (!on_grid(r.node) || !on_grid(r.in_handle) || !on_grid(r.out_handle)) return std::nullopt;
-    req[k].keep_g1 = r.keep_g1 || !r.others.empty();
+    req[i].keep_g1 = r.keep_g1 || !r.others.empty();
     for (const auto& [u, v] : r.others) {
       if (!on_grid(u) || !on_grid(v)) return std::nullopt;
       const IVec iu = ivec(u), iv = ivec(v);
       if (iu == IVec{} || iv == IVec{} || icross(iu, iv) != 0 || idot(iu, iv) <= 0) return std::nullopt;
       const Int a = std::gcd(std::llabs(iu.x), std::llabs(iu.y)), b = std::gcd(std::llabs(iv.x), std::llabs(iv.y));
       const Int c = std::gcd(a, b);
-      req[k].others.push_back({iu, b / c, a / c});  // v' = (b / a) u'
+      req[i].others.push_back({iu, b / c, a / c});  // v' = (b / a) u'
+    }
+    // A run: each node's outgoing handle is the next one's incoming (a shared point, never a line's end).
+    if (i + 1 < k || closed) {
+      const G1NodeRule& next = rules[(i + 1) % k];
+      if (r.out_handle != next.in_handle || r.out_fixed || next.in_fixed) return std::nullopt;
     }
   }
-  const bool pair = rules.size() == 2;
-  if (pair && (rules[0].out_handle != rules[1].in_handle || rules[0].out_fixed || rules[1].in_fixed)) return std::nullopt;
-  const G1NodeRule& first = rules[0];
-  const IVec n0 = ivec(first.node), u0 = ivec(first.node - first.in_handle), v0 = ivec(first.out_handle - first.node);
-  // The point searched in rings (a handle's position) and the total move with it, or +inf.
-  const double inf = std::numeric_limits<double>::infinity();
-  IVec center{};
-  std::function<double(IVec, G1LeastMove*)> total;
-  if (pair) {
-    const G1NodeRule& second = rules[1];
-    const IVec n1 = ivec(second.node), v1 = ivec(second.out_handle - second.node);
-    center = ivec(first.out_handle);
-    total = [&, n1, v1](IVec h, G1LeastMove* out) {
-      const IVec v{h.x - n0.x, h.y - n0.y}, u1{n1.x - h.x, n1.y - h.y};
-      const auto a = follow(req[0], v, false, u0, first.in_fixed);
-      if (!a) return inf;
-      const auto b = follow(req[1], u1, true, v1, second.out_fixed);
-      if (!b) return inf;
-      const double cost = gap(h, center) + a->second + b->second;
-      if (out != nullptr) {
-        out->nodes = {{first.node - vec2(a->first), vec2(h), a->second + gap(h, center)},
-                      {vec2(h), second.node + vec2(b->first), b->second}};
-        out->distance = cost;
+  if (closed && k < 2) return std::nullopt;
+  // The handles h_0..h_k: h_{i-1} and h_i are node i's (counted from 1);
+  // h_k is h_0 on a closed run. Their positions now:
+  std::vector<IVec> old(k + 1);
+  for (std::size_t i = 0; i < k; ++i) old[i] = ivec(rules[i].in_handle);
+  old[k] = ivec(rules[k - 1].out_handle);
+  std::vector<IVec> h(k + 1), best_h;
+  double best = std::numeric_limits<double>::infinity();
+  bool greedy = true;
+  // Node i + 1 (0-based i) given h_i: h_{i+1} is a point or a ray; on the
+  // last node of an open run the nearest member, on a closed run h_0 must
+  // be a member; in between, every member the budget leaves (branch and
+  // bound: every move is >= 0, so a partial total >= best ends the branch).
+  std::function<void(std::size_t, double)> walk = [&](std::size_t i, double spent) {
+    const IVec node = ivec(rules[i].node);
+    const Sides s = sides(req[i], IVec{node.x - h[i].x, node.y - h[i].y}, true);
+    const bool unconstrained = req[i].others.empty() && !req[i].keep_g1;
+    if (i + 1 == k) {
+      if (closed) {
+        const IVec v{h[0].x - node.x, h[0].y - node.y};
+        if (unconstrained || (s.kind == Sides::Kind::point && s.at == v) ||
+            (s.kind == Sides::Kind::ray && icross(v, s.at) == 0 && idot(v, s.at) > 0)) {
+          h[k] = h[0];
+          if (spent < best) best = spent, best_h = h;
+        }
+        return;
       }
-      return cost;
-    };
-  } else if (first.in_fixed) {  // the incoming side a line: the outgoing vector follows
-    const auto b = follow(req[0], u0, true, v0, first.out_fixed);
-    if (!b) return std::nullopt;
-    return G1LeastMove{{{first.in_handle, first.node + vec2(b->first), b->second}}, b->second};
-  } else if (first.out_fixed) {  // the outgoing side a line: the incoming vector follows
-    const auto a = follow(req[0], v0, false, u0, false);
-    if (!a) return std::nullopt;
-    return G1LeastMove{{{first.node - vec2(a->first), first.out_handle, a->second}}, a->second};
-  } else {
-    center = ivec(first.in_handle);
-    total = [&](IVec h, G1LeastMove* out) {
-      const IVec u{n0.x - h.x, n0.y - h.y};
-      const auto b = follow(req[0], u, true, v0, first.out_fixed);
-      if (!b) return inf;
-      const double cost = gap(h, center) + b->second;
-      if (out != nullptr) *out = G1LeastMove{{{vec2(h), first.node + vec2(b->first), cost}}, cost};
-      return cost;
-    };
-  }
-  // Rings of Chebyshev radius r: every point of ring r is at least r away
-  // from the center, so once r reaches the best total nothing after it is
-  // cheaper.
-  double best = inf;
-  IVec at{};
-  const Int limit = static_cast<Int>(std::max(0.0, std::floor(reach)));
-  for (Int r = 0; r <= limit && static_cast<double>(r) < best; ++r) {
-    auto visit = [&](Int dx, Int dy) {
-      const IVec h{center.x + dx, center.y + dy};
-      const double c = total(h, nullptr);
-      if (c < best) best = c, at = h;
-    };
-    if (r == 0) {
-      visit(0, 0);
-      continue;
+      const IVec v_old{old[k].x - node.x, old[k].y - node.y};
+      const auto last = unconstrained ? std::optional{std::pair{v_old, 0.0}} : nearest(s, v_old, rules[i].out_fixed);
+      if (last && spent + last->second < best) {
+        h[k] = IVec{node.x + last->first.x, node.y + last->first.y};
+        best = spent + last->second, best_h = h;
+      }
+      return;
     }
-    for (Int d = -r; d <= r; ++d) visit(d, -r), visit(d, r);
-    for (Int d = -r + 1; d <= r - 1; ++d) visit(-r, d), visit(r, d);
+    auto next = [&](IVec at) {
+      const double cost = spent + gap(at, old[i + 1]);
+      if (cost >= best) return;
+      h[i + 1] = at;
+      walk(i + 1, cost);
+    };
+    if (unconstrained) {  // no rule: its shared handle stays, or (not searched) moves for the next node
+      next(old[i + 1]);
+      return;
+    }
+    if (s.kind == Sides::Kind::point) {
+      next(IVec{node.x + s.at.x, node.y + s.at.y});
+    } else if (s.kind == Sides::Kind::ray) {
+      // j w with |node + j w - old| < best - spent: j within that reach of old's projection.
+      const IVec w = s.at;
+      const IVec rel{old[i + 1].x - node.x, old[i + 1].y - node.y};
+      const double wl = std::sqrt(static_cast<double>(idot(w, w)));
+      if (greedy) {  // the first pass: the nearest member only, for a first bound
+        const auto n = nearest(s, rel, false);
+        if (n) next(IVec{node.x + n->first.x, node.y + n->first.y});
+        return;
+      }
+      const double mid = static_cast<double>(idot(rel, w)) / (wl * wl), room = (std::min(best, reach) - spent) / wl;
+      const double lo = std::max(1.0, std::floor(mid - room)), hi = std::ceil(mid + room);
+      for (double j = lo; j <= hi; ++j) next(IVec{node.x + static_cast<Int>(j) * w.x, node.y + static_cast<Int>(j) * w.y});
+    }
+  };
+  // h_0 in square rings around where it is (a line's end stays): every
+  // point of ring r is at least r away, so once r reaches the best total no
+  // later h_0 is cheaper.
+  // Two passes: the first takes each ray's nearest member (a first bound,
+  // quickly); the second every member within the bound (or `reach`).
+  if (k == 1 && !closed && rules[0].out_fixed && !rules[0].in_fixed) {  // the outgoing side a line: u follows
+    const IVec node = ivec(rules[0].node), v{old[1].x - node.x, old[1].y - node.y};
+    const auto a = nearest(sides(req[0], v, false), IVec{node.x - old[0].x, node.y - old[0].y}, false);
+    if (!a || !(a->second <= reach)) return std::nullopt;
+    return G1LeastMove{{{vec2(IVec{node.x - a->first.x, node.y - a->first.y}), rules[0].out_handle, a->second}}, a->second};
   }
-  if (!(best <= reach)) return std::nullopt;
+  const Int limit = rules[0].in_fixed ? 0 : static_cast<Int>(std::max(0.0, std::floor(reach)));
+  for (const bool pass : {true, false}) {
+    greedy = pass;
+    // The first pass within 64 units only: where it finds nothing, the
+    // second is the search (bounded by `reach`).
+    const Int rings = pass ? std::min<Int>(limit, 64) : limit;
+    for (Int r = 0; r <= rings && static_cast<double>(r) < best; ++r) {
+      auto visit = [&](Int dx, Int dy) {
+        h[0] = IVec{old[0].x + dx, old[0].y + dy};
+        const double c = gap(h[0], old[0]);
+        if (c < best) walk(0, c);
+      };
+      if (r == 0) {
+        visit(0, 0);
+        continue;
+      }
+      for (Int d = -r; d <= r; ++d) visit(d, -r), visit(d, r);
+      for (Int d = -r + 1; d <= r - 1; ++d) visit(-r, d), visit(r, d);
+    }
+  }
+  if (!(best <= reach) || best_h.empty()) return std::nullopt;
   G1LeastMove out;
-  total(at, &out);
+  out.distance = best;
+  for (std::size_t i = 0; i < k; ++i) {
+    const double moved = (i == 0 ? gap(best_h[0], old[0]) : 0.0) + (closed && i + 1 == k ? 0.0 : gap(best_h[i + 1], old[i + 1]));
+    out.nodes.push_back({vec2(best_h[i]), vec2(best_h[i + 1]), moved});
+  }
   return out;
 }
 
@@ -576,6 +627,11 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
     fix.least = T == 0;
     bool ok = true;
     std::vector<std::size_t> done;
+    std::vector<bool> constrained;  // the node has a rule at m (judged on a piece with m, or smooth and G1 there)
+    for (const Node& x : nodes) {
+      const G1NodeRule r = rule_of(x, m);
+      constrained.push_back(r.keep_g1 || !r.others.empty());
+    }
     for (std::size_t i = 0; i < nodes.size() && ok; ++i) {
       const Node& k = nodes[i];
       bool kinked = false, elsewhere = false;
@@ -588,28 +644,43 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
         continue;
       }
       if (T == 0) {
-        // The node with the node that shares a handle with it (searched
-        // together), in contour order; a run of three is not searched.
-        std::vector<std::size_t> group{i};
-        for (std::size_t j = 0; j < nodes.size(); ++j) {
-          if (shares(nodes[j], k)) group.insert(group.begin(), j);
-          if (shares(k, nodes[j])) group.push_back(j);
+        // The run of nodes joined to k by shared handles (each with a rule
+        // at m: a node without one leaves its handles free), in contour
+        // order, or the closed ring of them; searched together.
+        auto linked = [&](std::size_t a, std::size_t b) {
+          return shares(nodes[a], nodes[b]) && constrained[a] && constrained[b];
+        };
+        auto before = [&](std::size_t j) -> std::optional<std::size_t> {
+          for (std::size_t x = 0; x < nodes.size(); ++x)
+            if (linked(x, j)) return x;
+          return std::nullopt;
+        };
+        auto after = [&](std::size_t j) -> std::optional<std::size_t> {
+          for (std::size_t x = 0; x < nodes.size(); ++x)
+            if (linked(j, x)) return x;
+          return std::nullopt;
+        };
+        std::size_t first = i, steps = 0;
+        auto group_guard = [&] { return ++steps <= nodes.size(); };  // each node has one neighbour each way
+        bool ring = false;
+        for (std::optional<std::size_t> b = before(i); b && group_guard(); b = before(first)) {
+          if (*b == i) {
+            ring = true;
+            break;
+          }
+          first = *b;
         }
-        bool run = group.size() > 2;
-        for (const std::size_t j : group)
-          for (const Node& x : nodes)
-            if (j != i && (shares(x, nodes[j]) || shares(nodes[j], x)) && &x != &k) run = true;
-        std::optional<G1LeastMove> least;
-        if (!run) {
-          std::vector<G1NodeRule> rules;
-          for (const std::size_t j : group) rules.push_back(rule_of(nodes[j], m));
-          least = g1_least_move(rules);
-        }
+        std::vector<std::size_t> group{first};
+        for (std::optional<std::size_t> a = after(first); a && *a != first && group.size() <= nodes.size(); a = after(*a))
+          group.push_back(*a);
+        std::vector<G1NodeRule> rules;
+        for (const std::size_t j : group) rules.push_back(rule_of(nodes[j], m));
+        const std::optional<G1LeastMove> least = g1_least_move(rules, ring);
         if (least)
           for (std::size_t x = 0; x < group.size() && ok; ++x)
             ok = record(fix, nodes[group[x]], m, least->nodes[x].in_handle, least->nodes[x].out_handle);
         if (!least || !ok) {
-          if (unfixable.empty()) unfixable = k.name + (run ? " (its handles shared along a run of smooth nodes)" : "");
+          if (unfixable.empty()) unfixable = k.name;
           ok = false;
           break;
         }
@@ -664,7 +735,7 @@ MastersG1Fix fix_g1_between_masters(const std::string& path, const std::string& 
   }
   if (best.distance < 0)
     throw InputError(path + ": " + unfixable +
-                     ": no move of its handles on the integer grid in one master (within 2048 units) makes it G1 "
+                     ": no move of its handles on the integer grid in one master (within 1024 units) makes it G1 "
                      "between the masters (off the grid, its tangents reverse, masters on both sides of it need "
                      "other handle ratios and tangents, or a line beside it, whose length stays, leaves no grid "
                      "length for its handle)");

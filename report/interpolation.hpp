@@ -170,10 +170,14 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
 /// is the least over every grid position, not a family of them. A side
 /// that is a line stays (its vector is given); with the incoming side a
 /// line the outgoing vector follows directly (u = v / r symmetrically).
-/// Two nodes sharing a handle (a quadratic source's off-curve point between
-/// two on-curve points) are searched together: the shared point in rings,
-/// each node's other side following from it. `keep_g1`: a node not judged
-/// on any piece with m but G1 at m (and marked smooth) stays G1 there.
+/// Nodes sharing handles (a quadratic source's off-curve point between two
+/// on-curve points), a run of them or a closed ring, are searched together:
+/// the run's first handle in rings; along the run each next handle follows
+/// (a point, or every grid point of a ray the remaining budget reaches:
+/// branch and bound, exhaustive since every move is >= 0); the last
+/// node's outgoing handle is the nearest it may be, and on a ring it must be
+/// the first handle. `keep_g1`: a node not judged on any piece with m but
+/// G1 at m (and marked smooth) stays G1 there.
 struct G1NodeRule {
   Vec2 node{}, in_handle{}, out_handle{};         ///< at master m (integers)
   bool in_fixed = false, out_fixed = false;       ///< that side is a line: its end stays
@@ -184,10 +188,12 @@ struct G1LeastMove {
   std::vector<G1NodeFix> nodes;  ///< per rule: its new handles and their move
   double distance = 0;           ///< the total (a shared point counted once)
 };
-/// rules: one node, or two with rules[0]'s outgoing handle the same point as
-/// rules[1]'s incoming one. nullopt: coordinates not integers (or beyond
-/// 1e9), a zero tangent, or no grid move within `reach` units.
-std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, double reach = 2048);
+/// rules: a run of nodes, each one's outgoing handle the same point as the
+/// next one's incoming (and, `closed`, the last one's the first one's).
+/// nullopt: coordinates not integers (or beyond 1e9), a zero tangent, or no
+/// grid move within `reach` units.
+std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, bool closed = false,
+                                         double reach = 1024);
 
 /// `cmr fix FAMILY.designspace --glyph NAME --require g1-between-masters`
 /// (two masters or more in their UFOs' default layers, cubic outlines): on

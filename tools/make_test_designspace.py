@@ -57,6 +57,13 @@ designspaceLib, as a designer's tools would):
                             handle 1:2 along (1, 0) at Regular, 1:4 along
                             (2, 1) at Bold), p2 G1 throughout. Only p1 can
                             fix p0, and moving it must keep p2 G1.
+  quadratic_ring.designspace  a TrueType contour of three smooth on-curve
+                            points, each between two off-curve points that
+                            it shares with its neighbours (a closed ring):
+                            p2 is a kink (handles 1:2 at Regular, 1:1 along
+                            another direction at Bold), p0 and p4 G1
+                            throughout; a fix moves shared points, so all
+                            three are searched together.
 
 The Weight axis maps user 400..700 to design 40..120 (a <map>), so the
 findings' user values are not the design values. NODES gives the node's
@@ -149,6 +156,18 @@ def glyph_shared(font, pts):
     for k, p in enumerate(pts):
         kind = {0: "line", 2: "qcurve", 5: "qcurve"}.get(k)
         pen.addPoint(p, segmentType=kind, smooth=k in (0, 2))
+    pen.endPath()
+
+
+# quadratic_ring's points: on-curve p0, p2, p4 (smooth), off-curve p1, p3, p5.
+RING_REGULAR = [(300, 0), (600, 0), (500, 200), (300, 600), (150, 300), (0, 0)]
+RING_BOLD = [(330, 0), (660, 0), (480, 350), (300, 700), (150, 350), (0, 0)]
+
+
+def glyph_ring(font, pts):
+    pen = o_pen(font)
+    for k, p in enumerate(pts):
+        pen.addPoint(p, segmentType="qcurve" if k % 2 == 0 else None, smooth=k % 2 == 0)
     pen.endPath()
 
 
@@ -255,6 +274,9 @@ def main():
     plain_ufo(os.path.join(out, "SharedRegular.ufo"), "Regular", lambda f: glyph_shared(f, SHARED_REGULAR))
     plain_ufo(os.path.join(out, "SharedBold.ufo"), "Bold", lambda f: glyph_shared(f, SHARED_BOLD))
     designspace(out, "quadratic_shared", "SharedBold.ufo", regular="SharedRegular.ufo")
+    plain_ufo(os.path.join(out, "RingRegular.ufo"), "Regular", lambda f: glyph_ring(f, RING_REGULAR))
+    plain_ufo(os.path.join(out, "RingBold.ufo"), "Bold", lambda f: glyph_ring(f, RING_BOLD))
+    designspace(out, "quadratic_ring", "RingBold.ufo", regular="RingRegular.ufo")
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 // end to end: interpolation_sources (interpolation_test.py).
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -415,6 +416,106 @@ TEST(G1LeastMove, TwoNodesSharingAHandleAreSearchedTogether) {
   }
   EXPECT_GE(compared, 4);
   std::printf("pairs compared with brute force: %d of 12\n", compared);
+}
+
+// Runs of three nodes joined by shared handles, and closed rings of three
+// (a TrueType contour whose every on-curve point is smooth and every
+// off-curve point lies between two of them), against brute force over every
+// handle's grid positions in a box, pruned node by node.
+TEST(G1LeastMove, RunsAndRingsOfSharedHandlesAgainstBruteForce) {
+  using least::V;
+  std::mt19937 rng(373);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  auto vec = [](V p) { return Vec2(static_cast<double>(p.x), static_cast<double>(p.y)); };
+  int compared = 0, total = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    const bool closed = trial % 2 == 1;
+    // Handles h0..h3 (h3 = h0 on a ring); node i on the segment h_i -> h_{i+1} at a grid point strictly inside.
+    std::vector<V> h;
+    std::vector<V> node;
+    bool ok = true;
+    h.push_back({pick(-4, 4), pick(-4, 4)});
+    for (int i = 0; i < 3 && ok; ++i) {
+      const V a = h.back();
+      V b{};
+      if (closed && i == 2) {
+        b = h[0];
+      } else {
+        const V step{pick(-2, 2), pick(-2, 2)};
+        const int n = pick(2, 4);
+        b = {a.x + n * step.x, a.y + n * step.y};
+        if (step.x == 0 && step.y == 0) ok = false;
+      }
+      const long long g = std::gcd(std::llabs(b.x - a.x), std::llabs(b.y - a.y));
+      if (g < 2) {
+        ok = false;
+        break;
+      }
+      const long long t = pick(1, static_cast<int>(g) - 1);
+      node.push_back({a.x + t * (b.x - a.x) / g, a.y + t * (b.y - a.y) / g});
+      if (!(closed && i == 2)) h.push_back(b);
+    }
+    if (!ok) continue;
+    const std::size_t k = 3, handles = closed ? 3 : 4;
+    auto H = [&](const std::vector<V>& hs, std::size_t i) { return hs[i % handles]; };
+    // Each node's neighbour: its own tangent or another direction, in a random ratio.
+    std::vector<std::pair<V, V>> other;
+    std::vector<G1NodeRule> rules;
+    for (std::size_t i = 0; i < k; ++i) {
+      const V u{node[i].x - H(h, i).x, node[i].y - H(h, i).y};
+      const long long g = std::gcd(std::llabs(u.x), std::llabs(u.y));
+      V d{u.x / g, u.y / g};
+      if (pick(0, 2) != 0) d = {d.x + pick(-1, 1), d.y + pick(0, 1)};
+      if (d.x == 0 && d.y == 0) d = {1, 0};
+      // The neighbour's ratio: the node's own (v / u along its segment) or 1:1, 1:2, 2:1.
+      const V v{H(h, i + 1).x - node[i].x, H(h, i + 1).y - node[i].y};
+      const long long gv = std::gcd(std::llabs(v.x), std::llabs(v.y));
+      const int choice = pick(0, 3);
+      const long long a1 = choice == 0 ? g : choice == 2 ? 2 : 1, b1 = choice == 0 ? gv : choice == 3 ? 2 : 1;
+      other.push_back({{a1 * d.x, a1 * d.y}, {b1 * d.x, b1 * d.y}});
+      rules.push_back({vec(node[i]), vec(H(h, i)), vec(H(h, i + 1)), false, false,
+                       {{vec(other[i].first), vec(other[i].second)}}, true});
+    }
+    const std::optional<G1LeastMove> f = g1_least_move(rules, closed, 64);  // reach: beyond the box is enough
+    // Brute force: handles in a box of 3 around theirs, node i judged once h_i and h_{i+1} are placed.
+    const int box = 3;
+    double brute = std::numeric_limits<double>::infinity();
+    std::vector<V> cur(handles);
+    std::function<void(std::size_t, double)> place = [&](std::size_t j, double cost) {
+      if (cost >= brute) return;
+      if (j == handles) {
+        if (closed) {  // the last node closes on h0
+          const V u{node[2].x - cur[2].x, node[2].y - cur[2].y}, v{cur[0].x - node[2].x, cur[0].y - node[2].y};
+          if (!least::g1_throughout(u, v, other[2].first, other[2].second)) return;
+        }
+        brute = cost;
+        return;
+      }
+      for (int dx = -box; dx <= box; ++dx)
+        for (int dy = -box; dy <= box; ++dy) {
+          cur[j] = {h[j].x + dx, h[j].y + dy};
+          if (j >= 1) {  // node j - 1 has both handles now
+            const V u{node[j - 1].x - cur[j - 1].x, node[j - 1].y - cur[j - 1].y}, v{cur[j].x - node[j - 1].x, cur[j].y - node[j - 1].y};
+            if (!least::g1_throughout(u, v, other[j - 1].first, other[j - 1].second)) continue;
+          }
+          place(j + 1, cost + std::hypot(static_cast<double>(dx), static_cast<double>(dy)));
+        }
+    };
+    place(0, 0);
+    ++total;
+    if (f && f->distance < box) {
+      EXPECT_NEAR(f->distance, brute, 1e-9) << "trial " << trial << (closed ? " ring" : " run");
+      for (std::size_t i = 0; i + 1 < k; ++i) EXPECT_EQ(f->nodes[i].out_handle, f->nodes[i + 1].in_handle);
+      if (closed) {
+        EXPECT_EQ(f->nodes[2].out_handle, f->nodes[0].in_handle);
+      }
+      ++compared;
+    } else {
+      EXPECT_GE(brute, f ? f->distance - 1e-9 : box) << "trial " << trial << (closed ? " ring" : " run");
+    }
+  }
+  std::printf("runs and rings compared with brute force: %d of %d\n", compared, total);
+  EXPECT_GE(compared, 16);
 }
 
 TEST(InterpolationGate, ParsesWithATurnOnlyForG1) {

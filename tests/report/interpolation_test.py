@@ -359,6 +359,65 @@ with tempfile.TemporaryDirectory() as tmp:
           not both_g1_throughout(*before) and both_g1_throughout(*after) and r.returncode == 0,
           p.stdout + p.stderr + r.stdout + r.stderr)
 
+    # A closed ring (quadratic_ring: on-curve p0, p2, p4 smooth, each off-curve point shared by two of them): the
+    # kink at p2 is fixed by moving shared points, every node kept G1. Brute force in Fractions over both
+    # masters: the off-curve points p1, p3, p5 at every grid position within the bound, in turn, each node judged
+    # once both its handles are placed (G1 at the master and at every location between), pruned by the total.
+    dsr3 = copy_family("fix_ring", "quadratic_ring.designspace", ("RingRegular.ufo", "RingBold.ufo"))
+    ring_dir = os.path.dirname(dsr3)
+    ring_ufos = [os.path.join(ring_dir, u) for u in ("RingRegular.ufo", "RingBold.ufo")]
+    ring_before = [[(int(x), int(y)) for x, y in shared_points(u)] for u in ring_ufos]
+
+    def ring_node_ok(pa, pb, k):
+        ua, va = node_tangents_at(pa, k)
+        ub, vb = node_tangents_at(pb, k)
+        return cross(ua, va) == 0 and dot(ua, va) > 0 and cross(ub, vb) == 0 and dot(ub, vb) > 0 and \
+            cross(ua, vb) + cross(ub, va) == 0 and positive(dot(ua, va), Fraction(dot(ua, vb) + dot(ub, va), 2),
+                                                             dot(ub, vb))
+
+    p = subprocess.run([CMR, "fix", dsr3, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
+                       capture_output=True, text=True, timeout=120)
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    ring_after = [shared_points(u) for u in ring_ufos]
+    bound = doc.get("distance", 0) + 1
+    ring_brute = None
+    for m in range(2):
+        base, other = ring_before[m], ring_before[1 - m]
+        r = int(bound) + 1
+        disc = [(dx, dy, math.hypot(dx, dy)) for dx in range(-r, r + 1) for dy in range(-r, r + 1)
+                if math.hypot(dx, dy) <= bound]
+
+        def place(j, pts, spent):  # off-curve points p1, p3, p5 in turn; node p(2j) judged once p(2j + 1) is placed, p0 last
+            global_best = ring_brute[0] if ring_brute is not None else bound
+            if spent > global_best or (ring_brute is not None and spent >= ring_brute[0] - 1e-9):
+                return None
+            if j == 3:
+                return spent if ring_node_ok(*((pts, other) if m == 0 else (other, pts)), 0) else None
+            best_here = None
+            for dx, dy, c in disc:
+                trial = list(pts)
+                trial[2 * j + 1] = (base[2 * j + 1][0] + dx, base[2 * j + 1][1] + dy)
+                if j >= 1 and not ring_node_ok(*((trial, other) if m == 0 else (other, trial)), 2 * j):
+                    continue
+                got = place(j + 1, trial, spent + c)
+                if got is not None and (best_here is None or got < best_here):
+                    best_here = got
+            return best_here
+
+        got = place(0, base, 0.0)
+        if got is not None and (ring_brute is None or got < ring_brute[0] - 1e-9):
+            ring_brute = (got, m)
+    r = run(dsr3, *g1, "--out", os.path.join(ring_dir, "qa"))
+    check("fix, quadratic_ring: shared off-curve points move in the brute force's master by its least total (%s), "
+          "on the grid; all three nodes G1 at every location afterwards (Fractions) and cmr report exits 0"
+          % (ring_brute,),
+          p.returncode == 0 and ring_brute is not None and doc.get("master") == ("Regular", "Bold")[ring_brute[1]] and
+          abs(doc.get("distance", -1) - ring_brute[0]) < 1e-9 and doc.get("least") is True and
+          all(float(c).is_integer() for mv in doc["moves"] for c in mv["to"]) and
+          not all(ring_node_ok(*ring_before, k) for k in (0, 2, 4)) and
+          all(ring_node_ok(*ring_after, k) for k in (0, 2, 4)) and r.returncode == 0,
+          p.stdout + p.stderr + r.stdout + r.stderr)
+
     # g1-between-masters:1 fixed (rounded: off G1 at the masters by rounding, 19 degrees between): handles move in
     # one master on the grid; cmr report :1 exits 0 afterwards, and here exactly: with c = u x v and d = u . v
     # (quadratics in s), T d - c >= 0 and T d + c >= 0 on [0, 1] (at both ends and at each vertex inside).
