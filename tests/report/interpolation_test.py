@@ -199,6 +199,19 @@ with tempfile.TemporaryDirectory() as tmp:
 
     dot = lambda a, b: a[0] * b[0] + a[1] * b[1]
 
+    def fix_in_place(designspace):
+        """cmr fix ... --require g1-between-masters --in-place: the process and its JSON ({} if it failed)."""
+        proc = subprocess.run([CMR, "fix", designspace, "--glyph", "O", "--require", "g1-between-masters",
+                               "--in-place"], capture_output=True, text=True, timeout=120)
+        return proc, json.loads(proc.stdout) if proc.returncode == 0 else {}
+
+    def agrees(proc, doc, brute, names):
+        """The fix ran, moved points in the brute force's master (index into names) by its least total, on the
+        grid, and says it is the least."""
+        return proc.returncode == 0 and brute is not None and doc.get("master") == names[brute[1]] and \
+            abs(doc.get("distance", -1) - brute[0]) < 1e-9 and doc.get("least") is True and \
+            all(float(c).is_integer() for mv in doc["moves"] for c in mv["to"])
+
     def positive(d0, d1, d2):  # d0 (1-s)^2 + 2 d1 s (1-s) + d2 s^2 > 0 on [0, 1], exactly
         a = d0 - 2 * d1 + d2
         s = (d0 - d1) / a if a != 0 else None
@@ -211,35 +224,44 @@ with tempfile.TemporaryDirectory() as tmp:
                        dot(tan[a][0], tan[a][1]), Fraction(dot(tan[a][0], tan[b][1]) + dot(tan[b][0], tan[a][1]), 2),
                        dot(tan[b][0], tan[b][1]))))
 
+    def disc(bound):
+        """Every grid offset (dx, dy, its length) within `bound`."""
+        r = int(bound) + 1
+        return [(dx, dy, math.hypot(dx, dy)) for dx in range(-r, r + 1) for dy in range(-r, r + 1)
+                if math.hypot(dx, dy) <= bound]
+
+    def on_line(u, v0, budget):
+        """The vectors j w (w: u's primitive integer direction, j >= 1) within `budget` of v0, with that distance:
+        every way a node with incoming tangent u stays G1 at its master."""
+        g = math.gcd(int(u[0]), int(u[1]))
+        w = (int(u[0]) // g, int(u[1]) // g)
+        proj = (v0[0] * w[0] + v0[1] * w[1]) / (w[0] * w[0] + w[1] * w[1])
+        reach = budget / math.hypot(w[0], w[1])
+        out = []
+        for j in range(max(1, math.floor(proj - reach)), math.ceil(proj + reach) + 1):
+            v = (j * w[0], j * w[1])
+            d = math.hypot(v[0] - v0[0], v[1] - v0[1])
+            if d <= budget:
+                out.append((v, d))
+        return out
+
     def brute_least(tans, bound):
         """(distance, master index) of the least passing move in one master within `bound`, or None."""
         best = None
         for m in range(len(tans)):
             u0, v0 = tans[m]
-            r = int(bound) + 1
-            for dx in range(-r, r + 1):
-                for dy in range(-r, r + 1):
-                    cu = math.hypot(dx, dy)
-                    if cu > bound:
+            for dx, dy, cu in disc(bound):
+                u = (u0[0] + dx, u0[1] + dy)
+                if u == (0, 0):
+                    continue
+                for v, dv in on_line(u, v0, bound - cu):
+                    cost = cu + dv
+                    if best is not None and cost >= best[0] - 1e-9:
                         continue
-                    u = (u0[0] + dx, u0[1] + dy)
-                    if u == (0, 0):
-                        continue
-                    g = math.gcd(int(u[0]), int(u[1]))
-                    w = (u[0] / g, u[1] / g)
-                    wl = math.hypot(w[0], w[1])
-                    # v = j w (j >= 1) with |j w - v0| <= bound - cu: j within reach of v0's projection
-                    proj = float((v0[0] * w[0] + v0[1] * w[1]) / (w[0] * w[0] + w[1] * w[1]))
-                    reach = (bound - cu) / wl
-                    for j in range(max(1, math.floor(proj - reach)), math.ceil(proj + reach) + 1):
-                        v = (j * w[0], j * w[1])
-                        cost = cu + math.hypot(v[0] - v0[0], v[1] - v0[1])
-                        if cost > bound or (best is not None and cost >= best[0] - 1e-9):
-                            continue
-                        trial = list(tans)
-                        trial[m] = (u, v)
-                        if kinks3(trial) == 0:
-                            best = (cost, m)
+                    trial = list(tans)
+                    trial[m] = (u, v)
+                    if kinks3(trial) == 0:
+                        best = (cost, m)
         return best
 
     for label, dsname, ufos, names in [
@@ -250,15 +272,11 @@ with tempfile.TemporaryDirectory() as tmp:
         fixdir3 = os.path.dirname(ds3)
         ufos3 = [os.path.join(fixdir3, u) for u in ufos]
         tan3 = [o_tangents(u) for u in ufos3]
-        p = subprocess.run([CMR, "fix", ds3, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
-                           capture_output=True, text=True, timeout=120)
-        doc = json.loads(p.stdout) if p.returncode == 0 else {}
+        p, doc = fix_in_place(ds3)
         best = brute_least(tan3, doc.get("distance", 0) + 1) if p.returncode == 0 else None
         check("fix, %s: a kink on both pieces before; the brute force's master and least total move (%s), "
               "every move on the grid, \"least\": true, re-judged 2 kinks -> 0" % (label, best),
-              kinks3(tan3) == 2 and p.returncode == 0 and best is not None and doc.get("master") == names[best[1]] and
-              abs(doc.get("distance", -1) - best[0]) < 1e-9 and doc.get("least") is True and
-              all(float(c).is_integer() for mv in doc["moves"] for c in mv["to"]) and
+              kinks3(tan3) == 2 and agrees(p, doc, best, names) and
               doc.get("rejudged") == [{"check": "g1-between-masters", "before": 2, "after": 0}],
               p.stdout + p.stderr + str(best))
         r = run(ds3, *g1, "--out", os.path.join(fixdir3, "qa"))
@@ -304,58 +322,44 @@ with tempfile.TemporaryDirectory() as tmp:
         n, b, a = pts[k], pts[k - 1], pts[(k + 1) % len(pts)]
         return (n[0] - b[0], n[1] - b[1]), (a[0] - n[0], a[1] - n[1])
 
+    def node_g1_throughout(pa, pb, k):
+        """Node k G1 at both masters (points pa, pb) and at every location between, exactly."""
+        ua, va = node_tangents_at(pa, k)
+        ub, vb = node_tangents_at(pb, k)
+        return cross(ua, va) == 0 and dot(ua, va) > 0 and cross(ub, vb) == 0 and dot(ub, vb) > 0 and \
+            cross(ua, vb) + cross(ub, va) == 0 and positive(dot(ua, va), Fraction(dot(ua, vb) + dot(ub, va), 2),
+                                                             dot(ub, vb))
+
     def both_g1_throughout(pa, pb):
-        pieces3_saved = list(pieces3)
-        pieces3[:] = [(0, 1)]
-        try:
-            return all(cross(*node_tangents_at(p, k)) == 0 and dot(*node_tangents_at(p, k)) > 0
-                       for p in (pa, pb) for k in (0, 2)) and \
-                all(kinks3([node_tangents_at(pa, k), node_tangents_at(pb, k)]) == 0 for k in (0, 2))
-        finally:
-            pieces3[:] = pieces3_saved
+        return node_g1_throughout(pa, pb, 0) and node_g1_throughout(pa, pb, 2)
 
     before = [shared_points(u) for u in shared_ufos]
-    p = subprocess.run([CMR, "fix", dss, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
-                       capture_output=True, text=True, timeout=120)
-    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    p, doc = fix_in_place(dss)
     after = [shared_points(u) for u in shared_ufos]
     bound = doc.get("distance", 0) + 1
     brute = None
     for m in range(2):
         pts = [(int(x), int(y)) for x, y in before[m]]  # integers (every source point is one): fast to enumerate
         other = [(int(x), int(y)) for x, y in before[1 - m]]
-        r = int(bound) + 1
-        for dx in range(-r, r + 1):
-            for dy in range(-r, r + 1):
-                c1 = math.hypot(dx, dy)
-                if c1 > bound:
+        for dx, dy, c1 in disc(bound):
+            p1 = (pts[1][0] + dx, pts[1][1] + dy)
+            u2 = (pts[2][0] - p1[0], pts[2][1] - p1[1])
+            if u2 == (0, 0):
+                continue
+            for v, dv in on_line(u2, (pts[3][0] - pts[2][0], pts[3][1] - pts[2][1]), bound - c1):
+                cost = c1 + dv
+                if brute is not None and cost >= brute[0] - 1e-9:
                     continue
-                p1 = (pts[1][0] + dx, pts[1][1] + dy)
-                u2 = (pts[2][0] - p1[0], pts[2][1] - p1[1])
-                if u2 == (0, 0):
-                    continue
-                g = math.gcd(u2[0], u2[1])
-                w = (u2[0] // g, u2[1] // g)
-                v0 = (pts[3][0] - pts[2][0], pts[3][1] - pts[2][1])
-                proj = dot(v0, w) / dot(w, w)
-                reach = (bound - c1) / math.hypot(w[0], w[1])
-                for j in range(max(1, math.floor(proj - reach)), math.ceil(proj + reach) + 1):
-                    p3 = (pts[2][0] + j * w[0], pts[2][1] + j * w[1])
-                    cost = c1 + math.hypot(p3[0] - pts[3][0], p3[1] - pts[3][1])
-                    if cost > bound or (brute is not None and cost >= brute[0] - 1e-9):
-                        continue
-                    trial = list(pts)
-                    trial[1], trial[3] = p1, p3
-                    if both_g1_throughout(*((trial, other) if m == 0 else (other, trial))):
-                        brute = (cost, m)
+                trial = list(pts)
+                trial[1], trial[3] = p1, (pts[2][0] + v[0], pts[2][1] + v[1])
+                if both_g1_throughout(*((trial, other) if m == 0 else (other, trial))):
+                    brute = (cost, m)
     r = run(dss, *g1, "--out", os.path.join(ds_dir, "qa"))
     check("fix, quadratic_shared: p1 (shared) and p3 move in the brute force's master by its least total (%s), "
           "every move on the grid; both nodes G1 at every location afterwards (Fractions) and cmr report exits 0"
           % (brute,),
-          p.returncode == 0 and brute is not None and doc.get("master") == ("Regular", "Bold")[brute[1]] and
-          abs(doc.get("distance", -1) - brute[0]) < 1e-9 and doc.get("least") is True and
+          agrees(p, doc, brute, ("Regular", "Bold")) and
           sorted(mv["point"] for mv in doc["moves"]) == ["O/c0/p1", "O/c0/p3"] and
-          all(float(c).is_integer() for mv in doc["moves"] for c in mv["to"]) and
           not both_g1_throughout(*before) and both_g1_throughout(*after) and r.returncode == 0,
           p.stdout + p.stderr + r.stdout + r.stderr)
 
@@ -368,36 +372,25 @@ with tempfile.TemporaryDirectory() as tmp:
     ring_ufos = [os.path.join(ring_dir, u) for u in ("RingRegular.ufo", "RingBold.ufo")]
     ring_before = [[(int(x), int(y)) for x, y in shared_points(u)] for u in ring_ufos]
 
-    def ring_node_ok(pa, pb, k):
-        ua, va = node_tangents_at(pa, k)
-        ub, vb = node_tangents_at(pb, k)
-        return cross(ua, va) == 0 and dot(ua, va) > 0 and cross(ub, vb) == 0 and dot(ub, vb) > 0 and \
-            cross(ua, vb) + cross(ub, va) == 0 and positive(dot(ua, va), Fraction(dot(ua, vb) + dot(ub, va), 2),
-                                                             dot(ub, vb))
-
-    p = subprocess.run([CMR, "fix", dsr3, "--glyph", "O", "--require", "g1-between-masters", "--in-place"],
-                       capture_output=True, text=True, timeout=120)
-    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    p, doc = fix_in_place(dsr3)
     ring_after = [shared_points(u) for u in ring_ufos]
     bound = doc.get("distance", 0) + 1
     ring_brute = None
     for m in range(2):
         base, other = ring_before[m], ring_before[1 - m]
-        r = int(bound) + 1
-        disc = [(dx, dy, math.hypot(dx, dy)) for dx in range(-r, r + 1) for dy in range(-r, r + 1)
-                if math.hypot(dx, dy) <= bound]
+        offsets = disc(bound)
 
         def place(j, pts, spent):  # off-curve points p1, p3, p5 in turn; node p(2j) judged once p(2j + 1) is placed, p0 last
             global_best = ring_brute[0] if ring_brute is not None else bound
             if spent > global_best or (ring_brute is not None and spent >= ring_brute[0] - 1e-9):
                 return None
             if j == 3:
-                return spent if ring_node_ok(*((pts, other) if m == 0 else (other, pts)), 0) else None
+                return spent if node_g1_throughout(*((pts, other) if m == 0 else (other, pts)), 0) else None
             best_here = None
-            for dx, dy, c in disc:
+            for dx, dy, c in offsets:
                 trial = list(pts)
                 trial[2 * j + 1] = (base[2 * j + 1][0] + dx, base[2 * j + 1][1] + dy)
-                if j >= 1 and not ring_node_ok(*((trial, other) if m == 0 else (other, trial)), 2 * j):
+                if j >= 1 and not node_g1_throughout(*((trial, other) if m == 0 else (other, trial)), 2 * j):
                     continue
                 got = place(j + 1, trial, spent + c)
                 if got is not None and (best_here is None or got < best_here):
@@ -411,11 +404,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check("fix, quadratic_ring: shared off-curve points move in the brute force's master by its least total (%s), "
           "on the grid; all three nodes G1 at every location afterwards (Fractions) and cmr report exits 0"
           % (ring_brute,),
-          p.returncode == 0 and ring_brute is not None and doc.get("master") == ("Regular", "Bold")[ring_brute[1]] and
-          abs(doc.get("distance", -1) - ring_brute[0]) < 1e-9 and doc.get("least") is True and
-          all(float(c).is_integer() for mv in doc["moves"] for c in mv["to"]) and
-          not all(ring_node_ok(*ring_before, k) for k in (0, 2, 4)) and
-          all(ring_node_ok(*ring_after, k) for k in (0, 2, 4)) and r.returncode == 0,
+          agrees(p, doc, ring_brute, ("Regular", "Bold")) and
+          not all(node_g1_throughout(*ring_before, k) for k in (0, 2, 4)) and
+          all(node_g1_throughout(*ring_after, k) for k in (0, 2, 4)) and r.returncode == 0,
           p.stdout + p.stderr + r.stdout + r.stderr)
 
     # g1-between-masters:1 fixed (rounded: off G1 at the masters by rounding, 19 degrees between): handles move in
