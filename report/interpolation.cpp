@@ -232,6 +232,21 @@ Wide idot(IVec a, IVec b) { return static_cast<Wide>(a.x) * b.x + static_cast<Wi
 double gap(IVec a, IVec b) { return std::hypot(static_cast<double>(a.x - b.x), static_cast<double>(a.y - b.y)); }
 bool on_grid(Vec2 p) { return std::abs(p.x) < 1e9 && std::abs(p.y) < 1e9 && p.x == std::floor(p.x) && p.y == std::floor(p.y); }
 
+// (u, v) times the least 2^s (s <= 30) that makes every coordinate an
+// integer below 2^40 in magnitude (exact: a power of two scales a double
+// exactly); nullopt: none.
+std::optional<std::array<IVec, 2>> dyadic_scaled(Vec2 u, Vec2 v) {
+  for (int s = 0; s <= 30; ++s) {
+    const double f = std::ldexp(1.0, s);
+    const Vec2 a = f * u, b = f * v;
+    bool whole = true;
+    for (const double x : {a.x, a.y, b.x, b.y})
+      if (!(std::abs(x) < 0x1p40) || x != std::floor(x)) whole = false;
+    if (whole) return std::array<IVec, 2>{ivec(a), ivec(b)};
+  }
+  return std::nullopt;
+}
+
 // A node's requirement of its tangents at m: against each judged neighbour,
 // its tangent u' and ratio v' = (num / den) u' (reduced, positive).
 struct TangentNeeds {
@@ -305,8 +320,13 @@ std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, b
     if (!on_grid(r.node) || !on_grid(r.in_handle) || !on_grid(r.out_handle)) return std::nullopt;
     req[i].keep_g1 = r.keep_g1 || !r.others.empty();
     for (const auto& [u, v] : r.others) {
-      if (!on_grid(u) || !on_grid(v)) return std::nullopt;
-      const IVec iu = ivec(u), iv = ivec(v);
+      // The neighbour's points need not be on the grid (only m's move onto
+      // it): u' and v' times 2^s, the least power of two that makes all four
+      // coordinates integers (exact for doubles with at most 30 bits after
+      // the point), give the same direction and ratio.
+      const std::optional<std::array<IVec, 2>> scaled = dyadic_scaled(u, v);
+      if (!scaled) return std::nullopt;
+      const IVec iu = (*scaled)[0], iv = (*scaled)[1];
       if (iu == IVec{} || iv == IVec{} || icross(iu, iv) != 0 || idot(iu, iv) <= 0) return std::nullopt;
       const Int a = std::gcd(std::llabs(iu.x), std::llabs(iu.y)), b = std::gcd(std::llabs(iv.x), std::llabs(iv.y));
       const Int c = std::gcd(a, b);

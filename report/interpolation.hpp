@@ -181,7 +181,7 @@ std::optional<G1NodeFix> g1_between_fix(const Vec2 node[2], const Vec2 in_handle
 struct G1NodeRule {
   Vec2 node{}, in_handle{}, out_handle{};         ///< at master m (integers)
   bool in_fixed = false, out_fixed = false;       ///< that side is a line: its end stays
-  std::vector<std::array<Vec2, 2>> others;        ///< (u', v') at each neighbour of a judged piece
+  std::vector<std::array<Vec2, 2>> others;        ///< (u', v') at each neighbour of a judged piece (any doubles)
   bool keep_g1 = true;                            ///< stays G1 at m (v a positive multiple of u)
 };
 struct G1LeastMove {
@@ -190,7 +190,8 @@ struct G1LeastMove {
 };
 /// rules: a run of nodes, each one's outgoing handle the same point as the
 /// next one's incoming (and, `closed`, the last one's the first one's).
-/// nullopt: coordinates not integers (or beyond 1e9), a zero tangent, or no
+/// nullopt: m's coordinates not integers (or beyond 1e9), a neighbour's not
+/// multiples of 2^-30 (they need not be integers), a zero tangent, or no
 /// grid move within `reach` units.
 std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, bool closed = false,
                                          double reach = 1024);

@@ -283,6 +283,23 @@ with tempfile.TemporaryDirectory() as tmp:
         check("fix, %s: exact Fractions find no kink afterwards, and cmr report exits 0" % label,
               kinks3([o_tangents(u) for u in ufos3]) == 0 and r.returncode == 0, r.stdout + r.stderr)
 
+    # A neighbour off the grid (Regular's handle at (200.5, 0)): Regular cannot move on the grid (its own point
+    # is off it), Bold can, onto Regular's tangent: (-60, -30) -> (-60, 0) and (240, 120) -> (240, 0), 150 units
+    # (Regular's ratio 401:200 in another direction would need multiples of 200). Re-judged by cmr report.
+    dsh = copy_family("fix_half", "kink.designspace", ("Regular.ufo", "Bold.ufo"))
+    half_glif = os.path.join(os.path.dirname(dsh), "Regular.ufo", "glyphs", "O_.glif")
+    with open(half_glif) as f:
+        text = f.read()
+    with open(half_glif, "w") as f:
+        f.write(text.replace('x="200" y="0"', 'x="200.5" y="0"'))
+    p, doc = fix_in_place(dsh)
+    r = run(dsh, *g1, "--out", os.path.join(os.path.dirname(dsh), "qa"))
+    check("fix against a neighbour off the grid (200.5): Bold's handles onto Regular's tangent, 150 units, "
+          "\"least\": true, re-judged 1 -> 0, cmr report exits 0",
+          p.returncode == 0 and doc.get("master") == "Bold" and abs(doc.get("distance", -1) - 150) < 1e-9 and
+          doc.get("least") is True and [m["to"] for m in doc["moves"]] == [[-60.0, 0.0], [240.0, 0.0]] and
+          r.returncode == 0, p.stdout + p.stderr + r.stdout + r.stderr)
+
     # A node with a line on one side (lineside: the line's length stays, the handle takes the other master's
     # ratio) and a quadratic (TrueType) source: each fixed in place in one master and re-judged by cmr report
     # (exit 0) and here in Fractions (u = node - the point before it on the contour, a line's other end or a
