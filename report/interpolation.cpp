@@ -339,6 +339,11 @@ std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, b
     }
   }
   if (closed && k < 2) return std::nullopt;
+  // In a run every node has a rule (a node without one leaves its handles
+  // free: the caller does not link it).
+  if (k > 1)
+    for (const TangentNeeds& r : req)
+      if (r.others.empty() && !r.keep_g1) return std::nullopt;
   // The handles h_0..h_k: h_{i-1} and h_i are node i's (counted from 1);
   // h_k is h_0 on a closed run. Their positions now:
   std::vector<IVec> old(k + 1);
@@ -379,10 +384,6 @@ std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, b
       h[i + 1] = at;
       walk(i + 1, cost);
     };
-    if (unconstrained) {  // no rule: its shared handle stays, or (not searched) moves for the next node
-      next(old[i + 1]);
-      return;
-    }
     if (s.kind == Sides::Kind::point) {
       next(IVec{node.x + s.at.x, node.y + s.at.y});
     } else if (s.kind == Sides::Kind::ray) {
@@ -400,17 +401,17 @@ std::optional<G1LeastMove> g1_least_move(const std::vector<G1NodeRule>& rules, b
       for (double j = lo; j <= hi; ++j) next(IVec{node.x + static_cast<Int>(j) * w.x, node.y + static_cast<Int>(j) * w.y});
     }
   };
-  // h_0 in square rings around where it is (a line's end stays): every
-  // point of ring r is at least r away, so once r reaches the best total no
-  // later h_0 is cheaper.
-  // Two passes: the first takes each ray's nearest member (a first bound,
-  // quickly); the second every member within the bound (or `reach`).
   if (k == 1 && !closed && rules[0].out_fixed && !rules[0].in_fixed) {  // the outgoing side a line: u follows
     const IVec node = ivec(rules[0].node), v{old[1].x - node.x, old[1].y - node.y};
     const auto a = nearest(sides(req[0], v, false), IVec{node.x - old[0].x, node.y - old[0].y}, false);
     if (!a || !(a->second <= reach)) return std::nullopt;
     return G1LeastMove{{{vec2(IVec{node.x - a->first.x, node.y - a->first.y}), rules[0].out_handle, a->second}}, a->second};
   }
+  // h_0 in square rings around where it is (a line's end stays): every
+  // point of ring r is at least r away, so once r reaches the best total no
+  // later h_0 is cheaper. Two passes: the first takes each ray's nearest
+  // member (a first bound, quickly); the second every member within the
+  // bound (or `reach`).
   const Int limit = rules[0].in_fixed ? 0 : static_cast<Int>(std::max(0.0, std::floor(reach)));
   for (const bool pass : {true, false}) {
     greedy = pass;

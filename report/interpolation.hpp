@@ -189,7 +189,8 @@ struct G1LeastMove {
   double distance = 0;           ///< the total (a shared point counted once)
 };
 /// rules: a run of nodes, each one's outgoing handle the same point as the
-/// next one's incoming (and, `closed`, the last one's the first one's).
+/// next one's incoming (and, `closed`, the last one's the first one's);
+/// in a run of two or more every node has a rule (neighbours or keep_g1).
 /// nullopt: m's coordinates not integers (or beyond 1e9), a neighbour's not
 /// multiples of 2^-30 (they need not be integers), a zero tangent, or no
 /// grid move within `reach` units.
