@@ -353,7 +353,8 @@ void process_file(FileWork& w, std::size_t index, const BatchOptions& options, i
       case FileKind::font:
         if (std::any_of(o.gates.begin(), o.gates.end(), is_interpolation_gate)) {
           // The masters and the pieces between them (report/interpolation.hpp).
-          w.font = interpolation_inputs(path, {options.all_glyphs, options.codepoints, {}}, options.between, inputs);
+          w.font = interpolation_inputs(path, {options.all_glyphs, options.codepoints, {}}, options.between, inputs,
+                                        options.shard, options.shard ? options.shard_positions.at(index) : 0);
           o.certified_fixes = options.fixes;
           break;
         }

@@ -344,8 +344,13 @@ std::vector<GateViolation> curvature_between_violations(const SplineReport& r, b
 }
 
 FontInfo interpolation_inputs(const std::string& path, const import::GlyphSelection& which,
-                              const std::optional<import::Segment2>& between, std::vector<ReportInput>& inputs) {
+                              const std::optional<import::Segment2>& between, std::vector<ReportInput>& inputs,
+                              const std::optional<Shard>& shard, std::size_t position) {
   import::Masters m = import::read_masters(path, which, between);
+  if (shard) {  // the same glyphs of both lists (parallel: motions[g] is glyph g's)
+    keep_shard_glyphs(*shard, position, m.font.glyphs);
+    keep_shard_glyphs(*shard, position, m.motions);
+  }
   const std::size_t first = inputs.size();
   FontInfo info = font_inputs(m.font, inputs);
   // font_inputs: per glyph, an error item or one item per contour, in order.

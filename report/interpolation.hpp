@@ -76,6 +76,7 @@
 #include "io/masters.hpp"
 #include "report/font_report.hpp"
 #include "report/gates.hpp"
+#include "report/merge.hpp"
 
 namespace cmr::report {
 
@@ -263,7 +264,10 @@ std::vector<GateViolation> curvature_between_violations(const SplineReport& repo
 /// The report items of a designspace or variable font judged by the
 /// interpolation gates: the default master's contours (font_inputs), each
 /// carrying its motions along the pieces (io/masters.hpp read_masters).
+/// `shard`: only the glyphs of that part (`--shard i/N`, the file at
+/// `position`: keep_shard_glyphs), as a font's report keeps them.
 FontInfo interpolation_inputs(const std::string& path, const import::GlyphSelection& which,
-                              const std::optional<import::Segment2>& between, std::vector<ReportInput>& inputs);
+                              const std::optional<import::Segment2>& between, std::vector<ReportInput>& inputs,
+                              const std::optional<Shard>& shard = std::nullopt, std::size_t position = 0);
 
 }  // namespace cmr::report

@@ -152,6 +152,28 @@ with tempfile.TemporaryDirectory() as tmp:
     check(counts(BM) == counts(BW) and BM.get("baseline") == BW.get("baseline"),
           f"baseline: merged {BM} != whole {BW}")
 
+    # A designspace under an interpolation gate (tools/make_test_designspace.py's kink family and the same
+    # glyph O again as a second designspace: its masters' pieces): each glyph in one shard only, as a font's,
+    # and the merge is the whole run. Until 3 Dec every shard judged every glyph (the merge counted each twice).
+    dsdir = os.path.join(tmp, "ds")
+    subprocess.run(["/usr/bin/python3", os.path.join(SRC, "tools", "make_test_designspace.py"), dsdir], check=True,
+                   capture_output=True)
+    vin = [os.path.join(dsdir, "kink.designspace"), os.path.join(dsdir, "three.designspace")]
+    vgates = ["--require", "g1-between-masters", "--no-thumbnails", "--quiet"]
+    vw = run(*vin, *vgates, "--out", os.path.join(tmp, "vwhole"))
+    VW = json.load(open(os.path.join(tmp, "vwhole", "report.json")))
+    check(vw.returncode == 1 and VW["summary"]["findings"] > 0, f"designspaces at g1-between-masters: {VW['summary']}")
+    vparts = []
+    for i in (1, 2):
+        run(*vin, *vgates, "--shard", f"{i}/2", "--out", os.path.join(tmp, f"v{i}"))
+        vparts.append(json.load(open(os.path.join(tmp, f"v{i}", "report.json"))))
+    check(Counter(spline_key(s) for p in vparts for s in p["splines"]) == Counter(spline_key(s) for s in VW["splines"]),
+          "interpolation shards: not the whole run's splines (as a multiset)")
+    vm = run("--merge", os.path.join(tmp, "v1"), os.path.join(tmp, "v2"), "--out", os.path.join(tmp, "vmerged"))
+    VM = json.load(open(os.path.join(tmp, "vmerged", "report.json")))
+    check(vm.returncode == vw.returncode and findings(VM) == findings(VW) and counts(VM["summary"]) == counts(VW["summary"]),
+          f"interpolation merge: exit {vm.returncode}, {counts(VM['summary'])} != whole {counts(VW['summary'])}")
+
     # Bad input: one line, exit 2, nothing written.
     for bad in ["0/2", "3/2", "1/0", "0/0", "x", "1/x", "1", "-1/2", "1/2/3", ""]:
         d = os.path.join(tmp, "bad-shard")
