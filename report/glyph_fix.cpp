@@ -13,10 +13,14 @@
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "report/contour_moves.hpp"
+#include "report/glyph_settle.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
 namespace {
+
+using glyph_detail::LatticeUnit;
+using glyph_detail::settle_nearer;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
 /// options of a set of checks that holds t's (the same model options): the
@@ -146,17 +150,6 @@ Badness badness_of(const SplineReport& r, const ReportOptions& o) {
     }
   return b;
 }
-
-/// A unit of the grid descent: points moved together by whole grid steps.
-/// A slide (a handle of an exactly smooth node) moves along the node's
-/// tangent by multiples of the primitive grid vector on it, so the node
-/// stays exactly smooth; a node moves with its handles by grid translations
-/// (the handles' directions are unchanged); any other point moves freely.
-struct LatticeUnit {
-  std::vector<int> points;
-  bool slide = false;
-  Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
-};
 
 /// The units of the descent over the movable points (contour_moves).
 std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vector<int>& movable, double grid) {
@@ -686,6 +679,30 @@ bool certify_contour_fix(const import::Contour& c, const BSpline& fixed, const R
   return true;
 }
 
+/// settle_nearer on a contour's passing fix `fixed` (updated), the judge
+/// `judge` (0: every check passes) with every exactly smooth node kept.
+bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
+            const std::function<int(const BSpline&)>& judge, std::chrono::steady_clock::time_point deadline) {
+  const int distinct = c.spline.unique_point_count();  // points() repeats a closed spline's first ones
+  auto spline_of = [&](const std::vector<Vec2>& pts) {
+    BSpline s = c.spline;
+    for (int k = 0; k < distinct; ++k)
+      if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
+    return s;
+  };
+  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
+  std::vector<Vec2> at(fixed.points().begin(), fixed.points().begin() + distinct);
+  const double reach = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
+  const bool done = settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
+                                  [&](const std::vector<Vec2>& pts) {
+                                    const BSpline s = spline_of(pts);
+                                    return smooth_kept(c, s) && judge(s) == 0;
+                                  },
+                                  deadline);
+  fixed = spline_of(at);
+  return done;
+}
+
 ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, double budget) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
@@ -825,6 +842,33 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double share = std::max(0.1, (options.glyph_seconds - spent) / static_cast<double>(n - i));
     out.push_back(fix_contour(glyph.contours[i], options, std::min(options.max_seconds, share)));
+  }
+  // Then each fix found is settled (settle_nearer), in what is left of the
+  // budget: after every contour's search, so settling one contour never
+  // takes time another's search needs; and only when every contour is fixed
+  // (a glyph with one contour unfixed has no fix to settle).
+  if (!(options.grid > 0) || std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed; }))
+    return out;
+  const ReportOptions o = judge_only(options.judge);
+  const std::function<int(const BSpline&)> judge = total_judge(o);
+  std::size_t left = std::count_if(out.begin(), out.end(), [](const ContourFix& f) { return f.fixed && !f.already; });
+  for (std::size_t i = 0; i < n; ++i) {
+    ContourFix& f = out[i];
+    if (!f.fixed || f.already) continue;
+    const import::Contour& c = glyph.contours[i];
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double share = std::min(options.max_seconds, (options.glyph_seconds - spent) / static_cast<double>(left--));
+    const auto start = std::chrono::steady_clock::now();
+    const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                      std::chrono::duration<double>(std::max(0.0, share)));
+    BSpline fixed = c.spline;
+    for (const PointMove& m : f.moves) fixed = fixed.with_point(m.point, m.to);
+    ContourFix settled = f;
+    settled.moves.clear(), settled.names.clear(), settled.source_points.clear();
+    settled.settled = settle(c, fixed, contour_moves(c).points, options, judge, deadline);
+    const bool certified = certify_contour_fix(c, fixed, o, settled);  // it passes: settle moves only to passing positions
+    settled.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (certified) f = std::move(settled);
   }
   return out;
 }

@@ -31,6 +31,12 @@
 /// with steps 32..1 cells, pairs of neighbouring units at 1 cell; handles
 /// alone first, then nodes too; then each unit pulled back towards the
 /// source while everything passes. A local search: passing, not nearest.
+/// On the grid, the passing fix (from the descent or the rounds) is then
+/// settled (glyph_fix.cpp, settle_nearer; ContourFix::settled): with cost
+/// the total squared move from the source, each moved unit goes to the
+/// passing position of its lattice that lowers the cost most (every such
+/// position tried in order of cost), then pairs of neighbouring units each
+/// up to 2 cells (a slide 4 steps), until nothing moves.
 /// A quadratic contour's smooth line-to-curve join under g2 cannot pass
 /// (a quadratic's end curvature is 0 only when it is straight): said at
 /// once. Nor can a cubic's, under g2 and the extremum gate together, where
@@ -70,6 +76,12 @@ struct ContourFix {
   std::vector<int> source_points;       ///< per move: its index in the source contour
   std::vector<GateCount> rejudged;      ///< every required check, before and after
   double off_grid_distance = 0;         ///< the largest move of the off-grid fix
+  /// On the grid, the fix as settled (glyph_fix.cpp settle_nearer): no
+  /// moved point (a node with its handles, a handle sliding on its tangent,
+  /// a free handle) has a passing grid position that lowers the total
+  /// squared move, the rest held, and no two neighbouring ones a few cells
+  /// each. False where the time ran out first (the fix still passes).
+  bool settled = false;
   double seconds = 0;
 };
 

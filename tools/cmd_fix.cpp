@@ -90,7 +90,7 @@ struct SourceFixArgs {
 /// The document's `contours` (each contour's moves, by name, and every
 /// check re-judged), the source edits of the moved points, and the first
 /// contour's reason when one is not fixed (empty when all are).
-Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>& fixes,
+Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>& fixes, double grid,
                    std::vector<import::PointEdit>& edits, std::string& failed) {
   Json contours = Json::array();
   for (const report::ContourFix& f : fixes) {
@@ -117,6 +117,7 @@ Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>
       if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + show_fields(f.reason);
     }
     if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
+    if (f.fixed && !f.already && grid > 0) jc["settled"] = f.settled;
     contours.push_back(jc);
   }
   return contours;
@@ -204,7 +205,7 @@ void run_source_fix(const SourceFixArgs& a) {
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
-  const Json contours = contours_json(g, fixes, edits, failed);
+  const Json contours = contours_json(g, fixes, o.grid, edits, failed);
   if (!failed.empty()) throw InputError(a.file + ": " + failed);
   Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
   // All outputs or none (io/output.hpp): the copy of the whole source, or
@@ -259,7 +260,7 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
-  const Json contours = contours_json(g, fixes, edits, failed);
+  const Json contours = contours_json(g, fixes, o.grid, edits, failed);
   if (!failed.empty()) throw InputError(file + ": " + failed);
   Json doc = {{"file", file}, {"require", require}, {"grid", o.grid}, {"contours", contours}};
   OutputSet outputs;

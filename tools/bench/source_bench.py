@@ -16,7 +16,10 @@
 2. A glyph's multi-gate on-grid fix: `cmr fix UFO --glyph G --require
    GATES --out TMP` for every glyph
    of A-Z a-z that fails, wall time and outcome each; the median and worst
-   time, and how many were fixed.
+   time, and how many were fixed; per fixed glyph its total squared move
+   (the sum over moved points of the squared distance, font units) and
+   whether each contour's fix was settled (docs/fix.md "On the grid"), and
+   their sum (compare two binaries on the same glyphs with it).
 
 --report-only: part 1 alone; --fix-only: part 2 alone. Each part prints the
 load average (1, 5, 15 min) before and after it. Prints Markdown tables. Benchmarks, not tests: the numbers depend on the
@@ -103,11 +106,12 @@ def report_part(tmp):
 
 def fix_part(tmp):
     print("\n## Multi-gate on-grid fix per failing glyph (A-Z a-z) (load before: %s)\n" % " ".join(load()))
-    print("| font | failing glyphs | fixed | not fixed | median (s) | worst (s) |")
-    print("|---|---|---|---|---|---|")
+    print("| font | failing glyphs | fixed | not fixed | median (s) | worst (s) | total squared move, fixed glyphs |")
+    print("|---|---|---|---|---|---|---|")
     reasons = {}
     fixed_names = {}
     per_glyph = {}
+    moves = {}
     for name, path in FONTS.items():
         ufo = os.path.join(tmp, name.replace(" ", "") + "-AZ.ufo")
         subprocess.run(["/usr/bin/python3", MAKE, path, ufo, AZ], check=True)
@@ -133,16 +137,23 @@ def fix_part(tmp):
             if r.returncode == 0:
                 fixed += 1
                 names.append(gname)
+                doc = json.loads(r.stdout)
+                squared = sum(m["distance"] ** 2 for c in doc["contours"] for m in c["moves"])
+                settled = all(c.get("settled", True) for c in doc["contours"])
+                moves.setdefault(name, []).append((gname, squared, settled))
             else:
                 failed += 1
                 why = r.stderr.strip().split(": ", 2)[-1][:90]
                 reasons[why] = reasons.get(why, 0) + 1
         if times:
-            print("| %s | %d | %d | %d | %.2f | %.2f |" % (name, len(times), fixed, failed, statistics.median(times),
-                                                          max(times)))
+            print("| %s | %d | %d | %d | %.2f | %.2f | %.0f |" % (name, len(times), fixed, failed, statistics.median(times),
+                                                                max(times), sum(q for _, q, _ in moves.get(name, []))))
             fixed_names[name] = names
     for name, names in fixed_names.items():
         print("\nFixed in %s: %s" % (name, " ".join(names) or "none"))
+    for name, mv in moves.items():
+        print("\nTotal squared move per fixed glyph in %s (* not settled in its time): %s" %
+              (name, ", ".join("%s %.0f%s" % (g, q, "" if ok else "*") for g, q, ok in mv)))
     for name, tg in per_glyph.items():
         print("\nSeconds per glyph in %s, fastest first: %s" % (name, ", ".join("%s %.2f" % (g, t) for t, g in sorted(tg))))
     print("\nWhy not fixed (count, the reason's first words):\n")

@@ -1,0 +1,119 @@
+#include "report/glyph_settle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace cmr::report::glyph_detail {
+
+bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
+                   double grid, double max_move, const std::function<bool(const std::vector<Vec2>&)>& passes,
+                   std::chrono::steady_clock::time_point deadline) {
+  const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
+  auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
+  auto cost_of = [&](const std::vector<Vec2>& pts) {
+    double t = 0;
+    for (int k = 0; k < m; ++k) t += dot(pts[k] - src[k], pts[k] - src[k]);
+    return t;
+  };
+  auto within = [&](const std::vector<Vec2>& pts) {
+    for (int k = 0; k < m; ++k)
+      if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return false;
+    return true;
+  };
+  // The first candidate (in order of cost, each lower than now) that
+  // passes becomes `at`; false when none does or time is up.
+  bool out_of_time = false;
+  auto take_first = [&](std::vector<std::pair<double, std::vector<Vec2>>>& candidates) {
+    std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [unused, t] : candidates) {
+      if (expired()) return !(out_of_time = true);
+      if (!within(t) || !passes(t)) continue;
+      at = std::move(t);
+      return true;
+    }
+    return false;
+  };
+  auto moved_by = [&](const std::vector<std::pair<const LatticeUnit*, Vec2>>& steps) {
+    std::vector<Vec2> t = at;
+    for (const auto& [u, d] : steps)
+      for (int k : u->points) t[k] = t[k] + d;
+    return t;
+  };
+  // Single units until none moves.
+  auto singles = [&] {
+    for (bool moved = true; moved && !out_of_time;) {
+      moved = false;
+      for (const LatticeUnit& u : units) {
+        // The unit's share of the cost as a function of its step delta:
+        // sum over its points of |a_k + delta|^2 = n |delta + mean|^2 + rest.
+        Vec2 mean(0.0);
+        double own = 0;
+        for (int k : u.points) {
+          const Vec2 a = at[k] - src[k];
+          mean = mean + a, own += dot(a, a);
+        }
+        if (own == 0) continue;
+        const double n = static_cast<double>(u.points.size());
+        mean = mean / n;
+        const double rest = own - n * dot(mean, mean), now = cost_of(at);
+        auto share = [&](Vec2 d) { return n * dot(d + mean, d + mean) + rest; };
+        std::vector<Vec2> steps;
+        if (u.slide) {
+          const double s2 = dot(u.step, u.step), centre = -dot(mean, u.step) / s2;
+          const double reach = std::sqrt((own - rest) / (n * s2)) + 1;
+          for (long j = std::lround(std::floor(centre - reach)); j <= std::lround(std::ceil(centre + reach)); ++j)
+            steps.push_back(static_cast<double>(j) * u.step);
+        } else {
+          const long r = std::lround(std::ceil(std::sqrt((own - rest) / n) / grid + 1));
+          const long cx = std::lround(-mean.x / grid), cy = std::lround(-mean.y / grid);
+          for (long i = cx - r; i <= cx + r; ++i)
+            for (long j = cy - r; j <= cy + r; ++j) steps.emplace_back(static_cast<double>(i) * grid, static_cast<double>(j) * grid);
+        }
+        std::vector<std::pair<double, std::vector<Vec2>>> candidates;
+        for (const Vec2 d : steps)
+          if (share(d) < own) candidates.emplace_back(now - own + share(d), moved_by({{&u, d}}));
+        if (take_first(candidates)) moved = true;
+      }
+    }
+  };
+  auto offsets = [&](const LatticeUnit& u) {
+    std::vector<Vec2> out;
+    if (u.slide) {
+      for (int j = -kPairSlideReach; j <= kPairSlideReach; ++j)
+        if (j != 0) out.push_back(static_cast<double>(j) * u.step);
+    } else {
+      for (int i = -kPairReach; i <= kPairReach; ++i)
+        for (int j = -kPairReach; j <= kPairReach; ++j)
+          if (i != 0 || j != 0) out.emplace_back(i * grid, j * grid);
+    }
+    return out;
+  };
+  std::vector<std::pair<const LatticeUnit*, const LatticeUnit*>> pairs;
+  for (std::size_t a = 0; a < units.size(); ++a)
+    for (std::size_t b = a + 1; b < units.size(); ++b) {
+      const int d = std::abs(units[a].points.front() - units[b].points.front());
+      if (std::min(d, m - d) <= 3) pairs.emplace_back(&units[a], &units[b]);
+    }
+  singles();
+  // Pairs in turn, until a whole turn moves none.
+  for (std::size_t next = 0, quiet = 0; quiet < pairs.size() && !out_of_time; next = (next + 1) % pairs.size()) {
+    const auto [a, b] = pairs[next];
+    const double now = cost_of(at);
+    std::vector<std::pair<double, std::vector<Vec2>>> candidates;
+    for (const Vec2 da : offsets(*a))
+      for (const Vec2 db : offsets(*b)) {
+        std::vector<Vec2> t = moved_by({{a, da}, {b, db}});
+        if (const double cost_t = cost_of(t); cost_t < now) candidates.emplace_back(cost_t, std::move(t));
+      }
+    if (take_first(candidates)) {
+      quiet = 0;
+      singles();
+    } else {
+      ++quiet;
+    }
+  }
+  return !out_of_time;
+}
+
+}  // namespace cmr::report::glyph_detail

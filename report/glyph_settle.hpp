@@ -1,0 +1,46 @@
+#pragma once
+// Internal to cmr::report: the glyph fix's units of motion on the grid and
+// the settling of a passing fix (report/glyph_fix.cpp; docs/fix.md "On the
+// grid").
+#include <chrono>
+#include <functional>
+#include <vector>
+
+#include "spline/vec2.hpp"
+
+namespace cmr::report::glyph_detail {
+
+/// A unit of the grid descent: points moved together by whole grid steps.
+/// A slide (a handle of an exactly smooth node) moves along the node's
+/// tangent by multiples of the primitive grid vector on it, so the node
+/// stays exactly smooth; a node moves with its handles by grid translations
+/// (the handles' directions are unchanged); any other point moves freely.
+struct LatticeUnit {
+  std::vector<int> points;
+  bool slide = false;
+  Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
+};
+
+/// The settling of a passing fix (fix_glyph, after every contour's search): the cost
+/// is the total squared move of every point from the source, and a move is
+/// taken when it lowers the cost and the exact judge (`passes`) passes it.
+///  * Single units: every position of a unit's lattice (a slide: the
+///    multiples of its step along its line; a translation: the grid vectors)
+///    that lowers the cost, tried in order of the cost, the first that
+///    passes taken; repeated until no unit moves. Then no single unit has a
+///    nearer passing grid position, the others held.
+///  * Pairs of neighbouring units (within three points along the contour),
+///    each up to kPairReach cells (a slide kPairSlideReach steps) from where
+///    it is, in order of the cost; after a pair moves, the single units
+///    again. The pairs are tried in turn until a whole turn moves none.
+/// `src` and `at`: the contour's distinct points, the source's and the
+/// fix's (which passes); a position farther than `max_move` from the source
+/// is not tried. Returns whether that end was reached (else the deadline
+/// came first); `at` holds the best so far either way, and it passes.
+inline constexpr int kPairReach = 2, kPairSlideReach = 4;
+
+bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
+                   double grid, double max_move, const std::function<bool(const std::vector<Vec2>&)>& passes,
+                   std::chrono::steady_clock::time_point deadline);
+
+}  // namespace cmr::report::glyph_detail

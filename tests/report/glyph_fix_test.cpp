@@ -1,0 +1,151 @@
+// The glyph fix on the font's grid (report/glyph_fix.hpp) settles what its
+// search found: no moved point has a passing grid position that lowers the
+// total squared move, the rest held. Checked here by enumerating, for each
+// moved source point, every grid position a designer's move allows it
+// (written out here, not taken from the fix): a node moves with its
+// handles by grid translations, a handle of a smooth node slides on its
+// tangent by the primitive grid vector, any other handle moves freely; each
+// candidate that lowers the total and keeps every smooth node smooth is
+// judged by the report's gates, and none may pass.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "io/font.hpp"
+#include "report/batch.hpp"
+#include "report/glyph_fix.hpp"
+#include "report/report.hpp"
+
+namespace cmr {
+namespace {
+
+const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+
+double total_squared(const std::vector<Vec2>& p, const std::vector<Vec2>& src) {
+  double t = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) t += dot(p[k] - src[k], p[k] - src[k]);
+  return t;
+}
+
+// Every node whose neighbours are both off-curve and exactly collinear with
+// it, on opposite sides, is smooth; it must stay so.
+bool smooth_nodes_kept(const import::Contour& c, const std::vector<Vec2>& p) {
+  const int m = static_cast<int>(p.size());  // distinct points
+  const std::vector<Vec2>& s = c.spline.points();
+  for (int k = 0; k < m; ++k) {
+    if (!c.node[k]) continue;
+    const int a = (k + m - 1) % m, b = (k + 1) % m;
+    const Vec2 u = s[a] - s[k], v = s[b] - s[k];
+    if (u == Vec2(0.0) || v == Vec2(0.0) || det(u, v) != 0 || !(dot(u, v) < 0)) continue;
+    const Vec2 u2 = p[a] - p[k], v2 = p[b] - p[k];
+    if (u2 == Vec2(0.0) || v2 == Vec2(0.0) || det(u2, v2) != 0 || !(dot(u2, v2) < 0)) return false;
+  }
+  return true;
+}
+
+int violations(const import::Contour& c, const std::vector<Vec2>& p, const report::ReportOptions& o) {
+  BSpline s = c.spline;
+  for (int k = 0; k < s.unique_point_count(); ++k)
+    if (p[k] != s.points()[k]) s = s.with_point(k, p[k]);
+  const report::SplineReport r = report::gate_report(s, o);
+  int n = 0;
+  for (const report::GateResult& g : r.gates) n += static_cast<int>(g.violations.size());
+  return n;
+}
+
+TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
+  if (!std::filesystem::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("b,y"));
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  o.glyph_seconds = 120;  // time enough to settle on a loaded machine (about 1 s each here)
+  int contours = 0, candidates = 0;
+  for (const import::Glyph& g : font.glyphs) {
+    const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
+    for (const report::ContourFix& f : fixes) {
+      if (f.already) continue;
+      ASSERT_TRUE(f.fixed) << g.name << "/c" << f.contour << ": " << f.reason;
+      EXPECT_TRUE(f.settled) << g.name << "/c" << f.contour;
+      const import::Contour& c = g.contours[static_cast<std::size_t>(f.contour)];
+      const int m = c.spline.unique_point_count();  // a closed spline's points() repeat its first ones
+      const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
+      std::vector<Vec2> at = src;
+      for (const PointMove& mv : f.moves) at[static_cast<std::size_t>(mv.point)] = mv.to;
+      ASSERT_EQ(violations(c, at, o.judge), 0) << g.name;
+      ASSERT_TRUE(smooth_nodes_kept(c, at)) << g.name;
+      const double now = total_squared(at, src);
+      // Each moved source point's unit (a node: with its off-curve
+      // neighbours) and lattice direction (a smooth node's handle: its
+      // tangent's primitive grid vector; else 0: free).
+      struct Unit {
+        std::string name;
+        std::vector<int> points;
+        Vec2 along{0.0};
+      };
+      std::vector<Unit> units;
+      for (std::size_t i = 0; i < f.moves.size(); ++i) {
+        const int k = f.moves[i].point;
+        if (c.font_point[k] < 0) continue;  // an added point moves only with its node
+        Unit u{f.names[i], {k}};
+        if (c.node[k])
+          for (int d : {m - 1, 1})
+            if (!c.node[(k + d) % m]) u.points.push_back((k + d) % m);
+        if (!c.node[k])
+          for (int d : {m - 1, 1}) {
+            const int node = (k + d) % m, other = (k + 2 * d) % m;
+            if (!c.node[node]) continue;
+            const Vec2 a = src[k] - src[node], b = src[other] - src[node];
+            if (a != Vec2(0.0) && b != Vec2(0.0) && det(a, b) == 0 && dot(a, b) < 0)
+              u.along = a / static_cast<double>(std::gcd(std::lround(std::abs(a.x)), std::lround(std::abs(a.y))));
+          }
+        units.push_back(u);
+      }
+      auto steps_of = [](const Unit& u, double r, double slide_r) {
+        std::vector<Vec2> out;
+        if (u.along != Vec2(0.0)) {
+          for (double j = -slide_r; j <= slide_r; ++j)
+            if (j != 0) out.push_back(j * u.along);
+        } else {
+          for (double x = -r; x <= r; ++x)
+            for (double y = -r; y <= r; ++y)
+              if (x != 0 || y != 0) out.emplace_back(x, y);
+        }
+        return out;
+      };
+      auto try_move = [&](const std::vector<std::pair<const Unit*, Vec2>>& moves, const std::string& what) {
+        std::vector<Vec2> t = at;
+        for (const auto& [u, d] : moves)
+          for (int q : u->points) t[static_cast<std::size_t>(q)] = t[static_cast<std::size_t>(q)] + d;
+        if (!(total_squared(t, src) < now) || !smooth_nodes_kept(c, t)) return;
+        ++candidates;
+        EXPECT_NE(violations(c, t, o.judge), 0) << what << " passes nearer the source";
+      };
+      // Single points: every lattice position that lowers the total.
+      const double r = std::ceil(std::sqrt(now)) + 1;
+      for (const Unit& u : units)
+        for (const Vec2 d : steps_of(u, r, r))
+          try_move({{&u, d}}, u.name + " moved by (" + std::to_string(d.x) + ", " + std::to_string(d.y) + ")");
+      // Two moved points within three along the contour, each up to 2 cells
+      // (a slide 4 steps).
+      for (std::size_t a = 0; a < units.size(); ++a)
+        for (std::size_t b = a + 1; b < units.size(); ++b) {
+          const int gap = std::abs(units[a].points[0] - units[b].points[0]);
+          if (std::min(gap, m - gap) > 3) continue;
+          for (const Vec2 da : steps_of(units[a], 2, 4))
+            for (const Vec2 db : steps_of(units[b], 2, 4))
+              try_move({{&units[a], da}, {&units[b], db}}, units[a].name + " and " + units[b].name + " together");
+        }
+      ++contours;
+    }
+  }
+  EXPECT_GE(contours, 2);
+  EXPECT_GT(candidates, 100);
+}
+
+}  // namespace
+}  // namespace cmr
