@@ -165,4 +165,29 @@ std::vector<SplineReport> report_batch(std::vector<ReportInput> inputs, const Re
   return out;
 }
 
+BSpline segments_window(const BSpline& spline, int first, int count) {
+  const int d = spline.degree(), n = spline.segment_count(), m = spline.unique_point_count();
+  // A closed spline's segment i + n is segment i one period on: its span is m further.
+  auto span = [&](int i) { return spline.segments()[static_cast<std::size_t>(((i % n) + n) % n)].span + (i >= n ? m : 0); };
+  const int j0 = span(first), j1 = span(first + count - 1);
+  std::vector<double> period;
+  if (spline.closed()) period = spline.period_knots();
+  const double T = spline.closed() ? period.back() - period.front() : 0;
+  auto knot = [&](int k) {
+    if (!spline.closed()) return spline.knots()[static_cast<std::size_t>(k)];
+    const int i = k - d + 1;  // the periodic extension's index (BSpline::make_closed)
+    const int q = i >= 0 ? i / m : -((-i + m - 1) / m);
+    return period[static_cast<std::size_t>(i - q * m)] + q * T;
+  };
+  std::vector<double> knots, weights;
+  std::vector<Vec2> points;
+  for (int k = j0 - d + 1; k <= j1 + d; ++k) knots.push_back(knot(k));
+  for (int k = j0 - d + 1; k <= j1 + 1; ++k) {
+    const int p = spline.closed() ? ((k % m) + m) % m : k;
+    points.push_back(spline.points()[static_cast<std::size_t>(p)]);
+    if (spline.is_rational()) weights.push_back(spline.weight(p));
+  }
+  return BSpline::make(d, std::move(knots), std::move(points), spline.name(), std::move(weights));
+}
+
 }  // namespace cmr::report

@@ -40,6 +40,12 @@ SplineReport judged_report(const BSpline& spline, const ReportOptions& options);
 /// gates' violations and verdicts are judged_report's. The search judges of
 /// the severity, the glyph fix and the certified fixes.
 SplineReport gate_report(const BSpline& spline, const ReportOptions& options);
+/// Segments [first, first + count) of `spline` (indices taken cyclically on
+/// a closed spline) as an open spline of their own, with the same polar
+/// knots and control points (for a closed spline, its periodic extension):
+/// each of its segments is the same polynomial piece as the spline's.
+BSpline segments_window(const BSpline& spline, int first, int count);
+
 /// gate_report's model before its gates are judged (check_gates judges any
 /// of options' checks on it: a search that judges two sets of the same
 /// checks on one spline builds it once).

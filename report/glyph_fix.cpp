@@ -20,6 +20,7 @@ namespace cmr::report {
 namespace {
 
 using glyph_detail::LatticeUnit;
+using glyph_detail::local_judge;
 using glyph_detail::settle_nearer;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
@@ -679,27 +680,77 @@ bool certify_contour_fix(const import::Contour& c, const BSpline& fixed, const R
   return true;
 }
 
-/// settle_nearer on a contour's passing fix `fixed` (updated), the judge
-/// `judge` (0: every check passes) with every exactly smooth node kept.
-bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
-            const std::function<int(const BSpline&)>& judge, std::chrono::steady_clock::time_point deadline) {
+}  // namespace
+
+namespace glyph_detail {
+
+std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
+                                                                                      const ReportOptions& o) {
   const int distinct = c.spline.unique_point_count();  // points() repeats a closed spline's first ones
-  auto spline_of = [&](const std::vector<Vec2>& pts) {
+  auto spline_of = [c, distinct](const std::vector<Vec2>& pts) {
     BSpline s = c.spline;
     for (int k = 0; k < distinct; ++k)
       if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
     return s;
   };
+  const bool local = !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes || g.kind == Gate::Kind::max_extrema_per_segment ||
+           g.kind == Gate::Kind::g2_at_smooth_nodes;
+  });
+  const int n = c.spline.segment_count();
+  std::vector<std::vector<int>> touches(static_cast<std::size_t>(distinct));  // per point: the segments it shapes
+  for (int i = 0; i < n; ++i)
+    for (int k : segment_points(c.spline, c.spline.segments()[static_cast<std::size_t>(i)]))
+      touches[static_cast<std::size_t>(k % distinct)].push_back(i);
+  const std::function<int(const BSpline&)> whole = total_judge(o);
+  return [=](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+    const BSpline s = spline_of(to);
+    if (!smooth_kept(c, s)) return false;
+    std::vector<char> changed(static_cast<std::size_t>(n), 0);
+    for (int k = 0; k < distinct; ++k)
+      if (from[k] != to[k])
+        for (int i : touches[static_cast<std::size_t>(k)]) changed[static_cast<std::size_t>(i)] = 1;
+    // The shortest cyclic run of segments holding every changed one: all
+    // but the longest run of unchanged ones.
+    int best_gap = 0, best_end = -1;
+    for (int i = 0, gap = 0; i < 2 * n; ++i) {
+      gap = changed[static_cast<std::size_t>(i % n)] ? 0 : gap + 1;
+      if (gap > best_gap && gap <= n) best_gap = gap, best_end = i;
+    }
+    const int run = n - best_gap;  // changed segments' run length
+    if (!local || run == 0 || run + 2 >= n) return whole(s) == 0;
+    const int first = (best_end + 1) % n;  // the run's first segment
+    try {
+      const BSpline w = segments_window(s, (first + n - 1) % n, run + 2);
+      const SplineReport r = gate_report(w, o);
+      for (const GateResult& g : r.gates)
+        for (const GateViolation& v : g.violations) {
+          if (v.segment >= 1 && v.segment <= run) return false;  // a changed segment
+          if (v.segment < 0 && v.joint >= 1 && v.joint <= run + 1) return false;  // a joint of a changed segment
+        }
+      return true;
+    } catch (const InputError&) {
+      return false;
+    }
+  };
+}
+
+}  // namespace glyph_detail
+
+namespace {
+
+/// settle_nearer on a contour's passing fix `fixed` (updated), judged by
+/// local_judge (every check of `o`, smooth nodes kept).
+bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
+            const ReportOptions& o, std::chrono::steady_clock::time_point deadline) {
+  const int distinct = c.spline.unique_point_count();
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
   std::vector<Vec2> at(fixed.points().begin(), fixed.points().begin() + distinct);
   const double reach = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
   const bool done = settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
-                                  [&](const std::vector<Vec2>& pts) {
-                                    const BSpline s = spline_of(pts);
-                                    return smooth_kept(c, s) && judge(s) == 0;
-                                  },
-                                  deadline);
-  fixed = spline_of(at);
+                                  local_judge(c, o), deadline);
+  for (int k = 0; k < distinct; ++k)
+    if (at[k] != fixed.points()[k]) fixed = fixed.with_point(k, at[k]);
   return done;
 }
 
@@ -850,7 +901,6 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
   if (!(options.grid > 0) || std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed; }))
     return out;
   const ReportOptions o = judge_only(options.judge);
-  const std::function<int(const BSpline&)> judge = total_judge(o);
   std::size_t left = std::count_if(out.begin(), out.end(), [](const ContourFix& f) { return f.fixed && !f.already; });
   for (std::size_t i = 0; i < n; ++i) {
     ContourFix& f = out[i];
@@ -865,7 +915,7 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     for (const PointMove& m : f.moves) fixed = fixed.with_point(m.point, m.to);
     ContourFix settled = f;
     settled.moves.clear(), settled.names.clear(), settled.source_points.clear();
-    settled.settled = settle(c, fixed, contour_moves(c).points, options, judge, deadline);
+    settled.settled = settle(c, fixed, contour_moves(c).points, options, o, deadline);
     const bool certified = certify_contour_fix(c, fixed, o, settled);  // it passes: settle moves only to passing positions
     settled.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (certified) f = std::move(settled);

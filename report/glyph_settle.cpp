@@ -7,7 +7,8 @@
 namespace cmr::report::glyph_detail {
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
-                   double grid, double max_move, const std::function<bool(const std::vector<Vec2>&)>& passes,
+                   double grid, double max_move,
+                   const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
                    std::chrono::steady_clock::time_point deadline) {
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
   auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
@@ -28,7 +29,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& [unused, t] : candidates) {
       if (expired()) return !(out_of_time = true);
-      if (!within(t) || !passes(t)) continue;
+      if (!within(t) || !passes(at, t)) continue;
       at = std::move(t);
       return true;
     }

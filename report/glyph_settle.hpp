@@ -6,6 +6,8 @@
 #include <functional>
 #include <vector>
 
+#include "io/font.hpp"
+#include "report/report.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr::report::glyph_detail {
@@ -23,7 +25,8 @@ struct LatticeUnit {
 
 /// The settling of a passing fix (fix_glyph, after every contour's search): the cost
 /// is the total squared move of every point from the source, and a move is
-/// taken when it lowers the cost and the exact judge (`passes`) passes it.
+/// taken when it lowers the cost and the exact judge passes it
+/// (`passes(at, t)`: whether t, which is `at` with some units moved, passes).
 ///  * Single units: every position of a unit's lattice (a slide: the
 ///    multiples of its step along its line; a translation: the grid vectors)
 ///    that lowers the cost, tried in order of the cost, the first that
@@ -40,7 +43,24 @@ struct LatticeUnit {
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
-                   double grid, double max_move, const std::function<bool(const std::vector<Vec2>&)>& passes,
+                   double grid, double max_move,
+                   const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
                    std::chrono::steady_clock::time_point deadline);
+
+/// A judge of a position that differs from a passing one in a few points,
+/// on the segments those points touch: `passes(from, to)` (from passes
+/// every check of `o`; to is from with some points moved, both the
+/// contour's distinct points) is whether `to` passes every check and keeps
+/// every exactly smooth node exactly smooth. Where every check is local
+/// (the extremum gates read each segment's own piece, g2 each joint's two
+/// sides; no requirement), the run of changed segments, with one unchanged
+/// segment on either side, is judged as a window of its own
+/// (segments_window: the same pieces, so the same verdicts on them and on
+/// the joints between them), and only the run's segments and joints count:
+/// every other segment and joint is as in `from`, which passes. Otherwise,
+/// or where the window would hold the whole contour, the whole spline is
+/// judged. Defined in glyph_fix.cpp; GlyphFix.LocalJudgeIsTheWholeJudge.
+std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
+                                                                                      const ReportOptions& o);
 
 }  // namespace cmr::report::glyph_detail

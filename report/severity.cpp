@@ -29,35 +29,6 @@ bool same_place(const GateViolation& a, const GateViolation& b) {
   return a.segment >= 0 ? a.segment == b.segment : a.joint == b.joint && b.segment < 0;
 }
 
-/// Segments [first, first + count) of `spline` (indices taken cyclically on
-/// a closed spline) as an open spline of their own, with the same polar
-/// knots and control points (for a closed spline, its periodic extension):
-/// each of its segments is the same polynomial piece as the spline's.
-BSpline window(const BSpline& spline, int first, int count) {
-  const int d = spline.degree(), n = spline.segment_count(), m = spline.unique_point_count();
-  // A closed spline's segment i + n is segment i one period on: its span is m further.
-  auto span = [&](int i) { return spline.segments()[static_cast<std::size_t>(((i % n) + n) % n)].span + (i >= n ? m : 0); };
-  const int j0 = span(first), j1 = span(first + count - 1);
-  std::vector<double> period;
-  if (spline.closed()) period = spline.period_knots();
-  const double T = spline.closed() ? period.back() - period.front() : 0;
-  auto knot = [&](int k) {
-    if (!spline.closed()) return spline.knots()[static_cast<std::size_t>(k)];
-    const int i = k - d + 1;  // the periodic extension's index (BSpline::make_closed)
-    const int q = i >= 0 ? i / m : -((-i + m - 1) / m);
-    return period[static_cast<std::size_t>(i - q * m)] + q * T;
-  };
-  std::vector<double> knots, weights;
-  std::vector<Vec2> points;
-  for (int k = j0 - d + 1; k <= j1 + d; ++k) knots.push_back(knot(k));
-  for (int k = j0 - d + 1; k <= j1 + 1; ++k) {
-    const int p = spline.closed() ? ((k % m) + m) % m : k;
-    points.push_back(spline.points()[static_cast<std::size_t>(p)]);
-    if (spline.is_rational()) weights.push_back(spline.weight(p));
-  }
-  return BSpline::make(d, std::move(knots), std::move(points), spline.name(), std::move(weights));
-}
-
 /// How many violations of the judge's one gate lie at `place` on `spline`;
 /// with `first` >= 0 judged on the window of the place alone (its segment,
 /// or the two segments meeting at its joint, starting at segment `first`):
@@ -72,7 +43,7 @@ int violations_at(const BSpline& spline, const ReportOptions& judge, const GateV
       here = GateViolation{};
       if (place.segment >= 0) here.segment = 0;
       else here.joint = 1;
-      w = window(spline, first, place.segment >= 0 ? 1 : 2);
+      w = segments_window(spline, first, place.segment >= 0 ? 1 : 2);
       const Gate& gate = judge.gates[0];
       const bool extrema = gate.kind == Gate::Kind::extrema_at_nodes || gate.kind == Gate::Kind::max_extrema_per_segment;
       if (place.segment >= 0 && extrema)

@@ -12,12 +12,14 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "io/font.hpp"
 #include "report/batch.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/glyph_settle.hpp"
 #include "report/report.hpp"
 
 namespace cmr {
@@ -145,6 +147,57 @@ TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
   }
   EXPECT_GE(contours, 2);
   EXPECT_GT(candidates, 100);
+}
+
+// The settling's judge (glyph_detail::local_judge) judges a moved position
+// on the run of segments the moved points touch; it must say what the whole
+// spline's judge says. From each passing fix, random moves of one or two
+// source points (a node with its off-curve neighbours, or a point alone,
+// up to 6 units each way) are judged both ways.
+TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
+  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  for (const char* path : {kNimbus, kDejaVu})
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  o.glyph_seconds = 120;
+  const report::ReportOptions judge = report::judge_only(o.judge);
+  std::mt19937 rng(36);
+  int passing = 0, failing = 0;
+  for (const auto& [path, glyphs] : {std::pair{kNimbus, "b,y"}, std::pair{kDejaVu, "c,G"}}) {
+    const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
+    for (const import::Glyph& g : font.glyphs)
+      for (const report::ContourFix& f : report::fix_glyph(g, o)) {
+        if (!f.fixed || f.already) continue;
+        const import::Contour& c = g.contours[static_cast<std::size_t>(f.contour)];
+        const int m = c.spline.unique_point_count();
+        std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
+        for (const PointMove& mv : f.moves) from[static_cast<std::size_t>(mv.point)] = mv.to;
+        const auto local = report::glyph_detail::local_judge(c, judge);
+        std::vector<int> points;
+        for (int k = 0; k < m; ++k)
+          if (c.font_point[k] >= 0) points.push_back(k);
+        std::uniform_int_distribution<std::size_t> pick(0, points.size() - 1);
+        std::uniform_int_distribution<int> step(-6, 6);
+        for (int trial = 0; trial < 300; ++trial) {
+          std::vector<Vec2> to = from;
+          for (int moved = 0; moved < 1 + trial % 2; ++moved) {
+            const int k = points[pick(rng)];
+            const Vec2 d(step(rng), step(rng));
+            to[static_cast<std::size_t>(k)] = to[static_cast<std::size_t>(k)] + d;
+            if (c.node[k] && trial % 3 == 0)  // a node with its handles
+              for (int side : {m - 1, 1})
+                if (!c.node[(k + side) % m]) to[static_cast<std::size_t>((k + side) % m)] = to[static_cast<std::size_t>((k + side) % m)] + d;
+          }
+          const bool whole = smooth_nodes_kept(c, to) && violations(c, to, judge) == 0;
+          ASSERT_EQ(local(from, to), whole) << g.name << "/c" << f.contour << " trial " << trial;
+          ++(whole ? passing : failing);
+        }
+      }
+  }
+  EXPECT_GT(passing, 100);
+  EXPECT_GT(failing, 100);
 }
 
 }  // namespace
