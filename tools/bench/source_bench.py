@@ -38,7 +38,7 @@ import time
 REPORT_ONLY = "--report-only" in sys.argv
 FIX_ONLY = "--fix-only" in sys.argv
 ARGV = [a for a in sys.argv if a not in ("--report-only", "--fix-only")]
-CMR = ARGV[1]
+CMR = os.path.abspath(ARGV[1]) if os.sep in ARGV[1] else ARGV[1]  # the runs' cwd is a scratch folder
 HERE = os.path.dirname(os.path.abspath(__file__))
 MAKE = os.path.join(HERE, "..", "make_test_ufo.py")
 FONTS = {
