@@ -6,6 +6,7 @@
 #include <functional>
 #include <utility>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <optional>
 
@@ -21,6 +22,7 @@ namespace {
 
 using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
+using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
@@ -88,6 +90,14 @@ std::vector<int> partners_of(const import::Contour& c, const FixResult& f, const
 /// Rounds of the search (each lowers the count of violations).
 constexpr int kGlyphFixRounds = 12;
 
+/// The contour's spline with its distinct points at `pts`.
+BSpline with_points(const import::Contour& c, const std::vector<Vec2>& pts) {
+  BSpline s = c.spline;
+  for (int k = 0; k < s.unique_point_count(); ++k)
+    if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
+  return s;
+}
+
 /// Every node that is exactly smooth in the source (its neighbours on both
 /// sides exactly collinear with it, on opposite sides) is so in `s` too.
 /// Exact for coordinates below 2^26 (products below 2^53): font units.
@@ -129,9 +139,8 @@ struct Badness {
   double score() const { return excess + 1e-3 * count; }
 };
 
-Badness badness_of(const SplineReport& r, const ReportOptions& o) {
+Badness badness_of(const SplineReport& r, const ReportOptions& o, double size) {
   Badness b;
-  const double size = r.spline ? curve_size(*r.spline) : 1.0;
   if (o.require && !r.requirement_pass) b.count += 1, b.excess += 1;
   for (const GateResult& g : r.gates)
     for (const GateViolation& v : g.violations) {
@@ -326,23 +335,61 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
   const std::vector<Vec2>& src = c.spline.points();
   const double max_move = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
   const std::optional<QuickJudge> quick = quick_judge_of(c.spline, o);
-  auto spline_of = [&](const std::vector<Vec2>& pts) {
-    BSpline s = c.spline;
-    for (int k = 0; k < s.unique_point_count(); ++k)
-      if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
-    return s;
-  };
+  const double size = curve_size(c.spline);  // the g2 excess's scale at a line join (as QuickJudge's)
+  auto spline_of = [&](const std::vector<Vec2>& pts) { return with_points(c, pts); };
   // Badness of a position (nullopt: not allowed), exact or quick.
-  auto score_of = [&](const std::vector<Vec2>& pts, bool exact) -> std::optional<Badness> {
+  auto allowed = [&](const std::vector<Vec2>& pts) {
     for (int k = 0; k < c.spline.unique_point_count(); ++k)
-      if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return std::nullopt;
-    const BSpline s = spline_of(pts);
-    if (!smooth_kept(c, s)) return std::nullopt;
+      if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return false;
+    return smooth_kept(c, spline_of(pts));
+  };
+  auto score_of = [&](const std::vector<Vec2>& pts, bool exact) -> std::optional<Badness> {
+    if (!allowed(pts)) return std::nullopt;
     try {
-      return exact || !quick ? badness_of(gate_report(s, o), o) : quick_badness(s, *quick);
+      const BSpline s = spline_of(pts);
+      return exact || !quick ? badness_of(gate_report(s, o), o, size) : quick_badness(s, *quick);
     } catch (const InputError&) {
       return std::nullopt;
     }
+  };
+  // A step from `at` (whose badness is `now`) to `t`: t's badness where it
+  // is lower, else nullopt. Exactly, a step that changes a run of segments
+  // is judged on the run alone (RunJudge): t's violations are at's less
+  // the run's there plus the run's here, and it is lower exactly when the
+  // run's is. The run's badness at `at` is kept until `at` moves.
+  const RunJudge runs(c.spline, o);
+  std::map<std::pair<int, int>, std::optional<Badness>> at_runs;
+  auto run_badness = [&](const std::vector<Vec2>& pts, const RunJudge::Run& r) -> std::optional<Badness> {
+    try {
+      return badness_of(runs.report(spline_of(pts), r), o, size);
+    } catch (const InputError&) {
+      return std::nullopt;
+    }
+  };
+  auto step = [&](const std::vector<Vec2>& at, const std::vector<Vec2>& t, const Badness& now,
+                  bool exact) -> std::optional<Badness> {
+    const std::optional<RunJudge::Run> r = exact || !quick ? runs.run(at, t) : std::nullopt;
+    if (!r) {
+      const std::optional<Badness> b = score_of(t, exact);
+      if (b && b->score() < now.score()) return b;
+      return std::nullopt;
+    }
+    if (!allowed(t)) return std::nullopt;
+    const auto key = std::make_pair(r->first, r->length);
+    if (!at_runs.count(key)) at_runs[key] = run_badness(at, *r);
+    const std::optional<Badness> was = at_runs[key], here = run_badness(t, *r);
+    if (!was || !here || !(here->score() < was->score())) return std::nullopt;
+    return Badness{now.count - was->count + here->count, now.excess - was->excess + here->excess};
+  };
+  // Whether `t` passes, `at` passing: on the run alone where RunJudge allows.
+  auto still_passes = [&](const std::vector<Vec2>& at, const std::vector<Vec2>& t, bool exact) {
+    const std::optional<RunJudge::Run> r = exact || !quick ? runs.run(at, t) : std::nullopt;
+    if (!r) {
+      const std::optional<Badness> b = score_of(t, exact);
+      return b && b->count == 0;
+    }
+    const std::optional<Badness> here = allowed(t) ? run_badness(t, *r) : std::nullopt;
+    return here && here->count == 0;
   };
   auto directions = [&](const LatticeUnit& u) {
     if (u.slide) return std::vector<Vec2>{u.step, -1.0 * u.step};
@@ -366,9 +413,9 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
           for (const Vec2 dir : directions(u)) {
             std::vector<Vec2> t = at;
             for (int k : u.points) t[k] = t[k] + static_cast<double>(s) * dir;
-            const std::optional<Badness> b = score_of(t, exact);
-            if (!b || !(b->score() < now.score())) continue;
-            at = std::move(t), now = *b, improved = true;
+            const std::optional<Badness> b = step(at, t, now, exact);
+            if (!b) continue;
+            at = std::move(t), now = *b, improved = true, at_runs.clear();
             break;
           }
           if (now.count == 0 || expired()) break;
@@ -381,9 +428,9 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
               std::vector<Vec2> t = at;
               for (int k : units[a].points) t[k] = t[k] + da;
               for (int k : units[b].points) t[k] = t[k] + db;
-              const std::optional<Badness> bb = score_of(t, exact);
-              if (!bb || !(bb->score() < now.score())) continue;
-              at = std::move(t), now = *bb, improved = true;
+              const std::optional<Badness> bb = step(at, t, now, exact);
+              if (!bb) continue;
+              at = std::move(t), now = *bb, improved = true, at_runs.clear();
               break;
             }
             if (improved || expired()) break;
@@ -406,8 +453,7 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
             if (dot(off + d, off + d) >= dot(off, off)) continue;
             std::vector<Vec2> t = at;
             for (int k : u.points) t[k] = t[k] + d;
-            const std::optional<Badness> b = score_of(t, exact);
-            if (!b || b->count > 0) continue;
+            if (!still_passes(at, t, exact)) continue;
             at = std::move(t), improved = true;
             break;
           }
@@ -686,49 +732,15 @@ namespace glyph_detail {
 
 std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
                                                                                       const ReportOptions& o) {
-  const int distinct = c.spline.unique_point_count();  // points() repeats a closed spline's first ones
-  auto spline_of = [c, distinct](const std::vector<Vec2>& pts) {
-    BSpline s = c.spline;
-    for (int k = 0; k < distinct; ++k)
-      if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
-    return s;
-  };
-  const bool local = !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::extrema_at_nodes || g.kind == Gate::Kind::max_extrema_per_segment ||
-           g.kind == Gate::Kind::g2_at_smooth_nodes;
-  });
-  const int n = c.spline.segment_count();
-  std::vector<std::vector<int>> touches(static_cast<std::size_t>(distinct));  // per point: the segments it shapes
-  for (int i = 0; i < n; ++i)
-    for (int k : segment_points(c.spline, c.spline.segments()[static_cast<std::size_t>(i)]))
-      touches[static_cast<std::size_t>(k % distinct)].push_back(i);
   const std::function<int(const BSpline&)> whole = total_judge(o);
-  return [=](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
-    const BSpline s = spline_of(to);
+  return [c, whole, runs = RunJudge(c.spline, o)](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+    const BSpline s = with_points(c, to);
     if (!smooth_kept(c, s)) return false;
-    std::vector<char> changed(static_cast<std::size_t>(n), 0);
-    for (int k = 0; k < distinct; ++k)
-      if (from[k] != to[k])
-        for (int i : touches[static_cast<std::size_t>(k)]) changed[static_cast<std::size_t>(i)] = 1;
-    // The shortest cyclic run of segments holding every changed one: all
-    // but the longest run of unchanged ones.
-    int best_gap = 0, best_end = -1;
-    for (int i = 0, gap = 0; i < 2 * n; ++i) {
-      gap = changed[static_cast<std::size_t>(i % n)] ? 0 : gap + 1;
-      if (gap > best_gap && gap <= n) best_gap = gap, best_end = i;
-    }
-    const int run = n - best_gap;  // changed segments' run length
-    if (!local || run == 0 || run + 2 >= n) return whole(s) == 0;
-    const int first = (best_end + 1) % n;  // the run's first segment
+    const std::optional<RunJudge::Run> run = runs.run(from, to);
+    if (!run) return whole(s) == 0;
     try {
-      const BSpline w = segments_window(s, (first + n - 1) % n, run + 2);
-      const SplineReport r = gate_report(w, o);
-      for (const GateResult& g : r.gates)
-        for (const GateViolation& v : g.violations) {
-          if (v.segment >= 1 && v.segment <= run) return false;  // a changed segment
-          if (v.segment < 0 && v.joint >= 1 && v.joint <= run + 1) return false;  // a joint of a changed segment
-        }
-      return true;
+      const SplineReport r = runs.report(s, *run);
+      return std::all_of(r.gates.begin(), r.gates.end(), [](const GateResult& g) { return g.violations.empty(); });
     } catch (const InputError&) {
       return false;
     }

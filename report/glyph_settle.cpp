@@ -4,6 +4,9 @@
 #include <cmath>
 #include <utility>
 
+#include "design/fix.hpp"
+#include "report/batch.hpp"
+
 namespace cmr::report::glyph_detail {
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
@@ -115,6 +118,49 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
   }
   return !out_of_time;
+}
+
+
+RunJudge::RunJudge(const BSpline& contour, const ReportOptions& o) : o_(o), segments_(contour.segment_count()) {
+  local_ = !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes || g.kind == Gate::Kind::max_extrema_per_segment ||
+           g.kind == Gate::Kind::g2_at_smooth_nodes;
+  });
+  const int distinct = contour.unique_point_count();  // points() repeats a closed spline's first ones
+  touches_.resize(static_cast<std::size_t>(distinct));
+  for (int i = 0; i < segments_; ++i)
+    for (int k : segment_points(contour, contour.segments()[static_cast<std::size_t>(i)]))
+      touches_[static_cast<std::size_t>(k % distinct)].push_back(i);
+}
+
+std::optional<RunJudge::Run> RunJudge::run(const std::vector<Vec2>& from, const std::vector<Vec2>& to) const {
+  if (!local_) return std::nullopt;
+  const int n = segments_;
+  std::vector<char> changed(static_cast<std::size_t>(n), 0);
+  for (std::size_t k = 0; k < touches_.size(); ++k)
+    if (from[k] != to[k])
+      for (int i : touches_[k]) changed[static_cast<std::size_t>(i)] = 1;
+  // The shortest cyclic run holding every changed segment: all but the
+  // longest run of unchanged ones.
+  int best_gap = 0, best_end = -1;
+  for (int i = 0, gap = 0; i < 2 * n; ++i) {
+    gap = changed[static_cast<std::size_t>(i % n)] ? 0 : gap + 1;
+    if (gap > best_gap && gap <= n) best_gap = gap, best_end = i;
+  }
+  const int length = n - best_gap;
+  if (length == 0 || length + 2 >= n) return std::nullopt;
+  return Run{(best_end + 1) % n, length};
+}
+
+SplineReport RunJudge::report(const BSpline& s, const Run& r) const {
+  const int n = segments_;
+  SplineReport out = gate_report(segments_window(s, (r.first + n - 1) % n, r.length + 2), o_);
+  for (GateResult& g : out.gates)
+    std::erase_if(g.violations, [&](const GateViolation& v) {
+      const bool on_run = v.segment >= 0 ? v.segment >= 1 && v.segment <= r.length : v.joint >= 1 && v.joint <= r.length + 1;
+      return !on_run;
+    });
+  return out;
 }
 
 }  // namespace cmr::report::glyph_detail

@@ -4,10 +4,12 @@
 // grid").
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "io/font.hpp"
 #include "report/report.hpp"
+#include "spline/bspline.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr::report::glyph_detail {
@@ -47,19 +49,47 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
                    std::chrono::steady_clock::time_point deadline);
 
-/// A judge of a position that differs from a passing one in a few points,
-/// on the segments those points touch: `passes(from, to)` (from passes
-/// every check of `o`; to is from with some points moved, both the
-/// contour's distinct points) is whether `to` passes every check and keeps
-/// every exactly smooth node exactly smooth. Where every check is local
-/// (the extremum gates read each segment's own piece, g2 each joint's two
-/// sides; no requirement), the run of changed segments, with one unchanged
-/// segment on either side, is judged as a window of its own
-/// (segments_window: the same pieces, so the same verdicts on them and on
-/// the joints between them), and only the run's segments and joints count:
-/// every other segment and joint is as in `from`, which passes. Otherwise,
-/// or where the window would hold the whole contour, the whole spline is
-/// judged. Defined in glyph_fix.cpp; GlyphFix.LocalJudgeIsTheWholeJudge.
+/// The checks of a move of a few points judged on the segments those points
+/// shape. Where every check of `o` is local (the extremum gates read each
+/// segment's own piece, g2 each joint's two sides; no requirement), a move
+/// from one position of the contour's distinct points to another changes a
+/// cyclic run of segments, and every other segment and joint is the same
+/// piece as before. `report` judges the run with one unchanged segment on
+/// either side as a window of its own (segments_window: the same pieces, so
+/// the same verdicts on them and on the joints between them) and keeps only
+/// the run's violations: segments 1..length and joints 1..length + 1 of the
+/// window. So a position's violations are the other position's, less those
+/// `report` finds on the run there, plus those it finds on the run here.
+/// GlyphFix.LocalJudgeIsTheWholeJudge holds both judges (local_judge, the
+/// grid descent's violation counts) to the whole contour's.
+class RunJudge {
+ public:
+  struct Run {
+    int first = 0;   ///< the run's first segment
+    int length = 0;  ///< its segments
+  };
+  RunJudge(const BSpline& contour, const ReportOptions& o);
+  /// The run of segments that differ between positions `from` and `to`;
+  /// nullopt where the whole contour is to be judged (a check that is not
+  /// local, nothing changed, or a window that would hold every segment).
+  std::optional<Run> run(const std::vector<Vec2>& from, const std::vector<Vec2>& to) const;
+  /// gate_report of the run's window of `s` (the contour at some position)
+  /// with only the run's violations; throws what gate_report throws.
+  SplineReport report(const BSpline& s, const Run& r) const;
+
+ private:
+  ReportOptions o_;
+  bool local_ = false;
+  int segments_ = 0;
+  std::vector<std::vector<int>> touches_;  ///< per distinct point: the segments it shapes
+};
+
+/// A judge of a position that differs from a passing one in a few points:
+/// `passes(from, to)` (from passes every check of `o`; to is from with some
+/// points moved, both the contour's distinct points) is whether `to` passes
+/// every check and keeps every exactly smooth node exactly smooth, judged on
+/// the changed run alone where RunJudge allows, else on the whole contour.
+/// Defined in glyph_fix.cpp; GlyphFix.LocalJudgeIsTheWholeJudge.
 std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
                                                                                       const ReportOptions& o);
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -49,11 +50,15 @@ bool smooth_nodes_kept(const import::Contour& c, const std::vector<Vec2>& p) {
   return true;
 }
 
-int violations(const import::Contour& c, const std::vector<Vec2>& p, const report::ReportOptions& o) {
+BSpline with_points(const import::Contour& c, const std::vector<Vec2>& p) {
   BSpline s = c.spline;
   for (int k = 0; k < s.unique_point_count(); ++k)
     if (p[k] != s.points()[k]) s = s.with_point(k, p[k]);
-  const report::SplineReport r = report::gate_report(s, o);
+  return s;
+}
+
+int violations(const import::Contour& c, const std::vector<Vec2>& p, const report::ReportOptions& o) {
+  const report::SplineReport r = report::gate_report(with_points(c, p), o);
   int n = 0;
   for (const report::GateResult& g : r.gates) n += static_cast<int>(g.violations.size());
   return n;
@@ -149,11 +154,14 @@ TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
   EXPECT_GT(candidates, 100);
 }
 
-// The settling's judge (glyph_detail::local_judge) judges a moved position
-// on the run of segments the moved points touch; it must say what the whole
+// The settling's judge (glyph_detail::local_judge) and the grid descent's
+// violation counts judge a moved position on the run of segments the moved
+// points touch (glyph_detail::RunJudge); they must say what the whole
 // spline's judge says. From each passing fix, random moves of one or two
 // source points (a node with its off-curve neighbours, or a point alone,
-// up to 6 units each way) are judged both ways.
+// up to 6 units each way) are judged both ways; from the passing fix and
+// from the failing source, the change in the whole contour's violations
+// must be the change on the run.
 TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
   const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   for (const char* path : {kNimbus, kDejaVu})
@@ -164,7 +172,7 @@ TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
   o.glyph_seconds = 120;
   const report::ReportOptions judge = report::judge_only(o.judge);
   std::mt19937 rng(36);
-  int passing = 0, failing = 0;
+  int passing = 0, failing = 0, runs_checked = 0;
   for (const auto& [path, glyphs] : {std::pair{kNimbus, "b,y"}, std::pair{kDejaVu, "c,G"}}) {
     const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
     for (const import::Glyph& g : font.glyphs)
@@ -175,6 +183,14 @@ TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
         std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
         for (const PointMove& mv : f.moves) from[static_cast<std::size_t>(mv.point)] = mv.to;
         const auto local = report::glyph_detail::local_judge(c, judge);
+        const report::glyph_detail::RunJudge runs(c.spline, judge);
+        const std::vector<Vec2> source(c.spline.points().begin(), c.spline.points().begin() + m);
+        ASSERT_GT(violations(c, source, judge), 0) << g.name;
+        auto on_run = [&](const std::vector<Vec2>& p, const report::glyph_detail::RunJudge::Run& r) {
+          int n = 0;
+          for (const report::GateResult& gr : runs.report(with_points(c, p), r).gates) n += static_cast<int>(gr.violations.size());
+          return n;
+        };
         std::vector<int> points;
         for (int k = 0; k < m; ++k)
           if (c.font_point[k] >= 0) points.push_back(k);
@@ -193,11 +209,21 @@ TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
           const bool whole = smooth_nodes_kept(c, to) && violations(c, to, judge) == 0;
           ASSERT_EQ(local(from, to), whole) << g.name << "/c" << f.contour << " trial " << trial;
           ++(whole ? passing : failing);
+          for (const std::vector<Vec2>* base : {static_cast<const std::vector<Vec2>*>(&from), &source}) {
+            std::vector<Vec2> moved = *base;  // the same move from this base
+            for (int k = 0; k < m; ++k) moved[k] = moved[k] + (to[k] - from[k]);
+            const std::optional<report::glyph_detail::RunJudge::Run> r = runs.run(*base, moved);
+            if (!r) continue;
+            ASSERT_EQ(violations(c, moved, judge) - violations(c, *base, judge), on_run(moved, *r) - on_run(*base, *r))
+                << g.name << "/c" << f.contour << " trial " << trial;
+            ++runs_checked;
+          }
         }
       }
   }
   EXPECT_GT(passing, 100);
   EXPECT_GT(failing, 100);
+  EXPECT_GT(runs_checked, 1500);  // most moves change a run short of the whole contour
 }
 
 }  // namespace
