@@ -759,8 +759,10 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
   std::vector<Vec2> at(fixed.points().begin(), fixed.points().begin() + distinct);
   const double reach = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
-  const bool done = settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
-                                  local_judge(c, o), deadline);
+  const RunJudge runs(c.spline, o);
+  const bool done = settle_nearer(
+      src, at, lattice_units(c, movable, options.grid), options.grid, reach, local_judge(c, o),
+      [&runs](const std::vector<int>& points) { return runs.depends_on(points); }, deadline);
   for (int k = 0; k < distinct; ++k)
     if (at[k] != fixed.points()[k]) fixed = fixed.with_point(k, at[k]);
   return done;

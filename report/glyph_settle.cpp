@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <utility>
 
 #include "design/fix.hpp"
@@ -12,8 +13,13 @@ namespace cmr::report::glyph_detail {
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on,
                    std::chrono::steady_clock::time_point deadline) {
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
+  // Per unit, the points its verdicts read (depends_on), as flags.
+  std::vector<std::vector<char>> reads(units.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
+  for (std::size_t u = 0; u < units.size(); ++u)
+    for (int k : depends_on(units[u].points)) reads[u][static_cast<std::size_t>(k)] = 1;
   auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
   auto cost_of = [&](const std::vector<Vec2>& pts) {
     double t = 0;
@@ -38,6 +44,31 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     return false;
   };
+  // Units and pairs with no passing candidate where `at` is now (stuck
+  // until a point they read moves: moved() frees them).
+  std::vector<char> stuck(units.size(), 0);
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t a = 0; a < units.size(); ++a)
+    for (std::size_t b = a + 1; b < units.size(); ++b) {
+      const int d = std::abs(units[a].points.front() - units[b].points.front());
+      if (std::min(d, m - d) <= 3) pairs.emplace_back(a, b);
+    }
+  std::vector<char> pair_stuck(pairs.size(), 0);
+  std::vector<std::vector<char>> pair_reads(pairs.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    std::vector<int> both = units[pairs[p].first].points;
+    both.insert(both.end(), units[pairs[p].second].points.begin(), units[pairs[p].second].points.end());
+    for (int k : depends_on(both)) pair_reads[p][static_cast<std::size_t>(k)] = 1;
+  }
+  auto moved = [&](const std::vector<std::size_t>& which) {
+    for (std::size_t w : which)
+      for (int k : units[w].points) {
+        for (std::size_t u = 0; u < units.size(); ++u)
+          if (reads[u][static_cast<std::size_t>(k)]) stuck[u] = 0;
+        for (std::size_t p = 0; p < pairs.size(); ++p)
+          if (pair_reads[p][static_cast<std::size_t>(k)]) pair_stuck[p] = 0;
+      }
+  };
   auto moved_by = [&](const std::vector<std::pair<const LatticeUnit*, Vec2>>& steps) {
     std::vector<Vec2> t = at;
     for (const auto& [u, d] : steps)
@@ -46,9 +77,11 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
   };
   // Single units until none moves.
   auto singles = [&] {
-    for (bool moved = true; moved && !out_of_time;) {
-      moved = false;
-      for (const LatticeUnit& u : units) {
+    for (bool any = true; any && !out_of_time;) {
+      any = false;
+      for (std::size_t ui = 0; ui < units.size(); ++ui) {
+        if (stuck[ui]) continue;
+        const LatticeUnit& u = units[ui];
         // The unit's share of the cost as a function of its step delta:
         // sum over its points of |a_k + delta|^2 = n |delta + mean|^2 + rest.
         Vec2 mean(0.0);
@@ -77,7 +110,12 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
         std::vector<std::pair<double, std::vector<Vec2>>> candidates;
         for (const Vec2 d : steps)
           if (share(d) < own) candidates.emplace_back(now - own + share(d), moved_by({{&u, d}}));
-        if (take_first(candidates)) moved = true;
+        if (take_first(candidates)) {
+          any = true;
+          moved({ui});
+        } else if (!out_of_time) {
+          stuck[ui] = 1;
+        }
       }
     }
   };
@@ -93,16 +131,15 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     return out;
   };
-  std::vector<std::pair<const LatticeUnit*, const LatticeUnit*>> pairs;
-  for (std::size_t a = 0; a < units.size(); ++a)
-    for (std::size_t b = a + 1; b < units.size(); ++b) {
-      const int d = std::abs(units[a].points.front() - units[b].points.front());
-      if (std::min(d, m - d) <= 3) pairs.emplace_back(&units[a], &units[b]);
-    }
   singles();
   // Pairs in turn, until a whole turn moves none.
   for (std::size_t next = 0, quiet = 0; quiet < pairs.size() && !out_of_time; next = (next + 1) % pairs.size()) {
-    const auto [a, b] = pairs[next];
+    if (pair_stuck[next]) {
+      ++quiet;
+      continue;
+    }
+    const LatticeUnit* a = &units[pairs[next].first];
+    const LatticeUnit* b = &units[pairs[next].second];
     const double now = cost_of(at);
     std::vector<std::pair<double, std::vector<Vec2>>> candidates;
     for (const Vec2 da : offsets(*a))
@@ -112,14 +149,15 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
       }
     if (take_first(candidates)) {
       quiet = 0;
+      moved({pairs[next].first, pairs[next].second});
       singles();
     } else {
       ++quiet;
+      if (!out_of_time) pair_stuck[next] = 1;
     }
   }
   return !out_of_time;
 }
-
 
 RunJudge::RunJudge(const BSpline& contour, const ReportOptions& o) : o_(o), segments_(contour.segment_count()) {
   local_ = !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
@@ -128,9 +166,30 @@ RunJudge::RunJudge(const BSpline& contour, const ReportOptions& o) : o_(o), segm
   });
   const int distinct = contour.unique_point_count();  // points() repeats a closed spline's first ones
   touches_.resize(static_cast<std::size_t>(distinct));
+  shapes_.resize(static_cast<std::size_t>(segments_));
   for (int i = 0; i < segments_; ++i)
-    for (int k : segment_points(contour, contour.segments()[static_cast<std::size_t>(i)]))
+    for (int k : segment_points(contour, contour.segments()[static_cast<std::size_t>(i)])) {
       touches_[static_cast<std::size_t>(k % distinct)].push_back(i);
+      shapes_[static_cast<std::size_t>(i)].push_back(k % distinct);
+    }
+}
+
+std::vector<int> RunJudge::depends_on(const std::vector<int>& points) const {
+  const int distinct = static_cast<int>(touches_.size());
+  std::vector<Vec2> from(touches_.size(), Vec2(0.0)), to = from;
+  for (int k : points) to[static_cast<std::size_t>(k)] = Vec2(1.0);
+  std::vector<int> out;
+  if (const std::optional<Run> r = run(from, to)) {
+    std::vector<char> in(touches_.size(), 0);
+    for (int i = r->first - 1; i <= r->first + r->length; ++i)
+      for (int k : shapes_[static_cast<std::size_t>((i + segments_) % segments_)]) in[static_cast<std::size_t>(k)] = 1;
+    for (int k = 0; k < distinct; ++k)
+      if (in[static_cast<std::size_t>(k)]) out.push_back(k);
+  } else {
+    out.resize(touches_.size());
+    std::iota(out.begin(), out.end(), 0);
+  }
+  return out;
 }
 
 std::optional<RunJudge::Run> RunJudge::run(const std::vector<Vec2>& from, const std::vector<Vec2>& to) const {

@@ -40,13 +40,19 @@ struct LatticeUnit {
 ///    again. The pairs are tried in turn until a whole turn moves none.
 /// `src` and `at`: the contour's distinct points, the source's and the
 /// fix's (which passes); a position farther than `max_move` from the source
-/// is not tried. Returns whether that end was reached (else the deadline
-/// came first); `at` holds the best so far either way, and it passes.
+/// is not tried. `depends_on(points)`: the points whose positions the
+/// verdict on a move of `points` depends on (every point where it cannot
+/// say less); a unit or pair found with no passing candidate is not tried
+/// again until one of those points moves, since its candidates' verdicts
+/// and costs are what they were. Returns whether that end was reached (else
+/// the deadline came first); `at` holds the best so far either way, and it
+/// passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on,
                    std::chrono::steady_clock::time_point deadline);
 
 /// The checks of a move of a few points judged on the segments those points
@@ -76,12 +82,19 @@ class RunJudge {
   /// gate_report of the run's window of `s` (the contour at some position)
   /// with only the run's violations; throws what gate_report throws.
   SplineReport report(const BSpline& s, const Run& r) const;
+  /// The distinct points whose positions the verdict on a move of `points`
+  /// depends on: those shaping the window of the run they change (the
+  /// run's segments and one on either side, which also holds every
+  /// neighbour of a node among them: what keeping smooth nodes smooth
+  /// reads); every point where the whole contour is judged.
+  std::vector<int> depends_on(const std::vector<int>& points) const;
 
  private:
   ReportOptions o_;
   bool local_ = false;
   int segments_ = 0;
   std::vector<std::vector<int>> touches_;  ///< per distinct point: the segments it shapes
+  std::vector<std::vector<int>> shapes_;   ///< per segment: the distinct points that shape it
 };
 
 /// A judge of a position that differs from a passing one in a few points:
