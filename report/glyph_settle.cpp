@@ -113,9 +113,12 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
         if (take_first(candidates)) {
           any = true;
           moved({ui});
-        } else if (!out_of_time) {
-          stuck[ui] = 1;
         }
+        // Taken or not, every position of the unit nearer than where it is
+        // now was judged in this scan, every other point where it is (a
+        // pair's candidates are near where the pair is: a moved pair is not
+        // done so).
+        if (!out_of_time) stuck[ui] = 1;
       }
     }
   };

@@ -42,9 +42,11 @@ struct LatticeUnit {
 /// fix's (which passes); a position farther than `max_move` from the source
 /// is not tried. `depends_on(points)`: the points whose positions the
 /// verdict on a move of `points` depends on (every point where it cannot
-/// say less); a unit or pair found with no passing candidate is not tried
-/// again until one of those points moves, since its candidates' verdicts
-/// and costs are what they were. Returns whether that end was reached (else
+/// say less); a unit whose candidates were tried (none passed, or it moved
+/// to the first that did, every nearer position having failed) and a pair
+/// whose candidates all failed are not tried again until one of those
+/// points moves, since their candidates' verdicts and costs are what they
+/// were. Returns whether that end was reached (else
 /// the deadline came first); `at` holds the best so far either way, and it
 /// passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
