@@ -44,8 +44,9 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     return false;
   };
-  // Units and pairs with no passing candidate where `at` is now (stuck
-  // until a point they read moves: moved() frees them).
+  // Units and pairs done where `at` is now (singles, below: tried; pairs:
+  // none of their candidates passed) until a point they read moves: moved()
+  // frees them.
   std::vector<char> stuck(units.size(), 0);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t a = 0; a < units.size(); ++a)

@@ -46,9 +46,8 @@ struct LatticeUnit {
 /// to the first that did, every nearer position having failed) and a pair
 /// whose candidates all failed are not tried again until one of those
 /// points moves, since their candidates' verdicts and costs are what they
-/// were. Returns whether that end was reached (else
-/// the deadline came first); `at` holds the best so far either way, and it
-/// passes.
+/// were. Returns whether that end was reached (else the deadline came
+/// first); `at` holds the best so far either way, and it passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
