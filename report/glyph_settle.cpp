@@ -164,7 +164,9 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
 }
 
 RunJudge::RunJudge(const BSpline& contour, const ReportOptions& o) : o_(o), segments_(contour.segment_count()) {
-  local_ = !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+  // The runs are cyclic: a closed contour's (an open spline, which the glyph
+  // fix does not take, is judged whole).
+  local_ = contour.closed() && !o.require && std::all_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
     return g.kind == Gate::Kind::extrema_at_nodes || g.kind == Gate::Kind::max_extrema_per_segment ||
            g.kind == Gate::Kind::g2_at_smooth_nodes;
   });

@@ -58,7 +58,8 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
 
 /// The checks of a move of a few points judged on the segments those points
 /// shape. Where every check of `o` is local (the extremum gates read each
-/// segment's own piece, g2 each joint's two sides; no requirement), a move
+/// segment's own piece, g2 each joint's two sides; no requirement) and the
+/// contour is closed, a move
 /// from one position of the contour's distinct points to another changes a
 /// cyclic run of segments, and every other segment and joint is the same
 /// piece as before. `report` judges the run with one unchanged segment on
