@@ -814,14 +814,16 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   };
   // Several checks: the grid descent first, in half the budget (the
   // rounds' fix of one check mostly breaks another); the rounds after it,
-  // in half of what is left where it found a fix, and the nearer of the
-  // two fixes (total squared move) is kept: the descent's is found sooner,
-  // the rounds' is often nearer, and the settling then has less to do.
+  // in half of what is left where it found a fix (both_searches), and the
+  // nearer of the two fixes (total squared move) is kept: the descent's is
+  // found sooner, the rounds' is often nearer, and the settling then has
+  // less to do.
   const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
   std::optional<BSpline> descended;
   if (several && options.grid > 0)
     if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, at_time(budget / 2)))
       if (judge(*d) == 0 && smooth_kept(c, *d)) descended = std::move(*d);
+  if (descended && !options.both_searches) current = std::move(*descended), current_total = 0, descended.reset();
   const auto search_end = deadline;
   if (descended) deadline = Clock::now() + (deadline - Clock::now()) / 2;
   // Rounds: each tries to fix one failing check alone (its own judge and

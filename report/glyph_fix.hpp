@@ -63,6 +63,11 @@ struct GlyphFixOptions {
   /// left (a contour that passes as it is takes none). A contour out of time
   /// is reported without a fix, with the reason of its last attempt.
   double glyph_seconds = 8;
+  /// Several checks on the grid: where the grid descent finds a fix, run
+  /// the rounds too (in half the time left) and keep the nearer fix (total
+  /// squared move). `cmr fix` does; a report's fix suggestions, found in
+  /// the report's time, do not.
+  bool both_searches = true;
 };
 
 
