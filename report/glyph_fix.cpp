@@ -847,9 +847,12 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   }
   deadline = search_end;
   if (descended) {
-    auto squared = [&](const BSpline& s) {
+    auto squared = [&](const BSpline& s) {  // the total squared move from the source
       double t = 0;
-      for (int k = 0; k < c.spline.unique_point_count(); ++k) t += dot(s.points()[k] - c.spline.points()[k], s.points()[k] - c.spline.points()[k]);
+      for (int k = 0; k < c.spline.unique_point_count(); ++k) {
+        const Vec2 d = s.points()[k] - c.spline.points()[k];
+        t += dot(d, d);
+      }
       return t;
     };
     if (current_total > 0 || squared(*descended) <= squared(current)) {
