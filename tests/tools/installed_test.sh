@@ -43,6 +43,7 @@ cat >"$data/drop.svg" <<'SVG'
 <svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 C 10 0 20 10 20 20 S 10 40 0 40"/></svg>
 SVG
 printf 'select 3\ndrag 3 1.2 -3.5 4\n' >"$data/edit.txt"
+: >"$tmp/xauthority"  # xvfb-run -f: its own X authority file, so no folder of its own to fail to remove
 font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf  # fonts-dejavu-core (tools/setup.sh)
 
 # The commands, as the README's tour shows them, into $tmp/out.
@@ -65,7 +66,7 @@ step import-svg;  "\$cmr" import "$data/drop.svg" --out "\$o/svg" >"\$o/import_s
 step knots;    "\$cmr" knots "$data/uniform.json" insert 3.5 >"\$o/knots.json"
 step sweep;    "\$cmr" sweep "$data/fig8.json" --point 3 --knot 3 --from 2.1 --to 3.9 --steps 3 --size 32x32 --backend cpu --out-dir "\$o/sweep" >"\$o/sweep.txt"
 step kcurve;   "\$cmr" kcurve "$data/points.json" --cubic --out "\$o/cubic.json" >"\$o/kcurve.txt"
-step edit;     xvfb-run -a "\$cmr" edit "$data/fig8.json" --script "$data/edit.txt" --screenshot "\$o/edit.png" >"\$o/edit.txt"
+step edit;     xvfb-run -a -f "$tmp/xauthority" "\$cmr" edit "$data/fig8.json" --script "$data/edit.txt" --screenshot "\$o/edit.png" >"\$o/edit.txt"
 step done
 EOF
 
