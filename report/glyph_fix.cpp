@@ -24,6 +24,7 @@ using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
+using glyph_detail::squared_move;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
 /// options of a set of checks that holds t's (the same model options): the
@@ -763,8 +764,7 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
   const bool done = settle_nearer(
       src, at, lattice_units(c, movable, options.grid), options.grid, reach, local_judge(c, o),
       [&runs](const std::vector<int>& points) { return runs.depends_on(points); }, deadline);
-  for (int k = 0; k < distinct; ++k)
-    if (at[k] != fixed.points()[k]) fixed = fixed.with_point(k, at[k]);
+  fixed = with_points(c, at);
   return done;
 }
 
@@ -847,15 +847,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   }
   deadline = search_end;
   if (descended) {
-    auto squared = [&](const BSpline& s) {  // the total squared move from the source
-      double t = 0;
-      for (int k = 0; k < c.spline.unique_point_count(); ++k) {
-        const Vec2 d = s.points()[k] - c.spline.points()[k];
-        t += dot(d, d);
-      }
-      return t;
-    };
-    if (current_total > 0 || squared(*descended) <= squared(current)) {
+    const int m = c.spline.unique_point_count();
+    const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
+    if (current_total > 0 || squared_move(src, descended->points()) <= squared_move(src, current.points())) {
       current = std::move(*descended), current_total = 0;
       out.off_grid_distance = 0;  // the descent is on the grid throughout
     }

@@ -10,6 +10,12 @@
 
 namespace cmr::report::glyph_detail {
 
+double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) {
+  double t = 0;
+  for (std::size_t k = 0; k < src.size(); ++k) t += dot(pts[k] - src[k], pts[k] - src[k]);
+  return t;
+}
+
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
@@ -21,11 +27,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
   for (std::size_t u = 0; u < units.size(); ++u)
     for (int k : depends_on(units[u].points)) reads[u][static_cast<std::size_t>(k)] = 1;
   auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
-  auto cost_of = [&](const std::vector<Vec2>& pts) {
-    double t = 0;
-    for (int k = 0; k < m; ++k) t += dot(pts[k] - src[k], pts[k] - src[k]);
-    return t;
-  };
+  auto cost_of = [&](const std::vector<Vec2>& pts) { return squared_move(src, pts); };
   auto within = [&](const std::vector<Vec2>& pts) {
     for (int k = 0; k < m; ++k)
       if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return false;

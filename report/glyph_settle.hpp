@@ -50,6 +50,10 @@ struct LatticeUnit {
 /// first); `at` holds the best so far either way, and it passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
 
+/// The settling's cost: the sum over the distinct points of the squared
+/// distance of `pts` from `src` (the first src.size() of pts are read).
+double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts);
+
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
