@@ -6,7 +6,8 @@
 // flagged, and the host recomputes it exactly, so labels never depend on how
 // this device rounds.
 //
-// Included by region_fp64.frag / region_fp32.frag, which define REAL, REAL2,
+// Included by region_fp64.comp / region_fp32.comp (and the window's
+// region_present_fp*.frag), which define REAL, REAL2,
 // K_ROUND (twice the unit roundoff) and K_TINY (absolute slack for
 // underflow, also covering flush-to-zero).
 //
@@ -33,7 +34,11 @@ layout(std430, set = 0, binding = 0) readonly buffer RegionData {
 };
 
 #ifndef CMR_REGION_PRESENT  // region_present.glsl has its own output and main
-layout(location = 0) out uint result;
+// One invocation per listed pixel (vk/compute_pipeline.hpp's interface).
+layout(local_size_x = 64) in;
+layout(std430, set = 0, binding = 1) writeonly buffer RegionResult {
+  uint result[];
+};
 #endif
 
 #include "piece_rules.glsl"
@@ -285,28 +290,44 @@ uint full(bool cmr, REAL dx, REAL dy) {
 }
 
 #ifndef CMR_REGION_PRESENT
-void main() {
+// The result word of pixel (pi, pj) (shaders/region_layout.h).
+uint classify_pixel(int pi, int pj) {
   const bool cmr = CMR_MODE;
-  // This fragment classifies listed pixel number `at` (the host lists the
-  // pixels it could not decide by whole blocks); the image is a work area.
-  // Consecutive list entries fill 4x4 tiles, the unit a SIMD executor such as
-  // llvmpipe shades together, so that neighbouring (similar) pixels share lanes.
-  uint fx = uint(gl_FragCoord.x), fy = uint(gl_FragCoord.y);
-  uint at = (((fy >> 2) * (hdr[HDR_AREA_WIDTH] >> 2) + (fx >> 2)) << 4) + ((fy & 3u) << 2) + (fx & 3u);
-  if (at >= hdr[HDR_LISTED]) discard;
-  REAL2 ij = data[hdr[HDR_LIST_OFFSET] + at];
-  int pi = int(ij.x), pj = int(ij.y);
   // dx = fl(p - P_k), computed by the host with cmr::pixel_center.
   REAL dx = data[hdr[HDR_DX_OFFSET] + uint(pi)].x, dy = data[hdr[HDR_DY_OFFSET] + uint(pj)].x;
   set_monomials(dx, dy);
-  // Pixels decided at level 0 as not monotone keep the attachment's clear
-  // value, 0 (label 0, depth 0): discarding them lets a SIMD executor such as
-  // llvmpipe, which runs both sides of every branch under a mask, leave the
-  // shader early once all its lanes are discarded.
-  if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) discard;  // an untouched segment fails at level 0
+  // Pixels decided at level 0 as not monotone get 0 (label 0, depth 0).
+  if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) return 0u;  // an untouched segment fails at level 0
   uint r = level0(cmr);
-  if (r == 0u) discard;
   if (r == UNDECIDED_YET) r = full(cmr, dx, dy);
-  result = r;
+  return r;
+}
+
+void main() {
+  const uint at = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  if (hdr[HDR_EVERY_PIXEL] == 0u) {
+    // Listed pixel number `at` (the host lists the pixels it could not
+    // decide by whole blocks, block by block, so that neighbouring
+    // invocations, which a GPU or llvmpipe runs in lock step, get
+    // neighbouring, similar pixels).
+    if (at >= hdr[HDR_LISTED]) return;
+    REAL2 ij = data[hdr[HDR_LIST_OFFSET] + at];
+    result[at] = classify_pixel(int(ij.x), int(ij.y));
+    return;
+  }
+  // Pixels 4 at .. 4 at + 3, packed as bytes.
+  const uint n = hdr[HDR_LISTED], w = hdr[HDR_WIDTH];
+  if (4u * at >= n) return;
+  uint labels = 0u, depths = 0u;
+  for (uint q = 0u; q < 4u; ++q) {
+    const uint k = 4u * at + q;
+    if (k >= n) break;
+    const uint r = classify_pixel(int(k % w), int(k / w));
+    const uint label = (r & RESULT_UNCERTAIN) != 0u ? PACKED_UNCERTAIN : (r & RESULT_LABEL_MASK);
+    labels |= label << (8u * q);
+    depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * q);
+  }
+  result[at] = labels;
+  if (hdr[HDR_DEPTH_PLANE] != 0u) result[(n + 3u) / 4u + at] = depths;
 }
 #endif  // CMR_REGION_PRESENT

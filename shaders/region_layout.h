@@ -17,10 +17,17 @@
 //   A varying joint (HDR_JOINT_OFFSET) is (left entry, right entry), (part, 0).
 //   The groups (HDR_PART_OFFSET, HDR_PARTS pairs) are (flags, 0): FLAG_* of
 //   the group's untouched judged segments and non-varying joints.
-//   The listed pixels (HDR_LIST_OFFSET) are (column, row) pairs.
+//   The listed pixels (HDR_LIST_OFFSET) are (column, row) pairs, or none
+//   when HDR_EVERY_PIXEL is set (the device shades the whole image).
 //
-// Result word of a pixel: label code | depth << RESULT_DEPTH_SHIFT, or
-// RESULT_UNCERTAIN when the shader could not certify the pixel.
+// Result word of a listed pixel: label code | depth << RESULT_DEPTH_SHIFT,
+// or RESULT_UNCERTAIN when the shader could not certify the pixel.
+// Every pixel (HDR_EVERY_PIXEL): invocation k classifies pixels 4k..4k+3 of
+// the image, row-major, and writes word k = their label bytes (byte q =
+// pixel 4k+q, PACKED_UNCERTAIN where the host must decide) and, with
+// HDR_DEPTH_PLANE, word K + k = their depth bytes, K = ceil(W H / 4): the
+// words read as bytes are the label map (and depth map) as the host stores
+// it.
 #ifndef CMR_SHADERS_REGION_LAYOUT_H
 #define CMR_SHADERS_REGION_LAYOUT_H
 
@@ -50,8 +57,9 @@ CMR_LAYOUT_CONST(HDR_FIXED_DEPTH, 13u)        // deepest level of the fixed segm
 CMR_LAYOUT_CONST(HDR_FIXED_LEVEL0_NONE, 14u)  // 1: an untouched segment fails at level 0
 CMR_LAYOUT_CONST(HDR_PIECE_LEVELS, 15u)       // L0: precomputed pieces P = 2^(L0+1) - 1
 CMR_LAYOUT_CONST(HDR_LISTED, 16u)             // listed pixels in this run
-CMR_LAYOUT_CONST(HDR_AREA_WIDTH, 17u)         // work-area width
-CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 18u)        // the listed pixels
+CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 17u)        // the listed pixels
+CMR_LAYOUT_CONST(HDR_EVERY_PIXEL, 18u)        // 1: no list, every pixel, packed (below)
+CMR_LAYOUT_CONST(HDR_DEPTH_PLANE, 19u)        // every pixel: 1 = the depth plane follows the labels
 CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
 
 // Label kinds (cmr::backend::Labels).
@@ -74,6 +82,7 @@ CMR_LAYOUT_CONST(FLAG_KNEG, 128u)     // cmr: some segment without inflection, k
 CMR_LAYOUT_CONST(RESULT_LABEL_MASK, 255u)   // the label code (cmr::code)
 CMR_LAYOUT_CONST(RESULT_DEPTH_SHIFT, 8u)    // the decision level, 8 bits
 CMR_LAYOUT_CONST(RESULT_UNCERTAIN, 65536u)  // not certified: the host decides
+CMR_LAYOUT_CONST(PACKED_UNCERTAIN, 255u)    // a packed label byte the host decides (no label code is 255)
 
 #ifdef __cplusplus
 }  // namespace cmr::vk::layout

@@ -51,7 +51,7 @@ KNOWN = {
     "flags": {
         # glslangValidator's option, not cmr's: the message tells how the
         # shader must be compiled.
-        "vk/fragment_pipeline.cpp:--target-env": "a glslangValidator flag",
+        "vk/context.cpp:--target-env": "a glslangValidator flag",
     },
 }
 

@@ -234,6 +234,62 @@ Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence) {
   return {};
 }
 
+namespace {
+
+// Decodes a SPIR-V literal string: nul-terminated, packed little-endian.
+std::string spirv_string(std::span<const uint32_t> words) {
+  std::string out;
+  for (const uint32_t word : words) {
+    for (int byte = 0; byte < 4; ++byte) {
+      const char ch = static_cast<char>((word >> (8 * byte)) & 0xff);
+      if (ch == '\0') return out;
+      out.push_back(ch);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<void> check_spirv(std::span<const uint32_t> words, ShaderStage stage) {
+  constexpr uint32_t kMagic = 0x07230203;
+  constexpr uint32_t kMaxVersion = 0x00010300;  // SPIR-V 1.3 = Vulkan 1.1
+  constexpr uint32_t kOpEntryPoint = 15;
+  constexpr std::size_t kHeaderWords = 5;
+  // SPIR-V execution models: Fragment 4, GLCompute 5.
+  const uint32_t model = stage == ShaderStage::fragment ? 4 : 5;
+  const std::string name = stage == ShaderStage::fragment ? "fragment" : "compute";
+  const auto fail = [](std::string message) { return Error{Errc::shader_invalid, VK_SUCCESS, std::move(message)}; };
+
+  if (words.size() < kHeaderWords || words[0] != kMagic) {
+    return fail(name + " shader is not SPIR-V (no 0x07230203 magic number); "
+                "pass the words from a cmr_add_shader() header");
+  }
+  if (words[1] > kMaxVersion) {
+    return fail(name + " shader is SPIR-V " + std::to_string((words[1] >> 16) & 0xff) + "." +
+                std::to_string((words[1] >> 8) & 0xff) +
+                ", but only up to 1.3 is accepted; compile with --target-env vulkan1.1");
+  }
+  bool has_main = false;
+  for (std::size_t at = kHeaderWords; at < words.size();) {
+    const uint32_t word_count = words[at] >> 16;
+    const uint32_t opcode = words[at] & 0xffff;
+    if (word_count == 0 || at + word_count > words.size()) {
+      return fail(name + " shader SPIR-V is truncated or corrupt at word " + std::to_string(at));
+    }
+    if (opcode == kOpEntryPoint && word_count >= 4 && words[at + 1] == model &&
+        spirv_string(words.subspan(at + 3, word_count - 3)) == "main") {
+      has_main = true;
+    }
+    at += word_count;
+  }
+  if (!has_main) {
+    return fail("SPIR-V has no " + name + "-stage entry point named 'main'; is it a " + name + " shader?");
+  }
+  return {};
+}
+
+
 }  // namespace detail
 
 namespace {

@@ -82,7 +82,7 @@ class Context {
   Context& operator=(Context&&) noexcept;
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
-  // Objects created from this Context (FragmentPipeline) keep the device
+  // Objects created from this Context (ComputePipeline, FragmentPipeline) keep the device
   // alive, so they may outlive it. Destroy them all before exit() starts:
   // NVIDIA's driver (580, seen on an H200) tears itself down in an exit
   // handler registered when it loads, so a Context or pipeline that a static

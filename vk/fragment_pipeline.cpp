@@ -26,62 +26,6 @@ Error size_error(std::string message) {
   return Error{Errc::size_unsupported, VK_SUCCESS, std::move(message)};
 }
 
-Error shader_error(std::string message) {
-  return Error{Errc::shader_invalid, VK_SUCCESS, std::move(message)};
-}
-
-// Decodes a SPIR-V literal string: nul-terminated, packed little-endian.
-std::string spirv_string(std::span<const uint32_t> words) {
-  std::string out;
-  for (const uint32_t word : words) {
-    for (int byte = 0; byte < 4; ++byte) {
-      const char ch = static_cast<char>((word >> (8 * byte)) & 0xff);
-      if (ch == '\0') return out;
-      out.push_back(ch);
-    }
-  }
-  return out;
-}
-
-// Cheap structural check of the fragment SPIR-V, so that obvious mistakes
-// (wrong array, truncated data, vertex shader, too new SPIR-V) are reported
-// instead of reaching the driver, where invalid SPIR-V is undefined behaviour.
-Result<void> check_fragment_spirv(std::span<const uint32_t> words) {
-  constexpr uint32_t kMagic = 0x07230203;
-  constexpr uint32_t kMaxVersion = 0x00010300;  // SPIR-V 1.3 = Vulkan 1.1
-  constexpr uint32_t kOpEntryPoint = 15;
-  constexpr uint32_t kExecutionModelFragment = 4;
-  constexpr std::size_t kHeaderWords = 5;
-
-  if (words.size() < kHeaderWords || words[0] != kMagic) {
-    return shader_error(
-        "fragment shader is not SPIR-V (no 0x07230203 magic number); "
-        "pass the words from a cmr_add_shader() header");
-  }
-  if (words[1] > kMaxVersion) {
-    return shader_error("fragment shader is SPIR-V " + std::to_string((words[1] >> 16) & 0xff) + "." +
-                        std::to_string((words[1] >> 8) & 0xff) +
-                        ", but only up to 1.3 is accepted; compile with --target-env vulkan1.1");
-  }
-  bool has_fragment_main = false;
-  for (std::size_t at = kHeaderWords; at < words.size();) {
-    const uint32_t word_count = words[at] >> 16;
-    const uint32_t opcode = words[at] & 0xffff;
-    if (word_count == 0 || at + word_count > words.size()) {
-      return shader_error("fragment shader SPIR-V is truncated or corrupt at word " + std::to_string(at));
-    }
-    if (opcode == kOpEntryPoint && word_count >= 4 && words[at + 1] == kExecutionModelFragment &&
-        spirv_string(words.subspan(at + 3, word_count - 3)) == "main") {
-      has_fragment_main = true;
-    }
-    at += word_count;
-  }
-  if (!has_fragment_main) {
-    return shader_error("SPIR-V has no fragment-stage entry point named 'main'; is it a fragment shader?");
-  }
-  return {};
-}
-
 using detail::Buffer;
 
 }  // namespace
@@ -626,7 +570,7 @@ Result<FragmentPipeline> FragmentPipeline::create(Context& context, std::span<co
                       " bytes is not supported (a multiple of 4, at most " + std::to_string(max_push) + ")");
   }
   if (band_rows == 0) return size_error("band_rows must be at least 1");
-  if (auto r = check_fragment_spirv(fragment_spirv); !r) return r.error();
+  if (auto r = detail::check_spirv(fragment_spirv, detail::ShaderStage::fragment); !r) return r.error();
 
   auto impl = std::make_unique<Impl>();
   impl->state = state;

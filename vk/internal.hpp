@@ -69,7 +69,7 @@ struct Buffer {
 // Creates `out` (which must be empty): `size` bytes of `usage` in memory with
 // the `required` flags (preferring `preferred`), bound, and mapped when
 // host-visible. On failure nothing half-made is left in `out`; `what` names
-// the buffer in the error. The one buffer primitive of FragmentPipeline,
+// the buffer in the error. The one buffer primitive of ComputePipeline, FragmentPipeline,
 // Presenter and the region drawing.
 Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
                            VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred, std::string_view what);
@@ -78,12 +78,12 @@ Result<void> create_buffer(const DeviceState& state, Buffer& out, VkDeviceSize s
 void destroy_buffer(VkDevice device, Buffer& buffer);
 
 // One descriptor set of `set_layout` from a new pool of `storage_buffers`
-// storage-buffer descriptors (FragmentPipeline and the region drawing). On
+// storage-buffer descriptors (the compute and fragment pipelines, the region drawing). On
 // failure `pool` and `set` are left VK_NULL_HANDLE; `what` names the caller.
 Result<void> create_storage_set(VkDevice device, VkDescriptorSetLayout set_layout, uint32_t storage_buffers,
                                 VkDescriptorPool& pool, VkDescriptorSet& set, std::string_view what);
 
-// ---- Command recording and submission shared by Presenter, FragmentPipeline
+// ---- Command recording and submission shared by Presenter, the pipelines
 // and the region drawing: one place for the barrier and submit boilerplate.
 
 // A layout transition / dependency on the whole colour image.
@@ -96,6 +96,14 @@ void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, V
                     VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
                     VkPipelineStageFlags dst_stage);
 
+// Cheap structural check of a shader's SPIR-V, so that obvious mistakes
+// (wrong array, truncated data, another stage, too new SPIR-V) are reported
+// as shader_invalid instead of reaching the driver, where invalid SPIR-V is
+// undefined behaviour: the magic number, version <= 1.3, whole instructions,
+// and an entry point "main" of the stage. Implemented in context.cpp.
+enum class ShaderStage { fragment, compute };
+Result<void> check_spirv(std::span<const uint32_t> words, ShaderStage stage);
+
 // vkBeginCommandBuffer for one submission.
 Result<void> begin_one_time(VkCommandBuffer cmd);
 
@@ -104,10 +112,10 @@ Result<void> submit(VkQueue queue, VkCommandBuffer cmd, VkFence fence);
 
 // The region shader's storage buffer (shaders/region_layout.h) for a prepared
 // problem: `pixels` are the listed (column, row) pairs (none for the window
-// shader, shaders/region_present.glsl), area_width the work area's width.
-// Implemented in region_vk.cpp.
+// shader, shaders/region_present.glsl), or, with every_pixel, none and the
+// shader's item k is pixel (k mod W, k / W). Implemented in region_vk.cpp.
 std::vector<std::byte> pack_region(const cmr::backend::RegionSetup& setup, RegionPrecision precision,
-                                   std::span<const std::array<int, 2>> pixels, uint32_t area_width);
+                                   std::span<const std::array<int, 2>> pixels, bool every_pixel = false);
 
 // A graphics pipeline drawing one full-screen triangle (the built-in vertex
 // shader, no vertex input) with `fragment_spirv` (specialisation constant i =

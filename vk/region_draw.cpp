@@ -220,7 +220,7 @@ Result<void> RegionDrawer::prepare(uint32_t slot, std::span<const RegionProblem>
     const RegionRequest& r = p.request();
     bool rebind = false;
     if (l.version != h.version || l.drawn != h.serial) {
-      const std::vector<std::byte> data = detail::pack_region(p.setup(), m.precision, {}, 0);
+      const std::vector<std::byte> data = detail::pack_region(p.setup(), m.precision, {});
       auto a = m.ensure(l.data, data.size());
       if (!a) return a.error();
       auto b = m.ensure(l.overrides, std::max<VkDeviceSize>(4, h.overrides.size() * 4));

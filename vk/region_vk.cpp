@@ -17,11 +17,12 @@
 #include "region/region_setup.hpp"
 #include "shaders/region_layout.h"
 #include "spline/errors.hpp"
+#include "spline/parallel.hpp"
 #include "vk/buffer_packer.hpp"
 #include "vk/internal.hpp"
 
-#include "region_fp32_frag.h"
-#include "region_fp64_frag.h"
+#include "region_fp32_comp.h"
+#include "region_fp64_comp.h"
 
 namespace cmr::vk {
 namespace {
@@ -32,10 +33,12 @@ using cmr::backend::RegionEntry;
 using cmr::backend::RegionJoint;
 using cmr::backend::RegionSetup;
 
-/// The work area the listed pixels are shaded in.
-constexpr uint32_t kWorkAreaWidth = 256, kWorkAreaHeight = 256;
 // Blocks the host leaves undecided at this side length go to the device.
 constexpr int kDeviceBlock = 4;
+
+static_assert(cmr::kRegionLabelCodes < PACKED_UNCERTAIN && cmr::kSplitLabelCodes < PACKED_UNCERTAIN &&
+                  cmr::kAlternatingLabelCodes < PACKED_UNCERTAIN && cmr::kPieceLabelCodes < PACKED_UNCERTAIN,
+              "a packed label byte of 255 must mean 'the host decides'");
 
 uint32_t flags_of(const SegmentClass& c, Mode mode) {
   uint32_t f = 0;
@@ -78,9 +81,9 @@ std::array<double, K> for_device(const std::array<double, K>& c, RegionPrecision
 namespace detail {
 
 /// The storage buffer for the shader (shaders/region_layout.h): `pixels`
-/// are (column, row) of the image, at most the work area's size.
+/// are (column, row) of the image.
 std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precision,
-                                   std::span<const std::array<int, 2>> pixels, uint32_t area_width) {
+                                   std::span<const std::array<int, 2>> pixels, bool every_pixel) {
   const RegionRequest& o = s.options;
   const int N = s.spline().segment_count();
   auto part_of = [&](int seg) { return cmr::group_of(s.cuts, seg); };
@@ -159,8 +162,9 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
     p.values(j.part, 0);
   }
   p.hdr[HDR_JOINTS] = static_cast<uint32_t>(s.varying.size());
-  p.hdr[HDR_LISTED] = static_cast<uint32_t>(pixels.size());
-  p.hdr[HDR_AREA_WIDTH] = area_width;
+  p.hdr[HDR_LISTED] = static_cast<uint32_t>(every_pixel ? std::size_t(o.width) * std::size_t(o.height) : pixels.size());
+  p.hdr[HDR_EVERY_PIXEL] = every_pixel ? 1 : 0;
+  p.hdr[HDR_DEPTH_PLANE] = every_pixel && o.depth ? 1 : 0;
   p.hdr[HDR_LIST_OFFSET] = p.size();
   for (const auto& [i, j] : pixels) p.values(i, j);
   p.hdr[HDR_PARTS] = static_cast<uint32_t>(flags.size());
@@ -174,13 +178,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
 
 namespace {
 
-// The image decoded from the device's words; uncertain pixels are decided on
-// the host (certified, then exactly).
-void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
-                 const std::vector<uint32_t>& words, cmr::backend::RegionImage& img) {
+// The image decoded from the device's words: word k is pixel pixel_of(k).
+// Uncertain pixels are decided on the host (certified, then exactly).
+template <class PixelOf>
+void apply_words(const RegionSetup& s, PixelOf pixel_of, const std::vector<uint32_t>& words,
+                 cmr::backend::RegionImage& img) {
   const RegionRequest& o = s.options;
-  for (std::size_t k = 0; k < pixels.size(); ++k) {
-    const auto [i, j] = pixels[k];
+  for (std::size_t k = 0; k < words.size(); ++k) {
+    const auto [i, j] = pixel_of(k);
     const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
     const uint32_t w = words[k];
     if (w & RESULT_UNCERTAIN) {
@@ -250,7 +255,7 @@ void VulkanRegionBackend::save_pipeline_cache() {
   if (ec) std::filesystem::remove(part, ec);
 }
 
-Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
+Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
   const RegionPrecision precision = options_.precision;
   const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty(),
                 s.spline().is_rational()};
@@ -262,10 +267,9 @@ Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s
   const auto t0 = std::chrono::steady_clock::now();
   const uint32_t spec[5] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
                             key.joints ? 1u : 0u, key.rational ? 1u : 0u};
-  std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_frag_spv)
-                                                                       : std::span<const uint32_t>(cmr_region_fp32_frag_spv);
-  auto created = FragmentPipeline::create(context_, spirv, kWorkAreaWidth, kWorkAreaHeight, 0,
-                                          FragmentPipeline::kDefaultBandRows, spec);
+  std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
+                                                                       : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
+  auto created = ComputePipeline::create(context_, spirv, 0, spec);
   if (!created) return created.error();
   pipelines_.emplace_back(key, created.take());
   pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -274,7 +278,8 @@ Result<FragmentPipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s
 }
 
 Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
-                                                         const std::vector<std::array<int, 2>>& pixels) {
+                                                         const std::vector<std::array<int, 2>>& pixels,
+                                                         bool every_pixel) {
   if (options_.precision == RegionPrecision::fp64 && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use " + field("precision") + " fp32"};
@@ -283,29 +288,17 @@ Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
   if (options_.fault == InjectedFault::out_of_memory)
     return Error{Errc::out_of_memory, VK_ERROR_OUT_OF_DEVICE_MEMORY,
                  "vkAllocateMemory failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (injected)"};
-  std::vector<uint32_t> out;
-  out.reserve(pixels.size());
-  const std::size_t per_run = std::size_t{kWorkAreaWidth} * kWorkAreaHeight;
-  const std::span<const std::array<int, 2>> all(pixels);
-  for (std::size_t first = 0; first < pixels.size(); first += per_run) {
-    const auto chunk = all.subspan(first, std::min(per_run, pixels.size() - first));
-    const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, chunk, kWorkAreaWidth);
-    // Shade only the rows the chunk occupies (whole 4-row tiles, see the shader).
-    const uint32_t rows = std::min<uint32_t>(
-        kWorkAreaHeight, 4 * static_cast<uint32_t>((chunk.size() + 4 * kWorkAreaWidth - 1) / (4 * kWorkAreaWidth)));
-    const VkRect2D area{{0, 0}, {kWorkAreaWidth, rows}};
-    auto words = pipeline.value()->run(buffer, {}, std::span<const VkRect2D>(&area, 1));
-    if (!words) return words.error();
-    if (options_.fault == InjectedFault::device_lost)
-      return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
-    // Entry k sits in 4x4 tile k / 16 of the area, at (k % 4, k / 4 % 4) inside it.
-    for (std::size_t k = 0; k < chunk.size(); ++k) {
-      const std::size_t tile = k >> 4, tx = tile % (kWorkAreaWidth / 4), ty = tile / (kWorkAreaWidth / 4);
-      const std::size_t x = tx * 4 + (k & 3), y = ty * 4 + ((k >> 2) & 3);
-      out.push_back(words.value()[y * kWorkAreaWidth + x]);
-    }
-  }
-  return out;
+  // Every listed pixel, or the whole image, in one dispatch: one submission,
+  // one readback.
+  const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, pixels, every_pixel);
+  const std::size_t packed = (std::size_t(s.options.width) * std::size_t(s.options.height) + 3) / 4;
+  const std::size_t count = every_pixel ? packed : pixels.size();
+  const std::size_t words_out = every_pixel && s.options.depth ? 2 * packed : count;
+  auto words = pipeline.value()->run(buffer, static_cast<uint32_t>(count), {}, static_cast<uint32_t>(words_out));
+  if (!words) return words.error();
+  if (options_.fault == InjectedFault::device_lost)
+    return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
+  return words;
 }
 
 Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& problem) {
@@ -313,17 +306,40 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
   const double compiled_before = pipeline_seconds_;
   const RegionSetup& s = problem.setup();
   cmr::backend::RegionImage img = cmr::backend::blank_image(s);
-  std::vector<std::array<int, 2>> pixels;
   if (options_.cull) {
-    pixels = cmr::backend::region_cull(s, img, kDeviceBlock, options_.threads);
+    const std::vector<std::array<int, 2>> pixels = cmr::backend::region_cull(s, img, kDeviceBlock, options_.threads);
+    if (!pixels.empty()) {
+      auto words = shade(s, pixels, false);
+      if (!words) return words.error();
+      apply_words(s, [&](std::size_t k) { return pixels[k]; }, words.value(), img);
+    }
   } else {
-    for (int j = 0; j < img.height; ++j)
-      for (int i = 0; i < img.width; ++i) pixels.push_back({i, j});
-  }
-  if (!pixels.empty()) {
-    auto words = shade(s, pixels);
+    // The device shades the whole image and returns the label (and depth)
+    // map as the host stores it; the host decides the pixels it flags.
+    auto words = shade(s, {}, true);
     if (!words) return words.error();
-    apply_words(s, pixels, words.value(), img);
+    const std::size_t n = img.labels.size(), packed = (n + 3) / 4;
+    std::memcpy(img.labels.data(), words.value().data(), n);
+    if (s.options.depth) std::memcpy(img.depth.data(), words.value().data() + packed, n);
+    std::vector<std::size_t> flagged;
+    const uint8_t* labels = img.labels.data();
+    for (const void* at = std::memchr(labels, PACKED_UNCERTAIN, n); at != nullptr;) {
+      const std::size_t k = static_cast<std::size_t>(static_cast<const uint8_t*>(at) - labels);
+      flagged.push_back(k);
+      at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
+    }
+    std::vector<uint8_t> exact(flagged.size(), 0);
+    const std::size_t w = static_cast<std::size_t>(img.width);
+    cmr::parallel_for(flagged.size(), options_.threads, [&](std::size_t f) {
+      const std::size_t k = flagged[f];
+      const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
+      const cmr::backend::PixelResult pr =
+          cmr::backend::classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
+      img.labels[k] = pr.label;
+      if (s.options.depth) img.depth[k] = pr.depth;
+      exact[f] = pr.exact ? 1 : 0;
+    });
+    for (const uint8_t e : exact) img.exact_pixels += e;
   }
   RegionResult r = cmr::backend::to_result(std::move(img), cmr::backend::labels_of(s.options));
   r.setup_seconds = pipeline_seconds_ - compiled_before;

@@ -1,8 +1,9 @@
 #pragma once
 // The Vulkan region backend. The host decides whole blocks of pixels where
 // the certified path holds over them (most of a typical image); the device
-// classifies the pixels of the blocks left undecided, one fragment each
-// (shaders/region_common.glsl, buffer layout in shaders/region_layout.h), and
+// classifies the pixels of the blocks left undecided, one compute invocation
+// each, all in one dispatch (vk/compute_pipeline.hpp; the shader
+// shaders/region_common.glsl, buffer layout in shaders/region_layout.h), and
 // flags what it cannot certify, which the host then decides (certified, then
 // exactly). So labels equal CpuRegionBackend's, fp64 and fp32 alike.
 #include <cstdint>
@@ -14,7 +15,7 @@
 #include "region/region.hpp"
 #include "spline/fields.hpp"
 #include "vk/context.hpp"
-#include "vk/fragment_pipeline.hpp"
+#include "vk/compute_pipeline.hpp"
 
 namespace cmr::vk {
 
@@ -63,7 +64,7 @@ class VulkanRegionBackend final : public RegionBackend {
   /// fp32 works on any device.
   static Result<VulkanRegionBackend> create(const VulkanRegionOptions& options = {});
 
-  /// The render, or the Vulkan error: as FragmentPipeline::create / run;
+  /// The render, or the Vulkan error: as ComputePipeline::create / run;
   /// missing_feature when fp64 is asked of a device without shaderFloat64.
   Result<RegionResult> try_render(const RegionProblem& problem);
   /// try_render's result; throws InputError for size_unsupported (the
@@ -93,15 +94,17 @@ class VulkanRegionBackend final : public RegionBackend {
   };
   VulkanRegionBackend(Context context, VulkanRegionOptions options)
       : context_(std::move(context)), options_(std::move(options)) {}
-  Result<FragmentPipeline*> pipeline_for(const cmr::backend::RegionSetup& setup);
-  /// One result word per listed pixel, in order (shaders/region_layout.h).
-  Result<std::vector<uint32_t>> shade(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels);
+  Result<ComputePipeline*> pipeline_for(const cmr::backend::RegionSetup& setup);
+  /// One result word per listed pixel, in order (shaders/region_layout.h);
+  /// with every_pixel, per pixel of the image, row-major (pixels unused).
+  Result<std::vector<uint32_t>> shade(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels,
+                                      bool every_pixel);
 
   void save_pipeline_cache();
 
   Context context_;
   VulkanRegionOptions options_;
-  std::vector<std::pair<Key, FragmentPipeline>> pipelines_;
+  std::vector<std::pair<Key, ComputePipeline>> pipelines_;
   double pipeline_seconds_ = 0;
   double open_seconds_ = 0;
   std::string cache_note_;

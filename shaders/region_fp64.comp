@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Region shader in double precision (needs shaderFloat64).
+// Region shader (compute, one invocation per listed pixel) in double precision (needs shaderFloat64).
 #define REAL double
 #define REAL2 dvec2
 #define K_ROUND 2.220446049250313080847263336181640625e-16LF  // 2^-52

@@ -1,0 +1,100 @@
+// ComputePipeline on the device under test, item by item against the host
+// evaluation of shaders/test_count.comp, and its refusals.
+#include "vk/compute_pipeline.hpp"
+
+#include "device_under_test.hpp"
+#include "test_count_comp.h"     // cmr_test_count_comp_spv
+#include "test_pattern_frag.h"  // cmr_test_pattern_frag_spv (a fragment shader)
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cmr::vk {
+namespace {
+
+struct Push {
+  uint32_t count, add;
+};
+
+std::span<const std::byte> bytes_of(const auto& v) { return std::as_bytes(std::span(v)); }
+
+class ComputePipelineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto c = Context::create({});
+    ASSERT_TRUE(c) << c.error().message;
+    context_.emplace(c.take());
+  }
+  std::optional<Context> context_;
+};
+
+// Runs `count` items of test_count.comp and checks every word.
+void expect_counts(ComputePipeline& p, const std::vector<uint32_t>& input, uint32_t count, uint32_t add) {
+  const Push push{count, add};
+  auto words = p.run(bytes_of(input), count, std::as_bytes(std::span(&push, 1)));
+  ASSERT_TRUE(words) << words.error().message;
+  ASSERT_EQ(words.value().size(), count);
+  std::size_t wrong = 0, first = 0;
+  for (uint32_t at = 0; at < count; ++at) {
+    const uint32_t want = input[at % input.size()] * 3u + at + add;
+    if (words.value()[at] != want && wrong++ == 0) first = at;
+  }
+  EXPECT_EQ(wrong, 0u) << count << " items: first wrong item " << first;
+}
+
+TEST_F(ComputePipelineTest, EveryItemOnceAcrossGroupsRowsAndRuns) {
+  auto p = ComputePipeline::create(*context_, cmr_test_count_comp_spv, sizeof(Push));
+  ASSERT_TRUE(p) << p.error().message;
+  std::vector<uint32_t> input(1000);
+  for (std::size_t k = 0; k < input.size(); ++k) input[k] = static_cast<uint32_t>(k * 7919u + 13u);
+  // Partial and whole groups; then more groups than one dispatch row holds
+  // (32768 groups of 64), so the second row's indexing is used; then a
+  // smaller run after a larger one (the buffers are reused) and a larger
+  // input (they grow).
+  for (const uint32_t count : {1u, 63u, 64u, 65u, 4097u, 32768u * 64u + 130u, 5u}) expect_counts(p.value(), input, count, count);
+  input.resize(5000, 99u);
+  expect_counts(p.value(), input, 5000, 1);
+}
+
+TEST_F(ComputePipelineTest, NoItemsGiveNoWords) {
+  auto p = ComputePipeline::create(*context_, cmr_test_count_comp_spv, sizeof(Push));
+  ASSERT_TRUE(p) << p.error().message;
+  const std::vector<uint32_t> input(4, 1u);
+  auto words = p.value().run(bytes_of(input), 0);
+  ASSERT_TRUE(words) << words.error().message;
+  EXPECT_TRUE(words.value().empty());
+}
+
+TEST_F(ComputePipelineTest, RefusesAFragmentShaderAndBadPushConstants) {
+  auto frag = ComputePipeline::create(*context_, cmr_test_pattern_frag_spv, 4);
+  ASSERT_FALSE(frag);
+  EXPECT_EQ(frag.error().code, Errc::shader_invalid);
+  EXPECT_NE(frag.error().message.find("no compute-stage entry point"), std::string::npos) << frag.error().message;
+
+  const std::vector<uint32_t> not_spirv{1, 2, 3, 4, 5, 6};
+  auto junk = ComputePipeline::create(*context_, not_spirv);
+  ASSERT_FALSE(junk);
+  EXPECT_EQ(junk.error().code, Errc::shader_invalid);
+
+  auto odd = ComputePipeline::create(*context_, cmr_test_count_comp_spv, 6);
+  ASSERT_FALSE(odd);
+  EXPECT_EQ(odd.error().code, Errc::size_unsupported);
+
+  auto p = ComputePipeline::create(*context_, cmr_test_count_comp_spv, sizeof(Push));
+  ASSERT_TRUE(p) << p.error().message;
+  const std::vector<uint32_t> input(4, 1u);
+  const uint32_t too_short = 3;
+  auto run = p.value().run(bytes_of(input), 3, std::as_bytes(std::span(&too_short, 1)));
+  ASSERT_FALSE(run);
+  EXPECT_EQ(run.error().code, Errc::size_unsupported);
+}
+
+}  // namespace
+}  // namespace cmr::vk

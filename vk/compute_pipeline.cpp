@@ -1,0 +1,354 @@
+#include "vk/compute_pipeline.hpp"
+
+#include "vk/internal.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <string>
+#include <utility>
+
+namespace cmr::vk {
+namespace {
+
+using detail::Buffer;
+using detail::vk_error;
+
+// A run that takes longer than this is treated as a hung device.
+constexpr uint64_t kRunTimeoutNs = 120ull * 1000 * 1000 * 1000;
+// Descriptor ranges must be non-zero, so an empty input binds this.
+constexpr VkDeviceSize kEmptyStorageBytes = 16;
+// Groups per row of the dispatch; more rows when the list needs more.
+constexpr uint32_t kGroupsPerRow = 32768;
+
+Error size_error(std::string message) { return Error{Errc::size_unsupported, VK_SUCCESS, std::move(message)}; }
+
+}  // namespace
+
+struct ComputePipeline::Impl {
+  std::shared_ptr<detail::DeviceState> state;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t push_constant_bytes = 0;
+
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+  VkDescriptorSet descriptor_set = VK_NULL_HANDLE;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+
+  Buffer input;     // device-local, read by the shader
+  Buffer staging;   // host-visible source of the input upload
+  Buffer output;    // device-local, written by the shader
+  Buffer readback;  // host-visible destination of the output copy
+
+  // What the descriptor set currently points at.
+  VkBuffer bound_input = VK_NULL_HANDLE, bound_output = VK_NULL_HANDLE;
+  VkDeviceSize bound_input_range = 0, bound_output_range = 0;
+
+  bool pending = false;  // a submission may still be executing
+  bool lost = false;     // a run failed or hung; the pipeline is unusable
+
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl();
+
+  Result<void> create_pipeline(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
+  Result<void> create_commands();
+  // Grows `device_side` and its host-visible partner to at least `bytes`.
+  Result<void> ensure(Buffer& device_side, Buffer& host_side, VkDeviceSize bytes, bool upload);
+  Result<void> record(VkDeviceSize input_bytes, VkDeviceSize output_bytes, uint32_t count,
+                      std::span<const std::byte> push_constants);
+  Result<void> submit_and_wait(uint32_t count);
+};
+
+ComputePipeline::Impl::~Impl() {
+  if (device == VK_NULL_HANDLE) return;
+  if (pending) vkDeviceWaitIdle(device);  // returns promptly if the device is lost
+  if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
+  if (command_pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, command_pool, nullptr);
+  if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
+  if (pipeline_layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
+  if (descriptor_pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, descriptor_pool, nullptr);
+  if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+  for (Buffer* b : {&input, &staging, &output, &readback}) detail::destroy_buffer(device, *b);
+}
+
+Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> spirv,
+                                                    std::span<const uint32_t> specialization) {
+  std::array<VkDescriptorSetLayoutBinding, 2> bindings{};
+  for (uint32_t i = 0; i < bindings.size(); ++i) {
+    bindings[i].binding = i;
+    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorCount = 1;
+    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo set_info{};
+  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  set_info.bindingCount = static_cast<uint32_t>(bindings.size());
+  set_info.pBindings = bindings.data();
+  if (VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout); r != VK_SUCCESS) {
+    set_layout = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateDescriptorSetLayout");
+  }
+  VkPushConstantRange push_range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
+  VkPipelineLayoutCreateInfo layout_info{};
+  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout;
+  layout_info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = push_constant_bytes > 0 ? &push_range : nullptr;
+  if (VkResult r = vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout); r != VK_SUCCESS) {
+    pipeline_layout = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreatePipelineLayout");
+  }
+  if (auto r = detail::create_storage_set(device, set_layout, 2, descriptor_pool, descriptor_set, "compute pipeline");
+      !r)
+    return r.error();
+
+  VkShaderModuleCreateInfo module_info{};
+  module_info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  module_info.codeSize = spirv.size_bytes();
+  module_info.pCode = spirv.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  if (VkResult r = vkCreateShaderModule(device, &module_info, nullptr, &module); r != VK_SUCCESS) {
+    Error e = vk_error(r, "vkCreateShaderModule (compute shader)");
+    if (e.code == Errc::other) e.code = Errc::shader_invalid;
+    return e;
+  }
+  std::vector<VkSpecializationMapEntry> entries(specialization.size());
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
+  VkSpecializationInfo spec{};
+  spec.mapEntryCount = static_cast<uint32_t>(entries.size());
+  spec.pMapEntries = entries.data();
+  spec.dataSize = specialization.size_bytes();
+  spec.pData = specialization.data();
+
+  VkComputePipelineCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  if (!specialization.empty()) info.stage.pSpecializationInfo = &spec;
+  info.layout = pipeline_layout;
+  const VkResult r = vkCreateComputePipelines(device, state->pipeline_cache, 1, &info, nullptr, &pipeline);
+  vkDestroyShaderModule(device, module, nullptr);
+  if (r != VK_SUCCESS) {
+    pipeline = VK_NULL_HANDLE;
+    Error e = vk_error(r, "vkCreateComputePipelines");
+    // Anything but memory exhaustion here means the driver rejected the shader.
+    if (e.code != Errc::out_of_memory && e.code != Errc::device_lost) {
+      e.code = Errc::shader_invalid;
+      e.message += "; the compute shader was rejected (check its interface: set 0 bindings 0 and 1, push constants)";
+    }
+    return e;
+  }
+  return {};
+}
+
+Result<void> ComputePipeline::Impl::create_commands() {
+  VkCommandPoolCreateInfo pool{};
+  pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;  // re-recorded for every run
+  pool.queueFamilyIndex = state->queue_family_index;
+  if (VkResult r = vkCreateCommandPool(device, &pool, nullptr, &command_pool); r != VK_SUCCESS) {
+    command_pool = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateCommandPool");
+  }
+  VkCommandBufferAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  alloc.commandPool = command_pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  if (VkResult r = vkAllocateCommandBuffers(device, &alloc, &command_buffer); r != VK_SUCCESS) {
+    command_buffer = VK_NULL_HANDLE;
+    return vk_error(r, "vkAllocateCommandBuffers");
+  }
+  VkFenceCreateInfo fence_info{};
+  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+  if (VkResult r = vkCreateFence(device, &fence_info, nullptr, &fence); r != VK_SUCCESS) {
+    fence = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateFence");
+  }
+  return {};
+}
+
+Result<void> ComputePipeline::Impl::ensure(Buffer& device_side, Buffer& host_side, VkDeviceSize bytes, bool upload) {
+  if (device_side.buffer != VK_NULL_HANDLE && host_side.buffer != VK_NULL_HANDLE && device_side.size >= bytes)
+    return {};
+  // Grow geometrically so a slowly growing input does not reallocate every run.
+  const VkDeviceSize capacity = std::max({bytes, 2 * device_side.size, VkDeviceSize{256}});
+  detail::destroy_buffer(device, device_side);
+  detail::destroy_buffer(device, host_side);
+  bound_input = bound_output = VK_NULL_HANDLE;
+  const VkBufferUsageFlags device_usage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | (upload ? VK_BUFFER_USAGE_TRANSFER_DST_BIT : VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  if (auto r = detail::create_buffer(*state, device_side, capacity, device_usage, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                                     upload ? "input buffer" : "result buffer");
+      !r)
+    return r;
+  // Uploads prefer coherent memory; readbacks cached memory (fast host reads,
+  // invalidated after the wait when not coherent).
+  const auto r = upload ? detail::create_buffer(*state, host_side, capacity, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                                VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, "staging buffer")
+                        : detail::create_buffer(*state, host_side, capacity, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                                VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                                                VK_MEMORY_PROPERTY_HOST_CACHED_BIT, "readback buffer");
+  if (!r) detail::destroy_buffer(device, device_side);  // keep the pair consistent for the next run
+  return r;
+}
+
+Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSize output_bytes, uint32_t count,
+                                           std::span<const std::byte> push_constants) {
+  // The previous run's fence has been waited on, so the pool is idle.
+  if (VkResult r = vkResetCommandPool(device, command_pool, 0); r != VK_SUCCESS) return vk_error(r, "vkResetCommandPool");
+  if (auto r = detail::begin_one_time(command_buffer); !r) return r.error();
+  VkCommandBuffer cmd = command_buffer;
+
+  const VkBufferCopy in{0, 0, input_bytes};
+  vkCmdCopyBuffer(cmd, staging.buffer, input.buffer, 1, &in);
+  detail::buffer_barrier(cmd, input.buffer, 0, input_bytes, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout, 0, 1, &descriptor_set, 0, nullptr);
+  if (push_constant_bytes > 0)
+    vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes, push_constants.data());
+  const uint32_t groups = (count + kGroupSize - 1) / kGroupSize;
+  const uint32_t per_row = std::min(groups, kGroupsPerRow);
+  vkCmdDispatch(cmd, per_row, (groups + per_row - 1) / per_row, 1);
+  detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+  const VkBufferCopy out{0, 0, output_bytes};
+  vkCmdCopyBuffer(cmd, output.buffer, readback.buffer, 1, &out);
+  // Make the copied words visible to host reads after the fence wait.
+  detail::buffer_barrier(cmd, readback.buffer, 0, output_bytes, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT);
+  if (VkResult r = vkEndCommandBuffer(cmd); r != VK_SUCCESS) return vk_error(r, "vkEndCommandBuffer");
+  return {};
+}
+
+Result<void> ComputePipeline::Impl::submit_and_wait(uint32_t count) {
+  const auto fail = [&](VkResult r, const std::string& what) -> Error {
+    Error e = vk_error(r, what);
+    if (e.code == Errc::device_lost) lost = true;
+    return e;
+  };
+  if (VkResult r = vkResetFences(device, 1, &fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
+  if (auto r = detail::submit(state->queue, command_buffer, fence); !r) {
+    if (r.error().code == Errc::device_lost) lost = true;
+    return r.error();
+  }
+  pending = true;
+  const VkResult r = vkWaitForFences(device, 1, &fence, VK_TRUE, kRunTimeoutNs);
+  if (r == VK_TIMEOUT) {
+    lost = true;  // the command buffer may still be executing: never reuse it
+    return Error{Errc::device_lost, r,
+                 "computing " + std::to_string(count) +
+                     " items did not finish within 120 s; the device hangs or the shader is too slow"};
+  }
+  if (r != VK_SUCCESS) return fail(r, "vkWaitForFences (compute)");
+  pending = false;
+  return {};
+}
+
+Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
+                                                uint32_t push_constant_bytes,
+                                                std::span<const uint32_t> specialization) {
+  const std::shared_ptr<detail::DeviceState>& state = context.state();
+  const uint32_t max_push = std::min(kMaxPushConstantBytes, state->limits.maxPushConstantsSize);
+  if (push_constant_bytes % 4 != 0 || push_constant_bytes > max_push) {
+    return size_error("push-constant block of " + std::to_string(push_constant_bytes) +
+                      " bytes is not supported (a multiple of 4, at most " + std::to_string(max_push) + ")");
+  }
+  if (auto r = detail::check_spirv(compute_spirv, detail::ShaderStage::compute); !r) return r.error();
+  auto impl = std::make_unique<Impl>();
+  impl->state = state;
+  impl->device = state->device;
+  impl->push_constant_bytes = push_constant_bytes;
+  if (auto r = impl->create_pipeline(compute_spirv, specialization); !r) return r.error();
+  if (auto r = impl->create_commands(); !r) return r.error();
+  return ComputePipeline(std::move(impl));
+}
+
+Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> input, uint32_t count,
+                                                   std::span<const std::byte> push_constants, uint32_t words) {
+  Impl& p = *impl_;
+  if (p.lost)
+    return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "an earlier run lost the device; create a new Context and pipeline"};
+  if (!push_constants.empty() && push_constants.size() != p.push_constant_bytes) {
+    return size_error("push constants are " + std::to_string(push_constants.size()) +
+                      " bytes but the pipeline was created for " + std::to_string(p.push_constant_bytes));
+  }
+  const VkDeviceSize max_range = p.state->limits.maxStorageBufferRange;
+  if (words == 0) words = count;
+  const VkDeviceSize output_bytes = std::max<VkDeviceSize>(VkDeviceSize{words} * 4, kEmptyStorageBytes);
+  if (input.size() > max_range || output_bytes > max_range) {
+    return size_error("a storage buffer of " + std::to_string(std::max<VkDeviceSize>(input.size(), output_bytes)) +
+                      " bytes exceeds device '" + p.state->info.name + "' limit of " + std::to_string(max_range) +
+                      " bytes (maxStorageBufferRange)");
+  }
+  if (count == 0) return std::vector<uint32_t>(words, 0u);
+  const uint64_t groups = (uint64_t{count} + kGroupSize - 1) / kGroupSize;
+  if ((groups + kGroupsPerRow - 1) / kGroupsPerRow > p.state->limits.maxComputeWorkGroupCount[1])
+    return size_error(std::to_string(count) + " items are more than one dispatch of device '" + p.state->info.name +
+                      "' holds");
+
+  const VkDeviceSize input_bytes = input.empty() ? kEmptyStorageBytes : input.size();
+  if (auto r = p.ensure(p.input, p.staging, input_bytes, true); !r) return r.error();
+  if (auto r = p.ensure(p.output, p.readback, output_bytes, false); !r) return r.error();
+  if (input.empty()) {
+    std::memset(p.staging.mapped, 0, static_cast<std::size_t>(input_bytes));
+  } else {
+    std::memcpy(p.staging.mapped, input.data(), input.size());
+  }
+  if (!p.staging.coherent) {
+    const VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, p.staging.memory, 0, VK_WHOLE_SIZE};
+    if (VkResult r = vkFlushMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
+      return vk_error(r, "vkFlushMappedMemoryRanges");
+  }
+  // Exact ranges, so that .length() of a runtime array in the shader sees the
+  // caller's data, not the buffers' capacity.
+  if (p.bound_input != p.input.buffer || p.bound_input_range != input_bytes || p.bound_output != p.output.buffer ||
+      p.bound_output_range != output_bytes) {
+    const std::array<VkDescriptorBufferInfo, 2> infos{VkDescriptorBufferInfo{p.input.buffer, 0, input_bytes},
+                                                      VkDescriptorBufferInfo{p.output.buffer, 0, output_bytes}};
+    std::array<VkWriteDescriptorSet, 2> writes{};
+    for (uint32_t i = 0; i < 2; ++i) {
+      writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+      writes[i].dstSet = p.descriptor_set;
+      writes[i].dstBinding = i;
+      writes[i].descriptorCount = 1;
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(p.device, 2, writes.data(), 0, nullptr);
+    p.bound_input = p.input.buffer;
+    p.bound_input_range = input_bytes;
+    p.bound_output = p.output.buffer;
+    p.bound_output_range = output_bytes;
+  }
+  std::array<std::byte, kMaxPushConstantBytes> push{};  // zeros when none given
+  std::copy(push_constants.begin(), push_constants.end(), push.begin());
+  if (auto r = p.record(input_bytes, output_bytes, count, push); !r) return r.error();
+  if (auto r = p.submit_and_wait(count); !r) return r.error();
+  if (!p.readback.coherent) {
+    const VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, p.readback.memory, 0, VK_WHOLE_SIZE};
+    if (VkResult r = vkInvalidateMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
+      return vk_error(r, "vkInvalidateMappedMemoryRanges");
+  }
+  std::vector<uint32_t> out(words);
+  std::memcpy(out.data(), p.readback.mapped, std::size_t{words} * 4);
+  return out;
+}
+
+ComputePipeline::ComputePipeline(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;
+ComputePipeline& ComputePipeline::operator=(ComputePipeline&&) noexcept = default;
+ComputePipeline::~ComputePipeline() = default;
+
+}  // namespace cmr::vk

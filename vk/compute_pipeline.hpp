@@ -1,0 +1,73 @@
+// Runs a compute shader once per item of a list and reads one 32-bit word
+// per item back: one submission per run (upload, dispatch, copy out) and one
+// fence wait, the whole list in a single dispatch.
+//
+// Shader interface the compute SPIR-V must follow:
+//   layout(local_size_x = 64) in;  // ComputePipeline::kGroupSize, y = z = 1
+//   layout(std430, set = 0, binding = 0) readonly buffer ... ;   // the input
+//   layout(std430, set = 0, binding = 1) writeonly buffer ... { uint result[]; };
+//   layout(push_constant) uniform ... ;  // exactly push_constant_bytes bytes
+// Item `at` = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64 +
+// gl_GlobalInvocationID.x (the dispatch is two-dimensional when the list
+// needs more groups than one row may hold); the shader writes result[at] for
+// every at < count (and, when run() asks for more words, those too) and
+// nothing beyond, and must know `count` itself (from its input or push
+// constants).
+//
+// Why compute and not the fragment pipeline (vk/fragment_pipeline.hpp): no
+// colour image, render pass or image-to-buffer copy, the list in one
+// dispatch rather than a work area per submission, and on GPUs the compute
+// stage is not bound by the graphics pipeline's per-fragment costs.
+//
+// Thread safety: as for Context (one thread at a time per Context).
+#pragma once
+
+#include "vk/context.hpp"
+#include "vk/error.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace cmr::vk {
+
+class ComputePipeline {
+ public:
+  static constexpr uint32_t kGroupSize = 64;
+  static constexpr uint32_t kMaxPushConstantBytes = 128;
+
+  // Builds the pipeline (through the device's pipeline cache) and its
+  // command buffer and fence. specialization: value i for constant_id i.
+  // Errors: size_unsupported (bad push_constant_bytes); shader_invalid (not
+  //   a compute SPIR-V module, or rejected by the driver); out_of_memory;
+  //   device_lost; other.
+  static Result<ComputePipeline> create(Context& context, std::span<const uint32_t> compute_spirv,
+                                        uint32_t push_constant_bytes = 0,
+                                        std::span<const uint32_t> specialization = {});
+
+  ComputePipeline(ComputePipeline&&) noexcept;
+  ComputePipeline& operator=(ComputePipeline&&) noexcept;
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+  ~ComputePipeline();
+
+  // Uploads `input` (bound at binding 0, range its exact size; empty binds 16
+  // zero bytes), runs `count` items and returns the result buffer's `words`
+  // words (0: one per item; more when each item writes several). Blocks
+  // until done. Buffers grow geometrically and are kept between runs.
+  // Errors: size_unsupported (input above maxStorageBufferRange, result
+  //   above it, wrong push-constant size); out_of_memory; device_lost (also
+  //   when a run does not finish within two minutes; every later run then
+  //   fails with device_lost); other.
+  Result<std::vector<uint32_t>> run(std::span<const std::byte> input, uint32_t count,
+                                    std::span<const std::byte> push_constants = {}, uint32_t words = 0);
+
+ private:
+  struct Impl;
+  explicit ComputePipeline(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace cmr::vk
