@@ -21,6 +21,7 @@
 #include "spline/spline_json.hpp"
 #include "tests/cli_util.hpp"
 #include "vk/backend_choice.hpp"
+#include "device_under_test.hpp"
 
 namespace cmr::vk {
 namespace {
@@ -176,7 +177,7 @@ RegionProblem fig2_512() {
 BackendChoice choice_of(BackendKind kind, const std::string& dir) {
   BackendChoice c;
   c.kind = kind;
-  c.device = kind == BackendKind::cpu ? "" : "llvmpipe";
+  c.device = kind == BackendKind::cpu ? "" : cmr::vk::test::device_under_test();
   c.cache_dir = dir;
   return c;
 }
@@ -208,7 +209,7 @@ TEST(AutoOnDevice, OneShot512IsNeverAQuarterSlowerThanTheOtherBackend) {
         for (const DeviceInfo& d : listed.value()) l.push_back({d.name, d.type == VK_PHYSICAL_DEVICE_TYPE_CPU});
         return l;
       }(),
-      "llvmpipe");
+      cmr::vk::test::device_under_test());
   ASSERT_FALSE(device.empty());
   const BackendRates measured = load_backend_rates(dir, device);
   ASSERT_GT(measured.cpu_pixels_per_second, 0);
@@ -227,7 +228,7 @@ TEST(AutoOnDevice, OneShot512IsNeverAQuarterSlowerThanTheOtherBackend) {
               vk, d.cpu_seconds, d.vulkan_seconds, d.kind == BackendKind::vulkan ? "vulkan" : "cpu");
   EXPECT_LE(picked, 1.25 * other);
 
-  // And automatic itself, with --device naming the CPU device, follows the rule.
+  // And automatic itself, with --device naming the device under test, follows the rule.
   std::vector<std::string> notes;
   auto autob = make_region_backend(choice_of(BackendKind::automatic, dir), [&](const std::string& n) { notes.push_back(n); });
   autob->render(p);
@@ -302,7 +303,7 @@ TEST(PipelineCacheFile, DamagedFileIsOneNoteThenRebuilt) {
   const std::string dir = fresh_dir("cache").string();
   const RegionProblem p = fig2_512();
   const RegionResult want = CpuRegionBackend().render(p);
-  auto created = VulkanRegionBackend::create({.device = "llvmpipe", .cache_dir = dir});
+  auto created = VulkanRegionBackend::create({.device = cmr::vk::test::device_under_test(), .cache_dir = dir});
   ASSERT_TRUE(created);
   const std::string file = created.value().cache_file();
   created.value().render(p);
