@@ -162,8 +162,9 @@ TEST(PublishedMethod, LabelsAgreeWithCertifiedLabelsOnDegree9Bezier) {
   expect_agreement(s, 4, 16, 128, zoom_on_boundary(s, 4, 16, 128, 50), "bezier9 P4, zoom on a boundary");
 }
 
-// The vectorised baseline (published_region_lanes) and the fragment-shader
-// baseline (published_region_vulkan, fp64 on lavapipe) compute every pixel
+// The vectorised baseline (published_region_lanes) and the shader baseline
+// in both its forms (published_region_vulkan, fp64 on lavapipe, as
+// fragments and as compute invocations) compute every pixel
 // with the same operations in the same order as published_region: the label
 // maps must be equal byte for byte, on views with region boundaries (default
 // views, boundary zooms down to 4e-4 of the default view's width), on image
@@ -181,15 +182,17 @@ void expect_lanes_equal(const cmr::BSpline& spline, int point, int depth, int wi
   const std::vector<uint8_t> scalar = published_region(spline, r);
   std::vector<int> count(4, 0);
   for (const uint8_t c : scalar) ++count[std::min<int>(c, 3)];
-  for (const int form : {0, 1, 2}) {
+  for (const int form : {0, 1, 2, 3}) {
     const bool lockstep = form == 1;
     // The shader: at D = 16 on the zooms only (one pipeline per scene; lavapipe compiles each for seconds).
-    if (form == 2 && (depth != 16 || width != kShaderWidth)) continue;
+    if (form >= 2 && (depth != 16 || width != kShaderWidth)) continue;
 #ifdef CMR_BENCH_VK
-    const std::vector<uint8_t> lanes = form == 2 ? cmr::bench::published_region_vulkan(spline, r)
-                                                 : cmr::bench::published_region_lanes(spline, r, lockstep);
+    using cmr::bench::ShaderStage;
+    const std::vector<uint8_t> lanes =
+        form >= 2 ? cmr::bench::published_region_vulkan(spline, r, form == 2 ? ShaderStage::fragment : ShaderStage::compute)
+                  : cmr::bench::published_region_lanes(spline, r, lockstep);
 #else
-    if (form == 2) continue;
+    if (form >= 2) continue;
     const std::vector<uint8_t> lanes = cmr::bench::published_region_lanes(spline, r, lockstep);
 #endif
     ASSERT_EQ(scalar.size(), lanes.size()) << scene;
@@ -198,8 +201,11 @@ void expect_lanes_equal(const cmr::BSpline& spline, int point, int depth, int wi
       if (scalar[k] != lanes[k] && first < 0) first = static_cast<int>(k);
       differ += scalar[k] != lanes[k];
     }
-    EXPECT_EQ(differ, 0) << scene << (form == 2 ? ", fragment shader" : lockstep ? ", lock step" : ", level 0 vectorised")
-                         << ": first differing pixel ("
+    const char* form_name = form == 3   ? ", compute shader"
+                            : form == 2 ? ", fragment shader"
+                            : lockstep  ? ", lock step"
+                                        : ", level 0 vectorised";
+    EXPECT_EQ(differ, 0) << scene << form_name << ": first differing pixel ("
                          << first % width << ", " << first / width << ")";
   }
   int labels_seen = 0;
@@ -266,9 +272,10 @@ TEST(PublishedMethod, LanesRejectWhatTheScalarRejects) {
                    cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
                cmr::InputError);
 #ifdef CMR_BENCH_VK
-  EXPECT_THROW((void)cmr::bench::published_region_vulkan(
-                   cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r),
-               cmr::InputError);
+  for (const auto stage : {cmr::bench::ShaderStage::fragment, cmr::bench::ShaderStage::compute})
+    EXPECT_THROW((void)cmr::bench::published_region_vulkan(
+                     cmr::read_spline_file(kSource + "/examples/figures/fig8.json"), r, stage),
+                 cmr::InputError);
 #endif
 }
 

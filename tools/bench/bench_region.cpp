@@ -11,7 +11,7 @@
 //   - the baselines (tools/bench/published_method.hpp: the authors'
 //     per-pixel method, fixed-degree straight-line code, plain double, all
 //     cores; natively per pixel, vectorised across 4 pixels, and as a fp64
-//     fragment shader on the Vulkan device) against cmr's
+//     shader on the Vulkan device, fragment or compute, the faster) against cmr's
 //     CPU and Vulkan backends, measured interleaved in the same run, for a
 //     cubic Bezier (fig2.json P1), the uniform cubic (fig8.json P3) and the
 //     degree-9 Bezier, in three views (the whole region, 10x wider, and a
@@ -19,13 +19,17 @@
 //     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
 //     faster baseline of each cell, with the number of pixels whose labels
 //     differ and the load average.
-// Usage: bench_region [repetitions=5] [cells [cmr]]   (run from the repository root)
+// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-all|all [SIZE,...]]]   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 //   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
 //   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
 //   for profiling and for comparing builds back to back (under callgrind,
-//   instructions per frame: the difference of two repetition counts).
+//   instructions per frame: the difference of two repetition counts); vk:
+//   the same for its Vulkan backend; vk-all: the same, the device shading
+//   every pixel (no host culling); all: every column, as without.
+//   SIZE,...: the comparison's image sides instead of 512 and 1024 (e.g.
+//   2048, for a GPU's throughput).
 #include <sys/utsname.h>
 #include <time.h>
 
@@ -36,8 +40,10 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "spline/limits.hpp"
 #include "spline/spline_json.hpp"
@@ -46,6 +52,7 @@
 #include "tools/bench/published_method_vk.hpp"
 #include "region/region.hpp"
 #include "vk/backend_choice.hpp"
+#include "vk/region_vk.hpp"
 #include "tools/keep_freed_memory.hpp"
 
 using namespace cmr;
@@ -68,6 +75,8 @@ RegionProblem prepare(const BSpline& spline, int point, int depth, int size, std
 View view_of(const RegionProblem& s) { return s.view(); }
 
 double g_shader_setup_seconds = 0;
+/// argv[3] == "vk-all": the Vulkan backend shades every pixel (no host culling).
+bool g_no_cull = false;
 
 /// Renders on the Vulkan device (lavapipe here) or on every CPU core; one
 /// backend of each kind for the whole run, as `cmr region` keeps one. The
@@ -75,7 +84,14 @@ double g_shader_setup_seconds = 0;
 /// destructors run (vk/context.hpp).
 RegionResult render(const RegionProblem& s, bool vulkan) {
   static CpuRegionBackend cpu;
-  static auto& device = *new std::shared_ptr<RegionBackend>(vk::make_region_backend({.kind = vk::BackendKind::vulkan}));
+  static auto& device = *new std::shared_ptr<RegionBackend>([] {
+    if (!g_no_cull) return vk::make_region_backend({.kind = vk::BackendKind::vulkan});
+    vk::VulkanRegionOptions o;
+    o.cull = false;
+    auto b = vk::VulkanRegionBackend::create(o);
+    if (!b) throw std::runtime_error(b.error().message);
+    return std::shared_ptr<RegionBackend>(std::make_shared<vk::VulkanRegionBackend>(b.take()));
+  }());
   RegionResult r = (vulkan ? *device : static_cast<RegionBackend&>(cpu)).render(s);
   if (vulkan) g_shader_setup_seconds += r.setup_seconds;
   return r;
@@ -202,6 +218,8 @@ std::string g_only;
 /// only its Vulkan backend (for profiling one backend).
 bool g_cmr_only = false;
 bool g_vk_only = false;
+/// The comparison's image sides (argv[4]; default kCompareSize, kSize).
+std::vector<int> g_sizes;
 
 /// One line of the comparison: the baselines (published method native, its
 /// vectorised form) vs cmr CPU and cmr Vulkan; ratios against the best baseline.
@@ -233,37 +251,42 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
   r.max_depth = depth;
   r.width = r.height = size;
   r.view = view_of(setup);
-  std::vector<uint8_t> ours, lanes, lockstep, shaded;
+  std::vector<uint8_t> ours, lanes, lockstep, shaded, computed;
   RegionResult img;
-  (void)bench::published_region_vulkan(*sc.spline, r);  // compile this degree/depth/size's pipeline untimed
-  const Timings<6> timings = best_interleaved<6>(
+  using bench::ShaderStage;
+  // Compile this degree/depth/size's pipelines untimed.
+  (void)bench::published_region_vulkan(*sc.spline, r, ShaderStage::fragment);
+  (void)bench::published_region_vulkan(*sc.spline, r, ShaderStage::compute);
+  const Timings<7> timings = best_interleaved<7>(
       reps, {[&] { ours = bench::published_region(*sc.spline, r); },
              [&] { lanes = bench::published_region_lanes(*sc.spline, r, false); },
              [&] { lockstep = bench::published_region_lanes(*sc.spline, r, true); },
-             [&] { shaded = bench::published_region_vulkan(*sc.spline, r); }, [&] { img = render(setup, false); },
-             [&] { (void)render(setup, true); }});
-  const std::array<double, 6>& t = timings.wall;
-  const std::array<double, 6>& c = timings.cpu;
-  const double tp = t[0], ts = std::min(t[1], t[2]), tg = t[3], tc = t[4], tv = t[5], tb = std::min({tp, ts, tg});
-  const double cb = std::min({c[0], c[1], c[2], c[3]});
+             [&] { shaded = bench::published_region_vulkan(*sc.spline, r, ShaderStage::fragment); },
+             [&] { computed = bench::published_region_vulkan(*sc.spline, r, ShaderStage::compute); },
+             [&] { img = render(setup, false); }, [&] { (void)render(setup, true); }});
+  const std::array<double, 7>& t = timings.wall;
+  const std::array<double, 7>& c = timings.cpu;
+  const double tp = t[0], ts = std::min(t[1], t[2]), tg = std::min(t[3], t[4]), tc = t[5], tv = t[6],
+               tb = std::min({tp, ts, tg});
+  const double cb = std::min({c[0], c[1], c[2], c[3], c[4]});
   long differ = 0, lanes_differ = 0;
   for (std::size_t k = 0; k < ours.size(); ++k) {
     differ += ours[k] != img.code_at(k);
-    lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]) + (ours[k] != shaded[k]);
+    lanes_differ += (ours[k] != lanes[k]) + (ours[k] != lockstep[k]) + (ours[k] != shaded[k]) + (ours[k] != computed[k]);
   }
   const double mpix = static_cast<double>(ours.size()) / 1e6;
   std::printf(
       "  %-20s %-12s %2d %4d %8.2f %8.2f %8.2f %8.2f %8.2f %7.2fx %7.2fx %7.2fx %7.2fx %6ld %4ld %6.3f%% %5.2f\n",
       sc.name, view_name, depth, size, mpix / tp, mpix / ts, mpix / tg, mpix / tc, mpix / tv, tb / tc, tb / tv,
-      cb / c[4], cb / c[5], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
+      cb / c[5], cb / c[6], differ, lanes_differ, 100.0 * static_cast<double>(img.exact_pixels) / ours.size(),
       load_average());
   std::fflush(stdout);
 }
 
 void print_comparison(const std::vector<Scene>& scenes, int reps) {
   std::printf("\nbaselines (the published method, plain double: native per pixel on all cores, vectorised\n"
-              "across 4 pixels (%s), and as a fp64 fragment shader on the\n"
-              "Vulkan device) vs cmr (certified), measured interleaved, best of %d:\n",
+              "across 4 pixels (%s), and as a fp64 shader on the Vulkan\n"
+              "device, fragment or compute) vs cmr (certified), measured interleaved, best of %d:\n",
 #ifdef CMR_BENCH_AVX2
               "AVX2: 4 doubles per instruction",
 #else
@@ -283,7 +306,7 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     for (const int depth : {10, 16}) {
       // Compile this depth's pipeline untimed: a small image across the boundary reaches the device.
       if (!g_cmr_only) (void)render(prepare(*sc.spline, sc.point, depth, kWarmupSize, zoom), true);
-      for (const int size : {kCompareSize, kSize}) {
+      for (const int size : g_sizes) {
         compare(sc, "whole region", std::nullopt, depth, size, reps);
         compare(sc, "10x wider", wide, depth, size, reps);
         compare(sc, "4e-4 zoom", zoom, depth, size, reps);
@@ -291,8 +314,9 @@ void print_comparison(const std::vector<Scene>& scenes, int reps) {
     }
     std::printf("  (%s: zoom centred on the boundary point (%.12g, %.12g))\n", sc.name, edge.x, edge.y);
   }
-  std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); shd: the shader\n"
-              "  (shaders/published_fp64.frag, every pixel shaded, pipeline compiled untimed); best: the fastest\n"
+  std::printf("  vec: the faster of the two vectorised forms (level 0 vectorised, lock step); shd: the faster of\n"
+              "  the shader's two forms (shaders/published_fp64.glsl as one fragment or one compute invocation per\n"
+              "  pixel, every pixel shaded, pipelines compiled untimed); best: the fastest\n"
               "  baseline of the cell (wall-clock); CPU/b cs, Vk/b cs: the same ratios in CPU seconds of the process\n"
               "  (every thread; the steadier figure on a loaded machine); differ: pixels whose published label is\n"
               "  not the certified one;\n"
@@ -305,8 +329,21 @@ int run(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   if (argc > 2) g_only = argv[2];
-  g_vk_only = argc > 3 && std::string(argv[3]) == "vk";
+  g_no_cull = argc > 3 && std::string(argv[3]) == "vk-all";
+  g_vk_only = argc > 3 && (std::string(argv[3]) == "vk" || g_no_cull);
   g_cmr_only = argc > 3 && (std::string(argv[3]) == "cmr" || g_vk_only);
+  g_sizes = {kCompareSize, kSize};
+  if (argc > 4) {
+    g_sizes.clear();
+    for (const char* at = argv[4]; *at != '\0';) {
+      char* end = nullptr;
+      const long side = std::strtol(at, &end, 10);
+      if (end == at || side < 1 || side > 16384) throw std::runtime_error(std::string("bad image side in '") + argv[4] + "'");
+      g_sizes.push_back(static_cast<int>(side));
+      at = *end == ',' ? end + 1 : end;
+      if (*end != ',' && *end != '\0') throw std::runtime_error(std::string("bad image side in '") + argv[4] + "'");
+    }
+  }
   utsname un{};
   uname(&un);
   std::printf("cmr region benchmark: %s, %u hardware threads, %s %s, load average %.2f\n", cpu_model().c_str(),

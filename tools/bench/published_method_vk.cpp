@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "published_fp64_comp.h"
 #include "published_fp64_frag.h"
+#include "vk/compute_pipeline.hpp"
 #include "vk/context.hpp"
 #include "vk/fragment_pipeline.hpp"
 
@@ -50,9 +52,21 @@ vk::FragmentPipeline& pipeline(int degree, int depth, int width, int height) {
   return *p;
 }
 
+vk::ComputePipeline& compute_pipeline(int degree, int depth) {
+  static auto& cache = *new std::map<std::tuple<int, int>, std::unique_ptr<vk::ComputePipeline>>;
+  std::unique_ptr<vk::ComputePipeline>& p = cache[{degree, depth}];
+  if (!p) {
+    const std::array<uint32_t, 2> spec{static_cast<uint32_t>(degree), static_cast<uint32_t>(depth)};
+    auto made = vk::ComputePipeline::create(context(), cmr_published_fp64_comp_spv, sizeof(Push), spec);
+    if (!made) throw std::runtime_error("published_region_vulkan: " + made.error().message);
+    p = std::make_unique<vk::ComputePipeline>(made.take());
+  }
+  return *p;
+}
+
 }  // namespace
 
-std::vector<uint8_t> published_region_vulkan(const BSpline& spline, const PublishedRegion& r) {
+std::vector<uint8_t> published_region_vulkan(const BSpline& spline, const PublishedRegion& r, ShaderStage stage) {
   const PublishedHostPart h = published_host_part(spline, r);
   std::vector<uint8_t> labels(static_cast<std::size_t>(r.width) * r.height, 0);
   if (h.all_zero) return labels;
@@ -62,7 +76,9 @@ std::vector<uint8_t> published_region_vulkan(const BSpline& spline, const Publis
   std::memcpy(pc.data(), &push, sizeof(Push));
   const std::span<const std::byte> data(reinterpret_cast<const std::byte*>(h.data.data()),
                                         h.data.size() * sizeof(double));
-  auto out = pipeline(h.degree, r.max_depth, r.width, r.height).run(data, pc);
+  auto out = stage == ShaderStage::fragment
+                 ? pipeline(h.degree, r.max_depth, r.width, r.height).run(data, pc)
+                 : compute_pipeline(h.degree, r.max_depth).run(data, static_cast<uint32_t>(labels.size()), pc);
   if (!out) throw std::runtime_error("published_region_vulkan: " + out.error().message);
   const std::vector<uint32_t> words = out.take();
   for (std::size_t k = 0; k < labels.size(); ++k) labels[k] = static_cast<uint8_t>(words[k]);
