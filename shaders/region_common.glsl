@@ -25,6 +25,10 @@ layout(constant_id = 3) const bool JOINTS = false;    // some joint's curvature 
 // 8n-11 coefficients and nu D's 3n-5; the entries' points are homogeneous,
 // so joint jumps are left to the host (SIGN_UNKNOWN).
 layout(constant_id = 4) const int RATIONAL = 0;
+// true: pieces below the precomputed levels are halved here (load_deep)
+// rather than left to the host; off where private arrays are costly (a
+// SIMD executor such as llvmpipe keeps one per lane even where unused).
+layout(constant_id = 5) const bool DEEP = false;
 const int NXI = 4 * DEG - 6 + RATIONAL * (4 * DEG - 5);  // coefficients of lambda
 const int NNU = 2 * DEG - 3 + RATIONAL * (DEG - 2);      // coefficients of eta (D)
 
@@ -96,11 +100,48 @@ REAL2 nu_at(uint e, int p, int k) {
 
 // Depth-first Algorithms 1 and 2 on the piece polynomials (region/region.cpp,
 // lazy_algorithm1/2): ends first, inner coefficients until both signs appear.
-// Pieces below the precomputed levels are left to the host (DEEP), so no
-// coefficient arrays live in the shader.
+// Pieces below the precomputed levels are left to the host (P_DEEP) unless
+// DEEP, when load_deep makes their coefficients here.
 const int P_DEEP = 8;
 
-REAL2 coeff_at(uint e, bool eta, int p, int k) { return eta ? nu_at(e, p, k) : xi_at(e, p, k); }
+// The coefficients of the piece below the precomputed levels being decided
+// (DEEP only; piece index -1 reads them).
+REAL2 deep_c[NXI];
+
+REAL2 coeff_at(uint e, bool eta, int p, int k) {
+  if (DEEP && p < 0) return deep_c[k];
+  return eta ? nu_at(e, p, k) : xi_at(e, p, k);
+}
+
+// Piece j of `level` (> levels, the deepest precomputed level) into deep_c:
+// its ancestor at `levels` evaluated at this pixel, then halved at t = 1/2
+// (de Casteljau) level by level towards it, keeping the left or the right
+// half as the path's bits say. Every step is certified arithmetic (b_add,
+// b_half), so each coefficient keeps a bound on its distance from the exact
+// coefficient of the exact piece, as cmr's Bounded halving does on the host
+// (LazyPieces, region/kernel.hpp); a sign the bound does not decide sends the pixel
+// to the host as before. O((level - levels) n^2) per piece, n = NXI or NNU.
+// (c_a + c_b) / 2 with its bound; an exact zero stays exact (cmr::Bounded::half).
+REAL2 deep_mid(REAL2 a, REAL2 b) {
+  REAL2 s = b_add(a, b);
+  return s == REAL2(0) ? s : b_half(s);
+}
+
+void load_deep(uint e, bool eta, int level, int j, int levels) {
+  int n1 = eta ? NNU : NXI;
+  int r = level - levels;
+  int root = (1 << levels) - 1 + (j >> r);
+  for (int k = 0; k < n1; ++k) deep_c[k] = eta ? nu_at(e, root, k) : xi_at(e, root, k);
+  for (int b = r - 1; b >= 0; --b) {
+    if (((j >> b) & 1) != 0) {  // the right half: c_i <- (c_i + c_{i+1}) / 2, ascending
+      for (int t = 1; t < n1; ++t)
+        for (int i = 0; i + t < n1; ++i) deep_c[i] = deep_mid(deep_c[i], deep_c[i + 1]);
+    } else {  // the left half: c_i <- (c_{i-1} + c_i) / 2, descending
+      for (int t = 1; t < n1; ++t)
+        for (int i = n1 - 1; i >= t; --i) deep_c[i] = deep_mid(deep_c[i - 1], deep_c[i]);
+    }
+  }
+}
 
 // Returns P_UNCERTAIN or P_DEEP when the host must decide; otherwise 0 and
 // the outcome (curvature: 0 inc, 1 dec, 2 non-monotone, 3 undecided,
@@ -117,8 +158,13 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
   outcome = -1;
   depth = 0;
   for (;;) {
-    if (level > levels) return P_DEEP;
-    int p = decide_piece(e, eta, (1 << level) - 1 + j, eta ? NNU : NXI);
+    int piece = (1 << level) - 1 + j;
+    if (level > levels) {
+      if (!DEEP) return P_DEEP;
+      load_deep(e, eta, level, j, levels);
+      piece = -1;
+    }
+    int p = decide_piece(e, eta, piece, eta ? NNU : NXI);
     if (p == P_UNCERTAIN) return P_UNCERTAIN;
     if (p == P_SPLIT && level < maxd) {
       ++level;
@@ -315,14 +361,14 @@ void main() {
     result[at] = classify_pixel(int(ij.x), int(ij.y));
     return;
   }
-  // Pixels 4 at .. 4 at + 3, packed as bytes.
-  const uint n = hdr[HDR_LISTED], w = hdr[HDR_WIDTH];
+  // This run's pixels 4 at .. 4 at + 3, packed as bytes.
+  const uint n = hdr[HDR_LISTED], w = hdr[HDR_WIDTH], first = hdr[HDR_FIRST_PIXEL];
   if (4u * at >= n) return;
   uint labels = 0u, depths = 0u;
   for (uint q = 0u; q < 4u; ++q) {
     const uint k = 4u * at + q;
     if (k >= n) break;
-    const uint r = classify_pixel(int(k % w), int(k / w));
+    const uint r = classify_pixel(int((first + k) % w), int((first + k) / w));
     const uint label = (r & RESULT_UNCERTAIN) != 0u ? PACKED_UNCERTAIN : (r & RESULT_LABEL_MASK);
     labels |= label << (8u * q);
     depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * q);

@@ -22,12 +22,13 @@
 //
 // Result word of a listed pixel: label code | depth << RESULT_DEPTH_SHIFT,
 // or RESULT_UNCERTAIN when the shader could not certify the pixel.
-// Every pixel (HDR_EVERY_PIXEL): invocation k classifies pixels 4k..4k+3 of
-// the image, row-major, and writes word k = their label bytes (byte q =
-// pixel 4k+q, PACKED_UNCERTAIN where the host must decide) and, with
-// HDR_DEPTH_PLANE, word K + k = their depth bytes, K = ceil(W H / 4): the
-// words read as bytes are the label map (and depth map) as the host stores
-// it.
+// Every pixel (HDR_EVERY_PIXEL): a run covers HDR_LISTED = m pixels from
+// HDR_FIRST_PIXEL = f (row-major); invocation k classifies its pixels
+// 4k..4k+3 (image pixels f + 4k ..) and writes word k = their label bytes
+// (byte q = pixel 4k+q, PACKED_UNCERTAIN where the host must decide) and,
+// with HDR_DEPTH_PLANE, word K + k = their depth bytes, K = ceil(m / 4): the
+// words read as bytes are that stretch of the label map (and depth map) as
+// the host stores it.
 #ifndef CMR_SHADERS_REGION_LAYOUT_H
 #define CMR_SHADERS_REGION_LAYOUT_H
 
@@ -60,6 +61,7 @@ CMR_LAYOUT_CONST(HDR_LISTED, 16u)             // listed pixels in this run
 CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 17u)        // the listed pixels
 CMR_LAYOUT_CONST(HDR_EVERY_PIXEL, 18u)        // 1: no list, every pixel, packed (below)
 CMR_LAYOUT_CONST(HDR_DEPTH_PLANE, 19u)        // every pixel: 1 = the depth plane follows the labels
+CMR_LAYOUT_CONST(HDR_FIRST_PIXEL, 20u)        // every pixel: this run's pixels start here (row-major)
 CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
 
 // Label kinds (cmr::backend::Labels).

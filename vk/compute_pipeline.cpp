@@ -277,6 +277,17 @@ Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<cons
 
 Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> input, uint32_t count,
                                                    std::span<const std::byte> push_constants, uint32_t words) {
+  std::vector<uint32_t> out(words == 0 ? count : words);
+  auto r = run(input, count, push_constants, words, [&](std::span<const std::byte> bytes) {
+    if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * 4);
+  });
+  if (!r) return r.error();
+  return out;
+}
+
+Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t count,
+                                  std::span<const std::byte> push_constants, uint32_t words,
+                                  const std::function<void(std::span<const std::byte>)>& read) {
   Impl& p = *impl_;
   if (p.lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "an earlier run lost the device; create a new Context and pipeline"};
@@ -292,7 +303,11 @@ Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> in
                       " bytes exceeds device '" + p.state->info.name + "' limit of " + std::to_string(max_range) +
                       " bytes (maxStorageBufferRange)");
   }
-  if (count == 0) return std::vector<uint32_t>(words, 0u);
+  if (count == 0) {
+    const std::vector<std::byte> zeros(std::size_t{words} * 4);
+    read(zeros);
+    return {};
+  }
   const uint64_t groups = (uint64_t{count} + kGroupSize - 1) / kGroupSize;
   if ((groups + kGroupsPerRow - 1) / kGroupsPerRow > p.state->limits.maxComputeWorkGroupCount[1])
     return size_error(std::to_string(count) + " items are more than one dispatch of device '" + p.state->info.name +
@@ -341,9 +356,8 @@ Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> in
     if (VkResult r = vkInvalidateMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
       return vk_error(r, "vkInvalidateMappedMemoryRanges");
   }
-  std::vector<uint32_t> out(words);
-  std::memcpy(out.data(), p.readback.mapped, std::size_t{words} * 4);
-  return out;
+  read(std::span<const std::byte>(p.readback.mapped, std::size_t{words} * 4));
+  return {};
 }
 
 ComputePipeline::ComputePipeline(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

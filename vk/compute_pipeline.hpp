@@ -27,6 +27,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -63,6 +64,12 @@ class ComputePipeline {
   //   fails with device_lost); other.
   Result<std::vector<uint32_t>> run(std::span<const std::byte> input, uint32_t count,
                                     std::span<const std::byte> push_constants = {}, uint32_t words = 0);
+  // The same, but hands `read` the result's bytes (4 * words, or 4 * count
+  // when words is 0) where the device left them, in host memory mapped for
+  // this pipeline, valid during the call: the caller copies what it needs
+  // straight to where it belongs.
+  Result<void> run(std::span<const std::byte> input, uint32_t count, std::span<const std::byte> push_constants,
+                   uint32_t words, const std::function<void(std::span<const std::byte>)>& read);
 
  private:
   struct Impl;

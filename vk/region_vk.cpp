@@ -35,6 +35,10 @@ using cmr::backend::RegionSetup;
 
 // Blocks the host leaves undecided at this side length go to the device.
 constexpr int kDeviceBlock = 4;
+// Pixels per run, so that no storage buffer passes the 2^27 bytes every
+// device allows (maxStorageBufferRange): a listed pixel takes 16 bytes of
+// list, a pixel of the whole share one byte of label map and one of depth.
+constexpr std::size_t kListedPerRun = std::size_t{1} << 22, kWholePerRun = std::size_t{1} << 25;
 
 static_assert(cmr::kRegionLabelCodes < PACKED_UNCERTAIN && cmr::kSplitLabelCodes < PACKED_UNCERTAIN &&
                   cmr::kAlternatingLabelCodes < PACKED_UNCERTAIN && cmr::kPieceLabelCodes < PACKED_UNCERTAIN,
@@ -178,27 +182,33 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
 
 namespace {
 
-// The image decoded from the device's words: word k is pixel pixel_of(k).
-// Uncertain pixels are decided on the host (certified, then exactly).
-template <class PixelOf>
-void apply_words(const RegionSetup& s, PixelOf pixel_of, const std::vector<uint32_t>& words,
-                 cmr::backend::RegionImage& img) {
+// The image decoded from the device's words for the listed pixels; uncertain
+// pixels are decided on the host (certified, then exactly), on its threads.
+void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
+                 const std::vector<uint32_t>& words, cmr::backend::RegionImage& img, int threads) {
   const RegionRequest& o = s.options;
-  for (std::size_t k = 0; k < words.size(); ++k) {
-    const auto [i, j] = pixel_of(k);
+  std::vector<std::size_t> uncertain;
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const auto [i, j] = pixels[k];
     const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
     const uint32_t w = words[k];
     if (w & RESULT_UNCERTAIN) {
-      // Not certified on the device (or deeper than its precomputed pieces).
-      const cmr::backend::PixelResult pr = cmr::backend::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
-      img.labels[at] = pr.label;
-      img.depth[at] = pr.depth;
-      img.exact_pixels += pr.exact;
+      uncertain.push_back(k);  // not certified on the device (or deeper than its pieces)
     } else {
       img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
       img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
     }
   }
+  std::vector<uint8_t> exact(uncertain.size(), 0);
+  cmr::parallel_for(uncertain.size(), threads, [&](std::size_t u) {
+    const auto [i, j] = pixels[uncertain[u]];
+    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
+    const cmr::backend::PixelResult pr = cmr::backend::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
+    img.labels[at] = pr.label;
+    img.depth[at] = pr.depth;
+    exact[u] = pr.exact ? 1 : 0;
+  });
+  for (const uint8_t e : exact) img.exact_pixels += e;
   if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
 }
 
@@ -255,18 +265,23 @@ void VulkanRegionBackend::save_pipeline_cache() {
   if (ec) std::filesystem::remove(part, ec);
 }
 
-Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s) {
+DeviceShare VulkanRegionBackend::share() const {
+  if (options_.share != DeviceShare::automatic) return options_.share;
+  return context_.device().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? DeviceShare::culled : DeviceShare::whole;
+}
+
+Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s, bool deep) {
   const RegionPrecision precision = options_.precision;
   const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty(),
-                s.spline().is_rational()};
+                s.spline().is_rational(), deep};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
   if (options_.fault == InjectedFault::pipeline_rejected)
     return Error{Errc::shader_invalid, VK_ERROR_UNKNOWN,
                  "vkCreateGraphicsPipelines failed: VK_ERROR_UNKNOWN (injected: the driver rejected the pipeline)"};
   const auto t0 = std::chrono::steady_clock::now();
-  const uint32_t spec[5] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
-                            key.joints ? 1u : 0u, key.rational ? 1u : 0u};
+  const uint32_t spec[6] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
+                            key.joints ? 1u : 0u, key.rational ? 1u : 0u, key.deep ? 1u : 0u};
   std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
                                                                        : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
   auto created = ComputePipeline::create(context_, spirv, 0, spec);
@@ -277,28 +292,91 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s)
   return &pipelines_.back().second;
 }
 
-Result<std::vector<uint32_t>> VulkanRegionBackend::shade(const RegionSetup& s,
-                                                         const std::vector<std::array<int, 2>>& pixels,
-                                                         bool every_pixel) {
+Result<ComputePipeline*> VulkanRegionBackend::prepare(const RegionSetup& s, bool deep) {
   if (options_.precision == RegionPrecision::fp64 && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use " + field("precision") + " fp32"};
-  auto pipeline = pipeline_for(s);
+  auto pipeline = pipeline_for(s, deep);
   if (!pipeline) return pipeline.error();
   if (options_.fault == InjectedFault::out_of_memory)
     return Error{Errc::out_of_memory, VK_ERROR_OUT_OF_DEVICE_MEMORY,
                  "vkAllocateMemory failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (injected)"};
-  // Every listed pixel, or the whole image, in one dispatch: one submission,
-  // one readback.
-  const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, pixels, every_pixel);
-  const std::size_t packed = (std::size_t(s.options.width) * std::size_t(s.options.height) + 3) / 4;
-  const std::size_t count = every_pixel ? packed : pixels.size();
-  const std::size_t words_out = every_pixel && s.options.depth ? 2 * packed : count;
-  auto words = pipeline.value()->run(buffer, static_cast<uint32_t>(count), {}, static_cast<uint32_t>(words_out));
-  if (!words) return words.error();
+  return pipeline;
+}
+
+Result<void> VulkanRegionBackend::shade_listed(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
+                                               std::vector<uint32_t>& words) {
+  auto pipeline = prepare(s, false);
+  if (!pipeline) return pipeline.error();
+  // The listed pixels in one dispatch (one submission, one readback) per
+  // run of them.
+  words.clear();
+  words.reserve(pixels.size());
+  const std::span<const std::array<int, 2>> all(pixels);
+  const std::size_t per_run = options_.pixels_per_run > 0 ? options_.pixels_per_run : kListedPerRun;
+  for (std::size_t first = 0; first < pixels.size(); first += per_run) {
+    const auto run = all.subspan(first, std::min(per_run, pixels.size() - first));
+    const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, run);
+    auto out = pipeline.value()->run(buffer, static_cast<uint32_t>(run.size()));
+    if (!out) return out.error();
+    words.insert(words.end(), out.value().begin(), out.value().end());
+  }
   if (options_.fault == InjectedFault::device_lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
-  return words;
+  return {};
+}
+
+Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend::RegionImage& img) {
+  auto pipeline = prepare(s, true);
+  if (!pipeline) return pipeline.error();
+  const std::size_t n = img.labels.size();
+  std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, {}, true);
+  const auto set_header = [&](uint32_t word, std::size_t value) {
+    const uint32_t v = static_cast<uint32_t>(value);
+    std::memcpy(buffer.data() + 4 * word, &v, 4);
+  };
+  // One dispatch (one submission, one readback) per run of pixels; the
+  // readback holds that stretch of the label map's bytes, then (with a depth
+  // map) of the depth map's.
+  // Runs start on whole words of the label map (multiples of 4 pixels).
+  const std::size_t per_run = options_.pixels_per_run > 0 ? std::max<std::size_t>(4, options_.pixels_per_run / 4 * 4)
+                                                          : kWholePerRun;
+  for (std::size_t first = 0; first < n; first += per_run) {
+    const std::size_t count = std::min(per_run, n - first), packed = (count + 3) / 4;
+    set_header(HDR_FIRST_PIXEL, first);
+    set_header(HDR_LISTED, count);
+    auto out = pipeline.value()->run(buffer, static_cast<uint32_t>(packed), {},
+                                     static_cast<uint32_t>(s.options.depth ? 2 * packed : packed),
+                                     [&](std::span<const std::byte> bytes) {
+                                       std::memcpy(img.labels.data() + first, bytes.data(), count);
+                                       if (s.options.depth)
+                                         std::memcpy(img.depth.data() + first, bytes.data() + 4 * packed, count);
+                                     });
+    if (!out) return out.error();
+  }
+  if (options_.fault == InjectedFault::device_lost)
+    return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
+  // What the device could not certify, the host decides.
+  std::vector<std::size_t> flagged;
+  const uint8_t* labels = img.labels.data();
+  for (const void* at = std::memchr(labels, PACKED_UNCERTAIN, n); at != nullptr;) {
+    const std::size_t k = static_cast<std::size_t>(static_cast<const uint8_t*>(at) - labels);
+    flagged.push_back(k);
+    at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
+  }
+  std::vector<uint8_t> exact(flagged.size(), 0);
+  const std::size_t w = static_cast<std::size_t>(img.width);
+  cmr::parallel_for(flagged.size(), options_.threads, [&](std::size_t f) {
+    const std::size_t k = flagged[f];
+    const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
+    const cmr::backend::PixelResult pr =
+        cmr::backend::classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
+    img.labels[k] = pr.label;
+    if (s.options.depth) img.depth[k] = pr.depth;
+    exact[f] = pr.exact ? 1 : 0;
+  });
+  for (const uint8_t e : exact) img.exact_pixels += e;
+  return {};
 }
 
 Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& problem) {
@@ -306,40 +384,15 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
   const double compiled_before = pipeline_seconds_;
   const RegionSetup& s = problem.setup();
   cmr::backend::RegionImage img = cmr::backend::blank_image(s);
-  if (options_.cull) {
+  if (share() == DeviceShare::culled) {
     const std::vector<std::array<int, 2>> pixels = cmr::backend::region_cull(s, img, kDeviceBlock, options_.threads);
     if (!pixels.empty()) {
-      auto words = shade(s, pixels, false);
-      if (!words) return words.error();
-      apply_words(s, [&](std::size_t k) { return pixels[k]; }, words.value(), img);
+      std::vector<uint32_t> words;
+      if (auto r = shade_listed(s, pixels, words); !r) return r.error();
+      apply_words(s, pixels, words, img, options_.threads);
     }
   } else {
-    // The device shades the whole image and returns the label (and depth)
-    // map as the host stores it; the host decides the pixels it flags.
-    auto words = shade(s, {}, true);
-    if (!words) return words.error();
-    const std::size_t n = img.labels.size(), packed = (n + 3) / 4;
-    std::memcpy(img.labels.data(), words.value().data(), n);
-    if (s.options.depth) std::memcpy(img.depth.data(), words.value().data() + packed, n);
-    std::vector<std::size_t> flagged;
-    const uint8_t* labels = img.labels.data();
-    for (const void* at = std::memchr(labels, PACKED_UNCERTAIN, n); at != nullptr;) {
-      const std::size_t k = static_cast<std::size_t>(static_cast<const uint8_t*>(at) - labels);
-      flagged.push_back(k);
-      at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
-    }
-    std::vector<uint8_t> exact(flagged.size(), 0);
-    const std::size_t w = static_cast<std::size_t>(img.width);
-    cmr::parallel_for(flagged.size(), options_.threads, [&](std::size_t f) {
-      const std::size_t k = flagged[f];
-      const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
-      const cmr::backend::PixelResult pr =
-          cmr::backend::classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
-      img.labels[k] = pr.label;
-      if (s.options.depth) img.depth[k] = pr.depth;
-      exact[f] = pr.exact ? 1 : 0;
-    });
-    for (const uint8_t e : exact) img.exact_pixels += e;
+    if (auto r = shade_whole(s, img); !r) return r.error();
   }
   RegionResult r = cmr::backend::to_result(std::move(img), cmr::backend::labels_of(s.options));
   r.setup_seconds = pipeline_seconds_ - compiled_before;

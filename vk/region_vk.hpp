@@ -17,6 +17,10 @@
 #include "vk/context.hpp"
 #include "vk/compute_pipeline.hpp"
 
+namespace cmr::backend {
+struct RegionImage;
+}
+
 namespace cmr::vk {
 
 enum class RegionPrecision { fp64, fp32 };
@@ -28,12 +32,29 @@ enum class RegionPrecision { fp64, fp32 };
 /// Only tests and tools/ set it (`cmr` reads CMR_VK_FAULT, tools/cli_common.cpp).
 enum class InjectedFault { none, device_lost, out_of_memory, pipeline_rejected };
 
+/// How the work of a frame is shared between the host and the device:
+/// - culled: the host proves whole blocks first (on all its threads) and the
+///   device classifies the pixels left, down to the precomputed pieces;
+///   deeper pieces and uncertain signs go back to the host.
+/// - whole: the device classifies every pixel, halving pieces below the
+///   precomputed levels itself (shaders/region_common.glsl, load_deep), and
+///   returns the label (and depth) map packed as bytes; the host decides
+///   only what the device flags uncertain.
+/// - automatic: culled on a CPU device (lavapipe: its lanes are the host's
+///   cores, and deep halving in per-lane arrays costs more there than the
+///   host's own traversal), whole on a GPU (the host's block proofs and its
+///   deep pixels had bounded the frame there: docs/performance.md).
+enum class DeviceShare { automatic, culled, whole };
+
 /// How a VulkanRegionBackend is created.
 struct VulkanRegionOptions {
   std::string device;                                 ///< device name (case-insensitive substring); empty: the first suitable
   RegionPrecision precision = RegionPrecision::fp64;  ///< shader arithmetic; labels are certified either way
-  bool cull = true;                                   ///< host decides whole blocks first (off: the device shades every pixel)
+  DeviceShare share = DeviceShare::automatic;         ///< see DeviceShare
   int threads = 0;                                    ///< host threads (culling, uncertain pixels); 0: all cores
+  /// Most pixels one dispatch takes (0: as the 2^27-byte storage buffers
+  /// every device allows hold; tests set fewer to cover the split frame).
+  std::size_t pixels_per_run = 0;
   /// Where the VkPipelineCache is kept across runs (the file
   /// vulkan-pipelines-VENDOR-DEVICE.bin, rewritten whenever a pipeline is
   /// created); empty: pipelines are cached only for the backend's lifetime.
@@ -83,6 +104,9 @@ class VulkanRegionBackend final : public RegionBackend {
   const std::string& cache_note() const { return cache_note_; }
   /// The pipeline cache file (empty without options().cache_dir).
   std::string cache_file() const;
+  /// The share of the work this backend's frames run with (DeviceShare:
+  /// automatic resolved by the device's type).
+  DeviceShare share() const;
 
  private:
   struct Key {
@@ -90,15 +114,20 @@ class VulkanRegionBackend final : public RegionBackend {
     RegionPrecision precision;
     bool cmr, joints;
     bool rational;
+    bool deep;  ///< the device halves pieces below the precomputed levels (DeviceShare::whole)
     bool operator==(const Key&) const = default;
   };
   VulkanRegionBackend(Context context, VulkanRegionOptions options)
       : context_(std::move(context)), options_(std::move(options)) {}
-  Result<ComputePipeline*> pipeline_for(const cmr::backend::RegionSetup& setup);
-  /// One result word per listed pixel, in order (shaders/region_layout.h);
-  /// with every_pixel, per pixel of the image, row-major (pixels unused).
-  Result<std::vector<uint32_t>> shade(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels,
-                                      bool every_pixel);
+  Result<ComputePipeline*> pipeline_for(const cmr::backend::RegionSetup& setup, bool deep);
+  /// The culled share: one result word per listed pixel, in order
+  /// (shaders/region_layout.h), into `words`.
+  Result<void> shade_listed(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels,
+                            std::vector<uint32_t>& words);
+  /// The whole share: the label (and depth) map into `image`.
+  Result<void> shade_whole(const cmr::backend::RegionSetup& setup, cmr::backend::RegionImage& image);
+  /// What both shares check before they reach the device.
+  Result<ComputePipeline*> prepare(const cmr::backend::RegionSetup& setup, bool deep);
 
   void save_pipeline_cache();
 

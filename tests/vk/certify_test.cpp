@@ -316,14 +316,16 @@ std::vector<BackendUnderTest> backends() {
   test::BackendOptions cpu;
   cpu.backend = test::Backend::cpu;
   b.push_back({"cpu", cpu});
-  for (const bool cull : {true, false})
+  // Both shares of the work on whatever device runs the tests (vk::DeviceShare):
+  // the host culling blocks with the device's pixels down to the precomputed
+  // pieces, and the device shading every pixel and halving deeper pieces itself.
+  for (const vk::DeviceShare share : {vk::DeviceShare::culled, vk::DeviceShare::whole})
     for (const vk::RegionPrecision p : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
       test::BackendOptions o;
       o.precision = p;
-      o.cull = cull;
-      const bool f64 = p == vk::RegionPrecision::fp64;
-      b.push_back({cull ? (f64 ? "vulkan_fp64" : "vulkan_fp32") : (f64 ? "vulkan_fp64_nocull" : "vulkan_fp32_nocull"),
-                   o});
+      o.share = share;
+      const bool f64 = p == vk::RegionPrecision::fp64, culled = share == vk::DeviceShare::culled;
+      b.push_back({culled ? (f64 ? "vulkan_fp64" : "vulkan_fp32") : (f64 ? "vulkan_fp64_whole" : "vulkan_fp32_whole"), o});
     }
   return b;
 }

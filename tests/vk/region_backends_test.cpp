@@ -150,6 +150,43 @@ std::vector<Scene> scenes() {
   return s;
 }
 
+// DeviceShare::automatic: the host culls on a CPU device (lavapipe), the
+// device shades every pixel on a GPU; an explicit share is kept.
+TEST(RegionBackends, TheShareOfTheWorkFollowsTheDeviceType) {
+  auto b = vk::VulkanRegionBackend::create({});
+  ASSERT_TRUE(b) << b.error().message;
+  const bool cpu_device = b.value().device().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  EXPECT_EQ(b.value().share(), cpu_device ? vk::DeviceShare::culled : vk::DeviceShare::whole);
+  for (const vk::DeviceShare share : {vk::DeviceShare::culled, vk::DeviceShare::whole}) {
+    vk::VulkanRegionOptions o;
+    o.share = share;
+    auto fixed = vk::VulkanRegionBackend::create(o);
+    ASSERT_TRUE(fixed) << fixed.error().message;
+    EXPECT_EQ(fixed.value().share(), share);
+  }
+}
+
+// A frame split into several dispatches (a run of at most pixels_per_run
+// pixels each; odd sizes, so that runs end inside rows and words) gives the
+// labels and depths of one dispatch, on both shares.
+TEST(RegionBackends, AFrameSplitIntoRunsIsTheWholeFrame) {
+  for (const Scene& sc : scenes()) {
+    const RegionProblem problem = RegionProblem::make(sc.spline, sc.options);
+    const RegionImage cpu = test::render(problem, {test::Backend::cpu});
+    for (const vk::DeviceShare share : {vk::DeviceShare::culled, vk::DeviceShare::whole}) {
+      vk::VulkanRegionOptions o;
+      o.share = share;
+      o.pixels_per_run = 37;
+      auto b = vk::VulkanRegionBackend::create(o);
+      ASSERT_TRUE(b) << b.error().message;
+      const RegionResult r = b.value().render(problem);
+      const std::string where = std::string(sc.name) + (share == vk::DeviceShare::whole ? " whole" : " culled");
+      EXPECT_EQ(r.codes(), cpu.labels) << where;
+      EXPECT_EQ(r.depth, cpu.depth) << where;
+    }
+  }
+}
+
 TEST(RegionBackends, VulkanAndCpuLabelMapsAreIdentical) {
   for (const Scene& sc : scenes()) {
     const RegionProblem setup_problem = RegionProblem::make(sc.spline, sc.options);
@@ -158,7 +195,7 @@ TEST(RegionBackends, VulkanAndCpuLabelMapsAreIdentical) {
     for (vk::RegionPrecision prec : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
       test::BackendOptions bo;
       bo.precision = prec;
-      bo.cull = false;  // the device shades every pixel, so the shader is what is compared
+      bo.share = vk::DeviceShare::whole;  // the device shades every pixel, so the shader is what is compared
       const RegionImage gpu = test::render(setup_problem, bo);
       ASSERT_EQ(gpu.labels.size(), cpu.labels.size()) << sc.name;
       for (std::size_t at = 0; at < cpu.labels.size(); ++at) {
@@ -192,7 +229,7 @@ TEST(RegionBackends, VulkanLabelsDoNotDependOnTheScale) {
       for (vk::RegionPrecision prec : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
         test::BackendOptions bo;
         bo.precision = prec;
-        bo.cull = false;  // the device shades every pixel
+        bo.share = vk::DeviceShare::whole;  // the device shades every pixel
         const std::string where = std::string(sc.name) + " at 2^" + std::to_string(e) +
                                   (prec == vk::RegionPrecision::fp32 ? " fp32" : " fp64");
         const RegionImage want = test::render(plain, bo);

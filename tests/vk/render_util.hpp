@@ -17,19 +17,19 @@ enum class Backend { vulkan, cpu };
 struct BackendOptions {
   Backend backend = Backend::vulkan;
   vk::RegionPrecision precision = vk::RegionPrecision::fp64;
-  bool cull = true;
+  vk::DeviceShare share = vk::DeviceShare::automatic;
 };
 
 /// The Vulkan backend for these options, created once per test program (its
 /// pipelines are reused, as the CLI reuses its one backend). Never destroyed:
 /// a GPU driver may be gone by the time static destructors run (vk/context.hpp).
 inline vk::VulkanRegionBackend& vulkan_backend(const BackendOptions& o) {
-  static auto& backends = *new std::map<std::tuple<int, bool>, std::unique_ptr<vk::VulkanRegionBackend>>;
-  auto& b = backends[{static_cast<int>(o.precision), o.cull}];
+  static auto& backends = *new std::map<std::tuple<int, int>, std::unique_ptr<vk::VulkanRegionBackend>>;
+  auto& b = backends[{static_cast<int>(o.precision), static_cast<int>(o.share)}];
   if (!b) {
     vk::VulkanRegionOptions vo;
     vo.precision = o.precision;
-    vo.cull = o.cull;
+    vo.share = o.share;
     auto created = vk::VulkanRegionBackend::create(vo);
     if (!created) throw std::runtime_error("no Vulkan device: " + created.error().message);
     b = std::make_unique<vk::VulkanRegionBackend>(created.take());

@@ -19,15 +19,16 @@
 //     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
 //     faster baseline of each cell, with the number of pixels whose labels
 //     differ and the load average.
-// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-all|all [SIZE,...]]]   (run from the repository root)
+// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-whole|vk-culled|all [SIZE,...]]]   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 //   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
 //   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
 //   for profiling and for comparing builds back to back (under callgrind,
 //   instructions per frame: the difference of two repetition counts); vk:
-//   the same for its Vulkan backend; vk-all: the same, the device shading
-//   every pixel (no host culling); all: every column, as without.
+//   the same for its Vulkan backend (its DeviceShare as the device's type
+//   picks it); vk-whole, vk-culled: with that share; all: every column, as
+//   without.
 //   SIZE,...: the comparison's image sides instead of 512 and 1024 (e.g.
 //   2048, for a GPU's throughput).
 #include <sys/utsname.h>
@@ -75,8 +76,9 @@ RegionProblem prepare(const BSpline& spline, int point, int depth, int size, std
 View view_of(const RegionProblem& s) { return s.view(); }
 
 double g_shader_setup_seconds = 0;
-/// argv[3] == "vk-all": the Vulkan backend shades every pixel (no host culling).
-bool g_no_cull = false;
+/// argv[3] == "vk-whole" / "vk-culled": the Vulkan backend with that
+/// DeviceShare (vk: as the device's type picks it).
+vk::DeviceShare g_share = vk::DeviceShare::automatic;
 
 /// Renders on the Vulkan device (lavapipe here) or on every CPU core; one
 /// backend of each kind for the whole run, as `cmr region` keeps one. The
@@ -85,9 +87,9 @@ bool g_no_cull = false;
 RegionResult render(const RegionProblem& s, bool vulkan) {
   static CpuRegionBackend cpu;
   static auto& device = *new std::shared_ptr<RegionBackend>([] {
-    if (!g_no_cull) return vk::make_region_backend({.kind = vk::BackendKind::vulkan});
+    if (g_share == vk::DeviceShare::automatic) return vk::make_region_backend({.kind = vk::BackendKind::vulkan});
     vk::VulkanRegionOptions o;
-    o.cull = false;
+    o.share = g_share;
     auto b = vk::VulkanRegionBackend::create(o);
     if (!b) throw std::runtime_error(b.error().message);
     return std::shared_ptr<RegionBackend>(std::make_shared<vk::VulkanRegionBackend>(b.take()));
@@ -329,9 +331,11 @@ int run(int argc, char** argv) {
   setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);  // time to first image includes compilation
   const int reps = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   if (argc > 2) g_only = argv[2];
-  g_no_cull = argc > 3 && std::string(argv[3]) == "vk-all";
-  g_vk_only = argc > 3 && (std::string(argv[3]) == "vk" || g_no_cull);
-  g_cmr_only = argc > 3 && (std::string(argv[3]) == "cmr" || g_vk_only);
+  const std::string mode = argc > 3 ? argv[3] : "all";
+  if (mode == "vk-whole") g_share = vk::DeviceShare::whole;
+  if (mode == "vk-culled") g_share = vk::DeviceShare::culled;
+  g_vk_only = mode == "vk" || mode == "vk-whole" || mode == "vk-culled";
+  g_cmr_only = mode == "cmr" || g_vk_only;
   g_sizes = {kCompareSize, kSize};
   if (argc > 4) {
     g_sizes.clear();
