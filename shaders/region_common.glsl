@@ -29,6 +29,10 @@ layout(constant_id = 4) const int RATIONAL = 0;
 // rather than left to the host; off where private arrays are costly (a
 // SIMD executor such as llvmpipe keeps one per lane even where unused).
 layout(constant_id = 5) const bool DEEP = false;
+// Tests only (vk::VulkanRegionOptions::weaken_bound_bits): the polynomial
+// evaluation bound divided by 2^WEAKEN, a bound too small on purpose, so a
+// test can show that a weakened bound gives labels the exact path refutes.
+layout(constant_id = 6) const int WEAKEN = 0;
 const int NXI = 4 * DEG - 6 + RATIONAL * (4 * DEG - 5);  // coefficients of lambda
 const int NNU = 2 * DEG - 3 + RATIONAL * (DEG - 2);      // coefficients of eta (D)
 
@@ -57,6 +61,18 @@ REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
 // error bound is K_POLY units of roundoff times sum |c_m| |mu_m| (see
 // region/region.hpp for the count).
 
+// The count, in units u of the shader's arithmetic (K_ROUND = 2u), for
+// fp64 and fp32 alike (region/region_setup.hpp derives it for the host):
+// dx carries one rounding, the monomials two more, the coefficient one, its
+// product one, the sum of ten products nine: 16 u, and 24 leave slack for
+// the bound's own rounding. In fp32 (region_fp32.comp) dx and the
+// coefficients are doubles the packer rounds to float: fl32(fl64(x)) is
+// within (2^-53 + 2^-24 (1 + 2^-53)) |x| < 1.0000001 u |x| of x, still one
+// unit each. Coefficients that would be subnormal or overflow in float
+// arrive as NaN (region_vk.cpp, for_device), which no sign test accepts;
+// K_TINY covers the underflow of products and the flush of denormals. A
+// bound made 2^24 times smaller is caught by the tests
+// (CertifyBound.AWeakenedFp32BoundGivesLabelsTheExactPathRefutes).
 const REAL K_POLY = REAL(24) * REAL(0.5) * K_ROUND;
 
 REAL mono[10];
@@ -67,6 +83,14 @@ void set_monomials(REAL dx, REAL dy) {
   mono[0] = REAL(1); mono[1] = dx; mono[2] = dy; mono[3] = x2; mono[4] = xy; mono[5] = y2;
   mono[6] = x2 * dx; mono[7] = x2 * dy; mono[8] = y2 * dx; mono[9] = y2 * dy;
   for (int m = 0; m < 10; ++m) amono[m] = abs(mono[m]);
+}
+
+// The bound on |exact - computed| of one coefficient polynomial at this
+// pixel, mag = sum |c_m| |mu_m| (the terms' magnitudes).
+REAL poly_bound(REAL mag) {
+  REAL bound = K_POLY * mag + REAL(16) * K_TINY;
+  if (WEAKEN > 0) bound = ldexp(bound, -WEAKEN);
+  return bound;
 }
 
 uint pieces() { return (2u << hdr[HDR_PIECE_LEVELS]) - 1u; }
@@ -86,7 +110,7 @@ REAL2 xi_at(uint e, int p, int k) {
     zero = zero && c.x == REAL(0) && c.y == REAL(0);
   }
   if (zero) return REAL2(0);
-  return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
+  return REAL2(v, poly_bound(mag));
 }
 
 REAL2 nu_at(uint e, int p, int k) {
@@ -95,7 +119,7 @@ REAL2 nu_at(uint e, int p, int k) {
   REAL v = c01.x + c01.y * mono[1] + c2.x * mono[2];
   REAL mag = abs(c01.x) + abs(c01.y) * amono[1] + abs(c2.x) * amono[2];
   if (c01.x == REAL(0) && c01.y == REAL(0) && c2.x == REAL(0)) return REAL2(0);
-  return REAL2(v, K_POLY * mag + REAL(16) * K_TINY);
+  return REAL2(v, poly_bound(mag));
 }
 
 // Depth-first Algorithms 1 and 2 on the piece polynomials (region/region.cpp,

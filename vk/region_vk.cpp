@@ -280,8 +280,9 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s,
     return Error{Errc::shader_invalid, VK_ERROR_UNKNOWN,
                  "vkCreateGraphicsPipelines failed: VK_ERROR_UNKNOWN (injected: the driver rejected the pipeline)"};
   const auto t0 = std::chrono::steady_clock::now();
-  const uint32_t spec[6] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
-                            key.joints ? 1u : 0u, key.rational ? 1u : 0u, key.deep ? 1u : 0u};
+  const uint32_t spec[7] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
+                            key.joints ? 1u : 0u, key.rational ? 1u : 0u, key.deep ? 1u : 0u,
+                            static_cast<uint32_t>(options_.weaken_bound_bits)};
   std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
                                                                        : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
   auto created = ComputePipeline::create(context_, spirv, 0, spec);

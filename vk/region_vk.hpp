@@ -60,6 +60,9 @@ struct VulkanRegionOptions {
   /// created); empty: pipelines are cached only for the backend's lifetime.
   std::string cache_dir;
   InjectedFault fault = InjectedFault::none;  ///< tests only (see InjectedFault)
+  /// Tests only: the shader's polynomial error bound divided by 2^bits (a
+  /// bound too small on purpose: the certification tests must then fail).
+  int weaken_bound_bits = 0;
 };
 
 /// A Vulkan failure during a render (device lost, out of memory), carrying

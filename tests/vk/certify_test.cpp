@@ -453,6 +453,37 @@ std::vector<Case> structural_cases() {
   return s;
 }
 
+// The tests above can see a bound that is too small: with the shader's
+// polynomial error bound divided by 2^24 (about what fp32 would claim if its
+// rounding were ignored), the device, shading every pixel of the boundary
+// zooms in fp32, certifies signs that are wrong, and some label differs from
+// the exact path's. With the true bound none does (Certify.*).
+TEST(CertifyBound, AWeakenedFp32BoundGivesLabelsTheExactPathRefutes) {
+  vk::VulkanRegionOptions o;
+  o.precision = vk::RegionPrecision::fp32;
+  o.share = vk::DeviceShare::whole;
+  o.weaken_bound_bits = 24;
+  auto weakened = vk::VulkanRegionBackend::create(o);
+  ASSERT_TRUE(weakened) << weakened.error().message;
+  int wrong = 0, zooms = 0;
+  for (const Case& c : cases()) {
+    if (c.zoom == Zoom::none || wrong > 0) continue;  // one refuted zoom is enough
+    ++zooms;
+    const Scene scene = make_scene(c);
+    const RegionProblem problem = RegionProblem::make(scene.spline, scene.options);
+    const RegionSetup& setup = problem.setup();
+    const RegionRequest& r = setup.options;
+    const std::vector<uint8_t> labels = weakened.value().render(problem).codes();
+    for (int j = 0; j < r.height; ++j)
+      for (int i = 0; i < r.width; ++i)
+        wrong += labels[static_cast<std::size_t>(j) * r.width + i] !=
+                 classify_position_exact(setup, pixel_center(*r.view, r.width, r.height, i, j)).label;
+  }
+  EXPECT_GT(zooms, 0);
+  EXPECT_GT(wrong, 0) << "a bound 2^24 times too small went unnoticed on " << zooms << " boundary zooms";
+  std::printf("a bound 2^24 times too small: %d wrong labels on the first %d boundary zoom(s)\n", wrong, zooms);
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, Certify, ::testing::ValuesIn(cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(Scenes, CertifyStructuralZeros, ::testing::ValuesIn(structural_cases()), case_name);
 
