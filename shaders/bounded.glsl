@@ -1,6 +1,6 @@
 // Certified arithmetic on pairs (value, bound on |exact - value|): the GPU
 // mirror of cmr::Bounded (numeric/bounded.hpp), shared by the planar
-// (region_common.glsl) and the space (space_region_fp64.frag) region shaders.
+// (region_common.glsl) and the space (space_region_fp64.comp) region shaders.
 // The includer defines REAL, REAL2, K_ROUND (twice the unit roundoff) and
 // K_TINY (absolute slack for underflow, also covering flush-to-zero).
 

@@ -1,4 +1,4 @@
-// The space region shader's storage buffer (shaders/space_region_fp64.frag),
+// The space region shader's storage buffer (shaders/space_region_fp64.comp),
 // named once for both sides: included by C++ (vk/space_region_vk.cpp packs
 // the buffer) and by GLSL (the shader reads it), as region_layout.h is for
 // the planar shader, whose result flag (RESULT_UNCERTAIN) it shares.
@@ -29,6 +29,8 @@ CMR_LAYOUT_CONST(SPACE_HDR_PLANE_OFFSET, 5u)  // modes 0, 1: the plane O, U, V (
 CMR_LAYOUT_CONST(SPACE_HDR_DATA_OFFSET, 6u)   // the segment data (0, 1) or the polynomials (2, 3)
 CMR_LAYOUT_CONST(SPACE_HDR_DEGREE, 7u)        // modes 2, 3: degrees of the polynomials, three words from here
 CMR_LAYOUT_CONST(SPACE_HDR_DEGREES, 3u)       // how many degree words
+CMR_LAYOUT_CONST(SPACE_HDR_FIRST_PIXEL, 10u)  // this run's first pixel (row-major)
+CMR_LAYOUT_CONST(SPACE_HDR_PIXELS, 11u)       // this run's pixels: result word k is pixel FIRST + k
 CMR_LAYOUT_CONST(SPACE_HDR_WORDS, 16u)        // size of hdr
 
 // Modes: what one run judges.

@@ -1,16 +1,18 @@
 #include "vk/space_region_vk.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "shaders/space_region_layout.h"
-#include "space_region_fp64_frag.h"
+#include "space_region_fp64_comp.h"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
 #include "spline/parallel.hpp"
 #include "vk/buffer_packer.hpp"
-#include "vk/fragment_pipeline.hpp"
+#include "vk/compute_pipeline.hpp"
 
 namespace cmr::vk {
 
@@ -19,7 +21,8 @@ namespace {
 /// Rational curves: the highest degree the device takes (lambda3 has
 /// 11n - 17 coefficients, each a bivariate quintic). Degree 7 ran on lavapipe
 /// but NVIDIA's driver (580, H200) rejected its pipeline
-/// (vkCreateGraphicsPipelines: VK_ERROR_UNKNOWN); 2..6 ran on both.
+/// (vkCreateGraphicsPipelines: VK_ERROR_UNKNOWN, when it was a fragment
+/// shader); 2..6 ran on both.
 constexpr int kMaxRationalDegree = 6;
 using namespace layout;
 
@@ -68,6 +71,30 @@ std::vector<std::byte> pack_rational(int width, int height, std::uint32_t mode,
   return p.bytes();
 }
 
+/// Pixels per dispatch: the result words stay under the 2^27 bytes of
+/// storage buffer every device allows.
+constexpr std::size_t kPixelsPerRun = std::size_t{1} << 25;
+
+/// Every pixel's word of one run buffer (row-major), one dispatch per
+/// kPixelsPerRun pixels (SPACE_HDR_FIRST_PIXEL, SPACE_HDR_PIXELS).
+Result<std::vector<std::uint32_t>> shade(ComputePipeline& pipeline, std::vector<std::byte> buffer, std::size_t pixels) {
+  std::vector<std::uint32_t> words;
+  words.reserve(pixels);
+  const auto set_header = [&](std::uint32_t word, std::size_t value) {
+    const auto v = static_cast<std::uint32_t>(value);
+    std::memcpy(buffer.data() + 4 * word, &v, 4);
+  };
+  for (std::size_t first = 0; first < pixels; first += kPixelsPerRun) {
+    const std::size_t count = std::min(kPixelsPerRun, pixels - first);
+    set_header(SPACE_HDR_FIRST_PIXEL, first);
+    set_header(SPACE_HDR_PIXELS, count);
+    auto out = pipeline.run(buffer, static_cast<std::uint32_t>(count));
+    if (!out) return out.error();
+    words.insert(words.end(), out.value().begin(), out.value().end());
+  }
+  return words;
+}
+
 /// v - base with a bound on its rounding (round to nearest: at most
 /// 2^-53 of the exact difference, so below 2^-52 |fl(v - base)|).
 std::array<double, 2> offset(double v, double base) {
@@ -102,10 +129,10 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
   if (!context) return context.error();
   const std::uint32_t spec[3] = {static_cast<std::uint32_t>(spline.degree()), static_cast<std::uint32_t>(r.max_depth),
                                  rational ? 1u : 0u};
-  auto pipeline = FragmentPipeline::create(context.value(), std::span<const std::uint32_t>(cmr_space_region_fp64_frag_spv),
-                                           static_cast<std::uint32_t>(r.width), static_cast<std::uint32_t>(r.height), 0,
-                                           FragmentPipeline::kDefaultBandRows, spec);
+  auto pipeline = ComputePipeline::create(context.value(), std::span<const std::uint32_t>(cmr_space_region_fp64_comp_spv), 0,
+                                          spec);
   if (!pipeline) return pipeline.error();
+  const std::size_t pixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
 
   // Plane coordinates of the pixel centres, exactly as the CPU forms them.
   std::vector<double> a(static_cast<std::size_t>(r.width)), b(static_cast<std::size_t>(r.height));
@@ -123,22 +150,23 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     for (const double v : a) x.push_back(offset(v, a0));
     for (const double v : b) y.push_back(offset(v, b0));
     for (const int s : problem.moved_segments()) {
-      auto words = pipeline.value().run(
-          pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_SEGMENT, x, y, problem.rational_lambda3(s, a0, b0)));
+      auto words = shade(pipeline.value(),
+                         pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_SEGMENT, x, y, problem.rational_lambda3(s, a0, b0)),
+                         pixels);
       if (!words) return words.error();
       seg_words.push_back(std::move(words.value()));
     }
     for (const int j : problem.moved_joints()) {
       const auto p = problem.rational_jump(j, a0, b0);
       const std::vector<SpaceRegionProblem::PlanePolynomial> polys(p.begin(), p.end());
-      auto words = pipeline.value().run(pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_JOINT, x, y, polys));
+      auto words = shade(pipeline.value(), pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_JOINT, x, y, polys), pixels);
       if (!words) return words.error();
       joint_words.push_back(std::move(words.value()));
     }
   }
   for (const int s : rational ? std::vector<int>{} : problem.moved_segments()) {
     auto words =
-        pipeline.value().run(pack(r.width, r.height, SPACE_MODE_SEGMENT, a, b, *r.plane, problem.affine_bezier(s)));
+        shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_SEGMENT, a, b, *r.plane, problem.affine_bezier(s)), pixels);
     if (!words) return words.error();
     seg_words.push_back(std::move(words.value()));
   }
@@ -146,7 +174,7 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     std::vector<std::array<double, 2>> both = problem.affine_bezier(j - 1);
     const std::vector<std::array<double, 2>> right = problem.affine_bezier(j % N);
     both.insert(both.end(), right.begin(), right.end());
-    auto words = pipeline.value().run(pack(r.width, r.height, SPACE_MODE_JOINT, a, b, *r.plane, both));
+    auto words = shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_JOINT, a, b, *r.plane, both), pixels);
     if (!words) return words.error();
     joint_words.push_back(std::move(words.value()));
   }

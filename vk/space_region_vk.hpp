@@ -2,7 +2,7 @@
 // The Vulkan backend of space-curve plane regions (issue 25): the device
 // judges each moved segment (Algorithm 1 on lambda3) and each varying
 // joint's curvature jump per pixel, with certified double-precision
-// arithmetic (shaders/space_region_fp64.frag); for a rational curve from
+// arithmetic (shaders/space_region_fp64.comp); for a rational curve from
 // polynomials in the plane coordinates that the host derives exactly once
 // per render (SpaceRegionProblem::rational_lambda3 / rational_jump);
 // the host folds the parts with SpaceRegionProblem::compose, and classifies
@@ -27,7 +27,7 @@ struct SpaceRegionVkOptions {
 
 /// Renders `problem` on a Vulkan device. Errors: as Context::create
 /// (no_device, device_not_found, loader_missing, missing_feature when no
-/// device has shaderFloat64) and FragmentPipeline::create / run;
+/// device has shaderFloat64) and ComputePipeline::create / run;
 /// size_unsupported for a degree outside 2..7 (polynomial) or 2..6
 /// (rational): the shader's range; use the CPU backend.
 /// What a render did: pixels the device certified, and those it left to the CPU.

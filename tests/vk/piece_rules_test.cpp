@@ -152,11 +152,11 @@ TEST(PieceRules, ShaderFp64MatchesCore) { compare(cmr_piece_rules_test_fp64_frag
 TEST(PieceRules, ShaderFp32MatchesCore) { compare(cmr_piece_rules_test_fp32_frag_spv, false); }
 
 // The rules these tests check are the ones every region shader runs: the
-// planar (region_common.glsl) and space (space_region_fp64.frag) shaders
+// planar (region_common.glsl) and space (space_region_fp64.comp) shaders
 // include piece_rules.glsl and bounded.glsl and define neither the piece
 // rules, the certain sign nor the bounded arithmetic themselves.
 TEST(PieceRules, EveryRegionShaderIncludesTheSharedRules) {
-  for (const char* name : {"region_common.glsl", "space_region_fp64.frag"}) {
+  for (const char* name : {"region_common.glsl", "space_region_fp64.comp"}) {
     const std::string path = std::string(CMR_SOURCE_DIR) + "/shaders/" + name;
     std::ifstream in(path);
     ASSERT_TRUE(in) << path;

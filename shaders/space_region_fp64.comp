@@ -54,7 +54,12 @@ layout(std430, set = 0, binding = 0) readonly buffer SpaceData {
   uint hdr[SPACE_HDR_WORDS];
   REAL2 data[];
 };
-layout(location = 0) out uint result;
+// One invocation per pixel of a run (vk/compute_pipeline.hpp's interface):
+// pixel SPACE_HDR_FIRST_PIXEL + at of the image, row-major.
+layout(local_size_x = 64) in;
+layout(std430, set = 0, binding = 1) writeonly buffer SpaceResult {
+  uint result_words[];
+};
 
 #include "bounded.glsl"
 #include "piece_rules.glsl"
@@ -264,15 +269,12 @@ REAL2 plane_poly(uint at, int D) {
   return s;
 }
 
-void main() {
-  uint col = uint(gl_FragCoord.x), row = uint(gl_FragCoord.y);
+// The result word of pixel (col, row) for this run's mode.
+uint classify_pixel(uint col, uint row) {
   uint mode = hdr[SPACE_HDR_MODE];
   if (mode == SPACE_MODE_RATIONAL_SEGMENT || mode == SPACE_MODE_RATIONAL_JOINT) {  // polynomials in (x, y)
     int D0 = int(hdr[SPACE_HDR_DEGREE]), D1 = int(hdr[SPACE_HDR_DEGREE + 1u]), D2 = int(hdr[SPACE_HDR_DEGREE + 2u]);
-    if (D0 > MAXPOLY || D1 > MAXPOLY || D2 > MAXPOLY) {
-      result = RESULT_UNCERTAIN;
-      return;
-    }
+    if (D0 > MAXPOLY || D1 > MAXPOLY || D2 > MAXPOLY) return RESULT_UNCERTAIN;
     plane_powers(data[hdr[SPACE_HDR_COLUMN_OFFSET] + col], data[hdr[SPACE_HDR_ROW_OFFSET] + row]);
     uint at = hdr[SPACE_HDR_DATA_OFFSET];
     if (mode == SPACE_MODE_RATIONAL_SEGMENT) {
@@ -280,15 +282,13 @@ void main() {
         lam[k] = plane_poly(at, D0);
         at += poly_terms(D0);
       }
-      result = algorithm1();
-    } else {
-      REAL2 gl = plane_poly(at, D0);
-      at += poly_terms(D0);
-      REAL2 gr = plane_poly(at, D1);
-      at += poly_terms(D1);
-      result = jump_word(gl, gr, plane_poly(at, D2));
+      return algorithm1();
     }
-    return;
+    REAL2 gl = plane_poly(at, D0);
+    at += poly_terms(D0);
+    REAL2 gr = plane_poly(at, D1);
+    at += poly_terms(D1);
+    return jump_word(gl, gr, plane_poly(at, D2));
   }
   REAL a = data[hdr[SPACE_HDR_COLUMN_OFFSET] + col].x, b = data[hdr[SPACE_HDR_ROW_OFFSET] + row].x;
   uint pl = hdr[SPACE_HDR_PLANE_OFFSET];
@@ -299,8 +299,14 @@ void main() {
   if (mode == SPACE_MODE_SEGMENT) {
     load_bezier(at);
     lambda3();
-    result = algorithm1();
-  } else {
-    result = joint_sign(at, at + uint(4 * (DEG + 1)));
+    return algorithm1();
   }
+  return joint_sign(at, at + uint(4 * (DEG + 1)));
+}
+
+void main() {
+  const uint at = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+  if (at >= hdr[SPACE_HDR_PIXELS]) return;
+  const uint k = hdr[SPACE_HDR_FIRST_PIXEL] + at, w = hdr[SPACE_HDR_WIDTH];
+  result_words[at] = classify_pixel(k % w, k / w);
 }
