@@ -76,16 +76,17 @@ std::vector<std::byte> pack_rational(int width, int height, std::uint32_t mode,
 constexpr std::size_t kPixelsPerRun = std::size_t{1} << 25;
 
 /// Every pixel's word of one run buffer (row-major), one dispatch per
-/// kPixelsPerRun pixels (SPACE_HDR_FIRST_PIXEL, SPACE_HDR_PIXELS).
-Result<std::vector<std::uint32_t>> shade(ComputePipeline& pipeline, std::vector<std::byte> buffer, std::size_t pixels) {
+/// per_run pixels (SPACE_HDR_FIRST_PIXEL, SPACE_HDR_PIXELS).
+Result<std::vector<std::uint32_t>> shade(ComputePipeline& pipeline, std::vector<std::byte> buffer, std::size_t pixels,
+                                         std::size_t per_run) {
   std::vector<std::uint32_t> words;
   words.reserve(pixels);
   const auto set_header = [&](std::uint32_t word, std::size_t value) {
     const auto v = static_cast<std::uint32_t>(value);
     std::memcpy(buffer.data() + 4 * word, &v, 4);
   };
-  for (std::size_t first = 0; first < pixels; first += kPixelsPerRun) {
-    const std::size_t count = std::min(kPixelsPerRun, pixels - first);
+  for (std::size_t first = 0; first < pixels; first += per_run) {
+    const std::size_t count = std::min(per_run, pixels - first);
     set_header(SPACE_HDR_FIRST_PIXEL, first);
     set_header(SPACE_HDR_PIXELS, count);
     auto out = pipeline.run(buffer, static_cast<std::uint32_t>(count));
@@ -133,6 +134,7 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
                                           spec);
   if (!pipeline) return pipeline.error();
   const std::size_t pixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+  const std::size_t per_run = options.pixels_per_run > 0 ? options.pixels_per_run : kPixelsPerRun;
 
   // Plane coordinates of the pixel centres, exactly as the CPU forms them.
   std::vector<double> a(static_cast<std::size_t>(r.width)), b(static_cast<std::size_t>(r.height));
@@ -152,21 +154,21 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     for (const int s : problem.moved_segments()) {
       auto words = shade(pipeline.value(),
                          pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_SEGMENT, x, y, problem.rational_lambda3(s, a0, b0)),
-                         pixels);
+                         pixels, per_run);
       if (!words) return words.error();
       seg_words.push_back(std::move(words.value()));
     }
     for (const int j : problem.moved_joints()) {
       const auto p = problem.rational_jump(j, a0, b0);
       const std::vector<SpaceRegionProblem::PlanePolynomial> polys(p.begin(), p.end());
-      auto words = shade(pipeline.value(), pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_JOINT, x, y, polys), pixels);
+      auto words = shade(pipeline.value(), pack_rational(r.width, r.height, SPACE_MODE_RATIONAL_JOINT, x, y, polys), pixels, per_run);
       if (!words) return words.error();
       joint_words.push_back(std::move(words.value()));
     }
   }
   for (const int s : rational ? std::vector<int>{} : problem.moved_segments()) {
     auto words =
-        shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_SEGMENT, a, b, *r.plane, problem.affine_bezier(s)), pixels);
+        shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_SEGMENT, a, b, *r.plane, problem.affine_bezier(s)), pixels, per_run);
     if (!words) return words.error();
     seg_words.push_back(std::move(words.value()));
   }
@@ -174,7 +176,7 @@ Result<RegionResult> render_space_region_vulkan(const SpaceRegionProblem& proble
     std::vector<std::array<double, 2>> both = problem.affine_bezier(j - 1);
     const std::vector<std::array<double, 2>> right = problem.affine_bezier(j % N);
     both.insert(both.end(), right.begin(), right.end());
-    auto words = shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_JOINT, a, b, *r.plane, both), pixels);
+    auto words = shade(pipeline.value(), pack(r.width, r.height, SPACE_MODE_JOINT, a, b, *r.plane, both), pixels, per_run);
     if (!words) return words.error();
     joint_words.push_back(std::move(words.value()));
   }

@@ -23,6 +23,9 @@ namespace cmr::vk {
 struct SpaceRegionVkOptions {
   std::string device;  ///< device name (case-insensitive substring); empty: the first with shaderFloat64
   int threads = 0;     ///< host threads for the uncertain pixels; 0: all cores
+  /// Most pixels one dispatch takes (0: as the 2^27-byte storage buffers
+  /// every device allows hold; tests set fewer to cover the split runs).
+  std::size_t pixels_per_run = 0;
 };
 
 /// Renders `problem` on a Vulkan device. Errors: as Context::create
