@@ -25,19 +25,8 @@ Error size_error(std::string message) { return Error{Errc::size_unsupported, VK_
 
 }  // namespace
 
-struct ComputePipeline::Impl {
-  std::shared_ptr<detail::DeviceState> state;
-  VkDevice device = VK_NULL_HANDLE;
+struct ComputePipeline::Impl : detail::PipelineCore {
   uint32_t push_constant_bytes = 0;
-
-  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
-  VkDescriptorSet descriptor_set = VK_NULL_HANDLE;
-  VkCommandPool command_pool = VK_NULL_HANDLE;
-  VkCommandBuffer command_buffer = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
 
   Buffer input;     // device-local, read by the shader
   Buffer staging;   // host-visible source of the input upload
@@ -48,12 +37,7 @@ struct ComputePipeline::Impl {
   VkBuffer bound_input = VK_NULL_HANDLE, bound_output = VK_NULL_HANDLE;
   VkDeviceSize bound_input_range = 0, bound_output_range = 0;
 
-  bool pending = false;  // a submission may still be executing
-  bool lost = false;     // a run failed or hung; the pipeline is unusable
-
   Impl() = default;
-  Impl(const Impl&) = delete;
-  Impl& operator=(const Impl&) = delete;
   ~Impl();
 
   Result<void> create_pipeline(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
@@ -67,76 +51,27 @@ struct ComputePipeline::Impl {
 
 ComputePipeline::Impl::~Impl() {
   if (device == VK_NULL_HANDLE) return;
-  if (pending) vkDeviceWaitIdle(device);  // returns promptly if the device is lost
-  if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
-  if (command_pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, command_pool, nullptr);
-  if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
-  if (pipeline_layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
-  if (descriptor_pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, descriptor_pool, nullptr);
-  if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+  wait_if_pending();
   for (Buffer* b : {&input, &staging, &output, &readback}) detail::destroy_buffer(device, *b);
 }
 
 Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> spirv,
                                                     std::span<const uint32_t> specialization) {
-  std::array<VkDescriptorSetLayoutBinding, 2> bindings{};
-  for (uint32_t i = 0; i < bindings.size(); ++i) {
-    bindings[i].binding = i;
-    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[i].descriptorCount = 1;
-    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  VkDescriptorSetLayoutCreateInfo set_info{};
-  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  set_info.bindingCount = static_cast<uint32_t>(bindings.size());
-  set_info.pBindings = bindings.data();
-  if (VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout); r != VK_SUCCESS) {
-    set_layout = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateDescriptorSetLayout");
-  }
-  VkPushConstantRange push_range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes};
-  VkPipelineLayoutCreateInfo layout_info{};
-  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout;
-  layout_info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
-  layout_info.pPushConstantRanges = push_constant_bytes > 0 ? &push_range : nullptr;
-  if (VkResult r = vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout); r != VK_SUCCESS) {
-    pipeline_layout = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreatePipelineLayout");
-  }
-  if (auto r = detail::create_storage_set(device, set_layout, 2, descriptor_pool, descriptor_set, "compute pipeline");
-      !r)
+  if (auto r = create_layouts_and_set(2, VK_SHADER_STAGE_COMPUTE_BIT, push_constant_bytes, "compute pipeline"); !r)
     return r.error();
 
-  VkShaderModuleCreateInfo module_info{};
-  module_info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-  module_info.codeSize = spirv.size_bytes();
-  module_info.pCode = spirv.data();
-  VkShaderModule module = VK_NULL_HANDLE;
-  if (VkResult r = vkCreateShaderModule(device, &module_info, nullptr, &module); r != VK_SUCCESS) {
-    Error e = vk_error(r, "vkCreateShaderModule (compute shader)");
-    if (e.code == Errc::other) e.code = Errc::shader_invalid;
-    return e;
-  }
-  std::vector<VkSpecializationMapEntry> entries(specialization.size());
-  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
-  VkSpecializationInfo spec{};
-  spec.mapEntryCount = static_cast<uint32_t>(entries.size());
-  spec.pMapEntries = entries.data();
-  spec.dataSize = specialization.size_bytes();
-  spec.pData = specialization.data();
-
+  detail::ShaderModule shader;
+  if (auto r = shader.create(device, spirv, "compute shader"); !r) return r.error();
+  const detail::Specialization spec(specialization);
   VkComputePipelineCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
   info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module;
+  info.stage.module = shader.handle;
   info.stage.pName = "main";
-  if (!specialization.empty()) info.stage.pSpecializationInfo = &spec;
+  info.stage.pSpecializationInfo = spec.info();
   info.layout = pipeline_layout;
   const VkResult r = vkCreateComputePipelines(device, state->pipeline_cache, 1, &info, nullptr, &pipeline);
-  vkDestroyShaderModule(device, module, nullptr);
   if (r != VK_SUCCESS) {
     pipeline = VK_NULL_HANDLE;
     Error e = vk_error(r, "vkCreateComputePipelines");
@@ -151,30 +86,7 @@ Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> sp
 }
 
 Result<void> ComputePipeline::Impl::create_commands() {
-  VkCommandPoolCreateInfo pool{};
-  pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;  // re-recorded for every run
-  pool.queueFamilyIndex = state->queue_family_index;
-  if (VkResult r = vkCreateCommandPool(device, &pool, nullptr, &command_pool); r != VK_SUCCESS) {
-    command_pool = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateCommandPool");
-  }
-  VkCommandBufferAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  alloc.commandPool = command_pool;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  if (VkResult r = vkAllocateCommandBuffers(device, &alloc, &command_buffer); r != VK_SUCCESS) {
-    command_buffer = VK_NULL_HANDLE;
-    return vk_error(r, "vkAllocateCommandBuffers");
-  }
-  VkFenceCreateInfo fence_info{};
-  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  if (VkResult r = vkCreateFence(device, &fence_info, nullptr, &fence); r != VK_SUCCESS) {
-    fence = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateFence");
-  }
-  return {};
+  return detail::create_one_shot_commands(*this);
 }
 
 Result<void> ComputePipeline::Impl::ensure(Buffer& device_side, Buffer& host_side, VkDeviceSize bytes, bool upload) {
@@ -233,27 +145,9 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
 }
 
 Result<void> ComputePipeline::Impl::submit_and_wait(uint32_t count) {
-  const auto fail = [&](VkResult r, const std::string& what) -> Error {
-    Error e = vk_error(r, what);
-    if (e.code == Errc::device_lost) lost = true;
-    return e;
-  };
-  if (VkResult r = vkResetFences(device, 1, &fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
-  if (auto r = detail::submit(state->queue, command_buffer, fence); !r) {
-    if (r.error().code == Errc::device_lost) lost = true;
-    return r.error();
-  }
-  pending = true;
-  const VkResult r = vkWaitForFences(device, 1, &fence, VK_TRUE, kRunTimeoutNs);
-  if (r == VK_TIMEOUT) {
-    lost = true;  // the command buffer may still be executing: never reuse it
-    return Error{Errc::device_lost, r,
-                 "computing " + std::to_string(count) +
-                     " items did not finish within 120 s; the device hangs or the shader is too slow"};
-  }
-  if (r != VK_SUCCESS) return fail(r, "vkWaitForFences (compute)");
-  pending = false;
-  return {};
+  return detail::submit_and_wait(*this, kRunTimeoutNs,
+                                 "computing " + std::to_string(count) +
+                                     " items did not finish within 120 s; the device hangs or the shader is too slow");
 }
 
 Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
@@ -332,16 +226,7 @@ Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t cou
       p.bound_output_range != output_bytes) {
     const std::array<VkDescriptorBufferInfo, 2> infos{VkDescriptorBufferInfo{p.input.buffer, 0, input_bytes},
                                                       VkDescriptorBufferInfo{p.output.buffer, 0, output_bytes}};
-    std::array<VkWriteDescriptorSet, 2> writes{};
-    for (uint32_t i = 0; i < 2; ++i) {
-      writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-      writes[i].dstSet = p.descriptor_set;
-      writes[i].dstBinding = i;
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
-    }
-    vkUpdateDescriptorSets(p.device, 2, writes.data(), 0, nullptr);
+    detail::write_storage_set(p.device, p.descriptor_set, infos);
     p.bound_input = p.input.buffer;
     p.bound_input_range = input_bytes;
     p.bound_output = p.output.buffer;

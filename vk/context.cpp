@@ -290,6 +290,152 @@ Result<void> check_spirv(std::span<const uint32_t> words, ShaderStage stage) {
 }
 
 
+ShaderModule::~ShaderModule() {
+  if (handle != VK_NULL_HANDLE) vkDestroyShaderModule(device, handle, nullptr);
+}
+
+Result<void> ShaderModule::create(VkDevice dev, std::span<const uint32_t> words, std::string_view what) {
+  device = dev;
+  VkShaderModuleCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  info.codeSize = words.size_bytes();
+  info.pCode = words.data();
+  if (VkResult r = vkCreateShaderModule(device, &info, nullptr, &handle); r != VK_SUCCESS) {
+    handle = VK_NULL_HANDLE;
+    Error e = vk_error(r, "vkCreateShaderModule (" + std::string(what) + ")");
+    if (e.code == Errc::other) e.code = Errc::shader_invalid;
+    return e;
+  }
+  return {};
+}
+
+Specialization::Specialization(std::span<const uint32_t> values) : entries(values.size()) {
+  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
+  data.mapEntryCount = static_cast<uint32_t>(entries.size());
+  data.pMapEntries = entries.data();
+  data.dataSize = values.size_bytes();
+  data.pData = values.data();
+}
+
+void PipelineCore::wait_if_pending() {
+  if (device != VK_NULL_HANDLE && pending) vkDeviceWaitIdle(device);
+  pending = false;
+}
+
+Result<void> PipelineCore::create_layouts_and_set(uint32_t storage_buffers, VkShaderStageFlags stage,
+                                                  uint32_t push_constant_bytes, std::string_view what) {
+  if (auto r = create_storage_layout(device, storage_buffers, stage, push_constant_bytes, set_layout, pipeline_layout,
+                                     what);
+      !r)
+    return r;
+  return create_storage_set(device, set_layout, storage_buffers, descriptor_pool, descriptor_set, what);
+}
+
+PipelineCore::~PipelineCore() {
+  if (device == VK_NULL_HANDLE) return;
+  wait_if_pending();
+  if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
+  if (command_pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, command_pool, nullptr);
+  if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
+  if (pipeline_layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
+  if (descriptor_pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, descriptor_pool, nullptr);
+  if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+}
+
+Result<void> create_one_shot_commands(PipelineCore& core) {
+  VkCommandPoolCreateInfo pool_info{};
+  pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;  // re-recorded for every submission
+  pool_info.queueFamilyIndex = core.state->queue_family_index;
+  if (VkResult r = vkCreateCommandPool(core.device, &pool_info, nullptr, &core.command_pool); r != VK_SUCCESS) {
+    core.command_pool = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateCommandPool");
+  }
+  VkCommandBufferAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  alloc.commandPool = core.command_pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  if (VkResult r = vkAllocateCommandBuffers(core.device, &alloc, &core.command_buffer); r != VK_SUCCESS) {
+    core.command_buffer = VK_NULL_HANDLE;
+    return vk_error(r, "vkAllocateCommandBuffers");
+  }
+  VkFenceCreateInfo fence_info{};
+  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+  if (VkResult r = vkCreateFence(core.device, &fence_info, nullptr, &core.fence); r != VK_SUCCESS) {
+    core.fence = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateFence");
+  }
+  return {};
+}
+
+Result<void> submit_and_wait(PipelineCore& core, uint64_t timeout_ns, const std::string& timeout_message) {
+  const auto fail = [&](VkResult r, const std::string& what) -> Error {
+    Error e = vk_error(r, what);
+    if (e.code == Errc::device_lost) core.lost = true;
+    return e;
+  };
+  if (VkResult r = vkResetFences(core.device, 1, &core.fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
+  if (auto r = submit(core.state->queue, core.command_buffer, core.fence); !r) {
+    if (r.error().code == Errc::device_lost) core.lost = true;
+    return r.error();
+  }
+  core.pending = true;
+  const VkResult r = vkWaitForFences(core.device, 1, &core.fence, VK_TRUE, timeout_ns);
+  if (r == VK_TIMEOUT) {
+    core.lost = true;  // the command buffer may still be executing: never reuse it
+    return Error{Errc::device_lost, r, timeout_message};
+  }
+  if (r != VK_SUCCESS) return fail(r, "vkWaitForFences");
+  core.pending = false;
+  return {};
+}
+
+Result<void> create_storage_layout(VkDevice device, uint32_t storage_buffers, VkShaderStageFlags stage,
+                                   uint32_t push_constant_bytes, VkDescriptorSetLayout& set_layout,
+                                   VkPipelineLayout& pipeline_layout, std::string_view what) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings(storage_buffers);
+  for (uint32_t i = 0; i < storage_buffers; ++i) {
+    bindings[i].binding = i;
+    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorCount = 1;
+    bindings[i].stageFlags = stage;
+  }
+  VkDescriptorSetLayoutCreateInfo set_info{};
+  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  set_info.bindingCount = storage_buffers;
+  set_info.pBindings = bindings.data();
+  if (VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout); r != VK_SUCCESS) {
+    set_layout = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreateDescriptorSetLayout (" + std::string(what) + ")");
+  }
+  VkPushConstantRange push_range{stage, 0, push_constant_bytes};
+  VkPipelineLayoutCreateInfo layout_info{};
+  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set_layout;
+  layout_info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = push_constant_bytes > 0 ? &push_range : nullptr;
+  if (VkResult r = vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout); r != VK_SUCCESS) {
+    pipeline_layout = VK_NULL_HANDLE;
+    return vk_error(r, "vkCreatePipelineLayout (" + std::string(what) + ")");
+  }
+  return {};
+}
+
+void write_storage_set(VkDevice device, VkDescriptorSet set, std::span<const VkDescriptorBufferInfo> buffers) {
+  std::vector<VkWriteDescriptorSet> writes(buffers.size());
+  for (std::size_t i = 0; i < buffers.size(); ++i) {
+    writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    writes[i].dstSet = set;
+    writes[i].dstBinding = static_cast<uint32_t>(i);
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &buffers[i];
+  }
+  vkUpdateDescriptorSets(device, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+}
+
 }  // namespace detail
 
 namespace {

@@ -30,10 +30,7 @@ using detail::Buffer;
 
 }  // namespace
 
-struct FragmentPipeline::Impl {
-  std::shared_ptr<detail::DeviceState> state;
-  VkDevice device = VK_NULL_HANDLE;
-
+struct FragmentPipeline::Impl : detail::PipelineCore {
   uint32_t width = 0;
   uint32_t height = 0;
   uint32_t band_rows = 0;
@@ -44,14 +41,6 @@ struct FragmentPipeline::Impl {
   VkImageView image_view = VK_NULL_HANDLE;
   VkRenderPass render_pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
-  VkDescriptorSet descriptor_set = VK_NULL_HANDLE;
-  VkCommandPool command_pool = VK_NULL_HANDLE;
-  VkCommandBuffer command_buffer = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
 
   Buffer storage;   // device-local, read by the shader
   Buffer staging;   // host-visible source of the storage upload
@@ -62,12 +51,7 @@ struct FragmentPipeline::Impl {
   VkBuffer bound_buffer = VK_NULL_HANDLE;
   VkDeviceSize bound_range = 0;
 
-  bool pending = false;  // a submission may still be executing
-  bool lost = false;     // a band failed or hung; the pipeline is unusable
-
   Impl() = default;
-  Impl(const Impl&) = delete;
-  Impl& operator=(const Impl&) = delete;
   ~Impl();
 
   Result<void> create_buffer(Buffer& out, VkDeviceSize size, VkBufferUsageFlags usage,
@@ -89,13 +73,7 @@ struct FragmentPipeline::Impl {
 
 FragmentPipeline::Impl::~Impl() {
   if (device == VK_NULL_HANDLE) return;
-  if (pending) vkDeviceWaitIdle(device);  // returns promptly if the device is lost
-  if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
-  if (command_pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, command_pool, nullptr);
-  if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
-  if (pipeline_layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, pipeline_layout, nullptr);
-  if (descriptor_pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, descriptor_pool, nullptr);
-  if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+  wait_if_pending();
   if (framebuffer != VK_NULL_HANDLE) vkDestroyFramebuffer(device, framebuffer, nullptr);
   if (render_pass != VK_NULL_HANDLE) vkDestroyRenderPass(device, render_pass, nullptr);
   if (image_view != VK_NULL_HANDLE) vkDestroyImageView(device, image_view, nullptr);
@@ -221,35 +199,7 @@ Result<void> FragmentPipeline::Impl::create_render_pass_and_framebuffer() {
 
 Result<void> FragmentPipeline::Impl::create_pipeline(std::span<const uint32_t> fragment_spirv,
                                                      std::span<const uint32_t> specialization) {
-  VkDescriptorSetLayoutBinding binding{};
-  binding.binding = 0;
-  binding.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  binding.descriptorCount = 1;
-  binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
-  VkDescriptorSetLayoutCreateInfo set_info{};
-  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  set_info.bindingCount = 1;
-  set_info.pBindings = &binding;
-  if (VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &set_layout); r != VK_SUCCESS) {
-    set_layout = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateDescriptorSetLayout");
-  }
-
-  VkPushConstantRange push_range{VK_SHADER_STAGE_FRAGMENT_BIT, 0, push_constant_bytes};
-  VkPipelineLayoutCreateInfo layout_info{};
-  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout;
-  layout_info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
-  layout_info.pPushConstantRanges = push_constant_bytes > 0 ? &push_range : nullptr;
-  if (VkResult r = vkCreatePipelineLayout(device, &layout_info, nullptr, &pipeline_layout); r != VK_SUCCESS) {
-    pipeline_layout = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreatePipelineLayout");
-  }
-
-  if (auto r = detail::create_storage_set(device, set_layout, 1, descriptor_pool, descriptor_set, "fragment pipeline");
-      !r)
-    return r.error();
+  if (auto r = create_layouts_and_set(1, VK_SHADER_STAGE_FRAGMENT_BIT, push_constant_bytes, "fragment pipeline"); !r) return r.error();
 
   VkPipelineColorBlendAttachmentState no_blend{};  // integer format: no blending
   no_blend.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
@@ -269,30 +219,9 @@ Result<VkPipeline> create_fullscreen_pipeline(const DeviceState& state, VkPipeli
                                               const VkPipelineColorBlendAttachmentState& colour_blend) {
   const VkDevice device = state.device;
   // Shader modules are only needed until the pipeline exists.
-  struct Module {
-    VkDevice device;
-    VkShaderModule handle = VK_NULL_HANDLE;
-    ~Module() {
-      if (handle != VK_NULL_HANDLE) vkDestroyShaderModule(device, handle, nullptr);
-    }
-  };
-  auto make_module = [&](std::span<const uint32_t> words, Module& out, const char* what) -> Result<void> {
-    VkShaderModuleCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
-    info.codeSize = words.size_bytes();
-    info.pCode = words.data();
-    if (VkResult r = vkCreateShaderModule(device, &info, nullptr, &out.handle); r != VK_SUCCESS) {
-      out.handle = VK_NULL_HANDLE;
-      Error e = vk_error(r, std::string("vkCreateShaderModule (") + what + ")");
-      if (e.code == Errc::other) e.code = Errc::shader_invalid;
-      return e;
-    }
-    return {};
-  };
-  Module vertex{device};
-  Module fragment{device};
-  if (auto r = make_module(cmr_fullscreen_vert_spv, vertex, "built-in vertex shader"); !r) return r.error();
-  if (auto r = make_module(fragment_spirv, fragment, "fragment shader"); !r) return r.error();
+  ShaderModule vertex, fragment;
+  if (auto r = vertex.create(device, cmr_fullscreen_vert_spv, "built-in vertex shader"); !r) return r.error();
+  if (auto r = fragment.create(device, fragment_spirv, "fragment shader"); !r) return r.error();
 
   std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
   stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -303,14 +232,8 @@ Result<VkPipeline> create_fullscreen_pipeline(const DeviceState& state, VkPipeli
   stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
   stages[1].module = fragment.handle;
   stages[1].pName = "main";
-  std::vector<VkSpecializationMapEntry> entries(specialization.size());
-  for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * 4u, 4u};
-  VkSpecializationInfo spec{};
-  spec.mapEntryCount = static_cast<uint32_t>(entries.size());
-  spec.pMapEntries = entries.data();
-  spec.dataSize = specialization.size_bytes();
-  spec.pData = specialization.data();
-  if (!specialization.empty()) stages[1].pSpecializationInfo = &spec;
+  const Specialization spec(specialization);
+  stages[1].pSpecializationInfo = spec.info();
 
   VkPipelineVertexInputStateCreateInfo vertex_input{};  // no vertex buffers
   vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
@@ -381,30 +304,7 @@ Result<VkPipeline> create_fullscreen_pipeline(const DeviceState& state, VkPipeli
 }  // namespace detail
 
 Result<void> FragmentPipeline::Impl::create_commands() {
-  VkCommandPoolCreateInfo pool{};
-  pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;  // re-recorded for every band
-  pool.queueFamilyIndex = state->queue_family_index;
-  if (VkResult r = vkCreateCommandPool(device, &pool, nullptr, &command_pool); r != VK_SUCCESS) {
-    command_pool = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateCommandPool");
-  }
-  VkCommandBufferAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  alloc.commandPool = command_pool;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  if (VkResult r = vkAllocateCommandBuffers(device, &alloc, &command_buffer); r != VK_SUCCESS) {
-    command_buffer = VK_NULL_HANDLE;
-    return vk_error(r, "vkAllocateCommandBuffers");
-  }
-  VkFenceCreateInfo fence_info{};
-  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  if (VkResult r = vkCreateFence(device, &fence_info, nullptr, &fence); r != VK_SUCCESS) {
-    fence = VK_NULL_HANDLE;
-    return vk_error(r, "vkCreateFence");
-  }
-  return {};
+  return detail::create_one_shot_commands(*this);
 }
 
 Result<void> FragmentPipeline::Impl::ensure_storage(VkDeviceSize bytes) {
@@ -511,30 +411,11 @@ Result<void> FragmentPipeline::Impl::record_band(uint32_t first_row, uint32_t ro
 }
 
 Result<void> FragmentPipeline::Impl::submit_and_wait(uint32_t first_row, uint32_t rows) {
-  const auto fail = [&](VkResult r, const std::string& what) -> Error {
-    Error e = vk_error(r, what);
-    if (e.code == Errc::device_lost) lost = true;
-    return e;
-  };
-  if (VkResult r = vkResetFences(device, 1, &fence); r != VK_SUCCESS) return fail(r, "vkResetFences");
-  if (auto r = detail::submit(state->queue, command_buffer, fence); !r) {
-    if (r.error().code == Errc::device_lost) lost = true;
-    return r.error();
-  }
-  pending = true;
-  const std::string band_name =
-      "rows " + std::to_string(first_row) + ".." + std::to_string(first_row + rows - 1);
-  const VkResult r = vkWaitForFences(device, 1, &fence, VK_TRUE, kBandTimeoutNs);
-  if (r == VK_TIMEOUT) {
-    lost = true;  // the command buffer may still be executing: never reuse it
-    return Error{Errc::device_lost, r,
-                 "rendering " + band_name +
-                     " did not finish within 120 s; the device hangs or the shader is too slow, "
-                     "use fewer rows per band"};
-  }
-  if (r != VK_SUCCESS) return fail(r, "vkWaitForFences (" + band_name + ")");
-  pending = false;
-  return {};
+  return detail::submit_and_wait(*this, kBandTimeoutNs,
+                                 "rendering rows " + std::to_string(first_row) + ".." +
+                                     std::to_string(first_row + rows - 1) +
+                                     " did not finish within 120 s; the device hangs or the shader is too slow, "
+                                     "use fewer rows per band");
 }
 
 Result<FragmentPipeline> FragmentPipeline::create(Context& context, std::span<const uint32_t> fragment_spirv,
@@ -639,14 +520,7 @@ Result<std::vector<uint32_t>> FragmentPipeline::run(std::span<const std::byte> s
   // in the shader reflects the caller's data, not the buffer's capacity.
   if (p.bound_buffer != p.storage.buffer || p.bound_range != bytes) {
     const VkDescriptorBufferInfo buffer_info{p.storage.buffer, 0, bytes};
-    VkWriteDescriptorSet write{};
-    write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    write.dstSet = p.descriptor_set;
-    write.dstBinding = 0;
-    write.descriptorCount = 1;
-    write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    write.pBufferInfo = &buffer_info;
-    vkUpdateDescriptorSets(p.device, 1, &write, 0, nullptr);
+    detail::write_storage_set(p.device, p.descriptor_set, std::span(&buffer_info, 1));
     p.bound_buffer = p.storage.buffer;
     p.bound_range = bytes;
   }

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 #include <optional>
 #include <span>
@@ -66,6 +67,63 @@ struct Buffer {
   bool coherent = true;
 };
 
+// What ComputePipeline and FragmentPipeline both own: the device, the
+// layouts, the pipeline, one descriptor set, one command buffer with its
+// pool and fence, and the state of the last submission. Their Impl derives
+// from it; this destructor (run after theirs) destroys these handles, and
+// theirs must first wait for a pending submission (wait_if_pending) before
+// destroying what they own besides.
+struct PipelineCore {
+  std::shared_ptr<DeviceState> state;  // keeps the device alive until the handles are gone
+  VkDevice device = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+  VkDescriptorSet descriptor_set = VK_NULL_HANDLE;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  bool pending = false;  // a submission may still be executing
+  bool lost = false;     // a submission failed or hung; the pipeline is unusable
+
+  PipelineCore() = default;
+  PipelineCore(const PipelineCore&) = delete;
+  PipelineCore& operator=(const PipelineCore&) = delete;
+  ~PipelineCore();
+  // Waits for the device when a submission may still run (returns promptly
+  // if the device is lost).
+  void wait_if_pending();
+  // set_layout and pipeline_layout (create_storage_layout) and the one
+  // descriptor set (create_storage_set); `what` names the pipeline.
+  Result<void> create_layouts_and_set(uint32_t storage_buffers, VkShaderStageFlags stage,
+                                      uint32_t push_constant_bytes, std::string_view what);
+};
+
+// A shader module for as long as a pipeline is being made from it.
+struct ShaderModule {
+  VkDevice device = VK_NULL_HANDLE;
+  VkShaderModule handle = VK_NULL_HANDLE;
+  ShaderModule() = default;
+  ShaderModule(const ShaderModule&) = delete;
+  ShaderModule& operator=(const ShaderModule&) = delete;
+  ~ShaderModule();
+  // Errors: shader_invalid (the driver refused the words), out_of_memory;
+  // `what` names the shader.
+  Result<void> create(VkDevice dev, std::span<const uint32_t> words, std::string_view what);
+};
+
+// Specialisation constant i = values[i] (32 bits each), as a stage takes it:
+// info() is null when there are none.
+struct Specialization {
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo data{};
+  explicit Specialization(std::span<const uint32_t> values);
+  Specialization(const Specialization&) = delete;
+  Specialization& operator=(const Specialization&) = delete;
+  const VkSpecializationInfo* info() const { return entries.empty() ? nullptr : &data; }
+};
+
 // Creates `out` (which must be empty): `size` bytes of `usage` in memory with
 // the `required` flags (preferring `preferred`), bound, and mapped when
 // host-visible. On failure nothing half-made is left in `out`; `what` names
@@ -103,6 +161,30 @@ void buffer_barrier(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset, V
 // and an entry point "main" of the stage. Implemented in context.cpp.
 enum class ShaderStage { fragment, compute };
 Result<void> check_spirv(std::span<const uint32_t> words, ShaderStage stage);
+
+// The core's transient command pool (re-recorded for every submission),
+// its one primary command buffer and an unsignalled fence. On failure the
+// handles made so far are set (the core's destructor frees them).
+Result<void> create_one_shot_commands(PipelineCore& core);
+
+// Submits the core's command buffer, signalling its fence (reset first), and
+// waits at most timeout_ns. `pending` is true while the submission may still
+// run; `lost` becomes true when the device is lost or the wait times out
+// (the command buffer may then still execute: never reuse it). A timeout's
+// error message is `timeout_message`.
+Result<void> submit_and_wait(PipelineCore& core, uint64_t timeout_ns, const std::string& timeout_message);
+
+// The descriptor set layout of `storage_buffers` storage buffers at
+// bindings 0.. for `stage`, and a pipeline layout of that one set and, when
+// push_constant_bytes > 0, that many bytes of push constants from offset 0.
+// On failure what was made is set (the caller frees it) and the rest stays
+// VK_NULL_HANDLE; `what` names the caller.
+Result<void> create_storage_layout(VkDevice device, uint32_t storage_buffers, VkShaderStageFlags stage,
+                                   uint32_t push_constant_bytes, VkDescriptorSetLayout& set_layout,
+                                   VkPipelineLayout& pipeline_layout, std::string_view what);
+
+// Points storage-buffer bindings 0.. of `set` at `buffers`, in order.
+void write_storage_set(VkDevice device, VkDescriptorSet set, std::span<const VkDescriptorBufferInfo> buffers);
 
 // vkBeginCommandBuffer for one submission.
 Result<void> begin_one_time(VkCommandBuffer cmd);

@@ -104,16 +104,7 @@ struct RegionDrawer::Impl {
     std::array<VkDescriptorBufferInfo, 3> buffers{{{l.data.buffer, 0, l.data.size},
                                                    {l.overrides.buffer, 0, l.overrides.size},
                                                    {l.uncertain.buffer, 0, l.uncertain.size}}};
-    std::array<VkWriteDescriptorSet, 3> writes{};
-    for (uint32_t i = 0; i < 3; ++i) {
-      writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-      writes[i].dstSet = l.set;
-      writes[i].dstBinding = i;
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &buffers[i];
-    }
-    vkUpdateDescriptorSets(dev(), 3, writes.data(), 0, nullptr);
+    detail::write_storage_set(dev(), l.set, buffers);
     return {};
   }
 
@@ -179,25 +170,10 @@ Result<RegionDrawer> RegionDrawer::create(Context& context, VkRenderPass render_
   impl->precision = precision.value_or(context.device().float64 ? RegionPrecision::fp64 : RegionPrecision::fp32);
   impl->slots.resize(frames_in_flight);
   impl->drawn_layers.assign(frames_in_flight, 0);
-  std::array<VkDescriptorSetLayoutBinding, 3> bindings{};
-  for (uint32_t i = 0; i < 3; ++i) {
-    bindings[i].binding = i;
-    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[i].descriptorCount = 1;
-    bindings[i].stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
-  }
-  VkDescriptorSetLayoutCreateInfo set_info{};
-  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  set_info.bindingCount = 3;
-  set_info.pBindings = bindings.data();
-  if (VkResult r = vkCreateDescriptorSetLayout(impl->dev(), &set_info, nullptr, &impl->set_layout); r != VK_SUCCESS)
-    return vk_error(r, "vkCreateDescriptorSetLayout (region draw)");
-  VkPipelineLayoutCreateInfo layout{};
-  layout.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  layout.setLayoutCount = 1;
-  layout.pSetLayouts = &impl->set_layout;
-  if (VkResult r = vkCreatePipelineLayout(impl->dev(), &layout, nullptr, &impl->pipeline_layout); r != VK_SUCCESS)
-    return vk_error(r, "vkCreatePipelineLayout (region draw)");
+  if (auto r = detail::create_storage_layout(impl->dev(), 3, VK_SHADER_STAGE_FRAGMENT_BIT, 0, impl->set_layout,
+                                             impl->pipeline_layout, "region draw");
+      !r)
+    return r.error();
   return RegionDrawer(std::move(impl));
 }
 
