@@ -58,8 +58,8 @@ REAL2 b_int(int n) { return REAL2(REAL(n), REAL(0)); }
 // Per pixel. Each touched segment's xi_k and nu_k are polynomials in the
 // displacement (dx, dy) = p - P_k with coefficients the host computed exactly
 // and rounded (cmr::RegionEntry); evaluating one costs ten products, and its
-// error bound is K_POLY units of roundoff times sum |c_m| |mu_m| (see
-// region/region.hpp for the count).
+// error bound is K_POLY units of roundoff times sum |c_m| |mu_m| (the
+// count below).
 
 // The count, in units u of the shader's arithmetic (K_ROUND = 2u), for
 // fp64 and fp32 alike (region/region_setup.hpp derives it for the host):
@@ -137,20 +137,21 @@ REAL2 coeff_at(uint e, bool eta, int p, int k) {
   return eta ? nu_at(e, p, k) : xi_at(e, p, k);
 }
 
-// Piece j of `level` (> levels, the deepest precomputed level) into deep_c:
-// its ancestor at `levels` evaluated at this pixel, then halved at t = 1/2
-// (de Casteljau) level by level towards it, keeping the left or the right
-// half as the path's bits say. Every step is certified arithmetic (b_add,
-// b_half), so each coefficient keeps a bound on its distance from the exact
-// coefficient of the exact piece, as cmr's Bounded halving does on the host
-// (LazyPieces, region/kernel.hpp); a sign the bound does not decide sends the pixel
-// to the host as before. O((level - levels) n^2) per piece, n = NXI or NNU.
 // (c_a + c_b) / 2 with its bound; an exact zero stays exact (cmr::Bounded::half).
 REAL2 deep_mid(REAL2 a, REAL2 b) {
   REAL2 s = b_add(a, b);
   return s == REAL2(0) ? s : b_half(s);
 }
 
+// Piece j of `level` (> levels, the deepest precomputed level) into deep_c:
+// its ancestor at `levels` evaluated at this pixel, then halved at t = 1/2
+// (de Casteljau) level by level towards it, keeping the left or the right
+// half as the path's bits say. Every step is certified arithmetic (b_add,
+// b_half), so each coefficient keeps a bound on its distance from the exact
+// coefficient of the exact piece, as cmr's Bounded halving does on the host
+// (LazyPieces, region/kernel.hpp); a sign the bound does not decide sends
+// the pixel to the host as before. O((level - levels) n^2) per piece,
+// n = NXI or NNU.
 void load_deep(uint e, bool eta, int level, int j, int levels) {
   int n1 = eta ? NNU : NXI;
   int r = level - levels;
