@@ -1,11 +1,14 @@
 #pragma once
-// The Vulkan region backend. The host decides whole blocks of pixels where
-// the certified path holds over them (most of a typical image); the device
-// classifies the pixels of the blocks left undecided, one compute invocation
-// each, all in one dispatch (vk/compute_pipeline.hpp; the shader
-// shaders/region_common.glsl, buffer layout in shaders/region_layout.h), and
-// flags what it cannot certify, which the host then decides (certified, then
-// exactly). So labels equal CpuRegionBackend's, fp64 and fp32 alike.
+// The Vulkan region backend. On a CPU device (lavapipe) the host decides
+// whole blocks of pixels where the certified path holds over them (most of a
+// typical image) and the device classifies the pixels of the blocks left
+// undecided; on a GPU the device classifies every pixel (DeviceShare). Either
+// way one compute invocation takes a pixel, in one dispatch
+// (vk/compute_pipeline.hpp; the shader shaders/region_common.glsl, buffer
+// layout in shaders/region_layout.h), and the device flags what it cannot
+// certify, which the host then decides (certified, then exactly). So labels
+// equal CpuRegionBackend's, fp64 and fp32 alike.
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
