@@ -182,8 +182,27 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
 
 namespace {
 
-// The image decoded from the device's words for the listed pixels; uncertain
-// pixels are decided on the host (certified, then exactly), on its threads.
+// Pixels the device could not certify (row-major indices `at`), decided on
+// the host (certified, then exactly), on its threads; their depths only
+// with a depth map.
+void decide_on_host(const RegionSetup& s, const std::vector<std::size_t>& at, cmr::backend::RegionImage& img,
+                    int threads) {
+  const std::size_t w = static_cast<std::size_t>(img.width);
+  std::vector<uint8_t> exact(at.size(), 0);
+  cmr::parallel_for(at.size(), threads, [&](std::size_t u) {
+    const std::size_t k = at[u];
+    const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
+    const cmr::backend::PixelResult pr =
+        cmr::backend::classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
+    img.labels[k] = pr.label;
+    if (s.options.depth) img.depth[k] = pr.depth;
+    exact[u] = pr.exact ? 1 : 0;
+  });
+  for (const uint8_t e : exact) img.exact_pixels += e;
+}
+
+// The image decoded from the device's words for the listed pixels; the
+// uncertain ones are decided on the host.
 void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pixels,
                  const std::vector<uint32_t>& words, cmr::backend::RegionImage& img, int threads) {
   const RegionRequest& o = s.options;
@@ -193,22 +212,13 @@ void apply_words(const RegionSetup& s, const std::vector<std::array<int, 2>>& pi
     const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
     const uint32_t w = words[k];
     if (w & RESULT_UNCERTAIN) {
-      uncertain.push_back(k);  // not certified on the device (or deeper than its pieces)
+      uncertain.push_back(at);  // not certified on the device (or deeper than its pieces)
     } else {
       img.labels[at] = static_cast<uint8_t>(w & RESULT_LABEL_MASK);
       img.depth[at] = static_cast<uint8_t>((w >> RESULT_DEPTH_SHIFT) & 0xff);
     }
   }
-  std::vector<uint8_t> exact(uncertain.size(), 0);
-  cmr::parallel_for(uncertain.size(), threads, [&](std::size_t u) {
-    const auto [i, j] = pixels[uncertain[u]];
-    const std::size_t at = static_cast<std::size_t>(j) * o.width + i;
-    const cmr::backend::PixelResult pr = cmr::backend::classify_position(s, pixel_center(img.view, o.width, o.height, i, j));
-    img.labels[at] = pr.label;
-    img.depth[at] = pr.depth;
-    exact[u] = pr.exact ? 1 : 0;
-  });
-  for (const uint8_t e : exact) img.exact_pixels += e;
+  decide_on_host(s, uncertain, img, threads);
   if (!o.depth) std::fill(img.depth.begin(), img.depth.end(), 0);
 }
 
@@ -312,7 +322,6 @@ Result<void> VulkanRegionBackend::shade_listed(const RegionSetup& s, const std::
   // The listed pixels in one dispatch (one submission, one readback) per
   // run of them.
   words.clear();
-  words.reserve(pixels.size());
   const std::span<const std::array<int, 2>> all(pixels);
   const std::size_t per_run = options_.pixels_per_run > 0 ? options_.pixels_per_run : kListedPerRun;
   for (std::size_t first = 0; first < pixels.size(); first += per_run) {
@@ -320,7 +329,8 @@ Result<void> VulkanRegionBackend::shade_listed(const RegionSetup& s, const std::
     const std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, run);
     auto out = pipeline.value()->run(buffer, static_cast<uint32_t>(run.size()));
     if (!out) return out.error();
-    words.insert(words.end(), out.value().begin(), out.value().end());
+    if (words.empty()) words = out.take();  // the one run of most frames: no copy
+    else words.insert(words.end(), out.value().begin(), out.value().end());
   }
   if (options_.fault == InjectedFault::device_lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
@@ -365,18 +375,7 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
     flagged.push_back(k);
     at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
   }
-  std::vector<uint8_t> exact(flagged.size(), 0);
-  const std::size_t w = static_cast<std::size_t>(img.width);
-  cmr::parallel_for(flagged.size(), options_.threads, [&](std::size_t f) {
-    const std::size_t k = flagged[f];
-    const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
-    const cmr::backend::PixelResult pr =
-        cmr::backend::classify_position(s, pixel_center(img.view, img.width, img.height, i, j));
-    img.labels[k] = pr.label;
-    if (s.options.depth) img.depth[k] = pr.depth;
-    exact[f] = pr.exact ? 1 : 0;
-  });
-  for (const uint8_t e : exact) img.exact_pixels += e;
+  decide_on_host(s, flagged, img, options_.threads);
   return {};
 }
 

@@ -80,7 +80,6 @@ constexpr std::size_t kPixelsPerRun = std::size_t{1} << 25;
 Result<std::vector<std::uint32_t>> shade(ComputePipeline& pipeline, std::vector<std::byte> buffer, std::size_t pixels,
                                          std::size_t per_run) {
   std::vector<std::uint32_t> words;
-  words.reserve(pixels);
   const auto set_header = [&](std::uint32_t word, std::size_t value) {
     const auto v = static_cast<std::uint32_t>(value);
     std::memcpy(buffer.data() + 4 * word, &v, 4);
@@ -91,7 +90,8 @@ Result<std::vector<std::uint32_t>> shade(ComputePipeline& pipeline, std::vector<
     set_header(SPACE_HDR_PIXELS, count);
     auto out = pipeline.run(buffer, static_cast<std::uint32_t>(count));
     if (!out) return out.error();
-    words.insert(words.end(), out.value().begin(), out.value().end());
+    if (words.empty()) words = out.take();  // the one run of most frames: no copy
+    else words.insert(words.end(), out.value().begin(), out.value().end());
   }
   return words;
 }
