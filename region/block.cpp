@@ -257,6 +257,11 @@ Interval displacement_range(const RegionSetup& s, double first, double last, dou
           kernel_displacement(s, hi + 0.5 * Bounded::kRound * std::fabs(hi))};
 }
 
+// Centre and half-width enclosing [lo, hi] despite their rounding.
+Bounded enclosing(Interval r) {
+  return {0.5 * r.lo + 0.5 * r.hi, 0.5 * r.hi - 0.5 * r.lo + Bounded::kRound * r.mag()};
+}
+
 }  // namespace
 
 namespace {
@@ -268,16 +273,8 @@ std::optional<PixelResult> classify_block_with(const RegionSetup& s, int i0, int
                                                const BoxKnowledge* parent, BoxKnowledge* out,
                                                BlockReuseCounts* counts) {
   const RegionRequest& o = s.options;
-  const View& v = *o.view;
-  // Columns run left to right (x grows with i), rows top to bottom (y falls with j).
-  const Interval x = displacement_range(s, pixel_center(v, o.width, o.height, i0, 0).x,
-                                           pixel_center(v, o.width, o.height, i1, 0).x, s.anchor.x);
-  const Interval y = displacement_range(s, pixel_center(v, o.width, o.height, 0, j1).y,
-                                           pixel_center(v, o.width, o.height, 0, j0).y, s.anchor.y);
-  if (std::isnan(x.lo) || std::isnan(x.hi) || std::isnan(y.lo) || std::isnan(y.hi)) return std::nullopt;
-  // Centre and half-width enclosing [lo, hi] despite their rounding.
-  const Bounded bx(0.5 * x.lo + 0.5 * x.hi, 0.5 * x.hi - 0.5 * x.lo + Bounded::kRound * x.mag());
-  const Bounded by(0.5 * y.lo + 0.5 * y.hi, 0.5 * y.hi - 0.5 * y.lo + Bounded::kRound * y.mag());
+  const Bounded bx = block_columns(s, i0, i1), by = block_rows(s, j0, j1);
+  if (std::isnan(bx.v) || std::isnan(bx.e) || std::isnan(by.v) || std::isnan(by.e)) return std::nullopt;
   const Monomials mono(bx.v, by.v, bx.e, by.e);
   if (!o.depth)
     return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)),
@@ -286,6 +283,20 @@ std::optional<PixelResult> classify_block_with(const RegionSetup& s, int i0, int
 }
 
 }  // namespace
+
+Bounded block_columns(const RegionSetup& s, int i0, int i1) {
+  // Columns run left to right (x grows with i).
+  const RegionRequest& o = s.options;
+  return enclosing(displacement_range(s, pixel_center(*o.view, o.width, o.height, i0, 0).x,
+                                      pixel_center(*o.view, o.width, o.height, i1, 0).x, s.anchor.x));
+}
+
+Bounded block_rows(const RegionSetup& s, int j0, int j1) {
+  // Rows run top to bottom (y falls with j).
+  const RegionRequest& o = s.options;
+  return enclosing(displacement_range(s, pixel_center(*o.view, o.width, o.height, 0, j1).y,
+                                      pixel_center(*o.view, o.width, o.height, 0, j0).y, s.anchor.y));
+}
 
 std::optional<PixelResult> classify_block(const RegionSetup& s, int i0, int j0, int i1, int j1) {
   return classify_block_with(s, i0, j0, i1, j1, nullptr, nullptr, nullptr);

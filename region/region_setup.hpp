@@ -237,6 +237,14 @@ struct RegionImage {
 /// when the block is not uniform or a sign is not certain over it.
 std::optional<PixelResult> classify_block(const RegionSetup& setup, int i0, int j0, int i1, int j1);
 
+/// The displacements (scaled as the kernel takes them) of the centres of
+/// pixel columns i0..i1 (rows j0..j1), inclusive, as a centre and a
+/// half-width that enclose their exact values: the box of a block proof
+/// (classify_block; the Vulkan backend's tile proofs). NaN where scaling
+/// would be inexact (no proof then).
+Bounded block_columns(const RegionSetup& setup, int i0, int i1);
+Bounded block_rows(const RegionSetup& setup, int j0, int j1);
+
 /// Block size of the CPU backend's (and the Vulkan backend's host) culling.
 inline constexpr int kRegionBlock = 64;
 

@@ -50,19 +50,18 @@ int inflection_rule(int n1, int first, int last, int pos, int neg, int zero, int
   return P_UNCERTAIN;
 }
 
+// The coefficients are read at one call site (ends first, then the inner
+// ones in order): the driver inlines every call of coeff_at, so fewer sites
+// mean a smaller pipeline that compiles sooner.
 int decide_piece(uint e, bool eta, int p, int n1) {
-  int first = b_sign(coeff_at(e, eta, p, 0));
-  int last = n1 > 1 ? b_sign(coeff_at(e, eta, p, n1 - 1)) : first;
+  int first = SIGN_UNKNOWN, last = SIGN_UNKNOWN;
   int pos = 0, neg = 0, zero = 0, unk = 0;
-  for (int t = 0; t < (n1 > 1 ? 2 : 1); ++t) {
-    int g = t == 0 ? first : last;
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
-  }
-  for (int k = 1; k + 1 < n1 && !(pos > 0 && neg > 0); ++k) {
-    int g = b_sign(coeff_at(e, eta, p, k));
+  for (int t = 0; t < n1 && !(t >= 2 && pos > 0 && neg > 0); ++t) {
+    int g = b_sign(coeff_at(e, eta, p, t == 0 ? 0 : (t == 1 ? n1 - 1 : t - 1)));
+    if (t == 0) first = g;
+    if (t == 1 || n1 == 1) last = g;
     if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
   return eta ? inflection_rule(n1, first, last, pos, neg, zero, unk)
              : monotonicity_rule(first, last, pos, neg, zero, unk);
 }
-

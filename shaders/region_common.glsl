@@ -42,9 +42,10 @@ layout(std430, set = 0, binding = 0) readonly buffer RegionData {
 };
 
 #ifndef CMR_REGION_PRESENT  // region_present.glsl has its own output and main
-// One invocation per listed pixel (vk/compute_pipeline.hpp's interface).
+// One invocation per listed pixel, tile or tile row (vk/compute_pipeline.hpp's
+// interface). Not writeonly: the tile queue's counters are atomics.
 layout(local_size_x = 64) in;
-layout(std430, set = 0, binding = 1) writeonly buffer RegionResult {
+layout(std430, set = 0, binding = 1) buffer RegionResult {
   uint result[];
 };
 #endif
@@ -99,8 +100,16 @@ uint entry_at(uint e) { return hdr[HDR_ENTRY_OFFSET] + e * (uint(1 + 3 * (DEG + 
 // Coefficient k of piece p (heap order) of xi for entry e at this pixel, with its error bound.
 // A polynomial whose coefficients are all zero is exactly zero (the host
 // guarantees it), so its sign is certain.
+#ifdef CMR_TILE_PASS
+REAL2 xi_box(uint at);  // over the tile's box (region_tiles.glsl)
+REAL2 nu_box(uint at);
+#endif
+
 REAL2 xi_at(uint e, int p, int k) {
   uint at = entry_at(e) + uint(1 + 3 * (DEG + 1)) + uint(5 * (p * NXI + k));
+#ifdef CMR_TILE_PASS
+  return xi_box(at);
+#endif
   REAL v = REAL(0), mag = REAL(0);
   bool zero = true;
   for (int h = 0; h < 5; ++h) {
@@ -115,6 +124,9 @@ REAL2 xi_at(uint e, int p, int k) {
 
 REAL2 nu_at(uint e, int p, int k) {
   uint at = entry_at(e) + uint(1 + 3 * (DEG + 1)) + pieces() * uint(5 * NXI) + uint(2 * (p * NNU + k));
+#ifdef CMR_TILE_PASS
+  return nu_box(at);
+#endif
   REAL2 c01 = data[at], c2 = data[at + 1u];
   REAL v = c01.x + c01.y * mono[1] + c2.x * mono[2];
   REAL mag = abs(c01.x) + abs(c01.y) * amono[1] + abs(c2.x) * amono[2];
@@ -167,6 +179,10 @@ void load_deep(uint e, bool eta, int level, int j, int levels) {
     }
   }
 }
+
+#ifdef CMR_TILE_PASS
+#include "region_tiles.glsl"
+#endif
 
 // Returns P_UNCERTAIN or P_DEEP when the host must decide; otherwise 0 and
 // the outcome (curvature: 0 inc, 1 dec, 2 non-monotone, 3 undecided,
@@ -278,13 +294,13 @@ uint level0(bool cmr) {
   for (uint e = 0u; e < E; ++e) {
     if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
     // cmr::level0_fails: certain failures decide; unknown ones wait for the host.
-    int m = ends_opposite(b_sign(xi_at(e, 0, 0)), b_sign(xi_at(e, 0, NXI - 1)));
-    if (m == T_YES) return 0u;
-    uncertain = uncertain || m == T_UNKNOWN;
-    if (cmr) {
-      int t = ends_touch(b_sign(nu_at(e, 0, 0)), b_sign(nu_at(e, 0, NNU - 1)));
-      if (t == T_YES) return 0u;
-      uncertain = uncertain || t == T_UNKNOWN;
+    // Each polynomial read at one call site (decide_piece says why).
+    for (int eta = 0; eta < (cmr ? 2 : 1); ++eta) {
+      int n1 = eta == 1 ? NNU : NXI, ends[2];
+      for (int t = 0; t < 2; ++t) ends[t] = b_sign(coeff_at(e, eta == 1, 0, t == 0 ? 0 : n1 - 1));
+      int m = eta == 1 ? ends_touch(ends[0], ends[1]) : ends_opposite(ends[0], ends[1]);
+      if (m == T_YES) return 0u;
+      uncertain = uncertain || m == T_UNKNOWN;
     }
   }
   return uncertain ? UNCERTAIN : UNDECIDED_YET;
@@ -297,14 +313,19 @@ uint level0(bool cmr) {
 // number: cmr::alternation_verdict, or each on its own:
 // cmr::each_piece_verdict). Entries and joints come in ascending
 // group order, so the groups are walked once with two cursors (no arrays).
-uint full(bool cmr, REAL dx, REAL dy) {
+// A pixel's displacement fl(p - P_k) as a bounded value (one rounding).
+REAL2 pixel_displacement(REAL d) { return REAL2(d, K_ROUND * abs(d)); }
+
+// In the tile pass each segment's traversal runs over the box (bdx, bdy:
+// the tile's displacements) and a segment that fails there decides the
+// label (block.cpp, classify_box_labels).
+uint full(bool cmr, REAL2 bdx, REAL2 bdy) {
   uint kind = hdr[HDR_LABELS];
   int maxd = int(hdr[HDR_DEPTH]);
   uint E = hdr[HDR_ENTRIES];
   uint J = JOINTS ? hdr[HDR_JOINTS] : 0u;
   uint P = hdr[HDR_PARTS];
   int depth = int(hdr[HDR_FIXED_DEPTH]);
-  REAL2 bdx = REAL2(dx, K_ROUND * abs(dx)), bdy = REAL2(dy, K_ROUND * abs(dy));
   uint e = 0u, j = 0u;
   int first = 0, second = 0, prev = 0;  // directions of groups 0, 1 and the one before
   bool any_none = false, any_undecided = false, same_way = false;
@@ -312,19 +333,29 @@ uint full(bool cmr, REAL dx, REAL dy) {
     uint flags = uint(data[hdr[HDR_PART_OFFSET] + part].x);
     for (; e < E && uint(data[entry_at(e)].x) == part; ++e) {
       if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
-      int outcome, d, ks;
-      if (traverse(e, false, maxd, outcome, d, ks) != 0) return UNCERTAIN;
-      depth = max(depth, d);
-      if (outcome == 0) flags |= FLAG_INC;
-      else if (outcome == 1) flags |= FLAG_DEC;
-      else if (outcome == 2) flags |= FLAG_NONE;
-      else if (outcome == 3) flags |= FLAG_UNDECIDED;
-      if (cmr) {
-        if (traverse(e, true, maxd, outcome, d, ks) != 0) return UNCERTAIN;
+      // Algorithm 1, then (CMR) Algorithm 2: each traversal at one call
+      // site (decide_piece says why).
+      for (int a = 0; a < (cmr ? 2 : 1); ++a) {
+        const bool eta = a == 1;
+#ifdef CMR_TILE_PASS
+        int o = box_traverse(e, eta, maxd);  // eta: positive is no inflection, kappa > 0
+        if (o >= 2) return o == 2 ? 0u : UNCERTAIN;
+        flags |= eta ? (o == 0 ? FLAG_KPOS : FLAG_KNEG) : (o == 0 ? FLAG_INC : FLAG_DEC);
+#else
+        int outcome, d, ks;
+        if (traverse(e, eta, maxd, outcome, d, ks) != 0) return UNCERTAIN;
         depth = max(depth, d);
-        if (outcome == 1) flags |= FLAG_NONE;
-        else if (outcome == 2) flags |= FLAG_UNDECIDED;
-        else flags |= ks > 0 ? FLAG_KPOS : FLAG_KNEG;
+        if (!eta) {
+          if (outcome == 0) flags |= FLAG_INC;
+          else if (outcome == 1) flags |= FLAG_DEC;
+          else if (outcome == 2) flags |= FLAG_NONE;
+          else if (outcome == 3) flags |= FLAG_UNDECIDED;
+        } else {
+          if (outcome == 1) flags |= FLAG_NONE;
+          else if (outcome == 2) flags |= FLAG_UNDECIDED;
+          else flags |= ks > 0 ? FLAG_KPOS : FLAG_KNEG;
+        }
+#endif
       }
     }
     for (; j < J && uint(data[hdr[HDR_JOINT_OFFSET] + 2u * j + 1u].x) == part; ++j) {
@@ -370,12 +401,46 @@ uint classify_pixel(int pi, int pj) {
   // Pixels decided at level 0 as not monotone get 0 (label 0, depth 0).
   if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) return 0u;  // an untouched segment fails at level 0
   uint r = level0(cmr);
-  if (r == UNDECIDED_YET) r = full(cmr, dx, dy);
+  if (r == UNDECIDED_YET) r = full(cmr, pixel_displacement(dx), pixel_displacement(dy));
   return r;
 }
 
+#ifdef CMR_TILE_PASS
+// The label of every pixel of a tile whose displacements lie in bx.x +- bx.y,
+// by.x +- by.y, or RESULT_UNCERTAIN.
+uint classify_tile(REAL2 bx, REAL2 by) {
+  const bool cmr = CMR_MODE;
+  if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) return 0u;
+  set_box(bx.x, bx.y, by.x, by.y);
+  uint r = level0(cmr);
+  if (r == UNDECIDED_YET) r = full(cmr, bx, by);
+  return r;
+}
+#endif
+
 void main() {
   const uint at = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+#ifdef CMR_TILE_PASS
+  // Every pixel, by tiles (shaders/region_layout.h).
+  const uint w = hdr[HDR_WIDTH], tiles_x = (w + TILE - 1u) / TILE, stride = tiles_x * TILE / 4u;
+  const uint counters = hdr[HDR_OUT_COUNTERS], queue = hdr[HDR_OUT_QUEUE];
+  // The tile pass: tile `at` of the run.
+  if (at >= tiles_x * hdr[HDR_TILE_ROWS]) return;
+  const uint tx = at % tiles_x, tr = at / tiles_x;
+  uint r = RESULT_UNCERTAIN;
+  if (hdr[HDR_TILE_PROOFS] != 0u)
+    r = classify_tile(data[hdr[HDR_TILE_X_OFFSET] + tx], data[hdr[HDR_TILE_Y_OFFSET] + hdr[HDR_FIRST_TILE_ROW] + tr]);
+  if ((r & RESULT_UNCERTAIN) == 0u) {  // proven: the tile's bytes all get its label
+    const uint word = (r & RESULT_LABEL_MASK) * 0x01010101u;
+    for (uint y = 0u; y < TILE; ++y)
+      for (uint k = 0u; k < TILE / 4u; ++k) result[(tr * TILE + y) * stride + tx * (TILE / 4u) + k] = word;
+    return;
+  }
+  const uint q = atomicAdd(result[counters + OUT_QUEUED], 1u);
+  result[queue + q] = at;
+  if (q % (64u / TILE) == 0u) atomicAdd(result[counters + OUT_GROUPS_X], 1u);  // a group per 64 / TILE tiles
+  return;
+#else
   if (hdr[HDR_EVERY_PIXEL] == 0u) {
     // Listed pixel number `at` (the host lists the pixels it could not
     // decide by whole blocks, block by block, so that neighbouring
@@ -386,19 +451,35 @@ void main() {
     result[at] = classify_pixel(int(ij.x), int(ij.y));
     return;
   }
-  // This run's pixels 4 at .. 4 at + 3, packed as bytes.
-  const uint n = hdr[HDR_LISTED], w = hdr[HDR_WIDTH], first = hdr[HDR_FIRST_PIXEL];
-  if (4u * at >= n) return;
-  uint labels = 0u, depths = 0u;
-  for (uint q = 0u; q < 4u; ++q) {
-    const uint k = 4u * at + q;
-    if (k >= n) break;
-    const uint r = classify_pixel(int((first + k) % w), int((first + k) / w));
-    const uint label = (r & RESULT_UNCERTAIN) != 0u ? PACKED_UNCERTAIN : (r & RESULT_LABEL_MASK);
-    labels |= label << (8u * q);
-    depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * q);
+  // Every pixel, by tiles (shaders/region_layout.h).
+  const uint w = hdr[HDR_WIDTH], tiles_x = (w + TILE - 1u) / TILE, stride = tiles_x * TILE / 4u;
+  const uint counters = hdr[HDR_OUT_COUNTERS], queue = hdr[HDR_OUT_QUEUE];
+  // The pixel pass: row y of queued tile q.
+  const uint q = at / TILE, y = at % TILE;
+  if (q >= result[counters + OUT_QUEUED]) return;
+  const uint t = result[queue + q];
+  const uint tx = t % tiles_x, row = (t / tiles_x) * TILE + y;  // row of the run
+  const uint pj = hdr[HDR_FIRST_TILE_ROW] * TILE + row, h = hdr[HDR_HEIGHT];
+  const uint plane = hdr[HDR_TILE_ROWS] * TILE * stride;
+  for (uint k = 0u; k < TILE / 4u; ++k) {
+    uint labels = 0u, depths = 0u;
+    for (uint b = 0u; b < 4u; ++b) {
+      const uint pi = tx * TILE + 4u * k + b;
+      if (pi >= w || pj >= h) continue;
+      const uint r = classify_pixel(int(pi), int(pj));
+      uint label = r & RESULT_LABEL_MASK;
+      if ((r & RESULT_UNCERTAIN) != 0u) {
+        label = PACKED_UNCERTAIN;
+        const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+        if (f < hdr[HDR_LIST_CAP]) result[hdr[HDR_OUT_LIST] + f] = pj * w + pi;
+      }
+      labels |= label << (8u * b);
+      depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * b);
+    }
+    const uint at_word = row * stride + tx * (TILE / 4u) + k;
+    result[at_word] = labels;
+    if (hdr[HDR_DEPTH_PLANE] != 0u) result[plane + at_word] = depths;
   }
-  result[at] = labels;
-  if (hdr[HDR_DEPTH_PLANE] != 0u) result[(n + 3u) / 4u + at] = depths;
+#endif
 }
 #endif  // CMR_REGION_PRESENT

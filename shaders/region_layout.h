@@ -22,13 +22,25 @@
 //
 // Result word of a listed pixel: label code | depth << RESULT_DEPTH_SHIFT,
 // or RESULT_UNCERTAIN when the shader could not certify the pixel.
-// Every pixel (HDR_EVERY_PIXEL): a run covers HDR_LISTED = m pixels from
-// HDR_FIRST_PIXEL = f (row-major); invocation k classifies its pixels
-// 4k..4k+3 (image pixels f + 4k ..) and writes word k = their label bytes
-// (byte q = pixel 4k+q, PACKED_UNCERTAIN where the host must decide) and,
-// with HDR_DEPTH_PLANE, word K + k = their depth bytes, K = ceil(m / 4): the
-// words read as bytes are that stretch of the label map (and depth map) as
-// the host stores it.
+// Every pixel (HDR_EVERY_PIXEL): the image is cut into tiles of TILE x TILE
+// pixels, TX = ceil(W / TILE) per tile row; a run covers HDR_TILE_ROWS = R
+// tile rows from HDR_FIRST_TILE_ROW. Two passes in one submission
+// (vk/compute_pipeline.hpp's follow-up):
+// - the tile pass (region_tiles_fp*.comp): invocation t < TX R proves tile t of the run
+//   over the box of its pixels' displacements (per tile column and row, (c,
+//   r) pairs at HDR_TILE_X_OFFSET / HDR_TILE_Y_OFFSET: the exact
+//   displacements lie within c +- r), with HDR_TILE_PROOFS; a proven tile's
+//   label fills its bytes of the label plane, any other tile is appended to
+//   the queue (OUT_QUEUED, then the queue at HDR_OUT_QUEUE) and every
+//   TILE-th one adds a group to the follow-up's dispatch (OUT_GROUPS_X..Z);
+// - the pixel pass (region_fp*.comp): invocation q TILE + r classifies row r
+//   of queued tile q.
+// Output words: the label plane, rows of TILE TX bytes (row y of the run at
+// byte y TILE TX), TILE R rows; with HDR_DEPTH_PLANE the depth plane of the
+// same shape after it (tiles are then not proven: depths are per pixel);
+// the counters at HDR_OUT_COUNTERS; the queue; then the pixels the host
+// must decide (their label byte is PACKED_UNCERTAIN), as row-major image
+// indices, the first HDR_LIST_CAP of OUT_FLAGGED at HDR_OUT_LIST.
 #ifndef CMR_SHADERS_REGION_LAYOUT_H
 #define CMR_SHADERS_REGION_LAYOUT_H
 
@@ -59,10 +71,25 @@ CMR_LAYOUT_CONST(HDR_FIXED_LEVEL0_NONE, 14u)  // 1: an untouched segment fails a
 CMR_LAYOUT_CONST(HDR_PIECE_LEVELS, 15u)       // L0: precomputed pieces P = 2^(L0+1) - 1
 CMR_LAYOUT_CONST(HDR_LISTED, 16u)             // listed pixels in this run
 CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 17u)        // the listed pixels
-CMR_LAYOUT_CONST(HDR_EVERY_PIXEL, 18u)        // 1: no list, every pixel, packed (below)
+CMR_LAYOUT_CONST(HDR_EVERY_PIXEL, 18u)        // 1: no list, every pixel, by tiles (below)
 CMR_LAYOUT_CONST(HDR_DEPTH_PLANE, 19u)        // every pixel: 1 = the depth plane follows the labels
-CMR_LAYOUT_CONST(HDR_FIRST_PIXEL, 20u)        // every pixel: this run's pixels start here (row-major)
+CMR_LAYOUT_CONST(HDR_FIRST_TILE_ROW, 20u)     // every pixel: this run's first tile row
+CMR_LAYOUT_CONST(HDR_TILE_ROWS, 21u)          // every pixel: tile rows in this run
+CMR_LAYOUT_CONST(HDR_TILE_X_OFFSET, 22u)      // every pixel: (c, r) per tile column
+CMR_LAYOUT_CONST(HDR_TILE_Y_OFFSET, 23u)      // every pixel: (c, r) per tile row of the image
+CMR_LAYOUT_CONST(HDR_TILE_PROOFS, 24u)        // every pixel: 1 = the tile pass tries to prove tiles
+CMR_LAYOUT_CONST(HDR_OUT_COUNTERS, 25u)       // every pixel: output word of the counters (OUT_*)
+CMR_LAYOUT_CONST(HDR_OUT_QUEUE, 26u)          // every pixel: output word of the tile queue
+CMR_LAYOUT_CONST(HDR_OUT_LIST, 27u)           // every pixel: output word of the flagged pixels
+CMR_LAYOUT_CONST(HDR_LIST_CAP, 28u)           // every pixel: room for flagged pixels
 CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
+
+// Tiles (every pixel).
+CMR_LAYOUT_CONST(TILE, 8u)           // tile side in pixels; the pixel pass's invocations per tile
+CMR_LAYOUT_CONST(OUT_QUEUED, 0u)     // counter: tiles queued for the pixel pass
+CMR_LAYOUT_CONST(OUT_GROUPS_X, 1u)   // counters 1-3: the pixel pass's group counts (x, 1, 1)
+CMR_LAYOUT_CONST(OUT_FLAGGED, 4u)    // counter: pixels flagged for the host (may exceed HDR_LIST_CAP)
+CMR_LAYOUT_CONST(OUT_COUNTER_WORDS, 8u)
 
 // Label kinds (cmr::backend::Labels).
 CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // Direction: one group

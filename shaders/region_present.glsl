@@ -57,7 +57,7 @@ void main() {
     set_monomials(dx, dy);
     uint r = level0(cmr);
     if (r == 0u) discard;
-    if (r == UNDECIDED_YET) r = full(cmr, dx, dy);
+    if (r == UNDECIDED_YET) r = full(cmr, pixel_displacement(dx), pixel_displacement(dy));
     if ((r & UNCERTAIN) != 0u) {
       uint slot = atomicAdd(uncertain_count, 1u);
       if (slot < uncertain_capacity) uncertain_at[slot] = index;

@@ -27,6 +27,7 @@ Error size_error(std::string message) { return Error{Errc::size_unsupported, VK_
 
 struct ComputePipeline::Impl : detail::PipelineCore {
   uint32_t push_constant_bytes = 0;
+  VkPipeline follow_up = VK_NULL_HANDLE;  // the chain's second pass (run_chain), if made with one
 
   Buffer input;     // device-local, read by the shader
   Buffer staging;   // host-visible source of the input upload
@@ -40,12 +41,13 @@ struct ComputePipeline::Impl : detail::PipelineCore {
   Impl() = default;
   ~Impl();
 
-  Result<void> create_pipeline(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization);
+  Result<void> create_pipeline(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization,
+                               const FollowUp* follow);
   Result<void> create_commands();
   // Grows `device_side` and its host-visible partner to at least `bytes`.
   Result<void> ensure(Buffer& device_side, Buffer& host_side, VkDeviceSize bytes, bool upload);
   Result<void> record(VkDeviceSize input_bytes, VkDeviceSize output_bytes, uint32_t count,
-                      std::span<const std::byte> push_constants);
+                      std::span<const std::byte> push_constants, const Chain* chain);
   Result<void> submit_and_wait(uint32_t count);
 };
 
@@ -53,27 +55,29 @@ ComputePipeline::Impl::~Impl() {
   if (device == VK_NULL_HANDLE) return;
   wait_if_pending();
   for (Buffer* b : {&input, &staging, &output, &readback}) detail::destroy_buffer(device, *b);
+  if (follow_up != VK_NULL_HANDLE) vkDestroyPipeline(device, follow_up, nullptr);
 }
 
 Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> spirv,
-                                                    std::span<const uint32_t> specialization) {
+                                                    std::span<const uint32_t> specialization, const FollowUp* follow) {
   if (auto r = create_layouts_and_set(2, VK_SHADER_STAGE_COMPUTE_BIT, push_constant_bytes, "compute pipeline"); !r)
     return r.error();
 
-  detail::ShaderModule shader;
-  if (auto r = shader.create(device, spirv, "compute shader"); !r) return r.error();
   const detail::Specialization spec(specialization);
-  VkComputePipelineCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = shader.handle;
-  info.stage.pName = "main";
-  info.stage.pSpecializationInfo = spec.info();
-  info.layout = pipeline_layout;
-  const VkResult r = vkCreateComputePipelines(device, state->pipeline_cache, 1, &info, nullptr, &pipeline);
-  if (r != VK_SUCCESS) {
-    pipeline = VK_NULL_HANDLE;
+  const auto make = [&](std::span<const uint32_t> words, VkPipeline& out) -> Result<void> {
+    detail::ShaderModule shader;
+    if (auto r = shader.create(device, words, "compute shader"); !r) return r.error();
+    VkComputePipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = shader.handle;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = spec.info();
+    info.layout = pipeline_layout;
+    const VkResult r = vkCreateComputePipelines(device, state->pipeline_cache, 1, &info, nullptr, &out);
+    if (r == VK_SUCCESS) return {};
+    out = VK_NULL_HANDLE;
     Error e = vk_error(r, "vkCreateComputePipelines");
     // Anything but memory exhaustion here means the driver rejected the shader.
     if (e.code != Errc::out_of_memory && e.code != Errc::device_lost) {
@@ -81,8 +85,10 @@ Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> sp
       e.message += "; the compute shader was rejected (check its interface: set 0 bindings 0 and 1, push constants)";
     }
     return e;
-  }
-  return {};
+  };
+  if (auto r = make(spirv, pipeline); !r) return r;
+  if (!follow) return {};
+  return make(follow->spirv, follow_up);
 }
 
 Result<void> ComputePipeline::Impl::create_commands() {
@@ -97,8 +103,12 @@ Result<void> ComputePipeline::Impl::ensure(Buffer& device_side, Buffer& host_sid
   detail::destroy_buffer(device, device_side);
   detail::destroy_buffer(device, host_side);
   bound_input = bound_output = VK_NULL_HANDLE;
+  // The result is also written by the host's counters (run_chain) and read
+  // as the follow-up's group counts.
   const VkBufferUsageFlags device_usage =
-      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | (upload ? VK_BUFFER_USAGE_TRANSFER_DST_BIT : VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+      (upload ? VK_BUFFER_USAGE_TRANSFER_DST_BIT
+              : VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
   if (auto r = detail::create_buffer(*state, device_side, capacity, device_usage, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
                                      upload ? "input buffer" : "result buffer");
       !r)
@@ -116,7 +126,7 @@ Result<void> ComputePipeline::Impl::ensure(Buffer& device_side, Buffer& host_sid
 }
 
 Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSize output_bytes, uint32_t count,
-                                           std::span<const std::byte> push_constants) {
+                                           std::span<const std::byte> push_constants, const Chain* chain) {
   // The previous run's fence has been waited on, so the pool is idle.
   if (VkResult r = vkResetCommandPool(device, command_pool, 0); r != VK_SUCCESS) return vk_error(r, "vkResetCommandPool");
   if (auto r = detail::begin_one_time(command_buffer); !r) return r.error();
@@ -126,13 +136,28 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
   vkCmdCopyBuffer(cmd, staging.buffer, input.buffer, 1, &in);
   detail::buffer_barrier(cmd, input.buffer, 0, input_bytes, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  if (chain) {  // the queue's counters, before the first pass counts into them
+    vkCmdUpdateBuffer(cmd, output.buffer, VkDeviceSize{chain->init_word} * 4, chain->init.size_bytes(),
+                      chain->init.data());
+    detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_TRANSFER_WRITE_BIT,
+                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_layout, 0, 1, &descriptor_set, 0, nullptr);
   if (push_constant_bytes > 0)
     vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes, push_constants.data());
   const uint32_t groups = (count + kGroupSize - 1) / kGroupSize;
   const uint32_t per_row = std::min(groups, kGroupsPerRow);
-  vkCmdDispatch(cmd, per_row, (groups + per_row - 1) / per_row, 1);
+  if (count > 0) vkCmdDispatch(cmd, per_row, (groups + per_row - 1) / per_row, 1);
+  if (chain) {  // the follow-up, sized by what the first pass queued
+    detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, follow_up);
+    vkCmdDispatchIndirect(cmd, output.buffer, VkDeviceSize{chain->indirect_word} * 4);
+  }
   detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
   const VkBufferCopy out{0, 0, output_bytes};
@@ -164,7 +189,20 @@ Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<cons
   impl->state = state;
   impl->device = state->device;
   impl->push_constant_bytes = push_constant_bytes;
-  if (auto r = impl->create_pipeline(compute_spirv, specialization); !r) return r.error();
+  if (auto r = impl->create_pipeline(compute_spirv, specialization, nullptr); !r) return r.error();
+  if (auto r = impl->create_commands(); !r) return r.error();
+  return ComputePipeline(std::move(impl));
+}
+
+Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
+                                                std::span<const uint32_t> specialization, FollowUp follow_up) {
+  for (const std::span<const uint32_t> words : {compute_spirv, follow_up.spirv})
+    if (auto r = detail::check_spirv(words, detail::ShaderStage::compute); !r) return r.error();
+  const std::shared_ptr<detail::DeviceState>& state = context.state();
+  auto impl = std::make_unique<Impl>();
+  impl->state = state;
+  impl->device = state->device;
+  if (auto r = impl->create_pipeline(compute_spirv, specialization, &follow_up); !r) return r.error();
   if (auto r = impl->create_commands(); !r) return r.error();
   return ComputePipeline(std::move(impl));
 }
@@ -182,6 +220,24 @@ Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> in
 Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t count,
                                   std::span<const std::byte> push_constants, uint32_t words,
                                   const std::function<void(std::span<const std::byte>)>& read) {
+  return run_passes(input, count, push_constants, words, read, nullptr);
+}
+
+Result<void> ComputePipeline::run_chain(std::span<const std::byte> input, uint32_t count, uint32_t words,
+                                        const Chain& chain, const std::function<void(std::span<const std::byte>)>& read) {
+  if (impl_->follow_up == VK_NULL_HANDLE)
+    return Error{Errc::other, VK_SUCCESS, "run_chain on a compute pipeline made without a follow-up pass"};
+  if (chain.init.empty() || chain.init.size() > 16384 || uint64_t{chain.init_word} + chain.init.size() > words ||
+      uint64_t{chain.indirect_word} + 3 > words)
+    return Error{Errc::other, VK_SUCCESS, "a chain's counters or group counts lie outside its " +
+                                              std::to_string(words) + " result words"};
+  return run_passes(input, count, {}, words, read, &chain);
+}
+
+Result<void> ComputePipeline::run_passes(std::span<const std::byte> input, uint32_t count,
+                                         std::span<const std::byte> push_constants, uint32_t words,
+                                         const std::function<void(std::span<const std::byte>)>& read,
+                                         const Chain* chain) {
   Impl& p = *impl_;
   if (p.lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "an earlier run lost the device; create a new Context and pipeline"};
@@ -197,7 +253,7 @@ Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t cou
                       " bytes exceeds device '" + p.state->info.name + "' limit of " + std::to_string(max_range) +
                       " bytes (maxStorageBufferRange)");
   }
-  if (count == 0) {
+  if (count == 0 && !chain) {
     const std::vector<std::byte> zeros(std::size_t{words} * 4);
     read(zeros);
     return {};
@@ -234,7 +290,7 @@ Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t cou
   }
   std::array<std::byte, kMaxPushConstantBytes> push{};  // zeros when none given
   std::copy(push_constants.begin(), push_constants.end(), push.begin());
-  if (auto r = p.record(input_bytes, output_bytes, count, push); !r) return r.error();
+  if (auto r = p.record(input_bytes, output_bytes, count, push, chain); !r) return r.error();
   if (auto r = p.submit_and_wait(count); !r) return r.error();
   if (!p.readback.coherent) {
     const VkMappedMemoryRange range{VK_STRUCTURE_TYPE_MAPPED_MEMORY_RANGE, nullptr, p.readback.memory, 0, VK_WHOLE_SIZE};

@@ -23,6 +23,8 @@
 
 #include "region_fp32_comp.h"
 #include "region_fp64_comp.h"
+#include "region_tiles_fp32_comp.h"
+#include "region_tiles_fp64_comp.h"
 
 namespace cmr::vk {
 namespace {
@@ -38,7 +40,12 @@ constexpr int kDeviceBlock = 4;
 // Pixels per run, so that no storage buffer passes the 2^27 bytes every
 // device allows (maxStorageBufferRange): a listed pixel takes 16 bytes of
 // list, a pixel of the whole share one byte of label map and one of depth.
-constexpr std::size_t kListedPerRun = std::size_t{1} << 22, kWholePerRun = std::size_t{1} << 25;
+// The whole share's 2^24 also keep its pixel pass within the 65535 groups
+// of a dispatch every device allows (8 tiles of 64 pixels a group).
+constexpr std::size_t kListedPerRun = std::size_t{1} << 22, kWholePerRun = std::size_t{1} << 24;
+// Flagged pixels a run of the whole share lists for the host (more: the
+// host finds them in the label map).
+constexpr uint32_t kFlaggedListed = 1u << 16;
 
 static_assert(cmr::kRegionLabelCodes < PACKED_UNCERTAIN && cmr::kSplitLabelCodes < PACKED_UNCERTAIN &&
                   cmr::kAlternatingLabelCodes < PACKED_UNCERTAIN && cmr::kPieceLabelCodes < PACKED_UNCERTAIN,
@@ -169,6 +176,18 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   p.hdr[HDR_LISTED] = static_cast<uint32_t>(every_pixel ? std::size_t(o.width) * std::size_t(o.height) : pixels.size());
   p.hdr[HDR_EVERY_PIXEL] = every_pixel ? 1 : 0;
   p.hdr[HDR_DEPTH_PLANE] = every_pixel && o.depth ? 1 : 0;
+  if (every_pixel) {
+    // Each tile column's and tile row's box (the block proofs' boxes); no
+    // tile proofs with a depth map (a tile's pixels may decide at different
+    // depths).
+    p.hdr[HDR_TILE_PROOFS] = o.depth ? 0 : 1;
+    p.hdr[HDR_TILE_X_OFFSET] = p.size();
+    for (int i = 0; i < o.width; i += static_cast<int>(TILE))
+      p.bounded(cmr::backend::block_columns(s, i, std::min(o.width, i + static_cast<int>(TILE)) - 1));
+    p.hdr[HDR_TILE_Y_OFFSET] = p.size();
+    for (int j = 0; j < o.height; j += static_cast<int>(TILE))
+      p.bounded(cmr::backend::block_rows(s, j, std::min(o.height, j + static_cast<int>(TILE)) - 1));
+  }
   p.hdr[HDR_LIST_OFFSET] = p.size();
   for (const auto& [i, j] : pixels) p.values(i, j);
   p.hdr[HDR_PARTS] = static_cast<uint32_t>(flags.size());
@@ -293,9 +312,15 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s,
   const uint32_t spec[7] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
                             key.joints ? 1u : 0u, key.rational ? 1u : 0u, key.deep ? 1u : 0u,
                             static_cast<uint32_t>(options_.weaken_bound_bits)};
-  std::span<const uint32_t> spirv = precision == RegionPrecision::fp64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
-                                                                       : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
-  auto created = ComputePipeline::create(context_, spirv, 0, spec);
+  const bool f64 = precision == RegionPrecision::fp64;
+  const std::span<const uint32_t> pixels = f64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
+                                               : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
+  // The whole share is a chain: the tile pass, then the pixel pass over the
+  // tiles it queued (shaders/region_layout.h).
+  const std::span<const uint32_t> tiles = f64 ? std::span<const uint32_t>(cmr_region_tiles_fp64_comp_spv)
+                                              : std::span<const uint32_t>(cmr_region_tiles_fp32_comp_spv);
+  auto created = key.deep ? ComputePipeline::create(context_, tiles, spec, {pixels})
+                          : ComputePipeline::create(context_, pixels, 0, spec);
   if (!created) return created.error();
   pipelines_.emplace_back(key, created.take());
   pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -340,40 +365,78 @@ Result<void> VulkanRegionBackend::shade_listed(const RegionSetup& s, const std::
 Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend::RegionImage& img) {
   auto pipeline = prepare(s, true);
   if (!pipeline) return pipeline.error();
-  const std::size_t n = img.labels.size();
+  const RegionRequest& o = s.options;
   std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, {}, true);
   const auto set_header = [&](uint32_t word, std::size_t value) {
     const uint32_t v = static_cast<uint32_t>(value);
     std::memcpy(buffer.data() + 4 * word, &v, 4);
   };
-  // One dispatch (one submission, one readback) per run of pixels; the
-  // readback holds that stretch of the label map's bytes, then (with a depth
-  // map) of the depth map's.
-  // Runs start on whole words of the label map (multiples of 4 pixels).
-  const std::size_t per_run = options_.pixels_per_run > 0 ? std::max<std::size_t>(4, options_.pixels_per_run / 4 * 4)
-                                                          : kWholePerRun;
-  for (std::size_t first = 0; first < n; first += per_run) {
-    const std::size_t count = std::min(per_run, n - first), packed = (count + 3) / 4;
-    set_header(HDR_FIRST_PIXEL, first);
-    set_header(HDR_LISTED, count);
-    auto out = pipeline.value()->run(buffer, static_cast<uint32_t>(packed), {},
-                                     static_cast<uint32_t>(s.options.depth ? 2 * packed : packed),
-                                     [&](std::span<const std::byte> bytes) {
-                                       std::memcpy(img.labels.data() + first, bytes.data(), count);
-                                       if (s.options.depth)
-                                         std::memcpy(img.depth.data() + first, bytes.data() + 4 * packed, count);
-                                     });
+  // One submission (the tile pass, then the pixel pass over the queued
+  // tiles) and one readback per run of whole tile rows: the run's label
+  // (and depth) plane, the counters, the queue and the flagged pixels
+  // (shaders/region_layout.h).
+  const std::size_t width = static_cast<std::size_t>(o.width), tiles_x = (width + TILE - 1) / TILE;
+  const std::size_t tile_rows = (static_cast<std::size_t>(o.height) + TILE - 1) / TILE;
+  const std::size_t per_run = options_.pixels_per_run > 0 ? options_.pixels_per_run : kWholePerRun;
+  const std::size_t rows_per_run = std::max<std::size_t>(1, per_run / (TILE * TILE * tiles_x));
+  const std::size_t stride = TILE * tiles_x;  // bytes of a plane's row
+  const uint32_t init[OUT_COUNTER_WORDS] = {0, 0, 1, 1, 0, 0, 0, 0};  // nothing queued; groups (0, 1, 1)
+  std::vector<std::size_t> flagged;
+  bool scan = false;  // more flagged than listed: find them in the label map
+  frame_ = {};
+  for (std::size_t first = 0; first < tile_rows; first += rows_per_run) {
+    const std::size_t R = std::min(rows_per_run, tile_rows - first);
+    const std::size_t plane_words = R * TILE * stride / 4, planes = o.depth ? 2 : 1;
+    const std::size_t counters = planes * plane_words, queue = counters + OUT_COUNTER_WORDS;
+    const std::size_t list = queue + tiles_x * R;
+    const std::size_t listed = options_.flagged_per_run > 0 ? options_.flagged_per_run : kFlaggedListed;
+    const uint32_t cap = static_cast<uint32_t>(std::min<std::size_t>(listed, R * TILE * stride));
+    set_header(HDR_FIRST_TILE_ROW, first);
+    set_header(HDR_TILE_ROWS, R);
+    set_header(HDR_OUT_COUNTERS, counters);
+    set_header(HDR_OUT_QUEUE, queue);
+    set_header(HDR_OUT_LIST, list);
+    set_header(HDR_LIST_CAP, cap);
+    const ComputePipeline::Chain chain{static_cast<uint32_t>(counters), init,
+                                       static_cast<uint32_t>(counters + OUT_GROUPS_X)};
+    auto out = pipeline.value()->run_chain(
+        buffer, static_cast<uint32_t>(tiles_x * R), static_cast<uint32_t>(list + cap), chain,
+        [&](std::span<const std::byte> bytes) {
+          const std::size_t row0 = first * TILE, rows = std::min<std::size_t>(R * TILE, o.height - row0);
+          for (std::size_t y = 0; y < rows; ++y) {
+            std::memcpy(img.labels.data() + (row0 + y) * width, bytes.data() + y * stride, width);
+            if (o.depth)
+              std::memcpy(img.depth.data() + (row0 + y) * width, bytes.data() + 4 * plane_words + y * stride, width);
+          }
+          uint32_t c[OUT_COUNTER_WORDS];
+          std::memcpy(c, bytes.data() + 4 * counters, sizeof c);
+          frame_.tiles += tiles_x * R;
+          frame_.tiles_queued += c[OUT_QUEUED];
+          frame_.flagged += c[OUT_FLAGGED];
+          if (c[OUT_FLAGGED] > cap) {
+            scan = true;
+            return;
+          }
+          for (uint32_t k = 0; k < c[OUT_FLAGGED]; ++k) {
+            uint32_t at;
+            std::memcpy(&at, bytes.data() + 4 * (list + k), 4);
+            flagged.push_back(at);
+          }
+        });
     if (!out) return out.error();
   }
   if (options_.fault == InjectedFault::device_lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};
   // What the device could not certify, the host decides.
-  std::vector<std::size_t> flagged;
-  const uint8_t* labels = img.labels.data();
-  for (const void* at = std::memchr(labels, PACKED_UNCERTAIN, n); at != nullptr;) {
-    const std::size_t k = static_cast<std::size_t>(static_cast<const uint8_t*>(at) - labels);
-    flagged.push_back(k);
-    at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
+  if (scan) {
+    flagged.clear();
+    const std::size_t n = img.labels.size();
+    const uint8_t* labels = img.labels.data();
+    for (const void* at = std::memchr(labels, PACKED_UNCERTAIN, n); at != nullptr;) {
+      const std::size_t k = static_cast<std::size_t>(static_cast<const uint8_t*>(at) - labels);
+      flagged.push_back(k);
+      at = k + 1 < n ? std::memchr(labels + k + 1, PACKED_UNCERTAIN, n - k - 1) : nullptr;
+    }
   }
   decide_on_host(s, flagged, img, options_.threads);
   return {};

@@ -39,10 +39,13 @@ enum class InjectedFault { none, device_lost, out_of_memory, pipeline_rejected }
 /// - culled: the host proves whole blocks first (on all its threads) and the
 ///   device classifies the pixels left, down to the precomputed pieces;
 ///   deeper pieces and uncertain signs go back to the host.
-/// - whole: the device classifies every pixel, halving pieces below the
-///   precomputed levels itself (shaders/region_common.glsl, load_deep), and
-///   returns the label (and depth) map packed as bytes; the host decides
-///   only what the device flags uncertain.
+/// - whole: the device does the whole frame in one submission: a tile pass
+///   proves tiles of 8 x 8 pixels over their boxes (the block proofs' rule,
+///   shaders/region_tiles.glsl) and queues the others, then a pixel pass
+///   classifies the queued tiles' pixels, halving pieces below the
+///   precomputed levels itself (load_deep); it returns the label (and
+///   depth) map as bytes and a list of the pixels it flags uncertain, which
+///   alone the host decides.
 /// - automatic: culled on a CPU device (lavapipe: its lanes are the host's
 ///   cores, and deep halving in per-lane arrays costs more there than the
 ///   host's own traversal), whole on a GPU (the host's block proofs and its
@@ -55,9 +58,14 @@ struct VulkanRegionOptions {
   RegionPrecision precision = RegionPrecision::fp64;  ///< shader arithmetic; labels are certified either way
   DeviceShare share = DeviceShare::automatic;         ///< see DeviceShare
   int threads = 0;                                    ///< host threads (culling, uncertain pixels); 0: all cores
-  /// Most pixels one dispatch takes (0: as the 2^27-byte storage buffers
-  /// every device allows hold; tests set fewer to cover the split frame).
+  /// Most pixels one run takes (0: as the 2^27-byte storage buffers every
+  /// device allows hold; the whole share rounds down to whole tile rows, at
+  /// least one; tests set fewer to cover the split frame).
   std::size_t pixels_per_run = 0;
+  /// Most pixels the device flags for the host that a run of the whole
+  /// share lists (0: 2^16; beyond them the host finds the flagged pixels in
+  /// the label map; tests set fewer to cover that).
+  std::size_t flagged_per_run = 0;
   /// Where the VkPipelineCache is kept across runs (the file
   /// vulkan-pipelines-VENDOR-DEVICE.bin, rewritten whenever a pipeline is
   /// created); empty: pipelines are cached only for the backend's lifetime.
@@ -114,6 +122,14 @@ class VulkanRegionBackend final : public RegionBackend {
   /// automatic resolved by the device's type).
   DeviceShare share() const;
 
+  /// What the device did in the last frame of the whole share.
+  struct WholeFrame {
+    std::size_t tiles = 0;         ///< tiles of TILE x TILE pixels (shaders/region_layout.h)
+    std::size_t tiles_queued = 0;  ///< tiles the tile pass did not prove, left to the pixel pass
+    std::size_t flagged = 0;       ///< pixels the device left to the host
+  };
+  const WholeFrame& last_whole_frame() const { return frame_; }
+
  private:
   struct Key {
     int degree, depth;
@@ -143,6 +159,7 @@ class VulkanRegionBackend final : public RegionBackend {
   double pipeline_seconds_ = 0;
   double open_seconds_ = 0;
   std::string cache_note_;
+  WholeFrame frame_;
 };
 
 }  // namespace cmr::vk

@@ -3,6 +3,7 @@
 // the host), and the CPU labels are what `analyze` says of the moved spline.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -166,9 +167,10 @@ TEST(RegionBackends, TheShareOfTheWorkFollowsTheDeviceType) {
   }
 }
 
-// A frame split into several dispatches (a run of at most pixels_per_run
-// pixels each; odd sizes, so that runs end inside rows and words) gives the
-// labels and depths of one dispatch, on both shares.
+// A frame split into several runs gives the labels and depths of one run,
+// on both shares: culled, runs of at most pixels_per_run listed pixels (odd
+// sizes, so that runs end inside rows and words); whole, runs of whole tile
+// rows (one each here: 37 pixels are fewer than a tile row holds).
 TEST(RegionBackends, AFrameSplitIntoRunsIsTheWholeFrame) {
   for (const Scene& sc : scenes()) {
     const RegionProblem problem = RegionProblem::make(sc.spline, sc.options);
@@ -184,6 +186,74 @@ TEST(RegionBackends, AFrameSplitIntoRunsIsTheWholeFrame) {
       EXPECT_EQ(r.codes(), cpu.labels) << where;
       EXPECT_EQ(r.depth, cpu.depth) << where;
     }
+  }
+}
+
+// DeviceShare::whole: without a depth map the tile pass proves whole tiles
+// (8 x 8 pixels) over their boxes, and only the tiles it queues reach the
+// pixel pass; with one it proves none (pixels of a tile may decide at
+// different depths). Either way labels (and depths) are the CPU backend's,
+// fp64 and fp32.
+TEST(RegionBackends, TheDeviceProvesWholeTilesOfALabelMap) {
+  for (const vk::RegionPrecision prec : {vk::RegionPrecision::fp64, vk::RegionPrecision::fp32}) {
+    vk::VulkanRegionOptions o;
+    o.share = vk::DeviceShare::whole;
+    o.precision = prec;
+    auto b = vk::VulkanRegionBackend::create(o);
+    ASSERT_TRUE(b) << b.error().message;
+    std::size_t tiles = 0, queued = 0;
+    for (const Scene& sc : scenes()) {
+      const std::string where = std::string(sc.name) + (prec == vk::RegionPrecision::fp32 ? " fp32" : " fp64");
+      const std::size_t want_tiles =
+          static_cast<std::size_t>((sc.options.width + 7) / 8) * static_cast<std::size_t>((sc.options.height + 7) / 8);
+      RegionRequest labels_only = sc.options;
+      labels_only.depth = false;
+      const RegionProblem problem = RegionProblem::make(sc.spline, labels_only);
+      EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels) << where;
+      const vk::VulkanRegionBackend::WholeFrame f = b.value().last_whole_frame();
+      EXPECT_EQ(f.tiles, want_tiles) << where;
+      tiles += f.tiles;
+      queued += f.tiles_queued;
+      const RegionProblem with_depth = RegionProblem::make(sc.spline, sc.options);
+      const RegionResult r = b.value().render(with_depth);
+      const RegionImage cpu = test::render(with_depth, {test::Backend::cpu});
+      EXPECT_EQ(r.codes(), cpu.labels) << where << " with depths";
+      EXPECT_EQ(r.depth, cpu.depth) << where;
+      EXPECT_EQ(b.value().last_whole_frame().tiles_queued, want_tiles) << where << ": a tile proven with depths";
+    }
+    // The scenes are small views near region boundaries: over 40% proven.
+    EXPECT_LT(queued, tiles * 6 / 10) << "the tile pass proved " << tiles - queued << " of " << tiles << " tiles";
+    // A whole region at 256 x 256: most tiles lie inside or outside it.
+    RegionRequest whole = opts(1);
+    whole.width = whole.height = 256;
+    whole.depth = false;
+    const RegionProblem problem = RegionProblem::make(BSpline::bezier({{0, 0}, {1, 1}, {2, 0.2}}), whole);
+    EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels);
+    const vk::VulkanRegionBackend::WholeFrame f = b.value().last_whole_frame();
+    EXPECT_LT(f.tiles_queued, f.tiles / 4) << "the tile pass proved " << f.tiles - f.tiles_queued << " of " << f.tiles;
+  }
+}
+
+// Pixels the device flags for the host beyond the run's list are found in
+// the label map: the same labels and depths as with the whole list.
+TEST(RegionBackends, FlaggedPixelsBeyondTheListAreFoundInTheLabelMap) {
+  const std::vector<Scene> all = scenes();
+  const auto sc = std::find_if(all.begin(), all.end(), [](const Scene& s) {
+    return std::string(s.name) == "mixed_weights_quadratic_C1_P2";  // its joints' jumps are the host's
+  });
+  ASSERT_NE(sc, all.end());
+  const RegionProblem problem = RegionProblem::make(sc->spline, sc->options);
+  const RegionImage cpu = test::render(problem, {test::Backend::cpu});
+  for (const std::size_t listed : {std::size_t{0}, std::size_t{4}}) {
+    vk::VulkanRegionOptions o;
+    o.share = vk::DeviceShare::whole;
+    o.flagged_per_run = listed;
+    auto b = vk::VulkanRegionBackend::create(o);
+    ASSERT_TRUE(b) << b.error().message;
+    const RegionResult r = b.value().render(problem);
+    EXPECT_GT(b.value().last_whole_frame().flagged, 4u);
+    EXPECT_EQ(r.codes(), cpu.labels) << "list of " << listed;
+    EXPECT_EQ(r.depth, cpu.depth) << "list of " << listed;
   }
 }
 

@@ -79,6 +79,8 @@ double g_shader_setup_seconds = 0;
 /// argv[3] == "vk-whole" / "vk-culled": the Vulkan backend with that
 /// DeviceShare (vk: as the device's type picks it).
 vk::DeviceShare g_share = vk::DeviceShare::automatic;
+/// The Vulkan backend when made with an explicit share (vk-whole, vk-culled).
+const vk::VulkanRegionBackend* g_vk_backend = nullptr;
 
 /// Renders on the Vulkan device (lavapipe here) or on every CPU core; one
 /// backend of each kind for the whole run, as `cmr region` keeps one. The
@@ -92,7 +94,9 @@ RegionResult render(const RegionProblem& s, bool vulkan) {
     o.share = g_share;
     auto b = vk::VulkanRegionBackend::create(o);
     if (!b) throw std::runtime_error(b.error().message);
-    return std::shared_ptr<RegionBackend>(std::make_shared<vk::VulkanRegionBackend>(b.take()));
+    auto made = std::make_shared<vk::VulkanRegionBackend>(b.take());
+    g_vk_backend = made.get();
+    return std::shared_ptr<RegionBackend>(made);
   }());
   RegionResult r = (vulkan ? *device : static_cast<RegionBackend&>(cpu)).render(s);
   if (vulkan) g_shader_setup_seconds += r.setup_seconds;
@@ -242,9 +246,15 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
       tc.wall[0] = std::min(tc.wall[0], now() - t0);
       tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
     }
-    std::printf("  %-20s %-12s %2d %4d  cmr %s %8.3f ms wall %8.3f ms CPU %8.2f Mp/s\n", sc.name, view_name, depth, size,
+    std::printf("  %-20s %-12s %2d %4d  cmr %s %8.3f ms wall %8.3f ms CPU %8.2f Mp/s", sc.name, view_name, depth, size,
                 g_vk_only ? "Vulkan" : "CPU",
                 1e3 * tc.wall[0], 1e3 * tc.cpu[0], static_cast<double>(size) * size / 1e6 / tc.wall[0]);
+    if (g_vk_only && g_vk_backend && g_vk_backend->share() == vk::DeviceShare::whole) {
+      // What the device's tile pass proved and what it left to the host.
+      const vk::VulkanRegionBackend::WholeFrame& f = g_vk_backend->last_whole_frame();
+      std::printf("  tiles queued %zu/%zu, flagged %zu", f.tiles_queued, f.tiles, f.flagged);
+    }
+    std::printf("\n");
     std::fflush(stdout);
     return;
   }

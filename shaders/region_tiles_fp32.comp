@@ -1,0 +1,11 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The tile pass (region_tiles.glsl) in single precision; the pixel pass
+// that follows it is region_fp32.comp. Inputs arrive rounded to float with
+// their rounding in the error bounds, as there.
+#define CMR_TILE_PASS
+#define REAL float
+#define REAL2 vec2
+#define K_ROUND 1.1920928955078125e-7  // 2^-23
+#define K_TINY 7.8886090522101180541e-31  // 2^-100: covers flush-to-zero of denormals
+#include "region_common.glsl"
