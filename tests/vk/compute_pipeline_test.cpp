@@ -1,10 +1,17 @@
 // ComputePipeline on the device under test, item by item against the host
-// evaluation of shaders/test_count.comp, and its refusals.
+// evaluation of shaders/test_count.comp, its chain of two passes
+// (test_queue_first.comp queues items, test_queue_follow.comp takes the
+// queue), and its refusals.
 #include "vk/compute_pipeline.hpp"
 
 #include "device_under_test.hpp"
 #include "test_count_comp.h"     // cmr_test_count_comp_spv
 #include "test_pattern_frag.h"  // cmr_test_pattern_frag_spv (a fragment shader)
+#include "test_queue_first_comp.h"
+#include "test_queue_follow_comp.h"
+
+#include <algorithm>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -94,6 +101,57 @@ TEST_F(ComputePipelineTest, RefusesAFragmentShaderAndBadPushConstants) {
   auto run = p.value().run(bytes_of(input), 3, std::as_bytes(std::span(&too_short, 1)));
   ASSERT_FALSE(run);
   EXPECT_EQ(run.error().code, Errc::size_unsupported);
+}
+
+// run_chain: the counters start as `init` says whatever the last run left,
+// the first pass's queue is complete when the follow-up reads it, and the
+// follow-up runs the groups the first pass counted, each queued item once.
+TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
+  auto p = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {},
+                                   ComputePipeline::FollowUp{cmr_test_queue_follow_comp_spv});
+  ASSERT_TRUE(p) << p.error().message;
+  std::mt19937 rng(5);
+  for (const uint32_t n : {100000u, 1u, 0u, 5000u}) {
+    std::vector<uint32_t> input(1 + std::max(n, 1u));
+    input[0] = n;
+    for (uint32_t k = 1; k < input.size(); ++k) input[k] = rng() % 1000;
+    const uint32_t init[4] = {0, 0, 1, 1};
+    std::vector<uint32_t> out;
+    const uint32_t words = 8 + 2 * std::max(n, 1u);
+    auto r = p.value().run_chain(bytes_of(input), n, words, {0, init, 1}, [&](std::span<const std::byte> b) {
+      out.resize(words);
+      std::memcpy(out.data(), b.data(), 4 * words);
+    });
+    ASSERT_TRUE(r) << r.error().message;
+    std::vector<uint32_t> odd;
+    for (uint32_t at = 0; at < n; ++at)
+      if (input[1 + at] % 2 == 1) odd.push_back(at);
+    ASSERT_EQ(out[0], odd.size()) << n << " items";
+    EXPECT_EQ(out[1], (odd.size() + 63) / 64) << n << " items: the follow-up's groups";
+    std::vector<uint32_t> queued(out.begin() + 8, out.begin() + 8 + out[0]);
+    std::size_t wrong = 0;
+    for (uint32_t q = 0; q < out[0]; ++q) wrong += out[8 + n + q] != 10 * input[1 + queued[q]] + 1;
+    EXPECT_EQ(wrong, 0u) << n << " items: queued items the follow-up missed or misread";
+    std::sort(queued.begin(), queued.end());
+    EXPECT_EQ(queued, odd) << n << " items";
+  }
+  // Refusals: counters or group counts outside the result, and a chain on a
+  // pipeline without a follow-up.
+  const std::vector<uint32_t> input{1, 1};
+  const uint32_t init[4] = {0, 0, 1, 1};
+  const auto ignore = [](std::span<const std::byte>) {};
+  auto outside = p.value().run_chain(bytes_of(input), 1, 10, {8, init, 1}, ignore);
+  ASSERT_FALSE(outside);
+  EXPECT_EQ(outside.error().code, Errc::other);
+  auto plain = ComputePipeline::create(*context_, cmr_test_count_comp_spv, sizeof(Push));
+  ASSERT_TRUE(plain) << plain.error().message;
+  auto no_follow = plain.value().run_chain(bytes_of(input), 1, 10, {0, init, 1}, ignore);
+  ASSERT_FALSE(no_follow);
+  EXPECT_EQ(no_follow.error().code, Errc::other);
+  auto bad_follow = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {},
+                                            ComputePipeline::FollowUp{cmr_test_pattern_frag_spv});
+  ASSERT_FALSE(bad_follow);
+  EXPECT_EQ(bad_follow.error().code, Errc::shader_invalid);
 }
 
 }  // namespace
