@@ -40,6 +40,10 @@ layout(std430, set = 0, binding = 0) readonly buffer RegionData {
   uint hdr[HDR_WORDS];
   REAL2 data[];
 };
+// Pair i of this module's precision: a cascade's buffer holds the pairs in
+// double and then in float (shaders/region_layout.h, HDR_DATA_BASE_*); the
+// includer names its base word K_DATA_BASE.
+#define DATA(i) data[hdr[K_DATA_BASE] + (i)]
 
 #ifndef CMR_REGION_PRESENT  // region_present.glsl has its own output and main
 // One invocation per listed pixel, tile or tile row (vk/compute_pipeline.hpp's
@@ -113,7 +117,7 @@ REAL2 xi_at(uint e, int p, int k) {
   REAL v = REAL(0), mag = REAL(0);
   bool zero = true;
   for (int h = 0; h < 5; ++h) {
-    REAL2 c = data[at + uint(h)];
+    REAL2 c = DATA(at + uint(h));
     v += c.x * mono[2 * h] + c.y * mono[2 * h + 1];
     mag += abs(c.x) * amono[2 * h] + abs(c.y) * amono[2 * h + 1];
     zero = zero && c.x == REAL(0) && c.y == REAL(0);
@@ -127,7 +131,7 @@ REAL2 nu_at(uint e, int p, int k) {
 #ifdef CMR_TILE_PASS
   return nu_box(at);
 #endif
-  REAL2 c01 = data[at], c2 = data[at + 1u];
+  REAL2 c01 = DATA(at), c2 = DATA(at + 1u);
   REAL v = c01.x + c01.y * mono[1] + c2.x * mono[2];
   REAL mag = abs(c01.x) + abs(c01.y) * amono[1] + abs(c2.x) * amono[2];
   if (c01.x == REAL(0) && c01.y == REAL(0) && c2.x == REAL(0)) return REAL2(0);
@@ -234,9 +238,9 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
 // Bezier point i of entry e moved by (dx, dy), with bounds.
 void moved_point(uint e, int i, REAL2 dx, REAL2 dy, out REAL2 x, out REAL2 y) {
   uint at = entry_at(e) + 1u + uint(3 * i);
-  REAL2 w = data[at + 2u];
-  x = b_add(data[at], b_mul(w, dx));
-  y = b_add(data[at + 1u], b_mul(w, dy));
+  REAL2 w = DATA(at + 2u);
+  x = b_add(DATA(at), b_mul(w, dx));
+  y = b_add(DATA(at + 1u), b_mul(w, dy));
 }
 
 REAL2 det2(REAL2 ax_, REAL2 ay_, REAL2 bx_, REAL2 by_) { return b_sub(b_mul(ax_, by_), b_mul(ay_, bx_)); }
@@ -292,7 +296,7 @@ uint level0(bool cmr) {
   uint E = hdr[HDR_ENTRIES];
   bool uncertain = false;
   for (uint e = 0u; e < E; ++e) {
-    if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
+    if (DATA(entry_at(e)).y == REAL(0)) continue;  // a neighbour only
     // cmr::level0_fails: certain failures decide; unknown ones wait for the host.
     // Each polynomial read at one call site (decide_piece says why).
     for (int eta = 0; eta < (cmr ? 2 : 1); ++eta) {
@@ -330,9 +334,9 @@ uint full(bool cmr, REAL2 bdx, REAL2 bdy) {
   int first = 0, second = 0, prev = 0;  // directions of groups 0, 1 and the one before
   bool any_none = false, any_undecided = false, same_way = false;
   for (uint part = 0u; part < P; ++part) {
-    uint flags = uint(data[hdr[HDR_PART_OFFSET] + part].x);
-    for (; e < E && uint(data[entry_at(e)].x) == part; ++e) {
-      if (data[entry_at(e)].y == REAL(0)) continue;  // a neighbour only
+    uint flags = uint(DATA(hdr[HDR_PART_OFFSET] + part).x);
+    for (; e < E && uint(DATA(entry_at(e)).x) == part; ++e) {
+      if (DATA(entry_at(e)).y == REAL(0)) continue;  // a neighbour only
       // Algorithm 1, then (CMR) Algorithm 2: each traversal at one call
       // site (decide_piece says why).
       for (int a = 0; a < (cmr ? 2 : 1); ++a) {
@@ -358,8 +362,8 @@ uint full(bool cmr, REAL2 bdx, REAL2 bdy) {
 #endif
       }
     }
-    for (; j < J && uint(data[hdr[HDR_JOINT_OFFSET] + 2u * j + 1u].x) == part; ++j) {
-      REAL2 ends = data[hdr[HDR_JOINT_OFFSET] + 2u * j];
+    for (; j < J && uint(DATA(hdr[HDR_JOINT_OFFSET] + 2u * j + 1u).x) == part; ++j) {
+      REAL2 ends = DATA(hdr[HDR_JOINT_OFFSET] + 2u * j);
       int s = jump_sign(uint(ends.x), uint(ends.y), bdx, bdy);
       if (s == SIGN_UNKNOWN) return UNCERTAIN;
       flags |= s > 0 ? FLAG_UP : (s < 0 ? FLAG_DOWN : 0u);
@@ -396,7 +400,7 @@ uint full(bool cmr, REAL2 bdx, REAL2 bdy) {
 uint classify_pixel(int pi, int pj) {
   const bool cmr = CMR_MODE;
   // dx = fl(p - P_k), computed by the host with cmr::pixel_center.
-  REAL dx = data[hdr[HDR_DX_OFFSET] + uint(pi)].x, dy = data[hdr[HDR_DY_OFFSET] + uint(pj)].x;
+  REAL dx = DATA(hdr[HDR_DX_OFFSET] + uint(pi)).x, dy = DATA(hdr[HDR_DY_OFFSET] + uint(pj)).x;
   set_monomials(dx, dy);
   // Pixels decided at level 0 as not monotone get 0 (label 0, depth 0).
   if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) return 0u;  // an untouched segment fails at level 0
@@ -429,7 +433,7 @@ void main() {
   const uint tx = at % tiles_x, tr = at / tiles_x;
   uint r = RESULT_UNCERTAIN;
   if (hdr[HDR_TILE_PROOFS] != 0u)
-    r = classify_tile(data[hdr[HDR_TILE_X_OFFSET] + tx], data[hdr[HDR_TILE_Y_OFFSET] + hdr[HDR_FIRST_TILE_ROW] + tr]);
+    r = classify_tile(DATA(hdr[HDR_TILE_X_OFFSET] + tx), DATA(hdr[HDR_TILE_Y_OFFSET] + hdr[HDR_FIRST_TILE_ROW] + tr));
   if ((r & RESULT_UNCERTAIN) == 0u) {  // proven: the tile's bytes all get its label
     const uint word = (r & RESULT_LABEL_MASK) * 0x01010101u;
     for (uint y = 0u; y < TILE; ++y)
@@ -447,13 +451,34 @@ void main() {
     // invocations, which a GPU or llvmpipe runs in lock step, get
     // neighbouring, similar pixels).
     if (at >= hdr[HDR_LISTED]) return;
-    REAL2 ij = data[hdr[HDR_LIST_OFFSET] + at];
+    REAL2 ij = DATA(hdr[HDR_LIST_OFFSET] + at);
     result[at] = classify_pixel(int(ij.x), int(ij.y));
     return;
   }
   // Every pixel, by tiles (shaders/region_layout.h).
   const uint w = hdr[HDR_WIDTH], tiles_x = (w + TILE - 1u) / TILE, stride = tiles_x * TILE / 4u;
   const uint counters = hdr[HDR_OUT_COUNTERS], queue = hdr[HDR_OUT_QUEUE];
+  const uint list = hdr[HDR_OUT_LIST], cap = hdr[HDR_LIST_CAP];
+#ifdef CMR_DOUBLE
+  if (hdr[HDR_CASCADE] != 0u) {
+    // The cascade's double pass: pixel `at` of those the float pixel pass
+    // could not certify; its label byte there is PACKED_UNCERTAIN (all ones)
+    // and its depth byte 0, so xor and or put this pass's bytes in.
+    if (at >= min(result[counters + OUT_SECOND], cap)) return;
+    const uint k = result[hdr[HDR_OUT_SECOND] + at], pi = k % w, pj = k / w;
+    const uint r = classify_pixel(int(pi), int(pj));
+    if ((r & RESULT_UNCERTAIN) != 0u) {
+      const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+      if (f < cap) result[list + f] = k;
+      return;
+    }
+    const uint word = (pj - hdr[HDR_FIRST_TILE_ROW] * TILE) * stride + pi / 4u, shift = 8u * (pi % 4u);
+    atomicXor(result[word], (PACKED_UNCERTAIN ^ (r & RESULT_LABEL_MASK)) << shift);
+    if (hdr[HDR_DEPTH_PLANE] != 0u)
+      atomicOr(result[hdr[HDR_TILE_ROWS] * TILE * stride + word], ((r >> RESULT_DEPTH_SHIFT) & 255u) << shift);
+    return;
+  }
+#endif
   // The pixel pass: row y of queued tile q.
   const uint q = at / TILE, y = at % TILE;
   if (q >= result[counters + OUT_QUEUED]) return;
@@ -470,8 +495,18 @@ void main() {
       uint label = r & RESULT_LABEL_MASK;
       if ((r & RESULT_UNCERTAIN) != 0u) {
         label = PACKED_UNCERTAIN;
-        const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
-        if (f < hdr[HDR_LIST_CAP]) result[hdr[HDR_OUT_LIST] + f] = pj * w + pi;
+        uint s = cap;
+        if (hdr[HDR_CASCADE] != 0u) {  // to the double pass while its list has room
+          s = atomicAdd(result[counters + OUT_SECOND], 1u);
+          if (s < cap) {
+            result[hdr[HDR_OUT_SECOND] + s] = pj * w + pi;
+            if (s % 64u == 0u) atomicAdd(result[counters + OUT_SECOND_GROUPS_X], 1u);
+          }
+        }
+        if (s >= cap) {  // to the host
+          const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+          if (f < cap) result[list + f] = pj * w + pi;
+        }
       }
       labels |= label << (8u * b);
       depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * b);

@@ -3,6 +3,7 @@
 // Region shader in single precision, for devices without shaderFloat64.
 // Inputs arrive rounded to float with their rounding in the error bounds.
 #define REAL float
+#define K_DATA_BASE HDR_DATA_BASE_F32
 #define REAL2 vec2
 #define K_ROUND 1.1920928955078125e-7  // 2^-23
 #define K_TINY 7.8886090522101180541e-31  // 2^-100: covers flush-to-zero of denormals

@@ -41,6 +41,16 @@
 // the counters at HDR_OUT_COUNTERS; the queue; then the pixels the host
 // must decide (their label byte is PACKED_UNCERTAIN), as row-major image
 // indices, the first HDR_LIST_CAP of OUT_FLAGGED at HDR_OUT_LIST.
+// A cascade (HDR_CASCADE; vk::RegionPrecision::cascade) runs both passes in
+// float (region_tiles_fp32.comp, region_fp32.comp) and a third in double
+// (region_fp64.comp): the float pixel pass hands each pixel it cannot
+// certify to the second list (its first HDR_LIST_CAP at HDR_OUT_SECOND,
+// counted by OUT_SECOND, a group per 64; the rest straight to the host's
+// list), and the double pass decides them again, overwriting their label
+// (and depth) bytes, and lists for the host what it cannot certify either.
+// Its buffer holds every pair twice: in double from data[HDR_DATA_BASE_F64]
+// (0), then in float from data[HDR_DATA_BASE_F32] (counted in float pairs);
+// the offsets in hdr count pairs from those bases.
 #ifndef CMR_SHADERS_REGION_LAYOUT_H
 #define CMR_SHADERS_REGION_LAYOUT_H
 
@@ -82,14 +92,20 @@ CMR_LAYOUT_CONST(HDR_OUT_COUNTERS, 25u)       // every pixel: output word of the
 CMR_LAYOUT_CONST(HDR_OUT_QUEUE, 26u)          // every pixel: output word of the tile queue
 CMR_LAYOUT_CONST(HDR_OUT_LIST, 27u)           // every pixel: output word of the flagged pixels
 CMR_LAYOUT_CONST(HDR_LIST_CAP, 28u)           // every pixel: room for flagged pixels
-CMR_LAYOUT_CONST(HDR_WORDS, 32u)              // size of hdr
+CMR_LAYOUT_CONST(HDR_DATA_BASE_F64, 29u)      // data[] index of the double pairs (0 but in a cascade)
+CMR_LAYOUT_CONST(HDR_DATA_BASE_F32, 30u)      // data[] index (in float pairs) of the float pairs
+CMR_LAYOUT_CONST(HDR_CASCADE, 31u)            // every pixel: 1 = fp32 passes, then fp64 for what they flag
+CMR_LAYOUT_CONST(HDR_OUT_SECOND, 32u)         // cascade: output word of the fp64 pass's list
+CMR_LAYOUT_CONST(HDR_WORDS, 40u)              // size of hdr (data[] then starts 16-byte aligned)
 
 // Tiles (every pixel).
 CMR_LAYOUT_CONST(TILE, 8u)           // tile side in pixels; the pixel pass's invocations per tile
 CMR_LAYOUT_CONST(OUT_QUEUED, 0u)     // counter: tiles queued for the pixel pass
 CMR_LAYOUT_CONST(OUT_GROUPS_X, 1u)   // counters 1-3: the pixel pass's group counts (x, 1, 1)
 CMR_LAYOUT_CONST(OUT_FLAGGED, 4u)    // counter: pixels flagged for the host (may exceed HDR_LIST_CAP)
-CMR_LAYOUT_CONST(OUT_COUNTER_WORDS, 8u)
+CMR_LAYOUT_CONST(OUT_SECOND, 5u)     // cascade: pixels the fp32 pixel pass hands to the fp64 pass
+CMR_LAYOUT_CONST(OUT_SECOND_GROUPS_X, 6u)  // cascade: counters 6-8, the fp64 pass's group counts (x, 1, 1)
+CMR_LAYOUT_CONST(OUT_COUNTER_WORDS, 12u)
 
 // Label kinds (cmr::backend::Labels).
 CMR_LAYOUT_CONST(LABELS_PLAIN, 0u)        // Direction: one group

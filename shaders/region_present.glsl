@@ -53,7 +53,7 @@ void main() {
     label = given - 1u;
   } else {
     if (hdr[HDR_FIXED_LEVEL0_NONE] != 0u) discard;  // every pixel is not monotone
-    REAL dx = data[hdr[HDR_DX_OFFSET] + pi].x, dy = data[hdr[HDR_DY_OFFSET] + pj].x;
+    REAL dx = DATA(hdr[HDR_DX_OFFSET] + pi).x, dy = DATA(hdr[HDR_DY_OFFSET] + pj).x;
     set_monomials(dx, dy);
     uint r = level0(cmr);
     if (r == 0u) discard;

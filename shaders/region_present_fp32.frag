@@ -2,6 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // The region drawn into a window, single precision (any device).
 #define REAL float
+#define K_DATA_BASE HDR_DATA_BASE_F32
 #define REAL2 vec2
 #define K_ROUND 1.1920928955078125e-7  // 2^-23
 #define K_TINY 7.8886090522101180541e-31  // 2^-100: covers flush-to-zero of denormals

@@ -84,7 +84,7 @@ REAL2 box_poly(REAL c[10], int n) {
 REAL2 xi_box(uint at) {
   REAL c[10];
   for (int h = 0; h < 5; ++h) {
-    REAL2 v = data[at + uint(h)];
+    REAL2 v = DATA(at + uint(h));
     c[2 * h] = v.x;
     c[2 * h + 1] = v.y;
   }
@@ -93,7 +93,7 @@ REAL2 xi_box(uint at) {
 
 REAL2 nu_box(uint at) {
   REAL c[10];
-  REAL2 c01 = data[at], c2 = data[at + 1u];
+  REAL2 c01 = DATA(at), c2 = DATA(at + 1u);
   c[0] = c01.x; c[1] = c01.y; c[2] = c2.x;
   return box_poly(c, 3);
 }

@@ -5,6 +5,7 @@
 // their rounding in the error bounds, as there.
 #define CMR_TILE_PASS
 #define REAL float
+#define K_DATA_BASE HDR_DATA_BASE_F32
 #define REAL2 vec2
 #define K_ROUND 1.1920928955078125e-7  // 2^-23
 #define K_TINY 7.8886090522101180541e-31  // 2^-100: covers flush-to-zero of denormals

@@ -27,7 +27,7 @@ Error size_error(std::string message) { return Error{Errc::size_unsupported, VK_
 
 struct ComputePipeline::Impl : detail::PipelineCore {
   uint32_t push_constant_bytes = 0;
-  VkPipeline follow_up = VK_NULL_HANDLE;  // the chain's second pass (run_chain), if made with one
+  std::vector<VkPipeline> follow_ups;  // the chain's further passes (run_chain), if made with any
 
   Buffer input;     // device-local, read by the shader
   Buffer staging;   // host-visible source of the input upload
@@ -42,7 +42,7 @@ struct ComputePipeline::Impl : detail::PipelineCore {
   ~Impl();
 
   Result<void> create_pipeline(std::span<const uint32_t> spirv, std::span<const uint32_t> specialization,
-                               const FollowUp* follow);
+                               std::span<const FollowUp> follow);
   Result<void> create_commands();
   // Grows `device_side` and its host-visible partner to at least `bytes`.
   Result<void> ensure(Buffer& device_side, Buffer& host_side, VkDeviceSize bytes, bool upload);
@@ -55,11 +55,12 @@ ComputePipeline::Impl::~Impl() {
   if (device == VK_NULL_HANDLE) return;
   wait_if_pending();
   for (Buffer* b : {&input, &staging, &output, &readback}) detail::destroy_buffer(device, *b);
-  if (follow_up != VK_NULL_HANDLE) vkDestroyPipeline(device, follow_up, nullptr);
+  for (VkPipeline f : follow_ups) vkDestroyPipeline(device, f, nullptr);
 }
 
 Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> spirv,
-                                                    std::span<const uint32_t> specialization, const FollowUp* follow) {
+                                                    std::span<const uint32_t> specialization,
+                                                    std::span<const FollowUp> follow) {
   if (auto r = create_layouts_and_set(2, VK_SHADER_STAGE_COMPUTE_BIT, push_constant_bytes, "compute pipeline"); !r)
     return r.error();
 
@@ -87,8 +88,12 @@ Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> sp
     return e;
   };
   if (auto r = make(spirv, pipeline); !r) return r;
-  if (!follow) return {};
-  return make(follow->spirv, follow_up);
+  for (const FollowUp& f : follow) {
+    VkPipeline made = VK_NULL_HANDLE;
+    if (auto r = make(f.spirv, made); !r) return r;
+    follow_ups.push_back(made);
+  }
+  return {};
 }
 
 Result<void> ComputePipeline::Impl::create_commands() {
@@ -150,13 +155,13 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
   const uint32_t groups = (count + kGroupSize - 1) / kGroupSize;
   const uint32_t per_row = std::min(groups, kGroupsPerRow);
   if (count > 0) vkCmdDispatch(cmd, per_row, (groups + per_row - 1) / per_row, 1);
-  if (chain) {  // the follow-up, sized by what the first pass queued
+  for (std::size_t i = 0; chain && i < follow_ups.size(); ++i) {  // each sized by what the passes before queued
     detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT,
                            VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, follow_up);
-    vkCmdDispatchIndirect(cmd, output.buffer, VkDeviceSize{chain->indirect_word} * 4);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, follow_ups[i]);
+    vkCmdDispatchIndirect(cmd, output.buffer, VkDeviceSize{chain->indirect_words[i]} * 4);
   }
   detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -189,20 +194,23 @@ Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<cons
   impl->state = state;
   impl->device = state->device;
   impl->push_constant_bytes = push_constant_bytes;
-  if (auto r = impl->create_pipeline(compute_spirv, specialization, nullptr); !r) return r.error();
+  if (auto r = impl->create_pipeline(compute_spirv, specialization, {}); !r) return r.error();
   if (auto r = impl->create_commands(); !r) return r.error();
   return ComputePipeline(std::move(impl));
 }
 
 Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
-                                                std::span<const uint32_t> specialization, FollowUp follow_up) {
-  for (const std::span<const uint32_t> words : {compute_spirv, follow_up.spirv})
-    if (auto r = detail::check_spirv(words, detail::ShaderStage::compute); !r) return r.error();
+                                                std::span<const uint32_t> specialization,
+                                                std::span<const FollowUp> follow_ups) {
+  if (follow_ups.empty()) return size_error("a chain of passes needs at least one follow-up");
+  if (auto r = detail::check_spirv(compute_spirv, detail::ShaderStage::compute); !r) return r.error();
+  for (const FollowUp& f : follow_ups)
+    if (auto r = detail::check_spirv(f.spirv, detail::ShaderStage::compute); !r) return r.error();
   const std::shared_ptr<detail::DeviceState>& state = context.state();
   auto impl = std::make_unique<Impl>();
   impl->state = state;
   impl->device = state->device;
-  if (auto r = impl->create_pipeline(compute_spirv, specialization, &follow_up); !r) return r.error();
+  if (auto r = impl->create_pipeline(compute_spirv, specialization, follow_ups); !r) return r.error();
   if (auto r = impl->create_commands(); !r) return r.error();
   return ComputePipeline(std::move(impl));
 }
@@ -225,10 +233,15 @@ Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t cou
 
 Result<void> ComputePipeline::run_chain(std::span<const std::byte> input, uint32_t count, uint32_t words,
                                         const Chain& chain, const std::function<void(std::span<const std::byte>)>& read) {
-  if (impl_->follow_up == VK_NULL_HANDLE)
+  if (impl_->follow_ups.empty())
     return Error{Errc::other, VK_SUCCESS, "run_chain on a compute pipeline made without a follow-up pass"};
-  if (chain.init.empty() || chain.init.size() > 16384 || uint64_t{chain.init_word} + chain.init.size() > words ||
-      uint64_t{chain.indirect_word} + 3 > words)
+  if (chain.indirect_words.size() != impl_->follow_ups.size())
+    return Error{Errc::other, VK_SUCCESS, "a chain names " + std::to_string(chain.indirect_words.size()) +
+                                              " group counts for " + std::to_string(impl_->follow_ups.size()) +
+                                              " follow-up passes"};
+  bool outside = chain.init.empty() || chain.init.size() > 16384 || uint64_t{chain.init_word} + chain.init.size() > words;
+  for (const uint32_t at : chain.indirect_words) outside = outside || uint64_t{at} + 3 > words;
+  if (outside)
     return Error{Errc::other, VK_SUCCESS, "a chain's counters or group counts lie outside its " +
                                               std::to_string(words) + " result words"};
   return run_passes(input, count, {}, words, read, &chain);

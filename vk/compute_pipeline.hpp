@@ -14,13 +14,13 @@
 // nothing beyond, and must know `count` itself (from its input or push
 // constants).
 //
-// A pipeline made with a follow-up (FollowUp) runs a chain of two passes in
-// the same submission: the first over `count` items, then the follow-up (a
-// second shader of the same interface and specialisation) with the group
-// counts the first pass wrote into the result (vkCmdDispatchIndirect): a
-// work queue on the device (the region shader's tile pass and pixel pass,
-// shaders/region_layout.h). The follow-up's items are
-// gl_GlobalInvocationID.x (one dimension).
+// A pipeline made with follow-ups (FollowUp) runs a chain of passes in the
+// same submission: the first over `count` items, then each follow-up (a
+// shader of the same interface and specialisation) with the group counts
+// the passes before it wrote into the result (vkCmdDispatchIndirect): work
+// queues on the device (the region shader's tile, pixel and double passes,
+// shaders/region_layout.h). A follow-up's items are gl_GlobalInvocationID.x
+// (one dimension).
 //
 // Why compute and not the fragment pipeline (vk/fragment_pipeline.hpp): no
 // colour image, render pass or image-to-buffer copy, the list in one
@@ -56,14 +56,15 @@ class ComputePipeline {
                                         uint32_t push_constant_bytes = 0,
                                         std::span<const uint32_t> specialization = {});
 
-  // The follow-up pass: its compute SPIR-V, specialised as the first pass.
+  // A follow-up pass: its compute SPIR-V, specialised as the first pass.
   struct FollowUp {
     std::span<const uint32_t> spirv;
   };
-  // The same, with a follow-up pass (run_chain), no push constants.
-  // Errors: as above.
+  // The same, with follow-up passes (run_chain; at least one), no push
+  // constants. Errors: as above.
   static Result<ComputePipeline> create(Context& context, std::span<const uint32_t> compute_spirv,
-                                        std::span<const uint32_t> specialization, FollowUp follow_up);
+                                        std::span<const uint32_t> specialization,
+                                        std::span<const FollowUp> follow_ups);
 
   ComputePipeline(ComputePipeline&&) noexcept;
   ComputePipeline& operator=(ComputePipeline&&) noexcept;
@@ -88,20 +89,21 @@ class ComputePipeline {
   Result<void> run(std::span<const std::byte> input, uint32_t count, std::span<const std::byte> push_constants,
                    uint32_t words, const std::function<void(std::span<const std::byte>)>& read);
 
-  // What a chain's submission does besides the two passes: `init` is written
-  // to result words init_word.. before the first pass (the queue's counters;
-  // every other result word starts undefined), and the follow-up's group
-  // counts (x, y, z) are result words indirect_word..+2 when the first pass
-  // ends.
+  // What a chain's submission does besides its passes: `init` is written to
+  // result words init_word.. before the first pass (the queues' counters;
+  // every other result word starts undefined), and follow-up i's group
+  // counts (x, y, z) are result words indirect_words[i]..+2 when the passes
+  // before it end.
   struct Chain {
     uint32_t init_word = 0;
     std::span<const uint32_t> init;
-    uint32_t indirect_word = 0;
+    std::span<const uint32_t> indirect_words;  ///< one per follow-up
   };
-  // run() for a pipeline made with a follow-up: both passes in one
+  // run() for a pipeline made with follow-ups: every pass in one
   // submission, then one copy of the `words` result words to `read`.
-  // Errors: as run(); other when the pipeline has no follow-up or `init`
-  //   or the group counts lie outside `words`.
+  // Errors: as run(); other when the pipeline has no follow-up, the chain
+  //   names another number of them, or `init` or the group counts lie
+  //   outside `words`.
   Result<void> run_chain(std::span<const std::byte> input, uint32_t count, uint32_t words, const Chain& chain,
                          const std::function<void(std::span<const std::byte>)>& read);
 

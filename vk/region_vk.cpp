@@ -299,10 +299,16 @@ DeviceShare VulkanRegionBackend::share() const {
   return context_.device().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? DeviceShare::culled : DeviceShare::whole;
 }
 
+bool VulkanRegionBackend::cascade() const { return options_.cascade && context_.device().float64; }
+
 Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s, bool deep) {
-  const RegionPrecision precision = options_.precision;
+  const bool cascade = deep && this->cascade();
+  // A cascade runs fp32 passes and then fp64; the culled share's cascade is fp64.
+  const RegionPrecision precision = cascade ? RegionPrecision::fp32
+                                    : options_.cascade ? RegionPrecision::fp64
+                                                       : options_.precision;
   const Key key{s.spline().degree(), s.options.max_depth, precision, s.options.mode == Mode::cmr, !s.varying.empty(),
-                s.spline().is_rational(), deep};
+                s.spline().is_rational(), deep, cascade};
   for (auto& [k, pl] : pipelines_)
     if (k == key) return &pl;
   if (options_.fault == InjectedFault::pipeline_rejected)
@@ -316,10 +322,13 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s,
   const std::span<const uint32_t> pixels = f64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
                                                : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
   // The whole share is a chain: the tile pass, then the pixel pass over the
-  // tiles it queued (shaders/region_layout.h).
+  // tiles it queued, then (a cascade) the fp64 pass over the pixels the fp32
+  // pixel pass flagged (shaders/region_layout.h).
   const std::span<const uint32_t> tiles = f64 ? std::span<const uint32_t>(cmr_region_tiles_fp64_comp_spv)
                                               : std::span<const uint32_t>(cmr_region_tiles_fp32_comp_spv);
-  auto created = key.deep ? ComputePipeline::create(context_, tiles, spec, {pixels})
+  const ComputePipeline::FollowUp follow[] = {{pixels}, {cmr_region_fp64_comp_spv}};
+  auto created = key.deep ? ComputePipeline::create(context_, tiles, spec,
+                                                    std::span<const ComputePipeline::FollowUp>(follow, cascade ? 2 : 1))
                           : ComputePipeline::create(context_, pixels, 0, spec);
   if (!created) return created.error();
   pipelines_.emplace_back(key, created.take());
@@ -329,7 +338,7 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s,
 }
 
 Result<ComputePipeline*> VulkanRegionBackend::prepare(const RegionSetup& s, bool deep) {
-  if (options_.precision == RegionPrecision::fp64 && !context_.device().float64)
+  if (options_.precision == RegionPrecision::fp64 && !options_.cascade && !context_.device().float64)
     return Error{Errc::missing_feature, VK_SUCCESS,
                  "device '" + context_.device().name + "' lacks shaderFloat64; use " + field("precision") + " fp32"};
   auto pipeline = pipeline_for(s, deep);
@@ -366,7 +375,17 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
   auto pipeline = prepare(s, true);
   if (!pipeline) return pipeline.error();
   const RegionRequest& o = s.options;
-  std::vector<std::byte> buffer = detail::pack_region(s, options_.precision, {}, true);
+  const bool cascade = this->cascade();
+  std::vector<std::byte> buffer = detail::pack_region(s, cascade ? RegionPrecision::fp64 : options_.precision, {}, true);
+  if (cascade) {
+    // Every pair twice: in double, then in float (shaders/region_layout.h).
+    const std::vector<std::byte> floats = detail::pack_region(s, RegionPrecision::fp32, {}, true);
+    const std::size_t head = std::size_t{HDR_WORDS} * 4, doubles = buffer.size() - head;
+    buffer.insert(buffer.end(), floats.begin() + static_cast<std::ptrdiff_t>(head), floats.end());
+    const uint32_t base = static_cast<uint32_t>(doubles / 8), one = 1;  // in float pairs
+    std::memcpy(buffer.data() + 4 * HDR_DATA_BASE_F32, &base, 4);
+    std::memcpy(buffer.data() + 4 * HDR_CASCADE, &one, 4);
+  }
   const auto set_header = [&](uint32_t word, std::size_t value) {
     const uint32_t v = static_cast<uint32_t>(value);
     std::memcpy(buffer.data() + 4 * word, &v, 4);
@@ -380,7 +399,8 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
   const std::size_t per_run = options_.pixels_per_run > 0 ? options_.pixels_per_run : kWholePerRun;
   const std::size_t rows_per_run = std::max<std::size_t>(1, per_run / (TILE * TILE * tiles_x));
   const std::size_t stride = TILE * tiles_x;  // bytes of a plane's row
-  const uint32_t init[OUT_COUNTER_WORDS] = {0, 0, 1, 1, 0, 0, 0, 0};  // nothing queued; groups (0, 1, 1)
+  // Nothing queued, the groups of both follow-ups (0, 1, 1).
+  const uint32_t init[OUT_COUNTER_WORDS] = {0, 0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0};
   std::vector<std::size_t> flagged;
   bool scan = false;  // more flagged than listed: find them in the label map
   frame_ = {};
@@ -397,10 +417,13 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
     set_header(HDR_OUT_QUEUE, queue);
     set_header(HDR_OUT_LIST, list);
     set_header(HDR_LIST_CAP, cap);
+    set_header(HDR_OUT_SECOND, list + cap);
+    const uint32_t groups[] = {static_cast<uint32_t>(counters + OUT_GROUPS_X),
+                               static_cast<uint32_t>(counters + OUT_SECOND_GROUPS_X)};
     const ComputePipeline::Chain chain{static_cast<uint32_t>(counters), init,
-                                       static_cast<uint32_t>(counters + OUT_GROUPS_X)};
+                                       std::span<const uint32_t>(groups, cascade ? 2 : 1)};
     auto out = pipeline.value()->run_chain(
-        buffer, static_cast<uint32_t>(tiles_x * R), static_cast<uint32_t>(list + cap), chain,
+        buffer, static_cast<uint32_t>(tiles_x * R), static_cast<uint32_t>(list + (cascade ? 2 : 1) * cap), chain,
         [&](std::span<const std::byte> bytes) {
           const std::size_t row0 = first * TILE, rows = std::min<std::size_t>(R * TILE, o.height - row0);
           for (std::size_t y = 0; y < rows; ++y) {
@@ -413,6 +436,7 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
           frame_.tiles += tiles_x * R;
           frame_.tiles_queued += c[OUT_QUEUED];
           frame_.flagged += c[OUT_FLAGGED];
+          frame_.second += c[OUT_SECOND];
           if (c[OUT_FLAGGED] > cap) {
             scan = true;
             return;

@@ -57,6 +57,11 @@ struct VulkanRegionOptions {
   std::string device;                                 ///< device name (case-insensitive substring); empty: the first suitable
   RegionPrecision precision = RegionPrecision::fp64;  ///< shader arithmetic; labels are certified either way
   DeviceShare share = DeviceShare::automatic;         ///< see DeviceShare
+  /// The whole share as a cascade: its tile and pixel passes in fp32, then
+  /// an fp64 pass over the pixels they could not certify, in the same
+  /// submission (for GPUs whose fp64 is slow); `precision` is then unused.
+  /// On a device without shaderFloat64, fp32 alone; on the culled share, fp64.
+  bool cascade = false;
   int threads = 0;                                    ///< host threads (culling, uncertain pixels); 0: all cores
   /// Most pixels one run takes (0: as the 2^27-byte storage buffers every
   /// device allows hold; the whole share rounds down to whole tile rows, at
@@ -127,6 +132,7 @@ class VulkanRegionBackend final : public RegionBackend {
     std::size_t tiles = 0;         ///< tiles of TILE x TILE pixels (shaders/region_layout.h)
     std::size_t tiles_queued = 0;  ///< tiles the tile pass did not prove, left to the pixel pass
     std::size_t flagged = 0;       ///< pixels the device left to the host
+    std::size_t second = 0;        ///< cascade: pixels the fp32 passes left to the fp64 pass
   };
   const WholeFrame& last_whole_frame() const { return frame_; }
 
@@ -137,11 +143,14 @@ class VulkanRegionBackend final : public RegionBackend {
     bool cmr, joints;
     bool rational;
     bool deep;  ///< the device halves pieces below the precomputed levels (DeviceShare::whole)
+    bool cascade;  ///< whole share: fp32 passes, then fp64 (VulkanRegionOptions::cascade)
     bool operator==(const Key&) const = default;
   };
   VulkanRegionBackend(Context context, VulkanRegionOptions options)
       : context_(std::move(context)), options_(std::move(options)) {}
   Result<ComputePipeline*> pipeline_for(const cmr::backend::RegionSetup& setup, bool deep);
+  /// Whether a whole-share frame runs as a cascade (options and device).
+  bool cascade() const;
   /// The culled share: one result word per listed pixel, in order
   /// (shaders/region_layout.h), into `words`.
   Result<void> shade_listed(const cmr::backend::RegionSetup& setup, const std::vector<std::array<int, 2>>& pixels,

@@ -327,6 +327,11 @@ std::vector<BackendUnderTest> backends() {
       const bool f64 = p == vk::RegionPrecision::fp64, culled = share == vk::DeviceShare::culled;
       b.push_back({culled ? (f64 ? "vulkan_fp64" : "vulkan_fp32") : (f64 ? "vulkan_fp64_whole" : "vulkan_fp32_whole"), o});
     }
+  // The whole share as a cascade: fp32 passes, then fp64 for what they flag.
+  test::BackendOptions cascade;
+  cascade.share = vk::DeviceShare::whole;
+  cascade.cascade = true;
+  b.push_back({"vulkan_cascade_whole", cascade});
   return b;
 }
 
@@ -451,6 +456,29 @@ std::vector<Case> structural_cases() {
   for (const Case& c : cases())
     if (c.structural) s.push_back(c);
   return s;
+}
+
+// The cascade's fp64 pass is not idle: over the boundary zooms the fp32
+// passes flag pixels, and the fp64 pass decides most of them, so that the
+// host decides fewer than fp32 alone would leave it (labels: Certify.*).
+TEST(CertifyCascade, TheFp64PassDecidesMostOfWhatTheFp32PassesFlag) {
+  vk::VulkanRegionOptions o;
+  o.share = vk::DeviceShare::whole;
+  o.cascade = true;
+  auto b = vk::VulkanRegionBackend::create(o);
+  ASSERT_TRUE(b) << b.error().message;
+  if (!b.value().device().float64) GTEST_SKIP() << "no shaderFloat64: the cascade is fp32 alone";
+  std::size_t second = 0, flagged = 0;
+  for (const Case& c : cases()) {
+    if (c.zoom == Zoom::none) continue;
+    const Scene scene = make_scene(c);
+    (void)b.value().render(RegionProblem::make(scene.spline, scene.options));
+    second += b.value().last_whole_frame().second;
+    flagged += b.value().last_whole_frame().flagged;
+  }
+  EXPECT_GT(second, 0u) << "the fp32 passes flagged no pixel: the fp64 pass was not exercised";
+  EXPECT_LT(2 * flagged, second) << "of " << second << " pixels the fp32 passes flagged, the fp64 pass left "
+                                 << flagged << " to the host";
 }
 
 // The tests above can see a bound that is too small: with the shader's

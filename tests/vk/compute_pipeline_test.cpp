@@ -107,8 +107,9 @@ TEST_F(ComputePipelineTest, RefusesAFragmentShaderAndBadPushConstants) {
 // the first pass's queue is complete when the follow-up reads it, and the
 // follow-up runs the groups the first pass counted, each queued item once.
 TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
-  auto p = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {},
-                                   ComputePipeline::FollowUp{cmr_test_queue_follow_comp_spv});
+  const ComputePipeline::FollowUp follow[] = {{cmr_test_queue_follow_comp_spv}};
+  const uint32_t groups[] = {1};  // the follow-up's group counts: result words 1-3
+  auto p = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {}, follow);
   ASSERT_TRUE(p) << p.error().message;
   std::mt19937 rng(5);
   for (const uint32_t n : {100000u, 1u, 0u, 5000u}) {
@@ -118,7 +119,7 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
     const uint32_t init[4] = {0, 0, 1, 1};
     std::vector<uint32_t> out;
     const uint32_t words = 8 + 2 * std::max(n, 1u);
-    auto r = p.value().run_chain(bytes_of(input), n, words, {0, init, 1}, [&](std::span<const std::byte> b) {
+    auto r = p.value().run_chain(bytes_of(input), n, words, {0, init, groups}, [&](std::span<const std::byte> b) {
       out.resize(words);
       std::memcpy(out.data(), b.data(), 4 * words);
     });
@@ -140,16 +141,20 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
   const std::vector<uint32_t> input{1, 1};
   const uint32_t init[4] = {0, 0, 1, 1};
   const auto ignore = [](std::span<const std::byte>) {};
-  auto outside = p.value().run_chain(bytes_of(input), 1, 10, {8, init, 1}, ignore);
+  auto outside = p.value().run_chain(bytes_of(input), 1, 10, {8, init, groups}, ignore);
   ASSERT_FALSE(outside);
   EXPECT_EQ(outside.error().code, Errc::other);
+  const uint32_t two[] = {1, 4};
+  auto miscounted = p.value().run_chain(bytes_of(input), 1, 10, {0, init, two}, ignore);
+  ASSERT_FALSE(miscounted);
+  EXPECT_EQ(miscounted.error().code, Errc::other);
   auto plain = ComputePipeline::create(*context_, cmr_test_count_comp_spv, sizeof(Push));
   ASSERT_TRUE(plain) << plain.error().message;
-  auto no_follow = plain.value().run_chain(bytes_of(input), 1, 10, {0, init, 1}, ignore);
+  auto no_follow = plain.value().run_chain(bytes_of(input), 1, 10, {0, init, groups}, ignore);
   ASSERT_FALSE(no_follow);
   EXPECT_EQ(no_follow.error().code, Errc::other);
-  auto bad_follow = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {},
-                                            ComputePipeline::FollowUp{cmr_test_pattern_frag_spv});
+  const ComputePipeline::FollowUp fragment[] = {{cmr_test_pattern_frag_spv}};
+  auto bad_follow = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {}, fragment);
   ASSERT_FALSE(bad_follow);
   EXPECT_EQ(bad_follow.error().code, Errc::shader_invalid);
 }

@@ -18,18 +18,20 @@ struct BackendOptions {
   Backend backend = Backend::vulkan;
   vk::RegionPrecision precision = vk::RegionPrecision::fp64;
   vk::DeviceShare share = vk::DeviceShare::automatic;
+  bool cascade = false;  ///< vk::VulkanRegionOptions::cascade
 };
 
 /// The Vulkan backend for these options, created once per test program (its
 /// pipelines are reused, as the CLI reuses its one backend). Never destroyed:
 /// a GPU driver may be gone by the time static destructors run (vk/context.hpp).
 inline vk::VulkanRegionBackend& vulkan_backend(const BackendOptions& o) {
-  static auto& backends = *new std::map<std::tuple<int, int>, std::unique_ptr<vk::VulkanRegionBackend>>;
-  auto& b = backends[{static_cast<int>(o.precision), static_cast<int>(o.share)}];
+  static auto& backends = *new std::map<std::tuple<int, int, bool>, std::unique_ptr<vk::VulkanRegionBackend>>;
+  auto& b = backends[{static_cast<int>(o.precision), static_cast<int>(o.share), o.cascade}];
   if (!b) {
     vk::VulkanRegionOptions vo;
     vo.precision = o.precision;
     vo.share = o.share;
+    vo.cascade = o.cascade;
     auto created = vk::VulkanRegionBackend::create(vo);
     if (!created) throw std::runtime_error("no Vulkan device: " + created.error().message);
     b = std::make_unique<vk::VulkanRegionBackend>(created.take());

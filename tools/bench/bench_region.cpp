@@ -19,7 +19,7 @@
 //     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
 //     faster baseline of each cell, with the number of pixels whose labels
 //     differ and the load average.
-// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-whole|vk-culled|all [SIZE,...]]]   (run from the repository root)
+// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-whole|vk-culled|vk-cascade|all [SIZE,...]]]   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 //   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
@@ -27,7 +27,8 @@
 //   for profiling and for comparing builds back to back (under callgrind,
 //   instructions per frame: the difference of two repetition counts); vk:
 //   the same for its Vulkan backend (its DeviceShare as the device's type
-//   picks it); vk-whole, vk-culled: with that share; all: every column, as
+//   picks it); vk-whole, vk-culled: with that share; vk-cascade: the whole
+//   share as an fp32-then-fp64 cascade; all: every column, as
 //   without.
 //   SIZE,...: the comparison's image sides instead of 512 and 1024 (e.g.
 //   2048, for a GPU's throughput).
@@ -79,6 +80,7 @@ double g_shader_setup_seconds = 0;
 /// argv[3] == "vk-whole" / "vk-culled": the Vulkan backend with that
 /// DeviceShare (vk: as the device's type picks it).
 vk::DeviceShare g_share = vk::DeviceShare::automatic;
+bool g_cascade = false;  ///< vk-cascade: VulkanRegionOptions::cascade
 /// The Vulkan backend when made with an explicit share (vk-whole, vk-culled).
 const vk::VulkanRegionBackend* g_vk_backend = nullptr;
 
@@ -92,6 +94,7 @@ RegionResult render(const RegionProblem& s, bool vulkan) {
     if (g_share == vk::DeviceShare::automatic) return vk::make_region_backend({.kind = vk::BackendKind::vulkan});
     vk::VulkanRegionOptions o;
     o.share = g_share;
+    o.cascade = g_cascade;
     auto b = vk::VulkanRegionBackend::create(o);
     if (!b) throw std::runtime_error(b.error().message);
     auto made = std::make_shared<vk::VulkanRegionBackend>(b.take());
@@ -253,6 +256,7 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
       // What the device's tile pass proved and what it left to the host.
       const vk::VulkanRegionBackend::WholeFrame& f = g_vk_backend->last_whole_frame();
       std::printf("  tiles queued %zu/%zu, flagged %zu", f.tiles_queued, f.tiles, f.flagged);
+      if (g_cascade) std::printf(" (fp32 flagged %zu)", f.second);
     }
     std::printf("\n");
     std::fflush(stdout);
@@ -344,7 +348,8 @@ int run(int argc, char** argv) {
   const std::string mode = argc > 3 ? argv[3] : "all";
   if (mode == "vk-whole") g_share = vk::DeviceShare::whole;
   if (mode == "vk-culled") g_share = vk::DeviceShare::culled;
-  g_vk_only = mode == "vk" || mode == "vk-whole" || mode == "vk-culled";
+  if (mode == "vk-cascade") g_share = vk::DeviceShare::whole, g_cascade = true;
+  g_vk_only = mode == "vk" || mode == "vk-whole" || mode == "vk-culled" || mode == "vk-cascade";
   g_cmr_only = mode == "cmr" || g_vk_only;
   g_sizes = {kCompareSize, kSize};
   if (argc > 4) {

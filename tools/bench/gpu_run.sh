@@ -52,8 +52,9 @@ step bench
 export PATH=$root/build/tools:$PATH
 b=build/tools/bench/bench_region
 timeout 200 $b 3 "" all 512,1024 >"$out/bench_all.txt" 2>&1; echo "bench all rc $?" >>"$out/run.log"
-# The Vulkan backend alone with each share of the work (vk::DeviceShare), up to 2048.
-for mode in vk-culled vk-whole; do
+# The Vulkan backend alone with each share of the work (vk::DeviceShare),
+# and the whole share as an fp32-then-fp64 cascade, up to 2048.
+for mode in vk-culled vk-whole vk-cascade; do
   timeout 45 $b 10 "10 " $mode 512,1024,2048 >"$out/bench_$mode.txt" 2>&1; echo "bench $mode rc $?" >>"$out/run.log"
 done
 if [ -x .gpu/bench_region_old ]; then
