@@ -53,7 +53,8 @@ int inflection_rule(int n1, int first, int last, int pos, int neg, int zero, int
 // The coefficients are read at one call site (ends first, then the inner
 // ones in order): the driver inlines every call of coeff_at, so fewer sites
 // mean a smaller pipeline that compiles sooner.
-int decide_piece(uint e, bool eta, int p, int n1) {
+// first_sign: the sign of coefficient 0 (read first, always).
+int decide_piece(uint e, bool eta, int p, int n1, out int first_sign) {
   int first = SIGN_UNKNOWN, last = SIGN_UNKNOWN;
   int pos = 0, neg = 0, zero = 0, unk = 0;
   for (int t = 0; t < n1 && !(t >= 2 && pos > 0 && neg > 0); ++t) {
@@ -62,6 +63,11 @@ int decide_piece(uint e, bool eta, int p, int n1) {
     if (t == 1 || n1 == 1) last = g;
     if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
+  first_sign = first;
   return eta ? inflection_rule(n1, first, last, pos, neg, zero, unk)
              : monotonicity_rule(first, last, pos, neg, zero, unk);
+}
+int decide_piece(uint e, bool eta, int p, int n1) {
+  int first_sign;
+  return decide_piece(e, eta, p, n1, first_sign);
 }

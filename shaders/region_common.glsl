@@ -6,14 +6,22 @@
 // flagged, and the host recomputes it exactly, so labels never depend on how
 // this device rounds.
 //
-// Included by region_fp64.comp / region_fp32.comp (and the window's
-// region_present_fp*.frag), which define REAL, REAL2,
-// K_ROUND (twice the unit roundoff) and K_TINY (absolute slack for
-// underflow, also covering flush-to-zero).
+// Included by one module per pass (main, at the end): region_fp*.comp (the
+// culled share's listed pixels), region_tiles_fp*.comp, region_pixels_fp*.comp
+// and region_second_fp64.comp (the whole share's passes: CMR_TILE_PASS,
+// CMR_PIXEL_PASS, CMR_SECOND_PASS), and the window's region_present_fp*.frag
+// (CMR_REGION_PRESENT). They define REAL, REAL2, K_DATA_BASE, K_ROUND (twice
+// the unit roundoff) and K_TINY (absolute slack for underflow, also covering
+// flush-to-zero).
 //
 // Buffer layout and result word: shaders/region_layout.h (shared with the
 // C++ side, vk/region_vk.cpp, which packs the buffer).
 #include "region_layout.h"
+
+// The whole share's passes (the device halves deep pieces there: DEEP).
+#if defined(CMR_TILE_PASS) || defined(CMR_PIXEL_PASS) || defined(CMR_SECOND_PASS)
+#define CMR_WHOLE
+#endif
 
 layout(constant_id = 0) const int DEG = 3;    // degree n of every segment
 layout(constant_id = 1) const int MAXD = 12;  // maximum subdivision depth D
@@ -141,18 +149,24 @@ REAL2 nu_at(uint e, int p, int k) {
 // Depth-first Algorithms 1 and 2 on the piece polynomials (region/region.cpp,
 // lazy_algorithm1/2): ends first, inner coefficients until both signs appear.
 // Pieces below the precomputed levels are left to the host (P_DEEP) unless
-// DEEP, when load_deep makes their coefficients here.
+// DEEP (the whole share's modules only), when load_deep makes their
+// coefficients here.
 const int P_DEEP = 8;
 
+#ifdef CMR_WHOLE
 // The coefficients of the piece below the precomputed levels being decided
 // (DEEP only; piece index -1 reads them).
 REAL2 deep_c[NXI];
+#endif
 
 REAL2 coeff_at(uint e, bool eta, int p, int k) {
+#ifdef CMR_WHOLE
   if (DEEP && p < 0) return deep_c[k];
+#endif
   return eta ? nu_at(e, p, k) : xi_at(e, p, k);
 }
 
+#ifdef CMR_WHOLE
 // (c_a + c_b) / 2 with its bound; an exact zero stays exact (cmr::Bounded::half).
 REAL2 deep_mid(REAL2 a, REAL2 b) {
   REAL2 s = b_add(a, b);
@@ -183,6 +197,7 @@ void load_deep(uint e, bool eta, int level, int j, int levels) {
     }
   }
 }
+#endif  // CMR_WHOLE
 
 #ifdef CMR_TILE_PASS
 #include "region_tiles.glsl"
@@ -196,7 +211,7 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
   // then step to the right sibling (no arrays: private arrays are costly on
   // SIMD executors even where unused).
   int levels = int(hdr[HDR_PIECE_LEVELS]);
-  kappa_sign = b_sign(coeff_at(e, eta, 0, 0));
+  kappa_sign = SIGN_UNKNOWN;  // the root's coefficient 0, read by its decide_piece
   int level = 0, j = 0;
   bool inc = false, dec = false, undecided = false;
   int deepest = 0;
@@ -205,11 +220,17 @@ int traverse(uint e, bool eta, int maxd, out int outcome, out int depth, out int
   for (;;) {
     int piece = (1 << level) - 1 + j;
     if (level > levels) {
+#ifdef CMR_WHOLE
       if (!DEEP) return P_DEEP;
       load_deep(e, eta, level, j, levels);
+#else
+      return P_DEEP;  // the culled share and the window leave deep pieces to the host
+#endif
       piece = -1;
     }
-    int p = decide_piece(e, eta, piece, eta ? NNU : NXI);
+    int first;
+    int p = decide_piece(e, eta, piece, eta ? NNU : NXI, first);
+    if (level == 0) kappa_sign = first;
     if (p == P_UNCERTAIN) return P_UNCERTAIN;
     if (p == P_SPLIT && level < maxd) {
       ++level;
@@ -424,10 +445,16 @@ uint classify_tile(REAL2 bx, REAL2 by) {
 
 void main() {
   const uint at = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
-#ifdef CMR_TILE_PASS
+  // One pass per module, so that each pipeline inlines classify_pixel once
+  // (the culled share's pipeline had carried the whole share's pixel pass
+  // too: lavapipe's one-shot `cmr region` compiled it, 50 ms).
+#ifdef CMR_WHOLE
   // Every pixel, by tiles (shaders/region_layout.h).
   const uint w = hdr[HDR_WIDTH], tiles_x = (w + TILE - 1u) / TILE, stride = tiles_x * TILE / 4u;
   const uint counters = hdr[HDR_OUT_COUNTERS], queue = hdr[HDR_OUT_QUEUE];
+  const uint list = hdr[HDR_OUT_LIST], cap = hdr[HDR_LIST_CAP];
+#endif
+#if defined(CMR_TILE_PASS)
   // The tile pass: tile `at` of the run.
   if (at >= tiles_x * hdr[HDR_TILE_ROWS]) return;
   const uint tx = at % tiles_x, tr = at / tiles_x;
@@ -444,41 +471,24 @@ void main() {
   result[queue + q] = at;
   if (q % (64u / TILE) == 0u) atomicAdd(result[counters + OUT_GROUPS_X], 1u);  // a group per 64 / TILE tiles
   return;
-#else
-  if (hdr[HDR_EVERY_PIXEL] == 0u) {
-    // Listed pixel number `at` (the host lists the pixels it could not
-    // decide by whole blocks, block by block, so that neighbouring
-    // invocations, which a GPU or llvmpipe runs in lock step, get
-    // neighbouring, similar pixels).
-    if (at >= hdr[HDR_LISTED]) return;
-    REAL2 ij = DATA(hdr[HDR_LIST_OFFSET] + at);
-    result[at] = classify_pixel(int(ij.x), int(ij.y));
+#elif defined(CMR_SECOND_PASS)
+  // The cascade's double pass: pixel `at` of those the float pixel pass
+  // could not certify; its label byte there is PACKED_UNCERTAIN (all ones)
+  // and its depth byte 0, so xor and or put this pass's bytes in.
+  if (at >= min(result[counters + OUT_SECOND], cap)) return;
+  const uint k = result[hdr[HDR_OUT_SECOND] + at], pi = k % w, pj = k / w;
+  const uint r = classify_pixel(int(pi), int(pj));
+  if ((r & RESULT_UNCERTAIN) != 0u) {
+    const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+    if (f < cap) result[list + f] = k;
     return;
   }
-  // Every pixel, by tiles (shaders/region_layout.h).
-  const uint w = hdr[HDR_WIDTH], tiles_x = (w + TILE - 1u) / TILE, stride = tiles_x * TILE / 4u;
-  const uint counters = hdr[HDR_OUT_COUNTERS], queue = hdr[HDR_OUT_QUEUE];
-  const uint list = hdr[HDR_OUT_LIST], cap = hdr[HDR_LIST_CAP];
-#ifdef CMR_DOUBLE
-  if (hdr[HDR_CASCADE] != 0u) {
-    // The cascade's double pass: pixel `at` of those the float pixel pass
-    // could not certify; its label byte there is PACKED_UNCERTAIN (all ones)
-    // and its depth byte 0, so xor and or put this pass's bytes in.
-    if (at >= min(result[counters + OUT_SECOND], cap)) return;
-    const uint k = result[hdr[HDR_OUT_SECOND] + at], pi = k % w, pj = k / w;
-    const uint r = classify_pixel(int(pi), int(pj));
-    if ((r & RESULT_UNCERTAIN) != 0u) {
-      const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
-      if (f < cap) result[list + f] = k;
-      return;
-    }
-    const uint word = (pj - hdr[HDR_FIRST_TILE_ROW] * TILE) * stride + pi / 4u, shift = 8u * (pi % 4u);
-    atomicXor(result[word], (PACKED_UNCERTAIN ^ (r & RESULT_LABEL_MASK)) << shift);
-    if (hdr[HDR_DEPTH_PLANE] != 0u)
-      atomicOr(result[hdr[HDR_TILE_ROWS] * TILE * stride + word], ((r >> RESULT_DEPTH_SHIFT) & 255u) << shift);
-    return;
-  }
-#endif
+  const uint word = (pj - hdr[HDR_FIRST_TILE_ROW] * TILE) * stride + pi / 4u, shift = 8u * (pi % 4u);
+  atomicXor(result[word], (PACKED_UNCERTAIN ^ (r & RESULT_LABEL_MASK)) << shift);
+  if (hdr[HDR_DEPTH_PLANE] != 0u)
+    atomicOr(result[hdr[HDR_TILE_ROWS] * TILE * stride + word], ((r >> RESULT_DEPTH_SHIFT) & 255u) << shift);
+  return;
+#elif defined(CMR_PIXEL_PASS)
   // The pixel pass: row y of queued tile q.
   const uint q = at / TILE, y = at % TILE;
   if (q >= result[counters + OUT_QUEUED]) return;
@@ -515,6 +525,15 @@ void main() {
     result[at_word] = labels;
     if (hdr[HDR_DEPTH_PLANE] != 0u) result[plane + at_word] = depths;
   }
+#else
+  // Listed pixel number `at` (the host lists the pixels it could not
+  // decide by whole blocks, block by block, so that neighbouring
+  // invocations, which a GPU or llvmpipe runs in lock step, get
+  // neighbouring, similar pixels).
+  if (at >= hdr[HDR_LISTED]) return;
+  REAL2 ij = DATA(hdr[HDR_LIST_OFFSET] + at);
+  result[at] = classify_pixel(int(ij.x), int(ij.y));
+  return;
 #endif
 }
 #endif  // CMR_REGION_PRESENT

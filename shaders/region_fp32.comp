@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Region shader in single precision, for devices without shaderFloat64.
+// Region shader, the culled share, in single precision (any device).
 // Inputs arrive rounded to float with their rounding in the error bounds.
 #define REAL float
 #define K_DATA_BASE HDR_DATA_BASE_F32

@@ -33,7 +33,7 @@
 //   label fills its bytes of the label plane, any other tile is appended to
 //   the queue (OUT_QUEUED, then the queue at HDR_OUT_QUEUE) and every
 //   TILE-th one adds a group to the follow-up's dispatch (OUT_GROUPS_X..Z);
-// - the pixel pass (region_fp*.comp): invocation q TILE + r classifies row r
+// - the pixel pass (region_pixels_fp*.comp): invocation q TILE + r classifies row r
 //   of queued tile q.
 // Output words: the label plane, rows of TILE TX bytes (row y of the run at
 // byte y TILE TX), TILE R rows; with HDR_DEPTH_PLANE the depth plane of the
@@ -43,7 +43,7 @@
 // indices, the first HDR_LIST_CAP of OUT_FLAGGED at HDR_OUT_LIST.
 // A cascade (HDR_CASCADE; vk::RegionPrecision::cascade) runs both passes in
 // float (region_tiles_fp32.comp, region_fp32.comp) and a third in double
-// (region_fp64.comp): the float pixel pass hands each pixel it cannot
+// (region_second_fp64.comp): the float pixel pass hands each pixel it cannot
 // certify to the second list (its first HDR_LIST_CAP at HDR_OUT_SECOND,
 // counted by OUT_SECOND, a group per 64; the rest straight to the host's
 // list), and the double pass decides them again, overwriting their label

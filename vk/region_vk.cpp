@@ -23,6 +23,9 @@
 
 #include "region_fp32_comp.h"
 #include "region_fp64_comp.h"
+#include "region_pixels_fp32_comp.h"
+#include "region_pixels_fp64_comp.h"
+#include "region_second_fp64_comp.h"
 #include "region_tiles_fp32_comp.h"
 #include "region_tiles_fp64_comp.h"
 
@@ -318,18 +321,20 @@ Result<ComputePipeline*> VulkanRegionBackend::pipeline_for(const RegionSetup& s,
   const uint32_t spec[7] = {static_cast<uint32_t>(key.degree), static_cast<uint32_t>(key.depth), key.cmr ? 1u : 0u,
                             key.joints ? 1u : 0u, key.rational ? 1u : 0u, key.deep ? 1u : 0u,
                             static_cast<uint32_t>(options_.weaken_bound_bits)};
+  using Words = std::span<const uint32_t>;
   const bool f64 = precision == RegionPrecision::fp64;
-  const std::span<const uint32_t> pixels = f64 ? std::span<const uint32_t>(cmr_region_fp64_comp_spv)
-                                               : std::span<const uint32_t>(cmr_region_fp32_comp_spv);
-  // The whole share is a chain: the tile pass, then the pixel pass over the
-  // tiles it queued, then (a cascade) the fp64 pass over the pixels the fp32
-  // pixel pass flagged (shaders/region_layout.h).
-  const std::span<const uint32_t> tiles = f64 ? std::span<const uint32_t>(cmr_region_tiles_fp64_comp_spv)
-                                              : std::span<const uint32_t>(cmr_region_tiles_fp32_comp_spv);
-  const ComputePipeline::FollowUp follow[] = {{pixels}, {cmr_region_fp64_comp_spv}};
+  // The culled share: one pass over the listed pixels. The whole share is a
+  // chain: the tile pass, then the pixel pass over the tiles it queued, then
+  // (a cascade) the fp64 pass over the pixels the fp32 pixel pass flagged
+  // (shaders/region_layout.h). A module per pass, so each pipeline carries
+  // only its own code.
+  const Words listed = f64 ? Words(cmr_region_fp64_comp_spv) : Words(cmr_region_fp32_comp_spv);
+  const Words tiles = f64 ? Words(cmr_region_tiles_fp64_comp_spv) : Words(cmr_region_tiles_fp32_comp_spv);
+  const Words pixels = f64 ? Words(cmr_region_pixels_fp64_comp_spv) : Words(cmr_region_pixels_fp32_comp_spv);
+  const ComputePipeline::FollowUp follow[] = {{pixels}, {cmr_region_second_fp64_comp_spv}};
   auto created = key.deep ? ComputePipeline::create(context_, tiles, spec,
                                                     std::span<const ComputePipeline::FollowUp>(follow, cascade ? 2 : 1))
-                          : ComputePipeline::create(context_, pixels, 0, spec);
+                          : ComputePipeline::create(context_, listed, 0, spec);
   if (!created) return created.error();
   pipelines_.emplace_back(key, created.take());
   pipeline_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
