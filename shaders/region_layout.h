@@ -17,15 +17,15 @@
 //   A varying joint (HDR_JOINT_OFFSET) is (left entry, right entry), (part, 0).
 //   The groups (HDR_PART_OFFSET, HDR_PARTS pairs) are (flags, 0): FLAG_* of
 //   the group's untouched judged segments and non-varying joints.
-//   The listed pixels (HDR_LIST_OFFSET) are (column, row) pairs, or none
-//   when HDR_EVERY_PIXEL is set (the device shades the whole image).
+//   The listed pixels (HDR_LIST_OFFSET) are (column, row) pairs (the culled
+//   share, region_fp*.comp), or none (the whole share's modules).
 //
 // Result word of a listed pixel: label code | depth << RESULT_DEPTH_SHIFT,
 // or RESULT_UNCERTAIN when the shader could not certify the pixel.
-// Every pixel (HDR_EVERY_PIXEL): the image is cut into tiles of TILE x TILE
+// Every pixel (the whole share): the image is cut into tiles of TILE x TILE
 // pixels, TX = ceil(W / TILE) per tile row; a run covers HDR_TILE_ROWS = R
 // tile rows from HDR_FIRST_TILE_ROW. Two passes in one submission
-// (vk/compute_pipeline.hpp's follow-up):
+// (vk/compute_pipeline.hpp's follow-ups):
 // - the tile pass (region_tiles_fp*.comp): invocation t < TX R proves tile t of the run
 //   over the box of its pixels' displacements (per tile column and row, (c,
 //   r) pairs at HDR_TILE_X_OFFSET / HDR_TILE_Y_OFFSET: the exact
@@ -81,7 +81,7 @@ CMR_LAYOUT_CONST(HDR_FIXED_LEVEL0_NONE, 14u)  // 1: an untouched segment fails a
 CMR_LAYOUT_CONST(HDR_PIECE_LEVELS, 15u)       // L0: precomputed pieces P = 2^(L0+1) - 1
 CMR_LAYOUT_CONST(HDR_LISTED, 16u)             // listed pixels in this run
 CMR_LAYOUT_CONST(HDR_LIST_OFFSET, 17u)        // the listed pixels
-CMR_LAYOUT_CONST(HDR_EVERY_PIXEL, 18u)        // 1: no list, every pixel, by tiles (below)
+// 18: unused
 CMR_LAYOUT_CONST(HDR_DEPTH_PLANE, 19u)        // every pixel: 1 = the depth plane follows the labels
 CMR_LAYOUT_CONST(HDR_FIRST_TILE_ROW, 20u)     // every pixel: this run's first tile row
 CMR_LAYOUT_CONST(HDR_TILE_ROWS, 21u)          // every pixel: tile rows in this run

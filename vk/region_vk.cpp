@@ -177,7 +177,6 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
   }
   p.hdr[HDR_JOINTS] = static_cast<uint32_t>(s.varying.size());
   p.hdr[HDR_LISTED] = static_cast<uint32_t>(every_pixel ? std::size_t(o.width) * std::size_t(o.height) : pixels.size());
-  p.hdr[HDR_EVERY_PIXEL] = every_pixel ? 1 : 0;
   p.hdr[HDR_DEPTH_PLANE] = every_pixel && o.depth ? 1 : 0;
   if (every_pixel) {
     // Each tile column's and tile row's box (the block proofs' boxes); no
