@@ -234,6 +234,32 @@ TEST(RegionBackends, TheDeviceProvesWholeTilesOfALabelMap) {
   }
 }
 
+// An injected fault surfaces as its Vulkan error on both shares (the chain of
+// the whole share included), so that make_region_backend's fallback (one
+// note, the CPU's answer: backend_choice_test's Fault.*) sees it on a GPU as
+// on lavapipe.
+TEST(RegionBackends, AnInjectedFaultIsTheRendersErrorOnBothShares) {
+  const std::vector<Scene> all = scenes();
+  const RegionProblem problem = RegionProblem::make(all.front().spline, all.front().options);
+  const std::pair<vk::InjectedFault, vk::Errc> faults[] = {{vk::InjectedFault::device_lost, vk::Errc::device_lost},
+                                                           {vk::InjectedFault::out_of_memory, vk::Errc::out_of_memory},
+                                                           {vk::InjectedFault::pipeline_rejected, vk::Errc::shader_invalid}};
+  for (const vk::DeviceShare share : {vk::DeviceShare::culled, vk::DeviceShare::whole})
+    for (const bool cascade : {false, true})
+      for (const auto& [fault, code] : faults) {
+        vk::VulkanRegionOptions o;
+        o.share = share;
+        o.cascade = cascade;
+        o.fault = fault;
+        auto b = vk::VulkanRegionBackend::create(o);
+        ASSERT_TRUE(b) << b.error().message;
+        auto r = b.value().try_render(problem);
+        ASSERT_FALSE(r) << "share " << int(share) << " fault " << int(fault);
+        EXPECT_EQ(r.error().code, code) << r.error().message;
+        EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+      }
+}
+
 // Pixels the device flags for the host beyond the run's list are found in
 // the label map: the same labels and depths as with the whole list.
 TEST(RegionBackends, FlaggedPixelsBeyondTheListAreFoundInTheLabelMap) {
