@@ -28,6 +28,9 @@ Error size_error(std::string message) { return Error{Errc::size_unsupported, VK_
 struct ComputePipeline::Impl : detail::PipelineCore {
   uint32_t push_constant_bytes = 0;
   std::vector<VkPipeline> follow_ups;  // the chain's further passes (run_chain), if made with any
+  VkQueryPool timestamps = VK_NULL_HANDLE;  // 2 + follow-ups; none without compute timestamps
+  uint32_t stamped = 0;                     // timestamps the last recorded run writes
+  std::vector<double> pass_seconds;         // of the last finished run
 
   Buffer input;     // device-local, read by the shader
   Buffer staging;   // host-visible source of the input upload
@@ -56,6 +59,7 @@ ComputePipeline::Impl::~Impl() {
   wait_if_pending();
   for (Buffer* b : {&input, &staging, &output, &readback}) detail::destroy_buffer(device, *b);
   for (VkPipeline f : follow_ups) vkDestroyPipeline(device, f, nullptr);
+  if (timestamps != VK_NULL_HANDLE) vkDestroyQueryPool(device, timestamps, nullptr);
 }
 
 Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> spirv,
@@ -92,6 +96,15 @@ Result<void> ComputePipeline::Impl::create_pipeline(std::span<const uint32_t> sp
     VkPipeline made = VK_NULL_HANDLE;
     if (auto r = make(f.spirv, made); !r) return r;
     follow_ups.push_back(made);
+  }
+  // Timestamps around each pass, where the device has them on compute
+  // queues (a device without them still runs; it reports no pass times).
+  if (state->limits.timestampComputeAndGraphics && state->limits.timestampPeriod > 0) {
+    VkQueryPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    info.queryCount = static_cast<uint32_t>(2 + follow_ups.size());
+    if (vkCreateQueryPool(device, &info, nullptr, &timestamps) != VK_SUCCESS) timestamps = VK_NULL_HANDLE;
   }
   return {};
 }
@@ -137,6 +150,11 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
   if (auto r = detail::begin_one_time(command_buffer); !r) return r.error();
   VkCommandBuffer cmd = command_buffer;
 
+  stamped = 0;
+  if (timestamps != VK_NULL_HANDLE) vkCmdResetQueryPool(cmd, timestamps, 0, static_cast<uint32_t>(2 + follow_ups.size()));
+  const auto stamp = [&](VkPipelineStageFlagBits after) {
+    if (timestamps != VK_NULL_HANDLE) vkCmdWriteTimestamp(cmd, after, timestamps, stamped++);
+  };
   const VkBufferCopy in{0, 0, input_bytes};
   vkCmdCopyBuffer(cmd, staging.buffer, input.buffer, 1, &in);
   detail::buffer_barrier(cmd, input.buffer, 0, input_bytes, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
@@ -154,7 +172,9 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
     vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes, push_constants.data());
   const uint32_t groups = (count + kGroupSize - 1) / kGroupSize;
   const uint32_t per_row = std::min(groups, kGroupsPerRow);
+  stamp(VK_PIPELINE_STAGE_TRANSFER_BIT);  // the upload done
   if (count > 0) vkCmdDispatch(cmd, per_row, (groups + per_row - 1) / per_row, 1);
+  stamp(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   for (std::size_t i = 0; chain && i < follow_ups.size(); ++i) {  // each sized by what the passes before queued
     detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT,
                            VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
@@ -162,6 +182,7 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
                            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, follow_ups[i]);
     vkCmdDispatchIndirect(cmd, output.buffer, VkDeviceSize{chain->indirect_words[i]} * 4);
+    stamp(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   }
   detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -310,9 +331,19 @@ Result<void> ComputePipeline::run_passes(std::span<const std::byte> input, uint3
     if (VkResult r = vkInvalidateMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
       return vk_error(r, "vkInvalidateMappedMemoryRanges");
   }
+  p.pass_seconds.clear();
+  if (p.stamped >= 2) {
+    std::vector<uint64_t> ticks(p.stamped);
+    if (vkGetQueryPoolResults(p.device, p.timestamps, 0, p.stamped, ticks.size() * sizeof(uint64_t), ticks.data(),
+                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
+      for (uint32_t k = 1; k < p.stamped; ++k)
+        p.pass_seconds.push_back(static_cast<double>(ticks[k] - ticks[k - 1]) * p.state->limits.timestampPeriod * 1e-9);
+  }
   read(std::span<const std::byte>(p.readback.mapped, std::size_t{words} * 4));
   return {};
 }
+
+const std::vector<double>& ComputePipeline::last_pass_seconds() const { return impl_->pass_seconds; }
 
 ComputePipeline::ComputePipeline(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;

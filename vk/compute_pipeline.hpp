@@ -107,6 +107,12 @@ class ComputePipeline {
   Result<void> run_chain(std::span<const std::byte> input, uint32_t count, uint32_t words, const Chain& chain,
                          const std::function<void(std::span<const std::byte>)>& read);
 
+  // The device's time for each pass of the last run or chain, in seconds
+  // (timestamps after the upload and after each dispatch); empty when the
+  // device has no compute timestamps (timestampComputeAndGraphics) or no
+  // run has finished.
+  const std::vector<double>& last_pass_seconds() const;
+
  private:
   Result<void> run_passes(std::span<const std::byte> input, uint32_t count, std::span<const std::byte> push_constants,
                           uint32_t words, const std::function<void(std::span<const std::byte>)>& read,

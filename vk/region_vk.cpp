@@ -452,6 +452,9 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
           }
         });
     if (!out) return out.error();
+    const std::vector<double>& passes = pipeline.value()->last_pass_seconds();
+    frame_.pass_seconds.resize(passes.size(), 0.0);
+    for (std::size_t k = 0; k < passes.size(); ++k) frame_.pass_seconds[k] += passes[k];
   }
   if (options_.fault == InjectedFault::device_lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "vkWaitForFences failed: VK_ERROR_DEVICE_LOST (injected)"};

@@ -133,6 +133,10 @@ class VulkanRegionBackend final : public RegionBackend {
     std::size_t tiles_queued = 0;  ///< tiles the tile pass did not prove, left to the pixel pass
     std::size_t flagged = 0;       ///< pixels the device left to the host
     std::size_t second = 0;        ///< cascade: pixels the fp32 passes left to the fp64 pass
+    /// The device's seconds in the tile pass, the pixel pass and (a
+    /// cascade) the fp64 pass, over the frame's runs; empty on a device
+    /// without compute timestamps.
+    std::vector<double> pass_seconds;
   };
   const WholeFrame& last_whole_frame() const { return frame_; }
 

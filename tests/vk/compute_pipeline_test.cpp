@@ -135,6 +135,13 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
     EXPECT_EQ(wrong, 0u) << n << " items: queued items the follow-up missed or misread";
     std::sort(queued.begin(), queued.end());
     EXPECT_EQ(queued, odd) << n << " items";
+    // One time per pass, where the device has compute timestamps (lavapipe
+    // and the GPUs tested have).
+    const std::vector<double>& t = p.value().last_pass_seconds();
+    if (!t.empty()) {
+      ASSERT_EQ(t.size(), 2u);
+    }
+    for (const double s : t) EXPECT_TRUE(s >= 0 && s < 10) << s;
   }
   // Refusals: counters or group counts outside the result, and a chain on a
   // pipeline without a follow-up.

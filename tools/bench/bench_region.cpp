@@ -257,6 +257,13 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
       const vk::VulkanRegionBackend::WholeFrame& f = g_vk_backend->last_whole_frame();
       std::printf("  tiles queued %zu/%zu, flagged %zu", f.tiles_queued, f.tiles, f.flagged);
       if (g_cascade) std::printf(" (fp32 flagged %zu)", f.second);
+      // The device's own time per pass (timestamps), where it has them.
+      if (!f.pass_seconds.empty()) {
+        std::printf("; device ms:");
+        const char* names[] = {" tiles", " pixels", " fp64"};
+        for (std::size_t k = 0; k < f.pass_seconds.size() && k < 3; ++k)
+          std::printf("%s %.3f", names[k], 1e3 * f.pass_seconds[k]);
+      }
     }
     std::printf("\n");
     std::fflush(stdout);
