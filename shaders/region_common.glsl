@@ -469,7 +469,7 @@ void main() {
   }
   const uint q = atomicAdd(result[counters + OUT_QUEUED], 1u);
   result[queue + q] = at;
-  if (q % (64u / TILE) == 0u) atomicAdd(result[counters + OUT_GROUPS_X], 1u);  // a group per 64 / TILE tiles
+  if (q < 65535u) atomicAdd(result[counters + OUT_GROUPS_X], 1u);  // a group per tile, as many as a dispatch holds
   return;
 #elif defined(CMR_SECOND_PASS)
   // The cascade's double pass: pixel `at` of those the float pixel pass
@@ -489,41 +489,38 @@ void main() {
     atomicOr(result[hdr[HDR_TILE_ROWS] * TILE * stride + word], ((r >> RESULT_DEPTH_SHIFT) & 255u) << shift);
   return;
 #elif defined(CMR_PIXEL_PASS)
-  // The pixel pass: row y of queued tile q.
-  const uint q = at / TILE, y = at % TILE;
-  if (q >= result[counters + OUT_QUEUED]) return;
-  const uint t = result[queue + q];
-  const uint tx = t % tiles_x, row = (t / tiles_x) * TILE + y;  // row of the run
-  const uint pj = hdr[HDR_FIRST_TILE_ROW] * TILE + row, h = hdr[HDR_HEIGHT];
+  // The pixel pass: a workgroup per queued tile (and on, past the 65535
+  // groups of a dispatch), an invocation per pixel (x, y) of it, so that a
+  // short queue still spreads over the device. A queued tile's words start
+  // at 0 (the host clears the planes), and each pixel ors its bytes in.
+  const uint x = gl_LocalInvocationID.x % TILE, y = gl_LocalInvocationID.x / TILE;
+  const uint queued = result[counters + OUT_QUEUED], h = hdr[HDR_HEIGHT];
   const uint plane = hdr[HDR_TILE_ROWS] * TILE * stride;
-  for (uint k = 0u; k < TILE / 4u; ++k) {
-    uint labels = 0u, depths = 0u;
-    for (uint b = 0u; b < 4u; ++b) {
-      const uint pi = tx * TILE + 4u * k + b;
-      if (pi >= w || pj >= h) continue;
-      const uint r = classify_pixel(int(pi), int(pj));
-      uint label = r & RESULT_LABEL_MASK;
-      if ((r & RESULT_UNCERTAIN) != 0u) {
-        label = PACKED_UNCERTAIN;
-        uint s = cap;
-        if (hdr[HDR_CASCADE] != 0u) {  // to the double pass while its list has room
-          s = atomicAdd(result[counters + OUT_SECOND], 1u);
-          if (s < cap) {
-            result[hdr[HDR_OUT_SECOND] + s] = pj * w + pi;
-            if (s % 64u == 0u) atomicAdd(result[counters + OUT_SECOND_GROUPS_X], 1u);
-          }
-        }
-        if (s >= cap) {  // to the host
-          const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
-          if (f < cap) result[list + f] = pj * w + pi;
+  for (uint q = gl_WorkGroupID.x; q < queued; q += gl_NumWorkGroups.x) {
+    const uint t = result[queue + q];
+    const uint tx = t % tiles_x, row = (t / tiles_x) * TILE + y;  // the pixel's row in the run
+    const uint pi = tx * TILE + x, pj = hdr[HDR_FIRST_TILE_ROW] * TILE + row;
+    if (pi >= w || pj >= h) continue;
+    const uint r = classify_pixel(int(pi), int(pj));
+    uint label = r & RESULT_LABEL_MASK;
+    if ((r & RESULT_UNCERTAIN) != 0u) {
+      label = PACKED_UNCERTAIN;
+      uint s = cap;
+      if (hdr[HDR_CASCADE] != 0u) {  // to the double pass while its list has room
+        s = atomicAdd(result[counters + OUT_SECOND], 1u);
+        if (s < cap) {
+          result[hdr[HDR_OUT_SECOND] + s] = pj * w + pi;
+          if (s % 64u == 0u) atomicAdd(result[counters + OUT_SECOND_GROUPS_X], 1u);
         }
       }
-      labels |= label << (8u * b);
-      depths |= ((r >> RESULT_DEPTH_SHIFT) & 255u) << (8u * b);
+      if (s >= cap) {  // to the host
+        const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+        if (f < cap) result[list + f] = pj * w + pi;
+      }
     }
-    const uint at_word = row * stride + tx * (TILE / 4u) + k;
-    result[at_word] = labels;
-    if (hdr[HDR_DEPTH_PLANE] != 0u) result[plane + at_word] = depths;
+    const uint at_word = row * stride + pi / 4u, shift = 8u * (pi % 4u);
+    atomicOr(result[at_word], label << shift);
+    if (hdr[HDR_DEPTH_PLANE] != 0u) atomicOr(result[plane + at_word], ((r >> RESULT_DEPTH_SHIFT) & 255u) << shift);
   }
 #else
   // Listed pixel number `at` (the host lists the pixels it could not

@@ -31,12 +31,14 @@
 //   r) pairs at HDR_TILE_X_OFFSET / HDR_TILE_Y_OFFSET: the exact
 //   displacements lie within c +- r), with HDR_TILE_PROOFS; a proven tile's
 //   label fills its bytes of the label plane, any other tile is appended to
-//   the queue (OUT_QUEUED, then the queue at HDR_OUT_QUEUE) and every
-//   TILE-th one adds a group to the follow-up's dispatch (OUT_GROUPS_X..Z);
-// - the pixel pass (region_pixels_fp*.comp): invocation q TILE + r classifies row r
-//   of queued tile q.
-// Output words: the label plane, rows of TILE TX bytes (row y of the run at
-// byte y TILE TX), TILE R rows; with HDR_DEPTH_PLANE the depth plane of the
+//   the queue (OUT_QUEUED, then the queue at HDR_OUT_QUEUE) and adds a
+//   group to the follow-up's dispatch (OUT_GROUPS_X..Z), up to 65535;
+// - the pixel pass (region_pixels_fp*.comp): workgroup g takes queued tiles
+//   g, g + G, ... (G groups), its invocation y TILE + x pixel (x, y) of the
+//   tile (TILE x TILE = 64, the group size).
+// Output words (the planes cleared to 0 before the passes): the label
+// plane, rows of TILE TX bytes (row y of the run at byte y TILE TX), TILE R
+// rows; with HDR_DEPTH_PLANE the depth plane of the
 // same shape after it (tiles are then not proven: depths are per pixel);
 // the counters at HDR_OUT_COUNTERS; the queue; then the pixels the host
 // must decide (their label byte is PACKED_UNCERTAIN), as row-major image
@@ -99,7 +101,7 @@ CMR_LAYOUT_CONST(HDR_OUT_SECOND, 32u)         // cascade: output word of the fp6
 CMR_LAYOUT_CONST(HDR_WORDS, 40u)              // size of hdr (data[] then starts 16-byte aligned)
 
 // Tiles (every pixel).
-CMR_LAYOUT_CONST(TILE, 8u)           // tile side in pixels; the pixel pass's invocations per tile
+CMR_LAYOUT_CONST(TILE, 8u)           // tile side in pixels (TILE x TILE: the pixel pass's group)
 CMR_LAYOUT_CONST(OUT_QUEUED, 0u)     // counter: tiles queued for the pixel pass
 CMR_LAYOUT_CONST(OUT_GROUPS_X, 1u)   // counters 1-3: the pixel pass's group counts (x, 1, 1)
 CMR_LAYOUT_CONST(OUT_FLAGGED, 4u)    // counter: pixels flagged for the host (may exceed HDR_LIST_CAP)

@@ -160,6 +160,7 @@ Result<void> ComputePipeline::Impl::record(VkDeviceSize input_bytes, VkDeviceSiz
   detail::buffer_barrier(cmd, input.buffer, 0, input_bytes, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   if (chain) {  // the queue's counters, before the first pass counts into them
+    if (chain->zero_words > 0) vkCmdFillBuffer(cmd, output.buffer, 0, VkDeviceSize{chain->zero_words} * 4, 0);
     vkCmdUpdateBuffer(cmd, output.buffer, VkDeviceSize{chain->init_word} * 4, chain->init.size_bytes(),
                       chain->init.data());
     detail::buffer_barrier(cmd, output.buffer, 0, output_bytes, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -260,7 +261,8 @@ Result<void> ComputePipeline::run_chain(std::span<const std::byte> input, uint32
     return Error{Errc::other, VK_SUCCESS, "a chain names " + std::to_string(chain.indirect_words.size()) +
                                               " group counts for " + std::to_string(impl_->follow_ups.size()) +
                                               " follow-up passes"};
-  bool outside = chain.init.empty() || chain.init.size() > 16384 || uint64_t{chain.init_word} + chain.init.size() > words;
+  bool outside = chain.init.empty() || chain.init.size() > 16384 ||
+                 uint64_t{chain.init_word} + chain.init.size() > words || chain.zero_words > words;
   for (const uint32_t at : chain.indirect_words) outside = outside || uint64_t{at} + 3 > words;
   if (outside)
     return Error{Errc::other, VK_SUCCESS, "a chain's counters or group counts lie outside its " +

@@ -90,14 +90,16 @@ class ComputePipeline {
                    uint32_t words, const std::function<void(std::span<const std::byte>)>& read);
 
   // What a chain's submission does besides its passes: `init` is written to
-  // result words init_word.. before the first pass (the queues' counters;
-  // every other result word starts undefined), and follow-up i's group
+  // result words init_word.. and the first zero_words words are set to 0
+  // before the first pass (every other result word starts undefined), and
+  // follow-up i's group
   // counts (x, y, z) are result words indirect_words[i]..+2 when the passes
   // before it end.
   struct Chain {
     uint32_t init_word = 0;
     std::span<const uint32_t> init;
     std::span<const uint32_t> indirect_words;  ///< one per follow-up
+    uint32_t zero_words = 0;                   ///< result words 0.. set to 0 before the first pass
   };
   // run() for a pipeline made with follow-ups: every pass in one
   // submission, then one copy of the `words` result words to `read`.

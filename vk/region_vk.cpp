@@ -424,8 +424,10 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
     set_header(HDR_OUT_SECOND, list + cap);
     const uint32_t groups[] = {static_cast<uint32_t>(counters + OUT_GROUPS_X),
                                static_cast<uint32_t>(counters + OUT_SECOND_GROUPS_X)};
+    // The planes start at 0: the pixel pass ors its pixels' bytes in.
     const ComputePipeline::Chain chain{static_cast<uint32_t>(counters), init,
-                                       std::span<const uint32_t>(groups, cascade ? 2 : 1)};
+                                       std::span<const uint32_t>(groups, cascade ? 2 : 1),
+                                       static_cast<uint32_t>(counters)};
     auto out = pipeline.value()->run_chain(
         buffer, static_cast<uint32_t>(tiles_x * R), static_cast<uint32_t>(list + (cascade ? 2 : 1) * cap), chain,
         [&](std::span<const std::byte> bytes) {

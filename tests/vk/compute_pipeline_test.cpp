@@ -119,7 +119,7 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
     const uint32_t init[4] = {0, 0, 1, 1};
     std::vector<uint32_t> out;
     const uint32_t words = 8 + 2 * std::max(n, 1u);
-    auto r = p.value().run_chain(bytes_of(input), n, words, {0, init, groups}, [&](std::span<const std::byte> b) {
+    auto r = p.value().run_chain(bytes_of(input), n, words, {0, init, groups, words}, [&](std::span<const std::byte> b) {
       out.resize(words);
       std::memcpy(out.data(), b.data(), 4 * words);
     });
@@ -135,6 +135,11 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
     EXPECT_EQ(wrong, 0u) << n << " items: queued items the follow-up missed or misread";
     std::sort(queued.begin(), queued.end());
     EXPECT_EQ(queued, odd) << n << " items";
+    // Words no pass writes are the zeros zero_words asked for, on every run.
+    std::size_t dirty = 0;
+    for (std::size_t k = 8 + out[0]; k < 8 + n; ++k) dirty += out[k] != 0;
+    for (std::size_t k = 8 + n + out[0]; k < words; ++k) dirty += out[k] != 0;
+    EXPECT_EQ(dirty, 0u) << n << " items: words left over from an earlier run";
     // One time per pass, where the device has compute timestamps (lavapipe
     // and the GPUs tested have).
     const std::vector<double>& t = p.value().last_pass_seconds();
