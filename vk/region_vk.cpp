@@ -43,8 +43,9 @@ constexpr int kDeviceBlock = 4;
 // Pixels per run, so that no storage buffer passes the 2^27 bytes every
 // device allows (maxStorageBufferRange): a listed pixel takes 16 bytes of
 // list, a pixel of the whole share one byte of label map and one of depth.
-// The whole share's 2^24 also keep its pixel pass within the 65535 groups
-// of a dispatch every device allows (8 tiles of 64 pixels a group).
+// The whole share's 2^24 pixels are 2^18 tiles, 4096 groups of the tile
+// pass (its pixel pass takes a group per queued tile, up to the 65535 of a
+// dispatch every device allows, and those loop over the rest).
 constexpr std::size_t kListedPerRun = std::size_t{1} << 22, kWholePerRun = std::size_t{1} << 24;
 // Flagged pixels a run of the whole share lists for the host (more: the
 // host finds them in the label map).
@@ -176,7 +177,7 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
     p.values(j.part, 0);
   }
   p.hdr[HDR_JOINTS] = static_cast<uint32_t>(s.varying.size());
-  p.hdr[HDR_LISTED] = static_cast<uint32_t>(every_pixel ? std::size_t(o.width) * std::size_t(o.height) : pixels.size());
+  p.hdr[HDR_LISTED] = static_cast<uint32_t>(pixels.size());
   p.hdr[HDR_DEPTH_PLANE] = every_pixel && o.depth ? 1 : 0;
   if (every_pixel) {
     // Each tile column's and tile row's box (the block proofs' boxes); no
