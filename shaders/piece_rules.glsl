@@ -50,19 +50,30 @@ int inflection_rule(int n1, int first, int last, int pos, int neg, int zero, int
   return P_UNCERTAIN;
 }
 
-// The coefficients are read at one call site (ends first, then the inner
-// ones in order): the driver inlines every call of coeff_at, so fewer sites
-// mean a smaller pipeline that compiles sooner.
-// first_sign: the sign of coefficient 0 (read first, always).
-int decide_piece(uint e, bool eta, int p, int n1, out int first_sign) {
-  int first = SIGN_UNKNOWN, last = SIGN_UNKNOWN;
-  int pos = 0, neg = 0, zero = 0, unk = 0;
-  for (int t = 0; t < n1 && !(t >= 2 && pos > 0 && neg > 0); ++t) {
+// The lazy sign scan of one piece (bezierize/decide.hpp, scan_signs): both
+// ends, then the inner coefficients until both signs appeared (or, with
+// stop_at_unknown, an unknown one). The coefficients are read at one call
+// site (ends first, then the inner ones in order): the driver inlines every
+// call of coeff_at, so fewer sites mean a smaller pipeline that compiles
+// sooner.
+void scan_piece(uint e, bool eta, int p, int n1, bool stop_at_unknown, out int first, out int last, out int pos,
+                out int neg, out int zero, out int unk) {
+  first = SIGN_UNKNOWN;
+  last = SIGN_UNKNOWN;
+  pos = 0; neg = 0; zero = 0; unk = 0;
+  for (int t = 0; t < n1 && !(t >= 2 && ((pos > 0 && neg > 0) || (stop_at_unknown && unk > 0))); ++t) {
     int g = b_sign(coeff_at(e, eta, p, t == 0 ? 0 : (t == 1 ? n1 - 1 : t - 1)));
     if (t == 0) first = g;
     if (t == 1 || n1 == 1) last = g;
     if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
   }
+}
+
+// A piece by Algorithm 1 (2) at one position; first_sign: the sign of
+// coefficient 0 (read first, always).
+int decide_piece(uint e, bool eta, int p, int n1, out int first_sign) {
+  int first, last, pos, neg, zero, unk;
+  scan_piece(e, eta, p, n1, false, first, last, pos, neg, zero, unk);
   first_sign = first;
   return eta ? inflection_rule(n1, first, last, pos, neg, zero, unk)
              : monotonicity_rule(first, last, pos, neg, zero, unk);
@@ -70,4 +81,17 @@ int decide_piece(uint e, bool eta, int p, int n1, out int first_sign) {
 int decide_piece(uint e, bool eta, int p, int n1) {
   int first_sign;
   return decide_piece(e, eta, p, n1, first_sign);
+}
+
+// A piece over a box of positions (bezierize/decide.hpp, block_piece): a
+// leaf only where every coefficient's sign is certain over the box; any
+// other piece is split (P_UNCERTAIN: all exactly zero).
+int decide_box_piece(uint e, bool eta, int p, int n1) {
+  int first, last, pos, neg, zero, unk;
+  scan_piece(e, eta, p, n1, true, first, last, pos, neg, zero, unk);
+  if ((eta ? ends_touch(first, last) : ends_opposite(first, last)) == T_YES) return eta ? P_INFL : P_NONMONO;
+  if (zero == n1) return P_UNCERTAIN;
+  if (unk == 0 && neg == 0 && (!eta || zero == 0)) return P_INC;
+  if (unk == 0 && pos == 0 && (!eta || zero == 0)) return P_DEC;
+  return P_SPLIT;
 }

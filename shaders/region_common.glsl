@@ -443,6 +443,15 @@ uint classify_tile(REAL2 bx, REAL2 by) {
 }
 #endif
 
+#if defined(CMR_PIXEL_PASS) || defined(CMR_SECOND_PASS)
+// Pixel k (row-major in the image) to the host's list: its first `cap`
+// entries; the host scans the label map for the rest.
+void to_host(uint k, uint counters, uint list, uint cap) {
+  const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
+  if (f < cap) result[list + f] = k;
+}
+#endif
+
 void main() {
   const uint at = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   // One pass per module, so that each pipeline inlines classify_pixel once
@@ -479,8 +488,7 @@ void main() {
   const uint k = result[hdr[HDR_OUT_SECOND] + at], pi = k % w, pj = k / w;
   const uint r = classify_pixel(int(pi), int(pj));
   if ((r & RESULT_UNCERTAIN) != 0u) {
-    const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
-    if (f < cap) result[list + f] = k;
+    to_host(k, counters, list, cap);
     return;
   }
   const uint word = (pj - hdr[HDR_FIRST_TILE_ROW] * TILE) * stride + pi / 4u, shift = 8u * (pi % 4u);
@@ -513,10 +521,7 @@ void main() {
           if (s % 64u == 0u) atomicAdd(result[counters + OUT_SECOND_GROUPS_X], 1u);
         }
       }
-      if (s >= cap) {  // to the host
-        const uint f = atomicAdd(result[counters + OUT_FLAGGED], 1u);
-        if (f < cap) result[list + f] = pj * w + pi;
-      }
+      if (s >= cap) to_host(pj * w + pi, counters, list, cap);
     }
     const uint at_word = row * stride + pi / 4u, shift = 8u * (pi % 4u);
     atomicOr(result[at_word], label << shift);

@@ -98,24 +98,6 @@ REAL2 nu_box(uint at) {
   return box_poly(c, 3);
 }
 
-// block_piece (bezierize/decide.hpp) of piece p: the ends, then the inner
-// coefficients until both signs or an unknown one appeared.
-int decide_box_piece(uint e, bool eta, int p, int n1) {
-  int first = SIGN_UNKNOWN, last = SIGN_UNKNOWN;
-  int pos = 0, neg = 0, zero = 0, unk = 0;
-  for (int t = 0; t < n1 && !(t >= 2 && ((pos > 0 && neg > 0) || unk > 0)); ++t) {
-    int g = b_sign(coeff_at(e, eta, p, t == 0 ? 0 : (t == 1 ? n1 - 1 : t - 1)));
-    if (t == 0) first = g;
-    if (t == 1 || n1 == 1) last = g;
-    if (g == SIGN_UNKNOWN) ++unk; else if (g > 0) ++pos; else if (g < 0) ++neg; else ++zero;
-  }
-  if ((eta ? ends_touch(first, last) : ends_opposite(first, last)) == T_YES) return eta ? P_INFL : P_NONMONO;
-  if (zero == n1) return P_UNCERTAIN;
-  if (unk == 0 && neg == 0 && (!eta || zero == 0)) return P_INC;
-  if (unk == 0 && pos == 0 && (!eta || zero == 0)) return P_DEC;
-  return P_SPLIT;
-}
-
 // Pieces one tile's traversal may visit before the tile is left to its
 // pixels (block.cpp's budget for a block of TILE x TILE pixels).
 const int BOX_BUDGET = 32;

@@ -202,9 +202,9 @@ Result<void> ComputePipeline::Impl::submit_and_wait(uint32_t count) {
                                      " items did not finish within 120 s; the device hangs or the shader is too slow");
 }
 
-Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
-                                                uint32_t push_constant_bytes,
-                                                std::span<const uint32_t> specialization) {
+Result<ComputePipeline> ComputePipeline::make(Context& context, std::span<const uint32_t> compute_spirv,
+                                              uint32_t push_constant_bytes, std::span<const uint32_t> specialization,
+                                              std::span<const FollowUp> follow_ups) {
   const std::shared_ptr<detail::DeviceState>& state = context.state();
   const uint32_t max_push = std::min(kMaxPushConstantBytes, state->limits.maxPushConstantsSize);
   if (push_constant_bytes % 4 != 0 || push_constant_bytes > max_push) {
@@ -212,29 +212,28 @@ Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<cons
                       " bytes is not supported (a multiple of 4, at most " + std::to_string(max_push) + ")");
   }
   if (auto r = detail::check_spirv(compute_spirv, detail::ShaderStage::compute); !r) return r.error();
+  for (const FollowUp& f : follow_ups)
+    if (auto r = detail::check_spirv(f.spirv, detail::ShaderStage::compute); !r) return r.error();
   auto impl = std::make_unique<Impl>();
   impl->state = state;
   impl->device = state->device;
   impl->push_constant_bytes = push_constant_bytes;
-  if (auto r = impl->create_pipeline(compute_spirv, specialization, {}); !r) return r.error();
+  if (auto r = impl->create_pipeline(compute_spirv, specialization, follow_ups); !r) return r.error();
   if (auto r = impl->create_commands(); !r) return r.error();
   return ComputePipeline(std::move(impl));
+}
+
+Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
+                                                uint32_t push_constant_bytes,
+                                                std::span<const uint32_t> specialization) {
+  return make(context, compute_spirv, push_constant_bytes, specialization, {});
 }
 
 Result<ComputePipeline> ComputePipeline::create(Context& context, std::span<const uint32_t> compute_spirv,
                                                 std::span<const uint32_t> specialization,
                                                 std::span<const FollowUp> follow_ups) {
   if (follow_ups.empty()) return size_error("a chain of passes needs at least one follow-up");
-  if (auto r = detail::check_spirv(compute_spirv, detail::ShaderStage::compute); !r) return r.error();
-  for (const FollowUp& f : follow_ups)
-    if (auto r = detail::check_spirv(f.spirv, detail::ShaderStage::compute); !r) return r.error();
-  const std::shared_ptr<detail::DeviceState>& state = context.state();
-  auto impl = std::make_unique<Impl>();
-  impl->state = state;
-  impl->device = state->device;
-  if (auto r = impl->create_pipeline(compute_spirv, specialization, follow_ups); !r) return r.error();
-  if (auto r = impl->create_commands(); !r) return r.error();
-  return ComputePipeline(std::move(impl));
+  return make(context, compute_spirv, 0, specialization, follow_ups);
 }
 
 Result<std::vector<uint32_t>> ComputePipeline::run(std::span<const std::byte> input, uint32_t count,

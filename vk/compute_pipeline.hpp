@@ -116,6 +116,10 @@ class ComputePipeline {
   const std::vector<double>& last_pass_seconds() const;
 
  private:
+  // Both create()s: the checks, the pipelines, the commands.
+  static Result<ComputePipeline> make(Context& context, std::span<const uint32_t> compute_spirv,
+                                      uint32_t push_constant_bytes, std::span<const uint32_t> specialization,
+                                      std::span<const FollowUp> follow_ups);
   Result<void> run_passes(std::span<const std::byte> input, uint32_t count, std::span<const std::byte> push_constants,
                           uint32_t words, const std::function<void(std::span<const std::byte>)>& read,
                           const Chain* chain);

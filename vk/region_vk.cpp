@@ -404,6 +404,7 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
   const std::size_t per_run = options_.pixels_per_run > 0 ? options_.pixels_per_run : kWholePerRun;
   const std::size_t rows_per_run = std::max<std::size_t>(1, per_run / (TILE * TILE * tiles_x));
   const std::size_t stride = TILE * tiles_x;  // bytes of a plane's row
+  const std::size_t listed = options_.flagged_per_run > 0 ? options_.flagged_per_run : kFlaggedListed;
   // Nothing queued, the groups of both follow-ups (0, 1, 1).
   const uint32_t init[OUT_COUNTER_WORDS] = {0, 0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0};
   std::vector<std::size_t> flagged;
@@ -414,7 +415,6 @@ Result<void> VulkanRegionBackend::shade_whole(const RegionSetup& s, cmr::backend
     const std::size_t plane_words = R * TILE * stride / 4, planes = o.depth ? 2 : 1;
     const std::size_t counters = planes * plane_words, queue = counters + OUT_COUNTER_WORDS;
     const std::size_t list = queue + tiles_x * R;
-    const std::size_t listed = options_.flagged_per_run > 0 ? options_.flagged_per_run : kFlaggedListed;
     const uint32_t cap = static_cast<uint32_t>(std::min<std::size_t>(listed, R * TILE * stride));
     set_header(HDR_FIRST_TILE_ROW, first);
     set_header(HDR_TILE_ROWS, R);
