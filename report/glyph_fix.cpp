@@ -14,7 +14,9 @@
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "report/contour_moves.hpp"
+#include "report/glyph_joins.hpp"
 #include "report/glyph_settle.hpp"
+#include "report/severity.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr::report {
@@ -24,7 +26,9 @@ using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
+using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
+using glyph_detail::unmovable_g2_join;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
 /// options of a set of checks that holds t's (the same model options): the
@@ -499,103 +503,6 @@ std::optional<BSpline> grid_descent(const import::Contour& c, const BSpline& sta
   return descent_of(c, start, units, o, options, deadline);
 }
 
-/// A quadratic contour's smooth joint between a straight piece (a line: it
-/// holds an added point, which never moves) and a curve, where
-/// g2-at-smooth-nodes is required: the curve's end curvature would have to
-/// be 0 there, and a quadratic piece has that only when it is straight
-/// itself (its three Bezier points collinear), so no move of the source's
-/// points passes the gate. The joint's name, or "" when there is none.
-std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
-  if (c.spline.degree() != 2) return "";
-  if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
-    return "";
-  const SplineReport r = gate_report(c.spline, o);
-  const int n = c.spline.segment_count();
-  auto is_line = [&](int i) {
-    for (int k : segment_points(c.spline, c.spline.segments()[i]))
-      if (k < static_cast<int>(c.font_point.size()) && c.font_point[k] < 0) return true;
-    return false;
-  };
-  for (const JointReport& jr : r.joints) {
-    const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
-    if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
-    const int right = jr.joint.index % n, left = (right + n - 1) % n;
-    if (!c.spline.closed() && jr.joint.index == 0) continue;
-    if (is_line(kl == 0 ? left : right))
-      return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
-  }
-  return "";
-}
-
-/// A cubic contour's smooth join J of a line and a curve piece S = (J, H1,
-/// H2, F) under g2-at-smooth-nodes and an extremum gate (curvature-extrema-
-/// at-nodes, or max-extrema-per-segment:0) together, where F is an exactly
-/// smooth node whose tangent is square to the line: no move of the designer's
-/// (report/contour_moves.hpp) passes both, so the search is not started.
-/// The moves keep J (a line's end) and the line, H1 on the line (J stays
-/// smooth, H1 never passes J), and F's tangent direction (F's group
-/// translates, its handles slide), so g2 at J, which needs S's end
-/// curvature exactly 0 (the line's), puts H2 where the two lines cross.
-/// Then, in coordinates with J at 0, the line along y and F's tangent along
-/// x: J = (0, 0), H1 = (0, a) with a > 0, H2 = (0, c), F = (b, c) with
-/// b != 0 (F's handle cannot reach F), so x = b t^3 and
-///   det(P', P'') = -18 b t (a (1 - 2t) + c t),
-/// and the curvature kappa = det / |P'|^3 is 0 at t = 0. If c <= a, the
-/// linear factor vanishes at some t0 in (0, 1] and kappa is 0 at both ends
-/// of (0, t0) and not between: an extremum inside. If c > a, kappa keeps one
-/// sign on (0, 1], and with N = t (a (1 - 2t) + c t), D = |P'|^2 (D(1) =
-/// 9 b^2, D'(1) = 36 b^2), d|kappa|/dt at t = 1 has the sign of N'(1) D(1)
-/// - 3/2 N(1) D'(1) = 9 b^2 (3a - 4c) < 0: |kappa| rises from 0 and falls
-/// at the end, so it peaks inside. Either way the piece has a curvature
-/// extremum strictly inside; its turning deviation is at least pi/4 (the
-/// piece turns 90 degrees), above any constant tolerance below 0.5, so the
-/// gate counts it. Checked in exact integer arithmetic (font units); the
-/// join's name, or "" when there is none. Test:
-/// GlyphFix.ALineJoinSquareToItsFarTangentIsRefusedWithBothGates.
-std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
-  const BSpline& s = c.spline;
-  if (s.degree() != 3 || s.is_rational() || !s.closed() || !(o.constant_tolerance < 0.5)) return "";
-  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
-  });
-  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::extrema_at_nodes ||
-           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
-  });
-  if (!g2 || !extrema) return "";
-  const std::vector<Vec2>& P = s.points();
-  const int m = static_cast<int>(c.node.size());
-  if (m < 6 || static_cast<int>(c.font_point.size()) != m) return "";
-  // Font units: integers, small enough that the products below are exact.
-  const auto grid = [](Vec2 p) {
-    return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
-  };
-  const auto at = [&](int k) { return ((k % m) + m) % m; };
-  const auto real_handle = [&](int k) { return !c.node[at(k)] && c.font_point[at(k)] >= 0; };
-  for (int j = 0; j < m; ++j) {
-    if (!c.node[j] || c.font_point[j] < 0) continue;
-    for (const int dir : {1, -1}) {
-      // S on side dir: J, H1, H2, F; the line on the other side (its added
-      // inner point next to J), ending at the node L.
-      const int h1 = at(j + dir), h2 = at(j + 2 * dir), f = at(j + 3 * dir), before = at(j - dir);
-      if (!real_handle(h1) || !real_handle(h2) || !c.node[f] || c.node[before] || c.font_point[before] >= 0) continue;
-      int l = before;
-      while (!c.node[l] && l != j) l = at(l - dir);
-      if (l == j) continue;
-      const int next = at(f + dir);
-      if (!grid(P[j]) || !grid(P[l]) || !grid(P[h1]) || !grid(P[h2]) || !grid(P[f]) || !grid(P[next])) continue;
-      const Vec2 u = P[j] - P[l], e = P[h1] - P[j];  // the line's direction into J, J's handle
-      if (det(u, e) != 0 || !(dot(u, e) > 0)) continue;  // J exactly smooth
-      // F exactly smooth: its tangent d, and the point after it on the same line, in the same direction.
-      const Vec2 d = P[f] - P[h2], after = P[next] - P[f];
-      if (d == Vec2(0.0) || det(d, after) != 0 || !(dot(d, after) > 0)) continue;
-      if (dot(e, d) != 0) continue;  // F's tangent square to the line
-      return j < static_cast<int>(c.point_names.size()) ? c.point_names[j] : "P" + std::to_string(j);
-    }
-  }
-  return "";
-}
-
 /// The total count of violations of every check in `oi` (a spline that
 /// cannot be judged counts as very many).
 std::function<int(const BSpline&)> total_judge(const ReportOptions& oi) {
@@ -630,40 +537,27 @@ std::vector<ReportOptions> failing_checks(const BSpline& s, const ReportOptions&
   return out;
 }
 
-/// One attempt of a round: the nearest certified fix of check `t` alone
-/// from `current` (design/fix.hpp with `t`'s judge), snapped to the grid
-/// when there is one; the contour it gives when every check's total falls
-/// below `current_total` and every smooth node stays exactly smooth, else
-/// nothing (and `why` says why), with its total (every check: `o`, whose
-/// total `judge` counts). `off_grid` grows to the fix's distance; `left`
-/// gives the seconds left of the contour's budget.
-std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, const BSpline& current,
-                                                     int current_total, const ReportOptions& t, const ReportOptions& o,
-                                                     const ContourMoves& rules, const GlyphFixOptions& options,
-                                                     const std::function<int(const BSpline&)>& judge,
-                                                     const std::function<double()>& left, double& off_grid,
-                                                     std::string& why) {
-  const std::function<int(const BSpline&)> check_judge = total_judge(t);
-  FixRequest q;
-  q.requirement = guide(t, gate_report(current, t));
-  q.max_depth = t.max_depth;
-  q.max_seconds = left();
-  q.threads = 1;
-  q.max_move = options.max_move;
-  q.judge = check_judge;
-  rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
-  const FixResult f = fix(current, q);
-  if (!f.fixed || f.already) {
-    why = f.reason;
-    return std::nullopt;
-  }
+/// A candidate fix `f` of check `t` (moved off the grid; or of one violation
+/// when `t` is null) landed: snapped to the grid when there is one (where
+/// `t` passes, when given); the contour it gives when every check's total
+/// (`o`, whose total `judge` counts) falls below `current_total` and every
+/// smooth node stays exactly smooth, else nothing (and `why` says why), with
+/// its total. `off_grid` grows to the fix's distance; `left` gives the
+/// seconds left of the contour's budget.
+std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpline& current, int current_total,
+                                            const FixResult& f, const ReportOptions* t, const ReportOptions& o,
+                                            const ContourMoves& rules, const GlyphFixOptions& options,
+                                            const std::function<int(const BSpline&)>& judge,
+                                            const std::function<double()>& left, double& off_grid, std::string& why) {
   off_grid = std::max(off_grid, f.max_distance);
   BSpline next = *f.spline;
   // Off the grid it may still break another check; the grid snap (which
   // may move neighbouring handles too) then has to mend that.
   const bool off_grid_ok = judge(next) < current_total && smooth_kept(c, next);
   const std::string breaks = "the fix of " +
-                             (t.gates.size() == 1 && !t.require ? to_string(t.gates[0]) : std::string("every check")) +
+                             (!t                                    ? std::string("a violation")
+                              : t->gates.size() == 1 && !t->require ? to_string(t->gates[0])
+                                                                    : std::string("every check")) +
                              " breaks another check (no round lowers the count of violations)";
   if (!off_grid_ok && options.grid <= 0) {
     why = breaks;
@@ -675,7 +569,7 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
     auto snap_judge = [&](const BSpline& s) {
       try {
         const SplineReport model = gate_model(s, o);
-        const int own = total(counts_on(model, t));
+        const int own = t ? total(counts_on(model, *t)) : 0;
         if (own != 0) return own;
         return total(counts_on(model, o)) < current_total && smooth_kept(c, s) ? 0 : 1;
       } catch (const InputError&) {
@@ -697,6 +591,94 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
   const int next_total = judge(next);
   if (next_total < current_total && smooth_kept(c, next)) return std::make_pair(std::move(next), next_total);
   return std::nullopt;
+}
+
+/// One attempt of a round: the nearest certified fix of check `t` alone
+/// from `current` (design/fix.hpp with `t`'s judge), landed (land).
+std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, const BSpline& current,
+                                                     int current_total, const ReportOptions& t, const ReportOptions& o,
+                                                     const ContourMoves& rules, const GlyphFixOptions& options,
+                                                     const std::function<int(const BSpline&)>& judge,
+                                                     const std::function<double()>& left, double& off_grid,
+                                                     std::string& why) {
+  FixRequest q;
+  q.requirement = guide(t, gate_report(current, t));
+  q.max_depth = t.max_depth;
+  q.max_seconds = left();
+  q.threads = 1;
+  q.max_move = options.max_move;
+  q.judge = total_judge(t);
+  rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
+  const FixResult f = fix(current, q);
+  if (!f.fixed || f.already) {
+    why = f.reason;
+    return std::nullopt;
+  }
+  return land(c, current, current_total, f, &t, o, rules, options, judge, left, off_grid, why);
+}
+
+/// The move from `from` to `to` as a fix (every point that differs).
+FixResult move_as_fix(const BSpline& from, const BSpline& to) {
+  FixResult f;
+  f.fixed = true;
+  f.spline = to;
+  for (int k = 0; k < from.unique_point_count(); ++k) {
+    const Vec2 a = from.points()[k], b = to.points()[k];
+    if (a == b) continue;
+    const double d = std::hypot(b.x - a.x, b.y - a.y);
+    f.moves.push_back({k, a, b, d});
+    f.total_squared += d * d;
+    f.max_distance = std::max(f.max_distance, d);
+  }
+  return f;
+}
+
+/// Where no check's fix as a whole lowers the count (several joints of one
+/// gate that no single search of its points passes together): one
+/// violation at a time, each removed by its severity's move (report/
+/// severity.hpp: the nearest move of its own segments' points found, and
+/// at a stem meeting a bowl the constructed move that puts the bowl's end
+/// on the stem's line, which a search of the grid cannot hit), landed
+/// (land) when every check's total falls. A move that removes its
+/// violation but breaks another (the bowl's handle that reaches the stem's
+/// line changes the curvature at the bowl's other end) is followed by the
+/// move of each violation it leaves, with its own points held, and the two
+/// landed together. The first that lands.
+std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour& c, const BSpline& current,
+                                                          int current_total, const ReportOptions& o,
+                                                          const ContourMoves& rules, const GlyphFixOptions& options,
+                                                          const std::function<int(const BSpline&)>& judge,
+                                                          const std::function<double()>& left, double& off_grid,
+                                                          std::string& why) {
+  const auto spent = [&] { return left() <= 0.05; };  // the contour's budget (left's floor)
+  // Each violation of a gate with a severity on `s`, with its move from
+  // there (by `moves`), in order, until `act` returns true.
+  const auto each_move = [&](const BSpline& s, const ContourMoves& moves, const auto& act) {
+    const SplineReport r = gate_report(s, o);
+    for (const GateResult& g : r.gates) {
+      if (g.pass() || !has_severity(g.gate)) continue;
+      for (const GateViolation& v : g.violations) {
+        if (spent()) return false;
+        const SeverityMove sm = severity_move(s, g.gate, v, o, moves, options.max_move);
+        if (sm.moved && act(*sm.moved)) return true;
+      }
+    }
+    return false;
+  };
+  std::optional<std::pair<BSpline, int>> out;
+  each_move(current, rules, [&](const BSpline& first) {
+    out = land(c, current, current_total, move_as_fix(current, first), nullptr, o, rules, options, judge, left,
+               off_grid, why);
+    if (out || judge(first) > current_total || !smooth_kept(c, first)) return out.has_value();
+    ContourMoves held = rules;  // the first move's points stay where it put them
+    for (const PointMove& m : move_as_fix(current, first).moves) std::erase(held.points, m.point);
+    return each_move(first, held, [&](const BSpline& second) {
+      out = land(c, current, current_total, move_as_fix(current, second), nullptr, o, rules, options, judge, left,
+                 off_grid, why);
+      return out.has_value();
+    });
+  });
+  return out;
 }
 
 /// The certificate of a contour fix: `fixed` re-judged check by check (none
@@ -864,6 +846,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     } else if (why.empty()) {
       why = "the grid descent finds no position that passes every check";
     }
+  }
+  // Last, one violation at a time (a search for each), from where the
+  // rounds left the contour, in what is left of the search's time.
+  while (current_total > 0 && Clock::now() < deadline) {
+    auto next = attempt_violations(c, current, current_total, o, rules, options, judge, left, out.off_grid_distance, why);
+    if (!next) break;
+    current = std::move(next->first);
+    current_total = next->second;
   }
   if (current_total > 0) {
     out.reason = why.empty() ? "no fix passes every check" : why;

@@ -17,6 +17,18 @@
 /// is re-judged gate by gate, before and after, and a fix that makes any
 /// required gate worse is none.
 ///
+/// Rounds: each takes the first of these whose landing (snapped to the
+/// grid) lowers the total count of violations and keeps every smooth node
+/// smooth: the fix of each failing check alone, then of all of them; else,
+/// one violation at a time, the move behind its severity (report/
+/// severity.hpp: the nearest move of its own segments' points found; at a
+/// stem meeting a bowl under g2 the constructed move that puts the bowl's
+/// end on the stem's line, which no search of the grid hits), and where
+/// that move removes its violation but breaks another (the bowl's handle
+/// that reaches the line changes the curvature at the bowl's other end),
+/// followed by the move of each violation it leaves with its own points
+/// held, the two landed together (glyph_fix.cpp, attempt_violations).
+///
 /// Several checks at once: first a descent on the grid (glyph_fix.cpp,
 /// grid_descent). Units: a handle of an exactly smooth node slides by k
 /// times the primitive grid vector (dx, dy) / gcd(dx, dy) of its tangent
@@ -42,7 +54,7 @@
 /// once. Nor can a cubic's, under g2 and the extremum gate together, where
 /// the curve's far node is exactly smooth with a tangent square to the line
 /// (g2 puts the second handle at the lines' crossing, and such a cubic has
-/// a curvature extremum inside: derived in glyph_fix.cpp,
+/// a curvature extremum inside: derived in glyph_joins.hpp,
 /// square_cubic_line_join): said at once too. Time:
 /// GlyphFixOptions::glyph_seconds per glyph.
 #include <string>

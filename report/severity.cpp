@@ -17,12 +17,13 @@
 #include "spline/errors.hpp"
 
 namespace cmr::report {
-namespace {
 
 bool has_severity(const Gate& g) {
   return g.kind == Gate::Kind::extrema_at_nodes || g.kind == Gate::Kind::max_extrema_per_segment ||
          g.kind == Gate::Kind::g2_at_smooth_nodes;
 }
+
+namespace {
 
 /// The same place: the segment of an extremum, the joint of a jump.
 bool same_place(const GateViolation& a, const GateViolation& b) {

@@ -68,6 +68,10 @@ inline constexpr double kRefineBelow = 8;
 /// The default threshold of `--min-severity`: half a font unit.
 inline constexpr double kDefaultMinSeverity = 0.5;
 
+/// Whether a gate's violations get a severity (and severity_move a search):
+/// curvature-extrema-at-nodes, max-extrema-per-segment and g2-at-smooth-nodes.
+bool has_severity(const Gate& gate);
+
 /// One violation's severity and the move that has it.
 struct SeverityMove {
   double distance = std::numeric_limits<double>::infinity();  ///< largest point displacement; +inf: none

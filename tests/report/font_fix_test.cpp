@@ -158,7 +158,7 @@ TEST(FontFix, NoFixesSearchesNone) {
 
 // The glyph fix refuses at once, with a proof, a smooth line-to-cubic join
 // whose far node's tangent is square to the line when g2 and the extrema
-// gate are both required (report/glyph_fix.cpp, square_cubic_line_join):
+// gate are both required (report/glyph_joins.hpp, square_cubic_line_join):
 // Nimbus Sans' n (its inner arch: the stem's top p3, the arch's top p6 with
 // a horizontal tangent). With g2 alone it is not refused that way. And the
 // derivation behind it, checked by the report's own extremum count: every

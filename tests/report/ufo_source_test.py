@@ -204,6 +204,31 @@ def main():
             check("exact judge (qcurve, extrema and g2): the source fails, the fixed glyph passes",
                   before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
 
+        # g2 alone on Nimbus g (issue 36's stem example): two stem-to-bowl joins need the bowl's end
+        # curvature exactly 0, which the violation-at-a-time rounds construct; the stems stay lines
+        r = run("fix", "Nimbus.ufo", "--glyph", "g", "--require", "g2-at-smooth-nodes", "--out", "FixedG.ufo", cwd=tmp)
+        check("fix Nimbus g under g2 (stem-to-bowl joins) exits 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            src_g, fix_g = os.path.join(nimbus, "glyphs", "g.glif"), os.path.join(tmp, "FixedG.ufo", "glyphs", "g.glif")
+            ok, why = only_xy_changed(src_g, fix_g)
+            check("Nimbus g: only x/y of moved points change, to integers", ok, why)
+            before, after = judge(src_g, "g2"), judge(fix_g, "g2")
+            check("exact judge (g2): Nimbus g fails, the fixed glyph passes",
+                  before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+            # A line's end nodes stay (report/contour_moves.hpp): every on-curve point that begins or
+            # ends a `line` segment has the source's coordinates.
+            def line_ends(path):
+                ends = set()
+                for contour in re.findall(r"<contour>(.*?)</contour>", open(path).read(), re.S):
+                    pts = re.findall(r"<point ([^>]*)/>", contour)
+                    xy = [(re.search(r'\bx="([^"]*)"', p).group(1), re.search(r'\by="([^"]*)"', p).group(1)) for p in pts]
+                    for i, p in enumerate(pts):
+                        if 'type="line"' in p:
+                            ends |= {(i, xy[i]), ((i - 1) % len(pts), xy[(i - 1) % len(pts)])}
+                return ends
+            check("Nimbus g: every line's end nodes stay where they were", line_ends(src_g) == line_ends(fix_g),
+                  str(line_ends(src_g) ^ line_ends(fix_g)))
+
         # what no move can do: g2 where a line meets a quadratic curve (DejaVu e), said at once
         r = run("fix", "DejaVu.ufo", "--glyph", "e", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
                 "--out", "FixedE.ufo", cwd=tmp)

@@ -1,0 +1,78 @@
+#include "report/glyph_joins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "design/fix.hpp"
+#include "report/batch.hpp"
+
+namespace cmr::report::glyph_detail {
+
+std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
+  if (c.spline.degree() != 2) return "";
+  if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
+    return "";
+  const SplineReport r = gate_report(c.spline, o);
+  const int n = c.spline.segment_count();
+  auto is_line = [&](int i) {
+    for (int k : segment_points(c.spline, c.spline.segments()[i]))
+      if (k < static_cast<int>(c.font_point.size()) && c.font_point[k] < 0) return true;
+    return false;
+  };
+  for (const JointReport& jr : r.joints) {
+    const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
+    if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
+    const int right = jr.joint.index % n, left = (right + n - 1) % n;
+    if (!c.spline.closed() && jr.joint.index == 0) continue;
+    if (is_line(kl == 0 ? left : right))
+      return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
+  }
+  return "";
+}
+
+std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
+  const BSpline& s = c.spline;
+  if (s.degree() != 3 || s.is_rational() || !s.closed() || !(o.constant_tolerance < 0.5)) return "";
+  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
+  });
+  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes ||
+           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
+  });
+  if (!g2 || !extrema) return "";
+  const std::vector<Vec2>& P = s.points();
+  const int m = static_cast<int>(c.node.size());
+  if (m < 6 || static_cast<int>(c.font_point.size()) != m) return "";
+  // Font units: integers, small enough that the products below are exact.
+  const auto grid = [](Vec2 p) {
+    return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
+  };
+  const auto at = [&](int k) { return ((k % m) + m) % m; };
+  const auto real_handle = [&](int k) { return !c.node[at(k)] && c.font_point[at(k)] >= 0; };
+  for (int j = 0; j < m; ++j) {
+    if (!c.node[j] || c.font_point[j] < 0) continue;
+    for (const int dir : {1, -1}) {
+      // S on side dir: J, H1, H2, F; the line on the other side (its added
+      // inner point next to J), ending at the node L.
+      const int h1 = at(j + dir), h2 = at(j + 2 * dir), f = at(j + 3 * dir), before = at(j - dir);
+      if (!real_handle(h1) || !real_handle(h2) || !c.node[f] || c.node[before] || c.font_point[before] >= 0) continue;
+      int l = before;
+      while (!c.node[l] && l != j) l = at(l - dir);
+      if (l == j) continue;
+      const int next = at(f + dir);
+      if (!grid(P[j]) || !grid(P[l]) || !grid(P[h1]) || !grid(P[h2]) || !grid(P[f]) || !grid(P[next])) continue;
+      const Vec2 u = P[j] - P[l], e = P[h1] - P[j];  // the line's direction into J, J's handle
+      if (det(u, e) != 0 || !(dot(u, e) > 0)) continue;  // J exactly smooth
+      // F exactly smooth: its tangent d, and the point after it on the same line, in the same direction.
+      const Vec2 d = P[f] - P[h2], after = P[next] - P[f];
+      if (d == Vec2(0.0) || det(d, after) != 0 || !(dot(d, after) > 0)) continue;
+      if (dot(e, d) != 0) continue;  // F's tangent square to the line
+      return j < static_cast<int>(c.point_names.size()) ? c.point_names[j] : "P" + std::to_string(j);
+    }
+  }
+  return "";
+}
+
+}  // namespace cmr::report::glyph_detail
