@@ -280,6 +280,8 @@ void check_fix_request(const BSpline& spline, const FixRequest& request) {
     throw InputFieldError(field("max_move") + ": " + std::to_string(request.max_move) + " is not a distance >= 0");
   if (!(request.max_seconds >= 0) || !std::isfinite(request.max_seconds))
     throw InputFieldError(field("max_seconds") + ": " + std::to_string(request.max_seconds) + " is not a time >= 0");
+  if (request.max_evaluations < 0)
+    throw InputError("max_evaluations " + std::to_string(request.max_evaluations) + " is negative");
   if (request.grid < 8 || request.grid > 512) throw InputError("grid " + std::to_string(request.grid) + " is outside 8..512");
   if (request.max_depth < 0 || request.max_depth > kMaxDepth)
     throw InputFieldError(field("max_depth") + ": " + std::to_string(request.max_depth) + " is outside 0.." +
@@ -866,7 +868,9 @@ FixResult FixRun::run() {
   if (!feasible) feasible = greedy(z);
   if (feasible && (request_.together || !best_unit_)) polish(z);
   if (!feasible) {
-    out_.reason = search.timed_out
+    const bool counted_out = request_.max_evaluations > 0 && search.evaluations >= request_.max_evaluations;
+    out_.reason = counted_out ? "no certified fix found in " + std::to_string(request_.max_evaluations) + " evaluations"
+                  : search.timed_out
                       ? "no certified fix found in the time limit (" + std::to_string(request_.max_seconds) + " s)"
                       : "no certified fix within " + field("max_move") + " " + std::to_string(search.max_move) + " (" +
                             std::to_string(ties_.units.size()) + " unit(s) of motion tried)";

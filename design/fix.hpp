@@ -175,6 +175,10 @@ struct FixRequest {
   /// Wall-clock limit of the search in seconds (0: none); when it runs out,
   /// the best certified fix found so far is returned, or none.
   double max_seconds = 30;
+  /// Limit of the search's evaluations (classifier or judge calls; 0:
+  /// none), ended as by max_seconds. Unlike time, with one thread it ends
+  /// the search at the same place on any machine and under any load.
+  long max_evaluations = 0;
   /// The caller's cancel flag (may be null; the Python module's
   /// KeyboardInterrupt): once set, the search ends as when its time is up,
   /// and its result is to be dropped.

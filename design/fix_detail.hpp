@@ -212,10 +212,11 @@ struct Search {
     return bad;
   }
 
-  /// The search's time is up (FixRequest::max_seconds, or the caller's
-  /// cancel flag): every predicate answers "fails" from now on, so every
-  /// loop ends.
+  /// The search's time is up (FixRequest::max_seconds or ::max_evaluations,
+  /// or the caller's cancel flag): every predicate answers "fails" from now
+  /// on, so every loop ends.
   bool expired() {
+    if (!timed_out && request.max_evaluations > 0 && evaluations >= request.max_evaluations) timed_out = true;
     if (!timed_out && request.max_seconds > 0 && Clock::now() > deadline) timed_out = true;
     if (!timed_out && request.cancel != nullptr && request.cancel->load(std::memory_order_relaxed)) timed_out = true;
     return timed_out;

@@ -240,6 +240,7 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
         }
       combos = std::move(grown);
     }
+    out.combinations += static_cast<long>(combos.size());
     std::sort(combos.begin(), combos.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (const auto& [cost, pick] : combos) {
       if (cost >= best_cost) break;  // a found one is cheaper than all the rest

@@ -67,6 +67,7 @@ struct GridFix {
   double total_squared = 0, max_distance = 0;
   double off_grid_max_distance = 0;  ///< the off-grid fix's largest move (for the "nearest off-grid" line)
   long evaluations = 0;
+  long combinations = 0;  ///< candidate combinations formed and ordered (the snap's work besides the judge)
 };
 
 /// The nearest on-grid positions for the units `fix` moved (see above),

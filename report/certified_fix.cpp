@@ -215,7 +215,8 @@ CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options)
   GlyphFixOptions o;
   o.judge = options;
   o.grid = integral ? 1 : 0;
-  o.max_seconds = o.glyph_seconds = kReportFixSeconds;
+  o.glyph_work = kReportGlyphWork;
+  o.guard_seconds = 2 * kReportFixSeconds;
   o.both_searches = false;  // a suggestion in the report's time; `cmr fix` searches on for a nearer one
   try {
     const ContourFix c = fix_glyph(g, o).front();

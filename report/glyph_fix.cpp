@@ -29,6 +29,7 @@ using glyph_detail::settle_nearer;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
 using glyph_detail::unmovable_g2_join;
+using glyph_detail::Work;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
 /// options of a set of checks that holds t's (the same model options): the
@@ -333,8 +334,7 @@ Badness quick_badness(const BSpline& s, const QuickJudge& q) {
 /// everything still passes, so the moves stay as small as this local search
 /// finds (a local minimum, not the nearest). The caller re-judges exactly.
 std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start, const std::vector<LatticeUnit>& units,
-                                  const ReportOptions& o, const GlyphFixOptions& options,
-                                  std::chrono::steady_clock::time_point deadline) {
+                                  const ReportOptions& o, const GlyphFixOptions& options, Work& work) {
   const double grid = options.grid > 0 ? options.grid : 1;
   if (units.empty()) return std::nullopt;
   const std::vector<Vec2>& src = c.spline.points();
@@ -348,8 +348,10 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
       if (std::hypot(pts[k].x - src[k].x, pts[k].y - src[k].y) > max_move) return false;
     return smooth_kept(c, spline_of(pts));
   };
+  const long segments = c.spline.segment_count();
   auto score_of = [&](const std::vector<Vec2>& pts, bool exact) -> std::optional<Badness> {
     if (!allowed(pts)) return std::nullopt;
+    work.charge(segments);
     try {
       const BSpline s = spline_of(pts);
       return exact || !quick ? badness_of(gate_report(s, o), o, size) : quick_badness(s, *quick);
@@ -365,6 +367,7 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
   const RunJudge runs(c.spline, o);
   std::map<std::pair<int, int>, std::optional<Badness>> at_runs;
   auto run_badness = [&](const std::vector<Vec2>& pts, const RunJudge::Run& r) -> std::optional<Badness> {
+    work.charge(r.length + 2);  // the run's window
     try {
       return badness_of(runs.report(spline_of(pts), r), o, size);
     } catch (const InputError&) {
@@ -400,7 +403,7 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
     if (u.slide) return std::vector<Vec2>{u.step, -1.0 * u.step};
     return std::vector<Vec2>{Vec2(grid, 0), Vec2(-grid, 0), Vec2(0, grid), Vec2(0, -grid)};
   };
-  auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
+  auto expired = [&] { return work.spent(); };
   // Neighbouring units (within three points along the contour): the pairs.
   const int m = c.spline.unique_point_count();
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
@@ -492,15 +495,14 @@ std::optional<BSpline> descent_of(const import::Contour& c, const BSpline& start
 /// whose move shifts the glyph's extremes and stems, moves only where the
 /// handles cannot pass every check; then with every unit.
 std::optional<BSpline> grid_descent(const import::Contour& c, const BSpline& start, const std::vector<int>& movable,
-                                    const ReportOptions& o, const GlyphFixOptions& options,
-                                    std::chrono::steady_clock::time_point deadline) {
+                                    const ReportOptions& o, const GlyphFixOptions& options, Work& work) {
   const std::vector<LatticeUnit> units = lattice_units(c, movable, options.grid > 0 ? options.grid : 1);
   std::vector<LatticeUnit> handles;
   for (const LatticeUnit& u : units)
     if (!c.node[u.points.front()]) handles.push_back(u);
   if (!handles.empty() && handles.size() < units.size())
-    if (std::optional<BSpline> d = descent_of(c, start, handles, o, options, deadline)) return d;
-  return descent_of(c, start, units, o, options, deadline);
+    if (std::optional<BSpline> d = descent_of(c, start, handles, o, options, work)) return d;
+  return descent_of(c, start, units, o, options, work);
 }
 
 /// The total count of violations of every check in `oi` (a spline that
@@ -542,13 +544,13 @@ std::vector<ReportOptions> failing_checks(const BSpline& s, const ReportOptions&
 /// `t` passes, when given); the contour it gives when every check's total
 /// (`o`, whose total `judge` counts) falls below `current_total` and every
 /// smooth node stays exactly smooth, else nothing (and `why` says why), with
-/// its total. `off_grid` grows to the fix's distance; `left` gives the
-/// seconds left of the contour's budget.
+/// its total. `off_grid` grows to the fix's distance; the snap's
+/// evaluations are charged to `work`.
 std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpline& current, int current_total,
                                             const FixResult& f, const ReportOptions* t, const ReportOptions& o,
                                             const ContourMoves& rules, const GlyphFixOptions& options,
                                             const std::function<int(const BSpline&)>& judge,
-                                            const std::function<double()>& left, double& off_grid, std::string& why) {
+                                            Work& work, double& off_grid, std::string& why) {
   off_grid = std::max(off_grid, f.max_distance);
   BSpline next = *f.spline;
   // Off the grid it may still break another check; the grid snap (which
@@ -579,9 +581,12 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     GridOptions g;
     g.grid = options.grid;
     g.max_move = options.max_move;
-    g.max_seconds = left();
+    g.max_seconds = work.seconds_left();
+    const long segments = current.segment_count();  // each evaluation judges the contour
+    g.max_evaluations = std::min(g.max_evaluations, std::max(1L, work.left() / segments));
     g.partners = partners_of(c, f, rules.points);
     const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
+    work.charge(snapped.evaluations * segments + snapped.combinations / 2);  // its judgements, and ordering its candidates
     if (!snapped.found) {
       why = off_grid_ok ? snapped.reason : breaks;
       return std::nullopt;
@@ -599,22 +604,24 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
                                                      int current_total, const ReportOptions& t, const ReportOptions& o,
                                                      const ContourMoves& rules, const GlyphFixOptions& options,
                                                      const std::function<int(const BSpline&)>& judge,
-                                                     const std::function<double()>& left, double& off_grid,
-                                                     std::string& why) {
+                                                     Work& work, double& off_grid, std::string& why) {
   FixRequest q;
   q.requirement = guide(t, gate_report(current, t));
   q.max_depth = t.max_depth;
-  q.max_seconds = left();
+  q.max_seconds = work.seconds_left();
+  const long segments = current.segment_count();  // each evaluation judges the contour
+  q.max_evaluations = std::max(1L, work.left() / segments);
   q.threads = 1;
   q.max_move = options.max_move;
   q.judge = total_judge(t);
   rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
   const FixResult f = fix(current, q);
+  work.charge(f.evaluations * segments);
   if (!f.fixed || f.already) {
     why = f.reason;
     return std::nullopt;
   }
-  return land(c, current, current_total, f, &t, o, rules, options, judge, left, off_grid, why);
+  return land(c, current, current_total, f, &t, o, rules, options, judge, work, off_grid, why);
 }
 
 /// The move from `from` to `to` as a fix (every point that differs).
@@ -648,9 +655,7 @@ std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour&
                                                           int current_total, const ReportOptions& o,
                                                           const ContourMoves& rules, const GlyphFixOptions& options,
                                                           const std::function<int(const BSpline&)>& judge,
-                                                          const std::function<double()>& left, double& off_grid,
-                                                          std::string& why) {
-  const auto spent = [&] { return left() <= 0.05; };  // the contour's budget (left's floor)
+                                                          Work& work, double& off_grid, std::string& why) {
   // Each violation of a gate with a severity on `s`, with its move from
   // there (by `moves`), in order, until `act` returns true.
   const auto each_move = [&](const BSpline& s, const ContourMoves& moves, const auto& act) {
@@ -658,8 +663,9 @@ std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour&
     for (const GateResult& g : r.gates) {
       if (g.pass() || !has_severity(g.gate)) continue;
       for (const GateViolation& v : g.violations) {
-        if (spent()) return false;
+        if (work.spent()) return false;
         const SeverityMove sm = severity_move(s, g.gate, v, o, moves, options.max_move);
+        work.charge(sm.evaluations * 3);  // its window: a segment, or the two at a joint and one more
         if (sm.moved && act(*sm.moved)) return true;
       }
     }
@@ -667,13 +673,13 @@ std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour&
   };
   std::optional<std::pair<BSpline, int>> out;
   each_move(current, rules, [&](const BSpline& first) {
-    out = land(c, current, current_total, move_as_fix(current, first), nullptr, o, rules, options, judge, left,
+    out = land(c, current, current_total, move_as_fix(current, first), nullptr, o, rules, options, judge, work,
                off_grid, why);
     if (out || judge(first) > current_total || !smooth_kept(c, first)) return out.has_value();
     ContourMoves held = rules;  // the first move's points stay where it put them
     for (const PointMove& m : move_as_fix(current, first).moves) std::erase(held.points, m.point);
     return each_move(first, held, [&](const BSpline& second) {
-      out = land(c, current, current_total, move_as_fix(current, second), nullptr, o, rules, options, judge, left,
+      out = land(c, current, current_total, move_as_fix(current, second), nullptr, o, rules, options, judge, work,
                  off_grid, why);
       return out.has_value();
     });
@@ -737,20 +743,28 @@ namespace {
 /// settle_nearer on a contour's passing fix `fixed` (updated), judged by
 /// local_judge (every check of `o`, smooth nodes kept).
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
-            const ReportOptions& o, std::chrono::steady_clock::time_point deadline) {
+            const ReportOptions& o, Work& work) {
   const int distinct = c.spline.unique_point_count();
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
   std::vector<Vec2> at(fixed.points().begin(), fixed.points().begin() + distinct);
   const double reach = options.max_move > 0 ? options.max_move : std::numeric_limits<double>::infinity();
   const RunJudge runs(c.spline, o);
+  const auto judge = local_judge(c, o);
+  const long segments = c.spline.segment_count();
+  // Each judgement charged its segments: the run's window, or the contour.
+  auto passes = [&](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
+    const std::optional<RunJudge::Run> r = runs.run(from, to);
+    work.charge(r ? r->length + 2 : segments);
+    return judge(from, to);
+  };
   const bool done = settle_nearer(
-      src, at, lattice_units(c, movable, options.grid), options.grid, reach, local_judge(c, o),
-      [&runs](const std::vector<int>& points) { return runs.depends_on(points); }, deadline);
+      src, at, lattice_units(c, movable, options.grid), options.grid, reach, passes,
+      [&runs](const std::vector<int>& points) { return runs.depends_on(points); }, work);
   fixed = with_points(c, at);
   return done;
 }
 
-ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, double budget) {
+ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options, Work& work) {
   const auto t0 = std::chrono::steady_clock::now();
   ContourFix out;
   out.contour = c.index;
@@ -786,14 +800,6 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   BSpline current = c.spline;
   int current_total = total(out.rejudged);
   std::string why;
-  using Clock = std::chrono::steady_clock;
-  auto at_time = [&](double seconds) {
-    return t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-  };
-  auto deadline = at_time(budget);
-  const std::function<double()> left = [&] {
-    return std::max(0.05, std::chrono::duration<double>(deadline - Clock::now()).count());
-  };
   // Several checks: the grid descent first, in half the budget (the
   // rounds' fix of one check mostly breaks another); the rounds after it,
   // in half of what is left where it found a fix (both_searches), and the
@@ -802,22 +808,24 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // less to do.
   const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
   std::optional<BSpline> descended;
-  if (several && options.grid > 0)
-    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, at_time(budget / 2)))
+  if (several && options.grid > 0) {
+    const long whole = work.cap(work.left() / 2);
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work))
       if (judge(*d) == 0 && smooth_kept(c, *d)) descended = std::move(*d);
+    work.release(whole);
+  }
   if (descended && !options.both_searches) current = std::move(*descended), current_total = 0, descended.reset();
-  const auto search_end = deadline;
-  if (descended) deadline = Clock::now() + (deadline - Clock::now()) / 2;
+  const long search_end = descended ? work.cap(work.left() / 2) : work.cap(work.left());
   // Rounds: each tries to fix one failing check alone (its own judge and
   // search guide), then all of them at once, from where the last round
   // left the contour, snapped to the grid; a round is taken when the total
   // count of violations of every check falls and every smooth node stays
   // exactly smooth. So the total falls each round and the loop ends.
-  for (int round = 0; round < kGlyphFixRounds && current_total > 0 && Clock::now() < deadline; ++round) {
+  for (int round = 0; round < kGlyphFixRounds && current_total > 0 && !work.spent(); ++round) {
     bool improved = false;
     for (const ReportOptions& t : failing_checks(current, o)) {
-      if (Clock::now() >= deadline) break;
-      if (auto next = attempt_check(c, current, current_total, t, o, rules, options, judge, left, out.off_grid_distance,
+      if (work.spent()) break;
+      if (auto next = attempt_check(c, current, current_total, t, o, rules, options, judge, work, out.off_grid_distance,
                                     why)) {
         current = std::move(next->first);
         current_total = next->second;
@@ -827,7 +835,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     }
     if (!improved) break;
   }
-  deadline = search_end;
+  work.release(search_end);
   if (descended) {
     const int m = c.spline.unique_point_count();
     const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
@@ -836,10 +844,10 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       out.off_grid_distance = 0;  // the descent is on the grid throughout
     }
   }
-  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && Clock::now() < deadline) {
+  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && !work.spent()) {
     // The rounds lowered the count but no round ends it: the descent from
     // where they left the contour.
-    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, deadline)) {
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work)) {
       const int d_total = judge(*d);
       if (d_total == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
       else why = "the grid descent ends with violations";
@@ -848,9 +856,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     }
   }
   // Last, one violation at a time (a search for each), from where the
-  // rounds left the contour, in what is left of the search's time.
-  while (current_total > 0 && Clock::now() < deadline) {
-    auto next = attempt_violations(c, current, current_total, o, rules, options, judge, left, out.off_grid_distance, why);
+  // rounds left the contour, in what is left of the search's work.
+  while (current_total > 0 && !work.spent()) {
+    auto next = attempt_violations(c, current, current_total, o, rules, options, judge, work, out.off_grid_distance, why);
     if (!next) break;
     current = std::move(next->first);
     current_total = next->second;
@@ -902,44 +910,60 @@ import::Contour contour_of(const BSpline& spline, const std::vector<std::string>
   return c;
 }
 
+namespace {
+
+/// Notes on each of the glyph's fixes the work it took and whether the
+/// guard ended it.
+void finish(std::vector<ContourFix>& out, const Work& work) {
+  for (ContourFix& f : out) f.glyph_work = work.used(), f.guarded = work.guarded();
+}
+
+}  // namespace
+
 std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOptions& options) {
   if (!glyph.error.empty()) throw InputError(glyph.error);
+  if (!(options.glyph_work > 0) || !(options.guard_seconds > 0))
+    throw InputError("a glyph fix needs work and time: glyph_work and guard_seconds must be positive");
   std::vector<ContourFix> out;
   const auto t0 = std::chrono::steady_clock::now();
+  Work work(options.glyph_work, t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(options.guard_seconds)));
   const std::size_t n = glyph.contours.size();
   for (std::size_t i = 0; i < n; ++i) {
-    // Each contour its share of what is left of the glyph's budget (one
-    // that passes as it is uses none), at most max_seconds.
-    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double share = std::max(0.1, (options.glyph_seconds - spent) / static_cast<double>(n - i));
-    out.push_back(fix_contour(glyph.contours[i], options, std::min(options.max_seconds, share)));
+    // Each contour its share of what is left of the glyph's work (one that
+    // passes as it is uses none).
+    const long whole = work.cap(work.left() / static_cast<long>(n - i));
+    out.push_back(fix_contour(glyph.contours[i], options, work));
+    work.release(whole);
   }
   // Then each fix found is settled (settle_nearer), in what is left of the
-  // budget: after every contour's search, so settling one contour never
-  // takes time another's search needs; and only when every contour is fixed
+  // work: after every contour's search, so settling one contour never
+  // takes what another's search needs; and only when every contour is fixed
   // (a glyph with one contour unfixed has no fix to settle).
   if (!(options.grid > 0) || std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed; }))
+  {
+    finish(out, work);
     return out;
+  }
   const ReportOptions o = judge_only(options.judge);
-  std::size_t left = std::count_if(out.begin(), out.end(), [](const ContourFix& f) { return f.fixed && !f.already; });
+  long left = std::count_if(out.begin(), out.end(), [](const ContourFix& f) { return f.fixed && !f.already; });
   for (std::size_t i = 0; i < n; ++i) {
     ContourFix& f = out[i];
     if (!f.fixed || f.already) continue;
     const import::Contour& c = glyph.contours[i];
-    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double share = std::min(options.max_seconds, (options.glyph_seconds - spent) / static_cast<double>(left--));
+    const long whole = work.cap(work.left() / left--);
     const auto start = std::chrono::steady_clock::now();
-    const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                      std::chrono::duration<double>(std::max(0.0, share)));
     BSpline fixed = c.spline;
     for (const PointMove& m : f.moves) fixed = fixed.with_point(m.point, m.to);
     ContourFix settled = f;
     settled.moves.clear(), settled.names.clear(), settled.source_points.clear();
-    settled.settled = settle(c, fixed, contour_moves(c).points, options, o, deadline);
+    settled.settled = settle(c, fixed, contour_moves(c).points, options, o, work);
+    work.release(whole);
     const bool certified = certify_contour_fix(c, fixed, o, settled);  // it passes: settle moves only to passing positions
     settled.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (certified) f = std::move(settled);
   }
+  finish(out, work);
   return out;
 }
 

@@ -55,8 +55,8 @@
 /// the curve's far node is exactly smooth with a tangent square to the line
 /// (g2 puts the second handle at the lines' crossing, and such a cubic has
 /// a curvature extremum inside: derived in glyph_joins.hpp,
-/// square_cubic_line_join): said at once too. Time:
-/// GlyphFixOptions::glyph_seconds per glyph.
+/// square_cubic_line_join): said at once too. Budget:
+/// GlyphFixOptions::glyph_work per glyph, in work, not time.
 #include <string>
 #include <vector>
 
@@ -66,17 +66,32 @@
 
 namespace cmr::report {
 
+/// GlyphFixOptions::glyph_work's default (`cmr fix`).
+inline constexpr long kGlyphWork = 2000000;
+/// The work of a report's fix of every check at once on a glyph's contour
+/// (report/certified_fix.hpp), about kReportFixSeconds on this project's
+/// VM; twice that is its time guard.
+inline constexpr long kReportGlyphWork = kGlyphWork / 4;
+
 struct GlyphFixOptions {
   ReportOptions judge;     ///< the requirement and gates (regions and fixes off)
   double grid = 1;         ///< the font's grid; 0: off-grid (the fix as found)
   double max_move = 0;     ///< largest move of any point (font units); 0: the contour's size
-  double max_seconds = 20; ///< per contour at most (search, snapping and descent together)
-  /// The whole glyph's time budget: each contour gets its share of what is
-  /// left (a contour that passes as it is takes none). A contour out of time
-  /// is reported without a fix, with the reason of its last attempt.
-  double glyph_seconds = 8;
+  /// The whole glyph's budget, in work (glyph_settle.hpp, Work: exact
+  /// judgements of candidate positions and the searches' evaluations), so
+  /// that a glyph gets the same fix on any machine and under any load: each
+  /// contour gets its share of what is left (a contour that passes as it is
+  /// takes none), and the settling what the searches leave. A contour out of
+  /// work is reported without a fix, with the reason of its last attempt.
+  /// The default takes 4–9 s on this project's 2-core VM where a glyph
+  /// uses all of it (280,000–700,000 units a second: docs/fix.md).
+  long glyph_work = kGlyphWork;
+  /// A wall-clock guard on the glyph (seconds): ends its work sooner on a
+  /// machine too slow for it (ContourFix::guarded; only then can a fix
+  /// differ from run to run).
+  double guard_seconds = 9.5;
   /// Several checks on the grid: where the grid descent finds a fix, run
-  /// the rounds too (in half the time left) and keep the nearer fix (total
+  /// the rounds too (in half the work left) and keep the nearer fix (total
   /// squared move). `cmr fix` does; a report's fix suggestions, found in
   /// the report's time, do not.
   bool both_searches = true;
@@ -100,6 +115,8 @@ struct ContourFix {
   /// each. False where the time ran out first (the fix still passes).
   bool settled = false;
   double seconds = 0;
+  long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)
+  bool guarded = false;  ///< the glyph's time guard ended its work (GlyphFixOptions::guard_seconds)
 };
 
 /// A closed polynomial spline as a contour of the glyph fix (a plain spline

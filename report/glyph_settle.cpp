@@ -19,14 +19,12 @@ double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
-                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on,
-                   std::chrono::steady_clock::time_point deadline) {
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, Work& work) {
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
   // Per unit, the points its verdicts read (depends_on), as flags.
   std::vector<std::vector<char>> reads(units.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
   for (std::size_t u = 0; u < units.size(); ++u)
     for (int k : depends_on(units[u].points)) reads[u][static_cast<std::size_t>(k)] = 1;
-  auto expired = [&] { return std::chrono::steady_clock::now() > deadline; };
   auto cost_of = [&](const std::vector<Vec2>& pts) { return squared_move(src, pts); };
   auto within = [&](const std::vector<Vec2>& pts) {
     for (int k = 0; k < m; ++k)
@@ -39,7 +37,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
   auto take_first = [&](std::vector<std::pair<double, std::vector<Vec2>>>& candidates) {
     std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& [unused, t] : candidates) {
-      if (expired()) return !(out_of_time = true);
+      if (work.spent()) return !(out_of_time = true);
       if (!within(t) || !passes(at, t)) continue;
       at = std::move(t);
       return true;

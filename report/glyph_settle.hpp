@@ -2,6 +2,7 @@
 // Internal to cmr::report: the glyph fix's units of motion on the grid and
 // the settling of a passing fix (report/glyph_fix.cpp; docs/fix.md "On the
 // grid").
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <optional>
@@ -13,6 +14,50 @@
 #include "spline/vec2.hpp"
 
 namespace cmr::report::glyph_detail {
+
+/// The glyph fix's budget (GlyphFixOptions::glyph_work), counted in work,
+/// not time, so that a fix that runs out of it is the same on any machine
+/// and under any load: the segments judged, one unit per segment of each
+/// judgement of a candidate position (the whole contour, or the window of
+/// the run a step changes: RunJudge), of each quick estimate, and of each
+/// evaluation of the fix search, the grid snap and the severity search
+/// (their own counts times the segments each judges), and one per two
+/// candidate combinations the grid snap orders. A wall-clock guard
+/// (GlyphFixOptions::guard_seconds)
+/// ends it sooner only on a machine too slow for the budget; then, and only
+/// then, a fix can differ from run to run (guarded()).
+class Work {
+ public:
+  Work(long units, std::chrono::steady_clock::time_point guard) : limit_(units), guard_(guard) {}
+  /// The budget (or the stage's cap) is used up, or the guard has passed.
+  bool spent() {
+    if (used_ >= limit_) return true;
+    if (!guarded_ && std::chrono::steady_clock::now() > guard_) guarded_ = true;
+    return guarded_;
+  }
+  void charge(long units = 1) { used_ += units; }
+  long used() const { return used_; }
+  long left() const { return limit_ > used_ ? limit_ - used_ : 0; }
+  /// A stage's share: at most `units` more until release(cap's value).
+  long cap(long units) {
+    const long was = limit_;
+    limit_ = std::min(limit_, used_ + units);
+    return was;
+  }
+  void release(long limit) { limit_ = limit; }
+  /// The guard ended the budget (the time ran out before the work).
+  bool guarded() const { return guarded_; }
+  /// Seconds to the guard (at least `floor`): the time limit handed to the
+  /// fix search and the grid snap, whose evaluation limits are left().
+  double seconds_left(double floor = 0.05) const {
+    return std::max(floor, std::chrono::duration<double>(guard_ - std::chrono::steady_clock::now()).count());
+  }
+
+ private:
+  long used_ = 0, limit_ = 0;
+  std::chrono::steady_clock::time_point guard_;
+  bool guarded_ = false;
+};
 
 /// A unit of the grid descent: points moved together by whole grid steps.
 /// A slide (a handle of an exactly smooth node) moves along the node's
@@ -46,8 +91,9 @@ struct LatticeUnit {
 /// to the first that did, every nearer position having failed) and a pair
 /// whose candidates all failed are not tried again until one of those
 /// points moves, since their candidates' verdicts and costs are what they
-/// were. Returns whether that end was reached (else the deadline came
-/// first); `at` holds the best so far either way, and it passes.
+/// were. It ends when `work` is spent (`passes` charges it). Returns
+/// whether that end was reached (else the work ran out first); `at` holds
+/// the best so far either way, and it passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
 
 /// The settling's cost: the sum over the distinct points of the squared
@@ -57,8 +103,7 @@ double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts);
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
                    double grid, double max_move,
                    const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
-                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on,
-                   std::chrono::steady_clock::time_point deadline);
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, Work& work);
 
 /// The checks of a move of a few points judged on the segments those points
 /// shape. Where every check of `o` is local (the extremum gates read each

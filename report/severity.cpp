@@ -167,7 +167,8 @@ std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOp
       if (det(f[1] - f[0], f[2] - f[0]) != 0) continue;  // not exactly on the line in doubles
       const double dist = std::hypot(to.x - P[k].x, to.y - P[k].y);
       if (dist > limit || dist >= best.distance) continue;
-      if (violations_at(moved, judge, v, -1) != 0) continue;
+      ++best.evaluations;
+    if (violations_at(moved, judge, v, -1) != 0) continue;
       best.distance = dist;
       best.moved = std::move(moved);
       continue;
@@ -196,6 +197,7 @@ std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOp
     const double dist = std::hypot(to.x - P[k].x, to.y - P[k].y);
     if (dist > limit || dist >= best.distance) continue;
     if (slide && !(dot(to - P[tie], dir) > 0)) continue;  // the handle would reach or pass its node
+    ++best.evaluations;
     if (violations_at(moved, judge, v, -1) != 0) continue;
     best.distance = dist;
     best.moved = std::move(moved);
@@ -226,6 +228,7 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
     for (int k : segment_points(spline, spline.segments()[static_cast<std::size_t>(i % n)])) points.insert(k);
   const ReportOptions judge = judge_only(options, gate);
   FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
+  q.max_evaluations = kSeverityEvaluations;
   q.points.assign(points.begin(), points.end());
   // The designer's moves only (report/contour_moves.hpp): a line's points
   // stay, smooth nodes keep G1. None of the place's points may move: no
@@ -245,10 +248,12 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
   // with --segments (a range of the whole spline), the search judges the
   // whole spline.
   // Empty: judge the whole spline (the window's answer did not hold on it).
+  long evaluations = 0;  // of both searches
   auto search = [&](int first) -> std::optional<SeverityMove> {
     q.judge = [judge, v, first](const BSpline& s) { return violations_at(s, judge, v, first); };
     try {
       FixResult f = fix(spline, q);
+      evaluations += f.evaluations;
       if (!f.fixed && !f.already) {
         SeverityMove none;
         none.none_allowed = f.nothing_moves;
@@ -264,9 +269,11 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
       return SeverityMove{};
     }
   };
-  if (!options.segments && count < n)
-    if (auto m = search(a)) return *m;
-  return *search(-1);
+  std::optional<SeverityMove> out;
+  if (!options.segments && count < n) out = search(a);
+  if (!out) out = search(-1);
+  out->evaluations = evaluations;
+  return *out;
 }
 
 namespace {

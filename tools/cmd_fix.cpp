@@ -118,6 +118,10 @@ Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>
     }
     if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
     if (f.fixed && !f.already && grid > 0) jc["settled"] = f.settled;
+    if (!f.already) {
+      jc["work"] = f.glyph_work;  // the glyph's search in work units, not time: the same on any machine
+      if (f.guarded) jc["stopped_by_time"] = true;  // the time guard ended it first: only then may a rerun differ
+    }
     contours.push_back(jc);
   }
   return contours;

@@ -191,7 +191,7 @@ TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
   g2.judge = {};
   report::parse_require_list("g2-at-smooth-nodes", g2.judge);
   g2.judge.regions = false;
-  g2.glyph_seconds = 1;
+  g2.glyph_work = report::kGlyphWork / 8;
   for (const report::ContourFix& f : report::fix_glyph(g, g2))
     EXPECT_EQ(f.reason.find("square to the line"), std::string::npos) << f.reason;
   // The derivation: an extremum inside for every a > 0, b != 0 and c.

@@ -175,7 +175,8 @@ bool Editor::fix_on_grid() {
   report::GlyphFixOptions o;
   o.judge.max_depth = d.max_depth;
   o.grid = grid > 0 ? grid : 1;  // a binary font's units: its grid too
-  o.max_seconds = kFixSeconds;
+  o.glyph_work = report::kReportGlyphWork;  // the report's fix search: the editor finds what the report finds
+  o.guard_seconds = kFixSeconds;
   std::vector<report::ContourFix> fixes;
   try {
     report::parse_require_list(grid_fix_gates, o.judge);
