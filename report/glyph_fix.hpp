@@ -83,8 +83,8 @@ struct GlyphFixOptions {
   /// contour gets its share of what is left (a contour that passes as it is
   /// takes none), and the settling what the searches leave. A contour out of
   /// work is reported without a fix, with the reason of its last attempt.
-  /// The default takes 4–9 s on this project's 2-core VM where a glyph
-  /// uses all of it (280,000–700,000 units a second: docs/fix.md).
+  /// The default takes 3–9 s on this project's 2-core VM where a glyph
+  /// uses all of it (a unit takes about 1.5–4.5 µs there: docs/fix.md).
   long glyph_work = kGlyphWork;
   /// A wall-clock guard on the glyph (seconds): ends its work sooner on a
   /// machine too slow for it (ContourFix::guarded; only then can a fix
@@ -112,7 +112,7 @@ struct ContourFix {
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
   /// squared move, the rest held, and no two neighbouring ones a few cells
-  /// each. False where the time ran out first (the fix still passes).
+  /// each. False where the work ran out first (the fix still passes).
   bool settled = false;
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)

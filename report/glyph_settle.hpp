@@ -23,9 +23,9 @@ namespace cmr::report::glyph_detail {
 /// evaluation of the fix search, the grid snap and the severity search
 /// (their own counts times the segments each judges), and one per two
 /// candidate combinations the grid snap orders. A wall-clock guard
-/// (GlyphFixOptions::guard_seconds)
-/// ends it sooner only on a machine too slow for the budget; then, and only
-/// then, a fix can differ from run to run (guarded()).
+/// (GlyphFixOptions::guard_seconds) ends it sooner only on a machine too
+/// slow for the budget; then, and only then, a fix can differ from run to
+/// run (guarded()).
 class Work {
  public:
   Work(long units, std::chrono::steady_clock::time_point guard) : limit_(units), guard_(guard) {}

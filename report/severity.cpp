@@ -168,7 +168,7 @@ std::optional<SeverityMove> line_join_move(const BSpline& spline, const ReportOp
       const double dist = std::hypot(to.x - P[k].x, to.y - P[k].y);
       if (dist > limit || dist >= best.distance) continue;
       ++best.evaluations;
-    if (violations_at(moved, judge, v, -1) != 0) continue;
+      if (violations_at(moved, judge, v, -1) != 0) continue;
       best.distance = dist;
       best.moved = std::move(moved);
       continue;
