@@ -673,11 +673,12 @@ std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour&
   };
   std::optional<std::pair<BSpline, int>> out;
   each_move(current, rules, [&](const BSpline& first) {
-    out = land(c, current, current_total, move_as_fix(current, first), nullptr, o, rules, options, judge, work,
+    const FixResult f = move_as_fix(current, first);
+    out = land(c, current, current_total, f, nullptr, o, rules, options, judge, work,
                off_grid, why);
     if (out || judge(first) > current_total || !smooth_kept(c, first)) return out.has_value();
     ContourMoves held = rules;  // the first move's points stay where it put them
-    for (const PointMove& m : move_as_fix(current, first).moves) std::erase(held.points, m.point);
+    for (const PointMove& m : f.moves) std::erase(held.points, m.point);
     return each_move(first, held, [&](const BSpline& second) {
       out = land(c, current, current_total, move_as_fix(current, second), nullptr, o, rules, options, judge, work,
                  off_grid, why);
@@ -702,10 +703,7 @@ bool certify_contour_fix(const import::Contour& c, const BSpline& fixed, const R
     return false;
   }
   out.fixed = true;
-  for (int k = 0; k < c.spline.unique_point_count(); ++k) {
-    const Vec2 from = c.spline.points()[k], to = fixed.points()[k];
-    if (from != to) out.moves.push_back({k, from, to, std::hypot(to.x - from.x, to.y - from.y)});
-  }
+  out.moves = move_as_fix(c.spline, fixed).moves;
   for (const PointMove& m : out.moves) {
     std::string name = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
     out.names.push_back(m.point < static_cast<int>(c.point_names.size()) ? c.point_names[m.point]
