@@ -73,6 +73,17 @@ FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
   return {};
 }
 
+/// The moves of contour c (contour_moves), only the points
+/// GlyphFixOptions::points names where it names any.
+ContourMoves moves_of(const import::Contour& c, const GlyphFixOptions& options) {
+  ContourMoves rules = contour_moves(c);
+  if (!options.points.empty())
+    std::erase_if(rules.points, [&](int k) {
+      return std::find(options.points.begin(), options.points.end(), c.point_names[k]) == options.points.end();
+    });
+  return rules;
+}
+
 /// The movable handles (not nodes) nearest the fix's moved points along
 /// the contour, nearest first: the grid snap's partners.
 std::vector<int> partners_of(const import::Contour& c, const FixResult& f, const std::vector<int>& movable) {
@@ -774,10 +785,11 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     return out;
   }
   const std::function<int(const BSpline&)> judge = total_judge(o);
-  const ContourMoves rules = contour_moves(c);  // the rules every search of a contour's points keeps
+  const ContourMoves rules = moves_of(c, options);  // the rules every search of a contour's points keeps
   const std::vector<int>& movable = rules.points;
   if (movable.empty()) {
-    out.reason = "no source point may move (every node ends a straight piece)";
+    out.reason = options.points.empty() ? "no source point may move (every node ends a straight piece)"
+                                        : "none of the points named may move on this contour";
     return out;
   }
   if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
@@ -955,7 +967,7 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     for (const PointMove& m : f.moves) fixed = fixed.with_point(m.point, m.to);
     ContourFix settled = f;
     settled.moves.clear(), settled.names.clear(), settled.source_points.clear();
-    settled.settled = settle(c, fixed, contour_moves(c).points, options, o, work);
+    settled.settled = settle(c, fixed, moves_of(c, options).points, options, o, work);
     work.release(whole);
     const bool certified = certify_contour_fix(c, fixed, o, settled);  // it passes: settle moves only to passing positions
     settled.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -95,6 +95,12 @@ struct GlyphFixOptions {
   /// squared move). `cmr fix` does; a report's fix suggestions, found in
   /// the report's time, do not.
   bool both_searches = true;
+  /// The points that may move, by name (import::Contour::point_names, e.g.
+  /// "o/c0/p9"); empty: every point the contour's rules allow
+  /// (contour_moves). Each must be one those rules allow; a named node
+  /// moves with its handles, as any node does. A failing contour with none
+  /// of them is not fixed.
+  std::vector<std::string> points;
 };
 
 

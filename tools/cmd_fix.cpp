@@ -18,6 +18,7 @@
 #include "io/ufo.hpp"
 #include "report/gates.hpp"
 #include "bezierize/extract.hpp"
+#include "report/contour_moves.hpp"
 #include "report/glyph_fix.hpp"
 #include "report/interpolation.hpp"
 #include "report/fix_json.hpp"
@@ -186,11 +187,50 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
   print_json(doc, pretty);
 }
 
+/// --points on a font source: each item names one point of glyph `g` by
+/// its whole name ("o/c0/p9"), a tail of it after a "/" ("c0/p9", or "p9"
+/// where one contour has it), or its <point>'s name attribute; each must be
+/// a point the glyph fix may move (report/contour_moves.hpp). Returns the
+/// whole names; InputError (one line) otherwise.
+std::vector<std::string> source_points(const import::Glyph& g, const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+    const auto tail_of = [&](const std::string& name) {
+      return name == item || (name.size() > item.size() && name.compare(name.size() - item.size(), item.size(), item) == 0 &&
+                              name[name.size() - item.size() - 1] == '/');
+    };
+    const import::Contour* found = nullptr;
+    int at = -1, matches = 0;
+    for (const import::Contour& c : g.contours)
+      for (std::size_t k = 0; k < c.point_names.size(); ++k) {
+        const int sp = k < c.source_point.size() ? c.source_point[k] : -1;
+        const bool labelled = c.font_point[k] >= 0 && c.index < static_cast<int>(g.point_labels.size()) && sp >= 0 &&
+                              sp < static_cast<int>(g.point_labels[c.index].size()) && g.point_labels[c.index][sp] == item;
+        if (!item.empty() && (tail_of(c.point_names[k]) || labelled)) found = &c, at = static_cast<int>(k), ++matches;
+      }
+    if (matches == 0)
+      throw InputError("--points: '" + item + "' names no point of the glyph " + g.name + " (names as " + g.name +
+                       "/c0/p3, c0/p3 or p3)");
+    if (matches > 1)
+      throw InputError("--points: '" + item + "' names " + std::to_string(matches) + " points (give the whole name)");
+    const std::string& name = found->point_names[at];
+    if (found->font_point[at] < 0)
+      throw InputError("--points: " + name + " is a line's inner point, no point of the source (a line stays a line)");
+    if (!report::contour_moves(*found).movable(at))
+      throw InputError("--points: " + name + " ends a straight line, so it stays where it is (a line stays a line)");
+    out.push_back(name);
+  }
+  return out;
+}
+
 void run_source_fix(const SourceFixArgs& a) {
   namespace fs = std::filesystem;
   const bool glif = fs::path(a.file).extension() == ".glif";
   if (a.glyph.empty() && !glif) throw InputError(a.file + ": a font source; name the glyph with --glyph NAME");
-  if (!a.points.empty()) throw InputError("--points: not for font sources (every source point may move)");
   if (!(a.grid >= 0) || !std::isfinite(a.grid)) throw InputError("--grid: " + std::to_string(a.grid) + " is not a step >= 0");
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
   report::GlyphFixOptions o;
@@ -206,12 +246,14 @@ void run_source_fix(const SourceFixArgs& a) {
   const import::Glyph& g = font.glyphs.front();
   if (glif && !a.glyph.empty() && a.glyph != g.name)
     throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
+  if (!a.points.empty()) o.points = source_points(g, a.points);
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
   const Json contours = contours_json(g, fixes, o.grid, edits, failed);
   if (!failed.empty()) throw InputError(a.file + ": " + failed);
   Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
+  if (!o.points.empty()) doc["points"] = o.points;
   // All outputs or none (io/output.hpp): the copy of the whole source, or
   // the changed .glif in place.
   OutputSet outputs;
@@ -300,7 +342,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
                   "cmr (default), cmrwi, split:S, split:S:sharpest|flattest, each-piece, curvature-extrema-at-nodes "
                   "(alias: extrema-at-nodes), no-inflection, g2-at-smooth-nodes[:tol], each-run");
   cmd->add_option("--points", args->points,
-                  "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3); several move together. Default: every point but an open "
+                  "points that may move (K,K2,... or the file's point names: O/c0/p3 or p3; a font source: the report's names, O/c0/p3, "
+                  "c0/p3 or p3, or a <point>'s name); several move together. Default: every point but an open "
                   "spline's ends, the best single one reported");
   cmd->add_option("--keep", args->keep,
                   "ties kept at joints: g1 (default), g2, none; a STEP chain: the continuity its junctions keep, none, g1, "

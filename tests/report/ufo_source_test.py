@@ -64,6 +64,12 @@ def only_xy_changed(a, b):
     return changed > 0, "%d lines changed" % changed
 
 
+def exact_judge(path, gates):
+    """tests/report/exact_glif_check.py: the gates judged in rational arithmetic, independently of cmr."""
+    return subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), path, "--gates", gates],
+                          capture_output=True, text=True)
+
+
 def main():
     tmp = tempfile.mkdtemp(prefix="cmr-ufo-")
     try:
@@ -228,6 +234,45 @@ def main():
                 return ends
             check("Nimbus g: every line's end nodes stay where they were", line_ends(src_g) == line_ends(fix_g),
                   str(line_ends(src_g) ^ line_ends(fix_g)))
+
+        # --points on a source: the report's names narrow the moves (a named node takes its handles)
+        named = ["c0/p8", "c0/p9", "c0/p10", "c1/p2", "c1/p3"]
+        r = run("fix", "Nimbus.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--points", ",".join(named),
+                "--out", "FixedP.ufo", cwd=tmp)
+        check("fix a source with --points (names as the report prints them) exits 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            doc = json.loads(r.stdout)
+            whole = ["o/" + n for n in named]
+            allowed = set(whole) | {"o/c0/p8", "o/c0/p10", "o/c1/p4"}  # the handles of the named nodes c0/p9, c1/p3
+            moved = [m["point"] for c in doc["contours"] for m in c["moves"]]
+            check("--points: the document lists the whole names, and only those points (and named nodes' handles) move",
+                  doc.get("points") == whole and moved and set(moved) <= allowed, str(doc.get("points")) + str(moved))
+            src_o, fix_o = os.path.join(nimbus, "glyphs", "o.glif"), os.path.join(tmp, "FixedP.ufo", "glyphs", "o.glif")
+            before, after = exact_judge(src_o, "g2"), exact_judge(fix_o, "g2")
+            check("--points: exact judge (g2): o fails, the fix moving only the named points passes",
+                  before.returncode == 1 and after.returncode == 0, after.stdout)
+        for bad, says in (("zz", "'zz' names no point"), ("p9", "give the whole name"),
+                          ("g/c0/p0", "names no point")):
+            r = run("fix", "Nimbus.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--points", bad,
+                    "--out", "Bad.ufo", cwd=tmp)
+            check("--points %s on a source: exit 2, one line, nothing written" % bad,
+                  r.returncode == 2 and says in r.stderr and r.stderr.count("\n") == 1
+                  and not os.path.exists(os.path.join(tmp, "Bad.ufo")), r.stderr)
+        # a <point>'s name attribute names it too; a failing contour with no named point is not fixed
+        labelled = os.path.join(tmp, "PointNames.ufo")
+        shutil.copytree(nimbus, labelled)
+        glif = os.path.join(labelled, "glyphs", "o.glif")
+        text = open(glif).read()
+        for xy, label in (('x="510" y="82"', "r1"), ('x="510" y="254" type="curve"', "right"), ('x="510" y="436"', "r2")):
+            text = text.replace('<point ' + xy, '<point ' + xy + ' name="%s"' % label, 1)
+        open(glif, "w").write(text)
+        r = run("fix", "PointNames.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--points", "r1,right,r2", cwd=tmp)
+        check("--points takes a <point>'s name attribute; o/c1, with none of the named points, is not fixed (exit 2)",
+              r.returncode == 2 and "o/c1: none of the points named may move" in r.stderr and r.stderr.count("\n") == 1,
+              r.stderr)
+        r = run("fix", "Nimbus.ufo", "--glyph", "g", "--require", "g2-at-smooth-nodes", "--points", "g/c0/p0", cwd=tmp)
+        check("--points naming a line's end node: exit 2, one line (a line stays a line)",
+              r.returncode == 2 and "g/c0/p0 ends a straight line" in r.stderr and r.stderr.count("\n") == 1, r.stderr)
 
         # what no move can do: g2 where a line meets a quadratic curve (DejaVu e), said at once
         r = run("fix", "DejaVu.ufo", "--glyph", "e", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
