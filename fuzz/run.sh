@@ -54,6 +54,7 @@ for n in "${names[@]}"; do
   envs=()
   limits=(-rss_limit_mb=2048)
   [[ $n == step ]] && dict+=(-detect_leaks=0) && envs=(ASAN_OPTIONS=detect_leaks=0) && limits=(-rss_limit_mb=0 -malloc_limit_mb=2048)
+  rm -f build-fuzz/findings/"$n"-*  # a finding of an earlier run is not this run's
   start=$(date +%s)
   # -timeout is wall-clock time: at nice 19 on a loaded machine a 0.3 s input
   # of fuzz_kcurve was once stopped after 29 s (20 s allowed), not a hang.
@@ -64,6 +65,15 @@ for n in "${names[@]}"; do
     echo "fuzz $n: $(( $(date +%s) - start )) s, no finding ($(grep -o 'Done [0-9]* runs in [0-9]* second' "build-fuzz/findings/$n.log" | tail -1 | sed 's/second/s of fuzzing/' || echo '? runs'))"
   else
     echo "fuzz $n: FINDING after $(( $(date +%s) - start )) s; see build-fuzz/findings/$n.log"
+    # What CI keeps is this output, not build-fuzz: the report's first lines
+    # and the input that caused it (base64, at most 4 KiB), to reproduce with
+    #   base64 -d > crash && build-fuzz/fuzz/fuzz_$n crash
+    grep -m1 -A30 -E '==[0-9]+==|runtime error|deadly signal|out-of-memory|timeout|leak' "build-fuzz/findings/$n.log" | sed 's/^/  /' || true
+    for crash in build-fuzz/findings/"$n"-*; do
+      [[ -f $crash ]] || continue
+      echo "  input $crash ($(stat -c %s "$crash") bytes), base64:"
+      head -c 4096 "$crash" | base64 | sed 's/^/    /'
+    done
     status=1
   fi
 done
