@@ -9,6 +9,7 @@
 #include <cmath>
 #include "bezierize/lambda.hpp"
 #include "bezierize/rational_lambda.hpp"
+#include "spline/errors.hpp"
 #include "spline/limits.hpp"
 
 namespace cmr {
@@ -225,6 +226,8 @@ std::vector<Point<T>> convert(const std::vector<Vec2>& P) {
 }  // namespace
 
 SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options) {
+  for (const Vec2& p : points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) throw InputError("a Bezier control point is not finite");
   std::optional<MonotonicityResult> mono;
   std::optional<InflectionResult> infl;
   const int n = static_cast<int>(points.size()) - 1;

@@ -103,6 +103,8 @@ struct SegmentClass {
 };
 
 /// Classifies a Bezier segment given by its control points (exact doubles).
+/// InputError where a coordinate is not finite (the exact path has no
+/// rational for it).
 SegmentClass classify_bezier(std::span<const Vec2> points, const ClassifyOptions& options = {});
 /// Classifies segment s of a B-spline; exactness is relative to the spline's
 /// double knots and control points (the Bezier points are rounded, so the

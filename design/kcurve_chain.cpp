@@ -2,6 +2,7 @@
 #include "design/kcurve_detail.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -53,6 +54,10 @@ std::array<Vec2, 4> elevate(Vec2 a, Vec2 m, Vec2 b) {
   return {a, (a + 2.0 * m) / 3.0, (2.0 * m + b) / 3.0, b};
 }
 
+bool finite(const std::array<Vec2, 4>& piece) {
+  return std::all_of(piece.begin(), piece.end(), [](Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); });
+}
+
 /// The piece's curvature is certified monotone (or constant): Algorithm 1
 /// with the exact fallback at analyze's default depth, i.e. what `cmr
 /// analyze` reports for it.
@@ -80,6 +85,7 @@ bool certify_piece(std::array<Vec2, 4>& piece, int at) {
     for (double sign : {1.0, -1.0}) {
       piece = original;
       piece[handle] = original[end] + (1 + sign * delta) * (original[handle] - original[end]);
+      if (!finite(piece)) continue;  // near the largest double the nudge overflows: not a piece
       if (certified_monotone(piece)) return true;
     }
   piece = original;
@@ -93,6 +99,9 @@ Chain cubic_chain(const KCurve& curve) {
     const auto& q = curve.quadratics[i];
     const double t = curve.t_max[i];
     const Vec2 l1 = glm::mix(q[0], q[1], t), r1 = glm::mix(q[1], q[2], t), mid = glm::mix(l1, r1, t);
+    // Points near the largest double: the split or the elevation overflows.
+    if (!finite(elevate(q[0], l1, mid)) || !finite(elevate(mid, r1, q[2])))
+      throw InputError("the kappa-curve's cubic pieces overflow doubles: scale the points down (to below about 1e307)");
     if (t > 0) {
       c.pieces.push_back(elevate(q[0], l1, mid));
       // The left half ends at the maximum; a whole quadratic (t = 1) has it

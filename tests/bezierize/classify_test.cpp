@@ -1,9 +1,11 @@
 #include "bezierize/classify.hpp"
+#include "spline/errors.hpp"
 #include "bezierize/algorithms.hpp"
 #include "bezierize/decide.hpp"
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "bezierize/lambda.hpp"
@@ -115,6 +117,17 @@ TEST(Classifier, RootExactlyAtAnEndIsMonotone) {
   EXPECT_TRUE(c.monotonicity.curvature == Curvature::increasing ||
               c.monotonicity.curvature == Curvature::decreasing);
   EXPECT_TRUE(c.exact_used);
+}
+
+// Not finite: a clear error, where the exact path used to raise SIGFPE
+// (GMP's mpq from an infinity; fuzz_kcurve's finding: a kappa-curve's
+// piece elevated near the largest double).
+TEST(Classifier, ANonFiniteControlPointIsAnInputError) {
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Vec2 bad : {Vec2(inf, 0), Vec2(0, -inf), Vec2(nan, 1)}) {
+    const std::vector<Vec2> P = {{0, 0}, bad, {1.25, 1.5}, {2, 1.5}};
+    EXPECT_THROW(classify_bezier(P), InputError);
+  }
 }
 
 TEST(Classifier, StraightSegmentIsConstantAndHasAnInflectionByAlgorithm2) {

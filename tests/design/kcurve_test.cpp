@@ -286,6 +286,33 @@ bool finite(const KCurve& k) {
   return std::isfinite(k.residual);
 }
 
+// Points near the largest double (fuzz_kcurve's findings, as read from its
+// bytes): the cubic chain's split or elevation overflows. A clear error or
+// a finite chain, never a crash (the exact classifier used to get an
+// infinity and raise SIGFPE).
+TEST(KCurve, PointsNearTheLargestDoubleGiveAFiniteChainOrAClearError) {
+  const std::vector<std::pair<bool, std::vector<Vec2>>> cases = {
+      {true,
+       {{1.760393235447819e+297, 2.326012833169336e+289}, {8.362188788023996e+307, 1.3857408240993618e+302},
+        {5.7280892014183596e+296, 1.2449185823486819e+306}, {-5.621395936180985e+304, -4.9517179044352835e+295},
+        {-1.3161571836712188e+302, 4.020935411027028e+303}}},
+      {false,
+       {{0.0, 0.0}, {8.87231475e-315, -8.707576121989343e+307}, {-8.777798510069901e+304, -2.002482340608276e+185},
+        {-5.486124068823628e+303, 1.9999999999999998}, {4.073325944587168e+207, 9.790617806372213e+153}}}};
+  for (const auto& [closed, points] : cases) {
+    KCurveOptions o;
+    o.closed = closed;
+    o.max_iterations = 200;
+    try {
+      const KCurve k = kcurve(points, o);
+      const BSpline chain = kcurve_cubic_chain(k);
+      for (const Vec2& p : chain.points()) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y));
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()), "");
+    }
+  }
+}
+
 TEST(KCurve, DegenerateInputIsAClearErrorOrAFiniteCurve) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(kcurve(std::vector<Vec2>{{0, 0}, {1, 1}}), InputError);
