@@ -675,7 +675,10 @@ std::optional<std::pair<BSpline, int>> attempt_violations(const import::Contour&
       if (g.pass() || !has_severity(g.gate)) continue;
       for (const GateViolation& v : g.violations) {
         if (work.spent()) return false;
-        const SeverityMove sm = severity_move(s, g.gate, v, o, moves, options.max_move);
+        // In the glyph's work and guard: a severity's own clock would make
+        // the fix depend on the machine's load.
+        const SeverityMove sm = severity_move(s, g.gate, v, o, moves, options.max_move,
+                                              std::clamp(work.left() / 3, 1L, kSeverityEvaluations), work.seconds_left());
         work.charge(sm.evaluations * 3);  // its window: a segment, or the two at a joint and one more
         if (sm.moved && act(*sm.moved)) return true;
       }

@@ -215,7 +215,8 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
 }
 
 SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& v,
-                           const ReportOptions& options, const ContourMoves& moves, double max_move) {
+                           const ReportOptions& options, const ContourMoves& moves, double max_move,
+                           long max_evaluations, double max_seconds) {
   const int n = spline.segment_count();
   // The place's segments [a, a + count): v's segment, or the two meeting at v's joint.
   int a = v.segment, count = 1;
@@ -227,8 +228,8 @@ SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateVi
   for (int i = a; i < a + count; ++i)
     for (int k : segment_points(spline, spline.segments()[static_cast<std::size_t>(i % n)])) points.insert(k);
   const ReportOptions judge = judge_only(options, gate);
-  FixRequest q = gate_fix_request(gate, options.max_depth, kSeverityFixSeconds);
-  q.max_evaluations = kSeverityEvaluations;
+  FixRequest q = gate_fix_request(gate, options.max_depth, max_seconds);
+  q.max_evaluations = max_evaluations;
   q.points.assign(points.begin(), points.end());
   // The designer's moves only (report/contour_moves.hpp): a line's points
   // stay, smooth nodes keep G1. None of the place's points may move: no

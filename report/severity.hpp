@@ -93,9 +93,13 @@ struct SeverityMove {
 /// judged on the violation's own segments (its segment, or the two meeting
 /// at its joint, as a spline of their own with the same pieces); the answer
 /// is re-judged on the whole spline, and searched again judging the whole
-/// spline where that fails.
+/// spline where that fails. Each search ends after `max_evaluations`
+/// evaluations, or `max_seconds` of wall-clock time (the guard); the glyph
+/// fix passes what is left of its own work and guard, so that no clock of
+/// the severity's decides its fix.
 SeverityMove severity_move(const BSpline& spline, const Gate& gate, const GateViolation& violation,
-                           const ReportOptions& options, const ContourMoves& moves, double max_move = 0);
+                           const ReportOptions& options, const ContourMoves& moves, double max_move = 0,
+                           long max_evaluations = kSeverityEvaluations, double max_seconds = kSeverityFixSeconds);
 /// The same with the moves of the spline as a contour
 /// (contour_moves(contour_of(spline, {})): nodes from its knots, a straight
 /// piece between two nodes a line).
