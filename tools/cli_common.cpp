@@ -253,13 +253,20 @@ void check_total_pixels(long long images, int width, int height, const std::stri
                    " pixels (2^28) per run (fewer " + what + " or a smaller --size)");
 }
 
-std::vector<int> parse_point_list(const std::string& text, const std::vector<std::string>& names) {
-  std::vector<int> out;
+std::vector<std::string> comma_items(const std::string& text) {
+  std::vector<std::string> out;
   std::size_t pos = 0;
   while (pos <= text.size()) {
     const std::size_t comma = text.find(',', pos);
-    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    out.push_back(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos));
     pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+  }
+  return out;
+}
+
+std::vector<int> parse_point_list(const std::string& text, const std::vector<std::string>& names) {
+  std::vector<int> out;
+  for (const std::string& item : comma_items(text)) {
     // A name of the file's: whole ("O/c0/p3") or its last part ("p3") when one point has it.
     int named = -1, matches = 0;
     for (std::size_t k = 0; k < names.size(); ++k) {

@@ -110,6 +110,9 @@ std::pair<int, int> parse_size(const std::string& text);
 void check_total_pixels(long long images, int width, int height, const std::string& what);
 /// --view X0,Y0,X1,Y1 (InputError otherwise; the extent is RegionProblem::make's).
 View parse_view(const std::string& text);
+/// The items of a comma-separated list, in order ("a,,b" has an empty
+/// second item; "" is one empty item).
+std::vector<std::string> comma_items(const std::string& text);
 /// --points K,K2,... or P1,P2,... (cmr fix, planar and space), or names of
 /// the file's points (`names`: its "point_names", as `cmr import` writes
 /// them: the whole name "O/c0/p3", or its last part "p3" when just one point

@@ -194,11 +194,7 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
 /// whole names; InputError (one line) otherwise.
 std::vector<std::string> source_points(const import::Glyph& g, const std::string& text) {
   std::vector<std::string> out;
-  std::size_t pos = 0;
-  while (pos <= text.size()) {
-    const std::size_t comma = text.find(',', pos);
-    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    pos = comma == std::string::npos ? text.size() + 1 : comma + 1;
+  for (const std::string& item : comma_items(text)) {
     const auto tail_of = [&](const std::string& name) {
       return name == item || (name.size() > item.size() && name.compare(name.size() - item.size(), item.size(), item) == 0 &&
                               name[name.size() - item.size() - 1] == '/');
