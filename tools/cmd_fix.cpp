@@ -277,8 +277,8 @@ void run_source_fix(const SourceFixArgs& a) {
 /// knots, a straight piece's inner points never move). On the grid (--grid, default
 /// 1 when every coordinate is an integer, as in a font's import; else 0:
 /// off-grid, the rounds without the grid descent).
-void run_spline_multi_fix(const std::string& file, const std::string& require, const std::string& out, double grid,
-                          bool grid_given, double max_move, int depth, bool pretty) {
+void run_spline_multi_fix(const std::string& file, const std::string& require, const std::string& points,
+                          const std::string& out, double grid, bool grid_given, double max_move, int depth, bool pretty) {
   const nlohmann::json document = read_spline_document(file);
   const BSpline spline = spline_from_document(document, file);
   if (!spline.closed()) throw InputError(file + ": several checks at once (--require A,B) need a closed spline");
@@ -299,12 +299,26 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   o.judge.max_depth = depth;
   o.grid = grid_given ? grid : (integral ? 1.0 : 0.0);
   o.max_move = max_move;
+  // --points: indices or the file's names (parse_point_list), as the
+  // contour's names; each one the glyph fix may move.
+  const import::Contour& contour = g.contours.front();
+  for (int k : points.empty() ? std::vector<int>{} : parse_point_list(points, names)) {
+    if (k < 0 || k >= static_cast<int>(contour.point_names.size()))
+      throw InputError("--points: " + std::to_string(k) + " is outside 0.." + std::to_string(contour.point_names.size() - 1));
+    const std::string& name = contour.point_names[k];
+    if (contour.font_point[k] < 0)
+      throw InputError("--points: " + name + " is a line's inner point, no point of the source (a line stays a line)");
+    if (!report::contour_moves(contour).movable(k))
+      throw InputError("--points: " + name + " ends a straight line, so it stays where it is (a line stays a line)");
+    o.points.push_back(name);
+  }
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
   const Json contours = contours_json(g, fixes, o.grid, edits, failed);
   if (!failed.empty()) throw InputError(file + ": " + failed);
   Json doc = {{"file", file}, {"require", require}, {"grid", o.grid}, {"contours", contours}};
+  if (!o.points.empty()) doc["points"] = o.points;
   OutputSet outputs;
   if (!out.empty()) {
     BSpline fixed = spline;
@@ -415,10 +429,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     }
     if (!args->plane.empty()) throw InputError(args->file + ": a planar spline; --plane is for space curves");
     if (several) {  // every check at once: the glyph fix's engine (report/glyph_fix.hpp)
-      if (!args->points.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
-        throw InputError(args->file + ": several checks (--require A,B): --points, --segments, --png and --keep are for one");
+      if (!args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0)
+        throw InputError(args->file + ": several checks (--require A,B): --segments, --png and --keep are for one");
       if (!args->out.empty()) check_output_path(args->out, "--out");
-      run_spline_multi_fix(args->file, args->require, args->out, args->grid, cmd->count("--grid") > 0, args->max_move,
+      run_spline_multi_fix(args->file, args->require, args->points, args->out, args->grid, cmd->count("--grid") > 0, args->max_move,
                            args->depth, args->pretty);
       exit_code = kOk;
       return;

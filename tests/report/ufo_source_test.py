@@ -297,6 +297,24 @@ def main():
             rj = run("report", "m.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--no-fixes",
                      "--no-thumbnails", "--quiet", "--out", "mrep", cwd=tmp)
             check("FILE.json --require A,B: cmr report passes the fixed file", rj.returncode == 0, rj.stdout + rj.stderr)
+        # --points there too: the file's names narrow the moves (the named nodes p3, p9 take their handles)
+        r = run("fix", "impm/O_c1.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--points",
+                "p1,p3,p5,p7,p9,p11", "--out", "mp.json", cwd=tmp)
+        check("FILE.json --require A,B --points exits 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            doc = json.loads(r.stdout)
+            named = {"O/c1/p%d" % k for k in (1, 3, 5, 7, 9, 11)}
+            moved = {m["point"] for m in doc["contours"][0]["moves"]}
+            check("FILE.json --points: only the named points and the named nodes' handles move",
+                  moved and moved <= named | {"O/c1/p2", "O/c1/p4", "O/c1/p8", "O/c1/p10"} and
+                  set(doc.get("points", [])) == named, str(sorted(moved)))
+            rj = run("report", "mp.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--no-fixes",
+                     "--no-thumbnails", "--quiet", "--out", "mprep", cwd=tmp)
+            check("FILE.json --points: cmr report passes the fixed file", rj.returncode == 0, rj.stdout + rj.stderr)
+        r = run("fix", "impm/O_c1.json", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "--points", "99",
+                cwd=tmp)
+        check("FILE.json --require A,B --points 99: exit 2, one line",
+              r.returncode == 2 and "99 is outside" in r.stderr and r.stderr.count("\n") == 1, r.stderr)
         open(os.path.join(tmp, "open.json"), "w").write(json.dumps(
             {"degree": 3, "points": [[0, 0], [1, 2], [3, 3], [4, 0], [6, 1], [7, 3], [9, 0]],
              "knots": [0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 2]}))
