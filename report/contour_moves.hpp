@@ -18,6 +18,7 @@
 /// Which points are which comes from the contour (import::Contour: its
 /// nodes and font points); for a bare spline, report::contour_of infers
 /// them (nodes from the knots, a straight piece between two nodes as a line).
+#include <string>
 #include <vector>
 
 #include "design/fix.hpp"
@@ -40,5 +41,13 @@ struct ContourMoves {
 
 /// The moves of contour `c` (see above).
 ContourMoves contour_moves(const import::Contour& c);
+
+/// The points of glyph `g` that `items` name, as whole names
+/// (import::Contour::point_names): each item by its whole name ("o/c0/p9"),
+/// a tail of it after a "/" ("c0/p9", or "p9" where one contour has it), or
+/// its <point>'s name attribute (Glyph::point_labels). InputError (one
+/// line, the field "points") for an item that names no point or several,
+/// a line's inner point, or a point contour_moves does not let move.
+std::vector<std::string> named_points(const import::Glyph& g, const std::vector<std::string>& items);
 
 }  // namespace cmr::report

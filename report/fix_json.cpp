@@ -133,4 +133,44 @@ Json space_fix_document(const std::optional<std::string>& file, const std::strin
   return doc;
 }
 
+nlohmann::ordered_json glyph_fix_json(const import::Glyph& g, const std::vector<ContourFix>& fixes, double grid,
+                                      std::vector<import::PointEdit>& edits, std::string& failed) {
+  using Json = nlohmann::ordered_json;
+  Json contours = Json::array();
+  for (const ContourFix& f : fixes) {
+    Json moves = Json::array();
+    for (std::size_t i = 0; i < f.moves.size(); ++i) {
+      const PointMove& m = f.moves[i];
+      const int sp = f.source_points[i];
+      const bool labelled = f.contour < static_cast<int>(g.point_labels.size()) && sp >= 0 &&
+                            sp < static_cast<int>(g.point_labels[f.contour].size()) &&
+                            !g.point_labels[f.contour][sp].empty();
+      moves.push_back({{"point", f.names[i]},
+                       {"from", Json::array({m.from.x, m.from.y})},
+                       {"to", Json::array({m.to.x, m.to.y})},
+                       {"distance", m.distance}});
+      if (labelled) moves.back()["label"] = g.point_labels[f.contour][sp];  // the <point>'s name attribute
+      if (sp >= 0) {
+        moves.back()["source"] = Json::array({f.contour, sp});  // the .glif's contour and point
+        edits.push_back({f.contour, sp, m.to.x, m.to.y});
+      }
+    }
+    Json checks = Json::array();
+    for (const GateCount& c : f.rejudged) checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
+    Json jc = {{"contour", f.contour}, {"already", f.already}, {"fixed", f.fixed}, {"moves", moves}, {"rejudged", checks}};
+    if (!f.fixed) {
+      jc["reason"] = f.reason;
+      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
+    }
+    if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
+    if (f.fixed && !f.already && grid > 0) jc["settled"] = f.settled;
+    if (!f.already) {
+      jc["work"] = f.glyph_work;  // the glyph's search in work units, not time: the same on any machine
+      if (f.guarded) jc["stopped_by_time"] = true;  // the time guard ended it first: only then may a rerun differ
+    }
+    contours.push_back(jc);
+  }
+  return contours;
+}
+
 }  // namespace cmr::report

@@ -88,46 +88,6 @@ struct SourceFixArgs {
   int depth = kDefaultDepth;
 };
 
-/// The document's `contours` (each contour's moves, by name, and every
-/// check re-judged), the source edits of the moved points, and the first
-/// contour's reason when one is not fixed (empty when all are).
-Json contours_json(const import::Glyph& g, const std::vector<report::ContourFix>& fixes, double grid,
-                   std::vector<import::PointEdit>& edits, std::string& failed) {
-  Json contours = Json::array();
-  for (const report::ContourFix& f : fixes) {
-    Json moves = Json::array();
-    for (std::size_t i = 0; i < f.moves.size(); ++i) {
-      const PointMove& m = f.moves[i];
-      const int sp = f.source_points[i];
-      const bool labelled = f.contour < static_cast<int>(g.point_labels.size()) && sp >= 0 &&
-                            sp < static_cast<int>(g.point_labels[f.contour].size()) &&
-                            !g.point_labels[f.contour][sp].empty();
-      moves.push_back({{"point", f.names[i]},
-                       {"from", Json::array({m.from.x, m.from.y})},
-                       {"to", Json::array({m.to.x, m.to.y})},
-                       {"distance", m.distance}});
-      if (labelled) moves.back()["label"] = g.point_labels[f.contour][sp];  // the <point>'s name attribute
-      if (f.source_points[i] >= 0) edits.push_back({f.contour, f.source_points[i], m.to.x, m.to.y});
-    }
-    Json checks = Json::array();
-    for (const report::GateCount& c : f.rejudged)
-      checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
-    Json jc = {{"contour", f.contour}, {"already", f.already}, {"fixed", f.fixed}, {"moves", moves}, {"rejudged", checks}};
-    if (!f.fixed) {
-      jc["reason"] = show_fields(f.reason);
-      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + show_fields(f.reason);
-    }
-    if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
-    if (f.fixed && !f.already && grid > 0) jc["settled"] = f.settled;
-    if (!f.already) {
-      jc["work"] = f.glyph_work;  // the glyph's search in work units, not time: the same on any machine
-      if (f.guarded) jc["stopped_by_time"] = true;  // the time guard ended it first: only then may a rerun differ
-    }
-    contours.push_back(jc);
-  }
-  return contours;
-}
-
 /// Stages a copy of the source folder `src` (a UFO) as the new folder `out`,
 /// with the .glif `glif` replaced by `changed`.
 void stage_source_copy(const std::string& src_text, const std::string& out, const std::string& glif,
@@ -187,42 +147,6 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
   print_json(doc, pretty);
 }
 
-/// --points on a font source: each item names one point of glyph `g` by
-/// its whole name ("o/c0/p9"), a tail of it after a "/" ("c0/p9", or "p9"
-/// where one contour has it), or its <point>'s name attribute; each must be
-/// a point the glyph fix may move (report/contour_moves.hpp). Returns the
-/// whole names; InputError (one line) otherwise.
-std::vector<std::string> source_points(const import::Glyph& g, const std::string& text) {
-  std::vector<std::string> out;
-  for (const std::string& item : comma_items(text)) {
-    const auto tail_of = [&](const std::string& name) {
-      return name == item || (name.size() > item.size() && name.compare(name.size() - item.size(), item.size(), item) == 0 &&
-                              name[name.size() - item.size() - 1] == '/');
-    };
-    const import::Contour* found = nullptr;
-    int at = -1, matches = 0;
-    for (const import::Contour& c : g.contours)
-      for (std::size_t k = 0; k < c.point_names.size(); ++k) {
-        const int sp = k < c.source_point.size() ? c.source_point[k] : -1;
-        const bool labelled = c.font_point[k] >= 0 && c.index < static_cast<int>(g.point_labels.size()) && sp >= 0 &&
-                              sp < static_cast<int>(g.point_labels[c.index].size()) && g.point_labels[c.index][sp] == item;
-        if (!item.empty() && (tail_of(c.point_names[k]) || labelled)) found = &c, at = static_cast<int>(k), ++matches;
-      }
-    if (matches == 0)
-      throw InputError("--points: '" + item + "' names no point of the glyph " + g.name + " (names as " + g.name +
-                       "/c0/p3, c0/p3 or p3)");
-    if (matches > 1)
-      throw InputError("--points: '" + item + "' names " + std::to_string(matches) + " points (give the whole name)");
-    const std::string& name = found->point_names[at];
-    if (found->font_point[at] < 0)
-      throw InputError("--points: " + name + " is a line's inner point, no point of the source (a line stays a line)");
-    if (!report::contour_moves(*found).movable(at))
-      throw InputError("--points: " + name + " ends a straight line, so it stays where it is (a line stays a line)");
-    out.push_back(name);
-  }
-  return out;
-}
-
 void run_source_fix(const SourceFixArgs& a) {
   namespace fs = std::filesystem;
   const bool glif = fs::path(a.file).extension() == ".glif";
@@ -242,12 +166,13 @@ void run_source_fix(const SourceFixArgs& a) {
   const import::Glyph& g = font.glyphs.front();
   if (glif && !a.glyph.empty() && a.glyph != g.name)
     throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
-  if (!a.points.empty()) o.points = source_points(g, a.points);
+  if (!a.points.empty()) o.points = report::named_points(g, comma_items(a.points));
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
-  const Json contours = contours_json(g, fixes, o.grid, edits, failed);
-  if (!failed.empty()) throw InputError(a.file + ": " + failed);
+  Json contours = report::glyph_fix_json(g, fixes, o.grid, edits, failed);
+  show_fields_in(contours, show_fields);  // the reasons' fields as flags
+  if (!failed.empty()) throw InputError(a.file + ": " + show_fields(failed));
   Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
   if (!o.points.empty()) doc["points"] = o.points;
   // All outputs or none (io/output.hpp): the copy of the whole source, or
@@ -302,21 +227,19 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   // --points: indices or the file's names (parse_point_list), as the
   // contour's names; each one the glyph fix may move.
   const import::Contour& contour = g.contours.front();
+  std::vector<std::string> named;
   for (int k : points.empty() ? std::vector<int>{} : parse_point_list(points, names)) {
     if (k < 0 || k >= static_cast<int>(contour.point_names.size()))
       throw InputError("--points: " + std::to_string(k) + " is outside 0.." + std::to_string(contour.point_names.size() - 1));
-    const std::string& name = contour.point_names[k];
-    if (contour.font_point[k] < 0)
-      throw InputError("--points: " + name + " is a line's inner point, no point of the source (a line stays a line)");
-    if (!report::contour_moves(contour).movable(k))
-      throw InputError("--points: " + name + " ends a straight line, so it stays where it is (a line stays a line)");
-    o.points.push_back(name);
+    named.push_back(contour.point_names[k]);
   }
+  o.points = report::named_points(g, named);
   const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
   std::vector<import::PointEdit> edits;
   std::string failed;
-  const Json contours = contours_json(g, fixes, o.grid, edits, failed);
-  if (!failed.empty()) throw InputError(file + ": " + failed);
+  Json contours = report::glyph_fix_json(g, fixes, o.grid, edits, failed);
+  show_fields_in(contours, show_fields);  // the reasons' fields as flags
+  if (!failed.empty()) throw InputError(file + ": " + show_fields(failed));
   Json doc = {{"file", file}, {"require", require}, {"grid", o.grid}, {"contours", contours}};
   if (!o.points.empty()) doc["points"] = o.points;
   OutputSet outputs;
