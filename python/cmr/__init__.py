@@ -33,7 +33,7 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "fix_glyph", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 
@@ -201,6 +201,36 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
     a.plane = _plane(plane)
     fixed, doc = _cmr._fix(_o.spline(spline, "fix"), a)
     return FixResult(fixed, doc["moves"], doc["certificate"], doc)
+
+
+def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=1, max_move=None, points=None,
+              depth=DEFAULT_DEPTH, in_place=False, **unknown):
+    """``cmr fix FONT.ufo --glyph NAME --require GATES``: a font source's glyph
+    fixed for every required check at once, on the font's grid (docs/fix.md,
+    "Font sources"; docs/type-design.md).
+
+    source: a UFO folder or one .glif (then glyph may be left out);
+    require: the report's checks, "A,B" (default curvature-extrema-at-nodes);
+    grid: the grid step (1: integer font units; 0: off the grid);
+    max_move: largest move of a point (default the contour's size);
+    points: the points that may move, by the report's names ("o/c0/p9",
+    "c0/p9", "p9" or a <point>'s name attribute), a list or "a,b";
+    in_place: write the moved points' x and y into the source's .glif (no
+    other byte of it, and no other file, changes).
+    Returns the command's document: per contour its "moves" (each with
+    "point", "from", "to", "distance" and "source": [contour, point] in the
+    .glif's order, so that ufoLib2's ``glyph.contours[c].points[p]`` is the
+    point) and "rejudged". Raises InputError where a contour has no fix.
+    """
+    _o.unknown("fix_glyph", unknown, ["require", "grid", "max_move", "points", "depth", "in_place"])
+    source = os.fspath(source)
+    glyph = "" if glyph is None else _o.text("glyph", glyph)
+    if isinstance(points, str):
+        points = [p.strip() for p in points.split(",")]
+    points = [] if points is None else [_o.text(f"points[{i}]", p) for i, p in enumerate(points)]
+    return _cmr._fix_glyph(_o.text("source", source), glyph, _o.text("require", require), _o.number("grid", grid, 0.0),
+                           0.0 if max_move is None else _o.number("max_move", max_move, 0.0), points,
+                           _o.integer("depth", depth, 0, _o.MAX_DEPTH), bool(in_place))
 
 
 def kcurve(points, *, closed=False, cubic=False, tolerance=1e-10, max_iterations=10000, **unknown):

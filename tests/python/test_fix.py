@@ -63,3 +63,79 @@ def test_space_fix_equals_cli_and_is_rejudged():
     assert cmr.analyze(r.spline)["spline"]["curvature"] in ("increasing", "decreasing")
     with pytest.raises(cmr.InputError, match="its fix takes require cmr"):
         cmr.fix(path, require="split:2")
+
+
+# fix_glyph: a UFO glyph on the grid, the command's answer, and the .glif written back.
+SANS = ROOT / "examples" / "ufo" / "Sans.ufo"
+SIDES = ["c0/p2", "c0/p4", "c0/p8", "c0/p10", "c1/p2", "c1/p4", "c1/p8", "c1/p10"]
+
+
+def test_fix_glyph_equals_cli_and_keeps_to_the_named_points():
+    doc = cmr.fix_glyph(SANS, "o", require="curvature-extrema-at-nodes", points=SIDES)
+    cli = cli_json("fix", SANS, "--glyph", "o", "--require", "curvature-extrema-at-nodes", "--points", ",".join(SIDES))
+    assert doc["contours"] == cli["contours"]
+    assert doc["points"] == ["o/" + p for p in SIDES]
+    moves = [m for c in doc["contours"] for m in c["moves"]]
+    assert moves and {m["point"] for m in moves} <= {"o/" + p for p in SIDES}
+    assert all(float(v).is_integer() for m in moves for v in m["to"])
+    assert all(x["after"] == 0 for c in doc["contours"] for x in c["rejudged"])
+    # "source" is the .glif's contour and point: the name's numbers
+    for m in moves:
+        c, p = m["source"]
+        assert m["point"] == f"o/c{c}/p{p}"
+
+
+def test_fix_glyph_in_place_changes_only_the_moved_points(tmp_path):
+    import shutil
+    ufo = tmp_path / "Sans.ufo"
+    shutil.copytree(SANS, ufo)
+    glif = ufo / "glyphs" / "o.glif"
+    before = glif.read_text().split("\n")
+    doc = cmr.fix_glyph(ufo, "o", points="c0/p2,c0/p4,c0/p8,c0/p10,c1/p2,c1/p4,c1/p8,c1/p10", in_place=True)
+    after = glif.read_text().split("\n")
+    assert doc["written"] == str(glif)
+    changed = [(a, b) for a, b in zip(before, after) if a != b]
+    assert len(before) == len(after) and len(changed) == sum(len(c["moves"]) for c in doc["contours"])
+    for a, b in changed:
+        assert "<point" in a and a.split('x="')[0] == b.split('x="')[0] and a.split('"', 4)[4] == b.split('"', 4)[4]
+    assert (ufo / "glyphs" / "O_.glif").read_text() == (SANS / "glyphs" / "O_.glif").read_text()
+
+
+@pytest.mark.parametrize("kwargs, says", [
+    ({"points": ["zz"]}, "points: 'zz' names no point of the glyph o"),
+    ({"points": "p2"}, "points: 'p2' names 2 points"),
+    ({"grid": -1}, "grid: -1.0 is below 0"),
+    ({"require": "g3-at-smooth-nodes"}, "no certified fix for G3"),
+    ({"colour": 1}, "fix_glyph: unknown option 'colour'"),
+])
+def test_fix_glyph_bad_requests_are_one_line(kwargs, says):
+    with pytest.raises(cmr.InputError, match=says):
+        cmr.fix_glyph(SANS, "o", **kwargs)
+
+
+def test_fix_glyph_needs_a_glyph_of_the_source():
+    with pytest.raises(cmr.InputError, match="name the glyph"):
+        cmr.fix_glyph(SANS)
+    with pytest.raises(cmr.InputError, match="no glyph named 'Z'"):
+        cmr.fix_glyph(SANS, "Z")
+
+
+def test_fix_glyph_applied_through_ufolib2_passes_the_exact_check(tmp_path):
+    # docs/python.md's ufoLib2 script: each move's "source" is the point to set.
+    ufoLib2 = pytest.importorskip("ufoLib2")
+    import subprocess
+    import sys
+    doc = cmr.fix_glyph(SANS, "o", require="curvature-extrema-at-nodes", points=SIDES)  # 0.1 s; all points: 7 s
+    font = ufoLib2.Font.open(SANS)
+    for c in doc["contours"]:
+        for m in c["moves"]:
+            contour, point = m["source"]
+            p = font["o"].contours[contour].points[point]
+            assert [p.x, p.y] == m["from"]
+            p.x, p.y = m["to"]
+    font.save(tmp_path / "Out.ufo")
+    check = [sys.executable, str(ROOT / "tests" / "report" / "exact_glif_check.py")]
+    before = subprocess.run(check + [str(SANS / "glyphs" / "o.glif"), "--gates", "extrema"], capture_output=True)
+    after = subprocess.run(check + [str(tmp_path / "Out.ufo" / "glyphs" / "o.glif"), "--gates", "extrema"],
+                           capture_output=True, text=True)
+    assert before.returncode == 1 and after.returncode == 0, after.stdout
