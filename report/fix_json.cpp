@@ -158,7 +158,10 @@ nlohmann::ordered_json glyph_fix_json(const import::Glyph& g, const std::vector<
     Json checks = Json::array();
     for (const GateCount& c : f.rejudged) checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
     Json jc = {{"contour", f.contour}, {"already", f.already}, {"fixed", f.fixed}, {"moves", moves}, {"rejudged", checks}};
-    if (!f.fixed) {
+    if (f.untouched) {
+      jc["untouched"] = true;  // no point of it named: left as it is, whether it passes or not
+      jc["reason"] = f.reason;
+    } else if (!f.fixed) {
       jc["reason"] = f.reason;
       if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
     }

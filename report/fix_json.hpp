@@ -32,7 +32,8 @@ nlohmann::ordered_json space_fix_document(const std::optional<std::string>& file
 /// NAME`, the Python module's fix_glyph): per contour its moves by name
 /// (with the <point>'s name attribute as "label", and "source": [contour,
 /// point] in the .glif's order), every check re-judged, and why a contour
-/// is not fixed. Appends the source edits of the moved points to `edits`;
+/// is not fixed (an untouched one, GlyphFixOptions::points naming none of
+/// its points, is none of `failed`). Appends the source edits of the moved points to `edits`;
 /// `failed` becomes the first unfixed contour's "GLYPH/cC: reason" (empty
 /// when all are fixed). Reasons keep their field marks (spline/fields.hpp).
 nlohmann::ordered_json glyph_fix_json(const import::Glyph& g, const std::vector<ContourFix>& fixes, double grid,

@@ -790,6 +790,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   const std::function<int(const BSpline&)> judge = total_judge(o);
   const ContourMoves rules = moves_of(c, options);  // the rules every search of a contour's points keeps
   const std::vector<int>& movable = rules.points;
+  if (!options.points.empty() && std::none_of(c.point_names.begin(), c.point_names.end(), [&](const std::string& n) {
+        return std::find(options.points.begin(), options.points.end(), n) != options.points.end();
+      })) {
+    out.untouched = true;
+    out.reason = "none of the points named is on this contour: left as it is";
+    for (GateCount& g : out.rejudged) g.after = g.before;
+    return out;
+  }
   if (movable.empty()) {
     out.reason = options.points.empty() ? "no source point may move (every node ends a straight piece)"
                                         : "none of the points named may move on this contour";
@@ -953,7 +961,8 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
   // work: after every contour's search, so settling one contour never
   // takes what another's search needs; and only when every contour is fixed
   // (a glyph with one contour unfixed has no fix to settle).
-  if (!(options.grid > 0) || std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed; }))
+  if (!(options.grid > 0) ||
+      std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed && !f.untouched; }))
   {
     finish(out, work);
     return out;

@@ -98,8 +98,8 @@ struct GlyphFixOptions {
   /// The points that may move, by name (import::Contour::point_names, e.g.
   /// "o/c0/p9"); empty: every point the contour's rules allow
   /// (contour_moves). Each must be one those rules allow; a named node
-  /// moves with its handles, as any node does. A failing contour with none
-  /// of them is not fixed.
+  /// moves with its handles, as any node does. A contour with none of them
+  /// is left as it is (ContourFix::untouched), even where it fails.
   std::vector<std::string> points;
 };
 
@@ -108,6 +108,9 @@ struct ContourFix {
   int contour = 0;          ///< Contour::index
   bool already = false;     ///< passes as it is
   bool fixed = false;
+  /// GlyphFixOptions::points names none of its points: left as it is, not
+  /// fixed, and not the glyph fix's failure (rejudged: after = before).
+  bool untouched = false;
   std::string reason;       ///< why not fixed (one line)
   std::vector<PointMove> moves;         ///< control point indices of the contour's spline
   std::vector<std::string> names;       ///< per move: the point's name

@@ -266,10 +266,18 @@ def main():
         for xy, label in (('x="510" y="82"', "r1"), ('x="510" y="254" type="curve"', "right"), ('x="510" y="436"', "r2")):
             text = text.replace('<point ' + xy, '<point ' + xy + ' name="%s"' % label, 1)
         open(glif, "w").write(text)
-        r = run("fix", "PointNames.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--points", "r1,right,r2", cwd=tmp)
-        check("--points takes a <point>'s name attribute; o/c1, with none of the named points, is not fixed (exit 2)",
-              r.returncode == 2 and "o/c1: none of the points named may move" in r.stderr and r.stderr.count("\n") == 1,
-              r.stderr)
+        r = run("fix", "PointNames.ufo", "--glyph", "o", "--require", "g2-at-smooth-nodes", "--points", "r1,right,r2",
+                "--out", "PointNamesFixed.ufo", cwd=tmp)
+        doc = json.loads(r.stdout) if r.returncode == 0 else {"contours": []}
+        c0 = [c for c in doc["contours"] if c["contour"] == 0]
+        c1 = [c for c in doc["contours"] if c["contour"] == 1]
+        check("--points takes a <point>'s name attribute: o/c0 is fixed with the named points",
+              r.returncode == 0 and c0 and c0[0]["fixed"] and c0[0]["moves"] and
+              all(m["point"] in ("o/c0/p8", "o/c0/p9", "o/c0/p10") for m in c0[0]["moves"]) and
+              {m.get("label") for m in c0[0]["moves"]} <= {"r1", "right", "r2"}, r.stderr + str(c0))
+        check("--points: o/c1, with none of the named points, is left as it is (untouched, still failing, not moved)",
+              c1 and c1[0].get("untouched") and not c1[0]["moves"] and
+              all(x["after"] == x["before"] > 0 for x in c1[0]["rejudged"]), str(c1))
         r = run("fix", "Nimbus.ufo", "--glyph", "g", "--require", "g2-at-smooth-nodes", "--points", "g/c0/p0", cwd=tmp)
         check("--points naming a line's end node: exit 2, one line (a line stays a line)",
               r.returncode == 2 and "g/c0/p0 ends a straight line" in r.stderr and r.stderr.count("\n") == 1, r.stderr)
