@@ -99,18 +99,19 @@ Chain cubic_chain(const KCurve& curve) {
     const auto& q = curve.quadratics[i];
     const double t = curve.t_max[i];
     const Vec2 l1 = glm::mix(q[0], q[1], t), r1 = glm::mix(q[1], q[2], t), mid = glm::mix(l1, r1, t);
+    const std::array<Vec2, 4> left = elevate(q[0], l1, mid), right = elevate(mid, r1, q[2]);
     // Points near the largest double: the split or the elevation overflows.
-    if (!finite(elevate(q[0], l1, mid)) || !finite(elevate(mid, r1, q[2])))
+    if (!finite(left) || !finite(right))
       throw InputError("the kappa-curve's cubic pieces overflow doubles: scale the points down (to below about 1e307)");
     if (t > 0) {
-      c.pieces.push_back(elevate(q[0], l1, mid));
+      c.pieces.push_back(left);
       // The left half ends at the maximum; a whole quadratic (t = 1) has it
       // at or beyond its end.
       if (!certify_piece(c.pieces.back(), 3)) c.uncertified.push_back(static_cast<int>(c.pieces.size()) - 1);
     }
     c.maxima.push_back(t > 0 && t < 1 ? 3 * static_cast<int>(c.pieces.size()) : -1);
     if (t < 1) {
-      c.pieces.push_back(elevate(mid, r1, q[2]));
+      c.pieces.push_back(right);
       if (!certify_piece(c.pieces.back(), 0)) c.uncertified.push_back(static_cast<int>(c.pieces.size()) - 1);
     }
   }

@@ -65,9 +65,8 @@
 #include "report/batch.hpp"
 #include "report/corpus.hpp"
 #include "report/fix_json.hpp"
-#include "report/contour_moves.hpp"
 #include "report/gates.hpp"
-#include "report/glyph_fix.hpp"
+#include "report/source_fix.hpp"
 #include "report/report.hpp"
 #include "report/space_report.hpp"
 #include "spline/curvature.hpp"
@@ -836,41 +835,24 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
 /// writes the .glif as --in-place does: only the moved points' x and y).
 py::object fix_glyph_py(const std::string& file, const std::string& glyph, const std::string& require, double grid,
                         double max_move, const std::vector<std::string>& points, int depth, bool in_place) {
-  const bool glif = std::filesystem::path(file).extension() == ".glif";
-  if (glyph.empty() && !glif) throw InputError(file + ": a font source; name the glyph (glyph=NAME)");
-  if (!(grid >= 0) || !std::isfinite(grid)) throw InputError("grid: " + std::to_string(grid) + " is not a step >= 0");
   if (!(max_move >= 0) || !std::isfinite(max_move))
     throw InputError("max_move: " + std::to_string(max_move) + " is not a distance >= 0");
   report::GlyphFixOptions o;
   report::parse_require_list(require, o.judge);
-  for (const report::Gate& g : o.judge.gates)
-    if (g.kind == report::Gate::Kind::g3_at_smooth_nodes)
-      throw InputError("require " + report::to_string(g) + ": there is no certified fix for G3 (it keeps g2 at most)");
   o.judge.max_depth = depth;
   o.grid = grid;
   o.max_move = max_move;
-  import::GlyphSelection which;
-  if (!glif) which.names = {glyph};
-  const import::Font font = import::read_ufo(file, which);
-  if (font.glyphs.empty()) throw InputError(file + ": no glyph '" + glyph + "'");
-  const import::Glyph& g = font.glyphs.front();
-  if (glif && !glyph.empty() && glyph != g.name)
-    throw InputError(file + ": holds the glyph '" + g.name + "', not '" + glyph + "'");
-  if (!g.error.empty()) throw InputError(file + ": " + g.name + ": " + g.error);
-  if (!points.empty()) o.points = report::named_points(g, points);
-  const std::vector<report::ContourFix> fixes = interruptible([g, o] { return report::fix_glyph(g, o); });
-  std::vector<import::PointEdit> edits;
-  std::string failed;
-  OJson contours = report::glyph_fix_json(g, fixes, o.grid, edits, failed);
-  show_fields_in(contours, python_fields);
-  if (!failed.empty()) throw InputError(file + ": " + python_fields(failed));
-  OJson doc = {{"file", file}, {"glyph", g.name}, {"require", require}, {"grid", grid}, {"contours", contours}};
-  if (!o.points.empty()) doc["points"] = o.points;
+  report::SourceFix f = interruptible([file, glyph, points, o] { return report::fix_source_glyph(file, glyph, points, o); });
+  show_fields_in(f.contours, python_fields);
+  if (!f.failed.empty()) throw InputError(file + ": " + python_fields(f.failed));
+  OJson doc = {{"file", file}, {"glyph", f.glyph.name}, {"require", require}, {"grid", grid}, {"contours", f.contours}};
+  if (!f.points.empty()) doc["points"] = f.points;
   if (in_place) {
     OutputSet outputs;
-    if (!edits.empty()) outputs.stage(g.source, import::rewrite_glif_points(read_input_file(g.source), edits, g.source));
+    if (!f.edits.empty())
+      outputs.stage(f.glyph.source, import::rewrite_glif_points(read_input_file(f.glyph.source), f.edits, f.glyph.source));
     outputs.commit();
-    doc["written"] = g.source;
+    doc["written"] = f.glyph.source;
   }
   return to_py(doc);
 }

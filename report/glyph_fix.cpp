@@ -790,17 +790,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   const std::function<int(const BSpline&)> judge = total_judge(o);
   const ContourMoves rules = moves_of(c, options);  // the rules every search of a contour's points keeps
   const std::vector<int>& movable = rules.points;
-  if (!options.points.empty() && std::none_of(c.point_names.begin(), c.point_names.end(), [&](const std::string& n) {
-        return std::find(options.points.begin(), options.points.end(), n) != options.points.end();
-      })) {
+  if (movable.empty() && !options.points.empty()) {  // none of the named points is one of this contour's
     out.untouched = true;
-    out.reason = "none of the points named is on this contour: left as it is";
+    out.reason = "none of the points named may move on this contour: left as it is";
     for (GateCount& g : out.rejudged) g.after = g.before;
     return out;
   }
   if (movable.empty()) {
-    out.reason = options.points.empty() ? "no source point may move (every node ends a straight piece)"
-                                        : "none of the points named may move on this contour";
+    out.reason = "no source point may move (every node ends a straight piece)";
     return out;
   }
   if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {

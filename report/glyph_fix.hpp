@@ -99,7 +99,8 @@ struct GlyphFixOptions {
   /// "o/c0/p9"); empty: every point the contour's rules allow
   /// (contour_moves). Each must be one those rules allow; a named node
   /// moves with its handles, as any node does. A contour with none of them
-  /// is left as it is (ContourFix::untouched), even where it fails.
+  /// (none that may move) is left as it is (ContourFix::untouched), even
+  /// where it fails.
   std::vector<std::string> points;
 };
 
@@ -108,7 +109,7 @@ struct ContourFix {
   int contour = 0;          ///< Contour::index
   bool already = false;     ///< passes as it is
   bool fixed = false;
-  /// GlyphFixOptions::points names none of its points: left as it is, not
+  /// GlyphFixOptions::points names none of its points that may move: left as it is, not
   /// fixed, and not the glyph fix's failure (rejudged: after = before).
   bool untouched = false;
   std::string reason;       ///< why not fixed (one line)

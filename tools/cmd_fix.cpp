@@ -20,6 +20,7 @@
 #include "bezierize/extract.hpp"
 #include "report/contour_moves.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/source_fix.hpp"
 #include "report/interpolation.hpp"
 #include "report/fix_json.hpp"
 #include "spline/errors.hpp"
@@ -32,13 +33,6 @@ namespace cmr::cli {
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-/// A gate cmr fix cannot search a fix for, refused in one line (exit 2).
-void refuse_unfixable(const report::ReportOptions& o) {
-  for (const report::Gate& g : o.gates)
-    if (g.kind == report::Gate::Kind::g3_at_smooth_nodes)
-      throw InputError("--require " + report::to_string(g) + ": cmr fix has no certified fix for G3 (it keeps g2 at most)");
-}
 
 /// Before and after: the first moved point's region (its unit's group
 /// moving with it, the requirement's labels) on the original curve with the
@@ -148,33 +142,21 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
 }
 
 void run_source_fix(const SourceFixArgs& a) {
-  namespace fs = std::filesystem;
-  const bool glif = fs::path(a.file).extension() == ".glif";
-  if (a.glyph.empty() && !glif) throw InputError(a.file + ": a font source; name the glyph with --glyph NAME");
-  if (!(a.grid >= 0) || !std::isfinite(a.grid)) throw InputError("--grid: " + std::to_string(a.grid) + " is not a step >= 0");
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
   report::GlyphFixOptions o;
   report::parse_require_list(a.require, o.judge);
-  refuse_unfixable(o.judge);
   o.judge.max_depth = a.depth;
   o.grid = a.grid;
   o.max_move = a.max_move;
-  import::GlyphSelection which;
-  if (!glif) which.names = {a.glyph};
-  const import::Font font = import::read_ufo(a.file, which);
-  if (font.glyphs.empty()) throw InputError(a.file + ": no glyph '" + a.glyph + "'");
-  const import::Glyph& g = font.glyphs.front();
-  if (glif && !a.glyph.empty() && a.glyph != g.name)
-    throw InputError(a.file + ": holds the glyph '" + g.name + "', not '" + a.glyph + "'");
-  if (!a.points.empty()) o.points = report::named_points(g, comma_items(a.points));
-  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
-  std::vector<import::PointEdit> edits;
-  std::string failed;
-  Json contours = report::glyph_fix_json(g, fixes, o.grid, edits, failed);
-  show_fields_in(contours, show_fields);  // the reasons' fields as flags
-  if (!failed.empty()) throw InputError(a.file + ": " + show_fields(failed));
-  Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", contours}};
-  if (!o.points.empty()) doc["points"] = o.points;
+  report::SourceFix f =
+      report::fix_source_glyph(a.file, a.glyph, a.points.empty() ? std::vector<std::string>{} : comma_items(a.points), o);
+  const import::Glyph& g = f.glyph;
+  const std::vector<import::PointEdit>& edits = f.edits;
+  const bool glif = std::filesystem::path(a.file).extension() == ".glif";
+  show_fields_in(f.contours, show_fields);  // the reasons' fields as flags
+  if (!f.failed.empty()) throw InputError(a.file + ": " + show_fields(f.failed));
+  Json doc = {{"file", a.file}, {"glyph", g.name}, {"require", a.require}, {"grid", a.grid}, {"contours", f.contours}};
+  if (!f.points.empty()) doc["points"] = f.points;
   // All outputs or none (io/output.hpp): the copy of the whole source, or
   // the changed .glif in place.
   OutputSet outputs;
@@ -220,7 +202,7 @@ void run_spline_multi_fix(const std::string& file, const std::string& require, c
   g.contours.push_back(std::move(c));
   report::GlyphFixOptions o;
   report::parse_require_list(require, o.judge);
-  refuse_unfixable(o.judge);
+  report::check_fixable(o.judge);
   o.judge.max_depth = depth;
   o.grid = grid_given ? grid : (integral ? 1.0 : 0.0);
   o.max_move = max_move;

@@ -32,6 +32,7 @@ inline const std::map<std::string, std::string>& field_flags() {
       {"from", "--from"},
       {"glyph", "--glyph"},
       {"glyphs", "--glyphs"},
+      {"grid", "--grid"},
       {"in_place", "--in-place"},
       {"include", "--include"},
       {"keep", "--keep"},

@@ -1,0 +1,40 @@
+#pragma once
+/// A font source's glyph fixed for every required check on its grid: one
+/// entry for `cmr fix FONT.ufo --glyph NAME` (tools/cmd_fix.cpp) and the
+/// Python module's fix_glyph (python/cmr_module.cpp). It reads the glyph
+/// (io/ufo.hpp: a UFO folder, or one .glif), resolves the named points
+/// (named_points), runs fix_glyph and writes the document's contours
+/// (glyph_fix_json). Messages name their fields (spline/fields.hpp), which
+/// each front end shows its own way.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/ufo.hpp"
+#include "report/glyph_fix.hpp"
+
+namespace cmr::report {
+
+/// Refuses (InputFieldError) a check the glyph fix cannot certify a fix
+/// for: g3-at-smooth-nodes (the fix keeps g2 at most).
+void check_fixable(const ReportOptions& checks);
+
+struct SourceFix {
+  import::Glyph glyph;                   ///< as read
+  std::vector<std::string> points;       ///< the named points' whole names (GlyphFixOptions::points)
+  nlohmann::ordered_json contours;       ///< glyph_fix_json: per contour its moves and re-judging
+  std::vector<import::PointEdit> edits;  ///< the moved points, for import::rewrite_glif_points
+  std::string failed;                    ///< the first unfixed contour's "GLYPH/cC: reason"; empty: a fix
+};
+
+/// Glyph `glyph` of `file` (empty for a .glif: the one it holds) fixed with
+/// `options` (its `points` replaced by the whole names of `points`, which
+/// may be tails or <point> name attributes). InputError (one line) for a
+/// grid step below 0, a glyph the source lacks, a .glif holding another
+/// glyph, a check with no fix, a point name that does not resolve, or a
+/// glyph that cannot be read.
+SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, const std::vector<std::string>& points,
+                           GlyphFixOptions options);
+
+}  // namespace cmr::report
