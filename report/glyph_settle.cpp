@@ -9,6 +9,51 @@
 #include "report/batch.hpp"
 
 namespace cmr::report::glyph_detail {
+namespace {
+
+/// The lattice steps d of `u` whose distance rho = |d + mean| from the
+/// unit's cheapest position lies in (lo, hi] (lo < 0: from 0): a ring of
+/// the grid (a translation) or two pieces of the slide's line. The settling
+/// scans a unit's positions in such bands of rho, which is the order of
+/// their cost, so it never lists the whole disc at once.
+std::vector<Vec2> band_steps(const LatticeUnit& u, Vec2 mean, double grid, double lo, double hi) {
+  std::vector<Vec2> out;
+  auto in_band = [&](Vec2 d) {
+    const double r2 = dot(d + mean, d + mean);
+    return (lo < 0 || r2 > lo * lo) && r2 <= hi * hi;
+  };
+  if (u.slide) {
+    const double len = std::sqrt(dot(u.step, u.step)), centre = -dot(mean, u.step) / (len * len);
+    const double a = hi / len + 1, b = lo < 0 ? -1 : lo / len - 1;
+    for (long j = std::lround(std::floor(centre - a)); j <= std::lround(std::ceil(centre + a)); ++j) {
+      if (b > 0 && std::abs(static_cast<double>(j) - centre) < b) j = std::lround(std::floor(centre + b));
+      const Vec2 d = static_cast<double>(j) * u.step;
+      if (in_band(d)) out.push_back(d);
+    }
+    return out;
+  }
+  const long i0 = std::lround(std::floor((-mean.x - hi) / grid)) - 1, i1 = std::lround(std::ceil((-mean.x + hi) / grid)) + 1;
+  for (long i = i0; i <= i1; ++i) {
+    const double dx = static_cast<double>(i) * grid + mean.x;
+    if (dx * dx > hi * hi) continue;
+    const double yhi = std::sqrt(hi * hi - dx * dx), ylo = lo > 0 && dx * dx < lo * lo ? std::sqrt(lo * lo - dx * dx) : -1;
+    auto run = [&](double from, double to) {
+      for (long j = std::lround(std::floor(from / grid)) - 1; j <= std::lround(std::ceil(to / grid)) + 1; ++j) {
+        const Vec2 d(static_cast<double>(i) * grid, static_cast<double>(j) * grid);
+        if (in_band(d)) out.push_back(d);
+      }
+    };
+    if (ylo < 0) {
+      run(-mean.y - yhi, -mean.y + yhi);
+    } else {
+      run(-mean.y - yhi, -mean.y - ylo);
+      run(-mean.y + ylo, -mean.y + yhi);
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) {
   double t = 0;
@@ -32,12 +77,14 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     return true;
   };
   // The first candidate (in order of cost, each lower than now) that
-  // passes becomes `at`; false when none does or time is up.
+  // passes becomes `at`; false when none does or time is up. A candidate
+  // is (cost, what `build` makes the moved points of).
   bool out_of_time = false;
-  auto take_first = [&](std::vector<std::pair<double, std::vector<Vec2>>>& candidates) {
+  auto take_first = [&](auto& candidates, const auto& build) {
     std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (auto& [unused, t] : candidates) {
+    for (auto& [unused, c] : candidates) {
       if (work.spent()) return !(out_of_time = true);
+      std::vector<Vec2> t = build(c);
       if (!within(t) || !passes(at, t)) continue;
       at = std::move(t);
       return true;
@@ -96,22 +143,20 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
         mean = mean / n;
         const double rest = own - n * dot(mean, mean), now = cost_of(at);
         auto share = [&](Vec2 d) { return n * dot(d + mean, d + mean) + rest; };
-        std::vector<Vec2> steps;
-        if (u.slide) {
-          const double s2 = dot(u.step, u.step), centre = -dot(mean, u.step) / s2;
-          const double reach = std::sqrt((own - rest) / (n * s2)) + 1;
-          for (long j = std::lround(std::floor(centre - reach)); j <= std::lround(std::ceil(centre + reach)); ++j)
-            steps.push_back(static_cast<double>(j) * u.step);
-        } else {
-          const long r = std::lround(std::ceil(std::sqrt((own - rest) / n) / grid + 1));
-          const long cx = std::lround(-mean.x / grid), cy = std::lround(-mean.y / grid);
-          for (long i = cx - r; i <= cx + r; ++i)
-            for (long j = cy - r; j <= cy + r; ++j) steps.emplace_back(static_cast<double>(i) * grid, static_cast<double>(j) * grid);
+        // The positions cheaper than now (rho = |d + mean| < reach), band
+        // by band of rho (kSettleCandidates or so each), so in order of
+        // cost, until one passes.
+        const double reach = std::sqrt(std::max(0.0, (own - rest) / n));
+        const double width = u.slide ? kSettleCandidates / 2.0 * std::sqrt(dot(u.step, u.step))
+                                     : std::sqrt(kSettleCandidates / 3.14159) * grid;
+        bool taken = false;
+        for (double lo = -1; lo < reach && !taken && !out_of_time; lo = lo < 0 ? width : lo + width) {
+          std::vector<std::pair<double, Vec2>> candidates;
+          for (const Vec2 d : band_steps(u, mean, grid, lo, lo < 0 ? width : lo + width))
+            if (share(d) < own) candidates.emplace_back(now - own + share(d), d);
+          taken = take_first(candidates, [&](Vec2 d) { return moved_by({{&u, d}}); });
         }
-        std::vector<std::pair<double, std::vector<Vec2>>> candidates;
-        for (const Vec2 d : steps)
-          if (share(d) < own) candidates.emplace_back(now - own + share(d), moved_by({{&u, d}}));
-        if (take_first(candidates)) {
+        if (taken) {
           any = true;
           moved({ui});
         }
@@ -151,7 +196,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
         std::vector<Vec2> t = moved_by({{a, da}, {b, db}});
         if (const double cost_t = cost_of(t); cost_t < now) candidates.emplace_back(cost_t, std::move(t));
       }
-    if (take_first(candidates)) {
+    if (take_first(candidates, [](std::vector<Vec2>& t) { return std::move(t); })) {
       quiet = 0;
       moved({pairs[next].first, pairs[next].second});
       singles();

@@ -78,7 +78,12 @@ struct LatticeUnit {
 ///    multiples of its step along its line; a translation: the grid vectors)
 ///    that lowers the cost, tried in order of the cost, the first that
 ///    passes taken; repeated until no unit moves. Then no single unit has a
-///    nearer passing grid position, the others held.
+///    nearer passing grid position, the others held. A unit's
+///    positions are listed band by band of their distance from its cheapest
+///    point (about kSettleCandidates a band: rings 36 cells wide, or 2048
+///    slide steps), the next band only when none of one passes: a unit that
+///    moved hundreds of cells (a glyph drawn at 20 times a font's size)
+///    would otherwise list tens of millions of positions before judging one.
 ///  * Pairs of neighbouring units (within three points along the contour),
 ///    each up to kPairReach cells (a slide kPairSlideReach steps) from where
 ///    it is, in order of the cost; after a pair moves, the single units
@@ -95,6 +100,7 @@ struct LatticeUnit {
 /// whether that end was reached (else the work ran out first); `at` holds
 /// the best so far either way, and it passes.
 inline constexpr int kPairReach = 2, kPairSlideReach = 4;
+inline constexpr long kSettleCandidates = 4096;
 
 /// The settling's cost: the sum over the distinct points of the squared
 /// distance of `pts` from `src` (the first src.size() of pts are read).

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
@@ -156,6 +157,57 @@ TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
   }
   EXPECT_GE(contours, 2);
   EXPECT_GT(candidates, 100);
+}
+
+// The settling lists a unit's positions band by band of their cost: a
+// point that the search left thousands of cells from its source (a glyph
+// drawn at 20 times a font's size) still gets the nearest passing grid
+// position, in bounded work, where listing its whole disc at once took
+// longer than the glyph's time guard (28 million positions here). One free
+// point starts 3000 cells out and passes above the source's line and
+// outside a disc of radius 102.5 below it (the nearest such lattice point,
+// 73 cells straight up, lies in the third ring just past its inner edge);
+// one slide starts 10000 steps out and passes only beyond 4096.5 steps on
+// that side (the third band of 2048 steps, just past its inner edge). The
+// nearest passing positions are found here by enumeration.
+TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
+  using report::glyph_detail::LatticeUnit;
+  // Eight points; the units are points 0 and 4, too far apart along the
+  // contour to be a pair (the pairs' small steps would mend a band's miss).
+  std::vector<Vec2> src(8, Vec2(0.0));
+  src[4] = Vec2(10.0, 0.0);
+  std::vector<LatticeUnit> units(2);
+  units[0].points = {0};
+  units[1].points = {4};
+  units[1].slide = true;
+  units[1].step = Vec2(3.0, 4.0);  // |step| = 5
+  std::vector<Vec2> at = src;
+  at[0] = Vec2(3000.0, 7.0);
+  at[4] = src[4] + 10000.0 * units[1].step;
+  const Vec2 hole(0.4, -30.0);
+  auto free_passes = [&](Vec2 p) { return p.y > 0.5 && std::hypot(p.x - hole.x, p.y - hole.y) > 102.5; };
+  long judged = 0;
+  auto passes = [&](const std::vector<Vec2>&, const std::vector<Vec2>& t) {
+    ++judged;
+    return free_passes(t[0] - src[0]) && dot(t[4] - src[4], units[1].step) > 4096.5 * 25;
+  };
+  auto depends = [](const std::vector<int>&) { return std::vector<int>{0, 4}; };
+  report::glyph_detail::Work work(50'000'000, std::chrono::steady_clock::now() + std::chrono::seconds(60));
+  ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, work));
+  double best = 1e18;
+  Vec2 nearest(0.0);
+  for (long i = -200; i <= 200; ++i)
+    for (long j = -200; j <= 200; ++j) {
+      const Vec2 p(static_cast<double>(i), static_cast<double>(j));
+      if (free_passes(p) && dot(p, p) < best) best = dot(p, p), nearest = p;
+    }
+  EXPECT_GT(best, 72.5 * 72.5);  // beyond the first two rings (36 cells each)
+  EXPECT_EQ(dot(at[0] - src[0], at[0] - src[0]), best) << at[0].x << ", " << at[0].y << " (nearest " << nearest.x
+                                                        << ", " << nearest.y << ")";
+  EXPECT_EQ(at[4], src[4] + 4097.0 * units[1].step);
+  // In order of cost, judging stops at the first that passes: the disc's
+  // positions (about 50,000 a scan), not the 28 million.
+  EXPECT_LT(judged, 1'000'000);
 }
 
 // The settling's judge (glyph_detail::local_judge) and the grid descent's
