@@ -194,27 +194,32 @@ CertifiedFix gate_fix(const BSpline& spline, const GateResult& failing, const Re
   return out;
 }
 
-}  // namespace
+/// Every point that can move (contour_of: not a line's inner point) at an
+/// integer: a font's contour, whose fixes land on the grid of 1 unit.
+bool on_integer_grid(const import::Contour& c) {
+  for (std::size_t k = 0; k < c.font_point.size(); ++k) {
+    const Vec2 p = c.spline.points()[k];
+    if (c.font_point[k] >= 0 && (p.x != std::floor(p.x) || p.y != std::floor(p.y))) return false;
+  }
+  return true;
+}
 
-/// Every required check at once: the glyph fix (report/glyph_fix.hpp) on
-/// the spline as a contour (contour_of), on the grid of 1 unit when every
-/// coordinate is an integer, in kReportFixSeconds; re-judged check by check.
-CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options) {
+/// The glyph fix (report/glyph_fix.hpp) of `options`' checks on the spline
+/// as a contour (contour_of), on the grid of 1 unit when it is on the
+/// integer grid, in kReportFixSeconds; re-judged check by check.
+CertifiedFix glyph_engine_fix(const BSpline& spline, const ReportOptions& options, std::string check,
+                              std::string requirement) {
   const auto t0 = std::chrono::steady_clock::now();
   CertifiedFix f;
-  f.check = "all:";
-  if (options.require) f.check.append(" ").append(to_string(*options.require));
-  for (const Gate& g : options.gates) f.check.append(f.check.size() > 4 ? ", " : " ").append(to_string(g));
-  f.requirement = "every check at once (the glyph fix, on the grid)";
+  f.check = std::move(check);
+  f.requirement = std::move(requirement);
   f.size = curve_size(spline);
-  bool integral = true;
-  for (const Vec2 p : spline.points()) integral = integral && p.x == std::floor(p.x) && p.y == std::floor(p.y);
   import::Glyph g;
   g.name = spline.name();
   g.contours.push_back(contour_of(spline, {}));
   GlyphFixOptions o;
   o.judge = options;
-  o.grid = integral ? 1 : 0;
+  o.grid = on_integer_grid(g.contours.front()) ? 1 : 0;
   o.glyph_work = kReportGlyphWork;
   o.guard_seconds = 2 * kReportFixSeconds;
   o.both_searches = false;  // a suggestion in the report's time; `cmr fix` searches on for a nearer one
@@ -237,24 +242,59 @@ CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options)
   return f;
 }
 
+/// A gate the glyph fix searches (the others have a reason, or a fix of
+/// their own: gate_fix).
+bool searched_by_glyph_fix(const Gate& gate) {
+  return gate.kind != Gate::Kind::g3_at_smooth_nodes && gate.kind != Gate::Kind::xy_extrema_at_nodes &&
+         !is_interpolation_gate(gate);
+}
+
+/// Every required check at once (check "all: A, B").
+CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options) {
+  std::string check = "all:";
+  if (options.require) check.append(" ").append(to_string(*options.require));
+  for (const Gate& g : options.gates) check.append(check.size() > 4 ? ", " : " ").append(to_string(g));
+  return glyph_engine_fix(spline, options, std::move(check), "every check at once (the glyph fix, on the grid)");
+}
+
+}  // namespace
+
 std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOptions& options) {
   std::vector<CertifiedFix> out;
   if (!r.spline || options.segments) return out;  // a judged range: fix() judges the whole spline
+  // A font contour's fixes land on its grid, found by the glyph fix: with
+  // several checks only the fix of all of them at once (a gate's own fix
+  // mostly breaks another, and a designer applies the one), with one that
+  // check's. Gates the glyph fix does not search keep their entries.
+  const int checks = static_cast<int>(options.gates.size()) + (options.require ? 1 : 0);
+  const bool polynomial_closed = r.spline->closed() && !r.spline->is_rational();
+  const bool font = polynomial_closed && on_integer_grid(contour_of(*r.spline, {}));
   if (!r.requirement_pass && (options.require || options.gates.empty())) {
     const Requirement check = check_of(options);
-    FixRequirement req;
-    req.kind = check.split ? FixRequirement::Kind::split
-                           : check.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
-    if (check.split) req.split = *check.split;
-    req.extremum = check.extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
-                   : check.extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
-                                                          : FixRequirement::Extremum::any;
-    out.push_back(run_fix(*r.spline, req, options));
+    if (font && checks <= 1) {
+      ReportOptions one = options;
+      one.require = check;
+      out.push_back(glyph_engine_fix(*r.spline, one, to_string(check), to_string(check) + " (the glyph fix, on the grid)"));
+    } else if (!font) {
+      FixRequirement req;
+      req.kind = check.split ? FixRequirement::Kind::split
+                             : check.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
+      if (check.split) req.split = *check.split;
+      req.extremum = check.extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
+                     : check.extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
+                                                            : FixRequirement::Extremum::any;
+      out.push_back(run_fix(*r.spline, req, options));
+    }
   }
-  for (const GateResult& g : r.gates)
-    if (!g.pass()) out.push_back(gate_fix(*r.spline, g, options));
-  if (options.gates.size() + (options.require ? 1 : 0) > 1 && r.spline->closed() && !r.spline->is_rational())
-    out.push_back(all_checks_fix(*r.spline, options));
+  for (const GateResult& g : r.gates) {
+    if (g.pass()) continue;
+    if (!font || !searched_by_glyph_fix(g.gate))
+      out.push_back(gate_fix(*r.spline, g, options));
+    else if (checks == 1)
+      out.push_back(glyph_engine_fix(*r.spline, options, to_string(g.gate),
+                                     to_string(g.gate) + " (the glyph fix, on the grid)"));
+  }
+  if (checks > 1 && polynomial_closed) out.push_back(all_checks_fix(*r.spline, options));
   return out;
 }
 

@@ -48,8 +48,9 @@ struct CertifiedFix {
   std::vector<int> failing_segments;  ///< of the input, for this check
   std::optional<BSpline> fixed;   ///< the moved spline (found)
   SplineAnalysis certificate;     ///< analyze(*fixed) (found)
-  /// The fix of every required check at once (check "all: A, B"): each
-  /// check's violations before and after, re-judged (empty for one check's fix).
+  /// The glyph fix's (a font contour's gate fix, or every required check at
+  /// once): each check's violations before and after, re-judged; empty for
+  /// the fix search's.
   std::vector<GateCount> rejudged;
 };
 
@@ -70,9 +71,14 @@ inline constexpr double kReportFixSeconds = 2;
 /// The fixes of a failing spline: one per failing check (the requirement,
 /// then each failing gate in order), and, where several checks are required
 /// and the spline is closed and polynomial, one more for all of them at once
-/// (check "all: A, B"): the glyph fix's engine (report/glyph_fix.hpp, as
-/// `cmr fix --require A,B`), on the grid of 1 unit where every coordinate is
-/// an integer (a font's), re-judged check by check (CertifiedFix::rejudged).
+/// (check "all: A, B"), found by the glyph fix's engine (report/glyph_fix.hpp,
+/// as `cmr fix --require A,B`) and re-judged check by check
+/// (CertifiedFix::rejudged). A font contour (closed, polynomial, every
+/// point that may move at an integer) gets its fixes on the grid of 1
+/// unit, from the glyph fix: with one check the gate's, with several only
+/// the "all:" fix (a gate's own fix mostly breaks another), besides the
+/// entries of gates the glyph fix does not search (g3, xy-extrema, the
+/// interpolation gates: a reason each). Other fixes are the fix search's.
 std::vector<CertifiedFix> certified_fixes(const SplineReport& report, const ReportOptions& options);
 
 /// The largest displacement over the curve size (0 without moves).

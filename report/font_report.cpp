@@ -325,13 +325,14 @@ std::string svg(const GlyphPicture& g, int height, const std::string& id, bool r
          std::string(draw::kSvgClose);
 }
 
-/// A point's name without the glyph and contour that the section's heading
-/// says: "g/c0/n6+n7@1/3" -> "n6+n7@1/3" (the whole rest of the name, which
-/// may hold a '/' of its own). A name without that prefix is kept whole.
+}  // namespace
+
 std::string local_name(const std::string& name, const std::string& glyph, std::size_t contour) {
   const std::string prefix = glyph + "/c" + std::to_string(contour) + "/";
   return name.compare(0, prefix.size(), prefix) == 0 ? name.substr(prefix.size()) : name;
 }
+
+namespace {
 
 /// "p5 to p7" (the nodes at the ends of the violation's segment, in the
 /// contour named by the section's heading) or "node p5"; the message itself

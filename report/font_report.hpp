@@ -38,6 +38,12 @@ struct FontInfo {
   std::vector<std::uint32_t> missing;
 };
 
+/// A point's name without the glyph and contour that a glyph section's
+/// heading says: "g/c0/n6+n7@1/3" -> "n6+n7@1/3" (the whole rest of the
+/// name, which may hold a '/' of its own). A name without that prefix is
+/// kept whole.
+std::string local_name(const std::string& name, const std::string& glyph, std::size_t contour);
+
 /// The one count of a font every page uses (font page, summary page):
 /// "318 glyphs: 120 pass, 198 fail; 643 contours: 319 pass, 324 fail" (a
 /// glyph passes when all its contours do; invalid contours fail).

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <set>
 #include <string>
@@ -15,6 +16,7 @@
 #include "design/fix.hpp"
 #include "io/font.hpp"
 #include "report/batch.hpp"
+#include "report/font_report.hpp"
 #include "report/gates.hpp"
 #include "report/glyph_fix.hpp"
 #include "report/report.hpp"
@@ -69,6 +71,11 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
         EXPECT_EQ(moved.points()[k].x, m["from"][0].get<double>());
         EXPECT_EQ(moved.points()[k].y, m["from"][1].get<double>());
         moved = moved.with_point(k, Vec2(m["to"][0].get<double>(), m["to"][1].get<double>()));
+        // A font's fix lands on its grid of whole units, and moves only the
+        // font's own points (never a line's implied inner point).
+        EXPECT_EQ(m["to"][0].get<double>(), std::floor(m["to"][0].get<double>())) << m["name"];
+        EXPECT_EQ(m["to"][1].get<double>(), std::floor(m["to"][1].get<double>())) << m["name"];
+        EXPECT_GE(contour->font_point.at(k), 0) << m["name"];
       }
       // Re-judged from the JSON's numbers alone.
       EXPECT_FALSE(requirement_holds(contour->spline, gate)) << s["name"];
@@ -102,7 +109,7 @@ TEST(FontFix, EveryReferenceResolvesAndMoveTablesNameWholePoints) {
   if (test::kSanitizerBuild) GTEST_SKIP() << "the report's 2 s per contour fix search is too short in a sanitizer build";
   const fs::path out = test::scratch() / "font_fix_refs";
   fs::remove_all(out);
-  // g's G2 fix moves a line's implied third-points (names with "@1/3").
+  // g has lines, whose implied third-points ("@1/3") the fix leaves.
   const test::Outcome r = test::run(std::string("report ") + kNimbus +
                                     " --glyphs S,g --require curvature-extrema-at-nodes,g2-at-smooth-nodes --backend cpu --out " +
                                     out.string());
@@ -138,8 +145,14 @@ TEST(FontFix, EveryReferenceResolvesAndMoveTablesNameWholePoints) {
         EXPECT_NE(page.find("<tr><td>" + local + "<td>"), std::string::npos) << name;
       }
   EXPECT_GT(names, 0);
-  // The case of the bug: a name with a '/' of its own (a line's implied point).
-  EXPECT_GT(with_slash, 0) << "no moved point's name has a '/' (g's G2 fix moved no implied point)";
+  // The case of the bug, a name with a '/' of its own (a line's implied
+  // point), no longer reaches a font's table: its fixes never move implied
+  // points (the "all:" fix keeps lines straight). The table's name is
+  // local_name's, which keeps such a name whole.
+  EXPECT_EQ(with_slash, 0);
+  EXPECT_EQ(report::local_name("g/c0/n6+n7@1/3", "g", 0), "n6+n7@1/3");
+  EXPECT_EQ(report::local_name("g/c1/n6", "g", 0), "g/c1/n6");
+  EXPECT_EQ(report::local_name("gg/c0/p3", "g", 0), "gg/c0/p3");
 }
 
 // --no-fixes: thumbnails, no fix searched.
