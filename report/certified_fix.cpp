@@ -295,6 +295,17 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
                                      to_string(g.gate) + " (the glyph fix, on the grid)"));
   }
   if (checks > 1 && polynomial_closed) out.push_back(all_checks_fix(*r.spline, options));
+  // The glyph fix's entries: the segments its checks fail (shaded in the
+  // "before" panel), the failing gates' violations.
+  for (CertifiedFix& f : out) {
+    if (f.rejudged.empty() || !f.failing_segments.empty()) continue;
+    std::set<int> segments;
+    for (const GateResult& g : r.gates)
+      if (f.check == to_string(g.gate) || f.check.rfind("all:", 0) == 0)
+        for (const GateViolation& v : g.violations)
+          if (v.segment >= 0) segments.insert(v.segment);
+    f.failing_segments.assign(segments.begin(), segments.end());
+  }
   return out;
 }
 
@@ -319,7 +330,7 @@ nlohmann::ordered_json certified_fix_json(const CertifiedFix& f, const std::vect
   j["max_relative"] = largest_relative_move(f);
   j["seconds"] = f.seconds;
   j["failing_segments"] = f.failing_segments;
-  if (!f.rejudged.empty()) {
+  if (f.found && !f.rejudged.empty()) {  // (none found: nothing was re-judged)
     nlohmann::ordered_json checks = nlohmann::ordered_json::array();
     for (const GateCount& c : f.rejudged) checks.push_back({{"check", c.check}, {"before", c.before}, {"after", c.after}});
     j["rejudged"] = checks;
