@@ -59,8 +59,13 @@ inline Outcome run_captured(const std::string& command) {
   return r;
 }
 
-/// Runs cmr with `args` (a shell word list).
-inline Outcome run(const std::string& args) { return run_captured(std::string(CMR_BINARY) + " " + args); }
+/// Runs cmr with `args` (a shell word list), its cache directory (the
+/// pipeline cache, the measured backend rates) this test's own: a rate
+/// another test or another run on the machine recorded in ~/.cache would
+/// change what `--backend auto` does and notes here.
+inline Outcome run(const std::string& args) {
+  return run_captured("XDG_CACHE_HOME=" + (scratch() / "cache").string() + " " + std::string(CMR_BINARY) + " " + args);
+}
 
 inline std::string write(const std::string& name, const std::string& text) {
   const fs::path p = scratch() / name;
