@@ -1,6 +1,9 @@
 #include "report/baseline.hpp"
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -66,11 +69,50 @@ std::vector<std::string> read_baseline(const std::filesystem::path& path) {
 }
 
 BaselineComparison::BaselineComparison(const std::vector<std::string>& keys) {
-  for (const std::string& k : keys) ++left_[k];
+  std::set<std::string> files;
+  for (const std::string& k : keys) {
+    ++left_[k];
+    files.insert(k.substr(0, k.find('|')));
+  }
+  files_.assign(files.begin(), files.end());
+}
+
+namespace {
+
+/// Whether one name's path components end the other's ("../x/A.ufo" and
+/// "x/A.ufo", "A.ufo").
+bool same_tail(const std::string& a, const std::string& b) {
+  const std::filesystem::path pa(a), pb(b);
+  std::vector<std::string> ca, cb;
+  for (const auto& c : pa) ca.push_back(c.string());
+  for (const auto& c : pb) cb.push_back(c.string());
+  if (ca.empty() || cb.empty()) return false;
+  const std::size_t n = std::min(ca.size(), cb.size());
+  return std::equal(ca.end() - static_cast<std::ptrdiff_t>(n), ca.end(), cb.end() - static_cast<std::ptrdiff_t>(n));
+}
+
+}  // namespace
+
+const std::string& BaselineComparison::baseline_file(const std::string& file) {
+  if (const auto it = file_of_.find(file); it != file_of_.end()) return it->second;
+  std::string match;
+  if (std::binary_search(files_.begin(), files_.end(), file)) {
+    match = file;
+  } else {
+    int found = 0;
+    for (const std::string& b : files_)
+      if (same_tail(b, file)) match = b, ++found;
+    if (found != 1) match.clear();
+  }
+  return file_of_[file] = match;
 }
 
 const char* BaselineComparison::judge(const Finding& f) {
-  const auto it = left_.find(f.key());
+  const std::string& file = baseline_file(f.file);
+  if (file.empty()) return "new";
+  Finding as = f;
+  as.file = file;
+  const auto it = left_.find(as.key());
   if (it == left_.end() || it->second == 0) return "new";
   --it->second;
   return "unchanged";

@@ -11,6 +11,14 @@
 
 namespace cmr::report {
 
+/// A finding's file is matched to the baseline's by how the run named it,
+/// and where the baseline has no finding of that name, by the one baseline
+/// file whose name ends in the same path components (or whose components
+/// end its name): a file given by itself is named relative to the working
+/// folder, so `cmr report /abs/repo/Sans.ufo` run in /home names it
+/// "../abs/repo/Sans.ufo", and `cmr report Sans.ufo` run in /abs/repo
+/// "Sans.ufo"; both are the same file. Where several baseline files match,
+/// none is taken (its findings are new).
 class BaselineComparison {
  public:
   explicit BaselineComparison(const std::vector<std::string>& keys);
@@ -20,7 +28,11 @@ class BaselineComparison {
   int fixed() const;
 
  private:
+  /// The baseline's name for the run's file `file` ("" where none).
+  const std::string& baseline_file(const std::string& file);
   std::map<std::string, int> left_;
+  std::map<std::string, std::string> file_of_;  ///< the run's file name -> the baseline's
+  std::vector<std::string> files_;              ///< the baseline's file names
 };
 
 }  // namespace cmr::report

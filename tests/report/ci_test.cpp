@@ -121,6 +121,48 @@ TEST(CiBaseline, FilesAreNamedRelativeToTheWorkingFolderOrTheSourceRoot) {
   EXPECT_FALSE(fs::exists(root / "x"));
 }
 
+// A file given by itself is named relative to the working folder, so a
+// baseline made with its absolute path from another folder names it
+// "../../in/wavy.json"; run as "wavy.json" in its own folder, the finding is
+// matched to the one baseline file whose path ends the same way, and the
+// baseline passes unchanged. Both ways round, and a font with its glyphs.
+// Where two baseline files end that way, neither is taken (new findings).
+TEST(CiBaseline, AFileGivenByItselfMatchesItsBaselineFromAnyWorkingFolder) {
+  const fs::path root = checkout("lone");
+  fs::create_directories(root / "elsewhere" / "deeper");
+  const std::string wavy = (root / "in" / "wavy.json").string(), font = (root / "in" / "fonts" / "DejaVuSans.ttf").string();
+  for (const std::string& file : {wavy, font}) {
+    SCOPED_TRACE(file);
+    const fs::path from = root / "elsewhere" / "deeper";
+    const test::Outcome acc = run_in(from, "report " + file + kGates + " --out acc");
+    ASSERT_EQ(acc.code, 1) << acc.err;
+    const std::vector<std::string> keys = keys_of(read_json(from / "acc" / "report.json"));
+    ASSERT_FALSE(keys.empty());
+    EXPECT_EQ(keys.front().rfind("../../in/", 0), 0u) << keys.front();
+    const fs::path own = fs::path(file).parent_path();
+    const std::string name = fs::path(file).filename().string();
+    const test::Outcome rel = run_in(own, "report " + name + kGates + " --no-cache --out " + (root / "rel").string() +
+                                              " --baseline " + (from / "acc" / "report.json").string());
+    EXPECT_EQ(rel.code, 0) << rel.err << rel.out;
+    EXPECT_NE(rel.out.find("(baseline: 0 new, 0 fixed, " + std::to_string(keys.size()) + " unchanged)"), std::string::npos)
+        << rel.out;
+    // The other way round: the baseline made in the file's folder, the run from elsewhere by its absolute path.
+    const test::Outcome back = run_in(from, "report " + file + kGates + " --no-cache --out back --baseline " +
+                                                (root / "rel" / "report.json").string());
+    EXPECT_EQ(back.code, 0) << back.err << back.out;
+  }
+  // Two files that end alike in the baseline: a run of one by its name alone matches neither.
+  fs::create_directories(root / "a");
+  fs::create_directories(root / "b");
+  fs::copy_file(wavy, root / "a" / "wavy.json");
+  fs::copy_file(wavy, root / "b" / "wavy.json");
+  ASSERT_EQ(run_in(root, "report a/wavy.json b/wavy.json" + kGates + " --out two").code, 1);
+  const test::Outcome one = run_in(root / "a", "report wavy.json" + kGates + " --no-cache --out " + (root / "one").string() +
+                                                   " --baseline " + (root / "two" / "report.json").string());
+  EXPECT_EQ(one.code, 1) << one.err << one.out;
+  EXPECT_EQ(one.out.find("(baseline: 0 new"), std::string::npos) << one.out;
+}
+
 // A baseline accepted before the rename names the gate extrema-at-nodes in
 // its keys: it still passes unchanged, and the run writes the new name.
 TEST(CiBaseline, ABaselineUnderTheOldGateNamePassesUnchanged) {
