@@ -6,7 +6,6 @@
 #include <functional>
 #include <utility>
 #include <limits>
-#include <map>
 #include <numeric>
 #include <optional>
 
@@ -26,6 +25,7 @@ using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
+using glyph_detail::snap_by_parts;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
 using glyph_detail::unmovable_g2_join;
@@ -598,11 +598,14 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     g.partners = partners_of(c, f, rules.points);
     const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
     work.charge(snapped.evaluations * segments + snapped.combinations / 2);  // its judgements, and ordering its candidates
-    if (!snapped.found) {
+    std::optional<BSpline> on_grid = snapped.spline;
+    if (!snapped.found && off_grid_ok && !work.spent()) on_grid = snap_by_parts(
+          c, current, f, snap_judge, [&](const FixResult& part) { return partners_of(c, part, rules.points); }, g, work);
+    if (!on_grid) {
       why = off_grid_ok ? snapped.reason : breaks;
       return std::nullopt;
     }
-    next = *snapped.spline;
+    next = *on_grid;
   }
   const int next_total = judge(next);
   if (next_total < current_total && smooth_kept(c, next)) return std::make_pair(std::move(next), next_total);

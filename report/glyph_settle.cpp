@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <utility>
 
+#include "bezierize/extract.hpp"
 #include "design/fix.hpp"
+#include "design/fix_grid.hpp"
 #include "report/batch.hpp"
 
 namespace cmr::report::glyph_detail {
@@ -271,6 +274,69 @@ SplineReport RunJudge::report(const BSpline& s, const Run& r) const {
       return !on_run;
     });
   return out;
+}
+
+std::vector<std::vector<PointMove>> parts_of(const import::Contour& c, const FixResult& f) {
+  const int m = c.spline.unique_point_count();
+  std::vector<int> part(static_cast<std::size_t>(m), -1), parent(f.moves.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i) {
+      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+      i = parent[static_cast<std::size_t>(i)];
+    }
+    return i;
+  };
+  for (std::size_t i = 0; i < f.moves.size(); ++i) part[static_cast<std::size_t>(f.moves[i].point % m)] = static_cast<int>(i);
+  for (const Segment& seg : c.spline.segments()) {
+    int first = -1;
+    for (int k : segment_points(c.spline, seg)) {
+      const int i = part[static_cast<std::size_t>(k % m)];
+      if (i < 0) continue;
+      if (first < 0) first = i;
+      else parent[static_cast<std::size_t>(root(i))] = root(first);
+    }
+  }
+  std::map<int, std::vector<PointMove>> by_root;
+  for (std::size_t i = 0; i < f.moves.size(); ++i) by_root[root(static_cast<int>(i))].push_back(f.moves[i]);
+  std::vector<std::vector<PointMove>> out;
+  for (auto& [r, moves] : by_root) out.push_back(std::move(moves));
+  return out;
+}
+
+std::optional<BSpline> snap_by_parts(const import::Contour& c, const BSpline& current, const FixResult& f,
+                                     const std::function<int(const BSpline&)>& snap_judge,
+                                     const std::function<std::vector<int>(const FixResult&)>& partners, GridOptions g,
+                                     Work& work) {
+  const std::vector<std::vector<PointMove>> parts = parts_of(c, f);
+  if (parts.size() < 2 || !f.spline) return std::nullopt;
+  BSpline base = *f.spline;
+  const long segments = current.segment_count();
+  for (const std::vector<PointMove>& moves : parts) {
+    if (work.spent()) return std::nullopt;
+    BSpline original = base;
+    for (const PointMove& mv : moves) original = original.with_point(mv.point, mv.from);
+    FixResult part;
+    part.fixed = true;
+    part.spline = base;
+    part.moves = moves;
+    for (const PointMove& mv : moves) part.max_distance = std::max(part.max_distance, mv.distance);
+    // The part's own units first (a few candidates each), then with its
+    // partners.
+    GridFix snapped;
+    for (const bool with_partners : {false, true}) {
+      if (work.spent()) return std::nullopt;
+      g.partners = with_partners ? partners(part) : std::vector<int>{};
+      g.max_seconds = work.seconds_left();
+      g.max_evaluations = std::min(kSnapEvaluations, std::max(1L, work.left() / segments));
+      snapped = snap_to_grid(original, part, snap_judge, g);
+      work.charge(snapped.evaluations * segments + snapped.combinations / 2);
+      if (snapped.found) break;
+    }
+    if (!snapped.found) return std::nullopt;
+    base = *snapped.spline;
+  }
+  return base;
 }
 
 }  // namespace cmr::report::glyph_detail

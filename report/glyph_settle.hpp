@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "design/fix_grid.hpp"
 #include "io/font.hpp"
 #include "report/report.hpp"
 #include "spline/bspline.hpp"
@@ -162,5 +163,29 @@ class RunJudge {
 /// Defined in glyph_fix.cpp; GlyphFix.LocalJudgeIsTheWholeJudge.
 std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
                                                                                       const ReportOptions& o);
+
+/// The moves of `f` in parts that share no segment: two moved points are in
+/// one part when a segment has both (through others of the part).
+std::vector<std::vector<PointMove>> parts_of(const import::Contour& c, const FixResult& f);
+
+/// GridOptions::max_evaluations' default: the judgements of one snap.
+inline constexpr long kSnapEvaluations = GridOptions{}.max_evaluations;
+
+/// Where the grid snap of a whole fix finds nothing (each of many moved
+/// units has a few candidate cells, and their product is cut to
+/// kMaxCombinations: Nimbus S's extrema fix moves 15 handles), the fix's
+/// parts that share no segment snapped one after another: each part's
+/// units on the grid, judged with the parts before it on the grid and the
+/// parts after it where the fix put them (the fix passes, and a part's
+/// moves change only its own segments' verdicts): its units alone first,
+/// then with their partners (GridOptions::partners), each snap at most
+/// kSnapEvaluations judgements. Nothing where a part has no passing grid
+/// position near its fix.
+/// `partners(part)`: the unmoved points that may step with the part
+/// (GridOptions::partners).
+std::optional<BSpline> snap_by_parts(const import::Contour& c, const BSpline& current, const FixResult& f,
+                                     const std::function<int(const BSpline&)>& snap_judge,
+                                     const std::function<std::vector<int>(const FixResult&)>& partners, GridOptions g,
+                                     Work& work);
 
 }  // namespace cmr::report::glyph_detail

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -421,8 +422,11 @@ TEST(BatchCommand, AWholeLatinFontsPagesWithFixesStayUnderTwoMegabytes) {
   const std::string font = test::slurp(out / "font.html");
   EXPECT_NE(font.find("class=\"kplot\""), std::string::npos) << "the fixes' curvature plots are drawn";
   // The fixed outline reuses the original's drawing and draws its own move
-  // arrows (issue 36: it referenced "#ID-m", which no page ever had).
-  EXPECT_NE(font.find("<use href=\"#g0-O-pic-o\""), std::string::npos);
+  // arrows (issue 36: it referenced "#ID-m", which no page ever had). Which
+  // glyphs get a fix in the run's 20 s depends on the machine's load (O's
+  // fix of all three gates takes most of its contour's 4 s guard here), so
+  // any fixed glyph will do.
+  EXPECT_TRUE(std::regex_search(font, std::regex("<use href=\"#g0-[^\"]+-pic-o\"")));
   EXPECT_EQ(font.find("-m\"/>"), std::string::npos);
   EXPECT_NE(font.find("<path class=\"f\" d=\"M"), std::string::npos);
   // The size depends on which fixes the searches find in their time: the
