@@ -70,6 +70,23 @@ def exact_judge(path, gates):
                           capture_output=True, text=True)
 
 
+def fixed_glyph(tmp, font, glyph, glif, require, out, gates, what):
+    """`cmr fix FONT --glyph G --require R --out OUT` exits 0, changes only x/y of moved points (to
+    integers), and the independent exact check fails the source's glyph on `gates` and passes the
+    fix's. Returns (source .glif, fixed .glif), or None where the fix failed."""
+    r = run("fix", os.path.basename(font), "--glyph", glyph, "--require", require, "--out", out, cwd=tmp)
+    check("fix %s exits 0" % what, r.returncode == 0, r.stderr)
+    if r.returncode != 0:
+        return None
+    src, fix = os.path.join(font, "glyphs", glif), os.path.join(tmp, out, "glyphs", glif)
+    ok, why = only_xy_changed(src, fix)
+    check("%s: only x/y of moved points change, to integers" % what, ok, why)
+    before, after = exact_judge(src, gates), exact_judge(fix, gates)
+    check("exact judge (%s): %s fails, the fixed glyph passes" % (gates, what),
+          before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+    return src, fix
+
+
 def main():
     tmp = tempfile.mkdtemp(prefix="cmr-ufo-")
     try:
@@ -180,10 +197,8 @@ def main():
             check("every other file is byte-identical", not mismatch and not errors, str(mismatch + errors))
             ok, why = only_xy_changed(os.path.join(nimbus, "glyphs", "O_.glif"), os.path.join(fixed, "glyphs", "O_.glif"))
             check("only x/y of moved points change, to integers", ok, why)
-            judge = lambda p, g: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", g],
-                                                capture_output=True, text=True)
             for gate in ("extrema", "g2"):
-                before, after = judge(os.path.join(nimbus, "glyphs", "O_.glif"), gate), judge(
+                before, after = exact_judge(os.path.join(nimbus, "glyphs", "O_.glif"), gate), exact_judge(
                     os.path.join(fixed, "glyphs", "O_.glif"), gate)
                 check("exact judge (%s): the source fails, the fixed glyph passes" % gate,
                       before.returncode == 1 and after.returncode == 0, after.stdout)
@@ -197,30 +212,15 @@ def main():
                 check("fontmake builds the fixed source", fm.returncode == 0, fm.stderr[-500:])
 
         # two gates on a TrueType-flavoured (qcurve) source: DejaVu Sans O
-        r = run("fix", "DejaVu.ufo", "--glyph", "O", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
-                "--out", "FixedDV.ufo", cwd=tmp)
-        check("fix DejaVu O (qcurve; extrema and g2 at once) exits 0", r.returncode == 0, r.stderr)
-        if r.returncode == 0:
-            src_o, fix_o = os.path.join(dejavu, "glyphs", "O_.glif"), os.path.join(tmp, "FixedDV.ufo", "glyphs", "O_.glif")
-            ok, why = only_xy_changed(src_o, fix_o)
-            check("DejaVu O: only x/y of moved points change, to integers", ok, why)
-            judge = lambda p, g: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", g],
-                                                capture_output=True, text=True)
-            before, after = judge(src_o, "extrema,g2"), judge(fix_o, "extrema,g2")
-            check("exact judge (qcurve, extrema and g2): the source fails, the fixed glyph passes",
-                  before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+        fixed_glyph(tmp, dejavu, "O", "O_.glif", "curvature-extrema-at-nodes,g2-at-smooth-nodes", "FixedDV.ufo",
+                    "extrema,g2", "DejaVu O (qcurve; extrema and g2 at once)")
 
         # g2 alone on Nimbus g (issue 36's stem example): two stem-to-bowl joins need the bowl's end
         # curvature exactly 0, which the violation-at-a-time rounds construct; the stems stay lines
-        r = run("fix", "Nimbus.ufo", "--glyph", "g", "--require", "g2-at-smooth-nodes", "--out", "FixedG.ufo", cwd=tmp)
-        check("fix Nimbus g under g2 (stem-to-bowl joins) exits 0", r.returncode == 0, r.stderr)
-        if r.returncode == 0:
-            src_g, fix_g = os.path.join(nimbus, "glyphs", "g.glif"), os.path.join(tmp, "FixedG.ufo", "glyphs", "g.glif")
-            ok, why = only_xy_changed(src_g, fix_g)
-            check("Nimbus g: only x/y of moved points change, to integers", ok, why)
-            before, after = judge(src_g, "g2"), judge(fix_g, "g2")
-            check("exact judge (g2): Nimbus g fails, the fixed glyph passes",
-                  before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+        g_files = fixed_glyph(tmp, nimbus, "g", "g.glif", "g2-at-smooth-nodes", "FixedG.ufo", "g2",
+                              "Nimbus g under g2 (stem-to-bowl joins)")
+        if g_files:
+            src_g, fix_g = g_files
             # A line's end nodes stay (report/contour_moves.hpp): every on-curve point that begins or
             # ends a `line` segment has the source's coordinates.
             def line_ends(path):
@@ -238,17 +238,8 @@ def main():
         # The extrema gate alone on Nimbus S: its fix moves 15 handles, and the snap of all of them at once
         # finds no grid position (the product of their candidates is cut); snapped part by part (parts
         # that share no segment, report/glyph_settle.hpp snap_by_parts) it lands on the grid
-        r = run("fix", "Nimbus.ufo", "--glyph", "S", "--require", "curvature-extrema-at-nodes", "--out", "FixedS.ufo", cwd=tmp)
-        check("fix Nimbus S under curvature-extrema-at-nodes (15 handles move) exits 0", r.returncode == 0, r.stderr)
-        if r.returncode == 0:
-            src_s, fix_s = os.path.join(nimbus, "glyphs", "S_.glif"), os.path.join(tmp, "FixedS.ufo", "glyphs", "S_.glif")
-            ok, why = only_xy_changed(src_s, fix_s)
-            check("Nimbus S: only x/y of moved points change, to integers", ok, why)
-            exact = lambda p: subprocess.run([PY, os.path.join(SRC, "tests/report/exact_glif_check.py"), p, "--gates", "extrema"],
-                                             capture_output=True, text=True)
-            before, after = exact(src_s), exact(fix_s)
-            check("exact judge (extrema): Nimbus S fails, the fixed glyph passes",
-                  before.returncode == 1 and after.returncode == 0, before.stdout[:200] + after.stdout)
+        fixed_glyph(tmp, nimbus, "S", "S_.glif", "curvature-extrema-at-nodes", "FixedS.ufo", "extrema",
+                    "Nimbus S under curvature-extrema-at-nodes (15 handles move)")
 
         # --points on a source: the report's names narrow the moves (a named node takes its handles)
         named = ["c0/p8", "c0/p9", "c0/p10", "c1/p2", "c1/p3"]
