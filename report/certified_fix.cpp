@@ -71,6 +71,22 @@ FixRequest gate_fix_request(const Gate& gate, int max_depth, double max_seconds)
   return q;
 }
 
+FixRequirement requirement_of(const Requirement& check) {
+  FixRequirement req;
+  req.kind = check.split ? FixRequirement::Kind::split
+                         : check.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
+  if (check.split) req.split = *check.split;
+  req.extremum = check.extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
+                 : check.extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
+                                                        : FixRequirement::Extremum::any;
+  return req;
+}
+
+bool has_point_move_fix(const Gate& gate) {
+  return gate.kind != Gate::Kind::g3_at_smooth_nodes && gate.kind != Gate::Kind::xy_extrema_at_nodes &&
+         !is_interpolation_gate(gate);
+}
+
 FixRequirement requirement_of(const Gate& gate) {
   FixRequirement req;
   switch (gate.kind) {
@@ -204,11 +220,12 @@ bool on_integer_grid(const import::Contour& c) {
   return true;
 }
 
-/// The glyph fix (report/glyph_fix.hpp) of `options`' checks on the spline
-/// as a contour (contour_of), on the grid of 1 unit when it is on the
-/// integer grid, in kReportFixSeconds; re-judged check by check.
-CertifiedFix glyph_engine_fix(const BSpline& spline, const ReportOptions& options, std::string check,
+/// The glyph fix (report/glyph_fix.hpp) of `options`' checks on `contour`
+/// (contour_of the spline), on the grid of 1 unit when it is on the integer
+/// grid, in kReportFixSeconds; re-judged check by check.
+CertifiedFix glyph_engine_fix(const import::Contour& contour, const ReportOptions& options, std::string check,
                               std::string requirement) {
+  const BSpline& spline = contour.spline;
   const auto t0 = std::chrono::steady_clock::now();
   CertifiedFix f;
   f.check = std::move(check);
@@ -216,10 +233,10 @@ CertifiedFix glyph_engine_fix(const BSpline& spline, const ReportOptions& option
   f.size = curve_size(spline);
   import::Glyph g;
   g.name = spline.name();
-  g.contours.push_back(contour_of(spline, {}));
+  g.contours.push_back(contour);
   GlyphFixOptions o;
   o.judge = options;
-  o.grid = on_integer_grid(g.contours.front()) ? 1 : 0;
+  o.grid = on_integer_grid(contour) ? 1 : 0;
   o.glyph_work = kReportGlyphWork;
   o.guard_seconds = 2 * kReportFixSeconds;
   o.both_searches = false;  // a suggestion in the report's time; `cmr fix` searches on for a nearer one
@@ -242,19 +259,12 @@ CertifiedFix glyph_engine_fix(const BSpline& spline, const ReportOptions& option
   return f;
 }
 
-/// A gate the glyph fix searches (the others have a reason, or a fix of
-/// their own: gate_fix).
-bool searched_by_glyph_fix(const Gate& gate) {
-  return gate.kind != Gate::Kind::g3_at_smooth_nodes && gate.kind != Gate::Kind::xy_extrema_at_nodes &&
-         !is_interpolation_gate(gate);
-}
-
 /// Every required check at once (check "all: A, B").
-CertifiedFix all_checks_fix(const BSpline& spline, const ReportOptions& options) {
+CertifiedFix all_checks_fix(const import::Contour& contour, const ReportOptions& options) {
   std::string check = "all:";
   if (options.require) check.append(" ").append(to_string(*options.require));
   for (const Gate& g : options.gates) check.append(check.size() > 4 ? ", " : " ").append(to_string(g));
-  return glyph_engine_fix(spline, options, std::move(check), "every check at once (the glyph fix, on the grid)");
+  return glyph_engine_fix(contour, options, std::move(check), "every check at once (the glyph fix, on the grid)");
 }
 
 }  // namespace
@@ -268,33 +278,28 @@ std::vector<CertifiedFix> certified_fixes(const SplineReport& r, const ReportOpt
   // check's. Gates the glyph fix does not search keep their entries.
   const int checks = static_cast<int>(options.gates.size()) + (options.require ? 1 : 0);
   const bool polynomial_closed = r.spline->closed() && !r.spline->is_rational();
-  const bool font = polynomial_closed && on_integer_grid(contour_of(*r.spline, {}));
+  const std::optional<import::Contour> contour =
+      polynomial_closed ? std::optional<import::Contour>(contour_of(*r.spline, {})) : std::nullopt;
+  const bool font = contour && on_integer_grid(*contour);
   if (!r.requirement_pass && (options.require || options.gates.empty())) {
     const Requirement check = check_of(options);
     if (font && checks <= 1) {
       ReportOptions one = options;
       one.require = check;
-      out.push_back(glyph_engine_fix(*r.spline, one, to_string(check), to_string(check) + " (the glyph fix, on the grid)"));
+      out.push_back(glyph_engine_fix(*contour, one, to_string(check), to_string(check) + " (the glyph fix, on the grid)"));
     } else if (!font) {
-      FixRequirement req;
-      req.kind = check.split ? FixRequirement::Kind::split
-                             : check.mode == Mode::cmr ? FixRequirement::Kind::cmr : FixRequirement::Kind::cmrwi;
-      if (check.split) req.split = *check.split;
-      req.extremum = check.extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
-                     : check.extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
-                                                            : FixRequirement::Extremum::any;
-      out.push_back(run_fix(*r.spline, req, options));
+      out.push_back(run_fix(*r.spline, requirement_of(check), options));
     }
   }
   for (const GateResult& g : r.gates) {
     if (g.pass()) continue;
-    if (!font || !searched_by_glyph_fix(g.gate))
+    if (!font || !has_point_move_fix(g.gate))
       out.push_back(gate_fix(*r.spline, g, options));
     else if (checks == 1)
-      out.push_back(glyph_engine_fix(*r.spline, options, to_string(g.gate),
+      out.push_back(glyph_engine_fix(*contour, options, to_string(g.gate),
                                      to_string(g.gate) + " (the glyph fix, on the grid)"));
   }
-  if (checks > 1 && polynomial_closed) out.push_back(all_checks_fix(*r.spline, options));
+  if (checks > 1 && contour) out.push_back(all_checks_fix(*contour, options));
   // The glyph fix's entries: the segments its checks fail (shaded in the
   // "before" panel), the failing gates' violations.
   for (CertifiedFix& f : out) {

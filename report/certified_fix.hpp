@@ -60,6 +60,17 @@ struct CertifiedFix {
 /// falling peaks (curvature-extrema-at-nodes:runs); no-inflection and g2 are their own.
 FixRequirement requirement_of(const Gate& gate);
 
+struct Requirement;  // report/report.hpp (which includes this header)
+
+/// The fix requirement of a report's check (cmrwi, cmr, split:S with its
+/// extremum).
+FixRequirement requirement_of(const Requirement& check);
+
+/// A gate some move of points can fix (not g3-at-smooth-nodes: the fix
+/// keeps g2 at most; not xy-extrema-at-nodes: it needs a node added; not
+/// the interpolation gates: a move of another master).
+bool has_point_move_fix(const Gate& gate);
+
 /// The fix search's request for one gate as a report runs it (the gate
 /// fixes and the severity search): requirement_of(gate), G1 kept, one
 /// thread, a first grid of 16, tolerance 1e-4, at most `max_seconds`.

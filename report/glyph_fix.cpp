@@ -55,21 +55,9 @@ int total(const std::vector<GateCount>& counts) {
 /// The search's guide: the requirement's own fix requirement, else the
 /// first failing gate's.
 FixRequirement guide(const ReportOptions& o, const SplineReport& r) {
-  if (o.require && !r.requirement_pass) {
-    FixRequirement req;
-    req.kind = o.require->split ? FixRequirement::Kind::split
-               : o.require->mode == Mode::cmr ? FixRequirement::Kind::cmr
-                                              : FixRequirement::Kind::cmrwi;
-    if (o.require->split) req.split = *o.require->split;
-    req.extremum = o.require->extremum == Extremum::sharpest   ? FixRequirement::Extremum::sharpest
-                   : o.require->extremum == Extremum::flattest ? FixRequirement::Extremum::flattest
-                                                               : FixRequirement::Extremum::any;
-    return req;
-  }
+  if (o.require && !r.requirement_pass) return requirement_of(*o.require);
   for (const GateResult& g : r.gates)
-    if (!g.pass() && g.gate.kind != Gate::Kind::xy_extrema_at_nodes && g.gate.kind != Gate::Kind::g3_at_smooth_nodes &&
-        !is_interpolation_gate(g.gate))
-      return requirement_of(g.gate);  // xy: a node; g3: no point-move fix; between masters: not a move of this contour
+    if (!g.pass() && has_point_move_fix(g.gate)) return requirement_of(g.gate);
   return {};
 }
 
@@ -600,7 +588,7 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     work.charge(snapped.evaluations * segments + snapped.combinations / 2);  // its judgements, and ordering its candidates
     std::optional<BSpline> on_grid = snapped.spline;
     if (!snapped.found && off_grid_ok && !work.spent()) on_grid = snap_by_parts(
-          c, current, f, snap_judge, [&](const FixResult& part) { return partners_of(c, part, rules.points); }, g, work);
+          c, f, snap_judge, [&](const FixResult& part) { return partners_of(c, part, rules.points); }, g, work);
     if (!on_grid) {
       why = off_grid_ok ? snapped.reason : breaks;
       return std::nullopt;

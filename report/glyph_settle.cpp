@@ -304,14 +304,14 @@ std::vector<std::vector<PointMove>> parts_of(const import::Contour& c, const Fix
   return out;
 }
 
-std::optional<BSpline> snap_by_parts(const import::Contour& c, const BSpline& current, const FixResult& f,
+std::optional<BSpline> snap_by_parts(const import::Contour& c, const FixResult& f,
                                      const std::function<int(const BSpline&)>& snap_judge,
                                      const std::function<std::vector<int>(const FixResult&)>& partners, GridOptions g,
                                      Work& work) {
   const std::vector<std::vector<PointMove>> parts = parts_of(c, f);
   if (parts.size() < 2 || !f.spline) return std::nullopt;
   BSpline base = *f.spline;
-  const long segments = current.segment_count();
+  const long segments = c.spline.segment_count();
   for (const std::vector<PointMove>& moves : parts) {
     if (work.spent()) return std::nullopt;
     BSpline original = base;

@@ -183,7 +183,7 @@ inline constexpr long kSnapEvaluations = GridOptions{}.max_evaluations;
 /// position near its fix.
 /// `partners(part)`: the unmoved points that may step with the part
 /// (GridOptions::partners).
-std::optional<BSpline> snap_by_parts(const import::Contour& c, const BSpline& current, const FixResult& f,
+std::optional<BSpline> snap_by_parts(const import::Contour& c, const FixResult& f,
                                      const std::function<int(const BSpline&)>& snap_judge,
                                      const std::function<std::vector<int>(const FixResult&)>& partners, GridOptions g,
                                      Work& work);
