@@ -208,6 +208,11 @@ class Writer {
     }
     summary_.files = static_cast<int>(files);
     Json settings = report_json({}, options.report)["settings"];
+    if (!options.location.empty()) {  // the variable fonts' instance judged (merge and readers tell runs apart)
+      Json at = Json::object();
+      for (const auto& [tag, value] : options.location) at[tag] = value;
+      settings["location"] = at;
+    }
     json_.write("{\"schema\":\"" + std::string(kSchema) + "\",\"settings\":" + dump(settings) + ",\"splines\":[");
     if (junit_.is_open()) junit_.write(junit_header());
     if (sarif_.is_open())

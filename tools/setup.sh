@@ -30,7 +30,7 @@ packages=(
   libocct-data-exchange-dev libtbb-dev
   libfreetype-dev fonts-urw-base35
   libpugixml-dev
-  fonts-noto-core fonts-texgyre
+  fonts-noto-core fonts-texgyre fonts-inter-variable
   strace time valgrind
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-fonttools python3-matplotlib

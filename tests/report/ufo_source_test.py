@@ -443,8 +443,10 @@ def main():
         r = run("fix", "Nimbus.ufo", "--glyph", "nosuch", "--require", "extrema-at-nodes", "--out", "x.ufo", cwd=tmp)
         check("fix of an unknown glyph: exit 2", r.returncode == 2 and "no glyph named 'nosuch'" in r.stderr, r.stderr)
 
-        # a variable font's instance (--location, FreeType's variation API)
+        # a variable font's instance (--location, FreeType's variation API);
+        # Inter comes from Debian's fonts-inter-variable (tools/setup.sh)
         inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
+        check("Inter's variable font is installed (tools/setup.sh: fonts-inter-variable)", os.path.exists(inter), inter)
         if os.path.exists(inter):
             pts = {}
             for w in ("100", "900"):
@@ -457,6 +459,17 @@ def main():
             check("--location outside the axis: exit 2", r.returncode == 2 and "outside the axis's range" in r.stderr, r.stderr)
             r = run("import", inter, "--glyphs", "O", "--location", "zzzz=1", "--out", "vbad", cwd=tmp)
             check("--location on an unknown axis: exit 2", r.returncode == 2 and "no axis 'zzzz'" in r.stderr, r.stderr)
+            # the report says which instance it judged, and shards of two instances are not one run
+            for w in ("100", "900"):
+                r = run("report", inter, "--glyphs", "O,S", "--location", "wght=" + w, "--require",
+                        "curvature-extrema-at-nodes", "--no-thumbnails", "--quiet", "--shard", "1/1", "--out", "r" + w,
+                        cwd=tmp)
+                at = json.load(open(os.path.join(tmp, "r" + w, "report.json")))["settings"].get("location") \
+                    if r.returncode in (0, 1) else None
+                check("report --location wght=" + w + ": settings.location is the instance", at == {"wght": int(w)},
+                      r.stderr + str(at))
+            r = run("report", "--merge", "r100", "r900", "--out", "rm", cwd=tmp)
+            check("merge of two instances' shards: refused", r.returncode == 2 and "settings" in r.stderr, r.stderr)
         r = run("import", DEJAVU, "--glyphs", "O", "--location", "wght=400", "--out", "vbad", cwd=tmp)
         check("--location on a font without fvar: exit 2", r.returncode == 2 and "not a variable font" in r.stderr, r.stderr)
 
