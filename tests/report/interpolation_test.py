@@ -622,7 +622,7 @@ with tempfile.TemporaryDirectory() as tmp:
               p.returncode == 2 and len(errors(p)) == 1 and "wght=900 is outside the axis's range [400, 700]" in p.stderr,
               p.stderr)
 
-    # A real TrueType variable font (Debian fonts-inter-variable, when installed): gvar's regions cut the
+    # A real TrueType variable font (Debian fonts-inter-variable, which tools/setup.sh installs): gvar's regions cut the
     # Weight axis at its default, so the pieces run wght=100..400 and 400..900; the run completes (no invalid).
     inter = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"
     if os.path.exists(inter):
@@ -647,7 +647,7 @@ with tempfile.TemporaryDirectory() as tmp:
               p.returncode in (0, 1) and r["summary"]["invalid"] == 0 and judged == ["uni00A7", "uni047C"],
               "rc %d: %s %s" % (p.returncode, p.stderr, judged))
     else:
-        print("SKIP Inter: fonts-inter-variable is not installed")
+        check("Inter's variable font is installed (tools/setup.sh: fonts-inter-variable)", False, inter)
 
     # Bad input: one line each, exit 2 (or invalid in the report).
     bad = [
