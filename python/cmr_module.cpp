@@ -992,6 +992,7 @@ struct ReportArgs {
   bool fixes = false;
   bool cache = true;
   std::string glyphs = "A-Z,a-z";
+  std::string location;  ///< a variable font's instance, "wght=700,opsz=14" (empty: the default)
   double angle_tol = 1e-3, curvature_tol = 1e-6;
   std::string backend = "cpu";
 };
@@ -1011,7 +1012,14 @@ py::object report_py(const ReportArgs& a) {
   ra.backend = a.backend;
   o.backend = region_backend(ra, [](const std::string&) {});  // the CPU backend by default: no note
   report::BatchOptions b;
-  b.codepoints = import::parse_glyph_spec(a.glyphs);
+  b.all_glyphs = a.glyphs == "all";
+  if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(a.glyphs);
+  if (!a.location.empty()) {
+    for (const std::string& f : a.files)
+      if (!import::is_font_path(f))
+        throw InputFieldError(field("location") + ": for variable fonts (.ttf, .otf), not for " + f);
+    b.location = import::parse_location(a.location);
+  }
   b.out = a.out;
   b.fixes = a.fixes;
   b.cache = a.cache;
@@ -1389,6 +1397,7 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("fixes", &ReportArgs::fixes)
       .def_readwrite("cache", &ReportArgs::cache)
       .def_readwrite("glyphs", &ReportArgs::glyphs)
+      .def_readwrite("location", &ReportArgs::location)
       .def_readwrite("angle_tol", &ReportArgs::angle_tol)
       .def_readwrite("curvature_tol", &ReportArgs::curvature_tol)
       .def_readwrite("backend", &ReportArgs::backend);

@@ -299,8 +299,8 @@ class JudgeQueue:
 
 
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
-           thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6, cache=True,
-           **unknown):
+           location=None, thumbnails=True, fixes=True, backend="auto", angle_tol=1e-3, curvature_tol=1e-6,
+           cache=True, **unknown):
     """``cmr report FILES... --out DIR [--require R]``: the batch report of
     spline files, SVG files, fonts and folders (planar; a space curve's file
     raises InputError: its report is the command's). Writes report.json
@@ -309,9 +309,13 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
     "pass", "fail", "items", "findings", "report" (report.json as a dict),
     "out"}. thumbnails=False is --no-thumbnails, fixes=False --no-fixes,
     cache=False --no-cache (no report.cache is read or written in `out`).
+    glyphs: the fonts' glyphs, "A-Z,a-z", "U+0041-U+005A" or "all" (a font
+    source's every glyph). location: a variable font's instance, as
+    --location ("wght=700,opsz=14") or a dict {"wght": 700, "opsz": 14};
+    None, the default instance (report["settings"]["location"] names it).
     """
-    _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "thumbnails", "fixes",
-                                   "backend", "angle_tol", "curvature_tol", "cache"])
+    _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "location", "thumbnails",
+                                   "fixes", "backend", "angle_tol", "curvature_tol", "cache"])
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     a = _cmr._ReportArgs()
@@ -329,6 +333,9 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
     a.segments = _o.segment_range(segments)
     a.depth = _o.integer("depth", depth, 0, _o.MAX_DEPTH)
     a.glyphs = _o.text("glyphs", glyphs)
+    if isinstance(location, dict):
+        location = ",".join(f"{tag}={value}" for tag, value in location.items())
+    a.location = "" if location is None else _o.text("location", location)
     a.thumbnails = bool(thumbnails)
     a.fixes = bool(fixes)
     a.cache = bool(cache)

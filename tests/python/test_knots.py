@@ -1,6 +1,7 @@
 """cmr.knots.*, cmr.kcurve and cmr.report equal `cmr knots`, `cmr kcurve` and `cmr report`."""
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -57,6 +58,47 @@ def test_report_equals_cli(tmp_path):
         [(s["name"], s["status"], s["verdict"]) for s in cli["splines"]]
     kept = cmr.report(files, require="cmrwi", thumbnails=False, out=tmp_path / "py")
     assert kept["out"] == str(tmp_path / "py") and (tmp_path / "py" / "index.html").exists()
+
+
+INTER = "/usr/share/fonts/truetype/inter-vf/Inter-roman.var.ttf"  # Debian fonts-inter-variable (tools/setup.sh)
+
+
+def test_report_of_a_variable_fonts_instance_equals_cli(tmp_path):
+    # location= is --location: the instance judged, named in the settings;
+    # two instances give different curves, and the CLI's report is the same.
+    assert os.path.exists(INTER), "tools/setup.sh installs fonts-inter-variable"
+    gate = "curvature-extrema-at-nodes"
+    thin = cmr.report(INTER, glyphs="O,S", require=gate, location="wght=100", thumbnails=False, fixes=False)
+    black = cmr.report(INTER, glyphs="O,S", require=gate, location={"wght": 900}, thumbnails=False, fixes=False)
+    default = cmr.report(INTER, glyphs="O,S", require=gate, thumbnails=False, fixes=False)
+    assert thin["report"]["settings"]["location"] == {"wght": 100}
+    assert black["report"]["settings"]["location"] == {"wght": 900}
+    assert "location" not in default["report"]["settings"]
+    curves = [[s["curvature"] for s in r["report"]["splines"]] for r in (thin, black, default)]
+    assert curves[0] != curves[1] and curves[1] != curves[2] and curves[0] != curves[2]
+    out = tmp_path / "cli"
+    p = run_cmr("report", INTER, "--glyphs", "O,S", "--require", gate, "--location", "wght=900", "--no-thumbnails",
+                "--no-fixes", "--quiet", "--out", out, check=False)
+    cli = json.loads((out / "report.json").read_text())
+    assert black["exit_code"] == p.returncode and black["report"]["settings"] == cli["settings"]
+    assert [(s["name"], s["curvature"], s.get("gates")) for s in black["report"]["splines"]] == \
+        [(s["name"], s["curvature"], s.get("gates")) for s in cli["splines"]]
+    # outside the axis: the font is invalid (exit 2, one message); not a font, or not TAG=VALUE: InputError
+    far = cmr.report(INTER, glyphs="O", location="wght=2000", thumbnails=False)
+    assert far["exit_code"] == 2 and len(far["invalid"]) == 1 and "outside the axis's range" in far["invalid"][0]
+    with pytest.raises(cmr.InputError, match="location: for variable fonts"):
+        cmr.report(str(ROOT / "examples" / "wave.json"), location="wght=700")
+    with pytest.raises(cmr.InputError, match="is not TAG=VALUE"):
+        cmr.report(INTER, location="wght")
+
+
+def test_report_of_every_glyph_of_a_font_source(tmp_path):
+    # glyphs="all" is --glyphs all: every glyph of a UFO, whatever its code points.
+    ufo = str(ROOT / "examples" / "ufo" / "Sans.ufo")
+    every = cmr.report(ufo, glyphs="all", thumbnails=False, fixes=False)
+    p = run_cmr("report", ufo, "--glyphs", "all", "--no-thumbnails", "--no-fixes", "--quiet", "--out",
+                tmp_path / "cli", check=False)
+    assert every["summary"].split(";")[0] == p.stdout.split(";")[0] and every["items"] > 0
 
 
 def test_report_cache_is_written_unless_turned_off(tmp_path):
