@@ -567,7 +567,8 @@ GlyphHtml font_glyph_html(const FontInfo& font, std::size_t fi, std::size_t gi, 
     details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
                html_escape(shell_word(font.path)) + " " + flag("glyph") + " " + html_escape(shell_word(g.name)) +
                " " + flag("require") + " " + html_escape(require) + " " + flag("in_place") + "</code> (or <code>" +
-               flag("out") + " NEW.ufo</code> for a copy).</p>";
+               flag("out") + " NEW.ufo</code> for a copy; <code>" + flag("glyphs") +
+               " all</code> instead of one glyph fixes every failing glyph of the font).</p>";
   }
   details += "</section>";
   return h;

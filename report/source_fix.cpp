@@ -1,5 +1,6 @@
 #include "report/source_fix.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -7,6 +8,7 @@
 #include "report/fix_json.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
+#include "spline/parallel.hpp"
 
 namespace cmr::report {
 
@@ -17,13 +19,21 @@ void check_fixable(const ReportOptions& checks) {
                             ": cmr fix has no certified fix for G3 (it keeps g2 at most)");
 }
 
+namespace {
+
+void check_grid_and_checks(const GlyphFixOptions& options) {
+  if (!(options.grid >= 0) || !std::isfinite(options.grid))
+    throw InputFieldError(field("grid") + ": " + std::to_string(options.grid) + " is not a step >= 0");
+  check_fixable(options.judge);
+}
+
+}  // namespace
+
 SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, const std::vector<std::string>& points,
                            GlyphFixOptions options) {
   const bool glif = std::filesystem::path(file).extension() == ".glif";
   if (glyph.empty() && !glif) throw InputFieldError(file + ": a font source; name the glyph with " + field("glyph") + " NAME");
-  if (!(options.grid >= 0) || !std::isfinite(options.grid))
-    throw InputFieldError(field("grid") + ": " + std::to_string(options.grid) + " is not a step >= 0");
-  check_fixable(options.judge);
+  check_grid_and_checks(options);
   import::GlyphSelection which;
   if (!glif) which.names = {glyph};
   const import::Font font = import::read_ufo(file, which);
@@ -36,6 +46,41 @@ SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, co
   if (!points.empty()) out.points = options.points = named_points(g, points);
   const std::vector<ContourFix> fixes = fix_glyph(g, options);
   out.contours = glyph_fix_json(g, fixes, options.grid, out.edits, out.failed);
+  return out;
+}
+
+SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
+                                  const GlyphFixOptions& options, int threads) {
+  if (std::filesystem::path(ufo).extension() == ".glif")
+    throw InputFieldError(ufo + ": one glyph's .glif; " + field("glyphs") + " selects glyphs of a UFO folder");
+  check_grid_and_checks(options);
+  const import::Font font = import::read_ufo(ufo, which);
+  SourceGlyphsFix out;
+  out.missing = font.missing;
+  for (const import::Glyph& g : font.glyphs) {
+    if (g.error.empty() && g.contours.empty()) {
+      out.without_contours.push_back(g.name);
+      continue;
+    }
+    SourceGlyphsFix::Item item;
+    item.fix.glyph = g;
+    item.error = g.error;
+    out.glyphs.push_back(std::move(item));
+  }
+  if (out.glyphs.empty() && out.without_contours.empty())
+    throw InputError(ufo + ": the selection names no glyph of the font");
+  parallel_for(out.glyphs.size(), threads, [&](std::size_t i) {
+    SourceGlyphsFix::Item& item = out.glyphs[i];
+    if (!item.error.empty()) return;
+    const import::Glyph& g = item.fix.glyph;
+    try {
+      const std::vector<ContourFix> fixes = fix_glyph(g, options);
+      item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
+      item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
+    } catch (const InputError& e) {  // this glyph's own (one line); the others go on
+      item.error = e.what();
+    }
+  });
   return out;
 }
 

@@ -6,6 +6,7 @@
 /// (named_points), runs fix_glyph and writes the document's contours
 /// (glyph_fix_json). Messages name their fields (spline/fields.hpp), which
 /// each front end shows its own way.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,5 +37,30 @@ struct SourceFix {
 /// glyph that cannot be read.
 SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, const std::vector<std::string>& points,
                            GlyphFixOptions options);
+
+/// `cmr fix FONT.ufo --glyphs SPEC`: each selected glyph of a UFO fixed on
+/// its own, as fix_source_glyph fixes one (its contours for every required
+/// check, on the grid), the glyphs in parallel on up to `threads` threads
+/// (0: every core). Each glyph's search is budgeted by work
+/// (GlyphFixOptions::glyph_work), so the answers do not depend on the
+/// threads.
+struct SourceGlyphsFix {
+  struct Item {
+    SourceFix fix;          ///< as fix_source_glyph's (fix.glyph as read)
+    bool already = false;   ///< every contour passed as it was
+    std::string error;      ///< the glyph could not be read or searched (one line); fix.contours empty
+  };
+  std::vector<Item> glyphs;  ///< the selection's glyphs with contours, in its order
+  /// Selected glyphs without a contour to judge (components only, or empty),
+  /// and selected code points no glyph has.
+  std::vector<std::string> without_contours;
+  std::vector<std::uint32_t> missing;
+};
+
+/// InputError (one line) as fix_source_glyph, and for a selection of no
+/// glyph; a glyph's own failure (unreadable outline, or no fix) is its
+/// item's, and the others go on.
+SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
+                                  const GlyphFixOptions& options, int threads);
 
 }  // namespace cmr::report
