@@ -857,6 +857,39 @@ py::object fix_glyph_py(const std::string& file, const std::string& glyph, const
   return to_py(doc);
 }
 
+/// cmr.fix_glyphs: each selected glyph of a UFO that fails fixed on its
+/// own, as `cmr fix FONT.ufo --glyphs SPEC` does (report/source_fix.hpp:
+/// the same library calls and document); in_place writes the fixed
+/// glyphs' .glif files together (all or none), as --in-place does.
+py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, const std::string& require, double grid,
+                         double max_move, int depth, bool in_place) {
+  if (!(max_move >= 0) || !std::isfinite(max_move))
+    throw InputError("max_move: " + std::to_string(max_move) + " is not a distance >= 0");
+  report::GlyphFixOptions o;
+  report::parse_require_list(require, o.judge);
+  o.judge.max_depth = depth;
+  o.grid = grid;
+  o.max_move = max_move;
+  import::GlyphSelection which;
+  which.all = glyphs == "all";
+  if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
+  report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid] {
+    return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, 0), file, require, grid);
+  });
+  show_fields_in(r.doc, python_fields);
+  if (in_place) {
+    OutputSet outputs;
+    OJson written = OJson::array();
+    for (const auto& [glif, text] : r.changed) {
+      outputs.stage(glif, text);
+      written.push_back(glif);
+    }
+    outputs.commit();
+    r.doc["written"] = written;
+  }
+  return to_py(r.doc);
+}
+
 // ------------------------------------------------------------ fix
 
 struct FixArgs {
@@ -1382,6 +1415,7 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("plane", &FixArgs::plane);
   m.def("_fix", &fix_py);
   m.def("_fix_glyph", &fix_glyph_py);
+  m.def("_fix_glyphs", &fix_glyphs_py);
 
   m.def("_knots", &knots_op);
   m.def("_kcurve", &kcurve_py);

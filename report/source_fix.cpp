@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "report/contour_moves.hpp"
@@ -9,6 +10,7 @@
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
 #include "spline/parallel.hpp"
+#include "spline/spline_json.hpp"
 
 namespace cmr::report {
 
@@ -81,6 +83,53 @@ SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSel
       item.error = e.what();
     }
   });
+  return out;
+}
+
+SourceGlyphsOutput source_glyphs_output(const SourceGlyphsFix& f, const std::string& ufo, const std::string& require,
+                                        double grid) {
+  using Json = nlohmann::ordered_json;
+  SourceGlyphsOutput out;
+  Json items = Json::array();
+  int already = 0;
+  for (const SourceGlyphsFix::Item& it : f.glyphs) {
+    if (it.already) {
+      ++already;
+      continue;
+    }
+    Json item = {{"glyph", it.fix.glyph.name}};
+    if (!it.error.empty() || !it.fix.failed.empty()) {
+      item["fixed"] = false;
+      item["reason"] = !it.error.empty() ? it.error : it.fix.failed;
+      out.unfixed.push_back(it.fix.glyph.name);
+    } else {
+      ++out.fixed;
+      item["fixed"] = true;
+      if (!it.fix.edits.empty()) {
+        const std::string& glif = it.fix.glyph.source;
+        out.changed.emplace_back(glif, import::rewrite_glif_points(read_input_file(glif), it.fix.edits, glif));
+      }
+    }
+    if (!it.fix.contours.is_null()) item["contours"] = it.fix.contours;
+    items.push_back(item);
+  }
+  Json missing = Json::array();
+  for (const std::uint32_t c : f.missing) {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "U+%04X", static_cast<unsigned>(c));
+    missing.push_back(buf);
+  }
+  out.doc = {{"file", ufo},
+             {"require", require},
+             {"grid", grid},
+             {"glyphs", items},
+             {"summary",
+              {{"judged", f.glyphs.size()},
+               {"already", already},
+               {"fixed", out.fixed},
+               {"unfixed", out.unfixed.size()},
+               {"without_contours", f.without_contours},
+               {"missing", missing}}}};
   return out;
 }
 

@@ -8,6 +8,7 @@
 /// each front end shows its own way.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -62,5 +63,20 @@ struct SourceGlyphsFix {
 /// item's, and the others go on.
 SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
                                   const GlyphFixOptions& options, int threads);
+
+/// What `cmr fix UFO --glyphs` prints and writes, and the Python module's
+/// fix_glyphs returns: the document (file, require, grid; per glyph that
+/// failed, "glyph", "fixed", its "contours" as for one glyph and, without a
+/// fix, its "reason"; a "summary" of the counts), its messages with field
+/// marks (spline/fields.hpp: each front end shows them its way), and the
+/// new text of each fixed glyph's .glif (only the moved points' x and y).
+struct SourceGlyphsOutput {
+  nlohmann::ordered_json doc;
+  std::vector<std::pair<std::string, std::string>> changed;  ///< .glif path, its new text
+  std::vector<std::string> unfixed;                          ///< the glyphs with no fix
+  int fixed = 0;
+};
+SourceGlyphsOutput source_glyphs_output(const SourceGlyphsFix& f, const std::string& ufo, const std::string& require,
+                                        double grid);
 
 }  // namespace cmr::report

@@ -129,76 +129,32 @@ int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs) {
   which.all = glyphs == "all";
   if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
   const report::SourceGlyphsFix f = report::fix_source_glyphs(a.file, which, o, 0);
-  Json items = Json::array();
-  std::vector<ChangedGlif> changed;
-  std::vector<std::string> unfixed;
-  int already = 0, fixed = 0;
-  for (const report::SourceGlyphsFix::Item& it : f.glyphs) {
-    const std::string& name = it.fix.glyph.name;
-    if (it.already) {
-      ++already;
-      continue;
-    }
-    Json item = {{"glyph", name}};
-    if (!it.error.empty() || !it.fix.failed.empty()) {
-      item["fixed"] = false;
-      item["reason"] = show_fields(!it.error.empty() ? it.error : it.fix.failed);
-      unfixed.push_back(name);
-    } else {
-      ++fixed;
-      item["fixed"] = true;
-      if (!it.fix.edits.empty()) {
-        const std::string& glif = it.fix.glyph.source;
-        changed.emplace_back(glif, import::rewrite_glif_points(read_input_file(glif), it.fix.edits, glif));
-      }
-    }
-    if (!it.fix.contours.is_null()) {
-      Json contours = it.fix.contours;
-      show_fields_in(contours, show_fields);  // the reasons' fields as flags
-      item["contours"] = contours;
-    }
-    items.push_back(item);
-  }
-  Json missing = Json::array();
-  for (const std::uint32_t c : f.missing) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "U+%04X", c);
-    missing.push_back(buf);
-  }
-  Json doc = {{"file", a.file},
-              {"require", a.require},
-              {"grid", a.grid},
-              {"glyphs", items},
-              {"summary",
-               {{"judged", f.glyphs.size()},
-                {"already", already},
-                {"fixed", fixed},
-                {"unfixed", unfixed.size()},
-                {"without_contours", f.without_contours},
-                {"missing", missing}}}};
+  report::SourceGlyphsOutput r = report::source_glyphs_output(f, a.file, a.require, a.grid);
+  Json& doc = r.doc;
+  show_fields_in(doc, show_fields);  // the reasons' fields as flags
   // All outputs or none (io/output.hpp): the copy of the whole source, or
   // the changed .glif files in place.
   OutputSet outputs;
   if (a.in_place) {
     Json written = Json::array();
-    for (const auto& [glif, text] : changed) {
+    for (const auto& [glif, text] : r.changed) {
       outputs.stage(glif, text);
       written.push_back(glif);
     }
     doc["written"] = written;
   } else if (!a.out.empty()) {
-    stage_source_copy(a.file, a.out, changed, outputs);
+    stage_source_copy(a.file, a.out, r.changed, outputs);
     doc["out"] = a.out;
   }
   outputs.commit();
   print_json(doc, a.pretty);
-  if (unfixed.empty()) return kOk;
+  if (r.unfixed.empty()) return kOk;
   std::string names;
-  for (std::size_t i = 0; i < unfixed.size() && i < 10; ++i) names += (i ? ", " : "") + unfixed[i];
-  if (unfixed.size() > 10) names += ", ...";
-  std::cerr << "cmr: " << a.file << ": " << unfixed.size() << " of " << (unfixed.size() + fixed)
+  for (std::size_t i = 0; i < r.unfixed.size() && i < 10; ++i) names += (i ? ", " : "") + r.unfixed[i];
+  if (r.unfixed.size() > 10) names += ", ...";
+  std::cerr << "cmr: " << a.file << ": " << r.unfixed.size() << " of " << (r.unfixed.size() + r.fixed)
             << " failing glyphs have no certified fix (" << names << "; each entry says why)"
-            << (fixed > 0 && (a.in_place || !a.out.empty()) ? "; the fixed ones are written" : "") << "\n";
+            << (r.fixed > 0 && (a.in_place || !a.out.empty()) ? "; the fixed ones are written" : "") << "\n";
   return kFail;
 }
 

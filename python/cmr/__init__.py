@@ -33,7 +33,7 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "fix_glyph", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "fix_glyph", "fix_glyphs", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 
@@ -231,6 +231,27 @@ def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=
     return _cmr._fix_glyph(_o.text("source", source), glyph, _o.text("require", require), _o.number("grid", grid, 0.0),
                            0.0 if max_move is None else _o.number("max_move", max_move, 0.0), points,
                            _o.integer("depth", depth, 0, _o.MAX_DEPTH), bool(in_place))
+
+
+def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", grid=1, max_move=None,
+               depth=DEFAULT_DEPTH, in_place=False, **unknown):
+    """``cmr fix FONT.ufo --glyphs SPEC --require GATES``: every selected glyph
+    of a UFO that fails, fixed on its own as fix_glyph fixes one (the same
+    answers), the glyphs in parallel (docs/fix.md, "A whole font at once").
+
+    glyphs: as the report selects them, "A-Z,a-z", "U+hex" or "all";
+    in_place: write the fixed glyphs' .glif files together (only their
+    moved points' x and y). Returns the command's document: per glyph that
+    failed, "glyph", "fixed", its "contours" (as fix_glyph's) and, where no
+    move passes, its "reason"; and a "summary" (judged, already, fixed,
+    unfixed, without_contours, missing). A glyph without a fix does not
+    raise: the others are still fixed (and written).
+    """
+    _o.unknown("fix_glyphs", unknown, ["require", "grid", "max_move", "depth", "in_place"])
+    return _cmr._fix_glyphs(_o.text("source", os.fspath(source)), _o.text("glyphs", glyphs),
+                            _o.text("require", require), _o.number("grid", grid, 0.0),
+                            0.0 if max_move is None else _o.number("max_move", max_move, 0.0),
+                            _o.integer("depth", depth, 0, _o.MAX_DEPTH), bool(in_place))
 
 
 def kcurve(points, *, closed=False, cubic=False, tolerance=1e-10, max_iterations=10000, **unknown):

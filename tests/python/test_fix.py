@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import cmr
-from conftest import ROOT, cli_json
+from conftest import ROOT, cli_json, run_cmr
 
 
 def test_fix_fig8_cmrwi_is_rejudged_monotone(tmp_path, fig8_path):
@@ -99,6 +99,32 @@ def test_fix_glyph_in_place_changes_only_the_moved_points(tmp_path):
     for a, b in changed:
         assert "<point" in a and a.split('x="')[0] == b.split('x="')[0] and a.split('"', 4)[4] == b.split('"', 4)[4]
     assert (ufo / "glyphs" / "O_.glif").read_text() == (SANS / "glyphs" / "O_.glif").read_text()
+
+
+def test_fix_glyphs_equals_cli_and_writes_every_fixed_glyph(tmp_path):
+    # cmr.fix_glyphs is `cmr fix UFO --glyphs SPEC`: the same document; a glyph
+    # with no fix (s, under both gates) is listed with its reason, not raised,
+    # and in_place writes the fixed glyphs' .glif files and no other file.
+    import shutil
+    both = "curvature-extrema-at-nodes,g2-at-smooth-nodes"
+    doc = cmr.fix_glyphs(SANS, "all", require=both)
+    p = run_cmr("fix", SANS, "--glyphs", "all", "--require", both, check=False)
+    assert p.returncode == 1 and doc == json.loads(p.stdout)
+    entries = {g["glyph"]: g for g in doc["glyphs"]}
+    assert doc["summary"]["fixed"] == 2 and doc["summary"]["unfixed"] == 1
+    assert entries["O"]["fixed"] and entries["o"]["fixed"] and not entries["s"]["fixed"] and entries["s"]["reason"]
+    assert entries["o"]["contours"] == cmr.fix_glyph(SANS, "o", require=both)["contours"]
+    ufo = tmp_path / "Sans.ufo"
+    shutil.copytree(SANS, ufo)
+    written = cmr.fix_glyphs(ufo, "O,o,s", require=both, in_place=True)["written"]
+    assert sorted(written) == sorted([str(ufo / "glyphs" / "O_.glif"), str(ufo / "glyphs" / "o.glif")])
+    for name in ("O_.glif", "o.glif", "s.glif", "contents.plist"):
+        same = (ufo / "glyphs" / name).read_text() == (SANS / "glyphs" / name).read_text()
+        assert same == (name in ("s.glif", "contents.plist")), name
+    with pytest.raises(cmr.InputError, match="fix_glyphs: unknown option 'points'"):
+        cmr.fix_glyphs(SANS, points="p1")
+    with pytest.raises(cmr.InputError, match="glyphs selects glyphs of a UFO folder"):
+        cmr.fix_glyphs(SANS / "glyphs" / "o.glif")
 
 
 @pytest.mark.parametrize("kwargs, says", [
