@@ -87,6 +87,16 @@ bool has_point_move_fix(const Gate& gate) {
          !is_interpolation_gate(gate);
 }
 
+std::string fixable_require(const ReportOptions& options) {
+  std::vector<std::string> checks;
+  for (const Gate& gate : options.gates)
+    if (has_point_move_fix(gate)) checks.push_back(to_string(gate));
+  if (options.require) checks.push_back(to_string(*options.require));
+  std::string require;
+  for (const std::string& c : checks) require.append(require.empty() ? "" : ",").append(c);
+  return require;
+}
+
 FixRequirement requirement_of(const Gate& gate) {
   FixRequirement req;
   switch (gate.kind) {

@@ -71,6 +71,15 @@ FixRequirement requirement_of(const Requirement& check);
 /// the interpolation gates: a move of another master).
 bool has_point_move_fix(const Gate& gate);
 
+struct ReportOptions;  // report/report.hpp
+
+/// The --require list with which `cmr fix FONT.ufo` fixes a report's checks
+/// on the grid (the page's and the Markdown summary's command): the gates
+/// with a point-move fix, then the required check (cmrwi, cmr, split:S) when
+/// one is; empty when none is. A gate without one is left out: cmr fix
+/// refuses g3, and no move passes xy-extrema-at-nodes.
+std::string fixable_require(const ReportOptions& options);
+
 /// The fix search's request for one gate as a report runs it (the gate
 /// fixes and the severity search): requirement_of(gate), G1 kept, one
 /// thread, a first grid of 16, tolerance 1e-4, at most `max_seconds`.

@@ -388,10 +388,6 @@ std::string glyph_count_text(int glyphs, int glyphs_fail, int contours, int cont
          std::to_string(contours - contours_fail) + " pass, " + std::to_string(contours_fail) + " fail";
 }
 
-namespace {
-
-/// `word` as one word of a POSIX shell command: as it is when it is plain,
-/// else in single quotes.
 std::string shell_word(const std::string& word) {
   const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](unsigned char c) {
     return std::isalnum(c) || c == '/' || c == '.' || c == '_' || c == '-' || c == '+' || c == ',' || c == ':' || c == '@';
@@ -401,8 +397,6 @@ std::string shell_word(const std::string& word) {
   for (const char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
 }
-
-}  // namespace
 
 FontInfo font_inputs(const import::Font& font, std::vector<ReportInput>& inputs) {
   FontInfo info{font.path, font.family, font.style, font.units_per_em, font.cubic, {}, font.missing};
@@ -556,13 +550,17 @@ GlyphHtml font_glyph_html(const FontInfo& font, std::size_t fi, std::size_t gi, 
     }
   }
   // A source (UFO): the command that writes a fix of every required
-  // check back into it, on the grid (cmr fix, docs/fix.md "Font sources").
-  const bool fails = std::any_of(g.items.begin(), g.items.end(),
-                                 [&](std::size_t i) { return reports[i].error.empty() && !reports[i].pass; });
-  if (!g.source.empty() && fails && !gate_names.empty()) {
-    std::string require;
-    for (const Gate& gate : options.gates) require += (require.empty() ? "" : ",") + to_string(gate);
-    if (options.require) require += (require.empty() ? "" : ",") + to_string(*options.require);
+  // check a point move can fix back into it, on the grid (cmr fix,
+  // docs/fix.md "Font sources"), where the glyph fails one of them.
+  const std::string require = fixable_require(options);
+  const auto fails_fixable = [&](const SplineReport& r) {
+    if (!r.error.empty() || r.pass) return false;
+    if (options.require && !r.requirement_pass) return true;
+    return std::any_of(r.gates.begin(), r.gates.end(),
+                       [](const GateResult& x) { return !x.pass() && has_point_move_fix(x.gate); });
+  };
+  const bool fails = std::any_of(g.items.begin(), g.items.end(), [&](std::size_t i) { return fails_fixable(reports[i]); });
+  if (!g.source.empty() && fails && !require.empty()) {
     const auto flag = [&](const char* name) { return html_escape(options.show_fields(field(name))); };
     details += "<p>Write a fix of every check into the source, on its grid: <code>cmr fix " +
                html_escape(shell_word(font.path)) + " " + flag("glyph") + " " + html_escape(shell_word(g.name)) +

@@ -44,6 +44,10 @@ struct FontInfo {
 /// kept whole.
 std::string local_name(const std::string& name, const std::string& glyph, std::size_t contour);
 
+/// `word` as one word of a POSIX shell command: as it is when it is plain,
+/// else in single quotes (the commands the page and the Markdown print).
+std::string shell_word(const std::string& word);
+
 /// The one count of a font every page uses (font page, summary page):
 /// "318 glyphs: 120 pass, 198 fail; 643 contours: 319 pass, 324 fail" (a
 /// glyph passes when all its contours do; invalid contours fail).

@@ -1,9 +1,14 @@
 #include "report/markdown.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "io/output.hpp"
+#include "io/ufo.hpp"
+#include "report/certified_fix.hpp"
+#include "report/font_report.hpp"
 #include "report/gates.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::report {
 
@@ -48,6 +53,11 @@ MarkdownSummary::MarkdownSummary(const ReportOptions& options, std::size_t limit
   if (options.require) columns_.push_back(to_string(*options.require));
   for (const Gate& g : options.gates) columns_.push_back(to_string(g));
   others_.column_fail.assign(columns_.size(), 0);
+  fix_require_ = fixable_require(options);
+  for (const Gate& g : options.gates)
+    if (has_point_move_fix(g)) fixable_.push_back(to_string(g));
+  if (options.require) fixable_.push_back(to_string(*options.require));
+  show_fields_ = options.show_fields;
 }
 
 void MarkdownSummary::add_row(Row& row, const FileRecord& file) const {
@@ -80,9 +90,25 @@ void MarkdownSummary::add(const FileRecord& file, const std::string& name, const
   if (failing == 0) return;
   failing_ += failing;
   if (kept_bytes_ >= limit_) return;  // counted only: finish could not show it
-  blocks_.push_back("<code>" + html_escape(name) + "</code>: " +
-                    count_text(failing, font ? "failing glyph" : "failing spline",
-                               font ? "failing glyphs" : "failing splines"));
+  std::string title_text = "<code>" + html_escape(name) + "</code>: " +
+                      count_text(failing, font ? "failing glyph" : "failing spline",
+                                 font ? "failing glyphs" : "failing splines");
+  // A font source whose glyphs fail a check some move of points fixes: the
+  // command that writes those fixes into it (cmr fix, docs/fix.md).
+  const bool fixable = std::any_of(file.cases.begin(), file.cases.end(), [&](const CaseRecord& c) {
+    return std::any_of(c.findings.begin(), c.findings.end(), [&](const Finding& f) {
+      return std::find(fixable_.begin(), fixable_.end(), f.gate) != fixable_.end();
+    });
+  });
+  if (font && fixable && import::is_ufo_path(file.path)) {
+    const auto flag = [&](const char* f) { return show_fields_(field(f)); };
+    const bool ufo = std::filesystem::path(file.path).extension() != ".glif";
+    title_text += " &mdash; fix on the grid: <code>" +
+             html_escape("cmr fix " + shell_word(name) + (ufo ? " " + flag("glyphs") + " all" : std::string()) + " " +
+                         flag("require") + " " + fix_require_ + " " + flag("in_place")) +
+             "</code>";
+  }
+  blocks_.push_back(std::move(title_text));
   kept_bytes_ += blocks_.back().size();
   const int block = static_cast<int>(blocks_.size()) - 1;
   for (const CaseRecord& c : file.cases) {

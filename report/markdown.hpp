@@ -16,6 +16,7 @@
 /// Text from the inputs (glyph names, messages, file names) is escaped, so
 /// that it is shown as it is and cannot open a tag or a table cell.
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,11 @@ class MarkdownSummary {
   void add_row(Row& row, const FileRecord& file) const;
 
   std::vector<std::string> columns_;  ///< the check (when required), then each gate
+  /// The checks `cmr fix` can fix by moving points (fixable_require), and how
+  /// the run names its fields (the command a failing font source's block shows).
+  std::string fix_require_;
+  std::vector<std::string> fixable_;
+  std::function<std::string(const std::string&)> show_fields_;
   std::size_t limit_;
   std::vector<Row> fonts_;
   Row others_;

@@ -117,6 +117,32 @@ def main():
         if m:
             r = run(*m.group(1).split()[1:], "--out", "FromPage.ufo", cwd=tmp)
             check("the page's command runs", r.returncode == 0, r.stderr)
+        # the page's and the Markdown's commands name only checks a point move can fix: cmr fix refuses g3
+        # (and no move passes xy-extrema-at-nodes); a glyph failing only those gets no command
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "g3-at-smooth-nodes,curvature-extrema-at-nodes",
+                "--out", "rg3", "--no-thumbnails", "--quiet", "--fix-budget", "0", "--markdown", "rg3.md", cwd=tmp)
+        pages = "".join(open(os.path.join(tmp, "rg3", f)).read() for f in os.listdir(os.path.join(tmp, "rg3"))
+                        if f.endswith(".html")) if r.returncode == 1 else ""
+        cmds = re.findall(r"<code>(cmr fix Nimbus\.ufo --glyph \w+ --require [^<]*) --in-place</code>", pages)
+        check("with g3 required, the page's commands leave g3 out",
+              cmds and all(c.endswith("--require curvature-extrema-at-nodes") for c in cmds), str(cmds) + r.stderr)
+        if cmds:
+            r = run(*cmds[0].split()[1:], "--out", "FromPageG3.ufo", cwd=tmp)
+            check("the page's command without g3 runs", r.returncode == 0, r.stderr)
+        md = open(os.path.join(tmp, "rg3.md")).read() if os.path.exists(os.path.join(tmp, "rg3.md")) else ""
+        m = re.search(r"fix on the grid: <code>(cmr fix Nimbus\.ufo --glyphs all --require ([^ <]*) --in-place)</code>", md)
+        check("the Markdown gives a failing font source the whole-font command, without g3",
+              m is not None and m.group(2) == "curvature-extrema-at-nodes", md[:1500])
+        if m:
+            r = run(*m.group(1).replace("--glyphs all", "--glyphs o").replace("--in-place", "--out FromMd.ufo").split()[1:],
+                    cwd=tmp)
+            check("the Markdown's command runs (for o)", r.returncode == 0, r.stderr)
+        r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "g3-at-smooth-nodes", "--out", "rg3only",
+                "--no-thumbnails", "--quiet", "--fix-budget", "0", "--markdown", "rg3only.md", cwd=tmp)
+        pages = "".join(open(os.path.join(tmp, "rg3only", f)).read() for f in os.listdir(os.path.join(tmp, "rg3only"))
+                        if f.endswith(".html")) if r.returncode == 1 else "<code>cmr fix"
+        check("only g3 required: neither the page nor the Markdown prints a cmr fix command",
+              "<code>cmr fix" not in pages and "cmr fix" not in open(os.path.join(tmp, "rg3only.md")).read(), r.stderr)
         # severity: the smallest certified move that removes each finding
         r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "curvature-extrema-at-nodes,g2-at-smooth-nodes",
                 "--min-severity", "0.5", "--out", "rs", "--sarif", "rs.sarif", "--no-thumbnails", "--quiet", cwd=tmp)
