@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 
 #include "report/contour_moves.hpp"
 #include "report/fix_json.hpp"
@@ -52,7 +53,7 @@ SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, co
 }
 
 SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
-                                  const GlyphFixOptions& options, int threads) {
+                                  const GlyphFixOptions& options, int threads, const GlyphsProgress& progress) {
   if (std::filesystem::path(ufo).extension() == ".glif")
     throw InputFieldError(ufo + ": one glyph's .glif; " + field("glyphs") + " selects glyphs of a UFO folder");
   check_grid_and_checks(options);
@@ -71,16 +72,23 @@ SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSel
   }
   if (out.glyphs.empty() && out.without_contours.empty())
     throw InputError(ufo + ": the selection names no glyph of the font");
+  std::mutex reporting;
+  std::size_t done = 0;
   parallel_for(out.glyphs.size(), threads, [&](std::size_t i) {
     SourceGlyphsFix::Item& item = out.glyphs[i];
-    if (!item.error.empty()) return;
     const import::Glyph& g = item.fix.glyph;
-    try {
-      const std::vector<ContourFix> fixes = fix_glyph(g, options);
-      item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
-      item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
-    } catch (const InputError& e) {  // this glyph's own (one line); the others go on
-      item.error = e.what();
+    if (item.error.empty()) {
+      try {
+        const std::vector<ContourFix> fixes = fix_glyph(g, options);
+        item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
+        item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
+      } catch (const InputError& e) {  // this glyph's own (one line); the others go on
+        item.error = e.what();
+      }
+    }
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(reporting);
+      progress(++done, out.glyphs.size(), g.name);
     }
   });
   return out;

@@ -7,6 +7,7 @@
 /// (glyph_fix_json). Messages name their fields (spline/fields.hpp), which
 /// each front end shows its own way.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,9 +61,12 @@ struct SourceGlyphsFix {
 
 /// InputError (one line) as fix_source_glyph, and for a selection of no
 /// glyph; a glyph's own failure (unreadable outline, or no fix) is its
-/// item's, and the others go on.
+/// item's, and the others go on. `progress` (when set) is called once per
+/// glyph searched, one call at a time: glyphs done, glyphs in all, the
+/// glyph's name.
+using GlyphsProgress = std::function<void(std::size_t, std::size_t, const std::string&)>;
 SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
-                                  const GlyphFixOptions& options, int threads);
+                                  const GlyphFixOptions& options, int threads, const GlyphsProgress& progress = {});
 
 /// What `cmr fix UFO --glyphs` prints and writes, and the Python module's
 /// fix_glyphs returns: the document (file, require, grid; per glyph that

@@ -7,10 +7,13 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <utility>
 #include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -128,7 +131,18 @@ int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs) {
   import::GlyphSelection which;
   which.all = glyphs == "all";
   if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
-  const report::SourceGlyphsFix f = report::fix_source_glyphs(a.file, which, o, 0);
+  // On a terminal, a line that counts the glyphs searched (a Latin font
+  // takes minutes); none in CI logs or pipes.
+  const bool bar = ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
+  const auto progress = [](std::size_t done, std::size_t total, const std::string& glyph) {
+    constexpr std::size_t kWidth = 24;
+    const std::size_t filled = done * kWidth / total;
+    std::cerr << "\rfix [" << std::string(filled, '#') << std::string(kWidth - filled, '-') << "] " << done << '/'
+              << total << " glyphs " << glyph << "\033[K" << std::flush;
+  };
+  const report::SourceGlyphsFix f =
+      report::fix_source_glyphs(a.file, which, o, 0, bar ? report::GlyphsProgress(progress) : report::GlyphsProgress{});
+  if (bar) std::cerr << "\r\033[K" << std::flush;
   report::SourceGlyphsOutput r = report::source_glyphs_output(f, a.file, a.require, a.grid);
   Json& doc = r.doc;
   show_fields_in(doc, show_fields);  // the reasons' fields as flags
