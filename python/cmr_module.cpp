@@ -862,7 +862,7 @@ py::object fix_glyph_py(const std::string& file, const std::string& glyph, const
 /// the same library calls and document); in_place writes the fixed
 /// glyphs' .glif files together (all or none), as --in-place does.
 py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, const std::string& require, double grid,
-                         double max_move, int depth, bool in_place) {
+                         double max_move, int depth, double min_severity, bool in_place) {
   if (!(max_move >= 0) || !std::isfinite(max_move))
     throw InputError("max_move: " + std::to_string(max_move) + " is not a distance >= 0");
   report::GlyphFixOptions o;
@@ -873,8 +873,9 @@ py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, con
   import::GlyphSelection which;
   which.all = glyphs == "all";
   if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
-  report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid] {
-    return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, 0), file, require, grid);
+  report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid, min_severity] {
+    return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, min_severity, 0), file, require,
+                                        grid);
   });
   show_fields_in(r.doc, python_fields);
   if (in_place) {

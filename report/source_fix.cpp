@@ -7,7 +7,9 @@
 #include <mutex>
 
 #include "report/contour_moves.hpp"
+#include "report/batch.hpp"
 #include "report/fix_json.hpp"
+#include "report/severity.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
 #include "spline/parallel.hpp"
@@ -52,8 +54,33 @@ SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, co
   return out;
 }
 
+namespace {
+
+enum class ReportVerdict { passes, passes_with_info, fails };
+
+/// `cmr report`'s verdict of the glyph at `min_severity` (>= 0): each
+/// contour judged with its findings' severities (report/severity.hpp);
+/// passes_with_info where it passes with some info finding.
+ReportVerdict report_verdict(const import::Glyph& g, const ReportOptions& checks, double min_severity) {
+  ReportOptions o = judge_only(checks);
+  o.min_severity = min_severity;
+  bool info = false;
+  for (const import::Contour& c : g.contours) {
+    SplineReport r = judged_report(c.spline, o);
+    assess_severity(r, o);
+    if (!r.pass) return ReportVerdict::fails;
+    for (const GateResult& gate : r.gates)
+      info = info || std::any_of(gate.violations.begin(), gate.violations.end(),
+                                 [](const GateViolation& v) { return v.info; });
+  }
+  return info ? ReportVerdict::passes_with_info : ReportVerdict::passes;
+}
+
+}  // namespace
+
 SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
-                                  const GlyphFixOptions& options, int threads, const GlyphsProgress& progress) {
+                                  const GlyphFixOptions& options, double min_severity, int threads,
+                                  const GlyphsProgress& progress) {
   if (std::filesystem::path(ufo).extension() == ".glif")
     throw InputFieldError(ufo + ": one glyph's .glif; " + field("glyphs") + " selects glyphs of a UFO folder");
   check_grid_and_checks(options);
@@ -79,9 +106,15 @@ SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSel
     const import::Glyph& g = item.fix.glyph;
     if (item.error.empty()) {
       try {
-        const std::vector<ContourFix> fixes = fix_glyph(g, options);
-        item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
-        item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
+        const ReportVerdict v = min_severity >= 0 ? report_verdict(g, options.judge, min_severity) : ReportVerdict::fails;
+        if (v != ReportVerdict::fails) {  // as fix_glyph would find: every contour passes (or only info fails)
+          item.already = v == ReportVerdict::passes;
+          item.below_severity = v == ReportVerdict::passes_with_info;
+        } else {
+          const std::vector<ContourFix> fixes = fix_glyph(g, options);
+          item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
+          item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
+        }
       } catch (const InputError& e) {  // this glyph's own (one line); the others go on
         item.error = e.what();
       }
@@ -99,10 +132,15 @@ SourceGlyphsOutput source_glyphs_output(const SourceGlyphsFix& f, const std::str
   using Json = nlohmann::ordered_json;
   SourceGlyphsOutput out;
   Json items = Json::array();
+  Json below = Json::array();
   int already = 0;
   for (const SourceGlyphsFix::Item& it : f.glyphs) {
     if (it.already) {
       ++already;
+      continue;
+    }
+    if (it.below_severity) {
+      below.push_back(it.fix.glyph.name);
       continue;
     }
     Json item = {{"glyph", it.fix.glyph.name}};
@@ -134,6 +172,7 @@ SourceGlyphsOutput source_glyphs_output(const SourceGlyphsFix& f, const std::str
              {"summary",
               {{"judged", f.glyphs.size()},
                {"already", already},
+               {"below_severity", below},
                {"fixed", out.fixed},
                {"unfixed", out.unfixed.size()},
                {"without_contours", f.without_contours},

@@ -50,6 +50,9 @@ struct SourceGlyphsFix {
   struct Item {
     SourceFix fix;          ///< as fix_source_glyph's (fix.glyph as read)
     bool already = false;   ///< every contour passed as it was
+    /// Every finding's severity is below the threshold (the report passes
+    /// the glyph as it is: its findings are `info`): not searched.
+    bool below_severity = false;
     std::string error;      ///< the glyph could not be read or searched (one line); fix.contours empty
   };
   std::vector<Item> glyphs;  ///< the selection's glyphs with contours, in its order
@@ -59,6 +62,14 @@ struct SourceGlyphsFix {
   std::vector<std::uint32_t> missing;
 };
 
+/// A glyph is searched only where `cmr report` fails it: with
+/// `min_severity` >= 0 (the report's default for fonts,
+/// kDefaultMinSeverity, half a font unit) a glyph whose every finding has a
+/// certified move below it (report/severity.hpp: `info`, invisible at the
+/// font's resolution) is left as it is (Item::below_severity); < 0 (the
+/// report's --strict): every finding counts. A glyph that is searched is
+/// fixed for every finding.
+///
 /// InputError (one line) as fix_source_glyph, and for a selection of no
 /// glyph; a glyph's own failure (unreadable outline, or no fix) is its
 /// item's, and the others go on. `progress` (when set) is called once per
@@ -66,7 +77,8 @@ struct SourceGlyphsFix {
 /// glyph's name.
 using GlyphsProgress = std::function<void(std::size_t, std::size_t, const std::string&)>;
 SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSelection& which,
-                                  const GlyphFixOptions& options, int threads, const GlyphsProgress& progress = {});
+                                  const GlyphFixOptions& options, double min_severity, int threads,
+                                  const GlyphsProgress& progress = {});
 
 /// What `cmr fix UFO --glyphs` prints and writes, and the Python module's
 /// fix_glyphs returns: the document (file, require, grid; per glyph that

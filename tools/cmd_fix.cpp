@@ -27,6 +27,7 @@
 #include "bezierize/extract.hpp"
 #include "report/contour_moves.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/severity.hpp"
 #include "report/source_fix.hpp"
 #include "report/interpolation.hpp"
 #include "report/fix_json.hpp"
@@ -114,11 +115,12 @@ void stage_source_copy(const std::string& src_text, const std::string& out, cons
 }
 
 /// `cmr fix FONT.ufo --glyphs SPEC --require GATES [--grid G] [--out
-/// NEW.ufo | --in-place]`: every selected glyph that fails fixed on its own
+/// NEW.ufo | --in-place] [--min-severity U | --strict]`: every selected
+/// glyph that the report fails (at its severity threshold) fixed on its own
 /// (report/source_fix.hpp fix_source_glyphs), the fixed ones written back
 /// together (all files or none). Exit 1 when some glyph has no fix (each
 /// says why); the others are still written.
-int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs) {
+int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs, double min_severity) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
   report::GlyphFixOptions o;
   report::parse_require_list(a.require, o.judge);
@@ -141,7 +143,8 @@ int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs) {
               << total << " glyphs " << glyph << "\033[K" << std::flush;
   };
   const report::SourceGlyphsFix f =
-      report::fix_source_glyphs(a.file, which, o, 0, bar ? report::GlyphsProgress(progress) : report::GlyphsProgress{});
+      report::fix_source_glyphs(a.file, which, o, min_severity, 0,
+                                bar ? report::GlyphsProgress(progress) : report::GlyphsProgress{});
   if (bar) std::cerr << "\r\033[K" << std::flush;
   report::SourceGlyphsOutput r = report::source_glyphs_output(f, a.file, a.require, a.grid);
   Json& doc = r.doc;
@@ -315,8 +318,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       "fix", "Move the fewest control points the least distance so that the curve meets a requirement (certified)");
   struct Args {
     std::string file, require = "cmr", points, keep = "g1", out, png, segments, plane, glyph, glyphs;
-    double max_move = 0, tolerance = 1e-6, grid = 1;
-    bool in_place = false;
+    double max_move = 0, tolerance = 1e-6, grid = 1, min_severity = report::kDefaultMinSeverity;
+    bool in_place = false, strict = false;
     int depth = kDefaultDepth;
     int chain = 0;
     bool pretty = false;
@@ -352,12 +355,17 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--glyphs", args->glyphs,
                   "UFO sources: fix every selected glyph that fails, each on its own (as the report selects them: "
                   "A-Z,a-z, U+hex, or all); exit 1 when some glyph has no fix");
+  CLI::Option* min_severity = cmd->add_option(
+      "--min-severity", args->min_severity,
+      "with --glyphs: leave a glyph whose every finding has a certified move below this many font units (the "
+      "report's info findings; default 0.5)");
+  cmd->add_flag("--strict", args->strict, "with --glyphs: every finding counts, info ones too (as cmr report --strict)");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
   cmd->add_option("--chain", args->chain,
                   "STEP models (.step, .stp): the chain of edges to fix, by the number cmr import gives it; --out is then "
                   "a folder for the chain's edges");
-  cmd->callback([args, cmd, max_move, &exit_code] {
+  cmd->callback([args, cmd, max_move, min_severity, &exit_code] {
     // 0 would mean "no point may move": no fix at all. Refused rather than
     // read as the default (it was: issue 42), so that it never means "unlimited".
     if (max_move->count() > 0 && !(args->max_move > 0 && std::isfinite(args->max_move)))
@@ -394,15 +402,22 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       if (cmd->count("--glyphs") > 0) {
         if (!args->glyph.empty()) throw InputError("--glyph and --glyphs: choose one");
         if (!args->points.empty()) throw InputError("--points: for one glyph (--glyph NAME), not with --glyphs");
-        exit_code = run_source_glyphs_fix(a, args->glyphs);
+        if (!(args->min_severity >= 0) || !std::isfinite(args->min_severity))
+          throw InputError("--min-severity: " + min_severity->as<std::string>() + " is not a distance >= 0");
+        if (args->strict && min_severity->count() > 0) throw InputError("--strict: not with --min-severity");
+        exit_code = run_source_glyphs_fix(a, args->glyphs, args->strict ? -1 : args->min_severity);
         return;
       }
+      if (min_severity->count() > 0 || args->strict)
+        throw InputError(std::string(args->strict ? "--strict" : "--min-severity") +
+                         ": with --glyphs (a glyph named with --glyph is fixed for every finding)");
       run_source_fix(a);
       exit_code = kOk;
       return;
     }
-    if (cmd->count("--glyphs") > 0)
-      throw InputError("--glyphs: for UFO sources (NAME.ufo), not for " + args->file);
+    if (cmd->count("--glyphs") > 0 || min_severity->count() > 0 || args->strict)
+      throw InputError(std::string(cmd->count("--glyphs") > 0 ? "--glyphs" : args->strict ? "--strict" : "--min-severity") +
+                       ": for UFO sources (NAME.ufo), not for " + args->file);
     const bool several = args->require.find(',') != std::string::npos;
     if (!args->glyph.empty() || args->in_place || (cmd->count("--grid") > 0 && !several))
       throw InputError(args->file + ": --glyph, --grid and --in-place are for font sources (.ufo, .glif)" +

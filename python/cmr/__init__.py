@@ -234,12 +234,15 @@ def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=
 
 
 def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", grid=1, max_move=None,
-               depth=DEFAULT_DEPTH, in_place=False, **unknown):
+               depth=DEFAULT_DEPTH, min_severity=0.5, strict=False, in_place=False, **unknown):
     """``cmr fix FONT.ufo --glyphs SPEC --require GATES``: every selected glyph
     of a UFO that fails, fixed on its own as fix_glyph fixes one (the same
     answers), the glyphs in parallel (docs/fix.md, "A whole font at once").
 
     glyphs: as the report selects them, "A-Z,a-z", "U+hex" or "all";
+    min_severity: a glyph whose every finding has a certified move below
+    this many font units (the report's info findings) is left as it is
+    (summary "below_severity"); strict=True: every finding counts;
     in_place: write the fixed glyphs' .glif files together (only their
     moved points' x and y). Returns the command's document: per glyph that
     failed, "glyph", "fixed", its "contours" (as fix_glyph's) and, where no
@@ -247,11 +250,13 @@ def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", gr
     unfixed, without_contours, missing). A glyph without a fix does not
     raise: the others are still fixed (and written).
     """
-    _o.unknown("fix_glyphs", unknown, ["require", "grid", "max_move", "depth", "in_place"])
+    _o.unknown("fix_glyphs", unknown, ["require", "grid", "max_move", "depth", "min_severity", "strict", "in_place"])
+    min_severity = _o.number("min_severity", min_severity, 0.0)
     return _cmr._fix_glyphs(_o.text("source", os.fspath(source)), _o.text("glyphs", glyphs),
                             _o.text("require", require), _o.number("grid", grid, 0.0),
                             0.0 if max_move is None else _o.number("max_move", max_move, 0.0),
-                            _o.integer("depth", depth, 0, _o.MAX_DEPTH), bool(in_place))
+                            _o.integer("depth", depth, 0, _o.MAX_DEPTH), -1.0 if strict else min_severity,
+                            bool(in_place))
 
 
 def kcurve(points, *, closed=False, cubic=False, tolerance=1e-10, max_iterations=10000, **unknown):

@@ -111,6 +111,10 @@ def test_fix_glyphs_equals_cli_and_lists_a_glyph_without_a_fix():
     assert p.returncode == 1 and doc == json.loads(p.stdout)
     assert doc["summary"]["judged"] == 3 and doc["summary"]["already"] == 2 and doc["summary"]["unfixed"] == 1
     assert [(g["glyph"], g["fixed"]) for g in doc["glyphs"]] == [("s", False)] and doc["glyphs"][0]["reason"]
+    assert cmr.fix_glyphs(SANS, "all", require="g2-at-smooth-nodes", strict=True) == json.loads(
+        run_cmr("fix", SANS, "--glyphs", "all", "--require", "g2-at-smooth-nodes", "--strict", check=False).stdout)
+    with pytest.raises(cmr.InputError, match="min_severity: -1.0 is below 0"):
+        cmr.fix_glyphs(SANS, min_severity=-1)
 
 
 def test_fix_glyphs_in_place_writes_only_the_fixed_glyphs(tmp_path):

@@ -310,6 +310,35 @@ def main():
             check("fix --glyphs, bad input (%s): exit 2, one line, nothing written" % says,
                   r.returncode == 2 and says in r.stderr and len(r.stderr.strip().split("\n")) == 1 and
                   not any(os.path.exists(os.path.join(tmp, b)) for b in ("Bad1.ufo", "Bad2.ufo", "Bad3.ufo")), r.stderr)
+        # --glyphs searches the glyphs the report fails: under g2 alone Nimbus e and r have only info findings
+        # (a certified move below half a unit), so the report passes them and the fix leaves them; --strict
+        # (as the report's) counts every finding and fixes them too
+        r = run("report", "Nimbus.ufo", "--glyphs", "e,r,o", "--require", "g2-at-smooth-nodes", "--out", "rsev",
+                "--no-thumbnails", "--quiet", "--fix-budget", "0", cwd=tmp)
+        rep = json.load(open(os.path.join(tmp, "rsev", "report.json"))) if r.returncode in (0, 1) else {"splines": []}
+        glyph_pass = {}
+        for sp in rep["splines"]:
+            glyph_pass[sp["glyph"]] = glyph_pass.get(sp["glyph"], True) and sp["status"] == "pass"
+        info_only = sorted(g for g, ok in glyph_pass.items() if ok)
+        r = run("fix", "Nimbus.ufo", "--glyphs", "e,r,o", "--require", "g2-at-smooth-nodes", "--out", "Sev.ufo", cwd=tmp)
+        doc = json.loads(r.stdout) if r.returncode == 0 else {}
+        changed = [f for f in tree_files(nimbus) if r.returncode == 0 and open(os.path.join(nimbus, f), "rb").read() !=
+                   open(os.path.join(tmp, "Sev.ufo", f), "rb").read()]
+        check("fix --glyphs leaves the glyphs the report passes (only info findings): e and r",
+              info_only == ["e", "r"] and doc.get("summary", {}).get("below_severity") == info_only and
+              changed == ["glyphs/o.glif"], str(info_only) + str(doc.get("summary")) + str(changed) + r.stderr)
+        r = run("fix", "Nimbus.ufo", "--glyphs", "e,r,o", "--require", "g2-at-smooth-nodes", "--strict", "--out",
+                "SevStrict.ufo", cwd=tmp)
+        doc = json.loads(r.stdout) if r.returncode == 0 else {}
+        check("fix --glyphs --strict: e and r are fixed too", r.returncode == 0 and
+              doc["summary"]["below_severity"] == [] and [(g["glyph"], g["fixed"]) for g in doc["glyphs"]] ==
+              [("e", True), ("r", True), ("o", True)], r.stderr + str(doc.get("summary")))
+        for args, says in ((["--glyph", "e", "--strict"], "--strict: with --glyphs"),
+                           (["--glyphs", "e", "--strict", "--min-severity", "1"], "--strict: not with --min-severity"),
+                           (["--glyphs", "e", "--min-severity", "-1"], "--min-severity: -1 is not a distance")):
+            r = run("fix", "Nimbus.ufo", *args, "--require", "g2-at-smooth-nodes", "--out", "Bad4.ufo", cwd=tmp)
+            check("fix, bad severity option (%s): exit 2, one line, nothing written" % says,
+                  r.returncode == 2 and says in r.stderr and not os.path.exists(os.path.join(tmp, "Bad4.ufo")), r.stderr)
         r = run("fix", os.path.join("Nimbus.ufo", "glyphs", "o.glif"), "--glyphs", "o", "--require", both, cwd=tmp)
         check("fix --glyphs on a .glif: exit 2, one line", r.returncode == 2 and "--glyphs selects glyphs of a UFO" in
               r.stderr, r.stderr)
