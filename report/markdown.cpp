@@ -1,6 +1,7 @@
 #include "report/markdown.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "io/output.hpp"
@@ -8,6 +9,7 @@
 #include "report/certified_fix.hpp"
 #include "report/font_report.hpp"
 #include "report/gates.hpp"
+#include "report/severity.hpp"
 #include "spline/fields.hpp"
 
 namespace cmr::report {
@@ -58,6 +60,13 @@ MarkdownSummary::MarkdownSummary(const ReportOptions& options, std::size_t limit
     if (has_point_move_fix(g)) fixable_.push_back(to_string(g));
   if (options.require) fixable_.push_back(to_string(*options.require));
   show_fields_ = options.show_fields;
+  // The whole-font fix leaves the glyphs this run passes: the same severity rule.
+  char units[32];
+  std::snprintf(units, sizeof units, "%g", options.min_severity);
+  if (options.strict || (!options.font_severity && options.min_severity < 0))
+    fix_severity_.append(" ").append(show_fields_(field("strict")));
+  else if (options.min_severity >= 0 && options.min_severity != kDefaultMinSeverity)
+    fix_severity_.append(" ").append(show_fields_(field("min_severity"))).append(" ").append(units);
 }
 
 void MarkdownSummary::add_row(Row& row, const FileRecord& file) const {
@@ -103,10 +112,10 @@ void MarkdownSummary::add(const FileRecord& file, const std::string& name, const
   if (font && fixable && import::is_ufo_path(file.path)) {
     const auto flag = [&](const char* f) { return show_fields_(field(f)); };
     const bool ufo = std::filesystem::path(file.path).extension() != ".glif";
-    title_text += " &mdash; fix on the grid: <code>" +
-             html_escape("cmr fix " + shell_word(name) + (ufo ? " " + flag("glyphs") + " all" : std::string()) + " " +
-                         flag("require") + " " + fix_require_ + " " + flag("in_place")) +
-             "</code>";
+    std::string command = "cmr fix " + shell_word(name);
+    if (ufo) command.append(" ").append(flag("glyphs")).append(" all").append(fix_severity_);
+    command.append(" ").append(flag("require")).append(" ").append(fix_require_).append(" ").append(flag("in_place"));
+    title_text += " &mdash; fix on the grid: <code>" + html_escape(command) + "</code>";
   }
   blocks_.push_back(std::move(title_text));
   kept_bytes_ += blocks_.back().size();

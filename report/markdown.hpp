@@ -65,6 +65,7 @@ class MarkdownSummary {
   /// The checks `cmr fix` can fix by moving points (fixable_require), and how
   /// the run names its fields (the command a failing font source's block shows).
   std::string fix_require_;
+  std::string fix_severity_;  ///< " --strict" or " --min-severity U" where the run differs from the default
   std::vector<std::string> fixable_;
   std::function<std::string(const std::string&)> show_fields_;
   std::size_t limit_;

@@ -137,6 +137,14 @@ def main():
             r = run(*m.group(1).replace("--glyphs all", "--glyphs o").replace("--in-place", "--out FromMd.ufo").split()[1:],
                     cwd=tmp)
             check("the Markdown's command runs (for o)", r.returncode == 0, r.stderr)
+        for opt, says in ((["--strict"], "--glyphs all --strict --require"),
+                          (["--min-severity", "2"], "--glyphs all --min-severity 2 --require"),
+                          (["--no-severity"], "--glyphs all --strict --require")):
+            r = run("report", "Nimbus.ufo", "--glyphs", "o", "--require", "curvature-extrema-at-nodes", *opt, "--out",
+                    "rsv", "--no-thumbnails", "--quiet", "--fix-budget", "0", "--markdown", "rsv.md", cwd=tmp)
+            md = open(os.path.join(tmp, "rsv.md")).read() if r.returncode == 1 else ""
+            check("the Markdown's whole-font command keeps the run's severity rule (%s)" % " ".join(opt), says in md, md[:800])
+            shutil.rmtree(os.path.join(tmp, "rsv"), ignore_errors=True)
         r = run("report", "Nimbus.ufo", "--glyphs", "O,o", "--require", "g3-at-smooth-nodes", "--out", "rg3only",
                 "--no-thumbnails", "--quiet", "--fix-budget", "0", "--markdown", "rg3only.md", cwd=tmp)
         pages = "".join(open(os.path.join(tmp, "rg3only", f)).read() for f in os.listdir(os.path.join(tmp, "rg3only"))
