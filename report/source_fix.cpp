@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <mutex>
 
-#include "report/contour_moves.hpp"
 #include "report/batch.hpp"
+#include "report/contour_moves.hpp"
 #include "report/fix_json.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
