@@ -66,6 +66,7 @@
 #include "report/corpus.hpp"
 #include "report/fix_json.hpp"
 #include "report/gates.hpp"
+#include "report/severity.hpp"
 #include "report/source_fix.hpp"
 #include "report/report.hpp"
 #include "report/space_report.hpp"
@@ -93,7 +94,7 @@ using OJson = nlohmann::ordered_json;
 std::string python_fields(const std::string& marked) {
   static const std::map<std::string, std::string> keywords = {
       {"angle_deg", "angle_tol"}, {"curvature_rel", "curvature_tol"}, {"max_depth", "depth"},
-      {"requirement", "require"}, {"with", "with_"}};
+      {"requirement", "require"}, {"with", "with_"}, {"no_severity", "severity=False"}};
   return rename_fields(marked, [](const std::string& name) {
     const auto it = keywords.find(name);
     return it != keywords.end() ? it->second : name;
@@ -1027,6 +1028,8 @@ struct ReportArgs {
   bool cache = true;
   std::string glyphs = "A-Z,a-z";
   std::string location;  ///< a variable font's instance, "wght=700,opsz=14" (empty: the default)
+  std::optional<double> min_severity;  ///< as --min-severity (none: fonts get the default)
+  bool severity = true, strict = false;  ///< severity false: --no-severity
   double angle_tol = 1e-3, curvature_tol = 1e-6;
   std::string backend = "cpu";
 };
@@ -1040,6 +1043,7 @@ py::object report_py(const ReportArgs& a) {
   o.continuity = continuity;
   if (!a.require.empty()) report::parse_require_list(a.require, o);
   if (a.segments) o.segments = parse_segment_range(*a.segments, "segments");
+  report::set_severity_options(o, a.min_severity, a.severity, a.strict);  // fonts: severity by default, as the command
   o.max_depth = a.depth;
   o.regions = a.thumbnails;
   RegionArgs ra;
@@ -1433,6 +1437,9 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("cache", &ReportArgs::cache)
       .def_readwrite("glyphs", &ReportArgs::glyphs)
       .def_readwrite("location", &ReportArgs::location)
+      .def_readwrite("min_severity", &ReportArgs::min_severity)
+      .def_readwrite("severity", &ReportArgs::severity)
+      .def_readwrite("strict", &ReportArgs::strict)
       .def_readwrite("angle_tol", &ReportArgs::angle_tol)
       .def_readwrite("curvature_tol", &ReportArgs::curvature_tol)
       .def_readwrite("backend", &ReportArgs::backend);

@@ -15,6 +15,7 @@
 #include "report/contour_moves.hpp"
 #include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
+#include "spline/fields.hpp"
 
 namespace cmr::report {
 
@@ -351,6 +352,17 @@ void assess_severity(SplineReport& r, const ReportOptions& options, SeverityMemo
   // report.pass is the requirement's verdict (when one is asked) and every gate's.
   const bool requirement = r.requirement_pass || (!options.require && !options.gates.empty());
   r.pass = requirement && gates_pass;
+}
+
+void set_severity_options(ReportOptions& options, std::optional<double> min_severity, bool severity, bool strict) {
+  if (min_severity && !(*min_severity >= 0 && std::isfinite(*min_severity)))
+    throw InputFieldError(field("min_severity") + ": " + std::to_string(*min_severity) + " is not a distance >= 0");
+  if (!severity && min_severity) throw InputFieldError(field("no_severity") + ": not with " + field("min_severity"));
+  if (strict && !severity)
+    throw InputFieldError(field("strict") + ": not with " + field("no_severity") + " (no finding is info)");
+  options.min_severity = min_severity.value_or(-1);
+  options.font_severity = severity;
+  options.strict = strict;
 }
 
 }  // namespace cmr::report

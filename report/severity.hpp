@@ -76,6 +76,15 @@ inline constexpr double kRefineBelow = 8;
 /// The default threshold of `--min-severity`: half a font unit.
 inline constexpr double kDefaultMinSeverity = 0.5;
 
+/// A report's severity options, checked (`cmr report`'s --min-severity,
+/// --no-severity and --strict; the Python module's min_severity=,
+/// severity=False and strict=): `min_severity` a distance >= 0 or none
+/// (fonts then get kDefaultMinSeverity), `severity` false for none at all
+/// (every finding fails), `strict` for info findings failing too.
+/// InputFieldError (naming the fields) for a threshold that is not a
+/// distance >= 0, a threshold without severity, or strict without severity.
+void set_severity_options(ReportOptions& options, std::optional<double> min_severity, bool severity, bool strict);
+
 /// Whether a gate's violations get a severity (and severity_move a search):
 /// curvature-extrema-at-nodes, max-extrema-per-segment and g2-at-smooth-nodes.
 bool has_severity(const Gate& gate);

@@ -41,6 +41,7 @@
 #include "report/batch.hpp"
 #include "report/merge.hpp"
 #include "report/report_cache.hpp"
+#include "report/severity.hpp"
 
 namespace cmr::cli {
 
@@ -235,14 +236,8 @@ class ReportRun {
     o.constant_tolerance = a_.constant_tolerance;
     if (!a_.require.empty()) report::parse_require_list(a_.require, o);
     if (!a_.segments.empty()) o.segments = parse_segment_range(a_.segments);
-    if (a_.min_severity != -1 && !(a_.min_severity >= 0 && std::isfinite(a_.min_severity)))
-      throw InputError("--min-severity: " + std::to_string(a_.min_severity) + " is not a distance >= 0");
-    if (a_.no_severity && a_.min_severity >= 0)
-      throw InputError("--no-severity: not with --min-severity");
-    if (a_.strict && a_.no_severity) throw InputError("--strict: not with --no-severity (no finding is info)");
-    o.min_severity = a_.min_severity;
-    o.font_severity = !a_.no_severity;
-    o.strict = a_.strict;
+    report::set_severity_options(o, a_.min_severity != -1 ? std::optional<double>(a_.min_severity) : std::nullopt,
+                                 !a_.no_severity, a_.strict);
     o.max_depth = a_.depth;
     o.regions = !a_.no_thumbnails;
     o.region_size = a_.region_size;

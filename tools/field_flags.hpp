@@ -41,6 +41,7 @@ inline const std::map<std::string, std::string>& field_flags() {
       {"max_move", "--max-move"},
       {"max_seconds", "--max-seconds"},
       {"min_severity", "--min-severity"},
+      {"no_severity", "--no-severity"},
       {"mesh", "--mesh"},
       {"out", "--out"},
       {"parts", "--merge"},

@@ -92,6 +92,35 @@ def test_report_of_a_variable_fonts_instance_equals_cli(tmp_path):
         cmr.report(INTER, location="wght")
 
 
+def test_report_of_a_font_source_judges_severity_as_the_cli(tmp_path):
+    # A font's findings get their severity by default, as the command's: under
+    # g2 alone Nimbus Sans e and r have only jumps that a move below half a
+    # unit removes (info), so they pass and o fails; strict=True,
+    # severity=False and a small min_severity fail e and r too, as --strict,
+    # --no-severity and --min-severity do.
+    import subprocess
+    import sys
+    ufo = tmp_path / "N.ufo"
+    subprocess.run([sys.executable, str(ROOT / "tools" / "make_test_ufo.py"),
+                    "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf", str(ufo), "ero"], check=True)
+    for kwargs, flags in (({}, []), ({"strict": True}, ["--strict"]), ({"severity": False}, ["--no-severity"]),
+                          ({"min_severity": 0.001}, ["--min-severity", "0.001"])):
+        r = cmr.report(ufo, glyphs="all", require="g2-at-smooth-nodes", thumbnails=False, fixes=False, **kwargs)
+        out = tmp_path / ("cli" + "".join(flags).replace("-", "").replace(".", ""))
+        p = run_cmr("report", ufo, "--glyphs", "all", "--require", "g2-at-smooth-nodes", *flags, "--no-thumbnails",
+                    "--no-fixes", "--quiet", "--out", out, check=False)
+        cli = json.loads((out / "report.json").read_text())
+        assert r["exit_code"] == p.returncode == 1 and r["report"]["settings"] == cli["settings"]
+        assert [(s["name"], s["status"], s.get("findings")) for s in r["report"]["splines"]] == \
+            [(s["name"], s["status"], s.get("findings")) for s in cli["splines"]]
+        failing = sorted({s["glyph"] for s in r["report"]["splines"] if s["status"] == "fail"})
+        assert failing == (["o"] if kwargs == {} else ["e", "o", "r"]), (kwargs, failing)
+    with pytest.raises(cmr.InputError, match="severity=False: not with min_severity"):
+        cmr.report(ufo, severity=False, min_severity=1)
+    with pytest.raises(cmr.InputError, match="strict: not with severity=False"):
+        cmr.report(ufo, severity=False, strict=True)
+
+
 def test_report_of_every_glyph_of_a_font_source(tmp_path):
     # glyphs="all" is --glyphs all: every glyph of a UFO, whatever its code points.
     ufo = str(ROOT / "examples" / "ufo" / "Sans.ufo")
