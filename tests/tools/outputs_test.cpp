@@ -448,6 +448,19 @@ const std::vector<Case>& cases() {
       t.push_back(c);
     }
     {
+      // Without thumbnails nothing renders: no region backend is made, so a
+      // run with no Vulkan device at all (even with --backend vulkan) says
+      // nothing about one.
+      Case c{"report_without_thumbnails_needs_no_vulkan_device",
+             "env VK_DRIVER_FILES=/nonexistent CMR report " + std::string(CMR_SOURCE_DIR) +
+                 "/examples/ufo/Sans.ufo --backend vulkan --no-thumbnails --quiet --out DIR/rep"};
+      c.check = [](const fs::path& dir, const Outcome& r) {
+        EXPECT_EQ(r.err, "") << "no backend note without thumbnails";
+        EXPECT_TRUE(fs::exists(dir / "rep" / "report.json"));
+      };
+      t.push_back(c);
+    }
+    {
       Case c{"backend_vulkan_on_lavapipe_says_vulkan",
              "env VK_DRIVER_FILES=" + kLavapipe + " CMR region " + kUniform + " --point 2 --size 16x16 --backend vulkan"};
       c.check = [](const fs::path&, const Outcome& r) {
