@@ -662,4 +662,11 @@ std::string rewrite_glif_points(const std::string& text, const std::vector<Point
   return out;
 }
 
+GlyphSelection parse_glyph_selection(const std::string& spec) {
+  GlyphSelection which;
+  which.all = spec == "all";
+  if (!which.all) which.codepoints = parse_glyph_spec(spec);
+  return which;
+}
+
 }  // namespace cmr::import

@@ -63,6 +63,10 @@ struct GlyphSelection {
   std::vector<std::string> names;        ///< and glyphs by name (missing ones are an InputError)
 };
 
+/// A selection as `--glyphs SPEC` gives it (cmr report, cmr fix): "all", or
+/// characters and ranges (parse_glyph_spec).
+GlyphSelection parse_glyph_selection(const std::string& spec);
+
 /// Reads a UFO folder (its default layer) or a single .glif file (then every
 /// selection reads its one glyph, with unitsPerEm 0). Glyph::source is the
 /// .glif's path and Glyph::point_lines its points' lines. Font::missing

@@ -836,13 +836,7 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
 /// writes the .glif as --in-place does: only the moved points' x and y).
 py::object fix_glyph_py(const std::string& file, const std::string& glyph, const std::string& require, double grid,
                         double max_move, const std::vector<std::string>& points, int depth, bool in_place) {
-  if (!(max_move >= 0) || !std::isfinite(max_move))
-    throw InputError("max_move: " + std::to_string(max_move) + " is not a distance >= 0");
-  report::GlyphFixOptions o;
-  report::parse_require_list(require, o.judge);
-  o.judge.max_depth = depth;
-  o.grid = grid;
-  o.max_move = max_move;
+  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move);
   report::SourceFix f = interruptible([file, glyph, points, o] { return report::fix_source_glyph(file, glyph, points, o); });
   show_fields_in(f.contours, python_fields);
   if (!f.failed.empty()) throw InputError(file + ": " + python_fields(f.failed));
@@ -864,16 +858,8 @@ py::object fix_glyph_py(const std::string& file, const std::string& glyph, const
 /// glyphs' .glif files together (all or none), as --in-place does.
 py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, const std::string& require, double grid,
                          double max_move, int depth, double min_severity, bool in_place) {
-  if (!(max_move >= 0) || !std::isfinite(max_move))
-    throw InputError("max_move: " + std::to_string(max_move) + " is not a distance >= 0");
-  report::GlyphFixOptions o;
-  report::parse_require_list(require, o.judge);
-  o.judge.max_depth = depth;
-  o.grid = grid;
-  o.max_move = max_move;
-  import::GlyphSelection which;
-  which.all = glyphs == "all";
-  if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
+  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move);
+  const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
   report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid, min_severity] {
     return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, min_severity, 0), file, require,
                                         grid);
@@ -1050,14 +1036,7 @@ py::object report_py(const ReportArgs& a) {
   ra.backend = a.backend;
   o.backend = region_backend(ra, [](const std::string&) {});  // the CPU backend by default: no note
   report::BatchOptions b;
-  b.all_glyphs = a.glyphs == "all";
-  if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(a.glyphs);
-  if (!a.location.empty()) {
-    for (const std::string& f : a.files)
-      if (!import::is_font_path(f))
-        throw InputFieldError(field("location") + ": for variable fonts (.ttf, .otf), not for " + f);
-    b.location = import::parse_location(a.location);
-  }
+  report::select_glyphs(b, a.glyphs, a.location, a.files);
   b.out = a.out;
   b.fixes = a.fixes;
   b.cache = a.cache;

@@ -85,6 +85,18 @@ std::string clock_text(double seconds) {
 
 }  // namespace
 
+void select_glyphs(BatchOptions& batch, const std::string& glyphs, const std::string& location,
+                   const std::vector<std::string>& files) {
+  const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
+  batch.all_glyphs = which.all;
+  batch.codepoints = which.codepoints;
+  if (location.empty()) return;
+  for (const std::string& f : files)
+    if (!import::is_font_path(f))
+      throw InputFieldError(field("location") + ": for variable fonts (.ttf, .otf), not for " + f);
+  batch.location = import::parse_location(location);
+}
+
 BatchProgress terminal_progress(std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   return [&err, start](int done, int total, int items, const std::string& name) {

@@ -206,6 +206,13 @@ std::string summary_line(const BatchSummary& s);
 /// Called after each file is written: (files done, files in all, splines
 /// done, the file).
 using BatchProgress = std::function<void(int, int, int, const std::string&)>;
+/// The fonts' glyphs and instance of a batch as `cmr report --glyphs SPEC
+/// [--location TAG=V,...]` (and the Python module's report) give them:
+/// `location` empty for the default instance; InputFieldError for a
+/// location given with a file that is not a font.
+void select_glyphs(BatchOptions& batch, const std::string& glyphs, const std::string& location,
+                   const std::vector<std::string>& files);
+
 /// A progress bar with ETA drawn in place on `err` (a terminal's stderr):
 /// "[#####-----] 12/40 files, 3,210 splines, 1,870/s, ETA 0:12 name".
 BatchProgress terminal_progress(std::ostream& err);

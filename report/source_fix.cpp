@@ -24,6 +24,17 @@ void check_fixable(const ReportOptions& checks) {
                             ": cmr fix has no certified fix for G3 (it keeps g2 at most)");
 }
 
+GlyphFixOptions source_fix_options(const std::string& require, int depth, double grid, double max_move) {
+  if (!(max_move >= 0) || !std::isfinite(max_move))
+    throw InputFieldError(field("max_move") + ": " + std::to_string(max_move) + " is not a distance >= 0");
+  GlyphFixOptions o;
+  parse_require_list(require, o.judge);
+  o.judge.max_depth = depth;
+  o.grid = grid;
+  o.max_move = max_move;
+  return o;
+}
+
 namespace {
 
 void check_grid_and_checks(const GlyphFixOptions& options) {

@@ -23,6 +23,13 @@ namespace cmr::report {
 /// for: g3-at-smooth-nodes (the fix keeps g2 at most).
 void check_fixable(const ReportOptions& checks);
 
+/// The options of a source fix (`cmr fix FONT.ufo`, the Python module's
+/// fix_glyph and fix_glyphs): the report's checks `require` judged at
+/// `depth`, the grid step, the largest move (0: the contour's size).
+/// InputFieldError for a largest move that is not a distance >= 0 (the
+/// grid step: fix_source_glyph and fix_source_glyphs check it).
+GlyphFixOptions source_fix_options(const std::string& require, int depth, double grid, double max_move);
+
 struct SourceFix {
   import::Glyph glyph;                   ///< as read
   std::vector<std::string> points;       ///< the named points' whole names (GlyphFixOptions::points)

@@ -122,17 +122,11 @@ void stage_source_copy(const std::string& src_text, const std::string& out, cons
 /// says why); the others are still written.
 int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs, double min_severity) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  report::GlyphFixOptions o;
-  report::parse_require_list(a.require, o.judge);
-  o.judge.max_depth = a.depth;
-  o.grid = a.grid;
-  o.max_move = a.max_move;
+  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move);
   std::error_code ec;
   if (!a.out.empty() && std::filesystem::exists(a.out, ec))  // before the searches, not after
     throw InputError(a.out + ": exists (a copy of the source goes to a new folder)");
-  import::GlyphSelection which;
-  which.all = glyphs == "all";
-  if (!which.all) which.codepoints = import::parse_glyph_spec(glyphs);
+  const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
   // On a terminal, a line that counts the glyphs searched (a Latin font
   // takes minutes); none in CI logs or pipes.
   const bool bar = ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr;
@@ -216,11 +210,7 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
 
 void run_source_fix(const SourceFixArgs& a) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  report::GlyphFixOptions o;
-  report::parse_require_list(a.require, o.judge);
-  o.judge.max_depth = a.depth;
-  o.grid = a.grid;
-  o.max_move = a.max_move;
+  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move);
   report::SourceFix f =
       report::fix_source_glyph(a.file, a.glyph, a.points.empty() ? std::vector<std::string>{} : comma_items(a.points), o);
   const import::Glyph& g = f.glyph;

@@ -254,14 +254,7 @@ class ReportRun {
   report::BatchSummary planar_part() {
     report::ReportOptions o = planar_options();
     report::BatchOptions b;
-    b.all_glyphs = a_.glyphs == "all";
-    if (!b.all_glyphs) b.codepoints = import::parse_glyph_spec(a_.glyphs);
-    if (!a_.location.empty()) {
-      for (const std::string& f : a_.files)
-        if (!import::is_font_path(f))
-          throw InputError("--location: for variable fonts (.ttf, .otf), not for " + f);
-      b.location = import::parse_location(a_.location);
-    }
+    report::select_glyphs(b, a_.glyphs, a_.location, a_.files);
     const bool interpolation = std::any_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate);
     if (!a_.between.empty()) {
       if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
