@@ -60,6 +60,7 @@
 #include "draw/draw.hpp"
 #include "io/font.hpp"
 #include "io/output.hpp"
+#include "io/masters.hpp"
 #include "io/ufo.hpp"
 #include "report/analyze_json.hpp"
 #include "report/batch.hpp"
@@ -1014,6 +1015,7 @@ struct ReportArgs {
   bool cache = true;
   std::string glyphs = "A-Z,a-z";
   std::string location;  ///< a variable font's instance, "wght=700,opsz=14" (empty: the default)
+  std::string between;  ///< interpolation gates: "wght=400:wght=700" (empty: between adjacent masters)
   std::optional<double> min_severity;  ///< as --min-severity (none: fonts get the default)
   bool severity = true, strict = false;  ///< severity false: --no-severity
   double angle_tol = 1e-3, curvature_tol = 1e-6;
@@ -1037,11 +1039,18 @@ py::object report_py(const ReportArgs& a) {
   o.backend = region_backend(ra, [](const std::string&) {});  // the CPU backend by default: no note
   report::BatchOptions b;
   report::select_glyphs(b, a.glyphs, a.location, a.files);
+  if (!a.between.empty()) {  // as tools/cmd_report.cpp
+    if (std::none_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate))
+      throw InputFieldError(field("between") + ": only with an interpolation gate (" + field("require") +
+                            " g1-between-masters)");
+    b.between = import::parse_between(a.between);
+  }
   b.out = a.out;
   b.fixes = a.fixes;
   b.cache = a.cache;
   b.report = std::move(o);
-  const std::vector<std::string> files = report::collect_files(a.files, {});
+  const bool interpolation = std::any_of(b.report.gates.begin(), b.report.gates.end(), report::is_interpolation_gate);
+  const std::vector<std::string> files = report::collect_run_files(a.files, {}, interpolation, &b.bases, &b.skipped);
   const report::BatchSummary s = interruptible([files, b] { return report::run_batch(files, b); });
   py::dict r;
   r["exit_code"] = s.exit_code;
@@ -1416,6 +1425,7 @@ PYBIND11_MODULE(_cmr, m) {
       .def_readwrite("cache", &ReportArgs::cache)
       .def_readwrite("glyphs", &ReportArgs::glyphs)
       .def_readwrite("location", &ReportArgs::location)
+      .def_readwrite("between", &ReportArgs::between)
       .def_readwrite("min_severity", &ReportArgs::min_severity)
       .def_readwrite("severity", &ReportArgs::severity)
       .def_readwrite("strict", &ReportArgs::strict)

@@ -63,6 +63,15 @@ std::vector<std::string> collect_files(const std::vector<std::string>& args, con
                                        std::vector<SkippedPath>* skipped = nullptr,
                                        const std::vector<std::filesystem::path>& skip_folders = {});
 
+/// collect_files for a report's run: with an interpolation gate
+/// (`whole_designspaces`) each .designspace argument is one file (its
+/// masters judged together), after the other arguments' files, rather than
+/// walked into its sources (each master a font of its own).
+std::vector<std::string> collect_run_files(const std::vector<std::string>& args, const FileFilter& filter,
+                                           bool whole_designspaces, std::vector<std::string>* bases,
+                                           std::vector<SkippedPath>* skipped,
+                                           const std::vector<std::filesystem::path>& skip_folders = {});
+
 /// The name a run gives `file` in its findings (Finding::file, and so in a
 /// baseline's keys): its path relative to the folder `base` ("" is the
 /// working folder), '/'-separated, whatever the spelling: `/abs/in/a.ttf`,

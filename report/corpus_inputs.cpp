@@ -220,6 +220,20 @@ FileKind file_kind(const std::string& path) {
   return ext == ".svg" ? FileKind::svg : FileKind::spline;
 }
 
+std::vector<std::string> collect_run_files(const std::vector<std::string>& args, const FileFilter& filter,
+                                           bool whole_designspaces, std::vector<std::string>* bases,
+                                           std::vector<SkippedPath>* skipped, const std::vector<fs::path>& skip_folders) {
+  if (!whole_designspaces) return collect_files(args, filter, bases, skipped, skip_folders);
+  std::vector<std::string> walked, whole, files;
+  for (const std::string& f : args) (import::is_designspace_path(f) ? whole : walked).push_back(f);
+  if (!walked.empty()) files = collect_files(walked, filter, bases, skipped, skip_folders);
+  for (const std::string& f : whole) {
+    files.push_back(f);
+    if (bases) bases->push_back("");
+  }
+  return files;
+}
+
 std::vector<std::string> collect_files(const std::vector<std::string>& args, const FileFilter& filter,
                                        std::vector<std::string>* bases, std::vector<SkippedPath>* skipped,
                                        const std::vector<fs::path>& skip_folders) {

@@ -273,12 +273,8 @@ class ReportRun {
     if (!a_.source_root.empty()) b.source_root = a_.source_root;
     // A rerun never reads its own outputs (cmr report . --out qa).
     std::vector<std::string> files;
-    if (interpolation) {
-      // The interpolation gates take a designspace as one file (its masters together), not as its sources.
-      std::vector<std::string> walked, whole;
-      for (const std::string& f : a_.files) (import::is_designspace_path(f) ? whole : walked).push_back(f);
-      if (!walked.empty()) files = report::collect_files(walked, a_.filter, &b.bases, &b.skipped, {a_.out});
-      for (const std::string& f : whole) files.push_back(f), b.bases.push_back("");
+    if (interpolation) {  // a designspace is one file (its masters together), not its sources
+      files = report::collect_run_files(a_.files, a_.filter, true, &b.bases, &b.skipped, {a_.out});
     } else {
       files = std::move(collected_);
       b.bases = std::move(bases_);

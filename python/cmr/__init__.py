@@ -325,7 +325,7 @@ class JudgeQueue:
 
 
 def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, glyphs="A-Z,a-z",
-           location=None, min_severity=None, severity=True, strict=False, thumbnails=True, fixes=True,
+           location=None, between=None, min_severity=None, severity=True, strict=False, thumbnails=True, fixes=True,
            backend="auto", angle_tol=1e-3, curvature_tol=1e-6, cache=True, **unknown):
     """``cmr report FILES... --out DIR [--require R]``: the batch report of
     spline files, SVG files, fonts and folders (planar; a space curve's file
@@ -339,11 +339,13 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
     source's every glyph). location: a variable font's instance, as
     --location ("wght=700,opsz=14") or a dict {"wght": 700, "opsz": 14};
     None, the default instance (report["settings"]["location"] names it).
+    between: the interpolation gates' segment of the design space, as
+    --between ("wght=400:wght=700"; None: between adjacent masters).
     min_severity, severity=False, strict=True: --min-severity U,
     --no-severity, --strict (fonts get each finding's severity, and one
     below half a font unit is info, by default: docs/report.md).
     """
-    _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "location", "min_severity",
+    _o.unknown("report", unknown, ["require", "out", "segments", "depth", "glyphs", "location", "between", "min_severity",
                                    "severity", "strict", "thumbnails", "fixes", "backend", "angle_tol",
                                    "curvature_tol", "cache"])
     if isinstance(paths, (str, os.PathLike)):
@@ -366,6 +368,7 @@ def report(paths, *, require="", out=None, segments=None, depth=DEFAULT_DEPTH, g
     if isinstance(location, dict):
         location = ",".join(f"{tag}={value}" for tag, value in location.items())
     a.location = "" if location is None else _o.text("location", location)
+    a.between = "" if between is None else _o.text("between", between)
     a.min_severity = None if min_severity is None else _o.number("min_severity", min_severity)
     a.severity = bool(severity)
     a.strict = bool(strict)

@@ -121,6 +121,28 @@ def test_report_of_a_font_source_judges_severity_as_the_cli(tmp_path):
         cmr.report(ufo, severity=False, strict=True)
 
 
+def test_report_of_a_designspace_with_interpolation_gates_equals_cli(tmp_path):
+    # With an interpolation gate a designspace is one file, its masters judged
+    # together (it had been walked into its two UFOs, each invalid: "one
+    # master"); between= is --between.
+    import subprocess
+    import sys
+    subprocess.run([sys.executable, str(ROOT / "tools" / "make_test_designspace.py"), str(tmp_path)], check=True,
+                   capture_output=True)
+    ds = str(tmp_path / "kink.designspace")
+    for kwargs, flags in (({}, []), ({"between": "wght=400:wght=500"}, ["--between", "wght=400:wght=500"])):
+        r = cmr.report(ds, require="g1-between-masters", thumbnails=False, fixes=False, **kwargs)
+        out = tmp_path / ("cli" + str(len(flags)))
+        p = run_cmr("report", ds, "--require", "g1-between-masters", *flags, "--no-thumbnails", "--no-fixes", "--quiet",
+                    "--out", out, check=False)
+        cli = json.loads((out / "report.json").read_text())
+        assert r["exit_code"] == p.returncode == 1 and r["invalid"] == [] and r["items"] == 1
+        assert [(s["name"], s["status"], s.get("findings")) for s in r["report"]["splines"]] == \
+            [(s["name"], s["status"], s.get("findings")) for s in cli["splines"]]
+    with pytest.raises(cmr.InputError, match="between: only with an interpolation gate"):
+        cmr.report(ds, between="wght=400:wght=500")
+
+
 def test_report_of_every_glyph_of_a_font_source(tmp_path):
     # glyphs="all" is --glyphs all: every glyph of a UFO, whatever its code points.
     ufo = str(ROOT / "examples" / "ufo" / "Sans.ufo")
