@@ -87,13 +87,17 @@ bool has_point_move_fix(const Gate& gate) {
          !is_interpolation_gate(gate);
 }
 
-std::string fixable_require(const ReportOptions& options) {
+std::vector<std::string> fixable_checks(const ReportOptions& options) {
   std::vector<std::string> checks;
   for (const Gate& gate : options.gates)
     if (has_point_move_fix(gate)) checks.push_back(to_string(gate));
   if (options.require) checks.push_back(to_string(*options.require));
+  return checks;
+}
+
+std::string fixable_require(const ReportOptions& options) {
   std::string require;
-  for (const std::string& c : checks) require.append(require.empty() ? "" : ",").append(c);
+  for (const std::string& c : fixable_checks(options)) require.append(require.empty() ? "" : ",").append(c);
   return require;
 }
 

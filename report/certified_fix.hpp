@@ -73,11 +73,13 @@ bool has_point_move_fix(const Gate& gate);
 
 struct ReportOptions;  // report/report.hpp
 
-/// The --require list with which `cmr fix FONT.ufo` fixes a report's checks
-/// on the grid (the page's and the Markdown summary's command): the gates
-/// with a point-move fix, then the required check (cmrwi, cmr, split:S) when
-/// one is; empty when none is. A gate without one is left out: cmr fix
-/// refuses g3, and no move passes xy-extrema-at-nodes.
+/// The checks of a report that `cmr fix FONT.ufo` fixes on the grid, by
+/// their names (to_string): the gates with a point-move fix, then the
+/// required check (cmrwi, cmr, split:S) when one is. A gate without one is
+/// left out: cmr fix refuses g3, and no move passes xy-extrema-at-nodes.
+std::vector<std::string> fixable_checks(const ReportOptions& options);
+/// fixable_checks as the --require list of the page's and the Markdown
+/// summary's command ("" when there is none).
 std::string fixable_require(const ReportOptions& options);
 
 /// The fix search's request for one gate as a report runs it (the gate

@@ -56,9 +56,7 @@ MarkdownSummary::MarkdownSummary(const ReportOptions& options, std::size_t limit
   for (const Gate& g : options.gates) columns_.push_back(to_string(g));
   others_.column_fail.assign(columns_.size(), 0);
   fix_require_ = fixable_require(options);
-  for (const Gate& g : options.gates)
-    if (has_point_move_fix(g)) fixable_.push_back(to_string(g));
-  if (options.require) fixable_.push_back(to_string(*options.require));
+  fixable_ = fixable_checks(options);
   show_fields_ = options.show_fields;
   // The whole-font fix leaves the glyphs this run passes: the same severity rule.
   char units[32];
@@ -102,12 +100,13 @@ void MarkdownSummary::add(const FileRecord& file, const std::string& name, const
   std::string title_text = "<code>" + html_escape(name) + "</code>: " +
                       count_text(failing, font ? "failing glyph" : "failing spline",
                                  font ? "failing glyphs" : "failing splines");
-  // A font source whose glyphs fail a check some move of points fixes: the
-  // command that writes those fixes into it (cmr fix, docs/fix.md).
+  // A font source whose glyphs fail a check some move of points fixes (a
+  // finding that fails: not info): the command that writes those fixes into
+  // it (cmr fix, docs/fix.md).
   const bool fixable = std::any_of(file.cases.begin(), file.cases.end(), [&](const CaseRecord& c) {
-    return std::any_of(c.findings.begin(), c.findings.end(), [&](const Finding& f) {
-      return std::find(fixable_.begin(), fixable_.end(), f.gate) != fixable_.end();
-    });
+    return c.error.empty() && !c.pass && std::any_of(c.findings.begin(), c.findings.end(), [&](const Finding& f) {
+             return !f.info && std::find(fixable_.begin(), fixable_.end(), f.gate) != fixable_.end();
+           });
   });
   if (font && fixable && import::is_ufo_path(file.path)) {
     const auto flag = [&](const char* f) { return show_fields_(field(f)); };
