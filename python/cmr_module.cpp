@@ -60,7 +60,6 @@
 #include "draw/draw.hpp"
 #include "io/font.hpp"
 #include "io/output.hpp"
-#include "io/masters.hpp"
 #include "io/ufo.hpp"
 #include "report/analyze_json.hpp"
 #include "report/batch.hpp"
@@ -1038,13 +1037,7 @@ py::object report_py(const ReportArgs& a) {
   ra.backend = a.backend;
   o.backend = region_backend(ra, [](const std::string&) {});  // the CPU backend by default: no note
   report::BatchOptions b;
-  report::select_glyphs(b, a.glyphs, a.location, a.files);
-  if (!a.between.empty()) {  // as tools/cmd_report.cpp
-    if (std::none_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate))
-      throw InputFieldError(field("between") + ": only with an interpolation gate (" + field("require") +
-                            " g1-between-masters)");
-    b.between = import::parse_between(a.between);
-  }
+  report::select_font_inputs(b, o, a.glyphs, a.location, a.between, a.files);
   b.out = a.out;
   b.fixes = a.fixes;
   b.cache = a.cache;

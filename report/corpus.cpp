@@ -85,16 +85,24 @@ std::string clock_text(double seconds) {
 
 }  // namespace
 
-void select_glyphs(BatchOptions& batch, const std::string& glyphs, const std::string& location,
-                   const std::vector<std::string>& files) {
+void select_font_inputs(BatchOptions& batch, const ReportOptions& checks, const std::string& glyphs,
+                        const std::string& location, const std::string& between,
+                        const std::vector<std::string>& files) {
   const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
   batch.all_glyphs = which.all;
   batch.codepoints = which.codepoints;
-  if (location.empty()) return;
-  for (const std::string& f : files)
-    if (!import::is_font_path(f))
-      throw InputFieldError(field("location") + ": for variable fonts (.ttf, .otf), not for " + f);
-  batch.location = import::parse_location(location);
+  if (!location.empty()) {
+    for (const std::string& f : files)
+      if (!import::is_font_path(f))
+        throw InputFieldError(field("location") + ": for variable fonts (.ttf, .otf), not for " + f);
+    batch.location = import::parse_location(location);
+  }
+  if (!between.empty()) {
+    if (std::none_of(checks.gates.begin(), checks.gates.end(), is_interpolation_gate))
+      throw InputFieldError(field("between") + ": only with an interpolation gate (" + field("require") +
+                            " g1-between-masters)");
+    batch.between = import::parse_between(between);
+  }
 }
 
 BatchProgress terminal_progress(std::ostream& err) {

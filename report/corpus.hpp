@@ -215,12 +215,15 @@ std::string summary_line(const BatchSummary& s);
 /// Called after each file is written: (files done, files in all, splines
 /// done, the file).
 using BatchProgress = std::function<void(int, int, int, const std::string&)>;
-/// The fonts' glyphs and instance of a batch as `cmr report --glyphs SPEC
-/// [--location TAG=V,...]` (and the Python module's report) give them:
-/// `location` empty for the default instance; InputFieldError for a
-/// location given with a file that is not a font.
-void select_glyphs(BatchOptions& batch, const std::string& glyphs, const std::string& location,
-                   const std::vector<std::string>& files);
+/// The fonts' glyphs, instance and design-space segment of a batch as `cmr
+/// report --glyphs SPEC [--location TAG=V,...] [--between LOC1:LOC2]` (and
+/// the Python module's report) give them: `location` empty for the default
+/// instance, `between` empty for the pieces between adjacent masters.
+/// InputFieldError for a location given with a file that is not a font,
+/// and for a segment without an interpolation gate among `checks`' gates.
+void select_font_inputs(BatchOptions& batch, const ReportOptions& checks, const std::string& glyphs,
+                        const std::string& location, const std::string& between,
+                        const std::vector<std::string>& files);
 
 /// A progress bar with ETA drawn in place on `err` (a terminal's stderr):
 /// "[#####-----] 12/40 files, 3,210 splines, 1,870/s, ETA 0:12 name".

@@ -254,12 +254,8 @@ class ReportRun {
   report::BatchSummary planar_part() {
     report::ReportOptions o = planar_options();
     report::BatchOptions b;
-    report::select_glyphs(b, a_.glyphs, a_.location, a_.files);
+    report::select_font_inputs(b, o, a_.glyphs, a_.location, a_.between, a_.files);
     const bool interpolation = std::any_of(o.gates.begin(), o.gates.end(), report::is_interpolation_gate);
-    if (!a_.between.empty()) {
-      if (!interpolation) throw InputError("--between: only with an interpolation gate (--require g1-between-masters)");
-      b.between = import::parse_between(a_.between);
-    }
     b.out = mixed_ ? parts_->planar.string() : a_.out;
     b.pretty = a_.pretty;
     b.fixes = !a_.no_fixes;

@@ -247,7 +247,8 @@ def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", gr
     moved points' x and y). Returns the command's document: per glyph that
     failed, "glyph", "fixed", its "contours" (as fix_glyph's) and, where no
     move passes, its "reason"; and a "summary" (judged, already, fixed,
-    unfixed, without_contours, missing). A glyph without a fix does not
+    unfixed, without_contours, missing; "below_severity" names the glyphs
+    left for their info findings). A glyph without a fix does not
     raise: the others are still fixed (and written).
     """
     _o.unknown("fix_glyphs", unknown, ["require", "grid", "max_move", "depth", "min_severity", "strict", "in_place"])
