@@ -324,6 +324,54 @@ TEST(StepCli, QaModelImportsEveryBSplineEdgeAndTheyAnalyze) {
   EXPECT_EQ(rational, 1);
 }
 
+// OpenCASCADE loads only when a STEP file is read (step/step_plugin.hpp): ld.so
+// names every library it opens (LD_DEBUG=files, on stderr); `cmr --version`
+// opens none of OCCT's, `cmr import MODEL.step` the plugin and OCCT with it.
+TEST(StepPlugin, OpenCascadeLoadsOnlyWhenAStepFileIsRead) {
+  const test::Outcome v = test::run_captured("LD_DEBUG=files " + std::string(CMR_BINARY) + " --version");
+  ASSERT_EQ(v.code, 0) << v.err;
+  EXPECT_NE(v.err.find("libstdc++"), std::string::npos) << "LD_DEBUG=files printed nothing: " << v.err;
+  EXPECT_EQ(v.err.find("libTKernel"), std::string::npos);
+  EXPECT_EQ(v.err.find("cmr_step_plugin"), std::string::npos);
+  const std::string model = (test::scratch() / "plugin_model.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const test::Outcome i = test::run_captured("LD_DEBUG=files " + std::string(CMR_BINARY) + " import " + model +
+                                             " --out " + (test::scratch() / "plugin_curves").string());
+  ASSERT_EQ(i.code, 0) << i.err;
+  EXPECT_NE(i.err.find("cmr_step_plugin.so"), std::string::npos);
+  EXPECT_NE(i.err.find("libTKernel"), std::string::npos);
+}
+
+// A plugin that cannot be loaded, or is not this cmr's, is one line and exit
+// 3 (an environment failure), and nothing is written. The place beside an
+// installed cmr (CMR_STEP_PLUGIN_FROM_BIN from the program's folder) is
+// looked at first, so a copy of cmr in a scratch bin/ with a bad plugin
+// there shows both.
+TEST(StepPlugin, ABrokenOrForeignPluginIsOneLineExit3) {
+  const std::filesystem::path bin = test::scratch() / "installed" / "bin";
+  std::filesystem::create_directories(bin);
+  std::filesystem::copy_file(CMR_BINARY, bin / "cmr", std::filesystem::copy_options::overwrite_existing);
+  const std::filesystem::path plugin = (bin / CMR_STEP_PLUGIN_FROM_BIN).lexically_normal();
+  std::filesystem::create_directories(plugin.parent_path());
+  const std::string model = (test::scratch() / "plugin_model2.step").string();
+  ASSERT_EQ(std::system((std::string(CMR_STEP_MODEL) + " " + model).c_str()), 0);
+  const auto import = [&] {
+    return test::run_captured((bin / "cmr").string() + " import " + model + " --out " +
+                              (test::scratch() / "never").string());
+  };
+  const auto expect_one_line_exit3 = [&](const test::Outcome& r, const std::string& start) {
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_EQ(r.err.rfind("cmr: the STEP importer: " + start, 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.out, "");
+    EXPECT_FALSE(std::filesystem::exists(test::scratch() / "never"));
+  };
+  std::ofstream(plugin) << "not a shared object\n";
+  expect_one_line_exit3(import(), plugin.string() + " cannot be loaded: ");
+  std::filesystem::copy_file(CMR_FOREIGN_PLUGIN, plugin, std::filesystem::copy_options::overwrite_existing);
+  expect_one_line_exit3(import(), plugin.string() + " is not this cmr's STEP plugin (rebuild cmr)");
+}
+
 // --constant-tol's rule (report.hpp, turning_deviation; docs/space.md): the
 // QA model's circles (the loft's circle of radius 10, which OpenCASCADE
 // approximates by degree-14 B-splines in two edges, and the rational arc of

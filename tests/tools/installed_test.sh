@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # An installed cmr stands alone: `cmake --install` into a fresh prefix copies
-# bin/cmr and nothing else, the binary names neither the source tree nor the
-# example files, and, run from an empty folder with the source tree moved out
-# of reach, it does every command the README's tour shows (figures, segments,
-# analyze, region of a point and of a weight, fix, report, import of a font
-# and of an SVG, knots, sweep, kcurve, and the editor under Xvfb).
+# bin/cmr and nothing else but, in a build with OpenCASCADE, the STEP
+# importer's plugin (lib/cmr/cmr_step_plugin.so, docs/space.md), neither of
+# which names the source tree or the example files, and, run from an empty
+# folder with the source tree moved out of reach, it does every command the
+# README's tour shows (figures, segments, analyze, region of a point and of
+# a weight, fix, report, import of a font, of an SVG and of a STEP model,
+# knots, sweep, kcurve, and the editor under Xvfb).
 #
 # "Moved out of reach": the commands run in a private mount namespace where
 # an empty tmpfs is mounted over SOURCE_DIR (unshare -m, as root), so nothing
@@ -26,11 +28,23 @@ fail() { echo "installed_test: $*" >&2; exit 1; }
 
 "$cmake_cmd" --install "$build" --prefix "$tmp/prefix" >/dev/null
 files=$(cd "$tmp/prefix" && find . -type f | sort)
-[[ $files == "./bin/cmr" ]] || fail "the install holds more than bin/cmr: $files"
-n=$(grep -c -F "$source" "$tmp/prefix/bin/cmr" || true)
-[[ $n == 0 ]] || fail "bin/cmr names the source tree $source ($n times)"
-n=$(grep -c -F "examples/figures" "$tmp/prefix/bin/cmr" || true)
-[[ $n == 0 ]] || fail "bin/cmr names examples/figures ($n times): it would read the source tree"
+step_model=$build/tools/cmr_step_model  # built where OpenCASCADE was found (step/CMakeLists.txt)
+# bin/cmr, and the STEP plugin under the library folder (lib/cmr/, or
+# lib/<multiarch>/cmr/ for a /usr prefix) where this build reads STEP.
+others=$(grep -v -x './bin/cmr' <<<"$files" || true)
+[[ $files == *./bin/cmr* ]] || fail "the install holds no bin/cmr: $files"
+if [[ -x $step_model ]]; then
+  [[ $others =~ ^\./lib(/[^/]+)?/cmr/cmr_step_plugin\.so$ ]] ||
+    fail "the install holds more than bin/cmr and the STEP plugin, or no plugin: $files"
+else
+  [[ -z $others ]] || fail "the install holds more than bin/cmr: $files"
+fi
+for f in $files; do
+  n=$(grep -c -F "$source" "$tmp/prefix/$f" || true)
+  [[ $n == 0 ]] || fail "$f names the source tree $source ($n times)"
+  n=$(grep -c -F "examples/figures" "$tmp/prefix/$f" || true)
+  [[ $n == 0 ]] || fail "$f names examples/figures ($n times): it would read the source tree"
+done
 
 # Everything the commands read travels by path, copied out of the tree.
 data=$tmp/data
@@ -43,6 +57,11 @@ cat >"$data/drop.svg" <<'SVG'
 <svg xmlns="http://www.w3.org/2000/svg"><path d="M 0 0 C 10 0 20 10 20 20 S 10 40 0 40"/></svg>
 SVG
 printf 'select 3\ndrag 3 1.2 -3.5 4\n' >"$data/edit.txt"
+step_import=":"  # the STEP model's import, where this build reads STEP
+if [[ -x $step_model ]]; then
+  "$step_model" "$data/model.step" >/dev/null
+  step_import="\"\$cmr\" import \"$data/model.step\" --out \"\$o/step_curves\" >\"\$o/import_step.txt\""
+fi
 : >"$tmp/xauthority"  # xvfb-run -f: its own X authority file, so no folder of its own to fail to remove
 font=/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf  # fonts-dejavu-core (tools/setup.sh)
 
@@ -63,6 +82,7 @@ step fix;      "\$cmr" fix "$data/fig8.json" --require cmrwi --out "\$o/fixed.js
 step report;   "\$cmr" report "$data/arch.json" --out "\$o/qa" --no-thumbnails >"\$o/report.txt"
 step import-font; "\$cmr" import "$font" --glyphs O,a --out "\$o/glyphs" >"\$o/import.txt"
 step import-svg;  "\$cmr" import "$data/drop.svg" --out "\$o/svg" >"\$o/import_svg.txt"
+step import-step; $step_import
 step knots;    "\$cmr" knots "$data/uniform.json" insert 3.5 >"\$o/knots.json"
 step sweep;    "\$cmr" sweep "$data/fig8.json" --point 3 --knot 3 --from 2.1 --to 3.9 --steps 3 --size 32x32 --backend cpu --out-dir "\$o/sweep" >"\$o/sweep.txt"
 step kcurve;   "\$cmr" kcurve "$data/points.json" --cubic --out "\$o/cubic.json" >"\$o/kcurve.txt"
@@ -125,9 +145,12 @@ grep -q '"points"' "$o/region.json" || fail "cmr region printed no summary"
 [[ -s $o/qa/index.html && -s $o/qa/report.json ]] || fail "cmr report wrote no report"
 ls "$o/glyphs"/*.json >/dev/null 2>&1 || fail "cmr import wrote no glyph contour"
 ls "$o/svg"/*.json >/dev/null 2>&1 || fail "cmr import wrote no SVG path"
+if [[ -x $step_model ]]; then
+  ls "$o/step_curves"/*.json >/dev/null 2>&1 || fail "cmr import wrote no STEP curve"
+fi
 grep -q '"knots"' "$o/knots.json" || fail "cmr knots printed no spline"
 ls "$o/sweep"/*.png >/dev/null 2>&1 || fail "cmr sweep wrote no frame"
 [[ -s $o/cubic.json ]] || fail "cmr kcurve wrote no spline"
 [[ -s $o/edit.png ]] || fail "cmr edit wrote no screenshot"
 [[ -z $(ls -A "$tmp/empty") ]] || fail "a command wrote into the working folder: $(ls -A "$tmp/empty")"
-echo "installed cmr stands alone ($how): 13 commands"
+echo "installed cmr stands alone ($how): $(( $(grep -c '^step ' "$tmp/commands.sh") - 1 )) commands"
