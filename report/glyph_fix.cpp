@@ -795,7 +795,8 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
     out.reason = why.append(join).append(
         " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
-        "piece has only when straight, so no move of the points passes (add an on-curve point, or accept the jump)");
+        "piece has only when straight, so no move of the points passes, nor would an added on-curve point (the jump "
+        "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
     return out;
   }
   if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {

@@ -410,6 +410,10 @@ def main():
         check("fix DejaVu e: a smooth line-to-quadratic join under g2 is named as unfixable (exit 2, one line)",
               r.returncode == 2 and "joins a line to a quadratic curve" in r.stderr and r.stderr.count("\n") == 1
               and not os.path.exists(os.path.join(tmp, "FixedE.ufo")), r.stderr)
+        # an added on-curve point cannot help a quadratic (its pieces are flat only where straight): not advised
+        check("fix DejaVu e: the advice is to accept the jump or draw in cubics, not to add an on-curve point",
+              "nor would an added on-curve point" in r.stderr and "draw the curve in cubics" in r.stderr
+              and "(add an on-curve point" not in r.stderr, r.stderr)
 
         # several gates on a plain spline file (cmr import's), on the grid
         r = run("import", "Nimbus.ufo", "--glyphs", "O", "--out", "impm", cwd=tmp)
