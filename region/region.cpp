@@ -15,6 +15,7 @@
 #include "numeric/halve_bounded.hpp"
 #include "numeric/halve_pairs.hpp"
 #include "bezierize/lambda.hpp"
+#include "region/pixel_lanes.hpp"
 #include "region/pixel_simd.hpp"
 #include "numeric/poly3.hpp"
 #include "bezierize/rational_lambda.hpp"
@@ -351,13 +352,79 @@ thread_local PixelReuse tl_pixel_reuse;
 
 namespace {
 
+// Algorithm 1 of the pixels of one classify_pixels call, in lock step
+// (pixel_lanes.hpp): the first time a pixel asks for entry q, q is traversed
+// for it and for up to kPixelLanes - 1 more of the call's pixels after it
+// that are still undecided, and each keeps its own answer for when it asks
+// (a pixel that stops before asking wasted a lane). The pixels of a call
+// are one small block's, so they share its block record (tl_pixel_reuse).
+class LaneResults {
+ public:
+  LaneResults(const PixelKernel& k, const double* batch, const double* bounds, std::size_t stride, const bool* done,
+              int count, int D)
+      : k_(k), batch_(batch), bounds_(bounds), stride_(stride), done_(done), count_(count), D_(D) {
+    static thread_local std::vector<std::optional<MonotonicityResult>> results;
+    static thread_local std::vector<char> have;
+    results.resize(k.entries.size() * static_cast<std::size_t>(count));
+    have.assign(results.size(), 0);
+    results_ = results.data();
+    have_ = have.data();
+  }
+  /// Entry q's answer at pixel i; `record` (may be null) is the block's,
+  /// the same for every pixel of the call, and `reused` its count.
+  const std::optional<MonotonicityResult>& at(std::size_t q, int i, const SegmentRecord* record,
+                                              std::uint64_t* reused) {
+    const std::size_t slot = q * static_cast<std::size_t>(count_);
+    if (!have_[slot + static_cast<std::size_t>(i)]) {
+      int pixel[kPixelLanes], lanes = 0;
+      for (int p = i; p < count_ && lanes < kPixelLanes; ++p)
+        if (!done_[p] && !have_[slot + static_cast<std::size_t>(p)]) pixel[lanes++] = p;
+      const PixelKernel::Entry& ke = k_.entries[q];
+      const double* v = batch_ + static_cast<std::size_t>(ke.offset) * stride_;
+      double e[kPixelLanes];
+      for (int l = 0; l < lanes; ++l) e[l] = bounds_[q * stride_ + static_cast<std::size_t>(pixel[l])];
+      std::optional<MonotonicityResult> out[kPixelLanes];
+      switch (ke.n1) {
+        case 6: flat_algorithm1_lanes<6>(v, stride_, pixel, e, lanes, D_, record, reused, out); break;
+        case 10: flat_algorithm1_lanes<10>(v, stride_, pixel, e, lanes, D_, record, reused, out); break;
+        default: flat_algorithm1_lanes<30>(v, stride_, pixel, e, lanes, D_, record, reused, out); break;
+      }
+      pixel_lane_traversals.fetch_add(static_cast<std::uint64_t>(lanes), std::memory_order_relaxed);
+      for (int l = 0; l < lanes; ++l) {
+        results_[slot + static_cast<std::size_t>(pixel[l])] = out[l];
+        have_[slot + static_cast<std::size_t>(pixel[l])] = 1;
+      }
+    }
+    return results_[slot + static_cast<std::size_t>(i)];
+  }
+  /// Whether entry q's traversal runs in lock step: at the AVX2 level, for
+  /// the sizes compiled (cubic, quartic, degree 9).
+  bool takes(std::size_t q) const {
+    const int n1 = k_.entries[q].n1;
+    return k_.simd == SimdLevel::avx2 && (n1 == 6 || n1 == 10 || n1 == 30);
+  }
+
+ private:
+  const PixelKernel& k_;
+  const double* batch_;
+  const double* bounds_;
+  std::size_t stride_;
+  const bool* done_;
+  int count_, D_;
+  std::optional<MonotonicityResult>* results_;
+  char* have_;
+};
+
 // classify_fast for one pixel through the render's PixelKernel, on the
 // pixel's root values (values[ke.offset + c]) and bounds (bounds[q]) from
 // pixel_root_values: nullopt when a sign is not certain with the kernel's one
-// bound (then classify_fast).
+// bound (then classify_fast). With `lanes`, this is pixel `pixel` of its
+// classify_pixels call, and Algorithm 1 without a block record comes from
+// the lock-step traversal (the same answer).
 std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
                                                Bounded bx, Bounded by, std::span<const double> values,
-                                               std::span<const double> bounds) {
+                                               std::span<const double> bounds, LaneResults* lanes = nullptr,
+                                               int pixel = 0) {
   if (s.fixed_level0_none) return PixelResult{0, 0, false};
   const RegionRequest& o = s.options;
   const bool cmr = o.mode == Mode::cmr;
@@ -405,9 +472,11 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
     if (rx && rx->whole() != NodeFact::none) {  // one direction over the whole block
       ++tl_pixel_reuse.counts->pixel_segments;
       mono = MonotonicityResult{rx->whole() == NodeFact::increasing ? Curvature::increasing : Curvature::decreasing, 0};
+    } else if (const SegmentRecord* record = rx && !rx->nodes.empty() ? rx : nullptr; lanes && lanes->takes(q)) {
+      mono = lanes->at(q, pixel, record, known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
     } else {
-      mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth,
-                             rx && !rx->nodes.empty() ? rx : nullptr, known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+      mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth, record,
+                             known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
     }
     if (!mono) {
       uncertain = true;  // another segment may still fail for certain
@@ -500,6 +569,12 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
   }
   values.resize(static_cast<std::size_t>(k.values));
   pixel_bounds.resize(k.entries.size());
+  // Several undecided pixels: their traversals in lock step (pixel_lanes.hpp).
+  const bool lock_step = pixel_lanes() && k.simd == SimdLevel::avx2 && std::count(done, done + count, false) > 1;
+  std::optional<LaneResults> lane_results;
+  if (lock_step)
+    lane_results.emplace(k, batch.data(), bounds.data(), static_cast<std::size_t>(stride), done, count,
+                         s.options.max_depth);
   for (int i = 0; i < count; ++i) {
     if (done[i]) {
       out[i] = PixelResult{0, 0, false};
@@ -509,7 +584,9 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
     for (std::size_t q = 0; q < k.entries.size(); ++q) pixel_bounds[q] = bounds[q * stride + i];
     const Bounded bx(dx[i], 0.5 * Bounded::kRound * std::fabs(dx[i]));
     const Bounded by(dy[i], 0.5 * Bounded::kRound * std::fabs(dy[i]));
-    if (const auto r = classify_pixel_flat(s, k, dx[i], dy[i], bx, by, values, pixel_bounds)) out[i] = *r;
+    if (const auto r = classify_pixel_flat(s, k, dx[i], dy[i], bx, by, values, pixel_bounds,
+                                           lane_results ? &*lane_results : nullptr, i))
+      out[i] = *r;
     else if (const auto f = classify_fast(s, Monomials(dx[i], dy[i]), bx, by)) out[i] = *f;
     else out[i] = classify_position_exact(s, p[i]);
   }

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "region/box_reuse.hpp"
+#include "region/pixel_lanes.hpp"
 #include "region/pixel_simd.hpp"
 #include "region/space_region.hpp"
 #include "spline/errors.hpp"
@@ -141,6 +142,8 @@ void read_environment() {
   backend::set_simd_level(level);
   const char* reuse = std::getenv("CMR_BLOCK_REUSE");
   if (reuse && std::string_view(reuse) == "0") backend::set_block_reuse(0);
+  const char* lanes = std::getenv("CMR_PIXEL_LANES");
+  if (lanes && std::string_view(lanes) == "0") backend::detail::set_pixel_lanes(0);
 }
 
 std::string json_text(const nlohmann::ordered_json& doc, bool pretty) {

@@ -12,12 +12,16 @@
 //    wrong batch (lane 1's v[0] negated) must be caught by the comparison.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "numeric/halve_pairs.hpp"
+#include "region/pixel_lanes.hpp"
 #include "region/pixel_simd.hpp"
 #include "region/region.hpp"
 #include "region/region_setup.hpp"
@@ -259,6 +263,89 @@ void expect_fault_seen(std::uint64_t faulty_differences) {
   if (levels().size() > 1) {
     EXPECT_GT(faulty_differences, 0u);
   }
+}
+
+// Issue 39 item 4: at the AVX2 level the pixels of a small block go through
+// Algorithm 1 in lock step (region/pixel_lanes.hpp). Their label and depth
+// maps must be those of one pixel at a time, bit for bit, with and without
+// the block records (labels only; a depth map has none), and the lock step
+// must have run (PixelSimdMaps above compares the AVX2 level, lock step
+// included, with the scalar level on every scene too).
+struct LanesOff {
+  LanesOff() { detail::set_pixel_lanes(0); }
+  ~LanesOff() { detail::set_pixel_lanes(-1); }
+};
+// split_lanes is FlatPiecesN<N>::split (region.cpp) at each lane, bit for
+// bit: its bound update written out here as there, its halving
+// halve_in_pairs<N>; values of every kind (signed zeros, subnormals, huge,
+// NaN in one lane).
+template <int N>
+void expect_split_bit_for_bit(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<int> exponent(-1070, 1000), kind(0, 9);
+  detail::PixelLaneValues cur[N], right[N], e;
+  double want_cur[detail::kPixelLanes][N], want_right[detail::kPixelLanes][N], want_e[detail::kPixelLanes];
+  for (int l = 0; l < detail::kPixelLanes; ++l) {
+    for (int k = 0; k < N; ++k) {
+      const int c = kind(rng);
+      const double x = c == 0 ? 0.0 : c == 1 ? -0.0 : c == 2 ? std::ldexp(unit(rng), -1060) : std::ldexp(unit(rng), exponent(rng) / 8);
+      cur[k][l] = want_cur[l][k] = x;
+    }
+    if (l == 3) cur[N / 2][l] = want_cur[l][N / 2] = std::nan("");
+    e[l] = want_e[l] = std::ldexp(std::fabs(unit(rng)), -40);
+    double mag = 0;  // FlatPiecesN<N>::split, line by line
+    for (int k = 0; k < N; ++k) mag = std::max(mag, std::fabs(want_cur[l][k]));
+    want_e[l] += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    halve_in_pairs<N>(want_cur[l], want_right[l]);
+  }
+  detail::split_lanes<N>(cur, e, right);
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (int l = 0; l < detail::kPixelLanes; ++l) {
+    EXPECT_TRUE(same(e[l], want_e[l])) << "N = " << N << ", lane " << l << ": bound " << e[l] << " vs " << want_e[l];
+    for (int k = 0; k < N; ++k) {
+      EXPECT_TRUE(same(cur[k][l], want_cur[l][k])) << "N = " << N << ", lane " << l << ", left " << k;
+      EXPECT_TRUE(same(right[k][l], want_right[l][k])) << "N = " << N << ", lane " << l << ", right " << k;
+    }
+  }
+}
+TEST(PixelLanes, SplitIsFlatPiecesSplitBitForBit) {
+  if (!simd_available(SimdLevel::avx2)) GTEST_SKIP() << "this CPU has no AVX2: the lock step does not run";
+  std::mt19937_64 rng(3940);
+  for (int round = 0; round < 200; ++round) {
+    expect_split_bit_for_bit<6>(rng);
+    expect_split_bit_for_bit<10>(rng);
+    expect_split_bit_for_bit<30>(rng);
+  }
+}
+
+TEST(PixelLanes, LockStepGivesTheMapsOfOnePixelAtATime) {
+  if (!simd_available(SimdLevel::avx2)) GTEST_SKIP() << "this CPU has no AVX2: the lock step does not run";
+  const ForcedLevel forced(SimdLevel::avx2);
+  std::mt19937_64 rng(3939);
+  std::uint64_t lanes = 0;
+  int renders = 0;
+  for (const int scene : {0, 1, 3})
+    for (const int depth : {10, 16}) {
+      const Scene sc = scenes()[static_cast<std::size_t>(scene)];
+      for (const std::optional<View>& v : views(sc, depth, Mode::cmrwi, rng))
+        for (const bool depth_map : {false, true}) {
+          const RegionProblem p = RegionProblem::make(sc.spline, request(sc.point, depth, 32, v, depth_map, Mode::cmrwi));
+          RegionImage alone;
+          {
+            const LanesOff off;
+            alone = region_cpu(p.setup(), 2);
+          }
+          const std::uint64_t before = detail::pixel_lane_traversals.load();
+          const RegionImage together = region_cpu(p.setup(), 2);
+          lanes += detail::pixel_lane_traversals.load() - before;
+          std::ostringstream diff;
+          EXPECT_EQ(differences(together, alone, diff), 0)
+              << describe(sc, Mode::cmrwi, depth, v, depth_map) << diff.str();
+          ++renders;
+        }
+    }
+  EXPECT_EQ(renders, 3 * 2 * 3 * 2);
+  EXPECT_GT(lanes, 1000u) << "the lock step hardly ran";
 }
 
 TEST(PixelSimdMaps, CubicBezierAtEveryLevel) { expect_fault_seen(check_scene(scenes()[0], 2324)); }
