@@ -419,8 +419,8 @@ class LaneResults {
 // pixel's root values (values[ke.offset + c]) and bounds (bounds[q]) from
 // pixel_root_values: nullopt when a sign is not certain with the kernel's one
 // bound (then classify_fast). With `lanes`, this is pixel `pixel` of its
-// classify_pixels call, and Algorithm 1 without a block record comes from
-// the lock-step traversal (the same answer).
+// classify_pixels call, and Algorithm 1 (with its block's record, where it
+// has one) comes from the lock-step traversal: the same answer.
 std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
                                                Bounded bx, Bounded by, std::span<const double> values,
                                                std::span<const double> bounds, LaneResults* lanes = nullptr,
