@@ -541,8 +541,13 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
   }
   const int lanes = simd_lanes(k.simd);
   const int stride = (count + lanes - 1) / lanes * lanes;
-  double dx[kStrideMax] = {}, dy[kStrideMax] = {};
-  bool done[kStrideMax] = {};
+  // Only the pixels and a chunk's padding lanes up to stride are read (the
+  // padding as zeros): no 1 KiB of zeros a call.
+  double dx[kStrideMax], dy[kStrideMax];
+  bool done[kStrideMax];
+  std::fill(dx + count, dx + stride, 0.0);
+  std::fill(dy + count, dy + stride, 0.0);
+  std::fill(done, done + stride, false);
   for (int i = 0; i < count; ++i) {
     dx[i] = kernel_displacement(s, p[i].x - s.anchor.x);
     dy[i] = kernel_displacement(s, p[i].y - s.anchor.y);
