@@ -39,6 +39,22 @@ namespace cmr::backend::detail {
 
 inline constexpr int kPixelLanes = 4;
 
+/// The flat per-pixel path's certain sign of a value x with its bound e
+/// (region.cpp: FlatPieces, FlatPiecesN, the level-0 test; the lock step).
+inline int flat_sign(double x, double e) {
+  if (std::fabs(x) > e) return x > 0 ? 1 : -1;  // false for NaN: unknown
+  return x == 0 && e == 0 ? 0 : kSignUnknown;
+}
+
+/// The flat path's bound e grown by the halving of a piece of n
+/// coefficients whose largest magnitude is mag (one expression for
+/// FlatPieces, FlatPiecesN and the lock step's lanes, T = double or a vector
+/// of them; by reference, so that no vector crosses a call's ABI).
+template <class T>
+inline void grow_halving_bound(T& e, int n, const T& mag) {
+  e += n * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+}
+
 // Four doubles per instruction: the lock step runs at the AVX2 level only
 // (SimdLevel::avx2, chosen per process where the CPU has it; region.cpp,
 // LaneResults). target("avx2") only, not FMA: each multiply and add rounds
@@ -75,7 +91,7 @@ CMR_LANES_TARGET inline void split_lanes(PixelLaneValues* cur, PixelLaneValues& 
     const PixelLaneValues a = cur[k] < 0 ? -cur[k] : cur[k];
     mag = mag < a ? a : mag;
   }
-  e += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+  grow_halving_bound(e, N, mag);
   PixelLaneValues w[N];
   for (int k = 0; k < N; ++k) w[k] = cur[k];
   right[N - 1] = cur[N - 1];
@@ -117,11 +133,7 @@ CMR_LANES_TARGET void flat_algorithm1_lanes(const double* v, std::size_t stride,
     const State& s;
     int l;
     int size() const { return N; }
-    int sign(int k) const {
-      const double x = s.cur[k][l], b = s.e[l];
-      if (std::fabs(x) > b) return x > 0 ? 1 : -1;  // false for NaN: unknown
-      return x == 0 && b == 0 ? 0 : kSignUnknown;
-    }
+    int sign(int k) const { return flat_sign(s.cur[k][l], s.e[l]); }
   };
   MonotonicityFold fold[kPixelLanes];
   bool certain[kPixelLanes];

@@ -110,15 +110,11 @@ class FlatPieces {
     std::copy(root, root + n1, base_);
   }
   int size() const { return n1_; }
-  int sign(int k) const {
-    const double x = base_[k];
-    if (std::fabs(x) > e_) return x > 0 ? 1 : -1;
-    return x == 0 && e_ == 0 ? 0 : kSignUnknown;
-  }
+  int sign(int k) const { return flat_sign(base_[k], e_); }
   void split(int level, int) {
     double mag = 0;
     for (int k = 0; k < n1_; ++k) mag = std::max(mag, std::fabs(base_[k]));
-    e_ += n1_ * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    grow_halving_bound(e_, n1_, mag);
     bernstein_halve(base_, n1_, base_, slot(level), base_ + n1_);
     pending_e_[level] = e_;
   }
@@ -135,11 +131,6 @@ class FlatPieces {
   double pending_e_[kMaxDepth + 1];
 };
 
-inline int flat_sign(double x, double e) {
-  if (std::fabs(x) > e) return x > 0 ? 1 : -1;  // false for NaN: unknown
-  return x == 0 && e == 0 ? 0 : kSignUnknown;
-}
-
 // FlatPieces with n1 fixed at compile time (the kernel's common sizes): the
 // same halvings (bernstein_halve's order, HalfMean) and the same bound, in
 // straight-line code on the stack.
@@ -152,7 +143,7 @@ class FlatPiecesN {
   void split(int level, int) {
     double mag = 0;
     for (int k = 0; k < N; ++k) mag = std::max(mag, std::fabs(cur_[k]));
-    e_ += N * (0.5 * Bounded::kRound) * mag * (1 + 0x1p-20) + Bounded::kTiny;
+    grow_halving_bound(e_, N, mag);
     halve_in_pairs<N>(cur_, pending_[level]);  // bernstein_halve's values, bit for bit
     pending_e_[level] = e_;
   }
@@ -397,11 +388,12 @@ class LaneResults {
     }
     return results_[slot + static_cast<std::size_t>(i)];
   }
-  /// Whether entry q's traversal runs in lock step: at the AVX2 level, for
-  /// the sizes compiled (cubic, quartic, degree 9).
+  /// Whether entry q's traversal runs in lock step: the sizes compiled
+  /// (cubic, quartic, degree 9). (The lock step runs at the AVX2 level only:
+  /// classify_pixels makes no LaneResults at another.)
   bool takes(std::size_t q) const {
     const int n1 = k_.entries[q].n1;
-    return k_.simd == SimdLevel::avx2 && (n1 == 6 || n1 == 10 || n1 == 30);
+    return n1 == 6 || n1 == 10 || n1 == 30;
   }
 
  private:
