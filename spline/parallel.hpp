@@ -2,6 +2,7 @@
 /// One thread pool primitive for the whole project: run independent jobs on
 /// several threads and carry the first exception back to the caller (a worker
 /// that throws must not end in std::terminate).
+#include <pthread.h>
 #include <sched.h>
 
 #include <algorithm>
@@ -103,7 +104,8 @@ class WorkerPool {
     };
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      while (threads_.size() + 1 < workers) threads_.emplace_back([this] { serve(); });
+      for (; threads_.size() + 1 < workers; steered_from_ = -1) threads_.emplace_back([this] { serve(); });
+      steer_off(sched_getcpu());
       work_ = &work;
       wanted_ = workers - 1;
       running_ = 0;
@@ -138,6 +140,26 @@ class WorkerPool {
       if (--running_ == 0) done_.notify_all();
     }
   }
+  // Keeps the sleeping workers off the caller's core. Woken, a worker is
+  // queued where the kernel places it, and where the cores share no cache
+  // (as the two cores of this project's VM appear) that can be the caller's
+  // own core, busy with the batch: in 4 of 10 batches after an idle
+  // millisecond the worker did not start within 0.6 ms, and a frame of a
+  // drag ran on one core (tools/bench/bench_wake; docs/performance.md, "An
+  // idle core joins late"). Each worker may run on any core the caller may
+  // but the caller's own; redone only when the caller has moved. A caller
+  // bound to one core leaves the workers as they are.
+  void steer_off(int cpu) {
+    if (cpu < 0 || cpu == steered_from_) return;
+    cpu_set_t allowed;
+    CPU_ZERO(&allowed);
+    if (sched_getaffinity(0, sizeof allowed, &allowed) != 0 || !CPU_ISSET(cpu, &allowed)) return;
+    CPU_CLR(cpu, &allowed);
+    if (CPU_COUNT(&allowed) == 0) return;
+    for (std::thread& t : threads_) (void)pthread_setaffinity_np(t.native_handle(), sizeof allowed, &allowed);
+    steered_from_ = cpu;
+  }
+  int steered_from_ = -1;  // the caller's core the workers were last kept off
   std::mutex busy_;   // held by the batch's caller
   std::mutex mutex_;  // guards what follows
   std::condition_variable wake_, done_;

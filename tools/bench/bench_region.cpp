@@ -227,6 +227,12 @@ std::string g_only;
 /// only its Vulkan backend (for profiling one backend).
 bool g_cmr_only = false;
 bool g_vk_only = false;
+/// argv[3] == "cmr-idle": as "cmr", each frame after kIdleGap with nothing
+/// to do, as a frame comes in the editor or a one-shot run (on a VM the idle
+/// core's worker may then wake late: docs/performance.md, "An idle core
+/// wakes late").
+bool g_idle = false;
+constexpr auto kIdleGap = std::chrono::milliseconds(5);
 /// The comparison's image sides (argv[4]; default kCompareSize, kSize).
 std::vector<int> g_sizes;
 
@@ -244,13 +250,14 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
     tc.wall.fill(1e300);
     tc.cpu.fill(1e300);
     for (int k = 0; k < reps; ++k) {
+      if (g_idle) std::this_thread::sleep_for(kIdleGap);
       const double t0 = now(), c0 = cpu_now();
       (void)render(setup, g_vk_only);
       tc.wall[0] = std::min(tc.wall[0], now() - t0);
       tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
     }
     std::printf("  %-20s %-12s %2d %4d  cmr %s %8.3f ms wall %8.3f ms CPU %8.2f Mp/s", sc.name, view_name, depth, size,
-                g_vk_only ? "Vulkan" : "CPU",
+                g_vk_only ? "Vulkan" : g_idle ? "CPU, each frame after 5 ms idle," : "CPU",
                 1e3 * tc.wall[0], 1e3 * tc.cpu[0], static_cast<double>(size) * size / 1e6 / tc.wall[0]);
     if (g_vk_only && g_vk_backend && g_vk_backend->share() == vk::DeviceShare::whole) {
       // What the device's tile pass proved and what it left to the host.
@@ -357,7 +364,8 @@ int run(int argc, char** argv) {
   if (mode == "vk-culled") g_share = vk::DeviceShare::culled;
   if (mode == "vk-cascade") g_share = vk::DeviceShare::whole, g_cascade = true;
   g_vk_only = mode == "vk" || mode == "vk-whole" || mode == "vk-culled" || mode == "vk-cascade";
-  g_cmr_only = mode == "cmr" || g_vk_only;
+  g_idle = mode == "cmr-idle";
+  g_cmr_only = mode == "cmr" || g_idle || g_vk_only;
   g_sizes = {kCompareSize, kSize};
   if (argc > 4) {
     g_sizes.clear();
