@@ -228,9 +228,8 @@ std::string g_only;
 bool g_cmr_only = false;
 bool g_vk_only = false;
 /// argv[3] == "cmr-idle": as "cmr", each frame after kIdleGap with nothing
-/// to do, as a frame comes in the editor or a one-shot run (on a VM the idle
-/// core's worker may then wake late: docs/performance.md, "An idle core
-/// wakes late").
+/// to do, as a frame of a drag comes in the editor (the pool's worker then
+/// has to be woken: docs/performance.md, "An idle core joins late").
 bool g_idle = false;
 constexpr auto kIdleGap = std::chrono::milliseconds(5);
 /// The comparison's image sides (argv[4]; default kCompareSize, kSize).

@@ -6,7 +6,8 @@
 // means the caller ran all of them before any worker arrived.
 //
 // Usage: bench_wake [BATCHES] — prints median, 10th and 90th percentile per
-// gap, and the CPU time an idle pool uses in the 100 ms after a batch. docs/performance.md ("An idle core wakes late") reads it.
+// gap, and the CPU time an idle pool uses in the 100 ms after a batch
+// (docs/performance.md, "An idle core joins late").
 #include <algorithm>
 #include <atomic>
 #include <chrono>
