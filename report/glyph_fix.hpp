@@ -43,6 +43,8 @@
 /// with steps 32..1 cells, pairs of neighbouring units at 1 cell; handles
 /// alone first, then nodes too; then each unit pulled back towards the
 /// source while everything passes. A local search: passing, not nearest.
+/// Where the descent from the source finds nothing, it is tried again after
+/// each round that lowers the count, from there (half the work left).
 /// On the grid, the passing fix (from the descent or the rounds) is then
 /// settled (glyph_fix.cpp, settle_nearer; ContourFix::settled): with cost
 /// the total squared move from the source, each moved unit goes to the
