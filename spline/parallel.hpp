@@ -141,12 +141,12 @@ class WorkerPool {
     }
   }
   // Keeps the sleeping workers off the caller's core. Woken, a worker is
-  // queued where the kernel places it, and where the cores share no cache
-  // (as the two cores of this project's VM appear) that can be the caller's
-  // own core, busy with the batch: in 4 of 10 batches after an idle
-  // millisecond the worker did not start within 0.6 ms, and a frame of a
-  // drag ran on one core (tools/bench/bench_wake; docs/performance.md, "An
-  // idle core joins late"). Each worker may run on any core the caller may
+  // queued where the kernel places it, and on this project's VM, after an
+  // idle millisecond, that was the caller's own core, busy with the batch
+  // (likely because a halted virtual core counts as preempted, not idle):
+  // in 4 of 10 batches the worker did not start within 0.6 ms, and a frame
+  // of a drag ran on one core (tools/bench/bench_wake; docs/performance.md,
+  // "An idle core joins late"). Each worker may run on any core the caller may
   // but the caller's own; redone only when the caller has moved. A caller
   // bound to one core leaves the workers as they are.
   void steer_off(int cpu) {
