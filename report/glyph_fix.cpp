@@ -847,7 +847,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // Where the descent from the source found nothing, it may from here: the
     // round brought the contour nearer to passing (Nimbus Sans `S` under both
     // type gates: no descent from the source, a passing one after the first
-    // round, for a sixteenth of the work a second round took).
+    // round, for a tenth of the work a second round took).
     if (several && options.grid > 0 && !descended && current_total > 0 && !work.spent()) {
       const long part = work.cap(work.left() / 2);
       if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work))

@@ -19,13 +19,15 @@
 //     bisection), at D = 10 and D = 16, 512^2 and 1024^2, ratios against the
 //     faster baseline of each cell, with the number of pixels whose labels
 //     differ and the load average.
-// Usage: bench_region [repetitions=5] [cells [cmr|vk|vk-whole|vk-culled|vk-cascade|all [SIZE,...]]]   (run from the repository root)
+// Usage: bench_region [repetitions=5] [cells [cmr|cmr-idle|vk|vk-whole|vk-culled|vk-cascade|all [SIZE,...]]]
+//   (run from the repository root)
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 //   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
 //   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
 //   for profiling and for comparing builds back to back (under callgrind,
-//   instructions per frame: the difference of two repetition counts); vk:
+//   instructions per frame: the difference of two repetition counts);
+//   cmr-idle: the same, each frame after 5 ms with nothing to do; vk:
 //   the same for its Vulkan backend (its DeviceShare as the device's type
 //   picks it); vk-whole, vk-culled: with that share; vk-cascade: the whole
 //   share as an fp32-then-fp64 cascade; all: every column, as
