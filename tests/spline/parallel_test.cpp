@@ -1,10 +1,12 @@
 #include "spline/parallel.hpp"
 
 #include <gtest/gtest.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -46,6 +48,50 @@ TEST(WorkerPool, VisitsEveryIndexOnceBatchAfterBatchOnTheSameThreads) {
     pool.run(seen.size(), threads, [&](std::size_t i) { ++seen[i]; });
     for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << "index " << i << ", batch " << batch;
   }
+}
+
+// Waits `us` microseconds on a core (a job that takes time, so that the
+// other threads take some of the batch).
+void busy_for(int us) {
+  for (const auto end = std::chrono::steady_clock::now() + std::chrono::microseconds(us);
+       std::chrono::steady_clock::now() < end;) {
+  }
+}
+
+// A woken worker could be queued on the caller's own busy core
+// (WorkerPool::steer_off): each worker may run on every core the caller
+// may but the one the caller is on when the batch begins.
+TEST(WorkerPool, KeepsItsWorkersOffTheCallersCore) {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  ASSERT_EQ(sched_getaffinity(0, sizeof allowed, &allowed), 0);
+  if (CPU_COUNT(&allowed) < 2) GTEST_SKIP() << "a single core: no other core to keep the workers on";
+  WorkerPool& pool = WorkerPool::shared();
+  const std::thread::id caller = std::this_thread::get_id();
+  // The caller may move between cores during a batch; such a batch proves
+  // nothing and is tried again.
+  for (int attempt = 0; attempt < 50; ++attempt) {
+    const int before = sched_getcpu();
+    std::mutex m;
+    std::vector<cpu_set_t> masks;  // each worker job's own affinity
+    pool.run(64, 2, [&](std::size_t) {
+      if (std::this_thread::get_id() != caller) {
+        cpu_set_t mine;
+        CPU_ZERO(&mine);
+        ASSERT_EQ(sched_getaffinity(0, sizeof mine, &mine), 0);
+        const std::lock_guard<std::mutex> lock(m);
+        masks.push_back(mine);
+      }
+      busy_for(20);
+    });
+    if (sched_getcpu() != before || masks.empty()) continue;
+    for (cpu_set_t& mine : masks) {
+      EXPECT_FALSE(CPU_ISSET(before, &mine)) << "a worker may run on the caller's core " << before;
+      EXPECT_EQ(CPU_COUNT(&mine), CPU_COUNT(&allowed) - 1) << "a worker may not run on every other core";
+    }
+    return;
+  }
+  FAIL() << "in 50 batches the caller never stayed on one core with a worker joining";
 }
 
 TEST(WorkerPool, CarriesAnExceptionAndStaysUsable) {
