@@ -826,6 +826,18 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   }
   if (descended && !options.both_searches) current = std::move(*descended), current_total = 0, descended.reset();
   const long search_end = descended ? work.cap(work.left() / 2) : work.cap(work.left());
+  // The grid descent from where the rounds left the contour: a passing end
+  // ends the search, any other says why in `why`. descended_here: it ran
+  // from `current` to its end.
+  bool descended_here = false;
+  const auto descend_from_here = [&] {
+    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work)) {
+      if (judge(*d) == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
+      else why = "the grid descent ends with violations";
+    } else if (why.empty()) {
+      why = "the grid descent finds no position that passes every check";
+    }
+  };
   // Rounds: each tries to fix one failing check alone (its own judge and
   // search guide), then all of them at once, from where the last round
   // left the contour, snapped to the grid; a round is taken when the total
@@ -848,10 +860,11 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // round brought the contour nearer to passing (Nimbus Sans `S` under both
     // type gates: no descent from the source, a passing one after the first
     // round, for a tenth of the work a second round took).
+    descended_here = false;
     if (several && options.grid > 0 && !descended && current_total > 0 && !work.spent()) {
       const long part = work.cap(work.left() / 2);
-      if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work))
-        if (judge(*d) == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
+      descend_from_here();
+      descended_here = !work.spent();  // it ended within its part: from here it would end the same
       work.release(part);
     }
   }
@@ -864,17 +877,11 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       out.off_grid_distance = 0;  // the descent is on the grid throughout
     }
   }
-  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && !work.spent()) {
-    // The rounds lowered the count but no round ends it: the descent from
-    // where they left the contour.
-    if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work)) {
-      const int d_total = judge(*d);
-      if (d_total == 0 && smooth_kept(c, *d)) current = std::move(*d), current_total = 0;
-      else why = "the grid descent ends with violations";
-    } else if (why.empty()) {
-      why = "the grid descent finds no position that passes every check";
-    }
-  }
+  // The rounds lowered the count but no round ends it: the descent from
+  // where they left the contour (unless it ran from there already).
+  if (current_total > 0 && options.grid > 0 && current_total < total(out.rejudged) && !work.spent() &&
+      !descended_here)
+    descend_from_here();
   // Last, one violation at a time (a search for each), from where the
   // rounds left the contour, in what is left of the search's work.
   while (current_total > 0 && !work.spent()) {
