@@ -11,8 +11,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,9 +28,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kJobs = 64;
 constexpr auto kJob = std::chrono::microseconds(10);
+constexpr double kNever = std::numeric_limits<double>::infinity();
 
 /// Microseconds until a worker other than the caller started a job of the
-/// batch; a negative value when none did.
+/// batch; infinity when none did (so "never" sorts last).
 double first_worker_start() {
   const Clock::time_point t0 = Clock::now();
   const std::thread::id caller = std::this_thread::get_id();
@@ -42,7 +45,7 @@ double first_worker_start() {
     for (const Clock::time_point s = Clock::now(); Clock::now() - s < kJob;) {
     }
   });
-  return first_ns < 0 ? -1.0 : static_cast<double>(first_ns) / 1000.0;
+  return first_ns < 0 ? kNever : static_cast<double>(first_ns) / 1000.0;
 }
 
 /// Seconds of CPU time this process has used (every thread).
@@ -55,7 +58,7 @@ double cpu_seconds() {
 
 std::string shown(double us) {
   char b[32];
-  if (us < 0) return "never";
+  if (std::isinf(us)) return "never";
   std::snprintf(b, sizeof b, "%.1f us", us);
   return b;
 }
@@ -69,18 +72,14 @@ int main(int argc, char** argv) {
   std::printf("  %-10s %12s %12s %12s %8s  (first job on another thread)\n", "idle gap", "median", "p10", "p90",
               "never");
   for (const int gap_us : {0, 100, 1000, 5000, 20000}) {
-    std::vector<double> late;  // "never" sorts last
+    std::vector<double> late;
     for (int b = 0; b < batches; ++b) {
       std::this_thread::sleep_for(std::chrono::microseconds(gap_us));
-      const double us = first_worker_start();
-      late.push_back(us < 0 ? 1e300 : us);
+      late.push_back(first_worker_start());
     }
     std::sort(late.begin(), late.end());
-    const auto at = [&](double q) {
-      const double v = late[static_cast<std::size_t>(q * (late.size() - 1))];
-      return shown(v >= 1e300 ? -1 : v);
-    };
-    const auto never = std::count(late.begin(), late.end(), 1e300);
+    const auto at = [&](double q) { return shown(late[static_cast<std::size_t>(q * (late.size() - 1))]); };
+    const auto never = std::count(late.begin(), late.end(), kNever);
     std::printf("  %7.1f ms %12s %12s %12s %7.0f%%\n", gap_us / 1000.0, at(0.5).c_str(), at(0.1).c_str(),
                 at(0.9).c_str(), 100.0 * static_cast<double>(never) / static_cast<double>(late.size()));
   }
