@@ -1,4 +1,5 @@
 #include "region/kernel.hpp"
+#include "region/pixel_lanes.hpp"
 #include "region/region_setup.hpp"
 
 #include <algorithm>
@@ -404,6 +405,7 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
   }
   add_block_reuse_counts(counts);
   publish_simd_pixel_counts();
+  publish_pixel_lane_traversals();
   return exact;
 }
 

@@ -15,6 +15,7 @@
 
 #include "numeric/bounded.hpp"
 #include "numeric/poly3.hpp"
+#include "region/pixel_simd.hpp"
 #include "region/region_setup.hpp"
 
 namespace cmr::backend::box_eval {
@@ -149,5 +150,13 @@ Bounded eval_poly(const std::array<double, K>& c, const Monomials& m) {
   for (std::size_t st = 1; st < K; ++st) err += std::fabs(d[st]) * m.rw[st];
   return {d[0], err};
 }
+
+/// eval_poly of the `count` polynomials *c[0], ..., *c[count - 1] of degree 3
+/// at once, bit for bit: out[i] is eval_poly(*c[i], m). Over a box at the
+/// AVX2 level four polynomials share each instruction (two at SSE2), one per
+/// lane, each lane doing eval_poly's operations in its order; a point, or
+/// the scalar level, evaluates them one by one (region/box_simd.cpp).
+void eval_polys(SimdLevel level, const std::array<double, kPoly3Terms>* const* c, int count, const Monomials& m,
+                Bounded* out);
 
 }  // namespace cmr::backend::box_eval

@@ -61,9 +61,12 @@ class LazyPieces {
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta, const Bounded* root_ends = nullptr)
       : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
     static thread_local std::vector<double> scratch;
+    static thread_local std::vector<Bounded> inner;
     const std::size_t need = static_cast<std::size_t>(2 * (kMaxDepth + 3)) * n1_;
     if (scratch.size() < need) scratch.resize(need);
+    if (inner.size() < static_cast<std::size_t>(n1_)) inner.resize(static_cast<std::size_t>(n1_));
     base_ = scratch.data();
+    inner_ = inner.data();
     if (root_ends) {
       first_ = root_ends[0];
       last_ = root_ends[1];
@@ -85,9 +88,9 @@ class LazyPieces {
       halve_bounded_rows(cur(), cur() + n1_, n1_, slot(level), slot(level) + n1_, work(), work() + n1_);
     } else {
       // The left half keeps the first end; the right half (pending) the last.
-      pend_last_[level] = last_;
-      has_pend_last_[level] = has_last_;
-      has_pend_first_[level] = false;  // set when the left half's last is evaluated
+      pend_[level].p.last = last_;
+      pend_[level].p.has_last = has_last_;
+      pend_[level].p.has_first = false;  // set when the left half's last is evaluated
       has_last_ = false;
     }
     select(level, j);
@@ -96,10 +99,11 @@ class LazyPieces {
     if (level > levels_) {
       std::copy(slot(level), slot(level) + 2 * n1_, cur());
     } else {
-      first_ = pend_first_[level];
-      has_first_ = has_pend_first_[level];
-      last_ = pend_last_[level];
-      has_last_ = has_pend_last_[level];
+      const Pending& q = pend_[level].p;
+      first_ = q.first;
+      has_first_ = q.has_first;
+      last_ = q.last;
+      has_last_ = q.has_last;
     }
     select(level, j);
   }
@@ -109,6 +113,7 @@ class LazyPieces {
     level_ = level;
     j_ = j;
     if (level <= levels_) piece_ = (1 << level) - 1 + j;
+    inner_groups_ = 0;
   }
   // A piece: n1 values, then their n1 bounds.
   double* cur() const { return base_; }
@@ -118,7 +123,7 @@ class LazyPieces {
     if (level_ > levels_) return {cur()[k], cur()[n1_ + k]};
     if (k == 0 && has_first_) return first_;
     if (k == n1_ - 1 && has_last_) return last_;
-    const Bounded b = from_poly(k);
+    const Bounded b = k == 0 || k == n1_ - 1 ? from_poly(k) : from_group(k);
     if (k == 0) {
       first_ = b;
       has_first_ = true;
@@ -127,8 +132,8 @@ class LazyPieces {
       last_ = b;
       has_last_ = true;
       if (level_ > 0 && (j_ & 1) == 0) {  // a left half: its last is its pending sibling's first
-        pend_first_[level_] = b;
-        has_pend_first_[level_] = true;
+        pend_[level_].p.first = b;
+        pend_[level_].p.has_first = true;
       }
     }
     return b;
@@ -137,6 +142,27 @@ class LazyPieces {
     const std::size_t at = static_cast<std::size_t>(piece_) * n1_ + k;
     return eta_ ? eval_poly(e_.nu[at], m_) : eval_poly(e_.xi[at], m_);
   }
+  // An inner coefficient of xi over a box: it and the others of its group of
+  // four (coefficients 1-4, 5-8, ...) are evaluated together (eval_polys:
+  // one instruction for the four at the AVX2 level, bit for bit eval_poly's
+  // values), since a scan that reads one inner coefficient mostly reads its
+  // neighbours too.
+  Bounded from_group(int k) const {
+    const int g = (k - 1) / 4;
+    if (eta_ || m_.point || g >= 64) return from_poly(k);
+    if (!(inner_groups_ >> g & 1)) {
+      if (!have_simd_) {
+        simd_ = simd_level();
+        have_simd_ = true;
+      }
+      const int first = 1 + 4 * g, count = std::min(4, n1_ - 1 - first);
+      const std::array<double, kPoly3Terms>* rows[4];
+      for (int i = 0; i < count; ++i) rows[i] = &e_.xi[static_cast<std::size_t>(piece_) * n1_ + first + i];
+      box_eval::eval_polys(simd_, rows, count, m_, inner_ + first);
+      inner_groups_ |= std::uint64_t{1} << g;
+    }
+    return inner_[k];
+  }
   const RegionEntry& e_;
   const Monomials& m_;
   int levels_;
@@ -144,14 +170,30 @@ class LazyPieces {
   int n1_;
   int level_ = 0, j_ = 0, piece_ = 0;
   double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
+  // The current piece's inner coefficients evaluated so far, in groups of
+  // four (bit g: coefficients 4g + 1 to 4g + 4), down to the precomputed levels.
+  Bounded* inner_;
+  mutable std::uint64_t inner_groups_ = 0;
+  mutable SimdLevel simd_ = SimdLevel::scalar;
+  mutable bool have_simd_ = false;
   // The current piece's end values once known (down to the precomputed
-  // levels), and per level those of the pending right half.
+  // levels), and per level those of the pending right half. The per-level
+  // slots are left uninitialised: split(level) writes a level's slots before
+  // next(level) reads them (the traversal splits a piece before it visits
+  // the right half), and zeroing them cost every block proof and every
+  // pixel's eta traversal about a kilobyte of stores (a sixth of
+  // box_traversal's own time).
+  struct Pending {
+    Bounded first, last;
+    bool has_first, has_last;
+  };
+  union PendingSlot {
+    PendingSlot() {}  // no member initialised
+    Pending p;
+  };
   mutable Bounded first_{}, last_{};
   mutable bool has_first_ = false, has_last_ = false;
-  mutable Bounded pend_first_[kMaxDepth + 1];
-  Bounded pend_last_[kMaxDepth + 1];
-  mutable bool has_pend_first_[kMaxDepth + 1] = {};
-  bool has_pend_last_[kMaxDepth + 1] = {};
+  mutable PendingSlot pend_[kMaxDepth + 1];
 };
 
 // The first try of the CPU render's pixels (region_cull), prepared once per

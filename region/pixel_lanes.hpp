@@ -73,8 +73,19 @@ inline std::atomic<int> pixel_lanes_override{-1};
 inline bool pixel_lanes() { return pixel_lanes_override.load(std::memory_order_relaxed) != 0; }
 inline void set_pixel_lanes(int on) { pixel_lanes_override.store(on, std::memory_order_relaxed); }
 /// Pixel traversals run in lock step since the process started (tests: so
-/// that a comparison cannot pass vacuously).
+/// that a comparison cannot pass vacuously). Each thread counts its own
+/// (count_pixel_lane_traversals) and adds them here once per block job
+/// (publish_pixel_lane_traversals, block.cpp): an add to the shared counter
+/// per traversal moved its cache line between the render's cores thousands
+/// of times a frame.
 inline std::atomic<std::uint64_t> pixel_lane_traversals{0};
+inline thread_local std::uint64_t tl_pixel_lane_traversals = 0;
+inline void count_pixel_lane_traversals(int lanes) { tl_pixel_lane_traversals += static_cast<std::uint64_t>(lanes); }
+inline void publish_pixel_lane_traversals() {
+  if (tl_pixel_lane_traversals == 0) return;
+  pixel_lane_traversals.fetch_add(tl_pixel_lane_traversals, std::memory_order_relaxed);
+  tl_pixel_lane_traversals = 0;
+}
 
 using PixelLaneValues = double __attribute__((vector_size(8 * kPixelLanes)));
 

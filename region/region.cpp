@@ -380,7 +380,7 @@ class LaneResults {
         case 10: flat_algorithm1_lanes<10>(v, stride_, pixel, e, lanes, D_, record, reused, out); break;
         default: flat_algorithm1_lanes<30>(v, stride_, pixel, e, lanes, D_, record, reused, out); break;
       }
-      pixel_lane_traversals.fetch_add(static_cast<std::uint64_t>(lanes), std::memory_order_relaxed);
+      count_pixel_lane_traversals(lanes);
       for (int l = 0; l < lanes; ++l) {
         results_[slot + static_cast<std::size_t>(pixel[l])] = out[l];
         have_[slot + static_cast<std::size_t>(pixel[l])] = 1;
@@ -460,28 +460,34 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
     const PixelKernel::Entry& ke = k.entries[q];
     const RegionEntry& e = s.entries[ke.entry];
     const SegmentRecord* rx = known ? &known->xi[ke.entry] : nullptr;
-    std::optional<MonotonicityResult> mono;
+    // Plain locals, and the class written field by field into its slot at
+    // the end: building a SegmentClass (and an optional) on the stack and
+    // copying it whole reloaded bytes just stored as narrower fields, two
+    // store-forwarding stalls per segment (a fifth of this function's time).
+    MonotonicityResult mono;
     if (rx && rx->whole() != NodeFact::none) {  // one direction over the whole block
       ++tl_pixel_reuse.counts->pixel_segments;
-      mono = MonotonicityResult{rx->whole() == NodeFact::increasing ? Curvature::increasing : Curvature::decreasing, 0};
-    } else if (const SegmentRecord* record = rx && !rx->nodes.empty() ? rx : nullptr; lanes && lanes->takes(q)) {
-      mono = lanes->at(q, pixel, record, known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+      mono = {rx->whole() == NodeFact::increasing ? Curvature::increasing : Curvature::decreasing, 0};
     } else {
-      mono = flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth, record,
-                             known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr);
+      const SegmentRecord* record = rx && !rx->nodes.empty() ? rx : nullptr;
+      std::uint64_t* nodes = known ? &tl_pixel_reuse.counts->pixel_nodes : nullptr;
+      const std::optional<MonotonicityResult> m =
+          lanes && lanes->takes(q) ? lanes->at(q, pixel, record, nodes)
+                                   : flat_algorithm1(values.data() + ke.offset, ke.n1, bounds[q], o.max_depth, record,
+                                                     nodes);
+      if (!m) {
+        uncertain = true;  // another segment may still fail for certain
+        continue;
+      }
+      mono = *m;
     }
-    if (!mono) {
-      uncertain = true;  // another segment may still fail for certain
-      continue;
-    }
-    SegmentClass c;
-    c.monotonicity = *mono;
-    if (cmr && !(labels_only && c.monotonicity.curvature == Curvature::non_monotone)) {
+    InflectionResult inflection;
+    if (cmr && !(labels_only && mono.curvature == Curvature::non_monotone)) {
       const SegmentRecord* rn = known ? &known->nu[ke.entry] : nullptr;
       if (rn && rn->whole() != NodeFact::none) {  // eta of one strict sign over the whole block
         ++tl_pixel_reuse.counts->pixel_segments;
         ++tl_pixel_reuse.counts->eta;
-        c.inflection = {Inflection::none, 0, rn->whole() == NodeFact::increasing ? 1 : -1};
+        inflection = {Inflection::none, 0, rn->whole() == NodeFact::increasing ? 1 : -1};
       } else {
         const auto i = lazy_algorithm2(e, Monomials(dx, dy), s.piece_levels, o.max_depth,
                                        rn && !rn->nodes.empty() ? rn : nullptr,
@@ -490,11 +496,11 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
           uncertain = true;
           continue;
         }
-        c.inflection = *i;
+        inflection = *i;
       }
     }
-    if (labels_only && (c.monotonicity.curvature == Curvature::non_monotone ||
-                        (cmr && c.inflection.inflection == Inflection::present))) {
+    if (labels_only && (mono.curvature == Curvature::non_monotone ||
+                        (cmr && inflection.inflection == Inflection::present))) {
       first_try = q;
       return PixelResult{0, 0, false};
     }
@@ -502,7 +508,13 @@ std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const Pixel
       classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
       classes_copied = true;
     }
-    classes[s.verdict.slot[e.segment]] = c;
+    SegmentClass& c = classes[s.verdict.slot[e.segment]];
+    c.monotonicity.curvature = mono.curvature;
+    c.monotonicity.depth = mono.depth;
+    c.inflection.inflection = inflection.inflection;
+    c.inflection.depth = inflection.depth;
+    c.inflection.kappa_sign = inflection.kappa_sign;
+    c.exact_used = false;
   }
   if (uncertain) return std::nullopt;
   if (!classes_copied) classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());

@@ -9,9 +9,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "numeric/exact.hpp"
 
@@ -116,6 +119,48 @@ TEST(BoxEval, ZeroPolynomialIsExact) {
   const Bounded b = eval_poly(c, Monomials(0.3, -0.7, 0.1, 0.2));
   EXPECT_EQ(b.v, 0.0);
   EXPECT_EQ(b.e, 0.0);
+}
+
+// eval_polys gives each polynomial eval_poly's value and bound bit for bit,
+// at every SIMD level this CPU has, for 1 to 9 polynomials at once (whole
+// groups of four and two, and the rest), all-zero polynomials among them
+// (exact zeros) and rows read through arbitrary pointers (the block proof's
+// ends and a piece's inner coefficients). The comparison is of bits, so a
+// lane that rounds once differently (a fused multiply-add, another order)
+// fails it.
+TEST(BoxEval, ManyAtOnceIsEvalPolyBitForBit) {
+  std::mt19937_64 rng(0xE7A1F0B5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<int> expo(-12, 2);
+  int compared = 0;
+  for (const SimdLevel level : {SimdLevel::scalar, SimdLevel::sse2, SimdLevel::avx2}) {
+    if (!simd_available(level)) continue;
+    for (int trial = 0; trial < 300; ++trial) {
+      const double cx = std::ldexp(unit(rng), expo(rng)), cy = std::ldexp(unit(rng), expo(rng));
+      const double rx = trial % 7 == 0 ? 0.0 : std::ldexp(std::fabs(unit(rng)), expo(rng) - 2);
+      const double ry = std::ldexp(std::fabs(unit(rng)), expo(rng) - 2);
+      const Monomials box(cx, cy, rx, ry);
+      const int count = 1 + trial % 9;
+      std::vector<std::array<double, kPoly3Terms>> polys(static_cast<std::size_t>(count) * 2);
+      for (auto& c : polys) c = random_poly<kPoly3Terms>(rng, trial, cx, cy);
+      if (trial % 4 == 3) polys[static_cast<std::size_t>(trial) % polys.size()] = {};
+      // Every other polynomial of the vector, in reverse: rows at arbitrary places.
+      std::vector<const std::array<double, kPoly3Terms>*> rows;
+      for (int i = count - 1; i >= 0; --i) rows.push_back(&polys[static_cast<std::size_t>(2 * i)]);
+      std::vector<Bounded> out(static_cast<std::size_t>(count));
+      eval_polys(level, rows.data(), count, box, out.data());
+      for (int i = 0; i < count; ++i) {
+        const Bounded want = eval_poly(*rows[static_cast<std::size_t>(i)], box);
+        const Bounded got = out[static_cast<std::size_t>(i)];
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(got.v), std::bit_cast<std::uint64_t>(want.v))
+            << simd_name(level) << " trial " << trial << " polynomial " << i;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(got.e), std::bit_cast<std::uint64_t>(want.e))
+            << simd_name(level) << " trial " << trial << " polynomial " << i;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 1500);
 }
 
 }  // namespace
