@@ -135,6 +135,49 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
   return r;
 }
 
+// A witness that the segment of `e` is not monotone at every position of
+// the box: a dyadic piece of level <= levels (the precomputed ones) whose
+// end values certainly have opposite signs. Every position's Algorithm 1
+// then answers "not monotone": no ancestor of that piece can be decided
+// increasing or decreasing there (all its coefficients would have one sign,
+// and so would the piece's), an ancestor is never left undecided (levels <=
+// D), and no other outcome stops a traversal before it reaches the piece.
+// The box traversal cannot find such a piece past one it leaves unresolved
+// (it stops there): along a curve where a root of lambda crosses a dyadic
+// point (one piece's end on one side of the curve, the next piece's on the
+// other), every block went down to the pixels although every pixel fails.
+// A piece's end values are lambda's values at dyadic points: the first
+// coefficients of the pieces at level `levels`, and the last piece's last
+// (equal rounded polynomials for equal exact values: LazyPieces).
+thread_local std::uint64_t tl_witness_blocks = 0;  // published to witness_blocks per block job
+enum class Witness { found, none, none_for_quarters };
+Witness not_monotone_witness(const RegionEntry& e, const Monomials& mono, int levels) {
+  const int n1 = e.n_xi, pieces = 1 << levels;
+  const std::array<double, kPoly3Terms>* rows[(1 << kPieceLevels) + 1];
+  for (int j = 0; j < pieces; ++j) rows[j] = &e.xi[static_cast<std::size_t>(pieces - 1 + j) * n1];
+  rows[pieces] = &e.xi[static_cast<std::size_t>(2 * pieces - 2) * n1 + n1 - 1];
+  Bounded at[(1 << kPieceLevels) + 1];
+  box_eval::eval_polys(simd_level(), rows, pieces + 1, mono, at);
+  int sign[(1 << kPieceLevels) + 1];
+  bool pos = false, neg = false, inner_unknown = false;
+  for (int j = 0; j <= pieces; ++j) {
+    sign[j] = certain_sign(at[j]);
+    pos = pos || sign[j] == 1;
+    neg = neg || sign[j] == -1;
+    inner_unknown = inner_unknown || (j > 0 && j < pieces && sign[j] == kSignUnknown);
+  }
+  // One certain sign s and no unknown inner value: in a sub-box the certain
+  // values keep s (the exact values do), so a witness there needs an end at
+  // -s against a value at s; with the other end certain at s, that is the
+  // whole segment's ends, which the sub-box's level-0 test catches first.
+  if (!(pos && neg) && !inner_unknown && !(sign[0] == kSignUnknown && sign[pieces] == kSignUnknown))
+    return Witness::none_for_quarters;
+  for (int step = pieces; step >= 1; step /= 2)
+    for (int a = 0; a + step <= pieces; a += step)
+      if (ends_opposite(sign[a], sign[a + step]) == Truth::yes) return Witness::found;
+  return Witness::none;
+}
+
 // With `out` (labels only, box_reuse.hpp): what the proof learned goes to
 // out (for the quarters and pixels when it fails), starting from what the
 // parent block learned (`parent`, may be null), whose facts it also uses.
@@ -150,6 +193,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     if (parent)
       for (std::size_t q = 0; q < s.entries.size(); ++q) {
         out->xi[q].nodes.assign(parent->xi[q].nodes.begin(), parent->xi[q].nodes.end());
+        out->xi[q].no_witness = parent->xi[q].no_witness;
         out->nu[q].nodes.assign(parent->nu[q].nodes.begin(), parent->nu[q].nodes.end());
       }
   }
@@ -213,7 +257,17 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     }
     switch (mono_outcome) {
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
-      case BoxOutcome::unresolved: return std::nullopt;  // smaller blocks will do
+      case BoxOutcome::unresolved:
+        if (!(px && px->no_witness) && witness_search()) {
+          const Witness w = not_monotone_witness(e, mono, s.piece_levels);
+          if (w == Witness::found) {
+            first_try = q;
+            ++tl_witness_blocks;
+            return PixelResult{0, 0, false};
+          }
+          if (ox) ox->no_witness = w == Witness::none_for_quarters;
+        }
+        return std::nullopt;  // smaller blocks will do
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
       case BoxOutcome::decreasing: c.monotonicity = {Curvature::decreasing, 0}; break;
     }
@@ -406,6 +460,10 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
   add_block_reuse_counts(counts);
   publish_simd_pixel_counts();
   publish_pixel_lane_traversals();
+  if (tl_witness_blocks) {
+    witness_blocks.fetch_add(tl_witness_blocks, std::memory_order_relaxed);
+    tl_witness_blocks = 0;
+  }
   return exact;
 }
 

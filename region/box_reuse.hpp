@@ -70,6 +70,16 @@ inline bool block_reuse() { return block_reuse_override.load(std::memory_order_r
 /// (tests, benchmarks, tools/cli_common.hpp read_environment).
 inline void set_block_reuse(int on) { block_reuse_override.store(on, std::memory_order_relaxed); }
 
+inline std::atomic<int> witness_override{-1};
+/// Whether a failed block proof searches for a not-monotone witness
+/// (block.cpp, not_monotone_witness; default on; tests turn it off to
+/// compare). Labels are the same either way.
+inline bool witness_search() { return witness_override.load(std::memory_order_relaxed) != 0; }
+inline void set_witness_search(int on) { witness_override.store(on, std::memory_order_relaxed); }
+/// Blocks a witness decided since the process started (tests: so that a
+/// comparison cannot pass vacuously), added once per block job.
+inline std::atomic<std::uint64_t> witness_blocks{0};
+
 /// How often reuse happened since the process started (tests: so that a
 /// comparison cannot pass vacuously).
 struct BlockReuseCounts {
@@ -99,9 +109,16 @@ struct SegmentRecord {
   };
   std::vector<Node> nodes;
   bool level0_no = false;  ///< the whole segment's ends certainly not opposite over the box
+  /// A search for a not-monotone witness over the box (block.cpp,
+  /// not_monotone_witness) showed that none in a sub-box can go beyond the
+  /// sub-box's level-0 test: the quarters skip their own search (a skipped
+  /// search never changes a label, it only leaves a block to its quarters
+  /// and pixels).
+  bool no_witness = false;
   void clear() {
     nodes.clear();
     level0_no = false;
+    no_witness = false;
   }
   /// The direction of the whole segment when its root is uniform.
   NodeFact whole() const {

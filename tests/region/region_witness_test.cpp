@@ -1,0 +1,95 @@
+// The block proof's not-monotone witness (block.cpp, not_monotone_witness):
+// a failed box proof that finds a dyadic piece whose end values certainly
+// have opposite signs over the box labels the whole box "not monotone".
+// Label maps (no depth map) rendered with the search must equal those
+// rendered without it (set_witness_search) pixel by pixel, in the default
+// view of a cubic Bezier (fig2 P1), the uniform cubic B-spline (fig8 P3),
+// the degree-9 Bezier (P4) and a rational cubic B-spline (nurbs_cubic P3),
+// D = 10 and 16, CMRWI and CMR; and every pixel of the default view of the
+// two cubics must have the exact path's code. Each scene checks that a
+// witness decided some block, so that equal maps cannot come from the
+// search never succeeding.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+#include "region/box_reuse.hpp"
+#include "region/region.hpp"
+#include "region/region_setup.hpp"
+#include "spline/spline_json.hpp"
+#include "tests/region/boundary_point.hpp"
+
+namespace cmr {
+namespace {
+
+using namespace cmr::backend;
+
+const std::string kSource = CMR_SOURCE_DIR;
+
+// Restores the default whatever the test's outcome.
+struct WitnessSwitch {
+  ~WitnessSwitch() { set_witness_search(-1); }
+};
+
+RegionImage render(const RegionSetup& s, bool witness) {
+  set_witness_search(witness ? 1 : 0);
+  return region_cpu(s, 2);
+}
+
+void expect_witness_labels(const std::string& file, int point, int exact_size) {
+  const WitnessSwitch restore;
+  const BSpline spline = read_spline_file(kSource + file);
+  const std::uint64_t before = witness_blocks.load();
+  for (const Mode mode : {Mode::cmrwi, Mode::cmr})
+    for (const int depth : {10, 16}) {
+      const RegionProblem p =
+          RegionProblem::make(spline, test::region_request(point, depth, 256, std::nullopt, false, mode));
+      const RegionImage on = render(p.setup(), true), off = render(p.setup(), false);
+      int wrong = 0;
+      std::ostringstream first;
+      for (std::size_t at = 0; at < on.labels.size(); ++at)
+        if (on.labels[at] != off.labels[at] && wrong++ < 3)
+          first << "\n  pixel " << at % 256 << ", " << at / 256 << ": code " << int(on.labels[at])
+                << " with the witness, " << int(off.labels[at]) << " without";
+      EXPECT_EQ(wrong, 0) << file << " P" << point << (mode == Mode::cmr ? ", CMR" : ", CMRWI") << ", D = " << depth
+                          << first.str();
+    }
+  EXPECT_GT(witness_blocks.load(), before) << file << ": no block was decided by a witness";
+  if (exact_size == 0) return;
+  // Against the exact path, every pixel (CMRWI, D = 10).
+  const RegionProblem p =
+      RegionProblem::make(spline, test::region_request(point, 10, exact_size, std::nullopt, false, Mode::cmrwi));
+  const RegionSetup& s = p.setup();
+  const std::uint64_t exact_before = witness_blocks.load();
+  const RegionImage on = render(s, true);
+  EXPECT_GT(witness_blocks.load(), exact_before) << file << ": no witness at " << exact_size << "^2";
+  int wrong = 0;
+  std::ostringstream first;
+  for (int j = 0; j < exact_size; ++j)
+    for (int i = 0; i < exact_size; ++i) {
+      const PixelResult exact = classify_position_exact(s, pixel_center(on.view, exact_size, exact_size, i, j));
+      const std::size_t at = static_cast<std::size_t>(j) * exact_size + i;
+      if (on.labels[at] != exact.label && wrong++ < 3)
+        first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
+              << int(exact.label);
+    }
+  EXPECT_EQ(wrong, 0) << file << " P" << point << ", " << exact_size << "^2 against the exact path" << first.str();
+}
+
+TEST(RegionWitness, CubicBezierLabelsUnchangedAndExact) {
+  expect_witness_labels("/examples/figures/fig2.json", 1, 128);
+}
+
+TEST(RegionWitness, UniformCubicLabelsUnchangedAndExact) {
+  expect_witness_labels("/examples/figures/fig8.json", 3, 128);
+}
+
+TEST(RegionWitness, Degree9BezierLabelsUnchanged) { expect_witness_labels("/examples/bezier9.json", 4, 0); }
+
+TEST(RegionWitness, RationalCubicLabelsUnchanged) {
+  expect_witness_labels("/examples/rational/nurbs_cubic.json", 3, 0);
+}
+
+}  // namespace
+}  // namespace cmr
