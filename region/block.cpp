@@ -150,6 +150,7 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
 // coefficients of the pieces at level `levels`, and the last piece's last
 // (equal rounded polynomials for equal exact values: LazyPieces).
 thread_local std::uint64_t tl_witness_blocks = 0;  // published to witness_blocks per block job
+thread_local std::uint64_t tl_unknown_blocks = 0;  // published to unknown_segment_blocks per block job
 enum class Witness { found, none, none_for_quarters };
 Witness not_monotone_witness(const RegionEntry& e, const Monomials& mono, int levels) {
   const int n1 = e.n_xi, pieces = 1 << levels;
@@ -237,6 +238,22 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   const std::size_t n = s.entries.size();
   static thread_local std::size_t first_try = 0;
   const std::size_t start = first_try < n ? first_try : 0;
+  // With several segments, one left unresolved over the box does not end the
+  // proof: the others may still make the label 0 for every position
+  // (fails_whatever_unknown: e.g. one certainly increasing and another
+  // certainly decreasing), as along the curves inside the failing area where
+  // one segment changes from failing to monotone while two others disagree.
+  static thread_local std::vector<char> unknown;
+  unknown.assign(n, 0);
+  bool unresolved = false;
+  const bool several =
+      !(parent && parent->others_decide_nothing) &&
+      std::count_if(s.entries.begin(), s.entries.end(), [](const RegionEntry& e) { return e.classify; }) > 1;
+  if (out && parent) out->others_decide_nothing = parent->others_decide_nothing;
+  // Past an unresolved entry the others get the smallest budget: they only
+  // matter when they are decided simply, and a traversal that fails costs
+  // its whole budget.
+  const int rest_budget = std::min(budget, kBoxMinPieces);
   for (std::size_t step = 0; step < n; ++step) {
     const std::size_t q = (start + step) % n;
     const RegionEntry& e = s.entries[q];
@@ -252,7 +269,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       mono_outcome = BoxOutcome::unresolved;
     } else {
       if (ox) ox->nodes.clear();
-      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, budget, px, ox, counts,
+      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, unresolved ? rest_budget : budget, px, ox, counts,
                                    have_ends[q] ? ends[q].data() : nullptr);
     }
     switch (mono_outcome) {
@@ -267,7 +284,10 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
           }
           if (ox) ox->no_witness = w == Witness::none_for_quarters;
         }
-        return std::nullopt;  // smaller blocks will do
+        if (!several) return std::nullopt;  // smaller blocks will do
+        unknown[q] = 1 | 2;
+        unresolved = true;
+        continue;
       case BoxOutcome::increasing: c.monotonicity = {Curvature::increasing, 0}; break;
       case BoxOutcome::decreasing: c.monotonicity = {Curvature::decreasing, 0}; break;
     }
@@ -284,15 +304,29 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
         kappa = eta_outcome == BoxOutcome::increasing ? 1 : -1;
       } else {
         if (on) on->nodes.clear();
-        eta_outcome = box_traversal(e, mono, s.piece_levels, D, true, &kappa, budget, pn, on, counts);
+        eta_outcome =
+            box_traversal(e, mono, s.piece_levels, D, true, &kappa, unresolved ? rest_budget : budget, pn, on, counts);
       }
       switch (eta_outcome) {
         case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};  // an inflection
-        case BoxOutcome::unresolved: return std::nullopt;
+        case BoxOutcome::unresolved:
+          if (!several) return std::nullopt;
+          classes[s.verdict.slot[e.segment]] = c;
+          unknown[q] = 2;
+          unresolved = true;
+          continue;
         default: c.inflection = {Inflection::none, 0, kappa}; break;
       }
     }
     classes[s.verdict.slot[e.segment]] = c;
+  }
+  if (unresolved) {
+    if (!fails_whatever_unknown(s, classes, unknown)) {
+      if (out) out->others_decide_nothing = std::count(unknown.begin(), unknown.end(), 0) + 1 == static_cast<long>(n);
+      return std::nullopt;  // smaller blocks will do
+    }
+    ++tl_unknown_blocks;
+    return PixelResult{0, 0, false};
   }
   static thread_local std::vector<Joint> joints;
   joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
@@ -463,6 +497,10 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
   if (tl_witness_blocks) {
     witness_blocks.fetch_add(tl_witness_blocks, std::memory_order_relaxed);
     tl_witness_blocks = 0;
+  }
+  if (tl_unknown_blocks) {
+    unknown_segment_blocks.fetch_add(tl_unknown_blocks, std::memory_order_relaxed);
+    tl_unknown_blocks = 0;
   }
   return exact;
 }

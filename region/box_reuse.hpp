@@ -79,6 +79,10 @@ inline void set_witness_search(int on) { witness_override.store(on, std::memory_
 /// Blocks a witness decided since the process started (tests: so that a
 /// comparison cannot pass vacuously), added once per block job.
 inline std::atomic<std::uint64_t> witness_blocks{0};
+/// Blocks labelled 0 with a segment left unresolved, because the others fail
+/// whatever it does (block.cpp, fails_whatever_unknown), since the process
+/// started (tests), added once per block job.
+inline std::atomic<std::uint64_t> unknown_segment_blocks{0};
 
 /// How often reuse happened since the process started (tests: so that a
 /// comparison cannot pass vacuously).
@@ -136,11 +140,18 @@ struct SegmentRecord {
 /// per region entry for xi (Algorithm 1) and for nu (Algorithm 2).
 struct BoxKnowledge {
   std::vector<SegmentRecord> xi, nu;
+  /// The proof left one entry unresolved and the others, all resolved, do
+  /// not fail whatever it does (block.cpp, fails_whatever_unknown): in a
+  /// sub-box they keep their directions, so the sub-box's proof stops at an
+  /// unresolved entry instead of classifying the others (a guess that saves
+  /// their traversals; stopping never changes a label).
+  bool others_decide_nothing = false;
   void reset(std::size_t entries) {
     xi.resize(entries);
     nu.resize(entries);
     for (auto& r : xi) r.clear();
     for (auto& r : nu) r.clear();
+    others_decide_nothing = false;
   }
 };
 

@@ -28,6 +28,15 @@ Rational scaled(Rational q, int e);
 PixelResult verdict(const RegionSetup& s, const std::vector<SegmentClass>& classes, const std::vector<Joint>& joints,
                     bool exact);
 
+// Whether the label is 0 whatever the classes of the entries marked unknown
+// (unknown[q] & 1: its monotonicity, & 2: its inflection) and whatever the
+// jumps of the joints that vary with the position (region.cpp): some group's
+// part_verdict is "none" with those classes read as nothing and those jumps
+// as 0. `classes` holds the template filled in for the other entries; the
+// unknown parts are overwritten.
+bool fails_whatever_unknown(const RegionSetup& s, std::vector<SegmentClass>& classes,
+                            const std::vector<char>& unknown);
+
 // The curvature jumps of the joints whose jump depends on the position, for
 // displacements enclosed by (bx, by) (region.cpp). False when a sign is not
 // certain there.

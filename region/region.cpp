@@ -280,6 +280,35 @@ namespace detail {
 // The curvature jumps of the joints whose jump depends on the position, for
 // displacements enclosed by (bx, by): B = B0 + w d. False when a sign is not
 // certain there.
+// part_verdict's "none" only grows as classes and jumps are filled in: its
+// flags (increasing, decreasing, not monotone, an inflection) are only ever
+// set, "none" is one of them or both directions together, a joint's
+// conflict needs a direction and a non-zero jump, and two certain curvature
+// signs that differ leave a change of sign between neighbours in any
+// sequence that holds them. So a group that is "none" with the unknown
+// classes neutral (neutral_class: read as nothing) and the varying jumps 0
+// is "none" for every position, and with it the label (a failing group
+// fails every label kind, as the block proof's shortcut already takes it).
+bool fails_whatever_unknown(const RegionSetup& s, std::vector<SegmentClass>& classes,
+                            const std::vector<char>& unknown) {
+  const SegmentClass neutral = neutral_class();
+  for (std::size_t q = 0; q < s.entries.size(); ++q) {
+    if (!unknown[q]) continue;
+    SegmentClass& c = classes[s.verdict.slot[s.entries[q].segment]];
+    if (unknown[q] & 1) c.monotonicity = neutral.monotonicity;
+    if (unknown[q] & 2) c.inflection = neutral.inflection;
+  }
+  static thread_local std::vector<Joint> joints;
+  joints.assign(s.verdict.joints.begin(), s.verdict.joints.end());
+  for (const RegionJoint& j : s.varying) joints[verdict_joint(s, j)].jump = 0;
+  const std::vector<int>& starts = s.verdict.starts;
+  for (std::size_t g = 0; g < starts.size(); ++g) {
+    const int end = g + 1 < starts.size() ? starts[g + 1] : static_cast<int>(classes.size());
+    if (part_verdict(classes, joints, starts[g], end, s.options.mode) == Direction::none) return true;
+  }
+  return false;
+}
+
 bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joint>& joints) {
   if (s.varying.empty()) return true;
   std::vector<std::vector<Point<Bounded>>> B(s.entries.size());

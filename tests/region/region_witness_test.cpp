@@ -1,6 +1,10 @@
-// The block proof's not-monotone witness (block.cpp, not_monotone_witness):
-// a failed box proof that finds a dyadic piece whose end values certainly
-// have opposite signs over the box labels the whole box "not monotone".
+// Block proofs that label a box 0 without deciding every segment
+// (block.cpp): the not-monotone witness (not_monotone_witness: a failed box
+// proof that finds a dyadic piece whose end values certainly have opposite
+// signs over the box labels the whole box "not monotone"), and a segment
+// left unresolved while the others fail whatever it does
+// (fails_whatever_unknown: e.g. one certainly increasing, one certainly
+// decreasing).
 // Label maps (no depth map) rendered with the search must equal those
 // rendered without it (set_witness_search) pixel by pixel, in the default
 // view of a cubic Bezier (fig2 P1), the uniform cubic B-spline (fig8 P3),
@@ -8,10 +12,13 @@
 // D = 10 and 16, CMRWI and CMR; and every pixel of the default view of the
 // two cubics must have the exact path's code. Each scene checks that a
 // witness decided some block, so that equal maps cannot come from the
-// search never succeeding.
+// search never succeeding, and the uniform cubic (three spans) that some
+// block was labelled with a span unresolved.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <sstream>
+#include <vector>
 #include <string>
 
 #include "region/box_reuse.hpp"
@@ -37,7 +44,7 @@ RegionImage render(const RegionSetup& s, bool witness) {
   return region_cpu(s, 2);
 }
 
-void expect_witness_labels(const std::string& file, int point, int exact_size) {
+void expect_witness_labels(const std::string& file, int point, int exact_size, bool expect_unknown = false) {
   const WitnessSwitch restore;
   const BSpline spline = read_spline_file(kSource + file);
   const std::uint64_t before = witness_blocks.load();
@@ -61,9 +68,13 @@ void expect_witness_labels(const std::string& file, int point, int exact_size) {
   const RegionProblem p =
       RegionProblem::make(spline, test::region_request(point, 10, exact_size, std::nullopt, false, Mode::cmrwi));
   const RegionSetup& s = p.setup();
-  const std::uint64_t exact_before = witness_blocks.load();
+  const std::uint64_t exact_before = witness_blocks.load(), unknown_before = unknown_segment_blocks.load();
   const RegionImage on = render(s, true);
   EXPECT_GT(witness_blocks.load(), exact_before) << file << ": no witness at " << exact_size << "^2";
+  if (expect_unknown) {
+    EXPECT_GT(unknown_segment_blocks.load(), unknown_before)
+        << file << ": no block labelled with a span unresolved at " << exact_size << "^2";
+  }
   int wrong = 0;
   std::ostringstream first;
   for (int j = 0; j < exact_size; ++j)
@@ -82,13 +93,55 @@ TEST(RegionWitness, CubicBezierLabelsUnchangedAndExact) {
 }
 
 TEST(RegionWitness, UniformCubicLabelsUnchangedAndExact) {
-  expect_witness_labels("/examples/figures/fig8.json", 3, 128);
+  expect_witness_labels("/examples/figures/fig8.json", 3, 128, true);
 }
 
 TEST(RegionWitness, Degree9BezierLabelsUnchanged) { expect_witness_labels("/examples/bezier9.json", 4, 0); }
 
 TEST(RegionWitness, RationalCubicLabelsUnchanged) {
   expect_witness_labels("/examples/rational/nurbs_cubic.json", 3, 0);
+}
+
+// The labels of groups of spans (a split at a joint, alternating groups,
+// each span on its own) of the uniform cubic against the exact path, every
+// pixel of its default view, CMRWI and CMR: a group fails on its own spans
+// (fails_whatever_unknown judges each group), and the label kinds' own
+// rules come after it.
+TEST(RegionWitness, GroupsOfSpansAreExact) {
+  const WitnessSwitch restore;
+  const BSpline spline = read_spline_file(kSource + "/examples/figures/fig8.json");
+  const int size = 64;
+  struct Groups {
+    const char* name;
+    std::optional<int> split;
+    std::vector<int> splits;
+    bool each_piece;
+  };
+  const std::uint64_t unknown_before = unknown_segment_blocks.load();
+  for (const Groups& g : {Groups{"split 1", 1, {}, false}, Groups{"split 2", 2, {}, false},
+                          Groups{"alternating 1,2", std::nullopt, {1, 2}, false},
+                          Groups{"each piece", std::nullopt, {}, true}})
+    for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
+      RegionRequest o = test::region_request(3, 10, size, std::nullopt, false, mode);
+      o.split = g.split;
+      o.splits = g.splits;
+      o.each_piece = g.each_piece;
+      const RegionProblem p = RegionProblem::make(spline, o);
+      const RegionSetup& s = p.setup();
+      const RegionImage on = render(s, true);
+      int wrong = 0;
+      std::ostringstream first;
+      for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) {
+          const PixelResult exact = classify_position_exact(s, pixel_center(on.view, size, size, i, j));
+          const std::size_t at = static_cast<std::size_t>(j) * size + i;
+          if (on.labels[at] != exact.label && wrong++ < 3)
+            first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
+                  << int(exact.label);
+        }
+      EXPECT_EQ(wrong, 0) << g.name << (mode == Mode::cmr ? ", CMR" : ", CMRWI") << first.str();
+    }
+  EXPECT_GT(unknown_segment_blocks.load(), unknown_before) << "no group labelled with a span unresolved";
 }
 
 }  // namespace
