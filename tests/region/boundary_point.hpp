@@ -1,10 +1,12 @@
 #pragma once
-// Helpers of the region tests. A point on a region boundary, for tests that zoom there: the first label
+// Helpers of the region tests: their request; a label map against the exact
+// path. A point on a region boundary, for tests that zoom there: the first label
 // change along a row of problem p's default view at size x size (rows from
 // the middle out, labels of region_cpu), bisected 60 times on exact labels
 // (bench_region finds its zoom centres the same way).
 #include <cstdint>
 #include <optional>
+#include <sstream>
 
 #include "region/region.hpp"
 #include "region/region_setup.hpp"
@@ -44,6 +46,23 @@ inline std::optional<Vec2> boundary_point(const RegionProblem& p, int size) {
     }
   }
   return std::nullopt;
+}
+
+/// The pixels of a size x size label map `img` (of setup s, no depth map)
+/// whose code is not the exact path's at their centre; the first three are
+/// described in `first`.
+inline int labels_not_exact(const backend::RegionSetup& s, const backend::RegionImage& img, int size,
+                            std::ostringstream& first) {
+  int wrong = 0;
+  for (int j = 0; j < size; ++j)
+    for (int i = 0; i < size; ++i) {
+      const std::uint8_t exact = backend::classify_position_exact(s, pixel_center(img.view, size, size, i, j)).label;
+      const std::size_t at = static_cast<std::size_t>(j) * size + i;
+      if (img.labels[at] != exact && wrong++ < 3)
+        first << "\n  pixel (" << i << ", " << j << "): code " << int(img.labels[at]) << ", exact code "
+              << int(exact);
+    }
+  return wrong;
 }
 
 }  // namespace cmr::test

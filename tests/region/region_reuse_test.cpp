@@ -98,16 +98,8 @@ void expect_reuse_exact(const BSpline& spline, int point, const std::string& nam
           const RegionProblem p = RegionProblem::make(spline, request(point, depth, exact_size, v, mode));
           const RegionSetup& s = p.setup();
           const RegionImage on = render(s, true);
-          int wrong = 0;
           std::ostringstream first;
-          for (int j = 0; j < exact_size; ++j)
-            for (int i = 0; i < exact_size; ++i) {
-              const PixelResult exact = classify_position_exact(s, pixel_center(v, exact_size, exact_size, i, j));
-              const std::size_t at = static_cast<std::size_t>(j) * exact_size + i;
-              if (on.labels[at] != exact.label && wrong++ < 3)
-                first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
-                      << int(exact.label);
-            }
+          const int wrong = test::labels_not_exact(s, on, exact_size, first);
           EXPECT_EQ(wrong, 0) << where.str() << ", " << exact_size << "^2 against the exact path" << first.str();
         }
       }

@@ -60,16 +60,8 @@ void expect_exact(const BSpline& spline, int point, int exact_size, Mode mode, c
     EXPECT_GT(unknown_segment_blocks.load(), unknown_before)
         << file << ": no block labelled with a span unresolved at " << exact_size << "^2";
   }
-  int wrong = 0;
   std::ostringstream first;
-  for (int j = 0; j < exact_size; ++j)
-    for (int i = 0; i < exact_size; ++i) {
-      const PixelResult exact = classify_position_exact(s, pixel_center(on.view, exact_size, exact_size, i, j));
-      const std::size_t at = static_cast<std::size_t>(j) * exact_size + i;
-      if (on.labels[at] != exact.label && wrong++ < 3)
-        first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
-              << int(exact.label);
-    }
+  const int wrong = test::labels_not_exact(s, on, exact_size, first);
   EXPECT_EQ(wrong, 0) << file << " P" << point << (mode == Mode::cmr ? ", CMR, " : ", CMRWI, ") << exact_size
                       << "^2 against the exact path" << first.str();
 }
@@ -138,16 +130,8 @@ TEST(RegionWitness, GroupsOfSpansAreExact) {
       const RegionProblem p = RegionProblem::make(spline, o);
       const RegionSetup& s = p.setup();
       const RegionImage on = render(s, true);
-      int wrong = 0;
       std::ostringstream first;
-      for (int j = 0; j < size; ++j)
-        for (int i = 0; i < size; ++i) {
-          const PixelResult exact = classify_position_exact(s, pixel_center(on.view, size, size, i, j));
-          const std::size_t at = static_cast<std::size_t>(j) * size + i;
-          if (on.labels[at] != exact.label && wrong++ < 3)
-            first << "\n  pixel (" << i << ", " << j << "): code " << int(on.labels[at]) << ", exact code "
-                  << int(exact.label);
-        }
+      const int wrong = test::labels_not_exact(s, on, size, first);
       EXPECT_EQ(wrong, 0) << g.name << (mode == Mode::cmr ? ", CMR" : ", CMRWI") << first.str();
     }
   EXPECT_GT(unknown_segment_blocks.load(), unknown_before) << "no group labelled with a span unresolved";
