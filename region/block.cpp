@@ -135,6 +135,11 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
   return r;
 }
 
+// This thread's blocks decided by a witness, and with a segment left
+// unresolved (fails_whatever_unknown), published once per block job.
+thread_local std::uint64_t tl_witness_blocks = 0;
+thread_local std::uint64_t tl_unknown_blocks = 0;
+
 // A witness that the segment of `e` is not monotone at every position of
 // the box: a dyadic piece of level <= levels (the precomputed ones) whose
 // end values certainly have opposite signs. Every position's Algorithm 1
@@ -149,8 +154,6 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
 // A piece's end values are lambda's values at dyadic points: the first
 // coefficients of the pieces at level `levels`, and the last piece's last
 // (equal rounded polynomials for equal exact values: LazyPieces).
-thread_local std::uint64_t tl_witness_blocks = 0;  // published to witness_blocks per block job
-thread_local std::uint64_t tl_unknown_blocks = 0;  // published to unknown_segment_blocks per block job
 enum class Witness { found, none, none_for_quarters };
 Witness not_monotone_witness(const RegionEntry& e, const Monomials& mono, int levels) {
   const int n1 = e.n_xi, pieces = 1 << levels;
@@ -269,8 +272,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       mono_outcome = BoxOutcome::unresolved;
     } else {
       if (ox) ox->nodes.clear();
-      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, unresolved ? rest_budget : budget, px, ox, counts,
-                                   have_ends[q] ? ends[q].data() : nullptr);
+      mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, unresolved ? rest_budget : budget, px,
+                                   ox, counts, have_ends[q] ? ends[q].data() : nullptr);
     }
     switch (mono_outcome) {
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
@@ -322,7 +325,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   }
   if (unresolved) {
     if (!fails_whatever_unknown(s, classes, unknown)) {
-      if (out) out->others_decide_nothing = std::count(unknown.begin(), unknown.end(), 0) + 1 == static_cast<long>(n);
+      const auto zeros = std::count(unknown.begin(), unknown.end(), 0);
+      if (out) out->others_decide_nothing = n - static_cast<std::size_t>(zeros) == 1;  // one entry unknown
       return std::nullopt;  // smaller blocks will do
     }
     ++tl_unknown_blocks;

@@ -76,7 +76,8 @@ __attribute__((target("avx2"))) void eval_four(const std::array<double, kTerms>*
     c[9] = _mm256_unpackhi_pd(r02, r13);
   }
   __m256d nonzero = _mm256_setzero_pd();
-  for (int i = 0; i < kTerms; ++i) nonzero = _mm256_or_pd(nonzero, _mm256_cmp_pd(c[i], _mm256_setzero_pd(), _CMP_NEQ_UQ));
+  for (int i = 0; i < kTerms; ++i)
+    nonzero = _mm256_or_pd(nonzero, _mm256_cmp_pd(c[i], _mm256_setzero_pd(), _CMP_NEQ_UQ));
   __m256d d[kTerms];
   for (int st = 0; st < kTerms; ++st) d[st] = _mm256_setzero_pd();
 #pragma GCC unroll 35
