@@ -210,6 +210,14 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   // and the depth-first traversal goes down that edge first, to level D or
   // to the end of its budget, and fails. It is unresolved at once (always
   // safe: the quarters or the pixels decide; labels cannot change).
+  // Likewise when xi_last has no certain sign: every piece on the right edge
+  // ends with it, so no traversal can prove a direction, only "not
+  // monotone" from a piece left of that edge, after its descent of the left
+  // pieces and of the right edge to level D. The witness search (on the
+  // unresolved segment) still looks for a piece with opposite end signs;
+  // what is lost is only such a piece below level 3 or a mix of directions
+  // left of the edge. In a boundary zoom where a root leaves the span
+  // through t = 1 this halved the cubic Bezier's frame (docs/performance.md).
   static thread_local std::vector<char> hopeless;
   hopeless.assign(s.entries.size(), 0);
   // xi_0 and xi_last over the box, kept for the traversal's root piece (the same values).
@@ -231,7 +239,7 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     const Truth fails = ends_opposite(first, last);
     if (fails == Truth::yes) return PixelResult{0, 0, false};
     if (out) out->xi[q].level0_no = fails == Truth::no;
-    hopeless[q] = first == kSignUnknown;
+    hopeless[q] = first == kSignUnknown || last == kSignUnknown;
   }
   static thread_local std::vector<SegmentClass> classes;  // reused: no heap per block
   classes.assign(s.verdict.classes.begin(), s.verdict.classes.end());
