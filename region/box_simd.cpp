@@ -24,39 +24,62 @@ constexpr double kSlack = 16 * Bounded::kTiny;
 
 #if defined(__x86_64__)
 
-// Two polynomials a and b per instruction (SSE2, the x86-64 baseline).
-void eval_two(const std::array<double, kTerms>& a, const std::array<double, kTerms>& b, const Monomials& m,
-              Bounded* out) {
-  __m128d c[kTerms];
-  __m128d nonzero = _mm_setzero_pd();
-  for (int i = 0; i < kTerms; ++i) {
-    c[i] = _mm_set_pd(b[i], a[i]);
-    nonzero = _mm_or_pd(nonzero, _mm_cmpneq_pd(c[i], _mm_setzero_pd()));
-  }
-  __m128d d[kTerms];
-  for (int st = 0; st < kTerms; ++st) d[st] = _mm_setzero_pd();
+// W doubles per instruction (GCC vector extensions, as pixel_lanes.hpp):
+// W = 2 is SSE2, the x86-64 baseline; W = 4 is inlined into an AVX2
+// function below, where it compiles to 256-bit instructions.
+template <int W>
+struct LaneTypes;
+template <>
+struct LaneTypes<2> {
+  typedef double Values __attribute__((vector_size(16)));
+  typedef long long Bits __attribute__((vector_size(16)));
+};
+template <>
+struct LaneTypes<4> {
+  typedef double Values __attribute__((vector_size(32)));
+  typedef long long Bits __attribute__((vector_size(32)));
+};
+template <int W>
+using Lanes = typename LaneTypes<W>::Values;
+
+// eval_poly's arithmetic on W polynomials at once, their coefficients
+// transposed: c[i][l] is coefficient i of polynomial l. Each lane does the
+// scalar code's multiplies and adds in its order.
+template <int W>
+[[gnu::always_inline]] inline void eval_lanes(const Lanes<W>* c, const Monomials& m, Bounded* out) {
+  using V = Lanes<W>;
+  using Bits = typename LaneTypes<W>::Bits;
+  const Bits magnitude = Bits{} + 0x7fffffffffffffffLL;  // |x| as fabs gives it: every bit but the sign
+  V abs_c[kTerms];
+  for (int i = 0; i < kTerms; ++i) abs_c[i] = reinterpret_cast<V>(reinterpret_cast<Bits>(c[i]) & magnitude);
+  Bits nonzero = c[0] != 0;  // NaN counts as non-zero, as in eval_poly's test
+  for (int i = 1; i < kTerms; ++i) nonzero |= c[i] != 0;
+  V d[kTerms] = {};
 #pragma GCC unroll 35
   for (int k = 0; k < Monomials::kPairs; ++k)
-    d[kPairTable.st[k]] = _mm_add_pd(d[kPairTable.st[k]], _mm_mul_pd(c[kPairTable.m[k]], _mm_set1_pd(m.tv[k])));
-  const __m128d sign = _mm_set1_pd(-0.0);
-  __m128d mag = _mm_setzero_pd();
-  for (int i = 0; i < kTerms; ++i) mag = _mm_add_pd(mag, _mm_mul_pd(_mm_andnot_pd(sign, c[i]), _mm_set1_pd(m.g[i])));
-  __m128d err = _mm_add_pd(_mm_mul_pd(_mm_set1_pd(kMagFactor), mag), _mm_set1_pd(kSlack));
+    d[kPairTable.st[k]] = d[kPairTable.st[k]] + c[kPairTable.m[k]] * m.tv[k];
+  V mag = {};
+  for (int i = 0; i < kTerms; ++i) mag = mag + abs_c[i] * m.g[i];
+  V err = kMagFactor * mag + kSlack;
   for (int st = 1; st < kTerms; ++st)
-    err = _mm_add_pd(err, _mm_mul_pd(_mm_andnot_pd(sign, d[st]), _mm_set1_pd(m.rw[st])));
+    err = err + reinterpret_cast<V>(reinterpret_cast<Bits>(d[st]) & magnitude) * m.rw[st];
   // An all-zero polynomial is exactly zero (eval_poly's first test).
-  alignas(16) double v[2], e[2];
-  _mm_store_pd(v, _mm_and_pd(d[0], nonzero));
-  _mm_store_pd(e, _mm_and_pd(err, nonzero));
-  out[0] = {v[0], e[0]};
-  out[1] = {v[1], e[1]};
+  for (int l = 0; l < W; ++l) out[l] = nonzero[l] ? Bounded{d[0][l], err[l]} : Bounded{0.0, 0.0};
 }
 
-// Four polynomials per instruction.
+// Two polynomials per instruction (SSE2).
+void eval_two(const std::array<double, kTerms>* const* p, const Monomials& m, Bounded* out) {
+  Lanes<2> c[kTerms];
+  for (int i = 0; i < kTerms; ++i) c[i] = Lanes<2>{(*p[0])[i], (*p[1])[i]};
+  eval_lanes<2>(c, m, out);
+}
+
+// Four polynomials per instruction. target("avx2") only: no FMA, so the
+// compiler cannot contract a multiply and an add into one rounding.
 __attribute__((target("avx2"))) void eval_four(const std::array<double, kTerms>* const* p, const Monomials& m,
                                                Bounded* out) {
   // Transpose the four rows of ten coefficients into c[i] = (p0[i], p1[i], p2[i], p3[i]).
-  __m256d c[kTerms];
+  Lanes<4> c[kTerms];
   for (int i0 = 0; i0 < 8; i0 += 4) {
     const __m256d r0 = _mm256_loadu_pd(p[0]->data() + i0), r1 = _mm256_loadu_pd(p[1]->data() + i0);
     const __m256d r2 = _mm256_loadu_pd(p[2]->data() + i0), r3 = _mm256_loadu_pd(p[3]->data() + i0);
@@ -67,34 +90,13 @@ __attribute__((target("avx2"))) void eval_four(const std::array<double, kTerms>*
     c[i0 + 2] = _mm256_permute2f128_pd(lo01, lo23, 0x31);
     c[i0 + 3] = _mm256_permute2f128_pd(hi01, hi23, 0x31);
   }
-  {
-    const __m256d r02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[0]->data() + 8)),
-                                             _mm_loadu_pd(p[2]->data() + 8), 1);
-    const __m256d r13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[1]->data() + 8)),
-                                             _mm_loadu_pd(p[3]->data() + 8), 1);
-    c[8] = _mm256_unpacklo_pd(r02, r13);
-    c[9] = _mm256_unpackhi_pd(r02, r13);
-  }
-  __m256d nonzero = _mm256_setzero_pd();
-  for (int i = 0; i < kTerms; ++i)
-    nonzero = _mm256_or_pd(nonzero, _mm256_cmp_pd(c[i], _mm256_setzero_pd(), _CMP_NEQ_UQ));
-  __m256d d[kTerms];
-  for (int st = 0; st < kTerms; ++st) d[st] = _mm256_setzero_pd();
-#pragma GCC unroll 35
-  for (int k = 0; k < Monomials::kPairs; ++k)
-    d[kPairTable.st[k]] =
-        _mm256_add_pd(d[kPairTable.st[k]], _mm256_mul_pd(c[kPairTable.m[k]], _mm256_set1_pd(m.tv[k])));
-  const __m256d sign = _mm256_set1_pd(-0.0);
-  __m256d mag = _mm256_setzero_pd();
-  for (int i = 0; i < kTerms; ++i)
-    mag = _mm256_add_pd(mag, _mm256_mul_pd(_mm256_andnot_pd(sign, c[i]), _mm256_set1_pd(m.g[i])));
-  __m256d err = _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(kMagFactor), mag), _mm256_set1_pd(kSlack));
-  for (int st = 1; st < kTerms; ++st)
-    err = _mm256_add_pd(err, _mm256_mul_pd(_mm256_andnot_pd(sign, d[st]), _mm256_set1_pd(m.rw[st])));
-  alignas(32) double v[4], e[4];
-  _mm256_store_pd(v, _mm256_and_pd(d[0], nonzero));
-  _mm256_store_pd(e, _mm256_and_pd(err, nonzero));
-  for (int i = 0; i < 4; ++i) out[i] = {v[i], e[i]};
+  const __m256d r02 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[0]->data() + 8)),
+                                           _mm_loadu_pd(p[2]->data() + 8), 1);
+  const __m256d r13 = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[1]->data() + 8)),
+                                           _mm_loadu_pd(p[3]->data() + 8), 1);
+  c[8] = _mm256_unpacklo_pd(r02, r13);
+  c[9] = _mm256_unpackhi_pd(r02, r13);
+  eval_lanes<4>(c, m, out);
 }
 
 #endif
@@ -107,7 +109,7 @@ void eval_polys(SimdLevel level, const std::array<double, kPoly3Terms>* const* c
   if (!m.point && level != SimdLevel::scalar) {
     if (level == SimdLevel::avx2)
       for (; count >= 4; count -= 4, c += 4, out += 4) eval_four(c, m, out);
-    for (; count >= 2; count -= 2, c += 2, out += 2) eval_two(*c[0], *c[1], m, out);
+    for (; count >= 2; count -= 2, c += 2, out += 2) eval_two(c, m, out);
     if (count == 1) *out = eval_poly(*c[0], m);
     return;
   }
