@@ -68,7 +68,7 @@ std::optional<PixelResult> classify_fast(const RegionSetup& s, const Monomials& 
 class LazyPieces {
  public:
   LazyPieces(const RegionEntry& e, const Monomials& m, int levels, bool eta, const Bounded* root_ends = nullptr)
-      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi) {
+      : e_(e), m_(m), levels_(levels), eta_(eta), n1_(eta ? e.n_nu : e.n_xi), simd_(simd_level()) {
     static thread_local std::vector<double> scratch;
     static thread_local std::vector<Bounded> inner;
     const std::size_t need = static_cast<std::size_t>(2 * (kMaxDepth + 3)) * n1_;
@@ -160,10 +160,6 @@ class LazyPieces {
     const int g = (k - 1) / 4;
     if (eta_ || m_.point || g >= 64) return from_poly(k);
     if (!(inner_groups_ >> g & 1)) {
-      if (!have_simd_) {
-        simd_ = simd_level();
-        have_simd_ = true;
-      }
       const int first = 1 + 4 * g, count = std::min(4, n1_ - 1 - first);
       const std::array<double, kPoly3Terms>* rows[4];
       for (int i = 0; i < count; ++i) rows[i] = &e_.xi[static_cast<std::size_t>(piece_) * n1_ + first + i];
@@ -177,14 +173,13 @@ class LazyPieces {
   int levels_;
   bool eta_;
   int n1_;
+  SimdLevel simd_;  // eval_polys' level for the groups of inner coefficients
   int level_ = 0, j_ = 0, piece_ = 0;
   double* base_;  // current piece, work space, then one pending slot per level 1..kMaxDepth
   // The current piece's inner coefficients evaluated so far, in groups of
   // four (bit g: coefficients 4g + 1 to 4g + 4), down to the precomputed levels.
   Bounded* inner_;
   mutable std::uint64_t inner_groups_ = 0;
-  mutable SimdLevel simd_ = SimdLevel::scalar;
-  mutable bool have_simd_ = false;
   // The current piece's end values once known (down to the precomputed
   // levels), and per level those of the pending right half. The per-level
   // slots are left uninitialised: split(level) writes a level's slots before

@@ -277,9 +277,6 @@ PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
 
 namespace detail {
 
-// The curvature jumps of the joints whose jump depends on the position, for
-// displacements enclosed by (bx, by): B = B0 + w d. False when a sign is not
-// certain there.
 // part_verdict's "none" only grows as classes and jumps are filled in: its
 // flags (increasing, decreasing, not monotone, an inflection) are only ever
 // set, "none" is one of them or both directions together, a joint's
@@ -309,6 +306,9 @@ bool fails_whatever_unknown(const RegionSetup& s, std::vector<SegmentClass>& cla
   return false;
 }
 
+// The curvature jumps of the joints whose jump depends on the position, for
+// displacements enclosed by (bx, by): B = B0 + w d. False when a sign is not
+// certain there.
 bool varying_jumps(const RegionSetup& s, Bounded bx, Bounded by, std::vector<Joint>& joints) {
   if (s.varying.empty()) return true;
   std::vector<std::vector<Point<Bounded>>> B(s.entries.size());
