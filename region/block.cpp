@@ -409,7 +409,7 @@ RegionImage blank_image(const RegionSetup& s) {
   img.width = o.width;
   img.height = o.height;
   img.view = *o.view;
-  img.labels.assign(static_cast<std::size_t>(o.width) * o.height, 0);
+  img.labels = LabelCodes(labels_of(o), static_cast<std::size_t>(o.width) * o.height);
   img.depth.assign(img.labels.size(), 0);
   return img;
 }

@@ -43,8 +43,7 @@ RegionPixel RegionProblem::classify(Vec2 position) const {
 
 RegionResult CpuRegionBackend::render(const RegionProblem& problem) {
   const auto t0 = std::chrono::steady_clock::now();
-  RegionResult r = backend::to_result(backend::region_cpu(problem.setup(), threads_),
-                                        backend::labels_of(problem.request()));
+  RegionResult r = backend::to_result(backend::region_cpu(problem.setup(), threads_));
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

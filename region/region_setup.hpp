@@ -32,6 +32,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "bezierize/analyze.hpp"
@@ -223,11 +224,53 @@ PixelResult classify_position(const RegionSetup& setup, Vec2 p);
 /// The exact path alone (what classify_position falls back to).
 PixelResult classify_position_exact(const RegionSetup& setup, Vec2 p);
 
+/// A working image's label codes, one byte per pixel, kept in the vector
+/// RegionResult carries for the request's kind of label (Direction, Split,
+/// Alternation or EachPiece: one-byte enums whose values are their codes,
+/// written here through byte pointers), so that to_result hands them over
+/// without copying (copying and checking them took about 21 us of a 250-300
+/// us frame at 512x512; docs/performance.md).
+class LabelCodes {
+ public:
+  LabelCodes() = default;
+  LabelCodes(Labels kind, std::size_t count);                          ///< every code 0
+  LabelCodes(Labels kind, const std::vector<std::uint8_t>& codes);  ///< these codes
+  LabelCodes(const LabelCodes& other) : store_(other.store_) { bind(); }
+  LabelCodes(LabelCodes&& other) noexcept : store_(std::move(other.store_)) {
+    bind();
+    other.bind();
+  }
+  LabelCodes& operator=(const LabelCodes& other);
+  LabelCodes& operator=(LabelCodes&& other) noexcept;
+  /// The kind of label the codes are kept as.
+  Labels kind() const { return static_cast<Labels>(store_.index()); }
+  std::size_t size() const { return size_; }
+  std::uint8_t* data() { return data_; }
+  const std::uint8_t* data() const { return data_; }
+  std::uint8_t& operator[](std::size_t k) { return data_[k]; }
+  std::uint8_t operator[](std::size_t k) const { return data_[k]; }
+  const std::uint8_t* begin() const { return data_; }
+  const std::uint8_t* end() const { return data_ + size_; }
+  /// A copy of the codes (as RegionResult::codes() gives them).
+  std::vector<std::uint8_t> codes() const { return {begin(), end()}; }
+  /// The same codes (whatever kind they are kept as).
+  bool operator==(const LabelCodes& other) const;
+  /// Moves the codes into `r`'s label vector of their kind, leaving this empty.
+  void move_into(RegionResult& r);
+
+ private:
+  void bind();  // data_ and size_ from store_
+  // In the order of Labels' values.
+  std::variant<std::vector<Direction>, std::vector<Split>, std::vector<Alternation>, std::vector<EachPiece>> store_;
+  std::uint8_t* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 /// A backend's working image: label codes.
 struct RegionImage {
   int width = 0, height = 0;
   View view;
-  std::vector<uint8_t> labels;   ///< label codes, row-major, row 0 at the top
+  LabelCodes labels;             ///< label codes, row-major, row 0 at the top
   std::vector<uint8_t> depth;    ///< decision level per pixel
   std::uint64_t exact_pixels = 0;
 };
@@ -270,7 +313,11 @@ Alternation alternating_label(uint8_t code);
 EachPiece piece_label(uint8_t code);
 /// A pixel's public form.
 RegionPixel to_pixel(const PixelResult& r, Labels kind);
-/// An image's public form (labels decoded; seconds left 0).
-RegionResult to_result(RegionImage&& image, Labels kind);
+/// An image's public form (its codes moved into the vector of their kind;
+/// seconds left 0).
+RegionResult to_result(RegionImage&& image);
+/// Checks (CMR_CHECK) that every code is below its kind's count of codes: a
+/// device's output, which to_result takes as it is.
+void check_codes(const LabelCodes& codes);
 
 }  // namespace cmr::backend

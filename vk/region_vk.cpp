@@ -491,7 +491,8 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
   } else {
     if (auto r = shade_whole(s, img); !r) return r.error();
   }
-  RegionResult r = cmr::backend::to_result(std::move(img), cmr::backend::labels_of(s.options));
+  cmr::backend::check_codes(img.labels);  // the device's codes
+  RegionResult r = cmr::backend::to_result(std::move(img));
   r.setup_seconds = pipeline_seconds_ - compiled_before;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

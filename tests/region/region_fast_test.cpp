@@ -181,5 +181,51 @@ TEST(RegionFast, LabelsAndExactPixelsDoNotDependOnTheScale) {
   }
 }
 
+// A render's codes go to RegionResult without a copy (LabelCodes keeps them
+// in the vector of their kind): a copied image owns its own codes, a moved
+// one hands them over, and to_result fills the vector of the codes' kind
+// only. A device's code beyond its kind's count is an internal error.
+TEST(LabelCodes, CopiesOwnTheirCodesAndResultsTakeThemOfTheirKind) {
+  const std::pair<Labels, std::uint8_t> kinds[] = {{Labels::plain, kRegionLabelCodes},
+                                                   {Labels::split, kSplitLabelCodes},
+                                                   {Labels::alternating, kAlternatingLabelCodes},
+                                                   {Labels::each_piece, kPieceLabelCodes}};
+  for (const auto& [kind, count] : kinds) {
+    LabelCodes a(kind, 5);
+    EXPECT_EQ(a.codes(), std::vector<std::uint8_t>(5, 0));
+    a[2] = 1;
+    LabelCodes b = a;
+    b[2] = 0;
+    EXPECT_EQ(a[2], 1);
+    EXPECT_FALSE(a == b);
+    RegionImage img;
+    img.width = 5;
+    img.height = 1;
+    img.labels = std::move(a);
+    EXPECT_EQ(a.size(), 0u);
+    img.depth.assign(5, 0);
+    const std::uint8_t* kept = img.labels.data();
+    img.labels[4] = static_cast<std::uint8_t>(count - 1);
+    check_codes(img.labels);
+    const RegionResult r = to_result(std::move(img));
+    EXPECT_EQ(r.split, kind == Labels::split);
+    EXPECT_EQ(r.alternating, kind == Labels::alternating);
+    EXPECT_EQ(r.each_piece, kind == Labels::each_piece);
+    EXPECT_EQ(r.labels.size(), kind == Labels::plain ? 5u : 0u);
+    EXPECT_EQ(r.split_labels.size(), kind == Labels::split ? 5u : 0u);
+    EXPECT_EQ(r.alternating_labels.size(), kind == Labels::alternating ? 5u : 0u);
+    EXPECT_EQ(r.piece_labels.size(), kind == Labels::each_piece ? 5u : 0u);
+    EXPECT_EQ(r.codes(), (std::vector<std::uint8_t>{0, 0, 1, 0, static_cast<std::uint8_t>(count - 1)}));
+    const void* taken = kind == Labels::plain ? static_cast<const void*>(r.labels.data())
+                        : kind == Labels::split ? static_cast<const void*>(r.split_labels.data())
+                        : kind == Labels::alternating ? static_cast<const void*>(r.alternating_labels.data())
+                                                      : static_cast<const void*>(r.piece_labels.data());
+    EXPECT_EQ(taken, kept) << "the codes were copied, not moved";
+    LabelCodes bad(kind, 3);
+    bad[1] = count;
+    EXPECT_DEATH(check_codes(bad), "internal error");
+  }
+}
+
 }  // namespace
 }  // namespace cmr

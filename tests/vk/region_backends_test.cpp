@@ -183,7 +183,7 @@ TEST(RegionBackends, AFrameSplitIntoRunsIsTheWholeFrame) {
       ASSERT_TRUE(b) << b.error().message;
       const RegionResult r = b.value().render(problem);
       const std::string where = std::string(sc.name) + (share == vk::DeviceShare::whole ? " whole" : " culled");
-      EXPECT_EQ(r.codes(), cpu.labels) << where;
+      EXPECT_EQ(r.codes(), cpu.labels.codes()) << where;
       EXPECT_EQ(r.depth, cpu.depth) << where;
     }
   }
@@ -209,7 +209,7 @@ TEST(RegionBackends, TheDeviceProvesWholeTilesOfALabelMap) {
       RegionRequest labels_only = sc.options;
       labels_only.depth = false;
       const RegionProblem problem = RegionProblem::make(sc.spline, labels_only);
-      EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels) << where;
+      EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels.codes()) << where;
       const vk::VulkanRegionBackend::WholeFrame f = b.value().last_whole_frame();
       EXPECT_EQ(f.tiles, want_tiles) << where;
       tiles += f.tiles;
@@ -217,7 +217,7 @@ TEST(RegionBackends, TheDeviceProvesWholeTilesOfALabelMap) {
       const RegionProblem with_depth = RegionProblem::make(sc.spline, sc.options);
       const RegionResult r = b.value().render(with_depth);
       const RegionImage cpu = test::render(with_depth, {test::Backend::cpu});
-      EXPECT_EQ(r.codes(), cpu.labels) << where << " with depths";
+      EXPECT_EQ(r.codes(), cpu.labels.codes()) << where << " with depths";
       EXPECT_EQ(r.depth, cpu.depth) << where;
       EXPECT_EQ(b.value().last_whole_frame().tiles_queued, want_tiles) << where << ": a tile proven with depths";
     }
@@ -228,7 +228,7 @@ TEST(RegionBackends, TheDeviceProvesWholeTilesOfALabelMap) {
     whole.width = whole.height = 256;
     whole.depth = false;
     const RegionProblem problem = RegionProblem::make(BSpline::bezier({{0, 0}, {1, 1}, {2, 0.2}}), whole);
-    EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels);
+    EXPECT_EQ(b.value().render(problem).codes(), test::render(problem, {test::Backend::cpu}).labels.codes());
     const vk::VulkanRegionBackend::WholeFrame f = b.value().last_whole_frame();
     EXPECT_LT(f.tiles_queued, f.tiles / 4) << "the tile pass proved " << f.tiles - f.tiles_queued << " of " << f.tiles;
   }
@@ -278,7 +278,7 @@ TEST(RegionBackends, FlaggedPixelsBeyondTheListAreFoundInTheLabelMap) {
     ASSERT_TRUE(b) << b.error().message;
     const RegionResult r = b.value().render(problem);
     EXPECT_GT(b.value().last_whole_frame().flagged, 4u);
-    EXPECT_EQ(r.codes(), cpu.labels) << "list of " << listed;
+    EXPECT_EQ(r.codes(), cpu.labels.codes()) << "list of " << listed;
     EXPECT_EQ(r.depth, cpu.depth) << "list of " << listed;
   }
 }

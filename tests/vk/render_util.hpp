@@ -45,7 +45,11 @@ inline backend::RegionImage render(const RegionProblem& problem, const BackendOp
   img.width = r.width;
   img.height = r.height;
   img.view = r.view;
-  img.labels = r.codes();
+  img.labels = backend::LabelCodes(r.each_piece    ? backend::Labels::each_piece
+                                   : r.alternating ? backend::Labels::alternating
+                                   : r.split       ? backend::Labels::split
+                                                   : backend::Labels::plain,
+                                   r.codes());
   img.depth = r.depth;
   img.exact_pixels = r.exact_pixels;
   return img;
