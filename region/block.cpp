@@ -436,17 +436,11 @@ void fill(RegionImage& img, const PixelBlock& b, const PixelResult& r, bool dept
   }
 }
 
-// A block of a few pixels: evaluating the pixels (here, in SIMD chunks
-// through classify_pixels, or on the device when min_block > 1) is cheaper
-// than a box. Returns the pixels the exact path decided.
-std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& b,
-                          int min_block, std::vector<std::array<int, 2>>& listed) {
+// A block of a few pixels, which the CPU's kernel decides (in SIMD chunks
+// through classify_pixels) for less than a box proof costs. Returns the
+// pixels the exact path decided.
+std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImage& img, const PixelBlock& b) {
   std::uint64_t exact = 0;
-  if (min_block > 1) {
-    for (int j = b[1]; j <= b[3]; ++j)
-      for (int i = b[0]; i <= b[2]; ++i) listed.push_back({i, j});
-    return exact;
-  }
   CMR_CHECK((b[2] - b[0] + 1) * (b[3] - b[1] + 1) <= kPixelsPerSmallBlock);
   Vec2 p[kPixelsPerSmallBlock];
   PixelResult r[kPixelsPerSmallBlock];
@@ -464,9 +458,14 @@ std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImag
 }
 
 // Decides one top-level block into img: whole where classify_block holds,
-// else quartered; blocks no larger than min_block are listed (single pixels
-// with min_block == 1 go through the render's per-pixel path, classify_pixel).
-// Returns the pixels the exact path decided.
+// else quartered. With min_block == 1 the blocks of a few pixels go to the
+// CPU's per-pixel kernel (small_block) without a proof; for a device
+// (min_block > 1) every block gets a proof, and the pixels of a failed one
+// whose sides are at most min_block are listed. A device that shares the
+// host's cores (lavapipe) classifies a listed pixel several times slower
+// than the CPU's kernel, so a proof of 2 x 2 pixels pays there where it
+// would not on the CPU (docs/performance.md). Returns the pixels the exact
+// path decided.
 // Labels only (and unless CMR_BLOCK_REUSE=0), a failed block proof hands
 // what it learned to its quarters and, at the end, to its pixels
 // (box_reuse.hpp). Blocks are taken depth first, so the knowledge of the
@@ -485,9 +484,9 @@ std::uint64_t cull_block(const RegionSetup& s, const PixelKernel& k, RegionImage
     todo.pop_back();
     if (reuse && known.size() <= static_cast<std::size_t>(d)) known.resize(static_cast<std::size_t>(d) + 1);
     const BoxKnowledge* parent = reuse && d > 0 ? &known[static_cast<std::size_t>(d) - 1] : nullptr;
-    if ((i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
+    if (min_block == 1 && (i1 - i0 + 1) * (j1 - j0 + 1) <= kPixelsPerSmallBlock) {
       tl_pixel_reuse = {parent, &counts};
-      exact += small_block(s, k, img, b, min_block, listed);
+      exact += small_block(s, k, img, b);
       tl_pixel_reuse = {};
     } else if (const auto r = classify_block_with(s, i0, j0, i1, j1, parent,
                                                   reuse ? &known[static_cast<std::size_t>(d)] : nullptr, &counts)) {

@@ -227,5 +227,32 @@ TEST(LabelCodes, CopiesOwnTheirCodesAndResultsTakeThemOfTheirKind) {
   }
 }
 
+// The host's cull for a device (region_cull with min_block 2, the Vulkan
+// backend's culled share) proves blocks of 2 x 2 pixels too, where the CPU
+// render hands such blocks to its pixel kernel unproved: it lists fewer
+// pixels than a cull that stops at 4 x 4 blocks (which listed as many as one
+// stopping at 2 x 2 before, since no 2 x 2 block got a proof), and every
+// pixel it decides has region_cpu's label.
+TEST(RegionCull, ADeviceCullProvesBlocksOfTwoByTwo) {
+  for (const auto& [file, point] : {std::pair<const char*, int>{"/examples/figures/fig8.json", 3},
+                                    std::pair<const char*, int>{"/examples/figures/fig2.json", 1}}) {
+    const BSpline spline = read_spline_file(kSource + file);
+    const RegionProblem p = RegionProblem::make(spline, test::region_request(point, 10, 256, std::nullopt, false));
+    const RegionSetup& s = p.setup();
+    const RegionImage cpu = region_cpu(s, 2);
+    RegionImage two = blank_image(s), four = blank_image(s);
+    const std::vector<std::array<int, 2>> listed_two = region_cull(s, two, 2, 2);
+    const std::vector<std::array<int, 2>> listed_four = region_cull(s, four, 4, 2);
+    EXPECT_GT(listed_two.size(), 0u) << file;
+    EXPECT_LT(listed_two.size() * 3, listed_four.size() * 2) << file << ": 2 x 2 blocks were not proved";
+    std::vector<char> is_listed(cpu.labels.size(), 0);
+    for (const auto& [i, j] : listed_two) is_listed[static_cast<std::size_t>(j) * 256 + i] = 1;
+    int wrong = 0;
+    for (std::size_t at = 0; at < cpu.labels.size(); ++at)
+      wrong += !is_listed[at] && two.labels[at] != cpu.labels[at];
+    EXPECT_EQ(wrong, 0) << file << ": decided pixels whose label is not region_cpu's";
+  }
+}
+
 }  // namespace
 }  // namespace cmr
