@@ -208,13 +208,14 @@ std::vector<std::byte> pack_region(const RegionSetup& s, RegionPrecision precisi
 namespace {
 
 // Pixels the device could not certify (row-major indices `at`), decided on
-// the host (certified, then exactly), on its threads; their depths only
-// with a depth map.
+// the host (certified, then exactly), on the worker pool's threads (not
+// threads started per frame: most frames flag a few pixels, and starting a
+// thread cost more than deciding them); their depths only with a depth map.
 void decide_on_host(const RegionSetup& s, const std::vector<std::size_t>& at, cmr::backend::RegionImage& img,
                     int threads) {
   const std::size_t w = static_cast<std::size_t>(img.width);
   std::vector<uint8_t> exact(at.size(), 0);
-  cmr::parallel_for(at.size(), threads, [&](std::size_t u) {
+  cmr::WorkerPool::shared().run(at.size(), threads, [&](std::size_t u) {
     const std::size_t k = at[u];
     const int i = static_cast<int>(k % w), j = static_cast<int>(k / w);
     const cmr::backend::PixelResult pr =
