@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The README's ratio table from a bench_region run.
 
-Usage: build/tools/bench/bench_region 3 > run.txt; python3 tools/bench/region_table.py run.txt
+Usage: build/tools/bench/bench_region 10 > run.txt; python3 tools/bench/region_table.py run.txt
 
 Reads the baseline table bench_region prints (one row per scene, view, D and
 size) and writes, as Markdown, one row per scene and view and one column per
