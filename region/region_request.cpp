@@ -203,6 +203,10 @@ RegionPixel to_pixel(const PixelResult& r, Labels kind) {
   return p;
 }
 
+// kind() reads the variant's index as a Labels value.
+static_assert(static_cast<int>(Labels::plain) == 0 && static_cast<int>(Labels::split) == 1 &&
+              static_cast<int>(Labels::alternating) == 2 && static_cast<int>(Labels::each_piece) == 3);
+
 LabelCodes::LabelCodes(Labels kind, std::size_t count) {
   switch (kind) {
     case Labels::plain: store_ = std::vector<Direction>(count); break;
