@@ -30,7 +30,19 @@ struct ComputePipeline::Impl : detail::PipelineCore {
   std::vector<VkPipeline> follow_ups;  // the chain's further passes (run_chain), if made with any
   VkQueryPool timestamps = VK_NULL_HANDLE;  // 2 + follow-ups; none without compute timestamps
   uint32_t stamped = 0;                     // timestamps the last recorded run writes
-  std::vector<double> pass_seconds;         // of the last finished run
+  bool finished = false;                    // the last run was submitted and waited for
+  // Of the last finished run, read from the query pool only when asked
+  // (last_pass_seconds): on lavapipe reading them took 24-43 us a run, a
+  // tenth of a small frame's submission, which no frame but a profiled one
+  // wants.
+  mutable std::vector<double> pass_seconds;
+  mutable bool pass_seconds_read = true;
+  // A run starts: no pass times until it has finished.
+  void forget_pass_seconds() {
+    finished = false;
+    pass_seconds.clear();
+    pass_seconds_read = false;
+  }
 
   Buffer input;     // device-local, read by the shader
   Buffer staging;   // host-visible source of the input upload
@@ -254,6 +266,7 @@ Result<void> ComputePipeline::run(std::span<const std::byte> input, uint32_t cou
 
 Result<void> ComputePipeline::run_chain(std::span<const std::byte> input, uint32_t count, uint32_t words,
                                         const Chain& chain, const std::function<void(std::span<const std::byte>)>& read) {
+  impl_->forget_pass_seconds();
   if (impl_->follow_ups.empty())
     return Error{Errc::other, VK_SUCCESS, "run_chain on a compute pipeline made without a follow-up pass"};
   if (chain.indirect_words.size() != impl_->follow_ups.size())
@@ -274,6 +287,7 @@ Result<void> ComputePipeline::run_passes(std::span<const std::byte> input, uint3
                                          const std::function<void(std::span<const std::byte>)>& read,
                                          const Chain* chain) {
   Impl& p = *impl_;
+  p.forget_pass_seconds();
   if (p.lost)
     return Error{Errc::device_lost, VK_ERROR_DEVICE_LOST, "an earlier run lost the device; create a new Context and pipeline"};
   if (!push_constants.empty() && push_constants.size() != p.push_constant_bytes) {
@@ -332,19 +346,25 @@ Result<void> ComputePipeline::run_passes(std::span<const std::byte> input, uint3
     if (VkResult r = vkInvalidateMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
       return vk_error(r, "vkInvalidateMappedMemoryRanges");
   }
-  p.pass_seconds.clear();
-  if (p.stamped >= 2) {
+  p.finished = true;
+  read(std::span<const std::byte>(p.readback.mapped, std::size_t{words} * 4));
+  return {};
+}
+
+const std::vector<double>& ComputePipeline::last_pass_seconds() const {
+  const Impl& p = *impl_;
+  if (p.pass_seconds_read) return p.pass_seconds;
+  p.pass_seconds_read = true;
+  // The pool keeps the finished run's timestamps until the next run records.
+  if (p.finished && p.stamped >= 2) {
     std::vector<uint64_t> ticks(p.stamped);
     if (vkGetQueryPoolResults(p.device, p.timestamps, 0, p.stamped, ticks.size() * sizeof(uint64_t), ticks.data(),
                               sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
       for (uint32_t k = 1; k < p.stamped; ++k)
         p.pass_seconds.push_back(static_cast<double>(ticks[k] - ticks[k - 1]) * p.state->limits.timestampPeriod * 1e-9);
   }
-  read(std::span<const std::byte>(p.readback.mapped, std::size_t{words} * 4));
-  return {};
+  return p.pass_seconds;
 }
-
-const std::vector<double>& ComputePipeline::last_pass_seconds() const { return impl_->pass_seconds; }
 
 ComputePipeline::ComputePipeline(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 ComputePipeline::ComputePipeline(ComputePipeline&&) noexcept = default;

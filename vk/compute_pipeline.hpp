@@ -110,9 +110,10 @@ class ComputePipeline {
                          const std::function<void(std::span<const std::byte>)>& read);
 
   // The device's time for each pass of the last run or chain, in seconds
-  // (timestamps after the upload and after each dispatch); empty when the
-  // device has no compute timestamps (timestampComputeAndGraphics) or no
-  // run has finished.
+  // (timestamps after the upload and after each dispatch), read from the
+  // device on the first call after a run; empty when the device has no
+  // compute timestamps (timestampComputeAndGraphics) or the last run did
+  // not finish (it failed, or had nothing to dispatch).
   const std::vector<double>& last_pass_seconds() const;
 
  private:

@@ -171,5 +171,31 @@ TEST_F(ComputePipelineTest, AChainRunsTheFollowUpOverWhatTheFirstPassQueued) {
   EXPECT_EQ(bad_follow.error().code, Errc::shader_invalid);
 }
 
+// The pass times are the last finished run's, read from the device when
+// first asked (a frame that does not ask pays nothing): asked twice they
+// are the same; a run refused before its submission has none. Lavapipe has
+// compute timestamps, so there they must be there.
+TEST_F(ComputePipelineTest, PassTimesAreTheLastFinishedRunsReadWhenAsked) {
+  const ComputePipeline::FollowUp follow[] = {{cmr_test_queue_follow_comp_spv}};
+  const uint32_t groups[] = {1};
+  auto p = ComputePipeline::create(*context_, cmr_test_queue_first_comp_spv, {}, follow);
+  ASSERT_TRUE(p) << p.error().message;
+  const uint32_t n = 5000, words = 8 + 2 * n, init[4] = {0, 0, 1, 1};
+  std::vector<uint32_t> input(1 + n, 7);
+  input[0] = n;
+  const auto ignore = [](std::span<const std::byte>) {};
+  ASSERT_TRUE(p.value().run_chain(bytes_of(input), n, words, {0, init, groups, words}, ignore));
+  const std::vector<double> first = p.value().last_pass_seconds();
+  if (context_->device().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    EXPECT_EQ(first.size(), 2u) << "lavapipe has timestamps";
+  }
+  if (!first.empty()) {
+    EXPECT_EQ(first.size(), 2u);
+  }
+  EXPECT_EQ(p.value().last_pass_seconds(), first);
+  ASSERT_FALSE(p.value().run_chain(bytes_of(input), n, 10, {8, init, groups}, ignore));  // counters outside
+  EXPECT_TRUE(p.value().last_pass_seconds().empty()) << "a refused run's pass times";
+}
+
 }  // namespace
 }  // namespace cmr::vk
