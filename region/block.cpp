@@ -539,7 +539,15 @@ std::vector<std::array<int, 2>> region_cull(const RegionSetup& s, RegionImage& i
   return out;
 }
 
+void wake_cull_workers(const RegionSetup& s, int threads) {
+  const RegionRequest& o = s.options;
+  if ((!o.depth && s.fixed_none) || thread_count(threads) < 2) return;  // no batch, or no worker in it
+  if (o.width <= kRegionBlock && o.height <= kRegionBlock) return;    // one block: the caller's alone
+  WorkerPool::shared().wake();
+}
+
 RegionImage region_cpu(const RegionSetup& s, int threads) {
+  wake_cull_workers(s, threads);
   RegionImage img = blank_image(s);
   region_cull(s, img, 1, threads);
   return img;

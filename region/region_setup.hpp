@@ -300,6 +300,13 @@ RegionImage blank_image(const RegionSetup& setup);
 /// decided here and nothing is returned.
 std::vector<std::array<int, 2>> region_cull(const RegionSetup& setup, RegionImage& img, int min_block, int threads);
 
+/// Tells the worker pool that region_cull's batch is coming, where it will
+/// have one (several blocks on several threads, and something to decide):
+/// its sleeping workers wake while the caller clears the image
+/// (WorkerPool::wake; docs/performance.md, "A render wakes its workers
+/// before it clears its image").
+void wake_cull_workers(const RegionSetup& setup, int threads);
+
 /// The CPU render, on `threads` threads (0: all cores): blocks of pixels
 /// decided whole where classify_block holds, quartered down to single pixels
 /// through classify_position elsewhere. Every pixel gets exactly

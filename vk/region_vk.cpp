@@ -484,6 +484,7 @@ Result<RegionResult> VulkanRegionBackend::try_render(const RegionProblem& proble
   const auto t0 = std::chrono::steady_clock::now();
   const double compiled_before = pipeline_seconds_;
   const RegionSetup& s = problem.setup();
+  if (share() == DeviceShare::culled) cmr::backend::wake_cull_workers(s, options_.threads);
   cmr::backend::RegionImage img = cmr::backend::blank_image(s);
   if (share() == DeviceShare::culled) {
     const std::vector<std::array<int, 2>> pixels = cmr::backend::region_cull(s, img, kDeviceBlock, options_.threads);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sched.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
@@ -129,6 +130,96 @@ TEST(WorkerPool, NestedAndConcurrentCallsNeverWait) {
     });
   for (std::thread& t : callers) t.join();
   EXPECT_EQ(total.load(), 4 * 50 * 64);
+}
+
+// CPU seconds of this process, every thread (a thread's time is added when
+// it sleeps or at a tick).
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// WorkerPool::wake: a batch announced ahead runs as any other; a wake()
+// that no batch follows, or one made while another thread's batch runs,
+// leaves the pool as it was.
+TEST(WorkerPool, AWakeIsOnlyAHint) {
+  WorkerPool& pool = WorkerPool::shared();
+  pool.run(8, 2, [](std::size_t) {});  // the workers exist
+  for (int k = 0; k < 50; ++k) {
+    pool.wake();
+    if (k % 3 == 0) std::this_thread::sleep_for(std::chrono::microseconds(500));  // its polling ran out
+    std::vector<std::atomic<int>> seen(static_cast<std::size_t>(k % 5) * 40 + 1);
+    pool.run(seen.size(), 0, [&](std::size_t i) { ++seen[i]; });
+    for (std::size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i].load(), 1) << "index " << i << ", batch " << k;
+  }
+  std::atomic<bool> stop{false};
+  std::thread waker([&] {
+    while (!stop) pool.wake();
+  });
+  std::atomic<int> total{0};
+  for (int k = 0; k < 50; ++k) pool.run(64, 0, [&](std::size_t) { ++total; });
+  stop = true;
+  waker.join();
+  EXPECT_EQ(total.load(), 50 * 64);
+}
+
+// A woken worker polls for the announced batch for a bounded time only, and
+// one that joined the batch does not poll again for it afterwards (it did
+// for 0.3 ms after every region render while the wake stayed unanswered).
+TEST(WorkerPool, AWakeCostsABoundedPollAndNoneOnceTheBatchIsJoined) {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  ASSERT_EQ(sched_getaffinity(0, sizeof allowed, &allowed), 0);
+  if (CPU_COUNT(&allowed) < 2) GTEST_SKIP() << "a single core: the pool has no worker to wake";
+  WorkerPool& pool = WorkerPool::shared();
+  const std::thread::id caller = std::this_thread::get_id();
+  const double workers = CPU_COUNT(&allowed) - 1;
+  pool.run(8, 0, [](std::size_t) {});
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  double c0 = process_cpu_seconds();
+  pool.wake();
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  // Each worker polls at most 0.3 ms.
+  EXPECT_LT(process_cpu_seconds() - c0, workers * 0.3e-3 + 2e-3) << "a wake() with no batch kept a worker busy";
+  // Announced batches that a worker joined: afterwards nothing polls. Each
+  // worker's own CPU clock is read (exact, where the process's clock counts
+  // a thread's time only when it next sleeps). Tried a few times, since on a
+  // loaded machine a worker may not join in time.
+  std::vector<double> after;
+  for (int attempt = 0; attempt < 20 && after.size() < 5; ++attempt) {
+    std::mutex m;
+    std::vector<clockid_t> clocks;  // of the workers that ran a job
+    pool.wake();
+    busy_for(30);
+    pool.run(64, 0, [&](std::size_t) {
+      if (std::this_thread::get_id() != caller) {
+        clockid_t c;
+        ASSERT_EQ(pthread_getcpuclockid(pthread_self(), &c), 0);
+        const std::lock_guard<std::mutex> lock(m);
+        if (std::find(clocks.begin(), clocks.end(), c) == clocks.end()) clocks.push_back(c);
+      }
+      busy_for(10);
+    });
+    const auto workers_cpu = [&] {
+      double sum = 0;
+      for (const clockid_t c : clocks) {
+        timespec t{};
+        clock_gettime(c, &t);
+        sum += static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+      }
+      return sum;
+    };
+    const double w0 = workers_cpu();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (!clocks.empty()) after.push_back((workers_cpu() - w0) / static_cast<double>(clocks.size()));
+  }
+  if (after.empty()) GTEST_SKIP() << "no worker joined an announced batch (a loaded machine)";
+  std::sort(after.begin(), after.end());
+  // Per worker, the median attempt: its way back to sleep (microseconds); a
+  // poll would add 0.3 ms.
+  EXPECT_LT(after[after.size() / 2], 0.1e-3)
+      << "workers polled after joining the batch they were woken for";
 }
 
 TEST(ParallelOrdered, ConsumesEveryResultInOrderWithABoundedWindow) {
