@@ -24,7 +24,8 @@
 //   cells: only the comparison cells whose "scene view D size" text contains
 //   this string (e.g. "zoom 16 512"), and no default-view section.
 //   cmr: in those cells, only cmr's CPU backend (no baselines, no Vulkan),
-//   exactly `repetitions` frames: best wall-clock and CPU seconds per frame,
+//   exactly `repetitions` frames, 0.2 ms apart (settle() below): best
+//   wall-clock and CPU seconds per frame,
 //   for profiling and for comparing builds back to back (under callgrind,
 //   instructions per frame: the difference of two repetition counts);
 //   cmr-idle: the same, each frame after 5 ms with nothing to do; vk:
@@ -183,11 +184,20 @@ struct Scene {
 };
 
 /// Seconds of CPU time this process (every thread, lavapipe's included) has used.
+/// The kernel adds a thread's time to the process's clock when the thread
+/// stops running (or at a timer tick), so a worker that finished its last
+/// job a few microseconds ago may not be counted yet: a measured function's
+/// end is read after settle().
 double cpu_now() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
+
+/// Waits until the threads that ran a measured function have gone to sleep
+/// (a pool's worker returns to its wait within microseconds of its last
+/// job), so that cpu_now() counts their time.
+void settle() { std::this_thread::sleep_for(std::chrono::microseconds(200)); }
 
 /// Best wall-clock seconds (wall) and best CPU seconds of the process (cpu)
 /// of each of fs, measured interleaved: round r runs every function once, in
@@ -207,9 +217,10 @@ Timings<K> best_interleaved(int reps, const std::array<std::function<void()>, K>
   double spent = 0;
   for (int r = 0; r < reps && spent < kMeasureBudget * K; ++r)
     for (std::size_t k = 0; k < K; ++k) {
-      const double t0 = now(), c0 = cpu_now();
+      const double c0 = cpu_now(), t0 = now();
       fs[k]();
       const double t = now() - t0;
+      settle();
       best.wall[k] = std::min(best.wall[k], t);
       best.cpu[k] = std::min(best.cpu[k], cpu_now() - c0);
       spent += t;
@@ -252,9 +263,10 @@ void compare(const Scene& sc, const char* view_name, std::optional<View> view, i
     tc.cpu.fill(1e300);
     for (int k = 0; k < reps; ++k) {
       if (g_idle) std::this_thread::sleep_for(kIdleGap);
-      const double t0 = now(), c0 = cpu_now();
+      const double c0 = cpu_now(), t0 = now();
       (void)render(setup, g_vk_only);
       tc.wall[0] = std::min(tc.wall[0], now() - t0);
+      settle();
       tc.cpu[0] = std::min(tc.cpu[0], cpu_now() - c0);
     }
     std::printf("  %-20s %-12s %2d %4d  cmr %s %8.3f ms wall %8.3f ms CPU %8.2f Mp/s", sc.name, view_name, depth, size,
