@@ -282,6 +282,9 @@ void check_fix_request(const BSpline& spline, const FixRequest& request) {
     throw InputFieldError(field("max_seconds") + ": " + std::to_string(request.max_seconds) + " is not a time >= 0");
   if (request.max_evaluations < 0)
     throw InputError("max_evaluations " + std::to_string(request.max_evaluations) + " is negative");
+  if (request.thread_cpu_clock && request.threads != 1)
+    throw InputError("a limit on the thread's CPU clock needs a search on one thread (threads 1, not " +
+                     std::to_string(request.threads) + ")");
   if (request.grid < 8 || request.grid > 512) throw InputError("grid " + std::to_string(request.grid) + " is outside 8..512");
   if (request.max_depth < 0 || request.max_depth > kMaxDepth)
     throw InputFieldError(field("max_depth") + ": " + std::to_string(request.max_depth) + " is outside 0.." +
@@ -854,6 +857,7 @@ FixResult FixRun::run() {
   search.max_move = request_.max_move > 0 ? request_.max_move : out_.size;
   search.deadline =
       start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request_.max_seconds));
+  if (request_.thread_cpu_clock && request_.max_seconds > 0) search.cpu_deadline = ThreadCpuDeadline(request_.max_seconds);
 
   each_unit_alone();
 

@@ -175,6 +175,11 @@ struct FixRequest {
   /// Wall-clock limit of the search in seconds (0: none); when it runs out,
   /// the best certified fix found so far is returned, or none.
   double max_seconds = 30;
+  /// max_seconds counts the calling thread's CPU time (spline/cpu_clock.hpp),
+  /// not the wall clock, so that a loaded machine ends the search at the
+  /// same place: only with threads 1 (the search then runs on the calling
+  /// thread; InputFieldError otherwise).
+  bool thread_cpu_clock = false;
   /// Limit of the search's evaluations (classifier or judge calls; 0:
   /// none), ended as by max_seconds. Unlike time, with one thread it ends
   /// the search at the same place on any machine and under any load.

@@ -17,6 +17,7 @@
 #include "design/fix.hpp"
 #include "numeric/bernstein.hpp"
 #include "numeric/bounded.hpp"
+#include "spline/cpu_clock.hpp"
 
 namespace cmr::fix_detail {
 
@@ -217,11 +218,14 @@ struct Search {
   /// on, so every loop ends.
   bool expired() {
     if (!timed_out && request.max_evaluations > 0 && evaluations >= request.max_evaluations) timed_out = true;
-    if (!timed_out && request.max_seconds > 0 && Clock::now() > deadline) timed_out = true;
+    if (!timed_out && request.max_seconds > 0 &&
+        (request.thread_cpu_clock ? cpu_deadline.passed() : Clock::now() > deadline))
+      timed_out = true;
     if (!timed_out && request.cancel != nullptr && request.cancel->load(std::memory_order_relaxed)) timed_out = true;
     return timed_out;
   }
   Clock::time_point deadline;
+  ThreadCpuDeadline cpu_deadline;  // FixRequest::thread_cpu_clock (threads 1: this thread's only)
   std::atomic<bool> timed_out{false};
 
   /// How far a moved spline is from the requirement (0: it holds): 4 per

@@ -7,6 +7,7 @@
 #include <limits>
 #include <set>
 
+#include "spline/cpu_clock.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr {
@@ -158,6 +159,7 @@ std::vector<Vec2> candidates(const Unit& u, const BSpline& s, int radius, double
 GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::function<int(const BSpline&)>& judge,
                      const GridOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  ThreadCpuDeadline cpu_deadline = options.thread_cpu_clock ? ThreadCpuDeadline(options.max_seconds) : ThreadCpuDeadline();
   GridFix out;
   out.off_grid_max_distance = fix.max_distance;
   if (!(options.grid > 0) || !std::isfinite(options.grid)) throw InputError("grid must be a positive step");
@@ -255,7 +257,9 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
       }
       if (!tried.insert(key).second) continue;
       if (out.evaluations >= options.max_evaluations ||
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > options.max_seconds)
+          (options.thread_cpu_clock ? cpu_deadline.passed()
+                                    : std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+                                          options.max_seconds))
         break;
       BSpline moved = original;
       for (std::size_t k = 0; k < delta.size(); ++k)

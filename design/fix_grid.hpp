@@ -48,6 +48,9 @@ struct GridOptions {
   double max_move = 0;        ///< largest displacement of a point; 0: none beyond the search's own
   long max_evaluations = 20000;
   double max_seconds = 20;
+  /// max_seconds counts the calling thread's CPU time (spline/cpu_clock.hpp),
+  /// not the wall clock: the same answer on a loaded machine.
+  bool thread_cpu_clock = false;
   /// Points the fix did not move that may move too, each by a few grid
   /// steps (a narrow passing region often holds no grid point for the moved
   /// units alone: a neighbouring handle's step opens it); in order of

@@ -581,6 +581,7 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     g.grid = options.grid;
     g.max_move = options.max_move;
     g.max_seconds = work.seconds_left();
+    g.thread_cpu_clock = true;
     const long segments = current.segment_count();  // each evaluation judges the contour
     g.max_evaluations = std::min(g.max_evaluations, std::max(1L, work.left() / segments));
     g.partners = partners_of(c, f, rules.points);
@@ -614,6 +615,7 @@ std::optional<std::pair<BSpline, int>> attempt_check(const import::Contour& c, c
   const long segments = current.segment_count();  // each evaluation judges the contour
   q.max_evaluations = std::max(1L, work.left() / segments);
   q.threads = 1;
+  q.thread_cpu_clock = true;
   q.max_move = options.max_move;
   q.judge = total_judge(t);
   rules.restrict(q);  // every movable point: with a judge every judged segment fails, so each acts on one
@@ -952,9 +954,7 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
   if (!(options.glyph_work > 0) || !(options.guard_seconds > 0))
     throw InputError("a glyph fix needs work and time: glyph_work and guard_seconds must be positive");
   std::vector<ContourFix> out;
-  const auto t0 = std::chrono::steady_clock::now();
-  Work work(options.glyph_work, t0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                         std::chrono::duration<double>(options.guard_seconds)));
+  Work work(options.glyph_work, options.guard_seconds);
   const std::size_t n = glyph.contours.size();
   for (std::size_t i = 0; i < n; ++i) {
     // Each contour its share of what is left of the glyph's work (one that

@@ -88,9 +88,10 @@ struct GlyphFixOptions {
   /// The default takes 3–9 s on this project's 2-core VM where a glyph
   /// uses all of it (a unit takes about 1.5–4.5 µs there: docs/fix.md).
   long glyph_work = kGlyphWork;
-  /// A wall-clock guard on the glyph (seconds): ends its work sooner on a
-  /// machine too slow for it (ContourFix::guarded; only then can a fix
-  /// differ from run to run).
+  /// A guard on the glyph (CPU seconds of the thread that fixes it, not
+  /// wall-clock ones, so a loaded machine does not reach it first): ends its
+  /// work sooner on a machine too slow for it (ContourFix::guarded; only
+  /// then can a fix differ from run to run).
   double guard_seconds = 9.5;
   /// Several checks on the grid: where the grid descent finds a fix, run
   /// the rounds too (in half the work left) and keep the nearer fix (total

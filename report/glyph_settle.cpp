@@ -328,6 +328,7 @@ std::optional<BSpline> snap_by_parts(const import::Contour& c, const FixResult& 
       if (work.spent()) return std::nullopt;
       g.partners = with_partners ? partners(part) : std::vector<int>{};
       g.max_seconds = work.seconds_left();
+      g.thread_cpu_clock = true;
       g.max_evaluations = std::min(kSnapEvaluations, std::max(1L, work.left() / segments));
       snapped = snap_to_grid(original, part, snap_judge, g);
       work.charge(snapped.evaluations * segments + snapped.combinations / 2);

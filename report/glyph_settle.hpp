@@ -12,6 +12,7 @@
 #include "io/font.hpp"
 #include "report/report.hpp"
 #include "spline/bspline.hpp"
+#include "spline/cpu_clock.hpp"
 #include "spline/vec2.hpp"
 
 namespace cmr::report::glyph_detail {
@@ -23,18 +24,18 @@ namespace cmr::report::glyph_detail {
 /// the run a step changes: RunJudge), of each quick estimate, and of each
 /// evaluation of the fix search, the grid snap and the severity search
 /// (their own counts times the segments each judges), and one per two
-/// candidate combinations the grid snap orders. A wall-clock guard
-/// (GlyphFixOptions::guard_seconds) ends it sooner only on a machine too
-/// slow for the budget; then, and only then, a fix can differ from run to
-/// run (guarded()).
+/// candidate combinations the grid snap orders. A guard on the calling
+/// thread's CPU time (GlyphFixOptions::guard_seconds; spline/cpu_clock.hpp)
+/// ends it sooner only on a machine too slow for the budget, not on a
+/// loaded one; then, and only then, a fix can differ from run to run
+/// (guarded()). The glyph's searches run on the calling thread.
 class Work {
  public:
-  Work(long units, std::chrono::steady_clock::time_point guard) : limit_(units), guard_(guard) {}
+  Work(long units, double guard_seconds) : limit_(units), guard_(guard_seconds) {}
   /// The budget (or the stage's cap) is used up, or the guard has passed.
   bool spent() {
     if (used_ >= limit_) return true;
-    if (!guarded_ && std::chrono::steady_clock::now() > guard_) guarded_ = true;
-    return guarded_;
+    return guard_.passed();
   }
   void charge(long units = 1) { used_ += units; }
   long used() const { return used_; }
@@ -47,17 +48,16 @@ class Work {
   }
   void release(long limit) { limit_ = limit; }
   /// The guard ended the budget (the time ran out before the work).
-  bool guarded() const { return guarded_; }
-  /// Seconds to the guard (at least `floor`): the time limit handed to the
-  /// fix search and the grid snap, whose evaluation limits are left().
-  double seconds_left(double floor = 0.05) const {
-    return std::max(floor, std::chrono::duration<double>(guard_ - std::chrono::steady_clock::now()).count());
-  }
+  bool guarded() const { return guard_.found_passed(); }
+  /// CPU seconds of this thread to the guard (at least `floor`): the time
+  /// limit handed to the fix search and the grid snap (on this thread's CPU
+  /// clock: FixRequest::thread_cpu_clock, GridOptions::thread_cpu_clock),
+  /// whose evaluation limits are left().
+  double seconds_left(double floor = 0.05) const { return std::max(floor, guard_.left()); }
 
  private:
   long used_ = 0, limit_ = 0;
-  std::chrono::steady_clock::time_point guard_;
-  bool guarded_ = false;
+  ThreadCpuDeadline guard_;
 };
 
 /// A unit of the grid descent: points moved together by whole grid steps.

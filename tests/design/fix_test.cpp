@@ -4,15 +4,18 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "bezierize/classify.hpp"
 #include "bezierize/extract.hpp"
 #include "design/fix_detail.hpp"
 #include "region/region.hpp"
+#include "spline/cpu_clock.hpp"
 #include "spline/errors.hpp"
 
 namespace cmr {
@@ -148,6 +151,56 @@ TEST(Fix, ASetCancelFlagEndsTheSearchAsItsTimeLimitWould) {
   const FixResult f = fix(s, r);
   EXPECT_FALSE(f.fixed);
   EXPECT_NE(f.reason.find("time limit"), std::string::npos) << f.reason;
+}
+
+// FixRequest::thread_cpu_clock: a search whose thread is kept waiting (a
+// loaded machine; here a judge that sleeps 2 ms a call) is ended by a
+// wall-clock limit after a few evaluations, but not by the same limit on
+// its thread's CPU clock, which the waiting does not advance: it runs to
+// its evaluation limit, as on an idle machine. Both need threads 1.
+TEST(Fix, ALimitOnTheThreadsCpuClockIsNotReachedByWaiting) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmrwi");
+  r.threads = 1;
+  r.max_seconds = 0.05;
+  r.max_evaluations = 60;
+  int calls = 0;
+  r.judge = [&calls](const BSpline&) {
+    ++calls;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return 1;  // never passes: the search runs until a limit ends it
+  };
+  const FixResult wall = fix(s, r);
+  const int wall_calls = calls;
+  EXPECT_FALSE(wall.fixed);
+  EXPECT_LE(wall_calls, 26) << "the wall-clock limit (50 ms) ends it after at most 25 judge calls of 2 ms";
+  r.thread_cpu_clock = true;
+  calls = 0;
+  const FixResult cpu = fix(s, r);
+  EXPECT_FALSE(cpu.fixed);
+  EXPECT_NE(cpu.reason.find("in 60 evaluations"), std::string::npos) << cpu.reason;
+  EXPECT_GT(calls, wall_calls + 10) << "the waiting ended the search on the CPU clock too";
+  r.threads = 0;
+  EXPECT_THROW(fix(s, r), InputError);
+}
+
+// ThreadCpuDeadline: sleeping does not bring it nearer; spinning does.
+TEST(ThreadCpuDeadline, CountsTheThreadsCpuTimeOnly) {
+  ThreadCpuDeadline d(0.02);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(60)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_FALSE(d.passed()) << "60 ms of sleeping passed a 20 ms CPU limit";
+  }
+  EXPECT_GT(d.left(), 0.0);
+  for (int k = 0; k < 10'000'000 && !d.passed(); ++k) {
+  }
+  EXPECT_TRUE(d.found_passed()) << "20 ms of CPU time did not pass it";
+  EXPECT_EQ(d.left(), 0.0);
+  ThreadCpuDeadline never;
+  for (unsigned k = 0; k < 4 * ThreadCpuDeadline::kStride; ++k) EXPECT_FALSE(never.passed());
 }
 
 /// The CMR Bezier (0,0) (2,0) (3,0.5) (3.3,1.2) split at t = 1/2 (a knot of
