@@ -47,8 +47,8 @@ TEST(FontFix, PageAndJsonShowTheCertifiedFixOfEachFailingContour) {
   gate.kind = FixRequirement::Kind::extrema_at_nodes;
   int found = 0;
   // Glyphs with at least one fix found (each search stops after
-  // kReportFixSeconds of wall time, so on a slow machine or under the
-  // sanitizers one glyph may have none).
+  // kReportFixSeconds of its thread's CPU time, so on a slow machine or
+  // under the sanitizers one glyph may have none).
   std::set<std::string> fixed_glyphs;
   for (const auto& s : doc["splines"]) {
     EXPECT_FALSE(s.contains("tangent_fixes")) << s["name"];
