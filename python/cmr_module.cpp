@@ -94,7 +94,7 @@ using OJson = nlohmann::ordered_json;
 std::string python_fields(const std::string& marked) {
   static const std::map<std::string, std::string> keywords = {
       {"angle_deg", "angle_tol"}, {"curvature_rel", "curvature_tol"}, {"max_depth", "depth"},
-      {"requirement", "require"}, {"with", "with_"}, {"no_severity", "severity=False"}};
+      {"requirement", "require"}, {"with", "with_"}, {"no_severity", "severity=False"}, {"glyph_work", "work"}};
   return rename_fields(marked, [](const std::string& name) {
     const auto it = keywords.find(name);
     return it != keywords.end() ? it->second : name;
@@ -835,8 +835,8 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
 /// FONT.ufo --glyph NAME` (the same library calls and document; in_place
 /// writes the .glif as --in-place does: only the moved points' x and y).
 py::object fix_glyph_py(const std::string& file, const std::string& glyph, const std::string& require, double grid,
-                        double max_move, const std::vector<std::string>& points, int depth, bool in_place) {
-  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move);
+                        double max_move, const std::vector<std::string>& points, int depth, bool in_place, long work) {
+  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
   report::SourceFix f = interruptible([file, glyph, points, o] { return report::fix_source_glyph(file, glyph, points, o); });
   show_fields_in(f.contours, python_fields);
   if (!f.failed.empty()) throw InputError(file + ": " + python_fields(f.failed));
@@ -857,8 +857,8 @@ py::object fix_glyph_py(const std::string& file, const std::string& glyph, const
 /// the same library calls and document); in_place writes the fixed
 /// glyphs' .glif files together (all or none), as --in-place does.
 py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, const std::string& require, double grid,
-                         double max_move, int depth, double min_severity, bool in_place) {
-  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move);
+                         double max_move, int depth, double min_severity, bool in_place, long work) {
+  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
   const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
   report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid, min_severity] {
     return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, min_severity, 0), file, require,
@@ -1466,6 +1466,8 @@ PYBIND11_MODULE(_cmr, m) {
         },
         py::arg("spline"), py::arg("n"), py::arg("document") = false, py::arg("read") = false);
   m.attr("kDefaultDepth") = kDefaultDepth;
+  m.attr("kGlyphWork") = report::kGlyphWork;
+  m.attr("kMaxGlyphWork") = report::kMaxGlyphWork;
   m.attr("kMaxDepth") = kMaxDepth;
   m.attr("kMaxDegree") = kMaxDegree;
   m.attr("kMaxImageSize") = kMaxImageSize;

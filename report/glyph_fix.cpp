@@ -961,6 +961,7 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     // passes as it is uses none).
     const long whole = work.cap(work.left() / static_cast<long>(n - i));
     out.push_back(fix_contour(glyph.contours[i], options, work));
+    out.back().out_of_work = !out.back().fixed && !out.back().untouched && work.ran_out();
     work.release(whole);
   }
   // Then each fix found is settled (settle_nearer), in what is left of the

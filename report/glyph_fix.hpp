@@ -70,6 +70,12 @@ namespace cmr::report {
 
 /// GlyphFixOptions::glyph_work's default (`cmr fix`).
 inline constexpr long kGlyphWork = 2000000;
+/// The largest glyph_work a source fix takes (`cmr fix --work`): 500 times
+/// the default, half an hour to several hours a glyph.
+inline constexpr long kMaxGlyphWork = 1000000000;
+/// GlyphFixOptions::guard_seconds' default, for kGlyphWork: a larger budget
+/// gets a guard in proportion (source_fix_options).
+inline constexpr double kGlyphGuardSeconds = 9.5;
 /// The work of a report's fix of every check at once on a glyph's contour
 /// (report/certified_fix.hpp), about kReportFixSeconds on this project's
 /// VM; twice that is its time guard.
@@ -92,7 +98,7 @@ struct GlyphFixOptions {
   /// wall-clock ones, so a loaded machine does not reach it first): ends its
   /// work sooner on a machine too slow for it (ContourFix::guarded; only
   /// then can a fix differ from run to run).
-  double guard_seconds = 9.5;
+  double guard_seconds = kGlyphGuardSeconds;
   /// Several checks on the grid: where the grid descent finds a fix, run
   /// the rounds too (in half the work left) and keep the nearer fix (total
   /// squared move). `cmr fix` does; a report's fix suggestions, found in
@@ -130,6 +136,9 @@ struct ContourFix {
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)
   bool guarded = false;  ///< the glyph's time guard ended its work (GlyphFixOptions::guard_seconds)
+  /// Not fixed, and its share of the glyph's work was used up (not by the
+  /// guard): more work may find a fix (`cmr fix --work`).
+  bool out_of_work = false;
 };
 
 /// A closed polynomial spline as a contour of the glyph fix (a plain spline

@@ -47,6 +47,8 @@ class Work {
     return was;
   }
   void release(long limit) { limit_ = limit; }
+  /// The budget (or the stage's cap) is used up, not by the guard.
+  bool ran_out() const { return left() == 0 && !guarded(); }
   /// The guard ended the budget (the time ran out before the work).
   bool guarded() const { return guard_.found_passed(); }
   /// CPU seconds of this thread to the guard (at least `floor`): the time

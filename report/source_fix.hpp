@@ -25,10 +25,13 @@ void check_fixable(const ReportOptions& checks);
 
 /// The options of a source fix (`cmr fix FONT.ufo`, the Python module's
 /// fix_glyph and fix_glyphs): the report's checks `require` judged at
-/// `depth`, the grid step, the largest move (0: the contour's size).
-/// InputFieldError for a largest move that is not a distance >= 0 (the
-/// grid step: fix_source_glyph and fix_source_glyphs check it).
-GlyphFixOptions source_fix_options(const std::string& require, int depth, double grid, double max_move);
+/// `depth`, the grid step, the largest move (0: the contour's size), each
+/// glyph's work (`cmr fix --work`; its guard in proportion, at least
+/// kGlyphGuardSeconds). InputFieldError for a largest move that is not a
+/// distance >= 0 or work outside 1..kMaxGlyphWork (the grid step:
+/// fix_source_glyph and fix_source_glyphs check it).
+GlyphFixOptions source_fix_options(const std::string& require, int depth, double grid, double max_move,
+                                   long work = kGlyphWork);
 
 struct SourceFix {
   import::Glyph glyph;                   ///< as read

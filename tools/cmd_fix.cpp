@@ -88,6 +88,7 @@ struct SourceFixArgs {
   double grid = 1, max_move = 0;
   bool in_place = false, pretty = false;
   int depth = kDefaultDepth;
+  long work = report::kGlyphWork;
 };
 
 /// A .glif's path and its new text.
@@ -122,7 +123,7 @@ void stage_source_copy(const std::string& src_text, const std::string& out, cons
 /// says why); the others are still written.
 int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs, double min_severity) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move);
+  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
   std::error_code ec;
   if (!a.out.empty() && std::filesystem::exists(a.out, ec))  // before the searches, not after
     throw InputError(a.out + ": exists (a copy of the source goes to a new folder)");
@@ -210,7 +211,7 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
 
 void run_source_fix(const SourceFixArgs& a) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move);
+  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
   report::SourceFix f =
       report::fix_source_glyph(a.file, a.glyph, a.points.empty() ? std::vector<std::string>{} : comma_items(a.points), o);
   const import::Glyph& g = f.glyph;
@@ -312,6 +313,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     bool in_place = false, strict = false;
     int depth = kDefaultDepth;
     int chain = 0;
+    long work = report::kGlyphWork;
     bool pretty = false;
   };
   auto args = std::make_shared<Args>();
@@ -352,6 +354,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--strict", args->strict, "with --glyphs: every finding counts, info ones too (as cmr report --strict)");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
+  cmd->add_option("--work", args->work,
+                  "UFO sources: each glyph's search budget in work units (default 2000000: 3-9 s for a glyph that uses "
+                  "it all on a 2-core VM; the same fix on any machine); a glyph that runs out of it says so, and a "
+                  "larger budget searches further");
   cmd->add_option("--chain", args->chain,
                   "STEP models (.step, .stp): the chain of edges to fix, by the number cmr import gives it; --out is then "
                   "a folder for the chain's edges");
@@ -374,6 +380,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       return;
     }
     if (cmd->count("--chain") > 0) throw InputError("--chain: only for STEP models (.step, .stp), not for " + args->file);
+    if (cmd->count("--work") > 0 && !import::is_ufo_path(args->file))
+      throw InputError("--work: for UFO sources (NAME.ufo, .glif), not for " + args->file);
     if (args->keep == "g3") throw InputError("--keep g3: only for a STEP chain (cmr fix MODEL.step --chain N); a spline keeps g2 at most");
     if (import::is_designspace_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0 ||
@@ -388,7 +396,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
         throw InputError(args->file + ": a font source; --plane, --segments, --png and --keep are for spline files");
       const SourceFixArgs a{args->file, args->glyph,
                             cmd->count("--require") > 0 ? args->require : "curvature-extrema-at-nodes",
-                            args->out, args->points, args->grid, args->max_move, args->in_place, args->pretty, args->depth};
+                            args->out, args->points, args->grid, args->max_move, args->in_place, args->pretty, args->depth,
+                            args->work};
       if (cmd->count("--glyphs") > 0) {
         if (!args->glyph.empty()) throw InputError("--glyph and --glyphs: choose one");
         if (!args->points.empty()) throw InputError("--points: for one glyph (--glyph NAME), not with --glyphs");

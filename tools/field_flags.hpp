@@ -31,6 +31,7 @@ inline const std::map<std::string, std::string>& field_flags() {
       {"fix_budget", "--fix-budget"},
       {"from", "--from"},
       {"glyph", "--glyph"},
+      {"glyph_work", "--work"},
       {"glyphs", "--glyphs"},
       {"grid", "--grid"},
       {"in_place", "--in-place"},

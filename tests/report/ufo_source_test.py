@@ -225,6 +225,13 @@ def main():
         doc = json.load(open(os.path.join(tmp, "imp2", "o_c0.json"))) if r.returncode == 0 else {}
         check("a qcurve .glif imports as a quadratic spline", doc.get("degree") == 2, r.stderr)
 
+        # --work: each glyph's budget; a glyph that runs out of it says so in one line naming the flag
+        r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--work", "20000",
+                "--out", "W.ufo", cwd=tmp)
+        check("fix --work 20000: O runs out of work, exit 2, one line naming --work, nothing written",
+              r.returncode == 2 and "a larger --work searches further" in r.stderr and r.stderr.count("\n") == 1
+              and not os.path.exists(os.path.join(tmp, "W.ufo")), r.stderr)
+
         # fix: a copy of the UFO where only moved points' x/y change, on the grid
         r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--out",
                 "Fixed.ufo", cwd=tmp)
