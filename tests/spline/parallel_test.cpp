@@ -59,13 +59,19 @@ void busy_for(int us) {
   }
 }
 
+// The cores this process may run on (its affinity; none where it cannot be read).
+cpu_set_t allowed_cores() {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) != 0) CPU_ZERO(&allowed);
+  return allowed;
+}
+
 // A woken worker could be queued on the caller's own busy core
 // (WorkerPool::steer_off): each worker may run on every core the caller
 // may but the one the caller is on when the batch begins.
 TEST(WorkerPool, KeepsItsWorkersOffTheCallersCore) {
-  cpu_set_t allowed;
-  CPU_ZERO(&allowed);
-  ASSERT_EQ(sched_getaffinity(0, sizeof allowed, &allowed), 0);
+  const cpu_set_t allowed = allowed_cores();
   if (CPU_COUNT(&allowed) < 2) GTEST_SKIP() << "a single core: no other core to keep the workers on";
   WorkerPool& pool = WorkerPool::shared();
   const std::thread::id caller = std::this_thread::get_id();
@@ -168,9 +174,7 @@ TEST(WorkerPool, AWakeIsOnlyAHint) {
 // one that joined the batch does not poll again for it afterwards (it did
 // for 0.3 ms after every region render while the wake stayed unanswered).
 TEST(WorkerPool, AWakeCostsABoundedPollAndNoneOnceTheBatchIsJoined) {
-  cpu_set_t allowed;
-  CPU_ZERO(&allowed);
-  ASSERT_EQ(sched_getaffinity(0, sizeof allowed, &allowed), 0);
+  const cpu_set_t allowed = allowed_cores();
   if (CPU_COUNT(&allowed) < 2) GTEST_SKIP() << "a single core: the pool has no worker to wake";
   WorkerPool& pool = WorkerPool::shared();
   const std::thread::id caller = std::this_thread::get_id();
