@@ -178,7 +178,7 @@ struct FixRequest {
   /// max_seconds counts the calling thread's CPU time (spline/cpu_clock.hpp),
   /// not the wall clock, so that a loaded machine ends the search at the
   /// same place: only with threads 1 (the search then runs on the calling
-  /// thread; InputFieldError otherwise).
+  /// thread; InputError otherwise).
   bool thread_cpu_clock = false;
   /// Limit of the search's evaluations (classifier or judge calls; 0:
   /// none), ended as by max_seconds. Unlike time, with one thread it ends

@@ -33,7 +33,8 @@ from . import _cmr
 from . import knots  # noqa: F401  (cmr.knots.insert, ...)
 
 __all__ = ["Spline", "InputError", "EnvironmentError", "Note", "analyze", "segments", "region", "region_result",
-           "fix", "FixResult", "fix_glyph", "fix_glyphs", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH"]
+           "fix", "FixResult", "fix_glyph", "fix_glyphs", "kcurve", "report", "judge", "judge_many", "JudgeQueue", "knots", "DEFAULT_DEPTH",
+           "GLYPH_WORK", "MAX_GLYPH_WORK"]
 
 DEFAULT_DEPTH = _cmr.kDefaultDepth
 GLYPH_WORK = _cmr.kGlyphWork          # fix_glyph's default search budget a glyph (work units)
