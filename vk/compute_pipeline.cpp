@@ -30,18 +30,16 @@ struct ComputePipeline::Impl : detail::PipelineCore {
   std::vector<VkPipeline> follow_ups;  // the chain's further passes (run_chain), if made with any
   VkQueryPool timestamps = VK_NULL_HANDLE;  // 2 + follow-ups; none without compute timestamps
   uint32_t stamped = 0;                     // timestamps the last recorded run writes
-  bool finished = false;                    // the last run was submitted and waited for
   // Of the last finished run, read from the query pool only when asked
   // (last_pass_seconds): on lavapipe reading them took 24-43 us a run, a
   // tenth of a small frame's submission, which no frame but a profiled one
-  // wants.
+  // wants. Pending: a run has finished and its timestamps are not read yet.
   mutable std::vector<double> pass_seconds;
-  mutable bool pass_seconds_read = true;
+  mutable bool pass_seconds_pending = false;
   // A run starts: no pass times until it has finished.
   void forget_pass_seconds() {
-    finished = false;
     pass_seconds.clear();
-    pass_seconds_read = false;
+    pass_seconds_pending = false;
   }
 
   Buffer input;     // device-local, read by the shader
@@ -346,17 +344,17 @@ Result<void> ComputePipeline::run_passes(std::span<const std::byte> input, uint3
     if (VkResult r = vkInvalidateMappedMemoryRanges(p.device, 1, &range); r != VK_SUCCESS)
       return vk_error(r, "vkInvalidateMappedMemoryRanges");
   }
-  p.finished = true;
+  p.pass_seconds_pending = true;
   read(std::span<const std::byte>(p.readback.mapped, std::size_t{words} * 4));
   return {};
 }
 
 const std::vector<double>& ComputePipeline::last_pass_seconds() const {
   const Impl& p = *impl_;
-  if (p.pass_seconds_read) return p.pass_seconds;
-  p.pass_seconds_read = true;
+  if (!p.pass_seconds_pending) return p.pass_seconds;
+  p.pass_seconds_pending = false;
   // The pool keeps the finished run's timestamps until the next run records.
-  if (p.finished && p.stamped >= 2) {
+  if (p.stamped >= 2) {
     std::vector<uint64_t> ticks(p.stamped);
     if (vkGetQueryPoolResults(p.device, p.timestamps, 0, p.stamped, ticks.size() * sizeof(uint64_t), ticks.data(),
                               sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
