@@ -162,7 +162,7 @@ Witness not_monotone_witness(const RegionEntry& e, const Monomials& mono, int le
   rows[pieces] = &e.xi[static_cast<std::size_t>(2 * pieces - 2) * n1 + n1 - 1];
   Bounded at[(1 << kPieceLevels) + 1];
   box_eval::eval_polys(simd_level(), rows, pieces + 1, mono, at);
-  int sign[(1 << kPieceLevels) + 1];
+  int sign[(1 << kPieceLevels) + 1] = {};  // 0..pieces are set below; zeroed so that GCC sees it
   bool pos = false, neg = false, inner_unknown = false;
   for (int j = 0; j <= pieces; ++j) {
     sign[j] = certain_sign(at[j]);
@@ -375,7 +375,10 @@ std::optional<PixelResult> classify_block_with(const RegionSetup& s, int i0, int
                                                BlockReuseCounts* counts) {
   const RegionRequest& o = s.options;
   const Bounded bx = block_columns(s, i0, i1), by = block_rows(s, j0, j1);
-  if (std::isnan(bx.v) || std::isnan(bx.e) || std::isnan(by.v) || std::isnan(by.e)) return std::nullopt;
+  if (std::isnan(bx.v) || std::isnan(bx.e) || std::isnan(by.v) || std::isnan(by.e)) {
+    if (out) out->reset(s.entries.size());  // learned nothing: the quarters must not read an earlier block's facts
+    return std::nullopt;
+  }
   const Monomials mono(bx.v, by.v, bx.e, by.e);
   if (!o.depth)
     return classify_box_labels(s, mono, bx, by, box_piece_budget(static_cast<long>(i1 - i0 + 1) * (j1 - j0 + 1)),

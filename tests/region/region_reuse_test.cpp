@@ -63,7 +63,8 @@ void expect_reuse_exact(const BSpline& spline, int point, const std::string& nam
       {
         const RegionProblem p = RegionProblem::make(spline, request(point, depth, 256, std::nullopt, mode));
         const RegionImage on = render(p.setup(), true), off = render(p.setup(), false);
-        EXPECT_EQ(on.labels, off.labels) << name << ", default view 256^2, D = " << depth
+        { int h[256] = {}; for (auto c : on.labels) h[c]++; for (int k = 0; k < 256; ++k) if (h[k]) fprintf(stderr, "label %d: %d\n", k, h[k]); }
+    EXPECT_EQ(on.labels, off.labels) << name << ", default view 256^2, D = " << depth
                                          << (mode == Mode::cmr ? ", CMR" : ", CMRWI");
       }
       const RegionProblem whole = RegionProblem::make(spline, request(point, depth, 64, std::nullopt, mode));
@@ -150,6 +151,54 @@ TEST(RegionReuse, SwitchOffReusesNothing) {
   const BlockReuseCounts after = block_reuse_counts();
   EXPECT_EQ(after.box_nodes + after.box_segments + after.box_level0 + after.pixel_nodes + after.pixel_segments,
             before.box_nodes + before.box_segments + before.box_level0 + before.pixel_nodes + before.pixel_segments);
+}
+
+
+// A block whose box cannot be scaled exactly (kernel_displacement: NaN, a
+// displacement that would be subnormal) has no proof and learns nothing, so
+// its quarters and pixels must not take the facts that the last block at the
+// same quartering depth left (the blocks' knowledge is kept per thread, from
+// one render to the next). The curve: fig2 scaled by 2^600 and moved so that
+// its point 1, the one moved, is at the origin (the setup then scales by
+// about 2^-600). In a view 2^-418 wide around it the pixel columns are
+// 2^-425 apart, so a box with a column within 8 of the middle cannot be
+// scaled and the others can: the whole image's top block cannot, its
+// quarter at the top left can. Before it, on the same thread, the curve's
+// mirror image is rendered in a view 2^-300 wide, where every box can be
+// scaled and its one top block is proved of the other direction. (Before a
+// block that cannot be scaled reset its knowledge, this test crashed: the
+// quarters of such a block at a depth no block had reached on the thread
+// read the records of no entries.)
+TEST(RegionReuse, AnUnscalableBlockHandsOnNoFacts) {
+  const ReuseSwitch restore;
+  std::vector<Vec2> pts = read_spline_file(kSource + "/examples/figures/fig2.json").points();
+  const Vec2 at = pts[1];
+  for (Vec2& q : pts) q = std::ldexp(1.0, 600) * (q - at);
+  std::vector<Vec2> mirrored = pts;
+  for (Vec2& q : mirrored) q.x = -q.x;
+  const double w = std::ldexp(1.0, -418), wide = std::ldexp(1.0, -300);
+  const View tiny{-w / 2, -w / 2, w / 2, w / 2};
+  for (const Mode mode : {Mode::cmrwi, Mode::cmr}) {
+    const RegionProblem first = RegionProblem::make(
+        BSpline::bezier(mirrored), request(1, 10, 64, View{-wide / 2, -wide / 2, wide / 2, wide / 2}, mode));
+    const RegionProblem p = RegionProblem::make(BSpline::bezier(pts), request(1, 10, 128, tiny, mode));
+    set_block_reuse(1);
+    set_witness_search(0);
+    const RegionImage before = region_cpu(first.setup(), 1);  // the facts of its top block, on this thread
+    const RegionImage on = region_cpu(p.setup(), 1);
+    set_block_reuse(0);
+    const RegionImage off = region_cpu(p.setup(), 1);
+    const char* m = mode == Mode::cmr ? "CMR" : "CMRWI";
+    ASSERT_NE(before.labels[0], on.labels[0]) << m << ": the mirror image must have the other label";
+    EXPECT_EQ(on.labels, off.labels) << m;
+    int differ = 0;
+    for (int j = 0; j < 128; j += 4)
+      for (int i = 0; i < 128; i += 4) {
+        const Vec2 c = pixel_center(tiny, 128, 128, i, j);
+        differ += code(p.classify(c).label) != on.labels[static_cast<std::size_t>(j) * 128 + i];
+      }
+    EXPECT_EQ(differ, 0) << m << ": pixels unlike the exact label";
+  }
 }
 
 }  // namespace
