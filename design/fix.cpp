@@ -21,6 +21,7 @@
 #include "bezierize/lambda.hpp"
 #include "region/region.hpp"
 #include "region/region_setup.hpp"
+#include "spline/format.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
 #include "spline/parallel.hpp"
@@ -277,7 +278,7 @@ void check_fix_request(const BSpline& spline, const FixRequest& request) {
   if (!(request.tolerance > 0 && request.tolerance < 1))
     throw InputFieldError(field("tolerance") + ": " + std::to_string(request.tolerance) + " is outside (0, 1)");
   if (!(request.max_move >= 0) || !std::isfinite(request.max_move))
-    throw InputFieldError(field("max_move") + ": " + std::to_string(request.max_move) + " is not a distance >= 0");
+    throw InputFieldError(field("max_move") + ": " + format_number(request.max_move) + " is not a distance >= 0");
   if (!(request.max_seconds >= 0) || !std::isfinite(request.max_seconds))
     throw InputFieldError(field("max_seconds") + ": " + std::to_string(request.max_seconds) + " is not a time >= 0");
   if (request.max_evaluations < 0)
@@ -312,8 +313,10 @@ void check_fix_request(const BSpline& spline, const FixRequest& request) {
 /// Every answer is certified (certify) before it is returned.
 class FixRun {
  public:
-  FixRun(const BSpline& spline, const FixRequest& request_in, Clock::time_point start)
-      : spline_(spline), request_(request_in), start_(start), m_(spline.unique_point_count()) {
+  /// `unit`: the caller's length of one of the spline's units (messages
+  /// give lengths in the caller's units: fix() scales far-off curves).
+  FixRun(const BSpline& spline, const FixRequest& request_in, Clock::time_point start, double unit = 1)
+      : spline_(spline), request_(request_in), start_(start), m_(spline.unique_point_count()), unit_(unit) {
     request_.requirement = resolve_requirement(spline, request_in.requirement);  // each-run: each-piece with the nodes as cuts
     check_fix_request(spline, request_);
     out_.size = curve_size(spline);
@@ -364,6 +367,7 @@ class FixRun {
   FixRequest request_;
   const Clock::time_point start_;
   const int m_;
+  const double unit_;
   FixResult out_;
   AnalyzeOptions ao_;
   SplineAnalysis a0_;
@@ -875,8 +879,9 @@ FixResult FixRun::run() {
     const bool counted_out = request_.max_evaluations > 0 && search.evaluations >= request_.max_evaluations;
     out_.reason = counted_out ? "no certified fix found in " + std::to_string(request_.max_evaluations) + " evaluations"
                   : search.timed_out
-                      ? "no certified fix found in the time limit (" + std::to_string(request_.max_seconds) + " s)"
-                      : "no certified fix within " + field("max_move") + " " + std::to_string(search.max_move) + " (" +
+                      ? "no certified fix found in the time limit (" + format_number(request_.max_seconds) + " s)"
+                      : "no certified fix within " + field("max_move") + " " + format_number(unit_ * search.max_move) +
+                            " (" +
                             std::to_string(ties_.units.size()) + " unit(s) of motion tried)";
     out_.evaluations = search.evaluations;
     certify(out_);
@@ -898,9 +903,55 @@ FixResult FixRun::run() {
 
 }  // namespace
 
+namespace {
+
+// The search measures lengths in doubles whose squares must neither overflow
+// nor vanish (norm() squares its coordinates: above about 2^511 it gives
+// infinity, and every candidate was then beyond max_move). A curve whose size
+// is outside 2^-kFixScaleRange..2^kFixScaleRange is searched as its copy
+// scaled by 2^-e, e the exponent of its size: multiplying by a power of two
+// is exact there, so the copy has the same verdicts, regions and certified
+// facts, and every length of the answer is the copy's times 2^e (the joints'
+// curvatures times 2^-e).
+constexpr int kFixScaleRange = 128;
+
+int fix_scale_exponent(const BSpline& spline) {
+  const int e = std::ilogb(curve_size(spline));
+  return std::abs(e) <= kFixScaleRange ? 0 : e;
+}
+
+BSpline scaled_spline(const BSpline& spline, int e) {
+  BSpline out = spline;
+  for (int k = 0; k < spline.unique_point_count(); ++k) out = out.with_point(k, std::ldexp(1.0, e) * spline.points()[k]);
+  return out;
+}
+
+void scale_joint(Joint& j, int e) {
+  j.kappa_left = std::ldexp(j.kappa_left, -e);
+  j.kappa_right = std::ldexp(j.kappa_right, -e);
+}
+
+}  // namespace
+
 FixResult fix(const BSpline& spline, const FixRequest& request) {
   const auto start = Clock::now();
-  return FixRun(spline, request, start).run();
+  const int e = fix_scale_exponent(spline);
+  if (e == 0) return FixRun(spline, request, start).run();
+  check_fix_request(spline, request);  // its messages in the caller's units
+  FixRequest r = request;
+  r.max_move = std::ldexp(request.max_move, -e);
+  if (request.judge) r.judge = [judge = request.judge, e](const BSpline& s) { return judge(scaled_spline(s, e)); };
+  FixResult out = FixRun(scaled_spline(spline, -e), r, start, std::ldexp(1.0, e)).run();
+  const auto up = [e](double v) { return std::ldexp(v, e); };
+  if (out.spline) out.spline = scaled_spline(*out.spline, e);
+  for (PointMove& m : out.moves) m.from = up(1) * m.from, m.to = up(1) * m.to, m.distance = up(m.distance);
+  for (UnitFix& u : out.units) u.displacement = up(1) * u.displacement, u.distance = up(u.distance);
+  out.total_squared = std::ldexp(out.total_squared, 2 * e);
+  out.max_distance = up(out.max_distance);
+  out.size = up(out.size);
+  for (Joint& j : out.certificate.joints) scale_joint(j, e);
+  if (out.certificate.seam) scale_joint(*out.certificate.seam, e);
+  return out;
 }
 
 }  // namespace cmr

@@ -58,8 +58,8 @@ bool segment_alone_bad(const SplineAnalysis& a, int i, const FixRequirement& r) 
 double curve_size(const BSpline& s) {
   Vec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (int k = 0; k < s.unique_point_count(); ++k) lo = Vec2(std::min(lo.x, s.points()[k].x), std::min(lo.y, s.points()[k].y)), hi = Vec2(std::max(hi.x, s.points()[k].x), std::max(hi.y, s.points()[k].y));
-  const double d = norm(hi - lo);
-  return d > 0 ? d : 1.0;
+  const double d = std::hypot(hi.x - lo.x, hi.y - lo.y);  // not norm(): its squares overflow above 2^511
+  return d > 0 && std::isfinite(d) ? d : 1.0;
 }
 
 namespace {

@@ -239,6 +239,11 @@ Truth level0_fails(const RegionEntry& e, const Monomials& mono, bool cmr) {
 
 PixelResult classify_position_exact(const RegionSetup& s, Vec2 p) {
   if (s.fixed_level0_none) return {0, 0, false};
+  // GMP raises SIGFPE on converting NaN or an infinity. A pixel centre is
+  // finite (the view is checked) and RegionProblem::classify refuses such a
+  // position; only a search's overflowed arithmetic (design/fix.cpp, a
+  // curve near the top of the double range) asks here: no region has it.
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) return {0, 0, true};
   // In the entries' scale (RegionSetup::scale_exponent): B = B0 + w d, all scaled by 2^-e.
   const Rational dx = scaled(Rational(p.x) - Rational(s.anchor.x), s.scale_exponent),
                  dy = scaled(Rational(p.y) - Rational(s.anchor.y), s.scale_exponent);

@@ -471,6 +471,39 @@ TEST(Fix, APointOffTheFailingSegmentIsRefused) {
   }
 }
 
+// A curve far from unit size (here 2^±600 and 2^1000 times fig8) is searched
+// as its copy scaled by a power of two (exact), so the answer is the copy's
+// scaled back, bit for bit, and not "no certified fix" (norm() of its
+// offsets overflowed, and every candidate lay beyond max_move), nor SIGFPE
+// (GMP converting the infinite position the search then made).
+TEST(Fix, AFarOffCurveIsFixedAsItsScaledCopy) {
+  const std::vector<Vec2> pts{{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}};
+  const auto fig8 = [&](int e) {
+    std::vector<Vec2> q = pts;
+    for (Vec2& p : q) p = std::ldexp(1.0, e) * p;
+    return BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7}, q);
+  };
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmrwi");
+  r.threads = 1;
+  for (const int e : {600, -600, 1000}) {
+    const int k = std::ilogb(curve_size(fig8(e)));  // the copy: fig8 times 2^(e - k), of size 8..16
+    const FixResult far = fix(fig8(e), r), near = fix(fig8(e - k), r);
+    ASSERT_TRUE(near.fixed) << near.reason;
+    ASSERT_TRUE(far.fixed) << "2^" << e << ": " << far.reason;
+    ASSERT_EQ(far.moves.size(), near.moves.size());
+    for (std::size_t i = 0; i < far.moves.size(); ++i) {
+      EXPECT_EQ(far.moves[i].point, near.moves[i].point);
+      EXPECT_EQ(far.moves[i].to, std::ldexp(1.0, k) * near.moves[i].to) << "2^" << e;
+      EXPECT_EQ(far.moves[i].distance, std::ldexp(near.moves[i].distance, k));
+    }
+    EXPECT_EQ(far.size, std::ldexp(near.size, k));
+    EXPECT_EQ(far.total_squared, std::ldexp(near.total_squared, 2 * k));
+    EXPECT_TRUE(far.certificate_holds);
+    EXPECT_TRUE(requirement_holds(analyze(*far.spline, fix_analyze_options(r.requirement)), r.requirement));
+  }
+}
+
 TEST(Fix, NothingWithinMaxMoveSaysSo) {
   const BSpline s = g1_pair();
   FixRequest r;

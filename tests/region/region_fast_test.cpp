@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -18,6 +19,7 @@
 
 #include "region/region.hpp"
 #include "region/region_setup.hpp"
+#include "spline/errors.hpp"
 #include "tests/region/boundary_point.hpp"
 #include "spline/spline_json.hpp"
 
@@ -252,6 +254,27 @@ TEST(RegionCull, ADeviceCullProvesBlocksOfTwoByTwo) {
       wrong += !is_listed[at] && two.labels[at] != cpu.labels[at];
     EXPECT_EQ(wrong, 0) << file << ": decided pixels whose label is not region_cpu's";
   }
+}
+
+// The exact path converts a position to GMP rationals, which raises SIGFPE
+// on NaN or an infinity. RegionProblem::classify refuses such a position; a
+// caller inside the library (a search whose arithmetic overflowed) gets
+// label 0, no region's, from the exact path and from the reference that
+// falls back on it.
+TEST(RegionFast, TheExactPathGivesANonFinitePositionNoRegion) {
+  const BSpline spline = read_spline_file(kSource + "/examples/figures/fig8.json");
+  RegionRequest o;
+  o.point = 3;
+  o.width = o.height = 8;
+  const RegionProblem p = RegionProblem::make(spline, o);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const Vec2 at : {Vec2{inf, 0}, Vec2{0, -inf}, Vec2{nan, 1}, Vec2{1, nan}}) {
+    EXPECT_EQ(backend::classify_position_exact(p.setup(), at).label, 0);
+    EXPECT_EQ(backend::classify_position(p.setup(), at).label, 0);
+    EXPECT_THROW((void)p.classify(at), InputError);
+  }
+  // A finite position still gets its label: where `cmr fix` moves P3, the curve passes.
+  EXPECT_NE(backend::classify_position_exact(p.setup(), {1.9241387367787128, -3.861045755889574}).label, 0);
 }
 
 }  // namespace
