@@ -446,22 +446,27 @@ class LaneResults {
 // pixel_root_values: nullopt when a sign is not certain with the kernel's one
 // bound (then classify_fast). With `lanes`, this is pixel `pixel` of its
 // classify_pixels call, and Algorithm 1 (with its block's record, where it
-// has one) comes from the lock-step traversal: the same answer.
+// has one) comes from the lock-step traversal: the same answer. `uniform`
+// (may be null): per kernel entry, whether the failed block around the pixel
+// found it of one direction over the whole block (classify_pixels: its
+// values were not computed).
 std::optional<PixelResult> classify_pixel_flat(const RegionSetup& s, const PixelKernel& k, double dx, double dy,
                                                Bounded bx, Bounded by, std::span<const double> values,
                                                std::span<const double> bounds, LaneResults* lanes = nullptr,
-                                               int pixel = 0) {
+                                               int pixel = 0, const char* uniform = nullptr) {
   if (s.fixed_level0_none) return PixelResult{0, 0, false};
   const RegionRequest& o = s.options;
   const bool cmr = o.mode == Mode::cmr;
-  // Level 0 first, as classify_fast: any segment failing there decides the pixel.
+  // Level 0 first, as classify_fast: any segment failing there decides the
+  // pixel. An entry of one direction over the block cannot fail there (its
+  // ends are certainly not opposite at every pixel of it).
   bool uncertain = false;
   for (std::size_t q = 0; q < k.entries.size(); ++q) {
     const PixelKernel::Entry& ke = k.entries[q];
     const double* v = values.data() + ke.offset;
     const int n1 = ke.n1;
     const double e = bounds[q];
-    Truth fails = ends_opposite(flat_sign(v[0], e), flat_sign(v[n1 - 1], e));
+    Truth fails = uniform && uniform[q] ? Truth::no : ends_opposite(flat_sign(v[0], e), flat_sign(v[n1 - 1], e));
     if (cmr && fails != Truth::yes) {
       const RegionEntry& re = s.entries[ke.entry];
       const Monomials mono(dx, dy);
@@ -594,8 +599,22 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
   batch.resize(static_cast<std::size_t>(k.values) * stride);
   bounds.resize(k.entries.size() * stride);
   const double units = kPolyErrorUnits * 0.5 * Bounded::kRound, tiny = 16 * Bounded::kTiny;
+  // Labels only, in a small block whose failed proof found an entry of one
+  // direction over the whole block (its record's root is increasing or
+  // decreasing: box_reuse.hpp): at every pixel Algorithm 1 gives that
+  // direction and its level 0 cannot fail, and no traversal reads its
+  // values, so they are not computed (uniform[q]).
+  static thread_local std::vector<char> uniform_flags;
+  const char* uniform = nullptr;
+  if (const BoxKnowledge* known = !s.options.depth ? tl_pixel_reuse.known : nullptr) {
+    uniform_flags.resize(k.entries.size());
+    for (std::size_t q = 0; q < k.entries.size(); ++q)
+      uniform_flags[q] = known->xi[k.entries[q].entry].whole() != NodeFact::none;
+    uniform = uniform_flags.data();
+  }
   for (std::size_t q = 0; q < k.entries.size(); ++q) {
     const PixelKernel::Entry& ke = k.entries[q];
+    if (uniform && uniform[q]) continue;
     double* v = batch.data() + static_cast<std::size_t>(ke.offset) * stride;
     double* e = bounds.data() + q * stride;
     for (int first = 0; first < count; first += lanes) {
@@ -628,7 +647,7 @@ void classify_pixels(const RegionSetup& s, const PixelKernel& k, const Vec2* p, 
     const Bounded bx(dx[i], 0.5 * Bounded::kRound * std::fabs(dx[i]));
     const Bounded by(dy[i], 0.5 * Bounded::kRound * std::fabs(dy[i]));
     if (const auto r = classify_pixel_flat(s, k, dx[i], dy[i], bx, by, values, pixel_bounds,
-                                           lane_results ? &*lane_results : nullptr, i))
+                                           lane_results ? &*lane_results : nullptr, i, uniform))
       out[i] = *r;
     else if (const auto f = classify_fast(s, Monomials(dx[i], dy[i]), bx, by)) out[i] = *f;
     else out[i] = classify_position_exact(s, p[i]);
