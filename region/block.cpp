@@ -139,6 +139,8 @@ BoxOutcome box_traversal(const RegionEntry& e, const Monomials& mono, int levels
 // unresolved (fails_whatever_unknown), published once per block job.
 thread_local std::uint64_t tl_witness_blocks = 0;
 thread_local std::uint64_t tl_unknown_blocks = 0;
+// Whether this thread's last block proof was decided by a witness.
+thread_local bool tl_witness_decided = false;
 
 // A witness that the segment of `e` is not monotone at every position of
 // the box: a dyadic piece of level <= levels (the precomputed ones) whose
@@ -265,6 +267,18 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
   // matter when they are decided simply, and a traversal that fails costs
   // its whole budget.
   const int rest_budget = std::min(budget, kBoxMinPieces);
+  // After a block that a witness decided, the thread's next one (mostly its
+  // neighbour, in the same failing area) looks for a witness before each
+  // traversal instead of after it: the order changes no label (each proves
+  // its own outcome), only which one is paid for first.
+  const bool witness_first = tl_witness_decided && witness_search();
+  tl_witness_decided = false;
+  const auto decided_by_witness = [&](std::size_t q) {
+    first_try = q;
+    ++tl_witness_blocks;
+    tl_witness_decided = true;
+    return PixelResult{0, 0, false};
+  };
   for (std::size_t step = 0; step < n; ++step) {
     const std::size_t q = (start + step) % n;
     const RegionEntry& e = s.entries[q];
@@ -273,12 +287,17 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
     const SegmentRecord* px = parent ? &parent->xi[q] : nullptr;
     SegmentRecord* ox = out ? &out->xi[q] : nullptr;
     BoxOutcome mono_outcome;
+    std::optional<Witness> early;  // the witness search made before the traversal
     if (px && px->whole() != NodeFact::none) {  // one direction over the parent: no traversal (out keeps it)
       ++counts->box_segments;
       mono_outcome = px->whole() == NodeFact::increasing ? BoxOutcome::increasing : BoxOutcome::decreasing;
     } else if (hopeless[q]) {
       mono_outcome = BoxOutcome::unresolved;
     } else {
+      if (witness_first && !(px && px->no_witness)) {
+        early = not_monotone_witness(e, mono, s.piece_levels);
+        if (*early == Witness::found) return decided_by_witness(q);
+      }
       if (ox) ox->nodes.clear();
       mono_outcome = box_traversal(e, mono, s.piece_levels, D, false, nullptr, unresolved ? rest_budget : budget, px,
                                    ox, counts, have_ends[q] ? ends[q].data() : nullptr);
@@ -287,12 +306,8 @@ std::optional<PixelResult> classify_box_labels(const RegionSetup& s, const Monom
       case BoxOutcome::not_monotone: first_try = q; return PixelResult{0, 0, false};
       case BoxOutcome::unresolved:
         if (!(px && px->no_witness) && witness_search()) {
-          const Witness w = not_monotone_witness(e, mono, s.piece_levels);
-          if (w == Witness::found) {
-            first_try = q;
-            ++tl_witness_blocks;
-            return PixelResult{0, 0, false};
-          }
+          const Witness w = early ? *early : not_monotone_witness(e, mono, s.piece_levels);
+          if (w == Witness::found) return decided_by_witness(q);
           if (ox) ox->no_witness = w == Witness::none_for_quarters;
         }
         if (!several) return std::nullopt;  // smaller blocks will do
