@@ -515,7 +515,11 @@ bool search_unit(int k, const Search& search, const TiedNodes& tied, double size
 
 }  // namespace
 
-SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& request) {
+namespace {
+
+/// space_fix on a curve of moderate size; `unit`: the caller's length of one
+/// of the spline's units (the message's max_move is in the caller's units).
+SpaceFixResult space_fix_at(const SpaceSpline& spline, const SpaceFixRequest& request, double unit) {
   const auto t0 = Clock::now();
   check_space_fix_request(request);
   SpaceFixResult r;
@@ -574,9 +578,59 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
     if (!search_unit(k, search, tied, r.size, max_move, tol, best, r)) break;
   r.evaluations = evaluations;
   if (best.point >= 0) apply_best(r, spline, best.point, best.plane, best.a, best.b, search);
-  if (!r.fixed) explain_no_fix(r, fmt(max_move), failing_text, candidates.empty(), !request.held.empty());
+  if (!r.fixed) explain_no_fix(r, fmt(unit * max_move), failing_text, candidates.empty(), !request.held.empty());
   r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
+}
+
+// As fix() (design/fix.cpp) for planar curves: the search's lengths are
+// doubles whose squares must neither overflow nor vanish (glm::length of a
+// difference near 2^600 is infinite, and every default plane then came out
+// degenerate), so a curve whose size is outside 2^-kSpaceFixScaleRange..
+// 2^kSpaceFixScaleRange is searched as its copy scaled by 2^-e (exact) and
+// every length of the answer scaled back by 2^e (curvatures and torsions by
+// 2^-e). A --plane's directions are scale-free and its origin is not used.
+constexpr int kSpaceFixScaleRange = 128;
+
+SpaceSpline scaled_space_spline(const SpaceSpline& spline, int e) {
+  SpaceSpline out = spline;
+  for (int k = 0; k < spline.unique_point_count(); ++k)
+    out = with_point_moved(out, k, std::ldexp(1.0, e) * spline.points()[static_cast<std::size_t>(k)]);
+  return out;
+}
+
+void scale_space_joint(SpaceJoint& j, int e) {
+  for (double* v : {&j.kappa_left, &j.kappa_right, &j.tau_left, &j.tau_right}) *v = std::ldexp(*v, -e);
+}
+
+}  // namespace
+
+SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& request) {
+  Vec3 lo = spline.points().front(), hi = lo;
+  for (const Vec3& p : spline.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double size = std::hypot(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z);
+  const int e =
+      size > 0 && std::isfinite(size) && std::abs(std::ilogb(size)) > kSpaceFixScaleRange ? std::ilogb(size) : 0;
+  if (e == 0) return space_fix_at(spline, request, 1);
+  check_space_fix_request(request);  // its messages in the caller's units
+  SpaceFixRequest r = request;
+  r.max_move = std::ldexp(request.max_move, -e);
+  SpaceFixResult out = space_fix_at(scaled_space_spline(spline, -e), r, std::ldexp(1.0, e));
+  const double up = std::ldexp(1.0, e);
+  if (out.spline) out.spline = scaled_space_spline(*out.spline, e);
+  for (SpacePointMove& m : out.moves)
+    m.from *= up, m.to *= up, m.distance *= up, m.plane.origin *= up;
+  for (SpaceUnitFix& u : out.units) {
+    u.distance *= up;
+    u.displacement *= up;
+    if (u.plane) u.plane->origin *= up;
+  }
+  out.size *= up;
+  out.max_distance *= up;
+  out.total_squared = std::ldexp(out.total_squared, 2 * e);
+  for (SpaceJoint& j : out.certificate.joints) scale_space_joint(j, e);
+  if (out.certificate.seam) scale_space_joint(*out.certificate.seam, e);
+  return out;
 }
 
 }  // namespace cmr

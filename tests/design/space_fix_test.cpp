@@ -125,6 +125,39 @@ TEST(SpaceFix, AMonotoneCurveHasNothingToFix) {
   EXPECT_EQ(f.evaluations, 0);
 }
 
+// A curve far from unit size (Fig. 8 lifted, times 2^600, 2^-600 and 2^1000)
+// is searched as its copy scaled by a power of two (exact): the same fix as
+// the copy's, scaled back bit for bit. Without it every default plane came
+// out degenerate (glm::length of differences near 2^600 is infinite) and no
+// fix was found.
+TEST(SpaceFix, AFarOffCurveIsFixedAsItsScaledCopy) {
+  const SpaceSpline s = lifted();
+  const auto times = [&](int e) {
+    std::vector<Vec3> pts;
+    for (const Vec3& p : s.points()) pts.push_back(std::ldexp(1.0, e) * p);
+    return SpaceSpline::make(3, s.knots(), pts);
+  };
+  for (const int e : {600, -600, 1000}) {
+    const SpaceSpline far_curve = times(e);
+    Vec3 lo = far_curve.points().front(), hi = lo;
+    for (const Vec3& p : far_curve.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const int k = std::ilogb(std::hypot(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z));  // the copy: times(e - k)
+    const SpaceFixResult far = space_fix(far_curve, {}), near = space_fix(times(e - k), {});
+    ASSERT_TRUE(near.fixed) << near.reason;
+    ASSERT_TRUE(far.fixed) << "2^" << e << ": " << far.reason;
+    ASSERT_EQ(far.moves.size(), near.moves.size());
+    for (std::size_t i = 0; i < far.moves.size(); ++i) {
+      EXPECT_EQ(far.moves[i].point, near.moves[i].point);
+      EXPECT_EQ(far.moves[i].to, std::ldexp(1.0, k) * near.moves[i].to) << "2^" << e;
+      EXPECT_EQ(far.moves[i].distance, std::ldexp(near.moves[i].distance, k));
+    }
+    EXPECT_EQ(far.size, std::ldexp(near.size, k));
+    EXPECT_TRUE(far.certificate_holds);
+    ASSERT_TRUE(far.spline);
+    EXPECT_TRUE(monotone(analyze_space(*far.spline))) << "2^" << e;  // (expect_certified's tolerances are absolute)
+  }
+}
+
 TEST(SpaceFix, RotatingTheCurveRotatesTheFix) {
   const SpaceSpline s = lifted();
   const SpaceFixResult f = space_fix(s, {});
