@@ -8,7 +8,8 @@ and one 2^-418 wide around the moved point (where the setup scales by about
 2^-600, a block with a pixel column within 8 of the middle cannot be scaled
 and the others can: block.cpp once handed such a block's quarters an earlier
 block's facts, and crashed). Commands: analyze, fix (cmrwi), report, region
-on the CPU and on the Vulkan device (lavapipe; skipped without one). Checks:
+on the CPU and on the Vulkan device (lavapipe; skipped without one); and
+fix of Fig. 8 lifted into space at the same scales. Checks:
 every run exits 0-3 (no signal: GMP's SIGFPE on an infinite position once
 ended fix and report), the CPU and Vulkan label maps are equal, and fig8's
 fix is found at every scale, at the same place relative to the curve as at
@@ -109,6 +110,26 @@ def main():
                         if len(labels) == 2:
                             check(labels["cpu"] == labels["vulkan"], "%s: region %s, %s: CPU and Vulkan labels equal"
                                   % (tag, mode, "zoom" if view else "default view"))
+    # A space curve (Fig. 8 lifted): its fix at every scale (space_fix scales it too).
+    lifted = json.load(open(os.path.join(SRC, "examples", "space", "fig8_lifted.json")))
+    unit = None
+    for e in (0, 600, -600, 1000):
+        d = dict(lifted)
+        d["points"] = [[c * 2.0 ** e for c in q] for q in lifted["points"]]
+        path = os.path.join(WORK, "lifted_%d.json" % e)
+        with open(path, "w") as f:
+            json.dump(d, f)
+        code, out, err = run(["fix", path, "--require", "cmrwi", "--out", os.path.join(WORK, "fixed3.json")])
+        tag = "fig8 lifted x 2^%d" % e
+        check(code == 0, "%s: fix exits %d" % (tag, code), err)
+        if code == 0:
+            f = json.loads(out)
+            relative = f["moves"][0]["distance"] / f["size"]
+            if e == 0:
+                unit = relative
+            check(f["fixed"] and abs(relative - unit) <= 1e-12 * unit,
+                  "%s: fix moves P%d %.17g of the curve's size (at unit size %s)" % (tag, f["moves"][0]["point"],
+                                                                               relative, unit))
     if failures:
         print("%d failed:" % len(failures))
         for f in failures:
