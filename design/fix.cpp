@@ -905,25 +905,22 @@ FixResult FixRun::run() {
 
 namespace {
 
-// The search measures lengths in doubles whose squares must neither overflow
-// nor vanish (norm() squares its coordinates: above about 2^511 it gives
-// infinity, and every candidate was then beyond max_move). A curve whose size
-// is outside 2^-kFixScaleRange..2^kFixScaleRange is searched as its copy
-// scaled by 2^-e, e the exponent of its size: multiplying by a power of two
-// is exact there, so the copy has the same verdicts, regions and certified
-// facts, and every length of the answer is the copy's times 2^e (the joints'
-// curvatures times 2^-e).
-constexpr int kFixScaleRange = 128;
-
-int fix_scale_exponent(const BSpline& spline) {
-  const int e = std::ilogb(curve_size(spline));
-  return std::abs(e) <= kFixScaleRange ? 0 : e;
-}
-
+// A curve whose size is outside fix_scale_exponent's range is searched as
+// its copy scaled by 2^-e: multiplying by a power of two is exact there, so
+// the copy has the same verdicts, regions and certified facts, and every
+// length of the answer is the copy's times 2^e (the joints' curvatures times
+// 2^-e). Without it norm() of a far-off curve's offsets overflowed, and
+// every candidate lay beyond max_move.
 BSpline scaled_spline(const BSpline& spline, int e) {
-  BSpline out = spline;
-  for (int k = 0; k < spline.unique_point_count(); ++k) out = out.with_point(k, std::ldexp(1.0, e) * spline.points()[k]);
-  return out;
+  // Built once (a caller's judge sees one per evaluation): the distinct
+  // points scaled, the knots, weights and name kept.
+  const std::size_t m = static_cast<std::size_t>(spline.unique_point_count());
+  std::vector<Vec2> pts(spline.points().begin(), spline.points().begin() + static_cast<long>(m));
+  for (Vec2& p : pts) p *= std::ldexp(1.0, e);
+  std::vector<double> w;
+  if (spline.is_rational()) w.assign(spline.weights().begin(), spline.weights().begin() + static_cast<long>(m));
+  if (spline.closed()) return BSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name(), w);
+  return BSpline::make(spline.degree(), spline.knots(), pts, spline.name(), w);
 }
 
 void scale_joint(Joint& j, int e) {
@@ -933,9 +930,16 @@ void scale_joint(Joint& j, int e) {
 
 }  // namespace
 
+int fix_scale_exponent(double size) {
+  constexpr int kRange = 128;
+  if (!(size > 0) || !std::isfinite(size)) return 0;
+  const int e = std::ilogb(size);
+  return std::abs(e) <= kRange ? 0 : e;
+}
+
 FixResult fix(const BSpline& spline, const FixRequest& request) {
   const auto start = Clock::now();
-  const int e = fix_scale_exponent(spline);
+  const int e = fix_scale_exponent(curve_size(spline));
   if (e == 0) return FixRun(spline, request, start).run();
   check_fix_request(spline, request);  // its messages in the caller's units
   FixRequest r = request;

@@ -239,6 +239,13 @@ struct FixResult {
 /// size every tolerance and relative move of a fix scales with.
 double curve_size(const BSpline& spline);
 
+/// The exponent e by which fix() and space_fix() scale a curve of this size
+/// (the diagonal of its control points' box) before their search: 0 within
+/// 2^-128..2^128 (and for a size of 0 or not finite), else the exponent of
+/// the size, so that the copy, times 2^-e (exact), has a size of 1..2. Their
+/// searches square lengths in doubles, which overflow above about 2^511.
+int fix_scale_exponent(double size);
+
 /// Finds the fix. Throws InputError for a point out of range or repeated, a
 /// point that acts on no failing segment, a requirement that does not fit
 /// the spline (a split joint it lacks), a bad max_move, tolerance, grid or

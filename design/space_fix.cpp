@@ -99,14 +99,29 @@ bool space_fix_passes(const SpaceAnalysis& a, bool no_zero_curvature) {
   return mono && (!no_zero_curvature || (!a.zero_curvature && !a.cusp));
 }
 
-SpaceSpline with_point_moved(const SpaceSpline& spline, int k, const Vec3& q) {
-  const int m = spline.unique_point_count();
-  std::vector<Vec3> pts(spline.points().begin(), spline.points().begin() + (spline.closed() ? m : spline.point_count()));
-  pts[static_cast<std::size_t>(k)] = q;
+namespace {
+
+/// The spline with its distinct points replaced by `pts` (knots, weights and
+/// name kept).
+SpaceSpline with_points(const SpaceSpline& spline, const std::vector<Vec3>& pts) {
   std::vector<double> w;
   if (spline.is_rational()) w.assign(spline.weights().begin(), spline.weights().begin() + static_cast<long>(pts.size()));
   if (spline.closed()) return SpaceSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name(), w);
   return SpaceSpline::make(spline.degree(), spline.knots(), pts, spline.name(), w);
+}
+
+/// The spline's distinct points.
+std::vector<Vec3> unique_points(const SpaceSpline& spline) {
+  const int m = spline.closed() ? spline.unique_point_count() : spline.point_count();
+  return {spline.points().begin(), spline.points().begin() + m};
+}
+
+}  // namespace
+
+SpaceSpline with_point_moved(const SpaceSpline& spline, int k, const Vec3& q) {
+  std::vector<Vec3> pts = unique_points(spline);
+  pts[static_cast<std::size_t>(k)] = q;
+  return with_points(spline, pts);
 }
 
 namespace {
@@ -583,20 +598,16 @@ SpaceFixResult space_fix_at(const SpaceSpline& spline, const SpaceFixRequest& re
   return r;
 }
 
-// As fix() (design/fix.cpp) for planar curves: the search's lengths are
-// doubles whose squares must neither overflow nor vanish (glm::length of a
-// difference near 2^600 is infinite, and every default plane then came out
-// degenerate), so a curve whose size is outside 2^-kSpaceFixScaleRange..
-// 2^kSpaceFixScaleRange is searched as its copy scaled by 2^-e (exact) and
-// every length of the answer scaled back by 2^e (curvatures and torsions by
-// 2^-e). A --plane's directions are scale-free and its origin is not used.
-constexpr int kSpaceFixScaleRange = 128;
-
+// As fix() (design/fix.cpp) for planar curves: a curve whose size is outside
+// fix_scale_exponent's range is searched as its copy scaled by 2^-e (exact)
+// and every length of the answer scaled back by 2^e (curvatures and
+// torsions by 2^-e). Without it glm::length of a difference near 2^600 was
+// infinite, and every default plane came out degenerate. A --plane's
+// directions are scale-free and its origin is not used.
 SpaceSpline scaled_space_spline(const SpaceSpline& spline, int e) {
-  SpaceSpline out = spline;
-  for (int k = 0; k < spline.unique_point_count(); ++k)
-    out = with_point_moved(out, k, std::ldexp(1.0, e) * spline.points()[static_cast<std::size_t>(k)]);
-  return out;
+  std::vector<Vec3> pts = unique_points(spline);
+  for (Vec3& p : pts) p *= std::ldexp(1.0, e);
+  return with_points(spline, pts);
 }
 
 void scale_space_joint(SpaceJoint& j, int e) {
@@ -609,8 +620,7 @@ SpaceFixResult space_fix(const SpaceSpline& spline, const SpaceFixRequest& reque
   Vec3 lo = spline.points().front(), hi = lo;
   for (const Vec3& p : spline.points()) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const double size = std::hypot(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z);
-  const int e =
-      size > 0 && std::isfinite(size) && std::abs(std::ilogb(size)) > kSpaceFixScaleRange ? std::ilogb(size) : 0;
+  const int e = fix_scale_exponent(size);
   if (e == 0) return space_fix_at(spline, request, 1);
   check_space_fix_request(request);  // its messages in the caller's units
   SpaceFixRequest r = request;
