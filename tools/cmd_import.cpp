@@ -213,9 +213,14 @@ void add_import_command(CLI::App& app, int& exit_code) {
           ++written;
         }
       files.commit();
-      std::cout << "imported " << font.glyphs.size() << " glyphs, " << written << " contours ("
-                << (font.cubic ? "cubic" : "quadratic") << ", " << font.units_per_em << " units per em) from "
-                << args->input << " into " << dir.string();
+      const auto counted = [](std::size_t n, const char* noun) {
+        return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+      };
+      std::cout << "imported " << counted(font.glyphs.size(), "glyph") << ", " << counted(static_cast<std::size_t>(written), "contour") << " ("
+                << (font.cubic ? "cubic" : "quadratic") << ", "
+                << (font.units_per_em > 0 ? std::to_string(font.units_per_em) + " units per em"
+                                          : std::string("units per em unknown"))
+                << ") from " << args->input << " into " << dir.string();
       if (!font.missing.empty()) std::cout << "; " << font.missing.size() << " characters not in the font";
       std::cout << '\n';
     } else {

@@ -224,6 +224,8 @@ def main():
         r = run("import", os.path.join(dejavu, "glyphs", "o.glif"), "--out", "imp2", cwd=tmp)
         doc = json.load(open(os.path.join(tmp, "imp2", "o_c0.json"))) if r.returncode == 0 else {}
         check("a qcurve .glif imports as a quadratic spline", doc.get("degree") == 2, r.stderr)
+        check("a lone .glif: one glyph, units per em unknown (no fontinfo.plist beside it)",
+              "imported 1 glyph, 2 contours (quadratic, units per em unknown)" in r.stdout, r.stdout)
 
         # --work: each glyph's budget; a glyph that runs out of it says so in one line naming the flag
         r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--work", "20000",
