@@ -466,11 +466,17 @@ std::uint64_t small_block(const RegionSetup& s, const PixelKernel& k, RegionImag
   for (int j = b[1]; j <= b[3]; ++j)
     for (int i = b[0]; i <= b[2]; ++i) p[n++] = pixel_center(img.view, img.width, img.height, i, j);
   classify_pixels(s, k, p, n, r);
+  // Pixel by pixel (fill()'s memset a row is a call a pixel here).
+  const std::size_t width = static_cast<std::size_t>(img.width);
+  uint8_t* const labels = img.labels.data();
+  uint8_t* const depth = img.depth.data();
   n = 0;
   for (int j = b[1]; j <= b[3]; ++j)
-    for (int i = b[0]; i <= b[2]; ++i) {
-      fill(img, {i, j, i, j}, r[n], s.options.depth);
-      exact += r[n++].exact;
+    for (int i = b[0]; i <= b[2]; ++i, ++n) {
+      const std::size_t at = static_cast<std::size_t>(j) * width + static_cast<std::size_t>(i);
+      labels[at] = r[n].label;
+      if (s.options.depth) depth[at] = r[n].depth;
+      exact += r[n].exact;
     }
   return exact;
 }
