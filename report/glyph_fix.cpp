@@ -15,6 +15,7 @@
 #include "report/contour_moves.hpp"
 #include "report/glyph_joins.hpp"
 #include "report/glyph_settle.hpp"
+#include "report/glyph_unfixed.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
 
@@ -893,7 +894,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     current_total = next->second;
   }
   if (current_total > 0) {
-    out.reason = why.empty() ? "no fix passes every check" : why;
+    out.reason = glyph_detail::unfixed_reason(why, c, current, o, current_total, total(out.rejudged));
     return out;
   }
   if (!certify_contour_fix(c, current, o, out)) return out;

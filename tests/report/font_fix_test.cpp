@@ -19,6 +19,7 @@
 #include "report/font_report.hpp"
 #include "report/gates.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/glyph_unfixed.hpp"
 #include "report/report.hpp"
 #include "tests/cli_util.hpp"
 
@@ -221,6 +222,51 @@ TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
         ++checked;
       }
   EXPECT_EQ(checked, 225);
+}
+
+// A contour the glyph fix leaves unfixed says where its search stopped when
+// that was nearer passing than the source (report/glyph_unfixed.hpp): the
+// count left of the source's, and the places still failing by the names the
+// report gives its findings. Here the "stopped" contour is Nimbus Sans' e
+// itself (8 violations of the two type gates) against a source said to have
+// 9: the places must be report.json's first six findings' nodes, in order,
+// and "and 2 more"; with as many as the source, the reason alone.
+TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const std::string gates = "curvature-extrema-at-nodes,g2-at-smooth-nodes";
+  const fs::path out = test::scratch() / "unfixed_reason";
+  fs::remove_all(out);
+  const test::Outcome r = test::run(std::string("report ") + kNimbus + " --glyphs e --require " + gates +
+                                    " --no-severity --no-thumbnails --out " + out.string());
+  ASSERT_EQ(r.code, 1) << r.err;
+  const nlohmann::json doc = nlohmann::json::parse(test::slurp(out / "report.json"));
+  std::vector<std::pair<std::string, std::string>> findings;  // e/c0's, in the report's order: gate, node
+  for (const auto& s : doc["splines"])
+    if (s["glyph"] == "e" && s["contour"] == 0)
+      for (const auto& f : s["findings"]) findings.emplace_back(f["gate"], f["node"]);
+  ASSERT_EQ(findings.size(), 8u);  // 7 extrema inside pieces, 1 curvature jump
+  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("e"));
+  ASSERT_EQ(font.glyphs.size(), 1u);
+  const import::Contour& c = font.glyphs[0].contours.at(0);
+  report::GlyphFixOptions o;
+  report::parse_require_list(gates, o.judge);
+  o.judge.regions = false;
+  std::string expected = "no fix passes every check; where the search stopped, 8 of the source's 9 violations are left: " +
+                         findings[0].first + " at ";
+  for (std::size_t k = 0; k < 6; ++k) {
+    ASSERT_EQ(findings[k].first, findings[0].first);
+    expected += (k ? ", " : "") + findings[k].second;
+  }
+  expected += " and 2 more";
+  EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, o.judge, 8, 9), expected);
+  EXPECT_EQ(report::glyph_detail::unfixed_reason("why", c, c.spline, o.judge, 8, 8), "why");
+  // A joint's place: the curvature jump alone, by its node.
+  report::ReportOptions g2;
+  report::parse_require_list("g2-at-smooth-nodes", g2);
+  ASSERT_EQ(findings[7].first.rfind("g2-at-smooth-nodes", 0), 0u) << findings[7].first;
+  EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, g2, 1, 2),
+            "no fix passes every check; where the search stopped, 1 of the source's 2 violations are left: " +
+                findings[7].first + " at " + findings[7].second);
 }
 
 }  // namespace
