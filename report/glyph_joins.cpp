@@ -4,29 +4,55 @@
 #include <cmath>
 #include <vector>
 
+#include "bezierize/extract.hpp"
 #include "design/fix.hpp"
 #include "report/batch.hpp"
 
 namespace cmr::report::glyph_detail {
 
 std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
-  if (c.spline.degree() != 2) return "";
+  const BSpline& s = c.spline;
+  if (s.degree() != 2 || !s.closed()) return "";
   if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
     return "";
-  const SplineReport r = gate_report(c.spline, o);
-  const int n = c.spline.segment_count();
+  const SplineReport r = gate_report(s, o);
+  const int n = s.segment_count();
   auto is_line = [&](int i) {
-    for (int k : segment_points(c.spline, c.spline.segments()[i]))
+    for (int k : segment_points(s, s.segments()[i]))
       if (k < static_cast<int>(c.font_point.size()) && c.font_point[k] < 0) return true;
+    return false;
+  };
+  std::vector<const JointReport*> joint(static_cast<std::size_t>(n), nullptr);
+  for (const JointReport& jr : r.joints) joint[static_cast<std::size_t>(jr.joint.index % n)] = &jr;
+  auto points = [&](int i) { return bezier_segment(s, s.segments()[static_cast<std::size_t>(i)]).points; };
+  // From the line's end J along the curved side (forward: J starts piece
+  // `first`), piece by piece while g2 applies at the next joint and no line
+  // starts there: the chain that would have to be straight. Its far end is
+  // held where it is a line's end (a line's end node stays) off J's line;
+  // a corner that may move, or an end on J's line, could take a straight
+  // chain, and then g2 at J and along the chain passes: no claim there.
+  auto held_off_the_line = [&](int first, bool forward, Vec2 j, Vec2 u) {
+    int piece = first;
+    for (int step = 0; step < n; ++step) {
+      const std::vector<Vec2> b = points(piece);
+      const Vec2 end = forward ? b.back() : b.front();
+      const int far = forward ? (piece + 1) % n : piece, next = forward ? (piece + 1) % n : (piece + n - 1) % n;
+      if (is_line(next)) return det(end - j, u) != 0;
+      if (joint[static_cast<std::size_t>(far)] == nullptr || joint[static_cast<std::size_t>(far)]->corner) return false;
+      piece = next;
+    }
     return false;
   };
   for (const JointReport& jr : r.joints) {
     const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
     if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
     const int right = jr.joint.index % n, left = (right + n - 1) % n;
-    if (!c.spline.closed() && jr.joint.index == 0) continue;
-    if (is_line(kl == 0 ? left : right))
-      return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
+    const bool line_left = kl == 0;
+    if (!is_line(line_left ? left : right)) continue;
+    const std::vector<Vec2> line = points(line_left ? left : right);
+    const Vec2 j = line_left ? line.back() : line.front(), u = line.back() - line.front();
+    if (!held_off_the_line(line_left ? right : left, line_left, j, u)) continue;
+    return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
   }
   return "";
 }

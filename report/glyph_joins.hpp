@@ -13,8 +13,15 @@ namespace cmr::report::glyph_detail {
 /// holds an added point, which never moves) and a curve, where
 /// g2-at-smooth-nodes is required: the curve's end curvature would have to
 /// be 0 there, and a quadratic piece has that only when it is straight
-/// itself (its three Bezier points collinear), so no move of the source's
-/// points passes the gate. The joint's name, or "" when there is none.
+/// itself (its three Bezier points collinear). Then the next piece would
+/// meet it with the same jump, unless it is straight too, and so on along
+/// the curved side up to the first joint where g2 does not apply (a corner)
+/// or a line starts: a joint where that chain ends at a line's end (which
+/// stays) off the line's own, so that the chain cannot be straight, is
+/// such a joint, and no move of the source's points passes the gate there.
+/// (Where the chain ends at a corner that may move, or on the line, a
+/// straight chain would pass: not claimed, the search decides.) The
+/// joint's name, or "" when there is none.
 std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o);
 
 /// A cubic contour's smooth join J of a line and a curve piece S = (J, H1,

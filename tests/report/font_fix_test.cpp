@@ -19,6 +19,7 @@
 #include "report/font_report.hpp"
 #include "report/gates.hpp"
 #include "report/glyph_fix.hpp"
+#include "report/glyph_joins.hpp"
 #include "report/glyph_unfixed.hpp"
 #include "report/report.hpp"
 #include "tests/cli_util.hpp"
@@ -267,6 +268,55 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
   EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, g2, 1, 2),
             "no fix passes every check; where the search stopped, 1 of the source's 2 violations are left: " +
                 findings[7].first + " at " + findings[7].second);
+}
+
+// A smooth node J where a line meets a quadratic curve (g2 required): the
+// curve would have to be straight from J up to where the chain of pieces
+// ends, a corner or a line's end (report/glyph_joins.hpp,
+// unmovable_g2_join). The glyph fix refuses at once only where that end is
+// a line's end off J's line (it stays, so no chain through it is
+// straight). Where the chain ends at a corner that may move, a straight
+// chain passes g2 at J and along it, so "no move passes" would be false:
+// shown here on the straightened contour, and not claimed.
+TEST(GlyphFix, ALineToQuadraticJoinIsRefusedOnlyWhereNoStraightChainPasses) {
+  using T = import::OutlinePoint::Tag;
+  // L (0, 0) -- line -- J (100, 0), smooth; (150, 0), (200, 50) conic; F;
+  // then `rest` back to L. J's chain: J .. the implied (175, 25) .. F.
+  const auto contour = [](Vec2 f, Vec2 h2, bool line_after_f) {
+    std::vector<import::OutlinePoint> pts = {{{0, 0}, T::on}, {{100, 0}, T::on}, {{150, 0}, T::conic},
+                                             {h2, T::conic}, {f, T::on}};
+    if (!line_after_f) pts.push_back({{100, 150}, T::conic});  // F a corner between two curves: it may move
+    pts.push_back({{0, 100}, T::on});                          // then a line back to L
+    return *import::outline_contour(pts, 0, 2, "q", import::PointNaming::source);
+  };
+  report::ReportOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o);
+  o.regions = false;
+  const auto g2_at_j = [&](const import::Contour& c) {  // g2 violations at J (joint named q/c0/p1)
+    int at_j = 0;
+    const report::SplineReport r = report::gate_report(c.spline, o);
+    for (const report::GateResult& g : r.gates)
+      for (const report::GateViolation& v : g.violations)
+        if (g.gate.kind == report::Gate::Kind::g2_at_smooth_nodes && v.joint >= 0 &&
+            c.joint_names.at(static_cast<std::size_t>(v.joint % c.spline.segment_count())) == "q/c0/p1")
+          ++at_j;
+    return at_j;
+  };
+  // F a line's end off J's line: the jump at J is claimed.
+  const import::Contour held = contour({200, 100}, {200, 50}, true);
+  EXPECT_EQ(g2_at_j(held), 1);
+  EXPECT_EQ(report::glyph_detail::unmovable_g2_join(held, o), "q/c0/p1");
+  // F a corner that may move: not claimed, and the straight chain (F and
+  // its incoming handle on J's line) passes g2 at J, and the gates there.
+  const import::Contour free = contour({200, 100}, {200, 50}, false);
+  EXPECT_EQ(g2_at_j(free), 1);
+  EXPECT_EQ(report::glyph_detail::unmovable_g2_join(free, o), "");
+  const import::Contour straight = contour({250, 0}, {200, 0}, false);
+  EXPECT_EQ(g2_at_j(straight), 0);
+  // F a line's end on J's line: a straight chain could end there; not claimed.
+  const import::Contour on_line = contour({250, 0}, {200, 50}, true);
+  EXPECT_EQ(g2_at_j(on_line), 1);
+  EXPECT_EQ(report::glyph_detail::unmovable_g2_join(on_line, o), "");
 }
 
 }  // namespace
