@@ -261,6 +261,14 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
   expected += " and 2 more";
   EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, o.judge, 8, 9), expected);
   EXPECT_EQ(report::glyph_detail::unfixed_reason("why", c, c.spline, o.judge, 8, 8), "why");
+  // Gate by gate in the checks' order ("; " between them), the cut across
+  // gates: the jump first, then five of the seven extrema.
+  report::ReportOptions jump_first;
+  report::parse_require_list("g2-at-smooth-nodes,curvature-extrema-at-nodes", jump_first);
+  std::string both = "no fix passes every check; where the search stopped, 8 of the source's 9 violations are left: " +
+                     findings[7].first + " at " + findings[7].second + "; " + findings[0].first + " at ";
+  for (std::size_t k = 0; k < 5; ++k) both += (k ? ", " : "") + findings[k].second;
+  EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, jump_first, 8, 9), both + " and 2 more");
   // A joint's place: the curvature jump alone, by its node.
   report::ReportOptions g2;
   report::parse_require_list("g2-at-smooth-nodes", g2);
