@@ -170,6 +170,9 @@ void parse_require_list(const std::string& text, ReportOptions& options) {
       r = parse_requirement(item);
     } catch (const InputError& e) {
       if (std::string(e.what()).find("signed curvature") != std::string::npos) throw;  // split:S:max|min: the hint
+      if (item == "each-run")  // cmr fix's requirement for a spline file (design/fix.hpp): name the gate it serves
+        throw InputFieldError(field("require") + ": each-run is a requirement of `cmr fix` on a spline file; as a "
+                              "gate (fonts, reports) it is curvature-extrema-at-nodes:runs");
       throw InputFieldError(field("require") + ": '" + item + "' is not cmrwi, cmr, split:S or a gate (" + kGateNames +
                             ")");
     }

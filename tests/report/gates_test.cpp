@@ -260,6 +260,17 @@ TEST(Gates, RequireListParsing) {
     ReportOptions p;
     EXPECT_THROW(parse_require_list(bad, p), InputError) << bad;
   }
+  // cmr fix's each-run (a spline file's requirement, listed in its --help)
+  // is no gate: the error names the gate it serves.
+  ReportOptions p;
+  try {
+    parse_require_list("each-run", p);
+    ADD_FAILURE() << "each-run was taken as a gate";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("as a gate (fonts, reports) it is curvature-extrema-at-nodes:runs"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // Issue 36: designers read "extrema-at-nodes" as fontbakery's x/y-extremes
