@@ -38,6 +38,17 @@ const GateResult& result(const SplineReport& r, Gate::Kind kind) {
   throw std::logic_error("gate not run");
 }
 
+/// parse_require_list refuses `text` with an InputError whose message holds `says`.
+void expect_refused_saying(const std::string& text, const std::string& says) {
+  ReportOptions p;
+  try {
+    parse_require_list(text, p);
+    ADD_FAILURE() << text << " was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+  }
+}
+
 // The closed uniform quadratic on a square's corners: four parabola pieces,
 // each symmetric about its middle, so each has its curvature maximum at
 // local t = 1/2 exactly and the minima are at the nodes; by the square's
@@ -262,15 +273,7 @@ TEST(Gates, RequireListParsing) {
   }
   // cmr fix's each-run (a spline file's requirement, listed in its --help)
   // is no gate: the error names the gate it serves.
-  ReportOptions p;
-  try {
-    parse_require_list("each-run", p);
-    ADD_FAILURE() << "each-run was taken as a gate";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("as a gate (fonts, reports) it is curvature-extrema-at-nodes:runs"),
-              std::string::npos)
-        << e.what();
-  }
+  expect_refused_saying("each-run", "as a gate (fonts, reports) it is curvature-extrema-at-nodes:runs");
 }
 
 // Issue 36: designers read "extrema-at-nodes" as fontbakery's x/y-extremes
@@ -300,15 +303,7 @@ TEST(Gates, OldNameIsAnAliasAndNeverWritten) {
   const auto fix_help = test::run("fix --help");
   EXPECT_NE(fix_help.out.find("curvature-extrema-at-nodes (alias: extrema-at-nodes)"), std::string::npos)
       << fix_help.out;
-  ReportOptions p;
-  try {
-    parse_require_list("extrema", p);
-    ADD_FAILURE() << "extrema was taken";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("extrema-at-nodes is an alias of curvature-extrema-at-nodes"),
-              std::string::npos)
-        << e.what();
-  }
+  expect_refused_saying("extrema", "extrema-at-nodes is an alias of curvature-extrema-at-nodes");
 }
 
 TEST(Gates, CommandsTakeImportedFilesAndFonts) {
