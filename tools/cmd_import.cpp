@@ -216,8 +216,9 @@ void add_import_command(CLI::App& app, int& exit_code) {
       const auto counted = [](std::size_t n, const char* noun) {
         return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
       };
-      std::cout << "imported " << counted(font.glyphs.size(), "glyph") << ", " << counted(static_cast<std::size_t>(written), "contour") << " ("
-                << (font.cubic ? "cubic" : "quadratic") << ", "
+      std::cout << "imported " << counted(font.glyphs.size(), "glyph") << ", "
+                << counted(static_cast<std::size_t>(written), "contour") << " (" << (font.cubic ? "cubic" : "quadratic")
+                << ", "
                 << (font.units_per_em > 0 ? std::to_string(font.units_per_em) + " units per em"
                                           : std::string("units per em unknown"))
                 << ") from " << args->input << " into " << dir.string();

@@ -252,8 +252,8 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
   report::GlyphFixOptions o;
   report::parse_require_list(gates, o.judge);
   o.judge.regions = false;
-  std::string expected = "no fix passes every check; where the search stopped, 8 of the source's 9 violations are left: " +
-                         findings[0].first + " at ";
+  const std::string stopped = "no fix passes every check; where the search stopped, 8 of the source's 9 violations";
+  std::string expected = stopped + " are left: " + findings[0].first + " at ";
   for (std::size_t k = 0; k < 6; ++k) {
     ASSERT_EQ(findings[k].first, findings[0].first);
     expected += (k ? ", " : "") + findings[k].second;
@@ -265,8 +265,8 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
   // gates: the jump first, then five of the seven extrema.
   report::ReportOptions jump_first;
   report::parse_require_list("g2-at-smooth-nodes,curvature-extrema-at-nodes", jump_first);
-  std::string both = "no fix passes every check; where the search stopped, 8 of the source's 9 violations are left: " +
-                     findings[7].first + " at " + findings[7].second + "; " + findings[0].first + " at ";
+  std::string both =
+      stopped + " are left: " + findings[7].first + " at " + findings[7].second + "; " + findings[0].first + " at ";
   for (std::size_t k = 0; k < 5; ++k) both += (k ? ", " : "") + findings[k].second;
   EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, jump_first, 8, 9), both + " and 2 more");
   // A joint's place: the curvature jump alone, by its node.
