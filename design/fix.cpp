@@ -912,15 +912,9 @@ namespace {
 // 2^-e). Without it norm() of a far-off curve's offsets overflowed, and
 // every candidate lay beyond max_move.
 BSpline scaled_spline(const BSpline& spline, int e) {
-  // Built once (a caller's judge sees one per evaluation): the distinct
-  // points scaled, the knots, weights and name kept.
-  const std::size_t m = static_cast<std::size_t>(spline.unique_point_count());
-  std::vector<Vec2> pts(spline.points().begin(), spline.points().begin() + static_cast<long>(m));
+  std::vector<Vec2> pts(spline.points().begin(), spline.points().begin() + spline.unique_point_count());
   for (Vec2& p : pts) p *= std::ldexp(1.0, e);
-  std::vector<double> w;
-  if (spline.is_rational()) w.assign(spline.weights().begin(), spline.weights().begin() + static_cast<long>(m));
-  if (spline.closed()) return BSpline::make_closed(spline.degree(), spline.period_knots(), pts, spline.name(), w);
-  return BSpline::make(spline.degree(), spline.knots(), pts, spline.name(), w);
+  return spline.with_points(pts);
 }
 
 void scale_joint(Joint& j, int e) {

@@ -98,10 +98,7 @@ constexpr int kGlyphFixRounds = 12;
 
 /// The contour's spline with its distinct points at `pts`.
 BSpline with_points(const import::Contour& c, const std::vector<Vec2>& pts) {
-  BSpline s = c.spline;
-  for (int k = 0; k < s.unique_point_count(); ++k)
-    if (pts[k] != s.points()[k]) s = s.with_point(k, pts[k]);
-  return s;
+  return c.spline.with_points({pts.begin(), pts.begin() + c.spline.unique_point_count()});
 }
 
 /// Every node that is exactly smooth in the source (its neighbours on both

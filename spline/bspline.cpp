@@ -175,6 +175,21 @@ BSpline BSpline::with_point(int k, Vec2 p) const {
   return s;
 }
 
+BSpline BSpline::with_points(const std::vector<Vec2>& pts) const {
+  if (static_cast<int>(pts.size()) != unique_point_count())
+    throw InputError(std::to_string(pts.size()) + " points for a spline of " + std::to_string(unique_point_count()));
+  BSpline s = *this;
+  for (int k = 0; k < static_cast<int>(pts.size()); ++k) {
+    check_finite_point(pts[k], k);
+    for (const int at : {k, twin(k)}) {
+      if (at < 0) continue;
+      s.points_[at] = pts[k];
+      if (s.is_rational()) s.hpoints_[at] = to_hpoint<double>(pts[k], s.weights_[at]);
+    }
+  }
+  return s;
+}
+
 BSpline BSpline::reversed() const {
   std::vector<double> knots(knots_.rbegin(), knots_.rend());
   for (double& u : knots) u = -u;

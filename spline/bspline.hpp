@@ -123,6 +123,11 @@ class BSpline {
   /// the point must be finite: throws InputError otherwise). On a closed
   /// spline its twin moves with it, so the copy stays closed.
   [[nodiscard]] BSpline with_point(int k, Vec2 p) const;
+  /// A copy with every distinct control point replaced at once: `pts` holds
+  /// unique_point_count() points (each finite, as with_point's; throws
+  /// InputError otherwise), a closed spline's twins following them. One
+  /// copy, where a with_point per point would copy the spline each time.
+  [[nodiscard]] BSpline with_points(const std::vector<Vec2>& pts) const;
   /// The same curve traversed backwards: knots u -> -u reversed, points reversed.
   [[nodiscard]] BSpline reversed() const;
 

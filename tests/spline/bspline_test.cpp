@@ -173,6 +173,27 @@ TEST(BSpline, WithPointRejectsOutOfRangeIndex) {
   EXPECT_EQ(s.with_point(1, {5, 5}).points()[1], Vec2(5, 5));
 }
 
+// with_points: every distinct point at once, the same spline as a
+// with_point per point (closed: the twins follow; rational: the weights
+// stay with their points), and the same refusals.
+TEST(BSpline, WithPointsIsAWithPointPerPoint) {
+  const std::vector<Vec2> ring = {{0, 0}, {4, 0}, {5, 3}, {2, 5}, {-1, 3}};
+  const std::vector<Vec2> moved = {{1, 0}, {4, -1}, {6, 3}, {2, 7}, {-2, 2}};
+  for (const BSpline& s : {BSpline::make_closed(3, {0, 1, 2, 3, 4, 5}, ring),
+                           BSpline::make(2, {0, 0, 1, 2, 3, 3}, ring, "", {1, 2, 1, 3, 1}),
+                           BSpline::bezier(ring)}) {
+    BSpline each = s;
+    for (int k = 0; k < s.unique_point_count(); ++k) each = each.with_point(k, moved[static_cast<std::size_t>(k)]);
+    const BSpline all = s.with_points({moved.begin(), moved.begin() + s.unique_point_count()});
+    EXPECT_EQ(all.points(), each.points());
+    EXPECT_EQ(all.homogeneous_points(), each.homogeneous_points());
+    EXPECT_THROW((void)s.with_points({moved.begin(), moved.begin() + 2}), InputError);
+    std::vector<Vec2> bad(moved.begin(), moved.begin() + s.unique_point_count());
+    bad[1].x = std::nan("");
+    EXPECT_THROW((void)s.with_points(bad), InputError);
+  }
+}
+
 TEST(BSpline, WeightsAreValidatedNamingTheIndex) {
   const std::vector<Vec2> P = {{0, 0}, {1, 1}, {2, 0}};
   const auto message = [&](std::vector<double> w) {
