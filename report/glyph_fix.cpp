@@ -26,6 +26,8 @@ using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
+using glyph_detail::extremum_rejects;
+using glyph_detail::with_failure_proofs;
 using glyph_detail::snap_by_parts;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
@@ -722,8 +724,7 @@ bool certify_contour_fix(const import::Contour& c, const BSpline& fixed, const R
 
 namespace glyph_detail {
 
-std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
-                                                                                      const ReportOptions& o) {
+Judge local_judge(const import::Contour& c, const ReportOptions& o) {
   const std::function<int(const BSpline&)> whole = total_judge(o);
   return [c, whole, runs = RunJudge(c.spline, o)](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
     const BSpline s = with_points(c, to);
@@ -744,7 +745,8 @@ std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_ju
 namespace {
 
 /// settle_nearer on a contour's passing fix `fixed` (updated), judged by
-/// local_judge (every check of `o`, smooth nodes kept).
+/// local_judge (every check of `o`, smooth nodes kept) after the shortcuts
+/// that prove a failure (extremum_rejects, with_failure_proofs).
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
             const ReportOptions& o, Work& work) {
   const int distinct = c.spline.unique_point_count();
@@ -760,9 +762,10 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
     work.charge(r ? r->length + 2 : segments);
     return judge(from, to);
   };
-  const bool done = settle_nearer(
-      src, at, lattice_units(c, movable, options.grid), options.grid, reach, passes,
-      [&runs](const std::vector<int>& points) { return runs.depends_on(points); }, work);
+  const bool done = settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
+                                  with_failure_proofs(c.spline, o, runs, passes, work),
+                                  [&runs](const std::vector<int>& points) { return runs.depends_on(points); },
+                                  extremum_rejects(c.spline, o, options.grid, work), work);
   fixed = with_points(c, at);
   return done;
 }

@@ -65,9 +65,9 @@ double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) 
 }
 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
-                   double grid, double max_move,
-                   const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
-                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, Work& work) {
+                   double grid, double max_move, const Judge& passes,
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, const Rejects& rejects,
+                   Work& work) {
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
   // Per unit, the points its verdicts read (depends_on), as flags.
   std::vector<std::vector<char>> reads(units.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
@@ -157,6 +157,15 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
           std::vector<std::pair<double, Vec2>> candidates;
           for (const Vec2 d : band_steps(u, mean, grid, lo, lo < 0 ? width : lo + width))
             if (share(d) < own) candidates.emplace_back(now - own + share(d), d);
+          if (rejects && !candidates.empty()) {
+            std::vector<Vec2> steps;
+            for (const auto& c : candidates) steps.push_back(c.second);
+            const std::vector<char> out = rejects(at, u, steps);
+            std::size_t kept = 0;
+            for (std::size_t c = 0; c < candidates.size(); ++c)
+              if (!out[c]) candidates[kept++] = candidates[c];
+            candidates.resize(kept);
+          }
           taken = take_first(candidates, [&](Vec2 d) { return moved_by({{&u, d}}); });
         }
         if (taken) {

@@ -73,6 +73,10 @@ struct LatticeUnit {
   Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
 };
 
+/// A judge of a move from a passing position `from` to `to` (the contour's
+/// distinct points), whether `to` passes (local_judge; settle_nearer's `passes`).
+using Judge = std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>;
+
 /// The settling of a passing fix (fix_glyph, after every contour's search): the cost
 /// is the total squared move of every point from the source, and a move is
 /// taken when it lowers the cost and the exact judge passes it
@@ -109,10 +113,37 @@ inline constexpr long kSettleCandidates = 4096;
 /// distance of `pts` from `src` (the first src.size() of pts are read).
 double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts);
 
+/// `rejects(at, unit, steps)`: per step of a single unit's band, true where
+/// `at` with the unit moved by it certainly fails a check
+/// (extremum_rejects): such positions are passed over unjudged, as
+/// failing, so the scan's order and its answer are those of judging them.
+/// None when empty.
+using Rejects =
+    std::function<std::vector<char>(const std::vector<Vec2>&, const LatticeUnit&, const std::vector<Vec2>&)>;
+
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
-                   double grid, double max_move,
-                   const std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>& passes,
-                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, Work& work);
+                   double grid, double max_move, const Judge& passes,
+                   const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, const Rejects& rejects,
+                   Work& work);
+
+/// The settling's shortcut where `o` has the curvature-extrema gate: a
+/// unit's candidate steps (each a whole number of `grid` steps, or of a
+/// slide's grid vector) classified at once by the unit's region
+/// (region/region.hpp: the unit's points moved rigidly, each piece on its
+/// own, over the segments the unit shapes that are not straight in
+/// `source`: one render whose pixel centres are the candidates, or one
+/// classification each where that would be many more pixels than
+/// candidates). A certified "fail" there is a sign change of lambda inside
+/// a judged segment, a curvature extremum, and that is a violation of the
+/// gate wherever the segment has no cusp and is not near constant
+/// (violates_where_extremum: both shown from its Bezier points with a
+/// margin), so the step is rejected; every other step is left to the judge.
+/// Each region charges `work` kRegionSetupWork per judged segment and a
+/// unit per kRegionPixelsPerWork pixels rendered or per position classified
+/// alone. Empty (no shortcut) without that gate or for a rational contour.
+/// GlyphFix.ExtremumRejectsAreFailures holds it to the judge.
+inline constexpr long kRegionSetupWork = 40, kRegionPixelsPerWork = 16;
+Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double grid, Work& work);
 
 /// The checks of a move of a few points judged on the segments those points
 /// shape. Where every check of `o` is local (the extremum gates read each
@@ -163,8 +194,26 @@ class RunJudge {
 /// every check and keeps every exactly smooth node exactly smooth, judged on
 /// the changed run alone where RunJudge allows, else on the whole contour.
 /// Defined in glyph_fix.cpp; GlyphFix.LocalJudgeIsTheWholeJudge.
-std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)> local_judge(const import::Contour& c,
-                                                                                      const ReportOptions& o);
+Judge local_judge(const import::Contour& c, const ReportOptions& o);
+
+/// `passes` preceded, where `runs` judges the move on a run of segments, by
+/// proofs of failure a few times cheaper than the judge (each try charges
+/// `work` a unit); where one holds, false, unjudged:
+///  * curvature-extrema-at-nodes: a segment of the run, not straight in
+///    `source`, that Algorithm 1 (classify_segment, certified: its
+///    floating-point path with error bounds, else exact) finds not monotone
+///    has a curvature extremum inside, a violation where
+///    violates_where_extremum shows it is neither a cusp nor near constant;
+///  * g2-at-smooth-nodes:tol: a joint of the run (its ends included) that
+///    the gate judges wherever the judge passes (C1 by the knots, or a node
+///    exactly smooth in `source`, which local_judge keeps so) whose
+///    certified end curvatures (certified_end_curvature, as the gate's)
+///    differ by more than tol times the larger, with a margin for their
+///    rounding.
+/// `runs` and `work` must outlive the judge.
+/// GlyphFix.FailureProofsAreTheJudge holds it to the judge.
+Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const RunJudge& runs, Judge passes,
+                          Work& work);
 
 /// The moves of `f` in parts that share no segment: two moved points are in
 /// one part when a segment has both (through others of the part).

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "design/fix.hpp"
 #include "io/font.hpp"
 #include "report/batch.hpp"
 #include "report/glyph_fix.hpp"
@@ -194,7 +196,7 @@ TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
   };
   auto depends = [](const std::vector<int>&) { return std::vector<int>{0, 4}; };
   report::glyph_detail::Work work(50'000'000, 60);
-  ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, work));
+  ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, {}, work));
   double best = 1e18;
   Vec2 nearest(0.0);
   for (long i = -200; i <= 200; ++i)
@@ -281,6 +283,124 @@ TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
   EXPECT_GT(passing, 100);
   EXPECT_GT(failing, 100);
   EXPECT_GT(runs_checked, 1500);  // most moves change a run short of the whole contour
+}
+
+// The settling's shortcut (glyph_detail::extremum_rejects) passes over a
+// candidate unjudged only where the curvature-extrema gate fails it: every
+// step it rejects must give a violation of that gate on a segment the unit
+// shapes. Units of the sources of DejaVu `S`, `e`, `o` and Nimbus `g`, `D`
+// (a point alone, and a node with its off-curve neighbours), each with the
+// steps of a disc of radius 6 (one render whose pixel centres are the
+// candidates) and with 30 steps along a long diagonal (each classified
+// alone).
+TEST(GlyphFix, ExtremumRejectsAreFailures) {
+  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  for (const char* path : {kNimbus, kDejaVu})
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  report::ReportOptions judge;
+  report::parse_require_list("curvature-extrema-at-nodes", judge);
+  judge = report::judge_only(judge);
+  std::vector<Vec2> disc, diagonal;
+  for (int i = -6; i <= 6; ++i)
+    for (int j = -6; j <= 6; ++j)
+      if (i * i + j * j <= 36 && (i != 0 || j != 0)) disc.emplace_back(i, j);
+  for (int j = -15; j <= 15; ++j)
+    if (j != 0) diagonal.push_back(static_cast<double>(j) * Vec2(7.0, 3.0));
+  long rejected = 0, kept = 0, units = 0;
+  for (const auto& [path, glyphs] : {std::pair{kNimbus, "g,D"}, std::pair{kDejaVu, "S,e,o"}}) {
+    const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
+    for (const import::Glyph& g : font.glyphs)
+      for (const import::Contour& c : g.contours) {
+        const int m = c.spline.unique_point_count();
+        const std::vector<Vec2> at(c.spline.points().begin(), c.spline.points().begin() + m);
+        report::glyph_detail::Work work(1'000'000'000, 600);
+        const report::glyph_detail::Rejects rejects =
+            report::glyph_detail::extremum_rejects(c.spline, judge, 1.0, work);
+        ASSERT_TRUE(rejects);
+        for (int k = 0; k < m; ++k) {
+          report::glyph_detail::LatticeUnit u;
+          u.points = {k};
+          if (c.node[k] && !c.node[(k + 1) % m] && !c.node[(k + m - 1) % m])
+            u.points = {k, (k + 1) % m, (k + m - 1) % m};
+          ++units;
+          for (const std::vector<Vec2>* steps : {&disc, &diagonal}) {
+            const std::vector<char> out = rejects(at, u, *steps);
+            ASSERT_EQ(out.size(), steps->size());
+            for (std::size_t s = 0; s < steps->size(); ++s) {
+              ++(out[s] ? rejected : kept);
+              if (!out[s]) continue;
+              std::vector<Vec2> moved = at;
+              for (int p : u.points)
+                moved[static_cast<std::size_t>(p)] = moved[static_cast<std::size_t>(p)] + (*steps)[s];
+              const BSpline spline = with_points(c, moved);
+              bool shaped = false;
+              for (const report::GateResult& gr : report::gate_report(spline, judge).gates)
+                for (const report::GateViolation& v : gr.violations) {
+                  if (v.segment < 0) continue;
+                  for (int p : segment_points(spline, spline.segments()[static_cast<std::size_t>(v.segment)]))
+                    shaped = shaped || std::find(u.points.begin(), u.points.end(), p % m) != u.points.end();
+                }
+              ASSERT_TRUE(shaped) << g.name << "/c" << c.index << " point " << k << " step " << (*steps)[s].x << ", "
+                                  << (*steps)[s].y;
+            }
+          }
+        }
+      }
+  }
+  EXPECT_GT(units, 40);
+  EXPECT_GT(rejected, 10000);
+  EXPECT_GT(kept, 5000);
+}
+
+// The settling's quick proofs of failure (glyph_detail::with_failure_proofs)
+// give the judge's answer: random moves of one or two points (up to 12
+// units each way; a node with its off-curve neighbours or a point alone)
+// of the sources of DejaVu `S`, `e`, `o` and Nimbus `g`, `D`, judged with
+// and without them. Most failing moves are decided by a proof alone.
+TEST(GlyphFix, FailureProofsAreTheJudge) {
+  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  for (const char* path : {kNimbus, kDejaVu})
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  report::ReportOptions judge;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", judge);
+  judge = report::judge_only(judge);
+  std::mt19937 rng(39);
+  long trials = 0, passing = 0, proved = 0;
+  for (const auto& [path, glyphs] : {std::pair{kNimbus, "g,D"}, std::pair{kDejaVu, "S,e,o"}}) {
+    const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
+    for (const import::Glyph& g : font.glyphs)
+      for (const import::Contour& c : g.contours) {
+        const int m = c.spline.unique_point_count();
+        const std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
+        const report::glyph_detail::RunJudge runs(c.spline, judge);
+        const report::glyph_detail::Judge local = report::glyph_detail::local_judge(c, judge);
+        long judged = 0;
+        report::glyph_detail::Work work(1'000'000'000, 600);
+        const report::glyph_detail::Judge quick = report::glyph_detail::with_failure_proofs(
+            c.spline, judge, runs,
+            [&](const std::vector<Vec2>& a, const std::vector<Vec2>& b) { return ++judged, local(a, b); }, work);
+        std::uniform_int_distribution<int> pick(0, m - 1), step(-12, 12);
+        for (int trial = 0; trial < 200; ++trial) {
+          std::vector<Vec2> to = from;
+          for (int moved = 0; moved < 1 + trial % 2; ++moved) {
+            const int k = pick(rng);
+            const Vec2 d(step(rng), step(rng));
+            to[static_cast<std::size_t>(k)] = to[static_cast<std::size_t>(k)] + d;
+            if (c.node[k] && trial % 3 == 0)  // a node with its handles
+              for (int side : {m - 1, 1})
+                if (!c.node[(k + side) % m])
+                  to[static_cast<std::size_t>((k + side) % m)] = to[static_cast<std::size_t>((k + side) % m)] + d;
+          }
+          const long before = judged;
+          const bool expected = local(from, to);
+          ASSERT_EQ(quick(from, to), expected) << g.name << "/c" << c.index << " trial " << trial;
+          ++trials, passing += expected, proved += judged == before;
+        }
+      }
+  }
+  EXPECT_GT(trials, 1500);
+  EXPECT_GT(passing, 50);
+  EXPECT_GT(proved, 300);
 }
 
 // The glyph fix's budget is work, not time (report/glyph_settle.hpp, Work):
