@@ -34,6 +34,31 @@ namespace cmr {
 namespace {
 
 const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+/// The first of Nimbus Sans and DejaVu Sans that is not installed, else null.
+const char* missing_font() {
+  for (const char* path : {kNimbus, kDejaVu})
+    if (!std::filesystem::exists(path)) return path;
+  return nullptr;
+}
+
+/// The judge of `gates` (comma separated) alone.
+report::ReportOptions judge_of(const char* gates) {
+  report::ReportOptions o;
+  report::parse_require_list(gates, o);
+  return report::judge_only(o);
+}
+
+/// The shortcut tests' shapes: the source contours of Nimbus Sans `g`, `D`
+/// and DejaVu Sans `S`, `e`, `o`, named glyph/cN.
+std::vector<std::pair<std::string, import::Contour>> shortcut_contours() {
+  std::vector<std::pair<std::string, import::Contour>> out;
+  for (const auto& [path, glyphs] : {std::pair{kNimbus, "g,D"}, std::pair{kDejaVu, "S,e,o"}})
+    for (const import::Glyph& g : import::read_font(path, import::parse_glyph_spec(glyphs)).glyphs)
+      for (const import::Contour& c : g.contours) out.emplace_back(g.name + "/c" + std::to_string(c.index), c);
+  return out;
+}
 
 double total_squared(const std::vector<Vec2>& p, const std::vector<Vec2>& src) {
   double t = 0;
@@ -222,9 +247,7 @@ TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
 // from the failing source, the change in the whole contour's violations
 // must be the change on the run.
 TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
-  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  for (const char* path : {kNimbus, kDejaVu})
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  if (const char* path = missing_font()) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
   report::GlyphFixOptions o;
   report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
   o.judge.regions = false;
@@ -294,12 +317,8 @@ TEST(GlyphFix, LocalJudgeIsTheWholeJudge) {
 // candidates) and with 30 steps along a long diagonal (each classified
 // alone).
 TEST(GlyphFix, ExtremumRejectsAreFailures) {
-  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  for (const char* path : {kNimbus, kDejaVu})
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
-  report::ReportOptions judge;
-  report::parse_require_list("curvature-extrema-at-nodes", judge);
-  judge = report::judge_only(judge);
+  if (const char* path = missing_font()) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  const report::ReportOptions judge = judge_of("curvature-extrema-at-nodes");
   std::vector<Vec2> disc, diagonal;
   for (int i = -6; i <= 6; ++i)
     for (int j = -6; j <= 6; ++j)
@@ -307,45 +326,41 @@ TEST(GlyphFix, ExtremumRejectsAreFailures) {
   for (int j = -15; j <= 15; ++j)
     if (j != 0) diagonal.push_back(static_cast<double>(j) * Vec2(7.0, 3.0));
   long rejected = 0, kept = 0, units = 0;
-  for (const auto& [path, glyphs] : {std::pair{kNimbus, "g,D"}, std::pair{kDejaVu, "S,e,o"}}) {
-    const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
-    for (const import::Glyph& g : font.glyphs)
-      for (const import::Contour& c : g.contours) {
-        const int m = c.spline.unique_point_count();
-        const std::vector<Vec2> at(c.spline.points().begin(), c.spline.points().begin() + m);
-        report::glyph_detail::Work work(1'000'000'000, 600);
-        const report::glyph_detail::Rejects rejects =
-            report::glyph_detail::extremum_rejects(c.spline, judge, 1.0, work);
-        ASSERT_TRUE(rejects);
-        for (int k = 0; k < m; ++k) {
-          report::glyph_detail::LatticeUnit u;
-          u.points = {k};
-          if (c.node[k] && !c.node[(k + 1) % m] && !c.node[(k + m - 1) % m])
-            u.points = {k, (k + 1) % m, (k + m - 1) % m};
-          ++units;
-          for (const std::vector<Vec2>* steps : {&disc, &diagonal}) {
-            const std::vector<char> out = rejects(at, u, *steps);
-            ASSERT_EQ(out.size(), steps->size());
-            for (std::size_t s = 0; s < steps->size(); ++s) {
-              ++(out[s] ? rejected : kept);
-              if (!out[s]) continue;
-              std::vector<Vec2> moved = at;
-              for (int p : u.points)
-                moved[static_cast<std::size_t>(p)] = moved[static_cast<std::size_t>(p)] + (*steps)[s];
-              const BSpline spline = with_points(c, moved);
-              bool shaped = false;
-              for (const report::GateResult& gr : report::gate_report(spline, judge).gates)
-                for (const report::GateViolation& v : gr.violations) {
-                  if (v.segment < 0) continue;
-                  for (int p : segment_points(spline, spline.segments()[static_cast<std::size_t>(v.segment)]))
-                    shaped = shaped || std::find(u.points.begin(), u.points.end(), p % m) != u.points.end();
-                }
-              ASSERT_TRUE(shaped) << g.name << "/c" << c.index << " point " << k << " step " << (*steps)[s].x << ", "
-                                  << (*steps)[s].y;
+  for (const auto& [name, c] : shortcut_contours()) {
+    const int m = c.spline.unique_point_count();
+    const std::vector<Vec2> at(c.spline.points().begin(), c.spline.points().begin() + m);
+    report::glyph_detail::Work work(1'000'000'000, 600);
+    const report::glyph_detail::Rejects rejects =
+        report::glyph_detail::extremum_rejects(c.spline, judge, 1.0, work);
+    ASSERT_TRUE(rejects);
+    for (int k = 0; k < m; ++k) {
+      report::glyph_detail::LatticeUnit u;
+      u.points = {k};
+      if (c.node[k] && !c.node[(k + 1) % m] && !c.node[(k + m - 1) % m])
+        u.points = {k, (k + 1) % m, (k + m - 1) % m};
+      ++units;
+      for (const std::vector<Vec2>* steps : {&disc, &diagonal}) {
+        const std::vector<char> out = rejects(at, u, *steps);
+        ASSERT_EQ(out.size(), steps->size());
+        for (std::size_t s = 0; s < steps->size(); ++s) {
+          ++(out[s] ? rejected : kept);
+          if (!out[s]) continue;
+          std::vector<Vec2> moved = at;
+          for (int p : u.points)
+            moved[static_cast<std::size_t>(p)] = moved[static_cast<std::size_t>(p)] + (*steps)[s];
+          const BSpline spline = with_points(c, moved);
+          bool shaped = false;
+          for (const report::GateResult& gr : report::gate_report(spline, judge).gates)
+            for (const report::GateViolation& v : gr.violations) {
+              if (v.segment < 0) continue;
+              for (int p : segment_points(spline, spline.segments()[static_cast<std::size_t>(v.segment)]))
+                shaped = shaped || std::find(u.points.begin(), u.points.end(), p % m) != u.points.end();
             }
-          }
+          ASSERT_TRUE(shaped) << name << " point " << k << " step " << (*steps)[s].x << ", "
+                              << (*steps)[s].y;
         }
       }
+    }
   }
   EXPECT_GT(units, 40);
   EXPECT_GT(rejected, 10000);
@@ -358,45 +373,37 @@ TEST(GlyphFix, ExtremumRejectsAreFailures) {
 // of the sources of DejaVu `S`, `e`, `o` and Nimbus `g`, `D`, judged with
 // and without them. Most failing moves are decided by a proof alone.
 TEST(GlyphFix, FailureProofsAreTheJudge) {
-  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  for (const char* path : {kNimbus, kDejaVu})
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
-  report::ReportOptions judge;
-  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", judge);
-  judge = report::judge_only(judge);
+  if (const char* path = missing_font()) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  const report::ReportOptions judge = judge_of("curvature-extrema-at-nodes,g2-at-smooth-nodes");
   std::mt19937 rng(39);
   long trials = 0, passing = 0, proved = 0;
-  for (const auto& [path, glyphs] : {std::pair{kNimbus, "g,D"}, std::pair{kDejaVu, "S,e,o"}}) {
-    const import::Font font = import::read_font(path, import::parse_glyph_spec(glyphs));
-    for (const import::Glyph& g : font.glyphs)
-      for (const import::Contour& c : g.contours) {
-        const int m = c.spline.unique_point_count();
-        const std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
-        const report::glyph_detail::RunJudge runs(c.spline, judge);
-        const report::glyph_detail::Judge local = report::glyph_detail::local_judge(c, judge);
-        long judged = 0;
-        report::glyph_detail::Work work(1'000'000'000, 600);
-        const report::glyph_detail::Judge quick = report::glyph_detail::with_failure_proofs(
-            c.spline, judge, runs,
-            [&](const std::vector<Vec2>& a, const std::vector<Vec2>& b) { return ++judged, local(a, b); }, work);
-        std::uniform_int_distribution<int> pick(0, m - 1), step(-12, 12);
-        for (int trial = 0; trial < 200; ++trial) {
-          std::vector<Vec2> to = from;
-          for (int moved = 0; moved < 1 + trial % 2; ++moved) {
-            const int k = pick(rng);
-            const Vec2 d(step(rng), step(rng));
-            to[static_cast<std::size_t>(k)] = to[static_cast<std::size_t>(k)] + d;
-            if (c.node[k] && trial % 3 == 0)  // a node with its handles
-              for (int side : {m - 1, 1})
-                if (!c.node[(k + side) % m])
-                  to[static_cast<std::size_t>((k + side) % m)] = to[static_cast<std::size_t>((k + side) % m)] + d;
-          }
-          const long before = judged;
-          const bool expected = local(from, to);
-          ASSERT_EQ(quick(from, to), expected) << g.name << "/c" << c.index << " trial " << trial;
-          ++trials, passing += expected, proved += judged == before;
-        }
+  for (const auto& [name, c] : shortcut_contours()) {
+    const int m = c.spline.unique_point_count();
+    const std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
+    const report::glyph_detail::RunJudge runs(c.spline, judge);
+    const report::glyph_detail::Judge local = report::glyph_detail::local_judge(c, judge);
+    long judged = 0;
+    report::glyph_detail::Work work(1'000'000'000, 600);
+    const report::glyph_detail::Judge quick = report::glyph_detail::with_failure_proofs(
+        c.spline, judge, runs,
+        [&](const std::vector<Vec2>& a, const std::vector<Vec2>& b) { return ++judged, local(a, b); }, work);
+    std::uniform_int_distribution<int> pick(0, m - 1), step(-12, 12);
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<Vec2> to = from;
+      for (int moved = 0; moved < 1 + trial % 2; ++moved) {
+        const int k = pick(rng);
+        const Vec2 d(step(rng), step(rng));
+        to[static_cast<std::size_t>(k)] = to[static_cast<std::size_t>(k)] + d;
+        if (c.node[k] && trial % 3 == 0)  // a node with its handles
+          for (int side : {m - 1, 1})
+            if (!c.node[(k + side) % m])
+              to[static_cast<std::size_t>((k + side) % m)] = to[static_cast<std::size_t>((k + side) % m)] + d;
       }
+      const long before = judged;
+      const bool expected = local(from, to);
+      ASSERT_EQ(quick(from, to), expected) << name << " trial " << trial;
+      ++trials, passing += expected, proved += judged == before;
+    }
   }
   EXPECT_GT(trials, 1500);
   EXPECT_GT(passing, 50);
@@ -410,7 +417,6 @@ TEST(GlyphFix, FailureProofsAreTheJudge) {
 // two threads keep both cores busy, and the moves must be the same, bit for
 // bit. With the budget in seconds the busy run gets less search done.
 TEST(GlyphFix, TheSameGlyphGetsTheSameFixOnABusyMachine) {
-  const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   if (!std::filesystem::exists(kDejaVu)) GTEST_SKIP() << kDejaVu << " is not installed (tools/setup.sh installs it)";
   const import::Font font = import::read_font(kDejaVu, import::parse_glyph_spec("S"));
   ASSERT_EQ(font.glyphs.size(), 1u);
