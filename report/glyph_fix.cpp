@@ -26,6 +26,7 @@ using glyph_detail::LatticeUnit;
 using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
+using glyph_detail::straight_bezier;
 using glyph_detail::extremum_rejects;
 using glyph_detail::with_failure_proofs;
 using glyph_detail::snap_by_parts;
@@ -245,13 +246,7 @@ std::optional<QuickJudge> quick_judge_of(const BSpline& s, const ReportOptions& 
   q.line_end.assign(n, 0);
   q.size = curve_size(s);
   for (int i = 0; i < n; ++i) {
-    const std::vector<Vec2> b = bezier_segment(s, s.segments()[i]).points;
-    bool straight = true;
-    for (const Vec2 p : b) {
-      const Vec2 u = p - b.front(), v = b.back() - b.front();
-      straight = straight && u.x * v.y - u.y * v.x == 0;
-    }
-    q.line_start[i] = q.line_end[i] = straight;
+    q.line_start[i] = q.line_end[i] = straight_bezier(bezier_segment(s, s.segments()[i]).points);
   }
   for (const JointReport& jr : r.joints)
     if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
@@ -919,14 +914,8 @@ import::Contour contour_of(const BSpline& spline, const std::vector<std::string>
   for (int k = 0; k < m && k < static_cast<int>(names.size()); ++k) added[k] = names[k].find('+') != std::string::npos;
   for (const Segment& seg : spline.segments()) {
     const std::vector<int> pts = segment_points(spline, seg);
-    const std::vector<Vec2> b = bezier_segment(spline, seg).points;
-    bool straight = true;
-    for (const Vec2 q : b) {
-      const Vec2 u = q - b.front(), v = b.back() - b.front();
-      straight = straight && u.x * v.y - u.y * v.x == 0;
-    }
     const long nodes = std::count_if(pts.begin(), pts.end(), [&](int k) { return c.node[k]; });
-    if (straight && nodes >= 2)
+    if (straight_bezier(bezier_segment(spline, seg).points) && nodes >= 2)
       for (int k : pts)
         if (!c.node[k]) added[k] = 1;
   }

@@ -73,6 +73,11 @@ struct LatticeUnit {
   Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
 };
 
+/// Whether Bezier points `b` lie exactly on one line, as computed in double
+/// (det(p - b_0, b_n - b_0) == 0 for every p: exact for font units, whose
+/// products stay below 2^53): a line of a contour, whose points never move.
+bool straight_bezier(const std::vector<Vec2>& b);
+
 /// A judge of a move from a passing position `from` to `to` (the contour's
 /// distinct points), whether `to` passes (local_judge; settle_nearer's `passes`).
 using Judge = std::function<bool(const std::vector<Vec2>&, const std::vector<Vec2>&)>;

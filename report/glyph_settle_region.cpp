@@ -60,20 +60,19 @@ bool violates_where_extremum(const std::vector<Vec2>& b, double tolerance) {
   return std::abs(k1 - k0) / 2 * length > 2 * tolerance + kMargin * (std::abs(k0) + std::abs(k1)) * length;
 }
 
-/// A source segment exactly straight (all its Bezier points on one line).
-bool straight(const std::vector<Vec2>& b) {
+}  // namespace
+
+bool straight_bezier(const std::vector<Vec2>& b) {
   const Vec2 v = b.back() - b.front();
   return std::all_of(b.begin(), b.end(), [&](Vec2 p) { return det(p - b.front(), v) == 0; });
 }
-
-}  // namespace
 
 Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double grid, Work& work) {
   const bool gated =
       std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
   if (!gated || source.is_rational()) return {};
   std::vector<char> source_straight;
-  for (const Segment& s : source.segments()) source_straight.push_back(straight(bezier_segment(source, s).points));
+  for (const Segment& s : source.segments()) source_straight.push_back(straight_bezier(bezier_segment(source, s).points));
   return [&work, o, grid, source, source_straight](const std::vector<Vec2>& points, const LatticeUnit& u,
                                                    const std::vector<Vec2>& steps) {
     std::vector<char> out(steps.size(), 0);
@@ -186,7 +185,7 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
   for (int i = 0; i < n; ++i) {
     const Segment& right = source.segments()[static_cast<std::size_t>(i)];
     const std::vector<Vec2> r = bezier_segment(source, right).points;
-    source_straight.push_back(straight(r));
+    source_straight.push_back(straight_bezier(r));
     if (!source.closed() && i == 0) {
       smooth_joint.push_back(0);
       continue;
