@@ -84,6 +84,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
   // is (cost, what `build` makes the moved points of).
   bool out_of_time = false;
   auto take_first = [&](auto& candidates, const auto& build) {
+    if (work.spent()) return !(out_of_time = true);  // also where `rejects` left no candidate
     std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (auto& [unused, c] : candidates) {
       if (work.spent()) return !(out_of_time = true);

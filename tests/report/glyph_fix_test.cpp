@@ -238,6 +238,34 @@ TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
   EXPECT_LT(judged, 1'000'000);
 }
 
+// A settling whose every candidate is rejected unjudged (glyph_detail::
+// Rejects) still ends when its work is spent: a point 10^6 cells from its
+// source has some 28,000 bands of positions between, and a random glyph
+// whose fix moved points that far took 844 million units of a 2 million
+// budget (three minutes) when only a judgement looked at the budget.
+TEST(GlyphFix, SettlingEndsWithItsWorkWhereEveryCandidateIsRejected) {
+  using report::glyph_detail::LatticeUnit;
+  const std::vector<Vec2> src(4, Vec2(0.0));
+  std::vector<LatticeUnit> units(1);
+  units[0].points = {0};
+  std::vector<Vec2> at = src;
+  at[0] = Vec2(1e6, 0.0);
+  report::glyph_detail::Work work(2'000, 60);
+  long calls = 0;
+  const report::glyph_detail::Rejects rejects = [&](const std::vector<Vec2>&, const LatticeUnit&,
+                                                    const std::vector<Vec2>& steps) {
+    work.charge(100);
+    // Every step rejected, but for a settling that went on 80 bands past
+    // its work: then none, and the first candidate passes (so the test ends).
+    return std::vector<char>(steps.size(), ++calls <= 100 ? 1 : 0);
+  };
+  auto passes = [](const std::vector<Vec2>&, const std::vector<Vec2>&) { return true; };
+  auto depends = [](const std::vector<int>&) { return std::vector<int>{0}; };
+  EXPECT_FALSE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, rejects, work));
+  EXPECT_EQ(at[0], Vec2(1e6, 0.0));
+  EXPECT_LE(calls, 21);  // 2,000 units at 100 a band, and the band that found them spent
+}
+
 // The settling's judge (glyph_detail::local_judge) and the grid descent's
 // violation counts judge a moved position on the run of segments the moved
 // points touch (glyph_detail::RunJudge); they must say what the whole
