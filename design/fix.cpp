@@ -523,8 +523,7 @@ void FixRun::each_unit_alone() {
     const int m = m_;
     const bool exact_local = exact_local_;
     const std::function<bool(Vec2)> pass = [&, p0](Vec2 x) {
-      ++search.evaluations;
-      if (search.expired()) return false;
+      if (!search.count_evaluation()) return false;
       if (exact_local || u.slide || request.judge) {
         std::vector<Vec2> d(m, Vec2(0.0));
         for (int k : u.points) d[k] += x;
@@ -641,8 +640,7 @@ std::vector<std::pair<std::size_t, Vec2>> FixRun::two_at_once(const std::vector<
       for (int k : ua.points) d[k] += xa;
       for (int k : ub.points) d[k] += xb;
       if (region_kind) return search.badness(d) < before;
-      ++search.evaluations;
-      if (search.expired()) return false;
+      if (!search.count_evaluation()) return false;
       for (const Vec2& dk : d)
         if (norm(dk) > search.max_move) return false;
       return search.bad_in(d, segs) < local_before;
@@ -734,8 +732,7 @@ bool FixRun::greedy(std::vector<double>& z) {
           continue;
         }
         pass = [&, p0, bad_now](Vec2 x) {
-          ++search.evaluations;
-          if (search.expired()) return false;
+          if (!search.count_evaluation()) return false;
           for (int k : u.points)
             if (norm(now[k] + x) > search.max_move) return false;
           if (exact_local || u.slide) {

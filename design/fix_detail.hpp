@@ -179,8 +179,7 @@ struct Search {
   /// The requirement on a moved spline: extrema-at-nodes re-classifies only
   /// the segments a moved point acts on; the others analyze the whole spline.
   bool holds(const std::vector<Vec2>& delta) {
-    ++evaluations;
-    if (expired()) return false;
+    if (!count_evaluation()) return false;
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return false;
     if (flips(delta)) return false;
@@ -213,6 +212,16 @@ struct Search {
     return bad;
   }
 
+  /// One evaluation, counted unless the search's time was already up (then
+  /// the predicate answers "fails" at once, which is no work: so
+  /// FixResult::evaluations, which the glyph fix charges as its work, counts
+  /// the evaluations made); false where the time is up (expired).
+  bool count_evaluation() {
+    if (timed_out) return false;
+    ++evaluations;
+    return !expired();
+  }
+
   /// The search's time is up (FixRequest::max_seconds or ::max_evaluations,
   /// or the caller's cancel flag): every predicate answers "fails" from now
   /// on, so every loop ends.
@@ -234,8 +243,7 @@ struct Search {
   /// verdict; at least 1 while the requirement fails. Each greedy step must
   /// lower it.
   int badness(const std::vector<Vec2>& delta) {
-    ++evaluations;
-    if (expired()) return std::numeric_limits<int>::max();
+    if (!count_evaluation()) return std::numeric_limits<int>::max();
     for (const Vec2& d : delta)
       if (norm(d) > max_move) return std::numeric_limits<int>::max();
     if (flips(delta)) return std::numeric_limits<int>::max();

@@ -187,6 +187,27 @@ TEST(Fix, ALimitOnTheThreadsCpuClockIsNotReachedByWaiting) {
   EXPECT_THROW(fix(s, r), InputError);
 }
 
+// FixResult::evaluations counts the evaluations made: a search ended by
+// its limit answers every later candidate "fails" at once, and those are
+// not counted (the glyph fix charges this count as its work: DejaVu `S` on
+// a budget of 300,000 reported 1,450,250 used and left its settling none).
+// The judge here never passes, so only the limit ends the search.
+TEST(Fix, EvaluationsCountTheWorkDoneNotTheCandidatesRefusedAfterTheLimit) {
+  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+  FixRequest r;
+  r.requirement = parse_fix_requirement("cmrwi");
+  r.threads = 1;
+  r.max_evaluations = 60;
+  long calls = 0;
+  r.judge = [&calls](const BSpline&) { return ++calls, 1; };
+  const FixResult f = fix(s, r);
+  EXPECT_FALSE(f.fixed);
+  EXPECT_NE(f.reason.find("in 60 evaluations"), std::string::npos) << f.reason;
+  EXPECT_EQ(f.evaluations, 60);  // 24,561 before: every refusal after the limit was counted
+  EXPECT_LE(calls, 61);          // the 60, and the source judged once before the search
+}
+
 // ThreadCpuDeadline: sleeping does not bring it nearer; spinning does.
 TEST(ThreadCpuDeadline, CountsTheThreadsCpuTimeOnly) {
   ThreadCpuDeadline d(0.02);
