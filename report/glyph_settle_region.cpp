@@ -72,7 +72,8 @@ Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double g
       std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
   if (!gated || source.is_rational()) return {};
   std::vector<char> source_straight;
-  for (const Segment& s : source.segments()) source_straight.push_back(straight_bezier(bezier_segment(source, s).points));
+  for (const Segment& s : source.segments())
+    source_straight.push_back(straight_bezier(bezier_segment(source, s).points));
   return [&work, o, grid, source, source_straight](const std::vector<Vec2>& points, const LatticeUnit& u,
                                                    const std::vector<Vec2>& steps) {
     std::vector<char> out(steps.size(), 0);
@@ -133,37 +134,36 @@ Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double g
     auto edge = [grid](double a, long cell, double side) { return a + (static_cast<double>(cell) + side) * grid; };
     request.view =
         View{edge(anchor.x, i0, -0.5), edge(anchor.y, j0, -0.5), edge(anchor.x, i1, 0.5), edge(anchor.y, j1, 0.5)};
-    std::optional<RegionProblem> problem;
-    std::vector<EachPiece> labels;
     try {
-      problem = RegionProblem::make(at, request);
+      const RegionProblem problem = RegionProblem::make(at, request);
       work.charge(kRegionSetupWork * static_cast<long>(judged.size()));
+      std::vector<EachPiece> labels;
       if (render) {
-        labels = CpuRegionBackend(1).render(*problem).piece_labels;
+        labels = CpuRegionBackend(1).render(problem).piece_labels;
         work.charge(width * height / kRegionPixelsPerWork + 1);
       }
+      for (std::size_t s = 0; s < steps.size(); ++s) {
+        const Vec2 p = anchor + steps[s];
+        const long i = std::lround(steps[s].x / grid) - i0, j = j1 - std::lround(steps[s].y / grid);
+        EachPiece label;
+        const int pi = static_cast<int>(i), pj = static_cast<int>(j);
+        if (render && pixel_center(*request.view, request.width, request.height, pi, pj) == p) {
+          label = labels[static_cast<std::size_t>(j * width + i)];
+        } else {
+          label = problem.classify(p).piece_label;
+          work.charge();
+        }
+        if (label != EachPiece::fail) continue;
+        bool certain = true;
+        for (std::size_t q = 0; q < judged.size() && certain; ++q) {
+          std::vector<Vec2> b = base[q];
+          for (std::size_t k = 0; k < b.size(); ++k) b[k] = b[k] + weight[q][k] * steps[s];
+          certain = violates_where_extremum(b, o.constant_tolerance);
+        }
+        out[s] = certain;
+      }
     } catch (const InputError&) {
-      return out;
-    }
-    for (std::size_t s = 0; s < steps.size(); ++s) {
-      const Vec2 p = anchor + steps[s];
-      const long i = std::lround(steps[s].x / grid) - i0, j = j1 - std::lround(steps[s].y / grid);
-      EachPiece label;
-      const int pi = static_cast<int>(i), pj = static_cast<int>(j);
-      if (render && pixel_center(*request.view, request.width, request.height, pi, pj) == p) {
-        label = labels[static_cast<std::size_t>(j * width + i)];
-      } else {
-        label = problem->classify(p).piece_label;
-        work.charge();
-      }
-      if (label != EachPiece::fail) continue;
-      bool certain = true;
-      for (std::size_t q = 0; q < judged.size() && certain; ++q) {
-        std::vector<Vec2> b = base[q];
-        for (std::size_t k = 0; k < b.size(); ++k) b[k] = b[k] + weight[q][k] * steps[s];
-        certain = violates_where_extremum(b, o.constant_tolerance);
-      }
-      out[s] = certain;
+      return std::vector<char>(steps.size(), 0);  // no shortcut: every step judged
     }
     return out;
   };
