@@ -159,14 +159,24 @@ TEST(Fix, ASetCancelFlagEndsTheSearchAsItsTimeLimitWould) {
 // wall-clock limit after a few evaluations, but not by the same limit on
 // its thread's CPU clock, which the waiting does not advance: it runs to
 // its evaluation limit, as on an idle machine. Both need threads 1.
-TEST(Fix, ALimitOnTheThreadsCpuClockIsNotReachedByWaiting) {
-  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
-                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+/// The limit tests' curve (a uniform cubic, not cmrwi) and a cmrwi request
+/// on one thread, ended at `evaluations`.
+BSpline limit_test_curve() {
+  return BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
+                       {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
+}
+FixRequest limit_test_request(long evaluations) {
   FixRequest r;
   r.requirement = parse_fix_requirement("cmrwi");
   r.threads = 1;
+  r.max_evaluations = evaluations;
+  return r;
+}
+
+TEST(Fix, ALimitOnTheThreadsCpuClockIsNotReachedByWaiting) {
+  const BSpline s = limit_test_curve();
+  FixRequest r = limit_test_request(60);
   r.max_seconds = 0.05;
-  r.max_evaluations = 60;
   int calls = 0;
   r.judge = [&calls](const BSpline&) {
     ++calls;
@@ -193,12 +203,8 @@ TEST(Fix, ALimitOnTheThreadsCpuClockIsNotReachedByWaiting) {
 // a budget of 300,000 reported 1,450,250 used and left its settling none).
 // The judge here never passes, so only the limit ends the search.
 TEST(Fix, EvaluationsCountTheWorkDoneNotTheCandidatesRefusedAfterTheLimit) {
-  const BSpline s = BSpline::make(3, {0, 1, 2, 3, 4, 5, 6, 7},
-                                  {{1.3, -1.43}, {1.05, -0.06}, {2.15, -1.31}, {1.97, -3.83}, {-2.23, -6.95}, {-6.78, -9.78}});
-  FixRequest r;
-  r.requirement = parse_fix_requirement("cmrwi");
-  r.threads = 1;
-  r.max_evaluations = 60;
+  const BSpline s = limit_test_curve();
+  FixRequest r = limit_test_request(60);
   long calls = 0;
   r.judge = [&calls](const BSpline&) { return ++calls, 1; };
   const FixResult f = fix(s, r);
