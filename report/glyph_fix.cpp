@@ -27,6 +27,7 @@ using glyph_detail::local_judge;
 using glyph_detail::RunJudge;
 using glyph_detail::settle_nearer;
 using glyph_detail::straight_bezier;
+using glyph_detail::straight_segments;
 using glyph_detail::extremum_rejects;
 using glyph_detail::with_failure_proofs;
 using glyph_detail::snap_by_parts;
@@ -242,12 +243,8 @@ std::optional<QuickJudge> quick_judge_of(const BSpline& s, const ReportOptions& 
   const SplineReport r = gate_report(s, o);
   const int n = s.segment_count();
   q.g2_joint.assign(n, 0);
-  q.line_start.assign(n, 0);
-  q.line_end.assign(n, 0);
+  q.line_start = q.line_end = straight_segments(s);
   q.size = curve_size(s);
-  for (int i = 0; i < n; ++i) {
-    q.line_start[i] = q.line_end[i] = straight_bezier(bezier_segment(s, s.segments()[i]).points);
-  }
   for (const JointReport& jr : r.joints)
     if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
       q.g2_joint[jr.joint.index % n] = 1;

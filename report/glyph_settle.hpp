@@ -77,6 +77,8 @@ struct LatticeUnit {
 /// (det(p - b_0, b_n - b_0) == 0 for every p: exact for font units, whose
 /// products stay below 2^53): a line of a contour, whose points never move.
 bool straight_bezier(const std::vector<Vec2>& b);
+/// Per segment of `s`: straight_bezier of its Bezier points.
+std::vector<char> straight_segments(const BSpline& s);
 
 /// A judge of a move from a passing position `from` to `to` (the contour's
 /// distinct points), whether `to` passes (local_judge; settle_nearer's `passes`).

@@ -60,6 +60,13 @@ bool violates_where_extremum(const std::vector<Vec2>& b, double tolerance) {
   return std::abs(k1 - k0) / 2 * length > 2 * tolerance + kMargin * (std::abs(k0) + std::abs(k1)) * length;
 }
 
+/// Whether `o` has the curvature-extrema gate, whose failures both
+/// shortcuts prove.
+bool has_extrema_gate(const ReportOptions& o) {
+  return std::any_of(o.gates.begin(), o.gates.end(),
+                     [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
+}
+
 }  // namespace
 
 bool straight_bezier(const std::vector<Vec2>& b) {
@@ -67,13 +74,15 @@ bool straight_bezier(const std::vector<Vec2>& b) {
   return std::all_of(b.begin(), b.end(), [&](Vec2 p) { return det(p - b.front(), v) == 0; });
 }
 
+std::vector<char> straight_segments(const BSpline& s) {
+  std::vector<char> out;
+  for (const Segment& seg : s.segments()) out.push_back(straight_bezier(bezier_segment(s, seg).points));
+  return out;
+}
+
 Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double grid, Work& work) {
-  const bool gated =
-      std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
-  if (!gated || source.is_rational()) return {};
-  std::vector<char> source_straight;
-  for (const Segment& s : source.segments())
-    source_straight.push_back(straight_bezier(bezier_segment(source, s).points));
+  if (!has_extrema_gate(o) || source.is_rational()) return {};
+  const std::vector<char> source_straight = straight_segments(source);
   return [&work, o, grid, source, source_straight](const std::vector<Vec2>& points, const LatticeUnit& u,
                                                    const std::vector<Vec2>& steps) {
     std::vector<char> out(steps.size(), 0);
@@ -171,8 +180,7 @@ Rejects extremum_rejects(const BSpline& source, const ReportOptions& o, double g
 
 Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const RunJudge& runs, Judge passes,
                           Work& work) {
-  const bool extrema =
-      std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
+  const bool extrema = has_extrema_gate(o);
   std::vector<double> g2;  // the g2 gates' tolerances
   for (const Gate& g : o.gates)
     if (g.kind == Gate::Kind::g2_at_smooth_nodes) g2.push_back(g.tolerance);
@@ -181,11 +189,11 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
   // Per segment: straight in the source; the joint at its start judged by
   // g2 wherever the judge passes (C1 by the knots, or a node exactly smooth
   // in the source, which local_judge keeps so).
-  std::vector<char> source_straight, smooth_joint;
+  const std::vector<char> source_straight = straight_segments(source);
+  std::vector<char> smooth_joint;
   for (int i = 0; i < n; ++i) {
     const Segment& right = source.segments()[static_cast<std::size_t>(i)];
     const std::vector<Vec2> r = bezier_segment(source, right).points;
-    source_straight.push_back(straight_bezier(r));
     if (!source.closed() && i == 0) {
       smooth_joint.push_back(0);
       continue;
