@@ -13,7 +13,9 @@ curvature-extrema-at-nodes, g2-at-smooth-nodes, or both. Then:
 
  * `cmr report` (every finding failing: --no-severity) must pass or fail
    each contour on each gate exactly where tests/report/exact_glif_check.py
-   (rational arithmetic, no cmr code) does;
+   (rational arithmetic, no cmr code) does, and every fix its report.json
+   claims (certified_fixes), applied by the moved points' names, must make
+   that contour pass the fix's checks under the exact judge;
  * `cmr fix --glyph a --require GATES --work WORK --out FIXED.ufo` either
    exits 0, and then the exact judge passes the written glyph on the gates,
    every coordinate is an integer and only `<point>` x/y changed, or exits 2
@@ -115,12 +117,45 @@ def exact_judge(src, glif, gate):
     """Contour indices the independent judge fails on `gate`."""
     r = subprocess.run([PY, os.path.join(src, "tests/report/exact_glif_check.py"), glif, "--gates",
                         CHECKER_GATES[gate]], capture_output=True, text=True)
-    return {int(line.split()[0][1:]) for line in r.stdout.splitlines() if line.startswith("c")}
+    failed = {int(line.split()[0][1:]) for line in r.stdout.splitlines() if line.startswith("c")}
+    # Exit 1 with a violation named, or 0 with none; anything else (a Python error exits 1 too) is not a verdict.
+    if r.stderr or r.returncode != (1 if failed else 0):
+        raise RuntimeError("exact_glif_check.py %s: exit %d: %s" % (glif, r.returncode, r.stderr.strip()))
+    return failed
 
 
 def points(glif):
     return [(p.get("x"), p.get("y"), p.get("type"), p.get("smooth"), p.get("name"))
             for p in ET.parse(glif).getroot().iter("point")]
+
+
+def claimed_fixes(src, what, report, glif, gates, scratch):
+    """Every fix the report claims (certified_fixes), applied to the source's points by their names
+    (glyph/cK/pJ: contour K, the .glif's point J), must make that contour pass its checks exactly."""
+    for spline in report["splines"]:
+        for f in spline.get("certified_fixes") or []:
+            if not f["found"]:
+                continue
+            checks = gates.split(",") if f["check"].startswith("all:") else [f["check"].split(":")[0]]
+            tree = ET.parse(glif)
+            contours = list(tree.getroot().iter("contour"))
+            names_ok = True
+            for m in f["moves"]:
+                glyph, contour, point = m["name"].split("/")
+                names_ok = names_ok and contour[0] == "c" and point[0] == "p" and point[1:].isdigit()
+                if not names_ok:
+                    break
+                p = list(contours[int(contour[1:])].iter("point"))[int(point[1:])]
+                p.set("x", "%g" % m["to"][0])
+                p.set("y", "%g" % m["to"][1])
+            if not names_ok:
+                check("report %s: %s's claimed fix names only source points" % (what, spline["name"]), False,
+                      str([m["name"] for m in f["moves"]]))
+                continue
+            tree.write(scratch)
+            left = {g: spline["contour"] in exact_judge(src, scratch, g) for g in checks}
+            check("report %s: %s's claimed fix of %s passes the exact judge" % (what, spline["name"], f["check"]),
+                  not any(left.values()), str(left))
 
 
 def main():
@@ -138,8 +173,8 @@ def main():
             make_glyph(seed, quadratic, ufo)
             glif = os.path.join(ufo, "glyphs", "a.glif")
             out = os.path.join(tmp, "r%d" % seed)
-            r = subprocess.run([cmr, "report", ufo, "--glyphs", "all", "--require", gates, "--no-severity",
-                                "--no-thumbnails", "--out", out], capture_output=True, text=True)
+            r = subprocess.run([cmr, "report", ufo, "--glyphs", "all", "--require", gates, "--no-severity", "--out",
+                                out], capture_output=True, text=True)
             if r.returncode not in (0, 1):
                 check("report " + what, False, r.stderr.strip())
                 continue
@@ -150,6 +185,7 @@ def main():
                 by_exact = exact_judge(src, glif, gate)
                 check("report %s: %s fails the contours the exact judge fails" % (what, gate), by_cmr == by_exact,
                       "cmr %s, exact %s" % (sorted(by_cmr), sorted(by_exact)))
+            claimed_fixes(src, what, report, glif, gates, os.path.join(tmp, "claimed.glif"))
             failing = any(exact_judge(src, glif, g) for g in gates.split(","))
             fix = os.path.join(tmp, "f%d.ufo" % seed)
             f = subprocess.run([cmr, "fix", ufo, "--glyph", "a", "--require", gates, "--work", work, "--out", fix],
