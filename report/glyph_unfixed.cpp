@@ -36,7 +36,7 @@ std::string unfixed_reason(const std::string& why, const import::Contour& c, con
   const SplineReport r = gate_report(stopped, o);
   const int segments = stopped.segment_count();
   out += "; where the search stopped, " + std::to_string(stopped_total) + " of the source's " +
-         std::to_string(source_total) + " violations are left:";
+         std::to_string(source_total) + (stopped_total == 1 ? " violations is left:" : " violations are left:");
   int shown = 0, hidden = 0;
   std::string sep = " ";
   if (o.require && !r.requirement_pass) {

@@ -274,7 +274,7 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
   report::parse_require_list("g2-at-smooth-nodes", g2);
   ASSERT_EQ(findings[7].first.rfind("g2-at-smooth-nodes", 0), 0u) << findings[7].first;
   EXPECT_EQ(report::glyph_detail::unfixed_reason("", c, c.spline, g2, 1, 2),
-            "no fix passes every check; where the search stopped, 1 of the source's 2 violations are left: " +
+            "no fix passes every check; where the search stopped, 1 of the source's 2 violations is left: " +
                 findings[7].first + " at " + findings[7].second);
 }
 
