@@ -9,6 +9,7 @@
 
 #include "spline/cpu_clock.hpp"
 #include "spline/errors.hpp"
+#include "spline/format.hpp"
 
 namespace cmr {
 namespace {
@@ -276,9 +277,9 @@ GridFix snap_to_grid(const BSpline& original, const FixResult& fix, const std::f
     if (out.spline && found_at == 0) found_at = radius;
   }
   if (!out.spline) {
-    out.reason = "no position on the grid (step " + std::to_string(options.grid) + ") near the fix passes" +
-                 (options.max_move > 0 ? " within the largest move " + std::to_string(options.max_move) : std::string()) +
-                 "; the nearest off-grid fix moves " + std::to_string(fix.max_distance);
+    out.reason = "no position on the grid (step " + format_number(options.grid) + ") near the fix passes" +
+                 (options.max_move > 0 ? " within the largest move " + format_number(options.max_move) : std::string()) +
+                 "; the nearest off-grid fix moves " + format_number(fix.max_distance);
     return out;
   }
   out.found = true;

@@ -16,6 +16,7 @@
 #include "report/glyph_fix.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report {
 
@@ -356,7 +357,7 @@ void assess_severity(SplineReport& r, const ReportOptions& options, SeverityMemo
 
 void set_severity_options(ReportOptions& options, std::optional<double> min_severity, bool severity, bool strict) {
   if (min_severity && !(*min_severity >= 0 && std::isfinite(*min_severity)))
-    throw InputFieldError(field("min_severity") + ": " + std::to_string(*min_severity) + " is not a distance >= 0");
+    throw InputFieldError(field("min_severity") + ": " + format_number(*min_severity) + " is not a distance >= 0");
   if (!severity && min_severity) throw InputFieldError(field("no_severity") + ": not with " + field("min_severity"));
   if (strict && !severity)
     throw InputFieldError(field("strict") + ": not with " + field("no_severity") + " (no finding is info)");

@@ -12,6 +12,7 @@
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
+#include "spline/format.hpp"
 #include "spline/parallel.hpp"
 #include "spline/spline_json.hpp"
 
@@ -27,7 +28,7 @@ void check_fixable(const ReportOptions& checks) {
 GlyphFixOptions source_fix_options(const std::string& require, int depth, double grid, double max_move,
                                    long work) {
   if (!(max_move >= 0) || !std::isfinite(max_move))
-    throw InputFieldError(field("max_move") + ": " + std::to_string(max_move) + " is not a distance >= 0");
+    throw InputFieldError(field("max_move") + ": " + format_number(max_move) + " is not a distance >= 0");
   if (work < 1 || work > kMaxGlyphWork)
     throw InputFieldError(field("glyph_work") + ": " + std::to_string(work) + " is outside 1.." +
                           std::to_string(kMaxGlyphWork) + " work units");
