@@ -46,7 +46,7 @@ namespace {
 
 void check_grid_and_checks(const GlyphFixOptions& options) {
   if (!(options.grid >= 0) || !std::isfinite(options.grid))
-    throw InputFieldError(field("grid") + ": " + std::to_string(options.grid) + " is not a step >= 0");
+    throw InputFieldError(field("grid") + ": " + format_number(options.grid) + " is not a step >= 0");
   check_fixable(options.judge);
 }
 
