@@ -30,6 +30,7 @@ using glyph_detail::straight_bezier;
 using glyph_detail::straight_segments;
 using glyph_detail::extremum_rejects;
 using glyph_detail::with_failure_proofs;
+using glyph_detail::proves_extremum_violation;
 using glyph_detail::snap_by_parts;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
@@ -558,9 +559,14 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
   }
   if (options.grid > 0) {
     // On the grid: the check passes and the total falls (t's checks and
-    // all of o's judged on one model of the position).
+    // all of o's judged on one model of the position). Most candidates
+    // fail t, and where a changed segment's curvature extremum proves it
+    // (proves_extremum_violation) the model is not built; such a candidate
+    // costs the segments it classified instead of the contour.
+    long proved = 0, proof_work = 0;
     auto snap_judge = [&](const BSpline& s) {
       try {
+        if (t && proves_extremum_violation(current, s, *t, proof_work)) return ++proved, 1;
         const SplineReport model = gate_model(s, o);
         const int own = t ? total(counts_on(model, *t)) : 0;
         if (own != 0) return own;
@@ -578,7 +584,8 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     g.max_evaluations = std::min(g.max_evaluations, std::max(1L, work.left() / segments));
     g.partners = partners_of(c, f, rules.points);
     const GridFix snapped = snap_to_grid(current, f, snap_judge, g);
-    work.charge(snapped.evaluations * segments + snapped.combinations / 2);  // its judgements, and ordering its candidates
+    // Its judgements (a proof's instead where one decided), and ordering its candidates.
+    work.charge((snapped.evaluations - proved) * segments + proof_work + snapped.combinations / 2);
     std::optional<BSpline> on_grid = snapped.spline;
     if (!snapped.found && off_grid_ok && !work.spent()) on_grid = snap_by_parts(
           c, f, snap_judge, [&](const FixResult& part) { return partners_of(c, part, rules.points); }, g, work);

@@ -222,6 +222,16 @@ Judge local_judge(const import::Contour& c, const ReportOptions& o);
 Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const RunJudge& runs, Judge passes,
                           Work& work);
 
+/// Whether `o`'s curvature-extrema-at-nodes gate certainly fails on `s` at a
+/// segment whose Bezier points differ from the same segment's in `before`
+/// (the same control structure), by with_failure_proofs' first proof:
+/// Algorithm 1 finds it not monotone and violates_where_extremum shows it is
+/// neither a cusp nor near constant. False where `o` has no such gate, for
+/// rational curves, and wherever no changed segment is proved to fail.
+/// `classified` grows by the segments classified (the proof's work, in
+/// segments judged). GlyphFix.ChangedSegmentProofsAreTheGate holds it to the gate.
+bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified);
+
 /// The moves of `f` in parts that share no segment: two moved points are in
 /// one part when a segment has both (through others of the part).
 std::vector<std::vector<PointMove>> parts_of(const import::Contour& c, const FixResult& f);

@@ -234,4 +234,21 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
   };
 }
 
+bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified) {
+  if (!has_extrema_gate(o) || s.is_rational() || before.segment_count() != s.segment_count()) return false;
+  ClassifyOptions classify;
+  classify.max_depth = o.max_depth;
+  classify.inflection = false;
+  for (int i = 0; i < s.segment_count(); ++i) {
+    const Segment& seg = s.segments()[static_cast<std::size_t>(i)];
+    const std::vector<Vec2> b = bezier_segment(s, seg).points;
+    if (b == bezier_segment(before, before.segments()[static_cast<std::size_t>(i)]).points) continue;
+    ++classified;
+    if (classify_segment(s, seg, classify).monotonicity.curvature == Curvature::non_monotone &&
+        violates_where_extremum(b, o.constant_tolerance))
+      return true;
+  }
+  return false;
+}
+
 }  // namespace cmr::report::glyph_detail

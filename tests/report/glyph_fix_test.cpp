@@ -18,10 +18,12 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "bezierize/extract.hpp"
 #include "design/fix.hpp"
 #include "io/font.hpp"
 #include "report/batch.hpp"
@@ -436,6 +438,50 @@ TEST(GlyphFix, FailureProofsAreTheJudge) {
   EXPECT_GT(trials, 1500);
   EXPECT_GT(passing, 50);
   EXPECT_GT(proved, 300);
+}
+
+// The grid snap's shortcut (glyph_fix.cpp, land): proves_extremum_violation
+// may answer "fails" for a candidate only where the gate itself finds a
+// curvature extremum inside one of the segments the move changed (the
+// sources fail elsewhere too, so a violation anywhere would prove nothing).
+// Without the gate it proves nothing.
+TEST(GlyphFix, ChangedSegmentProofsAreTheGate) {
+  if (const char* path = missing_font()) GTEST_SKIP() << path << " is not installed (tools/setup.sh installs it)";
+  const report::ReportOptions gates = judge_of("curvature-extrema-at-nodes,g2-at-smooth-nodes");
+  const report::ReportOptions g2 = judge_of("g2-at-smooth-nodes");
+  std::mt19937 rng(41);
+  long trials = 0, proved = 0, classified = 0;
+  for (const auto& [name, c] : shortcut_contours()) {
+    const int m = c.spline.unique_point_count();
+    const std::vector<Vec2> from(c.spline.points().begin(), c.spline.points().begin() + m);
+    std::uniform_int_distribution<int> pick(0, m - 1), step(-12, 12);
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<Vec2> to = from;
+      for (int moved = 0; moved < 1 + trial % 3; ++moved) {
+        const int k = pick(rng);
+        to[static_cast<std::size_t>(k)] = to[static_cast<std::size_t>(k)] + Vec2(step(rng), step(rng));
+      }
+      const BSpline s = c.spline.with_points(to);
+      long work = 0;
+      ++trials;
+      EXPECT_FALSE(report::glyph_detail::proves_extremum_violation(c.spline, s, g2, work)) << name;
+      if (!report::glyph_detail::proves_extremum_violation(c.spline, s, gates, classified)) continue;
+      ++proved;
+      std::set<int> changed;
+      for (int i = 0; i < s.segment_count(); ++i)
+        if (bezier_segment(s, s.segments()[static_cast<std::size_t>(i)]).points !=
+            bezier_segment(c.spline, c.spline.segments()[static_cast<std::size_t>(i)]).points)
+          changed.insert(i);
+      bool found = false;
+      for (const report::GateResult& g : report::gate_report(s, gates).gates)
+        for (const report::GateViolation& v : g.violations)
+          found = found || (g.gate.kind == report::Gate::Kind::extrema_at_nodes && changed.count(v.segment));
+      EXPECT_TRUE(found) << name << " trial " << trial;
+    }
+  }
+  EXPECT_GT(trials, 1500);
+  EXPECT_GT(proved, 300);
+  EXPECT_GE(classified, proved);
 }
 
 // The glyph fix's budget is work, not time (report/glyph_settle.hpp, Work):
