@@ -67,6 +67,23 @@ bool has_extrema_gate(const ReportOptions& o) {
                      [](const Gate& g) { return g.kind == Gate::Kind::extrema_at_nodes; });
 }
 
+/// Algorithm 1's options for the proofs: monotonicity alone, to o's depth.
+ClassifyOptions proof_classify(const ReportOptions& o) {
+  ClassifyOptions classify;
+  classify.max_depth = o.max_depth;
+  classify.inflection = false;
+  return classify;
+}
+
+/// The proof of a curvature-extrema violation in segment `seg` of `s`
+/// (Bezier points `b`): Algorithm 1 finds it not monotone, and
+/// violates_where_extremum shows it is neither a cusp nor near constant.
+bool extremum_inside(const BSpline& s, const Segment& seg, const std::vector<Vec2>& b, const ClassifyOptions& classify,
+                     double tolerance) {
+  return classify_segment(s, seg, classify).monotonicity.curvature == Curvature::non_monotone &&
+         violates_where_extremum(b, tolerance);
+}
+
 }  // namespace
 
 bool straight_bezier(const std::vector<Vec2>& b) {
@@ -204,10 +221,7 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
     const bool smooth = u != Vec2(0.0) && v != Vec2(0.0) && det(u, v) == 0 && dot(u, v) < 0;
     smooth_joint.push_back(smooth || source.multiplicity(right.a) < source.degree());
   }
-  ClassifyOptions classify;
-  classify.max_depth = o.max_depth;
-  classify.inflection = false;
-  return [&runs, &work, source, n, source_straight, smooth_joint, extrema, g2, classify,
+  return [&runs, &work, source, n, source_straight, smooth_joint, extrema, g2, classify = proof_classify(o),
           tolerance = o.constant_tolerance,
           passes = std::move(passes)](const std::vector<Vec2>& from, const std::vector<Vec2>& to) {
     const std::optional<RunJudge::Run> r = runs.run(from, to);
@@ -218,9 +232,7 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
     for (int q = 0; extrema && q < r->length; ++q) {
       const int i = (r->first + q) % n;
       if (source_straight[static_cast<std::size_t>(i)]) continue;
-      if (classify_segment(s, segment(i), classify).monotonicity.curvature == Curvature::non_monotone &&
-          violates_where_extremum(bezier_segment(s, segment(i)).points, tolerance))
-        return false;
+      if (extremum_inside(s, segment(i), bezier_segment(s, segment(i)).points, classify, tolerance)) return false;
     }
     for (int q = 0; !g2.empty() && q <= r->length; ++q) {
       const int i = (r->first + q) % n;
@@ -236,17 +248,13 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
 
 bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified) {
   if (!has_extrema_gate(o) || s.is_rational() || before.segment_count() != s.segment_count()) return false;
-  ClassifyOptions classify;
-  classify.max_depth = o.max_depth;
-  classify.inflection = false;
+  const ClassifyOptions classify = proof_classify(o);
   for (int i = 0; i < s.segment_count(); ++i) {
     const Segment& seg = s.segments()[static_cast<std::size_t>(i)];
     const std::vector<Vec2> b = bezier_segment(s, seg).points;
     if (b == bezier_segment(before, before.segments()[static_cast<std::size_t>(i)]).points) continue;
     ++classified;
-    if (classify_segment(s, seg, classify).monotonicity.curvature == Curvature::non_monotone &&
-        violates_where_extremum(b, o.constant_tolerance))
-      return true;
+    if (extremum_inside(s, seg, b, classify, o.constant_tolerance)) return true;
   }
   return false;
 }
