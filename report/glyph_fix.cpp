@@ -861,10 +861,13 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // Where the descent from the source found nothing, it may from here: the
     // round brought the contour nearer to passing (Nimbus Sans `S` under both
     // type gates: no descent from the source, a passing one after the first
-    // round, for a tenth of the work a second round took).
+    // round, for a tenth of the work a second round took). It gets three
+    // quarters of what is left, the rounds after it the rest: DejaVu Sans `s`
+    // needs 826,000 units for it after its first round, which half of the
+    // default work did not leave, and its second round found nothing.
     descended_here = false;
     if (several && options.grid > 0 && !descended && current_total > 0 && !work.spent()) {
-      const long part = work.cap(work.left() / 2);
+      const long part = work.cap(work.left() / 4 * 3);
       descend_from_here();
       descended_here = !work.spent();  // it ended within its part: from here it would end the same
       work.release(part);
