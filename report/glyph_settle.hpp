@@ -227,7 +227,8 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
 /// (the same control structure), by with_failure_proofs' first proof:
 /// Algorithm 1 finds it not monotone and violates_where_extremum shows it is
 /// neither a cusp nor near constant. False where `o` has no such gate, for
-/// rational curves, and wherever no changed segment is proved to fail.
+/// rational curves, wherever no changed segment is proved to fail, and where
+/// a classification throws (the judge then decides).
 /// `classified` grows by the segments classified (the proof's work, in
 /// segments judged). GlyphFix.ChangedSegmentProofsAreTheGate holds it to the gate.
 bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified);
