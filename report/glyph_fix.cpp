@@ -812,12 +812,10 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   BSpline current = c.spline;
   int current_total = total(out.rejudged);
   std::string why;
-  // Several checks: the grid descent first, in half the budget (the
-  // rounds' fix of one check mostly breaks another); the rounds after it,
-  // in half of what is left where it found a fix (both_searches), and the
-  // nearer of the two fixes (total squared move) is kept: the descent's is
-  // found sooner, the rounds' is often nearer, and the settling then has
-  // less to do.
+  // Several checks: the grid descent first, in half the budget (the rounds' fix of one check
+  // mostly breaks another); the rounds after it, in half of what is left where it found a fix
+  // (both_searches), and the nearer of the two fixes (total squared move) is kept: the
+  // descent's is found sooner, the rounds' is often nearer, and the settling then has less to do.
   const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
   std::optional<BSpline> descended;
   if (several && options.grid > 0) {
@@ -861,10 +859,8 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // Where the descent from the source found nothing, it may from here: the
     // round brought the contour nearer to passing (Nimbus Sans `S` under both
     // type gates: no descent from the source, a passing one after the first
-    // round, for a tenth of the work a second round took). It gets three
-    // quarters of what is left, the rounds after it the rest: DejaVu Sans `s`
-    // needs 826,000 units for it after its first round, which half of the
-    // default work did not leave, and its second round found nothing.
+    // round, for a tenth of the work a second round took). It gets 3/4 of what
+    // is left: DejaVu Sans `s` needs 826,000 units here, more than half left.
     descended_here = false;
     if (several && options.grid > 0 && !descended && current_total > 0 && !work.spent()) {
       const long part = work.cap(work.left() / 4 * 3);
@@ -938,8 +934,7 @@ import::Contour contour_of(const BSpline& spline, const std::vector<std::string>
 
 namespace {
 
-/// Notes on each of the glyph's fixes the work it took and whether the
-/// guard ended it.
+/// Notes on each of the glyph's fixes the work it took and whether the guard ended it.
 void finish(std::vector<ContourFix>& out, const Work& work) {
   for (ContourFix& f : out) f.glyph_work = work.used(), f.guarded = work.guarded();
 }
@@ -953,25 +948,33 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
   std::vector<ContourFix> out;
   Work work(options.glyph_work, options.guard_seconds);
   const std::size_t n = glyph.contours.size();
+  const ReportOptions o = judge_only(options.judge);
+  bool lost = false;  // a contour has no fix, so neither has the glyph: the rest is not searched
   for (std::size_t i = 0; i < n; ++i) {
-    // Each contour its share of what is left of the glyph's work (one that
-    // passes as it is uses none).
+    if (lost) {
+      ContourFix& f = out.emplace_back();
+      f.contour = glyph.contours[i].index, f.rejudged = judge_counts(glyph.contours[i].spline, o);
+      for (GateCount& g : f.rejudged) g.after = g.before;
+      f.already = f.fixed = total(f.rejudged) == 0;  // else it would need a fix of its own
+      if (!f.fixed) f.reason = "not searched: an earlier contour has no fix";
+      continue;
+    }
+    // Each contour its share of what is left of the glyph's work (none where it passes as it is).
     const long whole = work.cap(work.left() / static_cast<long>(n - i));
     out.push_back(fix_contour(glyph.contours[i], options, work));
-    out.back().out_of_work = !out.back().fixed && !out.back().untouched && work.ran_out();
+    lost = !out.back().fixed && !out.back().untouched;
+    out.back().out_of_work = lost && work.ran_out();
     work.release(whole);
   }
-  // Then each fix found is settled (settle_nearer), in what is left of the
-  // work: after every contour's search, so settling one contour never
-  // takes what another's search needs; and only when every contour is fixed
-  // (a glyph with one contour unfixed has no fix to settle).
+  // Then each fix found is settled (settle_nearer), in what is left of the work: after every
+  // contour's search, so settling one never takes what another's search needs; and only when
+  // every contour is fixed (a glyph with one contour unfixed has no fix to settle).
   if (!(options.grid > 0) ||
       std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed && !f.untouched; }))
   {
     finish(out, work);
     return out;
   }
-  const ReportOptions o = judge_only(options.judge);
   long left = std::count_if(out.begin(), out.end(), [](const ContourFix& f) { return f.fixed && !f.already; });
   for (std::size_t i = 0; i < n; ++i) {
     ContourFix& f = out[i];

@@ -440,6 +440,35 @@ TEST(GlyphFix, FailureProofsAreTheJudge) {
   EXPECT_GT(proved, 300);
 }
 
+// A glyph is fixed only when every contour is: once one has no fix, the
+// contours after it are not searched (their fixes would be thrown away).
+// DejaVu Sans `B` under both type gates: its outer contour joins a line to
+// a quadratic smoothly, which no move passes; its two counters were
+// searched for 5 s before.
+TEST(GlyphFix, AContourWithNoFixLeavesTheRestUnsearched) {
+  if (!std::filesystem::exists(kDejaVu)) GTEST_SKIP() << kDejaVu << " is not installed (tools/setup.sh installs it)";
+  const import::Font font = import::read_font(kDejaVu, import::parse_glyph_spec("B"));
+  ASSERT_EQ(font.glyphs.size(), 1u);
+  ASSERT_EQ(font.glyphs[0].contours.size(), 3u);
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  const std::vector<report::ContourFix> fixes = report::fix_glyph(font.glyphs[0], o);
+  ASSERT_EQ(fixes.size(), 3u);
+  EXPECT_FALSE(fixes[0].fixed);
+  EXPECT_NE(fixes[0].reason.find("joins a line to a quadratic curve"), std::string::npos) << fixes[0].reason;
+  for (std::size_t i = 1; i < fixes.size(); ++i) {
+    EXPECT_EQ(fixes[i].contour, font.glyphs[0].contours[i].index);
+    EXPECT_TRUE(fixes[i].moves.empty());
+    EXPECT_FALSE(fixes[i].rejudged.empty());
+    for (const report::GateCount& g : fixes[i].rejudged) EXPECT_EQ(g.after, g.before);
+    if (!fixes[i].already) {
+      EXPECT_EQ(fixes[i].reason, "not searched: an earlier contour has no fix");
+    }
+  }
+  EXPECT_LT(fixes[0].glyph_work, 1000);  // the refusal's few units: no search ran
+}
+
 // The grid snap's shortcut (glyph_fix.cpp, land): proves_extremum_violation
 // may answer "fails" for a candidate only where the gate itself finds a
 // curvature extremum inside one of the segments the move changed (the
