@@ -17,6 +17,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from glif_checks import only_xy_changed  # noqa: E402
+
 SRC, CMR = sys.argv[1], sys.argv[2]
 PY = "/usr/bin/python3"
 NIMBUS = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf"
@@ -43,25 +46,6 @@ def tree_files(root):
     for d, _, files in os.walk(root):
         out += [os.path.relpath(os.path.join(d, f), root) for f in files]
     return sorted(out)
-
-
-def only_xy_changed(a, b):
-    """Every line the same but for x/y values of <point>s; new values integers."""
-    la, lb = open(a).read().split("\n"), open(b).read().split("\n")
-    if len(la) != len(lb):
-        return False, "line count differs"
-    changed = 0
-    for x, y in zip(la, lb):
-        if x == y:
-            continue
-        changed += 1
-        strip = lambda s: re.sub(r'\b([xy])="[^"]*"', r'\1=""', s)
-        if "<point" not in x or strip(x) != strip(y):
-            return False, "a line other than x/y changed: " + y
-        for v in re.findall(r'\b[xy]="([^"]*)"', y):
-            if not re.fullmatch(r"-?\d+", v):
-                return False, "not an integer coordinate: " + v
-    return changed > 0, "%d lines changed" % changed
 
 
 def exact_judge(path, gates):
