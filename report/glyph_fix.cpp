@@ -564,9 +564,10 @@ std::optional<std::pair<BSpline, int>> land(const import::Contour& c, const BSpl
     // (proves_extremum_violation) the model is not built; such a candidate
     // costs the segments it classified instead of the contour.
     long proved = 0, proof_work = 0;
+    const std::vector<BezierSegment> pieces = bezier_segments(current);
     auto snap_judge = [&](const BSpline& s) {
       try {
-        if (t && proves_extremum_violation(current, s, *t, proof_work)) return ++proved, 1;
+        if (t && proves_extremum_violation(pieces, s, *t, proof_work)) return ++proved, 1;
         const SplineReport model = gate_model(s, o);
         const int own = t ? total(counts_on(model, *t)) : 0;
         if (own != 0) return own;

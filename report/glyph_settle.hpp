@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "bezierize/extract.hpp"
 #include "design/fix_grid.hpp"
 #include "io/font.hpp"
 #include "report/report.hpp"
@@ -224,14 +225,16 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
 
 /// Whether `o`'s curvature-extrema-at-nodes gate certainly fails on `s` at a
 /// segment whose Bezier points differ from the same segment's in `before`
-/// (the same control structure), by with_failure_proofs' first proof:
+/// (bezier_segments of a spline with the same control structure, made once
+/// for all the candidates), by with_failure_proofs' first proof:
 /// Algorithm 1 finds it not monotone and violates_where_extremum shows it is
 /// neither a cusp nor near constant. False where `o` has no such gate, for
 /// rational curves, wherever no changed segment is proved to fail, and where
 /// a classification throws (the judge then decides).
 /// `classified` grows by the segments classified (the proof's work, in
 /// segments judged). GlyphFix.ChangedSegmentProofsAreTheGate holds it to the gate.
-bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified);
+bool proves_extremum_violation(const std::vector<BezierSegment>& before, const BSpline& s, const ReportOptions& o,
+                               long& classified);
 
 /// The moves of `f` in parts that share no segment: two moved points are in
 /// one part when a segment has both (through others of the part).

@@ -246,14 +246,15 @@ Judge with_failure_proofs(const BSpline& source, const ReportOptions& o, const R
   };
 }
 
-bool proves_extremum_violation(const BSpline& before, const BSpline& s, const ReportOptions& o, long& classified) {
-  if (!has_extrema_gate(o) || s.is_rational() || before.segment_count() != s.segment_count()) return false;
+bool proves_extremum_violation(const std::vector<BezierSegment>& before, const BSpline& s, const ReportOptions& o,
+                               long& classified) {
+  if (!has_extrema_gate(o) || s.is_rational() || static_cast<int>(before.size()) != s.segment_count()) return false;
   const ClassifyOptions classify = proof_classify(o);
   try {
     for (int i = 0; i < s.segment_count(); ++i) {
       const Segment& seg = s.segments()[static_cast<std::size_t>(i)];
       const std::vector<Vec2> b = bezier_segment(s, seg).points;
-      if (b == bezier_segment(before, before.segments()[static_cast<std::size_t>(i)]).points) continue;
+      if (b == before[static_cast<std::size_t>(i)].points) continue;
       ++classified;
       if (extremum_inside(s, seg, b, classify, o.constant_tolerance)) return true;
     }
