@@ -13,6 +13,7 @@
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "report/contour_moves.hpp"
+#include "report/glyph_chains.hpp"
 #include "report/glyph_joins.hpp"
 #include "report/glyph_quick.hpp"
 #include "report/glyph_settle.hpp"
@@ -24,6 +25,7 @@ namespace cmr::report {
 namespace {
 
 using glyph_detail::Badness;
+using glyph_detail::chain_search;
 using glyph_detail::LatticeUnit;
 using glyph_detail::QuickJudge;
 using glyph_detail::local_judge;
@@ -675,8 +677,19 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // (both_searches), and the nearer of the two fixes (total squared move) is kept: the
   // descent's is found sooner, the rounds' is often nearer, and the settling then has less to do.
   const bool several = o.gates.size() + (o.require ? 1 : 0) > 1;
-  std::optional<BSpline> descended;
+  // The chain search first (glyph_chains.hpp: nodes held, each failing chain's nearest handles in a box):
+  // where it answers every chain the contour passes; where it answers some, the searches below start there.
   if (several && options.grid > 0) {
+    const int m = c.spline.unique_point_count();
+    const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
+    if (const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work);
+        r && r->solved > 0) {
+      const BSpline s = with_points(c, r->points);
+      if (const int left = judge(s); left < current_total && smooth_kept(c, s)) current = s, current_total = left;
+    }
+  }
+  std::optional<BSpline> descended;
+  if (several && options.grid > 0 && current_total > 0) {
     const long whole = work.cap(work.left() / 2);
     if (std::optional<BSpline> d = grid_descent(c, current, movable, o, options, work))
       if (judge(*d) == 0 && smooth_kept(c, *d)) descended = std::move(*d);

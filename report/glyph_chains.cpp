@@ -1,0 +1,248 @@
+// The glyph fix's chain search (glyph_chains.hpp: the derivation).
+#include "report/glyph_chains.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+
+#include "bezierize/classify.hpp"
+#include "bezierize/extract.hpp"
+#include "design/fix.hpp"
+#include "report/batch.hpp"
+#include "spline/errors.hpp"
+
+namespace cmr::report::glyph_detail {
+namespace {
+
+/// A candidate of one segment: its two handles' positions (or none: a line,
+/// held), end curvatures and cost.
+struct State {
+  Vec2 h1{0.0}, h2{0.0};
+  double k0 = 0, k1 = 0, cost = 0;
+};
+
+/// The positions one handle tries, each with its squared move from the source.
+struct Options {
+  std::vector<Vec2> at;
+  std::vector<double> cost;
+};
+
+/// End curvatures of the cubic (b0, b1, b2, b3), signed (NaN at a zero handle).
+std::array<double, 2> end_curvatures(const std::array<Vec2, 4>& b) {
+  auto kappa = [](Vec2 turn_from, Vec2 turn_to, Vec2 handle) {
+    const double l = std::sqrt(dot(handle, handle));
+    return l > 0 ? 2.0 / 3.0 * det(turn_from, turn_to) / (l * l * l) : std::numeric_limits<double>::quiet_NaN();
+  };
+  return {kappa(b[1] - b[0], b[2] - b[1], b[1] - b[0]), kappa(b[2] - b[1], b[3] - b[2], b[3] - b[2])};
+}
+
+/// The interval of left curvatures kl that pass g2 (tolerance t) against kr.
+std::array<double, 2> passing_left(double kr, double t) {
+  if (kr > 0) return {kr * (1 - t), kr / (1 - t)};
+  if (kr < 0) return {kr / (1 - t), kr * (1 - t)};
+  return {0, 0};
+}
+
+/// The exactly smooth test of smooth_kept (glyph_fix.cpp): node k's
+/// neighbours exactly collinear with it, on opposite sides.
+bool exactly_smooth(const std::vector<Vec2>& p, int k) {
+  const int m = static_cast<int>(p.size());
+  const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
+  if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
+  return det(u, v) == 0 && dot(u, v) < 0;
+}
+
+}  // namespace
+
+std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
+                                        const std::vector<Vec2>& at, const std::vector<int>& movable,
+                                        const ReportOptions& o, double grid, double max_move, Work& work,
+                                        const ChainBox& box) {
+  const BSpline& source = c.spline;
+  if (o.require || o.gates.empty() || source.is_rational() || source.degree() != 3 || !source.closed())
+    return std::nullopt;
+  double tol = -1;
+  for (const Gate& g : o.gates) {
+    if (g.kind == Gate::Kind::g2_at_smooth_nodes)
+      tol = g.tolerance;
+    else if (g.kind != Gate::Kind::extrema_at_nodes)
+      return std::nullopt;
+  }
+  const int m = source.unique_point_count(), n = source.segment_count();
+  const std::vector<Vec2> here(at.begin(), at.begin() + m);
+  const BSpline spline = source.with_points(here);
+  SplineReport report;
+  try {
+    work.charge(n);
+    report = gate_report(spline, o);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+  // Which segments and joints fail, and which joints g2 judges (a link of a chain).
+  std::vector<char> failing_segment(n, 0), failing_joint(n, 0), link(n, 0);
+  for (const GateResult& g : report.gates)
+    for (const GateViolation& v : g.violations) {
+      if (v.info) continue;
+      if (v.segment >= 0) failing_segment[v.segment % n] = 1;
+      if (v.joint >= 0) failing_joint[v.joint % n] = 1;
+    }
+  if (tol >= 0)
+    for (const JointReport& jr : report.joints)
+      if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
+        link[jr.joint.index % n] = 1;
+  const auto unlinked = std::find(link.begin(), link.end(), 0);
+  const auto fails = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
+  if (!fails(failing_segment) && !fails(failing_joint)) return ChainResult{here, 0, 0};
+  if (unlinked == link.end()) return std::nullopt;  // one chain closing on itself
+  const std::vector<char> straight = straight_segments(source);
+  const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
+  const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
+  ClassifyOptions classify;
+  classify.max_depth = o.max_depth;
+  classify.inflection = false;
+
+  // The positions a handle (point k next to node `node`) tries.
+  auto options_of = [&](int k, int node) {
+    Options out;
+    auto add = [&](Vec2 p) {
+      const Vec2 d = p - src[k];
+      if (std::sqrt(dot(d, d)) > limit) return;
+      out.at.push_back(p), out.cost.push_back(dot(d, d));
+    };
+    const auto held = [&] {
+      out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
+      return out;
+    };
+    if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) return held();
+    if (exactly_smooth(here, node)) {  // along its tangent, by the primitive grid vector on it
+      const Vec2 a = here[k] - here[node];
+      const double gx = a.x / grid, gy = a.y / grid;
+      if (gx != std::floor(gx) || gy != std::floor(gy)) return held();  // off the grid's lines through its node
+      const long dx = std::lround(gx), dy = std::lround(gy), g = std::gcd(std::abs(dx), std::abs(dy));
+      if (g == 0) return held();
+      const Vec2 step(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
+      for (int s = -box.slide_reach; s <= box.slide_reach; ++s) {
+        const Vec2 p = here[k] + static_cast<double>(s) * step;
+        if (dot(p - here[node], a) > 0) add(p);  // never through its node
+      }
+      return out;
+    }
+    for (int i = -box.reach; i <= box.reach; ++i)
+      for (int j = -box.reach; j <= box.reach; ++j)
+        add(here[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
+    return out;
+  };
+
+  // A segment's passing states; empty where none passes (or the work ran out).
+  auto states_of = [&](int s, bool& spent) {
+    std::vector<State> out;
+    const std::vector<int> pts = segment_points(spline, spline.segments()[static_cast<std::size_t>(s)]);
+    std::array<int, 4> k{};
+    for (int i = 0; i < 4; ++i) k[i] = pts[static_cast<std::size_t>(i)] % m;
+    if (straight[static_cast<std::size_t>(s)]) {  // a line: held, curvature 0
+      out.push_back({here[k[1]], here[k[2]], 0, 0, 0});
+      return out;
+    }
+    const Options a = options_of(k[1], k[0]), b = options_of(k[2], k[3]);
+    for (std::size_t i = 0; i < a.at.size(); ++i)
+      for (std::size_t j = 0; j < b.at.size(); ++j) {
+        if (work.spent()) {
+          spent = true;
+          return std::vector<State>{};
+        }
+        work.charge();
+        const std::array<Vec2, 4> bz{here[k[0]], a.at[i], b.at[j], here[k[3]]};
+        const Curvature cv = classify_bezier(bz, classify).monotonicity.curvature;
+        if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) continue;
+        const std::array<double, 2> e = end_curvatures(bz);
+        if (!std::isfinite(e[0]) || !std::isfinite(e[1])) continue;
+        out.push_back({a.at[i], b.at[j], e[0], e[1], a.cost[i] + b.cost[j]});
+      }
+    return out;
+  };
+
+  // The chains that fail, each a run of segments from a joint g2 does not judge.
+  std::vector<std::vector<int>> chains;
+  for (int start = static_cast<int>(unlinked - link.begin()), done = 0; done < n;) {
+    std::vector<int> chain{start};
+    while (done + static_cast<int>(chain.size()) < n && link[(chain.back() + 1) % n])
+      chain.push_back((chain.back() + 1) % n);
+    done += static_cast<int>(chain.size());
+    start = (chain.back() + 1) % n;
+    bool fails = false;
+    for (std::size_t i = 0; i < chain.size(); ++i)
+      fails = fails || failing_segment[chain[i]] || (i > 0 && failing_joint[chain[i]]);
+    if (fails) chains.push_back(std::move(chain));
+  }
+  // Each segment's states, once; the failing segments first, since a chain
+  // with a segment that no handle position in the box makes monotone (its
+  // nodes would have to move) has no answer, and that is found cheapest so.
+  std::vector<std::optional<std::vector<State>>> states(n);
+  std::vector<char> hopeless(chains.size(), 0);
+  bool spent = false;
+  for (std::size_t h = 0; h < chains.size() && !spent; ++h)
+    for (int s : chains[h])
+      if (failing_segment[s] && !hopeless[h]) {
+        states[s] = states_of(s, spent);
+        hopeless[h] = states[s]->empty();
+      }
+  ChainResult result{here, 0, 0};
+  for (std::size_t h = 0; h < chains.size() && !spent; ++h) {
+    const std::vector<int>& chain = chains[h];
+    if (hopeless[h]) continue;
+    // The shortest path: best[i][q] the least cost of the chain's first i + 1
+    // segments with segment i at state q, g2 passing at every joint between.
+    std::vector<std::vector<double>> best;
+    std::vector<std::vector<int>> from;
+    for (std::size_t i = 0; i < chain.size() && !spent; ++i) {
+      if (!states[chain[i]]) states[chain[i]] = states_of(chain[i], spent);
+      const std::vector<State>& layer = *states[chain[i]];
+      std::vector<double> b(layer.size(), std::numeric_limits<double>::infinity());
+      std::vector<int> f(layer.size(), -1);
+      if (i == 0) {
+        for (std::size_t q = 0; q < layer.size(); ++q) b[q] = layer[q].cost;
+      } else {
+        const std::vector<State>& prev = *states[chain[i - 1]];
+        const std::vector<double>& prev_best = best.back();
+        std::vector<int> by_k1(prev.size()), by_k0(layer.size());
+        std::iota(by_k1.begin(), by_k1.end(), 0);
+        std::iota(by_k0.begin(), by_k0.end(), 0);
+        std::sort(by_k1.begin(), by_k1.end(), [&](int x, int y) { return prev[x].k1 < prev[y].k1; });
+        std::sort(by_k0.begin(), by_k0.end(), [&](int x, int y) { return layer[x].k0 < layer[y].k0; });
+        std::deque<int> window;  // positions in by_k1 whose best rises from the front
+        std::size_t in = 0, out_of = 0;
+        for (int q : by_k0) {
+          const std::array<double, 2> range = passing_left(layer[q].k0, t);
+          while (in < by_k1.size() && prev[by_k1[in]].k1 <= range[1]) {
+            const double v = prev_best[by_k1[in]];
+            while (!window.empty() && prev_best[by_k1[window.back()]] >= v) window.pop_back();
+            window.push_back(static_cast<int>(in++));
+          }
+          while (out_of < in && prev[by_k1[out_of]].k1 < range[0]) ++out_of;
+          while (!window.empty() && window.front() < static_cast<int>(out_of)) window.pop_front();
+          if (window.empty() || !std::isfinite(prev_best[by_k1[window.front()]])) continue;
+          b[q] = layer[q].cost + prev_best[by_k1[window.front()]], f[q] = by_k1[window.front()];
+        }
+      }
+      best.push_back(std::move(b)), from.push_back(std::move(f));
+    }
+    if (spent || best.back().empty()) continue;
+    const auto end = std::min_element(best.back().begin(), best.back().end());
+    if (!std::isfinite(*end)) continue;
+    int q = static_cast<int>(end - best.back().begin());
+    for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
+      const State& st = (*states[chain[i]])[q];
+      const std::vector<int> pts = segment_points(spline, spline.segments()[static_cast<std::size_t>(chain[i])]);
+      result.points[pts[1] % m] = st.h1, result.points[pts[2] % m] = st.h2;
+      q = from[i][q];
+    }
+    ++result.solved;
+  }
+  result.failing = static_cast<int>(chains.size());
+  return result;
+}
+
+}  // namespace cmr::report::glyph_detail
