@@ -7,6 +7,8 @@
 #include <deque>
 #include <limits>
 #include <numeric>
+#include <optional>
+#include <utility>
 
 #include "bezierize/classify.hpp"
 #include "bezierize/extract.hpp"
@@ -104,30 +106,50 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   classify.max_depth = o.max_depth;
   classify.inflection = false;
 
-  // The positions a handle (point k next to node `node`) tries.
-  auto options_of = [&](int k, int node) {
+  // The primitive grid vector along `a` (nullopt: `a` is 0 or off the grid's directions).
+  const auto grid_step = [grid](Vec2 a) -> std::optional<Vec2> {
+    const double gx = a.x / grid, gy = a.y / grid;
+    if (gx != std::floor(gx) || gy != std::floor(gy)) return std::nullopt;
+    const long dx = std::lround(gx), dy = std::lround(gy), g = std::gcd(std::abs(dx), std::abs(dy));
+    if (g == 0) return std::nullopt;
+    return Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
+  };
+  // The positions a handle (point k next to node `node`) tries. `line`: a
+  // line the handle must lie on (origin, direction), where the segment meets
+  // a straight piece smoothly at its other end: g2 there needs the curve's
+  // end curvature exactly 0, so this handle on the line's tangent.
+  using Line = std::optional<std::pair<Vec2, Vec2>>;
+  auto options_of = [&](int k, int node, const Line& line) {
     Options out;
+    const auto on_line = [&](Vec2 p) { return !line || det(p - line->first, line->second) == 0; };
     auto add = [&](Vec2 p) {
       const Vec2 d = p - src[k];
-      if (std::sqrt(dot(d, d)) > limit) return;
+      if (std::sqrt(dot(d, d)) > limit || !on_line(p)) return;
       out.at.push_back(p), out.cost.push_back(dot(d, d));
     };
-    const auto held = [&] {
-      out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
+    if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) {
+      if (on_line(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
       return out;
-    };
-    if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) return held();
+    }
     if (exactly_smooth(here, node)) {  // along its tangent, by the primitive grid vector on it
       const Vec2 a = here[k] - here[node];
-      const double gx = a.x / grid, gy = a.y / grid;
-      if (gx != std::floor(gx) || gy != std::floor(gy)) return held();  // off the grid's lines through its node
-      const long dx = std::lround(gx), dy = std::lround(gy), g = std::gcd(std::abs(dx), std::abs(dy));
-      if (g == 0) return held();
-      const Vec2 step(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
+      const std::optional<Vec2> step = grid_step(a);
+      if (!step) {  // off the grid's lines through its node: held
+        add(here[k]);
+        return out;
+      }
       for (int s = -box.slide_reach; s <= box.slide_reach; ++s) {
-        const Vec2 p = here[k] + static_cast<double>(s) * step;
+        const Vec2 p = here[k] + static_cast<double>(s) * *step;
         if (dot(p - here[node], a) > 0) add(p);  // never through its node
       }
+      return out;
+    }
+    if (line) {  // the line's grid points from its node out to past the handle's foot on it
+      const std::optional<Vec2> w = grid_step(line->second);
+      if (!w) return out;
+      const long j0 = std::lround(dot(here[k] - line->first, *w) / dot(*w, *w));
+      for (long j = 1; j <= j0 + box.slide_reach; ++j)
+        add(line->first + static_cast<double>(j) * *w);
       return out;
     }
     for (int i = -box.reach; i <= box.reach; ++i)
@@ -146,7 +168,15 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       out.push_back({here[k[1]], here[k[2]], 0, 0, 0});
       return out;
     }
-    const Options a = options_of(k[1], k[0]), b = options_of(k[2], k[3]);
+    // A smooth join with a straight piece at one end puts the far handle on that piece's line.
+    const int before = (s + n - 1) % n, after = (s + 1) % n;
+    const Line start_line = link[s] && straight[static_cast<std::size_t>(before)]
+                                ? Line(std::pair(here[k[0]], here[k[1]] - here[k[0]]))
+                                : Line();
+    const Line end_line = link[after] && straight[static_cast<std::size_t>(after)]
+                              ? Line(std::pair(here[k[3]], here[k[2]] - here[k[3]]))
+                              : Line();
+    const Options a = options_of(k[1], k[0], end_line), b = options_of(k[2], k[3], start_line);
     for (std::size_t i = 0; i < a.at.size(); ++i)
       for (std::size_t j = 0; j < b.at.size(); ++j) {
         if (work.spent()) {

@@ -363,6 +363,44 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBox) {
     if (k != k17 && k != k18 && k != k20 && k != k21) EXPECT_EQ(found->points[k], at[k]) << "point " << k;
 }
 
+// A chain that meets a line smoothly: g2 there needs the curve's end
+// curvature exactly 0, so its second handle on the line. Stem (0, -200) ..
+// (0, 0), smooth into the cubic (0, 0), (0, 60), (12, 120), (50, 200), a
+// corner, then lines back. The handle (12, 120) is 12 units off the stem's
+// line, beyond the chain search's box of free moves; the search tries the
+// line's own grid points for it, and its answer passes both gates with
+// that handle on x = 0.
+TEST(GlyphFix, TheChainSearchPutsAHandleOnTheLineItJoins) {
+  using T = import::OutlinePoint::Tag;
+  const std::vector<import::OutlinePoint> pts = {{{0, -200}, T::on},    {{0, 0}, T::on},    {{0, 60}, T::cubic},
+                                                 {{12, 120}, T::cubic}, {{50, 200}, T::on}, {{-100, 200}, T::on}};
+  const import::Contour c = *import::outline_contour(pts, 0, 3, "j", import::PointNaming::source);
+  report::ReportOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o);
+  o.regions = false;
+  const int m = c.spline.unique_point_count();
+  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
+  const auto violations = [&](const std::vector<Vec2>& p) {
+    int n = 0;
+    for (const report::GateResult& g : report::gate_report(c.spline.with_points(p), o).gates)
+      for (const report::GateViolation& v : g.violations) n += !v.info;
+    return n;
+  };
+  ASSERT_GT(violations(src), 0);
+  int handle = -1;  // the point at (12, 120)
+  for (int k = 0; k < m; ++k)
+    if (src[k] == Vec2(12, 120)) handle = k;
+  ASSERT_GE(handle, 0);
+  report::glyph_detail::Work work(report::kGlyphWork, 60);
+  const std::optional<report::glyph_detail::ChainResult> found =
+      report::glyph_detail::chain_search(c, src, src, report::contour_moves(c).points, o, 1, 0, work);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->failing, 1);
+  EXPECT_EQ(found->solved, 1);
+  EXPECT_EQ(found->points[handle].x, 0);
+  EXPECT_EQ(violations(found->points), 0);
+}
+
 // A smooth node J where a line meets a quadratic curve (g2 required): the
 // curve would have to be straight from J up to where the chain of pieces
 // ends, a corner or a line's end (report/glyph_joins.hpp,
