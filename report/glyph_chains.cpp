@@ -57,12 +57,49 @@ bool exactly_smooth(const std::vector<Vec2>& p, int k) {
   return det(u, v) == 0 && dot(u, v) < 0;
 }
 
+/// One step of the shortest path: best[q], the least cost of reaching state
+/// q of `layer` from a state p of `prev` (whose least cost is prev_best[p])
+/// with g2 passing between p's k1 and q's k0 (tolerance t), plus q's own
+/// cost; from[q] that p (-1, best infinite: none). Both sorted by the
+/// curvatures there, the passing p of each q form a window whose ends rise
+/// with q's k0: a sliding-window minimum.
+void advance(const std::vector<State>& prev, const std::vector<double>& prev_best, const std::vector<State>& layer,
+             double t, std::vector<double>& best, std::vector<int>& from) {
+  best.assign(layer.size(), std::numeric_limits<double>::infinity());
+  from.assign(layer.size(), -1);
+  std::vector<int> by_k1(prev.size()), by_k0(layer.size());
+  std::iota(by_k1.begin(), by_k1.end(), 0);
+  std::iota(by_k0.begin(), by_k0.end(), 0);
+  std::sort(by_k1.begin(), by_k1.end(), [&](int x, int y) { return prev[x].k1 < prev[y].k1; });
+  std::sort(by_k0.begin(), by_k0.end(), [&](int x, int y) { return layer[x].k0 < layer[y].k0; });
+  std::deque<int> window;  // positions in by_k1 whose best rises from the front
+  std::size_t in = 0, out_of = 0;
+  for (int q : by_k0) {
+    const std::array<double, 2> range = passing_left(layer[q].k0, t);
+    while (in < by_k1.size() && prev[by_k1[in]].k1 <= range[1]) {
+      const double v = prev_best[by_k1[in]];
+      while (!window.empty() && prev_best[by_k1[window.back()]] >= v) window.pop_back();
+      window.push_back(static_cast<int>(in++));
+    }
+    while (out_of < in && prev[by_k1[out_of]].k1 < range[0]) ++out_of;
+    while (!window.empty() && window.front() < static_cast<int>(out_of)) window.pop_front();
+    if (window.empty() || !std::isfinite(prev_best[by_k1[window.front()]])) continue;
+    best[q] = layer[q].cost + prev_best[by_k1[window.front()]], from[q] = by_k1[window.front()];
+  }
+}
+
+/// Whether g2 passes (tolerance t) between end curvatures kl and kr.
+bool g2_passes(double kl, double kr, double t) {
+  const std::array<double, 2> range = passing_left(kr, t);
+  return kl >= range[0] && kl <= range[1];
+}
+
 }  // namespace
 
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box) {
+                                        const ChainBox& box, bool every) {
   const BSpline& source = c.spline;
   if (o.require || o.gates.empty() || source.is_rational() || source.degree() != 3 || !source.closed())
     return std::nullopt;
@@ -96,9 +133,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
         link[jr.joint.index % n] = 1;
   const auto unlinked = std::find(link.begin(), link.end(), 0);
-  const auto fails = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!fails(failing_segment) && !fails(failing_joint)) return ChainResult{here, 0, 0};
-  if (unlinked == link.end()) return std::nullopt;  // one chain closing on itself
+  const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
+  if (!every && !any(failing_segment) && !any(failing_joint)) return ChainResult{here, 0, 0, 0};
   const std::vector<char> straight = straight_segments(source);
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
@@ -148,8 +184,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       const std::optional<Vec2> w = grid_step(line->second);
       if (!w) return out;
       const long j0 = std::lround(dot(here[k] - line->first, *w) / dot(*w, *w));
-      for (long j = 1; j <= j0 + box.slide_reach; ++j)
-        add(line->first + static_cast<double>(j) * *w);
+      for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line->first + static_cast<double>(j) * *w);
       return out;
     }
     for (int i = -box.reach; i <= box.reach; ++i)
@@ -194,17 +229,21 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return out;
   };
 
-  // The chains that fail, each a run of segments from a joint g2 does not judge.
+  // The chains, each a run of segments from a joint g2 does not judge (or,
+  // where g2 judges every joint, one chain closing on itself at joint 0);
+  // those that fail (every one with `every`).
+  const bool cycle = unlinked == link.end();
+  if (cycle && !every) return std::nullopt;  // a contour smooth all round: only in the settling (header)
   std::vector<std::vector<int>> chains;
-  for (int start = static_cast<int>(unlinked - link.begin()), done = 0; done < n;) {
+  for (int start = cycle ? 0 : static_cast<int>(unlinked - link.begin()), done = 0; done < n;) {
     std::vector<int> chain{start};
     while (done + static_cast<int>(chain.size()) < n && link[(chain.back() + 1) % n])
       chain.push_back((chain.back() + 1) % n);
     done += static_cast<int>(chain.size());
     start = (chain.back() + 1) % n;
-    bool fails = false;
+    bool fails = every;
     for (std::size_t i = 0; i < chain.size(); ++i)
-      fails = fails || failing_segment[chain[i]] || (i > 0 && failing_joint[chain[i]]);
+      fails = fails || failing_segment[chain[i]] || ((i > 0 || cycle) && failing_joint[chain[i]]);
     if (fails) chains.push_back(std::move(chain));
   }
   // Each segment's states, once; the failing segments first, since a chain
@@ -219,59 +258,77 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         states[s] = states_of(s, spent);
         hopeless[h] = states[s]->empty();
       }
-  ChainResult result{here, 0, 0};
-  for (std::size_t h = 0; h < chains.size() && !spent; ++h) {
+  for (std::size_t h = 0; h < chains.size() && !spent; ++h)
+    for (int s : chains[h])
+      if (!states[s] && !hopeless[h]) states[s] = states_of(s, spent);
+  ChainResult result{here, static_cast<int>(chains.size()), 0, 0};
+  if (spent) return result;
+  // The least-cost path through a chain's layers from the first layer's
+  // states `first` (their best: their own cost); the last layer's best and
+  // every layer's `from`.
+  const auto path = [&](const std::vector<int>& chain, const std::vector<State>& first,
+                        std::vector<std::vector<int>>& from) {
+    std::vector<double> best(first.size());
+    for (std::size_t q = 0; q < first.size(); ++q) best[q] = first[q].cost;
+    from.assign(chain.size(), {});
+    const std::vector<State>* prev = &first;
+    for (std::size_t i = 1; i < chain.size(); ++i) {
+      const std::vector<State>& layer = *states[chain[i]];
+      std::vector<double> next;
+      advance(*prev, best, layer, t, next, from[i]);
+      best = std::move(next), prev = &layer;
+    }
+    return best;
+  };
+  for (std::size_t h = 0; h < chains.size(); ++h) {
     const std::vector<int>& chain = chains[h];
     if (hopeless[h]) continue;
-    // The shortest path: best[i][q] the least cost of the chain's first i + 1
-    // segments with segment i at state q, g2 passing at every joint between.
-    std::vector<std::vector<double>> best;
+    const std::vector<State>& first = *states[chain.front()];
     std::vector<std::vector<int>> from;
-    for (std::size_t i = 0; i < chain.size() && !spent; ++i) {
-      if (!states[chain[i]]) states[chain[i]] = states_of(chain[i], spent);
-      const std::vector<State>& layer = *states[chain[i]];
-      std::vector<double> b(layer.size(), std::numeric_limits<double>::infinity());
-      std::vector<int> f(layer.size(), -1);
-      if (i == 0) {
-        for (std::size_t q = 0; q < layer.size(); ++q) b[q] = layer[q].cost;
-      } else {
-        const std::vector<State>& prev = *states[chain[i - 1]];
-        const std::vector<double>& prev_best = best.back();
-        std::vector<int> by_k1(prev.size()), by_k0(layer.size());
-        std::iota(by_k1.begin(), by_k1.end(), 0);
-        std::iota(by_k0.begin(), by_k0.end(), 0);
-        std::sort(by_k1.begin(), by_k1.end(), [&](int x, int y) { return prev[x].k1 < prev[y].k1; });
-        std::sort(by_k0.begin(), by_k0.end(), [&](int x, int y) { return layer[x].k0 < layer[y].k0; });
-        std::deque<int> window;  // positions in by_k1 whose best rises from the front
-        std::size_t in = 0, out_of = 0;
-        for (int q : by_k0) {
-          const std::array<double, 2> range = passing_left(layer[q].k0, t);
-          while (in < by_k1.size() && prev[by_k1[in]].k1 <= range[1]) {
-            const double v = prev_best[by_k1[in]];
-            while (!window.empty() && prev_best[by_k1[window.back()]] >= v) window.pop_back();
-            window.push_back(static_cast<int>(in++));
-          }
-          while (out_of < in && prev[by_k1[out_of]].k1 < range[0]) ++out_of;
-          while (!window.empty() && window.front() < static_cast<int>(out_of)) window.pop_front();
-          if (window.empty() || !std::isfinite(prev_best[by_k1[window.front()]])) continue;
-          b[q] = layer[q].cost + prev_best[by_k1[window.front()]], f[q] = by_k1[window.front()];
-        }
+    std::vector<State> start = first;  // a cycle: the one state of its first segment that is best
+    double least = std::numeric_limits<double>::infinity();
+    int end = -1;
+    if (!cycle) {
+      const std::vector<double> best = path(chain, first, from);
+      for (std::size_t q = 0; q < best.size(); ++q)
+        if (best[q] < least) least = best[q], end = static_cast<int>(q);
+    } else {
+      // Each state of the first segment in turn (cheapest first, until its
+      // cost alone and the other layers' least reach the best found), the
+      // path from it, closed by g2 at joint 0 between the last layer and it.
+      double rest = 0;
+      for (std::size_t i = 1; i < chain.size(); ++i) {
+        double low = std::numeric_limits<double>::infinity();
+        for (const State& st : *states[chain[i]]) low = std::min(low, st.cost);
+        rest += low;
       }
-      best.push_back(std::move(b)), from.push_back(std::move(f));
+      std::vector<int> order(first.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](int x, int y) { return first[x].cost < first[y].cost; });
+      for (int q0 : order) {
+        if (!(first[q0].cost + rest < least)) break;
+        if (work.spent()) return result;
+        work.charge(static_cast<long>(chain.size()));
+        std::vector<std::vector<int>> f;
+        const std::vector<double> best = path(chain, {first[q0]}, f);
+        const std::vector<State>& last = *states[chain.back()];
+        int closing = -1;
+        for (std::size_t q = 0; q < best.size(); ++q)
+          if (best[q] < least && g2_passes(last[q].k1, first[q0].k0, t)) least = best[q], closing = static_cast<int>(q);
+        if (closing >= 0) end = closing, start = {first[q0]}, from = std::move(f);
+      }
     }
-    if (spent || best.back().empty()) continue;
-    const auto end = std::min_element(best.back().begin(), best.back().end());
-    if (!std::isfinite(*end)) continue;
-    int q = static_cast<int>(end - best.back().begin());
+    if (end < 0) continue;
+    int q = end;
     for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
-      const State& st = (*states[chain[i]])[q];
+      const State& st = i == 0 ? start[static_cast<std::size_t>(q)] : (*states[chain[i]])[q];
       const std::vector<int> pts = segment_points(spline, spline.segments()[static_cast<std::size_t>(chain[i])]);
       result.points[pts[1] % m] = st.h1, result.points[pts[2] % m] = st.h2;
-      q = from[i][q];
+      q = i > 0 ? from[i][q] : q;
     }
+    result.cost += least;
     ++result.solved;
   }
-  result.failing = static_cast<int>(chains.size());
   return result;
 }
 

@@ -50,24 +50,33 @@ struct ChainBox {
   int reach = kChainReach;
   int slide_reach = kChainSlideReach;
 };
+/// The settling's box (glyph_fix.cpp, settle: every chain, each time the
+/// fix moves): 9 x 9 cells a free handle, 49 steps a sliding one.
+inline constexpr ChainBox kChainSettleBox{4, 24};
 
 /// The chain search from `at` (the contour's distinct points; `src` the
-/// source's): each chain that holds a violation of `o` at `at` is replaced
-/// by its nearest passing handle positions in `box` around `at` (nodes
-/// held; handles that `movable` leaves out, or a line's, held too), where it
-/// has one. Applies where `o` has only curvature-extrema-at-nodes and
-/// g2-at-smooth-nodes, the contour is a closed polynomial cubic, and no
-/// chain closes on itself (a contour smooth all round); nullopt elsewhere.
-/// Work: one unit per candidate classified; where it runs out, the chains
-/// not yet solved are left as they are.
+/// source's): each chain that holds a violation of `o` at `at` (`every`:
+/// each chain) is replaced by its nearest passing handle positions in `box`
+/// around `at` (nodes held; handles that `movable` leaves out, or a line's,
+/// held too), where it has one. A contour smooth all round is one chain
+/// that closes on itself: each candidate of its first segment in turn, the
+/// shortest path from it closed by g2 at that segment's start; searched
+/// only with `every` (the settling of a fix: from the source, its answer
+/// led the searches after it to farther fixes, as on Nimbus Sans b, d and
+/// q's counters). Applies where `o` has only curvature-extrema-at-nodes and
+/// g2-at-smooth-nodes and the contour is a closed polynomial cubic; nullopt
+/// elsewhere. Work: one
+/// unit per candidate classified (and per segment of each path of a closed
+/// chain); where it runs out, no chain is answered.
 struct ChainResult {
-  std::vector<Vec2> points;  ///< `at` with every chain solved moved to its answer
-  int failing = 0;           ///< the chains that fail at `at`
+  std::vector<Vec2> points;  ///< `at` with every chain answered moved to its answer
+  int chains = 0;            ///< the chains searched: those failing at `at` (every one with `every`)
   int solved = 0;            ///< of those, the chains with an answer (all: every chain passes as above)
+  double cost = 0;           ///< the answers' cost: their handles' total squared move from `src`
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box = {});
+                                        const ChainBox& box = {}, bool every = false);
 
 }  // namespace cmr::report::glyph_detail

@@ -605,7 +605,15 @@ namespace {
 
 /// settle_nearer on a contour's passing fix `fixed` (updated), judged by
 /// local_judge (every check of `o`, smooth nodes kept) after the shortcuts
-/// that prove a failure (extremum_rejects, with_failure_proofs).
+/// that prove a failure (extremum_rejects, with_failure_proofs). Then,
+/// where the chain search applies (glyph_chains.hpp), every chain's nearest
+/// handles in the settling's box around the fix (kChainSettleBox), its
+/// nodes held where the fix put them: taken where that lowers the total squared move (the whole gate
+/// re-judges it) and settled again, up to kChainSettleRounds times. Returns
+/// whether the end was reached: no single unit or pair has a nearer passing
+/// position, and (where the chain search applies) every chain's handles are
+/// the nearest in its box, within the work.
+constexpr int kChainSettleRounds = 4;
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
             const ReportOptions& o, Work& work) {
   const int distinct = c.spline.unique_point_count();
@@ -621,10 +629,28 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
     work.charge(r ? r->length + 2 : segments);
     return judge(from, to);
   };
-  const bool done = settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
-                                  with_failure_proofs(c.spline, o, runs, passes, work),
-                                  [&runs](const std::vector<int>& points) { return runs.depends_on(points); },
-                                  extremum_rejects(c.spline, o, options.grid, work), work);
+  const auto settle_units = [&] {
+    return settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
+                         with_failure_proofs(c.spline, o, runs, passes, work),
+                         [&runs](const std::vector<int>& points) { return runs.depends_on(points); },
+                         extremum_rejects(c.spline, o, options.grid, work), work);
+  };
+  bool done = settle_units();
+  for (int round = 0; done && round < kChainSettleRounds; ++round) {
+    const std::optional<glyph_detail::ChainResult> r =
+        chain_search(c, src, at, movable, o, options.grid, options.max_move, work, glyph_detail::kChainSettleBox, true);
+    if (!r) break;  // not a contour it applies to
+    done = r->solved == r->chains && !work.spent();
+    if (!done || !(squared_move(src, r->points) < squared_move(src, at))) break;
+    const BSpline s = with_points(c, r->points);
+    if (total_judge(o)(s) != 0 || !smooth_kept(c, s)) {
+      done = false;
+      break;
+    }
+    at.assign(r->points.begin(), r->points.end());
+    done = settle_units();
+    if (done && round + 1 == kChainSettleRounds) done = false;  // it moved every round: not shown nearest
+  }
   fixed = with_points(c, at);
   return done;
 }
