@@ -48,15 +48,6 @@ std::array<double, 2> passing_left(double kr, double t) {
   return {0, 0};
 }
 
-/// The exactly smooth test of smooth_kept (glyph_fix.cpp): node k's
-/// neighbours exactly collinear with it, on opposite sides.
-bool exactly_smooth(const std::vector<Vec2>& p, int k) {
-  const int m = static_cast<int>(p.size());
-  const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
-  if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
-  return det(u, v) == 0 && dot(u, v) < 0;
-}
-
 /// One step of the shortest path: best[q], the least cost of reaching state
 /// q of `layer` from a state p of `prev` (whose least cost is prev_best[p])
 /// with g2 passing between p's k1 and q's k0 (tolerance t), plus q's own
@@ -167,7 +158,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       if (on_line(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
       return out;
     }
-    if (exactly_smooth(here, node)) {  // along its tangent, by the primitive grid vector on it
+    if (exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
       const Vec2 a = here[k] - here[node];
       const std::optional<Vec2> step = grid_step(a);
       if (!step) {  // off the grid's lines through its node: held

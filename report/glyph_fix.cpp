@@ -26,6 +26,7 @@ namespace {
 
 using glyph_detail::Badness;
 using glyph_detail::chain_search;
+using glyph_detail::exactly_smooth;
 using glyph_detail::LatticeUnit;
 using glyph_detail::QuickJudge;
 using glyph_detail::local_judge;
@@ -121,11 +122,7 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
   const int m = static_cast<int>(c.node.size());
   const std::vector<Vec2>& a = c.spline.points();
   const std::vector<Vec2>& b = s.points();
-  auto smooth = [&](const std::vector<Vec2>& p, int k) {
-    const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
-    if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
-    return u.x * v.y - u.y * v.x == 0 && u.x * v.x + u.y * v.y < 0;
-  };
+  auto smooth = [m](const std::vector<Vec2>& p, int k) { return exactly_smooth(p, m, k); };
   for (int k = 0; k < m; ++k)
     if (c.node[k] && smooth(a, k) && !smooth(b, k)) return false;
   return true;
@@ -135,11 +132,7 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
 std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vector<int>& movable, double grid) {
   const int m = static_cast<int>(c.node.size());
   const std::vector<Vec2>& p = c.spline.points();
-  auto smooth = [&](int k) {
-    const Vec2 u = p[(k + m - 1) % m] - p[k], v = p[(k + 1) % m] - p[k];
-    if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
-    return u.x * v.y - u.y * v.x == 0 && u.x * v.x + u.y * v.y < 0;
-  };
+  auto smooth = [&](int k) { return exactly_smooth(p, m, k); };
   auto on_grid = [&](double x) { return x / grid == std::floor(x / grid); };
   std::vector<LatticeUnit> out;
   for (int k : movable) {

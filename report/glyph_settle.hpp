@@ -80,6 +80,10 @@ struct LatticeUnit {
 bool straight_bezier(const std::vector<Vec2>& b);
 /// Per segment of `s`: straight_bezier of its Bezier points.
 std::vector<char> straight_segments(const BSpline& s);
+/// Whether node k of a closed contour's points `p` (its first m, cyclic) is
+/// exactly smooth: its neighbours exactly collinear with it, on opposite
+/// sides (exact for font units, whose products stay below 2^53).
+bool exactly_smooth(const std::vector<Vec2>& p, int m, int k);
 
 /// A judge of a move from a passing position `from` to `to` (the contour's
 /// distinct points), whether `to` passes (local_judge; settle_nearer's `passes`).

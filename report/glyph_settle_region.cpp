@@ -91,6 +91,13 @@ bool straight_bezier(const std::vector<Vec2>& b) {
   return std::all_of(b.begin(), b.end(), [&](Vec2 p) { return det(p - b.front(), v) == 0; });
 }
 
+bool exactly_smooth(const std::vector<Vec2>& p, int m, int k) {
+  const Vec2 u = p[static_cast<std::size_t>((k + m - 1) % m)] - p[static_cast<std::size_t>(k)];
+  const Vec2 v = p[static_cast<std::size_t>((k + 1) % m)] - p[static_cast<std::size_t>(k)];
+  if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
+  return det(u, v) == 0 && dot(u, v) < 0;
+}
+
 std::vector<char> straight_segments(const BSpline& s) {
   std::vector<char> out;
   for (const Segment& seg : s.segments()) out.push_back(straight_bezier(bezier_segment(s, seg).points));
