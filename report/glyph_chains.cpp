@@ -94,11 +94,14 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   const BSpline& source = c.spline;
   if (o.require || o.gates.empty() || source.is_rational() || source.degree() != 3 || !source.closed())
     return std::nullopt;
-  double tol = -1;
+  double tol = -1;  // the strictest g2 tolerance (-1: no g2 gate)
+  bool extrema = false;
   for (const Gate& g : o.gates) {
     if (g.kind == Gate::Kind::g2_at_smooth_nodes)
-      tol = g.tolerance;
-    else if (g.kind != Gate::Kind::extrema_at_nodes)
+      tol = tol < 0 ? g.tolerance : std::min(tol, g.tolerance);
+    else if (g.kind == Gate::Kind::extrema_at_nodes)
+      extrema = true;
+    else
       return std::nullopt;
   }
   const int m = source.unique_point_count(), n = source.segment_count();
@@ -211,8 +214,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         }
         work.charge();
         const std::array<Vec2, 4> bz{here[k[0]], a.at[i], b.at[j], here[k[3]]};
-        const Curvature cv = classify_bezier(bz, classify).monotonicity.curvature;
-        if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) continue;
+        if (extrema) {
+          const Curvature cv = classify_bezier(bz, classify).monotonicity.curvature;
+          if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) continue;
+        }
         const std::array<double, 2> e = end_curvatures(bz);
         if (!std::isfinite(e[0]) || !std::isfinite(e[1])) continue;
         out.push_back({a.at[i], b.at[j], e[0], e[1], a.cost[i] + b.cost[j]});

@@ -23,7 +23,8 @@
 // with the previous layer sorted by k1 and the next by k0 each state's best
 // predecessor is a sliding-window minimum: O(N log N) for N states.
 //
-// The extrema check of a candidate is Algorithm 1, exact (classify_bezier):
+// Without the extrema gate every candidate passes it; with it, the extrema
+// check of a candidate is Algorithm 1, exact (classify_bezier):
 // monotone curvature (increasing, decreasing or constant) passes, anything
 // else is left out. That is stricter than the gate, which also passes a
 // piece with a cusp or a near-constant curvature, so the answer is the

@@ -504,6 +504,55 @@ TEST(GlyphFix, ASettledFixHasTheNearestHandlesOfEveryChainInItsBox) {
   EXPECT_GE(report::glyph_detail::squared_move(src, r->points), report::glyph_detail::squared_move(src, fixed));
 }
 
+// Without the extrema gate, a chain's pieces need not be monotone: g2
+// alone on Nimbus Sans e/c0 (one jump, at p19, whose pieces both have a
+// curvature extremum inside) is answered at the least-cost position of a
+// box of one cell (p17, p21) and three steps (p18, p20) that the g2 gate
+// passes, found by brute force over its 3,969 positions.
+TEST(GlyphFix, TheChainSearchWithG2AloneLeavesTheExtremaAlone) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("e"));
+  ASSERT_EQ(font.glyphs.size(), 1u);
+  const import::Contour& c = font.glyphs[0].contours.at(0);
+  report::ReportOptions o;
+  report::parse_require_list("g2-at-smooth-nodes", o);
+  o.regions = false;
+  const int m = c.spline.unique_point_count();
+  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
+  std::map<int, int> at_font;  // font point -> distinct point of the spline
+  for (int k = 0; k < m; ++k)
+    if (c.font_point[k] >= 0) at_font[c.font_point[k]] = k;
+  const auto violations = [&](const std::vector<Vec2>& p) {
+    int n = 0;
+    for (const report::GateResult& g : report::gate_report(c.spline.with_points(p), o).gates)
+      for (const report::GateViolation& v : g.violations) n += !v.info;
+    return n;
+  };
+  ASSERT_EQ(violations(src), 1);
+  const int k17 = at_font.at(17), k18 = at_font.at(18), k20 = at_font.at(20), k21 = at_font.at(21);
+  double least = std::numeric_limits<double>::infinity();
+  for (int a = -1; a <= 1; ++a)
+    for (int b = -1; b <= 1; ++b)
+      for (int s18 = -3; s18 <= 3; ++s18)
+        for (int s20 = -3; s20 <= 3; ++s20)
+          for (int d = -1; d <= 1; ++d)
+            for (int e = -1; e <= 1; ++e) {
+              std::vector<Vec2> p = src;
+              p[k17] = src[k17] + Vec2(a, b), p[k18] = src[k18] + Vec2(s18, 0);
+              p[k20] = src[k20] + Vec2(s20, 0), p[k21] = src[k21] + Vec2(d, e);
+              if (violations(p) == 0) least = std::min(least, report::glyph_detail::squared_move(src, p));
+            }
+  ASSERT_TRUE(std::isfinite(least));
+  report::glyph_detail::Work work(report::kGlyphWork, 60);
+  const std::optional<report::glyph_detail::ChainResult> found = report::glyph_detail::chain_search(
+      c, src, src, report::contour_moves(c).points, o, 1, 0, work, {1, 3});
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->chains, 1);
+  EXPECT_EQ(found->solved, 1);
+  EXPECT_EQ(report::glyph_detail::squared_move(src, found->points), least);
+  EXPECT_EQ(violations(found->points), 0);
+}
+
 // A smooth node J where a line meets a quadratic curve (g2 required): the
 // curve would have to be straight from J up to where the chain of pieces
 // ends, a corner or a line's end (report/glyph_joins.hpp,
