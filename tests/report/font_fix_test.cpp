@@ -284,6 +284,35 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
                 findings[7].first + " at " + findings[7].second);
 }
 
+// A contour of a Nimbus Sans glyph under `gates` (the chain search's
+// tests): its distinct points, each font point's distinct point, and the
+// gates' violations (info ones left out) at any position of its points.
+struct JudgedContour {
+  import::Font font;
+  report::ReportOptions o;
+  std::vector<Vec2> src;
+  std::map<int, int> at_font;
+  const import::Contour& contour() const { return font.glyphs.at(0).contours.at(index); }
+  int violations(const std::vector<Vec2>& p) const {
+    int n = 0;
+    for (const report::GateResult& g : report::gate_report(contour().spline.with_points(p), o).gates)
+      for (const report::GateViolation& v : g.violations) n += !v.info;
+    return n;
+  }
+  std::size_t index = 0;
+};
+JudgedContour judged_contour(const char* glyph, std::size_t index, const std::string& gates) {
+  JudgedContour j{import::read_font(kNimbus, import::parse_glyph_spec(glyph)), {}, {}, {}, index};
+  report::parse_require_list(gates, j.o);
+  j.o.regions = false;
+  const import::Contour& c = j.contour();
+  const int m = c.spline.unique_point_count();
+  j.src.assign(c.spline.points().begin(), c.spline.points().begin() + m);
+  for (int k = 0; k < m; ++k)
+    if (c.font_point[k] >= 0) j.at_font[c.font_point[k]] = k;
+  return j;
+}
+
 // The chain search (report/glyph_chains.hpp) is the brute force's nearest in
 // its box. Nimbus Sans e/c0 with every chain passing (its fix) but the
 // inner bowl's, p16 (a corner) .. p19 (smooth) .. p22 (a corner), whose
@@ -296,29 +325,19 @@ TEST(GlyphFix, AnUnfixedContourSaysWhereTheSearchStoppedInTheReportsNames) {
 // the chain must stay, and the answer must pass the gate.
 TEST(GlyphFix, TheChainSearchIsTheNearestInItsBox) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("e"));
-  ASSERT_EQ(font.glyphs.size(), 1u);
-  const import::Contour& c = font.glyphs[0].contours.at(0);
-  report::ReportOptions o;
-  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o);
-  o.regions = false;
-  const int m = c.spline.unique_point_count();
-  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
-  std::map<int, int> at_font;  // font point -> distinct point of the spline
-  for (int k = 0; k < m; ++k)
-    if (c.font_point[k] >= 0) at_font[c.font_point[k]] = k;
+  const JudgedContour j = judged_contour("e", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes");
+  const import::Contour& c = j.contour();
+  const report::ReportOptions& o = j.o;
+  const std::vector<Vec2>& src = j.src;
+  const std::map<int, int>& at_font = j.at_font;
+  const int m = static_cast<int>(src.size());
+  const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
   std::vector<Vec2> at = src;
   const std::vector<std::pair<int, Vec2>> fixed = {
       {3, {495, 401}},  {4, {455, 487}},  {5, {370, 541}},  {6, {280, 541}},  {7, {153, 541}},  {8, {36, 428}},
       {9, {36, 256}},   {10, {36, 87}},   {11, {152, -25}}, {12, {278, -25}}, {13, {382, -25}}, {14, {478, 48}},
       {23, {136, 149}}, {24, {129, 184}}, {17, {397, 92}},  {18, {340, 54}},  {20, {232, 54}},  {21, {183, 81}}};
   for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
-  const auto violations = [&](const std::vector<Vec2>& p) {
-    int n = 0;
-    for (const report::GateResult& g : report::gate_report(c.spline.with_points(p), o).gates)
-      for (const report::GateViolation& v : g.violations) n += !v.info;
-    return n;
-  };
   ASSERT_GT(violations(at), 0);
   const int k17 = at_font.at(17), k18 = at_font.at(18), k20 = at_font.at(20), k21 = at_font.at(21);
   // The chain's two pieces at p, certified monotone (Algorithm 1).
@@ -415,13 +434,10 @@ TEST(GlyphFix, TheChainSearchPutsAHandleOnTheLineItJoins) {
 // certified monotone (without the closing check it costs 1 less and fails).
 TEST(GlyphFix, TheChainSearchClosesAContourSmoothAllRound) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("o"));
-  ASSERT_EQ(font.glyphs.size(), 1u);
-  const import::Contour& c = font.glyphs[0].contours.at(1);
-  report::ReportOptions o;
-  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes:0.02", o);
-  o.regions = false;
-  const int m = c.spline.unique_point_count();
+  const JudgedContour j = judged_contour("o", 1, "curvature-extrema-at-nodes,g2-at-smooth-nodes:0.02");
+  const import::Contour& c = j.contour();
+  const report::ReportOptions& o = j.o;
+  const int m = static_cast<int>(j.src.size());
   ASSERT_EQ(m, 12);
   for (int k = 0; k < m; ++k) ASSERT_EQ(c.font_point[k], k);
   // The fix's points (o/c1/p0 .. p11) under both gates, g2 at 5 %; the reference.
@@ -429,12 +445,7 @@ TEST(GlyphFix, TheChainSearchClosesAContourSmoothAllRound) {
                           {273, 53},  {194, 53},  {120, 131}, {120, 257}, {120, 384}, {194, 463}};
   std::vector<Vec2> reference = at;
   reference[1].x += 10;
-  const auto violations = [&](const std::vector<Vec2>& p) {
-    int n = 0;
-    for (const report::GateResult& g : report::gate_report(c.spline.with_points(p), o).gates)
-      for (const report::GateViolation& v : g.violations) n += !v.info;
-    return n;
-  };
+  const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
   ASSERT_GT(violations(at), 0);
   ClassifyOptions classify;
   classify.max_depth = o.max_depth;
@@ -511,23 +522,11 @@ TEST(GlyphFix, ASettledFixHasTheNearestHandlesOfEveryChainInItsBox) {
 // passes, found by brute force over its 3,969 positions.
 TEST(GlyphFix, TheChainSearchWithG2AloneLeavesTheExtremaAlone) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("e"));
-  ASSERT_EQ(font.glyphs.size(), 1u);
-  const import::Contour& c = font.glyphs[0].contours.at(0);
-  report::ReportOptions o;
-  report::parse_require_list("g2-at-smooth-nodes", o);
-  o.regions = false;
-  const int m = c.spline.unique_point_count();
-  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
-  std::map<int, int> at_font;  // font point -> distinct point of the spline
-  for (int k = 0; k < m; ++k)
-    if (c.font_point[k] >= 0) at_font[c.font_point[k]] = k;
-  const auto violations = [&](const std::vector<Vec2>& p) {
-    int n = 0;
-    for (const report::GateResult& g : report::gate_report(c.spline.with_points(p), o).gates)
-      for (const report::GateViolation& v : g.violations) n += !v.info;
-    return n;
-  };
+  const JudgedContour j = judged_contour("e", 0, "g2-at-smooth-nodes");
+  const import::Contour& c = j.contour();
+  const std::vector<Vec2>& src = j.src;
+  const std::map<int, int>& at_font = j.at_font;
+  const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
   ASSERT_EQ(violations(src), 1);
   const int k17 = at_font.at(17), k18 = at_font.at(18), k20 = at_font.at(20), k21 = at_font.at(21);
   double least = std::numeric_limits<double>::infinity();
@@ -545,7 +544,7 @@ TEST(GlyphFix, TheChainSearchWithG2AloneLeavesTheExtremaAlone) {
   ASSERT_TRUE(std::isfinite(least));
   report::glyph_detail::Work work(report::kGlyphWork, 60);
   const std::optional<report::glyph_detail::ChainResult> found = report::glyph_detail::chain_search(
-      c, src, src, report::contour_moves(c).points, o, 1, 0, work, {1, 3});
+      c, src, src, report::contour_moves(c).points, j.o, 1, 0, work, {1, 3});
   ASSERT_TRUE(found.has_value());
   EXPECT_EQ(found->chains, 1);
   EXPECT_EQ(found->solved, 1);
