@@ -145,9 +145,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
   };
   // The positions a handle (point k next to node `node`) tries. `line`: a
-  // line the handle must lie on (origin, direction), where the segment meets
-  // a straight piece smoothly at its other end: g2 there needs the curve's
-  // end curvature exactly 0, so this handle on the line's tangent.
+  // line the handle must lie on (its join with the curve, its direction
+  // past the join), where the segment meets a straight piece smoothly at its
+  // other end: g2 there needs the curve's end curvature exactly 0, so this
+  // handle on the line.
   using Line = std::optional<std::pair<Vec2, Vec2>>;
   auto options_of = [&](int k, int node, const Line& line) {
     Options out;
@@ -174,7 +175,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       }
       return out;
     }
-    if (line) {  // the line's grid points from its node out to past the handle's foot on it
+    if (line) {  // the line's grid points past its join, out to beyond the handle's foot on it
       const std::optional<Vec2> w = grid_step(line->second);
       if (!w) return out;
       const long j0 = std::lround(dot(here[k] - line->first, *w) / dot(*w, *w));
@@ -198,12 +199,17 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       return out;
     }
     // A smooth join with a straight piece at one end puts the far handle on that piece's line.
+    const auto direction_of = [&](int segment) {  // a straight segment's direction, first to last point
+      const std::vector<int> q = segment_points(spline, spline.segments()[static_cast<std::size_t>(segment)]);
+      return here[static_cast<std::size_t>(q.back() % m)] - here[static_cast<std::size_t>(q.front() % m)];
+    };
     const int before = (s + n - 1) % n, after = (s + 1) % n;
+    // Each line through its join, pointed past the join into the curve.
     const Line start_line = link[s] && straight[static_cast<std::size_t>(before)]
-                                ? Line(std::pair(here[k[0]], here[k[1]] - here[k[0]]))
+                                ? Line(std::pair(here[k[0]], direction_of(before)))
                                 : Line();
     const Line end_line = link[after] && straight[static_cast<std::size_t>(after)]
-                              ? Line(std::pair(here[k[3]], here[k[2]] - here[k[3]]))
+                              ? Line(std::pair(here[k[3]], -1.0 * direction_of(after)))
                               : Line();
     const Options a = options_of(k[1], k[0], end_line), b = options_of(k[2], k[3], start_line);
     for (std::size_t i = 0; i < a.at.size(); ++i)
