@@ -29,8 +29,11 @@
 /// followed by the move of each violation it leaves with its own points
 /// held, the two landed together (glyph_fix.cpp, attempt_violations).
 ///
-/// Several checks at once: first a descent on the grid (glyph_fix.cpp,
-/// grid_descent). Units: a handle of an exactly smooth node slides by k
+/// Several checks at once, on a cubic contour under the two type gates:
+/// first the chain search (report/glyph_chains.hpp: nodes held, each
+/// failing chain's nearest certified handle positions in a box, an exact
+/// shortest path); where it leaves violations, from there a descent on the
+/// grid (glyph_fix.cpp, grid_descent). Units: a handle of an exactly smooth node slides by k
 /// times the primitive grid vector (dx, dy) / gcd(dx, dy) of its tangent
 /// (so the node stays exactly smooth, checked in integer arithmetic); a
 /// node moves with its handles by grid translations; other handles freely.
@@ -50,7 +53,10 @@
 /// the total squared move from the source, each moved unit goes to the
 /// passing position of its lattice that lowers the cost most (every such
 /// position tried in order of cost), then pairs of neighbouring units each
-/// up to 2 cells (a slide 4 steps), until nothing moves.
+/// up to 2 cells (a slide 4 steps), until nothing moves; then, on a cubic
+/// contour, every chain's nearest handles in a box around the fix
+/// (glyph_chains.hpp, kChainSettleBox), taken where cheaper and settled
+/// again.
 /// A quadratic contour's smooth line-to-curve join under g2 cannot pass
 /// (a quadratic's end curvature is 0 only when it is straight): said at
 /// once. Nor can a cubic's, under g2 and the extremum gate together, where
@@ -131,7 +137,9 @@ struct ContourFix {
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
   /// squared move, the rest held, and no two neighbouring ones a few cells
-  /// each. False where the work ran out first (the fix still passes).
+  /// each; on a cubic contour, no chain's handles in the settling's box
+  /// (nodes held) pass with a smaller total move. False where the work ran
+  /// out first (the fix still passes).
   bool settled = false;
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)
