@@ -315,8 +315,11 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         const std::vector<double> best = path(chain, {first[q0]}, f);
         const std::vector<State>& last = *states[chain.back()];
         int closing = -1;
-        for (std::size_t q = 0; q < best.size(); ++q)
-          if (best[q] < least && g2_passes(last[q].k1, first[q0].k0, t)) least = best[q], closing = static_cast<int>(q);
+        for (std::size_t q = 0; q < best.size(); ++q) {
+          const State& end_state = chain.size() == 1 ? first[q0] : last[q];  // one segment closes on itself
+          if (best[q] < least && g2_passes(end_state.k1, first[q0].k0, t))
+            least = best[q], closing = static_cast<int>(q);
+        }
         if (closing >= 0) end = closing, start = {first[q0]}, from = std::move(f);
       }
     }
