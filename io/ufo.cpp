@@ -414,8 +414,12 @@ Font read_ufo(const fs::path& path_in, const GlyphSelection& which, bool keep_ze
       throw InputError(meta.string() + ": formatVersion must be 2 or 3");
     if (fs::exists(path / "fontinfo.plist", ec)) {
       const Plist info = read_plist(path / "fontinfo.plist");
-      if (const Plist* u = info.find("unitsPerEm"); u && u->kind == Plist::Kind::number)
+      if (const Plist* u = info.find("unitsPerEm"); u && u->kind == Plist::Kind::number) {
+        if (!(u->number >= 1 && u->number <= 16384))  // NaN too; an int cast of 1e78 is undefined
+          throw InputError((path / "fontinfo.plist").string() + ":" + std::to_string(u->line) +
+                           ": unitsPerEm must be from 1 to 16384 font units (OpenType's range)");
         font.units_per_em = static_cast<int>(u->number);
+      }
       if (const Plist* fam = info.find("familyName"); fam && fam->kind == Plist::Kind::string) font.family = fam->text;
       if (const Plist* st = info.find("styleName"); st && st->kind == Plist::Kind::string) font.style = st->text;
     }

@@ -548,6 +548,18 @@ def main():
         r = run("import", "Bad.ufo", "--glyphs", "O", "--out", "bad", cwd=tmp)
         check("a glyph file listed but missing: exit 2", r.returncode == 2 and "missing (listed in contents.plist" in r.stderr,
               r.stderr)
+        info = os.path.join(bad, "fontinfo.plist")
+        info_text = open(info).read() if os.path.exists(info) else None
+        for upm in ("1" + "0" * 78, "0", "-1000"):
+            open(info, "w").write('<?xml version="1.0" encoding="UTF-8"?>\n<plist version="1.0">\n<dict>\n'
+                                  '<key>unitsPerEm</key>\n<real>%s</real>\n</dict>\n</plist>\n' % upm)
+            r = run("import", "Bad.ufo", "--out", "bad", cwd=tmp)
+            check("unitsPerEm %s: exit 2 naming the line" % upm[:8], r.returncode == 2 and re.search(
+                r"fontinfo\.plist:5: unitsPerEm must be from 1 to 16384", r.stderr), r.stderr)
+        if info_text is None:
+            os.remove(info)
+        else:
+            open(info, "w").write(info_text)
         lc = os.path.join(bad, "layercontents.plist")
         layers = open(lc).read()
         open(lc, "w").write(re.sub(r"</array>\s*</array>", "</array>\n<array><string>public.default</string>"
