@@ -79,11 +79,8 @@ void advance(const std::vector<State>& prev, const std::vector<double>& prev_bes
   }
 }
 
-/// Whether g2 passes (tolerance t) between end curvatures kl and kr.
-bool g2_passes(double kl, double kr, double t) {
-  const std::array<double, 2> range = passing_left(kr, t);
-  return kl >= range[0] && kl <= range[1];
-}
+/// Whether g2 passes (tolerance t) between end curvatures kl and kr, as the gate judges it.
+bool g2_passes(double kl, double kr, double t) { return std::abs(kl - kr) <= t * std::max(std::abs(kl), std::abs(kr)); }
 
 }  // namespace
 
@@ -136,14 +133,6 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   classify.max_depth = o.max_depth;
   classify.inflection = false;
 
-  // The primitive grid vector along `a` (nullopt: `a` is 0 or off the grid's directions).
-  const auto grid_step = [grid](Vec2 a) -> std::optional<Vec2> {
-    const double gx = a.x / grid, gy = a.y / grid;
-    if (gx != std::floor(gx) || gy != std::floor(gy)) return std::nullopt;
-    const long dx = std::lround(gx), dy = std::lround(gy), g = std::gcd(std::abs(dx), std::abs(dy));
-    if (g == 0) return std::nullopt;
-    return Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
-  };
   // The positions a handle (point k next to node `node`) tries. `line`: a
   // line the handle must lie on (its join with the curve, its direction
   // past the join), where the segment meets a straight piece smoothly at its
@@ -164,7 +153,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     if (exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
       const Vec2 a = here[k] - here[node];
-      const std::optional<Vec2> step = grid_step(a);
+      const std::optional<Vec2> step = grid_vector(a, grid);
       if (!step) {  // off the grid's lines through its node: held
         add(here[k]);
         return out;
@@ -176,7 +165,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       return out;
     }
     if (line) {  // the line's grid points past its join, out to beyond the handle's foot on it
-      const std::optional<Vec2> w = grid_step(line->second);
+      const std::optional<Vec2> w = grid_vector(line->second, grid);
       if (!w) return out;
       const long j0 = std::lround(dot(here[k] - line->first, *w) / dot(*w, *w));
       for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line->first + static_cast<double>(j) * *w);

@@ -27,6 +27,7 @@ namespace {
 using glyph_detail::Badness;
 using glyph_detail::chain_search;
 using glyph_detail::exactly_smooth;
+using glyph_detail::grid_vector;
 using glyph_detail::LatticeUnit;
 using glyph_detail::QuickJudge;
 using glyph_detail::local_judge;
@@ -122,9 +123,8 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
   const int m = static_cast<int>(c.node.size());
   const std::vector<Vec2>& a = c.spline.points();
   const std::vector<Vec2>& b = s.points();
-  auto smooth = [m](const std::vector<Vec2>& p, int k) { return exactly_smooth(p, m, k); };
   for (int k = 0; k < m; ++k)
-    if (c.node[k] && smooth(a, k) && !smooth(b, k)) return false;
+    if (c.node[k] && exactly_smooth(a, m, k) && !exactly_smooth(b, m, k)) return false;
   return true;
 }
 
@@ -132,8 +132,6 @@ bool smooth_kept(const import::Contour& c, const BSpline& s) {
 std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vector<int>& movable, double grid) {
   const int m = static_cast<int>(c.node.size());
   const std::vector<Vec2>& p = c.spline.points();
-  auto smooth = [&](int k) { return exactly_smooth(p, m, k); };
-  auto on_grid = [&](double x) { return x / grid == std::floor(x / grid); };
   std::vector<LatticeUnit> out;
   for (int k : movable) {
     LatticeUnit u;
@@ -149,15 +147,12 @@ std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vect
     int anchors = 0;
     for (int d : {m - 1, 1}) {
       const int j = (k + d) % m;
-      if (!c.node[j] || !smooth(j)) continue;
+      if (!c.node[j] || !exactly_smooth(p, m, j)) continue;
       ++anchors;
-      const Vec2 a = p[k] - p[j];
-      if (!on_grid(a.x) || !on_grid(a.y)) continue;
-      const long dx = std::lround(a.x / grid), dy = std::lround(a.y / grid);
-      const long g = std::gcd(std::abs(dx), std::abs(dy));
-      if (g == 0) continue;
+      const std::optional<Vec2> step = grid_vector(p[k] - p[j], grid);
+      if (!step) continue;
       u.slide = true;
-      u.step = Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
+      u.step = *step;
     }
     if (anchors >= 2 || (anchors == 1 && !u.slide)) continue;  // held by two tangents, or off its tangent's grid
     out.push_back(u);

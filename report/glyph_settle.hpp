@@ -84,6 +84,10 @@ std::vector<char> straight_segments(const BSpline& s);
 /// exactly smooth: its neighbours exactly collinear with it, on opposite
 /// sides (exact for font units, whose products stay below 2^53).
 bool exactly_smooth(const std::vector<Vec2>& p, int m, int k);
+/// The primitive grid vector along `a` (a's grid coordinates divided by
+/// their gcd, times `grid`): a sliding handle's step; nullopt where `a` is 0
+/// or not a whole number of grid steps in x and y.
+std::optional<Vec2> grid_vector(Vec2 a, double grid);
 
 /// A judge of a move from a passing position `from` to `to` (the contour's
 /// distinct points), whether `to` passes (local_judge; settle_nearer's `passes`).

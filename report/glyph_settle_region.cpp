@@ -5,6 +5,7 @@
 // position over only where the judge would fail it.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "bezierize/analyze.hpp"
@@ -96,6 +97,14 @@ bool exactly_smooth(const std::vector<Vec2>& p, int m, int k) {
   const Vec2 v = p[static_cast<std::size_t>((k + 1) % m)] - p[static_cast<std::size_t>(k)];
   if (u == Vec2(0.0) || v == Vec2(0.0)) return false;
   return det(u, v) == 0 && dot(u, v) < 0;
+}
+
+std::optional<Vec2> grid_vector(Vec2 a, double grid) {
+  const double gx = a.x / grid, gy = a.y / grid;
+  if (gx != std::floor(gx) || gy != std::floor(gy)) return std::nullopt;
+  const long dx = std::lround(gx), dy = std::lround(gy), g = std::gcd(std::abs(dx), std::abs(dy));
+  if (g == 0) return std::nullopt;
+  return Vec2(static_cast<double>(dx / g) * grid, static_cast<double>(dy / g) * grid);
 }
 
 std::vector<char> straight_segments(const BSpline& s) {
