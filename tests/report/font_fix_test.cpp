@@ -313,6 +313,23 @@ JudgedContour judged_contour(const char* glyph, std::size_t index, const std::st
   return j;
 }
 
+// Every position of Nimbus Sans e/c0's inner-bowl handles around `at`:
+// p17 and p21 (distinct points k17, k21) within `reach` cells each way, p18
+// and p20 within `slide` steps along p19's horizontal tangent; `visit` gets each.
+template <class Visit>
+void each_bowl_position(const std::vector<Vec2>& at, std::array<int, 4> k, int reach, int slide, Visit visit) {
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int s18 = -slide; s18 <= slide; ++s18)
+        for (int s20 = -slide; s20 <= slide; ++s20)
+          for (int d = -reach; d <= reach; ++d)
+            for (int e = -reach; e <= reach; ++e) {
+              std::vector<Vec2> p = at;
+              p[k[0]] += Vec2(a, b), p[k[1]] += Vec2(s18, 0), p[k[2]] += Vec2(s20, 0), p[k[3]] += Vec2(d, e);
+              visit(p);
+            }
+}
+
 // The chain search (report/glyph_chains.hpp) is the brute force's nearest in
 // its box. Nimbus Sans e/c0 with every chain passing (its fix) but the
 // inner bowl's, p16 (a corner) .. p19 (smooth) .. p22 (a corner), whose
@@ -355,19 +372,11 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBox) {
   };
   double least = std::numeric_limits<double>::infinity();
   int passing = 0;
-  for (int a = -2; a <= 2; ++a)
-    for (int b = -2; b <= 2; ++b)
-      for (int s18 = -6; s18 <= 6; ++s18)
-        for (int s20 = -6; s20 <= 6; ++s20)
-          for (int d = -2; d <= 2; ++d)
-            for (int e = -2; e <= 2; ++e) {
-              std::vector<Vec2> p = at;
-              p[k17] = at[k17] + Vec2(a, b), p[k18] = at[k18] + Vec2(s18, 0);
-              p[k20] = at[k20] + Vec2(s20, 0), p[k21] = at[k21] + Vec2(d, e);
-              if (!monotone(p) || violations(p) != 0) continue;
-              ++passing;
-              least = std::min(least, report::glyph_detail::squared_move(src, p));
-            }
+  each_bowl_position(at, {k17, k18, k20, k21}, 2, 6, [&](const std::vector<Vec2>& p) {
+    if (!monotone(p) || violations(p) != 0) return;
+    ++passing;
+    least = std::min(least, report::glyph_detail::squared_move(src, p));
+  });
   ASSERT_GT(passing, 0);
   report::glyph_detail::Work work(report::kGlyphWork, 60);
   const std::vector<int> movable = report::contour_moves(c).points;
@@ -530,17 +539,9 @@ TEST(GlyphFix, TheChainSearchWithG2AloneLeavesTheExtremaAlone) {
   ASSERT_EQ(violations(src), 1);
   const int k17 = at_font.at(17), k18 = at_font.at(18), k20 = at_font.at(20), k21 = at_font.at(21);
   double least = std::numeric_limits<double>::infinity();
-  for (int a = -1; a <= 1; ++a)
-    for (int b = -1; b <= 1; ++b)
-      for (int s18 = -3; s18 <= 3; ++s18)
-        for (int s20 = -3; s20 <= 3; ++s20)
-          for (int d = -1; d <= 1; ++d)
-            for (int e = -1; e <= 1; ++e) {
-              std::vector<Vec2> p = src;
-              p[k17] = src[k17] + Vec2(a, b), p[k18] = src[k18] + Vec2(s18, 0);
-              p[k20] = src[k20] + Vec2(s20, 0), p[k21] = src[k21] + Vec2(d, e);
-              if (violations(p) == 0) least = std::min(least, report::glyph_detail::squared_move(src, p));
-            }
+  each_bowl_position(src, {k17, k18, k20, k21}, 1, 3, [&](const std::vector<Vec2>& p) {
+    if (violations(p) == 0) least = std::min(least, report::glyph_detail::squared_move(src, p));
+  });
   ASSERT_TRUE(std::isfinite(least));
   report::glyph_detail::Work work(report::kGlyphWork, 60);
   const std::optional<report::glyph_detail::ChainResult> found = report::glyph_detail::chain_search(
