@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "bezierize/classify.hpp"
@@ -32,13 +33,94 @@ struct Options {
   std::vector<double> cost;
 };
 
-/// End curvatures of the cubic (b0, b1, b2, b3), signed (NaN at a zero handle).
-std::array<double, 2> end_curvatures(const std::array<Vec2, 4>& b) {
-  auto kappa = [](Vec2 turn_from, Vec2 turn_to, Vec2 handle) {
-    const double l = std::sqrt(dot(handle, handle));
-    return l > 0 ? 2.0 / 3.0 * det(turn_from, turn_to) / (l * l * l) : std::numeric_limits<double>::quiet_NaN();
+/// End curvatures of the Bezier piece b (degree d = b.size() - 1 >= 2),
+/// signed, as the gate computes them (bezierize/analyze.cpp,
+/// certified_end_curvature): c A / G / sqrt(G), c = (d-1)/d, with a and b
+/// the first two legs read from that end, A = det(a, b) (negated at the
+/// end: read backwards the turning sense flips) and G = a.a; NaN where G
+/// is 0. Where A and G are exact in doubles (grid coordinates: products of
+/// a few dozen bits) the gate's certified values are their truncations,
+/// the same doubles, so these are its values bit for bit.
+std::array<double, 2> end_curvatures(std::span<const Vec2> b) {
+  const std::size_t d = b.size() - 1;
+  const double c = (static_cast<double>(d) - 1.0) / static_cast<double>(d);
+  auto kappa = [c](Vec2 q0, Vec2 q1, Vec2 q2, double sense) {
+    const Vec2 a = q1 - q0;
+    const double A = sense * det(a, q2 - q1) + 0.0, G = dot(a, a);
+    return G > 0 ? c * A / G / std::sqrt(G) : std::numeric_limits<double>::quiet_NaN();
   };
-  return {kappa(b[1] - b[0], b[2] - b[1], b[1] - b[0]), kappa(b[2] - b[1], b[3] - b[2], b[3] - b[2])};
+  return {kappa(b[0], b[1], b[2], 1.0), kappa(b[d], b[d - 1], b[d - 2], -1.0)};
+}
+
+/// A segment's Bezier points as sums of its control points: weights[r],
+/// the (distinct point, weight) pairs with B_r = sum of weight * point (the
+/// blossom of data 1 on that point, 0 elsewhere; for a cubic chain and a
+/// quadratic's explicit node a single 1, for an implied node 1/2 and 1/2).
+struct Piece {
+  std::array<std::vector<std::pair<int, double>>, 4> weights;
+};
+
+/// Per segment of the closed polynomial `s` (degree 2 or 3), its Piece.
+std::vector<Piece> pieces_of(const BSpline& s) {
+  const int d = s.degree(), m = s.unique_point_count();
+  std::vector<Piece> out;
+  for (const Segment& seg : s.segments()) {
+    const std::vector<int> pts = segment_points(s, seg);
+    Piece piece;
+    for (int k : pts) {
+      std::vector<double> e(static_cast<std::size_t>(s.point_count()), 0.0);
+      for (int i = k; i < s.point_count(); i += m) e[static_cast<std::size_t>(i)] = 1.0;
+      const std::vector<double> w = bezier_points(s.knots(), e, d, seg.span, seg.a, seg.b);
+      for (int r = 0; r <= d; ++r)
+        if (w[static_cast<std::size_t>(r)] != 0) piece.weights[r].push_back({k, w[static_cast<std::size_t>(r)]});
+    }
+    out.push_back(std::move(piece));
+  }
+  return out;
+}
+
+/// A run of segments from one explicit node to the next: a cubic segment,
+/// or a quadratic run of off-curve points (its pieces meet at implied
+/// nodes). `free`: its points other than the two nodes, in order.
+struct Unit {
+  std::vector<int> segments;
+  int start = 0, end = 0;  ///< the nodes it runs from and to
+  std::vector<int> free;
+};
+
+/// The node a piece starts (ends) at: its first (last) Bezier point where
+/// that is one control point that `node` marks explicit; -1 elsewhere.
+int node_at(const Piece& p, int r, const std::vector<bool>& node) {
+  const auto& w = p.weights[static_cast<std::size_t>(r)];
+  return w.size() == 1 && w[0].second == 1 && node[static_cast<std::size_t>(w[0].first)] ? w[0].first : -1;
+}
+
+/// The units of a contour, in order from the first segment that starts at
+/// an explicit node (so unit u is segment u of a cubic contour); none where
+/// no segment does or a piece's ends are not what units need.
+std::vector<Unit> units_of(const std::vector<Piece>& pieces, int degree, const std::vector<bool>& node) {
+  const int n = static_cast<int>(pieces.size());
+  int first = 0;
+  while (first < n && node_at(pieces[static_cast<std::size_t>(first)], 0, node) < 0) ++first;
+  if (first == n) return {};
+  std::vector<Unit> out;
+  for (int i = 0; i < n; ++i) {
+    const int s = (first + i) % n;
+    const Piece& p = pieces[static_cast<std::size_t>(s)];
+    if (const int start = node_at(p, 0, node); start >= 0) out.push_back({{}, start, -1, {}});
+    Unit& u = out.back();
+    u.segments.push_back(s);
+    for (int r = 0; r <= degree; ++r)
+      for (const auto& [k, w] : p.weights[static_cast<std::size_t>(r)])
+        if (k != u.start && std::find(u.free.begin(), u.free.end(), k) == u.free.end()) u.free.push_back(k);
+    u.end = node_at(p, degree, node);
+  }
+  for (Unit& u : out) {
+    if (u.end < 0) return {};
+    u.free.erase(std::remove(u.free.begin(), u.free.end(), u.end), u.free.end());
+    if (u.free.empty()) return {};
+  }
+  return out;
 }
 
 /// The interval of left curvatures kl that pass g2 (tolerance t) against kr.
@@ -89,7 +171,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
                                         const ReportOptions& o, double grid, double max_move, Work& work,
                                         const ChainBox& box, bool every) {
   const BSpline& source = c.spline;
-  if (o.require || o.gates.empty() || source.is_rational() || source.degree() != 3 || !source.closed())
+  const int d = source.degree();
+  if (o.require || o.gates.empty() || source.is_rational() || (d != 2 && d != 3) || !source.closed())
     return std::nullopt;
   double tol = -1;  // the strictest g2 tolerance (-1: no g2 gate)
   bool extrema = false;
@@ -104,6 +187,11 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   const int m = source.unique_point_count(), n = source.segment_count();
   const std::vector<Vec2> here(at.begin(), at.begin() + m);
   const BSpline spline = source.with_points(here);
+  const std::vector<Piece> pieces = pieces_of(spline);
+  if (pieces.empty()) return std::nullopt;
+  const std::vector<Unit> units = units_of(pieces, d, c.node);
+  if (units.empty()) return std::nullopt;
+  const int nu = static_cast<int>(units.size());
   SplineReport report;
   try {
     work.charge(n);
@@ -123,32 +211,48 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     for (const JointReport& jr : report.joints)
       if (!jr.corner && std::isfinite(jr.joint.kappa_left) && std::isfinite(jr.joint.kappa_right))
         link[jr.joint.index % n] = 1;
-  const auto unlinked = std::find(link.begin(), link.end(), 0);
-  const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!every && !any(failing_segment) && !any(failing_joint)) return ChainResult{here, 0, 0, 0};
+  // The same per unit: a unit fails where one of its pieces or the joints
+  // inside it (implied nodes) fails; a joint between units (at a node) links them.
+  std::vector<char> failing_unit(nu, 0), failing_start(nu, 0), unit_link(nu, 0), straight_unit(nu, 1);
   const std::vector<char> straight = straight_segments(source);
+  for (int u = 0; u < nu; ++u) {
+    const std::vector<int>& segs = units[u].segments;
+    unit_link[u] = link[segs.front()], failing_start[u] = failing_joint[segs.front()];
+    for (std::size_t i = 0; i < segs.size(); ++i) {
+      failing_unit[u] = failing_unit[u] || failing_segment[segs[i]] || (i > 0 && failing_joint[segs[i]]);
+      straight_unit[u] = straight_unit[u] && straight[static_cast<std::size_t>(segs[i])];
+    }
+  }
+  const auto unlinked = std::find(unit_link.begin(), unit_link.end(), 0);
+  const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
+  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0};
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   ClassifyOptions classify;
   classify.max_depth = o.max_depth;
   classify.inflection = false;
 
-  // The positions a handle (point k next to node `node`) tries. `line`: a
-  // line the handle must lie on (its join with the curve, its direction
-  // past the join), where the segment meets a straight piece smoothly at its
-  // other end: g2 there needs the curve's end curvature exactly 0, so this
-  // handle on the line.
-  using Line = std::optional<std::pair<Vec2, Vec2>>;
-  auto options_of = [&](int k, int node, const Line& line) {
+  // The positions a handle (point k next to node `node`) tries. `lines`:
+  // lines the handle must lie on (a line through `first`, along `second`):
+  // a straight piece's, where the unit meets it smoothly at its other end
+  // (g2 there needs the curve's end curvature exactly 0, so this handle on
+  // the line), and a quadratic unit's one off-curve point's other node's
+  // tangent, where that node is exactly smooth.
+  using Line = std::pair<Vec2, Vec2>;
+  auto options_of = [&](int k, int node, const std::vector<Line>& lines) {
     Options out;
-    const auto on_line = [&](Vec2 p) { return !line || det(p - line->first, line->second) == 0; };
+    const auto on_lines = [&](Vec2 p) {
+      for (const Line& l : lines)
+        if (det(p - l.first, l.second) != 0) return false;
+      return true;
+    };
     auto add = [&](Vec2 p) {
-      const Vec2 d = p - src[k];
-      if (std::sqrt(dot(d, d)) > limit || !on_line(p)) return;
-      out.at.push_back(p), out.cost.push_back(dot(d, d));
+      const Vec2 dp = p - src[k];
+      if (std::sqrt(dot(dp, dp)) > limit || !on_lines(p)) return;
+      out.at.push_back(p), out.cost.push_back(dot(dp, dp));
     };
     if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) {
-      if (on_line(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
+      if (on_lines(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
       return out;
     }
     if (exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
@@ -164,11 +268,12 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       }
       return out;
     }
-    if (line) {  // the line's grid points past its join, out to beyond the handle's foot on it
-      const std::optional<Vec2> w = grid_vector(line->second, grid);
+    if (!lines.empty()) {  // the line's grid points past its join, out to beyond the handle's foot on it
+      const Line& line = lines.front();
+      const std::optional<Vec2> w = grid_vector(line.second, grid);
       if (!w) return out;
-      const long j0 = std::lround(dot(here[k] - line->first, *w) / dot(*w, *w));
-      for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line->first + static_cast<double>(j) * *w);
+      const long j0 = std::lround(dot(here[k] - line.first, *w) / dot(*w, *w));
+      for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line.first + static_cast<double>(j) * *w);
       return out;
     }
     for (int i = -box.reach; i <= box.reach; ++i)
@@ -177,81 +282,124 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return out;
   };
 
-  // A segment's passing states; empty where none passes (or the work ran out).
-  auto states_of = [&](int s, bool& spent) {
+  // A unit's passing states; empty where none passes (or the work ran out).
+  auto states_of = [&](int u, bool& spent) {
     std::vector<State> out;
-    const std::vector<int> pts = segment_points(spline, spline.segments()[static_cast<std::size_t>(s)]);
-    std::array<int, 4> k{};
-    for (int i = 0; i < 4; ++i) k[i] = pts[static_cast<std::size_t>(i)] % m;
-    if (straight[static_cast<std::size_t>(s)]) {  // a line: held, curvature 0
-      out.push_back({here[k[1]], here[k[2]], 0, 0, 0});
+    const Unit& unit = units[u];
+    const std::vector<int>& f = unit.free;
+    const auto cost_here = [&] {
+      double sum = 0;
+      for (int k : f) sum += dot(here[k] - src[k], here[k] - src[k]);
+      return sum;
+    };
+    if (straight_unit[u]) {  // a line: held, curvature 0
+      out.push_back({here[f.front()], here[f.back()], 0, 0, cost_here()});
       return out;
     }
     // A smooth join with a straight piece at one end puts the far handle on that piece's line.
-    const auto direction_of = [&](int segment) {  // a straight segment's direction, first to last point
-      const std::vector<int> q = segment_points(spline, spline.segments()[static_cast<std::size_t>(segment)]);
-      return here[static_cast<std::size_t>(q.back() % m)] - here[static_cast<std::size_t>(q.front() % m)];
+    const auto direction_of = [&](int v) {  // a straight unit's direction, first to last node
+      return here[static_cast<std::size_t>(units[v].end)] - here[static_cast<std::size_t>(units[v].start)];
     };
-    const int before = (s + n - 1) % n, after = (s + 1) % n;
+    const int before = (u + nu - 1) % nu, after = (u + 1) % nu;
     // Each line through its join, pointed past the join into the curve.
-    const Line start_line = link[s] && straight[static_cast<std::size_t>(before)]
-                                ? Line(std::pair(here[k[0]], direction_of(before)))
-                                : Line();
-    const Line end_line = link[after] && straight[static_cast<std::size_t>(after)]
-                              ? Line(std::pair(here[k[3]], -1.0 * direction_of(after)))
-                              : Line();
-    const Options a = options_of(k[1], k[0], end_line), b = options_of(k[2], k[3], start_line);
-    for (std::size_t i = 0; i < a.at.size(); ++i)
-      for (std::size_t j = 0; j < b.at.size(); ++j) {
-        if (work.spent()) {
-          spent = true;
-          return std::vector<State>{};
-        }
-        work.charge();
-        const std::array<Vec2, 4> bz{here[k[0]], a.at[i], b.at[j], here[k[3]]};
-        if (extrema) {
-          const Curvature cv = classify_bezier(bz, classify).monotonicity.curvature;
-          if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) continue;
-        }
-        const std::array<double, 2> e = end_curvatures(bz);
-        if (!std::isfinite(e[0]) || !std::isfinite(e[1])) continue;
-        out.push_back({a.at[i], b.at[j], e[0], e[1], a.cost[i] + b.cost[j]});
+    std::vector<Line> start_line, end_line;
+    if (unit_link[u] && straight_unit[before]) start_line.push_back({here[unit.start], direction_of(before)});
+    if (unit_link[after] && straight_unit[after]) end_line.push_back({here[unit.end], -1.0 * direction_of(after)});
+    // Each free point's positions: a unit of two (a cubic's handles, or a
+    // quadratic run's two off-curve points) like a cubic's H1 and H2; one
+    // off-curve point between two nodes slides on a smooth one's tangent and
+    // stays on the other's (and on both lines); three or more are held.
+    std::vector<Options> options;
+    if (f.size() == 2) {
+      options = {options_of(f[0], unit.start, end_line), options_of(f[1], unit.end, start_line)};
+    } else if (f.size() == 1) {
+      std::vector<Line> lines = start_line;
+      lines.insert(lines.end(), end_line.begin(), end_line.end());
+      const bool start_smooth = exactly_smooth(here, m, unit.start);
+      const int other = start_smooth ? unit.end : unit.start;
+      if (exactly_smooth(here, m, other)) lines.push_back({here[other], here[f[0]] - here[other]});
+      options = {options_of(f[0], start_smooth ? unit.start : unit.end, lines)};
+    } else {
+      for (int k : f) options.push_back({{here[k]}, {dot(here[k] - src[k], here[k] - src[k])}});
+    }
+    for (const Options& op : options)
+      if (op.at.empty()) return out;
+    // Every combination, the last point's positions fastest.
+    std::vector<std::size_t> pick(options.size(), 0);
+    std::array<Vec2, 4> bz{};
+    std::vector<Vec2> pos = here;
+    for (bool more = true; more;) {
+      if (work.spent()) {
+        spent = true;
+        return std::vector<State>{};
       }
+      work.charge();
+      double cost = 0;
+      for (std::size_t i = 0; i < options.size(); ++i)
+        pos[f[i]] = options[i].at[pick[i]], cost += options[i].cost[pick[i]];
+      for (std::size_t i = options.size(); i-- > 0;) {  // the next combination
+        if (++pick[i] < options[i].at.size()) break;
+        pick[i] = 0;
+        more = i > 0;
+      }
+      double k0 = 0, k1 = 0;
+      bool passes = true;
+      for (std::size_t p = 0; p < unit.segments.size() && passes; ++p) {
+        const Piece& piece = pieces[static_cast<std::size_t>(unit.segments[p])];
+        for (int r = 0; r <= d; ++r) {
+          bz[r] = Vec2(0.0);
+          for (const auto& [point, w] : piece.weights[r]) bz[r] = bz[r] + w * pos[point];
+        }
+        const std::span<const Vec2> b_points(bz.data(), static_cast<std::size_t>(d + 1));
+        if (extrema) {
+          const Curvature cv = classify_bezier(b_points, classify).monotonicity.curvature;
+          if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) passes = false;
+        }
+        const std::array<double, 2> e = end_curvatures(b_points);
+        if (!std::isfinite(e[0]) || !std::isfinite(e[1])) passes = false;
+        if (p == 0) k0 = e[0];
+        // At an implied node inside the unit both sides' G is the same leg's, so A_l / A_r, a ratio of
+        // small integers, meets the tolerance exactly as often as not: judged as the gate judges it.
+        if (p > 0 && tol >= 0 && !g2_passes(k1, e[0], tol)) passes = false;
+        k1 = e[1];
+      }
+      if (passes) out.push_back({pos[f.front()], pos[f.back()], k0, k1, cost});
+    }
     return out;
   };
 
-  // The chains, each a run of segments from a joint g2 does not judge (or,
-  // where g2 judges every joint, one chain closing on itself at joint 0);
-  // those that fail (every one with `every`).
-  const bool cycle = unlinked == link.end();
+  // The chains, each a run of units from a joint g2 does not judge (or,
+  // where g2 judges every joint, one chain closing on itself at unit 0's
+  // start); those that fail (every one with `every`).
+  const bool cycle = unlinked == unit_link.end();
   if (cycle && !every) return std::nullopt;  // a contour smooth all round: only in the settling (header)
   std::vector<std::vector<int>> chains;
-  for (int start = cycle ? 0 : static_cast<int>(unlinked - link.begin()), done = 0; done < n;) {
+  for (int start = cycle ? 0 : static_cast<int>(unlinked - unit_link.begin()), done = 0; done < nu;) {
     std::vector<int> chain{start};
-    while (done + static_cast<int>(chain.size()) < n && link[(chain.back() + 1) % n])
-      chain.push_back((chain.back() + 1) % n);
+    while (done + static_cast<int>(chain.size()) < nu && unit_link[(chain.back() + 1) % nu])
+      chain.push_back((chain.back() + 1) % nu);
     done += static_cast<int>(chain.size());
-    start = (chain.back() + 1) % n;
+    start = (chain.back() + 1) % nu;
     bool fails = every;
     for (std::size_t i = 0; i < chain.size(); ++i)
-      fails = fails || failing_segment[chain[i]] || ((i > 0 || cycle) && failing_joint[chain[i]]);
+      fails = fails || failing_unit[chain[i]] || ((i > 0 || cycle) && failing_start[chain[i]]);
     if (fails) chains.push_back(std::move(chain));
   }
-  // Each segment's states, once; the failing segments first, since a chain
-  // with a segment that no handle position in the box makes monotone (its
-  // nodes would have to move) has no answer, and that is found cheapest so.
-  std::vector<std::optional<std::vector<State>>> states(n);
+  // Each unit's states, once; the failing units first, since a chain with
+  // a unit that no position in the box makes monotone (its nodes would
+  // have to move) has no answer, and that is found cheapest so.
+  std::vector<std::optional<std::vector<State>>> states(nu);
   std::vector<char> hopeless(chains.size(), 0);
   bool spent = false;
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
-    for (int s : chains[h])
-      if (failing_segment[s] && !hopeless[h]) {
-        states[s] = states_of(s, spent);
-        hopeless[h] = states[s]->empty();
+    for (int u : chains[h])
+      if (failing_unit[u] && !hopeless[h]) {
+        states[u] = states_of(u, spent);
+        hopeless[h] = states[u]->empty();
       }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
-    for (int s : chains[h])
-      if (!states[s] && !hopeless[h]) states[s] = states_of(s, spent);
+    for (int u : chains[h])
+      if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
   ChainResult result{here, static_cast<int>(chains.size()), 0, 0};
   if (spent) return result;
   // The least-cost path through a chain's layers from the first layer's
@@ -276,7 +424,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     if (hopeless[h]) continue;
     const std::vector<State>& first = *states[chain.front()];
     std::vector<std::vector<int>> from;
-    std::vector<State> start = first;  // a cycle: the one state of its first segment that is best
+    std::vector<State> start = first;  // a cycle: the one state of its first unit that is best
     double least = std::numeric_limits<double>::infinity();
     int end = -1;
     if (!cycle) {
@@ -284,7 +432,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       for (std::size_t q = 0; q < best.size(); ++q)
         if (best[q] < least) least = best[q], end = static_cast<int>(q);
     } else {
-      // Each state of the first segment in turn (cheapest first, until its
+      // Each state of the first unit in turn (cheapest first, until its
       // cost alone and the other layers' least reach the best found), the
       // path from it, closed by g2 at joint 0 between the last layer and it.
       double rest = 0;
@@ -305,7 +453,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         const std::vector<State>& last = *states[chain.back()];
         int closing = -1;
         for (std::size_t q = 0; q < best.size(); ++q) {
-          const State& end_state = chain.size() == 1 ? first[q0] : last[q];  // one segment closes on itself
+          const State& end_state = chain.size() == 1 ? first[q0] : last[q];  // one unit closes on itself
           if (best[q] < least && g2_passes(end_state.k1, first[q0].k0, t))
             least = best[q], closing = static_cast<int>(q);
         }
@@ -316,8 +464,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     int q = end;
     for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
       const State& st = i == 0 ? start[static_cast<std::size_t>(q)] : (*states[chain[i]])[q];
-      const std::vector<int> pts = segment_points(spline, spline.segments()[static_cast<std::size_t>(chain[i])]);
-      result.points[pts[1] % m] = st.h1, result.points[pts[2] % m] = st.h2;
+      const Unit& unit = units[static_cast<std::size_t>(chain[i])];
+      result.points[unit.free.front()] = st.h1, result.points[unit.free.back()] = st.h2;
       q = i > 0 ? from[i][q] : q;
     }
     result.cost += least;
@@ -326,4 +474,6 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   return result;
 }
 
+
 }  // namespace cmr::report::glyph_detail
+

@@ -2,20 +2,27 @@
 // Internal to cmr::report: the glyph fix's chain search (report/glyph_fix.cpp;
 // docs/fix.md "Chains of smooth joints").
 //
-// With every node held, a cubic contour under curvature-extrema-at-nodes and
-// g2-at-smooth-nodes falls apart into small problems. The extrema gate judges
-// each segment on its own Bezier points (N0, H1, H2, N1). g2 judges a smooth
-// joint from the end curvatures of its two sides,
-//   k(0) = 2/3 det(H1 - N0, H2 - H1) / |H1 - N0|^3,
-//   k(1) = 2/3 det(H2 - H1, N1 - H2) / |N1 - H2|^3,
-// and passes where |kl - kr| <= tol max(|kl|, |kr|). Each handle shapes one
-// segment only, and the cost (the total squared move from the source) is a
-// sum over the handles. So the joints g2 does not judge (corners) cut the
-// contour into chains, runs of segments joined at smooth joints, and each
-// chain's nearest passing handle positions are a shortest path: a layer per
-// segment, a state per candidate (H1, H2) of that segment that passes the
-// extrema check, with its end curvatures k0, k1 and its cost, and an edge
-// between consecutive segments' states where g2 passes at their joint.
+// With every node held, a contour under curvature-extrema-at-nodes and
+// g2-at-smooth-nodes falls apart into small problems. Its *units* run from
+// one explicit node to the next: a cubic segment (N0, H1, H2, N1), or a
+// TrueType run of off-curve points between two on-curve points (N0, A, B,
+// N1: two quadratic pieces (N0, A, M) and (M, B, N1) meeting at the
+// implied node M = (A + B) / 2; a run of one off-curve point is one piece;
+// a run of three or more is held). The extrema gate judges each piece on
+// its own Bezier points; g2 judges a smooth joint from the end curvatures
+// of its two sides, for a piece of degree d
+//   k(0) = (d-1)/d det(b1 - b0, b2 - b1) / |b1 - b0|^3,
+//   k(1) = (d-1)/d det(b_{d-1} - b_{d-2}, b_d - b_{d-1}) / |b_d - b_{d-1}|^3,
+// and passes where |kl - kr| <= tol max(|kl|, |kr|). A unit's points shape
+// its own pieces only (M is inside the unit), so the extrema checks and g2
+// at implied nodes are a unit's own, and the cost (the total squared move
+// from the source) is a sum over units. So the joints g2 does not judge
+// (corners) cut the contour into chains, runs of units joined at smooth
+// nodes, and each chain's nearest passing positions are a shortest path: a
+// layer per unit, a state per candidate position of its points (H1, H2;
+// A, B) that passes the unit's own checks, with its end curvatures k0, k1
+// and its cost, and an edge between consecutive units' states where g2
+// passes at their node.
 //
 // For kr > 0 g2 passes exactly when kl is in [kr (1 - tol), kr / (1 - tol)]
 // (kl <= 0 would differ by at least max(|kl|, kr)); for kr < 0 the mirror
@@ -29,9 +36,14 @@
 // else is left out. That is stricter than the gate, which also passes a
 // piece with a cusp or a near-constant curvature, so the answer is the
 // nearest among positions whose pieces are certified monotone, in the box
-// searched, nodes held. The caller re-judges it on the whole gate. g2 is
-// compared in doubles with a margin of 1e-6 of the tolerance (far above the
-// error of the doubles' end curvatures, far below a grid step's effect).
+// searched, nodes held. The caller re-judges it on the whole gate. The end
+// curvatures are computed as the gate computes them (c A / G / sqrt(G)),
+// its values bit for bit on the grid. At an implied node both sides' G is
+// the same leg's, so the two curvatures are in the ratio of two small
+// integers and meet the tolerance exactly as often as not: g2 there is
+// judged as the gate judges it. At an explicit node (a window bound in
+// the shortest path) it is judged with a margin of 1e-6 of the tolerance
+// (far above the doubles' rounding, far below a grid step's effect).
 #include <optional>
 #include <vector>
 
@@ -57,18 +69,19 @@ inline constexpr ChainBox kChainSettleBox{4, 24};
 
 /// The chain search from `at` (the contour's distinct points; `src` the
 /// source's): each chain that holds a violation of `o` at `at` (`every`:
-/// each chain) is replaced by its nearest passing handle positions in `box`
+/// each chain) is replaced by its nearest passing handle positions (a
+/// TrueType unit's off-curve points are its handles) in `box`
 /// around `at` (nodes held; handles that `movable` leaves out, or a line's,
 /// held too), where it has one. A contour smooth all round is one chain
-/// that closes on itself: each candidate of its first segment in turn, the
-/// shortest path from it closed by g2 at that segment's start; searched
+/// that closes on itself: each candidate of its first unit in turn, the
+/// shortest path from it closed by g2 at that unit's start; searched
 /// only with `every` (the settling of a fix: from the source, its answer
 /// led the searches after it to farther fixes, as on Nimbus Sans b, d and
 /// q's counters). Applies where `o` has only curvature-extrema-at-nodes and
-/// g2-at-smooth-nodes and the contour is a closed polynomial cubic; nullopt
-/// elsewhere. Work: one
-/// unit per candidate classified (and per segment of each path of a closed
-/// chain); where it runs out, no chain is answered.
+/// g2-at-smooth-nodes and the contour is a closed polynomial cubic or
+/// quadratic with an explicit node; nullopt elsewhere. Work: one unit per
+/// candidate position of a unit judged (and per unit of each path of a
+/// closed chain); where it runs out, no chain is answered.
 struct ChainResult {
   std::vector<Vec2> points;  ///< `at` with every chain answered moved to its answer
   int chains = 0;            ///< the chains searched: those failing at `at` (every one with `every`)

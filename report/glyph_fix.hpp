@@ -137,7 +137,8 @@ struct ContourFix {
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
   /// squared move, the rest held, and no two neighbouring ones a few cells
-  /// each; on a cubic contour, no chain's handles in the settling's box
+  /// each; on a cubic contour (or a quadratic one whose runs of off-curve
+  /// points hold at most two), no chain's handles in the settling's box
   /// (nodes held) pass with a smaller total move. False where the work ran
   /// out first (the fix still passes).
   bool settled = false;
