@@ -42,6 +42,7 @@ using glyph_detail::extremum_rejects;
 using glyph_detail::with_failure_proofs;
 using glyph_detail::proves_extremum_violation;
 using glyph_detail::snap_by_parts;
+using glyph_detail::held_cubic_line_join;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
 using glyph_detail::unmovable_g2_join;
@@ -681,6 +682,15 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
         " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
         "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
         "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
+    return out;
+  }
+  if (const std::string join = held_cubic_line_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    out.reason = why.append(join).append(
+        " joins a line to a cubic that ends at a line's end, which stays, no farther along the line than about 2.1 "
+        "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
+        "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
+        "passes both gates (add an on-curve point, or accept the jump)");
     return out;
   }
   BSpline current = c.spline;

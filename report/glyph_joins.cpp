@@ -7,6 +7,7 @@
 #include "bezierize/extract.hpp"
 #include "design/fix.hpp"
 #include "report/batch.hpp"
+#include "report/contour_moves.hpp"
 
 namespace cmr::report::glyph_detail {
 
@@ -57,24 +58,33 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
   return "";
 }
 
-std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
+namespace {
+
+__extension__ using Wide = __int128;  // GCC's, named once (-Wpedantic)
+
+/// A cubic contour's smooth join of a line and a curve piece S = (J, H1, H2,
+/// F): J a source node exactly smooth with the line (the line's added inner
+/// point next to J, its other node L), H1 and H2 S's source handles; L, J,
+/// H1, H2 and F integers within 2^24 (font units: the products below are
+/// exact). u = J - L, the line's direction into J; `after`, the point after F.
+struct CubicLineJoin {
+  int j = 0, h1 = 0, h2 = 0, f = 0, after = 0;
+  Vec2 u{0.0};
+};
+
+/// Every such join of `c` (a closed polynomial cubic contour; none else).
+/// Font units: an integer within 2^24.
+bool grid(Vec2 p) {
+  return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
+}
+
+std::vector<CubicLineJoin> cubic_line_joins(const import::Contour& c) {
   const BSpline& s = c.spline;
-  if (s.degree() != 3 || s.is_rational() || !s.closed() || !(o.constant_tolerance < 0.5)) return "";
-  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
-  });
-  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::extrema_at_nodes ||
-           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
-  });
-  if (!g2 || !extrema) return "";
+  std::vector<CubicLineJoin> out;
+  if (s.degree() != 3 || s.is_rational() || !s.closed()) return out;
   const std::vector<Vec2>& P = s.points();
   const int m = static_cast<int>(c.node.size());
-  if (m < 6 || static_cast<int>(c.font_point.size()) != m) return "";
-  // Font units: integers, small enough that the products below are exact.
-  const auto grid = [](Vec2 p) {
-    return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
-  };
+  if (m < 6 || static_cast<int>(c.font_point.size()) != m) return out;
   const auto at = [&](int k) { return ((k % m) + m) % m; };
   const auto real_handle = [&](int k) { return !c.node[at(k)] && c.font_point[at(k)] >= 0; };
   for (int j = 0; j < m; ++j) {
@@ -87,16 +97,65 @@ std::string square_cubic_line_join(const import::Contour& c, const ReportOptions
       int l = before;
       while (!c.node[l] && l != j) l = at(l - dir);
       if (l == j) continue;
-      const int next = at(f + dir);
-      if (!grid(P[j]) || !grid(P[l]) || !grid(P[h1]) || !grid(P[h2]) || !grid(P[f]) || !grid(P[next])) continue;
+      const int after = at(f + dir);
+      if (!grid(P[j]) || !grid(P[l]) || !grid(P[h1]) || !grid(P[h2]) || !grid(P[f])) continue;
       const Vec2 u = P[j] - P[l], e = P[h1] - P[j];  // the line's direction into J, J's handle
       if (det(u, e) != 0 || !(dot(u, e) > 0)) continue;  // J exactly smooth
-      // F exactly smooth: its tangent d, and the point after it on the same line, in the same direction.
-      const Vec2 d = P[f] - P[h2], after = P[next] - P[f];
-      if (d == Vec2(0.0) || det(d, after) != 0 || !(dot(d, after) > 0)) continue;
-      if (dot(e, d) != 0) continue;  // F's tangent square to the line
-      return j < static_cast<int>(c.point_names.size()) ? c.point_names[j] : "P" + std::to_string(j);
+      out.push_back({j, h1, h2, f, after, u});
     }
+  }
+  return out;
+}
+
+/// Both gates the proofs below need: g2-at-smooth-nodes (tolerance below 1)
+/// and an extremum gate (curvature-extrema-at-nodes, max-extrema-per-segment:0).
+bool g2_and_extrema(const ReportOptions& o) {
+  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
+  });
+  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes ||
+           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
+  });
+  return g2 && extrema;
+}
+
+std::string point_name(const import::Contour& c, int k) {
+  return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : std::string("P").append(std::to_string(k));
+}
+
+}  // namespace
+
+std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
+  if (!(o.constant_tolerance < 0.5) || !g2_and_extrema(o)) return "";
+  const std::vector<Vec2>& P = c.spline.points();
+  for (const CubicLineJoin& x : cubic_line_joins(c)) {
+    // F exactly smooth: its tangent d, and the point after it (a handle) on the same line, in the same direction.
+    if (!grid(P[x.after])) continue;
+    const Vec2 d = P[x.f] - P[x.h2], after = P[x.after] - P[x.f];
+    if (d == Vec2(0.0) || det(d, after) != 0 || !(dot(d, after) > 0)) continue;
+    if (dot(P[x.h1] - P[x.j], d) != 0) continue;  // F's tangent square to the line
+    return point_name(c, x.j);
+  }
+  return "";
+}
+
+std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& o) {
+  if (!g2_and_extrema(o)) return "";
+  const std::vector<Vec2>& P = c.spline.points();
+  const ContourMoves moves = contour_moves(c);
+  for (const CubicLineJoin& x : cubic_line_joins(c)) {
+    if (moves.movable(x.f)) continue;  // F held: a line's end
+    // F's offset from the line and its reach along it past J, both times |u|
+    // (exact: integers below 2^50); their squares in 128 bits.
+    const Vec2 fj = P[x.f] - P[x.j];
+    const auto B = static_cast<long long>(det(x.u, fj)), E = static_cast<long long>(dot(x.u, fj));
+    if (B == 0) continue;
+    if (E > 0 && 9 * static_cast<Wide>(E) * E > 40 * static_cast<Wide>(B) * B) continue;
+    // Not near constant: its turning deviation is at least |b| / L (header), L below 2^28 in the box of 2^24.
+    const double b = std::abs(static_cast<double>(B)) / std::sqrt(dot(x.u, x.u));
+    if (!(o.constant_tolerance < 0.5 * b / 0x1p28)) continue;
+    return point_name(c, x.j);
   }
   return "";
 }

@@ -51,4 +51,37 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o);
 /// GlyphFix.ALineJoinSquareToItsFarTangentIsRefusedWithBothGates.
 std::string square_cubic_line_join(const import::Contour& c, const ReportOptions& o);
 
+/// The same join S = (J, H1, H2, F) under the same two gates where F is
+/// held (a line's end: report/contour_moves.hpp) and off the line, no
+/// farther along it past J than sqrt(40)/3 (about 2.11) times its distance
+/// from it: again no designer's move passes both, whatever H1 and H2 do.
+/// g2 at J puts H2 on the line, and J stays smooth with H1 on it, so in
+/// coordinates with J at 0 and the line along y: H1 = (0, a), a > 0,
+/// H2 = (0, c), F = (b, e), b != 0, x = b t^3, and as above
+///   det(P', P'') = -18 b t N(t),  N(t) = t (a (1 - 2t) + c t)
+/// (e does not enter). If c <= a, N vanishes at t0 = a / (2a - c) in
+/// (0, 1] and not between: kappa is 0 at 0 and t0, and has an extremum
+/// strictly inside. If c > a, with r = c - a > 0 and q = e - c (F past
+/// H2 along the line), kappa keeps one sign on (0, 1], |kappa| = 18 |b| N /
+/// D^(3/2) with D = |P'|^2, and at t = 1 (N = r, N' = 2r - a,
+/// D = 9 (b^2 + q^2), D' = 36 (b^2 + q^2 - q r)):
+///   N' D - 3/2 N D' = 9 (6 r^2 q - (4r + a)(b^2 + q^2)).
+/// That is negative where q <= 0. Where q > 0 (then e > c > a > 0),
+/// a > 0 gives (4r + a)(b^2 + q^2) > 4r (b^2 + q^2), and r = e - q - a <
+/// e - q gives 6 r^2 q < 6 r (e - q) q, so it is negative once 3 (e - q) q
+/// <= 2 (b^2 + q^2), that is 5 q^2 - 3 e q + 2 b^2 >= 0, which holds for
+/// every q when 9 e^2 <= 40 b^2. So |kappa| rises from 0 and falls at the
+/// end: an extremum strictly inside, for every a and c. It is no
+/// near-constant arc (the gate's exemption): kappa(0) = 0, so with K the
+/// largest |kappa| and S <= L the arc length (L the control polygon's), F's
+/// distance |b| from the start tangent's line is at most K S^2 / 2, and the
+/// turning deviation (hi - lo) / 2 L >= K L / 2 >= |b| / L; with every
+/// point within 2^24 units, L < 2^28, so a constant tolerance below half
+/// of |b| / 2^28 cannot exempt it. No cusp: x' = 3 b t^2 != 0 on (0, 1].
+/// Exact integer arithmetic (F's coordinates times |J - L|, squared in 128
+/// bits); the join's name, or "" when there is none. Tests:
+/// GlyphFix.ALineJoinToAHeldLineEndIsRefusedWithBothGates (and TeX Gyre
+/// Heros r's stem and arch).
+std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& o);
+
 }  // namespace cmr::report::glyph_detail

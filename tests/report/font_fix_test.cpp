@@ -233,6 +233,78 @@ TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
   EXPECT_EQ(checked, 225);
 }
 
+// The glyph fix refuses at once, with a proof, a smooth line-to-cubic join
+// whose cubic ends at a held line's end F no farther along the line than
+// sqrt(40)/3 times its distance from it, when g2 and the extrema gate are
+// both required (report/glyph_joins.hpp, held_cubic_line_join): TeX Gyre
+// Heros r's outline, whose stem's top p1 meets the arch that ends at the
+// shoulder's line (F 168 units off the stem, 179 along it). With g2 alone
+// it is not refused that way, nor where F lies farther along the line (a
+// position passes there: the rule would claim too much). And the
+// derivation, checked by the report's own extremum count: every cubic J =
+// (0, 0), H1 = (0, a), H2 = (0, c), F = (b, e) with a > 0, b != 0 and
+// e <= 0 or 9 e^2 <= 40 b^2 has a curvature extremum strictly inside.
+TEST(GlyphFix, ALineJoinToAHeldLineEndIsRefusedWithBothGates) {
+  using T = import::OutlinePoint::Tag;
+  const auto glyph = [](const std::vector<std::pair<Vec2, T>>& outline) {
+    std::vector<import::OutlinePoint> pts;
+    for (const auto& [p, tag] : outline) pts.push_back({p, tag});
+    import::Glyph g;
+    g.name = "r";
+    g.contours.push_back(*import::outline_contour(pts, 0, 3, "r", import::PointNaming::source));
+    return g;
+  };
+  const import::Glyph r = glyph({{{153, 0}, T::on},     {{153, 272}, T::on},    {{153, 390}, T::cubic},
+                                 {{192, 449}, T::cubic}, {{321, 451}, T::on},    {{321, 536}, T::on},
+                                 {{307, 538}, T::cubic}, {{300, 539}, T::cubic}, {{289, 539}, T::on},
+                                 {{235, 539}, T::cubic}, {{194, 507}, T::cubic}, {{146, 429}, T::on},
+                                 {{146, 524}, T::on},    {{70, 524}, T::on},     {{70, 0}, T::on}});
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<report::ContourFix> both = report::fix_glyph(r, o);
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_FALSE(both[0].fixed);
+  EXPECT_NE(both[0].reason.find("ends at a line's end"), std::string::npos) << both[0].reason;
+  EXPECT_NE(both[0].reason.find("r/c0/p1 "), std::string::npos) << both[0].reason;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);  // no search
+  report::ReportOptions g2;
+  report::parse_require_list("g2-at-smooth-nodes", g2);
+  EXPECT_EQ(report::glyph_detail::held_cubic_line_join(r.contours[0], g2), "");
+  // F at (100, 250) from J, the line along y: 9 e^2 > 40 b^2, and a cubic with H1 = (0, 28), H2 = (0, 177)
+  // has no extremum inside, so no refusal; at (100, 200) the rule holds.
+  const auto stem = [&](Vec2 f) {
+    return glyph({{{0, -300}, T::on}, {{0, 0}, T::on}, {{0, 60}, T::cubic}, {{40, 120}, T::cubic},
+                  {f, T::on},         {{f.x + 80, f.y + 100}, T::on}, {{-80, f.y + 100}, T::on}});
+  };
+  EXPECT_EQ(report::glyph_detail::held_cubic_line_join(stem({100, 250}).contours[0], o.judge), "");
+  EXPECT_EQ(report::glyph_detail::held_cubic_line_join(stem({100, 200}).contours[0], o.judge), "r/c0/p1");
+  // F a corner that may move (a curve leaves it): not claimed.
+  const import::Glyph free_end = glyph({{{0, -300}, T::on},   {{0, 0}, T::on},        {{0, 60}, T::cubic},
+                                        {{40, 120}, T::cubic}, {{100, 200}, T::on},   {{180, 250}, T::cubic},
+                                        {{200, 300}, T::cubic}, {{150, 340}, T::on},  {{-80, 300}, T::on}});
+  EXPECT_EQ(report::glyph_detail::held_cubic_line_join(free_end.contours[0], o.judge), "");
+  report::ReportOptions judge;
+  report::parse_require_list("curvature-extrema-at-nodes", judge);
+  const report::ReportOptions extrema = report::judge_only(judge, judge.gates[0]);
+  const auto count = [&](double a, double c, double b, double e) {
+    const BSpline piece = BSpline::bezier({{0, 0}, {0, a}, {0, c}, {b, e}});
+    return report::segment_extrema_count(piece, extrema).value_or(-1);
+  };
+  EXPECT_EQ(count(28, 177, 100, 250), 0);
+  // The derivation: an extremum inside for every a > 0 and c where e <= 0 or 9 e^2 <= 40 b^2.
+  int checked = 0;
+  for (const std::array<double, 2> f : {std::array<double, 2>{168, 179}, {100, 210}, {-50, 105}, {3, 6}, {10, -40},
+                                        {-7, 0}, {1000, 2000}})
+    for (const double a : {1.0, 7.0, 28.0, 40.0, 100.0, 333.0})
+      for (const double c : {-200.0, -13.0, 0.0, 1.0, 7.0, 40.0, 55.0, 100.0, 177.0, 205.0, 400.0, 1900.0}) {
+        EXPECT_GE(count(a, c, f[0], f[1]), 1) << "a " << a << ", c " << c << ", F " << f[0] << ", " << f[1];
+        ++checked;
+      }
+  EXPECT_EQ(checked, 504);
+}
+
 // A contour the glyph fix leaves unfixed says where its search stopped when
 // that was nearer passing than the source (report/glyph_unfixed.hpp): the
 // count left of the source's, and the places still failing by the names the
