@@ -179,6 +179,31 @@ TEST(FontFix, NoFixesSearchesNone) {
 }
 
 
+// A one-contour cubic glyph `name` from its outline (on-curve and cubic
+// points), its points named as a source's ("n/c0/p3").
+import::Glyph cubic_glyph(const std::string& name,
+                          const std::vector<std::pair<Vec2, import::OutlinePoint::Tag>>& outline) {
+  std::vector<import::OutlinePoint> pts;
+  for (const auto& [p, tag] : outline) pts.push_back({p, tag});
+  import::Glyph g;
+  g.name = name;
+  g.contours.push_back(*import::outline_contour(pts, 0, 3, name, import::PointNaming::source));
+  return g;
+}
+
+// The glyph fix under both type gates (`o`) refuses one-contour glyph `g`
+// at once (no search: under 2 s) with a reason that holds `why` and `node`.
+void expect_refused_at_once(const import::Glyph& g, const report::GlyphFixOptions& o, const std::string& why,
+                            const std::string& node) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<report::ContourFix> both = report::fix_glyph(g, o);
+  ASSERT_EQ(both.size(), 1u);
+  EXPECT_FALSE(both[0].fixed);
+  EXPECT_NE(both[0].reason.find(why), std::string::npos) << both[0].reason;
+  EXPECT_NE(both[0].reason.find(node), std::string::npos) << both[0].reason;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+}
+
 // The glyph fix refuses at once, with a proof, a smooth line-to-cubic join
 // whose far node's tangent is square to the line when g2 and the extrema
 // gate are both required (report/glyph_joins.hpp, square_cubic_line_join):
@@ -195,21 +220,11 @@ TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
       {{404, 426}, T::cubic}, {{404, 363}, T::on},    {{404, 0}, T::on},      {{487, 0}, T::on},
       {{487, 396}, T::on},    {{487, 483}, T::cubic}, {{422, 539}, T::cubic}, {{321, 539}, T::on},
       {{243, 539}, T::cubic}, {{193, 509}, T::cubic}, {{147, 436}, T::on},    {{147, 524}, T::on}};
-  std::vector<import::OutlinePoint> pts;
-  for (const auto& [p, tag] : n) pts.push_back({p, tag});
-  import::Glyph g;
-  g.name = "n";
-  g.contours.push_back(*import::outline_contour(pts, 0, 3, "n", import::PointNaming::source));
+  const import::Glyph g = cubic_glyph("n", n);
   report::GlyphFixOptions o;
   report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
   o.judge.regions = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<report::ContourFix> both = report::fix_glyph(g, o);
-  ASSERT_EQ(both.size(), 1u);
-  EXPECT_FALSE(both[0].fixed);
-  EXPECT_NE(both[0].reason.find("square to the line"), std::string::npos) << both[0].reason;
-  EXPECT_NE(both[0].reason.find("n/c0/p3"), std::string::npos) << both[0].reason;
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);  // no search
+  expect_refused_at_once(g, o, "square to the line", "n/c0/p3");
   report::GlyphFixOptions g2 = o;
   g2.judge = {};
   report::parse_require_list("g2-at-smooth-nodes", g2.judge);
@@ -246,14 +261,7 @@ TEST(GlyphFix, ALineJoinSquareToItsFarTangentIsRefusedWithBothGates) {
 // e <= 0 or 9 e^2 <= 40 b^2 has a curvature extremum strictly inside.
 TEST(GlyphFix, ALineJoinToAHeldLineEndIsRefusedWithBothGates) {
   using T = import::OutlinePoint::Tag;
-  const auto glyph = [](const std::vector<std::pair<Vec2, T>>& outline) {
-    std::vector<import::OutlinePoint> pts;
-    for (const auto& [p, tag] : outline) pts.push_back({p, tag});
-    import::Glyph g;
-    g.name = "r";
-    g.contours.push_back(*import::outline_contour(pts, 0, 3, "r", import::PointNaming::source));
-    return g;
-  };
+  const auto glyph = [](const std::vector<std::pair<Vec2, T>>& outline) { return cubic_glyph("r", outline); };
   const import::Glyph r = glyph({{{153, 0}, T::on},     {{153, 272}, T::on},    {{153, 390}, T::cubic},
                                  {{192, 449}, T::cubic}, {{321, 451}, T::on},    {{321, 536}, T::on},
                                  {{307, 538}, T::cubic}, {{300, 539}, T::cubic}, {{289, 539}, T::on},
@@ -262,13 +270,7 @@ TEST(GlyphFix, ALineJoinToAHeldLineEndIsRefusedWithBothGates) {
   report::GlyphFixOptions o;
   report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
   o.judge.regions = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<report::ContourFix> both = report::fix_glyph(r, o);
-  ASSERT_EQ(both.size(), 1u);
-  EXPECT_FALSE(both[0].fixed);
-  EXPECT_NE(both[0].reason.find("ends at a line's end"), std::string::npos) << both[0].reason;
-  EXPECT_NE(both[0].reason.find("r/c0/p1 "), std::string::npos) << both[0].reason;
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);  // no search
+  expect_refused_at_once(r, o, "ends at a line's end", "r/c0/p1 ");
   report::ReportOptions g2;
   report::parse_require_list("g2-at-smooth-nodes", g2);
   EXPECT_EQ(report::glyph_detail::held_cubic_line_join(r.contours[0], g2), "");
