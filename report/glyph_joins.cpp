@@ -72,12 +72,12 @@ struct CubicLineJoin {
   Vec2 u{0.0};
 };
 
-/// Every such join of `c` (a closed polynomial cubic contour; none else).
 /// Font units: an integer within 2^24.
 bool grid(Vec2 p) {
   return p.x == std::floor(p.x) && p.y == std::floor(p.y) && std::abs(p.x) <= 0x1p24 && std::abs(p.y) <= 0x1p24;
 }
 
+/// Every such join of `c` (a closed polynomial cubic contour; none else).
 std::vector<CubicLineJoin> cubic_line_joins(const import::Contour& c) {
   const BSpline& s = c.spline;
   std::vector<CubicLineJoin> out;
@@ -147,7 +147,7 @@ std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& 
   for (const CubicLineJoin& x : cubic_line_joins(c)) {
     if (moves.movable(x.f)) continue;  // F held: a line's end
     // F's offset from the line and its reach along it past J, both times |u|
-    // (exact: integers below 2^50); their squares in 128 bits.
+    // (exact: integers below 2^52); their squares in 128 bits.
     const Vec2 fj = P[x.f] - P[x.j];
     const auto B = static_cast<long long>(det(x.u, fj)), E = static_cast<long long>(dot(x.u, fj));
     if (B == 0) continue;
