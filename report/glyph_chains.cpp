@@ -308,7 +308,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     // Each free point's positions: a unit of two (a cubic's handles, or a
     // quadratic run's two off-curve points) like a cubic's H1 and H2; one
     // off-curve point between two nodes slides on a smooth one's tangent and
-    // stays on the other's (and on both lines); three or more are held.
+    // stays on the other's (and on both lines); of three or more, the two
+    // next to the nodes move as a pair's do and the inner ones are held (so
+    // a line's join constrains an inner point, which the end curvature
+    // then judges).
     std::vector<Options> options;
     if (f.size() == 2) {
       options = {options_of(f[0], unit.start, end_line), options_of(f[1], unit.end, start_line)};
@@ -321,6 +324,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       options = {options_of(f[0], start_smooth ? unit.start : unit.end, lines)};
     } else {
       for (int k : f) options.push_back({{here[k]}, {dot(here[k] - src[k], here[k] - src[k])}});
+      options.front() = options_of(f.front(), unit.start, {}), options.back() = options_of(f.back(), unit.end, {});
     }
     for (const Options& op : options)
       if (op.at.empty()) return out;

@@ -8,7 +8,8 @@
 // TrueType run of off-curve points between two on-curve points (N0, A, B,
 // N1: two quadratic pieces (N0, A, M) and (M, B, N1) meeting at the
 // implied node M = (A + B) / 2; a run of one off-curve point is one piece;
-// a run of three or more is held). The extrema gate judges each piece on
+// of a run of three or more, the points next to the nodes are its handles
+// and the inner ones are held). The extrema gate judges each piece on
 // its own Bezier points; g2 judges a smooth joint from the end curvatures
 // of its two sides, for a piece of degree d
 //   k(0) = (d-1)/d det(b1 - b0, b2 - b1) / |b1 - b0|^3,

@@ -137,10 +137,10 @@ struct ContourFix {
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
   /// squared move, the rest held, and no two neighbouring ones a few cells
-  /// each; on a cubic contour (or a quadratic one whose runs of off-curve
-  /// points hold at most two), no chain's handles in the settling's box
-  /// (nodes held) pass with a smaller total move. False where the work ran
-  /// out first (the fix still passes).
+  /// each; on a cubic contour (or a quadratic one with an on-curve point),
+  /// no chain's handles in the settling's box (nodes held, and the inner
+  /// points of a run of three or more off-curve points) pass with a smaller
+  /// total move. False where the work ran out first (the fix still passes).
   bool settled = false;
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)
