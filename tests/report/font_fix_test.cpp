@@ -408,6 +408,61 @@ void each_bowl_position(const std::vector<Vec2>& at, std::array<int, 4> k, int r
             }
 }
 
+// The chain search from `at` on `j`'s contour, the font points `moving`
+// free (`movable`) in `box`, held to a brute force over the 6,561
+// positions `position(code)` (code 0..6560: `at` with those points moved):
+// its answer must solve the one failing chain at exactly the least cost
+// (squared move from the source) among the positions that the whole
+// contour's gate report passes with every piece that font points `first`
+// .. `last` shape certified monotone (the search's own filter), pass the
+// gate, and leave every other point where `at` has it.
+template <class Position>
+void expect_nearest_in_box(const JudgedContour& j, const std::vector<Vec2>& at, const std::vector<int>& moving,
+                           report::glyph_detail::ChainBox box, int first, int last, Position position) {
+  const import::Contour& c = j.contour();
+  std::vector<int> chain_pieces;
+  for (const Segment& s : c.spline.segments())
+    for (int k : segment_points(c.spline, s))
+      if (c.font_point[k] >= first && c.font_point[k] <= last) {
+        chain_pieces.push_back(s.index);
+        break;
+      }
+  ClassifyOptions classify;
+  classify.max_depth = j.o.max_depth;
+  classify.inflection = false;
+  const auto monotone = [&](const std::vector<Vec2>& p) {
+    const std::vector<BezierSegment> b = bezier_segments(c.spline.with_points(p));
+    for (int s : chain_pieces) {
+      const Curvature cv = classify_bezier(b[s].points, classify).monotonicity.curvature;
+      if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) return false;
+    }
+    return true;
+  };
+  double least = std::numeric_limits<double>::infinity();
+  int passing = 0;
+  for (int code = 0; code < 6561; ++code) {
+    const std::vector<Vec2> p = position(code);
+    if (!monotone(p) || j.violations(p) != 0) continue;
+    ++passing;
+    least = std::min(least, report::glyph_detail::squared_move(j.src, p));
+  }
+  ASSERT_GT(passing, 0);
+  std::vector<int> free;
+  for (int f : moving) free.push_back(j.at_font.at(f));
+  report::glyph_detail::Work work(report::kGlyphWork, 60);
+  const std::optional<report::glyph_detail::ChainResult> found =
+      report::glyph_detail::chain_search(c, j.src, at, free, j.o, 1, 0, work, box);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->chains, 1);
+  EXPECT_EQ(found->solved, 1);
+  EXPECT_EQ(report::glyph_detail::squared_move(j.src, found->points), least) << passing << " pass";
+  EXPECT_EQ(j.violations(found->points), 0);
+  for (int k = 0; k < static_cast<int>(at.size()); ++k)
+    if (std::find(free.begin(), free.end(), k) == free.end()) {
+      EXPECT_EQ(found->points[k], at[k]) << "point " << k;
+    }
+}
+
 // The chain search (report/glyph_chains.hpp) is the brute force's nearest in
 // its box. Nimbus Sans e/c0 with every chain passing (its fix) but the
 // inner bowl's, p16 (a corner) .. p19 (smooth) .. p22 (a corner), whose
@@ -501,51 +556,15 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBoxOnQuadraticRuns) {
   for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
   ASSERT_GT(violations(at), 0);
   const int k2 = at_font.at(2), k3 = at_font.at(3), k5 = at_font.at(5), k6 = at_font.at(6);
-  // The chain's pieces: those that p2 .. p12 shape.
-  std::vector<int> chain_pieces;
-  for (const Segment& s : c.spline.segments())
-    for (int k : segment_points(c.spline, s))
-      if (c.font_point[k] >= 2 && c.font_point[k] <= 12) {
-        chain_pieces.push_back(s.index);
-        break;
-      }
-  ClassifyOptions classify;
-  classify.max_depth = j.o.max_depth;
-  classify.inflection = false;
-  const auto monotone = [&](const std::vector<Vec2>& p) {
-    const std::vector<BezierSegment> b = bezier_segments(c.spline.with_points(p));
-    for (int s : chain_pieces) {
-      const Curvature cv = classify_bezier(b[s].points, classify).monotonicity.curvature;
-      if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) return false;
-    }
-    return true;
-  };
-  double least = std::numeric_limits<double>::infinity();
-  int passing = 0;
   constexpr int kSlide = 4;
-  for (int code = 0; code < 9 * 9 * 9 * 9; ++code) {
+  expect_nearest_in_box(j, at, {2, 3, 5, 6}, {1, kSlide}, 2, 12, [&](int code) {
     std::vector<Vec2> p = at;
     p[k2] += Vec2(code % 3 - 1, code / 3 % 3 - 1);
     p[k3] += Vec2(code / 9 % 9 - kSlide, 0);
     p[k5] += Vec2(code / 81 % 9 - kSlide, 0);
     p[k6] += Vec2(0, code / 729 % 9 - kSlide);
-    if (!monotone(p) || violations(p) != 0) continue;
-    ++passing;
-    least = std::min(least, report::glyph_detail::squared_move(j.src, p));
-  }
-  ASSERT_GT(passing, 0);
-  report::glyph_detail::Work work(report::kGlyphWork, 60);
-  const std::optional<report::glyph_detail::ChainResult> found =
-      report::glyph_detail::chain_search(c, j.src, at, {k2, k3, k5, k6}, j.o, 1, 0, work, {1, kSlide});
-  ASSERT_TRUE(found.has_value());
-  EXPECT_EQ(found->chains, 1);
-  EXPECT_EQ(found->solved, 1);
-  EXPECT_EQ(report::glyph_detail::squared_move(j.src, found->points), least) << passing << " pass";
-  EXPECT_EQ(violations(found->points), 0);
-  for (int k = 0; k < static_cast<int>(at.size()); ++k)
-    if (k != k2 && k != k3 && k != k5 && k != k6) {
-      EXPECT_EQ(found->points[k], at[k]) << "point " << k;
-    }
+    return p;
+  });
 }
 
 // A run of three off-curve points is one unit too: the two next to its
@@ -578,51 +597,15 @@ TEST(GlyphFix, TheChainSearchMovesTheEndsOfARunOfThree) {
   for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
   ASSERT_GT(violations(at), 0);
   const int k17 = at_font.at(17), k19 = at_font.at(19), k21 = at_font.at(21), k23 = at_font.at(23);
-  // The chain's pieces: those that p16 .. p27 shape.
-  std::vector<int> chain_pieces;
-  for (const Segment& s : c.spline.segments())
-    for (int k : segment_points(c.spline, s))
-      if (c.font_point[k] >= 16 && c.font_point[k] <= 27) {
-        chain_pieces.push_back(s.index);
-        break;
-      }
-  ClassifyOptions classify;
-  classify.max_depth = j.o.max_depth;
-  classify.inflection = false;
-  const auto monotone = [&](const std::vector<Vec2>& p) {
-    const std::vector<BezierSegment> b = bezier_segments(c.spline.with_points(p));
-    for (int s : chain_pieces) {
-      const Curvature cv = classify_bezier(b[s].points, classify).monotonicity.curvature;
-      if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) return false;
-    }
-    return true;
-  };
-  double least = std::numeric_limits<double>::infinity();
-  int passing = 0;
   constexpr int kSlide = 4;
-  for (int code = 0; code < 9 * 9 * 9 * 9; ++code) {
+  expect_nearest_in_box(j, at, {17, 19, 21, 23}, {1, kSlide}, 16, 27, [&](int code) {
     std::vector<Vec2> p = at;
     p[k17] += Vec2(code % 9 - kSlide, 0);
     p[k19] += Vec2(code / 9 % 9 - kSlide, 0);
     p[k21] += Vec2(0, code / 81 % 9 - kSlide);
     p[k23] += Vec2(0, code / 729 % 9 - kSlide);
-    if (!monotone(p) || violations(p) != 0) continue;
-    ++passing;
-    least = std::min(least, report::glyph_detail::squared_move(j.src, p));
-  }
-  ASSERT_GT(passing, 0);
-  report::glyph_detail::Work work(report::kGlyphWork, 60);
-  const std::optional<report::glyph_detail::ChainResult> found =
-      report::glyph_detail::chain_search(c, j.src, at, {k17, k19, k21, k23}, j.o, 1, 0, work, {1, kSlide});
-  ASSERT_TRUE(found.has_value());
-  EXPECT_EQ(found->chains, 1);
-  EXPECT_EQ(found->solved, 1);
-  EXPECT_EQ(report::glyph_detail::squared_move(j.src, found->points), least) << passing << " pass";
-  EXPECT_EQ(violations(found->points), 0);
-  for (int k = 0; k < static_cast<int>(at.size()); ++k)
-    if (k != k17 && k != k19 && k != k21 && k != k23) {
-      EXPECT_EQ(found->points[k], at[k]) << "point " << k;
-    }
+    return p;
+  });
 }
 
 // A chain that meets a line smoothly: g2 there needs the curve's end
