@@ -60,21 +60,18 @@ struct Piece {
   std::array<std::vector<std::pair<int, double>>, 4> weights;
 };
 
-/// Per segment of the closed polynomial `s` (degree 2 or 3), its Piece.
+/// Per segment of the closed polynomial `s` (degree 2 or 3), its Piece:
+/// each distinct point's influence (every copy of it in the unrolled points).
 std::vector<Piece> pieces_of(const BSpline& s) {
   const int d = s.degree(), m = s.unique_point_count();
-  std::vector<Piece> out;
-  for (const Segment& seg : s.segments()) {
-    const std::vector<int> pts = segment_points(s, seg);
-    Piece piece;
-    for (int k : pts) {
-      std::vector<double> e(static_cast<std::size_t>(s.point_count()), 0.0);
-      for (int i = k; i < s.point_count(); i += m) e[static_cast<std::size_t>(i)] = 1.0;
-      const std::vector<double> w = bezier_points(s.knots(), e, d, seg.span, seg.a, seg.b);
+  std::vector<Piece> out(static_cast<std::size_t>(s.segment_count()));
+  for (int k = 0; k < m; ++k) {
+    std::vector<int> copies;
+    for (int i = k; i < s.point_count(); i += m) copies.push_back(i);
+    for (const SegmentInfluence& si : influence(s, copies))
       for (int r = 0; r <= d; ++r)
-        if (w[static_cast<std::size_t>(r)] != 0) piece.weights[r].push_back({k, w[static_cast<std::size_t>(r)]});
-    }
-    out.push_back(std::move(piece));
+        if (si.w[static_cast<std::size_t>(r)] != 0)
+          out[static_cast<std::size_t>(si.segment)].weights[r].push_back({k, si.w[static_cast<std::size_t>(r)]});
   }
   return out;
 }

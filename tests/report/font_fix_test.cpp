@@ -370,6 +370,12 @@ struct JudgedContour {
   std::vector<Vec2> src;
   std::map<int, int> at_font;
   const import::Contour& contour() const { return font.glyphs.at(0).contours.at(index); }
+  /// The source's points with font point f at p for each (f, p) of `moves`.
+  std::vector<Vec2> moved(const std::vector<std::pair<int, Vec2>>& moves) const {
+    std::vector<Vec2> out = src;
+    for (const auto& [f, p] : moves) out[at_font.at(f)] = p;
+    return out;
+  }
   int violations(const std::vector<Vec2>& p) const {
     int n = 0;
     for (const report::GateResult& g : report::gate_report(contour().spline.with_points(p), o).gates)
@@ -482,12 +488,10 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBox) {
   const std::map<int, int>& at_font = j.at_font;
   const int m = static_cast<int>(src.size());
   const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
-  std::vector<Vec2> at = src;
-  const std::vector<std::pair<int, Vec2>> fixed = {
+  const std::vector<Vec2> at = j.moved({
       {3, {495, 401}},  {4, {455, 487}},  {5, {370, 541}},  {6, {280, 541}},  {7, {153, 541}},  {8, {36, 428}},
       {9, {36, 256}},   {10, {36, 87}},   {11, {152, -25}}, {12, {278, -25}}, {13, {382, -25}}, {14, {478, 48}},
-      {23, {136, 149}}, {24, {129, 184}}, {17, {397, 92}},  {18, {340, 54}},  {20, {232, 54}},  {21, {183, 81}}};
-  for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
+      {23, {136, 149}}, {24, {129, 184}}, {17, {397, 92}},  {18, {340, 54}},  {20, {232, 54}},  {21, {183, 81}}});
   ASSERT_GT(violations(at), 0);
   const int k17 = at_font.at(17), k18 = at_font.at(18), k20 = at_font.at(20), k21 = at_font.at(21);
   // The chain's two pieces at p, certified monotone (Algorithm 1).
@@ -542,19 +546,15 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBox) {
 TEST(GlyphFix, TheChainSearchIsTheNearestInItsBoxOnQuadraticRuns) {
   if (!fs::exists(kDejaVu)) GTEST_SKIP() << kDejaVu << " is not installed (tools/setup.sh installs fonts-dejavu)";
   const JudgedContour j = judged_contour("c", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kDejaVu);
-  const import::Contour& c = j.contour();
-  ASSERT_EQ(c.spline.degree(), 2);
+  ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::map<int, int>& at_font = j.at_font;
-  const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
   ASSERT_EQ(j.src[at_font.at(5)], Vec2(505, 991));
-  std::vector<Vec2> at = j.src;
-  const std::vector<std::pair<int, Vec2>> fixed = {
+  const std::vector<Vec2> at = j.moved({
       {2, {919, 950}},  {3, {775, 988}},  {4, {689, 988}},   {5, {490, 988}},  {6, {307, 785}},  {7, {307, 559}},
       {8, {307, 328}},  {9, {488, 129}},  {10, {688, 129}},  {11, {775, 129}}, {12, {921, 168}}, {15, {919, 6}},
       {16, {770, -25}}, {17, {677, -25}}, {18, {386, -25}},  {19, {113, 265}}, {21, {113, 855}}, {22, {393, 1144}},
-      {23, {683, 1144}}, {24, {776, 1144}}, {25, {923, 1113}}};
-  for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
-  ASSERT_GT(violations(at), 0);
+      {23, {683, 1144}}, {24, {776, 1144}}, {25, {923, 1113}}});
+  ASSERT_GT(j.violations(at), 0);
   const int k2 = at_font.at(2), k3 = at_font.at(3), k5 = at_font.at(5), k6 = at_font.at(6);
   constexpr int kSlide = 4;
   expect_nearest_in_box(j, at, {2, 3, 5, 6}, {1, kSlide}, 2, 12, [&](int code) {
@@ -581,21 +581,17 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBoxOnQuadraticRuns) {
 TEST(GlyphFix, TheChainSearchMovesTheEndsOfARunOfThree) {
   if (!fs::exists(kNotoSerif)) GTEST_SKIP() << kNotoSerif << " is not installed (tools/setup.sh installs fonts-noto-core)";
   const JudgedContour j = judged_contour("c", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kNotoSerif);
-  const import::Contour& c = j.contour();
-  ASSERT_EQ(c.spline.degree(), 2);
+  ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::map<int, int>& at_font = j.at_font;
-  const auto violations = [&j](const std::vector<Vec2>& p) { return j.violations(p); };
   ASSERT_EQ(j.src[at_font.at(20)], Vec2(183, 456));
-  std::vector<Vec2> at = j.src;
-  const std::vector<std::pair<int, Vec2>> fixed = {
+  const std::vector<Vec2> at = j.moved({
       {0, {284, -3}},   {1, {201, -3}},   {2, {112, 47}},   {3, {64, 172}},   {4, {64, 266}},   {5, {64, 362}},
       {6, {113, 491}},  {7, {205, 549}},  {8, {279, 549}},  {9, {329, 549}},  {10, {410, 523}}, {11, {447, 478}},
       {12, {447, 440}}, {13, {447, 405}}, {14, {414, 381}}, {15, {363, 380}}, {16, {368, 442}}, {17, {330, 492}},
       {18, {278, 492}}, {19, {234, 492}}, {20, {181, 451}}, {21, {158, 355}}, {22, {158, 261}}, {23, {158, 130}},
       {24, {204, 58}},  {25, {284, 58}},  {26, {342, 58}},  {27, {425, 94}},  {28, {441, 125}}, {29, {453, 114}},
-      {31, {453, 53}},  {32, {421, 18}},  {33, {339, -3}}};
-  for (const auto& [f, p] : fixed) at[at_font.at(f)] = p;
-  ASSERT_GT(violations(at), 0);
+      {31, {453, 53}},  {32, {421, 18}},  {33, {339, -3}}});
+  ASSERT_GT(j.violations(at), 0);
   const int k17 = at_font.at(17), k19 = at_font.at(19), k21 = at_font.at(21), k23 = at_font.at(23);
   constexpr int kSlide = 4;
   expect_nearest_in_box(j, at, {17, 19, 21, 23}, {1, kSlide}, 16, 27, [&](int code) {
