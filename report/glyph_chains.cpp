@@ -25,6 +25,7 @@ namespace {
 struct State {
   Vec2 h1{0.0}, h2{0.0};
   double k0 = 0, k1 = 0, cost = 0;
+  Vec2 inner{0.0};  ///< a run of three's middle off-curve point
 };
 
 /// The positions one handle tries, each with its squared move from the source.
@@ -252,7 +253,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       if (on_lines(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
       return out;
     }
-    if (exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
+    if (node >= 0 && exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
       const Vec2 a = here[k] - here[node];
       const std::optional<Vec2> step = grid_vector(a, grid);
       if (!step) {  // off the grid's lines through its node: held
@@ -263,6 +264,12 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         const Vec2 p = here[k] + static_cast<double>(s) * *step;
         if (dot(p - here[node], a) > 0) add(p);  // never through its node
       }
+      return out;
+    }
+    if (node < 0) {  // a run of three's middle point: half the box each way
+      for (int i = -box.reach / 2; i <= box.reach / 2; ++i)
+        for (int j = -box.reach / 2; j <= box.reach / 2; ++j)
+          add(here[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
       return out;
     }
     if (!lines.empty()) {  // the line's grid points past its join, out to beyond the handle's foot on it
@@ -276,6 +283,106 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     for (int i = -box.reach; i <= box.reach; ++i)
       for (int j = -box.reach; j <= box.reach; ++j)
         add(here[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
+    return out;
+  };
+  // A piece's Bezier points at the positions `pos`.
+  const auto bezier = [&](const Piece& piece, const std::vector<Vec2>& pos) {
+    std::array<Vec2, 4> bz{};
+    for (int r = 0; r <= d; ++r) {
+      bz[r] = Vec2(0.0);
+      for (const auto& [point, w] : piece.weights[r]) bz[r] = bz[r] + w * pos[point];
+    }
+    return bz;
+  };
+  // Whether the extrema gate's check of a piece passes (Algorithm 1: certified monotone), when it is judged.
+  const auto monotone = [&](std::span<const Vec2> b) {
+    if (!extrema) return true;
+    const Curvature cv = classify_bezier(b, classify).monotonicity.curvature;
+    return cv == Curvature::increasing || cv == Curvature::decreasing || cv == Curvature::constant;
+  };
+
+  // A run of three off-curve points (A, B, C) between nodes N0 and N1: the
+  // pieces (N0, A, M1), (M1, B, M2), (M2, C, N1), M1 = (A + B) / 2 and M2 =
+  // (B + C) / 2. For each position of B, the first piece depends on A alone
+  // and the last on C alone, so each is judged once per position (a unit of
+  // work each). Of the pairs (A, C) of passing pieces (a unit of work per
+  // 64), only those whose middle piece's start curvature, linear in C, lies
+  // in g2's window at M1 have the middle piece's end curvatures computed
+  // (a unit each), and only those where g2 passes at M1 and M2 have it
+  // judged. Its passing states, B in `inner`; none where the work ran out
+  // (`spent`).
+  const auto run_of_three = [&](const Unit& unit, const std::vector<Options>& options, bool& spent) {
+    std::vector<State> out;
+    const std::vector<int>& f = unit.free;
+    const Piece &first = pieces[static_cast<std::size_t>(unit.segments[0])],
+                &middle = pieces[static_cast<std::size_t>(unit.segments[1])],
+                &last = pieces[static_cast<std::size_t>(unit.segments[2])];
+    struct End {
+      std::size_t at;
+      double k_node, k_inner;  // its curvature at its node and at its implied node
+    };
+    // Whether the middle piece is (M1, B, M2) with M1 and M2 the midpoints (a TrueType run's, always): the
+    // prefilter below assumes it.
+    const auto half_of = [](const std::vector<std::pair<int, double>>& w, int x, int y) {
+      return w.size() == 2 && w[0].second == 0.5 && w[1].second == 0.5 &&
+             ((w[0].first == x && w[1].first == y) || (w[0].first == y && w[1].first == x));
+    };
+    const bool midpoints = d == 2 && half_of(middle.weights[0], f[0], f[1]) && middle.weights[1].size() == 1 &&
+                           middle.weights[1][0].first == f[1] && half_of(middle.weights[2], f[1], f[2]);
+    std::vector<Vec2> pos = here;
+    std::vector<End> as, cs;
+    for (std::size_t ib = 0; ib < options[1].at.size(); ++ib) {
+      pos[f[1]] = options[1].at[ib];
+      as.clear(), cs.clear();
+      for (std::size_t ia = 0; ia < options[0].at.size(); ++ia) {
+        if (work.spent()) return spent = true, std::vector<State>{};
+        work.charge();
+        pos[f[0]] = options[0].at[ia];
+        const std::array<Vec2, 4> bz = bezier(first, pos);
+        const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
+        const std::array<double, 2> e = end_curvatures(b);
+        if (std::isfinite(e[0]) && std::isfinite(e[1]) && monotone(b)) as.push_back({ia, e[0], e[1]});
+      }
+      for (std::size_t ic = 0; ic < options[2].at.size(); ++ic) {
+        if (work.spent()) return spent = true, std::vector<State>{};
+        work.charge();
+        pos[f[2]] = options[2].at[ic];
+        const std::array<Vec2, 4> bz = bezier(last, pos);
+        const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
+        const std::array<double, 2> e = end_curvatures(b);
+        if (std::isfinite(e[0]) && std::isfinite(e[1]) && monotone(b)) cs.push_back({ic, e[1], e[0]});
+      }
+      long pairs = 0;
+      for (const End& a : as) {
+        pos[f[0]] = options[0].at[a.at];
+        // g2 at M1 first, on D = det(B - A, C - B) alone: the middle piece's start curvature is
+        // c det((B - A) / 2, (C - B) / 2) / |(B - A) / 2|^3 = 2 c D / |B - A|^3, so the C that pass
+        // have D in passing_left(kl) scaled (widened by a margin far above the doubles' rounding).
+        const Vec2 h = pos[f[1]] - pos[f[0]];
+        const double scale = 2 * (d - 1.0) / d / (dot(h, h) * std::sqrt(dot(h, h)));
+        std::array<double, 2> window = passing_left(a.k_inner, tol);
+        const double margin = 1e-9 * std::max(std::abs(window[0]), std::abs(window[1])) + 1e-300;
+        window = {(window[0] - margin) / scale, (window[1] + margin) / scale};
+        for (const End& cc : cs) {
+          if (++pairs % 64 == 0) {
+            if (work.spent()) return spent = true, std::vector<State>{};
+            work.charge();
+          }
+          pos[f[2]] = options[2].at[cc.at];
+          if (const double dd = det(h, pos[f[2]] - pos[f[1]]); midpoints && tol >= 0 && (dd < window[0] || dd > window[1]))
+            continue;
+          work.charge();
+          const std::array<Vec2, 4> bz = bezier(middle, pos);
+          const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
+          const std::array<double, 2> e = end_curvatures(b);
+          // At the implied nodes judged as the gate judges them (the header).
+          if (tol >= 0 && (!g2_passes(a.k_inner, e[0], tol) || !g2_passes(e[1], cc.k_inner, tol))) continue;
+          if (!monotone(b)) continue;
+          out.push_back({pos[f[0]], pos[f[2]], a.k_node, cc.k_node,
+                         options[0].cost[a.at] + options[1].cost[ib] + options[2].cost[cc.at], pos[f[1]]});
+        }
+      }
+    }
     return out;
   };
 
@@ -306,9 +413,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     // quadratic run's two off-curve points) like a cubic's H1 and H2; one
     // off-curve point between two nodes slides on a smooth one's tangent and
     // stays on the other's (and on both lines); of three or more, the two
-    // next to the nodes move as a pair's do and the inner ones are held (so
-    // a line's join constrains an inner point, which the end curvature
-    // then judges).
+    // next to the nodes move as a pair's do (so a line's join constrains an
+    // inner point, which the end curvature then judges), the middle one of
+    // three moves freely in the box (run_of_three), and the inner ones of
+    // four or more are held.
     std::vector<Options> options;
     if (f.size() == 2) {
       options = {options_of(f[0], unit.start, end_line), options_of(f[1], unit.end, start_line)};
@@ -322,12 +430,13 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     } else {
       for (int k : f) options.push_back({{here[k]}, {dot(here[k] - src[k], here[k] - src[k])}});
       options.front() = options_of(f.front(), unit.start, {}), options.back() = options_of(f.back(), unit.end, {});
+      if (f.size() == 3) options[1] = options_of(f[1], -1, {});  // the middle point: a free box
     }
     for (const Options& op : options)
       if (op.at.empty()) return out;
+    if (f.size() == 3) return run_of_three(unit, options, spent);
     // Every combination, the last point's positions fastest.
     std::vector<std::size_t> pick(options.size(), 0);
-    std::array<Vec2, 4> bz{};
     std::vector<Vec2> pos = here;
     for (bool more = true; more;) {
       if (work.spent()) {
@@ -346,16 +455,9 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       double k0 = 0, k1 = 0;
       bool passes = true;
       for (std::size_t p = 0; p < unit.segments.size() && passes; ++p) {
-        const Piece& piece = pieces[static_cast<std::size_t>(unit.segments[p])];
-        for (int r = 0; r <= d; ++r) {
-          bz[r] = Vec2(0.0);
-          for (const auto& [point, w] : piece.weights[r]) bz[r] = bz[r] + w * pos[point];
-        }
+        const std::array<Vec2, 4> bz = bezier(pieces[static_cast<std::size_t>(unit.segments[p])], pos);
         const std::span<const Vec2> b_points(bz.data(), static_cast<std::size_t>(d + 1));
-        if (extrema) {
-          const Curvature cv = classify_bezier(b_points, classify).monotonicity.curvature;
-          if (cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant) passes = false;
-        }
+        if (!monotone(b_points)) passes = false;
         const std::array<double, 2> e = end_curvatures(b_points);
         if (!std::isfinite(e[0]) || !std::isfinite(e[1])) passes = false;
         if (p == 0) k0 = e[0];
@@ -467,6 +569,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       const State& st = i == 0 ? start[static_cast<std::size_t>(q)] : (*states[chain[i]])[q];
       const Unit& unit = units[static_cast<std::size_t>(chain[i])];
       result.points[unit.free.front()] = st.h1, result.points[unit.free.back()] = st.h2;
+      if (unit.free.size() == 3) result.points[unit.free[1]] = st.inner;
       q = i > 0 ? from[i][q] : q;
     }
     result.cost += least;

@@ -8,8 +8,9 @@
 // TrueType run of off-curve points between two on-curve points (N0, A, B,
 // N1: two quadratic pieces (N0, A, M) and (M, B, N1) meeting at the
 // implied node M = (A + B) / 2; a run of one off-curve point is one piece;
-// of a run of three or more, the points next to the nodes are its handles
-// and the inner ones are held). The extrema gate judges each piece on
+// of a run of three (A, B, C), B moves too, in a box of half the reach,
+// and of four or more, the points next to the nodes are its handles and the
+// inner ones are held). The extrema gate judges each piece on
 // its own Bezier points; g2 judges a smooth joint from the end curvatures
 // of its two sides, for a piece of degree d
 //   k(0) = (d-1)/d det(b1 - b0, b2 - b1) / |b1 - b0|^3,
@@ -57,8 +58,9 @@ namespace cmr::report::glyph_detail {
 
 /// The box searched around where each handle is: a free handle every grid
 /// position within kChainReach cells each way (17 x 17 positions), a smooth
-/// node's handle kChainSlideReach grid steps each way along its tangent (the
-/// fix's box; a test's may be smaller).
+/// node's handle kChainSlideReach grid steps each way along its tangent, the
+/// middle point of a run of three half the reach each way (9 x 9; the fix's
+/// box; a test's may be smaller).
 inline constexpr int kChainReach = 8, kChainSlideReach = 48;
 struct ChainBox {
   int reach = kChainReach;

@@ -139,7 +139,7 @@ struct ContourFix {
   /// squared move, the rest held, and no two neighbouring ones a few cells
   /// each; on a cubic contour (or a quadratic one with an on-curve point),
   /// no chain's handles in the settling's box (nodes held, and the inner
-  /// points of a run of three or more off-curve points) pass with a smaller
+  /// points of a run of four or more off-curve points) pass with a smaller
   /// total move. False where the work ran out first (the fix still passes).
   bool settled = false;
   double seconds = 0;
