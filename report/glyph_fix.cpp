@@ -789,6 +789,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     current_total = next->second;
   }
   if (current_total > 0) {
+    // Where the work ran out, the last search's own reason (often its count
+    // of evaluations, as few as the work had left) says nothing: the work does.
+    if (work.ran_out()) why = "no certified fix found";
     out.reason = glyph_detail::unfixed_reason(why, c, current, o, current_total, total(out.rejudged));
     return out;
   }

@@ -217,6 +217,13 @@ def main():
         check("fix --work 20000: O runs out of work, exit 2, one line naming --work, nothing written",
               r.returncode == 2 and "a larger --work searches further" in r.stderr and r.stderr.count("\n") == 1
               and not os.path.exists(os.path.join(tmp, "W.ufo")), r.stderr)
+        # Where the work runs out, the line says so, not the last search's count of evaluations (as few as
+        # the work had left: "no certified fix found in 1 evaluations" before)
+        r = run("fix", "Nimbus.ufo", "--glyph", "s", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--work",
+                "300000", "--out", "W.ufo", cwd=tmp)
+        check("fix --work 300000: s runs out of work, and the line names no count of evaluations",
+              r.returncode == 2 and "no certified fix found; where the search stopped" in r.stderr
+              and "evaluations" not in r.stderr and "a larger --work searches further" in r.stderr, r.stderr)
 
         # fix: a copy of the UFO where only moved points' x/y change, on the grid
         r = run("fix", "Nimbus.ufo", "--glyph", "O", "--require", "extrema-at-nodes,g2-at-smooth-nodes", "--out",
