@@ -20,6 +20,7 @@
 #include "report/glyph_unfixed.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report {
 namespace {
@@ -45,6 +46,7 @@ using glyph_detail::snap_by_parts;
 using glyph_detail::held_cubic_line_join;
 using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
+using glyph_detail::flattening_g2_join;
 using glyph_detail::unmovable_g2_join;
 using glyph_detail::Work;
 
@@ -674,6 +676,21 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
         " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
         "piece has only when straight, so no move of the points passes, nor would an added on-curve point (the jump "
         "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
+    return out;
+  }
+  if (const std::optional<glyph_detail::FlatteningJoin> flat = flattening_g2_join(c, o)) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    out.reason = why.append(flat->join)
+                     .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, "
+                             "which a quadratic piece has only when straight, and then so would each next piece along "
+                             "the curve, ")
+                     .append(flat->far.empty() ? std::string("all round the contour") : "up to " + flat->far)
+                     .append(": every fix lays that curve on the line, moving ")
+                     .append(flat->point)
+                     .append(" at least ")
+                     .append(format_number(flat->distance, 4))
+                     .append(" units, which flattens the shape rather than fixing it (accept the jump, or draw the "
+                             "curve in cubics)");
     return out;
   }
   if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {

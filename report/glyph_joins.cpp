@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "bezierize/extract.hpp"
@@ -11,11 +12,26 @@
 
 namespace cmr::report::glyph_detail {
 
-std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
+namespace {
+
+/// Every line-to-quadratic smooth join of `c` where g2-at-smooth-nodes (a
+/// tolerance below 1) fails (glyph_joins.hpp), each with the chain of pieces
+/// that would have to be straight: from J along the curved side while g2
+/// applies at the next joint and no line starts there.
+struct StraightChain {
+  int joint = 0;            ///< J: the joint's index
+  Vec2 j{0.0}, u{0.0};      ///< J's position and its line's direction
+  std::vector<int> pieces;  ///< the chain, from J
+  int far_joint = -1;       ///< where it ends: a corner's or a line's joint (-1: it closes on itself)
+  bool held_off = false;    ///< it ends at a line's end (which stays) off J's line
+};
+std::vector<StraightChain> straight_chains(const import::Contour& c, const ReportOptions& o) {
   const BSpline& s = c.spline;
-  if (s.degree() != 2 || !s.closed()) return "";
-  if (std::none_of(o.gates.begin(), o.gates.end(), [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes; }))
-    return "";
+  std::vector<StraightChain> out;
+  if (s.degree() != 2 || !s.closed()) return out;
+  if (std::none_of(o.gates.begin(), o.gates.end(),
+                   [](const Gate& g) { return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1; }))
+    return out;
   const SplineReport r = gate_report(s, o);
   const int n = s.segment_count();
   auto is_line = [&](int i) {
@@ -26,24 +42,6 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
   std::vector<const JointReport*> joint(static_cast<std::size_t>(n), nullptr);
   for (const JointReport& jr : r.joints) joint[static_cast<std::size_t>(jr.joint.index % n)] = &jr;
   auto points = [&](int i) { return bezier_segment(s, s.segments()[static_cast<std::size_t>(i)]).points; };
-  // From the line's end J along the curved side (forward: J starts piece
-  // `first`), piece by piece while g2 applies at the next joint and no line
-  // starts there: the chain that would have to be straight. Its far end is
-  // held where it is a line's end (a line's end node stays) off J's line;
-  // a corner that may move, or an end on J's line, could take a straight
-  // chain, and then g2 at J and along the chain passes: no claim there.
-  auto held_off_the_line = [&](int first, bool forward, Vec2 j, Vec2 u) {
-    int piece = first;
-    for (int step = 0; step < n; ++step) {
-      const std::vector<Vec2> b = points(piece);
-      const Vec2 end = forward ? b.back() : b.front();
-      const int far = forward ? (piece + 1) % n : piece, next = forward ? (piece + 1) % n : (piece + n - 1) % n;
-      if (is_line(next)) return det(end - j, u) != 0;
-      if (joint[static_cast<std::size_t>(far)] == nullptr || joint[static_cast<std::size_t>(far)]->corner) return false;
-      piece = next;
-    }
-    return false;
-  };
   for (const JointReport& jr : r.joints) {
     const double kl = jr.joint.kappa_left, kr = jr.joint.kappa_right;
     if (jr.corner || !std::isfinite(kl) || !std::isfinite(kr) || (kl == 0) == (kr == 0)) continue;
@@ -51,11 +49,66 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
     const bool line_left = kl == 0;
     if (!is_line(line_left ? left : right)) continue;
     const std::vector<Vec2> line = points(line_left ? left : right);
-    const Vec2 j = line_left ? line.back() : line.front(), u = line.back() - line.front();
-    if (!held_off_the_line(line_left ? right : left, line_left, j, u)) continue;
-    return right < static_cast<int>(c.joint_names.size()) ? c.joint_names[right] : "joint " + std::to_string(right);
+    StraightChain chain;
+    chain.joint = right;
+    chain.j = line_left ? line.back() : line.front(), chain.u = line.back() - line.front();
+    // From J along the curved side (forward: J starts piece `first`), piece by piece.
+    const bool forward = line_left;
+    int piece = forward ? right : left;
+    for (int step = 0; step < n; ++step) {
+      chain.pieces.push_back(piece);
+      const std::vector<Vec2> b = points(piece);
+      const Vec2 end = forward ? b.back() : b.front();
+      const int far = forward ? (piece + 1) % n : piece, next = forward ? (piece + 1) % n : (piece + n - 1) % n;
+      if (is_line(next)) {
+        chain.far_joint = far, chain.held_off = det(end - chain.j, chain.u) != 0;
+        break;
+      }
+      if (joint[static_cast<std::size_t>(far)] == nullptr || joint[static_cast<std::size_t>(far)]->corner) {
+        chain.far_joint = far;
+        break;
+      }
+      piece = next;
+    }
+    out.push_back(std::move(chain));
   }
+  return out;
+}
+
+std::string point_name(const import::Contour& c, int k) {
+  return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : std::string("P").append(std::to_string(k));
+}
+
+std::string joint_name(const import::Contour& c, int joint) {
+  return joint < static_cast<int>(c.joint_names.size()) ? c.joint_names[joint] : "joint " + std::to_string(joint);
+}
+
+}  // namespace
+
+std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) {
+  for (const StraightChain& chain : straight_chains(c, o))
+    if (chain.held_off) return joint_name(c, chain.joint);
   return "";
+}
+
+std::optional<FlatteningJoin> flattening_g2_join(const import::Contour& c, const ReportOptions& o) {
+  const BSpline& s = c.spline;
+  for (const StraightChain& chain : straight_chains(c, o)) {
+    if (chain.held_off) continue;
+    FlatteningJoin out;
+    out.join = joint_name(c, chain.joint);
+    out.far = chain.far_joint >= 0 ? joint_name(c, chain.far_joint) : "";
+    // Every control point the chain's pieces hold, at its distance from J's line.
+    const double length = std::sqrt(dot(chain.u, chain.u));
+    for (int piece : chain.pieces)
+      for (int k : segment_points(s, s.segments()[static_cast<std::size_t>(piece)])) {
+        const int point = k % s.unique_point_count();
+        const double d = std::abs(det(s.points()[point] - chain.j, chain.u)) / length;
+        if (d > out.distance) out.distance = d, out.point = point_name(c, point);
+      }
+    if (out.distance > 0) return out;
+  }
+  return std::nullopt;
 }
 
 namespace {
@@ -118,10 +171,6 @@ bool g2_and_extrema(const ReportOptions& o) {
            (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
   });
   return g2 && extrema;
-}
-
-std::string point_name(const import::Contour& c, int k) {
-  return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : std::string("P").append(std::to_string(k));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // Internal to cmr::report: joins of a glyph's contour where no designer's
 // move passes g2-at-smooth-nodes (with an extremum gate), found before the
 // glyph fix searches (report/glyph_fix.cpp), so it says so at once.
+#include <optional>
 #include <string>
 
 #include "io/font.hpp"
@@ -20,9 +21,26 @@ namespace cmr::report::glyph_detail {
 /// stays) off the line's own, so that the chain cannot be straight, is
 /// such a joint, and no move of the source's points passes the gate there.
 /// (Where the chain ends at a corner that may move, or on the line, a
-/// straight chain would pass: not claimed, the search decides.) The
-/// joint's name, or "" when there is none.
+/// straight chain would pass: flattening_g2_join.) Smooth nodes stay
+/// smooth under the designer's moves, so g2 applies along the chain in any
+/// fix as in the source; the tolerance must be below 1 (else g2 passes any
+/// jump). The joint's name, or "" when there is none.
 std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o);
+
+/// The same join where the chain ends at a corner (which may move) or at a
+/// line's end on J's line, or closes on itself: no move of the source's
+/// points passes the gate there unless every piece of the chain is straight
+/// on J's line (J and its line stay: a line's end node is held), so every
+/// fix moves each of the chain's points onto that line, the farthest
+/// (`point`) by at least `distance` (font units): it flattens the curve from
+/// J to `far` (the corner or line end; "" where the chain closes on itself)
+/// into the line rather than fixing it. The first such join; nullopt where
+/// there is none.
+struct FlatteningJoin {
+  std::string join, far, point;
+  double distance = 0;
+};
+std::optional<FlatteningJoin> flattening_g2_join(const import::Contour& c, const ReportOptions& o);
 
 /// A cubic contour's smooth join J of a line and a curve piece S = (J, H1,
 /// H2, F) under g2-at-smooth-nodes and an extremum gate (curvature-extrema-

@@ -804,12 +804,13 @@ TEST(GlyphFix, TheChainSearchWithG2AloneLeavesTheExtremaAlone) {
 // A smooth node J where a line meets a quadratic curve (g2 required): the
 // curve would have to be straight from J up to where the chain of pieces
 // ends, a corner or a line's end (report/glyph_joins.hpp,
-// unmovable_g2_join). The glyph fix refuses at once only where that end is
-// a line's end off J's line (it stays, so no chain through it is
-// straight). Where the chain ends at a corner that may move, a straight
-// chain passes g2 at J and along it, so "no move passes" would be false:
-// shown here on the straightened contour, and not claimed.
-TEST(GlyphFix, ALineToQuadraticJoinIsRefusedOnlyWhereNoStraightChainPasses) {
+// unmovable_g2_join). "No move passes" is claimed only where that end is a
+// line's end off J's line (it stays, so no chain through it is straight).
+// Where the chain ends at a corner that may move, a straight chain passes
+// g2 at J and along it (shown here on the straightened contour), so that
+// is not claimed; what is (flattening_g2_join) is that every fix lays the
+// chain on J's line, and the glyph fix refuses with that at once.
+TEST(GlyphFix, ALineToQuadraticJoinIsRefusedWithWhatEveryFixWouldDo) {
   using T = import::OutlinePoint::Tag;
   // L (0, 0) -- line -- J (100, 0), smooth; (150, 0), (200, 50) conic; F;
   // then `rest` back to L. J's chain: J .. the implied (175, 25) .. F.
@@ -848,6 +849,31 @@ TEST(GlyphFix, ALineToQuadraticJoinIsRefusedOnlyWhereNoStraightChainPasses) {
   const import::Contour on_line = contour({250, 0}, {200, 50}, true);
   EXPECT_EQ(g2_at_j(on_line), 1);
   EXPECT_EQ(report::glyph_detail::unmovable_g2_join(on_line, o), "");
+  // What is claimed there instead (flattening_g2_join): every fix lays the
+  // chain on J's line (y = 0), so its farthest point moves at least its
+  // distance from it: F (p4) 100 units where F is a corner, the handle
+  // (200, 50) (p3) 50 where F is on the line; nothing where the jump is
+  // held off the line (claimed above) or where there is none.
+  const auto flat_free = report::glyph_detail::flattening_g2_join(free, o);
+  ASSERT_TRUE(flat_free.has_value());
+  EXPECT_EQ(flat_free->join, "q/c0/p1");
+  EXPECT_EQ(flat_free->far, "q/c0/p4");
+  EXPECT_EQ(flat_free->point, "q/c0/p4");
+  EXPECT_EQ(flat_free->distance, 100);
+  const auto flat_on_line = report::glyph_detail::flattening_g2_join(on_line, o);
+  ASSERT_TRUE(flat_on_line.has_value());
+  EXPECT_EQ(flat_on_line->point, "q/c0/p3");
+  EXPECT_EQ(flat_on_line->distance, 50);
+  EXPECT_FALSE(report::glyph_detail::flattening_g2_join(held, o).has_value());
+  EXPECT_FALSE(report::glyph_detail::flattening_g2_join(straight, o).has_value());
+  // The glyph fix says so at once.
+  report::GlyphFixOptions options;
+  options.judge = o;
+  import::Glyph g;
+  g.name = "q";
+  g.contours.push_back(free);
+  expect_refused_at_once(g, options, "every fix lays that curve on the line, moving q/c0/p4 at least 100 units",
+                         "q/c0/p1 ");
 }
 
 }  // namespace
