@@ -678,7 +678,12 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
         "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
     return out;
   }
-  if (const std::optional<glyph_detail::FlatteningJoin> flat = flattening_g2_join(c, o)) {
+  // Where every fix flattens a curve by more than a few grid steps it is a curve, not a near-line that a
+  // fix may straighten: refused with what every fix would do. (Within a few steps the search runs: it can
+  // straighten a curve meant to be straight.)
+  constexpr double kFlatteningSteps = 4;
+  if (const std::optional<glyph_detail::FlatteningJoin> flat = flattening_g2_join(c, o);
+      flat && flat->distance > kFlatteningSteps * (options.grid > 0 ? options.grid : 1)) {
     std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
     out.reason = why.append(flat->join)
                      .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, "
