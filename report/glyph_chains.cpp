@@ -330,28 +330,26 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     const bool midpoints = d == 2 && half_of(middle.weights[0], f[0], f[1]) && middle.weights[1].size() == 1 &&
                            middle.weights[1][0].first == f[1] && half_of(middle.weights[2], f[1], f[2]);
     std::vector<Vec2> pos = here;
+    // The passing positions of free point i (0: A, 2: C) for `piece` (its
+    // first or last), B where pos has it; false where the work ran out.
+    const auto ends = [&](std::size_t i, const Piece& piece, std::vector<End>& out_ends) {
+      out_ends.clear();
+      for (std::size_t q = 0; q < options[i].at.size(); ++q) {
+        if (work.spent()) return false;
+        work.charge();
+        pos[f[i]] = options[i].at[q];
+        const std::array<Vec2, 4> bz = bezier(piece, pos);
+        const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
+        const std::array<double, 2> e = end_curvatures(b);
+        if (!std::isfinite(e[0]) || !std::isfinite(e[1]) || !monotone(b)) continue;
+        out_ends.push_back(i == 0 ? End{q, e[0], e[1]} : End{q, e[1], e[0]});
+      }
+      return true;
+    };
     std::vector<End> as, cs;
     for (std::size_t ib = 0; ib < options[1].at.size(); ++ib) {
       pos[f[1]] = options[1].at[ib];
-      as.clear(), cs.clear();
-      for (std::size_t ia = 0; ia < options[0].at.size(); ++ia) {
-        if (work.spent()) return spent = true, std::vector<State>{};
-        work.charge();
-        pos[f[0]] = options[0].at[ia];
-        const std::array<Vec2, 4> bz = bezier(first, pos);
-        const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
-        const std::array<double, 2> e = end_curvatures(b);
-        if (std::isfinite(e[0]) && std::isfinite(e[1]) && monotone(b)) as.push_back({ia, e[0], e[1]});
-      }
-      for (std::size_t ic = 0; ic < options[2].at.size(); ++ic) {
-        if (work.spent()) return spent = true, std::vector<State>{};
-        work.charge();
-        pos[f[2]] = options[2].at[ic];
-        const std::array<Vec2, 4> bz = bezier(last, pos);
-        const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
-        const std::array<double, 2> e = end_curvatures(b);
-        if (std::isfinite(e[0]) && std::isfinite(e[1]) && monotone(b)) cs.push_back({ic, e[1], e[0]});
-      }
+      if (!ends(0, first, as) || !ends(2, last, cs)) return spent = true, std::vector<State>{};
       long pairs = 0;
       for (const End& a : as) {
         pos[f[0]] = options[0].at[a.at];

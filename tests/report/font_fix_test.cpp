@@ -567,13 +567,25 @@ TEST(GlyphFix, TheChainSearchIsTheNearestInItsBoxOnQuadraticRuns) {
   });
 }
 
+// Noto Serif c/c0's points (`j`) where the glyph's fix of commit 369fca8
+// put them, but p19 and p21 moved back along their nodes' tangents: its
+// inner curve's chain fails there.
+std::vector<Vec2> noto_serif_c_fix(const JudgedContour& j) {
+  return j.moved({
+      {0, {284, -3}},   {1, {201, -3}},   {2, {112, 47}},   {3, {64, 172}},   {4, {64, 266}},   {5, {64, 362}},
+      {6, {113, 491}},  {7, {205, 549}},  {8, {279, 549}},  {9, {329, 549}},  {10, {410, 523}}, {11, {447, 478}},
+      {12, {447, 440}}, {13, {447, 405}}, {14, {414, 381}}, {15, {363, 380}}, {16, {368, 442}}, {17, {330, 492}},
+      {18, {278, 492}}, {19, {234, 492}}, {20, {181, 451}}, {21, {158, 355}}, {22, {158, 261}}, {23, {158, 130}},
+      {24, {204, 58}},  {25, {284, 58}},  {26, {342, 58}},  {27, {425, 94}},  {28, {441, 125}}, {29, {453, 114}},
+      {31, {453, 53}},  {32, {421, 18}},  {33, {339, -3}}});
+}
+
 // A run of three off-curve points is one unit too: the two next to its
 // nodes move as a pair's do (glyph_chains.hpp; the middle one, not movable
 // here, is held).
 // Noto Serif c/c0's inner curve runs from p15 (a corner) through the smooth
 // nodes p18, p22 and p25 to p28 (a corner); p19, p20, p21 are a run of
-// three. Every point where the glyph's fix puts it but p19 and p21, moved
-// back along their nodes' tangents: the chain fails. Only p17, p19, p21 and
+// three. At noto_serif_c_fix the chain fails. Only p17, p19, p21 and
 // p23 may move (`movable`), each along its node's tangent, four steps each
 // way: the search's answer must cost what the least-cost position costs
 // among the 6,561 that the gate report passes with every piece of the chain
@@ -585,13 +597,7 @@ TEST(GlyphFix, TheChainSearchMovesTheEndsOfARunOfThree) {
   ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::map<int, int>& at_font = j.at_font;
   ASSERT_EQ(j.src[at_font.at(20)], Vec2(183, 456));
-  const std::vector<Vec2> at = j.moved({
-      {0, {284, -3}},   {1, {201, -3}},   {2, {112, 47}},   {3, {64, 172}},   {4, {64, 266}},   {5, {64, 362}},
-      {6, {113, 491}},  {7, {205, 549}},  {8, {279, 549}},  {9, {329, 549}},  {10, {410, 523}}, {11, {447, 478}},
-      {12, {447, 440}}, {13, {447, 405}}, {14, {414, 381}}, {15, {363, 380}}, {16, {368, 442}}, {17, {330, 492}},
-      {18, {278, 492}}, {19, {234, 492}}, {20, {181, 451}}, {21, {158, 355}}, {22, {158, 261}}, {23, {158, 130}},
-      {24, {204, 58}},  {25, {284, 58}},  {26, {342, 58}},  {27, {425, 94}},  {28, {441, 125}}, {29, {453, 114}},
-      {31, {453, 53}},  {32, {421, 18}},  {33, {339, -3}}});
+  const std::vector<Vec2> at = noto_serif_c_fix(j);
   ASSERT_GT(j.violations(at), 0);
   const int k17 = at_font.at(17), k19 = at_font.at(19), k21 = at_font.at(21), k23 = at_font.at(23);
   constexpr int kSlide = 4;
@@ -606,9 +612,9 @@ TEST(GlyphFix, TheChainSearchMovesTheEndsOfARunOfThree) {
 }
 
 // A run of three's middle point moves too, in a box of half the ends' reach
-// (glyph_chains.hpp, run_of_three). Noto Serif c/c0 where the glyph's fix
-// puts every point, but the run p19, p20, p21's middle point p20 moved off
-// by (3, -3): the chain fails. Only p19, p20 and p21 may move (`movable`):
+// (glyph_chains.hpp, run_of_three). Noto Serif c/c0 as above
+// (noto_serif_c_fix), with the run p19, p20, p21's middle point p20 moved
+// off by (3, -3) too. Only p19, p20 and p21 may move (`movable`):
 // p19 and p21 along their nodes' tangents, four steps each way, p20 four
 // cells each way. The search's answer must cost what the least-cost position
 // costs among the 6,561 that the gate report passes with every piece of the
@@ -620,15 +626,8 @@ TEST(GlyphFix, TheChainSearchMovesTheMiddleOfARunOfThree) {
   const JudgedContour j = judged_contour("c", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kNotoSerif);
   ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::map<int, int>& at_font = j.at_font;
-  const std::vector<Vec2> fixed = j.moved({
-      {0, {284, -3}},   {1, {201, -3}},   {2, {112, 47}},   {3, {64, 172}},   {4, {64, 266}},   {5, {64, 362}},
-      {6, {113, 491}},  {7, {205, 549}},  {8, {279, 549}},  {9, {329, 549}},  {10, {410, 523}}, {11, {447, 478}},
-      {12, {447, 440}}, {13, {447, 405}}, {14, {414, 381}}, {15, {363, 380}}, {16, {368, 442}}, {17, {330, 492}},
-      {18, {278, 492}}, {19, {234, 492}}, {20, {181, 451}}, {21, {158, 355}}, {22, {158, 261}}, {23, {158, 130}},
-      {24, {204, 58}},  {25, {284, 58}},  {26, {342, 58}},  {27, {425, 94}},  {28, {441, 125}}, {29, {453, 114}},
-      {31, {453, 53}},  {32, {421, 18}},  {33, {339, -3}}});
   const int k19 = at_font.at(19), k20 = at_font.at(20), k21 = at_font.at(21);
-  std::vector<Vec2> at = fixed;
+  std::vector<Vec2> at = noto_serif_c_fix(j);
   at[k20] += Vec2(3, -3);
   ASSERT_GT(j.violations(at), 0);
   constexpr int kStep = 4;
