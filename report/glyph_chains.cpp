@@ -367,8 +367,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
             work.charge();
           }
           pos[f[2]] = options[2].at[cc.at];
-          if (const double dd = det(h, pos[f[2]] - pos[f[1]]); midpoints && tol >= 0 && (dd < window[0] || dd > window[1]))
-            continue;
+          const double dd = det(h, pos[f[2]] - pos[f[1]]);
+          if (midpoints && tol >= 0 && (dd < window[0] || dd > window[1])) continue;
           work.charge();
           const std::array<Vec2, 4> bz = bezier(middle, pos);
           const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));

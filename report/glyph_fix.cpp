@@ -686,9 +686,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       flat && flat->distance > kFlatteningSteps * (options.grid > 0 ? options.grid : 1)) {
     std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
     out.reason = why.append(flat->join)
-                     .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, "
-                             "which a quadratic piece has only when straight, and then so would each next piece along "
-                             "the curve, ")
+                     .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to "
+                             "be 0, which a quadratic piece has only when straight, and then so would each next piece "
+                             "along the curve, ")
                      .append(flat->far.empty() ? std::string("all round the contour") : "up to " + flat->far)
                      .append(": every fix lays that curve on the line, moving ")
                      .append(flat->point)

@@ -52,7 +52,7 @@ std::vector<StraightChain> straight_chains(const import::Contour& c, const Repor
     StraightChain chain;
     chain.joint = right;
     chain.j = line_left ? line.back() : line.front(), chain.u = line.back() - line.front();
-    // From J along the curved side (forward: J starts piece `first`), piece by piece.
+    // From J along the curved side (forward: J starts the piece after the line), piece by piece.
     const bool forward = line_left;
     int piece = forward ? right : left;
     for (int step = 0; step < n; ++step) {

@@ -622,7 +622,8 @@ TEST(GlyphFix, TheChainSearchMovesTheEndsOfARunOfThree) {
 // the search answers nothing; with g2's window at the middle piece's start
 // misplaced it misses the least.)
 TEST(GlyphFix, TheChainSearchMovesTheMiddleOfARunOfThree) {
-  if (!fs::exists(kNotoSerif)) GTEST_SKIP() << kNotoSerif << " is not installed (tools/setup.sh installs fonts-noto-core)";
+  if (!fs::exists(kNotoSerif))
+    GTEST_SKIP() << kNotoSerif << " is not installed (tools/setup.sh installs fonts-noto-core)";
   const JudgedContour j = judged_contour("c", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kNotoSerif);
   ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::map<int, int>& at_font = j.at_font;
