@@ -93,6 +93,7 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o) 
 
 std::optional<FlatteningJoin> flattening_g2_join(const import::Contour& c, const ReportOptions& o) {
   const BSpline& s = c.spline;
+  std::optional<FlatteningJoin> best;
   for (const StraightChain& chain : straight_chains(c, o)) {
     if (chain.held_off) continue;
     FlatteningJoin out;
@@ -106,9 +107,9 @@ std::optional<FlatteningJoin> flattening_g2_join(const import::Contour& c, const
         const double d = std::abs(det(s.points()[point] - chain.j, chain.u)) / length;
         if (d > out.distance) out.distance = d, out.point = point_name(c, point);
       }
-    if (out.distance > 0) return out;
+    if (out.distance > 0 && (!best || out.distance > best->distance)) best = std::move(out);
   }
-  return std::nullopt;
+  return best;
 }
 
 namespace {

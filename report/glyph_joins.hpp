@@ -34,8 +34,8 @@ std::string unmovable_g2_join(const import::Contour& c, const ReportOptions& o);
 /// fix moves each of the chain's points onto that line, the farthest
 /// (`point`) by at least `distance` (font units): it flattens the curve from
 /// J to `far` (the corner or line end; "" where the chain closes on itself)
-/// into the line rather than fixing it. The first such join; nullopt where
-/// there is none.
+/// into the line rather than fixing it. Of several such joins the one with
+/// the largest such move (the first of equals); nullopt where there is none.
 struct FlatteningJoin {
   std::string join, far, point;
   double distance = 0;
