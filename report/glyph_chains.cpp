@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -32,6 +33,7 @@ struct State {
 struct Options {
   std::vector<Vec2> at;
   std::vector<double> cost;
+  bool line = false;  ///< `at` is in order along one line (a slide, or a line's grid points)
 };
 
 /// End curvatures of the Bezier piece b (degree d = b.size() - 1 >= 2),
@@ -164,6 +166,17 @@ bool g2_passes(double kl, double kr, double t) { return std::abs(kl - kr) <= t *
 
 }  // namespace
 
+std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2) {
+  // Half-integers below 2^20: the differences are exact, and so are the products (below 2^44) and their sums.
+  const auto half_integer = [](double v) { return std::abs(v) < 0x1p20 && 2 * v == std::trunc(2 * v); };
+  for (const Vec2 p : {b0, b1, b2})
+    if (!half_integer(p.x) || !half_integer(p.y)) return std::nullopt;
+  const Vec2 a = b1 - b0, b = b2 - b1, c = b - a;
+  if (det(a, b) == 0) return true;  // a line: constant (zero) curvature
+  const double s0 = dot(a, c), s1 = dot(b, c);
+  return !((s0 < 0 && s1 > 0) || (s0 > 0 && s1 < 0));
+}
+
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
@@ -260,6 +273,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         add(here[k]);
         return out;
       }
+      out.line = true;
       for (int s = -box.slide_reach; s <= box.slide_reach; ++s) {
         const Vec2 p = here[k] + static_cast<double>(s) * *step;
         if (dot(p - here[node], a) > 0) add(p);  // never through its node
@@ -277,6 +291,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       const std::optional<Vec2> w = grid_vector(line.second, grid);
       if (!w) return out;
       const long j0 = std::lround(dot(here[k] - line.first, *w) / dot(*w, *w));
+      out.line = true;
       for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line.first + static_cast<double>(j) * *w);
       return out;
     }
@@ -294,23 +309,35 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     return bz;
   };
-  // Whether the extrema gate's check of a piece passes (Algorithm 1: certified monotone), when it is judged.
+  // Whether the extrema gate's check of a piece passes (Algorithm 1: certified monotone), when it is judged;
+  // a quadratic piece's by its closed form (quadratic_monotone) where that decides.
   const auto monotone = [&](std::span<const Vec2> b) {
     if (!extrema) return true;
+    if (b.size() == 3)
+      if (const std::optional<bool> q = quadratic_monotone(b[0], b[1], b[2])) return *q;
     const Curvature cv = classify_bezier(b, classify).monotonicity.curvature;
     return cv == Curvature::increasing || cv == Curvature::decreasing || cv == Curvature::constant;
+  };
+  // The work, counted in ticks (kTicksPerUnit a unit): a piece judged costs piece_ticks, a candidate that
+  // the end curvatures reject before any piece is judged kRejectTicks.
+  long ticks = 0;
+  const long piece_ticks = d == 3 ? kCubicPieceTicks : kQuadraticPieceTicks;
+  const auto tick = [&](long n) {
+    ticks += n;
+    work.charge(ticks / kTicksPerUnit);
+    ticks %= kTicksPerUnit;
   };
 
   // A run of three off-curve points (A, B, C) between nodes N0 and N1: the
   // pieces (N0, A, M1), (M1, B, M2), (M2, C, N1), M1 = (A + B) / 2 and M2 =
   // (B + C) / 2. For each position of B, the first piece depends on A alone
-  // and the last on C alone, so each is judged once per position (a unit of
-  // work each). Of the pairs (A, C) of passing pieces (a unit of work per
-  // 64), only those whose middle piece's start curvature, linear in C, lies
-  // in g2's window at M1 have the middle piece's end curvatures computed
-  // (a unit each), and only those where g2 passes at M1 and M2 have it
-  // judged. Its passing states, B in `inner`; none where the work ran out
-  // (`spent`).
+  // and the last on C alone, so each is judged once per position. Of the
+  // pairs (A, C) of passing pieces (each a rejected candidate's work), only
+  // those where the middle piece's curvature at one implied node (linear in
+  // the other end point) lies in g2's window there have its end curvatures
+  // computed, and only those where g2 passes at M1 and M2 have it judged (a
+  // piece's work; kTicksPerUnit). Its passing states, B in `inner`; none
+  // where the work ran out (`spent`).
   const auto run_of_three = [&](const Unit& unit, const std::vector<Options>& options, bool& spent) {
     std::vector<State> out;
     const std::vector<int>& f = unit.free;
@@ -336,7 +363,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       out_ends.clear();
       for (std::size_t q = 0; q < options[i].at.size(); ++q) {
         if (work.spent()) return false;
-        work.charge();
+        tick(piece_ticks);
         pos[f[i]] = options[i].at[q];
         const std::array<Vec2, 4> bz = bezier(piece, pos);
         const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
@@ -346,35 +373,56 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       }
       return true;
     };
+    // Of the two end points, the inner loop's is one whose positions are in order along a line, where
+    // either is (C first): there the prefilter's passing positions lie between two binary searches.
+    const std::size_t outer = options[0].line && !options[2].line ? 2 : 0, inner = 2 - outer;
+    const bool prefilter = midpoints && tol >= 0;
     std::vector<End> as, cs;
     for (std::size_t ib = 0; ib < options[1].at.size(); ++ib) {
       pos[f[1]] = options[1].at[ib];
       if (!ends(0, first, as) || !ends(2, last, cs)) return spent = true, std::vector<State>{};
+      const std::vector<End>& outers = outer == 0 ? as : cs;
+      const std::vector<End>& inners = outer == 0 ? cs : as;
       long pairs = 0;
-      for (const End& a : as) {
-        pos[f[0]] = options[0].at[a.at];
-        // g2 at M1 first, on D = det(B - A, C - B) alone: the middle piece's start curvature is
-        // c det((B - A) / 2, (C - B) / 2) / |(B - A) / 2|^3 = 2 c D / |B - A|^3, so the C that pass
-        // have D in passing_left(kl) scaled (widened by a margin far above the doubles' rounding).
-        const Vec2 h = pos[f[1]] - pos[f[0]];
+      for (const End& o_end : outers) {
+        pos[f[outer]] = options[outer].at[o_end.at];
+        // g2 at the outer end's implied node first, on D = det(B - A, C - B) alone: the middle piece's
+        // curvature there is c det((B - A) / 2, (C - B) / 2) / |h / 2|^3 = 2 c D / |h|^3, h = B - A at M1
+        // (read from M2 backwards, the same with h = C - B), so the inner positions that pass have D in
+        // passing_left of the outer piece's curvature there, scaled (widened by a margin far above the
+        // doubles' rounding). D is linear in the inner point.
+        const Vec2 h = pos[f[1]] - pos[f[outer]];
         const double scale = 2 * (d - 1.0) / d / (dot(h, h) * std::sqrt(dot(h, h)));
-        std::array<double, 2> window = passing_left(a.k_inner, tol);
+        std::array<double, 2> window = passing_left(o_end.k_inner, tol);
         const double margin = 1e-9 * std::max(std::abs(window[0]), std::abs(window[1])) + 1e-300;
         window = {(window[0] - margin) / scale, (window[1] + margin) / scale};
-        for (const End& cc : cs) {
-          if (++pairs % 64 == 0) {
-            if (work.spent()) return spent = true, std::vector<State>{};
-            work.charge();
-          }
-          pos[f[2]] = options[2].at[cc.at];
-          const double dd = det(h, pos[f[2]] - pos[f[1]]);
-          if (midpoints && tol >= 0 && (dd < window[0] || dd > window[1])) continue;
-          work.charge();
+        const auto D = [&](const End& e) {
+          const Vec2 p = options[inner].at[e.at], b = pos[f[1]];
+          return outer == 0 ? det(b - pos[f[0]], p - b) : det(b - p, pos[f[2]] - b);
+        };
+        // Where the inner positions are in order along a line, D is linear along them, and those that pass
+        // lie between two binary searches (a rejected candidate's work per step).
+        auto from = inners.begin(), to = inners.end();
+        if (prefilter && options[inner].line && !inners.empty()) {
+          const bool rising = D(inners.front()) <= D(inners.back());
+          from = std::partition_point(inners.begin(), inners.end(),
+                                      [&](const End& e) { return rising ? D(e) < window[0] : D(e) > window[1]; });
+          to = std::partition_point(from, inners.end(),
+                                    [&](const End& e) { return rising ? D(e) <= window[1] : D(e) >= window[0]; });
+          tick(kRejectTicks * (2 + 2 * static_cast<long>(std::bit_width(inners.size()))));
+        }
+        for (auto i_end = from; i_end != to; ++i_end) {
+          if (++pairs % 64 == 0 && work.spent()) return spent = true, std::vector<State>{};
+          tick(kRejectTicks);
+          if (prefilter && (D(*i_end) < window[0] || D(*i_end) > window[1])) continue;
+          pos[f[inner]] = options[inner].at[i_end->at];
+          const End &a = outer == 0 ? o_end : *i_end, &cc = outer == 0 ? *i_end : o_end;
           const std::array<Vec2, 4> bz = bezier(middle, pos);
           const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
           const std::array<double, 2> e = end_curvatures(b);
           // At the implied nodes judged as the gate judges them (the header).
           if (tol >= 0 && (!g2_passes(a.k_inner, e[0], tol) || !g2_passes(e[1], cc.k_inner, tol))) continue;
+          tick(piece_ticks);
           if (!monotone(b)) continue;
           out.push_back({pos[f[0]], pos[f[2]], a.k_node, cc.k_node,
                          options[0].cost[a.at] + options[1].cost[ib] + options[2].cost[cc.at], pos[f[1]]});
@@ -433,15 +481,18 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     for (const Options& op : options)
       if (op.at.empty()) return out;
     if (f.size() == 3) return run_of_three(unit, options, spent);
-    // Every combination, the last point's positions fastest.
+    // Every combination, the last point's positions fastest. Each piece's
+    // end curvatures first and g2 at the implied nodes inside the unit (a
+    // few products; a combination it rejects costs kRejectTicks), then each
+    // piece's extrema check (piece_ticks each).
     std::vector<std::size_t> pick(options.size(), 0);
     std::vector<Vec2> pos = here;
+    std::vector<std::array<Vec2, 4>> bz(unit.segments.size());
     for (bool more = true; more;) {
       if (work.spent()) {
         spent = true;
         return std::vector<State>{};
       }
-      work.charge();
       double cost = 0;
       for (std::size_t i = 0; i < options.size(); ++i)
         pos[f[i]] = options[i].at[pick[i]], cost += options[i].cost[pick[i]];
@@ -453,16 +504,22 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       double k0 = 0, k1 = 0;
       bool passes = true;
       for (std::size_t p = 0; p < unit.segments.size() && passes; ++p) {
-        const std::array<Vec2, 4> bz = bezier(pieces[static_cast<std::size_t>(unit.segments[p])], pos);
-        const std::span<const Vec2> b_points(bz.data(), static_cast<std::size_t>(d + 1));
-        if (!monotone(b_points)) passes = false;
-        const std::array<double, 2> e = end_curvatures(b_points);
+        bz[p] = bezier(pieces[static_cast<std::size_t>(unit.segments[p])], pos);
+        const std::array<double, 2> e = end_curvatures({bz[p].data(), static_cast<std::size_t>(d + 1)});
         if (!std::isfinite(e[0]) || !std::isfinite(e[1])) passes = false;
         if (p == 0) k0 = e[0];
         // At an implied node inside the unit both sides' G is the same leg's, so A_l / A_r, a ratio of
         // small integers, meets the tolerance exactly as often as not: judged as the gate judges it.
         if (p > 0 && tol >= 0 && !g2_passes(k1, e[0], tol)) passes = false;
         k1 = e[1];
+      }
+      if (!passes) {
+        tick(kRejectTicks);
+        continue;
+      }
+      for (std::size_t p = 0; p < unit.segments.size() && passes; ++p) {
+        tick(piece_ticks);
+        passes = monotone({bz[p].data(), static_cast<std::size_t>(d + 1)});
       }
       if (passes) out.push_back({pos[f.front()], pos[f.back()], k0, k1, cost});
     }
@@ -576,6 +633,20 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   return result;
 }
 
+std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
+                                                      const std::vector<int>& movable, const ReportOptions& o,
+                                                      double grid, double max_move, Work& work) {
+  std::vector<Vec2> at = src;
+  for (const int reach : kGrowingReach) {
+    const std::optional<ChainResult> r =
+        chain_search(c, src, at, movable, o, grid, max_move, work, {reach, kGrowingSlidePerCell * reach});
+    if (!r) return std::nullopt;
+    at = r->points;
+    if (r->solved == r->chains) return at;
+    if (work.spent()) return std::nullopt;
+  }
+  return std::nullopt;
+}
 
 }  // namespace cmr::report::glyph_detail
 

@@ -46,6 +46,7 @@
 // judged as the gate judges it. At an explicit node (a window bound in
 // the shortest path) it is judged with a margin of 1e-6 of the tolerance
 // (far above the doubles' rounding, far below a grid step's effect).
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -70,6 +71,28 @@ struct ChainBox {
 /// fix moves): 9 x 9 cells a free handle, 49 steps a sliding one.
 inline constexpr ChainBox kChainSettleBox{4, 24};
 
+/// The chain search's work, in ticks of a unit (Work): a cubic piece judged
+/// (end curvatures and Algorithm 1) an eighth of a unit, a quadratic one
+/// (end curvatures and quadratic_monotone) or a candidate that the end
+/// curvatures reject before any piece is judged a 64th. So a unit takes
+/// about as long as one of the other searches' (1.5-4.5 us on the project's
+/// VM): charged a unit each, the chain search's took 0.17 us (cubic) and
+/// 0.2-0.3 us (quadratic; before the closed form).
+inline constexpr long kTicksPerUnit = 512, kCubicPieceTicks = 64, kQuadraticPieceTicks = 8, kRejectTicks = 8;
+
+/// Whether the quadratic Bezier piece (b0, b1, b2) has monotone curvature
+/// (Algorithm 1's verdict: increasing, decreasing or constant), in closed
+/// form. With a = b1 - b0, b = b2 - b1 and c = b - a, P'(t) = 2 (a + t c)
+/// and P'' = 2 c, so det(P', P'') = 4 det(a, b) is constant, P''' = 0 and
+/// lambda = -3 det(P', P'') (P' . P'') has degree 4n - 7 = 1: its Bernstein
+/// coefficients are -48 det(a, b) (a . c) and -48 det(a, b) (b . c). So the
+/// curvature is monotone exactly where det(a, b) = 0 or a . c and b . c are
+/// not of strictly opposite signs. Exact where every coordinate is a
+/// half-integer below 2^20 in magnitude (grid 1: the nodes and off-curve
+/// points, and the implied nodes between them); nullopt elsewhere (the
+/// caller asks Algorithm 1).
+std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2);
+
 /// The chain search from `at` (the contour's distinct points; `src` the
 /// source's): each chain that holds a violation of `o` at `at` (`every`:
 /// each chain) is replaced by its nearest passing handle positions (a
@@ -82,9 +105,9 @@ inline constexpr ChainBox kChainSettleBox{4, 24};
 /// led the searches after it to farther fixes, as on Nimbus Sans b, d and
 /// q's counters). Applies where `o` has only curvature-extrema-at-nodes and
 /// g2-at-smooth-nodes and the contour is a closed polynomial cubic or
-/// quadratic with an explicit node; nullopt elsewhere. Work: one unit per
-/// candidate position of a unit judged (and per unit of each path of a
-/// closed chain); where it runs out, no chain is answered.
+/// quadratic with an explicit node; nullopt elsewhere. Work: as
+/// kTicksPerUnit says per candidate of a unit, and a unit per unit of each
+/// path of a closed chain; where it runs out, no chain is answered.
 struct ChainResult {
   std::vector<Vec2> points;  ///< `at` with every chain answered moved to its answer
   int chains = 0;            ///< the chains searched: those failing at `at` (every one with `every`)
@@ -95,5 +118,19 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
                                         const ChainBox& box = {}, bool every = false);
+
+/// The chain search with a growing box: from the source `src`, boxes of
+/// reach 8, 16 and 24 cells (a slide 6 grid steps a cell each way), each
+/// searching only the chains that still fail where the one before left the
+/// contour. Its answer where every chain is answered (all: each passes as
+/// chain_search says, nodes held); nullopt where a box of 24 cells leaves a
+/// chain unanswered, the work runs out, or the search does not apply.
+/// Measured on Noto Serif's quadratic contours, which no other search fixes
+/// under both type gates: `s` at 16 cells, `S` and `C` at 24.
+inline constexpr std::array<int, 3> kGrowingReach{8, 16, 24};
+inline constexpr int kGrowingSlidePerCell = 6;
+std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
+                                                      const std::vector<int>& movable, const ReportOptions& o,
+                                                      double grid, double max_move, Work& work);
 
 }  // namespace cmr::report::glyph_detail

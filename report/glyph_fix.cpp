@@ -29,6 +29,7 @@ using glyph_detail::Badness;
 using glyph_detail::chain_search;
 using glyph_detail::exactly_smooth;
 using glyph_detail::grid_vector;
+using glyph_detail::growing_chain_search;
 using glyph_detail::LatticeUnit;
 using glyph_detail::QuickJudge;
 using glyph_detail::local_judge;
@@ -726,16 +727,31 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // The chain search first (glyph_chains.hpp: nodes held, each failing chain's nearest handles in a box):
   // where it answers every chain the contour passes; where it answers some, the searches below start there.
   // Cubic contours only: on quadratic ones (TrueType) its answer led the searches after it to farther
-  // fixes (DejaVu Sans G, both type gates: 3,962 -> 4,076 units^2); they get it in the settling.
+  // fixes (DejaVu Sans G, both type gates: 3,962 -> 4,076 units^2); they get the growing box below.
+  const int distinct = c.spline.unique_point_count();
+  const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
   if (several && options.grid > 0 && c.spline.degree() == 3) {
-    const int m = c.spline.unique_point_count();
-    const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
     if (const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work);
         r && r->solved > 0) {
       const BSpline s = with_points(c, r->points);
       if (const int left = judge(s); left < current_total && smooth_kept(c, s)) current = s, current_total = left;
     }
   }
+  // Quadratic contours: the chain search with a growing box (glyph_chains.hpp), in up to half the
+  // contour's work. Where it answers every chain it is a fix (nodes held), and the searches below then get
+  // half of what is left; where they find a fix too, both are settled in the rest and the nearer is kept.
+  // Theirs move nodes too, and settle nearer on DejaVu Sans G; on Noto Serif's C, S and s, whose runs of
+  // three off-curve points move far, no search but this one finds a fix.
+  std::optional<BSpline> chained;
+  if (several && options.grid > 0 && c.spline.degree() == 2) {
+    const long whole = work.cap(work.left() / 2);
+    if (const auto at = growing_chain_search(c, src, movable, o, options.grid, options.max_move, work)) {
+      const BSpline s = with_points(c, *at);
+      if (judge(s) == 0 && smooth_kept(c, s)) chained = s;
+    }
+    work.release(whole);
+  }
+  const long searches_end = chained ? work.cap(work.left() / 2) : 0;
   std::optional<BSpline> descended;
   if (several && options.grid > 0 && current_total > 0) {
     const long whole = work.cap(work.left() / 2);
@@ -790,8 +806,6 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   }
   work.release(search_end);
   if (descended) {
-    const int m = c.spline.unique_point_count();
-    const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
     if (current_total > 0 || squared_move(src, descended->points()) <= squared_move(src, current.points())) {
       current = std::move(*descended), current_total = 0;
       out.off_grid_distance = 0;  // the descent is on the grid throughout
@@ -809,6 +823,19 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     if (!next) break;
     current = std::move(next->first);
     current_total = next->second;
+  }
+  if (chained) {
+    work.release(searches_end);
+    if (current_total > 0) {
+      current = std::move(*chained), current_total = 0, out.off_grid_distance = 0;
+    } else {  // both fixes, each settled in half of what is left: the nearer kept (settled, the order can change)
+      const long half = work.cap(work.left() / 2);
+      settle(c, current, movable, options, o, work);
+      work.release(half);
+      settle(c, *chained, movable, options, o, work);
+      if (squared_move(src, chained->points()) < squared_move(src, current.points()))
+        current = std::move(*chained), out.off_grid_distance = 0;
+    }
   }
   if (current_total > 0) {
     // Where the work ran out, the last search's own reason (often its count
