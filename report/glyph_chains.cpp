@@ -180,7 +180,7 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2) {
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box, bool every) {
+                                        const ChainBox& box, bool every, bool all_or_none) {
   const BSpline& source = c.spline;
   const int d = source.degree();
   if (o.require || o.gates.empty() || source.is_rational() || (d != 2 && d != 3) || !source.closed())
@@ -546,15 +546,26 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // Each unit's states, once; the failing units first, since a chain with
   // a unit that no position in the box makes monotone (its nodes would
   // have to move) has no answer, and that is found cheapest so.
+  // With all_or_none, one hopeless chain ends the search: the failing units
+  // of every chain, those with fewer free points (cheaper) first.
   std::vector<std::optional<std::vector<State>>> states(nu);
   std::vector<char> hopeless(chains.size(), 0);
   bool spent = false;
-  for (std::size_t h = 0; h < chains.size() && !spent; ++h)
+  std::vector<std::pair<std::size_t, int>> failing;  // (chain, unit)
+  for (std::size_t h = 0; h < chains.size(); ++h)
     for (int u : chains[h])
-      if (failing_unit[u] && !hopeless[h]) {
-        states[u] = states_of(u, spent);
-        hopeless[h] = states[u]->empty();
-      }
+      if (failing_unit[u]) failing.push_back({h, u});
+  if (all_or_none)
+    std::stable_sort(failing.begin(), failing.end(), [&](const auto& x, const auto& y) {
+      return units[x.second].free.size() < units[y.second].free.size();
+    });
+  for (const auto& [h, u] : failing) {
+    if (spent) break;
+    if (hopeless[h]) continue;
+    states[u] = states_of(u, spent);
+    hopeless[h] = states[u]->empty();
+    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0};
+  }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])
       if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
@@ -639,7 +650,7 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
   std::vector<Vec2> at = src;
   for (const int reach : kGrowingReach) {
     const std::optional<ChainResult> r =
-        chain_search(c, src, at, movable, o, grid, max_move, work, {reach, kGrowingSlidePerCell * reach});
+        chain_search(c, src, at, movable, o, grid, max_move, work, {reach, kGrowingSlidePerCell * reach}, false, true);
     if (!r) return std::nullopt;
     at = r->points;
     if (r->solved == r->chains) return at;

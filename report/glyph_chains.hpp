@@ -108,6 +108,9 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2);
 /// quadratic with an explicit node; nullopt elsewhere. Work: as
 /// kTicksPerUnit says per candidate of a unit, and a unit per unit of each
 /// path of a closed chain; where it runs out, no chain is answered.
+/// `all_or_none`: where one chain has no answer none is answered, and the
+/// search ends at the first failing unit with no passing position (the
+/// failing units with fewer free points first).
 struct ChainResult {
   std::vector<Vec2> points;  ///< `at` with every chain answered moved to its answer
   int chains = 0;            ///< the chains searched: those failing at `at` (every one with `every`)
@@ -117,7 +120,7 @@ struct ChainResult {
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box = {}, bool every = false);
+                                        const ChainBox& box = {}, bool every = false, bool all_or_none = false);
 
 /// The chain search with a growing box: from the source `src`, boxes of
 /// reach 8, 16 and 24 cells (a slide 6 grid steps a cell each way), each
