@@ -49,6 +49,7 @@ using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
 using glyph_detail::flattening_g2_join;
 using glyph_detail::unmovable_g2_join;
+using glyph_detail::pinned_quadratic_turn;
 using glyph_detail::Work;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
@@ -714,6 +715,25 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
         "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
         "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
         "passes both gates (add an on-curve point, or accept the jump)");
+    return out;
+  }
+  if (const std::optional<glyph_detail::PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
+    const auto name = [&](int k) {
+      std::string p = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
+      return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : p.append(std::to_string(k));
+    };
+    std::string why = "the extremum gate: the quadratic piece ";  // appended: GCC 12 warns (-Wrestrict)
+    out.reason = why.append(name(turn->n0))
+                     .append(", ")
+                     .append(name(turn->b))
+                     .append(", ")
+                     .append(name(turn->n1))
+                     .append(" turns by ")
+                     .append(format_number(turn->degrees, 3))
+                     .append(" degrees between two smooth nodes, whose tangents every move keeps, so its off-curve "
+                             "point stays where they cross and the piece keeps its turn; a quadratic piece that turns "
+                             "by 90 degrees or more has a curvature extremum inside, so no move of the points passes "
+                             "(add an on-curve point, or accept the extremum)");
     return out;
   }
   BSpline current = c.spline;

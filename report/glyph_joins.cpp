@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "design/fix.hpp"
 #include "report/batch.hpp"
 #include "report/contour_moves.hpp"
+#include "report/glyph_settle.hpp"
 
 namespace cmr::report::glyph_detail {
 
@@ -208,6 +210,31 @@ std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& 
     return point_name(c, x.j);
   }
   return "";
+}
+
+std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const ReportOptions& o) {
+  const BSpline& s = c.spline;
+  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+    return g.kind == Gate::Kind::extrema_at_nodes ||
+           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
+  });
+  if (!extrema || !(o.constant_tolerance < 0.5) || s.degree() != 2 || s.is_rational() || !s.closed()) return {};
+  const int m = static_cast<int>(c.node.size());
+  if (m < 3 || s.unique_point_count() != m || static_cast<int>(c.font_point.size()) != m) return {};
+  const std::vector<Vec2> P(s.points().begin(), s.points().begin() + m);
+  for (int b = 0; b < m; ++b) {
+    const int n0 = (b + m - 1) % m, n1 = (b + 1) % m;
+    if (c.node[b] || c.font_point[b] < 0 || !c.node[n0] || !c.node[n1] || c.font_point[n0] < 0 ||
+        c.font_point[n1] < 0)
+      continue;
+    if (!grid(P[n0]) || !grid(P[b]) || !grid(P[n1]) || !exactly_smooth(P, m, n0) || !exactly_smooth(P, m, n1))
+      continue;
+    const Vec2 u = P[b] - P[n0], v = P[n1] - P[b];
+    if (det(u, v) == 0 || dot(u, v) > 0) continue;
+    const double cosine = dot(u, v) / std::sqrt(dot(u, u) * dot(v, v));
+    return PinnedTurn{n0, b, n1, std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi};
+  }
+  return {};
 }
 
 }  // namespace cmr::report::glyph_detail

@@ -102,4 +102,33 @@ std::string square_cubic_line_join(const import::Contour& c, const ReportOptions
 /// Heros r's stem and arch).
 std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& o);
 
+/// A quadratic contour's piece (N0, B, N1) from one exactly smooth node to
+/// the next, its one off-curve point B the handle of both, that turns by
+/// 90 degrees or more (and less than 180), under an extremum gate
+/// (curvature-extrema-at-nodes, or max-extrema-per-segment:0). The
+/// designer's moves keep each smooth node's tangent direction (its group
+/// translates, its handles slide, never through it), so B stays where the
+/// two tangents cross, a = B - N0 and b = N1 - B keep their directions, and
+/// the piece keeps its turn. With c = b - a its lambda has the Bernstein
+/// coefficients -48 det(a, b) (a . c) and -48 det(a, b) (b . c)
+/// (quadratic_monotone); a . b <= 0 gives a . c = a . b - |a|^2 < 0 and b .
+/// c = |b|^2 - a . b > 0, and det(a, b) != 0, so the curvature has an
+/// extremum strictly inside, at t* = a . (a - b) / |a - b|^2. No cusp (P' =
+/// 2 (a + t c) != 0 where a and b are not parallel). Not near constant:
+/// with Q(t) = |a + t c|^2 and kappa = |det(a, b)| / (2 Q^(3/2)), the
+/// largest |kappa| (at t*, Q* = det(a, b)^2 / |c|^2 <= |a|^2 |b|^2 / (|a|^2
+/// + |b|^2), since |c|^2 = |a|^2 + |b|^2 - 2 a . b) is at least 2^(3/2)
+/// times the smaller end's (Q = max(|a|^2, |b|^2)), and it times the control
+/// polygon's length is at least the turn, pi / 2, so the turning deviation
+/// (report.hpp) is at least (1 - 2^(-3/2)) pi / 4 > 0.5: no constant
+/// tolerance below 0.5 exempts it. So no move passes the gate. Exact for
+/// font units (integers within 2^24). Each such piece's (N0, B, N1) point
+/// indices and its turn in degrees; the first, nullopt where there is none.
+/// Test: GlyphFix.AQuadraticTurnPinnedBetweenSmoothNodesIsRefused.
+struct PinnedTurn {
+  int n0 = 0, b = 0, n1 = 0;
+  double degrees = 0;
+};
+std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const ReportOptions& o);
+
 }  // namespace cmr::report::glyph_detail

@@ -39,6 +39,7 @@ namespace fs = std::filesystem;
 const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
 const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 const char* kNotoSerif = "/usr/share/fonts/truetype/noto/NotoSerif-Regular.ttf";
+const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -804,6 +805,60 @@ TEST(GlyphFix, QuadraticMonotoneIsAlgorithmOne) {
   EXPECT_LT(monotone, 18000);
   EXPECT_GT(boundary, 5000);
   EXPECT_FALSE(report::glyph_detail::quadratic_monotone({0.1, 0}, {1, 1}, {2, 0}).has_value());
+}
+
+// A quadratic piece between two exactly smooth nodes, its one off-curve
+// point the handle of both, that turns by 90 degrees or more: the glyph fix
+// refuses it at once (report/glyph_joins.hpp, pinned_quadratic_turn). The
+// derivation, held to Algorithm 1 and to the gate's own extremum count: with
+// the legs' directions kept (the moves keep the nodes' tangents), every
+// length of each leg from 1 to 24 units gives a piece with a curvature
+// extremum strictly inside, at turns of 90, 117 and 135 degrees. A contour
+// of four quarter turns is found (90 degrees); one of eight 45-degree turns
+// is not; Noto Sans c (its counter's corner p15, p16, p17) is refused at
+// once, where before its work ran out.
+TEST(GlyphFix, AQuadraticTurnPinnedBetweenSmoothNodesIsRefused) {
+  report::ReportOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes", o);
+  o.regions = false;
+  ClassifyOptions classify;
+  classify.inflection = false;
+  for (const Vec2 dir_b : {Vec2(0, 1), Vec2(-1, 2), Vec2(-1, 1)})
+    for (int la = 1; la <= 24; ++la)
+      for (int lb = 1; lb <= 24; ++lb) {
+        const Vec2 n0(0, 0), b = n0 + static_cast<double>(la) * Vec2(1, 0), n1 = b + static_cast<double>(lb) * dir_b;
+        const std::array<Vec2, 3> piece{n0, b, n1};
+        const Curvature cv = classify_bezier(piece, classify).monotonicity.curvature;
+        EXPECT_TRUE(cv != Curvature::increasing && cv != Curvature::decreasing && cv != Curvature::constant)
+            << la << " " << lb;
+        const BSpline s = BSpline::bezier({n0, b, n1});
+        int violations = 0;
+        for (const report::GateResult& g : report::gate_report(s, o).gates)
+          violations += static_cast<int>(g.violations.size());
+        EXPECT_EQ(violations, 1) << la << " " << lb;
+      }
+  using T = import::OutlinePoint::Tag;
+  const auto contour = [](const std::vector<Vec2>& corners) {  // nodes at the corners' midpoints
+    std::vector<import::OutlinePoint> pts;
+    for (std::size_t i = 0; i < corners.size(); ++i)
+      pts.push_back({(corners[i] + corners[(i + 1) % corners.size()]) / 2.0, T::on}),
+          pts.push_back({corners[(i + 1) % corners.size()], T::conic});
+    return *import::outline_contour(pts, 0, 2, "o", import::PointNaming::source);
+  };
+  const std::optional<report::glyph_detail::PinnedTurn> square =
+      report::glyph_detail::pinned_quadratic_turn(contour({{0, 0}, {200, 0}, {200, 200}, {0, 200}}), o);
+  ASSERT_TRUE(square.has_value());
+  EXPECT_EQ(square->degrees, 90);
+  EXPECT_FALSE(report::glyph_detail::pinned_quadratic_turn(
+                   contour({{0, 40}, {40, 0}, {120, 0}, {160, 40}, {160, 120}, {120, 160}, {40, 160}, {0, 120}}), o)
+                   .has_value());
+  if (!fs::exists(kNotoSans))
+    GTEST_SKIP() << kNotoSans << " is not installed (tools/setup.sh installs fonts-noto-core)";
+  const import::Font font = import::read_font(kNotoSans, import::parse_glyph_spec("c"));
+  report::GlyphFixOptions options;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", options.judge);
+  options.judge.regions = false;
+  expect_refused_at_once(font.glyphs.at(0), options, "turns by 90 degrees between two smooth nodes", "p16");
 }
 
 // A chain that meets a line smoothly: g2 there needs the curve's end
