@@ -194,6 +194,28 @@ import::Glyph cubic_glyph(const std::string& name,
   return g;
 }
 
+// The glyph fix of `glyph` (its first glyph) in `font` under both type
+// gates, at the default work.
+struct BothGatesFix {
+  import::Font font;
+  report::GlyphFixOptions options;
+  std::vector<report::ContourFix> fixes;
+  /// One contour, fixed and settled (else the reason, or that it has several).
+  ::testing::AssertionResult one_settled_fix() const {
+    if (fixes.size() != 1) return ::testing::AssertionFailure() << fixes.size() << " contours";
+    if (!fixes[0].fixed || !fixes[0].settled)
+      return ::testing::AssertionFailure() << "not settled: " << fixes[0].reason;
+    return ::testing::AssertionSuccess();
+  }
+};
+BothGatesFix both_gates_fix(const char* font, const char* glyph) {
+  BothGatesFix f{import::read_font(font, import::parse_glyph_spec(glyph)), {}, {}};
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", f.options.judge);
+  f.options.judge.regions = false;
+  f.fixes = report::fix_glyph(f.font.glyphs.at(0), f.options);
+  return f;
+}
+
 // The glyph fix under both type gates (`o`) refuses one-contour glyph `g`
 // at once (no search: under 2 s) with a reason that holds `why` and `node`.
 void expect_refused_at_once(const import::Glyph& g, const report::GlyphFixOptions& o, const std::string& why,
@@ -678,20 +700,14 @@ TEST(GlyphFix, TheGrowingChainSearchAnswersEveryChain) {
 TEST(GlyphFix, TheGrowingChainSearchFixesAGlyphNoOtherSearchFixes) {
   if (!fs::exists(kNotoSerif))
     GTEST_SKIP() << kNotoSerif << " is not installed (tools/setup.sh installs fonts-noto-core)";
-  const import::Font font = import::read_font(kNotoSerif, import::parse_glyph_spec("s"));
-  ASSERT_EQ(font.glyphs.size(), 1u);
-  report::GlyphFixOptions options;
-  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", options.judge);
-  options.judge.regions = false;
-  const std::vector<report::ContourFix> fixes = report::fix_glyph(font.glyphs[0], options);
-  ASSERT_EQ(fixes.size(), 1u);
-  ASSERT_TRUE(fixes[0].fixed) << fixes[0].reason;
-  EXPECT_TRUE(fixes[0].settled);
-  const import::Contour& c = font.glyphs[0].contours[0];
+  const BothGatesFix f = both_gates_fix(kNotoSerif, "s");
+  ASSERT_TRUE(f.one_settled_fix());
+  const std::vector<report::ContourFix>& fixes = f.fixes;
+  const import::Contour& c = f.font.glyphs[0].contours[0];
   BSpline fixed = c.spline;
   for (const PointMove& mv : fixes[0].moves) fixed = fixed.with_point(mv.point, mv.to);
   int left = 0;
-  for (const report::GateResult& g : report::gate_report(fixed, report::judge_only(options.judge)).gates)
+  for (const report::GateResult& g : report::gate_report(fixed, report::judge_only(f.options.judge)).gates)
     for (const report::GateViolation& v : g.violations) left += !v.info;
   EXPECT_EQ(left, 0);
 }
@@ -968,21 +984,15 @@ TEST(GlyphFix, TheChainSearchClosesAContourSmoothAllRound) {
 // fix cost 91 units^2, and the chain search found 87.)
 TEST(GlyphFix, ASettledFixHasTheNearestHandlesOfEveryChainInItsBox) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("y"));
-  ASSERT_EQ(font.glyphs.size(), 1u);
-  report::GlyphFixOptions options;
-  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", options.judge);
-  options.judge.regions = false;
-  const std::vector<report::ContourFix> fixes = report::fix_glyph(font.glyphs[0], options);
-  ASSERT_EQ(fixes.size(), 1u);
-  ASSERT_TRUE(fixes[0].fixed) << fixes[0].reason;
-  ASSERT_TRUE(fixes[0].settled);
-  const import::Contour& c = font.glyphs[0].contours[0];
+  const BothGatesFix f = both_gates_fix(kNimbus, "y");
+  ASSERT_TRUE(f.one_settled_fix());
+  const std::vector<report::ContourFix>& fixes = f.fixes;
+  const import::Contour& c = f.font.glyphs[0].contours[0];
   const int m = c.spline.unique_point_count();
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + m);
   std::vector<Vec2> fixed = src;
   for (const PointMove& mv : fixes[0].moves) fixed[mv.point] = mv.to;
-  const report::ReportOptions o = report::judge_only(options.judge);
+  const report::ReportOptions o = report::judge_only(f.options.judge);
   report::glyph_detail::Work work(report::kGlyphWork, 60);
   const std::optional<report::glyph_detail::ChainResult> r = report::glyph_detail::chain_search(
       c, src, fixed, report::contour_moves(c).points, o, 1, 0, work, report::glyph_detail::kChainSettleBox, true);
