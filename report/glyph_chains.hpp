@@ -33,7 +33,8 @@
 // predecessor is a sliding-window minimum: O(N log N) for N states.
 //
 // Without the extrema gate every candidate passes it; with it, the extrema
-// check of a candidate is Algorithm 1, exact (classify_bezier):
+// check of a candidate is Algorithm 1, exact (classify_bezier; a
+// quadratic piece's its closed form, quadratic_monotone, the same verdict):
 // monotone curvature (increasing, decreasing or constant) passes, anything
 // else is left out. That is stricter than the gate, which also passes a
 // piece with a cusp or a near-constant curvature, so the answer is the
@@ -125,7 +126,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
 /// The chain search with a growing box: from the source `src`, boxes of
 /// reach 8, 16 and 24 cells (a slide 6 grid steps a cell each way), each
 /// searching only the chains that still fail where the one before left the
-/// contour. Its answer where every chain is answered (all: each passes as
+/// contour, all_or_none (only an answer to every chain is used). Its answer
+/// where every chain is answered (all: each passes as
 /// chain_search says, nodes held); nullopt where a box of 24 cells leaves a
 /// chain unanswered, the work runs out, or the search does not apply.
 /// Measured on Noto Serif's quadratic contours, which no other search fixes
