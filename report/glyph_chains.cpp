@@ -322,8 +322,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // the end curvatures reject before any piece is judged kRejectTicks.
   long ticks = 0;
   const long piece_ticks = d == 3 ? kCubicPieceTicks : kQuadraticPieceTicks;
-  const auto tick = [&](long n) {
-    ticks += n;
+  const auto tick = [&](long count) {
+    ticks += count;
     work.charge(ticks / kTicksPerUnit);
     ticks %= kTicksPerUnit;
   };
