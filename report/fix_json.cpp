@@ -163,7 +163,7 @@ nlohmann::ordered_json glyph_fix_json(const import::Glyph& g, const std::vector<
       jc["reason"] = f.reason;
     } else if (!f.fixed) {
       jc["reason"] = f.reason;
-      if (failed.empty()) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
+      if (failed.empty() && !f.not_searched) failed = g.name + "/c" + std::to_string(f.contour) + ": " + f.reason;
     }
     if (f.off_grid_distance > 0) jc["off_grid_max_distance"] = f.off_grid_distance;
     if (f.fixed && !f.already && grid > 0) jc["settled"] = f.settled;

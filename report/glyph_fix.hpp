@@ -128,6 +128,7 @@ struct ContourFix {
   /// fixed, and not the glyph fix's failure (rejudged: after = before).
   bool untouched = false;
   std::string reason;       ///< why not fixed (one line)
+  bool not_searched = false;  ///< not fixed: not searched, since another contour of the glyph has no fix
   std::vector<PointMove> moves;         ///< control point indices of the contour's spline
   std::vector<std::string> names;       ///< per move: the point's name
   std::vector<int> source_points;       ///< per move: its index in the source contour

@@ -20,6 +20,7 @@
 #include "io/font.hpp"
 #include "report/batch.hpp"
 #include "report/contour_moves.hpp"
+#include "report/fix_json.hpp"
 #include "report/font_report.hpp"
 #include "report/gates.hpp"
 #include "bezierize/classify.hpp"
@@ -875,6 +876,47 @@ TEST(GlyphFix, AQuadraticTurnPinnedBetweenSmoothNodesIsRefused) {
   report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", options.judge);
   options.judge.regions = false;
   expect_refused_at_once(font.glyphs.at(0), options, "turns by 90 degrees between two smooth nodes", "p16");
+}
+
+// Where one contour of a glyph is refused with a proof, the glyph has no
+// fix: it says so at once, and no contour is searched (before, the contours
+// before it were searched first: TeX Gyre Termes g's c0 ran out of work,
+// and the proof for c2 came only with --work 8000000). Contour 0 fails both
+// gates and has a fix (TheChainSearchPutsAHandleOnTheLineItJoins); contour
+// 1 joins a stem smoothly to a cubic that ends at a line's end, square to
+// the stem (held_cubic_line_join). The glyph's fix takes no work, contour 1
+// gives the proof and contour 0 is not searched, and the glyph's failure
+// names contour 1.
+TEST(GlyphFix, AContourRefusedWithAProofRefusesTheGlyphAtOnce) {
+  using T = import::OutlinePoint::Tag;
+  const std::vector<import::OutlinePoint> hook = {{{0, -200}, T::on},    {{0, 0}, T::on},    {{0, 60}, T::cubic},
+                                                  {{12, 120}, T::cubic}, {{50, 200}, T::on}, {{-100, 200}, T::on}};
+  const std::vector<import::OutlinePoint> square = {{{0, -200}, T::on},   {{0, 0}, T::on},     {{0, 60}, T::cubic},
+                                                    {{40, 100}, T::cubic}, {{100, 100}, T::on}, {{200, 100}, T::on},
+                                                    {{200, -200}, T::on}};
+  import::Glyph g;
+  g.name = "g";
+  g.contours.push_back(*import::outline_contour(hook, 0, 3, "g", import::PointNaming::source));
+  g.contours.push_back(*import::outline_contour(square, 1, 3, "g", import::PointNaming::source));
+  report::GlyphFixOptions options;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", options.judge);
+  options.judge.regions = false;
+  const std::vector<report::ContourFix> fixes = report::fix_glyph(g, options);
+  ASSERT_EQ(fixes.size(), 2u);
+  EXPECT_FALSE(fixes[0].fixed);
+  EXPECT_TRUE(fixes[0].not_searched);
+  EXPECT_FALSE(fixes[1].fixed);
+  EXPECT_FALSE(fixes[1].not_searched);
+  EXPECT_EQ(fixes[1].reason.rfind("g2-at-smooth-nodes at g/c1/p1 joins a line to a cubic that ends at a line's end", 0),
+            0u)
+      << fixes[1].reason;
+  EXPECT_EQ(fixes[0].glyph_work, 0);
+  std::vector<import::PointEdit> edits;
+  std::string failed;
+  report::glyph_fix_json(g, fixes, options.grid, edits, failed);
+  EXPECT_EQ(failed.rfind("g/c1: g2-at-smooth-nodes at ", 0), 0u) << failed;
+  g.contours.pop_back();  // contour 0 alone has a fix
+  EXPECT_TRUE(report::fix_glyph(g, options).at(0).fixed);
 }
 
 // A chain that meets a line smoothly: g2 there needs the curve's end
