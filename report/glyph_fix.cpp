@@ -44,12 +44,8 @@ using glyph_detail::extremum_rejects;
 using glyph_detail::with_failure_proofs;
 using glyph_detail::proves_extremum_violation;
 using glyph_detail::snap_by_parts;
-using glyph_detail::held_cubic_line_join;
-using glyph_detail::square_cubic_line_join;
 using glyph_detail::squared_move;
-using glyph_detail::flattening_g2_join;
-using glyph_detail::unmovable_g2_join;
-using glyph_detail::pinned_quadratic_turn;
+using glyph_detail::refusal;
 using glyph_detail::Work;
 
 /// Violations of every check of `t` on a model (gate_model) built with the
@@ -648,73 +644,6 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
   return done;
 }
 
-/// Why no designer's move fixes contour `c` under `o` (the moves `movable`),
-/// proved before any search (glyph_joins.hpp); "" where no proof applies.
-std::string refusal(const import::Contour& c, const ReportOptions& o, const GlyphFixOptions& options,
-                    const std::vector<int>& movable) {
-  if (movable.empty()) return "no source point may move (every node ends a straight piece)";
-  if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
-        " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
-        "piece has only when straight, so no move of the points passes, nor would an added on-curve point (the jump "
-        "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
-  }
-  // Where every fix flattens a curve by more than a few grid steps it is a curve, not a near-line that a
-  // fix may straighten: refused with what every fix would do. (Within a few steps the search runs: it can
-  // straighten a curve meant to be straight.)
-  constexpr double kFlatteningSteps = 4;
-  if (const std::optional<glyph_detail::FlatteningJoin> flat = flattening_g2_join(c, o);
-      flat && flat->distance > kFlatteningSteps * (options.grid > 0 ? options.grid : 1)) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(flat->join)
-               .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to "
-                       "be 0, which a quadratic piece has only when straight, and then so would each next piece "
-                       "along the curve, ")
-               .append(flat->far.empty() ? std::string("all round the contour") : "up to " + flat->far)
-               .append(": every fix lays that curve on the line, moving ")
-               .append(flat->point)
-               .append(" at least ")
-               .append(format_number(flat->distance, 4))
-               .append(" units, which flattens the shape rather than fixing it (accept the jump, or draw the "
-                       "curve in cubics)");
-  }
-  if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
-        " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
-        "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
-        "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
-  }
-  if (const std::string join = held_cubic_line_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
-        " joins a line to a cubic that ends at a line's end, which stays, no farther along the line than about 2.1 "
-        "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
-        "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
-        "passes both gates (add an on-curve point, or accept the jump)");
-  }
-  if (const std::optional<glyph_detail::PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
-    const auto name = [&](int k) {
-      std::string p = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
-      return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : p.append(std::to_string(k));
-    };
-    std::string why = "the extremum gate: the quadratic piece ";  // appended: GCC 12 warns (-Wrestrict)
-    return why.append(name(turn->n0))
-               .append(", ")
-               .append(name(turn->b))
-               .append(", ")
-               .append(name(turn->n1))
-               .append(" turns by ")
-               .append(format_number(turn->degrees, 3))
-               .append(" degrees between two smooth nodes, whose tangents every move keeps, so its off-curve "
-                       "point stays where they cross and the piece keeps its turn; a quadratic piece that turns "
-                       "by 90 degrees or more has a curvature extremum inside, so no move of the points passes "
-                       "(add an on-curve point, or accept the extremum)");
-  }
-  return "";
-}
-
 /// The reason of a contour that none of GlyphFixOptions::points is on.
 constexpr const char* kNoNamedPoint = "none of the points named may move on this contour: left as it is";
 
@@ -738,7 +667,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     for (GateCount& g : out.rejudged) g.after = g.before;
     return out;
   }
-  if (std::string why = refusal(c, o, options, movable); !why.empty()) {
+  if (std::string why = refusal(c, o, options.grid, movable); !why.empty()) {
     out.reason = std::move(why);
     return out;
   }
@@ -947,7 +876,7 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     const import::Contour& c = glyph.contours[i];
     const std::vector<int> movable = moves_of(c, options).points;
     if (total(judge_counts(c.spline, o)) > 0 && !(movable.empty() && !options.points.empty()))
-      refused[i] = refusal(c, o, options, movable);
+      refused[i] = refusal(c, o, options.grid, movable);
   }
   if (std::any_of(refused.begin(), refused.end(), [](const std::string& r) { return !r.empty(); })) {
     for (std::size_t i = 0; i < n; ++i) {

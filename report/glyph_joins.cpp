@@ -11,6 +11,7 @@
 #include "report/batch.hpp"
 #include "report/contour_moves.hpp"
 #include "report/glyph_settle.hpp"
+#include "spline/format.hpp"
 
 namespace cmr::report::glyph_detail {
 
@@ -235,6 +236,70 @@ std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const 
     return PinnedTurn{n0, b, n1, std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi};
   }
   return {};
+}
+
+std::string refusal(const import::Contour& c, const ReportOptions& o, double grid, const std::vector<int>& movable) {
+  if (movable.empty()) return "no source point may move (every node ends a straight piece)";
+  if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    return why.append(join).append(
+        " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
+        "piece has only when straight, so no move of the points passes, nor would an added on-curve point (the jump "
+        "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
+  }
+  // Where every fix flattens a curve by more than a few grid steps it is a curve, not a near-line that a
+  // fix may straighten: refused with what every fix would do. (Within a few steps the search runs: it can
+  // straighten a curve meant to be straight.)
+  constexpr double kFlatteningSteps = 4;
+  if (const std::optional<FlatteningJoin> flat = flattening_g2_join(c, o);
+      flat && flat->distance > kFlatteningSteps * (grid > 0 ? grid : 1)) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    return why.append(flat->join)
+               .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to "
+                       "be 0, which a quadratic piece has only when straight, and then so would each next piece "
+                       "along the curve, ")
+               .append(flat->far.empty() ? std::string("all round the contour") : "up to " + flat->far)
+               .append(": every fix lays that curve on the line, moving ")
+               .append(flat->point)
+               .append(" at least ")
+               .append(format_number(flat->distance, 4))
+               .append(" units, which flattens the shape rather than fixing it (accept the jump, or draw the "
+                       "curve in cubics)");
+  }
+  if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    return why.append(join).append(
+        " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
+        "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
+        "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
+  }
+  if (const std::string join = held_cubic_line_join(c, o); !join.empty()) {
+    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
+    return why.append(join).append(
+        " joins a line to a cubic that ends at a line's end, which stays, no farther along the line than about 2.1 "
+        "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
+        "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
+        "passes both gates (add an on-curve point, or accept the jump)");
+  }
+  if (const std::optional<PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
+    const auto name = [&](int k) {
+      std::string p = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
+      return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : p.append(std::to_string(k));
+    };
+    std::string why = "the extremum gate: the quadratic piece ";  // appended: GCC 12 warns (-Wrestrict)
+    return why.append(name(turn->n0))
+               .append(", ")
+               .append(name(turn->b))
+               .append(", ")
+               .append(name(turn->n1))
+               .append(" turns by ")
+               .append(format_number(turn->degrees, 3))
+               .append(" degrees between two smooth nodes, whose tangents every move keeps, so its off-curve "
+                       "point stays where they cross and the piece keeps its turn; a quadratic piece that turns "
+                       "by 90 degrees or more has a curvature extremum inside, so no move of the points passes "
+                       "(add an on-curve point, or accept the extremum)");
+  }
+  return "";
 }
 
 }  // namespace cmr::report::glyph_detail

@@ -4,6 +4,7 @@
 // glyph fix searches (report/glyph_fix.cpp), so it says so at once.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io/font.hpp"
 #include "report/report.hpp"
@@ -130,5 +131,11 @@ struct PinnedTurn {
   double degrees = 0;
 };
 std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const ReportOptions& o);
+
+/// Why no designer's move fixes contour `c` under `o` (the moves `movable`:
+/// contour_moves, or the named points of them; `grid`, the font's), proved
+/// before any search by one of the above; "" where none applies. One line
+/// naming the join or piece and what a designer can do instead.
+std::string refusal(const import::Contour& c, const ReportOptions& o, double grid, const std::vector<int>& movable);
 
 }  // namespace cmr::report::glyph_detail
