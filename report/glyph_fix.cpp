@@ -667,10 +667,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     for (GateCount& g : out.rejudged) g.after = g.before;
     return out;
   }
-  if (std::string why = refusal(c, o, options.grid, movable); !why.empty()) {
-    out.reason = std::move(why);
-    return out;
-  }
+  // No refusal (glyph_joins.hpp) applies: fix_glyph checks every contour's before searching any.
   BSpline current = c.spline;
   int current_total = total(out.rejudged);
   std::string why;

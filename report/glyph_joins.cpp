@@ -164,17 +164,20 @@ std::vector<CubicLineJoin> cubic_line_joins(const import::Contour& c) {
   return out;
 }
 
-/// Both gates the proofs below need: g2-at-smooth-nodes (tolerance below 1)
-/// and an extremum gate (curvature-extrema-at-nodes, max-extrema-per-segment:0).
-bool g2_and_extrema(const ReportOptions& o) {
-  const bool g2 = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
-  });
-  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+/// An extremum gate: curvature-extrema-at-nodes, or max-extrema-per-segment:0.
+bool extremum_gate(const ReportOptions& o) {
+  return std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
     return g.kind == Gate::Kind::extrema_at_nodes ||
            (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
   });
-  return g2 && extrema;
+}
+
+/// Both gates the cubic proofs below need: g2-at-smooth-nodes (tolerance
+/// below 1) and an extremum gate.
+bool g2_and_extrema(const ReportOptions& o) {
+  return extremum_gate(o) && std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
+           return g.kind == Gate::Kind::g2_at_smooth_nodes && g.tolerance < 1;
+         });
 }
 
 }  // namespace
@@ -215,11 +218,8 @@ std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& 
 
 std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const ReportOptions& o) {
   const BSpline& s = c.spline;
-  const bool extrema = std::any_of(o.gates.begin(), o.gates.end(), [](const Gate& g) {
-    return g.kind == Gate::Kind::extrema_at_nodes ||
-           (g.kind == Gate::Kind::max_extrema_per_segment && g.max_extrema == 0);
-  });
-  if (!extrema || !(o.constant_tolerance < 0.5) || s.degree() != 2 || s.is_rational() || !s.closed()) return {};
+  if (!extremum_gate(o) || !(o.constant_tolerance < 0.5) || s.degree() != 2 || s.is_rational() || !s.closed())
+    return {};
   const int m = static_cast<int>(c.node.size());
   if (m < 3 || s.unique_point_count() != m || static_cast<int>(c.font_point.size()) != m) return {};
   const std::vector<Vec2> P(s.points().begin(), s.points().begin() + m);
@@ -239,10 +239,11 @@ std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const 
 }
 
 std::string refusal(const import::Contour& c, const ReportOptions& o, double grid, const std::vector<int>& movable) {
+  // "g2-at-smooth-nodes at JOIN" and why (appended: GCC 12 warns (-Wrestrict) on "..." + string).
+  const auto at_join = [](const std::string& join) { return std::string("g2-at-smooth-nodes at ").append(join); };
   if (movable.empty()) return "no source point may move (every node ends a straight piece)";
   if (const std::string join = unmovable_g2_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
+    return at_join(join).append(
         " joins a line to a quadratic curve smoothly: the curve's end curvature would have to be 0, which a quadratic "
         "piece has only when straight, so no move of the points passes, nor would an added on-curve point (the jump "
         "moves to wherever the straight part meets the curved one); accept the jump, or draw the curve in cubics");
@@ -253,8 +254,7 @@ std::string refusal(const import::Contour& c, const ReportOptions& o, double gri
   constexpr double kFlatteningSteps = 4;
   if (const std::optional<FlatteningJoin> flat = flattening_g2_join(c, o);
       flat && flat->distance > kFlatteningSteps * (grid > 0 ? grid : 1)) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(flat->join)
+    return at_join(flat->join)
                .append(" joins a line to a quadratic curve smoothly: the curve's end curvature would have to "
                        "be 0, which a quadratic piece has only when straight, and then so would each next piece "
                        "along the curve, ")
@@ -267,31 +267,25 @@ std::string refusal(const import::Contour& c, const ReportOptions& o, double gri
                        "curve in cubics)");
   }
   if (const std::string join = square_cubic_line_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
+    return at_join(join).append(
         " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
         "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
         "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
   }
   if (const std::string join = held_cubic_line_join(c, o); !join.empty()) {
-    std::string why = "g2-at-smooth-nodes at ";  // appended: GCC 12 warns (-Wrestrict) on "..." + string
-    return why.append(join).append(
+    return at_join(join).append(
         " joins a line to a cubic that ends at a line's end, which stays, no farther along the line than about 2.1 "
         "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
         "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
         "passes both gates (add an on-curve point, or accept the jump)");
   }
   if (const std::optional<PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
-    const auto name = [&](int k) {
-      std::string p = "P";  // appended: GCC 12 warns (-Wrestrict) on "P" + to_string
-      return k < static_cast<int>(c.point_names.size()) ? c.point_names[k] : p.append(std::to_string(k));
-    };
-    std::string why = "the extremum gate: the quadratic piece ";  // appended: GCC 12 warns (-Wrestrict)
-    return why.append(name(turn->n0))
+    return std::string("the extremum gate: the quadratic piece ")
+               .append(point_name(c, turn->n0))
                .append(", ")
-               .append(name(turn->b))
+               .append(point_name(c, turn->b))
                .append(", ")
-               .append(name(turn->n1))
+               .append(point_name(c, turn->n1))
                .append(" turns by ")
                .append(format_number(turn->degrees, 3))
                .append(" degrees between two smooth nodes, whose tangents every move keeps, so its off-curve "

@@ -472,7 +472,8 @@ TEST(GlyphFix, AContourWithNoFixLeavesTheRestUnsearched) {
     }
   }
   EXPECT_LT(fixes[0].glyph_work, 1000);  // the refusal's few units: no search ran
-  if (!std::filesystem::exists(kNotoSans)) GTEST_SKIP() << kNotoSans << " is not installed (tools/setup.sh installs it)";
+  if (!std::filesystem::exists(kNotoSans))
+    GTEST_SKIP() << kNotoSans << " is not installed (tools/setup.sh installs it)";
   const import::Font q = import::read_font(kNotoSans, import::parse_glyph_spec("Q"));
   ASSERT_EQ(q.glyphs.at(0).contours.size(), 2u);
   o.glyph_work = 20000;
