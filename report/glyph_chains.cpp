@@ -7,6 +7,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -309,6 +310,40 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     return bz;
   };
+  // A corner that a candidate makes smooth (the header): at each unit's
+  // start and end node that g2 does not judge at `here`, the neighbouring
+  // unit's point next to it and its end curvature there, both at `here`.
+  struct Corner {
+    bool judged = false;  // a g2 gate, and the node a corner at `here` with a curvature on its other side
+    Vec2 node{0.0}, other{0.0};
+    double kappa = 0;
+  };
+  std::vector<std::array<Corner, 2>> corners(nu);  // [u][0]: at its start, [u][1]: at its end
+  if (tol >= 0)
+    for (int u = 0; u < nu; ++u) {
+      const int before = (u + nu - 1) % nu, after = (u + 1) % nu;
+      const Piece &last = pieces[static_cast<std::size_t>(units[before].segments.back())],
+                  &first = pieces[static_cast<std::size_t>(units[after].segments.front())];
+      const std::array<Vec2, 4> bl = bezier(last, here), bf = bezier(first, here);
+      const double kl = end_curvatures({bl.data(), static_cast<std::size_t>(d + 1)})[1],
+                   kr = end_curvatures({bf.data(), static_cast<std::size_t>(d + 1)})[0];
+      if (!unit_link[u] && std::isfinite(kl))
+        corners[u][0] = {true, here[units[u].start], here[units[before].free.back()], kl};
+      if (!unit_link[after] && std::isfinite(kr))
+        corners[u][1] = {true, here[units[u].end], here[units[after].free.front()], kr};
+    }
+  // Whether a candidate of unit u whose point next to its start (end: `at_end`) is at p, with end
+  // curvature k there, passes g2 at that node where it makes the node smooth (its tangents within
+  // the gate's angle, computed as the gate computes it), the neighbour as at `here`; true where it
+  // leaves a corner.
+  const auto corner_passes = [&](int u, bool at_end, Vec2 p, double k) {
+    const Corner& cn = corners[static_cast<std::size_t>(u)][at_end ? 1 : 0];
+    if (!cn.judged) return true;
+    const Vec2 in = at_end ? cn.node - p : cn.node - cn.other, out = at_end ? cn.other - cn.node : p - cn.node;
+    const double dt = det(in, out), dp = dot(in, out);
+    const double angle = dt == 0 && dp > 0 ? 0.0 : std::atan2(std::abs(dt), dp) * (180.0 / std::numbers::pi);
+    return angle > o.continuity.angle_deg || g2_passes(cn.kappa, k, t);
+  };
   // Whether the extrema gate's check of a piece passes (Algorithm 1: certified monotone), when it is judged;
   // a quadratic piece's by its closed form (quadratic_monotone) where that decides.
   const auto monotone = [&](std::span<const Vec2> b) {
@@ -338,8 +373,9 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // computed, and only those where g2 passes at M1 and M2 have it judged (a
   // piece's work; kTicksPerUnit). Its passing states, B in `inner`; none
   // where the work ran out (`spent`).
-  const auto run_of_three = [&](const Unit& unit, const std::vector<Options>& options, bool& spent) {
+  const auto run_of_three = [&](int u, const std::vector<Options>& options, bool& spent) {
     std::vector<State> out;
+    const Unit& unit = units[static_cast<std::size_t>(u)];
     const std::vector<int>& f = unit.free;
     const Piece &first = pieces[static_cast<std::size_t>(unit.segments[0])],
                 &middle = pieces[static_cast<std::size_t>(unit.segments[1])],
@@ -368,7 +404,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         const std::array<Vec2, 4> bz = bezier(piece, pos);
         const std::span<const Vec2> b(bz.data(), static_cast<std::size_t>(d + 1));
         const std::array<double, 2> e = end_curvatures(b);
-        if (!std::isfinite(e[0]) || !std::isfinite(e[1]) || !monotone(b)) continue;
+        if (!std::isfinite(e[0]) || !std::isfinite(e[1])) continue;
+        if (!corner_passes(u, i != 0, options[i].at[q], i == 0 ? e[0] : e[1]) || !monotone(b)) continue;
         out_ends.push_back(i == 0 ? End{q, e[0], e[1]} : End{q, e[1], e[0]});
       }
       return true;
@@ -480,7 +517,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     for (const Options& op : options)
       if (op.at.empty()) return out;
-    if (f.size() == 3) return run_of_three(unit, options, spent);
+    if (f.size() == 3) return run_of_three(u, options, spent);
     // Every combination, the last point's positions fastest. Each piece's
     // end curvatures first and g2 at the implied nodes inside the unit (a
     // few products; a combination it rejects costs kRejectTicks), then each
@@ -513,6 +550,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         if (p > 0 && tol >= 0 && !g2_passes(k1, e[0], tol)) passes = false;
         k1 = e[1];
       }
+      passes = passes && corner_passes(u, false, pos[f.front()], k0) && corner_passes(u, true, pos[f.back()], k1);
       if (!passes) {
         tick(kRejectTicks);
         continue;

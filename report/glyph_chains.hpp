@@ -24,7 +24,12 @@
 // layer per unit, a state per candidate position of its points (H1, H2;
 // A, B) that passes the unit's own checks, with its end curvatures k0, k1
 // and its cost, and an edge between consecutive units' states where g2
-// passes at their node.
+// passes at their node. A candidate may make a corner smooth (its point
+// next to the node within the gate's G1 angle of the line from the
+// neighbour's point through the node: TeX Gyre Termes V's p17), and g2 then
+// judges that node: there a candidate passes only where g2 does against
+// the neighbouring unit's end curvature as it is at `at` (where that
+// unit's chain moves too, the caller's whole judge decides).
 //
 // For kr > 0 g2 passes exactly when kl is in [kr (1 - tol), kr / (1 - tol)]
 // (kl <= 0 would differ by at least max(|kl|, kr)); for kr < 0 the mirror
