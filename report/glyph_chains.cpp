@@ -28,6 +28,7 @@ struct State {
   Vec2 h1{0.0}, h2{0.0};
   double k0 = 0, k1 = 0, cost = 0;
   Vec2 inner{0.0};  ///< a run of three's middle off-curve point
+  int s_off = 0, e_off = 0;  ///< its start and end node's offsets (indices into their node_offsets)
 };
 
 /// The positions one handle tries, each with its squared move from the source.
@@ -133,10 +134,12 @@ std::array<double, 2> passing_left(double kr, double t) {
 
 /// One step of the shortest path: best[q], the least cost of reaching state
 /// q of `layer` from a state p of `prev` (whose least cost is prev_best[p])
+/// that ends where q starts (p's end node offset q's start node offset)
 /// with g2 passing between p's k1 and q's k0 (tolerance t), plus q's own
 /// cost; from[q] that p (-1, best infinite: none). Both sorted by the
-/// curvatures there, the passing p of each q form a window whose ends rise
-/// with q's k0: a sliding-window minimum.
+/// offset and then by the curvatures there, the passing p of each q form a
+/// window of its offset's group whose ends rise with q's k0: a
+/// sliding-window minimum.
 void advance(const std::vector<State>& prev, const std::vector<double>& prev_best, const std::vector<State>& layer,
              double t, std::vector<double>& best, std::vector<int>& from) {
   best.assign(layer.size(), std::numeric_limits<double>::infinity());
@@ -144,21 +147,36 @@ void advance(const std::vector<State>& prev, const std::vector<double>& prev_bes
   std::vector<int> by_k1(prev.size()), by_k0(layer.size());
   std::iota(by_k1.begin(), by_k1.end(), 0);
   std::iota(by_k0.begin(), by_k0.end(), 0);
-  std::sort(by_k1.begin(), by_k1.end(), [&](int x, int y) { return prev[x].k1 < prev[y].k1; });
-  std::sort(by_k0.begin(), by_k0.end(), [&](int x, int y) { return layer[x].k0 < layer[y].k0; });
-  std::deque<int> window;  // positions in by_k1 whose best rises from the front
-  std::size_t in = 0, out_of = 0;
-  for (int q : by_k0) {
-    const std::array<double, 2> range = passing_left(layer[q].k0, t);
-    while (in < by_k1.size() && prev[by_k1[in]].k1 <= range[1]) {
-      const double v = prev_best[by_k1[in]];
-      while (!window.empty() && prev_best[by_k1[window.back()]] >= v) window.pop_back();
-      window.push_back(static_cast<int>(in++));
+  std::sort(by_k1.begin(), by_k1.end(), [&](int x, int y) {
+    return prev[x].e_off != prev[y].e_off ? prev[x].e_off < prev[y].e_off : prev[x].k1 < prev[y].k1;
+  });
+  std::sort(by_k0.begin(), by_k0.end(), [&](int x, int y) {
+    return layer[x].s_off != layer[y].s_off ? layer[x].s_off < layer[y].s_off : layer[x].k0 < layer[y].k0;
+  });
+  std::size_t group = 0;  // the first of by_k1 in the current offset's group
+  for (std::size_t b = 0; b < by_k0.size();) {
+    const int off = layer[by_k0[b]].s_off;
+    std::size_t b_end = b;
+    while (b_end < by_k0.size() && layer[by_k0[b_end]].s_off == off) ++b_end;
+    while (group < by_k1.size() && prev[by_k1[group]].e_off < off) ++group;
+    std::size_t group_end = group;
+    while (group_end < by_k1.size() && prev[by_k1[group_end]].e_off == off) ++group_end;
+    std::deque<std::size_t> window;  // positions in by_k1 whose best rises from the front
+    std::size_t in = group, out_of = group;
+    for (; b < b_end; ++b) {
+      const int q = by_k0[b];
+      const std::array<double, 2> range = passing_left(layer[q].k0, t);
+      while (in < group_end && prev[by_k1[in]].k1 <= range[1]) {
+        const double v = prev_best[by_k1[in]];
+        while (!window.empty() && prev_best[by_k1[window.back()]] >= v) window.pop_back();
+        window.push_back(in++);
+      }
+      while (out_of < in && prev[by_k1[out_of]].k1 < range[0]) ++out_of;
+      while (!window.empty() && window.front() < out_of) window.pop_front();
+      if (window.empty() || !std::isfinite(prev_best[by_k1[window.front()]])) continue;
+      best[q] = layer[q].cost + prev_best[by_k1[window.front()]], from[q] = by_k1[window.front()];
     }
-    while (out_of < in && prev[by_k1[out_of]].k1 < range[0]) ++out_of;
-    while (!window.empty() && window.front() < static_cast<int>(out_of)) window.pop_front();
-    if (window.empty() || !std::isfinite(prev_best[by_k1[window.front()]])) continue;
-    best[q] = layer[q].cost + prev_best[by_k1[window.front()]], from[q] = by_k1[window.front()];
+    group = group_end;
   }
 }
 
@@ -181,7 +199,8 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2) {
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box, bool every, bool all_or_none) {
+                                        const ChainBox& box, bool every, bool all_or_none,
+                                        const std::vector<int>& moving_nodes) {
   const BSpline& source = c.spline;
   const int d = source.degree();
   if (o.require || o.gates.empty() || source.is_rational() || (d != 2 && d != 3) || !source.closed())
@@ -237,21 +256,56 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   }
   const auto unlinked = std::find(unit_link.begin(), unit_link.end(), 0);
   const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0};
+  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}};
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   ClassifyOptions classify;
   classify.max_depth = o.max_depth;
   classify.inflection = false;
 
-  // The positions a handle (point k next to node `node`) tries. `lines`:
+  // Where the box moves nodes (ChainBox::node_reach): a node inside a chain
+  // (g2 judges it), exactly smooth, movable with both its handles, between
+  // two units of two or more free points, takes each grid translation
+  // within node_reach cells each way (and max_move of the source), its
+  // handles with it; node_offsets[k]: node k's translations, 0 first (only
+  // 0 for every other point).
+  const auto may_move = [&](int k) {
+    return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
+  };
+  std::vector<std::vector<Vec2>> node_offsets(static_cast<std::size_t>(m), std::vector<Vec2>{Vec2(0.0)});
+  if (box.node_reach > 0 && nu >= 2)
+    for (int u = 0; u < nu; ++u) {
+      const int before = (u + nu - 1) % nu, k = units[u].start;
+      const bool listed = std::find(moving_nodes.begin(), moving_nodes.end(), k) != moving_nodes.end();
+      if (!listed || !unit_link[u] || straight_unit[u] || straight_unit[before] || units[u].free.size() < 2 ||
+          units[before].free.size() < 2 || !exactly_smooth(here, m, k) || !may_move(k) ||
+          !may_move(units[u].free.front()) || !may_move(units[before].free.back()))
+        continue;
+      for (int i = -box.node_reach; i <= box.node_reach; ++i)
+        for (int j = -box.node_reach; j <= box.node_reach; ++j) {
+          const Vec2 v(static_cast<double>(i) * grid, static_cast<double>(j) * grid), p = here[k] + v;
+          if ((i != 0 || j != 0) && std::sqrt(dot(p - src[k], p - src[k])) <= limit) node_offsets[k].push_back(v);
+        }
+    }
+  // `base` with unit u's start (end: at_end) node moved by v, both its handles with it.
+  const auto moved_node = [&](std::vector<Vec2>& base, int u, bool at_end, Vec2 v) {
+    if (v.x == 0 && v.y == 0) return;
+    const Unit& unit = units[u];
+    const Unit& other = units[(u + (at_end ? 1 : nu - 1)) % nu];
+    for (int k : {at_end ? unit.end : unit.start, at_end ? unit.free.back() : unit.free.front(),
+                  at_end ? other.free.front() : other.free.back()})
+      base[k] = base[k] + v;
+  };
+
+  // The positions a handle (point k next to node `node`) tries, the
+  // contour at `base` (`here` with the unit's nodes moved). `lines`:
   // lines the handle must lie on (a line through `first`, along `second`):
   // a straight piece's, where the unit meets it smoothly at its other end
   // (g2 there needs the curve's end curvature exactly 0, so this handle on
   // the line), and a quadratic unit's one off-curve point's other node's
   // tangent, where that node is exactly smooth.
   using Line = std::pair<Vec2, Vec2>;
-  auto options_of = [&](int k, int node, const std::vector<Line>& lines) {
+  auto options_of = [&](const std::vector<Vec2>& base, int k, int node, const std::vector<Line>& lines) {
     Options out;
     const auto on_lines = [&](Vec2 p) {
       for (const Line& l : lines)
@@ -264,41 +318,41 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       out.at.push_back(p), out.cost.push_back(dot(dp, dp));
     };
     if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) {
-      if (on_lines(here[k])) out.at.push_back(here[k]), out.cost.push_back(dot(here[k] - src[k], here[k] - src[k]));
+      if (on_lines(base[k])) out.at.push_back(base[k]), out.cost.push_back(dot(base[k] - src[k], base[k] - src[k]));
       return out;
     }
-    if (node >= 0 && exactly_smooth(here, m, node)) {  // along its tangent, by the primitive grid vector on it
-      const Vec2 a = here[k] - here[node];
+    if (node >= 0 && exactly_smooth(base, m, node)) {  // along its tangent, by the primitive grid vector on it
+      const Vec2 a = base[k] - base[node];
       const std::optional<Vec2> step = grid_vector(a, grid);
       if (!step) {  // off the grid's lines through its node: held
-        add(here[k]);
+        add(base[k]);
         return out;
       }
       out.line = true;
       for (int s = -box.slide_reach; s <= box.slide_reach; ++s) {
-        const Vec2 p = here[k] + static_cast<double>(s) * *step;
-        if (dot(p - here[node], a) > 0) add(p);  // never through its node
+        const Vec2 p = base[k] + static_cast<double>(s) * *step;
+        if (dot(p - base[node], a) > 0) add(p);  // never through its node
       }
       return out;
     }
     if (node < 0) {  // a run of three's middle point: half the box each way
       for (int i = -box.reach / 2; i <= box.reach / 2; ++i)
         for (int j = -box.reach / 2; j <= box.reach / 2; ++j)
-          add(here[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
+          add(base[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
       return out;
     }
     if (!lines.empty()) {  // the line's grid points past its join, out to beyond the handle's foot on it
       const Line& line = lines.front();
       const std::optional<Vec2> w = grid_vector(line.second, grid);
       if (!w) return out;
-      const long j0 = std::lround(dot(here[k] - line.first, *w) / dot(*w, *w));
+      const long j0 = std::lround(dot(base[k] - line.first, *w) / dot(*w, *w));
       out.line = true;
       for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line.first + static_cast<double>(j) * *w);
       return out;
     }
     for (int i = -box.reach; i <= box.reach; ++i)
       for (int j = -box.reach; j <= box.reach; ++j)
-        add(here[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
+        add(base[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
     return out;
   };
   // A piece's Bezier points at the positions `pos`.
@@ -373,7 +427,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // computed, and only those where g2 passes at M1 and M2 have it judged (a
   // piece's work; kTicksPerUnit). Its passing states, B in `inner`; none
   // where the work ran out (`spent`).
-  const auto run_of_three = [&](int u, const std::vector<Options>& options, bool& spent) {
+  const auto run_of_three = [&](int u, const std::vector<Vec2>& base, const std::vector<Options>& options,
+                                bool& spent) {
     std::vector<State> out;
     const Unit& unit = units[static_cast<std::size_t>(u)];
     const std::vector<int>& f = unit.free;
@@ -392,7 +447,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     };
     const bool midpoints = d == 2 && half_of(middle.weights[0], f[0], f[1]) && middle.weights[1].size() == 1 &&
                            middle.weights[1][0].first == f[1] && half_of(middle.weights[2], f[1], f[2]);
-    std::vector<Vec2> pos = here;
+    std::vector<Vec2> pos = base;
     // The passing positions of free point i (0: A, 2: C) for `piece` (its
     // first or last), B where pos has it; false where the work ran out.
     const auto ends = [&](std::size_t i, const Piece& piece, std::vector<End>& out_ends) {
@@ -469,29 +524,31 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return out;
   };
 
-  // A unit's passing states; empty where none passes (or the work ran out).
-  auto states_of = [&](int u, bool& spent) {
+  // A unit's passing states with the contour at `base` (`here` with its
+  // nodes moved, each with both its handles); empty where none passes (or
+  // the work ran out).
+  auto states_with = [&](int u, const std::vector<Vec2>& base, bool& spent) {
     std::vector<State> out;
     const Unit& unit = units[u];
     const std::vector<int>& f = unit.free;
     const auto cost_here = [&] {
       double sum = 0;
-      for (int k : f) sum += dot(here[k] - src[k], here[k] - src[k]);
+      for (int k : f) sum += dot(base[k] - src[k], base[k] - src[k]);
       return sum;
     };
     if (straight_unit[u]) {  // a line: held, curvature 0
-      out.push_back({here[f.front()], here[f.back()], 0, 0, cost_here()});
+      out.push_back({base[f.front()], base[f.back()], 0, 0, cost_here()});
       return out;
     }
     // A smooth join with a straight piece at one end puts the far handle on that piece's line.
     const auto direction_of = [&](int v) {  // a straight unit's direction, first to last node
-      return here[static_cast<std::size_t>(units[v].end)] - here[static_cast<std::size_t>(units[v].start)];
+      return base[static_cast<std::size_t>(units[v].end)] - base[static_cast<std::size_t>(units[v].start)];
     };
     const int before = (u + nu - 1) % nu, after = (u + 1) % nu;
     // Each line through its join, pointed past the join into the curve.
     std::vector<Line> start_line, end_line;
-    if (unit_link[u] && straight_unit[before]) start_line.push_back({here[unit.start], direction_of(before)});
-    if (unit_link[after] && straight_unit[after]) end_line.push_back({here[unit.end], -1.0 * direction_of(after)});
+    if (unit_link[u] && straight_unit[before]) start_line.push_back({base[unit.start], direction_of(before)});
+    if (unit_link[after] && straight_unit[after]) end_line.push_back({base[unit.end], -1.0 * direction_of(after)});
     // Each free point's positions: a unit of two (a cubic's handles, or a
     // quadratic run's two off-curve points) like a cubic's H1 and H2; one
     // off-curve point between two nodes slides on a smooth one's tangent and
@@ -502,28 +559,29 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     // four or more are held.
     std::vector<Options> options;
     if (f.size() == 2) {
-      options = {options_of(f[0], unit.start, end_line), options_of(f[1], unit.end, start_line)};
+      options = {options_of(base, f[0], unit.start, end_line), options_of(base, f[1], unit.end, start_line)};
     } else if (f.size() == 1) {
       std::vector<Line> lines = start_line;
       lines.insert(lines.end(), end_line.begin(), end_line.end());
-      const bool start_smooth = exactly_smooth(here, m, unit.start);
+      const bool start_smooth = exactly_smooth(base, m, unit.start);
       const int other = start_smooth ? unit.end : unit.start;
-      if (exactly_smooth(here, m, other)) lines.push_back({here[other], here[f[0]] - here[other]});
-      options = {options_of(f[0], start_smooth ? unit.start : unit.end, lines)};
+      if (exactly_smooth(base, m, other)) lines.push_back({base[other], base[f[0]] - base[other]});
+      options = {options_of(base, f[0], start_smooth ? unit.start : unit.end, lines)};
     } else {
-      for (int k : f) options.push_back({{here[k]}, {dot(here[k] - src[k], here[k] - src[k])}});
-      options.front() = options_of(f.front(), unit.start, {}), options.back() = options_of(f.back(), unit.end, {});
-      if (f.size() == 3) options[1] = options_of(f[1], -1, {});  // the middle point: a free box
+      for (int k : f) options.push_back({{base[k]}, {dot(base[k] - src[k], base[k] - src[k])}});
+      options.front() = options_of(base, f.front(), unit.start, {});
+      options.back() = options_of(base, f.back(), unit.end, {});
+      if (f.size() == 3) options[1] = options_of(base, f[1], -1, {});  // the middle point: a free box
     }
     for (const Options& op : options)
       if (op.at.empty()) return out;
-    if (f.size() == 3) return run_of_three(u, options, spent);
+    if (f.size() == 3) return run_of_three(u, base, options, spent);
     // Every combination, the last point's positions fastest. Each piece's
     // end curvatures first and g2 at the implied nodes inside the unit (a
     // few products; a combination it rejects costs kRejectTicks), then each
     // piece's extrema check (piece_ticks each).
     std::vector<std::size_t> pick(options.size(), 0);
-    std::vector<Vec2> pos = here;
+    std::vector<Vec2> pos = base;
     std::vector<std::array<Vec2, 4>> bz(unit.segments.size());
     for (bool more = true; more;) {
       if (work.spent()) {
@@ -564,6 +622,32 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return out;
   };
 
+  // A unit's passing states: for each offset of its start node and of its
+  // end node (node_offsets), those of states_with, each marked with its
+  // offsets and its cost the start node's squared move added where that
+  // node has offsets (each such node's move counted once along a chain: in
+  // the unit it starts).
+  auto states_of = [&](int u, bool& spent) {
+    const Unit& unit = units[u];
+    const std::vector<Vec2>& starts = node_offsets[unit.start];
+    const std::vector<Vec2>& ends = node_offsets[unit.end];
+    std::vector<State> out;
+    for (std::size_t so = 0; so < starts.size(); ++so)
+      for (std::size_t eo = 0; eo < ends.size(); ++eo) {
+        std::vector<Vec2> base = here;
+        moved_node(base, u, false, starts[so]);
+        moved_node(base, u, true, ends[eo]);
+        const Vec2 node_move = base[unit.start] - src[unit.start];
+        const double node_cost = starts.size() > 1 ? dot(node_move, node_move) : 0.0;
+        for (State st : states_with(u, base, spent)) {
+          st.s_off = static_cast<int>(so), st.e_off = static_cast<int>(eo), st.cost += node_cost;
+          out.push_back(st);
+        }
+        if (spent) return std::vector<State>{};
+      }
+    return out;
+  };
+
   // The chains, each a run of units from a joint g2 does not judge (or,
   // where g2 judges every joint, one chain closing on itself at unit 0's
   // start); those that fail (every one with `every`).
@@ -587,6 +671,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // With all_or_none, one hopeless chain ends the search: the failing units
   // of every chain, those with fewer free points (cheaper) first.
   std::vector<std::optional<std::vector<State>>> states(nu);
+  std::vector<int> stuck;  // the nodes of each unit found with no passing position
   std::vector<char> hopeless(chains.size(), 0);
   bool spent = false;
   std::vector<std::pair<std::size_t, int>> failing;  // (chain, unit)
@@ -602,12 +687,13 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     if (hopeless[h]) continue;
     states[u] = states_of(u, spent);
     hopeless[h] = states[u]->empty();
-    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0};
+    if (hopeless[h] && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
+    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])
       if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
-  ChainResult result{here, static_cast<int>(chains.size()), 0, 0};
+  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck};
   if (spent) return result;
   // The least-cost path through a chain's layers from the first layer's
   // states `first` (their best: their own cost); the last layer's best and
@@ -661,7 +747,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         int closing = -1;
         for (std::size_t q = 0; q < best.size(); ++q) {
           const State& end_state = chain.size() == 1 ? first[q0] : last[q];  // one unit closes on itself
-          if (best[q] < least && g2_passes(end_state.k1, first[q0].k0, t))
+          if (best[q] < least && end_state.e_off == first[q0].s_off && g2_passes(end_state.k1, first[q0].k0, t))
             least = best[q], closing = static_cast<int>(q);
         }
         if (closing >= 0) end = closing, start = {first[q0]}, from = std::move(f);
@@ -674,6 +760,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       const Unit& unit = units[static_cast<std::size_t>(chain[i])];
       result.points[unit.free.front()] = st.h1, result.points[unit.free.back()] = st.h2;
       if (unit.free.size() == 3) result.points[unit.free[1]] = st.inner;
+      result.points[unit.start] = here[unit.start] + node_offsets[unit.start][st.s_off];
+      result.points[unit.end] = here[unit.end] + node_offsets[unit.end][st.e_off];
       q = i > 0 ? from[i][q] : q;
     }
     result.cost += least;
@@ -686,13 +774,28 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
                                                       const std::vector<int>& movable, const ReportOptions& o,
                                                       double grid, double max_move, Work& work) {
   std::vector<Vec2> at = src;
-  for (const int reach : kGrowingReach) {
-    const std::optional<ChainResult> r =
-        chain_search(c, src, at, movable, o, grid, max_move, work, {reach, kGrowingSlidePerCell * reach}, false, true);
-    if (!r) return std::nullopt;
-    at = r->points;
-    if (r->solved == r->chains) return at;
-    if (work.spent()) return std::nullopt;
+  std::vector<int> stuck;  // the nodes of the units found with no passing position
+  const auto more_stuck = [&](const std::vector<int>& nodes) {
+    bool grew = false;
+    for (const int k : nodes)
+      if (std::find(stuck.begin(), stuck.end(), k) == stuck.end()) stuck.push_back(k), grew = true;
+    return grew;
+  };
+  for (const bool nodes : {false, true}) {
+    if (nodes && stuck.empty()) break;
+    const std::span<const int> reaches = nodes ? std::span<const int>(kGrowingNodeRoundReach) : kGrowingReach;
+    for (const int reach : reaches) {
+      const ChainBox box{reach, kGrowingSlidePerCell * reach, nodes ? kGrowingNodeReach : 0};
+      for (bool again = true; again;) {
+        const std::optional<ChainResult> r =
+            chain_search(c, src, at, movable, o, grid, max_move, work, box, false, true, stuck);
+        if (!r) return std::nullopt;
+        at = r->points;
+        if (r->solved == r->chains) return at;
+        if (work.spent()) return std::nullopt;
+        again = more_stuck(r->stuck) && nodes;  // with nodes moving: again with the new stuck units' nodes too
+      }
+    }
   }
   return std::nullopt;
 }

@@ -72,6 +72,7 @@ inline constexpr int kChainReach = 8, kChainSlideReach = 48;
 struct ChainBox {
   int reach = kChainReach;
   int slide_reach = kChainSlideReach;
+  int node_reach = 0;  ///< a smooth node inside a chain moves too, with its handles, this many cells each way
 };
 /// The settling's box (glyph_fix.cpp, settle: every chain, each time the
 /// fix moves): 9 x 9 cells a free handle, 49 steps a sliding one.
@@ -117,28 +118,53 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2);
 /// `all_or_none`: where one chain has no answer none is answered, and the
 /// search ends at the first failing unit with no passing position (the
 /// failing units with fewer free points first).
+///
+/// Nodes that move (box.node_reach > 0, the nodes `moving_nodes` lists):
+/// such a node inside a chain (g2 judges it), exactly smooth, movable with
+/// both its handles and between two units of two or more free points takes
+/// each grid translation within node_reach cells each way, its two handles
+/// with it (so it stays exactly smooth: the paper's rigid group), and each
+/// of its handles' boxes and slides move with it. A state of a unit is then
+/// also its start and end nodes' translations, its cost the start node's
+/// squared move too (each node counted once along the chain), and an edge
+/// joins two states only where they put their shared node in the same
+/// place; the shortest path is taken per translation (the window of
+/// advance() within one translation's states). So the answer is the
+/// nearest in the box with those nodes in their boxes too, the others held.
+/// Each translation multiplies a unit's candidates: (2 node_reach + 1)^2
+/// per moving node.
 struct ChainResult {
   std::vector<Vec2> points;  ///< `at` with every chain answered moved to its answer
   int chains = 0;            ///< the chains searched: those failing at `at` (every one with `every`)
   int solved = 0;            ///< of those, the chains with an answer (all: every chain passes as above)
-  double cost = 0;           ///< the answers' cost: their handles' total squared move from `src`
+  double cost = 0;           ///< the answers' cost: their points' total squared move from `src` (held nodes aside)
+  std::vector<int> stuck;    ///< the nodes of each unit found with no passing position in the box
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,
                                         const ReportOptions& o, double grid, double max_move, Work& work,
-                                        const ChainBox& box = {}, bool every = false, bool all_or_none = false);
+                                        const ChainBox& box = {}, bool every = false, bool all_or_none = false,
+                                        const std::vector<int>& moving_nodes = {});
 
 /// The chain search with a growing box: from the source `src`, boxes of
 /// reach 8, 16 and 24 cells (a slide 6 grid steps a cell each way), each
 /// searching only the chains that still fail where the one before left the
-/// contour, all_or_none (only an answer to every chain is used). Its answer
-/// where every chain is answered (all: each passes as
-/// chain_search says, nodes held); nullopt where a box of 24 cells leaves a
-/// chain unanswered, the work runs out, or the search does not apply.
-/// Measured on Noto Serif's quadratic contours, which no other search fixes
-/// under both type gates: `s` at 16 cells, `S` and `C` at 24.
+/// contour, all_or_none (only an answer to every chain is used). Where a
+/// box of 24 cells leaves a chain unanswered with a unit that no position
+/// passes (its nodes held), boxes of 16 and 24 cells again with the nodes
+/// of every such unit found moving too (kGrowingNodeReach cells each way:
+/// one, so a unit's candidates grow at most 81 times), each box again while
+/// it finds another such unit (a box of 8 cells with nodes moving took Noto
+/// Sans `Q`'s share of the work without an answer). Its answer where every chain is answered (all: each
+/// passes as chain_search says, the other nodes held); nullopt where none
+/// is, the work runs out, or the search does not apply. Measured on the
+/// quadratic contours no other search fixes under both type gates: Noto
+/// Serif `s` at 16 cells, `S` and `C` at 24; Noto Sans `Q` with p9 and p0
+/// moving, at 16 (its tail's short run p7, p8 has no passing position with
+/// p9 held: p7 would have to be half a unit off the grid).
 inline constexpr std::array<int, 3> kGrowingReach{8, 16, 24};
-inline constexpr int kGrowingSlidePerCell = 6;
+inline constexpr std::array<int, 2> kGrowingNodeRoundReach{16, 24};
+inline constexpr int kGrowingSlidePerCell = 6, kGrowingNodeReach = 1;
 std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                                       const std::vector<int>& movable, const ReportOptions& o,
                                                       double grid, double max_move, Work& work);
