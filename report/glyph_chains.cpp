@@ -273,7 +273,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
   };
   std::vector<std::vector<Vec2>> node_offsets(static_cast<std::size_t>(m), std::vector<Vec2>{Vec2(0.0)});
-  if (box.node_reach > 0 && nu >= 2)
+  if (box.node_reach > 0 && nu >= 2 && std::find(unit_link.begin(), unit_link.end(), 0) != unit_link.end())
     for (int u = 0; u < nu; ++u) {
       const int before = (u + nu - 1) % nu, k = units[u].start;
       const bool listed = std::find(moving_nodes.begin(), moving_nodes.end(), k) != moving_nodes.end();

@@ -119,8 +119,10 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2);
 /// search ends at the first failing unit with no passing position (the
 /// failing units with fewer free points first).
 ///
-/// Nodes that move (box.node_reach > 0, the nodes `moving_nodes` lists):
-/// such a node inside a chain (g2 judges it), exactly smooth, movable with
+/// Nodes that move (box.node_reach > 0, the nodes `moving_nodes` lists; on
+/// a contour with a corner, not one smooth all round, whose closing path
+/// is searched once per state of its first unit): such a node inside a
+/// chain (g2 judges it), exactly smooth, movable with
 /// both its handles and between two units of two or more free points takes
 /// each grid translation within node_reach cells each way, its two handles
 /// with it (so it stays exactly smooth: the paper's rigid group), and each

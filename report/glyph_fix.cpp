@@ -598,11 +598,15 @@ namespace {
 /// where the chain search applies (glyph_chains.hpp), every chain's nearest
 /// handles in the settling's box around the fix (kChainSettleBox), its
 /// nodes held where the fix put them: taken where that lowers the total squared move (the whole gate
-/// re-judges it) and settled again, up to kChainSettleRounds times. Returns
-/// whether the end was reached: no single unit or pair has a nearer passing
-/// position, and (where the chain search applies) every chain's handles are
-/// the nearest in its box, within the work.
-constexpr int kChainSettleRounds = 4;
+/// re-judges it) and settled again, up to kChainSettleRounds times. Then
+/// the same rounds with each chain's inner nodes moving too
+/// (kSettleNodeReach cells each way, with their handles; a contour with a
+/// corner), each taken only where it is cheaper and the settling after it
+/// ends (else the fix stays as it was settled). Returns whether the end
+/// was reached: no single unit or pair has a nearer passing position, and
+/// (where the chain search applies) every chain's handles are the nearest
+/// in its box, within the work.
+constexpr int kChainSettleRounds = 4, kSettleNodeReach = 1;
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
             const ReportOptions& o, Work& work) {
   const int distinct = c.spline.unique_point_count();
@@ -639,6 +643,27 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
     at.assign(r->points.begin(), r->points.end());
     done = settle_units();
     if (done && round + 1 == kChainSettleRounds) done = false;  // it moved every round: not shown nearest
+  }
+  // Settled with nodes held: each chain again with its inner nodes moving a cell each way (with their
+  // handles), taken where that is nearer and the settling after it ends; else the fix stays as settled.
+  std::vector<int> nodes;
+  for (int k = 0; k < distinct; ++k)
+    if (c.node[k]) nodes.push_back(k);
+  glyph_detail::ChainBox box = glyph_detail::kChainSettleBox;
+  box.node_reach = kSettleNodeReach;
+  for (int round = 0; done && round < kChainSettleRounds; ++round) {
+    const std::optional<glyph_detail::ChainResult> r =
+        chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, true, false, nodes);
+    if (!r || r->solved != r->chains || work.spent() || !(squared_move(src, r->points) < squared_move(src, at)))
+      break;
+    const BSpline s = with_points(c, r->points);
+    if (total_judge(o)(s) != 0 || !smooth_kept(c, s)) break;
+    const std::vector<Vec2> settled = at;
+    at.assign(r->points.begin(), r->points.end());
+    if (!settle_units()) {
+      at = settled;
+      break;
+    }
   }
   fixed = with_points(c, at);
   return done;

@@ -56,7 +56,9 @@
 /// up to 2 cells (a slide 4 steps), until nothing moves; then, on a cubic
 /// contour, every chain's nearest handles in a box around the fix
 /// (glyph_chains.hpp, kChainSettleBox), taken where cheaper and settled
-/// again.
+/// again; then the same with each chain's inner smooth nodes moving a cell
+/// each way with their handles (on a contour with a corner), taken where
+/// cheaper and the settling after it ends.
 /// A quadratic contour's smooth line-to-curve join under g2 cannot pass
 /// (a quadratic's end curvature is 0 only when it is straight): said at
 /// once. Nor can a cubic's, under g2 and the extremum gate together, where
@@ -142,6 +144,9 @@ struct ContourFix {
   /// no chain's handles in the settling's box (nodes held, and the inner
   /// points of a run of four or more off-curve points) pass with a smaller
   /// total move. False where the work ran out first (the fix still passes).
+  /// (After that the settling also tries each chain with its inner nodes a
+  /// cell each way, glyph_fix.cpp settle; where that ends in time, none of
+  /// those is nearer either, but `settled` does not say whether it did.)
   bool settled = false;
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)
