@@ -707,11 +707,22 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // fixes (DejaVu Sans G, both type gates: 3,962 -> 4,076 units^2); they get the growing box below.
   const int distinct = c.spline.unique_point_count();
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
+  // Where it leaves a chain with a unit that no position passes, its nodes held, the chains it leaves
+  // are searched again from there with those units' nodes moving a cell each way (glyph_chains.hpp):
+  // P052 (URW's Palatino) A, whose stem line meets a curve smoothly at p30, needs p33 a unit sideways
+  // for the line and p33's tangent to cross on the grid.
   if (several && options.grid > 0 && c.spline.degree() == 3) {
-    if (const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work);
-        r && r->solved > 0) {
+    const auto take = [&](const std::optional<glyph_detail::ChainResult>& r) {
+      if (!r || r->solved == 0) return;
       const BSpline s = with_points(c, r->points);
       if (const int left = judge(s); left < current_total && smooth_kept(c, s)) current = s, current_total = left;
+    };
+    const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work);
+    take(r);
+    if (r && r->solved < r->chains && !r->stuck.empty() && !work.spent()) {
+      const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
+      take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work,
+                        {glyph_detail::kChainReach, glyph_detail::kChainSlideReach, 1}, false, false, r->stuck));
     }
   }
   // Quadratic contours: the chain search with a growing box (glyph_chains.hpp), in up to half the

@@ -42,6 +42,7 @@ const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 const char* kNotoSerif = "/usr/share/fonts/truetype/noto/NotoSerif-Regular.ttf";
 const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
 const char* kTermes = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyretermes-regular.otf";
+const char* kP052 = "/usr/share/fonts/opentype/urw-base35/P052-Roman.otf";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -818,6 +819,31 @@ TEST(GlyphFix, TheGrowingChainSearchMovesTheNodesOfAUnitWithNoPassingPosition) {
     EXPECT_TRUE(fix.fixed && fix.settled) << fix.contour << ": " << fix.reason;
     for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << fix.contour << " " << g.check;
   }
+}
+
+// A cubic contour's chain left with a unit that no position passes, its
+// nodes held, is searched again with that unit's nodes moving
+// (glyph_fix.cpp, fix_contour). P052 (URW's Palatino) A: the stem's line
+// p29-p30 meets the curve p30-p33 smoothly, so g2 puts p32 on the line, and
+// p33's tangent is vertical, so p32 is on x = 578 too: they cross at
+// (578, 61.5), half a unit off the grid, and the chain search (nodes held)
+// lists p33 among the nodes of its stuck units. With p33 a unit sideways
+// (and its handles with it) the crossing is on the grid: the glyph is
+// fixed, settled, and passes both gates. Before, "no certified fix" with
+// g2 at p30 left (also with 8 M work).
+TEST(GlyphFix, AChainWithAStuckUnitIsSearchedAgainWithItsNodesMoving) {
+  if (!fs::exists(kP052)) GTEST_SKIP() << kP052 << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const JudgedContour j = judged_contour("A", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kP052);
+  report::glyph_detail::Work work(report::kGlyphWork, 60);
+  const auto r = report::glyph_detail::chain_search(j.contour(), j.src, j.src, report::contour_moves(j.contour()).points,
+                                                    j.o, 1, 0, work);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_LT(r->solved, r->chains);
+  EXPECT_NE(std::find(r->stuck.begin(), r->stuck.end(), j.at_font.at(33)), r->stuck.end());
+  const BothGatesFix f = both_gates_fix(kP052, "A");
+  ASSERT_EQ(f.fixes.size(), 2u);
+  EXPECT_TRUE(f.fixes[0].fixed && f.fixes[0].settled) << f.fixes[0].reason;
+  for (const report::GateCount& g : f.fixes[0].rejudged) EXPECT_EQ(g.after, 0) << g.check;
 }
 
 // Noto Serif s under both type gates: no search but the growing chain
