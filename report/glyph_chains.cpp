@@ -256,7 +256,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   }
   const auto unlinked = std::find(unit_link.begin(), unit_link.end(), 0);
   const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}};
+  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}, true};
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   ClassifyOptions classify;
@@ -665,6 +665,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       fails = fails || failing_unit[chain[i]] || ((i > 0 || cycle) && failing_start[chain[i]]);
     if (fails) chains.push_back(std::move(chain));
   }
+  // Asked to move nodes where none may: the search would be the one with every node held.
+  const bool moves_a_node =
+      std::any_of(node_offsets.begin(), node_offsets.end(), [](const auto& v) { return v.size() > 1; });
+  if (box.node_reach > 0 && !moves_a_node) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, {}, false};
   // Each unit's states, once; the failing units first, since a chain with
   // a unit that no position in the box makes monotone (its nodes would
   // have to move) has no answer, and that is found cheapest so.
@@ -688,12 +692,12 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     states[u] = states_of(u, spent);
     hopeless[h] = states[u]->empty();
     if (hopeless[h] && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
-    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck};
+    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])
       if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
-  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck};
+  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck, true};
   if (spent) return result;
   // The least-cost path through a chain's layers from the first layer's
   // states `first` (their best: their own cost); the last layer's best and
@@ -790,6 +794,7 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
         const std::optional<ChainResult> r =
             chain_search(c, src, at, movable, o, grid, max_move, work, box, false, true, stuck);
         if (!r) return std::nullopt;
+        if (!r->searched) return std::nullopt;  // none of the stuck units' nodes may move
         at = r->points;
         if (r->solved == r->chains) return at;
         if (work.spent()) return std::nullopt;

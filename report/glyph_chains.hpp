@@ -141,6 +141,7 @@ struct ChainResult {
   int solved = 0;            ///< of those, the chains with an answer (all: every chain passes as above)
   double cost = 0;           ///< the answers' cost: their points' total squared move from `src` (held nodes aside)
   std::vector<int> stuck;    ///< the nodes of each unit found with no passing position in the box
+  bool searched = true;      ///< false: asked to move nodes (node_reach > 0) where none may, nothing searched
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,

@@ -609,13 +609,28 @@ TEST(GlyphFix, TheChainSearchWithAMovingNodeIsTheNearestInItsBox) {
   EXPECT_EQ(report::glyph_detail::squared_move(j.src, found->points), least) << passing << " pass";
   EXPECT_EQ(found->points[k(19)], node);
   double chain_cost = 0;  // the chain's points' squared move: ChainResult::cost, p19's counted
-  for (int f : {17, 18, 19, 20, 21}) chain_cost += dot(found->points[k(f)] - j.src[k(f)], found->points[k(f)] - j.src[k(f)]);
+  for (int f : {17, 18, 19, 20, 21}) {
+    const Vec2 move = found->points[k(f)] - j.src[k(f)];
+    chain_cost += dot(move, move);
+  }
   EXPECT_EQ(found->cost, chain_cost);
   EXPECT_EQ(j.violations(found->points), 0);
   for (int p = 0; p < static_cast<int>(at.size()); ++p)
     if (p != k(17) && p != k(18) && p != k(19) && p != k(20) && p != k(21)) {
       EXPECT_EQ(found->points[p], at[p]) << "point " << p;
     }
+  // Asked to move only nodes that may not (p16 and p22 are corners: the chain's ends), it searches
+  // nothing: that search would be the one with every node held (the growing search then stops).
+  report::glyph_detail::Work none(report::kGlyphWork, 60);
+  const std::vector<int> movable = report::contour_moves(j.contour()).points;
+  const auto corners =
+      report::glyph_detail::chain_search(j.contour(), j.src, at, movable, j.o, 1, 0, none, {2, 6, 1}, false, false,
+                                         {k(16), k(22)});
+  ASSERT_TRUE(corners.has_value());
+  EXPECT_FALSE(corners->searched);
+  EXPECT_EQ(corners->solved, 0);
+  EXPECT_EQ(corners->points, at);
+  EXPECT_TRUE(found->searched);
 }
 
 // The chain search on a TrueType contour (glyph_chains.hpp: each run of
@@ -793,7 +808,8 @@ TEST(GlyphFix, AChainsCandidateThatMakesACornerSmoothIsJudgedThere) {
 // growing_chain_search), the chain is answered with p9 moved; the glyph's
 // fix is found within the default work, settled, and passes both gates.
 TEST(GlyphFix, TheGrowingChainSearchMovesTheNodesOfAUnitWithNoPassingPosition) {
-  if (!fs::exists(kNotoSans)) GTEST_SKIP() << kNotoSans << " is not installed (tools/setup.sh installs fonts-noto-core)";
+  if (!fs::exists(kNotoSans))
+    GTEST_SKIP() << kNotoSans << " is not installed (tools/setup.sh installs fonts-noto-core)";
   const JudgedContour j = judged_contour("Q", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kNotoSans);
   ASSERT_EQ(j.contour().spline.degree(), 2);
   const std::vector<int> movable = report::contour_moves(j.contour()).points;
@@ -835,8 +851,8 @@ TEST(GlyphFix, AChainWithAStuckUnitIsSearchedAgainWithItsNodesMoving) {
   if (!fs::exists(kP052)) GTEST_SKIP() << kP052 << " is not installed (tools/setup.sh installs fonts-urw-base35)";
   const JudgedContour j = judged_contour("A", 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kP052);
   report::glyph_detail::Work work(report::kGlyphWork, 60);
-  const auto r = report::glyph_detail::chain_search(j.contour(), j.src, j.src, report::contour_moves(j.contour()).points,
-                                                    j.o, 1, 0, work);
+  const std::vector<int> movable = report::contour_moves(j.contour()).points;
+  const auto r = report::glyph_detail::chain_search(j.contour(), j.src, j.src, movable, j.o, 1, 0, work);
   ASSERT_TRUE(r.has_value());
   EXPECT_LT(r->solved, r->chains);
   EXPECT_NE(std::find(r->stuck.begin(), r->stuck.end(), j.at_font.at(33)), r->stuck.end());
