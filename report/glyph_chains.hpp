@@ -157,14 +157,16 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
 /// passes (its nodes held), boxes of 16 and 24 cells again with the nodes
 /// of every such unit found moving too (kGrowingNodeReach cells each way:
 /// one, so a unit's candidates grow at most 81 times), each box again while
-/// it finds another such unit (a box of 8 cells with nodes moving took Noto
-/// Sans `Q`'s share of the work without an answer). Its answer where every chain is answered (all: each
-/// passes as chain_search says, the other nodes held); nullopt where none
-/// is, the work runs out, or the search does not apply. Measured on the
-/// quadratic contours no other search fixes under both type gates: Noto
-/// Serif `s` at 16 cells, `S` and `C` at 24; Noto Sans `Q` with p9 and p0
-/// moving, at 16 (its tail's short run p7, p8 has no passing position with
-/// p9 held: p7 would have to be half a unit off the grid).
+/// it finds another such unit, and none where none of those nodes may move
+/// (ChainResult::searched). A box of 8 cells with nodes moving took Noto
+/// Sans `Q`'s share of the work without an answer. Its answer where every
+/// chain is answered (all: each passes as chain_search says, the other
+/// nodes held); nullopt where none is, the work runs out, or the search
+/// does not apply. Measured on the quadratic contours no other search
+/// fixes under both type gates: Noto Serif `s` at 16 cells, `S` and `C` at
+/// 24; Noto Sans `Q` with p9 moving, at 16 (its tail's short run p7, p8 has
+/// no passing position with p9 held: p7 would have to be half a unit off
+/// the grid).
 inline constexpr std::array<int, 3> kGrowingReach{8, 16, 24};
 inline constexpr std::array<int, 2> kGrowingNodeRoundReach{16, 24};
 inline constexpr int kGrowingSlidePerCell = 6, kGrowingNodeReach = 1;
