@@ -793,8 +793,7 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
       for (bool again = true; again;) {
         const std::optional<ChainResult> r =
             chain_search(c, src, at, movable, o, grid, max_move, work, box, false, true, stuck);
-        if (!r) return std::nullopt;
-        if (!r->searched) return std::nullopt;  // none of the stuck units' nodes may move
+        if (!r || !r->searched) return std::nullopt;  // not searched: none of the stuck units' nodes may move
         at = r->points;
         if (r->solved == r->chains) return at;
         if (work.spent()) return std::nullopt;
