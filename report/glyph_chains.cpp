@@ -317,7 +317,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       if (std::sqrt(dot(dp, dp)) > limit || !on_lines(p)) return;
       out.at.push_back(p), out.cost.push_back(dot(dp, dp));
     };
-    if (c.font_point[k] < 0 || std::find(movable.begin(), movable.end(), k) == movable.end()) {
+    if (!may_move(k)) {
       if (on_lines(base[k])) out.at.push_back(base[k]), out.cost.push_back(dot(base[k] - src[k], base[k] - src[k]));
       return out;
     }
@@ -789,7 +789,7 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
     if (nodes && stuck.empty()) break;
     const std::span<const int> reaches = nodes ? std::span<const int>(kGrowingNodeRoundReach) : kGrowingReach;
     for (const int reach : reaches) {
-      const ChainBox box{reach, kGrowingSlidePerCell * reach, nodes ? kGrowingNodeReach : 0};
+      const ChainBox box{reach, kGrowingSlidePerCell * reach, nodes ? kChainNodeReach : 0};
       for (bool again = true; again;) {
         const std::optional<ChainResult> r =
             chain_search(c, src, at, movable, o, grid, max_move, work, box, false, true, stuck);

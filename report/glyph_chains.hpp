@@ -74,6 +74,11 @@ struct ChainBox {
   int slide_reach = kChainSlideReach;
   int node_reach = 0;  ///< a smooth node inside a chain moves too, with its handles, this many cells each way
 };
+/// How far a node moves where the fix moves nodes in the chain search (the
+/// growing search's node rounds, a cubic contour's second chain search, the
+/// settling's node rounds): a cell each way, so a unit's candidates grow at
+/// most 81 times.
+inline constexpr int kChainNodeReach = 1;
 /// The settling's box (glyph_fix.cpp, settle: every chain, each time the
 /// fix moves): 9 x 9 cells a free handle, 49 steps a sliding one.
 inline constexpr ChainBox kChainSettleBox{4, 24};
@@ -155,10 +160,9 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
 /// contour, all_or_none (only an answer to every chain is used). Where a
 /// box of 24 cells leaves a chain unanswered with a unit that no position
 /// passes (its nodes held), boxes of 16 and 24 cells again with the nodes
-/// of every such unit found moving too (kGrowingNodeReach cells each way:
-/// one, so a unit's candidates grow at most 81 times), each box again while
-/// it finds another such unit, and none where none of those nodes may move
-/// (ChainResult::searched). A box of 8 cells with nodes moving took Noto
+/// of every such unit found moving too (kChainNodeReach cells each way),
+/// each box again while it finds another such unit, and none where none of
+/// those nodes may move (ChainResult::searched). A box of 8 cells with nodes moving took Noto
 /// Sans `Q`'s share of the work without an answer. Its answer where every
 /// chain is answered (all: each passes as chain_search says, the other
 /// nodes held); nullopt where none is, the work runs out, or the search
@@ -169,7 +173,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
 /// the grid).
 inline constexpr std::array<int, 3> kGrowingReach{8, 16, 24};
 inline constexpr std::array<int, 2> kGrowingNodeRoundReach{16, 24};
-inline constexpr int kGrowingSlidePerCell = 6, kGrowingNodeReach = 1;
+inline constexpr int kGrowingSlidePerCell = 6;
 std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                                       const std::vector<int>& movable, const ReportOptions& o,
                                                       double grid, double max_move, Work& work);

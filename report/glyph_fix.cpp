@@ -600,13 +600,13 @@ namespace {
 /// nodes held where the fix put them: taken where that lowers the total squared move (the whole gate
 /// re-judges it) and settled again, up to kChainSettleRounds times. Then
 /// the same rounds with each chain's inner nodes moving too
-/// (kSettleNodeReach cells each way, with their handles; a contour with a
+/// (kChainNodeReach cells each way, with their handles; a contour with a
 /// corner), each taken only where it is cheaper and the settling after it
 /// ends (else the fix stays as it was settled). Returns whether the end
 /// was reached: no single unit or pair has a nearer passing position, and
 /// (where the chain search applies) every chain's handles are the nearest
 /// in its box, within the work.
-constexpr int kChainSettleRounds = 4, kSettleNodeReach = 1;
+constexpr int kChainSettleRounds = 4;
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
             const ReportOptions& o, Work& work) {
   const int distinct = c.spline.unique_point_count();
@@ -650,7 +650,7 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
   for (int k = 0; k < distinct; ++k)
     if (c.node[k]) nodes.push_back(k);
   glyph_detail::ChainBox box = glyph_detail::kChainSettleBox;
-  box.node_reach = kSettleNodeReach;
+  box.node_reach = glyph_detail::kChainNodeReach;
   for (int round = 0; done && round < kChainSettleRounds; ++round) {
     const std::optional<glyph_detail::ChainResult> r =
         chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, true, false, nodes);
@@ -721,8 +721,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     take(r);
     if (r && r->solved < r->chains && !r->stuck.empty() && !work.spent()) {
       const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
-      take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work,
-                        {glyph_detail::kChainReach, glyph_detail::kChainSlideReach, 1}, false, false, r->stuck));
+      const glyph_detail::ChainBox box{glyph_detail::kChainReach, glyph_detail::kChainSlideReach,
+                                       glyph_detail::kChainNodeReach};
+      take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, false, false, r->stuck));
     }
   }
   // Quadratic contours: the chain search with a growing box (glyph_chains.hpp), in up to half the

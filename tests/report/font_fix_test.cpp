@@ -1193,7 +1193,7 @@ TEST(GlyphFix, TheChainSearchClosesAContourSmoothAllRound) {
 // settled, has no cheaper chain answer. (Before the chain step the settled
 // fix cost 91 units^2, and the chain search found 87.) Nor with the
 // chains' inner nodes moving a cell each way too (the settling's last
-// rounds, kSettleNodeReach), which took it from 87 to 86.
+// rounds, kChainNodeReach), which took it from 87 to 86.
 TEST(GlyphFix, ASettledFixHasTheNearestHandlesOfEveryChainInItsBox) {
   if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
   const BothGatesFix f = both_gates_fix(kNimbus, "y");
