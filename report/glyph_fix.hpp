@@ -65,7 +65,9 @@
 /// the curve's far node is exactly smooth with a tangent square to the line
 /// (g2 puts the second handle at the lines' crossing, and such a cubic has
 /// a curvature extremum inside: derived in glyph_joins.hpp,
-/// square_cubic_line_join): said at once too. Budget:
+/// square_cubic_line_join), or where it ends at a held line's end that
+/// leaves no monotone cubic (held_cubic_line_join, and on the grid
+/// held_cubic_line_join_on_grid): said at once too. Budget:
 /// GlyphFixOptions::glyph_work per glyph, in work, not time.
 #include <string>
 #include <vector>

@@ -1,6 +1,7 @@
 #include "report/glyph_joins.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -216,6 +217,43 @@ std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& 
   return "";
 }
 
+std::optional<GridHeldJoin> held_cubic_line_join_on_grid(const import::Contour& c, const ReportOptions& o,
+                                                         double grid) {
+  if (!g2_and_extrema(o) || !(grid >= 1) || grid != std::floor(grid) || grid > 0x1p24) return {};
+  const auto G = static_cast<long long>(grid);
+  const auto on_grid = [&](Vec2 q) { return std::fmod(q.x, grid) == 0 && std::fmod(q.y, grid) == 0; };
+  const std::vector<Vec2>& P = c.spline.points();
+  const ContourMoves moves = contour_moves(c);
+  ClassifyOptions classify;
+  classify.max_depth = o.max_depth;
+  classify.inflection = false;
+  for (const CubicLineJoin& x : cubic_line_joins(c)) {
+    if (moves.movable(x.f) || !on_grid(P[x.j]) || !on_grid(P[x.h1]) || !on_grid(P[x.h2])) continue;
+    // p, the line's primitive direction; F's offset B from the line and its reach E along it past J, both
+    // times |p| (integers below 2^26: exact).
+    const auto ux = static_cast<long long>(x.u.x), uy = static_cast<long long>(x.u.y);
+    const long long g = std::gcd(ux, uy), px = ux / g, py = uy / g;
+    const Vec2 p(static_cast<double>(px), static_cast<double>(py)), fj = P[x.f] - P[x.j];
+    const auto B = static_cast<long long>(det(p, fj)), E = static_cast<long long>(dot(p, fj));
+    if (B == 0) continue;
+    const double b = std::abs(static_cast<double>(B)) / std::sqrt(dot(p, p));
+    if (!(o.constant_tolerance < 0.5 * b / 0x1p28)) continue;
+    // The steps k with k G |p|^2 < E, and their ordered pairs.
+    const long long step = G * (px * px + py * py), k_max = E > 0 ? (E - 1) / step : 0;
+    const long pairs = static_cast<long>(k_max * (k_max - 1) / 2);
+    if (pairs > kMaxGridPairs) continue;
+    const auto at = [&](long long k) { return P[x.j] + static_cast<double>(k * G) * p; };
+    bool passes = false;
+    for (long long k1 = 1; k1 < k_max && !passes; ++k1)
+      for (long long k2 = k1 + 1; k2 <= k_max && !passes; ++k2) {
+        const std::array<Vec2, 4> piece = {P[x.j], at(k1), at(k2), P[x.f]};
+        passes = classify_bezier(piece, classify).monotonicity.curvature != Curvature::non_monotone;
+      }
+    if (!passes) return GridHeldJoin{point_name(c, x.j), pairs};
+  }
+  return {};
+}
+
 std::optional<PinnedTurn> pinned_quadratic_turn(const import::Contour& c, const ReportOptions& o) {
   const BSpline& s = c.spline;
   if (!extremum_gate(o) || !(o.constant_tolerance < 0.5) || s.degree() != 2 || s.is_rational() || !s.closed())
@@ -278,6 +316,15 @@ std::string refusal(const import::Contour& c, const ReportOptions& o, double gri
         "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
         "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
         "passes both gates (add an on-curve point, or accept the jump)");
+  }
+  if (const std::optional<GridHeldJoin> on_grid = held_cubic_line_join_on_grid(c, o, grid)) {
+    return at_join(on_grid->join)
+        .append(" joins a line to a cubic that ends at a line's end, which stays: g2 there puts both handles on the "
+                "line, in order short of the end's foot on it if the curvature is to be monotone, and exact analysis "
+                "finds an extremum inside the cubic for each of the ")
+        .append(std::to_string(on_grid->pairs))
+        .append(" such pairs of grid positions, so no move on the grid that keeps lines straight and smooth nodes "
+                "smooth passes both gates (add an on-curve point, or accept the jump)");
   }
   if (const std::optional<PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
     return std::string("the extremum gate: the quadratic piece ")

@@ -103,6 +103,33 @@ std::string square_cubic_line_join(const import::Contour& c, const ReportOptions
 /// Heros r's stem and arch).
 std::string held_cubic_line_join(const import::Contour& c, const ReportOptions& o);
 
+/// The same join under the same two gates where F is held and off the line
+/// but farther along it than that bound, so that positions off the grid may
+/// pass, for a fix on the grid of integer step G where J, H1 and H2 lie on
+/// it (font units: G = 1). held_cubic_line_join's derivation shows an
+/// extremum strictly inside wherever c <= a, and wherever c > a with q =
+/// e - c <= 0, for every e: a passing piece has 0 < a < c < e. The moves
+/// keep H1 on J's line (J stays smooth) and g2 at J puts H2 there too, and
+/// the grid points of that line are J + k G p, p = u / gcd(u) its primitive
+/// direction (t p in G Z^2 gives t in G Z, p's coordinates being coprime).
+/// So a fix on the grid has H1 = J + k1 G p, H2 = J + k2 G p with 1 <= k1 <
+/// k2 and k2 G |p|^2 < E = (F - J) . p: finitely many pairs, and Algorithm
+/// 1 (monotonicity alone, to o.max_depth) classifies each cubic exactly.
+/// Where every one is not monotone, no move on the grid passes both gates.
+/// Not near constant and no cusp, as in held_cubic_line_join (the same
+/// bound on the constant tolerance). Only where there are at most
+/// kMaxGridPairs pairs (else the search decides). The join's name and the
+/// number of pairs checked (0 where there is no such pair); nullopt where
+/// there is no such join. Test: GlyphFix.ALineJoinToAHeldLineEndWithNoPlaceOnTheGridIsRefused
+/// (P052 L's serifs).
+struct GridHeldJoin {
+  std::string join;
+  long pairs = 0;
+};
+inline constexpr long kMaxGridPairs = 1L << 16;
+std::optional<GridHeldJoin> held_cubic_line_join_on_grid(const import::Contour& c, const ReportOptions& o,
+                                                         double grid);
+
 /// A quadratic contour's piece (N0, B, N1) from one exactly smooth node to
 /// the next, its one off-curve point B the handle of both, that turns by
 /// 90 degrees or more (and less than 180), under an extremum gate

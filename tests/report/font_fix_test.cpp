@@ -335,6 +335,44 @@ TEST(GlyphFix, ALineJoinToAHeldLineEndIsRefusedWithBothGates) {
   EXPECT_EQ(checked, 504);
 }
 
+// Beyond that bound, on the grid: the glyph fix refuses at once, with a
+// proof, the same join where every pair of grid positions that could keep
+// the cubic monotone (1 <= a < c < e along the line) has an extremum inside
+// (report/glyph_joins.hpp, held_cubic_line_join_on_grid): P052 L's serif
+// joins, F 25 units off the stem and 59 along it, 1653 pairs
+// (tests/report/line_join_proofs.py checks them in rational arithmetic).
+// Not claimed where a pair passes (F at (100, 250): a = 28, c = 177), off
+// the grid, on a grid the handles are not on, or with g2 alone.
+TEST(GlyphFix, ALineJoinToAHeldLineEndWithNoPlaceOnTheGridIsRefused) {
+  using T = import::OutlinePoint::Tag;
+  const auto serif = [](Vec2 f) {
+    return cubic_glyph("L", {{{0, -300}, T::on},
+                             {{0, 0}, T::on},
+                             {{0, 30}, T::cubic},
+                             {{9, 51}, T::cubic},
+                             {f, T::on},
+                             {{f.x + 80, f.y + 100}, T::on},
+                             {{-80, f.y + 100}, T::on}});
+  };
+  const import::Glyph l = serif({25, 59});
+  report::GlyphFixOptions o;
+  report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
+  o.judge.regions = false;
+  EXPECT_EQ(report::glyph_detail::held_cubic_line_join(l.contours[0], o.judge), "");  // beyond the bound
+  const std::optional<report::glyph_detail::GridHeldJoin> proof =
+      report::glyph_detail::held_cubic_line_join_on_grid(l.contours[0], o.judge, 1);
+  ASSERT_TRUE(proof.has_value());
+  EXPECT_EQ(proof->join, "L/c0/p1");
+  EXPECT_EQ(proof->pairs, 1653);
+  expect_refused_at_once(l, o, "for each of the 1653 such pairs of grid positions", "L/c0/p1 ");
+  EXPECT_FALSE(report::glyph_detail::held_cubic_line_join_on_grid(serif({100, 250}).contours[0], o.judge, 1));
+  for (const double grid : {0.0, 0.5, 2.0})
+    EXPECT_FALSE(report::glyph_detail::held_cubic_line_join_on_grid(l.contours[0], o.judge, grid)) << grid;
+  report::ReportOptions g2;
+  report::parse_require_list("g2-at-smooth-nodes", g2);
+  EXPECT_FALSE(report::glyph_detail::held_cubic_line_join_on_grid(l.contours[0], g2, 1));
+}
+
 // A contour the glyph fix leaves unfixed says where its search stopped when
 // that was nearer passing than the source (report/glyph_unfixed.hpp): the
 // count left of the source's, and the places still failing by the names the

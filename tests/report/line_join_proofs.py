@@ -18,6 +18,11 @@ y: H1 = (0, a) with a > 0, H2 = (0, c), F = (b, e) with b != 0.
     c = 177 has monotone curvature (lambda of one sign).
  5. square_cubic_line_join: F = (b, c) (F's tangent square to the line)
     has an extremum inside for every a > 0, b != 0 and c.
+ 6. held_cubic_line_join_on_grid: for any e, every such cubic with c <= a,
+    or with c > a and c >= e, has an extremum inside (random rationals, e
+    beyond the bound of 3); so on the integer grid only 1 <= a < c < e
+    remain, and for P052 L's serif joins (b = 25, e = 59) each of those
+    1653 cubics has an extremum inside too.
 
 Prints one line per check and exits 1 when one fails.
 """
@@ -133,5 +138,21 @@ while checked < 800:
     checked += 1
     bad += 0 if not_monotone(cubic(a, c, b, c)) else 1
 check(bad == 0, "square far tangent: an extremum inside every one of %d cubics F = (b, c)" % checked)
+
+# 6: held_cubic_line_join_on_grid's claims.
+checked = bad = 0
+while checked < 800:
+    a, b = rational(1, 600), rational(-400, 400)
+    if b == 0:
+        continue
+    e = F(rng.randint(2109, 20000), 1000) * abs(b)  # beyond the bound: 9 e^2 > 40 b^2
+    c = rng.choice([rational(-600, 0) + a, a - rational(0, 600), e + rational(0, 600)])  # c <= a, or c >= e
+    checked += 1
+    bad += 0 if not_monotone(cubic(a, c, b, e)) else 1
+check(bad == 0, "held line end, any e: an extremum inside every one of %d cubics with c <= a or c >= e" % checked)
+pairs = [(k1, k2) for k1 in range(1, 59) for k2 in range(k1 + 1, 59)]
+bad = sum(0 if not_monotone(cubic(k1, k2, 25, 59)) else 1 for k1, k2 in pairs)
+check(len(pairs) == 1653 and bad == 0,
+      "P052 L's serif (b = 25, e = 59): an extremum inside every one of the %d grid pairs 1 <= a < c < 59" % len(pairs))
 
 sys.exit(1 if failures else 0)
