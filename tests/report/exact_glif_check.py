@@ -135,6 +135,27 @@ def sign_classes(b, depth=0):
     return sign_classes(l, depth + 1) | sign_classes(r, depth + 1)
 
 
+def not_monotone(seg):
+    """lambda of the cubic `seg` takes both strict signs on [0, 1] (so a root strictly inside: a curvature
+    extremum): its values at the ends of de Casteljau halves (each half's first and last Bernstein
+    coefficient), halving only where a half's coefficients hold both signs, down to 2^-60."""
+    seen, todo = set(), [(bernstein(lam(seg), 5), 0)]
+    while todo and seen != {1, -1}:
+        b, depth = todo.pop()
+        for v in (b[0], b[-1]):
+            if v != 0:
+                seen.add(1 if v > 0 else -1)
+        if depth < 60 and any(c > 0 for c in b) and any(c < 0 for c in b):
+            todo.extend((h, depth + 1) for h in halves(b))
+    return seen == {1, -1}
+
+
+def monotone(seg):
+    """lambda of the cubic `seg` of one sign on [0, 1], certified by its Bernstein coefficients (subdivided)."""
+    classes = sign_classes(bernstein(lam(seg), 5)) - {"zero"}
+    return classes in ({"pos"}, {"neg"})
+
+
 def kappa_end(seg, at_end):
     p0, p1, p2, p3 = seg
     if at_end:

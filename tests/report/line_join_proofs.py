@@ -32,7 +32,7 @@ import sys
 from fractions import Fraction as F
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from exact_glif_check import bernstein, deriv, halves, lam, poly_mul, poly_sub, sign_classes  # noqa: E402
+from exact_glif_check import deriv, lam, monotone, not_monotone, poly_mul, poly_sub  # noqa: E402
 
 failures = 0
 
@@ -54,27 +54,6 @@ def at(poly, t):
 
 def cubic(a, c, b, e):
     return [(F(0), F(0)), (F(0), F(a)), (F(0), F(c)), (F(b), F(e))]
-
-
-def not_monotone(seg):
-    """lambda takes both strict signs on [0, 1] (so a root strictly inside: a curvature extremum): its
-    values at the ends of de Casteljau halves (each half's first and last Bernstein coefficient), halving
-    only where a half's coefficients hold both signs, down to 2^-60."""
-    seen, todo = set(), [(bernstein(lam(seg), 5), 0)]
-    while todo and seen != {1, -1}:
-        b, depth = todo.pop()
-        for v in (b[0], b[-1]):
-            if v != 0:
-                seen.add(1 if v > 0 else -1)
-        if depth < 60 and any(c > 0 for c in b) and any(c < 0 for c in b):
-            todo.extend((h, depth + 1) for h in halves(b))
-    return seen == {1, -1}
-
-
-def monotone(seg):
-    """lambda of one sign on [0, 1], certified by its Bernstein coefficients (subdivided)."""
-    classes = sign_classes(bernstein(lam(seg), 5)) - {"zero"}
-    return classes in ({"pos"}, {"neg"})
 
 
 rng = random.Random(36)
