@@ -688,10 +688,11 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     });
   for (const auto& [h, u] : failing) {
     if (spent) break;
-    if (hopeless[h]) continue;
+    if (hopeless[h] && !box.every_stuck) continue;
     states[u] = states_of(u, spent);
-    hopeless[h] = states[u]->empty();
-    if (hopeless[h] && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
+    const bool none = states[u]->empty();
+    hopeless[h] = hopeless[h] || none;
+    if (none && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
     if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
@@ -800,6 +801,74 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
         again = more_stuck(r->stuck) && nodes;  // with nodes moving: again with the new stuck units' nodes too
       }
     }
+  }
+  return std::nullopt;
+}
+
+std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
+                                             const std::vector<Vec2>& start, const std::vector<int>& movable,
+                                             const ReportOptions& o, double grid, double max_move, Work& work) {
+  if (c.spline.degree() != 3 || !(grid > 0)) return std::nullopt;
+  const int m = c.spline.unique_point_count();
+  const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
+  const auto at_index = [&](int k) { return ((k % m) + m) % m; };
+  const auto may_move = [&](int k) {
+    return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
+  };
+  // A node that moves with both its handles.
+  const auto rigid = [&](int k) {
+    const int before = at_index(k - 1), after = at_index(k + 1);
+    return c.node[k] && !c.node[before] && !c.node[after] && may_move(k) && may_move(before) && may_move(after);
+  };
+  // The chain search from `at`, every stuck unit found; a contour smooth all round (no answer without
+  // `every`) as one chain.
+  const auto search = [&](const std::vector<Vec2>& at, const ChainBox& box) {
+    std::optional<ChainResult> r = chain_search(c, src, at, movable, o, grid, max_move, work, box);
+    if (!r && !work.spent()) r = chain_search(c, src, at, movable, o, grid, max_move, work, box, true);
+    return r;
+  };
+  ChainBox full, probe{kChainReach, kBowlProbeSlide};
+  full.every_stuck = probe.every_stuck = true;
+  // Whether unit (n0, n1) is among r's stuck units.
+  const auto stuck_in = [](const ChainResult& r, int n0, int n1) {
+    for (std::size_t i = 0; i + 1 < r.stuck.size(); i += 2)
+      if (r.stuck[i] == n0 && r.stuck[i + 1] == n1) return true;
+    return false;
+  };
+  std::vector<Vec2> at = start;
+  for (int moves = 0; moves <= kBowlNodeMoves; ++moves) {
+    const std::optional<ChainResult> r = search(at, full);
+    if (!r || work.spent()) return std::nullopt;
+    if (r->solved == r->chains) return r->points;
+    if (r->stuck.size() < 2 || moves == kBowlNodeMoves) return std::nullopt;
+    const int n0 = r->stuck[0], n1 = r->stuck[1];
+    const std::optional<ChainResult> before = search(at, probe);  // the probe's count to lower
+    if (!before || work.spent()) return std::nullopt;
+    // The unit's handle next to each of its nodes (the unit runs n0, n0 + 1, ..., n1 - 1, n1).
+    const std::array<std::pair<int, int>, 2> ends{{{n0, at_index(n0 + 1)}, {n1, at_index(n1 - 1)}}};
+    bool moved = false;
+    for (int step = 1; step <= kBowlNormalReach && !moved; ++step)
+      for (const auto& [node, handle] : ends) {
+        if (moved || !rigid(node)) continue;
+        const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
+        if (!tangent) continue;
+        for (const double sign : {1.0, -1.0}) {
+          const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x);
+          const Vec2 p = at[node] + v;
+          if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
+            continue;
+          std::vector<Vec2> trial = at;
+          for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
+          const std::optional<ChainResult> t = search(trial, probe);
+          if (!t || work.spent()) return std::nullopt;
+          if (t->solved == t->chains) return t->points;
+          if (!stuck_in(*t, n0, n1) && t->stuck.size() < before->stuck.size()) {
+            at = std::move(trial), moved = true;
+            break;
+          }
+        }
+      }
+    if (!moved) return std::nullopt;
   }
   return std::nullopt;
 }

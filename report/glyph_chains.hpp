@@ -73,6 +73,7 @@ struct ChainBox {
   int reach = kChainReach;
   int slide_reach = kChainSlideReach;
   int node_reach = 0;  ///< a smooth node inside a chain moves too, with its handles, this many cells each way
+  bool every_stuck = false;  ///< find every unit with no passing position (ChainResult::stuck), not a chain's first
 };
 /// How far a node moves where the fix moves nodes in the chain search (the
 /// growing search's node rounds, a cubic contour's second chain search, the
@@ -177,5 +178,33 @@ inline constexpr int kGrowingSlidePerCell = 6;
 std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                                       const std::vector<int>& movable, const ReportOptions& o,
                                                       double grid, double max_move, Work& work);
+
+/// The bowl search (cubic contours). Where a unit has no passing handle
+/// position with its nodes where they are (ChainResult::stuck): a quarter
+/// arc between perpendicular tangents that spans a square or nearly so has
+/// none at all (tests/report/quarter_arc_check.py), as in URW Gothic's O.
+/// One of the first stuck unit's two nodes moves along its normal (the
+/// primitive grid vector square to the unit's handle there, so the arc
+/// spans a less square box), its two handles with it, 1, 2, ...,
+/// kBowlNormalReach grid steps each way (at most kBowlNormalReach grid
+/// units), nearest first, to the first place where that unit has a passing
+/// position and fewer units have none, both in the probe box (handles
+/// sliding kBowlProbeSlide steps, every stuck unit counted:
+/// ChainBox::every_stuck); then the chain search (the default box, nodes
+/// held) runs again from there, and so on while a unit is stuck, up to
+/// kBowlNodeMoves moves. A node moves where it is movable with both
+/// neighbours (handles), within max_move of the source. A contour smooth
+/// all round is searched as one chain closing on itself (`every`). Its
+/// answer where every chain is answered (each passes as chain_search says,
+/// with the nodes moved); nullopt where none is, no move unsticks the unit,
+/// or the work runs out. A local search: it moves the first stuck unit's
+/// nearest node that unsticks it, not the nearest set of nodes; where no
+/// unit is stuck and a chain is still unanswered (P052 O, URW Gothic b's
+/// and d's counters: g2 fails between units that each have passing
+/// positions) it ends.
+inline constexpr int kBowlNormalReach = 16, kBowlNodeMoves = 8, kBowlProbeSlide = 24;
+std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
+                                             const std::vector<Vec2>& start, const std::vector<int>& movable,
+                                             const ReportOptions& o, double grid, double max_move, Work& work);
 
 }  // namespace cmr::report::glyph_detail

@@ -16,7 +16,7 @@ passed on). Each glyph is one of:
     cmr) passes the written glyph under the same gates;
   - neither: exit 2 with a message of a search that ended without a fix
     ("no certified fix", "no fix passes every check", "breaks another
-    check");
+    check", "the grid descent ...");
   - refused: exit 2 with any other line (a proof that no move passes,
     glyph_joins.hpp).
 Prints a Markdown table a font (and the glyphs that are neither, the
@@ -51,7 +51,7 @@ FONTS = {
     "P052": URW + "P052-Roman.otf",
     "URW Gothic Book": URW + "URWGothic-Book.otf",
 }
-SEARCH_ENDED = ("no certified fix", "no fix passes every check", "breaks another check")
+SEARCH_ENDED = ("no certified fix", "no fix passes every check", "breaks another check", "the grid descent")
 AZ = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
 
 
