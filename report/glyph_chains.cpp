@@ -835,6 +835,30 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       if (r.stuck[i] == n0 && r.stuck[i + 1] == n1) return true;
     return false;
   };
+  // The end of cubic unit (n0, n0 + 1, n1 - 1, n1) at which `p` makes it sharper, as a quarter arc says:
+  // with d = n1 - n0 = a t0 + b t1 (t0, t1 its end tangents), the end whose tangent is square to the
+  // longer extent, |a| |t0| or |b| |t1| (1: n1, -1: n0, 0: neither, or no such unit).
+  const auto sharp_end = [&](const std::vector<Vec2>& p, int n0, int n1) {
+    if (at_index(n0 + 3) != n1 || c.node[at_index(n0 + 1)] || c.node[at_index(n1 - 1)]) return 0;
+    const Vec2 t0 = p[at_index(n0 + 1)] - p[n0], t1 = p[n1] - p[at_index(n1 - 1)], d = p[n1] - p[n0];
+    const double cross = det(t0, t1);
+    if (cross == 0) return 0;
+    const double a = std::abs(det(d, t1) / cross) * std::sqrt(dot(t0, t0));
+    const double b = std::abs(det(t0, d) / cross) * std::sqrt(dot(t1, t1));
+    return a > b ? 1 : a < b ? -1 : 0;
+  };
+  // Whether `p` leaves unit (n0, n1) sharper at a smooth node where its neighbour there (a unit not
+  // stuck in `r`) is flatter, or the other way round: g2 there would then join a sharp end to a flat one.
+  const auto clashes = [&](const std::vector<Vec2>& p, int n0, int n1, const ChainResult& r) {
+    const int own = sharp_end(p, n0, n1);
+    const int before = at_index(n0 - 3), after = at_index(n1 + 3);
+    const auto clash = [&](int node, int u0, int u1, bool sharp_here) {
+      if (!exactly_smooth(p, m, node) || stuck_in(r, u0, u1)) return false;
+      const int other = sharp_end(p, u0, u1);
+      return other != 0 && sharp_here != (other == (u1 == node ? 1 : -1));
+    };
+    return own != 0 && (clash(n0, before, n0, own == -1) || clash(n1, n1, after, own == 1));
+  };
   std::vector<Vec2> at = start;
   for (int moves = 0; moves <= kBowlNodeMoves; ++moves) {
     const std::optional<ChainResult> r = search(at, full);
@@ -846,28 +870,35 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     if (!before || work.spent()) return std::nullopt;
     // The unit's handle next to each of its nodes (the unit runs n0, n0 + 1, ..., n1 - 1, n1).
     const std::array<std::pair<int, int>, 2> ends{{{n0, at_index(n0 + 1)}, {n1, at_index(n1 - 1)}}};
+    // The first move, nearest first, that unsticks the unit and lowers the count of stuck units (a probe
+    // search each): first only among those that leave no sharp end against a flat one, then among all.
+    // Each try says whether the moves end there: its probe answered every chain (`answer`), the work ran
+    // out, or the move is taken.
+    std::optional<std::vector<Vec2>> answer;
     bool moved = false;
-    for (int step = 1; step <= kBowlNormalReach && !moved; ++step)
-      for (const auto& [node, handle] : ends) {
-        if (moved || !rigid(node)) continue;
-        const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
-        if (!tangent) continue;
-        for (const double sign : {1.0, -1.0}) {
-          const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x);
-          const Vec2 p = at[node] + v;
-          if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
-            continue;
-          std::vector<Vec2> trial = at;
-          for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
-          const std::optional<ChainResult> t = search(trial, probe);
-          if (!t || work.spent()) return std::nullopt;
-          if (t->solved == t->chains) return t->points;
-          if (!stuck_in(*t, n0, n1) && t->stuck.size() < before->stuck.size()) {
-            at = std::move(trial), moved = true;
-            break;
-          }
-        }
-      }
+    const auto try_move = [&](bool matching, int step, int node, int handle, double sign) {
+      const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
+      if (!tangent) return false;
+      const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x), p = at[node] + v;
+      if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
+        return false;
+      std::vector<Vec2> trial = at;
+      for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
+      if (matching && clashes(trial, n0, n1, *r)) return false;
+      const std::optional<ChainResult> t = search(trial, probe);
+      if (!t || work.spent()) return true;
+      if (t->solved == t->chains) return answer = t->points, true;
+      if (stuck_in(*t, n0, n1) || t->stuck.size() >= before->stuck.size()) return false;
+      at = std::move(trial);
+      return moved = true;
+    };
+    bool done = false;
+    for (const bool matching : {true, false})
+      for (int step = 1; step <= kBowlNormalReach && !done; ++step)
+        for (const auto& [node, handle] : ends)
+          for (const double sign : {1.0, -1.0})
+            if (!done && rigid(node)) done = try_move(matching, step, node, handle, sign);
+    if (answer) return answer;
     if (!moved) return std::nullopt;
   }
   return std::nullopt;

@@ -190,7 +190,14 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
 /// units), nearest first, to the first place where that unit has a passing
 /// position and fewer units have none, both in the probe box (handles
 /// sliding kBowlProbeSlide steps, every stuck unit counted:
-/// ChainBox::every_stuck); then the chain search (the default box, nodes
+/// ChainBox::every_stuck). Moves that leave a sharp end against a flat one
+/// are tried only where no other unsticks the unit: a quarter arc is
+/// sharper at the end whose tangent is square to its longer extent (with
+/// n1 - n0 = a t0 + b t1, |a| |t0| against |b| |t1|; an ellipse's quarter is
+/// sharpest at the major axis' end), and g2 at a smooth node between a
+/// unit sharper there and one flatter there (one not stuck) fails on
+/// round shapes (URW Gothic d's counter: top quarters made wider, bottom
+/// ones taller). Then the chain search (the default box, nodes
 /// held) runs again from there, and so on while a unit is stuck, up to
 /// kBowlNodeMoves moves. A node moves where it is movable with both
 /// neighbours (handles), within max_move of the source. A contour smooth
@@ -200,8 +207,8 @@ std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, 
 /// or the work runs out. A local search: it moves the first stuck unit's
 /// nearest node that unsticks it, not the nearest set of nodes; where no
 /// unit is stuck and a chain is still unanswered (P052 O, URW Gothic b's
-/// and d's counters: g2 fails between units that each have passing
-/// positions) it ends.
+/// counter: g2 fails between units that each have passing positions) it
+/// ends.
 inline constexpr int kBowlNormalReach = 16, kBowlNodeMoves = 8, kBowlProbeSlide = 24;
 std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
                                              const std::vector<Vec2>& start, const std::vector<int>& movable,

@@ -911,7 +911,8 @@ TEST(GlyphFix, AChainWithAStuckUnitIsSearchedAgainWithItsNodesMoving) {
 // quarter has one: its answer passes both gates, each node moved square to
 // its tangent only and each handle with its node and along its tangent (so
 // every node stays exactly smooth), no node farther than kBowlNormalReach
-// units at a move. The glyph fix then fixes both contours, settled.
+// units at a move. The glyph fix then fixes both contours, settled; and
+// URW Gothic d's.
 TEST(GlyphFix, TheBowlSearchMovesNodesAlongTheirNormalsUntilEveryQuarterHasAPassingPosition) {
   if (!fs::exists(kGothic)) GTEST_SKIP() << kGothic << " is not installed (tools/setup.sh installs fonts-urw-base35)";
   const JudgedContour j = judged_contour("O", 1, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kGothic);
@@ -941,11 +942,16 @@ TEST(GlyphFix, TheBowlSearchMovesNodesAlongTheirNormalsUntilEveryQuarterHasAPass
     nodes_moved += v != Vec2(0.0);
   }
   EXPECT_GE(nodes_moved, 2);
-  const BothGatesFix f = both_gates_fix(kGothic, "O");
-  ASSERT_EQ(f.fixes.size(), 2u);
-  for (const report::ContourFix& fix : f.fixes) {
-    EXPECT_TRUE(fix.fixed && fix.settled) << fix.contour << ": " << fix.reason;
-    for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << fix.contour << " " << g.check;
+  // O, and d, whose counter is fixed only where the moves that leave a quarter sharp at a node where its
+  // neighbour is flat come last (glyph_chains.hpp).
+  for (const char* glyph : {"O", "d"}) {
+    const BothGatesFix f = both_gates_fix(kGothic, glyph);
+    ASSERT_EQ(f.fixes.size(), 2u) << glyph;
+    for (const report::ContourFix& fix : f.fixes) {
+      EXPECT_TRUE(fix.fixed && fix.settled) << glyph << " " << fix.contour << ": " << fix.reason;
+      for (const report::GateCount& g : fix.rejudged)
+        EXPECT_EQ(g.after, 0) << glyph << " " << fix.contour << " " << g.check;
+    }
   }
 }
 
