@@ -22,6 +22,11 @@
 namespace cmr::report::glyph_detail {
 namespace {
 
+/// Whether point k of contour c may move: a source point (not a line's added one) that `movable` lists.
+bool may_move(const import::Contour& c, const std::vector<int>& movable, int k) {
+  return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
+}
+
 /// A candidate of one segment: its two handles' positions (or none: a line,
 /// held), end curvatures and cost.
 struct State {
@@ -269,9 +274,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // within node_reach cells each way (and max_move of the source), its
   // handles with it; node_offsets[k]: node k's translations, 0 first (only
   // 0 for every other point).
-  const auto may_move = [&](int k) {
-    return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
-  };
+  const auto may_move = [&](int k) { return glyph_detail::may_move(c, movable, k); };
   std::vector<std::vector<Vec2>> node_offsets(static_cast<std::size_t>(m), std::vector<Vec2>{Vec2(0.0)});
   if (box.node_reach > 0 && nu >= 2 && std::find(unit_link.begin(), unit_link.end(), 0) != unit_link.end())
     for (int u = 0; u < nu; ++u) {
@@ -812,19 +815,19 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
   const int m = c.spline.unique_point_count();
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   const auto at_index = [&](int k) { return ((k % m) + m) % m; };
-  const auto may_move = [&](int k) {
-    return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
-  };
   // A node that moves with both its handles.
   const auto rigid = [&](int k) {
     const int before = at_index(k - 1), after = at_index(k + 1);
-    return c.node[k] && !c.node[before] && !c.node[after] && may_move(k) && may_move(before) && may_move(after);
+    return c.node[k] && !c.node[before] && !c.node[after] && may_move(c, movable, k) &&
+           may_move(c, movable, before) && may_move(c, movable, after);
   };
   // The chain search from `at`, every stuck unit found; a contour smooth all round (no answer without
-  // `every`) as one chain.
+  // `every`) as one chain, which the first search finds out.
+  bool every = false;
   const auto search = [&](const std::vector<Vec2>& at, const ChainBox& box) {
-    std::optional<ChainResult> r = chain_search(c, src, at, movable, o, grid, max_move, work, box);
-    if (!r && !work.spent()) r = chain_search(c, src, at, movable, o, grid, max_move, work, box, true);
+    std::optional<ChainResult> r = chain_search(c, src, at, movable, o, grid, max_move, work, box, every);
+    if (!r && !every && !work.spent())
+      every = true, r = chain_search(c, src, at, movable, o, grid, max_move, work, box, true);
     return r;
   };
   ChainBox full, probe{kChainReach, kBowlProbeSlide};
@@ -860,13 +863,14 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     return own != 0 && (clash(n0, before, n0, own == -1) || clash(n1, n1, after, own == 1));
   };
   std::vector<Vec2> at = start;
+  std::optional<ChainResult> before;  // the probe search at `at`: its count of stuck units is the one to lower
   for (int moves = 0; moves <= kBowlNodeMoves; ++moves) {
     const std::optional<ChainResult> r = search(at, full);
     if (!r || work.spent()) return std::nullopt;
     if (r->solved == r->chains) return r->points;
     if (r->stuck.size() < 2 || moves == kBowlNodeMoves) return std::nullopt;
     const int n0 = r->stuck[0], n1 = r->stuck[1];
-    const std::optional<ChainResult> before = search(at, probe);  // the probe's count to lower
+    if (!before) before = search(at, probe);  // after a move, that move's own probe
     if (!before || work.spent()) return std::nullopt;
     // The unit's handle next to each of its nodes (the unit runs n0, n0 + 1, ..., n1 - 1, n1).
     const std::array<std::pair<int, int>, 2> ends{{{n0, at_index(n0 + 1)}, {n1, at_index(n1 - 1)}}};
@@ -875,6 +879,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     // Each try says whether the moves end there: its probe answered every chain (`answer`), the work ran
     // out, or the move is taken.
     std::optional<std::vector<Vec2>> answer;
+    std::optional<ChainResult> next;  // the probe at the move taken
     bool moved = false;
     const auto try_move = [&](bool matching, int step, int node, int handle, double sign) {
       const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
@@ -889,7 +894,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       if (!t || work.spent()) return true;
       if (t->solved == t->chains) return answer = t->points, true;
       if (stuck_in(*t, n0, n1) || t->stuck.size() >= before->stuck.size()) return false;
-      at = std::move(trial);
+      at = std::move(trial), next = t;
       return moved = true;
     };
     bool done = false;
@@ -900,6 +905,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
             if (!done && rigid(node)) done = try_move(matching, step, node, handle, sign);
     if (answer) return answer;
     if (!moved) return std::nullopt;
+    before = std::move(next);
   }
   return std::nullopt;
 }
