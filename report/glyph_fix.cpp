@@ -707,14 +707,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // fixes (DejaVu Sans G, both type gates: 3,962 -> 4,076 units^2); they get the growing box below.
   const int distinct = c.spline.unique_point_count();
   const std::vector<Vec2> src(c.spline.points().begin(), c.spline.points().begin() + distinct);
-  // Where it leaves a chain with a unit that no position passes, its nodes held, the chains it leaves
-  // are searched again from there with those units' nodes moving a cell each way (glyph_chains.hpp):
-  // P052 (URW's Palatino) A, whose stem line meets a curve smoothly at p30, needs p33 a unit sideways
-  // for the line and p33's tangent to cross on the grid.
   // A fix found by a chain search that answers every chain (the bowl search on cubic contours, the growing
   // chain search on quadratic ones): the searches below then get half of what is left, and where they find
   // a fix too both are settled and the nearer is kept.
   std::optional<BSpline> chained;
+  // Where the chain search leaves a chain with a unit that no position passes, its nodes held, the chains
+  // it leaves are searched again from there with those units' nodes moving a cell each way
+  // (glyph_chains.hpp): P052 (URW's Palatino) A, whose stem line meets a curve smoothly at p30, needs p33
+  // a unit sideways for the line and p33's tangent to cross on the grid.
   if (several && options.grid > 0 && c.spline.degree() == 3) {
     const auto take = [&](const std::optional<glyph_detail::ChainResult>& r) {
       if (!r || r->solved == 0) return;
