@@ -621,6 +621,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         passes = monotone({bz[p].data(), static_cast<std::size_t>(d + 1)});
       }
       if (passes) out.push_back({pos[f.front()], pos[f.back()], k0, k1, cost});
+      if (passes && box.probe_node >= 0) break;  // a probe: the first passing position will do
     }
     return out;
   };
@@ -667,6 +668,18 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     for (std::size_t i = 0; i < chain.size(); ++i)
       fails = fails || failing_unit[chain[i]] || ((i > 0 || cycle) && failing_start[chain[i]]);
     if (fails) chains.push_back(std::move(chain));
+  }
+  // A probe (ChainBox::probe_node): the units at that node, each up to its first passing position.
+  if (box.probe_node >= 0) {
+    ChainResult probe{here, static_cast<int>(chains.size()), 0, 0, {}, true};
+    for (int u = 0; u < nu; ++u) {
+      if (units[u].start != box.probe_node && units[u].end != box.probe_node) continue;
+      bool spent = false;
+      const bool none = states_of(u, spent).empty();
+      if (spent) break;
+      if (none) probe.stuck.insert(probe.stuck.end(), {units[u].start, units[u].end});
+    }
+    return probe;
   }
   // Asked to move nodes where none may: the search would be the one with every node held.
   const bool moves_a_node =
@@ -863,51 +876,78 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     return own != 0 && (clash(n0, before, n0, own == -1) || clash(n1, n1, after, own == 1));
   };
   std::vector<Vec2> at = start;
-  std::optional<ChainResult> before;  // the probe search at `at`: its count of stuck units is the one to lower
-  for (int moves = 0; moves <= kBowlNodeMoves; ++moves) {
+  // The stuck units in the probe box at `at` (their nodes, pairs): the count a move must lower.
+  std::optional<std::vector<int>> before;
+  for (int moves = 0;; ++moves) {
     const std::optional<ChainResult> r = search(at, full);
     if (!r || work.spent()) return std::nullopt;
     if (r->solved == r->chains) return r->points;
-    if (r->stuck.size() < 2 || moves == kBowlNodeMoves) return std::nullopt;
-    const int n0 = r->stuck[0], n1 = r->stuck[1];
-    if (!before) before = search(at, probe);  // after a move, that move's own probe
-    if (!before || work.spent()) return std::nullopt;
-    // The unit's handle next to each of its nodes (the unit runs n0, n0 + 1, ..., n1 - 1, n1).
-    const std::array<std::pair<int, int>, 2> ends{{{n0, at_index(n0 + 1)}, {n1, at_index(n1 - 1)}}};
-    // The first move, nearest first, that unsticks the unit and lowers the count of stuck units (a probe
-    // search each): first only among those that leave no sharp end against a flat one, then among all.
-    // Each try says whether the moves end there: its probe answered every chain (`answer`), the work ran
-    // out, or the move is taken.
-    std::optional<std::vector<Vec2>> answer;
-    std::optional<ChainResult> next;  // the probe at the move taken
     bool moved = false;
-    const auto try_move = [&](bool matching, int step, int node, int handle, double sign) {
-      const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
-      if (!tangent) return false;
-      const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x), p = at[node] + v;
-      if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
-        return false;
-      std::vector<Vec2> trial = at;
-      for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
-      if (matching && clashes(trial, n0, n1, *r)) return false;
-      const std::optional<ChainResult> t = search(trial, probe);
-      if (!t || work.spent()) return true;
-      if (t->solved == t->chains) return answer = t->points, true;
-      if (stuck_in(*t, n0, n1) || t->stuck.size() >= before->stuck.size()) return false;
-      at = std::move(trial), next = t;
-      return moved = true;
-    };
-    bool done = false;
-    for (const bool matching : {true, false})
-      for (int step = 1; step <= kBowlNormalReach && !done; ++step)
-        for (const auto& [node, handle] : ends)
-          for (const double sign : {1.0, -1.0})
-            if (!done && rigid(node)) done = try_move(matching, step, node, handle, sign);
-    if (answer) return answer;
-    if (!moved) return std::nullopt;
-    before = std::move(next);
+    if (!r->stuck.empty() && moves < kBowlNodeMoves) {
+      if (!before) {  // after a move, what that move's probe left
+        const std::optional<ChainResult> b = search(at, probe);
+        if (!b || work.spent()) return std::nullopt;
+        before = b->stuck;
+      }
+      // For the first stuck unit (n0, n1) where one does, the first move, nearest first, that unsticks it
+      // and lowers the count of stuck units (a probe of the two units at the moved node each: the others
+      // keep their points, so whether they are stuck): first only among those that leave no sharp end
+      // against a flat one, then among all. Each try says whether the moves end there: the contour passes
+      // every gate there (`answer`), the work ran out, or the move is taken.
+      std::optional<std::vector<Vec2>> answer;
+      std::vector<int> next;  // the stuck units at the move taken
+      const auto try_move = [&](int n0, int n1, bool matching, int step, int node, int handle, double sign) {
+        const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
+        if (!tangent) return false;
+        const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x), p = at[node] + v;
+        if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
+          return false;
+        std::vector<Vec2> trial = at;
+        for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
+        if (matching && clashes(trial, n0, n1, *r)) return false;
+        ChainBox at_node = probe;
+        at_node.probe_node = node;
+        const std::optional<ChainResult> t = search(trial, at_node);
+        if (!t || work.spent()) return true;
+        if (t->solved == t->chains) return answer = t->points, true;
+        if (stuck_in(*t, n0, n1)) return false;
+        std::vector<int> after = t->stuck;
+        for (std::size_t i = 0; i + 1 < before->size(); i += 2)
+          if (const int u0 = (*before)[i], u1 = (*before)[i + 1]; u0 != node && u1 != node)
+            after.insert(after.end(), {u0, u1});
+        if (after.size() >= before->size()) return false;
+        at = std::move(trial), next = std::move(after);
+        return moved = true;
+      };
+      bool done = false;
+      for (std::size_t i = 0; i + 1 < r->stuck.size() && !done; i += 2) {
+        const int n0 = r->stuck[i], n1 = r->stuck[i + 1];
+        // The unit's handle next to each of its nodes (the unit runs n0, n0 + 1, ..., n1 - 1, n1).
+        const std::array<std::pair<int, int>, 2> ends{{{n0, at_index(n0 + 1)}, {n1, at_index(n1 - 1)}}};
+        for (const bool matching : {true, false})
+          for (int step = 1; step <= kBowlNormalReach && !done; ++step)
+            for (const auto& [node, handle] : ends)
+              for (const double sign : {1.0, -1.0})
+                if (!done && rigid(node)) done = try_move(n0, n1, matching, step, node, handle, sign);
+      }
+      if (answer) return answer;
+      if (moved) before = std::move(next);
+    }
+    if (moved) continue;
+    // No unit stuck and a chain still unanswered (g2 fails between units that each have passing
+    // positions), or no move unsticks a unit: wider boxes for the free handles. Where a chain ends at a
+    // corner, its end units' free handles may need to go farther (URW Gothic a's bowl, its two quarters
+    // made wider than tall: the bottom one flat at p11, the unit from there to the corner sharp there
+    // unless its free handle moves some 20 units); a unit between nodes not exactly smooth, whose handles
+    // are free, may need them farther than the box (URW Gothic s's spine, p38 to p41: handles of 31 and
+    // 83 units).
+    for (const int reach : kBowlWideReach) {
+      const std::optional<ChainResult> w = search(at, ChainBox{reach, kChainSlideReach});
+      if (!w || work.spent()) return std::nullopt;
+      if (w->solved == w->chains) return w->points;
+    }
+    return std::nullopt;
   }
-  return std::nullopt;
 }
 
 }  // namespace cmr::report::glyph_detail

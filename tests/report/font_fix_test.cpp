@@ -955,6 +955,59 @@ TEST(GlyphFix, TheBowlSearchMovesNodesAlongTheirNormalsUntilEveryQuarterHasAPass
   }
 }
 
+// Where the bowl search's node moves leave no unit stuck and a chain still
+// unanswered, or no move unsticks a unit, wider boxes for the free handles
+// answer (report/glyph_chains.hpp): URW Gothic a's bowl ends at two corners
+// on its stem, where the units' free handles must go some 20 units; s's
+// spine runs between nodes that are not exactly smooth. A move's probe
+// (ChainBox::probe_node) finds, of the two units at its node, those that
+// the whole search finds stuck.
+TEST(GlyphFix, TheBowlSearchWidensTheFreeHandlesBoxWhereNoNodeMoveIsLeft) {
+  if (!fs::exists(kGothic)) GTEST_SKIP() << kGothic << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const std::string gates = "curvature-extrema-at-nodes,g2-at-smooth-nodes";
+  report::glyph_detail::Work work(report::kGlyphWork * 4, 120);
+  using Unit = std::pair<int, int>;
+  for (const auto& [glyph, index] : {std::pair<const char*, std::size_t>{"O", 1}, {"a", 0}}) {
+    const JudgedContour j = judged_contour(glyph, index, gates, kGothic);
+    const import::Contour& c = j.contour();
+    const std::vector<int> movable = report::contour_moves(c).points;
+    report::glyph_detail::ChainBox box;
+    box.every_stuck = true;
+    const auto held = report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, work, box, true);
+    ASSERT_TRUE(held.has_value()) << glyph;
+    int probed = 0;
+    for (int k = 0; k < c.spline.unique_point_count(); ++k) {
+      if (!c.node[k]) continue;
+      report::glyph_detail::ChainBox probe = box;
+      probe.probe_node = k;
+      const auto p = report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, work, probe, true);
+      ASSERT_TRUE(p.has_value()) << glyph << " " << k;
+      EXPECT_EQ(p->solved, 0);
+      std::set<Unit> expected, found;
+      for (std::size_t i = 0; i + 1 < held->stuck.size(); i += 2)
+        if (held->stuck[i] == k || held->stuck[i + 1] == k) expected.insert({held->stuck[i], held->stuck[i + 1]});
+      for (std::size_t i = 0; i + 1 < p->stuck.size(); i += 2) found.insert({p->stuck[i], p->stuck[i + 1]});
+      EXPECT_EQ(found, expected) << glyph << " " << k;
+      probed += !expected.empty();
+    }
+    EXPECT_GE(probed, 2) << glyph;
+  }
+  const JudgedContour a = judged_contour("a", 0, gates, kGothic);
+  const std::vector<int> a_movable = report::contour_moves(a.contour()).points;
+  const auto bowl = report::glyph_detail::bowl_search(a.contour(), a.src, a.src, a_movable, a.o, 1, 0, work);
+  ASSERT_TRUE(bowl.has_value());
+  EXPECT_EQ(a.violations(*bowl), 0);
+  for (const char* glyph : {"a", "s"}) {
+    const BothGatesFix f = both_gates_fix(kGothic, glyph);
+    ASSERT_FALSE(f.fixes.empty()) << glyph;
+    for (const report::ContourFix& fix : f.fixes) {
+      EXPECT_TRUE(fix.fixed && fix.settled) << glyph << " " << fix.contour << ": " << fix.reason;
+      for (const report::GateCount& g : fix.rejudged)
+        EXPECT_EQ(g.after, 0) << glyph << " " << fix.contour << " " << g.check;
+    }
+  }
+}
+
 // Noto Serif s under both type gates: no search but the growing chain
 // search finds a fix (report/glyph_fix.cpp, fix_contour; before it, the
 // glyph's work ran out with 26 of 34 violations left). The glyph's fix is
