@@ -63,6 +63,10 @@
 
 namespace cmr::report::glyph_detail {
 
+/// Whether point k of contour c may move: a source point (not a line's
+/// added one) that `movable` lists.
+bool may_move(const import::Contour& c, const std::vector<int>& movable, int k);
+
 /// The box searched around where each handle is: a free handle every grid
 /// position within kChainReach cells each way (17 x 17 positions), a smooth
 /// node's handle kChainSlideReach grid steps each way along its tangent, the
@@ -183,48 +187,5 @@ inline constexpr int kGrowingSlidePerCell = 6;
 std::optional<std::vector<Vec2>> growing_chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                                       const std::vector<int>& movable, const ReportOptions& o,
                                                       double grid, double max_move, Work& work);
-
-/// The bowl search (cubic contours). Where a unit has no passing handle
-/// position with its nodes where they are (ChainResult::stuck): a quarter
-/// arc between perpendicular tangents that spans a square or nearly so has
-/// none at all (tests/report/quarter_arc_check.py), as in URW Gothic's O.
-/// For the first stuck unit where one does, one of its two nodes moves
-/// along its normal (the primitive grid vector square to the unit's handle
-/// there, so the arc spans a less square box), its two handles with it, 1,
-/// 2, ..., kBowlNormalReach grid steps each way (at most kBowlNormalReach
-/// grid units), nearest first, to the first place where that unit has a
-/// passing position and fewer units have none, both in the probe box
-/// (handles sliding kBowlProbeSlide steps). A move changes only the two
-/// units at the moved node, so a try probes those two, each up to its first
-/// passing position (ChainBox::probe_node), and the other units' count is
-/// the one before the move (every stuck unit counted: ChainBox::every_stuck).
-/// Moves that leave a sharp end against a flat one are tried only where no
-/// other unsticks the unit: a quarter arc is sharper at the end whose
-/// tangent is square to its longer extent (with n1 - n0 = a t0 + b t1,
-/// |a| |t0| against |b| |t1|; an ellipse's quarter is sharpest at the major
-/// axis' end), and g2 at a smooth node between a unit sharper there and one
-/// flatter there (one not stuck) fails on round shapes (URW Gothic d's
-/// counter: top quarters made wider, bottom ones taller). Then the chain
-/// search (the default box, nodes held) runs again from there, and so on
-/// while a unit is stuck, up to kBowlNodeMoves moves. A node moves where it
-/// is movable with both neighbours (handles), within max_move of the
-/// source. Where no unit is stuck and a chain is still unanswered (g2 fails
-/// between units that each have passing positions), or no move unsticks a
-/// unit, the chain search runs again with the free handles' box
-/// kBowlWideReach cells each way, each in turn: URW Gothic a and g, whose
-/// bowls end at corners, need the end units' free handles some 20 units
-/// away, and s a spine unit's (its nodes not exactly smooth, so its handles
-/// free). A contour smooth all round is searched as one chain closing on
-/// itself (`every`). Its answer where every chain is answered (each passes
-/// as chain_search says, with the nodes moved); nullopt where none is or
-/// the work runs out. A local search: it moves the first stuck unit's
-/// nearest node that unsticks it, not the nearest set of nodes. P052 O and
-/// URW Gothic b's counter, smooth all round with no unit stuck (no free
-/// handle), are not fixed by longer slides either.
-inline constexpr int kBowlNormalReach = 16, kBowlNodeMoves = 8, kBowlProbeSlide = 24;
-inline constexpr std::array<int, 3> kBowlWideReach{12, 16, 24};
-std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
-                                             const std::vector<Vec2>& start, const std::vector<int>& movable,
-                                             const ReportOptions& o, double grid, double max_move, Work& work);
 
 }  // namespace cmr::report::glyph_detail

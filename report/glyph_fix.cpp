@@ -13,6 +13,7 @@
 #include "report/batch.hpp"
 #include "report/certified_fix.hpp"
 #include "report/contour_moves.hpp"
+#include "report/glyph_bowl.hpp"
 #include "report/glyph_chains.hpp"
 #include "report/glyph_joins.hpp"
 #include "report/glyph_quick.hpp"
@@ -730,7 +731,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, false, false, r->stuck));
     }
     // Where a unit is stuck (or the contour is smooth all round), the bowl search moves nodes along their
-    // normals until each unit has a passing position (glyph_chains.hpp), in up to a quarter of the work:
+    // normals until each unit has a passing position (glyph_bowl.hpp), in up to a quarter of the work:
     // a passing answer is kept aside (`chained`; URW Gothic O). Not the start of the searches below: from
     // there they settled farther on fonts they fixed before (Nimbus Roman: 101,742 -> 111,431 units^2 over
     // A-Z a-z). Only with both_searches (`cmr fix`), as the growing search below.

@@ -25,6 +25,7 @@
 #include "report/gates.hpp"
 #include "bezierize/classify.hpp"
 #include "bezierize/extract.hpp"
+#include "report/glyph_bowl.hpp"
 #include "report/glyph_chains.hpp"
 #include "report/glyph_fix.hpp"
 #include "report/glyph_joins.hpp"
