@@ -67,6 +67,54 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     return own != 0 && (clash(n0, before, n0, own == -1) || clash(n1, n1, after, own == 1));
   };
   std::vector<Vec2> at = start;
+  // `at` with `node` and its two handles moved `step` grid steps along its normal (the primitive grid vector
+  // square to the way to `handle`), `sign` says which way; nullopt where that way is off the grid, or the
+  // move is farther than `reach` grid units or max_move from the source.
+  const auto moved_along_normal = [&](int node, int handle, int step, double sign,
+                                      int reach) -> std::optional<std::vector<Vec2>> {
+    const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
+    if (!tangent) return std::nullopt;
+    const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x), p = at[node] + v;
+    if (std::sqrt(dot(v, v)) > reach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
+      return std::nullopt;
+    std::vector<Vec2> trial = at;
+    for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
+    return trial;
+  };
+  // The strictest g2 tolerance (0: no g2 gate); whether g2 judges node k of `p` (its tangents within the
+  // gate's angle); whether a curvature in [l_lo, l_hi] on a node's left can meet g2 with one in [r_lo, r_hi]
+  // on its right (for kr > 0, kl in [kr (1 - tol), kr / (1 - tol)]; the mirror image below 0).
+  double tol = 0;
+  for (const Gate& g : o.gates)
+    if (g.kind == Gate::Kind::g2_at_smooth_nodes) tol = tol > 0 ? std::min(tol, g.tolerance) : g.tolerance;
+  const auto judged = [&](const std::vector<Vec2>& p, int k) {
+    const Vec2 in = p[k] - p[at_index(k - 1)], out = p[at_index(k + 1)] - p[k];
+    return c.node[k] && std::atan2(std::abs(det(in, out)), dot(in, out)) * (180.0 / std::numbers::pi) <=
+                            o.continuity.angle_deg;
+  };
+  const auto ranges_meet = [&](double l_lo, double l_hi, double r_lo, double r_hi) {
+    if (l_lo > 0 && r_lo > 0) return l_hi >= r_lo * (1 - tol) && l_lo <= r_hi / (1 - tol);
+    if (l_hi < 0 && r_hi < 0) return -l_lo >= -r_hi * (1 - tol) && -l_hi <= -r_lo / (1 - tol);
+    return !((l_lo > 0 && r_hi < 0) || (l_hi < 0 && r_lo > 0));  // opposite signs never meet; else unknown
+  };
+  // The nodes where g2 judges two units of `ranges` whose handles all slide (`sliding`: their nodes exactly
+  // smooth) and whose ranges there cannot meet (a gap): their count, and with `list` each such node, its
+  // left unit's start and its right unit's end in `gapped`.
+  const auto sliding = [&](const CurvatureRange& u) {
+    return exactly_smooth(at, m, u.start) && exactly_smooth(at, m, u.end);
+  };
+  std::vector<int> gapped;
+  const auto count_gaps = [&](const std::vector<CurvatureRange>& ranges, bool list) {
+    int n = 0;
+    for (const CurvatureRange& right : ranges)
+      for (const CurvatureRange& left : ranges)
+        if (left.end == right.start && judged(at, right.start) && sliding(left) && sliding(right) &&
+            !ranges_meet(left.k1_lo, left.k1_hi, right.k0_lo, right.k0_hi)) {
+          ++n;
+          if (list) gapped.insert(gapped.end(), {right.start, left.start, right.end});
+        }
+    return n;
+  };
   // The stuck units in the probe box at `at` (their nodes, pairs): the count a move must lower.
   std::optional<std::vector<int>> before;
   for (int moves = 0;; ++moves) {
@@ -88,17 +136,11 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       std::optional<std::vector<Vec2>> answer;
       std::vector<int> next;  // the stuck units at the move taken
       const auto try_move = [&](int n0, int n1, bool matching, int step, int node, int handle, double sign) {
-        const std::optional<Vec2> tangent = grid_vector(at[handle] - at[node], grid);
-        if (!tangent) return false;
-        const Vec2 v = sign * static_cast<double>(step) * Vec2(-tangent->y, tangent->x), p = at[node] + v;
-        if (std::sqrt(dot(v, v)) > kBowlNormalReach * grid || std::sqrt(dot(p - src[node], p - src[node])) > limit)
-          return false;
-        std::vector<Vec2> trial = at;
-        for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
-        if (matching && clashes(trial, n0, n1, *r)) return false;
+        std::optional<std::vector<Vec2>> trial = moved_along_normal(node, handle, step, sign, kBowlNormalReach);
+        if (!trial || (matching && clashes(*trial, n0, n1, *r))) return false;
         ChainBox at_node = probe;
         at_node.probe_node = node;
-        const std::optional<ChainResult> t = search(trial, at_node);
+        const std::optional<ChainResult> t = search(*trial, at_node);
         if (!t || work.spent()) return true;
         if (t->solved == t->chains) return answer = t->points, true;
         if (stuck_in(*t, n0, n1)) return false;
@@ -107,7 +149,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
           if (const int u0 = (*before)[i], u1 = (*before)[i + 1]; u0 != node && u1 != node)
             after.insert(after.end(), {u0, u1});
         if (after.size() >= before->size()) return false;
-        at = std::move(trial), next = std::move(after);
+        at = std::move(*trial), next = std::move(after);
         return moved = true;
       };
       bool done = false;
@@ -123,6 +165,54 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       }
       if (answer) return answer;
       if (moved) before = std::move(next);
+    }
+    // No unit stuck and a chain still unanswered: where the curvatures that a smooth node's two units reach
+    // there (their ranges in the probe box) cannot meet g2, a gap, and every handle of both slides (their
+    // nodes exactly smooth: a wider box for free handles, below, cannot close it), a node of those units
+    // moves along its normal, nearest first, up to kBowlGapReach grid units, to the first place where both
+    // units at the moved node have passing positions and fewer nodes have such a gap (a try probes them
+    // first up to a passing position each, then every one for their ranges).
+    if (r->stuck.empty() && moves < kBowlNodeMoves && tol > 0) {
+      const std::optional<ChainResult> b = search(at, probe);
+      if (!b || work.spent()) return std::nullopt;
+      gapped.clear();
+      const int gaps = count_gaps(b->ranges, true);
+      std::vector<int> nodes;
+      for (const int k : gapped)
+        if (rigid(k) && std::find(nodes.begin(), nodes.end(), k) == nodes.end()) nodes.push_back(k);
+      // Whether the move of `node` to `trial` is taken: true also where the contour passes there or the
+      // work ran out (the moves end).
+      std::optional<std::vector<Vec2>> answer;
+      const auto try_gap = [&](int node, std::vector<Vec2>& trial) {
+        ChainBox at_node = probe;
+        at_node.probe_node = node;
+        std::optional<ChainResult> t = search(trial, at_node);
+        if (!t || work.spent()) return true;
+        if (t->solved == t->chains) return answer = std::move(trial), true;
+        if (!t->stuck.empty()) return false;
+        at_node.probe_ranges = true;
+        t = search(trial, at_node);
+        if (!t || work.spent()) return true;
+        std::vector<CurvatureRange> ranges = t->ranges;
+        for (const CurvatureRange& x : b->ranges)
+          if (x.start != node && x.end != node) ranges.push_back(x);
+        if (count_gaps(ranges, false) >= gaps) return false;
+        at = std::move(trial), moved = true;
+        before.emplace();  // the probe's stuck units, less the two at the moved node (they pass now)
+        for (std::size_t i = 0; i + 1 < b->stuck.size(); i += 2)
+          if (const int u0 = b->stuck[i], u1 = b->stuck[i + 1]; u0 != node && u1 != node)
+            before->insert(before->end(), {u0, u1});
+        return true;
+      };
+      bool done = gaps == 0;
+      for (int step = 1; step <= kBowlGapReach && !done; ++step)
+        for (const int node : nodes)
+          for (const double sign : {1.0, -1.0})
+            if (!done)
+              if (std::optional<std::vector<Vec2>> trial =
+                      moved_along_normal(node, at_index(node + 1), step, sign, kBowlGapReach))
+                done = try_gap(node, *trial);
+      if (answer) return answer;
     }
     if (moved) continue;
     // No unit stuck and a chain still unanswered (g2 fails between units that each have passing

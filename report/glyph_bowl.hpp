@@ -38,21 +38,38 @@ namespace cmr::report::glyph_detail {
 /// search (the default box, nodes held) runs again from there, and so on
 /// while a unit is stuck, up to kBowlNodeMoves moves. A node moves where it
 /// is movable with both neighbours (handles), within max_move of the
-/// source. Where no unit is stuck and a chain is still unanswered (g2 fails
-/// between units that each have passing positions), or no move unsticks a
-/// unit, the chain search runs again with the free handles' box
-/// kBowlWideReach cells each way, each in turn: URW Gothic a and g, whose
-/// bowls end at corners, need the end units' free handles some 20 units
-/// away, and s a spine unit's (its nodes not exactly smooth, so its handles
-/// free). A contour smooth all round is searched as one chain closing on
-/// itself (`every`). Its answer where every chain is answered (each passes
-/// as chain_search says, with the nodes moved); nullopt where none is or
-/// the work runs out. A local search: it moves the first stuck unit's
-/// nearest node that unsticks it, not the nearest set of nodes. P052 O and
-/// URW Gothic b's counter, smooth all round with no unit stuck (no free
-/// handle), are not fixed by longer slides either.
+/// source.
+///
+/// Where no unit is stuck and a chain is still unanswered, g2 fails between
+/// units that each have passing positions. Where the end curvatures that
+/// two units reach at their smooth node (ChainResult::ranges, over their
+/// passing positions in the probe box) cannot meet g2 there, a gap, and all
+/// four of their nodes are exactly smooth (every handle slides; a free
+/// handle's wider box, below, may close a gap: URW Gothic a's and g's
+/// bowls, lost where nodes moved first), a node of those two units moves
+/// along its normal, 1 to kBowlGapReach grid steps each way, nearest first,
+/// to the first place where both units at the moved node have passing
+/// positions and fewer nodes have such a gap (their ranges probed:
+/// ChainBox::probe_ranges; the others' as before the move); then the chain
+/// search again, within the same kBowlNodeMoves moves. URW Bookman O: its
+/// top-right quarter, taller than wide, is sharp at the top, where the
+/// top-left one, wider than tall, is flat; the right side moves out. A gap
+/// is sure to fail (no pair of positions meets g2 there); ranges that meet
+/// may still fail, since a unit's k0 and k1 go together.
+///
+/// Where that leaves a chain unanswered, or no move unsticks a unit, the
+/// chain search runs again with the free handles' box kBowlWideReach cells
+/// each way, each in turn: URW Gothic a and g, whose bowls end at corners,
+/// need the end units' free handles some 20 units away, and s a spine
+/// unit's (its nodes not exactly smooth, so its handles free). A contour
+/// smooth all round is searched as one chain closing on itself (`every`).
+/// Its answer where every chain is answered (each passes as chain_search
+/// says, with the nodes moved); nullopt where none is or the work runs out.
+/// A local search: it moves the first stuck unit's nearest node that
+/// unsticks it, not the nearest set of nodes.
 inline constexpr int kBowlNormalReach = 16, kBowlNodeMoves = 8, kBowlProbeSlide = 24;
 inline constexpr std::array<int, 3> kBowlWideReach{12, 16, 24};
+inline constexpr int kBowlGapReach = 32;
 std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
                                              const std::vector<Vec2>& start, const std::vector<int>& movable,
                                              const ReportOptions& o, double grid, double max_move, Work& work);

@@ -261,7 +261,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   }
   const auto unlinked = std::find(unit_link.begin(), unit_link.end(), 0);
   const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}, true};
+  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}, true, {}};
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   ClassifyOptions classify;
@@ -621,7 +621,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         passes = monotone({bz[p].data(), static_cast<std::size_t>(d + 1)});
       }
       if (passes) out.push_back({pos[f.front()], pos[f.back()], k0, k1, cost});
-      if (passes && box.probe_node >= 0) break;  // a probe: the first passing position will do
+      if (passes && box.probe_node >= 0 && !box.probe_ranges) break;  // a probe: the first passing one will do
     }
     return out;
   };
@@ -669,22 +669,36 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       fails = fails || failing_unit[chain[i]] || ((i > 0 || cycle) && failing_start[chain[i]]);
     if (fails) chains.push_back(std::move(chain));
   }
-  // A probe (ChainBox::probe_node): the units at that node, each up to its first passing position.
+  // The end curvatures' ranges of unit u's passing states `st` (not empty).
+  const auto range_of = [&](int u, const std::vector<State>& st) {
+    CurvatureRange out{units[u].start, units[u].end, st.front().k0, st.front().k0, st.front().k1, st.front().k1};
+    for (const State& x : st) {
+      out.k0_lo = std::min(out.k0_lo, x.k0), out.k0_hi = std::max(out.k0_hi, x.k0);
+      out.k1_lo = std::min(out.k1_lo, x.k1), out.k1_hi = std::max(out.k1_hi, x.k1);
+    }
+    return out;
+  };
+  // A probe (ChainBox::probe_node): the units at that node, each up to its first passing position (every
+  // one with probe_ranges).
   if (box.probe_node >= 0) {
-    ChainResult probe{here, static_cast<int>(chains.size()), 0, 0, {}, true};
+    ChainResult probe{here, static_cast<int>(chains.size()), 0, 0, {}, true, {}};
     for (int u = 0; u < nu; ++u) {
       if (units[u].start != box.probe_node && units[u].end != box.probe_node) continue;
       bool spent = false;
-      const bool none = states_of(u, spent).empty();
+      const std::vector<State> st = states_of(u, spent);
       if (spent) break;
-      if (none) probe.stuck.insert(probe.stuck.end(), {units[u].start, units[u].end});
+      if (st.empty())
+        probe.stuck.insert(probe.stuck.end(), {units[u].start, units[u].end});
+      else if (box.probe_ranges)
+        probe.ranges.push_back(range_of(u, st));
     }
     return probe;
   }
   // Asked to move nodes where none may: the search would be the one with every node held.
   const bool moves_a_node =
       std::any_of(node_offsets.begin(), node_offsets.end(), [](const auto& v) { return v.size() > 1; });
-  if (box.node_reach > 0 && !moves_a_node) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, {}, false};
+  if (box.node_reach > 0 && !moves_a_node)
+    return ChainResult{here, static_cast<int>(chains.size()), 0, 0, {}, false, {}};
   // Each unit's states, once; the failing units first, since a chain with
   // a unit that no position in the box makes monotone (its nodes would
   // have to move) has no answer, and that is found cheapest so.
@@ -709,13 +723,15 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     const bool none = states[u]->empty();
     hopeless[h] = hopeless[h] || none;
     if (none && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
-    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true};
+    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])
       if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
-  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck, true};
+  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}};
   if (spent) return result;
+  for (int u = 0; u < nu; ++u)
+    if (states[u] && !states[u]->empty()) result.ranges.push_back(range_of(u, *states[u]));
   // The least-cost path through a chain's layers from the first layer's
   // states `first` (their best: their own cost); the last layer's best and
   // every layer's `from`.

@@ -83,6 +83,13 @@ struct ChainBox {
   /// is answered: ChainResult::stuck lists those of them with none (-1: a
   /// search).
   int probe_node = -1;
+  bool probe_ranges = false;  ///< with probe_node: every passing position, their ranges in ChainResult::ranges
+};
+/// The end curvatures of a unit's passing positions in a box: k0 at its
+/// start node, k1 at its end node, each from lo to hi.
+struct CurvatureRange {
+  int start = 0, end = 0;  ///< the unit's nodes
+  double k0_lo = 0, k0_hi = 0, k1_lo = 0, k1_hi = 0;
 };
 /// How far a node moves where the fix moves nodes in the chain search (the
 /// growing search's node rounds, a cubic contour's second chain search, the
@@ -157,6 +164,7 @@ struct ChainResult {
   double cost = 0;           ///< the answers' cost: their points' total squared move from `src` (held nodes aside)
   std::vector<int> stuck;    ///< the nodes of each unit found with no passing position in the box
   bool searched = true;      ///< false: asked to move nodes (node_reach > 0) where none may, nothing searched
+  std::vector<CurvatureRange> ranges;  ///< each unit with passing positions found: their end curvatures
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,

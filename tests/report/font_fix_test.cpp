@@ -5,6 +5,7 @@
 // the original. Each fix is re-judged here from the JSON alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -13,6 +14,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -45,6 +47,7 @@ const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
 const char* kTermes = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyretermes-regular.otf";
 const char* kP052 = "/usr/share/fonts/opentype/urw-base35/P052-Roman.otf";
 const char* kGothic = "/usr/share/fonts/opentype/urw-base35/URWGothic-Book.otf";
+const char* kBookman = "/usr/share/fonts/opentype/urw-base35/URWBookman-Light.otf";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -1006,6 +1009,62 @@ TEST(GlyphFix, TheBowlSearchWidensTheFreeHandlesBoxWhereNoNodeMoveIsLeft) {
       for (const report::GateCount& g : fix.rejudged)
         EXPECT_EQ(g.after, 0) << glyph << " " << fix.contour << " " << g.check;
     }
+  }
+}
+
+// Where no unit is stuck and a chain is still unanswered, the bowl search
+// moves a node where the end curvatures that a smooth node's two units
+// reach there cannot meet g2 (report/glyph_bowl.hpp): URW Bookman O's outer
+// contour, whose top-right quarter is sharp at the top where the top-left
+// one is flat. A probe's ranges (ChainBox::probe_ranges) are the whole
+// search's for the two units at its node.
+TEST(GlyphFix, TheBowlSearchMovesANodeWhereTwoUnitsCurvaturesCannotMeet) {
+  for (const char* font : {kBookman, kNimbus})
+    if (!fs::exists(font)) GTEST_SKIP() << font << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  report::glyph_detail::Work work(report::kGlyphWork, 60);
+  const report::glyph_detail::ChainBox box{report::glyph_detail::kChainReach, report::glyph_detail::kBowlProbeSlide};
+  const auto same = [](const report::glyph_detail::CurvatureRange& x, const report::glyph_detail::CurvatureRange& y) {
+    return x.start == y.start && x.end == y.end && x.k0_lo == y.k0_lo && x.k0_hi == y.k0_hi && x.k1_lo == y.k1_lo &&
+           x.k1_hi == y.k1_hi;
+  };
+  // Contours with no unit stuck, so the whole search has every unit's range: URW Bookman O's counter
+  // (smooth all round, 4 units) and Nimbus Sans e's outer contour (10 units in 6 chains).
+  for (const auto& [font, glyph, index] : {std::tuple<const char*, const char*, std::size_t>{kBookman, "O", 1},
+                                           {kNimbus, "e", 0}}) {
+    const JudgedContour j = judged_contour(glyph, index, "curvature-extrema-at-nodes,g2-at-smooth-nodes", font);
+    const import::Contour& c = j.contour();
+    const std::vector<int> movable = report::contour_moves(c).points;
+    const auto whole = report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, work, box, true);
+    ASSERT_TRUE(whole.has_value()) << glyph;
+    const std::size_t units = static_cast<std::size_t>(std::count(c.node.begin(), c.node.end(), true));
+    EXPECT_TRUE(whole->stuck.empty()) << glyph;
+    EXPECT_EQ(whole->ranges.size(), units) << glyph;
+    std::size_t compared = 0;
+    for (int k = 0; k < c.spline.unique_point_count(); ++k) {
+      if (!c.node[k]) continue;
+      report::glyph_detail::ChainBox probe = box;
+      probe.probe_node = k, probe.probe_ranges = true;
+      const auto p = report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, work, probe, true);
+      ASSERT_TRUE(p.has_value()) << glyph << " " << k;
+      EXPECT_EQ(p->solved, 0);
+      for (const report::glyph_detail::CurvatureRange& x : p->ranges) {
+        EXPECT_TRUE(x.start == k || x.end == k) << glyph << " " << k;
+        EXPECT_LE(x.k0_lo, x.k0_hi);
+        EXPECT_LE(x.k1_lo, x.k1_hi);
+        const auto& all = whole->ranges;
+        const auto in_whole = std::find_if(all.begin(), all.end(), [&](const auto& y) { return y.start == x.start; });
+        ASSERT_NE(in_whole, all.end()) << glyph << " " << k << ": unit " << x.start << "-" << x.end;
+        EXPECT_TRUE(same(x, *in_whole)) << glyph << " " << k << ": unit " << x.start << "-" << x.end;
+        ++compared;
+      }
+    }
+    EXPECT_EQ(compared, 2 * units) << glyph;  // each unit probed at both its nodes
+  }
+  const BothGatesFix f = both_gates_fix(kBookman, "O");
+  ASSERT_EQ(f.fixes.size(), 2u);
+  for (const report::ContourFix& fix : f.fixes) {
+    EXPECT_TRUE(fix.fixed && fix.settled) << fix.contour << ": " << fix.reason;
+    for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << fix.contour << " " << g.check;
   }
 }
 
