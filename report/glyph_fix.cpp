@@ -730,12 +730,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
                                        glyph_detail::kChainNodeReach};
       take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, false, false, r->stuck));
     }
-    // Where a unit is stuck (or the contour is smooth all round), the bowl search moves nodes along their
-    // normals until each unit has a passing position (glyph_bowl.hpp), in up to a quarter of the work:
-    // a passing answer is kept aside (`chained`; URW Gothic O). Not the start of the searches below: from
-    // there they settled farther on fonts they fixed before (Nimbus Roman: 101,742 -> 111,431 units^2 over
-    // A-Z a-z). Only with both_searches (`cmr fix`), as the growing search below.
-    if ((!r || !r->stuck.empty()) && current_total > 0 && options.both_searches && !work.spent()) {
+    // Where a unit is stuck, a chain is left unanswered or the contour is smooth all round, the bowl search
+    // moves nodes along their normals until each unit has a passing position and two units' curvatures can
+    // meet at each smooth node (glyph_bowl.hpp; C059 Q's tail: no unit stuck, g2 failing at p6), in up to a
+    // quarter of the work: a passing answer is kept aside (`chained`; URW Gothic O). Not the start of the
+    // searches below: from there they settled farther on fonts they fixed before (Nimbus Roman: 101,742 ->
+    // 111,431 units^2 over A-Z a-z). Only with both_searches (`cmr fix`), as the growing search below.
+    if ((!r || !r->stuck.empty() || r->solved < r->chains) && current_total > 0 && options.both_searches &&
+        !work.spent()) {
       const long part = work.cap(work.left() / 4);
       const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
       if (const auto bowl = glyph_detail::bowl_search(c, src, at, movable, o, options.grid, options.max_move, work)) {
