@@ -164,7 +164,10 @@ struct ChainResult {
   double cost = 0;           ///< the answers' cost: their points' total squared move from `src` (held nodes aside)
   std::vector<int> stuck;    ///< the nodes of each unit found with no passing position in the box
   bool searched = true;      ///< false: asked to move nodes (node_reach > 0) where none may, nothing searched
-  std::vector<CurvatureRange> ranges;  ///< each unit with passing positions found: their end curvatures
+  /// The end curvatures' ranges of each unit whose passing positions were
+  /// found (the whole search: every unit of the chains searched that has
+  /// some; a probe: only with probe_ranges).
+  std::vector<CurvatureRange> ranges;
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,

@@ -48,6 +48,7 @@ const char* kTermes = "/usr/share/texmf/fonts/opentype/public/tex-gyre/texgyrete
 const char* kP052 = "/usr/share/fonts/opentype/urw-base35/P052-Roman.otf";
 const char* kGothic = "/usr/share/fonts/opentype/urw-base35/URWGothic-Book.otf";
 const char* kBookman = "/usr/share/fonts/opentype/urw-base35/URWBookman-Light.otf";
+const char* kC059 = "/usr/share/fonts/opentype/urw-base35/C059-Roman.otf";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -1016,8 +1017,8 @@ TEST(GlyphFix, TheBowlSearchWidensTheFreeHandlesBoxWhereNoNodeMoveIsLeft) {
 // moves a node where the end curvatures that a smooth node's two units
 // reach there cannot meet g2 (report/glyph_bowl.hpp): URW Bookman O's outer
 // contour, whose top-right quarter is sharp at the top where the top-left
-// one is flat. A probe's ranges (ChainBox::probe_ranges) are the whole
-// search's for the two units at its node.
+// one is flat, and C059 Q's tail. A probe's ranges (ChainBox::probe_ranges)
+// are the whole search's for the two units at its node.
 TEST(GlyphFix, TheBowlSearchMovesANodeWhereTwoUnitsCurvaturesCannotMeet) {
   for (const char* font : {kBookman, kNimbus})
     if (!fs::exists(font)) GTEST_SKIP() << font << " is not installed (tools/setup.sh installs fonts-urw-base35)";
@@ -1060,11 +1061,16 @@ TEST(GlyphFix, TheBowlSearchMovesANodeWhereTwoUnitsCurvaturesCannotMeet) {
     }
     EXPECT_EQ(compared, 2 * units) << glyph;  // each unit probed at both its nodes
   }
-  const BothGatesFix f = both_gates_fix(kBookman, "O");
-  ASSERT_EQ(f.fixes.size(), 2u);
-  for (const report::ContourFix& fix : f.fixes) {
-    EXPECT_TRUE(fix.fixed && fix.settled) << fix.contour << ": " << fix.reason;
-    for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << fix.contour << " " << g.check;
+  // Bookman O; C059 Q, whose tail (c2) the chain search leaves unanswered with no unit stuck (the bowl
+  // search runs there too: report/glyph_fix.cpp).
+  for (const auto& [font, glyph] : {std::pair{kBookman, "O"}, {kC059, "Q"}}) {
+    if (!fs::exists(font)) continue;
+    const BothGatesFix f = both_gates_fix(font, glyph);
+    ASSERT_FALSE(f.fixes.empty()) << glyph;
+    for (const report::ContourFix& fix : f.fixes) {
+      EXPECT_TRUE(fix.fixed && fix.settled) << glyph << " " << fix.contour << ": " << fix.reason;
+      for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << glyph << " " << fix.contour;
+    }
   }
 }
 
