@@ -5,7 +5,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -81,21 +80,14 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     for (const int k : {at_index(node - 1), node, at_index(node + 1)}) trial[k] = trial[k] + v;
     return trial;
   };
-  // The strictest g2 tolerance (0: no g2 gate); whether g2 judges node k of `p` (its tangents within the
-  // gate's angle); whether a curvature in [l_lo, l_hi] on a node's left can meet g2 with one in [r_lo, r_hi]
-  // on its right (for kr > 0, kl in [kr (1 - tol), kr / (1 - tol)]; the mirror image below 0).
+  // The strictest g2 tolerance (0: no g2 gate); whether a curvature in [l_lo, l_hi] on a node's left can
+  // meet g2 with one in [r_lo, r_hi] on its right: the union of passing_left over the right range is one
+  // interval (both its ends rise with kr), from that of r_lo to that of r_hi.
   double tol = 0;
   for (const Gate& g : o.gates)
     if (g.kind == Gate::Kind::g2_at_smooth_nodes) tol = tol > 0 ? std::min(tol, g.tolerance) : g.tolerance;
-  const auto judged = [&](const std::vector<Vec2>& p, int k) {
-    const Vec2 in = p[k] - p[at_index(k - 1)], out = p[at_index(k + 1)] - p[k];
-    return c.node[k] && std::atan2(std::abs(det(in, out)), dot(in, out)) * (180.0 / std::numbers::pi) <=
-                            o.continuity.angle_deg;
-  };
   const auto ranges_meet = [&](double l_lo, double l_hi, double r_lo, double r_hi) {
-    if (l_lo > 0 && r_lo > 0) return l_hi >= r_lo * (1 - tol) && l_lo <= r_hi / (1 - tol);
-    if (l_hi < 0 && r_hi < 0) return -l_lo >= -r_hi * (1 - tol) && -l_hi <= -r_lo / (1 - tol);
-    return !((l_lo > 0 && r_hi < 0) || (l_hi < 0 && r_lo > 0));  // opposite signs never meet; else unknown
+    return l_hi >= passing_left(r_lo, tol)[0] && l_lo <= passing_left(r_hi, tol)[1];
   };
   // The nodes where g2 judges two units of `ranges` whose handles all slide (`sliding`: their nodes exactly
   // smooth) and whose ranges there cannot meet (a gap): their count, and with `list` each such node, its
@@ -108,7 +100,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     int n = 0;
     for (const CurvatureRange& right : ranges)
       for (const CurvatureRange& left : ranges)
-        if (left.end == right.start && judged(at, right.start) && sliding(left) && sliding(right) &&
+        if (left.end == right.start && right.linked_start && sliding(left) && sliding(right) &&
             !ranges_meet(left.k1_lo, left.k1_hi, right.k0_lo, right.k0_hi)) {
           ++n;
           if (list) gapped.insert(gapped.end(), {right.start, left.start, right.end});

@@ -25,6 +25,12 @@ bool may_move(const import::Contour& c, const std::vector<int>& movable, int k) 
   return c.font_point[k] >= 0 && std::find(movable.begin(), movable.end(), k) != movable.end();
 }
 
+std::array<double, 2> passing_left(double kr, double t) {
+  if (kr > 0) return {kr * (1 - t), kr / (1 - t)};
+  if (kr < 0) return {kr / (1 - t), kr * (1 - t)};
+  return {0, 0};
+}
+
 namespace {
 
 /// A candidate of one segment: its two handles' positions (or none: a line,
@@ -128,13 +134,6 @@ std::vector<Unit> units_of(const std::vector<Piece>& pieces, int degree, const s
     if (u.free.empty()) return {};
   }
   return out;
-}
-
-/// The interval of left curvatures kl that pass g2 (tolerance t) against kr.
-std::array<double, 2> passing_left(double kr, double t) {
-  if (kr > 0) return {kr * (1 - t), kr / (1 - t)};
-  if (kr < 0) return {kr / (1 - t), kr * (1 - t)};
-  return {0, 0};
 }
 
 /// One step of the shortest path: best[q], the least cost of reaching state
@@ -671,7 +670,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   }
   // The end curvatures' ranges of unit u's passing states `st` (not empty).
   const auto range_of = [&](int u, const std::vector<State>& st) {
-    CurvatureRange out{units[u].start, units[u].end, st.front().k0, st.front().k0, st.front().k1, st.front().k1};
+    CurvatureRange out{units[u].start, units[u].end, unit_link[u] != 0, st.front().k0, st.front().k0,
+                       st.front().k1, st.front().k1};
     for (const State& x : st) {
       out.k0_lo = std::min(out.k0_lo, x.k0), out.k0_hi = std::max(out.k0_hi, x.k0);
       out.k1_lo = std::min(out.k1_lo, x.k1), out.k1_hi = std::max(out.k1_hi, x.k1);

@@ -67,6 +67,11 @@ namespace cmr::report::glyph_detail {
 /// added one) that `movable` lists.
 bool may_move(const import::Contour& c, const std::vector<int>& movable, int k);
 
+/// The interval of left curvatures kl that pass g2 (tolerance t) against
+/// kr: [kr (1 - t), kr / (1 - t)] for kr > 0, the mirror image for kr < 0,
+/// [0, 0] for kr = 0. Both ends rise with kr.
+std::array<double, 2> passing_left(double kr, double t);
+
 /// The box searched around where each handle is: a free handle every grid
 /// position within kChainReach cells each way (17 x 17 positions), a smooth
 /// node's handle kChainSlideReach grid steps each way along its tangent, the
@@ -88,7 +93,8 @@ struct ChainBox {
 /// The end curvatures of a unit's passing positions in a box: k0 at its
 /// start node, k1 at its end node, each from lo to hi.
 struct CurvatureRange {
-  int start = 0, end = 0;  ///< the unit's nodes
+  int start = 0, end = 0;     ///< the unit's nodes
+  bool linked_start = false;  ///< g2 judges its start node (the unit before it is in its chain)
   double k0_lo = 0, k0_hi = 0, k1_lo = 0, k1_hi = 0;
 };
 /// How far a node moves where the fix moves nodes in the chain search (the

@@ -1025,7 +1025,8 @@ TEST(GlyphFix, TheBowlSearchMovesANodeWhereTwoUnitsCurvaturesCannotMeet) {
   report::glyph_detail::Work work(report::kGlyphWork, 60);
   const report::glyph_detail::ChainBox box{report::glyph_detail::kChainReach, report::glyph_detail::kBowlProbeSlide};
   const auto same = [](const report::glyph_detail::CurvatureRange& x, const report::glyph_detail::CurvatureRange& y) {
-    return x.start == y.start && x.end == y.end && x.k0_lo == y.k0_lo && x.k0_hi == y.k0_hi && x.k1_lo == y.k1_lo &&
+    return x.start == y.start && x.end == y.end && x.linked_start == y.linked_start && x.k0_lo == y.k0_lo &&
+           x.k0_hi == y.k0_hi && x.k1_lo == y.k1_lo &&
            x.k1_hi == y.k1_hi;
   };
   // Contours with no unit stuck, so the whole search has every unit's range: URW Bookman O's counter
