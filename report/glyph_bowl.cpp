@@ -109,6 +109,11 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
   };
   // The stuck units in the probe box at `at` (their nodes, pairs): the count a move must lower.
   std::optional<std::vector<int>> before;
+  // Stuck units `stuck` (their nodes, pairs) less the two at `node`, appended to `out`.
+  const auto add_away_from = [](const std::vector<int>& stuck, int node, std::vector<int>& out) {
+    for (std::size_t i = 0; i + 1 < stuck.size(); i += 2)
+      if (stuck[i] != node && stuck[i + 1] != node) out.insert(out.end(), {stuck[i], stuck[i + 1]});
+  };
   for (int moves = 0;; ++moves) {
     const std::optional<ChainResult> r = search(at, full);
     if (!r || work.spent()) return std::nullopt;
@@ -137,9 +142,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
         if (t->solved == t->chains) return answer = t->points, true;
         if (stuck_in(*t, n0, n1)) return false;
         std::vector<int> after = t->stuck;
-        for (std::size_t i = 0; i + 1 < before->size(); i += 2)
-          if (const int u0 = (*before)[i], u1 = (*before)[i + 1]; u0 != node && u1 != node)
-            after.insert(after.end(), {u0, u1});
+        add_away_from(*before, node, after);
         if (after.size() >= before->size()) return false;
         at = std::move(*trial), next = std::move(after);
         return moved = true;
@@ -191,9 +194,7 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
         if (count_gaps(ranges, false) >= gaps) return false;
         at = std::move(trial), moved = true;
         before.emplace();  // the probe's stuck units, less the two at the moved node (they pass now)
-        for (std::size_t i = 0; i + 1 < b->stuck.size(); i += 2)
-          if (const int u0 = b->stuck[i], u1 = b->stuck[i + 1]; u0 != node && u1 != node)
-            before->insert(before->end(), {u0, u1});
+        add_away_from(b->stuck, node, *before);
         return true;
       };
       bool done = gaps == 0;
