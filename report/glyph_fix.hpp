@@ -32,10 +32,11 @@
 /// Several checks at once, on a cubic contour under the two type gates:
 /// first the chain search (report/glyph_chains.hpp: nodes held, each
 /// failing chain's nearest certified handle positions in a box, an exact
-/// shortest path); where it leaves a unit with no passing position, the
-/// bowl search (glyph_chains.hpp: nodes moved along their normals until
-/// every unit has one), whose passing answer is kept aside as a second
-/// candidate; where it leaves violations, from there a descent on the
+/// shortest path); where it leaves a chain unanswered, the bowl search
+/// (report/glyph_bowl.hpp: nodes moved along their normals until every unit
+/// has a passing position and neighbouring units' curvatures can meet, then
+/// wider boxes for free handles), whose passing answer is kept aside as a
+/// second candidate; where it leaves violations, from there a descent on the
 /// grid (glyph_fix.cpp, grid_descent). Units: a handle of an exactly smooth node slides by k
 /// times the primitive grid vector (dx, dy) / gcd(dx, dy) of its tangent
 /// (so the node stays exactly smooth, checked in integer arithmetic); a
