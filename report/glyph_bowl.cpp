@@ -33,7 +33,9 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       every = true, r = chain_search(c, src, at, movable, o, grid, max_move, work, box, true);
     return r;
   };
+  ChainCache kept;  // the full box's units' states, between its searches (a node move changes two units)
   ChainBox full, probe{kChainReach, kBowlProbeSlide};
+  full.cache = &kept;
   full.every_stuck = probe.every_stuck = true;
   // Whether unit (n0, n1) is among r's stuck units.
   const auto stuck_in = [](const ChainResult& r, int n0, int n1) {

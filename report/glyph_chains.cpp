@@ -189,6 +189,15 @@ bool g2_passes(double kl, double kr, double t) { return std::abs(kl - kr) <= t *
 
 }  // namespace
 
+/// Keyed by the unit's index, the box and the points its states depend on
+/// (ChainCache); at most kChainCacheSize entries (cleared when full).
+struct ChainCache::Impl {
+  std::map<std::vector<double>, std::vector<State>> states;
+};
+ChainCache::ChainCache() : impl(std::make_unique<Impl>()) {}
+ChainCache::~ChainCache() = default;
+constexpr std::size_t kChainCacheSize = 4096;
+
 std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2) {
   // Half-integers below 2^20: the differences are exact, and so are the products (below 2^44) and their sums.
   const auto half_integer = [](double v) { return std::abs(v) < 0x1p20 && 2 * v == std::trunc(2 * v); };
@@ -632,6 +641,31 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // the unit it starts).
   auto states_of = [&](int u, bool& spent) {
     const Unit& unit = units[u];
+    std::vector<double> key;
+    if (box.cache && box.node_reach == 0 && box.probe_node < 0) {
+      const int before = (u + nu - 1) % nu, after = (u + 1) % nu;
+      key = {static_cast<double>(u), static_cast<double>(box.reach), static_cast<double>(box.slide_reach)};
+      const auto add = [&](int k) { key.insert(key.end(), {here[k].x, here[k].y}); };
+      const auto add_unit = [&](int v) {
+        add(units[v].start);
+        for (const int k : units[v].free) add(k);
+        add(units[v].end);
+      };
+      add_unit(u);
+      if (straight_unit[before] || !unit_link[u]) add_unit(before);
+      else add(units[before].free.back());
+      if (straight_unit[after] || !unit_link[after]) add_unit(after);
+      else add(units[after].free.front());
+      const auto kept = box.cache->impl->states.find(key);
+      if (kept != box.cache->impl->states.end()) return kept->second;
+    }
+    const auto keep = [&](std::vector<State> out) {
+      if (key.empty() || spent) return out;
+      auto& kept = box.cache->impl->states;
+      if (kept.size() >= kChainCacheSize) kept.clear();
+      kept.emplace(std::move(key), out);
+      return out;
+    };
     const std::vector<Vec2>& starts = node_offsets[unit.start];
     const std::vector<Vec2>& ends = node_offsets[unit.end];
     std::vector<State> out;
@@ -648,7 +682,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         }
         if (spent) return std::vector<State>{};
       }
-    return out;
+    return keep(std::move(out));
   };
 
   // The chains, each a run of units from a joint g2 does not judge (or,
@@ -750,8 +784,14 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     return best;
   };
   for (std::size_t h = 0; h < chains.size(); ++h) {
-    const std::vector<int>& chain = chains[h];
     if (hopeless[h]) continue;
+    // A cycle is searched as a path per state of its first unit, closed at that unit's start, and any
+    // unit's start closes it as well (the least cost is the same): the unit with the fewest states first.
+    std::vector<int> chain = chains[h];
+    if (cycle)
+      std::rotate(chain.begin(), std::min_element(chain.begin(), chain.end(), [&](int x, int y) {
+                    return states[x]->size() < states[y]->size();
+                  }), chain.end());
     const std::vector<State>& first = *states[chain.front()];
     std::vector<std::vector<int>> from;
     std::vector<State> start = first;  // a cycle: the one state of its first unit that is best

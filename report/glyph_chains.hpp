@@ -53,6 +53,8 @@
 // the shortest path) it is judged with a margin of 1e-6 of the tolerance
 // (far above the doubles' rounding, far below a grid step's effect).
 #include <array>
+#include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -78,6 +80,23 @@ std::array<double, 2> passing_left(double kr, double t);
 /// middle point of a run of three half the reach each way (9 x 9; the fix's
 /// box; a test's may be smaller).
 inline constexpr int kChainReach = 8, kChainSlideReach = 48;
+/// Units' passing states kept between chain searches of one contour with
+/// one source, movable points, options, grid and max_move (the bowl
+/// search's: a node move changes only the units at it). A unit's states
+/// depend on its own points, its neighbours' points next to its nodes (its
+/// nodes' smoothness and g2 links) and, where a neighbour is a line or
+/// meets it at a corner, all of that neighbour's points, and on the box:
+/// those are the key. Used by searches that hold every node
+/// (node_reach 0) and are not probes.
+class ChainCache {
+ public:
+  ChainCache();
+  ~ChainCache();
+  ChainCache(const ChainCache&) = delete;
+  ChainCache& operator=(const ChainCache&) = delete;
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
 struct ChainBox {
   int reach = kChainReach;
   int slide_reach = kChainSlideReach;
@@ -89,6 +108,7 @@ struct ChainBox {
   /// search).
   int probe_node = -1;
   bool probe_ranges = false;  ///< with probe_node: every passing position, their ranges in ChainResult::ranges
+  ChainCache* cache = nullptr;  ///< where units' states are kept between searches (none: computed each time)
 };
 /// The end curvatures of a unit's passing positions in a box: k0 at its
 /// start node, k1 at its end node, each from lo to hi.
@@ -134,8 +154,9 @@ std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2);
 /// TrueType unit's off-curve points are its handles) in `box`
 /// around `at` (nodes held; handles that `movable` leaves out, or a line's,
 /// held too), where it has one. A contour smooth all round is one chain
-/// that closes on itself: each candidate of its first unit in turn, the
-/// shortest path from it closed by g2 at that unit's start; searched
+/// that closes on itself: each candidate of its unit with the fewest in
+/// turn, the shortest path from it closed by g2 at that unit's start (P052
+/// O: 2 paths where unit 0 had 655); searched
 /// only with `every` (the settling of a fix: from the source, its answer
 /// led the searches after it to farther fixes, as on Nimbus Sans b, d and
 /// q's counters). Applies where `o` has only curvature-extrema-at-nodes and

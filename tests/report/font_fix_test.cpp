@@ -1079,6 +1079,63 @@ TEST(GlyphFix, TheBowlSearchMovesANodeWhereTwoUnitsCurvaturesCannotMeet) {
   }
 }
 
+// A chain search that keeps units' states between searches (ChainCache, the
+// bowl search's) answers exactly as one that computes them each time, at
+// the source, with each node moved in turn (its off-curve neighbours with
+// it) and each off-curve point alone, the cache kept across the moves: its key holds every point a
+// unit's states depend on. Nimbus Sans e's outer contour (corners and a
+// line among its units) and URW Bookman O's counter (smooth all round, one
+// chain closing on itself). A search of points searched before costs less.
+TEST(GlyphFix, TheChainSearchWithKeptStatesAnswersAsOneWithout) {
+  for (const char* font : {kBookman, kNimbus})
+    if (!fs::exists(font)) GTEST_SKIP() << font << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  using report::glyph_detail::ChainResult;
+  const auto same = [](const ChainResult& x, const ChainResult& y) {
+    bool ranges = x.ranges.size() == y.ranges.size();
+    for (std::size_t i = 0; ranges && i < x.ranges.size(); ++i) {
+      const report::glyph_detail::CurvatureRange &a = x.ranges[i], &b = y.ranges[i];
+      ranges = a.start == b.start && a.end == b.end && a.linked_start == b.linked_start && a.k0_lo == b.k0_lo &&
+               a.k0_hi == b.k0_hi && a.k1_lo == b.k1_lo && a.k1_hi == b.k1_hi;
+    }
+    return ranges && x.points == y.points && x.chains == y.chains && x.solved == y.solved && x.cost == y.cost &&
+           x.stuck == y.stuck;
+  };
+  for (const auto& [font, glyph, index] : {std::tuple<const char*, const char*, std::size_t>{kBookman, "O", 1},
+                                           {kNimbus, "e", 0}}) {
+    const JudgedContour j = judged_contour(glyph, index, "curvature-extrema-at-nodes,g2-at-smooth-nodes", font);
+    const import::Contour& c = j.contour();
+    const std::vector<int> movable = report::contour_moves(c).points;
+    const int m = c.spline.unique_point_count();
+    report::glyph_detail::ChainCache kept;
+    report::glyph_detail::ChainBox fresh{report::glyph_detail::kChainReach, report::glyph_detail::kBowlProbeSlide};
+    report::glyph_detail::ChainBox cached = fresh;
+    cached.cache = &kept;
+    std::vector<std::vector<Vec2>> positions{j.src};
+    for (int k = 0; k < m; ++k) {
+      std::vector<Vec2> p = j.src;
+      if (c.node[k]) {
+        for (const int i : {(k + m - 1) % m, k, (k + 1) % m})
+          if (i == k || !c.node[i]) p[i] += Vec2(2, -1);
+      } else {
+        p[k] += Vec2(1, 1);  // a handle alone: its node no longer smooth, or a corner made smooth
+      }
+      positions.push_back(p);
+    }
+    long fresh_work = 0;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      report::glyph_detail::Work w1(report::kGlyphWork, 60), w2(report::kGlyphWork, 60);
+      const auto a = report::glyph_detail::chain_search(c, j.src, positions[i], movable, j.o, 1, 0, w1, fresh, true);
+      const auto b = report::glyph_detail::chain_search(c, j.src, positions[i], movable, j.o, 1, 0, w2, cached, true);
+      ASSERT_TRUE(a.has_value() && b.has_value()) << glyph << " " << i;
+      EXPECT_TRUE(same(*a, *b)) << glyph << " position " << i;
+      if (i == 0) fresh_work = w1.used();
+    }
+    report::glyph_detail::Work again(report::kGlyphWork, 60);
+    ASSERT_TRUE(report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, again, cached, true));
+    EXPECT_LT(again.used() * 4, fresh_work) << glyph;
+  }
+}
+
 // Noto Serif s under both type gates: no search but the growing chain
 // search finds a fix (report/glyph_fix.cpp, fix_contour; before it, the
 // glyph's work ran out with 26 of 34 violations left). The glyph's fix is
