@@ -116,6 +116,9 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     for (std::size_t i = 0; i + 1 < stuck.size(); i += 2)
       if (stuck[i] != node && stuck[i + 1] != node) out.insert(out.end(), {stuck[i], stuck[i + 1]});
   };
+  // The stages before the last resort in three quarters of the work handed over (the caller's: a third of
+  // the contour's), the last resort in all of it.
+  const long handed = work.cap(work.left() / 4 * 3);
   for (int moves = 0;; ++moves) {
     const std::optional<ChainResult> r = search(at, full);
     if (!r || work.spent()) return std::nullopt;
@@ -221,6 +224,23 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       const std::optional<ChainResult> w = search(at, ChainBox{reach, kChainSlideReach});
       if (!w || work.spent()) return std::nullopt;
       if (w->solved == w->chains) return w->points;
+    }
+    // Last, where no unit is stuck: one node of an unanswered chain moved along its normal, nearest first, up
+    // to kBowlGapReach grid units, each try judged by the chain search itself (the units away from the moved
+    // node kept: ChainCache). Ranges that meet can still fail (a unit's k0 and k1 go together): P052 O, its
+    // left side moved out (a gap move), is answered with its bottom node 6 units in.
+    if (r->stuck.empty() && moves < kBowlNodeMoves) {
+      work.release(handed);
+      for (int step = 1; step <= kBowlGapReach; ++step)
+        for (int node = 0; node < m; ++node)
+          for (const double sign : {1.0, -1.0})
+            if (rigid(node) && std::find(r->unanswered.begin(), r->unanswered.end(), node) != r->unanswered.end())
+              if (std::optional<std::vector<Vec2>> trial =
+                      moved_along_normal(node, at_index(node + 1), step, sign, kBowlGapReach)) {
+                const std::optional<ChainResult> t = search(*trial, full);
+                if (!t || work.spent()) return std::nullopt;
+                if (t->solved == t->chains) return t->points;
+              }
     }
     return std::nullopt;
   }

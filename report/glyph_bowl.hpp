@@ -63,6 +63,18 @@ namespace cmr::report::glyph_detail {
 /// need the end units' free handles some 20 units away, and s a spine
 /// unit's (its nodes not exactly smooth, so its handles free). A contour
 /// smooth all round is searched as one chain closing on itself (`every`).
+///
+/// Last, where no unit is stuck and no wider box answers: one rigid node of
+/// an unanswered chain (ChainResult::unanswered) moved along its normal, 1
+/// to kBowlGapReach grid steps each way, nearest first (every such node at
+/// a step before the next step), each try judged by the chain search itself
+/// (the default box; the units away from the moved node kept from the
+/// searches before: ChainCache), the first that answers every chain taken.
+/// Ranges that meet can still fail, since a unit's k0 and k1 go together:
+/// P052 O, after a gap move at p3, is answered with p6 moved 6 steps in,
+/// and P052 e with p21 moved 5 steps. The stages before it get three
+/// quarters of `work`'s budget (the caller hands over a third of the
+/// contour's), the last resort all of it.
 /// Its answer where every chain is answered (each passes as chain_search
 /// says, with the nodes moved); nullopt where none is or the work runs out.
 /// A local search: it moves the first stuck unit's nearest node that

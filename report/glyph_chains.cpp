@@ -269,7 +269,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   }
   const auto unlinked = std::find(unit_link.begin(), unit_link.end(), 0);
   const auto any = [](const std::vector<char>& v) { return std::find(v.begin(), v.end(), 1) != v.end(); };
-  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}, true, {}};
+  if (!every && !any(failing_unit) && !any(failing_start)) return ChainResult{here, 0, 0, 0, {}, true, {}, {}};
   const double t = (tol >= 0 ? tol : 0) * (1 - 1e-6);
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
   ClassifyOptions classify;
@@ -715,7 +715,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   // A probe (ChainBox::probe_node): the units at that node, each up to its first passing position (every
   // one with probe_ranges).
   if (box.probe_node >= 0) {
-    ChainResult probe{here, static_cast<int>(chains.size()), 0, 0, {}, true, {}};
+    ChainResult probe{here, static_cast<int>(chains.size()), 0, 0, {}, true, {}, {}};
     for (int u = 0; u < nu; ++u) {
       if (units[u].start != box.probe_node && units[u].end != box.probe_node) continue;
       bool spent = false;
@@ -732,7 +732,7 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
   const bool moves_a_node =
       std::any_of(node_offsets.begin(), node_offsets.end(), [](const auto& v) { return v.size() > 1; });
   if (box.node_reach > 0 && !moves_a_node)
-    return ChainResult{here, static_cast<int>(chains.size()), 0, 0, {}, false, {}};
+    return ChainResult{here, static_cast<int>(chains.size()), 0, 0, {}, false, {}, {}};
   // Each unit's states, once; the failing units first, since a chain with
   // a unit that no position in the box makes monotone (its nodes would
   // have to move) has no answer, and that is found cheapest so.
@@ -757,12 +757,12 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     const bool none = states[u]->empty();
     hopeless[h] = hopeless[h] || none;
     if (none && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
-    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}};
+    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}, {}};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])
       if (!states[u] && !hopeless[h]) states[u] = states_of(u, spent);
-  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}};
+  ChainResult result{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}, {}};
   if (spent) return result;
   for (int u = 0; u < nu; ++u)
     if (states[u] && !states[u]->empty()) result.ranges.push_back(range_of(u, *states[u]));
@@ -783,8 +783,15 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     return best;
   };
+  // The nodes of chain h's units, where it is left unanswered.
+  const auto unanswered = [&](std::size_t h) {
+    for (const int u : chains[h]) result.unanswered.insert(result.unanswered.end(), {units[u].start, units[u].end});
+  };
   for (std::size_t h = 0; h < chains.size(); ++h) {
-    if (hopeless[h]) continue;
+    if (hopeless[h]) {
+      unanswered(h);
+      continue;
+    }
     // A cycle is searched as a path per state of its first unit, closed at that unit's start, and any
     // unit's start closes it as well (the least cost is the same): the unit with the fewest states first.
     std::vector<int> chain = chains[h];
@@ -830,7 +837,10 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
         if (closing >= 0) end = closing, start = {first[q0]}, from = std::move(f);
       }
     }
-    if (end < 0) continue;
+    if (end < 0) {
+      unanswered(h);
+      continue;
+    }
     int q = end;
     for (int i = static_cast<int>(chain.size()) - 1; i >= 0; --i) {
       const State& st = i == 0 ? start[static_cast<std::size_t>(q)] : (*states[chain[i]])[q];

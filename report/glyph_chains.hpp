@@ -195,6 +195,7 @@ struct ChainResult {
   /// found (the whole search: every unit of the chains searched that has
   /// some; a probe: only with probe_ranges).
   std::vector<CurvatureRange> ranges;
+  std::vector<int> unanswered;  ///< the nodes of the units of each chain searched and left without an answer
 };
 std::optional<ChainResult> chain_search(const import::Contour& c, const std::vector<Vec2>& src,
                                         const std::vector<Vec2>& at, const std::vector<int>& movable,

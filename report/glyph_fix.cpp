@@ -733,12 +733,14 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // Where a unit is stuck, a chain is left unanswered or the contour is smooth all round, the bowl search
     // moves nodes along their normals until each unit has a passing position and two units' curvatures can
     // meet at each smooth node (glyph_bowl.hpp; C059 Q's tail: no unit stuck, g2 failing at p6), in up to a
-    // quarter of the work: a passing answer is kept aside (`chained`; URW Gothic O). Not the start of the
+    // third of the work, a quarter before its last resort (a quarter in all ran out one try short of P052
+    // e's last-resort node move; a third in all left Nimbus Sans s's settling short): a passing answer is
+    // kept aside (`chained`; URW Gothic O). Not the start of the
     // searches below: from there they settled farther on fonts they fixed before (Nimbus Roman: 101,742 ->
     // 111,431 units^2 over A-Z a-z). Only with both_searches (`cmr fix`), as the growing search below.
     if ((!r || !r->stuck.empty() || r->solved < r->chains) && current_total > 0 && options.both_searches &&
         !work.spent()) {
-      const long part = work.cap(work.left() / 4);
+      const long part = work.cap(work.left() / 3);
       const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
       if (const auto bowl = glyph_detail::bowl_search(c, src, at, movable, o, options.grid, options.max_move, work)) {
         const BSpline s = with_points(c, *bowl);

@@ -1098,7 +1098,7 @@ TEST(GlyphFix, TheChainSearchWithKeptStatesAnswersAsOneWithout) {
                a.k0_hi == b.k0_hi && a.k1_lo == b.k1_lo && a.k1_hi == b.k1_hi;
     }
     return ranges && x.points == y.points && x.chains == y.chains && x.solved == y.solved && x.cost == y.cost &&
-           x.stuck == y.stuck;
+           x.stuck == y.stuck && x.unanswered == y.unanswered;
   };
   for (const auto& [font, glyph, index] : {std::tuple<const char*, const char*, std::size_t>{kBookman, "O", 1},
                                            {kNimbus, "e", 0}}) {
@@ -1133,6 +1133,25 @@ TEST(GlyphFix, TheChainSearchWithKeptStatesAnswersAsOneWithout) {
     report::glyph_detail::Work again(report::kGlyphWork, 60);
     ASSERT_TRUE(report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, again, cached, true));
     EXPECT_LT(again.used() * 4, fresh_work) << glyph;
+  }
+}
+
+// Where no unit is stuck, no gap is left and no wider box answers, the bowl
+// search's last resort moves one node of an unanswered chain at a time
+// along its normal, nearest first, each try judged by the chain search
+// itself (glyph_bowl.hpp): P052 O's outer contour, after a gap move at p3,
+// is answered with p6 moved in, and P052 e's with p21 moved. Every contour
+// fixed, settled, passing both gates (O's and e's outer contours were
+// neither fixed nor refused before).
+TEST(GlyphFix, TheBowlSearchJudgesANodeMoveByTheChainSearchWhereRangesMeet) {
+  if (!fs::exists(kP052)) GTEST_SKIP() << kP052 << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  for (const char* glyph : {"O", "e"}) {
+    const BothGatesFix f = both_gates_fix(kP052, glyph);
+    ASSERT_EQ(f.fixes.size(), 2u) << glyph;
+    for (const report::ContourFix& fix : f.fixes) {
+      EXPECT_TRUE(fix.fixed && fix.settled) << glyph << " " << fix.contour << ": " << fix.reason;
+      for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << glyph << " " << fix.contour;
+    }
   }
 }
 
