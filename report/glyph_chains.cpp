@@ -7,6 +7,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <optional>
@@ -757,7 +758,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     const bool none = states[u]->empty();
     hopeless[h] = hopeless[h] || none;
     if (none && !spent) stuck.insert(stuck.end(), {units[u].start, units[u].end});
-    if (hopeless[h] && all_or_none) return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}, {}};
+    if (hopeless[h] && all_or_none)
+      return ChainResult{here, static_cast<int>(chains.size()), 0, 0, stuck, true, {}, {}};
   }
   for (std::size_t h = 0; h < chains.size() && !spent; ++h)
     for (int u : chains[h])

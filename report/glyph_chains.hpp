@@ -53,7 +53,6 @@
 // the shortest path) it is judged with a margin of 1e-6 of the tolerance
 // (far above the doubles' rounding, far below a grid step's effect).
 #include <array>
-#include <map>
 #include <memory>
 #include <optional>
 #include <vector>

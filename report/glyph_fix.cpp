@@ -735,9 +735,9 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     // meet at each smooth node (glyph_bowl.hpp; C059 Q's tail: no unit stuck, g2 failing at p6), in up to a
     // third of the work, a quarter before its last resort (a quarter in all ran out one try short of P052
     // e's last-resort node move; a third in all left Nimbus Sans s's settling short): a passing answer is
-    // kept aside (`chained`; URW Gothic O). Not the start of the
-    // searches below: from there they settled farther on fonts they fixed before (Nimbus Roman: 101,742 ->
-    // 111,431 units^2 over A-Z a-z). Only with both_searches (`cmr fix`), as the growing search below.
+    // kept aside (`chained`; URW Gothic O). Not the start of the searches below: from there they settled
+    // farther on fonts they fixed before (Nimbus Roman: 101,742 -> 111,431 units^2 over A-Z a-z). Only
+    // with both_searches (`cmr fix`), as the growing search below.
     if ((!r || !r->stuck.empty() || r->solved < r->chains) && current_total > 0 && options.both_searches &&
         !work.spent()) {
       const long part = work.cap(work.left() / 3);
