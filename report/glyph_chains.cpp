@@ -191,13 +191,16 @@ bool g2_passes(double kl, double kr, double t) { return std::abs(kl - kr) <= t *
 }  // namespace
 
 /// Keyed by the unit's index, the box and the points its states depend on
-/// (ChainCache); at most kChainCacheSize entries (cleared when full).
+/// (ChainCache); at most kChainCacheStates states in all (some 80 MB;
+/// cleared when full). The bowl search's largest measured: 67 MB of the
+/// whole process, URW Gothic b with every last-resort try at 4 M work.
 struct ChainCache::Impl {
   std::map<std::vector<double>, std::vector<State>> states;
+  std::size_t count = 0;
 };
 ChainCache::ChainCache() : impl(std::make_unique<Impl>()) {}
 ChainCache::~ChainCache() = default;
-constexpr std::size_t kChainCacheSize = 4096;
+constexpr std::size_t kChainCacheStates = std::size_t{1} << 20;
 
 std::optional<bool> quadratic_monotone(Vec2 b0, Vec2 b1, Vec2 b2) {
   // Half-integers below 2^20: the differences are exact, and so are the products (below 2^44) and their sums.
@@ -662,9 +665,11 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     }
     const auto keep = [&](std::vector<State> out) {
       if (key.empty() || spent) return out;
-      auto& kept = box.cache->impl->states;
-      if (kept.size() >= kChainCacheSize) kept.clear();
-      kept.emplace(std::move(key), out);
+      ChainCache::Impl& kept = *box.cache->impl;
+      if (out.size() > kChainCacheStates) return out;
+      if (kept.count + out.size() > kChainCacheStates) kept.states.clear(), kept.count = 0;
+      kept.count += out.size();
+      kept.states.emplace(std::move(key), out);
       return out;
     };
     const std::vector<Vec2>& starts = node_offsets[unit.start];
