@@ -231,16 +231,19 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     // left side moved out (a gap move), is answered with its bottom node 6 units in.
     if (r->stuck.empty() && moves < kBowlNodeMoves) {
       work.release(handed);
+      std::vector<int> nodes;  // the unanswered chains' rigid nodes, in contour order
+      for (int k = 0; k < m; ++k)
+        if (rigid(k) && std::find(r->unanswered.begin(), r->unanswered.end(), k) != r->unanswered.end())
+          nodes.push_back(k);
       for (int step = 1; step <= kBowlGapReach; ++step)
-        for (int node = 0; node < m; ++node)
+        for (const int node : nodes)
           for (const double sign : {1.0, -1.0})
-            if (rigid(node) && std::find(r->unanswered.begin(), r->unanswered.end(), node) != r->unanswered.end())
-              if (std::optional<std::vector<Vec2>> trial =
-                      moved_along_normal(node, at_index(node + 1), step, sign, kBowlGapReach)) {
-                const std::optional<ChainResult> t = search(*trial, full);
-                if (!t || work.spent()) return std::nullopt;
-                if (t->solved == t->chains) return t->points;
-              }
+            if (std::optional<std::vector<Vec2>> trial =
+                    moved_along_normal(node, at_index(node + 1), step, sign, kBowlGapReach)) {
+              const std::optional<ChainResult> t = search(*trial, full);
+              if (!t || work.spent()) return std::nullopt;
+              if (t->solved == t->chains) return t->points;
+            }
     }
     return std::nullopt;
   }
