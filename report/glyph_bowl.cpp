@@ -13,7 +13,8 @@ namespace cmr::report::glyph_detail {
 
 std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
                                              const std::vector<Vec2>& start, const std::vector<int>& movable,
-                                             const ReportOptions& o, double grid, double max_move, Work& work) {
+                                             const ReportOptions& o, double grid, double max_move, Work& work,
+                                             ChainCache& kept) {
   if (c.spline.degree() != 3 || !(grid > 0)) return std::nullopt;
   const int m = c.spline.unique_point_count();
   const double limit = max_move > 0 ? max_move : std::numeric_limits<double>::infinity();
@@ -33,7 +34,6 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
       every = true, r = chain_search(c, src, at, movable, o, grid, max_move, work, box, true);
     return r;
   };
-  ChainCache kept;  // the full box's units' states, between its searches (a node move changes two units)
   ChainBox full, probe{kChainReach, kBowlProbeSlide};
   full.cache = &kept;
   full.every_stuck = probe.every_stuck = true;

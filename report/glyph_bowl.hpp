@@ -75,6 +75,12 @@ namespace cmr::report::glyph_detail {
 /// and P052 e with p21 moved 5 steps. The stages before it get three
 /// quarters of `work`'s budget (the caller hands over a third of the
 /// contour's), the last resort all of it.
+/// `kept`: the units' states of the caller's chain search in the default
+/// box (ChainCache: the same source, movable points, options, grid and
+/// max_move), taken and added to by the bowl's searches in that box: its
+/// first search, from where the caller's left the contour, computes only
+/// the units that search moved or did not reach (URW Gothic a, s and g:
+/// 4,700, 38,600 and 34,500 work units less, 6 to 18 % of the bowl's).
 /// Its answer where every chain is answered (each passes as chain_search
 /// says, with the nodes moved); nullopt where none is or the work runs out.
 /// A local search: it moves the first stuck unit's nearest node that
@@ -84,6 +90,7 @@ inline constexpr std::array<int, 3> kBowlWideReach{12, 16, 24};
 inline constexpr int kBowlGapReach = 32;
 std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std::vector<Vec2>& src,
                                              const std::vector<Vec2>& start, const std::vector<int>& movable,
-                                             const ReportOptions& o, double grid, double max_move, Work& work);
+                                             const ReportOptions& o, double grid, double max_move, Work& work,
+                                             ChainCache& kept);
 
 }  // namespace cmr::report::glyph_detail

@@ -722,13 +722,17 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       const BSpline s = with_points(c, r->points);
       if (const int left = judge(s); left < current_total && smooth_kept(c, s)) current = s, current_total = left;
     };
-    const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work);
+    glyph_detail::ChainCache kept;  // the default box's units' states, for the bowl search too
+    glyph_detail::ChainBox box;
+    box.cache = &kept;
+    const auto r = chain_search(c, src, src, movable, o, options.grid, options.max_move, work, box);
     take(r);
     if (r && r->solved < r->chains && !r->stuck.empty() && !work.spent()) {
       const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
-      const glyph_detail::ChainBox box{glyph_detail::kChainReach, glyph_detail::kChainSlideReach,
-                                       glyph_detail::kChainNodeReach};
-      take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work, box, false, false, r->stuck));
+      const glyph_detail::ChainBox nodes_box{glyph_detail::kChainReach, glyph_detail::kChainSlideReach,
+                                             glyph_detail::kChainNodeReach};
+      take(chain_search(c, src, at, movable, o, options.grid, options.max_move, work, nodes_box, false, false,
+                        r->stuck));
     }
     // Where a unit is stuck, a chain is left unanswered or the contour is smooth all round, the bowl search
     // moves nodes along their normals until each unit has a passing position and two units' curvatures can
@@ -742,7 +746,8 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
         !work.spent()) {
       const long part = work.cap(work.left() / 3);
       const std::vector<Vec2> at(current.points().begin(), current.points().begin() + distinct);
-      if (const auto bowl = glyph_detail::bowl_search(c, src, at, movable, o, options.grid, options.max_move, work)) {
+      if (const auto bowl =
+              glyph_detail::bowl_search(c, src, at, movable, o, options.grid, options.max_move, work, kept)) {
         const BSpline s = with_points(c, *bowl);
         if (judge(s) == 0 && smooth_kept(c, s)) chained = s;
       }

@@ -938,7 +938,8 @@ TEST(GlyphFix, TheBowlSearchMovesNodesAlongTheirNormalsUntilEveryQuarterHasAPass
   ASSERT_TRUE(held.has_value());
   EXPECT_EQ(held->solved, 0);
   EXPECT_EQ(held->stuck.size(), 8u);  // all four quarters
-  const auto bowl = report::glyph_detail::bowl_search(c, j.src, j.src, movable, j.o, 1, 0, work);
+  report::glyph_detail::ChainCache kept;
+  const auto bowl = report::glyph_detail::bowl_search(c, j.src, j.src, movable, j.o, 1, 0, work, kept);
   ASSERT_TRUE(bowl.has_value());
   EXPECT_EQ(j.violations(*bowl), 0);
   int nodes_moved = 0;
@@ -1003,7 +1004,8 @@ TEST(GlyphFix, TheBowlSearchWidensTheFreeHandlesBoxWhereNoNodeMoveIsLeft) {
   }
   const JudgedContour a = judged_contour("a", 0, gates, kGothic);
   const std::vector<int> a_movable = report::contour_moves(a.contour()).points;
-  const auto bowl = report::glyph_detail::bowl_search(a.contour(), a.src, a.src, a_movable, a.o, 1, 0, work);
+  report::glyph_detail::ChainCache a_kept;
+  const auto bowl = report::glyph_detail::bowl_search(a.contour(), a.src, a.src, a_movable, a.o, 1, 0, work, a_kept);
   ASSERT_TRUE(bowl.has_value());
   EXPECT_EQ(a.violations(*bowl), 0);
   for (const char* glyph : {"a", "s"}) {
@@ -1133,6 +1135,32 @@ TEST(GlyphFix, TheChainSearchWithKeptStatesAnswersAsOneWithout) {
     report::glyph_detail::Work again(report::kGlyphWork, 60);
     ASSERT_TRUE(report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, again, cached, true));
     EXPECT_LT(again.used() * 4, fresh_work) << glyph;
+  }
+}
+
+// The bowl search starts from the caller's chain search in the default box
+// and takes its units' states (glyph_bowl.hpp, `kept`): its answer is the
+// one it gives computing them again, for less work, by about what that
+// search cost (URW Gothic a, s and g, whose bowls it answers).
+TEST(GlyphFix, TheBowlSearchTakesTheStatesOfTheChainSearchBeforeIt) {
+  if (!fs::exists(kGothic)) GTEST_SKIP() << kGothic << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  for (const char* glyph : {"a", "s", "g"}) {
+    const JudgedContour j = judged_contour(glyph, 0, "curvature-extrema-at-nodes,g2-at-smooth-nodes", kGothic);
+    const import::Contour& c = j.contour();
+    const std::vector<int> movable = report::contour_moves(c).points;
+    report::glyph_detail::Work searched(report::kGlyphWork, 60);
+    report::glyph_detail::ChainCache kept, fresh;
+    report::glyph_detail::ChainBox box;
+    box.cache = &kept;
+    const auto r = report::glyph_detail::chain_search(c, j.src, j.src, movable, j.o, 1, 0, searched, box);
+    ASSERT_TRUE(r.has_value()) << glyph;
+    EXPECT_LT(r->solved, r->chains) << glyph;  // the bowl search's case
+    report::glyph_detail::Work with(report::kGlyphWork / 3, 60), without(report::kGlyphWork / 3, 60);
+    const auto a = report::glyph_detail::bowl_search(c, j.src, j.src, movable, j.o, 1, 0, with, kept);
+    const auto b = report::glyph_detail::bowl_search(c, j.src, j.src, movable, j.o, 1, 0, without, fresh);
+    ASSERT_TRUE(a.has_value()) << glyph;
+    EXPECT_EQ(a, b) << glyph;
+    EXPECT_LT(with.used() + searched.used() / 2, without.used()) << glyph;
   }
 }
 
