@@ -219,9 +219,11 @@ std::optional<std::vector<Vec2>> bowl_search(const import::Contour& c, const std
     // made wider than tall: the bottom one flat at p11, the unit from there to the corner sharp there
     // unless its free handle moves some 20 units); a unit between nodes not exactly smooth, whose handles
     // are free, may need them farther than the box (URW Gothic s's spine, p38 to p41: handles of 31 and
-    // 83 units).
-    for (const int reach : kBowlWideReach) {
-      const std::optional<ChainResult> w = search(at, ChainBox{reach, kChainSlideReach});
+    // 83 units). The widest boxes take every other cell (glyph_bowl.hpp).
+    for (const auto& [reach, stride] : kBowlWideBoxes) {
+      ChainBox wide{reach, kChainSlideReach};
+      wide.stride = stride;
+      const std::optional<ChainResult> w = search(at, wide);
       if (!w || work.spent()) return std::nullopt;
       if (w->solved == w->chains) return w->points;
     }

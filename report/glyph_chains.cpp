@@ -365,8 +365,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line.first + static_cast<double>(j) * *w);
       return out;
     }
-    for (int i = -box.reach; i <= box.reach; ++i)
-      for (int j = -box.reach; j <= box.reach; ++j)
+    for (int i = -box.reach; i <= box.reach; i += box.stride)
+      for (int j = -box.reach; j <= box.reach; j += box.stride)
         add(base[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
     return out;
   };
@@ -648,7 +648,8 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
     std::vector<double> key;
     if (box.cache && box.node_reach == 0 && box.probe_node < 0) {
       const int before = (u + nu - 1) % nu, after = (u + 1) % nu;
-      key = {static_cast<double>(u), static_cast<double>(box.reach), static_cast<double>(box.slide_reach)};
+      key = {static_cast<double>(u), static_cast<double>(box.reach), static_cast<double>(box.slide_reach),
+             static_cast<double>(box.stride)};
       const auto add = [&](int k) { key.insert(key.end(), {here[k].x, here[k].y}); };
       const auto add_unit = [&](int v) {
         add(units[v].start);

@@ -108,6 +108,7 @@ struct ChainBox {
   int probe_node = -1;
   bool probe_ranges = false;  ///< with probe_node: every passing position, their ranges in ChainResult::ranges
   ChainCache* cache = nullptr;  ///< where units' states are kept between searches (none: computed each time)
+  int stride = 1;  ///< a free handle's box takes every stride-th cell each way (the bowl search's widest: 2)
 };
 /// The end curvatures of a unit's passing positions in a box: k0 at its
 /// start node, k1 at its end node, each from lo to hi.

@@ -1183,6 +1183,23 @@ TEST(GlyphFix, TheBowlSearchJudgesANodeMoveByTheChainSearchWhereRangesMeet) {
   }
 }
 
+// The bowl search's widest boxes for free handles (16 and 24 cells each
+// way) take every other cell (glyph_bowl.hpp, kBowlWideBoxes): a sixteenth
+// of the candidates of a unit with two free handles. P052 p's bowl needs
+// free handles 10 to 20 units from the source next to its corners (p10,
+// p11, p38, p39, p42, p43); a box of 16 cells taking every cell ran out of
+// the default work (the glyph was neither fixed nor refused, fixed with
+// 6 M work). Fixed and settled, every contour passing both gates.
+TEST(GlyphFix, TheBowlSearchsWidestBoxesTakeEveryOtherCell) {
+  if (!fs::exists(kP052)) GTEST_SKIP() << kP052 << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const BothGatesFix f = both_gates_fix(kP052, "p");
+  ASSERT_EQ(f.fixes.size(), 2u);
+  for (const report::ContourFix& fix : f.fixes) {
+    EXPECT_TRUE(fix.fixed && fix.settled) << fix.contour << ": " << fix.reason;
+    for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << fix.contour;
+  }
+}
+
 // Noto Serif s under both type gates: no search but the growing chain
 // search finds a fix (report/glyph_fix.cpp, fix_contour; before it, the
 // glyph's work ran out with 26 of 34 violations left). The glyph's fix is
