@@ -712,6 +712,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
   // chain search on quadratic ones): the searches below then get half of what is left, and where they find
   // a fix too both are settled and the nearer is kept.
   std::optional<BSpline> chained;
+  bool settled_here = false;  // the fix was settled to the end here (both fixes found, each settled)
   // Where the chain search leaves a chain with a unit that no position passes, its nodes held, the chains
   // it leaves are searched again from there with those units' nodes moving a cell each way
   // (glyph_chains.hpp): P052 (URW's Palatino) A, whose stem line meets a curve smoothly at p30, needs p33
@@ -848,11 +849,12 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
       current = std::move(*chained), current_total = 0, out.off_grid_distance = 0;
     } else {  // both fixes, each settled in half of what is left: the nearer kept (settled, the order can change)
       const long half = work.cap(work.left() / 2);
-      settle(c, current, movable, options, o, work);
+      const bool current_settled = settle(c, current, movable, options, o, work);
       work.release(half);
-      settle(c, *chained, movable, options, o, work);
+      const bool chained_settled = settle(c, *chained, movable, options, o, work);
+      settled_here = current_settled;
       if (squared_move(src, chained->points()) < squared_move(src, current.points()))
-        current = std::move(*chained), out.off_grid_distance = 0;
+        current = std::move(*chained), out.off_grid_distance = 0, settled_here = chained_settled;
     }
   }
   if (current_total > 0) {
@@ -863,6 +865,7 @@ ContourFix fix_contour(const import::Contour& c, const GlyphFixOptions& options,
     return out;
   }
   if (!certify_contour_fix(c, current, o, out)) return out;
+  out.settled = settled_here;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
@@ -962,7 +965,8 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
   }
   // Then each fix found is settled (settle_nearer), in what is left of the work: after every
   // contour's search, so settling one never takes what another's search needs; and only when
-  // every contour is fixed (a glyph with one contour unfixed has no fix to settle).
+  // every contour is fixed (a glyph with one contour unfixed has no fix to settle). A fix that fix_contour
+  // settled to the end and that this leaves where it was stays settled where the work runs out (Nimbus Sans s).
   if (!(options.grid > 0) ||
       std::any_of(out.begin(), out.end(), [](const ContourFix& f) { return !f.fixed && !f.untouched; }))
   {
@@ -980,7 +984,9 @@ std::vector<ContourFix> fix_glyph(const import::Glyph& glyph, const GlyphFixOpti
     for (const PointMove& m : f.moves) fixed = fixed.with_point(m.point, m.to);
     ContourFix settled = f;
     settled.moves.clear(), settled.names.clear(), settled.source_points.clear();
-    settled.settled = settle(c, fixed, moves_of(c, options).points, options, o, work);
+    const std::vector<Vec2> was = fixed.points();
+    settled.settled = settle(c, fixed, moves_of(c, options).points, options, o, work) ||
+                      (f.settled && fixed.points() == was);
     work.release(whole);
     const bool certified = certify_contour_fix(c, fixed, o, settled);  // it passes: settle moves only to passing positions
     settled.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

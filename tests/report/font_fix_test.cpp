@@ -1200,6 +1200,22 @@ TEST(GlyphFix, TheBowlSearchsWidestBoxesTakeEveryOtherCell) {
   }
 }
 
+// Where the contour's search finds two fixes (the bowl search's and the
+// others') it settles each and keeps the nearer. After every contour's
+// search each fix is settled again (fix_glyph); one settled to the end in
+// its contour's search that this leaves where it was stays settled when the
+// work runs out: on Nimbus Sans s settling again took the last of the
+// glyph's work and moved nothing, and its fix was not called settled.
+// Fixed, settled, passing both gates.
+TEST(GlyphFix, AFixSettledInItsContoursSearchStaysSettledWhereSettlingAgainMovesNothing) {
+  if (!fs::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
+  const BothGatesFix f = both_gates_fix(kNimbus, "s");
+  ASSERT_EQ(f.fixes.size(), 1u);
+  const report::ContourFix& fix = f.fixes[0];
+  EXPECT_TRUE(fix.fixed && fix.settled) << fix.reason;
+  for (const report::GateCount& g : fix.rejudged) EXPECT_EQ(g.after, 0) << g.check;
+}
+
 // Noto Serif s under both type gates: no search but the growing chain
 // search finds a fix (report/glyph_fix.cpp, fix_contour; before it, the
 // glyph's work ran out with 26 of 34 violations left). The glyph's fix is
