@@ -65,7 +65,7 @@ namespace cmr::report::glyph_detail {
 /// free). The boxes of 16 and 24 cells take every other cell each way, a
 /// sixteenth of a two-free-handle unit's candidates (taking every cell, 16
 /// cells took 2.35 M work on P052 p); the settling after the bowl search
-/// moves its answer on to the nearest passing cell. A contour
+/// moves its answer on, cell by cell, to nearer passing positions. A contour
 /// smooth all round is searched as one chain closing on itself (`every`).
 ///
 /// Last, where no unit is stuck and no wider box answers: one rigid node of

@@ -149,7 +149,9 @@ struct ContourFix {
   /// each; on a cubic contour (or a quadratic one with an on-curve point),
   /// no chain's handles in the settling's box (nodes held, and the inner
   /// points of a run of four or more off-curve points) pass with a smaller
-  /// total move. False where the work ran out first (the fix still passes).
+  /// total move. False where the work ran out first (the fix still passes),
+  /// unless the fix was settled to the end in its contour's search and the
+  /// glyph's last settling left it where it was.
   /// (After that the settling also tries each chain with its inner nodes a
   /// cell each way, glyph_fix.cpp settle; where that ends in time, none of
   /// those is nearer either, but `settled` does not say whether it did.)
