@@ -365,9 +365,11 @@ std::optional<ChainResult> chain_search(const import::Contour& c, const std::vec
       for (long j = 1; j <= j0 + box.slide_reach; ++j) add(line.first + static_cast<double>(j) * *w);
       return out;
     }
-    for (int i = -box.reach; i <= box.reach; i += box.stride)
-      for (int j = -box.reach; j <= box.reach; j += box.stride)
-        add(base[k] + Vec2(static_cast<double>(i) * grid, static_cast<double>(j) * grid));
+    const int cells = box.reach / box.stride;  // each way, the handle's own cell among them whatever the stride
+    const double pitch = box.stride * grid;
+    for (int i = -cells; i <= cells; ++i)
+      for (int j = -cells; j <= cells; ++j)
+        add(base[k] + Vec2(static_cast<double>(i) * pitch, static_cast<double>(j) * pitch));
     return out;
   };
   // A piece's Bezier points at the positions `pos`.
