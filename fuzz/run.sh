@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (clang, ASan + UBSan) in build-fuzz and runs
-# each for SECONDS (default 10), one at a time, at the lowest priority.
+# each for SECONDS (default 10) at the lowest priority, as many at once as
+# there are cores (CMR_FUZZ_JOBS overrides; each harness is one process).
 #   fuzz/run.sh [SECONDS] [HARNESS...]      e.g. fuzz/run.sh 600 svg_document
 # A finding stops that harness with its crash file in build-fuzz/findings/
 # and makes the script exit 1. Seeds: fuzz/corpus/NAME (read only; new inputs
@@ -24,8 +25,11 @@ names=("$@")
 ((${#names[@]})) || names=("${all[@]}")
 ninja -C build-fuzz -j"${CMR_FUZZ_JOBS:-2}" "${names[@]/#/fuzz/fuzz_}"
 mkdir -p build-fuzz/findings
-status=0
-for n in "${names[@]}"; do
+# fuzz_one NAME: runs one harness; its summary goes to build-fuzz/findings/NAME.result
+# (printed in order at the end, so parallel runs do not interleave), and it
+# returns non-zero on a finding.
+fuzz_one() {
+  local n=$1
   mkdir -p "build-fuzz/corpus/$n"
   # The font seeds are small complete fonts from Debian packages (tools/setup.sh),
   # not committed: a TrueType one (glyf, 4.5 KB; fuzz_font imports its Lycian
@@ -74,7 +78,20 @@ for n in "${names[@]}"; do
       echo "  input $crash ($(stat -c %s "$crash") bytes), base64:"
       head -c 4096 "$crash" | base64 | sed 's/^/    /'
     done
-    status=1
+    return 1
   fi
+}
+parallel=${CMR_FUZZ_JOBS:-$(nproc)}
+for n in "${names[@]}"; do
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  fuzz_one "$n" >"build-fuzz/findings/$n.result" 2>&1 &
+done
+wait
+status=0
+for n in "${names[@]}"; do
+  cat "build-fuzz/findings/$n.result"
+  # Only a harness that said "no finding" passed (a finding, or a script error
+  # in its subshell, leaves no such line).
+  grep -q '^fuzz [a-z_]*: [0-9]* s, no finding' "build-fuzz/findings/$n.result" || status=1
 done
 exit $status
