@@ -1,7 +1,8 @@
 // A single .glif file: read through read_ufo (a temp NAME.glif, as cmr
 // import and report read one), and the point rewriter on the same bytes with
-// a few edits taken from the input's last bytes. What the rewriter returns
-// is still a glyph it can read (rewriting only attribute values).
+// a few edits taken from the input's last bytes (some adding points, as
+// `cmr fix --add-nodes` does). What the rewriter returns is still a glyph it
+// can read.
 #include <unistd.h>
 
 #include <filesystem>
@@ -35,6 +36,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::uint8_t b = data[size - 1 - i];
     edits.push_back({.contour = (b >> 7) & 1, .point = (b >> 4) & 7, .x = values[b & 7], .y = values[(b >> 3) & 7]});
   }
+  // `cmr fix --add-nodes`: points added after the first edited one (its x
+  // and y kept or set), and the text read back as a glyph.
+  if ((tail & 4u) && !edits.empty()) {
+    edits.front().then = {{values[tail & 7], 1, false}, {2, values[(tail >> 3) & 7], true}};
+    edits.front().move = (tail & 8u) != 0;
+  }
   std::string rewritten;
   try {
     rewritten = cmr::import::rewrite_glif_points(text, edits, "f.glif");
@@ -45,6 +52,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     (void)cmr::import::rewrite_glif_points(rewritten, {}, "f.glif");
   } catch (const cmr::InputError&) {
     __builtin_trap();  // a glyph the rewriter read became one it cannot read
+  }
+  try {
+    (void)cmr::import::read_glif_text(rewritten, "f.glif");
+  } catch (const cmr::InputError&) {  // an outline the reader refuses (one line): not a finding
   }
   return 0;
 }

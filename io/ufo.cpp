@@ -299,15 +299,24 @@ struct RawGlyph {
   bool conic = false, cubic = false;
 };
 
-RawGlyph read_raw_glyph(const fs::path& file, const std::string& listed_name) {
+/// A .glif's glyph from its text (`text` set: read_glif_text) or its file.
+RawGlyph read_raw_glyph(const fs::path& file, const std::string& listed_name, const std::string* text = nullptr) {
   RawGlyph g;
   g.name = listed_name;
   g.file = file;
   try {
     std::error_code ec;
-    if (!fs::exists(file, ec))
+    if (!text && !fs::exists(file, ec))
       throw InputError(file.string() + ": missing (listed in contents.plist for the glyph '" + listed_name + "')");
-    const std::unique_ptr<XmlFile> f = load_xml(file);
+    std::unique_ptr<XmlFile> f;
+    if (text) {
+      f = std::make_unique<XmlFile>();
+      f->path = file.string();
+      f->text = *text;
+      parse_xml(*f);
+    } else {
+      f = load_xml(file);
+    }
     g.outline = parse_glif(*f);
     if (g.name.empty()) g.name = g.outline.name;
     if (g.outline.components > 0)
@@ -468,6 +477,12 @@ Font read_ufo(const fs::path& path_in, const GlyphSelection& which, bool keep_ze
   font.cubic = cubic || !conic;
   for (RawGlyph& g : raw) font.glyphs.push_back(make_glyph(g, font.cubic ? 3 : 2, keep_zero_lines));
   return font;
+}
+
+Glyph read_glif_text(const std::string& text, const std::string& file_name) {
+  RawGlyph raw = read_raw_glyph(file_name, "", &text);
+  if (!raw.error.empty()) throw InputError(raw.error);
+  return make_glyph(raw, raw.conic && !raw.cubic ? 2 : 3, false);
 }
 
 // ------------------------------------------------------------ designspace
@@ -659,7 +674,23 @@ std::string rewrite_glif_points(const std::string& text, const std::vector<Point
   std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::string out = text;
   for (const auto& [tag, e] : order) {
-    if (!set_attribute(out, tag, "y", glif_number(e->y)) || !set_attribute(out, tag, "x", glif_number(e->x)))
+    if (!e->then.empty()) {  // after the element's end (the tag's '>' outside quotes), before the edit moves it
+      std::size_t end = tag;
+      for (char quote = 0; end < out.size() && (quote || out[end] != '>'); ++end)
+        if (out[end] == '"' || out[end] == '\'') quote = quote == out[end] ? 0 : (quote ? quote : out[end]);
+      if (end < out.size() && out[end - 1] != '/') end = out.find('>', out.find("</point", end));  // <point ...>...</point >
+      if (end >= out.size()) throw InputError(file_name + ": the <point> of contour " + std::to_string(e->contour) +
+                                              ", point " + std::to_string(e->point) + " has no end");
+      std::size_t lead = tag;
+      while (lead > 0 && std::isspace(static_cast<unsigned char>(out[lead - 1]))) --lead;
+      std::string added;
+      for (const NewPoint& n : e->then)
+        added += out.substr(lead, tag - lead) + "<point x=\"" + glif_number(n.x) + "\" y=\"" + glif_number(n.y) + "\"" +
+                 (n.node ? " type=\"curve\" smooth=\"yes\"" : "") + "/>";
+      out.insert(end + 1, added);
+    }
+    if (e->move &&
+        (!set_attribute(out, tag, "y", glif_number(e->y)) || !set_attribute(out, tag, "x", glif_number(e->x))))
       throw InputError(file_name + ": the <point> of contour " + std::to_string(e->contour) + ", point " +
                        std::to_string(e->point) + " has no x or y attribute");
   }

@@ -110,19 +110,36 @@ struct Designspace {
 /// not exist.
 Designspace read_designspace(const std::filesystem::path& path);
 
-/// A new position for one source point of a .glif.
+/// A point added to a .glif contour (`cmr fix --add-nodes`): an off-curve
+/// point, or a smooth on-curve one (type="curve" smooth="yes").
+struct NewPoint {
+  double x = 0, y = 0;
+  bool node = false;
+};
+/// A new position for one source point of a .glif, and the points added
+/// right after it.
 struct PointEdit {
   int contour = 0;  ///< the contour's index in the .glif
   int point = 0;    ///< the point's index in its contour
   double x = 0, y = 0;
+  bool move = true;                 ///< false: x and y stay as written (only `then` is added)
+  std::vector<NewPoint> then = {};  ///< added after this point, in this order
 };
 /// The .glif text with the `x` and `y` attributes of the named points set to
 /// the new values (integers without a decimal point, other values as the
 /// shortest decimal that reads back as the double) and every other byte
-/// unchanged. InputError for a point the text does not have or a text
-/// that is not a glyph.
+/// unchanged, but for the added points: each a `<point x=".." y=".."/>`
+/// element (with type="curve" smooth="yes" for a node) after its point's
+/// element, each preceded by the whitespace that precedes that element.
+/// InputError for a point the text does not have or a text that is not a
+/// glyph.
 std::string rewrite_glif_points(const std::string& text, const std::vector<PointEdit>& edits,
                                 const std::string& file_name);
+
+/// The glyph of a .glif's text, read as read_ufo reads a .glif named
+/// `file_name` (its source), cubic when it has no off-curve point.
+/// InputError as read_ufo's.
+Glyph read_glif_text(const std::string& text, const std::string& file_name);
 
 /// A coordinate as a .glif writes it: "455", "455.5", "-0.25".
 std::string glif_number(double v);

@@ -833,10 +833,13 @@ py::object region_py(const Spline& s, const RegionArgs& a, bool full) {
 /// cmr.fix_glyph: a font source's glyph fixed for every required check on
 /// the grid, as tools/cmd_fix.cpp's run_source_fix does for `cmr fix
 /// FONT.ufo --glyph NAME` (the same library calls and document; in_place
-/// writes the .glif as --in-place does: only the moved points' x and y).
+/// writes the .glif as --in-place does: only the moved points' x and y, and
+/// with add_nodes the added points).
 py::object fix_glyph_py(const std::string& file, const std::string& glyph, const std::string& require, double grid,
-                        double max_move, const std::vector<std::string>& points, int depth, bool in_place, long work) {
-  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
+                        double max_move, const std::vector<std::string>& points, int depth, bool in_place, long work,
+                        bool add_nodes) {
+  report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
+  o.add_nodes = add_nodes;
   report::SourceFix f = interruptible([file, glyph, points, o] { return report::fix_source_glyph(file, glyph, points, o); });
   show_fields_in(f.contours, python_fields);
   if (!f.failed.empty()) throw InputError(file + ": " + python_fields(f.failed));
@@ -857,8 +860,9 @@ py::object fix_glyph_py(const std::string& file, const std::string& glyph, const
 /// the same library calls and document); in_place writes the fixed
 /// glyphs' .glif files together (all or none), as --in-place does.
 py::object fix_glyphs_py(const std::string& file, const std::string& glyphs, const std::string& require, double grid,
-                         double max_move, int depth, double min_severity, bool in_place, long work) {
-  const report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
+                         double max_move, int depth, double min_severity, bool in_place, long work, bool add_nodes) {
+  report::GlyphFixOptions o = report::source_fix_options(require, depth, grid, max_move, work);
+  o.add_nodes = add_nodes;
   const import::GlyphSelection which = import::parse_glyph_selection(glyphs);
   report::SourceGlyphsOutput r = interruptible([file, which, o, require, grid, min_severity] {
     return report::source_glyphs_output(report::fix_source_glyphs(file, which, o, min_severity, 0), file, require,

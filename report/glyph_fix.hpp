@@ -125,6 +125,10 @@ struct GlyphFixOptions {
   /// (none that may move) is left as it is (ContourFix::untouched), even
   /// where it fails.
   std::vector<std::string> points;
+  /// Source fixes (report/source_fix.hpp): where a contour has no fix by
+  /// moves, the glyph is fixed again with nodes added (report/glyph_nodes.hpp;
+  /// `cmr fix --add-nodes`). Needs a grid and no `points`.
+  bool add_nodes = false;
 };
 
 

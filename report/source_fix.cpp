@@ -9,6 +9,7 @@
 #include "report/batch.hpp"
 #include "report/contour_moves.hpp"
 #include "report/fix_json.hpp"
+#include "report/glyph_nodes.hpp"
 #include "report/severity.hpp"
 #include "spline/errors.hpp"
 #include "spline/fields.hpp"
@@ -48,6 +49,8 @@ void check_grid_and_checks(const GlyphFixOptions& options) {
   if (!(options.grid >= 0) || !std::isfinite(options.grid))
     throw InputFieldError(field("grid") + ": " + format_number(options.grid) + " is not a step >= 0");
   check_fixable(options.judge);
+  if (options.add_nodes && !(options.grid > 0))
+    throw InputFieldError(field("add_nodes") + " needs the grid (" + field("grid") + " > 0): its new nodes land on it");
 }
 
 /// The glyph's fixes, where a contour found none in its share of the work
@@ -59,6 +62,56 @@ std::vector<ContourFix> noting_work(std::vector<ContourFix> fixes, long budget) 
       f.reason += "; its share of the glyph's work ran out (" + std::to_string(budget) + " units a glyph): a larger " +
                   field("glyph_work") + " searches further";
   return fixes;
+}
+
+/// The glyph's fix into `out` (its contours, edits and failure), and with
+/// options.add_nodes, where it leaves a contour unfixed, the glyph fixed
+/// again with nodes added (report/glyph_nodes.hpp): taken where that fixes
+/// every contour, else the first failure stays, with why the second did not
+/// help. True where every contour passed as it was.
+bool fix_into(const import::Glyph& g, const GlyphFixOptions& options, SourceFix& out) {
+  const std::vector<ContourFix> fixes = noting_work(fix_glyph(g, options), options.glyph_work);
+  out.contours = glyph_fix_json(g, fixes, options.grid, out.edits, out.failed);
+  const bool already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
+  if (!options.add_nodes || out.failed.empty()) return already;
+  const std::optional<NodesAdded> added = add_nodes(g, read_input_file(g.source), fixes, options);
+  if (!added) {
+    out.failed += "; " + field("add_nodes") + " finds no segment to split (no curvature extremum inside a cubic, "
+                  "nor a cubic's smooth join with a line failing g2)";
+    return already;
+  }
+  std::vector<import::PointEdit> edits;
+  std::string failed;
+  nlohmann::ordered_json contours = glyph_fix_json(
+      added->glyph, noting_work(fix_glyph(added->glyph, options), options.glyph_work), options.grid, edits, failed);
+  if (!failed.empty()) {
+    out.failed += "; with " + std::to_string(added->nodes.size()) + " nodes added, no fix either: " + failed;
+    return already;
+  }
+  // An added node where the fix leaves it (the new text's point, moved or not).
+  auto final_at = [&](const AddedNode& n) {
+    for (const import::PointEdit& e : edits)
+      if (e.contour == n.contour && e.point == n.point) return nlohmann::ordered_json::array({e.x, e.y});
+    for (const import::Contour& c : added->glyph.contours)
+      for (std::size_t k = 0; c.index == n.contour && k < c.font_point.size(); ++k)
+        if (c.font_point[k] == n.point) return nlohmann::ordered_json::array({c.spline.points()[k].x, c.spline.points()[k].y});
+    return nlohmann::ordered_json();
+  };
+  for (auto& c : contours) {
+    nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
+    for (const AddedNode& n : added->nodes)
+      if (c.value("contour", -1) == n.contour)
+        nodes.push_back({{"point", g.name + "/c" + std::to_string(n.contour) + "/p" + std::to_string(n.point)},
+                         {"splits", n.segment},
+                         {"t", n.t},
+                         {"at", final_at(n)},
+                         {"why", n.why}});
+    if (!nodes.empty()) c["added_nodes"] = nodes;
+  }
+  out.contours = contours;
+  out.edits = source_edits(*added, edits);
+  out.failed.clear();
+  return false;
 }
 
 }  // namespace
@@ -77,9 +130,11 @@ SourceFix fix_source_glyph(const std::string& file, const std::string& glyph, co
   const import::Glyph& g = out.glyph;
   if (glif && !glyph.empty() && glyph != g.name)
     throw InputError(file + ": holds the glyph '" + g.name + "', not '" + glyph + "'");
+  if (!points.empty() && options.add_nodes)
+    throw InputFieldError(field("add_nodes") + " with " + field("points") +
+                          ": the named points are the source's, and added nodes renumber them; choose one");
   if (!points.empty()) out.points = options.points = named_points(g, points);
-  const std::vector<ContourFix> fixes = noting_work(fix_glyph(g, options), options.glyph_work);
-  out.contours = glyph_fix_json(g, fixes, options.grid, out.edits, out.failed);
+  fix_into(g, options, out);
   return out;
 }
 
@@ -140,9 +195,7 @@ SourceGlyphsFix fix_source_glyphs(const std::string& ufo, const import::GlyphSel
           item.already = v == ReportVerdict::passes;
           item.below_severity = v == ReportVerdict::passes_with_info;
         } else {
-          const std::vector<ContourFix> fixes = noting_work(fix_glyph(g, options), options.glyph_work);
-          item.already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
-          item.fix.contours = glyph_fix_json(g, fixes, options.grid, item.fix.edits, item.fix.failed);
+          item.already = fix_into(g, options, item.fix);
         }
       } catch (const InputError& e) {  // this glyph's own (one line); the others go on
         item.error = e.what();

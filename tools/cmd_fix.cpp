@@ -89,6 +89,7 @@ struct SourceFixArgs {
   bool in_place = false, pretty = false;
   int depth = kDefaultDepth;
   long work = report::kGlyphWork;
+  bool add_nodes = false;  ///< --add-nodes (report/glyph_nodes.hpp)
 };
 
 /// A .glif's path and its new text.
@@ -123,7 +124,8 @@ void stage_source_copy(const std::string& src_text, const std::string& out, cons
 /// says why); the others are still written.
 int run_source_glyphs_fix(const SourceFixArgs& a, const std::string& glyphs, double min_severity) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
+  report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
+  o.add_nodes = a.add_nodes;
   std::error_code ec;
   if (!a.out.empty() && std::filesystem::exists(a.out, ec))  // before the searches, not after
     throw InputError(a.out + ": exists (a copy of the source goes to a new folder)");
@@ -211,7 +213,8 @@ void run_masters_fix(const std::string& file, const std::string& glyph, const st
 
 void run_source_fix(const SourceFixArgs& a) {
   if (a.in_place && !a.out.empty()) throw InputError("--in-place and --out: choose one");
-  const report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
+  report::GlyphFixOptions o = report::source_fix_options(a.require, a.depth, a.grid, a.max_move, a.work);
+  o.add_nodes = a.add_nodes;
   report::SourceFix f =
       report::fix_source_glyph(a.file, a.glyph, a.points.empty() ? std::vector<std::string>{} : comma_items(a.points), o);
   const import::Glyph& g = f.glyph;
@@ -310,7 +313,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   struct Args {
     std::string file, require = "cmr", points, keep = "g1", out, png, segments, plane, glyph, glyphs;
     double max_move = 0, tolerance = 1e-6, grid = 1, min_severity = report::kDefaultMinSeverity;
-    bool in_place = false, strict = false;
+    bool in_place = false, strict = false, add_nodes = false;
     int depth = kDefaultDepth;
     int chain = 0;
     long work = report::kGlyphWork;
@@ -354,6 +357,10 @@ void add_fix_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--strict", args->strict, "with --glyphs: every finding counts, info ones too (as cmr report --strict)");
   cmd->add_option("--grid", args->grid, "font sources: the grid the moved points land on (default 1 font unit; 0: off-grid)");
   cmd->add_flag("--in-place", args->in_place, "font sources: rewrite the glyph's .glif (only the moved points' x and y)");
+  cmd->add_flag("--add-nodes", args->add_nodes,
+                "font sources: where moves find no fix, split the failing cubics (at their curvature extrema, and "
+                "at a smooth join with a line) with new smooth nodes on the grid and fix again; the .glif gets "
+                "the new points");
   cmd->add_option("--work", args->work,
                   "UFO sources: each glyph's search budget in work units (default 2000000: 3-9 s for a glyph that uses "
                   "it all on a 2-core VM; the same fix on any machine); a glyph that runs out of it says so, and a "
@@ -385,8 +392,9 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     if (args->keep == "g3") throw InputError("--keep g3: only for a STEP chain (cmr fix MODEL.step --chain N); a spline keeps g2 at most");
     if (import::is_designspace_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0 ||
-          !args->points.empty() || cmd->count("--grid") > 0)
-        throw InputError(args->file + ": a designspace; --plane, --segments, --png, --keep, --points and --grid are not for it");
+          !args->points.empty() || cmd->count("--grid") > 0 || args->add_nodes)
+        throw InputError(args->file +
+                         ": a designspace; --plane, --segments, --png, --keep, --points, --grid and --add-nodes are not for it");
       run_masters_fix(args->file, args->glyph, args->require, args->out, args->in_place, args->pretty);
       exit_code = kOk;
       return;
@@ -397,7 +405,7 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       const SourceFixArgs a{args->file, args->glyph,
                             cmd->count("--require") > 0 ? args->require : "curvature-extrema-at-nodes",
                             args->out, args->points, args->grid, args->max_move, args->in_place, args->pretty, args->depth,
-                            args->work};
+                            args->work, args->add_nodes};
       if (cmd->count("--glyphs") > 0) {
         if (!args->glyph.empty()) throw InputError("--glyph and --glyphs: choose one");
         if (!args->points.empty()) throw InputError("--points: for one glyph (--glyph NAME), not with --glyphs");
@@ -414,8 +422,11 @@ void add_fix_command(CLI::App& app, int& exit_code) {
       exit_code = kOk;
       return;
     }
-    if (cmd->count("--glyphs") > 0 || min_severity->count() > 0 || args->strict)
-      throw InputError(std::string(cmd->count("--glyphs") > 0 ? "--glyphs" : args->strict ? "--strict" : "--min-severity") +
+    if (cmd->count("--glyphs") > 0 || min_severity->count() > 0 || args->strict || args->add_nodes)
+      throw InputError(std::string(cmd->count("--glyphs") > 0 ? "--glyphs"
+                                   : args->strict               ? "--strict"
+                                   : args->add_nodes            ? "--add-nodes"
+                                                                : "--min-severity") +
                        ": for UFO sources (NAME.ufo), not for " + args->file);
     const bool several = args->require.find(',') != std::string::npos;
     if (!args->glyph.empty() || args->in_place || (cmd->count("--grid") > 0 && !several))

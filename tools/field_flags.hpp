@@ -22,6 +22,7 @@ inline const std::map<std::string, std::string>& field_flags() {
       {"backend", "--backend"},
       {"baseline", "--baseline"},
       {"between", "--between"},
+      {"add_nodes", "--add-nodes"},
       {"contours", "--contours"},
       {"conventional", "--conventional"},
       {"curvature_rel", "--curvature-tol"},

@@ -207,7 +207,7 @@ def fix(spline, *, require="cmr", points=None, keep="g1", segments=None, max_mov
 
 
 def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=1, max_move=None, points=None,
-              depth=DEFAULT_DEPTH, in_place=False, work=GLYPH_WORK, **unknown):
+              depth=DEFAULT_DEPTH, in_place=False, work=GLYPH_WORK, add_nodes=False, **unknown):
     """``cmr fix FONT.ufo --glyph NAME --require GATES``: a font source's glyph
     fixed for every required check at once, on the font's grid (docs/fix.md,
     "Font sources"; docs/type-design.md).
@@ -222,13 +222,17 @@ def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=
     other byte of it, and no other file, changes);
     work: the glyph's search budget in work units (``--work``; the same fix
     on any machine): a glyph that runs out of it says so, and more searches
-    further.
+    further;
+    add_nodes: where no move fixes a contour, split its failing cubics with
+    new smooth nodes on the grid and fix again (``--add-nodes``; each such
+    contour's "added_nodes" say where, and its moves name the points of
+    the .glif as written, with the new points in it).
     Returns the command's document: per contour its "moves" (each with
     "point", "from", "to", "distance" and "source": [contour, point] in the
     .glif's order, so that ufoLib2's ``glyph.contours[c].points[p]`` is the
     point) and "rejudged". Raises InputError where a contour has no fix.
     """
-    _o.unknown("fix_glyph", unknown, ["require", "grid", "max_move", "points", "depth", "in_place", "work"])
+    _o.unknown("fix_glyph", unknown, ["require", "grid", "max_move", "points", "depth", "in_place", "work", "add_nodes"])
     source = os.fspath(source)
     glyph = "" if glyph is None else _o.text("glyph", glyph)
     if isinstance(points, str):
@@ -237,11 +241,12 @@ def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=
     return _cmr._fix_glyph(_o.text("source", source), glyph, _o.text("require", require), _o.number("grid", grid, 0.0),
                            0.0 if max_move is None else _o.number("max_move", max_move, 0.0), points,
                            _o.integer("depth", depth, 0, _o.MAX_DEPTH), bool(in_place),
-                           _o.integer("work", work, 1, MAX_GLYPH_WORK))
+                           _o.integer("work", work, 1, MAX_GLYPH_WORK), bool(add_nodes))
 
 
 def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", grid=1, max_move=None,
-               depth=DEFAULT_DEPTH, min_severity=0.5, strict=False, in_place=False, work=GLYPH_WORK, **unknown):
+               depth=DEFAULT_DEPTH, min_severity=0.5, strict=False, in_place=False, work=GLYPH_WORK, add_nodes=False,
+               **unknown):
     """``cmr fix FONT.ufo --glyphs SPEC --require GATES``: every selected glyph
     of a UFO that fails, fixed on its own as fix_glyph fixes one (the same
     answers), the glyphs in parallel (docs/fix.md, "A whole font at once").
@@ -250,7 +255,7 @@ def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", gr
     min_severity: a glyph whose every finding has a certified move below
     this many font units (the report's info findings) is left as it is
     (summary "below_severity"); strict=True: every finding counts; work:
-    each glyph's search budget, as fix_glyph's;
+    each glyph's search budget, and add_nodes, as fix_glyph's;
     in_place: write the fixed glyphs' .glif files together (only their
     moved points' x and y). Returns the command's document: per glyph that
     failed, "glyph", "fixed", its "contours" (as fix_glyph's) and, where no
@@ -260,13 +265,13 @@ def fix_glyphs(source, glyphs="all", *, require="curvature-extrema-at-nodes", gr
     raise: the others are still fixed (and written).
     """
     _o.unknown("fix_glyphs", unknown, ["require", "grid", "max_move", "depth", "min_severity", "strict", "in_place",
-                                       "work"])
+                                       "work", "add_nodes"])
     min_severity = _o.number("min_severity", min_severity, 0.0)
     return _cmr._fix_glyphs(_o.text("source", os.fspath(source)), _o.text("glyphs", glyphs),
                             _o.text("require", require), _o.number("grid", grid, 0.0),
                             0.0 if max_move is None else _o.number("max_move", max_move, 0.0),
                             _o.integer("depth", depth, 0, _o.MAX_DEPTH), -1.0 if strict else min_severity,
-                            bool(in_place), _o.integer("work", work, 1, MAX_GLYPH_WORK))
+                            bool(in_place), _o.integer("work", work, 1, MAX_GLYPH_WORK), bool(add_nodes))
 
 
 def kcurve(points, *, closed=False, cubic=False, tolerance=1e-10, max_iterations=10000, **unknown):

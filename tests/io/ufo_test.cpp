@@ -135,3 +135,33 @@ TEST(UfoRead, DesignspaceDiscreteAxesAreRead) {
 }
 
 }  // namespace
+
+// `cmr fix --add-nodes`: added points follow their point, each with the
+// whitespace before that point's element; a point that only leads added
+// ones keeps its bytes; the text reads back with the new points in order.
+TEST(UfoWrite, AddedPointsFollowTheirPointAndReadBack) {
+  const std::string text =
+      "<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"o\" format=\"2\">\n  <outline>\n    <contour>\n"
+      "      <point x=\"0\" y=\"0\" type=\"curve\" smooth=\"yes\"/>\n      <point x=\"0.0\" y=\"50\"/>\n"
+      "      <point x='50' y='100' name=\"a>b\"/>\n      <point x=\"100\" y=\"100\" type=\"curve\"/>\n"
+      "      <point x=\"100\" y=\"0\" type=\"line\"/>\n    </contour>\n  </outline>\n</glyph>\n";
+  cmr::import::PointEdit lead{0, 1, 0, 0, false, {{10, 70, false}, {25, 80, true}, {40, 90, false}}};
+  const cmr::import::PointEdit moved{0, 2, 60, 100};
+  const std::string out = cmr::import::rewrite_glif_points(text, {lead, moved}, "o.glif");
+  EXPECT_EQ(out,
+            "<?xml version='1.0' encoding='UTF-8'?>\n<glyph name=\"o\" format=\"2\">\n  <outline>\n    <contour>\n"
+            "      <point x=\"0\" y=\"0\" type=\"curve\" smooth=\"yes\"/>\n      <point x=\"0.0\" y=\"50\"/>\n"
+            "      <point x=\"10\" y=\"70\"/>\n      <point x=\"25\" y=\"80\" type=\"curve\" smooth=\"yes\"/>\n"
+            "      <point x=\"40\" y=\"90\"/>\n"
+            "      <point x='60' y='100' name=\"a>b\"/>\n      <point x=\"100\" y=\"100\" type=\"curve\"/>\n"
+            "      <point x=\"100\" y=\"0\" type=\"line\"/>\n    </contour>\n  </outline>\n</glyph>\n");
+  const cmr::import::Glyph g = cmr::import::read_glif_text(out, "o.glif");
+  EXPECT_EQ(g.name, "o");
+  EXPECT_EQ(g.source, "o.glif");
+  ASSERT_EQ(g.contours.size(), 1u);
+  ASSERT_EQ(g.point_smooth.size(), 1u);
+  EXPECT_EQ(g.point_smooth[0].size(), 8u);  // 5 points and 3 added
+  EXPECT_TRUE(g.point_smooth[0][3]);        // the added node
+  EXPECT_EQ(g.point_lines[0][3], 8);        // on its own line
+  EXPECT_THROW((void)cmr::import::read_glif_text("<glyph", "bad.glif"), cmr::InputError);
+}

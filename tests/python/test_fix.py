@@ -145,6 +145,8 @@ def test_fix_glyphs_in_place_writes_only_the_fixed_glyphs(tmp_path):
     ({"colour": 1}, "fix_glyph: unknown option 'colour'"),
     ({"work": 0}, "work: 0 is outside 1..1000000000"),
     ({"work": 1.5}, "work: expected an integer"),
+    ({"add_nodes": True, "grid": 0}, "add_nodes needs the grid \\(grid > 0\\)"),
+    ({"add_nodes": True, "points": "c0/p2"}, "add_nodes with points: the named points are the source's"),
 ])
 def test_fix_glyph_bad_requests_are_one_line(kwargs, says):
     with pytest.raises(cmr.InputError, match=says):

@@ -2,16 +2,17 @@
 """Every A-Z a-z glyph of many fonts through `cmr fix` (docs/fix.md, the
 dated font tables of issue 36).
 
-    fonts_fix_bench.py CMR OUT_DIR [FONT ...] [--gates G] [--work N]
+    fonts_fix_bench.py CMR OUT_DIR [FONT ...] [--gates G] [--work N] [--add-nodes]
 
 FONT: a name of FONTS below (default: all twelve) or NAME=PATH. For each
 font a UFO is made by tools/make_test_ufo.py, then `cmr fix UFO --glyph G
 --require GATES --out OUT_DIR/FONT/G.ufo` runs for each glyph (GATES:
-curvature-extrema-at-nodes,g2-at-smooth-nodes by default; --work N is
-passed on). Each glyph is one of:
+curvature-extrema-at-nodes,g2-at-smooth-nodes by default; --work N and
+--add-nodes are passed on). Each glyph is one of:
   - pass: exit 0, every contour already passes;
   - fixed: exit 0, a fix written; its total squared move (font units^2),
-    whether every contour's fix is settled, and whether
+    whether every contour's fix is settled, how many nodes it added
+    (--add-nodes; its move is then from the positions after the split), and whether
     tests/report/exact_glif_check.py (rational arithmetic, independent of
     cmr) passes the written glyph under the same gates;
   - refused: exit 2 with one of the proofs that no move passes
@@ -78,7 +79,7 @@ def exact_gates(gates):
     return None if extrema and g2 else ("extrema" if extrema else "g2")
 
 
-def run_font(cmr, name, path, out, gates, work):
+def run_font(cmr, name, path, out, gates, work, add_nodes=False):
     ufo = os.path.join(out, name.replace(" ", "_") + ".ufo")
     if not os.path.isdir(ufo):
         subprocess.run([sys.executable, MAKE, path, ufo], check=True, capture_output=True)
@@ -90,6 +91,8 @@ def run_font(cmr, name, path, out, gates, work):
         args = [cmr, "fix", ufo, "--glyph", g, "--require", gates, "--out", dest]
         if work:
             args += ["--work", work]
+        if add_nodes:
+            args += ["--add-nodes"]
         t = time.perf_counter()
         r = subprocess.run(args, capture_output=True, text=True)
         row = {"seconds": round(time.perf_counter() - t, 3)}
@@ -103,6 +106,7 @@ def run_font(cmr, name, path, out, gates, work):
                 row["move"] = sum((m["to"][0] - m["from"][0]) ** 2 + (m["to"][1] - m["from"][1]) ** 2
                                   for c in contours for m in c.get("moves", []))
                 row["settled"] = all(c.get("settled") or c.get("already") for c in contours)
+                row["added"] = sum(len(c.get("added_nodes", [])) for c in contours)
                 check = [sys.executable, EXACT, os.path.join(dest, "glyphs", glif_name(g))]
                 if exact_gates(gates):
                     check += ["--gates", exact_gates(gates)]
@@ -118,6 +122,9 @@ def run_font(cmr, name, path, out, gates, work):
 def main():
     gates = option("--gates", "curvature-extrema-at-nodes,g2-at-smooth-nodes")
     work = option("--work", None)
+    add_nodes = "--add-nodes" in sys.argv
+    if add_nodes:
+        sys.argv.remove("--add-nodes")
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     cmr = os.path.abspath(sys.argv[1]) if os.sep in sys.argv[1] else sys.argv[1]
@@ -128,20 +135,22 @@ def main():
         name, _, path = item.partition("=")
         fonts[name] = path or FONTS[name]
     results = {}
-    print(f"gates {gates}; work {work or 'default'}; load {os.getloadavg()}")
+    print(f"gates {gates}; work {work or 'default'}{'; --add-nodes' if add_nodes else ''}; load {os.getloadavg()}")
     print()
     print("| font | fixed | refused with a proof | pass as they are | neither | total move of the fixes (units²) "
-          "| worst (s) |")
-    print("|---|---|---|---|---|---|---|")
+          "| worst (s) |" + (" fixed with nodes added (nodes) |" if add_nodes else ""))
+    print("|---|---|---|---|---|---|---|" + ("---|" if add_nodes else ""))
     for name, path in fonts.items():
-        rows = run_font(cmr, name, path, out, gates, work)
+        rows = run_font(cmr, name, path, out, gates, work, add_nodes)
         results[name] = rows
         count = {k: sum(1 for r in rows.values() if r["outcome"] == k) for k in ("fixed", "refused", "pass", "neither")}
         moved = sum(r.get("move", 0) for r in rows.values())
         worst = max(r["seconds"] for r in rows.values())
         neither = " ".join(g for g, r in rows.items() if r["outcome"] == "neither")
         print(f"| {name} | {count['fixed']} | {count['refused']} | {count['pass']} | {count['neither']}"
-              f"{' (' + neither + ')' if neither else ''} | {moved:,.0f} | {worst:.1f} |", flush=True)
+              f"{' (' + neither + ')' if neither else ''} | {moved:,.0f} | {worst:.1f} |" +
+              (f" {sum(1 for r in rows.values() if r.get('added'))} ({sum(r.get('added', 0) for r in rows.values())}) |"
+               if add_nodes else ""), flush=True)
     print()
     for name, rows in results.items():
         for g, r in rows.items():

@@ -1,0 +1,71 @@
+#pragma once
+/// Nodes added where moves cannot fix a glyph (`cmr fix FONT.ufo --glyph G
+/// --require ... --add-nodes`, docs/fix.md "Adding nodes").
+///
+/// Where the glyph fix (report/glyph_fix.hpp) leaves a cubic contour
+/// unfixed, its failing cubic segments are split:
+///  - at each curvature extremum inside a segment (the extremum gate's
+///    violation, at its local parameter t): the new node sits where the
+///    curvature peaks, so each piece can be monotone (a bowl drawn with its
+///    nodes between the curvature's peaks, URW Gothic `b`'s counter, has no
+///    move that passes);
+///  - at t = 1/2, the cubic of a smooth line-to-curve join that fails
+///    g2-at-smooth-nodes: the curvature must rise from the line's 0, and one
+///    cubic whose far node is square to the line cannot (glyph_joins.hpp,
+///    square_cubic_line_join), two can.
+/// A split is de Casteljau's (the same curve): on segment B0 B1 B2 B3 at
+/// t, with L(a, b) = a + t (b - a): P01 = L(B0, B1), P12 = L(B1, B2),
+/// P23 = L(B2, B3), Q = L(P01, P12), R = L(P12, P23), S = L(Q, R) = B(t);
+/// the pieces are B0 P01 Q S and S R P23 B3 (B1' = P01, B2' = P23). Several
+/// t in one segment split the right piece again at (t' - t) / (1 - t).
+/// On the grid (step G): B1' and B2' land on their nodes' tangents, at the
+/// whole multiple of the tangent's primitive grid vector nearest the split
+/// (at least one), so B0 and B3 keep their tangents exactly; S lands on one
+/// of the 9 grid points around B(t) and Q, R on S -/+ whole multiples a, b
+/// >= 1 of a primitive grid vector v (|v_x|, |v_y| <= 40 cells), the
+/// choice with the least |S'-S|^2 + |Q'-Q|^2 + |R'-R|^2: the new node is
+/// exactly smooth (Q, S, R collinear in integers) and written
+/// type="curve" smooth="yes". The glyph with the nodes added is then fixed
+/// as any glyph (moves only; the new points move as the source's do).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/ufo.hpp"
+#include "report/glyph_fix.hpp"
+
+namespace cmr::report {
+
+struct AddedNode {
+  int contour = 0;      ///< Contour::index
+  std::string segment;  ///< the source segment it splits, by its nodes: "b/c1/p0-p3"
+  double t = 0;         ///< where on that segment (0..1, before the grid)
+  std::string why;      ///< "a curvature extremum" or "a line's smooth join"
+  int point = 0;        ///< its index in the written contour
+};
+
+struct NodesAdded {
+  std::string text;     ///< the .glif's text with the nodes added (import::rewrite_glif_points)
+  import::Glyph glyph;  ///< read from `text` (its source: the source's .glif)
+  std::vector<AddedNode> nodes;
+  /// Per contour (the .glif's order), per point of `text`: the source point
+  /// it is, or -1 for an added one.
+  std::vector<std::vector<int>> source_point;
+  /// Per contour, per source point: its position in the source.
+  std::vector<std::vector<import::NewPoint>> source;
+};
+
+/// The glyph `g` (read from `text`, its .glif) with nodes added to each
+/// contour `fixes` leaves unfixed (not already passing, not untouched), as
+/// above; nullopt where none of them has a segment to split (a quadratic
+/// contour, or no violation of those two kinds). `options.grid` > 0.
+std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& text,
+                                    const std::vector<ContourFix>& fixes, const GlyphFixOptions& options);
+
+/// The source .glif's edits for a fix of `added.glyph` whose edits (of
+/// `added.text`'s points) are `edits`: each source point that ends away
+/// from its source position moves, and the added points come after the
+/// point before them, at their final positions.
+std::vector<import::PointEdit> source_edits(const NodesAdded& added, const std::vector<import::PointEdit>& edits);
+
+}  // namespace cmr::report
