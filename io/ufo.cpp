@@ -678,7 +678,8 @@ std::string rewrite_glif_points(const std::string& text, const std::vector<Point
       std::size_t end = tag;
       for (char quote = 0; end < out.size() && (quote || out[end] != '>'); ++end)
         if (out[end] == '"' || out[end] == '\'') quote = quote == out[end] ? 0 : (quote ? quote : out[end]);
-      if (end < out.size() && out[end - 1] != '/') end = out.find('>', out.find("</point", end));  // <point ...>...</point >
+      if (end < out.size() && out[end - 1] != '/')  // <point ...>...</point >
+        end = out.find('>', out.find("</point", end));
       if (end >= out.size()) throw InputError(file_name + ": the <point> of contour " + std::to_string(e->contour) +
                                               ", point " + std::to_string(e->point) + " has no end");
       std::size_t lead = tag;

@@ -12,6 +12,7 @@
 #include "report/batch.hpp"
 #include "report/contour_moves.hpp"
 #include "report/glyph_settle.hpp"
+#include "spline/fields.hpp"
 #include "spline/format.hpp"
 
 namespace cmr::report::glyph_detail {
@@ -308,14 +309,15 @@ std::string refusal(const import::Contour& c, const ReportOptions& o, double gri
     return at_join(join).append(
         " joins a line to a cubic whose far node's tangent is square to the line: g2 there puts the cubic's second "
         "handle where the two lines cross, and then its curvature has an extremum inside the piece, so no move that "
-        "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point, or accept the jump)");
+        "keeps lines straight and smooth nodes smooth passes both gates (add an on-curve point: " + field("add_nodes") +
+        " tries that; or accept the jump)");
   }
   if (const std::string join = held_cubic_line_join(c, o); !join.empty()) {
     return at_join(join).append(
         " joins a line to a cubic that ends at a line's end, which stays, no farther along the line than about 2.1 "
         "times its distance from it: g2 there puts both handles on the line, and then the cubic's curvature has an "
         "extremum inside the piece wherever they are, so no move that keeps lines straight and smooth nodes smooth "
-        "passes both gates (add an on-curve point, or accept the jump)");
+        "passes both gates (add an on-curve point: " + field("add_nodes") + " tries that; or accept the jump)");
   }
   if (const std::optional<GridHeldJoin> on_grid = held_cubic_line_join_on_grid(c, o, grid)) {
     return at_join(on_grid->join)
@@ -324,7 +326,9 @@ std::string refusal(const import::Contour& c, const ReportOptions& o, double gri
                 "finds an extremum inside the cubic for each of the ")
         .append(std::to_string(on_grid->pairs))
         .append(" such pairs of grid positions, so no move on the grid that keeps lines straight and smooth nodes "
-                "smooth passes both gates (add an on-curve point, or accept the jump)");
+                "smooth passes both gates (add an on-curve point: ")
+        .append(field("add_nodes"))
+        .append(" tries that; or accept the jump)");
   }
   if (const std::optional<PinnedTurn> turn = pinned_quadratic_turn(c, o)) {
     return std::string("the extremum gate: the quadratic piece ")

@@ -127,7 +127,8 @@ std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& t
     source[c.index].assign(std::max(count, 0), {});
     for (std::size_t k = 0; k < c.font_point.size(); ++k)
       if (c.font_point[k] >= 0) source[c.index][c.font_point[k]] = {c.spline.points()[k].x, c.spline.points()[k].y};
-    const auto fix = std::find_if(fixes.begin(), fixes.end(), [&](const ContourFix& f) { return f.contour == c.index; });
+    const auto fix =
+        std::find_if(fixes.begin(), fixes.end(), [&](const ContourFix& f) { return f.contour == c.index; });
     if (fix == fixes.end() || fix->fixed || fix->already || fix->untouched || fix->not_searched) continue;
     // Per split segment: its first handle's edit, with the new points after it.
     std::map<int, Vec2> want;  // per source handle of a split segment: where the split puts it

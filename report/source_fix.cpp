@@ -94,7 +94,8 @@ bool fix_into(const import::Glyph& g, const GlyphFixOptions& options, SourceFix&
       if (e.contour == n.contour && e.point == n.point) return nlohmann::ordered_json::array({e.x, e.y});
     for (const import::Contour& c : added->glyph.contours)
       for (std::size_t k = 0; c.index == n.contour && k < c.font_point.size(); ++k)
-        if (c.font_point[k] == n.point) return nlohmann::ordered_json::array({c.spline.points()[k].x, c.spline.points()[k].y});
+        if (c.font_point[k] == n.point)
+          return nlohmann::ordered_json::array({c.spline.points()[k].x, c.spline.points()[k].y});
     return nlohmann::ordered_json();
   };
   for (auto& c : contours) {

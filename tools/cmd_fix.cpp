@@ -393,8 +393,8 @@ void add_fix_command(CLI::App& app, int& exit_code) {
     if (import::is_designspace_path(args->file)) {
       if (!args->plane.empty() || !args->segments.empty() || !args->png.empty() || cmd->count("--keep") > 0 ||
           !args->points.empty() || cmd->count("--grid") > 0 || args->add_nodes)
-        throw InputError(args->file +
-                         ": a designspace; --plane, --segments, --png, --keep, --points, --grid and --add-nodes are not for it");
+        throw InputError(args->file + ": a designspace; --plane, --segments, --png, --keep, --points, --grid and "
+                                      "--add-nodes are not for it");
       run_masters_fix(args->file, args->glyph, args->require, args->out, args->in_place, args->pretty);
       exit_code = kOk;
       return;

@@ -232,7 +232,8 @@ def fix_glyph(source, glyph=None, *, require="curvature-extrema-at-nodes", grid=
     .glif's order, so that ufoLib2's ``glyph.contours[c].points[p]`` is the
     point) and "rejudged". Raises InputError where a contour has no fix.
     """
-    _o.unknown("fix_glyph", unknown, ["require", "grid", "max_move", "points", "depth", "in_place", "work", "add_nodes"])
+    _o.unknown("fix_glyph", unknown,
+               ["require", "grid", "max_move", "points", "depth", "in_place", "work", "add_nodes"])
     source = os.fspath(source)
     glyph = "" if glyph is None else _o.text("glyph", glyph)
     if isinstance(points, str):
