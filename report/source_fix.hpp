@@ -3,8 +3,10 @@
 /// entry for `cmr fix FONT.ufo --glyph NAME` (tools/cmd_fix.cpp) and the
 /// Python module's fix_glyph (python/cmr_module.cpp). It reads the glyph
 /// (io/ufo.hpp: a UFO folder, or one .glif), resolves the named points
-/// (named_points), runs fix_glyph and writes the document's contours
-/// (glyph_fix_json). Messages name their fields (spline/fields.hpp), which
+/// (named_points), runs fix_glyph (and, with GlyphFixOptions::add_nodes,
+/// where it leaves a contour unfixed, fix_glyph again on the glyph with
+/// nodes added: report/glyph_nodes.hpp) and writes the document's contours
+/// (glyph_fix_json; a contour with nodes added has its "added_nodes"). Messages name their fields (spline/fields.hpp), which
 /// each front end shows its own way.
 #include <cstdint>
 #include <functional>
@@ -37,7 +39,7 @@ struct SourceFix {
   import::Glyph glyph;                   ///< as read
   std::vector<std::string> points;       ///< the named points' whole names (GlyphFixOptions::points)
   nlohmann::ordered_json contours;       ///< glyph_fix_json: per contour its moves and re-judging
-  std::vector<import::PointEdit> edits;  ///< the moved points, for import::rewrite_glif_points
+  std::vector<import::PointEdit> edits;  ///< the moved (and added) points, for import::rewrite_glif_points
   std::string failed;                    ///< the first unfixed contour's "GLYPH/cC: reason"; empty: a fix
 };
 
