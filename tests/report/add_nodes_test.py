@@ -24,16 +24,14 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from glif_checks import Checks  # noqa: E402
+
 SRC, CMR = sys.argv[1], sys.argv[2]
-PY = "/usr/bin/python3"
 GOTHIC = "/usr/share/fonts/opentype/urw-base35/URWGothic-Book.otf"
 GATES = "curvature-extrema-at-nodes,g2-at-smooth-nodes"
-results = []
-
-
-def check(name, ok, detail=""):
-    results.append(bool(ok))
-    print(("PASS " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)[:600]))
+PY = "/usr/bin/python3"
+check = Checks()
 
 
 def run(*args, cwd=None):
@@ -137,8 +135,7 @@ def main():
               and "--add-nodes: for UFO sources" in r.stderr, r.stderr)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    print("%d passed, %d failed" % (results.count(True), results.count(False)))
-    sys.exit(0 if all(results) else 1)
+    check.exit()
 
 
 if __name__ == "__main__":

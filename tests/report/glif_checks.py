@@ -1,5 +1,7 @@
-"""Checks of a written-back .glif shared by the font-source tests (ufo_source_test.py, random_glyphs_test.py)."""
+"""Checks shared by the font-source tests (ufo_source_test.py, random_glyphs_test.py,
+add_nodes_test.py): of a written-back .glif, and a script's PASS/FAIL tally."""
 import re
+import sys
 
 
 def only_xy_changed(a, b):
@@ -19,3 +21,19 @@ def only_xy_changed(a, b):
             if not re.fullmatch(r"-?\d+", v):
                 return False, "not an integer coordinate: " + v
     return changed > 0, "%d lines changed" % changed
+
+
+class Checks:
+    """A test script's checks: one PASS or FAIL line each, and the tally at the end."""
+
+    def __init__(self):
+        self.results = []
+
+    def __call__(self, name, ok, detail=""):
+        self.results.append(bool(ok))
+        print(("PASS " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)[:600]))
+
+    def exit(self):
+        """Prints "N passed, M failed" and exits 1 on any failure."""
+        print("%d passed, %d failed" % (self.results.count(True), self.results.count(False)))
+        sys.exit(0 if all(self.results) else 1)
