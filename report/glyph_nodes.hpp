@@ -1,15 +1,16 @@
 #pragma once
-/// Nodes added where moves cannot fix a glyph (`cmr fix FONT.ufo --glyph G
-/// --require ... --add-nodes`, docs/fix.md "Adding nodes").
+/// Nodes added where the moves find no fix of a glyph (`cmr fix FONT.ufo
+/// --glyph G --require ... --add-nodes`, docs/fix.md "Adding nodes").
 ///
 /// Where the glyph fix (report/glyph_fix.hpp) leaves a cubic contour
-/// unfixed, its failing cubic segments are split:
+/// unfixed, its failing source cubics (never a line, never a quadratic)
+/// are split:
 ///  - at each curvature extremum inside a segment (the extremum gate's
-///    violation, at its local parameter t): the new node sits where the
-///    curvature peaks, so each piece can be monotone (a bowl drawn with its
-///    nodes between the curvature's peaks, URW Gothic `b`'s counter, has no
-///    move that passes);
-///  - at t = 1/2, the cubic of a smooth line-to-curve join that fails
+///    violation, at its local parameter t, 0.02 < t < 0.98): the new node
+///    sits where the curvature peaks, so each piece can be monotone (URW
+///    Gothic `b`'s counter peaks between all five of its nodes, and no
+///    search of moves finds a fix);
+///  - at t = 1/2 only, a cubic at a smooth line-to-curve join that fails
 ///    g2-at-smooth-nodes: the curvature must rise from the line's 0, and one
 ///    cubic whose far node is square to the line cannot (glyph_joins.hpp,
 ///    square_cubic_line_join), two can.
@@ -18,15 +19,19 @@
 /// P23 = L(B2, B3), Q = L(P01, P12), R = L(P12, P23), S = L(Q, R) = B(t);
 /// the pieces are B0 P01 Q S and S R P23 B3 (B1' = P01, B2' = P23). Several
 /// t in one segment split the right piece again at (t' - t) / (1 - t).
-/// On the grid (step G): B1' and B2' land on their nodes' tangents, at the
-/// whole multiple of the tangent's primitive grid vector nearest the split
-/// (at least one), so B0 and B3 keep their tangents exactly; S lands on one
-/// of the 9 grid points around B(t) and Q, R on S -/+ whole multiples a, b
-/// >= 1 of a primitive grid vector v (|v_x|, |v_y| <= 40 cells), the
-/// choice with the least |S'-S|^2 + |Q'-Q|^2 + |R'-R|^2: the new node is
-/// exactly smooth (Q, S, R collinear in integers) and written
-/// type="curve" smooth="yes". The glyph with the nodes added is then fixed
-/// as any glyph (moves only; the new points move as the source's do).
+/// On the grid (step G): each new node S lands on one of the 9 grid points
+/// around B(t) and its Q, R on S -/+ whole multiples a, b >= 1 of a
+/// primitive grid vector v (|v_x|, |v_y| <= 40 cells), the choice with the
+/// least |S'-S|^2 + |Q'-Q|^2 + |R'-R|^2: exactly smooth (Q, S, R collinear
+/// in integers), written type="curve" smooth="yes". B1' and B2' keep their
+/// nodes as they were: at an exactly smooth node both its handles are laid
+/// again the same way with the node held (the other handle wanted where it
+/// is), so a tangent whose primitive vector is long, e.g. (-43, 44), turns
+/// to a nearby short one that lets the handle shorten; at a node smooth
+/// with a line the handle stays on the line's direction (a whole multiple,
+/// at least one, of its primitive vector); at a corner it is rounded. The
+/// glyph with the nodes added is then fixed as any glyph (moves only; the
+/// new points move as the source's do).
 #include <optional>
 #include <string>
 #include <vector>
