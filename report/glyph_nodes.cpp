@@ -157,8 +157,10 @@ std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& t
       want[c.font_point[pts[2]]] = b[2];
       node_of[first.point] = c.font_point[pts[0]];
       node_of[c.font_point[pts[2]]] = c.font_point[pts[3]];
-      for (SmoothNode& m : made) {  // each new node exactly smooth on the grid
+      for (std::size_t j = 0; j < made.size(); ++j) {  // each new node exactly smooth on the grid
+        SmoothNode& m = made[j];
         m = smooth_on_grid(m.q, m.s, m.r, grid, false);
+        nodes[nodes.size() - made.size() + j].at = m.s;
         first.then.push_back({m.q.x, m.q.y, false});
         first.then.push_back({m.s.x, m.s.y, true});
         first.then.push_back({m.r.x, m.r.y, false});
@@ -233,29 +235,21 @@ std::vector<import::PointEdit> source_edits(const NodesAdded& added, const std::
       if (c.index == static_cast<int>(ci)) {
         at.assign(added.source_point[ci].size(), {});
         for (std::size_t k = 0; k < c.font_point.size(); ++k)
-          if (c.font_point[k] >= 0) at[c.font_point[k]] = {c.spline.points()[k].x, c.spline.points()[k].y};
-        for (std::size_t k = 0; k < c.font_point.size(); ++k)  // which of them are nodes
-          if (c.font_point[k] >= 0) at[c.font_point[k]].node = c.node[k];
+          if (c.font_point[k] >= 0) at[c.font_point[k]] = {c.spline.points()[k].x, c.spline.points()[k].y, c.node[k]};
       }
     if (at.empty()) continue;
     for (const import::PointEdit& e : edits)
       if (e.contour == static_cast<int>(ci) && e.point >= 0 && e.point < static_cast<int>(at.size()))
         at[e.point].x = e.x, at[e.point].y = e.y;
     const std::vector<int>& from = added.source_point[ci];
+    int before = -1;  // the last source point
     for (std::size_t k = 0; k < from.size(); ++k) {
       if (from[k] >= 0) {
-        const import::NewPoint& was = added.source[ci][from[k]];
-        import::PointEdit e{static_cast<int>(ci), from[k], at[k].x, at[k].y};
-        e.move = at[k].x != was.x || at[k].y != was.y;
-        if (e.move) out.push_back(e);
+        before = from[k];
+        const import::NewPoint& was = added.source[ci][before];
+        if (at[k].x != was.x || at[k].y != was.y) out.push_back({static_cast<int>(ci), before, at[k].x, at[k].y});
       } else {
         // After the source point before it (its edit, made where it has none).
-        int before = -1;
-        for (std::size_t j = k; j-- > 0;)
-          if (from[j] >= 0) {
-            before = from[j];
-            break;
-          }
         if (out.empty() || out.back().contour != static_cast<int>(ci) || out.back().point != before) {
           const import::NewPoint& was = added.source[ci][before];
           out.push_back({static_cast<int>(ci), before, was.x, was.y, false});

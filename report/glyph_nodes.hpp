@@ -47,6 +47,7 @@ struct AddedNode {
   double t = 0;         ///< where on that segment (0..1, before the grid)
   std::string why;      ///< "a curvature extremum" or "a line's smooth join"
   int point = 0;        ///< its index in the written contour
+  Vec2 at{0.0};         ///< where the split puts it on the grid (before the fix moves it)
 };
 
 struct NodesAdded {

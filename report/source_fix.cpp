@@ -88,15 +88,11 @@ bool fix_into(const import::Glyph& g, const GlyphFixOptions& options, SourceFix&
     out.failed += "; with " + std::to_string(added->nodes.size()) + " nodes added, no fix either: " + failed;
     return already;
   }
-  // An added node where the fix leaves it (the new text's point, moved or not).
+  // An added node where the fix leaves it (moved, or where the split put it).
   auto final_at = [&](const AddedNode& n) {
     for (const import::PointEdit& e : edits)
       if (e.contour == n.contour && e.point == n.point) return nlohmann::ordered_json::array({e.x, e.y});
-    for (const import::Contour& c : added->glyph.contours)
-      for (std::size_t k = 0; c.index == n.contour && k < c.font_point.size(); ++k)
-        if (c.font_point[k] == n.point)
-          return nlohmann::ordered_json::array({c.spline.points()[k].x, c.spline.points()[k].y});
-    return nlohmann::ordered_json();
+    return nlohmann::ordered_json::array({n.at.x, n.at.y});
   };
   for (auto& c : contours) {
     nlohmann::ordered_json nodes = nlohmann::ordered_json::array();
