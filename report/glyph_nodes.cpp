@@ -70,9 +70,10 @@ constexpr const char* kJoin = "a line's smooth join";
 
 /// Where to split a contour's segments: per segment index, its parameters
 /// and why (the extremum gate's violations inside a cubic segment; the
-/// cubic of a smooth line-to-curve join that fails g2 at 1/2).
+/// cubic of a smooth line-to-curve join that fails g2 at 1/2, or at 1/3
+/// and 2/3 where `join_nodes` is 2).
 std::map<int, std::vector<std::pair<double, std::string>>> splits_of(const import::Contour& c,
-                                                                      const GlyphFixOptions& options) {
+                                                                      const GlyphFixOptions& options, int join_nodes) {
   std::map<int, std::vector<std::pair<double, std::string>>> at;
   const BSpline& spline = c.spline;
   if (spline.degree() != 3) return at;
@@ -96,12 +97,15 @@ std::map<int, std::vector<std::pair<double, std::string>>> splits_of(const impor
         at[v.segment].emplace_back(v.local_t, kExtremum);
       if (gate.gate.kind == Gate::Kind::g2_at_smooth_nodes && v.joint >= 0) {
         const int after = v.joint % n, before = (v.joint + n - 1) % n;
-        if (line(before) && cubic(after)) at[after].emplace_back(0.5, kJoin);
-        if (line(after) && cubic(before)) at[before].emplace_back(0.5, kJoin);
+        for (int k = 1; k <= join_nodes; ++k) {
+          const double t = static_cast<double>(k) / (join_nodes + 1);
+          if (line(before) && cubic(after)) at[after].emplace_back(t, kJoin);
+          if (line(after) && cubic(before)) at[before].emplace_back(t, kJoin);
+        }
       }
     }
   for (auto& [seg, ts] : at) {
-    // A cubic at a line's join: one node, at its middle.
+    // A cubic at a line's join: its join nodes only.
     if (std::any_of(ts.begin(), ts.end(), [](const auto& x) { return x.second == kJoin; }))
       ts.erase(std::remove_if(ts.begin(), ts.end(), [](const auto& x) { return x.second != kJoin; }), ts.end());
     std::sort(ts.begin(), ts.end());
@@ -114,7 +118,8 @@ std::map<int, std::vector<std::pair<double, std::string>>> splits_of(const impor
 }  // namespace
 
 std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& text,
-                                    const std::vector<ContourFix>& fixes, const GlyphFixOptions& options) {
+                                    const std::vector<ContourFix>& fixes, const GlyphFixOptions& options,
+                                    int join_nodes) {
   const double grid = options.grid;
   std::vector<import::PointEdit> edits;
   std::vector<AddedNode> nodes;
@@ -134,7 +139,7 @@ std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& t
     std::map<int, Vec2> want;  // per source handle of a split segment: where the split puts it
     std::map<int, int> node_of;  // and its node
     const std::size_t first_edit = edits.size();
-    for (const auto& [seg, ts] : splits_of(c, options)) {
+    for (const auto& [seg, ts] : splits_of(c, options, join_nodes)) {
       const Segment& s = c.spline.segments()[seg];
       const std::vector<int> pts = segment_points(c.spline, s);
       std::vector<Vec2> b = bezier_segment(c.spline, s).points;
@@ -224,6 +229,10 @@ std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& t
     }
   out.nodes = std::move(nodes);
   return out;
+}
+
+bool splits_a_join(const NodesAdded& added) {
+  return std::any_of(added.nodes.begin(), added.nodes.end(), [](const AddedNode& n) { return n.why == kJoin; });
 }
 
 std::vector<import::PointEdit> source_edits(const NodesAdded& added, const std::vector<import::PointEdit>& edits) {

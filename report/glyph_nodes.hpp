@@ -13,7 +13,10 @@
 ///  - at t = 1/2 only, a cubic at a smooth line-to-curve join that fails
 ///    g2-at-smooth-nodes: the curvature must rise from the line's 0, and one
 ///    cubic whose far node is square to the line cannot (glyph_joins.hpp,
-///    square_cubic_line_join), two can.
+///    square_cubic_line_join), two can; where the glyph is not fixed so,
+///    the caller tries again with two nodes there, at 1/3 and 2/3 (three
+///    pieces: Nimbus Sans `D`'s counter and TeX Gyre Heros `D`'s, whose
+///    bowls meet the stem square, are fixed only so).
 /// A split is de Casteljau's (the same curve): on segment B0 B1 B2 B3 at
 /// t, with L(a, b) = a + t (b - a): P01 = L(B0, B1), P12 = L(B1, B2),
 /// P23 = L(B2, B3), Q = L(P01, P12), R = L(P12, P23), S = L(Q, R) = B(t);
@@ -63,10 +66,14 @@ struct NodesAdded {
 
 /// The glyph `g` (read from `text`, its .glif) with nodes added to each
 /// contour `fixes` leaves unfixed (not already passing, not untouched), as
-/// above; nullopt where none of them has a segment to split (a quadratic
+/// above, with `join_nodes` (1 or 2) nodes in each cubic of a failing line
+/// join; nullopt where none of them has a segment to split (a quadratic
 /// contour, or no violation of those two kinds). `options.grid` > 0.
 std::optional<NodesAdded> add_nodes(const import::Glyph& g, const std::string& text,
-                                    const std::vector<ContourFix>& fixes, const GlyphFixOptions& options);
+                                    const std::vector<ContourFix>& fixes, const GlyphFixOptions& options,
+                                    int join_nodes = 1);
+/// Whether `added` has a node at a line's join (one that two nodes there might replace).
+bool splits_a_join(const NodesAdded& added);
 
 /// The source .glif's edits for a fix of `added.glyph` whose edits (of
 /// `added.text`'s points) are `edits`: each source point that ends away

@@ -74,7 +74,8 @@ bool fix_into(const import::Glyph& g, const GlyphFixOptions& options, SourceFix&
   out.contours = glyph_fix_json(g, fixes, options.grid, out.edits, out.failed);
   const bool already = std::all_of(fixes.begin(), fixes.end(), [](const ContourFix& f) { return f.already; });
   if (!options.add_nodes || out.failed.empty()) return already;
-  const std::optional<NodesAdded> added = add_nodes(g, read_input_file(g.source), fixes, options);
+  const std::string text = read_input_file(g.source);
+  std::optional<NodesAdded> added = add_nodes(g, text, fixes, options);
   if (!added) {
     out.failed += "; " + field("add_nodes") + " finds no segment to split (no curvature extremum inside a cubic, "
                   "nor a cubic's smooth join with a line failing g2)";
@@ -82,12 +83,22 @@ bool fix_into(const import::Glyph& g, const GlyphFixOptions& options, SourceFix&
   }
   std::vector<import::PointEdit> edits;
   std::string failed;
-  nlohmann::ordered_json contours = glyph_fix_json(
-      added->glyph, noting_work(fix_glyph(added->glyph, options), options.glyph_work), options.grid, edits, failed);
-  if (!failed.empty()) {
+  nlohmann::ordered_json contours;
+  auto fix_added = [&] {
+    edits.clear(), failed.clear();
+    contours = glyph_fix_json(added->glyph, noting_work(fix_glyph(added->glyph, options), options.glyph_work),
+                              options.grid, edits, failed);
+  };
+  fix_added();
+  if (!failed.empty())
     out.failed += "; with " + std::to_string(added->nodes.size()) + " nodes added, no fix either: " + failed;
-    return already;
+  if (!failed.empty() && splits_a_join(*added)) {  // two nodes at each failing line join instead of one
+    added = add_nodes(g, text, fixes, options, 2);
+    fix_added();
+    if (!failed.empty())
+      out.failed += "; nor with two at each line join (" + std::to_string(added->nodes.size()) + " nodes): " + failed;
   }
+  if (!failed.empty()) return already;
   // An added node where the fix leaves it (moved, or where the split put it).
   auto final_at = [&](const AddedNode& n) {
     for (const import::PointEdit& e : edits)

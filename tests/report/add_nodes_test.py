@@ -13,7 +13,11 @@ written .glif differs from the source only in <point> lines (x/y of moved
 points, integers) and the added <point> lines, three per added node, each
 added node smooth="yes" and exactly smooth (its handles collinear with it
 in integers, on either side); every other file of the UFO is byte for byte
-the source's. Prints "N passed, M failed" and exits 1 on any failure.
+the source's. Then Nimbus Sans `D`: both bowls meet the stem square, a
+node at the middle of each cubic of those line joins does not let any
+move pass g2 there, and two nodes (at 1/3 and 2/3) do: the fix adds four
+a contour, at those parameters, and the exact judge passes it. Prints "N
+passed, M failed" and exits 1 on any failure.
 """
 import filecmp
 import json
@@ -29,6 +33,7 @@ from glif_checks import Checks  # noqa: E402
 
 SRC, CMR = sys.argv[1], sys.argv[2]
 GOTHIC = "/usr/share/fonts/opentype/urw-base35/URWGothic-Book.otf"
+NIMBUS = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf"
 GATES = "curvature-extrema-at-nodes,g2-at-smooth-nodes"
 PY = "/usr/bin/python3"
 check = Checks()
@@ -118,6 +123,26 @@ def main():
             check("--glyphs: the same glyph as --glyph",
                   r3.returncode == 0 and filecmp.cmp(os.path.join(tmp, "All.ufo", "glyphs", "b.glif"), fix,
                                                      shallow=False), r3.stderr)
+
+        # Line joins: two nodes where one is not enough.
+        nimbus = os.path.join(tmp, "Nimbus.ufo")
+        subprocess.run([PY, os.path.join(SRC, "tools/make_test_ufo.py"), NIMBUS, nimbus, "D"], check=True)
+        r = run("fix", "Nimbus.ufo", "--glyph", "D", "--require", GATES, "--add-nodes", "--out", "NimbusD.ufo", cwd=tmp)
+        check("Nimbus Sans D --add-nodes: exit 0", r.returncode == 0, r.stderr)
+        if r.returncode == 0:
+            doc = json.loads(r.stdout)
+            ts = [sorted(round(n["t"], 6) for n in c.get("added_nodes", [])) for c in doc["contours"]]
+            check("two nodes, at 1/3 and 2/3, in each cubic of the two line joins of each bowl",
+                  ts == [[0.333333, 0.333333, 0.666667, 0.666667]] * 2
+                  and all(n["why"] == "a line's smooth join" for c in doc["contours"] for n in c["added_nodes"]), ts)
+            src_d = os.path.join(nimbus, "glyphs", "D_.glif")
+            fix_d = os.path.join(tmp, "NimbusD.ufo", "glyphs", "D_.glif")
+            check("Nimbus Sans D: the exact judge fails the source and passes the fix",
+                  subprocess.run(judge + [src_d], capture_output=True).returncode == 1
+                  and subprocess.run(judge + [fix_d], capture_output=True).returncode == 0)
+            check("Nimbus Sans D: only <point> lines differ, integers",
+                  lines_only_points(src_d, fix_d)
+                  and all(re.fullmatch(r"-?\d+", p[k]) for c in points(fix_d) for p in c for k in ("x", "y")))
 
         # Bad requests: one line, exit 2, nothing written.
         for args, what in ((["--grid", "0"], "needs the grid"),
