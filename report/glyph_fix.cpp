@@ -153,8 +153,7 @@ std::vector<LatticeUnit> lattice_units(const import::Contour& c, const std::vect
       ++anchors;
       const std::optional<Vec2> step = grid_vector(p[k] - p[j], grid);
       if (!step) continue;
-      u.slide = true;
-      u.step = *step;
+      u.slide = true, u.step = *step, u.anchor = j;
     }
     if (anchors >= 2 || (anchors == 1 && !u.slide)) continue;  // held by two tangents, or off its tangent's grid
     out.push_back(u);

@@ -57,7 +57,8 @@
 /// the total squared move from the source, each moved unit goes to the
 /// passing position of its lattice that lowers the cost most (every such
 /// position tried in order of cost), then pairs of neighbouring units each
-/// up to 2 cells (a slide 4 steps), until nothing moves; then, on a cubic
+/// up to 2 cells (a slide 4 steps), then turns of a smooth node's slanted
+/// tangent (one handle up to 3 cells), until nothing moves; then, on a cubic
 /// contour, every chain's nearest handles in a box around the fix
 /// (glyph_chains.hpp, kChainSettleBox), taken where cheaper and settled
 /// again; then the same with each chain's inner smooth nodes moving a cell
@@ -149,8 +150,10 @@ struct ContourFix {
   /// On the grid, the fix as settled (glyph_fix.cpp settle_nearer): no
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
-  /// squared move, the rest held, and no two neighbouring ones a few cells
-  /// each; on a cubic contour (or a quadratic one with an on-curve point),
+  /// squared move, the rest held, no two neighbouring ones a few cells
+  /// each, and no smooth node's slanted tangent turned (one handle up to 3
+  /// cells, the other on the new tangent: glyph_settle.hpp); on a cubic
+  /// contour (or a quadratic one with an on-curve point),
   /// no chain's handles in the settling's box (nodes held, and the inner
   /// points of a run of four or more off-curve points) pass with a smaller
   /// total move. False where the work ran out first (the fix still passes),

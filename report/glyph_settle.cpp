@@ -64,10 +64,11 @@ double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) 
   return t;
 }
 
-bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& units,
+bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& given,
                    double grid, double max_move, const Judge& passes,
                    const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, const Rejects& rejects,
                    Work& work) {
+  std::vector<LatticeUnit> units = given;  // a turn changes its slides' steps
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
   // Per unit, the points its verdicts read (depends_on), as flags.
   std::vector<std::vector<char>> reads(units.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
@@ -106,6 +107,20 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
       if (std::min(d, m - d) <= 3) pairs.emplace_back(a, b);
     }
   std::vector<char> pair_stuck(pairs.size(), 0);
+  // Turns: the two sliding handles of one smooth node (units on one anchor).
+  std::vector<std::pair<std::size_t, std::size_t>> turns;
+  for (std::size_t a = 0; a < units.size(); ++a)
+    for (std::size_t b = a + 1; b < units.size(); ++b)
+      if (units[a].slide && units[b].slide && units[a].anchor >= 0 && units[a].anchor == units[b].anchor &&
+          units[a].step.x != 0 && units[a].step.y != 0)  // a level or upright tangent (an x/y extremum) stays
+        turns.emplace_back(a, b);
+  std::vector<char> turn_stuck(turns.size(), 0);
+  std::vector<std::vector<char>> turn_reads(turns.size());
+  for (std::size_t t = 0; t < turns.size(); ++t) {
+    turn_reads[t].assign(static_cast<std::size_t>(m), 0);
+    for (int k : depends_on({units[turns[t].first].points.front(), units[turns[t].second].points.front()}))
+      turn_reads[t][static_cast<std::size_t>(k)] = 1;
+  }
   std::vector<std::vector<char>> pair_reads(pairs.size(), std::vector<char>(static_cast<std::size_t>(m), 0));
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     std::vector<int> both = units[pairs[p].first].points;
@@ -119,6 +134,8 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
           if (reads[u][static_cast<std::size_t>(k)]) stuck[u] = 0;
         for (std::size_t p = 0; p < pairs.size(); ++p)
           if (pair_reads[p][static_cast<std::size_t>(k)]) pair_stuck[p] = 0;
+        for (std::size_t t = 0; t < turns.size(); ++t)
+          if (turn_reads[t][static_cast<std::size_t>(k)]) turn_stuck[t] = 0;
       }
   };
   auto moved_by = [&](const std::vector<std::pair<const LatticeUnit*, Vec2>>& steps) {
@@ -193,29 +210,76 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     return out;
   };
-  singles();
-  // Pairs in turn, until a whole turn moves none.
-  for (std::size_t next = 0, quiet = 0; quiet < pairs.size() && !out_of_time; next = (next + 1) % pairs.size()) {
-    if (pair_stuck[next]) {
-      ++quiet;
-      continue;
-    }
-    const LatticeUnit* a = &units[pairs[next].first];
-    const LatticeUnit* b = &units[pairs[next].second];
+  // A turn's positions cheaper than now: handle `lead` up to kTurnReach
+  // cells from where it is, `other` on the tangent through the node.
+  auto turned = [&](const std::pair<std::size_t, std::size_t>& tr) {
+    const int node = units[tr.first].anchor;
+    const Vec2 n = at[node];
     const double now = cost_of(at);
-    std::vector<std::pair<double, std::vector<Vec2>>> candidates;
-    for (const Vec2 da : offsets(*a))
-      for (const Vec2 db : offsets(*b)) {
-        std::vector<Vec2> t = moved_by({{a, da}, {b, db}});
-        if (const double cost_t = cost_of(t); cost_t < now) candidates.emplace_back(cost_t, std::move(t));
+    std::vector<std::pair<double, std::vector<Vec2>>> out;
+    for (const bool first_leads : {true, false}) {
+      const int lead = units[first_leads ? tr.first : tr.second].points.front();
+      const int other = units[first_leads ? tr.second : tr.first].points.front();
+      const Vec2 tangent = at[other] - at[lead];
+      for (int i = -kTurnReach; i <= kTurnReach; ++i)
+        for (int j = -kTurnReach; j <= kTurnReach; ++j) {
+          if (i * i + j * j > kTurnReach * kTurnReach || (i == 0 && j == 0)) continue;
+          const Vec2 l = at[lead] + Vec2(i * grid, j * grid);
+          const long wx = std::lround((n.x - l.x) / grid), wy = std::lround((n.y - l.y) / grid);
+          const long g = std::gcd(wx, wy);
+          if (g == 0) continue;
+          const Vec2 v(static_cast<double>(wx / g) * grid, static_cast<double>(wy / g) * grid);
+          if (v.x * tangent.y == v.y * tangent.x) continue;  // the same tangent: a slide
+          const double b = dot(src[other] - n, v) / dot(v, v);
+          for (const double whole : {std::floor(b), std::ceil(b)}) {
+            std::vector<Vec2> t = at;
+            t[lead] = l, t[other] = n + v * std::max(1.0, whole);
+            if (const double cost_t = cost_of(t); cost_t < now) out.emplace_back(cost_t, std::move(t));
+          }
+        }
+    }
+    return out;
+  };
+  singles();
+  for (bool any_turn = true; any_turn && !out_of_time;) {
+    // Pairs in turn, until a whole round moves none.
+    for (std::size_t next = 0, quiet = 0; quiet < pairs.size() && !out_of_time; next = (next + 1) % pairs.size()) {
+      if (pair_stuck[next]) {
+        ++quiet;
+        continue;
       }
-    if (take_first(candidates, [](std::vector<Vec2>& t) { return std::move(t); })) {
-      quiet = 0;
-      moved({pairs[next].first, pairs[next].second});
-      singles();
-    } else {
-      ++quiet;
-      if (!out_of_time) pair_stuck[next] = 1;
+      const LatticeUnit* a = &units[pairs[next].first];
+      const LatticeUnit* b = &units[pairs[next].second];
+      const double now = cost_of(at);
+      std::vector<std::pair<double, std::vector<Vec2>>> candidates;
+      for (const Vec2 da : offsets(*a))
+        for (const Vec2 db : offsets(*b)) {
+          std::vector<Vec2> t = moved_by({{a, da}, {b, db}});
+          if (const double cost_t = cost_of(t); cost_t < now) candidates.emplace_back(cost_t, std::move(t));
+        }
+      if (take_first(candidates, [](std::vector<Vec2>& t) { return std::move(t); })) {
+        quiet = 0;
+        moved({pairs[next].first, pairs[next].second});
+        singles();
+      } else {
+        ++quiet;
+        if (!out_of_time) pair_stuck[next] = 1;
+      }
+    }
+    // Then the turns; after one moves, the singles and the pairs again.
+    any_turn = false;
+    for (std::size_t t = 0; t < turns.size() && !out_of_time && !any_turn; ++t) {
+      if (turn_stuck[t]) continue;
+      std::vector<std::pair<double, std::vector<Vec2>>> candidates = turned(turns[t]);
+      if (take_first(candidates, [](std::vector<Vec2>& x) { return std::move(x); })) {
+        any_turn = true;
+        for (const std::size_t u : {turns[t].first, turns[t].second})  // they slide on the new tangent
+          units[u].step = grid_vector(at[units[u].points.front()] - at[units[u].anchor], grid).value_or(units[u].step);
+        moved({turns[t].first, turns[t].second});
+        singles();
+      } else if (!out_of_time) {
+        turn_stuck[t] = 1;
+      }
     }
   }
   return !out_of_time;

@@ -71,7 +71,8 @@ class Work {
 struct LatticeUnit {
   std::vector<int> points;
   bool slide = false;
-  Vec2 step{0.0};  ///< slide: the primitive grid vector along the tangent
+  Vec2 step{0.0};   ///< slide: the primitive grid vector along the tangent
+  int anchor = -1;  ///< slide: the smooth node it slides on (a turn's pivot)
 };
 
 /// Whether Bezier points `b` lie exactly on one line, as computed in double
@@ -110,7 +111,17 @@ using Judge = std::function<bool(const std::vector<Vec2>&, const std::vector<Vec
 ///  * Pairs of neighbouring units (within three points along the contour),
 ///    each up to kPairReach cells (a slide kPairSlideReach steps) from where
 ///    it is, in order of the cost; after a pair moves, the single units
-///    again. The pairs are tried in turn until a whole turn moves none.
+///    again. The pairs are tried in turn until a whole round moves none.
+///  * Turns of a smooth node's tangent: its two sliding handles (two slide
+///    units on one anchor, the node held) to positions exactly collinear
+///    with it on either side: one handle up to kTurnReach cells from where
+///    it is, the other on the new tangent through the node, N + b v (v the
+///    primitive grid vector from the first through the node, b >= 1 a
+///    whole number, the two nearest its source position), in order of the
+///    cost; after a turn, the single units and the pairs again, until no
+///    turn moves. (Slides and translations keep every tangent's direction;
+///    only a turn changes one.) A level or upright tangent is not turned:
+///    its node is at an x or y extremum, whose handles designers keep so.
 /// `src` and `at`: the contour's distinct points, the source's and the
 /// fix's (which passes); a position farther than `max_move` from the source
 /// is not tried. `depends_on(points)`: the points whose positions the
@@ -122,7 +133,7 @@ using Judge = std::function<bool(const std::vector<Vec2>&, const std::vector<Vec
 /// were. It ends when `work` is spent (`passes` charges it). Returns
 /// whether that end was reached (else the work ran out first); `at` holds
 /// the best so far either way, and it passes.
-inline constexpr int kPairReach = 2, kPairSlideReach = 4;
+inline constexpr int kPairReach = 2, kPairSlideReach = 4, kTurnReach = 3;
 inline constexpr long kSettleCandidates = 4096;
 
 /// The settling's cost: the sum over the distinct points of the squared

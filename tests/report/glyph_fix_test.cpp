@@ -36,6 +36,7 @@ namespace cmr {
 namespace {
 
 const char* kNimbus = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Regular.otf";
+const char* kNimbusItalic = "/usr/share/fonts/opentype/urw-base35/NimbusSans-Italic.otf";
 const char* kDejaVu = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 const char* kNotoSans = "/usr/share/fonts/truetype/noto/NotoSans-Regular.ttf";
 
@@ -101,14 +102,16 @@ int violations(const import::Contour& c, const std::vector<Vec2>& p, const repor
 
 TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
   if (!std::filesystem::exists(kNimbus)) GTEST_SKIP() << kNimbus << " is not installed (tools/setup.sh installs fonts-urw-base35)";
-  const import::Font font = import::read_font(kNimbus, import::parse_glyph_spec("b,y"));
+  // The italic's `e` has smooth nodes on slanted tangents: turns to check.
+  std::vector<import::Glyph> glyphs = import::read_font(kNimbus, import::parse_glyph_spec("b,y")).glyphs;
+  glyphs.push_back(import::read_font(kNimbusItalic, import::parse_glyph_spec("e")).glyphs.at(0));
   report::GlyphFixOptions o;
   report::parse_require_list("curvature-extrema-at-nodes,g2-at-smooth-nodes", o.judge);
   o.judge.regions = false;
   o.glyph_work = 20 * report::kGlyphWork;  // work enough to settle (about 1 s each here)
   o.guard_seconds = 120;                   // and time for it on a loaded machine
-  int contours = 0, candidates = 0;
-  for (const import::Glyph& g : font.glyphs) {
+  int contours = 0, candidates = 0, turns = 0;
+  for (const import::Glyph& g : glyphs) {
     const std::vector<report::ContourFix> fixes = report::fix_glyph(g, o);
     for (const report::ContourFix& f : fixes) {
       if (f.already) continue;
@@ -183,11 +186,37 @@ TEST(GlyphFix, NoMovedPointHasANearerPassingGridPosition) {
             for (const Vec2 db : steps_of(units[b], 2, 4))
               try_move({{&units[a], da}, {&units[b], db}}, units[a].name + " and " + units[b].name + " together");
         }
+      // Turns of a smooth node's tangent (its handles source points, the
+      // tangent neither level nor upright): one handle up to 3 cells, the
+      // other on the new tangent, at the two whole multiples nearest its source.
+      for (int k = 0; k < m; ++k) {
+        const int a = (k + m - 1) % m, b = (k + 1) % m;
+        if (!c.node[k] || c.node[a] || c.node[b] || c.font_point[a] < 0 || c.font_point[b] < 0) continue;
+        const Vec2 ta = at[k] - at[a], tb = at[b] - at[k];
+        if (det(ta, tb) != 0 || dot(ta, tb) <= 0 || ta.x == 0 || ta.y == 0) continue;
+        for (const auto& [lead, other] : {std::pair{a, b}, std::pair{b, a}})
+          for (double x = -3; x <= 3; ++x)
+            for (double y = -3; y <= 3; ++y) {
+              const Vec2 l = at[lead] + Vec2(x, y), w = at[k] - l;
+              const long cells = std::gcd(std::lround(w.x), std::lround(w.y));
+              if (x * x + y * y > 9 || cells == 0 || det(w, ta) == 0) continue;
+              const Vec2 v = w / static_cast<double>(cells);
+              const double whole = dot(src[other] - at[k], v) / dot(v, v);
+              for (const double n : {std::floor(whole), std::ceil(whole)}) {
+                std::vector<Vec2> t = at;
+                t[lead] = l, t[other] = at[k] + v * std::max(1.0, n);
+                if (!(total_squared(t, src) < now)) continue;
+                ++turns;
+                EXPECT_NE(violations(c, t, o.judge), 0) << g.name << ": the turn at point " << k << " passes nearer";
+              }
+            }
+      }
       ++contours;
     }
   }
   EXPECT_GE(contours, 2);
   EXPECT_GT(candidates, 100);
+  EXPECT_GT(turns, 20);
 }
 
 // The settling lists a unit's positions band by band of their cost: a
@@ -239,6 +268,46 @@ TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
   // In order of cost, judging stops at the first that passes: the disc's
   // positions (about 50,000 a scan), not the 28 million.
   EXPECT_LT(judged, 1'000'000);
+}
+
+// The settling turns a smooth node's tangent where slides cannot come
+// nearer: node N = (0, 0) with handles on the tangent (2, 1), A = -3 (2, 1)
+// and B = 3 (2, 1) in the source. The fix left A at -10 (2, 1); on that
+// tangent a position passes only with |A - N| >= 20 (A = -9 (2, 1) at best:
+// total 180), on any other it passes. The nearest turn within kTurnReach
+// cells of A = -9 (2, 1) is A = -3 (5, 3), B = (5, 3) (117 + 1), and A then
+// slides on the new tangent to -(5, 3): total 2, the least of every exactly
+// smooth position off the source's tangent (each handle then moves).
+TEST(GlyphFix, SettlingTurnsASmoothNodesTangent) {
+  using report::glyph_detail::LatticeUnit;
+  const std::vector<Vec2> src{Vec2(-6.0, -3.0), Vec2(0.0), Vec2(6.0, 3.0)};
+  std::vector<LatticeUnit> units(2);
+  for (int i = 0; i < 2; ++i)
+    units[i].points = {2 * i}, units[i].slide = true, units[i].step = Vec2(2.0, 1.0), units[i].anchor = 1;
+  std::vector<Vec2> at = src;
+  at[0] = Vec2(-20.0, -10.0);
+  auto passes = [&](const std::vector<Vec2>&, const std::vector<Vec2>& t) {
+    const Vec2 a = t[1] - t[0], b = t[2] - t[1];
+    if (t[1] != src[1] || det(a, b) != 0 || dot(a, b) <= 0) return false;  // exactly smooth about the node
+    return det(a, Vec2(2.0, 1.0)) != 0 || dot(a, a) >= 400;
+  };
+  auto depends = [](const std::vector<int>&) { return std::vector<int>{0, 1, 2}; };
+  report::glyph_detail::Work work(1'000'000, 60);
+  ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, {}, work));
+  EXPECT_TRUE(passes(src, at));
+  EXPECT_EQ(report::glyph_detail::squared_move(src, at), 2.0) << at[0].x << ", " << at[0].y << " / " << at[2].x << ", "
+                                                              << at[2].y;
+  // A level tangent is not turned (a node at an x or y extremum keeps its handles level).
+  std::vector<Vec2> level{Vec2(-3.0, 0.0), Vec2(0.0), Vec2(3.0, 0.0)}, at_level = level;
+  at_level[0] = Vec2(-20.0, 0.0);
+  for (LatticeUnit& u : units) u.step = Vec2(1.0, 0.0);
+  auto passes_level = [&](const std::vector<Vec2>&, const std::vector<Vec2>& t) {
+    const Vec2 a = t[1] - t[0], b = t[2] - t[1];
+    return t[1] == level[1] && det(a, b) == 0 && dot(a, b) > 0 && (a.y != 0 || a.x >= 20);
+  };
+  ASSERT_TRUE(report::glyph_detail::settle_nearer(level, at_level, units, 1.0, 1e9, passes_level, depends, {}, work));
+  EXPECT_EQ(at_level[0], Vec2(-20.0, 0.0));
+  EXPECT_EQ(at_level[2], level[2]);
 }
 
 // A settling whose every candidate is rejected unjudged (glyph_detail::
