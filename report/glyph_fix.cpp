@@ -592,20 +592,17 @@ Judge local_judge(const import::Contour& c, const ReportOptions& o) {
 
 namespace {
 
-/// settle_nearer on a contour's passing fix `fixed` (updated), judged by
-/// local_judge (every check of `o`, smooth nodes kept) after the shortcuts
-/// that prove a failure (extremum_rejects, with_failure_proofs). Then,
-/// where the chain search applies (glyph_chains.hpp), every chain's nearest
-/// handles in the settling's box around the fix (kChainSettleBox), its
-/// nodes held where the fix put them: taken where that lowers the total squared move (the whole gate
-/// re-judges it) and settled again, up to kChainSettleRounds times. Then
-/// the same rounds with each chain's inner nodes moving too
-/// (kChainNodeReach cells each way, with their handles; a contour with a
-/// corner), each taken only where it is cheaper and the settling after it
-/// ends (else the fix stays as it was settled). Returns whether the end
-/// was reached: no single unit or pair has a nearer passing position, and
-/// (where the chain search applies) every chain's handles are the nearest
-/// in its box, within the work.
+/// settle_nearer on a contour's passing fix `fixed` (updated), judged by local_judge (every check of `o`, smooth
+/// nodes kept) after the shortcuts that prove a failure (extremum_rejects, with_failure_proofs). Then, where the
+/// chain search applies (glyph_chains.hpp), every chain's nearest handles in the settling's box around the fix
+/// (kChainSettleBox), its nodes held where the fix put them: taken where that lowers the total squared move (the
+/// whole gate re-judges it) and settled again, up to kChainSettleRounds times. Then the same rounds with each
+/// chain's inner nodes moving too (kChainNodeReach cells each way, with their handles; a contour with a corner),
+/// each taken only where it is cheaper and the settling after it ends (else the fix stays as it was settled).
+/// Last, the turns of slanted tangents (settle_nearer's turns_from_settled): where one lowers the cost and they
+/// end within the work, all of this again from there (else the fix stays as settled). Returns whether the end
+/// was reached: no single unit or pair has a nearer passing position, and (where the chain search applies)
+/// every chain's handles are the nearest in its box, within the work.
 constexpr int kChainSettleRounds = 4;
 bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& movable, const GlyphFixOptions& options,
             const ReportOptions& o, Work& work) {
@@ -622,11 +619,11 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
     work.charge(r ? r->length + 2 : segments);
     return judge(from, to);
   };
-  const auto settle_units = [&] {
+  const auto settle_units = [&](bool turns = false) {
     return settle_nearer(src, at, lattice_units(c, movable, options.grid), options.grid, reach,
                          with_failure_proofs(c.spline, o, runs, passes, work),
                          [&runs](const std::vector<int>& points) { return runs.depends_on(points); },
-                         extremum_rejects(c.spline, o, options.grid, work), work);
+                         extremum_rejects(c.spline, o, options.grid, work), work, turns);
   };
   bool done = settle_units();
   for (int round = 0; done && round < kChainSettleRounds; ++round) {
@@ -665,6 +662,10 @@ bool settle(const import::Contour& c, BSpline& fixed, const std::vector<int>& mo
       break;
     }
   }
+  const std::vector<Vec2> before_turns = at;
+  if (done && settle_units(true) && squared_move(src, at) < squared_move(src, before_turns))
+    return settle(c, fixed = with_points(c, at), movable, options, o, work);
+  at = before_turns;  // no turn is nearer, or the work ran out first: the fix as settled
   fixed = with_points(c, at);
   return done;
 }

@@ -57,13 +57,14 @@
 /// the total squared move from the source, each moved unit goes to the
 /// passing position of its lattice that lowers the cost most (every such
 /// position tried in order of cost), then pairs of neighbouring units each
-/// up to 2 cells (a slide 4 steps), then turns of a smooth node's slanted
-/// tangent (one handle up to 3 cells), until nothing moves; then, on a cubic
+/// up to 2 cells (a slide 4 steps), until nothing moves; then, on a cubic
 /// contour, every chain's nearest handles in a box around the fix
 /// (glyph_chains.hpp, kChainSettleBox), taken where cheaper and settled
 /// again; then the same with each chain's inner smooth nodes moving a cell
 /// each way with their handles (on a contour with a corner), taken where
-/// cheaper and the settling after it ends.
+/// cheaper and the settling after it ends; last, turns of a smooth node's
+/// slanted tangent (one handle up to 3 cells), and where one is cheaper,
+/// all of the settling again.
 /// A quadratic contour's smooth line-to-curve join under g2 cannot pass
 /// (a quadratic's end curvature is 0 only when it is straight): said at
 /// once. Nor can a cubic's, under g2 and the extremum gate together, where
@@ -150,18 +151,18 @@ struct ContourFix {
   /// On the grid, the fix as settled (glyph_fix.cpp settle_nearer): no
   /// moved point (a node with its handles, a handle sliding on its tangent,
   /// a free handle) has a passing grid position that lowers the total
-  /// squared move, the rest held, no two neighbouring ones a few cells
-  /// each, and no smooth node's slanted tangent turned (one handle up to 3
-  /// cells, the other on the new tangent: glyph_settle.hpp); on a cubic
-  /// contour (or a quadratic one with an on-curve point),
+  /// squared move, the rest held, and no two neighbouring ones a few cells
+  /// each; on a cubic contour (or a quadratic one with an on-curve point),
   /// no chain's handles in the settling's box (nodes held, and the inner
   /// points of a run of four or more off-curve points) pass with a smaller
   /// total move. False where the work ran out first (the fix still passes),
   /// unless the fix was settled to the end in its contour's search and the
   /// glyph's last settling left it where it was.
   /// (After that the settling also tries each chain with its inner nodes a
-  /// cell each way, glyph_fix.cpp settle; where that ends in time, none of
-  /// those is nearer either, but `settled` does not say whether it did.)
+  /// cell each way, then turns of each smooth node's slanted tangent, one
+  /// handle up to 3 cells and the other on the new tangent, glyph_fix.cpp
+  /// settle; where that ends in time, none of those is nearer either, but
+  /// `settled` does not say whether it did.)
   bool settled = false;
   double seconds = 0;
   long glyph_work = 0;   ///< the work its glyph's fix took (GlyphFixOptions::glyph_work)

@@ -67,7 +67,7 @@ double squared_move(const std::vector<Vec2>& src, const std::vector<Vec2>& pts) 
 bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const std::vector<LatticeUnit>& given,
                    double grid, double max_move, const Judge& passes,
                    const std::function<std::vector<int>(const std::vector<int>&)>& depends_on, const Rejects& rejects,
-                   Work& work) {
+                   Work& work, bool turns_from_settled) {
   std::vector<LatticeUnit> units = given;  // a turn changes its slides' steps
   const int m = static_cast<int>(src.size());  // the distinct points (a closed spline's first ones are not repeated)
   // Per unit, the points its verdicts read (depends_on), as flags.
@@ -115,6 +115,8 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
           units[a].step.x != 0 && units[a].step.y != 0)  // a level or upright tangent (an x/y extremum) stays
         turns.emplace_back(a, b);
   std::vector<char> turn_stuck(turns.size(), 0);
+  // From a settled position, every single and pair is done until a turn moves a point it reads.
+  if (turns_from_settled) stuck.assign(stuck.size(), 1), pair_stuck.assign(pair_stuck.size(), 1);
   std::vector<std::vector<char>> turn_reads(turns.size());
   for (std::size_t t = 0; t < turns.size(); ++t) {
     turn_reads[t].assign(static_cast<std::size_t>(m), 0);
@@ -240,7 +242,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     return out;
   };
-  singles();
+  if (!turns_from_settled) singles();
   for (bool any_turn = true; any_turn && !out_of_time;) {
     // Pairs in turn, until a whole round moves none.
     for (std::size_t next = 0, quiet = 0; quiet < pairs.size() && !out_of_time; next = (next + 1) % pairs.size()) {
@@ -266,9 +268,9 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
         if (!out_of_time) pair_stuck[next] = 1;
       }
     }
-    // Then the turns; after one moves, the singles and the pairs again.
+    // Then the turns (on request); after one moves, the singles and the pairs again.
     any_turn = false;
-    for (std::size_t t = 0; t < turns.size() && !out_of_time && !any_turn; ++t) {
+    for (std::size_t t = 0; turns_from_settled && t < turns.size() && !out_of_time && !any_turn; ++t) {
       if (turn_stuck[t]) continue;
       std::vector<std::pair<double, std::vector<Vec2>>> candidates = turned(turns[t]);
       if (take_first(candidates, [](std::vector<Vec2>& x) { return std::move(x); })) {

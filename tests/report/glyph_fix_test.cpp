@@ -271,10 +271,11 @@ TEST(GlyphFix, SettlingAFarPointFindsTheNearestPassingPositionBandByBand) {
 }
 
 // The settling turns a smooth node's tangent where slides cannot come
-// nearer: node N = (0, 0) with handles on the tangent (2, 1), A = -3 (2, 1)
-// and B = 3 (2, 1) in the source. The fix left A at -10 (2, 1); on that
-// tangent a position passes only with |A - N| >= 20 (A = -9 (2, 1) at best:
-// total 180), on any other it passes. The nearest turn within kTurnReach
+// nearer (asked to, from a settled position): node N = (0, 0) with handles
+// on the tangent (2, 1), A = -3 (2, 1) and B = 3 (2, 1) in the source. The
+// fix left A at -10 (2, 1); on that tangent a position passes only with
+// |A - N| >= 20 (A = -9 (2, 1) at best, where the settling without turns
+// ends: total 180), on any other it passes. The nearest turn within kTurnReach
 // cells of A = -9 (2, 1) is A = -3 (5, 3), B = (5, 3) (117 + 1), and A then
 // slides on the new tangent to -(5, 3): total 2, the least of every exactly
 // smooth position off the source's tangent (each handle then moves).
@@ -294,6 +295,8 @@ TEST(GlyphFix, SettlingTurnsASmoothNodesTangent) {
   auto depends = [](const std::vector<int>&) { return std::vector<int>{0, 1, 2}; };
   report::glyph_detail::Work work(1'000'000, 60);
   ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, {}, work));
+  EXPECT_EQ(report::glyph_detail::squared_move(src, at), 180.0);  // slides only: A = -9 (2, 1)
+  ASSERT_TRUE(report::glyph_detail::settle_nearer(src, at, units, 1.0, 1e9, passes, depends, {}, work, true));
   EXPECT_TRUE(passes(src, at));
   EXPECT_EQ(report::glyph_detail::squared_move(src, at), 2.0) << at[0].x << ", " << at[0].y << " / " << at[2].x << ", "
                                                               << at[2].y;
@@ -305,7 +308,8 @@ TEST(GlyphFix, SettlingTurnsASmoothNodesTangent) {
     const Vec2 a = t[1] - t[0], b = t[2] - t[1];
     return t[1] == level[1] && det(a, b) == 0 && dot(a, b) > 0 && (a.y != 0 || a.x >= 20);
   };
-  ASSERT_TRUE(report::glyph_detail::settle_nearer(level, at_level, units, 1.0, 1e9, passes_level, depends, {}, work));
+  ASSERT_TRUE(
+      report::glyph_detail::settle_nearer(level, at_level, units, 1.0, 1e9, passes_level, depends, {}, work, true));
   EXPECT_EQ(at_level[0], Vec2(-20.0, 0.0));
   EXPECT_EQ(at_level[2], level[2]);
 }
