@@ -107,9 +107,9 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
       if (std::min(d, m - d) <= 3) pairs.emplace_back(a, b);
     }
   std::vector<char> pair_stuck(pairs.size(), 0);
-  // Turns: the two sliding handles of one smooth node (units on one anchor).
+  // Turns (on request): the two sliding handles of one smooth node (units on one anchor).
   std::vector<std::pair<std::size_t, std::size_t>> turns;
-  for (std::size_t a = 0; a < units.size(); ++a)
+  for (std::size_t a = 0; turns_from_settled && a < units.size(); ++a)
     for (std::size_t b = a + 1; b < units.size(); ++b)
       if (units[a].slide && units[b].slide && units[a].anchor >= 0 && units[a].anchor == units[b].anchor &&
           units[a].step.x != 0 && units[a].step.y != 0)  // a level or upright tangent (an x/y extremum) stays
@@ -270,7 +270,7 @@ bool settle_nearer(const std::vector<Vec2>& src, std::vector<Vec2>& at, const st
     }
     // Then the turns (on request); after one moves, the singles and the pairs again.
     any_turn = false;
-    for (std::size_t t = 0; turns_from_settled && t < turns.size() && !out_of_time && !any_turn; ++t) {
+    for (std::size_t t = 0; t < turns.size() && !out_of_time && !any_turn; ++t) {
       if (turn_stuck[t]) continue;
       std::vector<std::pair<double, std::vector<Vec2>>> candidates = turned(turns[t]);
       if (take_first(candidates, [](std::vector<Vec2>& x) { return std::move(x); })) {
